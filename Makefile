@@ -1,0 +1,33 @@
+# ins-errors: the two set-up commands are `make derive` and `make test`.
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+
+.PHONY: derive test bench lint clean venv
+
+$(STAMP): pyproject.toml setup.py
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e '.[dev]'
+	touch $(STAMP)
+
+venv: $(STAMP)
+
+## Regenerate generated/ from the model definitions and print a summary.
+derive: $(STAMP)
+	$(PY) -m derive
+
+## Install into .venv (first time) and run the test suite.
+test: $(STAMP)
+	$(PY) -m pytest -q
+
+## Speed figures (printed, never asserted).
+bench: $(STAMP)
+	$(PY) -m benchmarks
+
+lint: $(STAMP)
+	$(PY) -m ruff check .
+
+clean:
+	rm -rf $(VENV) build *.egg-info

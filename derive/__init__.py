@@ -1,0 +1,1 @@
+"""`make derive`: regenerate generated/ from the model definitions (python -m derive)."""

@@ -1,0 +1,34 @@
+"""Entry point of `make derive`: ``python -m derive [--out DIR] [--model NAME ...]``."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from derive.pipeline import derive_all
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m derive",
+                                     description="Regenerate generated/ from the models.")
+    parser.add_argument("--out", type=Path, default=ROOT / "generated",
+                        help="output folder (default: generated/ of this checkout)")
+    parser.add_argument("--model", action="append", help="only this model (repeatable)")
+    args = parser.parse_args(argv)
+    start = time.perf_counter()
+    summaries = derive_all(args.out, args.model)
+    print(f"{'model':<20}{'states':>7}{'errors':>7}{'sources':>8}{'outputs':>8}"
+          f"{'ops':>8}{'seconds':>9}")
+    for s in summaries:
+        print(f"{s.name:<20}{s.states:>7}{s.error_states:>7}{s.sources:>8}{s.outputs:>8}"
+              f"{s.operations:>8}{s.seconds:>9.2f}")
+    print(f"derive: wrote {args.out} in {time.perf_counter() - start:.1f} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

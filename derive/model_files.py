@@ -1,0 +1,175 @@
+"""Write one model's generated files: metadata, numpy module, CasADi module, equations.
+
+No numerics happen here: the symbolic machinery derives, this module prints.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+from ins_errors.models.base import ModelDefinition
+from ins_errors.symbolic.codegen import (
+    Argument,
+    FunctionSpec,
+    emit_casadi_builder,
+    emit_numpy_function,
+    prepare,
+)
+from ins_errors.symbolic.documents import error_equations_markdown
+from ins_errors.symbolic.variation import ErrorModel, vary
+
+
+def header(model: ModelDefinition, markdown: bool = False) -> str:
+    """The do-not-edit banner of every generated file (no timestamps, no paths)."""
+    module = f"ins_errors/models/{model.name}.py"
+    lines = ["GENERATED FILE: do not edit by hand.",
+             f"Written by `make derive` (python -m derive) from {module}.",
+             "Edit the model definition and run `make derive` again."]
+    if markdown:
+        return "<!--\n" + "\n".join(lines) + "\n-->\n"
+    return "".join(f"# {line}\n" for line in lines)
+
+
+def function_specs(em: ErrorModel) -> list[FunctionSpec]:
+    """Every numeric function emitted for a model."""
+    d = em.definition
+    x = Argument("x", d.x, "ideal-work (true) state, SI units")
+    xr = Argument("xr", d.real_states, "real-work state: computed state, then platform angles")
+    u = Argument("u", d.u, "true-motion inputs, SI units")
+    p = Argument("p", d.p, "model parameters, SI units")
+    w = Argument("w", d.w, "error-source magnitudes, SI units")
+    xe = Argument("xe", d.xe, "error state xr - (x, 0)")
+    c = Argument("c", d.c, "initial navigation conditions, SI units")
+    return [
+        FunctionSpec("ideal_rhs", [x, u, p], em.ideal_rhs,
+                     "Ideal-work equations: dx/dt.", "time derivative of the true state"),
+        FunctionSpec("real_rhs", [xr, x, u, w, p], em.real_rhs,
+                     "Real-work equations: dxr/dt (needs the true state for the platform).",
+                     "time derivative of the real-work state"),
+        FunctionSpec("outputs", [x, u, p], em.outputs,
+                     "Navigation outputs of a state (true or computed part of xr).",
+                     "outputs in SI units"),
+        FunctionSpec("state_matrix", [x, u, p], em.state_matrix,
+                     "State matrix F of the linear error equations.", "F"),
+        FunctionSpec("source_matrix", [x, u, p], em.source_matrix,
+                     "Error-source matrix G of the linear error equations.", "G"),
+        FunctionSpec("output_matrix", [x, u, p], em.output_matrix,
+                     "Output matrix H: output errors = H xe to first order.", "H"),
+        FunctionSpec("second_order", [x, u, p, xe, w], em.second_order,
+                     "Second-order term of the error equations (refined model).",
+                     "1/2 (xe, w)' Hessian (xe, w) per equation"),
+        FunctionSpec("output_second_order", [x, u, p, xe], em.output_second_order,
+                     "Second-order term of the output errors.",
+                     "1/2 xe' Hessian xe per output"),
+        FunctionSpec("initial_state", [c, u, p], em.initial_state,
+                     "True initial state from navigation initial conditions.", "x(0)"),
+        FunctionSpec("initial_real_state", [c, u, w, p], em.initial_real_state,
+                     "Real-work initial state, initial-error sources applied.", "xr(0)"),
+        FunctionSpec("initial_error_matrix", [c, u, p], em.initial_error_matrix,
+                     "First-order map from error sources to the initial error state.",
+                     "E: xe(0) = E w"),
+    ]
+
+
+def _metadata(d: ModelDefinition) -> str:
+    def rows(variables, extra=()):
+        out = []
+        for v in variables:
+            fields = {"name": v.name, "unit": v.unit, "description": v.description,
+                      "latex": v.latex}
+            fields.update({k: getattr(v, k) for k in extra})
+            out.append("    " + repr(fields) + ",")
+        return "\n".join(out)
+
+    return "\n".join([
+        f'"""Generated metadata of the model {d.name!r}: {d.title}."""',
+        "",
+        f"NAME = {d.name!r}",
+        f"TITLE = {d.title!r}",
+        f"SOURCE = {d.source!r}",
+        "STATES = (", rows(d.states), ")",
+        "ERROR_STATES = (", rows(d.error_states), ")",
+        "INPUTS = (", rows(d.inputs), ")",
+        "PARAMETERS = (", rows(d.parameters, ("default",)), ")",
+        "SOURCES = (", rows(d.sources, ("kind", "display_unit", "factor")), ")",
+        "OUTPUTS = (", rows(d.outputs), ")",
+        "INITIAL_CONDITIONS = (", rows(d.initial_conditions), ")",
+        "",
+    ])
+
+
+_NUMPY_PRELUDE = '''
+import numpy as _np
+
+_m = _np
+
+
+def _as_vector(value, length, name, function):
+    array = _np.asarray(value, dtype=float)
+    if array.ndim == 0 or array.shape[0] != length:
+        raise ValueError(f"{function}: argument {name} must have shape ({length}, ...), "
+                         f"got {array.shape}")
+    return array
+'''
+
+_CASADI_PRELUDE = '''
+import functools
+
+import casadi as _m
+
+
+def function(name):
+    """The casadi.Function called ``name`` (built once, then cached)."""
+    try:
+        builder = _BUILDERS[name]
+    except KeyError:
+        raise KeyError(f"no generated CasADi function {name!r}") from None
+    return _cached(builder)
+
+
+@functools.cache
+def _cached(builder):
+    return builder()
+'''
+
+
+@dataclass
+class ModelSummary:
+    """Figures printed by ``make derive`` for one model."""
+
+    name: str
+    states: int
+    error_states: int
+    sources: int
+    outputs: int
+    operations: int
+    seconds: float
+
+
+def write_model(d: ModelDefinition, root: Path) -> ModelSummary:
+    """Derive and write ``root/<model>/`` for one model definition."""
+    start = time.perf_counter()
+    em = vary(d)
+    prepared = [prepare(spec) for spec in function_specs(em)]
+    folder = root / d.name
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "__init__.py").write_text(header(d) + _metadata(d))
+    numpy_src = [header(d), f'"""numpy functions of the model {d.name!r} (broadcasting)."""',
+                 _NUMPY_PRELUDE]
+    numpy_src += ["\n" + emit_numpy_function(p) + "\n" for p in prepared]
+    names = [p.spec.name for p in prepared]
+    numpy_src.append(f"\nFUNCTIONS = {tuple(names)!r}\n")
+    (folder / "numpy_model.py").write_text("\n".join(numpy_src))
+    casadi_src = [header(d), f'"""CasADi SX functions of the model {d.name!r}."""',
+                  _CASADI_PRELUDE]
+    casadi_src += ["\n" + emit_casadi_builder(p) + "\n" for p in prepared]
+    builders = ", ".join(f"{n!r}: _build_{n}" for n in names)
+    casadi_src.append(f"\n_BUILDERS = {{{builders}}}\nFUNCTIONS = {tuple(names)!r}\n")
+    (folder / "casadi_model.py").write_text("\n".join(casadi_src))
+    (folder / "error_equations.md").write_text(header(d, markdown=True) + "\n"
+                                               + error_equations_markdown(d))
+    return ModelSummary(d.name, len(d.states), len(d.error_states), len(d.sources),
+                        len(d.outputs), sum(p.operations for p in prepared),
+                        time.perf_counter() - start)

@@ -1,0 +1,31 @@
+"""Everything `make derive` writes, in order.
+
+Model files first (one folder per model), then the documents that other steps register
+in :data:`EXTRA_STEPS` (reports that are regenerated with the code, e.g. the checker's
+report on the manual's printed equations).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from derive.model_files import ModelSummary, write_model
+from ins_errors.models import definition, model_names
+
+EXTRA_STEPS: list[Callable[[Path], None]] = []
+"""Callables ``step(generated_root)`` run after every model has been written."""
+
+
+def derive_all(root: Path, models: list[str] | None = None) -> list[ModelSummary]:
+    """Write every (or the named) model's generated files under ``root``."""
+    root.mkdir(parents=True, exist_ok=True)
+    init = root / "__init__.py"
+    names = models or model_names()
+    init.write_text('"""Generated code of every model (written by `make derive`)."""\n\n'
+                    f"MODELS = {tuple(model_names())!r}\n")
+    summaries = [write_model(definition(name), root) for name in names]
+    if models is None:
+        for step in EXTRA_STEPS:
+            step(root)
+    return summaries

@@ -1,0 +1,3 @@
+"""Generated code of every model (written by `make derive`)."""
+
+MODELS = ('orthodromic',)

@@ -1,0 +1,1167 @@
+# GENERATED FILE: do not edit by hand.
+# Written by `make derive` (python -m derive) from ins_errors/models/orthodromic.py.
+# Edit the model definition and run `make derive` again.
+
+"""numpy functions of the model 'orthodromic' (broadcasting)."""
+
+import numpy as _np
+
+_m = _np
+
+
+def _as_vector(value, length, name, function):
+    array = _np.asarray(value, dtype=float)
+    if array.ndim == 0 or array.shape[0] != length:
+        raise ValueError(f"{function}: argument {name} must have shape ({length}, ...), "
+                         f"got {array.shape}")
+    return array
+
+
+def ideal_rhs(x, u, p):
+    """Ideal-work equations: dx/dt.
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (8, ...)
+        time derivative of the true state
+    """
+    x = _as_vector(x, 8, 'x', 'ideal_rhs')
+    u = _as_vector(u, 5, 'u', 'ideal_rhs')
+    p = _as_vector(p, 3, 'p', 'ideal_rhs')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u11_ = x[0]
+    u21_ = x[1]
+    u31_ = x[2]
+    u12_ = x[3]
+    u22_ = x[4]
+    u32_ = x[5]
+    V_xi_ = x[6]
+    V_eta_ = x[7]
+    a_xi_ = u[0]
+    a_eta_ = u[1]
+    V_zeta_ = u[3]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = 1/a_
+    _t1 = e2_*u31_**2
+    _t2 = -_t0*h_ - (1/2)*_t1 + 1
+    _t3 = V_xi_*_t0
+    _t4 = V_eta_*_t0
+    _t5 = e2_*u11_*u21_
+    _t6 = _t3*(_t2 + e2_*u11_**2) + _t4*_t5
+    _t7 = -U_*u21_ + _t6
+    _t8 = _t3*_t5 + _t4*(_t2 + e2_*u21_**2)
+    _t9 = -U_*u11_ - _t8
+    _t10 = U_*u31_
+    _t11 = U_**2*u31_*(a_ + h_)/_m.sqrt(1 - _t1)
+    _out = _np.zeros((8,) + _batch)
+    _out[0] = -_t7*u31_
+    _out[1] = _t9*u31_
+    _out[2] = _t7*u11_ - _t9*u21_
+    _out[3] = -_t7*u32_
+    _out[4] = _t9*u32_
+    _out[5] = _t7*u12_ - _t9*u22_
+    _out[6] = V_eta_*_t10 - V_zeta_*_t6 + _t11*u11_ + a_xi_
+    _out[7] = -V_xi_*_t10 - V_zeta_*_t8 + _t11*u21_ + a_eta_
+    return _out
+
+
+def real_rhs(xr, x, u, w, p):
+    """Real-work equations: dxr/dt (needs the true state for the platform).
+
+    Parameters
+    ----------
+    xr : array_like, shape (11, ...)
+        real-work state: computed state, then platform angles
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    w : array_like, shape (26, ...)
+        error-source magnitudes, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, ...)
+        time derivative of the real-work state
+    """
+    xr = _as_vector(xr, 11, 'xr', 'real_rhs')
+    x = _as_vector(x, 8, 'x', 'real_rhs')
+    u = _as_vector(u, 5, 'u', 'real_rhs')
+    w = _as_vector(w, 26, 'w', 'real_rhs')
+    p = _as_vector(p, 3, 'p', 'real_rhs')
+    _batch = _np.broadcast_shapes(xr.shape[1:], x.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
+    u11_c_ = xr[0]
+    u21_c_ = xr[1]
+    u31_c_ = xr[2]
+    u12_c_ = xr[3]
+    u22_c_ = xr[4]
+    u32_c_ = xr[5]
+    V_xi_c_ = xr[6]
+    V_eta_c_ = xr[7]
+    alpha_x_ = xr[8]
+    alpha_y_ = xr[9]
+    alpha_z_ = xr[10]
+    u11_ = x[0]
+    u21_ = x[1]
+    u31_ = x[2]
+    V_xi_ = x[6]
+    V_eta_ = x[7]
+    a_xi_ = u[0]
+    a_eta_ = u[1]
+    a_zeta_ = u[2]
+    V_zeta_ = u[3]
+    h_ = u[4]
+    gyro_drift_x_ = w[8]
+    gyro_drift_y_ = w[9]
+    gyro_drift_z_ = w[10]
+    accel_bias_x_ = w[11]
+    accel_bias_y_ = w[12]
+    velocity_integrator_offset_xi_ = w[13]
+    velocity_integrator_offset_eta_ = w[14]
+    position_integrator_offset_xi_ = w[15]
+    position_integrator_offset_eta_ = w[16]
+    accel_scale_error_x_ = w[17]
+    accel_scale_error_y_ = w[18]
+    velocity_integrator_gain_error_xi_ = w[19]
+    velocity_integrator_gain_error_eta_ = w[20]
+    position_integrator_gain_error_xi_ = w[21]
+    position_integrator_gain_error_eta_ = w[22]
+    correction_gain_error_x_ = w[23]
+    correction_gain_error_y_ = w[24]
+    correction_gain_error_z_ = w[25]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = e2_*u31_c_**2
+    _t1 = 1/a_
+    _t2 = -_t1*h_ + 1
+    _t3 = -(1/2)*_t0 + _t2
+    _t4 = V_xi_c_*_t1
+    _t5 = V_eta_c_*_t1
+    _t6 = e2_*u11_c_*u21_c_
+    _t7 = _t4*(_t3 + e2_*u11_c_**2) + _t5*_t6
+    _t8 = position_integrator_offset_eta_ + (position_integrator_gain_error_eta_ + 1)*(-U_*u21_c_ + _t7)
+    _t9 = _t4*_t6 + _t5*(_t3 + e2_*u21_c_**2)
+    _t10 = position_integrator_offset_xi_ + (position_integrator_gain_error_xi_ + 1)*(-U_*u11_c_ - _t9)
+    _t11 = U_*u31_c_
+    _t12 = U_**2*u31_c_*(a_ + h_)/_m.sqrt(1 - _t0)
+    _t13 = -_t9
+    _t14 = _t2 - (1/2)*e2_*u31_**2
+    _t15 = V_xi_*_t1
+    _t16 = V_eta_*_t1
+    _t17 = e2_*u11_*u21_
+    _t18 = _t15*(_t14 + e2_*u11_**2) + _t16*_t17
+    _t19 = U_*u31_
+    _t20 = _t15*_t17 + _t16*(_t14 + e2_*u21_**2)
+    _t21 = -_t20
+    _out = _np.zeros((11,) + _batch)
+    _out[0] = -_t8*u31_c_
+    _out[1] = _t10*u31_c_
+    _out[2] = -_t10*u21_c_ + _t8*u11_c_
+    _out[3] = -_t8*u32_c_
+    _out[4] = _t10*u32_c_
+    _out[5] = -_t10*u22_c_ + _t8*u12_c_
+    _out[6] = (velocity_integrator_gain_error_xi_ + 1)*(V_eta_c_*_t11 - V_zeta_*_t7 + _t12*u11_c_ + accel_bias_x_ + velocity_integrator_offset_xi_ + (accel_scale_error_x_ + 1)*(a_eta_*alpha_z_ + a_xi_ - a_zeta_*alpha_y_))
+    _out[7] = (velocity_integrator_gain_error_eta_ + 1)*(-V_xi_c_*_t11 + V_zeta_*_t13 + _t12*u21_c_ + accel_bias_y_ + velocity_integrator_offset_eta_ + (accel_scale_error_y_ + 1)*(a_eta_ - a_xi_*alpha_z_ + a_zeta_*alpha_x_))
+    _out[8] = _t13*(correction_gain_error_x_ + 1) - _t18*alpha_z_ + _t19*alpha_y_ + _t20 + gyro_drift_x_
+    _out[9] = -_t18 - _t19*alpha_x_ + _t21*alpha_z_ + _t7*(correction_gain_error_y_ + 1) + gyro_drift_y_
+    _out[10] = _t11*(correction_gain_error_z_ + 1) + _t18*alpha_x_ - _t19 - _t21*alpha_y_ + gyro_drift_z_
+    return _out
+
+
+def outputs(x, u, p):
+    """Navigation outputs of a state (true or computed part of xr).
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        outputs in SI units
+    """
+    x = _as_vector(x, 8, 'x', 'outputs')
+    u = _as_vector(u, 5, 'u', 'outputs')
+    p = _as_vector(p, 3, 'p', 'outputs')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u11_ = x[0]
+    u21_ = x[1]
+    u31_ = x[2]
+    u12_ = x[3]
+    u22_ = x[4]
+    u32_ = x[5]
+    V_xi_ = x[6]
+    V_eta_ = x[7]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = u31_**2
+    _t1 = u11_**2
+    _t2 = u21_**2
+    _t3 = 1/_m.sqrt(_t1 + _t2)
+    _t4 = 1/a_
+    _t5 = _t0*e2_
+    _t6 = -_t4*h_ - (1/2)*_t5 + 1
+    _t7 = V_eta_*_t4
+    _t8 = V_xi_*_t4
+    _t9 = e2_*u11_*u21_
+    _t10 = -U_*u11_ - _t7*(_t2*e2_ + _t6) - _t8*_t9
+    _t11 = _t3*(-U_*u21_ + _t7*_t9 + _t8*(_t1*e2_ + _t6))
+    _t12 = _t10*_t3*u11_ + _t11*u21_
+    _t13 = _t10*_t3*u21_ - _t11*u11_
+    _t14 = 1 - _t5
+    _t15 = a_ + h_
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = _m.arctan2(u31_, _m.sqrt(1 - _t0))
+    _out[1] = _m.arctan2(-u32_, u11_*u22_ - u12_*u21_)
+    _out[2] = _m.arctan2(u21_, u11_)
+    _out[3] = _t12
+    _out[4] = _t13
+    _out[5] = -_t13*_t15*(1 - e2_)/_t14**((3/2))
+    _out[6] = _t12*_t15/_m.sqrt(_t14)
+    return _out
+
+
+def state_matrix(x, u, p):
+    """State matrix F of the linear error equations.
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, 11, ...)
+        F
+    """
+    x = _as_vector(x, 8, 'x', 'state_matrix')
+    u = _as_vector(u, 5, 'u', 'state_matrix')
+    p = _as_vector(p, 3, 'p', 'state_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u11_ = x[0]
+    u21_ = x[1]
+    u31_ = x[2]
+    u12_ = x[3]
+    u22_ = x[4]
+    u32_ = x[5]
+    V_xi_ = x[6]
+    V_eta_ = x[7]
+    a_xi_ = u[0]
+    a_eta_ = u[1]
+    a_zeta_ = u[2]
+    V_zeta_ = u[3]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = 1/a_
+    _t1 = _t0*e2_
+    _t2 = V_eta_*_t1
+    _t3 = _t2*u21_
+    _t4 = V_xi_*_t1
+    _t5 = _t4*u11_
+    _t6 = _t3 + 2*_t5
+    _t7 = -U_ + V_eta_*_t0*e2_*u11_
+    _t8 = U_*u21_
+    _t9 = e2_*u11_**2
+    _t10 = u31_**2
+    _t11 = _t10*e2_
+    _t12 = -_t0*h_ - (1/2)*_t11 + 1
+    _t13 = _t0*(_t12 + _t9)
+    _t14 = V_xi_*_t13
+    _t15 = _t3*u11_
+    _t16 = _t1*u11_*u21_
+    _t17 = -_t16*u31_
+    _t18 = _t4*u21_
+    _t19 = -U_ - _t18
+    _t20 = -2*_t3 - _t5
+    _t21 = e2_*u21_**2
+    _t22 = _t0*(_t12 + _t21)
+    _t23 = V_eta_*_t22 + _t18*u11_
+    _t24 = U_*u11_ + _t23
+    _t25 = _t14 + _t15
+    _t26 = _t25 - _t8
+    _t27 = _t4*u31_
+    _t28 = -_t16*u32_
+    _t29 = _t2*u31_
+    _t30 = 1 - _t11
+    _t31 = U_**2*(a_ + h_)
+    _t32 = _t31/_m.sqrt(_t30)
+    _t33 = _t32*u31_
+    _t34 = _t2*u11_
+    _t35 = _t11*_t31/_t30**((3/2))
+    _t36 = U_*u31_
+    _t37 = V_zeta_*_t16
+    _out = _np.zeros((11, 11) + _batch)
+    _out[0, 0] = -_t6*u31_
+    _out[0, 1] = -_t7*u31_
+    _out[0, 2] = V_xi_*_t0*_t11 - _t14 - _t15 + _t8
+    _out[0, 6] = -_t13*u31_
+    _out[0, 7] = _t17
+    _out[1, 0] = _t19*u31_
+    _out[1, 1] = _t20*u31_
+    _out[1, 2] = V_eta_*_t0*_t10*e2_ - _t24
+    _out[1, 6] = _t17
+    _out[1, 7] = -_t22*u31_
+    _out[2, 0] = -_t19*u21_ + _t26 + _t6*u11_
+    _out[2, 1] = -_t20*u21_ + _t24 + _t7*u11_
+    _out[2, 2] = -_t3*u31_ - _t5*u31_
+    _out[2, 6] = _t0*_t21*u11_ + _t13*u11_
+    _out[2, 7] = _t0*_t9*u21_ + _t22*u21_
+    _out[3, 0] = -_t6*u32_
+    _out[3, 1] = -_t7*u32_
+    _out[3, 2] = _t27*u32_
+    _out[3, 5] = -_t26
+    _out[3, 6] = -_t13*u32_
+    _out[3, 7] = _t28
+    _out[4, 0] = _t19*u32_
+    _out[4, 1] = _t20*u32_
+    _out[4, 2] = _t29*u32_
+    _out[4, 5] = -_t24
+    _out[4, 6] = _t28
+    _out[4, 7] = -_t22*u32_
+    _out[5, 0] = -_t19*u22_ + _t6*u12_
+    _out[5, 1] = -_t20*u22_ + _t7*u12_
+    _out[5, 2] = -_t27*u12_ - _t29*u22_
+    _out[5, 3] = _t26
+    _out[5, 4] = _t24
+    _out[5, 6] = _t13*u12_ + _t16*u22_
+    _out[5, 7] = _t16*u12_ + _t22*u22_
+    _out[6, 0] = -V_zeta_*_t6 + _t33
+    _out[6, 1] = -V_zeta_*_t34
+    _out[6, 2] = U_*V_eta_ + V_zeta_*_t27 + _t32*u11_ + _t35*u11_
+    _out[6, 6] = -V_zeta_*_t13
+    _out[6, 7] = _t36 - _t37
+    _out[6, 9] = -a_zeta_
+    _out[6, 10] = a_eta_
+    _out[7, 0] = -V_zeta_*_t18
+    _out[7, 1] = V_zeta_*_t20 + _t33
+    _out[7, 2] = -U_*V_xi_ + V_zeta_*_t29 + _t32*u21_ + _t35*u21_
+    _out[7, 6] = -_t36 - _t37
+    _out[7, 7] = -V_zeta_*_t22
+    _out[7, 8] = a_zeta_
+    _out[7, 10] = -a_xi_
+    _out[8, 0] = -_t18
+    _out[8, 1] = _t20
+    _out[8, 2] = _t29
+    _out[8, 6] = -_t16
+    _out[8, 7] = -_t22
+    _out[8, 9] = _t36
+    _out[8, 10] = -_t25
+    _out[9, 0] = _t6
+    _out[9, 1] = _t34
+    _out[9, 2] = -_t27
+    _out[9, 6] = _t13
+    _out[9, 7] = _t16
+    _out[9, 8] = -_t36
+    _out[9, 10] = -_t23
+    _out[10, 2] = U_
+    _out[10, 8] = _t25
+    _out[10, 9] = _t23
+    return _out
+
+
+def source_matrix(x, u, p):
+    """Error-source matrix G of the linear error equations.
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, 26, ...)
+        G
+    """
+    x = _as_vector(x, 8, 'x', 'source_matrix')
+    u = _as_vector(u, 5, 'u', 'source_matrix')
+    p = _as_vector(p, 3, 'p', 'source_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u11_ = x[0]
+    u21_ = x[1]
+    u31_ = x[2]
+    u12_ = x[3]
+    u22_ = x[4]
+    u32_ = x[5]
+    V_xi_ = x[6]
+    V_eta_ = x[7]
+    a_xi_ = u[0]
+    a_eta_ = u[1]
+    V_zeta_ = u[3]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = 1/a_
+    _t1 = e2_*u31_**2
+    _t2 = -_t0*h_ - (1/2)*_t1 + 1
+    _t3 = V_xi_*_t0
+    _t4 = V_eta_*_t0
+    _t5 = e2_*u11_*u21_
+    _t6 = _t3*(_t2 + e2_*u11_**2) + _t4*_t5
+    _t7 = -U_*u21_ + _t6
+    _t8 = _t3*_t5 + _t4*(_t2 + e2_*u21_**2)
+    _t9 = -U_*u11_ - _t8
+    _t10 = U_*u31_
+    _t11 = U_**2*u31_*(a_ + h_)/_m.sqrt(1 - _t1)
+    _t12 = -_t8
+    _out = _np.zeros((11, 26) + _batch)
+    _out[0, 16] = -u31_
+    _out[0, 22] = -_t7*u31_
+    _out[1, 15] = u31_
+    _out[1, 21] = _t9*u31_
+    _out[2, 15] = -u21_
+    _out[2, 16] = u11_
+    _out[2, 21] = -_t9*u21_
+    _out[2, 22] = _t7*u11_
+    _out[3, 16] = -u32_
+    _out[3, 22] = -_t7*u32_
+    _out[4, 15] = u32_
+    _out[4, 21] = _t9*u32_
+    _out[5, 15] = -u22_
+    _out[5, 16] = u12_
+    _out[5, 21] = -_t9*u22_
+    _out[5, 22] = _t7*u12_
+    _out[6, 11] = 1
+    _out[6, 13] = 1
+    _out[6, 17] = a_xi_
+    _out[6, 19] = V_eta_*_t10 - V_zeta_*_t6 + _t11*u11_ + a_xi_
+    _out[7, 12] = 1
+    _out[7, 14] = 1
+    _out[7, 18] = a_eta_
+    _out[7, 20] = -V_xi_*_t10 + V_zeta_*_t12 + _t11*u21_ + a_eta_
+    _out[8, 8] = 1
+    _out[8, 23] = _t12
+    _out[9, 9] = 1
+    _out[9, 24] = _t6
+    _out[10, 10] = 1
+    _out[10, 25] = _t10
+    return _out
+
+
+def output_matrix(x, u, p):
+    """Output matrix H: output errors = H xe to first order.
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 11, ...)
+        H
+    """
+    x = _as_vector(x, 8, 'x', 'output_matrix')
+    u = _as_vector(u, 5, 'u', 'output_matrix')
+    p = _as_vector(p, 3, 'p', 'output_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u11_ = x[0]
+    u21_ = x[1]
+    u31_ = x[2]
+    u12_ = x[3]
+    u22_ = x[4]
+    u32_ = x[5]
+    V_xi_ = x[6]
+    V_eta_ = x[7]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = u31_**2
+    _t1 = _m.sqrt(1 - _t0)
+    _t2 = u11_*u22_ - u12_*u21_
+    _t3 = 1/(_t2**2 + u32_**2)
+    _t4 = _t3*u32_
+    _t5 = u11_**2
+    _t6 = u21_**2
+    _t7 = _t5 + _t6
+    _t8 = 1/_t7
+    _t9 = 1/_m.sqrt(_t7)
+    _t10 = _t6*e2_
+    _t11 = 1/a_
+    _t12 = _t0*e2_
+    _t13 = -_t11*h_ - (1/2)*_t12 + 1
+    _t14 = _t10 + _t13
+    _t15 = V_eta_*_t11
+    _t16 = V_xi_*_t11
+    _t17 = e2_*u21_
+    _t18 = _t16*_t17
+    _t19 = -U_*u11_ - _t14*_t15 - _t18*u11_
+    _t20 = _t19*_t9
+    _t21 = -U_ - _t18
+    _t22 = _t9*u11_
+    _t23 = _t15*_t17
+    _t24 = _t16*e2_*u11_
+    _t25 = _t23 + 2*_t24
+    _t26 = _t9*u21_
+    _t27 = _t7**((-3/2))
+    _t28 = _t5*e2_
+    _t29 = _t13 + _t28
+    _t30 = -U_*u21_ + _t16*_t29 + _t23*u11_
+    _t31 = _t27*u11_*u21_
+    _t32 = _t30*_t31
+    _t33 = -_t19*_t27*_t5 + _t20 + _t21*_t22 + _t25*_t26 - _t32
+    _t34 = _t30*_t9
+    _t35 = -2*_t23 - _t24
+    _t36 = -U_ + V_eta_*_t11*e2_*u11_
+    _t37 = _t27*_t6
+    _t38 = _t19*_t31
+    _t39 = _t22*_t35 + _t26*_t36 - _t30*_t37 + _t34 - _t38
+    _t40 = e2_*u31_
+    _t41 = _t15*_t40
+    _t42 = _t16*_t40
+    _t43 = _t22*_t41 - _t26*_t42
+    _t44 = _t11*_t26*_t28
+    _t45 = _t11*_t29*_t9*u21_ - _t44
+    _t46 = _t11*_t14
+    _t47 = _t10*_t11*_t22
+    _t48 = -_t22*_t46 + _t47
+    _t49 = _t21*_t9*u21_ - _t22*_t25 + _t27*_t30*_t5 - _t34 - _t38
+    _t50 = -_t19*_t37 + _t20 - _t22*_t36 + _t26*_t35 + _t32
+    _t51 = _t22*_t42 + _t26*_t41
+    _t52 = -_t11*_t22*_t29 - _t47
+    _t53 = -_t26*_t46 - _t44
+    _t54 = 1 - e2_
+    _t55 = a_ + h_
+    _t56 = 1 - _t12
+    _t57 = _t55/_t56**((3/2))
+    _t58 = _t54*_t57
+    _t59 = _t55/_m.sqrt(_t56)
+    _out = _np.zeros((7, 11) + _batch)
+    _out[0, 2] = _t0/_t1 + _t1
+    _out[1, 0] = _t4*u22_
+    _out[1, 1] = -_t4*u12_
+    _out[1, 3] = -_t4*u21_
+    _out[1, 4] = _t4*u11_
+    _out[1, 5] = -_t2*_t3
+    _out[2, 0] = -_t8*u21_
+    _out[2, 1] = _t8*u11_
+    _out[3, 0] = _t33
+    _out[3, 1] = _t39
+    _out[3, 2] = _t43
+    _out[3, 6] = _t45
+    _out[3, 7] = _t48
+    _out[4, 0] = _t49
+    _out[4, 1] = _t50
+    _out[4, 2] = _t51
+    _out[4, 6] = _t52
+    _out[4, 7] = _t53
+    _out[5, 0] = -_t49*_t58
+    _out[5, 1] = -_t50*_t58
+    _out[5, 2] = -3*_t40*_t54*_t55*(_t19*_t9*u21_ - _t34*u11_)/_t56**((5/2)) - _t51*_t58
+    _out[5, 6] = -_t52*_t58
+    _out[5, 7] = -_t53*_t58
+    _out[6, 0] = _t33*_t59
+    _out[6, 1] = _t39*_t59
+    _out[6, 2] = _t40*_t57*(_t20*u11_ + _t34*u21_) + _t43*_t59
+    _out[6, 6] = _t45*_t59
+    _out[6, 7] = _t48*_t59
+    return _out
+
+
+def second_order(x, u, p, xe, w):
+    """Second-order term of the error equations (refined model).
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+    xe : array_like, shape (11, ...)
+        error state xr - (x, 0)
+    w : array_like, shape (26, ...)
+        error-source magnitudes, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, ...)
+        1/2 (xe, w)' Hessian (xe, w) per equation
+    """
+    x = _as_vector(x, 8, 'x', 'second_order')
+    u = _as_vector(u, 5, 'u', 'second_order')
+    p = _as_vector(p, 3, 'p', 'second_order')
+    xe = _as_vector(xe, 11, 'xe', 'second_order')
+    w = _as_vector(w, 26, 'w', 'second_order')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:], w.shape[1:])
+    u11_ = x[0]
+    u21_ = x[1]
+    u31_ = x[2]
+    u12_ = x[3]
+    u22_ = x[4]
+    u32_ = x[5]
+    V_xi_ = x[6]
+    V_eta_ = x[7]
+    a_xi_ = u[0]
+    a_eta_ = u[1]
+    a_zeta_ = u[2]
+    V_zeta_ = u[3]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    delta_u11_ = xe[0]
+    delta_u21_ = xe[1]
+    delta_u31_ = xe[2]
+    delta_u12_ = xe[3]
+    delta_u22_ = xe[4]
+    delta_u32_ = xe[5]
+    delta_V_xi_ = xe[6]
+    delta_V_eta_ = xe[7]
+    alpha_x_ = xe[8]
+    alpha_y_ = xe[9]
+    alpha_z_ = xe[10]
+    accel_bias_x_ = w[11]
+    accel_bias_y_ = w[12]
+    velocity_integrator_offset_xi_ = w[13]
+    velocity_integrator_offset_eta_ = w[14]
+    position_integrator_offset_xi_ = w[15]
+    position_integrator_offset_eta_ = w[16]
+    accel_scale_error_x_ = w[17]
+    accel_scale_error_y_ = w[18]
+    velocity_integrator_gain_error_xi_ = w[19]
+    velocity_integrator_gain_error_eta_ = w[20]
+    position_integrator_gain_error_xi_ = w[21]
+    position_integrator_gain_error_eta_ = w[22]
+    correction_gain_error_x_ = w[23]
+    correction_gain_error_y_ = w[24]
+    correction_gain_error_z_ = w[25]
+    _t0 = 2*U_
+    _t1 = 1/a_
+    _t2 = 2*e2_
+    _t3 = e2_*u31_**2
+    _t4 = 2*_t1
+    _t5 = -_t3 - _t4*h_ + 2
+    _t6 = _t2*u11_**2 + _t5
+    _t7 = _t4*e2_
+    _t8 = V_eta_*_t7
+    _t9 = u11_*u21_
+    _t10 = _t6*delta_V_xi_
+    _t11 = -delta_u31_*u31_
+    _t12 = 2*delta_u11_
+    _t13 = _t11 + _t12*u11_
+    _t14 = V_xi_*_t13
+    _t15 = delta_u11_*u21_
+    _t16 = delta_u21_*u11_
+    _t17 = delta_V_eta_*u11_
+    _t18 = _t7*u21_
+    _t19 = -_t0*delta_u21_ + _t1*_t10 + _t14*_t7 + _t15*_t8 + _t16*_t8 + _t17*_t18
+    _t20 = _t19 + position_integrator_gain_error_eta_*(V_xi_*_t1*_t6 - _t0*u21_ + _t8*_t9) + 2*position_integrator_offset_eta_
+    _t21 = ((1/2))*delta_u31_
+    _t22 = delta_u31_**2
+    _t23 = -_t22
+    _t24 = 2*delta_V_xi_
+    _t25 = _t12*delta_u21_
+    _t26 = _t12*u21_
+    _t27 = 2*delta_u21_
+    _t28 = e2_*(V_eta_*_t25 + V_xi_*(_t23 + 2*delta_u11_**2) + _t13*_t24 + _t17*_t27 + _t26*delta_V_eta_)
+    _t29 = _t1*_t28
+    _t30 = _t19*position_integrator_gain_error_eta_ + _t29
+    _t31 = ((1/2))*u31_
+    _t32 = _t2*u21_**2 + _t5
+    _t33 = V_xi_*_t7
+    _t34 = _t32*delta_V_eta_
+    _t35 = _t11 + _t27*u21_
+    _t36 = V_eta_*_t35
+    _t37 = delta_V_xi_*u11_
+    _t38 = _t0*delta_u11_ + _t1*_t34 + _t15*_t33 + _t16*_t33 + _t18*_t37 + _t36*_t7
+    _t39 = _t38 + position_integrator_gain_error_xi_*(V_eta_*_t1*_t32 + _t0*u11_ + _t33*_t9) - 2*position_integrator_offset_xi_
+    _t40 = e2_*(V_eta_*(_t23 + 2*delta_u21_**2) + V_xi_*_t25 + _t16*_t24 + _t26*delta_V_xi_ + 2*_t35*delta_V_eta_)
+    _t41 = _t1*_t40
+    _t42 = _t38*position_integrator_gain_error_xi_ + _t41
+    _t43 = ((1/2))*_t20
+    _t44 = ((1/2))*_t39
+    _t45 = ((1/2))*_t30
+    _t46 = ((1/2))*_t42
+    _t47 = a_eta_*alpha_z_
+    _t48 = a_zeta_*alpha_y_
+    _t49 = V_eta_*_t2
+    _t50 = _t2*u21_
+    _t51 = _t10 + _t14*_t2 + _t15*_t49 + _t16*_t49 + _t17*_t50
+    _t52 = V_zeta_*_t1
+    _t53 = _t0*delta_u31_
+    _t54 = _t0*u31_
+    _t55 = 1 - _t3
+    _t56 = U_**2*(a_ + h_)
+    _t57 = _t56/_m.sqrt(_t55)
+    _t58 = _t57*u31_
+    _t59 = _t57*delta_u31_
+    _t60 = 2*_t59
+    _t61 = _t56/_t55**((3/2))
+    _t62 = _t3*_t61*delta_u31_
+    _t63 = 2*_t62
+    _t64 = U_*delta_u31_
+    _t65 = ((1/2))*V_zeta_
+    _t66 = ((3/2))*_t22
+    _t67 = _t66*u11_
+    _t68 = _t61*e2_*u31_
+    _t69 = _t56*e2_**2*u31_**3/_t55**((5/2))
+    _t70 = a_xi_*alpha_z_
+    _t71 = a_zeta_*alpha_x_
+    _t72 = V_xi_*_t2
+    _t73 = _t15*_t72 + _t16*_t72 + _t2*_t36 + _t34 + _t37*_t50
+    _t74 = _t66*u21_
+    _t75 = ((1/2))*_t1
+    _out = _np.zeros((11,) + _batch)
+    _out[0] = -_t20*_t21 - _t30*_t31
+    _out[1] = -_t21*_t39 - _t31*_t42
+    _out[2] = _t43*delta_u11_ + _t44*delta_u21_ + _t45*u11_ + _t46*u21_
+    _out[3] = -_t43*delta_u32_ - _t45*u32_
+    _out[4] = -_t44*delta_u32_ - _t46*u32_
+    _out[5] = _t43*delta_u12_ + _t44*delta_u22_ + _t45*u12_ + _t46*u22_
+    _out[6] = -_t29*_t65 + _t59*delta_u11_ + _t62*delta_u11_ + _t64*delta_V_eta_ + _t67*_t68 + _t67*_t69 + accel_scale_error_x_*(_t47 - _t48) + ((1/2))*velocity_integrator_gain_error_xi_*(V_eta_*_t53 + _t12*_t58 + 2*_t47 - 2*_t48 - _t51*_t52 + _t54*delta_V_eta_ + _t60*u11_ + _t63*u11_ + 2*a_xi_*accel_scale_error_x_ + 2*accel_bias_x_ + 2*velocity_integrator_offset_xi_)
+    _out[7] = -_t41*_t65 + _t59*delta_u21_ + _t62*delta_u21_ - _t64*delta_V_xi_ + _t68*_t74 + _t69*_t74 - accel_scale_error_y_*(_t70 - _t71) + ((1/2))*velocity_integrator_gain_error_eta_*(-V_xi_*_t53 + _t27*_t58 - _t52*_t73 - _t54*delta_V_xi_ + _t60*u21_ + _t63*u21_ - 2*_t70 + 2*_t71 + 2*a_eta_*accel_scale_error_y_ + 2*accel_bias_y_ + 2*velocity_integrator_offset_eta_)
+    _out[8] = -_t75*(_t40 + _t73*correction_gain_error_x_)
+    _out[9] = _t75*(_t28 + _t51*correction_gain_error_y_)
+    _out[10] = _t64*correction_gain_error_z_
+    return _out
+
+
+def output_second_order(x, u, p, xe):
+    """Second-order term of the output errors.
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+    xe : array_like, shape (11, ...)
+        error state xr - (x, 0)
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        1/2 xe' Hessian xe per output
+    """
+    x = _as_vector(x, 8, 'x', 'output_second_order')
+    u = _as_vector(u, 5, 'u', 'output_second_order')
+    p = _as_vector(p, 3, 'p', 'output_second_order')
+    xe = _as_vector(xe, 11, 'xe', 'output_second_order')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:])
+    u11_ = x[0]
+    u21_ = x[1]
+    u31_ = x[2]
+    u12_ = x[3]
+    u22_ = x[4]
+    u32_ = x[5]
+    V_xi_ = x[6]
+    V_eta_ = x[7]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    delta_u11_ = xe[0]
+    delta_u21_ = xe[1]
+    delta_u31_ = xe[2]
+    delta_u12_ = xe[3]
+    delta_u22_ = xe[4]
+    delta_u32_ = xe[5]
+    delta_V_xi_ = xe[6]
+    delta_V_eta_ = xe[7]
+    _t0 = u31_**2
+    _t1 = 1 - _t0
+    _t2 = delta_u31_**2
+    _t3 = u11_*u22_ - u12_*u21_
+    _t4 = 1/(_t3**2 + u32_**2)
+    _t5 = delta_u11_*u22_ - delta_u12_*u21_ - delta_u21_*u12_ + delta_u22_*u11_
+    _t6 = _t4*(_t3*_t5 + delta_u32_*u32_)
+    _t7 = u11_**2
+    _t8 = u21_**2
+    _t9 = _t7 + _t8
+    _t10 = _t9**(-2)
+    _t11 = delta_u11_*u11_
+    _t12 = delta_u21_*u21_
+    _t13 = _t11 + _t12
+    _t14 = delta_u11_*u21_
+    _t15 = delta_u21_*u11_
+    _t16 = 2*U_
+    _t17 = 1/a_
+    _t18 = 2*e2_
+    _t19 = _t0*e2_
+    _t20 = 2*_t17
+    _t21 = -_t19 - _t20*h_ + 2
+    _t22 = _t17*(_t18*_t8 + _t21)
+    _t23 = delta_u31_*u31_
+    _t24 = -_t23
+    _t25 = 2*_t12 + _t24
+    _t26 = _t20*e2_
+    _t27 = V_eta_*_t26
+    _t28 = V_xi_*_t26
+    _t29 = u11_*u21_
+    _t30 = _t26*_t29
+    _t31 = _t14*_t28 + _t15*_t28 + _t16*delta_u11_ + _t22*delta_V_eta_ + _t25*_t27 + _t30*delta_V_xi_
+    _t32 = _t17*(_t18*_t7 + _t21)
+    _t33 = 2*_t11 + _t24
+    _t34 = _t14*_t27 + _t15*_t27 - _t16*delta_u21_ + _t28*_t33 + _t30*delta_V_eta_ + _t32*delta_V_xi_
+    _t35 = V_xi_*_t32 - _t16*u21_ + _t27*_t29
+    _t36 = _t35*delta_u21_
+    _t37 = 1/_t9
+    _t38 = _t13*_t37
+    _t39 = -_t2
+    _t40 = delta_u21_**2
+    _t41 = 2*delta_V_eta_
+    _t42 = 2*delta_u11_*delta_u21_
+    _t43 = 2*delta_V_xi_
+    _t44 = _t17*e2_
+    _t45 = _t44*(V_eta_*(_t39 + 2*_t40) + V_xi_*_t42 + _t14*_t43 + _t15*_t43 + _t25*_t41)
+    _t46 = _t34*u21_
+    _t47 = _t35*u21_
+    _t48 = delta_u11_**2
+    _t49 = _t40 + _t48
+    _t50 = V_eta_*_t22 + _t16*u11_ + _t28*_t29
+    _t51 = V_eta_*_t42 + V_xi_*(_t39 + 2*_t48) + _t14*_t41 + _t15*_t41 + _t33*_t43
+    _t52 = _t13**2
+    _t53 = _t50*u11_
+    _t54 = ((3/2))*_t10*_t52
+    _t55 = -(3/2)*_t10*_t35*_t52*u21_ - _t13*_t31*_t37*u11_ - _t13*_t37*_t50*delta_u11_ - _t17*_t51*e2_*u21_ + _t31*delta_u11_ - _t34*delta_u21_ + _t36*_t38 + ((1/2))*_t37*_t47*_t49 - (1/2)*_t37*_t49*_t50*u11_ + _t38*_t46 + _t45*u11_ + _t53*_t54
+    _t56 = ((1/2))/_m.sqrt(_t9)
+    _t57 = _t35*u11_
+    _t58 = _t50*u21_
+    _t59 = -_t13*_t31*_t37*u21_ - _t13*_t34*_t37*u11_ - _t13*_t35*_t37*delta_u11_ - _t13*_t37*_t50*delta_u21_ + _t31*delta_u21_ + _t34*delta_u11_ - (1/2)*_t35*_t37*_t49*u11_ - (1/2)*_t37*_t49*_t50*u21_ + _t44*_t51*u11_ + _t45*u21_ + _t54*_t57 + _t54*_t58
+    _t60 = _t19 - 1
+    _t61 = -_t60
+    _t62 = 1/_t61
+    _t63 = _t23*_t62*e2_
+    _t64 = _t19/_t60
+    _t65 = _t56*(a_ + h_)
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = ((1/2))*_t2*u31_*(_t0/_t1 + 1)/_m.sqrt(_t1)
+    _out[1] = _t4*(_t3*_t6*delta_u32_ - _t5*_t6*u32_ + u32_*(delta_u11_*delta_u22_ - delta_u12_*delta_u21_))
+    _out[2] = _t10*_t13*(_t14 - _t15)
+    _out[3] = -_t55*_t56
+    _out[4] = -_t56*_t59
+    _out[5] = _t65*(e2_ - 1)*(((3/2))*_t2*_t62*e2_*(_t57 + _t58)*(5*_t64 - 1) - _t59 - 3*_t63*(_t31*u21_ + _t34*u11_ + _t35*delta_u11_ - _t38*_t57 - _t38*_t58 + _t50*delta_u21_))/_t61**((3/2))
+    _out[6] = _t65*(((1/2))*_t2*_t62*e2_*(-_t47 + _t53)*(3*_t64 - 1) - _t55 - _t63*(_t31*u11_ - _t36 + _t38*_t47 - _t38*_t53 - _t46 + _t50*delta_u11_))/_m.sqrt(_t61)
+    return _out
+
+
+def initial_state(c, u, p):
+    """True initial state from navigation initial conditions.
+
+    Parameters
+    ----------
+    c : array_like, shape (5, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (8, ...)
+        x(0)
+    """
+    c = _as_vector(c, 5, 'c', 'initial_state')
+    u = _as_vector(u, 5, 'u', 'initial_state')
+    p = _as_vector(p, 3, 'p', 'initial_state')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    longitude_ = c[1]
+    heading_ = c[2]
+    v_N_ = c[3]
+    v_E_ = c[4]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = _m.cos(heading_)
+    _t1 = _m.cos(latitude_)
+    _t2 = _t0*_t1
+    _t3 = _m.sin(heading_)
+    _t4 = _t1*_t3
+    _t5 = _m.sin(latitude_)
+    _t6 = _m.cos(longitude_)
+    _t7 = _m.sin(longitude_)
+    _t8 = 1/a_
+    _t9 = _t8*h_
+    _t10 = _t5**2
+    _t11 = _t10*e2_
+    _t12 = ((1/2))*_t11
+    _t13 = _t3**2
+    _t14 = _t1**2
+    _t15 = _t14*e2_
+    _t16 = _t13*_t15
+    _t17 = 1/(a_ + h_)
+    _t18 = _t17*_t3
+    _t19 = 1 - _t11
+    _t20 = _m.sqrt(_t19)*v_E_
+    _t21 = _t0*_t17
+    _t22 = _t19**((3/2))*v_N_/(1 - e2_)
+    _t23 = _t8*(U_*_t4 + _t18*_t20 + _t21*_t22)
+    _t24 = _t8*(U_*_t2 - _t18*_t22 + _t20*_t21)
+    _t25 = _t0*_t15*_t3
+    _t26 = a_**2
+    _t27 = a_*h_
+    _t28 = e2_**2
+    _t29 = _t0**2
+    _t30 = 2*_t10*_t14*_t26*_t28
+    _t31 = 4*_t27
+    _t32 = 4*a_**4/(4*_t10*a_*e2_*h_ - 4*_t11*_t26 + 4*_t13*_t14*_t26*e2_ - _t13*_t30 + 4*_t14*_t26*_t29*e2_ - _t15*_t29*_t31 - _t16*_t31 + _t26*_t28*_t5**4 + 4*_t26 - 8*_t27 - _t29*_t30 + 4*h_**2)
+    _out = _np.zeros((8,) + _batch)
+    _out[0] = _t2
+    _out[1] = _t4
+    _out[2] = _t5
+    _out[3] = _t0*_t5*_t7 - _t3*_t6
+    _out[4] = _t0*_t6 + _t3*_t5*_t7
+    _out[5] = -_t1*_t7
+    _out[6] = _t32*(_t23*(-_t12 + _t16 - _t9 + 1) + _t24*_t25)
+    _out[7] = _t32*(-_t23*_t25 - _t24*(-_t12 + _t14*_t29*e2_ - _t9 + 1))
+    return _out
+
+
+def initial_real_state(c, u, w, p):
+    """Real-work initial state, initial-error sources applied.
+
+    Parameters
+    ----------
+    c : array_like, shape (5, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    w : array_like, shape (26, ...)
+        error-source magnitudes, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, ...)
+        xr(0)
+    """
+    c = _as_vector(c, 5, 'c', 'initial_real_state')
+    u = _as_vector(u, 5, 'u', 'initial_real_state')
+    w = _as_vector(w, 26, 'w', 'initial_real_state')
+    p = _as_vector(p, 3, 'p', 'initial_real_state')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    longitude_ = c[1]
+    heading_ = c[2]
+    v_N_ = c[3]
+    v_E_ = c[4]
+    h_ = u[4]
+    initial_tilt_x_ = w[0]
+    initial_tilt_y_ = w[1]
+    initial_azimuth_error_ = w[2]
+    initial_velocity_error_xi_ = w[3]
+    initial_velocity_error_eta_ = w[4]
+    initial_latitude_error_ = w[5]
+    initial_longitude_error_ = w[6]
+    initial_heading_error_ = w[7]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = heading_ + initial_heading_error_
+    _t1 = _m.cos(_t0)
+    _t2 = initial_latitude_error_ + latitude_
+    _t3 = _m.cos(_t2)
+    _t4 = _t1*_t3
+    _t5 = _m.sin(_t0)
+    _t6 = _t3*_t5
+    _t7 = _m.sin(_t2)
+    _t8 = initial_longitude_error_ + longitude_
+    _t9 = _m.cos(_t8)
+    _t10 = _m.sin(_t8)
+    _t11 = 1/a_
+    _t12 = _t11*h_
+    _t13 = _t7**2
+    _t14 = _t13*e2_
+    _t15 = ((1/2))*_t14
+    _t16 = _t5**2
+    _t17 = _t3**2
+    _t18 = _t17*e2_
+    _t19 = _t16*_t18
+    _t20 = 1/(a_ + h_)
+    _t21 = _t20*_t5
+    _t22 = 1 - _t14
+    _t23 = _m.sqrt(_t22)*v_E_
+    _t24 = _t1*_t20
+    _t25 = _t22**((3/2))*v_N_/(1 - e2_)
+    _t26 = _t11*(U_*_t6 + _t21*_t23 + _t24*_t25)
+    _t27 = _t11*(U_*_t4 - _t21*_t25 + _t23*_t24)
+    _t28 = _t1*_t18*_t5
+    _t29 = a_**2
+    _t30 = a_*h_
+    _t31 = e2_**2
+    _t32 = _t1**2
+    _t33 = 2*_t13*_t17*_t29*_t31
+    _t34 = 4*_t30
+    _t35 = 4*a_**4/(4*_t13*a_*e2_*h_ - 4*_t14*_t29 + 4*_t16*_t17*_t29*e2_ - _t16*_t33 + 4*_t17*_t29*_t32*e2_ - _t18*_t32*_t34 - _t19*_t34 + _t29*_t31*_t7**4 + 4*_t29 - 8*_t30 - _t32*_t33 + 4*h_**2)
+    _out = _np.zeros((11,) + _batch)
+    _out[0] = _t4
+    _out[1] = _t6
+    _out[2] = _t7
+    _out[3] = _t1*_t10*_t7 - _t5*_t9
+    _out[4] = _t1*_t9 + _t10*_t5*_t7
+    _out[5] = -_t10*_t3
+    _out[6] = _t35*(_t26*(-_t12 - _t15 + _t19 + 1) + _t27*_t28) + initial_velocity_error_xi_
+    _out[7] = _t35*(-_t26*_t28 - _t27*(-_t12 - _t15 + _t17*_t32*e2_ + 1)) + initial_velocity_error_eta_
+    _out[8] = initial_tilt_x_
+    _out[9] = initial_tilt_y_
+    _out[10] = initial_azimuth_error_
+    return _out
+
+
+def initial_error_matrix(c, u, p):
+    """First-order map from error sources to the initial error state.
+
+    Parameters
+    ----------
+    c : array_like, shape (5, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, 26, ...)
+        E: xe(0) = E w
+    """
+    c = _as_vector(c, 5, 'c', 'initial_error_matrix')
+    u = _as_vector(u, 5, 'u', 'initial_error_matrix')
+    p = _as_vector(p, 3, 'p', 'initial_error_matrix')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    longitude_ = c[1]
+    heading_ = c[2]
+    v_N_ = c[3]
+    v_E_ = c[4]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    _t0 = _m.cos(heading_)
+    _t1 = _m.sin(latitude_)
+    _t2 = _t0*_t1
+    _t3 = _m.cos(latitude_)
+    _t4 = _m.sin(heading_)
+    _t5 = _t3*_t4
+    _t6 = _t1*_t4
+    _t7 = _t0*_t3
+    _t8 = _m.sin(longitude_)
+    _t9 = _m.cos(longitude_)
+    _t10 = _t1*e2_
+    _t11 = _t10*_t3
+    _t12 = _t4**2
+    _t13 = 2*_t11
+    _t14 = 1/a_
+    _t15 = 1/(a_ + h_)
+    _t16 = _t15*_t4
+    _t17 = _t1**2
+    _t18 = _t17*e2_
+    _t19 = 1 - _t18
+    _t20 = _m.sqrt(_t19)
+    _t21 = _t20*v_E_
+    _t22 = _t0*_t15
+    _t23 = 1/(1 - e2_)
+    _t24 = _t23*v_N_
+    _t25 = _t19**((3/2))*_t24
+    _t26 = U_*_t5 + _t16*_t21 + _t22*_t25
+    _t27 = _t14*_t26
+    _t28 = _t15*v_E_/_t20
+    _t29 = _t2*e2_
+    _t30 = _t29*_t3
+    _t31 = -U_*_t6 - _t10*_t28*_t5 - 3*_t15*_t20*_t24*_t30
+    _t32 = _t14*h_
+    _t33 = ((1/2))*_t18
+    _t34 = _t3**2
+    _t35 = _t34*e2_
+    _t36 = _t12*_t35
+    _t37 = -_t32 - _t33 + _t36 + 1
+    _t38 = _t14*_t37
+    _t39 = -U_*_t2 + 3*_t1*_t15*_t20*_t23*_t3*_t4*e2_*v_N_ - _t28*_t30
+    _t40 = _t0*_t35*_t4
+    _t41 = _t14*_t40
+    _t42 = U_*_t7 - _t16*_t25 + _t21*_t22
+    _t43 = _t14*_t42
+    _t44 = a_**2
+    _t45 = a_*h_
+    _t46 = 8*_t45
+    _t47 = e2_**2
+    _t48 = 4*_t44
+    _t49 = _t0**2
+    _t50 = 2*_t17*_t34*_t44*_t47
+    _t51 = _t35*_t49
+    _t52 = 4*_t45
+    _t53 = _t1**4*_t44*_t47 + 4*_t12*_t34*_t44*e2_ - _t12*_t50 + 4*_t17*a_*e2_*h_ - _t18*_t48 + 4*_t34*_t44*_t49*e2_ - _t36*_t52 + 4*_t44 - _t46 - _t49*_t50 - _t51*_t52 + 4*h_**2
+    _t54 = 4*a_**4
+    _t55 = _t54/_t53
+    _t56 = _t40*_t43
+    _t57 = _t1**3*_t3*_t47*_t48
+    _t58 = _t3**3
+    _t59 = _t11*_t46
+    _t60 = _t54*(8*_t1*_t12*_t3*_t44*e2_ + 4*_t1*_t12*_t44*_t47*_t58 + 8*_t1*_t3*_t44*_t49*e2_ + 8*_t1*_t3*_t44*e2_ + 4*_t1*_t44*_t47*_t49*_t58 - _t12*_t57 - _t12*_t59 - _t49*_t57 - _t49*_t59 - _t57 - _t59)/_t53**2
+    _t61 = -_t26
+    _t62 = _t27*_t40
+    _t63 = -_t32 - _t33 + _t34*_t49*e2_ + 1
+    _t64 = _t14*_t63
+    _out = _np.zeros((11, 26) + _batch)
+    _out[0, 5] = -_t2
+    _out[0, 7] = -_t5
+    _out[1, 5] = -_t6
+    _out[1, 7] = _t7
+    _out[2, 5] = _t3
+    _out[3, 5] = _t7*_t8
+    _out[3, 6] = _t2*_t9 + _t4*_t8
+    _out[3, 7] = -_t0*_t9 - _t6*_t8
+    _out[4, 5] = _t5*_t8
+    _out[4, 6] = -_t0*_t8 + _t6*_t9
+    _out[4, 7] = _t0*_t1*_t8 - _t4*_t9
+    _out[5, 5] = _t1*_t8
+    _out[5, 6] = -_t3*_t9
+    _out[6, 3] = 1
+    _out[6, 5] = _t55*(_t27*(-_t11 - _t12*_t13) - 2*_t29*_t43*_t5 + _t31*_t38 + _t39*_t41) + _t60*(_t27*_t37 + _t56)
+    _out[6, 7] = _t55*(-_t36*_t43 + _t38*_t42 + _t41*_t61 + _t43*_t51 + 2*_t62)
+    _out[7, 4] = 1
+    _out[7, 5] = _t55*(2*_t0*_t1*_t14*_t26*_t3*_t4*e2_ - _t31*_t41 - _t39*_t64 - _t43*(-_t11 - _t13*_t49)) + _t60*(-_t43*_t63 - _t62)
+    _out[7, 7] = _t55*(_t27*_t36 - _t27*_t51 + _t56 - _t61*_t64)
+    _out[8, 0] = 1
+    _out[9, 1] = 1
+    _out[10, 2] = 1
+    return _out
+
+
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix')

@@ -1,0 +1,49 @@
+"""Exceptions raised for bad input.
+
+Every error a user can provoke with bad input is an :class:`InsErrorsError` (or a
+subclass) whose message is one line naming the problem; the CLI prints that line and
+exits with status 2 instead of showing a traceback.
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+
+
+class InsErrorsError(ValueError):
+    """Base class of every user-facing error of ins-errors."""
+
+
+class UnknownNameError(InsErrorsError, KeyError):
+    """A model, state, source, output or study name that does not exist."""
+
+    def __str__(self) -> str:  # KeyError would add quotes around the message
+        return str(self.args[0]) if self.args else ""
+
+
+class DomainError(InsErrorsError):
+    """A value outside the domain where the model's formulas hold (pole, NaN, R <= 0...)."""
+
+
+class ShapeError(InsErrorsError):
+    """An array argument whose shape does not match what the function expects."""
+
+
+def unknown_name(kind: str, name: str, known: Iterable[str]) -> UnknownNameError:
+    """Build an :class:`UnknownNameError` that suggests the closest known names.
+
+    Parameters
+    ----------
+    kind : str
+        What was looked up, e.g. ``"error source"``.
+    name : str
+        The name the user gave.
+    known : iterable of str
+        The valid names.
+    """
+    known = list(known)
+    close = difflib.get_close_matches(name, known, n=3, cutoff=0.5)
+    hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+    listing = "" if close else f"; known: {', '.join(known)}"
+    return UnknownNameError(f"unknown {kind} {name!r}{hint}{listing}")

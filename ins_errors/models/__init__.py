@@ -1,0 +1,40 @@
+"""SymPy definitions of the INS models, one module per model.
+
+``definition(name)`` builds (and caches) a model's :class:`~ins_errors.models.base.ModelDefinition`.
+Importing this package does not import SymPy-heavy model modules until asked.
+"""
+
+from __future__ import annotations
+
+import importlib
+from functools import cache
+from typing import TYPE_CHECKING
+
+from ins_errors.errors import unknown_name
+
+if TYPE_CHECKING:
+    from ins_errors.models.base import ModelDefinition
+
+MODEL_MODULES: dict[str, str] = {
+    "orthodromic": "ins_errors.models.orthodromic",
+}
+"""Registry: model name -> module whose ``build()`` returns its definition."""
+
+
+def model_names() -> list[str]:
+    """Names of every registered model."""
+    return list(MODEL_MODULES)
+
+
+@cache
+def definition(name: str) -> ModelDefinition:
+    """The symbolic definition of model ``name``.
+
+    Raises
+    ------
+    UnknownNameError
+        If no model of that name is registered.
+    """
+    if name not in MODEL_MODULES:
+        raise unknown_name("model", name, MODEL_MODULES)
+    return importlib.import_module(MODEL_MODULES[name]).build()

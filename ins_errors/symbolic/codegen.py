@@ -1,0 +1,183 @@
+"""Emit numeric code (numpy and CasADi) from SymPy matrices.
+
+Each emitted function takes flat argument vectors (``x``, ``u``, ``p``, ...), unpacks
+them into named locals, evaluates common subexpressions once (SymPy ``cse``) and returns
+the matrix. The numpy functions broadcast: every argument may carry trailing batch axes
+(shape ``(n, ...)``), and the result has shape ``(rows, cols, ...)`` (or ``(rows, ...)``
+for column vectors), so a whole trajectory is evaluated in one call. The CasADi module
+builds the same expressions as ``casadi.Function`` objects over ``SX`` symbols.
+
+Both backends are printed from the same CSE'd assignment list, so they cannot drift
+apart; tests compare them with each other and with SymPy evaluated in memory.
+"""
+
+from __future__ import annotations
+
+import keyword
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import sympy as sp
+from sympy.printing.pycode import PythonCodePrinter
+
+_FUNCTIONS = ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "exp", "log",
+              "sinh", "cosh", "tanh", "Abs")
+_NUMPY_NAMES = {"asin": "arcsin", "acos": "arccos", "atan": "arctan", "atan2": "arctan2",
+                "Abs": "abs"}
+_CASADI_NAMES = {"Abs": "fabs"}
+
+
+class _BackendPrinter(PythonCodePrinter):
+    """Python printer whose elementary functions live in module alias ``_m``."""
+
+    def __init__(self, names: dict[str, str]):
+        functions = {f: f"_m.{names.get(f, f)}" for f in _FUNCTIONS}
+        super().__init__({"user_functions": functions, "fully_qualified_modules": False})
+        self._sqrt = f"_m.{names.get('sqrt', 'sqrt')}"
+
+    def _print_Pow(self, expr, rational=False):
+        return self._hprint_Pow(expr, rational=rational, sqrt=self._sqrt)
+
+    def _module_format(self, fqn, register=True):  # keep "_m.sin" as written
+        return fqn
+
+    def _print_Float(self, expr):
+        return repr(float(expr))
+
+    def _print_Rational(self, expr):
+        return f"({expr.p}/{expr.q})"
+
+    def _print_Half(self, expr):
+        return self._print_Rational(expr)
+
+    def _print_Pi(self, expr):
+        return "_m.pi"
+
+
+NUMPY_PRINTER = _BackendPrinter(_NUMPY_NAMES)
+CASADI_PRINTER = _BackendPrinter(_CASADI_NAMES)
+
+
+@dataclass(frozen=True)
+class Argument:
+    """One flat vector argument of an emitted function."""
+
+    name: str
+    symbols: Sequence[sp.Symbol]
+    description: str
+
+
+@dataclass(frozen=True)
+class FunctionSpec:
+    """What to emit: ``name(arguments...) -> matrix``."""
+
+    name: str
+    arguments: Sequence[Argument]
+    result: sp.Matrix
+    summary: str
+    result_description: str
+
+
+@dataclass(frozen=True)
+class _Prepared:
+    spec: FunctionSpec
+    unpack: list[tuple[str, str, int]]  # (local, argument, index)
+    assignments: list[tuple[str, sp.Expr]]
+    entries: list[tuple[int, int, sp.Expr]]  # nonzero entries after CSE
+    operations: int
+
+
+def _identifier(symbol: sp.Symbol, taken: set[str]) -> str:
+    name = "".join(ch if ch.isalnum() or ch == "_" else "_" for ch in symbol.name)
+    if not name or name[0].isdigit() or keyword.iskeyword(name):
+        name = f"v_{name}"
+    name = f"{name}_"  # never collides with the function's own names (x, u, p, _m, ...)
+    while name in taken:
+        name += "_"
+    taken.add(name)
+    return name
+
+
+def prepare(spec: FunctionSpec) -> _Prepared:
+    """Unpack arguments, CSE the result, count operations."""
+    taken: set[str] = set()
+    rename: dict[sp.Symbol, sp.Symbol] = {}
+    unpack: list[tuple[str, str, int]] = []
+    used = spec.result.free_symbols
+    for argument in spec.arguments:
+        for index, symbol in enumerate(argument.symbols):
+            if symbol in used and symbol not in rename:
+                local = _identifier(symbol, taken)
+                rename[symbol] = sp.Symbol(local, real=True)
+                unpack.append((local, argument.name, index))
+    result = spec.result.xreplace(rename)
+    unknown = result.free_symbols - set(rename.values())
+    if unknown:
+        raise ValueError(f"{spec.name}: symbols not among the arguments: {sorted(map(str, unknown))}")
+    flat = [(i, j, result[i, j]) for i in range(result.rows) for j in range(result.cols)
+            if result[i, j] != 0]
+    temporaries = sp.numbered_symbols("_t")
+    assignments, reduced = sp.cse([e for _, _, e in flat], symbols=temporaries,
+                                  order="none")
+    entries = [(i, j, e) for (i, j, _), e in zip(flat, reduced, strict=True)]
+    operations = sum(sp.count_ops(e) for _, e in assignments) + sum(
+        sp.count_ops(e) for _, _, e in entries)
+    return _Prepared(spec, unpack, [(str(s), e) for s, e in assignments], entries,
+                     int(operations))
+
+
+def _docstring(spec: FunctionSpec, indent: str) -> list[str]:
+    lines = [f'{indent}"""{spec.summary}', "", f"{indent}Parameters", f"{indent}----------"]
+    for argument in spec.arguments:
+        lines.append(f"{indent}{argument.name} : array_like, shape ({len(argument.symbols)}, ...)")
+        lines.append(f"{indent}    {argument.description}")
+    rows, cols = spec.result.shape
+    shape = f"({rows}, ...)" if cols == 1 else f"({rows}, {cols}, ...)"
+    lines += ["", f"{indent}Returns", f"{indent}-------", f"{indent}numpy.ndarray, shape {shape}",
+              f"{indent}    {spec.result_description}", f'{indent}"""']
+    return [line.rstrip() for line in lines]
+
+
+def emit_numpy_function(prepared: _Prepared) -> str:
+    """Source of one broadcasting numpy function."""
+    spec = prepared.spec
+    args = ", ".join(a.name for a in spec.arguments)
+    out = [f"def {spec.name}({args}):"]
+    out += _docstring(spec, "    ")
+    for argument in spec.arguments:
+        out.append(f"    {argument.name} = _as_vector({argument.name}, {len(argument.symbols)},"
+                   f" {argument.name!r}, {spec.name!r})")
+    batch = ", ".join(f"{a.name}.shape[1:]" for a in spec.arguments)
+    out.append(f"    _batch = _np.broadcast_shapes({batch})")
+    for local, argument, index in prepared.unpack:
+        out.append(f"    {local} = {argument}[{index}]")
+    for name, expr in prepared.assignments:
+        out.append(f"    {name} = {NUMPY_PRINTER.doprint(expr)}")
+    rows, cols = spec.result.shape
+    shape = f"({rows},)" if cols == 1 else f"({rows}, {cols})"
+    out.append(f"    _out = _np.zeros({shape} + _batch)")
+    for i, j, expr in prepared.entries:
+        target = f"_out[{i}]" if cols == 1 else f"_out[{i}, {j}]"
+        out.append(f"    {target} = {NUMPY_PRINTER.doprint(expr)}")
+    out.append("    return _out")
+    return "\n".join(out)
+
+
+def emit_casadi_builder(prepared: _Prepared) -> str:
+    """Source of a function that builds the ``casadi.Function`` of one spec."""
+    spec = prepared.spec
+    out = [f"def _build_{spec.name}():"]
+    for argument in spec.arguments:
+        out.append(f"    {argument.name} = _m.SX.sym({argument.name!r}, {len(argument.symbols)})")
+    for local, argument, index in prepared.unpack:
+        out.append(f"    {local} = {argument}[{index}]")
+    for name, expr in prepared.assignments:
+        out.append(f"    {name} = {CASADI_PRINTER.doprint(expr)}")
+    rows, cols = spec.result.shape
+    out.append(f"    _out = _m.SX({rows}, {cols})")
+    for i, j, expr in prepared.entries:
+        out.append(f"    _out[{i}, {j}] = {CASADI_PRINTER.doprint(expr)}")
+    names = ", ".join(a.name for a in spec.arguments)
+    labels = ", ".join(repr(a.name) for a in spec.arguments)
+    out.append(f"    return _m.Function({spec.name!r}, [{names}], [_out], [{labels}], ['out'])")
+    return "\n".join(out)

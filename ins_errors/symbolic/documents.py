@@ -1,0 +1,88 @@
+"""Readable Markdown/LaTeX of a model's error equations, grouped the way papers group them."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ins_errors.models.base import ModelDefinition
+from ins_errors.symbolic.variation import (
+    VariedEquation,
+    output_mechanisations,
+    structured_variation,
+)
+
+
+def latex_symbol_names(d: ModelDefinition, lines: list[VariedEquation]) -> dict[sp.Symbol, str]:
+    """LaTeX spelling of every symbol that appears in the structured variation."""
+    names = d.latex_names()
+    true_mech, _, _, _ = output_mechanisations(d)
+    names.update({df.symbol: df.latex for df in true_mech.definitions})
+    for line in lines:
+        if line.kind == "intermediate":
+            names[line.lhs] = line.latex
+            names.setdefault(sp.Symbol(line.name, real=True), line.latex.replace(r"\Delta ", "", 1))
+    return names
+
+
+def to_latex(expr: sp.Expr, names: dict[sp.Symbol, str]) -> str:
+    """LaTeX of ``expr`` with the model's own notation."""
+    return sp.latex(expr, symbol_names=names, mul_symbol=None)
+
+
+def _table(header: list[str], rows: list[list[str]]) -> list[str]:
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    out += ["| " + " | ".join(row) + " |" for row in rows]
+    return out
+
+
+def error_equations_markdown(d: ModelDefinition) -> str:
+    """The ``error_equations.md`` document of one model."""
+    lines = structured_variation(d)
+    names = latex_symbol_names(d, lines)
+    by_name = {line.name: line for line in lines if line.kind == "state"}
+    out = [f"# Error equations of the model `{d.name}`", "",
+           f"{d.title}. Source: {d.source}.", "",
+           "Derived mechanically by varying the real-work equations around the ideal work "
+           "(first order). Each line varies one formula of the mechanisation with respect to "
+           "its direct arguments; Δ marks the difference computed − true, α the platform "
+           "misalignment. Coefficients are ideal-work quantities.", ""]
+    if d.notes:
+        out += ["## Modelling choices", "", d.notes, ""]
+    out += ["## Names", "", "Error states:", ""]
+    out += _table(["name", "symbol", "unit", "meaning"],
+                  [[f"`{v.name}`", f"${v.latex}$", v.unit, v.description]
+                   for v in d.error_states])
+    out += ["", "Error sources:", ""]
+    out += _table(["name", "symbol", "kind", "unit (SI / quoted in)", "manual factor", "meaning"],
+                  [[f"`{s.name}`", f"${s.latex}$", s.kind, f"{s.unit} / {s.display_unit}",
+                    str(s.factor or "–"), s.description] for s in d.sources])
+    out += ["", "## Variations of the intermediate quantities", ""]
+    out += _equations([line for line in lines if line.kind == "intermediate"
+                       and not _is_output_intermediate(line, d)], names)
+    grouped: set[str] = set()
+    for title, members in d.groups:
+        out += ["", f"## {title}", ""]
+        out += _equations([by_name[m] for m in members], names)
+        grouped.update(members)
+    rest = [line for name, line in by_name.items() if name not in grouped]
+    if rest:
+        out += ["", "## Other states", ""]
+        out += _equations(rest, names)
+    out += ["", "## Output errors", ""]
+    out += _equations([line for line in lines if _is_output_intermediate(line, d)
+                       or (line.kind == "output" and not line.rhs.is_Symbol)], names)
+    return "\n".join(out) + "\n"
+
+
+def _is_output_intermediate(line: VariedEquation, d: ModelDefinition) -> bool:
+    real = {definition.symbol.name[:-2] for definition in d.real.definitions}
+    return line.kind == "intermediate" and line.name not in real
+
+
+def _equations(lines: list[VariedEquation], names: dict[sp.Symbol, str]) -> list[str]:
+    out = []
+    for line in lines:
+        lhs = line.latex
+        out.append(f"$$ {lhs} = {to_latex(line.rhs, names)} $$")
+        out.append("")
+    return out

@@ -1,0 +1,269 @@
+"""Mechanical variation of a model's real-work equations around its ideal work.
+
+Given a :class:`~ins_errors.models.base.ModelDefinition` with ideal-work right-hand side
+``f(x, u, p)`` and real-work right-hand side ``f~(x~, x, u, w, p)``, the error state
+``xe = x~ - (x, 0)`` obeys, to second order,
+
+    dxe/dt = F(x, u, p) xe + G(x, u, p) w + S(x, u, p; xe, w)
+
+with ``F = df~/dx~`` and ``G = df~/dw`` at ``x~ = (x, 0), w = 0`` and ``S`` the
+second-order Taylor term. Output errors are ``ye = H xe (+ second-order term)``.
+Initial errors are ``xe(0) = E(c, u, p) w`` (first order in the initial sources).
+
+Two views are produced:
+
+* :func:`vary` — closed matrices (every intermediate substituted), used for numerics;
+* :func:`structured_variation` — the variation of each named intermediate in turn
+  (Δω_ξ = ..., ΔW_ξ = ..., ΔV̇_ξ = ... ΔW_ξ ...), the way papers print error equations;
+  used by the generated documents and by the hand-derivation checker.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+import sympy as sp
+
+from ins_errors.models.base import Mechanisation, ModelDefinition, accent
+
+EPSILON = sp.Symbol("epsilon", real=True)
+
+
+@dataclass
+class ErrorModel:
+    """Closed-form first- and second-order error model of one INS.
+
+    Attributes
+    ----------
+    definition : ModelDefinition
+        The model it was derived from.
+    ideal_rhs : sympy.Matrix, shape (n, 1)
+        Ideal-work ``dx/dt`` in ``x, u, p``.
+    real_rhs : sympy.Matrix, shape (ne, 1)
+        Real-work ``dx~/dt`` in ``x~, x, u, w, p``.
+    outputs : sympy.Matrix, shape (ny, 1)
+        Outputs of the state ``x`` in ``x, u, p``.
+    state_matrix : sympy.Matrix, shape (ne, ne)
+        F in ``x, u, p``.
+    source_matrix : sympy.Matrix, shape (ne, nw)
+        G in ``x, u, p`` (zero columns for initial-error sources).
+    output_matrix : sympy.Matrix, shape (ny, ne)
+        H in ``x, u, p``.
+    second_order : sympy.Matrix, shape (ne, 1)
+        Second-order term S in ``x, u, p, xe, w``.
+    output_second_order : sympy.Matrix, shape (ny, 1)
+        Second-order output term in ``x, u, p, xe``.
+    initial_state : sympy.Matrix, shape (n, 1)
+        ``x(0)`` in ``c, u, p``.
+    initial_real_state : sympy.Matrix, shape (ne, 1)
+        ``x~(0)`` in ``c, u, w, p``.
+    initial_error_matrix : sympy.Matrix, shape (ne, nw)
+        E in ``c, u, p``: first-order ``xe(0) = E w``.
+    """
+
+    definition: ModelDefinition
+    ideal_rhs: sp.Matrix
+    real_rhs: sp.Matrix
+    outputs: sp.Matrix
+    state_matrix: sp.Matrix
+    source_matrix: sp.Matrix
+    output_matrix: sp.Matrix
+    second_order: sp.Matrix
+    output_second_order: sp.Matrix
+    initial_state: sp.Matrix
+    initial_real_state: sp.Matrix
+    initial_error_matrix: sp.Matrix
+
+
+def _second_order_term(expr: sp.Matrix, shift: dict[sp.Symbol, sp.Expr]) -> sp.Matrix:
+    """½ d²/dε² expr(point + ε·direction) at ε = 0, per component."""
+    moved = expr.xreplace(shift)
+    return moved.applyfunc(lambda e: sp.diff(e, EPSILON, 2).xreplace({EPSILON: 0}) / 2)
+
+
+def vary(definition: ModelDefinition) -> ErrorModel:
+    """Derive the closed first- and second-order error model of ``definition``."""
+    d = definition
+    n = len(d.states)
+    at_ideal = d.at_ideal()
+    no_errors = d.no_errors()
+    real_rhs = d.real_rhs_expanded()
+    outputs = d.outputs_expanded()
+
+    def at_point(m: sp.Matrix) -> sp.Matrix:
+        return m.xreplace(at_ideal).xreplace(no_errors)
+
+    F = at_point(real_rhs.jacobian(d.real_states))
+    G = at_point(real_rhs.jacobian(d.w))
+    H = outputs.jacobian(d.x).row_join(sp.zeros(len(d.outputs), len(d.real_states) - n))
+
+    shift = {xr: at_ideal[xr] + EPSILON * xe for xr, xe in zip(d.real_states, d.xe, strict=True)}
+    shift.update({s: EPSILON * s for s in d.w})
+    second = _second_order_term(real_rhs, shift)
+    out_shift = {x: x + EPSILON * xe for x, xe in zip(d.x, d.xe[:n], strict=True)}
+    output_second = _second_order_term(outputs, out_shift)
+
+    E = d.initial_real_state.jacobian(d.w).xreplace(no_errors)
+    return ErrorModel(
+        definition=d,
+        ideal_rhs=d.ideal_rhs_expanded(),
+        real_rhs=real_rhs,
+        outputs=outputs,
+        state_matrix=F,
+        source_matrix=G,
+        output_matrix=H,
+        second_order=second,
+        output_second_order=output_second,
+        initial_state=d.initial_state,
+        initial_real_state=d.initial_real_state,
+        initial_error_matrix=E,
+    )
+
+
+# --------------------------------------------------------------------------------------
+# Structured (paper-style) variation
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class VariedEquation:
+    """One line of a paper-style error listing: ``lhs = rhs``.
+
+    Attributes
+    ----------
+    name : str
+        Name of the varied quantity: an intermediate (``"omega_xi"``), an error state
+        (``"alpha_x"``, whose line is its time derivative) or an output (``"latitude"``).
+    kind : {"intermediate", "state", "output"}
+        What the line defines.
+    lhs : sympy.Symbol
+        The variation symbol (``Delta_omega_xi``), or the error-state symbol whose
+        derivative the line gives.
+    rhs : sympy.Expr
+        Linear in variation symbols, error states and sources; coefficients are ideal
+        quantities (states, inputs, parameters and ideal intermediate symbols).
+    latex : str
+        LaTeX of the left-hand side.
+    """
+
+    name: str
+    kind: Literal["intermediate", "state", "output"]
+    lhs: sp.Symbol
+    rhs: sp.Expr
+    latex: str
+
+
+def delta_symbol(name: str) -> sp.Symbol:
+    """Symbol of the variation of the intermediate quantity ``name``."""
+    return sp.Symbol(f"Delta_{name}", real=True)
+
+
+def _plain_name(symbol: sp.Symbol) -> str:
+    return symbol.name[:-2] if symbol.name.endswith("_c") else symbol.name
+
+
+def output_mechanisations(d: ModelDefinition) -> tuple[Mechanisation, sp.Matrix,
+                                                       Mechanisation, sp.Matrix]:
+    """Output intermediates of the true and of the computed state.
+
+    Returns
+    -------
+    true_mech, true_outputs, computed_mech, computed_outputs
+    """
+    n = len(d.states)
+    true_mech = Mechanisation()
+    true_out = d.output_map(true_mech, d.x, d.u)
+    computed_mech = Mechanisation(computed=True)
+    computed_out = d.output_map(computed_mech, d.real_states[:n], d.u)
+    return true_mech, true_out, computed_mech, computed_out
+
+
+def ideal_intermediate_values(d: ModelDefinition) -> dict[sp.Symbol, sp.Expr]:
+    """Closed expressions (in ``x, u, p``) of every ideal intermediate symbol."""
+    true_mech, _, _, _ = output_mechanisations(d)
+    values: dict[sp.Symbol, sp.Expr] = {}
+    for mech in (d.ideal, true_mech):
+        for definition in mech.definitions:
+            values[definition.symbol] = mech.expand(definition.expression)
+    return values
+
+
+def structured_variation(d: ModelDefinition) -> list[VariedEquation]:
+    """Vary every named intermediate, state derivative and output, one line each.
+
+    The right-hand side of each line is the first-order variation of its defining formula
+    with respect to its direct arguments only: computed states contribute their error
+    state, computed intermediates their ``Delta_`` symbol, platform angles and error
+    sources themselves. Coefficients are evaluated at the ideal point and written with
+    the ideal intermediate symbols (R_ξ^{-1}, ω_ξ, ...), as a paper would.
+    """
+    true_mech, _, computed_mech, computed_out = output_mechanisations(d)
+    latex = d.latex_names()
+    latex.update({df.symbol: df.latex for df in true_mech.definitions})
+    # how each argument varies
+    variation: dict[sp.Symbol, sp.Expr] = {}
+    for xr, xe in zip(d.real_states, d.xe, strict=True):
+        variation[xr] = xe
+    variation.update({s: s for s in d.w})
+    # ideal value of each real-work symbol
+    ideal_of: dict[sp.Symbol, sp.Expr] = dict(d.at_ideal())
+    ideal_of.update(d.no_errors())
+    lines: list[VariedEquation] = []
+
+    def vary_expression(expr: sp.Expr) -> sp.Expr:
+        total = sp.S.Zero
+        for arg in sorted(expr.free_symbols & set(variation), key=sp.default_sort_key):
+            coefficient = _tidy(sp.diff(expr, arg).xreplace(ideal_of))
+            total += coefficient * variation[arg]
+        return total
+
+    def add_definitions(mech: Mechanisation) -> None:
+        for definition in mech.definitions:
+            name = _plain_name(definition.symbol)
+            lhs = delta_symbol(name)
+            if definition.symbol in variation:  # defined twice (R_E in outputs)
+                continue
+            rhs = vary_expression(definition.expression)
+            variation[definition.symbol] = lhs
+            ideal_of[definition.symbol] = sp.Symbol(name, real=True)
+            plain_latex = latex.get(sp.Symbol(name, real=True), definition.latex)
+            lines.append(VariedEquation(name, "intermediate", lhs, rhs,
+                                        rf"\Delta {plain_latex}"))
+
+    add_definitions(d.real)
+    for xe, var, rhs in zip(d.xe, d.error_states, d.real_rhs, strict=True):
+        lines.append(VariedEquation(var.name, "state", xe, vary_expression(rhs),
+                                    accent(var.latex, "dot")))
+    # outputs: intermediates of the computed output chain, then one line per output
+    add_definitions(computed_mech)
+    for var, expr in zip(d.outputs, computed_out, strict=True):
+        lhs = sp.Symbol(f"Delta_{var.name}", real=True)
+        lines.append(VariedEquation(var.name, "output", lhs, vary_expression(expr),
+                                    rf"\Delta {var.latex}"))
+    return lines
+
+
+def _tidy(coefficient: sp.Expr) -> sp.Expr:
+    """Light simplification of a coefficient (radicals combined), kept cheap."""
+    if coefficient.is_number or not coefficient.has(sp.Pow):
+        return coefficient
+    return sp.factor_terms(sp.together(coefficient))
+
+
+def flatten(lines: list[VariedEquation]) -> dict[str, sp.Expr]:
+    """Substitute the intermediate variations into the state and output lines.
+
+    Returns
+    -------
+    dict
+        Error-state or output name -> expression linear in error states and sources,
+        with coefficients in ideal quantities (intermediate symbols kept).
+    """
+    known: dict[sp.Symbol, sp.Expr] = {}
+    flat: dict[str, sp.Expr] = {}
+    for line in lines:
+        rhs = line.rhs.xreplace(known)
+        if line.kind == "intermediate":
+            known[line.lhs] = rhs
+        else:
+            flat[line.name] = rhs
+    return flat

@@ -1,0 +1,15 @@
+"""Package layout only (metadata lives in pyproject.toml).
+
+The emitted code in ``generated/`` ships inside the package as ``ins_errors.generated``;
+its sub-packages (one per model) are discovered here so adding a model needs no edit.
+"""
+
+from setuptools import find_packages, setup
+
+generated = ["ins_errors.generated"] + [
+    f"ins_errors.generated.{name}" for name in find_packages("generated")
+]
+setup(
+    packages=find_packages(include=["ins_errors", "ins_errors.*"]) + generated,
+    package_dir={"ins_errors.generated": "generated"},
+)
