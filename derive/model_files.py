@@ -6,6 +6,8 @@ No numerics happen here: the symbolic machinery derives, this module prints.
 from __future__ import annotations
 
 import time
+
+import sympy as sp
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -70,6 +72,14 @@ def function_specs(em: ErrorModel) -> list[FunctionSpec]:
         FunctionSpec("initial_error_matrix", [c, u, p], em.initial_error_matrix,
                      "First-order map from error sources to the initial error state.",
                      "E: xe(0) = E w"),
+        FunctionSpec("domain_margins", [x, u, p],
+                     sp.Matrix([expr for expr, _ in d.domain] or [1]),
+                     "Margins that must be positive for the formulas to hold (see DOMAIN).",
+                     "one margin per condition of DOMAIN"),
+        FunctionSpec("initial_domain_margins", [c, u, p],
+                     sp.Matrix([expr for expr, _ in d.initial_domain] or [1]),
+                     "Margins that must be positive for the initial conditions.",
+                     "one margin per condition of INITIAL_DOMAIN"),
     ]
 
 
@@ -96,6 +106,8 @@ def _metadata(d: ModelDefinition) -> str:
         "SOURCES = (", rows(d.sources, ("kind", "display_unit", "factor")), ")",
         "OUTPUTS = (", rows(d.outputs), ")",
         "INITIAL_CONDITIONS = (", rows(d.initial_conditions), ")",
+        f"DOMAIN = {tuple(message for _, message in d.domain)!r}",
+        f"INITIAL_DOMAIN = {tuple(message for _, message in d.initial_domain)!r}",
         "",
     ])
 

@@ -971,5 +971,35 @@ def _build_initial_error_matrix():
     return _m.Function('initial_error_matrix', [c, u, p], [_out], ['c', 'u', 'p'], ['out'])
 
 
-_BUILDERS = {'ideal_rhs': _build_ideal_rhs, 'real_rhs': _build_real_rhs, 'outputs': _build_outputs, 'state_matrix': _build_state_matrix, 'source_matrix': _build_source_matrix, 'output_matrix': _build_output_matrix, 'second_order': _build_second_order, 'output_second_order': _build_output_second_order, 'initial_state': _build_initial_state, 'initial_real_state': _build_initial_real_state, 'initial_error_matrix': _build_initial_error_matrix}
-FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix')
+def _build_domain_margins():
+    x = _m.SX.sym('x', 8)
+    u = _m.SX.sym('u', 5)
+    p = _m.SX.sym('p', 3)
+    u31_ = x[2]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    _out = _m.SX(3, 1)
+    _out[0, 0] = 0.999999999999 - u31_**2
+    _out[1, 0] = a_ + h_
+    _out[2, 0] = 1 - e2_
+    return _m.Function('domain_margins', [x, u, p], [_out], ['x', 'u', 'p'], ['out'])
+
+
+def _build_initial_domain_margins():
+    c = _m.SX.sym('c', 5)
+    u = _m.SX.sym('u', 5)
+    p = _m.SX.sym('p', 3)
+    latitude_ = c[0]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    _out = _m.SX(3, 1)
+    _out[0, 0] = _m.cos(latitude_)**2 - 1e-12
+    _out[1, 0] = a_ + h_
+    _out[2, 0] = 1 - e2_
+    return _m.Function('initial_domain_margins', [c, u, p], [_out], ['c', 'u', 'p'], ['out'])
+
+
+_BUILDERS = {'ideal_rhs': _build_ideal_rhs, 'real_rhs': _build_real_rhs, 'outputs': _build_outputs, 'state_matrix': _build_state_matrix, 'source_matrix': _build_source_matrix, 'output_matrix': _build_output_matrix, 'second_order': _build_second_order, 'output_second_order': _build_output_second_order, 'initial_state': _build_initial_state, 'initial_real_state': _build_initial_real_state, 'initial_error_matrix': _build_initial_error_matrix, 'domain_margins': _build_domain_margins, 'initial_domain_margins': _build_initial_domain_margins}
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')

@@ -1164,4 +1164,68 @@ def initial_error_matrix(c, u, p):
     return _out
 
 
-FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix')
+def domain_margins(x, u, p):
+    """Margins that must be positive for the formulas to hold (see DOMAIN).
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, ...)
+        one margin per condition of DOMAIN
+    """
+    x = _as_vector(x, 8, 'x', 'domain_margins')
+    u = _as_vector(u, 5, 'u', 'domain_margins')
+    p = _as_vector(p, 3, 'p', 'domain_margins')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u31_ = x[2]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    _out = _np.zeros((3,) + _batch)
+    _out[0] = 0.999999999999 - u31_**2
+    _out[1] = a_ + h_
+    _out[2] = 1 - e2_
+    return _out
+
+
+def initial_domain_margins(c, u, p):
+    """Margins that must be positive for the initial conditions.
+
+    Parameters
+    ----------
+    c : array_like, shape (5, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (5, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, ...)
+        one margin per condition of INITIAL_DOMAIN
+    """
+    c = _as_vector(c, 5, 'c', 'initial_domain_margins')
+    u = _as_vector(u, 5, 'u', 'initial_domain_margins')
+    p = _as_vector(p, 3, 'p', 'initial_domain_margins')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    _out = _np.zeros((3,) + _batch)
+    _out[0] = _m.cos(latitude_)**2 - 1e-12
+    _out[1] = a_ + h_
+    _out[2] = 1 - e2_
+    return _out
+
+
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')

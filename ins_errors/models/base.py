@@ -190,6 +190,11 @@ class ModelDefinition:
         How the error equations are grouped in documents (title, error-state names).
     notes : str
         Markdown paragraph on modelling choices, printed at the top of generated docs.
+    domain : sequence of (sympy.Expr, str)
+        Conditions ``expr > 0`` in ``x, u, p`` where the formulas hold, with the one-line
+        message given when one fails (e.g. latitude at a pole).
+    initial_domain : sequence of (sympy.Expr, str)
+        The same for the initial conditions, in ``c, u, p``.
     """
 
     name: str
@@ -212,6 +217,8 @@ class ModelDefinition:
     initial_real_state: sp.Matrix
     groups: Sequence[tuple[str, list[str]]] = ()
     notes: str = ""
+    domain: Sequence[tuple[sp.Expr, str]] = ()
+    initial_domain: Sequence[tuple[sp.Expr, str]] = ()
 
     # -- symbol vectors -------------------------------------------------------------
     @property

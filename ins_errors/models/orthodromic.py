@@ -397,5 +397,16 @@ def build() -> ModelDefinition:
             ("Velocity errors", ["delta_V_xi", "delta_V_eta"]),
             ("Direction-cosine errors", [f"delta_{n}" for n in DIRECTION_COSINES]),
         ),
+        domain=(
+            (1 - x[2] ** 2 - 1e-12, "latitude at ±90° (|u31| = 1): the formulas divide by cos φ"),
+            (a + h, "a + h <= 0: the Earth radius plus height must be positive"),
+            (1 - e2, "eccentricity squared must be below 1"),
+        ),
+        initial_domain=(
+            (sp.cos(phi0) ** 2 - 1e-12,
+             "initial latitude at ±90°: the formulas divide by cos φ"),
+            (a + h, "a + h <= 0: the Earth radius plus height must be positive"),
+            (1 - e2, "eccentricity squared must be below 1"),
+        ),
         notes=__doc__.split("Modelling choices", 1)[1].split(":", 1)[1].strip(),
     )

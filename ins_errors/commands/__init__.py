@@ -1,0 +1,1 @@
+"""Subcommands of the ``ins-errors`` command line, one module each."""

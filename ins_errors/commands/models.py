@@ -1,0 +1,46 @@
+"""``ins-errors models [NAME]``: list the models, or one model's names and units."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "models", help="list the models, or show one model's states, sources and outputs",
+        description="Without NAME, list the models. With NAME, list its error states, "
+                    "error sources (with units and the lab manual's factor numbers) and "
+                    "outputs.")
+    parser.add_argument("name", nargs="?", help="model name, e.g. orthodromic")
+    parser.add_argument("--json", action="store_true", help="machine-readable output")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.numeric.model import available_models, load_model
+
+    if args.name is None:
+        models = [load_model(name) for name in available_models()]
+        if args.json:
+            print(json.dumps([{"name": m.name, "title": m.title, "source": m.source}
+                              for m in models], indent=2))
+        else:
+            for m in models:
+                print(f"{m.name:<20} {m.title}  [{m.source}]")
+        return 0
+    model = load_model(args.name)
+    groups = {"error_states": model.error_states, "sources": model.sources,
+              "outputs": model.outputs, "inputs": model.inputs,
+              "parameters": model.parameters, "initial_conditions": model.initial_conditions}
+    if args.json:
+        print(json.dumps({k: [vars(i) for i in v] for k, v in groups.items()}, indent=2))
+        return 0
+    print(f"{model.name}: {model.title}\nsource: {model.source}")
+    for title, infos in groups.items():
+        print(f"\n{title.replace('_', ' ')}:")
+        for i in infos:
+            extra = f" (quoted in {i.display_unit}, {i.kind}" + (
+                f", manual factor {i.factor})" if i.factor else ")") if i.kind else ""
+            print(f"  {i.name:<36} [{i.unit}] {i.description}{extra}")
+    return 0

@@ -1,0 +1,285 @@
+"""A loaded model: names, generated numeric functions, validated evaluation.
+
+``load_model(name)`` imports only the generated code (no SymPy): fast, and it works from
+an installed wheel. The SymPy definition is built on first access to ``.symbolic``.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from functools import cached_property
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from ins_errors.errors import DomainError, ShapeError, unknown_name
+
+
+@dataclass(frozen=True)
+class Info:
+    """Public description of one named quantity of a model.
+
+    Attributes
+    ----------
+    name : str
+        Stable public identifier.
+    unit : str
+        SI unit.
+    description : str
+        One-line meaning.
+    latex : str
+        LaTeX symbol.
+    default : float or None
+        Default value (parameters only).
+    kind : str or None
+        ``"constant"`` or ``"initial"`` (error sources only).
+    display_unit : str or None
+        Unit the quantity is usually quoted in (error sources only).
+    factor : int or None
+        Lab-manual factor number (error sources only).
+    """
+
+    name: str
+    unit: str
+    description: str
+    latex: str
+    default: float | None = None
+    kind: str | None = None
+    display_unit: str | None = None
+    factor: int | None = None
+
+
+def _infos(rows: tuple[dict[str, Any], ...]) -> tuple[Info, ...]:
+    return tuple(Info(**row) for row in rows)
+
+
+def available_models() -> tuple[str, ...]:
+    """Names of every model with generated code."""
+    generated = importlib.import_module("ins_errors.generated")
+    return tuple(generated.MODELS)
+
+
+def load_model(name: str) -> Model:
+    """Load a model's generated code and metadata.
+
+    Parameters
+    ----------
+    name : str
+        Model name, e.g. ``"orthodromic"``.
+
+    Raises
+    ------
+    UnknownNameError
+        If there is no such model (the message suggests close names).
+    """
+    models = available_models()
+    if name not in models:
+        raise unknown_name("model", name, models)
+    return Model(name)
+
+
+class Model:
+    """A model's names, generated numeric functions and validated evaluators.
+
+    The evaluators (``state_matrix``, ``ideal_rhs``, ...) check argument shapes, finite
+    values and the model's domain (e.g. latitude at a pole) and raise a one-line
+    :class:`~ins_errors.errors.InsErrorsError`; then they call the generated numpy code.
+    Arguments may carry trailing batch axes (shape ``(n, ...)``).
+    """
+
+    def __init__(self, name: str):
+        self.name = name
+        self.meta = importlib.import_module(f"ins_errors.generated.{name}")
+        self.numpy: ModuleType = importlib.import_module(f"ins_errors.generated.{name}.numpy_model")
+        self.title: str = self.meta.TITLE
+        self.source: str = self.meta.SOURCE
+        self.states = _infos(self.meta.STATES)
+        self.error_states = _infos(self.meta.ERROR_STATES)
+        self.inputs = _infos(self.meta.INPUTS)
+        self.parameters = _infos(self.meta.PARAMETERS)
+        self.sources = _infos(self.meta.SOURCES)
+        self.outputs = _infos(self.meta.OUTPUTS)
+        self.initial_conditions = _infos(self.meta.INITIAL_CONDITIONS)
+
+    def __repr__(self) -> str:
+        return (f"<Model {self.name!r}: {len(self.states)} states, {len(self.error_states)} "
+                f"error states, {len(self.sources)} error sources, {len(self.outputs)} outputs>")
+
+    # -- lazily loaded views ------------------------------------------------------------
+    @cached_property
+    def casadi(self) -> ModuleType:
+        """The generated CasADi module (``.function(name)`` returns a ``casadi.Function``)."""
+        return importlib.import_module(f"ins_errors.generated.{self.name}.casadi_model")
+
+    @cached_property
+    def symbolic(self):
+        """The SymPy :class:`~ins_errors.models.base.ModelDefinition` (imports SymPy)."""
+        from ins_errors.models import definition
+
+        return definition(self.name)
+
+    # -- names --------------------------------------------------------------------------
+    @staticmethod
+    def _names(infos: tuple[Info, ...]) -> list[str]:
+        return [i.name for i in infos]
+
+    def index(self, kind: str, name: str) -> int:
+        """Position of ``name`` among the model's ``kind`` (``"sources"``, ``"outputs"``...)."""
+        infos = getattr(self, kind)
+        names = self._names(infos)
+        if name not in names:
+            raise unknown_name(f"{kind.rstrip('s').replace('_', ' ')} of {self.name}", name, names)
+        return names.index(name)
+
+    def source(self, name: str) -> Info:
+        """Description of the error source ``name``."""
+        return self.sources[self.index("sources", name)]
+
+    # -- vectors ------------------------------------------------------------------------
+    def parameter_vector(self, ellipsoid: str = "krasovsky", **overrides: float) -> np.ndarray:
+        """Parameter vector ``p`` (SI): defaults, Earth shape from ``ellipsoid``, overrides.
+
+        Parameters
+        ----------
+        ellipsoid : str
+            ``"krasovsky"`` (default of the sources) or ``"wgs84"``; sets ``a`` and ``e2``
+            where the model has them.
+        **overrides : float
+            Any parameter by name, SI units.
+        """
+        from ins_errors.models.earth import ellipsoid as lookup
+
+        values = {i.name: float(i.default) for i in self.parameters}
+        shape = lookup(ellipsoid)
+        if "a" in values:
+            values["a"] = shape.semi_major_axis
+        if "e2" in values:
+            values["e2"] = shape.eccentricity_squared
+        for key, value in overrides.items():
+            self.index("parameters", key)
+            values[key] = float(value)
+        p = np.array([values[i.name] for i in self.parameters])
+        self._check_finite(p, "parameters")
+        return p
+
+    def source_vector(self, **magnitudes: float) -> np.ndarray:
+        """Error-source vector ``w`` (SI), zero except the named sources."""
+        w = np.zeros(len(self.sources))
+        for key, value in magnitudes.items():
+            w[self.index("sources", key)] = float(value)
+        self._check_finite(w, "error sources")
+        return w
+
+    def input_vector(self, **values: float) -> np.ndarray:
+        """Input vector ``u`` (SI), zero except the named inputs."""
+        u = np.zeros(len(self.inputs))
+        for key, value in values.items():
+            u[self.index("inputs", key)] = float(value)
+        self._check_finite(u, "inputs")
+        return u
+
+    def initial_condition_vector(self, **values: float) -> np.ndarray:
+        """Initial-condition vector ``c`` (SI: radians, m/s), zero except those named."""
+        c = np.zeros(len(self.initial_conditions))
+        for key, value in values.items():
+            c[self.index("initial_conditions", key)] = float(value)
+        self._check_finite(c, "initial conditions")
+        return c
+
+    # -- validation ---------------------------------------------------------------------
+    @staticmethod
+    def _check_finite(array: np.ndarray, what: str) -> None:
+        bad = ~np.isfinite(array)
+        if bad.any():
+            position = tuple(int(i[0]) for i in np.nonzero(bad))
+            raise DomainError(f"{what} contain NaN or infinite values (first at index "
+                              f"{position if len(position) > 1 else position[0]})")
+
+    def _vector(self, value: Any, infos: tuple[Info, ...], what: str, function: str) -> np.ndarray:
+        try:
+            array = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ShapeError(f"{function}: {what} must be numeric, got {value!r:.60}") from None
+        n = len(infos)
+        if array.ndim == 0 or array.shape[0] != n:
+            raise ShapeError(f"{function}: {what} must have shape ({n}, ...) "
+                             f"[{', '.join(i.name for i in infos)}], got {array.shape}")
+        self._check_finite(array, f"{function}: {what}")
+        return array
+
+    def _domain(self, margins: np.ndarray, messages: tuple[str, ...], function: str) -> None:
+        margins = np.asarray(margins)
+        for k, message in enumerate(messages):
+            if not np.all(margins[k] > 0):
+                raise DomainError(f"{function}: {message}")
+
+    def _check_state(self, x, u, p, function: str):
+        x = self._vector(x, self.states, "state x", function)
+        u = self._vector(u, self.inputs, "inputs u", function)
+        p = self.parameter_vector() if p is None else self._vector(
+            p, self.parameters, "parameters p", function)
+        self._domain(self.numpy.domain_margins(x, u, p), self.meta.DOMAIN, function)
+        return x, u, p
+
+    # -- evaluators (validated) -----------------------------------------------------------
+    def ideal_rhs(self, x, u, p=None) -> np.ndarray:
+        """Ideal-work ``dx/dt``, shape ``(n, ...)``."""
+        return self.numpy.ideal_rhs(*self._check_state(x, u, p, "ideal_rhs"))
+
+    def real_rhs(self, xr, x, u, w, p=None) -> np.ndarray:
+        """Real-work ``dxr/dt``, shape ``(ne, ...)``."""
+        x, u, p = self._check_state(x, u, p, "real_rhs")
+        xr = self._vector(xr, self.error_states, "real state xr", "real_rhs")
+        w = self._vector(w, self.sources, "error sources w", "real_rhs")
+        self._domain(self.numpy.domain_margins(xr[: len(self.states)], u, p),
+                     self.meta.DOMAIN, "real_rhs (computed state)")
+        return self.numpy.real_rhs(xr, x, u, w, p)
+
+    def outputs_of(self, x, u, p=None) -> np.ndarray:
+        """Navigation outputs of a state, shape ``(ny, ...)``."""
+        return self.numpy.outputs(*self._check_state(x, u, p, "outputs"))
+
+    def state_matrix(self, x, u, p=None) -> np.ndarray:
+        """F, shape ``(ne, ne, ...)``."""
+        return self.numpy.state_matrix(*self._check_state(x, u, p, "state_matrix"))
+
+    def source_matrix(self, x, u, p=None) -> np.ndarray:
+        """G, shape ``(ne, nw, ...)``."""
+        return self.numpy.source_matrix(*self._check_state(x, u, p, "source_matrix"))
+
+    def output_matrix(self, x, u, p=None) -> np.ndarray:
+        """H, shape ``(ny, ne, ...)``."""
+        return self.numpy.output_matrix(*self._check_state(x, u, p, "output_matrix"))
+
+    def second_order(self, x, u, xe, w, p=None) -> np.ndarray:
+        """Second-order term of the error equations, shape ``(ne, ...)``."""
+        x, u, p = self._check_state(x, u, p, "second_order")
+        xe = self._vector(xe, self.error_states, "error state xe", "second_order")
+        w = self._vector(w, self.sources, "error sources w", "second_order")
+        return self.numpy.second_order(x, u, p, xe, w)
+
+    def _check_initial(self, c, u, p, function: str):
+        c = self._vector(c, self.initial_conditions, "initial conditions c", function)
+        u = self._vector(u, self.inputs, "inputs u", function)
+        p = self.parameter_vector() if p is None else self._vector(
+            p, self.parameters, "parameters p", function)
+        self._domain(self.numpy.initial_domain_margins(c, u, p), self.meta.INITIAL_DOMAIN,
+                     function)
+        return c, u, p
+
+    def initial_state(self, c, u, p=None) -> np.ndarray:
+        """True initial state from initial conditions, shape ``(n, ...)``."""
+        return self.numpy.initial_state(*self._check_initial(c, u, p, "initial_state"))
+
+    def initial_real_state(self, c, u, w, p=None) -> np.ndarray:
+        """Real-work initial state (initial-error sources applied), shape ``(ne, ...)``."""
+        c, u, p = self._check_initial(c, u, p, "initial_real_state")
+        w = self._vector(w, self.sources, "error sources w", "initial_real_state")
+        return self.numpy.initial_real_state(c, u, w, p)
+
+    def initial_error_matrix(self, c, u, p=None) -> np.ndarray:
+        """E with ``xe(0) = E w`` to first order, shape ``(ne, nw, ...)``."""
+        return self.numpy.initial_error_matrix(*self._check_initial(c, u, p,
+                                                                    "initial_error_matrix"))
