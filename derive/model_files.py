@@ -6,10 +6,10 @@ No numerics happen here: the symbolic machinery derives, this module prints.
 from __future__ import annotations
 
 import time
-
-import sympy as sp
 from dataclasses import dataclass
 from pathlib import Path
+
+import sympy as sp
 
 from ins_errors.models.base import ModelDefinition
 from ins_errors.symbolic.codegen import (

@@ -113,7 +113,8 @@ def prepare(spec: FunctionSpec) -> _Prepared:
     result = spec.result.xreplace(rename)
     unknown = result.free_symbols - set(rename.values())
     if unknown:
-        raise ValueError(f"{spec.name}: symbols not among the arguments: {sorted(map(str, unknown))}")
+        missing = sorted(map(str, unknown))
+        raise ValueError(f"{spec.name}: symbols not among the arguments: {missing}")
     flat = [(i, j, result[i, j]) for i in range(result.rows) for j in range(result.cols)
             if result[i, j] != 0]
     temporaries = sp.numbered_symbols("_t")

@@ -1,0 +1,107 @@
+"""Engineering units at the edges (CLI, scenario and spec files, reports), via pint.
+
+Inside the library everything is SI with radians. This module converts user text such
+as ``"0.01 deg/h"``, ``"10 ug"``, ``"20 arcsec"``, ``"5 arcmin"``, ``"100 ppm"``,
+``"0.1 m/s"`` or ``"1e-4 g"`` to SI numbers, checking that the dimension matches what
+the quantity needs (an angle given in m/s is an error, not a silent number).
+
+``g`` is standard gravity, 9.80665 m/s² (pint's ``g_0``); ``ug`` is a micro-g.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import cache
+
+import pint
+
+from ins_errors.errors import InsErrorsError
+
+STANDARD_GRAVITY = 9.80665
+"""The g used by the units g, mg, ug: m/s²."""
+
+
+class UnitError(InsErrorsError):
+    """A quantity that cannot be parsed or has the wrong dimension."""
+
+
+@cache
+def registry() -> pint.UnitRegistry:
+    """The shared pint registry, with the INS engineering units added."""
+    ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
+    # 'g' means standard gravity in INS work (pint's 'g' is the gram).
+    ureg.define(f"gee = {STANDARD_GRAVITY} * meter / second ** 2 = g_n")
+    ureg.define("micro_gee = 1e-6 * gee = ug = µg")
+    ureg.define("milli_gee = 1e-3 * gee = mg_n")
+    ureg.define("parts_per_million_ins = 1e-6 = ppm_ins")
+    return ureg
+
+
+_ALIASES = {"deg/hr": "deg/h", "°/h": "deg/h", "″": "arcsec", "′": "arcmin", "°": "deg"}
+
+
+def _normalise(text: str) -> str:
+    text = text.strip()
+    for old, new in _ALIASES.items():
+        text = text.replace(old, new)
+    # a bare 'g' (or 'mg') means gravity, not grams; 'ppm' a plain ratio
+    text = re.sub(r"(?<![A-Za-z_])g(?![A-Za-z_])", "gee", text)
+    text = re.sub(r"(?<![A-Za-z_])mg(?![A-Za-z_])", "milli_gee", text)
+    text = re.sub(r"(?<![A-Za-z_])ppm(?![A-Za-z_])", "ppm_ins", text)
+    return text
+
+
+def parse_quantity(text: str | float | int, unit: str, what: str = "value") -> float:
+    """Convert ``text`` to a float in the SI ``unit``.
+
+    Parameters
+    ----------
+    text : str or float
+        ``"0.01 deg/h"``, ``"10ug"``, ``"5 arcmin"``; a bare number is taken as already
+        in ``unit``.
+    unit : str
+        Target SI unit as the model states it (``"rad/s"``, ``"m/s**2"``, ``"rad"``,
+        ``"m/s"``, ``"1"``).
+    what : str
+        Name used in error messages (e.g. the error-source name).
+
+    Returns
+    -------
+    float
+        The magnitude in ``unit``.
+
+    Raises
+    ------
+    UnitError
+        If the text does not parse, is not finite, or has another dimension.
+    """
+    ureg = registry()
+    target = ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
+    if isinstance(text, (int, float)):
+        value = float(text)
+    else:
+        try:
+            quantity = ureg.parse_expression(_normalise(str(text)))
+        except Exception as error:  # pint raises several unrelated types
+            raise UnitError(f"{what}: cannot read {text!r} as a quantity ({error})") from None
+        if not isinstance(quantity, ureg.Quantity):
+            value = float(quantity)
+        else:
+            try:
+                value = float(quantity.to(target).magnitude)
+            except pint.DimensionalityError:
+                raise UnitError(f"{what}: {text!r} has units of {quantity.units:~}, which do "
+                                f"not convert to {unit}") from None
+    if value != value or value in (float("inf"), float("-inf")):
+        raise UnitError(f"{what}: {text!r} is not a finite number")
+    return value
+
+
+def format_quantity(value_si: float, unit: str, display_unit: str, digits: int = 4) -> str:
+    """Format an SI value in an engineering unit, e.g. ``4.848e-8 rad/s -> '0.01 deg/h'``."""
+    ureg = registry()
+    source = ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
+    target = ureg.parse_units(_normalise(display_unit) if display_unit != "1"
+                              else "dimensionless")
+    value = ureg.Quantity(value_si, source).to(target).magnitude
+    return f"{value:.{digits}g} {display_unit}"
