@@ -85,5 +85,5 @@ INITIAL_CONDITIONS = (
     {'name': 'v_N', 'unit': 'm/s', 'description': 'initial north relative velocity', 'latex': 'v_{N0}'},
     {'name': 'v_E', 'unit': 'm/s', 'description': 'initial east relative velocity', 'latex': 'v_{E0}'},
 )
-DOMAIN = ('latitude at ±90° (|u31| = 1): the formulas divide by cos φ', 'a + h <= 0: the Earth radius plus height must be positive', 'eccentricity squared must be below 1')
-INITIAL_DOMAIN = ('initial latitude at ±90°: the formulas divide by cos φ', 'a + h <= 0: the Earth radius plus height must be positive', 'eccentricity squared must be below 1')
+DOMAIN = ('latitude at ±90° (|u31| = 1): the formulas divide by cos φ', 'semi-major axis a must be positive', 'a + h <= 0: the Earth radius plus height must be positive', 'eccentricity squared must be below 1')
+INITIAL_DOMAIN = ('initial latitude at ±90°: the formulas divide by cos φ', 'semi-major axis a must be positive', 'a + h <= 0: the Earth radius plus height must be positive', 'eccentricity squared must be below 1')

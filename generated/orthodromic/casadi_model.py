@@ -979,10 +979,11 @@ def _build_domain_margins():
     h_ = u[4]
     a_ = p[0]
     e2_ = p[1]
-    _out = _m.SX(3, 1)
+    _out = _m.SX(4, 1)
     _out[0, 0] = 0.999999999999 - u31_**2
-    _out[1, 0] = a_ + h_
-    _out[2, 0] = 1 - e2_
+    _out[1, 0] = a_
+    _out[2, 0] = a_ + h_
+    _out[3, 0] = 1 - e2_
     return _m.Function('domain_margins', [x, u, p], [_out], ['x', 'u', 'p'], ['out'])
 
 
@@ -994,10 +995,11 @@ def _build_initial_domain_margins():
     h_ = u[4]
     a_ = p[0]
     e2_ = p[1]
-    _out = _m.SX(3, 1)
+    _out = _m.SX(4, 1)
     _out[0, 0] = _m.cos(latitude_)**2 - 1e-12
-    _out[1, 0] = a_ + h_
-    _out[2, 0] = 1 - e2_
+    _out[1, 0] = a_
+    _out[2, 0] = a_ + h_
+    _out[3, 0] = 1 - e2_
     return _m.Function('initial_domain_margins', [c, u, p], [_out], ['c', 'u', 'p'], ['out'])
 
 

@@ -1178,7 +1178,7 @@ def domain_margins(x, u, p):
 
     Returns
     -------
-    numpy.ndarray, shape (3, ...)
+    numpy.ndarray, shape (4, ...)
         one margin per condition of DOMAIN
     """
     x = _as_vector(x, 8, 'x', 'domain_margins')
@@ -1189,10 +1189,11 @@ def domain_margins(x, u, p):
     h_ = u[4]
     a_ = p[0]
     e2_ = p[1]
-    _out = _np.zeros((3,) + _batch)
+    _out = _np.zeros((4,) + _batch)
     _out[0] = 0.999999999999 - u31_**2
-    _out[1] = a_ + h_
-    _out[2] = 1 - e2_
+    _out[1] = a_
+    _out[2] = a_ + h_
+    _out[3] = 1 - e2_
     return _out
 
 
@@ -1210,7 +1211,7 @@ def initial_domain_margins(c, u, p):
 
     Returns
     -------
-    numpy.ndarray, shape (3, ...)
+    numpy.ndarray, shape (4, ...)
         one margin per condition of INITIAL_DOMAIN
     """
     c = _as_vector(c, 5, 'c', 'initial_domain_margins')
@@ -1221,10 +1222,11 @@ def initial_domain_margins(c, u, p):
     h_ = u[4]
     a_ = p[0]
     e2_ = p[1]
-    _out = _np.zeros((3,) + _batch)
+    _out = _np.zeros((4,) + _batch)
     _out[0] = _m.cos(latitude_)**2 - 1e-12
-    _out[1] = a_ + h_
-    _out[2] = 1 - e2_
+    _out[1] = a_
+    _out[2] = a_ + h_
+    _out[3] = 1 - e2_
     return _out
 
 

@@ -399,12 +399,14 @@ def build() -> ModelDefinition:
         ),
         domain=(
             (1 - x[2] ** 2 - 1e-12, "latitude at ±90° (|u31| = 1): the formulas divide by cos φ"),
+            (a, "semi-major axis a must be positive"),
             (a + h, "a + h <= 0: the Earth radius plus height must be positive"),
             (1 - e2, "eccentricity squared must be below 1"),
         ),
         initial_domain=(
             (sp.cos(phi0) ** 2 - 1e-12,
              "initial latitude at ±90°: the formulas divide by cos φ"),
+            (a, "semi-major axis a must be positive"),
             (a + h, "a + h <= 0: the Earth radius plus height must be positive"),
             (1 - e2, "eccentricity squared must be below 1"),
         ),

@@ -1,0 +1,72 @@
+"""Bad input gives one clear line naming the problem, never a traceback or a silent NaN."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import ins_errors
+from ins_errors.cli import main
+from tests.helpers import random_points
+
+
+@pytest.fixture(scope="module")
+def point(orthodromic):
+    return random_points(orthodromic, 1, seed=1, moving=True)[0]
+
+
+def test_latitude_at_the_pole(orthodromic, point):
+    x, u, p = point
+    pole = orthodromic.initial_condition_vector(latitude=np.pi / 2)
+    with pytest.raises(ins_errors.DomainError, match="latitude at ±90°"):
+        orthodromic.initial_state(pole, u, p)
+    polar_state = x.copy()
+    polar_state[:3] = [0.0, 0.0, 1.0]
+    for evaluate in (orthodromic.state_matrix, orthodromic.output_matrix,
+                     orthodromic.source_matrix, orthodromic.ideal_rhs):
+        with pytest.raises(ins_errors.DomainError, match="divide by cos φ"):
+            evaluate(polar_state, u, p)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_nan_or_infinite_values(orthodromic, point, bad):
+    x, u, p = point
+    x = x.copy()
+    x[6] = bad
+    with pytest.raises(ins_errors.DomainError, match="NaN or infinite"):
+        orthodromic.state_matrix(x, u, p)
+    with pytest.raises(ins_errors.DomainError, match="NaN or infinite"):
+        orthodromic.source_vector(gyro_drift_x=bad)
+
+
+def test_unknown_model_suggests_close_names():
+    with pytest.raises(ins_errors.UnknownNameError, match="did you mean 'orthodromic'"):
+        ins_errors.load_model("orthodromik")
+
+
+def test_unknown_source_suggests_close_names(orthodromic):
+    with pytest.raises(ins_errors.UnknownNameError, match="gyro_drift_x"):
+        orthodromic.source_vector(gyro_drift_xx=1e-8)
+
+
+def test_wrong_shaped_state(orthodromic, point):
+    x, u, p = point
+    with pytest.raises(ins_errors.ShapeError, match=r"state x must have shape \(8, \.\.\.\)"):
+        orthodromic.state_matrix(x[:7], u, p)
+    with pytest.raises(ins_errors.ShapeError, match="inputs u"):
+        orthodromic.state_matrix(x, u[:, None][:3], p)
+
+
+def test_negative_radius_is_rejected(orthodromic, point):
+    x, u, _ = point
+    with pytest.raises(ins_errors.DomainError, match="semi-major axis a must be positive"):
+        orthodromic.state_matrix(x, u, orthodromic.parameter_vector(a=-1.0))
+    with pytest.raises(ins_errors.DomainError, match="a \\+ h <= 0"):
+        orthodromic.state_matrix(x, orthodromic.input_vector(h=-7e6), orthodromic.parameter_vector())
+
+
+def test_cli_prints_one_line_not_a_traceback(capsys):
+    assert main(["models", "orthodromikk"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("ins-errors: error: unknown model")
+    assert "\n" not in err and "Traceback" not in err
