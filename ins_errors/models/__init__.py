@@ -17,6 +17,7 @@ if TYPE_CHECKING:
 
 MODEL_MODULES: dict[str, str] = {
     "orthodromic": "ins_errors.models.orthodromic",
+    "north_pointing": "ins_errors.models.north_pointing",
 }
 """Registry: model name -> module whose ``build()`` returns its definition."""
 

@@ -1,0 +1,637 @@
+# GENERATED FILE: do not edit by hand.
+# Written by `make derive` (python -m derive) from ins_errors/models/north_pointing.py.
+# Edit the model definition and run `make derive` again.
+
+"""numpy functions of the model 'north_pointing' (broadcasting)."""
+
+import numpy as _np
+
+_m = _np
+
+
+def _as_vector(value, length, name, function):
+    array = _np.asarray(value, dtype=float)
+    if array.ndim == 0 or array.shape[0] != length:
+        raise ValueError(f"{function}: argument {name} must have shape ({length}, ...), "
+                         f"got {array.shape}")
+    return array
+
+
+def ideal_rhs(x, u, p):
+    """Ideal-work equations: dx/dt.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, ...)
+        time derivative of the true state
+    """
+    x = _as_vector(x, 4, 'x', 'ideal_rhs')
+    u = _as_vector(u, 3, 'u', 'ideal_rhs')
+    p = _as_vector(p, 4, 'p', 'ideal_rhs')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    V_E_ = x[0]
+    V_N_ = x[1]
+    phi_ = x[2]
+    a_E_ = u[0]
+    a_N_ = u[1]
+    h_ = u[2]
+    R_ = p[0]
+    ecc2_ = p[1]
+    U_ = p[2]
+    _t0 = _m.sin(phi_)
+    _t1 = -_t0**2*ecc2_ + 1
+    _t2 = V_E_/(R_/_m.sqrt(_t1) + h_)
+    _t3 = 2*U_*_t0 + _t2*_m.tan(phi_)
+    _out = _np.zeros((4,) + _batch)
+    _out[0] = V_N_*_t3 + a_E_
+    _out[1] = -V_E_*_t3 + a_N_
+    _out[2] = V_N_/(R_*(1 - ecc2_)/_t1**((3/2)) + h_)
+    _out[3] = _t2/_m.cos(phi_)
+    return _out
+
+
+def real_rhs(xr, x, u, w, p):
+    """Real-work equations: dxr/dt (needs the true state for the platform).
+
+    Parameters
+    ----------
+    xr : array_like, shape (7, ...)
+        real-work state: computed state, then platform angles
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    w : array_like, shape (12, ...)
+        error-source magnitudes, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        time derivative of the real-work state
+    """
+    xr = _as_vector(xr, 7, 'xr', 'real_rhs')
+    x = _as_vector(x, 4, 'x', 'real_rhs')
+    u = _as_vector(u, 3, 'u', 'real_rhs')
+    w = _as_vector(w, 12, 'w', 'real_rhs')
+    p = _as_vector(p, 4, 'p', 'real_rhs')
+    _batch = _np.broadcast_shapes(xr.shape[1:], x.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
+    V_E_c_ = xr[0]
+    V_N_c_ = xr[1]
+    phi_c_ = xr[2]
+    alpha_E_ = xr[4]
+    alpha_N_ = xr[5]
+    alpha_U_ = xr[6]
+    V_E_ = x[0]
+    V_N_ = x[1]
+    phi_ = x[2]
+    a_E_ = u[0]
+    a_N_ = u[1]
+    h_ = u[2]
+    gyro_drift_east_ = w[0]
+    gyro_drift_north_ = w[1]
+    gyro_drift_up_ = w[2]
+    accel_bias_east_ = w[3]
+    accel_bias_north_ = w[4]
+    R_ = p[0]
+    ecc2_ = p[1]
+    U_ = p[2]
+    g_ = p[3]
+    _t0 = _m.sin(phi_c_)
+    _t1 = U_*_t0
+    _t2 = -_t0**2*ecc2_ + 1
+    _t3 = 1/(R_/_m.sqrt(_t2) + h_)
+    _t4 = V_E_c_*_t3
+    _t5 = _t4*_m.tan(phi_c_)
+    _t6 = 2*_t1 + _t5
+    _t7 = _m.sin(phi_)
+    _t8 = -_t7**2*ecc2_ + 1
+    _t9 = 1/(R_/_m.sqrt(_t8) + h_)
+    _t10 = R_*(1 - ecc2_)
+    _t11 = 1/(_t10/_t8**((3/2)) + h_)
+    _t12 = U_*_m.cos(phi_)
+    _t13 = V_E_**2*_t9 + 2*V_E_*_t12 + V_N_**2*_t11 + g_
+    _t14 = V_N_c_/(_t10/_t2**((3/2)) + h_)
+    _t15 = _m.cos(phi_c_)
+    _t16 = V_N_*_t11
+    _t17 = U_*_t7
+    _t18 = V_E_*_t9
+    _t19 = _t18*_m.tan(phi_)
+    _t20 = _t17 + _t19
+    _t21 = _t12 + _t18
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = V_N_c_*_t6 - _t13*alpha_N_ + a_E_ + a_N_*alpha_U_ + accel_bias_east_
+    _out[1] = -V_E_c_*_t6 + _t13*alpha_E_ - a_E_*alpha_U_ + a_N_ + accel_bias_north_
+    _out[2] = _t14
+    _out[3] = _t4/_t15
+    _out[4] = -_t14 + _t16 + _t20*alpha_N_ - _t21*alpha_U_ + gyro_drift_east_
+    _out[5] = U_*_t15 + V_E_c_*_t3 - _t16*alpha_U_ - _t20*alpha_E_ - _t21 + gyro_drift_north_
+    _out[6] = _t1 + _t16*alpha_N_ - _t17 - _t19 + _t21*alpha_E_ + _t5 + gyro_drift_up_
+    return _out
+
+
+def outputs(x, u, p):
+    """Navigation outputs of a state (true or computed part of xr).
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, ...)
+        outputs in SI units
+    """
+    x = _as_vector(x, 4, 'x', 'outputs')
+    u = _as_vector(u, 3, 'u', 'outputs')
+    p = _as_vector(p, 4, 'p', 'outputs')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    V_E_ = x[0]
+    V_N_ = x[1]
+    phi_ = x[2]
+    lam_ = x[3]
+    _out = _np.zeros((4,) + _batch)
+    _out[0] = phi_
+    _out[1] = lam_
+    _out[2] = V_N_
+    _out[3] = V_E_
+    return _out
+
+
+def state_matrix(x, u, p):
+    """State matrix F of the linear error equations.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 7, ...)
+        F
+    """
+    x = _as_vector(x, 4, 'x', 'state_matrix')
+    u = _as_vector(u, 3, 'u', 'state_matrix')
+    p = _as_vector(p, 4, 'p', 'state_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    V_E_ = x[0]
+    V_N_ = x[1]
+    phi_ = x[2]
+    a_E_ = u[0]
+    a_N_ = u[1]
+    h_ = u[2]
+    R_ = p[0]
+    ecc2_ = p[1]
+    U_ = p[2]
+    g_ = p[3]
+    _t0 = _m.sin(phi_)
+    _t1 = -_t0**2*ecc2_ + 1
+    _t2 = R_/_m.sqrt(_t1) + h_
+    _t3 = 1/_t2
+    _t4 = _m.tan(phi_)
+    _t5 = _t3*_t4
+    _t6 = U_*_t0
+    _t7 = 2*_t6
+    _t8 = V_E_*_t3
+    _t9 = _t4*_t8
+    _t10 = _m.cos(phi_)
+    _t11 = U_*_t10
+    _t12 = 2*_t11
+    _t13 = R_/_t1**((3/2))
+    _t14 = _t0*ecc2_
+    _t15 = V_E_*_t13*_t14/_t2**2
+    _t16 = _t10*_t15
+    _t17 = -_t16*_t4 + _t8*(_t4**2 + 1)
+    _t18 = _t12 + _t17
+    _t19 = 1 - ecc2_
+    _t20 = _t13*_t19 + h_
+    _t21 = 1/_t20
+    _t22 = V_E_**2*_t3 + V_E_*_t12 + V_N_**2*_t21 + g_
+    _t23 = 3*R_*V_N_*_t10*_t14*_t19/(_t1**((5/2))*_t20**2)
+    _t24 = _t6 + _t9
+    _t25 = _t11 + _t8
+    _t26 = V_N_*_t21
+    _out = _np.zeros((7, 7) + _batch)
+    _out[0, 0] = V_N_*_t5
+    _out[0, 1] = _t7 + _t9
+    _out[0, 2] = V_N_*_t18
+    _out[0, 5] = -_t22
+    _out[0, 6] = a_N_
+    _out[1, 0] = -_t7 - 2*_t9
+    _out[1, 2] = -V_E_*_t18
+    _out[1, 4] = _t22
+    _out[1, 6] = -a_E_
+    _out[2, 1] = _t21
+    _out[2, 2] = -_t23
+    _out[3, 0] = _t3/_t10
+    _out[3, 2] = V_E_*_t0*_t3/_t10**2 - _t15
+    _out[4, 1] = -_t21
+    _out[4, 2] = _t23
+    _out[4, 5] = _t24
+    _out[4, 6] = -_t25
+    _out[5, 0] = _t3
+    _out[5, 2] = -_t16 - _t6
+    _out[5, 4] = -_t24
+    _out[5, 6] = -_t26
+    _out[6, 0] = _t5
+    _out[6, 2] = _t11 + _t17
+    _out[6, 4] = _t25
+    _out[6, 5] = _t26
+    return _out
+
+
+def source_matrix(x, u, p):
+    """Error-source matrix G of the linear error equations.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 12, ...)
+        G
+    """
+    x = _as_vector(x, 4, 'x', 'source_matrix')
+    u = _as_vector(u, 3, 'u', 'source_matrix')
+    p = _as_vector(p, 4, 'p', 'source_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    _out = _np.zeros((7, 12) + _batch)
+    _out[0, 3] = 1
+    _out[1, 4] = 1
+    _out[4, 0] = 1
+    _out[5, 1] = 1
+    _out[6, 2] = 1
+    return _out
+
+
+def output_matrix(x, u, p):
+    """Output matrix H: output errors = H xe to first order.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, 7, ...)
+        H
+    """
+    x = _as_vector(x, 4, 'x', 'output_matrix')
+    u = _as_vector(u, 3, 'u', 'output_matrix')
+    p = _as_vector(p, 4, 'p', 'output_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    _out = _np.zeros((4, 7) + _batch)
+    _out[0, 2] = 1
+    _out[1, 3] = 1
+    _out[2, 1] = 1
+    _out[3, 0] = 1
+    return _out
+
+
+def second_order(x, u, p, xe, w):
+    """Second-order term of the error equations (refined model).
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+    xe : array_like, shape (7, ...)
+        error state xr - (x, 0)
+    w : array_like, shape (12, ...)
+        error-source magnitudes, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        1/2 (xe, w)' Hessian (xe, w) per equation
+    """
+    x = _as_vector(x, 4, 'x', 'second_order')
+    u = _as_vector(u, 3, 'u', 'second_order')
+    p = _as_vector(p, 4, 'p', 'second_order')
+    xe = _as_vector(xe, 7, 'xe', 'second_order')
+    w = _as_vector(w, 12, 'w', 'second_order')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:], w.shape[1:])
+    V_E_ = x[0]
+    V_N_ = x[1]
+    phi_ = x[2]
+    h_ = u[2]
+    R_ = p[0]
+    ecc2_ = p[1]
+    U_ = p[2]
+    delta_v_E_ = xe[0]
+    delta_v_N_ = xe[1]
+    delta_latitude_ = xe[2]
+    _t0 = _m.tan(phi_)
+    _t1 = _m.sin(phi_)
+    _t2 = _t1**2
+    _t3 = _t2*ecc2_
+    _t4 = _t3 - 1
+    _t5 = -_t4
+    _t6 = R_/_m.sqrt(_t5) + h_
+    _t7 = 1/_t6
+    _t8 = _t7*delta_v_E_
+    _t9 = _m.cos(phi_)
+    _t10 = U_*delta_latitude_
+    _t11 = _t10*_t9
+    _t12 = _t0**2 + 1
+    _t13 = V_E_*delta_latitude_
+    _t14 = _t13*_t7
+    _t15 = _t12*_t14
+    _t16 = _t5**((-3/2))
+    _t17 = R_*ecc2_
+    _t18 = _t16*_t17
+    _t19 = _t1*_t18
+    _t20 = _t6**(-2)
+    _t21 = _t13*_t20
+    _t22 = -_t0*_t19*_t21*_t9 + _t0*_t8 + 2*_t11 + _t15
+    _t23 = _t1*_t10
+    _t24 = 2*_t8
+    _t25 = 2*_t0
+    _t26 = _t9**2
+    _t27 = _t16*_t26
+    _t28 = _t17*_t21*_t27
+    _t29 = _t16*_t3
+    _t30 = R_*_t21
+    _t31 = 2*_t9
+    _t32 = _t1*_t18*_t20*_t31*delta_v_E_
+    _t33 = _t1*_t31
+    _t34 = _t4**(-3)
+    _t35 = _t2*ecc2_**2
+    _t36 = R_**2*_t13*_t26*_t34*_t35/_t6**3
+    _t37 = _t5**((-5/2))
+    _t38 = _t26*_t37
+    _t39 = 3*_t38
+    _t40 = _t30*_t35*_t39
+    _t41 = _t0*_t28 - _t0*_t29*_t30 + _t0*_t32 + _t0*_t40 + _t12*_t18*_t21*_t33 - _t12*_t24 - _t15*_t25 + _t25*_t36
+    _t42 = 2*_t23 + _t41
+    _t43 = V_N_*delta_latitude_
+    _t44 = ((1/2))*delta_latitude_
+    _t45 = _t26*_t3
+    _t46 = 5*_t45/_t5**((7/2))
+    _t47 = R_*(ecc2_ - 1)
+    _t48 = _t16*_t47 - h_
+    _t49 = 6*_t45*_t47/(_t4**5*_t48)
+    _t50 = _t33*_t37*delta_v_N_
+    _t51 = ((3/2))*_t47*delta_latitude_*ecc2_/_t48**2
+    _t52 = 1/_t26
+    _t53 = 1/_t9
+    _t54 = 2*R_
+    _t55 = _t14*_t53
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = _t22*delta_v_N_ - (1/2)*_t42*_t43
+    _out[1] = V_E_*_t42*_t44 - _t22*delta_v_E_
+    _out[2] = _t51*(_t43*(-_t2*_t37 + _t38 + _t46 + _t49) + _t50)
+    _out[3] = _t44*_t7*(V_E_*_t53*delta_latitude_*(2*_t2*_t52 + 1) + 2*_t1*_t52*delta_v_E_ - _t17*_t55*(-_t16*_t2 + _t27 + _t3*_t39 + _t34*_t45*_t54*_t7) - _t19*_t24 - _t29*_t54*_t55)
+    _out[4] = _t51*(V_N_*_t2*_t37*delta_latitude_ - _t38*_t43 - _t43*_t46 - _t43*_t49 - _t50)
+    _out[5] = _t44*(R_*V_E_*_t16*_t2*_t20*delta_latitude_*ecc2_ - _t11 - _t28 - _t32 - 2*_t36 - _t40)
+    _out[6] = _t44*(-_t23 - _t41)
+    return _out
+
+
+def output_second_order(x, u, p, xe):
+    """Second-order term of the output errors.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+    xe : array_like, shape (7, ...)
+        error state xr - (x, 0)
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, ...)
+        1/2 xe' Hessian xe per output
+    """
+    x = _as_vector(x, 4, 'x', 'output_second_order')
+    u = _as_vector(u, 3, 'u', 'output_second_order')
+    p = _as_vector(p, 4, 'p', 'output_second_order')
+    xe = _as_vector(xe, 7, 'xe', 'output_second_order')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:])
+    _out = _np.zeros((4,) + _batch)
+    return _out
+
+
+def initial_state(c, u, p):
+    """True initial state from navigation initial conditions.
+
+    Parameters
+    ----------
+    c : array_like, shape (4, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, ...)
+        x(0)
+    """
+    c = _as_vector(c, 4, 'c', 'initial_state')
+    u = _as_vector(u, 3, 'u', 'initial_state')
+    p = _as_vector(p, 4, 'p', 'initial_state')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    longitude_ = c[1]
+    v_N_ = c[2]
+    v_E_ = c[3]
+    _out = _np.zeros((4,) + _batch)
+    _out[0] = v_E_
+    _out[1] = v_N_
+    _out[2] = latitude_
+    _out[3] = longitude_
+    return _out
+
+
+def initial_real_state(c, u, w, p):
+    """Real-work initial state, initial-error sources applied.
+
+    Parameters
+    ----------
+    c : array_like, shape (4, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    w : array_like, shape (12, ...)
+        error-source magnitudes, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        xr(0)
+    """
+    c = _as_vector(c, 4, 'c', 'initial_real_state')
+    u = _as_vector(u, 3, 'u', 'initial_real_state')
+    w = _as_vector(w, 12, 'w', 'initial_real_state')
+    p = _as_vector(p, 4, 'p', 'initial_real_state')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    longitude_ = c[1]
+    v_N_ = c[2]
+    v_E_ = c[3]
+    initial_velocity_error_east_ = w[5]
+    initial_velocity_error_north_ = w[6]
+    initial_latitude_error_ = w[7]
+    initial_longitude_error_ = w[8]
+    initial_tilt_east_ = w[9]
+    initial_tilt_north_ = w[10]
+    initial_azimuth_error_ = w[11]
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = initial_velocity_error_east_ + v_E_
+    _out[1] = initial_velocity_error_north_ + v_N_
+    _out[2] = initial_latitude_error_ + latitude_
+    _out[3] = initial_longitude_error_ + longitude_
+    _out[4] = initial_tilt_east_
+    _out[5] = initial_tilt_north_
+    _out[6] = initial_azimuth_error_
+    return _out
+
+
+def initial_error_matrix(c, u, p):
+    """First-order map from error sources to the initial error state.
+
+    Parameters
+    ----------
+    c : array_like, shape (4, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 12, ...)
+        E: xe(0) = E w
+    """
+    c = _as_vector(c, 4, 'c', 'initial_error_matrix')
+    u = _as_vector(u, 3, 'u', 'initial_error_matrix')
+    p = _as_vector(p, 4, 'p', 'initial_error_matrix')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    _out = _np.zeros((7, 12) + _batch)
+    _out[0, 5] = 1
+    _out[1, 6] = 1
+    _out[2, 7] = 1
+    _out[3, 8] = 1
+    _out[4, 9] = 1
+    _out[5, 10] = 1
+    _out[6, 11] = 1
+    return _out
+
+
+def domain_margins(x, u, p):
+    """Margins that must be positive for the formulas to hold (see DOMAIN).
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, ...)
+        one margin per condition of DOMAIN
+    """
+    x = _as_vector(x, 4, 'x', 'domain_margins')
+    u = _as_vector(u, 3, 'u', 'domain_margins')
+    p = _as_vector(p, 4, 'p', 'domain_margins')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    phi_ = x[2]
+    h_ = u[2]
+    R_ = p[0]
+    ecc2_ = p[1]
+    g_ = p[3]
+    _out = _np.zeros((6,) + _batch)
+    _out[0] = _m.cos(phi_) - 1e-12
+    _out[1] = R_
+    _out[2] = g_
+    _out[3] = 1 - ecc2_
+    _out[4] = ecc2_ + 1e-300
+    _out[5] = R_ + h_
+    return _out
+
+
+def initial_domain_margins(c, u, p):
+    """Margins that must be positive for the initial conditions.
+
+    Parameters
+    ----------
+    c : array_like, shape (4, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, ...)
+        one margin per condition of INITIAL_DOMAIN
+    """
+    c = _as_vector(c, 4, 'c', 'initial_domain_margins')
+    u = _as_vector(u, 3, 'u', 'initial_domain_margins')
+    p = _as_vector(p, 4, 'p', 'initial_domain_margins')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    h_ = u[2]
+    R_ = p[0]
+    ecc2_ = p[1]
+    g_ = p[3]
+    _out = _np.zeros((6,) + _batch)
+    _out[0] = _m.cos(latitude_) - 1e-12
+    _out[1] = R_
+    _out[2] = g_
+    _out[3] = 1 - ecc2_
+    _out[4] = ecc2_ + 1e-300
+    _out[5] = R_ + h_
+    return _out
+
+
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')
