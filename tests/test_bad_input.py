@@ -62,7 +62,7 @@ def test_negative_radius_is_rejected(orthodromic, point):
     with pytest.raises(ins_errors.DomainError, match="semi-major axis a must be positive"):
         orthodromic.state_matrix(x, u, orthodromic.parameter_vector(a=-1.0))
     with pytest.raises(ins_errors.DomainError, match="a \\+ h <= 0"):
-        orthodromic.state_matrix(x, orthodromic.input_vector(h=-7e6), orthodromic.parameter_vector())
+        orthodromic.state_matrix(x, orthodromic.input_vector(h=-7e6), None)
 
 
 def test_cli_prints_one_line_not_a_traceback(capsys):

@@ -31,7 +31,7 @@ def test_generated_is_fresh_and_deterministic(tmp_path):
     first, second = tmp_path / "a", tmp_path / "b"
     runs = [_derive_into(first, "1"), _derive_into(second, "2")]
     for run in runs:
-        out, err = run.communicate(timeout=600)
+        _out, err = run.communicate(timeout=600)
         assert run.returncode == 0, err
     fresh, again, committed = _files(first), _files(second), _files(GENERATED)
     assert fresh == again, "two runs of derive differ: output is not deterministic"
