@@ -1,0 +1,495 @@
+"""Fixed-step integrators: the manual's rectangle method, RK4, compiled CasADi loops.
+
+Everything here is model-independent: a right-hand side is either a numpy callable
+``f(z, u) -> dz/dt`` or a :class:`casadi.Function` ``f(z, u, q) -> dz/dt`` (state, inputs,
+constants), and the inputs are sampled on the step grid.
+
+Schemes
+-------
+``"euler"`` (the rectangle method of the source documents)
+    ``z[k+1] = z[k] + τ f(z[k], u[k])``: exactly the difference equations the lab manual
+    prints for the ideal and the real work.
+``"rk4"``
+    Classical fourth order Runge-Kutta; the inputs are needed at the step times and at
+    the midpoints ``t[k] + τ/2``.
+
+Compiled path
+-------------
+:class:`CompiledLoop` builds the one-step map as a CasADi function, repeats it
+``record_every`` times with ``fold`` (only the last state is kept), repeats that block
+``chunk`` times with ``mapaccum`` (one recorded column per block), generates C code,
+compiles it once with the machine's C compiler into a shared library cached on disk
+(``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``) and loads it with
+:func:`casadi.external`. Where no compiler works it falls back to the CasADi virtual
+machine and says so once (a :class:`RuntimeWarning`). A long run is a Python loop over
+chunks, which is where progress is shown.
+
+Time-invariant linear systems (a static base) can instead be stepped exactly with the
+matrix exponential: :func:`exact_discretisation`.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+import warnings
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import casadi as ca
+import numpy as np
+
+from ins_errors.errors import InsErrorsError
+
+Method = Literal["euler", "rk4"]
+METHODS: tuple[str, ...] = ("euler", "rk4")
+"""Names of the integration schemes."""
+
+
+class StepError(InsErrorsError):
+    """A step size, duration or recording interval that does not fit together."""
+
+
+# --------------------------------------------------------------------------------------
+# Grid checks
+# --------------------------------------------------------------------------------------
+def check_method(method: str) -> str:
+    """Return ``method`` if it is a known scheme, else raise a one-line error."""
+    if method not in METHODS:
+        from ins_errors.errors import unknown_name
+
+        raise unknown_name("integration method", method, METHODS)
+    return method
+
+
+def step_count(duration: float, tau: float, what: str = "duration") -> int:
+    """Number of steps of size ``tau`` in ``duration``.
+
+    The duration must be a whole number of steps (to a relative 1e-9): a run never ends
+    between two steps of the difference scheme.
+
+    Parameters
+    ----------
+    duration : float
+        Length of the run, s (>= 0).
+    tau : float
+        Step, s (> 0).
+    what : str
+        Name of the duration in error messages.
+
+    Raises
+    ------
+    StepError
+        Zero, negative or non-finite step; negative duration; duration not a multiple
+        of the step.
+    """
+    tau, duration = float(tau), float(duration)
+    if not np.isfinite(tau) or tau <= 0.0:
+        raise StepError(f"integration step must be a positive number of seconds, got {tau:g}")
+    if not np.isfinite(duration) or duration < 0.0:
+        raise StepError(f"{what} must be a non-negative number of seconds, got {duration:g}")
+    steps = duration / tau
+    n = round(steps)
+    if abs(steps - n) > 1e-9 * max(1.0, steps):
+        raise StepError(f"{what} {duration:g} s is not a whole number of steps of "
+                        f"{tau:g} s ({steps:.6g} steps); choose a step that divides it")
+    return int(n)
+
+
+def record_stride(record_interval: float | None, tau: float, n_steps: int) -> int:
+    """Steps between two recorded samples (``None``: record every step).
+
+    Raises
+    ------
+    StepError
+        If the interval is not a positive multiple of the step or does not divide the run.
+    """
+    if record_interval is None:
+        return 1
+    k = step_count(record_interval, tau, "recording interval")
+    if k == 0:
+        raise StepError("recording interval must be at least one step")
+    if n_steps % k:
+        raise StepError(f"the run of {n_steps} steps is not a whole number of recording "
+                        f"intervals of {k} steps ({record_interval:g} s)")
+    return k
+
+
+# --------------------------------------------------------------------------------------
+# numpy schemes (reference implementations; vectorised over trailing batch axes)
+# --------------------------------------------------------------------------------------
+def euler_step(f: Callable[[np.ndarray, np.ndarray], np.ndarray], z: np.ndarray,
+               u: np.ndarray, tau: float) -> np.ndarray:
+    """One rectangle-method step ``z + τ f(z, u)``."""
+    return z + tau * f(z, u)
+
+
+def rk4_step(f: Callable[[np.ndarray, np.ndarray], np.ndarray], z: np.ndarray,
+             u0: np.ndarray, u_half: np.ndarray, u1: np.ndarray, tau: float) -> np.ndarray:
+    """One classical Runge-Kutta step with the inputs at ``t``, ``t + τ/2``, ``t + τ``."""
+    k1 = f(z, u0)
+    k2 = f(z + 0.5 * tau * k1, u_half)
+    k3 = f(z + 0.5 * tau * k2, u_half)
+    k4 = f(z + tau * k3, u1)
+    return z + tau / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
+def integrate(f: Callable[[np.ndarray, np.ndarray], np.ndarray], z0: np.ndarray,
+              inputs: np.ndarray, tau: float, method: Method = "euler",
+              midpoints: np.ndarray | None = None, record_every: int = 1) -> np.ndarray:
+    """Integrate ``dz/dt = f(z, u)`` with a plain Python loop (reference, short runs).
+
+    Parameters
+    ----------
+    f : callable
+        ``f(z, u) -> dz/dt``, numpy, broadcasting over trailing axes.
+    z0 : numpy.ndarray, shape (nz, ...)
+        Initial state.
+    inputs : numpy.ndarray, shape (nu, N + 1)
+        Inputs at the step times ``t[k] = k τ`` (the last column is used by RK4 only).
+    tau : float
+        Step, s.
+    method : {"euler", "rk4"}
+        Scheme.
+    midpoints : numpy.ndarray, shape (nu, N), optional
+        Inputs at ``t[k] + τ/2`` (required by RK4).
+    record_every : int
+        Keep every ``record_every``-th state.
+
+    Returns
+    -------
+    numpy.ndarray, shape (nz, N // record_every + 1, ...)
+        The recorded states, the initial state first.
+    """
+    check_method(method)
+    if tau <= 0:
+        raise StepError(f"integration step must be a positive number of seconds, got {tau:g}")
+    n = inputs.shape[1] - 1
+    if method == "rk4" and (midpoints is None or midpoints.shape[1] < n):
+        raise StepError("RK4 needs the inputs at the step midpoints")
+    z = np.asarray(z0, dtype=float)
+    out = [z]
+    for k in range(n):
+        if method == "euler":
+            z = euler_step(f, z, inputs[:, k], tau)
+        else:
+            z = rk4_step(f, z, inputs[:, k], midpoints[:, k], inputs[:, k + 1], tau)
+        if (k + 1) % record_every == 0:
+            out.append(z)
+    return np.stack(out, axis=1)
+
+
+def exact_discretisation(F: np.ndarray, G: np.ndarray, tau: float) -> tuple[np.ndarray,
+                                                                             np.ndarray]:
+    """Exact step of ``ė = F e + G w`` (F, G, w constant) over ``tau``.
+
+    Uses the matrix exponential of the augmented matrix ``[[F, G], [0, 0]] τ``.
+
+    Returns
+    -------
+    Phi : numpy.ndarray, shape (n, n)
+        ``exp(F τ)``.
+    Gamma : numpy.ndarray, shape (n, m)
+        ``∫_0^τ exp(F s) ds G``, so that ``e[k+1] = Φ e[k] + Γ w``.
+    """
+    from scipy.linalg import expm
+
+    n, m = G.shape
+    block = np.zeros((n + m, n + m))
+    block[:n, :n], block[:n, n:] = F, G
+    exp = expm(block * tau)
+    return exp[:n, :n], exp[:n, n:]
+
+
+# --------------------------------------------------------------------------------------
+# CasADi schemes
+# --------------------------------------------------------------------------------------
+def casadi_step(rhs: ca.Function, method: Method, z: ca.SX, u_stream: ca.SX, q: ca.SX,
+                tau: ca.SX) -> ca.SX:
+    """Symbolic one-step map of ``rhs(z, u, q)``.
+
+    ``u_stream`` is ``u[k]`` for Euler and ``vertcat(u[k], u[k+1/2], u[k+1])`` for RK4.
+    """
+    if method == "euler":
+        return z + tau * rhs(z, u_stream, q)
+    nu = u_stream.shape[0] // 3
+    u0, uh, u1 = u_stream[:nu], u_stream[nu:2 * nu], u_stream[2 * nu:]
+    k1 = rhs(z, u0, q)
+    k2 = rhs(z + 0.5 * tau * k1, uh, q)
+    k3 = rhs(z + 0.5 * tau * k2, uh, q)
+    k4 = rhs(z + tau * k3, u1, q)
+    return z + tau / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+def input_stream(inputs: np.ndarray, midpoints: np.ndarray | None, method: Method) -> np.ndarray:
+    """Per-step input columns for a compiled loop.
+
+    Parameters
+    ----------
+    inputs : numpy.ndarray, shape (nu, N + 1)
+        Inputs at the step times.
+    midpoints : numpy.ndarray, shape (nu, N) or None
+        Inputs at the midpoints (RK4 only).
+
+    Returns
+    -------
+    numpy.ndarray, shape (nu, N) for Euler or (3 nu, N) for RK4
+    """
+    if method == "euler":
+        return inputs[:, :-1]
+    if midpoints is None:
+        raise StepError("RK4 needs the inputs at the step midpoints")
+    return np.vstack([inputs[:, :-1], midpoints, inputs[:, 1:]])
+
+
+# --------------------------------------------------------------------------------------
+# Compilation with an on-disk cache
+# --------------------------------------------------------------------------------------
+_NOTICE_GIVEN = False
+
+
+def cache_directory() -> Path:
+    """Where compiled loops are kept (``$INS_ERRORS_CACHE`` or the user cache folder)."""
+    root = os.environ.get("INS_ERRORS_CACHE")
+    if root:
+        return Path(root)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "ins-errors" / "casadi"
+
+
+def _compiler() -> str | None:
+    name = os.environ.get("CC", "cc")
+    return shutil.which(name) or shutil.which("gcc") or shutil.which("clang")
+
+
+def _vm_notice(reason: str) -> None:
+    global _NOTICE_GIVEN
+    if not _NOTICE_GIVEN:
+        _NOTICE_GIVEN = True
+        warnings.warn(f"ins-errors: no working C compiler ({reason}); compiled loops run in "
+                      "the CasADi virtual machine instead (slower, same results)",
+                      RuntimeWarning, stacklevel=3)
+
+
+def compile_functions(functions: list[ca.Function], jit: bool = True) -> list[ca.Function]:
+    """Compile CasADi functions to one shared library (cached) and load them.
+
+    Parameters
+    ----------
+    functions : list of casadi.Function
+        Functions with distinct names.
+    jit : bool
+        False keeps them in the CasADi virtual machine.
+
+    Returns
+    -------
+    list of casadi.Function
+        Compiled (``casadi.external``) versions, or the inputs when compiling is off or
+        fails (then a one-time :class:`RuntimeWarning` says so).
+    """
+    if not jit or os.environ.get("INS_ERRORS_NO_JIT"):
+        return functions
+    compiler = _compiler()
+    if compiler is None:
+        _vm_notice("none of $CC, cc, gcc, clang found")
+        return functions
+    generator = ca.CodeGenerator("loop.c", {"with_header": False, "casadi_real": "double"})
+    for function in functions:
+        generator.add(function)
+    source = generator.dump()
+    flags = ["-O2", "-shared", "-fPIC"]
+    key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__).encode())
+    directory = cache_directory()
+    library = directory / f"loop_{key.hexdigest()[:24]}.so"
+    if not library.exists():
+        try:
+            directory.mkdir(parents=True, exist_ok=True)
+            with tempfile.TemporaryDirectory(dir=directory) as scratch:
+                c_file = Path(scratch) / "loop.c"
+                c_file.write_text(source)
+                target = Path(scratch) / "loop.so"
+                subprocess.run([compiler, *flags, "-o", str(target), str(c_file), "-lm"],
+                               check=True, capture_output=True, timeout=600)
+                os.replace(target, library)
+        except (OSError, subprocess.SubprocessError) as error:
+            _vm_notice(f"{compiler} failed: {str(error).splitlines()[0][:120]}")
+            return functions
+    return [ca.external(f.name(), str(library)) for f in functions]
+
+
+# --------------------------------------------------------------------------------------
+# Compiled loops
+# --------------------------------------------------------------------------------------
+@dataclass
+class LoopResult:
+    """Output of :meth:`CompiledLoop.run`.
+
+    Attributes
+    ----------
+    states : numpy.ndarray, shape (nz, R + 1, B)
+        Recorded states (initial state first) for each of the ``B`` batch members.
+    margins : numpy.ndarray, shape (R, B)
+        Smallest domain margin seen during each recording interval (``> 0``: inside).
+    """
+
+    states: np.ndarray
+    margins: np.ndarray
+
+
+class CompiledLoop:
+    """A fixed-step integration loop compiled once, run many times.
+
+    The carried vector is ``[z, m, q, τ]`` (state, running minimum of the domain margin,
+    constants, step), and for constant inputs also ``u``; everything is kept in one
+    vector so that ``fold`` and ``mapaccum`` feed it back whole.
+
+    Parameters
+    ----------
+    rhs : casadi.Function
+        ``rhs(z, u, q) -> dz/dt``.
+    margin : casadi.Function or None
+        ``margin(z, u, q) -> scalar``, positive inside the domain (e.g. ``1 - u31²``).
+        NaN states give NaN margins and are caught the same way.
+    method : {"euler", "rk4"}
+        Scheme.
+    record_every : int
+        Steps per recorded sample.
+    constant_inputs : bool
+        True: one input vector for the whole run (carried, no per-step array).
+    chunk : int
+        Recorded samples per compiled call (a long run is a Python loop over chunks).
+    batch : int
+        Number of independent cases run side by side (same inputs; states and constants
+        differ) with ``casadi.Function.map``.
+    jit : bool
+        Compile to C (default) or stay in the CasADi virtual machine.
+    """
+
+    def __init__(self, rhs: ca.Function, margin: ca.Function | None, method: Method,
+                 record_every: int, constant_inputs: bool, chunk: int = 64, batch: int = 1,
+                 jit: bool = True):
+        check_method(method)
+        if record_every < 1 or chunk < 1 or batch < 1:
+            raise StepError("record_every, chunk and batch must be positive integers")
+        self.method, self.record_every, self.chunk, self.batch = method, record_every, chunk, batch
+        self.constant_inputs = constant_inputs
+        self.nz, self.nu, self.nq = rhs.size1_in(0), rhs.size1_in(1), rhs.size1_in(2)
+        nz, nu, nq = self.nz, self.nu, self.nq
+        self.n_stream = nu if method == "euler" else 3 * nu
+        self.n_carry = nz + 1 + nq + 1 + (nu if constant_inputs else 0)
+
+        carry = ca.SX.sym("carry", self.n_carry)
+        z, m = carry[:nz], carry[nz]
+        q, tau = carry[nz + 1:nz + 1 + nq], carry[nz + 1 + nq]
+        if constant_inputs:
+            u = carry[nz + 2 + nq:]
+            stream = u if method == "euler" else ca.vertcat(u, u, u)
+            extra_in: list[ca.SX] = []
+        else:
+            stream = ca.SX.sym("u", self.n_stream)
+            u = stream[:nu]
+            extra_in = [stream]
+        z_next = casadi_step(rhs, method, z, stream, q, tau)
+        u_end = u if (constant_inputs or method == "euler") else stream[2 * nu:]
+        m_next = ca.fmin(m, margin(z_next, u_end, q)) if margin is not None else m
+        step = ca.Function("ins_step", [carry, *extra_in],
+                           [ca.vertcat(z_next, m_next, carry[nz + 1:])])
+        block = step.fold(record_every) if record_every > 1 else step
+        self._block_in = extra_in
+        chunked = block.mapaccum("ins_chunk", chunk)
+        single = block
+        if batch > 1:
+            reduce = [] if constant_inputs else [1]
+            chunked = chunked.map("ins_chunk_b", "serial", batch, reduce, [])
+            single = block.map("ins_single_b", "serial", batch, reduce, [])
+        # wrap with stable names so the compiled library exports them
+        chunked = _rename(chunked, "ins_chunk_f")
+        single = _rename(single, "ins_single_f")
+        self._chunk_fn, self._single_fn = compile_functions([chunked, single], jit=jit)
+
+    def run(self, z0: np.ndarray, q: np.ndarray, tau: float, n_steps: int,
+            inputs: np.ndarray, progress: bool | str = False) -> LoopResult:
+        """Run the loop.
+
+        Parameters
+        ----------
+        z0 : numpy.ndarray, shape (nz,) or (nz, B)
+            Initial state(s).
+        q : numpy.ndarray, shape (nq,) or (nq, B)
+            Constants (error sources, parameters...).
+        tau : float
+            Step, s.
+        n_steps : int
+            Number of steps, a multiple of ``record_every``.
+        inputs : numpy.ndarray
+            Constant inputs ``(nu,)`` or the per-step stream ``(n_stream, n_steps)`` from
+            :func:`input_stream`.
+        progress : bool or str
+            Show a tqdm progress bar (a string is used as its label).
+        """
+        k, B = self.record_every, self.batch
+        if n_steps % k:
+            raise StepError(f"{n_steps} steps are not a whole number of recording "
+                            f"intervals of {k} steps")
+        n_rec = n_steps // k
+        z0 = np.asarray(z0, dtype=float).reshape(self.nz, -1)
+        q = np.asarray(q, dtype=float).reshape(self.nq, -1)
+        if z0.shape[1] not in (1, B) or q.shape[1] not in (1, B):
+            raise StepError(f"expected {B} batch members, got states {z0.shape[1]}, "
+                            f"constants {q.shape[1]}")
+        z0, q = np.broadcast_to(z0, (self.nz, B)), np.broadcast_to(q, (self.nq, B))
+        parts = [z0, np.full((1, B), np.inf), q, np.full((1, B), float(tau))]
+        if self.constant_inputs:
+            u = np.asarray(inputs, dtype=float).reshape(self.nu, -1)
+            parts.append(np.broadcast_to(u, (self.nu, B)))
+        else:
+            inputs = np.asarray(inputs, dtype=float)
+            if inputs.shape != (self.n_stream, n_steps):
+                raise StepError(f"input stream must have shape ({self.n_stream}, {n_steps}), "
+                                f"got {inputs.shape}")
+        carry = np.vstack(parts)
+        states = np.empty((self.nz, n_rec + 1, B))
+        margins = np.empty((n_rec, B))
+        states[:, 0] = z0
+        bar = None
+        if progress:
+            from tqdm import tqdm
+
+            bar = tqdm(total=n_steps, unit="step", unit_scale=True, leave=False,
+                       desc=progress if isinstance(progress, str) else "integrating")
+        done = 0
+        try:
+            while done < n_rec:
+                size = self.chunk if n_rec - done >= self.chunk else 1
+                fn = self._chunk_fn if size == self.chunk else self._single_fn
+                args = [self._pack(carry)]
+                if not self.constant_inputs:
+                    args.append(inputs[:, done * k:(done + size) * k])
+                out = np.asarray(fn(*args))
+                # out: (n_carry, size * B) ordered batch-major for the mapped chunk
+                out = out.reshape(self.n_carry, B, size) if B > 1 else out.reshape(
+                    self.n_carry, 1, size)
+                states[:, done + 1:done + 1 + size] = out[:self.nz].transpose(0, 2, 1)
+                margins[done:done + size] = out[self.nz].T
+                carry = out[:, :, -1]
+                carry[self.nz] = np.inf
+                done += size
+                if bar is not None:
+                    bar.update(size * k)
+        finally:
+            if bar is not None:
+                bar.close()
+        return LoopResult(states, margins)
+
+    def _pack(self, carry: np.ndarray) -> np.ndarray:
+        return carry if self.batch > 1 else carry[:, :1]
+
+
+def _rename(function: ca.Function, name: str) -> ca.Function:
+    args = [ca.MX.sym(f"i{i}", function.sparsity_in(i)) for i in range(function.n_in())]
+    return ca.Function(name, args, function.call(args))

@@ -1,0 +1,403 @@
+"""Direct, linear and refined error runs along one true motion (model-independent).
+
+* **direct**: the ideal-work and the real-work equations integrated side by side with the
+  same scheme, step and inputs; the errors are real − ideal (the source documents'
+  "direct modelling");
+* **linear**: the generated first-order error equations ``ė = F e + G w`` along the
+  *ideal run's* states, from ``e(0) = E w``;
+* **refined**: the same plus the generated second-order terms, from the exact initial
+  difference ``x̃(0) − (x(0), 0)``.
+
+All three are integrated in one compiled loop (state ``[x, x̃, e, e₂]``), so they share
+the ideal trajectory exactly; the rectangle scheme of the linear run is then exactly
+the first-order variation of the direct rectangle scheme, whatever the step.
+
+Errors are reported per *quantity*: the platform angles (the error states beyond the
+computed states) and the change of every navigation output (latitude, longitude,
+heading, ..., v_N, v_E), angles wrapped to (−π, π].
+
+A static base can also be run with the exact matrix-exponential discretisation of the
+linear equations (:func:`linear_exact`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cache
+
+import casadi as ca
+import numpy as np
+
+from ins_errors.errors import DomainError, ShapeError, unknown_name
+from ins_errors.numeric.integrators import (
+    CompiledLoop,
+    Method,
+    StepError,
+    check_method,
+    exact_discretisation,
+    input_stream,
+    record_stride,
+)
+from ins_errors.numeric.model import Model
+from ins_errors.numeric.trajectories import Trajectory
+
+PARTS: tuple[str, ...] = ("real", "linear", "refined")
+"""Runs that can be integrated next to the ideal run."""
+
+
+# --------------------------------------------------------------------------------------
+# The combined system
+# --------------------------------------------------------------------------------------
+@cache
+def _system(model_name: str, parts: tuple[str, ...]) -> tuple[ca.Function, ca.Function]:
+    """``rhs(z, u, q)`` and ``margin(z, u, q)`` of ``z = [x, x̃?, e?, e₂?]``, ``q = [w, p]``."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(model_name)
+    fn = model.casadi.function
+    n, ne = len(model.states), len(model.error_states)
+    nu, nw, npar = len(model.inputs), len(model.sources), len(model.parameters)
+    sizes = {"ideal": n, "real": ne, "linear": ne, "refined": ne}
+    layout = ["ideal", *parts]
+    nz = sum(sizes[k] for k in layout)
+    z, u, q = ca.SX.sym("z", nz), ca.SX.sym("u", nu), ca.SX.sym("q", nw + npar)
+    w, p = q[:nw], q[nw:]
+    pieces, offset = {}, 0
+    for name in layout:
+        pieces[name] = z[offset:offset + sizes[name]]
+        offset += sizes[name]
+    x = pieces["ideal"]
+    rates = [fn("ideal_rhs")(x, u, p)]
+    margins = [fn("domain_margins")(x, u, p)]
+    if "linear" in parts or "refined" in parts:
+        F, G = fn("state_matrix")(x, u, p), fn("source_matrix")(x, u, p)
+    if "real" in parts:
+        xr = pieces["real"]
+        rates.append(fn("real_rhs")(xr, x, u, w, p))
+        margins.append(fn("domain_margins")(xr[:n], u, p))
+    if "linear" in parts:
+        rates.append(F @ pieces["linear"] + G @ w)
+    if "refined" in parts:
+        e2 = pieces["refined"]
+        rates.append(F @ e2 + G @ w + fn("second_order")(x, u, p, e2, w))
+    rhs = ca.Function("system_rhs", [z, u, q], [ca.vertcat(*rates)])
+    margin = ca.Function("system_margin", [z, u, q], [ca.mmin(ca.vertcat(*margins))])
+    return rhs, margin
+
+
+@cache
+def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, constant: bool,
+          batch: int, jit: bool) -> CompiledLoop:
+    rhs, margin = _system(model_name, parts)
+    return CompiledLoop(rhs, margin, method, stride, constant, chunk=32, batch=batch, jit=jit)
+
+
+# --------------------------------------------------------------------------------------
+# Results
+# --------------------------------------------------------------------------------------
+@dataclass
+class ErrorCurves:
+    """Error quantities over time.
+
+    Attributes
+    ----------
+    names : list of str
+        Quantity names: platform angles (``alpha_x``...) then ``delta_<output>``.
+    units : list of str
+        SI units.
+    times : numpy.ndarray, shape (R + 1,)
+        s.
+    values : numpy.ndarray, shape (nq, R + 1, B)
+        Errors for each of the B cases.
+    """
+
+    names: list[str]
+    units: list[str]
+    times: np.ndarray
+    values: np.ndarray
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """Curves of one quantity, shape (R + 1, B)."""
+        if name not in self.names:
+            raise unknown_name("error quantity", name, self.names)
+        return self.values[self.names.index(name)]
+
+
+@dataclass
+class Simulation:
+    """States of one batch of runs along one trajectory.
+
+    Attributes
+    ----------
+    model : Model
+    trajectory : Trajectory
+    method : str
+        ``"euler"`` or ``"rk4"``.
+    stride : int
+        Steps between recorded samples.
+    sources : numpy.ndarray, shape (nw, B)
+        Error-source vectors of the B cases, SI.
+    ideal : numpy.ndarray, shape (n, R + 1, B)
+    real, linear, refined : numpy.ndarray, shape (ne, R + 1, B), or None if not run
+    """
+
+    model: Model
+    trajectory: Trajectory
+    method: str
+    stride: int
+    sources: np.ndarray
+    ideal: np.ndarray
+    real: np.ndarray | None = None
+    linear: np.ndarray | None = None
+    refined: np.ndarray | None = None
+
+    @property
+    def times(self) -> np.ndarray:
+        """Recorded times, s, shape (R + 1,)."""
+        return np.arange(self.ideal.shape[1]) * self.stride * self.trajectory.tau
+
+    def _recorded_inputs(self) -> np.ndarray:
+        steps = np.arange(self.ideal.shape[1]) * self.stride
+        return self.trajectory.inputs_at(steps)[:, :, None]
+
+    def _quantities(self) -> tuple[list[str], list[str]]:
+        m = self.model
+        n = len(m.states)
+        names = [s.name for s in m.error_states[n:]] + [f"delta_{o.name}" for o in m.outputs]
+        units = [s.unit for s in m.error_states[n:]] + [o.unit for o in m.outputs]
+        return names, units
+
+    def _curves(self, platform: np.ndarray, outputs: np.ndarray) -> ErrorCurves:
+        names, units = self._quantities()
+        angles = [k for k, o in enumerate(self.model.outputs) if o.unit == "rad"]
+        outputs = outputs.copy()
+        outputs[angles] = (outputs[angles] + np.pi) % (2 * np.pi) - np.pi
+        return ErrorCurves(names, units, self.times, np.concatenate([platform, outputs]))
+
+    def direct_errors(self) -> ErrorCurves:
+        """Errors of the direct run: real − ideal."""
+        if self.real is None:
+            raise ShapeError("this simulation did not run the real-work equations")
+        n = len(self.model.states)
+        u, p = self._recorded_inputs(), self.trajectory.parameters
+        y = self.model.numpy.outputs(self.ideal, u, p)
+        y_real = self.model.numpy.outputs(self.real[:n], u, p)
+        return self._curves(self.real[n:], y_real - y)
+
+    def _error_curves(self, e: np.ndarray | None, second_order: bool, label: str) -> ErrorCurves:
+        if e is None:
+            raise ShapeError(f"this simulation did not run the {label} error equations")
+        n = len(self.model.states)
+        u, p = self._recorded_inputs(), self.trajectory.parameters
+        H = self.model.numpy.output_matrix(self.ideal, u, p)
+        dy = np.einsum("ij...,j...->i...", H, e)
+        if second_order:
+            dy = dy + self.model.numpy.output_second_order(self.ideal, u, p, e)
+        return self._curves(e[n:], dy)
+
+    def linear_errors(self) -> ErrorCurves:
+        """Errors of the first-order error equations (outputs to first order, ``H e``)."""
+        return self._error_curves(self.linear, False, "linear")
+
+    def refined_errors(self) -> ErrorCurves:
+        """Errors of the refined (second-order) equations, outputs to second order."""
+        return self._error_curves(self.refined, True, "refined")
+
+
+# --------------------------------------------------------------------------------------
+# Running
+# --------------------------------------------------------------------------------------
+def source_matrix(model: Model, sources: dict[str, float] | np.ndarray
+                  | Sequence[dict[str, float]]) -> np.ndarray:
+    """Error-source vectors as an array of shape (nw, B).
+
+    Accepts one ``{name: SI value}`` mapping, a list of them (one per case), or an array
+    of shape (nw,) or (nw, B).
+    """
+    if isinstance(sources, dict):
+        return model.source_vector(**sources)[:, None]
+    if isinstance(sources, np.ndarray):
+        w = sources.reshape(len(model.sources), -1) if sources.ndim == 1 else sources
+        if w.shape[0] != len(model.sources):
+            raise ShapeError(f"error sources must have shape ({len(model.sources)}, B), "
+                             f"got {sources.shape}")
+        if not np.all(np.isfinite(w)):
+            raise DomainError("error sources contain NaN or infinite values")
+        return w.astype(float)
+    return np.stack([model.source_vector(**case) for case in sources], axis=1)
+
+
+def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "euler",
+             record_interval: float | None = None,
+             parts: Sequence[str] = PARTS, jit: bool = True,
+             progress: bool = False) -> Simulation:
+    """Run the ideal work and the chosen error runs along ``trajectory``.
+
+    Parameters
+    ----------
+    model : Model
+        Loaded model (the trajectory must have been computed for it).
+    trajectory : Trajectory
+        True motion and inputs on the step grid.
+    sources : dict, list of dict or numpy.ndarray
+        Error sources, SI (see :func:`source_matrix`); several cases run as one batch.
+    method : {"euler", "rk4"}
+        Scheme; ``"euler"`` is the manual's rectangle method.
+    record_interval : float, optional
+        Seconds between recorded samples (a multiple of the step that divides the run);
+        default: every step.
+    parts : sequence of {"real", "linear", "refined"}
+        Runs to integrate next to the ideal run.
+    jit : bool
+        Compile the loop to C (falls back to the CasADi VM where no compiler works).
+    progress : bool
+        Show a progress bar.
+
+    Raises
+    ------
+    DomainError
+        If the real system leaves its domain (|u31| ≥ 1, NaN or infinite values): the
+        message names the time and the quantity.
+    StepError, ShapeError, UnknownNameError
+        Bad grid, bad arrays or unknown names.
+    """
+    check_method(method)
+    if trajectory.model != model.name:
+        raise ShapeError(f"trajectory was computed for model {trajectory.model!r}, "
+                         f"not {model.name!r}")
+    for part in parts:
+        if part not in PARTS:
+            raise unknown_name("simulation part", part, PARTS)
+    parts = tuple(k for k in PARTS if k in parts)
+    w = source_matrix(model, sources)
+    B = w.shape[1]
+    tau, N, p = trajectory.tau, trajectory.n_steps, trajectory.parameters
+    stride = record_stride(record_interval, tau, N)
+    c, u0 = trajectory.initial_conditions, trajectory.inputs[:, 0]
+    n = len(model.states)
+    x0 = np.repeat(trajectory.truth[:, :1], B, axis=1)
+    blocks = [x0]
+    if {"real", "refined"} & set(parts):
+        xr0 = model.initial_real_state(c[:, None], u0[:, None], w, p)
+        _check_initial(model, xr0, n)
+        exact0 = xr0 - np.vstack([x0, np.zeros((xr0.shape[0] - n, B))])
+    if "real" in parts:
+        blocks.append(xr0)
+    if "linear" in parts:
+        E = model.initial_error_matrix(c, u0, p)
+        blocks.append(E @ w)
+    if "refined" in parts:
+        blocks.append(exact0)
+    z0 = np.vstack(blocks)
+    q = np.vstack([w, np.repeat(p[:, None], B, axis=1)])
+    if trajectory.constant:
+        stream = trajectory.inputs[:, 0]
+    else:
+        stream = input_stream(trajectory.inputs, trajectory.midpoints, method)
+    loop = _loop(model.name, parts, method, stride, trajectory.constant, B, jit)
+    result = loop.run(z0, q, tau, N, stream, progress=progress)
+    states = result.states
+    sim = Simulation(model, trajectory, method, stride, w, states[:n])
+    offset = n
+    ne = len(model.error_states)
+    for part in parts:
+        setattr(sim, part, states[offset:offset + ne])
+        offset += ne
+    _check_domain(sim, result.margins)
+    return sim
+
+
+def _check_initial(model: Model, xr0: np.ndarray, n: int) -> None:
+    bad = ~np.isfinite(xr0)
+    if bad.any():
+        k = int(np.argmax(bad.any(axis=1)))
+        raise DomainError(f"the real system's initial {model.error_states[k].name} is NaN or "
+                          "infinite: initial errors too large")
+
+
+def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
+    """Raise if any recorded run left the domain or became NaN (first time, quantity)."""
+    model = sim.model
+    dt = sim.stride * sim.trajectory.tau
+    first, detail = None, ""
+    bad_margin = ~(margins > 0)  # NaN counts as bad
+    if bad_margin.any():
+        r = int(np.argmax(bad_margin.any(axis=1)))
+        first = r + 1
+        detail = _margin_detail(sim, r + 1, int(np.argmax(bad_margin[r])))
+    labels = {"ideal": "ideal-work state", "real": "real-work state",
+              "linear": "linear error state", "refined": "refined error state"}
+    for name, label in labels.items():
+        states = getattr(sim, name)
+        if states is None:
+            continue
+        finite = np.all(np.isfinite(states), axis=(0, 2))
+        if not finite.all():
+            r = int(np.argmin(finite))
+            if first is None or r < first:
+                names = ([s.name for s in model.states] if name == "ideal"
+                         else [s.name for s in model.error_states])
+                k = int(np.argmax((~np.isfinite(states[:, r])).any(axis=1)))
+                first, detail = r, f"{label} {names[k]} became NaN or infinite"
+    if first is not None:
+        t0, t1 = (first - 1) * dt, first * dt
+        when = f"at t = {t1:.6g} s" if sim.stride == 1 else (
+            f"between t = {t0:.6g} s and {t1:.6g} s")
+        raise DomainError(f"the system left its domain {when} ({t1 / 3600:.4g} h): {detail}")
+
+
+def _margin_detail(sim: Simulation, record: int, case: int) -> str:
+    model, n = sim.model, len(sim.model.states)
+    u = sim.trajectory.inputs_at(np.array([record * sim.stride]))[:, 0]
+    p = sim.trajectory.parameters
+    messages = model.meta.DOMAIN
+    for label, state in (("real system", None if sim.real is None else sim.real[:n]),
+                         ("ideal system", sim.ideal)):
+        if state is None:
+            continue
+        values = state[:, record, case]
+        if not np.all(np.isfinite(values)):
+            bad = [model.states[k].name for k in range(n) if not np.isfinite(values[k])]
+            return f"{label} state {bad[0]} became NaN or infinite"
+        margins = model.numpy.domain_margins(values, u, p)
+        for k, message in enumerate(messages):
+            if not margins[k] > 0:
+                extra = ""
+                if "u31" in message:
+                    extra = f" (|u31| = {abs(values[2]):.6g})" if n > 2 else ""
+                return f"{label}: {message}{extra}"
+    return "a state crossed the domain boundary between two recorded samples"
+
+
+def linear_exact(model: Model, trajectory: Trajectory, sources,
+                 record_interval: float | None = None) -> ErrorCurves:
+    """Linear error run on a static base, stepped exactly with the matrix exponential.
+
+    ``e[j+1] = Φ e[j] + Γ w`` with ``Φ = exp(F Δt)``, ``Γ = ∫ exp(F s) ds G`` over the
+    recording interval Δt: no discretisation error at all (the continuous-time solution).
+
+    Raises
+    ------
+    StepError
+        If the trajectory is not time-invariant.
+    """
+    if not trajectory.constant:
+        raise StepError("exact discretisation needs a time-invariant (static-base) trajectory")
+    w = source_matrix(model, sources)
+    stride = record_stride(record_interval, trajectory.tau, trajectory.n_steps)
+    dt = stride * trajectory.tau
+    x, u, p = trajectory.truth[:, 0], trajectory.inputs[:, 0], trajectory.parameters
+    F, G = model.state_matrix(x, u, p), model.source_matrix(x, u, p)
+    Phi, Gamma = exact_discretisation(F, G, dt)
+    E = model.initial_error_matrix(trajectory.initial_conditions, u, p)
+    R = trajectory.n_steps // stride
+    e = np.empty((F.shape[0], R + 1, w.shape[1]))
+    e[:, 0] = E @ w
+    drive = Gamma @ w
+    for j in range(R):
+        e[:, j + 1] = Phi @ e[:, j] + drive
+    sim = Simulation(model, trajectory, "exact", stride, w,
+                     np.repeat(np.repeat(x[:, None, None], R + 1, axis=1), w.shape[1], axis=2),
+                     linear=e)
+    return sim.linear_errors()

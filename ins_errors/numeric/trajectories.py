@@ -1,0 +1,565 @@
+"""True motion that feeds a model's ideal-work equations consistently.
+
+A motion is given the way a flight is planned: the relative (ground) velocity, either in
+the model's track frame (``v_xi`` along the trihedron's ξ axis, ``v_eta`` to its left) or
+geographically (``v_N``, ``v_E``), with the height ``h(t)`` and the vertical velocity
+``V_zeta = dh/dt``, starting from a latitude, longitude and heading. From it this module
+computes, *with the model's own generated functions*, the true state and the true
+apparent accelerations the ideal-work equations need:
+
+* the consistent state ``X(x, cmd)`` is the model's ``initial_state`` evaluated at the
+  position and heading read from the state (its ``outputs`` named like the initial
+  conditions) and the commanded relative velocity; its state velocities are thus
+  exactly what the model's own output equations turn back into ``cmd``;
+* the apparent accelerations (inputs named ``a_*`` that enter the ideal equations) solve
+  ``f(x, u) = dX/dt`` in the least-squares sense, ``dX/dt`` being the exact (automatic)
+  time derivative of ``X`` along the flow and the commanded rates: ``a = V̇ + W − g'``;
+* the vertical apparent acceleration ``a_zeta`` (not used by the ideal horizontal
+  channels) is ``dV_zeta/dt − v_E²/(R_E + h) − v_N²/(R_N + h) − 2 U cos φ v_E + γ(φ, h)``
+  with the normal gravity γ of the chosen ellipsoid (Somigliana, free-air reduction).
+
+The true state is integrated with RK4 at half the run's step (compiled loop) and the
+inputs are sampled at the step times and at their midpoints (for RK4 runs). A static
+base needs no integration: its inputs are constant.
+
+Conventions (orthodromic model): heading χ from north towards east, η = ζ × ξ (to the
+left), so ``v_N = v_ξ cos χ + v_η sin χ`` and ``v_E = v_ξ sin χ − v_η cos χ``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from functools import cache
+
+import casadi as ca
+import numpy as np
+
+from ins_errors.errors import DomainError, InsErrorsError, ShapeError
+from ins_errors.numeric.integrators import CompiledLoop, step_count
+from ins_errors.numeric.model import Model
+
+COMMANDS = ("v1", "v2", "h", "V_zeta")
+"""Order of a command vector: two horizontal relative velocities, height, vertical speed."""
+
+# Somigliana normal gravity constants: equatorial gravity (m/s²) and the k coefficient.
+_GAMMA_E = 9.7803253359
+_SOMIGLIANA_K = 0.00193185265241
+_FREE_AIR = 3.086e-6  # 1/s², gradient of normal gravity with height
+
+
+class MotionError(InsErrorsError):
+    """A motion the model cannot follow or a badly specified motion."""
+
+
+# --------------------------------------------------------------------------------------
+# Motion profiles (commands as functions of time)
+# --------------------------------------------------------------------------------------
+@dataclass
+class Profile:
+    """Commanded relative velocity, height and vertical speed as functions of time.
+
+    Attributes
+    ----------
+    frame : {"track", "geographic"}
+        ``"track"``: (v1, v2) = (v_ξ, v_η) in the model's trihedron; ``"geographic"``:
+        (v1, v2) = (v_N, v_E).
+    commands : callable
+        ``commands(t) -> (values, rates)``, ``t`` shape (T,), each result shape (4, T):
+        values (v1, v2, h, V_zeta) in m/s and m, and their time derivatives.
+    latitude, longitude, heading : float
+        Start point and initial heading, rad.
+    description : str
+        One line for reports.
+    """
+
+    frame: str
+    commands: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+    latitude: float
+    longitude: float
+    heading: float
+    description: str
+    static: bool = False
+
+    def __post_init__(self) -> None:
+        if self.frame not in ("track", "geographic"):
+            raise MotionError(f"motion frame must be 'track' or 'geographic', got {self.frame!r}")
+        for name in ("latitude", "longitude", "heading"):
+            value = getattr(self, name)
+            if not np.isfinite(value):
+                raise MotionError(f"motion {name} must be finite, got {value}")
+        if abs(self.latitude) >= np.pi / 2:
+            raise MotionError(f"motion latitude {np.degrees(self.latitude):g}° is at or beyond "
+                              "a pole: the models divide by cos φ")
+
+
+def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0,
+                   h: float = 0.0) -> Profile:
+    """A vehicle at rest at (φ, λ, h) with its trihedron at track angle ``heading`` (rad)."""
+
+    def commands(t: np.ndarray):
+        values = np.zeros((4, t.size))
+        values[2] = h
+        return values, np.zeros((4, t.size))
+
+    return Profile("track", commands, latitude, longitude, heading,
+                   f"static base at φ={np.degrees(latitude):.4g}°, λ={np.degrees(longitude):.4g}°,"
+                   f" χ={np.degrees(heading):.4g}°, h={h:g} m", static=True)
+
+
+def great_circle_profile(latitude: float, longitude: float, track: float, speed: float,
+                         h: float = 0.0) -> Profile:
+    """Constant ground speed along the trihedron's ξ axis (a great circle), constant height.
+
+    Parameters
+    ----------
+    latitude, longitude, track : float
+        Start point and initial track angle (from north towards east), rad.
+    speed : float
+        Ground speed, m/s.
+    h : float
+        Height, m.
+    """
+    if not np.isfinite(speed):
+        raise MotionError(f"speed must be finite, got {speed}")
+
+    def commands(t: np.ndarray):
+        values = np.zeros((4, t.size))
+        values[0], values[2] = speed, h
+        return values, np.zeros((4, t.size))
+
+    return Profile("track", commands, latitude, longitude, track,
+                   f"great circle from φ={np.degrees(latitude):.4g}°, "
+                   f"λ={np.degrees(longitude):.4g}°, track {np.degrees(track):.4g}°, "
+                   f"{speed:g} m/s, h={h:g} m")
+
+
+@dataclass(frozen=True)
+class Leg:
+    """One leg of a manoeuvre: over ``duration`` s, blend smoothly to the end values.
+
+    Attributes
+    ----------
+    duration : float
+        s.
+    speed : float
+        Ground speed at the end of the leg, m/s.
+    turn : float
+        Change of course relative to the trihedron's ξ axis during the leg, rad
+        (positive to the left).
+    height : float
+        Height at the end of the leg, m.
+    """
+
+    duration: float
+    speed: float
+    turn: float = 0.0
+    height: float = 0.0
+
+
+def _smoothstep(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """C² ramp 0→1 on [0, 1] with its first and second derivatives."""
+    t = np.clip(theta, 0.0, 1.0)
+    inside = (theta > 0) & (theta < 1)
+    s = t**3 * (10 - 15 * t + 6 * t**2)
+    ds = np.where(inside, 30 * t**2 * (1 - t) ** 2, 0.0)
+    dds = np.where(inside, 60 * t * (1 - t) * (1 - 2 * t), 0.0)
+    return s, ds, dds
+
+
+def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: float,
+                      legs: Sequence[Leg], h: float = 0.0) -> Profile:
+    """A flight of smooth legs: turns, speed changes, climbs and descents.
+
+    Within each leg the speed, the course ψ (relative to the trihedron's ξ axis) and the
+    height move from their start to their end values along a C² ramp, so the commanded
+    velocities, V_zeta and their rates are continuous. After the last leg the motion
+    continues unchanged (with zero vertical speed).
+
+    Parameters
+    ----------
+    latitude, longitude, track : float
+        Start point and initial track angle, rad.
+    speed : float
+        Initial ground speed, m/s.
+    legs : sequence of Leg
+        The legs, in order.
+    h : float
+        Initial height, m.
+    """
+    starts, t0 = [], 0.0
+    v0, psi0, h0 = float(speed), 0.0, float(h)
+    for leg in legs:
+        if not leg.duration > 0:
+            raise MotionError(f"manoeuvre leg duration must be positive, got {leg.duration}")
+        starts.append((t0, leg.duration, v0, psi0, h0, leg))
+        t0, v0, psi0, h0 = t0 + leg.duration, leg.speed, psi0 + leg.turn, leg.height
+
+    def commands(t: np.ndarray):
+        v = np.full(t.size, float(speed))
+        dv = np.zeros(t.size)
+        psi, dpsi = np.zeros(t.size), np.zeros(t.size)
+        hh, dh, ddh = np.full(t.size, float(h)), np.zeros(t.size), np.zeros(t.size)
+        for start, length, vs, ps, hs, leg in starts:
+            s, ds, dds = _smoothstep((t - start) / length)
+            active = t >= start
+            v = np.where(active, vs + (leg.speed - vs) * s, v)
+            dv = np.where(active, (leg.speed - vs) * ds / length, dv)
+            psi = np.where(active, ps + leg.turn * s, psi)
+            dpsi = np.where(active, leg.turn * ds / length, dpsi)
+            hh = np.where(active, hs + (leg.height - hs) * s, hh)
+            dh = np.where(active, (leg.height - hs) * ds / length, dh)
+            ddh = np.where(active, (leg.height - hs) * dds / length**2, ddh)
+        values = np.vstack([v * np.cos(psi), v * np.sin(psi), hh, dh])
+        rates = np.vstack([dv * np.cos(psi) - v * np.sin(psi) * dpsi,
+                           dv * np.sin(psi) + v * np.cos(psi) * dpsi, dh, ddh])
+        return values, rates
+
+    return Profile("track", commands, latitude, longitude, track,
+                   f"manoeuvring flight of {len(legs)} legs from φ={np.degrees(latitude):.4g}°,"
+                   f" λ={np.degrees(longitude):.4g}°")
+
+
+def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: float,
+                    longitude: float, heading: float, h: np.ndarray | float = 0.0,
+                    frame: str = "geographic") -> Profile:
+    """A user motion given as samples, interpolated with cubic splines.
+
+    Parameters
+    ----------
+    t : numpy.ndarray, shape (T,)
+        Increasing sample times, s (the run must stay within them).
+    v1, v2 : numpy.ndarray, shape (T,)
+        Relative velocity samples, m/s: (v_N, v_E) for ``frame="geographic"``, (v_ξ, v_η)
+        for ``frame="track"``.
+    latitude, longitude, heading : float
+        Start point and the trihedron's initial track angle, rad.
+    h : numpy.ndarray or float
+        Height samples (or a constant), m; V_zeta is its spline derivative.
+    frame : {"geographic", "track"}
+        Frame of (v1, v2).
+    """
+    from scipy.interpolate import CubicSpline
+
+    t = np.asarray(t, dtype=float)
+    arrays = [np.asarray(v1, dtype=float), np.asarray(v2, dtype=float),
+              np.broadcast_to(np.asarray(h, dtype=float), t.shape)]
+    if t.ndim != 1 or t.size < 4:
+        raise ShapeError(f"sampled motion needs at least 4 sample times, got shape {t.shape}")
+    if any(a.shape != t.shape for a in arrays):
+        raise ShapeError(f"sampled motion: velocity and height samples must have the shape "
+                         f"of the times {t.shape}")
+    if not np.all(np.diff(t) > 0):
+        raise MotionError("sampled motion: times must be strictly increasing")
+    for name, a in zip(("t", "v1", "v2", "h"), (t, *arrays), strict=True):
+        if not np.all(np.isfinite(a)):
+            raise DomainError(f"sampled motion: {name} contains NaN or infinite values")
+    splines = [CubicSpline(t, a) for a in arrays]
+    t_end = t[-1]
+
+    def commands(times: np.ndarray):
+        if times.size and (times.min() < t[0] - 1e-9 or times.max() > t_end + 1e-9):
+            raise MotionError(f"the run ({times.min():g}–{times.max():g} s) leaves the "
+                              f"sampled motion ({t[0]:g}–{t_end:g} s)")
+        values = np.vstack([splines[0](times), splines[1](times), splines[2](times),
+                            splines[2](times, 1)])
+        rates = np.vstack([splines[0](times, 1), splines[1](times, 1), splines[2](times, 1),
+                           splines[2](times, 2)])
+        return values, rates
+
+    return Profile(frame, commands, latitude, longitude, heading,
+                   f"sampled motion ({t.size} samples, {frame} frame)")
+
+
+# --------------------------------------------------------------------------------------
+# Model-side machinery (CasADi, generic over models)
+# --------------------------------------------------------------------------------------
+@dataclass
+class _Kinematics:
+    """CasADi functions that turn commands into consistent states and inputs."""
+
+    consistent_state: ca.Function  # (x, cmd, p) -> X
+    inputs: ca.Function  # (x, cmd, rates, p) -> u
+    truth_rhs: ca.Function  # (x, [cmd; rates], p) -> dx/dt
+    initial_state: ca.Function  # (c, cmd, p) -> x0
+    track: bool = field(default=True)
+
+
+def _require(model: Model, kind: str, names: Sequence[str]) -> list[int]:
+    known = [i.name for i in getattr(model, kind)]
+    missing = [n for n in names if n not in known]
+    if missing:
+        raise MotionError(f"model {model.name!r} has no {kind.replace('_', ' ')} "
+                          f"{', '.join(missing)}: the trajectory generators need them")
+    return [known.index(n) for n in names]
+
+
+@cache
+def _kinematics(model_name: str, frame: str) -> _Kinematics:
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(model_name)
+    fn = model.casadi.function
+    ideal, outputs, initial = fn("ideal_rhs"), fn("outputs"), fn("initial_state")
+    n, npar = len(model.states), len(model.parameters)
+    input_names = [i.name for i in model.inputs]
+    output_names = [o.name for o in model.outputs]
+    ic_names = [c.name for c in model.initial_conditions]
+    i_vn, i_ve = _require(model, "initial_conditions", ["v_N", "v_E"])
+    i_lat_out = _require(model, "outputs", ["latitude"])[0]
+    i_heading = _require(model, "outputs", ["heading"])[0] if frame == "track" else None
+    par = {name: k for k, name in enumerate(i.name for i in model.parameters)}
+
+    x = ca.SX.sym("x", n)
+    cmd = ca.SX.sym("cmd", 4)
+    rates = ca.SX.sym("rates", 4)
+    p = ca.SX.sym("p", npar)
+
+    def input_vector(h, V_zeta, accelerations=None, a_zeta=0.0):
+        entries = []
+        for name in input_names:
+            if name == "h":
+                entries.append(h)
+            elif name == "V_zeta":
+                entries.append(V_zeta)
+            elif name == "a_zeta":
+                entries.append(a_zeta)
+            elif name.startswith("a_"):
+                entries.append(accelerations[name] if accelerations else ca.SX(0))
+            else:
+                raise MotionError(f"the trajectory generators do not know how to set input "
+                                  f"{name!r} of model {model.name!r}")
+        return ca.vertcat(*entries)
+
+    def geographic(y, v1, v2):
+        if frame == "geographic":
+            return v1, v2
+        chi = y[i_heading]
+        return (v1 * ca.cos(chi) + v2 * ca.sin(chi), v1 * ca.sin(chi) - v2 * ca.cos(chi))
+
+    # consistent state X(x, cmd): initial_state at the state's own position and heading
+    u_kin = input_vector(cmd[2], cmd[3])
+    y = outputs(x, u_kin, p)
+    v_n, v_e = geographic(y, cmd[0], cmd[1])
+    c_entries = []
+    for k, name in enumerate(ic_names):
+        if k == i_vn:
+            c_entries.append(v_n)
+        elif k == i_ve:
+            c_entries.append(v_e)
+        elif name in output_names:
+            c_entries.append(y[output_names.index(name)])
+        else:
+            raise MotionError(f"initial condition {name!r} of model {model.name!r} is "
+                              "neither a velocity nor an output: cannot follow a motion")
+    X = initial(ca.vertcat(*c_entries), u_kin, p)
+    consistent = ca.Function("consistent_state", [x, cmd, p], [X])
+
+    # accelerations: f(x, u(a)) = dX/dt along the flow
+    accel_names = [nm for nm in input_names if nm.startswith("a_") and nm != "a_zeta"]
+    a_sym = ca.SX.sym("a", len(accel_names))
+    u_a = input_vector(cmd[2], cmd[3], dict(zip(accel_names, ca.vertsplit(a_sym), strict=True)))
+    f_a = ideal(x, u_a, p)
+    B = ca.jacobian(f_a, a_sym)
+    f0 = ca.substitute(f_a, a_sym, ca.DM.zeros(len(accel_names)))
+    xdot0 = f0  # position/heading rates do not depend on the accelerations
+    Xdot = ca.jtimes(X, x, xdot0) + ca.jtimes(X, cmd, rates)
+    acc = ca.solve(B.T @ B, B.T @ (Xdot - f0))
+    # vertical apparent acceleration (normal gravity + transport/Coriolis)
+    phi = y[i_lat_out]
+    a_ax = p[par["a"]] if "a" in par else 6378137.0
+    e2 = p[par["e2"]] if "e2" in par else 0.0
+    U = p[par["U"]] if "U" in par else 7.292115e-5
+    s2 = ca.sin(phi) ** 2
+    R_E = a_ax / ca.sqrt(1 - e2 * s2)
+    R_N = a_ax * (1 - e2) / (1 - e2 * s2) ** 1.5
+    gamma = _GAMMA_E * (1 + _SOMIGLIANA_K * s2) / ca.sqrt(1 - e2 * s2) - _FREE_AIR * cmd[2]
+    a_up = (rates[3] - v_e**2 / (R_E + cmd[2]) - v_n**2 / (R_N + cmd[2])
+            - 2 * U * ca.cos(phi) * v_e + gamma)
+    u_full = input_vector(cmd[2], cmd[3], dict(zip(accel_names, ca.vertsplit(acc),
+                                                   strict=True)), a_up)
+    inputs = ca.Function("motion_inputs", [x, cmd, rates, p], [u_full])
+    stream = ca.SX.sym("stream", 8)
+    truth_rhs = ca.Function("truth_rhs", [x, stream, p],
+                            [ideal(x, inputs(x, stream[:4], stream[4:], p), p)])
+    # initial state from the profile's start
+    c0 = ca.SX.sym("c0", 3)  # latitude, longitude, heading
+    c_entries = []
+    for k, name in enumerate(ic_names):
+        if k in (i_vn, i_ve):
+            c_entries.append(None)
+        elif name in ("latitude", "longitude", "heading"):
+            c_entries.append(c0[("latitude", "longitude", "heading").index(name)])
+        else:
+            raise MotionError(f"initial condition {name!r} cannot be set from a motion")
+    chi0 = c0[2]
+    if frame == "track":
+        vn0 = cmd[0] * ca.cos(chi0) + cmd[1] * ca.sin(chi0)
+        ve0 = cmd[0] * ca.sin(chi0) - cmd[1] * ca.cos(chi0)
+    else:
+        vn0, ve0 = cmd[0], cmd[1]
+    c_entries[i_vn], c_entries[i_ve] = vn0, ve0
+    initial_fn = ca.Function("motion_initial_state", [c0, cmd, p],
+                             [initial(ca.vertcat(*c_entries), u_kin, p), ca.vertcat(*c_entries)])
+    return _Kinematics(consistent, inputs, truth_rhs, initial_fn, frame == "track")
+
+
+# --------------------------------------------------------------------------------------
+# Trajectory
+# --------------------------------------------------------------------------------------
+@dataclass
+class Trajectory:
+    """True motion sampled on a run's step grid, ready for the integrators.
+
+    Attributes
+    ----------
+    model : str
+        Model name the inputs were computed for.
+    tau : float
+        Step, s.
+    n_steps : int
+        Number of steps N (the grid has N + 1 points ``t = k τ``).
+    truth : numpy.ndarray, shape (n, N + 1) or (n, 1)
+        True state at the step times (one column when constant).
+    inputs : numpy.ndarray, shape (nu, N + 1) or (nu, 1)
+        Inputs at the step times (one column when constant).
+    midpoints : numpy.ndarray, shape (nu, N) or (nu, 1)
+        Inputs at ``t + τ/2`` (for RK4).
+    parameters : numpy.ndarray, shape (np,)
+        Model parameters the motion was computed with.
+    initial_conditions : numpy.ndarray, shape (nc,)
+        ``c`` of the start (latitude, longitude, heading, v_N, v_E...).
+    constant : bool
+        True for a static base (inputs and state constant: exact time invariance).
+    description : str
+        One line.
+    """
+
+    model: str
+    tau: float
+    n_steps: int
+    truth: np.ndarray
+    inputs: np.ndarray
+    midpoints: np.ndarray
+    parameters: np.ndarray
+    initial_conditions: np.ndarray
+    constant: bool
+    description: str
+
+    @property
+    def times(self) -> np.ndarray:
+        """Step times, s, shape (N + 1,)."""
+        return np.arange(self.n_steps + 1) * self.tau
+
+    @property
+    def duration(self) -> float:
+        """Length of the run, s."""
+        return self.n_steps * self.tau
+
+    def inputs_at(self, steps: np.ndarray) -> np.ndarray:
+        """Inputs at the given step indices, shape (nu, len(steps))."""
+        if self.constant:
+            return np.repeat(self.inputs[:, :1], len(steps), axis=1)
+        return self.inputs[:, steps]
+
+    def full_inputs(self) -> tuple[np.ndarray, np.ndarray]:
+        """Inputs at every step time (nu, N + 1) and midpoint (nu, N), expanded if constant."""
+        if self.constant:
+            return (np.repeat(self.inputs[:, :1], self.n_steps + 1, axis=1),
+                    np.repeat(self.midpoints[:, :1], self.n_steps, axis=1))
+        return self.inputs, self.midpoints
+
+
+def trajectory(model: Model, profile: Profile, duration: float, tau: float,
+               p: np.ndarray | None = None, progress: bool = False) -> Trajectory:
+    """Sample a motion profile for ``model`` on the grid ``t = k τ``, ``k = 0..N``.
+
+    Parameters
+    ----------
+    model : Model
+        Loaded model.
+    profile : Profile
+        The motion (see :func:`static_profile`, :func:`great_circle_profile`,
+        :func:`manoeuvre_profile`, :func:`sampled_profile`).
+    duration, tau : float
+        Length of the run and step, s; the duration must be a whole number of steps.
+    p : numpy.ndarray, optional
+        Parameters (default: the model's defaults, Krasovsky ellipsoid).
+    progress : bool
+        Show progress while integrating the true motion.
+
+    Raises
+    ------
+    StepError, MotionError, DomainError
+        Bad grid, a motion the model cannot follow, or a motion through a pole.
+    """
+    n_steps = step_count(duration, tau)
+    p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
+    kin = _kinematics(model.name, profile.frame)
+    start = np.array([profile.latitude, profile.longitude, profile.heading])
+    values0, rates0 = profile.commands(np.zeros(1))
+    x0, c0 = (np.asarray(v).ravel() for v in kin.initial_state(start, values0[:, 0], p))
+    if profile.static:
+        u = np.asarray(kin.inputs(x0, values0[:, 0], rates0[:, 0], p)).ravel()
+        _check_finite(u, "static-base inputs", 0.0)
+        return Trajectory(model.name, float(tau), n_steps, x0[:, None], u[:, None],
+                          u[:, None], p, c0, True, profile.description)
+    # integrate the truth with RK4 at half the step, commands at quarter steps
+    n_half = 2 * n_steps
+    t_quarter = np.arange(2 * n_half + 1) * (tau / 4.0)
+    values, rates = profile.commands(t_quarter)
+    commands = np.vstack([values, rates])
+    _check_finite(commands, "motion commands", 0.0)
+    stream = np.vstack([commands[:, 0:-1:2], commands[:, 1::2], commands[:, 2::2]])
+    loop = _truth_loop(model.name, profile.frame)
+    result = loop.run(x0, p, tau / 2.0, n_half, stream,
+                      progress="true motion" if progress else False)
+    states = result.states[:, :, 0]
+    bad = ~np.all(np.isfinite(states), axis=0) | np.concatenate(
+        [[False], ~(result.margins[:, 0] > 0)])
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise DomainError(f"the true motion leaves the model's domain at t = {k * tau / 2:.6g} s"
+                          f" (e.g. passes a pole)")
+    u_all = np.asarray(kin.inputs.map(n_half + 1)(states, commands[:4, ::2], commands[4:, ::2],
+                                                  p))
+    _check_finite(u_all, "true inputs", tau / 2)
+    return Trajectory(model.name, float(tau), n_steps, states[:, ::2], u_all[:, ::2],
+                      u_all[:, 1::2], p, c0, False, profile.description)
+
+
+@cache
+def _truth_loop(model_name: str, frame: str) -> CompiledLoop:
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(model_name)
+    kin = _kinematics(model_name, frame)
+    margins = model.casadi.function("domain_margins")
+    x = ca.SX.sym("x", len(model.states))
+    stream = ca.SX.sym("s", 8)
+    p = ca.SX.sym("p", len(model.parameters))
+    u = kin.inputs(x, stream[:4], stream[4:], p)
+    margin = ca.Function("truth_margin", [x, stream, p], [ca.mmin(margins(x, u, p))])
+    return CompiledLoop(kin.truth_rhs, margin, "rk4", 1, False, chunk=256)
+
+
+def _check_finite(array: np.ndarray, what: str, dt: float) -> None:
+    bad = ~np.isfinite(np.asarray(array))
+    if bad.any():
+        column = int(np.argmax(bad.any(axis=0))) if bad.ndim > 1 else 0
+        raise DomainError(f"{what} are NaN or infinite at t = {column * dt:.6g} s")
+
+
+def consistent_state(model: Model, x: np.ndarray, commands: np.ndarray, frame: str = "track",
+                     p: np.ndarray | None = None) -> np.ndarray:
+    """The state with the model's velocities set to the commanded relative velocity.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (n,)
+        State giving position and heading.
+    commands : numpy.ndarray, shape (4,)
+        (v1, v2, h, V_zeta) in ``frame``.
+    """
+    p = model.parameter_vector() if p is None else p
+    return np.asarray(_kinematics(model.name, frame).consistent_state(x, commands, p)).ravel()
