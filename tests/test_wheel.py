@@ -1,0 +1,57 @@
+"""The built wheel works outside the source tree, generated code included."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="module")
+def installed_wheel(tmp_path_factory) -> Path:
+    dist = tmp_path_factory.mktemp("dist")
+    build = subprocess.run([sys.executable, "-m", "pip", "wheel", "--quiet", "--no-deps",
+                            "-w", str(dist), str(ROOT)], capture_output=True, text=True)
+    assert build.returncode == 0, build.stderr[-2000:]
+    (wheel,) = dist.glob("ins_errors-*.whl")
+    names = zipfile.ZipFile(wheel).namelist()
+    assert "ins_errors/generated/orthodromic/numpy_model.py" in names
+    assert "ins_errors/generated/orthodromic/error_equations.md" in names
+    target = tmp_path_factory.mktemp("site")
+    install = subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps",
+                              "--target", str(target), str(wheel)], capture_output=True, text=True)
+    assert install.returncode == 0, install.stderr[-2000:]
+    return target
+
+
+def _run_outside(target: Path, code: str, cwd: Path) -> subprocess.CompletedProcess:
+    env = dict(os.environ, PYTHONPATH=str(target))
+    return subprocess.run([sys.executable, "-c", code], cwd=cwd, env=env, capture_output=True,
+                          text=True)
+
+
+def test_wheel_loads_models_without_the_source_tree(installed_wheel, tmp_path):
+    code = (
+        "import numpy as np, ins_errors\n"
+        f"assert ins_errors.__file__.startswith({str(installed_wheel)!r}), ins_errors.__file__\n"
+        "m = ins_errors.load_model('orthodromic')\n"
+        "c = m.initial_condition_vector(latitude=0.7)\n"
+        "x = m.initial_state(c, m.input_vector())\n"
+        "print(m.state_matrix(x, m.input_vector(a_zeta=9.8)).shape)\n"
+    )
+    result = _run_outside(installed_wheel, code, tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "(11, 11)"
+
+
+def test_wheel_command_line(installed_wheel, tmp_path):
+    code = "import sys; from ins_errors.cli import main; sys.exit(main(['models', 'orthodromic']))"
+    result = _run_outside(installed_wheel, code, tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "gyro_drift_x" in result.stdout
