@@ -1,0 +1,602 @@
+r"""Covariance propagation through a model's linear error equations (Van Loan).
+
+The error state obeys :math:`\dot x_e = F x_e + G b`, :math:`x_e(0) = E w_0`, where
+``b`` holds the error sources (the model's ``w``). Each source is one of
+
+``constant``
+    a random constant of 1σ ``sigma`` (bias, drift, scale factor, initial error):
+    :math:`\dot b = 0`, :math:`b(0) \sim N(0, \sigma^2)`; "initial" sources of a model act
+    only through ``E``, "constant" ones through ``G`` (a source may do both);
+``white``
+    white noise of density ``sigma`` (PSD σ², units of the source times √s, e.g. a gyro's
+    angle random walk in deg/√h) entering through the source's column of ``G``;
+``markov``
+    first-order Gauss-Markov noise of steady-state 1σ ``sigma`` and correlation time
+    ``tau``: :math:`\dot b = -b/\tau + n`, PSD of n = 2σ²/τ, started stationary.
+
+Sources are independent, so every second moment is a sum over sources of a term linear in
+that source's variance. :func:`propagate` therefore works with *unit* statistics
+(σ = 1) and returns, for each requested linear functional of the error state, the
+variance each source contributes per unit variance; scaling by σ² and summing gives the
+budget (see :class:`Covariance`).
+
+Discretisation is exact for a system held constant over each step (Van Loan 1978):
+``expm([[F, G_b], [0, D]] dt)`` gives the transition of the augmented state
+``z = (x_e, b)``, and ``expm([[-A, B Q Bᵀ], [0, Aᵀ]] dt)`` the noise covariance added in
+a step. Along a moving trajectory F and G are held at the mean of the two ends of each
+step. On a time-invariant system (static base) the step transition Φ is computed once and
+the powers ``C Φᵏ Z₀`` are formed in blocks with a few matrix products, which is what
+makes 24 h at 1 s output take milliseconds.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import expm
+
+from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
+
+KINDS = ("constant", "white", "markov")
+"""The statistical kinds a source may have."""
+
+
+class CovarianceError(InsErrorsError):
+    """Inconsistent input to a covariance computation."""
+
+
+@dataclass(frozen=True)
+class SourceStatistics:
+    """How one error source is modelled statistically.
+
+    Attributes
+    ----------
+    name : str
+        The model's source name (e.g. ``"gyro_drift_x"``).
+    kind : {"constant", "white", "markov"}
+        See the module docstring.
+    sigma : float
+        1σ of a constant, noise density of white noise (SI unit × √s), steady-state 1σ
+        of Gauss-Markov noise. SI units of the source.
+    tau : float or None
+        Correlation time of Gauss-Markov noise, s.
+    """
+
+    name: str
+    kind: str = "constant"
+    sigma: float = 1.0
+    tau: float | None = None
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise CovarianceError(f"source {self.name!r}: kind must be one of "
+                                  f"{', '.join(KINDS)}, got {self.kind!r}")
+        if not np.isfinite(self.sigma) or self.sigma < 0:
+            raise CovarianceError(f"source {self.name!r}: sigma must be a finite number "
+                                  f">= 0, got {self.sigma!r}")
+        if self.kind == "markov" and (self.tau is None or not np.isfinite(self.tau)
+                                      or self.tau <= 0):
+            raise CovarianceError(f"source {self.name!r}: a Markov source needs a "
+                                  f"correlation time tau > 0 s, got {self.tau!r}")
+
+
+@dataclass(frozen=True)
+class LinearSystem:
+    """The linear error equations sampled on a uniform time grid.
+
+    Attributes
+    ----------
+    times : numpy.ndarray, shape (K+1,)
+        Uniform grid, s, starting at 0.
+    F : numpy.ndarray, shape (n, n) or (K+1, n, n)
+        State matrix; 2-D means time-invariant.
+    G : numpy.ndarray, shape (n, nw) or (K+1, n, nw)
+        Source matrix over every model source.
+    E : numpy.ndarray, shape (n, nw)
+        Initial error matrix, ``x_e(0) = E w``.
+    H : numpy.ndarray, shape (ny, n) or (K+1, ny, n)
+        Output matrix.
+    source_names : tuple of str
+        The model's source names, in the column order of G and E.
+    source_kinds : tuple of str
+        The model's kind of each source (``"constant"`` or ``"initial"``).
+    x, u : numpy.ndarray
+        Ideal state (n_x, K+1) and inputs (n_u, K+1) the matrices were evaluated at.
+    p : numpy.ndarray
+        Parameters.
+    """
+
+    times: np.ndarray
+    F: np.ndarray
+    G: np.ndarray
+    E: np.ndarray
+    H: np.ndarray
+    source_names: tuple[str, ...]
+    source_kinds: tuple[str, ...]
+    x: np.ndarray
+    u: np.ndarray
+    p: np.ndarray
+    labels: dict = field(default_factory=dict)
+
+    @property
+    def time_invariant(self) -> bool:
+        """True when F, G and H do not change along the grid."""
+        return self.F.ndim == 2
+
+    @property
+    def step(self) -> float:
+        """Grid step, s."""
+        return float(self.times[1] - self.times[0])
+
+    def source_index(self, name: str) -> int:
+        """Column of the source ``name`` in G and E."""
+        if name not in self.source_names:
+            raise unknown_name("error source", name, self.source_names)
+        return self.source_names.index(name)
+
+    def at(self, matrix: np.ndarray, k: int) -> np.ndarray:
+        """The matrix at grid index ``k`` (the same for a time-invariant system)."""
+        return matrix if matrix.ndim == 2 else matrix[k]
+
+
+def uniform_grid(duration: float, step: float) -> np.ndarray:
+    """Times 0, step, ..., duration, s (duration rounded to a whole number of steps)."""
+    if not (np.isfinite(duration) and duration > 0):
+        raise CovarianceError(f"duration must be > 0 s, got {duration!r}")
+    if not (np.isfinite(step) and 0 < step <= duration):
+        raise CovarianceError(f"step must be in (0, duration], got {step!r}")
+    count = round(duration / step)
+    return np.arange(count + 1) * step
+
+
+def static_system(model, latitude: float, longitude: float = 0.0, heading: float = 0.0,
+                  height: float = 0.0, gravity: float = 9.81, duration: float = 3600.0,
+                  step: float = 1.0, p: np.ndarray | None = None) -> LinearSystem:
+    """The error equations of a model at rest on the Earth (time-invariant).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        A loaded model.
+    latitude, longitude, heading : float
+        Site and the trihedron's track angle, rad.
+    height : float
+        Height above the ellipsoid, m.
+    gravity : float
+        Apparent acceleration along the vertical, m/s² (a_ζ).
+    duration, step : float
+        Length and step of the time grid, s.
+    p : numpy.ndarray, optional
+        Parameter vector (default: the model's defaults).
+
+    Notes
+    -----
+    The horizontal apparent accelerations are the ones that keep the ideal velocities
+    constant (the negated velocity rates of the ideal equations at zero acceleration),
+    so the ideal state is constant and F, G, H are too.
+    """
+    p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
+    c = model.initial_condition_vector(latitude=latitude, longitude=longitude,
+                                       heading=heading)
+    u = model.input_vector(a_zeta=gravity, h=height)
+    x = model.initial_state(c, u, p)
+    rates = model.numpy.ideal_rhs(x, u, p)
+    names = [i.name for i in model.inputs]
+    u[names.index("a_xi")], u[names.index("a_eta")] = -rates[6], -rates[7]
+    if np.max(np.abs(model.numpy.ideal_rhs(x, u, p))) > 1e-12:
+        raise CovarianceError("static_system: could not find inputs that keep the ideal "
+                              "state at rest")
+    times = uniform_grid(duration, step)
+    return LinearSystem(
+        times=times,
+        F=model.state_matrix(x, u, p), G=model.source_matrix(x, u, p),
+        E=model.initial_error_matrix(c, u, p), H=model.output_matrix(x, u, p),
+        source_names=tuple(i.name for i in model.sources),
+        source_kinds=tuple(i.kind for i in model.sources),
+        x=np.repeat(x[:, None], len(times), axis=1), u=np.repeat(u[:, None], len(times), 1),
+        p=p, labels={"trajectory": "static base", "latitude": latitude, "height": height},
+    )
+
+
+def trajectory_system(model, times: np.ndarray, x: np.ndarray, u: np.ndarray,
+                      c: np.ndarray, p: np.ndarray | None = None) -> LinearSystem:
+    """The error equations along a sampled ideal trajectory (time-varying).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        A loaded model.
+    times : numpy.ndarray, shape (K+1,)
+        Uniform grid, s, starting at 0.
+    x : numpy.ndarray, shape (n_x, K+1)
+        Ideal state along the grid.
+    u : numpy.ndarray, shape (n_u, K+1)
+        True inputs along the grid.
+    c : numpy.ndarray, shape (n_c,)
+        Initial conditions of the run (for E).
+    p : numpy.ndarray, optional
+        Parameters.
+    """
+    p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
+    times = np.asarray(times, dtype=float)
+    if times.ndim != 1 or len(times) < 2 or times[0] != 0:
+        raise ShapeError("trajectory_system: times must be a 1-D grid starting at 0")
+    steps = np.diff(times)
+    if np.any(steps <= 0) or np.ptp(steps) > 1e-9 * steps[0]:
+        raise ShapeError("trajectory_system: times must be a uniform increasing grid")
+    x, u = np.asarray(x, dtype=float), np.asarray(u, dtype=float)
+    if x.shape != (len(model.states), len(times)) or u.shape != (len(model.inputs),
+                                                                 len(times)):
+        raise ShapeError(f"trajectory_system: x must be ({len(model.states)}, {len(times)}) "
+                         f"and u ({len(model.inputs)}, {len(times)}), got {x.shape}, {u.shape}")
+    F = np.moveaxis(model.state_matrix(x, u, p), -1, 0)
+    G = np.moveaxis(model.source_matrix(x, u, p), -1, 0)
+    H = np.moveaxis(model.output_matrix(x, u, p), -1, 0)
+    E = model.initial_error_matrix(c, u[:, 0], p)
+    return LinearSystem(times=times, F=F, G=G, E=E, H=H,
+                        source_names=tuple(i.name for i in model.sources),
+                        source_kinds=tuple(i.kind for i in model.sources),
+                        x=x, u=u, p=p, labels={"trajectory": "moving"})
+
+
+# --------------------------------------------------------------------------------------
+# Discretisation
+# --------------------------------------------------------------------------------------
+def _step_matrix(system: LinearSystem, matrix: np.ndarray) -> np.ndarray:
+    """Per-step value (mean of the ends) of a time-varying matrix, shape (K, ...)."""
+    return 0.5 * (matrix[1:] + matrix[:-1])
+
+
+def augmented_dynamics(F: np.ndarray, G_b: np.ndarray, decay: np.ndarray) -> np.ndarray:
+    """Continuous matrix of z = (x_e, b): ``[[F, G_b], [0, diag(decay)]]`` (batched)."""
+    n, nb = F.shape[-1], G_b.shape[-1]
+    A = np.zeros((*F.shape[:-2], n + nb, n + nb))
+    A[..., :n, :n] = F
+    A[..., :n, n:] = G_b
+    A[..., n:, n:] = np.diag(decay)
+    return A
+
+
+def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """Exact discretisation of ``ż = A z + noise`` (noise covariance rate ``B Q Bᵀ``).
+
+    Parameters
+    ----------
+    A : numpy.ndarray, shape (..., N, N)
+    BQBt : numpy.ndarray, shape (..., N, N)
+    dt : float
+        Step, s.
+
+    Returns
+    -------
+    Phi, Qd : numpy.ndarray, shape (..., N, N)
+        Transition ``expm(A dt)`` and the covariance added over one step,
+        ``∫₀^dt e^{As} BQBᵀ e^{Aᵀs} ds``.
+    """
+    N = A.shape[-1]
+    M = np.zeros((*A.shape[:-2], 2 * N, 2 * N))
+    M[..., :N, :N] = -A
+    M[..., :N, N:] = BQBt
+    M[..., N:, N:] = np.swapaxes(A, -1, -2)
+    X = expm(M * dt)
+    Phi = np.swapaxes(X[..., N:, N:], -1, -2)
+    Qd = Phi @ X[..., :N, N:]
+    return Phi, 0.5 * (Qd + np.swapaxes(Qd, -1, -2))
+
+
+def _noise_factor(Qd: np.ndarray, tolerance: float = 1e-13) -> np.ndarray:
+    """A factor W with W Wᵀ = Qd (symmetric PSD), columns for non-negligible modes."""
+    values, vectors = np.linalg.eigh(Qd)
+    keep = values > tolerance * max(values.max(), 0.0)
+    if not keep.any():
+        return np.zeros((Qd.shape[0], 0))
+    return vectors[:, keep] * np.sqrt(values[keep])
+
+
+def power_sequence(Phi: np.ndarray, Z0: np.ndarray, C: np.ndarray, steps: int,
+                   reduce: str = "none") -> np.ndarray:
+    """``C Φᵏ Z₀`` for k = 0..steps, formed in blocks (time-invariant systems).
+
+    Parameters
+    ----------
+    Phi : numpy.ndarray, shape (N, N)
+    Z0 : numpy.ndarray, shape (N, m)
+    C : numpy.ndarray, shape (q, N)
+    steps : int
+    reduce : {"none", "square-sum"}
+        ``"none"`` returns shape (steps+1, q, m); ``"square-sum"`` returns
+        ``Σ_m (C Φᵏ Z₀)²``, shape (steps+1, q), without storing the full array.
+    """
+    total = steps + 1
+    block = max(1, int(np.ceil(np.sqrt(total))))
+    N, m, q = Phi.shape[0], Z0.shape[1], C.shape[0]
+    powers = np.empty((block, N, N))
+    powers[0] = np.eye(N)
+    for i in range(1, block):
+        powers[i] = powers[i - 1] @ Phi
+    CP = (C @ powers).reshape(block * q, N)          # rows: (i, q)
+    jump = powers[-1] @ Phi                           # Φ^block
+    starts = -(-total // block)
+    Zs = np.empty((starts, N, m))
+    Zs[0] = Z0
+    for j in range(1, starts):
+        Zs[j] = jump @ Zs[j - 1]
+    out_shape = (total, q) if reduce == "square-sum" else (total, q, m)
+    out = np.empty(out_shape)
+    chunk = max(1, int(4_000_000 // max(1, block * q * m)))
+    for j0 in range(0, starts, chunk):
+        j1 = min(starts, j0 + chunk)
+        Y = CP @ np.moveaxis(Zs[j0:j1], 0, 1).reshape(N, (j1 - j0) * m)
+        k0, k1 = j0 * block, min(total, j1 * block)
+        if reduce == "square-sum":
+            Y *= Y
+            S = Y.reshape(block, q, j1 - j0, m).sum(-1)              # (i, q, j)
+            out[k0:k1] = S.transpose(2, 0, 1).reshape(-1, q)[: k1 - k0]
+        else:
+            Y = Y.reshape(block, q, j1 - j0, m).transpose(2, 0, 1, 3)   # (j, i, q, m)
+            out[k0:k1] = Y.reshape(-1, q, m)[: k1 - k0]
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# Propagation
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Functionals:
+    """Linear functionals ``y = C_x x_e + C_b b`` whose variances are wanted.
+
+    Attributes
+    ----------
+    names, units : tuple of str
+    C_x : numpy.ndarray, shape (q, n) or (K+1, q, n)
+        Weights on the error state (time-varying when 3-D).
+    C_b : numpy.ndarray, shape (q, nw)
+        Weights on the sources' current values (constants and Markov states), model
+        source order; white sources have no value and are ignored.
+    """
+
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    C_x: np.ndarray
+    C_b: np.ndarray
+
+
+def state_and_output_functionals(model, system: LinearSystem) -> Functionals:
+    """Every error state and every output error (through H), in SI units."""
+    n, nw = system.E.shape
+    if system.H.ndim == 2:
+        C_x = np.vstack([np.eye(n), system.H])
+    else:
+        C_x = np.concatenate([np.broadcast_to(np.eye(n), (len(system.times), n, n)),
+                              system.H], axis=1)
+    names = (*(i.name for i in model.error_states), *(f"delta_{i.name}" for i in
+                                                      model.outputs))
+    units = (*(i.unit for i in model.error_states), *(i.unit for i in model.outputs))
+    return Functionals(names, units, C_x, np.zeros((len(names), nw)))
+
+
+@dataclass(frozen=True)
+class Covariance:
+    """Variances of linear functionals, split by source.
+
+    Attributes
+    ----------
+    times : numpy.ndarray, shape (nt,)
+        Output times, s.
+    names, units : tuple of str
+        Functionals.
+    sources : tuple of SourceStatistics
+        The statistics the contributions are scaled with.
+    unit_variances : numpy.ndarray, shape (nt, q, ns)
+        Variance of each functional per unit variance (σ = 1) of each source.
+    """
+
+    times: np.ndarray
+    names: tuple[str, ...]
+    units: tuple[str, ...]
+    sources: tuple[SourceStatistics, ...]
+    unit_variances: np.ndarray
+
+    @property
+    def source_names(self) -> tuple[str, ...]:
+        return tuple(s.name for s in self.sources)
+
+    @property
+    def contributions(self) -> np.ndarray:
+        """Variance contributed by each source, shape (nt, q, ns), SI units²."""
+        sigma = np.array([s.sigma for s in self.sources])
+        return self.unit_variances * sigma**2
+
+    @property
+    def variance(self) -> np.ndarray:
+        """Total variance, shape (nt, q)."""
+        return self.contributions.sum(-1)
+
+    @property
+    def std(self) -> np.ndarray:
+        """Total 1σ, shape (nt, q)."""
+        return np.sqrt(self.variance)
+
+    def index(self, name: str) -> int:
+        """Column of the functional ``name``."""
+        if name not in self.names:
+            raise unknown_name("quantity", name, self.names)
+        return self.names.index(name)
+
+
+def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
+              functionals: Functionals) -> list[int]:
+    if not sources:
+        raise CovarianceError("no error sources given")
+    columns = [system.source_index(s.name) for s in sources]
+    if len(set(columns)) != len(columns):
+        raise CovarianceError("an error source is listed twice")
+    for s, j in zip(sources, columns, strict=True):
+        if s.kind != "constant" and np.any(system.E[:, j] != 0):
+            raise CovarianceError(f"source {s.name!r} sets initial errors, so it can only be "
+                                  f"a random constant, not {s.kind!r} noise")
+        if s.kind != "constant" and system.source_kinds[j] == "initial":
+            raise CovarianceError(f"source {s.name!r} is an initial error: kind must be "
+                                  "'constant'")
+    n = system.E.shape[0]
+    if functionals.C_x.shape[-1] != n:
+        raise ShapeError(f"functionals must weigh {n} error states, got "
+                         f"{functionals.C_x.shape}")
+    return columns
+
+
+def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
+              functionals: Functionals, output_every: int = 1,
+              by_source: bool = True) -> Covariance:
+    """Propagate unit-variance statistics of each source to the functionals' variances.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Error equations on a uniform grid.
+    sources : sequence of SourceStatistics
+        The sources to include (others are taken as zero).
+    functionals : Functionals
+        What to report.
+    output_every : int
+        Report every ``output_every``-th grid time (1: every step).
+    by_source : bool
+        If False, report only the total (``unit_variances`` then has one column holding
+        the total variance with the given sigmas and ``sources`` is empty).
+
+    Returns
+    -------
+    Covariance
+    """
+    columns = _validate(system, sources, functionals)
+    n = system.E.shape[0]
+    K = len(system.times) - 1
+    dt = system.step
+    # augmented states: every constant and Markov source carries a value b_j
+    valued = [i for i, s in enumerate(sources) if s.kind != "white"]
+    decay = np.array([0.0 if sources[i].kind == "constant" else -1.0 / sources[i].tau
+                      for i in valued])
+    cols_b = [columns[i] for i in valued]
+    N = n + len(valued)
+    # initial sensitivities: x_e(0) = E b(0), b(0) = unit
+    Z0 = np.zeros((N, len(valued)))
+    Z0[:n] = system.E[:, cols_b]
+    Z0[n:] = np.eye(len(valued))
+    C_b = functionals.C_b[:, cols_b]
+    keep = np.arange(0, K + 1, output_every)
+    q = len(functionals.names)
+    unit = np.zeros((len(keep), q, len(sources)))
+    sigma2 = np.array([s.sigma**2 for s in sources])
+
+    if system.time_invariant and functionals.C_x.ndim == 2:
+        # exact discretisation at the output step: Φ(s·dt) = Φ(dt)^s
+        keep = np.arange(0, K // output_every + 1) * output_every
+        K_out, dt_out = len(keep) - 1, dt * output_every
+        unit = np.zeros((len(keep), q, len(sources) if by_source else 1))
+        Phi = expm(augmented_dynamics(system.F, system.G[:, cols_b], decay) * dt_out)
+        C = np.hstack([functionals.C_x, C_b])
+        if by_source:
+            unit[:, :, valued] = power_sequence(Phi, Z0, C, K_out)**2
+        elif any(sources[i].kind == "markov" for i in valued):
+            Z0s = _noise_factor(Z0 @ np.diag(sigma2[valued]) @ Z0.T)
+            unit[:, :, 0] = power_sequence(Phi, Z0s, C, K_out, reduce="square-sum")
+        elif valued:
+            unit[:, :, 0] = _constants_total(Phi, n, system.E[:, cols_b], C_b,
+                                             functionals.C_x, sigma2[valued], K_out)
+        for i, s in enumerate(sources):
+            if s.kind == "constant":
+                continue
+            A, BQBt, Cn = _noise_system(system.F, system.G[:, columns[i]], s, functionals.C_x,
+                                        functionals.C_b[:, columns[i]])
+            Phi_n, Qd = van_loan(A, BQBt, dt_out)
+            y = power_sequence(Phi_n, _noise_factor(Qd), Cn, K_out, reduce="square-sum")
+            var = np.concatenate([np.zeros((1, q)), np.cumsum(y, axis=0)[:-1]])
+            if by_source:
+                unit[:, :, i] += var
+            else:
+                unit[:, :, 0] += var * s.sigma**2
+    else:
+        F = np.broadcast_to(system.F, (K + 1, n, n)) if system.F.ndim == 2 else system.F
+        G = np.broadcast_to(system.G, (K + 1, *system.G.shape)) if system.G.ndim == 2 \
+            else system.G
+        C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
+            else functionals.C_x
+        A_steps = augmented_dynamics(_step_matrix(system, F), _step_matrix(system, G)[..., cols_b],
+                                     decay)
+        Phis = expm(A_steps * dt)
+        Z = Z0.copy()
+        out = 0
+        Ys = np.zeros((len(keep), q, len(valued)))
+        keep_set = set(keep.tolist())
+        for k in range(K + 1):
+            if k in keep_set:
+                Ys[out] = np.hstack([C_x[k], C_b]) @ Z
+                out += 1
+            if k < K:
+                Z = Phis[k] @ Z
+        unit[:, :, valued] = Ys**2
+        for i, s in enumerate(sources):
+            if s.kind == "constant":
+                continue
+            A, BQBt, _ = _noise_system(_step_matrix(system, F), _step_matrix(system, G)[
+                ..., columns[i]], s, functionals.C_x, functionals.C_b[:, columns[i]])
+            Phi_n, Qd = van_loan(A, BQBt, dt)
+            m = A.shape[-1]
+            P = np.zeros((m, m))
+            out = 0
+            for k in range(K + 1):
+                if k in keep_set:
+                    Ck = C_x[k] if m == n else np.hstack([C_x[k], functionals.C_b[
+                        :, [columns[i]]]])
+                    unit[out, :, i] += np.einsum("qa,ab,qb->q", Ck, P, Ck)
+                    out += 1
+                if k < K:
+                    P = Phi_n[k] @ P @ Phi_n[k].T + Qd[k]
+        if not by_source:
+            unit = (unit * sigma2).sum(-1, keepdims=True)
+    used = tuple(sources) if by_source else ()
+    return Covariance(system.times[keep], functionals.names, functionals.units, used, unit)
+
+
+def _constants_total(Phi: np.ndarray, n: int, E: np.ndarray, C_b: np.ndarray,
+                     C_x: np.ndarray, sigma2: np.ndarray, steps: int) -> np.ndarray:
+    """Total variance from random constants only, on a reduced state (fast path).
+
+    With constants b, ``x_{k+1} = Φx x_k + Γ b``; the state ``(x, g = Γ b, h = C_b b)``
+    evolves with ``Ψ = [[Φx, I, 0], [0, I, 0], [0, 0, I]]``, of dimension 2n + (rows of
+    C_b in use) instead of n + (number of sources).
+    """
+    Phi_x, Gamma = Phi[:n, :n], Phi[:n, n:]
+    rows = np.flatnonzero(np.any(C_b != 0, axis=1))
+    q, r = C_x.shape[0], len(rows)
+    Psi = np.eye(2 * n + r)
+    Psi[:n, :n] = Phi_x
+    Psi[:n, n:2 * n] = np.eye(n)
+    Z0 = np.vstack([E, Gamma, C_b[rows]])
+    C = np.zeros((q, 2 * n + r))
+    C[:, :n] = C_x
+    C[rows, 2 * n + np.arange(r)] = 1.0
+    V = _noise_factor((Z0 * sigma2) @ Z0.T, tolerance=1e-15)
+    return power_sequence(Psi, V, C, steps, reduce="square-sum")
+
+
+def _noise_system(F: np.ndarray, g: np.ndarray, source: SourceStatistics,
+                  C_x: np.ndarray, c_b: np.ndarray):
+    """Small augmented system carrying only one noise source's driving noise (unit σ).
+
+    White noise: state x_e, noise through g with PSD 1. Markov: state (x_e, b),
+    ḃ = −b/τ + n with PSD 2/τ and b(0) = 0 (its stationary start is handled with the
+    constants). Returns (A, BQBᵀ, C) with C the functionals on that state.
+    """
+    n = F.shape[-1]
+    if source.kind == "white":
+        A = np.array(F)
+        BQBt = g[..., :, None] * g[..., None, :]
+        return A, BQBt, C_x
+    A = augmented_dynamics(F, g[..., None], np.array([-1.0 / source.tau]))
+    BQBt = np.zeros(A.shape)
+    BQBt[..., n, n] = 2.0 / source.tau
+    C = np.hstack([C_x, c_b[:, None]]) if C_x.ndim == 2 else None
+    return A, BQBt, C
