@@ -18,6 +18,7 @@ if TYPE_CHECKING:
 MODEL_MODULES: dict[str, str] = {
     "orthodromic": "ins_errors.models.orthodromic",
     "north_pointing": "ins_errors.models.north_pointing",
+    "free_azimuth": "ins_errors.models.free_azimuth",
 }
 """Registry: model name -> module whose ``build()`` returns its definition."""
 
