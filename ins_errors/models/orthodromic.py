@@ -180,7 +180,7 @@ class ComputerErrors:
     position_gain: tuple[sp.Expr, sp.Expr] = (sp.S.Zero, sp.S.Zero)
 
 
-def commanded_rates(eq: Mechanisation, s: list[sp.Symbol], h: sp.Symbol):
+def commanded_rates(eq: Mechanisation, s: list[sp.Symbol], h: sp.Symbol, ecc2: sp.Expr = e2):
     """Reciprocal radii and commanded absolute/relative rates of the trihedron.
 
     Returns
@@ -190,10 +190,11 @@ def commanded_rates(eq: Mechanisation, s: list[sp.Symbol], h: sp.Symbol):
     """
     u11, u21, u31, _u12, _u22, _u32, V_xi, V_eta = s
     # 1/R_ξ, 1/R_η, 1/R_o of the ellipsoid along the trihedron axes
-    inv_R_xi = eq.let("inv_R_xi", (1 - e2 * u31**2 / 2 + e2 * u11**2 - h / a) / a, r"R_\xi^{-1}")
-    inv_R_eta = eq.let("inv_R_eta", (1 - e2 * u31**2 / 2 + e2 * u21**2 - h / a) / a,
+    inv_R_xi = eq.let("inv_R_xi", (1 - ecc2 * u31**2 / 2 + ecc2 * u11**2 - h / a) / a,
+                      r"R_\xi^{-1}")
+    inv_R_eta = eq.let("inv_R_eta", (1 - ecc2 * u31**2 / 2 + ecc2 * u21**2 - h / a) / a,
                        r"R_\eta^{-1}")
-    inv_R_o = eq.let("inv_R_o", e2 * u11 * u21 / a, r"R_o^{-1}")
+    inv_R_o = eq.let("inv_R_o", ecc2 * u11 * u21 / a, r"R_o^{-1}")
     # commanded absolute rates; sin φ = u31
     omega_xi = eq.let("omega_xi", -(V_eta * inv_R_eta + V_xi * inv_R_o), r"\omega_\xi")
     omega_eta = eq.let("omega_eta", V_xi * inv_R_xi + V_eta * inv_R_o, r"\omega_\eta")
@@ -206,7 +207,8 @@ def commanded_rates(eq: Mechanisation, s: list[sp.Symbol], h: sp.Symbol):
 
 
 def computer(eq: Mechanisation, s: list[sp.Symbol], f_xi: sp.Expr, f_eta: sp.Expr,
-             V_zeta: sp.Symbol, h: sp.Symbol, errors: ComputerErrors = ComputerErrors()):
+             V_zeta: sp.Symbol, h: sp.Symbol, errors: ComputerErrors = ComputerErrors(),
+             simplify: frozenset[str] = frozenset()):
     """The on-board algorithm: derivatives of (u11, u21, u31, u12, u22, u32, V_ξ, V_η).
 
     Parameters
@@ -221,6 +223,9 @@ def computer(eq: Mechanisation, s: list[sp.Symbol], f_xi: sp.Expr, f_eta: sp.Exp
         Vertical velocity (m/s) and height (m), given from outside.
     errors : ComputerErrors
         Integrator offsets and gain errors (zero in ideal work).
+    simplify : frozenset of str
+        Simplified on-board formulas: ``"sphere"`` (e² = 0 in the radii), ``"no_coriolis"``
+        (transport/Coriolis corrections W dropped), ``"no_gravity"`` (g' dropped).
 
     Returns
     -------
@@ -230,7 +235,11 @@ def computer(eq: Mechanisation, s: list[sp.Symbol], f_xi: sp.Expr, f_eta: sp.Exp
         Commanded absolute rates (ω_ξ, ω_η, ω_ζ), rad/s, sent to the platform torquers.
     """
     u11, u21, u31, u12, u22, u32, V_xi, V_eta = s
-    omega, (w_xi, w_eta, w_zeta) = commanded_rates(eq, s, h)
+    # methodological variants: "sphere" (e² = 0 on board), "no_coriolis", "no_gravity"
+    ecc2 = sp.S.Zero if "sphere" in simplify else e2
+    keep_W = sp.S.Zero if "no_coriolis" in simplify else sp.S.One
+    keep_g = sp.S.Zero if "no_gravity" in simplify else sp.S.One
+    omega, (w_xi, w_eta, w_zeta) = commanded_rates(eq, s, h, ecc2)
     omega_xi, omega_eta, omega_zeta = omega
     # rates as the second integrators see them (gain and zero offset)
     (k2x, k2y), (o2x, o2y) = errors.position_gain, errors.position_offset
@@ -243,11 +252,11 @@ def computer(eq: Mechanisation, s: list[sp.Symbol], f_xi: sp.Expr, f_eta: sp.Exp
     du22 = w_xi * u32 - w_zeta * u12
     du32 = w_eta * u12 - w_xi * u22
     # transport + Coriolis corrections and horizontal gravitation
-    R_E = eq.let("R_E", (a + h) / sp.sqrt(1 - e2 * u31**2), "R_E")
-    W_xi = eq.let("W_xi", omega_eta * V_zeta - omega_zeta * V_eta, r"W_\xi^{nk}")
-    W_eta = eq.let("W_eta", omega_zeta * V_xi - omega_xi * V_zeta, r"W_\eta^{nk}")
-    g_xi = eq.let("g_xi", U**2 * R_E * u31 * u11, r"g'_\xi")
-    g_eta = eq.let("g_eta", U**2 * R_E * u31 * u21, r"g'_\eta")
+    R_E = eq.let("R_E", (a + h) / sp.sqrt(1 - ecc2 * u31**2), "R_E")
+    W_xi = eq.let("W_xi", keep_W * (omega_eta * V_zeta - omega_zeta * V_eta), r"W_\xi^{nk}")
+    W_eta = eq.let("W_eta", keep_W * (omega_zeta * V_xi - omega_xi * V_zeta), r"W_\eta^{nk}")
+    g_xi = eq.let("g_xi", keep_g * U**2 * R_E * u31 * u11, r"g'_\xi")
+    g_eta = eq.let("g_eta", keep_g * U**2 * R_E * u31 * u21, r"g'_\eta")
     (k1x, k1y), (o1x, o1y) = errors.velocity_gain, errors.velocity_offset
     dV_xi = (1 + k1x) * (f_xi - W_xi + g_xi + o1x)
     dV_eta = (1 + k1y) * (f_eta - W_eta + g_eta + o1y)
@@ -314,8 +323,12 @@ def absolute_velocity(dc: list[sp.Expr], chi: sp.Expr, v_N: sp.Expr, v_E: sp.Exp
 # --------------------------------------------------------------------------------------
 # Assembly: ideal work, real work
 # --------------------------------------------------------------------------------------
-def build() -> ModelDefinition:
-    """Assemble the symbolic definition of the orthodromic INS."""
+def build(simplify: frozenset[str] = frozenset()) -> ModelDefinition:
+    """Assemble the symbolic definition of the orthodromic INS.
+
+    ``simplify`` swaps the real-work computer for a simplified one (methodological
+    studies, :mod:`ins_errors.studies.methodological`); empty for the registered model.
+    """
     x = [v.symbol for v in STATES]
     x_c = [sp.Symbol(f"{v.name}_c", real=True) for v in STATES]
     alpha = [v.symbol for v in PLATFORM_ANGLES]
@@ -342,7 +355,7 @@ def build() -> ModelDefinition:
         position_gain=(w["position_integrator_gain_error_xi"],
                        w["position_integrator_gain_error_eta"]),
     )
-    computed_rhs, omega_cmd = computer(real, x_c, f_x, f_y, V_zeta, h, errors)
+    computed_rhs, omega_cmd = computer(real, x_c, f_x, f_y, V_zeta, h, errors, simplify)
     # Platform: torqued by the commanded rates through the correction loop, plus drift;
     # α̇ = α × ω + (ω_cmd − ω) + drift, ω being the true trihedron's absolute rate.
     gains = (w["correction_gain_error_x"], w["correction_gain_error_y"],
