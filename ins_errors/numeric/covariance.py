@@ -241,6 +241,45 @@ def trajectory_system(model, times: np.ndarray, x: np.ndarray, u: np.ndarray,
                         x=x, u=u, p=p, labels={"trajectory": "moving"})
 
 
+def system_from_trajectory(model, trajectory, step: float | None = None) -> LinearSystem:
+    """The error equations along a :class:`~ins_errors.numeric.trajectories.Trajectory`.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        The model the trajectory was computed for.
+    trajectory : Trajectory
+        True motion (static base: constant inputs and state).
+    step : float, optional
+        Covariance grid step, s: a whole multiple of the trajectory's step that divides
+        its duration (default: the trajectory's step).
+    """
+    if trajectory.model != model.name:
+        raise ShapeError(f"trajectory was computed for model {trajectory.model!r}, "
+                         f"not {model.name!r}")
+    tau, count = trajectory.tau, trajectory.n_steps
+    stride = 1 if step is None else round(step / tau)
+    if stride < 1 or abs(stride * tau - (step or tau)) > 1e-9 * tau or count % stride:
+        raise CovarianceError(f"covariance step {step!r} s must be a whole multiple of the "
+                              f"trajectory step {tau} s that divides its duration")
+    times = np.arange(count // stride + 1) * stride * tau
+    p, c = trajectory.parameters, trajectory.initial_conditions
+    names = (tuple(i.name for i in model.sources), tuple(i.kind for i in model.sources))
+    if trajectory.constant:
+        x, u = trajectory.truth[:, 0], trajectory.inputs[:, 0]
+        return LinearSystem(
+            times=times, F=model.state_matrix(x, u, p), G=model.source_matrix(x, u, p),
+            E=model.initial_error_matrix(c, u, p), H=model.output_matrix(x, u, p),
+            source_names=names[0], source_kinds=names[1],
+            x=np.repeat(x[:, None], len(times), 1), u=np.repeat(u[:, None], len(times), 1),
+            p=p, labels={"trajectory": trajectory.description})
+    steps = np.arange(0, count + 1, stride)
+    system = trajectory_system(model, times, trajectory.truth[:, steps],
+                               trajectory.inputs_at(steps), c, p)
+    system.labels["trajectory"] = trajectory.description
+    return system
+
+
 # --------------------------------------------------------------------------------------
 # Discretisation
 # --------------------------------------------------------------------------------------

@@ -1,0 +1,624 @@
+r"""Error budget against an accuracy spec: per-source contributions and allocation.
+
+What each spec item measures (error quantities of the linear error model, in SI):
+
+``position_error``
+    north error :math:`R_N \Delta\varphi` and east error :math:`R_E\cos\varphi\,
+    \Delta\lambda`, with :math:`R_N = a(1-e^2)/(1-e^2\sin^2\varphi)^{3/2} + h` and
+    :math:`R_E = a/\sqrt{1-e^2\sin^2\varphi} + h` the meridian and prime-vertical radii of
+    the model's ellipsoid at the current latitude (Krasovsky by default); the item is a
+    rate over the operating time: at a check time t the quantity is error / t, compared
+    with the value (e.g. 3.7 km/h: 3.7 km after 1 h, 7.4 km after 2 h, ...);
+``ground_speed_error``
+    north and east velocity errors :math:`\Delta v_N, \Delta v_E` (outputs through H);
+``vertical_error``
+    platform tilts :math:`\alpha_x, \alpha_y`;
+``heading_drift``
+    :math:`(\alpha_z(t) - \alpha_z(0))/t`, the mean drift rate of the platform azimuth
+    (the gyroscopic heading) since the start; :math:`\alpha_z(0)` is the initial
+    azimuth error, a linear function of the sources (``E``), so it is excluded exactly.
+
+With ``combine = "rss"`` (default) an item's components are combined as the root sum of
+squares, so a 2σ limit on the position is a limit on 2DRMS = 2·sqrt(σ_N² + σ_E²); with
+``"each"`` every component must meet the limit on its own.
+
+Allocation rule (documented in the report): the spec's σ level k turns each limit L into
+an allowed variance (L/k)². Fixed sources take their contribution first; of what
+remains, every free source j gets the share w_j / Σw (equal shares by default) of every
+item's variance at every check time, and its allowed 1σ magnitude is the largest that
+keeps its own contribution within its share everywhere. The item (and time) where that
+happens *binds* the source. Since no source exceeds its share, every item is met; with
+``fill = true`` all free sources are then scaled by one common factor until the tightest
+item is met exactly.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.numeric.covariance import (
+    Covariance,
+    Functionals,
+    LinearSystem,
+    SourceStatistics,
+    propagate,
+    system_from_trajectory,
+)
+from ins_errors.specs import HOUR, SOURCE_UNIT_SUFFIX, Spec, SpecError
+from ins_errors.units import UnitError, format_quantity, parse_quantity
+
+RATE_ITEMS = ("position_error", "heading_drift")
+"""Items whose quantity is an error divided by the operating time."""
+
+
+UNCONSTRAINED_ABOVE = {"1": 0.1}
+"""Allocations above these magnitudes (at the spec's σ level, by SI unit) lie outside the
+small-error model: a scale-factor or gain error over 10 % means the motion hardly excites
+the source. Such sources get no share and are reported as not limited by the spec on
+this motion (e.g. accelerometer scale factors on a static base)."""
+
+
+class BudgetError(InsErrorsError):
+    """A budget that cannot be formed (e.g. fixed sources alone break the spec)."""
+
+
+@dataclass(frozen=True)
+class BudgetSource:
+    """One source in a budget.
+
+    Attributes
+    ----------
+    name, unit, display_unit : str
+        Model name, SI unit of the magnitude and the unit it is reported in (white noise:
+        unit × √s, reported per √h).
+    statistics : str
+        ``"constant"``, ``"white"`` or ``"markov"``.
+    tau : float or None
+        Markov correlation time, s.
+    weight : float
+        Share weight.
+    fixed : float or None
+        Fixed 1σ magnitude (SI), or None when allocated.
+    """
+
+    name: str
+    unit: str
+    display_unit: str
+    statistics: str
+    tau: float | None
+    weight: float
+    fixed: float | None
+
+
+@dataclass(frozen=True)
+class Row:
+    """One checked constraint: an item at a time (and a component with ``"each"``).
+
+    Attributes
+    ----------
+    item : str
+    time : float
+        s.
+    component : str
+        ``""`` for an rss row, else the component name.
+    limit : float
+        The item's value at the spec's σ level, SI.
+    """
+
+    item: str
+    time: float
+    component: str
+    limit: float
+
+    @property
+    def label(self) -> str:
+        extra = f" [{self.component}]" if self.component else ""
+        return f"{self.item} at {self.time / HOUR:g} h{extra}"
+
+
+@dataclass(frozen=True)
+class UnitBudget:
+    """Variance of every spec row per unit variance of every source.
+
+    Attributes
+    ----------
+    spec : Spec
+    sources : tuple of BudgetSource
+    rows : tuple of Row
+    unit_variances : numpy.ndarray, shape (nr, ns)
+        SI units² of the row per (source unit)².
+    system : LinearSystem
+    """
+
+    spec: Spec
+    sources: tuple[BudgetSource, ...]
+    rows: tuple[Row, ...]
+    unit_variances: np.ndarray
+    system: LinearSystem
+
+    @property
+    def allowed_variances(self) -> np.ndarray:
+        """(limit / k)² of every row, shape (nr,)."""
+        return np.array([(r.limit / self.spec.sigma_level) ** 2 for r in self.rows])
+
+    def statistics(self, sigma: np.ndarray) -> list[SourceStatistics]:
+        """Source statistics with the given 1σ magnitudes (SI)."""
+        return [SourceStatistics(s.name, s.statistics, float(v), s.tau)
+                for s, v in zip(self.sources, sigma, strict=True)]
+
+
+# --------------------------------------------------------------------------------------
+# Binding a spec to a model
+# --------------------------------------------------------------------------------------
+def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
+    """The model's sources with the spec's options (units checked against the model)."""
+    names = [s.name for s in model.sources]
+    for name in spec.sources:
+        if name not in names:
+            raise unknown_name(f"error source of {model.name} in the spec", name, names)
+    result = []
+    for info in model.sources:
+        option = spec.option(info.name)
+        if not option.include:
+            continue
+        if info.kind == "initial" and option.kind != "constant":
+            raise SpecError(f"sources.{info.name}: an initial error can only be a random "
+                            f"constant, not {option.kind!r}")
+        suffix = SOURCE_UNIT_SUFFIX[option.kind]
+        unit = f"({info.unit})*s**0.5" if suffix else info.unit
+        display = f"({info.display_unit or info.unit})*h**0.5" if suffix else (
+            info.display_unit or info.unit)
+        fixed = None
+        if option.fixed is not None:
+            try:
+                value = parse_quantity(option.fixed, unit if info.unit != "1" or suffix
+                                       else "1", f"sources.{info.name}.fixed")
+            except UnitError as error:
+                raise SpecError(f"{error} (e.g. '1 {display}')") from None
+            if value < 0:
+                raise SpecError(f"sources.{info.name}.fixed must be >= 0, got "
+                                f"{option.fixed!r}")
+            fixed = value / spec.sigma_level
+        result.append(BudgetSource(info.name, unit, display, option.kind, option.tau,
+                                   option.weight, fixed))
+    if not result:
+        raise SpecError("every error source is excluded from the budget")
+    return tuple(result)
+
+
+def spec_trajectory(model, spec: Spec, tau: float | None = None):
+    """The true motion of the spec over its operating time (trajectories module)."""
+    from ins_errors.numeric import trajectories
+
+    m = spec.motion
+    if m.kind == "static":
+        profile = trajectories.static_profile(m.latitude, m.longitude, m.heading, m.height)
+    else:
+        profile = trajectories.great_circle_profile(m.latitude, m.longitude, m.heading,
+                                                    m.speed, m.height)
+    step = spec.step if tau is None else tau
+    duration = step * round(spec.operating_time / step)
+    return trajectories.trajectory(model, profile, duration, step)
+
+
+def _radii(model, system: LinearSystem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Latitude (rad), R_N and R_E cos φ (m) along the grid, shape (K+1,) each."""
+    names = [i.name for i in model.parameters]
+    p = dict(zip(names, system.p, strict=True))
+    a = p.get("a", p.get("R"))
+    if a is None:
+        raise BudgetError(f"model {model.name} has no Earth radius parameter ('a' or 'R')")
+    e2 = p.get("e2", 0.0)
+    outputs = [o.name for o in model.outputs]
+    if "latitude" not in outputs:
+        raise BudgetError(f"model {model.name} has no 'latitude' output")
+    phi = model.numpy.outputs(system.x, system.u, system.p)[outputs.index("latitude")]
+    h = system.u[[i.name for i in model.inputs].index("h")] if "h" in [
+        i.name for i in model.inputs] else 0.0
+    s2 = np.sin(phi) ** 2
+    R_N = a * (1 - e2) / (1 - e2 * s2) ** 1.5 + h
+    R_E = a / np.sqrt(1 - e2 * s2) + h
+    return phi, R_N, R_E * np.cos(phi)
+
+
+def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functionals,
+                                                                         dict[str, list[int]]]:
+    """The error quantities every spec item needs, and which ones belong to each item."""
+    n, nw = system.E.shape
+    K1 = len(system.times)
+    outs = [o.name for o in model.outputs]
+    states = [s.name for s in model.error_states]
+
+    def output_row(name: str) -> np.ndarray:
+        if name not in outs:
+            raise BudgetError(f"model {model.name} has no output {name!r}")
+        H = system.H if system.H.ndim == 3 else np.broadcast_to(system.H, (K1, *system.H.shape))
+        return H[:, outs.index(name), :]
+
+    def state_row(name: str) -> np.ndarray:
+        if name not in states:
+            raise BudgetError(f"model {model.name} has no error state {name!r}")
+        row = np.zeros((K1, n))
+        row[:, states.index(name)] = 1.0
+        return row
+
+    rows: list[tuple[str, str, np.ndarray, np.ndarray]] = []
+    groups: dict[str, list[int]] = {}
+    zero_b = np.zeros(nw)
+    for item in spec.items:
+        if item.name == "position_error":
+            _, R_N, R_E_cos = _radii(model, system)
+            parts = [("north", output_row("latitude") * R_N[:, None], zero_b),
+                     ("east", output_row("longitude") * R_E_cos[:, None], zero_b)]
+        elif item.name == "ground_speed_error":
+            parts = [("north", output_row("v_N"), zero_b), ("east", output_row("v_E"), zero_b)]
+        elif item.name == "vertical_error":
+            parts = [("about x", state_row("alpha_x"), zero_b),
+                     ("about y", state_row("alpha_y"), zero_b)]
+        else:  # heading_drift: alpha_z(t) - alpha_z(0), alpha_z(0) = E[alpha_z] w
+            row = state_row("alpha_z")
+            parts = [("azimuth", row, -system.E[states.index("alpha_z")])]
+        groups[item.name] = []
+        for label, C_x, C_b in parts:
+            groups[item.name].append(len(rows))
+            rows.append((f"{item.name}:{label}", item.name, C_x, C_b))
+    C_x = np.stack([r[2] for r in rows], axis=1)                   # (K+1, q, n)
+    if system.time_invariant:
+        C_x = C_x[0]
+    C_b = np.stack([r[3] for r in rows])
+    units = tuple("" for _ in rows)
+    return Functionals(tuple(r[0] for r in rows), units, C_x, C_b), groups
+
+
+def unit_budget(model, spec: Spec, trajectory=None) -> UnitBudget:
+    """Variance of every spec row per unit variance of every source.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    spec : Spec
+    trajectory : Trajectory, optional
+        True motion (default: the spec's motion over its operating time, on its step).
+    """
+    sources = resolve_sources(model, spec)
+    trajectory = spec_trajectory(model, spec) if trajectory is None else trajectory
+    system = system_from_trajectory(model, trajectory, spec.step)
+    covariance = _propagate(model, system, spec, sources,
+                            [SourceStatistics(s.name, s.statistics, 1.0, s.tau)
+                             for s in sources])
+    rows, unit = _rows(spec, system, covariance, covariance.unit_variances)
+    return UnitBudget(spec, sources, tuple(rows), unit, system)
+
+
+def _propagate(model, system, spec, sources, statistics) -> Covariance:
+    functionals, _ = item_functionals(model, system, spec)
+    return propagate(system, statistics, functionals)
+
+
+def _rows(spec: Spec, system: LinearSystem, covariance: Covariance,
+          per_source: np.ndarray) -> tuple[list[Row], np.ndarray]:
+    """Rows of the spec and their variances from the functionals' variances.
+
+    ``per_source`` has shape (nt, q, ns); returns rows and an array (nr, ns).
+    """
+    rows, values = [], []
+    names = covariance.names
+    for item in spec.items:
+        columns = [k for k, nm in enumerate(names) if nm.startswith(f"{item.name}:")]
+        for t in item.times:
+            k = round(t / system.step)
+            if k >= len(covariance.times) or abs(covariance.times[k] - t) > 1e-6 * system.step:
+                raise SpecError(f"items.{item.name}: check time {t:g} s is outside the "
+                                f"analysed run")
+            scale = 1.0 / t**2 if item.name in RATE_ITEMS else 1.0
+            block = per_source[k, columns] * scale                  # (components, ns)
+            if item.combine == "rss":
+                rows.append(Row(item.name, t, "", item.value))
+                values.append(block.sum(0))
+            else:
+                for c, col in enumerate(columns):
+                    rows.append(Row(item.name, t, names[col].split(":", 1)[1], item.value))
+                    values.append(block[c])
+    return rows, np.array(values)
+
+
+# --------------------------------------------------------------------------------------
+# Allocation
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Allocation:
+    """Allowed magnitudes of the sources.
+
+    Attributes
+    ----------
+    budget : UnitBudget
+    sigma : numpy.ndarray, shape (ns,)
+        Allowed 1σ of every source, SI (inf: no spec row depends on the source).
+    binding : numpy.ndarray of int, shape (ns,)
+        Row that binds each free source (-1 for fixed or unconstrained sources).
+    fill_factor : float
+        Common variance factor applied by ``fill`` (1 without it).
+    """
+
+    budget: UnitBudget
+    sigma: np.ndarray
+    binding: np.ndarray
+    fill_factor: float
+
+    @property
+    def magnitudes(self) -> np.ndarray:
+        """Allowed magnitudes at the spec's σ level (k σ), SI."""
+        return self.sigma * self.budget.spec.sigma_level
+
+    def contributions(self) -> np.ndarray:
+        """Variance of every row from every source at the allocated σ, (nr, ns)."""
+        sigma = np.where(np.isfinite(self.sigma), self.sigma, 0.0)
+        return self.budget.unit_variances * sigma**2
+
+    def binding_row(self, j: int) -> Row | None:
+        """The row binding source j, or None."""
+        return None if self.binding[j] < 0 else self.budget.rows[self.binding[j]]
+
+
+def allocate(budget: UnitBudget) -> Allocation:
+    """Apply the allocation rule of the module docstring.
+
+    Raises
+    ------
+    BudgetError
+        If the fixed sources alone exceed a spec row.
+    """
+    V, allowed = budget.unit_variances, budget.allowed_variances
+    fixed = np.array([s.fixed is not None for s in budget.sources])
+    sigma = np.array([s.fixed if s.fixed is not None else np.nan for s in budget.sources])
+    used = (V[:, fixed] * sigma[fixed] ** 2).sum(1) if fixed.any() else np.zeros(len(allowed))
+    remaining = allowed - used
+    bad = np.flatnonzero(remaining <= 0)
+    if bad.size:
+        row = budget.rows[bad[0]]
+        raise BudgetError(f"the fixed sources alone use up {row.label} "
+                          f"({np.sqrt(used[bad[0]]) * budget.spec.sigma_level:.4g} SI "
+                          f"against {row.limit:.4g})")
+    binding = np.full(len(budget.sources), -1)
+    fill_factor = 1.0
+    excluded = np.zeros(len(budget.sources), dtype=bool)
+    ceiling = np.array([UNCONSTRAINED_ABOVE.get(s.unit, np.inf) / budget.spec.sigma_level
+                        for s in budget.sources])
+    while True:
+        free = np.flatnonzero(~fixed & ~excluded)
+        if not free.size:
+            break
+        weights = np.array([budget.sources[j].weight for j in free])
+        share = weights / weights.sum()
+        with np.errstate(divide="ignore"):
+            ratio = share[None, :] * remaining[:, None] / V[:, free]          # (nr, nf)
+        ratio[V[:, free] <= 0] = np.inf
+        best = np.argmin(ratio, axis=0)
+        sigma[free] = np.sqrt(ratio[best, np.arange(free.size)])
+        binding[free] = best
+        loose = free[sigma[free] > ceiling[free]]
+        if not loose.size:
+            break
+        # not limited by this motion: no share, reported as unconstrained
+        excluded[loose] = True
+        sigma[loose], binding[loose] = np.inf, -1
+    if budget.spec.fill and free.size:
+        totals = (V[:, free] * sigma[free] ** 2).sum(1)
+        with np.errstate(divide="ignore"):
+            factors = np.where(totals > 0, remaining / totals, np.inf)
+        fill_factor = float(np.min(factors))
+        sigma[free] *= np.sqrt(fill_factor)
+    return Allocation(budget, sigma, binding, fill_factor)
+
+
+# --------------------------------------------------------------------------------------
+# Evaluation at given magnitudes (recomputed from scratch)
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Evaluation:
+    """Spec rows evaluated at given source magnitudes.
+
+    Attributes
+    ----------
+    rows : tuple of Row
+    sources : tuple of str
+    contributions : numpy.ndarray, shape (nr, ns)
+        Variance of each row from each source (SI²).
+    sigma_level : float
+    """
+
+    rows: tuple[Row, ...]
+    sources: tuple[str, ...]
+    contributions: np.ndarray
+    sigma_level: float
+
+    @property
+    def values(self) -> np.ndarray:
+        """Each row's error at the spec's σ level (k·sqrt(total variance)), SI."""
+        return self.sigma_level * np.sqrt(self.contributions.sum(1))
+
+    @property
+    def ratios(self) -> np.ndarray:
+        """Value / limit of each row (≤ 1: met)."""
+        return self.values / np.array([r.limit for r in self.rows])
+
+
+def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None) -> Evaluation:
+    """Propagate the given 1σ magnitudes (SI) and evaluate every spec row.
+
+    This repeats the covariance propagation with the actual magnitudes (it does not
+    reuse unit variances), so it is an independent check of an allocation.
+    """
+    sources = resolve_sources(model, spec)
+    known = {s.name for s in sources}
+    for name in sigma:
+        if name not in known:
+            raise unknown_name("budget source", name, sorted(known))
+    trajectory = spec_trajectory(model, spec) if trajectory is None else trajectory
+    system = system_from_trajectory(model, trajectory, spec.step)
+    stats = [SourceStatistics(s.name, s.statistics, float(sigma.get(s.name, 0.0)), s.tau)
+             for s in sources]
+    covariance = _propagate(model, system, spec, sources, stats)
+    rows, contributions = _rows(spec, system, covariance, covariance.contributions)
+    return Evaluation(tuple(rows), tuple(s.name for s in sources), contributions,
+                      spec.sigma_level)
+
+
+# --------------------------------------------------------------------------------------
+# Reporting
+# --------------------------------------------------------------------------------------
+ITEM_DISPLAY = {"position_error": "km/h", "ground_speed_error": "m/s",
+                "vertical_error": "deg", "heading_drift": "deg/h"}
+_ITEM_SI = {"position_error": "m/s", "ground_speed_error": "m/s", "vertical_error": "rad",
+            "heading_drift": "rad/s"}
+
+
+def display(value: float, unit: str, display_unit: str) -> str:
+    """An SI value in an engineering unit (``inf`` for unconstrained)."""
+    if not np.isfinite(value):
+        return "unconstrained"
+    return format_quantity(value, unit, display_unit)
+
+
+def report(allocation: Allocation) -> dict:
+    """A JSON-ready summary: rule, sources with magnitudes and binding rows, spec rows."""
+    budget = allocation.budget
+    spec = budget.spec
+    contributions = allocation.contributions()
+    allowed = budget.allowed_variances
+    values = spec.sigma_level * np.sqrt(contributions.sum(1))
+    sources = []
+    for j, s in enumerate(budget.sources):
+        row = allocation.binding_row(j)
+        magnitude = allocation.magnitudes[j]
+        sources.append({
+            "name": s.name,
+            "statistics": s.statistics,
+            "magnitude": None if not np.isfinite(magnitude) else float(magnitude),
+            "unit": s.unit,
+            "display": display(magnitude, s.unit, s.display_unit),
+            "fixed": s.fixed is not None,
+            "weight": s.weight,
+            "binding_item": None if row is None else row.item,
+            "binding_time_h": None if row is None else row.time / HOUR,
+            "binding_component": None if row is None else row.component,
+            "share_at_binding": None if row is None else float(
+                contributions[allocation.binding[j], j] / allowed[allocation.binding[j]]),
+        })
+    rows = [{"item": r.item, "time_h": r.time / HOUR, "component": r.component,
+             "limit": r.limit, "value": float(v), "ratio": float(v / r.limit),
+             "display": f"{display(v, _ITEM_SI[r.item], ITEM_DISPLAY[r.item])} of "
+                        f"{display(r.limit, _ITEM_SI[r.item], ITEM_DISPLAY[r.item])}"}
+            for r, v in zip(budget.rows, values, strict=True)]
+    return {
+        "spec": spec.title, "sigma_level": spec.sigma_level,
+        "motion": budget.system.labels.get("trajectory", ""),
+        "rule": ("equal share of each item's variance per free source (weighted), fixed "
+                 "sources first" + (f"; then scaled by {allocation.fill_factor:.6g} in "
+                                    "variance (fill)" if spec.fill else "")),
+        "sources": sources, "rows": rows,
+    }
+
+
+def table(allocation: Allocation) -> str:
+    """Plain-text report: allocated magnitudes, binding items, worst row of each item."""
+    data = report(allocation)
+    spec = allocation.budget.spec
+    k = f"{spec.sigma_level:g}σ"
+    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}",
+             f"Rule: {data['rule']}.", "",
+             f"{'source':<36} {'allowed (' + k + ')':>22}  binding item",
+             "-" * 86]
+    for s in data["sources"]:
+        if s["binding_item"] is None:
+            bind = "fixed" if s["fixed"] else "not limited on this motion"
+        else:
+            comp = f" [{s['binding_component']}]" if s["binding_component"] else ""
+            bind = f"{s['binding_item']}{comp} at {s['binding_time_h']:g} h"
+        lines.append(f"{s['name']:<36} {s['display']:>22}  {bind}")
+    lines += ["", f"Spec rows at the allocated magnitudes (worst time of each item, {k}):",
+              f"{'item':<22} {'time':>6}  {'value of limit':<34} {'ratio':>6}", "-" * 74]
+    for item in spec.items:
+        rows = [r for r in data["rows"] if r["item"] == item.name]
+        worst = max(rows, key=lambda r: r["ratio"])
+        lines.append(f"{item.name:<22} {worst['time_h']:>5g}h  {worst['display']:<34} "
+                     f"{worst['ratio']:>6.3f}")
+    return "\n".join(lines)
+
+
+def contribution_table(allocation: Allocation, top: int = 10) -> str:
+    """Percent of each item's allowed variance used by each source (worst time)."""
+    budget = allocation.budget
+    contributions = allocation.contributions() / budget.allowed_variances[:, None]
+    items = budget.spec.items
+    worst = []
+    for item in items:
+        idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
+        worst.append(idx[int(np.argmax(contributions[idx].sum(1)))])
+    header = f"{'source':<36}" + "".join(f"{it.name[:16]:>17}" for it in items)
+    lines = ["Share of each item's allowed variance (%), at its worst time:", header,
+             "-" * len(header)]
+    order = np.argsort(-contributions[worst].max(0))
+    for j in order[:top]:
+        lines.append(f"{budget.sources[j].name:<36}" + "".join(
+            f"{100 * contributions[r, j]:>17.2f}" for r in worst))
+    if len(order) > top:
+        rest = order[top:]
+        lines.append(f"{'(' + str(len(rest)) + ' others)':<36}" + "".join(
+            f"{100 * contributions[r, rest].sum():>17.2f}" for r in worst))
+    lines.append(f"{'total':<36}" + "".join(f"{100 * contributions[r].sum():>17.2f}"
+                                            for r in worst))
+    return "\n".join(lines)
+
+
+def plot(allocation: Allocation, path: str, top: int = 8) -> None:
+    """Stacked bars: share of each item's allowed variance per source at each check time.
+
+    Parameters
+    ----------
+    allocation : Allocation
+    path : str
+        Image file to write (format from the suffix, e.g. ``budget.png``).
+    top : int
+        Sources shown individually (the rest are summed as "others").
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    budget = allocation.budget
+    shares = allocation.contributions() / budget.allowed_variances[:, None]
+    order = np.argsort(-shares.max(0))
+    shown, rest = order[:top], order[top:]
+    items = budget.spec.items
+    fig, axes = plt.subplots(1, len(items), figsize=(4.2 * len(items), 4.6), squeeze=False)
+    colours = plt.get_cmap("tab10")
+    for ax, item in zip(axes[0], items, strict=True):
+        idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
+        labels = [f"{budget.rows[i].time / HOUR:g}" + (f"\n{budget.rows[i].component}"
+                                                       if budget.rows[i].component else "")
+                  for i in idx]
+        x = np.arange(len(idx))
+        bottom = np.zeros(len(idx))
+        for c, j in enumerate(shown):
+            ax.bar(x, shares[idx, j], bottom=bottom, color=colours(c % 10),
+                   label=budget.sources[j].name)
+            bottom += shares[idx, j]
+        if rest.size:
+            ax.bar(x, shares[idx][:, rest].sum(1), bottom=bottom, color="0.75", label="others")
+        ax.axhline(1.0, color="k", lw=1, ls="--")
+        ax.set_xticks(x, labels, fontsize=7 if len(idx) > 12 else 9)
+        ax.set_xlabel("check time, h")
+        ax.set_title(f"{item.name}\n≤ {item.text} ({budget.spec.sigma_level:g}σ)", fontsize=10)
+        ax.set_ylim(0, 1.1)
+    axes[0][0].set_ylabel("share of allowed variance")
+    handles, names = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="lower center", ncol=min(5, len(names)), fontsize=8)
+    fig.suptitle(f"Error budget: {budget.spec.title}", fontsize=11)
+    fig.tight_layout(rect=(0, 0.12, 1, 0.95))
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

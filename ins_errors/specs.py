@@ -1,0 +1,415 @@
+"""Accuracy specifications read from TOML files with units.
+
+A spec lists the accuracy items a system must meet (all at one σ level, e.g. 2σ), the
+motion over which they are checked, and options for allocating the error budget among
+the error sources. Every quantity is text with a unit (``"3.7 km/h"``, ``"0.1 deg"``,
+``"0.1 deg/h"``, ``"8 h"``), parsed by :func:`ins_errors.units.parse_quantity`, so a
+value in the wrong dimension (an angle given in m/s) is an error, not a silent number.
+
+Items (what each one measures is defined in :mod:`ins_errors.numeric.budget`):
+
+``position_error``
+    horizontal position error *per hour of operation* (a length per time, e.g.
+    ``"3.7 km/h"``): at each check time t the error must not exceed value × t;
+``ground_speed_error``
+    horizontal (north, east) velocity error, m/s;
+``vertical_error``
+    error of holding the vertical: platform tilt, an angle;
+``heading_drift``
+    drift rate of the gyroscopic heading (platform azimuth), angle per time.
+
+The file format (see ``specs/802m.toml``)::
+
+    title = "..."
+    sigma_level = 2                  # the values are 2σ
+    operating_time = "8 h"
+    step = "60 s"                    # analysis grid
+    [motion]                         # kind = "static" or "great_circle"
+    latitude = "50 deg"
+    [items.position_error]
+    value = "3.7 km/h"
+    times = ["1 h", "2 h"]           # optional, check times
+    combine = "rss"                  # optional: "rss" of the components or "each"
+    [allocation]
+    fill = false                     # scale the free sources up until an item is met exactly
+    [sources.gyro_drift_z]
+    weight = 2                       # or fixed = "0.01 deg/h", kind = "markov", tau = "1 h"
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.units import UnitError, parse_quantity
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+HOUR = 3600.0
+
+
+class SpecError(InsErrorsError):
+    """A spec file or spec value that cannot be used."""
+
+
+@dataclass(frozen=True)
+class ItemKind:
+    """What a spec item measures and how its value is written.
+
+    Attributes
+    ----------
+    unit : str
+        SI unit of the value.
+    example : str
+        A valid value, quoted in error messages.
+    description : str
+        One line.
+    default_times : str
+        ``"hourly"`` (every hour up to the operating time), ``"quarter-hourly"`` (every
+        15 min from 0) or ``"first-hour"`` (1 h only).
+    """
+
+    unit: str
+    example: str
+    description: str
+    default_times: str
+
+
+ITEM_KINDS: dict[str, ItemKind] = {
+    "position_error": ItemKind(
+        "m/s", "3.7 km/h", "horizontal position error per hour of operation (φ, λ)",
+        "hourly"),
+    "ground_speed_error": ItemKind(
+        "m/s", "4 m/s", "horizontal velocity (ground-speed) error", "first-hour"),
+    "vertical_error": ItemKind(
+        "rad", "0.1 deg", "error of holding the vertical (platform tilt)", "quarter-hourly"),
+    "heading_drift": ItemKind(
+        "rad/s", "0.1 deg/h", "drift rate of the gyroscopic heading (platform azimuth)",
+        "first-hour"),
+}
+"""Spec items the budget knows."""
+
+COMBINE = ("rss", "each")
+STATISTICS = ("constant", "white", "markov")
+SOURCE_UNIT_SUFFIX = {"constant": "", "white": "*s**0.5", "markov": ""}
+"""A white-noise magnitude is a density: the source's unit times √s."""
+
+
+@dataclass(frozen=True)
+class SpecItem:
+    """One accuracy requirement.
+
+    Attributes
+    ----------
+    name : str
+        Key of :data:`ITEM_KINDS`.
+    value : float
+        Limit at the spec's σ level, SI unit of the kind.
+    text : str
+        The value as written.
+    times : tuple of float
+        Check times, s.
+    combine : {"rss", "each"}
+        ``"rss"``: the item's components (e.g. north and east) are combined as the root
+        sum of squares (2DRMS at 2σ); ``"each"``: every component must meet the limit.
+    """
+
+    name: str
+    value: float
+    text: str
+    times: tuple[float, ...]
+    combine: str = "rss"
+
+    @property
+    def kind(self) -> ItemKind:
+        return ITEM_KINDS[self.name]
+
+
+@dataclass(frozen=True)
+class SourceOption:
+    """Allocation options and statistics of one error source.
+
+    Attributes
+    ----------
+    name : str
+        Model source name.
+    weight : float
+        Relative share of each item's variance (default 1).
+    fixed : float or None
+        Fixed magnitude at the spec's σ level (SI), not allocated.
+    kind : {"constant", "white", "markov"}
+        Statistics of the source.
+    tau : float or None
+        Correlation time of a Markov source, s.
+    include : bool
+        False leaves the source out of the budget (taken as zero).
+    """
+
+    name: str
+    weight: float = 1.0
+    fixed: float | None = None
+    kind: str = "constant"
+    tau: float | None = None
+    include: bool = True
+
+
+@dataclass(frozen=True)
+class Motion:
+    """The motion over which the spec is checked.
+
+    Attributes
+    ----------
+    kind : {"static", "great_circle"}
+    latitude, longitude, heading : float
+        Start, rad (heading: track angle from north).
+    height : float
+        m.
+    speed : float
+        Ground speed of a great-circle flight, m/s.
+    """
+
+    kind: str = "static"
+    latitude: float = 0.0
+    longitude: float = 0.0
+    heading: float = 0.0
+    height: float = 0.0
+    speed: float = 0.0
+
+
+@dataclass(frozen=True)
+class Spec:
+    """An accuracy specification.
+
+    Attributes
+    ----------
+    title : str
+    sigma_level : float
+        The values are this many σ (2 for the 802m table).
+    operating_time : float
+        s.
+    step : float
+        Analysis grid step, s.
+    motion : Motion
+    items : tuple of SpecItem
+    sources : dict of str to SourceOption
+        Options of the sources that have any (others: weight 1, random constants).
+    fill : bool
+        After the equal-share allocation, scale every free source by one common factor
+        until the tightest item is met exactly.
+    path : str
+        Where the spec was read from.
+    """
+
+    title: str
+    sigma_level: float
+    operating_time: float
+    step: float
+    motion: Motion
+    items: tuple[SpecItem, ...]
+    sources: dict[str, SourceOption] = field(default_factory=dict)
+    fill: bool = False
+    path: str = ""
+
+    def item(self, name: str) -> SpecItem:
+        """The item ``name``."""
+        for item in self.items:
+            if item.name == name:
+                return item
+        raise unknown_name("spec item", name, [i.name for i in self.items])
+
+    def option(self, source: str) -> SourceOption:
+        """Options of ``source`` (defaults if the spec names none)."""
+        return self.sources.get(source, SourceOption(source))
+
+
+# --------------------------------------------------------------------------------------
+# Reading
+# --------------------------------------------------------------------------------------
+_TOP_KEYS = ("title", "sigma_level", "operating_time", "step", "motion", "items",
+             "allocation", "sources")
+_ITEM_KEYS = ("value", "times", "combine")
+_SOURCE_KEYS = ("weight", "fixed", "kind", "tau", "include")
+_MOTION_KEYS = ("kind", "latitude", "longitude", "heading", "height", "speed")
+_MOTION_KINDS = ("static", "great_circle")
+
+
+def _check_keys(table: Any, allowed: tuple[str, ...], where: str) -> dict:
+    if not isinstance(table, dict):
+        raise SpecError(f"{where} must be a table, got {table!r:.60}")
+    for key in table:
+        if key not in allowed:
+            raise unknown_name(f"key in {where}", key, allowed)
+    return table
+
+
+def _positive(text: Any, unit: str, what: str, example: str = "",
+              allow_zero: bool = False) -> float:
+    if isinstance(text, bool) or not isinstance(text, (str, int, float)):
+        raise SpecError(f"{what}: expected a quantity such as {example or unit!r}, "
+                        f"got {text!r:.60}")
+    try:
+        value = parse_quantity(text, unit, what)
+    except UnitError as error:
+        hint = f" (e.g. {example!r})" if example else ""
+        raise SpecError(f"{error}{hint}") from None
+    if value < 0 or (value == 0 and not allow_zero):
+        raise SpecError(f"{what}: must be {'>= 0' if allow_zero else '> 0'}, got {text!r}")
+    return value
+
+
+def _angle(text: Any, what: str) -> float:
+    if isinstance(text, bool) or not isinstance(text, (str, int, float)):
+        raise SpecError(f"{what}: expected an angle such as '50 deg', got {text!r:.60}")
+    try:
+        return parse_quantity(text, "rad", what)
+    except UnitError as error:
+        raise SpecError(str(error)) from None
+
+
+def _default_times(rule: str, operating_time: float, step: float) -> tuple[float, ...]:
+    if rule == "first-hour":
+        return (HOUR,)
+    if rule == "hourly":
+        count = max(1, int(operating_time // HOUR + 1e-9))
+        return tuple(HOUR * k for k in range(1, count + 1))
+    quarter = 900.0
+    count = int(operating_time // quarter + 1e-9)
+    return tuple(quarter * k for k in range(count + 1))
+
+
+def parse_spec(data: dict, path: str = "<spec>") -> Spec:
+    """Build a :class:`Spec` from the parsed TOML table.
+
+    Raises
+    ------
+    SpecError, UnknownNameError
+        Unknown keys or items, values that are not positive, wrong units.
+    """
+    _check_keys(data, _TOP_KEYS, "the spec")
+    title = str(data.get("title", Path(path).stem))
+    sigma_level = data.get("sigma_level", 1)
+    if isinstance(sigma_level, bool) or not isinstance(sigma_level, (int, float)) \
+            or not sigma_level > 0:
+        raise SpecError(f"sigma_level must be a number > 0 (e.g. 2 for 2σ values), "
+                        f"got {sigma_level!r}")
+    operating_time = _positive(data.get("operating_time", "1 h"), "s", "operating_time",
+                               "8 h")
+    step = _positive(data.get("step", "60 s"), "s", "step", "60 s")
+    if step > operating_time:
+        raise SpecError(f"step ({step:g} s) is longer than the operating time")
+
+    motion_table = _check_keys(data.get("motion", {}), _MOTION_KEYS, "[motion]")
+    kind = motion_table.get("kind", "static")
+    if kind not in _MOTION_KINDS:
+        raise unknown_name("motion kind", str(kind), _MOTION_KINDS)
+    motion = Motion(
+        kind=kind,
+        latitude=_angle(motion_table.get("latitude", "0 deg"), "motion.latitude"),
+        longitude=_angle(motion_table.get("longitude", "0 deg"), "motion.longitude"),
+        heading=_angle(motion_table.get("heading", "0 deg"), "motion.heading"),
+        height=_positive(motion_table.get("height", 0), "m", "motion.height", "0 m",
+                         allow_zero=True),
+        speed=_positive(motion_table.get("speed", 0), "m/s", "motion.speed", "250 m/s",
+                        allow_zero=True),
+    )
+    if kind == "great_circle" and motion.speed <= 0:
+        raise SpecError("motion.speed must be > 0 for a great_circle motion")
+
+    items_table = data.get("items")
+    if not items_table:
+        raise SpecError(f"the spec has no [items.*]; known items: {', '.join(ITEM_KINDS)}")
+    _check_keys(items_table, tuple(ITEM_KINDS), "[items]")
+    items = []
+    for name, table in items_table.items():
+        kind_info = ITEM_KINDS[name]
+        _check_keys(table, _ITEM_KEYS, f"[items.{name}]")
+        if "value" not in table:
+            raise SpecError(f"items.{name}: missing value (e.g. {kind_info.example!r})")
+        value = _positive(table["value"], kind_info.unit, f"items.{name}", kind_info.example)
+        if "times" in table:
+            raw = table["times"]
+            if not isinstance(raw, list) or not raw:
+                raise SpecError(f"items.{name}.times must be a non-empty list such as "
+                                f"['1 h', '2 h']")
+            times = tuple(_positive(t, "s", f"items.{name}.times", "1 h") for t in raw)
+        else:
+            times = _default_times(kind_info.default_times, operating_time, step)
+        for t in times:
+            if t > operating_time * (1 + 1e-12):
+                raise SpecError(f"items.{name}: check time {t / HOUR:g} h is after the "
+                                f"operating time {operating_time / HOUR:g} h")
+            if abs(t / step - round(t / step)) > 1e-9:
+                raise SpecError(f"items.{name}: check time {t:g} s is not on the "
+                                f"{step:g} s analysis grid")
+        combine = table.get("combine", "rss")
+        if combine not in COMBINE:
+            raise unknown_name(f"items.{name}.combine rule", str(combine), COMBINE)
+        if name in ("position_error", "heading_drift") and any(t <= 0 for t in times):
+            raise SpecError(f"items.{name}: a rate over the operating time needs check "
+                            f"times > 0")
+        items.append(SpecItem(name, value, str(table["value"]), times, combine))
+
+    allocation = _check_keys(data.get("allocation", {}), ("fill",), "[allocation]")
+    fill = allocation.get("fill", False)
+    if not isinstance(fill, bool):
+        raise SpecError(f"allocation.fill must be true or false, got {fill!r}")
+
+    sources = {}
+    for name, table in _check_keys(data.get("sources", {}), tuple(data.get("sources", {})),
+                                   "[sources]").items():
+        _check_keys(table, _SOURCE_KEYS, f"[sources.{name}]")
+        weight = table.get("weight", 1.0)
+        if isinstance(weight, bool) or not isinstance(weight, (int, float)) or not weight > 0:
+            raise SpecError(f"sources.{name}.weight must be a number > 0, got {weight!r}")
+        stat = table.get("kind", "constant")
+        if stat not in STATISTICS:
+            raise unknown_name(f"sources.{name}.kind", str(stat), STATISTICS)
+        tau = None
+        if stat == "markov":
+            if "tau" not in table:
+                raise SpecError(f"sources.{name}: a markov source needs tau (e.g. '1 h')")
+            tau = _positive(table["tau"], "s", f"sources.{name}.tau", "1 h")
+        elif "tau" in table:
+            raise SpecError(f"sources.{name}: tau applies only to kind = 'markov'")
+        include = table.get("include", True)
+        if not isinstance(include, bool):
+            raise SpecError(f"sources.{name}.include must be true or false")
+        fixed = table.get("fixed")
+        sources[name] = SourceOption(name, float(weight), fixed, stat, tau, include)
+    return Spec(title, float(sigma_level), operating_time, step, motion, tuple(items),
+                sources, fill, path)
+
+
+def load_spec(path: str | Path) -> Spec:
+    """Read a spec file (TOML).
+
+    Fixed source magnitudes (``fixed = "0.01 deg/h"``) stay text until the spec is bound
+    to a model (:func:`ins_errors.numeric.budget.resolve_sources`), which knows each
+    source's unit.
+
+    Raises
+    ------
+    SpecError
+        Missing or unreadable file, bad TOML, or any bad entry (see :func:`parse_spec`).
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as error:
+        raise SpecError(f"cannot read spec file {str(path)!r}: {error.strerror}") from None
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as error:
+        raise SpecError(f"{path}: not valid TOML ({error})") from None
+    return parse_spec(data, str(path))
+
+
+def default_spec_path() -> Path:
+    """``specs/802m.toml`` of the source tree (the 802m table, 2σ)."""
+    return Path(__file__).resolve().parents[1] / "specs" / "802m.toml"
