@@ -209,9 +209,9 @@ def exact_discretisation(F: np.ndarray, G: np.ndarray, tau: float) -> tuple[np.n
 # --------------------------------------------------------------------------------------
 # CasADi schemes
 # --------------------------------------------------------------------------------------
-def casadi_step(rhs: ca.Function, method: Method, z: ca.SX, u_stream: ca.SX, q: ca.SX,
-                tau: ca.SX) -> ca.SX:
-    """Symbolic one-step map of ``rhs(z, u, q)``.
+def casadi_step(rhs: Callable, method: Method, z: ca.SX, u_stream: ca.SX, q: ca.SX,
+                tau: ca.SX | float) -> ca.SX:
+    """Symbolic one-step map of ``rhs(z, u, q)`` (a casadi.Function or a callable).
 
     ``u_stream`` is ``u[k]`` for Euler and ``vertcat(u[k], u[k+1/2], u[k+1])`` for RK4.
     """
@@ -302,7 +302,7 @@ def compile_functions(functions: list[ca.Function], jit: bool = True) -> list[ca
     for function in functions:
         generator.add(function)
     source = generator.dump()
-    flags = ["-O2", "-shared", "-fPIC"]
+    flags = ["-O3", "-march=native", "-shared", "-fPIC"]
     key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__).encode())
     directory = cache_directory()
     library = directory / f"loop_{key.hexdigest()[:24]}.so"
@@ -334,7 +334,8 @@ class LoopResult:
     states : numpy.ndarray, shape (nz, R + 1, B)
         Recorded states (initial state first) for each of the ``B`` batch members.
     margins : numpy.ndarray, shape (R, B)
-        Smallest domain margin seen during each recording interval (``> 0``: inside).
+        Domain margin at the end of each recording interval (a running minimum within a
+        compiled chunk); ``> 0``: inside the domain.
     """
 
     states: np.ndarray
@@ -344,91 +345,107 @@ class LoopResult:
 class CompiledLoop:
     """A fixed-step integration loop compiled once, run many times.
 
-    The carried vector is ``[z, m, q, τ]`` (state, running minimum of the domain margin,
-    constants, step), and for constant inputs also ``u``; everything is kept in one
-    vector so that ``fold`` and ``mapaccum`` feed it back whole.
+    The step ``τ``, the fixed constants ``p`` and (for a time-invariant motion) the
+    inputs ``u`` are baked into the generated C code as numbers, so the compiler folds
+    every subexpression that depends on them only (about a quarter of the work of the
+    orthodromic equations on a static base). The per-case constants ``w`` (error
+    sources) travel with the state in one carried vector ``[z, m, w]`` (``m``: running
+    minimum of the domain margin, checked at the end of every recording interval), so
+    that ``fold`` and ``mapaccum`` feed it back whole. A compiled library is cached on
+    disk under the hash of its C source: the same loop is compiled once per machine.
 
     Parameters
     ----------
     rhs : casadi.Function
-        ``rhs(z, u, q) -> dz/dt``.
+        ``rhs(z, u, w, p) -> dz/dt`` (state, inputs, per-case constants, fixed constants).
     margin : casadi.Function or None
-        ``margin(z, u, q) -> scalar``, positive inside the domain (e.g. ``1 - u31²``).
-        NaN states give NaN margins and are caught the same way.
+        ``margin(z, u, w, p) -> scalar``, positive inside the domain (e.g. ``1 - u31²``).
     method : {"euler", "rk4"}
         Scheme.
     record_every : int
         Steps per recorded sample.
-    constant_inputs : bool
-        True: one input vector for the whole run (carried, no per-step array).
+    tau : float
+        Step, s.
+    p : numpy.ndarray
+        Fixed constants (model parameters), baked in.
+    constant_inputs : numpy.ndarray or None
+        One input vector for the whole run (baked in), or None for a per-step stream.
     chunk : int
         Recorded samples per compiled call (a long run is a Python loop over chunks).
     batch : int
-        Number of independent cases run side by side (same inputs; states and constants
-        differ) with ``casadi.Function.map``.
+        Number of cases run side by side (same inputs, different ``z0`` and ``w``) with
+        ``casadi.Function.map``.
     jit : bool
         Compile to C (default) or stay in the CasADi virtual machine.
     """
 
     def __init__(self, rhs: ca.Function, margin: ca.Function | None, method: Method,
-                 record_every: int, constant_inputs: bool, chunk: int = 64, batch: int = 1,
+                 record_every: int, tau: float, p: np.ndarray,
+                 constant_inputs: np.ndarray | None = None, chunk: int = 32, batch: int = 1,
                  jit: bool = True):
         check_method(method)
         if record_every < 1 or chunk < 1 or batch < 1:
             raise StepError("record_every, chunk and batch must be positive integers")
         self.method, self.record_every, self.chunk, self.batch = method, record_every, chunk, batch
-        self.constant_inputs = constant_inputs
-        self.nz, self.nu, self.nq = rhs.size1_in(0), rhs.size1_in(1), rhs.size1_in(2)
-        nz, nu, nq = self.nz, self.nu, self.nq
+        self.constant_inputs = constant_inputs is not None
+        self.nz, self.nu, self.nw = rhs.size1_in(0), rhs.size1_in(1), rhs.size1_in(2)
+        nz, nu, nw = self.nz, self.nu, self.nw
         self.n_stream = nu if method == "euler" else 3 * nu
-        self.n_carry = nz + 1 + nq + 1 + (nu if constant_inputs else 0)
+        self.n_carry = nz + 1 + nw
+        p_num = ca.DM(np.asarray(p, dtype=float))
+        tau_num = float(tau)
+
+        def f(z, u, w):
+            return rhs(z, u, w, p_num)
 
         carry = ca.SX.sym("carry", self.n_carry)
-        z, m = carry[:nz], carry[nz]
-        q, tau = carry[nz + 1:nz + 1 + nq], carry[nz + 1 + nq]
-        if constant_inputs:
-            u = carry[nz + 2 + nq:]
-            stream = u if method == "euler" else ca.vertcat(u, u, u)
+        z, w = carry[:nz], carry[nz + 1:]
+        if self.constant_inputs:
+            u_num = ca.DM(np.asarray(constant_inputs, dtype=float))
+            stream = u_num if method == "euler" else ca.vertcat(u_num, u_num, u_num)
             extra_in: list[ca.SX] = []
         else:
             stream = ca.SX.sym("u", self.n_stream)
-            u = stream[:nu]
             extra_in = [stream]
-        z_next = casadi_step(rhs, method, z, stream, q, tau)
-        u_end = u if (constant_inputs or method == "euler") else stream[2 * nu:]
-        m_next = ca.fmin(m, margin(z_next, u_end, q)) if margin is not None else m
-        step = ca.Function("ins_step", [carry, *extra_in],
-                           [ca.vertcat(z_next, m_next, carry[nz + 1:])])
+        z_next = casadi_step(f, method, z, stream, w, tau_num)
+        step = ca.Function("ins_step", [carry, *extra_in], [ca.vertcat(z_next, carry[nz:])])
         block = step.fold(record_every) if record_every > 1 else step
-        self._block_in = extra_in
+        # domain check once per recording interval, on the last state of the block
+        carry_mx = ca.MX.sym("carry", self.n_carry)
+        block_in = [carry_mx] + ([ca.MX.sym("u", self.n_stream, record_every)]
+                                 if not self.constant_inputs else [])
+        out = block(*block_in)
+        if margin is not None:
+            u_end = (ca.DM(np.asarray(constant_inputs, dtype=float)) if self.constant_inputs
+                     else block_in[1][-nu:, -1] if method == "rk4" else block_in[1][:, -1])
+            m = ca.fmin(out[nz], margin(out[:nz], u_end, out[nz + 1:], p_num))
+            out = ca.vertcat(out[:nz], m, out[nz + 1:])
+        block = ca.Function("ins_block", block_in, [out])
         chunked = block.mapaccum("ins_chunk", chunk)
         single = block
         if batch > 1:
-            reduce = [] if constant_inputs else [1]
+            reduce = [] if self.constant_inputs else [1]
             chunked = chunked.map("ins_chunk_b", "serial", batch, reduce, [])
             single = block.map("ins_single_b", "serial", batch, reduce, [])
-        # wrap with stable names so the compiled library exports them
         chunked = _rename(chunked, "ins_chunk_f")
         single = _rename(single, "ins_single_f")
         self._chunk_fn, self._single_fn = compile_functions([chunked, single], jit=jit)
 
-    def run(self, z0: np.ndarray, q: np.ndarray, tau: float, n_steps: int,
-            inputs: np.ndarray, progress: bool | str = False) -> LoopResult:
+    def run(self, z0: np.ndarray, w: np.ndarray, n_steps: int,
+            inputs: np.ndarray | None = None, progress: bool | str = False) -> LoopResult:
         """Run the loop.
 
         Parameters
         ----------
         z0 : numpy.ndarray, shape (nz,) or (nz, B)
             Initial state(s).
-        q : numpy.ndarray, shape (nq,) or (nq, B)
-            Constants (error sources, parameters...).
-        tau : float
-            Step, s.
+        w : numpy.ndarray, shape (nw,) or (nw, B)
+            Per-case constants (error sources).
         n_steps : int
             Number of steps, a multiple of ``record_every``.
-        inputs : numpy.ndarray
-            Constant inputs ``(nu,)`` or the per-step stream ``(n_stream, n_steps)`` from
-            :func:`input_stream`.
+        inputs : numpy.ndarray, optional
+            The per-step stream ``(n_stream, n_steps)`` from :func:`input_stream`
+            (omit for constant inputs).
         progress : bool or str
             Show a tqdm progress bar (a string is used as its label).
         """
@@ -438,21 +455,18 @@ class CompiledLoop:
                             f"intervals of {k} steps")
         n_rec = n_steps // k
         z0 = np.asarray(z0, dtype=float).reshape(self.nz, -1)
-        q = np.asarray(q, dtype=float).reshape(self.nq, -1)
-        if z0.shape[1] not in (1, B) or q.shape[1] not in (1, B):
+        w = np.asarray(w, dtype=float)
+        w = w.reshape(self.nw, -1) if w.size else np.zeros((self.nw, 1))
+        if z0.shape[1] not in (1, B) or w.shape[1] not in (1, B):
             raise StepError(f"expected {B} batch members, got states {z0.shape[1]}, "
-                            f"constants {q.shape[1]}")
-        z0, q = np.broadcast_to(z0, (self.nz, B)), np.broadcast_to(q, (self.nq, B))
-        parts = [z0, np.full((1, B), np.inf), q, np.full((1, B), float(tau))]
-        if self.constant_inputs:
-            u = np.asarray(inputs, dtype=float).reshape(self.nu, -1)
-            parts.append(np.broadcast_to(u, (self.nu, B)))
-        else:
+                            f"constants {w.shape[1]}")
+        z0, w = np.broadcast_to(z0, (self.nz, B)), np.broadcast_to(w, (self.nw, B))
+        if not self.constant_inputs:
             inputs = np.asarray(inputs, dtype=float)
             if inputs.shape != (self.n_stream, n_steps):
                 raise StepError(f"input stream must have shape ({self.n_stream}, {n_steps}), "
                                 f"got {inputs.shape}")
-        carry = np.vstack(parts)
+        carry = np.vstack([z0, np.full((1, B), np.inf), w])
         states = np.empty((self.nz, n_rec + 1, B))
         margins = np.empty((n_rec, B))
         states[:, 0] = z0
@@ -467,16 +481,13 @@ class CompiledLoop:
             while done < n_rec:
                 size = self.chunk if n_rec - done >= self.chunk else 1
                 fn = self._chunk_fn if size == self.chunk else self._single_fn
-                args = [self._pack(carry)]
+                args = [carry]
                 if not self.constant_inputs:
                     args.append(inputs[:, done * k:(done + size) * k])
-                out = np.asarray(fn(*args))
-                # out: (n_carry, size * B) ordered batch-major for the mapped chunk
-                out = out.reshape(self.n_carry, B, size) if B > 1 else out.reshape(
-                    self.n_carry, 1, size)
+                out = np.asarray(fn(*args)).reshape(self.n_carry, B, size)
                 states[:, done + 1:done + 1 + size] = out[:self.nz].transpose(0, 2, 1)
                 margins[done:done + size] = out[self.nz].T
-                carry = out[:, :, -1]
+                carry = np.array(out[:, :, -1])
                 carry[self.nz] = np.inf
                 done += size
                 if bar is not None:
@@ -485,9 +496,6 @@ class CompiledLoop:
             if bar is not None:
                 bar.close()
         return LoopResult(states, margins)
-
-    def _pack(self, carry: np.ndarray) -> np.ndarray:
-        return carry if self.batch > 1 else carry[:, :1]
 
 
 def _rename(function: ca.Function, name: str) -> ca.Function:

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cache
+from functools import cache, lru_cache
 
 import casadi as ca
 import numpy as np
@@ -51,7 +51,7 @@ PARTS: tuple[str, ...] = ("real", "linear", "refined")
 # --------------------------------------------------------------------------------------
 @cache
 def _system(model_name: str, parts: tuple[str, ...]) -> tuple[ca.Function, ca.Function]:
-    """``rhs(z, u, q)`` and ``margin(z, u, q)`` of ``z = [x, x̃?, e?, e₂?]``, ``q = [w, p]``."""
+    """``rhs(z, u, w, p)`` and ``margin(z, u, w, p)`` of ``z = [x, x̃?, e?, e₂?]``."""
     from ins_errors.numeric.model import load_model
 
     model = load_model(model_name)
@@ -61,8 +61,8 @@ def _system(model_name: str, parts: tuple[str, ...]) -> tuple[ca.Function, ca.Fu
     sizes = {"ideal": n, "real": ne, "linear": ne, "refined": ne}
     layout = ["ideal", *parts]
     nz = sum(sizes[k] for k in layout)
-    z, u, q = ca.SX.sym("z", nz), ca.SX.sym("u", nu), ca.SX.sym("q", nw + npar)
-    w, p = q[:nw], q[nw:]
+    z, u = ca.SX.sym("z", nz), ca.SX.sym("u", nu)
+    w, p = ca.SX.sym("w", nw), ca.SX.sym("p", npar)
     pieces, offset = {}, 0
     for name in layout:
         pieces[name] = z[offset:offset + sizes[name]]
@@ -81,16 +81,33 @@ def _system(model_name: str, parts: tuple[str, ...]) -> tuple[ca.Function, ca.Fu
     if "refined" in parts:
         e2 = pieces["refined"]
         rates.append(F @ e2 + G @ w + fn("second_order")(x, u, p, e2, w))
-    rhs = ca.Function("system_rhs", [z, u, q], [ca.vertcat(*rates)])
-    margin = ca.Function("system_margin", [z, u, q], [ca.mmin(ca.vertcat(*margins))])
+    rhs = ca.Function("system_rhs", [z, u, w, p], [ca.vertcat(*rates)])
+    margin = ca.Function("system_margin", [z, u, w, p], [ca.mmin(ca.vertcat(*margins))])
     return rhs, margin
 
 
-@cache
-def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, constant: bool,
+@lru_cache(maxsize=32)
+def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau: float,
+          p: tuple[float, ...], u: tuple[float, ...] | None, active: tuple[bool, ...],
           batch: int, jit: bool) -> CompiledLoop:
-    rhs, margin = _system(model_name, parts)
-    return CompiledLoop(rhs, margin, method, stride, constant, chunk=32, batch=batch, jit=jit)
+    """The compiled loop, specialised to the error sources that are non-zero in some case.
+
+    Sources that are zero in every case of the batch are baked in as zeros, so the C
+    compiler drops every term they multiply.
+    """
+    full_rhs, full_margin = _system(model_name, parts)
+    nz, nu, npar = full_rhs.size1_in(0), full_rhs.size1_in(1), full_rhs.size1_in(3)
+    z, uu, par = ca.SX.sym("z", nz), ca.SX.sym("u", nu), ca.SX.sym("p", npar)
+    w_active = ca.SX.sym("w", sum(active))
+    entries, k = [], 0
+    for on in active:
+        entries.append(w_active[k] if on else ca.SX(0))
+        k += on
+    w = ca.vertcat(*entries)
+    rhs = ca.Function("active_rhs", [z, uu, w_active, par], [full_rhs(z, uu, w, par)])
+    margin = ca.Function("active_margin", [z, uu, w_active, par], [full_margin(z, uu, w, par)])
+    return CompiledLoop(rhs, margin, method, stride, tau, np.array(p),
+                        None if u is None else np.array(u), chunk=32, batch=batch, jit=jit)
 
 
 # --------------------------------------------------------------------------------------
@@ -290,13 +307,15 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
     if "refined" in parts:
         blocks.append(exact0)
     z0 = np.vstack(blocks)
-    q = np.vstack([w, np.repeat(p[:, None], B, axis=1)])
     if trajectory.constant:
-        stream = trajectory.inputs[:, 0]
+        stream, u_const = None, tuple(trajectory.inputs[:, 0])
     else:
         stream = input_stream(trajectory.inputs, trajectory.midpoints, method)
-    loop = _loop(model.name, parts, method, stride, trajectory.constant, B, jit)
-    result = loop.run(z0, q, tau, N, stream, progress=progress)
+        u_const = None
+    active = np.any(w != 0, axis=1)
+    loop = _loop(model.name, parts, method, stride, float(tau), tuple(p), u_const,
+                 tuple(bool(a) for a in active), B, jit)
+    result = loop.run(z0, w[active], N, stream, progress=progress)
     states = result.states
     sim = Simulation(model, trajectory, method, stride, w, states[:n])
     offset = n

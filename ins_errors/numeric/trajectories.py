@@ -30,7 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from functools import cache
+from functools import cache, lru_cache
 
 import casadi as ca
 import numpy as np
@@ -280,7 +280,7 @@ class _Kinematics:
 
     consistent_state: ca.Function  # (x, cmd, p) -> X
     inputs: ca.Function  # (x, cmd, rates, p) -> u
-    truth_rhs: ca.Function  # (x, [cmd; rates], p) -> dx/dt
+    truth_rhs: ca.Function  # (x, [cmd; rates], w (empty), p) -> dx/dt
     initial_state: ca.Function  # (c, cmd, p) -> x0
     track: bool = field(default=True)
 
@@ -380,7 +380,8 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
                                                    strict=True)), a_up)
     inputs = ca.Function("motion_inputs", [x, cmd, rates, p], [u_full])
     stream = ca.SX.sym("stream", 8)
-    truth_rhs = ca.Function("truth_rhs", [x, stream, p],
+    none = ca.SX.sym("none", 0)
+    truth_rhs = ca.Function("truth_rhs", [x, stream, none, p],
                             [ideal(x, inputs(x, stream[:4], stream[4:], p), p)])
     # initial state from the profile's start
     c0 = ca.SX.sym("c0", 3)  # latitude, longitude, heading
@@ -511,8 +512,8 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     commands = np.vstack([values, rates])
     _check_finite(commands, "motion commands", 0.0)
     stream = np.vstack([commands[:, 0:-1:2], commands[:, 1::2], commands[:, 2::2]])
-    loop = _truth_loop(model.name, profile.frame)
-    result = loop.run(x0, p, tau / 2.0, n_half, stream,
+    loop = _truth_loop(model.name, profile.frame, tau / 2.0, tuple(p))
+    result = loop.run(x0, np.zeros(0), n_half, stream,
                       progress="true motion" if progress else False)
     states = result.states[:, :, 0]
     bad = ~np.all(np.isfinite(states), axis=0) | np.concatenate(
@@ -528,8 +529,8 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
                       u_all[:, 1::2], p, c0, False, profile.description)
 
 
-@cache
-def _truth_loop(model_name: str, frame: str) -> CompiledLoop:
+@lru_cache(maxsize=16)
+def _truth_loop(model_name: str, frame: str, step: float, p: tuple[float, ...]) -> CompiledLoop:
     from ins_errors.numeric.model import load_model
 
     model = load_model(model_name)
@@ -537,10 +538,11 @@ def _truth_loop(model_name: str, frame: str) -> CompiledLoop:
     margins = model.casadi.function("domain_margins")
     x = ca.SX.sym("x", len(model.states))
     stream = ca.SX.sym("s", 8)
-    p = ca.SX.sym("p", len(model.parameters))
-    u = kin.inputs(x, stream[:4], stream[4:], p)
-    margin = ca.Function("truth_margin", [x, stream, p], [ca.mmin(margins(x, u, p))])
-    return CompiledLoop(kin.truth_rhs, margin, "rk4", 1, False, chunk=256)
+    par = ca.SX.sym("p", len(model.parameters))
+    none = ca.SX.sym("none", 0)
+    u = kin.inputs(x, stream[:4], stream[4:], par)
+    margin = ca.Function("truth_margin", [x, stream, none, par], [ca.mmin(margins(x, u, par))])
+    return CompiledLoop(kin.truth_rhs, margin, "rk4", 1, step, np.array(p), chunk=256)
 
 
 def _check_finite(array: np.ndarray, what: str, dt: float) -> None:
