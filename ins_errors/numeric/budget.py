@@ -189,8 +189,19 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
     return tuple(result)
 
 
-def spec_trajectory(model, spec: Spec, tau: float | None = None):
-    """The true motion of the spec over its operating time (trajectories module)."""
+def spec_trajectory(model, spec: Spec, tau: float | None = None,
+                    duration: float | None = None):
+    """The true motion of the spec (trajectories module).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    spec : Spec
+    tau : float, optional
+        Step, s (default: the spec's analysis step).
+    duration : float, optional
+        Length, s, rounded to whole steps (default: the operating time).
+    """
     from ins_errors.numeric import trajectories
 
     m = spec.motion
@@ -200,8 +211,8 @@ def spec_trajectory(model, spec: Spec, tau: float | None = None):
         profile = trajectories.great_circle_profile(m.latitude, m.longitude, m.heading,
                                                     m.speed, m.height)
     step = spec.step if tau is None else tau
-    duration = step * round(spec.operating_time / step)
-    return trajectories.trajectory(model, profile, duration, step)
+    length = spec.operating_time if duration is None else duration
+    return trajectories.trajectory(model, profile, step * max(1, round(length / step)), step)
 
 
 def _radii(model, system: LinearSystem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -611,7 +622,8 @@ def plot(allocation: Allocation, path: str, top: int = 8) -> None:
         if rest.size:
             ax.bar(x, shares[idx][:, rest].sum(1), bottom=bottom, color="0.75", label="others")
         ax.axhline(1.0, color="k", lw=1, ls="--")
-        ax.set_xticks(x, labels, fontsize=7 if len(idx) > 12 else 9)
+        every = max(1, len(idx) // 9)
+        ax.set_xticks(x[::every], labels[::every], fontsize=8)
         ax.set_xlabel("check time, h")
         ax.set_title(f"{item.name}\n≤ {item.text} ({budget.spec.sigma_level:g}σ)", fontsize=10)
         ax.set_ylim(0, 1.1)
@@ -622,3 +634,50 @@ def plot(allocation: Allocation, path: str, top: int = 8) -> None:
     fig.tight_layout(rect=(0, 0.12, 1, 0.95))
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+# --------------------------------------------------------------------------------------
+# Spec rows from direct runs
+# --------------------------------------------------------------------------------------
+def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarray]:
+    """Sample values (k · RMS) of the spec rows from direct runs.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    budget : UnitBudget
+        Gives the rows and the radii along the motion.
+    errors : ins_errors.numeric.monte_carlo.DirectErrors
+        Direct errors recorded on a grid that contains the check times.
+
+    Returns
+    -------
+    rows : list of Row
+        The rows whose time lies within the runs.
+    values : numpy.ndarray, shape (len(rows),)
+        k · sample RMS (rss rows: k · sqrt of the mean sum of squares), SI.
+    """
+    spec, system = budget.spec, budget.system
+    _, R_N, R_E_cos = _radii(model, system)
+    rows, values = [], []
+    for row in budget.rows:
+        if row.time > errors.times[-1] * (1 + 1e-12):
+            continue
+        k = int(np.argmin(np.abs(errors.times - row.time)))
+        if abs(errors.times[k] - row.time) > 1e-6:
+            raise BudgetError(f"direct runs were not recorded at {row.label}")
+        ks = round(row.time / system.step)
+        if row.item == "position_error":
+            parts = {"north": R_N[ks] * errors["delta_latitude"][k] / row.time,
+                     "east": R_E_cos[ks] * errors["delta_longitude"][k] / row.time}
+        elif row.item == "ground_speed_error":
+            parts = {"north": errors["delta_v_N"][k], "east": errors["delta_v_E"][k]}
+        elif row.item == "vertical_error":
+            parts = {"about x": errors["alpha_x"][k], "about y": errors["alpha_y"][k]}
+        else:
+            parts = {"azimuth": (errors["alpha_z"][k] - errors["alpha_z"][0]) / row.time}
+        chosen = [parts[row.component]] if row.component else list(parts.values())
+        mean_square = np.mean(sum(c**2 for c in chosen))
+        rows.append(row)
+        values.append(spec.sigma_level * np.sqrt(mean_square))
+    return rows, np.array(values)
