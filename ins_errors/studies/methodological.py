@@ -1,0 +1,352 @@
+"""Methodological errors: the on-board computer uses a simplified formula (000, tasks 3, 5, 6).
+
+Each study swaps the orthodromic INS's computer for a simplified one and nothing else
+(:func:`ins_errors.models.orthodromic.build` with a ``simplify`` flag):
+
+``nonsphericity`` (task 3)
+    the Earth taken as a sphere on board: e² = 0 in the radii of curvature 1/R_ξ,
+    1/R_η, 1/R_o and in R_E;
+``coriolis`` (task 5)
+    the transport and Coriolis corrections W_ξ, W_η dropped from the velocity integrators;
+``gravity_projections`` (task 6)
+    the horizontal projections g'_ξ, g'_η of the gravitation dropped.
+
+The *equivalent error source* is derived mechanically as the difference of the two
+right-hand sides along the true motion,
+``d(t) = f̃_simplified(x(t), 0; u(t)) − (f(x(t); u(t)), 0)``: its velocity rows are
+equivalent accelerometer errors, its direction-cosine rows equivalent rate offsets of the
+second integrators, and its platform rows equivalent gyro drifts. The linear estimate
+integrates ``ė = F̃ e + d(t)``, F̃ being the Jacobian of the simplified real work at the
+ideal point (equal to the exact model's F when the simplification does not change the
+error dynamics; dropping the Coriolis terms does, e.g. it removes the Foucault
+coupling); the direct run
+integrates the real work with the simplified computer next to the ideal work and
+subtracts. Both run in one RK4 loop along the same true motion (static base or a
+great-circle flight), so their difference is the linearisation error alone.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.numeric.model import Model, load_model
+from ins_errors.numeric.simulate import ErrorCurves
+from ins_errors.numeric.trajectories import (
+    Trajectory,
+    great_circle_profile,
+    static_profile,
+    trajectory,
+)
+
+
+@dataclass(frozen=True)
+class Study:
+    """One simplified on-board formula.
+
+    Attributes
+    ----------
+    name : str
+        Study name (public).
+    flag : str
+        ``simplify`` flag of the orthodromic computer.
+    task : int
+        Number of the lab task in source 000.
+    description : str
+        One line.
+    """
+
+    name: str
+    flag: str
+    task: int
+    description: str
+
+
+STUDIES: dict[str, Study] = {
+    s.name: s for s in (
+        Study("nonsphericity", "sphere", 3,
+              "Earth taken as a sphere on board (e² = 0 in the radii of curvature)"),
+        Study("coriolis", "no_coriolis", 5,
+              "transport and Coriolis corrections W_ξ, W_η dropped"),
+        Study("gravity_projections", "no_gravity", 6,
+              "horizontal gravitation projections g'_ξ, g'_η dropped"),
+    )
+}
+"""The methodological studies, by name."""
+
+SCENARIOS = ("static", "flight")
+"""Motions a study runs along."""
+
+FORCING_ROWS = ("delta_u11", "delta_u21", "delta_u31", "delta_u12", "delta_u22", "delta_u32",
+                "delta_V_xi", "delta_V_eta", "alpha_x", "alpha_y", "alpha_z")
+
+
+class StudyError(InsErrorsError):
+    """A study that cannot be run as asked (bad scenario, duration or step)."""
+
+
+def study(name: str) -> Study:
+    """Look a study up by name (unknown names get close suggestions)."""
+    if name not in STUDIES:
+        raise unknown_name("methodological study", name, STUDIES)
+    return STUDIES[name]
+
+
+# --------------------------------------------------------------------------------------
+# Symbolic part: the simplified real work and the equivalent forcing, as numpy callables
+# --------------------------------------------------------------------------------------
+def _vector_function(args, expressions):
+    """numpy callable returning the stacked, broadcast expressions (shape (rows, ...))."""
+    import sympy as sp
+
+    f = sp.lambdify(args, list(expressions), modules="numpy", cse=True)
+
+    def call(*values):
+        rows = f(*values)
+        return np.stack(np.broadcast_arrays(*[np.asarray(r, dtype=float) for r in rows]))
+
+    return call
+
+
+@cache
+def _variant(flag: str):
+    """Numpy callables of the computer simplified by ``flag``.
+
+    Returns
+    -------
+    direct_rhs : callable
+        ``(xr, x, u, p) -> dxr/dt`` of the simplified real work, no instrument errors.
+    forcing : callable
+        ``(x, u, p) -> d``: simplified minus exact right-hand side at the ideal point.
+    state_matrix : callable
+        ``(x, u, p) -> F~``: the simplified real work's Jacobian at the ideal point.
+    """
+    import sympy as sp
+
+    from ins_errors.models.orthodromic import build
+
+    exact = build()
+    simple = build(frozenset({flag}))
+    no_errors = simple.no_errors()
+    real = simple.real_rhs_expanded().xreplace(no_errors)
+    at_ideal = real.xreplace(simple.at_ideal())
+    ideal = exact.ideal_rhs_expanded()
+    forcing = at_ideal - sp.Matrix([*ideal, 0, 0, 0])
+    jacobian = real.jacobian(simple.real_states).xreplace(simple.at_ideal())
+    direct = _vector_function([simple.real_states, simple.x, simple.u, simple.p], real)
+    equivalent = _vector_function([simple.x, simple.u, simple.p], forcing)
+    ne = len(simple.real_states)
+    flat = _vector_function([simple.x, simple.u, simple.p], list(jacobian))
+
+    def state_matrix(x, u, p):
+        values = flat(x, u, p)
+        return values.reshape(ne, ne, *values.shape[1:])
+
+    return direct, equivalent, state_matrix
+
+
+# --------------------------------------------------------------------------------------
+# Runs
+# --------------------------------------------------------------------------------------
+@dataclass
+class StudyResult:
+    """Direct and linear errors of one methodological study along one motion.
+
+    Attributes
+    ----------
+    study : Study
+    scenario : str
+        ``"static"`` or ``"flight"``.
+    motion : str
+        One-line description of the true motion.
+    direct, linear : ErrorCurves
+        Platform angles and output errors (one case: ``values[..., 0]``).
+    forcing_names : tuple of str
+        Rows of the equivalent source ``d(t)``.
+    forcing : numpy.ndarray, shape (11, R + 1)
+        Equivalent source along the motion (SI: 1/s for direction cosines, m/s² for
+        velocities, rad/s for the platform).
+    """
+
+    study: Study
+    scenario: str
+    motion: str
+    direct: ErrorCurves
+    linear: ErrorCurves
+    forcing_names: tuple[str, ...]
+    forcing: np.ndarray
+
+    @property
+    def times(self) -> np.ndarray:
+        """Recorded times, s."""
+        return self.direct.times
+
+    def agreement(self, name: str) -> float:
+        """max |direct − linear| / max |direct| of one error quantity."""
+        d, lin = self.direct[name][:, 0], self.linear[name][:, 0]
+        scale = np.abs(d).max()
+        return float(np.abs(d - lin).max() / scale) if scale > 0 else float(np.abs(lin).max())
+
+    def summary(self, radius: float = 6_371_000.0) -> list[str]:
+        """Report lines: equivalent sources and the largest errors, engineering units."""
+        deg_h, ug = np.pi / 180 / 3600, 9.80665e-6
+        hours = self.times[-1] / 3600
+        lines = [f"{self.study.name} ({self.study.description}); {self.motion}; "
+                 f"{hours:g} h, direct vs linear"]
+        f = np.abs(self.forcing).max(axis=1)
+        acc = max(f[6], f[7]) / ug
+        drift = max(f[8], f[9], f[10]) / deg_h
+        rate = max(f[:6].max(), 0.0) / deg_h
+        lines.append(f"  equivalent sources (max along the motion): accelerometer {acc:.4g} µg, "
+                     f"gyro drift {drift:.4g} °/h, direction-cosine rate {rate:.4g} °/h")
+        units = {"alpha_x": ("arcsec", 180 / np.pi * 3600),
+                 "alpha_y": ("arcsec", 180 / np.pi * 3600),
+                 "alpha_z": ("arcmin", 180 / np.pi * 60),
+                 "delta_latitude": ("km", radius / 1000),
+                 "delta_longitude": ("km at cos φ = 1", radius / 1000),
+                 "delta_heading": ("arcmin", 180 / np.pi * 60),
+                 "delta_v_N": ("m/s", 1.0), "delta_v_E": ("m/s", 1.0)}
+        for name, (unit, scale) in units.items():
+            if name not in self.direct.names:
+                continue
+            d = np.abs(self.direct[name][:, 0]).max() * scale
+            lin = np.abs(self.linear[name][:, 0]).max() * scale
+            lines.append(f"  {name:<16} direct {d:11.4g}  linear {lin:11.4g} {unit:<16}"
+                         f" mismatch {100 * self.agreement(name):.3g} %")
+        return lines
+
+
+def motion(scenario: str, latitude: float, duration: float, tau: float,
+           speed: float = 250.0, track: float = np.radians(60.0),
+           model: Model | None = None) -> Trajectory:
+    """True motion of a study: a static base or a great-circle flight (orthodromic model)."""
+    model = model or load_model("orthodromic")
+    if scenario == "static":
+        profile = static_profile(latitude, 0.0, 0.0)
+    elif scenario == "flight":
+        profile = great_circle_profile(latitude, 0.0, track, speed)
+    else:
+        raise unknown_name("scenario", scenario, SCENARIOS)
+    return trajectory(model, profile, duration, tau)
+
+
+def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
+        duration: float = 24 * 3600.0, tau: float = 20.0, record_interval: float = 600.0,
+        speed: float = 250.0, track: float = np.radians(60.0)) -> StudyResult:
+    """Run one methodological study: direct and linear, RK4 with step ``tau``.
+
+    Parameters
+    ----------
+    name : str
+        Study name (see :data:`STUDIES`).
+    scenario : {"static", "flight"}
+        Static base at ``latitude`` or a great-circle flight from it at ``speed`` (m/s) on
+        initial track ``track`` (rad).
+    latitude : float
+        Start latitude, rad.
+    duration, tau, record_interval : float
+        Run length, integration step and recording interval, s.
+    """
+    st = study(name)
+    if not (np.isfinite(tau) and tau > 0 and np.isfinite(duration) and duration > 0):
+        raise StudyError(f"duration and step must be positive, got {duration} s and {tau} s")
+    stride = round(record_interval / tau)
+    if stride < 1 or abs(stride * tau - record_interval) > 1e-9 * record_interval:
+        raise StudyError(f"record interval {record_interval} s must be a multiple of the step "
+                         f"{tau} s")
+    model = load_model("orthodromic")
+    traj = motion(scenario, latitude, duration, tau, speed, track, model)
+    direct_rhs, forcing_fn, simplified_F = _variant(st.flag)
+    np_ = model.numpy
+    p = traj.parameters
+    u_steps, u_mid = traj.full_inputs()
+    n, ne = len(model.states), len(model.error_states)
+
+    def rhs(z, u):
+        x, xr, e = z[:n], z[n:n + ne], z[n + ne:]
+        F = simplified_F(x, u, p)
+        return np.concatenate([np_.ideal_rhs(x, u, p), direct_rhs(xr, x, u, p),
+                               F @ e + forcing_fn(x, u, p)])
+
+    x0 = traj.truth[:, 0]
+    z = np.concatenate([x0, x0, np.zeros(ne - n), np.zeros(ne)])
+    records = traj.n_steps // stride + 1
+    history = np.empty((z.size, records))
+    history[:, 0] = z
+    for k in range(traj.n_steps):
+        u0, um, u1 = u_steps[:, k], u_mid[:, k], u_steps[:, k + 1]
+        k1 = rhs(z, u0)
+        k2 = rhs(z + 0.5 * tau * k1, um)
+        k3 = rhs(z + 0.5 * tau * k2, um)
+        k4 = rhs(z + tau * k3, u1)
+        z = z + tau / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        if (k + 1) % stride == 0:
+            history[:, (k + 1) // stride] = z
+    if not np.all(np.isfinite(history)):
+        raise StudyError(f"study {name!r} ({scenario}) diverged: NaN or infinite errors")
+    steps = np.arange(records) * stride
+    x, xr, e = history[:n], history[n:n + ne], history[n + ne:]
+    u = u_steps[:, steps]
+    times = steps * tau
+    direct = _curves(model, times, xr[n:], np_.outputs(xr[:n], u, p) - np_.outputs(x, u, p))
+    H = np_.output_matrix(x, u, p)
+    linear = _curves(model, times, e[n:], np.einsum("ijt,jt->it", H, e))
+    forcing = forcing_fn(x, u, p)
+    return StudyResult(st, scenario, traj.description, direct, linear, FORCING_ROWS,
+                       np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy())
+
+
+def _curves(model: Model, times: np.ndarray, platform: np.ndarray,
+            outputs: np.ndarray) -> ErrorCurves:
+    n = len(model.states)
+    names = [s.name for s in model.error_states[n:]] + [f"delta_{o.name}" for o in model.outputs]
+    units = [s.unit for s in model.error_states[n:]] + [o.unit for o in model.outputs]
+    angles = [k for k, o in enumerate(model.outputs) if o.unit == "rad"]
+    outputs = outputs.copy()
+    outputs[angles] = (outputs[angles] + np.pi) % (2 * np.pi) - np.pi
+    values = np.concatenate([platform, outputs])[:, :, None]
+    return ErrorCurves(names, units, times, values)
+
+
+# --------------------------------------------------------------------------------------
+# Plots
+# --------------------------------------------------------------------------------------
+def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> Path:
+    """Save the direct (solid) and linear (dashed) error curves of a study as a PNG."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    hours = result.times / 3600
+    panels = [
+        ("position error, km", [("delta_latitude", "Δφ·R", radius / 1000),
+                                ("delta_longitude", "Δλ·R", radius / 1000)]),
+        ("velocity error, m/s", [("delta_v_N", "Δv_N", 1.0), ("delta_v_E", "Δv_E", 1.0)]),
+        ("platform tilt, arcsec", [("alpha_x", "α_x", 180 / np.pi * 3600),
+                                   ("alpha_y", "α_y", 180 / np.pi * 3600)]),
+        ("azimuth / heading error, arcmin", [("alpha_z", "α_z", 180 / np.pi * 60),
+                                             ("delta_heading", "Δχ", 180 / np.pi * 60)]),
+    ]
+    fig, axes = plt.subplots(len(panels), 1, figsize=(9, 10), sharex=True)
+    for ax, (title, curves) in zip(axes, panels, strict=True):
+        for k, (name, label, scale) in enumerate(curves):
+            color = f"C{k}"
+            ax.plot(hours, result.direct[name][:, 0] * scale, color=color, label=f"{label} direct")
+            ax.plot(hours, result.linear[name][:, 0] * scale, color=color, ls="--",
+                    label=f"{label} linear")
+        ax.set_ylabel(title)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, ncol=2)
+    axes[-1].set_xlabel("time, h")
+    fig.suptitle(f"{result.study.name}: {result.study.description}\n{result.motion}", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path

@@ -1,0 +1,116 @@
+"""Methodological studies (000, tasks 3, 5, 6): simplified on-board formulas.
+
+Checks: the mechanically derived equivalent sources equal hand formulas at rest; the
+dropped gravity projection acts as an accelerometer bias b with the textbook response
+(peak tilt 2b/g, peak position error 2bR/g in the first Schuler cycles); the linear
+estimate of every study matches its direct run; bad input gets one-line errors.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ins_errors.errors import InsErrorsError, UnknownNameError
+from ins_errors.studies import methodological as meth
+
+LATITUDE = np.radians(50.0)
+U = 7.292115e-5
+
+
+@pytest.fixture(scope="module")
+def rest():
+    """Static-base state, inputs and parameters of the orthodromic model at 50°."""
+    traj = meth.motion("static", LATITUDE, 60.0, 20.0)
+    return traj.truth[:, 0], traj.inputs[:, 0], traj.parameters
+
+
+def _prime_vertical_radius(p):
+    a, e2 = p[0], p[1]
+    return a / np.sqrt(1 - e2 * np.sin(LATITUDE) ** 2)
+
+
+def test_sphere_on_board_equals_hand_formula(rest):
+    """e² = 0 in 1/R_η and R_E: drift U R_E cos φ e² sin²φ /(2a), g' change U² ΔR_E sinφ cosφ."""
+    x, u, p = rest
+    a, e2 = p[0], p[1]
+    d = meth._variant("sphere")[1](x, u, p)
+    R_E = _prime_vertical_radius(p)
+    s, c = np.sin(LATITUDE), np.cos(LATITUDE)
+    drift = U * R_E * c * e2 * s**2 / (2 * a)
+    accel = U**2 * (a - R_E) * s * c
+    names = list(meth.FORCING_ROWS)
+    assert abs(d[names.index("alpha_x")]) == pytest.approx(drift, rel=1e-6)
+    assert d[names.index("alpha_y")] == pytest.approx(0.0, abs=1e-3 * drift)
+    assert abs(d[names.index("delta_V_xi")]) == pytest.approx(abs(accel), rel=1e-6)
+    # a few °/100 h and a few µg: small
+    assert 0.01 < drift / (np.pi / 180 / 3600) < 0.03
+    assert 2e-6 * 9.8 < abs(accel) < 5e-6 * 9.8
+
+
+@pytest.mark.parametrize("flag", ["no_coriolis", "no_gravity"])
+def test_dropped_terms_at_rest_equal_u2_r_sin_cos(rest, flag):
+    """At rest (ξ north) W_ξ = U sin φ · U R_η cos φ and g'_ξ = U² R_E sin φ cos φ.
+
+    R_η is the manual's truncated series 1/R_η = (1 − e² sin²φ / 2)/a, which sets the
+    absolute velocity V_η = −U R_η cos φ of the resting vehicle.
+    """
+    x, u, p = rest
+    d = meth._variant(flag)[1](x, u, p)
+    a, e2 = p[0], p[1]
+    radius = (a / (1 - e2 * np.sin(LATITUDE) ** 2 / 2) if flag == "no_coriolis"
+              else _prime_vertical_radius(p))
+    expected = U**2 * radius * np.sin(LATITUDE) * np.cos(LATITUDE)
+    names = list(meth.FORCING_ROWS)
+    assert abs(d[names.index("delta_V_xi")]) == pytest.approx(expected, rel=1e-9)
+    assert abs(d[names.index("delta_V_eta")]) < 1e-9 * expected
+    assert np.all(d[names.index("alpha_x"):] == 0)
+
+
+def test_dropped_gravity_projection_acts_as_a_bias(rest):
+    """Peak tilt 2b/g and peak latitude error 2bR/g over two Schuler periods."""
+    _x, u, p = rest
+    b = U**2 * _prime_vertical_radius(p) * np.sin(LATITUDE) * np.cos(LATITUDE)
+    g = u[2]
+    result = meth.run("gravity_projections", "static", LATITUDE, duration=2.9 * 3600, tau=20.0,
+                   record_interval=60.0)
+    tilt = np.abs(result.direct["alpha_y"][:, 0]).max()
+    assert tilt == pytest.approx(2 * b / g, rel=0.03)
+    position = np.abs(result.direct["delta_latitude"][:, 0]).max() * 6.371e6
+    assert position == pytest.approx(2 * b * 6.371e6 / g, rel=0.03)
+
+
+@pytest.mark.parametrize("scenario", meth.SCENARIOS)
+@pytest.mark.parametrize("name", list(meth.STUDIES))
+def test_linear_estimate_matches_direct_run(name, scenario):
+    result = meth.run(name, scenario, LATITUDE, duration=4 * 3600, tau=30.0, record_interval=600.0)
+    for quantity in ("alpha_x", "alpha_y", "delta_latitude", "delta_longitude", "delta_v_N",
+                     "delta_v_E"):
+        assert np.abs(result.direct[quantity]).max() > 0
+        assert result.agreement(quantity) < 0.02, (quantity, result.agreement(quantity))
+    lines = result.summary()
+    assert lines[0].startswith(name) and any("delta_latitude" in line for line in lines)
+
+
+def test_plot_is_written(tmp_path):
+    result = meth.run("nonsphericity", "static", LATITUDE, duration=3600, tau=60.0,
+                   record_interval=600.0)
+    path = meth.plot(result, tmp_path / "study.png")
+    assert path.exists() and path.stat().st_size > 5000
+
+
+def test_unknown_study_suggests_close_names():
+    with pytest.raises(UnknownNameError, match="nonsphericity"):
+        meth.run("nonspherity")
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"scenario": "hover"}, "scenario"),
+    ({"tau": -1.0}, "positive"),
+    ({"tau": 7.0, "record_interval": 600.0}, "multiple"),
+    ({"latitude": np.pi / 2}, "pole"),
+])
+def test_bad_arguments_get_one_line_errors(kwargs, match):
+    with pytest.raises(InsErrorsError, match=match) as info:
+        meth.run("coriolis", **{"duration": 600.0, **kwargs})
+    assert "\n" not in str(info.value)
