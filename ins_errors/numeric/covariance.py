@@ -351,6 +351,8 @@ def power_sequence(Phi: np.ndarray, Z0: np.ndarray, C: np.ndarray, steps: int,
     total = steps + 1
     block = max(1, int(np.ceil(np.sqrt(total))))
     N, m, q = Phi.shape[0], Z0.shape[1], C.shape[0]
+    if m == 0:
+        return np.zeros((total, q) if reduce == "square-sum" else (total, q, 0))
     powers = np.empty((block, N, N))
     powers[0] = np.eye(N)
     for i in range(1, block):
@@ -455,8 +457,8 @@ class Covariance:
 
     @property
     def std(self) -> np.ndarray:
-        """Total 1σ, shape (nt, q)."""
-        return np.sqrt(self.variance)
+        """Total 1σ, shape (nt, q) (round-off below zero read as zero)."""
+        return np.sqrt(np.maximum(self.variance, 0.0))
 
     def index(self, name: str) -> int:
         """Column of the functional ``name``."""

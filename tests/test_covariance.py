@@ -1,0 +1,211 @@
+"""Covariance propagation against textbook results and Monte Carlo runs."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from ins_errors.errors import InsErrorsError
+from ins_errors.numeric import covariance as cv
+from ins_errors.numeric import monte_carlo as mc
+from ins_errors.numeric import trajectories as tr
+
+PHI = np.radians(50.0)
+DEG_H = np.radians(1.0) / 3600.0
+
+
+@pytest.fixture(scope="module")
+def static_3h(orthodromic):
+    return cv.static_system(orthodromic, PHI, duration=3 * 3600.0, step=10.0, gravity=9.81)
+
+
+def _tilt(orthodromic, system, source, sigma):
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    c = cv.propagate(system, [cv.SourceStatistics(source, "constant", sigma)], fn)
+    var = c.variance
+    return c.times, np.sqrt(var[:, c.index("alpha_x")] + var[:, c.index("alpha_y")])
+
+
+def schuler_period(latitude: float = PHI, g: float = 9.81) -> float:
+    """2π sqrt(R/g) with R the mean radius of curvature of the Krasovsky ellipsoid, s."""
+    a, f = 6378245.0, 1 / 298.3
+    e2 = 2 * f - f * f
+    s2 = np.sin(latitude) ** 2
+    R = np.sqrt(a * (1 - e2) / (1 - e2 * s2) ** 1.5 * a / np.sqrt(1 - e2 * s2))
+    return 2 * np.pi * np.sqrt(R / g)
+
+
+# ------------------------------------------------------------------------------------
+# Van Loan discretisation: closed forms
+# ------------------------------------------------------------------------------------
+def test_van_loan_random_walk_and_double_integrator():
+    q, dt = 2.5, 7.0
+    # x' = n: var = q t
+    Phi, Qd = cv.van_loan(np.zeros((1, 1)), np.array([[q]]), dt)
+    assert Phi[0, 0] == pytest.approx(1.0)
+    assert Qd[0, 0] == pytest.approx(q * dt, rel=1e-12)
+    # x'' = n: var x = q t³/3, cov = q t²/2, var v = q t
+    A = np.array([[0.0, 1.0], [0.0, 0.0]])
+    _, Qd = cv.van_loan(A, np.array([[0.0, 0.0], [0.0, q]]), dt)
+    assert Qd == pytest.approx(np.array([[q * dt**3 / 3, q * dt**2 / 2],
+                                         [q * dt**2 / 2, q * dt]]), rel=1e-12)
+
+
+def test_markov_variance_is_stationary():
+    sigma, tau = 3.0, 50.0
+    _, Qd = cv.van_loan(np.array([[-1 / tau]]), np.array([[2 * sigma**2 / tau]]), 20.0)
+    decay = np.exp(-20.0 / tau)
+    assert decay**2 * sigma**2 + Qd[0, 0] == pytest.approx(sigma**2, rel=1e-12)
+
+
+# ------------------------------------------------------------------------------------
+# Static base: textbook INS results
+# ------------------------------------------------------------------------------------
+def test_initial_tilt_vanishes_at_quarter_schuler_period(orthodromic, static_3h):
+    times, tilt = _tilt(orthodromic, static_3h, "initial_tilt_x", 1e-4)
+    first = times < 0.5 * schuler_period()
+    k = np.argmin(tilt[first])
+    assert times[k] == pytest.approx(schuler_period() / 4, abs=30.0)
+    assert tilt[k] < 0.01 * 1e-4
+    assert tilt[0] == pytest.approx(1e-4, rel=1e-12)
+
+
+def test_bias_induced_tilt_is_twice_bias_over_g(orthodromic, static_3h):
+    bias = 1e-4
+    times, tilt = _tilt(orthodromic, static_3h, "accel_bias_x", bias)
+    first = times < 0.75 * schuler_period()
+    k = np.argmax(tilt[first])
+    assert times[k] == pytest.approx(schuler_period() / 2, abs=30.0)
+    # mean tilt bias/g, Schuler swing of the same size: peak 2 bias/g (Foucault: < 1 %)
+    assert tilt[k] == pytest.approx(2 * bias / 9.81, rel=0.01)
+
+
+def test_azimuth_gyro_drift_drives_azimuth(orthodromic, static_3h):
+    fn = cv.state_and_output_functionals(orthodromic, static_3h)
+    drift = 0.01 * DEG_H
+    c = cv.propagate(static_3h, [cv.SourceStatistics("gyro_drift_z", "constant", drift)], fn)
+    k = np.searchsorted(c.times, 3600.0)
+    assert c.std[k, c.index("alpha_z")] == pytest.approx(drift * 3600.0, rel=0.01)
+
+
+def test_white_noise_on_azimuth_gyro_is_an_angle_random_walk(orthodromic, static_3h):
+    fn = cv.state_and_output_functionals(orthodromic, static_3h)
+    arw = np.radians(0.01) / 60.0              # 0.01 deg/sqrt(h) in rad/sqrt(s)
+    c = cv.propagate(static_3h, [cv.SourceStatistics("gyro_drift_z", "white", arw)], fn)
+    k = np.searchsorted(c.times, 600.0)        # short time: azimuth nearly uncoupled
+    assert c.std[k, c.index("alpha_z")] == pytest.approx(arw * np.sqrt(600.0), rel=0.01)
+
+
+# ------------------------------------------------------------------------------------
+# Fast paths against the general per-step path
+# ------------------------------------------------------------------------------------
+SOURCES = [
+    cv.SourceStatistics("gyro_drift_x", "constant", 0.01 * DEG_H),
+    cv.SourceStatistics("accel_bias_y", "constant", 1e-4),
+    cv.SourceStatistics("initial_azimuth_error", "constant", np.radians(2 / 60)),
+    cv.SourceStatistics("initial_latitude_error", "constant", np.radians(0.5 / 60)),
+    cv.SourceStatistics("gyro_drift_z", "white", np.radians(0.01) / 60),
+    cv.SourceStatistics("accel_bias_x", "markov", 5e-5, 900.0),
+]
+
+
+def test_blocked_powers_match_per_step_discretisation(orthodromic):
+    s1 = cv.static_system(orthodromic, PHI, duration=7200.0, step=20.0)
+    K = len(s1.times)
+    s2 = dataclasses.replace(s1, F=np.repeat(s1.F[None], K, 0), G=np.repeat(s1.G[None], K, 0),
+                             H=np.repeat(s1.H[None], K, 0))
+    a = cv.propagate(s1, SOURCES, cv.state_and_output_functionals(orthodromic, s1))
+    b = cv.propagate(s2, SOURCES, cv.state_and_output_functionals(orthodromic, s2))
+    scale = b.std.max(0)
+    meaningful = scale > 1e-15          # some direction cosines carry only round-off
+    assert np.max(np.abs(a.std - b.std)[:, meaningful] / scale[meaningful]) < 1e-9
+    # totals (reduced-state fast path) equal the sum of the per-source contributions
+    total = cv.propagate(s1, SOURCES, cv.state_and_output_functionals(orthodromic, s1),
+                         by_source=False)
+    assert np.allclose(total.unit_variances[..., 0], a.variance, rtol=1e-9,
+                       atol=1e-12 * a.variance.max())
+    # reporting every 6th step = discretising at 6 steps
+    c = cv.propagate(s1, SOURCES, cv.state_and_output_functionals(orthodromic, s1),
+                     output_every=6)
+    assert np.allclose(c.times, a.times[::6])
+    assert np.allclose(c.variance, a.variance[::6], rtol=1e-9, atol=1e-12 * a.variance.max())
+
+
+# ------------------------------------------------------------------------------------
+# Monte Carlo: linear model (RK4, no matrix exponential) and direct model
+# ------------------------------------------------------------------------------------
+def _compare(predicted_std, sample_rms, runs, floor):
+    """|RMS/σ − 1| within 4 sampling standard errors wherever σ is not negligible."""
+    mask = predicted_std > floor
+    ratio = sample_rms[mask] / predicted_std[mask]
+    tolerance = 4 * mc.sampling_error(runs)
+    assert np.max(np.abs(ratio - 1)) < tolerance, (np.max(np.abs(ratio - 1)), tolerance)
+
+
+def test_covariance_equals_rms_of_linear_monte_carlo(orthodromic):
+    system = cv.static_system(orthodromic, PHI, duration=5400.0, step=60.0)
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    cov = cv.propagate(system, SOURCES, fn)
+    runs = 3000
+    sample = mc.linear_monte_carlo(system, SOURCES, fn, runs, seed=11, substeps=6)
+    _compare(cov.std[1:], sample.rms[1:], runs, 1e-15)   # some cosines: round-off only
+
+
+def test_covariance_equals_rms_of_direct_runs_at_small_magnitudes(orthodromic):
+    constants = [s for s in SOURCES if s.kind == "constant"]
+    motion = tr.trajectory(orthodromic, tr.static_profile(PHI), 3600.0, 1.0)
+    system = cv.system_from_trajectory(orthodromic, motion, 60.0)
+    cov = cv.propagate(system, constants, cv.state_and_output_functionals(orthodromic, system))
+    runs = 400
+    direct = mc.direct_monte_carlo(orthodromic, motion, constants, runs, seed=5,
+                                   method="rk4", record_interval=60.0, workers=1,
+                                   progress=False)
+    for name in ("alpha_x", "alpha_y", "alpha_z", "delta_latitude", "delta_longitude",
+                 "delta_v_N", "delta_v_E"):
+        rms = np.sqrt(np.mean(direct[name] ** 2, axis=-1))
+        _compare(cov.std[1:, cov.index(name)], rms[1:], runs, 0.0)
+
+
+def test_moving_trajectory_covariance_matches_direct_runs(orthodromic):
+    motion = tr.trajectory(orthodromic, tr.great_circle_profile(PHI, 0.5, np.radians(60),
+                                                                250.0), 1800.0, 1.0)
+    system = cv.system_from_trajectory(orthodromic, motion, 30.0)
+    assert not system.time_invariant
+    constants = [s for s in SOURCES if s.kind == "constant"]
+    cov = cv.propagate(system, constants, cv.state_and_output_functionals(orthodromic, system))
+    runs = 300
+    direct = mc.direct_monte_carlo(orthodromic, motion, constants, runs, seed=8,
+                                   method="rk4", record_interval=30.0, workers=1,
+                                   progress=False)
+    for name in ("alpha_x", "alpha_y", "delta_latitude", "delta_longitude", "delta_v_N"):
+        rms = np.sqrt(np.mean(direct[name] ** 2, axis=-1))
+        _compare(cov.std[1:, cov.index(name)], rms[1:], runs, 0.0)
+
+
+# ------------------------------------------------------------------------------------
+# Bad input
+# ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("kwargs, words", [
+    ({"name": "gyro_drift_x", "kind": "pink"}, "kind must be one of"),
+    ({"name": "gyro_drift_x", "sigma": -1.0}, "sigma"),
+    ({"name": "gyro_drift_x", "sigma": float("nan")}, "sigma"),
+    ({"name": "gyro_drift_x", "kind": "markov"}, "correlation time"),
+])
+def test_bad_statistics(kwargs, words):
+    with pytest.raises(InsErrorsError, match=words) as info:
+        cv.SourceStatistics(**kwargs)
+    assert "\n" not in str(info.value)
+
+
+def test_bad_sources_in_propagation(orthodromic, static_3h):
+    fn = cv.state_and_output_functionals(orthodromic, static_3h)
+    with pytest.raises(InsErrorsError, match="did you mean 'gyro_drift_x'"):
+        cv.propagate(static_3h, [cv.SourceStatistics("gyro_drift_xx")], fn)
+    with pytest.raises(InsErrorsError, match="initial error"):
+        cv.propagate(static_3h, [cv.SourceStatistics("initial_tilt_x", "white", 1.0)], fn)
+    with pytest.raises(InsErrorsError, match="no error sources"):
+        cv.propagate(static_3h, [], fn)
+    with pytest.raises(InsErrorsError, match="duration"):
+        cv.uniform_grid(-1.0, 1.0)
