@@ -337,7 +337,8 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             if not isinstance(raw, list) or not raw:
                 raise SpecError(f"items.{name}.times must be a non-empty list such as "
                                 f"['1 h', '2 h']")
-            times = tuple(_positive(t, "s", f"items.{name}.times", "1 h") for t in raw)
+            times = tuple(_positive(t, "s", f"items.{name}.times", "1 h", allow_zero=True)
+                          for t in raw)
         else:
             times = _default_times(kind_info.default_times, operating_time, step)
         for t in times:

@@ -390,9 +390,11 @@ def allocate(budget: UnitBudget) -> Allocation:
     bad = np.flatnonzero(remaining <= 0)
     if bad.size:
         row = budget.rows[bad[0]]
+        value = np.sqrt(used[bad[0]]) * budget.spec.sigma_level
+        si, shown = _ITEM_SI[row.item], ITEM_DISPLAY[row.item]
         raise BudgetError(f"the fixed sources alone use up {row.label} "
-                          f"({np.sqrt(used[bad[0]]) * budget.spec.sigma_level:.4g} SI "
-                          f"against {row.limit:.4g})")
+                          f"({display(value, si, shown)} against the limit "
+                          f"{display(row.limit, si, shown)})")
     binding = np.full(len(budget.sources), -1)
     fill_factor = 1.0
     excluded = np.zeros(len(budget.sources), dtype=bool)

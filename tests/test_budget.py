@@ -1,0 +1,295 @@
+"""Error budget: spec files, allocation met exactly when recomputed, textbook bindings."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ins_errors.cli import main
+from ins_errors.errors import InsErrorsError
+from ins_errors.numeric import budget as bd
+from ins_errors.specs import HOUR, default_spec_path, load_spec, parse_spec
+
+DEG = np.pi / 180
+DEG_H = DEG / 3600
+
+
+def write(tmp_path: Path, text: str, name: str = "spec.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+SHORT = """
+    title = "short"
+    sigma_level = 2
+    operating_time = "2 h"
+    step = "60 s"
+    [motion]
+    latitude = "45 deg"
+    [items.position_error]
+    value = "3.7 km/h"
+    [items.ground_speed_error]
+    value = "4 m/s"
+    [items.vertical_error]
+    value = "0.1 deg"
+    times = ["0 h", "30 min", "1 h", "2 h"]
+    [items.heading_drift]
+    value = "0.1 deg/h"
+"""
+
+
+@pytest.fixture(scope="module")
+def spec_802m():
+    return load_spec(default_spec_path())
+
+
+def recomputed(orthodromic, allocation):
+    sigma = {s.name: float(v) for s, v in zip(allocation.budget.sources, allocation.sigma,
+                                              strict=True) if np.isfinite(v)}
+    return bd.evaluate(orthodromic, allocation.budget.spec, sigma)
+
+
+# ------------------------------------------------------------------------------------
+# The default spec
+# ------------------------------------------------------------------------------------
+def test_802m_spec_reads_the_notes_table(spec_802m):
+    assert spec_802m.sigma_level == 2
+    assert spec_802m.operating_time == pytest.approx(8 * HOUR)
+    assert spec_802m.item("position_error").value == pytest.approx(3700 / HOUR)
+    assert spec_802m.item("position_error").times == tuple(HOUR * k for k in range(1, 9))
+    assert spec_802m.item("ground_speed_error").value == pytest.approx(4.0)
+    assert spec_802m.item("vertical_error").value == pytest.approx(0.1 * DEG)
+    assert spec_802m.item("heading_drift").value == pytest.approx(0.1 * DEG_H)
+
+
+def test_allocation_meets_each_binding_item_exactly(orthodromic, spec_802m):
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec_802m))
+    budget = allocation.budget
+    evaluation = recomputed(orthodromic, allocation)
+    assert [r.label for r in evaluation.rows] == [r.label for r in budget.rows]
+    free = [j for j, s in enumerate(budget.sources) if np.isfinite(allocation.sigma[j])]
+    assert len(free) >= 15
+    share = 1.0 / len(free)
+    allowed = budget.allowed_variances
+    for j in free:
+        r = allocation.binding[j]
+        assert r >= 0
+        # the source's recomputed contribution is exactly its share of the binding item
+        assert evaluation.contributions[r, j] == pytest.approx(share * allowed[r], rel=1e-9)
+        # and within its share everywhere else
+        assert np.all(evaluation.contributions[:, j] <= share * allowed * (1 + 1e-9))
+    assert np.all(evaluation.ratios <= 1 + 1e-9)
+    # unconstrained sources are the ones a static base does not excite
+    loose = {budget.sources[j].name for j in range(len(budget.sources)) if j not in free}
+    assert "accel_scale_error_x" in loose and "gyro_drift_x" not in loose
+
+
+def test_fill_meets_the_tightest_item_exactly(orthodromic, tmp_path):
+    spec = load_spec(write(tmp_path, SHORT + "    [allocation]\n    fill = true\n"))
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec))
+    assert allocation.fill_factor > 1.0
+    ratios = recomputed(orthodromic, allocation).ratios
+    assert ratios.max() == pytest.approx(1.0, rel=1e-9)
+
+
+def test_weights_and_fixed_sources(orthodromic, tmp_path):
+    text = SHORT + """
+    [sources.gyro_drift_z]
+    weight = 3
+    [sources.initial_latitude_error]
+    fixed = "0.2 arcmin"
+    [sources.correction_gain_error_z]
+    include = false
+    """
+    spec = load_spec(write(tmp_path, text))
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec))
+    budget = allocation.budget
+    names = [s.name for s in budget.sources]
+    assert "correction_gain_error_z" not in names
+    fixed = names.index("initial_latitude_error")
+    assert allocation.magnitudes[fixed] == pytest.approx(0.2 / 60 * DEG, rel=1e-12)
+    assert allocation.binding[fixed] == -1
+    free = [j for j in range(len(names)) if j != fixed and np.isfinite(allocation.sigma[j])]
+    total_weight = len(free) - 1 + 3
+    evaluation = recomputed(orthodromic, allocation)
+    allowed = budget.allowed_variances
+    remaining = allowed - evaluation.contributions[:, fixed]
+    for j in free:
+        weight = 3 if names[j] == "gyro_drift_z" else 1
+        r = allocation.binding[j]
+        assert evaluation.contributions[r, j] == pytest.approx(
+            weight / total_weight * remaining[r], rel=1e-9)
+
+
+# ------------------------------------------------------------------------------------
+# Bindings with textbook answers
+# ------------------------------------------------------------------------------------
+def test_initial_tilts_share_the_vertical_at_start(orthodromic, tmp_path):
+    """At t = 0 the tilt is the initial tilt: each of two axes gets 0.1°/√2 (2σ)."""
+    text = """
+    sigma_level = 2
+    operating_time = "10 min"
+    step = "60 s"
+    [motion]
+    latitude = "50 deg"
+    [items.vertical_error]
+    value = "0.1 deg"
+    times = ["0 s"]
+    """
+    only = ("initial_tilt_x", "initial_tilt_y")
+    text += "".join(f"[sources.{s.name}]\ninclude = false\n" for s in orthodromic.sources
+                    if s.name not in only)
+    allocation = bd.allocate(bd.unit_budget(orthodromic, load_spec(write(tmp_path, text))))
+    assert allocation.magnitudes == pytest.approx(np.full(2, 0.1 * DEG / np.sqrt(2)),
+                                                  rel=1e-12)
+
+
+def test_azimuth_gyro_is_bound_by_heading_drift(orthodromic, tmp_path):
+    """Alone, the azimuth gyro may drift at the spec's heading drift rate (couplings < 1 %)."""
+    text = """
+    sigma_level = 2
+    operating_time = "1 h"
+    [motion]
+    latitude = "50 deg"
+    [items.heading_drift]
+    value = "0.1 deg/h"
+    [sources.gyro_drift_z]
+    weight = 1
+    """
+    text += "".join(f"[sources.{s.name}]\ninclude = false\n" for s in orthodromic.sources
+                    if s.name != "gyro_drift_z")
+    allocation = bd.allocate(bd.unit_budget(orthodromic, load_spec(write(tmp_path, text))))
+    assert allocation.magnitudes[0] == pytest.approx(0.1 * DEG_H, rel=0.01)
+
+
+def test_accelerometer_bias_bound_by_vertical_at_half_schuler(orthodromic, tmp_path):
+    """Bias-induced tilt peaks at 2b/g half a Schuler period in: b ≤ g·0.1°/2."""
+    text = """
+    sigma_level = 2
+    operating_time = "50 min"
+    [motion]
+    latitude = "50 deg"
+    [items.vertical_error]
+    value = "0.1 deg"
+    """
+    text += "".join(f"[sources.{s.name}]\ninclude = false\n" for s in orthodromic.sources
+                    if s.name != "accel_bias_x")
+    spec = load_spec(write(tmp_path, text))
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec))
+    row = allocation.binding_row(0)
+    assert row.item == "vertical_error" and row.time == pytest.approx(45 * 60)
+    g = float(bd.spec_trajectory(orthodromic, spec).inputs[2, 0])
+    # the quarter-hour grid misses the peak at 42.2 min by 2.8 min: cos(2π·2.8/84.4) = 0.98
+    peak_factor = 1 - np.cos(2 * np.pi * 45 / 84.46)
+    assert allocation.magnitudes[0] == pytest.approx(g * 0.1 * DEG / peak_factor, rel=0.01)
+
+
+def test_position_limit_grows_with_operating_time(orthodromic, spec_802m):
+    budget = bd.unit_budget(orthodromic, spec_802m)
+    rows = [r for r in budget.rows if r.item == "position_error"]
+    assert [r.time for r in rows] == [HOUR * k for k in range(1, 9)]
+    # the quantity is error / t against 3.7 km/h, i.e. 3.7 km·t/h on the error itself
+    j = [s.name for s in budget.sources].index("initial_latitude_error")
+    evaluation = bd.evaluate(orthodromic, spec_802m, {"initial_latitude_error": 1e-4})
+    index = [k for k, r in enumerate(evaluation.rows) if r.item == "position_error"]
+    error_at_t = np.array([evaluation.values[k] * evaluation.rows[k].time for k in index])
+    # an initial latitude error stays a position error of about R·Δφ (2σ: 2·R·1e-4)
+    assert error_at_t[0] == pytest.approx(2 * 6.37e6 * 1e-4, rel=0.05)
+    assert budget.unit_variances[index[0], j] > 0
+
+
+# ------------------------------------------------------------------------------------
+# Bad input
+# ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("change, words", [
+    ('value = "-4 m/s"', "must be > 0"),
+    ('value = "0 m/s"', "must be > 0"),
+    ('value = "4 deg"', "do not convert to m/s"),
+    ('value = "four"', "cannot read"),
+])
+def test_bad_item_values(tmp_path, change, words):
+    text = SHORT.replace('value = "4 m/s"', change)
+    with pytest.raises(InsErrorsError, match=words) as info:
+        load_spec(write(tmp_path, text))
+    assert "\n" not in str(info.value)
+
+
+def test_angle_given_in_velocity_units(tmp_path):
+    text = SHORT.replace('value = "0.1 deg"', 'value = "0.1 m/s"')
+    with pytest.raises(InsErrorsError, match=r"items.vertical_error.*m/s.*rad"):
+        load_spec(write(tmp_path, text))
+
+
+def test_position_per_hour_needs_a_rate(tmp_path):
+    text = SHORT.replace('value = "3.7 km/h"', 'value = "3.7 km"')
+    with pytest.raises(InsErrorsError, match=r"3\.7 km/h"):
+        load_spec(write(tmp_path, text))
+
+
+@pytest.mark.parametrize("text, words", [
+    (SHORT + "    [items.heading_error]\n    value = '1 deg'\n", "unknown key in \\[items\\]"),
+    (SHORT.replace("sigma_level = 2", "sigma_level = 0"), "sigma_level"),
+    (SHORT.replace("[motion]", "[motion]\n    speed = '-1 m/s'"), "must be >= 0"),
+    (SHORT + "    [sources.gyro_drift_q]\n    weight = 1\n", "gyro_drift"),
+    (SHORT + "    [sources.gyro_drift_x]\n    weight = -1\n", "weight"),
+    (SHORT + "    [sources.gyro_drift_x]\n    kind = 'markov'\n", "needs tau"),
+    (SHORT + "    [sources.initial_tilt_x]\n    kind = 'white'\n", "random constant"),
+    (SHORT + "    [sources.gyro_drift_x]\n    fixed = '3 m/s'\n", "do not convert"),
+    (SHORT + "    colour = 'red'\n", "unknown key"),
+    (SHORT.replace('times = ["0 h", "30 min", "1 h", "2 h"]', 'times = ["3 h"]'),
+     "after the operating time"),
+    (SHORT.replace('times = ["0 h", "30 min", "1 h", "2 h"]', 'times = ["90 s"]'),
+     "not on the"),
+    ("title = [", "not valid TOML"),
+])
+def test_bad_specs(orthodromic, tmp_path, text, words):
+    with pytest.raises(InsErrorsError, match=words) as info:
+        spec = load_spec(write(tmp_path, text))
+        bd.resolve_sources(orthodromic, spec)
+    assert "\n" not in str(info.value)
+
+
+def test_fixed_sources_that_break_the_spec(orthodromic, tmp_path):
+    text = SHORT + "    [sources.initial_tilt_x]\n    fixed = '1 deg'\n"
+    words = r"fixed sources alone use up position_error at 1 h \(.* km/h against the limit 3.7"
+    with pytest.raises(InsErrorsError, match=words):
+        bd.allocate(bd.unit_budget(orthodromic, load_spec(write(tmp_path, text))))
+
+
+def test_missing_spec_file(tmp_path):
+    with pytest.raises(InsErrorsError, match="cannot read spec file"):
+        load_spec(tmp_path / "nope.toml")
+    with pytest.raises(InsErrorsError, match="no \\[items"):
+        parse_spec({"title": "empty"})
+
+
+# ------------------------------------------------------------------------------------
+# Command line
+# ------------------------------------------------------------------------------------
+def test_cli_json_and_plot(tmp_path, capsys):
+    spec = write(tmp_path, SHORT)
+    png = tmp_path / "budget.png"
+    assert main(["budget", "orthodromic", "--spec", str(spec), "--json",
+                 "--plot", str(png)]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert {s["name"] for s in data["sources"]} >= {"gyro_drift_x", "accel_bias_y"}
+    assert all(r["ratio"] <= 1 + 1e-9 for r in data["rows"])
+    assert png.stat().st_size > 10_000 and png.read_bytes()[:4] == b"\x89PNG"
+
+
+def test_cli_text_report(capsys):
+    assert main(["budget", "orthodromic"]) == 0
+    out = capsys.readouterr().out
+    assert "gyro_drift_z" in out and "binding item" in out and "deg/h" in out
+
+
+def test_cli_bad_spec_is_one_line(tmp_path, capsys):
+    spec = write(tmp_path, SHORT.replace('value = "0.1 deg"', 'value = "0.1 m/s"'))
+    assert main(["budget", "orthodromic", "--spec", str(spec)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "vertical_error" in err
