@@ -14,6 +14,7 @@ import sys
 
 COMMAND_MODULES = (
     "ins_errors.commands.models",
+    "ins_errors.commands.compare",
     "ins_errors.commands.budget",
 )
 """Modules that each register one subcommand, in the order ``--help`` lists them."""

@@ -474,7 +474,7 @@ class CompiledLoop:
         if progress:
             from tqdm import tqdm
 
-            bar = tqdm(total=n_steps, unit="step", unit_scale=True, leave=False,
+            bar = tqdm(total=n_steps, unit="step", unit_scale=True, leave=False, disable=None,
                        desc=progress if isinstance(progress, str) else "integrating")
         done = 0
         try:

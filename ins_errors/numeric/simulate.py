@@ -355,8 +355,11 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
         if not finite.all():
             r = int(np.argmin(finite))
             if first is None or r < first:
-                names = ([s.name for s in model.states] if name == "ideal"
-                         else [s.name for s in model.error_states])
+                n = len(model.states)
+                names = {"ideal": [s.name for s in model.states],
+                         "real": [f"computed {s.name}" for s in model.states]
+                         + [s.name for s in model.error_states[n:]]}.get(
+                             name, [s.name for s in model.error_states])
                 k = int(np.argmax((~np.isfinite(states[:, r])).any(axis=1)))
                 first, detail = r, f"{label} {names[k]} became NaN or infinite"
     if first is not None:

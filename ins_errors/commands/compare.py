@@ -1,0 +1,175 @@
+"""``ins-errors compare MODEL``: direct vs linear (vs refined) error runs for given sources.
+
+Example::
+
+    ins-errors compare orthodromic --source gyro_drift_x=0.01deg/h --motion static \\
+        --hours 24 --plot out.png --json
+
+Every quantity is read with its unit by the units library (``0.01deg/h``, ``10ug``,
+``20arcsec``, ``50deg``, ``250m/s``, ``1s``); a bare number is taken in SI.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+MOTIONS = ("static", "great-circle", "manoeuvre")
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "compare", help="compare direct and linear error runs for given error sources",
+        description="Integrate the ideal- and real-work equations (direct run) and the "
+                    "generated error equations (linear and refined runs) along one true "
+                    "motion, and report, per error quantity, the max difference and its "
+                    "ratio to the max direct error.")
+    parser.add_argument("model", help="model name, e.g. orthodromic")
+    parser.add_argument("--source", "-s", action="append", default=[], metavar="NAME=VALUE",
+                        help="error source with unit, e.g. gyro_drift_x=0.01deg/h "
+                             "(repeatable; see 'ins-errors models MODEL')")
+    parser.add_argument("--separately", action="store_true",
+                        help="run each --source as its own case (default: all together)")
+    parser.add_argument("--motion", choices=MOTIONS, default="static",
+                        help="true motion (default: static)")
+    parser.add_argument("--latitude", default="50deg", help="start latitude (default 50deg)")
+    parser.add_argument("--longitude", default="30deg", help="start longitude (default 30deg)")
+    parser.add_argument("--heading", default="0deg",
+                        help="initial track angle of the trihedron (default 0deg)")
+    parser.add_argument("--speed", default="250m/s", help="ground speed when moving")
+    parser.add_argument("--height", default="0m", help="height (default 0m)")
+    parser.add_argument("--hours", type=float, default=None,
+                        help="duration in hours (default 24)")
+    parser.add_argument("--duration", default=None, help="duration with unit, e.g. '90 min'")
+    parser.add_argument("--step", default="1s", help="integration step τ (default 1s)")
+    parser.add_argument("--record", default=None,
+                        help="recording interval (default: 60 s or the step if longer)")
+    parser.add_argument("--method", choices=("euler", "rk4"), default="euler",
+                        help="euler = the manual's rectangle method (default), or rk4")
+    parser.add_argument("--no-refined", action="store_true",
+                        help="skip the second-order (refined) run")
+    parser.add_argument("--plot", metavar="FILE", help="write overlaid curves (png/pdf/svg)")
+    parser.add_argument("--markdown", metavar="FILE", help="write the Markdown tables")
+    parser.add_argument("--json", action="store_true", help="machine-readable output")
+    parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
+    parser.set_defaults(func=run)
+
+
+def _sources(model, items: list[str]) -> list[tuple[str, float]]:
+    from ins_errors.errors import InsErrorsError
+
+    if not items:
+        raise InsErrorsError("give at least one --source NAME=VALUE, e.g. "
+                             "--source gyro_drift_x=0.01deg/h")
+    out = []
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not text.strip():
+            raise InsErrorsError(f"--source {item!r}: expected NAME=VALUE, e.g. "
+                                 "gyro_drift_x=0.01deg/h")
+        info = model.sources[model.index("sources", name)]
+        out.append((name, parse_quantity(text, info.unit, name)))
+    return out
+
+
+def parse_quantity(text: str, unit: str, what: str) -> float:
+    """A quantity with unit through the units library; a bare number is SI."""
+    from ins_errors.units import parse_quantity as parse
+
+    try:
+        number = float(text)
+    except ValueError:
+        return parse(text, unit, what)
+    return parse(number, unit, what)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare, markdown_summary, markdown_table
+    from ins_errors.numeric.integrators import step_count
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(args.model)
+    sources = _sources(model, args.source)
+    if args.hours is not None and args.duration is not None:
+        raise InsErrorsError("give either --hours or --duration, not both")
+    if args.duration is not None:
+        duration = parse_quantity(args.duration, "s", "--duration")
+    else:
+        duration = 3600.0 * (24.0 if args.hours is None else args.hours)
+    tau = parse_quantity(args.step, "s", "--step")
+    n_steps = step_count(duration, tau)
+    if n_steps == 0:
+        raise InsErrorsError("duration must be at least one step")
+    if args.record is not None:
+        record = parse_quantity(args.record, "s", "--record")
+    else:  # the largest multiple of the step up to 60 s that divides the run
+        stride = max(1, min(n_steps, int(60.0 / tau + 1e-9)))
+        while n_steps % stride:
+            stride -= 1
+        record = stride * tau
+    lat = parse_quantity(args.latitude, "rad", "--latitude")
+    lon = parse_quantity(args.longitude, "rad", "--longitude")
+    heading = parse_quantity(args.heading, "rad", "--heading")
+    speed = parse_quantity(args.speed, "m/s", "--speed")
+    height = parse_quantity(args.height, "m", "--height")
+    if args.motion == "static":
+        profile = tr.static_profile(lat, lon, heading, height)
+    elif args.motion == "great-circle":
+        profile = tr.great_circle_profile(lat, lon, heading, speed, height)
+    else:
+        legs = default_legs(speed, height)
+        profile = tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)
+    progress = not args.no_progress and n_steps >= 100_000
+    trajectory = tr.trajectory(model, profile, duration, tau, progress=progress)
+    cases = ([{name: value} for name, value in sources] if args.separately
+             else [dict(sources)])
+    comparisons = compare(model, trajectory, cases, method=args.method, record_interval=record,
+                          refined=not args.no_refined, progress=progress)
+    title = (f"{model.name}: {profile.description}; {duration / 3600:g} h, τ = {tau:g} s, "
+             f"{args.method}")
+    text = markdown_summary(comparisons, title) + "\n" + "\n".join(
+        markdown_table(c) for c in comparisons)
+    if args.markdown:
+        try:
+            with open(args.markdown, "w", encoding="utf-8") as handle:
+                handle.write(text)
+        except OSError as error:
+            raise InsErrorsError(f"cannot write {args.markdown!r}: {error.strerror}") from None
+    if args.plot:
+        from pathlib import Path
+
+        from ins_errors.numeric.plots import plot_comparison
+
+        path = Path(args.plot)
+        for k, comparison in enumerate(comparisons):
+            target = path if len(comparisons) == 1 else path.with_name(
+                f"{path.stem}_{k + 1}{path.suffix}")
+            plot_comparison(comparison, target, title=f"{comparison.label}\n{title}")
+    if args.json:
+        json.dump({"model": model.name, "motion": profile.description, "duration_s": duration,
+                   "step_s": tau, "record_s": record, "method": args.method,
+                   "cases": [c.to_dict() for c in comparisons]}, sys.stdout, indent=2)
+        print()
+    else:
+        print(text)
+    return 0
+
+
+def default_legs(speed: float, height: float):
+    """The CLI's manoeuvre: turns, a speed change, a climb and a descent, repeated hourly."""
+    import numpy as np
+
+    from ins_errors.numeric.trajectories import Leg
+
+    legs = []
+    for _ in range(24):
+        legs += [Leg(600.0, speed, np.radians(90.0), height),
+                 Leg(600.0, speed * 1.2, 0.0, height + 2000.0),
+                 Leg(1200.0, speed * 1.2, np.radians(-45.0), height + 2000.0),
+                 Leg(600.0, speed, np.radians(-45.0), height),
+                 Leg(600.0, speed, 0.0, height)]
+    return legs
