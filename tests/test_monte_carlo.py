@@ -1,0 +1,100 @@
+"""Monte Carlo runs: stated sampling error, reproducibility, direct runs vs the budget."""
+
+from __future__ import annotations
+
+import textwrap
+
+import numpy as np
+import pytest
+
+from ins_errors.errors import InsErrorsError
+from ins_errors.numeric import budget as bd
+from ins_errors.numeric import covariance as cv
+from ins_errors.numeric import monte_carlo as mc
+from ins_errors.numeric import trajectories as tr
+from ins_errors.specs import load_spec
+
+PHI = np.radians(50.0)
+
+
+def test_stated_sampling_error_matches_the_spread_of_sample_rms(orthodromic):
+    """The RMS of N draws scatters by 1/sqrt(2N) around σ (checked over 400 batches)."""
+    system = cv.static_system(orthodromic, PHI, duration=20.0, step=10.0)
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    sources = [cv.SourceStatistics("initial_tilt_x", "constant", 2e-4)]
+    runs, batches = 50, 400
+    result = mc.linear_monte_carlo(system, sources, fn, runs * batches, seed=3)
+    tilt = result.samples[0, result.names.index("alpha_x")].reshape(batches, runs)
+    ratios = np.sqrt(np.mean(tilt**2, axis=1)) / 2e-4
+    # the spread itself is estimated from 400 values: ±3.5 % (1σ)
+    assert np.std(ratios) == pytest.approx(mc.sampling_error(runs), rel=0.15)
+    assert np.mean(ratios) == pytest.approx(1.0, abs=4 * mc.sampling_error(runs * batches))
+
+
+def test_direct_runs_do_not_depend_on_batching_or_workers(orthodromic):
+    motion = tr.trajectory(orthodromic, tr.static_profile(PHI), 600.0, 1.0)
+    sources = [cv.SourceStatistics("gyro_drift_y", "constant", 1e-7),
+               cv.SourceStatistics("accel_bias_x", "constant", 1e-4)]
+    one = mc.direct_monte_carlo(orthodromic, motion, sources, 12, seed=4, batch=5,
+                                workers=1, record_interval=60.0, progress=False)
+    two = mc.direct_monte_carlo(orthodromic, motion, sources, 12, seed=4, batch=6,
+                                workers=2, record_interval=60.0, progress=False)
+    assert np.array_equal(one.sources, two.sources)
+    assert one.names == two.names
+    assert np.allclose(one.values, two.values, rtol=1e-12, atol=1e-300)
+    assert np.any(one.values != 0)
+
+
+def test_direct_runs_reproduce_the_allocated_budget(orthodromic, tmp_path):
+    """Sample 2σ of direct runs at the allocated magnitudes vs the covariance's 2σ."""
+    path = tmp_path / "spec.toml"
+    path.write_text(textwrap.dedent("""
+        sigma_level = 2
+        operating_time = "1 h"
+        step = "60 s"
+        [motion]
+        latitude = "50 deg"
+        [items.position_error]
+        value = "3.7 km/h"
+        [items.ground_speed_error]
+        value = "4 m/s"
+        [items.vertical_error]
+        value = "0.1 deg"
+        [items.heading_drift]
+        value = "0.1 deg/h"
+    """))
+    spec = load_spec(path)
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec))
+    budget = allocation.budget
+    sigma = {s.name: float(v) for s, v in zip(budget.sources, allocation.sigma, strict=True)
+             if np.isfinite(v)}
+    statistics = [cv.SourceStatistics(name, "constant", value) for name, value in sigma.items()]
+    motion = bd.spec_trajectory(orthodromic, spec, tau=1.0)
+    runs = 400
+    errors = mc.direct_monte_carlo(orthodromic, motion, statistics, runs, seed=9,
+                                   method="rk4", record_interval=60.0, workers=1,
+                                   progress=False)
+    rows, sample = bd.direct_rows(orthodromic, budget, errors)
+    predicted = bd.evaluate(orthodromic, spec, sigma)
+    lookup = {r.label: v for r, v in zip(predicted.rows, predicted.values, strict=True)}
+    assert len(rows) == len(budget.rows)
+    ratios = np.array([v / lookup[r.label] for r, v in zip(rows, sample, strict=True)])
+    assert np.max(np.abs(ratios - 1)) < 4 * mc.sampling_error(runs)
+    # the binding item (position after 1 h) is met in the sample within sampling error
+    position = [v / r.limit for r, v in zip(rows, sample, strict=True)
+                if r.item == "position_error"]
+    assert position[0] < 1 + 4 * mc.sampling_error(runs)
+
+
+def test_bad_monte_carlo_requests(orthodromic):
+    motion = tr.trajectory(orthodromic, tr.static_profile(PHI), 60.0, 1.0)
+    noise = [cv.SourceStatistics("gyro_drift_x", "white", 1e-6)]
+    with pytest.raises(InsErrorsError, match="random constants only") as info:
+        mc.direct_monte_carlo(orthodromic, motion, noise, 10, progress=False)
+    assert "\n" not in str(info.value)
+    with pytest.raises(InsErrorsError, match="runs must be an integer >= 2"):
+        mc.direct_monte_carlo(orthodromic, motion, [], 1, progress=False)
+    system = cv.static_system(orthodromic, PHI, duration=60.0, step=10.0)
+    with pytest.raises(InsErrorsError, match="runs must be"):
+        mc.linear_monte_carlo(system, [], cv.state_and_output_functionals(orthodromic, system),
+                              0)
