@@ -598,8 +598,10 @@ def plot(allocation: Allocation, path: str, top: int = 8) -> None:
     top : int
         Sources shown individually (the rest are summed as "others").
     """
-    import matplotlib
-
+    try:
+        import matplotlib
+    except ImportError:
+        raise BudgetError("plots need matplotlib: pip install 'ins-errors[plots]'") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
