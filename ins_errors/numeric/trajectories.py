@@ -36,7 +36,7 @@ import casadi as ca
 import numpy as np
 
 from ins_errors.errors import DomainError, InsErrorsError, ShapeError
-from ins_errors.numeric.integrators import CompiledLoop, step_count
+from ins_errors.numeric.integrators import CompiledLoop, compile_functions, step_count
 from ins_errors.numeric.model import Model
 
 COMMANDS = ("v1", "v2", "h", "V_zeta")
@@ -522,8 +522,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         k = int(np.argmax(bad))
         raise DomainError(f"the true motion leaves the model's domain at t = {k * tau / 2:.6g} s"
                           f" (e.g. passes a pole)")
-    u_all = np.asarray(kin.inputs.map(n_half + 1)(states, commands[:4, ::2], commands[4:, ::2],
-                                                  p))
+    u_all = _evaluate_inputs(model.name, profile.frame, tuple(p), states, commands[:, ::2])
     _check_finite(u_all, "true inputs", tau / 2)
     return Trajectory(model.name, float(tau), n_steps, states[:, ::2], u_all[:, ::2],
                       u_all[:, 1::2], p, c0, False, profile.description)
@@ -543,6 +542,36 @@ def _truth_loop(model_name: str, frame: str, step: float, p: tuple[float, ...]) 
     u = kin.inputs(x, stream[:4], stream[4:], par)
     margin = ca.Function("truth_margin", [x, stream, none, par], [ca.mmin(margins(x, u, par))])
     return CompiledLoop(kin.truth_rhs, margin, "rk4", 1, step, np.array(p), chunk=256)
+
+
+_INPUT_CHUNK = 4096
+
+
+@lru_cache(maxsize=16)
+def _inputs_chunk(model_name: str, frame: str, p: tuple[float, ...]) -> ca.Function:
+    kin = _kinematics(model_name, frame)
+    n = kin.inputs.size1_in(0)
+    X, C = ca.SX.sym("X", n), ca.SX.sym("C", 8)
+    one = ca.Function("inputs_p", [X, C], [kin.inputs(X, C[:4], C[4:], ca.DM(list(p)))])
+    mapped = one.map("motion_inputs_chunk", "serial", _INPUT_CHUNK, [], [])
+    return compile_functions([mapped])[0]
+
+
+def _evaluate_inputs(model_name: str, frame: str, p: tuple[float, ...], states: np.ndarray,
+                     commands: np.ndarray) -> np.ndarray:
+    """Inputs at every column of ``states`` (n, T) and ``commands`` (8, T), compiled."""
+    fn = _inputs_chunk(model_name, frame, p)
+    total = states.shape[1]
+    out = []
+    for start in range(0, total, _INPUT_CHUNK):
+        stop = min(start + _INPUT_CHUNK, total)
+        pad = _INPUT_CHUNK - (stop - start)
+        xs, cs = states[:, start:stop], commands[:, start:stop]
+        if pad:
+            xs = np.hstack([xs, np.repeat(xs[:, -1:], pad, axis=1)])
+            cs = np.hstack([cs, np.repeat(cs[:, -1:], pad, axis=1)])
+        out.append(fn(xs, cs).full()[:, :stop - start])
+    return np.hstack(out)
 
 
 def _check_finite(array: np.ndarray, what: str, dt: float) -> None:
