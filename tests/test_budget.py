@@ -293,3 +293,28 @@ def test_cli_bad_spec_is_one_line(tmp_path, capsys):
     assert main(["budget", "orthodromic", "--spec", str(spec)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "vertical_error" in err
+
+
+def test_output_contributions_at_chosen_times(orthodromic, spec_802m):
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec_802m))
+    data = bd.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
+    assert data["times_h"] == [1.0, 8.0]
+    std = data["std"]
+    # the total is the root sum of squares of the independent contributions
+    assert np.allclose(std[..., -1], np.sqrt((std[..., :-1] ** 2).sum(-1)), rtol=1e-12)
+    # the azimuth gyro alone turns the platform by drift × t (arcmin), couplings < 1 %
+    j = data["sources"].index("gyro_drift_z")
+    q = data["quantities"].index("alpha_z")
+    drift = allocation.sigma[[s.name for s in allocation.budget.sources].index("gyro_drift_z")]
+    assert data["units"][q] == "arcmin"
+    assert std[0, q, j] == pytest.approx(drift * HOUR / DEG * 60, rel=0.01)
+    with pytest.raises(InsErrorsError, match="not on the 60 s analysis grid"):
+        bd.output_contributions(orthodromic, allocation, [90.0])
+    with pytest.raises(InsErrorsError, match="not on the"):
+        bd.output_contributions(orthodromic, allocation, [9 * HOUR])
+
+
+def test_cli_contributions_table(capsys):
+    assert main(["budget", "orthodromic", "--at", "1 h, 2 h"]) == 0
+    out = capsys.readouterr().out
+    assert "Contributions to the navigation errors at 2 h" in out

@@ -26,6 +26,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--mc-step", default="0.01 s",
                         help="integration step of the runs (default 0.01 s, 100 Hz)")
     parser.add_argument("--seed", type=int, default=0, help="random seed of the runs")
+    parser.add_argument("--at", metavar="TIMES",
+                        help="comma-separated times (e.g. '1 h, 8 h'): per-source 1σ "
+                             "contributions to every navigation error at those times")
     parser.set_defaults(func=run)
 
 
@@ -50,12 +53,22 @@ def run(args: argparse.Namespace) -> int:
         bd.plot(allocation, args.plot)
     if args.monte_carlo:
         data["monte_carlo"] = _monte_carlo(model, spec, allocation, args)
+    outputs = None
+    if args.at:
+        from ins_errors.units import parse_quantity
+
+        times = [parse_quantity(t, "s", "--at") for t in args.at.split(",") if t.strip()]
+        outputs = bd.output_contributions(model, allocation, times)
+        data["contributions"] = {**outputs, "std": outputs["std"].tolist()}
     if args.json:
         print(json.dumps(data, indent=2, ensure_ascii=False))
         return 0
     print(bd.table(allocation))
     print()
     print(bd.contribution_table(allocation))
+    if outputs is not None:
+        print()
+        print(bd.output_table(outputs))
     if args.plot:
         print(f"\nplot written to {args.plot}")
     if args.monte_carlo:

@@ -685,3 +685,79 @@ def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarra
         rows.append(row)
         values.append(spec.sigma_level * np.sqrt(mean_square))
     return rows, np.array(values)
+
+
+# --------------------------------------------------------------------------------------
+# Contributions to the navigation outputs at chosen times
+# --------------------------------------------------------------------------------------
+OUTPUT_DISPLAY = {"rad": "arcmin", "m/s": "m/s", "rad/s": "deg/h", "m": "m", "1": "ppm"}
+"""Units the output table quotes SI quantities in."""
+
+
+def output_contributions(model, allocation: Allocation, times: list[float]) -> dict:
+    """Each source's 1σ contribution to every platform angle and output error.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    allocation : Allocation
+        Magnitudes to use (unconstrained sources are left out).
+    times : list of float
+        s, on the spec's analysis grid and within its operating time.
+
+    Returns
+    -------
+    dict
+        ``{"times_h", "quantities", "units", "sources", "std"}``, with ``std`` of shape
+        (len(times), quantities, sources + 1) in the display units (last column: total).
+    """
+    from ins_errors.numeric.covariance import state_and_output_functionals
+
+    budget = allocation.budget
+    system = budget.system
+    keep = [j for j in range(len(budget.sources)) if np.isfinite(allocation.sigma[j])]
+    stats = [SourceStatistics(budget.sources[j].name, budget.sources[j].statistics,
+                              float(allocation.sigma[j]), budget.sources[j].tau) for j in keep]
+    functionals = state_and_output_functionals(model, system)
+    n = len(model.states)
+    chosen = list(range(n, len(functionals.names)))
+    covariance = propagate(system, stats, functionals)
+    index = []
+    for t in times:
+        k = round(t / system.step)
+        if not 0 <= k < len(covariance.times) or abs(covariance.times[k] - t) > 1e-6:
+            raise SpecError(f"time {t / HOUR:g} h is not on the {system.step:g} s analysis "
+                            f"grid within the operating time")
+        index.append(k)
+    contributions = covariance.contributions[np.ix_(index, chosen)]      # (t, q, s)
+    std = np.concatenate([np.sqrt(contributions),
+                          np.sqrt(contributions.sum(-1, keepdims=True))], axis=-1)
+    units = [functionals.units[i] for i in chosen]
+    shown = []
+    for q, unit in enumerate(units):
+        target = OUTPUT_DISPLAY.get(unit, unit)
+        factor = parse_quantity(f"1 {unit}", target, "unit") if unit != "1" else 1e6
+        std[:, q] *= factor
+        shown.append(target)
+    return {"times_h": [t / HOUR for t in times],
+            "quantities": [functionals.names[i] for i in chosen], "units": shown,
+            "sources": [budget.sources[j].name for j in keep], "std": std}
+
+
+def output_table(data: dict, top: int = 10) -> str:
+    """Text table of :func:`output_contributions` (1σ per source, largest first)."""
+    lines = []
+    for it, t in enumerate(data["times_h"]):
+        std = data["std"][it]
+        header = f"{'source (1σ)':<34}" + "".join(
+            f"{(q.replace('delta_', 'Δ') + ' ' + u)[:15]:>16}"
+            for q, u in zip(data["quantities"], data["units"], strict=True))
+        lines += [f"Contributions to the navigation errors at {t:g} h:", header,
+                  "-" * len(header)]
+        order = np.argsort(-(std[:, :-1] / np.maximum(std[:, -1:], 1e-300)).max(0))
+        for j in order[:top]:
+            lines.append(f"{data['sources'][j]:<34}" + "".join(f"{v:>16.4g}"
+                                                               for v in std[:, j]))
+        lines.append(f"{'total (rss)':<34}" + "".join(f"{v:>16.4g}" for v in std[:, -1]))
+        lines.append("")
+    return "\n".join(lines).rstrip()
