@@ -1,0 +1,89 @@
+"""``ins-errors compare``: units at the edge, JSON, plots, Markdown, one-line errors."""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from ins_errors.cli import main
+
+DEG_PER_HOUR = np.pi / 180.0 / 3600.0
+
+
+def run(capsys, *args):
+    status = main(["compare", "orthodromic", *args])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_json_plot_and_markdown(capsys, tmp_path):
+    plot, table = tmp_path / "out.png", tmp_path / "out.md"
+    status, out, err = run(capsys, "--source", "gyro_drift_x=0.01deg/h", "--motion", "static",
+                           "--hours", "2", "--step", "10s", "--plot", str(plot),
+                           "--markdown", str(table), "--json")
+    assert status == 0, err
+    report = json.loads(out)
+    assert report["record_s"] == 60.0 and report["step_s"] == 10.0
+    (case,) = report["cases"]
+    assert case["sources"]["gyro_drift_x"] == pytest.approx(0.01 * DEG_PER_HOUR, rel=1e-12)
+    assert case["worst_linear_ratio"] <= 0.01
+    assert case["worst_refined_ratio"] < case["worst_linear_ratio"]
+    names = [m["quantity"] for m in case["metrics"]]
+    assert {"alpha_x", "delta_latitude", "delta_longitude", "delta_heading", "delta_v_N",
+            "delta_v_E"} <= set(names)
+    assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    text = table.read_text()
+    assert "| `delta_latitude` | rad |" in text and "gyro_drift_x = 0.01 deg/h" in text
+
+
+def test_separate_cases_and_moving_motions(capsys, tmp_path):
+    plot = tmp_path / "cases.svg"
+    status, out, err = run(capsys, "-s", "accel_bias_y=10ug", "-s", "initial_tilt_x=10arcsec",
+                           "--separately", "--motion", "great-circle", "--speed", "900 km/h",
+                           "--heading", "45deg", "--duration", "90 min", "--step", "2 s",
+                           "--plot", str(plot), "--no-refined")
+    assert status == 0, err
+    assert (tmp_path / "cases_1.svg").exists() and (tmp_path / "cases_2.svg").exists()
+    assert "accel_bias_y = 10 ug" in out and "initial_tilt_x = 10 arcsec" in out
+    assert "great circle" in out
+    status, out, err = run(capsys, "-s", "accel_scale_error_x=100ppm", "--motion", "manoeuvre",
+                           "--hours", "1", "--json", "--method", "rk4")
+    assert status == 0, err
+    case = json.loads(out)["cases"][0]
+    assert case["sources"]["accel_scale_error_x"] == pytest.approx(1e-4)
+    assert case["worst_linear_ratio"] <= 0.01
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    (["-s", "gyro_drft_x=0.01deg/h"], "did you mean 'gyro_drift_x'"),
+    (["-s", "gyro_drift_x=0.01deg/h", "--step", "0"], "step must be a positive"),
+    (["-s", "gyro_drift_x=0.01deg/h", "--step=-1s"], "step must be a positive"),
+    (["-s", "gyro_drift_x=0.01deg/h", "--hours", "1", "--step", "7s"],
+     "not a whole number of steps of 7 s"),
+    (["-s", "gyro_drift_x=0.01deg/h", "--hours", "1", "--record", "7s"], "recording interval"),
+    (["-s", "gyro_drift_x=0.01m/s"], "do not convert to rad/s"),
+    (["-s", "gyro_drift_x=nan"], "not a finite number"),
+    (["-s", "gyro_drift_x"], "expected NAME=VALUE"),
+    ([], "give at least one --source"),
+    (["-s", "gyro_drift_x=1e5deg/h", "--hours", "2"], r"left its domain between t = \d+ s"),
+    (["-s", "gyro_drift_x=1deg/h", "--latitude", "90deg"], "pole"),
+])
+def test_bad_input_gives_one_line_and_status_2(capsys, args, message):
+    status, _out, err = run(capsys, *args)
+    assert status == 2
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("ins-errors: error: ")
+    assert re.search(message, lines[0]), lines[0]
+
+
+def test_unknown_model_and_entry_point():
+    done = subprocess.run([sys.executable, "-m", "ins_errors.cli", "compare", "orthodromc",
+                           "-s", "gyro_drift_x=1deg/h"], capture_output=True, text=True)
+    assert done.returncode == 2
+    assert "did you mean 'orthodromic'" in done.stderr
+    assert "Traceback" not in done.stderr
