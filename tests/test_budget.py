@@ -318,3 +318,26 @@ def test_cli_contributions_table(capsys):
     assert main(["budget", "orthodromic", "--at", "1 h, 2 h"]) == 0
     out = capsys.readouterr().out
     assert "Contributions to the navigation errors at 2 h" in out
+
+
+def test_great_circle_budget(orthodromic, tmp_path):
+    """Moving base: met exactly when recomputed; the 60 s grid is converged (vs 10 s)."""
+    text = SHORT.replace("[motion]", "[motion]\n    kind = 'great_circle'\n    speed = "
+                                     "'250 m/s'\n    heading = '60 deg'")
+    text = text.replace('operating_time = "2 h"', 'operating_time = "1 h"').replace(
+        'times = ["0 h", "30 min", "1 h", "2 h"]', 'times = ["0 h", "30 min", "1 h"]')
+    spec = load_spec(write(tmp_path, text))
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec))
+    assert not allocation.budget.system.time_invariant
+    evaluation = recomputed(orthodromic, allocation)
+    assert np.all(evaluation.ratios <= 1 + 1e-9)
+    free = np.flatnonzero(np.isfinite(allocation.sigma))
+    for j in free:
+        r = allocation.binding[j]
+        assert evaluation.contributions[r, j] == pytest.approx(
+            allocation.budget.allowed_variances[r] / len(free), rel=1e-9)
+    fine = load_spec(write(tmp_path, text.replace('step = "60 s"', 'step = "10 s"'), "f.toml"))
+    sigma = {s.name: float(v) for s, v in zip(allocation.budget.sources, allocation.sigma,
+                                              strict=True) if np.isfinite(v)}
+    assert bd.evaluate(orthodromic, fine, sigma).values == pytest.approx(evaluation.values,
+                                                                          rel=2e-3)

@@ -98,3 +98,19 @@ def test_bad_monte_carlo_requests(orthodromic):
     with pytest.raises(InsErrorsError, match="runs must be"):
         mc.linear_monte_carlo(system, [], cv.state_and_output_functionals(orthodromic, system),
                               0)
+
+
+def test_cli_monte_carlo(tmp_path, capsys):
+    import json
+
+    from ins_errors.cli import main
+
+    assert main(["budget", "orthodromic", "--json", "--monte-carlo", "40", "--mc-step", "5 s",
+                 "--mc-duration", "1 h", "--seed", "2"]) == 0
+    data = json.loads(capsys.readouterr().out)["monte_carlo"]
+    assert data["runs"] == 40 and data["relative_sampling_error"] == pytest.approx(0.1118,
+                                                                                   rel=1e-3)
+    ratios = np.array([r["ratio"] for r in data["rows"]])
+    assert len(ratios) == 8 and np.all(np.abs(ratios - 1) < 4 * 0.1118)
+    assert main(["budget", "orthodromic", "--monte-carlo", "1"]) == 2
+    assert "at least 2 runs" in capsys.readouterr().err
