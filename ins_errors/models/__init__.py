@@ -19,6 +19,7 @@ MODEL_MODULES: dict[str, str] = {
     "orthodromic": "ins_errors.models.orthodromic",
     "north_pointing": "ins_errors.models.north_pointing",
     "free_azimuth": "ins_errors.models.free_azimuth",
+    "geodetic_vertical": "ins_errors.models.geodetic_vertical",
 }
 """Registry: model name -> module whose ``build()`` returns its definition."""
 

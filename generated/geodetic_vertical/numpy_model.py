@@ -1,0 +1,1111 @@
+# GENERATED FILE: do not edit by hand.
+# Written by `make derive` (python -m derive) from ins_errors/models/geodetic_vertical.py.
+# Edit the model definition and run `make derive` again.
+
+"""numpy functions of the model 'geodetic_vertical' (broadcasting)."""
+
+import numpy as _np
+
+_m = _np
+
+
+def _as_vector(value, length, name, function):
+    array = _np.asarray(value, dtype=float)
+    if array.ndim == 0 or array.shape[0] != length:
+        raise ValueError(f"{function}: argument {name} must have shape ({length}, ...), "
+                         f"got {array.shape}")
+    return array
+
+
+def ideal_rhs(x, u, p):
+    """Ideal-work equations: dx/dt.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, ...)
+        time derivative of the true state
+    """
+    x = _as_vector(x, 4, 'x', 'ideal_rhs')
+    u = _as_vector(u, 4, 'u', 'ideal_rhs')
+    p = _as_vector(p, 6, 'p', 'ideal_rhs')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    W_xi_ = x[2]
+    W_eta_ = x[3]
+    a_xi_ = u[0]
+    a_eta_ = u[1]
+    V_zeta_ = u[3]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    orth_latitude_ = p[3]
+    orth_angle_ = p[5]
+    _t0 = _m.cos(Phi_)
+    _t1 = _m.sin(orth_latitude_)
+    _t2 = _m.cos(Lam_)
+    _t3 = _t1*_t2
+    _t4 = _m.sin(Phi_)
+    _t5 = _m.cos(orth_latitude_)
+    _t6 = _t5*_m.cos(orth_angle_)
+    _t7 = _m.sin(Lam_)
+    _t8 = _m.sin(orth_angle_)
+    _t9 = -_t0*_t3 + _t0*_t5*_t7*_t8 - _t4*_t6
+    _t10 = 1/(a_*(-_t9**2*e2_/(2 - e2_) + 1))
+    _t11 = W_eta_*_t10
+    _t12 = _t5*_t8
+    _t13 = 2*U_
+    _t14 = V_zeta_*_t13
+    _t15 = _m.tan(Phi_)
+    _out = _np.zeros((4,) + _batch)
+    _out[0] = -_t11
+    _out[1] = W_xi_*_t10/_t0
+    _out[2] = 2*U_*W_eta_*_t9 - W_xi_*_t11*_t15 - _t14*(_t0*_t6 + _t12*_t4*_t7 - _t3*_t4) + a_xi_
+    _out[3] = W_xi_**2*_t10*_t15 - W_xi_*_t13*_t9 + _t14*(_t1*_t7 + _t12*_t2) + a_eta_
+    return _out
+
+
+def real_rhs(xr, x, u, w, p):
+    """Real-work equations: dxr/dt (needs the true state for the platform).
+
+    Parameters
+    ----------
+    xr : array_like, shape (7, ...)
+        real-work state: computed state, then platform angles
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    w : array_like, shape (12, ...)
+        error-source magnitudes, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        time derivative of the real-work state
+    """
+    xr = _as_vector(xr, 7, 'xr', 'real_rhs')
+    x = _as_vector(x, 4, 'x', 'real_rhs')
+    u = _as_vector(u, 4, 'u', 'real_rhs')
+    w = _as_vector(w, 12, 'w', 'real_rhs')
+    p = _as_vector(p, 6, 'p', 'real_rhs')
+    _batch = _np.broadcast_shapes(xr.shape[1:], x.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
+    Phi_c_ = xr[0]
+    Lam_c_ = xr[1]
+    W_xi_c_ = xr[2]
+    W_eta_c_ = xr[3]
+    alpha_x_ = xr[4]
+    alpha_y_ = xr[5]
+    alpha_z_ = xr[6]
+    Phi_ = x[0]
+    Lam_ = x[1]
+    W_xi_ = x[2]
+    W_eta_ = x[3]
+    a_xi_ = u[0]
+    a_eta_ = u[1]
+    a_zeta_ = u[2]
+    V_zeta_ = u[3]
+    gyro_drift_x_ = w[7]
+    gyro_drift_y_ = w[8]
+    gyro_drift_z_ = w[9]
+    accel_bias_x_ = w[10]
+    accel_bias_y_ = w[11]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    orth_latitude_ = p[3]
+    orth_angle_ = p[5]
+    _t0 = 1/a_
+    _t1 = _m.cos(Phi_c_)
+    _t2 = _m.sin(orth_latitude_)
+    _t3 = _m.cos(Lam_c_)
+    _t4 = _t2*_t3
+    _t5 = _m.sin(Phi_c_)
+    _t6 = _m.cos(orth_latitude_)
+    _t7 = _t6*_m.cos(orth_angle_)
+    _t8 = _m.sin(Lam_c_)
+    _t9 = _m.sin(orth_angle_)
+    _t10 = -_t1*_t4 + _t1*_t6*_t8*_t9 - _t5*_t7
+    _t11 = _t10**2
+    _t12 = 2 - e2_
+    _t13 = e2_/_t12
+    _t14 = _t0/(-_t11*_t13 + 1)
+    _t15 = W_eta_c_*_t14
+    _t16 = -_t15
+    _t17 = W_xi_c_*_t14
+    _t18 = _t6*_t9
+    _t19 = _t1*_t7 + _t18*_t5*_t8 - _t4*_t5
+    _t20 = U_*_t19
+    _t21 = 2*V_zeta_
+    _t22 = U_*_t10
+    _t23 = 2*_t22
+    _t24 = _m.tan(Phi_c_)
+    _t25 = _t18*_t3 + _t2*_t8
+    _t26 = U_*_t25
+    _t27 = _m.cos(Phi_)
+    _t28 = _m.cos(Lam_)
+    _t29 = _t2*_t28
+    _t30 = _m.sin(Phi_)
+    _t31 = _m.sin(Lam_)
+    _t32 = -_t27*_t29 + _t27*_t31*_t6*_t9 - _t30*_t7
+    _t33 = U_*_t32
+    _t34 = _t32**2
+    _t35 = _t0/(-_t13*_t34 + 1)
+    _t36 = W_xi_*_t35
+    _t37 = _t36*_m.tan(Phi_)
+    _t38 = W_eta_*_t35
+    _t39 = _t18*_t28 + _t2*_t31
+    _t40 = 2*_t13
+    _t41 = 2*e2_**2/_t12**2
+    _t42 = -_t32*_t40 + _t32*_t41*(1 - 2*_t34)
+    _t43 = _t39*_t42
+    _t44 = _t38*_t43
+    _t45 = _t33 - _t37 + _t44
+    _t46 = _t18*_t30*_t31 + _t27*_t7 - _t29*_t30
+    _t47 = U_*_t46
+    _t48 = _t37*_t42*_t46
+    _t49 = _t36 + _t47 - _t48
+    _t50 = _t17*_t24
+    _t51 = -_t10*_t40 + _t10*_t41*(1 - 2*_t11)
+    _t52 = _t25*_t51
+    _t53 = -U_*_t39 + _t37*_t43 + _t38
+    _t54 = -_t53
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = _t16
+    _out[1] = _t17/_t1
+    _out[2] = W_eta_c_*_t23 - W_xi_c_*_t15*_t24 - _t20*_t21 + a_eta_*alpha_z_ + a_xi_ - a_zeta_*alpha_y_ + accel_bias_x_
+    _out[3] = W_xi_c_**2*_t14*_t24 - W_xi_c_*_t23 + _t21*_t26 + a_eta_ - a_xi_*alpha_z_ + a_zeta_*alpha_x_ + accel_bias_y_
+    _out[4] = _t16 + _t26 + _t45*alpha_y_ - _t49*alpha_z_ - _t50*_t52 + _t53 + gyro_drift_x_
+    _out[5] = _t17 - _t19*_t50*_t51 + _t20 - _t36 - _t45*alpha_x_ - _t47 + _t48 + _t54*alpha_z_ + gyro_drift_y_
+    _out[6] = _t15*_t52 + _t22 - _t33 + _t37 - _t44 + _t49*alpha_x_ - _t50 - _t54*alpha_y_ + gyro_drift_z_
+    return _out
+
+
+def outputs(x, u, p):
+    """Navigation outputs of a state (true or computed part of xr).
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (5, ...)
+        outputs in SI units
+    """
+    x = _as_vector(x, 4, 'x', 'outputs')
+    u = _as_vector(u, 4, 'u', 'outputs')
+    p = _as_vector(p, 6, 'p', 'outputs')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    W_xi_ = x[2]
+    W_eta_ = x[3]
+    orth_latitude_ = p[3]
+    orth_longitude_ = p[4]
+    orth_angle_ = p[5]
+    _t0 = _m.cos(Phi_)
+    _t1 = _m.sin(orth_latitude_)
+    _t2 = _m.cos(Lam_)
+    _t3 = _t1*_t2
+    _t4 = _m.sin(Phi_)
+    _t5 = _m.cos(orth_angle_)
+    _t6 = _m.cos(orth_latitude_)
+    _t7 = _t5*_t6
+    _t8 = _m.sin(orth_angle_)
+    _t9 = _t6*_t8
+    _t10 = _m.sin(Lam_)
+    _t11 = _t0*_t10
+    _t12 = _t1*_t10 + _t2*_t9
+    _t13 = _t0*_t7 + _t10*_t4*_t9 - _t3*_t4
+    _t14 = _m.sqrt(_t12**2 + _t13**2)
+    _t15 = _m.cos(orth_longitude_)
+    _t16 = _t15*_t8
+    _t17 = _m.sin(orth_longitude_)
+    _t18 = _t15*_t5
+    _t19 = _t17*_t8
+    _t20 = _t0*_t2*_t6
+    _t21 = 1/_t14
+    _out = _np.zeros((5,) + _batch)
+    _out[0] = _m.arctan2(_t0*_t3 - _t11*_t9 + _t4*_t7, _t14)
+    _out[1] = _m.arctan2(_t11*(_t1*_t19 + _t18) + _t17*_t20 - _t4*(_t1*_t17*_t5 - _t16), _t11*(_t1*_t16 - _t17*_t5) + _t15*_t20 - _t4*(_t1*_t18 + _t19))
+    _out[2] = _m.arctan2(_t12, _t13)
+    _out[3] = _t21*(-W_eta_*_t13 - W_xi_*_t12)
+    _out[4] = _t21*(W_eta_*_t12 - W_xi_*_t13)
+    return _out
+
+
+def state_matrix(x, u, p):
+    """State matrix F of the linear error equations.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 7, ...)
+        F
+    """
+    x = _as_vector(x, 4, 'x', 'state_matrix')
+    u = _as_vector(u, 4, 'u', 'state_matrix')
+    p = _as_vector(p, 6, 'p', 'state_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    W_xi_ = x[2]
+    W_eta_ = x[3]
+    a_xi_ = u[0]
+    a_eta_ = u[1]
+    a_zeta_ = u[2]
+    V_zeta_ = u[3]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    orth_latitude_ = p[3]
+    orth_angle_ = p[5]
+    _t0 = _m.cos(Lam_)
+    _t1 = _m.sin(Phi_)
+    _t2 = _m.sin(orth_latitude_)
+    _t3 = _m.cos(Phi_)
+    _t4 = _m.cos(orth_latitude_)
+    _t5 = _t4*_m.cos(orth_angle_)
+    _t6 = _t3*_t5
+    _t7 = _m.sin(Lam_)
+    _t8 = _m.sin(orth_angle_)
+    _t9 = _t4*_t8
+    _t10 = _t7*_t9
+    _t11 = _t1*_t10
+    _t12 = 2*_t0*_t1*_t2 - 2*_t11 - 2*_t6
+    _t13 = 1/a_
+    _t14 = -_t0*_t2*_t3 - _t1*_t5 + _t3*_t4*_t7*_t8
+    _t15 = _t14**2
+    _t16 = 2 - e2_
+    _t17 = 1/_t16
+    _t18 = _t17*e2_
+    _t19 = -_t15*_t18 + 1
+    _t20 = _t19**(-2)
+    _t21 = _t13*_t14*_t18*_t20
+    _t22 = W_eta_*_t21
+    _t23 = _t12*_t22
+    _t24 = _t2*_t7
+    _t25 = _t24*_t3
+    _t26 = _t0*_t9
+    _t27 = _t26*_t3
+    _t28 = 2*_t25 + 2*_t27
+    _t29 = _t22*_t28
+    _t30 = 1/_t19
+    _t31 = _t13*_t30
+    _t32 = -_t31
+    _t33 = W_xi_*_t31
+    _t34 = 1/_t3
+    _t35 = W_xi_*_t21
+    _t36 = _t12*_t35
+    _t37 = _t28*_t35
+    _t38 = -_t0*_t1*_t2 + _t11 + _t6
+    _t39 = -_t38
+    _t40 = U_*_t14
+    _t41 = 2*_t40
+    _t42 = _m.tan(Phi_)
+    _t43 = _t42**2 + 1
+    _t44 = _t33*_t43
+    _t45 = W_xi_*_t42
+    _t46 = _t25 + _t27
+    _t47 = _t1*_t24 + _t1*_t26
+    _t48 = 2*V_zeta_
+    _t49 = W_eta_*_t31
+    _t50 = _t33*_t42
+    _t51 = -_t50
+    _t52 = U_*_t39
+    _t53 = 2*W_xi_
+    _t54 = W_xi_**2
+    _t55 = _t21*_t42*_t54
+    _t56 = U_*_t46
+    _t57 = _t0*_t2 - _t10
+    _t58 = _t24 + _t26
+    _t59 = 2*_t18
+    _t60 = 1 - 2*_t15
+    _t61 = e2_**2
+    _t62 = _t16**(-2)
+    _t63 = _t61*_t62
+    _t64 = -_t14*_t59 + 2*_t14*_t60*_t63
+    _t65 = _t58*_t64
+    _t66 = 4*_t15*_t63
+    _t67 = -_t12*_t66 - _t39*_t59 + 2*_t39*_t60*_t61*_t62
+    _t68 = _t50*_t58
+    _t69 = _t36*_t42
+    _t70 = _t57*_t64
+    _t71 = -_t28*_t66 - _t46*_t59 + 2*_t46*_t60*_t61*_t62
+    _t72 = _t37*_t42
+    _t73 = _t31*_t42
+    _t74 = _t40 + _t49*_t65 + _t51
+    _t75 = U_*_t38 - W_xi_*_t13*_t30*_t38*_t42*_t64 + _t33
+    _t76 = _t38*_t64
+    _t77 = _t50*_t64
+    _t78 = _t38*_t50
+    _t79 = -U_*_t58 + _t49 + _t50*_t65
+    _t80 = _t49*_t58
+    _out = _np.zeros((7, 7) + _batch)
+    _out[0, 0] = -_t23
+    _out[0, 1] = -_t29
+    _out[0, 3] = _t32
+    _out[1, 0] = _t1*_t33/_t3**2 + _t34*_t36
+    _out[1, 1] = _t34*_t37
+    _out[1, 2] = _t31*_t34
+    _out[2, 0] = 2*U_*W_eta_*_t39 - V_zeta_*_t41 - W_eta_*_t44 - _t23*_t45
+    _out[2, 1] = 2*U_*W_eta_*_t46 - U_*_t47*_t48 - _t29*_t45
+    _out[2, 2] = -_t42*_t49
+    _out[2, 3] = _t41 + _t51
+    _out[2, 5] = -a_zeta_
+    _out[2, 6] = a_eta_
+    _out[3, 0] = _t12*_t55 + _t31*_t43*_t54 - _t52*_t53
+    _out[3, 1] = U_*_t48*_t57 + _t28*_t55 - _t53*_t56
+    _out[3, 2] = 2*W_xi_*_t13*_t30*_t42 - _t41
+    _out[3, 4] = a_zeta_
+    _out[3, 6] = -a_xi_
+    _out[4, 0] = -_t23 - _t44*_t65 - _t65*_t69 - _t67*_t68
+    _out[4, 1] = U_*_t57 - _t29 - _t50*_t70 - _t65*_t72 - _t68*_t71
+    _out[4, 2] = -_t65*_t73
+    _out[4, 3] = _t32
+    _out[4, 5] = _t74
+    _out[4, 6] = -_t75
+    _out[5, 0] = W_xi_*_t12*_t13*_t14*_t17*_t20*e2_ - _t14*_t77 + _t40 - _t44*_t76 - _t67*_t78 - _t69*_t76
+    _out[5, 1] = U_*_t47 + W_xi_*_t13*_t14*_t17*_t20*_t28*e2_ - _t47*_t77 - _t71*_t78 - _t72*_t76
+    _out[5, 2] = -_t32 - _t73*_t76
+    _out[5, 4] = -_t74
+    _out[5, 6] = -_t79
+    _out[6, 0] = _t23*_t65 - _t44 + _t52 + _t67*_t80 - _t69
+    _out[6, 1] = _t29*_t65 + _t49*_t70 + _t56 + _t71*_t80 - _t72
+    _out[6, 2] = -_t73
+    _out[6, 3] = _t31*_t65
+    _out[6, 4] = _t75
+    _out[6, 5] = _t79
+    return _out
+
+
+def source_matrix(x, u, p):
+    """Error-source matrix G of the linear error equations.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 12, ...)
+        G
+    """
+    x = _as_vector(x, 4, 'x', 'source_matrix')
+    u = _as_vector(u, 4, 'u', 'source_matrix')
+    p = _as_vector(p, 6, 'p', 'source_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    _out = _np.zeros((7, 12) + _batch)
+    _out[2, 10] = 1
+    _out[3, 11] = 1
+    _out[4, 7] = 1
+    _out[5, 8] = 1
+    _out[6, 9] = 1
+    return _out
+
+
+def output_matrix(x, u, p):
+    """Output matrix H: output errors = H xe to first order.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (5, 7, ...)
+        H
+    """
+    x = _as_vector(x, 4, 'x', 'output_matrix')
+    u = _as_vector(u, 4, 'u', 'output_matrix')
+    p = _as_vector(p, 6, 'p', 'output_matrix')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    W_xi_ = x[2]
+    W_eta_ = x[3]
+    orth_latitude_ = p[3]
+    orth_longitude_ = p[4]
+    orth_angle_ = p[5]
+    _t0 = _m.cos(Phi_)
+    _t1 = _m.cos(orth_angle_)
+    _t2 = _m.cos(orth_latitude_)
+    _t3 = _t1*_t2
+    _t4 = _m.sin(Phi_)
+    _t5 = _m.cos(Lam_)
+    _t6 = _m.sin(orth_latitude_)
+    _t7 = _t5*_t6
+    _t8 = _m.sin(orth_angle_)
+    _t9 = _t2*_t8
+    _t10 = _m.sin(Lam_)
+    _t11 = _t10*_t4
+    _t12 = _t0*_t3 + _t11*_t9 - _t4*_t7
+    _t13 = _t10*_t6
+    _t14 = _t5*_t9
+    _t15 = _t13 + _t14
+    _t16 = _t12**2 + _t15**2
+    _t17 = _m.sqrt(_t16)
+    _t18 = _t0*_t7
+    _t19 = _t3*_t4
+    _t20 = _t0*_t10
+    _t21 = _t18 + _t19 - _t20*_t9
+    _t22 = 1/(_t16 + _t21**2)
+    _t23 = _t17*_t22
+    _t24 = 1/_t17
+    _t25 = -_t21
+    _t26 = _t24*_t25
+    _t27 = _t22*_t26
+    _t28 = ((1/2))*_t12
+    _t29 = _t28*(2*_t0*_t10*_t2*_t8 - 2*_t18 - 2*_t19)
+    _t30 = _t10*_t9
+    _t31 = _t13*_t4
+    _t32 = _t14*_t4
+    _t33 = ((1/2))*_t15*(-2*_t30 + 2*_t5*_t6) + _t28*(2*_t31 + 2*_t32)
+    _t34 = _m.sin(orth_longitude_)
+    _t35 = _t34*_t8
+    _t36 = _m.cos(orth_longitude_)
+    _t37 = _t1*_t36
+    _t38 = _t35 + _t37*_t6
+    _t39 = _t36*_t8
+    _t40 = -_t1*_t34 + _t39*_t6
+    _t41 = _t2*_t36
+    _t42 = _t4*_t5
+    _t43 = _t0*_t5
+    _t44 = _t2*_t43
+    _t45 = _t20*_t40 + _t36*_t44 - _t38*_t4
+    _t46 = _t1*_t34*_t6 - _t39
+    _t47 = _t35*_t6 + _t37
+    _t48 = _t20*_t47 + _t34*_t44 - _t4*_t46
+    _t49 = 1/(_t45**2 + _t48**2)
+    _t50 = -_t48*_t49
+    _t51 = _t2*_t34
+    _t52 = _t45*_t49
+    _t53 = -_t15
+    _t54 = 1/_t16
+    _t55 = _t53*_t54
+    _t56 = -_t30 + _t5*_t6
+    _t57 = _t31 + _t32
+    _t58 = -W_eta_*_t12 - W_xi_*_t15
+    _t59 = _t16**((-3/2))
+    _t60 = _t29*_t59
+    _t61 = -_t33*_t59
+    _t62 = -_t12*_t24
+    _t63 = W_eta_*_t15 - W_xi_*_t12
+    _out = _np.zeros((5, 7) + _batch)
+    _out[0, 0] = _t12*_t23 + _t27*_t29
+    _out[0, 1] = _t23*(-_t0*_t13 - _t0*_t14) + _t27*_t33
+    _out[1, 0] = _t50*(-_t0*_t38 - _t11*_t40 - _t41*_t42) + _t52*(-_t0*_t46 - _t11*_t47 - _t42*_t51)
+    _out[1, 1] = _t50*(-_t20*_t41 + _t40*_t43) + _t52*(-_t20*_t51 + _t43*_t47)
+    _out[2, 0] = _t25*_t55
+    _out[2, 1] = _t12*_t54*_t56 + _t55*_t57
+    _out[3, 0] = -W_eta_*_t26 - _t58*_t60
+    _out[3, 1] = _t24*(-W_eta_*_t57 - W_xi_*_t56) + _t58*_t61
+    _out[3, 2] = _t24*_t53
+    _out[3, 3] = _t62
+    _out[4, 0] = -W_xi_*_t26 - _t60*_t63
+    _out[4, 1] = _t24*(W_eta_*_t56 - W_xi_*_t57) + _t61*_t63
+    _out[4, 2] = _t62
+    _out[4, 3] = _t15*_t24
+    return _out
+
+
+def second_order(x, u, p, xe, w):
+    """Second-order term of the error equations (refined model).
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+    xe : array_like, shape (7, ...)
+        error state xr - (x, 0)
+    w : array_like, shape (12, ...)
+        error-source magnitudes, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        1/2 (xe, w)' Hessian (xe, w) per equation
+    """
+    x = _as_vector(x, 4, 'x', 'second_order')
+    u = _as_vector(u, 4, 'u', 'second_order')
+    p = _as_vector(p, 6, 'p', 'second_order')
+    xe = _as_vector(xe, 7, 'xe', 'second_order')
+    w = _as_vector(w, 12, 'w', 'second_order')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:], w.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    W_xi_ = x[2]
+    W_eta_ = x[3]
+    V_zeta_ = u[3]
+    a_ = p[0]
+    e2_ = p[1]
+    U_ = p[2]
+    orth_latitude_ = p[3]
+    orth_angle_ = p[5]
+    delta_Phi_ = xe[0]
+    delta_Lam_ = xe[1]
+    delta_W_xi_ = xe[2]
+    delta_W_eta_ = xe[3]
+    _t0 = _m.cos(Phi_)
+    _t1 = _m.sin(Lam_)
+    _t2 = _m.sin(orth_latitude_)
+    _t3 = _t1*_t2
+    _t4 = _t3*delta_Lam_
+    _t5 = _t0*_t4
+    _t6 = _m.sin(Phi_)
+    _t7 = _m.cos(Lam_)
+    _t8 = _t2*_t7
+    _t9 = _t6*_t8
+    _t10 = _m.cos(orth_latitude_)
+    _t11 = _t10*_m.cos(orth_angle_)
+    _t12 = _t0*_t11
+    _t13 = _t10*_m.sin(orth_angle_)
+    _t14 = _t13*_t7
+    _t15 = _t14*delta_Lam_
+    _t16 = _t0*_t15
+    _t17 = _t1*_t13
+    _t18 = _t17*_t6
+    _t19 = -_t12*delta_Phi_ + _t16 - _t18*delta_Phi_ + _t5 + _t9*delta_Phi_
+    _t20 = _t19**2
+    _t21 = _t0*_t8
+    _t22 = _t11*_t6
+    _t23 = _t0*_t17
+    _t24 = _t21 + _t22 - _t23
+    _t25 = delta_Lam_**2
+    _t26 = _t21*_t25
+    _t27 = delta_Phi_**2
+    _t28 = _t21*_t27
+    _t29 = _t22*_t27
+    _t30 = _t23*_t25
+    _t31 = _t23*_t27
+    _t32 = _t4*_t6
+    _t33 = 2*delta_Phi_
+    _t34 = _t32*_t33
+    _t35 = 2*_t6
+    _t36 = _t15*_t35*delta_Phi_
+    _t37 = -_t26 - _t28 - _t29 + _t30 + _t31 + _t34 + _t36
+    _t38 = _t24*_t37
+    _t39 = _t24**2
+    _t40 = e2_ - 2
+    _t41 = 1/_t40
+    _t42 = _t41*e2_
+    _t43 = _t39*_t42
+    _t44 = _t43 + 1
+    _t45 = 1/_t44
+    _t46 = 4*_t43
+    _t47 = -_t20*_t45*_t46 + _t20 + _t38
+    _t48 = 2*_t19
+    _t49 = _t48*delta_W_eta_
+    _t50 = _t24*_t49
+    _t51 = 1/a_
+    _t52 = _t44**(-2)
+    _t53 = _t51*_t52
+    _t54 = _t42*_t53
+    _t55 = 1/_t0
+    _t56 = W_xi_*_t27
+    _t57 = delta_Phi_*delta_W_xi_
+    _t58 = 2*W_xi_
+    _t59 = 4*_t19
+    _t60 = _t59*delta_W_xi_
+    _t61 = _t24*_t42
+    _t62 = _t45*_t61
+    _t63 = W_xi_*delta_Phi_
+    _t64 = _t59*_t63
+    _t65 = _t45*_t51
+    _t66 = -_t12*_t27 + _t16*_t33 - _t18*_t25 - _t18*_t27 + _t25*_t9 + _t27*_t9 + _t33*_t5
+    _t67 = U_*_t37
+    _t68 = _m.tan(Phi_)
+    _t69 = _t65*_t68
+    _t70 = _t69*delta_W_xi_
+    _t71 = _t68**2 + 1
+    _t72 = _t65*_t71
+    _t73 = _t57*_t72
+    _t74 = _t63*_t72
+    _t75 = _t69*_t71
+    _t76 = _t56*_t75
+    _t77 = _t48*delta_W_xi_
+    _t78 = _t24*_t54
+    _t79 = _t68*_t77*_t78
+    _t80 = W_xi_*_t68
+    _t81 = _t50*_t54
+    _t82 = e2_**2
+    _t83 = _t40**(-2)
+    _t84 = _t82*_t83
+    _t85 = W_eta_*_t84
+    _t86 = _t39*_t85
+    _t87 = _t44**(-3)
+    _t88 = _t20*_t51*_t87
+    _t89 = 4*_t88
+    _t90 = _t86*_t89
+    _t91 = _t48*_t71*_t78
+    _t92 = _t63*_t91
+    _t93 = _t14 + _t3
+    _t94 = _t25*_t93
+    _t95 = U_*_t94
+    _t96 = W_xi_**2
+    _t97 = _t20*_t54
+    _t98 = _t68*_t96
+    _t99 = _t38*_t54
+    _t100 = _t39*_t84
+    _t101 = _t100*_t89
+    _t102 = _t42*_t93
+    _t103 = 12*_t20*_t61 + _t26 + _t28 + _t29 - _t30 - _t31 - _t34 - _t36 + _t37*_t46
+    _t104 = W_xi_*_t69
+    _t105 = _t104*(_t103 + _t37*_t42*(2*_t24**2 - 1))
+    _t106 = 2*_t39
+    _t107 = _t42*(_t106 - 1)
+    _t108 = _t107 - 1
+    _t109 = _t108 + _t46
+    _t110 = _t102*_t109
+    _t111 = _t108*_t61
+    _t112 = _t104*_t111
+    _t113 = e2_**3
+    _t114 = _t40**(-3)
+    _t115 = _t24**3
+    _t116 = 8*_t108*_t113*_t114*_t115*_t88
+    _t117 = _t53*_t93
+    _t118 = _t108*_t117
+    _t119 = _t100*_t118
+    _t120 = _t60*_t68
+    _t121 = _t17 - _t8
+    _t122 = _t121*delta_Lam_
+    _t123 = 2*_t111
+    _t124 = _t123*_t73
+    _t125 = _t106*_t108*_t37
+    _t126 = _t117*_t80*_t84
+    _t127 = _t20*_t24
+    _t128 = _t123*_t70
+    _t129 = 4*_t109
+    _t130 = _t64*_t71
+    _t131 = _t123*_t76
+    _t132 = W_xi_*_t111*_t33*_t72
+    _t133 = _t108*_t53
+    _t134 = _t100*_t133
+    _t135 = _t134*_t59*_t80
+    _t136 = _t12 + _t18 - _t9
+    _t137 = _t15*_t6 - _t21*delta_Phi_ - _t22*delta_Phi_ + _t23*delta_Phi_ + _t32
+    _t138 = _t134*_t136
+    _t139 = _t117*_t85
+    _t140 = _t127*_t139
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = _t54*(W_eta_*_t47 - _t50)
+    _out[1] = ((1/2))*_t55*_t65*(_t35*_t55*_t57 - _t42*_t45*_t47*_t58 + _t55*_t6*_t62*_t64 + _t56*(1 + 2*_t6**2/_t0**2) + _t60*_t62)
+    _out[2] = -U_*V_zeta_*_t66 + 2*U_*_t19*delta_W_eta_ + W_eta_*W_xi_*_t20*_t41*_t51*_t52*_t68*e2_ + W_eta_*W_xi_*_t24*_t37*_t41*_t51*_t52*_t68*e2_ - W_eta_*_t67 - W_eta_*_t73 - W_eta_*_t76 - W_eta_*_t79 - W_eta_*_t92 - _t70*delta_W_eta_ - _t74*delta_W_eta_ - _t80*_t81 - _t80*_t90
+    _out[3] = -U_*_t77 - V_zeta_*_t95 + W_xi_*_t67 + _t101*_t98 + _t27*_t75*_t96 + _t58*_t73 + _t60*_t78*_t80 + _t69*delta_W_xi_**2 + _t91*_t96*delta_Phi_ - _t97*_t98 - _t98*_t99
+    _out[4] = W_eta_*_t97 + W_eta_*_t99 - _t102*_t105 - _t104*_t109*_t122*_t42*_t48 + _t110*_t48*_t74 + _t110*_t69*_t77 + _t112*_t94 - _t116*_t80*_t93 + _t118*_t127*_t58*_t68*_t84 - _t119*_t120 - _t119*_t130 + _t122*_t128 + _t122*_t132 + _t122*_t135 - _t124*_t93 + _t125*_t126 + _t126*_t127*_t129 - _t131*_t93 - _t81 - _t90 - (1/2)*_t95
+    _out[5] = ((1/2))*U_*_t66 + 2*W_xi_*_t108*_t136*_t20*_t24*_t51*_t52*_t68*_t82*_t83 + 2*W_xi_*_t108*_t136*_t37*_t39*_t51*_t52*_t68*_t82*_t83 + 2*W_xi_*_t109*_t136*_t19*_t41*_t45*_t51*_t71*delta_Phi_*e2_ + 4*W_xi_*_t109*_t136*_t20*_t24*_t51*_t52*_t68*_t82*_t83 + 2*W_xi_*_t109*_t137*_t19*_t41*_t45*_t51*_t68*e2_ + 4*W_xi_*_t20*_t39*_t51*_t82*_t83*_t87 - W_xi_*_t97 - W_xi_*_t99 - _t105*_t136*_t42 + 2*_t109*_t136*_t19*_t41*_t45*_t51*_t68*delta_W_xi_*e2_ - _t112*_t66 - _t116*_t136*_t80 - _t120*_t138 - _t124*_t136 - _t128*_t137 - _t130*_t138 - _t131*_t136 - _t132*_t137 - _t135*_t137 + 2*_t19*_t24*_t41*_t51*_t52*delta_W_xi_*e2_
+    _out[6] = 8*W_eta_*_t108*_t113*_t114*_t115*_t20*_t51*_t87*_t93 + 2*W_eta_*_t109*_t121*_t19*_t41*_t45*_t51*delta_Lam_*e2_ - W_eta_*_t111*_t65*_t94 + W_eta_*_t41*_t45*_t51*_t93*e2_*(_t103 + _t107*_t37) + W_xi_*_t20*_t41*_t51*_t52*_t68*e2_ + W_xi_*_t24*_t37*_t41*_t51*_t52*_t68*e2_ - _t101*_t80 - 2*_t108*_t140 + 4*_t108*_t19*_t39*_t51*_t52*_t82*_t83*_t93*delta_W_eta_ - _t110*_t49*_t65 - _t122*_t123*_t65*delta_W_eta_ - _t122*_t133*_t59*_t86 - _t125*_t139 - _t129*_t140 - (1/2)*_t67 - _t73 - _t76 - _t79 - _t92
+    return _out
+
+
+def output_second_order(x, u, p, xe):
+    """Second-order term of the output errors.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+    xe : array_like, shape (7, ...)
+        error state xr - (x, 0)
+
+    Returns
+    -------
+    numpy.ndarray, shape (5, ...)
+        1/2 xe' Hessian xe per output
+    """
+    x = _as_vector(x, 4, 'x', 'output_second_order')
+    u = _as_vector(u, 4, 'u', 'output_second_order')
+    p = _as_vector(p, 6, 'p', 'output_second_order')
+    xe = _as_vector(xe, 7, 'xe', 'output_second_order')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    W_xi_ = x[2]
+    W_eta_ = x[3]
+    orth_latitude_ = p[3]
+    orth_longitude_ = p[4]
+    orth_angle_ = p[5]
+    delta_Phi_ = xe[0]
+    delta_Lam_ = xe[1]
+    delta_W_xi_ = xe[2]
+    delta_W_eta_ = xe[3]
+    _t0 = _m.cos(Phi_)
+    _t1 = _m.cos(Lam_)
+    _t2 = _m.sin(orth_latitude_)
+    _t3 = _t1*_t2
+    _t4 = _t0*_t3
+    _t5 = _m.sin(Phi_)
+    _t6 = _m.cos(orth_angle_)
+    _t7 = _m.cos(orth_latitude_)
+    _t8 = _t6*_t7
+    _t9 = _t5*_t8
+    _t10 = _m.sin(Lam_)
+    _t11 = _m.sin(orth_angle_)
+    _t12 = _t11*_t7
+    _t13 = _t10*_t12
+    _t14 = _t0*_t13
+    _t15 = -_t14 + _t4 + _t9
+    _t16 = _t10*_t2
+    _t17 = _t1*_t12
+    _t18 = _t16 + _t17
+    _t19 = _t18**2
+    _t20 = _t0*_t8
+    _t21 = _t3*_t5
+    _t22 = _t13*_t5
+    _t23 = _t20 - _t21 + _t22
+    _t24 = _t19 + _t23**2
+    _t25 = 1/(_t15**2 + _t24)
+    _t26 = _m.sqrt(_t24)
+    _t27 = delta_Lam_**2
+    _t28 = delta_Phi_**2
+    _t29 = _t16*delta_Lam_
+    _t30 = _t29*_t5
+    _t31 = _t5*delta_Phi_
+    _t32 = _t17*delta_Lam_
+    _t33 = _t0*delta_Phi_
+    _t34 = _t13*_t33 + _t30 + _t32*_t5 - _t4*delta_Phi_ - _t9*delta_Phi_
+    _t35 = _t13 - _t3
+    _t36 = _t35*delta_Lam_
+    _t37 = _t18*_t36 - _t23*_t34
+    _t38 = _t37**2
+    _t39 = 2*_t33
+    _t40 = -_t20*_t28 + _t21*_t27 + _t21*_t28 - _t22*_t27 - _t22*_t28 + _t29*_t39 + _t32*_t39
+    _t41 = -_t19*_t27 + _t23*_t40 + _t27*_t35**2 + _t34**2
+    _t42 = 1/_t26
+    _t43 = _t15*_t42
+    _t44 = _t0*_t29 + _t0*_t32 - _t20*delta_Phi_ + _t21*delta_Phi_ - _t22*delta_Phi_
+    _t45 = 2*_t25*(_t15*_t44 + _t37)
+    _t46 = _m.cos(orth_longitude_)
+    _t47 = _t11*_t46
+    _t48 = _m.sin(orth_longitude_)
+    _t49 = _t48*_t6
+    _t50 = -_t2*_t49 + _t47
+    _t51 = _t5*_t50
+    _t52 = _t46*_t6
+    _t53 = _t11*_t48
+    _t54 = _t2*_t53 + _t52
+    _t55 = _t0*_t10
+    _t56 = _t54*_t55
+    _t57 = _t0*_t1
+    _t58 = _t48*_t7
+    _t59 = _t57*_t58
+    _t60 = _t51 + _t56 + _t59
+    _t61 = _t2*_t52 + _t53
+    _t62 = _t5*_t61
+    _t63 = _t2*_t47 - _t49
+    _t64 = _t55*_t63
+    _t65 = _t46*_t7
+    _t66 = _t57*_t65
+    _t67 = -_t62 + _t64 + _t66
+    _t68 = 1/(_t60**2 + _t67**2)
+    _t69 = _t1*_t31
+    _t70 = 2*delta_Lam_
+    _t71 = _t69*_t70
+    _t72 = _t10*_t31
+    _t73 = _t70*_t72
+    _t74 = _t57*delta_Lam_
+    _t75 = _t55*delta_Lam_
+    _t76 = -_t33*_t50 + _t54*_t72 - _t54*_t74 + _t58*_t69 + _t58*_t75
+    _t77 = _t33*_t61 + _t63*_t72 - _t63*_t74 + _t65*_t69 + _t65*_t75
+    _t78 = _t60*_t76 + _t67*_t77
+    _t79 = 1/_t24
+    _t80 = 2*_t34
+    _t81 = _t37*_t79
+    _t82 = 2*_t81
+    _t83 = -3*_t38*_t79 + _t41
+    _t84 = ((1/2))*_t42
+    _t85 = W_eta_*_t18
+    _out = _np.zeros((5,) + _batch)
+    _out[0] = ((1/2))*_t25*(_t15*_t38/_t24**((3/2)) - _t26*_t44*_t45 + _t26*(_t14*_t27 + _t14*_t28 - _t27*_t4 - _t28*_t4 - _t28*_t9 + 2*_t30*delta_Phi_ + 2*_t31*_t32) + _t37*_t43*_t45 - _t41*_t43)
+    _out[1] = ((1/2))*_t68*(2*_t60*_t68*_t77*_t78 + _t60*(_t27*_t64 + _t27*_t66 - _t28*_t62 + _t28*_t64 + _t28*_t66 + _t63*_t71 - _t65*_t73) - 2*_t67*_t68*_t76*_t78 - _t67*(_t27*_t56 + _t27*_t59 + _t28*_t51 + _t28*_t56 + _t28*_t59 + _t54*_t71 - _t58*_t73))
+    _out[2] = -(1/2)*_t79*(_t18*_t23*_t27 + _t18*_t40 + _t18*_t80*_t81 + _t23*_t36*_t82)
+    _out[3] = _t84*(-W_eta_*_t40 + W_xi_*_t18*_t27 + 2*_t35*delta_Lam_*delta_W_xi_ + _t79*_t83*(W_eta_*_t23 + W_xi_*_t18) - _t80*delta_W_eta_ - _t82*(W_eta_*_t34 - W_xi_*_t36 + _t18*delta_W_xi_ + _t23*delta_W_eta_))
+    _out[4] = -_t84*(W_xi_*_t40 + _t27*_t85 + 2*_t36*delta_W_eta_ + _t79*_t83*(-W_xi_*_t23 + _t85) + _t80*delta_W_xi_ + _t82*(W_eta_*_t36 + W_xi_*_t34 - _t18*delta_W_eta_ + _t23*delta_W_xi_))
+    return _out
+
+
+def initial_state(c, u, p):
+    """True initial state from navigation initial conditions.
+
+    Parameters
+    ----------
+    c : array_like, shape (4, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, ...)
+        x(0)
+    """
+    c = _as_vector(c, 4, 'c', 'initial_state')
+    u = _as_vector(u, 4, 'u', 'initial_state')
+    p = _as_vector(p, 6, 'p', 'initial_state')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    longitude_ = c[1]
+    v_N_ = c[2]
+    v_E_ = c[3]
+    orth_latitude_ = p[3]
+    orth_longitude_ = p[4]
+    orth_angle_ = p[5]
+    _t0 = _m.sin(orth_angle_)
+    _t1 = _m.sin(orth_longitude_)
+    _t2 = _t0*_t1
+    _t3 = _m.sin(orth_latitude_)
+    _t4 = _m.cos(orth_angle_)
+    _t5 = _m.cos(orth_longitude_)
+    _t6 = _t4*_t5
+    _t7 = _m.cos(latitude_)
+    _t8 = _t7*_m.cos(longitude_)
+    _t9 = _t0*_t5
+    _t10 = _t7*_m.sin(longitude_)
+    _t11 = _m.cos(orth_latitude_)
+    _t12 = _m.sin(latitude_)
+    _t13 = -_t10*(_t1*_t3*_t4 - _t9) + _t11*_t12*_t4 - _t8*(_t2 + _t3*_t6)
+    _t14 = _t1*_t10*_t11 + _t11*_t5*_t8 + _t12*_t3
+    _t15 = -_t0*_t11*_t12 + _t10*(_t2*_t3 + _t6) + _t8*(-_t1*_t4 + _t3*_t9)
+    _t16 = _t14**2 + _t15**2
+    _t17 = _m.sqrt(_t16)
+    _t18 = 1/_m.sqrt(_t13**2 + _t16)
+    _t19 = _t11*_t18
+    _t20 = 1/_t17
+    _t21 = _t20*_t3
+    _t22 = _t0*_t20
+    _t23 = -_t13*_t14*_t18*_t21 + _t13*_t15*_t19*_t22 + _t17*_t19*_t4
+    _t24 = 1/_t7
+    _t25 = _t24*v_E_
+    _t26 = _t11*_t14*_t22 + _t15*_t21
+    _t27 = _t24*v_N_
+    _out = _np.zeros((4,) + _batch)
+    _out[0] = _m.arctan2(_t13, _t17)
+    _out[1] = _m.arctan2(_t15, _t14)
+    _out[2] = -_t23*_t25 - _t26*_t27
+    _out[3] = -_t23*_t27 + _t25*_t26
+    return _out
+
+
+def initial_real_state(c, u, w, p):
+    """Real-work initial state, initial-error sources applied.
+
+    Parameters
+    ----------
+    c : array_like, shape (4, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    w : array_like, shape (12, ...)
+        error-source magnitudes, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        xr(0)
+    """
+    c = _as_vector(c, 4, 'c', 'initial_real_state')
+    u = _as_vector(u, 4, 'u', 'initial_real_state')
+    w = _as_vector(w, 12, 'w', 'initial_real_state')
+    p = _as_vector(p, 6, 'p', 'initial_real_state')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    longitude_ = c[1]
+    v_N_ = c[2]
+    v_E_ = c[3]
+    initial_tilt_x_ = w[0]
+    initial_tilt_y_ = w[1]
+    initial_azimuth_error_ = w[2]
+    initial_velocity_error_xi_ = w[3]
+    initial_velocity_error_eta_ = w[4]
+    initial_Phi_error_ = w[5]
+    initial_Lam_error_ = w[6]
+    orth_latitude_ = p[3]
+    orth_longitude_ = p[4]
+    orth_angle_ = p[5]
+    _t0 = _m.sin(orth_angle_)
+    _t1 = _m.sin(orth_longitude_)
+    _t2 = _t0*_t1
+    _t3 = _m.sin(orth_latitude_)
+    _t4 = _m.cos(orth_angle_)
+    _t5 = _m.cos(orth_longitude_)
+    _t6 = _t4*_t5
+    _t7 = _m.cos(latitude_)
+    _t8 = _t7*_m.cos(longitude_)
+    _t9 = _t0*_t5
+    _t10 = _t7*_m.sin(longitude_)
+    _t11 = _m.cos(orth_latitude_)
+    _t12 = _m.sin(latitude_)
+    _t13 = -_t10*(_t1*_t3*_t4 - _t9) + _t11*_t12*_t4 - _t8*(_t2 + _t3*_t6)
+    _t14 = _t1*_t10*_t11 + _t11*_t5*_t8 + _t12*_t3
+    _t15 = -_t0*_t11*_t12 + _t10*(_t2*_t3 + _t6) + _t8*(-_t1*_t4 + _t3*_t9)
+    _t16 = _t14**2 + _t15**2
+    _t17 = _m.sqrt(_t16)
+    _t18 = 1/_m.sqrt(_t13**2 + _t16)
+    _t19 = _t11*_t18
+    _t20 = 1/_t17
+    _t21 = _t20*_t3
+    _t22 = _t0*_t20
+    _t23 = -_t13*_t14*_t18*_t21 + _t13*_t15*_t19*_t22 + _t17*_t19*_t4
+    _t24 = 1/_t7
+    _t25 = _t24*v_E_
+    _t26 = _t11*_t14*_t22 + _t15*_t21
+    _t27 = _t24*v_N_
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = initial_Phi_error_ + _m.arctan2(_t13, _t17)
+    _out[1] = initial_Lam_error_ + _m.arctan2(_t15, _t14)
+    _out[2] = -_t23*_t25 - _t26*_t27 + initial_velocity_error_xi_
+    _out[3] = -_t23*_t27 + _t25*_t26 + initial_velocity_error_eta_
+    _out[4] = initial_tilt_x_
+    _out[5] = initial_tilt_y_
+    _out[6] = initial_azimuth_error_
+    return _out
+
+
+def initial_error_matrix(c, u, p):
+    """First-order map from error sources to the initial error state.
+
+    Parameters
+    ----------
+    c : array_like, shape (4, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 12, ...)
+        E: xe(0) = E w
+    """
+    c = _as_vector(c, 4, 'c', 'initial_error_matrix')
+    u = _as_vector(u, 4, 'u', 'initial_error_matrix')
+    p = _as_vector(p, 6, 'p', 'initial_error_matrix')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    _out = _np.zeros((7, 12) + _batch)
+    _out[0, 5] = 1
+    _out[1, 6] = 1
+    _out[2, 3] = 1
+    _out[3, 4] = 1
+    _out[4, 0] = 1
+    _out[5, 1] = 1
+    _out[6, 2] = 1
+    return _out
+
+
+def domain_margins(x, u, p):
+    """Margins that must be positive for the formulas to hold (see DOMAIN).
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (4, ...)
+        one margin per condition of DOMAIN
+    """
+    x = _as_vector(x, 4, 'x', 'domain_margins')
+    u = _as_vector(u, 4, 'u', 'domain_margins')
+    p = _as_vector(p, 6, 'p', 'domain_margins')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    a_ = p[0]
+    e2_ = p[1]
+    orth_latitude_ = p[3]
+    orth_angle_ = p[5]
+    _t0 = _m.cos(Phi_)
+    _t1 = _m.cos(orth_latitude_)
+    _out = _np.zeros((4,) + _batch)
+    _out[0] = _t0**2 - 1e-12
+    _out[1] = 0.999999999999 - (_t0*_t1*_m.sin(Lam_)*_m.sin(orth_angle_) - _t0*_m.sin(orth_latitude_)*_m.cos(Lam_) - _t1*_m.sin(Phi_)*_m.cos(orth_angle_))**2
+    _out[2] = a_
+    _out[3] = 1 - e2_
+    return _out
+
+
+def initial_domain_margins(c, u, p):
+    """Margins that must be positive for the initial conditions.
+
+    Parameters
+    ----------
+    c : array_like, shape (4, ...)
+        initial navigation conditions, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (6, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, ...)
+        one margin per condition of INITIAL_DOMAIN
+    """
+    c = _as_vector(c, 4, 'c', 'initial_domain_margins')
+    u = _as_vector(u, 4, 'u', 'initial_domain_margins')
+    p = _as_vector(p, 6, 'p', 'initial_domain_margins')
+    _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+    latitude_ = c[0]
+    a_ = p[0]
+    e2_ = p[1]
+    _out = _np.zeros((3,) + _batch)
+    _out[0] = _m.cos(latitude_)**2 - 1e-12
+    _out[1] = a_
+    _out[2] = 1 - e2_
+    return _out
+
+
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')

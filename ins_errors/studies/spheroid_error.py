@@ -1,0 +1,396 @@
+"""Formula (10) of source 004 against a direct simulation over the spheroid.
+
+Source 004 argues that an inertial vertical that holds the geodetic vertical and
+dead-reckons with the spherical formulas (9) (variable radius R = a(1 − c sin²B))
+computes the *geocentric* orthodromic coordinates Φ1, Λ1 instead of the geodetic ones
+Φ = Φ1 + ν1, Λ = Λ1 + ν2/cos Φ, so that its coordinate error is (10):
+
+    ΔΦ = c sin 2B cos N − ν1⁰,    ΔΛ = −c sin 2B sin N / cos Φ,
+
+"purely geometric, reaching 22 km". Here this is checked by a direct simulation that
+does not use the paper's formulas for the truth:
+
+* truth: the vehicle flies at constant ground speed along the orthodrome taken as a
+  central section of the ellipsoid (the plane of the start frame's ξ¹, ζ¹ axes), in the
+  Earth-fixed frame ξ0η0ζ0 of the paper (η0 along the rotation axis); position,
+  velocity and acceleration are exact (analytic derivatives of the section);
+* the platform is on the exact geodetic vertical (ellipsoid normal); its horizontal axes
+  are those of the orthodromic spherical coordinates (Φ, Λ) *of the normal* (the exact
+  meaning of (5)); the accelerometers read j = r̈ + 2ω × ṙ − g on those axes (normal
+  gravity has no horizontal component on the level ellipsoid);
+* the computer is the ideal work of the generated model ``geodetic_vertical`` (formulas
+  (9) and the dead reckoning), started from the exact coordinates and velocity;
+* the error is the true geodetic (Φ, Λ) minus the computed one, compared with (10) as
+  printed and with (10) completed by the start term −ν2⁰/cos Φ0 of ΔΛ that the print
+  lacks (at t = 0 the error is zero).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.errors import DomainError, InsErrorsError
+from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
+from ins_errors.numeric.model import load_model
+
+
+class SpheroidStudyError(InsErrorsError):
+    """Bad arguments for the spheroid-error study."""
+
+
+def flattening_constant(a: float, b: float) -> float:
+    """c = (a² − b²)/(a² + b²)."""
+    return (a * a - b * b) / (a * a + b * b)
+
+
+def krasovsky_axes() -> tuple[float, float]:
+    """Semi-axes (a, b) of the Krasovsky ellipsoid, m."""
+    e = ELLIPSOIDS["krasovsky"]
+    return e.semi_major_axis, e.semi_major_axis * (1.0 - e.flattening)
+
+
+def mu(B: np.ndarray, c: float) -> np.ndarray:
+    """(4): deflection of the normal from the radius, μ = c sin 2B − ½ c² sin 4B, rad."""
+    return c * np.sin(2 * B) - 0.5 * c**2 * np.sin(4 * B)
+
+
+def formula_10(B: np.ndarray, N: np.ndarray, Phi: np.ndarray, c: float,
+               B0: float | np.ndarray = 0.0, N0: float | np.ndarray = 0.0,
+               Phi0: float | np.ndarray = 0.0, start_term: bool = False):
+    """Coordinate error (10): (ΔΦ, ΔΛ), rad, true minus computed.
+
+    Parameters
+    ----------
+    B, N, Phi : numpy.ndarray
+        Current geodetic latitude, orthodrome angle and orthodromic latitude, rad.
+    c : float
+        Flattening constant (a² − b²)/(a² + b²).
+    B0, N0, Phi0 : float or numpy.ndarray
+        The same at the start point (for ν1⁰ and the optional start term of ΔΛ).
+    start_term : bool
+        Add −ν2⁰/cos Φ0 to ΔΛ (the print has no start term in ΔΛ).
+    """
+    nu1_0 = mu(B0, c) * np.cos(N0)
+    d_phi = c * np.sin(2 * B) * np.cos(N) - nu1_0
+    d_lam = -c * np.sin(2 * B) * np.sin(N) / np.cos(Phi)
+    if start_term:
+        d_lam = d_lam - (-mu(B0, c) * np.sin(N0)) / np.cos(Phi0)
+    return d_phi, d_lam
+
+
+def formula_10_maximum(a: float | None = None, b: float | None = None,
+                       points: int = 721) -> dict[str, float]:
+    """Largest coordinate error of (10) over latitudes and orthodrome angles (ν1⁰ = 0).
+
+    Returns
+    -------
+    dict
+        ``"dPhi_km"`` (max |ΔΦ| a), ``"dLam_km"`` (max |ΔΛ cos Φ| a), ``"total_km"``
+        (max of the displacement √(ΔΦ² + (ΔΛ cos Φ)²) a), with the latitude (deg) where
+        the displacement peaks.
+    """
+    if a is None or b is None:
+        a, b = krasovsky_axes()
+    _check_axes(a, b)
+    c = flattening_constant(a, b)
+    B, N = np.meshgrid(np.linspace(-np.pi / 2, np.pi / 2, points),
+                       np.linspace(0, 2 * np.pi, points))
+    d_phi, d_lam = formula_10(B, N, np.zeros_like(B), c)
+    total = np.hypot(d_phi, d_lam)  # Φ = 0: along the orthodrome
+    k = np.unravel_index(np.argmax(total), total.shape)
+    return {"dPhi_km": float(np.abs(d_phi).max() * a / 1000),
+            "dLam_km": float(np.abs(d_lam).max() * a / 1000),
+            "total_km": float(total.max() * a / 1000),
+            "latitude_deg": float(np.degrees(abs(B[k])))}
+
+
+def _check_axes(a: float, b: float) -> None:
+    if not (np.isfinite(a) and np.isfinite(b)) or a <= 0 or b <= 0:
+        raise DomainError(f"ellipsoid semi-axes must be positive, got a={a}, b={b}")
+    if b > a:
+        raise DomainError(f"semi-minor axis b={b} exceeds the semi-major axis a={a}")
+
+
+# --------------------------------------------------------------------------------------
+# Direct simulation
+# --------------------------------------------------------------------------------------
+def _start_frames(lat0: np.ndarray, lon0: np.ndarray, angle0: np.ndarray) -> np.ndarray:
+    """Table (1) (orthonormal reading), shape (B, 3, 3): rows ξ¹, η¹, ζ¹ on ξ0, η0, ζ0."""
+    s, c = np.sin, np.cos
+    rows = [
+        [c(lon0) * c(angle0) + s(lon0) * s(lat0) * s(angle0), c(lat0) * s(angle0),
+         s(lat0) * c(lon0) * s(angle0) - s(lon0) * c(angle0)],
+        [s(lon0) * s(lat0) * c(angle0) - c(lon0) * s(angle0), c(lat0) * c(angle0),
+         c(lon0) * s(lat0) * c(angle0) + s(lon0) * s(angle0)],
+        [s(lon0) * c(lat0), -s(lat0), c(lon0) * c(lat0)],
+    ]
+    return np.moveaxis(np.array(rows, dtype=float), -1, 0)
+
+
+def _table2(Phi: np.ndarray, Lam: np.ndarray) -> np.ndarray:
+    s, c = np.sin, np.cos
+    z = np.zeros_like(Phi)
+    rows = [[c(Lam), z, -s(Lam)],
+            [s(Lam) * s(Phi), c(Phi), c(Lam) * s(Phi)],
+            [s(Lam) * c(Phi), -s(Phi), c(Lam) * c(Phi)]]
+    return np.moveaxis(np.array(rows), -1, 0)
+
+
+@dataclass
+class _Section:
+    """Central section of the ellipsoid in the plane of ξ¹, ζ¹ (one per flight)."""
+
+    n: np.ndarray  # (B, 3, 3)
+    q: np.ndarray  # (3,) diagonal of the ellipsoid's quadratic form on ξ0, η0, ζ0
+    speed: np.ndarray  # (B,)
+    omega: float
+
+    def kinematics(self, lam1: np.ndarray):
+        """r, ṙ, r̈ (Earth frame) and Λ̇1 at section angle Λ1, each (B, 3) / (B,)."""
+        xi1, zeta1 = self.n[:, 0, :], self.n[:, 2, :]
+        sl, cl = np.sin(lam1)[:, None], np.cos(lam1)[:, None]
+        d = sl * xi1 + cl * zeta1
+        d1 = cl * xi1 - sl * zeta1
+        Q = self.q
+        qv = np.sum(d * d * Q, axis=1)
+        q1 = 2 * np.sum(d1 * d * Q, axis=1)
+        q2 = 2 * (-qv + np.sum(d1 * d1 * Q, axis=1))
+        rho = qv**-0.5
+        rho1 = -0.5 * qv**-1.5 * q1
+        rho2 = 0.75 * qv**-2.5 * q1**2 - 0.5 * qv**-1.5 * q2
+        r = rho[:, None] * d
+        r1 = rho1[:, None] * d + rho[:, None] * d1
+        r2 = rho2[:, None] * d + 2 * rho1[:, None] * d1 - rho[:, None] * d
+        norm1 = np.linalg.norm(r1, axis=1)
+        lam_dot = self.speed / norm1
+        lam_ddot = -self.speed * np.sum(r1 * r2, axis=1) / norm1**3 * lam_dot
+        v = r1 * lam_dot[:, None]
+        acc = r2 * (lam_dot**2)[:, None] + r1 * lam_ddot[:, None]
+        return r, v, acc, lam_dot
+
+    def geodetic(self, r: np.ndarray):
+        """Normal, its orthodromic (Φ, Λ), the geodetic axes (B, 3, 3), B and N."""
+        normal = r * self.q
+        normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+        s = np.einsum("bij,bj->bi", self.n, normal)
+        Phi = np.arctan2(-s[:, 1], np.hypot(s[:, 0], s[:, 2]))
+        Lam = np.arctan2(s[:, 0], s[:, 2])
+        axes = np.einsum("bij,bjk->bik", _table2(Phi, Lam), self.n)  # m_ij
+        lat = np.arcsin(np.clip(-axes[:, 2, 1], -1, 1))
+        N = np.arctan2(axes[:, 0, 1], axes[:, 1, 1])
+        return Phi, Lam, axes, lat, N
+
+    def measurements(self, lam1: np.ndarray, gravity: float):
+        """Model inputs (j_ξ, j_η, j_ζ, V_ζ), shape (4, B), true (Φ, Λ, W, B, N), Λ̇1."""
+        r, v, acc, lam_dot = self.kinematics(lam1)
+        Phi, Lam, axes, lat, N = self.geodetic(r)
+        k = np.array([0.0, self.omega, 0.0])  # η0 along the Earth's angular velocity
+        specific = acc + 2 * np.cross(k, v)
+        j_xi = np.sum(specific * axes[:, 0], axis=1)
+        j_eta = np.sum(specific * axes[:, 1], axis=1)
+        W = np.stack([np.sum(v * axes[:, 0], axis=1), np.sum(v * axes[:, 1], axis=1)])
+        V_zeta = np.sum(v * axes[:, 2], axis=1)
+        u = np.stack([j_xi, j_eta, np.full_like(j_xi, gravity), V_zeta])
+        return u, (Phi, Lam, W, lat, N), lam_dot
+
+
+@dataclass
+class FlightErrors:
+    """Direct and formula-(10) coordinate errors along a batch of flights.
+
+    Attributes
+    ----------
+    times : numpy.ndarray, shape (T,)
+        s.
+    start : numpy.ndarray, shape (3, F)
+        Geocentric start latitude φ0, longitude λ0, orthodrome angle N0 per flight, rad.
+    latitude, orthodrome_angle : numpy.ndarray, shape (T, F)
+        True geodetic latitude B and orthodrome angle N, rad.
+    direct : numpy.ndarray, shape (2, T, F)
+        True minus computed (Φ, Λ), rad.
+    printed, completed : numpy.ndarray, shape (2, T, F)
+        (10) as printed, and with the start term of ΔΛ, rad.
+    Phi : numpy.ndarray, shape (T, F)
+        True geodetic orthodromic latitude, rad.
+    a : float
+        Semi-major axis used to express errors in km.
+    """
+
+    times: np.ndarray
+    start: np.ndarray
+    latitude: np.ndarray
+    orthodrome_angle: np.ndarray
+    direct: np.ndarray
+    printed: np.ndarray
+    completed: np.ndarray
+    Phi: np.ndarray
+    a: float
+
+    def km(self, errors: np.ndarray) -> np.ndarray:
+        """(ΔΦ a, ΔΛ a cos Φ) in km, shape (2, T, F)."""
+        return np.stack([errors[0] * self.a, errors[1] * self.a * np.cos(self.Phi)]) / 1000
+
+    def mismatch_km(self, against: str = "completed") -> np.ndarray:
+        """Largest |direct − (10)| over the flight (both coordinates), km, shape (F,)."""
+        ref = self.completed if against == "completed" else self.printed
+        return np.abs(self.km(self.direct - ref)).max(axis=(0, 1))
+
+    def largest_km(self) -> np.ndarray:
+        """Largest direct displacement √(ΔΦ² + (ΔΛ cos Φ)²) a over each flight, km."""
+        return np.hypot(*self.km(self.direct)).max(axis=0)
+
+
+def simulate_flights(start_latitudes, start_longitudes, orthodrome_angles, duration: float,
+                     speed: float = 250.0, step: float = 5.0, record_interval: float = 300.0,
+                     a: float | None = None, b: float | None = None,
+                     gravity: float = 9.81, closed_loop: bool = False) -> FlightErrors:
+    """Fly the spherical-formula system along central-section orthodromes; compare with (10).
+
+    Parameters
+    ----------
+    start_latitudes, start_longitudes, orthodrome_angles : array_like, shape (F,)
+        Geocentric latitude φ0, longitude λ0 and orthodrome angle N0 of each start, rad.
+    duration, step, record_interval : float
+        Flight time, RK4 step and recording interval, s.
+    speed : float
+        Ground speed, m/s.
+    a, b : float, optional
+        Semi-axes, m (default Krasovsky).
+    gravity : float
+        Vertical specific force fed to the model (unused by its horizontal channels).
+    closed_loop : bool
+        False (the paper's setting): the coefficients of (9) and of the dead reckoning
+        (B, N, Φ in R, tg Φ, the Coriolis terms) are taken at the true position, so only
+        the geometric error remains. True: the computer uses its own computed position,
+        as the model's ideal work does; the coordinate error then also feeds back through
+        the Coriolis corrections (2 W ω sin B) and grows beyond (10).
+    """
+    if a is None or b is None:
+        a, b = krasovsky_axes()
+    _check_axes(a, b)
+    lat0, lon0, ang0 = (np.atleast_1d(np.asarray(v, dtype=float)) for v in
+                        (start_latitudes, start_longitudes, orthodrome_angles))
+    lat0, lon0, ang0 = np.broadcast_arrays(lat0, lon0, ang0)
+    if np.any(np.abs(lat0) >= np.pi / 2 - 1e-9):
+        raise DomainError("start latitude at ±90°: the orthodrome angle is undefined at a pole")
+    if not (np.isfinite(duration) and duration > 0 and np.isfinite(step) and step > 0):
+        raise SpheroidStudyError(f"duration and step must be positive, got {duration}, {step}")
+    stride = round(record_interval / step)
+    if stride < 1 or abs(stride * step - record_interval) > 1e-9 * record_interval:
+        raise SpheroidStudyError(f"record interval {record_interval} s must be a multiple of "
+                                 f"the step {step} s")
+    n_steps = round(duration / step)
+    model = load_model("geodetic_vertical")
+    flights = lat0.size
+    p = np.stack([model.parameter_vector(a=a, e2=1 - (b / a) ** 2, orth_latitude=la,
+                                         orth_longitude=lo, orth_angle=an)
+                  for la, lo, an in zip(lat0, lon0, ang0, strict=True)], axis=1)
+    section = _Section(_start_frames(lat0, lon0, ang0), np.array([a**-2, b**-2, a**-2]),
+                       np.full(flights, float(speed)), EARTH_RATE)
+    c = flattening_constant(a, b)
+    rhs_model = model.numpy.ideal_rhs
+
+    def rhs(z):
+        u, (Phi, Lam, _W, _B, _N), lam_dot = section.measurements(z[0], gravity)
+        state = z[1:] if closed_loop else np.vstack([Phi, Lam, z[3:]])
+        return np.vstack([lam_dot, rhs_model(state, u, p)])
+
+    # start exactly on the true geodetic coordinates and velocity
+    _, (Phi_t, Lam_t, W_t, B_t, N_t), _ = section.measurements(np.zeros(flights), gravity)
+    z = np.vstack([np.zeros(flights), Phi_t, Lam_t, W_t])
+    start_state = (B_t.copy(), N_t.copy(), Phi_t.copy())
+    records = n_steps // stride + 1
+    out = {k: np.empty((records, flights)) for k in ("Phi", "Lam", "Phi_c", "Lam_c", "B", "N")}
+
+    def record(j, z):
+        _, (Phi, Lam, _W, B, N), _ = section.measurements(z[0], gravity)
+        for key, value in (("Phi", Phi), ("Lam", Lam), ("Phi_c", z[1]), ("Lam_c", z[2]),
+                           ("B", B), ("N", N)):
+            out[key][j] = value
+
+    record(0, z)
+    for k in range(n_steps):
+        k1 = rhs(z)
+        k2 = rhs(z + 0.5 * step * k1)
+        k3 = rhs(z + 0.5 * step * k2)
+        k4 = rhs(z + step * k3)
+        z = z + step / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        if (k + 1) % stride == 0:
+            record((k + 1) // stride, z)
+    if not all(np.all(np.isfinite(v)) for v in out.values()):
+        raise DomainError("the simulated flight left the domain (NaN): does it pass a pole?")
+    wrap = lambda angle: (angle + np.pi) % (2 * np.pi) - np.pi  # noqa: E731
+    direct = np.stack([out["Phi"] - out["Phi_c"], wrap(out["Lam"] - out["Lam_c"])])
+    B0, N0, Phi0 = start_state
+    printed = np.stack(formula_10(out["B"], out["N"], out["Phi"], c, B0, N0, Phi0))
+    completed = np.stack(formula_10(out["B"], out["N"], out["Phi"], c, B0, N0, Phi0,
+                                    start_term=True))
+    times = np.arange(records) * stride * step
+    return FlightErrors(times, np.stack([lat0, lon0, ang0]), out["B"], out["N"], direct,
+                        printed, completed, out["Phi"], a)
+
+
+def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0, 225.0),
+           duration: float = 6 * 3600.0, speed: float = 250.0, step: float = 10.0
+           ) -> tuple[FlightErrors, list[str]]:
+    """Flights from several latitudes along several orthodrome angles; report lines."""
+    la, an = np.meshgrid(np.radians(latitudes_deg), np.radians(angles_deg), indexing="ij")
+    result = simulate_flights(la.ravel(), np.zeros(la.size), an.ravel(), duration, speed, step,
+                              record_interval=60 * step)
+    closed = simulate_flights(la.ravel(), np.zeros(la.size), an.ravel(), duration, speed, step,
+                              record_interval=60 * step, closed_loop=True)
+    worst = result.mismatch_km("completed")
+    worst_printed = result.mismatch_km("printed")
+    largest = result.largest_km()
+    closed_largest = closed.largest_km()
+    peak = formula_10_maximum()
+    lines = [
+        f"formula (10), ν1⁰ = 0: max |ΔΦ| a = {peak['dPhi_km']:.2f} km, max displacement "
+        f"{peak['total_km']:.2f} km at B = ±{peak['latitude_deg']:.1f}° (paper: about 22 km)",
+        f"direct simulation, {speed:g} m/s for {duration / 3600:g} h, step {step:g} s "
+        "(errors in km; 'geometric': coefficients of (9) at the true position, as in the "
+        "paper; 'closed loop': at the computed position)",
+        "   φ0°     N0°   geometric   |direct − (10) completed|   |direct − (10) printed|"
+        "   closed loop",
+    ]
+    for k in range(la.size):
+        lines.append(f"  {np.degrees(result.start[0, k]):5.1f}  "
+                     f"{np.degrees(result.start[2, k]):6.1f}   {largest[k]:9.3f}   "
+                     f"{worst[k]:24.3f}   {worst_printed[k]:23.3f}   {closed_largest[k]:11.3f}")
+    lines.append(f"largest geometric error over all flights {largest.max():.2f} km; worst "
+                 f"mismatch with completed (10) {worst.max():.3f} km; closed loop up to "
+                 f"{closed_largest.max():.2f} km")
+    return result, lines
+
+
+def plot(result: FlightErrors, path: str | Path, flight: int = 0) -> Path:
+    """Save direct vs (10) coordinate errors of one flight as a PNG."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    hours = result.times / 3600
+    direct, printed, completed = (result.km(e)[:, :, flight] for e in
+                                  (result.direct, result.printed, result.completed))
+    fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
+    for ax, k, label in zip(axes, (0, 1), ("ΔΦ·a, km", "ΔΛ·a·cos Φ, km"), strict=True):
+        ax.plot(hours, direct[k], label="direct simulation")
+        ax.plot(hours, completed[k], "--", label="(10) with start term")
+        ax.plot(hours, printed[k], ":", label="(10) as printed")
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8)
+    axes[-1].set_xlabel("time, h")
+    lat0, _lon0, ang0 = np.degrees(result.start[:, flight])
+    fig.suptitle(f"spherical-formula reckoning over the spheroid: φ0 = {lat0:.1f}°, "
+                 f"N0 = {ang0:.1f}°", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
