@@ -17,6 +17,7 @@ import pytest
 from ins_errors.errors import DomainError
 from ins_errors.numeric import trajectories as tr
 from ins_errors.numeric.compare import compare
+from ins_errors.numeric.integrators import StepError
 from ins_errors.numeric.simulate import simulate
 from ins_errors.units import parse_quantity
 
@@ -143,6 +144,12 @@ def test_rk4_runs_agree_as_well(orthodromic):
     cases = [c for c in small_cases(orthodromic) if next(iter(c)) in picks]
     for c in compare(orthodromic, traj, cases, method="rk4", record_interval=60.0):
         assert c.excited and c.worst_linear.linear_ratio <= 0.01, c.label
+
+
+def test_recording_every_step_of_a_100_hz_day_is_refused(orthodromic):
+    traj = tr.trajectory(orthodromic, tr.static_profile(0.5), 24 * HOURS, 0.01)
+    with pytest.raises(StepError, match="longer recording interval"):
+        simulate(orthodromic, traj, {"gyro_drift_x": 1e-8})
 
 
 def test_leaving_the_domain_names_time_and_quantity(orthodromic):

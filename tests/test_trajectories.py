@@ -142,6 +142,9 @@ def test_bad_motions_raise_one_line_errors(orthodromic):
         tr.trajectory(orthodromic, profile, 20.0, 1.0)
     with pytest.raises(InsErrorsError, match="leg duration"):
         tr.manoeuvre_profile(0.1, 0.0, 0.0, 100.0, [tr.Leg(0.0, 100.0)])
+    # a 24 h flight sampled at 100 Hz would need gigabytes: refused up front
+    with pytest.raises(StepError, match="GB"):
+        tr.trajectory(orthodromic, tr.great_circle_profile(0.5, 0.0, 0.0, 250.0), 86400.0, 0.01)
     # a flight over the pole leaves the model's domain: named, with its time
     polar = tr.great_circle_profile(89.9 * DEG, 0.0, 0.0, 300.0)
     with pytest.raises(DomainError, match=r"t = \d"):

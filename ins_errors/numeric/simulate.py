@@ -45,6 +45,9 @@ from ins_errors.numeric.trajectories import Trajectory
 PARTS: tuple[str, ...] = ("real", "linear", "refined")
 """Runs that can be integrated next to the ideal run."""
 
+MAX_RECORDED_VALUES = 250_000_000
+"""Largest number of recorded floats (2 GB) a run may produce."""
+
 
 # --------------------------------------------------------------------------------------
 # The combined system
@@ -225,7 +228,7 @@ class Simulation:
 # --------------------------------------------------------------------------------------
 # Running
 # --------------------------------------------------------------------------------------
-def source_matrix(model: Model, sources: dict[str, float] | np.ndarray
+def source_cases(model: Model, sources: dict[str, float] | np.ndarray
                   | Sequence[dict[str, float]]) -> np.ndarray:
     """Error-source vectors as an array of shape (nw, B).
 
@@ -258,7 +261,7 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
     trajectory : Trajectory
         True motion and inputs on the step grid.
     sources : dict, list of dict or numpy.ndarray
-        Error sources, SI (see :func:`source_matrix`); several cases run as one batch.
+        Error sources, SI (see :func:`source_cases`); several cases run as one batch.
     method : {"euler", "rk4"}
         Scheme; ``"euler"`` is the manual's rectangle method.
     record_interval : float, optional
@@ -287,10 +290,14 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         if part not in PARTS:
             raise unknown_name("simulation part", part, PARTS)
     parts = tuple(k for k in PARTS if k in parts)
-    w = source_matrix(model, sources)
+    w = source_cases(model, sources)
     B = w.shape[1]
     tau, N, p = trajectory.tau, trajectory.n_steps, trajectory.parameters
     stride = record_stride(record_interval, tau, N)
+    n_values = (N // stride + 1) * B * (len(model.states) + len(parts) * len(model.error_states))
+    if n_values > MAX_RECORDED_VALUES:
+        raise StepError(f"recording {N // stride + 1:,} samples of {B} case(s) needs "
+                        f"{8 * n_values / 1e9:.1f} GB; choose a longer recording interval")
     c, u0 = trajectory.initial_conditions, trajectory.inputs[:, 0]
     n = len(model.states)
     x0 = np.repeat(trajectory.truth[:, :1], B, axis=1)
@@ -406,7 +413,7 @@ def linear_exact(model: Model, trajectory: Trajectory, sources,
     """
     if not trajectory.constant:
         raise StepError("exact discretisation needs a time-invariant (static-base) trajectory")
-    w = source_matrix(model, sources)
+    w = source_cases(model, sources)
     stride = record_stride(record_interval, trajectory.tau, trajectory.n_steps)
     dt = stride * trajectory.tau
     x, u, p = trajectory.truth[:, 0], trajectory.inputs[:, 0], trajectory.parameters

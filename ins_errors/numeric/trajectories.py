@@ -36,11 +36,19 @@ import casadi as ca
 import numpy as np
 
 from ins_errors.errors import DomainError, InsErrorsError, ShapeError
-from ins_errors.numeric.integrators import CompiledLoop, compile_functions, step_count
+from ins_errors.numeric.integrators import (
+    CompiledLoop,
+    StepError,
+    compile_functions,
+    step_count,
+)
 from ins_errors.numeric.model import Model
 
 COMMANDS = ("v1", "v2", "h", "V_zeta")
 """Order of a command vector: two horizontal relative velocities, height, vertical speed."""
+
+MAX_SAMPLES = 300_000_000
+"""Largest number of floats (2.4 GB) sampled for a moving trajectory."""
 
 # Somigliana normal gravity constants: equatorial gravity (m/s²) and the k coefficient.
 _GAMMA_E = 9.7803253359
@@ -507,6 +515,11 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
                           u[:, None], p, c0, True, profile.description)
     # integrate the truth with RK4 at half the step, commands at quarter steps
     n_half = 2 * n_steps
+    n_values = (2 * n_half + 1) * 8 + (n_half + 1) * (2 * len(model.states) + len(model.inputs))
+    if n_values > MAX_SAMPLES:
+        raise StepError(f"a moving trajectory of {n_steps:,} steps needs about "
+                        f"{8 * n_values / 1e9:.1f} GB of samples; use a longer step or a "
+                        "shorter run")
     t_quarter = np.arange(2 * n_half + 1) * (tau / 4.0)
     values, rates = profile.commands(t_quarter)
     commands = np.vstack([values, rates])
