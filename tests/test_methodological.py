@@ -114,3 +114,22 @@ def test_bad_arguments_get_one_line_errors(kwargs, match):
     with pytest.raises(InsErrorsError, match=match) as info:
         meth.run("coriolis", **{"duration": 600.0, **kwargs})
     assert "\n" not in str(info.value)
+
+
+def test_cli_unknown_study_is_one_line_with_suggestions(capsys):
+    from ins_errors.cli import main
+
+    assert main(["study", "nonspherity"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "did you mean 'nonsphericity'" in err
+
+
+def test_cli_runs_a_short_study_with_plot(capsys, tmp_path):
+    from ins_errors.cli import main
+
+    argv = ["study", "gravity_projections", "--scenario", "static", "--hours", "1",
+            "--step", "60s", "--plot", str(tmp_path)]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    assert "delta_latitude" in out and "equivalent sources" in out
+    assert (tmp_path / "gravity_projections_static.png").stat().st_size > 5000

@@ -1,0 +1,112 @@
+"""``ins-errors study NAME``: the investigations of the source documents, one call each.
+
+Studies::
+
+    nonsphericity, coriolis, gravity_projections
+        000, tasks 3, 5, 6: the on-board computer uses a simplified formula; direct and
+        linear runs over 24 h on a static base and in a great-circle flight, with plots.
+    spheroid
+        004, formula (10) against a direct simulation over the Krasovsky spheroid, and its
+        maximum over latitudes and orthodrome angles.
+
+Examples::
+
+    ins-errors study coriolis --scenario both --hours 24 --plot out/
+    ins-errors study spheroid --hours 6
+    ins-errors study list
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+SPHEROID = "spheroid"
+
+
+def study_names() -> list[str]:
+    """Every study name the command accepts."""
+    from ins_errors.studies.methodological import STUDIES
+
+    return [*STUDIES, SPHEROID]
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "study", help="run a study of the source documents (methodological errors, (10))",
+        description="Run one study: 'nonsphericity', 'coriolis', 'gravity_projections' "
+                    "(simplified on-board formulas of 000, tasks 3, 5, 6: direct vs linear, "
+                    "static base and flight) or 'spheroid' (004, formula (10) vs a direct "
+                    "simulation over the spheroid). 'list' shows them.")
+    parser.add_argument("name", help="study name, or 'list'")
+    parser.add_argument("--scenario", choices=("static", "flight", "both"), default="both",
+                        help="methodological studies: motion (default both)")
+    parser.add_argument("--hours", type=float, default=None,
+                        help="duration, h (default 24; spheroid: 6)")
+    parser.add_argument("--step", default=None, help="integration step (default 20 s)")
+    parser.add_argument("--latitude", default="50deg",
+                        help="methodological studies: start latitude (default 50deg)")
+    parser.add_argument("--speed", default="250m/s", help="ground speed in flight")
+    parser.add_argument("--plot", type=Path, default=None, metavar="DIR",
+                        help="write PNG plots into this folder")
+    parser.add_argument("--json", action="store_true", help="machine-readable summary")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.errors import unknown_name
+    from ins_errors.units import parse_quantity
+
+    names = study_names()
+    if args.name == "list":
+        from ins_errors.studies.methodological import STUDIES
+
+        for s in STUDIES.values():
+            print(f"{s.name:<22} 000 task {s.task}: {s.description}")
+        print(f"{SPHEROID:<22} 004 formula (10) vs direct simulation over the spheroid")
+        return 0
+    if args.name not in names:
+        raise unknown_name("study", args.name, names)
+    speed = parse_quantity(args.speed, "m/s", "--speed")
+    step = parse_quantity(args.step or "20 s", "s", "--step")
+    if args.name == SPHEROID:
+        return _spheroid(args, speed, step)
+    from ins_errors.studies import methodological
+
+    latitude = parse_quantity(args.latitude, "rad", "--latitude")
+    hours = 24.0 if args.hours is None else args.hours
+    scenarios = ("static", "flight") if args.scenario == "both" else (args.scenario,)
+    record = 600.0 if step <= 600.0 and 600.0 % step == 0 else step
+    report = []
+    for scenario in scenarios:
+        result = methodological.run(args.name, scenario, latitude, duration=hours * 3600.0,
+                                    tau=step, record_interval=record, speed=speed)
+        lines = result.summary()
+        if args.plot is not None:
+            path = methodological.plot(result, args.plot / f"{args.name}_{scenario}.png")
+            lines.append(f"  plot: {path}")
+        report.append({"scenario": scenario, "lines": lines,
+                       "agreement": {q: result.agreement(q) for q in result.direct.names}})
+        if not args.json:
+            print("\n".join(lines))
+    if args.json:
+        print(json.dumps({"study": args.name, "runs": report}, indent=2))
+    return 0
+
+
+def _spheroid(args: argparse.Namespace, speed: float, step: float) -> int:
+    from ins_errors.studies import spheroid_error
+
+    hours = 6.0 if args.hours is None else args.hours
+    result, lines = spheroid_error.survey(duration=hours * 3600.0, speed=speed, step=step)
+    if args.plot is not None:
+        worst = int(result.largest_km().argmax())
+        path = spheroid_error.plot(result, args.plot / "spheroid_formula_10.png", worst)
+        lines.append(f"plot: {path}")
+    if args.json:
+        print(json.dumps({"study": SPHEROID, "lines": lines,
+                          "formula_10_maximum": spheroid_error.formula_10_maximum()}, indent=2))
+    else:
+        print("\n".join(lines))
+    return 0
