@@ -10,10 +10,12 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
+from derive.hand_check_report import write_hand_check_reports
 from derive.model_files import ModelSummary, write_model
+from derive.transfer_functions import write_transfer_functions
 from ins_errors.models import definition, model_names
 
-EXTRA_STEPS: list[Callable[[Path], None]] = []
+EXTRA_STEPS: list[Callable[[Path], None]] = [write_transfer_functions, write_hand_check_reports]
 """Callables ``step(generated_root)`` run after every model has been written."""
 
 

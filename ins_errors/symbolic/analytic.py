@@ -1,0 +1,477 @@
+r"""Laplace-domain analysis of a time-invariant linear error model ẋ = F x + G w.
+
+For a static base the error equations have constant coefficients, and everything the
+classical texts derive by hand follows mechanically:
+
+* the resolvent (sI − F)⁻¹ (:func:`resolvent`), exact over the field of rational
+  functions of the coefficients (SymPy ``DomainMatrix``, fast for sparse F);
+* the characteristic polynomial det(sI − F) (:func:`characteristic_polynomial`) and its
+  factorisation into integrators ``s`` and undamped oscillators ``s² + ω²``
+  (:func:`split_modes`): periods 2π/ω (Schuler, Earth, Foucault-split Schuler);
+* closed-form time responses to each initial error (X(s) = (sI − F)⁻¹ x₀) and each
+  constant source (X(s) = (sI − F)⁻¹ g / s) by partial fractions in z = s²
+  (:func:`inverse_laplace`): a rational X(s) whose poles are all 0 or ±iω splits into
+  A(s²) + s B(s²), and the terms c/(s² + ω²)^m, c s/(s² + ω²)^m, c/s^n come from a table
+  (sin, cos, t·sin, polynomials in t). This avoids SymPy's general inverse transform.
+
+Trigonometric coefficients make the factorisation fail over the rationals (it needs
+sin² + cos² = 1). A :class:`Parametrisation` first rewrites F in symbols in which the
+characteristic polynomial splits (e.g. Ω_N = Ω cos φ, Ω_U = Ω sin φ, ω_s² = g/R, or the
+two Foucault-split frequencies ω₊, ω₋ with ω₊ω₋ = ω_s², ω₊ − ω₋ = 2Ω_U), and carries the
+definitions of those symbols back to the model's own symbols for numerics and documents.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from functools import cache
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+from ins_errors.errors import InsErrorsError
+
+S = sp.Symbol("s")
+"""Laplace variable."""
+T = sp.Symbol("t", nonnegative=True)
+"""Time since the start, s."""
+Z = sp.Symbol("z")
+"""z = s², the variable of the partial fractions."""
+
+
+class AnalysisError(InsErrorsError):
+    """The error model does not have the structure the closed-form analysis needs."""
+
+
+# --------------------------------------------------------------------------------------
+# Parametrisation and modes
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Frequency:
+    """A named natural frequency ω > 0 the analysis may find.
+
+    Attributes
+    ----------
+    symbol : sympy.Symbol
+        Positive symbol used in the closed forms (``sin(ω t)``).
+    squared : sympy.Expr
+        ω² in the parametrisation's symbols (matched against the roots z = −ω²).
+    name : str
+        ``"Schuler"``, ``"Earth"``, ...
+    """
+
+    symbol: sp.Symbol
+    squared: sp.Expr
+    name: str
+
+
+@dataclass(frozen=True)
+class Parametrisation:
+    """Rewrite of the coefficients of F in which det(sI − F) splits over s².
+
+    Attributes
+    ----------
+    rewrite : callable
+        ``rewrite(expr) -> expr`` applied to every entry of F (e.g. sin φ → Ω_U/Ω).
+    definitions : mapping
+        Each new symbol -> its expression in the model's symbols or in other new symbols
+        (for numerics and for the documents).
+    frequencies : sequence of Frequency
+        The natural frequencies to name; a root that matches none gets ``omega_<k>``
+        (and the name ``"mode <k>"``). A frequency symbol that is not a model symbol
+        needs an entry in ``definitions``.
+    description : str
+        One line for the documents.
+    """
+
+    rewrite: Callable[[sp.Expr], sp.Expr] = lambda e: e
+    definitions: Mapping[sp.Symbol, sp.Expr] = field(default_factory=dict)
+    frequencies: Sequence[Frequency] = ()
+    description: str = ""
+
+    def to_model(self, expr: sp.Expr) -> sp.Expr:
+        """Substitute the definitions (repeatedly), giving ``expr`` in the model's symbols."""
+        for _ in range(len(self.definitions) + 1):
+            if not expr.free_symbols & set(self.definitions):
+                return expr
+            expr = expr.xreplace(dict(self.definitions))
+        raise AnalysisError("parametrisation definitions are circular")
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One factor of the characteristic polynomial: ``s`` or ``s² + ω²``, to a power.
+
+    Attributes
+    ----------
+    name : str
+        ``"integrator"`` for s, else the frequency's name.
+    symbol : sympy.Symbol or None
+        ω (None for an integrator).
+    squared : sympy.Expr
+        ω² in the parametrisation's symbols (0 for an integrator).
+    multiplicity : int
+        Power of the factor in det(sI − F).
+    """
+
+    name: str
+    symbol: sp.Symbol | None
+    squared: sp.Expr
+    multiplicity: int
+
+    @property
+    def period(self) -> sp.Expr | None:
+        """2π/ω, s (None for an integrator)."""
+        return None if self.symbol is None else 2 * sp.pi / self.symbol
+
+
+# --------------------------------------------------------------------------------------
+# Matrices
+# --------------------------------------------------------------------------------------
+def _domain_matrix(F: sp.Matrix, s: sp.Symbol) -> DomainMatrix:
+    return DomainMatrix.from_Matrix(s * sp.eye(F.rows) - F).to_field()
+
+
+def resolvent(F: sp.Matrix, s: sp.Symbol = S) -> sp.Matrix:
+    """(sI − F)⁻¹, every entry a cancelled rational function of ``s``.
+
+    Parameters
+    ----------
+    F : sympy.Matrix, shape (n, n)
+        Constant state matrix (no ``s``, no time).
+
+    Returns
+    -------
+    sympy.Matrix, shape (n, n)
+    """
+    _check_square(F)
+    return _domain_matrix(F, s).inv().to_Matrix()
+
+
+def characteristic_polynomial(F: sp.Matrix, s: sp.Symbol = S) -> sp.Expr:
+    """det(sI − F), factored (coefficients from SymPy's ``DomainMatrix.charpoly``)."""
+    _check_square(F)
+    matrix = DomainMatrix.from_Matrix(F).to_field()
+    coefficients = matrix.charpoly()
+    n = len(coefficients) - 1
+    to_sympy = matrix.domain.to_sympy
+    return sp.factor(sum(to_sympy(c) * s ** (n - k) for k, c in enumerate(coefficients)))
+
+
+def _check_square(F: sp.Matrix) -> None:
+    if F.rows != F.cols:
+        raise AnalysisError(f"state matrix must be square, got {F.rows}x{F.cols}")
+
+
+def split_modes(polynomial: sp.Expr, frequencies: Sequence[Frequency] = (),
+                s: sp.Symbol = S) -> list[Mode]:
+    """Factor ``polynomial`` into integrators and oscillators ``s² + ω²``.
+
+    Parameters
+    ----------
+    polynomial : sympy.Expr
+        det(sI − F) (or any denominator) in ``s``.
+    frequencies : sequence of Frequency
+        Named frequencies; each factor s² + a is matched by a − ω² = 0.
+
+    Raises
+    ------
+    AnalysisError
+        If a factor is not ``s`` or ``α s² + β`` (the roots are not 0 or ±iω in the
+        given parametrisation).
+    """
+    _, factors = sp.factor_list(sp.expand(polynomial), s)
+    modes: list[Mode] = []
+    unnamed = 0
+    for factor, power in factors:
+        poly = sp.Poly(factor, s)
+        if poly.degree() == 0:
+            continue
+        if poly.degree() == 1 and poly.TC() == 0:
+            modes.append(Mode("integrator", None, sp.S.Zero, power))
+            continue
+        coeffs = poly.all_coeffs()
+        if poly.degree() != 2 or coeffs[1] != 0:
+            raise AnalysisError(f"characteristic factor {factor} is not s or s² + ω²: "
+                                "supply a parametrisation in which it splits")
+        squared = sp.cancel(coeffs[2] / coeffs[0])
+        match = next((f for f in frequencies
+                      if sp.cancel(sp.expand(squared - f.squared)) == 0), None)
+        if match is None:
+            unnamed += 1
+            match = Frequency(sp.Symbol(f"omega_{unnamed}", positive=True), squared,
+                              f"mode {unnamed}")
+        modes.append(Mode(match.name, match.symbol, squared, power))
+    return modes
+
+
+# --------------------------------------------------------------------------------------
+# Inverse Laplace transform by partial fractions in z = s²
+# --------------------------------------------------------------------------------------
+@cache
+def _oscillator_table(power: int, odd: bool) -> sp.Expr:
+    """L⁻¹ of 1/(s² + ω²)^m (``odd`` False) or s/(s² + ω²)^m (``odd`` True), ω = W."""
+    w = sp.Symbol("W", positive=True)
+    t = sp.Symbol("t", positive=True)
+    known = {
+        (1, False): sp.sin(w * t) / w,
+        (1, True): sp.cos(w * t),
+        (2, False): (sp.sin(w * t) - w * t * sp.cos(w * t)) / (2 * w**3),
+        (2, True): t * sp.sin(w * t) / (2 * w),
+    }
+    if (power, odd) in known:
+        result = known[(power, odd)]
+    else:  # rare: higher resonance; SymPy's transform handles these small cases
+        result = sp.inverse_laplace_transform((S if odd else 1) / (S**2 + w**2) ** power,
+                                              S, t)
+        result = sp.simplify(result.subs(sp.Heaviside(t), 1))
+    return result
+
+
+def _time_function(mode: Mode, power: int, odd: bool, t: sp.Symbol) -> sp.Expr:
+    """L⁻¹ of 1/(s² + ω²)^m, or s/(s² + ω²)^m if ``odd``; ω = 0 for an integrator."""
+    if mode.symbol is None:  # 1/z^m = 1/s^(2m), or s/z^m = 1/s^(2m-1)
+        n = 2 * power - (1 if odd else 0)
+        return t ** (n - 1) / math.factorial(n - 1)
+    w, tt = sp.Symbol("W", positive=True), sp.Symbol("t", positive=True)
+    return _oscillator_table(power, odd).xreplace({w: mode.symbol, tt: t})
+
+
+def inverse_laplace(X: sp.Expr, modes: Sequence[Mode], s: sp.Symbol = S,
+                    t: sp.Symbol = T, tidy: Callable[[sp.Expr], sp.Expr] = sp.factor
+                    ) -> sp.Expr:
+    """Closed-form inverse Laplace transform of a rational ``X(s)`` with poles 0 and ±iω.
+
+    Parameters
+    ----------
+    X : sympy.Expr
+        Strictly proper rational function of ``s``.
+    modes : sequence of Mode
+        The oscillators its poles belong to (from :func:`split_modes`).
+    tidy : callable
+        Applied to each partial-fraction coefficient (readability).
+
+    Returns
+    -------
+    sympy.Expr
+        x(t) for t ≥ 0: sums of polynomials in t, sin(ω t), cos(ω t), t sin(ω t), ...
+
+    Notes
+    -----
+    All polynomial work happens over the field of rational functions of the remaining
+    symbols (SymPy ``frac_field``): X = A(z) + s B(z) with z = s², and the coefficient of
+    1/(z + ω²)^(m − j) is the j-th Taylor coefficient at z = −ω² of the rest of the
+    fraction (residues by power-series division, no ``apart``).
+    """
+    X = sp.together(X)
+    if X == 0:
+        return sp.S.Zero
+    num, den = sp.fraction(sp.cancel(X))
+    symbols = sorted((num.free_symbols | den.free_symbols
+                      | set().union(*(sp.sympify(m.squared).free_symbols for m in modes)))
+                     - {s}, key=sp.default_sort_key)
+    field = sp.QQ.frac_field(*symbols) if symbols else sp.QQ
+    num_p, den_p = sp.Poly(num, s, domain=field), sp.Poly(den, s, domain=field)
+    return _inverse_laplace_poly(num_p, den_p, field, modes, s, t, tidy)
+
+
+def _inverse_laplace_poly(num_p: sp.Poly, den_p: sp.Poly, field, modes: Sequence[Mode],
+                          s: sp.Symbol, t: sp.Symbol,
+                          tidy: Callable[[sp.Expr], sp.Expr] | None) -> sp.Expr:
+    """:func:`inverse_laplace` of num/den given as polynomials in ``s`` over ``field``."""
+    if num_p.is_zero:
+        return sp.S.Zero
+    # make the denominator even in s: multiply by s if it has an odd power of s
+    if any(k % 2 for (k,) in den_p.monoms()):
+        num_p, den_p = num_p * sp.Poly(s, s, domain=field), den_p * sp.Poly(s, s, domain=field)
+    if any(k % 2 for (k,) in den_p.monoms()):
+        raise AnalysisError("denominator is not a polynomial in s² (damped or unstable "
+                            "modes): the closed-form table does not apply")
+    if num_p.degree() >= den_p.degree():
+        raise AnalysisError("response is not strictly proper (impulse at t = 0)")
+
+    def in_z(terms):
+        coefficients = {(k // 2,): c for (k,), c in terms}
+        return sp.Poly.from_dict(coefficients or {(0,): field.zero}, Z, domain=field)
+
+    den_z = in_z(den_p.terms())
+    even = in_z([(m, c) for m, c in num_p.terms() if m[0] % 2 == 0])
+    odd = in_z([((m[0] - 1,), c) for m, c in num_p.terms() if m[0] % 2 == 1])
+    poles = _z_poles(den_z, modes, field)
+    result = sp.S.Zero
+    for part, is_odd in ((even, False), (odd, True)):
+        if part.is_zero:
+            continue
+        for coefficient, mode, power in _partial_fractions(part, den_z, poles, field):
+            if not coefficient:
+                continue
+            coefficient = field.to_sympy(coefficient)
+            coefficient = tidy(coefficient) if tidy else coefficient
+            result += coefficient * _time_function(mode, power, is_odd, t)
+    return result
+
+
+@cache
+def _mode_poly(squared: sp.Expr, field) -> sp.Poly:
+    return sp.Poly(Z + squared, Z, domain=field)
+
+
+def _z_poles(den: sp.Poly, modes: Sequence[Mode], field) -> list[tuple[Mode, int]]:
+    """Multiplicity of each mode's root z = −ω² in ``den`` (exact division)."""
+    poles: list[tuple[Mode, int]] = []
+    remaining = den
+    for mode in modes:
+        factor = _mode_poly(mode.squared, field)
+        power = 0
+        while remaining.degree() > 0:
+            quotient, remainder = remaining.div(factor)
+            if not remainder.is_zero:
+                break
+            remaining, power = quotient, power + 1
+        if power:
+            poles.append((mode, power))
+    if remaining.degree() > 0:
+        raise AnalysisError(f"denominator factor {remaining.as_expr()} is not among the modes")
+    return poles
+
+
+def _partial_fractions(num: sp.Poly, den: sp.Poly, poles: list[tuple[Mode, int]], field):
+    """Partial fractions of num/den in z by residues: (coefficient, mode, power) triples.
+
+    ``den`` = κ Π (z + ω_i²)^(m_i); the coefficient of 1/(z + ω²)^(m − j) is the j-th
+    Taylor coefficient at z = −ω² of num/rest, rest being den without that factor.
+    """
+    out = []
+    for mode, power in poles:
+        rest = den
+        for _ in range(power):
+            rest = rest.quo(_mode_poly(mode.squared, field))
+        point = -_mode_poly(mode.squared, field).TC()
+        a = num.shift(point).all_coeffs()[::-1]
+        b = rest.shift(point).all_coeffs()[::-1]
+        series: list = []
+        for k in range(power):
+            acc = a[k] if k < len(a) else field.zero
+            for i in range(1, k + 1):
+                if i < len(b):
+                    acc -= b[i] * series[k - i]
+            series.append(acc / b[0])
+        out += [(series[j], mode, power - j) for j in range(power)]
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# Whole analysis of one static error model
+# --------------------------------------------------------------------------------------
+@dataclass
+class StaticAnalysis:
+    """Everything derived from one constant (F, G, x₀) error model.
+
+    Attributes
+    ----------
+    state_matrix : sympy.Matrix
+        F in the parametrisation's symbols.
+    characteristic : sympy.Expr
+        det(sI − F), factored.
+    modes : list of Mode
+    resolvent : sympy.Matrix
+        (sI − F)⁻¹.
+    responses : dict
+        Source name -> column (sympy.Matrix, shape (n, 1)) of closed-form responses to a
+        unit source: a constant source (column of G, step input) or an initial error
+        (column of the initial-error matrix).
+    laplace : dict
+        Source name -> the same responses in the Laplace domain.
+    parametrisation : Parametrisation
+    """
+
+    state_matrix: sp.Matrix
+    characteristic: sp.Expr
+    modes: list[Mode]
+    resolvent: sp.Matrix
+    responses: dict[str, sp.Matrix]
+    laplace: dict[str, sp.Matrix]
+    parametrisation: Parametrisation
+
+    def in_model_symbols(self, expr: sp.Expr) -> sp.Expr:
+        """``expr`` with mode symbols and parametrisation symbols replaced by definitions."""
+        expr = expr.xreplace({m.symbol: sp.sqrt(m.squared) for m in self.modes
+                              if m.symbol is not None and m.name.startswith("mode ")})
+        return self.parametrisation.to_model(expr)
+
+
+def _split_in_s(element, outer, inner, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
+    """Numerator and denominator of an element of QQ(s, p...) as polynomials in s over QQ(p...)."""
+    index = outer.symbols.index(s)
+
+    def to_poly(poly_element) -> sp.Poly:
+        grouped: dict[int, dict] = {}
+        for monom, coeff in poly_element.terms():
+            rest = monom[:index] + monom[index + 1:]
+            grouped.setdefault(monom[index], {})[rest] = coeff
+        ring = inner.field.ring if hasattr(inner, "field") else None
+        terms = {}
+        for power, coeffs in grouped.items():
+            if ring is None:
+                value = inner.convert(next(iter(coeffs.values())))
+            else:
+                value = inner.field(ring.from_dict({m: ring.domain.convert(c, outer.domain)
+                                                    for m, c in coeffs.items()}))
+            terms[(power,)] = value
+        return sp.Poly.from_dict(terms or {(0,): inner.zero}, s, domain=inner)
+
+    return to_poly(element.numer), to_poly(element.denom)
+
+
+def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
+            parametrisation: Parametrisation = Parametrisation(),
+            s: sp.Symbol = S, t: sp.Symbol = T,
+            tidy: Callable[[sp.Expr], sp.Expr] | None = sp.factor) -> StaticAnalysis:
+    """Transfer functions, modes and closed-form responses of ẋ = F x (+ sources).
+
+    Parameters
+    ----------
+    F : sympy.Matrix, shape (n, n)
+        Constant state matrix in the model's symbols.
+    columns : mapping
+        Source name -> (column b of shape (n, 1), is_step). ``is_step`` True: a constant
+        source entering as ẋ = F x + b w (X = (sI − F)⁻¹ b / s); False: an initial error
+        x(0) = b w (X = (sI − F)⁻¹ b).
+    parametrisation : Parametrisation
+        Rewrite applied to F and to the columns first.
+    tidy : callable or None
+        Applied to each partial-fraction coefficient (``sp.factor`` reads best; None is
+        fastest and gives expanded rational coefficients).
+    """
+    rewrite = parametrisation.rewrite
+    Fp = F.applyfunc(lambda e: sp.cancel(rewrite(e)))
+    names = list(columns)
+    B = sp.Matrix.hstack(*[columns[n][0] for n in names]).applyfunc(
+        lambda e: sp.cancel(rewrite(e)))
+    symbols = sorted((Fp.free_symbols | B.free_symbols
+                      | set().union(*(sp.sympify(f.squared).free_symbols
+                                      for f in parametrisation.frequencies))) - {s},
+                     key=sp.default_sort_key)
+    outer = sp.QQ.frac_field(s, *symbols)
+    inverse = DomainMatrix.from_list_sympy(Fp.rows, Fp.cols,
+                                           (s * sp.eye(Fp.rows) - Fp).tolist()).convert_to(
+        outer).inv()
+    C = inverse.to_Matrix()
+    characteristic = characteristic_polynomial(Fp, s)
+    modes = split_modes(characteristic, parametrisation.frequencies, s)
+    inner = sp.QQ.frac_field(*symbols) if symbols else sp.QQ
+    Bd = DomainMatrix.from_list_sympy(B.rows, B.cols, B.tolist()).convert_to(outer)
+    Xd = (inverse * Bd).to_dense().rep.to_ddm()
+    s_elem = outer.from_sympy(s)
+    responses: dict[str, sp.Matrix] = {}
+    laplace: dict[str, sp.Matrix] = {}
+    for j, name in enumerate(names):
+        is_step = columns[name][1]
+        entries = [Xd[i][j] / s_elem if is_step else Xd[i][j] for i in range(Fp.rows)]
+        laplace[name] = sp.Matrix([outer.to_sympy(e) for e in entries])
+        responses[name] = sp.Matrix([
+            _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, modes, s, t, tidy)
+            for e in entries])
+    return StaticAnalysis(Fp, characteristic, modes, C, responses, laplace, parametrisation)

@@ -1,0 +1,213 @@
+r"""Static-base analyses of each model: the point, the parametrisation, the variants.
+
+On a static base the error equations of every model have constant coefficients, and
+:mod:`ins_errors.symbolic.analytic` gives their transfer functions, modes and
+closed-form responses. What is model-specific lives here:
+
+* the static-base point (zero ground velocity, consistent true inputs, sphere);
+* a :class:`~ins_errors.symbolic.analytic.Parametrisation` in which the characteristic
+  polynomial splits into s and s² + ω² factors: Earth-rate components
+  Ω_N = Ω cos φ, Ω_U = Ω sin φ, Schuler frequency ω_s = √(g/R), and for the full
+  north-pointing model the Foucault-split pair ω± = ω̄ ± Ω_U with ω̄ = √(ω_s² + Ω_U²)
+  (the roots of (s² + ω_s²)² + 4Ω_U² s²);
+* the variants: the full model and the named simplifications
+  (:mod:`ins_errors.symbolic.simplifications`).
+
+:func:`static_analyses` runs them; ``derive/transfer_functions.py`` prints the results to
+``generated/<model>/transfer_functions.md`` and ``generated/<model>/closed_forms.py``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from functools import cache
+
+import sympy as sp
+
+from ins_errors.models import definition
+from ins_errors.models.base import ModelDefinition
+from ins_errors.symbolic.analytic import Frequency, Parametrisation, StaticAnalysis, analyse
+from ins_errors.symbolic.simplifications import DroppedTerm, simplification
+from ins_errors.symbolic.variation import ErrorModel, vary
+
+OMEGA_N = sp.Symbol("Omega_N", positive=True)
+"""Ω_N = Ω cos φ, rad/s."""
+OMEGA_U = sp.Symbol("Omega_U", positive=True)
+"""Ω_U = Ω sin φ, rad/s (also the Foucault rate)."""
+OMEGA_S = sp.Symbol("omega_s", positive=True)
+"""Schuler frequency √(g/R), rad/s."""
+OMEGA_BAR = sp.Symbol("omega_bar", positive=True)
+"""ω̄ = √(ω_s² + Ω_U²), rad/s: mean of the Foucault-split Schuler pair."""
+OMEGA_PLUS = sp.Symbol("omega_plus", positive=True)
+"""ω₊ = ω̄ + Ω_U, rad/s."""
+OMEGA_MINUS = sp.Symbol("omega_minus", positive=True)
+"""ω₋ = ω̄ − Ω_U, rad/s."""
+
+LATEX = {OMEGA_N: r"\Omega_N", OMEGA_U: r"\Omega_U", OMEGA_S: r"\omega_s",
+         OMEGA_BAR: r"\bar\omega", OMEGA_PLUS: r"\omega_+", OMEGA_MINUS: r"\omega_-"}
+"""LaTeX of the parametrisation symbols."""
+
+
+@dataclass
+class Variant:
+    """One static-base error model of a model: full, or with a simplification applied.
+
+    Attributes
+    ----------
+    name : str
+        ``"full"`` or the simplification's name.
+    title : str
+    parametrisation : Parametrisation
+    simplification : str or None
+        Name in :data:`~ins_errors.symbolic.simplifications.SIMPLIFICATIONS`.
+    factored : bool
+        Factor every partial-fraction coefficient (readable, slower); False leaves them
+        as cancelled rational functions (used where factoring would slow ``make derive``).
+    """
+
+    name: str
+    title: str
+    parametrisation: Parametrisation
+    simplification: str | None = None
+    factored: bool = True
+
+
+@dataclass
+class StaticSetup:
+    """A model's static base and the variants analysed there.
+
+    Attributes
+    ----------
+    model : str
+    point : dict
+        Substitution of states, inputs and parameters that defines the static base
+        (symbols left free, e.g. the latitude, stay free in the results).
+    description : str
+        One paragraph for the documents.
+    variants : list of Variant
+    state_arguments : list of sympy.Symbol
+        Model symbols the closed forms may depend on (for the emitted code).
+    """
+
+    model: str
+    point: dict[sp.Symbol, sp.Expr]
+    description: str
+    variants: list[Variant] = field(default_factory=list)
+
+
+@dataclass
+class VariantResult:
+    """A variant analysed: the analysis and the terms its simplification dropped."""
+
+    variant: Variant
+    analysis: StaticAnalysis
+    dropped: list[tuple[DroppedTerm, sp.Expr]]
+    sources: list[str]
+
+
+# --------------------------------------------------------------------------------------
+# north_pointing
+# --------------------------------------------------------------------------------------
+def _north_pointing() -> StaticSetup:
+    d = definition("north_pointing")
+    sym = {v.name: v.symbol for v in (*d.states, *d.inputs, *d.parameters)}
+    phi, R, U, g = sym["phi"], sym["R"], sym["U"], sym["g"]
+    point = {sym["V_E"]: 0, sym["V_N"]: 0, sym["a_E"]: 0, sym["a_N"]: 0, sym["h"]: 0,
+             sym["ecc2"]: 0}
+
+    def earth_components(e: sp.Expr) -> sp.Expr:
+        e = e.subs(sp.tan(phi), sp.sin(phi) / sp.cos(phi))
+        return e.subs({sp.sin(phi): OMEGA_U / U, sp.cos(phi): OMEGA_N / U})
+
+    def reduced_rewrite(e: sp.Expr) -> sp.Expr:
+        return earth_components(e).subs(g, R * OMEGA_S**2)
+
+    def full_rewrite(e: sp.Expr) -> sp.Expr:
+        return earth_components(e).subs({g: R * (OMEGA_BAR**2 - OMEGA_U**2)})
+
+    base = {OMEGA_N: U * sp.cos(phi), OMEGA_U: U * sp.sin(phi)}
+    earth = Frequency(U, OMEGA_N**2 + OMEGA_U**2, "Earth")
+    reduced = Parametrisation(
+        reduced_rewrite, {**base, OMEGA_S: sp.sqrt(g / R)},
+        (Frequency(OMEGA_S, OMEGA_S**2, "Schuler"), earth),
+        "Ω_N = Ω cos φ, Ω_U = Ω sin φ, ω_s = √(g/R)")
+    full = Parametrisation(
+        full_rewrite,
+        {OMEGA_PLUS: OMEGA_BAR + OMEGA_U, OMEGA_MINUS: OMEGA_BAR - OMEGA_U,
+         OMEGA_BAR: sp.sqrt(g / R + OMEGA_U**2), **base},
+        (Frequency(OMEGA_PLUS, (OMEGA_BAR + OMEGA_U) ** 2, "Schuler + Foucault"),
+         Frequency(OMEGA_MINUS, (OMEGA_BAR - OMEGA_U) ** 2, "Schuler − Foucault"),
+         earth),
+        "Ω_N = Ω cos φ, Ω_U = Ω sin φ, ω̄ = √(g/R + Ω_U²), ω± = ω̄ ± Ω_U")
+    return StaticSetup(
+        "north_pointing", point,
+        "Static base: V_E = V_N = 0, a_E = a_N = 0 (so f_U = g), h = 0, sphere "
+        "(ecc2 = 0); the latitude φ stays symbolic.",
+        [Variant("full", "Full static-base model (Foucault cross-couplings kept)", full,
+                 factored=False),
+         Variant("report_reduced", "Report's reduced model (Foucault cross-couplings "
+                 "dropped)", reduced, "report_reduced")])
+
+
+SETUPS: dict[str, Callable[[], StaticSetup]] = {
+    "north_pointing": _north_pointing,
+}
+"""Models with a symbolic static-base analysis."""
+
+
+# --------------------------------------------------------------------------------------
+# Running
+# --------------------------------------------------------------------------------------
+@cache
+def _error_model(name: str) -> ErrorModel:
+    return vary(definition(name))
+
+
+def static_matrices(name: str, point: dict) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    """F, G and the initial-error matrix E at a static point (E in the model's c)."""
+    em = _error_model(name)
+    F = em.state_matrix.xreplace(point)
+    G = em.source_matrix.xreplace(point)
+    E = em.initial_error_matrix.xreplace(point)
+    return F, G, E
+
+
+def source_columns(d: ModelDefinition, G: sp.Matrix, E: sp.Matrix
+                   ) -> dict[str, tuple[sp.Matrix, bool]]:
+    """Per source: (column, is_step): G's column for constant sources, E's for initial."""
+    columns = {}
+    for j, source in enumerate(d.sources):
+        if source.kind == "constant":
+            columns[source.name] = (G[:, j], True)
+        else:
+            columns[source.name] = (E[:, j], False)
+    return columns
+
+
+@cache
+def static_analyses(name: str) -> list[VariantResult]:
+    """Analyse every variant of model ``name`` at its static base (cached)."""
+    setup = SETUPS[name]()
+    d = definition(name)
+    F, G, E = static_matrices(name, setup.point)
+    if E.free_symbols:
+        raise ValueError(f"{name}: the initial-error matrix depends on {E.free_symbols}; "
+                         "closed forms need it constant")
+    columns = source_columns(d, G, E)
+    results = []
+    for variant in setup.variants:
+        dropped: list[tuple[DroppedTerm, sp.Expr]] = []
+        Fv = F
+        if variant.simplification:
+            Fv, dropped = simplification(variant.simplification).apply(
+                F, [v.name for v in d.error_states])
+        analysis = analyse(Fv, columns, variant.parametrisation,
+                           tidy=sp.factor if variant.factored else None)
+        results.append(VariantResult(variant, analysis, dropped, list(columns)))
+    return results
+
+
+def setup(name: str) -> StaticSetup:
+    """The static-base setup of model ``name``."""
+    return SETUPS[name]()
