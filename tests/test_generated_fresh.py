@@ -1,7 +1,8 @@
 """generated/ is what `make derive` writes, and writing it is deterministic.
 
-Regenerates into temporary folders in two processes with different hash seeds (catches
-set-ordering nondeterminism) and compares byte for byte with the committed tree.
+Regenerates into a temporary folder under a fixed hash seed and compares byte for byte
+with the committed tree, which `make derive` wrote under a random seed: a difference is
+either a stale tree or output that depends on set ordering (nondeterminism).
 """
 
 from __future__ import annotations
@@ -28,13 +29,10 @@ def _derive_into(folder: Path, seed: str) -> subprocess.Popen:
 
 
 def test_generated_is_fresh_and_deterministic(tmp_path):
-    first, second = tmp_path / "a", tmp_path / "b"
-    runs = [_derive_into(first, "1"), _derive_into(second, "2")]
-    for run in runs:
-        _out, err = run.communicate(timeout=600)
-        assert run.returncode == 0, err
-    fresh, again, committed = _files(first), _files(second), _files(GENERATED)
-    assert fresh == again, "two runs of derive differ: output is not deterministic"
+    run = _derive_into(tmp_path, "12345")
+    _out, err = run.communicate(timeout=600)
+    assert run.returncode == 0, err
+    fresh, committed = _files(tmp_path), _files(GENERATED)
     problems = []
     for name in sorted(set(fresh) | set(committed)):
         if fresh.get(name) != committed.get(name):
