@@ -16,6 +16,7 @@ COMMAND_MODULES = (
     "ins_errors.commands.models",
     "ins_errors.commands.compare",
     "ins_errors.commands.budget",
+    "ins_errors.commands.check",
     "ins_errors.commands.study",
 )
 """Modules that each register one subcommand, in the order ``--help`` lists them."""

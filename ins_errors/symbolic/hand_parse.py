@@ -1,0 +1,915 @@
+r"""Read a hand-written set of error equations (plain text or LaTeX) into SymPy.
+
+Both formats hold one equation per line, ``lhs = rhs``; a printed chain ``lhs = A = B``
+gives one equation with two forms (each is checked, the first is the definition), and
+several equations may share a line (``;`` in text, ``\quad`` in LaTeX). Lines starting
+with ``@`` are directives, in both formats:
+
+``@section TITLE``
+    start a new section; definitions of earlier sections stay visible, a section may
+    redefine them (the manual's two listings define D and Δλ differently).
+``@alt EQUATION``
+    an alternative printed form of a quantity already defined in the section: checked,
+    not used as the definition (plain repeated definitions are reported as duplicates).
+``@alias NAME = EXPRESSION``
+    the hand symbol NAME stands for EXPRESSION in the model's names.
+``@source NAME = model_source[, model_source ...]``
+    the hand error-source symbol NAME stands for those model error sources.
+
+Comments start with ``#`` (text) or ``%`` (LaTeX). Symbol spellings are documented in
+``docs/hand_check.md``. The parser only reads and spells; what each symbol means in the
+model is decided by :mod:`ins_errors.symbolic.hand_check`.
+
+Plain text uses SymPy syntax (``**`` or ``^`` for powers, explicit ``*``) with ASCII names
+such as ``Delta_V_xi``, ``dot(alpha_x)``, ``omega_rel_eta``. LaTeX is pre-processed into
+plain placeholders (``\Delta\dot{V}_\xi``, ``\omega'_\eta``, ``u_{31}``,
+``W_\xi^{nk}``, ``\operatorname{tg}``, ``\widetilde{W}``, implicit products) and parsed
+by SymPy's ``parse_latex`` with its lark backend.
+"""
+
+from __future__ import annotations
+
+import ast
+import re
+from dataclasses import dataclass, field
+from functools import lru_cache, partial
+from pathlib import Path
+from typing import Literal
+
+import sympy as sp
+from sympy.parsing.sympy_parser import (
+    convert_xor,
+    parse_expr,
+    standard_transformations,
+)
+
+from ins_errors.errors import InsErrorsError
+from ins_errors.symbolic.hand_notation import Notation
+
+DOT = sp.Function("dot")
+"""Time derivative of a hand quantity (only allowed on a left-hand side)."""
+TILDE = sp.Function("tilde")
+"""Computed ("tilde") value of a quantity: ``tilde(X) = X + Delta_X`` to first order."""
+
+
+class HandParseError(InsErrorsError):
+    """A hand file that cannot be read at all (missing, not UTF-8)."""
+
+
+@dataclass(frozen=True)
+class Problem:
+    """One input problem, reported with its place in the file."""
+
+    line: int
+    column: int | None
+    message: str
+
+    def __str__(self) -> str:
+        where = f"line {self.line}" + (f", column {self.column}" if self.column else "")
+        return f"{where}: {self.message}"
+
+
+@dataclass
+class HandEquation:
+    """One equation of a hand file.
+
+    Attributes
+    ----------
+    line, column : int
+        Where it starts (1-based).
+    section : int
+        Index into :attr:`HandFile.sections`.
+    lhs : sympy.Expr
+        A symbol (``Delta_omega_xi``, ``D``, ``v_E``) or ``dot(symbol)``.
+    forms : list of sympy.Expr
+        Right-hand sides of the printed chain ``lhs = forms[0] = forms[1] ...``.
+    alternative : bool
+        Marked ``@alt``: checked, never used as the definition.
+    text : str
+        The equation as written.
+    note : str
+        Trailing annotation (``\\text{...}`` in LaTeX).
+    columns : dict
+        Symbol name -> column of its first occurrence (for messages).
+    """
+
+    line: int
+    column: int
+    section: int
+    lhs: sp.Expr
+    forms: list[sp.Expr]
+    alternative: bool = False
+    text: str = ""
+    note: str = ""
+    columns: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def label(self) -> str:
+        """Readable left-hand side, e.g. ``dot(Delta_V_xi)``."""
+        return str(self.lhs)
+
+
+@dataclass
+class HandFile:
+    """A parsed hand file: sections, equations, its own notation entries, problems."""
+
+    name: str
+    format: Literal["text", "latex"]
+    sections: list[str] = field(default_factory=lambda: ["main"])
+    equations: list[HandEquation] = field(default_factory=list)
+    notation: Notation = field(default_factory=Notation)
+    problems: list[Problem] = field(default_factory=list)
+
+
+class _LineError(Exception):
+    """Internal: a problem on one line (converted to a :class:`Problem`)."""
+
+    def __init__(self, column: int | None, message: str):
+        super().__init__(message)
+        self.column = column
+        self.message = message
+
+
+# --------------------------------------------------------------------------------------
+# Names
+# --------------------------------------------------------------------------------------
+def canonical_name(name: str, notation: Notation) -> sp.Expr:
+    """Canonical symbol for an ASCII spelling (``w_xi`` -> ``omega_xi``, ``X_dot``)."""
+    if name.endswith("_dot") and len(name) > 4:
+        return DOT(canonical_name(name[:-4], notation))
+    if name.startswith("Delta_") and len(name) > 6:
+        inner = canonical_name(name[6:], notation)
+        if isinstance(inner, sp.Symbol):
+            return sp.Symbol("Delta_" + inner.name)
+        return inner
+    return sp.Symbol(notation.spellings.get(name, name))
+
+
+# --------------------------------------------------------------------------------------
+# Plain text
+# --------------------------------------------------------------------------------------
+_FUNCTIONS: dict[str, object] = {
+    "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "tg": sp.tan, "cot": sp.cot, "ctg": sp.cot,
+    "sqrt": sp.sqrt, "asin": sp.asin, "arcsin": sp.asin, "acos": sp.acos,
+    "arccos": sp.acos, "atan": sp.atan, "arctan": sp.atan, "arctg": sp.atan,
+    "atan2": sp.atan2, "exp": sp.exp, "log": sp.log, "ln": sp.log, "Abs": sp.Abs,
+    "abs": sp.Abs, "sec": sp.sec, "Rational": sp.Rational, "dot": DOT, "tilde": TILDE,
+}
+_CONSTANTS = {"pi": sp.pi}
+_TRANSFORMS = (*standard_transformations, convert_xor)
+
+
+def parse_text_expression(text: str, notation: Notation, column: int = 1
+                          ) -> tuple[sp.Expr, dict[str, int]]:
+    """Parse one SymPy-syntax expression of a hand file.
+
+    Parameters
+    ----------
+    text : str
+        The expression, e.g. ``-Delta_V_eta/R_eta + omega_dp``.
+    notation : Notation
+        Supplies the alternative spellings.
+    column : int
+        Column of ``text`` in its line (1-based), for messages.
+
+    Returns
+    -------
+    expr : sympy.Expr
+    columns : dict
+        Canonical symbol name -> column of its first occurrence.
+    """
+    source = re.sub(r"\blambda\b", "lam ", text)
+    stripped = source.strip()
+    lead = len(source) - len(source.lstrip())
+    if not stripped:
+        raise _LineError(column, "empty expression")
+    try:
+        tree = ast.parse(stripped, mode="eval")
+    except SyntaxError as error:
+        offset = (error.offset or 1) - 1
+        raise _LineError(column + lead + offset,
+                         f"cannot parse {stripped!r}: {error.msg}") from None
+    local: dict[str, object] = {}
+    columns: dict[str, int] = {}
+    calls = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Attribute):
+            raise _LineError(column + lead + node.col_offset,
+                             f"attribute access {ast.unparse(node)!r} is not allowed")
+        if not isinstance(node, ast.Name):
+            continue
+        where = column + lead + node.col_offset
+        if id(node) in calls:
+            if node.id not in _FUNCTIONS:
+                raise _LineError(where, f"unknown function {node.id!r} (known: "
+                                        f"{', '.join(sorted(_FUNCTIONS))})")
+            local[node.id] = _FUNCTIONS[node.id]
+            continue
+        if node.id in _CONSTANTS:
+            local[node.id] = _CONSTANTS[node.id]
+            continue
+        symbol = canonical_name(node.id, notation)
+        local[node.id] = symbol
+        for atom in symbol.atoms(sp.Symbol):
+            columns.setdefault(atom.name, where)
+    try:
+        expr = parse_expr(stripped, local_dict=local, transformations=_TRANSFORMS)
+    except Exception as error:  # SymPy raises many kinds here
+        raise _LineError(column + lead, f"cannot parse {stripped!r}: {error}") from None
+    if not isinstance(expr, sp.Expr):
+        raise _LineError(column + lead, f"{stripped!r} is not an expression")
+    return expr, columns
+
+
+def _split_top(text: str, separator: str) -> list[tuple[str, int]]:
+    """Split at ``separator`` outside brackets; returns (piece, offset) pairs."""
+    pieces, depth, start = [], 0, 0
+    i = 0
+    while i < len(text):
+        char = text[i]
+        if char in "([{":
+            depth += 1
+        elif char in ")]}":
+            depth -= 1
+        elif depth == 0 and text.startswith(separator, i):
+            before = text[i - 1] if i else ""
+            if separator == "=" and (text[i + 1:i + 2] == "=" or (before and before in "<>!=")):
+                i += 2
+                continue
+            pieces.append((text[start:i], start))
+            start = i + len(separator)
+            i = start
+            continue
+        i += 1
+    pieces.append((text[start:], start))
+    return pieces
+
+
+# --------------------------------------------------------------------------------------
+# LaTeX
+# --------------------------------------------------------------------------------------
+_GREEK = {
+    "alpha": "alpha", "beta": "beta", "gamma": "gamma", "delta": "delta",
+    "epsilon": "epsilon", "varepsilon": "epsilon", "zeta": "zeta", "eta": "eta",
+    "theta": "theta", "vartheta": "theta", "iota": "iota", "kappa": "kappa",
+    "lambda": "lam", "mu": "mu", "nu": "nu", "xi": "xi", "rho": "rho", "sigma": "sigma",
+    "tau": "tau", "upsilon": "upsilon", "phi": "phi", "varphi": "phi", "chi": "chi",
+    "psi": "psi", "omega": "omega", "Gamma": "Gamma", "Theta": "Theta",
+    "Lambda": "Lambda", "Xi": "Xi", "Sigma": "Sigma", "Phi": "Phi", "Psi": "Psi",
+    "Omega": "Omega",
+}
+_SYMPY_FUNCTIONS = {
+    "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "tg": sp.tan, "cot": sp.cot, "ctg": sp.cot,
+    "arcsin": sp.asin, "arccos": sp.acos, "arctan": sp.atan, "arctg": sp.atan,
+    "exp": sp.exp, "ln": sp.log, "log": sp.log, "sec": sp.sec,
+}
+_ACCENTS = {"dot": "dot", "tilde": "tilde", "widetilde": "tilde"}
+_SKIP = {"left", "right", "big", "Big", "bigg", "Bigg", "bigl", "bigr", "Bigl", "Bigr",
+         "displaystyle", "quad", "qquad", "limits", "mathrm", "mathit"}
+_TOKEN = re.compile(r"\\[A-Za-z]+|\\.|[A-Za-z]|\d+(?:\.\d+)?|\s+|.")
+
+
+def _placeholder(k: int) -> str:
+    digits = str(k)
+    return "Q_{" + "".join("abcdefghij"[int(c)] for c in digits) + "}"
+
+
+@dataclass
+class _Piece:
+    text: str
+    position: int
+    starts: bool = False
+    ends: bool = False
+
+
+class _LatexConverter:
+    """Turn one LaTeX side of an equation into parse_latex-ready text with placeholders."""
+
+    def __init__(self, text: str, column: int, notation: Notation, backend: str = "lalr"):
+        self.backend = backend
+        self.column = column
+        self.notation = notation
+        self.tokens = [(m.group(), m.start()) for m in _TOKEN.finditer(text)
+                       if not m.group().isspace()]
+        self.i = 0
+        self.symbols: dict[str, sp.Expr] = {}
+        self.columns: dict[str, int] = {}
+
+    # -- token helpers ---------------------------------------------------------------
+    def peek(self, ahead: int = 0) -> str | None:
+        j = self.i + ahead
+        return self.tokens[j][0] if j < len(self.tokens) else None
+
+    def position(self) -> int:
+        if self.i < len(self.tokens):
+            return self.column + self.tokens[self.i][1]
+        return self.column + (self.tokens[-1][1] + 1 if self.tokens else 0)
+
+    def take(self) -> str:
+        token = self.tokens[self.i][0]
+        self.i += 1
+        return token
+
+    def expect(self, token: str) -> None:
+        if self.peek() != token:
+            found = self.peek()
+            raise _LineError(self.position(), f"expected {token!r}, found "
+                                              f"{found if found else 'end of line'!r}")
+        self.i += 1
+
+    def skip_sizing(self) -> None:
+        while self.peek() in (r"\left", r"\right", r"\big", r"\Big", r"\bigl", r"\bigr",
+                              r"\Bigl", r"\Bigr", r"\bigg", r"\Bigg"):
+            self.i += 1
+
+    # -- symbols -----------------------------------------------------------------------
+    def group_text(self) -> str:
+        """ASCII text of a subscript: one token or a braced group of letters/digits."""
+        token = self.peek()
+        if token is None:
+            raise _LineError(self.position(), "subscript missing")
+        if token != "{":
+            self.i += 1
+            return _GREEK.get(token[1:]) if token.startswith("\\") else token
+        self.i += 1
+        parts = []
+        while self.peek() not in ("}", None):
+            token = self.take()
+            if token.startswith("\\"):
+                if token[1:] not in _GREEK:
+                    raise _LineError(self.column + self.tokens[self.i - 1][1],
+                                     f"unsupported command {token} in a subscript")
+                parts.append(_GREEK[token[1:]])
+            elif token in (",", "'"):
+                continue
+            else:
+                parts.append(token)
+        self.expect("}")
+        return "".join(parts)
+
+    def symbol(self, delta: bool) -> sp.Expr:
+        """Read one symbol (with accent, primes, subscript, label) and return it."""
+        start = self.position()
+        accents = []
+        token = self.peek()
+        while token is not None and token.startswith("\\") and token[1:] in _ACCENTS:
+            accents.append(_ACCENTS[token[1:]])
+            self.i += 1
+            self.expect("{")
+            inner = self.symbol(delta=False)
+            self.expect("}")
+            return self.finish(inner, accents, delta, start)
+        if token is None:
+            raise _LineError(start, "a symbol is missing")
+        if token.startswith("\\"):
+            name = token[1:]
+            if name not in _GREEK:
+                raise _LineError(start, f"expected a symbol, found {token}")
+            base = _GREEK[name]
+        elif token.isalpha():
+            base = token
+        else:
+            raise _LineError(start, f"expected a symbol, found {token!r}")
+        self.i += 1
+        return self.finish(sp.Symbol(base), [], delta, start)
+
+    def finish(self, inner: sp.Expr, accents: list[str], delta: bool, start: int) -> sp.Expr:
+        """Primes, subscripts and labels after a (possibly accented) base."""
+        base = inner.name if isinstance(inner, sp.Symbol) else None
+        primes, sub = 0, ""
+        while True:
+            token = self.peek()
+            if token == "'":
+                primes += 1
+                self.i += 1
+            elif token == "_":
+                self.i += 1
+                text = self.group_text()
+                if text is None:
+                    raise _LineError(self.position(), "unsupported subscript")
+                sub += text
+            elif token == "^" and self.peek(1) == "{" and self.label_ahead():
+                self.i += 2
+                while self.take() != "}":
+                    pass
+            elif token == "^" and self.peek(1) == r"\prime":
+                primes += 1
+                self.i += 2
+            else:
+                break
+        if base is None:  # accent applied to a full symbol: keep it
+            name = inner.name if isinstance(inner, sp.Symbol) else str(inner)
+        else:
+            name = base
+        if primes:
+            name = self.notation.latex_primes.get(name, name + "p")
+        if sub:
+            joined = name + sub if len(name) == 1 and sub.isdigit() else f"{name}_{sub}"
+            name = joined
+        if delta:
+            name = "Delta_" + name
+        result: sp.Expr = canonical_name(name, self.notation)
+        for accent in accents:
+            result = DOT(result) if accent == "dot" else TILDE(result)
+        if isinstance(result, sp.Symbol):
+            self.columns.setdefault(result.name, start)
+        else:
+            for atom in result.atoms(sp.Symbol):
+                self.columns.setdefault(atom.name, start)
+        return result
+
+    def label_ahead(self) -> bool:
+        """``^{nk}``-style label: two or more letters in braces (not a power)."""
+        j = self.i + 2
+        letters = []
+        while j < len(self.tokens) and self.tokens[j][0] != "}":
+            letters.append(self.tokens[j][0])
+            j += 1
+        return len(letters) >= 2 and all(t.isalpha() and len(t) == 1 for t in letters)
+
+    # -- expressions -------------------------------------------------------------------
+    def place(self, expr: sp.Expr, position: int) -> _Piece:
+        key = _placeholder(len(self.symbols))
+        self.symbols[key] = expr
+        return _Piece(key, position, starts=True, ends=True)
+
+    def convert(self, closing: str | None = None) -> list[_Piece]:
+        """Convert tokens up to ``closing`` (not consumed) or the end."""
+        out: list[_Piece] = []
+        while self.peek() is not None and self.peek() != closing:
+            position = self.position()
+            token = self.peek()
+            name = token[1:] if token.startswith("\\") else None
+            if name in ("left", "right", "big", "Big", "bigl", "bigr", "Bigl", "Bigr",
+                        "bigg", "Bigg"):
+                self.i += 1
+                if self.peek() == ".":
+                    self.i += 1
+                continue
+            if token in (r"\,", r"\;", r"\!", r"\:", r"\ ", "~", "&") or name in (
+                    "displaystyle", "limits"):
+                self.i += 1
+                continue
+            if token in (r"\cdot", r"\times", "*"):
+                self.i += 1
+                out.append(_Piece(r" \cdot ", position))
+                continue
+            if token in ("(", "[", "{"):
+                end = {"(": ")", "[": "]", "{": "}"}[token]
+                self.i += 1
+                inner = self.convert(end)
+                self.skip_sizing()
+                self.expect(end)
+                out.append(self.place(self.parse_pieces(inner, position), position))
+                continue
+            if token in (")", "]", "}"):
+                raise _LineError(position, f"unbalanced {token!r}")
+            if token in ("+", "-", "/"):
+                self.i += 1
+                out.append(_Piece(f" {token} ", position))
+                continue
+            if token == "^":
+                self.i += 1
+                out.append(_Piece("^{", position))
+                out.extend(self.argument())
+                out.append(_Piece("}", position, ends=True))
+                continue
+            if token[0].isdigit():
+                self.i += 1
+                out.append(_Piece(token, position, starts=True, ends=True))
+                continue
+            if name == "frac":
+                self.i += 1
+                numerator = self.braced(position)
+                denominator = self.braced(position)
+                out.append(self.place(numerator / denominator, position))
+                continue
+            if name == "sqrt":
+                self.i += 1
+                out.append(self.place(sp.sqrt(self.braced(position)), position))
+                continue
+            if name == "pi":
+                self.i += 1
+                out.append(_Piece(r"\pi", position, starts=True, ends=True))
+                continue
+            if name == "operatorname":
+                self.i += 1
+                self.expect("{")
+                word = ""
+                while self.peek() not in ("}", None):
+                    word += self.take()
+                self.expect("}")
+                if word not in _SYMPY_FUNCTIONS:
+                    raise _LineError(position, f"unsupported function \\operatorname{{{word}}}")
+                out.extend(self.function(word, position))
+                continue
+            if name in _SYMPY_FUNCTIONS:
+                self.i += 1
+                out.extend(self.function(name, position))
+                continue
+            if name == "Delta" and self.peek(1) is not None:
+                self.i += 1
+                out.append(self.place(self.symbol(delta=True), position))
+                continue
+            if name is not None and name not in _GREEK and name not in _ACCENTS:
+                raise _LineError(position, f"unsupported LaTeX command {token}")
+            if name is None and not token.isalpha():
+                raise _LineError(position, f"unexpected character {token!r}")
+            out.append(self.place(self.symbol(delta=False), position))
+        return out
+
+    def braced(self, position: int) -> sp.Expr:
+        """Parse a mandatory ``{...}`` argument (of \\frac, \\sqrt)."""
+        self.expect("{")
+        inner = self.convert("}")
+        self.expect("}")
+        return self.parse_pieces(inner, position)
+
+    def parse_pieces(self, pieces: list[_Piece], position: int) -> sp.Expr:
+        """Parse converted pieces (sums, products, powers of placeholders and numbers).
+
+        Groups, fractions and function arguments are parsed on their own and enter the
+        enclosing expression as placeholders, so each call sees a short string.
+        """
+        if not pieces:
+            raise _LineError(position, "empty expression")
+        if len(pieces) == 1 and pieces[0].text in self.symbols:
+            return self.symbols[pieces[0].text]
+        converted, where = _join(pieces)
+        try:
+            parsed = _parse_arithmetic(converted, self.backend)
+        except ImportError as error:  # pragma: no cover - lark is a declared dependency
+            raise HandParseError(f"LaTeX input needs the 'lark' package: {error}") from None
+        except Exception as error:
+            offset = max(getattr(error, "column", 1) - 1, 0)
+            original = pieces[0].position
+            for start, spot in where:
+                if start <= offset:
+                    original = spot
+            raise _LineError(original, "cannot parse this LaTeX") from None
+        if not isinstance(parsed, sp.Expr):
+            raise _LineError(position, "not an expression")
+        mapping = {sp.Symbol(k): v for k, v in self.symbols.items()}
+        stray = [s for s in parsed.free_symbols if s not in mapping]
+        if stray:
+            raise _LineError(position, f"could not read symbol {stray[0]}")
+        return parsed.xreplace(mapping)
+
+    def argument(self) -> list[_Piece]:
+        """A superscript or function argument: braced group or one token/symbol."""
+        if self.peek() == "{":
+            position = self.position()
+            return [self.place(self.braced(position), position)]
+        token = self.peek()
+        position = self.position()
+        if token is None:
+            raise _LineError(position, "argument missing")
+        if token[0].isdigit():
+            self.i += 1
+            return [_Piece(token, position, starts=True, ends=True)]
+        if token == "-":
+            self.i += 1
+            return [_Piece("-", position), *self.argument()]
+        return [self.place(self.symbol(delta=False), position)]
+
+    def function(self, name: str, position: int) -> list[_Piece]:
+        """``\\cos 2\\lambda``, ``\\sin^2 \\varphi``, ``\\cos(\\chi)`` -> explicit form."""
+        power: list[_Piece] = []
+        if self.peek() == "^":
+            self.i += 1
+            power = self.argument()
+        self.skip_sizing()
+        if self.peek() in ("(", "[", "{"):
+            closing = {"(": ")", "[": "]", "{": "}"}[self.peek()]
+            self.i += 1
+            inner = self.convert(closing)
+            self.skip_sizing()
+            self.expect(closing)
+        else:  # simple argument: optional number and one symbol, e.g. 2\chi
+            inner = []
+            if self.peek() is not None and self.peek()[0].isdigit():
+                inner.append(_Piece(self.take(), self.position(), starts=True, ends=True))
+            delta = self.peek() == r"\Delta"
+            if delta:
+                self.i += 1
+            spot = self.position()
+            inner.append(self.place(self.symbol(delta=delta), spot))
+        value = _SYMPY_FUNCTIONS[name](self.parse_pieces(inner, position))
+        pieces = [self.place(value, position)]
+        if power:
+            pieces += [_Piece("^{", position), *power, _Piece("}", position, ends=True)]
+        return pieces
+
+
+def _join(pieces: list[_Piece]) -> tuple[str, list[tuple[int, int]]]:
+    """Concatenate pieces, inserting ``\\cdot`` for implicit products."""
+    text, where = "", []
+    previous: _Piece | None = None
+    for piece in pieces:
+        if previous is not None and previous.ends and piece.starts:
+            text += r" \cdot "
+        where.append((len(text), piece.position))
+        text += piece.text
+        previous = piece
+    return text, where
+
+
+_ARITHMETIC_GRAMMAR = r"""
+?sum: product | sum "+" product -> add | sum "-" product -> sub
+?product: unary | product "\\cdot" unary -> mul | product "/" unary -> div
+?unary: power | "-" unary -> neg | "+" unary
+?power: atom | atom "^{" sum "}" -> pow
+?atom: NUMBER -> number | NAME -> name | "\\pi" -> pi | "(" sum ")"
+NAME: /Q_\{[a-j]+\}/
+NUMBER: /\d+(\.\d+)?/
+%ignore /\s+/
+"""
+
+
+@lru_cache(maxsize=1)
+def _arithmetic_parser():
+    import lark
+
+    class Build(lark.Transformer):
+        def add(self, items):
+            return items[0] + items[1]
+
+        def sub(self, items):
+            return items[0] - items[1]
+
+        def mul(self, items):
+            return items[0] * items[1]
+
+        def div(self, items):
+            return items[0] / items[1]
+
+        def neg(self, items):
+            return -items[0]
+
+        def pow(self, items):
+            return items[0] ** items[1]
+
+        def number(self, items):
+            return sp.Rational(str(items[0]))
+
+        def name(self, items):
+            return sp.Symbol(str(items[0]))
+
+        def pi(self, items):
+            return sp.pi
+
+    return lark.Lark(_ARITHMETIC_GRAMMAR, start="sum", parser="lalr", transformer=Build())
+
+
+def _parse_arithmetic(text: str, backend: str) -> sp.Expr:
+    """Parse placeholder arithmetic with lark (LALR), or SymPy's ``parse_latex``."""
+    if backend == "sympy":
+        from sympy.parsing.latex import parse_latex
+
+        return parse_latex(text, backend="lark")
+    return _arithmetic_parser().parse(text)
+
+
+LATEX_BACKENDS = ("lalr", "sympy")
+"""``"lalr"``: the pre-processed arithmetic is parsed by a small LALR grammar (lark),
+milliseconds per line; ``"sympy"``: by SymPy's ``parse_latex(..., backend="lark")``
+(Earley, about 0.1-0.5 s per call), kept as an independent cross-check."""
+
+
+def parse_latex_expression(text: str, notation: Notation, column: int = 1,
+                           backend: str = "lalr") -> tuple[sp.Expr, dict[str, int]]:
+    """Parse one LaTeX expression of a hand file (see module docstring for notation).
+
+    Parameters
+    ----------
+    text : str
+        One side of an equation, e.g. ``a_\\eta \\alpha_z - \\frac{\\Delta V_\\eta}{R_\\eta}``.
+    notation : Notation
+        Spellings and the meaning of primes.
+    column : int
+        Column of ``text`` in its line (1-based), for messages.
+    backend : {"lalr", "sympy"}
+        Parser of the pre-processed arithmetic (see :data:`LATEX_BACKENDS`).
+    """
+    if backend not in LATEX_BACKENDS:
+        raise InsErrorsError(f"unknown LaTeX backend {backend!r} (known: "
+                             f"{', '.join(LATEX_BACKENDS)})")
+    converter = _LatexConverter(text, column, notation, backend)
+    pieces = converter.convert()
+    if converter.peek() is not None:
+        raise _LineError(converter.position(), f"unbalanced {converter.peek()!r}")
+    return converter.parse_pieces(pieces, column), converter.columns
+
+
+# --------------------------------------------------------------------------------------
+# Files
+# --------------------------------------------------------------------------------------
+def _strip_comment(line: str, marker: str) -> str:
+    if marker == "%":
+        match = re.search(r"(?<!\\)%", line)
+        return line[: match.start()] if match else line
+    return line.split("#", 1)[0]
+
+
+_LATEX_WRAPPERS = re.compile(r"\$\$|\\\[|\\\]|\$|\\begin\{[a-z*]+\}|\\end\{[a-z*]+\}|\\\\")
+_TEXT_NOTE = re.compile(r"\\(?:text|mbox|mathrm)\{([^}]*)\}")
+
+
+def _blank(text: str, pattern: re.Pattern) -> str:
+    """Replace matches by spaces (columns stay right)."""
+    return pattern.sub(lambda m: " " * len(m.group()), text)
+
+
+def _segments(body: str, latex: bool) -> list[tuple[str, int, str]]:
+    """Equations of one line: (text, offset, note)."""
+    if not latex:
+        return [(piece, offset, "") for piece, offset in _split_top(body, ";")
+                if piece.strip()]
+    notes = " ".join(m.group(1).strip() for m in _TEXT_NOTE.finditer(body))
+    body = _blank(body, _TEXT_NOTE)
+    body = _blank(body, _LATEX_WRAPPERS)
+    result = []
+    for piece, offset in _split_quads(body):
+        trimmed = piece.rstrip().rstrip(",;.").rstrip()
+        if trimmed.strip():
+            result.append((trimmed, offset, notes))
+    return result
+
+
+def _split_quads(body: str) -> list[tuple[str, int]]:
+    pieces, depth, start, i = [], 0, 0, 0
+    while i < len(body):
+        if body[i] == "{":
+            depth += 1
+        elif body[i] == "}":
+            depth -= 1
+        elif depth == 0 and (m := re.match(r"\\q?quad(?![A-Za-z])", body[i:])):
+            pieces.append((body[start:i], start))
+            start = i + len(m.group())
+            i = start
+            continue
+        i += 1
+    pieces.append((body[start:], start))
+    return pieces
+
+
+def _split_chain(text: str, latex: bool) -> list[tuple[str, int]]:
+    if latex:
+        pieces, depth, start = [], 0, 0
+        for i, char in enumerate(text):
+            if char == "{":
+                depth += 1
+            elif char == "}":
+                depth -= 1
+            elif char == "=" and depth == 0:
+                pieces.append((text[start:i], start))
+                start = i + 1
+        pieces.append((text[start:], start))
+        return pieces
+    return _split_top(text, "=")
+
+
+def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
+                    latex: bool = False, latex_backend: str = "lalr") -> HandFile:
+    """Parse the content of a hand file.
+
+    Parameters
+    ----------
+    text : str
+        File content.
+    notation : Notation
+        Spellings and LaTeX primes to apply (the model's default notation).
+    name : str
+        File name used in messages and reports.
+    latex : bool
+        LaTeX equations instead of SymPy syntax.
+    latex_backend : {"lalr", "sympy"}
+        Parser of LaTeX arithmetic (see :data:`LATEX_BACKENDS`).
+
+    Returns
+    -------
+    HandFile
+        Every line that could be read; unreadable lines are listed in ``problems``.
+    """
+    hand = HandFile(name=name, format="latex" if latex else "text")
+    parse = (partial(parse_latex_expression, backend=latex_backend) if latex
+             else parse_text_expression)
+    for number, raw in enumerate(text.splitlines(), start=1):
+        body = _strip_comment(raw, "%" if latex else "#")
+        stripped = body.strip()
+        if not stripped:
+            continue
+        alternative = False
+        try:
+            if stripped.startswith("@"):
+                keyword = stripped.split(maxsplit=1)[0]
+                if keyword == "@section":
+                    title = stripped[len(keyword):].strip() or f"section {len(hand.sections)}"
+                    hand.sections.append(title)
+                    continue
+                if keyword in ("@alias", "@source"):
+                    _directive(hand, keyword, stripped, body.index("@") + 1, notation)
+                    continue
+                if keyword != "@alt":
+                    raise _LineError(body.index("@") + 1, f"unknown directive {keyword!r} "
+                                     "(known: @section, @alt, @alias, @source)")
+                alternative = True
+                cut = body.index("@alt") + 4
+                body = " " * cut + body[cut:]
+            for segment, offset, note in _segments(body, latex):
+                _equation(hand, number, segment, offset + 1, note, alternative, parse,
+                          notation, latex)
+        except _LineError as error:
+            hand.problems.append(Problem(number, error.column, error.message))
+    if len(hand.sections) > 1 and not any(e.section == 0 for e in hand.equations):
+        hand.sections[0] = "(before the first section)"
+    return hand
+
+
+def _equation(hand: HandFile, number: int, segment: str, column: int, note: str,
+              alternative: bool, parse, notation: Notation, latex: bool) -> None:
+    parts = _split_chain(segment, latex)
+    if len(parts) < 2:
+        raise _LineError(column + len(segment) - len(segment.lstrip()),
+                         f"no '=' in {segment.strip()!r}: expected 'lhs = rhs'")
+    columns: dict[str, int] = {}
+    exprs = []
+    for piece, offset in parts:
+        expr, where = parse(piece, notation, column + offset)
+        exprs.append(expr)
+        for key, value in where.items():
+            columns.setdefault(key, value)
+    lhs = exprs[0]
+    ok = isinstance(lhs, sp.Symbol) or (
+        isinstance(lhs, sp.Function) and lhs.func == DOT and isinstance(lhs.args[0], sp.Symbol))
+    if not ok:
+        raise _LineError(column + len(segment) - len(segment.lstrip()),
+                         f"left-hand side {parts[0][0].strip()!r} must be one quantity "
+                         "(a symbol, a variation or the time derivative of one)")
+    hand.equations.append(HandEquation(
+        line=number, column=column + len(segment) - len(segment.lstrip()),
+        section=len(hand.sections) - 1, lhs=lhs, forms=exprs[1:], alternative=alternative,
+        text=" ".join(segment.split()), note=note, columns=columns))
+
+
+def _directive(hand: HandFile, keyword: str, text: str, column: int,
+               notation: Notation) -> None:
+    body = text[len(keyword):]
+    if "=" not in body:
+        raise _LineError(column, f"{keyword} needs 'NAME = ...'")
+    name, value = (part.strip() for part in body.split("=", 1))
+    if not name.isidentifier():
+        raise _LineError(column, f"{keyword}: {name!r} is not a valid name")
+    if keyword == "@alias":
+        parse_text_expression(value, notation, column)  # syntax check now
+        hand.notation.aliases[name] = value
+    else:
+        targets = tuple(t.strip() for t in value.split(",") if t.strip())
+        if not targets or not all(t.isidentifier() for t in targets):
+            raise _LineError(column, "@source needs 'NAME = model_source[, model_source ...]'")
+        hand.notation.sources[name] = targets
+
+
+def read_hand_file(path: str | Path, notation: Notation, latex: bool | None = None,
+                   latex_backend: str = "lalr") -> HandFile:
+    """Read and parse a hand file; LaTeX if ``latex`` or the suffix is ``.tex``.
+
+    Raises
+    ------
+    HandParseError
+        If the file cannot be read.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise HandParseError(f"hand file {str(path)!r} not found") from None
+    except (OSError, UnicodeDecodeError) as error:
+        raise HandParseError(f"cannot read hand file {str(path)!r}: {error}") from None
+    if latex is None:
+        latex = path.suffix.lower() in (".tex", ".latex")
+    return parse_hand_text(text, notation, name=path.name, latex=latex,
+                           latex_backend=latex_backend)
+
+
+def read_mapping_file(path: str | Path) -> Notation:
+    """Read a mapping file (``@alias`` / ``@source`` lines, ``#`` comments).
+
+    Raises
+    ------
+    HandParseError
+        If the file cannot be read or a line is not a mapping entry.
+    """
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise HandParseError(f"cannot read mapping file {str(path)!r}: {error}") from None
+    hand = parse_hand_text(text, Notation(), name=path.name)
+    if hand.equations:
+        first = hand.equations[0]
+        hand.problems.append(Problem(first.line, first.column,
+                                     "a mapping file holds only @alias and @source lines"))
+    if hand.problems:
+        raise HandParseError(f"{path.name}: {hand.problems[0]}")
+    return hand.notation
