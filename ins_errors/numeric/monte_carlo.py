@@ -265,7 +265,9 @@ def direct_monte_carlo(model, trajectory, sources: Sequence[SourceStatistics], r
         else:
             import multiprocessing
 
-            context = multiprocessing.get_context("spawn")
+            # fork: no re-import of the caller's __main__, compiled code shared
+            methods = multiprocessing.get_all_start_methods()
+            context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
             with ProcessPoolExecutor(workers, mp_context=context) as pool:
                 futures = {pool.submit(_direct_batch, model.name, trajectory, wb, method,
                                        record_interval): i
