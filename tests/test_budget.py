@@ -341,3 +341,19 @@ def test_great_circle_budget(orthodromic, tmp_path):
                                               strict=True) if np.isfinite(v)}
     assert bd.evaluate(orthodromic, fine, sigma).values == pytest.approx(evaluation.values,
                                                                           rel=2e-3)
+
+
+@pytest.mark.parametrize("name", ["north_pointing", "free_azimuth"])
+def test_budget_of_other_models(name, spec_802m):
+    """Any model with position, velocity and platform-angle errors can be budgeted."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(name)
+    allocation = bd.allocate(bd.unit_budget(model, spec_802m))
+    evaluation = recomputed(model, allocation)
+    assert np.all(evaluation.ratios <= 1 + 1e-9)
+    assert evaluation.ratios.max() > 0.5
+    free = np.flatnonzero(np.isfinite(allocation.sigma))
+    r = allocation.binding[free[0]]
+    assert evaluation.contributions[r, free[0]] == pytest.approx(
+        allocation.budget.allowed_variances[r] / len(free), rel=1e-9)

@@ -45,6 +45,7 @@ from ins_errors.numeric.covariance import (
     LinearSystem,
     SourceStatistics,
     propagate,
+    static_system,
     system_from_trajectory,
 )
 from ins_errors.specs import HOUR, SOURCE_UNIT_SUFFIX, Spec, SpecError
@@ -215,6 +216,32 @@ def spec_trajectory(model, spec: Spec, tau: float | None = None,
     return trajectories.trajectory(model, profile, step * max(1, round(length / step)), step)
 
 
+def spec_system(model, spec: Spec, trajectory=None) -> LinearSystem:
+    """The linear error equations along the spec's motion, on the spec's grid.
+
+    The true motion comes from :mod:`ins_errors.numeric.trajectories`; for a static
+    motion of a model those generators do not cover, the model's own rest state is used
+    (:func:`~ins_errors.numeric.covariance.static_system`, a_ζ = 9.81 m/s² where the
+    model has it).
+    """
+    if trajectory is not None:
+        return system_from_trajectory(model, trajectory, spec.step)
+    try:
+        trajectory = spec_trajectory(model, spec)
+    except InsErrorsError as error:
+        if spec.motion.kind != "static":
+            raise
+        m = spec.motion
+        try:
+            return static_system(model, m.latitude, m.longitude, m.heading, m.height,
+                                 duration=spec.step * max(1, round(spec.operating_time
+                                                                   / spec.step)),
+                                 step=spec.step)
+        except InsErrorsError:
+            raise error from None
+    return system_from_trajectory(model, trajectory, spec.step)
+
+
 def _radii(model, system: LinearSystem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Latitude (rad), R_N and R_E cos φ (m) along the grid, shape (K+1,) each."""
     names = [i.name for i in model.parameters]
@@ -222,7 +249,7 @@ def _radii(model, system: LinearSystem) -> tuple[np.ndarray, np.ndarray, np.ndar
     a = p.get("a", p.get("R"))
     if a is None:
         raise BudgetError(f"model {model.name} has no Earth radius parameter ('a' or 'R')")
-    e2 = p.get("e2", 0.0)
+    e2 = p.get("e2", p.get("ecc2", 0.0))
     outputs = [o.name for o in model.outputs]
     if "latitude" not in outputs:
         raise BudgetError(f"model {model.name} has no 'latitude' output")
@@ -233,6 +260,20 @@ def _radii(model, system: LinearSystem) -> tuple[np.ndarray, np.ndarray, np.ndar
     R_N = a * (1 - e2) / (1 - e2 * s2) ** 1.5 + h
     R_E = a / np.sqrt(1 - e2 * s2) + h
     return phi, R_N, R_E * np.cos(phi)
+
+
+PLATFORM_ANGLE_NAMES = (("alpha_x", "alpha_y", "alpha_z"), ("alpha_E", "alpha_N", "alpha_U"))
+"""Names the models give their two level and one azimuth platform error angles."""
+
+
+def platform_angles(model) -> tuple[str, str, str]:
+    """The model's (level, level, azimuth) platform error-angle names."""
+    states = {s.name for s in model.error_states}
+    for names in PLATFORM_ANGLE_NAMES:
+        if set(names) <= states:
+            return names
+    raise BudgetError(f"model {model.name} has no platform error angles named like "
+                      f"{', '.join(PLATFORM_ANGLE_NAMES[0])}")
 
 
 def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functionals,
@@ -267,11 +308,13 @@ def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functiona
         elif item.name == "ground_speed_error":
             parts = [("north", output_row("v_N"), zero_b), ("east", output_row("v_E"), zero_b)]
         elif item.name == "vertical_error":
-            parts = [("about x", state_row("alpha_x"), zero_b),
-                     ("about y", state_row("alpha_y"), zero_b)]
+            tilt = platform_angles(model)[:2]
+            parts = [(f"about {tilt[0][6:]}", state_row(tilt[0]), zero_b),
+                     (f"about {tilt[1][6:]}", state_row(tilt[1]), zero_b)]
         else:  # heading_drift: alpha_z(t) - alpha_z(0), alpha_z(0) = E[alpha_z] w
-            row = state_row("alpha_z")
-            parts = [("azimuth", row, -system.E[states.index("alpha_z")])]
+            azimuth = platform_angles(model)[2]
+            row = state_row(azimuth)
+            parts = [("azimuth", row, -system.E[states.index(azimuth)])]
         groups[item.name] = []
         for label, C_x, C_b in parts:
             groups[item.name].append(len(rows))
@@ -295,8 +338,7 @@ def unit_budget(model, spec: Spec, trajectory=None) -> UnitBudget:
         True motion (default: the spec's motion over its operating time, on its step).
     """
     sources = resolve_sources(model, spec)
-    trajectory = spec_trajectory(model, spec) if trajectory is None else trajectory
-    system = system_from_trajectory(model, trajectory, spec.step)
+    system = spec_system(model, spec, trajectory)
     covariance = _propagate(model, system, spec, sources,
                             [SourceStatistics(s.name, s.statistics, 1.0, s.tau)
                              for s in sources])
@@ -470,8 +512,7 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None) -> Eva
     for name in sigma:
         if name not in known:
             raise unknown_name("budget source", name, sorted(known))
-    trajectory = spec_trajectory(model, spec) if trajectory is None else trajectory
-    system = system_from_trajectory(model, trajectory, spec.step)
+    system = spec_system(model, spec, trajectory)
     stats = [SourceStatistics(s.name, s.statistics, float(sigma.get(s.name, 0.0)), s.tau)
              for s in sources]
     covariance = _propagate(model, system, spec, sources, stats)
@@ -677,9 +718,12 @@ def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarra
         elif row.item == "ground_speed_error":
             parts = {"north": errors["delta_v_N"][k], "east": errors["delta_v_E"][k]}
         elif row.item == "vertical_error":
-            parts = {"about x": errors["alpha_x"][k], "about y": errors["alpha_y"][k]}
+            first, second, _ = platform_angles(model)
+            parts = {f"about {first[6:]}": errors[first][k],
+                     f"about {second[6:]}": errors[second][k]}
         else:
-            parts = {"azimuth": (errors["alpha_z"][k] - errors["alpha_z"][0]) / row.time}
+            azimuth = platform_angles(model)[2]
+            parts = {"azimuth": (errors[azimuth][k] - errors[azimuth][0]) / row.time}
         chosen = [parts[row.component]] if row.component else list(parts.values())
         mean_square = np.mean(sum(c**2 for c in chosen))
         rows.append(row)

@@ -156,38 +156,48 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
                   step: float = 1.0, p: np.ndarray | None = None) -> LinearSystem:
     """The error equations of a model at rest on the Earth (time-invariant).
 
+    Works for any model: the initial conditions it has (latitude, longitude, heading;
+    velocities zero) give the state, ``a_zeta`` (if the model has it) is ``gravity``,
+    ``h`` is ``height``, and the other apparent-acceleration inputs (``a_*``) are solved
+    for so that the ideal state stays at rest (least squares on the ideal equations,
+    which are linear in them); an error is raised if no such inputs exist.
+
     Parameters
     ----------
     model : ins_errors.numeric.model.Model
         A loaded model.
     latitude, longitude, heading : float
-        Site and the trihedron's track angle, rad.
+        Site and the trihedron's track angle, rad (where the model has them).
     height : float
         Height above the ellipsoid, m.
     gravity : float
-        Apparent acceleration along the vertical, m/s² (a_ζ).
+        Apparent acceleration along the vertical, m/s² (a_ζ, where the model has it).
     duration, step : float
         Length and step of the time grid, s.
     p : numpy.ndarray, optional
         Parameter vector (default: the model's defaults).
-
-    Notes
-    -----
-    The horizontal apparent accelerations are the ones that keep the ideal velocities
-    constant (the negated velocity rates of the ideal equations at zero acceleration),
-    so the ideal state is constant and F, G, H are too.
     """
     p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
-    c = model.initial_condition_vector(latitude=latitude, longitude=longitude,
-                                       heading=heading)
-    u = model.input_vector(a_zeta=gravity, h=height)
+    given = {"latitude": latitude, "longitude": longitude, "heading": heading}
+    known = {i.name for i in model.initial_conditions}
+    c = model.initial_condition_vector(**{k: v for k, v in given.items() if k in known})
+    inputs = [i.name for i in model.inputs]
+    u = model.input_vector(**{k: v for k, v in (("a_zeta", gravity), ("h", height))
+                              if k in inputs})
     x = model.initial_state(c, u, p)
+    free = [k for k, name in enumerate(inputs) if name.startswith("a_") and name != "a_zeta"]
+    r0 = model.numpy.ideal_rhs(x, u, p)
+    if free:
+        J = np.empty((len(r0), len(free)))
+        for column, k in enumerate(free):
+            probe = u.copy()
+            probe[k] += 1.0
+            J[:, column] = model.numpy.ideal_rhs(x, probe, p) - r0
+        u[free] = np.linalg.lstsq(J, -r0, rcond=None)[0]
     rates = model.numpy.ideal_rhs(x, u, p)
-    names = [i.name for i in model.inputs]
-    u[names.index("a_xi")], u[names.index("a_eta")] = -rates[6], -rates[7]
-    if np.max(np.abs(model.numpy.ideal_rhs(x, u, p))) > 1e-12:
-        raise CovarianceError("static_system: could not find inputs that keep the ideal "
-                              "state at rest")
+    if np.max(np.abs(rates)) > 1e-12 * max(1.0, np.max(np.abs(r0))):
+        raise CovarianceError(f"static_system: no inputs keep the ideal state of "
+                              f"{model.name} at rest")
     times = uniform_grid(duration, step)
     return LinearSystem(
         times=times,
@@ -196,7 +206,8 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
         source_names=tuple(i.name for i in model.sources),
         source_kinds=tuple(i.kind for i in model.sources),
         x=np.repeat(x[:, None], len(times), axis=1), u=np.repeat(u[:, None], len(times), 1),
-        p=p, labels={"trajectory": "static base", "latitude": latitude, "height": height},
+        p=p, labels={"trajectory": f"static base at φ={np.degrees(latitude):.4g}°",
+                     "latitude": latitude, "height": height},
     )
 
 
@@ -283,7 +294,7 @@ def system_from_trajectory(model, trajectory, step: float | None = None) -> Line
 # --------------------------------------------------------------------------------------
 # Discretisation
 # --------------------------------------------------------------------------------------
-def _step_matrix(system: LinearSystem, matrix: np.ndarray) -> np.ndarray:
+def _step_matrix(matrix: np.ndarray) -> np.ndarray:
     """Per-step value (mean of the ends) of a time-varying matrix, shape (K, ...)."""
     return 0.5 * (matrix[1:] + matrix[:-1])
 
@@ -564,7 +575,7 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
             else system.G
         C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
             else functionals.C_x
-        A_steps = augmented_dynamics(_step_matrix(system, F), _step_matrix(system, G)[..., cols_b],
+        A_steps = augmented_dynamics(_step_matrix(F), _step_matrix(G)[..., cols_b],
                                      decay)
         Phis = expm(A_steps * dt)
         Z = Z0.copy()
@@ -581,7 +592,7 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
         for i, s in enumerate(sources):
             if s.kind == "constant":
                 continue
-            A, BQBt, _ = _noise_system(_step_matrix(system, F), _step_matrix(system, G)[
+            A, BQBt, _ = _noise_system(_step_matrix(F), _step_matrix(G)[
                 ..., columns[i]], s, functionals.C_x, functionals.C_b[:, columns[i]])
             Phi_n, Qd = van_loan(A, BQBt, dt)
             m = A.shape[-1]
