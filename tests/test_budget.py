@@ -314,10 +314,14 @@ def test_output_contributions_at_chosen_times(orthodromic, spec_802m):
         bd.output_contributions(orthodromic, allocation, [9 * HOUR])
 
 
-def test_cli_contributions_table(capsys):
-    assert main(["budget", "orthodromic", "--at", "1 h, 2 h"]) == 0
+def test_cli_contributions_table(tmp_path, capsys):
+    png = tmp_path / "outputs.png"
+    assert main(["budget", "orthodromic", "--at", "1 h, 2 h", "--plot-at", str(png)]) == 0
     out = capsys.readouterr().out
     assert "Contributions to the navigation errors at 2 h" in out
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    assert main(["budget", "orthodromic", "--plot-at", str(png)]) == 2
+    assert "--plot-at needs --at" in capsys.readouterr().err
 
 
 def test_great_circle_budget(orthodromic, tmp_path):

@@ -29,6 +29,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--at", metavar="TIMES",
                         help="comma-separated times (e.g. '1 h, 8 h'): per-source 1σ "
                              "contributions to every navigation error at those times")
+    parser.add_argument("--plot-at", metavar="PNG",
+                        help="with --at: write a stacked plot of those contributions")
     parser.set_defaults(func=run)
 
 
@@ -51,6 +53,8 @@ def run(args: argparse.Namespace) -> int:
     data = bd.report(allocation)
     if args.plot:
         bd.plot(allocation, args.plot)
+    if args.plot_at and not args.at:
+        raise SpecError("--plot-at needs --at TIMES")
     if args.monte_carlo:
         data["monte_carlo"] = _monte_carlo(model, spec, allocation, args)
     outputs = None
@@ -59,6 +63,8 @@ def run(args: argparse.Namespace) -> int:
 
         times = [parse_quantity(t, "s", "--at") for t in args.at.split(",") if t.strip()]
         outputs = bd.output_contributions(model, allocation, times)
+        if args.plot_at:
+            bd.plot_outputs(outputs, args.plot_at)
         data["contributions"] = {**outputs, "std": outputs["std"].tolist()}
     if args.json:
         print(json.dumps(data, indent=2, ensure_ascii=False))

@@ -628,7 +628,7 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
     return "\n".join(lines)
 
 
-def plot(allocation: Allocation, path: str, top: int = 8) -> None:
+def plot(allocation: Allocation, path: str, top: int = 14) -> None:
     """Stacked bars: share of each item's allowed variance per source at each check time.
 
     Parameters
@@ -652,7 +652,7 @@ def plot(allocation: Allocation, path: str, top: int = 8) -> None:
     shown, rest = order[:top], order[top:]
     items = budget.spec.items
     fig, axes = plt.subplots(1, len(items), figsize=(4.2 * len(items), 4.6), squeeze=False)
-    colours = plt.get_cmap("tab10")
+    colours = plt.get_cmap("tab20")
     for ax, item in zip(axes[0], items, strict=True):
         idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
         labels = [f"{budget.rows[i].time / HOUR:g}" + (f"\n{budget.rows[i].component}"
@@ -661,7 +661,7 @@ def plot(allocation: Allocation, path: str, top: int = 8) -> None:
         x = np.arange(len(idx))
         bottom = np.zeros(len(idx))
         for c, j in enumerate(shown):
-            ax.bar(x, shares[idx, j], bottom=bottom, color=colours(c % 10),
+            ax.bar(x, shares[idx, j], bottom=bottom, color=colours(c % 20),
                    label=budget.sources[j].name)
             bottom += shares[idx, j]
         if rest.size:
@@ -805,3 +805,48 @@ def output_table(data: dict, top: int = 10) -> str:
         lines.append(f"{'total (rss)':<34}" + "".join(f"{v:>16.4g}" for v in std[:, -1]))
         lines.append("")
     return "\n".join(lines).rstrip()
+
+
+def plot_outputs(data: dict, path: str, top: int = 14) -> None:
+    """Stacked bars of :func:`output_contributions`: share of each error's variance.
+
+    One panel per chosen time; each bar is one platform angle or output error, split
+    into the sources' shares of its variance (the bar's label gives its 1σ total).
+    """
+    try:
+        import matplotlib
+    except ImportError:
+        raise BudgetError("plots need matplotlib: pip install 'ins-errors[plots]'") from None
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    std = data["std"]                                   # (t, q, s + 1)
+    variance = std[..., :-1] ** 2
+    shares = variance / np.maximum(variance.sum(-1, keepdims=True), 1e-300)
+    order = np.argsort(-shares.max(axis=(0, 1)))
+    shown, rest = order[:top], order[top:]
+    colours = plt.get_cmap("tab20")
+    times = data["times_h"]
+    fig, axes = plt.subplots(len(times), 1, figsize=(12, 3.2 * len(times) + 1.2),
+                             squeeze=False)
+    x = np.arange(len(data["quantities"]))
+    for it, (ax, t) in enumerate(zip(axes[:, 0], times, strict=True)):
+        bottom = np.zeros(len(x))
+        for c, j in enumerate(shown):
+            ax.bar(x, shares[it, :, j], bottom=bottom, color=colours(c % 20),
+                   label=data["sources"][j])
+            bottom += shares[it, :, j]
+        if rest.size:
+            ax.bar(x, shares[it][:, rest].sum(-1), bottom=bottom, color="0.75",
+                   label="others")
+        labels = [f"{q.replace('delta_', 'Δ')}\n{v:.3g} {u}" for q, u, v in
+                  zip(data["quantities"], data["units"], std[it, :, -1], strict=True)]
+        ax.set_xticks(x, labels, fontsize=7)
+        ax.set_ylabel("share of variance")
+        ax.set_title(f"t = {t:g} h (1σ totals under the bars)", fontsize=10)
+        ax.set_ylim(0, 1.0)
+    handles, names = axes[0][0].get_legend_handles_labels()
+    fig.legend(handles, names, loc="lower center", ncol=5, fontsize=8)
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
