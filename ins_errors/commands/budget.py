@@ -107,6 +107,14 @@ def _monte_carlo(model, spec, allocation, args) -> dict:
     step = parse_quantity(args.mc_step, "s", "--mc-step")
     if duration <= 0 or step <= 0:
         raise SpecError("--mc-duration and --mc-step must be > 0")
+    grid = spec.step
+    if abs(duration / grid - round(duration / grid)) > 1e-9 or duration > spec.operating_time:
+        raise SpecError(f"--mc-duration must be a whole number of the spec's {grid:g} s "
+                        f"analysis steps, at most the operating time "
+                        f"({spec.operating_time / 3600:g} h); got {args.mc_duration!r}")
+    if abs(grid / step - round(grid / step)) > 1e-9:
+        raise SpecError(f"--mc-step must divide the spec's {grid:g} s analysis step; got "
+                        f"{args.mc_step!r}")
     budget = allocation.budget
     sigma = {s.name: float(v) for s, v in zip(budget.sources, allocation.sigma, strict=True)
              if np.isfinite(v)}
