@@ -442,7 +442,10 @@ class Covariance:
     sources : tuple of SourceStatistics
         The statistics the contributions are scaled with.
     unit_variances : numpy.ndarray, shape (nt, q, ns)
-        Variance of each functional per unit variance (σ = 1) of each source.
+        Variance of each functional per unit variance (σ = 1) of each source; for a
+        total-only result (``by_source=False``), one column already scaled.
+    total_only : bool
+        True when only the total was computed (no split by source).
     """
 
     times: np.ndarray
@@ -450,6 +453,7 @@ class Covariance:
     units: tuple[str, ...]
     sources: tuple[SourceStatistics, ...]
     unit_variances: np.ndarray
+    total_only: bool = False
 
     @property
     def source_names(self) -> tuple[str, ...]:
@@ -457,7 +461,12 @@ class Covariance:
 
     @property
     def contributions(self) -> np.ndarray:
-        """Variance contributed by each source, shape (nt, q, ns), SI units²."""
+        """Variance contributed by each source, shape (nt, q, ns), SI units².
+
+        For a total-only result: the total, shape (nt, q, 1).
+        """
+        if self.total_only:
+            return self.unit_variances
         sigma = np.array([s.sigma for s in self.sources])
         return self.unit_variances * sigma**2
 
@@ -515,8 +524,9 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
     output_every : int
         Report every ``output_every``-th grid time (1: every step).
     by_source : bool
-        If False, report only the total (``unit_variances`` then has one column holding
-        the total variance with the given sigmas and ``sources`` is empty).
+        If False, report only the total (faster): ``unit_variances`` then has one column
+        holding the total variance with the given sigmas, ``sources`` is empty and
+        ``total_only`` is set.
 
     Returns
     -------
@@ -609,7 +619,8 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
         if not by_source:
             unit = (unit * sigma2).sum(-1, keepdims=True)
     used = tuple(sources) if by_source else ()
-    return Covariance(system.times[keep], functionals.names, functionals.units, used, unit)
+    return Covariance(system.times[keep], functionals.names, functionals.units, used, unit,
+                      total_only=not by_source)
 
 
 def _constants_total(Phi: np.ndarray, n: int, E: np.ndarray, C_b: np.ndarray,
