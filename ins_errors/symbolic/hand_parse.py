@@ -490,7 +490,7 @@ class _LatexConverter:
                 continue
             if name == "pi":
                 self.i += 1
-                out.append(_Piece(r"\pi", position, starts=True, ends=True))
+                out.append(self.place(sp.pi, position))
                 continue
             if name == "operatorname":
                 self.i += 1
