@@ -28,7 +28,9 @@ The file format (see ``specs/802m.toml``)::
     latitude = "50 deg"
     [items.position_error]
     value = "3.7 km/h"
-    times = ["1 h", "2 h"]           # optional, check times
+    times = ["1 h", "2 h"]           # optional, check times, or a regular grid:
+    # every = "5 min"; from = "5 min" (default: every); until = "1 h" (default: the
+    # operating time)
     combine = "rss"                  # optional: "rss" of the components or "each"
     [allocation]
     fill = false                     # scale the free sources up until an item is met exactly
@@ -42,6 +44,8 @@ import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.units import UnitError, parse_quantity
@@ -233,7 +237,7 @@ class Spec:
 # --------------------------------------------------------------------------------------
 _TOP_KEYS = ("title", "sigma_level", "operating_time", "step", "motion", "items",
              "allocation", "sources")
-_ITEM_KEYS = ("value", "times", "combine")
+_ITEM_KEYS = ("value", "times", "every", "from", "until", "combine")
 _SOURCE_KEYS = ("weight", "fixed", "kind", "tau", "include")
 _MOTION_KEYS = ("kind", "latitude", "longitude", "heading", "height", "speed")
 _MOTION_KINDS = ("static", "great_circle")
@@ -332,7 +336,21 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         if "value" not in table:
             raise SpecError(f"items.{name}: missing value (e.g. {kind_info.example!r})")
         value = _positive(table["value"], kind_info.unit, f"items.{name}", kind_info.example)
-        if "times" in table:
+        if "times" in table and {"every", "from", "until"} & set(table):
+            raise SpecError(f"items.{name}: give either times or every/from/until")
+        if "every" in table:
+            every = _positive(table["every"], "s", f"items.{name}.every", "15 min")
+            start = _positive(table.get("from", every), "s", f"items.{name}.from", "0 h",
+                              allow_zero=True)
+            stop = _positive(table.get("until", operating_time), "s",
+                             f"items.{name}.until", "1 h")
+            count = int(np.floor((stop - start) / every + 1e-9))
+            if count < 0:
+                raise SpecError(f"items.{name}: from is after until")
+            times = tuple(start + every * k for k in range(count + 1))
+        elif {"from", "until"} & set(table):
+            raise SpecError(f"items.{name}: from/until need every (e.g. every = '15 min')")
+        elif "times" in table:
             raw = table["times"]
             if not isinstance(raw, list) or not raw:
                 raise SpecError(f"items.{name}.times must be a non-empty list such as "

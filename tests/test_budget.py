@@ -361,3 +361,16 @@ def test_budget_of_other_models(name, spec_802m):
     r = allocation.binding[free[0]]
     assert evaluation.contributions[r, free[0]] == pytest.approx(
         allocation.budget.allowed_variances[r] / len(free), rel=1e-9)
+
+
+def test_regular_check_grids(tmp_path, spec_802m):
+    assert spec_802m.item("ground_speed_error").times == tuple(300.0 * k for k in range(1, 13))
+    assert spec_802m.item("vertical_error").times == tuple(300.0 * k for k in range(97))
+    bad = SHORT.replace('times = ["0 h", "30 min", "1 h", "2 h"]',
+                        'times = ["1 h"]\n    every = "5 min"')
+    with pytest.raises(InsErrorsError, match="either times or every"):
+        load_spec(write(tmp_path, bad))
+    bad = SHORT.replace('times = ["0 h", "30 min", "1 h", "2 h"]', 'until = "1 h"')
+    with pytest.raises(InsErrorsError, match="need every"):
+        load_spec(write(tmp_path, bad))
+    assert bd.format_time(2400.0) == "40 min" and bd.format_time(9300.0) == "2 h 35 min"

@@ -62,6 +62,16 @@ the source. Such sources get no share and are reported as not limited by the spe
 this motion (e.g. accelerometer scale factors on a static base)."""
 
 
+def format_time(seconds: float) -> str:
+    """``"1 h"``, ``"40 min"``, ``"2 h 35 min"``, ``"90 s"``."""
+    if seconds % 60:
+        return f"{seconds:g} s"
+    hours, minutes = divmod(round(seconds / 60), 60)
+    if not minutes:
+        return f"{hours} h"
+    return f"{hours} h {minutes} min" if hours else f"{minutes} min"
+
+
 class BudgetError(InsErrorsError):
     """A budget that cannot be formed (e.g. fixed sources alone break the spec)."""
 
@@ -117,7 +127,7 @@ class Row:
     @property
     def label(self) -> str:
         extra = f" [{self.component}]" if self.component else ""
-        return f"{self.item} at {self.time / HOUR:g} h{extra}"
+        return f"{self.item} at {format_time(self.time)}{extra}"
 
 
 @dataclass(frozen=True)
@@ -591,14 +601,15 @@ def table(allocation: Allocation) -> str:
             bind = "fixed" if s["fixed"] else "not limited on this motion"
         else:
             comp = f" [{s['binding_component']}]" if s["binding_component"] else ""
-            bind = f"{s['binding_item']}{comp} at {s['binding_time_h']:g} h"
+            bind = f"{s['binding_item']}{comp} at {format_time(s['binding_time_h'] * HOUR)}"
         lines.append(f"{s['name']:<36} {s['display']:>22}  {bind}")
     lines += ["", f"Spec rows at the allocated magnitudes (worst time of each item, {k}):",
-              f"{'item':<22} {'time':>6}  {'value of limit':<34} {'ratio':>6}", "-" * 74]
+              f"{'item':<22} {'time':>10}  {'value of limit':<34} {'ratio':>6}", "-" * 78]
     for item in spec.items:
         rows = [r for r in data["rows"] if r["item"] == item.name]
         worst = max(rows, key=lambda r: r["ratio"])
-        lines.append(f"{item.name:<22} {worst['time_h']:>5g}h  {worst['display']:<34} "
+        lines.append(f"{item.name:<22} {format_time(worst['time_h'] * HOUR):>10}  "
+                     f"{worst['display']:<34} "
                      f"{worst['ratio']:>6.3f}")
     return "\n".join(lines)
 
