@@ -374,3 +374,32 @@ def test_regular_check_grids(tmp_path, spec_802m):
     with pytest.raises(InsErrorsError, match="need every"):
         load_spec(write(tmp_path, bad))
     assert bd.format_time(2400.0) == "40 min" and bd.format_time(9300.0) == "2 h 35 min"
+
+
+def test_noise_sources_in_a_budget(orthodromic, tmp_path):
+    """White and Gauss-Markov sources share the budget like constants (variance-linear)."""
+    text = SHORT + """
+    [sources.gyro_drift_z]
+    kind = "white"
+    [sources.accel_bias_x]
+    kind = "markov"
+    tau = "30 min"
+    [sources.gyro_drift_x]
+    kind = "white"
+    fixed = "0.002 deg/h**0.5"
+    """
+    allocation = bd.allocate(bd.unit_budget(orthodromic, load_spec(write(tmp_path, text))))
+    budget = allocation.budget
+    names = [s.name for s in budget.sources]
+    white = names.index("gyro_drift_x")
+    assert budget.sources[white].display_unit == "deg/h**0.5"
+    assert allocation.magnitudes[white] == pytest.approx(0.002 * DEG / 60, rel=1e-12)
+    evaluation = recomputed(orthodromic, allocation)
+    assert np.all(evaluation.ratios <= 1 + 1e-9)
+    remaining = budget.allowed_variances - evaluation.contributions[:, white]
+    free = [j for j in np.flatnonzero(np.isfinite(allocation.sigma)) if j != white]
+    for name in ("gyro_drift_z", "accel_bias_x"):
+        j = names.index(name)
+        r = allocation.binding[j]
+        assert evaluation.contributions[r, j] == pytest.approx(remaining[r] / len(free),
+                                                               rel=1e-9)

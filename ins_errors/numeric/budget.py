@@ -180,8 +180,10 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
                             f"constant, not {option.kind!r}")
         suffix = SOURCE_UNIT_SUFFIX[option.kind]
         unit = f"({info.unit})*s**0.5" if suffix else info.unit
-        display = f"({info.display_unit or info.unit})*h**0.5" if suffix else (
-            info.display_unit or info.unit)
+        display = info.display_unit or info.unit
+        if suffix:   # a density: deg/h -> deg/h**0.5 (= deg/h·√h), ug -> ug*s**0.5 (ug/√Hz)
+            display = (display[:-2] + "/h**0.5" if display.endswith("/h")
+                       else f"{display}*s**0.5")
         fixed = None
         if option.fixed is not None:
             try:
