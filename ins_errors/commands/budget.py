@@ -38,6 +38,7 @@ def run(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
     from ins_errors.numeric import budget as bd
+    from ins_errors.numeric import budget_report as rep
     from ins_errors.numeric.model import load_model
     from ins_errors.specs import SpecError, default_spec_path, load_spec
 
@@ -50,9 +51,9 @@ def run(args: argparse.Namespace) -> int:
         spec = replace(spec, fill=True)
     unit = bd.unit_budget(model, spec)
     allocation = bd.allocate(unit)
-    data = bd.report(allocation)
+    data = rep.report(allocation)
     if args.plot:
-        bd.plot(allocation, args.plot)
+        rep.plot(allocation, args.plot)
     if args.plot_at and not args.at:
         raise SpecError("--plot-at needs --at TIMES")
     if args.monte_carlo:
@@ -64,17 +65,17 @@ def run(args: argparse.Namespace) -> int:
         times = [parse_quantity(t, "s", "--at") for t in args.at.split(",") if t.strip()]
         outputs = bd.output_contributions(model, allocation, times)
         if args.plot_at:
-            bd.plot_outputs(outputs, args.plot_at)
+            rep.plot_outputs(outputs, args.plot_at)
         data["contributions"] = {**outputs, "std": outputs["std"].tolist()}
     if args.json:
         print(json.dumps(data, indent=2, ensure_ascii=False))
         return 0
-    print(bd.table(allocation))
+    print(rep.table(allocation))
     print()
-    print(bd.contribution_table(allocation))
+    print(rep.contribution_table(allocation))
     if outputs is not None:
         print()
-        print(bd.output_table(outputs))
+        print(rep.output_table(outputs))
     if args.plot:
         print(f"\nplot written to {args.plot}")
     if args.monte_carlo:
@@ -84,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
               f"covariance; sampling error ±{100 * mc['relative_sampling_error']:.1f} % (1σ)")
         print(f"{'row':<40} {'covariance':>16} {'Monte Carlo':>16} {'ratio':>7}")
         for r in mc["rows"]:
-            unit, shown = bd._ITEM_SI[r["item"]], bd.ITEM_DISPLAY[r["item"]]
+            unit, shown = bd.ITEM_SI[r["item"]], bd.ITEM_DISPLAY[r["item"]]
             print(f"{r['row']:<40} {bd.display(r['covariance'], unit, shown):>16} "
                   f"{bd.display(r['monte_carlo'], unit, shown):>16} {r['ratio']:>7.3f}")
         print(f"({mc['seconds']:.1f} s)")
