@@ -408,7 +408,7 @@ class CompiledLoop:
             stream = ca.SX.sym("u", self.n_stream)
             extra_in = [stream]
         z_next = casadi_step(f, method, z, stream, w, tau_num)
-        step = ca.Function("ins_step", [carry, *extra_in], [ca.vertcat(z_next, carry[nz:])])
+        step = ca.Function("ins_step", [carry, *extra_in], [ca.vertcat(ca.cse(z_next), carry[nz:])])
         block = step.fold(record_every) if record_every > 1 else step
         # domain check once per recording interval, on the last state of the block
         carry_mx = ca.MX.sym("carry", self.n_carry)

@@ -92,7 +92,7 @@ def _system(model_name: str, parts: tuple[str, ...]) -> tuple[ca.Function, ca.Fu
 @lru_cache(maxsize=32)
 def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau: float,
           p: tuple[float, ...], u: tuple[float, ...] | None, active: tuple[bool, ...],
-          batch: int, jit: bool) -> CompiledLoop:
+          batch: int, jit: bool, chunk: int) -> CompiledLoop:
     """The compiled loop, specialised to the error sources that are non-zero in some case.
 
     Sources that are zero in every case of the batch are baked in as zeros, so the C
@@ -110,7 +110,7 @@ def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau
     rhs = ca.Function("active_rhs", [z, uu, w_active, par], [full_rhs(z, uu, w, par)])
     margin = ca.Function("active_margin", [z, uu, w_active, par], [full_margin(z, uu, w, par)])
     return CompiledLoop(rhs, margin, method, stride, tau, np.array(p),
-                        None if u is None else np.array(u), chunk=32, batch=batch, jit=jit)
+                        None if u is None else np.array(u), chunk=chunk, batch=batch, jit=jit)
 
 
 # --------------------------------------------------------------------------------------
@@ -321,7 +321,7 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         u_const = None
     active = np.any(w != 0, axis=1)
     loop = _loop(model.name, parts, method, stride, float(tau), tuple(p), u_const,
-                 tuple(bool(a) for a in active), B, jit)
+                 tuple(bool(a) for a in active), B, jit, chunk_size(N // stride))
     result = loop.run(z0, w[active], N, stream, progress=progress)
     states = result.states
     sim = Simulation(model, trajectory, method, stride, w, states[:n])
@@ -332,6 +332,15 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         offset += ne
     _check_domain(sim, result.margins)
     return sim
+
+
+def chunk_size(records: int) -> int:
+    """Recorded samples per compiled call: a power of two from 32 to 1024, about 1/64 of
+    the run (few Python round trips on long runs, few compiled variants overall)."""
+    size = 32
+    while size < 1024 and size * 128 <= records:
+        size *= 2
+    return size
 
 
 def _check_initial(model: Model, xr0: np.ndarray, n: int) -> None:
