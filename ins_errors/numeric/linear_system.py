@@ -1,0 +1,228 @@
+"""The linear error equations of a model sampled along a motion (static or moving).
+
+A :class:`LinearSystem` holds F, G, H (constant on a static base, per grid time along a
+moving trajectory), the initial error matrix E, and the ideal state and inputs they were
+evaluated at; covariance propagation (:mod:`ins_errors.numeric.covariance`) and the
+linear Monte Carlo (:mod:`ins_errors.numeric.monte_carlo`) run on it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
+
+
+class LinearSystemError(InsErrorsError):
+    """A motion or grid the linear error equations cannot be sampled on."""
+
+
+@dataclass(frozen=True)
+class LinearSystem:
+    """The linear error equations sampled on a uniform time grid.
+
+    Attributes
+    ----------
+    times : numpy.ndarray, shape (K+1,)
+        Uniform grid, s, starting at 0.
+    F : numpy.ndarray, shape (n, n) or (K+1, n, n)
+        State matrix; 2-D means time-invariant.
+    G : numpy.ndarray, shape (n, nw) or (K+1, n, nw)
+        Source matrix over every model source.
+    E : numpy.ndarray, shape (n, nw)
+        Initial error matrix, ``x_e(0) = E w``.
+    H : numpy.ndarray, shape (ny, n) or (K+1, ny, n)
+        Output matrix.
+    source_names : tuple of str
+        The model's source names, in the column order of G and E.
+    source_kinds : tuple of str
+        The model's kind of each source (``"constant"`` or ``"initial"``).
+    x, u : numpy.ndarray
+        Ideal state (n_x, K+1) and inputs (n_u, K+1) the matrices were evaluated at.
+    p : numpy.ndarray
+        Parameters.
+    """
+
+    times: np.ndarray
+    F: np.ndarray
+    G: np.ndarray
+    E: np.ndarray
+    H: np.ndarray
+    source_names: tuple[str, ...]
+    source_kinds: tuple[str, ...]
+    x: np.ndarray
+    u: np.ndarray
+    p: np.ndarray
+    labels: dict = field(default_factory=dict)
+
+    @property
+    def time_invariant(self) -> bool:
+        """True when F, G and H do not change along the grid."""
+        return self.F.ndim == 2
+
+    @property
+    def step(self) -> float:
+        """Grid step, s."""
+        return float(self.times[1] - self.times[0])
+
+    def source_index(self, name: str) -> int:
+        """Column of the source ``name`` in G and E."""
+        if name not in self.source_names:
+            raise unknown_name("error source", name, self.source_names)
+        return self.source_names.index(name)
+
+    def at(self, matrix: np.ndarray, k: int) -> np.ndarray:
+        """The matrix at grid index ``k`` (the same for a time-invariant system)."""
+        return matrix if matrix.ndim == 2 else matrix[k]
+
+
+def uniform_grid(duration: float, step: float) -> np.ndarray:
+    """Times 0, step, ..., duration, s (duration rounded to a whole number of steps)."""
+    if not (np.isfinite(duration) and duration > 0):
+        raise LinearSystemError(f"duration must be > 0 s, got {duration!r}")
+    if not (np.isfinite(step) and 0 < step <= duration):
+        raise LinearSystemError(f"step must be in (0, duration], got {step!r}")
+    count = round(duration / step)
+    return np.arange(count + 1) * step
+
+
+def static_system(model, latitude: float, longitude: float = 0.0, heading: float = 0.0,
+                  height: float = 0.0, gravity: float = 9.81, duration: float = 3600.0,
+                  step: float = 1.0, p: np.ndarray | None = None) -> LinearSystem:
+    """The error equations of a model at rest on the Earth (time-invariant).
+
+    Works for any model: the initial conditions it has (latitude, longitude, heading;
+    velocities zero) give the state, ``a_zeta`` (if the model has it) is ``gravity``,
+    ``h`` is ``height``, and the other apparent-acceleration inputs (``a_*``) are solved
+    for so that the ideal state stays at rest (least squares on the ideal equations,
+    which are linear in them); an error is raised if no such inputs exist.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        A loaded model.
+    latitude, longitude, heading : float
+        Site and the trihedron's track angle, rad (where the model has them).
+    height : float
+        Height above the ellipsoid, m.
+    gravity : float
+        Apparent acceleration along the vertical, m/s² (a_ζ, where the model has it).
+    duration, step : float
+        Length and step of the time grid, s.
+    p : numpy.ndarray, optional
+        Parameter vector (default: the model's defaults).
+    """
+    p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
+    given = {"latitude": latitude, "longitude": longitude, "heading": heading}
+    known = {i.name for i in model.initial_conditions}
+    c = model.initial_condition_vector(**{k: v for k, v in given.items() if k in known})
+    inputs = [i.name for i in model.inputs]
+    u = model.input_vector(**{k: v for k, v in (("a_zeta", gravity), ("h", height))
+                              if k in inputs})
+    x = model.initial_state(c, u, p)
+    free = [k for k, name in enumerate(inputs) if name.startswith("a_") and name != "a_zeta"]
+    r0 = model.numpy.ideal_rhs(x, u, p)
+    if free:
+        J = np.empty((len(r0), len(free)))
+        for column, k in enumerate(free):
+            probe = u.copy()
+            probe[k] += 1.0
+            J[:, column] = model.numpy.ideal_rhs(x, probe, p) - r0
+        u[free] = np.linalg.lstsq(J, -r0, rcond=None)[0]
+    rates = model.numpy.ideal_rhs(x, u, p)
+    if np.max(np.abs(rates)) > 1e-12 * max(1.0, np.max(np.abs(r0))):
+        raise LinearSystemError(f"static_system: no inputs keep the ideal state of "
+                              f"{model.name} at rest")
+    times = uniform_grid(duration, step)
+    return LinearSystem(
+        times=times,
+        F=model.state_matrix(x, u, p), G=model.source_matrix(x, u, p),
+        E=model.initial_error_matrix(c, u, p), H=model.output_matrix(x, u, p),
+        source_names=tuple(i.name for i in model.sources),
+        source_kinds=tuple(i.kind for i in model.sources),
+        x=np.repeat(x[:, None], len(times), axis=1), u=np.repeat(u[:, None], len(times), 1),
+        p=p, labels={"trajectory": f"static base at φ={np.degrees(latitude):.4g}°",
+                     "latitude": latitude, "height": height},
+    )
+
+
+def trajectory_system(model, times: np.ndarray, x: np.ndarray, u: np.ndarray,
+                      c: np.ndarray, p: np.ndarray | None = None) -> LinearSystem:
+    """The error equations along a sampled ideal trajectory (time-varying).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        A loaded model.
+    times : numpy.ndarray, shape (K+1,)
+        Uniform grid, s, starting at 0.
+    x : numpy.ndarray, shape (n_x, K+1)
+        Ideal state along the grid.
+    u : numpy.ndarray, shape (n_u, K+1)
+        True inputs along the grid.
+    c : numpy.ndarray, shape (n_c,)
+        Initial conditions of the run (for E).
+    p : numpy.ndarray, optional
+        Parameters.
+    """
+    p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
+    times = np.asarray(times, dtype=float)
+    if times.ndim != 1 or len(times) < 2 or times[0] != 0:
+        raise ShapeError("trajectory_system: times must be a 1-D grid starting at 0")
+    steps = np.diff(times)
+    if np.any(steps <= 0) or np.ptp(steps) > 1e-9 * steps[0]:
+        raise ShapeError("trajectory_system: times must be a uniform increasing grid")
+    x, u = np.asarray(x, dtype=float), np.asarray(u, dtype=float)
+    if x.shape != (len(model.states), len(times)) or u.shape != (len(model.inputs),
+                                                                 len(times)):
+        raise ShapeError(f"trajectory_system: x must be ({len(model.states)}, {len(times)}) "
+                         f"and u ({len(model.inputs)}, {len(times)}), got {x.shape}, {u.shape}")
+    F = np.moveaxis(model.state_matrix(x, u, p), -1, 0)
+    G = np.moveaxis(model.source_matrix(x, u, p), -1, 0)
+    H = np.moveaxis(model.output_matrix(x, u, p), -1, 0)
+    E = model.initial_error_matrix(c, u[:, 0], p)
+    return LinearSystem(times=times, F=F, G=G, E=E, H=H,
+                        source_names=tuple(i.name for i in model.sources),
+                        source_kinds=tuple(i.kind for i in model.sources),
+                        x=x, u=u, p=p, labels={"trajectory": "moving"})
+
+
+def system_from_trajectory(model, trajectory, step: float | None = None) -> LinearSystem:
+    """The error equations along a :class:`~ins_errors.numeric.trajectories.Trajectory`.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        The model the trajectory was computed for.
+    trajectory : Trajectory
+        True motion (static base: constant inputs and state).
+    step : float, optional
+        Covariance grid step, s: a whole multiple of the trajectory's step that divides
+        its duration (default: the trajectory's step).
+    """
+    if trajectory.model != model.name:
+        raise ShapeError(f"trajectory was computed for model {trajectory.model!r}, "
+                         f"not {model.name!r}")
+    tau, count = trajectory.tau, trajectory.n_steps
+    stride = 1 if step is None else round(step / tau)
+    if stride < 1 or abs(stride * tau - (step or tau)) > 1e-9 * tau or count % stride:
+        raise LinearSystemError(f"covariance step {step!r} s must be a whole multiple of the "
+                              f"trajectory step {tau} s that divides its duration")
+    times = np.arange(count // stride + 1) * stride * tau
+    p, c = trajectory.parameters, trajectory.initial_conditions
+    names = (tuple(i.name for i in model.sources), tuple(i.kind for i in model.sources))
+    if trajectory.constant:
+        x, u = trajectory.truth[:, 0], trajectory.inputs[:, 0]
+        return LinearSystem(
+            times=times, F=model.state_matrix(x, u, p), G=model.source_matrix(x, u, p),
+            E=model.initial_error_matrix(c, u, p), H=model.output_matrix(x, u, p),
+            source_names=names[0], source_kinds=names[1],
+            x=np.repeat(x[:, None], len(times), 1), u=np.repeat(u[:, None], len(times), 1),
+            p=p, labels={"trajectory": trajectory.description})
+    steps = np.arange(0, count + 1, stride)
+    system = trajectory_system(model, times, trajectory.truth[:, steps],
+                               trajectory.inputs_at(steps), c, p)
+    system.labels["trajectory"] = trajectory.description
+    return system
