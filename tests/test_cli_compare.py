@@ -59,6 +59,27 @@ def test_separate_cases_and_moving_motions(capsys, tmp_path):
     assert case["worst_linear_ratio"] <= 0.01
 
 
+def test_own_motion_from_a_csv_file(capsys, tmp_path):
+    t = np.arange(0.0, 3700.0, 10.0)
+    v_n, v_e = 200.0 * np.cos(t / 900.0), 200.0 * np.sin(t / 900.0)  # slow circling
+    table = tmp_path / "motion.csv"
+    np.savetxt(table, np.column_stack([t, v_n, v_e, 1000 + 0 * t]), delimiter=",",
+               header="t,v_N,v_E,h", comments="")
+    status, out, err = run(capsys, "-s", "gyro_drift_y=0.01deg/h", "--motion-file", str(table),
+                           "--hours", "1", "--json")
+    assert status == 0, err
+    report = json.loads(out)
+    assert "sampled motion" in report["motion"]
+    assert report["cases"][0]["worst_linear_ratio"] <= 0.01
+    bad = tmp_path / "bad.csv"
+    bad.write_text("time,v_N,v_E\n0,1,2\n")
+    status, _out, err = run(capsys, "-s", "gyro_drift_y=0.01deg/h", "--motion-file", str(bad))
+    assert status == 2 and "lacks column(s) t" in err
+    status, _out, err = run(capsys, "-s", "gyro_drift_y=0.01deg/h", "--motion-file",
+                            str(table), "--hours", "2")
+    assert status == 2 and "leaves the sampled motion" in err
+
+
 @pytest.mark.parametrize(("args", "message"), [
     (["-s", "gyro_drft_x=0.01deg/h"], "did you mean 'gyro_drift_x'"),
     (["-s", "gyro_drift_x=0.01deg/h", "--step", "0"], "step must be a positive"),

@@ -33,6 +33,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="run each --source as its own case (default: all together)")
     parser.add_argument("--motion", choices=MOTIONS, default="static",
                         help="true motion (default: static)")
+    parser.add_argument("--motion-file", metavar="CSV",
+                        help="own motion: CSV with a header row and columns t (s), v_N, v_E "
+                             "(m/s) and optionally h (m); overrides --motion")
     parser.add_argument("--latitude", default="50deg", help="start latitude (default 50deg)")
     parser.add_argument("--longitude", default="30deg", help="start longitude (default 30deg)")
     parser.add_argument("--heading", default="0deg",
@@ -116,7 +119,9 @@ def run(args: argparse.Namespace) -> int:
     heading = parse_quantity(args.heading, "rad", "--heading")
     speed = parse_quantity(args.speed, "m/s", "--speed")
     height = parse_quantity(args.height, "m", "--height")
-    if args.motion == "static":
+    if args.motion_file:
+        profile = read_motion(args.motion_file, lat, lon, heading, height)
+    elif args.motion == "static":
         profile = tr.static_profile(lat, lon, heading, height)
     elif args.motion == "great-circle":
         profile = tr.great_circle_profile(lat, lon, heading, speed, height)
@@ -157,6 +162,27 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(text)
     return 0
+
+
+def read_motion(path: str, latitude: float, longitude: float, heading: float, height: float):
+    """A sampled motion from a CSV file with columns t, v_N, v_E and optionally h (SI)."""
+    import numpy as np
+
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric.trajectories import sampled_profile
+
+    try:
+        table = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
+    except (OSError, ValueError) as error:
+        raise InsErrorsError(f"cannot read motion file {path!r}: {error}") from None
+    names = table.dtype.names or ()
+    missing = [c for c in ("t", "v_N", "v_E") if c not in names]
+    if missing:
+        raise InsErrorsError(f"motion file {path!r} lacks column(s) {', '.join(missing)} "
+                             f"(has {', '.join(names) or 'none'})")
+    h = table["h"] if "h" in names else height
+    return sampled_profile(np.atleast_1d(table["t"]), np.atleast_1d(table["v_N"]),
+                           np.atleast_1d(table["v_E"]), latitude, longitude, heading, h)
 
 
 def default_legs(speed: float, height: float):
