@@ -346,7 +346,7 @@ class _HandSide:
         if (name.startswith("d") and len(name) > 1
                 and self.visible(name, None) is None and self.model.ideal(name) is None
                 and name not in self.notation.aliases):
-            base = name[1:]
+            base = self.notation.spellings.get(name[1:], name[1:])
             if (base in self.notation.aliases or self.model.ideal(base) is not None
                     or base in self.model.error_of_state):
                 return base

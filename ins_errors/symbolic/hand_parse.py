@@ -395,6 +395,10 @@ class _LatexConverter:
             elif token == "^" and self.peek(1) == r"\prime":
                 primes += 1
                 self.i += 2
+            elif token == "^" and self.peek(1) == "{" and self.peek(2) == r"\prime":
+                primes += 1
+                self.i += 3
+                self.expect("}")
             else:
                 break
         if base is None:  # accent applied to a full symbol: keep it

@@ -103,8 +103,9 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
         for r in results:
             notes = "; ".join(r.notes)
             if r.findings:
-                kinds = ", ".join(f"{f.kind} on {f.quantity} ({_size(f.size)})"
-                                  for f in r.findings)
+                kinds = ", ".join(
+                    f"{f.kind} ({_size(f.size)})" if f.quantity.startswith("(")
+                    else f"{f.kind} on {f.quantity} ({_size(f.size)})" for f in r.findings)
                 notes = f"{kinds}" + (f"; {notes}" if notes else "")
             lines.append(f"| {r.equation.line} | {_code(r.label)} | {_cell(r.target)} | "
                          f"{r.status} | {_cell(notes)} |")
