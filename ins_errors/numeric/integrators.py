@@ -262,6 +262,19 @@ def cache_directory() -> Path:
     return Path(base) / "ins-errors" / "casadi"
 
 
+def _writable(directory: Path) -> Path:
+    """``directory`` if it can be created and written, else a per-user temporary folder."""
+    user = os.getuid() if hasattr(os, "getuid") else "user"
+    for candidate in (directory, Path(tempfile.gettempdir()) / f"ins-errors-{user}"):
+        try:
+            candidate.mkdir(parents=True, exist_ok=True)
+            if os.access(candidate, os.W_OK):
+                return candidate
+        except OSError:
+            continue
+    return Path(tempfile.mkdtemp(prefix="ins-errors-"))
+
+
 def _compiler() -> str | None:
     name = os.environ.get("CC", "cc")
     return shutil.which(name) or shutil.which("gcc") or shutil.which("clang")
@@ -304,11 +317,11 @@ def compile_functions(functions: list[ca.Function], jit: bool = True) -> list[ca
     source = generator.dump()
     flags = ["-O3", "-march=native", "-shared", "-fPIC"]
     key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__).encode())
-    directory = cache_directory()
-    library = directory / f"loop_{key.hexdigest()[:24]}.so"
+    name = f"loop_{key.hexdigest()[:24]}.so"
+    directory = _writable(cache_directory())
+    library = directory / name
     if not library.exists():
         try:
-            directory.mkdir(parents=True, exist_ok=True)
             with tempfile.TemporaryDirectory(dir=directory) as scratch:
                 c_file = Path(scratch) / "loop.c"
                 c_file.write_text(source)

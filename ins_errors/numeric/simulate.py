@@ -18,6 +18,20 @@ heading, ..., v_N, v_E), angles wrapped to (−π, π].
 
 A static base can also be run with the exact matrix-exponential discretisation of the
 linear equations (:func:`linear_exact`).
+
+Example
+-------
+>>> import numpy as np
+>>> from ins_errors import load_model
+>>> from ins_errors.numeric import trajectories as tr
+>>> from ins_errors.numeric.simulate import simulate
+>>> model = load_model("orthodromic")
+>>> motion = tr.great_circle_profile(np.radians(50), np.radians(30), np.radians(40), 250.0)
+>>> traj = tr.trajectory(model, motion, duration=7200.0, tau=1.0)
+>>> sim = simulate(model, traj, [{"gyro_drift_x": 4.8e-8}, {"accel_bias_y": 1e-4}],
+...                record_interval=60.0)
+>>> sim.direct_errors()["delta_latitude"].shape  # (recorded times, cases)
+(121, 2)
 """
 
 from __future__ import annotations
