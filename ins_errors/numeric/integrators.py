@@ -1,8 +1,8 @@
 """Fixed-step integrators: the manual's rectangle method, RK4, compiled CasADi loops.
 
 Everything here is model-independent: a right-hand side is either a numpy callable
-``f(z, u) -> dz/dt`` or a :class:`casadi.Function` ``f(z, u, q) -> dz/dt`` (state, inputs,
-constants), and the inputs are sampled on the step grid.
+``f(z, u) -> dz/dt`` or a :class:`casadi.Function` ``f(z, u, w, p) -> dz/dt`` (state,
+inputs, per-case constants, fixed constants), and the inputs are sampled on the step grid.
 
 Schemes
 -------
@@ -19,10 +19,12 @@ Compiled path
 ``record_every`` times with ``fold`` (only the last state is kept), repeats that block
 ``chunk`` times with ``mapaccum`` (one recorded column per block), generates C code,
 compiles it once with the machine's C compiler into a shared library cached on disk
-(``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``) and loads it with
-:func:`casadi.external`. Where no compiler works it falls back to the CasADi virtual
-machine and says so once (a :class:`RuntimeWarning`). A long run is a Python loop over
-chunks, which is where progress is shown.
+(``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``; a temporary folder if that is
+not writable) and loads it with :func:`casadi.external`. Where no compiler works (or
+``$INS_ERRORS_NO_JIT`` is set) it falls back to the CasADi virtual machine and says so
+once (a :class:`RuntimeWarning`). A long run is a Python loop over chunks, which is where
+progress is shown (tqdm, on a terminal). The domain (a margin function, e.g. 1 − u31²,
+and finiteness) is checked at every recorded sample.
 
 Time-invariant linear systems (a static base) can instead be stepped exactly with the
 matrix exponential: :func:`exact_discretisation`.
