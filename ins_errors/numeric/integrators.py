@@ -20,10 +20,11 @@ Compiled path
 ``chunk`` times with ``mapaccum`` (one recorded column per block), generates C code,
 compiles it once with the machine's C compiler into a shared library cached on disk
 (``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``; a temporary folder if that is
-not writable) and loads it with :func:`casadi.external`. Where no compiler works (or
-``$INS_ERRORS_NO_JIT`` is set) it falls back to the CasADi virtual machine and says so
-once (a :class:`RuntimeWarning`). A long run is a Python loop over chunks, which is where
-progress is shown (tqdm, on a terminal). The domain (a margin function, e.g. 1 − u31²,
+not writable) and loads it with :func:`casadi.external`. Where no compiler works it falls
+back to the CasADi virtual machine and says so once (a :class:`RuntimeWarning`);
+``jit=False`` or the environment variable ``INS_ERRORS_NO_JIT`` choose the VM on purpose.
+A long run is a Python loop over chunks, which is where progress is shown (tqdm, on a
+terminal). The domain (a margin function, e.g. 1 − u31²,
 and finiteness) is checked at every recorded sample.
 
 Time-invariant linear systems (a static base) can instead be stepped exactly with the
