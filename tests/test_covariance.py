@@ -209,3 +209,15 @@ def test_bad_sources_in_propagation(orthodromic, static_3h):
         cv.propagate(static_3h, [], fn)
     with pytest.raises(InsErrorsError, match="duration"):
         cv.uniform_grid(-1.0, 1.0)
+
+
+def test_moving_trajectory_noise_matches_linear_monte_carlo(orthodromic):
+    """Time-varying F, G with white and Markov noise: Van Loan per step vs RK4 runs."""
+    motion = tr.trajectory(orthodromic, tr.great_circle_profile(PHI, 0.5, np.radians(30),
+                                                                300.0), 2400.0, 5.0)
+    system = cv.system_from_trajectory(orthodromic, motion, 30.0)
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    cov = cv.propagate(system, SOURCES, fn)
+    runs = 2000
+    sample = mc.linear_monte_carlo(system, SOURCES, fn, runs, seed=21, substeps=6)
+    _compare(cov.std[1:], sample.rms[1:], runs, 1e-15)
