@@ -143,7 +143,12 @@ def bench_factor_suite(hours: float) -> None:
 
 
 def main(quick: bool = False) -> None:
+    import os
+
     hours = 1.0 if quick else 24.0
+    load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
+    print(f"{os.cpu_count()} CPUs, load average {load:.2f} at start (wall times suffer "
+          "when other work shares the cores; CPU times less so)")
     bench_direct_and_linear(hours)
     print()
     bench_factor_suite(hours)
