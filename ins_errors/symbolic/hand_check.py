@@ -543,20 +543,16 @@ def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol]
                   ) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
     """Coefficients of the basis quantities in ``expr`` and its constant part.
 
-    Terms of higher order in the basis (a hand file may print some) are dropped: the
-    coefficients are the first derivatives at zero error.
+    Error equations are linear in the errors: a coefficient is ``expr`` with its own
+    quantity set to one and the others to zero (the derivative is taken instead when
+    the equation also has a constant part).
     """
     present = [b for b in basis if b in expr.free_symbols]
     zero = {b: sp.S.Zero for b in present}
     constant = expr.xreplace(zero)
-    coefficients = {}
-    for b in present:
-        if expr.is_Add and all(not t.has(b) or (sp.Mul.make_args(t).count(b) == 1
-                               and not (t / b).has(*present)) for t in expr.args):
-            coefficients[b] = sp.Add(*[t / b for t in expr.args if t.has(b)])
-        else:
-            coefficients[b] = sp.diff(expr, b).xreplace(zero)
-    return coefficients, constant
+    if constant != 0:
+        return {b: sp.diff(expr, b).xreplace(zero) for b in present}, constant
+    return {b: expr.xreplace({**zero, b: sp.S.One}) for b in present}, constant
 
 
 def _display(expr: sp.Expr, limit: int = 200) -> str:
@@ -803,6 +799,18 @@ def _basis(model: _ModelSide, notation: Notation, sources_used: Iterable[str]
     return basis, identify, out
 
 
+_SHARED: dict[int, tuple] = {}
+
+
+def _shared(d: ModelDefinition) -> tuple[_ModelSide, list[ReferencePoint], dict]:
+    """Model side, reference points and evaluated coefficients, kept per definition."""
+    entry = _SHARED.get(id(d))
+    if entry is None or entry[0] is not d:
+        entry = (d, _ModelSide(d), reference_points(d), {})
+        _SHARED[id(d)] = entry
+    return entry[1], entry[2], entry[3]
+
+
 def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DEFAULT_THRESHOLD,
                mapping: Notation | None = None) -> CheckReport:
     """Check every equation of a parsed hand file against the model's variation.
@@ -826,7 +834,7 @@ def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DE
     if not 0 < threshold < 1:
         raise InsErrorsError(f"threshold must be between 0 and 1, got {threshold}")
     d = model_definition(model)
-    side = _ModelSide(d)
+    side, points, values = _shared(d)
     notation = default_notation(model)
     if mapping is not None:
         notation = notation.merged(mapping)
@@ -841,7 +849,8 @@ def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DE
     basis, identify, out_of_scope = _basis(side, notation, resolver.sources_used)
     symbols = {b.name: (side.error_states.get(b.name) or side.source_symbols.get(b.name)
                         or sp.Symbol(b.name, real=True)) for b in basis}
-    comparison = _Comparison(reference_points(d), basis, symbols, threshold)
+    comparison = _Comparison(points, basis, symbols, threshold)
+    comparison._values = values
     comparison.display_model = _reciprocal_aliases(side, notation)
 
     comparison.prefetch([(item.hand, item.model.xreplace(identify))
