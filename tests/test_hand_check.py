@@ -292,3 +292,22 @@ def test_reports_render_without_nan_and_mark_infinite_sizes(manual_reports):
     assert "nan" not in md.lower().replace("finance", "")
     assert "| — |" in md  # the left-hand side finding has no finite size
     assert all(f.size > 0 and (math.isinf(f.size) or f.size < 10) for _, f in text.findings)
+
+
+def test_ideal_definitions_are_checked_by_value():
+    report = check("R_E = (a + h)/sqrt(1 - e**2*sin(phi)**2)\n"
+                   "R_N = a*(1 - e**2)/(1 - e**2*sin(phi)**2)**(3/2)\n")
+    good, bad = report.results
+    assert (good.target, good.status) == ("ideal value of R_E", "agrees")
+    (finding,) = bad.findings
+    assert finding.kind == "wrong definition" and finding.severity == "mistake"
+    # the height left out: h/a at the 10 km cruise points
+    assert finding.size == pytest.approx(10_000 / (6_378_245 + 10_000), rel=1e-6)
+
+
+def test_variation_of_an_unknown_quantity_is_an_input_problem():
+    report = check("Delta_omega_xj = Delta_V_xi/R_xi\nD = 2*a\nDelta_D = 0\n")
+    (problem,) = report.problems
+    assert problem.line == 1 and "did you mean 'omega_xi'" in problem.message
+    assert report.results[2].status == "hand-only definition"  # variation of a helper
+    assert report.exit_status == 2

@@ -937,7 +937,13 @@ def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
         base = key[6:]
         meaning = resolver.model_meaning(base)
         if meaning is None:
-            return "hand-only definition", None, False, [], []
+            if resolver.visible(base, eq.section) is not None:
+                return "hand-only definition", None, False, [], []
+            close = difflib.get_close_matches(base, resolver.known_names(), n=3, cutoff=0.6)
+            hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+            raise _UnresolvedError(name, f"{base} is not a quantity of the model or the "
+                                         f"notation{hint} (declare it with '@alias {base} = "
+                                         "...' to have its variation checked)")
         findings, notes = [], []
         if resolver.variation_base(name) is None:  # printed without Δ
             findings.append(Finding(
