@@ -84,8 +84,8 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value") -> f
             quantity = ureg.parse_expression(_normalise(str(text)))
         except Exception as error:  # pint raises several unrelated types
             raise UnitError(f"{what}: cannot read {text!r} as a quantity ({error})") from None
-        if not isinstance(quantity, ureg.Quantity):
-            value = float(quantity)
+        if not isinstance(quantity, ureg.Quantity) or not quantity._units:
+            value = float(getattr(quantity, "magnitude", quantity))  # bare number: SI
         else:
             try:
                 value = float(quantity.to(target).magnitude)

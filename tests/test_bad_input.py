@@ -70,3 +70,22 @@ def test_cli_prints_one_line_not_a_traceback(capsys):
     err = capsys.readouterr().err.strip()
     assert err.startswith("ins-errors: error: unknown model")
     assert "\n" not in err and "Traceback" not in err
+
+
+def test_units_at_the_edge():
+    from ins_errors.units import UnitError, parse_quantity
+
+    assert parse_quantity("0.01 deg/h", "rad/s") == pytest.approx(np.radians(0.01) / 3600)
+    assert parse_quantity("10 ug", "m/s**2") == pytest.approx(9.80665e-5)
+    assert parse_quantity("20 arcsec", "rad") == pytest.approx(np.radians(20 / 3600))
+    assert parse_quantity("100 ppm", "1") == pytest.approx(1e-4)
+    assert parse_quantity("1e-5", "rad/s") == 1e-5  # a bare number is SI already
+    with pytest.raises(UnitError, match="do not convert to rad"):
+        parse_quantity("0.1 m/s", "rad", "initial_tilt_x")
+    with pytest.raises(UnitError, match="not a finite number"):
+        parse_quantity("nan deg", "rad")
+
+
+def test_source_lookup_by_name(orthodromic):
+    assert orthodromic.source("gyro_drift_z").display_unit == "deg/h"
+    assert "000" in orthodromic.source_document

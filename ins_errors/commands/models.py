@@ -23,11 +23,11 @@ def run(args: argparse.Namespace) -> int:
     if args.name is None:
         models = [load_model(name) for name in available_models()]
         if args.json:
-            print(json.dumps([{"name": m.name, "title": m.title, "source": m.source}
+            print(json.dumps([{"name": m.name, "title": m.title, "source": m.source_document}
                               for m in models], indent=2))
         else:
             for m in models:
-                print(f"{m.name:<20} {m.title}  [{m.source}]")
+                print(f"{m.name:<20} {m.title}  [{m.source_document}]")
         return 0
     model = load_model(args.name)
     groups = {"error_states": model.error_states, "sources": model.sources,
@@ -36,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps({k: [vars(i) for i in v] for k, v in groups.items()}, indent=2))
         return 0
-    print(f"{model.name}: {model.title}\nsource: {model.source}")
+    print(f"{model.name}: {model.title}\nsource: {model.source_document}")
     for title, infos in groups.items():
         print(f"\n{title.replace('_', ' ')}:")
         for i in infos:

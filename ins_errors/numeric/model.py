@@ -94,7 +94,7 @@ class Model:
         self.meta = importlib.import_module(f"ins_errors.generated.{name}")
         self.numpy: ModuleType = importlib.import_module(f"ins_errors.generated.{name}.numpy_model")
         self.title: str = self.meta.TITLE
-        self.source: str = self.meta.SOURCE
+        self.source_document: str = self.meta.SOURCE
         self.states = _infos(self.meta.STATES)
         self.error_states = _infos(self.meta.ERROR_STATES)
         self.inputs = _infos(self.meta.INPUTS)
