@@ -84,7 +84,7 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value") -> f
             quantity = ureg.parse_expression(_normalise(str(text)))
         except Exception as error:  # pint raises several unrelated types
             raise UnitError(f"{what}: cannot read {text!r} as a quantity ({error})") from None
-        if not isinstance(quantity, ureg.Quantity) or not quantity._units:
+        if not isinstance(quantity, ureg.Quantity) or quantity.units == ureg.dimensionless:
             value = float(getattr(quantity, "magnitude", quantity))  # bare number: SI
         else:
             try:
