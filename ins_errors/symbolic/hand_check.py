@@ -57,6 +57,7 @@ class _UnresolvedError(Exception):
     """Internal: a symbol or definition the checker cannot resolve."""
 
     def __init__(self, symbol: str | None, message: str):
+        message = " ".join(message.splitlines())  # reports are one line per problem
         super().__init__(message)
         self.symbol = symbol
         self.message = message
@@ -631,6 +632,16 @@ class _Comparison:
                       for v in function(*self.arrays)]
         return self.checked(np.array(values))
 
+    def identical(self, hand: sp.Expr, model: sp.Expr, limit: int = 400) -> bool | None:
+        """True if every coefficient is the same expression (expanded), None if too big."""
+        h, hc = self.linear_parts(hand)
+        m, mc = self.linear_parts(model)
+        pairs = [(h.get(b, sp.S.Zero), m.get(b, sp.S.Zero)) for b in set(h) | set(m)]
+        pairs.append((hc, mc))
+        if sum(sp.count_ops(a) + sp.count_ops(b) for a, b in pairs) > limit:
+            return None
+        return all(sp.expand(a - b) == 0 for a, b in pairs)
+
     @staticmethod
     def checked(values: np.ndarray) -> np.ndarray:
         """Real parts, after checking the values are finite and real."""
@@ -1034,6 +1045,8 @@ def _evaluate(eq: HandEquation, item: _Item, comparison: _Comparison,
         result.status = "agrees up to dropped small terms"
     else:
         result.status = "agrees"
+        if not item.ideal and comparison.identical(item.hand, item.model.xreplace(identify)):
+            result.notes.insert(0, "identical symbolically")
     return result
 
 

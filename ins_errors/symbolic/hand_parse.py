@@ -125,6 +125,7 @@ class _LineError(Exception):
     """Internal: a problem on one line (converted to a :class:`Problem`)."""
 
     def __init__(self, column: int | None, message: str):
+        message = " ".join(message.splitlines())  # reports are one line per problem
         super().__init__(message)
         self.column = column
         self.message = message
@@ -178,8 +179,9 @@ def parse_text_expression(text: str, notation: Notation, column: int = 1
     columns : dict
         Canonical symbol name -> column of its first occurrence.
     """
-    source = re.sub(r"\blambda\b", "lam ", text)
+    source = re.sub(r"\blambda\b", "lam   ", text)  # same length: columns stay right
     stripped = source.strip()
+    shown = text.strip()
     lead = len(source) - len(source.lstrip())
     if not stripped:
         raise _LineError(column, "empty expression")
@@ -188,7 +190,7 @@ def parse_text_expression(text: str, notation: Notation, column: int = 1
     except SyntaxError as error:
         offset = (error.offset or 1) - 1
         raise _LineError(column + lead + offset,
-                         f"cannot parse {stripped!r}: {error.msg}") from None
+                         f"cannot parse {shown!r}: {error.msg}") from None
     local: dict[str, object] = {}
     columns: dict[str, int] = {}
     calls = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
@@ -215,9 +217,9 @@ def parse_text_expression(text: str, notation: Notation, column: int = 1
     try:
         expr = parse_expr(stripped, local_dict=local, transformations=_TRANSFORMS)
     except Exception as error:  # SymPy raises many kinds here
-        raise _LineError(column + lead, f"cannot parse {stripped!r}: {error}") from None
+        raise _LineError(column + lead, f"cannot parse {shown!r}: {error}") from None
     if not isinstance(expr, sp.Expr):
-        raise _LineError(column + lead, f"{stripped!r} is not an expression")
+        raise _LineError(column + lead, f"{shown!r} is not an expression")
     return expr, columns
 
 
