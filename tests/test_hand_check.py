@@ -311,3 +311,20 @@ def test_variation_of_an_unknown_quantity_is_an_input_problem():
     assert problem.line == 1 and "did you mean 'omega_xi'" in problem.message
     assert report.results[2].status == "hand-only definition"  # variation of a helper
     assert report.exit_status == 2
+
+
+def test_bad_latex_input_names_line_and_column():
+    lines = [r"\dot{\alpha}_x = -\omega_\eta \alpha_z + \omega_\zeta \alpha_y "
+             r"+ \Delta\omega_{xj} + \omega_{dp}",
+             r"\dot{\alpha}_z = -\omega_\xi \alpha_y + \omega_\eta \alpha_x + U \Delta u_{31} "
+             r"+ \omega_{dp}",
+             r"\Delta \dot{V}_\zeta = a_\zeta \alpha_x",
+             r"\Delta \dot{V}_\xi = a_\eta \alpha_z - \frac{a_\zeta \alpha_y"]
+    report = check("\n".join(lines), latex=True)
+    problems = {p.line: p for p in report.problems}
+    assert set(problems) == {1, 3, 4}
+    assert problems[1].column == lines[0].index(r"\Delta\omega_{xj}") + 1
+    assert "did you mean 'Delta_omega_xi'" in problems[1].message
+    assert "V_zeta is not a state" in problems[3].message
+    assert problems[4].column == len(lines[3]) + 1  # the missing '}' at the end
+    assert [r.status for r in report.results if r.equation.line == 2] == ["agrees"]

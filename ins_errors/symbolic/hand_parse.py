@@ -349,9 +349,12 @@ class _LatexConverter:
         self.expect("}")
         return "".join(parts)
 
-    def symbol(self, delta: bool) -> sp.Expr:
-        """Read one symbol (with accent, primes, subscript, label) and return it."""
-        start = self.position()
+    def symbol(self, delta: bool, start: int | None = None) -> sp.Expr:
+        """Read one symbol (with accent, primes, subscript, label) and return it.
+
+        ``start`` is the column reported for it (that of a preceding ``\\Delta``).
+        """
+        start = self.position() if start is None else start
         accents = []
         token = self.peek()
         while token is not None and token.startswith("\\") and token[1:] in _ACCENTS:
@@ -515,7 +518,7 @@ class _LatexConverter:
                 continue
             if name == "Delta" and self.peek(1) is not None:
                 self.i += 1
-                out.append(self.place(self.symbol(delta=True), position))
+                out.append(self.place(self.symbol(delta=True, start=position), position))
                 continue
             if name is not None and name not in _GREEK and name not in _ACCENTS:
                 raise _LineError(position, f"unsupported LaTeX command {token}")
