@@ -223,7 +223,6 @@ class _ModelSide:
 
     def __init__(self, d: ModelDefinition):
         self.d = d
-        n = len(d.states)
         self.state_names = [v.name for v in d.states]
         self.error_states = {v.name: v.symbol for v in d.error_states}
         self.error_of_state = {v.name: d.error_states[i].symbol
@@ -254,7 +253,6 @@ class _ModelSide:
                               if name not in {v.name for v in (*d.states, *d.inputs,
                                                                *d.parameters)}}
         self.outputs = {v.name: expr for v, expr in zip(d.outputs, true_out, strict=True)}
-        del n
 
     def ideal(self, name: str) -> sp.Expr | None:
         """Ideal value of a model name in model symbols, or None."""
@@ -310,7 +308,7 @@ class _HandSide:
         self.from_model: dict[str, set[int]] = {}
         self.sources_used: set[str] = set()
         self._alias_cache: dict[str, sp.Expr] = {}
-        self._current_line = 0
+        self.current_line = 0
         self.keep_ideal = False
         for eq in hand.equations:
             if eq.alternative or not isinstance(eq.lhs, sp.Symbol):
@@ -518,7 +516,7 @@ class _HandSide:
                 meaning = self.use_definition(aux, base, section, trail)
             finally:
                 self.keep_ideal = keep
-        self.from_model.setdefault(key, set()).add(self._current_line)
+        self.from_model.setdefault(key, set()).add(self.current_line)
         return self.model.vary(meaning)
 
     def known_names(self) -> list[str]:
@@ -855,7 +853,7 @@ def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DE
     # first pass: resolve every equation (this also finds the sources in use)
     prepared = []
     for eq in hand.equations:
-        resolver._current_line = eq.line
+        resolver.current_line = eq.line
         prepared.append(_prepare(eq, resolver, side))
     basis, identify, out_of_scope = _basis(side, notation, resolver.sources_used)
     symbols = {b.name: (side.error_states.get(b.name) or side.source_symbols.get(b.name)
@@ -872,13 +870,9 @@ def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DE
     for eq, items in zip(hand.equations, prepared, strict=True):
         for item in items:
             results.append(_evaluate(eq, item, comparison, identify, hand))
-    used_keys = set()
-    for eq in hand.equations:
-        if id(eq) in resolver.used_definitions:
-            used_keys.add(id(eq))
-    unused = [f"{eq.label} (line {eq.line})" for r in results
-              if r.status == "hand-only definition" and (eq := r.equation) is not None
-              and id(eq) not in used_keys and r.form == 0]
+    unused = [f"{r.equation.label} (line {r.equation.line})" for r in results
+              if r.status == "hand-only definition" and r.form == 0
+              and id(r.equation) not in resolver.used_definitions]
     hand.problems.sort(key=lambda p: (p.line, p.column or 0))
     return CheckReport(
         model=model, hand_name=hand.name, hand_format=hand.format, threshold=threshold,
