@@ -20,7 +20,10 @@ the points is reported) and classed:
 Its kind says what differs: ``missing term``, ``extra term``, ``sign error``, ``wrong
 coefficient`` (with the ratio when it is constant), ``wrong variable`` (a coefficient
 that belongs to one quantity written on another), ``not an error quantity`` (a term with
-no error in it) and ``left-hand side without Δ``.
+no error in it), ``left-hand side without Δ`` and ``wrong definition`` (an ideal quantity
+such as ``R_E = ...`` whose value differs from the model's).
+
+Where the expressions are small, agreeing equations are also compared symbolically.
 """
 
 from __future__ import annotations
