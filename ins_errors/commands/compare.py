@@ -15,7 +15,7 @@ import argparse
 import json
 import sys
 
-MOTIONS = ("static", "great-circle", "manoeuvre")
+MOTIONS = ("static", "great-circle", "manoeuvre")  # motion_spec.MOTION_KINDS less "file"
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -61,6 +61,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _sources(model, items: list[str]) -> list[tuple[str, float]]:
     from ins_errors.errors import InsErrorsError
+    from ins_errors.units import parse_quantity
 
     if not items:
         raise InsErrorsError("give at least one --source NAME=VALUE, e.g. "
@@ -77,23 +78,14 @@ def _sources(model, items: list[str]) -> list[tuple[str, float]]:
     return out
 
 
-def parse_quantity(text: str, unit: str, what: str) -> float:
-    """A quantity with unit through the units library; a bare number is SI."""
-    from ins_errors.units import parse_quantity as parse
-
-    try:
-        number = float(text)
-    except ValueError:
-        return parse(text, unit, what)
-    return parse(number, unit, what)
-
-
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import InsErrorsError
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.compare import compare, markdown_summary, markdown_table
     from ins_errors.numeric.integrators import step_count
     from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.motion_spec import motion_profile
+    from ins_errors.units import parse_quantity
 
     model = load_model(args.model)
     sources = _sources(model, args.source)
@@ -114,20 +106,12 @@ def run(args: argparse.Namespace) -> int:
         while n_steps % stride:
             stride -= 1
         record = stride * tau
-    lat = parse_quantity(args.latitude, "rad", "--latitude")
-    lon = parse_quantity(args.longitude, "rad", "--longitude")
-    heading = parse_quantity(args.heading, "rad", "--heading")
-    speed = parse_quantity(args.speed, "m/s", "--speed")
-    height = parse_quantity(args.height, "m", "--height")
+    motion = {"kind": "file" if args.motion_file else args.motion,
+              "latitude": args.latitude, "longitude": args.longitude,
+              "heading": args.heading, "speed": args.speed, "height": args.height}
     if args.motion_file:
-        profile = read_motion(args.motion_file, lat, lon, heading, height)
-    elif args.motion == "static":
-        profile = tr.static_profile(lat, lon, heading, height)
-    elif args.motion == "great-circle":
-        profile = tr.great_circle_profile(lat, lon, heading, speed, height)
-    else:
-        legs = default_legs(speed, height)
-        profile = tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)
+        motion["file"] = args.motion_file
+    profile = motion_profile(motion)
     progress = not args.no_progress and n_steps >= 100_000
     trajectory = tr.trajectory(model, profile, duration, tau, progress=progress)
     cases = ([{name: value} for name, value in sources] if args.separately
@@ -162,40 +146,3 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(text)
     return 0
-
-
-def read_motion(path: str, latitude: float, longitude: float, heading: float, height: float):
-    """A sampled motion from a CSV file with columns t, v_N, v_E and optionally h (SI)."""
-    import numpy as np
-
-    from ins_errors.errors import InsErrorsError
-    from ins_errors.numeric.trajectories import sampled_profile
-
-    try:
-        table = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
-    except (OSError, ValueError) as error:
-        raise InsErrorsError(f"cannot read motion file {path!r}: {error}") from None
-    names = table.dtype.names or ()
-    missing = [c for c in ("t", "v_N", "v_E") if c not in names]
-    if missing:
-        raise InsErrorsError(f"motion file {path!r} lacks column(s) {', '.join(missing)} "
-                             f"(has {', '.join(names) or 'none'})")
-    h = table["h"] if "h" in names else height
-    return sampled_profile(np.atleast_1d(table["t"]), np.atleast_1d(table["v_N"]),
-                           np.atleast_1d(table["v_E"]), latitude, longitude, heading, h)
-
-
-def default_legs(speed: float, height: float):
-    """The CLI's manoeuvre: turns, a speed change, a climb and a descent, repeated hourly."""
-    import numpy as np
-
-    from ins_errors.numeric.trajectories import Leg
-
-    legs = []
-    for _ in range(24):
-        legs += [Leg(600.0, speed, np.radians(90.0), height),
-                 Leg(600.0, speed * 1.2, 0.0, height + 2000.0),
-                 Leg(1200.0, speed * 1.2, np.radians(-45.0), height + 2000.0),
-                 Leg(600.0, speed, np.radians(-45.0), height),
-                 Leg(600.0, speed, 0.0, height)]
-    return legs

@@ -1,0 +1,114 @@
+"""True motion described in words and units (CLI options, scenario files) -> a Profile.
+
+One place turns ``{"kind": "great-circle", "latitude": "50 deg", "speed": "250 m/s"}``
+into a :class:`~ins_errors.numeric.trajectories.Profile`, so the command line and the
+scenario files accept exactly the same motions with the same defaults.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.numeric import trajectories as tr
+from ins_errors.units import parse_quantity
+
+MOTION_KINDS = ("static", "great-circle", "manoeuvre", "file")
+"""Kinds of motion a description may name."""
+
+DEFAULTS: dict[str, str] = {
+    "kind": "static",
+    "latitude": "50 deg",
+    "longitude": "30 deg",
+    "heading": "0 deg",
+    "speed": "250 m/s",
+    "height": "0 m",
+}
+"""Defaults of every motion description (the CLI shows the same)."""
+
+_KEYS = {*DEFAULTS, "file", "legs"}
+
+
+def default_legs(speed: float, height: float, hours: int = 24) -> list[tr.Leg]:
+    """The standard manoeuvre: a turn, a speed change with a climb, a turn back and a
+    descent, repeated every hour."""
+    legs = []
+    for _ in range(hours):
+        legs += [tr.Leg(600.0, speed, np.radians(90.0), height),
+                 tr.Leg(600.0, speed * 1.2, 0.0, height + 2000.0),
+                 tr.Leg(1200.0, speed * 1.2, np.radians(-45.0), height + 2000.0),
+                 tr.Leg(600.0, speed, np.radians(-45.0), height),
+                 tr.Leg(600.0, speed, 0.0, height)]
+    return legs
+
+
+def read_motion_file(path: str | Path, latitude: float, longitude: float, heading: float,
+                     height: float) -> tr.Profile:
+    """A sampled motion from a CSV file with a header and columns t, v_N, v_E [, h] (SI)."""
+    try:
+        table = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
+    except (OSError, ValueError) as error:
+        raise InsErrorsError(f"cannot read motion file {str(path)!r}: {error}") from None
+    names = table.dtype.names or ()
+    missing = [c for c in ("t", "v_N", "v_E") if c not in names]
+    if missing:
+        raise InsErrorsError(f"motion file {str(path)!r} lacks column(s) {', '.join(missing)} "
+                             f"(has {', '.join(names) or 'none'})")
+    h = table["h"] if "h" in names else height
+    return tr.sampled_profile(np.atleast_1d(table["t"]), np.atleast_1d(table["v_N"]),
+                              np.atleast_1d(table["v_E"]), latitude, longitude, heading, h)
+
+
+def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> tr.Profile:
+    """Build a Profile from a motion description.
+
+    Parameters
+    ----------
+    description : mapping
+        ``kind`` (one of :data:`MOTION_KINDS`), ``latitude``, ``longitude``, ``heading``
+        (track angle), ``speed``, ``height`` as text with units or SI numbers; ``file`` (a
+        CSV, for kind ``"file"``); ``legs`` (for ``"manoeuvre"``: a list of tables with
+        ``duration``, ``speed``, ``turn``, ``height``; default: :func:`default_legs`).
+    base : Path, optional
+        Folder that a relative ``file`` is taken from.
+
+    Raises
+    ------
+    InsErrorsError
+        For unknown keys or kinds, values with wrong units, unreadable files.
+    """
+    for key in description:
+        if key not in _KEYS:
+            raise unknown_name("motion setting", key, sorted(_KEYS))
+    spec = {**DEFAULTS, **description}
+    kind = str(spec["kind"])
+    if kind not in MOTION_KINDS:
+        raise unknown_name("motion kind", kind, MOTION_KINDS)
+    lat = parse_quantity(spec["latitude"], "rad", "motion latitude")
+    lon = parse_quantity(spec["longitude"], "rad", "motion longitude")
+    heading = parse_quantity(spec["heading"], "rad", "motion heading")
+    speed = parse_quantity(spec["speed"], "m/s", "motion speed")
+    height = parse_quantity(spec["height"], "m", "motion height")
+    if kind == "static":
+        return tr.static_profile(lat, lon, heading, height)
+    if kind == "great-circle":
+        return tr.great_circle_profile(lat, lon, heading, speed, height)
+    if kind == "file":
+        if "file" not in spec:
+            raise InsErrorsError("motion kind 'file' needs file = 'path/to/motion.csv'")
+        path = Path(spec["file"])
+        if base is not None and not path.is_absolute():
+            path = base / path
+        return read_motion_file(path, lat, lon, heading, height)
+    legs = default_legs(speed, height)
+    if "legs" in spec:
+        legs = [tr.Leg(parse_quantity(leg.get("duration", "600 s"), "s", "leg duration"),
+                       parse_quantity(leg.get("speed", speed), "m/s", "leg speed"),
+                       parse_quantity(leg.get("turn", 0.0), "rad", "leg turn"),
+                       parse_quantity(leg.get("height", height), "m", "leg height"))
+                for leg in spec["legs"]]
+    return tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)
