@@ -337,3 +337,19 @@ def test_bad_input(model):
         model.source_matrix(polar, u, p)
     with pytest.raises(DomainError, match="NaN"):
         model.state_matrix(np.r_[np.nan, x[1:]], u, p)
+
+
+def test_integrator_offsets_act_like_their_instrument_counterparts(model):
+    """First-integrator offsets enter exactly as accelerometer biases (factor 8 vs 7)."""
+    names = [s.name for s in model.sources]
+    for x, u, p, _c in _points(model, 4, 23):
+        G = model.source_matrix(x, u, p)
+        for axis in "xy":
+            np.testing.assert_array_equal(G[:, names.index(f"velocity_integrator_offset_{axis}")],
+                                          G[:, names.index(f"accel_bias_{axis}")])
+        # second-integrator offsets drive only their own coordinate rate
+        for coordinate, row in (("Phi", 0), ("Lam", 1)):
+            column = G[:, names.index(f"position_integrator_offset_{coordinate}")]
+            expected = np.zeros(len(column))
+            expected[row] = 1.0
+            np.testing.assert_array_equal(column, expected)

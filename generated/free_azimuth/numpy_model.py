@@ -90,7 +90,7 @@ def real_rhs(xr, x, u, w, p):
         ideal-work (true) state, SI units
     u : array_like, shape (4, ...)
         true-motion inputs, SI units
-    w : array_like, shape (17, ...)
+    w : array_like, shape (25, ...)
         error-source magnitudes, SI units
     p : array_like, shape (5, ...)
         model parameters, SI units
@@ -103,7 +103,7 @@ def real_rhs(xr, x, u, w, p):
     xr = _as_vector(xr, 8, 'xr', 'real_rhs')
     x = _as_vector(x, 5, 'x', 'real_rhs')
     u = _as_vector(u, 4, 'u', 'real_rhs')
-    w = _as_vector(w, 17, 'w', 'real_rhs')
+    w = _as_vector(w, 25, 'w', 'real_rhs')
     p = _as_vector(p, 5, 'p', 'real_rhs')
     _batch = _np.broadcast_shapes(xr.shape[1:], x.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
     Phi_c_ = xr[0]
@@ -125,10 +125,18 @@ def real_rhs(xr, x, u, w, p):
     gyro_drift_z_ = w[10]
     accel_bias_x_ = w[11]
     accel_bias_y_ = w[12]
-    accel_scale_error_x_ = w[13]
-    accel_scale_error_y_ = w[14]
-    correction_gain_error_x_ = w[15]
-    correction_gain_error_y_ = w[16]
+    velocity_integrator_offset_x_ = w[13]
+    velocity_integrator_offset_y_ = w[14]
+    position_integrator_offset_Phi_ = w[15]
+    position_integrator_offset_Lam_ = w[16]
+    accel_scale_error_x_ = w[17]
+    accel_scale_error_y_ = w[18]
+    velocity_integrator_gain_error_x_ = w[19]
+    velocity_integrator_gain_error_y_ = w[20]
+    position_integrator_gain_error_Phi_ = w[21]
+    position_integrator_gain_error_Lam_ = w[22]
+    correction_gain_error_x_ = w[23]
+    correction_gain_error_y_ = w[24]
     R_ = p[0]
     U_ = p[1]
     orth_latitude_ = p[2]
@@ -156,11 +164,11 @@ def real_rhs(xr, x, u, w, p):
     _t20 = V_y_*_t0
     _t21 = V_x_*_t0
     _out = _np.zeros((8,) + _batch)
-    _out[0] = _t0*(_t14*_t17 + _t16*_t7)
-    _out[1] = _t18/_t10
+    _out[0] = _t0*(position_integrator_gain_error_Phi_ + 1)*(_t14*_t17 + _t16*_t7) + position_integrator_offset_Phi_
+    _out[1] = position_integrator_offset_Lam_ + _t18*(position_integrator_gain_error_Lam_ + 1)/_t10
     _out[2] = -U_*(_t10*_t12 + _t10*_t9 + _t11*_t5*_t8) - _t18*_m.tan(Phi_c_)
-    _out[3] = -V_x_c_*_t19 + accel_bias_x_ + (accel_scale_error_x_ + 1)*(a_x_ + a_y_*alpha_z_ - a_zeta_*alpha_y_)
-    _out[4] = -V_y_c_*_t19 + accel_bias_y_ + (accel_scale_error_y_ + 1)*(-a_x_*alpha_z_ + a_y_ + a_zeta_*alpha_x_)
+    _out[3] = (velocity_integrator_gain_error_x_ + 1)*(-V_x_c_*_t19 + accel_bias_x_ + velocity_integrator_offset_x_ + (accel_scale_error_x_ + 1)*(a_x_ + a_y_*alpha_z_ - a_zeta_*alpha_y_))
+    _out[4] = (velocity_integrator_gain_error_y_ + 1)*(-V_y_c_*_t19 + accel_bias_y_ + velocity_integrator_offset_y_ + (accel_scale_error_y_ + 1)*(-a_x_*alpha_z_ + a_y_ + a_zeta_*alpha_x_))
     _out[5] = -V_y_c_*_t0*(correction_gain_error_x_ + 1) + _t20 - _t21*alpha_z_ + gyro_drift_x_
     _out[6] = V_x_c_*_t0*(correction_gain_error_y_ + 1) - _t20*alpha_z_ - _t21 + gyro_drift_y_
     _out[7] = _t20*alpha_y_ + _t21*alpha_x_ + gyro_drift_z_
@@ -352,28 +360,59 @@ def source_matrix(x, u, p):
 
     Returns
     -------
-    numpy.ndarray, shape (8, 17, ...)
+    numpy.ndarray, shape (8, 25, ...)
         G
     """
     x = _as_vector(x, 5, 'x', 'source_matrix')
     u = _as_vector(u, 4, 'u', 'source_matrix')
     p = _as_vector(p, 5, 'p', 'source_matrix')
     _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    A_ = x[2]
     V_x_ = x[3]
     V_y_ = x[4]
     a_x_ = u[0]
     a_y_ = u[1]
+    V_zeta_ = u[3]
     R_ = p[0]
+    U_ = p[1]
+    orth_latitude_ = p[2]
+    orth_azimuth_ = p[4]
     _t0 = 1/R_
-    _out = _np.zeros((8, 17) + _batch)
+    _t1 = _m.sin(Lam_)
+    _t2 = _m.sin(orth_latitude_)
+    _t3 = _m.cos(Lam_)
+    _t4 = _m.cos(orth_azimuth_)
+    _t5 = _m.cos(orth_latitude_)
+    _t6 = -_t1*_t2 + _t3*_t4*_t5
+    _t7 = _m.sin(A_)
+    _t8 = _m.sin(Phi_)
+    _t9 = _m.cos(Phi_)
+    _t10 = -_t1*_t4*_t5*_t8 - _t2*_t3*_t8 + _t5*_t9*_m.sin(orth_azimuth_)
+    _t11 = _m.cos(A_)
+    _t12 = R_*U_
+    _t13 = V_x_ - _t12*(_t10*_t11 - _t6*_t7)
+    _t14 = V_y_ + _t12*(_t10*_t7 + _t11*_t6)
+    _t15 = V_x_*_t0
+    _t16 = V_y_*_t0
+    _out = _np.zeros((8, 25) + _batch)
+    _out[0, 15] = 1
+    _out[0, 21] = _t0*(_t11*_t14 + _t13*_t7)
+    _out[1, 16] = 1
+    _out[1, 22] = _t0*(_t11*_t13 - _t14*_t7)/_t9
     _out[3, 11] = 1
-    _out[3, 13] = a_x_
+    _out[3, 13] = 1
+    _out[3, 17] = a_x_
+    _out[3, 19] = -V_zeta_*_t15 + a_x_
     _out[4, 12] = 1
-    _out[4, 14] = a_y_
+    _out[4, 14] = 1
+    _out[4, 18] = a_y_
+    _out[4, 20] = -V_zeta_*_t16 + a_y_
     _out[5, 8] = 1
-    _out[5, 15] = -V_y_*_t0
+    _out[5, 23] = -_t16
     _out[6, 9] = 1
-    _out[6, 16] = V_x_*_t0
+    _out[6, 24] = _t15
     _out[7, 10] = 1
     return _out
 
@@ -514,7 +553,7 @@ def second_order(x, u, p, xe, w):
         model parameters, SI units
     xe : array_like, shape (8, ...)
         error state xr - (x, 0)
-    w : array_like, shape (17, ...)
+    w : array_like, shape (25, ...)
         error-source magnitudes, SI units
 
     Returns
@@ -526,7 +565,7 @@ def second_order(x, u, p, xe, w):
     u = _as_vector(u, 4, 'u', 'second_order')
     p = _as_vector(p, 5, 'p', 'second_order')
     xe = _as_vector(xe, 8, 'xe', 'second_order')
-    w = _as_vector(w, 17, 'w', 'second_order')
+    w = _as_vector(w, 25, 'w', 'second_order')
     _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:], w.shape[1:])
     Phi_ = x[0]
     Lam_ = x[1]
@@ -536,6 +575,7 @@ def second_order(x, u, p, xe, w):
     a_x_ = u[0]
     a_y_ = u[1]
     a_zeta_ = u[2]
+    V_zeta_ = u[3]
     R_ = p[0]
     U_ = p[1]
     orth_latitude_ = p[2]
@@ -548,10 +588,18 @@ def second_order(x, u, p, xe, w):
     alpha_x_ = xe[5]
     alpha_y_ = xe[6]
     alpha_z_ = xe[7]
-    accel_scale_error_x_ = w[13]
-    accel_scale_error_y_ = w[14]
-    correction_gain_error_x_ = w[15]
-    correction_gain_error_y_ = w[16]
+    accel_bias_x_ = w[11]
+    accel_bias_y_ = w[12]
+    velocity_integrator_offset_x_ = w[13]
+    velocity_integrator_offset_y_ = w[14]
+    accel_scale_error_x_ = w[17]
+    accel_scale_error_y_ = w[18]
+    velocity_integrator_gain_error_x_ = w[19]
+    velocity_integrator_gain_error_y_ = w[20]
+    position_integrator_gain_error_Phi_ = w[21]
+    position_integrator_gain_error_Lam_ = w[22]
+    correction_gain_error_x_ = w[23]
+    correction_gain_error_y_ = w[24]
     _t0 = 1/R_
     _t1 = _m.sin(Lam_)
     _t2 = _m.sin(orth_latitude_)
@@ -593,51 +641,65 @@ def second_order(x, u, p, xe, w):
     _t38 = _t19*_t35 + _t37*_t9
     _t39 = _t22*_t38
     _t40 = -_t38
-    _t41 = delta_A_*delta_Lam_
+    _t41 = _t0*delta_A_
     _t42 = _t0*delta_V_x_
     _t43 = _t19*delta_A_
-    _t44 = _t0*delta_V_y_
-    _t45 = _t9*delta_A_
-    _t46 = _t19*_t25 - _t27*_t9
-    _t47 = _t0/_t10
-    _t48 = _t19**2
-    _t49 = _t17*_t21
-    _t50 = _t9**2
-    _t51 = -_t48*_t49 - _t49*_t50
-    _t52 = 2*_t0
-    _t53 = _t10*_t13 + _t10*_t15
-    _t54 = U_*(-_t11*_t12*_t6 - _t53)
-    _t55 = R_*_t54
-    _t56 = -_t48*_t55 - _t50*_t55
-    _t57 = _t12/_t10**2
-    _t58 = _t52*_t57
-    _t59 = ((1/2))*delta_Phi_**2
-    _t60 = _t21*(_t10*_t3 - _t10*_t36)
-    _t61 = -2*_t48*_t60 - 2*_t50*_t60
-    _t62 = -_t29*(_t19*_t37 - _t35*_t9) - _t39
-    _t63 = ((1/2))*delta_Lam_*delta_Phi_
-    _t64 = _t31*(R_*U_*_t28*_t9 - 2*_t19*_t23 - _t20*_t29 - _t46)
-    _t65 = -_t22*_t33 - _t29*_t32
-    _t66 = _t41*(-_t29*_t38 - _t29*_t40)
-    _t67 = _t45*delta_V_x_
-    _t68 = _t43*delta_V_y_
-    _t69 = _t0*delta_A_*(-_t24 - _t30)
-    _t70 = _t57*delta_Phi_
-    _t71 = _t19*_t42
-    _t72 = _t44*_t9
-    _t73 = _m.tan(Phi_)
-    _t74 = _t0*_t73
-    _t75 = _t73**2
-    _t76 = _t75 + 1
-    _t77 = _t52*_t76
-    _t78 = _t76*delta_Phi_
+    _t44 = _t19*_t23
+    _t45 = _t19*_t25 - _t27*_t9
+    _t46 = -_t22*_t28 + _t45
+    _t47 = _t29*_t38
+    _t48 = _t19*_t37 - _t35*_t9
+    _t49 = _t0*delta_V_y_
+    _t50 = _t9*delta_A_
+    _t51 = _t0/_t10
+    _t52 = _t19**2
+    _t53 = _t17*_t21
+    _t54 = _t9**2
+    _t55 = -_t52*_t53 - _t53*_t54
+    _t56 = 2*_t0
+    _t57 = _t45*_t56
+    _t58 = _t10*_t13 + _t10*_t15
+    _t59 = U_*(-_t11*_t12*_t6 - _t58)
+    _t60 = R_*_t59
+    _t61 = -_t52*_t60 - _t54*_t60
+    _t62 = _t12/_t10**2
+    _t63 = _t56*_t62
+    _t64 = ((1/2))*delta_Phi_**2
+    _t65 = _t21*(_t10*_t3 - _t10*_t36)
+    _t66 = -_t52*_t65 - _t54*_t65
+    _t67 = 2*_t51
+    _t68 = -_t29*_t48 - _t39
+    _t69 = ((1/2))*delta_Phi_
+    _t70 = _t69*delta_Lam_
+    _t71 = _t31*(-_t20*_t29 - 2*_t44 - _t46)
+    _t72 = -_t22*_t33 - _t29*_t32
+    _t73 = _t51*delta_A_
+    _t74 = delta_Lam_*(-_t29*_t40 - _t47)
+    _t75 = -_t24 - _t30
+    _t76 = _t51*position_integrator_gain_error_Lam_
+    _t77 = _t50*delta_V_x_
+    _t78 = _t43*delta_V_y_
+    _t79 = _t41*_t75
+    _t80 = _t62*delta_Phi_
+    _t81 = _t19*_t42
+    _t82 = _t49*_t9
+    _t83 = _m.tan(Phi_)
+    _t84 = _t0*_t83
+    _t85 = _t83**2
+    _t86 = _t85 + 1
+    _t87 = _t56*_t86
+    _t88 = _t86*delta_Phi_
+    _t89 = a_y_*alpha_z_
+    _t90 = a_zeta_*alpha_y_
+    _t91 = a_zeta_*alpha_x_
+    _t92 = a_x_*alpha_z_
     _out = _np.zeros((8,) + _batch)
-    _out[0] = _t0*_t31*(-_t20*_t22 - 2*_t24 - _t30) + _t0*_t34*(R_*U_*_t19*_t33 - _t22*_t32) + _t0*_t41*(-_t22*_t40 - _t39) + _t42*_t43 - _t44*_t45
-    _out[1] = _t34*_t47*_t65 + _t47*_t64 + _t47*_t66 - _t47*_t67 - _t47*_t68 + _t59*(_t46*_t47 + _t47*_t51 + _t56*_t58 + _t12**2*_t46*_t52/_t10**3) + _t63*(_t47*_t61 + _t58*_t62) + _t69*_t70 + _t70*_t71 - _t70*_t72
-    _out[2] = _t34*(U_*_t53 - _t65*_t74) + _t59*(-_t46*_t74*(2*_t75 + 2) - _t51*_t74 - _t54 - _t56*_t77) + _t63*(-2*U_*_t37 - _t61*_t74 - _t62*_t77) - _t64*_t74 - _t66*_t74 + _t67*_t74 + _t68*_t74 - _t69*_t78 - _t71*_t78 + _t72*_t78
-    _out[3] = a_y_*accel_scale_error_x_*alpha_z_ - a_zeta_*accel_scale_error_x_*alpha_y_
-    _out[4] = -a_x_*accel_scale_error_y_*alpha_z_ + a_zeta_*accel_scale_error_y_*alpha_x_
-    _out[5] = -_t44*correction_gain_error_x_
+    _out[0] = _t0*_t31*(-_t20*_t22 - 2*_t24 - _t30) + _t0*_t34*(R_*U_*_t19*_t33 - _t22*_t32) + _t0*delta_Lam_*position_integrator_gain_error_Phi_*(-_t22*_t48 + _t47) + _t19*_t49*position_integrator_gain_error_Phi_ + _t41*delta_Lam_*(-_t22*_t40 - _t39) + _t41*position_integrator_gain_error_Phi_*(_t44 + _t46) + _t42*_t43 + _t42*_t9*position_integrator_gain_error_Phi_ - _t49*_t50
+    _out[1] = _t19*_t76*delta_V_x_ + _t34*_t51*_t72 + _t51*_t71 - _t51*_t77 - _t51*_t78 + _t64*(_t45*_t51 + _t51*_t55 + _t61*_t63 + _t12**2*_t57/_t10**3) + _t68*_t76*delta_Lam_ + _t69*position_integrator_gain_error_Lam_*(_t57*_t62 + _t61*_t67) + _t70*(_t63*_t68 + _t66*_t67) + _t73*_t74 + _t73*_t75*position_integrator_gain_error_Lam_ - _t76*_t9*delta_V_y_ + _t79*_t80 + _t80*_t81 - _t80*_t82
+    _out[2] = _t34*(U_*_t58 - _t72*_t84) + _t64*(-_t45*_t84*(2*_t85 + 2) - _t55*_t84 - _t59 - _t61*_t87) + _t70*(-2*U_*_t37 - 2*_t66*_t84 - _t68*_t87) - _t71*_t84 - _t74*_t84*delta_A_ + _t77*_t84 + _t78*_t84 - _t79*_t88 - _t81*_t88 + _t82*_t88
+    _out[3] = -V_zeta_*_t42*velocity_integrator_gain_error_x_ + _t89*accel_scale_error_x_ + _t89*velocity_integrator_gain_error_x_ - _t90*accel_scale_error_x_ - _t90*velocity_integrator_gain_error_x_ + a_x_*accel_scale_error_x_*velocity_integrator_gain_error_x_ + accel_bias_x_*velocity_integrator_gain_error_x_ + velocity_integrator_gain_error_x_*velocity_integrator_offset_x_
+    _out[4] = -V_zeta_*_t49*velocity_integrator_gain_error_y_ + _t91*accel_scale_error_y_ + _t91*velocity_integrator_gain_error_y_ - _t92*accel_scale_error_y_ - _t92*velocity_integrator_gain_error_y_ + a_y_*accel_scale_error_y_*velocity_integrator_gain_error_y_ + accel_bias_y_*velocity_integrator_gain_error_y_ + velocity_integrator_gain_error_y_*velocity_integrator_offset_y_
+    _out[5] = -_t49*correction_gain_error_x_
     _out[6] = _t42*correction_gain_error_y_
     return _out
 
@@ -986,7 +1048,7 @@ def initial_real_state(c, u, w, p):
         initial navigation conditions, SI units
     u : array_like, shape (4, ...)
         true-motion inputs, SI units
-    w : array_like, shape (17, ...)
+    w : array_like, shape (25, ...)
         error-source magnitudes, SI units
     p : array_like, shape (5, ...)
         model parameters, SI units
@@ -998,7 +1060,7 @@ def initial_real_state(c, u, w, p):
     """
     c = _as_vector(c, 5, 'c', 'initial_real_state')
     u = _as_vector(u, 4, 'u', 'initial_real_state')
-    w = _as_vector(w, 17, 'w', 'initial_real_state')
+    w = _as_vector(w, 25, 'w', 'initial_real_state')
     p = _as_vector(p, 5, 'p', 'initial_real_state')
     _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
     latitude_ = c[0]
@@ -1066,14 +1128,14 @@ def initial_error_matrix(c, u, p):
 
     Returns
     -------
-    numpy.ndarray, shape (8, 17, ...)
+    numpy.ndarray, shape (8, 25, ...)
         E: xe(0) = E w
     """
     c = _as_vector(c, 5, 'c', 'initial_error_matrix')
     u = _as_vector(u, 4, 'u', 'initial_error_matrix')
     p = _as_vector(p, 5, 'p', 'initial_error_matrix')
     _batch = _np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
-    _out = _np.zeros((8, 17) + _batch)
+    _out = _np.zeros((8, 25) + _batch)
     _out[0, 6] = 1
     _out[1, 7] = 1
     _out[2, 3] = 1

@@ -156,10 +156,26 @@ SOURCES = (
          "zero offset of the x accelerometer"),
     _src("accel_bias_y", "m/s**2", "ug", "constant", 7, r"\Delta a_y",
          "zero offset of the y accelerometer"),
+    _src("velocity_integrator_offset_x", "m/s**2", "ug", "constant", 8, r"\delta_{1x}",
+         "zero offset of the first (velocity) integrator x, at its input"),
+    _src("velocity_integrator_offset_y", "m/s**2", "ug", "constant", 8, r"\delta_{1y}",
+         "zero offset of the first (velocity) integrator y, at its input"),
+    _src("position_integrator_offset_Phi", "rad/s", "deg/h", "constant", 9, r"\delta_{2\Phi}",
+         "zero offset of the second integrator of (8.35): rate added to Φ̇"),
+    _src("position_integrator_offset_Lam", "rad/s", "deg/h", "constant", 9,
+         r"\delta_{2\Lambda}", "zero offset of the second integrator of (8.35): rate added to Λ̇"),
     _src("accel_scale_error_x", "1", "ppm", "constant", 10, r"k_{ax}",
          "scale-factor error of the x accelerometer"),
     _src("accel_scale_error_y", "1", "ppm", "constant", 10, r"k_{ay}",
          "scale-factor error of the y accelerometer"),
+    _src("velocity_integrator_gain_error_x", "1", "ppm", "constant", 11, r"k_{1x}",
+         "gain error of the first (velocity) integrator x"),
+    _src("velocity_integrator_gain_error_y", "1", "ppm", "constant", 11, r"k_{1y}",
+         "gain error of the first (velocity) integrator y"),
+    _src("position_integrator_gain_error_Phi", "1", "ppm", "constant", 12, r"k_{2\Phi}",
+         "gain error of the second integrator of Φ"),
+    _src("position_integrator_gain_error_Lam", "1", "ppm", "constant", 12, r"k_{2\Lambda}",
+         "gain error of the second integrator of Λ"),
     _src("correction_gain_error_x", "1", "ppm", "constant", 13, r"k_{cx}",
          "gain error of the correction loop about x (tuning 1/R)"),
     _src("correction_gain_error_y", "1", "ppm", "constant", 13, r"k_{cy}",
@@ -248,7 +264,7 @@ def relative_velocity(eq: Mechanisation, s: list[sp.Symbol]):
 
 
 def computer(eq: Mechanisation, s: list[sp.Symbol], f_x: sp.Expr, f_y: sp.Expr,
-             V_h: sp.Symbol):
+             V_h: sp.Symbol, errors: dict[str, sp.Expr] | None = None):
     """The IS-1-72A algorithm: derivatives of (Φ, Λ, A, V_x, V_y) and the platform rates.
 
     Parameters
@@ -261,17 +277,29 @@ def computer(eq: Mechanisation, s: list[sp.Symbol], f_x: sp.Expr, f_y: sp.Expr,
         Accelerations fed to the velocity integrators, m/s².
     V_h : sympy.Symbol
         Vertical velocity, m/s.
+    errors : dict, optional
+        Integrator errors of real work, by source name (offsets and gain errors of the
+        velocity integrators and of the integrators of (8.35)); none in ideal work.
     """
     Phi, _Lam, _A, _V_x, _V_y = s
+    err = errors or {}
+
+    def e(name: str) -> sp.Expr:
+        return err.get(name, sp.S.Zero)
+
     omega_x, omega_y, _ = platform_rates(eq, s)
     (_k_xi, _k_eta, k_zeta, _k_x, _k_y), (_v_x, _v_y, v_xi, v_eta) = relative_velocity(eq, s)
     # (8.35): orthodromic coordinates and the angle A (reference has no azimuth rate)
-    dPhi = v_eta / R
-    dLam = v_xi / (R * sp.cos(Phi))
+    dPhi = (1 + e("position_integrator_gain_error_Phi")) * v_eta / R + e(
+        "position_integrator_offset_Phi")
+    dLam = (1 + e("position_integrator_gain_error_Lam")) * v_xi / (R * sp.cos(Phi)) + e(
+        "position_integrator_offset_Lam")
     dA = -U * k_zeta - v_xi * sp.tan(Phi) / R
     # velocity integrators (absolute velocity, reference frame free in azimuth)
-    dV_x = f_x - omega_y * V_h
-    dV_y = f_y + omega_x * V_h
+    dV_x = (1 + e("velocity_integrator_gain_error_x")) * (
+        f_x - omega_y * V_h + e("velocity_integrator_offset_x"))
+    dV_y = (1 + e("velocity_integrator_gain_error_y")) * (
+        f_y + omega_x * V_h + e("velocity_integrator_offset_y"))
     return [dPhi, dLam, dA, dV_x, dV_y], (omega_x, omega_y)
 
 
@@ -352,7 +380,8 @@ def build() -> ModelDefinition:
     f_x = (1 + w["accel_scale_error_x"]) * (a_x + a_y * az_ - a_z * ay_) + w["accel_bias_x"]
     f_y = (1 + w["accel_scale_error_y"]) * (a_y - a_x * az_ + a_z * ax_) + w["accel_bias_y"]
     real = Mechanisation(computed=True)
-    computed_rhs, (om_x, om_y) = computer(real, x_c, f_x, f_y, V_h)
+    integrators = {name: w[name] for name in w if "_integrator_" in name}
+    computed_rhs, (om_x, om_y) = computer(real, x_c, f_x, f_y, V_h, integrators)
     # Platform: torqued in x, y by the integrator rates; free in azimuth (no command).
     cmd = ((1 + w["correction_gain_error_x"]) * om_x, (1 + w["correction_gain_error_y"]) * om_y,
            sp.S.Zero)
