@@ -461,6 +461,9 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     C = inverse.to_Matrix()
     characteristic = characteristic_polynomial(Fp, s)
     modes = split_modes(characteristic, parametrisation.frequencies, s)
+    poles = list(modes)
+    if not any(m.symbol is None for m in modes):  # step inputs add a pole at s = 0
+        poles.append(Mode("integrator", None, sp.S.Zero, 0))
     inner = sp.QQ.frac_field(*symbols) if symbols else sp.QQ
     Bd = DomainMatrix.from_list_sympy(B.rows, B.cols, B.tolist()).convert_to(outer)
     Xd = (inverse * Bd).to_dense().rep.to_ddm()
@@ -472,6 +475,6 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
         entries = [Xd[i][j] / s_elem if is_step else Xd[i][j] for i in range(Fp.rows)]
         laplace[name] = sp.Matrix([outer.to_sympy(e) for e in entries])
         responses[name] = sp.Matrix([
-            _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, modes, s, t, tidy)
+            _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, poles, s, t, tidy)
             for e in entries])
     return StaticAnalysis(Fp, characteristic, modes, C, responses, laplace, parametrisation)
