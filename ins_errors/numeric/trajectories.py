@@ -504,7 +504,10 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     """
     n_steps = step_count(duration, tau)
     p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
-    kin = _kinematics(model.name, profile.frame)
+    frame = profile.frame
+    if profile.static and not any(o.name == "heading" for o in model.outputs):
+        frame = "geographic"  # at rest the commands are zero in any frame
+    kin = _kinematics(model.name, frame)
     start = np.array([profile.latitude, profile.longitude, profile.heading])
     values0, rates0 = profile.commands(np.zeros(1))
     x0, c0 = (np.asarray(v).ravel() for v in kin.initial_state(start, values0[:, 0], p))
@@ -525,7 +528,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     commands = np.vstack([values, rates])
     _check_finite(commands, "motion commands", 0.0)
     stream = np.vstack([commands[:, 0:-1:2], commands[:, 1::2], commands[:, 2::2]])
-    loop = _truth_loop(model.name, profile.frame, tau / 2.0, tuple(p))
+    loop = _truth_loop(model.name, frame, tau / 2.0, tuple(p))
     result = loop.run(x0, np.zeros(0), n_half, stream,
                       progress="true motion" if progress else False)
     states = result.states[:, :, 0]
@@ -535,7 +538,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         k = int(np.argmax(bad))
         raise DomainError(f"the true motion leaves the model's domain at t = {k * tau / 2:.6g} s"
                           f" (e.g. passes a pole)")
-    u_all = _evaluate_inputs(model.name, profile.frame, tuple(p), states, commands[:, ::2])
+    u_all = _evaluate_inputs(model.name, frame, tuple(p), states, commands[:, ::2])
     _check_finite(u_all, "true inputs", tau / 2)
     return Trajectory(model.name, float(tau), n_steps, states[:, ::2], u_all[:, ::2],
                       u_all[:, 1::2], p, c0, False, profile.description)

@@ -1,0 +1,44 @@
+"""``ins-errors run SCENARIO.toml``: run a scenario file and write a report folder."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "run", help="run a scenario file (TOML) and write a report folder",
+        description="Run the direct, linear and refined error runs a scenario file describes "
+                    "(model, motion, run settings, error-source cases with units) and write "
+                    "a report folder: report.md, report.html, one plot per case and "
+                    "results.json. See examples/ for scenario files.")
+    parser.add_argument("scenario", help="scenario file, e.g. examples/lab_000_task1_gyro.toml")
+    parser.add_argument("--out", "-o", metavar="DIR",
+                        help="report folder (default: report_<scenario name> here)")
+    parser.add_argument("--json", action="store_true",
+                        help="print the results as JSON instead of the summary table")
+    parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.numeric.compare import markdown_summary
+    from ins_errors.report import write_report
+    from ins_errors.scenario import load_scenario, run_scenario
+
+    scenario = load_scenario(args.scenario)
+    steps = scenario.duration / scenario.step
+    result = run_scenario(scenario, progress=not args.no_progress and steps >= 100_000)
+    out = Path(args.out) if args.out else Path(f"report_{Path(args.scenario).stem}")
+    report = write_report(result, out)
+    if args.json:
+        json.dump(json.loads((out / "results.json").read_text(encoding="utf-8")), sys.stdout,
+                  indent=2)
+        print()
+    else:
+        print(markdown_summary(result.comparisons, scenario.title))
+        print(f"report: {report} (and report.html, plots, results.json in {out})")
+    return 0

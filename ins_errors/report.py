@@ -1,0 +1,127 @@
+"""Write a scenario's results as a report folder: Markdown, HTML, plots and JSON.
+
+The folder holds ``report.md`` (tables, plots, and the model's error equations as used),
+``report.html`` (the same, rendered; formulas typeset by MathJax when the page is viewed
+online, readable LaTeX otherwise), one ``case_<k>.png`` per case and ``results.json``.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+import re
+from importlib import resources
+from pathlib import Path
+
+from ins_errors.errors import InsErrorsError
+from ins_errors.scenario import ScenarioResult
+
+_MATH = re.compile(r"\$\$(.+?)\$\$", re.S)
+_INLINE_MATH = re.compile(r"(?<!\$)\$([^$\n]+?)\$(?!\$)")
+
+
+def _equations_document(model: str) -> str:
+    """The generated error_equations.md of a model, without its banner and title."""
+    text = resources.files("ins_errors.generated").joinpath(model, "error_equations.md")
+    body = text.read_text(encoding="utf-8")
+    body = re.sub(r"^<!--.*?-->\s*", "", body, flags=re.S)
+    return re.sub(r"^# .*\n", "", body, count=1)
+
+
+def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
+    """The report as Markdown."""
+    from ins_errors.numeric.compare import markdown_summary, markdown_table
+
+    s = result.scenario
+    lines = [f"# {s.title}", ""]
+    if s.description:
+        lines += [s.description, ""]
+    lines += [
+        "| setting | value |", "|---|---|",
+        f"| model | `{s.model}` |",
+        f"| motion | {result.motion_description} |",
+        f"| duration | {s.duration / 3600:g} h |",
+        f"| step τ | {s.step:g} s ({'rectangle method' if s.method == 'euler' else 'RK4'}) |",
+        f"| recorded every | {s.record:g} s |",
+        f"| Earth model | {s.ellipsoid} |",
+        "",
+        "Direct = real-work minus ideal-work run; linear = the derived first-order error "
+        "equations along the same motion; refined = with the second-order terms. A ratio is "
+        "the largest difference from the direct run divided by the largest direct error.",
+        "",
+        "## Summary", "",
+        markdown_summary(result.comparisons),
+    ]
+    for k, (comparison, plot) in enumerate(zip(result.comparisons, plots, strict=True), 1):
+        lines += [f"## Case {k}: {comparison.label}", "", f"![case {k}]({plot})", "",
+                  markdown_table(_selected(comparison, s.quantities))]
+    lines += ["## Equations used", "", _equations_document(s.model)]
+    return "\n".join(lines) + "\n"
+
+
+def _selected(comparison, quantities):
+    if quantities is None:
+        return comparison
+    from dataclasses import replace
+
+    return replace(comparison, metrics=[comparison.metric(q) for q in quantities])
+
+
+def markdown_to_html(text: str, title: str) -> str:
+    """Render Markdown (with tables and $$ math) to a standalone HTML page."""
+    import markdown
+
+    math: list[str] = []
+
+    def keep(match: re.Match, display: bool) -> str:
+        math.append((r"\[" if display else r"\(") + html.escape(match.group(1).strip())
+                    + (r"\]" if display else r"\)"))
+        return f"MATHPLACEHOLDER{len(math) - 1}END"
+
+    protected = _MATH.sub(lambda m: keep(m, True), text)
+    protected = _INLINE_MATH.sub(lambda m: keep(m, False), protected)
+    body = markdown.markdown(protected, extensions=["tables", "fenced_code"])
+    body = re.sub(r"MATHPLACEHOLDER(\d+)END", lambda m: math[int(m.group(1))], body)
+    return (
+        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+        f"<title>{html.escape(title)}</title>\n"
+        "<script async src=\"https://cdn.jsdelivr.net/npm/mathjax@3/es5/tex-mml-chtml.js\">"
+        "</script>\n<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;"
+        "padding:0 1em}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
+        "padding:2px 6px;font-size:90%}img{max-width:100%}</style>\n</head>\n<body>\n"
+        f"{body}\n</body>\n</html>\n"
+    )
+
+
+def write_report(result: ScenarioResult, folder: str | Path) -> Path:
+    """Write the report folder and return the path of ``report.md``.
+
+    Raises
+    ------
+    InsErrorsError
+        If the folder cannot be written.
+    """
+    from ins_errors.numeric.plots import plot_comparison
+
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise InsErrorsError(f"cannot create report folder {str(folder)!r}: "
+                             f"{error.strerror}") from None
+    plots = []
+    for k, comparison in enumerate(result.comparisons, 1):
+        name = f"case_{k}.png"
+        plot_comparison(comparison, folder / name, quantities=result.scenario.quantities,
+                        title=f"{result.scenario.title}\n{comparison.label}")
+        plots.append(name)
+    text = report_markdown(result, plots)
+    (folder / "report.md").write_text(text, encoding="utf-8")
+    (folder / "report.html").write_text(markdown_to_html(text, result.scenario.title),
+                                        encoding="utf-8")
+    summary = {"title": result.scenario.title, "model": result.scenario.model,
+               "motion": result.motion_description, "duration_s": result.scenario.duration,
+               "step_s": result.scenario.step, "method": result.scenario.method,
+               "cases": [c.to_dict() for c in result.comparisons]}
+    (folder / "results.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
+    return folder / "report.md"

@@ -1,0 +1,212 @@
+"""Scenario files: one TOML file describes a whole error study; one command runs it.
+
+A scenario names the model, the true motion, the run (duration, step, scheme), one or
+more *cases* (sets of error sources with units) and the quantities the reader wants.
+Every value with a unit is read by :mod:`ins_errors.units`. Example::
+
+    title = "Lab task 1, factor 5: drift of a horizontal gyro"
+    model = "orthodromic"
+
+    [motion]                 # see ins_errors.numeric.motion_spec
+    kind = "static"
+    latitude = "50 deg"
+
+    [run]
+    duration = "24 h"
+    step = "1 s"             # the manual's rectangle method with step τ
+    record = "60 s"
+    method = "euler"         # or "rk4"
+    refined = true           # also the second-order model
+    ellipsoid = "krasovsky"  # or "wgs84"
+
+    [[case]]
+    label = "0.01 deg/h about x"      # optional
+    gyro_drift_x = "0.01 deg/h"
+
+    [outputs]
+    quantities = ["alpha_y", "delta_latitude", "delta_v_N"]   # default: every excited one
+
+:func:`run_scenario` returns the comparisons; :mod:`ins_errors.report` writes them as a
+report folder (Markdown, HTML, plots, JSON).
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.units import parse_quantity
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+_TOP_KEYS = {"title", "description", "model", "motion", "run", "case", "outputs"}
+_RUN_KEYS = {"duration", "step", "record", "method", "refined", "ellipsoid"}
+_OUTPUT_KEYS = {"quantities"}
+
+
+class ScenarioError(InsErrorsError):
+    """A scenario file that cannot be read or does not describe a valid run."""
+
+
+@dataclass
+class Case:
+    """One set of error sources (SI values) with a label."""
+
+    label: str
+    sources: dict[str, float]
+
+
+@dataclass
+class Scenario:
+    """A parsed scenario (all values SI).
+
+    Attributes
+    ----------
+    title, description : str
+        Shown at the top of the report.
+    model : str
+        Model name.
+    motion : dict
+        Motion description for :func:`~ins_errors.numeric.motion_spec.motion_profile`.
+    duration, step, record : float
+        Seconds.
+    method : str
+        ``"euler"`` (rectangle) or ``"rk4"``.
+    refined : bool
+        Run the second-order model too.
+    ellipsoid : str
+        Earth model for the parameters.
+    cases : list of Case
+        Error-source sets, each run as its own case.
+    quantities : list of str or None
+        Quantities to show; ``None`` for every excited one.
+    base : Path
+        Folder of the scenario file (relative paths are taken from here).
+    """
+
+    title: str
+    model: str
+    motion: dict[str, Any]
+    duration: float
+    step: float
+    record: float
+    method: str = "euler"
+    refined: bool = True
+    ellipsoid: str = "krasovsky"
+    cases: list[Case] = field(default_factory=list)
+    quantities: list[str] | None = None
+    description: str = ""
+    base: Path = Path(".")
+
+
+def _check_keys(table: Mapping[str, Any], allowed: set[str], where: str) -> None:
+    for key in table:
+        if key not in allowed:
+            raise unknown_name(f"key in {where}", key, sorted(allowed))
+
+
+def load_scenario(path: str | Path) -> Scenario:
+    """Read and check a scenario file.
+
+    Raises
+    ------
+    ScenarioError, UnknownNameError, UnitError
+        One line naming the file, the key and what is wrong.
+    """
+    from ins_errors.numeric.model import load_model
+
+    path = Path(path)
+    try:
+        data = tomllib.loads(path.read_text(encoding="utf-8"))
+    except OSError as error:
+        raise ScenarioError(f"cannot read scenario {str(path)!r}: {error.strerror}") from None
+    except tomllib.TOMLDecodeError as error:
+        raise ScenarioError(f"{path.name}: not valid TOML: {error}") from None
+    _check_keys(data, _TOP_KEYS, path.name)
+    if "model" not in data:
+        raise ScenarioError(f"{path.name}: missing 'model = \"...\"'")
+    model = load_model(str(data["model"]))
+    run = data.get("run", {})
+    _check_keys(run, _RUN_KEYS, f"{path.name} [run]")
+    outputs = data.get("outputs", {})
+    _check_keys(outputs, _OUTPUT_KEYS, f"{path.name} [outputs]")
+    duration = parse_quantity(run.get("duration", "24 h"), "s", "run duration")
+    step = parse_quantity(run.get("step", "1 s"), "s", "run step")
+    record = parse_quantity(run.get("record", "60 s"), "s", "run record")
+    for name, value in (("duration", duration), ("step", step), ("record", record)):
+        if not value > 0:
+            raise ScenarioError(f"{path.name}: run {name} must be positive, got {value:g} s")
+    method = str(run.get("method", "euler"))
+    if method not in ("euler", "rk4"):
+        raise unknown_name("integration method", method, ("euler", "rk4"))
+    raw_cases = data.get("case", [])
+    if not raw_cases:
+        raise ScenarioError(f"{path.name}: no [[case]] with error sources")
+    cases = []
+    for k, raw in enumerate(raw_cases, start=1):
+        label = str(raw.get("label", ""))
+        sources = {}
+        for name, value in raw.items():
+            if name == "label":
+                continue
+            info = model.sources[model.index("sources", name)]
+            sources[name] = parse_quantity(value, info.unit, name)
+        if not sources:
+            raise ScenarioError(f"{path.name}: case {k} names no error source")
+        label = label or ", ".join(f"{n} = {raw[n]}" for n in sources)
+        cases.append(Case(label, sources))
+    quantities = outputs.get("quantities")
+    return Scenario(
+        title=str(data.get("title", path.stem)),
+        description=str(data.get("description", "")),
+        model=model.name,
+        motion=dict(data.get("motion", {})),
+        duration=duration,
+        step=step,
+        record=record,
+        method=method,
+        refined=bool(run.get("refined", True)),
+        ellipsoid=str(run.get("ellipsoid", "krasovsky")),
+        cases=cases,
+        quantities=list(quantities) if quantities is not None else None,
+        base=path.parent,
+    )
+
+
+@dataclass
+class ScenarioResult:
+    """What a scenario run produced."""
+
+    scenario: Scenario
+    motion_description: str
+    comparisons: list  # list[Comparison]
+
+
+def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
+    """Integrate the truth, then direct, linear (and refined) runs for every case."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.motion_spec import motion_profile
+
+    model = load_model(scenario.model)
+    profile = motion_profile(scenario.motion, base=scenario.base)
+    p = model.parameter_vector(ellipsoid=scenario.ellipsoid)
+    trajectory = tr.trajectory(model, profile, scenario.duration, scenario.step, p=p,
+                               progress=progress)
+    comparisons = compare(model, trajectory, [c.sources for c in scenario.cases],
+                          method=scenario.method, record_interval=scenario.record,
+                          refined=scenario.refined, progress=progress)
+    for comparison, case in zip(comparisons, scenario.cases, strict=True):
+        comparison.label = case.label
+        if scenario.quantities is not None:
+            for q in scenario.quantities:
+                comparison.metric(q)  # unknown quantity -> one-line error with suggestions
+    return ScenarioResult(scenario, profile.description, comparisons)
