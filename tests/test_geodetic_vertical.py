@@ -270,3 +270,20 @@ def test_bad_input(model):
         se.formula_10_maximum(6.0e6, 6.1e6)
     with pytest.raises(DomainError, match="positive"):
         se.formula_10_maximum(-1.0, 6.1e6)
+
+
+def test_correction_rates_9_miss_the_radius_of_curvature():
+    """Along a meridian from the equator the rate error of (9) is W (1/M − 1/R).
+
+    (9) turns the platform with W/R, R = a(1 − c sin²B) (a geocentric radius), while the
+    normal turns with W/M, M = a(1 − e²)/(1 − e² sin²B)^{3/2} the meridian radius of
+    curvature: at B = 0 the difference is W e²/(a(1 − e²)) ≈ 0.054 °/h at 250 m/s.
+    """
+    e2 = 1 - (B_AXIS / A) ** 2
+    error = se.correction_rate_error(0.0, 0.0, np.pi / 2, [0.0], speed=250.0)
+    expected = 250.0 * (1 / (A * (1 - e2)) - 1 / A)
+    assert np.abs(error).max() == pytest.approx(expected, rel=1e-3)
+    assert 0.05 < expected / DEG_H < 0.06
+    # it stays at this size along the flight (not a vanishing right-hand side)
+    along = se.correction_rate_error(np.radians(30), 0.0, np.radians(40), [0.2, 0.5])
+    assert np.abs(along).max() > 0.2 * expected
