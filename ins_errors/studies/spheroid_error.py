@@ -23,6 +23,9 @@ does not use the paper's formulas for the truth:
 * the error is the true geodetic (Φ, Λ) minus the computed one, compared with (10) as
   printed and with (10) completed by the start term −ν2⁰/cos Φ0 of ΔΛ that the print
   lacks (at t = 0 the error is zero).
+
+:func:`correction_rate_error` checks the paper's other claim, that the rates (9) keep
+the platform on the geodetic vertical, against the exact rate of the geodetic frame.
 """
 
 from __future__ import annotations
