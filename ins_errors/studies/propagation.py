@@ -1,0 +1,303 @@
+"""The error-propagation experiment of source 001 (north-pointing INS, static base).
+
+For each error source of the report (gyro drifts, accelerometer biases, initial velocity,
+position and attitude errors) at the report's magnitudes, three curves over 24 h:
+
+* **analytic**: the closed-form responses derived symbolically
+  (``generated/north_pointing/closed_forms.py``), full model and the report's reduced
+  model (Foucault cross-couplings dropped);
+* **linear numeric**: the first-order error equations integrated (RK4);
+* **direct numeric**: the nonlinear ideal- and real-work equations integrated side by
+  side (RK4, same step) and subtracted.
+
+The agreement figures (largest difference over the run relative to the largest value
+of the linear curve, per error quantity) go into a Markdown summary, and every source
+gets a PNG of its seven error quantities (the report's dVx, dVy, dL, dN, Qx, Qy, Qz).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.errors import DomainError
+from ins_errors.numeric.closed_forms import closed_forms
+from ins_errors.numeric.model import Model, load_model
+from ins_errors.numeric.simulate import simulate
+from ins_errors.numeric.trajectories import Trajectory
+from ins_errors.units import STANDARD_GRAVITY, registry
+
+MODEL = "north_pointing"
+
+QUANTITIES: tuple[tuple[str, str, str, str], ...] = (
+    # (error state, report name, display unit, label)
+    ("delta_v_E", "dVx", "m/s", "east velocity error"),
+    ("delta_v_N", "dVy", "m/s", "north velocity error"),
+    ("delta_latitude", "dL", "arcmin", "latitude error"),
+    ("delta_longitude", "dN", "arcmin", "longitude error"),
+    ("alpha_E", "Qx", "arcsec", "platform error angle east"),
+    ("alpha_N", "Qy", "arcsec", "platform error angle north"),
+    ("alpha_U", "Qz", "arcmin", "platform azimuth error"),
+)
+"""Error quantities in the report's order, with the units they are plotted in."""
+
+
+@dataclass(frozen=True)
+class Experiment:
+    """The report's experiment (001, part II); SI units, radians.
+
+    Attributes
+    ----------
+    latitude : float
+        Local latitude (the scrape shows only "…9°"; 39° per NOTES.md).
+    gyro_drift, accel_bias, velocity_error, position_error, level_error, azimuth_error
+        Magnitudes of the report: 0.1 °/h, 1e-4 g, 0.1 m/s, 0.0005°, 20″, 5′.
+    duration : float
+        24 h.
+    step, record_interval : float
+        RK4 step and sampling of the numeric runs, s.
+    """
+
+    latitude: float = float(np.radians(39.0))
+    gyro_drift: float = float(np.radians(0.1) / 3600)
+    accel_bias: float = 1e-4 * STANDARD_GRAVITY
+    velocity_error: float = 0.1
+    position_error: float = float(np.radians(0.0005))
+    level_error: float = float(np.radians(20 / 3600))
+    azimuth_error: float = float(np.radians(5 / 60))
+    duration: float = 24 * 3600.0
+    step: float = 10.0
+    record_interval: float = 300.0
+
+    def sources(self) -> dict[str, float]:
+        """Source name -> magnitude (SI), one run per source, in the report's order."""
+        return {
+            "gyro_drift_east": self.gyro_drift,
+            "gyro_drift_north": self.gyro_drift,
+            "gyro_drift_up": self.gyro_drift,
+            "accel_bias_east": self.accel_bias,
+            "accel_bias_north": self.accel_bias,
+            "initial_velocity_error_east": self.velocity_error,
+            "initial_velocity_error_north": self.velocity_error,
+            "initial_latitude_error": self.position_error,
+            "initial_longitude_error": self.position_error,
+            "initial_tilt_east": self.level_error,
+            "initial_tilt_north": self.level_error,
+            "initial_azimuth_error": self.azimuth_error,
+        }
+
+    def check(self) -> None:
+        """Raise a one-line :class:`DomainError` for an experiment that cannot run."""
+        for name in ("latitude", "gyro_drift", "accel_bias", "velocity_error",
+                     "position_error", "level_error", "azimuth_error", "duration", "step",
+                     "record_interval"):
+            if not np.isfinite(getattr(self, name)):
+                raise DomainError(f"experiment: {name} must be finite")
+        if abs(self.latitude) >= np.pi / 2:
+            raise DomainError("experiment: latitude at or beyond ±90°: the north-pointing "
+                              "formulas divide by cos φ")
+        for name in ("duration", "step", "record_interval"):
+            if getattr(self, name) <= 0:
+                raise DomainError(f"experiment: {name} must be positive")
+
+
+@dataclass
+class SourceCurves:
+    """The curves of one error source.
+
+    Attributes
+    ----------
+    source : str
+    magnitude : float
+        SI.
+    analytic, reduced, linear, direct : numpy.ndarray, shape (7, T)
+        Quantities in the order of :data:`QUANTITIES`, SI.
+    """
+
+    source: str
+    magnitude: float
+    analytic: np.ndarray
+    reduced: np.ndarray
+    linear: np.ndarray
+    direct: np.ndarray
+
+    def agreement(self, a: str, b: str) -> np.ndarray:
+        """max|a − b| / max|b| per quantity (NaN where b is identically zero)."""
+        x, y = getattr(self, a), getattr(self, b)
+        scale = np.max(np.abs(y), axis=1)
+        gap = np.max(np.abs(x - y), axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            return np.where(scale > 0, gap / scale, np.nan)
+
+
+@dataclass
+class PropagationResult:
+    """Everything the experiment produced."""
+
+    experiment: Experiment
+    times: np.ndarray
+    curves: list[SourceCurves] = field(default_factory=list)
+    periods: dict[str, dict[str, float]] = field(default_factory=dict)
+
+    def curve(self, source: str) -> SourceCurves:
+        """Curves of one source."""
+        for c in self.curves:
+            if c.source == source:
+                return c
+        from ins_errors.errors import unknown_name
+
+        raise unknown_name("error source of the experiment", source,
+                           [c.source for c in self.curves])
+
+    def summary_markdown(self) -> str:
+        """Agreement table and periods as Markdown."""
+        e = self.experiment
+        ureg = registry()
+        lines = [
+            "# Error propagation of the north-pointing INS (source 001 experiment)", "",
+            f"Static base at latitude {np.degrees(e.latitude):.4g}°, "
+            f"{e.duration / 3600:.4g} h; RK4 step {e.step:g} s, sampled every "
+            f"{e.record_interval:g} s. Sources one at a time: gyro drift "
+            f"{ureg.Quantity(e.gyro_drift, 'rad/s').to('deg/h').magnitude:.4g} °/h, "
+            f"accelerometer bias {e.accel_bias / STANDARD_GRAVITY:.4g} g, velocity error "
+            f"{e.velocity_error:g} m/s, position error {np.degrees(e.position_error):.4g}°, "
+            f"level error {np.degrees(e.level_error) * 3600:.4g}″, azimuth error "
+            f"{np.degrees(e.azimuth_error) * 60:.4g}′.", "",
+            "Agreement = max over the run of |difference| / max |linear numeric|, the worst "
+            "error quantity of each source (quantities that stay exactly zero skipped).", "",
+            "| source | analytic (full) vs linear numeric | direct vs linear numeric | "
+            "reduced vs full analytic | worst quantity (direct) |",
+            "|---|---|---|---|---|",
+        ]
+        for c in self.curves:
+            a = c.agreement("analytic", "linear")
+            d = c.agreement("direct", "linear")
+            r = c.agreement("reduced", "analytic")
+            worst = QUANTITIES[int(np.nanargmax(d))][1] if np.any(np.isfinite(d)) else "–"
+            lines.append(f"| `{c.source}` | {np.nanmax(a):.2e} | {np.nanmax(d):.2e} | "
+                         f"{np.nanmax(r):.2e} | {worst} |")
+        lines += ["", "Periods from the closed forms (min):", "",
+                  "| variant | mode | period, min |", "|---|---|---|"]
+        for variant, periods in self.periods.items():
+            for mode, value in periods.items():
+                lines.append(f"| {variant} | {mode} | {value / 60:.2f} |")
+        lines += ["", "24-hour values (direct numeric):", "",
+                  "| source | " + " | ".join(f"{q[1]}, {q[2]}" for q in QUANTITIES) + " |",
+                  "|---|" + "---|" * len(QUANTITIES)]
+        for c in self.curves:
+            row = [f"{_display(c.direct[k, -1], q[2]):.4g}" for k, q in enumerate(QUANTITIES)]
+            lines.append(f"| `{c.source}` | " + " | ".join(row) + " |")
+        return "\n".join(lines) + "\n"
+
+
+def _display(value_si, unit: str):
+    if unit == "m/s":
+        return value_si
+    return registry().Quantity(value_si, "rad").to(unit).magnitude
+
+
+def _static_trajectory(model: Model, e: Experiment, p: np.ndarray) -> Trajectory:
+    x = np.zeros(len(model.states))
+    x[[s.name for s in model.states].index("phi")] = e.latitude
+    u = np.zeros(len(model.inputs))
+    c = model.initial_condition_vector(latitude=e.latitude)
+    n_steps = round(e.duration / e.step)
+    return Trajectory(model.name, e.step, n_steps, x[:, None], u[:, None], u[:, None], p,
+                      c, True, f"static base at φ={np.degrees(e.latitude):.4g}°")
+
+
+def run(experiment: Experiment | None = None, progress: bool = False) -> PropagationResult:
+    """Run the experiment: closed forms, linear and direct numeric runs for every source.
+
+    Raises
+    ------
+    DomainError
+        Latitude at a pole, non-positive duration or step, non-finite values.
+    """
+    e = experiment or Experiment()
+    e.check()
+    model = load_model(MODEL)
+    p = model.parameter_vector()
+    trajectory = _static_trajectory(model, e, p)
+    sources = e.sources()
+    cases = [{name: value} for name, value in sources.items()]
+    sim = simulate(model, trajectory, cases, method="rk4", record_interval=e.record_interval,
+                   parts=("real", "linear"), jit=False, progress=progress)
+    times = sim.times
+    direct, linear = sim.direct_errors(), sim.linear_errors()
+    cf = closed_forms(model, e.latitude, p)
+    unit = {name: cf.responses(times, variant) for name, variant in
+            (("full", "full"), ("reduced", "report_reduced"))}
+    states = [s.name for s in model.error_states]
+    rows = [states.index(q[0]) for q in QUANTITIES]
+    result = PropagationResult(e, times)
+    for b, (name, magnitude) in enumerate(sources.items()):
+        j = [s.name for s in model.sources].index(name)
+        result.curves.append(SourceCurves(
+            name, magnitude,
+            analytic=unit["full"][rows, j] * magnitude,
+            reduced=unit["reduced"][rows, j] * magnitude,
+            linear=np.stack([linear[q[0]][:, b] for q in QUANTITIES]),
+            direct=np.stack([direct[q[0]][:, b] for q in QUANTITIES]),
+        ))
+    result.periods = {"full": cf.periods("full"), "report_reduced": cf.periods("report_reduced")}
+    return result
+
+
+def plot(result: PropagationResult, folder: str | Path,
+         sources: list[str] | None = None) -> list[Path]:
+    """One PNG per source (default every source): its seven error quantities, four curves.
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``folder/<source>.png``.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    hours = result.times / 3600
+    paths = []
+    chosen = [result.curve(name) for name in sources] if sources else result.curves
+    for c in chosen:
+        fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13), sharex=True)
+        for k, (ax, (_, short, unit, label)) in enumerate(zip(axes, QUANTITIES, strict=True)):
+            ax.plot(hours, _display(c.direct[k], unit), color="C0", lw=2.2, alpha=0.6,
+                    label="direct numeric")
+            ax.plot(hours, _display(c.linear[k], unit), color="C1", lw=1.2,
+                    label="linear numeric")
+            ax.plot(hours, _display(c.analytic[k], unit), color="k", lw=0.8, ls="--",
+                    label="analytic (full)")
+            ax.plot(hours, _display(c.reduced[k], unit), color="C3", lw=0.8, ls=":",
+                    label="analytic (report's reduced)")
+            ax.set_ylabel(f"{short}, {unit}", fontsize=8)
+            ax.set_title(label, fontsize=8, loc="left")
+            ax.grid(True, alpha=0.3)
+        axes[0].legend(fontsize=7, ncol=2)
+        axes[-1].set_xlabel("time, h")
+        fig.suptitle(f"north_pointing, {c.source} = {c.magnitude:.4g} SI, φ = "
+                     f"{np.degrees(result.experiment.latitude):.4g}°", fontsize=9)
+        fig.tight_layout()
+        path = folder / f"{c.source}.png"
+        fig.savefig(path, dpi=90)
+        plt.close(fig)
+        paths.append(path)
+    return paths
+
+
+def write_report(result: PropagationResult, folder: str | Path,
+                 sources: list[str] | None = None) -> Path:
+    """Write ``summary.md`` and the plots (of ``sources``, default all) into ``folder``."""
+    folder = Path(folder)
+    paths = plot(result, folder, sources)
+    text = result.summary_markdown() + "\nPlots:\n\n" + "".join(
+        f"- ![{p.stem}]({p.name})\n" for p in paths)
+    summary = folder / "summary.md"
+    summary.write_text(text)
+    return summary

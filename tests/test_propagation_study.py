@@ -1,0 +1,87 @@
+"""The 001 experiment: analytic vs linear numeric vs direct numeric, and physics checks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ins_errors.errors import DomainError, UnknownNameError
+from ins_errors.studies.propagation import QUANTITIES, Experiment, run, write_report
+
+U = 7.292115e-5
+
+
+@pytest.fixture(scope="module")
+def result():
+    return run()
+
+
+def _q(name: str) -> int:
+    return [q[0] for q in QUANTITIES].index(name)
+
+
+def test_analytic_equals_linear_numeric_for_every_source(result):
+    assert len(result.curves) == 12
+    for c in result.curves:
+        assert np.nanmax(c.agreement("analytic", "linear")) < 1e-6, c.source
+
+
+def test_direct_follows_linear_to_second_order(result):
+    for c in result.curves:
+        gap = c.agreement("direct", "linear")
+        if np.all(np.isnan(gap)):
+            continue
+        # the largest angles are a few arcminutes: second-order gaps of a few percent
+        assert np.nanmax(gap) < 5e-2, c.source
+
+
+def test_polar_gyro_drift_gives_the_textbook_longitude_drift(result):
+    """After 24 h (≈ a sidereal day) δλ ≈ −ε t (cos φ for north, sin φ for up drift)."""
+    e = result.experiment
+    t = result.times[-1]
+    for source, factor in (("gyro_drift_north", np.cos(e.latitude)),
+                           ("gyro_drift_up", np.sin(e.latitude))):
+        dlon = result.curve(source).direct[_q("delta_longitude"), -1]
+        assert dlon == pytest.approx(-e.gyro_drift * t * factor, rel=2e-2), source
+
+
+def test_bias_tilt_and_schuler_period(result):
+    """A north bias tilts the platform by −∇/g on average, swinging to −2∇/g."""
+    e = result.experiment
+    c = result.curve("accel_bias_north")
+    tilt = c.analytic[_q("alpha_E")]
+    first = result.times <= 2 * np.pi * np.sqrt(6_371_000.0 / 9.80665)
+    assert np.min(tilt[first]) == pytest.approx(-2 * e.accel_bias / 9.80665, rel=2e-2)
+    assert result.periods["report_reduced"]["Schuler"] / 60 == pytest.approx(84.4, abs=0.05)
+
+
+def test_reduced_model_is_good_early_and_wrong_after_a_day(result):
+    """Dropping the Foucault terms turns the Schuler swing by Ω sin φ·t: negligible in
+    the first half hour, a sign flip on the scale of a day (Foucault half-period 19 h)."""
+    c = result.curve("accel_bias_east")
+    k = _q("delta_v_E")
+    early = result.times <= 1800.0
+    scale = np.max(np.abs(c.analytic[k]))
+    drift = U * np.sin(result.experiment.latitude) * 1800.0
+    assert np.max(np.abs(c.reduced[k, early] - c.analytic[k, early])) / scale < 2 * drift
+    assert c.agreement("reduced", "analytic")[k] > 1.0
+
+
+def test_summary_and_plots(tmp_path, result):
+    summary = write_report(result, tmp_path, sources=["gyro_drift_north"])
+    text = summary.read_text()
+    assert "| `initial_azimuth_error` |" in text
+    assert "Schuler" in text
+    png = tmp_path / "gyro_drift_north.png"
+    assert png.exists() and png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    with pytest.raises(UnknownNameError, match="gyro_drift_north"):
+        result.curve("gyro_drift_nort")
+
+
+def test_bad_experiments_give_one_line_errors():
+    with pytest.raises(DomainError, match="±90"):
+        run(Experiment(latitude=np.pi / 2))
+    with pytest.raises(DomainError, match="duration"):
+        run(Experiment(duration=-1.0))
+    with pytest.raises(DomainError, match="finite"):
+        run(Experiment(gyro_drift=float("nan")))
