@@ -149,3 +149,28 @@ def test_bad_motions_raise_one_line_errors(orthodromic):
     polar = tr.great_circle_profile(89.9 * DEG, 0.0, 0.0, 300.0)
     with pytest.raises(DomainError, match=r"t = \d"):
         tr.trajectory(orthodromic, polar, 600.0, 1.0)
+
+
+def test_rest_with_a_moving_state_is_integrated():
+    """A free-azimuth platform at rest keeps turning in azimuth: the truth must follow it,
+    and the ideal equations fed the trajectory's inputs must reproduce that truth."""
+    import ins_errors
+
+    model = ins_errors.load_model("free_azimuth")
+    tau = 10.0
+    traj = tr.trajectory(model, tr.static_profile(np.radians(50), 0.3), 7200.0, tau)
+    assert not traj.constant
+    x, p = traj.truth[:, 0].copy(), traj.parameters
+    f = model.numpy.ideal_rhs
+    for k in range(traj.n_steps):  # independent RK4 over the sampled inputs
+        u0, um, u1 = traj.inputs[:, k], traj.midpoints[:, k], traj.inputs[:, k + 1]
+        k1 = f(x, u0, p)
+        k2 = f(x + tau / 2 * k1, um, p)
+        k3 = f(x + tau / 2 * k2, um, p)
+        k4 = f(x + tau * k3, u1, p)
+        x = x + tau / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+    np.testing.assert_allclose(x, traj.truth[:, -1], rtol=1e-6, atol=1e-6)
+    names = [o.name for o in model.outputs]
+    y = model.numpy.outputs(x, traj.inputs[:, -1], p)
+    assert y[names.index("latitude")] == pytest.approx(np.radians(50), abs=1e-9)
+    assert y[names.index("longitude")] == pytest.approx(0.3, abs=1e-9)

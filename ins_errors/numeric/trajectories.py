@@ -514,8 +514,11 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     if profile.static:
         u = np.asarray(kin.inputs(x0, values0[:, 0], rates0[:, 0], p)).ravel()
         _check_finite(u, "static-base inputs", 0.0)
-        return Trajectory(model.name, float(tau), n_steps, x0[:, None], u[:, None],
-                          u[:, None], p, c0, True, profile.description)
+        # a vehicle at rest may still have a moving state (e.g. a free-azimuth angle that
+        # follows the Earth's rotation): only a state at equilibrium is held constant
+        if np.abs(model.numpy.ideal_rhs(x0, u, p)).max() <= STATIC_TOLERANCE:
+            return Trajectory(model.name, float(tau), n_steps, x0[:, None], u[:, None],
+                              u[:, None], p, c0, True, profile.description)
     # integrate the truth with RK4 at half the step, commands at quarter steps
     n_half = 2 * n_steps
     n_values = (2 * n_half + 1) * 8 + (n_half + 1) * (2 * len(model.states) + len(model.inputs))
@@ -542,6 +545,10 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     _check_finite(u_all, "true inputs", tau / 2)
     return Trajectory(model.name, float(tau), n_steps, states[:, ::2], u_all[:, ::2],
                       u_all[:, 1::2], p, c0, False, profile.description)
+
+
+STATIC_TOLERANCE = 1e-12
+"""Largest |dx/dt| (SI per second) for which a state at rest is treated as constant."""
 
 
 @lru_cache(maxsize=16)
