@@ -7,11 +7,14 @@ writes
   terms a simplification drops, det(sI − F) and its modes (periods), the resolvent
   (sI − F)⁻¹ and the closed-form time responses to every error source (LaTeX);
 * ``generated/<model>/closed_forms.py``: numpy functions of those closed forms
-  (``responses_<variant>(t, x, p)``, ``frequencies_<variant>(x, p)``).
+  (``responses_<variant>(t, x, u, p)``, ``frequencies_<variant>(x, u, p)``).
 """
 
 from __future__ import annotations
 
+import multiprocessing
+import os
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import sympy as sp
@@ -128,16 +131,17 @@ def markdown(model: str, results: list[VariantResult]) -> str:
                 f"$$ F = {_matrix_latex(shown_F, names)} $$", "",
                 "Characteristic polynomial and its modes:", "",
                 f"$$ \\Delta(s) = \\det(sI - F) = {to_latex(delta, names)} $$", "",
-                *_period_text(result, model), "",
-                "### Resolvent (sI − F)⁻¹ = adj(sI − F) / Δ(s)", "",
-                "Entry C_ij is the Laplace transform of error state i for a unit initial "
-                "value of error state j; its numerator adj_ij(s) is listed (Δ(s) above).", ""]
-        characteristic = a.characteristic
-        for i, row_name in enumerate(states):
+                *_period_text(result, model), ""]
+        if setup.print_resolvent:
+            out += ["### Resolvent (sI − F)⁻¹ = adj(sI − F) / Δ(s)", "",
+                    "Entry C_ij is the Laplace transform of error state i for a unit "
+                    "initial value of error state j; its numerator adj_ij(s) is listed "
+                    "(Δ(s) above).", ""]
+        for i, row_name in enumerate(states if setup.print_resolvent else ()):
             for j, col_name in enumerate(states):
-                entry = a.resolvent[i, j]
+                entry = a.adjugate[i, j]
                 if entry != 0:
-                    numerator = sp.collect(sp.expand(sp.cancel(entry * characteristic)), S)
+                    numerator = sp.collect(entry, S)
                     out += [f"$$ \\operatorname{{adj}}_{{{i + 1}{j + 1}}} = "
                             f"[{names[sp.Symbol(row_name, real=True)]} \\leftarrow "
                             f"{names[sp.Symbol(col_name, real=True)]}(0)] = "
@@ -170,12 +174,16 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
     d = definition(model)
     t_arg = Argument("t", [T], "time since the start, s (shape (1, ...))")
     x_arg = Argument("x", d.x, "static-base state (only the position matters), SI units")
-    p_arg = Argument("p", d.p, "model parameters, SI units (sphere: ecc2 is not used)")
+    u_arg = Argument("u", d.u, "static-base inputs (only the vertical specific force "
+                               "matters, where it is an input), SI units")
+    p_arg = Argument("p", d.p, "model parameters, SI units (see BAKED)")
+    setup = SETUPS[model]()
     src = [_header(model, markdown=False),
            f'"""Closed-form static-base responses of the model {model!r} (numpy, broadcasting).'
-           '\n\nresponses_<variant>(t, x, p)[i, j, ...] is error state i at time t for a unit '
-           'error source j\n(SI), every other source zero. frequencies_<variant>(x, p) are '
-           'the mode frequencies, rad/s,\nin the order of MODES[<variant>]."""', _PRELUDE]
+           '\n\nresponses_<variant>(t, x, u, p)[i, j, ...] is error state i at time t for a '
+           'unit error source j\n(SI), every other source zero. frequencies_<variant>(x, u, p)'
+           ' are the mode frequencies,\nrad/s, in the order of MODES[<variant>]. BAKED: '
+           'parameter values the closed forms\nwere derived for."""', _PRELUDE]
     variants, modes = [], {}
     for result in results:
         a = result.analysis
@@ -183,7 +191,7 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
         variants.append(name)
         matrix = sp.Matrix.hstack(*[a.responses[s] for s in result.sources])
         matrix = matrix.applyfunc(a.in_model_symbols)
-        spec = FunctionSpec(f"responses_{name}", [t_arg, x_arg, p_arg], matrix,
+        spec = FunctionSpec(f"responses_{name}", [t_arg, x_arg, u_arg, p_arg], matrix,
                             f"Closed-form responses of variant {name!r}: unit source -> "
                             "error state.", "error state i for unit source j")
         src.append("\n" + emit_numpy_function(prepare(spec)) + "\n")
@@ -191,22 +199,41 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
         modes[name] = tuple(m.name for m in oscillators)
         freq = sp.Matrix([a.in_model_symbols(a.parametrisation.to_model(m.symbol))
                           for m in oscillators])
-        spec = FunctionSpec(f"frequencies_{name}", [x_arg, p_arg], freq,
+        spec = FunctionSpec(f"frequencies_{name}", [x_arg, u_arg, p_arg], freq,
                             f"Mode frequencies of variant {name!r}, rad/s.",
                             "one frequency per entry of MODES")
         src.append("\n" + emit_numpy_function(prepare(spec)) + "\n")
     src.append(f"\nVARIANTS = {tuple(variants)!r}\nMODES = {modes!r}\n"
                f"SOURCES = {tuple(s.name for s in d.sources)!r}\n"
+               f"BAKED = {setup.baked!r}\n"
                f"ERROR_STATES = {tuple(s.name for s in d.error_states)!r}\n")
     return "\n".join(src)
 
 
+def model_files(model: str) -> dict[str, str]:
+    """File name -> text of the two generated files of one model."""
+    results = static_analyses(model)
+    return {"transfer_functions.md": _header(model, markdown=True) + "\n"
+            + markdown(model, results),
+            "closed_forms.py": closed_form_module(model, results)}
+
+
 def write_transfer_functions(root: Path) -> None:
-    """The EXTRA_STEPS entry: write both files for every model with a static setup."""
-    for model in SETUPS:
-        results = static_analyses(model)
+    """The EXTRA_STEPS entry: write both files for every model with a static setup.
+
+    The models are analysed in parallel worker processes (each analysis is independent
+    and CPU-bound); the output does not depend on the order.
+    """
+    models = list(SETUPS)
+    workers = min(len(models), os.cpu_count() or 1)
+    if workers > 1:
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(workers, mp_context=context) as pool:
+            texts = list(pool.map(model_files, models))
+    else:
+        texts = [model_files(m) for m in models]
+    for model, files in zip(models, texts, strict=True):
         folder = root / model
         folder.mkdir(parents=True, exist_ok=True)
-        (folder / "transfer_functions.md").write_text(
-            _header(model, markdown=True) + "\n" + markdown(model, results))
-        (folder / "closed_forms.py").write_text(closed_form_module(model, results))
+        for name, text in files.items():
+            (folder / name).write_text(text)

@@ -223,7 +223,7 @@ def test_bad_input_gives_one_line_errors(model):
         closed_forms(model, LAT, g=0.0)
     with pytest.raises(DomainError, match="g must be positive"):
         closed_forms(model, LAT, g=-9.8)
-    with pytest.raises(DomainError, match="spherical"):
+    with pytest.raises(DomainError, match="spherical Earth"):
         closed_forms(model, LAT, ecc2=0.0066)
     with pytest.raises(DomainError, match="NaN"):
         closed_forms(model, LAT).responses([0.0, np.nan])

@@ -5,9 +5,10 @@
 
 """Closed-form static-base responses of the model 'north_pointing' (numpy, broadcasting).
 
-responses_<variant>(t, x, p)[i, j, ...] is error state i at time t for a unit error source j
-(SI), every other source zero. frequencies_<variant>(x, p) are the mode frequencies, rad/s,
-in the order of MODES[<variant>]."""
+responses_<variant>(t, x, u, p)[i, j, ...] is error state i at time t for a unit error source j
+(SI), every other source zero. frequencies_<variant>(x, u, p) are the mode frequencies,
+rad/s, in the order of MODES[<variant>]. BAKED: parameter values the closed forms
+were derived for."""
 
 import numpy as _np
 
@@ -22,7 +23,7 @@ def _as_vector(value, length, name, function):
     return array
 
 
-def responses_full(t, x, p):
+def responses_full(t, x, u, p):
     """Closed-form responses of variant 'full': unit source -> error state.
 
     Parameters
@@ -31,8 +32,10 @@ def responses_full(t, x, p):
         time since the start, s (shape (1, ...))
     x : array_like, shape (4, ...)
         static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (4, ...)
-        model parameters, SI units (sphere: ecc2 is not used)
+        model parameters, SI units (see BAKED)
 
     Returns
     -------
@@ -41,8 +44,9 @@ def responses_full(t, x, p):
     """
     t = _as_vector(t, 1, 't', 'responses_full')
     x = _as_vector(x, 4, 'x', 'responses_full')
+    u = _as_vector(u, 3, 'u', 'responses_full')
     p = _as_vector(p, 4, 'p', 'responses_full')
-    _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], p.shape[1:])
+    _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
     t_ = t[0]
     phi_ = x[2]
     R_ = p[0]
@@ -545,15 +549,17 @@ def responses_full(t, x, p):
     return _out
 
 
-def frequencies_full(x, p):
+def frequencies_full(x, u, p):
     """Mode frequencies of variant 'full', rad/s.
 
     Parameters
     ----------
     x : array_like, shape (4, ...)
         static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (4, ...)
-        model parameters, SI units (sphere: ecc2 is not used)
+        model parameters, SI units (see BAKED)
 
     Returns
     -------
@@ -561,8 +567,9 @@ def frequencies_full(x, p):
         one frequency per entry of MODES
     """
     x = _as_vector(x, 4, 'x', 'frequencies_full')
+    u = _as_vector(u, 3, 'u', 'frequencies_full')
     p = _as_vector(p, 4, 'p', 'frequencies_full')
-    _batch = _np.broadcast_shapes(x.shape[1:], p.shape[1:])
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
     phi_ = x[2]
     R_ = p[0]
     U_ = p[2]
@@ -577,7 +584,7 @@ def frequencies_full(x, p):
     return _out
 
 
-def responses_report_reduced(t, x, p):
+def responses_report_reduced(t, x, u, p):
     """Closed-form responses of variant 'report_reduced': unit source -> error state.
 
     Parameters
@@ -586,8 +593,10 @@ def responses_report_reduced(t, x, p):
         time since the start, s (shape (1, ...))
     x : array_like, shape (4, ...)
         static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (4, ...)
-        model parameters, SI units (sphere: ecc2 is not used)
+        model parameters, SI units (see BAKED)
 
     Returns
     -------
@@ -596,8 +605,9 @@ def responses_report_reduced(t, x, p):
     """
     t = _as_vector(t, 1, 't', 'responses_report_reduced')
     x = _as_vector(x, 4, 'x', 'responses_report_reduced')
+    u = _as_vector(u, 3, 'u', 'responses_report_reduced')
     p = _as_vector(p, 4, 'p', 'responses_report_reduced')
-    _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], p.shape[1:])
+    _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
     t_ = t[0]
     phi_ = x[2]
     R_ = p[0]
@@ -754,15 +764,17 @@ def responses_report_reduced(t, x, p):
     return _out
 
 
-def frequencies_report_reduced(x, p):
+def frequencies_report_reduced(x, u, p):
     """Mode frequencies of variant 'report_reduced', rad/s.
 
     Parameters
     ----------
     x : array_like, shape (4, ...)
         static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (4, ...)
-        model parameters, SI units (sphere: ecc2 is not used)
+        model parameters, SI units (see BAKED)
 
     Returns
     -------
@@ -770,8 +782,9 @@ def frequencies_report_reduced(x, p):
         one frequency per entry of MODES
     """
     x = _as_vector(x, 4, 'x', 'frequencies_report_reduced')
+    u = _as_vector(u, 3, 'u', 'frequencies_report_reduced')
     p = _as_vector(p, 4, 'p', 'frequencies_report_reduced')
-    _batch = _np.broadcast_shapes(x.shape[1:], p.shape[1:])
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
     R_ = p[0]
     U_ = p[2]
     g_ = p[3]
@@ -784,4 +797,5 @@ def frequencies_report_reduced(x, p):
 VARIANTS = ('full', 'report_reduced')
 MODES = {'full': ('Earth', 'Schuler − Foucault', 'Schuler + Foucault'), 'report_reduced': ('Earth', 'Schuler')}
 SOURCES = ('gyro_drift_east', 'gyro_drift_north', 'gyro_drift_up', 'accel_bias_east', 'accel_bias_north', 'initial_velocity_error_east', 'initial_velocity_error_north', 'initial_latitude_error', 'initial_longitude_error', 'initial_tilt_east', 'initial_tilt_north', 'initial_azimuth_error')
+BAKED = {'ecc2': 0.0}
 ERROR_STATES = ('delta_v_E', 'delta_v_N', 'delta_latitude', 'delta_longitude', 'alpha_E', 'alpha_N', 'alpha_U')

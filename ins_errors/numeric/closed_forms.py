@@ -16,6 +16,7 @@ import numpy as np
 
 from ins_errors.errors import DomainError, ShapeError, UnknownNameError, unknown_name
 from ins_errors.numeric.model import Model, load_model
+from ins_errors.units import STANDARD_GRAVITY
 
 
 def closed_form_module(model: Model | str) -> ModuleType:
@@ -42,13 +43,16 @@ class ClosedForms:
     ----------
     model : Model
     x : numpy.ndarray, shape (n,)
-        Static-base state (zero velocity; only the position matters).
+        Static-base state (zero ground velocity at the chosen latitude).
+    u : numpy.ndarray, shape (nu,)
+        Static-base inputs (only the vertical specific force is used, where it is one).
     p : numpy.ndarray, shape (np,)
-        Parameters.
+        Parameters (the model's BAKED values where the closed forms fix them).
     """
 
     model: Model
     x: np.ndarray
+    u: np.ndarray
     p: np.ndarray
 
     @property
@@ -84,7 +88,7 @@ class ClosedForms:
         if np.any(t < 0):
             raise DomainError("closed-form responses hold for t >= 0 only")
         function = getattr(self.module, f"responses_{variant}")
-        return function(t[None, ...], self.x, self.p)
+        return function(t[None, ...], self.x, self.u, self.p)
 
     def response(self, t, sources: dict[str, float], variant: str = "full") -> np.ndarray:
         """Error states for the given sources (SI) acting together, shape (ne,) + t.shape."""
@@ -94,7 +98,7 @@ class ClosedForms:
     def frequencies(self, variant: str = "full") -> dict[str, float]:
         """Mode name -> angular frequency, rad/s."""
         variant = self._variant(variant)
-        values = getattr(self.module, f"frequencies_{variant}")(self.x, self.p)
+        values = getattr(self.module, f"frequencies_{variant}")(self.x, self.u, self.p)
         return dict(zip(self.module.MODES[variant], np.asarray(values, dtype=float),
                         strict=True))
 
@@ -104,7 +108,7 @@ class ClosedForms:
 
 
 def closed_forms(model: Model | str, latitude: float, p: np.ndarray | None = None,
-                 **parameters: float) -> ClosedForms:
+                 gravity: float = STANDARD_GRAVITY, **parameters: float) -> ClosedForms:
     """Closed forms of ``model`` on a static base at ``latitude`` (rad).
 
     Parameters
@@ -113,48 +117,51 @@ def closed_forms(model: Model | str, latitude: float, p: np.ndarray | None = Non
     latitude : float
         rad; must be strictly between −π/2 and π/2.
     p : numpy.ndarray, optional
-        Parameter vector (default: the model's defaults with ``parameters`` applied).
+        Parameter vector (default: the model's defaults, then the values the closed
+        forms were derived for (``BAKED``), then ``parameters``).
+    gravity : float
+        Vertical specific force at rest, m/s², for models where it is an input
+        (``a_zeta`` of ``orthodromic``); ``north_pointing`` has ``g`` as a parameter.
     **parameters : float
         Parameter overrides by name (``R=...``, ``g=...``), SI.
 
     Raises
     ------
     DomainError
-        Latitude at a pole, R <= 0, g <= 0, non-finite values, or an ellipsoid (the
-        closed forms are derived for the sphere).
+        Latitude at a pole, R <= 0, g <= 0, non-finite values, or parameters other than
+        those the closed forms were derived for (e.g. an ellipsoid).
     """
     model = load_model(model) if isinstance(model, str) else model
-    closed_form_module(model)
+    baked = getattr(closed_form_module(model), "BAKED", {})
+    names = [q.name for q in model.parameters]
     if p is None:
-        p = _default_parameters(model, parameters)
+        values = {q.name: float(q.default) for q in model.parameters}
+        values.update(baked)
+        for key, value in parameters.items():
+            model.index("parameters", key)
+            values[key] = float(value)
+        p = np.array([values[n] for n in names])
     elif parameters:
         raise ShapeError("give either a parameter vector p or parameter overrides, not both")
+    p = model._vector(p, model.parameters, "parameters p", "closed forms")
     latitude = float(latitude)
     if not np.isfinite(latitude):
         raise DomainError(f"latitude must be finite, got {latitude}")
-    names = [s.name for s in model.states]
-    x = np.zeros(len(names))
-    x[_latitude_index(model)] = latitude
-    x, _u, p = model._check_state(x, np.zeros(len(model.inputs)), p, "closed forms")
-    names = [q.name for q in model.parameters]
-    if "ecc2" in names and p[names.index("ecc2")] != 0:
-        raise DomainError("closed forms are derived for a spherical Earth: ecc2 must be 0")
-    return ClosedForms(model, x, p)
-
-
-def _default_parameters(model: Model, overrides: dict[str, float]) -> np.ndarray:
-    values = {q.name: float(q.default) for q in model.parameters}
-    for key, value in overrides.items():
-        model.index("parameters", key)
-        values[key] = float(value)
-    p = np.array([values[q.name] for q in model.parameters])
-    if not np.all(np.isfinite(p)):
-        raise DomainError("parameters contain NaN or infinite values")
-    return p
-
-
-def _latitude_index(model: Model) -> int:
-    for k, state in enumerate(model.states):
-        if state.name in ("phi", "latitude"):
-            return k
-    raise UnknownNameError(f"model {model.name!r} has no latitude state")
+    inputs = [i.name for i in model.inputs]
+    u = np.zeros(len(inputs))
+    if "a_zeta" in inputs:
+        if not gravity > 0:
+            raise DomainError(f"gravity (vertical specific force a_zeta) must be positive, "
+                              f"got {gravity}")
+        u[inputs.index("a_zeta")] = gravity
+    c = model.initial_condition_vector(latitude=latitude)
+    model._domain(model.numpy.initial_domain_margins(c, u, p), model.meta.INITIAL_DOMAIN,
+                  "closed forms")
+    x = model.initial_state(c, u, p)
+    x, u, p = model._check_state(x, u, p, "closed forms")
+    for name, value in baked.items():
+        if not np.isclose(p[names.index(name)], value, rtol=1e-12, atol=0):
+            what = "a spherical Earth" if name in ("e2", "ecc2") else f"{name} = {value:g}"
+            raise DomainError(f"the closed forms of {model.name} are derived for {what}; "
+                              f"got {name} = {p[names.index(name)]:g}")
+    return ClosedForms(model, x, u, p)

@@ -378,6 +378,8 @@ class StaticAnalysis:
     modes : list of Mode
     resolvent : sympy.Matrix
         (sI − F)⁻¹.
+    adjugate : sympy.Matrix
+        adj(sI − F) = (sI − F)⁻¹ det(sI − F), polynomial entries in s.
     responses : dict
         Source name -> column (sympy.Matrix, shape (n, 1)) of closed-form responses to a
         unit source: a constant source (column of G, step input) or an initial error
@@ -391,6 +393,7 @@ class StaticAnalysis:
     characteristic: sp.Expr
     modes: list[Mode]
     resolvent: sp.Matrix
+    adjugate: sp.Matrix
     responses: dict[str, sp.Matrix]
     laplace: dict[str, sp.Matrix]
     parametrisation: Parametrisation
@@ -460,6 +463,8 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
         outer).inv()
     C = inverse.to_Matrix()
     characteristic = characteristic_polynomial(Fp, s)
+    determinant = outer.from_sympy(sp.expand(characteristic))
+    adjugate = (inverse * determinant).to_Matrix()
     modes = split_modes(characteristic, parametrisation.frequencies, s)
     poles = list(modes)
     if not any(m.symbol is None for m in modes):  # step inputs add a pole at s = 0
@@ -477,4 +482,5 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
         responses[name] = sp.Matrix([
             _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, poles, s, t, tidy)
             for e in entries])
-    return StaticAnalysis(Fp, characteristic, modes, C, responses, laplace, parametrisation)
+    return StaticAnalysis(Fp, characteristic, modes, C, adjugate, responses, laplace,
+                          parametrisation)

@@ -29,7 +29,6 @@ from ins_errors.models import definition
 from ins_errors.models.base import ModelDefinition
 from ins_errors.symbolic.analytic import Frequency, Parametrisation, StaticAnalysis, analyse
 from ins_errors.symbolic.simplifications import DroppedTerm, simplification
-from ins_errors.symbolic.variation import ErrorModel, vary
 
 OMEGA_N = sp.Symbol("Omega_N", positive=True)
 """Ω_N = Ω cos φ, rad/s."""
@@ -86,14 +85,23 @@ class StaticSetup:
     description : str
         One paragraph for the documents.
     variants : list of Variant
-    state_arguments : list of sympy.Symbol
-        Model symbols the closed forms may depend on (for the emitted code).
+    initial_point : dict
+        Substitution of the initial conditions ``c`` (for the initial-error matrix).
+    print_resolvent : bool
+        List the resolvent entries in the document (off for large models).
+    baked : dict
+        Parameter name -> value substituted before the analysis (numeric-parameter
+        substitution where a fully symbolic analysis is too slow); the closed forms hold
+        only for these values, and the numeric loader checks them.
     """
 
     model: str
     point: dict[sp.Symbol, sp.Expr]
     description: str
     variants: list[Variant] = field(default_factory=list)
+    initial_point: dict[sp.Symbol, sp.Expr] = field(default_factory=dict)
+    baked: dict[str, float] = field(default_factory=dict)
+    print_resolvent: bool = True
 
 
 @dataclass
@@ -147,11 +155,79 @@ def _north_pointing() -> StaticSetup:
         [Variant("full", "Full static-base model (Foucault cross-couplings kept)", full,
                  factored=False),
          Variant("report_reduced", "Report's reduced model (Foucault cross-couplings "
-                 "dropped)", reduced, "report_reduced")])
+                 "dropped)", reduced, "report_reduced")],
+        baked={"ecc2": 0.0})
+
+
+# --------------------------------------------------------------------------------------
+# orthodromic
+# --------------------------------------------------------------------------------------
+ORTHODROMIC_RADIUS = 6_378_245
+"""Sphere radius of the orthodromic static analysis, m (Krasovsky a, e² = 0)."""
+ORTHODROMIC_EARTH_RATE = sp.Rational(7_292_115, 10**11)
+"""Earth rate of the orthodromic static analysis, rad/s (NOTES.md)."""
+OMEGA_E = sp.Symbol("Omega_E", positive=True)
+"""Earth-rate mode frequency of the orthodromic analysis (= the baked U), rad/s."""
+
+
+def _orthodromic() -> StaticSetup:
+    from ins_errors.models.orthodromic import absolute_velocity, direction_cosines
+
+    d = definition("orthodromic")
+    sym = {v.name: v.symbol for v in (*d.states, *d.inputs, *d.parameters)}
+    c = {v.name: v.symbol for v in d.initial_conditions}
+    phi = sp.Symbol("phi", real=True)
+    a_num, U_num = sp.Integer(ORTHODROMIC_RADIUS), ORTHODROMIC_EARTH_RATE
+    numbers = {sym["a"]: a_num, sym["U"]: U_num, sym["e2"]: 0, sym["h"]: 0,
+               sym["V_zeta"]: 0}
+    dc = direction_cosines(phi, 0, 0)
+    point = dict(zip((sym[n] for n in ("u11", "u21", "u31", "u12", "u22", "u32")), dc,
+                     strict=True))
+    velocity = absolute_velocity(dc, 0, 0, 0, 0)
+    point[sym["V_xi"]], point[sym["V_eta"]] = (sp.simplify(v.xreplace(numbers))
+                                               for v in velocity)
+    point.update(numbers)
+    # consistent true inputs: the apparent accelerations that keep V constant
+    d_ideal = d.ideal_rhs_expanded().xreplace({sym["a_xi"]: 0, sym["a_eta"]: 0})
+    d_ideal = d_ideal.xreplace(point)
+    point[sym["a_xi"]] = sp.simplify(-d_ideal[6])
+    point[sym["a_eta"]] = sp.simplify(-d_ideal[7])
+    a_zeta = sym["a_zeta"]
+
+    def rewrite(e: sp.Expr) -> sp.Expr:
+        e = e.subs(sp.tan(phi), sp.sin(phi) / sp.cos(phi))
+        e = e.subs({sp.sin(phi): OMEGA_U / U_num, sp.cos(phi): OMEGA_N / U_num})
+        return e.subs(a_zeta, a_num * (OMEGA_BAR**2 - OMEGA_U**2))
+
+    u11, u31 = sym["u11"], sym["u31"]
+    full = Parametrisation(
+        rewrite,
+        {OMEGA_PLUS: OMEGA_BAR + OMEGA_U, OMEGA_MINUS: OMEGA_BAR - OMEGA_U,
+         OMEGA_BAR: sp.sqrt(a_zeta / a_num + OMEGA_U**2), OMEGA_N: U_num * u11,
+         OMEGA_U: U_num * u31, OMEGA_E: U_num},
+        (Frequency(OMEGA_PLUS, (OMEGA_BAR + OMEGA_U) ** 2, "Schuler + Foucault"),
+         Frequency(OMEGA_MINUS, (OMEGA_BAR - OMEGA_U) ** 2, "Schuler − Foucault"),
+         Frequency(OMEGA_E, OMEGA_N**2 + OMEGA_U**2, "Earth")),
+        "Ω_N = U cos φ = U u₁₁, Ω_U = U sin φ = U u₃₁ (ξ north), ω̄ = √(a_ζ/a + Ω_U²), "
+        "ω± = ω̄ ± Ω_U; a and U numeric")
+    return StaticSetup(
+        "orthodromic", point,
+        "Static base with the ξ axis north (χ = 0) at longitude 0, height 0, on the "
+        f"sphere of radius a = {ORTHODROMIC_RADIUS} m (e² = 0), U = {float(U_num)} rad/s; "
+        "V_ξ, V_η are the absolute velocities of the Earth's rotation there and a_ξ, a_η "
+        "the consistent apparent accelerations (V̇ = 0); a_ζ ≈ g stays symbolic, as does "
+        "the latitude φ. Numeric-parameter substitution: with a and U symbolic the 11×11 "
+        "analysis of all 26 sources takes about twice as long, so they are fixed (the "
+        "closed forms check them when evaluated).",
+        [Variant("full", "Orthodromic INS, static base", full, factored=False)],
+        initial_point={c["latitude"]: phi, c["longitude"]: 0, c["heading"]: 0,
+                       c["v_N"]: 0, c["v_E"]: 0},
+        baked={"a": float(a_num), "U": float(U_num), "e2": 0.0}, print_resolvent=False)
 
 
 SETUPS: dict[str, Callable[[], StaticSetup]] = {
     "north_pointing": _north_pointing,
+    "orthodromic": _orthodromic,
 }
 """Models with a symbolic static-base analysis."""
 
@@ -159,17 +235,25 @@ SETUPS: dict[str, Callable[[], StaticSetup]] = {
 # --------------------------------------------------------------------------------------
 # Running
 # --------------------------------------------------------------------------------------
-@cache
-def _error_model(name: str) -> ErrorModel:
-    return vary(definition(name))
+def static_matrices(name: str, point: dict, initial_point: dict | None = None
+                    ) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
+    """F, G and the initial-error matrix E at a static point (first order only).
 
+    The same Jacobians as :func:`~ins_errors.symbolic.variation.vary`, without its
+    second-order terms (which the static analysis does not need and which dominate
+    its cost).
+    """
+    d = definition(name)
+    at_ideal, no_errors = d.at_ideal(), d.no_errors()
+    real_rhs = d.real_rhs_expanded()
 
-def static_matrices(name: str, point: dict) -> tuple[sp.Matrix, sp.Matrix, sp.Matrix]:
-    """F, G and the initial-error matrix E at a static point (E in the model's c)."""
-    em = _error_model(name)
-    F = em.state_matrix.xreplace(point)
-    G = em.source_matrix.xreplace(point)
-    E = em.initial_error_matrix.xreplace(point)
+    def at(m: sp.Matrix) -> sp.Matrix:
+        return m.xreplace(at_ideal).xreplace(no_errors).xreplace(point)
+
+    F = at(real_rhs.jacobian(d.real_states))
+    G = at(real_rhs.jacobian(d.w))
+    E = d.initial_real_state.jacobian(d.w).xreplace(no_errors)
+    E = E.xreplace(initial_point or {}).xreplace(point)
     return F, G, E
 
 
@@ -190,8 +274,9 @@ def static_analyses(name: str) -> list[VariantResult]:
     """Analyse every variant of model ``name`` at its static base (cached)."""
     setup = SETUPS[name]()
     d = definition(name)
-    F, G, E = static_matrices(name, setup.point)
-    if E.free_symbols:
+    F, G, E = static_matrices(name, setup.point, setup.initial_point)
+    E = E.applyfunc(sp.simplify)
+    if E.free_symbols - F.free_symbols:
         raise ValueError(f"{name}: the initial-error matrix depends on {E.free_symbols}; "
                          "closed forms need it constant")
     columns = source_columns(d, G, E)
