@@ -256,3 +256,50 @@ def _no_closed_forms():
     except UnknownNameError:
         raise
     raise AssertionError("expected UnknownNameError")
+
+
+def test_orthodromic_closed_forms_equal_numeric_integration():
+    """Source 000 at a static base (ξ north, sphere): every factor, 24 h, DOP853."""
+    model = load_model("orthodromic")
+    latitude = np.radians(50.0)
+    cf = closed_forms(model, latitude)
+    x, u, p = cf.x, cf.u.copy(), cf.p
+    f = model.ideal_rhs(x, u, p)  # consistent apparent accelerations: V̇ = 0
+    u[0], u[1] = -f[6], -f[7]
+    assert np.max(np.abs(model.ideal_rhs(x, u, p))) < 1e-15
+    F, G = model.state_matrix(x, u, p), model.source_matrix(x, u, p)
+    E = model.initial_error_matrix(model.initial_condition_vector(latitude=latitude), u, p)
+    times = np.linspace(0.0, DAY, 97)
+    numeric = _integrate(F, G, E, times)
+    analytic = cf.responses(times)
+    checked = 0
+    for j in range(G.shape[1]):
+        for i in range(F.shape[0]):
+            scale = np.max(np.abs(numeric[i, j]))
+            if np.max(np.abs(analytic[i, j])) == 0:  # round-off of a unit (SI) source
+                assert scale < 1e-12 * max(1.0, np.max(np.abs(numeric[:, j]))), (j, i)
+                continue
+            assert np.max(np.abs(analytic[i, j] - numeric[i, j])) / scale < 1e-6
+            checked += 1
+    assert checked > 100
+    # modes: Earth, and the Schuler pair split by ±Ω sin φ (Foucault), as eigenvalues say
+    periods = cf.periods()
+    assert periods["Earth"] == pytest.approx(2 * np.pi / 7.292115e-5, rel=1e-12)
+    w = {k: 2 * np.pi / v for k, v in periods.items()}
+    assert (w["Schuler + Foucault"] - w["Schuler − Foucault"]) / 2 == pytest.approx(
+        7.292115e-5 * np.sin(latitude), rel=1e-9)
+    assert w["Schuler + Foucault"] * w["Schuler − Foucault"] == pytest.approx(
+        u[2] / 6_378_245.0, rel=1e-9)
+    eig = np.sort(np.unique(np.round(np.abs(np.linalg.eigvals(F).imag), 10)))[1:]
+    assert np.allclose(np.sort(list(w.values())), eig, rtol=1e-6)
+
+
+def test_orthodromic_closed_forms_check_their_parameters():
+    with pytest.raises(DomainError, match="spherical Earth"):
+        closed_forms("orthodromic", 0.5, e2=0.0066)
+    with pytest.raises(DomainError, match=r"a = 6.37824e\+06"):
+        closed_forms("orthodromic", 0.5, a=6_378_137.0)
+    with pytest.raises(DomainError, match="gravity"):
+        closed_forms("orthodromic", 0.5, gravity=0.0)
+    with pytest.raises(DomainError, match="90"):
+        closed_forms("orthodromic", np.pi / 2)

@@ -85,3 +85,20 @@ def test_bad_experiments_give_one_line_errors():
         run(Experiment(duration=-1.0))
     with pytest.raises(DomainError, match="finite"):
         run(Experiment(gyro_drift=float("nan")))
+
+
+def test_orthodromic_day_numeric_vs_analytic():
+    """Source 000, task 4: every factor over 24 h; closed forms = linear numeric."""
+    from ins_errors.studies.propagation import orthodromic_day
+
+    day = orthodromic_day()
+    excited = day.excited()
+    assert excited.sum() >= 19  # gains on zero static-base rates are not excited
+    assert np.nanmax(day.agreement("analytic", "linear")) < 1e-6
+    assert np.nanmax(day.agreement("direct", "linear")) < 0.1
+    for j in np.nonzero(~excited)[0]:  # numerics of an unexcited factor: round-off
+        assert np.max(np.abs(day.linear[:, j])) < 1e-15, day.sources[j]
+    text = day.summary_markdown()
+    assert "not excited" in text and "`gyro_drift_z`" in text
+    with pytest.raises(DomainError, match="90"):
+        orthodromic_day(latitude=np.pi / 2)
