@@ -19,6 +19,7 @@ COMMAND_MODULES = (
     "ins_errors.commands.budget",
     "ins_errors.commands.check",
     "ins_errors.commands.study",
+    "ins_errors.commands.propagation",
 )
 """Modules that each register one subcommand, in the order ``--help`` lists them."""
 

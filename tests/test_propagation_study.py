@@ -102,3 +102,19 @@ def test_orthodromic_day_numeric_vs_analytic():
     assert "not excited" in text and "`gyro_drift_z`" in text
     with pytest.raises(DomainError, match="90"):
         orthodromic_day(latitude=np.pi / 2)
+
+
+def test_command_line(tmp_path, capsys):
+    from ins_errors.cli import main
+
+    assert main(["propagation", "--hours", "2", "--latitude", "49deg"]) == 0
+    out = capsys.readouterr().out
+    assert "latitude 49°" in out and "| `gyro_drift_up` |" in out
+    assert main(["propagation", "--orthodromic", "--hours", "1", "--out", str(tmp_path)]) == 0
+    assert "not excited" in (tmp_path / "orthodromic_day.md").read_text()
+    capsys.readouterr()
+    assert main(["propagation", "--latitude=-90deg"]) == 2
+    assert "±90" in capsys.readouterr().err
+    assert main(["propagation", "--drift", "0.1 m/s"]) == 2
+    assert "--drift" in capsys.readouterr().err
+    assert main(["propagation", "--hours", "0"]) == 2
