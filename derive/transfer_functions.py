@@ -92,6 +92,14 @@ def _mode_product(result: VariantResult) -> sp.Expr:
     return product
 
 
+def _shorten(expr: sp.Expr, modes) -> sp.Expr:
+    """Write each mode's ω² (e.g. Ω_N² + Ω_U²) as its symbol squared (Ω²), for reading."""
+    for mode in modes:
+        if mode.symbol is not None and mode.squared.is_Add:
+            expr = expr.subs(mode.squared, mode.symbol**2)
+    return expr
+
+
 def markdown(model: str, results: list[VariantResult]) -> str:
     """The ``transfer_functions.md`` document of one model."""
     d = definition(model)
@@ -141,7 +149,7 @@ def markdown(model: str, results: list[VariantResult]) -> str:
             for j, col_name in enumerate(states):
                 entry = a.adjugate[i, j]
                 if entry != 0:
-                    numerator = sp.collect(entry, S)
+                    numerator = sp.collect(_shorten(entry, a.modes), S)
                     out += [f"$$ \\operatorname{{adj}}_{{{i + 1}{j + 1}}} = "
                             f"[{names[sp.Symbol(row_name, real=True)]} \\leftarrow "
                             f"{names[sp.Symbol(col_name, real=True)]}(0)] = "
@@ -165,7 +173,8 @@ def markdown(model: str, results: list[VariantResult]) -> str:
             for i, state in enumerate(d.error_states):
                 if column[i] != 0:
                     out += [f"$$ {state.latex}(t) = {source.latex}\\,\\left("
-                            f"{to_latex(column[i], names)}\\right) $$", ""]
+                            f"{to_latex(_shorten(column[i], a.modes), names)}\\right) $$",
+                            ""]
     return "\n".join(out) + "\n"
 
 
