@@ -152,8 +152,7 @@ def _north_pointing() -> StaticSetup:
         "north_pointing", point,
         "Static base: V_E = V_N = 0, a_E = a_N = 0 (so f_U = g), h = 0, sphere "
         "(ecc2 = 0); the latitude φ stays symbolic.",
-        [Variant("full", "Full static-base model (Foucault cross-couplings kept)", full,
-                 factored=False),
+        [Variant("full", "Full static-base model (Foucault cross-couplings kept)", full),
          Variant("report_reduced", "Report's reduced model (Foucault cross-couplings "
                  "dropped)", reduced, "report_reduced")],
         baked={"ecc2": 0.0})
