@@ -72,7 +72,7 @@ def bench_budget() -> None:
 
     model = load_model("orthodromic")
     spec = load_spec(default_spec_path())
-    print("budget against specs/802m.toml (8 h, 60 s grid, 26 sources):")
+    print("budget against the built-in 802m spec (8 h, 60 s grid, 26 sources):")
     _line("unit budget + allocation", _best(lambda: bd.allocate(bd.unit_budget(model, spec)),
                                             repeats=3))
 

@@ -18,7 +18,7 @@ Items (what each one measures is defined in :mod:`ins_errors.numeric.budget`):
 ``heading_drift``
     drift rate of the gyroscopic heading (platform azimuth), angle per time.
 
-The file format (see ``specs/802m.toml``)::
+The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
 
     title = "..."
     sigma_level = 2                  # the values are 2σ
@@ -430,5 +430,5 @@ def load_spec(path: str | Path) -> Spec:
 
 
 def default_spec_path() -> Path:
-    """``specs/802m.toml`` of the source tree (the 802m table, 2σ)."""
-    return Path(__file__).resolve().parents[1] / "specs" / "802m.toml"
+    """The built-in spec of product 802m (source 000's appendix, 2σ), shipped in the package."""
+    return Path(__file__).resolve().parent / "data" / "802m.toml"

@@ -23,6 +23,7 @@ def installed_wheel(tmp_path_factory) -> Path:
     names = zipfile.ZipFile(wheel).namelist()
     assert "ins_errors/generated/orthodromic/numpy_model.py" in names
     assert "ins_errors/generated/orthodromic/error_equations.md" in names
+    assert "ins_errors/data/802m.toml" in names
     target = tmp_path_factory.mktemp("site")
     install = subprocess.run([sys.executable, "-m", "pip", "install", "--quiet", "--no-deps",
                               "--target", str(target), str(wheel)], capture_output=True, text=True)
@@ -55,3 +56,26 @@ def test_wheel_command_line(installed_wheel, tmp_path):
     result = _run_outside(installed_wheel, code, tmp_path)
     assert result.returncode == 0, result.stderr
     assert "gyro_drift_x" in result.stdout
+
+
+def test_wheel_runs_a_scenario(installed_wheel, tmp_path):
+    scenario = tmp_path / "drift.toml"
+    scenario.write_text('model = "orthodromic"\n[run]\nduration = "2 h"\nstep = "2 s"\n'
+                        '[[case]]\ngyro_drift_y = "0.01 deg/h"\n', encoding="utf-8")
+    code = ("import sys; from ins_errors.cli import main; "
+            "sys.exit(main(['run', 'drift.toml', '--out', 'rep', '--no-progress']))")
+    result = _run_outside(installed_wheel, code, tmp_path)
+    assert result.returncode == 0, result.stderr
+    report = (tmp_path / "rep" / "report.md").read_text(encoding="utf-8")
+    assert "## Equations used" in report and "\\dot{\\alpha}_x" in report
+
+
+def test_wheel_budget_uses_the_built_in_spec(installed_wheel, tmp_path):
+    from ins_errors.specs import default_spec_path, load_spec
+
+    assert load_spec(default_spec_path())  # the source tree's copy parses
+    code = ("import sys; from ins_errors.specs import default_spec_path; "
+            "p = default_spec_path(); print(p); sys.exit(0 if p.exists() else 1)")
+    result = _run_outside(installed_wheel, code, tmp_path)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert result.stdout.startswith(str(installed_wheel))

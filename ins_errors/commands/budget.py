@@ -15,7 +15,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "fixes some), report the allowed magnitudes and the item binding each "
                     "source, and optionally check the result with direct Monte Carlo runs.")
     parser.add_argument("model", help="model name, e.g. orthodromic")
-    parser.add_argument("--spec", help="spec file (TOML with units); default: specs/802m.toml")
+    parser.add_argument("--spec",
+                        help="spec file (TOML with units); default: the built-in 802m spec")
     parser.add_argument("--plot", metavar="PNG", help="write a stacked contribution plot")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--fill", action="store_true",
@@ -45,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     model = load_model(args.model)
     path = args.spec or default_spec_path()
     if args.spec is None and not path.exists():
-        raise SpecError("no --spec given and the default specs/802m.toml is not available")
+        raise SpecError("no --spec given and the built-in 802m spec is missing")
     spec = load_spec(path)
     if args.fill:
         spec = replace(spec, fill=True)
