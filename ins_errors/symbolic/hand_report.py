@@ -151,7 +151,10 @@ def to_json(report: CheckReport) -> dict[str, Any]:
     """A JSON-serialisable view of the report."""
     def finding(f: Finding) -> dict[str, Any]:
         return {"quantity": f.quantity, "kind": f.kind, "class": f.severity,
-                "size": None if math.isinf(f.size) else f.size, "point": f.point,
+                # 9 significant digits: sizes are measured in floating point, and forms
+                # of the same equation (LaTeX, text) may differ in the last bits
+                "size": None if math.isinf(f.size) else float(f"{f.size:.9g}"),
+                "point": f.point,
                 "hand": f.hand, "model": f.model, "detail": f.detail}
 
     return {
