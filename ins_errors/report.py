@@ -43,7 +43,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         f"| duration | {s.duration / 3600:g} h |",
         f"| step τ | {s.step:g} s ({'rectangle method' if s.method == 'euler' else 'RK4'}) |",
         f"| recorded every | {s.record:g} s |",
-        f"| Earth model | {s.ellipsoid} |",
+        f"| Earth model | {s.ellipsoid or 'model default'} |",
         "",
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
         "equations along the same motion; refined = with the second-order terms. A ratio is "

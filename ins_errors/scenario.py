@@ -17,7 +17,7 @@ Every value with a unit is read by :mod:`ins_errors.units`. Example::
     record = "60 s"
     method = "euler"         # or "rk4"
     refined = true           # also the second-order model
-    ellipsoid = "krasovsky"  # or "wgs84"
+    ellipsoid = "wgs84"      # default: the model's own Earth
 
     [[case]]
     label = "0.01 deg/h about x"      # optional
@@ -81,8 +81,8 @@ class Scenario:
         ``"euler"`` (rectangle) or ``"rk4"``.
     refined : bool
         Run the second-order model too.
-    ellipsoid : str
-        Earth model for the parameters.
+    ellipsoid : str or None
+        Earth model for the parameters (``None``: the model's default).
     cases : list of Case
         Error-source sets, each run as its own case.
     quantities : list of str or None
@@ -99,7 +99,7 @@ class Scenario:
     record: float
     method: str = "euler"
     refined: bool = True
-    ellipsoid: str = "krasovsky"
+    ellipsoid: str | None = None
     cases: list[Case] = field(default_factory=list)
     quantities: list[str] | None = None
     description: str = ""
@@ -173,7 +173,7 @@ def load_scenario(path: str | Path) -> Scenario:
         record=record,
         method=method,
         refined=bool(run.get("refined", True)),
-        ellipsoid=str(run.get("ellipsoid", "krasovsky")),
+        ellipsoid=str(run["ellipsoid"]) if "ellipsoid" in run else None,
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
         base=path.parent,

@@ -89,3 +89,20 @@ def test_units_at_the_edge():
 def test_source_lookup_by_name(orthodromic):
     assert orthodromic.source("gyro_drift_z").display_unit == "deg/h"
     assert "000" in orthodromic.source_document
+
+
+def test_ellipsoid_selection(orthodromic):
+    import ins_errors
+
+    a, e2, _ = orthodromic.parameter_vector(ellipsoid="wgs84")
+    assert a == 6_378_137.0
+    assert e2 == pytest.approx(2 / 298.257223563 - (1 / 298.257223563) ** 2)
+    sphere = ins_errors.load_model("north_pointing")
+    default = dict(zip([p.name for p in sphere.parameters], sphere.parameter_vector(),
+                       strict=True))
+    assert default["ecc2"] == 0.0  # the report's spherical Earth by default
+    chosen = dict(zip([p.name for p in sphere.parameters],
+                      sphere.parameter_vector(ellipsoid="krasovsky"), strict=True))
+    assert chosen["R"] == 6_378_245.0 and chosen["ecc2"] > 0.006
+    with pytest.raises(ins_errors.UnknownNameError, match="did you mean 'wgs84'"):
+        orthodromic.parameter_vector(ellipsoid="wgs-84")

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from ins_errors.errors import DomainError, ShapeError, unknown_name
+from ins_errors.errors import DomainError, InsErrorsError, ShapeError, unknown_name
 
 
 @dataclass(frozen=True)
@@ -138,25 +138,37 @@ class Model:
         return self.sources[self.index("sources", name)]
 
     # -- vectors ------------------------------------------------------------------------
-    def parameter_vector(self, ellipsoid: str = "krasovsky", **overrides: float) -> np.ndarray:
-        """Parameter vector ``p`` (SI): defaults, Earth shape from ``ellipsoid``, overrides.
+    def parameter_vector(self, ellipsoid: str | None = None, **overrides: float) -> np.ndarray:
+        """Parameter vector ``p`` (SI): the model's defaults, an Earth shape, overrides.
 
         Parameters
         ----------
-        ellipsoid : str
-            ``"krasovsky"`` (default of the sources) or ``"wgs84"``; sets ``a`` and ``e2``
-            where the model has them.
+        ellipsoid : str, optional
+            ``"krasovsky"`` or ``"wgs84"``: sets the semi-major axis and eccentricity
+            (parameters ``a``/``e2``, or ``R``/``ecc2`` for models that default to a
+            sphere). ``None`` keeps the model's own default Earth.
         **overrides : float
             Any parameter by name, SI units.
+
+        Raises
+        ------
+        InsErrorsError
+            For an unknown ellipsoid or parameter, a model without Earth-shape parameters,
+            or a non-finite value.
         """
         from ins_errors.models.earth import ellipsoid as lookup
 
         values = {i.name: float(i.default) for i in self.parameters}
-        shape = lookup(ellipsoid)
-        if "a" in values:
-            values["a"] = shape.semi_major_axis
-        if "e2" in values:
-            values["e2"] = shape.eccentricity_squared
+        if ellipsoid is not None:
+            shape = lookup(ellipsoid)
+            for axis, eccentricity in (("a", "e2"), ("R", "ecc2")):
+                if axis in values and eccentricity in values:
+                    values[axis] = shape.semi_major_axis
+                    values[eccentricity] = shape.eccentricity_squared
+                    break
+            else:
+                raise InsErrorsError(f"model {self.name!r} has no Earth-shape parameters to "
+                                     f"set from ellipsoid {ellipsoid!r}")
         for key, value in overrides.items():
             self.index("parameters", key)
             values[key] = float(value)
