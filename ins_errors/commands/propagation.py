@@ -10,7 +10,11 @@ Examples::
 from __future__ import annotations
 
 import argparse
+import json
+import sys
 from pathlib import Path
+
+import numpy as np
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -33,6 +37,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--azimuth", default="5 arcmin", help="initial azimuth error")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR",
                         help="write summary.md and the plots into this folder")
+    parser.add_argument("--json", action="store_true",
+                        help="print the agreement figures as JSON instead of the tables")
     parser.add_argument("--orthodromic", action="store_true",
                         help="000, task 4: every factor of the orthodromic INS over the run")
     parser.set_defaults(func=run)
@@ -55,7 +61,17 @@ def run(args: argparse.Namespace) -> int:
         if args.out is not None:
             args.out.mkdir(parents=True, exist_ok=True)
             (args.out / "orthodromic_day.md").write_text(text)
-        print(text, end="")
+        if args.json:
+            analytic, direct = day.agreement("analytic", "linear"), day.agreement("direct",
+                                                                                 "linear")
+            _print_json({"latitude_rad": day.latitude, "duration_s": day.duration,
+                         "periods_s": day.periods,
+                         "sources": [{"source": s, "excited": bool(day.excited()[j]),
+                                      "analytic_vs_linear": _finite(analytic[j]),
+                                      "direct_vs_linear": _finite(direct[j])}
+                                     for j, s in enumerate(day.sources)]})
+        else:
+            print(text, end="")
         return 0
     experiment = propagation.Experiment(
         latitude=latitude,
@@ -69,6 +85,30 @@ def run(args: argparse.Namespace) -> int:
     result = propagation.run(experiment, progress=args.out is not None)
     if args.out is not None:
         path = propagation.write_report(result, args.out)
-        print(f"wrote {path} and {len(result.curves)} plots")
-    print(result.summary_markdown(), end="")
+        if not args.json:
+            print(f"wrote {path} and {len(result.curves)} plots")
+    if args.json:
+        _print_json({"latitude_rad": experiment.latitude, "duration_s": duration,
+                     "periods_s": result.periods,
+                     "sources": [{"source": c.source, "magnitude_si": c.magnitude,
+                                  **{key: _finite(np.nanmax(c.agreement(a, b)))
+                                     for key, (a, b) in _AGREEMENTS.items()}}
+                                 for c in result.curves]})
+    else:
+        print(result.summary_markdown(), end="")
     return 0
+
+
+_AGREEMENTS = {"analytic_vs_linear": ("analytic", "linear"),
+               "direct_vs_linear": ("direct", "linear"),
+               "reduced_vs_full": ("reduced", "analytic")}
+
+
+def _finite(value) -> float | None:
+    value = float(value)
+    return value if np.isfinite(value) else None
+
+
+def _print_json(data) -> None:
+    json.dump(data, sys.stdout, indent=2)
+    print()
