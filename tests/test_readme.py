@@ -1,0 +1,34 @@
+"""README stays true: every model, error source and output is listed with its units,
+and the tour's Python snippet runs."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+
+import ins_errors
+
+README = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+
+
+@pytest.mark.parametrize("name", ins_errors.available_models())
+def test_readme_lists_every_source_and_output_with_units(name):
+    model = ins_errors.load_model(name)
+    section = README.split(f"### `{name}`", 1)[1].split("### ", 1)[0]
+    for source in model.sources:
+        assert re.search(rf"\| `{source.name}` \| {re.escape(source.unit)} \| "
+                         rf"{re.escape(source.display_unit)} \|", section), source.name
+    for output in model.outputs:
+        assert f"`{output.name}` ({output.unit})" in section, output.name
+
+
+def test_readme_starts_with_the_two_setup_commands():
+    first_block = README.split("```sh", 1)[1].split("```", 1)[0]
+    assert "make derive" in first_block and "make test" in first_block
+
+
+def test_api_snippet_runs():
+    snippet = README.split("## The API at a glance", 1)[1].split("```python", 1)[1]
+    exec(compile(snippet.split("```", 1)[0], "README.md", "exec"), {})
