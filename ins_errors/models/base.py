@@ -78,6 +78,23 @@ class ErrorSource(Variable):
     factor: int | None = None
 
 
+def error_source(name: str, unit: str, display_unit: str, kind: str, factor: int | None,
+                 latex: str, description: str) -> ErrorSource:
+    """An :class:`ErrorSource` in the compact positional form the model catalogues use."""
+    return ErrorSource(name, unit, description, latex, kind=kind, display_unit=display_unit,
+                       factor=factor)
+
+
+def error_states_of(states: Sequence[Variable], extra: Sequence[Variable]) -> tuple[Variable, ...]:
+    """Error-state names: ``delta_<state>`` for each computed state, then ``extra``
+    (quantities that are zero in ideal work, such as platform angles)."""
+    return (
+        *(Variable(f"delta_{v.name}", v.unit, f"error of the computed {v.description}",
+                   rf"\Delta {v.latex}") for v in states),
+        *extra,
+    )
+
+
 @dataclass(frozen=True)
 class Definition:
     """One named intermediate quantity ``symbol = expression`` of a mechanisation."""

@@ -52,6 +52,7 @@ from ins_errors.models.base import (
     ModelDefinition,
     Parameter,
     Variable,
+    error_states_of,
 )
 from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
 
@@ -69,11 +70,7 @@ PLATFORM_ANGLES = (
     Variable("alpha_y", "rad", "platform misalignment about η", r"\alpha_y"),
     Variable("alpha_z", "rad", "platform misalignment in azimuth", r"\alpha_z"),
 )
-ERROR_STATES = (
-    *(Variable(f"delta_{v.name}", v.unit, f"error of the computed {v.description}",
-               rf"\Delta {v.latex}") for v in STATES),
-    *PLATFORM_ANGLES,
-)
+ERROR_STATES = error_states_of(STATES, PLATFORM_ANGLES)
 INPUTS = (
     Variable("a_xi", "m/s**2", "true apparent acceleration j_ξ along ξ", r"j_\xi"),
     Variable("a_eta", "m/s**2", "true apparent acceleration j_η along η", r"j_\eta"),

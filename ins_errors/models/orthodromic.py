@@ -32,11 +32,12 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ins_errors.models.base import (
-    ErrorSource,
     Mechanisation,
     ModelDefinition,
     Parameter,
     Variable,
+    error_source,
+    error_states_of,
 )
 from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
 
@@ -57,11 +58,7 @@ PLATFORM_ANGLES = (
     Variable("alpha_y", "rad", "platform misalignment about y (≈η)", r"\alpha_y"),
     Variable("alpha_z", "rad", "platform misalignment about z (azimuth)", r"\alpha_z"),
 )
-ERROR_STATES = (
-    *(Variable(f"delta_{v.name}", v.unit, f"error of the computed {v.description}",
-               rf"\Delta {v.latex}") for v in STATES),
-    *PLATFORM_ANGLES,
-)
+ERROR_STATES = error_states_of(STATES, PLATFORM_ANGLES)
 INPUTS = (
     Variable("a_xi", "m/s**2", "true apparent acceleration along ξ", r"a_\xi"),
     Variable("a_eta", "m/s**2", "true apparent acceleration along η", r"a_\eta"),
@@ -94,73 +91,74 @@ INITIAL_CONDITIONS = (
 )
 
 
-def _src(name, unit, display, kind, factor, latex, text) -> ErrorSource:
-    return ErrorSource(name, unit, text, latex, kind=kind, display_unit=display, factor=factor)
-
 
 SOURCES = (
     # (1) initial levelling, (2) azimuth alignment
-    _src("initial_tilt_x", "rad", "arcsec", "initial", 1, r"\alpha_{x0}",
-         "initial platform levelling error about x"),
-    _src("initial_tilt_y", "rad", "arcsec", "initial", 1, r"\alpha_{y0}",
-         "initial platform levelling error about y"),
-    _src("initial_azimuth_error", "rad", "arcmin", "initial", 2, r"\alpha_{z0}",
-         "initial platform azimuth alignment error"),
+    error_source("initial_tilt_x", "rad", "arcsec", "initial", 1, r"\alpha_{x0}",
+                 "initial platform levelling error about x"),
+    error_source("initial_tilt_y", "rad", "arcsec", "initial", 1, r"\alpha_{y0}",
+                 "initial platform levelling error about y"),
+    error_source("initial_azimuth_error", "rad", "arcmin", "initial", 2, r"\alpha_{z0}",
+                 "initial platform azimuth alignment error"),
     # (3) initial velocity
-    _src("initial_velocity_error_xi", "m/s", "m/s", "initial", 3, r"\Delta V_{\xi 0}",
-         "error of the initial computed velocity along ξ"),
-    _src("initial_velocity_error_eta", "m/s", "m/s", "initial", 3, r"\Delta V_{\eta 0}",
-         "error of the initial computed velocity along η"),
+    error_source("initial_velocity_error_xi", "m/s", "m/s", "initial", 3, r"\Delta V_{\xi 0}",
+                 "error of the initial computed velocity along ξ"),
+    error_source("initial_velocity_error_eta", "m/s", "m/s", "initial", 3, r"\Delta V_{\eta 0}",
+                 "error of the initial computed velocity along η"),
     # (4) initial coordinates; the computed trihedron's heading as well
-    _src("initial_latitude_error", "rad", "arcmin", "initial", 4, r"\Delta\varphi_0",
-         "error of the initial latitude set into the computer"),
-    _src("initial_longitude_error", "rad", "arcmin", "initial", 4, r"\Delta\lambda_0",
-         "error of the initial longitude set into the computer"),
-    _src("initial_heading_error", "rad", "arcmin", "initial", None, r"\Delta\chi_0",
-         "error of the initial track angle of the computed trihedron"),
+    error_source("initial_latitude_error", "rad", "arcmin", "initial", 4, r"\Delta\varphi_0",
+                 "error of the initial latitude set into the computer"),
+    error_source("initial_longitude_error", "rad", "arcmin", "initial", 4, r"\Delta\lambda_0",
+                 "error of the initial longitude set into the computer"),
+    error_source("initial_heading_error", "rad", "arcmin", "initial", None, r"\Delta\chi_0",
+                 "error of the initial track angle of the computed trihedron"),
     # (5) horizontal gyros, (6) azimuth gyro
-    _src("gyro_drift_x", "rad/s", "deg/h", "constant", 5, r"\omega_{dx}",
-         "constant drift rate of the gyro about platform axis x"),
-    _src("gyro_drift_y", "rad/s", "deg/h", "constant", 5, r"\omega_{dy}",
-         "constant drift rate of the gyro about platform axis y"),
-    _src("gyro_drift_z", "rad/s", "deg/h", "constant", 6, r"\omega_{dz}",
-         "constant drift rate of the azimuth gyro"),
+    error_source("gyro_drift_x", "rad/s", "deg/h", "constant", 5, r"\omega_{dx}",
+                 "constant drift rate of the gyro about platform axis x"),
+    error_source("gyro_drift_y", "rad/s", "deg/h", "constant", 5, r"\omega_{dy}",
+                 "constant drift rate of the gyro about platform axis y"),
+    error_source("gyro_drift_z", "rad/s", "deg/h", "constant", 6, r"\omega_{dz}",
+                 "constant drift rate of the azimuth gyro"),
     # (7) accelerometer zero offsets
-    _src("accel_bias_x", "m/s**2", "ug", "constant", 7, r"\Delta a_x",
-         "zero offset of the x accelerometer"),
-    _src("accel_bias_y", "m/s**2", "ug", "constant", 7, r"\Delta a_y",
-         "zero offset of the y accelerometer"),
+    error_source("accel_bias_x", "m/s**2", "ug", "constant", 7, r"\Delta a_x",
+                 "zero offset of the x accelerometer"),
+    error_source("accel_bias_y", "m/s**2", "ug", "constant", 7, r"\Delta a_y",
+                 "zero offset of the y accelerometer"),
     # (8) first (velocity) integrators: zero offset at the integrator input
-    _src("velocity_integrator_offset_xi", "m/s**2", "ug", "constant", 8, r"\delta_{1\xi}",
-         "zero offset of the first (velocity) integrator, ξ channel, at its input"),
-    _src("velocity_integrator_offset_eta", "m/s**2", "ug", "constant", 8, r"\delta_{1\eta}",
-         "zero offset of the first (velocity) integrator, η channel, at its input"),
+    error_source("velocity_integrator_offset_xi", "m/s**2", "ug", "constant", 8, r"\delta_{1\xi}",
+                 "zero offset of the first (velocity) integrator, ξ channel, at its input"),
+    error_source("velocity_integrator_offset_eta", "m/s**2", "ug", "constant", 8, r"\delta_{1\eta}",
+                 "zero offset of the first (velocity) integrator, η channel, at its input"),
     # (9) second integrators (relative rates -> direction cosines): rate offset
-    _src("position_integrator_offset_xi", "rad/s", "deg/h", "constant", 9, r"\delta_{2\xi}",
-         "zero offset of the second integrator: rate added to ω'_ξ in the Poisson equations"),
-    _src("position_integrator_offset_eta", "rad/s", "deg/h", "constant", 9, r"\delta_{2\eta}",
-         "zero offset of the second integrator: rate added to ω'_η in the Poisson equations"),
+    error_source("position_integrator_offset_xi", "rad/s", "deg/h", "constant", 9,
+                 r"\delta_{2\xi}",
+                 "zero offset of the second integrator: rate added to ω'_ξ in the Poisson "
+                 "equations"),
+    error_source("position_integrator_offset_eta", "rad/s", "deg/h", "constant", 9,
+                 r"\delta_{2\eta}",
+                 "zero offset of the second integrator: rate added to ω'_η in the Poisson "
+                 "equations"),
     # (10) accelerometer scale factors
-    _src("accel_scale_error_x", "1", "ppm", "constant", 10, r"k_{ax}",
-         "scale-factor (transfer coefficient) error of the x accelerometer"),
-    _src("accel_scale_error_y", "1", "ppm", "constant", 10, r"k_{ay}",
-         "scale-factor (transfer coefficient) error of the y accelerometer"),
+    error_source("accel_scale_error_x", "1", "ppm", "constant", 10, r"k_{ax}",
+                 "scale-factor (transfer coefficient) error of the x accelerometer"),
+    error_source("accel_scale_error_y", "1", "ppm", "constant", 10, r"k_{ay}",
+                 "scale-factor (transfer coefficient) error of the y accelerometer"),
     # (11) first-integrator gains, (12) second-integrator gains
-    _src("velocity_integrator_gain_error_xi", "1", "ppm", "constant", 11, r"k_{1\xi}",
-         "gain error of the first (velocity) integrator, ξ channel"),
-    _src("velocity_integrator_gain_error_eta", "1", "ppm", "constant", 11, r"k_{1\eta}",
-         "gain error of the first (velocity) integrator, η channel"),
-    _src("position_integrator_gain_error_xi", "1", "ppm", "constant", 12, r"k_{2\xi}",
-         "gain error of the second integrator on ω'_ξ"),
-    _src("position_integrator_gain_error_eta", "1", "ppm", "constant", 12, r"k_{2\eta}",
-         "gain error of the second integrator on ω'_η"),
+    error_source("velocity_integrator_gain_error_xi", "1", "ppm", "constant", 11, r"k_{1\xi}",
+                 "gain error of the first (velocity) integrator, ξ channel"),
+    error_source("velocity_integrator_gain_error_eta", "1", "ppm", "constant", 11, r"k_{1\eta}",
+                 "gain error of the first (velocity) integrator, η channel"),
+    error_source("position_integrator_gain_error_xi", "1", "ppm", "constant", 12, r"k_{2\xi}",
+                 "gain error of the second integrator on ω'_ξ"),
+    error_source("position_integrator_gain_error_eta", "1", "ppm", "constant", 12, r"k_{2\eta}",
+                 "gain error of the second integrator on ω'_η"),
     # (13) correction loop: commanded platform rates
-    _src("correction_gain_error_x", "1", "ppm", "constant", 13, r"k_{cx}",
-         "gain error of the correction (torquing) loop, platform axis x"),
-    _src("correction_gain_error_y", "1", "ppm", "constant", 13, r"k_{cy}",
-         "gain error of the correction (torquing) loop, platform axis y"),
-    _src("correction_gain_error_z", "1", "ppm", "constant", 13, r"k_{cz}",
-         "gain error of the correction (torquing) loop, azimuth axis z"),
+    error_source("correction_gain_error_x", "1", "ppm", "constant", 13, r"k_{cx}",
+                 "gain error of the correction (torquing) loop, platform axis x"),
+    error_source("correction_gain_error_y", "1", "ppm", "constant", 13, r"k_{cy}",
+                 "gain error of the correction (torquing) loop, platform axis y"),
+    error_source("correction_gain_error_z", "1", "ppm", "constant", 13, r"k_{cz}",
+                 "gain error of the correction (torquing) loop, azimuth axis z"),
 )
 
 _sym = {v.name: v.symbol for v in (*STATES, *INPUTS, *PARAMETERS, *SOURCES, *PLATFORM_ANGLES)}
