@@ -39,3 +39,31 @@ def random_points(model: ins_errors.Model, count: int, seed: int, moving: bool):
             u = static_inputs(model, x, p, h=h)
         points.append((x, u, p))
     return points
+
+
+def central_difference(f, at: np.ndarray, steps: np.ndarray) -> np.ndarray:
+    """Jacobian of ``f`` at ``at`` by central differences, one step per component."""
+    columns = []
+    for j, step in enumerate(steps):
+        delta = np.zeros_like(at)
+        delta[j] = step
+        columns.append((f(at + delta) - f(at - delta)) / (2 * step))
+    return np.stack(columns, axis=1)
+
+
+def row_relative_error(approx: np.ndarray, exact: np.ndarray) -> float:
+    """Largest row-wise error relative to the row's largest entry (zero rows must match)."""
+    worst = 0.0
+    for a_row, e_row in zip(approx, exact, strict=True):
+        scale = np.abs(e_row).max()
+        if scale == 0:
+            assert np.abs(a_row).max() < 1e-12
+            continue
+        worst = max(worst, np.abs(a_row - e_row).max() / scale)
+    return worst
+
+
+def source_steps(model: ins_errors.Model) -> np.ndarray:
+    """Finite-difference step per error source, by its SI unit."""
+    scale = {"rad": 1e-6, "rad/s": 1e-9, "m/s**2": 1e-6, "m/s": 1e-3, "1": 1e-6}
+    return np.array([scale[s.unit] for s in model.sources])

@@ -20,6 +20,7 @@ from ins_errors.errors import DomainError
 from ins_errors.models.free_azimuth import TUNING_RADIUS, levelling_offsets
 from ins_errors.numeric.simulate import simulate
 from ins_errors.numeric.trajectories import Profile, trajectory
+from tests.helpers import central_difference, row_relative_error, source_steps
 
 U = 7.292115e-5
 DEG_H = np.pi / 180 / 3600
@@ -130,29 +131,7 @@ def _points(model, count, seed, moving=True):
     return out
 
 
-def _central(f, at, steps):
-    cols = []
-    for j, step in enumerate(steps):
-        d = np.zeros_like(at)
-        d[j] = step
-        cols.append((f(at + d) - f(at - d)) / (2 * step))
-    return np.stack(cols, axis=1)
 
-
-def _relative(approx, exact):
-    worst = 0.0
-    for a_row, e_row in zip(approx, exact, strict=True):
-        scale = np.abs(e_row).max()
-        if scale == 0:
-            assert np.abs(a_row).max() < 1e-12
-            continue
-        worst = max(worst, np.abs(a_row - e_row).max() / scale)
-    return worst
-
-
-def _source_steps(model):
-    scale = {"rad": 1e-6, "rad/s": 1e-9, "m/s**2": 1e-6, "m/s": 1e-3, "1": 1e-6}
-    return np.array([scale[s.unit] for s in model.sources])
 
 
 @pytest.mark.parametrize("moving", [False, True], ids=["static", "moving"])
@@ -160,23 +139,23 @@ def test_state_and_source_matrices_equal_finite_differences(model, moving):
     nw = len(model.sources)
     for x, u, p, _c in _points(model, 12, 3 + moving, moving):
         xr0, w0 = np.r_[x, 0.0, 0.0, 0.0], np.zeros(nw)
-        F_fd = _central(lambda xr: model.numpy.real_rhs(xr, x, u, w0, p), xr0,  # noqa: B023
+        F_fd = central_difference(lambda xr: model.numpy.real_rhs(xr, x, u, w0, p), xr0,  # noqa: B023
                         STATE_STEPS)
-        G_fd = _central(lambda w: model.numpy.real_rhs(xr0, x, u, w, p), w0,  # noqa: B023
-                        _source_steps(model))
-        assert _relative(F_fd, model.state_matrix(x, u, p)) < 1e-6
-        assert _relative(G_fd, model.source_matrix(x, u, p)) < 1e-6
+        G_fd = central_difference(lambda w: model.numpy.real_rhs(xr0, x, u, w, p), w0,  # noqa: B023
+                        source_steps(model))
+        assert row_relative_error(F_fd, model.state_matrix(x, u, p)) < 1e-6
+        assert row_relative_error(G_fd, model.source_matrix(x, u, p)) < 1e-6
 
 
 def test_output_and_initial_error_matrices_equal_finite_differences(model):
     for x, u, p, c in _points(model, 10, 11):
         H = model.output_matrix(x, u, p)
-        H_fd = _central(lambda xx: model.numpy.outputs(xx, u, p), x, STATE_STEPS[:5])  # noqa: B023
+        H_fd = central_difference(lambda xx: model.numpy.outputs(xx, u, p), x, STATE_STEPS[:5])  # noqa: B023
         assert np.all(H[:, 5:] == 0)
-        assert _relative(H_fd, H[:, :5]) < 1e-6
-        E_fd = _central(lambda w: model.numpy.initial_real_state(c, u, w, p),  # noqa: B023
-                        np.zeros(len(model.sources)), _source_steps(model))
-        assert _relative(E_fd, model.initial_error_matrix(c, u, p)) < 1e-6
+        assert row_relative_error(H_fd, H[:, :5]) < 1e-6
+        E_fd = central_difference(lambda w: model.numpy.initial_real_state(c, u, w, p),  # noqa: B023
+                        np.zeros(len(model.sources)), source_steps(model))
+        assert row_relative_error(E_fd, model.initial_error_matrix(c, u, p)) < 1e-6
 
 
 def test_real_work_without_errors_is_ideal_work(model):

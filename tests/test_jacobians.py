@@ -10,36 +10,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from tests.helpers import random_points
+from tests.helpers import central_difference, random_points, row_relative_error, source_steps
 
 # finite-difference steps per error-state component: direction cosines, velocities, angles
 STATE_STEPS = np.r_[np.full(6, 1e-6), 1e-3, 1e-3, np.full(3, 1e-6)]
 
 
-def _relative_error(approx: np.ndarray, exact: np.ndarray) -> float:
-    """Largest row-wise error relative to the row's largest entry."""
-    worst = 0.0
-    for a_row, e_row in zip(approx, exact, strict=True):
-        scale = np.abs(e_row).max()
-        if scale == 0:
-            assert np.abs(a_row).max() < 1e-12
-            continue
-        worst = max(worst, np.abs(a_row - e_row).max() / scale)
-    return worst
 
-
-def _central_difference(f, at: np.ndarray, steps: np.ndarray) -> np.ndarray:
-    columns = []
-    for j, step in enumerate(steps):
-        delta = np.zeros_like(at)
-        delta[j] = step
-        columns.append((f(at + delta) - f(at - delta)) / (2 * step))
-    return np.stack(columns, axis=1)
-
-
-def _source_steps(model) -> np.ndarray:
-    scale = {"rad": 1e-6, "rad/s": 1e-9, "m/s**2": 1e-6, "m/s": 1e-3, "1": 1e-6}
-    return np.array([scale[s.unit] for s in model.sources])
 
 
 @pytest.mark.parametrize("moving", [False, True], ids=["static", "moving"])
@@ -49,12 +26,12 @@ def test_state_and_source_matrices_equal_finite_differences(orthodromic, moving)
     for x, u, p in random_points(model, 12, seed=100 + moving, moving=moving):
         xr0 = np.r_[x, 0.0, 0.0, 0.0]
         w0 = np.zeros(n_w)
-        F_fd = _central_difference(lambda xr: model.numpy.real_rhs(xr, x, u, w0, p),  # noqa: B023
+        F_fd = central_difference(lambda xr: model.numpy.real_rhs(xr, x, u, w0, p),  # noqa: B023
                                    xr0, STATE_STEPS)
-        G_fd = _central_difference(lambda w: model.numpy.real_rhs(xr0, x, u, w, p),  # noqa: B023
-                                   w0, _source_steps(model))
-        assert _relative_error(F_fd, model.state_matrix(x, u, p)) < 1e-6
-        assert _relative_error(G_fd, model.source_matrix(x, u, p)) < 1e-6
+        G_fd = central_difference(lambda w: model.numpy.real_rhs(xr0, x, u, w, p),  # noqa: B023
+                                   w0, source_steps(model))
+        assert row_relative_error(F_fd, model.state_matrix(x, u, p)) < 1e-6
+        assert row_relative_error(G_fd, model.source_matrix(x, u, p)) < 1e-6
 
 
 def test_real_work_reduces_to_ideal_work_without_errors(orthodromic):
@@ -69,11 +46,11 @@ def test_real_work_reduces_to_ideal_work_without_errors(orthodromic):
 def test_output_matrix_equals_finite_differences(orthodromic):
     model = orthodromic
     for x, u, p in random_points(model, 10, seed=9, moving=True):
-        H_fd = _central_difference(lambda xx: model.numpy.outputs(xx, u, p),  # noqa: B023
+        H_fd = central_difference(lambda xx: model.numpy.outputs(xx, u, p),  # noqa: B023
                                    x, STATE_STEPS[:8])
         H = model.output_matrix(x, u, p)
         assert np.all(H[:, 8:] == 0)
-        assert _relative_error(H_fd, H[:, :8]) < 1e-6
+        assert row_relative_error(H_fd, H[:, :8]) < 1e-6
 
 
 def test_initial_error_matrix_equals_finite_differences(orthodromic):
@@ -86,9 +63,9 @@ def test_initial_error_matrix_equals_finite_differences(orthodromic):
                                            heading=rng.uniform(-3, 3),
                                            v_N=rng.uniform(-200, 200), v_E=rng.uniform(-200, 200))
         u = model.input_vector(h=rng.uniform(0, 5000))
-        E_fd = _central_difference(lambda w: model.numpy.initial_real_state(c, u, w, p),  # noqa: B023
-                                   np.zeros(len(model.sources)), _source_steps(model))
-        assert _relative_error(E_fd, model.initial_error_matrix(c, u, p)) < 1e-6
+        E_fd = central_difference(lambda w: model.numpy.initial_real_state(c, u, w, p),  # noqa: B023
+                                   np.zeros(len(model.sources)), source_steps(model))
+        assert row_relative_error(E_fd, model.initial_error_matrix(c, u, p)) < 1e-6
         # with no errors the real system starts exactly on the true state, platform level
         start = model.initial_real_state(c, u, np.zeros(len(model.sources)), p)
         np.testing.assert_allclose(start, np.r_[model.initial_state(c, u, p), 0, 0, 0],
@@ -101,7 +78,7 @@ def test_second_order_term_removes_the_quadratic_residual(orthodromic):
     rng = np.random.default_rng(21)
     for x, u, p in random_points(model, 6, seed=31, moving=True):
         xe = rng.normal(size=11) * np.r_[np.full(6, 1e-3), 1.0, 1.0, np.full(3, 1e-3)]
-        w = rng.normal(size=len(model.sources)) * _source_steps(model) * 1e3
+        w = rng.normal(size=len(model.sources)) * source_steps(model) * 1e3
         F, G = model.state_matrix(x, u, p), model.source_matrix(x, u, p)
         S = model.second_order(x, u, xe, w, p)
         ideal = np.r_[model.ideal_rhs(x, u, p), 0, 0, 0]
