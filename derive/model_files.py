@@ -112,7 +112,7 @@ def _metadata(d: ModelDefinition) -> str:
     ])
 
 
-_NUMPY_PRELUDE = '''
+NUMPY_PRELUDE = '''
 import numpy as _np
 
 _m = _np
@@ -169,7 +169,7 @@ def write_model(d: ModelDefinition, root: Path) -> ModelSummary:
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "__init__.py").write_text(header(d) + _metadata(d))
     numpy_src = [header(d), f'"""numpy functions of the model {d.name!r} (broadcasting)."""',
-                 _NUMPY_PRELUDE]
+                 NUMPY_PRELUDE]
     numpy_src += ["\n" + emit_numpy_function(p) + "\n" for p in prepared]
     names = [p.spec.name for p in prepared]
     numpy_src.append(f"\nFUNCTIONS = {tuple(names)!r}\n")

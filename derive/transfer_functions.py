@@ -19,6 +19,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from derive.model_files import NUMPY_PRELUDE
 from ins_errors.models import definition
 from ins_errors.symbolic.analytic import S, T
 from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_numpy_function, prepare
@@ -29,21 +30,6 @@ _HEADER = ("GENERATED FILE: do not edit by hand.",
            "Written by `make derive` (python -m derive, step derive/transfer_functions.py)",
            "from ins_errors/models/{model}.py via ins_errors/symbolic/static_base.py.",
            "Edit those and run `make derive` again.")
-
-_PRELUDE = '''
-import numpy as _np
-
-_m = _np
-
-
-def _as_vector(value, length, name, function):
-    array = _np.asarray(value, dtype=float)
-    if array.ndim == 0 or array.shape[0] != length:
-        raise ValueError(f"{function}: argument {name} must have shape ({length}, ...), "
-                         f"got {array.shape}")
-    return array
-'''
-
 
 def _header(model: str, markdown: bool) -> str:
     lines = [line.format(model=model) for line in _HEADER]
@@ -192,7 +178,7 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
            '\n\nresponses_<variant>(t, x, u, p)[i, j, ...] is error state i at time t for a '
            'unit error source j\n(SI), every other source zero. frequencies_<variant>(x, u, p)'
            ' are the mode frequencies,\nrad/s, in the order of MODES[<variant>]. BAKED: '
-           'parameter values the closed forms\nwere derived for."""', _PRELUDE]
+           'parameter values the closed forms\nwere derived for."""', NUMPY_PRELUDE]
     variants, modes = [], {}
     for result in results:
         a = result.analysis
