@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import platform
 import shutil
 import subprocess
 import tempfile
@@ -278,6 +279,19 @@ def _writable(directory: Path) -> Path:
     return Path(tempfile.mkdtemp(prefix="ins-errors-"))
 
 
+def _cpu_identity() -> str:
+    """Machine and CPU model (the cache must not hand one CPU's code to another)."""
+    model = platform.processor()
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as handle:
+            for line in handle:
+                if line.startswith(("model name", "flags", "Features")):
+                    model += line
+    except OSError:
+        pass
+    return platform.machine() + model
+
+
 def _compiler() -> str | None:
     name = os.environ.get("CC", "cc")
     return shutil.which(name) or shutil.which("gcc") or shutil.which("clang")
@@ -319,7 +333,9 @@ def compile_functions(functions: list[ca.Function], jit: bool = True) -> list[ca
         generator.add(function)
     source = generator.dump()
     flags = ["-O3", "-march=native", "-shared", "-fPIC"]
-    key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__).encode())
+    # -march=native code runs only on this kind of CPU: the CPU is part of the cache key
+    key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__
+                          + _cpu_identity()).encode())
     name = f"loop_{key.hexdigest()[:24]}.so"
     directory = _writable(cache_directory())
     library = directory / name
