@@ -156,6 +156,14 @@ def test_leaving_the_domain_names_time_and_quantity(orthodromic):
     traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
                          6 * HOURS, 1.0)
     with pytest.raises(DomainError, match=r"between t = [\d.]+ s and [\d.]+ s .*\|u31\|"):
-        simulate(orthodromic, traj, {"gyro_drift_x": 1e5 * DEG / 3600}, record_interval=60.0)
+        simulate(orthodromic, traj, {"position_integrator_offset_xi": 1e4 * DEG / 3600},
+                 record_interval=60.0)
     with pytest.raises(DomainError, match=r"computed u\d\d became NaN or infinite"):
         simulate(orthodromic, traj, {"initial_velocity_error_xi": 1e7}, record_interval=60.0)
+
+
+def test_platform_beyond_small_angles_is_an_error(orthodromic):
+    """An 80° tilt is far outside the manual's small-angle platform matrix: refuse it."""
+    traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG), 600.0, 1.0)
+    with pytest.raises(DomainError, match=r"platform angle alpha_x exceeds 0\.5 rad"):
+        simulate(orthodromic, traj, {"initial_tilt_x": 80 * DEG}, record_interval=60.0)

@@ -59,6 +59,10 @@ from ins_errors.numeric.trajectories import Trajectory
 PARTS: tuple[str, ...] = ("real", "linear", "refined")
 """Runs that can be integrated next to the ideal run."""
 
+SMALL_ANGLE_LIMIT = 0.5
+"""Largest platform misalignment (rad) for which the real-work equations, written with the
+source documents' small-angle platform matrix, are accepted as a model of the platform."""
+
 MAX_RECORDED_VALUES = 250_000_000
 """Largest number of recorded floats (2 GB) a run may produce."""
 
@@ -392,6 +396,20 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                              name, [s.name for s in model.error_states])
                 k = int(np.argmax((~np.isfinite(states[:, r])).any(axis=1)))
                 first, detail = r, f"{label} {names[k]} became NaN or infinite"
+    if sim.real is not None:  # platform angles beyond the small-angle platform model
+        n = len(model.states)
+        angles = [k for k in range(n, len(model.error_states))
+                  if model.error_states[k].unit == "rad"]
+        if angles:
+            large = np.abs(sim.real[angles]) > SMALL_ANGLE_LIMIT
+            if large.any():
+                r = int(np.argmax(large.any(axis=(0, 2))))
+                if first is None or r < first:
+                    k = angles[int(np.argmax(large[:, r].any(axis=1)))]
+                    first, detail = r, (
+                        f"platform angle {model.error_states[k].name} exceeds "
+                        f"{SMALL_ANGLE_LIMIT:g} rad ({np.degrees(SMALL_ANGLE_LIMIT):.3g}°), "
+                        "beyond the small-angle platform model of the real-work equations")
     if first is not None:
         t0, t1 = (first - 1) * dt, first * dt
         when = f"at t = {t1:.6g} s" if sim.stride == 1 else (
