@@ -31,11 +31,13 @@ from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
 
+import casadi as ca
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.numeric.integrators import CompiledLoop, input_stream
 from ins_errors.numeric.model import Model, load_model
-from ins_errors.numeric.simulate import ErrorCurves
+from ins_errors.numeric.simulate import ErrorCurves, chunk_size
 from ins_errors.numeric.trajectories import (
     Trajectory,
     great_circle_profile,
@@ -113,6 +115,34 @@ def _vector_function(args, expressions):
 
 
 @cache
+def _symbolic_variant(flag: str):
+    """SymPy pieces of the computer simplified by ``flag``.
+
+    Returns
+    -------
+    simple : ModelDefinition
+        The orthodromic model with the simplified computer.
+    real : sympy.Matrix
+        Simplified real work without instrument errors, in ``xr, x, u, p``.
+    forcing : sympy.Matrix
+        Simplified minus exact right-hand side at the ideal point, in ``x, u, p``.
+    jacobian : sympy.Matrix
+        Jacobian F~ of the simplified real work at the ideal point, in ``x, u, p``.
+    """
+    import sympy as sp
+
+    from ins_errors.models.orthodromic import build
+
+    exact = build()
+    simple = build(frozenset({flag}))
+    real = simple.real_rhs_expanded().xreplace(simple.no_errors())
+    at_ideal = real.xreplace(simple.at_ideal())
+    forcing = at_ideal - sp.Matrix([*exact.ideal_rhs_expanded(), 0, 0, 0])
+    jacobian = real.jacobian(simple.real_states).xreplace(simple.at_ideal())
+    return simple, real, forcing, jacobian
+
+
+@cache
 def _variant(flag: str):
     """Numpy callables of the computer simplified by ``flag``.
 
@@ -125,18 +155,7 @@ def _variant(flag: str):
     state_matrix : callable
         ``(x, u, p) -> F~``: the simplified real work's Jacobian at the ideal point.
     """
-    import sympy as sp
-
-    from ins_errors.models.orthodromic import build
-
-    exact = build()
-    simple = build(frozenset({flag}))
-    no_errors = simple.no_errors()
-    real = simple.real_rhs_expanded().xreplace(no_errors)
-    at_ideal = real.xreplace(simple.at_ideal())
-    ideal = exact.ideal_rhs_expanded()
-    forcing = at_ideal - sp.Matrix([*ideal, 0, 0, 0])
-    jacobian = real.jacobian(simple.real_states).xreplace(simple.at_ideal())
+    simple, real, forcing, jacobian = _symbolic_variant(flag)
     direct = _vector_function([simple.real_states, simple.x, simple.u, simple.p], real)
     equivalent = _vector_function([simple.x, simple.u, simple.p], forcing)
     ne = len(simple.real_states)
@@ -147,6 +166,45 @@ def _variant(flag: str):
         return values.reshape(ne, ne, *values.shape[1:])
 
     return direct, equivalent, state_matrix
+
+
+def _casadi_function(name: str, arguments: list, result) -> ca.Function:
+    """A casadi.Function of a SymPy matrix, through the project's code generator."""
+    from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_casadi_builder, prepare
+
+    spec = FunctionSpec(name, [Argument(label, symbols, label) for label, symbols in arguments],
+                        result, name, name)
+    namespace = {"_m": ca}
+    exec(emit_casadi_builder(prepare(spec)), namespace)  # generated from our own SymPy
+    return namespace[f"_build_{name}"]()
+
+
+@cache
+def _study_loop(flag: str, tau: float, stride: int, p: tuple[float, ...],
+                constant_inputs: tuple[float, ...] | None, chunk: int) -> CompiledLoop:
+    """Compiled RK4 loop of ``z = [x, x~, e]``: ideal work, simplified real work, and the
+    linear estimate ``ė = F~ e + d``."""
+    import sympy as sp
+
+    simple, real, forcing, jacobian = _symbolic_variant(flag)
+    model = load_model("orthodromic")
+    args = [("x", simple.x), ("u", simple.u), ("p", simple.p)]
+    direct = _casadi_function("simplified_real_rhs",
+                              [("xr", simple.real_states), *args], real)
+    linear_terms = _casadi_function(
+        "simplified_linear", [*args, ("e", simple.xe)],
+        jacobian * sp.Matrix(simple.xe) + forcing)
+    ideal = model.casadi.function("ideal_rhs")
+    n, ne = len(simple.x), len(simple.real_states)
+    z, u = ca.SX.sym("z", n + 2 * ne), ca.SX.sym("u", len(simple.u))
+    par, none = ca.SX.sym("p", len(simple.p)), ca.SX.sym("none", 0)
+    x, xr, e = z[:n], z[n:n + ne], z[n + ne:]
+    rhs = ca.Function("study_rhs", [z, u, none, par],
+                      [ca.vertcat(ideal(x, u, par), direct(xr, x, u, par),
+                                  linear_terms(x, u, par, e))])
+    return CompiledLoop(rhs, None, "rk4", stride, tau, np.array(p),
+                        None if constant_inputs is None else np.array(constant_inputs),
+                        chunk=chunk)
 
 
 # --------------------------------------------------------------------------------------
@@ -260,32 +318,19 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
                          f"{tau} s")
     model = load_model("orthodromic")
     traj = motion(scenario, latitude, duration, tau, speed, track, model)
-    direct_rhs, forcing_fn, simplified_F = _variant(st.flag)
+    _, forcing_fn, _ = _variant(st.flag)
     np_ = model.numpy
     p = traj.parameters
-    u_steps, u_mid = traj.full_inputs()
+    u_steps, _ = traj.full_inputs()
     n, ne = len(model.states), len(model.error_states)
-
-    def rhs(z, u):
-        x, xr, e = z[:n], z[n:n + ne], z[n + ne:]
-        F = simplified_F(x, u, p)
-        return np.concatenate([np_.ideal_rhs(x, u, p), direct_rhs(xr, x, u, p),
-                               F @ e + forcing_fn(x, u, p)])
-
     x0 = traj.truth[:, 0]
-    z = np.concatenate([x0, x0, np.zeros(ne - n), np.zeros(ne)])
+    z0 = np.concatenate([x0, x0, np.zeros(ne - n), np.zeros(ne)])
     records = traj.n_steps // stride + 1
-    history = np.empty((z.size, records))
-    history[:, 0] = z
-    for k in range(traj.n_steps):
-        u0, um, u1 = u_steps[:, k], u_mid[:, k], u_steps[:, k + 1]
-        k1 = rhs(z, u0)
-        k2 = rhs(z + 0.5 * tau * k1, um)
-        k3 = rhs(z + 0.5 * tau * k2, um)
-        k4 = rhs(z + tau * k3, u1)
-        z = z + tau / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-        if (k + 1) % stride == 0:
-            history[:, (k + 1) // stride] = z
+    constant = tuple(traj.inputs[:, 0]) if traj.constant else None
+    loop = _study_loop(st.flag, float(tau), stride, tuple(p), constant,
+                       chunk_size(records - 1))
+    stream = None if traj.constant else input_stream(traj.inputs, traj.midpoints, "rk4")
+    history = loop.run(z0, np.zeros(0), traj.n_steps, stream).states[:, :, 0]
     if not np.all(np.isfinite(history)):
         raise StudyError(f"study {name!r} ({scenario}) diverged: NaN or infinite errors")
     steps = np.arange(records) * stride
