@@ -221,3 +221,22 @@ def test_moving_trajectory_noise_matches_linear_monte_carlo(orthodromic):
     runs = 2000
     sample = mc.linear_monte_carlo(system, SOURCES, fn, runs, seed=21, substeps=6)
     _compare(cov.std[1:], sample.rms[1:], runs, 1e-15)
+
+
+@pytest.mark.parametrize("kind", ["constant", "markov"])
+def test_total_keeps_small_sources_next_to_large_ones(orthodromic, kind):
+    """Totals must not drop a source whose SI variance is tiny beside another's (units mix:
+    a 0.001 °/h drift next to a 10 m/s velocity error): compared quantity by quantity."""
+    system = cv.static_system(orthodromic, PHI, duration=6 * 3600.0, step=60.0)
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    extra = {"tau": 3600.0} if kind == "markov" else {}
+    sources = [cv.SourceStatistics("initial_velocity_error_xi", "constant", 10.0),
+               cv.SourceStatistics("gyro_drift_x", kind, 0.001 * DEG_H, **extra)]
+    each = cv.propagate(system, sources, fn)
+    total = cv.propagate(system, sources, fn, by_source=False)
+    scale = each.variance.max(axis=0)
+    used = scale > 0
+    np.testing.assert_allclose(total.variance[:, used] / scale[used],
+                               each.variance[:, used] / scale[used], atol=1e-9)
+    # the azimuth error comes from the drift alone and must be there
+    assert total.variance[-1, total.index("alpha_z")] > 1e-14

@@ -141,12 +141,19 @@ def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float) -> tuple[np.ndarray, np
 
 
 def _noise_factor(Qd: np.ndarray, tolerance: float = 1e-13) -> np.ndarray:
-    """A factor W with W Wᵀ = Qd (symmetric PSD), columns for non-negligible modes."""
-    values, vectors = np.linalg.eigh(Qd)
+    """A factor W with W Wᵀ = Qd (symmetric PSD), columns for non-negligible modes.
+
+    The states mix units (rad, m/s, ...), so negligible modes are judged on the matrix
+    scaled to unit diagonal: a small-but-real variance of one state is never dropped
+    because another state's variance is large in SI numbers.
+    """
+    scale = np.sqrt(np.clip(np.diag(Qd), 0.0, None))
+    scale[scale == 0] = 1.0
+    values, vectors = np.linalg.eigh(Qd / np.outer(scale, scale))
     keep = values > tolerance * max(values.max(), 0.0)
     if not keep.any():
         return np.zeros((Qd.shape[0], 0))
-    return vectors[:, keep] * np.sqrt(values[keep])
+    return scale[:, None] * vectors[:, keep] * np.sqrt(values[keep])
 
 
 def power_sequence(Phi: np.ndarray, Z0: np.ndarray, C: np.ndarray, steps: int,
@@ -366,7 +373,7 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
         if by_source:
             unit[:, :, valued] = power_sequence(Phi, Z0, C, K_out)**2
         elif any(sources[i].kind == "markov" for i in valued):
-            Z0s = _noise_factor(Z0 @ np.diag(sigma2[valued]) @ Z0.T)
+            Z0s = Z0 * np.sqrt(sigma2[valued])  # exact factor: one column per source
             unit[:, :, 0] = power_sequence(Phi, Z0s, C, K_out, reduce="square-sum")
         elif valued:
             unit[:, :, 0] = _constants_total(Phi, n, system.E[:, cols_b], C_b,
@@ -445,7 +452,7 @@ def _constants_total(Phi: np.ndarray, n: int, E: np.ndarray, C_b: np.ndarray,
     C = np.zeros((q, 2 * n + r))
     C[:, :n] = C_x
     C[rows, 2 * n + np.arange(r)] = 1.0
-    V = _noise_factor((Z0 * sigma2) @ Z0.T, tolerance=1e-15)
+    V = Z0 * np.sqrt(sigma2)  # exact factor of the initial covariance, one column a source
     return power_sequence(Psi, V, C, steps, reduce="square-sum")
 
 
