@@ -54,6 +54,8 @@ def run(args: argparse.Namespace) -> int:
     if not args.hours > 0:
         raise DomainError(f"--hours must be positive, got {args.hours}")
     duration = args.hours * 3600.0
+    if not step > 0:
+        raise DomainError(f"--step must be positive, got {args.step!r}")
     record = 300.0 if 300.0 % step == 0 else step
     if args.orthodromic:
         day = propagation.orthodromic_day(latitude, duration, step, record)

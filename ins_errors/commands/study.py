@@ -70,6 +70,10 @@ def run(args: argparse.Namespace) -> int:
         raise unknown_name("study", args.name, names)
     speed = parse_quantity(args.speed, "m/s", "--speed")
     step = parse_quantity(args.step or "20 s", "s", "--step")
+    if not step > 0:
+        from ins_errors.errors import InsErrorsError
+
+        raise InsErrorsError(f"--step must be positive, got {args.step!r}")
     if args.name == SPHEROID:
         return _spheroid(args, speed, step)
     from ins_errors.studies import methodological

@@ -24,6 +24,7 @@ import numpy as np
 
 from ins_errors.errors import DomainError
 from ins_errors.numeric.closed_forms import closed_forms
+from ins_errors.numeric.integrators import step_count
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.numeric.simulate import simulate
 from ins_errors.numeric.trajectories import Trajectory
@@ -203,7 +204,7 @@ def _static_trajectory(model: Model, e: Experiment, p: np.ndarray) -> Trajectory
     x[[s.name for s in model.states].index("phi")] = e.latitude
     u = np.zeros(len(model.inputs))
     c = model.initial_condition_vector(latitude=e.latitude)
-    n_steps = round(e.duration / e.step)
+    n_steps = step_count(e.duration, e.step)
     return Trajectory(model.name, e.step, n_steps, x[:, None], u[:, None], u[:, None], p,
                       c, True, f"static base at φ={np.degrees(e.latitude):.4g}°")
 

@@ -37,6 +37,7 @@ import numpy as np
 
 from ins_errors.errors import DomainError, InsErrorsError
 from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
+from ins_errors.numeric.integrators import step_count
 from ins_errors.numeric.model import load_model
 
 
@@ -285,7 +286,10 @@ def simulate_flights(start_latitudes, start_longitudes, orthodrome_angles, durat
     if stride < 1 or abs(stride * step - record_interval) > 1e-9 * record_interval:
         raise SpheroidStudyError(f"record interval {record_interval} s must be a multiple of "
                                  f"the step {step} s")
-    n_steps = round(duration / step)
+    n_steps = step_count(duration, step)
+    if n_steps % stride:
+        raise SpheroidStudyError(f"duration {duration:g} s is not a whole number of record "
+                                 f"intervals of {record_interval:g} s")
     model = load_model("geodetic_vertical")
     flights = lat0.size
     p = np.stack([model.parameter_vector(a=a, e2=1 - (b / a) ** 2, orth_latitude=la,
