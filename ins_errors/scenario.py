@@ -130,6 +130,12 @@ def load_scenario(path: str | Path) -> Scenario:
     except tomllib.TOMLDecodeError as error:
         raise ScenarioError(f"{path.name}: not valid TOML: {error}") from None
     _check_keys(data, _TOP_KEYS, path.name)
+    for table in ("motion", "run", "outputs"):
+        if not isinstance(data.get(table, {}), dict):
+            raise ScenarioError(f"{path.name}: '{table}' must be a table, [{table}]")
+    if not isinstance(data.get("case", []), list):
+        raise ScenarioError(f"{path.name}: cases are an array of tables: write [[case]], "
+                            "not [case]")
     if "model" not in data:
         raise ScenarioError(f"{path.name}: missing 'model = \"...\"'")
     model = load_model(str(data["model"]))
@@ -151,6 +157,8 @@ def load_scenario(path: str | Path) -> Scenario:
         raise ScenarioError(f"{path.name}: no [[case]] with error sources")
     cases = []
     for k, raw in enumerate(raw_cases, start=1):
+        if not isinstance(raw, dict):
+            raise ScenarioError(f"{path.name}: case {k} must be a table of sources")
         label = str(raw.get("label", ""))
         sources = {}
         for name, value in raw.items():
@@ -163,6 +171,18 @@ def load_scenario(path: str | Path) -> Scenario:
         label = label or ", ".join(f"{n} = {raw[n]}" for n in sources)
         cases.append(Case(label, sources))
     quantities = outputs.get("quantities")
+    if quantities is not None:
+        known = _quantity_names(model)
+        for q in quantities:
+            if q not in known:
+                raise unknown_name(f"quantity in {path.name} [outputs]", str(q), known)
+    from ins_errors.numeric.motion_spec import motion_profile
+
+    motion_profile(dict(data.get("motion", {})), base=path.parent)  # checked before any run
+    refined = run.get("refined", True)
+    if not isinstance(refined, bool):
+        raise ScenarioError(f"{path.name}: [run] refined must be true or false, "
+                            f"got {refined!r}")
     return Scenario(
         title=str(data.get("title", path.stem)),
         description=str(data.get("description", "")),
@@ -172,12 +192,19 @@ def load_scenario(path: str | Path) -> Scenario:
         step=step,
         record=record,
         method=method,
-        refined=bool(run.get("refined", True)),
+        refined=refined,
         ellipsoid=str(run["ellipsoid"]) if "ellipsoid" in run else None,
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
         base=path.parent,
     )
+
+
+def _quantity_names(model) -> list[str]:
+    """Error quantities a run reports: platform angles, then ``delta_<output>``."""
+    n = len(model.states)
+    return [s.name for s in model.error_states[n:]] + [f"delta_{o.name}"
+                                                       for o in model.outputs]
 
 
 @dataclass

@@ -77,6 +77,8 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value") -> f
     """
     ureg = registry()
     target = ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
+    if isinstance(text, bool):  # True is an int in Python: never a magnitude
+        raise UnitError(f"{what}: expected a number or a quantity with a unit, got {text!r}")
     if isinstance(text, (int, float)):
         value = float(text)
     else:

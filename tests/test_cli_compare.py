@@ -108,3 +108,14 @@ def test_unknown_model_and_entry_point():
     assert done.returncode == 2
     assert "did you mean 'orthodromic'" in done.stderr
     assert "Traceback" not in done.stderr
+
+
+def test_repeated_source_and_bare_angle_are_refused(capsys):
+    from ins_errors.cli import main
+
+    assert main(["compare", "orthodromic", "-s", "gyro_drift_x=1deg/h", "-s",
+                 "gyro_drift_x=0.001deg/h", "--hours", "1"]) == 2
+    assert "given twice" in capsys.readouterr().err
+    assert main(["compare", "orthodromic", "-s", "gyro_drift_x=1deg/h", "--latitude", "50",
+                 "--hours", "1"]) == 2
+    assert "needs a unit" in capsys.readouterr().err

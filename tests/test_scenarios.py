@@ -78,3 +78,16 @@ def test_cli_run_writes_the_report(tmp_path, capsys):
     assert (tmp_path / "rep" / "report.html").exists()
     assert main(["run", str(tmp_path / "missing.toml")]) == 2
     assert "cannot read scenario" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("text, message", [
+    (GOOD.replace("[[case]]", "[case]"), "write \\[\\[case\\]\\]"),
+    ('motion = "static"\n' + GOOD, "'motion' must be a table"),
+    (GOOD.replace("[run]", "[run]\nrefined = \"false\""), "refined must be true or false"),
+    (GOOD.replace('"0.01 deg/h"', "true"), "expected a number or a quantity"),
+    (GOOD + "[outputs]\nquantities = ['alpha_q']\n", "unknown quantity .* 'alpha_q'"),
+    (GOOD + "[motion]\nlatitude = '50'\n", "needs a unit"),
+])
+def test_malformed_scenarios_are_caught_before_running(tmp_path, text, message):
+    with pytest.raises(InsErrorsError, match=message):
+        load_scenario(_write(tmp_path, text))

@@ -74,6 +74,8 @@ def _sources(model, items: list[str]) -> list[tuple[str, float]]:
             raise InsErrorsError(f"--source {item!r}: expected NAME=VALUE, e.g. "
                                  "gyro_drift_x=0.01deg/h")
         info = model.sources[model.index("sources", name)]
+        if any(name == seen for seen, _ in out):
+            raise InsErrorsError(f"--source {name} given twice")
         out.append((name, parse_quantity(text, info.unit, name)))
     return out
 

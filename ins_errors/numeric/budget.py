@@ -191,8 +191,7 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
         fixed = None
         if option.fixed is not None:
             try:
-                value = parse_quantity(option.fixed, unit if info.unit != "1" or suffix
-                                       else "1", f"sources.{info.name}.fixed")
+                value = parse_quantity(option.fixed, unit, f"sources.{info.name}.fixed")
             except UnitError as error:
                 raise SpecError(f"{error} (e.g. '1 {display}')") from None
             if value < 0:
@@ -520,8 +519,10 @@ class Evaluation:
 def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None) -> Evaluation:
     """Propagate the given 1σ magnitudes (SI) and evaluate every spec row.
 
-    This repeats the covariance propagation with the actual magnitudes (it does not
-    reuse unit variances), so it is an independent check of an allocation.
+    The covariance is propagated again at the actual magnitudes, so this checks the
+    allocation arithmetic (shares, binding items, fill). It uses the same propagation as
+    the allocation: for an independent check of the covariance itself compare with the
+    Monte Carlo runs (:mod:`ins_errors.numeric.monte_carlo`).
     """
     sources = resolve_sources(model, spec)
     known = {s.name for s in sources}

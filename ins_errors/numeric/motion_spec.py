@@ -63,6 +63,19 @@ def read_motion_file(path: str | Path, latitude: float, longitude: float, headin
                               np.atleast_1d(table["v_E"]), latitude, longitude, heading, h)
 
 
+def _angle(value: Any, what: str) -> float:
+    """An angle; text must carry its unit (``"50"`` would silently mean 50 rad)."""
+    if isinstance(value, str):
+        try:
+            float(value)
+        except ValueError:
+            pass
+        else:
+            raise InsErrorsError(f"{what} {value!r} needs a unit, e.g. '{value} deg' or "
+                                 f"'{value} rad'")
+    return parse_quantity(value, "rad", what)
+
+
 def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> tr.Profile:
     """Build a Profile from a motion description.
 
@@ -88,9 +101,8 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
     kind = str(spec["kind"])
     if kind not in MOTION_KINDS:
         raise unknown_name("motion kind", kind, MOTION_KINDS)
-    lat = parse_quantity(spec["latitude"], "rad", "motion latitude")
-    lon = parse_quantity(spec["longitude"], "rad", "motion longitude")
-    heading = parse_quantity(spec["heading"], "rad", "motion heading")
+    lat, lon, heading = (_angle(spec[key], f"motion {key}")
+                         for key in ("latitude", "longitude", "heading"))
     speed = parse_quantity(spec["speed"], "m/s", "motion speed")
     height = parse_quantity(spec["height"], "m", "motion height")
     if kind == "static":
