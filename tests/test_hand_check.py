@@ -328,3 +328,18 @@ def test_bad_latex_input_names_line_and_column():
     assert "V_zeta is not a state" in problems[3].message
     assert problems[4].column == len(lines[3]) + 1  # the missing '}' at the end
     assert [r.status for r in report.results if r.equation.line == 2] == ["agrees"]
+
+
+@pytest.mark.parametrize("rhs, message", [
+    ("alpha_z**2 + omega_zeta*alpha_y", "not linear in the error quantity alpha_z"),
+    ("sin(alpha_z)*omega_eta", "not linear in the error quantity alpha_z"),
+    ("alpha_z*alpha_y", "not linear"),
+    ("1/0*alpha_z", "not finite"),
+])
+def test_nonlinear_or_infinite_terms_are_input_problems(tmp_path, rhs, message, capsys):
+    path = tmp_path / "bad.txt"
+    path.write_text(f"dot(alpha_x) = {rhs}\nDelta_omega_zeta = U*Delta_u31\n", encoding="utf-8")
+    assert main(["check", "orthodromic", str(path)]) == 2
+    out = capsys.readouterr().out
+    assert message in out and "Traceback" not in out
+    assert "1 agree" in out  # the other equation is still checked

@@ -545,16 +545,27 @@ def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol]
                   ) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
     """Coefficients of the basis quantities in ``expr`` and its constant part.
 
-    Error equations are linear in the errors: a coefficient is ``expr`` with its own
-    quantity set to one and the others to zero (the derivative is taken instead when
-    the equation also has a constant part).
+    Error equations are linear in the errors: a coefficient is the derivative by its
+    quantity with every quantity at zero. A term that is not linear (α², sin α, α·β) is
+    an input problem, not a coefficient to compare.
+
+    Raises
+    ------
+    _UnresolvedError
+        If ``expr`` is not linear in the basis quantities or has a non-finite part.
     """
+    if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        raise _UnresolvedError(None, "a term is not finite (division by zero?)")
     present = [b for b in basis if b in expr.free_symbols]
     zero = {b: sp.S.Zero for b in present}
-    constant = expr.xreplace(zero)
-    if constant != 0:
-        return {b: sp.diff(expr, b).xreplace(zero) for b in present}, constant
-    return {b: expr.xreplace({**zero, b: sp.S.One}) for b in present}, constant
+    coefficients = {}
+    for b in present:
+        derivative = sp.diff(expr, b)
+        if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in present):
+            raise _UnresolvedError(b.name, f"not linear in the error quantity {b.name}: "
+                                   "error equations must be linear in the errors")
+        coefficients[b] = derivative.xreplace(zero)
+    return coefficients, expr.xreplace(zero)
 
 
 def _display(expr: sp.Expr, limit: int = 200) -> str:
@@ -604,8 +615,11 @@ class _Comparison:
         """Evaluate the coefficients of many equations in one vectorised call."""
         wanted = []
         for hand, model in pairs:
-            h, hc = self.linear_parts(hand)
-            m, mc = self.linear_parts(model)
+            try:
+                h, hc = self.linear_parts(hand)
+                m, mc = self.linear_parts(model)
+            except _UnresolvedError:
+                continue  # reported with its own equation
             wanted += [*h.values(), *m.values(), hc - mc]
         known = set(self.arguments)
         todo = list(dict.fromkeys(e for e in wanted if e not in self._values
