@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from derive.pipeline import derive_all
+from ins_errors.errors import InsErrorsError
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -20,12 +21,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--model", action="append", help="only this model (repeatable)")
     args = parser.parse_args(argv)
     start = time.perf_counter()
-    summaries = derive_all(args.out, args.model)
+    try:
+        summaries = derive_all(args.out, args.model)
+    except InsErrorsError as error:
+        print(f"derive: error: {error}", file=sys.stderr)
+        return 2
     print(f"{'model':<20}{'states':>7}{'errors':>7}{'sources':>8}{'outputs':>8}"
           f"{'ops':>8}{'seconds':>9}")
     for s in summaries:
         print(f"{s.name:<20}{s.states:>7}{s.error_states:>7}{s.sources:>8}{s.outputs:>8}"
               f"{s.operations:>8}{s.seconds:>9.2f}")
+    if args.model:
+        print("derive: --model given, so the documents built across models (transfer "
+              "functions, hand-check reports) were not rewritten")
     print(f"derive: wrote {args.out} in {time.perf_counter() - start:.1f} s")
     return 0
 

@@ -167,21 +167,21 @@ def write_model(d: ModelDefinition, root: Path) -> ModelSummary:
     prepared = [prepare(spec) for spec in function_specs(em)]
     folder = root / d.name
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "__init__.py").write_text(header(d) + _metadata(d))
+    (folder / "__init__.py").write_text(header(d) + _metadata(d), encoding="utf-8")
     numpy_src = [header(d), f'"""numpy functions of the model {d.name!r} (broadcasting)."""',
                  NUMPY_PRELUDE]
     numpy_src += ["\n" + emit_numpy_function(p) + "\n" for p in prepared]
     names = [p.spec.name for p in prepared]
     numpy_src.append(f"\nFUNCTIONS = {tuple(names)!r}\n")
-    (folder / "numpy_model.py").write_text("\n".join(numpy_src))
+    (folder / "numpy_model.py").write_text("\n".join(numpy_src), encoding="utf-8")
     casadi_src = [header(d), f'"""CasADi SX functions of the model {d.name!r}."""',
                   _CASADI_PRELUDE]
     casadi_src += ["\n" + emit_casadi_builder(p) + "\n" for p in prepared]
     builders = ", ".join(f"{n!r}: _build_{n}" for n in names)
     casadi_src.append(f"\n_BUILDERS = {{{builders}}}\nFUNCTIONS = {tuple(names)!r}\n")
-    (folder / "casadi_model.py").write_text("\n".join(casadi_src))
+    (folder / "casadi_model.py").write_text("\n".join(casadi_src), encoding="utf-8")
     (folder / "error_equations.md").write_text(header(d, markdown=True) + "\n"
-                                               + error_equations_markdown(d))
+                                               + error_equations_markdown(d), encoding="utf-8")
     return ModelSummary(d.name, len(d.states), len(d.error_states), len(d.sources),
                         len(d.outputs), sum(p.operations for p in prepared),
                         time.perf_counter() - start)

@@ -15,6 +15,7 @@ from pathlib import Path
 from derive.hand_check_report import write_hand_check_reports
 from derive.model_files import ModelSummary, write_model
 from derive.transfer_functions import write_transfer_functions
+from ins_errors.errors import unknown_name
 from ins_errors.models import definition, model_names
 
 EXTRA_STEPS: list[Callable[[Path], None]] = [write_transfer_functions, write_hand_check_reports]
@@ -36,11 +37,14 @@ def _write_models(names: list[str], root: Path) -> list[ModelSummary]:
 
 def derive_all(root: Path, models: list[str] | None = None) -> list[ModelSummary]:
     """Write every (or the named) model's generated files under ``root``."""
+    names = models or model_names()
+    for name in names:  # before anything is written
+        if name not in model_names():
+            raise unknown_name("model", name, model_names())
     root.mkdir(parents=True, exist_ok=True)
     init = root / "__init__.py"
-    names = models or model_names()
     init.write_text('"""Generated code of every model (written by `make derive`)."""\n\n'
-                    f"MODELS = {tuple(model_names())!r}\n")
+                    f"MODELS = {tuple(model_names())!r}\n", encoding="utf-8")
     summaries = _write_models(names, root)
     if models is None:
         for step in EXTRA_STEPS:

@@ -231,4 +231,4 @@ def write_transfer_functions(root: Path) -> None:
         folder = root / model
         folder.mkdir(parents=True, exist_ok=True)
         for name, text in files.items():
-            (folder / name).write_text(text)
+            (folder / name).write_text(text, encoding="utf-8")

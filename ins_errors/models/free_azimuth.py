@@ -302,7 +302,7 @@ def navigation_outputs(eq: Mechanisation, s: list[sp.Symbol], inputs: list[sp.Sy
     """Latitude, longitude, true azimuth of ξ', north and east relative velocity."""
     Phi, Lam, _A, _V_x, _V_y = s
     (k_xi, k_eta, k_zeta, k_x, k_y), (v_x, v_y, _v_xi, _v_eta) = relative_velocity(eq, s)
-    cos_lat = eq.let("cos_lat", sp.sqrt(k_xi**2 + k_eta**2), r"\cos\varphi")
+    cos_lat = eq.let("cos_lat", sp.sqrt(k_xi**2 + k_eta**2), r"\left(\cos\varphi\right)")
     lat = sp.atan2(k_zeta, cos_lat)
     lon = geographic_longitude(Phi, Lam)
     psi = sp.atan2(k_y, k_x)

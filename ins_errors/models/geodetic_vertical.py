@@ -232,7 +232,7 @@ def navigation_outputs(eq: Mechanisation, s: list[sp.Symbol], inputs: list[sp.Sy
     Phi, Lam, W_xi, W_eta = s
     m = current_frame(Phi, Lam)
     m12, m22, m32 = m[0, 1], m[1, 1], m[2, 1]
-    cos_B = eq.let("cos_B", sp.sqrt(m12**2 + m22**2), r"\cos B")
+    cos_B = eq.let("cos_B", sp.sqrt(m12**2 + m22**2), r"\left(\cos B\right)")
     B = sp.atan2(-m32, cos_B)
     L = sp.atan2(m[2, 0], m[2, 2])
     N = sp.atan2(m12, m22)

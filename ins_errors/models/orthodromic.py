@@ -23,6 +23,8 @@ Modelling choices where the manual is silent or inconsistent (also printed at th
 * platform kinematics are the manual's small-angle form, exact in the commanded rates:
   α̇ = α × ω + (ω_cmd − ω) + drift, where ω is the true trihedron's absolute rate.
 * λ and χ use the four-quadrant arctangent of the manual's ratios; sin φ ≡ u31.
+* height and vertical velocity reach the computer from outside without error
+  (h̃ = h, Ṽ_ζ = V_ζ: the manual's ΔV_ζ terms vanish), as there is no vertical channel.
 """
 
 from __future__ import annotations

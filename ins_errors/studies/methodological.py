@@ -5,7 +5,8 @@ Each study swaps the orthodromic INS's computer for a simplified one and nothing
 
 ``nonsphericity`` (task 3)
     the Earth taken as a sphere on board: e² = 0 in the radii of curvature 1/R_ξ,
-    1/R_η, 1/R_o and in R_E;
+    1/R_η, 1/R_o and in R_E of the velocity integrators (the output formulas for
+    v_N, v_E keep the exact radii: the study measures the navigation-state errors);
 ``coriolis`` (task 5)
     the transport and Coriolis corrections W_ξ, W_η dropped from the velocity integrators;
 ``gravity_projections`` (task 6)

@@ -68,9 +68,11 @@ def error_equations_markdown(d: ModelDefinition) -> str:
     if rest:
         out += ["", "## Other states", ""]
         out += _equations(rest, names)
-    out += ["", "## Output errors", ""]
-    out += _equations([line for line in lines if _is_output_intermediate(line, d)
-                       or (line.kind == "output" and not line.rhs.is_Symbol)], names)
+    output_lines = [line for line in lines if _is_output_intermediate(line, d)
+                    or (line.kind == "output" and not line.rhs.is_Symbol)]
+    if output_lines:  # models whose outputs are states have nothing to add here
+        out += ["", "## Output errors", ""]
+        out += _equations(output_lines, names)
     return "\n".join(out) + "\n"
 
 
