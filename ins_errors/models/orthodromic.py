@@ -180,6 +180,24 @@ class ComputerErrors:
     position_gain: tuple[sp.Expr, sp.Expr] = (sp.S.Zero, sp.S.Zero)
 
 
+def reciprocal_radii(u11: sp.Expr, u21: sp.Expr, u31: sp.Expr, h: sp.Expr,
+                     ecc2: sp.Expr = e2) -> tuple[sp.Expr, sp.Expr, sp.Expr]:
+    """1/R_ξ, 1/R_η, 1/R_o of the ellipsoid along the trihedron axes (manual)."""
+    return ((1 - ecc2 * u31**2 / 2 + ecc2 * u11**2 - h / a) / a,
+            (1 - ecc2 * u31**2 / 2 + ecc2 * u21**2 - h / a) / a,
+            ecc2 * u11 * u21 / a)
+
+
+def prime_vertical_radius(u31: sp.Expr, h: sp.Expr, ecc2: sp.Expr = e2) -> sp.Expr:
+    """R_E = (a + h)/√(1 − e² sin²φ), as the manual writes it (sin φ = u31)."""
+    return (a + h) / sp.sqrt(1 - ecc2 * u31**2)
+
+
+def meridian_radius(u31: sp.Expr, h: sp.Expr, ecc2: sp.Expr = e2) -> sp.Expr:
+    """R_N = (a + h)(1 − e²)/(1 − e² sin²φ)^{3/2} (undefined in the manual; our choice)."""
+    return (a + h) * (1 - ecc2) / (1 - ecc2 * u31**2) ** sp.Rational(3, 2)
+
+
 def commanded_rates(eq: Mechanisation, s: list[sp.Symbol], h: sp.Symbol, ecc2: sp.Expr = e2):
     """Reciprocal radii and commanded absolute/relative rates of the trihedron.
 
@@ -190,11 +208,10 @@ def commanded_rates(eq: Mechanisation, s: list[sp.Symbol], h: sp.Symbol, ecc2: s
     """
     u11, u21, u31, _u12, _u22, _u32, V_xi, V_eta = s
     # 1/R_ξ, 1/R_η, 1/R_o of the ellipsoid along the trihedron axes
-    inv_R_xi = eq.let("inv_R_xi", (1 - ecc2 * u31**2 / 2 + ecc2 * u11**2 - h / a) / a,
-                      r"R_\xi^{-1}")
-    inv_R_eta = eq.let("inv_R_eta", (1 - ecc2 * u31**2 / 2 + ecc2 * u21**2 - h / a) / a,
-                       r"R_\eta^{-1}")
-    inv_R_o = eq.let("inv_R_o", ecc2 * u11 * u21 / a, r"R_o^{-1}")
+    radii = reciprocal_radii(u11, u21, u31, h, ecc2)
+    inv_R_xi = eq.let("inv_R_xi", radii[0], r"R_\xi^{-1}")
+    inv_R_eta = eq.let("inv_R_eta", radii[1], r"R_\eta^{-1}")
+    inv_R_o = eq.let("inv_R_o", radii[2], r"R_o^{-1}")
     # commanded absolute rates; sin φ = u31
     omega_xi = eq.let("omega_xi", -(V_eta * inv_R_eta + V_xi * inv_R_o), r"\omega_\xi")
     omega_eta = eq.let("omega_eta", V_xi * inv_R_xi + V_eta * inv_R_o, r"\omega_\eta")
@@ -252,7 +269,7 @@ def computer(eq: Mechanisation, s: list[sp.Symbol], f_xi: sp.Expr, f_eta: sp.Exp
     du22 = w_xi * u32 - w_zeta * u12
     du32 = w_eta * u12 - w_xi * u22
     # transport + Coriolis corrections and horizontal gravitation
-    R_E = eq.let("R_E", (a + h) / sp.sqrt(1 - ecc2 * u31**2), "R_E")
+    R_E = eq.let("R_E", prime_vertical_radius(u31, h, ecc2), "R_E")
     W_xi = eq.let("W_xi", keep_W * (omega_eta * V_zeta - omega_zeta * V_eta), r"W_\xi^{nk}")
     W_eta = eq.let("W_eta", keep_W * (omega_zeta * V_xi - omega_xi * V_zeta), r"W_\eta^{nk}")
     g_xi = eq.let("g_xi", keep_g * U**2 * R_E * u31 * u11, r"g'_\xi")
@@ -274,8 +291,8 @@ def navigation_outputs(eq: Mechanisation, s: list[sp.Symbol], inputs: list[sp.Sy
     chi = eq.let("chi", sp.atan2(u21, u11), r"\chi")
     omega_N = eq.let("omega_N", w_xi * sp.cos(chi) + w_eta * sp.sin(chi), r"\omega_N")
     omega_E = eq.let("omega_E", w_xi * sp.sin(chi) - w_eta * sp.cos(chi), r"\omega_E")
-    R_E = eq.let("R_E", (a + h) / sp.sqrt(1 - e2 * u31**2), "R_E")
-    R_N = eq.let("R_N", (a + h) * (1 - e2) / (1 - e2 * u31**2) ** sp.Rational(3, 2), "R_N")
+    R_E = eq.let("R_E", prime_vertical_radius(u31, h), "R_E")
+    R_N = eq.let("R_N", meridian_radius(u31, h), "R_N")
     v_N = -omega_E * R_N
     v_E = omega_N * R_E
     return sp.Matrix([phi, lam, chi, omega_N, omega_E, v_N, v_E])
@@ -305,12 +322,9 @@ def absolute_velocity(dc: list[sp.Expr], chi: sp.Expr, v_N: sp.Expr, v_E: sp.Exp
     is consistent with the model's own definitions.
     """
     u11, u21, u31 = dc[0], dc[1], dc[2]
-    inv_R_xi = (1 - e2 * u31**2 / 2 + e2 * u11**2 - h / a) / a
-    inv_R_eta = (1 - e2 * u31**2 / 2 + e2 * u21**2 - h / a) / a
-    inv_R_o = e2 * u11 * u21 / a
-    R_E = (a + h) / sp.sqrt(1 - e2 * u31**2)
-    R_N = (a + h) * (1 - e2) / (1 - e2 * u31**2) ** sp.Rational(3, 2)
-    omega_N, omega_E = v_E / R_E, -v_N / R_N
+    inv_R_xi, inv_R_eta, inv_R_o = reciprocal_radii(u11, u21, u31, h)
+    omega_N = v_E / prime_vertical_radius(u31, h)
+    omega_E = -v_N / meridian_radius(u31, h)
     w_rel_xi = omega_N * sp.cos(chi) + omega_E * sp.sin(chi)
     w_rel_eta = omega_N * sp.sin(chi) - omega_E * sp.cos(chi)
     # [ω_ξ, ω_η] = M [V_ξ, V_η]
