@@ -98,7 +98,7 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
         if key not in _KEYS:
             raise unknown_name("motion setting", key, sorted(_KEYS))
     spec = {**DEFAULTS, **description}
-    kind = str(spec["kind"])
+    kind = str(spec["kind"]).replace("_", "-")  # spec files spell it great_circle
     if kind not in MOTION_KINDS:
         raise unknown_name("motion kind", kind, MOTION_KINDS)
     lat, lon, heading = (_angle(spec[key], f"motion {key}")
