@@ -121,8 +121,10 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
         lines += ["", "Error sources the file never mentions (zero on both sides): "
                   + ", ".join(f"`{s}`" for s in report.out_of_scope) + "."]
     if report.from_model:
-        lines += ["", "Variations the file uses without defining them; the model's variation "
-                  "was used on the hand side too (they cannot differ):", ""]
+        lines += ["", "Variations the lines below use before (or without) the file defining "
+                  "them; for those lines the model's variation stands in on the hand side, so "
+                  "these variations are not checked there (a definition later in the file is "
+                  "checked on its own line):", ""]
         lines += [f"- `{k}` (needed by lines {', '.join(map(str, v))})"
                   for k, v in report.from_model.items()]
     if report.unused:
