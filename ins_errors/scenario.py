@@ -172,7 +172,9 @@ def load_scenario(path: str | Path) -> Scenario:
         cases.append(Case(label, sources))
     quantities = outputs.get("quantities")
     if quantities is not None:
-        known = _quantity_names(model)
+        from ins_errors.numeric.simulate import error_quantities
+
+        known = error_quantities(model)[0]
         for q in quantities:
             if q not in known:
                 raise unknown_name(f"quantity in {path.name} [outputs]", str(q), known)
@@ -198,13 +200,6 @@ def load_scenario(path: str | Path) -> Scenario:
         quantities=list(quantities) if quantities is not None else None,
         base=path.parent,
     )
-
-
-def _quantity_names(model) -> list[str]:
-    """Error quantities a run reports: platform angles, then ``delta_<output>``."""
-    n = len(model.states)
-    return [s.name for s in model.error_states[n:]] + [f"delta_{o.name}"
-                                                       for o in model.outputs]
 
 
 @dataclass

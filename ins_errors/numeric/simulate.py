@@ -199,19 +199,8 @@ class Simulation:
         steps = np.arange(self.ideal.shape[1]) * self.stride
         return self.trajectory.inputs_at(steps)[:, :, None]
 
-    def _quantities(self) -> tuple[list[str], list[str]]:
-        m = self.model
-        n = len(m.states)
-        names = [s.name for s in m.error_states[n:]] + [f"delta_{o.name}" for o in m.outputs]
-        units = [s.unit for s in m.error_states[n:]] + [o.unit for o in m.outputs]
-        return names, units
-
     def _curves(self, platform: np.ndarray, outputs: np.ndarray) -> ErrorCurves:
-        names, units = self._quantities()
-        angles = [k for k, o in enumerate(self.model.outputs) if o.unit == "rad"]
-        outputs = outputs.copy()
-        outputs[angles] = (outputs[angles] + np.pi) % (2 * np.pi) - np.pi
-        return ErrorCurves(names, units, self.times, np.concatenate([platform, outputs]))
+        return error_curves(self.model, self.times, platform, outputs)
 
     def direct_errors(self) -> ErrorCurves:
         """Errors of the direct run: real − ideal."""
@@ -246,6 +235,39 @@ class Simulation:
 # --------------------------------------------------------------------------------------
 # Running
 # --------------------------------------------------------------------------------------
+def error_quantities(model: Model) -> tuple[list[str], list[str]]:
+    """Names and SI units of the error quantities a run reports.
+
+    The platform angles (error states beyond the computed states), then
+    ``delta_<output>`` for every navigation output.
+    """
+    n = len(model.states)
+    names = [s.name for s in model.error_states[n:]] + [f"delta_{o.name}" for o in model.outputs]
+    units = [s.unit for s in model.error_states[n:]] + [o.unit for o in model.outputs]
+    return names, units
+
+
+def error_curves(model: Model, times: np.ndarray, platform: np.ndarray,
+                 outputs: np.ndarray) -> ErrorCurves:
+    """Error quantities over time from platform angles and output differences.
+
+    Parameters
+    ----------
+    model : Model
+    times : numpy.ndarray, shape (R + 1,)
+        s.
+    platform : numpy.ndarray, shape (ne - n, R + 1, B)
+        Platform angles, rad.
+    outputs : numpy.ndarray, shape (ny, R + 1, B)
+        Output differences (SI); angles are wrapped to (−π, π].
+    """
+    names, units = error_quantities(model)
+    angles = [k for k, o in enumerate(model.outputs) if o.unit == "rad"]
+    outputs = outputs.copy()
+    outputs[angles] = (outputs[angles] + np.pi) % (2 * np.pi) - np.pi
+    return ErrorCurves(names, units, times, np.concatenate([platform, outputs]))
+
+
 def source_cases(model: Model, sources: dict[str, float] | np.ndarray
                   | Sequence[dict[str, float]]) -> np.ndarray:
     """Error-source vectors as an array of shape (nw, B).

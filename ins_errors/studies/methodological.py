@@ -38,7 +38,7 @@ import numpy as np
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.integrators import CompiledLoop, input_stream
 from ins_errors.numeric.model import Model, load_model
-from ins_errors.numeric.simulate import ErrorCurves, chunk_size
+from ins_errors.numeric.simulate import ErrorCurves, chunk_size, error_curves
 from ins_errors.numeric.trajectories import (
     Trajectory,
     great_circle_profile,
@@ -338,24 +338,14 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     x, xr, e = history[:n], history[n:n + ne], history[n + ne:]
     u = u_steps[:, steps]
     times = steps * tau
-    direct = _curves(model, times, xr[n:], np_.outputs(xr[:n], u, p) - np_.outputs(x, u, p))
+    direct = error_curves(model, times, xr[n:, :, None],
+                          (np_.outputs(xr[:n], u, p) - np_.outputs(x, u, p))[:, :, None])
     H = np_.output_matrix(x, u, p)
-    linear = _curves(model, times, e[n:], np.einsum("ijt,jt->it", H, e))
+    linear = error_curves(model, times, e[n:, :, None],
+                          np.einsum("ijt,jt->it", H, e)[:, :, None])
     forcing = forcing_fn(x, u, p)
     return StudyResult(st, scenario, traj.description, direct, linear, FORCING_ROWS,
                        np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy())
-
-
-def _curves(model: Model, times: np.ndarray, platform: np.ndarray,
-            outputs: np.ndarray) -> ErrorCurves:
-    n = len(model.states)
-    names = [s.name for s in model.error_states[n:]] + [f"delta_{o.name}" for o in model.outputs]
-    units = [s.unit for s in model.error_states[n:]] + [o.unit for o in model.outputs]
-    angles = [k for k, o in enumerate(model.outputs) if o.unit == "rad"]
-    outputs = outputs.copy()
-    outputs[angles] = (outputs[angles] + np.pi) % (2 * np.pi) - np.pi
-    values = np.concatenate([platform, outputs])[:, :, None]
-    return ErrorCurves(names, units, times, values)
 
 
 # --------------------------------------------------------------------------------------
