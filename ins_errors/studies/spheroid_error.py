@@ -37,7 +37,7 @@ import numpy as np
 
 from ins_errors.errors import DomainError, InsErrorsError
 from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
-from ins_errors.numeric.integrators import step_count
+from ins_errors.numeric.integrators import record_stride, step_count
 from ins_errors.numeric.model import load_model
 
 
@@ -280,16 +280,10 @@ def simulate_flights(start_latitudes, start_longitudes, orthodrome_angles, durat
     lat0, lon0, ang0 = np.broadcast_arrays(lat0, lon0, ang0)
     if np.any(np.abs(lat0) >= np.pi / 2 - 1e-9):
         raise DomainError("start latitude at ±90°: the orthodrome angle is undefined at a pole")
-    if not (np.isfinite(duration) and duration > 0 and np.isfinite(step) and step > 0):
-        raise SpheroidStudyError(f"duration and step must be positive, got {duration}, {step}")
-    stride = round(record_interval / step)
-    if stride < 1 or abs(stride * step - record_interval) > 1e-9 * record_interval:
-        raise SpheroidStudyError(f"record interval {record_interval} s must be a multiple of "
-                                 f"the step {step} s")
     n_steps = step_count(duration, step)
-    if n_steps % stride:
-        raise SpheroidStudyError(f"duration {duration:g} s is not a whole number of record "
-                                 f"intervals of {record_interval:g} s")
+    if n_steps == 0:
+        raise SpheroidStudyError(f"duration must be positive, got {duration}")
+    stride = record_stride(record_interval, step, n_steps)
     model = load_model("geodetic_vertical")
     flights = lat0.size
     p = np.stack([model.parameter_vector(a=a, e2=1 - (b / a) ** 2, orth_latitude=la,
