@@ -41,7 +41,7 @@ def _line(label: str, seconds: tuple[float, float], goal: float | None = None) -
 
 
 def bench_covariance() -> None:
-    from ins_errors.numeric import covariance as cv
+    from ins_errors.analysis import covariance as cv
     from ins_errors.numeric.model import load_model
 
     model = load_model("orthodromic")
@@ -66,7 +66,7 @@ def bench_covariance() -> None:
 
 
 def bench_budget() -> None:
-    from ins_errors.numeric import budget as bd
+    from ins_errors.analysis import budget as bd
     from ins_errors.numeric.model import load_model
     from ins_errors.specs import default_spec_path, load_spec
 
@@ -78,10 +78,10 @@ def bench_budget() -> None:
 
 
 def bench_monte_carlo(runs: int = 1000) -> None:
-    from ins_errors.numeric import covariance as cv
+    from ins_errors.analysis import covariance as cv
+    from ins_errors.analysis.monte_carlo import direct_monte_carlo
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.model import load_model
-    from ins_errors.numeric.monte_carlo import direct_monte_carlo
 
     model = load_model("orthodromic")
     motion = tr.trajectory(model, tr.static_profile(np.radians(50.0)), 3600.0, 0.01)

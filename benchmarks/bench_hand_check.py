@@ -22,10 +22,10 @@ def _timed(label: str, function):
 
 
 def main(quick: bool = False) -> None:
+    from ins_errors.checker.compare import check_hand
+    from ins_errors.checker.notation import ORTHODROMIC
+    from ins_errors.checker.parse import read_hand_file
     from ins_errors.models import definition
-    from ins_errors.symbolic.hand_check import check_hand
-    from ins_errors.symbolic.hand_notation import ORTHODROMIC
-    from ins_errors.symbolic.hand_parse import read_hand_file
 
     _timed("build the orthodromic definition", lambda: definition("orthodromic"))
     text = _timed("read equations.txt (SymPy syntax)",

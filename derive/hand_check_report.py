@@ -15,8 +15,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from ins_errors.symbolic.hand_check import check_hand_file
-from ins_errors.symbolic.hand_report import to_markdown
+from ins_errors.checker.compare import check_hand_file
+from ins_errors.checker.report import to_markdown
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples" / "manual_000"

@@ -6,7 +6,7 @@ the error sources. Every quantity is text with a unit (``"3.7 km/h"``, ``"0.1 de
 ``"0.1 deg/h"``, ``"8 h"``), parsed by :func:`ins_errors.units.parse_quantity`, so a
 value in the wrong dimension (an angle given in m/s) is an error, not a silent number.
 
-Items (what each one measures is defined in :mod:`ins_errors.numeric.budget`):
+Items (what each one measures is defined in :mod:`ins_errors.analysis.budget`):
 
 ``position_error``
     horizontal position error *per hour of operation* (a length per time, e.g.
@@ -409,7 +409,7 @@ def load_spec(path: str | Path) -> Spec:
     """Read a spec file (TOML).
 
     Fixed source magnitudes (``fixed = "0.01 deg/h"``) stay text until the spec is bound
-    to a model (:func:`ins_errors.numeric.budget.resolve_sources`), which knows each
+    to a model (:func:`ins_errors.analysis.budget.resolve_sources`), which knows each
     source's unit.
 
     Raises

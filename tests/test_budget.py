@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from ins_errors.analysis import budget as bd
 from ins_errors.cli import main
 from ins_errors.errors import InsErrorsError
-from ins_errors.numeric import budget as bd
 from ins_errors.specs import HOUR, default_spec_path, load_spec, parse_spec
 
 DEG = np.pi / 180

@@ -7,9 +7,9 @@ import dataclasses
 import numpy as np
 import pytest
 
+from ins_errors.analysis import covariance as cv
+from ins_errors.analysis import monte_carlo as mc
 from ins_errors.errors import InsErrorsError
-from ins_errors.numeric import covariance as cv
-from ins_errors.numeric import monte_carlo as mc
 from ins_errors.numeric import trajectories as tr
 
 PHI = np.radians(50.0)

@@ -15,11 +15,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from ins_errors.checker.compare import check_hand
+from ins_errors.checker.notation import ORTHODROMIC
+from ins_errors.checker.parse import parse_hand_text
+from ins_errors.checker.report import to_json, to_markdown, to_terminal
 from ins_errors.cli import main
-from ins_errors.symbolic.hand_check import check_hand
-from ins_errors.symbolic.hand_notation import ORTHODROMIC
-from ins_errors.symbolic.hand_parse import parse_hand_text
-from ins_errors.symbolic.hand_report import to_json, to_markdown, to_terminal
 
 ROOT = Path(__file__).resolve().parent.parent
 MANUAL = ROOT / "examples" / "manual_000"
@@ -125,7 +125,7 @@ def test_small_deliberate_drops_pass_as_dropped_small_terms():
 # -- the manual's printed equations ------------------------------------------------------
 @pytest.fixture(scope="module")
 def manual_reports():
-    from ins_errors.symbolic.hand_check import check_hand_file
+    from ins_errors.checker.compare import check_hand_file
 
     return (check_hand_file(MANUAL / "equations.txt"),
             check_hand_file(MANUAL / "equations.tex"))

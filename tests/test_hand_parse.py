@@ -7,8 +7,8 @@ from pathlib import Path
 import pytest
 import sympy as sp
 
-from ins_errors.symbolic.hand_notation import ORTHODROMIC
-from ins_errors.symbolic.hand_parse import (
+from ins_errors.checker.notation import ORTHODROMIC
+from ins_errors.checker.parse import (
     DOT,
     TILDE,
     HandParseError,

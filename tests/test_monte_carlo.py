@@ -7,10 +7,10 @@ import textwrap
 import numpy as np
 import pytest
 
+from ins_errors.analysis import budget as bd
+from ins_errors.analysis import covariance as cv
+from ins_errors.analysis import monte_carlo as mc
 from ins_errors.errors import InsErrorsError
-from ins_errors.numeric import budget as bd
-from ins_errors.numeric import covariance as cv
-from ins_errors.numeric import monte_carlo as mc
 from ins_errors.numeric import trajectories as tr
 from ins_errors.specs import load_spec
 

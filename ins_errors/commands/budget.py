@@ -38,8 +38,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
-    from ins_errors.numeric import budget as bd
-    from ins_errors.numeric import budget_report as rep
+    from ins_errors.analysis import budget as bd
+    from ins_errors.analysis import budget_report as rep
     from ins_errors.numeric.model import load_model
     from ins_errors.specs import SpecError, default_spec_path, load_spec
 
@@ -98,8 +98,8 @@ def _monte_carlo(model, spec, allocation, args) -> dict:
 
     import numpy as np
 
-    from ins_errors.numeric import budget as bd
-    from ins_errors.numeric.monte_carlo import direct_monte_carlo, sampling_error
+    from ins_errors.analysis import budget as bd
+    from ins_errors.analysis.monte_carlo import direct_monte_carlo, sampling_error
     from ins_errors.specs import SpecError
     from ins_errors.units import parse_quantity
 

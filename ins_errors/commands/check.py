@@ -35,9 +35,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ins_errors.checker.compare import check_hand_file
+    from ins_errors.checker.report import to_json, to_markdown, to_terminal
     from ins_errors.errors import InsErrorsError
-    from ins_errors.symbolic.hand_check import check_hand_file
-    from ins_errors.symbolic.hand_report import to_json, to_markdown, to_terminal
 
     report = check_hand_file(args.file, model=args.model, threshold=args.threshold,
                              latex=True if args.latex else None, mapping_path=args.mapping,

@@ -2,8 +2,8 @@
 
 A :class:`LinearSystem` holds F, G, H (constant on a static base, per grid time along a
 moving trajectory), the initial error matrix E, and the ideal state and inputs they were
-evaluated at; covariance propagation (:mod:`ins_errors.numeric.covariance`) and the
-linear Monte Carlo (:mod:`ins_errors.numeric.monte_carlo`) run on it.
+evaluated at; covariance propagation (:mod:`ins_errors.analysis.covariance`) and the
+linear Monte Carlo (:mod:`ins_errors.analysis.monte_carlo`) run on it.
 """
 
 from __future__ import annotations

@@ -24,8 +24,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ins_errors.analysis.covariance import Functionals, LinearSystem, SourceStatistics
 from ins_errors.errors import InsErrorsError
-from ins_errors.numeric.covariance import Functionals, LinearSystem, SourceStatistics
 
 
 class MonteCarloError(InsErrorsError):

@@ -18,7 +18,7 @@ with ``@`` are directives, in both formats:
 
 Comments start with ``#`` (text) or ``%`` (LaTeX). Symbol spellings are documented in
 ``docs/hand_check.md``. The parser only reads and spells; what each symbol means in the
-model is decided by :mod:`ins_errors.symbolic.hand_check`.
+model is decided by :mod:`ins_errors.checker.compare`.
 
 Plain text uses SymPy syntax (``**`` or ``^`` for powers, explicit ``*``) with ASCII names
 such as ``Delta_V_xi``, ``dot(alpha_x)``, ``omega_rel_eta``. LaTeX is pre-processed into
@@ -43,8 +43,8 @@ from sympy.parsing.sympy_parser import (
     standard_transformations,
 )
 
+from ins_errors.checker.notation import Notation
 from ins_errors.errors import InsErrorsError
-from ins_errors.symbolic.hand_notation import Notation
 
 DOT = sp.Function("dot")
 """Time derivative of a hand quantity (only allowed on a left-hand side)."""

@@ -1,4 +1,4 @@
-"""Render a :class:`~ins_errors.symbolic.hand_check.CheckReport`: Markdown, terminal, JSON.
+"""Render a :class:`~ins_errors.checker.compare.CheckReport`: Markdown, terminal, JSON.
 
 Everything here is deterministic (no dates, no machine paths), so a report regenerated
 from unchanged inputs is byte-identical.
@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ins_errors.symbolic.hand_check import CheckReport, EquationResult, Finding
+from ins_errors.checker.compare import CheckReport, EquationResult, Finding
 
 
 def _size(value: float) -> str:

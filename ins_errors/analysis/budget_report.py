@@ -1,6 +1,6 @@
 """Reports of an error budget: JSON summary, text tables and stacked plots.
 
-The numbers come from :mod:`ins_errors.numeric.budget`; this module only presents them
+The numbers come from :mod:`ins_errors.analysis.budget`; this module only presents them
 (plots with matplotlib's Agg backend).
 """
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ins_errors.numeric.budget import (
+from ins_errors.analysis.budget import (
     HOUR,
     ITEM_DISPLAY,
     ITEM_SI,

@@ -9,7 +9,7 @@ mechanical side goes through the model's varied intermediates
 (:func:`~ins_errors.symbolic.variation.structured_variation`).
 
 The coefficient of each basis quantity is then compared numerically at the reference
-points (:mod:`~ins_errors.symbolic.hand_reference`). A term's size is
+points (:mod:`~ins_errors.checker.reference`). A term's size is
 ``|coefficient| × typical magnitude`` of its quantity; each discrepancy is measured
 relative to the largest term of its equation at the same point (the largest ratio over
 the points is reported) and classed:
@@ -36,16 +36,16 @@ from typing import Literal
 import numpy as np
 import sympy as sp
 
-from ins_errors.errors import InsErrorsError
-from ins_errors.models import definition as model_definition
-from ins_errors.models.base import ModelDefinition
-from ins_errors.symbolic.hand_notation import Notation, default_notation
-from ins_errors.symbolic.hand_parse import DOT, TILDE, HandEquation, HandFile, Problem
-from ins_errors.symbolic.hand_reference import (
+from ins_errors.checker.notation import Notation, default_notation
+from ins_errors.checker.parse import DOT, TILDE, HandEquation, HandFile, Problem
+from ins_errors.checker.reference import (
     ReferencePoint,
     reference_points,
     typical_magnitude,
 )
+from ins_errors.errors import InsErrorsError
+from ins_errors.models import definition as model_definition
+from ins_errors.models.base import ModelDefinition
 from ins_errors.symbolic.variation import output_mechanisations, structured_variation
 
 DEFAULT_THRESHOLD = 1e-3
@@ -392,7 +392,7 @@ class _HandSide:
             return self._alias_cache[name]
         if name in trail:
             raise _UnresolvedError(name, f"alias {name} refers to itself")
-        from ins_errors.symbolic.hand_parse import parse_text_expression
+        from ins_errors.checker.parse import parse_text_expression
 
         text = self.notation.aliases[name]
         try:
@@ -844,7 +844,7 @@ def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DE
     Parameters
     ----------
     hand : HandFile
-        From :func:`~ins_errors.symbolic.hand_parse.read_hand_file` (its own ``@alias``
+        From :func:`~ins_errors.checker.parse.read_hand_file` (its own ``@alias``
         / ``@source`` entries apply on top of the model's default notation and ``mapping``).
     model : str
         Registered model name.
@@ -901,7 +901,7 @@ def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DE
 
 def _reciprocal_aliases(side: _ModelSide, notation: Notation) -> dict[sp.Symbol, sp.Expr]:
     """Show model reciprocals in the notation's terms: ``inv_R_eta`` -> ``1/R_eta``."""
-    from ins_errors.symbolic.hand_parse import parse_text_expression
+    from ins_errors.checker.parse import parse_text_expression
 
     shown = {}
     for name, text in notation.aliases.items():
@@ -1079,9 +1079,9 @@ def check_hand_file(path, model: str = "orthodromic", threshold: float = DEFAULT
     mapping_path : str or Path, optional
         Mapping file with ``@alias`` / ``@source`` lines.
     latex_backend : {"lalr", "sympy"}
-        Parser of LaTeX arithmetic (see :data:`~ins_errors.symbolic.hand_parse.LATEX_BACKENDS`).
+        Parser of LaTeX arithmetic (see :data:`~ins_errors.checker.parse.LATEX_BACKENDS`).
     """
-    from ins_errors.symbolic.hand_parse import read_hand_file, read_mapping_file
+    from ins_errors.checker.parse import read_hand_file, read_mapping_file
 
     model_definition(model)  # unknown model: clear error before reading anything
     mapping = read_mapping_file(mapping_path) if mapping_path is not None else None

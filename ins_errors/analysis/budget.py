@@ -33,7 +33,7 @@ item is met exactly.
 
 Sources whose allocation would exceed :data:`UNCONSTRAINED_ABOVE` (the motion hardly
 excites them) take no share and are reported as not limited. Tables and plots of a
-budget are in :mod:`ins_errors.numeric.budget_report`.
+budget are in :mod:`ins_errors.analysis.budget_report`.
 """
 
 from __future__ import annotations
@@ -42,8 +42,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ins_errors.errors import InsErrorsError, unknown_name
-from ins_errors.numeric.covariance import (
+from ins_errors.analysis.covariance import (
     Covariance,
     Functionals,
     LinearSystem,
@@ -52,6 +51,7 @@ from ins_errors.numeric.covariance import (
     static_system,
     system_from_trajectory,
 )
+from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.specs import HOUR, SOURCE_UNIT_SUFFIX, Spec, SpecError
 from ins_errors.units import UnitError, format_quantity, parse_quantity
 
@@ -236,7 +236,7 @@ def spec_system(model, spec: Spec, trajectory=None) -> LinearSystem:
 
     The true motion comes from :mod:`ins_errors.numeric.trajectories`; for a static
     motion of a model those generators do not cover, the model's own rest state is used
-    (:func:`~ins_errors.numeric.covariance.static_system`, a_ζ = 9.81 m/s² where the
+    (:func:`~ins_errors.analysis.covariance.static_system`, a_ζ = 9.81 m/s² where the
     model has it).
     """
     if trajectory is not None:
@@ -522,7 +522,7 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None) -> Eva
     The covariance is propagated again at the actual magnitudes, so this checks the
     allocation arithmetic (shares, binding items, fill). It uses the same propagation as
     the allocation: for an independent check of the covariance itself compare with the
-    Monte Carlo runs (:mod:`ins_errors.numeric.monte_carlo`).
+    Monte Carlo runs (:mod:`ins_errors.analysis.monte_carlo`).
     """
     sources = resolve_sources(model, spec)
     known = {s.name for s in sources}
@@ -565,7 +565,7 @@ def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarra
     model : ins_errors.numeric.model.Model
     budget : UnitBudget
         Gives the rows and the radii along the motion.
-    errors : ins_errors.numeric.monte_carlo.DirectErrors
+    errors : ins_errors.analysis.monte_carlo.DirectErrors
         Direct errors recorded on a grid that contains the check times.
 
     Returns
@@ -628,7 +628,7 @@ def output_contributions(model, allocation: Allocation, times: list[float]) -> d
         ``{"times_h", "quantities", "units", "sources", "std"}``, with ``std`` of shape
         (len(times), quantities, sources + 1) in the display units (last column: total).
     """
-    from ins_errors.numeric.covariance import state_and_output_functionals
+    from ins_errors.analysis.covariance import state_and_output_functionals
 
     budget = allocation.budget
     system = budget.system
