@@ -11,7 +11,7 @@ from pathlib import Path
 
 import sympy as sp
 
-from ins_errors.models.base import ModelDefinition
+from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.codegen import (
     Argument,
     FunctionSpec,

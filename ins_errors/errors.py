@@ -26,6 +26,11 @@ class DomainError(InsErrorsError):
     """A value outside the domain where the model's formulas hold (pole, NaN, R <= 0...)."""
 
 
+class ModelDefinitionError(InsErrorsError):
+    """A model definition (built-in or a researcher's model file) that cannot be used:
+    an undefined symbol, wrong shapes, a state without an equation, a failed variation."""
+
+
 class ShapeError(InsErrorsError):
     """An array argument whose shape does not match what the function expects."""
 

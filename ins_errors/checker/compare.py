@@ -44,8 +44,8 @@ from ins_errors.checker.reference import (
     typical_magnitude,
 )
 from ins_errors.errors import InsErrorsError
+from ins_errors.modeling import ModelDefinition
 from ins_errors.models import definition as model_definition
-from ins_errors.models.base import ModelDefinition
 from ins_errors.symbolic.variation import output_mechanisations, structured_variation
 
 DEFAULT_THRESHOLD = 1e-3

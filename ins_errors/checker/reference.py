@@ -26,7 +26,7 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.errors import InsErrorsError
-from ins_errors.models.base import ModelDefinition
+from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.variation import ideal_intermediate_values
 from ins_errors.units import parse_quantity
 

@@ -1,6 +1,6 @@
 """SymPy definitions of the INS models, one module per model.
 
-``definition(name)`` builds (and caches) a model's :class:`~ins_errors.models.base.ModelDefinition`.
+``definition(name)`` builds (and caches) a model's :class:`~ins_errors.modeling.ModelDefinition`.
 Importing this package does not import SymPy-heavy model modules until asked.
 """
 
@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 from ins_errors.errors import unknown_name
 
 if TYPE_CHECKING:
-    from ins_errors.models.base import ModelDefinition
+    from ins_errors.modeling import ModelDefinition
 
 MODEL_MODULES: dict[str, str] = {
     "orthodromic": "ins_errors.models.orthodromic",

@@ -58,15 +58,17 @@ import math
 
 import sympy as sp
 
-from ins_errors.models.base import (
+from ins_errors.modeling import (
+    EARTH_RATE,
+    ELLIPSOIDS,
     Mechanisation,
     ModelDefinition,
     Parameter,
     Variable,
+    computed_symbols,
     error_source,
     error_states_of,
 )
-from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
 
 # --------------------------------------------------------------------------------------
 # Names (public API: keep stable)
@@ -362,7 +364,7 @@ def levelling_offsets(latitude: float, heading: float,
 def build() -> ModelDefinition:
     """Assemble the symbolic definition of the free-azimuth INS."""
     x = [v.symbol for v in STATES]
-    x_c = [sp.Symbol(f"{v.name}_c", real=True) for v in STATES]
+    x_c = computed_symbols(STATES)
     alpha = [v.symbol for v in PLATFORM_ANGLES]
     a_x, a_y, a_z, V_h = (v.symbol for v in INPUTS)
     w = _sym

@@ -46,15 +46,17 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ins_errors.models.base import (
+from ins_errors.modeling import (
+    EARTH_RATE,
+    ELLIPSOIDS,
     ErrorSource,
     Mechanisation,
     ModelDefinition,
     Parameter,
     Variable,
+    computed_symbols,
     error_states_of,
 )
-from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
 
 # --------------------------------------------------------------------------------------
 # Names (public API: keep stable)
@@ -254,7 +256,7 @@ def orthodromic_coordinates(B: sp.Expr, L: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
 def build() -> ModelDefinition:
     """Assemble the symbolic definition of the geodetic-vertical INS of source 004."""
     x = [v.symbol for v in STATES]
-    x_c = [sp.Symbol(f"{v.name}_c", real=True) for v in STATES]
+    x_c = computed_symbols(STATES)
     alpha = [v.symbol for v in PLATFORM_ANGLES]
     j_xi, j_eta, j_zeta, V_zeta = (v.symbol for v in INPUTS)
     w = _sym

@@ -37,14 +37,16 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ins_errors.models.base import (
+from ins_errors.modeling import (
+    EARTH_RATE,
     ErrorSource,
     Mechanisation,
     ModelDefinition,
     Parameter,
     Variable,
+    computed_symbols,
+    ellipsoid,
 )
-from ins_errors.models.earth import EARTH_RATE, ellipsoid
 
 # --------------------------------------------------------------------------------------
 # Names (public API: keep stable)
@@ -233,7 +235,7 @@ def vertical_specific_force(s: list[sp.Expr], h: sp.Expr) -> sp.Expr:
 def build() -> ModelDefinition:
     """Assemble the symbolic definition of the north-pointing INS."""
     x = [v.symbol for v in STATES]
-    x_c = [sp.Symbol(f"{v.name}_c", real=True) for v in STATES]
+    x_c = computed_symbols(STATES)
     alpha = [v.symbol for v in PLATFORM_ANGLES]
     a_E, a_N, h = (v.symbol for v in INPUTS)
     w = _sym

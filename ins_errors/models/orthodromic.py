@@ -33,15 +33,17 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from ins_errors.models.base import (
+from ins_errors.modeling import (
+    EARTH_RATE,
+    ELLIPSOIDS,
     Mechanisation,
     ModelDefinition,
     Parameter,
     Variable,
+    computed_symbols,
     error_source,
     error_states_of,
 )
-from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
 
 # --------------------------------------------------------------------------------------
 # Names (public API: keep stable)
@@ -344,7 +346,7 @@ def build(simplify: frozenset[str] = frozenset()) -> ModelDefinition:
     studies, :mod:`ins_errors.studies.methodological`); empty for the registered model.
     """
     x = [v.symbol for v in STATES]
-    x_c = [sp.Symbol(f"{v.name}_c", real=True) for v in STATES]
+    x_c = computed_symbols(STATES)
     alpha = [v.symbol for v in PLATFORM_ANGLES]
     a_xi, a_eta, a_zeta, V_zeta, h = (v.symbol for v in INPUTS)
     w = _sym

@@ -115,7 +115,7 @@ class Model:
 
     @cached_property
     def symbolic(self):
-        """The SymPy :class:`~ins_errors.models.base.ModelDefinition` (imports SymPy)."""
+        """The SymPy :class:`~ins_errors.modeling.ModelDefinition` (imports SymPy)."""
         from ins_errors.models import definition
 
         return definition(self.name)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ins_errors.models.base import ModelDefinition
+from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.variation import (
     VariedEquation,
     output_mechanisations,

@@ -25,8 +25,8 @@ from functools import cache
 
 import sympy as sp
 
+from ins_errors.modeling import ModelDefinition
 from ins_errors.models import definition
-from ins_errors.models.base import ModelDefinition
 from ins_errors.symbolic.analytic import Frequency, Parametrisation, StaticAnalysis, analyse
 from ins_errors.symbolic.simplifications import DroppedTerm, simplification
 

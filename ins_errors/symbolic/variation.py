@@ -1,6 +1,6 @@
 """Mechanical variation of a model's real-work equations around its ideal work.
 
-Given a :class:`~ins_errors.models.base.ModelDefinition` with ideal-work right-hand side
+Given a :class:`~ins_errors.modeling.ModelDefinition` with ideal-work right-hand side
 ``f(x, u, p)`` and real-work right-hand side ``f~(x~, x, u, w, p)``, the error state
 ``xe = x~ - (x, 0)`` obeys, to second order,
 
@@ -25,7 +25,7 @@ from typing import Literal
 
 import sympy as sp
 
-from ins_errors.models.base import Mechanisation, ModelDefinition, accent
+from ins_errors.modeling import Mechanisation, ModelDefinition, accent
 
 
 @dataclass
