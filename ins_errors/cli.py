@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import sys
 
 COMMAND_MODULES = (
@@ -25,16 +26,51 @@ COMMAND_MODULES = (
 """Modules that each register one subcommand, in the order ``--help`` lists them."""
 
 
+_NEGATIVE_QUANTITY = re.compile(r"^-\.?\d")
+"""Arguments argparse must read as values, not options: ``-45deg``, ``-0.5 m/s``, ``-1e-3``."""
+
+
+def version() -> str:
+    """The installed version of ins-errors."""
+    from importlib.metadata import PackageNotFoundError
+    from importlib.metadata import version as installed
+
+    try:
+        return installed("ins-errors")
+    except PackageNotFoundError:  # run from a source tree that is not installed
+        from ins_errors import __version__
+
+        return __version__
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line, like every other error."""
+
+    def error(self, message: str):  # type: ignore[override]
+        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
+def _accept_negative_quantities(parser: argparse.ArgumentParser) -> None:
+    """Let ``--latitude -45deg`` through: argparse only knows bare negative numbers."""
+    parser._negative_number_matcher = _NEGATIVE_QUANTITY
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub in action.choices.values():
+                _accept_negative_quantities(sub)
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The top-level parser with every registered subcommand."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="ins-errors",
         description="Error analysis of inertial navigation systems: derived error "
                     "equations, direct vs linear simulation, checks of hand derivations.",
     )
+    parser.add_argument("--version", action="version", version=f"%(prog)s {version()}")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMAND_MODULES:
         importlib.import_module(name).register(subparsers)
+    _accept_negative_quantities(parser)
     return parser
 
 

@@ -276,7 +276,7 @@ def _angle(text: Any, what: str) -> float:
         raise SpecError(str(error)) from None
 
 
-def _default_times(rule: str, operating_time: float, step: float) -> tuple[float, ...]:
+def _default_times(rule: str, operating_time: float) -> tuple[float, ...]:
     if rule == "first-hour":
         return (HOUR,)
     if rule == "hourly":
@@ -358,7 +358,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             times = tuple(_positive(t, "s", f"items.{name}.times", "1 h", allow_zero=True)
                           for t in raw)
         else:
-            times = _default_times(kind_info.default_times, operating_time, step)
+            times = _default_times(kind_info.default_times, operating_time)
         for t in times:
             if t > operating_time * (1 + 1e-12):
                 raise SpecError(f"items.{name}: check time {t / HOUR:g} h is after the "

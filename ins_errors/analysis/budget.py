@@ -354,14 +354,14 @@ def unit_budget(model, spec: Spec, trajectory=None) -> UnitBudget:
     """
     sources = resolve_sources(model, spec)
     system = spec_system(model, spec, trajectory)
-    covariance = _propagate(model, system, spec, sources,
+    covariance = _propagate(model, system, spec,
                             [SourceStatistics(s.name, s.statistics, 1.0, s.tau)
                              for s in sources])
     rows, unit = _rows(spec, system, covariance, covariance.unit_variances)
     return UnitBudget(spec, sources, tuple(rows), unit, system)
 
 
-def _propagate(model, system, spec, sources, statistics) -> Covariance:
+def _propagate(model, system, spec, statistics) -> Covariance:
     functionals, _ = item_functionals(model, system, spec)
     return propagate(system, statistics, functionals)
 
@@ -532,7 +532,7 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None) -> Eva
     system = spec_system(model, spec, trajectory)
     stats = [SourceStatistics(s.name, s.statistics, float(sigma.get(s.name, 0.0)), s.tau)
              for s in sources]
-    covariance = _propagate(model, system, spec, sources, stats)
+    covariance = _propagate(model, system, spec, stats)
     rows, contributions = _rows(spec, system, covariance, covariance.contributions)
     return Evaluation(tuple(rows), tuple(s.name for s in sources), contributions,
                       spec.sigma_level)

@@ -23,8 +23,10 @@ model is decided by :mod:`ins_errors.checker.compare`.
 Plain text uses SymPy syntax (``**`` or ``^`` for powers, explicit ``*``) with ASCII names
 such as ``Delta_V_xi``, ``dot(alpha_x)``, ``omega_rel_eta``. LaTeX is pre-processed into
 plain placeholders (``\Delta\dot{V}_\xi``, ``\omega'_\eta``, ``u_{31}``,
-``W_\xi^{nk}``, ``\operatorname{tg}``, ``\widetilde{W}``, implicit products) and parsed
-by SymPy's ``parse_latex`` with its lark backend.
+``W_\xi^{nk}``, ``\operatorname{tg}``, ``\widetilde{W}``, implicit products). The
+arithmetic left after that is parsed, by default, by this module's own small LALR grammar
+(lark, backend ``"lalr"``, milliseconds per line); SymPy's ``parse_latex`` with its lark
+backend (``"sympy"``, much slower) is kept as a cross-check, see :data:`LATEX_BACKENDS`.
 """
 
 from __future__ import annotations
@@ -266,8 +268,6 @@ _SYMPY_FUNCTIONS = {
     "exp": sp.exp, "ln": sp.log, "log": sp.log, "sec": sp.sec,
 }
 _ACCENTS = {"dot": "dot", "tilde": "tilde", "widetilde": "tilde"}
-_SKIP = {"left", "right", "big", "Big", "bigg", "Bigg", "bigl", "bigr", "Bigl", "Bigr",
-         "displaystyle", "quad", "qquad", "limits", "mathrm", "mathit"}
 _TOKEN = re.compile(r"\\[A-Za-z]+|\\.|[A-Za-z]|\d+(?:\.\d+)?|\s+|.")
 
 

@@ -38,8 +38,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "(m/s) and optionally h (m); overrides --motion")
     parser.add_argument("--latitude", default="50deg", help="start latitude (default 50deg)")
     parser.add_argument("--longitude", default="30deg", help="start longitude (default 30deg)")
-    parser.add_argument("--heading", default="0deg",
-                        help="initial track angle of the trihedron (default 0deg)")
+    parser.add_argument("--heading", default=None,
+                        help="initial track angle of the trihedron (default 0deg at rest, "
+                             "90deg, due east, when moving: a day's flight then stays clear "
+                             "of the poles)")
     parser.add_argument("--speed", default="250m/s", help="ground speed when moving")
     parser.add_argument("--height", default="0m", help="height (default 0m)")
     parser.add_argument("--hours", type=float, default=None,

@@ -15,7 +15,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "(model, motion, run settings, error-source cases with units) and write "
                     "a report folder: report.md, report.html, one plot per case and "
                     "results.json. See examples/ for scenario files.")
-    parser.add_argument("scenario", help="scenario file, e.g. examples/lab_000_task1_gyro.toml")
+    parser.add_argument("scenario",
+                        help="scenario file, e.g. examples/lab_000_task1_gyro_drift.toml")
     parser.add_argument("--out", "-o", metavar="DIR",
                         help="report folder (default: report_<scenario name> here)")
     parser.add_argument("--json", action="store_true",

@@ -178,12 +178,6 @@ def current_frame(Phi: sp.Expr, Lam: sp.Expr) -> sp.Matrix:
     return orthodromic_table(Phi, Lam) * start_frame()
 
 
-def mu_series(sin_B: sp.Expr, cos_B: sp.Expr, c: sp.Expr) -> sp.Expr:
-    """(4): μ = c sin 2B − ½ c² sin 4B."""
-    sin2B = 2 * sin_B * cos_B
-    return c * sin2B - c**2 * sin2B * (1 - 2 * sin_B**2)
-
-
 # --------------------------------------------------------------------------------------
 # The computer: formulas (9) and the dead reckoning
 # --------------------------------------------------------------------------------------

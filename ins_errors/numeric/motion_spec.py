@@ -30,6 +30,11 @@ DEFAULTS: dict[str, str] = {
 }
 """Defaults of every motion description (the CLI shows the same)."""
 
+MOVING_HEADING = "90 deg"
+"""Default track angle of a moving base: due east. A great circle started due east from
+latitude φ never goes beyond ±φ, so a day's flight stays clear of the poles (due north at
+250 m/s from 50° reaches the pole after about 5 h)."""
+
 _KEYS = {*DEFAULTS, "file", "legs"}
 
 
@@ -83,8 +88,9 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
     ----------
     description : mapping
         ``kind`` (one of :data:`MOTION_KINDS`), ``latitude``, ``longitude``, ``heading``
-        (track angle), ``speed``, ``height`` as text with units or SI numbers; ``file`` (a
-        CSV, for kind ``"file"``); ``legs`` (for ``"manoeuvre"``: a list of tables with
+        (track angle; default 0 at rest, :data:`MOVING_HEADING` when moving), ``speed``,
+        ``height`` as text with units or SI numbers; ``file`` (a CSV, for kind
+        ``"file"``); ``legs`` (for ``"manoeuvre"``: a list of tables with
         ``duration``, ``speed``, ``turn``, ``height``; default: :func:`default_legs`).
     base : Path, optional
         Folder that a relative ``file`` is taken from.
@@ -97,10 +103,12 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
     for key in description:
         if key not in _KEYS:
             raise unknown_name("motion setting", key, sorted(_KEYS))
-    spec = {**DEFAULTS, **description}
+    spec = {**DEFAULTS, **{k: v for k, v in description.items() if v is not None}}
     kind = str(spec["kind"]).replace("_", "-")  # spec files spell it great_circle
     if kind not in MOTION_KINDS:
         raise unknown_name("motion kind", kind, MOTION_KINDS)
+    if kind != "static" and description.get("heading") is None:
+        spec["heading"] = MOVING_HEADING
     lat, lon, heading = (_angle(spec[key], f"motion {key}")
                          for key in ("latitude", "longitude", "heading"))
     speed = parse_quantity(spec["speed"], "m/s", "motion speed")

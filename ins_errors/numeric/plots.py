@@ -9,8 +9,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-import numpy as np
-
 from ins_errors.errors import InsErrorsError
 from ins_errors.numeric.compare import Comparison
 
@@ -96,9 +94,3 @@ def plot_comparison(comparison: Comparison, path: str | Path,
         plt.close(fig)
     return path
 
-
-def residual_curves(comparison: Comparison, quantity: str) -> tuple[np.ndarray, np.ndarray]:
-    """(linear − direct, refined − direct) of one quantity, SI."""
-    d = comparison.direct[quantity]
-    refined = comparison.refined.get(quantity)
-    return comparison.linear[quantity] - d, (None if refined is None else refined - d)

@@ -344,7 +344,7 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
     blocks = [x0]
     if {"real", "refined"} & set(parts):
         xr0 = model.initial_real_state(c[:, None], u0[:, None], w, p)
-        _check_initial(model, xr0, n)
+        _check_initial(model, xr0)
         exact0 = xr0 - np.vstack([x0, np.zeros((xr0.shape[0] - n, B))])
     if "real" in parts:
         blocks.append(xr0)
@@ -383,7 +383,7 @@ def chunk_size(records: int) -> int:
     return size
 
 
-def _check_initial(model: Model, xr0: np.ndarray, n: int) -> None:
+def _check_initial(model: Model, xr0: np.ndarray) -> None:
     bad = ~np.isfinite(xr0)
     if bad.any():
         k = int(np.argmax(bad.any(axis=1)))

@@ -140,7 +140,3 @@ def simplification(name: str) -> Simplification:
         raise unknown_name("simplification", name, SIMPLIFICATIONS)
     return SIMPLIFICATIONS[name]
 
-
-def for_model(model: str) -> list[Simplification]:
-    """Every registered simplification of ``model``."""
-    return [s for s in SIMPLIFICATIONS.values() if s.model == model]
