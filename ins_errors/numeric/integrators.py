@@ -20,12 +20,13 @@ Compiled path
 ``chunk`` times with ``mapaccum`` (one recorded column per block), generates C code,
 compiles it once with the machine's C compiler into a shared library cached on disk
 (``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``; a temporary folder if that is
-not writable) and loads it with :func:`casadi.external`. Where no compiler works it falls
-back to the CasADi virtual machine and says so once (a :class:`RuntimeWarning`);
-``jit=False`` or the environment variable ``INS_ERRORS_NO_JIT`` choose the VM on purpose.
-A long run is a Python loop over chunks, which is where progress is shown (tqdm, on a
-terminal). The domain (a margin function, e.g. 1 − u31²,
-and finiteness) is checked at every recorded sample.
+not writable; size-limited, least recently used first out: :mod:`ins_errors.numeric.cache`)
+and calls it on numpy buffers in place through :mod:`ctypes` (:class:`NativeFunction`).
+Where no compiler works it falls back to the CasADi virtual machine and says so once
+(a :class:`RuntimeWarning`); ``jit=False`` or the environment variable
+``INS_ERRORS_NO_JIT`` choose the VM on purpose. A long run is a Python loop over chunks,
+which is where progress is shown (tqdm, on a terminal). The domain (a margin function,
+e.g. 1 − u31², and finiteness) is checked at every recorded sample.
 
 Time-invariant linear systems (a static base) can instead be stepped exactly with the
 matrix exponential: :func:`exact_discretisation`.
@@ -33,6 +34,7 @@ matrix exponential: :func:`exact_discretisation`.
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import os
 import platform
@@ -40,7 +42,7 @@ import shutil
 import subprocess
 import tempfile
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
@@ -48,7 +50,8 @@ from typing import Literal
 import casadi as ca
 import numpy as np
 
-from ins_errors.errors import InsErrorsError
+from ins_errors.errors import InsErrorsError, ShapeError
+from ins_errors.numeric import cache
 
 Method = Literal["euler", "rk4"]
 METHODS: tuple[str, ...] = ("euler", "rk4")
@@ -258,12 +261,8 @@ _NOTICE_GIVEN = False
 
 
 def cache_directory() -> Path:
-    """Where compiled loops are kept (``$INS_ERRORS_CACHE`` or the user cache folder)."""
-    root = os.environ.get("INS_ERRORS_CACHE")
-    if root:
-        return Path(root)
-    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "ins-errors" / "casadi"
+    """Where compiled loops are kept (see :mod:`ins_errors.numeric.cache`)."""
+    return cache.directory()
 
 
 def _writable(directory: Path) -> Path:
@@ -306,6 +305,57 @@ def _vm_notice(reason: str) -> None:
                       RuntimeWarning, stacklevel=3)
 
 
+def compile_library(functions: list[ca.Function], jit: bool = True) -> Path | None:
+    """Compile CasADi functions to one shared library in the cache and return its path.
+
+    Parameters
+    ----------
+    functions : list of casadi.Function
+        Functions with distinct names.
+    jit : bool
+        False: compile nothing.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The library, or None when compiling is off or fails (then a one-time
+        :class:`RuntimeWarning` says so, except when switched off on purpose).
+    """
+    if not jit or os.environ.get("INS_ERRORS_NO_JIT"):
+        return None
+    compiler = _compiler()
+    if compiler is None:
+        _vm_notice("none of $CC, cc, gcc, clang found")
+        return None
+    generator = ca.CodeGenerator("loop.c", {"with_header": False, "casadi_real": "double"})
+    for function in functions:
+        generator.add(function)
+    source = generator.dump()
+    flags = ["-O3", "-march=native", "-shared", "-fPIC"]
+    # -march=native code runs only on this kind of CPU: the CPU is part of the cache key
+    key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__
+                          + _cpu_identity()).encode())
+    name = f"loop_{key.hexdigest()[:24]}.so"
+    directory = _writable(cache_directory())
+    library = directory / name
+    if library.exists():
+        cache.touch(library)
+        return library
+    try:
+        with tempfile.TemporaryDirectory(dir=directory) as scratch:
+            c_file = Path(scratch) / "loop.c"
+            c_file.write_text(source)
+            target = Path(scratch) / "loop.so"
+            subprocess.run([compiler, *flags, "-o", str(target), str(c_file), "-lm"],
+                           check=True, capture_output=True, timeout=600)
+            os.replace(target, library)
+    except (OSError, subprocess.SubprocessError) as error:
+        _vm_notice(f"{compiler} failed: {str(error).splitlines()[0][:120]}")
+        return None
+    cache.register(library)
+    return library
+
+
 def compile_functions(functions: list[ca.Function], jit: bool = True) -> list[ca.Function]:
     """Compile CasADi functions to one shared library (cached) and load them.
 
@@ -322,36 +372,146 @@ def compile_functions(functions: list[ca.Function], jit: bool = True) -> list[ca
         Compiled (``casadi.external``) versions, or the inputs when compiling is off or
         fails (then a one-time :class:`RuntimeWarning` says so).
     """
-    if not jit or os.environ.get("INS_ERRORS_NO_JIT"):
+    library = compile_library(functions, jit)
+    if library is None:
         return functions
-    compiler = _compiler()
-    if compiler is None:
-        _vm_notice("none of $CC, cc, gcc, clang found")
-        return functions
-    generator = ca.CodeGenerator("loop.c", {"with_header": False, "casadi_real": "double"})
-    for function in functions:
-        generator.add(function)
-    source = generator.dump()
-    flags = ["-O3", "-march=native", "-shared", "-fPIC"]
-    # -march=native code runs only on this kind of CPU: the CPU is part of the cache key
-    key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__
-                          + _cpu_identity()).encode())
-    name = f"loop_{key.hexdigest()[:24]}.so"
-    directory = _writable(cache_directory())
-    library = directory / name
-    if not library.exists():
-        try:
-            with tempfile.TemporaryDirectory(dir=directory) as scratch:
-                c_file = Path(scratch) / "loop.c"
-                c_file.write_text(source)
-                target = Path(scratch) / "loop.so"
-                subprocess.run([compiler, *flags, "-o", str(target), str(c_file), "-lm"],
-                               check=True, capture_output=True, timeout=600)
-                os.replace(target, library)
-        except (OSError, subprocess.SubprocessError) as error:
-            _vm_notice(f"{compiler} failed: {str(error).splitlines()[0][:120]}")
-            return functions
     return [ca.external(f.name(), str(library)) for f in functions]
+
+
+def native_functions(functions: list[ca.Function], jit: bool = True) -> list[DenseCall]:
+    """Compiled functions called without copies (:class:`NativeFunction`), or VM wrappers.
+
+    Parameters
+    ----------
+    functions : list of casadi.Function
+        Functions with distinct names and dense inputs and outputs.
+    jit : bool
+        False keeps them in the CasADi virtual machine (:class:`VirtualFunction`).
+    """
+    library = compile_library(functions, jit)
+    if library is None:
+        return [VirtualFunction(f) for f in functions]
+    return [NativeFunction(library, f) for f in functions]
+
+
+class DenseCall:
+    """A function with dense inputs and outputs, called on numpy buffers.
+
+    Every argument and result is a float64 array whose memory holds the matrix in
+    column-major order (a C-ordered array of shape ``(columns, rows)`` does), so the
+    numbers are read and written in place.
+    """
+
+    def __init__(self, function: ca.Function):
+        for i in range(function.n_in()):
+            if not function.sparsity_in(i).is_dense():
+                raise ShapeError(f"{function.name()}: input {i} is not dense")
+        for i in range(function.n_out()):
+            if not function.sparsity_out(i).is_dense():
+                raise ShapeError(f"{function.name()}: output {i} is not dense")
+        self.name = function.name()
+        self.shapes_in = [function.size_in(i) for i in range(function.n_in())]
+        self.shapes_out = [function.size_out(i) for i in range(function.n_out())]
+
+    def _check(self, arrays: Sequence[np.ndarray], shapes: list[tuple[int, int]],
+               what: str) -> None:
+        if len(arrays) != len(shapes):
+            raise ShapeError(f"{self.name}: expected {len(shapes)} {what}, got {len(arrays)}")
+        for k, (array, (rows, cols)) in enumerate(zip(arrays, shapes, strict=True)):
+            if (array.dtype != np.float64 or array.size != rows * cols
+                    or not array.flags.c_contiguous):
+                raise ShapeError(f"{self.name}: {what} {k} must be a contiguous float64 "
+                                 f"array of {rows}x{cols} numbers, got {array.dtype} "
+                                 f"{array.shape}")
+
+    def __call__(self, inputs: Sequence[np.ndarray], outputs: Sequence[np.ndarray]) -> None:
+        """Evaluate, reading ``inputs`` and writing ``outputs`` in place."""
+        raise NotImplementedError
+
+
+class NativeFunction(DenseCall):
+    """A function of a compiled library called through :mod:`ctypes`.
+
+    The generated C entry point reads and writes the numpy buffers directly (no
+    conversion to CasADi matrices) and the interpreter lock is released during the call,
+    so several calls can run on several cores at once (each call has its own work
+    arrays).
+
+    Parameters
+    ----------
+    library : pathlib.Path
+        Shared library made by :func:`compile_library` from ``function``.
+    function : casadi.Function
+        The function (for its name and shapes).
+    """
+
+    def __init__(self, library: Path, function: ca.Function):
+        super().__init__(function)
+        self._library = ctypes.CDLL(str(library))
+        self._entry = getattr(self._library, self.name)
+        self._entry.restype = ctypes.c_int
+        sizes = [ctypes.c_longlong() for _ in range(4)]
+        work = getattr(self._library, f"{self.name}_work")
+        work.restype = ctypes.c_int
+        if work(*[ctypes.byref(s) for s in sizes]):
+            raise InsErrorsError(f"{self.name}: the compiled library reports an error")
+        self._n_arg, self._n_res, self._n_iw, self._n_w = (max(int(s.value), 1) for s in sizes)
+
+    def __call__(self, inputs: Sequence[np.ndarray], outputs: Sequence[np.ndarray]) -> None:
+        """Evaluate, reading ``inputs`` and writing ``outputs`` in place."""
+        self._check(inputs, self.shapes_in, "input")
+        self._check(outputs, self.shapes_out, "output")
+        args = (_DOUBLE_P * max(self._n_arg, len(inputs)))()
+        results = (_DOUBLE_P * max(self._n_res, len(outputs)))()
+        for k, array in enumerate(inputs):
+            args[k] = array.ctypes.data_as(_DOUBLE_P)
+        for k, array in enumerate(outputs):
+            results[k] = array.ctypes.data_as(_DOUBLE_P)
+        iw = np.empty(self._n_iw, dtype=np.int64)
+        w = np.empty(self._n_w)
+        status = self._entry(args, results, iw.ctypes.data_as(ctypes.POINTER(ctypes.c_longlong)),
+                             w.ctypes.data_as(_DOUBLE_P), 0)
+        if status:
+            raise InsErrorsError(f"{self.name}: the compiled function failed (status {status})")
+
+
+class VirtualFunction(DenseCall):
+    """The same calling convention as :class:`NativeFunction` in the CasADi VM."""
+
+    def __init__(self, function: ca.Function):
+        super().__init__(function)
+        self._function = function
+
+    def __call__(self, inputs: Sequence[np.ndarray], outputs: Sequence[np.ndarray]) -> None:
+        """Evaluate, reading ``inputs`` and writing ``outputs`` in place."""
+        self._check(inputs, self.shapes_in, "input")
+        self._check(outputs, self.shapes_out, "output")
+        values = self._function.call([ca.DM(a.reshape(c, r).T) for a, (r, c)
+                                      in zip(inputs, self.shapes_in, strict=True)])
+        for array, value in zip(outputs, values, strict=True):
+            array.reshape(-1)[:] = np.asarray(value).ravel(order="F")
+
+
+_DOUBLE_P = ctypes.POINTER(ctypes.c_double)
+
+
+def worker_count() -> int:
+    """Cores batched cases may use (``$INS_ERRORS_THREADS`` or the cores this process may
+    run on)."""
+    text = os.environ.get("INS_ERRORS_THREADS")
+    if text:
+        try:
+            count = int(text)
+        except ValueError:
+            raise InsErrorsError(f"INS_ERRORS_THREADS must be a whole number, got {text!r}") \
+                from None
+        if count < 1:
+            raise InsErrorsError(f"INS_ERRORS_THREADS must be at least 1, got {count}")
+        return count
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
 
 
 # --------------------------------------------------------------------------------------
@@ -386,6 +546,10 @@ class CompiledLoop:
     that ``fold`` and ``mapaccum`` feed it back whole. A compiled library is cached on
     disk under the hash of its C source: the same loop is compiled once per machine.
 
+    The compiled functions are called on numpy buffers in place (:class:`NativeFunction`).
+    A batch is split into groups, one per core (:func:`worker_count`), run in threads;
+    each case's arithmetic is the same whatever the grouping.
+
     Parameters
     ----------
     rhs : casadi.Function
@@ -409,16 +573,21 @@ class CompiledLoop:
         ``casadi.Function.map``.
     jit : bool
         Compile to C (default) or stay in the CasADi virtual machine.
+    workers : int, optional
+        Threads a batch is split over (default :func:`worker_count`, at most ``batch``).
     """
 
     def __init__(self, rhs: ca.Function, margin: ca.Function | None, method: Method,
                  record_every: int, tau: float, p: np.ndarray,
                  constant_inputs: np.ndarray | None = None, chunk: int = 32, batch: int = 1,
-                 jit: bool = True):
+                 jit: bool = True, workers: int | None = None):
         check_method(method)
         if record_every < 1 or chunk < 1 or batch < 1:
             raise StepError("record_every, chunk and batch must be positive integers")
         self.method, self.record_every, self.chunk, self.batch = method, record_every, chunk, batch
+        workers = min(batch, worker_count() if workers is None else max(1, int(workers)))
+        self.group = -(-batch // workers)
+        self.workers = -(-batch // self.group)
         self.constant_inputs = constant_inputs is not None
         self.nz, self.nu, self.nw = rhs.size1_in(0), rhs.size1_in(1), rhs.size1_in(2)
         nz, nu, nw = self.nz, self.nu, self.nw
@@ -455,13 +624,109 @@ class CompiledLoop:
         block = ca.Function("ins_block", block_in, [out])
         chunked = block.mapaccum("ins_chunk", chunk)
         single = block
-        if batch > 1:
+        if self.group > 1:
             reduce = [] if self.constant_inputs else [1]
-            chunked = chunked.map("ins_chunk_b", "serial", batch, reduce, [])
-            single = block.map("ins_single_b", "serial", batch, reduce, [])
+            chunked = chunked.map("ins_chunk_b", "serial", self.group, reduce, [])
+            single = block.map("ins_single_b", "serial", self.group, reduce, [])
         chunked = _rename(chunked, "ins_chunk_f")
         single = _rename(single, "ins_single_f")
-        self._chunk_fn, self._single_fn = compile_functions([chunked, single], jit=jit)
+        self._chunk_fn, self._single_fn = native_functions([chunked, single], jit=jit)
+
+    # -- running -----------------------------------------------------------------------
+    def start(self, z0: np.ndarray, w: np.ndarray) -> np.ndarray:
+        """The carried vectors ``[z, m, w]`` of every batch member at the start.
+
+        Parameters
+        ----------
+        z0 : numpy.ndarray, shape (nz,) or (nz, B)
+            Initial state(s).
+        w : numpy.ndarray, shape (nw,) or (nw, B)
+            Per-case constants (error sources).
+
+        Returns
+        -------
+        numpy.ndarray, shape (G × group, nz + 1 + nw)
+            One row per batch member (padded to whole groups by repeating the last
+            member); pass it to :meth:`advance`.
+        """
+        B = self.batch
+        z0 = np.asarray(z0, dtype=float).reshape(self.nz, -1)
+        w = np.asarray(w, dtype=float)
+        w = w.reshape(self.nw, -1) if w.size else np.zeros((self.nw, 1))
+        if z0.shape[1] not in (1, B) or w.shape[1] not in (1, B):
+            raise StepError(f"expected {B} batch members, got states {z0.shape[1]}, "
+                            f"constants {w.shape[1]}")
+        rows = np.vstack([np.broadcast_to(z0, (self.nz, B)), np.full((1, B), np.inf),
+                          np.broadcast_to(w, (self.nw, B))]).T
+        padded = self.workers * self.group
+        if padded > B:
+            rows = np.vstack([rows, np.repeat(rows[-1:], padded - B, axis=0)])
+        return np.ascontiguousarray(rows)
+
+    def advance(self, carry: np.ndarray, n_steps: int, stream: np.ndarray | None,
+                states: np.ndarray, margins: np.ndarray) -> None:
+        """Integrate ``n_steps`` from ``carry`` (updated in place), recording as it goes.
+
+        Parameters
+        ----------
+        carry : numpy.ndarray
+            From :meth:`start` or a previous :meth:`advance`.
+        n_steps : int
+            A multiple of ``record_every``.
+        stream : numpy.ndarray, shape (n_steps, n_stream), C order, or None
+            The per-step inputs, one row per step (None for constant inputs).
+        states : numpy.ndarray, shape (nz, n_steps // record_every, B)
+            Filled with the states at the end of every recording interval.
+        margins : numpy.ndarray, shape (n_steps // record_every, B)
+            Filled with the domain margins.
+        """
+        k = self.record_every
+        if n_steps % k:
+            raise StepError(f"{n_steps} steps are not a whole number of recording "
+                            f"intervals of {k} steps")
+        if not self.constant_inputs and (
+                stream is None or stream.shape != (n_steps, self.n_stream)
+                or stream.dtype != np.float64 or not stream.flags.c_contiguous):
+            raise StepError(f"input stream must be a contiguous array of shape "
+                            f"({n_steps}, {self.n_stream}), got "
+                            f"{None if stream is None else stream.shape}")
+        n_rec = n_steps // k
+        if self.workers == 1:
+            self._advance_group(carry, n_rec, stream, states, margins, 0)
+            return
+        from concurrent.futures import ThreadPoolExecutor
+
+        with ThreadPoolExecutor(self.workers) as pool:
+            jobs = [pool.submit(self._advance_group, carry, n_rec, stream, states, margins, g)
+                    for g in range(self.workers)]
+            for job in jobs:
+                job.result()
+
+    def _advance_group(self, carry: np.ndarray, n_rec: int, stream: np.ndarray | None,
+                       states: np.ndarray, margins: np.ndarray, g: int) -> None:
+        k, size_g, nz = self.record_every, self.group, self.nz
+        first = g * size_g
+        members = slice(first, min(first + size_g, self.batch))
+        count = members.stop - members.start
+        own = np.ascontiguousarray(carry[first:first + size_g])
+        buffers = {}
+        done = 0
+        while done < n_rec:
+            size = self.chunk if n_rec - done >= self.chunk else 1
+            fn = self._chunk_fn if size == self.chunk else self._single_fn
+            out = buffers.get(size)
+            if out is None:
+                out = buffers[size] = np.empty((size_g, size, self.n_carry))
+            args = [own]
+            if not self.constant_inputs:
+                args.append(stream[done * k:(done + size) * k])
+            fn(args, [out])
+            states[:, done:done + size, members] = out[:count, :, :nz].transpose(2, 1, 0)
+            margins[done:done + size, members] = out[:count, :, nz].T
+            own[:] = out[:, -1]
+            own[:, nz] = np.inf
+            done += size
+        carry[first:first + size_g] = own
 
     def run(self, z0: np.ndarray, w: np.ndarray, n_steps: int,
             inputs: np.ndarray | None = None, progress: bool | str = False) -> LoopResult:
@@ -486,41 +751,27 @@ class CompiledLoop:
             raise StepError(f"{n_steps} steps are not a whole number of recording "
                             f"intervals of {k} steps")
         n_rec = n_steps // k
-        z0 = np.asarray(z0, dtype=float).reshape(self.nz, -1)
-        w = np.asarray(w, dtype=float)
-        w = w.reshape(self.nw, -1) if w.size else np.zeros((self.nw, 1))
-        if z0.shape[1] not in (1, B) or w.shape[1] not in (1, B):
-            raise StepError(f"expected {B} batch members, got states {z0.shape[1]}, "
-                            f"constants {w.shape[1]}")
-        z0, w = np.broadcast_to(z0, (self.nz, B)), np.broadcast_to(w, (self.nw, B))
+        carry = self.start(z0, w)
+        stream = None
         if not self.constant_inputs:
             inputs = np.asarray(inputs, dtype=float)
             if inputs.shape != (self.n_stream, n_steps):
                 raise StepError(f"input stream must have shape ({self.n_stream}, {n_steps}), "
                                 f"got {inputs.shape}")
-        carry = np.vstack([z0, np.full((1, B), np.inf), w])
+            stream = np.ascontiguousarray(inputs.T)
         states = np.empty((self.nz, n_rec + 1, B))
         margins = np.empty((n_rec, B))
-        states[:, 0] = z0
-        bar = None
-        if progress:
-            from tqdm import tqdm
-
-            bar = tqdm(total=n_steps, unit="step", unit_scale=True, leave=False, disable=None,
-                       desc=progress if isinstance(progress, str) else "integrating")
+        states[:, 0] = carry[:B, :self.nz].T
+        bar = progress_bar(n_steps, progress)
+        # progress is shown between pieces of about 1/100 of the run (whole chunks)
+        piece = max(self.chunk, -(-n_rec // 100 // self.chunk) * self.chunk)
         done = 0
         try:
             while done < n_rec:
-                size = self.chunk if n_rec - done >= self.chunk else 1
-                fn = self._chunk_fn if size == self.chunk else self._single_fn
-                args = [carry]
-                if not self.constant_inputs:
-                    args.append(inputs[:, done * k:(done + size) * k])
-                out = np.asarray(fn(*args)).reshape(self.n_carry, B, size)
-                states[:, done + 1:done + 1 + size] = out[:self.nz].transpose(0, 2, 1)
-                margins[done:done + size] = out[self.nz].T
-                carry = np.array(out[:, :, -1])
-                carry[self.nz] = np.inf
+                size = min(piece, n_rec - done)
+                self.advance(carry, size * k,
+                             None if stream is None else stream[done * k:(done + size) * k],
+                             states[:, done + 1:done + 1 + size], margins[done:done + size])
                 done += size
                 if bar is not None:
                     bar.update(size * k)
@@ -528,6 +779,16 @@ class CompiledLoop:
             if bar is not None:
                 bar.close()
         return LoopResult(states, margins)
+
+
+def progress_bar(total: int, progress: bool | str):
+    """A tqdm bar over ``total`` steps when ``progress`` is set (a string labels it)."""
+    if not progress:
+        return None
+    from tqdm import tqdm
+
+    return tqdm(total=total, unit="step", unit_scale=True, leave=False, disable=None,
+                desc=progress if isinstance(progress, str) else "integrating")
 
 
 def _rename(function: ca.Function, name: str) -> ca.Function:

@@ -38,8 +38,9 @@ import numpy as np
 from ins_errors.errors import DomainError, InsErrorsError, ShapeError
 from ins_errors.numeric.integrators import (
     CompiledLoop,
+    DenseCall,
     StepError,
-    compile_functions,
+    native_functions,
     step_count,
 )
 from ins_errors.numeric.model import Model
@@ -541,7 +542,8 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         k = int(np.argmax(bad))
         raise DomainError(f"the true motion leaves the model's domain at t = {k * tau / 2:.6g} s"
                           f" (e.g. passes a pole)")
-    u_all = _evaluate_inputs(model.name, frame, tuple(p), states, commands[:, ::2])
+    u_all = _evaluate_inputs(model.name, frame, tuple(p), np.ascontiguousarray(states.T),
+                             np.ascontiguousarray(commands[:, ::2].T)).T
     _check_finite(u_all, "true inputs", tau / 2)
     return Trajectory(model.name, float(tau), n_steps, states[:, ::2], u_all[:, ::2],
                       u_all[:, 1::2], p, c0, False, profile.description)
@@ -571,30 +573,41 @@ _INPUT_CHUNK = 4096
 
 
 @lru_cache(maxsize=16)
-def _inputs_chunk(model_name: str, frame: str, p: tuple[float, ...]) -> ca.Function:
+def _inputs_chunk(model_name: str, frame: str, p: tuple[float, ...]) -> DenseCall:
     kin = _kinematics(model_name, frame)
     n = kin.inputs.size1_in(0)
     X, C = ca.SX.sym("X", n), ca.SX.sym("C", 8)
     one = ca.Function("inputs_p", [X, C], [kin.inputs(X, C[:4], C[4:], ca.DM(list(p)))])
     mapped = one.map("motion_inputs_chunk", "serial", _INPUT_CHUNK, [], [])
-    return compile_functions([mapped])[0]
+    return native_functions([mapped])[0]
 
 
 def _evaluate_inputs(model_name: str, frame: str, p: tuple[float, ...], states: np.ndarray,
                      commands: np.ndarray) -> np.ndarray:
-    """Inputs at every column of ``states`` (n, T) and ``commands`` (8, T), compiled."""
+    """Inputs at every row of ``states`` (T, n) and ``commands`` (T, 8), compiled.
+
+    Returns
+    -------
+    numpy.ndarray, shape (T, nu)
+    """
     fn = _inputs_chunk(model_name, frame, p)
-    total = states.shape[1]
-    out = []
+    total = states.shape[0]
+    nu = fn.shapes_out[0][0]
+    out = np.empty((total, nu))
     for start in range(0, total, _INPUT_CHUNK):
         stop = min(start + _INPUT_CHUNK, total)
         pad = _INPUT_CHUNK - (stop - start)
-        xs, cs = states[:, start:stop], commands[:, start:stop]
+        xs, cs = states[start:stop], commands[start:stop]
+        if pad or not xs.flags.c_contiguous or not cs.flags.c_contiguous:
+            xs = np.ascontiguousarray(np.vstack([xs, np.repeat(xs[-1:], pad, axis=0)]))
+            cs = np.ascontiguousarray(np.vstack([cs, np.repeat(cs[-1:], pad, axis=0)]))
         if pad:
-            xs = np.hstack([xs, np.repeat(xs[:, -1:], pad, axis=1)])
-            cs = np.hstack([cs, np.repeat(cs[:, -1:], pad, axis=1)])
-        out.append(fn(xs, cs).full()[:, :stop - start])
-    return np.hstack(out)
+            full = np.empty((_INPUT_CHUNK, nu))
+            fn([xs, cs], [full])
+            out[start:stop] = full[:stop - start]
+        else:
+            fn([xs, cs], [out[start:stop]])
+    return out
 
 
 def _check_finite(array: np.ndarray, what: str, dt: float) -> None:

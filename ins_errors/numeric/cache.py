@@ -1,0 +1,182 @@
+"""The on-disk cache of compiled loops: where it is, its size limit, who uses what.
+
+Compiled libraries (``loop_<hash>.so``, see
+:func:`ins_errors.numeric.integrators.compile_library`) are kept in one folder per user:
+``$INS_ERRORS_CACHE`` or ``$XDG_CACHE_HOME/ins-errors/casadi`` (``~/.cache/...``). A
+library's modification time is its last use (refreshed whenever it is loaded); when the
+folder grows beyond its size limit (``$INS_ERRORS_CACHE_LIMIT`` in MB, default
+:data:`DEFAULT_LIMIT_MB`) the least recently used libraries are deleted until it fits.
+
+Several checkouts of the project may share the folder. Each records which libraries it
+used as empty marker files under ``owners/<checkout id>/`` (the id is a hash of the
+checkout's folder, so no path is written), which lets ``ins-errors cache clear
+--checkout`` (``make clean``) remove one checkout's libraries and leave those another
+checkout also uses.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from ins_errors.errors import InsErrorsError
+
+DEFAULT_LIMIT_MB = 200.0
+"""Default size limit of the cache folder, MB (10⁶ bytes)."""
+
+PATTERN = "loop_*.so"
+"""File names of compiled libraries in the cache."""
+
+
+def directory() -> Path:
+    """The cache folder (``$INS_ERRORS_CACHE`` or the user cache folder); may not exist."""
+    root = os.environ.get("INS_ERRORS_CACHE")
+    if root:
+        return Path(root)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return Path(base) / "ins-errors" / "casadi"
+
+
+def limit_bytes() -> int:
+    """The size limit in bytes (``$INS_ERRORS_CACHE_LIMIT`` MB, default 200 MB).
+
+    Raises
+    ------
+    InsErrorsError
+        If the variable is not a non-negative number.
+    """
+    text = os.environ.get("INS_ERRORS_CACHE_LIMIT")
+    if not text:
+        return int(DEFAULT_LIMIT_MB * 1e6)
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not value >= 0 or value == float("inf"):
+        raise InsErrorsError(f"INS_ERRORS_CACHE_LIMIT must be a size in MB (a non-negative "
+                             f"number), got {text!r}")
+    return int(value * 1e6)
+
+
+def checkout_id() -> str:
+    """A short id of the installed project folder (the checkout this code runs from)."""
+    root = Path(__file__).resolve().parents[2]
+    return hashlib.sha256(str(root).encode()).hexdigest()[:16]
+
+
+def _owners(folder: Path) -> Path:
+    return folder / "owners"
+
+
+def touch(library: Path) -> None:
+    """Mark ``library`` as used now (LRU order) by this checkout."""
+    try:
+        os.utime(library)
+        _mark(library)
+    except OSError:
+        pass  # a read-only cache still works; only its order is not kept
+
+
+def register(library: Path) -> None:
+    """Record a newly compiled ``library`` and evict the least recently used beyond the
+    limit (never ``library`` itself)."""
+    try:
+        _mark(library)
+        evict(library.parent, limit_bytes(), keep=library)
+    except OSError:
+        pass
+
+
+def _mark(library: Path) -> None:
+    marker = _owners(library.parent) / checkout_id() / library.name
+    if not marker.exists():
+        marker.parent.mkdir(parents=True, exist_ok=True)
+        marker.touch()
+
+
+@dataclass
+class Entry:
+    """One compiled library in the cache."""
+
+    path: Path
+    size: int
+    last_used: float
+    mine: bool
+
+
+def entries(folder: Path | None = None) -> list[Entry]:
+    """The libraries in the cache, least recently used first."""
+    folder = directory() if folder is None else folder
+    mine_dir = _owners(folder) / checkout_id()
+    found = []
+    for path in folder.glob(PATTERN):
+        try:
+            info = path.stat()
+        except OSError:
+            continue  # removed meanwhile
+        found.append(Entry(path, info.st_size, info.st_mtime, (mine_dir / path.name).exists()))
+    return sorted(found, key=lambda e: (e.last_used, e.path.name))
+
+
+def evict(folder: Path, limit: int, keep: Path | None = None) -> list[Path]:
+    """Delete least recently used libraries until the folder holds at most ``limit`` bytes.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The deleted libraries.
+    """
+    current = entries(folder)
+    total = sum(e.size for e in current)
+    removed = []
+    for entry in current:
+        if total <= limit:
+            break
+        if keep is not None and entry.path.name == keep.name:
+            continue
+        if _remove(folder, entry.path):
+            total -= entry.size
+            removed.append(entry.path)
+    return removed
+
+
+def _remove(folder: Path, library: Path) -> bool:
+    try:
+        library.unlink()
+    except FileNotFoundError:
+        return False
+    for marker in _owners(folder).glob(f"*/{library.name}"):
+        marker.unlink(missing_ok=True)
+    return True
+
+
+def clear(folder: Path | None = None, checkout_only: bool = False) -> tuple[int, int]:
+    """Delete compiled libraries: all of them, or those this checkout used and no other.
+
+    Returns
+    -------
+    (int, int)
+        Number of libraries deleted and bytes freed.
+    """
+    folder = directory() if folder is None else folder
+    count = freed = 0
+    if not folder.is_dir():
+        return 0, 0
+    if not checkout_only:
+        targets = [e for e in entries(folder)]
+    else:
+        mine = _owners(folder) / checkout_id()
+        others = {m.name for d in _owners(folder).glob("*") if d != mine and d.is_dir()
+                  for m in d.iterdir()}
+        targets = [e for e in entries(folder) if e.mine and e.path.name not in others]
+        for marker in mine.glob("*") if mine.is_dir() else []:
+            marker.unlink(missing_ok=True)
+        if mine.is_dir():
+            mine.rmdir()
+    for entry in targets:
+        if _remove(folder, entry.path):
+            count += 1
+            freed += entry.size
+    return count, freed
