@@ -20,6 +20,7 @@ MODEL_MODULES: dict[str, str] = {
     "north_pointing": "ins_errors.models.north_pointing",
     "free_azimuth": "ins_errors.models.free_azimuth",
     "geodetic_vertical": "ins_errors.models.geodetic_vertical",
+    "strapdown_ned": "ins_errors.models.strapdown_ned",
 }
 """Registry: model name -> module whose ``build()`` returns its definition."""
 

@@ -51,3 +51,83 @@ def ellipsoid(name: str) -> Ellipsoid:
         return ELLIPSOIDS[name.lower()]
     except KeyError:
         raise unknown_name("ellipsoid", name, ELLIPSOIDS) from None
+
+
+# --------------------------------------------------------------------------------------
+# Radii of curvature and normal gravity (generic: numpy arrays or SymPy expressions)
+# --------------------------------------------------------------------------------------
+WGS84_EQUATORIAL_GRAVITY = 9.7803253359
+"""Normal gravity on the equator of the WGS-84 ellipsoid γ_e, m/s² (NIMA TR8350.2, 4-1)."""
+
+WGS84_SOMIGLIANA_K = 0.00193185265241
+"""Somigliana constant k = (b γ_p)/(a γ_e) − 1 of WGS-84, dimensionless."""
+
+WGS84_GRAVITY_M = 0.00344978650684
+"""m = ω² a² b / GM of WGS-84, dimensionless (enters the height dependence of γ)."""
+
+
+def radii_of_curvature(latitude, a, e2, xp=None):
+    """Meridian and prime-vertical radii of curvature of an ellipsoid.
+
+    ``R_N = a (1 − e²) / (1 − e² sin² φ)^{3/2}`` (north-south, meridian) and
+    ``R_E = a / (1 − e² sin² φ)^{1/2}`` (east-west, prime vertical).
+
+    Parameters
+    ----------
+    latitude : array_like or sympy.Expr
+        Geodetic latitude φ, rad.
+    a : float or sympy.Expr
+        Semi-major axis, m.
+    e2 : float or sympy.Expr
+        First eccentricity squared.
+    xp : module, optional
+        ``numpy`` (default) or ``sympy``: where ``sin`` and ``sqrt`` come from.
+
+    Returns
+    -------
+    R_N, R_E
+        Radii, m, shaped like ``latitude``.
+    """
+    xp = _numpy() if xp is None else xp
+    w2 = 1 - e2 * xp.sin(latitude) ** 2
+    w = xp.sqrt(w2)
+    return a * (1 - e2) / (w2 * w), a / w
+
+
+def normal_gravity(latitude, height, a, e2, gamma_e=WGS84_EQUATORIAL_GRAVITY,
+                   k=WGS84_SOMIGLIANA_K, m=WGS84_GRAVITY_M, xp=None):
+    """Normal gravity of the ellipsoid at geodetic latitude and height.
+
+    Somigliana's closed formula on the ellipsoid, ``γ0 = γ_e (1 + k sin² φ) /
+    (1 − e² sin² φ)^{1/2}``, continued to height ``h`` with the second-order series
+    ``γ = γ0 [1 − 2 h/a (1 + f + m − 2 f sin² φ) + 3 h²/a²]`` (NIMA TR8350.2, eq. 4-3),
+    ``f = 1 − (1 − e²)^{1/2}``. Near the ground its vertical gradient is about
+    −2γ/a = −3.1e-6 s⁻², the source of the vertical-channel instability.
+
+    Parameters
+    ----------
+    latitude, height : array_like or sympy.Expr
+        Geodetic latitude φ (rad) and height above the ellipsoid h (m).
+    a, e2 : float or sympy.Expr
+        Semi-major axis (m) and first eccentricity squared.
+    gamma_e, k, m : float or sympy.Expr
+        Equatorial normal gravity (m/s²), Somigliana constant and ω²a²b/GM (WGS-84
+        values by default).
+    xp : module, optional
+        ``numpy`` (default) or ``sympy``.
+
+    Returns
+    -------
+    Magnitude of normal gravity, m/s², along the ellipsoid normal (downwards).
+    """
+    xp = _numpy() if xp is None else xp
+    s2 = xp.sin(latitude) ** 2
+    f = 1 - xp.sqrt(1 - e2)
+    gamma0 = gamma_e * (1 + k * s2) / xp.sqrt(1 - e2 * s2)
+    return gamma0 * (1 - 2 * height / a * (1 + f + m - 2 * f * s2) + 3 * height**2 / a**2)
+
+
+def _numpy():
+    import numpy
+
+    return numpy
