@@ -52,17 +52,18 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ins_errors.models.base import (
+from ins_errors.modeling import (
+    EARTH_RATE,
+    ELLIPSOIDS,
     Mechanisation,
     ModelDefinition,
     Parameter,
     Variable,
+    computed_symbols,
     error_source,
     error_states_of,
 )
 from ins_errors.models.earth import (
-    EARTH_RATE,
-    ELLIPSOIDS,
     WGS84_EQUATORIAL_GRAVITY,
     WGS84_GRAVITY_M,
     WGS84_SOMIGLIANA_K,
@@ -289,7 +290,7 @@ def imu_outputs(sensor: str, true: list[sp.Symbol]) -> list[sp.Expr]:
 def build() -> ModelDefinition:
     """Assemble the symbolic definition of the NED strapdown INS."""
     x = [v.symbol for v in STATES]
-    x_c = [sp.Symbol(f"{v.name}_c", real=True) for v in STATES]
+    x_c = computed_symbols(STATES)
     omega = [_sym[f"omega_{c}"] for c in AXES]
     f = [_sym[f"f_{c}"] for c in AXES]
     h_ref = _sym["h_ref"]
