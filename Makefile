@@ -29,5 +29,7 @@ bench: $(STAMP)
 lint: $(STAMP)
 	$(PY) -m ruff check .
 
+## Remove the virtual environment, build files and this checkout's compiled loops.
 clean:
+	if [ -x $(PY) ]; then $(PY) -m ins_errors.cli cache clear --checkout; fi
 	rm -rf $(VENV) build *.egg-info

@@ -22,6 +22,7 @@ COMMAND_MODULES = (
     "ins_errors.commands.check",
     "ins_errors.commands.study",
     "ins_errors.commands.propagation",
+    "ins_errors.commands.cache",
 )
 """Modules that each register one subcommand, in the order ``--help`` lists them."""
 
