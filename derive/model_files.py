@@ -20,7 +20,7 @@ from ins_errors.symbolic.codegen import (
     prepare,
 )
 from ins_errors.symbolic.documents import error_equations_markdown
-from ins_errors.symbolic.variation import ErrorModel, vary
+from ins_errors.symbolic.variation import ErrorModel, second_order_of, vary
 
 
 def header(model: ModelDefinition, markdown: bool = False) -> str:
@@ -44,12 +44,24 @@ def function_specs(em: ErrorModel) -> list[FunctionSpec]:
     w = Argument("w", d.w, "error-source magnitudes, SI units")
     xe = Argument("xe", d.xe, "error state xr - (x, 0)")
     c = Argument("c", d.c, "initial navigation conditions, SI units")
+    small_angle = []
+    if d.small_angle_rhs is not None:
+        small_rhs = d.expand(d.small_angle_rhs)
+        small_angle = [
+            FunctionSpec("real_rhs_small_angle", [xr, x, u, w, p], small_rhs,
+                         "Real-work equations with the source's small-angle platform: dxr/dt.",
+                         "time derivative of the real-work state"),
+            FunctionSpec("second_order_small_angle", [x, u, p, xe, w],
+                         second_order_of(d, small_rhs),
+                         "Second-order term of the error equations of the small-angle "
+                         "platform.", "1/2 (xe, w)' Hessian (xe, w) per equation")]
     return [
         FunctionSpec("ideal_rhs", [x, u, p], em.ideal_rhs,
                      "Ideal-work equations: dx/dt.", "time derivative of the true state"),
         FunctionSpec("real_rhs", [xr, x, u, w, p], em.real_rhs,
                      "Real-work equations: dxr/dt (needs the true state for the platform).",
                      "time derivative of the real-work state"),
+        *small_angle,
         FunctionSpec("outputs", [x, u, p], em.outputs,
                      "Navigation outputs of a state (true or computed part of xr).",
                      "outputs in SI units"),

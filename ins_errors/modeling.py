@@ -27,6 +27,12 @@ Equations:
 Earth constants (re-exported from :mod:`ins_errors.models.earth`): :data:`EARTH_RATE`,
 :data:`ELLIPSOIDS`, :class:`Ellipsoid`, :func:`ellipsoid`.
 
+Gyro-stabilised platform (re-exported from :mod:`ins_errors.models.platform`):
+:func:`on_platform` resolves a vector on the misaligned platform, :func:`platform_rates`
+advances the platform angles, each ``"exact"`` (rotation) or ``"small_angle"`` (the
+source documents' matrix); a platform model builds both and passes the small-angle
+real-work equations as ``ModelDefinition.small_angle_rhs``.
+
 The vocabulary the machinery relies on:
 
 * the ideal-work state ``x`` has ``n`` components; the real-work state ``x~`` starts with
@@ -53,10 +59,12 @@ import sympy as sp
 
 from ins_errors.errors import ModelDefinitionError
 from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS, Ellipsoid, ellipsoid
+from ins_errors.models.platform import PLATFORM_FORMS, on_platform, platform_rates
 
 __all__ = [
     "EARTH_RATE",
     "ELLIPSOIDS",
+    "PLATFORM_FORMS",
     "Definition",
     "Ellipsoid",
     "ErrorSource",
@@ -70,6 +78,8 @@ __all__ = [
     "ellipsoid",
     "error_source",
     "error_states_of",
+    "on_platform",
+    "platform_rates",
     "tilde",
 ]
 
@@ -328,7 +338,12 @@ class ModelDefinition:
         ``dx/dt`` of the ideal work, in states, inputs, parameters and ``ideal`` symbols.
     real_rhs : sympy.Matrix
         ``dx~/dt`` of the real work, in real states, true states, inputs, sources,
-        parameters and intermediate symbols of both mechanisations.
+        parameters and intermediate symbols of both mechanisations (the truth of a
+        direct run: exact platform kinematics).
+    small_angle_rhs : sympy.Matrix or None
+        The same with the source documents' small-angle platform (selectable in direct
+        runs as ``platform="small_angle"``); None for a model without that variant. Its
+        first-order variation must equal that of ``real_rhs``.
     output_map : callable
         ``output_map(mechanisation, state_symbols, input_symbols)`` -> Matrix of the
         outputs in terms of the given state symbols (called with the ideal state for
@@ -366,6 +381,7 @@ class ModelDefinition:
     output_map: Callable[..., sp.Matrix]
     initial_state: sp.Matrix
     initial_real_state: sp.Matrix
+    small_angle_rhs: sp.Matrix | None = None
     groups: Sequence[tuple[str, list[str]]] = ()
     notes: str = ""
     domain: Sequence[tuple[sp.Expr, str]] = ()

@@ -43,6 +43,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         f"| duration | {s.duration / 3600:g} h |",
         f"| step τ | {s.step:g} s ({'rectangle method' if s.method == 'euler' else 'RK4'}) |",
         f"| recorded every | {s.record:g} s |",
+        f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |",
         f"| Earth model | {s.ellipsoid or 'model default'} |",
         "",
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "

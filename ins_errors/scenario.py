@@ -17,6 +17,7 @@ Every value with a unit is read by :mod:`ins_errors.units`. Example::
     record = "60 s"
     method = "euler"         # or "rk4"
     refined = true           # also the second-order model
+    platform = "exact"       # or "small_angle" (the source documents' platform matrix)
     ellipsoid = "wgs84"      # default: the model's own Earth
 
     [[case]]
@@ -47,7 +48,7 @@ else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 _TOP_KEYS = {"title", "description", "model", "motion", "run", "case", "outputs"}
-_RUN_KEYS = {"duration", "step", "record", "method", "refined", "ellipsoid"}
+_RUN_KEYS = {"duration", "step", "record", "method", "refined", "ellipsoid", "platform"}
 _OUTPUT_KEYS = {"quantities"}
 
 
@@ -81,6 +82,8 @@ class Scenario:
         ``"euler"`` (rectangle) or ``"rk4"``.
     refined : bool
         Run the second-order model too.
+    platform : str
+        Platform kinematics of the direct run: ``"exact"`` or ``"small_angle"``.
     ellipsoid : str or None
         Earth model for the parameters (``None``: the model's default).
     cases : list of Case
@@ -99,6 +102,7 @@ class Scenario:
     record: float
     method: str = "euler"
     refined: bool = True
+    platform: str = "exact"
     ellipsoid: str | None = None
     cases: list[Case] = field(default_factory=list)
     quantities: list[str] | None = None
@@ -152,6 +156,9 @@ def load_scenario(path: str | Path) -> Scenario:
     method = str(run.get("method", "euler"))
     if method not in ("euler", "rk4"):
         raise unknown_name("integration method", method, ("euler", "rk4"))
+    platform = str(run.get("platform", "exact"))
+    if platform not in ("exact", "small_angle"):
+        raise unknown_name("platform", platform, ("exact", "small_angle"))
     raw_cases = data.get("case", [])
     if not raw_cases:
         raise ScenarioError(f"{path.name}: no [[case]] with error sources")
@@ -195,6 +202,7 @@ def load_scenario(path: str | Path) -> Scenario:
         record=record,
         method=method,
         refined=refined,
+        platform=platform,
         ellipsoid=str(run["ellipsoid"]) if "ellipsoid" in run else None,
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
@@ -225,7 +233,8 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
                                progress=progress)
     comparisons = compare(model, trajectory, [c.sources for c in scenario.cases],
                           method=scenario.method, record_interval=scenario.record,
-                          refined=scenario.refined, progress=progress)
+                          refined=scenario.refined, progress=progress,
+                          platform=scenario.platform)
     for comparison, case in zip(comparisons, scenario.cases, strict=True):
         comparison.label = case.label
         if scenario.quantities is not None:

@@ -124,7 +124,9 @@ def test_schuler_period_and_bias_tilt_in_the_direct_run(orthodromic):
 @pytest.mark.parametrize("motion", ["static", "great_circle"])
 def test_refined_model_cuts_the_residual_at_large_magnitudes(orthodromic, motion):
     """5° azimuth error, 1 °/h drifts, 1° tilt over 24 h: the linear residual reaches
-    10–60 % of the error, the second-order model cuts the largest residual ≥ 5×."""
+    10–60 % of the error, the second-order model cuts the largest residual ≥ 2.5× (an
+    azimuth drift of 1 °/h turns the exact platform by 24° in a day: the third-order
+    terms of its rotation, ~α²/6 of the second-order ones, stay in the refined residual)."""
     profile = (tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG) if motion == "static" else
                tr.great_circle_profile(50 * DEG, 30 * DEG, 40 * DEG, 250.0))
     traj = tr.trajectory(orthodromic, profile, 24 * HOURS, 2.0)
@@ -133,7 +135,7 @@ def test_refined_model_cuts_the_residual_at_large_magnitudes(orthodromic, motion
     for c in compare(orthodromic, traj, cases, record_interval=120.0):
         linear, refined = c.worst_linear.linear_ratio, c.worst_refined.refined_ratio
         assert linear > 0.04, c.label  # the large magnitude really is nonlinear
-        assert refined * 5 <= linear, (c.label, linear, refined)
+        assert refined * 2.5 <= linear, (c.label, linear, refined)
 
 
 def test_rk4_runs_agree_as_well(orthodromic):
@@ -163,7 +165,9 @@ def test_leaving_the_domain_names_time_and_quantity(orthodromic):
 
 
 def test_platform_beyond_small_angles_is_an_error(orthodromic):
-    """An 80° tilt is far outside the manual's small-angle platform matrix: refuse it."""
+    """An 80° tilt is far outside the manual's small-angle platform matrix: refuse it
+    there (the exact platform runs it: tests/test_platform_exact.py)."""
     traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG), 600.0, 1.0)
     with pytest.raises(DomainError, match=r"platform angle alpha_x exceeds 0\.5 rad"):
-        simulate(orthodromic, traj, {"initial_tilt_x": 80 * DEG}, record_interval=60.0)
+        simulate(orthodromic, traj, {"initial_tilt_x": 80 * DEG}, record_interval=60.0,
+                 platform="small_angle")

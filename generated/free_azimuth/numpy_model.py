@@ -160,6 +160,118 @@ def real_rhs(xr, x, u, w, p):
     _t16 = V_x_c_ - _t15*(_t13*_t14 - _t6*_t7)
     _t17 = V_y_c_ + _t15*(_t13*_t7 + _t14*_t6)
     _t18 = _t0*(_t14*_t16 - _t17*_t7)
+    _t19 = _m.sin(alpha_y_)
+    _t20 = _m.cos(alpha_z_)
+    _t21 = _m.cos(alpha_y_)
+    _t22 = _t20*_t21
+    _t23 = _m.sin(alpha_z_)
+    _t24 = _t21*_t23
+    _t25 = V_zeta_*_t0
+    _t26 = _m.cos(alpha_x_)
+    _t27 = _m.sin(alpha_x_)
+    _t28 = _t20*_t27
+    _t29 = _t19*_t28 - _t23*_t26
+    _t30 = _t20*_t26
+    _t31 = _t23*_t27
+    _t32 = _t19*_t31 + _t30
+    _t33 = V_y_*_t0
+    _t34 = V_x_*_t0
+    _t35 = _t33*(_t19*_t30 + _t31) - _t34*(_t19*_t23*_t26 - _t28) + gyro_drift_z_
+    _t36 = V_x_c_*_t0*(correction_gain_error_y_ + 1) + _t29*_t33 - _t32*_t34 + gyro_drift_y_
+    _t37 = _t26*_t35 + _t27*_t36
+    _out = _np.zeros((8,) + _batch)
+    _out[0] = _t0*(position_integrator_gain_error_Phi_ + 1)*(_t14*_t17 + _t16*_t7) + position_integrator_offset_Phi_
+    _out[1] = position_integrator_offset_Lam_ + _t18*(position_integrator_gain_error_Lam_ + 1)/_t10
+    _out[2] = -U_*(_t10*_t12 + _t10*_t9 + _t11*_t5*_t8) - _t18*_m.tan(Phi_c_)
+    _out[3] = (velocity_integrator_gain_error_x_ + 1)*(-V_x_c_*_t25 + accel_bias_x_ + velocity_integrator_offset_x_ + (accel_scale_error_x_ + 1)*(-_t19*a_zeta_ + _t22*a_x_ + _t24*a_y_))
+    _out[4] = (velocity_integrator_gain_error_y_ + 1)*(-V_y_c_*_t25 + accel_bias_y_ + velocity_integrator_offset_y_ + (accel_scale_error_y_ + 1)*(_t21*_t27*a_zeta_ + _t29*a_x_ + _t32*a_y_))
+    _out[5] = -V_y_c_*_t0*(correction_gain_error_x_ + 1) + _t22*_t33 - _t24*_t34 + _t37*_m.tan(alpha_y_) + gyro_drift_x_
+    _out[6] = _t26*_t36 - _t27*_t35
+    _out[7] = _t37/_t21
+    return _out
+
+
+def real_rhs_small_angle(xr, x, u, w, p):
+    """Real-work equations with the source's small-angle platform: dxr/dt.
+
+    Parameters
+    ----------
+    xr : array_like, shape (8, ...)
+        real-work state: computed state, then platform angles
+    x : array_like, shape (5, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    w : array_like, shape (25, ...)
+        error-source magnitudes, SI units
+    p : array_like, shape (5, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (8, ...)
+        time derivative of the real-work state
+    """
+    xr = _as_vector(xr, 8, 'xr', 'real_rhs_small_angle')
+    x = _as_vector(x, 5, 'x', 'real_rhs_small_angle')
+    u = _as_vector(u, 4, 'u', 'real_rhs_small_angle')
+    w = _as_vector(w, 25, 'w', 'real_rhs_small_angle')
+    p = _as_vector(p, 5, 'p', 'real_rhs_small_angle')
+    _batch = _np.broadcast_shapes(xr.shape[1:], x.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
+    Phi_c_ = xr[0]
+    Lam_c_ = xr[1]
+    A_c_ = xr[2]
+    V_x_c_ = xr[3]
+    V_y_c_ = xr[4]
+    alpha_x_ = xr[5]
+    alpha_y_ = xr[6]
+    alpha_z_ = xr[7]
+    V_x_ = x[3]
+    V_y_ = x[4]
+    a_x_ = u[0]
+    a_y_ = u[1]
+    a_zeta_ = u[2]
+    V_zeta_ = u[3]
+    gyro_drift_x_ = w[8]
+    gyro_drift_y_ = w[9]
+    gyro_drift_z_ = w[10]
+    accel_bias_x_ = w[11]
+    accel_bias_y_ = w[12]
+    velocity_integrator_offset_x_ = w[13]
+    velocity_integrator_offset_y_ = w[14]
+    position_integrator_offset_Phi_ = w[15]
+    position_integrator_offset_Lam_ = w[16]
+    accel_scale_error_x_ = w[17]
+    accel_scale_error_y_ = w[18]
+    velocity_integrator_gain_error_x_ = w[19]
+    velocity_integrator_gain_error_y_ = w[20]
+    position_integrator_gain_error_Phi_ = w[21]
+    position_integrator_gain_error_Lam_ = w[22]
+    correction_gain_error_x_ = w[23]
+    correction_gain_error_y_ = w[24]
+    R_ = p[0]
+    U_ = p[1]
+    orth_latitude_ = p[2]
+    orth_azimuth_ = p[4]
+    _t0 = 1/R_
+    _t1 = _m.sin(Lam_c_)
+    _t2 = _m.sin(orth_latitude_)
+    _t3 = _m.cos(Lam_c_)
+    _t4 = _m.cos(orth_azimuth_)
+    _t5 = _m.cos(orth_latitude_)
+    _t6 = -_t1*_t2 + _t3*_t4*_t5
+    _t7 = _m.sin(A_c_)
+    _t8 = _m.sin(Phi_c_)
+    _t9 = _t2*_t3
+    _t10 = _m.cos(Phi_c_)
+    _t11 = _m.sin(orth_azimuth_)
+    _t12 = _t1*_t4*_t5
+    _t13 = _t10*_t11*_t5 - _t12*_t8 - _t8*_t9
+    _t14 = _m.cos(A_c_)
+    _t15 = R_*U_
+    _t16 = V_x_c_ - _t15*(_t13*_t14 - _t6*_t7)
+    _t17 = V_y_c_ + _t15*(_t13*_t7 + _t14*_t6)
+    _t18 = _t0*(_t14*_t16 - _t17*_t7)
     _t19 = V_zeta_*_t0
     _t20 = V_y_*_t0
     _t21 = V_x_*_t0
@@ -172,6 +284,170 @@ def real_rhs(xr, x, u, w, p):
     _out[5] = -V_y_c_*_t0*(correction_gain_error_x_ + 1) + _t20 - _t21*alpha_z_ + gyro_drift_x_
     _out[6] = V_x_c_*_t0*(correction_gain_error_y_ + 1) - _t20*alpha_z_ - _t21 + gyro_drift_y_
     _out[7] = _t20*alpha_y_ + _t21*alpha_x_ + gyro_drift_z_
+    return _out
+
+
+def second_order_small_angle(x, u, p, xe, w):
+    """Second-order term of the error equations of the small-angle platform.
+
+    Parameters
+    ----------
+    x : array_like, shape (5, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (4, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (5, ...)
+        model parameters, SI units
+    xe : array_like, shape (8, ...)
+        error state xr - (x, 0)
+    w : array_like, shape (25, ...)
+        error-source magnitudes, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (8, ...)
+        1/2 (xe, w)' Hessian (xe, w) per equation
+    """
+    x = _as_vector(x, 5, 'x', 'second_order_small_angle')
+    u = _as_vector(u, 4, 'u', 'second_order_small_angle')
+    p = _as_vector(p, 5, 'p', 'second_order_small_angle')
+    xe = _as_vector(xe, 8, 'xe', 'second_order_small_angle')
+    w = _as_vector(w, 25, 'w', 'second_order_small_angle')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:], w.shape[1:])
+    Phi_ = x[0]
+    Lam_ = x[1]
+    A_ = x[2]
+    V_x_ = x[3]
+    V_y_ = x[4]
+    a_x_ = u[0]
+    a_y_ = u[1]
+    a_zeta_ = u[2]
+    V_zeta_ = u[3]
+    R_ = p[0]
+    U_ = p[1]
+    orth_latitude_ = p[2]
+    orth_azimuth_ = p[4]
+    delta_Phi_ = xe[0]
+    delta_Lam_ = xe[1]
+    delta_A_ = xe[2]
+    delta_V_x_ = xe[3]
+    delta_V_y_ = xe[4]
+    alpha_x_ = xe[5]
+    alpha_y_ = xe[6]
+    alpha_z_ = xe[7]
+    accel_bias_x_ = w[11]
+    accel_bias_y_ = w[12]
+    velocity_integrator_offset_x_ = w[13]
+    velocity_integrator_offset_y_ = w[14]
+    accel_scale_error_x_ = w[17]
+    accel_scale_error_y_ = w[18]
+    velocity_integrator_gain_error_x_ = w[19]
+    velocity_integrator_gain_error_y_ = w[20]
+    position_integrator_gain_error_Phi_ = w[21]
+    position_integrator_gain_error_Lam_ = w[22]
+    correction_gain_error_x_ = w[23]
+    correction_gain_error_y_ = w[24]
+    _t0 = 1/R_
+    _t1 = _m.sin(Lam_)
+    _t2 = _m.sin(orth_latitude_)
+    _t3 = _t1*_t2
+    _t4 = _m.cos(Lam_)
+    _t5 = _m.cos(orth_azimuth_)
+    _t6 = _m.cos(orth_latitude_)
+    _t7 = _t3 - _t4*_t5*_t6
+    _t8 = -_t7
+    _t9 = _m.sin(A_)
+    _t10 = _m.cos(Phi_)
+    _t11 = _m.sin(orth_azimuth_)
+    _t12 = _m.sin(Phi_)
+    _t13 = _t2*_t4
+    _t14 = _t5*_t6
+    _t15 = _t1*_t14
+    _t16 = _t12*_t13 + _t12*_t15
+    _t17 = -_t10*_t11*_t6 + _t16
+    _t18 = -_t17
+    _t19 = _m.cos(A_)
+    _t20 = -_t18*_t19 + _t8*_t9
+    _t21 = R_*U_
+    _t22 = _t21*_t9
+    _t23 = -_t20*_t21
+    _t24 = _t23*_t9
+    _t25 = V_x_ - _t23
+    _t26 = _t18*_t9 + _t19*_t8
+    _t27 = V_y_ + _t21*_t26
+    _t28 = -_t26
+    _t29 = _t19*_t21
+    _t30 = _t19*_t27 + _t25*_t9 + _t28*_t29
+    _t31 = ((1/2))*delta_A_**2
+    _t32 = _t16*_t19 - _t7*_t9
+    _t33 = _t16*_t9 + _t19*_t7
+    _t34 = ((1/2))*delta_Lam_**2
+    _t35 = -_t13 - _t15
+    _t36 = _t14*_t4
+    _t37 = _t12*_t3 - _t12*_t36
+    _t38 = _t19*_t35 + _t37*_t9
+    _t39 = _t22*_t38
+    _t40 = -_t38
+    _t41 = _t0*delta_A_
+    _t42 = _t0*delta_V_x_
+    _t43 = _t19*delta_A_
+    _t44 = _t19*_t23
+    _t45 = _t19*_t25 - _t27*_t9
+    _t46 = -_t22*_t28 + _t45
+    _t47 = _t29*_t38
+    _t48 = _t19*_t37 - _t35*_t9
+    _t49 = _t0*delta_V_y_
+    _t50 = _t9*delta_A_
+    _t51 = _t0/_t10
+    _t52 = _t19**2
+    _t53 = _t17*_t21
+    _t54 = _t9**2
+    _t55 = -_t52*_t53 - _t53*_t54
+    _t56 = 2*_t0
+    _t57 = _t45*_t56
+    _t58 = _t10*_t13 + _t10*_t15
+    _t59 = U_*(-_t11*_t12*_t6 - _t58)
+    _t60 = R_*_t59
+    _t61 = -_t52*_t60 - _t54*_t60
+    _t62 = _t12/_t10**2
+    _t63 = _t56*_t62
+    _t64 = ((1/2))*delta_Phi_**2
+    _t65 = _t21*(_t10*_t3 - _t10*_t36)
+    _t66 = -_t52*_t65 - _t54*_t65
+    _t67 = 2*_t51
+    _t68 = -_t29*_t48 - _t39
+    _t69 = ((1/2))*delta_Phi_
+    _t70 = _t69*delta_Lam_
+    _t71 = _t31*(-_t20*_t29 - 2*_t44 - _t46)
+    _t72 = -_t22*_t33 - _t29*_t32
+    _t73 = _t51*delta_A_
+    _t74 = delta_Lam_*(-_t29*_t40 - _t47)
+    _t75 = -_t24 - _t30
+    _t76 = _t51*position_integrator_gain_error_Lam_
+    _t77 = _t50*delta_V_x_
+    _t78 = _t43*delta_V_y_
+    _t79 = _t41*_t75
+    _t80 = _t62*delta_Phi_
+    _t81 = _t19*_t42
+    _t82 = _t49*_t9
+    _t83 = _m.tan(Phi_)
+    _t84 = _t0*_t83
+    _t85 = _t83**2
+    _t86 = _t85 + 1
+    _t87 = _t56*_t86
+    _t88 = _t86*delta_Phi_
+    _t89 = a_y_*alpha_z_
+    _t90 = a_zeta_*alpha_y_
+    _t91 = a_zeta_*alpha_x_
+    _t92 = a_x_*alpha_z_
+    _out = _np.zeros((8,) + _batch)
+    _out[0] = _t0*_t31*(-_t20*_t22 - 2*_t24 - _t30) + _t0*_t34*(R_*U_*_t19*_t33 - _t22*_t32) + _t0*delta_Lam_*position_integrator_gain_error_Phi_*(-_t22*_t48 + _t47) + _t19*_t49*position_integrator_gain_error_Phi_ + _t41*delta_Lam_*(-_t22*_t40 - _t39) + _t41*position_integrator_gain_error_Phi_*(_t44 + _t46) + _t42*_t43 + _t42*_t9*position_integrator_gain_error_Phi_ - _t49*_t50
+    _out[1] = _t19*_t76*delta_V_x_ + _t34*_t51*_t72 + _t51*_t71 - _t51*_t77 - _t51*_t78 + _t64*(_t45*_t51 + _t51*_t55 + _t61*_t63 + _t12**2*_t57/_t10**3) + _t68*_t76*delta_Lam_ + _t69*position_integrator_gain_error_Lam_*(_t57*_t62 + _t61*_t67) + _t70*(_t63*_t68 + _t66*_t67) + _t73*_t74 + _t73*_t75*position_integrator_gain_error_Lam_ - _t76*_t9*delta_V_y_ + _t79*_t80 + _t80*_t81 - _t80*_t82
+    _out[2] = _t34*(U_*_t58 - _t72*_t84) + _t64*(-_t45*_t84*(2*_t85 + 2) - _t55*_t84 - _t59 - _t61*_t87) + _t70*(-2*U_*_t37 - 2*_t66*_t84 - _t68*_t87) - _t71*_t84 - _t74*_t84*delta_A_ + _t77*_t84 + _t78*_t84 - _t79*_t88 - _t81*_t88 + _t82*_t88
+    _out[3] = -V_zeta_*_t42*velocity_integrator_gain_error_x_ + _t89*accel_scale_error_x_ + _t89*velocity_integrator_gain_error_x_ - _t90*accel_scale_error_x_ - _t90*velocity_integrator_gain_error_x_ + a_x_*accel_scale_error_x_*velocity_integrator_gain_error_x_ + accel_bias_x_*velocity_integrator_gain_error_x_ + velocity_integrator_gain_error_x_*velocity_integrator_offset_x_
+    _out[4] = -V_zeta_*_t49*velocity_integrator_gain_error_y_ + _t91*accel_scale_error_y_ + _t91*velocity_integrator_gain_error_y_ - _t92*accel_scale_error_y_ - _t92*velocity_integrator_gain_error_y_ + a_y_*accel_scale_error_y_*velocity_integrator_gain_error_y_ + accel_bias_y_*velocity_integrator_gain_error_y_ + velocity_integrator_gain_error_y_*velocity_integrator_offset_y_
+    _out[5] = -_t49*correction_gain_error_x_
+    _out[6] = _t42*correction_gain_error_y_
     return _out
 
 
@@ -588,6 +864,8 @@ def second_order(x, u, p, xe, w):
     alpha_x_ = xe[5]
     alpha_y_ = xe[6]
     alpha_z_ = xe[7]
+    gyro_drift_y_ = w[9]
+    gyro_drift_z_ = w[10]
     accel_bias_x_ = w[11]
     accel_bias_y_ = w[12]
     velocity_integrator_offset_x_ = w[13]
@@ -600,7 +878,7 @@ def second_order(x, u, p, xe, w):
     position_integrator_gain_error_Lam_ = w[22]
     correction_gain_error_x_ = w[23]
     correction_gain_error_y_ = w[24]
-    _t0 = 1/R_
+    _t0 = delta_A_**2
     _t1 = _m.sin(Lam_)
     _t2 = _m.sin(orth_latitude_)
     _t3 = _t1*_t2
@@ -631,76 +909,86 @@ def second_order(x, u, p, xe, w):
     _t28 = -_t26
     _t29 = _t19*_t21
     _t30 = _t19*_t27 + _t25*_t9 + _t28*_t29
-    _t31 = ((1/2))*delta_A_**2
-    _t32 = _t16*_t19 - _t7*_t9
-    _t33 = _t16*_t9 + _t19*_t7
-    _t34 = ((1/2))*delta_Lam_**2
-    _t35 = -_t13 - _t15
-    _t36 = _t14*_t4
-    _t37 = _t12*_t3 - _t12*_t36
-    _t38 = _t19*_t35 + _t37*_t9
-    _t39 = _t22*_t38
-    _t40 = -_t38
-    _t41 = _t0*delta_A_
-    _t42 = _t0*delta_V_x_
-    _t43 = _t19*delta_A_
-    _t44 = _t19*_t23
-    _t45 = _t19*_t25 - _t27*_t9
-    _t46 = -_t22*_t28 + _t45
-    _t47 = _t29*_t38
-    _t48 = _t19*_t37 - _t35*_t9
-    _t49 = _t0*delta_V_y_
-    _t50 = _t9*delta_A_
-    _t51 = _t0/_t10
-    _t52 = _t19**2
-    _t53 = _t17*_t21
-    _t54 = _t9**2
-    _t55 = -_t52*_t53 - _t53*_t54
-    _t56 = 2*_t0
-    _t57 = _t45*_t56
-    _t58 = _t10*_t13 + _t10*_t15
-    _t59 = U_*(-_t11*_t12*_t6 - _t58)
-    _t60 = R_*_t59
-    _t61 = -_t52*_t60 - _t54*_t60
-    _t62 = _t12/_t10**2
-    _t63 = _t56*_t62
-    _t64 = ((1/2))*delta_Phi_**2
-    _t65 = _t21*(_t10*_t3 - _t10*_t36)
-    _t66 = -_t52*_t65 - _t54*_t65
-    _t67 = 2*_t51
-    _t68 = -_t29*_t48 - _t39
-    _t69 = ((1/2))*delta_Phi_
-    _t70 = _t69*delta_Lam_
-    _t71 = _t31*(-_t20*_t29 - 2*_t44 - _t46)
-    _t72 = -_t22*_t33 - _t29*_t32
-    _t73 = _t51*delta_A_
-    _t74 = delta_Lam_*(-_t29*_t40 - _t47)
-    _t75 = -_t24 - _t30
-    _t76 = _t51*position_integrator_gain_error_Lam_
-    _t77 = _t50*delta_V_x_
-    _t78 = _t43*delta_V_y_
-    _t79 = _t41*_t75
-    _t80 = _t62*delta_Phi_
-    _t81 = _t19*_t42
-    _t82 = _t49*_t9
-    _t83 = _m.tan(Phi_)
-    _t84 = _t0*_t83
-    _t85 = _t83**2
-    _t86 = _t85 + 1
-    _t87 = _t56*_t86
-    _t88 = _t86*delta_Phi_
-    _t89 = a_y_*alpha_z_
-    _t90 = a_zeta_*alpha_y_
-    _t91 = a_zeta_*alpha_x_
-    _t92 = a_x_*alpha_z_
+    _t31 = 1/R_
+    _t32 = ((1/2))*_t31
+    _t33 = _t16*_t19 - _t7*_t9
+    _t34 = _t16*_t9 + _t19*_t7
+    _t35 = ((1/2))*delta_Lam_**2
+    _t36 = -_t13 - _t15
+    _t37 = _t14*_t4
+    _t38 = _t12*_t3 - _t12*_t37
+    _t39 = _t19*_t36 + _t38*_t9
+    _t40 = _t22*_t39
+    _t41 = -_t39
+    _t42 = _t31*delta_A_
+    _t43 = _t31*delta_V_x_
+    _t44 = _t19*delta_A_
+    _t45 = _t19*_t23
+    _t46 = _t19*_t25 - _t27*_t9
+    _t47 = -_t22*_t28 + _t46
+    _t48 = _t29*_t39
+    _t49 = _t19*_t38 - _t36*_t9
+    _t50 = _t31*delta_V_y_
+    _t51 = _t9*delta_A_
+    _t52 = _t31/_t10
+    _t53 = _t19**2
+    _t54 = _t17*_t21
+    _t55 = _t9**2
+    _t56 = -_t53*_t54 - _t54*_t55
+    _t57 = 2*_t31
+    _t58 = _t46*_t57
+    _t59 = _t10*_t13 + _t10*_t15
+    _t60 = U_*(-_t11*_t12*_t6 - _t59)
+    _t61 = R_*_t60
+    _t62 = -_t53*_t61 - _t55*_t61
+    _t63 = _t12/_t10**2
+    _t64 = _t57*_t63
+    _t65 = ((1/2))*delta_Phi_**2
+    _t66 = _t21*(_t10*_t3 - _t10*_t37)
+    _t67 = -_t53*_t66 - _t55*_t66
+    _t68 = 2*_t52
+    _t69 = -_t29*_t49 - _t40
+    _t70 = ((1/2))*delta_Phi_
+    _t71 = _t70*delta_Lam_
+    _t72 = ((1/2))*_t0*(-_t20*_t29 - 2*_t45 - _t47)
+    _t73 = -_t22*_t34 - _t29*_t33
+    _t74 = _t52*delta_A_
+    _t75 = delta_Lam_*(-_t29*_t41 - _t48)
+    _t76 = -_t24 - _t30
+    _t77 = _t52*position_integrator_gain_error_Lam_
+    _t78 = _t51*delta_V_x_
+    _t79 = _t44*delta_V_y_
+    _t80 = _t42*_t76
+    _t81 = _t63*delta_Phi_
+    _t82 = _t19*_t43
+    _t83 = _t50*_t9
+    _t84 = _m.tan(Phi_)
+    _t85 = _t31*_t84
+    _t86 = _t84**2
+    _t87 = _t86 + 1
+    _t88 = _t57*_t87
+    _t89 = _t87*delta_Phi_
+    _t90 = alpha_y_**2
+    _t91 = ((1/2))*a_x_
+    _t92 = alpha_z_**2
+    _t93 = a_y_*alpha_z_
+    _t94 = a_zeta_*alpha_y_
+    _t95 = alpha_x_**2
+    _t96 = ((1/2))*a_y_
+    _t97 = alpha_x_*alpha_y_
+    _t98 = a_zeta_*alpha_x_
+    _t99 = a_x_*alpha_z_
+    _t100 = V_y_*_t32
+    _t101 = V_x_*_t31
     _out = _np.zeros((8,) + _batch)
-    _out[0] = _t0*_t31*(-_t20*_t22 - 2*_t24 - _t30) + _t0*_t34*(R_*U_*_t19*_t33 - _t22*_t32) + _t0*delta_Lam_*position_integrator_gain_error_Phi_*(-_t22*_t48 + _t47) + _t19*_t49*position_integrator_gain_error_Phi_ + _t41*delta_Lam_*(-_t22*_t40 - _t39) + _t41*position_integrator_gain_error_Phi_*(_t44 + _t46) + _t42*_t43 + _t42*_t9*position_integrator_gain_error_Phi_ - _t49*_t50
-    _out[1] = _t19*_t76*delta_V_x_ + _t34*_t51*_t72 + _t51*_t71 - _t51*_t77 - _t51*_t78 + _t64*(_t45*_t51 + _t51*_t55 + _t61*_t63 + _t12**2*_t57/_t10**3) + _t68*_t76*delta_Lam_ + _t69*position_integrator_gain_error_Lam_*(_t57*_t62 + _t61*_t67) + _t70*(_t63*_t68 + _t66*_t67) + _t73*_t74 + _t73*_t75*position_integrator_gain_error_Lam_ - _t76*_t9*delta_V_y_ + _t79*_t80 + _t80*_t81 - _t80*_t82
-    _out[2] = _t34*(U_*_t58 - _t72*_t84) + _t64*(-_t45*_t84*(2*_t85 + 2) - _t55*_t84 - _t59 - _t61*_t87) + _t70*(-2*U_*_t37 - 2*_t66*_t84 - _t68*_t87) - _t71*_t84 - _t74*_t84*delta_A_ + _t77*_t84 + _t78*_t84 - _t79*_t88 - _t81*_t88 + _t82*_t88
-    _out[3] = -V_zeta_*_t42*velocity_integrator_gain_error_x_ + _t89*accel_scale_error_x_ + _t89*velocity_integrator_gain_error_x_ - _t90*accel_scale_error_x_ - _t90*velocity_integrator_gain_error_x_ + a_x_*accel_scale_error_x_*velocity_integrator_gain_error_x_ + accel_bias_x_*velocity_integrator_gain_error_x_ + velocity_integrator_gain_error_x_*velocity_integrator_offset_x_
-    _out[4] = -V_zeta_*_t49*velocity_integrator_gain_error_y_ + _t91*accel_scale_error_y_ + _t91*velocity_integrator_gain_error_y_ - _t92*accel_scale_error_y_ - _t92*velocity_integrator_gain_error_y_ + a_y_*accel_scale_error_y_*velocity_integrator_gain_error_y_ + accel_bias_y_*velocity_integrator_gain_error_y_ + velocity_integrator_gain_error_y_*velocity_integrator_offset_y_
-    _out[5] = -_t49*correction_gain_error_x_
-    _out[6] = _t42*correction_gain_error_y_
+    _out[0] = _t0*_t32*(-_t20*_t22 - 2*_t24 - _t30) + _t19*_t50*position_integrator_gain_error_Phi_ + _t31*_t35*(R_*U_*_t19*_t34 - _t22*_t33) + _t31*delta_Lam_*position_integrator_gain_error_Phi_*(-_t22*_t49 + _t48) + _t42*delta_Lam_*(-_t22*_t41 - _t40) + _t42*position_integrator_gain_error_Phi_*(_t45 + _t47) + _t43*_t44 + _t43*_t9*position_integrator_gain_error_Phi_ - _t50*_t51
+    _out[1] = _t19*_t77*delta_V_x_ + _t35*_t52*_t73 + _t52*_t72 - _t52*_t78 - _t52*_t79 + _t65*(_t46*_t52 + _t52*_t56 + _t62*_t64 + _t12**2*_t58/_t10**3) + _t69*_t77*delta_Lam_ + _t70*position_integrator_gain_error_Lam_*(_t58*_t63 + _t62*_t68) + _t71*(_t64*_t69 + _t67*_t68) + _t74*_t75 + _t74*_t76*position_integrator_gain_error_Lam_ - _t77*_t9*delta_V_y_ + _t80*_t81 + _t81*_t82 - _t81*_t83
+    _out[2] = _t35*(U_*_t59 - _t73*_t85) + _t65*(-_t46*_t85*(2*_t86 + 2) - _t56*_t85 - _t60 - _t62*_t88) + _t71*(-2*U_*_t38 - 2*_t67*_t85 - _t69*_t88) - _t72*_t85 - _t75*_t85*delta_A_ + _t78*_t85 + _t79*_t85 - _t80*_t89 - _t82*_t89 + _t83*_t89
+    _out[3] = -V_zeta_*_t43*velocity_integrator_gain_error_x_ - _t90*_t91 - _t91*_t92 + _t93*accel_scale_error_x_ + _t93*velocity_integrator_gain_error_x_ - _t94*accel_scale_error_x_ - _t94*velocity_integrator_gain_error_x_ + a_x_*accel_scale_error_x_*velocity_integrator_gain_error_x_ + accel_bias_x_*velocity_integrator_gain_error_x_ + velocity_integrator_gain_error_x_*velocity_integrator_offset_x_
+    _out[4] = -V_zeta_*_t50*velocity_integrator_gain_error_y_ - _t92*_t96 - _t95*_t96 + _t97*a_x_ + _t98*accel_scale_error_y_ + _t98*velocity_integrator_gain_error_y_ - _t99*accel_scale_error_y_ - _t99*velocity_integrator_gain_error_y_ + a_y_*accel_scale_error_y_*velocity_integrator_gain_error_y_ + accel_bias_y_*velocity_integrator_gain_error_y_ + velocity_integrator_gain_error_y_*velocity_integrator_offset_y_
+    _out[5] = _t100*_t90 - _t100*_t92 + _t101*_t97 - _t50*correction_gain_error_x_ + alpha_y_*gyro_drift_z_
+    _out[6] = ((1/2))*V_x_*_t31*_t92 - V_x_*_t32*_t95 + _t31*correction_gain_error_y_*delta_V_x_ - alpha_x_*gyro_drift_z_
+    _out[7] = _t101*alpha_x_*correction_gain_error_y_ - _t101*alpha_y_*alpha_z_ + _t43*alpha_x_ + alpha_x_*gyro_drift_y_
     return _out
 
 
@@ -1216,4 +1504,4 @@ def initial_domain_margins(c, u, p):
     return _out
 
 
-FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'real_rhs_small_angle', 'second_order_small_angle', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')

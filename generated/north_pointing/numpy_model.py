@@ -110,6 +110,101 @@ def real_rhs(xr, x, u, w, p):
     _t0 = _m.sin(phi_c_)
     _t1 = U_*_t0
     _t2 = -_t0**2*ecc2_ + 1
+    _t3 = V_E_c_/(R_/_m.sqrt(_t2) + h_)
+    _t4 = _t3*_m.tan(phi_c_)
+    _t5 = 2*_t1 + _t4
+    _t6 = _m.sin(phi_)
+    _t7 = -_t6**2*ecc2_ + 1
+    _t8 = 1/(R_/_m.sqrt(_t7) + h_)
+    _t9 = R_*(1 - ecc2_)
+    _t10 = 1/(h_ + _t9/_t7**((3/2)))
+    _t11 = U_*_m.cos(phi_)
+    _t12 = V_E_**2*_t8 + 2*V_E_*_t11 + V_N_**2*_t10 + g_
+    _t13 = _m.sin(alpha_N_)
+    _t14 = _m.cos(alpha_U_)
+    _t15 = _m.cos(alpha_N_)
+    _t16 = _t14*_t15
+    _t17 = _m.sin(alpha_U_)
+    _t18 = _t15*_t17
+    _t19 = _m.cos(alpha_E_)
+    _t20 = _m.sin(alpha_E_)
+    _t21 = _t14*_t20
+    _t22 = _t13*_t21 - _t17*_t19
+    _t23 = _t14*_t19
+    _t24 = _t17*_t20
+    _t25 = _t13*_t24 + _t23
+    _t26 = _t15*_t20
+    _t27 = V_N_c_/(h_ + _t9/_t2**((3/2)))
+    _t28 = _m.cos(phi_c_)
+    _t29 = V_E_*_t8
+    _t30 = U_*_t6 + _t29*_m.tan(phi_)
+    _t31 = _t11 + _t29
+    _t32 = V_N_*_t10
+    _t33 = U_*_t28 + _t22*_t32 - _t25*_t31 - _t26*_t30 + _t3 + gyro_drift_north_
+    _t34 = _t1 - _t15*_t19*_t30 - _t31*(_t13*_t17*_t19 - _t21) + _t32*(_t13*_t23 + _t24) + _t4 + gyro_drift_up_
+    _t35 = _t19*_t34 + _t20*_t33
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = V_N_c_*_t5 - _t12*_t13 + _t16*a_E_ + _t18*a_N_ + accel_bias_east_
+    _out[1] = -V_E_c_*_t5 + _t12*_t26 + _t22*a_E_ + _t25*a_N_ + accel_bias_north_
+    _out[2] = _t27
+    _out[3] = _t3/_t28
+    _out[4] = _t13*_t30 + _t16*_t32 - _t18*_t31 - _t27 + _t35*_m.tan(alpha_N_) + gyro_drift_east_
+    _out[5] = _t19*_t33 - _t20*_t34
+    _out[6] = _t35/_t15
+    return _out
+
+
+def real_rhs_small_angle(xr, x, u, w, p):
+    """Real-work equations with the source's small-angle platform: dxr/dt.
+
+    Parameters
+    ----------
+    xr : array_like, shape (7, ...)
+        real-work state: computed state, then platform angles
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    w : array_like, shape (12, ...)
+        error-source magnitudes, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        time derivative of the real-work state
+    """
+    xr = _as_vector(xr, 7, 'xr', 'real_rhs_small_angle')
+    x = _as_vector(x, 4, 'x', 'real_rhs_small_angle')
+    u = _as_vector(u, 3, 'u', 'real_rhs_small_angle')
+    w = _as_vector(w, 12, 'w', 'real_rhs_small_angle')
+    p = _as_vector(p, 4, 'p', 'real_rhs_small_angle')
+    _batch = _np.broadcast_shapes(xr.shape[1:], x.shape[1:], u.shape[1:], w.shape[1:], p.shape[1:])
+    V_E_c_ = xr[0]
+    V_N_c_ = xr[1]
+    phi_c_ = xr[2]
+    alpha_E_ = xr[4]
+    alpha_N_ = xr[5]
+    alpha_U_ = xr[6]
+    V_E_ = x[0]
+    V_N_ = x[1]
+    phi_ = x[2]
+    a_E_ = u[0]
+    a_N_ = u[1]
+    h_ = u[2]
+    gyro_drift_east_ = w[0]
+    gyro_drift_north_ = w[1]
+    gyro_drift_up_ = w[2]
+    accel_bias_east_ = w[3]
+    accel_bias_north_ = w[4]
+    R_ = p[0]
+    ecc2_ = p[1]
+    U_ = p[2]
+    g_ = p[3]
+    _t0 = _m.sin(phi_c_)
+    _t1 = U_*_t0
+    _t2 = -_t0**2*ecc2_ + 1
     _t3 = 1/(R_/_m.sqrt(_t2) + h_)
     _t4 = V_E_c_*_t3
     _t5 = _t4*_m.tan(phi_c_)
@@ -137,6 +232,109 @@ def real_rhs(xr, x, u, w, p):
     _out[4] = -_t14 + _t16 + _t20*alpha_N_ - _t21*alpha_U_ + gyro_drift_east_
     _out[5] = U_*_t15 + V_E_c_*_t3 - _t16*alpha_U_ - _t20*alpha_E_ - _t21 + gyro_drift_north_
     _out[6] = _t1 + _t16*alpha_N_ - _t17 - _t19 + _t21*alpha_E_ + _t5 + gyro_drift_up_
+    return _out
+
+
+def second_order_small_angle(x, u, p, xe, w):
+    """Second-order term of the error equations of the small-angle platform.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        ideal-work (true) state, SI units
+    u : array_like, shape (3, ...)
+        true-motion inputs, SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units
+    xe : array_like, shape (7, ...)
+        error state xr - (x, 0)
+    w : array_like, shape (12, ...)
+        error-source magnitudes, SI units
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, ...)
+        1/2 (xe, w)' Hessian (xe, w) per equation
+    """
+    x = _as_vector(x, 4, 'x', 'second_order_small_angle')
+    u = _as_vector(u, 3, 'u', 'second_order_small_angle')
+    p = _as_vector(p, 4, 'p', 'second_order_small_angle')
+    xe = _as_vector(xe, 7, 'xe', 'second_order_small_angle')
+    w = _as_vector(w, 12, 'w', 'second_order_small_angle')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:], w.shape[1:])
+    V_E_ = x[0]
+    V_N_ = x[1]
+    phi_ = x[2]
+    h_ = u[2]
+    R_ = p[0]
+    ecc2_ = p[1]
+    U_ = p[2]
+    delta_v_E_ = xe[0]
+    delta_v_N_ = xe[1]
+    delta_latitude_ = xe[2]
+    _t0 = _m.sin(phi_)
+    _t1 = U_*_t0
+    _t2 = _t0**2
+    _t3 = _t2*ecc2_
+    _t4 = 1 - _t3
+    _t5 = R_/_m.sqrt(_t4) + h_
+    _t6 = 1/_t5
+    _t7 = _m.tan(phi_)
+    _t8 = _t7**2
+    _t9 = _t5**(-2)
+    _t10 = _t4**((-3/2))
+    _t11 = R_*_t10
+    _t12 = _t11*_t9*ecc2_
+    _t13 = _m.cos(phi_)
+    _t14 = _t13**2
+    _t15 = V_E_*_t12*_t14
+    _t16 = R_**2
+    _t17 = ecc2_**2
+    _t18 = _t4**(-3)
+    _t19 = _t5**(-3)
+    _t20 = _t8 + 1
+    _t21 = 2*_t20
+    _t22 = V_E_*_t13
+    _t23 = _t12*_t22
+    _t24 = V_E_*_t9
+    _t25 = 3*R_/_t4**((5/2))
+    _t26 = _t2*_t25
+    _t27 = _t14*_t17*_t24*_t26
+    _t28 = -R_*V_E_*_t10*_t2*_t7*_t9*ecc2_ - 2*V_E_*_t14*_t16*_t17*_t18*_t19*_t2*_t7 - V_E_*_t6*_t7*(2*_t8 + 2) + _t0*_t21*_t23 + _t15*_t7 + _t27*_t7
+    _t29 = delta_latitude_**2
+    _t30 = ((1/2))*_t29
+    _t31 = _t30*(-2*_t1 - _t28)
+    _t32 = 2*_t0
+    _t33 = _t12*_t32
+    _t34 = _t13*_t33*_t7
+    _t35 = ((1/2))*delta_latitude_
+    _t36 = _t35*delta_v_E_
+    _t37 = U_*_t13
+    _t38 = 4*_t37
+    _t39 = V_E_*_t6
+    _t40 = _t6*_t7
+    _t41 = 1 - ecc2_
+    _t42 = _t11*_t41 + h_
+    _t43 = _t42**(-2)
+    _t44 = V_N_*_t14
+    _t45 = _t41*_t43*_t44
+    _t46 = _t25*ecc2_
+    _t47 = _t41*_t43
+    _t48 = _t17*_t2
+    _t49 = -15*R_*_t45*_t48/_t4**((7/2)) + V_N_*_t25*_t3*_t47 + 18*_t16*_t41**2*_t44*_t48/(_t4**5*_t42**3) - _t45*_t46
+    _t50 = _t0*_t13*delta_latitude_
+    _t51 = _t46*_t47*_t50*delta_v_N_
+    _t52 = 1/_t13
+    _t53 = 2*_t2
+    _t54 = _t17*_t22
+    _out = _np.zeros((7,) + _batch)
+    _out[0] = V_N_*_t31 + _t35*delta_v_N_*(_t21*_t39 - _t23*_t32*_t7 + _t38) + _t36*(2*V_N_*_t20*_t6 - V_N_*_t34) + _t40*delta_v_E_*delta_v_N_
+    _out[1] = -V_E_*_t31 - _t40*delta_v_E_**2 + ((1/2))*delta_latitude_*delta_v_E_*(4*R_*V_E_*_t0*_t10*_t13*_t7*_t9*ecc2_ - 4*_t20*_t39 - _t38)
+    _out[2] = ((1/2))*_t29*_t49 - _t51
+    _out[3] = _t30*(-_t11*_t24*_t3*_t52 + _t16*_t18*_t19*_t53*_t54 - _t23 - _t26*_t54*_t9 + _t39*_t52 + _t39*_t53/_t13**3) + _t36*(2*_t0*_t6/_t14 - _t33)
+    _out[4] = -_t30*_t49 + _t51
+    _out[5] = -_t12*_t50*delta_v_E_ + ((1/2))*_t29*(R_*V_E_*_t10*_t2*_t9*ecc2_ + 2*V_E_*_t14*_t16*_t17*_t18*_t19*_t2 - _t15 - _t27 - _t37)
+    _out[6] = _t30*(-_t1 - _t28) + _t36*(2*_t20*_t6 - _t34)
     return _out
 
 
@@ -349,6 +547,8 @@ def second_order(x, u, p, xe, w):
     V_E_ = x[0]
     V_N_ = x[1]
     phi_ = x[2]
+    a_E_ = u[0]
+    a_N_ = u[1]
     h_ = u[2]
     R_ = p[0]
     ecc2_ = p[1]
@@ -356,69 +556,92 @@ def second_order(x, u, p, xe, w):
     delta_v_E_ = xe[0]
     delta_v_N_ = xe[1]
     delta_latitude_ = xe[2]
-    _t0 = _m.sin(phi_)
-    _t1 = U_*_t0
-    _t2 = _t0**2
-    _t3 = _t2*ecc2_
-    _t4 = 1 - _t3
-    _t5 = R_/_m.sqrt(_t4) + h_
-    _t6 = 1/_t5
-    _t7 = _m.tan(phi_)
-    _t8 = _t7**2
-    _t9 = _t5**(-2)
-    _t10 = _t4**((-3/2))
-    _t11 = R_*_t10
-    _t12 = _t11*_t9*ecc2_
-    _t13 = _m.cos(phi_)
-    _t14 = _t13**2
-    _t15 = V_E_*_t12*_t14
-    _t16 = R_**2
-    _t17 = ecc2_**2
-    _t18 = _t4**(-3)
-    _t19 = _t5**(-3)
-    _t20 = _t8 + 1
-    _t21 = 2*_t20
-    _t22 = V_E_*_t13
-    _t23 = _t12*_t22
-    _t24 = V_E_*_t9
-    _t25 = 3*R_/_t4**((5/2))
-    _t26 = _t2*_t25
-    _t27 = _t14*_t17*_t24*_t26
-    _t28 = -R_*V_E_*_t10*_t2*_t7*_t9*ecc2_ - 2*V_E_*_t14*_t16*_t17*_t18*_t19*_t2*_t7 - V_E_*_t6*_t7*(2*_t8 + 2) + _t0*_t21*_t23 + _t15*_t7 + _t27*_t7
-    _t29 = delta_latitude_**2
-    _t30 = ((1/2))*_t29
-    _t31 = _t30*(-2*_t1 - _t28)
-    _t32 = 2*_t0
-    _t33 = _t12*_t32
-    _t34 = _t13*_t33*_t7
-    _t35 = ((1/2))*delta_latitude_
-    _t36 = _t35*delta_v_E_
-    _t37 = U_*_t13
-    _t38 = 4*_t37
-    _t39 = V_E_*_t6
-    _t40 = _t6*_t7
-    _t41 = 1 - ecc2_
-    _t42 = _t11*_t41 + h_
-    _t43 = _t42**(-2)
-    _t44 = V_N_*_t14
-    _t45 = _t41*_t43*_t44
-    _t46 = _t25*ecc2_
-    _t47 = _t41*_t43
-    _t48 = _t17*_t2
-    _t49 = -15*R_*_t45*_t48/_t4**((7/2)) + V_N_*_t25*_t3*_t47 + 18*_t16*_t41**2*_t44*_t48/(_t4**5*_t42**3) - _t45*_t46
-    _t50 = _t0*_t13*delta_latitude_
-    _t51 = _t46*_t47*_t50*delta_v_N_
-    _t52 = 1/_t13
-    _t53 = 2*_t2
-    _t54 = _t17*_t22
+    alpha_E_ = xe[4]
+    alpha_N_ = xe[5]
+    alpha_U_ = xe[6]
+    gyro_drift_north_ = w[1]
+    gyro_drift_up_ = w[2]
+    _t0 = alpha_N_**2
+    _t1 = ((1/2))*a_E_
+    _t2 = alpha_U_**2
+    _t3 = _m.sin(phi_)
+    _t4 = U_*_t3
+    _t5 = 2*_t4
+    _t6 = _t3**2
+    _t7 = _t6*ecc2_
+    _t8 = 1 - _t7
+    _t9 = R_/_m.sqrt(_t8) + h_
+    _t10 = 1/_t9
+    _t11 = _m.tan(phi_)
+    _t12 = _t11**2
+    _t13 = _t9**(-2)
+    _t14 = _t8**((-3/2))
+    _t15 = R_*_t14
+    _t16 = _t13*_t15*ecc2_
+    _t17 = _m.cos(phi_)
+    _t18 = _t17**2
+    _t19 = V_E_*_t16*_t18
+    _t20 = R_**2
+    _t21 = ecc2_**2
+    _t22 = _t8**(-3)
+    _t23 = _t9**(-3)
+    _t24 = _t12 + 1
+    _t25 = V_E_*_t17
+    _t26 = _t16*_t25
+    _t27 = 2*_t26*_t3
+    _t28 = V_E_*_t13
+    _t29 = 3*R_/_t8**((5/2))
+    _t30 = _t21*_t6
+    _t31 = _t18*_t28*_t29*_t30
+    _t32 = -R_*V_E_*_t11*_t13*_t14*_t6*ecc2_ - V_E_*_t10*_t11*(2*_t12 + 2) - 2*V_E_*_t11*_t18*_t20*_t21*_t22*_t23*_t6 + _t11*_t19 + _t11*_t31 + _t24*_t27
+    _t33 = delta_latitude_**2
+    _t34 = ((1/2))*_t33
+    _t35 = _t34*(-_t32 - _t5)
+    _t36 = _t16*_t3
+    _t37 = 2*_t36
+    _t38 = _t11*_t17*_t37
+    _t39 = ((1/2))*delta_latitude_
+    _t40 = _t39*delta_v_E_
+    _t41 = U_*_t17
+    _t42 = 4*_t41
+    _t43 = V_E_*_t10
+    _t44 = 2*_t43
+    _t45 = -_t11*_t27 + _t24*_t44
+    _t46 = _t10*_t11
+    _t47 = _t46*delta_v_E_
+    _t48 = alpha_E_**2
+    _t49 = ((1/2))*a_N_
+    _t50 = 1 - ecc2_
+    _t51 = _t15*_t50 + h_
+    _t52 = _t51**(-2)
+    _t53 = V_N_*_t18
+    _t54 = _t50*_t52*_t53
+    _t55 = _t29*ecc2_
+    _t56 = _t50*_t52
+    _t57 = -15*R_*_t30*_t54/_t8**((7/2)) + V_N_*_t29*_t56*_t7 + 18*_t20*_t30*_t50**2*_t53/(_t51**3*_t8**5) - _t54*_t55
+    _t58 = _t17*delta_latitude_
+    _t59 = _t3*_t55*_t56*_t58*delta_v_N_
+    _t60 = 1/_t17
+    _t61 = _t25*_t30
+    _t62 = ((1/2))*_t0
+    _t63 = V_N_/_t51
+    _t64 = 2*_t41
+    _t65 = _t44 + _t64
+    _t66 = _t45 + _t64
+    _t67 = ((1/2))*_t2
+    _t68 = _t41 + _t43
+    _t69 = ((1/2))*_t48
+    _t70 = _t39*alpha_E_
+    _t71 = alpha_E_*delta_v_E_
+    _t72 = _t11*_t43 + _t4
     _out = _np.zeros((7,) + _batch)
-    _out[0] = V_N_*_t31 + _t35*delta_v_N_*(_t21*_t39 - _t23*_t32*_t7 + _t38) + _t36*(2*V_N_*_t20*_t6 - V_N_*_t34) + _t40*delta_v_E_*delta_v_N_
-    _out[1] = -V_E_*_t31 - _t40*delta_v_E_**2 + ((1/2))*delta_latitude_*delta_v_E_*(4*R_*V_E_*_t0*_t10*_t13*_t7*_t9*ecc2_ - 4*_t20*_t39 - _t38)
-    _out[2] = ((1/2))*_t29*_t49 - _t51
-    _out[3] = _t30*(-_t11*_t24*_t3*_t52 + _t16*_t18*_t19*_t53*_t54 - _t23 - _t26*_t54*_t9 + _t39*_t52 + _t39*_t53/_t13**3) + _t36*(2*_t0*_t6/_t14 - _t33)
-    _out[4] = -_t30*_t49 + _t51
-    _out[5] = -_t12*_t50*delta_v_E_ + ((1/2))*_t29*(R_*V_E_*_t10*_t2*_t9*ecc2_ + 2*V_E_*_t14*_t16*_t17*_t18*_t19*_t2 - _t15 - _t27 - _t37)
-    _out[6] = _t30*(-_t1 - _t28) + _t36*(2*_t20*_t6 - _t34)
+    _out[0] = V_N_*_t35 - _t0*_t1 - _t1*_t2 + _t39*delta_v_N_*(_t42 + _t45) + _t40*(2*V_N_*_t10*_t24 - V_N_*_t38) + _t47*delta_v_N_
+    _out[1] = -V_E_*_t35 - _t2*_t49 - _t46*delta_v_E_**2 - _t48*_t49 + a_E_*alpha_E_*alpha_N_ + ((1/2))*delta_latitude_*delta_v_E_*(4*R_*V_E_*_t11*_t13*_t14*_t17*_t3*ecc2_ - 4*_t24*_t43 - _t42)
+    _out[2] = ((1/2))*_t33*_t57 - _t59
+    _out[3] = _t34*(-_t13*_t29*_t61 - _t15*_t28*_t60*_t7 + 2*_t20*_t22*_t23*_t61 - _t26 + _t43*_t60 + _t44*_t6/_t17**3) + _t40*(2*_t10*_t3/_t18 - _t37)
+    _out[4] = -_t34*_t57 + _t39*_t66*alpha_N_ + _t47*alpha_N_ + _t59 + _t62*_t63 - _t63*_t67 + ((1/2))*_t65*alpha_E_*alpha_N_ + alpha_N_*gyro_drift_up_
+    _out[5] = _t34*(R_*V_E_*_t13*_t14*_t6*ecc2_ + 2*V_E_*_t18*_t20*_t21*_t22*_t23*_t6 - _t19 - _t31 - _t41) - _t36*_t58*delta_v_E_ - _t46*_t71 - _t66*_t70 + _t67*_t68 - _t68*_t69 - alpha_E_*gyro_drift_up_
+    _out[6] = _t10*_t71 + _t34*(-_t32 - _t4) + _t40*(2*_t10*_t24 - _t38) + _t62*_t72 - (1/2)*_t65*alpha_N_*alpha_U_ - _t69*_t72 + _t70*(-_t27 - _t5) + alpha_E_*gyro_drift_north_
     return _out
 
 
@@ -633,4 +856,4 @@ def initial_domain_margins(c, u, p):
     return _out
 
 
-FUNCTIONS = ('ideal_rhs', 'real_rhs', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'real_rhs_small_angle', 'second_order_small_angle', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')

@@ -52,6 +52,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="recording interval (default: 60 s or the step if longer)")
     parser.add_argument("--method", choices=("euler", "rk4"), default="euler",
                         help="euler = the manual's rectangle method (default), or rk4")
+    parser.add_argument("--platform", choices=("exact", "small-angle"), default="exact",
+                        help="platform kinematics of the direct run: exact rotation (default) "
+                             "or the source documents' small-angle matrix")
     parser.add_argument("--no-refined", action="store_true",
                         help="skip the second-order (refined) run")
     parser.add_argument("--plot", metavar="FILE", help="write overlaid curves (png/pdf/svg)")
@@ -121,7 +124,8 @@ def run(args: argparse.Namespace) -> int:
     cases = ([{name: value} for name, value in sources] if args.separately
              else [dict(sources)])
     comparisons = compare(model, trajectory, cases, method=args.method, record_interval=record,
-                          refined=not args.no_refined, progress=progress)
+                          refined=not args.no_refined, progress=progress,
+                          platform=args.platform.replace("-", "_"))
     title = (f"{model.name}: {profile.description}; {duration / 3600:g} h, τ = {tau:g} s, "
              f"{args.method}")
     text = markdown_summary(comparisons, title) + "\n" + "\n".join(

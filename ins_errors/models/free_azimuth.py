@@ -68,7 +68,9 @@ from ins_errors.modeling import (
     computed_symbols,
     error_source,
     error_states_of,
+    on_platform,
 )
+from ins_errors.modeling import platform_rates as kinematic_rates
 
 # --------------------------------------------------------------------------------------
 # Names (public API: keep stable)
@@ -361,8 +363,12 @@ def levelling_offsets(latitude: float, heading: float,
 # --------------------------------------------------------------------------------------
 # Assembly
 # --------------------------------------------------------------------------------------
-def build() -> ModelDefinition:
-    """Assemble the symbolic definition of the free-azimuth INS."""
+def build(platform: str = "exact") -> ModelDefinition:
+    """Assemble the symbolic definition of the free-azimuth INS.
+
+    ``platform``: ``"exact"`` or the source's ``"small_angle"`` platform kinematics
+    (:mod:`ins_errors.models.platform`).
+    """
     x = [v.symbol for v in STATES]
     x_c = computed_symbols(STATES)
     alpha = [v.symbol for v in PLATFORM_ANGLES]
@@ -373,9 +379,9 @@ def build() -> ModelDefinition:
     ideal_rhs, (Om_x, Om_y) = computer(ideal, x, a_x, a_y, V_h)
 
     # Instruments on the platform deviated by α from the reference trihedron.
-    ax_, ay_, az_ = alpha
-    f_x = (1 + w["accel_scale_error_x"]) * (a_x + a_y * az_ - a_z * ay_) + w["accel_bias_x"]
-    f_y = (1 + w["accel_scale_error_y"]) * (a_y - a_x * az_ + a_z * ax_) + w["accel_bias_y"]
+    p_x, p_y, _ = on_platform(alpha, (a_x, a_y, a_z), platform)
+    f_x = (1 + w["accel_scale_error_x"]) * p_x + w["accel_bias_x"]
+    f_y = (1 + w["accel_scale_error_y"]) * p_y + w["accel_bias_y"]
     real = Mechanisation(computed=True)
     integrators = {name: w[name] for name in w if "_integrator_" in name}
     computed_rhs, (om_x, om_y) = computer(real, x_c, f_x, f_y, V_h, integrators)
@@ -384,11 +390,8 @@ def build() -> ModelDefinition:
            sp.S.Zero)
     Om = (Om_x, Om_y, sp.S.Zero)
     drift = (w["gyro_drift_x"], w["gyro_drift_y"], w["gyro_drift_z"])
-    platform_rhs = [
-        -Om[1] * az_ + Om[2] * ay_ + (cmd[0] - Om[0]) + drift[0],
-        Om[0] * az_ - Om[2] * ax_ + (cmd[1] - Om[1]) + drift[1],
-        -Om[0] * ay_ + Om[1] * ax_ + (cmd[2] - Om[2]) + drift[2],
-    ]
+    torque = [c + d for c, d in zip(cmd, drift, strict=True)]
+    platform_rhs = kinematic_rates(alpha, torque, Om, platform)
 
     c = [v.symbol for v in INITIAL_CONDITIONS]
     lat0, lon0, psi0, vN0, vE0 = c
@@ -419,6 +422,7 @@ def build() -> ModelDefinition:
         real=real,
         ideal_rhs=sp.Matrix(ideal_rhs),
         real_rhs=sp.Matrix([*computed_rhs, *platform_rhs]),
+        small_angle_rhs=build("small_angle").real_rhs if platform == "exact" else None,
         output_map=navigation_outputs,
         initial_state=sp.Matrix(x0),
         initial_real_state=initial_real_state,

@@ -56,6 +56,8 @@ from ins_errors.modeling import (
     Variable,
     computed_symbols,
     error_states_of,
+    on_platform,
+    platform_rates,
 )
 
 # --------------------------------------------------------------------------------------
@@ -247,8 +249,12 @@ def orthodromic_coordinates(B: sp.Expr, L: sp.Expr) -> tuple[sp.Expr, sp.Expr]:
 # --------------------------------------------------------------------------------------
 # Assembly
 # --------------------------------------------------------------------------------------
-def build() -> ModelDefinition:
-    """Assemble the symbolic definition of the geodetic-vertical INS of source 004."""
+def build(platform: str = "exact") -> ModelDefinition:
+    """Assemble the symbolic definition of the geodetic-vertical INS of source 004.
+
+    ``platform``: ``"exact"`` or the source's ``"small_angle"`` platform kinematics
+    (:mod:`ins_errors.models.platform`).
+    """
     x = [v.symbol for v in STATES]
     x_c = computed_symbols(STATES)
     alpha = [v.symbol for v in PLATFORM_ANGLES]
@@ -257,17 +263,14 @@ def build() -> ModelDefinition:
 
     ideal = Mechanisation()
     ideal_rhs, Om = computer(ideal, x, j_xi, j_eta, V_zeta)
-    ax, ay, az = alpha
-    f_x = j_xi + j_eta * az - j_zeta * ay + w["accel_bias_x"]
-    f_y = j_eta - j_xi * az + j_zeta * ax + w["accel_bias_y"]
+    p_x, p_y, _ = on_platform(alpha, (j_xi, j_eta, j_zeta), platform)
+    f_x = p_x + w["accel_bias_x"]
+    f_y = p_y + w["accel_bias_y"]
     real = Mechanisation(computed=True)
     computed_rhs, Om_c = computer(real, x_c, f_x, f_y, V_zeta)
     drift = (w["gyro_drift_x"], w["gyro_drift_y"], w["gyro_drift_z"])
-    platform_rhs = [
-        -Om[1] * az + Om[2] * ay + (Om_c[0] - Om[0]) + drift[0],
-        Om[0] * az - Om[2] * ax + (Om_c[1] - Om[1]) + drift[1],
-        -Om[0] * ay + Om[1] * ax + (Om_c[2] - Om[2]) + drift[2],
-    ]
+    torque = [c + d for c, d in zip(Om_c, drift, strict=True)]
+    platform_rhs = platform_rates(alpha, torque, Om, platform)
 
     B0, L0, vN0, vE0 = (v.symbol for v in INITIAL_CONDITIONS)
     Phi0, Lam0 = orthodromic_coordinates(B0, L0)
@@ -300,6 +303,7 @@ def build() -> ModelDefinition:
         real=real,
         ideal_rhs=sp.Matrix(ideal_rhs),
         real_rhs=sp.Matrix([*computed_rhs, *platform_rhs]),
+        small_angle_rhs=build("small_angle").real_rhs if platform == "exact" else None,
         output_map=navigation_outputs,
         initial_state=sp.Matrix(x0),
         initial_real_state=initial_real_state,

@@ -23,11 +23,11 @@ Modelling choices (also printed at the top of ``generated/north_pointing/error_e
   the local level, so it has no horizontal component; the true vertical specific force of
   level flight is f_U = g + v_E²/(R_E + h) + v_N²/(R_N + h) + 2U cos φ v_E (the vertical
   acceleration is zero). It reaches the horizontal channels only through platform tilt.
-* Platform kinematics in small angles, exact in the commanded rates:
-  α̇ = α × ω + (ω_cmd − ω) + drift, ω being the absolute rate of the true trihedron t and
-  ω_cmd the same formula evaluated by the computer.
-* Accelerometers on the platform measure f^p = f − α × f (first order in α; the
-  vertical accelerometer is not used).
+* Platform kinematics are exact (z-y-x angles of p relative to t, specific force
+  resolved through the exact rotation, :mod:`ins_errors.models.platform`); the report's
+  small-angle form α̇ = α × ω + (ω_cmd − ω) + drift, f^p = f − α × f (ω the absolute rate
+  of the true trihedron t, ω_cmd the same formula evaluated by the computer) is the
+  selectable ``small_angle`` platform. The vertical accelerometer is not used.
 * The report (static base) drops the two Foucault cross-coupling terms ±2U sin φ δv;
   here the full equations are encoded, and the report's reduced model is the named
   simplification ``report_reduced`` of :mod:`ins_errors.symbolic.simplifications`.
@@ -46,6 +46,8 @@ from ins_errors.modeling import (
     Variable,
     computed_symbols,
     ellipsoid,
+    on_platform,
+    platform_rates,
 )
 
 # --------------------------------------------------------------------------------------
@@ -232,8 +234,12 @@ def vertical_specific_force(s: list[sp.Expr], h: sp.Expr) -> sp.Expr:
 # --------------------------------------------------------------------------------------
 # Assembly: ideal work, real work
 # --------------------------------------------------------------------------------------
-def build() -> ModelDefinition:
-    """Assemble the symbolic definition of the north-pointing INS."""
+def build(platform: str = "exact") -> ModelDefinition:
+    """Assemble the symbolic definition of the north-pointing INS.
+
+    ``platform``: ``"exact"`` or the report's ``"small_angle"`` platform kinematics
+    (:mod:`ins_errors.models.platform`).
+    """
     x = [v.symbol for v in STATES]
     x_c = computed_symbols(STATES)
     alpha = [v.symbol for v in PLATFORM_ANGLES]
@@ -243,21 +249,16 @@ def build() -> ModelDefinition:
     ideal = Mechanisation()
     ideal_rhs, omega = computer(ideal, x, a_E, a_N, h)
 
-    # Instruments: accelerometers on the misaligned platform, f^p = f − α × f.
-    al_E, al_N, al_U = alpha
+    # Instruments: accelerometers on the misaligned platform.
     f_U = ideal.let("f_U", vertical_specific_force(x, h), "f_U")
-    f_E = a_E - (al_N * f_U - al_U * a_N) + w["accel_bias_east"]
-    f_N = a_N - (al_U * a_E - al_E * f_U) + w["accel_bias_north"]
+    f_E, f_N, _ = on_platform(alpha, (a_E, a_N, f_U), platform)
+    f_E, f_N = f_E + w["accel_bias_east"], f_N + w["accel_bias_north"]
     real = Mechanisation(computed=True)
     computed_rhs, omega_cmd = computer(real, x_c, f_E, f_N, h)
-    # Platform: α̇ = α × ω + (ω_cmd − ω) + drift.
-    o_E, o_N, o_U = omega
+    # Platform: torqued with the commanded rates, plus drift, relative to t turning at ω.
     drift = (w["gyro_drift_east"], w["gyro_drift_north"], w["gyro_drift_up"])
-    platform_rhs = [
-        al_N * o_U - al_U * o_N + (omega_cmd[0] - o_E) + drift[0],
-        al_U * o_E - al_E * o_U + (omega_cmd[1] - o_N) + drift[1],
-        al_E * o_N - al_N * o_E + (omega_cmd[2] - o_U) + drift[2],
-    ]
+    torque = [wc + d for wc, d in zip(omega_cmd, drift, strict=True)]
+    platform_rhs = platform_rates(alpha, torque, omega, platform)
 
     c = {v.name: v.symbol for v in INITIAL_CONDITIONS}
     lat0, lon0, vN0, vE0 = c["latitude"], c["longitude"], c["v_N"], c["v_E"]
@@ -294,6 +295,7 @@ def build() -> ModelDefinition:
         real=real,
         ideal_rhs=sp.Matrix(ideal_rhs),
         real_rhs=sp.Matrix([*computed_rhs, *platform_rhs]),
+        small_angle_rhs=build("small_angle").real_rhs if platform == "exact" else None,
         output_map=navigation_outputs,
         initial_state=initial_state,
         initial_real_state=initial_real_state,

@@ -20,8 +20,11 @@ Modelling choices where the manual is silent or inconsistent (also printed at th
 * the velocity difference equations print ``+ g̃' + Δa`` outside the factor τ; in
   continuous time the only consistent reading is inside (accelerations are integrated).
 * the third accelerometer row ``a_z`` is misprinted and unused (two accelerometers).
-* platform kinematics are the manual's small-angle form, exact in the commanded rates:
-  α̇ = α × ω + (ω_cmd − ω) + drift, where ω is the true trihedron's absolute rate.
+* platform kinematics are exact (z-y-x angles of the platform relative to the trihedron,
+  specific force resolved through the exact rotation, :mod:`ins_errors.models.platform`);
+  the manual's small-angle form α̇ = α × ω + (ω_cmd − ω) + drift, f^p = f − α × f (ω the
+  true trihedron's absolute rate) is kept as the selectable ``small_angle`` platform.
+  Both give the same error equations; the refined terms include the rotation's own.
 * λ and χ use the four-quadrant arctangent of the manual's ratios; sin φ ≡ u31.
 * height and vertical velocity reach the computer from outside without error
   (h̃ = h, Ṽ_ζ = V_ζ: the manual's ΔV_ζ terms vanish), as there is no vertical channel.
@@ -43,6 +46,8 @@ from ins_errors.modeling import (
     computed_symbols,
     error_source,
     error_states_of,
+    on_platform,
+    platform_rates,
 )
 
 # --------------------------------------------------------------------------------------
@@ -339,11 +344,14 @@ def absolute_velocity(dc: list[sp.Expr], chi: sp.Expr, v_N: sp.Expr, v_E: sp.Exp
 # --------------------------------------------------------------------------------------
 # Assembly: ideal work, real work
 # --------------------------------------------------------------------------------------
-def build(simplify: frozenset[str] = frozenset()) -> ModelDefinition:
+def build(simplify: frozenset[str] = frozenset(), platform: str = "exact") -> ModelDefinition:
     """Assemble the symbolic definition of the orthodromic INS.
 
     ``simplify`` swaps the real-work computer for a simplified one (methodological
     studies, :mod:`ins_errors.studies.methodological`); empty for the registered model.
+    ``platform`` is the form of the platform kinematics (``"exact"`` or the manual's
+    ``"small_angle"``, :mod:`ins_errors.models.platform`); the exact definition also
+    carries the small-angle real-work equations (``small_angle_rhs``).
     """
     x = [v.symbol for v in STATES]
     x_c = computed_symbols(STATES)
@@ -356,9 +364,7 @@ def build(simplify: frozenset[str] = frozenset()) -> ModelDefinition:
     ideal_rhs, omega = computer(ideal, x, a_xi, a_eta, V_zeta, h)
 
     # Real work. Instruments: accelerometers on the misaligned platform.
-    ax, ay, az = alpha
-    a_x = a_xi + a_eta * az - a_zeta * ay
-    a_y = a_eta - a_xi * az + a_zeta * ax
+    a_x, a_y, _ = on_platform(alpha, (a_xi, a_eta, a_zeta), platform)
     f_x = (1 + w["accel_scale_error_x"]) * a_x + w["accel_bias_x"]
     f_y = (1 + w["accel_scale_error_y"]) * a_y + w["accel_bias_y"]
     # Computer fed the instrument outputs, with its integrator errors.
@@ -372,18 +378,13 @@ def build(simplify: frozenset[str] = frozenset()) -> ModelDefinition:
                        w["position_integrator_gain_error_eta"]),
     )
     computed_rhs, omega_cmd = computer(real, x_c, f_x, f_y, V_zeta, h, errors, simplify)
-    # Platform: torqued by the commanded rates through the correction loop, plus drift;
-    # α̇ = α × ω + (ω_cmd − ω) + drift, ω being the true trihedron's absolute rate.
+    # Platform: torqued by the commanded rates through the correction loop, plus drift,
+    # relative to the true trihedron turning at ω.
     gains = (w["correction_gain_error_x"], w["correction_gain_error_y"],
              w["correction_gain_error_z"])
     drift = (w["gyro_drift_x"], w["gyro_drift_y"], w["gyro_drift_z"])
-    torque = [(1 + k) * wc for k, wc in zip(gains, omega_cmd, strict=True)]
-    o_xi, o_eta, o_zeta = omega
-    platform_rhs = [
-        -o_eta * az + o_zeta * ay + (torque[0] - o_xi) + drift[0],
-        o_xi * az - o_zeta * ax + (torque[1] - o_eta) + drift[1],
-        -o_xi * ay + o_eta * ax + (torque[2] - o_zeta) + drift[2],
-    ]
+    torque = [(1 + k) * wc + d for k, wc, d in zip(gains, omega_cmd, drift, strict=True)]
+    platform_rhs = platform_rates(alpha, torque, omega, platform)
 
     # Initial state: true, and as set into the real system.
     c = {v.name: v.symbol for v in INITIAL_CONDITIONS}
@@ -418,6 +419,8 @@ def build(simplify: frozenset[str] = frozenset()) -> ModelDefinition:
         real=real,
         ideal_rhs=sp.Matrix(ideal_rhs),
         real_rhs=sp.Matrix([*computed_rhs, *platform_rhs]),
+        small_angle_rhs=(build(simplify, "small_angle").real_rhs if platform == "exact"
+                         else None),
         output_map=navigation_outputs,
         initial_state=initial_state,
         initial_real_state=initial_real_state,

@@ -174,7 +174,8 @@ def comparisons_of(sim: Simulation, labels: Sequence[str] | None = None) -> list
 
 def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, float]],
             method: str = "euler", record_interval: float | None = None,
-            refined: bool = True, jit: bool = True, progress: bool = False) -> list[Comparison]:
+            refined: bool = True, jit: bool = True, progress: bool = False,
+            platform: str = "exact") -> list[Comparison]:
     """Run direct, linear (and refined) for several cases in one batch and compare.
 
     Parameters
@@ -189,6 +190,8 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
         Seconds between recorded samples.
     refined : bool
         Also run the second-order model.
+    platform : {"exact", "small_angle"}
+        Platform kinematics of the direct run (see :func:`~ins_errors.numeric.simulate.simulate`).
 
     Returns
     -------
@@ -197,7 +200,8 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     """
     parts = ("real", "linear", "refined") if refined else ("real", "linear")
     sim = simulate(model, trajectory, list(cases), method=method,
-                   record_interval=record_interval, parts=parts, jit=jit, progress=progress)
+                   record_interval=record_interval, parts=parts, jit=jit, progress=progress,
+                   platform=platform)
     return comparisons_of(sim)
 
 

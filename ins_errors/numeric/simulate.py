@@ -2,7 +2,9 @@
 
 * **direct**: the ideal-work and the real-work equations integrated side by side with the
   same scheme, step and inputs; the errors are real − ideal (the source documents'
-  "direct modelling");
+  "direct modelling"). The real work's platform is exact by default (``platform="exact"``:
+  rotation of the platform relative to its trihedron, :mod:`ins_errors.models.platform`);
+  ``platform="small_angle"`` uses the source documents' small-angle platform matrix;
 * **linear**: the generated first-order error equations ``ė = F e + G w`` along the
   *ideal run's* states, from ``e(0) = E w``;
 * **refined**: the same plus the generated second-order terms, from the exact initial
@@ -59,9 +61,16 @@ from ins_errors.numeric.trajectories import Trajectory
 PARTS: tuple[str, ...] = ("real", "linear", "refined")
 """Runs that can be integrated next to the ideal run."""
 
+PLATFORMS: tuple[str, ...] = ("exact", "small_angle")
+"""Platform kinematics of the direct run: exact rotation (default) or the source
+documents' small-angle matrix."""
+
 SMALL_ANGLE_LIMIT = 0.5
-"""Largest platform misalignment (rad) for which the real-work equations, written with the
-source documents' small-angle platform matrix, are accepted as a model of the platform."""
+"""Largest platform misalignment (rad) accepted with the small-angle platform matrix
+(``platform="small_angle"``); the exact platform has no such limit."""
+
+EULER_LIMIT = np.radians(89.9)
+"""Largest |alpha_y| (rad) of the exact platform: its z-y-x angles are singular at 90°."""
 
 MAX_RECORDED_VALUES = 250_000_000
 """Largest number of recorded floats (2 GB) a run may produce."""
@@ -70,8 +79,26 @@ MAX_RECORDED_VALUES = 250_000_000
 # --------------------------------------------------------------------------------------
 # The combined system
 # --------------------------------------------------------------------------------------
+def real_rhs_name(model: Model, platform: str) -> str:
+    """Name of the generated real-work function for a platform form.
+
+    Raises
+    ------
+    UnknownNameError, ShapeError
+        For an unknown form, or a model without a small-angle variant.
+    """
+    if platform not in PLATFORMS:
+        raise unknown_name("platform", platform, PLATFORMS)
+    if platform == "exact":
+        return "real_rhs"
+    if "real_rhs_small_angle" not in model.numpy.FUNCTIONS:
+        raise ShapeError(f"model {model.name!r} has no small-angle platform variant")
+    return "real_rhs_small_angle"
+
+
 @cache
-def _system(model_name: str, parts: tuple[str, ...]) -> tuple[ca.Function, ca.Function]:
+def _system(model_name: str, parts: tuple[str, ...],
+            platform: str = "exact") -> tuple[ca.Function, ca.Function]:
     """``rhs(z, u, w, p)`` and ``margin(z, u, w, p)`` of ``z = [x, x̃?, e?, e₂?]``."""
     from ins_errors.numeric.model import load_model
 
@@ -95,13 +122,14 @@ def _system(model_name: str, parts: tuple[str, ...]) -> tuple[ca.Function, ca.Fu
         F, G = fn("state_matrix")(x, u, p), fn("source_matrix")(x, u, p)
     if "real" in parts:
         xr = pieces["real"]
-        rates.append(fn("real_rhs")(xr, x, u, w, p))
+        rates.append(fn(real_rhs_name(model, platform))(xr, x, u, w, p))
         margins.append(fn("domain_margins")(xr[:n], u, p))
     if "linear" in parts:
         rates.append(F @ pieces["linear"] + G @ w)
     if "refined" in parts:
         e2 = pieces["refined"]
-        rates.append(F @ e2 + G @ w + fn("second_order")(x, u, p, e2, w))
+        second = "second_order" if platform == "exact" else "second_order_small_angle"
+        rates.append(F @ e2 + G @ w + fn(second)(x, u, p, e2, w))
     rhs = ca.Function("system_rhs", [z, u, w, p], [ca.vertcat(*rates)])
     margin = ca.Function("system_margin", [z, u, w, p], [ca.mmin(ca.vertcat(*margins))])
     return rhs, margin
@@ -110,13 +138,13 @@ def _system(model_name: str, parts: tuple[str, ...]) -> tuple[ca.Function, ca.Fu
 @lru_cache(maxsize=32)
 def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau: float,
           p: tuple[float, ...], u: tuple[float, ...] | None, active: tuple[bool, ...],
-          batch: int, jit: bool, chunk: int) -> CompiledLoop:
+          batch: int, jit: bool, chunk: int, platform: str = "exact") -> CompiledLoop:
     """The compiled loop, specialised to the error sources that are non-zero in some case.
 
     Sources that are zero in every case of the batch are baked in as zeros, so the C
     compiler drops every term they multiply.
     """
-    full_rhs, full_margin = _system(model_name, parts)
+    full_rhs, full_margin = _system(model_name, parts, platform)
     nz, nu, npar = full_rhs.size1_in(0), full_rhs.size1_in(1), full_rhs.size1_in(3)
     z, uu, par = ca.SX.sym("z", nz), ca.SX.sym("u", nu), ca.SX.sym("p", npar)
     w_active = ca.SX.sym("w", sum(active))
@@ -178,6 +206,8 @@ class Simulation:
         Error-source vectors of the B cases, SI.
     ideal : numpy.ndarray, shape (n, R + 1, B)
     real, linear, refined : numpy.ndarray, shape (ne, R + 1, B), or None if not run
+    platform : str
+        Platform kinematics of the real run (``"exact"`` or ``"small_angle"``).
     """
 
     model: Model
@@ -189,6 +219,7 @@ class Simulation:
     real: np.ndarray | None = None
     linear: np.ndarray | None = None
     refined: np.ndarray | None = None
+    platform: str = "exact"
 
     @property
     def times(self) -> np.ndarray:
@@ -291,7 +322,7 @@ def source_cases(model: Model, sources: dict[str, float] | np.ndarray
 def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "euler",
              record_interval: float | None = None,
              parts: Sequence[str] = PARTS, jit: bool = True,
-             progress: bool = False) -> Simulation:
+             progress: bool = False, platform: str = "exact") -> Simulation:
     """Run the ideal work and the chosen error runs along ``trajectory``.
 
     Parameters
@@ -313,6 +344,10 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         Compile the loop to C (falls back to the CasADi VM where no compiler works).
     progress : bool
         Show a progress bar.
+    platform : {"exact", "small_angle"}
+        Platform kinematics of the real-work run: the exact rotation (default), or the
+        source documents' small-angle matrix (platform angles above
+        :data:`SMALL_ANGLE_LIMIT` are then refused).
 
     Raises
     ------
@@ -323,6 +358,7 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         Bad grid, bad arrays or unknown names.
     """
     check_method(method)
+    real_rhs_name(model, platform)
     if trajectory.model != model.name:
         raise ShapeError(f"trajectory was computed for model {trajectory.model!r}, "
                          f"not {model.name!r}")
@@ -361,10 +397,10 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         u_const = None
     active = np.any(w != 0, axis=1)
     loop = _loop(model.name, parts, method, stride, float(tau), tuple(p), u_const,
-                 tuple(bool(a) for a in active), B, jit, chunk_size(N // stride))
+                 tuple(bool(a) for a in active), B, jit, chunk_size(N // stride), platform)
     result = loop.run(z0, w[active], N, stream, progress=progress)
     states = result.states
-    sim = Simulation(model, trajectory, method, stride, w, states[:n])
+    sim = Simulation(model, trajectory, method, stride, w, states[:n], platform=platform)
     offset = n
     ne = len(model.error_states)
     for part in parts:
@@ -418,20 +454,25 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                              name, [s.name for s in model.error_states])
                 k = int(np.argmax((~np.isfinite(states[:, r])).any(axis=1)))
                 first, detail = r, f"{label} {names[k]} became NaN or infinite"
-    if sim.real is not None:  # platform angles beyond the small-angle platform model
+    if sim.real is not None:  # platform angles beyond where the platform form holds
         n = len(model.states)
         angles = [k for k in range(n, len(model.error_states))
                   if model.error_states[k].unit == "rad"]
+        if sim.platform == "small_angle":
+            limit, why = SMALL_ANGLE_LIMIT, ("beyond the small-angle platform matrix (the "
+                                             "exact platform, the default, has no such limit)")
+        else:  # z-y-x angles: only alpha_y has a singular value
+            angles, limit = angles[1:2], EULER_LIMIT
+            why = "near the singular ±90° of the exact platform's z-y-x angles"
         if angles:
-            large = np.abs(sim.real[angles]) > SMALL_ANGLE_LIMIT
+            large = np.abs(sim.real[angles]) > limit
             if large.any():
                 r = int(np.argmax(large.any(axis=(0, 2))))
                 if first is None or r < first:
                     k = angles[int(np.argmax(large[:, r].any(axis=1)))]
                     first, detail = r, (
                         f"platform angle {model.error_states[k].name} exceeds "
-                        f"{SMALL_ANGLE_LIMIT:g} rad ({np.degrees(SMALL_ANGLE_LIMIT):.3g}°), "
-                        "beyond the small-angle platform model of the real-work equations")
+                        f"{limit:.4g} rad ({np.degrees(limit):.4g}°), {why}")
     if first is not None:
         t0, t1 = (first - 1) * dt, first * dt
         when = f"at t = {t1:.6g} s" if sim.stride == 1 else (

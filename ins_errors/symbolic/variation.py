@@ -99,6 +99,18 @@ def _second_order_term(jacobian: sp.Matrix, variables: list[sp.Symbol],
     return sp.Matrix(terms)
 
 
+def second_order_of(definition: ModelDefinition, real_rhs: sp.Matrix) -> sp.Matrix:
+    """Second-order term of the error equations of an (expanded) real-work right-hand side.
+
+    Used for a model's alternative real-work equations (the small-angle platform), whose
+    first-order part equals that of ``definition.real_rhs``.
+    """
+    d = definition
+    variables = [*d.real_states, *d.w]
+    point = {**d.at_ideal(), **d.no_errors()}
+    return _second_order_term(real_rhs.jacobian(variables), variables, [*d.xe, *d.w], point)
+
+
 def vary(definition: ModelDefinition) -> ErrorModel:
     """Derive the closed first- and second-order error model of ``definition``."""
     d = definition
