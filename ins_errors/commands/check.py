@@ -1,4 +1,6 @@
-"""``ins-errors check MODEL FILE``: audit hand-written error equations term by term."""
+"""``ins-errors check MODEL FILE``: audit hand-written error equations term by term;
+``ins-errors check MODEL --matrix FILE.py:FUNCTION --convention NAME``: audit a hand-coded
+F and G entry by entry (:mod:`ins_errors.checker.matrix`)."""
 
 from __future__ import annotations
 
@@ -15,9 +17,30 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "discrepancy is sized along reference motions relative to the largest "
                     "term of its equation and classed 'dropped small term' (below the "
                     "threshold) or 'mistake'. Exit status: 0 no mistake, 1 mistakes found, "
-                    "2 input problems. Notation: docs/hand_check.md.")
+                    "2 input problems. Notation: docs/hand_check.md. "
+                    "With --matrix, a hand-coded F (and G) is checked instead: "
+                    "FILE.py:FUNCTION defines FUNCTION(nav, imu) returning F or (F, G) and "
+                    "lists STATES (names from the convention's vocabulary, F's order) and "
+                    "SOURCES (model error sources, G's columns); nav has latitude, "
+                    "longitude, height, v_ned, C_bn, omega_ie_n, omega_en_n, gravity, R_N, "
+                    "R_E, a, e2, earth_rate; imu has f_b, omega_ib_b, f_n (SI, NED). "
+                    "FILE.npz / FILE.mat hold 'states', optional 'sources', F_<motion> "
+                    "(K, n, n) and G_<motion> at the samples written by --write-samples. "
+                    "Every entry is classed agrees / dropped small term / mistake, and both "
+                    "models are propagated for 1 h and 24 h. Details: docs/matrix_check.md.")
     parser.add_argument("model", help="model name, e.g. orthodromic")
-    parser.add_argument("file", type=Path, help="hand file (.txt SymPy syntax, .tex LaTeX)")
+    parser.add_argument("file", type=Path, nargs="?",
+                        help="hand file (.txt SymPy syntax, .tex LaTeX); not with --matrix")
+    parser.add_argument("--matrix", metavar="FILE.py:FUNCTION|FILE.npz|FILE.mat",
+                        help="check a hand-coded F (and G) instead of equations")
+    parser.add_argument("--convention", default="model",
+                        help="state convention of the hand-coded matrices (default 'model': "
+                             "the model's own error states; see --list-conventions)")
+    parser.add_argument("--list-conventions", action="store_true",
+                        help="print the model's conventions and their state vocabulary")
+    parser.add_argument("--write-samples", type=Path, metavar="FILE.npz|FILE.mat",
+                        help="write the navigation state and IMU outputs at every sample "
+                             "time of the matrix check's motions, for computing F elsewhere")
     parser.add_argument("--latex", action="store_true",
                         help="read FILE as LaTeX whatever its suffix")
     parser.add_argument("--threshold", type=float, default=1e-3,
@@ -35,10 +58,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    if args.matrix or args.list_conventions or args.write_samples:
+        from ins_errors.commands.check_matrix import run_matrix
+
+        return run_matrix(args)
     from ins_errors.checker.compare import check_hand_file
     from ins_errors.checker.report import to_json, to_markdown, to_terminal
     from ins_errors.errors import InsErrorsError
 
+    if args.file is None:
+        raise InsErrorsError("check needs a hand FILE of equations or --matrix "
+                             "FILE.py:FUNCTION")
     report = check_hand_file(args.file, model=args.model, threshold=args.threshold,
                              latex=True if args.latex else None, mapping_path=args.mapping,
                              latex_backend=args.latex_parser)

@@ -1,0 +1,608 @@
+"""Check a hand-coded F and G against the derived linear model, entry by entry.
+
+The derived linearisation of a model is sampled along the checker's motions (a static
+base, a cruise and a manoeuvre, :func:`motions`), carried into the researcher's declared
+convention (:mod:`~ins_errors.checker.conventions`: ``ż = (Ṫ + T F) T⁻¹ z + T G w``) and
+restricted to the researcher's states, in their order. Each entry of F and G is then
+compared with the hand's at every sample.
+
+Sizes follow the hand checker: a term's size is ``|coefficient| × typical magnitude`` of
+the state or source it multiplies (:func:`~ins_errors.checker.reference.typical_magnitude`);
+a discrepancy is measured relative to the largest term of its row (over the hand's and
+the model's terms, including every model error source) at the same sample; the largest
+ratio over all samples is its *size*, and the sample where it is reached says where along
+the motion it matters.
+
+Classes:
+
+* ``agrees``: size at most :data:`AGREEMENT`;
+* ``mistake``: a sign error, a constant wrong factor (hand/model constant and more than
+  :data:`PARTIAL` away from 1), a term the model does not have (``extra term``), or any
+  difference of size at or above the threshold;
+* ``dropped small term``: any other difference below the threshold: a term left out
+  (``missing term``), a coefficient approximated (``approximated``: e.g. a constant Earth
+  radius for R_N + h, constant gravity), or coupling to a state the hand model omits.
+
+Then both linear models are propagated on each motion for 1 h and 24 h from each initial
+error (and each error source of G) at its typical magnitude, and the position and
+attitude error differences are reported (:func:`propagate_effects`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.checker.conventions import Convention, convention
+from ins_errors.checker.matrix_input import (
+    HandMatrices,
+    evaluate_function,
+    load_function,
+    read_matrix_file,
+    split_spec,
+)
+from ins_errors.checker.navigation import navigation_arrays
+from ins_errors.checker.reference import typical_magnitude
+from ins_errors.errors import InsErrorsError, unknown_name
+
+DEFAULT_THRESHOLD = 1e-3
+"""Relative size separating a dropped small term from a mistake."""
+AGREEMENT = 1e-6
+"""Relative size at or below which two entries agree (rounding, constants' last digits)."""
+PARTIAL = 0.05
+"""A hand/model ratio within this of 1 is an approximation, not a wrong factor."""
+HOURS = 24.0
+"""Length of every motion, h."""
+STEP = 60.0
+"""Sample step of every motion, s: samples at t = 0, 60, …, 86 400 s."""
+EFFECT_HOURS = (1.0, 24.0)
+"""Times at which the propagated models are compared, h."""
+ARCSEC = np.pi / (180 * 3600)
+
+
+# --------------------------------------------------------------------------------------
+# Motions
+# --------------------------------------------------------------------------------------
+@dataclass
+class Motion:
+    """A motion sampled for the matrix check.
+
+    Attributes
+    ----------
+    label : str
+        ``static``, ``cruise`` or ``manoeuvre``.
+    description : str
+        One line.
+    times : numpy.ndarray, shape (K,)
+        Sample times, s.
+    x, u : numpy.ndarray
+        Ideal states (n, K) and inputs (nu, K).
+    p : numpy.ndarray
+        Parameters.
+    navigation : dict
+        Navigation arrays (:data:`~ins_errors.checker.navigation.FIELDS`), trailing axis K.
+    """
+
+    label: str
+    description: str
+    times: np.ndarray
+    x: np.ndarray
+    u: np.ndarray
+    p: np.ndarray
+    navigation: dict[str, np.ndarray]
+
+
+def _profiles(model, hours: float):
+    """(label, profile) of the three motions for ``model``."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.motion_spec import default_legs
+
+    lat, lon = np.radians(50.0), np.radians(30.0)
+    static = ("static", tr.static_profile(lat, lon, np.radians(30.0), 0.0))
+    if any(o.name == "heading" for o in model.outputs):
+        return [static,
+                ("cruise", tr.great_circle_profile(lat, lon, np.radians(60.0), 250.0, 10_000.0)),
+                ("manoeuvre", tr.manoeuvre_profile(lat, lon, np.radians(60.0), 200.0,
+                                                   default_legs(200.0, 3000.0,
+                                                                int(np.ceil(hours))),
+                                                   3000.0))]
+    # models without a heading output follow geographic velocities: an eastward cruise
+    # along the parallel, and a manoeuvre that weaves north and south, speeds up and
+    # slows down, climbs and descends (it stays within a few degrees of latitude)
+    t = np.arange(0.0, hours * 3600.0 + 1201.0, 600.0)
+    cruise = tr.sampled_profile(t, 0 * t, 250.0 + 0 * t, lat, lon, 0.0, 10_000.0 + 0 * t)
+    cruise.description = "eastward cruise along the parallel φ 50°, 250 m/s, h 10 km"
+    weave = tr.sampled_profile(t, 100.0 * np.sin(2 * np.pi * t / 7200.0),
+                               200.0 + 50.0 * np.cos(2 * np.pi * t / 3600.0), lat, lon, 0.0,
+                               6000.0 + 3000.0 * np.sin(2 * np.pi * t / 5400.0))
+    weave.description = ("manoeuvre from φ 50°: v_N 100 sin(2πt/2 h), v_E 200 + 50 cos(2πt/1 h)"
+                         " m/s, h 6 ± 3 km")
+    return [static, ("cruise", cruise), ("manoeuvre", weave)]
+
+
+def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | None = None
+            ) -> list[Motion]:
+    """The checker's motions for ``model``, sampled every ``step`` s for ``hours`` h.
+
+    Static base at φ 50°, λ 30°; a cruise at 250 m/s and 10 km (a great circle leaving at
+    track 60° for models with a heading, an eastward cruise along the parallel otherwise);
+    a manoeuvre with turns, speed changes, climbs and descents. ``ellipsoid`` (e.g.
+    ``"wgs84"``) replaces the model's default Earth shape.
+    """
+    from ins_errors.numeric import trajectories as tr
+
+    p = model.parameter_vector(ellipsoid=ellipsoid)
+    out = []
+    for label, profile in _profiles(model, hours):
+        run = tr.trajectory(model, profile, hours * 3600.0, step, p=p)
+        steps = np.arange(run.n_steps + 1)
+        x = (np.repeat(run.truth[:, :1], steps.size, axis=1) if run.constant
+             else run.truth)
+        u = run.inputs_at(steps)
+        out.append(Motion(label, profile.description, run.times, x, u, run.parameters,
+                          navigation_arrays(model, x, u, run.parameters)))
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# Derived model in the convention
+# --------------------------------------------------------------------------------------
+def derived_in_convention(model, conv: Convention, motion: Motion
+                          ) -> tuple[np.ndarray, np.ndarray]:
+    """The derived F and G carried into ``conv``: shapes (K, nz, nz) and (K, nz, nw)."""
+    F = np.moveaxis(model.state_matrix(motion.x, motion.u, motion.p), -1, 0)
+    G = np.moveaxis(model.source_matrix(motion.x, motion.u, motion.p), -1, 0)
+    if conv.transform is None:
+        return F, G
+    T, T_dot = conv.matrices(model, motion.x, motion.p, motion.u)
+    if T.shape[1] != T.shape[2]:
+        raise InsErrorsError(f"convention {conv.name!r} is not a change of states "
+                             f"({T.shape[1]} states for {T.shape[2]} model error states)")
+    Fz = np.linalg.solve(np.swapaxes(T, 1, 2), np.swapaxes(T_dot + T @ F, 1, 2))
+    return np.swapaxes(Fz, 1, 2), T @ G
+
+
+# --------------------------------------------------------------------------------------
+# Findings
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class EntryFinding:
+    """One entry of F or G where the hand model and the derived model differ.
+
+    Attributes
+    ----------
+    matrix : {"F", "G"}
+    row : str
+        The equation (state whose derivative the row gives).
+    column : str
+        The state or error source the entry multiplies.
+    kind : str
+        ``missing term``, ``extra term``, ``sign error``, ``wrong factor``,
+        ``approximated``, ``wrong coefficient``, ``state left out``.
+    severity : {"dropped small term", "mistake"}
+    size : float
+        Largest ratio over the samples of |hand − model| × magnitude to the row's largest
+        term.
+    size_class : str
+        ``major`` (≥ 0.1), ``significant`` (≥ threshold) or ``small``.
+    motion : str
+        Motion of the sample where ``size`` is reached.
+    time : float
+        Its time, s.
+    hand, model : float
+        The two entries at that sample (SI).
+    absolute : float
+        |hand − model| × magnitude at that sample, in ``unit``.
+    unit : str
+        Unit of the row's rate (``m/s**2`` for a velocity row).
+    per_motion : dict
+        Largest ratio on each motion.
+    detail : str
+        One line (the ratio for a factor, where the term matters).
+    """
+
+    matrix: str
+    row: str
+    column: str
+    kind: str
+    severity: str
+    size: float
+    size_class: str
+    motion: str
+    time: float
+    hand: float
+    model: float
+    absolute: float
+    unit: str
+    per_motion: dict[str, float]
+    detail: str = ""
+
+    @property
+    def entry(self) -> str:
+        """``F[row, column]``."""
+        return f"{self.matrix}[{self.row}, {self.column}]"
+
+
+@dataclass(frozen=True)
+class Effect:
+    """Difference of the two propagated linear models for one initial error or source.
+
+    Attributes
+    ----------
+    motion : str
+    hours : float
+    case : str
+        ``initial <state>`` or ``source <name>``, each at its typical magnitude.
+    magnitude : str
+        That magnitude, as people write it.
+    position_difference, position_model : float
+        Horizontal position error: |hand − model| and |model|, m.
+    attitude_difference, attitude_model : float
+        Attitude error (norm of the three angles): |hand − model| and |model|, rad.
+    """
+
+    motion: str
+    hours: float
+    case: str
+    magnitude: str
+    position_difference: float
+    position_model: float
+    attitude_difference: float
+    attitude_model: float
+
+
+@dataclass
+class MatrixReport:
+    """Everything the matrix check found.
+
+    Attributes
+    ----------
+    model, convention, hand_name : str
+    states, sources : list of str
+        The hand model's states and G's sources.
+    threshold : float
+    motions : list of (label, description)
+    magnitudes : dict
+        Name -> (typical magnitude SI, text) of every state and source compared.
+    findings : list of EntryFinding
+        Sorted: mistakes first, then by size.
+    compared : int
+        Number of entries compared.
+    left_out : list of str
+        Convention states the hand model does not have.
+    out_of_scope : list of str
+        Model error sources not in G (not compared; all of them without G).
+    effects : list of Effect
+    """
+
+    model: str
+    convention: str
+    hand_name: str
+    states: list[str]
+    sources: list[str]
+    threshold: float
+    motions: list[tuple[str, str]]
+    magnitudes: dict[str, tuple[float, str]]
+    findings: list[EntryFinding]
+    compared: int
+    left_out: list[str]
+    out_of_scope: list[str]
+    effects: list[Effect] = field(default_factory=list)
+
+    @property
+    def mistakes(self) -> list[EntryFinding]:
+        """Findings classed as mistakes."""
+        return [f for f in self.findings if f.severity == "mistake"]
+
+    @property
+    def exit_status(self) -> int:
+        """0: no mistake; 1: at least one mistake."""
+        return 1 if self.mistakes else 0
+
+    def finding(self, row: str, column: str, matrix: str = "F") -> EntryFinding | None:
+        """The finding of one entry, or None if it agrees."""
+        for f in self.findings:
+            if (f.matrix, f.row, f.column) == (matrix, row, column):
+                return f
+        return None
+
+
+def size_class(size: float, threshold: float) -> str:
+    """``major`` (≥ 0.1 of the row's largest term), ``significant`` (≥ threshold), ``small``."""
+    if size >= 0.1:
+        return "major"
+    return "significant" if size >= threshold else "small"
+
+
+def _rate_unit(unit: str) -> str:
+    return {"1": "1/s", "rad": "rad/s", "m": "m/s", "m/s": "m/s**2"}.get(unit, f"({unit})/s")
+
+
+def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, threshold: float,
+              left_out: bool) -> tuple[str, str, str] | None:
+    """(kind, severity, detail) of one entry's samples, or None when they agree."""
+    ratio = np.abs(h - m) * mag / scale
+    size = float(ratio.max())
+    if size <= AGREEMENT:
+        return None
+    tiny = AGREEMENT * scale
+    hand_zero = np.all(np.abs(h) * mag <= tiny)
+    model_zero = np.all(np.abs(m) * mag <= tiny)
+    detail = ""
+    if left_out:
+        kind = "state left out"
+    elif hand_zero:
+        kind = "missing term"
+    elif model_zero:
+        kind = "extra term"
+    else:
+        both = (np.abs(m) * mag > tiny) & (np.abs(h) * mag > tiny)
+        only_hand = (np.abs(m) * mag <= tiny) & (np.abs(h) * mag > tiny)
+        q = h[both] / m[both]
+        if not only_hand.any() and np.all(np.abs(q + 1) <= 1e-6):
+            kind = "sign error"
+        elif not only_hand.any() and np.all(np.abs(q - 1) <= PARTIAL):
+            kind, detail = "approximated", (f"hand/model between {q.min():.6g} and "
+                                            f"{q.max():.6g}")
+        elif (not only_hand.any() and q.size
+              and np.ptp(q) <= 1e-6 * np.abs(np.median(q))):
+            kind, detail = "wrong factor", f"hand/model = {np.median(q):.6g} at every sample"
+        else:
+            kind = "wrong coefficient"
+    wrong_form = kind in ("sign error", "wrong factor", "extra term")
+    severity = "mistake" if wrong_form or size >= threshold else "dropped small term"
+    return kind, severity, detail
+
+
+@dataclass
+class _Sampled:
+    """Hand and derived matrices on every motion, restricted to the hand's states."""
+
+    Fh: dict[str, np.ndarray]
+    Gh: dict[str, np.ndarray]
+    Fz: dict[str, np.ndarray]  # full convention, (K, nz, nz)
+    Gz: dict[str, np.ndarray]  # (K, nz, nw) every model source
+
+
+def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
+             motion_list: list[Motion]) -> None:
+    names = conv.names
+    rows = [names.index(s) for s in report.states]
+    src_names = [s.name for s in model.sources]
+    src_cols = [src_names.index(s) for s in report.sources]
+    state_mag = np.array([report.magnitudes[n][0] for n in names])
+    source_mag = np.array([typical_magnitude(s.unit)[0] for s in model.sources])
+    labels = [m.label for m in motion_list]
+    # stacked over motions: (S, ...)
+    Fz = np.concatenate([sampled.Fz[k] for k in labels])
+    Gz = np.concatenate([sampled.Gz[k] for k in labels])
+    Fh = np.concatenate([sampled.Fh[k] for k in labels])
+    Gh = np.concatenate([sampled.Gh[k] for k in labels]) if report.sources else None
+    where = [(m.label, t) for m in motion_list for t in m.times]
+    sample_motion = np.concatenate([[k] * m.times.size for k, m in enumerate(motion_list)])
+    # hand F embedded in the full convention columns (omitted states: zero)
+    Fh_full = np.zeros((Fh.shape[0], len(rows), len(names)))
+    Fh_full[:, :, rows] = Fh
+    findings = []
+    compared = 0
+    for a, i in enumerate(rows):
+        terms = [np.abs(Fz[:, i, :]) * state_mag, np.abs(Fh_full[:, a, :]) * state_mag,
+                 np.abs(Gz[:, i, :]) * source_mag]
+        if Gh is not None:
+            terms.append(np.abs(Gh[:, a, :]) * source_mag[src_cols])
+        scale = np.max(np.concatenate(terms, axis=1), axis=1)
+        scale = np.where(scale > 0, scale, np.inf)
+        unit = _rate_unit(conv.states[i].unit)
+        columns = [("F", j, names[j], Fh_full[:, a, j], Fz[:, i, j], state_mag[j],
+                    j not in rows) for j in range(len(names))]
+        if Gh is not None:
+            columns += [("G", c, src_names[c], Gh[:, a, b], Gz[:, i, c], source_mag[c], False)
+                        for b, c in enumerate(src_cols)]
+        for matrix, _, col_name, h, m, mag, left_out in columns:
+            if left_out and np.all(m == 0):
+                continue
+            compared += 1
+            verdict = _classify(h, m, mag, scale, report.threshold, left_out)
+            if verdict is None:
+                continue
+            kind, severity, detail = verdict
+            ratio = np.abs(h - m) * mag / scale
+            s = int(np.argmax(ratio))
+            per_motion = {lab: float(ratio[sample_motion == k].max())
+                          for k, lab in enumerate(labels)}
+            findings.append(EntryFinding(
+                matrix, report.states[a], col_name, kind, severity, float(ratio[s]),
+                size_class(float(ratio[s]), report.threshold), where[s][0], float(where[s][1]),
+                float(h[s]), float(m[s]), float(abs(h[s] - m[s]) * mag), unit, per_motion,
+                detail))
+    findings.sort(key=lambda f: (f.severity != "mistake", -f.size))
+    report.findings = findings
+    report.compared = compared
+
+
+# --------------------------------------------------------------------------------------
+# Propagation of both linear models
+# --------------------------------------------------------------------------------------
+def _taylor_steps(A: np.ndarray, dt: float) -> np.ndarray:
+    """exp(A dt) for a batch (K, n, n): scaling and squaring with a degree-10 Taylor sum."""
+    M = A * dt
+    norm = np.max(np.sum(np.abs(M), axis=-1))
+    squarings = max(0, int(np.ceil(np.log2(norm / 0.25)))) if norm > 0.25 else 0
+    M = M / 2**squarings
+    eye = np.broadcast_to(np.eye(A.shape[-1]), A.shape)
+    result, term = eye.copy(), eye.copy()
+    for k in range(1, 11):
+        term = term @ M / k
+        result = result + term
+    for _ in range(squarings):
+        result = result @ result
+    return result
+
+
+def _transition(A: np.ndarray, times: np.ndarray, at: list[float]) -> list[np.ndarray]:
+    """Φ(t) of ``ẏ = A(t) y`` (A sampled on the uniform grid ``times``) at times ``at``.
+
+    A constant A (one sample repeated) uses the matrix exponential directly; otherwise each
+    step uses the exponential of the mean of A at its two ends (second order).
+    """
+    from scipy.linalg import expm
+
+    if np.all(A[:1] == A):
+        return [expm(A[0] * t) for t in at]
+    dt = float(times[1] - times[0])
+    steps = _taylor_steps(0.5 * (A[1:] + A[:-1]), dt)
+    wanted = {round(t / dt): t for t in at}
+    out: dict[float, np.ndarray] = {}
+    phi = np.eye(A.shape[-1])
+    for k in range(steps.shape[0] + 1):
+        if k in wanted:
+            out[wanted[k]] = phi.copy()
+        if k < steps.shape[0]:
+            phi = steps[k] @ phi
+    return [out[t] for t in at]
+
+
+def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray) -> np.ndarray:
+    """[[F, G], [0, 0]] in scaled variables (each state / source over its magnitude)."""
+    k, n, m = G.shape
+    A = np.zeros((k, n + m, n + m))
+    A[:, :n, :n] = F
+    A[:, :n, n:] = G
+    return A * (1 / scale)[:, None] * scale[None, :]
+
+
+def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
+                      motion_list: list[Motion], hours: tuple[float, ...] = EFFECT_HOURS
+                      ) -> list[Effect]:
+    """Propagate the hand and the derived model; differences per initial error/source."""
+    names = conv.names
+    rows = [names.index(s) for s in report.states]
+    src_names = [s.name for s in model.sources]
+    src_cols = [src_names.index(s) for s in report.sources]
+    n_h, n_z, m = len(rows), len(names), len(src_cols)
+    mags_h = np.array([report.magnitudes[s][0] for s in report.states])
+    mags_src = np.array([report.magnitudes[s][0] for s in report.sources])
+    mags_z = np.array([report.magnitudes[s][0] for s in names])
+    cases = ([(f"initial {s}", report.magnitudes[s][1]) for s in report.states]
+             + [(f"source {s}", report.magnitudes[s][1]) for s in report.sources])
+    effects = []
+    for motion in motion_list:
+        at = [h * 3600.0 for h in hours if h * 3600.0 <= motion.times[-1] + 1e-9]
+        if not at:
+            continue
+        Gh = (sampled.Gh[motion.label] if m else
+              np.zeros((*sampled.Fh[motion.label].shape[:2], 0)))
+        hand = _transition(_augmented(sampled.Fh[motion.label], Gh,
+                                      np.concatenate([mags_h, mags_src])), motion.times, at)
+        derived = _transition(_augmented(sampled.Fz[motion.label],
+                                         sampled.Gz[motion.label][:, :, src_cols],
+                                         np.concatenate([mags_z, mags_src])), motion.times, at)
+        # unit initial errors (scaled) of the hand's states, embedded in the convention
+        embed = np.zeros((n_z + m, n_h + m))
+        embed[rows, np.arange(n_h)] = 1.0
+        embed[n_z:, n_h:] = np.eye(m)
+        position = conv.position(motion.navigation)  # (3, nz, K)
+        attitude = conv.attitude(motion.navigation)
+        for t, phi_h, phi_z in zip(at, hand, derived, strict=True):
+            k = round(t / (motion.times[1] - motion.times[0]))
+            resp_h = phi_h[:n_h] * mags_h[:, None]       # SI hand states per case
+            resp_z = (phi_z @ embed)[rows] * mags_h[:, None]
+            P = position[:, rows, k]
+            A = attitude[:, rows, k]
+            for c, (case, text) in enumerate(cases):
+                dp = P[:2] @ (resp_h[:, c] - resp_z[:, c])
+                da = A @ (resp_h[:, c] - resp_z[:, c])
+                effects.append(Effect(
+                    motion.label, t / 3600.0, case, text, float(np.linalg.norm(dp)),
+                    float(np.linalg.norm(P[:2] @ resp_z[:, c])), float(np.linalg.norm(da)),
+                    float(np.linalg.norm(A @ resp_z[:, c]))))
+    return effects
+
+
+# --------------------------------------------------------------------------------------
+# Driver
+# --------------------------------------------------------------------------------------
+def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_name: str,
+                   threshold: float = DEFAULT_THRESHOLD, hours: float = HOURS,
+                   step: float = STEP, effects: bool = True,
+                   motion_list: list[Motion] | None = None,
+                   ellipsoid: str | None = None) -> MatrixReport:
+    """Check a hand-coded F (and G) against the derived model of ``model_name``.
+
+    Parameters
+    ----------
+    model_name : str
+        Model name.
+    hand : HandMatrices, or str / Path
+        Already sampled matrices, or ``FILE.py:FUNCTION`` / ``FILE.npz`` / ``FILE.mat``.
+    convention_name : str
+        The convention the hand model's states are in (``model``: the model's own).
+    threshold : float
+        Relative size separating dropped small terms from mistakes (0 < threshold < 1).
+    hours, step : float
+        Length (h) and sample step (s) of the motions.
+    effects : bool
+        Also propagate both models (1 h and 24 h, or ``hours`` if shorter).
+    motion_list : list of Motion, optional
+        Pre-computed motions (default: :func:`motions`).
+    ellipsoid : str, optional
+        Earth shape of the motions (default: the model's own).
+
+    Raises
+    ------
+    InsErrorsError
+        For unknown names, unreadable hand models, wrong shapes.
+    """
+    from ins_errors.numeric.model import load_model
+
+    if not 0 < threshold < 1:
+        raise InsErrorsError(f"threshold must be between 0 and 1, got {threshold}")
+    model = load_model(model_name)
+    conv = convention(model, convention_name)
+    motion_list = (motions(model, hours, step, ellipsoid) if motion_list is None
+                   else motion_list)
+    if not isinstance(hand, HandMatrices):
+        path, function = split_spec(str(hand))
+        if function is not None:
+            fn, states, sources = load_function(path, function)
+            _check_names(states, sources, conv, model)
+            hand = evaluate_function(fn, f"{path.name}:{function}", path, states, sources,
+                                     motion_list)
+        else:
+            hand = read_matrix_file(path, motion_list)
+    _check_names(hand.states, hand.sources, conv, model)
+    magnitudes = {}
+    for s in conv.states:
+        magnitudes[s.name] = typical_magnitude(s.unit)
+    for s in model.sources:
+        magnitudes[s.name] = typical_magnitude(s.unit)
+    sampled = _Sampled(hand.F, hand.G, {}, {})
+    for motion in motion_list:
+        sampled.Fz[motion.label], sampled.Gz[motion.label] = derived_in_convention(
+            model, conv, motion)
+    used_sources = [s for s in hand.sources]
+    report = MatrixReport(
+        model=model_name, convention=conv.name, hand_name=hand.name, states=hand.states,
+        sources=used_sources, threshold=threshold,
+        motions=[(m.label, m.description) for m in motion_list],
+        magnitudes={k: v for k, v in magnitudes.items()
+                    if k in conv.names or k in used_sources},
+        findings=[], compared=0,
+        left_out=[n for n in conv.names if n not in hand.states],
+        out_of_scope=[s.name for s in model.sources if s.name not in used_sources])
+    _compare(report, sampled, conv, model, motion_list)
+    if effects:
+        report.effects = propagate_effects(report, sampled, conv, model, motion_list)
+    return report
+
+
+def _check_names(states: list[str], sources: list[str], conv: Convention, model) -> None:
+    for s in states:
+        if s not in conv.names:
+            raise unknown_name(f"state of convention {conv.name!r}", s, conv.names)
+    known = [s.name for s in model.sources]
+    for s in sources:
+        if s not in known:
+            raise unknown_name(f"error source of {model.name}", s, known)

@@ -1,0 +1,295 @@
+"""Reading a researcher's hand-coded F and G: a Python function, or sampled matrices.
+
+Two ways in (the layout is documented in ``docs/matrix_check.md``):
+
+* ``FILE.py:FUNCTION``: a Python file defining ``FUNCTION(nav, imu)`` that returns ``F``
+  (shape (n, n)) or ``(F, G)`` (G shape (n, m)) as numpy arrays, and module-level lists
+  ``STATES`` (n names from the convention's vocabulary, in the order of F's rows) and,
+  when G is returned, ``SOURCES`` (m model error-source names, G's columns). ``nav`` and
+  ``imu`` are :class:`~ins_errors.checker.navigation.Navigation` and
+  :class:`~ins_errors.checker.navigation.Imu`. A function attribute ``FUNCTION.states``
+  / ``FUNCTION.sources`` overrides the module lists.
+* ``FILE.npz`` or ``FILE.mat``: arrays ``states`` (n strings), optional ``sources`` (m
+  strings), ``F_<motion>`` of shape (K, n, n) and optional ``G_<motion>`` of shape
+  (K, n, m) for every motion, at the sample times ``t = 0, step, 2 step, …`` of that
+  motion (the navigation state at those times is written by ``--write-samples``).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+import traceback
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.checker.navigation import FIELDS, samples
+from ins_errors.errors import InsErrorsError, ShapeError
+
+
+@dataclass
+class HandMatrices:
+    """A hand-coded linear error model sampled along the checker's motions.
+
+    Attributes
+    ----------
+    name : str
+        What was read (``psi_model.py:psi_model``).
+    states : list of str
+        The hand model's states (vocabulary names), F's row and column order.
+    sources : list of str
+        Model error sources of G's columns (empty without G).
+    F : dict
+        Motion label -> array (K, n, n).
+    G : dict
+        Motion label -> array (K, n, m); empty without G.
+    """
+
+    name: str
+    states: list[str]
+    sources: list[str]
+    F: dict[str, np.ndarray]
+    G: dict[str, np.ndarray]
+
+
+def _names(value, what: str, where: str) -> list[str]:
+    if isinstance(value, str) or not hasattr(value, "__iter__"):
+        raise InsErrorsError(f"{where}: {what} must be a list of names, got {value!r:.60}")
+    names = [str(v).strip() for v in np.asarray(value, dtype=object).ravel()]
+    if not names:
+        raise InsErrorsError(f"{where}: {what} is empty")
+    seen = set()
+    for n in names:
+        if n in seen:
+            raise InsErrorsError(f"{where}: {what} lists {n!r} twice")
+        seen.add(n)
+    return names
+
+
+def _import_file(path: Path):
+    """Import a Python file as a private module; one-line errors for broken files."""
+    if not path.is_file():
+        raise InsErrorsError(f"hand model file {str(path)!r} does not exist")
+    name = f"_ins_errors_hand_{abs(hash(str(path.resolve())))}"
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise InsErrorsError(f"cannot import {str(path)!r} as a Python file")
+    module = importlib.util.module_from_spec(spec)
+    try:
+        spec.loader.exec_module(module)
+    except Exception as error:  # the researcher's code: report it in one line
+        raise InsErrorsError(f"cannot import {path.name}: {_describe(error, path)}") from None
+    sys.modules.pop(name, None)
+    return module
+
+
+def _describe(error: BaseException, path: Path | None) -> str:
+    """``Type: message (line N)`` with the line in the researcher's file when known."""
+    line = ""
+    if path is not None:
+        frames = [f for f in traceback.extract_tb(error.__traceback__)
+                  if Path(f.filename).resolve() == path.resolve()]
+        if frames:
+            line = f" (line {frames[-1].lineno})"
+        elif isinstance(error, SyntaxError) and error.lineno:
+            line = f" (line {error.lineno})"
+    text = " ".join(str(error).split()) or "no message"
+    return f"{type(error).__name__}: {text}{line}"
+
+
+def split_spec(spec: str) -> tuple[Path, str | None]:
+    """``FILE.py:FUNCTION`` -> (path, function); ``FILE.npz`` -> (path, None)."""
+    path, _, function = spec.rpartition(":")
+    if path and path.endswith(".py") and function:
+        return Path(path), function
+    return Path(spec), None
+
+
+def load_function(path: Path, function: str):
+    """The researcher's function and its ``STATES`` / ``SOURCES`` lists.
+
+    Raises
+    ------
+    InsErrorsError
+        For a missing file or function, an import error, missing or bad state lists.
+    """
+    module = _import_file(path)
+    fn = getattr(module, function, None)
+    if not callable(fn):
+        found = [n for n, v in vars(module).items() if callable(v) and not n.startswith("_")
+                 and getattr(v, "__module__", None) == module.__name__]
+        raise InsErrorsError(f"{path.name} has no function {function!r} "
+                             f"(functions: {', '.join(found) or 'none'})")
+    where = f"{path.name}:{function}"
+    states = getattr(fn, "states", getattr(module, "STATES", None))
+    if states is None:
+        raise InsErrorsError(f"{where}: define STATES, the list of the model's error states "
+                             "in F's row order (names from the convention's vocabulary)")
+    sources = getattr(fn, "sources", getattr(module, "SOURCES", None))
+    return fn, _names(states, "STATES", where), (
+        [] if sources is None else _names(sources, "SOURCES", where))
+
+
+def _check_matrix(value, shape: tuple[int, int], what: str, where: str) -> np.ndarray:
+    try:
+        array = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ShapeError(f"{where}: {what} must be a numeric array, got {value!r:.60}") from None
+    if array.shape != shape:
+        raise ShapeError(f"{where}: {what} must have shape {shape}, got {array.shape}")
+    if not np.all(np.isfinite(array)):
+        i, j = (int(v[0]) for v in np.nonzero(~np.isfinite(array)))
+        raise InsErrorsError(f"{where}: {what}[{i}, {j}] is NaN or infinite")
+    return array
+
+
+def evaluate_function(fn, name: str, path: Path, states: list[str], sources: list[str],
+                      motions) -> HandMatrices:
+    """Call the researcher's function at every sample of every motion.
+
+    Parameters
+    ----------
+    fn : callable
+        ``fn(nav, imu) -> F`` or ``(F, G)``.
+    name : str
+        ``FILE:FUNCTION``, for messages.
+    path : Path
+        The file (to point at the failing line).
+    states, sources : list of str
+        Row names and G's column names.
+    motions : list of Motion
+        From :func:`ins_errors.checker.matrix.motions`.
+    """
+    n, m = len(states), len(sources)
+    F: dict[str, np.ndarray] = {}
+    G: dict[str, np.ndarray] = {}
+    for motion in motions:
+        fs, gs = [], []
+        for nav, imu in samples(motion.navigation, motion.times, motion.label):
+            where = f"{name} on {motion.label} at t = {nav.t:g} s"
+            try:
+                result = fn(nav, imu)
+            except Exception as error:
+                raise InsErrorsError(f"{where}: {_describe(error, path)}") from None
+            if isinstance(result, tuple):
+                if len(result) != 2:
+                    raise ShapeError(f"{where}: return F or (F, G), got a tuple of "
+                                     f"{len(result)}")
+                f, g = result
+                if not m:
+                    raise InsErrorsError(f"{where}: G is returned but SOURCES (its columns, "
+                                         "model error-source names) is not defined")
+                gs.append(_check_matrix(g, (n, m), "G", where))
+            else:
+                f = result
+            fs.append(_check_matrix(f, (n, n), "F", where))
+        if gs and len(gs) != len(fs):
+            raise ShapeError(f"{name} on {motion.label}: G is returned at some samples only")
+        F[motion.label] = np.array(fs)
+        if gs:
+            G[motion.label] = np.array(gs)
+    if m and not G:
+        raise InsErrorsError(f"{name}: SOURCES is defined but the function returns F only "
+                             "(return (F, G))")
+    return HandMatrices(name, states, sources if G else [], F, G)
+
+
+def _read_arrays(path: Path) -> dict[str, np.ndarray]:
+    if not path.is_file():
+        raise InsErrorsError(f"matrix file {str(path)!r} does not exist")
+    suffix = path.suffix.lower()
+    try:
+        if suffix == ".npz":
+            with np.load(path, allow_pickle=False) as data:
+                return {k: data[k] for k in data.files}
+        if suffix == ".mat":
+            from scipy.io import loadmat
+
+            data = loadmat(path, squeeze_me=False, chars_as_strings=True)
+            return {k: v for k, v in data.items() if not k.startswith("__")}
+    except (OSError, ValueError) as error:
+        raise InsErrorsError(f"cannot read matrix file {str(path)!r}: {error}") from None
+    raise InsErrorsError(f"matrix file {str(path)!r}: expected FILE.py:FUNCTION, FILE.npz or "
+                         "FILE.mat")
+
+
+def _strings(value: np.ndarray) -> list[str]:
+    """Names from an npz string array or a MATLAB char matrix / cell array."""
+    array = np.asarray(value)
+    if array.dtype == object:  # MATLAB cell array
+        return [str(np.asarray(v).ravel()[0]) if np.asarray(v).size else ""
+                for v in array.ravel()]
+    if array.dtype.kind == "U" and array.ndim >= 1:
+        return [str(v).strip() for v in array.ravel()]
+    raise InsErrorsError(f"expected an array of names, got dtype {array.dtype}")
+
+
+def read_matrix_file(path: Path, motions) -> HandMatrices:
+    """Read sampled F (and G) from ``.npz`` / ``.mat`` (see module docstring).
+
+    Raises
+    ------
+    InsErrorsError
+        For a missing key, wrong shapes or sample counts, non-finite values.
+    """
+    data = _read_arrays(path)
+    where = path.name
+    if "states" not in data:
+        raise InsErrorsError(f"{where}: no array 'states' (the names of F's rows)")
+    states = _names(_strings(data["states"]), "states", where)
+    sources = (_names(_strings(data["sources"]), "sources", where)
+               if "sources" in data else [])
+    n, m = len(states), len(sources)
+    F, G = {}, {}
+    for motion in motions:
+        key = f"F_{motion.label}"
+        if key not in data:
+            raise InsErrorsError(f"{where}: no array {key!r} (F at the {motion.times.size} "
+                                 f"sample times of motion {motion.label!r})")
+        shape = (motion.times.size, n, n)
+        f = np.asarray(data[key], dtype=float)
+        if f.shape != shape:
+            raise ShapeError(f"{where}: {key} must have shape {shape}, got {f.shape}")
+        if not np.all(np.isfinite(f)):
+            raise InsErrorsError(f"{where}: {key} contains NaN or infinite values")
+        F[motion.label] = f
+        gkey = f"G_{motion.label}"
+        if m:
+            if gkey not in data:
+                raise InsErrorsError(f"{where}: 'sources' is given but {gkey!r} is missing")
+            g = np.asarray(data[gkey], dtype=float)
+            if g.shape != (motion.times.size, n, m):
+                raise ShapeError(f"{where}: {gkey} must have shape "
+                                 f"{(motion.times.size, n, m)}, got {g.shape}")
+            if not np.all(np.isfinite(g)):
+                raise InsErrorsError(f"{where}: {gkey} contains NaN or infinite values")
+            G[motion.label] = g
+    return HandMatrices(where, states, sources, F, G)
+
+
+def write_samples(path: Path, motions) -> None:
+    """Write every motion's sample times and navigation description (.npz or .mat).
+
+    Keys: ``t_<motion>`` (K,), and ``<field>_<motion>`` for every field of
+    :data:`~ins_errors.checker.navigation.FIELDS` with the sample axis first: (K,),
+    (K, 3) or (K, 3, 3).
+    """
+    arrays: dict[str, np.ndarray] = {}
+    for motion in motions:
+        arrays[f"t_{motion.label}"] = motion.times
+        for field in FIELDS:
+            arrays[f"{field}_{motion.label}"] = np.moveaxis(
+                np.asarray(motion.navigation[field], dtype=float), -1, 0)
+    try:
+        if path.suffix.lower() == ".mat":
+            from scipy.io import savemat
+
+            savemat(path, arrays)
+        elif path.suffix.lower() == ".npz":
+            np.savez(path, **arrays)
+        else:
+            raise InsErrorsError(f"samples file {str(path)!r} must end in .npz or .mat")
+    except OSError as error:
+        raise InsErrorsError(f"cannot write {str(path)!r}: {error.strerror}") from None

@@ -1,0 +1,141 @@
+"""Terminal, Markdown and JSON forms of a :class:`~ins_errors.checker.matrix.MatrixReport`."""
+
+from __future__ import annotations
+
+from ins_errors.checker.matrix import ARCSEC, Effect, EntryFinding, MatrixReport
+
+
+def _hours(seconds: float) -> str:
+    return f"{seconds / 3600:.3g} h"
+
+
+def _where(f: EntryFinding) -> str:
+    others = ", ".join(f"{k} {v:.2g}" for k, v in f.per_motion.items())
+    return f"largest on {f.motion} at t = {_hours(f.time)} (per motion: {others})"
+
+
+def _finding_line(f: EntryFinding) -> str:
+    detail = f"; {f.detail}" if f.detail else ""
+    return (f"{f.entry}: {f.kind}, size {f.size:.2g} of the row's largest term "
+            f"({f.size_class}); hand {f.hand:.6g}, model {f.model:.6g} "
+            f"(Δ term {f.absolute:.2g} {f.unit}){detail}; {_where(f)}")
+
+
+def _summary(r: MatrixReport) -> str:
+    dropped = len(r.findings) - len(r.mistakes)
+    return (f"{r.compared} entries compared: {r.compared - len(r.findings)} agree, "
+            f"{dropped} dropped small term{'s' * (dropped != 1)}, "
+            f"{len(r.mistakes)} mistake{'s' * (len(r.mistakes) != 1)}")
+
+
+def worst_effects(r: MatrixReport) -> list[tuple[str, float, Effect, Effect]]:
+    """(motion, hours, worst position case, worst attitude case) for each motion/time."""
+    keys = []
+    for e in r.effects:
+        if (e.motion, e.hours) not in keys:
+            keys.append((e.motion, e.hours))
+    out = []
+    for motion, hours in keys:
+        group = [e for e in r.effects if (e.motion, e.hours) == (motion, hours)]
+        out.append((motion, hours, max(group, key=lambda e: e.position_difference),
+                    max(group, key=lambda e: e.attitude_difference)))
+    return out
+
+
+def _share(ratio: float) -> str:
+    return f"{ratio:.1%}" if ratio < 10 else f"{ratio:.2g}×"
+
+
+def _effect_rows(r: MatrixReport) -> list[list[str]]:
+    rows = []
+    for motion, hours, p, a in worst_effects(r):
+        share = p.position_difference / p.position_model if p.position_model else 0.0
+        rows.append([motion, f"{hours:g} h", f"{p.position_difference:.3g} m",
+                     _share(share) if p.position_model else "–",
+                     f"{p.case} ({p.magnitude})",
+                     f"{a.attitude_difference / ARCSEC:.3g}″", f"{a.case} ({a.magnitude})"])
+    return rows
+
+
+EFFECT_HEADER = ["motion", "after", "position Δ", "of derived", "worst case",
+                 "attitude Δ", "worst case"]
+
+
+def to_terminal(r: MatrixReport) -> str:
+    """Plain-text report."""
+    lines = [f"Matrix check of {r.hand_name} against {r.model} (convention {r.convention})",
+             f"states ({len(r.states)}): {', '.join(r.states)}"]
+    if r.sources:
+        lines.append(f"sources in G ({len(r.sources)}): {', '.join(r.sources)}")
+    else:
+        lines.append("no G: error-source columns not compared")
+    if r.left_out:
+        lines.append(f"convention states the hand model leaves out: {', '.join(r.left_out)}")
+    lines.append("motions: " + "; ".join(f"{k}: {d}" for k, d in r.motions))
+    lines.append(_summary(r))
+    for title, group in (("Mistakes", r.mistakes),
+                         ("Dropped small terms",
+                          [f for f in r.findings if f.severity != "mistake"])):
+        if group:
+            lines += ["", f"{title}:"] + [f"  {_finding_line(f)}" for f in group]
+    if r.effects:
+        lines += ["", "Effect of the differences (hand − derived, propagated from each initial "
+                  "error and source at its typical size; the worst case):"]
+        rows = [EFFECT_HEADER, *_effect_rows(r)]
+        widths = [max(len(row[i]) for row in rows) for i in range(len(EFFECT_HEADER))]
+        lines += ["  " + "  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip()
+                  for row in rows]
+    return "\n".join(lines)
+
+
+def to_markdown(r: MatrixReport, title: str | None = None) -> str:
+    """Markdown report (tables of findings and effects)."""
+    out = [f"# {title or 'Matrix check'}", "",
+           f"Hand model `{r.hand_name}` against the derived model `{r.model}`, convention "
+           f"`{r.convention}`, threshold {r.threshold:g}.", "",
+           f"States: {', '.join(f'`{s}`' for s in r.states)}."]
+    if r.sources:
+        out.append(f"Sources in G: {', '.join(f'`{s}`' for s in r.sources)}.")
+    if r.left_out:
+        out.append(f"Convention states left out: {', '.join(f'`{s}`' for s in r.left_out)}.")
+    out += ["", "Motions:", ""] + [f"* `{k}`: {d}" for k, d in r.motions]
+    out += ["", "Typical magnitudes: " + ", ".join(
+        f"`{k}` {v[1]}" for k, v in r.magnitudes.items()) + ".", "", _summary(r) + ".", ""]
+    if r.findings:
+        out += ["| entry | class | kind | size | largest on | hand | model | detail |",
+                "|---|---|---|---|---|---|---|---|"]
+        for f in r.findings:
+            out.append(f"| `{f.entry}` | {f.severity} ({f.size_class}) | {f.kind} | "
+                       f"{f.size:.2g} | {f.motion}, {_hours(f.time)} | {f.hand:.6g} | "
+                       f"{f.model:.6g} | {f.detail} |")
+        out.append("")
+    if r.effects:
+        out += ["## Effect of the differences", "",
+                "| " + " | ".join(EFFECT_HEADER) + " |",
+                "|" + "---|" * len(EFFECT_HEADER)]
+        out += ["| " + " | ".join(row) + " |" for row in _effect_rows(r)]
+        out.append("")
+    return "\n".join(out)
+
+
+def to_json(r: MatrixReport) -> dict:
+    """JSON-ready dictionary."""
+    return {
+        "model": r.model, "convention": r.convention, "hand": r.hand_name,
+        "states": r.states, "sources": r.sources, "threshold": r.threshold,
+        "left_out": r.left_out, "out_of_scope": r.out_of_scope,
+        "motions": [{"label": k, "description": d} for k, d in r.motions],
+        "magnitudes": {k: {"si": v[0], "text": v[1]} for k, v in r.magnitudes.items()},
+        "compared": r.compared, "exit_status": r.exit_status,
+        "findings": [{"matrix": f.matrix, "row": f.row, "column": f.column, "kind": f.kind,
+                      "severity": f.severity, "size": f.size, "size_class": f.size_class,
+                      "motion": f.motion, "time_s": f.time, "hand": f.hand, "model": f.model,
+                      "absolute": f.absolute, "unit": f.unit, "per_motion": f.per_motion,
+                      "detail": f.detail} for f in r.findings],
+        "effects": [{"motion": e.motion, "hours": e.hours, "case": e.case,
+                     "magnitude": e.magnitude,
+                     "position_difference_m": e.position_difference,
+                     "position_model_m": e.position_model,
+                     "attitude_difference_rad": e.attitude_difference,
+                     "attitude_model_rad": e.attitude_model} for e in r.effects],
+    }

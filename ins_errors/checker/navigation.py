@@ -1,0 +1,205 @@
+"""The navigation state and IMU outputs a researcher's hand-coded F and G are evaluated at.
+
+A researcher's linear error model is a function of the *navigation solution*, not of a
+model's internal states: latitude, velocity, attitude, specific force. This module turns
+the ideal states and inputs of a model along a motion into that model-independent
+description, one :class:`Navigation` and one :class:`Imu` per sample time, and back into
+arrays for writing them out (for users of other languages, see ``docs/matrix_check.md``).
+
+Frames: NED (x north, y east, z down) navigation frame n; body frame b. For a platform
+INS the body frame is the stabilised platform itself, so ``C_bn`` is the identity for a
+north-pointing platform. Units: SI and radians.
+
+Each model says how its states and inputs give these quantities through a *navigation
+adapter* (:data:`ADAPTERS`): a function ``(model, x, u, p) -> dict of arrays`` with the
+keys of :data:`FIELDS`, trailing axis K (the samples).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cache
+
+import numpy as np
+
+from ins_errors.errors import InsErrorsError
+
+FIELDS: dict[str, str] = {
+    "latitude": "geodetic latitude φ, rad",
+    "longitude": "longitude λ, rad",
+    "height": "height above the ellipsoid h, m",
+    "v_ned": "ground velocity (v_N, v_E, v_D), m/s, shape (3,)",
+    "C_bn": "direction-cosine matrix body → NED, shape (3, 3)",
+    "omega_ie_n": "Earth rate in NED (U cos φ, 0, −U sin φ), rad/s, shape (3,)",
+    "omega_en_n": "transport rate in NED (v_E/(R_E+h), −v_N/(R_N+h), −v_E tan φ/(R_E+h)), "
+                  "rad/s, shape (3,)",
+    "gravity": "magnitude of gravity (plumb line) at the point, m/s²",
+    "R_N": "meridian radius of curvature at φ (height not included), m",
+    "R_E": "prime-vertical radius of curvature at φ (height not included), m",
+    "a": "semi-major axis (sphere radius for a spherical Earth), m",
+    "e2": "first eccentricity squared (0 for a sphere)",
+    "earth_rate": "Earth rotation rate U, rad/s",
+    "f_b": "specific force in the body frame (accelerometer triad output), m/s², shape (3,)",
+    "omega_ib_b": "body angular rate relative to inertial space (gyro triad output), rad/s, "
+                  "shape (3,)",
+}
+"""Every quantity of the navigation description, with its meaning and unit."""
+
+IMU_FIELDS = ("f_b", "omega_ib_b")
+"""Fields that are IMU outputs (the rest describe the navigation state)."""
+
+VECTOR_FIELDS = {"v_ned": (3,), "C_bn": (3, 3), "omega_ie_n": (3,), "omega_en_n": (3,),
+                 "f_b": (3,), "omega_ib_b": (3,)}
+"""Shapes of the fields that are not scalars."""
+
+
+@dataclass(frozen=True)
+class Navigation:
+    """The ideal navigation state at one sample (see :data:`FIELDS` for every attribute).
+
+    Attributes
+    ----------
+    t : float
+        Time since the start of the motion, s.
+    motion : str
+        Label of the motion (``"static"``, ``"cruise"``, ``"manoeuvre"``).
+    latitude, longitude, height : float
+        rad, rad, m.
+    v_ned : numpy.ndarray, shape (3,)
+        m/s.
+    C_bn : numpy.ndarray, shape (3, 3)
+        Body → NED.
+    omega_ie_n, omega_en_n : numpy.ndarray, shape (3,)
+        rad/s.
+    gravity, R_N, R_E, a, e2, earth_rate : float
+        m/s², m, m, m, 1, rad/s.
+    """
+
+    t: float
+    motion: str
+    latitude: float
+    longitude: float
+    height: float
+    v_ned: np.ndarray
+    C_bn: np.ndarray
+    omega_ie_n: np.ndarray
+    omega_en_n: np.ndarray
+    gravity: float
+    R_N: float
+    R_E: float
+    a: float
+    e2: float
+    earth_rate: float
+
+    @property
+    def omega_in_n(self) -> np.ndarray:
+        """Rate of the navigation frame, ω_ie + ω_en, in NED, rad/s."""
+        return self.omega_ie_n + self.omega_en_n
+
+
+@dataclass(frozen=True)
+class Imu:
+    """Ideal IMU outputs at one sample.
+
+    Attributes
+    ----------
+    f_b : numpy.ndarray, shape (3,)
+        Specific force in the body frame, m/s².
+    omega_ib_b : numpy.ndarray, shape (3,)
+        Body rate relative to inertial space, in the body frame, rad/s.
+    f_n : numpy.ndarray, shape (3,)
+        The same specific force in NED (``C_bn @ f_b``), m/s², for convenience.
+    """
+
+    f_b: np.ndarray
+    omega_ib_b: np.ndarray
+    f_n: np.ndarray
+
+
+def samples(arrays: dict[str, np.ndarray], times: np.ndarray, motion: str
+            ) -> list[tuple[Navigation, Imu]]:
+    """Split navigation arrays (trailing axis K) into K (Navigation, Imu) pairs."""
+    out = []
+    for k, t in enumerate(times):
+        value = {name: (np.array(arrays[name][..., k]) if name in VECTOR_FIELDS
+                        else float(arrays[name][k])) for name in FIELDS}
+        f_b, w_b = value.pop("f_b"), value.pop("omega_ib_b")
+        nav = Navigation(t=float(t), motion=motion, **value)
+        out.append((nav, Imu(f_b, w_b, nav.C_bn @ f_b)))
+    return out
+
+
+# --------------------------------------------------------------------------------------
+# Adapters: model states and inputs -> navigation arrays
+# --------------------------------------------------------------------------------------
+@cache
+def _intermediates(model_name: str) -> tuple[list[str], Callable]:
+    """Names and a numpy function (x, u, p) -> values of a model's ideal intermediates."""
+    import sympy as sp
+
+    from ins_errors.models import definition
+    from ins_errors.symbolic.variation import ideal_intermediate_values
+
+    d = definition(model_name)
+    closed = ideal_intermediate_values(d)
+    names = [s.name for s in closed]
+    fn = sp.lambdify([d.x, d.u, d.p], list(closed.values()), "numpy")
+    return names, fn
+
+
+def intermediate_values(model_name: str, x: np.ndarray, u: np.ndarray, p: np.ndarray
+                        ) -> dict[str, np.ndarray]:
+    """Ideal intermediate quantities of a model (by name) at states ``x`` (n, K)."""
+    names, fn = _intermediates(model_name)
+    k = x.shape[-1]
+    values = fn(list(x), list(u), list(p[:, None] * np.ones(k)))
+    return {n: np.broadcast_to(np.asarray(v, dtype=float), (k,)) for n, v in
+            zip(names, values, strict=True)}
+
+
+def _north_pointing(model, x, u, p) -> dict[str, np.ndarray]:
+    """North-pointing platform: the body frame is the level, north-pointing platform."""
+    k = x.shape[-1]
+    par = dict(zip((i.name for i in model.parameters), p, strict=True))
+    v_e, v_n, lat, lon = x
+    h = u[2]
+    mid = intermediate_values(model.name, x, u, p)
+    w_e, w_n, w_u = mid["omega_E"], mid["omega_N"], mid["omega_U"]
+    U = par["U"]
+    zeros = np.zeros(k)
+    ie = np.array([U * np.cos(lat), zeros, -U * np.sin(lat)])
+    in_n = np.array([w_n, w_e, -w_u])  # ENU (E, N, U) -> NED (N, E, D)
+    return {
+        "latitude": lat, "longitude": lon, "height": h,
+        "v_ned": np.array([v_n, v_e, zeros]),
+        "C_bn": np.repeat(np.eye(3)[:, :, None], k, axis=2),
+        "omega_ie_n": ie, "omega_en_n": in_n - ie,
+        "gravity": np.full(k, par["g"]),
+        "R_N": mid["r_N"] - h, "R_E": mid["r_E"] - h,
+        "a": np.full(k, par["R"]), "e2": np.full(k, par["ecc2"]),
+        "earth_rate": np.full(k, U),
+        "f_b": np.array([u[1], u[0], -mid["f_U"]]),
+        "omega_ib_b": in_n,
+    }
+
+
+ADAPTERS: dict[str, Callable] = {"north_pointing": _north_pointing}
+"""Navigation adapter of each model that supports hand-coded matrices."""
+
+
+def navigation_arrays(model, x: np.ndarray, u: np.ndarray, p: np.ndarray
+                      ) -> dict[str, np.ndarray]:
+    """The navigation description (:data:`FIELDS`) along states ``x`` (n, K), inputs ``u``.
+
+    Raises
+    ------
+    InsErrorsError
+        If the model has no navigation adapter.
+    """
+    adapter = ADAPTERS.get(model.name)
+    if adapter is None:
+        raise InsErrorsError(f"model {model.name!r} has no navigation description for "
+                             f"hand-coded matrices (supported: {', '.join(sorted(ADAPTERS))})")
+    return adapter(model, np.asarray(x, dtype=float), np.asarray(u, dtype=float),
+                   np.asarray(p, dtype=float))

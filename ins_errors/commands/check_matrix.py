@@ -1,0 +1,47 @@
+"""The ``--matrix`` / ``--list-conventions`` / ``--write-samples`` part of ``ins-errors check``."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+
+def run_matrix(args: argparse.Namespace) -> int:
+    """Run the matrix check (or list conventions, or write the samples); exit status."""
+    from ins_errors.checker.conventions import conventions
+    from ins_errors.checker.matrix import check_matrices, motions
+    from ins_errors.checker.matrix_input import write_samples
+    from ins_errors.checker.matrix_report import to_json, to_markdown, to_terminal
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric.model import load_model
+
+    if args.file is not None:
+        raise InsErrorsError("give either a hand FILE of equations or --matrix, not both")
+    model = load_model(args.model)
+    if args.list_conventions:
+        for conv in conventions(model).values():
+            print(f"{conv.name}: {conv.description}")
+            for s in conv.states:
+                print(f"  {s.name} ({s.unit}): {s.description}")
+        return 0
+    motion_list = motions(model)
+    if args.write_samples is not None:
+        write_samples(args.write_samples, motion_list)
+        print(f"wrote {args.write_samples}: {', '.join(m.label for m in motion_list)}, "
+              f"{motion_list[0].times.size} samples each")
+        if not args.matrix:
+            return 0
+    report = check_matrices(args.model, args.matrix, args.convention,
+                            threshold=args.threshold, motion_list=motion_list)
+    if args.report is not None:
+        try:
+            args.report.write_text(to_markdown(report, f"`ins-errors check --matrix` of "
+                                               f"`{report.hand_name}`"), encoding="utf-8")
+        except OSError as error:
+            raise InsErrorsError(f"cannot write report {str(args.report)!r}: "
+                                 f"{error.strerror}") from None
+    if args.json:
+        print(json.dumps(to_json(report), indent=2))
+    else:
+        print(to_terminal(report))
+    return report.exit_status

@@ -1,0 +1,193 @@
+"""`ins-errors check MODEL --matrix ...`: a hand-coded F and G checked entry by entry.
+
+The reference hand model (tests/data/north_pointing_F.py) is written from the textbook
+local-level equations, not from the package. Copies with one injected mistake must be
+reported in exactly that entry; the ψ-angle convention must give Benson's decoupled
+attitude equation ψ̇ = ψ × ω + ε; the propagated error must follow the Schuler period.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ins_errors.checker import matrix as mc
+from ins_errors.checker.conventions import convention
+from ins_errors.checker.matrix_input import load_function
+from ins_errors.checker.navigation import samples
+from ins_errors.cli import main
+from ins_errors.numeric.model import load_model
+
+DATA = Path(__file__).resolve().parent / "data"
+HAND = DATA / "north_pointing_F.py"
+MODEL = "north_pointing"
+
+
+@pytest.fixture(scope="module")
+def model():
+    return load_model(MODEL)
+
+
+@pytest.fixture(scope="module")
+def wgs84(model):
+    """The three motions on the WGS-84 ellipsoid (so the radius derivatives matter)."""
+    return mc.motions(model, hours=24.0, step=120.0, ellipsoid="wgs84")
+
+
+def _copy(tmp_path: Path, old: str, new: str) -> str:
+    text = HAND.read_text(encoding="utf-8")
+    assert text.count(old) == 1, old
+    path = tmp_path / "hand_copy.py"
+    path.write_text(text.replace(old, new), encoding="utf-8")
+    return f"{path}:error_model"
+
+
+def test_correct_hand_model_agrees_in_full(wgs84):
+    report = mc.check_matrices(MODEL, f"{HAND}:error_model", "model", motion_list=wgs84,
+                              effects=False)
+    assert report.findings == []
+    assert report.compared == 7 * 7 + 7 * 5 and report.exit_status == 0
+
+
+@pytest.mark.parametrize("old, new, row, column, kind", [
+    ("F[1, 4] = f_u", "F[1, 4] = -f_u", "delta_v_N", "alpha_E", "sign error"),
+    ("F[2, 1] = 1 / r_n", "F[2, 1] = 2 / r_n", "delta_latitude", "delta_v_N", "wrong factor"),
+    ("F[0, 1] = turn", "F[0, 1] = 0.0", "delta_v_E", "delta_v_N", "missing term"),
+    ("F[5, 4], F[5, 6] = -w_u, w_e", "F[5, 4], F[5, 6] = -w_u, w_e + U",
+     "alpha_N", "alpha_U", "wrong coefficient"),
+    ("G[0, 3] = G[1, 4] = 1.0", "G[0, 3] = G[1, 4] = 1.0\n    G[2, 3] = 1e-7",
+     "delta_latitude", "accel_bias_east", "extra term"),
+])
+def test_injected_mistake_is_reported_in_its_entry(tmp_path, wgs84, old, new, row, column,
+                                                   kind):
+    report = mc.check_matrices(MODEL, _copy(tmp_path, old, new), "model", motion_list=wgs84,
+                              effects=False)
+    [finding] = report.findings
+    matrix = "G" if column.startswith("accel") else "F"
+    assert (finding.matrix, finding.row, finding.column) == (matrix, row, column)
+    assert finding.kind == kind and finding.severity == "mistake"
+    assert report.exit_status == 1
+    if kind == "wrong factor":
+        assert "= 2 at every sample" in finding.detail
+
+
+def test_height_left_out_of_the_radii_is_a_dropped_small_term(tmp_path, wgs84):
+    """r_E, r_N without h: a 10 km height changes 1/r by h/R ≈ 1.6e-3 of the entry."""
+    report = mc.check_matrices(
+        MODEL, _copy(tmp_path, "    r_e = a / np.sqrt(w) + h\n    r_n = a * (1 - e2) / w**1.5 + h",
+                     "    r_e = a / np.sqrt(w)\n    r_n = a * (1 - e2) / w**1.5"),
+        "model", motion_list=wgs84, effects=False)
+    f = report.finding("alpha_N", "delta_v_E")
+    assert f.kind == "approximated" and f.severity == "dropped small term"
+    assert f.per_motion["static"] == 0.0 and f.per_motion["cruise"] > 0
+    # hand/model of 1/r is (R_E + h)/R_E at the cruise height
+    lo, hi = (float(v) for v in re.findall(r"[\d.]+", f.detail)[:2])
+    assert hi == pytest.approx(1 + 9000.0 / 6.39e6, rel=2e-4)  # highest manoeuvre point
+    assert lo >= 1.0
+
+
+def test_psi_convention_gives_bensons_decoupled_attitude_equation(model, wgs84):
+    """ψ = α − δθ (platform vs computer frame) obeys ψ̇ = ψ × ω_in + ε, with no velocity
+    or position coupling (Benson 1975), on the moving, climbing manoeuvre."""
+    conv = convention(model, "psi")
+    motion = wgs84[2]
+    F, G = mc.derived_in_convention(model, conv, motion)
+    w = motion.navigation["omega_ib_b"]  # platform rate = ω_in, NED
+    w_e, w_n, w_u = w[1], w[0], -w[2]
+    expected = np.zeros((len(motion.times), 3, 7))
+    expected[:, 0, 5], expected[:, 0, 6] = w_u, -w_n
+    expected[:, 1, 4], expected[:, 1, 6] = -w_u, w_e
+    expected[:, 2, 4], expected[:, 2, 5] = w_n, -w_e
+    scale = np.abs(w).max()
+    assert np.abs(F[:, 4:, :] - expected).max() < 1e-9 * scale
+    drifts = [s.name for s in model.sources].index("gyro_drift_east")
+    assert np.allclose(G[:, 4:, drifts:drifts + 3], np.eye(3))
+
+
+def test_schuler_oscillation_of_the_propagated_model(wgs84):
+    """An initial 0.1 m/s east velocity error: |δr(t)| = v0 |sin ω_s t| / ω_s on a static
+    base, ω_s = √(g/R) (the Foucault rotation does not change the length)."""
+    report = mc.check_matrices(MODEL, f"{HAND}:error_model", "model", motion_list=wgs84)
+    [effect] = [e for e in report.effects if (e.motion, e.hours, e.case)
+                == ("static", 1.0, "initial delta_v_E")]
+    omega = np.sqrt(9.80665 / 6.371e6)  # rough radius: the test is for 1 % agreement
+    assert effect.position_model == pytest.approx(0.1 * abs(np.sin(omega * 3600)) / omega,
+                                                  rel=0.01)
+    assert max(e.position_difference for e in report.effects) < 1e-6
+
+
+def test_effect_of_a_missing_coriolis_term(tmp_path, wgs84):
+    """Dropping 2U sin φ δv_N from δv̇_E leaves the Foucault rotation out: after 24 h the
+    error from an east velocity error differs by metres to kilometres, after 1 h by less."""
+    report = mc.check_matrices(MODEL, _copy(tmp_path, "F[0, 1] = turn", "F[0, 1] = 0.0"),
+                              "model", motion_list=wgs84)
+    case = {(e.hours): e for e in report.effects
+            if e.motion == "static" and e.case == "initial delta_v_E"}
+    assert 0 < case[1.0].position_difference < case[24.0].position_difference
+    assert case[24.0].position_difference > 10.0
+
+
+def test_sampled_matrices_from_npz_and_mat(tmp_path, model):
+    ms = mc.motions(model, hours=2.0, step=600.0)
+    fn, states, sources = load_function(HAND, "error_model")
+    arrays = {"states": np.array(states), "sources": np.array(sources)}
+    for motion in ms:
+        pairs = [fn(nav, imu) for nav, imu in samples(motion.navigation, motion.times,
+                                                       motion.label)]
+        arrays[f"F_{motion.label}"] = np.array([f for f, _ in pairs])
+        arrays[f"G_{motion.label}"] = np.array([g for _, g in pairs])
+    np.savez(tmp_path / "hand.npz", **arrays)
+    assert mc.check_matrices(MODEL, tmp_path / "hand.npz", "model", motion_list=ms,
+                            effects=False).findings == []
+    from scipy.io import savemat
+
+    arrays["F_cruise"][:, 2, 1] *= -1
+    savemat(tmp_path / "hand.mat", arrays)
+    report = mc.check_matrices(MODEL, tmp_path / "hand.mat", "model", motion_list=ms,
+                              effects=False)
+    [f] = report.findings
+    assert (f.row, f.column, f.kind) == ("delta_latitude", "delta_v_N", "wrong coefficient")
+    assert f.per_motion["static"] == 0 and f.motion == "cruise"
+
+
+@pytest.mark.parametrize("edit, message", [
+    (("STATES = [", "STATE = ["), "define STATES"),
+    (('"alpha_U"]', '"alpha_up"]'), "unknown state of convention 'model' 'alpha_up'"),
+    (("return F, G", "return F[:, :6], G"), "F must have shape (7, 7)"),
+    (("w = 1 - e2 * s**2", "w = 1 - e2 * s**2 + undefined_name"), "NameError"),
+    (("import numpy as np", "import numpy as np\nraise RuntimeError('broken')"),
+     "cannot import"),
+])
+def test_bad_hand_model_is_a_one_line_error(tmp_path, capsys, edit, message):
+    spec = _copy(tmp_path, *edit)
+    assert main(["check", MODEL, "--matrix", spec]) == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "\n" not in err and "Traceback" not in err
+    if message == "NameError":
+        assert "(line " in err and "on static at t = 0 s" in err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--matrix", f"{HAND}:no_such_function"], "has no function 'no_such_function'"),
+    (["--matrix", f"{HAND}:error_model", "--convention", "psy"], "did you mean 'psi'"),
+    (["--matrix", "missing.npz"], "does not exist"),
+    ([], "needs a hand FILE"),
+])
+def test_bad_command_line(capsys, argv, message):
+    assert main(["check", MODEL, *argv]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_cli_lists_conventions_and_writes_samples(tmp_path, capsys):
+    assert main(["check", MODEL, "--list-conventions"]) == 0
+    out = capsys.readouterr().out
+    assert "psi_U (rad)" in out and "delta_latitude (rad)" in out
+    assert main(["check", MODEL, "--write-samples", str(tmp_path / "s.npz")]) == 0
+    with np.load(tmp_path / "s.npz") as data:
+        assert data["t_static"][-1] == 86400.0 and data["C_bn_cruise"].shape[1:] == (3, 3)
+        # the cruise flies east at 250 m/s at 10 km
+        assert np.allclose(data["v_ned_cruise"][:, 1], 250.0)
+        assert np.allclose(data["height_cruise"], 10_000.0)
