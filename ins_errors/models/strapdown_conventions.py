@@ -1,0 +1,278 @@
+r"""Exact maps from the ``strapdown_ned`` error state to the conventions of the literature.
+
+The model's own error state is ``e = (δq0..δq3, δv_N, δv_E, δv_D, δφ, δλ, δh)``, the
+difference computed − true of its state. Researchers write their F in other variables;
+this module gives, at any true state ``x``, the matrix ``T(x)`` (9 × 10) with
+``e_c = T(x) e`` to first order, its rate ``Ṫ`` along the motion, and from them the
+linear model in the convention:
+
+    ė_c = F_c e_c + G_c w,   F_c = (T F + Ṫ) T⁺,   G_c = T G,
+
+``T⁺`` the pseudo-inverse (the quaternion error keeps ``q · δq = 0``, the one direction
+T does not see, so the map is exact, not an approximation).
+
+State vocabulary (public names; a convention is one attitude, one velocity and one
+position triple, always in the order attitude, velocity, position):
+
+========================  ==========================================================
+``phi_N, phi_E, phi_D``    φ-angle, rad: attitude error in the *true* NED frame,
+                           ``C̃_b^n = (I − [φ×]) C_b^n`` (Titterton & Weston's sign)
+``psi_N, psi_E, psi_D``    ψ-angle, rad: attitude error relative to the *computed* NED
+                           frame, ``ψ = φ − δθ`` with ``δθ = (δλ cos φ, −δφ, −δλ sin φ)``
+                           the rotation of the computed frame from the true one
+                           (Benson 1975: φ = ψ + δθ)
+``dv_N, dv_E, dv_D``       velocity error δv = ṽ − v, m/s, components in NED
+``dvc_N, dvc_E, dvc_D``    velocity error in the computed frame, ``δv + δθ × v``, m/s
+                           (the ψ-angle model's velocity error, ṽ − C_n^c v)
+``du_N, du_E, du_D``       modified velocity error of Scherzinger & Reid (1994),
+                           ``δu = δv + φ × v``, m/s: the error of the body-frame
+                           velocity resolved in NED, ``C_b^n (C̃_b^nᵀ ṽ − C_b^nᵀ v)``;
+                           with it the specific force drops out of the velocity-error
+                           equation (f × φ is replaced by −g × φ)
+``dr_N, dr_E, dr_D``       position error in NED metres, ``((R_N + h) δφ,
+                           (R_E + h) cos φ δλ, −δh)``
+``dlat, dlon, dh``         position error as latitude (rad), longitude (rad), height (m)
+========================  ==========================================================
+
+Named conventions (:data:`CONVENTIONS`): ``phi`` (φ, δv), ``psi`` (ψ, δv in the computed
+frame), ``phi_modified`` (φ, δu), ``psi_modified`` (ψ, δu); each with the position as
+``"ned"`` metres (default) or ``"geodetic"`` (δφ, δλ, δh).
+
+Example
+-------
+>>> import numpy as np
+>>> from ins_errors import load_model
+>>> from ins_errors.models import strapdown_conventions as sc
+>>> model = load_model("strapdown_ned")
+>>> p = model.parameter_vector()
+>>> c = model.initial_condition_vector(latitude=np.radians(45))
+>>> x = model.initial_state(c, model.input_vector(), p)
+>>> u = model.input_vector(omega_x=7.292115e-5 * np.cos(np.radians(45)),
+...                        omega_z=-7.292115e-5 * np.sin(np.radians(45)), f_z=-9.806)
+>>> F_c, G_c = sc.convention_matrices(model, "phi", x, u, p)
+>>> sc.state_names("phi")[:3]
+('phi_N', 'phi_E', 'phi_D')
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+
+import casadi as ca
+import numpy as np
+
+from ins_errors.errors import unknown_name
+
+ATTITUDE = {"phi": ("phi_N", "phi_E", "phi_D"), "psi": ("psi_N", "psi_E", "psi_D")}
+VELOCITY = {"dv": ("dv_N", "dv_E", "dv_D"), "dvc": ("dvc_N", "dvc_E", "dvc_D"),
+            "du": ("du_N", "du_E", "du_D")}
+POSITION = {"ned": ("dr_N", "dr_E", "dr_D"), "geodetic": ("dlat", "dlon", "dh")}
+
+UNITS = {**{n: "rad" for names in ATTITUDE.values() for n in names},
+         **{n: "m/s" for names in VELOCITY.values() for n in names},
+         "dr_N": "m", "dr_E": "m", "dr_D": "m", "dlat": "rad", "dlon": "rad", "dh": "m"}
+"""SI unit of every vocabulary name."""
+
+VOCABULARY: tuple[str, ...] = tuple(UNITS)
+"""Every state name a convention can use."""
+
+
+@dataclass(frozen=True)
+class Convention:
+    """Attitude, velocity and position variables of one error-model convention."""
+
+    attitude: str
+    velocity: str
+    position: str = "ned"
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The nine state names, attitude first."""
+        return (*ATTITUDE[self.attitude], *VELOCITY[self.velocity], *POSITION[self.position])
+
+
+CONVENTIONS: dict[str, tuple[str, str]] = {
+    "phi": ("phi", "dv"),
+    "psi": ("psi", "dvc"),
+    "phi_modified": ("phi", "du"),
+    "psi_modified": ("psi", "du"),
+}
+"""Named conventions: attitude and velocity variables."""
+
+
+def convention(name: str, position: str = "ned") -> Convention:
+    """The :class:`Convention` called ``name`` with position as ``"ned"`` or ``"geodetic"``.
+
+    Raises
+    ------
+    UnknownNameError
+        For an unknown convention or position form (close names are suggested).
+    """
+    if name not in CONVENTIONS:
+        raise unknown_name("error-model convention", name, CONVENTIONS)
+    if position not in POSITION:
+        raise unknown_name("position-error form", position, POSITION)
+    attitude, velocity = CONVENTIONS[name]
+    return Convention(attitude, velocity, position)
+
+
+def state_names(name: str, position: str = "ned") -> tuple[str, ...]:
+    """State names of a named convention, in order."""
+    return convention(name, position).names
+
+
+# --------------------------------------------------------------------------------------
+# The map T(x) (CasADi, exact derivatives)
+# --------------------------------------------------------------------------------------
+def _dcm(q):
+    q0, q1, q2, q3 = q[0], q[1], q[2], q[3]
+    return ca.vertcat(
+        ca.horzcat(q0**2 + q1**2 - q2**2 - q3**2, 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)),
+        ca.horzcat(2 * (q1 * q2 + q0 * q3), q0**2 - q1**2 + q2**2 - q3**2, 2 * (q2 * q3 - q0 * q1)),
+        ca.horzcat(2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0**2 - q1**2 - q2**2 + q3**2))
+
+
+def _skew(v):
+    return ca.vertcat(ca.horzcat(0, -v[2], v[1]), ca.horzcat(v[2], 0, -v[0]),
+                      ca.horzcat(-v[1], v[0], 0))
+
+
+def _blocks(x, p):
+    """Rows of T for every vocabulary triple, as CasADi (3, 10) blocks."""
+    q, v, lat, h = x[0:4], x[4:7], x[7], x[9]
+    a, e2 = p[0], p[1]
+    w2 = 1 - e2 * ca.sin(lat) ** 2
+    R_N = a * (1 - e2) / (w2 * ca.sqrt(w2))
+    R_E = a / ca.sqrt(w2)
+    C = _dcm(q)
+    # φ: [φ×] = −δC Cᵀ (skew part), linear in δq
+    cols = []
+    for k in range(4):
+        dC = ca.jacobian(ca.vec(C), q)[:, k].reshape((3, 3))
+        A = -dC @ C.T
+        S = (A - A.T) / 2
+        cols.append(ca.vertcat(S[2, 1], S[0, 2], S[1, 0]))
+    phi_q = ca.horzcat(*cols)  # (3, 4)
+    Z33, Z34 = ca.SX.zeros(3, 3), ca.SX.zeros(3, 4)
+    I3 = ca.SX.eye(3)
+    # δθ = (δλ cos φ, −δφ, −δλ sin φ), in (δφ, δλ, δh)
+    theta_pos = ca.vertcat(ca.horzcat(0, ca.cos(lat), 0), ca.horzcat(-1, 0, 0),
+                           ca.horzcat(0, -ca.sin(lat), 0))
+    phi = ca.horzcat(phi_q, Z33, Z33)
+    theta = ca.horzcat(Z34, Z33, theta_pos)
+    dv = ca.horzcat(Z34, I3, Z33)
+    cross_v = -_skew(v)  # a × v = −[v×] a
+    return {
+        "phi": phi,
+        "psi": phi - theta,
+        "dv": dv,
+        "dvc": dv + cross_v @ theta,
+        "du": dv + cross_v @ phi,
+        "ned": ca.horzcat(Z34, Z33, ca.diag(ca.vertcat(R_N + h, (R_E + h) * ca.cos(lat), -1))),
+        "geodetic": ca.horzcat(Z34, Z33, I3),
+    }
+
+
+N_STATES = 10
+"""Length of the ``strapdown_ned`` state (q0..q3, v_N, v_E, v_D, lat, lon, h)."""
+
+
+@cache
+def _functions(conv: Convention) -> tuple[ca.Function, ca.Function]:
+    x = ca.SX.sym("x", N_STATES)
+    xdot = ca.SX.sym("xdot", N_STATES)
+    p = ca.SX.sym("p", 2)  # a, e2: the first two model parameters
+    blocks = _blocks(x, p)
+    T = ca.vertcat(blocks[conv.attitude], blocks[conv.velocity], blocks[conv.position])
+    T_dot = (ca.jacobian(ca.vec(T), x) @ xdot).reshape(T.shape)
+    return (ca.Function("transform", [x, p], [T]),
+            ca.Function("transform_rate", [x, xdot, p], [T_dot]))
+
+
+def _conv(name: str | Convention, position: str) -> Convention:
+    return name if isinstance(name, Convention) else convention(name, position)
+
+
+def transform_matrix(name: str | Convention, x, p, position: str = "ned") -> np.ndarray:
+    """``T(x)``, shape (9, 10): convention state = T × model error state (first order).
+
+    Parameters
+    ----------
+    name : str or Convention
+        A name of :data:`CONVENTIONS` or a :class:`Convention`.
+    x : numpy.ndarray, shape (10,)
+        True state of ``strapdown_ned``.
+    p : numpy.ndarray, shape (8,)
+        Model parameters.
+    position : {"ned", "geodetic"}
+        Position form (ignored when ``name`` is a Convention).
+    """
+    return np.asarray(_functions(_conv(name, position))[0](x, np.asarray(p)[:2]))
+
+
+def transform_rate(name: str | Convention, x, xdot, p, position: str = "ned") -> np.ndarray:
+    """``dT/dt = Σ_k ∂T/∂x_k ẋ_k`` along the true motion (exact derivatives).
+
+    Parameters
+    ----------
+    x, xdot : numpy.ndarray, shape (10,)
+        True state and its time derivative (the model's ``ideal_rhs``).
+    p : numpy.ndarray
+        Model parameters (``a``, ``e2`` first).
+    """
+    return np.asarray(_functions(_conv(name, position))[1](x, xdot, np.asarray(p)[:2]))
+
+
+def convention_matrices(model, name: str | Convention, x, u, p,
+                        position: str = "ned") -> tuple[np.ndarray, np.ndarray]:
+    """F and G of the linear error model written in a convention.
+
+    Parameters
+    ----------
+    model : Model
+        The loaded ``strapdown_ned`` model (its ``state_matrix``, ``source_matrix`` and
+        ``ideal_rhs`` are used).
+    name : str or Convention
+        Convention (see :data:`CONVENTIONS`).
+    x, u, p : numpy.ndarray
+        True state (10,), inputs (7,) and parameters (8,).
+    position : {"ned", "geodetic"}
+        Position form.
+
+    Returns
+    -------
+    F_c : numpy.ndarray, shape (9, 9)
+        ``(T F + Ṫ) T⁺``; rows and columns in the order of :func:`state_names`.
+    G_c : numpy.ndarray, shape (9, nw)
+        ``T G``; columns are the model's error sources.
+    """
+    conv = _conv(name, position)
+    T = transform_matrix(conv, x, p)
+    T_dot = transform_rate(conv, x, model.ideal_rhs(x, u, p), p)
+    F = model.state_matrix(x, u, p)
+    G = model.source_matrix(x, u, p)
+    T_plus = np.linalg.pinv(T)
+    return (T @ F + T_dot) @ T_plus, T @ G
+
+
+def to_convention(name: str | Convention, x, e, p, position: str = "ned") -> np.ndarray:
+    """Convention state of model error states ``e`` at true states ``x``.
+
+    Parameters
+    ----------
+    x : numpy.ndarray, shape (10, K)
+        True states.
+    e : numpy.ndarray, shape (10, K) or (10, K, B)
+        Model error states (e.g. a simulation's ``real[:, k] − ideal[:, k]`` or a linear
+        run).
+
+    Returns
+    -------
+    numpy.ndarray, shape (9, K) or (9, K, B)
+    """
+    fn = _functions(_conv(name, position))[0]
+    x = np.asarray(x, dtype=float)
+    ae2 = np.asarray(p)[:2]
+    T = np.stack([np.asarray(fn(x[:, k], ae2)) for k in range(x.shape[1])], axis=-1)
+    return np.einsum("ijk,jk...->ik...", T, np.asarray(e, dtype=float))

@@ -1,0 +1,378 @@
+"""True IMU signals of a strapdown INS from a planned flight (model ``strapdown_ned``).
+
+A flight is planned as a horizontal ground speed ``V(t)``, a commanded turn rate
+``r(t)`` (on top of the geodesic), a vertical speed and an attitude that follows the
+flight path: heading = course ψ, pitch = flight-path angle ``atan(−v_D / V)``, roll =
+coordinated bank ``atan(V r / g₀)``. The course obeys ``ψ̇ = v_E tan φ / (R_E + h) + r``:
+with ``r = 0`` the vehicle flies along a geodesic of the ellipsoid ("great circle").
+
+Latitude, longitude, height and course are integrated with an adaptive 8th-order
+Runge–Kutta method at a relative tolerance of 1e-13 (:func:`scipy.integrate.solve_ivp`,
+DOP853 with dense output), then at every step time and step midpoint of the run the
+exact rigid-body kinematics give the true body rate and specific force:
+
+* ``ω_ib^b = ω_nb^b + C_n^b ω_in^n``, with ``ω_nb^b`` from the Euler-angle rates and
+  ``ω_in^n = ω_ie^n + ω_en^n`` (Earth rate plus transport rate);
+* ``f^b = C_n^b (v̇^n + (2 ω_ie^n + ω_en^n) × v^n − (0, 0, γ(φ, h)))``,
+
+with the radii of curvature and the normal gravity of :mod:`ins_errors.models.earth`
+and the parameters of the model (so the true motion is an exact solution of the model's
+ideal-work equations up to the integration tolerance). The height reference of the
+vertical damping loop is the true height.
+
+Example
+-------
+>>> import numpy as np
+>>> from ins_errors import load_model
+>>> from ins_errors.numeric import strapdown_truth as st
+>>> model = load_model("strapdown_ned")
+>>> flight = st.great_circle(np.radians(50), np.radians(30), np.radians(60), 250.0)
+>>> traj = st.trajectory(model, flight, duration=600.0, tau=0.01)
+>>> traj.inputs.shape
+(7, 60001)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from ins_errors.errors import DomainError
+from ins_errors.models.earth import normal_gravity, radii_of_curvature
+from ins_errors.numeric.integrators import StepError, step_count
+from ins_errors.numeric.model import Model
+from ins_errors.numeric.trajectories import Leg, MotionError, Trajectory
+
+MODEL = "strapdown_ned"
+"""The model whose inputs this module generates."""
+
+BANK_GRAVITY = 9.80665
+"""g₀ of the coordinated-bank rule roll = atan(V r / g₀), m/s² (a choice of the flight)."""
+
+_CHUNK = 1_000_000
+MAX_STEPS = 20_000_000
+"""Longest run (steps) sampled: 24 h at 100 Hz is 8.64 million."""
+
+
+@dataclass
+class Flight:
+    """A planned flight for a strapdown INS.
+
+    Attributes
+    ----------
+    latitude, longitude, height : float
+        Start point (rad, rad, m).
+    course : float
+        Initial course (= heading), rad from north towards east.
+    commands : callable
+        ``commands(t) -> (V, dV, r, dr, v_D, dv_D)``, each shape (T,): horizontal ground
+        speed (m/s) and its rate, commanded turn rate (rad/s, positive to the right)
+        and its rate, down velocity (m/s) and its rate.
+    description : str
+        One line for reports.
+    static : bool
+        True for a vehicle at rest (constant inputs).
+    roll, pitch : float
+        Attitude of a vehicle at rest, rad (moving flights follow the flight path).
+    """
+
+    latitude: float
+    longitude: float
+    height: float
+    course: float
+    commands: Callable[[np.ndarray], tuple[np.ndarray, ...]]
+    description: str
+    static: bool = False
+    roll: float = 0.0
+    pitch: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("latitude", "longitude", "height", "course", "roll", "pitch"):
+            value = getattr(self, name)
+            if not np.isfinite(value):
+                raise MotionError(f"flight {name} must be finite, got {value}")
+        if abs(self.latitude) >= np.pi / 2:
+            raise MotionError(f"flight latitude {np.degrees(self.latitude):g}° is at or beyond "
+                              "a pole: longitude is undefined there")
+        if abs(self.pitch) >= np.pi / 2:
+            raise MotionError(f"pitch {np.degrees(self.pitch):g}° is at or beyond ±90°: roll "
+                              "and heading are undefined there")
+
+
+def static(latitude: float, longitude: float = 0.0, height: float = 0.0, roll: float = 0.0,
+           pitch: float = 0.0, heading: float = 0.0) -> Flight:
+    """A vehicle at rest at (φ, λ, h) with the given attitude (rad)."""
+
+    def commands(t: np.ndarray):
+        zero = np.zeros(t.shape)
+        return zero, zero, zero, zero, zero, zero
+
+    return Flight(latitude, longitude, height, heading, commands,
+                  f"static base at φ={np.degrees(latitude):.4g}°, λ={np.degrees(longitude):.4g}°,"
+                  f" h={height:g} m, roll/pitch/heading = {np.degrees(roll):.3g}°/"
+                  f"{np.degrees(pitch):.3g}°/{np.degrees(heading):.4g}°",
+                  static=True, roll=roll, pitch=pitch)
+
+
+def great_circle(latitude: float, longitude: float, course: float, speed: float,
+                 height: float = 0.0) -> Flight:
+    """Level flight along a geodesic at constant ground speed (m/s) and height (m)."""
+    if not np.isfinite(speed) or speed <= 0:
+        raise MotionError(f"great-circle speed must be a positive number of m/s, got {speed}")
+
+    def commands(t: np.ndarray):
+        zero = np.zeros(t.shape)
+        return np.full(t.shape, float(speed)), zero, zero, zero, zero, zero
+
+    return Flight(latitude, longitude, height, course, commands,
+                  f"great circle from φ={np.degrees(latitude):.4g}°, "
+                  f"λ={np.degrees(longitude):.4g}°, course {np.degrees(course):.4g}°, "
+                  f"{speed:g} m/s, h={height:g} m")
+
+
+def _ramp(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """C² ramp 0 → 1 on [0, 1] (10θ³ − 15θ⁴ + 6θ⁵) with its first two derivatives."""
+    t = np.clip(theta, 0.0, 1.0)
+    inside = (theta > 0) & (theta < 1)
+    s = t**3 * (10 - 15 * t + 6 * t**2)
+    ds = np.where(inside, 30 * t**2 * (1 - t) ** 2, 0.0)
+    dds = np.where(inside, 60 * t * (1 - t) * (1 - 2 * t), 0.0)
+    return s, ds, dds
+
+
+def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
+              legs: Sequence[Leg], height: float = 0.0) -> Flight:
+    """A flight of smooth legs: turns (coordinated bank), speed changes, climbs, descents.
+
+    Within each leg the ground speed, the course change (``Leg.turn``, rad, positive to
+    the left as in :class:`~ins_errors.numeric.trajectories.Leg`) and the height move to
+    their end values along a C² ramp, so velocities, attitude and their rates are
+    continuous. After the last leg the flight continues along the geodesic.
+    """
+    if not np.isfinite(speed) or speed <= 0:
+        raise MotionError(f"manoeuvre speed must be a positive number of m/s, got {speed}")
+    starts, t0, v0, h0 = [], 0.0, float(speed), float(height)
+    for leg in legs:
+        if not leg.duration > 0:
+            raise MotionError(f"manoeuvre leg duration must be positive, got {leg.duration}")
+        if not leg.speed > 0:
+            raise MotionError(f"manoeuvre leg speed must be positive, got {leg.speed}")
+        starts.append((t0, float(leg.duration), v0, h0, leg))
+        t0, v0, h0 = t0 + leg.duration, float(leg.speed), float(leg.height)
+
+    def commands(t: np.ndarray):
+        V, dV = np.full(t.shape, float(speed)), np.zeros(t.shape)
+        r, dr = np.zeros(t.shape), np.zeros(t.shape)
+        vD, dvD = np.zeros(t.shape), np.zeros(t.shape)
+        for start, length, vs, hs, leg in starts:
+            s, ds, dds = _ramp((t - start) / length)
+            active = t >= start
+            V = np.where(active, vs + (leg.speed - vs) * s, V)
+            dV = np.where(active, (leg.speed - vs) * ds / length, dV)
+            inside = active & (t < start + length)
+            r = np.where(inside, -leg.turn * ds / length, np.where(active, 0.0, r))
+            dr = np.where(inside, -leg.turn * dds / length**2, np.where(active, 0.0, dr))
+            vD = np.where(inside, -(leg.height - hs) * ds / length, np.where(active, 0.0, vD))
+            dvD = np.where(inside, -(leg.height - hs) * dds / length**2,
+                           np.where(active, 0.0, dvD))
+        return V, dV, r, dr, vD, dvD
+
+    return Flight(latitude, longitude, height, course, commands,
+                  f"manoeuvring flight of {len(legs)} legs from φ={np.degrees(latitude):.4g}°,"
+                  f" λ={np.degrees(longitude):.4g}°")
+
+
+def standard_manoeuvre(latitude: float = np.radians(50.0), longitude: float = np.radians(30.0),
+                       course: float = np.radians(90.0)) -> Flight:
+    """The manoeuvre of the comparisons: take-off speed, climbs, turns and accelerations.
+
+    Fifteen minutes of legs (accelerate 100 → 200 m/s while climbing to 3 km, a 90° left
+    turn, a 180° right turn while accelerating to 250 m/s, a descent to 2 km with a
+    deceleration, a 90° left turn), then geodesic cruise.
+    """
+    legs = [Leg(120.0, 200.0, 0.0, 3000.0), Leg(90.0, 200.0, np.radians(90.0), 3000.0),
+            Leg(180.0, 250.0, np.radians(-180.0), 3000.0), Leg(150.0, 220.0, 0.0, 2000.0),
+            Leg(90.0, 220.0, np.radians(90.0), 2000.0), Leg(270.0, 230.0, 0.0, 2000.0)]
+    return manoeuvre(latitude, longitude, course, 100.0, legs)
+
+
+# --------------------------------------------------------------------------------------
+# Kinematics
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class _Earth:
+    a: float
+    e2: float
+    U: float
+    gamma_e: float
+    k: float
+    m: float
+
+
+def _earth(model: Model, p: np.ndarray) -> _Earth:
+    value = {i.name: float(v) for i, v in zip(model.parameters, p, strict=True)}
+    return _Earth(value["a"], value["e2"], value["U"], value["gamma_e"], value["gravity_k"],
+                  value["gravity_m"])
+
+
+def euler_quaternion(roll, pitch, heading) -> np.ndarray:
+    """Quaternion body → NED (scalar first) of Z-Y-X Euler angles, shape (4, ...)."""
+    cr, sr = np.cos(roll / 2), np.sin(roll / 2)
+    cp, sp_ = np.cos(pitch / 2), np.sin(pitch / 2)
+    cy, sy = np.cos(heading / 2), np.sin(heading / 2)
+    return np.array([cr * cp * cy + sr * sp_ * sy, sr * cp * cy - cr * sp_ * sy,
+                     cr * sp_ * cy + sr * cp * sy, cr * cp * sy - sr * sp_ * cy])
+
+
+def euler_matrix(roll, pitch, heading) -> np.ndarray:
+    """C_b^n of Z-Y-X Euler angles, shape (3, 3, ...)."""
+    cr, sr = np.cos(roll), np.sin(roll)
+    cp, sp_ = np.cos(pitch), np.sin(pitch)
+    cy, sy = np.cos(heading), np.sin(heading)
+    return np.array([
+        [cp * cy, sr * sp_ * cy - cr * sy, cr * sp_ * cy + sr * sy],
+        [cp * sy, sr * sp_ * sy + cr * cy, cr * sp_ * sy - sr * cy],
+        [-sp_, sr * cp, cr * cp]])
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                     a[0] * b[1] - a[1] * b[0]])
+
+
+def _course_rate(earth: _Earth, lat, h, vE, r):
+    _, R_E = radii_of_curvature(lat, earth.a, earth.e2)
+    return vE * np.tan(lat) / (R_E + h) + r
+
+
+def _position_rhs(flight: Flight, earth: _Earth):
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        lat, _lon, h, psi = y
+        V, _dV, r, _dr, vD, _dvD = (float(c[0]) for c in flight.commands(np.array([t])))
+        R_N, R_E = radii_of_curvature(lat, earth.a, earth.e2)
+        vN, vE = V * np.cos(psi), V * np.sin(psi)
+        return np.array([vN / (R_N + h), vE / ((R_E + h) * np.cos(lat)), -vD,
+                         _course_rate(earth, lat, h, vE, r)])
+
+    return rhs
+
+
+def _signals(flight: Flight, earth: _Earth, t: np.ndarray, y: np.ndarray):
+    """True state (10, T), inputs (7, T) and Euler angles (3, T) at times t."""
+    lat, lon, h, psi = y
+    V, dV, r, dr, vD, dvD = flight.commands(t)
+    vN, vE = V * np.cos(psi), V * np.sin(psi)
+    dpsi = _course_rate(earth, lat, h, vE, r)
+    v = np.array([vN, vE, vD])
+    dv = np.array([dV * np.cos(psi) - vE * dpsi, dV * np.sin(psi) + vN * dpsi, dvD])
+    if flight.static:
+        roll, pitch = np.full(t.shape, flight.roll), np.full(t.shape, flight.pitch)
+        droll = dpitch = np.zeros(t.shape)
+    else:
+        bank = V * r / BANK_GRAVITY
+        roll = np.arctan(bank)
+        droll = (dV * r + V * dr) / BANK_GRAVITY / (1 + bank**2)
+        pitch = np.arctan2(-vD, V)
+        dpitch = (-dvD * V + vD * dV) / (V**2 + vD**2)
+    heading = psi
+    R_N, R_E = radii_of_curvature(lat, earth.a, earth.e2)
+    w_ie = np.array([earth.U * np.cos(lat), np.zeros(t.shape), -earth.U * np.sin(lat)])
+    w_en = np.array([vE / (R_E + h), -vN / (R_N + h), -vE * np.tan(lat) / (R_E + h)])
+    C = euler_matrix(roll, pitch, heading)  # C_b^n
+    # body rate relative to NED from the Euler-angle rates
+    cr, sr, cp, sp_ = np.cos(roll), np.sin(roll), np.cos(pitch), np.sin(pitch)
+    w_nb = np.array([droll - dpsi * sp_, dpitch * cr + dpsi * sr * cp,
+                     -dpitch * sr + dpsi * cr * cp])
+    w_in = w_ie + w_en
+    w_ib = w_nb + np.einsum("ji...,j...->i...", C, w_in)
+    gamma = normal_gravity(lat, h, earth.a, earth.e2, earth.gamma_e, earth.k, earth.m)
+    f_n = dv + _cross(2 * w_ie + w_en, v) - np.array([np.zeros(t.shape), np.zeros(t.shape),
+                                                      gamma])
+    f_b = np.einsum("ji...,j...->i...", C, f_n)
+    state = np.vstack([euler_quaternion(roll, pitch, heading), v, lat, lon, h])
+    inputs = np.vstack([w_ib, f_b, h])
+    return state, inputs, np.array([roll, pitch, heading])
+
+
+def trajectory(model: Model, flight: Flight, duration: float, tau: float,
+               p: np.ndarray | None = None) -> Trajectory:
+    """Sample a flight's true state and IMU signals on the grid ``t = k τ``.
+
+    Parameters
+    ----------
+    model : Model
+        The loaded ``strapdown_ned`` model.
+    flight : Flight
+        See :func:`static`, :func:`great_circle`, :func:`manoeuvre`.
+    duration, tau : float
+        Length of the run and step, s (100 Hz: ``tau=0.01``); the duration must be a
+        whole number of steps.
+    p : numpy.ndarray, optional
+        Model parameters (default: the model's, WGS-84).
+
+    Returns
+    -------
+    Trajectory
+        Truth (10, N + 1), inputs at the steps (7, N + 1) and midpoints (7, N); a static
+        base gives one constant column.
+
+    Raises
+    ------
+    MotionError, StepError, DomainError
+        Wrong model, bad grid, or a flight that reaches a pole or pitch ±90°.
+    """
+    if model.name != MODEL:
+        raise MotionError(f"strapdown flights feed the model {MODEL!r}, not {model.name!r}")
+    n_steps = step_count(duration, tau)
+    if n_steps > MAX_STEPS:
+        raise StepError(f"a run of {n_steps:,} steps is longer than {MAX_STEPS:,} steps; "
+                        "use a longer step or a shorter run")
+    p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
+    earth = _earth(model, p)
+    y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
+    if flight.static:
+        state, inputs, euler = _signals(flight, earth, np.zeros(1), y0[:, None])
+        c0 = _initial_conditions(state[:, 0], euler[:, 0])
+        return Trajectory(MODEL, float(tau), n_steps, state, inputs, inputs.copy(), p, c0,
+                          True, flight.description)
+    from scipy.integrate import solve_ivp
+
+    t_end = n_steps * tau
+    solution = solve_ivp(_position_rhs(flight, earth), (0.0, t_end), y0, method="DOP853",
+                         rtol=1e-13, atol=1e-15 * np.array([1, 1, 1e7, 1]), dense_output=True,
+                         max_step=max(tau, min(60.0, t_end / 4 or tau)))
+    if not solution.success:
+        raise DomainError(f"the true flight could not be integrated: {solution.message}")
+    truth = np.empty((10, n_steps + 1))
+    inputs = np.empty((7, n_steps + 1))
+    midpoints = np.empty((7, n_steps))
+    for start in range(0, n_steps + 1, _CHUNK):
+        stop = min(start + _CHUNK, n_steps + 1)
+        t = np.arange(start, stop) * tau
+        state, u, euler = _signals(flight, earth, t, solution.sol(t))
+        if start == 0:
+            c0 = _initial_conditions(state[:, 0], euler[:, 0])
+        truth[:, start:stop], inputs[:, start:stop] = state, u
+        mid_stop = min(stop, n_steps)
+        if mid_stop > start:
+            tm = (np.arange(start, mid_stop) + 0.5) * tau
+            _, midpoints[:, start:mid_stop], _ = _signals(flight, earth, tm, solution.sol(tm))
+    _check(truth, inputs)
+    return Trajectory(MODEL, float(tau), n_steps, truth, inputs, midpoints, p, c0, False,
+                      flight.description)
+
+
+def _initial_conditions(state: np.ndarray, euler: np.ndarray) -> np.ndarray:
+    """c = (latitude, longitude, height, v_N0, v_E0, v_D0, roll, pitch, heading)."""
+    return np.array([state[7], state[8], state[9], state[4], state[5], state[6], *euler])
+
+
+def _check(truth: np.ndarray, inputs: np.ndarray) -> None:
+    bad = ~(np.all(np.isfinite(truth), axis=0) & np.all(np.isfinite(inputs), axis=0))
+    if bad.any():
+        raise DomainError(f"the true flight is NaN or infinite from step {int(np.argmax(bad))}")
+    polar = np.cos(truth[7]) ** 2 <= 1e-12
+    if polar.any():
+        raise DomainError(f"the true flight reaches a pole at step {int(np.argmax(polar))}")

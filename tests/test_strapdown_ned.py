@@ -1,0 +1,201 @@
+"""The NED strapdown model against textbook relations (not against its own output).
+
+Oracles: the Schuler period 84.4 min, the Foucault split 2 U sin φ and the Earth period
+(eigenvalues of F on a static base); an accelerometer bias tilts the computed frame by
+b/g (pitch error oscillating between 0 and 2b/g over a Schuler period, at the equator
+where there is no Foucault rotation); an east gyro drift ε is held in equilibrium by the
+gyrocompassing heading error ε/(U cos φ); an undamped vertical channel grows as
+cosh(t/τ) with τ = √(R/2g). The φ- and ψ-angle forms of Titterton & Weston / Benson are
+recovered by the convention maps, and the modified velocity error of Scherzinger & Reid
+removes the specific force from the velocity-error equation. The true IMU signals solve
+the ideal-work equations; direct and linear runs agree at small errors.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import ins_errors
+from ins_errors.models import strapdown_conventions as sc
+from ins_errors.numeric import strapdown_truth as st
+from ins_errors.numeric.compare import compare
+from ins_errors.numeric.integrators import integrate
+from ins_errors.numeric.simulate import simulate
+
+U = 7.292115e-5
+G0 = 9.80665
+R0 = 6_371_000.0  # mean Earth radius of the textbook relations, m
+DEG_H = np.radians(1.0) / 3600.0
+
+
+@pytest.fixture(scope="module")
+def model():
+    return ins_errors.load_model("strapdown_ned")
+
+
+def static_point(model, lat, heading=0.0):
+    p = model.parameter_vector()
+    trajectory = st.trajectory(model, st.static(lat, heading=heading), 1.0, 1.0)
+    return trajectory.truth[:, 0], trajectory.inputs[:, 0], p
+
+
+def test_static_base_periods_are_the_textbook_ones(model):
+    lat = np.radians(45.0)
+    x, u, p = static_point(model, lat)
+    assert np.abs(model.ideal_rhs(x, u, p)).max() < 1e-12  # at rest
+    eig = np.linalg.eigvals(model.state_matrix(x, u, p))
+    oscillating = np.sort(eig.imag[eig.imag > 1e-9])
+    earth, slow, fast = oscillating
+    assert earth == pytest.approx(U, rel=1e-6)  # the Earth (24 h) mode
+    schuler = (slow + fast) / 2
+    assert 2 * np.pi / schuler / 60 == pytest.approx(84.4, rel=5e-3)
+    assert fast - slow == pytest.approx(2 * U * np.sin(lat), rel=1e-2)  # Foucault split
+    growing = eig.real.max()
+    assert growing == pytest.approx(np.sqrt(2 * G0 / R0), rel=1e-2)  # vertical channel
+
+
+def test_true_imu_signals_solve_the_ideal_equations(model):
+    flight = st.manoeuvre(np.radians(50), np.radians(30), np.radians(90), 150.0, [
+        st.Leg(40.0, 200.0, np.radians(60.0), 500.0), st.Leg(40.0, 180.0, np.radians(-90.0))])
+    traj = st.trajectory(model, flight, 120.0, 0.05)
+    p = traj.parameters
+    inputs, mid = traj.full_inputs()
+    z = integrate(lambda s, v: model.numpy.ideal_rhs(s, v, p), traj.truth[:, 0], inputs,
+                  traj.tau, "rk4", mid, record_every=40)
+    truth = traj.truth[:, ::40]
+    assert np.abs(z[:4] - truth[:4]).max() < 1e-9  # quaternion
+    assert np.abs(z[4:7] - truth[4:7]).max() < 1e-6  # m/s
+    assert np.abs(z[9] - truth[9]).max() < 1e-5  # m
+    # the manoeuvre really manoeuvres: bank, climb and turn rates in the body signals
+    assert np.abs(traj.inputs[2]).max() > 0.02 and np.abs(traj.inputs[5] + G0).max() > 1.0
+
+
+def damped_parameters(model, period=600.0, damping=0.7):
+    """Parameters with the vertical loop of natural frequency 2π/period and the damping."""
+    w0 = 2 * np.pi / period
+    return model.parameter_vector(k_h1=2 * damping * w0, k_h2=w0**2 + 2 * G0 / R0)
+
+
+def test_accelerometer_bias_tilts_by_b_over_g(model):
+    b = 100e-6 * G0
+    traj = st.trajectory(model, st.static(0.0), 5100.0, 1.0)
+    sim = simulate(model, traj, {"accel_bias_x": b}, method="rk4", parts=("real",),
+                   record_interval=10.0)
+    pitch = sim.direct_errors()["delta_pitch"][:, 0]
+    # the computed frame levels on the apparent gravity: pitch error (b/g)(1 − cos ω_s t)
+    assert np.abs(pitch).max() == pytest.approx(2 * b / G0, rel=1e-2)
+    assert np.abs(pitch[: 5064 // 10]).mean() == pytest.approx(b / G0, rel=2e-2)
+
+
+def test_gyrocompass_heading_error_balances_an_east_drift(model):
+    lat, eps = np.radians(45.0), 0.01 * DEG_H
+    # damped vertical channel: the undamped one amplifies second-order terms by e^12.6
+    traj = st.trajectory(model, st.static(lat), 7200.0, 2.0, p=damped_parameters(model))
+    heading_error = eps / (U * np.cos(lat))
+    cases = [{"gyro_bias_y": eps, "initial_heading_error": -heading_error},
+             {"gyro_bias_y": eps}, {"gyro_bias_y": eps, "initial_heading_error": heading_error}]
+    errors = simulate(model, traj, cases, method="rk4", parts=("real",),
+                      record_interval=60.0).direct_errors()
+    speed = np.hypot(errors["delta_v_N"], errors["delta_v_E"]).max(axis=0)
+    assert speed[0] < 1e-3 * speed[1]  # equilibrium: no velocity error grows
+    assert speed[2] > speed[1]  # the other sign doubles the effective drift
+
+
+def test_vertical_channel_diverges_with_time_constant(model):
+    lat = np.radians(45.0)
+    traj = st.trajectory(model, st.static(lat), 1200.0, 1.0)
+    height = simulate(model, traj, {"initial_position_error_D": -1.0}, method="rk4",
+                      parts=("real",), record_interval=100.0).direct_errors()["delta_height"][:, 0]
+    t = np.arange(height.size) * 100.0
+    tau_v = np.sqrt(R0 / (2 * G0))
+    np.testing.assert_allclose(height, np.cosh(t / tau_v), rtol=2e-2)
+    # a damping loop of natural frequency w0 and damping 0.7 holds it
+    damped = st.trajectory(model, st.static(lat), 1200.0, 1.0,
+                           p=damped_parameters(model, period=300.0))
+    held = simulate(model, damped, {"initial_position_error_D": -1.0}, method="rk4",
+                    parts=("real",), record_interval=100.0).direct_errors()["delta_height"]
+    assert np.abs(held[-1]).max() < 0.05
+
+
+def test_phi_and_psi_conventions_are_the_textbook_forms(model):
+    lat = np.radians(45.0)
+    x, u, p = static_point(model, lat)
+    F, G = sc.convention_matrices(model, "phi", x, u, p)
+    names = sc.state_names("phi")
+    i = {n: k for k, n in enumerate(names)}
+    att = [i["phi_N"], i["phi_E"], i["phi_D"]]
+    Om = np.array([U * np.cos(lat), 0.0, -U * np.sin(lat)])
+    skew = np.array([[0, -Om[2], Om[1]], [Om[2], 0, -Om[0]], [-Om[1], Om[0], 0]])
+    np.testing.assert_allclose(F[np.ix_(att, att)], -skew, atol=1e-12)  # φ̇ = −Ω × φ ...
+    gyro = [model.index("sources", f"gyro_bias_{a}") for a in "xyz"]
+    np.testing.assert_allclose(G[np.ix_(att, gyro)], -np.eye(3), atol=1e-12)  # ... − C ε
+    g = -u[5]
+    assert F[i["dv_N"], i["phi_E"]] == pytest.approx(g) and F[i["dv_E"], i["phi_N"]] == \
+        pytest.approx(-g)  # δv̇ = f × φ with f = (0, 0, −g)
+    assert F[i["dv_D"], i["dr_D"]] == pytest.approx(2 * G0 / R0, rel=1e-2)
+    # ψ-angle: the attitude error equation is free of velocity and position errors, on a
+    # moving and turning vehicle too (Benson 1975)
+    flight = st.manoeuvre(np.radians(50), 0.0, 0.3, 200.0, [st.Leg(60.0, 220.0, 1.0, 300.0)])
+    traj = st.trajectory(model, flight, 60.0, 1.0)
+    xm, um = traj.truth[:, 30], traj.inputs[:, 30]
+    Fp, _ = sc.convention_matrices(model, "psi", xm, um, traj.parameters)
+    Ff, _ = sc.convention_matrices(model, "phi", xm, um, traj.parameters)
+    assert np.abs(Fp[:3, 3:]).max() < 1e-15
+    assert np.abs(Ff[:3, 3:]).max() > 1e-8  # the φ form is coupled
+    assert np.abs(Fp[:3, :3]).max() < 1e-3
+
+
+def test_modified_velocity_error_removes_the_specific_force(model):
+    flight = st.great_circle(np.radians(40), 0.0, 0.5, 250.0, 1000.0)
+    traj = st.trajectory(model, flight, 10.0, 1.0)
+    x, u, p = traj.truth[:, 5], traj.inputs[:, 5].copy(), traj.parameters
+    pushed = u.copy()
+    pushed[3:6] += [3.0, -2.0, 4.0]  # a different specific force at the same state
+    blocks = {}
+    for name, vel in (("phi", "dv"), ("phi_modified", "du")):
+        rows = [sc.state_names(name).index(f"{vel}_{c}") for c in "NED"]
+        A = [sc.convention_matrices(model, name, x, v, p)[0][np.ix_(rows, range(3))]
+             for v in (u, pushed)]
+        blocks[name] = A[1] - A[0]
+    C = st.euler_matrix(*_euler(x))
+    df = C @ np.array([3.0, -2.0, 4.0])
+    f_cross = np.array([[0, -df[2], df[1]], [df[2], 0, -df[0]], [-df[1], df[0], 0]])
+    np.testing.assert_allclose(blocks["phi"], f_cross, atol=1e-9)  # δv̇ ∋ f × φ
+    assert np.abs(blocks["phi_modified"]).max() < 1e-9  # δu̇ has no f (rounding: 1e-11)
+
+
+def _euler(x):
+    q0, q1, q2, q3 = x[:4]
+    roll = np.arctan2(2 * (q2 * q3 + q0 * q1), q0**2 - q1**2 - q2**2 + q3**2)
+    pitch = np.arcsin(-2 * (q1 * q3 - q0 * q2))
+    heading = np.arctan2(2 * (q1 * q2 + q0 * q3), q0**2 + q1**2 - q2**2 - q3**2)
+    return roll, pitch, heading
+
+
+SMALL = {"gyro_bias_x": 0.001 * DEG_H, "gyro_bias_y": -0.0008 * DEG_H,
+         "gyro_bias_z": 0.0005 * DEG_H, "accel_bias_x": 5e-6 * G0, "accel_bias_y": -4e-6 * G0,
+         "gyro_scale_error_z": 5e-6, "accel_scale_error_x": 10e-6,
+         "gyro_misalignment_xy": np.radians(0.5 / 3600), "initial_roll_error": np.radians(2 / 3600),
+         "initial_heading_error": np.radians(0.2 / 60), "initial_velocity_error_N": 0.005,
+         "initial_position_error_E": 0.5}
+
+
+def test_direct_and_linear_agree_at_small_errors_on_a_manoeuvre(model):
+    traj = st.trajectory(model, st.standard_manoeuvre(), 900.0, 0.1,
+                         p=damped_parameters(model))
+    [c] = compare(model, traj, [SMALL], method="rk4", record_interval=30.0)
+    assert c.worst_linear.linear_ratio < 1e-3
+    assert c.worst_refined.refined_ratio < 1e-5
+    assert len(c.excited) == 9
+
+
+def test_bad_flights_are_one_line_errors(model):
+    with pytest.raises(ins_errors.InsErrorsError, match="pole"):
+        st.static(np.radians(90.0))
+    with pytest.raises(ins_errors.InsErrorsError, match="speed"):
+        st.great_circle(0.5, 0.0, 0.0, -5.0)
+    with pytest.raises(ins_errors.InsErrorsError, match="whole number of steps"):
+        st.trajectory(model, st.static(0.5), 10.0, 0.3)
+    with pytest.raises(ins_errors.InsErrorsError, match="convention"):
+        sc.convention("phy")
