@@ -19,6 +19,7 @@ COMMAND_MODULES = (
     "ins_errors.commands.run",
     "ins_errors.commands.compare",
     "ins_errors.commands.budget",
+    "ins_errors.commands.sweep",
     "ins_errors.commands.check",
     "ins_errors.commands.study",
     "ins_errors.commands.propagation",

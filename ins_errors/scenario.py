@@ -47,7 +47,7 @@ if sys.version_info >= (3, 11):
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
-_TOP_KEYS = {"title", "description", "model", "motion", "run", "case", "outputs"}
+_TOP_KEYS = {"title", "description", "model", "motion", "run", "case", "outputs", "sweep"}
 _RUN_KEYS = {"duration", "step", "record", "method", "refined", "ellipsoid", "platform"}
 _OUTPUT_KEYS = {"quantities"}
 
@@ -92,6 +92,9 @@ class Scenario:
         Quantities to show; ``None`` for every excited one.
     base : Path
         Folder of the scenario file (relative paths are taken from here).
+    sweep : SweepSpec or None
+        The ``[sweep]`` table (:mod:`ins_errors.analysis.sweep`), run by
+        ``ins-errors sweep``; ``ins-errors run`` runs the scenario without it.
     """
 
     title: str
@@ -108,6 +111,7 @@ class Scenario:
     quantities: list[str] | None = None
     description: str = ""
     base: Path = Path(".")
+    sweep: Any = None  # ins_errors.analysis.sweep.SweepSpec of a [sweep] table
 
 
 def _check_keys(table: Mapping[str, Any], allowed: set[str], where: str) -> None:
@@ -192,6 +196,11 @@ def load_scenario(path: str | Path) -> Scenario:
     if not isinstance(refined, bool):
         raise ScenarioError(f"{path.name}: [run] refined must be true or false, "
                             f"got {refined!r}")
+    sweep = None
+    if "sweep" in data:
+        from ins_errors.analysis.sweep import parse_sweep
+
+        sweep = parse_sweep(data["sweep"], model, path.name)
     return Scenario(
         title=str(data.get("title", path.stem)),
         description=str(data.get("description", "")),
@@ -207,6 +216,7 @@ def load_scenario(path: str | Path) -> Scenario:
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
         base=path.parent,
+        sweep=sweep,
     )
 
 

@@ -7,8 +7,9 @@
   the substep), batched over runs;
 * :func:`direct_monte_carlo` samples the random constants and runs the model's
   real-work and ideal-work equations side by side (direct modelling, compiled CasADi
-  loops from :mod:`ins_errors.numeric.simulate`), in batches spread over worker
-  processes, with a progress bar.
+  loops from :mod:`ins_errors.numeric.simulate`), in tasks of a few draws each, run on
+  Dask, a local process pool or this process (:mod:`ins_errors.analysis.engine`), every
+  draw seeded on its own (:func:`draw_generator`).
 
 With N runs of a zero-mean Gaussian quantity of standard deviation σ, the sample RMS has
 relative standard error ≈ 1/sqrt(2N) (e.g. 2.2 % for N = 1000); :func:`sampling_error`
@@ -17,9 +18,7 @@ returns it.
 
 from __future__ import annotations
 
-import os
 from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
 
 import numpy as np
@@ -203,11 +202,58 @@ def _direct_batch(model_name: str, trajectory, w: np.ndarray, method: str,
     return errors.times, errors.values, tuple(errors.names)
 
 
+def draw_generator(seed: int, draw: int) -> np.random.Generator:
+    """The random generator of draw number ``draw`` of a run seeded with ``seed``.
+
+    Every draw has its own stream (``SeedSequence(seed, spawn_key=(draw,))``), so a draw's
+    values do not depend on how draws are grouped into tasks or on which worker runs them.
+    """
+    return np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(draw,)))
+
+
+def sample_draws(sources: Sequence[SourceStatistics], source_names: Sequence[str],
+                 seed: int, draws: range | Sequence[int]) -> np.ndarray:
+    """Gaussian random constants of the given draws, zero elsewhere, shape (nw, len(draws)).
+
+    Draw ``k`` takes one normal value per random constant, in the order of ``sources``,
+    from :func:`draw_generator` ``(seed, k)``.
+    """
+    draws = list(draws)
+    w = np.zeros((len(source_names), len(draws)))
+    rows = [(list(source_names).index(s.name), s.sigma) for s in sources
+            if s.kind == "constant"]
+    for column, draw in enumerate(draws):
+        rng = draw_generator(seed, draw)
+        for row, sigma in rows:
+            w[row, column] = rng.normal(0.0, sigma)
+    return w
+
+
+def _direct_block(model_name: str, trajectory, sources: tuple, seed: int, start: int,
+                  stop: int, method: str, record_interval: float
+                  ) -> tuple[np.ndarray, np.ndarray, tuple[str, ...], np.ndarray]:
+    """One task: draws ``start..stop-1`` sampled and run directly."""
+    from ins_errors.numeric.model import load_model
+
+    names = [i.name for i in load_model(model_name).sources]
+    w = sample_draws(sources, names, seed, range(start, stop))
+    times, values, quantities = _direct_batch(model_name, trajectory, w, method,
+                                              record_interval)
+    return times, values, quantities, w
+
+
 def direct_monte_carlo(model, trajectory, sources: Sequence[SourceStatistics], runs: int,
                        seed: int = 0, method: str = "euler",
                        record_interval: float | None = None, batch: int = 50,
-                       workers: int | None = None, progress: bool = True) -> DirectErrors:
+                       workers: int | None = None, progress: bool = True,
+                       engine: str = "auto", scheduler: str | None = None) -> DirectErrors:
     """Direct runs (real − ideal work) with sampled random constants.
+
+    The runs are split into tasks of ``batch`` draws, run by
+    :func:`ins_errors.analysis.engine.run_tasks` (a Dask cluster, a local process pool or
+    this process). Draw ``k`` is sampled from its own generator
+    (:func:`draw_generator`), so the samples depend on ``seed`` only; with the same
+    ``batch`` the results are bit-identical on every engine.
 
     Parameters
     ----------
@@ -220,65 +266,51 @@ def direct_monte_carlo(model, trajectory, sources: Sequence[SourceStatistics], r
     runs : int
         Number of runs.
     seed : int
-        Random seed (the samples do not depend on ``batch`` or ``workers``).
+        Random seed.
     method : {"euler", "rk4"}
         Scheme (``"euler"``: the manual's rectangle method).
     record_interval : float, optional
         s between recorded samples (default: 60 s or the run length if shorter).
     batch : int
-        Runs per compiled batch.
+        Runs per task (one compiled batch).
     workers : int, optional
-        Worker processes (default: the number of CPUs);
-        1 runs in this process.
+        Workers of a local cluster or pool (default: the number of CPUs); 1 runs in this
+        process.
     progress : bool
-        Show a progress bar over runs.
+        Show a progress bar over tasks.
+    engine : {"auto", "dask", "pool", "serial"}
+        Where the tasks run (see :mod:`ins_errors.analysis.engine`).
+    scheduler : str, optional
+        Address of a running Dask scheduler (default: a local cluster).
     """
+    from ins_errors.analysis.engine import run_tasks
+
     _check_runs(runs)
     noisy = [s.name for s in sources if s.kind != "constant"]
     if noisy:
         raise MonteCarloError(f"direct runs take random constants only; noise sources: "
                               f"{', '.join(noisy)}")
+    if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
+        raise MonteCarloError(f"batch must be a positive integer, got {batch!r}")
     if record_interval is None:
         record_interval = min(60.0, trajectory.duration)
-    names = [i.name for i in model.sources]
-    w = sample_constants(sources, names, runs, np.random.default_rng(seed))
-    batches = [w[:, i:i + batch] for i in range(0, runs, batch)]
-    workers = max(1, min(workers or os.cpu_count() or 1, len(batches)))
-    bar = None
-    if progress:
-        from tqdm import tqdm
+    statistics = tuple(sources)
+    blocks = [(k, min(k + batch, runs)) for k in range(0, runs, batch)]
+    # the first block here: compiles (or loads) the loop once and checks the request
+    results: list = [None] * len(blocks)
+    results[0] = _direct_block(model.name, trajectory, statistics, seed, *blocks[0], method,
+                               record_interval)
+    rest = [(*block, method, record_interval) for block in blocks[1:]]
+    if workers == 1 and scheduler is None and engine == "auto":
+        engine = "serial"
 
-        bar = tqdm(total=runs, unit="run", desc="direct Monte Carlo", leave=False)
-    results: list = [None] * len(batches)
-    try:
-        # compile (or load from the cache) once here, then run
-        first = _direct_batch(model.name, trajectory, batches[0], method, record_interval)
-        results[0] = first
-        if bar is not None:
-            bar.update(batches[0].shape[1])
-        if workers == 1 or len(batches) == 1:
-            for i, wb in enumerate(batches[1:], start=1):
-                results[i] = _direct_batch(model.name, trajectory, wb, method,
-                                           record_interval)
-                if bar is not None:
-                    bar.update(wb.shape[1])
-        else:
-            import multiprocessing
+    def keep(k: int, result) -> None:
+        results[k + 1] = result
 
-            # fork: no re-import of the caller's __main__, compiled code shared
-            methods = multiprocessing.get_all_start_methods()
-            context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-            with ProcessPoolExecutor(workers, mp_context=context) as pool:
-                futures = {pool.submit(_direct_batch, model.name, trajectory, wb, method,
-                                       record_interval): i
-                           for i, wb in enumerate(batches[1:], start=1)}
-                for future in as_completed(futures):
-                    results[futures[future]] = future.result()
-                    if bar is not None:
-                        bar.update(batches[futures[future]].shape[1])
-    finally:
-        if bar is not None:
-            bar.close()
-    times, _, quantity_names = results[0]
+    run_tasks(_direct_block, rest, engine=engine if rest else "serial", scheduler=scheduler,
+              workers=workers, shared=(model.name, trajectory, statistics, seed),
+              on_result=keep, progress=progress, label="direct Monte Carlo")
+    times, _, quantity_names, _ = results[0]
     values = np.concatenate([r[1] for r in results], axis=-1)
+    w = np.concatenate([r[3] for r in results], axis=-1)
     return DirectErrors(times, quantity_names, values, w)

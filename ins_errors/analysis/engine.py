@@ -1,0 +1,235 @@
+"""Where independent tasks run: a Dask cluster, a local process pool or this process.
+
+Monte Carlo batches, validity maps and sweep grid points are *tasks*: pure functions of
+their arguments (random draws are seeded per draw, never per worker), so a task gives
+the same bits wherever it runs. :func:`run_tasks` hands them to
+
+* ``"dask"``: a ``dask.distributed`` cluster, either an existing one (``scheduler =
+  "tcp://HOST:8786"``) or a local cluster of this machine's cores started for the call
+  (one single-threaded worker process per core, listening on 127.0.0.1 only). A worker
+  that dies takes its running tasks with it; the scheduler gives them to another worker;
+* ``"pool"``: a :class:`concurrent.futures.ProcessPoolExecutor` on this machine (what runs
+  when Dask is not installed);
+* ``"serial"``: this process, one task after the other;
+
+and calls ``on_result(index, result)`` in the calling process as each task finishes (in
+completion order), which is where results are streamed to a store.
+
+Dask is the optional extra ``ins-errors[distributed]``; :data:`INSTALL_HINT` says how to
+install it.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+from ins_errors.errors import InsErrorsError, unknown_name
+
+ENGINES = ("auto", "dask", "pool", "serial")
+"""Engine names :func:`run_tasks` accepts (``"auto"``: Dask if installed, else the pool)."""
+
+INSTALL_HINT = "pip install 'ins-errors[distributed]'"
+"""How to install the Dask engine."""
+
+
+class EngineError(InsErrorsError):
+    """Tasks that cannot be run: no Dask, an unreachable scheduler, a task lost for good."""
+
+
+@dataclass
+class EngineStats:
+    """What a :func:`run_tasks` call did.
+
+    Attributes
+    ----------
+    engine : str
+        ``"dask"``, ``"pool"`` or ``"serial"``.
+    workers : int
+        Workers the tasks were spread over (1 for serial).
+    computed : int
+        Tasks that ran to completion and were reported.
+    where : str
+        Human description (scheduler address, pool size).
+    """
+
+    engine: str
+    workers: int
+    computed: int = 0
+    where: str = ""
+
+
+def dask_available() -> bool:
+    """True when ``dask.distributed`` can be imported."""
+    try:
+        import distributed  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def choose_engine(engine: str = "auto", scheduler: str | None = None) -> str:
+    """Resolve ``"auto"`` and check that the chosen engine can run here.
+
+    Raises
+    ------
+    EngineError
+        A scheduler address or ``"dask"`` without Dask installed, or a scheduler address
+        together with a non-Dask engine.
+    """
+    if engine not in ENGINES:
+        raise unknown_name("engine", engine, ENGINES)
+    if scheduler is not None:
+        if engine not in ("auto", "dask"):
+            raise EngineError(f"a scheduler address ({scheduler}) needs the dask engine, "
+                              f"not {engine!r}")
+        engine = "dask"
+    if engine == "dask" and not dask_available():
+        raise EngineError(f"the dask engine needs Dask: {INSTALL_HINT}")
+    if engine == "auto":
+        if dask_available():
+            return "dask"
+        print(f"ins-errors: Dask is not installed, running on a local process pool "
+              f"(for Dask and clusters: {INSTALL_HINT})", file=sys.stderr)
+        return "pool"
+    return engine
+
+
+def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
+              engine: str = "auto", scheduler: str | None = None,
+              workers: int | None = None, shared: tuple = (),
+              on_result: Callable[[int, Any], None] | None = None,
+              progress: bool = False, label: str = "tasks") -> EngineStats:
+    """Run ``function(*shared, *task)`` for every task and report results as they finish.
+
+    Parameters
+    ----------
+    function : callable
+        A module-level function (workers import it by name).
+    tasks : sequence of tuple
+        Arguments of each task; task ``k`` is reported as index ``k``.
+    engine : {"auto", "dask", "pool", "serial"}
+    scheduler : str, optional
+        Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"``; default: a
+        local cluster started (and shut down) by this call.
+    workers : int, optional
+        Workers of a local cluster or pool (default: this machine's cores).
+    shared : tuple
+        Leading arguments common to every task (sent to each Dask worker once).
+    on_result : callable, optional
+        ``on_result(k, result)``, called in this process as each task finishes.
+    progress : bool
+        Show a progress bar over tasks.
+    label : str
+        Name of the tasks in the progress bar.
+
+    Returns
+    -------
+    EngineStats
+
+    Raises
+    ------
+    EngineError
+        See :func:`choose_engine`; also when the scheduler cannot be reached or a task
+        killed its workers repeatedly.
+    """
+    engine = choose_engine(engine, scheduler)
+    cores = os.cpu_count() or 1
+    workers = max(1, workers or cores)
+    report = on_result or (lambda k, r: None)
+    bar = None
+    if progress and tasks:
+        from tqdm import tqdm
+
+        bar = tqdm(total=len(tasks), unit="task", desc=label, leave=False)
+
+    def done(k: int, result: Any) -> None:
+        report(k, result)
+        stats.computed += 1
+        if bar is not None:
+            bar.update(1)
+
+    try:
+        if engine == "serial" or not tasks:
+            stats = EngineStats("serial", 1, where="this process")
+            for k, task in enumerate(tasks):
+                done(k, function(*shared, *task))
+        elif engine == "pool":
+            stats = EngineStats("pool", min(workers, len(tasks)),
+                                where=f"local process pool of {min(workers, len(tasks))}")
+            _run_pool(function, tasks, shared, stats.workers, done)
+        else:
+            stats = EngineStats("dask", 0)
+            _run_dask(function, tasks, shared, scheduler, workers, stats, done)
+    finally:
+        if bar is not None:
+            bar.close()
+    return stats
+
+
+def _run_pool(function, tasks, shared, workers, done) -> None:
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    # fork: no re-import of the caller's __main__, loaded models and compiled code shared
+    methods = multiprocessing.get_all_start_methods()
+    context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    with ProcessPoolExecutor(workers, mp_context=context) as pool:
+        futures = {pool.submit(function, *shared, *task): k for k, task in enumerate(tasks)}
+        try:
+            for future in as_completed(futures):
+                done(futures[future], future.result())
+        except BaseException:
+            for future in futures:
+                future.cancel()
+            raise
+
+
+def _run_dask(function, tasks, shared, scheduler, workers, stats, done) -> None:
+    import logging
+
+    from distributed import Client, LocalCluster, as_completed
+    from distributed.scheduler import KilledWorker
+
+    cluster = None
+    try:
+        if scheduler is None:
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   host="127.0.0.1", dashboard_address=None,
+                                   silence_logs=logging.ERROR)
+            client = Client(cluster)
+            stats.where = f"local Dask cluster of {workers} worker(s)"
+        else:
+            try:
+                client = Client(scheduler, timeout="10s")
+            except (OSError, TimeoutError, ValueError) as error:
+                raise EngineError(f"cannot reach the Dask scheduler at {scheduler}: "
+                                  f"{str(error).splitlines()[0] if str(error) else error!r}"
+                                  ) from None
+            stats.where = f"Dask scheduler {scheduler}"
+        try:
+            stats.workers = len(client.scheduler_info().get("workers", {}))
+            common = [client.scatter(item, broadcast=True) for item in shared]
+            futures = [client.submit(function, *common, *task, pure=False)
+                       for task in tasks]
+            index = {future.key: k for k, future in enumerate(futures)}
+            try:
+                for future in as_completed(futures):
+                    try:
+                        result = future.result()
+                    except KilledWorker as error:
+                        raise EngineError(f"a task kept killing its Dask workers: {error}"
+                                          ) from None
+                    done(index[future.key], result)
+                    future.release()
+            except BaseException:
+                client.cancel(futures)
+                raise
+        finally:
+            client.close()
+    finally:
+        if cluster is not None:
+            cluster.close()

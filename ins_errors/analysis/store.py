@@ -1,0 +1,235 @@
+"""The labelled result store of a sweep: an xarray dataset in Zarr, filled as tasks finish.
+
+Layout (dimensions ``point``, ``time``, ``quantity``, ``source``; SI values, units as
+attributes)::
+
+    direct, linear[, refined]   (point, time, quantity)  error curves
+    max_direct                  (point, quantity)        max |direct error|
+    linear_ratio[, refined_ratio] (point, quantity)      max |linear − direct| / max |direct|
+    excited                     (point, quantity)        1 where the ratio is meaningful
+    source_value                (point, source)          error sources the point ran with
+    done                        (point)                  1 once the point is written
+    coordinates                 time (s), quantity and its unit, source and its unit,
+                                every swept parameter per point (with its unit), case, draw
+
+Each point is its own chunk, written by the calling process only (one writer), data
+first and ``done`` last: a point whose write was interrupted is not marked done and runs
+again. Opening an existing store checks that it was made by the same sweep (a
+fingerprint of everything that determines the numbers) and returns which points are
+done, so a restarted sweep computes only the rest. A store named ``*.nc`` is filled as
+``*.nc.partial.zarr`` and converted to NetCDF (scipy's writer, no extra package) once
+complete.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.errors import InsErrorsError
+
+STORE_HINT = "pip install 'ins-errors[distributed]'"
+"""How to install the store's libraries (xarray, zarr)."""
+
+
+class StoreError(InsErrorsError):
+    """A store that cannot be used for this sweep."""
+
+
+def _libraries():
+    try:
+        import xarray
+        import zarr
+    except ImportError as error:
+        raise StoreError(f"sweep stores need xarray and zarr ({error.name} is missing): "
+                         f"{STORE_HINT}") from None
+    return xarray, zarr
+
+
+@dataclass(frozen=True)
+class Layout:
+    """Shape and labels of a store.
+
+    Attributes
+    ----------
+    points : int
+        Number of grid points.
+    times : numpy.ndarray, shape (nt,)
+        Recorded times, s (the longest run; shorter runs are NaN after their end).
+    quantities, quantity_units : tuple of str
+        Error quantities and their SI units.
+    sources, source_units : tuple of str
+        Error sources and their SI units.
+    coordinates : dict of str to (numpy.ndarray, dict)
+        Per-point coordinates (shape (points,)) and their attributes.
+    curves : tuple of str
+        ``("direct", "linear")`` or with ``"refined"``.
+    attributes : dict
+        Dataset attributes (title, model, settings as JSON text...).
+    fingerprint : str
+        Identity of the sweep; a store with another fingerprint is refused.
+    """
+
+    points: int
+    times: np.ndarray
+    quantities: tuple[str, ...]
+    quantity_units: tuple[str, ...]
+    sources: tuple[str, ...]
+    source_units: tuple[str, ...]
+    coordinates: Mapping[str, tuple[np.ndarray, dict]]
+    curves: tuple[str, ...]
+    attributes: Mapping[str, object]
+    fingerprint: str
+
+
+class SweepStore:
+    """A Zarr store of one sweep, opened for filling.
+
+    Use :meth:`open` (creates or resumes), :meth:`write` per finished point,
+    :meth:`dataset` to read everything back and :meth:`finish` when all points are done.
+    """
+
+    def __init__(self, path: Path, work: Path, layout: Layout, done: np.ndarray):
+        self.path = path
+        self.work = work
+        self.layout = layout
+        self.done = done
+        _, zarr = _libraries()
+        self._group = None if done.all() and not work.exists() else zarr.open_group(
+            str(work), mode="r+", zarr_format=2)
+
+    # ----------------------------------------------------------------------------------
+    @classmethod
+    def open(cls, path: str | Path, layout: Layout) -> SweepStore:
+        """Create the store, or reopen it and find the points already done.
+
+        Raises
+        ------
+        StoreError
+            If the path holds a store of another sweep, or something that is not a store.
+        """
+        xr, _ = _libraries()
+        path = Path(path)
+        netcdf = path.suffix == ".nc"
+        work = path.with_name(path.name + ".partial.zarr") if netcdf else path
+        if netcdf and path.exists():
+            with xr.open_dataset(path) as existing:
+                _check_fingerprint(existing.attrs, layout, path)
+            return cls(path, work, layout, np.ones(layout.points, dtype=bool))
+        if work.exists():
+            try:
+                existing = xr.open_zarr(str(work), chunks=None, consolidated=False,
+                                       mask_and_scale=False)
+            except Exception as error:  # any unreadable folder
+                raise StoreError(f"{str(work)!r} exists and is not a readable sweep store "
+                                 f"({type(error).__name__}); remove it or choose another "
+                                 "store") from None
+            _check_fingerprint(existing.attrs, layout, work)
+            done = np.asarray(existing["done"].values, dtype=bool)
+            existing.close()
+            return cls(path, work, layout, done)
+        _create(work, layout)
+        return cls(path, work, layout, np.zeros(layout.points, dtype=bool))
+
+    # ----------------------------------------------------------------------------------
+    def write(self, index: int, values: Mapping[str, np.ndarray]) -> None:
+        """Write one finished point (data first, then its ``done`` flag)."""
+        group = self._group
+        nt = len(self.layout.times)
+        for name, value in values.items():
+            value = np.asarray(value)
+            if name in self.layout.curves:
+                padded = np.full((nt, value.shape[1]), np.nan)
+                padded[:value.shape[0]] = value
+                value = padded
+            group[name][index] = value
+        group["done"][index] = 1
+        self.done[index] = True
+
+    @property
+    def complete(self) -> bool:
+        return bool(self.done.all())
+
+    def dataset(self):
+        """The whole store as an in-memory :class:`xarray.Dataset`."""
+        xr, _ = _libraries()
+        if self.path.suffix == ".nc" and self.path.exists():
+            with xr.open_dataset(self.path, mask_and_scale=False) as data:
+                return data.load()
+        with xr.open_zarr(str(self.work), chunks=None, consolidated=False,
+                          mask_and_scale=False) as data:
+            return data.load()
+
+    def finish(self) -> None:
+        """Once every point is done: write the NetCDF file of a ``*.nc`` store."""
+        if not self.complete or self.path.suffix != ".nc" or self.path.exists():
+            return
+        data = self.dataset()
+        scratch = self.path.with_name(self.path.name + ".tmp")
+        data.to_netcdf(scratch)
+        scratch.replace(self.path)
+        shutil.rmtree(self.work, ignore_errors=True)
+
+
+def _check_fingerprint(attributes: Mapping, layout: Layout, where: Path) -> None:
+    found = attributes.get("fingerprint")
+    if found != layout.fingerprint:
+        raise StoreError(f"{str(where)!r} holds {'another sweep' if found else 'no sweep'} "
+                         "(other settings, grid or seed); remove it or choose another store")
+
+
+def _create(work: Path, layout: Layout) -> None:
+    """Write coordinates, attributes and empty arrays to ``work`` (atomically by rename)."""
+    xr, zarr = _libraries()
+    if work.parent != Path("") and not work.parent.exists():
+        work.parent.mkdir(parents=True, exist_ok=True)
+    scratch = work.with_name(work.name + ".creating")
+    shutil.rmtree(scratch, ignore_errors=True)
+    coords = {
+        "point": ("point", np.arange(layout.points)),
+        "time": ("time", np.asarray(layout.times, dtype=float), {"units": "s"}),
+        "quantity": ("quantity", list(layout.quantities)),
+        "quantity_unit": ("quantity", list(layout.quantity_units)),
+        "source": ("source", list(layout.sources)),
+        "source_unit": ("source", list(layout.source_units)),
+    }
+    for name, (values, attrs) in layout.coordinates.items():
+        coords[name] = ("point", np.asarray(values), dict(attrs))
+    attrs = {k: (v if isinstance(v, (str, int, float)) else json.dumps(v))
+             for k, v in layout.attributes.items()}
+    attrs["fingerprint"] = layout.fingerprint
+    xr.Dataset(coords=coords, attrs=attrs).to_zarr(str(scratch), mode="w",
+                                                  consolidated=False, zarr_format=2)
+    group = zarr.open_group(str(scratch), mode="r+", zarr_format=2)
+    P, T, Q, W = layout.points, len(layout.times), len(layout.quantities), len(layout.sources)
+    per_quantity = "SI, the unit of each quantity is in coordinate quantity_unit"
+
+    def array(name: str, dims: Sequence[str], shape: tuple, dtype: str, fill, attrs: dict):
+        # integer flags get no fill value: unwritten chunks read as 0, and xarray keeps
+        # them integers instead of masking 0 as missing
+        group.create_array(name, shape=shape, chunks=(1, *shape[1:]), dtype=dtype,
+                           fill_value=fill,
+                           attributes={"_ARRAY_DIMENSIONS": list(dims), **attrs})
+
+    for curve in layout.curves:
+        array(curve, ("point", "time", "quantity"), (P, T, Q), "f8", np.nan,
+              {"long_name": f"{curve} error", "units": per_quantity})
+    array("max_direct", ("point", "quantity"), (P, Q), "f8", np.nan,
+          {"long_name": "max |direct error| over the run", "units": per_quantity})
+    for curve in layout.curves[1:]:
+        array(f"{curve}_ratio", ("point", "quantity"), (P, Q), "f8", np.nan,
+              {"long_name": f"max |{curve} - direct| / max |direct|", "units": "1"})
+    array("excited", ("point", "quantity"), (P, Q), "i1", None,
+          {"long_name": "1 where the quantity is excited (its ratios are meaningful)",
+           "units": "1"})
+    array("source_value", ("point", "source"), (P, W), "f8", np.nan,
+          {"long_name": "error sources of the point", "units":
+           "SI, the unit of each source is in coordinate source_unit"})
+    array("done", ("point",), (P,), "i1", None,
+          {"long_name": "1 once the point's results are written", "units": "1"})
+    scratch.rename(work)

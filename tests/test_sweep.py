@@ -1,0 +1,184 @@
+"""Sweeps: the [sweep] grid, physics per grid point, the store, resuming, bad input.
+
+The Dask runs (identical results on a 2-worker cluster, a worker killed mid-run) are in
+tests/test_distributed.py.
+"""
+
+from __future__ import annotations
+
+import json
+import textwrap
+
+import numpy as np
+import pytest
+
+pytest.importorskip("zarr")  # the store needs the 'distributed' extra (in 'dev')
+
+from ins_errors.analysis import sweep as sw
+from ins_errors.cli import main
+from ins_errors.scenario import load_scenario
+
+G = 9.81
+
+BASE = """
+title = "bias tilt"
+model = "orthodromic"
+[motion]
+kind = "static"
+latitude = "50 deg"
+[run]
+duration = "1 h"
+step = "1 s"
+record = "60 s"
+method = "rk4"
+[[case]]
+accel_bias_x = "100 ug"
+"""
+
+
+def scenario_file(tmp_path, sweep: str, base: str = BASE, name: str = "s.toml"):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(base) + textwrap.dedent(sweep))
+    return path
+
+
+def test_static_bias_tilt_and_second_order_residual_across_the_grid(tmp_path, capsys):
+    """At rest an accelerometer bias b swings the platform through 2b/g (Schuler; 1 h is
+    past half a period), at every latitude; the linear model's miss is second order, so
+    the linear/direct ratio grows in proportion to b."""
+    path = scenario_file(tmp_path, """
+        [sweep]
+        latitude = ["10 deg", "80 deg"]
+        accel_bias_x = ["50 ug", "200 ug"]
+    """)
+    store = tmp_path / "bias.zarr"
+    assert main(["sweep", str(path), "--store", str(store), "--engine", "serial", "--json",
+                 "--no-progress", "--plot", str(tmp_path / "p.png"), "--figure",
+                 "max_direct:alpha_y", "--against", "accel_bias_x"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["points"] == 4 and data["computed"] == 4 and data["reused"] == 0
+    rows = data["summary"]
+    assert [r["latitude"] for r in rows] == pytest.approx(np.radians([10, 10, 80, 80]))
+    assert [r["accel_bias_x"] for r in rows] == pytest.approx(
+        np.array([50e-6, 200e-6, 50e-6, 200e-6]) * 9.80665)
+    for r in rows:
+        assert r["max_direct"]["alpha_y"] == pytest.approx(2 * r["accel_bias_x"] / G,
+                                                           rel=0.015)
+    for small, large in ((rows[0], rows[1]), (rows[2], rows[3])):
+        assert large["worst_linear_ratio"] / small["worst_linear_ratio"] == pytest.approx(
+            4.0, rel=0.01)
+    assert (tmp_path / "p.png").stat().st_size > 1000
+    # the store is a labelled xarray dataset with units
+    import xarray as xr
+
+    ds = xr.open_zarr(store, chunks=None, consolidated=False)
+    assert ds["direct"].dims == ("point", "time", "quantity")
+    assert ds["time"].attrs["units"] == "s" and ds["latitude"].attrs["units"] == "rad"
+    assert ds["quantity_unit"].sel(quantity="delta_v_N").item() == "m/s"
+    assert ds["time"].values[-1] == 3600.0 and int(ds["done"].sum()) == 4
+
+
+def test_monte_carlo_draws_are_seeded_per_draw(tmp_path):
+    """Draw k adds the same Gaussian value at every grid point; the tilt follows 2b/g of
+    that draw's bias; another seed gives other draws (stored as NetCDF this time)."""
+    sweep = """
+        [sweep]
+        latitude = ["30 deg", "60 deg"]
+        draws = 3
+        seed = 5
+        [sweep.random]
+        accel_bias_y = "100 ug"
+    """
+    base = BASE.replace('accel_bias_x = "100 ug"', 'accel_bias_y = "0 ug"')
+    scenario = load_scenario(scenario_file(tmp_path, sweep, base))
+    result = sw.run_sweep(scenario, tmp_path / "mc.zarr", engine="serial")
+    ds = result.dataset
+    assert list(ds["draw"].values) == [0, 1, 2, 0, 1, 2]
+    bias = ds["source_value"].sel(source="accel_bias_y").values
+    assert np.array_equal(bias[:3], bias[3:]) and len(set(bias[:3])) == 3
+    assert not np.any(ds["source_value"].drop_sel(source="accel_bias_y").values)
+    alpha_x = ds["max_direct"].sel(quantity="alpha_x").values
+    assert alpha_x == pytest.approx(2 * np.abs(bias) / G, rel=0.015)
+    other = load_scenario(scenario_file(tmp_path, sweep.replace("seed = 5", "seed = 6"),
+                                        base, name="t.toml"))
+    again = sw.run_sweep(other, tmp_path / "mc6.nc", engine="serial").dataset
+    assert not np.any(again["source_value"].sel(source="accel_bias_y").values[:3] == bias[:3])
+
+
+def test_interrupted_sweep_resumes_with_only_the_unfinished_points(tmp_path, monkeypatch,
+                                                                   capsys):
+    path = scenario_file(tmp_path, """
+        [sweep]
+        latitude = ["20 deg", "40 deg", "60 deg"]
+        accel_bias_x = ["50 ug", "100 ug"]
+    """, BASE.replace('"1 h"', '"5 min"')).as_posix()
+    runs: list = []
+    real = sw.run_point
+
+    def counted(job):
+        runs.append(job)
+        return real(job)
+
+    monkeypatch.setattr(sw, "run_point", counted)
+    clean = sw.run_sweep(load_scenario(path), tmp_path / "clean.zarr", engine="serial")
+    assert len(runs) == 6
+    runs.clear()
+
+    def interrupt(index: int) -> None:
+        if index == 2:
+            raise KeyboardInterrupt
+
+    store = tmp_path / "broken.zarr"
+    with pytest.raises(KeyboardInterrupt):
+        sw.run_sweep(load_scenario(path), store, engine="serial", on_result=interrupt)
+    assert len(runs) == 3
+    runs.clear()
+    # the same command again: the three stored points are read back, three are computed
+    assert main(["sweep", path, "--store", str(store), "--engine", "serial", "--json",
+                 "--no-progress"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert (data["computed"], data["reused"]) == (3, 3)
+    assert len(runs) == 3
+    resumed = sw.run_sweep(load_scenario(path), store, engine="serial")
+    assert (resumed.computed, resumed.reused, len(runs)) == (0, 6, 3)
+    for name in clean.dataset.data_vars:
+        assert np.array_equal(clean.dataset[name].values, resumed.dataset[name].values,
+                              equal_nan=True), name
+
+
+@pytest.mark.parametrize("sweep, message", [
+    ("[sweep]\nlatitud = ['10 deg']\n", "did you mean 'latitude'"),
+    ("[sweep]\nlatitude = ['10']\n", "needs a unit"),
+    ("[sweep]\nlatitude = []\n", "non-empty list"),
+    ("[sweep]\nheading = { start = '0 deg', stop = '9 deg' }\n", "count = N"),
+    ("[sweep]\ndraws = 5\n", "go together"),
+    ("[sweep]\ndraws = 5\n[sweep.random]\ngyro_drift = '1 deg/h'\n", "gyro_drift_x"),
+    ("[sweep]\nduration = ['0 h']\n", "positive"),
+    ("[sweep]\nduration = ['90.5 s']\n", "whole number"),
+    ("[sweep]\nseed = 3\n", "no parameter grid"),
+    ("sweep = 3\n", "must be a table"),
+])
+def test_bad_sweep_tables_are_one_line_errors(tmp_path, capsys, sweep, message):
+    base = BASE if not sweep.startswith("sweep =") else "sweep = 3\n" + BASE
+    path = scenario_file(tmp_path, "" if sweep.startswith("sweep =") else sweep, base)
+    assert main(["sweep", str(path), "--engine", "serial", "--store",
+                 str(tmp_path / "x.zarr")]) == 2
+    err = capsys.readouterr().err
+    assert message in err and err.count("\n") == 1
+
+
+def test_store_of_another_sweep_is_refused(tmp_path, capsys):
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '20 deg']\n",
+                         BASE.replace('"1 h"', '"2 min"'))
+    store = str(tmp_path / "s.zarr")
+    assert main(["sweep", str(path), "--store", store, "--engine", "serial"]) == 0
+    capsys.readouterr()
+    other = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '30 deg']\n",
+                          BASE.replace('"1 h"', '"2 min"'), name="o.toml")
+    assert main(["sweep", str(other), "--store", store, "--engine", "serial"]) == 2
+    assert "another sweep" in capsys.readouterr().err
+    assert main(["sweep", str(tmp_path / "s.toml").replace("s.toml", "missing.toml")]) == 2
+    plain = tmp_path / "plain.toml"
+    plain.write_text(BASE)
+    assert main(["sweep", str(plain)]) == 2
+    assert "no [sweep] table" in capsys.readouterr().err
