@@ -13,7 +13,7 @@ import re
 from importlib import resources
 from pathlib import Path
 
-from ins_errors.errors import InsErrorsError
+from ins_errors.output import OutputFolder
 from ins_errors.scenario import ScenarioResult
 
 _MATH = re.compile(r"\$\$(.+?)\$\$", re.S)
@@ -94,35 +94,47 @@ def markdown_to_html(text: str, title: str) -> str:
     )
 
 
-def write_report(result: ScenarioResult, folder: str | Path) -> Path:
+def write_report(result: ScenarioResult, folder: str | Path, force: bool = False) -> Path:
     """Write the report folder and return the path of ``report.md``.
+
+    Parameters
+    ----------
+    result : ScenarioResult
+        What :func:`~ins_errors.scenario.run_scenario` returned.
+    folder : str or Path
+        The report folder (see :class:`~ins_errors.output.OutputFolder`: an earlier
+        report there is replaced, stale files of it removed; a folder of someone else's
+        files is refused unless ``force``).
+    force : bool
+        Write into a non-empty folder that ins-errors did not write.
 
     Raises
     ------
     InsErrorsError
-        If the folder cannot be written.
+        If the folder cannot be written or must not be.
     """
+    from ins_errors.export import curves_csv, save_curves_mat
     from ins_errors.numeric.plots import plot_comparison
 
-    folder = Path(folder)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError as error:
-        raise InsErrorsError(f"cannot create report folder {str(folder)!r}: "
-                             f"{error.strerror}") from None
+    out = OutputFolder(folder, force=force)
     plots = []
     for k, comparison in enumerate(result.comparisons, 1):
         name = f"case_{k}.png"
-        plot_comparison(comparison, folder / name, quantities=result.scenario.quantities,
+        plot_comparison(comparison, out.file(name), quantities=result.scenario.quantities,
                         title=f"{result.scenario.title}\n{comparison.label}")
         plots.append(name)
     text = report_markdown(result, plots)
-    (folder / "report.md").write_text(text, encoding="utf-8")
-    (folder / "report.html").write_text(markdown_to_html(text, result.scenario.title),
-                                        encoding="utf-8")
+    out.write_text("report.md", text)
+    out.write_text("report.html", markdown_to_html(text, result.scenario.title))
     summary = {"title": result.scenario.title, "model": result.scenario.model,
                "motion": result.motion_description, "duration_s": result.scenario.duration,
-               "step_s": result.scenario.step, "method": result.scenario.method,
+               "step_s": result.scenario.step, "record_s": result.scenario.record,
+               "method": result.scenario.method,
+               "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
+               "curves": {"csv": "curves.csv", "mat": "curves.mat"},
                "cases": [c.to_dict() for c in result.comparisons]}
-    (folder / "results.json").write_text(json.dumps(summary, indent=2) + "\n", encoding="utf-8")
-    return folder / "report.md"
+    out.write_text("results.json", json.dumps(summary, indent=2) + "\n")
+    out.write_text("curves.csv", curves_csv(result.comparisons))
+    out.write_with("curves.mat", lambda p: save_curves_mat(result.comparisons, p))
+    out.finish()
+    return out.path / "report.md"

@@ -135,6 +135,9 @@ def load_scenario(path: str | Path) -> Scenario:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except OSError as error:
         raise ScenarioError(f"cannot read scenario {str(path)!r}: {error.strerror}") from None
+    except UnicodeDecodeError:
+        raise ScenarioError(f"{path.name}: not a text file (not UTF-8): expected a TOML "
+                            "scenario") from None
     except tomllib.TOMLDecodeError as error:
         raise ScenarioError(f"{path.name}: not valid TOML: {error}") from None
     _check_keys(data, _TOP_KEYS, path.name)
@@ -151,12 +154,18 @@ def load_scenario(path: str | Path) -> Scenario:
     _check_keys(run, _RUN_KEYS, f"{path.name} [run]")
     outputs = data.get("outputs", {})
     _check_keys(outputs, _OUTPUT_KEYS, f"{path.name} [outputs]")
-    duration = parse_quantity(run.get("duration", "24 h"), "s", "run duration")
-    step = parse_quantity(run.get("step", "1 s"), "s", "run step")
-    record = parse_quantity(run.get("record", "60 s"), "s", "run record")
+    duration = parse_quantity(run.get("duration", "24 h"), "s", "run duration",
+                              numbers_are_si=False)
+    step = parse_quantity(run.get("step", "1 s"), "s", "run step", numbers_are_si=False)
+    record = parse_quantity(run.get("record", "60 s"), "s", "run record",
+                            numbers_are_si=False)
     for name, value in (("duration", duration), ("step", step), ("record", record)):
         if not value > 0:
             raise ScenarioError(f"{path.name}: run {name} must be positive, got {value:g} s")
+    from ins_errors.numeric.integrators import record_stride, step_count
+
+    # refuse a grid the run cannot take (absurd step counts included) before any run
+    record_stride(record, step, step_count(duration, step, "run duration"))
     method = str(run.get("method", "euler"))
     if method not in ("euler", "rk4"):
         raise unknown_name("integration method", method, ("euler", "rk4"))
@@ -176,7 +185,7 @@ def load_scenario(path: str | Path) -> Scenario:
             if name == "label":
                 continue
             info = model.sources[model.index("sources", name)]
-            sources[name] = parse_quantity(value, info.unit, name)
+            sources[name] = parse_quantity(value, info.unit, name, numbers_are_si=False)
         if not sources:
             raise ScenarioError(f"{path.name}: case {k} names no error source")
         label = label or ", ".join(f"{n} = {raw[n]}" for n in sources)

@@ -258,7 +258,7 @@ def _positive(text: Any, unit: str, what: str, example: str = "",
         raise SpecError(f"{what}: expected a quantity such as {example or unit!r}, "
                         f"got {text!r:.60}")
     try:
-        value = parse_quantity(text, unit, what)
+        value = parse_quantity(text, unit, what, numbers_are_si=False)
     except UnitError as error:
         hint = f" (e.g. {example!r})" if example else ""
         raise SpecError(f"{error}{hint}") from None
@@ -271,7 +271,7 @@ def _angle(text: Any, what: str) -> float:
     if isinstance(text, bool) or not isinstance(text, (str, int, float)):
         raise SpecError(f"{what}: expected an angle such as '50 deg', got {text!r:.60}")
     try:
-        return parse_quantity(text, "rad", what)
+        return parse_quantity(text, "rad", what, numbers_are_si=False)
     except UnitError as error:
         raise SpecError(str(error)) from None
 
@@ -340,9 +340,9 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             raise SpecError(f"items.{name}: give either times or every/from/until")
         if "every" in table:
             every = _positive(table["every"], "s", f"items.{name}.every", "15 min")
-            start = _positive(table.get("from", every), "s", f"items.{name}.from", "0 h",
+            start = _positive(table.get("from", f"{every!r} s"), "s", f"items.{name}.from", "0 h",
                               allow_zero=True)
-            stop = _positive(table.get("until", operating_time), "s",
+            stop = _positive(table.get("until", f"{operating_time!r} s"), "s",
                              f"items.{name}.until", "1 h")
             count = int(np.floor((stop - start) / every + 1e-9))
             if count < 0:
@@ -422,6 +422,8 @@ def load_spec(path: str | Path) -> Spec:
         text = path.read_text(encoding="utf-8")
     except OSError as error:
         raise SpecError(f"cannot read spec file {str(path)!r}: {error.strerror}") from None
+    except UnicodeDecodeError:
+        raise SpecError(f"{path}: not a text file (not UTF-8): expected a TOML spec") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:

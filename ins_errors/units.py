@@ -51,19 +51,40 @@ def _normalise(text: str) -> str:
     return text
 
 
-def parse_quantity(text: str | float | int, unit: str, what: str = "value") -> float:
+UNIT_FAMILIES: dict[str, str] = {
+    "rad": "an angle, e.g. '{v} deg', '{v} arcmin', '{v} arcsec' or '{v} rad'",
+    "rad/s": "an angular rate, e.g. '{v} deg/h' or '{v} rad/s'",
+    "m/s**2": "an acceleration, e.g. '{v} ug', '{v} mg', '{v} g' or '{v} m/s**2'",
+    "m/s": "a velocity, e.g. '{v} m/s' or '{v} km/h'",
+    "m": "a length, e.g. '{v} m' or '{v} km'",
+    "s": "a time, e.g. '{v} s', '{v} min' or '{v} h'",
+}
+"""What a bare number lacks, by SI unit: the family of units expected, with examples."""
+
+
+def _needs_unit(text: object, unit: str, what: str) -> UnitError:
+    family = UNIT_FAMILIES.get(unit, f"a quantity in units of {unit}, e.g. '{{v}} {unit}'")
+    return UnitError(f"{what}: {text!r} has no unit; give {family.format(v=text)}")
+
+
+def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
+                   numbers_are_si: bool = True) -> float:
     """Convert ``text`` to a float in the SI ``unit``.
 
     Parameters
     ----------
     text : str or float
-        ``"0.01 deg/h"``, ``"10ug"``, ``"5 arcmin"``; a bare number is taken as already
-        in ``unit``.
+        ``"0.01 deg/h"``, ``"10ug"``, ``"5 arcmin"``. Text must carry its unit when
+        ``unit`` has one: ``"0.01"`` for a gyro drift is refused (it would silently mean
+        0.01 rad/s); zero and plain ratios (``unit == "1"``) need none.
     unit : str
         Target SI unit as the model states it (``"rad/s"``, ``"m/s**2"``, ``"rad"``,
         ``"m/s"``, ``"1"``).
     what : str
         Name used in error messages (e.g. the error-source name).
+    numbers_are_si : bool
+        Whether a Python ``int``/``float`` is already in ``unit`` (library calls, the
+        default) or, like bare text, needs a unit (numbers read from a user's file).
 
     Returns
     -------
@@ -73,7 +94,8 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value") -> f
     Raises
     ------
     UnitError
-        If the text does not parse, is not finite, or has another dimension.
+        If the text does not parse, is not finite, lacks a unit, or has another
+        dimension.
     """
     ureg = registry()
     target = ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
@@ -81,13 +103,17 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value") -> f
         raise UnitError(f"{what}: expected a number or a quantity with a unit, got {text!r}")
     if isinstance(text, (int, float)):
         value = float(text)
+        if not numbers_are_si and unit != "1" and value != 0 and value == value:
+            raise _needs_unit(text, unit, what)
     else:
         try:
             quantity = ureg.parse_expression(_normalise(str(text)))
         except Exception as error:  # pint raises several unrelated types
             raise UnitError(f"{what}: cannot read {text!r} as a quantity ({error})") from None
         if not isinstance(quantity, ureg.Quantity) or quantity.units == ureg.dimensionless:
-            value = float(getattr(quantity, "magnitude", quantity))  # bare number: SI
+            value = float(getattr(quantity, "magnitude", quantity))
+            if unit != "1" and value != 0 and value == value:
+                raise _needs_unit(str(text).strip(), unit, what)
         else:
             try:
                 value = float(quantity.to(target).magnitude)

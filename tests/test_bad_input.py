@@ -79,7 +79,12 @@ def test_units_at_the_edge():
     assert parse_quantity("10 ug", "m/s**2") == pytest.approx(9.80665e-5)
     assert parse_quantity("20 arcsec", "rad") == pytest.approx(np.radians(20 / 3600))
     assert parse_quantity("100 ppm", "1") == pytest.approx(1e-4)
-    assert parse_quantity("1e-5", "rad/s") == 1e-5  # a bare number is SI already
+    assert parse_quantity(1e-5, "rad/s") == 1e-5  # a library caller's number is SI
+    assert parse_quantity("0", "rad/s") == 0.0 and parse_quantity("3", "1") == 3.0
+    with pytest.raises(UnitError, match=r"has no unit; give an angular rate, e\.g\. '1e-5 deg/h'"):
+        parse_quantity("1e-5", "rad/s", "gyro_drift_x")  # text must say its unit
+    with pytest.raises(UnitError, match="24 has no unit; give a time"):
+        parse_quantity(24, "s", "run duration", numbers_are_si=False)  # a file's number too
     with pytest.raises(UnitError, match="do not convert to rad"):
         parse_quantity("0.1 m/s", "rad", "initial_tilt_x")
     with pytest.raises(UnitError, match="not a finite number"):

@@ -191,7 +191,8 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
         fixed = None
         if option.fixed is not None:
             try:
-                value = parse_quantity(option.fixed, unit, f"sources.{info.name}.fixed")
+                value = parse_quantity(option.fixed, unit, f"sources.{info.name}.fixed",
+                                       numbers_are_si=False)
             except UnitError as error:
                 raise SpecError(f"{error} (e.g. '1 {display}')") from None
             if value < 0:

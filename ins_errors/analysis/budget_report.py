@@ -13,10 +13,10 @@ from ins_errors.analysis.budget import (
     ITEM_DISPLAY,
     ITEM_SI,
     Allocation,
-    BudgetError,
     display,
     format_time,
 )
+from ins_errors.output import require_matplotlib, save_figure
 
 
 def report(allocation: Allocation) -> dict:
@@ -122,10 +122,9 @@ def plot(allocation: Allocation, path: str, top: int = 14) -> None:
     top : int
         Sources shown individually (the rest are summed as "others").
     """
-    try:
-        import matplotlib
-    except ImportError:
-        raise BudgetError("plots need matplotlib: pip install 'ins-errors[plots]'") from None
+    require_matplotlib()
+    import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -160,8 +159,7 @@ def plot(allocation: Allocation, path: str, top: int = 14) -> None:
     fig.legend(handles, names, loc="lower center", ncol=min(5, len(names)), fontsize=8)
     fig.suptitle(f"Error budget: {budget.spec.title}", fontsize=11)
     fig.tight_layout(rect=(0, 0.12, 1, 0.95))
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)
 
 
 def output_table(data: dict, top: int = 10) -> str:
@@ -189,10 +187,9 @@ def plot_outputs(data: dict, path: str, top: int = 14) -> None:
     One panel per chosen time; each bar is one platform angle or output error, split
     into the sources' shares of its variance (the bar's label gives its 1σ total).
     """
-    try:
-        import matplotlib
-    except ImportError:
-        raise BudgetError("plots need matplotlib: pip install 'ins-errors[plots]'") from None
+    require_matplotlib()
+    import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -224,5 +221,4 @@ def plot_outputs(data: dict, path: str, top: int = 14) -> None:
     handles, names = axes[0][0].get_legend_handles_labels()
     fig.legend(handles, names, loc="lower center", ncol=5, fontsize=8)
     fig.tight_layout(rect=(0, 0.1, 1, 1))
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save_figure(fig, path, dpi=120)

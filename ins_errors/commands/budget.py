@@ -43,6 +43,17 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.model import load_model
     from ins_errors.specs import SpecError, default_spec_path, load_spec
 
+    if args.plot or args.plot_at:
+        from ins_errors.output import require_matplotlib
+
+        require_matplotlib("--plot")
+    if args.plot_at and not args.at:
+        raise SpecError("--plot-at needs --at TIMES")
+    from ins_errors.output import check_file
+
+    for target in (args.plot, args.plot_at):
+        if target:
+            check_file(target)
     model = load_model(args.model)
     path = args.spec or default_spec_path()
     if args.spec is None and not path.exists():
@@ -55,8 +66,6 @@ def run(args: argparse.Namespace) -> int:
     data = rep.report(allocation)
     if args.plot:
         rep.plot(allocation, args.plot)
-    if args.plot_at and not args.at:
-        raise SpecError("--plot-at needs --at TIMES")
     if args.monte_carlo:
         data["monte_carlo"] = _monte_carlo(model, spec, allocation, args)
     outputs = None

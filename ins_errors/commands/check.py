@@ -65,20 +65,19 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.checker.compare import check_hand_file
     from ins_errors.checker.report import to_json, to_markdown, to_terminal
     from ins_errors.errors import InsErrorsError
+    from ins_errors.output import check_file, write_text
 
     if args.file is None:
         raise InsErrorsError("check needs a hand FILE of equations or --matrix "
                              "FILE.py:FUNCTION")
+    if args.report is not None:
+        check_file(args.report)
     report = check_hand_file(args.file, model=args.model, threshold=args.threshold,
                              latex=True if args.latex else None, mapping_path=args.mapping,
                              latex_backend=args.latex_parser)
     if args.report is not None:
-        try:
-            args.report.write_text(to_markdown(report, f"`ins-errors check` from "
-                                               f"`{args.file.name}`"), encoding="utf-8")
-        except OSError as error:
-            raise InsErrorsError(f"cannot write report {str(args.report)!r}: "
-                                 f"{error.strerror}") from None
+        write_text(args.report, to_markdown(report, f"`ins-errors check` from "
+                                            f"`{args.file.name}`"))
     if args.json:
         print(json.dumps(to_json(report), indent=2))
     else:

@@ -92,8 +92,16 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.integrators import step_count
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.motion_spec import motion_profile
+    from ins_errors.output import check_file
     from ins_errors.units import parse_quantity
 
+    if args.plot:
+        from ins_errors.output import require_matplotlib
+
+        require_matplotlib("--plot")
+    for target in (args.plot, args.markdown):
+        if target:
+            check_file(target)
     model = load_model(args.model)
     sources = _sources(model, args.source)
     if args.hours is not None and args.duration is not None:
@@ -131,11 +139,9 @@ def run(args: argparse.Namespace) -> int:
     text = markdown_summary(comparisons, title) + "\n" + "\n".join(
         markdown_table(c) for c in comparisons)
     if args.markdown:
-        try:
-            with open(args.markdown, "w", encoding="utf-8") as handle:
-                handle.write(text)
-        except OSError as error:
-            raise InsErrorsError(f"cannot write {args.markdown!r}: {error.strerror}") from None
+        from ins_errors.output import write_text
+
+        write_text(args.markdown, text)
     if args.plot:
         from pathlib import Path
 

@@ -37,6 +37,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--azimuth", default="5 arcmin", help="initial azimuth error")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR",
                         help="write summary.md and the plots into this folder")
+    parser.add_argument("--force", action="store_true",
+                        help="write into a non-empty --out folder that ins-errors did not "
+                             "write (only the experiment's own files are replaced)")
     parser.add_argument("--json", action="store_true",
                         help="print the agreement figures as JSON instead of the tables")
     parser.add_argument("--orthodromic", action="store_true",
@@ -57,12 +60,19 @@ def run(args: argparse.Namespace) -> int:
     if not step > 0:
         raise DomainError(f"--step must be positive, got {args.step!r}")
     record = 300.0 if 300.0 % step == 0 else step
+    if args.out is not None:
+        from ins_errors.output import OutputFolder, require_matplotlib
+
+        if not args.orthodromic:
+            require_matplotlib("the plots of --out")
+        OutputFolder(args.out, force=args.force, create=False)  # refuse before computing
     if args.orthodromic:
         day = propagation.orthodromic_day(latitude, duration, step, record)
         text = day.summary_markdown()
         if args.out is not None:
-            args.out.mkdir(parents=True, exist_ok=True)
-            (args.out / "orthodromic_day.md").write_text(text)
+            out = OutputFolder(args.out, force=args.force)
+            out.write_text("orthodromic_day.md", text)
+            out.finish()
         if args.json:
             analytic, direct = day.agreement("analytic", "linear"), day.agreement("direct",
                                                                                  "linear")
@@ -86,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
         duration=duration, step=step, record_interval=record)
     result = propagation.run(experiment, progress=args.out is not None)
     if args.out is not None:
-        path = propagation.write_report(result, args.out)
+        path = propagation.write_report(result, args.out, force=args.force)
         if not args.json:
             print(f"wrote {path} and {len(result.curves)} plots")
     if args.json:

@@ -21,20 +21,26 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="report folder (default: report_<scenario name> here)")
     parser.add_argument("--json", action="store_true",
                         help="print the results as JSON instead of the summary table")
+    parser.add_argument("--force", action="store_true",
+                        help="write into a non-empty --out folder that ins-errors did not "
+                             "write (only the report's own files are replaced)")
     parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.compare import markdown_summary
+    from ins_errors.output import OutputFolder, require_matplotlib
     from ins_errors.report import write_report
     from ins_errors.scenario import load_scenario, run_scenario
 
+    require_matplotlib("the report's plots")
     scenario = load_scenario(args.scenario)
+    out = Path(args.out) if args.out else Path(f"report_{Path(args.scenario).stem}")
+    OutputFolder(out, force=args.force, create=False)  # refuse a stranger's, before computing
     steps = scenario.duration / scenario.step
     result = run_scenario(scenario, progress=not args.no_progress and steps >= 100_000)
-    out = Path(args.out) if args.out else Path(f"report_{Path(args.scenario).stem}")
-    report = write_report(result, out)
+    report = write_report(result, out, force=args.force)
     if args.json:
         json.dump(json.loads((out / "results.json").read_text(encoding="utf-8")), sys.stdout,
                   indent=2)

@@ -50,6 +50,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--speed", default="250m/s", help="ground speed in flight")
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR",
                         help="write PNG plots into this folder")
+    parser.add_argument("--force", action="store_true",
+                        help="write into a non-empty --plot folder that ins-errors did not "
+                             "write (only the study's own plots are replaced)")
     parser.add_argument("--json", action="store_true", help="machine-readable summary")
     parser.set_defaults(func=run)
 
@@ -68,6 +71,12 @@ def run(args: argparse.Namespace) -> int:
         return 0
     if args.name not in names:
         raise unknown_name("study", args.name, names)
+    folder = None
+    if args.plot is not None:
+        from ins_errors.output import OutputFolder, require_matplotlib
+
+        require_matplotlib("--plot")
+        folder = OutputFolder(args.plot, force=args.force, option="--plot")
     speed = parse_quantity(args.speed, "m/s", "--speed")
     step = parse_quantity(args.step or "20 s", "s", "--step")
     if not step > 0:
@@ -75,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
 
         raise InsErrorsError(f"--step must be positive, got {args.step!r}")
     if args.name == SPHEROID:
-        return _spheroid(args, speed, step)
+        return _spheroid(args, speed, step, folder)
     from ins_errors.studies import methodological
 
     latitude = parse_quantity(args.latitude, "rad", "--latitude")
@@ -87,26 +96,29 @@ def run(args: argparse.Namespace) -> int:
         result = methodological.run(args.name, scenario, latitude, duration=hours * 3600.0,
                                     tau=step, record_interval=record, speed=speed)
         lines = result.summary()
-        if args.plot is not None:
-            path = methodological.plot(result, args.plot / f"{args.name}_{scenario}.png")
+        if folder is not None:
+            path = methodological.plot(result, folder.file(f"{args.name}_{scenario}.png"))
             lines.append(f"  plot: {path}")
         report.append({"scenario": scenario, "lines": lines,
                        "agreement": {q: result.agreement(q) for q in result.direct.names}})
         if not args.json:
             print("\n".join(lines))
+    if folder is not None:
+        folder.finish()
     if args.json:
         print(json.dumps({"study": args.name, "runs": report}, indent=2))
     return 0
 
 
-def _spheroid(args: argparse.Namespace, speed: float, step: float) -> int:
+def _spheroid(args: argparse.Namespace, speed: float, step: float, folder) -> int:
     from ins_errors.studies import spheroid_error
 
     hours = 6.0 if args.hours is None else args.hours
     result, lines = spheroid_error.survey(duration=hours * 3600.0, speed=speed, step=step)
-    if args.plot is not None:
+    if folder is not None:
         worst = int(result.largest_km().argmax())
-        path = spheroid_error.plot(result, args.plot / "spheroid_formula_10.png", worst)
+        path = spheroid_error.plot(result, folder.file("spheroid_formula_10.png"), worst)
+        folder.finish()
         lines.append(f"plot: {path}")
     if args.json:
         print(json.dumps({"study": SPHEROID, "lines": lines,

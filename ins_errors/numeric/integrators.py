@@ -74,6 +74,11 @@ def check_method(method: str) -> str:
     return method
 
 
+MAX_STEPS = 100_000_000
+"""Most steps one run may take (24 h at about 1 ms): more is refused before any memory is
+taken, since the records and input streams of a run grow with its step count."""
+
+
 def step_count(duration: float, tau: float, what: str = "duration") -> int:
     """Number of steps of size ``tau`` in ``duration``.
 
@@ -93,7 +98,7 @@ def step_count(duration: float, tau: float, what: str = "duration") -> int:
     ------
     StepError
         Zero, negative or non-finite step; negative duration; duration not a multiple
-        of the step.
+        of the step; more than :data:`MAX_STEPS` steps.
     """
     tau, duration = float(tau), float(duration)
     if not np.isfinite(tau) or tau <= 0.0:
@@ -101,6 +106,10 @@ def step_count(duration: float, tau: float, what: str = "duration") -> int:
     if not np.isfinite(duration) or duration < 0.0:
         raise StepError(f"{what} must be a non-negative number of seconds, got {duration:g}")
     steps = duration / tau
+    if steps > MAX_STEPS:
+        raise StepError(f"{what} {duration:g} s in steps of {tau:g} s is {steps:.3g} steps, "
+                        f"more than the {MAX_STEPS:.0e} one run may take: use a longer step "
+                        "or a shorter run")
     n = round(steps)
     if abs(steps - n) > 1e-9 * max(1.0, steps):
         raise StepError(f"{what} {duration:g} s is not a whole number of steps of "

@@ -54,15 +54,24 @@ def default_legs(speed: float, height: float, hours: int = 24) -> list[tr.Leg]:
 def read_motion_file(path: str | Path, latitude: float, longitude: float, heading: float,
                      height: float) -> tr.Profile:
     """A sampled motion from a CSV file with a header and columns t, v_N, v_E [, h] (SI)."""
+    import warnings
+
     try:
-        table = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
-    except (OSError, ValueError) as error:
-        raise InsErrorsError(f"cannot read motion file {str(path)!r}: {error}") from None
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")  # an empty file is only a warning to numpy
+            table = np.genfromtxt(path, delimiter=",", names=True, dtype=float,
+                                  encoding="utf-8")
+    except (OSError, ValueError, UnicodeDecodeError, UserWarning) as error:
+        reason = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
+        raise InsErrorsError(f"cannot read motion file {str(path)!r}: {reason}") from None
     names = table.dtype.names or ()
     missing = [c for c in ("t", "v_N", "v_E") if c not in names]
     if missing:
         raise InsErrorsError(f"motion file {str(path)!r} lacks column(s) {', '.join(missing)} "
                              f"(has {', '.join(names) or 'none'})")
+    if table.size < 2 or table.ndim != 1:
+        raise InsErrorsError(f"motion file {str(path)!r} needs a header row and at least two "
+                             "rows of samples (t, v_N, v_E)")
     h = table["h"] if "h" in names else height
     return tr.sampled_profile(np.atleast_1d(table["t"]), np.atleast_1d(table["v_N"]),
                               np.atleast_1d(table["v_E"]), latitude, longitude, heading, h)
@@ -78,7 +87,17 @@ def _angle(value: Any, what: str) -> float:
         else:
             raise InsErrorsError(f"{what} {value!r} needs a unit, e.g. '{value} deg' or "
                                  f"'{value} rad'")
-    return parse_quantity(value, "rad", what)
+    return parse_quantity(value, "rad", what, numbers_are_si=False)
+
+
+_LEG_KEYS = ("duration", "speed", "turn", "height")
+
+
+def _quantity(table: Mapping[str, Any], key: str, default: Any, unit: str) -> float:
+    """A value of a user's table (must carry its unit) or the SI default."""
+    if key not in table:
+        return parse_quantity(default, unit, f"leg {key}")
+    return parse_quantity(table[key], unit, f"leg {key}", numbers_are_si=False)
 
 
 def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> tr.Profile:
@@ -111,8 +130,8 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
         spec["heading"] = MOVING_HEADING
     lat, lon, heading = (_angle(spec[key], f"motion {key}")
                          for key in ("latitude", "longitude", "heading"))
-    speed = parse_quantity(spec["speed"], "m/s", "motion speed")
-    height = parse_quantity(spec["height"], "m", "motion height")
+    speed = parse_quantity(spec["speed"], "m/s", "motion speed", numbers_are_si=False)
+    height = parse_quantity(spec["height"], "m", "motion height", numbers_are_si=False)
     if kind == "static":
         return tr.static_profile(lat, lon, heading, height)
     if kind == "great-circle":
@@ -126,9 +145,16 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
         return read_motion_file(path, lat, lon, heading, height)
     legs = default_legs(speed, height)
     if "legs" in spec:
-        legs = [tr.Leg(parse_quantity(leg.get("duration", "600 s"), "s", "leg duration"),
-                       parse_quantity(leg.get("speed", speed), "m/s", "leg speed"),
-                       parse_quantity(leg.get("turn", 0.0), "rad", "leg turn"),
-                       parse_quantity(leg.get("height", height), "m", "leg height"))
+        if not isinstance(spec["legs"], list) or not all(isinstance(leg, dict)
+                                                         for leg in spec["legs"]):
+            raise InsErrorsError("motion legs: expected a list of tables, [[motion.legs]]")
+        for leg in spec["legs"]:
+            for key in leg:
+                if key not in _LEG_KEYS:
+                    raise unknown_name("key of a motion leg", key, _LEG_KEYS)
+        legs = [tr.Leg(_quantity(leg, "duration", "600 s", "s"),
+                       _quantity(leg, "speed", speed, "m/s"),
+                       _quantity(leg, "turn", 0.0, "rad"),
+                       _quantity(leg, "height", height, "m"))
                 for leg in spec["legs"]]
     return tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)

@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ins_errors.errors import InsErrorsError
 from ins_errors.numeric.compare import Comparison
+from ins_errors.output import save_figure
 
 DISPLAY_UNITS: dict[str, str] = {"rad": "arcmin", "rad/s": "deg/h", "m/s": "m/s", "m": "m",
                                  "1": "1"}
@@ -85,12 +85,5 @@ def plot_comparison(comparison: Comparison, path: str | Path,
     axes.flat[0].legend(fontsize=7, loc="best")
     fig.suptitle(title or comparison.label, fontsize=9)
     fig.tight_layout()
-    path = Path(path)
-    try:
-        fig.savefig(path, dpi=110)
-    except (OSError, ValueError) as error:
-        raise InsErrorsError(f"cannot write plot {str(path)!r}: {error}") from None
-    finally:
-        plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)
 

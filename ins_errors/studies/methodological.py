@@ -45,6 +45,7 @@ from ins_errors.numeric.trajectories import (
     static_profile,
     trajectory,
 )
+from ins_errors.output import save_figure
 
 
 @dataclass(frozen=True)
@@ -358,8 +359,6 @@ def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     hours = result.times / 3600
     panels = [
         ("position error, km", [("delta_latitude", "Δφ·R", radius / 1000),
@@ -383,6 +382,4 @@ def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> 
     axes[-1].set_xlabel("time, h")
     fig.suptitle(f"{result.study.name}: {result.study.description}\n{result.motion}", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)

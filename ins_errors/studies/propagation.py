@@ -28,6 +28,7 @@ from ins_errors.numeric.integrators import step_count
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.numeric.simulate import simulate
 from ins_errors.numeric.trajectories import Trajectory
+from ins_errors.output import OutputFolder
 from ins_errors.units import STANDARD_GRAVITY, registry
 
 MODEL = "north_pointing"
@@ -247,7 +248,7 @@ def run(experiment: Experiment | None = None, progress: bool = False) -> Propaga
     return result
 
 
-def plot(result: PropagationResult, folder: str | Path,
+def plot(result: PropagationResult, folder: OutputFolder,
          sources: list[str] | None = None) -> list[Path]:
     """One PNG per source (default every source): its seven error quantities, four curves.
 
@@ -261,8 +262,6 @@ def plot(result: PropagationResult, folder: str | Path,
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
     hours = result.times / 3600
     paths = []
     chosen = [result.curve(name) for name in sources] if sources else result.curves
@@ -285,22 +284,23 @@ def plot(result: PropagationResult, folder: str | Path,
         fig.suptitle(f"north_pointing, {c.source} = {c.magnitude:.4g} SI, φ = "
                      f"{np.degrees(result.experiment.latitude):.4g}°", fontsize=9)
         fig.tight_layout()
-        path = folder / f"{c.source}.png"
-        fig.savefig(path, dpi=90)
-        plt.close(fig)
-        paths.append(path)
+        paths.append(folder.save_figure(fig, f"{c.source}.png", dpi=90))
     return paths
 
 
 def write_report(result: PropagationResult, folder: str | Path,
-                 sources: list[str] | None = None) -> Path:
-    """Write ``summary.md`` and the plots (of ``sources``, default all) into ``folder``."""
-    folder = Path(folder)
-    paths = plot(result, folder, sources)
+                 sources: list[str] | None = None, force: bool = False) -> Path:
+    """Write ``summary.md`` and the plots (of ``sources``, default all) into ``folder``.
+
+    The folder is an :class:`~ins_errors.output.OutputFolder`: a folder of someone
+    else's files is refused unless ``force``; an earlier report there is replaced.
+    """
+    out = OutputFolder(folder, force=force)
+    paths = plot(result, out, sources)
     text = result.summary_markdown() + "\nPlots:\n\n" + "".join(
         f"- ![{p.stem}]({p.name})\n" for p in paths)
-    summary = folder / "summary.md"
-    summary.write_text(text)
+    summary = out.write_text("summary.md", text)
+    out.finish()
     return summary
 
 

@@ -39,6 +39,7 @@ from ins_errors.errors import DomainError, InsErrorsError
 from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
 from ins_errors.numeric.integrators import record_stride, step_count
 from ins_errors.numeric.model import load_model
+from ins_errors.output import save_figure
 
 
 class SpheroidStudyError(InsErrorsError):
@@ -442,8 +443,6 @@ def plot(result: FlightErrors, path: str | Path, flight: int = 0) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
     hours = result.times / 3600
     direct, printed, completed = (result.km(e)[:, :, flight] for e in
                                   (result.direct, result.printed, result.completed))
@@ -460,6 +459,4 @@ def plot(result: FlightErrors, path: str | Path, flight: int = 0) -> Path:
     fig.suptitle(f"spherical-formula reckoning over the spheroid: φ0 = {lat0:.1f}°, "
                  f"N0 = {ang0:.1f}°", fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)

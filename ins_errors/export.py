@@ -1,0 +1,80 @@
+"""Error curves for other tools: CSV (one row per case and time) and MATLAB ``.mat``.
+
+``results.json`` holds the metrics; these files hold the curves themselves, every
+quantity of every run (direct, linear, refined) of every case, in SI units, so a reader
+can re-plot them in a spreadsheet, MATLAB/Octave, or pandas.
+
+CSV columns: ``case`` (1-based), ``t [s]``, then ``<quantity>.<run> [<unit>]`` for each
+quantity and run. The ``.mat`` file (via :func:`scipy.io.savemat`) holds ``t_s`` (the
+common time axis, s), ``labels`` (the case labels), ``units`` (a struct: SI unit of
+each quantity) and one struct ``case_<k>`` per case with fields ``direct``, ``linear``
+and ``refined`` (omitted when not run), each a struct of row vectors by quantity.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+RUNS = ("direct", "linear", "refined")
+"""The runs of a case, in column order."""
+
+
+def _columns(comparison) -> list[tuple[str, str, str]]:
+    """(quantity, run, unit) of every curve the case has."""
+    return [(m.quantity, run, m.unit) for m in comparison.metrics for run in RUNS
+            if m.quantity in getattr(comparison, run)]
+
+
+def curves_csv(comparisons: Sequence) -> str:
+    """Every curve of every case as CSV text (SI units; the header names them).
+
+    Parameters
+    ----------
+    comparisons : sequence of Comparison
+        The compared cases (:class:`ins_errors.numeric.compare.Comparison`).
+
+    Returns
+    -------
+    str
+        CSV with a header row; ``case`` and ``t [s]`` first.
+    """
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    columns = _columns(comparisons[0]) if comparisons else []
+    writer.writerow(["case", "t [s]", *(f"{q}.{run} [{unit}]" for q, run, unit in columns)])
+    for k, comparison in enumerate(comparisons, 1):
+        data = np.column_stack([comparison.times] + [getattr(comparison, run)[q]
+                                                     for q, run, _ in columns])
+        for row in data:
+            writer.writerow([k, *(repr(float(v)) for v in row)])
+    return buffer.getvalue()
+
+
+def save_curves_mat(comparisons: Sequence, path: str | Path) -> None:
+    """Write every curve of every case as a MATLAB ``.mat`` file (see the module notes).
+
+    Parameters
+    ----------
+    comparisons : sequence of Comparison
+        The compared cases.
+    path : str or Path
+        Target file (written as given: callers use :mod:`ins_errors.output` for atomicity).
+    """
+    from scipy.io import savemat
+
+    content: dict[str, object] = {
+        "t_s": np.asarray(comparisons[0].times, float) if comparisons else np.zeros(0),
+        "labels": np.array([c.label for c in comparisons], dtype=object),
+        "units": {m.quantity: m.unit for m in comparisons[0].metrics} if comparisons else {},
+    }
+    for k, comparison in enumerate(comparisons, 1):
+        content[f"case_{k}"] = {
+            "t_s": np.asarray(comparison.times, float),
+            **{run: {q: np.asarray(v, float) for q, v in getattr(comparison, run).items()}
+               for run in RUNS if getattr(comparison, run)}}
+    savemat(str(path), content, do_compression=True, oned_as="row")

@@ -1,0 +1,264 @@
+"""Every file ins-errors writes goes through here: atomically, and never over a stranger's.
+
+Three rules, one place:
+
+* **Atomic.** A file is written to a temporary file beside it and renamed over the
+  target (:func:`os.replace`), so an interrupted run leaves either the old file or the
+  new one, never half of one.
+* **Folders.** A report folder that ins-errors writes holds a small manifest
+  (:data:`MANIFEST`) listing the files it wrote. Writing into that folder again replaces
+  those files and removes the ones the new run does not write (no stale ``case_3.png``
+  beside a two-case report); files that someone else put there are left alone. A folder
+  that is not empty and has no manifest is refused, pointing to ``--force``.
+* **One-line errors.** A missing or read-only folder, a target that is a directory, a
+  full disk: an :class:`~ins_errors.errors.InsErrorsError` naming the path.
+
+Single files named on the command line (``--plot out/drift.png``, ``--markdown``,
+``--report``) are replaced; ins-errors says so on stderr when one already existed.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+import tempfile
+from collections.abc import Callable
+from pathlib import Path
+
+from ins_errors.errors import InsErrorsError
+
+MANIFEST = ".ins-errors-files.json"
+"""Name of the file, inside an output folder, that lists what ins-errors wrote there."""
+
+
+class OutputError(InsErrorsError):
+    """An output file or folder that cannot be written (or must not be overwritten)."""
+
+
+def _reason(error: OSError) -> str:
+    return error.strerror or str(error)
+
+
+def check_file(path: str | Path) -> Path:
+    """Check, before any computing, that ``path`` can be written; create nothing.
+
+    Raises
+    ------
+    OutputError
+        When ``path`` is a folder, one of its parents is a file, or the nearest existing
+        parent folder is not writable.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise OutputError(f"cannot write {str(path)!r}: it is a folder; give a file name")
+    parent = path.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise OutputError(f"cannot write {str(path)!r}: {str(parent)!r} is a file, not a folder")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise OutputError(f"cannot write {str(path)!r}: folder {str(parent)!r} is not writable")
+    return path
+
+
+def _prepare_parent(path: Path) -> None:
+    check_file(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        raise OutputError(f"cannot create folder {str(path.parent)!r}: "
+                          f"{_reason(error)}") from None
+    if not path.parent.is_dir():
+        raise OutputError(f"cannot write {str(path)!r}: {str(path.parent)!r} is not a folder")
+
+
+def write_with(path: str | Path, writer: Callable[[Path], object]) -> Path:
+    """Write ``path`` atomically: ``writer(temporary_path)`` fills a temporary file beside
+    it, which is then renamed over ``path``.
+
+    Parameters
+    ----------
+    path : str or Path
+        Target file; missing parent folders are created.
+    writer : callable
+        Called with the temporary path (same folder and suffix as ``path``, so tools
+        that choose a format by suffix, such as matplotlib, pick the right one).
+
+    Returns
+    -------
+    Path
+        The written file.
+
+    Notes
+    -----
+    Replacing an existing file is said on stderr, unless the file belongs to a folder
+    that ins-errors manages (:class:`OutputFolder`), where replacing is the point.
+
+    Raises
+    ------
+    OutputError
+        One line naming the path and the reason.
+    """
+    path = Path(path)
+    _prepare_parent(path)
+    existed = path.exists()
+    try:
+        handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix,
+                                             dir=path.parent)
+    except OSError as error:
+        raise OutputError(f"cannot write {str(path)!r}: {_reason(error)}") from None
+    os.close(handle)
+    temporary = Path(temporary)
+    try:
+        writer(temporary)
+        os.replace(temporary, path)
+    except OSError as error:
+        raise OutputError(f"cannot write {str(path)!r}: {_reason(error)}") from None
+    except ValueError as error:  # e.g. matplotlib: unknown image format
+        raise OutputError(f"cannot write {str(path)!r}: {error}") from None
+    finally:
+        temporary.unlink(missing_ok=True)
+    if existed and not (path.parent / MANIFEST).exists():
+        print(f"ins-errors: replaced {path}", file=sys.stderr)
+    return path
+
+
+def write_text(path: str | Path, text: str) -> Path:
+    """Write UTF-8 text atomically (see :func:`write_with`)."""
+    return write_with(path, lambda p: p.write_text(text, encoding="utf-8"))
+
+
+def save_figure(figure, path: str | Path, **options) -> Path:
+    """Save a matplotlib figure atomically and close it.
+
+    Parameters
+    ----------
+    figure : matplotlib.figure.Figure
+        The figure.
+    path : str or Path
+        Target; its suffix (png, pdf, svg, ...) chooses the format.
+    **options
+        Passed to ``Figure.savefig`` (e.g. ``dpi``).
+    """
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    fmt = path.suffix.lstrip(".").lower() or None
+    try:
+        return write_with(path, lambda p: figure.savefig(p, format=fmt, **options))
+    finally:
+        plt.close(figure)
+
+
+class OutputFolder:
+    """A folder of files written by one command (a report folder).
+
+    Parameters
+    ----------
+    folder : str or Path
+        The folder; created if missing.
+    force : bool
+        Write into a non-empty folder that ins-errors did not write (its other files
+        are left alone).
+    option : str
+        The option that named the folder, for messages (``"--out"``).
+    create : bool
+        Create the folder now (``False``: only check, e.g. before a long computation).
+
+    Raises
+    ------
+    OutputError
+        When the folder is a file, cannot be created, or holds files of someone else
+        and ``force`` is false.
+
+    Notes
+    -----
+    Use :meth:`write_text`, :meth:`save_figure` or :meth:`write_with` for every file,
+    then :meth:`finish`, which removes the files of an earlier run that this run did not
+    write and records the new list.
+    """
+
+    def __init__(self, folder: str | Path, force: bool = False, option: str = "--out",
+                 create: bool = True):
+        self.path = Path(folder)
+        self.written: list[str] = []
+        if self.path.exists() and not self.path.is_dir():
+            raise OutputError(f"{option} {str(self.path)!r} is a file, not a folder")
+        manifest = self.path / MANIFEST
+        self.previous = self._read_manifest(manifest)
+        foreign = self.path.is_dir() and self.previous is None and any(self.path.iterdir())
+        if foreign and not force:
+            raise OutputError(f"{option} {str(self.path)!r} is not empty and was not "
+                              "written by ins-errors: choose another folder or add "
+                              "--force (replaces only the files ins-errors writes)")
+        if not create:
+            return
+        try:
+            self.path.mkdir(parents=True, exist_ok=True)
+        except OSError as error:
+            raise OutputError(f"cannot create folder {str(self.path)!r}: "
+                              f"{_reason(error)}") from None
+
+    @staticmethod
+    def _read_manifest(manifest: Path) -> list[str] | None:
+        if not manifest.is_file():
+            return None
+        try:
+            names = json.loads(manifest.read_text(encoding="utf-8"))["files"]
+        except (OSError, ValueError, KeyError, TypeError):
+            return []
+        return [n for n in names if isinstance(n, str) and "/" not in n and "\\" not in n]
+
+    def file(self, name: str) -> Path:
+        """The path of ``name`` inside the folder, recorded as written by this run."""
+        if name not in self.written:
+            self.written.append(name)
+        return self.path / name
+
+    def write_text(self, name: str, text: str) -> Path:
+        """Write a text file of the folder atomically."""
+        return write_text(self.file(name), text)
+
+    def write_with(self, name: str, writer: Callable[[Path], object]) -> Path:
+        """Write a file of the folder atomically with ``writer(temporary_path)``."""
+        return write_with(self.file(name), writer)
+
+    def save_figure(self, figure, name: str, **options) -> Path:
+        """Save a matplotlib figure as a file of the folder, atomically."""
+        return save_figure(figure, self.file(name), **options)
+
+    def finish(self) -> list[Path]:
+        """Remove the earlier run's files that this run did not write; record this run's.
+
+        Returns
+        -------
+        list of Path
+            The files written by this run.
+        """
+        for name in self.previous or ():
+            if name not in self.written:
+                (self.path / name).unlink(missing_ok=True)
+        write_text(self.path / MANIFEST, json.dumps({"written_by": "ins-errors",
+                                                    "files": self.written}, indent=1) + "\n")
+        return [self.path / n for n in self.written]
+
+
+def require_matplotlib(what: str = "plots") -> None:
+    """Fail early, in one line, when matplotlib (the ``plots`` extra) is missing.
+
+    Call it before any computing in a command that will draw.
+
+    Raises
+    ------
+    InsErrorsError
+        ``"<what> need matplotlib: install ins-errors[plots]"``.
+    """
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise InsErrorsError(f"{what} need matplotlib, which is not installed: "
+                             "install ins-errors[plots] (pip install 'ins-errors[plots]')"
+                             ) from None
+
+

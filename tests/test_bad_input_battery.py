@@ -1,0 +1,361 @@
+"""A battery of bad inputs: every one gives one line naming the problem and exit status 2.
+
+Each command-line case runs the real entry point (:func:`ins_errors.cli.main`) in a
+scratch folder; a traceback, a second line, another status or a stack of output files
+left behind is a failure. Every registered subcommand (including ones added later) is
+also fed an unknown option and, if it takes a model, an unknown model name. The public
+API cases check that the library raises :class:`ins_errors.InsErrorsError` with a
+one-line message.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ins_errors
+from ins_errors.cli import build_parser, main
+
+ROOT = Path(__file__).resolve().parent.parent
+GOOD_SOURCE = "gyro_drift_x=0.01deg/h"
+SCENARIO = """model = "orthodromic"
+[motion]
+kind = "static"
+latitude = "50 deg"
+[run]
+duration = "1 h"
+step = "1 s"
+[[case]]
+gyro_drift_x = "0.01 deg/h"
+"""
+
+
+FILES: dict[str, str | bytes] = {
+    "binary.toml": bytes(range(256)) * 4,
+    "invalid.toml": "model = \n[run\n",
+    "empty.csv": "",
+    "header_only.csv": "t,v_N,v_E\n",
+    "no_t.csv": "time,v_N,v_E\n0,1,2\n10,1,2\n",
+    "bare_duration.toml": SCENARIO.replace('duration = "1 h"', "duration = 24"),
+    "bare_source.toml": SCENARIO.replace('"0.01 deg/h"', '"0.01"'),
+    "unknown_key.toml": SCENARIO.replace("[run]", "[run]\nduraton = \"1 h\""),
+    "unknown_source.toml": SCENARIO.replace("gyro_drift_x", "gyro_drift_q"),
+    "unknown_model.toml": SCENARIO.replace("orthodromic", "orthodromik"),
+    "pole.toml": SCENARIO.replace('"50 deg"', '"90 deg"'),
+    "nan.toml": SCENARIO.replace('"0.01 deg/h"', '"nan deg/h"'),
+    "wrong_unit.toml": SCENARIO.replace('"0.01 deg/h"', '"0.01 m/s"'),
+    "no_case.toml": SCENARIO.split("[[case]]")[0],
+    "bad_method.toml": SCENARIO.replace('step = "1 s"', 'step = "1 s"\nmethod = "rk5"'),
+    "bad_grid.toml": SCENARIO.replace('step = "1 s"', 'step = "7 s"'),
+    "tiny_step.toml": SCENARIO.replace('step = "1 s"', 'step = "1e-9 s"'),
+    "case_not_table.toml": SCENARIO.replace("[[case]]", "[case]"),
+    "bad_motion.toml": SCENARIO.replace('kind = "static"', 'kind = "hovering"'),
+    "spec_bare.toml": 'title = "x"\noperating_time = 8\n',
+    "a_file": "not a folder\n",
+    "good.toml": SCENARIO,
+    "hand.txt": "dot(alpha_x) = \n",
+}
+
+CLI_CASES: dict[str, list[str]] = {
+    # front door
+    "no-such-command": ["frobnicate"],
+    "unknown-option": ["models", "--colour"],
+    # models
+    "models-unknown": ["models", "orthodromik"],
+    # run
+    "run-missing-file": ["run", "missing.toml"],
+    "run-folder-as-file": ["run", "."],
+    "run-binary": ["run", "binary.toml"],
+    "run-invalid-toml": ["run", "invalid.toml"],
+    "run-bare-duration": ["run", "bare_duration.toml"],
+    "run-bare-source": ["run", "bare_source.toml"],
+    "run-unknown-key": ["run", "unknown_key.toml"],
+    "run-unknown-source": ["run", "unknown_source.toml"],
+    "run-unknown-model": ["run", "unknown_model.toml"],
+    "run-pole": ["run", "pole.toml"],
+    "run-nan": ["run", "nan.toml"],
+    "run-wrong-unit": ["run", "wrong_unit.toml"],
+    "run-no-case": ["run", "no_case.toml"],
+    "run-bad-method": ["run", "bad_method.toml"],
+    "run-bad-grid": ["run", "bad_grid.toml"],
+    "run-absurd-steps": ["run", "tiny_step.toml"],
+    "run-case-not-array": ["run", "case_not_table.toml"],
+    "run-bad-motion": ["run", "bad_motion.toml"],
+    "run-out-is-a-file": ["run", "good.toml", "--out", "a_file"],
+    "run-out-foreign-folder": ["run", "good.toml", "--out", "."],
+    # compare
+    "compare-no-source": ["compare", "orthodromic"],
+    "compare-bare-number": ["compare", "orthodromic", "-s", "gyro_drift_x=0.01"],
+    "compare-unknown-source": ["compare", "orthodromic", "-s", "gyro_drift=0.01deg/h"],
+    "compare-no-equals": ["compare", "orthodromic", "-s", "gyro_drift_x"],
+    "compare-twice": ["compare", "orthodromic", "-s", GOOD_SOURCE, "-s", GOOD_SOURCE],
+    "compare-wrong-unit": ["compare", "orthodromic", "-s", "gyro_drift_x=1m"],
+    "compare-pole": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--latitude", "90deg"],
+    "compare-bare-latitude": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--latitude", "50"],
+    "compare-absurd-steps": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--step", "1e-9s",
+                             "--hours", "1"],
+    "compare-zero-step": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--step", "0s"],
+    "compare-hours-and-duration": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
+                                   "1", "--duration", "1 h"],
+    "compare-bad-hours": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours", "soon"],
+    "compare-empty-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                                  "--motion-file", "empty.csv"],
+    "compare-header-only-motion": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                                   "--motion-file", "header_only.csv"],
+    "compare-motion-lacks-t": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                               "--motion-file", "no_t.csv"],
+    "compare-binary-motion": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                              "--motion-file", "binary.toml"],
+    "compare-bad-motion-kind": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
+                                "orbit"],
+    "compare-pole-flight": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
+                            "great-circle", "--heading", "0deg", "--hours", "6",
+                            "--step", "10s"],
+    # budget
+    "budget-missing-spec": ["budget", "orthodromic", "--spec", "missing.toml"],
+    "budget-binary-spec": ["budget", "orthodromic", "--spec", "binary.toml"],
+    "budget-bare-spec-number": ["budget", "orthodromic", "--spec", "spec_bare.toml"],
+    "budget-plot-at-alone": ["budget", "orthodromic", "--plot-at", "x.png"],
+    "budget-plot-under-a-file": ["budget", "orthodromic", "--plot", "a_file/budget.png"],
+    "budget-mc-one-run": ["budget", "orthodromic", "--monte-carlo", "1"],
+    # check
+    "check-missing-file": ["check", "orthodromic", "missing.txt"],
+    "check-binary-file": ["check", "orthodromic", "binary.toml"],
+    "check-unknown-model": ["check", "orthodromik", "hand.txt"],
+    "check-report-is-a-folder": ["check", "orthodromic",
+                                 str(ROOT / "examples" / "manual_000" / "equations.txt"),
+                                 "--report", "."],
+    # study
+    "study-unknown": ["study", "coriolisis"],
+    "study-bare-latitude": ["study", "coriolis", "--latitude", "50"],
+    "study-zero-step": ["study", "coriolis", "--step", "0 s"],
+    "study-absurd-steps": ["study", "spheroid", "--step", "1e-9s", "--hours", "1"],
+    "study-plot-is-a-file": ["study", "coriolis", "--plot", "a_file"],
+    # propagation
+    "propagation-out-is-a-file": ["propagation", "--out", "a_file"],
+    "propagation-bare-drift": ["propagation", "--drift", "0.1"],
+    "propagation-pole": ["propagation", "--latitude", "90deg"],
+    "propagation-negative-hours": ["propagation", "--hours", "-1"],
+    "propagation-absurd-steps": ["propagation", "--step", "1e-9s", "--hours", "1"],
+    "propagation-foreign-folder": ["propagation", "--hours", "1", "--out", "."],
+}
+
+
+def _run(argv: list[str], capsys) -> tuple[int, str, str]:
+    try:
+        status = main(argv)
+    except SystemExit as stop:  # argparse usage errors
+        status = stop.code
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def _assert_one_line(status: int, err: str, argv: list[str]) -> None:
+    lines = err.strip().splitlines()
+    assert status == 2, f"{argv}: status {status}, stderr {err!r}"
+    assert len(lines) == 1, f"{argv}: expected one line, got {err!r}"
+    assert lines[0].startswith("ins-errors") and "error" in lines[0], lines[0]
+    assert "Traceback" not in err
+
+
+@pytest.fixture
+def scratch(tmp_path, monkeypatch):
+    for name, content in FILES.items():
+        target = tmp_path / name
+        if isinstance(content, bytes):
+            target.write_bytes(content)
+        else:
+            target.write_text(content, encoding="utf-8")
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def test_the_battery_is_large():
+    assert len(CLI_CASES) + len(API_CASES) >= 40
+    commands = {argv[0] for argv in CLI_CASES.values()}
+    assert {"models", "run", "compare", "budget", "check", "study", "propagation"} <= commands
+
+
+@pytest.mark.parametrize("argv", CLI_CASES.values(), ids=CLI_CASES.keys())
+def test_bad_command_line(argv, scratch, capsys):
+    before = sorted(p.name for p in scratch.iterdir())
+    status, _out, err = _run(argv, capsys)
+    _assert_one_line(status, err, argv)
+    print(err.strip())
+    assert sorted(p.name for p in scratch.iterdir()) == before, "a failed run left files"
+
+
+def _subcommands() -> dict[str, object]:
+    parser = build_parser()
+    action = next(a for a in parser._actions if a.dest == "command")
+    return dict(action.choices)
+
+
+@pytest.mark.parametrize("name", sorted(_subcommands()))
+def test_every_subcommand_refuses_an_unknown_option(name, scratch, capsys):
+    status, _out, err = _run([name, "--no-such-option"], capsys)
+    _assert_one_line(status, err, [name])
+
+
+@pytest.mark.parametrize("name", sorted(n for n, p in _subcommands().items()
+                                        if any(a.dest == "model" and not a.option_strings
+                                               for a in p._actions)))
+def test_every_model_taking_subcommand_names_close_models(name, scratch, capsys):
+    sub = _subcommands()[name]
+    positionals = [a for a in sub._actions if not a.option_strings and a.dest != "help"]
+    argv = [name] + ["orthodromik" if a.dest == "model" else "hand.txt"
+                     for a in positionals if a.nargs in (None, 1)]
+    status, _out, err = _run(argv, capsys)
+    _assert_one_line(status, err, argv)
+    assert "orthodromic" in err
+
+
+@pytest.mark.parametrize("argv", [
+    ["run", "pole.toml"],
+    ["compare", "orthodromic", "-s", GOOD_SOURCE, "--plot", "out.png"],
+    ["budget", "orthodromic", "--plot", "budget.png"],
+    ["study", "coriolis", "--plot", "plots"],
+    ["propagation", "--out", "p001"],
+], ids=lambda argv: argv[0])
+def test_missing_matplotlib_is_one_line_before_computing(argv, scratch, capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib -> ImportError
+    status, out, err = _run(argv, capsys)
+    _assert_one_line(status, err, argv)
+    assert "install ins-errors[plots]" in err
+    assert not out  # nothing computed, nothing printed
+
+
+def test_existing_report_folder_is_replaced_cleanly(scratch, capsys):
+    """A re-run replaces the report and removes its stale files, leaves others alone."""
+    two_cases = SCENARIO.replace('duration = "1 h"', 'duration = "10 min"') + (
+        '[[case]]\ngyro_drift_y = "0.01 deg/h"\n')
+    Path("two.toml").write_text(two_cases, encoding="utf-8")
+    assert _run(["run", "two.toml", "--out", "rep", "--no-progress"], capsys)[0] == 0
+    assert (scratch / "rep" / "case_2.png").exists()
+    (scratch / "rep" / "notes.txt").write_text("mine", encoding="utf-8")
+    one_case = two_cases.split("[[case]]\ngyro_drift_y")[0]
+    Path("two.toml").write_text(one_case, encoding="utf-8")
+    assert _run(["run", "two.toml", "--out", "rep", "--no-progress"], capsys)[0] == 0
+    left = sorted(p.name for p in (scratch / "rep").iterdir() if not p.name.startswith("."))
+    assert left == ["case_1.png", "curves.csv", "curves.mat", "notes.txt", "report.html",
+                    "report.md", "results.json"]
+    assert not list((scratch / "rep").glob(".*.tmp*"))
+
+
+def test_force_writes_into_a_foreign_folder_leaving_its_files(scratch, capsys):
+    short = SCENARIO.replace('duration = "1 h"', 'duration = "10 min"')
+    Path("short.toml").write_text(short, encoding="utf-8")
+    status, _out, err = _run(["run", "short.toml", "--out", ".", "--no-progress"], capsys)
+    assert status == 2 and "--force" in err
+    status, _out, _err = _run(["run", "short.toml", "--out", ".", "--force", "--no-progress"],
+                              capsys)
+    assert status == 0
+    assert (scratch / "report.md").exists() and (scratch / "a_file").read_text() == FILES[
+        "a_file"]
+
+
+def test_a_named_file_is_replaced_with_a_note(scratch, capsys):
+    argv = ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours", "0.5", "--no-refined",
+            "--markdown", "a_file"]
+    status, out, err = _run(argv, capsys)
+    assert status == 0 and "replaced a_file" in err
+    assert (scratch / "a_file").read_text(encoding="utf-8").strip() in out
+
+
+# --------------------------------------------------------------------------------------
+# The public API
+# --------------------------------------------------------------------------------------
+def _orthodromic():
+    return ins_errors.load_model("orthodromic")
+
+
+def _state(model):
+    c = model.initial_condition_vector(latitude=0.8)
+    u = model.input_vector(a_zeta=9.81)
+    return model.initial_state(c, u), u
+
+
+def _api_load_scenario(path):
+    from ins_errors.scenario import load_scenario
+
+    return load_scenario(path)
+
+
+def _api_load_spec(path):
+    from ins_errors.specs import load_spec
+
+    return load_spec(path)
+
+
+def _api_motion(description):
+    from ins_errors.numeric.motion_spec import motion_profile
+
+    return motion_profile(description)
+
+
+def _api_quantity(text, unit):
+    from ins_errors.units import parse_quantity
+
+    return parse_quantity(text, unit, "value")
+
+
+def _api_trajectory(duration, tau):
+    from ins_errors.numeric import trajectories as tr
+
+    model = _orthodromic()
+    return tr.trajectory(model, tr.static_profile(0.8, 0.5, 0.0), duration, tau)
+
+
+def _api_write_into_file():
+    from ins_errors.output import OutputFolder
+
+    return OutputFolder("a_file")
+
+
+def _api_write_text_into_folder():
+    from ins_errors.output import write_text
+
+    return write_text(".", "x")
+
+
+def _api_hand_file(path):
+    from ins_errors.checker.notation import Notation
+    from ins_errors.checker.parse import read_hand_file
+
+    return read_hand_file(path, Notation())
+
+
+API_CASES = {
+    "load_model-unknown": lambda: ins_errors.load_model("orthodromik"),
+    "source_vector-unknown": lambda: _orthodromic().source_vector(gyro_drift_q=1.0),
+    "source_vector-nan": lambda: _orthodromic().source_vector(gyro_drift_x=np.nan),
+    "parameter_vector-ellipsoid": lambda: _orthodromic().parameter_vector(ellipsoid="wgs-84"),
+    "state_matrix-shape": lambda: _orthodromic().state_matrix(_state(_orthodromic())[0][:5],
+                                                              _state(_orthodromic())[1]),
+    "initial_state-pole": lambda: _orthodromic().initial_state(
+        _orthodromic().initial_condition_vector(latitude=np.pi / 2),
+        _orthodromic().input_vector()),
+    "load_scenario-binary": lambda: _api_load_scenario("binary.toml"),
+    "load_scenario-bare": lambda: _api_load_scenario("bare_duration.toml"),
+    "load_spec-binary": lambda: _api_load_spec("binary.toml"),
+    "motion-kind": lambda: _api_motion({"kind": "orbit"}),
+    "motion-bare-latitude": lambda: _api_motion({"latitude": "50"}),
+    "quantity-bare": lambda: _api_quantity("0.01", "rad/s"),
+    "quantity-garbage": lambda: _api_quantity("ten deg", "rad"),
+    "trajectory-absurd": lambda: _api_trajectory(3600.0, 1e-9),
+    "trajectory-grid": lambda: _api_trajectory(3600.0, 7.0),
+    "output-folder-is-file": _api_write_into_file,
+    "output-file-is-folder": _api_write_text_into_folder,
+    "hand-file-binary": lambda: _api_hand_file("binary.toml"),
+}
+
+
+@pytest.mark.parametrize("call", API_CASES.values(), ids=API_CASES.keys())
+def test_bad_api_call(call, scratch):
+    with pytest.raises(ins_errors.InsErrorsError) as raised:
+        call()
+    message = str(raised.value)
+    assert message and "\n" not in message, message
