@@ -142,13 +142,20 @@ def test_bad_motions_raise_one_line_errors(orthodromic):
         tr.trajectory(orthodromic, profile, 20.0, 1.0)
     with pytest.raises(InsErrorsError, match="leg duration"):
         tr.manoeuvre_profile(0.1, 0.0, 0.0, 100.0, [tr.Leg(0.0, 100.0)])
-    # a 24 h flight sampled at 100 Hz would need gigabytes: refused up front
+    # a 7-day flight at 100 Hz is streamed; keeping it whole would need gigabytes: refused
+    week = tr.trajectory(orthodromic, tr.great_circle_profile(0.5, 0.0, 0.0, 250.0),
+                         7 * 86400.0, 0.01)
+    assert week.is_streamed
     with pytest.raises(StepError, match="GB"):
-        tr.trajectory(orthodromic, tr.great_circle_profile(0.5, 0.0, 0.0, 250.0), 86400.0, 0.01)
+        week.truth  # noqa: B018
     # a flight over the pole leaves the model's domain: named, with its time
     polar = tr.great_circle_profile(89.9 * DEG, 0.0, 0.0, 300.0)
     with pytest.raises(DomainError, match=r"t = \d"):
         tr.trajectory(orthodromic, polar, 600.0, 1.0)
+    # ... and a streamed one says the same when it is run
+    streamed = tr.trajectory(orthodromic, polar, 600.0, 1.0, stream=True)
+    with pytest.raises(DomainError, match=r"true motion leaves the model's domain at t = \d"):
+        simulate(orthodromic, streamed, {"gyro_drift_x": 1e-7})
 
 
 def test_rest_with_a_moving_state_is_integrated():

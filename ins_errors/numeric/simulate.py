@@ -48,11 +48,13 @@ import numpy as np
 from ins_errors.errors import DomainError, ShapeError, unknown_name
 from ins_errors.numeric.integrators import (
     CompiledLoop,
+    LoopResult,
     Method,
     StepError,
     check_method,
     exact_discretisation,
     input_stream,
+    progress_bar,
     record_stride,
 )
 from ins_errors.numeric.model import Model
@@ -220,6 +222,7 @@ class Simulation:
     linear: np.ndarray | None = None
     refined: np.ndarray | None = None
     platform: str = "exact"
+    recorded_inputs: np.ndarray | None = None
 
     @property
     def times(self) -> np.ndarray:
@@ -227,6 +230,8 @@ class Simulation:
         return np.arange(self.ideal.shape[1]) * self.stride * self.trajectory.tau
 
     def _recorded_inputs(self) -> np.ndarray:
+        if self.recorded_inputs is not None:
+            return self.recorded_inputs[:, :, None]
         steps = np.arange(self.ideal.shape[1]) * self.stride
         return self.trajectory.inputs_at(steps)[:, :, None]
 
@@ -374,9 +379,9 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
     if n_values > MAX_RECORDED_VALUES:
         raise StepError(f"recording {N // stride + 1:,} samples of {B} case(s) needs "
                         f"{8 * n_values / 1e9:.1f} GB; choose a longer recording interval")
-    c, u0 = trajectory.initial_conditions, trajectory.inputs[:, 0]
+    c, u0 = trajectory.initial_conditions, trajectory.start_inputs
     n = len(model.states)
-    x0 = np.repeat(trajectory.truth[:, :1], B, axis=1)
+    x0 = np.repeat(trajectory.start_state[:, None], B, axis=1)
     blocks = [x0]
     if {"real", "refined"} & set(parts):
         xr0 = model.initial_real_state(c[:, None], u0[:, None], w, p)
@@ -390,17 +395,23 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
     if "refined" in parts:
         blocks.append(exact0)
     z0 = np.vstack(blocks)
-    if trajectory.constant:
-        stream, u_const = None, tuple(trajectory.inputs[:, 0])
-    else:
-        stream = input_stream(trajectory.inputs, trajectory.midpoints, method)
-        u_const = None
+    u_const = tuple(u0) if trajectory.constant else None
     active = np.any(w != 0, axis=1)
+    records = N // stride
+    # a moving run is fed in pieces of about STREAM_STEPS steps (whole compiled chunks)
+    chunk = chunk_size(records) if trajectory.constant else min(
+        chunk_size(records), _power_of_two_below(max(1, STREAM_STEPS // stride)))
     loop = _loop(model.name, parts, method, stride, float(tau), tuple(p), u_const,
-                 tuple(bool(a) for a in active), B, jit, chunk_size(N // stride), platform)
-    result = loop.run(z0, w[active], N, stream, progress=progress)
+                 tuple(bool(a) for a in active), B, jit, chunk, platform)
+    if trajectory.constant:
+        result = loop.run(z0, w[active], N, None, progress=progress)
+        recorded = None
+    else:
+        result, recorded = _run_streamed(loop, trajectory, z0, w[active], stride, method,
+                                         chunk * stride, progress)
     states = result.states
-    sim = Simulation(model, trajectory, method, stride, w, states[:n], platform=platform)
+    sim = Simulation(model, trajectory, method, stride, w, states[:n], platform=platform,
+                     recorded_inputs=recorded)
     offset = n
     ne = len(model.error_states)
     for part in parts:
@@ -408,6 +419,46 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         offset += ne
     _check_domain(sim, result.margins)
     return sim
+
+
+STREAM_STEPS = 32768
+"""Steps of a moving trajectory fed to a compiled loop at a time (about 1–4 MB of inputs)."""
+
+
+def _power_of_two_below(n: int) -> int:
+    return 1 << (max(1, n).bit_length() - 1)
+
+
+def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w: np.ndarray,
+                  stride: int, method: str, piece: int,
+                  progress: bool) -> tuple[LoopResult, np.ndarray]:
+    """Run ``loop`` along a moving trajectory fed chunk by chunk (never stored whole).
+
+    Returns the loop's result and the inputs at the recorded steps, shape (nu, R + 1).
+    """
+    N = trajectory.n_steps
+    records = N // stride
+    carry = loop.start(z0, w)
+    B = loop.batch
+    states = np.empty((loop.nz, records + 1, B))
+    margins = np.empty((records, B))
+    states[:, 0] = carry[:B, :loop.nz].T
+    recorded = np.empty((len(trajectory.start_inputs), records + 1))
+    recorded[:, 0] = trajectory.start_inputs
+    bar = progress_bar(N, "direct and linear runs" if progress else False)
+    try:
+        for part in trajectory.chunks(piece):
+            k, m = part.start, part.size
+            stream = np.ascontiguousarray(input_stream(part.inputs, part.midpoints, method).T)
+            r0, r1 = k // stride, (k + m) // stride
+            loop.advance(carry, m, stream, states[:, r0 + 1:r1 + 1], margins[r0:r1])
+            recorded[:, r0 + 1:r1 + 1] = part.inputs[:, stride::stride]
+            if bar is not None:
+                bar.update(m)
+    finally:
+        if bar is not None:
+            bar.close()
+    return LoopResult(states, margins), recorded
 
 
 def chunk_size(records: int) -> int:
@@ -482,7 +533,7 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
 
 def _margin_detail(sim: Simulation, record: int, case: int) -> str:
     model, n = sim.model, len(sim.model.states)
-    u = sim.trajectory.inputs_at(np.array([record * sim.stride]))[:, 0]
+    u = sim._recorded_inputs()[:, record, 0]
     p = sim.trajectory.parameters
     messages = model.meta.DOMAIN
     for label, state in (("real system", None if sim.real is None else sim.real[:n]),
@@ -520,7 +571,7 @@ def linear_exact(model: Model, trajectory: Trajectory, sources,
     w = source_cases(model, sources)
     stride = record_stride(record_interval, trajectory.tau, trajectory.n_steps)
     dt = stride * trajectory.tau
-    x, u, p = trajectory.truth[:, 0], trajectory.inputs[:, 0], trajectory.parameters
+    x, u, p = trajectory.start_state, trajectory.start_inputs, trajectory.parameters
     F, G = model.state_matrix(x, u, p), model.source_matrix(x, u, p)
     Phi, Gamma = exact_discretisation(F, G, dt)
     E = model.initial_error_matrix(trajectory.initial_conditions, u, p)

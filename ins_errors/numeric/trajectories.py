@@ -28,9 +28,10 @@ left), so ``v_N = v_ξ cos χ + v_η sin χ`` and ``v_E = v_ξ sin χ − v_η c
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from functools import cache, lru_cache
+from typing import Protocol, runtime_checkable
 
 import casadi as ca
 import numpy as np
@@ -415,13 +416,70 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
 
 
 # --------------------------------------------------------------------------------------
-# Trajectory
+# Trajectory: stored or streamed in chunks
 # --------------------------------------------------------------------------------------
 @dataclass
-class Trajectory:
-    """True motion sampled on a run's step grid, ready for the integrators.
+class TruthChunk:
+    """True motion over the steps ``start .. start + m`` of a run's grid.
 
     Attributes
+    ----------
+    start : int
+        Index of the first step.
+    truth : numpy.ndarray, shape (n, m + 1)
+        True states at the step times ``(start + j) τ``, ``j = 0..m``.
+    inputs : numpy.ndarray, shape (nu, m + 1)
+        Inputs at the same times.
+    midpoints : numpy.ndarray, shape (nu, m)
+        Inputs at ``(start + j + 1/2) τ``, ``j = 0..m-1`` (for RK4).
+    """
+
+    start: int
+    truth: np.ndarray
+    inputs: np.ndarray
+    midpoints: np.ndarray
+
+    @property
+    def size(self) -> int:
+        """Number of steps m."""
+        return self.midpoints.shape[1]
+
+
+@runtime_checkable
+class MotionSource(Protocol):
+    """A true motion that yields itself in chunks (the public streaming interface).
+
+    Any truth generator (a profile followed by a model's own equations, a strapdown IMU
+    simulator, recorded data) can feed the simulations without storing a whole day of
+    samples: implement :meth:`chunks` and wrap it in :meth:`Trajectory.streamed`.
+    """
+
+    def chunks(self, size: int) -> Iterator[TruthChunk]:
+        """Consecutive chunks of at most ``size`` steps covering the whole run, in order;
+        each starts at the step where the previous one ended (that step appears in both).
+        Every call starts again from the beginning and yields the same numbers."""
+        ...
+
+
+STREAM_BYTES = 64_000_000
+"""A moving trajectory whose samples would take more than this many bytes is streamed
+(generated chunk by chunk while a simulation runs) instead of stored."""
+
+
+STORE_CHUNK = 65536
+"""Steps generated at a time while a streamed trajectory is stored whole."""
+
+
+class Trajectory:
+    """True motion on a run's step grid, ready for the integrators.
+
+    A trajectory is either *stored* (arrays over the whole grid; one column when
+    constant) or *streamed* (a :class:`MotionSource` yields it in chunks whenever it is
+    run, so memory does not grow with the duration). Both offer :meth:`chunks`; the
+    ``truth``, ``inputs`` and ``midpoints`` arrays of a streamed trajectory are built on
+    first use (refused when they would not fit, :data:`MAX_SAMPLES`).
+
+    Parameters
     ----------
     model : str
         Model name the inputs were computed for.
@@ -430,11 +488,12 @@ class Trajectory:
     n_steps : int
         Number of steps N (the grid has N + 1 points ``t = k τ``).
     truth : numpy.ndarray, shape (n, N + 1) or (n, 1)
-        True state at the step times (one column when constant).
+        True state at the step times (one column when constant); for a streamed
+        trajectory, the initial state (n, 1).
     inputs : numpy.ndarray, shape (nu, N + 1) or (nu, 1)
-        Inputs at the step times (one column when constant).
+        Inputs at the step times (one column when constant or streamed).
     midpoints : numpy.ndarray, shape (nu, N) or (nu, 1)
-        Inputs at ``t + τ/2`` (for RK4).
+        Inputs at ``t + τ/2`` (for RK4); one column when constant or streamed.
     parameters : numpy.ndarray, shape (np,)
         Model parameters the motion was computed with.
     initial_conditions : numpy.ndarray, shape (nc,)
@@ -443,18 +502,111 @@ class Trajectory:
         True for a static base (inputs and state constant: exact time invariance).
     description : str
         One line.
+    source : MotionSource, optional
+        Makes the trajectory streamed.
     """
 
-    model: str
-    tau: float
-    n_steps: int
-    truth: np.ndarray
-    inputs: np.ndarray
-    midpoints: np.ndarray
-    parameters: np.ndarray
-    initial_conditions: np.ndarray
-    constant: bool
-    description: str
+    def __init__(self, model: str, tau: float, n_steps: int, truth: np.ndarray,
+                 inputs: np.ndarray, midpoints: np.ndarray, parameters: np.ndarray,
+                 initial_conditions: np.ndarray, constant: bool, description: str,
+                 source: MotionSource | None = None):
+        self.model, self.tau, self.n_steps = model, float(tau), int(n_steps)
+        self.parameters, self.initial_conditions = parameters, initial_conditions
+        self.constant, self.description, self.source = constant, description, source
+        self._truth, self._inputs, self._midpoints = truth, inputs, midpoints
+        self._stored = source is None
+
+    @classmethod
+    def streamed(cls, model: str, tau: float, n_steps: int, source: MotionSource,
+                 x0: np.ndarray, u0: np.ndarray, parameters: np.ndarray,
+                 initial_conditions: np.ndarray, description: str) -> Trajectory:
+        """A trajectory generated chunk by chunk by ``source``.
+
+        Parameters
+        ----------
+        x0 : numpy.ndarray, shape (n,)
+            True state at t = 0 (the first column of the first chunk).
+        u0 : numpy.ndarray, shape (nu,)
+            Inputs at t = 0.
+        """
+        x0, u0 = np.asarray(x0, dtype=float), np.asarray(u0, dtype=float)
+        return cls(model, tau, n_steps, x0[:, None], u0[:, None], u0[:, None], parameters,
+                   initial_conditions, False, description, source)
+
+    def __repr__(self) -> str:
+        kind = "constant" if self.constant else "stored" if self._stored else "streamed"
+        return (f"<Trajectory {self.model!r}: {self.n_steps:,} steps of {self.tau:g} s, "
+                f"{kind}: {self.description}>")
+
+    # -- the whole grid ---------------------------------------------------------------
+    @property
+    def is_streamed(self) -> bool:
+        """True while the samples are generated on demand rather than stored."""
+        return not self._stored
+
+    @property
+    def start_state(self) -> np.ndarray:
+        """True state at t = 0, shape (n,)."""
+        return self._truth[:, 0]
+
+    @property
+    def start_inputs(self) -> np.ndarray:
+        """Inputs at t = 0, shape (nu,)."""
+        return self._inputs[:, 0]
+
+    @property
+    def truth(self) -> np.ndarray:
+        """True states, shape (n, N + 1) (one column when constant)."""
+        self._store()
+        return self._truth
+
+    @property
+    def inputs(self) -> np.ndarray:
+        """Inputs at the step times, shape (nu, N + 1) (one column when constant)."""
+        self._store()
+        return self._inputs
+
+    @property
+    def midpoints(self) -> np.ndarray:
+        """Inputs at the step midpoints, shape (nu, N) (one column when constant)."""
+        self._store()
+        return self._midpoints
+
+    def _store(self) -> None:
+        if self._stored:
+            return
+        n, nu = self._truth.shape[0], self._inputs.shape[0]
+        n_values = (self.n_steps + 1) * (n + 2 * nu)
+        if n_values > MAX_SAMPLES:
+            raise StepError(f"storing a moving trajectory of {self.n_steps:,} steps needs "
+                            f"about {8 * n_values / 1e9:.1f} GB; simulations stream it "
+                            "without storing it (use a longer step or a shorter run to "
+                            "keep it whole)")
+        truth = np.empty((n, self.n_steps + 1))
+        inputs = np.empty((nu, self.n_steps + 1))
+        midpoints = np.empty((nu, self.n_steps))
+        for chunk in self.source.chunks(STORE_CHUNK):
+            k, m = chunk.start, chunk.size
+            truth[:, k:k + m + 1] = chunk.truth
+            inputs[:, k:k + m + 1] = chunk.inputs
+            midpoints[:, k:k + m] = chunk.midpoints
+        self._truth, self._inputs, self._midpoints = truth, inputs, midpoints
+        self._stored = True
+
+    def chunks(self, size: int) -> Iterator[TruthChunk]:
+        """The motion in consecutive chunks of at most ``size`` steps (see
+        :class:`MotionSource`); a stored trajectory is sliced, a streamed one generated."""
+        if size < 1:
+            raise StepError(f"chunk size must be a positive number of steps, got {size}")
+        if not self._stored:
+            yield from self.source.chunks(size)
+            return
+        if self.constant:
+            raise StepError("a constant trajectory has no chunks: use its one column")
+        for start in range(0, self.n_steps, size):
+            stop = min(start + size, self.n_steps)
+            yield TruthChunk(start, self._truth[:, start:stop + 1],
+                             self._inputs[:, start:stop + 1], self._midpoints[:, start:stop])
 
     @property
     def times(self) -> np.ndarray:
@@ -469,19 +621,70 @@ class Trajectory:
     def inputs_at(self, steps: np.ndarray) -> np.ndarray:
         """Inputs at the given step indices, shape (nu, len(steps))."""
         if self.constant:
-            return np.repeat(self.inputs[:, :1], len(steps), axis=1)
+            return np.repeat(self._inputs[:, :1], len(steps), axis=1)
         return self.inputs[:, steps]
 
     def full_inputs(self) -> tuple[np.ndarray, np.ndarray]:
         """Inputs at every step time (nu, N + 1) and midpoint (nu, N), expanded if constant."""
         if self.constant:
-            return (np.repeat(self.inputs[:, :1], self.n_steps + 1, axis=1),
-                    np.repeat(self.midpoints[:, :1], self.n_steps, axis=1))
+            return (np.repeat(self._inputs[:, :1], self.n_steps + 1, axis=1),
+                    np.repeat(self._midpoints[:, :1], self.n_steps, axis=1))
         return self.inputs, self.midpoints
 
 
+class ProfileTruth:
+    """A :class:`Profile` followed by a model's ideal equations, generated in chunks.
+
+    The truth is integrated with RK4 at half the run's step (compiled loop, commands at
+    quarter steps) and the inputs are evaluated at every half step; a chunk's numbers do
+    not depend on the chunk size.
+    """
+
+    def __init__(self, model: Model, profile: Profile, frame: str, tau: float, n_steps: int,
+                 p: np.ndarray, x0: np.ndarray):
+        self.model_name, self.profile, self.frame = model.name, profile, frame
+        self.tau, self.n_steps, self.p, self.x0 = float(tau), n_steps, p, x0
+
+    def chunks(self, size: int) -> Iterator[TruthChunk]:
+        """Chunks of at most ``size`` steps (see :class:`MotionSource`)."""
+        tau, p = self.tau, tuple(self.p)
+        loop = _truth_loop(self.model_name, self.frame, tau / 2.0, p)
+        carry = loop.start(self.x0, np.zeros(0))
+        x_first = np.asarray(self.x0, dtype=float)
+        for start in range(0, self.n_steps, size):
+            m = min(size, self.n_steps - start)
+            # commands at the quarter steps 4 start .. 4 (start + m)
+            t_quarter = np.arange(4 * start, 4 * (start + m) + 1) * (tau / 4.0)
+            values, rates = self.profile.commands(t_quarter)
+            commands = np.vstack([values, rates])
+            _check_finite(commands, "motion commands", tau / 4.0, 4 * start)
+            stream = np.empty((2 * m, 24))
+            stream[:, :8] = commands[:, 0:-1:2].T
+            stream[:, 8:16] = commands[:, 1::2].T
+            stream[:, 16:] = commands[:, 2::2].T
+            n = len(x_first)
+            half = np.empty((n, 2 * m + 1, 1))
+            margins = np.empty((2 * m, 1))
+            half[:, 0, 0] = x_first
+            loop.advance(carry, 2 * m, stream, half[:, 1:], margins)
+            states = half[:, :, 0]
+            bad = ~np.all(np.isfinite(states), axis=0) | np.concatenate(
+                [[False], ~(margins[:, 0] > 0)])
+            if bad.any():
+                k = 2 * start + int(np.argmax(bad))
+                raise DomainError(f"the true motion leaves the model's domain at "
+                                  f"t = {k * tau / 2:.6g} s (e.g. passes a pole)")
+            u_all = _evaluate_inputs(self.model_name, self.frame, p,
+                                     np.ascontiguousarray(states.T),
+                                     np.ascontiguousarray(commands[:, ::2].T)).T
+            _check_finite(u_all, "true inputs", tau / 2, 2 * start)
+            yield TruthChunk(start, states[:, ::2], u_all[:, ::2], u_all[:, 1::2])
+            x_first = states[:, -1].copy()
+
+
 def trajectory(model: Model, profile: Profile, duration: float, tau: float,
-               p: np.ndarray | None = None, progress: bool = False) -> Trajectory:
+               p: np.ndarray | None = None, progress: bool = False,
+               stream: bool | None = None) -> Trajectory:
     """Sample a motion profile for ``model`` on the grid ``t = k τ``, ``k = 0..N``.
 
     Parameters
@@ -496,7 +699,12 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     p : numpy.ndarray, optional
         Parameters (default: the model's defaults, Krasovsky ellipsoid).
     progress : bool
-        Show progress while integrating the true motion.
+        Show progress while integrating a stored true motion.
+    stream : bool, optional
+        Generate a moving truth chunk by chunk whenever it is run instead of storing it
+        (:class:`ProfileTruth`); default: stream when the stored samples would exceed
+        :data:`STREAM_BYTES`. A streamed motion that leaves the model's domain is
+        reported when it is run.
 
     Raises
     ------
@@ -512,41 +720,28 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     start = np.array([profile.latitude, profile.longitude, profile.heading])
     values0, rates0 = profile.commands(np.zeros(1))
     x0, c0 = (np.asarray(v).ravel() for v in kin.initial_state(start, values0[:, 0], p))
+    u0 = np.asarray(kin.inputs(x0, values0[:, 0], rates0[:, 0], p)).ravel()
     if profile.static:
-        u = np.asarray(kin.inputs(x0, values0[:, 0], rates0[:, 0], p)).ravel()
-        _check_finite(u, "static-base inputs", 0.0)
+        _check_finite(u0, "static-base inputs", 0.0)
         # a vehicle at rest may still have a moving state (e.g. a free-azimuth angle that
         # follows the Earth's rotation): only a state at equilibrium is held constant
-        if np.abs(model.numpy.ideal_rhs(x0, u, p)).max() <= STATIC_TOLERANCE:
-            return Trajectory(model.name, float(tau), n_steps, x0[:, None], u[:, None],
-                              u[:, None], p, c0, True, profile.description)
-    # integrate the truth with RK4 at half the step, commands at quarter steps
-    n_half = 2 * n_steps
-    n_values = (2 * n_half + 1) * 8 + (n_half + 1) * (2 * len(model.states) + len(model.inputs))
-    if n_values > MAX_SAMPLES:
-        raise StepError(f"a moving trajectory of {n_steps:,} steps needs about "
-                        f"{8 * n_values / 1e9:.1f} GB of samples; use a longer step or a "
-                        "shorter run")
-    t_quarter = np.arange(2 * n_half + 1) * (tau / 4.0)
-    values, rates = profile.commands(t_quarter)
-    commands = np.vstack([values, rates])
-    _check_finite(commands, "motion commands", 0.0)
-    stream = np.vstack([commands[:, 0:-1:2], commands[:, 1::2], commands[:, 2::2]])
-    loop = _truth_loop(model.name, frame, tau / 2.0, tuple(p))
-    result = loop.run(x0, np.zeros(0), n_half, stream,
-                      progress="true motion" if progress else False)
-    states = result.states[:, :, 0]
-    bad = ~np.all(np.isfinite(states), axis=0) | np.concatenate(
-        [[False], ~(result.margins[:, 0] > 0)])
-    if bad.any():
-        k = int(np.argmax(bad))
-        raise DomainError(f"the true motion leaves the model's domain at t = {k * tau / 2:.6g} s"
-                          f" (e.g. passes a pole)")
-    u_all = _evaluate_inputs(model.name, frame, tuple(p), np.ascontiguousarray(states.T),
-                             np.ascontiguousarray(commands[:, ::2].T)).T
-    _check_finite(u_all, "true inputs", tau / 2)
-    return Trajectory(model.name, float(tau), n_steps, states[:, ::2], u_all[:, ::2],
-                      u_all[:, 1::2], p, c0, False, profile.description)
+        if np.abs(model.numpy.ideal_rhs(x0, u0, p)).max() <= STATIC_TOLERANCE:
+            return Trajectory(model.name, float(tau), n_steps, x0[:, None], u0[:, None],
+                              u0[:, None], p, c0, True, profile.description)
+    source = ProfileTruth(model, profile, frame, tau, n_steps, p, x0)
+    # about 74 numbers per step for the orthodromic model while it is built
+    n_values = (4 * n_steps + 1) * 8 + (2 * n_steps + 1) * (2 * len(model.states)
+                                                          + len(model.inputs))
+    if stream is None:
+        stream = 8 * n_values > STREAM_BYTES
+    if stream:
+        first = next(source.chunks(1))  # checks the start of the motion now
+        return Trajectory.streamed(model.name, tau, n_steps, source, first.truth[:, 0],
+                                   first.inputs[:, 0], p, c0, profile.description)
+    traj = Trajectory.streamed(model.name, tau, n_steps, source, x0, u0, p, c0,
+                               profile.description)
+    traj._store()
+    return traj
 
 
 STATIC_TOLERANCE = 1e-12
@@ -610,11 +805,12 @@ def _evaluate_inputs(model_name: str, frame: str, p: tuple[float, ...], states: 
     return out
 
 
-def _check_finite(array: np.ndarray, what: str, dt: float) -> None:
+def _check_finite(array: np.ndarray, what: str, dt: float, first: int = 0) -> None:
+    """Raise if ``array`` (columns at times ``(first + j) dt``) holds NaN or infinity."""
     bad = ~np.isfinite(np.asarray(array))
     if bad.any():
         column = int(np.argmax(bad.any(axis=0))) if bad.ndim > 1 else 0
-        raise DomainError(f"{what} are NaN or infinite at t = {column * dt:.6g} s")
+        raise DomainError(f"{what} are NaN or infinite at t = {(first + column) * dt:.6g} s")
 
 
 def consistent_state(model: Model, x: np.ndarray, commands: np.ndarray, frame: str = "track",
