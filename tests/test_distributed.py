@@ -1,0 +1,136 @@
+"""Runs on a local Dask cluster of 2 workers give the single-process results bit for bit,
+also when a worker is killed in the middle of a sweep.
+
+The cluster listens on 127.0.0.1 only and is shut down at the end of the module.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+pytest.importorskip("distributed")
+pytest.importorskip("zarr")
+
+from ins_errors.analysis import covariance as cv
+from ins_errors.analysis import monte_carlo as mc
+from ins_errors.analysis import sweep as sw
+from ins_errors.numeric import trajectories as tr
+from ins_errors.scenario import load_scenario
+
+SCENARIO = """
+title = "great circle, drawn biases"
+model = "orthodromic"
+[motion]
+kind = "great-circle"
+latitude = "50 deg"
+heading = "30 deg"
+speed = "250 m/s"
+[run]
+duration = "10 min"
+step = "1 s"
+record = "60 s"
+refined = false
+[[case]]
+gyro_drift_x = "0.01 deg/h"
+[sweep]
+latitude = ["20 deg", "45 deg"]
+heading = ["0 deg", "60 deg"]
+draws = 2
+seed = 11
+[sweep.random]
+accel_bias_x = "100 ug"
+accel_bias_y = "100 ug"
+"""
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    import logging
+
+    from distributed import Client, LocalCluster
+
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                      dashboard_address=None, silence_logs=logging.ERROR) as local, \
+            Client(local) as client:
+        yield local, client
+
+
+@pytest.fixture(scope="module")
+def scenario(tmp_path_factory):
+    path = tmp_path_factory.mktemp("sweep") / "s.toml"
+    path.write_text(textwrap.dedent(SCENARIO))
+    return load_scenario(path)
+
+
+@pytest.fixture(scope="module")
+def serial(scenario, tmp_path_factory):
+    """The reference: every point in this process."""
+    store = tmp_path_factory.mktemp("serial") / "serial.zarr"
+    return sw.run_sweep(scenario, store, engine="serial").dataset
+
+
+def same(a, b) -> None:
+    assert sorted(a.data_vars) == sorted(b.data_vars)
+    for name in a.data_vars:
+        assert np.array_equal(a[name].values, b[name].values, equal_nan=True), name
+    assert int(a["done"].sum()) == a.sizes["point"]
+
+
+def test_monte_carlo_of_200_draws_on_two_workers_is_bit_identical(cluster, orthodromic):
+    local, _ = cluster
+    motion = tr.trajectory(orthodromic, tr.static_profile(np.radians(50.0)), 600.0, 1.0)
+    sources = [cv.SourceStatistics("gyro_drift_y", "constant", 1e-7),
+               cv.SourceStatistics("accel_bias_x", "constant", 1e-4)]
+    one = mc.direct_monte_carlo(orthodromic, motion, sources, 200, seed=4, batch=25,
+                                engine="serial", record_interval=60.0, progress=False)
+    spread = mc.direct_monte_carlo(orthodromic, motion, sources, 200, seed=4, batch=25,
+                                   scheduler=local.scheduler_address, record_interval=60.0,
+                                   progress=False)
+    assert np.array_equal(one.sources, spread.sources)
+    assert np.array_equal(one.values, spread.values)
+    # the draws are what they claim: 200 normal values of the stated 1σ
+    bias = one.sources[[s.name for s in orthodromic.sources].index("accel_bias_x")]
+    assert np.std(bias) == pytest.approx(1e-4, rel=4 * mc.sampling_error(200))
+
+
+def test_sweep_on_two_workers_and_in_a_pool_is_bit_identical(cluster, scenario, serial,
+                                                             tmp_path):
+    local, _ = cluster
+    on_dask = sw.run_sweep(scenario, tmp_path / "dask.zarr",
+                           scheduler=local.scheduler_address)
+    assert on_dask.engine.engine == "dask" and on_dask.engine.workers == 2
+    same(serial, on_dask.dataset)
+    in_pool = sw.run_sweep(scenario, tmp_path / "pool.nc", engine="pool", workers=2)
+    same(serial, in_pool.dataset)
+
+
+def test_killed_worker_still_gives_the_complete_identical_sweep(cluster, scenario, serial,
+                                                                tmp_path):
+    local, client = cluster
+    before = client.run(os.getpid)
+    killed = []
+
+    def kill_one(index: int) -> None:
+        if not killed:
+            address, pid = sorted(before.items())[0]
+            os.kill(pid, signal.SIGKILL)
+            killed.append(address)
+
+    result = sw.run_sweep(scenario, tmp_path / "killed.zarr",
+                          scheduler=local.scheduler_address, on_result=kill_one)
+    assert killed and result.computed == result.points == 8
+    same(serial, result.dataset)
+    # the nanny started a fresh worker process in place of the killed one
+    deadline = time.monotonic() + 20
+    while time.monotonic() < deadline:
+        after = client.run(os.getpid)
+        if len(after) == 2 and set(after.values()) != set(before.values()):
+            break
+        time.sleep(0.2)
+    assert len(after) == 2 and set(after.values()) != set(before.values())
