@@ -53,12 +53,19 @@ accel_bias_y = "100 ug"
 def cluster():
     import logging
 
-    from distributed import Client, LocalCluster
+    from distributed import LocalCluster
 
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address=None, silence_logs=logging.ERROR) as local, \
-            Client(local) as client:
-        yield local, client
+                      dashboard_address=None, silence_logs=logging.ERROR) as local:
+        yield local
+
+
+def worker_pids(local) -> dict[str, int]:
+    """Process id of every worker (through a short-lived client)."""
+    from distributed import Client
+
+    with Client(local.scheduler_address) as client:
+        return client.run(os.getpid)
 
 
 @pytest.fixture(scope="module")
@@ -83,7 +90,7 @@ def same(a, b) -> None:
 
 
 def test_monte_carlo_of_200_draws_on_two_workers_is_bit_identical(cluster, orthodromic):
-    local, _ = cluster
+    local = cluster
     motion = tr.trajectory(orthodromic, tr.static_profile(np.radians(50.0)), 600.0, 1.0)
     sources = [cv.SourceStatistics("gyro_drift_y", "constant", 1e-7),
                cv.SourceStatistics("accel_bias_x", "constant", 1e-4)]
@@ -101,7 +108,7 @@ def test_monte_carlo_of_200_draws_on_two_workers_is_bit_identical(cluster, ortho
 
 def test_sweep_on_two_workers_and_in_a_pool_is_bit_identical(cluster, scenario, serial,
                                                              tmp_path):
-    local, _ = cluster
+    local = cluster
     on_dask = sw.run_sweep(scenario, tmp_path / "dask.zarr",
                            scheduler=local.scheduler_address)
     assert on_dask.engine.engine == "dask" and on_dask.engine.workers == 2
@@ -112,8 +119,8 @@ def test_sweep_on_two_workers_and_in_a_pool_is_bit_identical(cluster, scenario, 
 
 def test_killed_worker_still_gives_the_complete_identical_sweep(cluster, scenario, serial,
                                                                 tmp_path):
-    local, client = cluster
-    before = client.run(os.getpid)
+    local = cluster
+    before = worker_pids(local)
     killed = []
 
     def kill_one(index: int) -> None:
@@ -129,7 +136,7 @@ def test_killed_worker_still_gives_the_complete_identical_sweep(cluster, scenari
     # the nanny started a fresh worker process in place of the killed one
     deadline = time.monotonic() + 20
     while time.monotonic() < deadline:
-        after = client.run(os.getpid)
+        after = worker_pids(local)
         if len(after) == 2 and set(after.values()) != set(before.values()):
             break
         time.sleep(0.2)
