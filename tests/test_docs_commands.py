@@ -1,0 +1,112 @@
+"""Every shell command shown in the README and the examples' pages runs, as written.
+
+The commands are extracted from the ```sh blocks of README.md, examples/README.md and
+every examples/**/README.md (pages added later are picked up), so the pages cannot
+drift from the program. A command may end with a comment saying ``exit N``; otherwise it
+must exit 0 and print something.
+
+How each kind of line runs, after the set-up the README describes (``make test`` made
+``.venv`` and installed the package: the suite itself runs there):
+
+* ``make TARGET``: the set-up itself; the Makefile must have the target.
+* ``ins-errors ...``: through the installed entry point's function
+  (:func:`ins_errors.cli.main`) in a fresh scratch folder holding a link to examples/,
+  without a pre-made ``out/`` (commands create the folders they write into).
+  ``ins-errors cache ...`` runs against a scratch compile cache, never the user's.
+* a block with any other line (``source .venv/bin/activate``...): run whole by bash from
+  the repository root, as a reader would paste it.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from ins_errors.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+PAGES = [ROOT / "README.md", ROOT / "examples" / "README.md",
+         *sorted((ROOT / "examples").glob("*/**/README.md"))]
+BLOCK = re.compile(r"^```(?:sh|bash|shell|console)\n(.*?)^```", re.M | re.S)
+EXIT = re.compile(r"\bexit (?:status )?(\d+)\b")
+
+
+def _lines(block: str) -> list[tuple[str, int]]:
+    """(command, expected status) of each command of a block, continuations joined."""
+    joined = re.sub(r"\\\n\s*", " ", block)
+    out = []
+    for raw in joined.splitlines():
+        line = raw.strip()
+        if line.startswith("$ "):
+            line = line[2:]
+        if not line or line.startswith("#"):
+            continue
+        command, _, comment = line.partition(" #")
+        status = EXIT.search(comment)
+        out.append((command.strip(), int(status.group(1)) if status else 0))
+    return out
+
+
+def _blocks() -> list[tuple[str, list[tuple[str, int]]]]:
+    found = []
+    for page in PAGES:
+        for block in BLOCK.findall(page.read_text(encoding="utf-8")):
+            lines = _lines(block)
+            if lines:
+                found.append((page.relative_to(ROOT).as_posix(), lines))
+    return found
+
+
+BLOCKS = _blocks()
+INS_ERRORS = sorted({(command, status) for _, lines in BLOCKS for command, status in lines
+                     if command.split()[0] == "ins-errors"
+                     and all(c.split()[0] in ("ins-errors", "make") for c, _ in lines)})
+MAKE = sorted({command for _, lines in BLOCKS for command, _ in lines
+               if command.split()[0] == "make"})
+SHELL = [(page, lines) for page, lines in BLOCKS
+         if any(c.split()[0] not in ("ins-errors", "make") for c, _ in lines)]
+
+
+def test_the_pages_have_commands():
+    assert len(INS_ERRORS) >= 20
+    assert "make derive" in MAKE and "make test" in MAKE
+    assert SHELL, "the README says how to put ins-errors on the PATH"
+
+
+@pytest.mark.parametrize("command", MAKE)
+def test_make_targets_exist(command):
+    makefile = (ROOT / "Makefile").read_text(encoding="utf-8")
+    for target in command.split()[1:]:
+        assert re.search(rf"^{re.escape(target)}:", makefile, re.M), target
+
+
+@pytest.mark.parametrize("command, status", INS_ERRORS, ids=[c[:60] for c, _ in INS_ERRORS])
+def test_documented_command(command, status, tmp_path, monkeypatch, capsys):
+    os.symlink(ROOT / "examples", tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    argv = shlex.split(command)[1:]
+    if argv[:1] == ["cache"]:
+        monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))
+    try:
+        result = main(argv)
+    except SystemExit as stop:  # --help, --version
+        result = stop.code
+    captured = capsys.readouterr()
+    assert result == status, captured.err
+    assert captured.out.strip(), "the command printed nothing"
+
+
+@pytest.mark.parametrize("page, lines", SHELL, ids=[p for p, _ in SHELL])
+def test_documented_shell_block(page, lines):
+    if not (ROOT / ".venv" / "bin" / "activate").exists():
+        pytest.skip("no .venv: the suite is not running after the README's set-up")
+    script = "set -e\n" + "\n".join(command for command, _ in lines)
+    result = subprocess.run(["bash", "-c", script], cwd=ROOT, capture_output=True, text=True,
+                            timeout=120)
+    assert result.returncode == 0, f"{page}: {result.stderr[-2000:]}"
+    assert result.stdout.strip()
