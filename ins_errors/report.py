@@ -48,7 +48,9 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         "",
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
         "equations along the same motion; refined = with the second-order terms. A ratio is "
-        "the largest difference from the direct run divided by the largest direct error.",
+        "the largest difference from the direct run divided by the largest direct error. "
+        "The integration error of the direct and linear curves is estimated by a second "
+        "run at twice the step (Richardson) and shown beside the differences.",
         "",
         "## Summary", "",
         markdown_summary(result.comparisons),

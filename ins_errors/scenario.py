@@ -13,11 +13,12 @@ Every value with a unit is read by :mod:`ins_errors.units`. Example::
 
     [run]
     duration = "24 h"
-    step = "1 s"             # the manual's rectangle method with step τ
+    step = "1 s"             # integration step τ
     record = "60 s"
-    method = "euler"         # or "rk4"
+    method = "rk4"           # default; or "euler" (the manual's rectangle method)
     refined = true           # also the second-order model
     platform = "exact"       # or "small_angle" (the source documents' platform matrix)
+    validity_threshold = 0.05  # warn when linear − direct exceeds 5 % of the error
     ellipsoid = "wgs84"      # default: the model's own Earth
 
     [[case]]
@@ -48,7 +49,8 @@ else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
 
 _TOP_KEYS = {"title", "description", "model", "motion", "run", "case", "outputs", "sweep"}
-_RUN_KEYS = {"duration", "step", "record", "method", "refined", "ellipsoid", "platform"}
+_RUN_KEYS = {"duration", "step", "record", "method", "refined", "ellipsoid", "platform",
+             "validity_threshold"}
 _OUTPUT_KEYS = {"quantities"}
 
 
@@ -79,11 +81,13 @@ class Scenario:
     duration, step, record : float
         Seconds.
     method : str
-        ``"euler"`` (rectangle) or ``"rk4"``.
+        ``"rk4"`` (default) or ``"euler"`` (the rectangle method).
     refined : bool
         Run the second-order model too.
     platform : str
         Platform kinematics of the direct run: ``"exact"`` or ``"small_angle"``.
+    validity_threshold : float
+        Linear/direct ratio above which a case is warned about.
     ellipsoid : str or None
         Earth model for the parameters (``None``: the model's default).
     cases : list of Case
@@ -103,9 +107,10 @@ class Scenario:
     duration: float
     step: float
     record: float
-    method: str = "euler"
+    method: str = "rk4"
     refined: bool = True
     platform: str = "exact"
+    validity_threshold: float = 0.05
     ellipsoid: str | None = None
     cases: list[Case] = field(default_factory=list)
     quantities: list[str] | None = None
@@ -166,9 +171,14 @@ def load_scenario(path: str | Path) -> Scenario:
 
     # refuse a grid the run cannot take (absurd step counts included) before any run
     record_stride(record, step, step_count(duration, step, "run duration"))
-    method = str(run.get("method", "euler"))
+    method = str(run.get("method", "rk4"))
     if method not in ("euler", "rk4"):
         raise unknown_name("integration method", method, ("euler", "rk4"))
+    threshold = run.get("validity_threshold", 0.05)
+    if isinstance(threshold, bool) or not isinstance(threshold, int | float) or not (
+            0 < threshold < 10):
+        raise ScenarioError(f"{path.name}: [run] validity_threshold must be a positive "
+                            f"ratio such as 0.05, got {threshold!r}")
     platform = str(run.get("platform", "exact"))
     if platform not in ("exact", "small_angle"):
         raise unknown_name("platform", platform, ("exact", "small_angle"))
@@ -221,6 +231,7 @@ def load_scenario(path: str | Path) -> Scenario:
         method=method,
         refined=refined,
         platform=platform,
+        validity_threshold=float(threshold),
         ellipsoid=str(run["ellipsoid"]) if "ellipsoid" in run else None,
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
@@ -253,7 +264,8 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
     comparisons = compare(model, trajectory, [c.sources for c in scenario.cases],
                           method=scenario.method, record_interval=scenario.record,
                           refined=scenario.refined, progress=progress,
-                          platform=scenario.platform)
+                          platform=scenario.platform,
+                          validity_threshold=scenario.validity_threshold)
     for comparison, case in zip(comparisons, scenario.cases, strict=True):
         comparison.label = case.label
         if scenario.quantities is not None:

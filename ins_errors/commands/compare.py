@@ -50,8 +50,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--step", default="1s", help="integration step τ (default 1s)")
     parser.add_argument("--record", default=None,
                         help="recording interval (default: 60 s or the step if longer)")
-    parser.add_argument("--method", choices=("euler", "rk4"), default="euler",
-                        help="euler = the manual's rectangle method (default), or rk4")
+    parser.add_argument("--method", choices=("rk4", "euler"), default="rk4",
+                        help="rk4 (default) or euler = the manual's rectangle method; the "
+                             "integration error is estimated either way")
+    parser.add_argument("--validity-threshold", default="5%", metavar="RATIO",
+                        help="warn when linear − direct exceeds this share of the error "
+                             "(default 5%%; '0.05' or '5%%')")
     parser.add_argument("--platform", choices=("exact", "small-angle"), default="exact",
                         help="platform kinematics of the direct run: exact rotation (default) "
                              "or the source documents' small-angle matrix")
@@ -85,6 +89,21 @@ def _sources(model, items: list[str]) -> list[tuple[str, float]]:
     return out
 
 
+def parse_ratio(text: str, what: str) -> float:
+    """A positive ratio given as ``0.05`` or ``5%``."""
+    from ins_errors.errors import InsErrorsError
+
+    body = text.strip()
+    scale = 0.01 if body.endswith("%") else 1.0
+    try:
+        value = float(body.rstrip("%")) * scale
+    except ValueError:
+        raise InsErrorsError(f"{what} {text!r}: expected a ratio such as 0.05 or 5%") from None
+    if not 0 < value < 10:
+        raise InsErrorsError(f"{what} {text!r}: must be a positive ratio (e.g. 5%)")
+    return value
+
+
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import InsErrorsError
     from ins_errors.numeric import trajectories as tr
@@ -111,6 +130,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         duration = 3600.0 * (24.0 if args.hours is None else args.hours)
     tau = parse_quantity(args.step, "s", "--step")
+    threshold = parse_ratio(args.validity_threshold, "--validity-threshold")
     n_steps = step_count(duration, tau)
     if n_steps == 0:
         raise InsErrorsError("duration must be at least one step")
@@ -133,7 +153,8 @@ def run(args: argparse.Namespace) -> int:
              else [dict(sources)])
     comparisons = compare(model, trajectory, cases, method=args.method, record_interval=record,
                           refined=not args.no_refined, progress=progress,
-                          platform=args.platform.replace("-", "_"))
+                          platform=args.platform.replace("-", "_"),
+                          validity_threshold=threshold)
     title = (f"{model.name}: {profile.description}; {duration / 3600:g} h, τ = {tau:g} s, "
              f"{args.method}")
     text = markdown_summary(comparisons, title) + "\n" + "\n".join(

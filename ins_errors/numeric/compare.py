@@ -5,7 +5,15 @@ orthodromic model) and every case:
 
 * ``max_direct``: max |direct error| over the run;
 * ``linear_difference``: max |linear − direct|, and ``linear_ratio`` = that / ``max_direct``;
-* ``refined_difference`` and ``refined_ratio`` likewise for the second-order model.
+* ``refined_difference`` and ``refined_ratio`` likewise for the second-order model;
+* ``direct_integration_error`` and ``linear_integration_error``: the estimated
+  integration error of the direct and of the linear error curves (step doubling,
+  :mod:`ins_errors.numeric.accuracy`), to be read beside the linear-vs-direct difference.
+
+Each case also carries ``warnings``: when the integration error exceeds 10 % of the
+linear-vs-direct difference or 1 % of the error (naming a step that would do), and when
+the linear/direct ratio exceeds the validity threshold (5 % by default, naming the
+magnitude at which it would be 1 %, from the measured scaling of a half-size run).
 
 A quantity counts as *excited* when its direct error is above the rounding floor of its
 unit (:data:`NOISE_FLOOR`) and at least :data:`EXCITED_FRACTION` of the largest direct
@@ -22,6 +30,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from ins_errors.errors import InsErrorsError
+from ins_errors.numeric import accuracy
 from ins_errors.numeric.model import Model
 from ins_errors.numeric.simulate import ErrorCurves, Simulation, simulate
 from ins_errors.numeric.trajectories import Trajectory
@@ -33,6 +43,14 @@ quantities of order one (direction cosines) or hundreds of m/s (absolute velocit
 EXCITED_FRACTION = 1e-3
 """A quantity is excited when its direct error reaches this fraction of the largest
 direct error of the same unit in the same case."""
+
+VALIDITY_THRESHOLD = 0.05
+"""Default linear/direct ratio above which a comparison warns that the linear model is
+leaving its validity."""
+
+AGREEMENT_FLOOR = 1e-6
+"""Relative linear-vs-direct differences below this count as full agreement: the
+integration error is not held against them (only against the error itself)."""
 
 
 @dataclass
@@ -47,6 +65,15 @@ class Metric:
     refined_difference: float | None
     refined_ratio: float | None
     excited: bool
+    direct_integration_error: float | None = None
+    linear_integration_error: float | None = None
+
+    @property
+    def integration_error(self) -> float | None:
+        """The larger of the direct and linear integration-error estimates."""
+        errors = [e for e in (self.direct_integration_error, self.linear_integration_error)
+                  if e is not None]
+        return max(errors) if errors else None
 
 
 @dataclass
@@ -65,6 +92,14 @@ class Comparison:
         Recorded times, s.
     direct, linear, refined : dict of str to numpy.ndarray
         Error curves per quantity, shape (R + 1,) (refined may be empty).
+    warnings : list of str
+        One line each: integration error too large (with a step that would do), linear
+        model beyond its validity threshold (with the magnitude where it would be 1 %).
+    suggested_step : float or None
+        A step (s) whose integration error would pass, when the current one does not.
+    one_percent_scale : float or None
+        Factor on every source magnitude at which the worst linear/direct ratio would be
+        1 % (from the measured scaling), when the validity warning was given.
     """
 
     label: str
@@ -74,6 +109,9 @@ class Comparison:
     direct: dict[str, np.ndarray] = field(repr=False)
     linear: dict[str, np.ndarray] = field(repr=False)
     refined: dict[str, np.ndarray] = field(repr=False)
+    warnings: list[str] = field(default_factory=list)
+    suggested_step: float | None = None
+    one_percent_scale: float | None = None
 
     def metric(self, quantity: str) -> Metric:
         """The metric of one quantity."""
@@ -105,7 +143,18 @@ class Comparison:
         return {"label": self.label, "sources": self.sources,
                 "worst_linear_ratio": _value(self.worst_linear, "linear_ratio"),
                 "worst_refined_ratio": _value(self.worst_refined, "refined_ratio"),
+                "worst_integration_error_ratio": self.worst_integration_ratio,
+                "warnings": list(self.warnings),
+                "suggested_step_s": self.suggested_step,
+                "one_percent_scale": self.one_percent_scale,
                 "metrics": [_clean(asdict(m)) for m in self.metrics]}
+
+    @property
+    def worst_integration_ratio(self) -> float | None:
+        """Largest integration-error estimate over the max direct error, excited quantities."""
+        ratios = [m.integration_error / m.max_direct for m in self.excited
+                  if m.integration_error is not None and m.max_direct > 0]
+        return max(ratios) if ratios else None
 
 
 def _value(metric: Metric | None, attribute: str) -> float | None:
@@ -173,9 +222,10 @@ def comparisons_of(sim: Simulation, labels: Sequence[str] | None = None) -> list
 
 
 def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, float]],
-            method: str = "euler", record_interval: float | None = None,
+            method: str = "rk4", record_interval: float | None = None,
             refined: bool = True, jit: bool = True, progress: bool = False,
-            platform: str = "exact") -> list[Comparison]:
+            platform: str = "exact", integration_error: bool = True,
+            validity_threshold: float | None = VALIDITY_THRESHOLD) -> list[Comparison]:
     """Run direct, linear (and refined) for several cases in one batch and compare.
 
     Parameters
@@ -185,13 +235,20 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
         The true motion.
     cases : sequence of dict
         Error sources per case, ``{name: SI value}``.
-    method : {"euler", "rk4"}
+    method : {"rk4", "euler"}
+        Scheme; ``"euler"`` is the manual's rectangle method.
     record_interval : float, optional
         Seconds between recorded samples.
     refined : bool
         Also run the second-order model.
     platform : {"exact", "small_angle"}
         Platform kinematics of the direct run (see :func:`~ins_errors.numeric.simulate.simulate`).
+    integration_error : bool
+        Estimate the integration error (one more run at twice the step) and warn when it
+        is too large.
+    validity_threshold : float or None
+        Warn when the worst linear/direct ratio exceeds it (one more run at half the
+        magnitudes measures the scaling); None: never.
 
     Returns
     -------
@@ -202,7 +259,132 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     sim = simulate(model, trajectory, list(cases), method=method,
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
-    return comparisons_of(sim)
+    comparisons = comparisons_of(sim)
+    if integration_error:
+        add_integration_errors(comparisons, sim, jit=jit)
+    if validity_threshold is not None:
+        add_validity_warnings(comparisons, sim, validity_threshold, jit=jit)
+    return comparisons
+
+
+def _difference(a: np.ndarray, b: np.ndarray, unit: str) -> np.ndarray:
+    d = a - b
+    return (d + np.pi) % (2 * np.pi) - np.pi if unit == "rad" else d
+
+
+def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
+                           jit: bool = True) -> None:
+    """Estimate each quantity's integration error by step doubling; warn where too large.
+
+    Runs the direct and linear error runs of ``sim`` again at twice its step and fills
+    ``direct_integration_error`` / ``linear_integration_error`` of every metric. A case
+    gets a warning (and ``suggested_step``) when, for an excited quantity, the larger
+    estimate exceeds 1 % of the error or 10 % of the linear-vs-direct difference (the
+    latter only when that difference is above :data:`AGREEMENT_FLOOR` of the error).
+    """
+    trajectory, method, n_steps = sim.trajectory, sim.method, sim.trajectory.n_steps
+    coarse = accuracy.coarsened(trajectory)
+    why = None
+    if coarse is None:
+        why = "the run has a single step"
+    else:
+        stride = accuracy.coarse_stride(sim.stride, n_steps)
+        try:
+            csim = simulate(sim.model, coarse, sim.sources, method=method,
+                            record_interval=stride * coarse.tau, parts=("real", "linear"),
+                            jit=jit, platform=sim.platform)
+        except InsErrorsError as error:
+            why = f"the run at twice the step failed ({error})"
+    if why is not None:
+        for c in comparisons:
+            c.warnings.append(f"integration error not estimated: {why}")
+        return
+    fine_i, coarse_i = accuracy.common_samples(sim.stride, stride, n_steps)
+    curves = [(sim.direct_errors(), csim.direct_errors(), "direct_integration_error"),
+              (sim.linear_errors(), csim.linear_errors(), "linear_integration_error")]
+    for b, comparison in enumerate(comparisons):
+        for fine, rough, attribute in curves:
+            for k, metric in enumerate(comparison.metrics):
+                gap = _difference(fine.values[k, fine_i, b], rough.values[k, coarse_i, b],
+                                  metric.unit)
+                error = float(np.max(np.abs(gap))) / (2 ** accuracy.ORDERS[method] - 1)
+                setattr(metric, attribute, error)
+        _integration_warning(comparison, sim.trajectory.tau, method)
+
+
+def _integration_warning(comparison: Comparison, tau: float, method: str) -> None:
+    worst, worst_need = None, 1.0
+    for m in comparison.excited:
+        error = m.integration_error
+        if error is None or error <= NOISE_FLOOR.get(m.unit, 0.0):
+            continue
+        limits = [(accuracy.ERROR_SHARE * m.max_direct, "1 % of the error")]
+        if m.linear_difference > AGREEMENT_FLOOR * m.max_direct:
+            limits.append((accuracy.DIFFERENCE_SHARE * m.linear_difference,
+                           "10 % of the linear-vs-direct difference"))
+        target, what = min(limits)
+        if error > target and error / target > worst_need:
+            worst, worst_need = (m, target, what), error / target
+    if worst is None:
+        return
+    m, target, what = worst
+    step = accuracy.step_that_would_do(tau, m.integration_error, target, method)
+    comparison.suggested_step = step
+    scheme = "rectangle method" if method == "euler" else method.upper()
+    hint = "; RK4 (--method rk4) needs far fewer steps" if method == "euler" else ""
+    comparison.warnings.append(
+        f"integration error of {m.quantity} ≈ {m.integration_error:.3g} {m.unit} "
+        f"({m.integration_error / m.max_direct:.2%} of the error) exceeds {what} "
+        f"({target:.3g} {m.unit}): the {scheme} with τ = {tau:g} s is too coarse; "
+        f"τ = {step:.3g} s would do{hint}")
+
+
+def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
+                          threshold: float = VALIDITY_THRESHOLD, jit: bool = True) -> None:
+    """Warn where the worst linear/direct ratio exceeds ``threshold``.
+
+    Those cases run again (direct and linear) at half their source magnitudes; the
+    ratio's measured slope ``s`` against magnitude gives the factor ``(0.01/r)^(1/s)`` on
+    every magnitude at which the ratio would be 1 %.
+    """
+    flagged = [(b, c) for b, c in enumerate(comparisons)
+               if c.worst_linear is not None and c.worst_linear.linear_ratio > threshold]
+    if not flagged:
+        return
+    half = sim.sources[:, [b for b, _ in flagged]] / 2
+    try:
+        hsim = simulate(sim.model, sim.trajectory, half, method=sim.method,
+                        record_interval=sim.stride * sim.trajectory.tau,
+                        parts=("real", "linear"), jit=jit, platform=sim.platform)
+        halves = comparisons_of(hsim)
+    except InsErrorsError:
+        halves = [None] * len(flagged)
+    for (_, comparison), halved in zip(flagged, halves, strict=True):
+        worst = comparison.worst_linear
+        ratio = worst.linear_ratio
+        slope = math.nan
+        if halved is not None:
+            small = halved.metric(worst.quantity).linear_ratio
+            if small > 0:
+                slope = math.log2(ratio / small)
+        measured = math.isfinite(slope) and slope > 0.2
+        scale = (0.01 / ratio) ** (1.0 / (slope if measured else 1.0))
+        comparison.one_percent_scale = scale
+        how = (f"ratio ∝ magnitude^{slope:.2f} measured at half size" if measured
+               else "assuming the ratio grows in proportion to the magnitude")
+        at = ", ".join(f"{name} = {_shown(sim.model, name, value * scale)}"
+                       for name, value in comparison.sources.items())
+        comparison.warnings.append(
+            f"linear model beyond its validity: linear − direct reaches {ratio:.1%} of "
+            f"{worst.quantity} (threshold {threshold:.0%}); it would be 1 % at "
+            f"{scale:.3g}× the magnitudes ({at}; {how})")
+
+
+def _shown(model: Model, name: str, value: float) -> str:
+    from ins_errors.units import format_quantity
+
+    info = model.sources[model.index("sources", name)]
+    return format_quantity(value, info.unit, info.display_unit or info.unit, digits=3)
 
 
 def _fmt(value: float | None) -> str:
@@ -217,12 +399,15 @@ def markdown_table(comparison: Comparison) -> str:
     """Markdown table of one case: one row per quantity."""
     lines = [f"**{comparison.label}**", "",
              "| quantity | unit | max abs direct | max abs (linear − direct) | ratio "
-             "| max abs (refined − direct) | ratio | excited |",
-             "|---|---|---:|---:|---:|---:|---:|:---:|"]
+             "| max abs (refined − direct) | ratio | integration error direct | linear "
+             "| excited |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|"]
     for m in comparison.metrics:
         lines.append(f"| `{m.quantity}` | {m.unit} | {_fmt(m.max_direct)} | "
                      f"{_fmt(m.linear_difference)} | {_fmt(m.linear_ratio)} | "
                      f"{_fmt(m.refined_difference)} | {_fmt(m.refined_ratio)} | "
+                     f"{_fmt(m.direct_integration_error)} | "
+                     f"{_fmt(m.linear_integration_error)} | "
                      f"{'yes' if m.excited else 'no'} |")
     return "\n".join(lines) + "\n"
 
@@ -230,12 +415,17 @@ def markdown_table(comparison: Comparison) -> str:
 def markdown_summary(comparisons: Sequence[Comparison], title: str = "") -> str:
     """Markdown summary: one row per case with the worst excited ratios."""
     lines = [f"### {title}", ""] if title else []
-    lines += ["| case | worst linear ratio | quantity | worst refined ratio | quantity |",
-              "|---|---:|---|---:|---|"]
+    lines += ["| case | worst linear ratio | quantity | worst refined ratio | quantity "
+              "| integration error / error |",
+              "|---|---:|---|---:|---|---:|"]
     for c in comparisons:
         wl, wr = c.worst_linear, c.worst_refined
         lines.append(f"| {c.label} | {_fmt(_value(wl, 'linear_ratio'))} | "
                      f"{'' if wl is None else '`' + wl.quantity + '`'} | "
                      f"{_fmt(_value(wr, 'refined_ratio'))} | "
-                     f"{'' if wr is None else '`' + wr.quantity + '`'} |")
+                     f"{'' if wr is None else '`' + wr.quantity + '`'} | "
+                     f"{_fmt(c.worst_integration_ratio)} |")
+    warned = [(c.label, w) for c in comparisons for w in c.warnings]
+    if warned:
+        lines += [""] + [f"> **warning** ({label}): {w}" for label, w in warned]
     return "\n".join(lines) + "\n"

@@ -1,0 +1,100 @@
+"""Integration error: estimated by step doubling, checked against the exact solution.
+
+On a static base the linear error equations are time-invariant, so the matrix
+exponential gives their continuous-time solution with no discretisation error
+(:func:`linear_exact`): the true integration error of a run is measurable, and the
+step-doubling estimate that every comparison reports is checked against it.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from ins_errors.cli import main
+from ins_errors.numeric import trajectories as tr
+from ins_errors.numeric.compare import compare
+from ins_errors.numeric.simulate import linear_exact
+
+DEG = np.pi / 180
+BIAS = {"accel_bias_x": 100 * 9.80665e-6}
+
+
+@pytest.fixture(scope="module")
+def static_day(orthodromic):
+    return tr.trajectory(orthodromic, tr.static_profile(50 * DEG, 30 * DEG), 24 * 3600.0, 10.0)
+
+
+def _true_error(orthodromic, trajectory, comparison, quantity):
+    exact = linear_exact(orthodromic, trajectory, [BIAS], record_interval=60.0)[quantity][:, 0]
+    return np.max(np.abs(comparison.linear[quantity] - exact)) / np.max(np.abs(exact))
+
+
+def test_rectangle_method_error_is_estimated_and_warned(orthodromic, static_day):
+    """τ = 10 s rectangle method: after 24 h the Schuler envelope is about twice the
+    exact one; the estimate flags it as tens of per cent and names a smaller step."""
+    (c,) = compare(orthodromic, static_day, [BIAS], method="euler", record_interval=60.0,
+                   refined=False, validity_threshold=None)
+    true = _true_error(orthodromic, static_day, c, "delta_v_N")
+    m = c.metric("delta_v_N")
+    estimate = m.linear_integration_error / m.max_direct
+    assert true > 0.4  # the manual's scheme at τ = 10 s: tens of per cent wrong
+    assert 0.3 < estimate < 2 * true
+    assert any("integration error" in w and "would do" in w for w in c.warnings)
+    assert c.suggested_step < 10.0
+    # the linear-vs-direct agreement hides it: both runs share the scheme
+    assert c.worst_linear.linear_ratio < 1e-3
+
+
+def test_rectangle_method_estimate_is_accurate_at_one_second(orthodromic):
+    traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG, 30 * DEG), 6 * 3600.0, 1.0)
+    (c,) = compare(orthodromic, traj, [BIAS], method="euler", record_interval=60.0,
+                   refined=False, validity_threshold=None)
+    true = _true_error(orthodromic, traj, c, "delta_v_N")
+    m = c.metric("delta_v_N")
+    assert 0.005 < true < 0.05  # per cent level after 6 h at τ = 1 s
+    assert m.linear_integration_error / m.max_direct == pytest.approx(true, rel=0.2)
+    assert c.warnings  # above 1 % of the error
+
+
+def test_default_method_is_accurate_to_1e3_over_a_day(orthodromic, static_day):
+    """The default (RK4) at τ = 10 s already beats 1e-3 over 24 h; no warning."""
+    (c,) = compare(orthodromic, static_day, [BIAS], record_interval=60.0, refined=False,
+                   validity_threshold=None)
+    for quantity in ("delta_v_N", "delta_latitude", "alpha_x"):
+        assert _true_error(orthodromic, static_day, c, quantity) < 1e-3
+    assert c.worst_integration_ratio < 1e-3
+    assert not c.warnings
+
+
+def test_cli_prints_the_integration_warning(capsys):
+    status = main(["compare", "orthodromic", "--source", "accel_bias_x=100ug", "--method",
+                   "euler", "--step", "10s", "--hours", "24", "--no-refined"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    assert "warning" in out and "integration error" in out and "would do" in out
+
+
+def test_validity_warning_on_exact_platform_and_old_numbers_in_small_angles(capsys):
+    status = main(["compare", "orthodromic", "--source", "initial_azimuth_error=25deg",
+                   "--hours", "4", "--json"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    (case,) = json.loads(out)["cases"]
+    warning = [w for w in case["warnings"] if "validity" in w]
+    assert warning and "1 %" in warning[0]
+    # a 25° azimuth error is far outside the linear model, and the scaling of the
+    # residual with magnitude is about linear: 1 % within a factor of a few of 0.01/ratio
+    ratio = case["worst_linear_ratio"]
+    assert ratio > 0.1
+    assert 0.3 < case["one_percent_scale"] * ratio / 0.01 < 3
+    # the manual's small-angle platform with its rectangle method reproduces the numbers
+    # of the version before the exact platform (recorded from that version)
+    status = main(["compare", "orthodromic", "--source", "initial_azimuth_error=25deg",
+                   "--hours", "4", "--json", "--platform", "small-angle", "--method", "euler"])
+    out, err = capsys.readouterr()
+    (old,) = json.loads(out)["cases"]
+    assert old["worst_linear_ratio"] == pytest.approx(0.6495813636707888, rel=1e-9)
+    assert old["worst_refined_ratio"] == pytest.approx(0.0704419194339276, rel=1e-9)
