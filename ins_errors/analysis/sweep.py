@@ -317,8 +317,8 @@ def grid(scenario) -> Grid:
                 sources = dict(scenario.cases[case].sources)
                 for p, v in zip(spec.parameters, values, strict=True):
                     labels[p.name].append(v)
-                    if p.kind == "motion":
-                        motion[p.name] = v
+                    if p.kind == "motion":  # exact SI value, with its unit as text
+                        motion[p.name] = f"{v!r} {p.unit}"
                     elif p.name == "duration":
                         duration = v
                     elif p.name == "step":
