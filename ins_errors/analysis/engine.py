@@ -144,7 +144,8 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
     if progress and tasks:
         from tqdm import tqdm
 
-        bar = tqdm(total=len(tasks), unit="task", desc=label, leave=False)
+        bar = tqdm(total=len(tasks), unit="task", desc=label, leave=False,
+                   disable=None)  # None: no bar when stderr is not a terminal
 
     def done(k: int, result: Any) -> None:
         report(k, result)

@@ -61,8 +61,11 @@ def run(args: argparse.Namespace) -> int:
     spec = load_spec(path)
     if args.fill:
         spec = replace(spec, fill=True)
-    unit = bd.unit_budget(model, spec)
-    allocation = bd.allocate(unit)
+    from ins_errors.progress import stage
+
+    with stage(f"propagating the covariance of {len(model.sources)} sources"):
+        unit = bd.unit_budget(model, spec)
+        allocation = bd.allocate(unit)
     data = rep.report(allocation)
     if args.plot:
         rep.plot(allocation, args.plot)

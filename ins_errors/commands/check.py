@@ -72,9 +72,12 @@ def run(args: argparse.Namespace) -> int:
                              "FILE.py:FUNCTION")
     if args.report is not None:
         check_file(args.report)
-    report = check_hand_file(args.file, model=args.model, threshold=args.threshold,
-                             latex=True if args.latex else None, mapping_path=args.mapping,
-                             latex_backend=args.latex_parser)
+    from ins_errors.progress import stage
+
+    with stage(f"checking {args.file.name} against {args.model}"):
+        report = check_hand_file(args.file, model=args.model, threshold=args.threshold,
+                                 latex=True if args.latex else None,
+                                 mapping_path=args.mapping, latex_backend=args.latex_parser)
     if args.report is not None:
         write_text(args.report, to_markdown(report, f"`ins-errors check` from "
                                             f"`{args.file.name}`"))

@@ -49,6 +49,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import DomainError
+    from ins_errors.progress import stage
     from ins_errors.studies import propagation
     from ins_errors.units import parse_quantity
 
@@ -67,7 +68,8 @@ def run(args: argparse.Namespace) -> int:
             require_matplotlib("the plots of --out")
         OutputFolder(args.out, force=args.force, create=False)  # refuse before computing
     if args.orthodromic:
-        day = propagation.orthodromic_day(latitude, duration, step, record)
+        with stage("closed forms and numeric runs of every factor"):
+            day = propagation.orthodromic_day(latitude, duration, step, record)
         text = day.summary_markdown()
         if args.out is not None:
             out = OutputFolder(args.out, force=args.force)
@@ -94,7 +96,8 @@ def run(args: argparse.Namespace) -> int:
         level_error=parse_quantity(args.level, "rad", "--level"),
         azimuth_error=parse_quantity(args.azimuth, "rad", "--azimuth"),
         duration=duration, step=step, record_interval=record)
-    result = propagation.run(experiment, progress=args.out is not None)
+    with stage("closed forms, linear and direct runs of every source"):
+        result = propagation.run(experiment)
     if args.out is not None:
         path = propagation.write_report(result, args.out, force=args.force)
         if not args.json:

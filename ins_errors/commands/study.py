@@ -59,6 +59,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import unknown_name
+    from ins_errors.progress import stage
     from ins_errors.units import parse_quantity
 
     names = study_names()
@@ -93,8 +94,10 @@ def run(args: argparse.Namespace) -> int:
     record = 600.0 if step <= 600.0 and 600.0 % step == 0 else step
     report = []
     for scenario in scenarios:
-        result = methodological.run(args.name, scenario, latitude, duration=hours * 3600.0,
-                                    tau=step, record_interval=record, speed=speed)
+        with stage(f"{args.name}: {scenario} runs"):
+            result = methodological.run(args.name, scenario, latitude,
+                                        duration=hours * 3600.0, tau=step,
+                                        record_interval=record, speed=speed)
         lines = result.summary()
         if folder is not None:
             path = methodological.plot(result, folder.file(f"{args.name}_{scenario}.png"))
@@ -111,10 +114,12 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _spheroid(args: argparse.Namespace, speed: float, step: float, folder) -> int:
+    from ins_errors.progress import stage
     from ins_errors.studies import spheroid_error
 
     hours = 6.0 if args.hours is None else args.hours
-    result, lines = spheroid_error.survey(duration=hours * 3600.0, speed=speed, step=step)
+    with stage("direct flights over the spheroid and formula (10)"):
+        result, lines = spheroid_error.survey(duration=hours * 3600.0, speed=speed, step=step)
     if folder is not None:
         worst = int(result.largest_km().argmax())
         path = spheroid_error.plot(result, folder.file("spheroid_formula_10.png"), worst)

@@ -350,8 +350,11 @@ def compile_library(functions: list[ca.Function], jit: bool = True) -> Path | No
     if library.exists():
         cache.touch(library)
         return library
+    from ins_errors.progress import stage
+
     try:
-        with tempfile.TemporaryDirectory(dir=directory) as scratch:
+        with stage("compiling a simulation loop (once, then cached)"), \
+                tempfile.TemporaryDirectory(dir=directory) as scratch:
             c_file = Path(scratch) / "loop.c"
             c_file.write_text(source)
             target = Path(scratch) / "loop.so"
