@@ -290,6 +290,8 @@ def direct_monte_carlo(model, trajectory, sources: Sequence[SourceStatistics], r
     if noisy:
         raise MonteCarloError(f"direct runs take random constants only; noise sources: "
                               f"{', '.join(noisy)}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise MonteCarloError(f"seed must be a whole number >= 0, got {seed!r}")
     if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:
         raise MonteCarloError(f"batch must be a positive integer, got {batch!r}")
     if record_interval is None:
@@ -307,9 +309,10 @@ def direct_monte_carlo(model, trajectory, sources: Sequence[SourceStatistics], r
     def keep(k: int, result) -> None:
         results[k + 1] = result
 
-    run_tasks(_direct_block, rest, engine=engine if rest else "serial", scheduler=scheduler,
-              workers=workers, shared=(model.name, trajectory, statistics, seed),
-              on_result=keep, progress=progress, label="direct Monte Carlo")
+    if rest:
+        run_tasks(_direct_block, rest, engine=engine, scheduler=scheduler, workers=workers,
+                  shared=(model.name, trajectory, statistics, seed), on_result=keep,
+                  progress=progress, label="direct Monte Carlo")
     times, _, quantity_names, _ = results[0]
     values = np.concatenate([r[1] for r in results], axis=-1)
     w = np.concatenate([r[3] for r in results], axis=-1)

@@ -27,6 +27,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--mc-step", default="0.01 s",
                         help="integration step of the runs (default 0.01 s, 100 Hz)")
     parser.add_argument("--seed", type=int, default=0, help="random seed of the runs")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run the Monte Carlo tasks on a running Dask scheduler, e.g. "
+                             "tcp://HOST:8786 (default: a local cluster of this machine's "
+                             "cores, or a process pool without Dask)")
+    parser.add_argument("--engine", choices=("auto", "dask", "pool", "serial"),
+                        default="auto", help="where the Monte Carlo tasks run (default: "
+                                             "dask when installed, else a process pool)")
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="workers of the local cluster or pool (default: CPU cores)")
     parser.add_argument("--at", metavar="TIMES",
                         help="comma-separated times (e.g. '1 h, 8 h'): per-source 1σ "
                              "contributions to every navigation error at those times")
@@ -137,8 +146,12 @@ def _monte_carlo(model, spec, allocation, args) -> dict:
                   if st.sigma > 0]
     trajectory = bd.spec_trajectory(model, spec, tau=step, duration=duration)
     start = time.perf_counter()
+    if args.workers is not None and args.workers < 1:
+        raise SpecError(f"--workers must be at least 1, got {args.workers}")
     errors = direct_monte_carlo(model, trajectory, statistics, args.monte_carlo,
-                                seed=args.seed, record_interval=spec.step)
+                                seed=args.seed, record_interval=spec.step,
+                                engine=args.engine, scheduler=args.scheduler,
+                                workers=args.workers)
     seconds = time.perf_counter() - start
     rows, values = bd.direct_rows(model, budget, errors)
     predicted = bd.evaluate(model, spec, sigma)
