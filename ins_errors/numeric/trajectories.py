@@ -205,21 +205,27 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
         starts.append((t0, leg.duration, v0, psi0, h0, leg))
         t0, v0, psi0, h0 = t0 + leg.duration, leg.speed, psi0 + leg.turn, leg.height
 
+    table = np.array([(start, length, vs, leg.speed - vs, ps, leg.turn, hs, leg.height - hs)
+                      for start, length, vs, ps, hs, leg in starts]).reshape(-1, 8).T
+    begins = table[0]
+
     def commands(t: np.ndarray):
-        v = np.full(t.size, float(speed))
-        dv = np.zeros(t.size)
-        psi, dpsi = np.zeros(t.size), np.zeros(t.size)
-        hh, dh, ddh = np.full(t.size, float(h)), np.zeros(t.size), np.zeros(t.size)
-        for start, length, vs, ps, hs, leg in starts:
-            s, ds, dds = _smoothstep((t - start) / length)
-            active = t >= start
-            v = np.where(active, vs + (leg.speed - vs) * s, v)
-            dv = np.where(active, (leg.speed - vs) * ds / length, dv)
-            psi = np.where(active, ps + leg.turn * s, psi)
-            dpsi = np.where(active, leg.turn * ds / length, dpsi)
-            hh = np.where(active, hs + (leg.height - hs) * s, hh)
-            dh = np.where(active, (leg.height - hs) * ds / length, dh)
-            ddh = np.where(active, (leg.height - hs) * dds / length**2, ddh)
+        # only the last leg begun by t shapes the motion at t: evaluate that leg alone
+        leg = np.searchsorted(begins, t, side="right") - 1
+        before = leg < 0
+        (start, length, vs, dv_leg, ps, turn, hs, dh_leg) = (
+            np.where(before, 0.0, row[np.maximum(leg, 0)]) for row in table)
+        if before.any():  # before the first leg: the initial values, unchanged
+            length = np.where(before, 1.0, length)
+            vs, hs = np.where(before, float(speed), vs), np.where(before, float(h), hs)
+        s, ds, dds = _smoothstep((t - start) / length)
+        v = vs + dv_leg * s
+        dv = dv_leg * ds / length
+        psi = ps + turn * s
+        dpsi = turn * ds / length
+        hh = hs + dh_leg * s
+        dh = dh_leg * ds / length
+        ddh = dh_leg * dds / length**2
         values = np.vstack([v * np.cos(psi), v * np.sin(psi), hh, dh])
         rates = np.vstack([dv * np.cos(psi) - v * np.sin(psi) * dpsi,
                            dv * np.sin(psi) + v * np.cos(psi) * dpsi, dh, ddh])

@@ -1,0 +1,263 @@
+"""The goals of the speed issue (16), each measured and marked "met" / "NOT met".
+
+Printed by ``make bench``, never asserted. Every figure runs in its own Python process
+(``python -m benchmarks.bench_speed FIGURE``), so its CPU seconds (the process and its
+worker processes) and its peak memory are its own; compilation happens in a warm-up
+before the measured part. CPU seconds are the figure of merit on the shared 2-core
+machine (wall times are printed too, but depend on the load). ``--quick`` shortens the
+long runs and scales the goals by the duration.
+
+Run alone with ``python -m benchmarks.bench_speed [--quick] [FIGURE ...]``.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+DEG = np.pi / 180.0
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def _cpu() -> float:
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
+
+
+def _peak_mb() -> float:
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _legs(hours: float):
+    from ins_errors.numeric import trajectories as tr
+
+    pattern = [tr.Leg(600.0, 250.0, 90 * DEG, 1000.0), tr.Leg(900.0, 300.0, 0.0, 4000.0),
+               tr.Leg(900.0, 200.0, -60 * DEG, 2000.0), tr.Leg(1200.0, 250.0, -30 * DEG, 1000.0)]
+    return pattern * max(1, round(hours * 3600 / 3600))
+
+
+# --------------------------------------------------------------------------------------
+# Figures (each runs in a child process and returns a dict)
+# --------------------------------------------------------------------------------------
+def _moving(kind: str, hours: float, record: float) -> dict:
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.simulate import simulate
+
+    model = load_model("orthodromic")
+    if kind == "great circle":
+        profile = tr.great_circle_profile(50 * DEG, 30 * DEG, 90 * DEG, 250.0, 5000.0)
+    else:
+        profile = tr.manoeuvre_profile(40 * DEG, -20 * DEG, 70 * DEG, 200.0, _legs(hours), 1000.0)
+    sources = {"gyro_drift_x": 0.01 * DEG / 3600, "accel_bias_y": 1e-4}
+    warm = tr.trajectory(model, profile, 600.0, 0.01, stream=True)  # compile everything
+    simulate(model, warm, sources, record_interval=record, parts=("real", "linear"))
+    base = _peak_mb()
+    wall, cpu = time.perf_counter(), _cpu()
+    traj = tr.trajectory(model, profile, hours * 3600.0, 0.01)
+    sim = simulate(model, traj, sources, record_interval=record, parts=("real", "linear"))
+    recorded = sum(a.nbytes for a in (sim.ideal, sim.real, sim.linear)) / 1e6
+    return {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall, "peak": _peak_mb(),
+            "base": base, "recorded": recorded}
+
+
+def _static_direct(hours: float) -> dict:
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.simulate import simulate
+
+    model = load_model("orthodromic")
+    traj = tr.trajectory(model, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
+                         hours * 3600.0, 0.01)
+    sources = {"gyro_drift_x": 0.01 * DEG / 3600}
+    simulate(model, traj, sources, record_interval=1.0, parts=("real",))
+    best = (np.inf, np.inf)
+    for _ in range(3):
+        wall, cpu = time.perf_counter(), _cpu()
+        simulate(model, traj, sources, record_interval=1.0, parts=("real",))
+        best = min(best, (_cpu() - cpu, time.perf_counter() - wall))
+    return {"cpu": best[0], "wall": best[1]}
+
+
+def _batch(hours: float, threads: int) -> dict:
+    os.environ["INS_ERRORS_THREADS"] = str(threads)
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.simulate import simulate
+    from ins_errors.units import parse_quantity
+
+    model = load_model("orthodromic")
+    small = {"rad/s": "0.01 deg/h", "m/s**2": "10 ug", "rad": "10 arcsec", "m/s": "0.1 m/s",
+             "1": "1e-5"}
+    cases = [{s.name: parse_quantity(small[s.unit], s.unit)} for s in model.sources]
+    traj = tr.trajectory(model, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
+                         hours * 3600.0, 0.01)
+    simulate(model, traj, cases, record_interval=60.0, parts=("real",))
+    wall, cpu = time.perf_counter(), _cpu()
+    simulate(model, traj, cases, record_interval=60.0, parts=("real",))
+    return {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall, "cases": len(cases)}
+
+
+def _covariance(moving: bool, hours: float) -> dict:
+    from ins_errors.analysis import covariance as cv
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.linear_system import system_from_trajectory
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("orthodromic")
+    sources = [cv.SourceStatistics(s.name, "constant", 1e-6) for s in model.sources]
+    if moving:
+        profile = tr.great_circle_profile(50 * DEG, 30 * DEG, 90 * DEG, 250.0, 5000.0)
+        traj = tr.trajectory(model, profile, hours * 3600.0, 1.0)
+    else:
+        traj = None
+
+    def run():
+        if moving:
+            system = system_from_trajectory(model, traj, 1.0)
+        else:
+            system = cv.static_system(model, 50 * DEG, duration=hours * 3600.0, step=1.0)
+        everything = cv.state_and_output_functionals(model, system)
+        if moving:
+            return cv.propagate(system, sources, everything, by_source=False)
+        outputs = cv.Functionals(everything.names[11:], everything.units[11:],
+                                 everything.C_x[11:], everything.C_b[11:])
+        return cv.propagate(system, sources, outputs, by_source=False)
+
+    run()
+    best = (np.inf, np.inf)
+    for _ in range(1 if moving else 5):
+        wall, cpu = time.perf_counter(), _cpu()
+        run()
+        best = min(best, (_cpu() - cpu, time.perf_counter() - wall))
+    return {"cpu": best[0], "wall": best[1]}
+
+
+def _derive() -> dict:
+    with tempfile.TemporaryDirectory() as out:
+        wall, cpu = time.perf_counter(), _cpu()
+        subprocess.run([sys.executable, "-m", "derive", "--out", out], cwd=ROOT, check=True,
+                       capture_output=True)
+        return {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall}
+
+
+def _tests() -> dict:
+    wall, cpu = time.perf_counter(), _cpu()
+    done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"],
+                          cwd=ROOT, capture_output=True, text=True)
+    last = (done.stdout.strip().splitlines() or ["?"])[-1]
+    return {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall, "summary": last}
+
+
+FIGURES = {
+    "great-circle": lambda q: _moving("great circle", 1.0 if q else 24.0, 1.0),
+    "manoeuvre": lambda q: _moving("manoeuvre", 1.0 if q else 24.0, 1.0),
+    "week": lambda q: _moving("great circle", 6.0 if q else 7 * 24.0, 10.0),
+    "static-direct": lambda q: _static_direct(1.0 if q else 24.0),
+    "batch-serial": lambda q: _batch(1.0 if q else 24.0, 1),
+    "batch-threads": lambda q: _batch(1.0 if q else 24.0, 2),
+    "covariance-static": lambda q: _covariance(False, 24.0),
+    "covariance-moving": lambda q: _covariance(True, 1.0 if q else 24.0),
+    "derive": lambda q: _derive(),
+    "tests": lambda q: _tests(),
+}
+
+
+def _measure(name: str, quick: bool) -> dict:
+    """Run one figure in a fresh process and return its numbers."""
+    done = subprocess.run([sys.executable, "-m", "benchmarks.bench_speed", "--child", name,
+                           *(["--quick"] if quick else [])], cwd=ROOT, capture_output=True,
+                          text=True)
+    if done.returncode:
+        return {"error": (done.stderr.strip().splitlines() or ["failed"])[-1]}
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def _verdict(ok: bool) -> str:
+    return "met" if ok else "NOT met"
+
+
+def _row(figure: str, measured: str, goal: str, ok: bool | None) -> None:
+    mark = "" if ok is None else _verdict(ok)
+    print(f"  {figure:<50} {measured:<36} {goal:<28} {mark}".rstrip())
+
+
+def main(quick: bool = False, wanted: list[str] | None = None) -> None:
+    """Measure the figures (all, or those named in ``wanted``) and print the table."""
+    hours = 1.0 if quick else 24.0
+    scale = hours / 24.0
+    print(f"  load average {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs"
+          + ("; --quick: shorter runs, goals scaled by duration" if quick else ""))
+    _row("figure", "measured", "goal", None)
+    names = [n for n in FIGURES if not wanted or any(w in n for w in wanted)]
+    r = {name: _measure(name, quick) for name in names}
+
+    def failed(name):
+        if "error" in r.get(name, {}):
+            _row(name, "failed: " + r[name]["error"][:60], "", False)
+            return True
+        return name not in r
+
+    for name, label in (("great-circle", "great-circle"), ("manoeuvre", "manoeuvre")):
+        if failed(name):
+            continue
+        x = r[name]
+        _row(f"{hours:g} h {label} at 100 Hz, truth+direct+linear",
+             f"{x['cpu']:.2f} s CPU ({x['wall']:.1f} s wall)", f"<= {2.0 * scale:.3g} s CPU",
+             x["cpu"] <= 2.0 * scale)
+        _row("  peak memory", f"{x['peak']:.0f} MB", "<= 300 MB", x["peak"] <= 300)
+    if not failed("week"):
+        x = r["week"]
+        growth = x["peak"] - x["base"]
+        days = 0.25 if quick else 7
+        _row(f"{days:g}-day flight at 100 Hz, recording every 10 s",
+             f"ran: {x['cpu']:.0f} s CPU, peak {x['peak']:.0f} MB", "runs (not refused)", True)
+        _row("  memory growth vs recorded output", f"{growth:.0f} MB vs {x['recorded']:.0f} MB",
+             "<= output + 100 MB buffers", growth <= x["recorded"] + 100)
+    if not failed("static-direct"):
+        x = r["static-direct"]
+        _row(f"static {hours:g} h at 100 Hz, direct", f"{x['cpu']:.3f} s CPU",
+             f"<= {0.25 * scale:.3g} s CPU", x["cpu"] <= 0.25 * scale)
+    if not failed("batch-serial") and not failed("batch-threads"):
+        s, t = r["batch-serial"], r["batch-threads"]
+        ratio = t["wall"] / s["wall"]
+        _row(f"{s['cases']} cases batched, {hours:g} h static (wall)",
+             f"{t['wall']:.2f} s vs serial {s['wall']:.2f} s = {ratio:.2f}x",
+             "<= 0.6 x serial", ratio <= 0.6)
+        _row("  CPU seconds, threaded vs serial", f"{t['cpu']:.2f} s vs {s['cpu']:.2f} s", "",
+             None)
+        _row("  cores used (CPU / wall of the threaded run)", f"{t['cpu'] / t['wall']:.2f}",
+             "both cores (~2)", t["cpu"] / t["wall"] > 1.5)
+    if not failed("covariance-static"):
+        x = r["covariance-static"]
+        _row("covariance 24 h at 1 s, static", f"{x['cpu']:.3f} s CPU", "<= 0.05 s",
+             x["cpu"] <= 0.05)
+    if not failed("covariance-moving"):
+        x = r["covariance-moving"]
+        _row(f"covariance {hours:g} h at 1 s, moving base", f"{x['cpu']:.2f} s CPU",
+             f"<= {5 * scale:.3g} s", x["cpu"] <= 5 * scale)
+    if not failed("derive"):
+        x = r["derive"]
+        _row("python -m derive, all models, cold", f"{x['cpu']:.1f} s CPU ({x['wall']:.0f} s "
+             "wall)", "<= 12 s CPU", x["cpu"] <= 12)
+    if not failed("tests"):
+        x = r["tests"]
+        _row("make test, warm cache", f"{x['cpu']:.0f} s CPU ({x['summary'][:30]})",
+             "<= 60 s CPU", x["cpu"] <= 60)
+
+
+if __name__ == "__main__":
+    args = sys.argv[1:]
+    if "--child" in args:
+        name = args[args.index("--child") + 1]
+        print(json.dumps(FIGURES[name]("--quick" in args)))
+    else:
+        main(quick="--quick" in args, wanted=[a for a in args if not a.startswith("--")])
