@@ -11,6 +11,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from derive.steps import step
 from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.codegen import (
     Argument,
@@ -175,8 +176,10 @@ class ModelSummary:
 def write_model(d: ModelDefinition, root: Path) -> ModelSummary:
     """Derive and write ``root/<model>/`` for one model definition."""
     start = time.perf_counter()
-    em = vary(d)
-    prepared = [prepare(spec) for spec in function_specs(em)]
+    with step(d.name, "vary (first- and second-order error equations)"):
+        em = vary(d)
+    with step(d.name, "generate numeric code"):
+        prepared = [prepare(spec) for spec in function_specs(em)]
     folder = root / d.name
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "__init__.py").write_text(header(d) + _metadata(d), encoding="utf-8")
@@ -192,8 +195,10 @@ def write_model(d: ModelDefinition, root: Path) -> ModelSummary:
     builders = ", ".join(f"{n!r}: _build_{n}" for n in names)
     casadi_src.append(f"\n_BUILDERS = {{{builders}}}\nFUNCTIONS = {tuple(names)!r}\n")
     (folder / "casadi_model.py").write_text("\n".join(casadi_src), encoding="utf-8")
-    (folder / "error_equations.md").write_text(header(d, markdown=True) + "\n"
-                                               + error_equations_markdown(d), encoding="utf-8")
+    with step(d.name, "write the equations document"):
+        document = error_equations_markdown(d)
+    (folder / "error_equations.md").write_text(header(d, markdown=True) + "\n" + document,
+                                               encoding="utf-8")
     return ModelSummary(d.name, len(d.states), len(d.error_states), len(d.sources),
                         len(d.outputs), sum(p.operations for p in prepared),
                         time.perf_counter() - start)

@@ -1,19 +1,26 @@
-"""Everything `make derive` writes, in order.
+"""Everything `make derive` writes, in order, all or nothing.
 
 Model files first (one folder per model), then the documents that other steps register
 in :data:`EXTRA_STEPS` (reports that are regenerated with the code, e.g. the checker's
 report on the manual's printed equations).
+
+Everything is written into a temporary folder next to the target; the target is
+replaced only when every step has succeeded. A failing step raises :class:`DeriveError`
+with one line naming the model and the step, and the target is left as it was.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
+import tempfile
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from derive.hand_check_report import write_hand_check_reports
 from derive.model_files import ModelSummary, write_model
+from derive.steps import step
 from derive.transfer_functions import write_transfer_functions
 from ins_errors.errors import unknown_name
 from ins_errors.models import definition, model_names
@@ -23,7 +30,9 @@ EXTRA_STEPS: list[Callable[[Path], None]] = [write_transfer_functions, write_han
 
 
 def _write_one(name: str, root: Path) -> ModelSummary:
-    return write_model(definition(name), root)
+    with step(name, "build the definition"):
+        model = definition(name)
+    return write_model(model, root)
 
 
 def _write_models(names: list[str], root: Path) -> list[ModelSummary]:
@@ -36,17 +45,53 @@ def _write_models(names: list[str], root: Path) -> list[ModelSummary]:
 
 
 def derive_all(root: Path, models: list[str] | None = None) -> list[ModelSummary]:
-    """Write every (or the named) model's generated files under ``root``."""
+    """Write every (or the named) model's generated files under ``root``, all or nothing.
+
+    The files are written into a temporary folder beside ``root`` (a copy of ``root``
+    when only some models are named) that replaces ``root`` once every step succeeded.
+
+    Raises
+    ------
+    DeriveError
+        One line naming the model and the failed step; ``root`` is unchanged.
+    """
     names = models or model_names()
     for name in names:  # before anything is written
         if name not in model_names():
             raise unknown_name("model", name, model_names())
-    root.mkdir(parents=True, exist_ok=True)
-    init = root / "__init__.py"
-    init.write_text('"""Generated code of every model (written by `make derive`)."""\n\n'
-                    f"MODELS = {tuple(model_names())!r}\n", encoding="utf-8")
-    summaries = _write_models(names, root)
-    if models is None:
-        for step in EXTRA_STEPS:
-            step(root)
+    root = Path(root)
+    root.parent.mkdir(parents=True, exist_ok=True)
+    work = Path(tempfile.mkdtemp(prefix=f".{root.name}-derive-", dir=root.parent))
+    try:
+        if models is not None and root.is_dir():
+            shutil.copytree(root, work, dirs_exist_ok=True,
+                            ignore=shutil.ignore_patterns("__pycache__"))
+        init = work / "__init__.py"
+        init.write_text('"""Generated code of every model (written by `make derive`)."""\n\n'
+                        f"MODELS = {tuple(model_names())!r}\n", encoding="utf-8")
+        summaries = _write_models(names, work)
+        if models is None:
+            for extra in EXTRA_STEPS:
+                with step("all models", extra.__name__.removeprefix("write_").replace("_", " ")):
+                    extra(work)
+        _replace(root, work)
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
     return summaries
+
+
+def _replace(root: Path, work: Path) -> None:
+    """Put ``work`` in the place of ``root`` (two renames on the same file system)."""
+    old = None
+    if root.exists():
+        old = Path(tempfile.mkdtemp(prefix=f".{root.name}-old-", dir=root.parent))
+        old.rmdir()
+        root.rename(old)
+    try:
+        work.rename(root)
+    except OSError:
+        if old is not None:
+            old.rename(root)
+        raise
+    if old is not None:
+        shutil.rmtree(old, ignore_errors=True)
