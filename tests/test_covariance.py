@@ -240,3 +240,20 @@ def test_total_keeps_small_sources_next_to_large_ones(orthodromic, kind):
                                each.variance[:, used] / scale[used], atol=1e-9)
     # the azimuth error comes from the drift alone and must be there
     assert total.variance[-1, total.index("alpha_z")] > 1e-14
+
+
+def test_single_threaded_blas_gives_the_previous_numbers(orthodromic):
+    """propagate() limits BLAS to one thread. Threaded BLAS splits long dot products
+    differently, so the last bits may differ: equal to rounding."""
+    from ins_errors.analysis import covariance as cv
+
+    system = cv.static_system(orthodromic, np.radians(50.0), duration=7200.0, step=10.0)
+    sources = [cv.SourceStatistics(s.name, "constant", 1e-6) for s in orthodromic.sources]
+    functionals = cv.state_and_output_functionals(orthodromic, system)
+    for by_source in (True, False):
+        limited = cv.propagate(system, sources, functionals, by_source=by_source)
+        unlimited = cv._propagate(system, sources, functionals, 1, by_source)
+        scale = np.abs(unlimited.unit_variances).max(axis=0, keepdims=True)
+        np.testing.assert_allclose(limited.unit_variances / np.where(scale > 0, scale, 1),
+                                   unlimited.unit_variances / np.where(scale > 0, scale, 1),
+                                   rtol=0, atol=1e-13)

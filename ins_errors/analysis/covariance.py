@@ -33,6 +33,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import cache
 
 import numpy as np
 from scipy.linalg import expm
@@ -319,10 +320,21 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
     return columns
 
 
+@cache
+def _blas_controller():
+    """The process's BLAS thread pools (looked up once: the lookup costs milliseconds)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
+
+
 def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
               functionals: Functionals, output_every: int = 1,
               by_source: bool = True) -> Covariance:
     """Propagate unit-variance statistics of each source to the functionals' variances.
+
+    The matrices are small (tens of rows), so BLAS runs single-threaded here: its
+    threads cost more than they save (and the machine's other cores stay free).
 
     Parameters
     ----------
@@ -343,6 +355,13 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
     -------
     Covariance
     """
+    with _blas_controller().limit(limits=1, user_api="blas"):
+        return _propagate(system, sources, functionals, output_every, by_source)
+
+
+def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
+               functionals: Functionals, output_every: int,
+               by_source: bool) -> Covariance:
     columns = _validate(system, sources, functionals)
     n = system.E.shape[0]
     K = len(system.times) - 1
