@@ -116,13 +116,14 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
         If the folder cannot be written or must not be.
     """
     from ins_errors.export import curves_csv, save_curves_mat
-    from ins_errors.numeric.plots import plot_comparison
+    from ins_errors.numeric.plots import plot_comparison, shared_quantities
 
     out = OutputFolder(folder, force=force)
     plots = []
+    quantities = result.scenario.quantities or shared_quantities(result.comparisons)
     for k, comparison in enumerate(result.comparisons, 1):
         name = f"case_{k}.png"
-        plot_comparison(comparison, out.file(name), quantities=result.scenario.quantities,
+        plot_comparison(comparison, out.file(name), quantities=quantities,
                         title=f"{result.scenario.title}\n{comparison.label}")
         plots.append(name)
     text = report_markdown(result, plots)

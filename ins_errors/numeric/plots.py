@@ -26,9 +26,25 @@ def _scale(unit: str) -> tuple[float, str]:
     return 1.0 / parse_quantity(f"1 {shown}", unit), shown
 
 
+def shared_quantities(comparisons: Sequence[Comparison]) -> list[str]:
+    """Quantities excited in any of the cases, in the model's order (all if none is).
+
+    Plotting every case with this one list keeps the panel layout the same across cases.
+    """
+    if not comparisons:
+        return []
+    names = [m.quantity for m in comparisons[0].metrics]
+    excited = {m.quantity for c in comparisons for m in c.excited}
+    return [q for q in names if q in excited] or names
+
+
 def plot_comparison(comparison: Comparison, path: str | Path,
                     quantities: Sequence[str] | None = None, title: str = "") -> Path:
-    """Save a grid of plots, one per quantity, with the three curves overlaid.
+    """Save one row per quantity: the curves (left) and their residuals (right).
+
+    The left panel overlays the direct, linear and refined errors; at the scale of the
+    errors they are usually indistinguishable, so the right panel draws what the study
+    is about: direct − linear and direct − refined, on their own scale.
 
     Parameters
     ----------
@@ -37,7 +53,8 @@ def plot_comparison(comparison: Comparison, path: str | Path,
     path : str or Path
         Output file (``.png``, ``.pdf``, ``.svg``: whatever matplotlib writes).
     quantities : sequence of str, optional
-        Quantities to draw (default: every excited quantity, else all).
+        Quantities to draw, one row each (default: every excited quantity, else all;
+        pass :func:`shared_quantities` of all cases to keep the layout fixed).
     title : str
         Figure title (default: the case label).
 
@@ -49,7 +66,7 @@ def plot_comparison(comparison: Comparison, path: str | Path,
     Raises
     ------
     InsErrorsError
-        If the file cannot be written.
+        If a quantity is unknown or the file cannot be written.
     """
     import matplotlib
 
@@ -57,33 +74,38 @@ def plot_comparison(comparison: Comparison, path: str | Path,
     import matplotlib.pyplot as plt
 
     if quantities is None:
-        quantities = [m.quantity for m in comparison.excited] or [
-            m.quantity for m in comparison.metrics]
+        quantities = shared_quantities([comparison])
     for q in quantities:
         comparison.metric(q)  # raises a one-line error for unknown names
     n = len(quantities)
-    cols = 2 if n > 1 else 1
-    rows = (n + cols - 1) // cols
-    fig, axes = plt.subplots(rows, cols, figsize=(6.0 * cols, 2.6 * rows), squeeze=False,
+    fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.1), squeeze=False,
                              sharex=True)
     hours = comparison.times / 3600.0
-    for ax, q in zip(axes.flat, quantities, strict=False):
+    for (curves, residuals), q in zip(axes, quantities, strict=True):
         scale, unit = _scale(comparison.metric(q).unit)
-        ax.plot(hours, comparison.direct[q] * scale, color="black", lw=1.6, label="direct")
-        ax.plot(hours, comparison.linear[q] * scale, color="tab:orange", lw=1.0, ls="--",
-                label="linear")
+        direct = comparison.direct[q] * scale
+        curves.plot(hours, direct, color="black", lw=1.6, label="direct")
+        curves.plot(hours, comparison.linear[q] * scale, color="tab:orange", lw=1.0, ls="--",
+                    label="linear")
+        residuals.plot(hours, direct - comparison.linear[q] * scale, color="tab:orange",
+                       lw=1.0, label="direct − linear")
         if comparison.refined:
-            ax.plot(hours, comparison.refined[q] * scale, color="tab:blue", lw=1.0, ls=":",
-                    label="refined")
-        ax.set_ylabel(f"{q} [{unit}]", fontsize=8)
-        ax.grid(True, alpha=0.3)
-        ax.tick_params(labelsize=7)
-    for ax in axes.flat[n:]:
-        ax.set_visible(False)
+            curves.plot(hours, comparison.refined[q] * scale, color="tab:blue", lw=1.0,
+                        ls=":", label="refined")
+            residuals.plot(hours, direct - comparison.refined[q] * scale, color="tab:blue",
+                           lw=1.0, label="direct − refined")
+        curves.set_ylabel(f"{q}\n[{unit}]", fontsize=8)
+        residuals.set_ylabel(f"residual [{unit}]", fontsize=8)
+        for ax in (curves, residuals):
+            ax.grid(True, alpha=0.3)
+            ax.tick_params(labelsize=7)
+            ax.ticklabel_format(axis="y", useOffset=False)
+    axes[0, 0].set_title("error curves", fontsize=9)
+    axes[0, 1].set_title("residuals: what the linear / refined models miss", fontsize=9)
     for ax in axes[-1]:
         ax.set_xlabel("time [h]", fontsize=8)
-    axes.flat[0].legend(fontsize=7, loc="best")
+    axes[0, 0].legend(fontsize=7, loc="best")
+    axes[0, 1].legend(fontsize=7, loc="best")
     fig.suptitle(title or comparison.label, fontsize=9)
-    fig.tight_layout()
-    return save_figure(fig, path, dpi=110)
-
+    fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / (1.75 * n + 1.1)))
+    return save_figure(fig, path, dpi=100)
