@@ -111,16 +111,23 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
     return "\n".join(lines)
 
 
-def plot(allocation: Allocation, path: str, top: int = 14) -> None:
-    """Stacked bars: share of each item's allowed variance per source at each check time.
+def plot(allocation: Allocation, path: str, top: int = 40) -> None:
+    """Save the budget as two readable bar charts.
+
+    Left: one bar per limited source, labelled with its name and its allowed magnitude
+    in display units (``gyro_drift_x ≤ 0.0063 deg/h``), grouped (and coloured) by the
+    item that binds it, then sorted by binding time and share of that item's variance.
+    Right: each spec item's worst value at the allocated magnitudes as a fraction of its
+    limit. Sources the motion does not limit are named under the chart.
 
     Parameters
     ----------
     allocation : Allocation
+        The allocated budget.
     path : str
         Image file to write (format from the suffix, e.g. ``budget.png``).
     top : int
-        Sources shown individually (the rest are summed as "others").
+        Most sources drawn (the largest shares).
     """
     require_matplotlib()
     import matplotlib
@@ -128,38 +135,56 @@ def plot(allocation: Allocation, path: str, top: int = 14) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    budget = allocation.budget
-    shares = allocation.contributions() / budget.allowed_variances[:, None]
-    order = np.argsort(-shares.max(0))
-    shown, rest = order[:top], order[top:]
-    items = budget.spec.items
-    fig, axes = plt.subplots(1, len(items), figsize=(4.2 * len(items), 4.6), squeeze=False)
-    colours = plt.get_cmap("tab20")
-    for ax, item in zip(axes[0], items, strict=True):
-        idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
-        labels = [f"{budget.rows[i].time / HOUR:g}" + (f"\n{budget.rows[i].component}"
-                                                       if budget.rows[i].component else "")
-                  for i in idx]
-        x = np.arange(len(idx))
-        bottom = np.zeros(len(idx))
-        for c, j in enumerate(shown):
-            ax.bar(x, shares[idx, j], bottom=bottom, color=colours(c % 20),
-                   label=budget.sources[j].name)
-            bottom += shares[idx, j]
-        if rest.size:
-            ax.bar(x, shares[idx][:, rest].sum(1), bottom=bottom, color="0.75", label="others")
-        ax.axhline(1.0, color="k", lw=1, ls="--")
-        every = max(1, len(idx) // 9)
-        ax.set_xticks(x[::every], labels[::every], fontsize=8)
-        ax.set_xlabel("check time, h")
-        ax.set_title(f"{item.name}\n≤ {item.text} ({budget.spec.sigma_level:g}σ)", fontsize=10)
-        ax.set_ylim(0, 1.1)
-    axes[0][0].set_ylabel("share of allowed variance")
-    handles, names = axes[0][0].get_legend_handles_labels()
-    fig.legend(handles, names, loc="lower center", ncol=min(5, len(names)), fontsize=8)
-    fig.suptitle(f"Error budget: {budget.spec.title}", fontsize=11)
-    fig.tight_layout(rect=(0, 0.12, 1, 0.95))
-    save_figure(fig, path, dpi=120)
+    data = report(allocation)
+    spec = allocation.budget.spec
+    k = f"{spec.sigma_level:g}σ"
+    items = [item.name for item in spec.items]
+    limited = [s for s in data["sources"] if s["binding_item"] is not None]
+    limited = sorted(limited, key=lambda s: -s["share_at_binding"])[:top]
+    limited.sort(key=lambda s: (items.index(s["binding_item"]), s["binding_time_h"],
+                                -s["share_at_binding"], s["name"]))
+    free = [s["name"] for s in data["sources"]
+            if s["binding_item"] is None and not s["fixed"]]
+    colours = {name: plt.get_cmap("tab10")(n % 10) for n, name in enumerate(items)}
+    height = 0.32 * max(len(limited), len(items)) + 2.2
+    fig, (left, right) = plt.subplots(1, 2, figsize=(13, height),
+                                      gridspec_kw={"width_ratios": [2.2, 1]})
+    y = np.arange(len(limited))[::-1]
+    left.barh(y, [100 * s["share_at_binding"] for s in limited],
+              color=[colours[s["binding_item"]] for s in limited])
+    left.set_yticks(y, [f"{s['name']}  ≤ {s['display'].strip()}" for s in limited],
+                    fontsize=8)
+    for yy, s in zip(y, limited, strict=True):
+        when = format_time(s["binding_time_h"] * HOUR)
+        left.text(100 * s["share_at_binding"], yy, f"  {s['binding_item']} at {when}",
+                  va="center", fontsize=7)
+    largest = max((100 * s["share_at_binding"] for s in limited), default=1.0)
+    left.set_xlim(0, largest * 1.6)
+    left.set_xlabel(f"share of the binding item's allowed variance, % ({k} magnitudes "
+                    "as labelled)")
+    left.set_title("allowed magnitude of each source", fontsize=10)
+    left.grid(True, axis="x", alpha=0.3)
+    worst = []
+    for name in items:
+        rows = [r for r in data["rows"] if r["item"] == name]
+        worst.append(max(rows, key=lambda r: r["ratio"]))
+    yi = np.arange(len(items))[::-1]
+    right.barh(yi, [r["ratio"] for r in worst], color=[colours[n] for n in items])
+    right.axvline(1.0, color="k", lw=1, ls="--")
+    right.set_yticks(yi, [f"{n}\n{r['display']} at {format_time(r['time_h'] * HOUR)}"
+                          for n, r in zip(items, worst, strict=True)], fontsize=8)
+    right.set_xlim(0, 1.15)
+    right.set_xlabel(f"worst value / limit ({k})")
+    right.set_title("spec items at these magnitudes", fontsize=10)
+    right.grid(True, axis="x", alpha=0.3)
+    note = (f"not limited on this motion: {', '.join(free)}" if free else "")
+    fig.suptitle(f"Error budget: {spec.title}\n{data['motion']}", fontsize=10)
+    if note:
+        import textwrap
+
+        fig.text(0.01, 0.01, textwrap.fill(note, 170), fontsize=7, va="bottom")
+    fig.tight_layout(rect=(0, 0.05 if note else 0, 1, 1))
+    save_figure(fig, path, dpi=110)
 
 
 def output_table(data: dict, top: int = 10) -> str:
