@@ -199,3 +199,20 @@ def test_bad_flights_are_one_line_errors(model):
         st.trajectory(model, st.static(0.5), 10.0, 0.3)
     with pytest.raises(ins_errors.InsErrorsError, match="convention"):
         sc.convention("phy")
+
+
+def test_compare_command_flies_strapdown_motions(capsys):
+    """The CLI's manoeuvre (a track-frame profile) becomes a strapdown flight."""
+    import json
+
+    from ins_errors.cli import main
+
+    status = main(["compare", "strapdown_ned", "--source", "gyro_bias_x=0.01deg/h",
+                   "--source", "accel_bias_y=20ug", "--motion", "manoeuvre", "--hours", "0.25",
+                   "--step", "0.5s", "--method", "rk4", "--json"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    (case,) = json.loads(out)["cases"]
+    assert case["worst_linear_ratio"] < 1e-3 and case["worst_refined_ratio"] < 1e-5
+    heading = next(m for m in case["metrics"] if m["quantity"] == "delta_heading")
+    assert heading["excited"]

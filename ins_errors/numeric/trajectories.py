@@ -717,6 +717,11 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     StepError, MotionError, DomainError
         Bad grid, a motion the model cannot follow, or a motion through a pole.
     """
+    if model.name == "strapdown_ned":  # body rates and specific force, not a_* inputs
+        from ins_errors.numeric import strapdown_truth
+
+        return strapdown_truth.trajectory(model, strapdown_truth.flight_from_profile(profile),
+                                          duration, tau, p)
     n_steps = step_count(duration, tau)
     p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
     frame = profile.frame
