@@ -1,15 +1,24 @@
 """Runs on a local Dask cluster of 2 workers give the single-process results bit for bit,
 also when a worker is killed in the middle of a sweep.
 
-The cluster listens on 127.0.0.1 only and is shut down at the end of the module.
+The cluster is started with the README's own commands (``dask scheduler``, ``dask
+worker``) on 127.0.0.1 only and is shut down at the end of the module.
 """
 
 from __future__ import annotations
 
+import contextlib
+import json
 import os
+import shlex
 import signal
+import socket
+import subprocess
+import sys
 import textwrap
 import time
+from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -49,22 +58,82 @@ accel_bias_y = "100 ug"
 """
 
 
+ROOT = Path(__file__).resolve().parent.parent
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+def cluster_commands() -> list[str]:
+    """The README's cluster recipe: scheduler, worker and sweep lines."""
+    section = README.split("On a cluster, with Dask's own commands", 1)[1]
+    block = section.split("```text\n", 1)[1].split("```", 1)[0]
+    return [line.split(" #")[0].strip() for line in block.splitlines() if line.strip()]
+
+
+@dataclass
+class Cluster:
+    scheduler_address: str
+    sweep: list[str]
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
 @pytest.fixture(scope="module")
 def cluster():
-    import logging
+    """A scheduler and a worker of 2 processes, started with the README's commands (on
+    127.0.0.1 and a free port) and stopped at the end of the module."""
+    from distributed import Client
 
-    from distributed import LocalCluster
-
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
-                      dashboard_address=None, silence_logs=logging.ERROR) as local:
-        yield local
+    dask = Path(sys.executable).with_name("dask")
+    if not dask.exists():
+        pytest.skip("the dask command is not installed next to this Python")
+    scheduler, worker, sweep = cluster_commands()
+    port = _free_port()
+    address = f"127.0.0.1:{port}"
+    local = ["--host", "127.0.0.1", "--no-dashboard"]
+    assert scheduler.startswith("dask scheduler") and worker.startswith("dask worker")
+    commands = [
+        [str(dask), *shlex.split(scheduler.replace("8786", str(port)))[1:], *local],
+        [str(dask), *shlex.split(worker.replace("SCHEDULER-HOST:8786", address))[1:], *local],
+    ]
+    started = []
+    try:
+        for command in commands:
+            started.append(subprocess.Popen(command, stdout=subprocess.DEVNULL,
+                                            stderr=subprocess.DEVNULL,
+                                            start_new_session=True))
+            time.sleep(0.5)
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                with Client(f"tcp://{address}", timeout="5s") as client:
+                    client.wait_for_workers(2, timeout=60)
+                break
+            except OSError:
+                if time.monotonic() > deadline or started[0].poll() is not None:
+                    raise
+                time.sleep(0.5)
+        yield Cluster(f"tcp://{address}",
+                      shlex.split(sweep.replace("SCHEDULER-HOST:8786", address))[1:])
+    finally:
+        for process in reversed(started):    # worker first, then the scheduler
+            with contextlib.suppress(ProcessLookupError):
+                os.killpg(process.pid, signal.SIGTERM)
+            try:
+                process.wait(timeout=15)
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()
 
 
 def worker_pids(local) -> dict[str, int]:
     """Process id of every worker (through a short-lived client)."""
     from distributed import Client
 
-    with Client(local.scheduler_address) as client:
+    with Client(local.scheduler_address, timeout="10s") as client:
         return client.run(os.getpid)
 
 
@@ -141,3 +210,18 @@ def test_killed_worker_still_gives_the_complete_identical_sweep(cluster, scenari
             break
         time.sleep(0.2)
     assert len(after) == 2 and set(after.values()) != set(before.values())
+
+
+def test_readme_sweep_on_the_cluster(cluster, tmp_path, monkeypatch, capsys):
+    """The README's sweep line, run against the scheduler started from the README."""
+    from ins_errors.cli import main
+
+    os.symlink(ROOT / "examples", tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    assert main([*cluster.sweep, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["computed"] == data["points"] == 9 and "tcp://127.0.0.1" in data["engine"]
+    assert main([*cluster.sweep, "--json"]) == 0       # again: everything read back
+    again = json.loads(capsys.readouterr().out)
+    assert (again["computed"], again["reused"]) == (0, 9)
+    assert again["summary"] == data["summary"]
