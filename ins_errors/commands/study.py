@@ -121,8 +121,7 @@ def _spheroid(args: argparse.Namespace, speed: float, step: float, folder) -> in
     with stage("direct flights over the spheroid and formula (10)"):
         result, lines = spheroid_error.survey(duration=hours * 3600.0, speed=speed, step=step)
     if folder is not None:
-        worst = int(result.largest_km().argmax())
-        path = spheroid_error.plot(result, folder.file("spheroid_formula_10.png"), worst)
+        path = spheroid_error.plot(result, folder.file("spheroid_formula_10.png"))
         folder.finish()
         lines.append(f"plot: {path}")
     if args.json:

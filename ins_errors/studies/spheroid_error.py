@@ -413,7 +413,8 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
     peak = formula_10_maximum()
     lines = [
         f"formula (10), ν1⁰ = 0: max |ΔΦ| a = {peak['dPhi_km']:.2f} km, max displacement "
-        f"{peak['total_km']:.2f} km at B = ±{peak['latitude_deg']:.1f}° (paper: about 22 km)",
+        f"{peak['total_km']:.2f} km at B = ±{peak['latitude_deg']:.1f}° (paper: about 22 km; "
+        "this is the current-point term of (10) alone)",
         f"direct simulation, {speed:g} m/s for {duration / 3600:g} h, step {step:g} s "
         "(errors in km; 'geometric': coefficients of (9) at the true position, as in the "
         "paper; 'closed loop': at the computed position)",
@@ -424,9 +425,10 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
         lines.append(f"  {np.degrees(result.start[0, k]):5.1f}  "
                      f"{np.degrees(result.start[2, k]):6.1f}   {largest[k]:9.3f}   "
                      f"{worst[k]:24.3f}   {worst_printed[k]:23.3f}   {closed_largest[k]:11.3f}")
-    lines.append(f"largest geometric error over all flights {largest.max():.2f} km; worst "
-                 f"mismatch with completed (10) {worst.max():.3f} km; closed loop up to "
-                 f"{closed_largest.max():.2f} km")
+    lines.append(f"largest geometric error over all flights {largest.max():.2f} km (current-"
+                 "point term plus the start-point term of the completed (10), so above the "
+                 f"paper's ≈ 22 km); worst mismatch with completed (10) {worst.max():.3f} km; "
+                 f"closed loop up to {closed_largest.max():.2f} km")
     deg_h = np.pi / 180 / 3600
     rate = max(np.abs(correction_rate_error(lat, 0.0, ang, np.linspace(0, 0.6, 7), speed)).max()
                for lat, ang in zip(la.ravel(), an.ravel(), strict=True))
@@ -436,27 +438,56 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
     return result, lines
 
 
-def plot(result: FlightErrors, path: str | Path, flight: int = 0) -> Path:
-    """Save direct vs (10) coordinate errors of one flight as a PNG."""
+PLOT_FLOOR_KM = 0.05
+"""Smallest y range of a panel of :func:`plot`, km: errors below it (rounding, ~1e-15 km
+where a coordinate is not excited) are drawn flat, not blown up into a diverging curve."""
+
+
+def plot(result: FlightErrors, path: str | Path) -> Path:
+    """Save every flight's displacement: direct simulation against formula (10).
+
+    One panel per flight (rows: start latitude, columns: orthodrome angle, as
+    :func:`survey` flies them), each with the displacement √(ΔΦ² + (ΔΛ cos Φ)²)·a in km
+    of the direct simulation, of (10) with the start-point term and of (10) as printed.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     hours = result.times / 3600
-    direct, printed, completed = (result.km(e)[:, :, flight] for e in
+    direct, printed, completed = (np.hypot(*result.km(e)) for e in
                                   (result.direct, result.printed, result.completed))
-    fig, axes = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
-    for ax, k, label in zip(axes, (0, 1), ("ΔΦ·a, km", "ΔΛ·a·cos Φ, km"), strict=True):
-        ax.plot(hours, direct[k], label="direct simulation")
-        ax.plot(hours, completed[k], "--", label="(10) with start term")
-        ax.plot(hours, printed[k], ":", label="(10) as printed")
-        ax.set_ylabel(label)
+    latitudes = sorted(set(np.round(np.degrees(result.start[0]), 6)))
+    angles = sorted(set(np.round(np.degrees(result.start[2]), 6)))
+    rows, cols = len(latitudes), len(angles)
+    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols + 0.6, 2.1 * rows + 1.2),
+                             sharex=True, squeeze=False)
+    for ax in axes.flat:
+        ax.set_visible(False)
+    for f in range(direct.shape[1]):
+        r = latitudes.index(np.round(np.degrees(result.start[0, f]), 6))
+        c = angles.index(np.round(np.degrees(result.start[2, f]), 6))
+        ax = axes[r, c]
+        ax.set_visible(True)
+        ax.plot(hours, direct[:, f], color="black", lw=1.6, label="direct simulation")
+        ax.plot(hours, completed[:, f], "--", color="tab:orange", lw=1.0,
+                label="(10) with start term")
+        ax.plot(hours, printed[:, f], ":", color="tab:blue", lw=1.0, label="(10) as printed")
+        top = max(PLOT_FLOOR_KM, float(np.nanmax([direct[:, f], completed[:, f],
+                                                  printed[:, f]])) * 1.08)
+        ax.set_ylim(0, top)
+        ax.ticklabel_format(axis="y", useOffset=False, style="plain")
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8)
-    axes[-1].set_xlabel("time, h")
-    lat0, _lon0, ang0 = np.degrees(result.start[:, flight])
-    fig.suptitle(f"spherical-formula reckoning over the spheroid: φ0 = {lat0:.1f}°, "
-                 f"N0 = {ang0:.1f}°", fontsize=9)
-    fig.tight_layout()
-    return save_figure(fig, path, dpi=110)
+        ax.tick_params(labelsize=7)
+        ax.set_title(f"φ0 = {latitudes[r]:g}°, N0 = {angles[c]:g}°", fontsize=8)
+        if c == 0:
+            ax.set_ylabel("displacement, km", fontsize=8)
+        if r == rows - 1:
+            ax.set_xlabel("time, h", fontsize=8)
+    handles, labels = axes[0, 0].get_legend_handles_labels()
+    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8)
+    fig.suptitle("004: spherical-formula reckoning over the Krasovsky spheroid, every flight "
+                 f"({direct.shape[1]}): direct simulation vs formula (10)", fontsize=10)
+    fig.tight_layout(rect=(0, 0.04, 1, 0.97))
+    return save_figure(fig, path, dpi=100)
