@@ -210,7 +210,7 @@ def test_schuler_period_is_that_of_the_tuning_radius(model):
     eigenvalues = np.linalg.eigvals(model.state_matrix(x, u, p))
     fastest = np.abs(eigenvalues.imag).max()
     period = 2 * np.pi / fastest
-    schuler = 2 * np.pi * np.sqrt(TUNING_RADIUS / g)  # 84.9 min for R = 6 411 km
+    schuler = 2 * np.pi * np.sqrt(TUNING_RADIUS / g)  # 84.67 min for R = 6 411 km
     assert period == pytest.approx(schuler, rel=2e-3)
     assert abs(period - 2 * np.pi * np.sqrt(6.371e6 / g)) > 10.0  # not the Earth's
 

@@ -273,11 +273,20 @@ class StudyResult:
         for name, (unit, scale) in units.items():
             if name not in self.direct.names:
                 continue
-            d = np.abs(self.direct[name][:, 0]).max() * scale
-            lin = np.abs(self.linear[name][:, 0]).max() * scale
+            largest = np.abs(self.direct[name][:, 0]).max()
+            d, lin = largest * scale, np.abs(self.linear[name][:, 0]).max() * scale
+            floor = MISMATCH_FLOOR["m/s" if name.startswith("delta_v") else "rad"]
+            mismatch = (f"{100 * self.agreement(name):.3g} %" if largest > floor else
+                        "– (error at rounding level)")
             lines.append(f"  {name:<16} direct {d:11.4g}  linear {lin:11.4g} {unit:<16}"
-                         f" mismatch {100 * self.agreement(name):.3g} %")
+                         f" mismatch {mismatch}")
         return lines
+
+
+MISMATCH_FLOOR = {"rad": 1e-10, "m/s": 1e-6}
+"""SI size below which a direct error is rounding noise (as
+:data:`ins_errors.numeric.compare.NOISE_FLOOR`): its relative mismatch is printed as "–",
+since a ratio of two noises looks like an alarm and means nothing."""
 
 
 def motion(scenario: str, latitude: float, duration: float, tau: float,
