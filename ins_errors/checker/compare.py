@@ -8,40 +8,44 @@ hand file uses but never defines (ΔR_η, ΔV_ζ) is taken from the model and li
 mechanical side goes through the model's varied intermediates
 (:func:`~ins_errors.symbolic.variation.structured_variation`).
 
-The coefficient of each basis quantity is then compared numerically at the reference
-points (:mod:`~ins_errors.checker.reference`). A term's size is
-``|coefficient| × typical magnitude`` of its quantity; each discrepancy is measured
-relative to the largest term of its equation at the same point (the largest ratio over
-the points is reported) and classed:
+The coefficient of each basis quantity is compared numerically at the reference points
+(:mod:`~ins_errors.checker.reference`); a term's size is ``|coefficient| × typical
+magnitude`` of its quantity, and a discrepancy is measured relative to the largest term
+of its equation at the same point (the largest ratio over the points is reported).
 
-* ``"dropped small term"`` below the threshold (default 1e-3);
-* ``"mistake"`` at or above it.
+Each line is compared three times:
 
-Its kind says what differs: ``missing term``, ``extra term``, ``sign error``, ``wrong
-coefficient`` (with the ratio when it is constant), ``wrong variable`` (a coefficient
-that belongs to one quantity written on another), ``not an error quantity`` (a term with
-no error in it), ``left-hand side without Δ`` and ``wrong definition`` (an ideal quantity
-such as ``R_E = ...`` whose value differs from the model's).
+1. as written, against the model's variation;
+2. against the model with the author's declared simplifications (``@neglect``) applied:
+   what disappears is a *declared drop*;
+3. *isolated*: every definition the line uses (the hand's ΔR_E, its helper D, ...)
+   replaced by the correct one: what remains is the line's *own* finding (a root), what
+   disappeared is a *knock-on* of the wrong definitions it uses.
 
-Where the expressions are small, agreeing equations are also compared symbolically.
+A helper defined only in the hand file (the manual's D) is checked against the value
+its simplest use needs (``ΔR_E = D Δφ`` needs D = dR_E/dφ). What each difference is and
+how much it matters: :mod:`~ins_errors.checker.classify`.
 """
 
 from __future__ import annotations
 
 import difflib
 from collections.abc import Iterable
-from dataclasses import dataclass, field
-from typing import Literal
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import sympy as sp
 
+from ins_errors.checker import classify as cl
+from ins_errors.checker.classify import Finding
 from ins_errors.checker.notation import Notation, default_notation
 from ins_errors.checker.parse import DOT, TILDE, HandEquation, HandFile, Problem
 from ins_errors.checker.reference import (
+    DEFAULT_ATTITUDE,
+    Magnitudes,
     ReferencePoint,
     reference_points,
-    typical_magnitude,
+    schuler_magnitudes,
 )
 from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
@@ -49,11 +53,12 @@ from ins_errors.models import definition as model_definition
 from ins_errors.symbolic.variation import output_mechanisations, structured_variation
 
 DEFAULT_THRESHOLD = 1e-3
-"""Relative size below which a discrepancy counts as a deliberately dropped small term."""
+"""Relative size separating small effects from mistakes."""
 AGREEMENT = 1e-9
 """Relative size below which two coefficients are taken as equal (rounding)."""
 
-Severity = Literal["dropped small term", "mistake"]
+__all__ = ["AGREEMENT", "DEFAULT_THRESHOLD", "BasisQuantity", "CheckReport", "EquationResult",
+           "Finding", "check_hand", "check_hand_file"]
 
 
 class _UnresolvedError(Exception):
@@ -94,41 +99,6 @@ class BasisQuantity:
     stands_for: tuple[str, ...] = ()
 
 
-@dataclass(frozen=True)
-class Finding:
-    """One discrepancy between a hand equation and the model.
-
-    Attributes
-    ----------
-    quantity : str
-        Basis quantity whose coefficient differs (``"(none)"`` for a term with no error).
-    kind : str
-        ``missing term``, ``extra term``, ``sign error``, ``wrong coefficient``,
-        ``wrong variable``, ``not an error quantity``, ``left-hand side without Δ``.
-    severity : {"dropped small term", "mistake"}
-    size : float
-        Largest ratio, over the reference points, of the discrepancy to the equation's
-        largest term at that point.
-    point : str
-        Reference point where that ratio is reached.
-    hand : str
-        Hand coefficient (SymPy text, model symbols).
-    model : str
-        Model coefficient.
-    detail : str
-        One-line explanation (ratio, where a misplaced term belongs, ...).
-    """
-
-    quantity: str
-    kind: str
-    severity: Severity
-    size: float
-    point: str
-    hand: str
-    model: str
-    detail: str = ""
-
-
 @dataclass
 class EquationResult:
     """The outcome for one form of one hand equation.
@@ -140,10 +110,12 @@ class EquationResult:
         Index of the checked form within the printed chain.
     target : str
         What the line is compared with (``"intermediate omega_xi"``, ``"error state
-        delta_V_xi"``, ``"output v_N"``), or why it is not compared.
+        delta_V_xi"``, ``"output v_N"``, ``"value dR_E/dphi needed by line 49"``), or why
+        it is not compared.
     status : str
-        ``"agrees"``, ``"agrees up to dropped small terms"``, ``"mistake"``,
-        ``"hand-only definition"``, ``"tautology"``, ``"input error"``.
+        ``"agrees"``, ``"agrees up to dropped small terms"``, ``"agrees up to declared
+        drops"``, ``"mistake"``, ``"hand-only definition"``, ``"tautology"``,
+        ``"input error"``.
     findings : list of Finding
     notes : list of str
     """
@@ -160,6 +132,11 @@ class EquationResult:
         """Left-hand side, with the form number for chains."""
         suffix = f" (form {self.form + 1})" if len(self.equation.forms) > 1 else ""
         return f"{self.equation.label}{suffix}"
+
+    @property
+    def reference(self) -> str:
+        """``"line 49 Delta_R_E"``: how other findings name this line."""
+        return f"line {self.equation.line} {self.label}"
 
 
 @dataclass
@@ -185,6 +162,16 @@ class CheckReport:
         model's variation was used on the hand side).
     unused : list of str
         Hand definitions no other line uses (and that have no model counterpart).
+    magnitudes : str
+        Where the typical magnitudes come from (one line).
+    skipped_motions : list of str
+        Motions the model cannot fly (or that the scope excludes), with the reason.
+    scope : str or None
+        Motion class the file limits itself to (``@scope``).
+    declarations : list of str
+        The declared simplifications, as written.
+    idle_declarations : list of str
+        Declared simplifications that explain no finding.
     """
 
     model: str
@@ -199,6 +186,11 @@ class CheckReport:
     out_of_scope: list[str]
     from_model: dict[str, list[int]]
     unused: list[str]
+    magnitudes: str = ""
+    skipped_motions: list[str] = field(default_factory=list)
+    scope: str | None = None
+    declarations: list[str] = field(default_factory=list)
+    idle_declarations: list[str] = field(default_factory=list)
 
     @property
     def findings(self) -> list[tuple[EquationResult, Finding]]:
@@ -207,8 +199,18 @@ class CheckReport:
 
     @property
     def mistakes(self) -> list[tuple[EquationResult, Finding]]:
-        """Findings classed as mistakes."""
-        return [(r, f) for r, f in self.findings if f.severity == "mistake"]
+        """Findings classed as mistakes (of any size, roots and knock-ons)."""
+        return [(r, f) for r, f in self.findings if f.is_mistake]
+
+    @property
+    def root_mistakes(self) -> list[tuple[EquationResult, Finding]]:
+        """Mistakes that are a line's own (not carried in from a definition it uses)."""
+        return [(r, f) for r, f in self.mistakes if f.role == cl.ROOT]
+
+    def knock_ons(self, root: EquationResult) -> list[tuple[EquationResult, Finding]]:
+        """Findings carried from ``root`` into the lines that use it."""
+        return [(r, f) for r, f in self.findings
+                if f.role == cl.KNOCK_ON and root.reference in f.roots]
 
     @property
     def exit_status(self) -> int:
@@ -221,11 +223,24 @@ class CheckReport:
 # --------------------------------------------------------------------------------------
 # The model side
 # --------------------------------------------------------------------------------------
+_LINES: dict[int, tuple] = {}
+
+
+def _structured(d: ModelDefinition) -> list:
+    """:func:`structured_variation` of ``d``, computed once per definition."""
+    entry = _LINES.get(id(d))
+    if entry is None or entry[0] is not d:
+        entry = (d, structured_variation(d))
+        _LINES[id(d)] = entry
+    return entry[1]
+
+
 class _ModelSide:
     """Flat variations and ideal meanings of every model name."""
 
-    def __init__(self, d: ModelDefinition):
+    def __init__(self, d: ModelDefinition, dropped: frozenset[str] = frozenset()):
         self.d = d
+        self.dropped = dropped
         self.state_names = [v.name for v in d.states]
         self.error_states = {v.name: v.symbol for v in d.error_states}
         self.error_of_state = {v.name: d.error_states[i].symbol
@@ -236,8 +251,10 @@ class _ModelSide:
         self.delta_of: dict[str, sp.Expr] = {}
         self.state_rhs: dict[str, sp.Expr] = {}
         known: dict[sp.Symbol, sp.Expr] = {}
-        for line in structured_variation(d):
+        for line in _structured(d):
             rhs = line.rhs.xreplace(known)
+            if line.kind == "intermediate" and line.name in dropped:
+                rhs = sp.S.Zero
             if line.kind == "intermediate":
                 known[line.lhs] = rhs
                 self.delta_of.setdefault(line.name, rhs)
@@ -313,6 +330,10 @@ class _HandSide:
         self._alias_cache: dict[str, sp.Expr] = {}
         self.current_line = 0
         self.keep_ideal = False
+        self.trace: set[int] = set()
+        self.isolate: _ModelSide | None = None
+        self.needed: dict[str, sp.Expr] = {}
+        self.symbolic: set[str] = set()
         for eq in hand.equations:
             if eq.alternative or not isinstance(eq.lhs, sp.Symbol):
                 continue
@@ -450,8 +471,10 @@ class _HandSide:
             return self.variation(base, section, trail)
         eq = self.visible(name, section)
         if eq is not None and self.definition_key(eq) == name:
-            if self.keep_ideal:
+            if self.keep_ideal or name in self.symbolic:
                 return sp.Symbol(name, real=True)
+            if self.isolate is not None and name in self.needed:
+                return self.needed[name]
             return self.use_definition(eq, name, section, trail)
         meaning = self.model_meaning(name)
         if meaning is not None:
@@ -478,6 +501,7 @@ class _HandSide:
             raise _UnresolvedError(key, f"uses {key}, whose definition (line {eq.line}) has an "
                                    "error")
         self.used_definitions.add(id(eq))
+        self.trace.add(id(eq))
         form = self.defining_form(eq)
         try:
             return self.resolve(form, eq.section, (*trail, key))
@@ -505,6 +529,10 @@ class _HandSide:
         """Meaning of ``Delta_base`` on the hand side."""
         key = f"Delta_{base}"
         eq = self.visible(key, section)
+        if eq is not None and self.isolate is not None:
+            correct = self.correct_variation(base)
+            if correct is not None:
+                return correct
         if eq is not None:
             return self.use_definition(eq, key, section, trail)
         if base in self.model.error_of_state:
@@ -519,8 +547,21 @@ class _HandSide:
                 meaning = self.use_definition(aux, base, section, trail)
             finally:
                 self.keep_ideal = keep
-        self.from_model.setdefault(key, set()).add(self.current_line)
-        return self.model.vary(meaning)
+        if self.isolate is None:
+            self.from_model.setdefault(key, set()).add(self.current_line)
+        return (self.isolate or self.model).vary(meaning)
+
+    def correct_variation(self, base: str) -> sp.Expr | None:
+        """The model's variation of ``base`` (in the isolating model side), or None."""
+        side = self.isolate
+        if base in side.error_of_state:
+            return side.error_of_state[base]
+        meaning = self.model_meaning(base)
+        if meaning is None:
+            return None
+        if base in side.delta_of and base not in self.notation.aliases:
+            return side.delta_of[base]
+        return side.vary(meaning)
 
     def known_names(self) -> list[str]:
         names = set(self.notation.aliases) | set(self.notation.sources)
@@ -541,13 +582,15 @@ class _HandSide:
 # --------------------------------------------------------------------------------------
 # Comparison
 # --------------------------------------------------------------------------------------
-def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol]
+def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol], trusted: bool = False
                   ) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
     """Coefficients of the basis quantities in ``expr`` and its constant part.
 
     Error equations are linear in the errors: a coefficient is the derivative by its
     quantity with every quantity at zero. A term that is not linear (α², sin α, α·β) is
-    an input problem, not a coefficient to compare.
+    an input problem, not a coefficient to compare. ``trusted`` expressions (the model's
+    own variation, linear by construction) are split by substitution instead, which is
+    much cheaper on their deep expression trees.
 
     Raises
     ------
@@ -559,6 +602,11 @@ def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol]
     present = [b for b in basis if b in expr.free_symbols]
     zero = {b: sp.S.Zero for b in present}
     coefficients = {}
+    if trusted:  # linear by construction (the model's variation): substitute, no diff
+        constant = expr.xreplace(zero)
+        for b in present:
+            coefficients[b] = expr.xreplace({**zero, b: sp.S.One}) - constant
+        return coefficients, constant
     for b in present:
         derivative = sp.diff(expr, b)
         if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in present):
@@ -578,9 +626,10 @@ def _display(expr: sp.Expr, limit: int = 200) -> str:
     return text if len(text) <= limit else text[:limit - 3] + "..."
 
 
-def _term_difference(hand: sp.Expr, model: sp.Expr) -> tuple[sp.Expr, sp.Expr] | None:
+def _term_difference(hand: sp.Expr, model: sp.Expr, limit: int = 150
+                     ) -> tuple[sp.Expr, sp.Expr] | None:
     """(terms only the model has, terms only the hand has), if both expand cheaply."""
-    if sp.count_ops(hand) > 60 or sp.count_ops(model) > 60:
+    if sp.count_ops(hand) > limit or sp.count_ops(model) > limit:
         return None
     hand_terms = sp.Add.make_args(sp.expand(hand))
     model_terms = sp.Add.make_args(sp.expand(model))
@@ -591,7 +640,8 @@ def _term_difference(hand: sp.Expr, model: sp.Expr) -> tuple[sp.Expr, sp.Expr] |
 
 class _Comparison:
     def __init__(self, points: list[ReferencePoint], basis: list[BasisQuantity],
-                 symbols: dict[str, sp.Symbol], threshold: float):
+                 symbols: dict[str, sp.Symbol], threshold: float,
+                 values: dict[sp.Expr, np.ndarray]):
         self.points = points
         self.arguments = sorted(points[0].values, key=sp.default_sort_key)
         self.arrays = [np.array([p.values[s] for p in points]) for s in self.arguments]
@@ -601,23 +651,30 @@ class _Comparison:
         self.threshold = threshold
         self._parts: dict[sp.Expr, tuple[dict[sp.Symbol, sp.Expr], sp.Expr]] = {}
         self.display_model: dict[sp.Symbol, sp.Expr] = {}
-        self._values: dict[sp.Expr, np.ndarray] = {}
+        self._values = values
 
-    def severity(self, size: float) -> Severity:
-        return "mistake" if size >= self.threshold else "dropped small term"
+    def linear_parts(self, expr: sp.Expr, trusted: bool = True
+                     ) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
+        """Coefficients and constant part of ``expr`` (cached).
 
-    def linear_parts(self, expr: sp.Expr) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
+        Hand forms are checked for linearity when they are read (``_check_linear``) and
+        the model's variation is linear by construction, so by default the split is by
+        substitution.
+        """
         if expr not in self._parts:
-            self._parts[expr] = _linear_parts(expr, self.symbols)
+            self._parts[expr] = _linear_parts(expr, self.symbols, trusted)
         return self._parts[expr]
 
-    def prefetch(self, pairs: list[tuple[sp.Expr, sp.Expr]]) -> None:
-        """Evaluate the coefficients of many equations in one vectorised call."""
+    def prefetch(self, pairs: list[tuple]) -> None:
+        """Evaluate the coefficients of many equations in one vectorised call.
+
+        ``pairs``: (hand, model) pairs.
+        """
         wanted = []
-        for hand, model in pairs:
+        for hand, model, *_ in pairs:
             try:
                 h, hc = self.linear_parts(hand)
-                m, mc = self.linear_parts(model)
+                m, mc = self.linear_parts(model, trusted=True)
             except _UnresolvedError:
                 continue  # reported with its own equation
             wanted += [*h.values(), *m.values(), hc - mc]
@@ -633,24 +690,40 @@ class _Comparison:
             self._values[expr] = np.broadcast_to(np.asarray(value, dtype=complex),
                                                  (len(self.points),))
 
+    def raw(self, exprs: list[sp.Expr]) -> np.ndarray:
+        """Complex values of ``exprs`` at every point, shape (len(exprs), points)."""
+        missing = [e for e in dict.fromkeys(exprs) if e not in self._values]
+        if missing:
+            stray = set().union(*(e.free_symbols for e in missing)) - set(self.arguments)
+            if stray:
+                name = sorted(stray, key=sp.default_sort_key)[0]
+                raise _UnresolvedError(str(name), f"{name} has no value at the reference "
+                                                  "points")
+            function = sp.lambdify(self.arguments, missing, modules="numpy", cse=True)
+            with np.errstate(all="ignore"):
+                for e, v in zip(missing, function(*self.arrays), strict=True):
+                    self._values[e] = np.broadcast_to(np.asarray(v, dtype=complex),
+                                                      (len(self.points),))
+        return np.array([self._values[e] for e in exprs])
+
     def evaluate(self, exprs: list[sp.Expr]) -> np.ndarray:
-        """Values of ``exprs`` at every reference point, shape (len(exprs), points)."""
-        if all(e in self._values for e in exprs):
-            return self.checked(np.array([self._values[e] for e in exprs]))
-        stray = set().union(*(e.free_symbols for e in exprs)) - set(self.arguments)
-        if stray:
-            name = sorted(stray, key=sp.default_sort_key)[0]
-            raise _UnresolvedError(str(name), f"{name} has no value at the reference points")
-        function = sp.lambdify(self.arguments, exprs, modules="numpy", cse=True)
-        with np.errstate(all="ignore"):
-            values = [np.broadcast_to(np.asarray(v, dtype=complex), (len(self.points),))
-                      for v in function(*self.arrays)]
-        return self.checked(np.array(values))
+        """Real values of ``exprs`` at every reference point, shape (len(exprs), points)."""
+        return self.checked(self.raw(exprs))
+
+    def try_evaluate(self, exprs: list[sp.Expr]) -> np.ndarray | None:
+        """Values of candidate expressions (NaN where not finite or not real)."""
+        try:
+            values = self.raw(exprs)
+        except (_UnresolvedError, TypeError, ValueError, ZeroDivisionError):
+            return None
+        bad = ~np.isfinite(values) | (np.abs(values.imag) > 1e-9 * np.maximum(
+            np.abs(values.real), 1e-300))
+        return np.where(bad, np.nan, values.real)
 
     def identical(self, hand: sp.Expr, model: sp.Expr, limit: int = 400) -> bool | None:
         """True if every coefficient is the same expression (expanded), None if too big."""
         h, hc = self.linear_parts(hand)
-        m, mc = self.linear_parts(model)
+        m, mc = self.linear_parts(model, trusted=True)
         pairs = [(h.get(b, sp.S.Zero), m.get(b, sp.S.Zero)) for b in set(h) | set(m)]
         pairs.append((hc, mc))
         if sum(sp.count_ops(a) + sp.count_ops(b) for a, b in pairs) > limit:
@@ -667,17 +740,11 @@ class _Comparison:
             raise _UnresolvedError(None, "a coefficient is complex at a reference point")
         return values.real
 
-    def compare(self, hand: sp.Expr, model: sp.Expr, hand_display: sp.Expr | None = None
-                ) -> list[Finding]:
-        """Findings of one equation (both sides already in basis + model symbols).
-
-        ``hand_display`` is the hand side with its own ideal symbols kept, used only to
-        show the hand coefficients in the researcher's notation.
-        """
+    def differences(self, hand: sp.Expr, model: sp.Expr, trusted: bool = False
+                    ) -> tuple[dict, np.ndarray, np.ndarray]:
+        """Per basis quantity: discrepancy data; also the largest term and constant part."""
         h, hc = self.linear_parts(hand)
-        m, mc = self.linear_parts(model)
-        shown = _linear_parts(hand_display, self.symbols)[0] if hand_display is not None else h
-        model_shown = {b: e.xreplace(self.display_model) for b, e in m.items()}
+        m, mc = self.linear_parts(model, trusted=True)
         quantities = [b for b in self.symbols if b in h or b in m]
         exprs = [h.get(b, sp.S.Zero) for b in quantities] + [
             m.get(b, sp.S.Zero) for b in quantities] + [hc - mc]
@@ -696,57 +763,60 @@ class _Comparison:
                 raw[b] = {"size": float(ratios[j]), "point": self.points[j].label,
                           "hand": hv[i], "model": mv[i], "largest": largest,
                           "hand_expr": h.get(b, sp.S.Zero), "model_expr": m.get(b, sp.S.Zero),
-                          "hand_shown": shown.get(b, sp.S.Zero).xreplace(self.display_model),
-                          "model_shown": model_shown.get(b, sp.S.Zero)}
+                          "ratios": ratios}
+        return raw, largest, constant
+
+    def compare(self, hand: sp.Expr, model: sp.Expr, hand_display: sp.Expr | None = None,
+                diagnose: bool = True, trusted: bool = False) -> list[Finding]:
+        """Findings of one equation (both sides already in basis + model symbols).
+
+        ``hand_display`` is the hand side with its own ideal symbols kept, used only to
+        show the hand coefficients in the researcher's notation. ``trusted``: the hand
+        side is known to be linear (an isolated form of a line already checked).
+        """
+        raw, largest, constant = self.differences(hand, model, trusted)
+        shown = (self.linear_parts(hand_display, trusted=True)[0] if hand_display is not None
+                 else self.linear_parts(hand)[0])
+        for b, info in raw.items():
+            info["hand_shown"] = shown.get(b, sp.S.Zero).xreplace(self.display_model)
+            info["model_shown"] = info["model_expr"].xreplace(self.display_model)
         findings = self.pair_wrong_variables(raw)
         for b, info in raw.items():
-            findings.append(self.finding(b, info))
+            findings.append(self.finding(b, info, diagnose))
+        safe = np.where(largest > 0, largest, np.inf)
         ratios = np.where(largest > 0, np.abs(constant) / safe,
                           np.where(constant == 0, 0.0, np.inf))
         j = int(np.argmax(ratios))
         if ratios[j] > AGREEMENT:
-            findings.append(Finding("(none)", "not an error quantity", "mistake",
-                                    float(ratios[j]), self.points[j].label, _display(hc), "0",
+            _, hc = self.linear_parts(hand)
+            findings.append(Finding("(none)", cl.NOT_ERROR, cl.MISTAKE, float(ratios[j]),
+                                    self.points[j].label, _display(hc), "0",
                                     "a term that contains no error quantity (an ideal value "
                                     "where a variation belongs?)"))
         return findings
 
-    def finding(self, b: sp.Symbol, info: dict) -> Finding:
+    def finding(self, b: sp.Symbol, info: dict, diagnose: bool = True) -> Finding:
         hs, ms, largest = info["hand"], info["model"], info["largest"]
         tiny = 1e-12 * largest / self.magnitude[b]
-        hand_zero = bool(np.all(np.abs(hs) <= tiny))
-        model_zero = bool(np.all(np.abs(ms) <= tiny))
-        detail = ""
-        if hand_zero:
-            kind = "missing term"
-        elif model_zero:
-            kind = "extra term"
-        elif np.all(np.abs(hs + ms) <= 1e-6 * np.maximum(np.abs(hs), np.abs(ms))):
-            kind = "sign error"
-        else:
-            kind = "wrong coefficient"
-            usable = np.abs(ms) > tiny
-            ratios = hs[usable] / ms[usable]
-            split = _term_difference(info["hand_expr"], info["model_expr"])
-            if split is not None:
-                split = tuple(part.xreplace(self.display_model) for part in split)
-                if any(len(sp.sstr(part)) > 120 for part in split):
-                    split = None
-            if ratios.size and np.all(np.abs(ratios - ratios[0]) <= 1e-6 * abs(ratios[0])):
-                detail = f"hand/model = {ratios[0]:.6g} at every point"
-            elif split is not None and split[1] == 0:
-                kind = "missing term"
-                detail = f"part of the coefficient is missing: {_display(split[0])}"
-            elif split is not None and split[0] == 0:
-                kind = "extra term"
-                detail = f"extra part of the coefficient: {_display(split[1])}"
-            elif split is not None:
-                detail = f"model has {_display(split[0])} where the hand has {_display(split[1])}"
-        return Finding(str(b), kind, self.severity(info["size"]), info["size"], info["point"],
-                       _display(info["hand_shown"]), _display(info["model_shown"]), detail)
+        if diagnose:
+            kind, detail = cl.diagnose(
+                info["hand_expr"], info["model_expr"], hs, ms, tiny, self.try_evaluate,
+                self.arguments, self._split)
+        else:  # the cheap, numeric part only (omitted, extra, sign, constant ratio)
+            kind, detail = cl.diagnose(info["hand_expr"], info["model_expr"], hs, ms, tiny,
+                                       lambda exprs: None, [])
+        return Finding(str(b), kind, cl.severity(kind, info["size"], self.threshold),
+                       info["size"], info["point"], _display(info["hand_shown"]),
+                       _display(info["model_shown"]), detail)
+
+    def _split(self, hand: sp.Expr, model: sp.Expr):
+        split = _term_difference(hand, model)
+        if split is None:
+            return None
+        return tuple(part.xreplace(self.display_model) for part in split)
 
     def pair_wrong_variables(self, raw: dict) -> list[Finding]:
-        """Merge a deficit on A and an equal excess on B into one 'wrong variable'."""
+        """Merge a deficit on A and an equal excess on B into one 'wrong symbol'."""
         findings = []
         for a in list(raw):
             for b in list(raw):
@@ -764,14 +834,16 @@ class _Comparison:
                 moved = _display((raw[lost]["model_expr"] - raw[lost]["hand_expr"]).xreplace(
                     self.display_model))
                 findings.append(Finding(
-                    f"{lost} -> {got}", "wrong variable", self.severity(first["size"]),
+                    f"{lost} -> {got}", cl.SYMBOL,
+                    cl.severity(cl.SYMBOL, first["size"], self.threshold),
                     first["size"], first["point"], _display(raw[got]["hand_shown"]),
                     _display(raw[lost]["model_shown"]),
                     f"the model's term ({moved})*{lost} is written on {got}"))
                 del raw[a], raw[b]
         return findings
 
-    def compare_values(self, hand: sp.Expr, model: sp.Expr) -> list[Finding]:
+    def compare_values(self, hand: sp.Expr, model: sp.Expr, what: str = "the ideal value"
+                       ) -> list[Finding]:
         """Findings of an ideal (non-error) definition: its value at the points."""
         h, m = self.evaluate([hand, model])
         scale = np.maximum(np.abs(h), np.abs(m))
@@ -779,20 +851,31 @@ class _Comparison:
         j = int(np.argmax(ratios))
         if ratios[j] <= AGREEMENT:
             return []
-        return [Finding("(value)", "wrong definition", self.severity(float(ratios[j])),
-                        float(ratios[j]), self.points[j].label, _display(hand), _display(model),
-                        "the ideal value differs")]
+        tiny = 1e-12 * float(np.max(scale))
+        kind, detail = cl.diagnose(hand, model, h, m, tiny, self.try_evaluate, self.arguments,
+                                   proportional=True)
+        if kind == cl.COEFFICIENT and not detail:
+            detail = f"{what} differs"
+        elif kind == cl.COEFFICIENT:
+            detail = f"{what}: {detail}"
+        return [Finding("(value)", kind if kind != cl.COEFFICIENT or "ratio" in detail
+                        or "=" in detail else cl.DEFINITION,
+                        cl.severity(cl.DEFINITION, float(ratios[j]), self.threshold),
+                        float(ratios[j]), self.points[j].label,
+                        _display(hand.xreplace(self.display_model)),
+                        _display(model.xreplace(self.display_model)), detail)]
 
 
 # --------------------------------------------------------------------------------------
 # Driver
 # --------------------------------------------------------------------------------------
-def _basis(model: _ModelSide, notation: Notation, sources_used: Iterable[str]
+def _basis(model: _ModelSide, notation: Notation, sources_used: Iterable[str],
+           magnitudes: Magnitudes
            ) -> tuple[list[BasisQuantity], dict[sp.Symbol, sp.Expr], list[str]]:
     """Basis quantities, the model-side identification and the out-of-scope sources."""
     basis = []
     for name, unit in model.error_units.items():
-        magnitude, text = typical_magnitude(unit)
+        magnitude, text = magnitudes.of(unit)
         basis.append(BasisQuantity(name, unit, magnitude, text))
     used = set(sources_used)
     identify: dict[sp.Symbol, sp.Expr] = {}
@@ -808,7 +891,7 @@ def _basis(model: _ModelSide, notation: Notation, sources_used: Iterable[str]
         if len(units) != 1:
             raise InsErrorsError(f"@source {hand_name}: the sources {', '.join(targets)} "
                                  "have different units")
-        magnitude, text = typical_magnitude(units.pop())
+        magnitude, text = magnitudes.of(units.pop())
         basis.append(BasisQuantity(hand_name, model.sources[targets[0]].unit, magnitude, text,
                                    tuple(targets)))
         for t in targets:
@@ -816,7 +899,7 @@ def _basis(model: _ModelSide, notation: Notation, sources_used: Iterable[str]
         covered.update(targets)
     for name, source in model.sources.items():
         if name in used and name not in covered:
-            magnitude, text = typical_magnitude(source.unit)
+            magnitude, text = magnitudes.of(source.unit)
             basis.append(BasisQuantity(name, source.unit, magnitude, text))
             covered.add(name)
     out = [name for name in model.sources if name not in covered]
@@ -825,20 +908,40 @@ def _basis(model: _ModelSide, notation: Notation, sources_used: Iterable[str]
     return basis, identify, out
 
 
-_SHARED: dict[int, tuple] = {}
+_SHARED: dict[tuple, tuple] = {}
 
 
-def _shared(d: ModelDefinition) -> tuple[_ModelSide, list[ReferencePoint], dict]:
-    """Model side, reference points and evaluated coefficients, kept per definition."""
-    entry = _SHARED.get(id(d))
+def _side(d: ModelDefinition, dropped: frozenset[str] = frozenset()) -> _ModelSide:
+    """Model side (with some intermediate variations dropped), kept per definition."""
+    key = ("side", id(d), dropped)
+    entry = _SHARED.get(key)
     if entry is None or entry[0] is not d:
-        entry = (d, _ModelSide(d), reference_points(d), {})
-        _SHARED[id(d)] = entry
-    return entry[1], entry[2], entry[3]
+        entry = (d, _ModelSide(d, dropped))
+        _SHARED[key] = entry
+    return entry[1]
 
 
-def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DEFAULT_THRESHOLD,
-               mapping: Notation | None = None) -> CheckReport:
+def _points(d: ModelDefinition, scope: str | None):
+    """Reference motions and the evaluated-coefficient cache, kept per definition."""
+    key = ("points", id(d), scope)
+    entry = _SHARED.get(key)
+    if entry is None or entry[0] is not d:
+        entry = (d, reference_points(d, scope), {})
+        _SHARED[key] = entry
+    return entry[1], entry[2]
+
+
+def resolve_model(model: str | ModelDefinition) -> ModelDefinition:
+    """The definition of a registered model name, or a definition given directly."""
+    if isinstance(model, ModelDefinition):
+        return model
+    return model_definition(model)
+
+
+def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
+               threshold: float = DEFAULT_THRESHOLD, mapping: Notation | None = None,
+               magnitudes: dict[str, str] | None = None, effects: bool = True
+               ) -> CheckReport:
     """Check every equation of a parsed hand file against the model's variation.
 
     Parameters
@@ -846,22 +949,43 @@ def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DE
     hand : HandFile
         From :func:`~ins_errors.checker.parse.read_hand_file` (its own ``@alias``
         / ``@source`` entries apply on top of the model's default notation and ``mapping``).
-    model : str
-        Registered model name.
+    model : str or ModelDefinition
+        Registered model name, or a model definition (e.g. from a model file).
     threshold : float
-        Relative size separating "dropped small term" from "mistake" (0 < threshold < 1).
+        Relative size separating small effects from mistakes (0 < threshold < 1).
     mapping : Notation, optional
         Extra notation entries (from a mapping file).
+    magnitudes : dict, optional
+        SI unit or ``"attitude"`` -> quantity text; overrides the hand file's
+        ``@magnitude`` lines and the Schuler-consistent defaults.
+    effects : bool
+        Compute each mistake's effect on the 1 h / 24 h error (see
+        :mod:`~ins_errors.checker.effect`).
 
     Returns
     -------
     CheckReport
+
+    Raises
+    ------
+    InsErrorsError
+        If the file holds no equation at all, or the threshold is out of range.
     """
     if not 0 < threshold < 1:
         raise InsErrorsError(f"threshold must be between 0 and 1, got {threshold}")
-    d = model_definition(model)
-    side, points, values = _shared(d)
-    notation = default_notation(model)
+    if not hand.equations and not hand.problems:
+        raise InsErrorsError(f"{hand.name}: no equations to check (an empty hand file "
+                             "cannot be said to agree with anything)")
+    d = resolve_model(model)
+    side = _side(d)
+    motions, values = _points(d, hand.scope)
+    if not motions.points:
+        raise InsErrorsError(f"model {d.name!r} cannot fly any reference motion of scope "
+                             f"{hand.scope!r}: {'; '.join(motions.skipped)}")
+    wanted = {**hand.magnitudes, **(magnitudes or {})}
+    attitude = wanted.pop("attitude", DEFAULT_ATTITUDE)
+    sizes = schuler_magnitudes(d, attitude, wanted)
+    notation = default_notation(d)
     if mapping is not None:
         notation = notation.merged(mapping)
     notation = notation.merged(hand.notation)
@@ -872,31 +996,47 @@ def check_hand(hand: HandFile, model: str = "orthodromic", threshold: float = DE
     for eq in hand.equations:
         resolver.current_line = eq.line
         prepared.append(_prepare(eq, resolver, side))
-    basis, identify, out_of_scope = _basis(side, notation, resolver.sources_used)
+    declared = _Declarations(hand, resolver, side)
+    basis, identify, out_of_scope = _basis(side, notation, resolver.sources_used, sizes)
     symbols = {b.name: (side.error_states.get(b.name) or side.source_symbols.get(b.name)
                         or sp.Symbol(b.name, real=True)) for b in basis}
-    comparison = _Comparison(points, basis, symbols, threshold)
-    comparison._values = values
+    comparison = _Comparison(motions.points, basis, symbols, threshold, values)
     comparison.display_model = _reciprocal_aliases(side, notation)
+    declared.finish(comparison, identify)
 
-    comparison.prefetch([(item.hand, item.model.xreplace(identify))
+    comparison.prefetch([(item.hand, _model_expr(side, item.key).xreplace(identify))
                          for items in prepared for item in items
-                         if item.hand is not None and item.model is not None
+                         if item.hand is not None and item.key is not None
                          and not item.ideal and not item.status])
+    needed = _helpers(hand, prepared, resolver, comparison, identify, declared)
+    _complete(hand, prepared, resolver, comparison, identify, declared, needed)
     results = []
     for eq, items in zip(hand.equations, prepared, strict=True):
         for item in items:
-            results.append(_evaluate(eq, item, comparison, identify, hand))
+            results.append(_evaluate(eq, item, comparison, identify, hand, resolver,
+                                     declared, needed))
+    _assign_roots(results, prepared, hand)
     unused = [f"{r.equation.label} (line {r.equation.line})" for r in results
-              if r.status == "hand-only definition" and r.form == 0
+              if r.status in ("hand-only definition", "mistake", "agrees") and r.form == 0
+              and r.target.startswith("value") is False and r.target == "hand-only definition"
               and id(r.equation) not in resolver.used_definitions]
+    unused += [f"{r.equation.label} (line {r.equation.line})" for r in results
+               if r.form == 0 and r.target.startswith("value ")
+               and id(r.equation) not in resolver.used_definitions]
     hand.problems.sort(key=lambda p: (p.line, p.column or 0))
-    return CheckReport(
-        model=model, hand_name=hand.name, hand_format=hand.format, threshold=threshold,
+    report = CheckReport(
+        model=d.name, hand_name=hand.name, hand_format=hand.format, threshold=threshold,
         points=comparison.points, basis=basis, sections=hand.sections, results=results,
         problems=list(hand.problems), out_of_scope=out_of_scope,
         from_model={k: sorted(v) for k, v in sorted(resolver.from_model.items())},
-        unused=unused)
+        unused=unused, magnitudes=sizes.origin, skipped_motions=list(motions.skipped),
+        scope=hand.scope, declarations=declared.texts(),
+        idle_declarations=declared.idle())
+    if effects and report.mistakes:
+        from ins_errors.checker.effect import add_effects
+
+        add_effects(report, d, side, comparison, identify, prepared, resolver)
+    return report
 
 
 def _reciprocal_aliases(side: _ModelSide, notation: Notation) -> dict[sp.Symbol, sp.Expr]:
@@ -922,17 +1062,33 @@ class _Item:
     target: str
     hand: sp.Expr | None = None
     hand_display: sp.Expr | None = None
-    model: sp.Expr | None = None
+    key: tuple | None = None
     ideal: bool = False
     status: str = ""
     notes: list[str] = field(default_factory=list)
     findings: list[Finding] = field(default_factory=list)
     problem: str | None = None
+    deps: frozenset[int] = frozenset()
+    model_full: sp.Expr | None = None
+    model_declared: sp.Expr | None = None
+    hand_isolated: sp.Expr | None = None
+
+
+def _model_expr(side: _ModelSide, key: tuple) -> sp.Expr:
+    """The model's expression for a target key (see :func:`_target`)."""
+    kind, what = key
+    if kind == "state":
+        return side.state_rhs[what]
+    if kind == "delta":
+        return side.delta(what)
+    if kind == "vary":
+        return side.vary(what)
+    return what  # "ideal"
 
 
 def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
-            ) -> tuple[str, sp.Expr | None, bool, list[Finding], list[str]]:
-    """(description, model expression or None, ideal?, findings, notes) of a left side."""
+            ) -> tuple[str, tuple | None, bool, list[Finding], list[str]]:
+    """(description, model key or None, ideal?, findings, notes) of a left side."""
     lhs = eq.lhs
     if isinstance(lhs, sp.Function):  # dot(X)
         inner = lhs.args[0].name
@@ -949,10 +1105,11 @@ def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
             raise _UnresolvedError(inner, f"equation for dot({inner}), but {shown} is not a state "
                                      f"of the model {side.d.name!r}{hint} (error states: "
                                      f"{', '.join(side.error_states)})")
-        return f"error state {name}", side.state_rhs[name], False, [], []
+        return f"error state {name}", ("state", name), False, [], []
     key = resolver.definition_key(eq)
     name = lhs.name
-    if key.startswith("Delta_") and key[6:] in side.error_of_state:
+    if name in side.error_states or (key.startswith("Delta_")
+                                     and key[6:] in side.error_of_state):
         raise _UnresolvedError(name, f"{name} is an error state: give its equation as "
                                 f"dot({name})")
     if key.startswith("Delta_"):
@@ -969,34 +1126,33 @@ def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
         findings, notes = [], []
         if resolver.variation_base(name) is None:  # printed without Δ
             findings.append(Finding(
-                "(left-hand side)", "left-hand side without Δ", "mistake", float("inf"), "",
+                "(left-hand side)", cl.LEFT_SIDE, cl.MISTAKE, float("inf"), "",
                 name, key, f"the right-hand side is a variation: read as {key}"))
         if base in resolver.notation.aliases:
-            what = f"alias {base} = {resolver.notation.aliases[base]}"
-            model = side.vary(meaning)
+            what, model = f"alias {base} = {resolver.notation.aliases[base]}", ("vary", meaning)
         elif base in side.intermediates:
-            what, model = f"intermediate {base}", side.delta(base)
+            what, model = f"intermediate {base}", ("delta", base)
         elif base in side.outputs:
-            what, model = f"output {base}", side.delta(base)
+            what, model = f"output {base}", ("delta", base)
         else:
-            what, model = f"model quantity {base}", side.vary(meaning)
+            what, model = f"model quantity {base}", ("vary", meaning)
         return what, model, False, findings, notes
     meaning = resolver.model_meaning(name)
     if meaning is not None:
-        return f"ideal value of {name}", meaning, True, [], []
+        return f"ideal value of {name}", ("ideal", meaning), True, [], []
     return "hand-only definition", None, False, [], []
 
 
 def _prepare(eq: HandEquation, resolver: _HandSide, side: _ModelSide) -> list[_Item]:
     items = []
     try:
-        target, model, ideal, findings, notes = _target(eq, resolver, side)
+        target, key_model, ideal, findings, notes = _target(eq, resolver, side)
     except _UnresolvedError as error:
         _report(eq, resolver, error)
         return [_Item(0, "", status="input error", problem=error.message)]
     key = resolver.definition_key(eq) if isinstance(eq.lhs, sp.Symbol) else eq.label
     for k, form in enumerate(eq.forms):
-        item = _Item(k, target, model=model, ideal=ideal, findings=list(findings),
+        item = _Item(k, target, key=key_model, ideal=ideal, findings=list(findings),
                      notes=list(notes))
         if isinstance(eq.lhs, sp.Symbol) and resolver.tautology(form, key):
             item.status = "tautology"
@@ -1005,7 +1161,10 @@ def _prepare(eq: HandEquation, resolver: _HandSide, side: _ModelSide) -> list[_I
             continue
         try:
             trail = (key,) if isinstance(eq.lhs, sp.Symbol) else ()
+            _check_linear(form, resolver)
+            resolver.trace = set()
             item.hand = resolver.resolve(form, eq.section, trail)
+            item.deps = frozenset(resolver.trace)
             item.hand_display = resolver.display_form(form, eq.section, trail)
         except _UnresolvedError as error:
             _report(eq, resolver, error)
@@ -1016,20 +1175,212 @@ def _prepare(eq: HandEquation, resolver: _HandSide, side: _ModelSide) -> list[_I
     return items
 
 
+def _check_linear(form: sp.Expr, resolver: _HandSide) -> None:
+    """Refuse a form that is not linear in its error quantities (α², sin α, α·β, 1/0).
+
+    Every definition a form uses is checked on its own line, and the model's variation
+    is linear by construction, so checking the printed form suffices: the resolved sides
+    can then be split into coefficients by substitution (cheap) instead of by
+    differentiation of deep expressions.
+    """
+    tildes = {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in form.atoms(TILDE)}
+    if tildes:
+        form = form.xreplace(tildes)
+    if form.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+        raise _UnresolvedError(None, "a term is not finite (division by zero?)")
+    errors = [s for s in sorted(form.free_symbols, key=sp.default_sort_key)
+              if resolver.is_variational(s)]
+    for b in errors:
+        derivative = sp.diff(form, b)
+        if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in errors):
+            raise _UnresolvedError(b.name, f"not linear in the error quantity {b.name}: "
+                                   "error equations must be linear in the errors")
+
+
 def _report(eq: HandEquation, resolver: _HandSide, error: _UnresolvedError) -> None:
     column = eq.columns.get(error.symbol, eq.column) if error.symbol else eq.column
     resolver.hand.problems.append(Problem(eq.line, column, f"{eq.label}: {error.message}"))
 
 
+# -- declared simplifications ----------------------------------------------------------
+class _Declarations:
+    """The ``@neglect`` lines: variations dropped (model side) and terms left out."""
+
+    def __init__(self, hand: HandFile, resolver: _HandSide, side: _ModelSide):
+        self.hand = hand
+        self.dropped: list[frozenset[str]] = []
+        self.terms: list[list[sp.Expr]] = []
+        self.used = [False] * len(hand.declarations)
+        self.side = side
+        for declaration in hand.declarations:
+            names, terms = set(), []
+            for item, text in zip(declaration.items, declaration.texts, strict=True):
+                base = (resolver.variation_base(item.name) if isinstance(item, sp.Symbol)
+                        else None)
+                if base is not None:
+                    meaning = resolver.model_meaning(base)
+                    inner = ({s.name for s in meaning.free_symbols} & side.intermediates
+                             if meaning is not None else set())
+                    if base in side.intermediates:
+                        inner = {base}
+                    if not inner:
+                        hand.problems.append(Problem(declaration.line, None, (
+                            f"@neglect {text}: {base} has no variation in the model "
+                            "(not an intermediate quantity)")))
+                    names |= inner
+                    continue
+                try:
+                    resolver.trace = set()
+                    terms.append(resolver.resolve(item, len(hand.sections) - 1, ()))
+                except _UnresolvedError as error:
+                    hand.problems.append(Problem(declaration.line, None,
+                                                 f"@neglect {text}: {error.message}"))
+            self.dropped.append(frozenset(names))
+            self.terms.append(terms)
+        self.term_values: list[list[dict]] = []
+
+    def finish(self, comparison: _Comparison, identify: dict) -> None:
+        """Evaluate the declared terms' coefficients at the reference points."""
+        for terms in self.terms:
+            evaluated = []
+            for term in terms:
+                try:
+                    parts, _ = comparison.linear_parts(term.xreplace(identify))
+                    evaluated.append({b: comparison.evaluate([c])[0] for b, c in parts.items()})
+                except _UnresolvedError:
+                    continue
+            self.term_values.append(evaluated)
+
+    def dropped_for(self, eq: HandEquation) -> frozenset[str]:
+        return frozenset().union(*(self.dropped[k] for k in eq.declarations))
+
+    def explains_term(self, eq: HandEquation, quantity: str, difference: np.ndarray,
+                      comparison: _Comparison) -> bool:
+        """True if a declared term of ``eq``'s scope is the model-minus-hand difference."""
+        for k in eq.declarations:
+            for values in self.term_values[k] if k < len(self.term_values) else []:
+                for b, v in values.items():
+                    if str(b) != quantity:
+                        continue
+                    scale = np.maximum(np.abs(v), np.abs(difference))
+                    if np.all(np.abs(np.abs(difference) - np.abs(v)) <= 1e-6 * np.maximum(
+                            scale, 1e-300)):
+                        self.used[k] = True
+                        return True
+        return False
+
+    def mark(self, eq: HandEquation) -> None:
+        for k in eq.declarations:
+            if self.dropped[k]:
+                self.used[k] = True
+
+    def texts(self) -> list[str]:
+        return [f"line {d.line}: {', '.join(d.texts)}" + (f" ({d.reason})" if d.reason else "")
+                for d in self.hand.declarations]
+
+    def idle(self) -> list[str]:
+        return [f"line {d.line}: {', '.join(d.texts)}"
+                for d, used in zip(self.hand.declarations, self.used, strict=True) if not used]
+
+
+# -- hand-only helpers ------------------------------------------------------------------
+@dataclass
+class _Needed:
+    """The value a hand-only helper must have, from its simplest use."""
+
+    expr: sp.Expr
+    description: str
+    line: int
+
+
+def _helpers(hand: HandFile, prepared: list[list[_Item]], resolver: _HandSide,
+             comparison: _Comparison, identify: dict, declared: _Declarations
+             ) -> dict[str, _Needed]:
+    """Needed value of each hand-only helper (ideal quantity with no model meaning)."""
+    helpers: dict[str, list[HandEquation]] = {}
+    for eq, items in zip(hand.equations, prepared, strict=True):
+        if isinstance(eq.lhs, sp.Symbol) and items and items[0].target == "hand-only definition" \
+                and resolver.variation_base(eq.lhs.name) is None:
+            helpers.setdefault(eq.lhs.name, []).append(eq)
+    needed: dict[str, _Needed] = {}
+    for name, definitions in helpers.items():
+        ids = {id(e) for e in definitions}
+        uses = []
+        for eq, items in zip(hand.equations, prepared, strict=True):
+            for item in items:
+                if item.key is None or item.ideal or item.hand is None or not (item.deps & ids):
+                    continue
+                form = eq.forms[item.form]
+                uses.append((len(form.free_symbols), sp.count_ops(form), eq, item))
+        for _, _, eq, item in sorted(uses, key=lambda u: (u[0], u[1], u[2].line)):
+            found = _solve_helper(name, eq, item, resolver, comparison, identify, declared)
+            if found is not None:
+                needed[name] = found
+                break
+    return needed
+
+
+def _solve_helper(name: str, eq: HandEquation, item: _Item, resolver: _HandSide,
+                  comparison: _Comparison, identify: dict, declared: _Declarations
+                  ) -> _Needed | None:
+    """The helper value that makes ``eq`` agree with the model (None if not unique)."""
+    helper = sp.Symbol(name, real=True)
+    resolver.symbolic = {name}
+    try:
+        hand = resolver.resolve(eq.forms[item.form], eq.section,
+                                (resolver.definition_key(eq),) if isinstance(
+                                    eq.lhs, sp.Symbol) else ())
+    except _UnresolvedError:
+        return None
+    finally:
+        resolver.symbolic = set()
+    side = _side(resolver.model.d, declared.dropped_for(eq))
+    model = _model_expr(side, item.key).xreplace(identify)
+    try:
+        h, _ = _linear_parts(hand, comparison.symbols)
+        m, _ = comparison.linear_parts(model, trusted=True)
+    except _UnresolvedError:
+        return None
+    candidates = []
+    for b, coefficient in h.items():
+        c1 = sp.diff(coefficient, helper)
+        if c1 == 0 or sp.diff(c1, helper) != 0:
+            continue
+        c0 = coefficient.xreplace({helper: sp.S.Zero})
+        candidates.append((m.get(b, sp.S.Zero) - c0) / c1)
+    if not candidates:
+        return None
+    values = comparison.try_evaluate(candidates)
+    if values is None or not np.all(np.isfinite(values)):
+        return None
+    if not np.all(np.abs(values - values[0]) <= 1e-6 * np.maximum(np.abs(values[0]), 1e-300)):
+        return None
+    form = eq.forms[item.form]
+    shown = f"{eq.label} = {sp.sstr(form)}"
+    what = f"the value line {eq.line} ({shown}) needs"
+    if isinstance(eq.lhs, sp.Symbol) and resolver.variation_base(eq.lhs.name):
+        rest = sp.simplify(form / sp.Symbol(name))
+        if rest.is_Symbol and resolver.variation_base(rest.name):
+            what = (f"d{resolver.variation_base(eq.lhs.name)}/d"
+                    f"{resolver.variation_base(rest.name)}, as line {eq.line} ({shown}) "
+                    "needs")
+    return _Needed(candidates[0], what, eq.line)
+
+
+# -- evaluation of one line ------------------------------------------------------------
 def _evaluate(eq: HandEquation, item: _Item, comparison: _Comparison,
-              identify: dict[sp.Symbol, sp.Expr], hand: HandFile) -> EquationResult:
+              identify: dict[sp.Symbol, sp.Expr], hand: HandFile, resolver: _HandSide,
+              declared: _Declarations, needed: dict[str, _Needed]) -> EquationResult:
     result = EquationResult(eq, item.form, item.target or "not compared", item.status or "",
                             list(item.findings), list(item.notes))
     if item.status in ("input error", "tautology"):
         if item.problem:
             result.notes.append(item.problem)
         return result
-    if item.model is None:
+    if item.key is None:
+        name = eq.lhs.name if isinstance(eq.lhs, sp.Symbol) else ""
+        if name in needed:
+            return _evaluate_helper(eq, item, result, comparison, needed[name], hand)
         result.status = "hand-only definition"
         result.notes.append("no counterpart in the model; checked through the lines that "
                             "use it")
@@ -1041,52 +1392,210 @@ def _evaluate(eq: HandEquation, item: _Item, comparison: _Comparison,
             if any(s.name in comparison.magnitude or s in comparison.magnitude
                    for s in item.hand.free_symbols):
                 raise _UnresolvedError(None, "mixes ideal values and error quantities")
-            result.findings += comparison.compare_values(item.hand, item.model)
+            result.findings += comparison.compare_values(item.hand, item.key[1])
         else:
-            model = item.model.xreplace(identify)
-            result.findings += comparison.compare(item.hand, model, item.hand_display)
+            result.findings += _line_findings(eq, item, comparison, identify, resolver,
+                                              declared, needed, result)
     except _UnresolvedError as error:
         hand.problems.append(Problem(eq.line, eq.column, f"{eq.label}: {error.message}"))
         result.status = "input error"
         result.notes.append(error.message)
         return result
-    if any(f.severity == "mistake" for f in result.findings):
-        result.status = "mistake"
-    elif result.findings:
-        result.status = "agrees up to dropped small terms"
-    else:
-        result.status = "agrees"
-        if not item.ideal and comparison.identical(item.hand, item.model.xreplace(identify)):
+    _set_status(result)
+    if result.status == "agrees" and not item.ideal:
+        model = _model_expr(resolver.model, item.key).xreplace(identify)
+        if comparison.identical(item.hand, model):
             result.notes.insert(0, "identical symbolically")
     return result
 
 
-def check_hand_file(path, model: str = "orthodromic", threshold: float = DEFAULT_THRESHOLD,
-                    latex: bool | None = None, mapping_path=None,
-                    latex_backend: str = "lalr") -> CheckReport:
+def _set_status(result: EquationResult) -> None:
+    findings = result.findings
+    if any(f.is_mistake for f in findings):
+        result.status = "mistake"
+    elif any(f.severity == cl.DROPPED for f in findings):
+        result.status = "agrees up to dropped small terms"
+    elif findings:
+        result.status = "agrees up to declared drops"
+    else:
+        result.status = "agrees"
+
+
+def _evaluate_helper(eq: HandEquation, item: _Item, result: EquationResult,
+                     comparison: _Comparison, need: _Needed, hand: HandFile
+                     ) -> EquationResult:
+    """A hand-only helper compared with the value its simplest use needs."""
+    result.target = f"value {need.description}"
+    if item.hand is None:
+        return result
+    try:
+        result.findings += comparison.compare_values(item.hand, need.expr,
+                                                     f"the value line {need.line} needs")
+    except _UnresolvedError as error:
+        hand.problems.append(Problem(eq.line, eq.column, f"{eq.label}: {error.message}"))
+        result.status = "input error"
+        return result
+    _set_status(result)
+    return result
+
+
+def _complete(hand: HandFile, prepared: list[list[_Item]], resolver: _HandSide,
+              comparison: _Comparison, identify: dict, declared: _Declarations,
+              needed: dict[str, _Needed]) -> None:
+    """Model sides (exact, with declared drops) and isolated hand side of every line."""
+    pairs = []
+    for eq, items in zip(hand.equations, prepared, strict=True):
+        for item in items:
+            if item.hand is None or item.key is None or item.ideal or item.status:
+                continue
+            item.model_full = _model_expr(resolver.model, item.key).xreplace(identify)
+            dropped = declared.dropped_for(eq)
+            side = _side(resolver.model.d, dropped) if dropped else resolver.model
+            item.model_declared = _model_expr(side, item.key).xreplace(identify)
+            item.hand_isolated = item.hand
+            if item.deps:
+                resolver.isolate = side
+                resolver.needed = {k: v.expr for k, v in needed.items()}
+                try:
+                    trail = ((resolver.definition_key(eq),) if isinstance(eq.lhs, sp.Symbol)
+                             else ())
+                    item.hand_isolated = resolver.resolve(eq.forms[item.form], eq.section,
+                                                          trail)
+                except _UnresolvedError:
+                    pass
+                finally:
+                    resolver.isolate, resolver.needed = None, {}
+            pairs += [(item.hand, item.model_declared),
+                      (item.hand_isolated, item.model_declared,
+                       item.hand_isolated is not item.hand)]
+    comparison.prefetch(pairs)
+
+
+def _line_findings(eq: HandEquation, item: _Item, comparison: _Comparison, identify: dict,
+                   resolver: _HandSide, declared: _Declarations,
+                   needed: dict[str, _Needed], result: EquationResult) -> list[Finding]:
+    """Findings of one line: as written, with declared drops, isolated (see module doc).
+
+    Only differences from the exact model count; the declared and isolated comparisons
+    say what each one is: a declared drop (gone once the declaration is applied), a
+    knock-on (gone once the definitions the line uses are correct) or the line's own.
+    """
+    full = comparison.compare(item.hand, item.model_full, item.hand_display, diagnose=False)
+    if not full:
+        return []
+    dropped = item.model_declared is not item.model_full and item.model_declared != \
+        item.model_full
+    with_declared = (comparison.compare(item.hand, item.model_declared, item.hand_display,
+                                        diagnose=False) if dropped else full)
+    declared_quantities = {f.quantity for f in with_declared}
+    own = {f.quantity: f for f in comparison.compare(
+        item.hand_isolated, item.model_declared, item.hand_display,
+        trusted=item.hand_isolated is not item.hand)}
+    names = {b.name: s for b, s in zip(comparison.basis, comparison.symbols, strict=True)}
+    raw = None
+    findings = []
+    for f in full:
+        if f.quantity not in declared_quantities:
+            declared.mark(eq)
+            findings.append(replace(f, severity=cl.DECLARED, kind=cl.OMITTED,
+                                    detail="left out by the file's declared simplification"))
+            continue
+        mine = own.get(f.quantity)
+        if mine is None:
+            shown = next(g for g in with_declared if g.quantity == f.quantity)
+            findings.append(replace(shown, role=cl.KNOCK_ON))
+            continue
+        if eq.declarations and f.quantity in names:
+            if raw is None:
+                raw = comparison.differences(item.hand, item.model_declared)[0]
+            info = raw.get(names[f.quantity])
+            if info is not None and declared.explains_term(
+                    eq, f.quantity, info["model"] - info["hand"], comparison):
+                findings.append(replace(mine, severity=cl.DECLARED, kind=cl.OMITTED,
+                                        detail="a term the file declares it leaves out"))
+                continue
+        findings.append(mine)
+    return findings
+
+
+def _assign_roots(results: list[EquationResult], prepared: list[list[_Item]],
+                  hand: HandFile) -> None:
+    """Name, for each knock-on finding, the wrong definitions it comes from."""
+    by_equation: dict[int, EquationResult] = {}
+    for r in results:
+        if r.form == 0 or id(r.equation) not in by_equation:
+            by_equation.setdefault(id(r.equation), r)
+    items = {}
+    for eq, its in zip(hand.equations, prepared, strict=True):
+        for it in its:
+            items[(id(eq), it.form)] = it
+    for r in results:
+        item = items.get((id(r.equation), r.form))
+        if item is None or not any(f.role == cl.KNOCK_ON for f in r.findings):
+            continue
+        sources = [by_equation[i] for i in sorted(item.deps, key=lambda i: by_equation[i]
+                                                  .equation.line if i in by_equation else 0)
+                   if i in by_equation]
+        wrong = [s for s in sources if any(f.role == cl.ROOT and f.is_mistake
+                                           for f in s.findings)]
+        dropping = [s for s in sources if s.findings and s not in wrong]
+        updated = []
+        for f in r.findings:
+            if f.role != cl.KNOCK_ON:
+                updated.append(f)
+                continue
+            if wrong:
+                updated.append(replace(f, roots=tuple(s.reference for s in wrong)))
+            elif dropping:
+                classes = {g.severity for s in dropping for g in s.findings}
+                severity = f.severity
+                if classes == {cl.DECLARED}:
+                    severity = cl.DECLARED
+                elif classes <= {cl.DECLARED, cl.DROPPED} and f.severity != cl.MISTAKE:
+                    severity = cl.DROPPED
+                updated.append(replace(f, roots=tuple(s.reference for s in dropping),
+                                       severity=severity,
+                                       kind=cl.OMITTED if severity in (cl.DECLARED, cl.DROPPED)
+                                       else f.kind))
+            else:
+                updated.append(replace(f, role=cl.ROOT))
+        r.findings = updated
+        _set_status(r)
+
+
+def check_hand_file(path, model: str | ModelDefinition = "orthodromic",
+                    threshold: float = DEFAULT_THRESHOLD, latex: bool | None = None,
+                    mapping_path=None, latex_backend: str = "lalr",
+                    magnitudes: dict[str, str] | None = None, effects: bool = True
+                    ) -> CheckReport:
     """Read a hand file (and optional mapping file) and check it.
 
     Parameters
     ----------
     path : str or Path
         Hand file; LaTeX if ``latex`` or its suffix is ``.tex``.
-    model : str
-        Registered model name.
+    model : str or ModelDefinition
+        Registered model name or a model definition.
     threshold : float
-        Relative size separating "dropped small term" from "mistake".
+        Relative size separating small effects from mistakes.
     latex : bool, optional
         Force the format (default: from the suffix).
     mapping_path : str or Path, optional
         Mapping file with ``@alias`` / ``@source`` lines.
     latex_backend : {"lalr", "sympy"}
         Parser of LaTeX arithmetic (see :data:`~ins_errors.checker.parse.LATEX_BACKENDS`).
+    magnitudes : dict, optional
+        Typical-magnitude overrides (see :func:`check_hand`).
+    effects : bool
+        Compute each mistake's effect on the 1 h / 24 h error.
     """
     from ins_errors.checker.parse import read_hand_file, read_mapping_file
 
-    model_definition(model)  # unknown model: clear error before reading anything
+    d = resolve_model(model)  # unknown model: clear error before reading anything
     mapping = read_mapping_file(mapping_path) if mapping_path is not None else None
-    notation = default_notation(model)
+    notation = default_notation(d)
     if mapping is not None:
         notation = notation.merged(mapping)
     hand = read_hand_file(path, notation, latex=latex, latex_backend=latex_backend)
-    return check_hand(hand, model=model, threshold=threshold, mapping=mapping)
+    return check_hand(hand, model=d, threshold=threshold, mapping=mapping,
+                      magnitudes=magnitudes, effects=effects)

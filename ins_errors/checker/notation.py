@@ -17,13 +17,23 @@ for both channels, one drift ``ω_dp`` for all three gyros, the Earth-rate compo
 * ``latex_primes``: what a prime means on a LaTeX base letter (``\\omega'`` is the
   relative rate ``omega_rel``, ``g'`` the gravitation projection ``g``).
 
-A mapping file (``@alias`` / ``@source`` lines, see ``docs/hand_check.md``) adds to or
-overrides the model's default notation.
+The names of every model come from its definition (:func:`model_notation`): each state,
+error state, input, parameter, error source, output and intermediate quantity is known by
+its name and by its LaTeX spelling (``\\delta v_E``, ``\\Omega``, ``\\nabla_E``), so a new
+model needs no checker code. A source document's own notation (the manual's
+``ORTHODROMIC`` table) comes on top, then a mapping file (``@alias`` / ``@source``
+lines, see ``docs/hand_check.md``), then the hand file's own directives.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import sympy as sp
+
+if TYPE_CHECKING:
+    from ins_errors.models.base import ModelDefinition
 
 
 @dataclass
@@ -98,9 +108,96 @@ ORTHODROMIC = Notation(
 )
 
 NOTATIONS: dict[str, Notation] = {"orthodromic": ORTHODROMIC}
-"""Default notation of each model's source document (models without one get none)."""
+"""Notation of each model's source document, on top of the model's own names."""
 
 
-def default_notation(model: str) -> Notation:
-    """The default notation of ``model`` (an empty one if the model has none)."""
-    return NOTATIONS.get(model, Notation())
+def _latex_name(latex: str) -> str | None:
+    """Symbol name the checker's LaTeX reader gives ``latex`` (None if not one symbol)."""
+    from ins_errors.checker.parse import parse_latex_expression
+
+    try:
+        expr, _ = parse_latex_expression(latex, Notation())
+    except Exception:
+        return None
+    return expr.name if isinstance(expr, sp.Symbol) else None
+
+
+def _squared_name(latex: str) -> str | None:
+    """``x`` if ``latex`` reads as ``x**2`` (``e^{2}``), else None."""
+    from ins_errors.checker.parse import parse_latex_expression
+
+    try:
+        expr, _ = parse_latex_expression(latex, Notation())
+    except Exception:
+        return None
+    if expr.is_Pow and expr.exp == 2 and expr.base.is_Symbol:
+        return expr.base.name
+    return None
+
+
+def model_notation(d: ModelDefinition) -> Notation:
+    """The names a hand file may use for model ``d``, from its definition alone.
+
+    Every model name is accepted as it is; a LaTeX spelling that reads as a different
+    symbol (``\\delta v_E`` -> ``Delta_v_E``, ``\\Omega`` -> ``Omega``) becomes a spelling
+    of the model name, and a parameter written as a square (``e^{2}`` for ``ecc2``) gives
+    an alias for its root (``e = sqrt(ecc2)``).
+    """
+    names = {v.name for group in (d.states, d.error_states, d.inputs, d.parameters,
+                                  d.sources, d.outputs) for v in group}
+    from ins_errors.symbolic.variation import output_mechanisations
+
+    true_mech = output_mechanisations(d)[0]
+    names |= {df.symbol.name for mech in (d.ideal, true_mech) for df in mech.definitions}
+    spellings: dict[str, str] = {}
+    aliases: dict[str, str] = {}
+    variables = [*d.error_states, *d.states, *d.inputs, *d.parameters, *d.sources,
+                 *d.outputs]
+    entries = [(v.name, v.latex) for v in variables]
+    entries += [(df.symbol.name, df.latex) for mech in (d.ideal, true_mech)
+                for df in mech.definitions]
+    for name, latex in entries:
+        spelled = _latex_name(latex)
+        if spelled and spelled != name and spelled not in names:
+            spellings.setdefault(spelled, name)
+        root = _squared_name(latex)
+        if root and root not in names:
+            aliases.setdefault(root, f"sqrt({name})")
+    return Notation(aliases=aliases, spellings=spellings)
+
+
+_MODEL_NOTATIONS: dict[int, tuple] = {}
+
+
+def default_notation(model: str | ModelDefinition) -> Notation:
+    """The notation of ``model``: its own names, then its source document's notation."""
+    from ins_errors.models import definition
+
+    d = definition(model) if isinstance(model, str) else model
+    cached = _MODEL_NOTATIONS.get(id(d))
+    if cached is None or cached[0] is not d:
+        cached = (d, model_notation(d))
+        _MODEL_NOTATIONS[id(d)] = cached
+    return cached[1].merged(NOTATIONS.get(d.name, Notation()))
+
+
+def names_table(model: str | ModelDefinition) -> list[tuple[str, str, str]]:
+    """(kind, name, LaTeX) of every name a hand file may use for ``model``.
+
+    Hand spellings from the notation are listed as kind ``spelling`` with the model
+    name they stand for in place of the LaTeX.
+    """
+    from ins_errors.models import definition
+
+    d = definition(model) if isinstance(model, str) else model
+    rows = []
+    for kind, group in (("error state", d.error_states), ("state", d.states),
+                        ("input", d.inputs), ("parameter", d.parameters),
+                        ("error source", d.sources), ("output", d.outputs)):
+        rows += [(kind, v.name, v.latex) for v in group]
+    rows += [("intermediate", df.symbol.name, df.latex) for df in d.ideal.definitions]
+    notation = default_notation(d)
+    rows += [("spelling", k, v) for k, v in sorted(notation.spellings.items())]
+    rows += [("alias", k, v) for k, v in sorted(notation.aliases.items())]
+    rows += [("source group", k, ", ".join(v)) for k, v in sorted(notation.sources.items())]
+    return rows

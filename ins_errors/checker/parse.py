@@ -15,6 +15,19 @@ with ``@`` are directives, in both formats:
     the hand symbol NAME stands for EXPRESSION in the model's names.
 ``@source NAME = model_source[, model_source ...]``
     the hand error-source symbol NAME stands for those model error sources.
+``@name NAME = model_name``
+    the hand symbol NAME is another spelling of a model name (an error state such as
+    ``delta_v_E``, a source, a parameter), from this line on.
+``@neglect ITEM[, ITEM ...] [: REASON]``
+    a declared simplification, in force from this line on: each ITEM is either a
+    variation whose contributions the author drops (``Delta_R_xi``) or a term left out
+    (``2*U*sin(phi)*delta_v_N``); findings it explains are classed "declared drop".
+``@magnitude UNIT = QUANTITY``
+    typical size of error quantities of that SI unit (``m/s = 0.5 m/s``), or
+    ``attitude = 20 arcsec`` for the declared attitude error the others follow from.
+``@scope MOTION``
+    the derivation holds only on this motion class (``static base``): it is compared
+    at those reference points only, so terms that vanish there are no findings.
 
 Comments start with ``#`` (text) or ``%`` (LaTeX). Symbol spellings are documented in
 ``docs/hand_check.md``. The parser only reads and spells; what each symbol means in the
@@ -93,6 +106,8 @@ class HandEquation:
         Trailing annotation (``\\text{...}`` in LaTeX).
     columns : dict
         Symbol name -> column of its first occurrence (for messages).
+    declarations : tuple of int
+        Indices into :attr:`HandFile.declarations` in force at this line.
     """
 
     line: int
@@ -104,6 +119,7 @@ class HandEquation:
     text: str = ""
     note: str = ""
     columns: dict[str, int] = field(default_factory=dict)
+    declarations: tuple[int, ...] = ()
 
     @property
     def label(self) -> str:
@@ -111,9 +127,34 @@ class HandEquation:
         return str(self.lhs)
 
 
+@dataclass(frozen=True)
+class Declaration:
+    """A declared simplification (``@neglect``) of a hand file.
+
+    Attributes
+    ----------
+    line : int
+    items : tuple of sympy.Expr
+        Variations (``Delta_R_xi``) or terms the author leaves out.
+    texts : tuple of str
+        The items as written.
+    reason : str
+        The author's words after ``:`` (may be empty).
+    """
+
+    line: int
+    items: tuple[sp.Expr, ...]
+    texts: tuple[str, ...]
+    reason: str = ""
+
+
 @dataclass
 class HandFile:
-    """A parsed hand file: sections, equations, its own notation entries, problems."""
+    """A parsed hand file: sections, equations, its own notation entries, problems.
+
+    ``declarations``, ``magnitudes`` (SI unit or ``"attitude"`` -> quantity text) and
+    ``scope`` come from the ``@neglect``, ``@magnitude`` and ``@scope`` directives.
+    """
 
     name: str
     format: Literal["text", "latex"]
@@ -121,6 +162,9 @@ class HandFile:
     equations: list[HandEquation] = field(default_factory=list)
     notation: Notation = field(default_factory=Notation)
     problems: list[Problem] = field(default_factory=list)
+    declarations: list[Declaration] = field(default_factory=list)
+    magnitudes: dict[str, str] = field(default_factory=dict)
+    scope: str | None = None
 
 
 class _LineError(Exception):
@@ -140,12 +184,15 @@ def canonical_name(name: str, notation: Notation) -> sp.Expr:
     """Canonical symbol for an ASCII spelling (``w_xi`` -> ``omega_xi``, ``X_dot``)."""
     if name.endswith("_dot") and len(name) > 4:
         return DOT(canonical_name(name[:-4], notation))
+    if name in notation.spellings:
+        return sp.Symbol(notation.spellings[name])
     if name.startswith("Delta_") and len(name) > 6:
         inner = canonical_name(name[6:], notation)
         if isinstance(inner, sp.Symbol):
-            return sp.Symbol("Delta_" + inner.name)
+            full = "Delta_" + inner.name
+            return sp.Symbol(notation.spellings.get(full, full))
         return inner
-    return sp.Symbol(notation.spellings.get(name, name))
+    return sp.Symbol(name)
 
 
 # --------------------------------------------------------------------------------------
@@ -260,7 +307,7 @@ _GREEK = {
     "tau": "tau", "upsilon": "upsilon", "phi": "phi", "varphi": "phi", "chi": "chi",
     "psi": "psi", "omega": "omega", "Gamma": "Gamma", "Theta": "Theta",
     "Lambda": "Lambda", "Xi": "Xi", "Sigma": "Sigma", "Phi": "Phi", "Psi": "Psi",
-    "Omega": "Omega",
+    "Omega": "Omega", "nabla": "nabla",
 }
 _SYMPY_FUNCTIONS = {
     "sin": sp.sin, "cos": sp.cos, "tan": sp.tan, "tg": sp.tan, "cot": sp.cot, "ctg": sp.cot,
@@ -516,7 +563,9 @@ class _LatexConverter:
                 self.i += 1
                 out.extend(self.function(name, position))
                 continue
-            if name == "Delta" and self.peek(1) is not None:
+            if name in ("Delta", "delta") and self.peek(1) is not None and (
+                    self.peek(1).isalpha() or self.peek(1)[1:] in _GREEK
+                    or self.peek(1)[1:] in _ACCENTS):
                 self.i += 1
                 out.append(self.place(self.symbol(delta=True, start=position), position))
                 continue
@@ -801,6 +850,7 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
         Every line that could be read; unreadable lines are listed in ``problems``.
     """
     hand = HandFile(name=name, format="latex" if latex else "text")
+    notation = notation.merged(Notation())  # a copy: @name lines add spellings
     parse = (partial(parse_latex_expression, backend=latex_backend) if latex
              else parse_text_expression)
     for number, raw in enumerate(text.splitlines(), start=1):
@@ -816,12 +866,23 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
                     title = stripped[len(keyword):].strip() or f"section {len(hand.sections)}"
                     hand.sections.append(title)
                     continue
-                if keyword in ("@alias", "@source"):
+                if keyword in ("@alias", "@source", "@name", "@magnitude"):
                     _directive(hand, keyword, stripped, body.index("@") + 1, notation)
+                    continue
+                if keyword == "@neglect":
+                    _declaration(hand, number, stripped, body.index("@") + 1, notation)
+                    continue
+                if keyword == "@scope":
+                    scope = " ".join(stripped[len(keyword):].split())
+                    if scope not in _SCOPES:
+                        raise _LineError(body.index("@") + 1, f"@scope: unknown motion "
+                                         f"class {scope!r} (known: {', '.join(_SCOPES)})")
+                    hand.scope = scope
                     continue
                 if keyword != "@alt":
                     raise _LineError(body.index("@") + 1, f"unknown directive {keyword!r} "
-                                     "(known: @section, @alt, @alias, @source)")
+                                     "(known: @section, @alt, @alias, @source, @name, "
+                                     "@neglect, @magnitude, @scope)")
                 alternative = True
                 cut = body.index("@alt") + 4
                 body = " " * cut + body[cut:]
@@ -858,7 +919,8 @@ def _equation(hand: HandFile, number: int, segment: str, column: int, note: str,
     hand.equations.append(HandEquation(
         line=number, column=column + len(segment) - len(segment.lstrip()),
         section=len(hand.sections) - 1, lhs=lhs, forms=exprs[1:], alternative=alternative,
-        text=" ".join(segment.split()), note=note, columns=columns))
+        text=" ".join(segment.split()), note=note, columns=columns,
+        declarations=tuple(range(len(hand.declarations)))))
 
 
 def _directive(hand: HandFile, keyword: str, text: str, column: int,
@@ -867,8 +929,19 @@ def _directive(hand: HandFile, keyword: str, text: str, column: int,
     if "=" not in body:
         raise _LineError(column, f"{keyword} needs 'NAME = ...'")
     name, value = (part.strip() for part in body.split("=", 1))
+    if keyword == "@magnitude":
+        if not value:
+            raise _LineError(column, "@magnitude needs 'UNIT = QUANTITY'")
+        hand.magnitudes[name] = value
+        return
     if not name.isidentifier():
         raise _LineError(column, f"{keyword}: {name!r} is not a valid name")
+    if keyword == "@name":
+        if not value.isidentifier():
+            raise _LineError(column, "@name needs 'NAME = model_name'")
+        hand.notation.spellings[name] = value
+        notation.spellings[name] = value
+        return
     if keyword == "@alias":
         parse_text_expression(value, notation, column)  # syntax check now
         hand.notation.aliases[name] = value
@@ -877,6 +950,28 @@ def _directive(hand: HandFile, keyword: str, text: str, column: int,
         if not targets or not all(t.isidentifier() for t in targets):
             raise _LineError(column, "@source needs 'NAME = model_source[, model_source ...]'")
         hand.notation.sources[name] = targets
+
+
+_SCOPES = ("static base", "cruise", "climb")
+
+
+def _declaration(hand: HandFile, number: int, text: str, column: int,
+                 notation: Notation) -> None:
+    """Read ``@neglect ITEM[, ITEM ...] [: REASON]``."""
+    body = text[len("@neglect"):]
+    listed, _, reason = body.partition(":")
+    items, texts = [], []
+    for piece, offset in _split_top(listed, ","):
+        if not piece.strip():
+            continue
+        expr, _ = parse_text_expression(piece, notation, column + len("@neglect") + offset)
+        items.append(expr)
+        texts.append(" ".join(piece.split()))
+    if not items:
+        raise _LineError(column, "@neglect needs at least one variation or term "
+                                 "('@neglect Delta_R_xi, Delta_R_eta : reason')")
+    hand.declarations.append(Declaration(number, tuple(items), tuple(texts),
+                                         " ".join(reason.split())))
 
 
 def read_hand_file(path: str | Path, notation: Notation, latex: bool | None = None,

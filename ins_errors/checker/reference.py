@@ -2,24 +2,36 @@
 
 The checker compares coefficients of error equations numerically at a few points of
 typical motions, and weighs each term by a typical size of the error quantity it
-multiplies. Points are computed from the model's own SymPy definition (no generated code),
-so the symbolic layer stays independent of ``generated/``.
+multiplies. Both come from the model's own SymPy definition (no generated code):
 
-Reference motions of the orthodromic model:
+* **Points.** The model's ``initial_state`` turns a navigation fix (latitude,
+  longitude, heading where the model has one, north and east velocity) into its state;
+  the horizontal apparent accelerations (inputs ``a_*``) are solved from its
+  ``ideal_rhs`` so that the velocity states stay constant (or change along the track
+  at a stated rate); the vertical apparent acceleration (``a_zeta``) is 9.81 m/s²,
+  ``h`` and ``V_zeta`` are set where the model has them. The motions are
 
-* static base at φ = 50°, λ = 30°, trihedron heading χ = 30°, h = 0;
-* a great-circle cruise at 250 m/s, h = 10 km, three points 0, 2000 and 4000 km along
-  the great circle that leaves (50°, 30°) at track 60° (spherical-Earth geometry);
-* a climbing, accelerating leg of the same great circle: 150 m/s, h = 3 km, vertical
-  velocity 10 m/s, along-track acceleration 1 m/s².
+  - static base at φ = 50°, λ = 30°, heading 30°, h = 0 (every model);
+  - a great-circle cruise at 250 m/s, h = 10 km: three points 0, 2000 and 4000 km along
+    the great circle that leaves (50°, 30°) at track 60° (every model);
+  - a climbing, accelerating leg of the same circle: 150 m/s, h = 3 km, vertical
+    velocity 10 m/s, 1 m/s² along track (models with a ``V_zeta`` input only).
 
-Inputs are the consistent ones (apparent accelerations that keep the ideal velocities
-constant, plus the along-track acceleration where stated; a_ζ = 9.81 m/s²).
+  A model that cannot fly a motion is checked on the others; :func:`reference_points`
+  says which were left out and why. A ``@scope static base`` directive keeps only the
+  static base.
+* **Magnitudes.** Tied together by the Schuler loop, from one declared attitude error θ
+  (default 1e-4 rad): with the model's Earth radius R and gravity g,
+  ω_s = √(g/R), angles and direction-cosine errors θ, velocity errors √(gR)·θ (≈ 0.8 m/s
+  for 1e-4 rad), position errors R·θ, rate errors (drifts) ω_s·θ, acceleration errors
+  (biases) g·θ, dimensionless errors (scale factors) θ. Any of them can be overridden
+  (``@magnitude`` in the hand file, ``--magnitude`` on the command line).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 from functools import cache
 
 import numpy as np
@@ -33,6 +45,17 @@ from ins_errors.units import parse_quantity
 GRAVITY = 9.81
 """Apparent vertical acceleration a_ζ used at the reference points, m/s²."""
 
+DEFAULT_ATTITUDE = "1e-4 rad"
+"""Declared attitude error the Schuler-consistent magnitudes are built from."""
+
+MAGNITUDE_UNITS = {"rad": "rad", "1": "1", "m/s": "m/s", "rad/s": "rad/s",
+                   "m/s**2": "m/s**2", "m": "m"}
+"""SI units of error quantities that have a typical magnitude."""
+
+STATIC_BASE = "static base"
+"""Scope name of the static-base motion class (``@scope static base``)."""
+
+
 TYPICAL_BY_UNIT = {
     "rad": ("1e-4 rad", "rad"),
     "1": ("1e-4", "1"),
@@ -41,12 +64,13 @@ TYPICAL_BY_UNIT = {
     "m/s**2": ("1e-4 g", "m/s**2"),
     "m": ("10 m", "m"),
 }
-"""Typical size of an error quantity, by its SI unit: (text, unit) parsed with pint."""
+"""Fixed typical sizes by SI unit (text, unit), kept for the matrix check
+(:mod:`ins_errors.checker.matrix`); equation checks use :func:`schuler_magnitudes`."""
 
 
 @cache
 def typical_magnitude(unit: str) -> tuple[float, str]:
-    """Typical size (SI) and its human spelling for an error quantity of ``unit``.
+    """Fixed typical size (SI) and its spelling for an error quantity of ``unit``.
 
     Raises
     ------
@@ -58,6 +82,97 @@ def typical_magnitude(unit: str) -> tuple[float, str]:
                              f"(known: {', '.join(TYPICAL_BY_UNIT)})")
     text, si = TYPICAL_BY_UNIT[unit]
     return parse_quantity(text, si, "typical magnitude"), text
+
+
+@dataclass(frozen=True)
+class Magnitudes:
+    """Typical error sizes by SI unit, and how they were obtained.
+
+    Attributes
+    ----------
+    by_unit : dict
+        SI unit -> (value in SI, text as people write it).
+    origin : str
+        One line: the relations and the declared attitude error they come from.
+    """
+
+    by_unit: dict[str, tuple[float, str]]
+    origin: str
+
+    def of(self, unit: str) -> tuple[float, str]:
+        """Typical size (SI) and its spelling for an error quantity of ``unit``."""
+        if unit not in self.by_unit:
+            raise InsErrorsError(f"no typical error magnitude for unit {unit!r} "
+                                 f"(known: {', '.join(self.by_unit)})")
+        return self.by_unit[unit]
+
+
+def _earth(d: ModelDefinition) -> tuple[float, float]:
+    """(Earth radius R in m, gravity g in m/s²) of a model, from its parameters."""
+    radius, gravity = 6_371_000.0, GRAVITY
+    for p in d.parameters:
+        if p.unit == "m" and p.name in ("a", "R", "R_earth", "semi_major_axis"):
+            radius = float(p.default)
+            break
+    for p in d.parameters:
+        if p.unit == "m/s**2" and p.name in ("g", "gravity", "g0"):
+            gravity = float(p.default)
+            break
+    return radius, gravity
+
+
+def _text(value: float, unit: str) -> str:
+    shown = {"m/s**2": "m/s²", "1": ""}.get(unit, unit)
+    return f"{value:.3g} {shown}".strip()
+
+
+def schuler_magnitudes(d: ModelDefinition, attitude: str | float = DEFAULT_ATTITUDE,
+                       overrides: dict[str, str] | None = None) -> Magnitudes:
+    """Typical error sizes tied together by the Schuler loop of model ``d``.
+
+    Parameters
+    ----------
+    d : ModelDefinition
+        Supplies the Earth radius (parameter ``a`` or ``R``) and gravity (``g``, else
+        9.81 m/s²).
+    attitude : str or float
+        Declared attitude error θ (``"20 arcsec"``, or radians).
+    overrides : dict, optional
+        SI unit (``"m/s"``, ``"rad/s"``...) -> quantity text (``"0.1 m/s"``) replacing
+        the Schuler value.
+
+    Returns
+    -------
+    Magnitudes
+    """
+    theta = (float(attitude) if isinstance(attitude, (int, float))
+             else parse_quantity(attitude, "rad", "attitude error"))
+    if not theta > 0:
+        raise InsErrorsError(f"the attitude error must be positive, got {attitude!r}")
+    radius, gravity = _earth(d)
+    omega_s = math.sqrt(gravity / radius)
+    values = {"rad": theta, "1": theta, "m/s": math.sqrt(gravity * radius) * theta,
+              "m": radius * theta, "rad/s": omega_s * theta, "m/s**2": gravity * theta}
+    by_unit = {unit: (value, _text(value, unit)) for unit, value in values.items()}
+    by_unit["rad/s"] = (values["rad/s"], f"{values['rad/s'] * 180 / math.pi * 3600:.3g} deg/h")
+    shown_theta = attitude if isinstance(attitude, str) else f"{theta:g} rad"
+    origin = (f"Schuler relations from a declared attitude error θ = {shown_theta} "
+              f"(R = {radius:.0f} m, g = {gravity:g} m/s², ω_s = √(g/R) = "
+              f"{omega_s:.4g} rad/s, Schuler period {2 * math.pi / omega_s / 60:.1f} min): "
+              "angles θ, velocities √(gR)·θ, positions R·θ, rates ω_s·θ, accelerations g·θ")
+    changed = []
+    for unit, text in (overrides or {}).items():
+        if unit not in MAGNITUDE_UNITS:
+            raise InsErrorsError(f"magnitude for unknown unit {unit!r} (known: "
+                                 f"{', '.join(MAGNITUDE_UNITS)}, or 'attitude')")
+        value = parse_quantity(text, unit, f"magnitude of {unit}")
+        if not value > 0:
+            raise InsErrorsError(f"magnitude of {unit} must be positive, got {text!r}")
+        by_unit[unit] = (value, text)
+        changed.append(f"{unit}: {text}")
+    if changed:
+        origin += "; overridden: " + ", ".join(changed)
+    return Magnitudes(by_unit, origin)
 
 
 @dataclass(frozen=True)
@@ -73,11 +188,22 @@ class ReferencePoint:
     values : dict
         Value of every ideal symbol of the model (states, inputs, parameters and ideal
         intermediates), SI units.
+    motion : str
+        Motion class (``"static base"``, ``"cruise"``, ``"climb"``).
     """
 
     label: str
     description: str
     values: dict[sp.Symbol, float]
+    motion: str = ""
+
+
+@dataclass
+class ReferenceMotions:
+    """The points a model is checked at, and the motions it could not fly."""
+
+    points: list[ReferencePoint]
+    skipped: list[str] = field(default_factory=list)
 
 
 def _great_circle(lat0: float, lon0: float, track0: float, distance: float,
@@ -96,21 +222,37 @@ def _great_circle(lat0: float, lon0: float, track0: float, distance: float,
     return float(lat), float(lon), float(np.arctan2(t @ east, t @ north))
 
 
+@dataclass(frozen=True)
+class _Motion:
+    label: str
+    motion: str
+    description: str
+    latitude: float  # deg
+    longitude: float  # deg
+    heading: float  # deg
+    distance: float | None  # m along the great circle, None: static
+    speed: float  # m/s
+    height: float  # m
+    climb: float  # m/s
+    acceleration: float  # m/s² along track
+
+
 _MOTIONS = (
-    # label, description, latitude, longitude, heading (deg), distance (m), speed (m/s),
-    # height (m), vertical velocity (m/s), along-track acceleration (m/s²)
-    ("static base", "static base, φ 50°, λ 30°, χ 30°, h 0", 50.0, 30.0, 30.0, None,
-     0.0, 0.0, 0.0, 0.0),
-    ("cruise 0 km", "great-circle cruise, 250 m/s, h 10 km, start (φ 50°, λ 30°, χ 60°)",
-     50.0, 30.0, 60.0, 0.0, 250.0, 10_000.0, 0.0, 0.0),
-    ("cruise 2000 km", "same great circle, 2000 km on", 50.0, 30.0, 60.0, 2.0e6, 250.0,
-     10_000.0, 0.0, 0.0),
-    ("cruise 4000 km", "same great circle, 4000 km on", 50.0, 30.0, 60.0, 4.0e6, 250.0,
-     10_000.0, 0.0, 0.0),
-    ("climb", "same great circle at its start: 150 m/s, h 3 km, climbing 10 m/s, "
-     "accelerating 1 m/s² along track", 50.0, 30.0, 60.0, 0.0, 150.0, 3_000.0, 10.0, 1.0),
+    _Motion("static base", STATIC_BASE, "static base, φ 50°, λ 30°, heading 30°, h 0",
+            50.0, 30.0, 30.0, None, 0.0, 0.0, 0.0, 0.0),
+    _Motion("cruise 0 km", "cruise", "great-circle cruise, 250 m/s, h 10 km, start "
+            "(φ 50°, λ 30°, track 60°)", 50.0, 30.0, 60.0, 0.0, 250.0, 10_000.0, 0.0, 0.0),
+    _Motion("cruise 2000 km", "cruise", "same great circle, 2000 km on", 50.0, 30.0, 60.0,
+            2.0e6, 250.0, 10_000.0, 0.0, 0.0),
+    _Motion("cruise 4000 km", "cruise", "same great circle, 4000 km on", 50.0, 30.0, 60.0,
+            4.0e6, 250.0, 10_000.0, 0.0, 0.0),
+    _Motion("climb", "climb", "same great circle at its start: 150 m/s, h 3 km, climbing "
+            "10 m/s, accelerating 1 m/s² along track", 50.0, 30.0, 60.0, 0.0, 150.0,
+            3_000.0, 10.0, 1.0),
 )
 
+MOTION_CLASSES = ("static base", "cruise", "climb")
+"""Motion classes a ``@scope`` directive may name."""
 
 _EVALUATORS: dict[int, tuple] = {}
 
@@ -120,47 +262,105 @@ def _evaluators(d: ModelDefinition):
         return _EVALUATORS[id(d)][1:]
     c, u, p, x = d.c, d.u, d.p, d.x
     initial = sp.lambdify([c, u, p], list(d.initial_state), "numpy")
-    rhs = sp.lambdify([x, u, p], list(d.ideal_rhs_expanded()), "numpy")
+    rhs_expr = d.ideal_rhs_expanded()
+    rhs = sp.lambdify([x, u, p], list(rhs_expr), "numpy")
+    accel = [v.symbol for v in d.inputs if _is_horizontal_acceleration(v.name)]
+    jacobian = sp.lambdify([x, u, p], rhs_expr.jacobian(accel) if accel else sp.zeros(
+        len(x), 0), "numpy")
     closed = ideal_intermediate_values(d)
     symbols = list(closed)
     intermediates = sp.lambdify([x, u, p], [closed[s] for s in symbols], "numpy")
-    _EVALUATORS[id(d)] = (d, initial, rhs, intermediates, symbols)
-    return initial, rhs, intermediates, symbols
+    _EVALUATORS[id(d)] = (d, initial, rhs, jacobian, intermediates, symbols)
+    return initial, rhs, jacobian, intermediates, symbols
 
 
-def reference_points(d: ModelDefinition) -> list[ReferencePoint]:
+def _is_horizontal_acceleration(name: str) -> bool:
+    return name.startswith("a_") and name not in ("a_zeta", "a_U", "a_z", "a_up", "a_D")
+
+
+def _unusable(d: ModelDefinition, motion: _Motion) -> str | None:
+    """Why ``d`` cannot fly ``motion`` (None if it can)."""
+    inputs = {v.name for v in d.inputs}
+    if motion.climb and "V_zeta" not in inputs:
+        return "the model has no vertical-velocity input V_zeta"
+    if motion.acceleration and not any(_is_horizontal_acceleration(n) for n in inputs):
+        return "the model has no horizontal acceleration input"
+    return None
+
+
+def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceMotions:
     """The reference-motion points of model ``d`` (see module docstring).
+
+    Parameters
+    ----------
+    d : ModelDefinition
+    scope : str, optional
+        Keep only this motion class (``"static base"``, ``"cruise"``, ``"climb"``).
 
     Raises
     ------
     InsErrorsError
-        If the model lacks the names the reference motions are built from.
+        If the model's initial conditions or inputs are not ones a navigation fix and a
+        motion can set.
     """
-    needed_c = ["latitude", "longitude", "heading", "v_N", "v_E"]
-    needed_u = ["a_xi", "a_eta", "a_zeta", "V_zeta", "h"]
+    if scope is not None and scope not in MOTION_CLASSES:
+        raise InsErrorsError(f"unknown scope {scope!r} (known: {', '.join(MOTION_CLASSES)})")
+    settable = {"latitude", "longitude", "heading", "v_N", "v_E"}
+    strange = [v.name for v in d.initial_conditions if v.name not in settable]
+    if strange:
+        raise InsErrorsError(f"model {d.name!r}: the checker's reference motions cannot set "
+                             f"the initial condition {strange[0]!r} (they set "
+                             f"{', '.join(sorted(settable))})")
+    known_inputs = {"h", "V_zeta", "a_zeta", "a_U", "a_z", "a_up"}
+    odd = [v.name for v in d.inputs
+           if v.name not in known_inputs and not _is_horizontal_acceleration(v.name)]
+    if odd:
+        raise InsErrorsError(f"model {d.name!r}: the checker's reference motions do not know "
+                             f"how to set the input {odd[0]!r}")
+    initial, rhs, jacobian, intermediates, symbols = _evaluators(d)
+    p = [float(v.default) for v in d.parameters]
     names_c = [v.name for v in d.initial_conditions]
     names_u = [v.name for v in d.inputs]
-    names_x = [v.name for v in d.states]
-    if names_c != needed_c or names_u != needed_u or "V_xi" not in names_x:
-        raise InsErrorsError(f"no reference motions are defined for model {d.name!r} "
-                             "(the hand checker supports orthodromic-type models)")
-    initial, rhs, intermediates, symbols = _evaluators(d)
-    p = [float(v.default) for v in d.parameters]
-    i_xi, i_eta = names_x.index("V_xi"), names_x.index("V_eta")
-    points = []
-    for label, text, lat, lon, track, distance, speed, h, vz, accel in _MOTIONS:
-        lat, lon, track = np.radians([lat, lon, track])
-        if distance is not None:
-            lat, lon, track = _great_circle(lat, lon, track, distance)
-        c = [lat, lon, track, speed * np.cos(track), speed * np.sin(track)]
-        u = [0.0, 0.0, GRAVITY, vz, h]
+    accel = [k for k, n in enumerate(names_u) if _is_horizontal_acceleration(n)]
+    velocity = [k for k, v in enumerate(d.states) if v.unit == "m/s"]
+    result = ReferenceMotions([])
+    for m in _MOTIONS:
+        if scope is not None and m.motion != scope:
+            continue
+        why = _unusable(d, m)
+        if why is not None:
+            if not any(s.startswith(m.motion) for s in result.skipped):
+                result.skipped.append(f"{m.motion}: {why}")
+            continue
+        lat, lon, track = np.radians([m.latitude, m.longitude, m.heading])
+        if m.distance is not None:
+            lat, lon, track = _great_circle(lat, lon, track, m.distance)
+        fix = {"latitude": lat, "longitude": lon, "heading": track,
+               "v_N": m.speed * np.cos(track), "v_E": m.speed * np.sin(track)}
+        c = [fix[n] for n in names_c]
+        u = []
+        for n in names_u:
+            u.append({"h": m.height, "V_zeta": m.climb}.get(
+                n, GRAVITY if n in known_inputs else 0.0))
         x = [float(v) for v in initial(c, u, p)]
-        rates = rhs(x, u, p)
-        u[0], u[1] = -float(rates[i_xi]) + accel, -float(rates[i_eta])
+        if accel:
+            rates = np.asarray(rhs(x, u, p), dtype=float).ravel()
+            target = np.zeros_like(rates)
+            speed = np.linalg.norm([x[k] for k in velocity]) if velocity else 0.0
+            if speed > 0 and m.acceleration:
+                for k in velocity:
+                    target[k] = m.acceleration * x[k] / speed
+            b = np.asarray(jacobian(x, u, p), dtype=float).reshape(len(x), len(accel))
+            rows = velocity or list(range(len(x)))
+            solution, *_ = np.linalg.lstsq(b[rows], (target - rates)[rows], rcond=None)
+            for k, value in zip(accel, solution, strict=True):
+                u[k] = float(value)
         values = dict(zip(d.x, x, strict=True))
         values.update(zip(d.u, u, strict=True))
         values.update(zip(d.p, p, strict=True))
         values.update({s: float(v) for s, v in zip(symbols, intermediates(x, u, p),
                                                      strict=True)})
-        points.append(ReferencePoint(label, text, values))
-    return points
+        height = "" if "h" in names_u else " (the model has no height input)"
+        result.points.append(ReferencePoint(m.label, m.description + height, values,
+                                            m.motion))
+    return result

@@ -9,7 +9,9 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from ins_errors.checker.compare import CheckReport, EquationResult, Finding
+from ins_errors.checker import classify as cl
+from ins_errors.checker.classify import Finding
+from ins_errors.checker.compare import CheckReport, EquationResult
 
 
 def _size(value: float) -> str:
@@ -32,7 +34,11 @@ def summary_counts(report: CheckReport) -> dict[str, int]:
     for result in report.results:
         counts[result.status] = counts.get(result.status, 0) + 1
     counts["mistakes"] = len(report.mistakes)
-    counts["dropped small terms"] = len(report.findings) - len(report.mistakes)
+    counts["root mistakes"] = len(report.root_mistakes)
+    counts["knock-on mistakes"] = counts["mistakes"] - counts["root mistakes"]
+    counts["declared drops"] = sum(1 for _, f in report.findings if f.severity == cl.DECLARED)
+    counts["dropped small terms"] = sum(1 for _, f in report.findings
+                                        if f.severity == cl.DROPPED)
     counts["input problems"] = len(report.problems)
     return counts
 
@@ -41,24 +47,72 @@ def summary_line(report: CheckReport) -> str:
     """One line: what was checked and what was found."""
     c = summary_counts(report)
     compared = sum(v for k, v in c.items() if k in (
-        "agrees", "agrees up to dropped small terms", "mistake"))
+        "agrees", "agrees up to dropped small terms", "agrees up to declared drops",
+        "mistake"))
+    agree_small = (c.get("agrees up to dropped small terms", 0)
+                   + c.get("agrees up to declared drops", 0))
     return (f"{report.hand_name}: {compared} equation forms compared with model "
-            f"{report.model!r}: {c.get('agrees', 0)} agree, "
-            f"{c.get('agrees up to dropped small terms', 0)} agree up to dropped small terms, "
-            f"{c.get('mistake', 0)} with mistakes ({c['mistakes']} mistake findings, "
-            f"{c['dropped small terms']} dropped small terms); "
+            f"{report.model!r}: {c.get('agrees', 0)} agree, {agree_small} agree up to "
+            f"dropped terms, {c.get('mistake', 0)} with mistakes ({c['root mistakes']} root "
+            f"mistakes, {c['knock-on mistakes']} knock-on findings, {c['declared drops']} "
+            f"declared drops, {c['dropped small terms']} dropped small terms); "
             f"{c['input problems']} input problems")
 
 
-def _finding_rows(pairs: list[tuple[EquationResult, Finding]]) -> list[str]:
-    rows = ["| line | equation | quantity | kind | size | at | hand coefficient | "
-            "model coefficient | detail |",
-            "|---:|---|---|---|---:|---|---|---|---|"]
+def _effect(f: Finding) -> str:
+    """``"24 h: 1.2 km, 3.4″ (cruise 0 km)"`` or empty."""
+    e = f.effect
+    if not e:
+        return ""
+    return (f"1 h: {_length(e['position_1h'])}, {_angle(e['attitude_1h'])}; "
+            f"24 h: {_length(e['position_24h'])}, {_angle(e['attitude_24h'])} "
+            f"({e['point']})")
+
+
+def _length(metres: float) -> str:
+    return f"{metres / 1000:.3g} km" if abs(metres) >= 1000 else f"{metres:.3g} m"
+
+
+def _angle(radians: float) -> str:
+    return f"{math.degrees(radians) * 3600:.3g}″"
+
+
+def _finding_rows(pairs: list[tuple[EquationResult, Finding]], roots: bool = False
+                  ) -> list[str]:
+    rows = ["| line | equation | quantity | what | class | size | at | hand coefficient | "
+            "model coefficient | explanation | effect on the error (position, attitude) |",
+            "|---:|---|---|---|---|---:|---|---|---|---|---|"]
     for result, f in pairs:
+        detail = f.detail
+        if roots and f.roots:
+            detail = f"from {', '.join(f.roots)}" + (f"; {detail}" if detail else "")
         rows.append(f"| {result.equation.line} | {_code(result.label)} | {_code(f.quantity)} | "
-                    f"{f.kind} | {_size(f.size)} | {f.point} | {_code(f.hand)} | "
-                    f"{_code(f.model)} | {_cell(f.detail)} |")
+                    f"{f.kind} | {f.severity} | {_size(f.size)} | {f.point} | {_code(f.hand)} | "
+                    f"{_code(f.model)} | {_cell(detail)} | {_cell(_effect(f))} |")
     return rows
+
+
+def ordered(report: CheckReport) -> list[tuple[str, list[tuple[EquationResult, Finding]]]]:
+    """The findings top-down: each root mistake with its knock-ons, declared drops, drops."""
+    groups = []
+    for result, f in report.root_mistakes:
+        groups.append(("root", [(result, f)]))
+    shown = set()
+    out = []
+    for _, pairs in groups:
+        result, f = pairs[0]
+        key = id(result)
+        knock = [] if key in shown else report.knock_ons(result)
+        shown.add(key)
+        out.append(("root", [(result, f), *knock]))
+    orphans = [(r, f) for r, f in report.findings if f.role == cl.KNOCK_ON and f.is_mistake
+               and not any(any(r2.reference in f.roots for r2, _ in report.root_mistakes)
+                           for _ in [0])]
+    if orphans:
+        out.append(("knock-on", orphans))
+    out.append(("declared", [(r, f) for r, f in report.findings if f.severity == cl.DECLARED]))
+    out.append(("dropped", [(r, f) for r, f in report.findings if f.severity == cl.DROPPED]))
+    return out
 
 
 def to_markdown(report: CheckReport, source: str | None = None) -> str:
@@ -77,23 +131,59 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
     lines += [
         f"**Result.** {summary_line(report)}.",
         "",
+        f"**Typical magnitudes.** {report.magnitudes}.",
+        "",
         "Each equation's two sides are brought to a linear combination of the error states "
         "and error sources, the hand side through the file's own definitions and the model "
         "side through the mechanical variation. A term's size is its coefficient times the "
         "typical magnitude of its error quantity; a discrepancy is measured relative to the "
         "largest term of its equation at the same reference point (the largest ratio over "
-        "the points is given as *size*, with the point where it is reached). Below the "
-        f"threshold {report.threshold:g} it is a **dropped small term**, at or above it a "
-        "**mistake**.",
+        "the points is given as *size*). *What* the difference is (omitted term, wrong "
+        "coefficient, wrong symbol or index, wrong sign, wrong function, wrong exponent) "
+        "and *how much it matters* are two separate axes: a term present but wrong is a "
+        "**mistake** whatever its size (*mistake, small effect* below the threshold "
+        f"{report.threshold:g}); only an omitted small term is a **dropped small term**, "
+        "and an omission the file declares (`@neglect`) a **declared drop**. A *knock-on* "
+        "finding disappears once the definitions its line uses are corrected: it is listed "
+        "under its root.",
         "",
     ]
-    mistakes = report.mistakes
-    small = [(r, f) for r, f in report.findings if f.severity != "mistake"]
-    lines += ["## Mistakes", ""]
-    lines += _finding_rows(mistakes) if mistakes else ["None."]
-    lines += ["", "## Dropped small terms", ""]
-    lines += _finding_rows(small) if small else ["None."]
-    lines += ["", "## Equation by equation", ""]
+    if report.scope:
+        lines += [f"**Scope.** The file limits itself to the motion class "
+                  f"*{report.scope}* (`@scope`): it is compared there only.", ""]
+    if report.declarations:
+        lines += ["**Declared simplifications.** " + "; ".join(report.declarations) + ".", ""]
+    titles = {"root": None, "knock-on": "Knock-on findings whose root is not a mistake",
+              "declared": "Declared drops", "dropped": "Other small drops"}
+    lines += ["## Root mistakes and their knock-on effects", ""]
+    groups = ordered(report)
+    roots = [pairs for kind, pairs in groups if kind == "root"]
+    if not roots:
+        lines += ["None.", ""]
+    for pairs in roots:
+        result, f = pairs[0]
+        lines += [f"### Line {result.equation.line}: `{_cell(result.label)}` — {f.kind} on "
+                  f"`{_cell(f.quantity)}` ({f.severity})", ""]
+        explanation = f.detail or "the coefficients differ"
+        lines += [f"{explanation}. Hand `{_cell(f.hand)}`, model `{_cell(f.model)}`; size "
+                  f"{_size(f.size)} at {f.point}." + (f" Effect: {_effect(f)}." if f.effect
+                                                      else ""), ""]
+        if len(pairs) > 1:
+            lines += ["Knock-on findings:", ""]
+            lines += _finding_rows(pairs[1:])
+            lines.append("")
+    for kind, pairs in groups:
+        if kind == "root":
+            continue
+        if kind == "knock-on" and not pairs:
+            continue
+        lines += [f"## {titles[kind]}", ""]
+        lines += _finding_rows(pairs, roots=True) if pairs else ["None."]
+        lines.append("")
+    if report.idle_declarations:
+        lines += ["Declared simplifications that explain no finding: "
+                  + "; ".join(report.idle_declarations) + ".", ""]
+    lines += ["## Equation by equation", ""]
     for index, title in enumerate(report.sections):
         results = [r for r in report.results if r.equation.section == index]
         if not results:
@@ -104,8 +194,9 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
             notes = "; ".join(r.notes)
             if r.findings:
                 kinds = ", ".join(
-                    f"{f.kind} ({_size(f.size)})" if f.quantity.startswith("(")
-                    else f"{f.kind} on {f.quantity} ({_size(f.size)})" for f in r.findings)
+                    f"{f.kind} ({f.severity}, {_size(f.size)})" if f.quantity.startswith("(")
+                    else f"{f.kind} on {f.quantity} ({f.severity}, {_size(f.size)})"
+                    for f in r.findings)
                 notes = f"{kinds}" + (f"; {notes}" if notes else "")
             lines.append(f"| {r.equation.line} | {_code(r.label)} | {_cell(r.target)} | "
                          f"{r.status} | {_cell(notes)} |")
@@ -113,6 +204,8 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
     lines += ["## How the comparison was made", "", "Reference points:", "",
               "| point | motion |", "|---|---|"]
     lines += [f"| {p.label} | {p.description} |" for p in report.points]
+    if report.skipped_motions:
+        lines += ["", "Motions not flown: " + "; ".join(report.skipped_motions) + "."]
     lines += ["", "Error quantities and their typical magnitudes:", "",
               "| quantity | unit | typical magnitude | stands for |", "|---|---|---|---|"]
     lines += [f"| `{b.name}` | {b.unit} | {b.magnitude_text} | "
@@ -134,15 +227,51 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _terminal_row(result: EquationResult, f: Finding, indent: str = "") -> list[str]:
+    head = (f"{indent}{result.equation.line:>4}  {result.label[:22]:<22} {f.quantity[:18]:<18} "
+            f"{f.kind[:24]:<24} {f.severity:<21} {_size(f.size)}")
+    explanation = f.detail
+    if f.roots and f.role == cl.KNOCK_ON:
+        explanation = f"from {', '.join(f.roots)}" + (f"; {explanation}" if explanation
+                                                       else "")
+    out = [head]
+    if explanation:
+        out.append(f"{indent}      {explanation}")
+    if f.effect:
+        out.append(f"{indent}      effect: {_effect(f)}")
+    return out
+
+
 def to_terminal(report: CheckReport, width: int = 100) -> str:
-    """A compact table of the findings and the summary line, for a terminal."""
-    header = f"{'line':>4}  {'equation':<22} {'quantity':<18} {'kind':<24} {'class':<19} size"
-    rows = [header, "-" * min(width, len(header) + 8)]
-    for result, f in report.findings:
-        rows.append(f"{result.equation.line:>4}  {result.label[:22]:<22} {f.quantity[:18]:<18} "
-                    f"{f.kind[:24]:<24} {f.severity:<19} {_size(f.size)}")
+    """The findings top-down (roots with their knock-ons, declared drops, small drops),
+    each with its explanation, and the summary line."""
+    header = (f"{'line':>4}  {'equation':<22} {'quantity':<18} {'what':<24} {'class':<21} "
+              "size")
+    rows = [f"typical magnitudes: {report.magnitudes}"]
+    if report.scope:
+        rows.append(f"scope: {report.scope}")
+    if report.skipped_motions:
+        rows.append("motions not flown: " + "; ".join(report.skipped_motions))
+    rows += [header, "-" * min(width, len(header) + 8)]
+    titles = {"root": "root mistake", "knock-on": "knock-on findings",
+              "declared": "declared drops", "dropped": "other small drops"}
+    for kind, pairs in ordered(report):
+        if not pairs:
+            continue
+        if kind == "root":
+            result, f = pairs[0]
+            rows.append(f"[{titles[kind]}]")
+            rows += _terminal_row(result, f)
+            for r, g in pairs[1:]:
+                rows += _terminal_row(r, g, indent="    ")
+        else:
+            rows.append(f"[{titles[kind]}]")
+            for r, g in pairs:
+                rows += _terminal_row(r, g)
     if not report.findings:
         rows.append("  (no discrepancies)")
+    for text in report.idle_declarations:
+        rows.append(f"declaration explains nothing: {text}")
     for problem in report.problems:
         rows.append(f"input: {problem}")
     rows.append(summary_line(report))
@@ -156,8 +285,10 @@ def to_json(report: CheckReport) -> dict[str, Any]:
                 # 9 significant digits: sizes are measured in floating point, and forms
                 # of the same equation (LaTeX, text) may differ in the last bits
                 "size": None if math.isinf(f.size) else float(f"{f.size:.9g}"),
-                "point": f.point,
-                "hand": f.hand, "model": f.model, "detail": f.detail}
+                "point": f.point, "role": f.role, "roots": list(f.roots),
+                "hand": f.hand, "model": f.model, "detail": f.detail,
+                "effect": {k: (float(f"{v:.6g}") if isinstance(v, float) else v)
+                           for k, v in f.effect.items()}}
 
     return {
         "model": report.model,
@@ -178,4 +309,9 @@ def to_json(report: CheckReport) -> dict[str, Any]:
                    "stands_for": list(b.stands_for)} for b in report.basis],
         "out_of_scope": report.out_of_scope,
         "from_model": report.from_model,
+        "magnitudes": report.magnitudes,
+        "scope": report.scope,
+        "skipped_motions": report.skipped_motions,
+        "declarations": report.declarations,
+        "idle_declarations": report.idle_declarations,
     }

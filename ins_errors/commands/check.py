@@ -14,10 +14,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "check", help="compare hand-written error equations with the model's variation",
         description="Compare a researcher's error equations (SymPy text or LaTeX, one per "
                     "line) with the mechanical variation of MODEL, term by term. Each "
-                    "discrepancy is sized along reference motions relative to the largest "
-                    "term of its equation and classed 'dropped small term' (below the "
-                    "threshold) or 'mistake'. Exit status: 0 no mistake, 1 mistakes found, "
-                    "2 input problems. Notation: docs/hand_check.md. "
+                    "discrepancy says what it is (omitted term, wrong coefficient, wrong "
+                    "symbol or index, wrong sign, wrong function, wrong exponent) and how "
+                    "much it matters (sized along reference motions relative to the largest "
+                    "term of its equation): a wrong term is a mistake whatever its size, an "
+                    "omitted small term a 'dropped small term', an omission the file declares "
+                    "a 'declared drop'; knock-on findings are listed under their root. Exit "
+                    "status: 0 no mistake, 1 mistakes found, 2 input problems. Notation: "
+                    "docs/hand_check.md. "
                     "With --matrix, a hand-coded F (and G) is checked instead: "
                     "FILE.py:FUNCTION defines FUNCTION(nav, imu) returning F or (F, G) and "
                     "lists STATES (names from the convention's vocabulary, F's order) and "
@@ -46,6 +50,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--threshold", type=float, default=1e-3,
                         help="relative size separating dropped small terms from mistakes "
                              "(default 1e-3)")
+    parser.add_argument("--magnitude", action="append", default=[], metavar="UNIT=QUANTITY",
+                        help="typical error size for one SI unit, e.g. 'm/s=0.1 m/s', or "
+                             "'attitude=20 arcsec' for the declared attitude error the "
+                             "Schuler-consistent sizes follow from (repeatable)")
     parser.add_argument("--mapping", type=Path,
                         help="mapping file (@alias / @source lines) added to the default "
                              "notation")
@@ -70,6 +78,13 @@ def run(args: argparse.Namespace) -> int:
     if args.file is None:
         raise InsErrorsError("check needs a hand FILE of equations or --matrix "
                              "FILE.py:FUNCTION")
+    magnitudes = {}
+    for entry in args.magnitude:
+        unit, sep, quantity = entry.partition("=")
+        if not sep or not unit.strip() or not quantity.strip():
+            raise InsErrorsError(f"--magnitude {entry!r}: expected UNIT=QUANTITY, e.g. "
+                                 "'m/s=0.1 m/s' or 'attitude=20 arcsec'")
+        magnitudes[unit.strip()] = quantity.strip()
     if args.report is not None:
         check_file(args.report)
     from ins_errors.progress import stage
@@ -77,7 +92,8 @@ def run(args: argparse.Namespace) -> int:
     with stage(f"checking {args.file.name} against {args.model}"):
         report = check_hand_file(args.file, model=args.model, threshold=args.threshold,
                                  latex=True if args.latex else None,
-                                 mapping_path=args.mapping, latex_backend=args.latex_parser)
+                                 mapping_path=args.mapping, latex_backend=args.latex_parser,
+                                 magnitudes=magnitudes)
     if args.report is not None:
         write_text(args.report, to_markdown(report, f"`ins-errors check` from "
                                             f"`{args.file.name}`"))
