@@ -36,6 +36,12 @@ class OutputError(InsErrorsError):
     """An output file or folder that cannot be written (or must not be overwritten)."""
 
 
+def _umask() -> int:
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
+
+
 def _reason(error: OSError) -> str:
     return error.strerror or str(error)
 
@@ -112,6 +118,7 @@ def write_with(path: str | Path, writer: Callable[[Path], object]) -> Path:
     temporary = Path(temporary)
     try:
         writer(temporary)
+        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes it private: as open() would
         os.replace(temporary, path)
     except OSError as error:
         raise OutputError(f"cannot write {str(path)!r}: {_reason(error)}") from None

@@ -1,14 +1,18 @@
 """Write a scenario's results as a report folder: Markdown, HTML, plots and JSON.
 
 The folder holds ``report.md`` (tables, plots, and the model's error equations as used),
-``report.html`` (the same, rendered; formulas typeset by MathJax when the page is viewed
-online, readable LaTeX otherwise), one ``case_<k>.png`` per case and ``results.json``.
+``report.html`` (the same as one self-contained page: formulas as MathML, plots
+embedded, nothing loaded from the network), one ``case_<k>.png`` per case,
+``results.json`` (metrics, SI) and the curves themselves as ``curves.csv`` and
+``curves.mat`` (see :mod:`ins_errors.export`).
 """
 
 from __future__ import annotations
 
+import base64
 import html
 import json
+import mimetypes
 import re
 from importlib import resources
 from pathlib import Path
@@ -70,28 +74,60 @@ def _selected(comparison, quantities):
     return replace(comparison, metrics=[comparison.metric(q) for q in quantities])
 
 
-def markdown_to_html(text: str, title: str) -> str:
-    """Render Markdown (with tables and $$ math) to a standalone HTML page."""
+def _mathml(latex: str, display: bool) -> str:
+    """LaTeX to MathML (latex2mathml), or the escaped LaTeX in ``<code>`` if it fails."""
+    from latex2mathml.converter import convert
+
+    try:
+        return convert(latex, display="block" if display else "inline")
+    except Exception:  # latex2mathml raises several types on macros it does not know
+        code = f"<code>{html.escape(latex)}</code>"
+        return f"<div>{code}</div>" if display else code
+
+
+def _embedded_images(body: str, folder: Path | None) -> str:
+    """Replace ``<img src="name.png">`` of files in ``folder`` by data URIs."""
+    if folder is None:
+        return body
+
+    def inline(match: re.Match) -> str:
+        path = folder / html.unescape(match.group(2))
+        if "/" in match.group(2) or not path.is_file():
+            return match.group(0)
+        data = base64.b64encode(path.read_bytes()).decode("ascii")
+        kind = mimetypes.guess_type(path.name)[0] or "application/octet-stream"
+        return f'{match.group(1)}data:{kind};base64,{data}"'
+
+    return re.sub(r'(<img [^>]*src=")([^"]+)"', inline, body)
+
+
+def markdown_to_html(text: str, title: str, images: Path | None = None) -> str:
+    """Render Markdown (with tables and $$ math) to one self-contained HTML page.
+
+    Formulas become MathML (read by every current browser, no script, no network);
+    images found in the folder ``images`` are embedded as data URIs, so the page can be
+    mailed or opened offline on its own.
+    """
     import markdown
 
     math: list[str] = []
 
     def keep(match: re.Match, display: bool) -> str:
-        math.append((r"\[" if display else r"\(") + html.escape(match.group(1).strip())
-                    + (r"\]" if display else r"\)"))
+        math.append(_mathml(match.group(1).strip(), display))
         return f"MATHPLACEHOLDER{len(math) - 1}END"
 
     protected = _MATH.sub(lambda m: keep(m, True), text)
     protected = _INLINE_MATH.sub(lambda m: keep(m, False), protected)
     body = markdown.markdown(protected, extensions=["tables", "fenced_code"])
     body = re.sub(r"MATHPLACEHOLDER(\d+)END", lambda m: math[int(m.group(1))], body)
+    body = _embedded_images(body, images)
     return (
         "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
         f"<title>{html.escape(title)}</title>\n"
-        "<script async src=\"https://cdn.jsdelivr.net/npm/mathjax@3/es5/tex-mml-chtml.js\">"
-        "</script>\n<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;"
+        "<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;"
         "padding:0 1em}table{border-collapse:collapse}td,th{border:1px solid #ccc;"
-        "padding:2px 6px;font-size:90%}img{max-width:100%}</style>\n</head>\n<body>\n"
+        "padding:2px 6px;font-size:90%}img{max-width:100%}math[display=block]"
+        "{margin:0.6em 0;overflow-x:auto}</style>\n</head>\n<body>\n"
         f"{body}\n</body>\n</html>\n"
     )
 
@@ -128,7 +164,7 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
         plots.append(name)
     text = report_markdown(result, plots)
     out.write_text("report.md", text)
-    out.write_text("report.html", markdown_to_html(text, result.scenario.title))
+    out.write_text("report.html", markdown_to_html(text, result.scenario.title, out.path))
     summary = {"title": result.scenario.title, "model": result.scenario.model,
                "motion": result.motion_description, "duration_s": result.scenario.duration,
                "step_s": result.scenario.step, "record_s": result.scenario.record,

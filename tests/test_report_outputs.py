@@ -1,0 +1,86 @@
+"""The report folder: a self-contained HTML page and the curves as CSV and MATLAB files.
+
+The curves read back from curves.csv and curves.mat must be the very curves of the
+comparison (to the digits written), and the page must need nothing from the network.
+"""
+
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+import pytest
+
+from ins_errors.report import write_report
+from ins_errors.scenario import load_scenario, run_scenario
+
+SCENARIO = """title = "two drifts, 20 min"
+model = "orthodromic"
+[run]
+duration = "20 min"
+step = "1 s"
+record = "60 s"
+[[case]]
+gyro_drift_x = "0.01 deg/h"
+[[case]]
+accel_bias_y = "50 ug"
+"""
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("report")
+    scenario_file = folder / "s.toml"
+    scenario_file.write_text(SCENARIO, encoding="utf-8")
+    result = run_scenario(load_scenario(scenario_file))
+    write_report(result, folder / "out")
+    return result, folder / "out"
+
+
+def test_html_is_self_contained(report):
+    _, folder = report
+    page = (folder / "report.html").read_text(encoding="utf-8")
+    assert "<script" not in page and "https://" not in page  # no CDN, no MathJax
+    assert page.count("<math") > 20 and "$$" not in page  # every formula as MathML
+    assert page.count("data:image/png;base64,") == 2  # both plots embedded
+
+
+def test_curves_csv_holds_every_curve_of_every_case(report):
+    result, folder = report
+    with open(folder / "curves.csv", encoding="utf-8", newline="") as handle:
+        rows = list(csv.reader(handle))
+    header, body = rows[0], np.array(rows[1:], dtype=float)
+    first = result.comparisons[0]
+    assert header[:2] == ["case", "t [s]"]
+    assert "delta_latitude.direct [rad]" in header and "alpha_x.refined [rad]" in header
+    assert body.shape[0] == sum(len(c.times) for c in result.comparisons)
+    for k, comparison in enumerate(result.comparisons, 1):
+        mine = body[body[:, 0] == k]
+        np.testing.assert_array_equal(mine[:, 1], comparison.times)
+        column = header.index("delta_v_N.linear [m/s]")
+        np.testing.assert_array_equal(mine[:, column], comparison.linear["delta_v_N"])
+    assert np.abs(first.direct["alpha_y"]).max() > 0  # a drift about x tilts about y
+
+
+def test_curves_mat_reads_back(report):
+    from scipy.io import loadmat
+
+    result, folder = report
+    data = loadmat(folder / "curves.mat", squeeze_me=True, struct_as_record=False)
+    np.testing.assert_array_equal(data["t_s"], result.comparisons[0].times)
+    case = data["case_2"]
+    np.testing.assert_array_equal(case.direct.delta_v_E, result.comparisons[1].direct["delta_v_E"])
+    np.testing.assert_array_equal(case.refined.alpha_x, result.comparisons[1].refined["alpha_x"])
+    assert data["units"].delta_v_E == "m/s"
+    assert list(data["labels"]) == [c.label for c in result.comparisons]
+
+
+def test_files_get_the_usual_permissions(report):
+    """Written through a private temporary file, yet with the mode open() would give."""
+    import os
+
+    _, folder = report
+    mask = os.umask(0o022)
+    os.umask(mask)
+    for name in ("report.md", "curves.mat", "case_1.png"):
+        assert (folder / name).stat().st_mode & 0o777 == 0o666 & ~mask, name
