@@ -234,7 +234,7 @@ def computer(eq: Mechanisation, s, omega, f, h_ref) -> list[sp.Expr]:
     R_N = eq.let("R_N", R_N_0, "R_N")
     R_E = eq.let("R_E", R_E_0, "R_E")
     gamma = eq.let("gamma", normal_gravity(lat, h, a, e2, _sym["gamma_e"], _sym["gravity_k"],
-                                           _sym["gravity_m"], xp=sp), r"\gamma")
+                                           _sym["gravity_m"], xp=sp), "g")
     # Earth rate and transport rate in NED
     Om_N = eq.let("Omega_N", U * sp.cos(lat), r"\Omega_N")
     Om_D = eq.let("Omega_D", -U * sp.sin(lat), r"\Omega_D")
