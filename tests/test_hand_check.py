@@ -469,3 +469,21 @@ def test_nonlinear_or_infinite_terms_are_input_problems(tmp_path, rhs, message, 
     out = capsys.readouterr().out
     assert message in out and "Traceback" not in out
     assert "1 agree" in out  # the other equation is still checked
+
+
+def test_effect_of_an_omitted_bias_is_the_schuler_response():
+    """Leaving Δa out of ΔV̇_ξ: after 1 h the position and tilt errors change by the
+    textbook Schuler response to a bias b = g θ, b/ω_s² (1 − cos ω_s t) and
+    (b/g)(1 − cos ω_s t), within the few per cent the Earth-rate coupling adds."""
+    text = CORRECT.replace("- Delta_W_xi + Delta_g_xi + Delta_a", "- Delta_W_xi + Delta_g_xi")
+    report = check_hand(parse_hand_text(text, default_notation("orthodromic")))
+    ((_, finding),) = report.mistakes
+    assert (finding.quantity, finding.kind) == ("Delta_a", "omitted term")
+    radius, g, theta = 6_378_245.0, 9.81, 1e-4
+    omega_s = math.sqrt(g / radius)
+    swing = 1 - math.cos(omega_s * 3600.0)
+    assert finding.effect["position_1h"] == pytest.approx(g * theta / omega_s**2 * swing,
+                                                          rel=0.03)
+    assert finding.effect["attitude_1h"] == pytest.approx(theta * swing, rel=0.03)
+    assert finding.effect["position_24h"] > 0
+    assert "effect: 1 h:" in to_terminal(report)

@@ -1,8 +1,201 @@
-"""Does it matter? The effect of each mistake on the 1 h and 24 h error (placeholder)."""
+"""Does it matter? The effect of each root mistake on the 1 h and 24 h error.
+
+The model's linear error equations ``x' = F x + G w`` are frozen at each reference point
+(their coefficients evaluated there) and propagated from a typical error state (every
+error state at its typical magnitude) with the file's error sources at theirs, once with
+the model's coefficients and once with the mistake put in:
+
+* a mistake in an error-state line changes that row of F (and G) by the hand's minus the
+  model's coefficient (its own part: with the definitions it uses corrected);
+* a mistake in a definition changes every error-state line it reaches by what it carries
+  there (hand minus isolated hand of those lines);
+* a mistake in a latitude/longitude line changes the position read out, not the states.
+
+The effect is the change of the position error (latitude and longitude errors, m, on a
+sphere of the model's radius) and of the platform attitude error (the error states that
+are platform angles, rad) after 1 h and 24 h; the largest over the reference points is
+kept, with the point.
+"""
 
 from __future__ import annotations
 
+import numpy as np
+import sympy as sp
+
+from ins_errors.checker import classify as cl
+from ins_errors.checker.reference import _earth
+
+HOURS = (1.0, 24.0)
+"""Propagation times, h."""
+
+
+def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray, seconds: float) -> np.ndarray:
+    """x(t) of x' = F x + drive (constant), by the exponential of the augmented matrix."""
+    from scipy.linalg import expm
+
+    n = f.shape[0]
+    m = np.zeros((n + 1, n + 1))
+    m[:n, :n] = f
+    m[:n, n] = drive
+    return (expm(m * seconds) @ np.append(x0, 1.0))[:n]
+
 
 def add_effects(report, d, side, comparison, identify, prepared, resolver) -> None:
-    """Attach effects to the report's mistakes (not computed yet)."""
-    return None
+    """Attach ``effect`` dicts to the report's root mistakes (see module docstring)."""
+    from ins_errors.checker.compare import _UnresolvedError
+
+    states = [v.name for v in d.error_states]
+    symbols = [side.error_states[s] for s in states]
+    basis_symbols = comparison.symbols
+    sources = [b for b in basis_symbols if b not in symbols]
+    magnitude = comparison.magnitude
+    n, k = len(states), len(comparison.points)
+    radius, _ = _earth(d)
+    try:
+        rows = [side.state_rhs[s].xreplace(identify) for s in states]
+        f = np.zeros((k, n, n))
+        drive = np.zeros((k, n))
+        for i, row in enumerate(rows):
+            parts, _ = comparison.linear_parts(row)
+            for b, c in parts.items():
+                value = comparison.evaluate([c])[0]
+                if b in symbols:
+                    f[:, i, symbols.index(b)] = value
+                elif b in sources:
+                    drive[:, i] += value * magnitude[b]
+        outputs = {name: side.delta(name).xreplace(identify)
+                   for name in ("latitude", "longitude") if name in side.outputs}
+        readout = {}
+        for name, expr in outputs.items():
+            parts, _ = comparison.linear_parts(expr)
+            h = np.zeros((k, n))
+            for b, c in parts.items():
+                if b in symbols:
+                    h[:, symbols.index(b)] = comparison.evaluate([c])[0]
+            readout[name] = h
+        cos_lat = (np.cos(comparison.evaluate([side.outputs["latitude"]])[0])
+                   if "latitude" in side.outputs else np.ones(k))
+    except (_UnresolvedError, KeyError):
+        return
+    platform = [i for i, v in enumerate(d.error_states) if i >= len(d.states) and v.unit == "rad"]
+    x0 = np.array([magnitude[s] for s in symbols])
+    items = {}
+    for eq, its in zip(resolver.hand.equations, prepared, strict=True):
+        for it in its:
+            items[(id(eq), it.form)] = it
+
+    def position(x: np.ndarray, point: int, extra: dict | None = None) -> np.ndarray:
+        lat = readout["latitude"][point] @ x if "latitude" in readout else 0.0
+        lon = readout["longitude"][point] @ x if "longitude" in readout else 0.0
+        if extra:
+            lat += extra.get("latitude", 0.0)
+            lon += extra.get("longitude", 0.0)
+        return radius * np.array([lat, cos_lat[point] * lon])
+
+    baseline = {}
+    for p in range(k):
+        for hours in HOURS:
+            baseline[(p, hours)] = _propagate(f[p], drive[p], x0, hours * 3600.0)
+
+    def run(delta_f: np.ndarray, delta_drive: np.ndarray, out_delta: dict) -> dict | None:
+        best = None
+        for p in range(k):
+            effect = {}
+            for hours in HOURS:
+                base = baseline[(p, hours)]
+                x = _propagate(f[p] + delta_f[p], drive[p] + delta_drive[p], x0, hours * 3600.0)
+                extra = {name: float(row[p] @ x) for name, row in out_delta.items()}
+                dpos = np.linalg.norm(position(x, p, extra) - position(base, p))
+                datt = np.linalg.norm((x - base)[platform]) if platform else 0.0
+                tag = f"{int(hours)}h"
+                effect[f"position_{tag}"] = float(dpos)
+                effect[f"attitude_{tag}"] = float(datt)
+            if best is None or effect["position_24h"] > best["position_24h"]:
+                best = {"point": comparison.points[p].label, **effect}
+        return best
+
+    state_of = {f"error state {s}": i for i, s in enumerate(states)}
+    for result in report.results:
+        roots = [g for g in result.findings if g.role == cl.ROOT and g.is_mistake
+                 and np.isfinite(g.size)]
+        if not roots:
+            continue
+        item = items.get((id(result.equation), result.form))
+        if item is None or item.hand is None:
+            continue
+        if result.target in state_of:  # one effect per mistake: only its own columns
+            effects = {}
+            for g in roots:
+                delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n))
+                try:
+                    _add_row(delta_f, delta_drive, state_of[result.target],
+                             item.hand_isolated, item.model_declared, comparison, symbols,
+                             sources, magnitude, only=set(g.quantity.split(" -> ")))
+                except _UnresolvedError:
+                    continue
+                effects[id(g)] = run(delta_f, delta_drive, {})
+            result.findings = [_with(g, effects[id(g)]) if id(g) in effects else g
+                               for g in result.findings]
+            continue
+        delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n))
+        out_delta: dict[str, np.ndarray] = {}
+        try:
+            if result.target.startswith("output latitude") or result.target in (
+                    "intermediate phi",) or result.target.startswith("output longitude") \
+                    or result.target == "intermediate lam":
+                name = "latitude" if ("latitude" in result.target
+                                      or result.target.endswith("phi")) else "longitude"
+                diff = comparison.linear_parts(item.hand_isolated)[0]
+                model = comparison.linear_parts(item.model_declared)[0]
+                row = np.zeros((k, n))
+                for b in set(diff) | set(model):
+                    if b in symbols:
+                        row[:, symbols.index(b)] = comparison.evaluate(
+                            [diff.get(b, sp.S.Zero) - model.get(b, sp.S.Zero)])[0]
+                out_delta[name] = row
+            else:
+                for other in report.results:
+                    if other.target not in state_of:
+                        continue
+                    if not any(g.role == cl.KNOCK_ON and result.reference in g.roots
+                               for g in other.findings):
+                        continue
+                    it = items.get((id(other.equation), other.form))
+                    if it is None or it.hand is None:
+                        continue
+                    _add_row(delta_f, delta_drive, state_of[other.target], it.hand,
+                             it.hand_isolated, comparison, symbols, sources, magnitude)
+        except _UnresolvedError:
+            continue
+        if not delta_f.any() and not delta_drive.any() and not out_delta:
+            effect = {"point": "—", "position_1h": 0.0, "position_24h": 0.0,
+                      "attitude_1h": 0.0, "attitude_24h": 0.0,
+                      "note": "reaches no error-state or position line"}
+        else:
+            effect = run(delta_f, delta_drive, out_delta)
+        result.findings = [g if g not in roots else _with(g, effect) for g in result.findings]
+
+
+def _with(finding, effect):
+    from dataclasses import replace
+
+    return replace(finding, effect=dict(effect))
+
+
+def _add_row(delta_f, delta_drive, row, hand, model, comparison, symbols, sources, magnitude,
+             only: set[str] | None = None):
+    """Add (hand − model) coefficients of one error-state line to row ``row`` (only the
+    quantities named in ``only``, if given)."""
+    h = comparison.linear_parts(hand)[0]
+    m = comparison.linear_parts(model)[0]
+    for b in set(h) | set(m):
+        if only is not None and str(b) not in only:
+            continue
+        value = comparison.evaluate([h.get(b, sp.S.Zero) - m.get(b, sp.S.Zero)])[0]
+        if b in symbols:
+            delta_f[:, row, symbols.index(b)] += value
+        elif b in sources:
+            delta_drive[:, row] += value * magnitude[b]
+
+
+__all__ = ["HOURS", "add_effects"]

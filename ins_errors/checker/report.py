@@ -64,6 +64,8 @@ def _effect(f: Finding) -> str:
     e = f.effect
     if not e:
         return ""
+    if "note" in e:
+        return e["note"]
     return (f"1 h: {_length(e['position_1h'])}, {_angle(e['attitude_1h'])}; "
             f"24 h: {_length(e['position_24h'])}, {_angle(e['attitude_24h'])} "
             f"({e['point']})")
