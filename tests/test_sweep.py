@@ -167,6 +167,21 @@ def test_bad_sweep_tables_are_one_line_errors(tmp_path, capsys, sweep, message):
     assert message in err and err.count("\n") == 1
 
 
+def test_a_failing_point_is_named_and_the_points_before_it_are_kept(tmp_path, capsys):
+    """A flight north at 250 m/s from 75° N reaches the pole within two hours."""
+    base = (BASE.replace('kind = "static"', 'kind = "great-circle"\nheading = "0 deg"')
+            .replace('"1 h"', '"2 h"').replace('"60 s"', '"600 s"'))
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '75 deg']\n", base)
+    store = tmp_path / "pole.zarr"
+    assert main(["sweep", str(path), "--engine", "serial", "--store", str(store)]) == 2
+    err = capsys.readouterr().err
+    assert "at the point latitude = 75 deg: the true motion leaves" in err
+    assert err.count("\n") == 1
+    import zarr
+
+    assert list(zarr.open_group(str(store), mode="r")["done"][:]) == [1, 0]
+
+
 def test_store_of_another_sweep_is_refused(tmp_path, capsys):
     path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '20 deg']\n",
                          BASE.replace('"1 h"', '"2 min"'))

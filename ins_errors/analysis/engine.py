@@ -200,7 +200,7 @@ def _run_dask(function, tasks, shared, scheduler, workers, stats, done) -> None:
         if scheduler is None:
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                                    host="127.0.0.1", dashboard_address=None,
-                                   silence_logs=logging.ERROR)
+                                   silence_logs=logging.CRITICAL)
             client = Client(cluster)
             stats.where = f"local Dask cluster of {workers} worker(s)"
         else:

@@ -264,6 +264,8 @@ class PointJob:
         Draw number (None: no random draw).
     platform : str
         ``"exact"`` or ``"small_angle"`` platform kinematics of the direct run.
+    label : str
+        The point's swept values as written (for messages).
     """
 
     model: str
@@ -280,6 +282,7 @@ class PointJob:
     seed: int = 0
     draw: int | None = None
     platform: str = "exact"
+    label: str = ""
 
 
 @dataclass
@@ -327,11 +330,15 @@ def grid(scenario) -> Grid:
                         sources[p.name] = v
                 case_index.append(case)
                 draw_index.append(-1 if draw is None else draw)
+                label = [f"{p.name} = {p.shown(v):.6g} {p.display_unit}"
+                         for p, v in zip(spec.parameters, values, strict=True)]
+                label += [f"case {case + 1}"] if len(cases) > 1 else []
+                label += [f"draw {draw}"] if draw is not None else []
                 jobs.append(PointJob(
                     scenario.model, tuple(sorted(motion.items())), str(scenario.base),
                     duration, step, scenario.record, scenario.method, scenario.refined,
                     scenario.ellipsoid, tuple(sorted(sources.items())), spec.random,
-                    spec.seed, draw, scenario.platform))
+                    spec.seed, draw, scenario.platform, ", ".join(label)))
     _check_grids(scenario, jobs)
     coordinates = {p.name: (np.array(labels[p.name]), {"units": p.unit, "display_unit":
                                                        p.display_unit, "swept": 1})
@@ -383,6 +390,13 @@ def run_point(job: PointJob) -> dict[str, np.ndarray]:
         ``source_value`` (nw,), all SI, quantities in the order of
         :func:`ins_errors.numeric.simulate.error_quantities`.
     """
+    try:
+        return _run_point(job)
+    except InsErrorsError as error:
+        raise SweepError(f"at the point {job.label}: {error}") from None
+
+
+def _run_point(job: PointJob) -> dict[str, np.ndarray]:
     from ins_errors.analysis.monte_carlo import draw_generator
     from ins_errors.numeric.compare import compare
     from ins_errors.numeric.model import load_model
