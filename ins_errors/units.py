@@ -125,6 +125,23 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
     return value
 
 
+DISPLAY_UNITS: dict[str, str] = {"rad": "arcmin", "rad/s": "deg/h", "m/s**2": "ug",
+                                 "m/s": "m/s", "m": "m", "1": "1"}
+"""Unit each SI unit is shown in by tables and plots meant for people (JSON stays SI)."""
+
+
+def display_scale(unit: str) -> tuple[float, str]:
+    """(factor, display unit) turning a value in the SI ``unit`` into its display unit.
+
+    ``value_si * factor`` is the value in the display unit of :data:`DISPLAY_UNITS`;
+    units not listed are shown as they are (factor 1).
+    """
+    shown = DISPLAY_UNITS.get(unit, unit)
+    if shown == unit:
+        return 1.0, unit
+    return 1.0 / parse_quantity(f"1 {shown}", unit), shown
+
+
 def format_quantity(value_si: float, unit: str, display_unit: str, digits: int = 4) -> str:
     """Format an SI value in an engineering unit, e.g. ``4.848e-8 rad/s -> '0.01 deg/h'``."""
     ureg = registry()

@@ -38,7 +38,14 @@ def test_json_plot_and_markdown(capsys, tmp_path):
             "delta_v_E"} <= set(names)
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = table.read_text()
-    assert "| `delta_latitude` | rad |" in text and "gyro_drift_x = 0.01 deg/h" in text
+    assert "gyro_drift_x = 0.01 deg/h" in text
+    # people read display units (arcmin), the JSON stays SI with its unit stated
+    row = next(line for line in text.splitlines() if line.startswith("| `delta_latitude` |"))
+    assert row.split("|")[2].strip() == "arcmin"
+    (metric,) = [m for m in case["metrics"] if m["quantity"] == "delta_latitude"]
+    assert metric["unit"] == "rad"
+    assert float(row.split("|")[3]) == pytest.approx(metric["max_direct"] * 180 / np.pi * 60,
+                                                     rel=1e-3)
 
 
 def test_separate_cases_and_moving_motions(capsys, tmp_path):

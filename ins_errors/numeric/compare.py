@@ -395,19 +395,26 @@ def _fmt(value: float | None) -> str:
     return f"{value:.3e}"
 
 
+def _times(value: float | None, factor: float) -> float | None:
+    return None if value is None else value * factor
+
+
 def markdown_table(comparison: Comparison) -> str:
-    """Markdown table of one case: one row per quantity."""
+    """Markdown table of one case: one row per quantity, sizes in display units."""
+    from ins_errors.units import display_scale
+
     lines = [f"**{comparison.label}**", "",
              "| quantity | unit | max abs direct | max abs (linear − direct) | ratio "
              "| max abs (refined − direct) | ratio | integration error direct | linear "
              "| excited |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|"]
-    for m in comparison.metrics:
-        lines.append(f"| `{m.quantity}` | {m.unit} | {_fmt(m.max_direct)} | "
-                     f"{_fmt(m.linear_difference)} | {_fmt(m.linear_ratio)} | "
-                     f"{_fmt(m.refined_difference)} | {_fmt(m.refined_ratio)} | "
-                     f"{_fmt(m.direct_integration_error)} | "
-                     f"{_fmt(m.linear_integration_error)} | "
+    for m in comparison.metrics:  # sizes in display units (arcmin, deg/h...), ratios bare
+        k, unit = display_scale(m.unit)
+        lines.append(f"| `{m.quantity}` | {unit} | {_fmt(_times(m.max_direct, k))} | "
+                     f"{_fmt(_times(m.linear_difference, k))} | {_fmt(m.linear_ratio)} | "
+                     f"{_fmt(_times(m.refined_difference, k))} | {_fmt(m.refined_ratio)} | "
+                     f"{_fmt(_times(m.direct_integration_error, k))} | "
+                     f"{_fmt(_times(m.linear_integration_error, k))} | "
                      f"{'yes' if m.excited else 'no'} |")
     return "\n".join(lines) + "\n"
 

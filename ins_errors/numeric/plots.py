@@ -12,18 +12,11 @@ from pathlib import Path
 from ins_errors.numeric.compare import Comparison
 from ins_errors.output import save_figure
 
-DISPLAY_UNITS: dict[str, str] = {"rad": "arcmin", "rad/s": "deg/h", "m/s": "m/s", "m": "m",
-                                 "1": "1"}
-"""Unit each SI unit is plotted in."""
-
 
 def _scale(unit: str) -> tuple[float, str]:
-    from ins_errors.units import parse_quantity
+    from ins_errors.units import display_scale
 
-    shown = DISPLAY_UNITS.get(unit, unit)
-    if shown == unit:
-        return 1.0, unit
-    return 1.0 / parse_quantity(f"1 {shown}", unit), shown
+    return display_scale(unit)
 
 
 def shared_quantities(comparisons: Sequence[Comparison]) -> list[str]:
