@@ -1,0 +1,256 @@
+"""Validity map of a model's linear error equations: how their residual scales.
+
+For each error source and motion, the source's magnitude is swept over decades around a
+typical size; direct, linear and refined runs are compared at every magnitude. If the
+linear model keeps every first-order term and nothing else is wrong, the relative
+linear residual |linear − direct| / |direct| grows in proportion to the magnitude (slope
+1 on a log–log plot: a clean second-order residual), and the refined model's residual as
+its square (slope 2). From the fitted line come the magnitudes at which the linear
+residual reaches 1 % and 10 % of the error.
+
+The work is a list of independent :class:`ValidityTask` (one per source and motion) and
+:func:`run_validity_task`, a pure module-level function of one task, so the tasks can be
+run in this process, a process pool or on a Dask cluster
+(:func:`ins_errors.analysis.engine.run_tasks`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+import numpy as np
+
+TYPICAL: dict[str, float] = {"deg/h": 0.01, "ug": 50.0, "arcsec": 20.0, "arcmin": 3.0,
+                             "m/s": 0.5, "ppm": 100.0}
+"""Typical size of a source, by the unit it is quoted in (navigation-grade instruments)."""
+
+FACTORS: tuple[float, ...] = (0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0)
+"""Magnitudes of the sweep, as multiples of the typical size (the large ones lift the
+refined residual of weak sources above the direct run's rounding)."""
+
+FIT_RANGE: tuple[float, float] = (1e-11, 0.3)
+"""Residual ratios a slope fit may use: below it the direct run's rounding dominates,
+above it strongly nonlinear runs saturate."""
+
+FLOOR_MARGIN = 3.0
+"""A point enters a slope fit only when its absolute residual (ratio × magnitude) is at
+least this many times the smallest one of the sweep: an absolute floor (rounding of the
+direct run, integration) stays constant while a true residual grows with magnitude."""
+
+LINEAR_FLOOR = 1e-8
+"""A linear residual below this ratio at every magnitude is rounding: the source acts
+exactly linearly (nothing to fit)."""
+
+MOTIONS: tuple[str, ...] = ("static", "great-circle")
+"""Motions of a default map."""
+
+
+@dataclass(frozen=True)
+class ValidityTask:
+    """One source on one motion: the sweep that :func:`run_validity_task` runs.
+
+    Attributes
+    ----------
+    model : str
+        Model name.
+    motion : str
+        Motion kind (``"static"``, ``"great-circle"``, ``"manoeuvre"``).
+    source : str
+        Error-source name.
+    magnitudes : tuple of float
+        Swept magnitudes, SI.
+    hours : float
+        Run length, h.
+    step : float
+        Integration step, s.
+    method : str
+        Integration scheme.
+    """
+
+    model: str
+    motion: str
+    source: str
+    magnitudes: tuple[float, ...]
+    hours: float = 24.0
+    step: float = 2.0
+    method: str = "rk4"
+
+
+@dataclass
+class SourceValidity:
+    """The sweep of one source on one motion, and what it says.
+
+    Attributes
+    ----------
+    source, motion : str
+    unit, display_unit : str
+        SI unit of the magnitudes and the unit they are quoted in.
+    magnitudes : list of float
+        SI.
+    quantity : str or None
+        The error quantity followed (largest linear residual at the typical size).
+    linear_ratio, refined_ratio : list of float
+        |linear − direct| and |refined − direct| over |direct|, per magnitude.
+    linear_slope, refined_slope : float or None
+        Fitted log–log slopes (None when fewer than two points are in :data:`FIT_RANGE`).
+    magnitude_1pct, magnitude_10pct : float or None
+        Magnitudes (SI) at which the linear residual is 1 % and 10 % of the error.
+    status : str
+        ``"ok"``, ``"exactly linear"`` (residual at the rounding floor everywhere) or
+        ``"not excited"`` (no error at all).
+    note : str
+        Why a slope is missing (e.g. the refined residual never rises above the direct
+        run's rounding).
+    """
+
+    source: str
+    motion: str
+    unit: str
+    display_unit: str
+    magnitudes: list[float]
+    quantity: str | None
+    linear_ratio: list[float] = field(default_factory=list)
+    refined_ratio: list[float] = field(default_factory=list)
+    linear_slope: float | None = None
+    refined_slope: float | None = None
+    magnitude_1pct: float | None = None
+    magnitude_10pct: float | None = None
+    status: str = "ok"
+    note: str = ""
+
+    def to_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {k: (None if isinstance(v, float) and not math.isfinite(v) else v)
+                for k, v in asdict(self).items()}
+
+
+def typical_magnitude(model, source: str) -> float:
+    """Typical size of ``source`` (SI) from :data:`TYPICAL` and its quoting unit."""
+    from ins_errors.units import parse_quantity
+
+    info = model.source(source)
+    shown = info.display_unit or info.unit
+    if shown not in TYPICAL:
+        raise ValueError(f"no typical size for sources quoted in {shown!r}")
+    return parse_quantity(f"{TYPICAL[shown]} {shown}", info.unit, source)
+
+
+def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
+                   step: float = 2.0, method: str = "rk4",
+                   factors: tuple[float, ...] = FACTORS) -> list[ValidityTask]:
+    """The independent tasks of a validity map: one per source and motion.
+
+    Parameters
+    ----------
+    model : Model
+        Loaded model.
+    motions : sequence of str
+        Motion kinds.
+    sources : sequence of str, optional
+        Error sources (default: all of the model's).
+    hours, step, method
+        Run length (h), integration step (s) and scheme of every run.
+    factors : tuple of float
+        Magnitudes as multiples of each source's typical size.
+    """
+    names = list(sources) if sources else [s.name for s in model.sources]
+    for name in names:
+        model.index("sources", name)
+    return [ValidityTask(model.name, motion, name,
+                         tuple(f * typical_magnitude(model, name) for f in factors),
+                         float(hours), float(step), method)
+            for motion in motions for name in names]
+
+
+def _fit(magnitudes: np.ndarray, ratios: np.ndarray) -> tuple[float, float] | None:
+    """Slope and intercept of log(ratio) against log(magnitude).
+
+    Uses the points in :data:`FIT_RANGE` clear of the absolute floor
+    (:data:`FLOOR_MARGIN`), from the largest magnitude down for as long as the ratio keeps
+    falling (local slope above 1/2).
+    """
+    order = np.argsort(magnitudes)
+    m, r = magnitudes[order], ratios[order]
+    absolute = r * m
+    positive = absolute[absolute > 0]
+    if positive.size == 0:
+        return None
+    above_floor = absolute >= FLOOR_MARGIN * positive.min()
+    inside = np.flatnonzero((r > FIT_RANGE[0]) & (r < FIT_RANGE[1]) & above_floor)
+    if inside.size < 2:
+        return None
+    keep = [inside[-1]]
+    for k in inside[-2::-1]:
+        if k != keep[-1] - 1 or not r[k] * (m[keep[-1]] / m[k]) ** 0.5 < r[keep[-1]]:
+            break
+        keep.append(k)
+    if len(keep) < 2:
+        return None
+    slope, intercept = np.polyfit(np.log(m[keep]), np.log(r[keep]), 1)
+    return float(slope), float(intercept)
+
+
+def run_validity_task(task: ValidityTask) -> SourceValidity:
+    """Run one sweep: direct, linear and refined at every magnitude, in one batch."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.motion_spec import motion_profile
+
+    model = load_model(task.model)
+    info = model.source(task.source)
+    profile = motion_profile({"kind": task.motion})
+    trajectory = tr.trajectory(model, profile, task.hours * 3600.0, task.step)
+    stride = max(1, min(trajectory.n_steps, round(300.0 / task.step)))
+    while trajectory.n_steps % stride:  # the largest stride up to 5 min that divides the run
+        stride -= 1
+    record = stride * task.step
+    cases = [{task.source: m} for m in task.magnitudes]
+    comparisons = compare(model, trajectory, cases, method=task.method,
+                          record_interval=record, integration_error=False,
+                          validity_threshold=None)
+    magnitudes = np.array(task.magnitudes)
+    result = SourceValidity(task.source, task.motion, info.unit,
+                            info.display_unit or info.unit, list(task.magnitudes), None)
+    typical = int(np.argmin(np.abs(np.log(magnitudes / typical_magnitude(model, task.source)))))
+    worst = comparisons[typical].worst_linear
+    if worst is None:
+        result.status = "not excited"
+        return result
+    result.quantity = worst.quantity
+    linear = np.array([c.metric(worst.quantity).linear_ratio for c in comparisons])
+    refined = np.array([c.metric(worst.quantity).refined_ratio for c in comparisons])
+    result.linear_ratio, result.refined_ratio = linear.tolist(), refined.tolist()
+    fit = _fit(magnitudes, linear)
+    if fit is None:
+        result.status = ("exactly linear" if np.all(linear <= LINEAR_FLOOR) else
+                         "not fitted")
+        return result
+    slope, intercept = fit
+    result.linear_slope = slope
+    refined_fit = _fit(magnitudes, refined)
+    result.refined_slope = None if refined_fit is None else refined_fit[0]
+    if refined_fit is None:
+        result.note = ("refined residual stays at the direct run's rounding floor: its "
+                       "slope cannot be measured")
+    if slope > 0.2:
+        result.magnitude_1pct = float(np.exp((math.log(0.01) - intercept) / slope))
+        result.magnitude_10pct = float(np.exp((math.log(0.1) - intercept) / slope))
+    return result
+
+
+def validity_map(tasks: list[ValidityTask], engine: str = "serial",
+                 progress: bool = False) -> list[SourceValidity]:
+    """Run every task (see :func:`ins_errors.analysis.engine.run_tasks`), in task order."""
+    from ins_errors.analysis.engine import run_tasks
+
+    results: list[SourceValidity | None] = [None] * len(tasks)
+
+    def keep(k: int, result: SourceValidity) -> None:
+        results[k] = result
+
+    run_tasks(run_validity_task, [(t,) for t in tasks], engine=engine, on_result=keep,
+              progress=progress, label="validity sweeps")
+    return [r for r in results if r is not None]

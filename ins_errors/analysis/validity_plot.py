@@ -1,0 +1,72 @@
+"""Log–log plot of one source's validity sweep (matplotlib, Agg backend)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.analysis.validity import SourceValidity
+from ins_errors.output import save_figure
+
+_COLOURS = {"static": "tab:blue", "great-circle": "tab:orange", "manoeuvre": "tab:green"}
+
+
+def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: str = "") -> Path:
+    """Relative linear and refined residuals against the source's magnitude.
+
+    Parameters
+    ----------
+    results : sequence of SourceValidity
+        The sweeps of one source (one per motion).
+    path : str or Path
+        Output file (png, pdf, svg).
+    title : str
+        Figure title.
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ins_errors.units import parse_quantity
+
+    fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    unit = results[0].display_unit if results else ""
+    for r in results:
+        if not r.linear_ratio:
+            continue
+        scale = 1.0 / parse_quantity(f"1 {r.display_unit}", r.unit)
+        m = np.array(r.magnitudes) * scale
+        colour = _COLOURS.get(r.motion, "black")
+        lin = np.array(r.linear_ratio)
+        ref = np.array(r.refined_ratio)
+        ax.loglog(m[lin > 0], lin[lin > 0], "o-", color=colour,
+                  label=f"{r.motion}: linear (slope {_slope(r.linear_slope)})")
+        ax.loglog(m[ref > 0], ref[ref > 0], "s--", color=colour, alpha=0.6, ms=4,
+                  label=f"{r.motion}: refined (slope {_slope(r.refined_slope)})")
+        for level, value in ((0.01, r.magnitude_1pct), (0.1, r.magnitude_10pct)):
+            if value is not None:
+                ax.plot([value * scale], [level], marker="v", color=colour, ms=8)
+    for level in (0.01, 0.1):
+        ax.axhline(level, color="grey", lw=0.8, ls=":")
+        ax.text(ax.get_xlim()[0], level, f" {level:.0%}", va="bottom", fontsize=7,
+                color="grey")
+    quantity = ", ".join(dict.fromkeys(r.quantity for r in results if r.quantity))
+    ax.set_xlabel(f"magnitude [{unit}]")
+    ax.set_ylabel(f"|model − direct| / max |direct|  ({quantity or 'no error'})", fontsize=8)
+    ax.grid(True, which="both", alpha=0.25)
+    ax.legend(fontsize=7, loc="best")
+    ax.set_title(title, fontsize=9)
+    fig.tight_layout()
+    return save_figure(fig, path, dpi=110)
+
+
+def _slope(value: float | None) -> str:
+    return "–" if value is None else f"{value:.2f}"

@@ -1,0 +1,118 @@
+"""``ins-errors validity MODEL``: where the linear error equations hold, source by source.
+
+Example::
+
+    ins-errors validity orthodromic --source gyro_drift_x --motion static --hours 6 --json
+    ins-errors validity orthodromic --plot --out validity_orthodromic
+
+For each error source (and motion), sweeps its magnitude over decades around a typical
+size, runs direct, linear and refined, and reports the log–log slopes of the linear and
+refined residuals (1 and 2 for a clean first-order model) and the magnitudes at which
+the linear residual reaches 1 % and 10 % of the error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+MOTIONS = ("static", "great-circle", "manoeuvre")
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "validity", help="validity map: how the linear model's residual scales, per source",
+        description="Sweep each error source's magnitude over decades around a typical "
+                    "size, run direct, linear and refined, and report the slopes of the "
+                    "linear (1 = clean second-order residual) and refined (2) residuals "
+                    "against magnitude and the magnitudes where the linear residual "
+                    "reaches 1 % and 10 % of the error; one log-log plot per source.")
+    parser.add_argument("model", help="model name, e.g. orthodromic")
+    parser.add_argument("--motion", action="append", choices=MOTIONS,
+                        help="true motion (repeatable; default: static and great-circle)")
+    parser.add_argument("--source", "-s", action="append", metavar="NAME",
+                        help="error source (repeatable; default: every source)")
+    parser.add_argument("--hours", type=float, default=24.0,
+                        help="length of each run in hours (default 24)")
+    parser.add_argument("--step", default="2s", help="integration step (default 2s, RK4)")
+    parser.add_argument("--json", action="store_true", help="machine-readable output")
+    parser.add_argument("--plot", action="store_true",
+                        help="write one log-log plot per source into --out")
+    parser.add_argument("--out", metavar="DIR",
+                        help="folder for results.json and the plots "
+                             "(default with --plot: validity_<model>)")
+    parser.add_argument("--force", action="store_true",
+                        help="write into a non-empty folder ins-errors did not write")
+    parser.add_argument("--engine", choices=("serial", "pool", "dask", "auto"),
+                        default="pool", help="where the sweeps run (default: a local "
+                                             "process pool)")
+    parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
+    parser.set_defaults(func=run)
+
+
+def _fmt(value, digits: str = ".3g") -> str:
+    return "–" if value is None else format(value, digits)
+
+
+def table(results, model) -> str:
+    """Markdown table of a validity map."""
+    from ins_errors.units import format_quantity
+
+    def shown(r, value):
+        return "–" if value is None else format_quantity(value, r.unit, r.display_unit, 3)
+
+    lines = ["| source | motion | quantity | linear slope | refined slope | 1 % at "
+             "| 10 % at | status |", "|---|---|---|---:|---:|---:|---:|---|"]
+    for r in results:
+        lines.append(f"| `{r.source}` | {r.motion} | {r.quantity or '–'} | "
+                     f"{_fmt(r.linear_slope)} | {_fmt(r.refined_slope)} | "
+                     f"{shown(r, r.magnitude_1pct)} | {shown(r, r.magnitude_10pct)} | "
+                     f"{r.status} |")
+    return "\n".join(lines) + "\n"
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.analysis.validity import MOTIONS as DEFAULT_MOTIONS
+    from ins_errors.analysis.validity import validity_map, validity_tasks
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric.model import load_model
+    from ins_errors.output import OutputFolder, require_matplotlib
+    from ins_errors.units import parse_quantity
+
+    model = load_model(args.model)
+    if not args.hours > 0:
+        raise InsErrorsError(f"--hours must be positive, got {args.hours:g}")
+    step = parse_quantity(args.step, "s", "--step")
+    motions = args.motion or list(DEFAULT_MOTIONS)
+    tasks = validity_tasks(model, motions, args.source, hours=args.hours, step=step)
+    out_dir = args.out or (f"validity_{model.name}" if args.plot else None)
+    if args.plot:
+        require_matplotlib("--plot")
+    if out_dir is not None:
+        OutputFolder(out_dir, force=args.force, create=False)  # refuse before computing
+    results = validity_map(tasks, engine=args.engine if len(tasks) > 1 else "serial",
+                           progress=not args.no_progress)
+    payload = {"model": model.name, "hours": args.hours, "step_s": step, "method": "rk4",
+               "sources": [r.to_dict() for r in results]}
+    if out_dir is not None:
+        out = OutputFolder(out_dir, force=args.force)
+        out.write_text("results.json", json.dumps(payload, indent=2) + "\n")
+        if args.plot:
+            from ins_errors.analysis.validity_plot import plot_validity
+
+            for name in dict.fromkeys(r.source for r in results):
+                plot_validity([r for r in results if r.source == name], out.file(f"{name}.png"),
+                              title=f"{model.name}: {name}")
+        out.finish()
+    if args.json:
+        json.dump(payload, sys.stdout, indent=2)
+        print()
+    else:
+        print(f"### {model.name}: validity of the linear error equations "
+              f"({args.hours:g} h runs, τ = {step:g} s, RK4)\n")
+        print(table(results, model))
+        if out_dir is not None:
+            print(f"written: {out_dir}/results.json" + (" and one plot per source"
+                                                         if args.plot else ""))
+    return 0

@@ -1,0 +1,78 @@
+"""Validity map: slopes of the linear (1) and refined (2) residuals, 1 % magnitudes.
+
+The slopes are what a correct first-order model must give (a second-order residual);
+the 1 % magnitude read off the fitted line is checked by an independent direct run at
+that magnitude.
+"""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from ins_errors.analysis.validity import (
+    ValidityTask,
+    run_validity_task,
+    typical_magnitude,
+    validity_tasks,
+)
+from ins_errors.cli import main
+from ins_errors.numeric import trajectories as tr
+from ins_errors.numeric.compare import compare
+from ins_errors.numeric.motion_spec import motion_profile
+
+
+@pytest.fixture(scope="module")
+def azimuth_sweep(orthodromic):
+    (task,) = validity_tasks(orthodromic, ["static"], ["initial_azimuth_error"], hours=4.0,
+                             step=10.0)
+    return task, run_validity_task(task)
+
+
+def test_slopes_of_a_clean_first_order_model(azimuth_sweep):
+    _, result = azimuth_sweep
+    assert result.status == "ok"
+    assert result.linear_slope == pytest.approx(1.0, abs=0.1)
+    assert result.refined_slope == pytest.approx(2.0, abs=0.2)
+    assert result.magnitude_1pct < result.magnitude_10pct
+
+
+def test_one_percent_magnitude_agrees_with_a_direct_run(orthodromic, azimuth_sweep):
+    task, result = azimuth_sweep
+    trajectory = tr.trajectory(orthodromic, motion_profile({"kind": "static"}),
+                               task.hours * 3600.0, task.step)
+    (c,) = compare(orthodromic, trajectory, [{task.source: result.magnitude_1pct}],
+                   record_interval=300.0, refined=False, integration_error=False,
+                   validity_threshold=None)
+    assert c.metric(result.quantity).linear_ratio == pytest.approx(0.01, rel=0.3)
+
+
+def test_a_source_with_no_effect_is_reported_not_excited(orthodromic):
+    """An accelerometer scale error sees no specific force horizontally on a static base."""
+    m = typical_magnitude(orthodromic, "accel_scale_error_x")
+    result = run_validity_task(ValidityTask("orthodromic", "static", "accel_scale_error_x",
+                                            (m, 10 * m), hours=1.0, step=10.0))
+    assert result.status == "not excited" and result.linear_slope is None
+
+
+def test_cli_json_and_plot(capsys, tmp_path):
+    out = tmp_path / "map"
+    status = main(["validity", "orthodromic", "--source", "gyro_drift_x", "--motion",
+                   "static", "--hours", "4", "--step", "10s", "--json", "--plot", "--out",
+                   str(out), "--no-progress"])
+    text, err = capsys.readouterr()
+    assert status == 0, err
+    (row,) = json.loads(text)["sources"]
+    assert row["source"] == "gyro_drift_x" and row["motion"] == "static"
+    assert row["linear_slope"] == pytest.approx(1.0, abs=0.1)
+    assert np.all(np.diff(row["linear_ratio"][:5]) > 0)
+    assert (out / "gyro_drift_x.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert json.loads((out / "results.json").read_text())["model"] == "orthodromic"
+
+
+def test_cli_unknown_source_is_one_line(capsys):
+    status = main(["validity", "orthodromic", "--source", "gyro_drift_q", "--no-progress"])
+    _, err = capsys.readouterr()
+    assert status == 2 and err.count("\n") == 1 and "gyro_drift_q" in err
