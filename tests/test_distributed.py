@@ -186,6 +186,15 @@ def test_sweep_on_two_workers_and_in_a_pool_is_bit_identical(cluster, scenario, 
     same(serial, in_pool.dataset)
 
 
+def test_scheduler_named_in_the_scenario_file(cluster, tmp_path):
+    path = tmp_path / "named.toml"
+    path.write_text(textwrap.dedent(SCENARIO).replace(
+        "draws = 2", f"scheduler = {cluster.scheduler_address!r}\ndraws = 1"))
+    result = sw.run_sweep(load_scenario(path), tmp_path / "named.zarr")
+    assert result.engine.where == f"Dask scheduler {cluster.scheduler_address}"
+    assert result.computed == 4
+
+
 def test_killed_worker_still_gives_the_complete_identical_sweep(cluster, scenario, serial,
                                                                 tmp_path):
     local = cluster

@@ -17,8 +17,9 @@ first and ``done`` last: a point whose write was interrupted is not marked done 
 again. Opening an existing store checks that it was made by the same sweep (a
 fingerprint of everything that determines the numbers) and returns which points are
 done, so a restarted sweep computes only the rest. A store named ``*.nc`` is filled as
-``*.nc.partial.zarr`` and converted to NetCDF (scipy's writer, no extra package) once
-complete.
+``*.nc.partial.zarr`` and converted to NetCDF (xarray's default writer; scipy's when no
+netCDF library is installed) once complete: NetCDF suits sweeps whose curves fit in
+memory, Zarr any size.
 """
 
 from __future__ import annotations
@@ -156,20 +157,23 @@ class SweepStore:
         return bool(self.done.all())
 
     def dataset(self):
-        """The whole store as an in-memory :class:`xarray.Dataset`."""
+        """The store as an :class:`xarray.Dataset`.
+
+        A Zarr store is opened lazily (a variable is read when its values are used, so
+        summaries of a large sweep do not load its curves); a NetCDF file is loaded.
+        """
         xr, _ = _libraries()
         if self.path.suffix == ".nc" and self.path.exists():
             with xr.open_dataset(self.path, mask_and_scale=False) as data:
                 return data.load()
-        with xr.open_zarr(str(self.work), chunks=None, consolidated=False,
-                          mask_and_scale=False) as data:
-            return data.load()
+        return xr.open_zarr(str(self.work), chunks=None, consolidated=False,
+                            mask_and_scale=False)
 
     def finish(self) -> None:
         """Once every point is done: write the NetCDF file of a ``*.nc`` store."""
         if not self.complete or self.path.suffix != ".nc" or self.path.exists():
             return
-        data = self.dataset()
+        data = self.dataset().load()  # NetCDF stores are for sweeps that fit in memory
         scratch = self.path.with_name(self.path.name + ".tmp")
         data.to_netcdf(scratch)
         scratch.replace(self.path)
