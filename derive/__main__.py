@@ -7,8 +7,9 @@ import sys
 import time
 from pathlib import Path
 
-from derive.pipeline import derive_all
 from ins_errors.errors import InsErrorsError
+
+from .pipeline import derive_all
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -11,7 +11,6 @@ from pathlib import Path
 
 import sympy as sp
 
-from derive.steps import step
 from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.codegen import (
     Argument,
@@ -23,13 +22,20 @@ from ins_errors.symbolic.codegen import (
 from ins_errors.symbolic.documents import error_equations_markdown
 from ins_errors.symbolic.variation import ErrorModel, second_order_of, vary
 
+from .steps import step
 
-def header(model: ModelDefinition, markdown: bool = False) -> str:
-    """The do-not-edit banner of every generated file (no timestamps, no paths)."""
+
+def header(model: ModelDefinition, markdown: bool = False,
+           origin: tuple[str, str] | None = None) -> str:
+    """The do-not-edit banner of every generated file (no timestamps, no paths).
+
+    ``origin`` is ``(written by, how to regenerate)`` for a model outside the package;
+    the default names the built-in model module and `make derive`.
+    """
     module = f"ins_errors/models/{model.name}.py"
-    lines = ["GENERATED FILE: do not edit by hand.",
-             f"Written by `make derive` (python -m derive) from {module}.",
-             "Edit the model definition and run `make derive` again."]
+    written, again = origin or (f"`make derive` (python -m derive) from {module}",
+                                "Edit the model definition and run `make derive` again.")
+    lines = ["GENERATED FILE: do not edit by hand.", f"Written by {written}.", again]
     if markdown:
         return "<!--\n" + "\n".join(lines) + "\n-->\n"
     return "".join(f"# {line}\n" for line in lines)
@@ -96,7 +102,7 @@ def function_specs(em: ErrorModel) -> list[FunctionSpec]:
     ]
 
 
-def _metadata(d: ModelDefinition) -> str:
+def _metadata(d: ModelDefinition, record: dict[str, str] | None = None) -> str:
     def rows(variables, extra=()):
         out = []
         for v in variables:
@@ -121,6 +127,7 @@ def _metadata(d: ModelDefinition) -> str:
         "INITIAL_CONDITIONS = (", rows(d.initial_conditions), ")",
         f"DOMAIN = {tuple(message for _, message in d.domain)!r}",
         f"INITIAL_DOMAIN = {tuple(message for _, message in d.initial_domain)!r}",
+        *(f"{key} = {value!r}" for key, value in (record or {}).items()),
         "",
     ])
 
@@ -173,23 +180,39 @@ class ModelSummary:
     seconds: float
 
 
-def write_model(d: ModelDefinition, root: Path) -> ModelSummary:
-    """Derive and write ``root/<model>/`` for one model definition."""
+def write_model(d: ModelDefinition, root: Path, origin: tuple[str, str] | None = None,
+                record: dict[str, str] | None = None) -> ModelSummary:
+    """Derive and write ``root/<model>/`` for one model definition.
+
+    Parameters
+    ----------
+    d : ModelDefinition
+        The model.
+    root : Path
+        Folder that receives ``<model>/``.
+    origin : (str, str), optional
+        Banner lines for a model outside the package (see :func:`header`).
+    record : dict, optional
+        Extra ``NAME = 'value'`` lines of the metadata module (e.g. the model file hash).
+    """
     start = time.perf_counter()
     with step(d.name, "vary (first- and second-order error equations)"):
         em = vary(d)
-    with step(d.name, "generate numeric code"):
-        prepared = [prepare(spec) for spec in function_specs(em)]
+    prepared = []
+    for spec in function_specs(em):
+        with step(d.name, f"generate numeric code of {spec.name}"):
+            prepared.append(prepare(spec))
     folder = root / d.name
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "__init__.py").write_text(header(d) + _metadata(d), encoding="utf-8")
-    numpy_src = [header(d), f'"""numpy functions of the model {d.name!r} (broadcasting)."""',
-                 NUMPY_PRELUDE]
+    (folder / "__init__.py").write_text(header(d, origin=origin) + _metadata(d, record),
+                                        encoding="utf-8")
+    numpy_src = [header(d, origin=origin),
+                 f'"""numpy functions of the model {d.name!r} (broadcasting)."""', NUMPY_PRELUDE]
     numpy_src += ["\n" + emit_numpy_function(p) + "\n" for p in prepared]
     names = [p.spec.name for p in prepared]
     numpy_src.append(f"\nFUNCTIONS = {tuple(names)!r}\n")
     (folder / "numpy_model.py").write_text("\n".join(numpy_src), encoding="utf-8")
-    casadi_src = [header(d), f'"""CasADi SX functions of the model {d.name!r}."""',
+    casadi_src = [header(d, origin=origin), f'"""CasADi SX functions of the model {d.name!r}."""',
                   _CASADI_PRELUDE]
     casadi_src += ["\n" + emit_casadi_builder(p) + "\n" for p in prepared]
     builders = ", ".join(f"{n!r}: _build_{n}" for n in names)
@@ -197,8 +220,8 @@ def write_model(d: ModelDefinition, root: Path) -> ModelSummary:
     (folder / "casadi_model.py").write_text("\n".join(casadi_src), encoding="utf-8")
     with step(d.name, "write the equations document"):
         document = error_equations_markdown(d)
-    (folder / "error_equations.md").write_text(header(d, markdown=True) + "\n" + document,
-                                               encoding="utf-8")
+    (folder / "error_equations.md").write_text(header(d, markdown=True, origin=origin) + "\n"
+                                               + document, encoding="utf-8")
     return ModelSummary(d.name, len(d.states), len(d.error_states), len(d.sources),
                         len(d.outputs), sum(p.operations for p in prepared),
                         time.perf_counter() - start)

@@ -18,12 +18,13 @@ from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from derive.hand_check_report import write_hand_check_reports
-from derive.model_files import ModelSummary, write_model
-from derive.steps import step
-from derive.transfer_functions import write_transfer_functions
 from ins_errors.errors import unknown_name
 from ins_errors.models import definition, model_names
+
+from .hand_check_report import write_hand_check_reports
+from .model_files import ModelSummary, write_model
+from .steps import step
+from .transfer_functions import write_transfer_functions
 
 EXTRA_STEPS: list[Callable[[Path], None]] = [write_transfer_functions, write_hand_check_reports]
 """Callables ``step(generated_root)`` run after every model has been written."""

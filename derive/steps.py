@@ -17,7 +17,7 @@ def step(model: str, what: str) -> Iterator[None]:
     """Turn any failure inside the block into a one-line :class:`DeriveError`."""
     try:
         yield
-    except DeriveError:
+    except InsErrorsError:  # already one line naming the problem (e.g. the model's quantity)
         raise
     except Exception as error:  # any failure of SymPy or of a model definition
         text = str(error).strip().splitlines()

@@ -19,12 +19,13 @@ from pathlib import Path
 
 import sympy as sp
 
-from derive.model_files import NUMPY_PRELUDE
 from ins_errors.models import definition
 from ins_errors.symbolic.analytic import S, T
 from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_numpy_function, prepare
 from ins_errors.symbolic.documents import to_latex
 from ins_errors.symbolic.static_base import LATEX, SETUPS, VariantResult, static_analyses
+
+from .model_files import NUMPY_PRELUDE
 
 _HEADER = ("GENERATED FILE: do not edit by hand.",
            "Written by `make derive` (python -m derive, step derive/transfer_functions.py)",

@@ -16,6 +16,7 @@ import sys
 
 COMMAND_MODULES = (
     "ins_errors.commands.models",
+    "ins_errors.commands.derive",
     "ins_errors.commands.run",
     "ins_errors.commands.compare",
     "ins_errors.commands.validity",

@@ -17,6 +17,7 @@ import re
 from importlib import resources
 from pathlib import Path
 
+from ins_errors.numeric.model import Model, load_model
 from ins_errors.output import OutputFolder
 from ins_errors.scenario import ScenarioResult
 
@@ -24,9 +25,10 @@ _MATH = re.compile(r"\$\$(.+?)\$\$", re.S)
 _INLINE_MATH = re.compile(r"(?<!\$)\$([^$\n]+?)\$(?!\$)")
 
 
-def _equations_document(model: str) -> str:
+def _equations_document(model: Model) -> str:
     """The generated error_equations.md of a model, without its banner and title."""
-    text = resources.files("ins_errors.generated").joinpath(model, "error_equations.md")
+    text = (model.folder / "error_equations.md" if model.folder is not None else
+            resources.files("ins_errors.generated").joinpath(model.name, "error_equations.md"))
     body = text.read_text(encoding="utf-8")
     body = re.sub(r"^<!--.*?-->\s*", "", body, flags=re.S)
     return re.sub(r"^# .*\n", "", body, count=1)
@@ -37,12 +39,13 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
     from ins_errors.numeric.compare import markdown_summary, markdown_table
 
     s = result.scenario
+    model = load_model(s.model)
     lines = [f"# {s.title}", ""]
     if s.description:
         lines += [s.description, ""]
     lines += [
         "| setting | value |", "|---|---|",
-        f"| model | `{s.model}` |",
+        f"| model | `{model.name}` |",
         f"| motion | {result.motion_description} |",
         f"| duration | {s.duration / 3600:g} h |",
         f"| step τ | {s.step:g} s ({'rectangle method' if s.method == 'euler' else 'RK4'}) |",
@@ -62,7 +65,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
     for k, (comparison, plot) in enumerate(zip(result.comparisons, plots, strict=True), 1):
         lines += [f"## Case {k}: {comparison.label}", "", f"![case {k}]({plot})", "",
                   markdown_table(_selected(comparison, s.quantities))]
-    lines += ["## Equations used", "", _equations_document(s.model)]
+    lines += ["## Equations used", "", _equations_document(model)]
     return "\n".join(lines) + "\n"
 
 
@@ -165,7 +168,7 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
     text = report_markdown(result, plots)
     out.write_text("report.md", text)
     out.write_text("report.html", markdown_to_html(text, result.scenario.title, out.path))
-    summary = {"title": result.scenario.title, "model": result.scenario.model,
+    summary = {"title": result.scenario.title, "model": load_model(result.scenario.model).name,
                "motion": result.motion_description, "duration_s": result.scenario.duration,
                "step_s": result.scenario.step, "record_s": result.scenario.record,
                "method": result.scenario.method,

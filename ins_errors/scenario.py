@@ -154,7 +154,8 @@ def load_scenario(path: str | Path) -> Scenario:
                             "not [case]")
     if "model" not in data:
         raise ScenarioError(f"{path.name}: missing 'model = \"...\"'")
-    model = load_model(str(data["model"]))
+    # a model file is taken relative to the scenario file
+    model = load_model(str(data["model"]), relative_to=path.parent)
     run = data.get("run", {})
     _check_keys(run, _RUN_KEYS, f"{path.name} [run]")
     outputs = data.get("outputs", {})
@@ -223,7 +224,7 @@ def load_scenario(path: str | Path) -> Scenario:
     return Scenario(
         title=str(data.get("title", path.stem)),
         description=str(data.get("description", "")),
-        model=model.name,
+        model=model.key,
         motion=dict(data.get("motion", {})),
         duration=duration,
         step=step,

@@ -300,7 +300,7 @@ def direct_monte_carlo(model, trajectory, sources: Sequence[SourceStatistics], r
     blocks = [(k, min(k + batch, runs)) for k in range(0, runs, batch)]
     # the first block here: compiles (or loads) the loop once and checks the request
     results: list = [None] * len(blocks)
-    results[0] = _direct_block(model.name, trajectory, statistics, seed, *blocks[0], method,
+    results[0] = _direct_block(model.key, trajectory, statistics, seed, *blocks[0], method,
                                record_interval)
     rest = [(*block, method, record_interval) for block in blocks[1:]]
     if workers == 1 and scheduler is None and engine == "auto":
@@ -311,7 +311,7 @@ def direct_monte_carlo(model, trajectory, sources: Sequence[SourceStatistics], r
 
     if rest:
         run_tasks(_direct_block, rest, engine=engine, scheduler=scheduler, workers=workers,
-                  shared=(model.name, trajectory, statistics, seed), on_result=keep,
+                  shared=(model.key, trajectory, statistics, seed), on_result=keep,
                   progress=progress, label="direct Monte Carlo")
     times, _, quantity_names, _ = results[0]
     values = np.concatenate([r[1] for r in results], axis=-1)

@@ -14,7 +14,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "variance among the sources (equal shares unless the spec weights or "
                     "fixes some), report the allowed magnitudes and the item binding each "
                     "source, and optionally check the result with direct Monte Carlo runs.")
-    parser.add_argument("model", help="model name, e.g. orthodromic")
+    parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--spec",
                         help="spec file (TOML with units); default: the built-in 802m spec")
     parser.add_argument("--plot", metavar="PNG", help="write a stacked contribution plot")

@@ -25,7 +25,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "generated error equations (linear and refined runs) along one true "
                     "motion, and report, per error quantity, the max difference and its "
                     "ratio to the max direct error.")
-    parser.add_argument("model", help="model name, e.g. orthodromic")
+    parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--source", "-s", action="append", default=[], metavar="NAME=VALUE",
                         help="error source with unit, e.g. gyro_drift_x=0.01deg/h "
                              "(repeatable; see 'ins-errors models MODEL')")

@@ -12,7 +12,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Without NAME, list the models. With NAME, list its error states, "
                     "error sources (with units and the lab manual's factor numbers) and "
                     "outputs.")
-    parser.add_argument("name", nargs="?", help="model name, e.g. orthodromic")
+    parser.add_argument("name", nargs="?",
+                        help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.set_defaults(func=run)
 

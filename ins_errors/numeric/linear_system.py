@@ -202,9 +202,9 @@ def system_from_trajectory(model, trajectory, step: float | None = None) -> Line
         Covariance grid step, s: a whole multiple of the trajectory's step that divides
         its duration (default: the trajectory's step).
     """
-    if trajectory.model != model.name:
+    if trajectory.model != model.key:
         raise ShapeError(f"trajectory was computed for model {trajectory.model!r}, "
-                         f"not {model.name!r}")
+                         f"not {model.key!r}")
     tau, count = trajectory.tau, trajectory.n_steps
     stride = 1 if step is None else round(step / tau)
     if stride < 1 or abs(stride * tau - (step or tau)) > 1e-9 * tau or count % stride:

@@ -2,13 +2,17 @@
 
 ``load_model(name)`` imports only the generated code (no SymPy): fast, and it works from
 an installed wheel. The SymPy definition is built on first access to ``.symbolic``.
+``load_model`` also takes a model file (``"./my_ins.py"``) or an installed entry point
+(see :mod:`ins_errors.model_lookup`); their generated code is found or derived there.
 """
 
 from __future__ import annotations
 
 import importlib
+from collections.abc import Callable
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cache, cached_property
+from pathlib import Path
 from types import ModuleType
 from typing import Any
 
@@ -56,28 +60,51 @@ def _infos(rows: tuple[dict[str, Any], ...]) -> tuple[Info, ...]:
 
 
 def available_models() -> tuple[str, ...]:
-    """Names of every model with generated code."""
-    generated = importlib.import_module("ins_errors.generated")
-    return tuple(generated.MODELS)
+    """Names of every built-in model and every model installed packages register
+    (entry-point group ``ins_errors.models``)."""
+    from ins_errors.model_lookup import builtin_names, entry_point_names
+
+    return (*builtin_names(), *entry_point_names())
 
 
-def load_model(name: str) -> Model:
+def load_model(name: str, relative_to: str | Path | None = None) -> Model:
     """Load a model's generated code and metadata.
 
     Parameters
     ----------
     name : str
-        Model name, e.g. ``"orthodromic"``.
+        Model name (``"orthodromic"``), model file (``"./my_ins.py"``), installed
+        entry-point name, or a :attr:`Model.key`.
+    relative_to : path, optional
+        Folder a relative model file is taken from (default: the current folder).
 
     Raises
     ------
     UnknownNameError
         If there is no such model (the message suggests close names).
+    ModelDefinitionError
+        If a model file has a mistake (one line naming the quantity and the step).
     """
-    models = available_models()
-    if name not in models:
-        raise unknown_name("model", name, models)
-    return Model(name)
+    from ins_errors.model_lookup import resolve
+
+    ref = resolve(name, relative_to)
+    if ref.kind == "builtin":
+        return Model(ref.spec)
+    return _file_model(ref)
+
+
+@cache
+def _file_model(ref) -> Model:
+    from ins_errors.model_lookup import definition_of, generated_folder, load_module
+
+    folder = generated_folder(ref)
+    prefix = f"_ins_errors_generated_{ref.sha256[:16]}"
+    meta = load_module(folder / "__init__.py", prefix)
+    numpy_module = load_module(folder / "numpy_model.py", f"{prefix}_numpy")
+    casadi_module = load_module(folder / "casadi_model.py", f"{prefix}_casadi")  # cheap
+    return Model(meta.NAME, meta=meta, numpy_module=numpy_module,
+                 casadi_loader=lambda: casadi_module,
+                 definition_loader=lambda: definition_of(ref), key=ref.key, folder=folder)
 
 
 class Model:
@@ -89,10 +116,24 @@ class Model:
     Arguments may carry trailing batch axes (shape ``(n, ...)``).
     """
 
-    def __init__(self, name: str):
+    def __init__(self, name: str, *, meta: ModuleType | None = None,
+                 numpy_module: ModuleType | None = None,
+                 casadi_loader: Callable[[], ModuleType] | None = None,
+                 definition_loader: Callable[[], Any] | None = None, key: str | None = None,
+                 folder: Path | None = None):
         self.name = name
-        self.meta = importlib.import_module(f"ins_errors.generated.{name}")
-        self.numpy: ModuleType = importlib.import_module(f"ins_errors.generated.{name}.numpy_model")
+        self.key: str = key or name
+        """What :func:`load_model` maps back to this exact model (its name for a built-in
+        model; file path and hash for a model file)."""
+        self.folder: Path | None = folder
+        """Folder of the generated package of a model file (None for built-in models)."""
+        package = f"ins_errors.generated.{name}"
+        self.meta = meta or importlib.import_module(package)
+        self.numpy: ModuleType = numpy_module or importlib.import_module(
+            f"{package}.numpy_model")
+        self._casadi_loader = casadi_loader or (
+            lambda: importlib.import_module(f"{package}.casadi_model"))
+        self._definition_loader = definition_loader
         self.title: str = self.meta.TITLE
         self.source_document: str = self.meta.SOURCE
         self.states = _infos(self.meta.STATES)
@@ -111,11 +152,13 @@ class Model:
     @cached_property
     def casadi(self) -> ModuleType:
         """The generated CasADi module (``.function(name)`` returns a ``casadi.Function``)."""
-        return importlib.import_module(f"ins_errors.generated.{self.name}.casadi_model")
+        return self._casadi_loader()
 
     @cached_property
     def symbolic(self):
         """The SymPy :class:`~ins_errors.modeling.ModelDefinition` (imports SymPy)."""
+        if self._definition_loader is not None:
+            return self._definition_loader()
         from ins_errors.models import definition
 
         return definition(self.name)

@@ -364,9 +364,9 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
     """
     check_method(method)
     real_rhs_name(model, platform)
-    if trajectory.model != model.name:
+    if trajectory.model != model.key:
         raise ShapeError(f"trajectory was computed for model {trajectory.model!r}, "
-                         f"not {model.name!r}")
+                         f"not {model.key!r}")
     for part in parts:
         if part not in PARTS:
             raise unknown_name("simulation part", part, PARTS)
@@ -401,7 +401,7 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
     # a moving run is fed in pieces of about STREAM_STEPS steps (whole compiled chunks)
     chunk = chunk_size(records) if trajectory.constant else min(
         chunk_size(records), _power_of_two_below(max(1, STREAM_STEPS // stride)))
-    loop = _loop(model.name, parts, method, stride, float(tau), tuple(p), u_const,
+    loop = _loop(model.key, parts, method, stride, float(tau), tuple(p), u_const,
                  tuple(bool(a) for a in active), B, jit, chunk, platform)
     if trajectory.constant:
         result = loop.run(z0, w[active], N, None, progress=progress)

@@ -321,7 +321,9 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
     input_names = [i.name for i in model.inputs]
     output_names = [o.name for o in model.outputs]
     ic_names = [c.name for c in model.initial_conditions]
-    i_vn, i_ve = _require(model, "initial_conditions", ["v_N", "v_E"])
+    i_vn = _require(model, "initial_conditions", ["v_N"])[0]
+    # a north-channel model (no v_E) follows a static base only: checked in trajectory()
+    i_ve = ic_names.index("v_E") if "v_E" in ic_names else None
     i_lat_out = _require(model, "outputs", ["latitude"])[0]
     i_heading = _require(model, "outputs", ["heading"])[0] if frame == "track" else None
     par = {name: k for k, name in enumerate(i.name for i in model.parameters)}
@@ -415,7 +417,9 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
         ve0 = cmd[0] * ca.sin(chi0) - cmd[1] * ca.cos(chi0)
     else:
         vn0, ve0 = cmd[0], cmd[1]
-    c_entries[i_vn], c_entries[i_ve] = vn0, ve0
+    c_entries[i_vn] = vn0
+    if i_ve is not None:
+        c_entries[i_ve] = ve0
     initial_fn = ca.Function("motion_initial_state", [c0, cmd, p],
                              [initial(ca.vertcat(*c_entries), u_kin, p), ca.vertcat(*c_entries)])
     return _Kinematics(consistent, inputs, truth_rhs, initial_fn, frame == "track")
@@ -488,7 +492,8 @@ class Trajectory:
     Parameters
     ----------
     model : str
-        Model name the inputs were computed for.
+        :attr:`Model.key` of the model the inputs were computed for (its name for a
+        built-in model).
     tau : float
         Step, s.
     n_steps : int
@@ -648,7 +653,7 @@ class ProfileTruth:
 
     def __init__(self, model: Model, profile: Profile, frame: str, tau: float, n_steps: int,
                  p: np.ndarray, x0: np.ndarray):
-        self.model_name, self.profile, self.frame = model.name, profile, frame
+        self.model_name, self.profile, self.frame = model.key, profile, frame
         self.tau, self.n_steps, self.p, self.x0 = float(tau), n_steps, p, x0
 
     def chunks(self, size: int) -> Iterator[TruthChunk]:
@@ -727,7 +732,10 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     frame = profile.frame
     if profile.static and not any(o.name == "heading" for o in model.outputs):
         frame = "geographic"  # at rest the commands are zero in any frame
-    kin = _kinematics(model.name, frame)
+    if not profile.static and not any(c.name == "v_E" for c in model.initial_conditions):
+        raise MotionError(f"model {model.name!r} has no east velocity (initial condition "
+                          "v_E): it follows a static base only")
+    kin = _kinematics(model.key, frame)
     start = np.array([profile.latitude, profile.longitude, profile.heading])
     values0, rates0 = profile.commands(np.zeros(1))
     x0, c0 = (np.asarray(v).ravel() for v in kin.initial_state(start, values0[:, 0], p))
@@ -737,7 +745,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         # a vehicle at rest may still have a moving state (e.g. a free-azimuth angle that
         # follows the Earth's rotation): only a state at equilibrium is held constant
         if np.abs(model.numpy.ideal_rhs(x0, u0, p)).max() <= STATIC_TOLERANCE:
-            return Trajectory(model.name, float(tau), n_steps, x0[:, None], u0[:, None],
+            return Trajectory(model.key, float(tau), n_steps, x0[:, None], u0[:, None],
                               u0[:, None], p, c0, True, profile.description)
     source = ProfileTruth(model, profile, frame, tau, n_steps, p, x0)
     # about 74 numbers per step for the orthodromic model while it is built
@@ -747,9 +755,9 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         stream = 8 * n_values > STREAM_BYTES
     if stream:
         first = next(source.chunks(1))  # checks the start of the motion now
-        return Trajectory.streamed(model.name, tau, n_steps, source, first.truth[:, 0],
+        return Trajectory.streamed(model.key, tau, n_steps, source, first.truth[:, 0],
                                    first.inputs[:, 0], p, c0, profile.description)
-    traj = Trajectory.streamed(model.name, tau, n_steps, source, x0, u0, p, c0,
+    traj = Trajectory.streamed(model.key, tau, n_steps, source, x0, u0, p, c0,
                                profile.description)
     traj._store()
     return traj
@@ -836,4 +844,4 @@ def consistent_state(model: Model, x: np.ndarray, commands: np.ndarray, frame: s
         (v1, v2, h, V_zeta) in ``frame``.
     """
     p = model.parameter_vector() if p is None else p
-    return np.asarray(_kinematics(model.name, frame).consistent_state(x, commands, p)).ravel()
+    return np.asarray(_kinematics(model.key, frame).consistent_state(x, commands, p)).ravel()

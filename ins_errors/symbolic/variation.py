@@ -20,11 +20,14 @@ Two views are produced:
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Literal
 
 import sympy as sp
 
+from ins_errors.errors import InsErrorsError, ModelDefinitionError
 from ins_errors.modeling import Mechanisation, ModelDefinition, accent
 
 
@@ -111,33 +114,60 @@ def second_order_of(definition: ModelDefinition, real_rhs: sp.Matrix) -> sp.Matr
     return _second_order_term(real_rhs.jacobian(variables), variables, [*d.xe, *d.w], point)
 
 
+@contextmanager
+def _step(model: str, quantity: str) -> Iterator[None]:
+    """Turn a SymPy failure on ``quantity`` into one line naming the model and the step."""
+    try:
+        yield
+    except InsErrorsError:
+        raise
+    except Exception as error:  # SymPy on a researcher's expressions: any failure
+        text = str(error).strip().splitlines()
+        raise ModelDefinitionError(f"model {model!r}: {quantity}: {type(error).__name__}: "
+                                   f"{text[0] if text else ''} (step: variation)") from None
+
+
 def vary(definition: ModelDefinition) -> ErrorModel:
-    """Derive the closed first- and second-order error model of ``definition``."""
+    """Derive the closed first- and second-order error model of ``definition``.
+
+    Raises
+    ------
+    ModelDefinitionError
+        If SymPy fails on one of the quantities (the message names it).
+    """
     d = definition
     n = len(d.states)
     at_ideal = d.at_ideal()
     no_errors = d.no_errors()
-    real_rhs = d.real_rhs_expanded()
-    outputs = d.outputs_expanded()
+    with _step(d.name, "real-work equations (intermediates substituted)"):
+        real_rhs = d.real_rhs_expanded()
+    with _step(d.name, "outputs (intermediates substituted)"):
+        outputs = d.outputs_expanded()
 
     def at_point(m: sp.Matrix) -> sp.Matrix:
         return m.xreplace(at_ideal).xreplace(no_errors)
 
     variables = [*d.real_states, *d.w]
-    jacobian = real_rhs.jacobian(variables)
-    F = at_point(jacobian[:, : len(d.real_states)])
-    G = at_point(jacobian[:, len(d.real_states):])
-    output_jacobian = outputs.jacobian(d.x)
-    H = output_jacobian.row_join(sp.zeros(len(d.outputs), len(d.real_states) - n))
+    with _step(d.name, "state matrix F and source matrix G"):
+        jacobian = real_rhs.jacobian(variables)
+        F = at_point(jacobian[:, : len(d.real_states)])
+        G = at_point(jacobian[:, len(d.real_states):])
+    with _step(d.name, "output matrix H"):
+        output_jacobian = outputs.jacobian(d.x)
+        H = output_jacobian.row_join(sp.zeros(len(d.outputs), len(d.real_states) - n))
 
     point = {**at_ideal, **no_errors}
-    second = _second_order_term(jacobian, variables, [*d.xe, *d.w], point)
-    output_second = _second_order_term(output_jacobian, d.x, d.xe[:n], {})
+    with _step(d.name, "second-order terms"):
+        second = _second_order_term(jacobian, variables, [*d.xe, *d.w], point)
+        output_second = _second_order_term(output_jacobian, d.x, d.xe[:n], {})
 
-    E = d.initial_real_state.jacobian(d.w).xreplace(no_errors)
+    with _step(d.name, "initial error matrix E"):
+        E = d.initial_real_state.jacobian(d.w).xreplace(no_errors)
+    with _step(d.name, "ideal-work equations (intermediates substituted)"):
+        ideal_rhs = d.ideal_rhs_expanded()
     return ErrorModel(
         definition=d,
-        ideal_rhs=d.ideal_rhs_expanded(),
+        ideal_rhs=ideal_rhs,
         real_rhs=real_rhs,
         outputs=outputs,
         state_matrix=F,

@@ -1,0 +1,56 @@
+"""``ins-errors derive MODEL_FILE [--out DIR]``: write a model's generated package."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from dataclasses import asdict
+from pathlib import Path
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "derive", help="derive a model file and write its generated package",
+        description="Vary the model defined in MODEL (a Python file written with "
+                    "ins_errors.modeling, or an installed model) and write the same "
+                    "generated package `make derive` writes for a built-in model: metadata "
+                    "(__init__.py, with the hash of the model file), numpy_model.py, "
+                    "casadi_model.py (first- and second-order error equations) and "
+                    "error_equations.md (the equations as Markdown/LaTeX). All or nothing: "
+                    "on any error DIR is left as it was.")
+    parser.add_argument("model", help="model file, e.g. examples/own_model/schuler_loop.py")
+    parser.add_argument("--out", "-o", type=Path, metavar="DIR",
+                        help="package folder to write (default for a model file: "
+                             "<file stem>_generated/ next to it, where the other commands "
+                             "look first)")
+    parser.add_argument("--json", action="store_true", help="machine-readable summary")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.derive.package import write_package
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.model_lookup import definition_of, next_to, package_record, resolve
+
+    start = time.perf_counter()
+    ref = resolve(args.model)
+    if args.out is None and ref.kind != "file":
+        raise InsErrorsError(f"{ref.label}: give --out DIR (only a model file has a default "
+                             "folder next to it)")
+    out = args.out if args.out is not None else next_to(ref.path)
+    d = definition_of(ref)
+    origin, record = package_record(ref) if ref.kind != "builtin" else (None, None)
+    summary = write_package(d, out, origin, record)
+    files = sorted(p.name for p in out.iterdir())
+    if args.json:
+        print(json.dumps({**asdict(summary), "out": str(out), "files": files,
+                          "model_file_sha256": ref.sha256}, indent=2))
+        return 0
+    print(f"{'model':<20}{'states':>7}{'errors':>7}{'sources':>8}{'outputs':>8}"
+          f"{'ops':>8}{'seconds':>9}")
+    print(f"{summary.name:<20}{summary.states:>7}{summary.error_states:>7}"
+          f"{summary.sources:>8}{summary.outputs:>8}{summary.operations:>8}"
+          f"{summary.seconds:>9.2f}")
+    print(f"derive: wrote {out} ({', '.join(files)}) in {time.perf_counter() - start:.1f} s")
+    return 0

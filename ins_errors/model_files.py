@@ -1,0 +1,131 @@
+"""Read a researcher's model file: import it, call ``build()``, check the definition.
+
+A model file is a Python file written with :mod:`ins_errors.modeling` that defines a
+function ``build()`` returning a :class:`~ins_errors.modeling.ModelDefinition`. Any
+failure (a Python exception while importing the file or running ``build()``, a
+definition that does not pass :func:`~ins_errors.symbolic.consistency.check_definition`)
+becomes one :class:`~ins_errors.errors.ModelDefinitionError` line that names the file,
+the model, the quantity and the step.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import sys
+import traceback
+from pathlib import Path
+from types import ModuleType
+
+from ins_errors.errors import InsErrorsError, ModelDefinitionError
+from ins_errors.modeling import ModelDefinition
+
+
+def file_sha256(path: Path) -> str:
+    """SHA-256 (hex) of a model file's bytes: the identity of its generated code."""
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError as error:
+        raise InsErrorsError(f"cannot read model file {str(path)!r}: {error.strerror}") from None
+
+
+def _where(error: BaseException, path: Path) -> str:
+    """``line N`` of the deepest traceback frame inside the model file, if any."""
+    frames = [f for f in traceback.extract_tb(error.__traceback__)
+              if Path(f.filename).resolve() == path.resolve()]
+    return f"line {frames[-1].lineno}: " if frames else ""
+
+
+def _one_line(error: BaseException) -> str:
+    text = str(error).strip().splitlines()
+    return f"{type(error).__name__}: {text[0] if text else ''}".rstrip(": ")
+
+
+def import_model_file(path: Path) -> ModuleType:
+    """Import ``path`` as a fresh module (never taken from ``sys.modules``).
+
+    Raises
+    ------
+    ModelDefinitionError
+        If the file does not exist, is not Python, or raises while being imported.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ModelDefinitionError(f"model file {str(path)!r} not found")
+    if path.suffix != ".py":
+        raise ModelDefinitionError(f"model file {str(path)!r} must be a Python file (.py)")
+    digest = hashlib.sha256(str(path.resolve()).encode()).hexdigest()[:12]
+    module_name = f"_ins_errors_model_file_{digest}"
+    spec = importlib.util.spec_from_file_location(module_name, path)
+    if spec is None or spec.loader is None:
+        raise ModelDefinitionError(f"model file {path.name}: cannot be imported")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[module_name] = module  # dataclasses and pickling look modules up here
+    try:
+        spec.loader.exec_module(module)
+    except SyntaxError as error:
+        sys.modules.pop(module_name, None)
+        raise ModelDefinitionError(f"model file {path.name}: line {error.lineno}: "
+                                   f"SyntaxError: {error.msg} (step: importing the file)") from None
+    except Exception as error:  # a researcher's code: report whatever it raised
+        sys.modules.pop(module_name, None)
+        raise ModelDefinitionError(f"model file {path.name}: {_where(error, path)}"
+                                   f"{_one_line(error)} (step: importing the file)") from None
+    return module
+
+
+def build_definition(module: ModuleType, label: str, path: Path | None = None) -> ModelDefinition:
+    """Call ``module.build()`` and check what it returns.
+
+    Parameters
+    ----------
+    module : module
+        An imported model file or model module.
+    label : str
+        How messages name it (``"model file my_ins.py"``).
+    path : Path, optional
+        The file, to name the line of an exception raised in it.
+    """
+    build = getattr(module, "build", None)
+    if not callable(build):
+        raise ModelDefinitionError(f"{label}: defines no function build() returning a "
+                                   "ModelDefinition (step: building the definition)")
+    try:
+        definition = build()
+    except InsErrorsError as error:
+        raise ModelDefinitionError(f"{label}: {error} (step: building the definition)") from None
+    except Exception as error:  # a researcher's code: report whatever it raised
+        where = _where(error, path) if path is not None else ""
+        raise ModelDefinitionError(f"{label}: {where}{_one_line(error)} "
+                                   "(step: building the definition)") from None
+    if not isinstance(definition, ModelDefinition):
+        raise ModelDefinitionError(f"{label}: build() returned {type(definition).__name__}, "
+                                   "not a ModelDefinition (step: building the definition)")
+    if not definition.name.isidentifier():
+        raise ModelDefinitionError(f"{label}: model name {definition.name!r} is not a Python "
+                                   "identifier (step: building the definition)")
+    from ins_errors.symbolic.consistency import check_definition
+
+    check_definition(definition, f"{label} (model {definition.name!r})")
+    return definition
+
+
+def load_model_file(path: Path) -> ModelDefinition:
+    """Import a model file, build its definition and check it.
+
+    Parameters
+    ----------
+    path : Path
+        A ``.py`` file defining ``build()``.
+
+    Returns
+    -------
+    ModelDefinition
+
+    Raises
+    ------
+    ModelDefinitionError
+        One line naming the file, the model, the quantity and the step.
+    """
+    path = Path(path)
+    return build_definition(import_model_file(path), f"model file {path.name}", path)

@@ -1,0 +1,299 @@
+"""One answer to "which model did the user mean, and where is its generated code?".
+
+Every command, scenario file and :func:`ins_errors.load_model` goes through
+:func:`resolve`. A model is named in one of three ways:
+
+* a built-in model name (``orthodromic``): its code ships in ``ins_errors.generated``;
+* a model file path (``./my_ins.py``; a scenario's ``model = "my_ins.py"`` is taken
+  relative to the scenario file): a Python file written with :mod:`ins_errors.modeling`;
+* the name of an installed entry point in the group ``ins_errors.models`` (a package's
+  ``pyproject.toml``: ``[project.entry-points."ins_errors.models"] my_ins =
+  "my_package.my_ins"``), pointing at a module with ``build()`` (or at ``build`` itself).
+
+The generated code of a model file (or entry-point module) is identified by the SHA-256
+of the file. It is taken from ``<file folder>/<file stem>_generated/`` (what
+``ins-errors derive FILE`` writes by default) when that package records the same hash,
+else from the user cache (``$INS_ERRORS_CACHE/models`` or ``~/.cache/ins-errors/models``),
+where it is derived on first use. A stale package (the model file was edited since) is
+never used: one line on stderr says so and the code is regenerated in the cache.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.metadata
+import importlib.util
+import os
+import re
+import sys
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+from types import ModuleType
+from typing import Literal
+
+from ins_errors.errors import (
+    InsErrorsError,
+    ModelDefinitionError,
+    UnknownNameError,
+    unknown_name,
+)
+
+ENTRY_POINT_GROUP = "ins_errors.models"
+"""Entry-point group through which installed packages register models."""
+
+NEXT_TO_SUFFIX = "_generated"
+"""``my_ins.py`` -> ``my_ins_generated/``: where ``ins-errors derive`` writes by default."""
+
+_KEY = re.compile(r"(?P<spec>.+)@sha256:(?P<sha>[0-9a-f]{16})")
+_RECORD = re.compile(r"^MODEL_FILE_SHA256 = '(?P<sha>[0-9a-f]{64})'$", re.M)
+
+
+@dataclass(frozen=True)
+class ModelRef:
+    """A resolved model reference.
+
+    Attributes
+    ----------
+    kind : {"builtin", "file", "entry_point"}
+        How the model was named.
+    spec : str
+        Built-in name, absolute file path, or entry-point name.
+    path : Path or None
+        The model file (files and entry-point modules).
+    sha256 : str or None
+        SHA-256 of the model file.
+    """
+
+    kind: Literal["builtin", "file", "entry_point"]
+    spec: str
+    path: Path | None = None
+    sha256: str | None = None
+
+    @property
+    def key(self) -> str:
+        """A string :func:`resolve` maps back to this exact model version (used as the
+        in-process cache key and by worker processes)."""
+        if self.kind == "builtin":
+            return self.spec
+        return f"{self.spec}@sha256:{self.sha256[:16]}"
+
+    @property
+    def label(self) -> str:
+        """How messages name the model source."""
+        if self.kind == "file":
+            return f"model file {self.path.name}"
+        if self.kind == "entry_point":
+            return f"model {self.spec!r} (entry point of {ENTRY_POINT_GROUP})"
+        return f"model {self.spec!r}"
+
+
+# --------------------------------------------------------------------------------------
+# Resolution
+# --------------------------------------------------------------------------------------
+def builtin_names() -> tuple[str, ...]:
+    """Names of the built-in models (those with code in ``ins_errors.generated``)."""
+    return tuple(importlib.import_module("ins_errors.generated").MODELS)
+
+
+def _entry_points() -> dict[str, importlib.metadata.EntryPoint]:
+    return {ep.name: ep for ep in importlib.metadata.entry_points(group=ENTRY_POINT_GROUP)}
+
+
+def entry_point_names() -> tuple[str, ...]:
+    """Names of the models installed packages register (group ``ins_errors.models``)."""
+    return tuple(sorted(_entry_points()))
+
+
+def _looks_like_path(spec: str) -> bool:
+    return spec.endswith(".py") or "/" in spec or os.sep in spec
+
+
+def _entry_point_file(name: str) -> Path:
+    ep = _entry_points()[name]
+    module_name = ep.value.split(":", 1)[0].strip()
+    try:
+        found = importlib.util.find_spec(module_name)
+    except (ImportError, ValueError):
+        found = None
+    if found is None or not found.origin or not found.origin.endswith(".py"):
+        raise ModelDefinitionError(f"model {name!r}: entry point {ep.value!r} of "
+                                   f"{ENTRY_POINT_GROUP} names no Python module file")
+    return Path(found.origin)
+
+
+def resolve(spec: str, relative_to: str | Path | None = None) -> ModelRef:
+    """Resolve a model name, model file path or entry-point name.
+
+    Parameters
+    ----------
+    spec : str
+        ``"orthodromic"``, ``"./my_ins.py"``, an entry-point name, or a
+        :attr:`ModelRef.key`.
+    relative_to : path, optional
+        Folder a relative file path is taken from (a scenario file's folder); default:
+        the current folder.
+
+    Raises
+    ------
+    UnknownNameError
+        For a name that is neither built in nor registered (with close names).
+    ModelDefinitionError
+        For a model file that does not exist, or that changed since ``spec`` (a key)
+        was made.
+    """
+    spec = str(spec)
+    expected = None
+    match = _KEY.fullmatch(spec)
+    if match:
+        spec, expected = match["spec"], match["sha"]
+    builtins = builtin_names()
+    if spec in builtins:
+        return ModelRef("builtin", spec)
+    from ins_errors.model_files import file_sha256
+
+    if _looks_like_path(spec) or Path(spec).is_file():
+        path = Path(spec).expanduser()
+        if relative_to is not None and not path.is_absolute():
+            path = Path(relative_to) / path
+        if not path.is_file():
+            raise ModelDefinitionError(f"model file {spec!r} not found"
+                                       + (f" (looked in {str(Path(relative_to))!r})"
+                                          if relative_to is not None else ""))
+        ref = ModelRef("file", str(path.resolve()), path.resolve(), file_sha256(path))
+    elif spec in _entry_points():
+        path = _entry_point_file(spec)
+        ref = ModelRef("entry_point", spec, path, file_sha256(path))
+    else:
+        error = unknown_name("model", spec, [*builtins, *entry_point_names()])
+        raise UnknownNameError(f"{error} (or a model file, e.g. ./my_ins.py)")
+    if expected is not None and not ref.sha256.startswith(expected):
+        raise ModelDefinitionError(f"{ref.label} changed while in use (its generated code "
+                                   "was made from another version); run again")
+    return ref
+
+
+# --------------------------------------------------------------------------------------
+# Definitions
+# --------------------------------------------------------------------------------------
+@cache
+def _definition(ref: ModelRef):
+    from ins_errors.model_files import build_definition, import_model_file
+
+    if ref.kind == "builtin":
+        from ins_errors.models import definition
+
+        return definition(ref.spec)
+    if ref.kind == "file":
+        d = build_definition(import_model_file(ref.path), ref.label, ref.path)
+    else:
+        ep = _entry_points()[ref.spec]
+        try:
+            target = ep.load()
+        except Exception as error:  # a package's code: report whatever it raised
+            raise ModelDefinitionError(f"{ref.label}: {type(error).__name__}: {error} "
+                                       "(step: importing the module)") from None
+        module = target if isinstance(target, ModuleType) else _Builder(target)
+        d = build_definition(module, ref.label, ref.path)
+    if d.name in builtin_names():
+        raise ModelDefinitionError(f"{ref.label}: model name {d.name!r} is taken by a "
+                                   "built-in model; choose another name in build()")
+    return d
+
+
+class _Builder:
+    """Adapter: an entry point naming ``build`` itself instead of its module."""
+
+    def __init__(self, build):
+        self.build = build
+
+
+def definition_of(ref: ModelRef):
+    """The checked :class:`~ins_errors.modeling.ModelDefinition` of a resolved model."""
+    return _definition(ref)
+
+
+# --------------------------------------------------------------------------------------
+# Generated code
+# --------------------------------------------------------------------------------------
+def models_cache_directory() -> Path:
+    """Where the generated code of model files is kept (``$INS_ERRORS_CACHE/models`` or
+    the user cache folder next to the compiled loops)."""
+    from ins_errors.numeric.integrators import cache_directory
+
+    root = os.environ.get("INS_ERRORS_CACHE")
+    return (Path(root) if root else cache_directory().parent) / "models"
+
+
+def next_to(path: Path) -> Path:
+    """The default package folder of a model file: ``<stem>_generated/`` beside it."""
+    return path.with_name(path.stem + NEXT_TO_SUFFIX)
+
+
+def recorded_sha256(folder: Path) -> str | None:
+    """The model-file hash a generated package records, or None (no such package)."""
+    try:
+        text = (folder / "__init__.py").read_text(encoding="utf-8")
+    except OSError:
+        return None
+    match = _RECORD.search(text)
+    return match["sha"] if match else None
+
+
+def package_record(ref: ModelRef) -> tuple[tuple[str, str], dict[str, str]]:
+    """Banner lines and metadata record of the generated package of a model file."""
+    origin = (f"`ins-errors derive` from the model file {ref.path.name}",
+              f"Edit {ref.path.name} and run `ins-errors derive` again.")
+    return origin, {"MODEL_FILE": ref.path.name, "MODEL_FILE_SHA256": ref.sha256}
+
+
+def _say(message: str) -> None:
+    print(f"ins-errors: {message}", file=sys.stderr)
+
+
+def generated_folder(ref: ModelRef) -> Path:
+    """The folder with up-to-date generated code of a model file, deriving it if needed.
+
+    Raises
+    ------
+    ModelDefinitionError
+        If the model file has a mistake (nothing is written then).
+    """
+    beside = next_to(ref.path)
+    recorded = recorded_sha256(beside)
+    if recorded == ref.sha256:
+        return beside
+    d = definition_of(ref)
+    cached = models_cache_directory() / f"{d.name}-{ref.sha256[:16]}"
+    if recorded_sha256(cached) == ref.sha256:
+        if recorded is not None:
+            _say(f"{beside.name}/ is stale ({ref.path.name} changed since it was derived); "
+                 "using the up-to-date code in the cache")
+        return cached
+    if recorded is not None:
+        _say(f"{beside.name}/ is stale ({ref.path.name} changed since it was derived); "
+             "deriving again into the cache")
+    else:
+        _say(f"deriving {ref.label} (first use of this version; cached for next time)")
+    from ins_errors.derive.package import write_package
+
+    origin, record = package_record(ref)
+    try:
+        write_package(d, cached, origin, record)
+    except InsErrorsError:
+        raise
+    except OSError as error:
+        raise InsErrorsError(f"cannot write the model cache {str(cached)!r}: "
+                             f"{error.strerror}") from None
+    return cached
+
+
+def load_module(path: Path, name: str) -> ModuleType:
+    """Import one generated file under a private module name."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise InsErrorsError(f"cannot import generated file {str(path)!r}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module

@@ -1,0 +1,323 @@
+"""Model files from outside the package: derive, lookup, staleness, mistakes.
+
+The model under test is the tutorial's single-axis Schuler loop
+(``examples/own_model/schuler_loop.py``). Its physics is checked against textbook
+relations that do not come from the code: the loop oscillates at ω_s = √(g/R)
+(period 84.4 min for R = 6371 km); a constant accelerometer bias b gives the tilt
+ψ = (b/g)(1 − cos ω_s t) (mean b/g) and the latitude error (b/g)(1 − cos ω_s t); a
+constant gyro drift ε gives the latitude error ε (sin ω_s t / ω_s − t).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ins_errors import load_model
+from ins_errors.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
+R, G = 6_371_000.0, 9.80665
+OMEGA = math.sqrt(G / R)
+
+
+@pytest.fixture(autouse=True)
+def private_cache(tmp_path, monkeypatch):
+    """Generated code of model files goes to a fresh cache per test."""
+    from ins_errors.numeric.model import _file_model
+
+    cache = tmp_path / "cache"
+    monkeypatch.setattr("ins_errors.model_lookup.models_cache_directory", lambda: cache)
+    _file_model.cache_clear()  # loaded models remember their folder
+    return cache
+
+
+def copy_model(tmp_path: Path, *replacements: tuple[str, str],
+               name: str = "my_ins.py") -> Path:
+    """A copy of the Schuler loop file with text replacements (a deliberate mistake)."""
+    text = SCHULER.read_text(encoding="utf-8")
+    for old, new in replacements:
+        assert old in text, old
+        text = text.replace(old, new)
+    target = tmp_path / name
+    target.write_text(text, encoding="utf-8")
+    return target
+
+
+# --------------------------------------------------------------------------------------
+# derive and lookup
+# --------------------------------------------------------------------------------------
+def test_derive_writes_the_generated_package(tmp_path, capsys):
+    out = tmp_path / "out" / "own"
+    assert main(["derive", str(SCHULER), "--out", str(out)]) == 0
+    names = sorted(p.name for p in out.iterdir())
+    assert names == ["__init__.py", "casadi_model.py", "error_equations.md", "numpy_model.py"]
+    init = (out / "__init__.py").read_text(encoding="utf-8")
+    assert init.startswith("# GENERATED FILE")
+    assert "MODEL_FILE = 'schuler_loop.py'" in init
+    import hashlib
+
+    assert hashlib.sha256(SCHULER.read_bytes()).hexdigest() in init
+    numpy_src = (out / "numpy_model.py").read_text(encoding="utf-8")
+    assert "def second_order(" in numpy_src and "def state_matrix(" in numpy_src
+    listing = (out / "error_equations.md").read_text(encoding="utf-8")
+    assert r"\psi" in listing
+    assert not list(out.parent.glob(".own.*")), "scratch folder left behind"
+    # deriving again replaces the package byte for byte
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert main(["derive", str(SCHULER), "--out", str(out)]) == 0
+    assert before == {p.name: p.read_bytes() for p in out.iterdir()}
+
+
+def test_state_matrix_oscillates_at_the_schuler_frequency():
+    model = load_model(str(SCHULER))
+    F = model.state_matrix(np.zeros(2), np.zeros(1))
+    eigenvalues = np.linalg.eigvals(F)
+    oscillating = sorted(eigenvalues, key=lambda z: z.imag)
+    assert abs(oscillating[0] + 1j * OMEGA) < 1e-12 and abs(oscillating[-1] - 1j * OMEGA) < 1e-12
+    period_min = 2 * math.pi / oscillating[-1].imag / 60
+    assert abs(period_min - 84.4) < 0.05  # textbook Schuler period
+
+
+def _direct(model, sources: dict[str, float], seconds: float):
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.simulate import simulate
+
+    trajectory = tr.trajectory(model, tr.static_profile(math.radians(50)), seconds, 10.0)
+    return simulate(model, trajectory, sources, method="rk4", record_interval=60.0)
+
+
+def test_accelerometer_bias_gives_tilt_b_over_g():
+    model = load_model(str(SCHULER))
+    b = 1e-3  # m/s², about 100 µg
+    run = _direct(model, {"accel_bias": b}, 10_140.0)  # two Schuler periods, 10 130 s
+    errors = run.direct_errors()
+    t = errors.times
+    psi = errors["psi"][:, 0]
+    assert np.allclose(psi, b / G * (1 - np.cos(OMEGA * t)), rtol=0, atol=1e-6 * b / G)
+    assert abs(psi.mean() - b / G) < 0.02 * b / G  # two whole periods: mean tilt b/g
+    latitude = errors["delta_latitude"][:, 0]
+    assert np.allclose(latitude, b / G * (1 - np.cos(OMEGA * t)), rtol=0, atol=1e-6 * b / G)
+
+
+def test_gyro_drift_gives_growing_latitude_error():
+    model = load_model(str(SCHULER))
+    eps = math.radians(0.01) / 3600  # 0.01 deg/h
+    errors = _direct(model, {"gyro_drift": eps}, 3 * 3600.0).direct_errors()
+    t = errors.times
+    expected = eps * (np.sin(OMEGA * t) / OMEGA - t)
+    assert np.allclose(errors["delta_latitude"][:, 0], expected, rtol=0,
+                       atol=1e-5 * np.abs(expected).max())
+
+
+def test_compare_linear_agrees_with_direct(capsys):
+    assert main(["compare", str(SCHULER), "--source", "accel_bias=100ug", "--source",
+                 "gyro_drift=0.01deg/h", "--hours", "3", "--step", "10s", "--method", "rk4",
+                 "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["model"] == "schuler_loop"
+    for row in result["cases"][0]["metrics"]:
+        assert row["excited"] and row["max_direct"] > 0
+        # the direct run keeps sin ψ: it differs from the linear one, by O(ψ²) relative
+        assert 0 < row["linear_ratio"] < 1e-6, row
+
+
+def test_models_lists_the_file_and_names_derivation_once(capsys):
+    assert main(["models", str(SCHULER)]) == 0
+    captured = capsys.readouterr()
+    assert "gyro_drift" in captured.out and "deg/h" in captured.out
+    assert "deriving model file schuler_loop.py" in captured.err
+    assert len(captured.err.strip().splitlines()) == 1
+
+
+def test_scenario_model_file_is_relative_to_the_scenario(tmp_path, capsys, monkeypatch):
+    folder = tmp_path / "study"
+    folder.mkdir()
+    copy_model(folder, name="loop.py")
+    scenario = folder / "bias.toml"
+    scenario.write_text('title = "bias"\nmodel = "loop.py"\n'
+                        '[motion]\nkind = "static"\nlatitude = "50 deg"\n'
+                        '[run]\nduration = "1 h"\nstep = "10 s"\nmethod = "rk4"\n'
+                        '[[case]]\naccel_bias = "100 ug"\n', encoding="utf-8")
+    monkeypatch.chdir(tmp_path)  # not the scenario's folder
+    assert main(["run", str(scenario), "--out", str(tmp_path / "report"), "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["model"] == "schuler_loop"
+    report = (tmp_path / "report" / "report.md").read_text(encoding="utf-8")
+    assert "| model | `schuler_loop` |" in report and r"\psi" in report
+
+
+# --------------------------------------------------------------------------------------
+# staleness
+# --------------------------------------------------------------------------------------
+def _gravity(model) -> float:
+    F = model.state_matrix(np.zeros(2), np.zeros(1))
+    return float(np.max(np.linalg.eigvals(F).imag)) ** 2 * R
+
+
+def test_edited_model_file_never_uses_stale_generated_code(tmp_path, capsys):
+    path = copy_model(tmp_path)
+    assert main(["derive", str(path)]) == 0  # default: my_ins_generated/ next to the file
+    beside = tmp_path / "my_ins_generated"
+    assert (beside / "numpy_model.py").is_file()
+    capsys.readouterr()
+    model = load_model(str(path))
+    assert model.folder == beside and abs(_gravity(model) - G) < 1e-9
+    assert capsys.readouterr().err == ""  # up to date: used silently
+
+    path.write_text(path.read_text(encoding="utf-8").replace("9.80665", "9.5"),
+                    encoding="utf-8")
+    model = load_model(str(path))
+    err = capsys.readouterr().err
+    assert "my_ins_generated/ is stale" in err and len(err.strip().splitlines()) == 1
+    assert model.folder != beside and abs(_gravity(model) - 9.5) < 1e-9
+    assert "9.80665" in (beside / "__init__.py").read_text(encoding="utf-8")  # untouched
+
+    # through the command line too (a new process: nothing loaded yet); the new default
+    # gravity is what `models` reports, and the stale folder is named again
+    from ins_errors.numeric.model import _file_model
+
+    _file_model.cache_clear()
+    assert main(["models", str(path), "--json"]) == 0
+    captured = capsys.readouterr()
+    parameters = {p["name"]: p["default"] for p in json.loads(captured.out)["parameters"]}
+    assert parameters["g"] == 9.5 and "stale" in captured.err
+
+    assert main(["derive", str(path)]) == 0  # refresh: silent again
+    capsys.readouterr()
+    _file_model.cache_clear()
+    assert load_model(str(path)).folder == beside
+    assert capsys.readouterr().err == ""
+
+
+def test_a_key_refuses_a_model_file_edited_during_a_run(tmp_path):
+    from ins_errors.errors import ModelDefinitionError
+
+    path = copy_model(tmp_path)
+    key = load_model(str(path)).key
+    assert load_model(key).key == key
+    path.write_text(path.read_text(encoding="utf-8") + "\n# edited\n", encoding="utf-8")
+    with pytest.raises(ModelDefinitionError, match="changed while in use"):
+        load_model(key)
+
+
+# --------------------------------------------------------------------------------------
+# mistakes in a model file: one line, exit status 2, nothing half-written
+# --------------------------------------------------------------------------------------
+MISTAKES = {
+    "undefined symbol": (
+        ("real_rhs = sp.Matrix([f, omega_c, omega_c - omega + drift])",
+         "real_rhs = sp.Matrix([f, omega_c, omega_c - omega + sp.Symbol('eps', real=True)])"),
+        ["schuler_loop", "real-work equation", "'psi'", "undefined symbol(s) eps",
+         "checking the definition"]),
+    "wrong shape": (
+        ("ideal_rhs = sp.Matrix([a_N, omega])", "ideal_rhs = sp.Matrix([[a_N, omega]])"),
+        ["schuler_loop", "ideal_rhs", "must be a column", "checking the definition"]),
+    "state without equation": (
+        ("real_rhs = sp.Matrix([f, omega_c, omega_c - omega + drift])",
+         "real_rhs = sp.Matrix([f, omega_c])"),
+        ["schuler_loop", "real_rhs", "no equation for 'psi'", "checking the definition"]),
+    "error not switched off": (
+        ("real_rhs = sp.Matrix([f, omega_c, omega_c - omega + drift])",
+         "real_rhs = sp.Matrix([f + 1e-3, omega_c, omega_c - omega + drift])"),
+        ["schuler_loop", "'delta_V'", "does not reduce to the ideal work"]),
+    "SymPy failure in the variation": (
+        # a function SymPy cannot differentiate (say, a table the author wraps)
+        ("def outputs(", "from sympy.core.function import ArgumentIndexError\n\n\n"
+                        "class table(sp.Function):\n"
+                        "    @classmethod\n"
+                        "    def eval(cls, x):\n"
+                        "        return sp.S.One if x == 0 else None\n\n"
+                        "    def fdiff(self, argindex=1):\n"
+                        "        raise ArgumentIndexError(self, argindex)\n\n\n"
+                        "def outputs("),
+        ('f = real.let("f", a_N * sp.cos(psi)', 'f = real.let("f", a_N * table(psi)'),
+        ["schuler_loop", "state matrix F", "derivative", "step: variation"]),
+    "exception while importing": (
+        ("V, phi = (v.symbol for v in STATES)", "V, phi = (v.symbol for v in STATES[:1])"),
+        ["my_ins.py", "line", "ValueError", "importing the file"]),
+    "exception in build()": (
+        ("    lat0, v0 = (v.symbol", "    lat0, v0 = 1 / 0, (v.symbol"),
+        ["my_ins.py", "ZeroDivisionError", "building the definition"]),
+}
+
+
+@pytest.mark.parametrize("mistake", sorted(MISTAKES))
+def test_model_file_mistake_is_one_line(mistake, tmp_path, capsys, private_cache):
+    *replacements, words = MISTAKES[mistake]
+    path = copy_model(tmp_path, *replacements)
+    out = tmp_path / "out"
+    assert main(["derive", str(path), "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    lines = captured.err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("ins-errors: error: "), captured.err
+    for word in words:
+        assert word in lines[0], (word, lines[0])
+    assert not out.exists() and sorted(p.name for p in tmp_path.iterdir()) == ["my_ins.py"]
+    # every other command says the same, and writes nothing into the cache
+    assert main(["models", str(path)]) == 2
+    assert capsys.readouterr().err.strip().splitlines()[-1] == lines[0]
+    assert not private_cache.exists() or not any(private_cache.iterdir())
+
+
+def test_failed_derive_keeps_the_previous_package(tmp_path, capsys):
+    path = copy_model(tmp_path)
+    out = tmp_path / "pkg"
+    assert main(["derive", str(path), "--out", str(out)]) == 0
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    path.write_text(path.read_text(encoding="utf-8").replace(
+        "ideal_rhs = sp.Matrix([a_N, omega])", "ideal_rhs = sp.Matrix([a_N])"), encoding="utf-8")
+    assert main(["derive", str(path), "--out", str(out)]) == 2
+    assert "no equation for 'phi'" in capsys.readouterr().err
+    assert before == {p.name: p.read_bytes() for p in out.iterdir()}
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["my_ins.py", "pkg"]
+
+
+def test_derive_refuses_to_overwrite_a_foreign_folder(tmp_path, capsys):
+    out = tmp_path / "notes"
+    out.mkdir()
+    (out / "mine.txt").write_text("keep", encoding="utf-8")
+    assert main(["derive", str(SCHULER), "--out", str(out)]) == 2
+    assert "not empty" in capsys.readouterr().err
+    assert sorted(p.name for p in out.iterdir()) == ["mine.txt"]
+
+
+def test_unknown_model_and_missing_file(capsys):
+    assert main(["models", "schuler"]) == 2
+    assert "(or a model file" in capsys.readouterr().err
+    assert main(["models", "no_such_dir/my_ins.py"]) == 2
+    assert "model file 'no_such_dir/my_ins.py' not found" in capsys.readouterr().err
+
+
+def test_a_model_file_may_not_take_a_built_in_name(tmp_path, capsys):
+    path = copy_model(tmp_path, ('name="schuler_loop"', 'name="orthodromic"'))
+    assert main(["models", str(path)]) == 2
+    assert "taken by a built-in model" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------------------
+# entry points
+# --------------------------------------------------------------------------------------
+def test_installed_package_registers_a_model_by_entry_point(tmp_path, monkeypatch, capsys):
+    site = tmp_path / "site"
+    package = site / "loops_pkg"
+    package.mkdir(parents=True)
+    (package / "__init__.py").write_text("", encoding="utf-8")
+    shutil.copy(SCHULER, package / "schuler.py")
+    dist = site / "loops_pkg-1.0.dist-info"
+    dist.mkdir()
+    (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: loops-pkg\nVersion: 1.0\n",
+                                   encoding="utf-8")
+    (dist / "entry_points.txt").write_text("[ins_errors.models]\nloop = loops_pkg.schuler\n",
+                                           encoding="utf-8")
+    monkeypatch.syspath_prepend(str(site))
+    assert main(["models"]) == 0
+    assert "schuler_loop" in capsys.readouterr().out
+    model = load_model("loop")
+    assert model.name == "schuler_loop" and abs(_gravity(model) - G) < 1e-9
