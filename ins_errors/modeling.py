@@ -24,8 +24,10 @@ Equations:
 * :class:`ModelDefinition`: everything together: ideal and real right-hand sides, the
   output map, initial states, document groups, notes and domain checks.
 
-Earth constants (re-exported from :mod:`ins_errors.models.earth`): :data:`EARTH_RATE`,
-:data:`ELLIPSOIDS`, :class:`Ellipsoid`, :func:`ellipsoid`.
+Earth (re-exported from :mod:`ins_errors.models.earth`, the one home of these formulas):
+:data:`EARTH_RATE`, :data:`ELLIPSOIDS`, :class:`Ellipsoid`, :func:`ellipsoid`,
+:func:`radii_of_curvature`, :func:`normal_gravity` (numpy or SymPy arguments) and the
+WGS-84 gravity constants.
 
 Gyro-stabilised platform (re-exported from :mod:`ins_errors.models.platform`):
 :func:`on_platform` resolves a vector on the misaligned platform, :func:`platform_rates`
@@ -58,13 +60,26 @@ from typing import Literal
 import sympy as sp
 
 from ins_errors.errors import ModelDefinitionError
-from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS, Ellipsoid, ellipsoid
+from ins_errors.models.earth import (
+    EARTH_RATE,
+    ELLIPSOIDS,
+    WGS84_EQUATORIAL_GRAVITY,
+    WGS84_GRAVITY_M,
+    WGS84_SOMIGLIANA_K,
+    Ellipsoid,
+    ellipsoid,
+    normal_gravity,
+    radii_of_curvature,
+)
 from ins_errors.models.platform import PLATFORM_FORMS, on_platform, platform_rates
 
 __all__ = [
     "EARTH_RATE",
     "ELLIPSOIDS",
     "PLATFORM_FORMS",
+    "WGS84_EQUATORIAL_GRAVITY",
+    "WGS84_GRAVITY_M",
+    "WGS84_SOMIGLIANA_K",
     "Definition",
     "Ellipsoid",
     "ErrorSource",
@@ -78,8 +93,10 @@ __all__ = [
     "ellipsoid",
     "error_source",
     "error_states_of",
+    "normal_gravity",
     "on_platform",
     "platform_rates",
+    "radii_of_curvature",
     "tilde",
 ]
 

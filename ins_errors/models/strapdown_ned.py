@@ -55,6 +55,9 @@ import sympy as sp
 from ins_errors.modeling import (
     EARTH_RATE,
     ELLIPSOIDS,
+    WGS84_EQUATORIAL_GRAVITY,
+    WGS84_GRAVITY_M,
+    WGS84_SOMIGLIANA_K,
     Mechanisation,
     ModelDefinition,
     Parameter,
@@ -62,11 +65,6 @@ from ins_errors.modeling import (
     computed_symbols,
     error_source,
     error_states_of,
-)
-from ins_errors.models.earth import (
-    WGS84_EQUATORIAL_GRAVITY,
-    WGS84_GRAVITY_M,
-    WGS84_SOMIGLIANA_K,
     normal_gravity,
     radii_of_curvature,
 )
