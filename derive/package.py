@@ -8,7 +8,6 @@ file is complete, so a failure (a mistake in the model, an interrupted run) leav
 
 from __future__ import annotations
 
-import os
 import shutil
 import tempfile
 from pathlib import Path
@@ -17,6 +16,7 @@ from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
 
 from .model_files import ModelSummary, write_model
+from .pipeline import _replace as replace_folder
 
 BANNER_FIRST_LINE = "# GENERATED FILE: do not edit by hand."
 """First line of every generated Python file (how a generated package is recognised)."""
@@ -73,15 +73,7 @@ def write_package(d: ModelDefinition, target: Path, origin: tuple[str, str] | No
                              f"{error.strerror}") from None
     try:
         summary = write_model(d, scratch, origin=origin, record=record)
-        old = scratch / "previous"
-        if target.exists():
-            os.replace(target, old)
-        try:
-            os.replace(scratch / d.name, target)
-        except OSError:
-            if old.exists():
-                os.replace(old, target)
-            raise
+        replace_folder(target, scratch / d.name)
     except OSError as error:
         raise InsErrorsError(f"cannot write {str(target)!r}: {error.strerror}") from None
     finally:
