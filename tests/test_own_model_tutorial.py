@@ -53,7 +53,7 @@ def test_tutorial_command(line, status, workspace, capsys):
                          "numpy_model.py"]
     if line.startswith("compare") and "accel_bias=100ug" in line:
         # the numbers the page quotes: 2b/g tilt, b/ω_s velocity error
-        assert re.search(r"`psi` \| rad \| 2\.000e-04", out), out
+        assert re.search(r"`psi` \| arcmin \| 6\.875e-01", out), out  # 2e-4 rad
         assert re.search(r"`delta_v_N` \| m/s \| 7\.904e-01", out), out
 
 
