@@ -234,3 +234,14 @@ def test_readme_sweep_on_the_cluster(cluster, tmp_path, monkeypatch, capsys):
     again = json.loads(capsys.readouterr().out)
     assert (again["computed"], again["reused"]) == (0, 9)
     assert again["summary"] == data["summary"]
+
+
+def test_validity_map_on_the_cluster_equals_one_process(cluster, orthodromic):
+    from ins_errors.analysis.validity import validity_map, validity_tasks
+
+    tasks = validity_tasks(orthodromic, ["static"], ["gyro_drift_x", "accel_bias_y"],
+                           hours=1.0, step=10.0, factors=(1.0, 10.0, 100.0))
+    here = validity_map(tasks, engine="serial")
+    there = validity_map(tasks, scheduler=cluster.scheduler_address)
+    assert [r.to_dict() for r in here] == [r.to_dict() for r in there]
+    assert [r.source for r in there] == ["gyro_drift_x", "accel_bias_y"]

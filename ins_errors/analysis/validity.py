@@ -242,8 +242,10 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
 
 
 def validity_map(tasks: list[ValidityTask], engine: str = "serial",
-                 progress: bool = False) -> list[SourceValidity]:
-    """Run every task (see :func:`ins_errors.analysis.engine.run_tasks`), in task order."""
+                 progress: bool = False, scheduler: str | None = None,
+                 workers: int | None = None) -> list[SourceValidity]:
+    """Run every task (see :func:`ins_errors.analysis.engine.run_tasks`: ``engine``,
+    ``scheduler`` of a running Dask cluster, ``workers`` of a local one), in task order."""
     from ins_errors.analysis.engine import run_tasks
 
     results: list[SourceValidity | None] = [None] * len(tasks)
@@ -251,6 +253,7 @@ def validity_map(tasks: list[ValidityTask], engine: str = "serial",
     def keep(k: int, result: SourceValidity) -> None:
         results[k] = result
 
-    run_tasks(run_validity_task, [(t,) for t in tasks], engine=engine, on_result=keep,
-              progress=progress, label="validity sweeps")
+    run_tasks(run_validity_task, [(t,) for t in tasks],
+              engine="dask" if scheduler else engine, scheduler=scheduler,
+              workers=workers, on_result=keep, progress=progress, label="validity sweeps")
     return [r for r in results if r is not None]

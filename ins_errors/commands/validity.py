@@ -45,8 +45,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--force", action="store_true",
                         help="write into a non-empty folder ins-errors did not write")
     parser.add_argument("--engine", choices=("serial", "pool", "dask", "auto"),
-                        default="pool", help="where the sweeps run (default: a local "
-                                             "process pool)")
+                        default="auto", help="where the sweeps run (default: Dask when "
+                                             "installed, else a local process pool)")
+    parser.add_argument("--scheduler", metavar="ADDRESS",
+                        help="run the sweeps on a running Dask scheduler, e.g. "
+                             "tcp://HOST:8786 (default: a local cluster of this machine's "
+                             "cores)")
+    parser.add_argument("--workers", type=int, metavar="N",
+                        help="workers of the local cluster or pool (default: CPU cores)")
     parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
     parser.set_defaults(func=run)
 
@@ -91,8 +97,11 @@ def run(args: argparse.Namespace) -> int:
         require_matplotlib("--plot")
     if out_dir is not None:
         OutputFolder(out_dir, force=args.force, create=False)  # refuse before computing
-    results = validity_map(tasks, engine=args.engine if len(tasks) > 1 else "serial",
-                           progress=not args.no_progress)
+    if args.workers is not None and args.workers < 1:
+        raise InsErrorsError(f"--workers must be at least 1, got {args.workers}")
+    engine = args.engine if len(tasks) > 1 or args.scheduler else "serial"
+    results = validity_map(tasks, engine=engine, progress=not args.no_progress,
+                           scheduler=args.scheduler, workers=args.workers)
     payload = {"model": model.name, "hours": args.hours, "step_s": step, "method": "rk4",
                "sources": [r.to_dict() for r in results]}
     if out_dir is not None:
