@@ -15,6 +15,7 @@ Run alone with ``python -m benchmarks.bench_sweep [--quick]``.
 from __future__ import annotations
 
 import logging
+import os
 import sys
 import tempfile
 import textwrap
@@ -73,7 +74,8 @@ def main(quick: bool = False) -> None:
         steps = _steps(scenario)
         points = len(scenario.sweep.parameters[0].values) * 4
         print(f"sweep of {points} great-circle points, {duration} at 0.1 s (RK4, direct + "
-              f"linear + refined): {steps:,} trajectory-steps")
+              f"linear + refined): {steps:,} trajectory-steps; {os.cpu_count()} cores, "
+              f"load average {os.getloadavg()[0]:.1f} (workers share the cores with it)")
         _timed(warm, folder / "warm-serial.zarr", engine="serial")
         seconds = _timed(scenario, folder / "serial.zarr", engine="serial")
         print(f"  {'this process (serial)':<34} {seconds:8.2f} s  "
