@@ -1032,7 +1032,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         unused=unused, magnitudes=sizes.origin, skipped_motions=list(motions.skipped),
         scope=hand.scope, declarations=declared.texts(),
         idle_declarations=declared.idle())
-    if effects and report.mistakes:
+    if effects and report.findings:
         from ins_errors.checker.effect import add_effects
 
         add_effects(report, d, side, comparison, identify, prepared, resolver)

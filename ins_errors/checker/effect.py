@@ -1,12 +1,13 @@
-"""Does it matter? The effect of each root mistake on the 1 h and 24 h error.
+"""Does it matter? The effect of each finding on the 1 h and 24 h error.
 
 The model's linear error equations ``x' = F x + G w`` are frozen at each reference point
 (their coefficients evaluated there) and propagated from a typical error state (every
 error state at its typical magnitude) with the file's error sources at theirs, once with
 the model's coefficients and once with the mistake put in:
 
-* a mistake in an error-state line changes that row of F (and G) by the hand's minus the
-  model's coefficient (its own part: with the definitions it uses corrected);
+* a finding in an error-state line changes that row of F (and G) by the hand's minus the
+  model's coefficient of its quantity (its own part: with the definitions it uses
+  corrected; for a declared drop, the term the declaration removes);
 * a mistake in a definition changes every error-state line it reaches by what it carries
   there (hand minus isolated hand of those lines);
 * a mistake in a latitude/longitude line changes the position read out, not the states.
@@ -116,26 +117,33 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
 
     state_of = {f"error state {s}": i for i, s in enumerate(states)}
     for result in report.results:
-        roots = [g for g in result.findings if g.role == cl.ROOT and g.is_mistake
-                 and np.isfinite(g.size)]
-        if not roots:
-            continue
         item = items.get((id(result.equation), result.form))
-        if item is None or item.hand is None:
+        if item is None or item.hand is None or item.model_full is None:
             continue
-        if result.target in state_of:  # one effect per mistake: only its own columns
+        if result.target in state_of:  # one effect per finding: only its own columns
             effects = {}
-            for g in roots:
+            for g in result.findings:
+                if g.role != cl.ROOT or not np.isfinite(g.size):
+                    continue
                 delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n))
+                # the line's own part (definitions it uses corrected); a declared drop
+                # is measured against the full model, whose term it leaves out
+                hand, model = ((item.hand_isolated, item.model_full)
+                               if g.severity == cl.DECLARED
+                               else (item.hand_isolated, item.model_declared))
                 try:
-                    _add_row(delta_f, delta_drive, state_of[result.target],
-                             item.hand_isolated, item.model_declared, comparison, symbols,
-                             sources, magnitude, only=set(g.quantity.split(" -> ")))
+                    _add_row(delta_f, delta_drive, state_of[result.target], hand, model,
+                             comparison, symbols, sources, magnitude,
+                             only=set(g.quantity.split(" -> ")))
                 except _UnresolvedError:
                     continue
                 effects[id(g)] = run(delta_f, delta_drive, {})
             result.findings = [_with(g, effects[id(g)]) if id(g) in effects else g
                                for g in result.findings]
+            continue
+        roots = [g for g in result.findings if g.role == cl.ROOT and g.is_mistake
+                 and np.isfinite(g.size)]
+        if not roots:
             continue
         delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n))
         out_delta: dict[str, np.ndarray] = {}

@@ -1,0 +1,125 @@
+"""The hand checker on every built-in model: a correct hand derivation agrees in full,
+copies with injected mistakes are reported in the right line with the right kind, the
+001 report's printed F is checked on a static base with its declared Foucault drop.
+
+The correct files in tests/data were derived by hand from each model's mechanisation as
+its source describes it (see their headers), not printed from the model code.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from ins_errors.checker.compare import check_hand, check_hand_file
+from ins_errors.checker.notation import default_notation, names_table
+from ins_errors.checker.parse import parse_hand_text
+from ins_errors.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+DATA = ROOT / "tests" / "data"
+F_001 = ROOT / "examples" / "report_001" / "F.txt"
+
+# (line starts with, old, new, quantity, kind): sign, index, missing term, wrong factor
+INJECTED = {
+    "north_pointing": [
+        ("dot(delta_v_E)", "-alpha_N*f_U", "+alpha_N*f_U", "alpha_N", "wrong sign"),
+        ("dot(alpha_N)", "alpha_U*omega_E", "alpha_U*omega_N", "alpha_U",
+         "wrong symbol or index"),
+        ("dot(alpha_U)", " + Delta_omega_U", "", "delta_latitude", "omitted term"),
+        ("dot(delta_latitude)", "Delta_v_N/r_N", "2*Delta_v_N/r_N", "delta_v_N",
+         "wrong coefficient"),
+    ],
+    "free_azimuth": [
+        ("dot(Delta_V_y)", "+ a_zeta*alpha_x", "- a_zeta*alpha_x", "alpha_x", "wrong sign"),
+        ("dot(alpha_x)", "- alpha_z*omega_y", "- alpha_z*omega_x", "alpha_z",
+         "wrong symbol or index"),
+        ("dot(alpha_z)", "alpha_x*omega_y - ", "-", "alpha_x", "omitted term"),
+        ("dot(Delta_V_x)", "a_y*alpha_z", "2*a_y*alpha_z", "alpha_z", "wrong coefficient"),
+    ],
+    "geodetic_vertical": [
+        ("dot(Delta_W_eta)", "+ a_zeta*alpha_x", "- a_zeta*alpha_x", "alpha_x", "wrong sign"),
+        ("dot(alpha_y)", "Omega_xi*alpha_z", "Omega_eta*alpha_z", "alpha_z",
+         "wrong symbol or index"),
+        ("dot(alpha_x)", " + Omega_zeta*alpha_y", "", "alpha_y", "omitted term"),
+        ("dot(Delta_Phi)", "-Delta_W_eta/R", "-2*Delta_W_eta/R", "delta_W_eta",
+         "wrong coefficient"),
+    ],
+}
+
+
+def _check(model: str, text: str):
+    hand = parse_hand_text(text, default_notation(model))
+    return check_hand(hand, model=model, effects=False)
+
+
+@pytest.mark.parametrize("model", sorted(INJECTED))
+def test_correct_hand_file_agrees_and_injected_mistakes_are_found(model):
+    text = (DATA / f"hand_correct_{model}.txt").read_text(encoding="utf-8")
+    report = _check(model, text)
+    assert not report.problems
+    assert {r.status for r in report.results} == {"agrees"}, [
+        (r.equation.line, r.findings) for r in report.results if r.status != "agrees"]
+    assert report.exit_status == 0
+    lines = text.splitlines()
+    where = {}
+    for start, old, new, quantity, kind in INJECTED[model]:
+        number = next(i for i, s in enumerate(lines) if s.startswith(start))
+        assert old in lines[number], (model, start, old)
+        lines[number] = lines[number].replace(old, new, 1)
+        where[number + 1] = (quantity, kind)
+    report = _check(model, "\n".join(lines))
+    assert report.exit_status == 1
+    for line, (quantity, kind) in where.items():
+        found = {(f.quantity, f.kind, f.severity) for r in report.results
+                 if r.equation.line == line for f in r.findings}
+        assert (quantity, kind, "mistake") in found, (model, line, found)
+    # nothing is reported on the lines left alone
+    assert {r.equation.line for r, _ in report.findings} == set(where)
+
+
+def test_report_001_printed_f_on_a_static_base(capsys):
+    report = check_hand_file(F_001, model="north_pointing")
+    assert report.scope == "static base" and [p.label for p in report.points] == [
+        "static base"]
+    assert not report.problems and not report.mistakes and report.exit_status == 0
+    drops = {(r.label, f.quantity): f for r, f in report.findings}
+    # the Foucault terms 2 U sin(phi) dV, each about 9 % of its line, declared dropped
+    assert set(drops) == {("dot(delta_v_E)", "delta_v_N"), ("dot(delta_v_N)", "delta_v_E")}
+    assert {f.severity for f in drops.values()} == {"declared drop"}
+    # independently: 2 U sin 50° * sqrt(g R) θ  against  g θ (the largest term, g·Q)
+    import math
+
+    u, g, radius = 7.292115e-5, 9.80665, 6_371_000.0
+    expected = 2 * u * math.sin(math.radians(50)) * math.sqrt(g * radius) / g
+    for f in drops.values():
+        assert f.size == pytest.approx(expected, rel=1e-6)
+        assert f.effect["position_24h"] > 0
+    # without the declaration and the scope the same rows are mistakes
+    bare = "\n".join(s for s in F_001.read_text().splitlines()
+                     if not s.startswith(("@neglect", "@scope")))
+    loose = _check("north_pointing", bare)
+    assert loose.exit_status == 1
+    assert {(r.label, f.kind) for r, f in loose.root_mistakes} >= {
+        ("dot(delta_v_E)", "omitted term"), ("dot(delta_v_N)", "omitted term")}
+    assert main(["check", "north_pointing", str(F_001), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["scope"] == "static base" and data["summary"]["declared drops"] == 2
+
+
+@pytest.mark.parametrize("model", ["north_pointing", "free_azimuth", "geodetic_vertical",
+                                   "orthodromic"])
+def test_docs_list_the_names_a_hand_file_may_use(model):
+    docs = (ROOT / "docs" / "hand_check.md").read_text(encoding="utf-8")
+    section = docs.split(f"### Names for `{model}`", 1)[1].split("### ", 1)[0]
+    for kind, name, _ in names_table(model):
+        assert f"`{name}`" in section, (model, kind, name)
+
+
+def test_a_model_that_cannot_fly_a_motion_says_which():
+    report = _check("north_pointing", "dot(alpha_U) = alpha_E*omega_N - alpha_N*omega_E "
+                                      "+ Delta_omega_U + gyro_drift_up\n")
+    assert report.skipped_motions == ["climb: the model has no vertical-velocity input V_zeta"]
+    assert "climb" not in {p.motion for p in report.points}
