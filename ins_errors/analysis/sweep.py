@@ -456,8 +456,13 @@ class SweepResult:
 
 def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
     """Identity of a sweep: a hash of every point's job and the store layout."""
-    text = json.dumps({"jobs": [asdict(j) for j in jobs], **extra}, sort_keys=True,
-                      default=str)
+    rows = []
+    for job in jobs:
+        row = asdict(job)
+        if "file" not in dict(job.motion):
+            del row["base"]  # the folder matters to motion files only
+        rows.append(row)
+    text = json.dumps({"jobs": rows, **extra}, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:32]
 
 
@@ -604,14 +609,16 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
         excited = dataset["excited"].values.any(axis=0)
         quantities = [q for q, e in zip(all_quantities, excited, strict=True)
                       if e and q.startswith("delta_")][:3]
-    units = dict(zip(all_quantities, (str(u) for u in dataset["quantity_unit"].values),
-                     strict=True))
+    from ins_errors.units import display_scale
+
+    scales = {q: display_scale(str(u)) for q, u in
+              zip(all_quantities, dataset["quantity_unit"].values, strict=True)}
     shown = {}
     for name in labels:
         unit = dataset[name].attrs.get("display_unit", "")
         shown[name] = f"{name} [{unit}]" if unit and unit != "1" else name
     head = [*shown.values(), "worst lin/dir", "quantity",
-            *(f"max {q} [{units[q]}]" for q in quantities)]
+            *(f"max {q} [{scales[q][1]}]" for q in quantities)]
     rows = []
     worst, names = _worst(dataset, "linear")
     for k in range(min(dataset.sizes["point"], limit)):
@@ -623,7 +630,8 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
             cells.append(f"{Parameter(name, '', unit, (), display).shown(value):.6g}")
         cells += [f"{worst[k]:.3e}" if np.isfinite(worst[k]) else "–", names[k] or "–"]
         for q in quantities:
-            cells.append(f"{dataset['max_direct'].values[k, all_quantities.index(q)]:.4e}")
+            value = dataset["max_direct"].values[k, all_quantities.index(q)]
+            cells.append(f"{value * scales[q][0]:.4g}")
         rows.append(cells)
     widths = [max(len(h), *(len(r[i]) for r in rows)) if rows else len(h)
               for i, h in enumerate(head)]
@@ -635,7 +643,8 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
 
 
 def figure_values(dataset, figure: str) -> tuple[np.ndarray, str]:
-    """Per-point values of a figure (see :data:`FIGURES`) and its axis label."""
+    """Per-point values of a figure (see :data:`FIGURES`) and its axis label (errors in
+    the display units of :data:`ins_errors.units.DISPLAY_UNITS`)."""
     if figure in ("worst_linear_ratio", "worst_refined_ratio"):
         curve = figure.split("_")[1]
         if f"{curve}_ratio" not in dataset:
@@ -649,11 +658,14 @@ def figure_values(dataset, figure: str) -> tuple[np.ndarray, str]:
     names = [str(q) for q in dataset["quantity"].values]
     if quantity not in names:
         raise unknown_name("error quantity", quantity, names)
+    from ins_errors.units import display_scale
+
     j = names.index(quantity)
-    unit = str(dataset["quantity_unit"].values[j]) if kind == "max_direct" else "1"
+    scale, unit = (display_scale(str(dataset["quantity_unit"].values[j]))
+                   if kind == "max_direct" else (1.0, "1"))
     title = {"max_direct": f"max |{quantity}|", "linear_ratio": f"{quantity} linear/direct",
              "refined_ratio": f"{quantity} refined/direct"}[kind]
-    return dataset[kind].values[:, j], f"{title} [{unit}]"
+    return dataset[kind].values[:, j] * scale, f"{title} [{unit}]"
 
 
 def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path:

@@ -68,6 +68,8 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps({"store": str(result.store), "points": result.points,
                           "computed": result.computed, "reused": result.reused,
                           "engine": where, "plot": None if plotted is None else str(plotted),
+                          "parameters": {name: data[name].attrs.get("units", "1")
+                                         for name in sw.swept_names(data)},
                           "summary": sw.summary(data)}, indent=2, ensure_ascii=False))
         return 0
     print(f"{scenario.title}: {result.points} points, {result.computed} computed "
