@@ -6,7 +6,8 @@ computer that integrates
 * the attitude quaternion ``q`` of the body (b) relative to the local-level NED frame
   (n), scalar first, ``q̇ = ½ q ⊗ (0, ω_ib^b) − ½ (0, ω_in^n) ⊗ q`` with
   ``ω_in^n = ω_ie^n + ω_en^n`` (Earth rate plus transport rate); the direction-cosine
-  matrix C_b^n is the usual quadratic form of ``q`` (no small-angle shortcut anywhere);
+  matrix C_b^n is the quadratic form of ``q`` divided by |q|² (no small-angle shortcut
+  anywhere);
 * the ground velocity ``v^n = (v_N, v_E, v_D)``,
   ``v̇^n = C_b^n f^b − (2 ω_ie^n + ω_en^n) × v^n + (0, 0, γ(φ, h))``, γ the normal
   gravity of the ellipsoid with its height dependence;
@@ -30,10 +31,12 @@ velocity-error conventions, and to position errors in NED metres, are in
 
 Modelling choices (also printed at the top of ``generated/strapdown_ned/error_equations.md``):
 
-* attitude as the quaternion q = (q0, q1, q2, q3) of body → NED, scalar first; C_b^n is
-  the quadratic form of q. Its norm is a first integral of both the ideal and the real
-  equations, so the error δq stays orthogonal to q (to first order) and carries three
-  attitude degrees of freedom.
+* attitude as the quaternion q = (q0, q1, q2, q3) of body → NED, scalar first; the
+  specific force is resolved with C_b^n = C(q) / |q|², C(q) the quadratic form of q: the
+  exact direction cosines of a quaternion of any length, so a drift of |q| (a rectangle
+  step grows it by (ωτ)²/4) does not leak into the velocities. |q| is a first integral of
+  the continuous equations, so the error δq stays orthogonal to q (to first order) and
+  carries three attitude degrees of freedom.
 * gravity is normal gravity along the ellipsoid normal (no deflection of the vertical),
   Somigliana's formula continued to height h by the second-order series of NIMA
   TR8350.2 (4-3); the radii of curvature are those of the same ellipsoid.
@@ -246,7 +249,8 @@ def computer(eq: Mechanisation, s, omega, f, h_ref) -> list[sp.Expr]:
     dq = [(b_k - n_k) / 2 for b_k, n_k in zip(body, nav, strict=True)]
     # velocity: specific force resolved in NED, Coriolis and transport terms, gravity
     C = direction_cosines(q)
-    f_n = [eq.let(f"f_{c}", sum(C[i, j] * f[j] for j in range(3)), f"f_{c}")
+    norm2 = eq.let("q_norm2", sum(component**2 for component in q), r"\left|q\right|^{2}")
+    f_n = [eq.let(f"f_{c}", sum(C[i, j] * f[j] for j in range(3)) / norm2, f"f_{c}")
            for i, c in enumerate("NED")]
     cN, cE, cD = 2 * Om_N + rho_N, rho_E, 2 * Om_D + rho_D
     height_error = eq.let("delta_h_ref", h - h_ref, r"\delta h_{\mathrm{ref}}")
