@@ -321,3 +321,11 @@ def test_installed_package_registers_a_model_by_entry_point(tmp_path, monkeypatc
     assert "schuler_loop" in capsys.readouterr().out
     model = load_model("loop")
     assert model.name == "schuler_loop" and abs(_gravity(model) - G) < 1e-9
+
+
+def test_validity_of_a_model_file_shows_the_sine_residual(capsys):
+    # direct keeps sin ψ, linear has ψ: the relative residual is ψ²/6-like, slope 2
+    assert main(["validity", str(SCHULER), "--motion", "static", "--source", "accel_bias",
+                 "--hours", "1", "--step", "30s", "--json", "--no-progress"]) == 0
+    [row] = json.loads(capsys.readouterr().out)["sources"]
+    assert row["source"] == "accel_bias" and abs(row["linear_slope"] - 2.0) < 0.01

@@ -37,9 +37,9 @@ def workspace(tmp_path, monkeypatch):
     return tmp_path
 
 
-def test_the_page_covers_list_derive_compare():
+def test_the_page_covers_list_derive_compare_check():
     verbs = [line.split()[0] for line, _ in COMMANDS]
-    assert {"models", "derive", "compare"} <= set(verbs), verbs
+    assert {"models", "derive", "compare", "check"} <= set(verbs), verbs
 
 
 @pytest.mark.parametrize("line, status", COMMANDS, ids=[c[0][:60] for c in COMMANDS])
@@ -55,6 +55,12 @@ def test_tutorial_command(line, status, workspace, capsys):
         # the numbers the page quotes: 2b/g tilt, b/ω_s velocity error
         assert re.search(r"`psi` \| arcmin \| 6\.875e-01", out), out  # 2e-4 rad
         assert re.search(r"`delta_v_N` \| m/s \| 7\.904e-01", out), out
+    if line.startswith("check") and line.endswith(".tex"):
+        assert "3 agree" in out and "0 with mistakes" in out, out
+    if line.startswith("check") and "wrong" in line:
+        # the one wrong sign, on line 5, in the term of delta_V, and nothing else
+        assert re.search(r"^\s+5\s+dot\(psi\)\s+delta_V\s+wrong sign\s+mistake", out, re.M), out
+        assert "2 agree" in out and "1 with mistakes" in out, out
 
 
 def test_code_excerpts_are_the_model_files_own_lines():

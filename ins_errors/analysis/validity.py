@@ -158,7 +158,7 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
     names = list(sources) if sources else [s.name for s in model.sources]
     for name in names:
         model.index("sources", name)
-    return [ValidityTask(model.name, motion, name,
+    return [ValidityTask(model.key, motion, name,
                          tuple(f * typical_magnitude(model, name) for f in factors),
                          float(hours), float(step), method)
             for motion in motions for name in names]

@@ -32,7 +32,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "(K, n, n) and G_<motion> at the samples written by --write-samples. "
                     "Every entry is classed agrees / dropped small term / mistake, and both "
                     "models are propagated for 1 h and 24 h. Details: docs/matrix_check.md.")
-    parser.add_argument("model", help="model name, e.g. orthodromic")
+    parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("file", type=Path, nargs="?",
                         help="hand file (.txt SymPy syntax, .tex LaTeX); not with --matrix")
     parser.add_argument("--matrix", metavar="FILE.py:FUNCTION|FILE.npz|FILE.mat",
@@ -87,10 +87,12 @@ def run(args: argparse.Namespace) -> int:
         magnitudes[unit.strip()] = quantity.strip()
     if args.report is not None:
         check_file(args.report)
+    from ins_errors.model_lookup import definition_of, resolve
     from ins_errors.progress import stage
 
-    with stage(f"checking {args.file.name} against {args.model}"):
-        report = check_hand_file(args.file, model=args.model, threshold=args.threshold,
+    definition = definition_of(resolve(args.model))  # a name, a model file or an entry point
+    with stage(f"checking {args.file.name} against {definition.name}"):
+        report = check_hand_file(args.file, model=definition, threshold=args.threshold,
                                  latex=True if args.latex else None,
                                  mapping_path=args.mapping, latex_backend=args.latex_parser,
                                  magnitudes=magnitudes)

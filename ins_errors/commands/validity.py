@@ -28,7 +28,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "linear (1 = clean second-order residual) and refined (2) residuals "
                     "against magnitude and the magnitudes where the linear residual "
                     "reaches 1 % and 10 % of the error; one log-log plot per source.")
-    parser.add_argument("model", help="model name, e.g. orthodromic")
+    parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--motion", action="append", choices=MOTIONS,
                         help="true motion (repeatable; default: static and great-circle)")
     parser.add_argument("--source", "-s", action="append", metavar="NAME",
