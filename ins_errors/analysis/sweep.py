@@ -527,9 +527,11 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     -------
     SweepResult
     """
-    from ins_errors.analysis.engine import run_tasks
+    from ins_errors.analysis.engine import choose_engine, run_tasks
     from ins_errors.analysis.store import SweepStore
 
+    scheduler = scheduler or scenario.sweep.scheduler
+    engine = choose_engine(engine, scheduler)  # before any store is made
     points = grid(scenario)
     shape = layout(scenario, points)
     box = SweepStore.open(store, shape)
@@ -542,7 +544,6 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
             if on_result is not None:
                 on_result(todo[k])
 
-        scheduler = scheduler or scenario.sweep.scheduler
         stats = run_tasks(run_point, [(points.jobs[k],) for k in todo], engine=engine,
                           scheduler=scheduler, workers=workers, on_result=keep,
                           progress=progress, label="sweep")
