@@ -123,3 +123,32 @@ def test_a_model_that_cannot_fly_a_motion_says_which():
                                       "+ Delta_omega_U + gyro_drift_up\n")
     assert report.skipped_motions == ["climb: the model has no vertical-velocity input V_zeta"]
     assert "climb" not in {p.motion for p in report.points}
+
+
+def test_model_file_from_outside_the_package(tmp_path, capsys):
+    """The tutorial's Schuler loop (a model file): δV' = −g ψ + ∇, δφ' = ψ' − ε = δV/R."""
+    model = str(ROOT / "examples" / "own_model" / "schuler_loop.py")
+    hand = tmp_path / "loop.txt"
+    hand.write_text("dot(delta_V) = -g*psi + accel_bias\ndot(delta_phi) = delta_V/R\n"
+                    "dot(psi) = delta_V/R + gyro_drift\n")
+    assert main(["check", model, str(hand)]) == 0
+    assert "3 agree" in capsys.readouterr().out
+    hand.write_text("dot(delta_V) = g*psi + accel_bias\n")
+    assert main(["check", model, str(hand), "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    ((finding,),) = [e["findings"] for e in data["equations"]]
+    assert (finding["quantity"], finding["kind"]) == ("psi", "wrong sign")
+
+
+def test_strapdown_position_lines():
+    """strapdown_ned: height and latitude rates, with R_N's variation from the model."""
+    text = ("dot(Delta_h) = -Delta_v_D\n"
+            "dot(Delta_phi) = Delta_v_N/(R_N + h) - v_N/(R_N + h)**2*(Delta_R_N + Delta_h)\n"
+            "dot(Delta_lambda) = Delta_v_E/((R_E + h)*cos(lat)) - v_E/((R_E + h)**2*cos(lat))"
+            "*(Delta_R_E + Delta_h) + v_E*sin(lat)/((R_E + h)*cos(lat)**2)*Delta_phi\n")
+    report = _check("strapdown_ned", text)
+    assert report.exit_status == 0 and len(report.results) == 3
+    assert "climb" in {p.motion for p in report.points}  # v_D0 sets the climb
+    wrong = _check("strapdown_ned", text.replace("= -Delta_v_D", "= Delta_v_D"))
+    ((result, finding),) = wrong.mistakes
+    assert (result.equation.line, finding.kind) == (1, "wrong sign")

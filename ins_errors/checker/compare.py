@@ -49,7 +49,6 @@ from ins_errors.checker.reference import (
 )
 from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
-from ins_errors.models import definition as model_definition
 from ins_errors.symbolic.variation import output_mechanisations, structured_variation
 
 DEFAULT_THRESHOLD = 1e-3
@@ -932,10 +931,13 @@ def _points(d: ModelDefinition, scope: str | None):
 
 
 def resolve_model(model: str | ModelDefinition) -> ModelDefinition:
-    """The definition of a registered model name, or a definition given directly."""
+    """The definition of a model: a built-in name, a model file (``./my_ins.py``), an
+    installed entry point (see :mod:`ins_errors.model_lookup`), or a definition."""
     if isinstance(model, ModelDefinition):
         return model
-    return model_definition(model)
+    from ins_errors.model_lookup import definition_of, resolve
+
+    return definition_of(resolve(model))
 
 
 def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",

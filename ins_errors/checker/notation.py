@@ -169,11 +169,18 @@ def model_notation(d: ModelDefinition) -> Notation:
 _MODEL_NOTATIONS: dict[int, tuple] = {}
 
 
+def _definition(model: str | ModelDefinition) -> ModelDefinition:
+    """A model definition from a built-in name, model file or entry point (or itself)."""
+    if not isinstance(model, str):
+        return model
+    from ins_errors.model_lookup import definition_of, resolve
+
+    return definition_of(resolve(model))
+
+
 def default_notation(model: str | ModelDefinition) -> Notation:
     """The notation of ``model``: its own names, then its source document's notation."""
-    from ins_errors.models import definition
-
-    d = definition(model) if isinstance(model, str) else model
+    d = _definition(model)
     cached = _MODEL_NOTATIONS.get(id(d))
     if cached is None or cached[0] is not d:
         cached = (d, model_notation(d))
@@ -187,9 +194,7 @@ def names_table(model: str | ModelDefinition) -> list[tuple[str, str, str]]:
     Hand spellings from the notation are listed as kind ``spelling`` with the model
     name they stand for in place of the LaTeX.
     """
-    from ins_errors.models import definition
-
-    d = definition(model) if isinstance(model, str) else model
+    d = _definition(model)
     rows = []
     for kind, group in (("error state", d.error_states), ("state", d.states),
                         ("input", d.inputs), ("parameter", d.parameters),

@@ -186,6 +186,8 @@ def canonical_name(name: str, notation: Notation) -> sp.Expr:
         return DOT(canonical_name(name[:-4], notation))
     if name in notation.spellings:
         return sp.Symbol(notation.spellings[name])
+    if name in ("lambda", "varphi"):  # the LaTeX letters' ASCII names
+        return canonical_name({"lambda": "lam", "varphi": "phi"}[name], notation)
     if name.startswith("Delta_") and len(name) > 6:
         inner = canonical_name(name[6:], notation)
         if isinstance(inner, sp.Symbol):

@@ -264,8 +264,8 @@ def _evaluators(d: ModelDefinition):
     initial = sp.lambdify([c, u, p], list(d.initial_state), "numpy")
     rhs_expr = d.ideal_rhs_expanded()
     rhs = sp.lambdify([x, u, p], list(rhs_expr), "numpy")
-    accel = [v.symbol for v in d.inputs if _is_horizontal_acceleration(v.name)]
-    jacobian = sp.lambdify([x, u, p], rhs_expr.jacobian(accel) if accel else sp.zeros(
+    free = [v.symbol for v in d.inputs if _is_solved_input(v.name)]
+    jacobian = sp.lambdify([x, u, p], rhs_expr.jacobian(free) if free else sp.zeros(
         len(x), 0), "numpy")
     closed = ideal_intermediate_values(d)
     symbols = list(closed)
@@ -274,18 +274,34 @@ def _evaluators(d: ModelDefinition):
     return initial, rhs, jacobian, intermediates, symbols
 
 
+_HEIGHTS = ("h", "h_ref", "height")
+_VERTICAL = ("a_zeta", "a_U", "a_z", "a_up", "a_D")
+_CLIMB = ("V_zeta",)
+
+
 def _is_horizontal_acceleration(name: str) -> bool:
-    return name.startswith("a_") and name not in ("a_zeta", "a_U", "a_z", "a_up", "a_D")
+    return name.startswith("a_") and name not in _VERTICAL
+
+
+def _is_solved_input(name: str) -> bool:
+    """Inputs solved from the ideal equations (accelerations, body rates, forces)."""
+    return name not in (*_HEIGHTS, *_VERTICAL, *_CLIMB)
 
 
 def _unusable(d: ModelDefinition, motion: _Motion) -> str | None:
     """Why ``d`` cannot fly ``motion`` (None if it can)."""
     inputs = {v.name for v in d.inputs}
-    if motion.climb and "V_zeta" not in inputs:
+    conditions = {v.name for v in d.initial_conditions}
+    if motion.climb and "V_zeta" not in inputs and not conditions & {"v_D0", "v_D", "v_U"}:
         return "the model has no vertical-velocity input V_zeta"
-    if motion.acceleration and not any(_is_horizontal_acceleration(n) for n in inputs):
+    if motion.acceleration and not any(_is_solved_input(n) for n in inputs):
         return "the model has no horizontal acceleration input"
     return None
+
+
+_FIX = ("latitude", "longitude", "heading", "v_N", "v_E", "v_N0", "v_E0", "v_D0", "v_D",
+        "v_U", "height", "roll", "pitch", "yaw")
+"""Initial conditions a navigation fix and a motion set."""
 
 
 def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceMotions:
@@ -305,23 +321,17 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
     """
     if scope is not None and scope not in MOTION_CLASSES:
         raise InsErrorsError(f"unknown scope {scope!r} (known: {', '.join(MOTION_CLASSES)})")
-    settable = {"latitude", "longitude", "heading", "v_N", "v_E"}
+    settable = set(_FIX)
     strange = [v.name for v in d.initial_conditions if v.name not in settable]
     if strange:
         raise InsErrorsError(f"model {d.name!r}: the checker's reference motions cannot set "
                              f"the initial condition {strange[0]!r} (they set "
                              f"{', '.join(sorted(settable))})")
-    known_inputs = {"h", "V_zeta", "a_zeta", "a_U", "a_z", "a_up"}
-    odd = [v.name for v in d.inputs
-           if v.name not in known_inputs and not _is_horizontal_acceleration(v.name)]
-    if odd:
-        raise InsErrorsError(f"model {d.name!r}: the checker's reference motions do not know "
-                             f"how to set the input {odd[0]!r}")
     initial, rhs, jacobian, intermediates, symbols = _evaluators(d)
     p = [float(v.default) for v in d.parameters]
     names_c = [v.name for v in d.initial_conditions]
     names_u = [v.name for v in d.inputs]
-    accel = [k for k, n in enumerate(names_u) if _is_horizontal_acceleration(n)]
+    accel = [k for k, n in enumerate(names_u) if _is_solved_input(n)]
     velocity = [k for k, v in enumerate(d.states) if v.unit == "m/s"]
     result = ReferenceMotions([])
     for m in _MOTIONS:
@@ -335,13 +345,16 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
         lat, lon, track = np.radians([m.latitude, m.longitude, m.heading])
         if m.distance is not None:
             lat, lon, track = _great_circle(lat, lon, track, m.distance)
-        fix = {"latitude": lat, "longitude": lon, "heading": track,
-               "v_N": m.speed * np.cos(track), "v_E": m.speed * np.sin(track)}
+        v_n, v_e = m.speed * np.cos(track), m.speed * np.sin(track)
+        fix = {"latitude": lat, "longitude": lon, "heading": track, "yaw": track,
+               "v_N": v_n, "v_E": v_e, "v_N0": v_n, "v_E0": v_e, "v_D0": -m.climb,
+               "v_D": -m.climb, "v_U": m.climb, "height": m.height, "roll": 0.0,
+               "pitch": 0.0}
         c = [fix[n] for n in names_c]
         u = []
         for n in names_u:
-            u.append({"h": m.height, "V_zeta": m.climb}.get(
-                n, GRAVITY if n in known_inputs else 0.0))
+            u.append(m.height if n in _HEIGHTS else m.climb if n in _CLIMB
+                     else GRAVITY if n in _VERTICAL else 0.0)
         x = [float(v) for v in initial(c, u, p)]
         if accel:
             rates = np.asarray(rhs(x, u, p), dtype=float).ravel()
@@ -351,7 +364,9 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
                 for k in velocity:
                     target[k] = m.acceleration * x[k] / speed
             b = np.asarray(jacobian(x, u, p), dtype=float).reshape(len(x), len(accel))
-            rows = velocity or list(range(len(x)))
+            # every state the solved inputs drive: velocities follow the motion's
+            # along-track acceleration, the others (attitude) stay as they are
+            rows = [i for i in range(len(x)) if np.any(b[i] != 0)]
             solution, *_ = np.linalg.lstsq(b[rows], (target - rates)[rows], rcond=None)
             for k, value in zip(accel, solution, strict=True):
                 u[k] = float(value)
