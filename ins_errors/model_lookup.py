@@ -150,7 +150,7 @@ def resolve(spec: str, relative_to: str | Path | None = None) -> ModelRef:
     builtins = builtin_names()
     if spec in builtins:
         return ModelRef("builtin", spec)
-    from ins_errors.model_files import file_sha256
+    from ins_errors.model_files import model_sha256
 
     if _looks_like_path(spec) or Path(spec).is_file():
         path = Path(spec).expanduser()
@@ -160,10 +160,10 @@ def resolve(spec: str, relative_to: str | Path | None = None) -> ModelRef:
             raise ModelDefinitionError(f"model file {spec!r} not found"
                                        + (f" (looked in {str(Path(relative_to))!r})"
                                           if relative_to is not None else ""))
-        ref = ModelRef("file", str(path.resolve()), path.resolve(), file_sha256(path))
+        ref = ModelRef("file", str(path.resolve()), path.resolve(), model_sha256(path))
     elif spec in _entry_points():
         path = _entry_point_file(spec)
-        ref = ModelRef("entry_point", spec, path, file_sha256(path))
+        ref = ModelRef("entry_point", spec, path, model_sha256(path))
     else:
         error = unknown_name("model", spec, [*builtins, *entry_point_names()])
         raise UnknownNameError(f"{error} (or a model file, e.g. ./my_ins.py)")

@@ -10,6 +10,7 @@ constant gyro drift ε gives the latitude error ε (sin ω_s t / ω_s − t).
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import shutil
@@ -61,8 +62,6 @@ def test_derive_writes_the_generated_package(tmp_path, capsys):
     init = (out / "__init__.py").read_text(encoding="utf-8")
     assert init.startswith("# GENERATED FILE")
     assert "MODEL_FILE = 'schuler_loop.py'" in init
-    import hashlib
-
     assert hashlib.sha256(SCHULER.read_bytes()).hexdigest() in init
     numpy_src = (out / "numpy_model.py").read_text(encoding="utf-8")
     assert "def second_order(" in numpy_src and "def state_matrix(" in numpy_src
@@ -329,3 +328,18 @@ def test_validity_of_a_model_file_shows_the_sine_residual(capsys):
                  "--hours", "1", "--step", "30s", "--json", "--no-progress"]) == 0
     [row] = json.loads(capsys.readouterr().out)["sources"]
     assert row["source"] == "accel_bias" and abs(row["linear_slope"] - 2.0) < 0.01
+
+
+def test_a_module_next_to_the_model_file_is_part_of_its_identity(tmp_path, capsys):
+    (tmp_path / "loop_constants.py").write_text("GRAVITY = 9.80665\n", encoding="utf-8")
+    path = copy_model(tmp_path, ('Parameter("g", "m/s**2", "gravity", "g", 9.80665)',
+                                 'Parameter("g", "m/s**2", "gravity", "g", GRAVITY)'),
+                      ("import sympy as sp\n",
+                       "import sympy as sp\nfrom loop_constants import GRAVITY\n"))
+    assert main(["derive", str(path)]) == 0
+    capsys.readouterr()
+    assert abs(_gravity(load_model(str(path))) - G) < 1e-9
+    (tmp_path / "loop_constants.py").write_text("GRAVITY = 9.5\n", encoding="utf-8")
+    model = load_model(str(path))  # same process, model file itself unchanged
+    assert abs(_gravity(model) - 9.5) < 1e-9
+    assert "stale" in capsys.readouterr().err

@@ -79,3 +79,17 @@ def test_wheel_budget_uses_the_built_in_spec(installed_wheel, tmp_path):
     result = _run_outside(installed_wheel, code, tmp_path)
     assert result.returncode == 0, result.stdout + result.stderr
     assert result.stdout.startswith(str(installed_wheel))
+
+
+def test_wheel_derives_a_model_file(installed_wheel, tmp_path):
+    """`ins-errors derive FILE` needs the code writer, which ships as ins_errors.derive."""
+    model = ROOT / "examples" / "own_model" / "schuler_loop.py"
+    (tmp_path / "schuler_loop.py").write_text(model.read_text(encoding="utf-8"),
+                                              encoding="utf-8")
+    code = ("import sys; from ins_errors.cli import main; "
+            "sys.exit(main(['derive', 'schuler_loop.py']) "
+            "or main(['models', 'schuler_loop.py']))")
+    result = _run_outside(installed_wheel, code, tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert "initial_tilt" in result.stdout and result.stderr == ""  # found next to the file
+    assert (tmp_path / "schuler_loop_generated" / "casadi_model.py").is_file()
