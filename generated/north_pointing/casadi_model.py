@@ -87,7 +87,7 @@ def _build_real_rhs():
     _t9 = R_*(1 - ecc2_)
     _t10 = 1/(h_ + _t9/_t7**((3/2)))
     _t11 = U_*_m.cos(phi_)
-    _t12 = V_E_**2*_t8 + 2*V_E_*_t11 + V_N_**2*_t10 + g_
+    _t12 = -V_E_**2*_t8 - 2*V_E_*_t11 - V_N_**2*_t10 + g_
     _t13 = _m.sin(alpha_N_)
     _t14 = _m.cos(alpha_U_)
     _t15 = _m.cos(alpha_N_)
@@ -162,7 +162,7 @@ def _build_real_rhs_small_angle():
     _t10 = R_*(1 - ecc2_)
     _t11 = 1/(_t10/_t8**((3/2)) + h_)
     _t12 = U_*_m.cos(phi_)
-    _t13 = V_E_**2*_t9 + 2*V_E_*_t12 + V_N_**2*_t11 + g_
+    _t13 = -V_E_**2*_t9 - 2*V_E_*_t12 - V_N_**2*_t11 + g_
     _t14 = V_N_c_/(_t10/_t2**((3/2)) + h_)
     _t15 = _m.cos(phi_c_)
     _t16 = V_N_*_t11
@@ -316,7 +316,7 @@ def _build_state_matrix():
     _t19 = 1 - ecc2_
     _t20 = _t13*_t19 + h_
     _t21 = 1/_t20
-    _t22 = V_E_**2*_t3 + V_E_*_t12 + V_N_**2*_t21 + g_
+    _t22 = V_E_**2*_t3 + V_E_*_t12 + V_N_**2*_t21 - g_
     _t23 = 3*R_*V_N_*_t10*_t14*_t19/(_t1**((5/2))*_t20**2)
     _t24 = _t6 + _t9
     _t25 = _t11 + _t8
@@ -325,11 +325,11 @@ def _build_state_matrix():
     _out[0, 0] = V_N_*_t5
     _out[0, 1] = _t7 + _t9
     _out[0, 2] = V_N_*_t18
-    _out[0, 5] = -_t22
+    _out[0, 5] = _t22
     _out[0, 6] = a_N_
     _out[1, 0] = -_t7 - 2*_t9
     _out[1, 2] = -V_E_*_t18
-    _out[1, 4] = _t22
+    _out[1, 4] = -_t22
     _out[1, 6] = -a_E_
     _out[2, 1] = _t21
     _out[2, 2] = -_t23

@@ -21,8 +21,10 @@ Modelling choices (also printed at the top of ``generated/north_pointing/error_e
   R_N = R(1 − e²)/(1 − e² sin²φ)^{3/2}, R_E = R/√(1 − e² sin²φ).
 * Gravity ``g`` (plumb line, centrifugal part included) is a parameter and is normal to
   the local level, so it has no horizontal component; the true vertical specific force of
-  level flight is f_U = g + v_E²/(R_E + h) + v_N²/(R_N + h) + 2U cos φ v_E (the vertical
-  acceleration is zero). It reaches the horizontal channels only through platform tilt.
+  level flight is f_U = g − v_E²/(R_E + h) − v_N²/(R_N + h) − 2U cos φ v_E (the vertical
+  acceleration is zero: flying around the curved Earth, and eastward, makes the vehicle
+  lighter, the Eötvös effect; an independent ECEF computation checks it). It reaches the
+  horizontal channels only through platform tilt.
 * Platform kinematics are exact (z-y-x angles of p relative to t, specific force
   resolved through the exact rotation, :mod:`ins_errors.models.platform`); the report's
   small-angle form α̇ = α × ω + (ω_cmd − ω) + drift, f^p = f − α × f (ω the absolute rate
@@ -228,7 +230,7 @@ def vertical_specific_force(s: list[sp.Expr], h: sp.Expr) -> sp.Expr:
     sin2 = sp.sin(lat) ** 2
     r_E = R / sp.sqrt(1 - ecc2 * sin2) + h
     r_N = R * (1 - ecc2) / (1 - ecc2 * sin2) ** sp.Rational(3, 2) + h
-    return g + v_E**2 / r_E + v_N**2 / r_N + 2 * U * sp.cos(lat) * v_E
+    return g - v_E**2 / r_E - v_N**2 / r_N - 2 * U * sp.cos(lat) * v_E
 
 
 # --------------------------------------------------------------------------------------
