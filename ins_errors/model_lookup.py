@@ -280,9 +280,11 @@ def generated_folder(ref: ModelRef) -> Path:
     origin, record = package_record(ref)
     try:
         write_package(d, cached, origin, record)
-    except InsErrorsError:
-        raise
-    except OSError as error:
+    except (InsErrorsError, OSError) as error:
+        if recorded_sha256(cached) == ref.sha256:
+            return cached  # another process wrote the same package meanwhile
+        if isinstance(error, InsErrorsError):
+            raise
         raise InsErrorsError(f"cannot write the model cache {str(cached)!r}: "
                              f"{error.strerror}") from None
     return cached

@@ -1,5 +1,9 @@
-"""examples/own_model/README.md stays true: its commands run, its code excerpts are the
-model file's own lines, and the numbers and messages it quotes are what the tools print."""
+"""examples/own_model/README.md stays true: its code excerpts are the model file's own
+lines, and the files, numbers and messages it quotes are what the tools produce.
+
+(That every command of the page and of the README runs with the stated exit status is
+tests/test_docs_commands.py's job; here the commands whose output the page describes run
+again with assertions on that output.)"""
 
 from __future__ import annotations
 
@@ -20,7 +24,8 @@ COMMAND = re.compile(r"^\$ ins-errors (.+?)(?:\s+#\s*exit (\d+))?$", re.M)
 COMMANDS = COMMAND.findall(PAGE)
 README_SECTION = (ROOT / "README.md").read_text(encoding="utf-8").split(
     "## Bring your own model", 1)[1].split("\n## ", 1)[0]
-README_COMMANDS = re.findall(r"^ins-errors (.+?)\s*(?:#.*)?$", README_SECTION, re.M)
+DESCRIBED = [c for c in COMMANDS
+             if c[0].startswith(("derive", "check")) or "accel_bias=100ug" in c[0]]
 
 
 @pytest.fixture
@@ -42,7 +47,7 @@ def test_the_page_covers_list_derive_compare_check():
     assert {"models", "derive", "compare", "check"} <= set(verbs), verbs
 
 
-@pytest.mark.parametrize("line, status", COMMANDS, ids=[c[0][:60] for c in COMMANDS])
+@pytest.mark.parametrize("line, status", DESCRIBED, ids=[c[0][:60] for c in DESCRIBED])
 def test_tutorial_command(line, status, workspace, capsys):
     assert main(shlex.split(line)) == int(status or 0), capsys.readouterr().err
     out = capsys.readouterr().out
@@ -81,12 +86,6 @@ def test_quoted_mistake_message_is_what_derive_prints(tmp_path, capsys, monkeypa
                         lambda: tmp_path / "cache")
     assert main(["derive", str(model), "--out", str(tmp_path / "pkg")]) == 2
     assert capsys.readouterr().err.strip() == quoted
-
-
-@pytest.mark.parametrize("line", README_COMMANDS, ids=[c[:60] for c in README_COMMANDS])
-def test_readme_section_command(line, workspace, capsys):
-    assert main(shlex.split(line)) == 0, capsys.readouterr().err
-    assert capsys.readouterr().out.strip()
 
 
 def test_readme_section_names_are_the_public_api():
