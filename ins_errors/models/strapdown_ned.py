@@ -167,6 +167,33 @@ SOURCES = (
       for c, name in (("N", "north"), ("E", "east"), ("D", "down"))),
 )
 
+_DEG_H, _ARCSEC, _G0 = 3.141592653589793 / 180 / 3600, 3.141592653589793 / 180 / 3600, 9.80665
+_SIGN = {"x": 1.0, "y": -0.8, "z": 0.6}
+NAVIGATION_GRADE: dict[str, float] = {
+    **{f"gyro_bias_{a}": 0.01 * _DEG_H * s for a, s in _SIGN.items()},
+    **{f"accel_bias_{a}": 50e-6 * _G0 * s for a, s in _SIGN.items()},
+    **{f"gyro_scale_error_{a}": 50e-6 * s for a, s in _SIGN.items()},
+    **{f"accel_scale_error_{a}": 100e-6 * s for a, s in _SIGN.items()},
+    **{f"gyro_misalignment_{i}{j}": 5 * _ARCSEC * _SIGN[i] * (1 if i < j else -1)
+       for i in AXES for j in AXES if i != j},
+    **{f"accel_misalignment_{i}{j}": 10 * _ARCSEC * _SIGN[j] * (1 if i < j else -1)
+       for i in AXES for j in AXES if i != j},
+    "initial_roll_error": 20 * _ARCSEC, "initial_pitch_error": -20 * _ARCSEC,
+    "initial_heading_error": 120 * _ARCSEC,
+    "initial_velocity_error_N": 0.05, "initial_velocity_error_E": -0.04,
+    "initial_velocity_error_D": 0.03,
+    "initial_position_error_N": 5.0, "initial_position_error_E": -4.0,
+    "initial_position_error_D": 3.0,
+}
+"""Every error source of a 1 nmi/h navigation-grade INS and its alignment (SI): gyro biases
+0.01 deg/h, accelerometer biases 50 µg, scale factors 50 ppm (gyro) and 100 ppm
+(accelerometer), misalignments 5 and 10 arcsec, initial roll/pitch 20 arcsec and
+heading 2 arcmin, velocity 5 cm/s, position 5 m; signs mixed."""
+
+SMALL_ERRORS: dict[str, float] = {name: value / 10 for name, value in NAVIGATION_GRADE.items()}
+"""The "small errors" of the direct-vs-linear comparisons: a tenth of
+:data:`NAVIGATION_GRADE`, every source at once."""
+
 _sym = {v.name: v.symbol for v in (*STATES, *INPUTS, *PARAMETERS, *SOURCES)}
 a, e2, U = _sym["a"], _sym["e2"], _sym["U"]
 k_h1, k_h2 = _sym["k_h1"], _sym["k_h2"]
