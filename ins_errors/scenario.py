@@ -35,7 +35,6 @@ report folder (Markdown, HTML, plots, JSON).
 from __future__ import annotations
 
 import sys
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -47,12 +46,6 @@ if sys.version_info >= (3, 11):
     import tomllib
 else:  # pragma: no cover - Python 3.10
     import tomli as tomllib
-
-_TOP_KEYS = {"title", "description", "model", "motion", "run", "case", "outputs", "sweep"}
-_RUN_KEYS = {"duration", "step", "record", "method", "refined", "ellipsoid", "platform",
-             "validity_threshold"}
-_OUTPUT_KEYS = {"quantities"}
-
 
 class ScenarioError(InsErrorsError):
     """A scenario file that cannot be read or does not describe a valid run."""
@@ -119,12 +112,6 @@ class Scenario:
     sweep: Any = None  # ins_errors.analysis.sweep.SweepSpec of a [sweep] table
 
 
-def _check_keys(table: Mapping[str, Any], allowed: set[str], where: str) -> None:
-    for key in table:
-        if key not in allowed:
-            raise unknown_name(f"key in {where}", key, sorted(allowed))
-
-
 def load_scenario(path: str | Path) -> Scenario:
     """Read and check a scenario file.
 
@@ -145,26 +132,15 @@ def load_scenario(path: str | Path) -> Scenario:
                             "scenario") from None
     except tomllib.TOMLDecodeError as error:
         raise ScenarioError(f"{path.name}: not valid TOML: {error}") from None
-    _check_keys(data, _TOP_KEYS, path.name)
-    for table in ("motion", "run", "outputs"):
-        if not isinstance(data.get(table, {}), dict):
-            raise ScenarioError(f"{path.name}: '{table}' must be a table, [{table}]")
-    if not isinstance(data.get("case", []), list):
-        raise ScenarioError(f"{path.name}: cases are an array of tables: write [[case]], "
-                            "not [case]")
-    if "model" not in data:
-        raise ScenarioError(f"{path.name}: missing 'model = \"...\"'")
+    from ins_errors.scenario_schema import validate
+
+    checked = validate(data, path.name)  # the shape: tables, keys, types, names of choices
     # a model file is taken relative to the scenario file
-    model = load_model(str(data["model"]), relative_to=path.parent)
-    run = data.get("run", {})
-    _check_keys(run, _RUN_KEYS, f"{path.name} [run]")
-    outputs = data.get("outputs", {})
-    _check_keys(outputs, _OUTPUT_KEYS, f"{path.name} [outputs]")
-    duration = parse_quantity(run.get("duration", "24 h"), "s", "run duration",
-                              numbers_are_si=False)
-    step = parse_quantity(run.get("step", "1 s"), "s", "run step", numbers_are_si=False)
-    record = parse_quantity(run.get("record", "60 s"), "s", "run record",
-                            numbers_are_si=False)
+    model = load_model(checked.model, relative_to=path.parent)
+    run = checked.run
+    duration = parse_quantity(run.duration, "s", "run duration", numbers_are_si=False)
+    step = parse_quantity(run.step, "s", "run step", numbers_are_si=False)
+    record = parse_quantity(run.record, "s", "run record", numbers_are_si=False)
     for name, value in (("duration", duration), ("step", step), ("record", record)):
         if not value > 0:
             raise ScenarioError(f"{path.name}: run {name} must be positive, got {value:g} s")
@@ -172,24 +148,8 @@ def load_scenario(path: str | Path) -> Scenario:
 
     # refuse a grid the run cannot take (absurd step counts included) before any run
     record_stride(record, step, step_count(duration, step, "run duration"))
-    method = str(run.get("method", "rk4"))
-    if method not in ("euler", "rk4"):
-        raise unknown_name("integration method", method, ("euler", "rk4"))
-    threshold = run.get("validity_threshold", 0.05)
-    if isinstance(threshold, bool) or not isinstance(threshold, int | float) or not (
-            0 < threshold < 10):
-        raise ScenarioError(f"{path.name}: [run] validity_threshold must be a positive "
-                            f"ratio such as 0.05, got {threshold!r}")
-    platform = str(run.get("platform", "exact"))
-    if platform not in ("exact", "small_angle"):
-        raise unknown_name("platform", platform, ("exact", "small_angle"))
-    raw_cases = data.get("case", [])
-    if not raw_cases:
-        raise ScenarioError(f"{path.name}: no [[case]] with error sources")
     cases = []
-    for k, raw in enumerate(raw_cases, start=1):
-        if not isinstance(raw, dict):
-            raise ScenarioError(f"{path.name}: case {k} must be a table of sources")
+    for k, raw in enumerate(data["case"], start=1):
         label = str(raw.get("label", ""))
         sources = {}
         for name, value in raw.items():
@@ -201,7 +161,7 @@ def load_scenario(path: str | Path) -> Scenario:
             raise ScenarioError(f"{path.name}: case {k} names no error source")
         label = label or ", ".join(f"{n} = {raw[n]}" for n in sources)
         cases.append(Case(label, sources))
-    quantities = outputs.get("quantities")
+    quantities = checked.outputs.quantities
     if quantities is not None:
         from ins_errors.numeric.simulate import error_quantities
 
@@ -212,10 +172,6 @@ def load_scenario(path: str | Path) -> Scenario:
     from ins_errors.numeric.motion_spec import motion_profile
 
     motion_profile(dict(data.get("motion", {})), base=path.parent)  # checked before any run
-    refined = run.get("refined", True)
-    if not isinstance(refined, bool):
-        raise ScenarioError(f"{path.name}: [run] refined must be true or false, "
-                            f"got {refined!r}")
     sweep = None
     if "sweep" in data:
         from ins_errors.analysis.sweep import parse_sweep
@@ -229,11 +185,11 @@ def load_scenario(path: str | Path) -> Scenario:
         duration=duration,
         step=step,
         record=record,
-        method=method,
-        refined=refined,
-        platform=platform,
-        validity_threshold=float(threshold),
-        ellipsoid=str(run["ellipsoid"]) if "ellipsoid" in run else None,
+        method=run.method,
+        refined=run.refined,
+        platform=run.platform,
+        validity_threshold=float(run.validity_threshold),
+        ellipsoid=run.ellipsoid,
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
         base=path.parent,

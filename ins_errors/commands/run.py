@@ -15,8 +15,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "(model, motion, run settings, error-source cases with units) and write "
                     "a report folder: report.md, report.html, one plot per case and "
                     "results.json. See examples/ for scenario files.")
-    parser.add_argument("scenario",
+    parser.add_argument("scenario", nargs="?",
                         help="scenario file, e.g. examples/lab_000_task1_gyro_drift.toml")
+    parser.add_argument("--schema", action="store_true",
+                        help="print the JSON Schema of scenario files (for editors) and exit")
     parser.add_argument("--out", "-o", metavar="DIR",
                         help="report folder (default: report_<scenario name> here)")
     parser.add_argument("--json", action="store_true",
@@ -34,6 +36,15 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.report import write_report
     from ins_errors.scenario import load_scenario, run_scenario
 
+    if args.schema:
+        from ins_errors.scenario_schema import json_schema
+
+        print(json_schema(), end="")
+        return 0
+    if args.scenario is None:
+        from ins_errors.errors import InsErrorsError
+
+        raise InsErrorsError("run needs a SCENARIO file (or --schema)")
     require_matplotlib("the report's plots")
     scenario = load_scenario(args.scenario)
     out = Path(args.out) if args.out else Path(f"report_{Path(args.scenario).stem}")

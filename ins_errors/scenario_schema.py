@@ -1,0 +1,181 @@
+"""The shape of a scenario file, declared once (pydantic), and its published JSON Schema.
+
+:func:`validate` checks a TOML table against :class:`ScenarioFile` and turns the first
+problem into one line with close-name suggestions (``unknown key in s.toml [run]
+'duraton'; did you mean 'duration'?``). What the schema cannot know (which error sources
+and quantities the chosen model has, what a quantity's unit must be, whether the grid
+divides the run) is checked afterwards by :func:`ins_errors.scenario.load_scenario`.
+
+``ins-errors run --schema`` prints :func:`json_schema`; the copy in
+``docs/scenario.schema.json`` lets editors (e.g. VS Code's Even Better TOML, taplo)
+check and complete scenario files as they are typed (a test keeps it fresh).
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any, Literal
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StrictBool,
+    StrictFloat,
+    StrictInt,
+    StrictStr,
+    ValidationError,
+)
+
+from ins_errors.errors import InsErrorsError, unknown_name
+
+Quantity = StrictStr | StrictFloat | StrictInt
+"""A value with its unit as text (``"0.01 deg/h"``, ``"24 h"``); a bare number is
+accepted by the schema only where zero or a plain ratio is meant."""
+
+_QUANTITY = {"description": "a value with its unit, e.g. '0.01 deg/h', '24 h', '50 deg'"}
+
+
+class _Table(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class Leg(_Table):
+    """One leg of a manoeuvre: it lasts ``duration`` at ``speed``, turning by ``turn``."""
+
+    duration: Quantity = Field("600 s", json_schema_extra=_QUANTITY)
+    speed: Quantity | None = Field(None, json_schema_extra=_QUANTITY)
+    turn: Quantity = Field(0.0, json_schema_extra=_QUANTITY)
+    height: Quantity | None = Field(None, json_schema_extra=_QUANTITY)
+
+
+class Motion(_Table):
+    """``[motion]``: the true motion (see :mod:`ins_errors.numeric.motion_spec`)."""
+
+    kind: Literal["static", "great-circle", "great_circle", "manoeuvre", "file"] = "static"
+    latitude: Quantity = Field("50 deg", json_schema_extra=_QUANTITY)
+    longitude: Quantity = Field("30 deg", json_schema_extra=_QUANTITY)
+    heading: Quantity | None = Field(
+        None, description="track angle; default 0 deg at rest, 90 deg (east) when moving")
+    speed: Quantity = Field("250 m/s", json_schema_extra=_QUANTITY)
+    height: Quantity = Field("0 m", json_schema_extra=_QUANTITY)
+    file: str | None = Field(None, description="kind 'file': CSV with t, v_N, v_E [, h] (SI)")
+    legs: list[Leg] | None = Field(None, description="kind 'manoeuvre': the legs flown")
+
+
+class Run(_Table):
+    """``[run]``: duration, grid and scheme of the runs."""
+
+    duration: Quantity = Field("24 h", json_schema_extra=_QUANTITY)
+    step: Quantity = Field("1 s", json_schema_extra=_QUANTITY)
+    record: Quantity = Field("60 s", json_schema_extra=_QUANTITY)
+    method: Literal["euler", "rk4"] = Field(
+        "rk4", description="'euler': the manual's rectangle method; 'rk4'")
+    refined: StrictBool = Field(True, description="also run the second-order model")
+    ellipsoid: str | None = Field(None, description="Earth model, e.g. 'wgs84', "
+                                                    "'krasovsky' (default: the model's)")
+    platform: Literal["exact", "small_angle"] = "exact"
+    validity_threshold: float = Field(0.05, gt=0, lt=10,
+                                      description="linear/direct ratio that warns")
+
+
+class Outputs(_Table):
+    """``[outputs]``: the quantities the report shows (default: every excited one)."""
+
+    quantities: list[str] | None = None
+
+
+class Case(BaseModel):
+    """``[[case]]``: an optional label and error sources of the model with units."""
+
+    model_config = ConfigDict(
+        extra="allow",
+        json_schema_extra={"additionalProperties": {"type": ["string", "number"],
+                                                    **_QUANTITY}})
+
+    label: str | None = None
+
+
+class ScenarioFile(_Table):
+    """A whole scenario file (TOML)."""
+
+    model_config = ConfigDict(extra="forbid", title="ins-errors scenario file")
+
+    title: str | None = None
+    description: str = ""
+    model: str = Field(description="model name, e.g. 'orthodromic' (ins-errors models)")
+    motion: Motion = Field(default_factory=Motion)
+    run: Run = Field(default_factory=Run)
+    case: list[Case] = Field(min_length=1, description="one [[case]] per set of sources")
+    outputs: Outputs = Field(default_factory=Outputs)
+    sweep: dict[str, Any] | None = Field(None, description="grids over settings "
+                                                           "(ins-errors sweep)")
+
+
+_TABLES: dict[str, type[BaseModel]] = {"": ScenarioFile, "motion": Motion, "run": Run,
+                                       "outputs": Outputs, "legs": Leg}
+
+
+def _where(loc: tuple, name: str) -> str:
+    tables = [str(p) for p in loc[:-1] if isinstance(p, str)]
+    return f"{name} [{'.'.join(tables)}]" if tables else name
+
+
+def _one_line(error: ValidationError, name: str) -> InsErrorsError:
+    first = error.errors()[0]
+    loc, kind = tuple(first["loc"]), first["type"]
+    key = str(loc[-1]) if loc else ""
+    if kind == "extra_forbidden":
+        parent = next((str(p) for p in reversed(loc[:-1]) if isinstance(p, str)), "")
+        fields = sorted(_TABLES.get(parent, ScenarioFile).model_fields)
+        return unknown_name(f"key in {_where(loc, name)}", key, fields)
+    parent = next((str(p) for p in reversed(loc[:-1]) if isinstance(p, str)), "")
+    if kind == "literal_error":
+        expected = [e.strip().strip("'") for e in
+                    first["ctx"]["expected"].replace(" or ", ", ").split(",")]
+        error = unknown_name(f"{parent} {key}".strip(), str(first["input"]), expected)
+        return type(error)(f"{name}: {error}")
+    if kind == "bool_type":
+        return InsErrorsError(f"{name}: [{parent}] {key} must be true or false, got "
+                              f"{first['input']!r}")
+    if loc == ("case",) and kind in ("missing", "too_short"):
+        return InsErrorsError(f"{name}: no [[case]] with error sources")
+    if kind == "missing":
+        return InsErrorsError(f"{name}: missing {key!r}" + (
+            " (e.g. model = \"orthodromic\")" if key == "model" else ""))
+    if key == "case" and kind == "list_type":
+        return InsErrorsError(f"{name}: cases are an array of tables: write [[case]], "
+                              "not [case]")
+    if kind in ("model_type", "dict_type") and isinstance(loc[-1], str):
+        return InsErrorsError(f"{name}: '{key}' must be a table, [{key}]")
+    path = ".".join(str(p) for p in loc)
+    value = repr(first.get("input"))[:60]
+    return InsErrorsError(f"{name}: {path} = {value}: {first['msg'].lower()}")
+
+
+def validate(data: Any, name: str) -> ScenarioFile:
+    """Check a scenario table (as TOML read it) against the schema.
+
+    Parameters
+    ----------
+    data : dict
+        The parsed TOML.
+    name : str
+        File name for messages.
+
+    Raises
+    ------
+    InsErrorsError
+        One line: the file, the table and key, what is wrong (close names suggested).
+    """
+    try:
+        return ScenarioFile.model_validate(data)
+    except ValidationError as error:
+        raise _one_line(error, name) from None
+
+
+def json_schema() -> str:
+    """The JSON Schema (draft 2020-12) of a scenario file, as stable, indented text."""
+    schema = ScenarioFile.model_json_schema()
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    return json.dumps(schema, indent=2, sort_keys=True, ensure_ascii=False) + "\n"

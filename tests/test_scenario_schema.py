@@ -1,0 +1,82 @@
+"""Scenario files have one declared shape: pydantic checks it, editors get its JSON Schema.
+
+The published schema (docs/scenario.schema.json) must be what ``ins-errors run --schema``
+prints today, accept every example scenario and reject what the loader rejects; the
+loader's schema errors are one line with close names suggested.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+from ins_errors.cli import main
+from ins_errors.errors import InsErrorsError
+from ins_errors.scenario import load_scenario
+from ins_errors.scenario_schema import json_schema
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+ROOT = Path(__file__).resolve().parent.parent
+PUBLISHED = ROOT / "docs" / "scenario.schema.json"
+EXAMPLES = sorted((ROOT / "examples").glob("**/*.toml"))
+BASE = 'model = "orthodromic"\n[run]\nduration = "1 h"\n[[case]]\ngyro_drift_x = "0.01 deg/h"\n'
+
+
+def test_published_schema_is_fresh(capsys):
+    assert main(["run", "--schema"]) == 0
+    printed = capsys.readouterr().out
+    assert printed == json_schema()
+    assert PUBLISHED.read_text(encoding="utf-8") == printed, (
+        "docs/scenario.schema.json is stale: ins-errors run --schema > "
+        "docs/scenario.schema.json")
+
+
+@pytest.fixture(scope="module")
+def validator():
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads(PUBLISHED.read_text(encoding="utf-8"))
+    jsonschema.Draft202012Validator.check_schema(schema)
+    return jsonschema.Draft202012Validator(schema)
+
+
+@pytest.mark.parametrize("path", EXAMPLES, ids=[p.stem for p in EXAMPLES])
+def test_every_example_matches_the_published_schema(path, validator):
+    data = tomllib.loads(path.read_text(encoding="utf-8"))
+    assert not list(validator.iter_errors(data)), path.name
+
+
+BAD = {
+    "unknown top key": ('titel = "x"\n' + BASE,
+                        "unknown key in s.toml 'titel'; did you mean 'title'"),
+    "unknown run key": (BASE.replace("[run]", '[run]\nduraton = "2 h"'),
+                        "unknown key in s.toml [run] 'duraton'; did you mean 'duration'"),
+    "unknown method": (BASE.replace("[run]", '[run]\nmethod = "rk5"'),
+                       "s.toml: unknown run method 'rk5'; did you mean 'rk4'"),
+    "refined not bool": (BASE.replace("[run]", '[run]\nrefined = "yes"'),
+                         "[run] refined must be true or false, got 'yes'"),
+    "no case": (BASE.split("[[case]]")[0], "no [[case]]"),
+    "case not array": (BASE.replace("[[case]]", "[case]"), "write [[case]], not [case]"),
+    "motion not table": ('motion = "static"\n' + BASE, "'motion' must be a table"),
+    "no model": (BASE.replace('model = "orthodromic"\n', ""), "missing 'model'"),
+    "bad motion kind": (BASE + '[motion]\nkind = "orbit"\n', "s.toml: unknown motion kind 'orbit'"),
+    "threshold range": (BASE.replace("[run]", "[run]\nvalidity_threshold = -1"),
+                        "validity_threshold"),
+}
+
+
+@pytest.mark.parametrize("text, message", BAD.values(), ids=BAD.keys())
+def test_schema_errors_are_one_line_with_suggestions(text, message, tmp_path, validator):
+    path = tmp_path / "s.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InsErrorsError) as raised:
+        load_scenario(path)
+    assert message in str(raised.value) and "\n" not in str(raised.value)
+    # what the loader refuses for its shape, the published schema refuses too
+    assert list(validator.iter_errors(tomllib.loads(text)))
