@@ -195,6 +195,9 @@ def _definition(ref: ModelRef):
                                        "(step: importing the module)") from None
         module = target if isinstance(target, ModuleType) else _Builder(target)
         d = build_definition(module, ref.label, ref.path)
+        if d.name != ref.spec:
+            raise ModelDefinitionError(f"{ref.label}: builds the model {d.name!r}; register "
+                                       "the entry point under the model's own name")
     if d.name in builtin_names():
         raise ModelDefinitionError(f"{ref.label}: model name {d.name!r} is taken by a "
                                    "built-in model; choose another name in build()")

@@ -13,6 +13,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import re
 import shutil
 from pathlib import Path
 
@@ -313,13 +314,20 @@ def test_installed_package_registers_a_model_by_entry_point(tmp_path, monkeypatc
     dist.mkdir()
     (dist / "METADATA").write_text("Metadata-Version: 2.1\nName: loops-pkg\nVersion: 1.0\n",
                                    encoding="utf-8")
-    (dist / "entry_points.txt").write_text("[ins_errors.models]\nloop = loops_pkg.schuler\n",
-                                           encoding="utf-8")
+    (dist / "entry_points.txt").write_text(
+        "[ins_errors.models]\nschuler_loop = loops_pkg.schuler\nloop = loops_pkg.schuler\n",
+        encoding="utf-8")
     monkeypatch.syspath_prepend(str(site))
-    assert main(["models"]) == 0
-    assert "schuler_loop" in capsys.readouterr().out
-    model = load_model("loop")
+    model = load_model("schuler_loop")
     assert model.name == "schuler_loop" and abs(_gravity(model) - G) < 1e-9
+    assert load_model(model.key).key == model.key  # what worker processes are handed
+    # a registration under another name than the model's own is refused
+    assert main(["models", "loop"]) == 2
+    assert "under the model's own name" in capsys.readouterr().err
+    assert main(["models"]) == 0  # the listing shows both, the bad one with its problem
+    listing = capsys.readouterr().out
+    assert re.search(r"^schuler_loop\s+Single-axis Schuler loop", listing, re.M)
+    assert re.search(r"^loop\s+\(cannot be loaded: .*own name\)", listing, re.M)
 
 
 def test_validity_of_a_model_file_shows_the_sine_residual(capsys):

@@ -22,13 +22,22 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.model import available_models, load_model
 
     if args.name is None:
-        models = [load_model(name) for name in available_models()]
+        from ins_errors.errors import InsErrorsError
+
+        rows = []
+        for name in available_models():
+            try:  # a broken installed model must not hide the others
+                m = load_model(name)
+                rows.append({"name": m.name, "title": m.title, "source": m.source_document})
+            except InsErrorsError as error:
+                rows.append({"name": name, "error": str(error)})
         if args.json:
-            print(json.dumps([{"name": m.name, "title": m.title, "source": m.source_document}
-                              for m in models], indent=2))
+            print(json.dumps(rows, indent=2))
         else:
-            for m in models:
-                print(f"{m.name:<20} {m.title}  [{m.source_document}]")
+            for row in rows:
+                print(f"{row['name']:<20} " + (f"{row['title']}  [{row['source']}]"
+                                               if "error" not in row else
+                                               f"(cannot be loaded: {row['error']})"))
         return 0
     model = load_model(args.name)
     groups = {"error_states": model.error_states, "sources": model.sources,
