@@ -430,15 +430,21 @@ class DayResult:
             "forms: " + ", ".join(f"{k} {v / 60:.2f} min" for k, v in self.periods.items())
             + ".", "",
             "Agreement = worst error state of max |difference| / max |linear numeric|.", "",
-            "| source | magnitude (SI) | analytic vs linear numeric | direct vs linear |",
+            "| source | magnitude | analytic vs linear numeric | direct vs linear |",
             "|---|---|---|---|"]
+        from ins_errors.units import format_quantity
+
+        model = load_model("orthodromic")
         a, d = self.agreement("analytic", "linear"), self.agreement("direct", "linear")
         for j, source in enumerate(self.sources):
+            info = model.source(source)
+            shown = format_quantity(ORTHODROMIC_MAGNITUDES[source], info.unit,
+                                    info.display_unit or info.unit)
             if not self.excited()[j]:
-                lines.append(f"| `{source}` | {ORTHODROMIC_MAGNITUDES[source]:.4g} | not "
+                lines.append(f"| `{source}` | {shown} | not "
                              "excited on a static base (its input is zero there) | – |")
                 continue
-            lines.append(f"| `{source}` | {ORTHODROMIC_MAGNITUDES[source]:.4g} | "
+            lines.append(f"| `{source}` | {shown} | "
                          f"{a[j]:.2e} | {d[j]:.2e} |")
         return "\n".join(lines) + "\n"
 
