@@ -117,40 +117,62 @@ _TABLES: dict[str, type[BaseModel]] = {"": ScenarioFile, "motion": Motion, "run"
 
 
 def _where(loc: tuple, name: str) -> str:
-    tables = [str(p) for p in loc[:-1] if isinstance(p, str)]
-    return f"{name} [{'.'.join(tables)}]" if tables else name
+    tables = ".".join(str(p) for p in loc[:-1] if isinstance(p, str))
+    if not name:
+        return f"[{tables}]" if tables else "the file"
+    return f"{name} [{tables}]" if tables else name
+
+
+def one_line(error: ValidationError, name: str,
+             tables: dict[str, type[BaseModel]]) -> InsErrorsError:
+    """The first problem of a pydantic ``ValidationError`` as one line for people.
+
+    Parameters
+    ----------
+    error : pydantic.ValidationError
+        What ``model_validate`` raised.
+    name : str
+        File name to prefix (``""``: none).
+    tables : dict
+        Table name -> schema class, to suggest close names for an unknown key.
+    """
+    first = error.errors()[0]
+    loc, kind = tuple(first["loc"]), first["type"]
+    key = str(loc[-1]) if loc else ""
+    prefix = f"{name}: " if name else ""
+    parent = next((str(p) for p in reversed(loc[:-1]) if isinstance(p, str)), "")
+    if kind == "extra_forbidden":
+        fields = sorted(f.alias or n for n, f in tables.get(parent, tables[""])
+                        .model_fields.items())
+        return unknown_name(f"key in {_where(loc, name)}", key, fields)
+    if kind == "literal_error":
+        expected = [e.strip().strip("'") for e in
+                    first["ctx"]["expected"].replace(" or ", ", ").split(",")]
+        found = unknown_name(f"{parent} {key}".strip(), str(first["input"]), expected)
+        return type(found)(f"{prefix}{found}")
+    if kind == "bool_type":
+        return InsErrorsError(f"{prefix}[{parent}] {key} must be true or false, got "
+                              f"{first['input']!r}")
+    if kind in ("model_type", "dict_type") and isinstance(loc[-1], str):
+        return InsErrorsError(f"{prefix}'{key}' must be a table, [{key}]")
+    path = ".".join(str(p) for p in loc)
+    value = repr(first.get("input"))[:60]
+    if kind == "missing":
+        return InsErrorsError(f"{prefix}missing {path!r}")
+    return InsErrorsError(f"{prefix}{path} = {value}: {first['msg'].lower()}")
 
 
 def _one_line(error: ValidationError, name: str) -> InsErrorsError:
     first = error.errors()[0]
     loc, kind = tuple(first["loc"]), first["type"]
-    key = str(loc[-1]) if loc else ""
-    if kind == "extra_forbidden":
-        parent = next((str(p) for p in reversed(loc[:-1]) if isinstance(p, str)), "")
-        fields = sorted(_TABLES.get(parent, ScenarioFile).model_fields)
-        return unknown_name(f"key in {_where(loc, name)}", key, fields)
-    parent = next((str(p) for p in reversed(loc[:-1]) if isinstance(p, str)), "")
-    if kind == "literal_error":
-        expected = [e.strip().strip("'") for e in
-                    first["ctx"]["expected"].replace(" or ", ", ").split(",")]
-        error = unknown_name(f"{parent} {key}".strip(), str(first["input"]), expected)
-        return type(error)(f"{name}: {error}")
-    if kind == "bool_type":
-        return InsErrorsError(f"{name}: [{parent}] {key} must be true or false, got "
-                              f"{first['input']!r}")
     if loc == ("case",) and kind in ("missing", "too_short"):
         return InsErrorsError(f"{name}: no [[case]] with error sources")
-    if kind == "missing":
-        return InsErrorsError(f"{name}: missing {key!r}" + (
-            " (e.g. model = \"orthodromic\")" if key == "model" else ""))
-    if key == "case" and kind == "list_type":
+    if loc == ("case",) and kind == "list_type":
         return InsErrorsError(f"{name}: cases are an array of tables: write [[case]], "
                               "not [case]")
-    if kind in ("model_type", "dict_type") and isinstance(loc[-1], str):
-        return InsErrorsError(f"{name}: '{key}' must be a table, [{key}]")
-    path = ".".join(str(p) for p in loc)
-    value = repr(first.get("input"))[:60]
-    return InsErrorsError(f"{name}: {path} = {value}: {first['msg'].lower()}")
+    if loc == ("model",) and kind == "missing":
+        return InsErrorsError(f"{name}: missing 'model' (e.g. model = \"orthodromic\")")
+    return one_line(error, name, _TABLES)
 
 
 def validate(data: Any, name: str) -> ScenarioFile:

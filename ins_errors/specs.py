@@ -47,7 +47,7 @@ from typing import Any
 
 import numpy as np
 
-from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.errors import InsErrorsError, UnknownNameError, unknown_name
 from ins_errors.units import UnitError, parse_quantity
 
 if sys.version_info >= (3, 11):
@@ -235,23 +235,6 @@ class Spec:
 # --------------------------------------------------------------------------------------
 # Reading
 # --------------------------------------------------------------------------------------
-_TOP_KEYS = ("title", "sigma_level", "operating_time", "step", "motion", "items",
-             "allocation", "sources")
-_ITEM_KEYS = ("value", "times", "every", "from", "until", "combine")
-_SOURCE_KEYS = ("weight", "fixed", "kind", "tau", "include")
-_MOTION_KEYS = ("kind", "latitude", "longitude", "heading", "height", "speed")
-_MOTION_KINDS = ("static", "great_circle")
-
-
-def _check_keys(table: Any, allowed: tuple[str, ...], where: str) -> dict:
-    if not isinstance(table, dict):
-        raise SpecError(f"{where} must be a table, got {table!r:.60}")
-    for key in table:
-        if key not in allowed:
-            raise unknown_name(f"key in {where}", key, allowed)
-    return table
-
-
 def _positive(text: Any, unit: str, what: str, example: str = "",
               allow_zero: bool = False) -> float:
     if isinstance(text, bool) or not isinstance(text, (str, int, float)):
@@ -290,73 +273,65 @@ def _default_times(rule: str, operating_time: float) -> tuple[float, ...]:
 def parse_spec(data: dict, path: str = "<spec>") -> Spec:
     """Build a :class:`Spec` from the parsed TOML table.
 
+    The shape (tables, keys, types, choices) is checked by
+    :func:`ins_errors.spec_schema.validate`; this reads the quantities with their units
+    and checks what depends on their values.
+
     Raises
     ------
     SpecError, UnknownNameError
         Unknown keys or items, values that are not positive, wrong units.
     """
-    _check_keys(data, _TOP_KEYS, "the spec")
-    title = str(data.get("title", Path(path).stem))
-    sigma_level = data.get("sigma_level", 1)
-    if isinstance(sigma_level, bool) or not isinstance(sigma_level, (int, float)) \
-            or not sigma_level > 0:
-        raise SpecError(f"sigma_level must be a number > 0 (e.g. 2 for 2σ values), "
-                        f"got {sigma_level!r}")
-    operating_time = _positive(data.get("operating_time", "1 h"), "s", "operating_time",
-                               "8 h")
-    step = _positive(data.get("step", "60 s"), "s", "step", "60 s")
+    from ins_errors.spec_schema import validate
+
+    try:
+        checked = validate(data)
+    except UnknownNameError:
+        raise
+    except InsErrorsError as error:
+        raise SpecError(str(error)) from None
+    title = checked.title if checked.title is not None else Path(path).stem
+    operating_time = _positive(checked.operating_time, "s", "operating_time", "8 h")
+    step = _positive(checked.step, "s", "step", "60 s")
     if step > operating_time:
         raise SpecError(f"step ({step:g} s) is longer than the operating time")
 
-    motion_table = _check_keys(data.get("motion", {}), _MOTION_KEYS, "[motion]")
-    kind = motion_table.get("kind", "static")
-    if kind not in _MOTION_KINDS:
-        raise unknown_name("motion kind", str(kind), _MOTION_KINDS)
+    m = checked.motion
     motion = Motion(
-        kind=kind,
-        latitude=_angle(motion_table.get("latitude", "0 deg"), "motion.latitude"),
-        longitude=_angle(motion_table.get("longitude", "0 deg"), "motion.longitude"),
-        heading=_angle(motion_table.get("heading", "0 deg"), "motion.heading"),
-        height=_positive(motion_table.get("height", 0), "m", "motion.height", "0 m",
-                         allow_zero=True),
-        speed=_positive(motion_table.get("speed", 0), "m/s", "motion.speed", "250 m/s",
-                        allow_zero=True),
+        kind=m.kind,
+        latitude=_angle(m.latitude, "motion.latitude"),
+        longitude=_angle(m.longitude, "motion.longitude"),
+        heading=_angle(m.heading, "motion.heading"),
+        height=_positive(m.height, "m", "motion.height", "0 m", allow_zero=True),
+        speed=_positive(m.speed, "m/s", "motion.speed", "250 m/s", allow_zero=True),
     )
-    if kind == "great_circle" and motion.speed <= 0:
+    if m.kind == "great_circle" and motion.speed <= 0:
         raise SpecError("motion.speed must be > 0 for a great_circle motion")
 
-    items_table = data.get("items")
-    if not items_table:
-        raise SpecError(f"the spec has no [items.*]; known items: {', '.join(ITEM_KINDS)}")
-    _check_keys(items_table, tuple(ITEM_KINDS), "[items]")
     items = []
-    for name, table in items_table.items():
+    for name, table in checked.items:
+        if table is None:
+            continue
         kind_info = ITEM_KINDS[name]
-        _check_keys(table, _ITEM_KEYS, f"[items.{name}]")
-        if "value" not in table:
-            raise SpecError(f"items.{name}: missing value (e.g. {kind_info.example!r})")
-        value = _positive(table["value"], kind_info.unit, f"items.{name}", kind_info.example)
-        if "times" in table and {"every", "from", "until"} & set(table):
+        value = _positive(table.value, kind_info.unit, f"items.{name}", kind_info.example)
+        timed = {"every", "start", "until"} & table.model_fields_set
+        if table.times is not None and timed:
             raise SpecError(f"items.{name}: give either times or every/from/until")
-        if "every" in table:
-            every = _positive(table["every"], "s", f"items.{name}.every", "15 min")
-            start = _positive(table.get("from", f"{every!r} s"), "s", f"items.{name}.from", "0 h",
-                              allow_zero=True)
-            stop = _positive(table.get("until", f"{operating_time!r} s"), "s",
-                             f"items.{name}.until", "1 h")
+        if table.every is not None:
+            every = _positive(table.every, "s", f"items.{name}.every", "15 min")
+            start = (every if table.start is None else
+                     _positive(table.start, "s", f"items.{name}.from", "0 h", allow_zero=True))
+            stop = (operating_time if table.until is None else
+                    _positive(table.until, "s", f"items.{name}.until", "1 h"))
             count = int(np.floor((stop - start) / every + 1e-9))
             if count < 0:
                 raise SpecError(f"items.{name}: from is after until")
             times = tuple(start + every * k for k in range(count + 1))
-        elif {"from", "until"} & set(table):
+        elif timed:
             raise SpecError(f"items.{name}: from/until need every (e.g. every = '15 min')")
-        elif "times" in table:
-            raw = table["times"]
-            if not isinstance(raw, list) or not raw:
-                raise SpecError(f"items.{name}.times must be a non-empty list such as "
-                                f"['1 h', '2 h']")
+        elif table.times is not None:
             times = tuple(_positive(t, "s", f"items.{name}.times", "1 h", allow_zero=True)
-                          for t in raw)
+                          for t in table.times)
         else:
             times = _default_times(kind_info.default_times, operating_time)
         for t in times:
@@ -366,43 +341,26 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             if abs(t / step - round(t / step)) > 1e-9:
                 raise SpecError(f"items.{name}: check time {t:g} s is not on the "
                                 f"{step:g} s analysis grid")
-        combine = table.get("combine", "rss")
-        if combine not in COMBINE:
-            raise unknown_name(f"items.{name}.combine rule", str(combine), COMBINE)
         if name in ("position_error", "heading_drift") and any(t <= 0 for t in times):
             raise SpecError(f"items.{name}: a rate over the operating time needs check "
                             f"times > 0")
-        items.append(SpecItem(name, value, str(table["value"]), times, combine))
-
-    allocation = _check_keys(data.get("allocation", {}), ("fill",), "[allocation]")
-    fill = allocation.get("fill", False)
-    if not isinstance(fill, bool):
-        raise SpecError(f"allocation.fill must be true or false, got {fill!r}")
+        items.append(SpecItem(name, value, str(table.value), times, table.combine))
+    if not items:
+        raise SpecError(f"the spec has no [items.*]; known items: {', '.join(ITEM_KINDS)}")
 
     sources = {}
-    for name, table in _check_keys(data.get("sources", {}), tuple(data.get("sources", {})),
-                                   "[sources]").items():
-        _check_keys(table, _SOURCE_KEYS, f"[sources.{name}]")
-        weight = table.get("weight", 1.0)
-        if isinstance(weight, bool) or not isinstance(weight, (int, float)) or not weight > 0:
-            raise SpecError(f"sources.{name}.weight must be a number > 0, got {weight!r}")
-        stat = table.get("kind", "constant")
-        if stat not in STATISTICS:
-            raise unknown_name(f"sources.{name}.kind", str(stat), STATISTICS)
+    for name, table in checked.sources.items():
         tau = None
-        if stat == "markov":
-            if "tau" not in table:
+        if table.kind == "markov":
+            if table.tau is None:
                 raise SpecError(f"sources.{name}: a markov source needs tau (e.g. '1 h')")
-            tau = _positive(table["tau"], "s", f"sources.{name}.tau", "1 h")
-        elif "tau" in table:
+            tau = _positive(table.tau, "s", f"sources.{name}.tau", "1 h")
+        elif table.tau is not None:
             raise SpecError(f"sources.{name}: tau applies only to kind = 'markov'")
-        include = table.get("include", True)
-        if not isinstance(include, bool):
-            raise SpecError(f"sources.{name}.include must be true or false")
-        fixed = table.get("fixed")
-        sources[name] = SourceOption(name, float(weight), fixed, stat, tau, include)
-    return Spec(title, float(sigma_level), operating_time, step, motion, tuple(items),
-                sources, fill, path)
+        sources[name] = SourceOption(name, float(table.weight), table.fixed, table.kind, tau,
+                                     table.include)
+    return Spec(title, float(checked.sigma_level), operating_time, step, motion, tuple(items),
+                sources, checked.allocation.fill, path)
 
 
 def load_spec(path: str | Path) -> Spec:

@@ -80,3 +80,24 @@ def test_schema_errors_are_one_line_with_suggestions(text, message, tmp_path, va
     assert message in str(raised.value) and "\n" not in str(raised.value)
     # what the loader refuses for its shape, the published schema refuses too
     assert list(validator.iter_errors(tomllib.loads(text)))
+
+
+@pytest.mark.parametrize("text, message", [
+    ('[items.position_error]\nvalue = "3.7 km/h"\nevry = "1 h"\n',
+     "unknown key in [items.position_error] 'evry'; did you mean 'every'"),
+    ('[items.position_eror]\nvalue = "3.7 km/h"\n',
+     "unknown key in [items] 'position_eror'; did you mean 'position_error'"),
+    ('[items.position_error]\nvalue = "3.7 km/h"\n[sources.gyro_drift_x]\nweigth = 2\n',
+     "unknown key in [sources.gyro_drift_x] 'weigth'; did you mean 'weight'"),
+    ('[items.position_error]\nvalue = "3.7 km/h"\ncombine = "max"\n',
+     "unknown position_error combine 'max'"),
+    ('sigma_level = true\n[items.position_error]\nvalue = "3.7 km/h"\n', "sigma_level"),
+])
+def test_spec_files_have_a_declared_shape_too(text, message, tmp_path):
+    from ins_errors.specs import load_spec
+
+    path = tmp_path / "spec.toml"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InsErrorsError) as raised:
+        load_spec(path)
+    assert message in str(raised.value) and "\n" not in str(raised.value)

@@ -1,0 +1,127 @@
+"""The shape of an accuracy-spec file (``ins-errors budget --spec``), declared once.
+
+:func:`validate` checks the TOML table against :class:`SpecFile` (tables, keys, types,
+names of choices, signs of plain numbers) with one-line errors and close names
+suggested; :func:`ins_errors.specs.parse_spec` then reads the quantities with their
+units and checks what depends on them (check times on the analysis grid, a Markov
+source's correlation time...).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Field,
+    StrictBool,
+    StrictFloat,
+    StrictInt,
+    StrictStr,
+    ValidationError,
+    create_model,
+)
+
+from ins_errors.errors import InsErrorsError
+from ins_errors.scenario_schema import one_line
+
+Quantity = StrictStr | StrictFloat | StrictInt
+Number = StrictFloat | StrictInt
+_UNIT = {"description": "a value with its unit, e.g. '8 h', '3.7 km/h', '0.01 deg/h'"}
+
+
+class _Table(BaseModel):
+    model_config = ConfigDict(extra="forbid", populate_by_name=True)
+
+
+class SpecMotion(_Table):
+    """``[motion]``: the motion the spec is checked along."""
+
+    kind: Literal["static", "great_circle"] = "static"
+    latitude: Quantity = Field("0 deg", json_schema_extra=_UNIT)
+    longitude: Quantity = Field("0 deg", json_schema_extra=_UNIT)
+    heading: Quantity = Field("0 deg", json_schema_extra=_UNIT)
+    height: Quantity = Field(0, json_schema_extra=_UNIT)
+    speed: Quantity = Field(0, json_schema_extra=_UNIT)
+
+
+class SpecItem(_Table):
+    """``[items.NAME]``: a limit and when it is checked."""
+
+    value: Quantity = Field(json_schema_extra=_UNIT)
+    times: list[Quantity] | None = Field(None, min_length=1)
+    every: Quantity | None = None
+    start: Quantity | None = Field(None, alias="from")
+    until: Quantity | None = None
+    combine: Literal["rss", "each"] = "rss"
+
+
+class SourceTable(_Table):
+    """``[sources.NAME]``: how the budget treats one error source."""
+
+    weight: Number = Field(1.0, gt=0)
+    fixed: Quantity | None = Field(None, json_schema_extra=_UNIT)
+    kind: Literal["constant", "white", "markov"] = "constant"
+    tau: Quantity | None = Field(None, json_schema_extra=_UNIT)
+    include: StrictBool = True
+
+
+class Allocation(_Table):
+    """``[allocation]``."""
+
+    fill: StrictBool = False
+
+
+def _items_table() -> type[BaseModel]:
+    from ins_errors.specs import ITEM_KINDS
+
+    fields = {name: (SpecItem | None, Field(None, description=kind.description))
+              for name, kind in ITEM_KINDS.items()}
+    return create_model("Items", __base__=_Table, **fields)
+
+
+Items = _items_table()
+
+
+class SpecFile(_Table):
+    """A whole accuracy-spec file (TOML)."""
+
+    title: str | None = None
+    sigma_level: Number = Field(1, gt=0, description="the spec's values are this many σ")
+    operating_time: Quantity = Field("1 h", json_schema_extra=_UNIT)
+    step: Quantity = Field("60 s", json_schema_extra=_UNIT)
+    motion: SpecMotion = Field(default_factory=SpecMotion)
+    items: Items  # type: ignore[valid-type]
+    allocation: Allocation = Field(default_factory=Allocation)
+    sources: dict[str, SourceTable] = Field(default_factory=dict)
+
+
+_TABLES: dict[str, type[BaseModel]] = {"": SpecFile, "motion": SpecMotion, "items": Items,
+                                       "allocation": Allocation}
+
+
+def validate(data: dict) -> SpecFile:
+    """Check a spec table (as TOML read it) against the schema.
+
+    Raises
+    ------
+    InsErrorsError
+        One line naming the table, the key and the problem.
+    """
+    from ins_errors.specs import ITEM_KINDS
+
+    if not data.get("items"):
+        raise InsErrorsError(f"the spec has no [items.*]; known items: "
+                             f"{', '.join(ITEM_KINDS)}")
+    try:
+        return SpecFile.model_validate(data)
+    except ValidationError as error:
+        first = error.errors()[0]
+        loc = tuple(first["loc"])
+        tables = dict(_TABLES)
+        if len(loc) >= 3 and loc[0] == "items":
+            tables[str(loc[1])] = SpecItem
+        if len(loc) >= 3 and loc[0] == "sources":
+            tables[str(loc[1])] = SourceTable
+        raise one_line(error, "", tables) from None
