@@ -10,6 +10,7 @@ one-line message.
 
 from __future__ import annotations
 
+import re
 import sys
 from pathlib import Path
 
@@ -57,6 +58,7 @@ FILES: dict[str, str | bytes] = {
     "a_file": "not a folder\n",
     "good.toml": SCENARIO,
     "hand.txt": "dot(alpha_x) = \n",
+    "empty.txt": "",
 }
 
 CLI_CASES: dict[str, list[str]] = {
@@ -123,6 +125,7 @@ CLI_CASES: dict[str, list[str]] = {
     "budget-mc-one-run": ["budget", "orthodromic", "--monte-carlo", "1"],
     # check
     "check-missing-file": ["check", "orthodromic", "missing.txt"],
+    "check-empty-file": ["check", "orthodromic", "empty.txt"],
     "check-binary-file": ["check", "orthodromic", "binary.toml"],
     "check-unknown-model": ["check", "orthodromik", "hand.txt"],
     "check-report-is-a-folder": ["check", "orthodromic",
@@ -359,3 +362,26 @@ def test_bad_api_call(call, scratch):
         call()
     message = str(raised.value)
     assert message and "\n" not in message, message
+
+
+def test_negative_quantities_are_values_not_options(scratch, capsys):
+    """``--latitude -45deg`` is a southern latitude, not an unknown option."""
+    argv = ["compare", "orthodromic", "-s", GOOD_SOURCE, "--latitude", "-45deg",
+            "--hours", "0.5", "--no-refined"]
+    status, out, err = _run(argv, capsys)
+    assert status == 0, err
+    assert "φ=-45°" in out
+
+
+def test_version(capsys):
+    status, out, _err = _run(["--version"], capsys)
+    assert status == 0 and out.startswith("ins-errors ") and out.split()[1][0].isdigit()
+
+
+@pytest.mark.parametrize("name", sorted(_subcommands()))
+def test_help_names_only_files_that_exist(name, capsys):
+    """Every examples/... path a command's --help names is a file of the project."""
+    status, out, _err = _run([name, "--help"], capsys)
+    assert status == 0
+    for path in re.findall(r"examples/[\w./-]+\w", out):
+        assert (ROOT / path).exists(), f"{name} --help names {path}"
