@@ -415,19 +415,9 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
             else system.G
         C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
             else functionals.C_x
-        A_steps = augmented_dynamics(_step_matrix(F), _step_matrix(G)[..., cols_b],
-                                     decay)
-        Phis = expm(A_steps * dt)
-        Z = Z0.copy()
-        out = 0
-        Ys = np.zeros((len(keep), q, len(valued)))
         keep_set = set(keep.tolist())
-        for k in range(K + 1):
-            if k in keep_set:
-                Ys[out] = np.hstack([C_x[k], C_b]) @ Z
-                out += 1
-            if k < K:
-                Z = Phis[k] @ Z
+        Ys = _moving_sensitivities(_step_matrix(F), _step_matrix(G)[..., cols_b], decay, dt,
+                                   Z0, C_x, C_b, keep)
         unit[:, :, valued] = Ys**2
         for i, s in enumerate(sources):
             if s.kind == "constant":
@@ -451,6 +441,65 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
     used = tuple(sources) if by_source else ()
     return Covariance(system.times[keep], functionals.names, functionals.units, used, unit,
                       total_only=not by_source)
+
+
+def _moving_sensitivities(F: np.ndarray, G_b: np.ndarray, decay: np.ndarray, dt: float,
+                          Z0: np.ndarray, C_x: np.ndarray, C_b: np.ndarray,
+                          keep: np.ndarray) -> np.ndarray:
+    """``C_k z_k`` of the augmented state along a time-varying system, at ``keep``.
+
+    Parameters
+    ----------
+    F : numpy.ndarray, shape (K, n, n)
+        Per-step error-state matrices.
+    G_b : numpy.ndarray, shape (K, n, m)
+        Per-step columns of the valued sources.
+    decay : numpy.ndarray, shape (m,)
+        ``-1/τ`` of Markov sources, 0 for constants.
+    Z0 : numpy.ndarray, shape (n + m, m)
+    C_x : numpy.ndarray, shape (K + 1, q, n)
+    C_b : numpy.ndarray, shape (q, m)
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(keep), q, m)
+
+    When every valued source is a constant the sources never change, so only the error
+    state is carried: ``x_{k+1} = Φ_k x_k + Γ_k`` with ``Φ_k, W_k`` from the exponential of
+    the 2n-square ``[[F, I], [0, 0]] dt`` and ``Γ_k = W_k G_b`` (Van Loan), instead of
+    the exponential of the (n + m)-square augmented matrix: the same transition, a third
+    of the work.
+    """
+    K, n, m = F.shape[0], F.shape[-1], G_b.shape[-1]
+    q = C_b.shape[0]
+    Ys = np.zeros((len(keep), q, m))
+    if m == 0:
+        return Ys
+    keep_set = set(keep.tolist())
+    out = 0
+    if not np.any(decay):
+        block = np.zeros((K, 2 * n, 2 * n))
+        block[:, :n, :n] = F
+        block[:, :n, n:] = np.eye(n)
+        exp = expm(block * dt)
+        Phi, Gamma = exp[:, :n, :n], exp[:, :n, n:] @ G_b
+        X = Z0[:n].copy()  # the source rows stay the identity
+        for k in range(K + 1):
+            if k in keep_set:
+                Ys[out] = C_x[k] @ X + C_b
+                out += 1
+            if k < K:
+                X = Phi[k] @ X + Gamma[k]
+        return Ys
+    Phis = expm(augmented_dynamics(F, G_b, decay) * dt)
+    Z = Z0.copy()
+    for k in range(K + 1):
+        if k in keep_set:
+            Ys[out] = np.hstack([C_x[k], C_b]) @ Z
+            out += 1
+        if k < K:
+            Z = Phis[k] @ Z
+    return Ys
 
 
 def _constants_total(Phi: np.ndarray, n: int, E: np.ndarray, C_b: np.ndarray,
