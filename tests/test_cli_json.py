@@ -19,6 +19,7 @@ COMMANDS = {
     "check": ["check", "orthodromic", str(ROOT / "examples/manual_000/equations.txt"), "--json"],
     "study": ["study", "nonsphericity", "--hours", "1", "--scenario", "static", "--json"],
     "propagation": ["propagation", "--hours", "1", "--json"],
+    "cache": ["cache", "info", "--json"],
 }
 
 
