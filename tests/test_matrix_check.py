@@ -191,3 +191,98 @@ def test_cli_lists_conventions_and_writes_samples(tmp_path, capsys):
         # the cruise flies east at 250 m/s at 10 km
         assert np.allclose(data["v_ned_cruise"][:, 1], 250.0)
         assert np.allclose(data["height_cruise"], 10_000.0)
+
+
+# --------------------------------------------------------------------------------------
+# strapdown_ned and the textbook ψ-angle model (examples/strapdown/psi_model.py)
+# --------------------------------------------------------------------------------------
+PSI = DATA.parent.parent / "examples" / "strapdown" / "psi_model.py"
+
+
+@pytest.fixture(scope="module")
+def strapdown_motions():
+    return mc.motions(load_model("strapdown_ned"), hours=2.0, step=60.0)
+
+
+@pytest.fixture(scope="module")
+def psi_report(strapdown_motions):
+    return mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi",
+                             motion_list=strapdown_motions, effects=False)
+
+
+def test_textbook_psi_model_has_no_mistake(psi_report):
+    """Benson's ψ form is exact on a sphere: what differs is the Earth's shape only."""
+    assert psi_report.exit_status == 0 and psi_report.compared == 9 * 9 + 9 * 6
+    kinds = {f.kind for f in psi_report.findings}
+    assert kinds <= {"approximated", "missing term"}
+    # the attitude equation's coupling, the Coriolis terms, the G columns: all agree
+    assert not [f for f in psi_report.findings if f.matrix == "G"]
+    assert psi_report.finding("dvc_N", "psi_E") is None  # f × ψ, exact
+    assert psi_report.finding("dr_N", "dvc_N") is None   # δṙ = δv
+    assert all(f.size < psi_report.threshold for f in psi_report.findings)
+
+
+def test_psi_model_drops_the_latitude_dependence_of_gravity(psi_report):
+    """The derived model has δg_D = (∂γ/∂φ) δφ: with the international gravity formula
+    γ = γ_e (1 + β sin² φ), β = 0.0053024, ∂γ/∂φ = γ_e β sin 2φ ≈ 0.051 m/s² per rad,
+    i.e. 8.0e-9 s⁻² per metre of north error; the textbook's spherical Γ has no such term."""
+    f = psi_report.finding("dvc_D", "dr_N")
+    assert f.kind == "missing term" and f.severity == "dropped small term"
+    phi = np.radians(50.0)
+    r_n = 6_378_137.0 * (1 - 6.694e-3) / (1 - 6.694e-3 * np.sin(phi) ** 2) ** 1.5
+    expected = 9.780327 * 0.0053024 * np.sin(2 * phi) / r_n
+    assert abs(f.model) == pytest.approx(expected, rel=0.01)
+
+
+def test_psi_model_spherical_radius_is_an_approximation_of_the_transport_rate(psi_report):
+    """ω_en with R = a instead of R_N + h, R_E + h: hand/model of the transport terms is
+    (R + h)/(a + h) within the ellipsoid's 0.7 %; on the static base they agree."""
+    f = psi_report.finding("dr_N", "dr_E")
+    assert f.kind == "approximated" and f.per_motion["static"] < 1e-12
+    lo, hi = (float(v) for v in re.findall(r"[\d.]+", f.detail)[:2])
+    assert 0.99 < lo <= hi < 1.01
+
+
+def test_wrong_entry_in_a_copy_of_the_psi_model(tmp_path, strapdown_motions):
+    """The Done-when item: one deliberately wrong entry is a mistake in that entry."""
+    text = PSI.read_text(encoding="utf-8")
+    old = "F[3:6, 3:6] = -skew(2 * w_ie + w_en)"
+    assert old in text
+    path = tmp_path / "psi_copy.py"
+    path.write_text(text.replace(old, old + "\n    F[3, 4] = 0.0"), encoding="utf-8")
+    report = mc.check_matrices("strapdown_ned", f"{path}:psi_model", "psi",
+                               motion_list=strapdown_motions)
+    [mistake] = report.mistakes
+    assert (mistake.row, mistake.column, mistake.kind) == ("dvc_N", "dvc_E", "missing term")
+    assert report.held == ["dvc_D", "dr_D"]
+    # leaving out the Coriolis coupling 2Ω sin φ changes the 1-h position error visibly
+    worst = max(e.position_difference for e in report.effects if e.hours == 1.0)
+    assert worst > 1.0
+
+
+def test_example_sign_error_file(strapdown_motions):
+    path = PSI.parent / "psi_model_sign_error.py"
+    report = mc.check_matrices("strapdown_ned", f"{path}:psi_model_sign_error", "psi",
+                               motion_list=strapdown_motions, effects=False)
+    [mistake] = report.mistakes
+    assert (mistake.row, mistake.column, mistake.kind) == ("dvc_E", "dr_E", "sign error")
+
+
+@pytest.mark.parametrize("model_name, reference, psi", [
+    ("north_pointing", "model", "psi"), ("strapdown_ned", "phi", "psi"),
+    ("strapdown_ned", "phi_geodetic", "psi_geodetic")])
+def test_psi_attitude_readout_is_the_true_attitude_error(model_name, reference, psi,
+                                                         wgs84, strapdown_motions):
+    """ψ + δθ read out of a ψ-convention state equals the φ-angle (or platform angles)
+    of the same model error state: T (the transform) and the readout agree."""
+    model = load_model(model_name)
+    motion = (wgs84 if model_name == "north_pointing" else strapdown_motions)[1]
+    rng = np.random.default_rng(1)
+    e = rng.normal(size=(len(model.error_states), motion.times.size)) * 1e-5
+    readings = []
+    for name in (reference, psi):
+        conv = convention(model, name)
+        T, _ = conv.matrices(model, motion.x, motion.p, motion.u)
+        z = np.einsum("kij,jk->ik", T, e)
+        readings.append(np.einsum("aik,ik->ak", conv.attitude(motion.navigation), z))
+    assert np.abs(readings[0] - readings[1]).max() < 1e-12 * np.abs(readings[0]).max() + 1e-18

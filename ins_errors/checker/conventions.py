@@ -24,7 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.errors import unknown_name
 
 
 @dataclass(frozen=True)
@@ -46,10 +46,6 @@ class State:
     description: str
 
 
-Readout = Callable[[dict[str, np.ndarray]], np.ndarray]
-"""Navigation arrays (trailing axis K) -> matrix (3, nz, K)."""
-
-
 @dataclass(frozen=True)
 class Convention:
     """A set of error states related linearly to a model's own error states.
@@ -64,21 +60,24 @@ class Convention:
         The vocabulary, in the order of ``T``'s rows.
     transform : callable or None
         ``(x, p) -> T`` with ``x`` shape (n, K), ``T`` shape (nz, ne, K); ``None`` means
-        the identity (the model's own states).
-    position : callable
-        Navigation arrays -> (3, nz, K): north, east, down position error in metres per
-        unit of each state.
-    attitude : callable
-        Navigation arrays -> (3, nz, K): attitude error about north, east, down (rad) per
-        unit of each state (the angle the convention calls attitude error).
+        the identity (the model's own states). ``T`` may have fewer rows than columns
+        when the model's error state has a direction the convention does not see (the
+        norm of an attitude quaternion): then ``T⁺`` (pseudo-inverse) replaces ``T⁻¹``.
+    rate : callable or None
+        ``(x, xdot, p) -> Ṫ`` (same shape; ``xdot`` the ideal flow, shape (n, K)) when the
+        convention gives it exactly; otherwise it is computed by central differences
+        along the ideal flow.
+    vertical : tuple of str
+        States of the vertical channel (held in the effect propagation: undamped, it
+        diverges with a time constant of about 9.5 min).
     """
 
     name: str
     description: str
     states: tuple[State, ...]
     transform: Callable[[np.ndarray, np.ndarray], np.ndarray] | None
-    position: Readout
-    attitude: Readout
+    rate: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None
+    vertical: tuple[str, ...] = ()
 
     @property
     def names(self) -> list[str]:
@@ -99,6 +98,9 @@ class Convention:
             eye = np.broadcast_to(np.eye(ne), (k, ne, ne))
             return eye, np.zeros((k, ne, ne))
         flow = model.numpy.ideal_rhs(x, u, p)
+        if self.rate is not None:
+            return (np.moveaxis(self.transform(x, p), -1, 0),
+                    np.moveaxis(self.rate(x, flow, p), -1, 0))
 
         def at(shift: float) -> np.ndarray:
             return np.moveaxis(self.transform(x + shift * flow, p), -1, 0)
@@ -110,28 +112,99 @@ class Convention:
         rate = (4 * central(step / 2) - central(step)) / 3
         return at(0.0), rate
 
+    def position(self, nav: dict[str, np.ndarray]) -> np.ndarray:
+        """(3, nz, K): north, east, down position error (m) per unit of each state."""
+        return _readout(self.names, nav, _POSITION)
+
+    def attitude(self, nav: dict[str, np.ndarray]) -> np.ndarray:
+        """(3, nz, K): attitude error about north, east, down (rad) per unit of each state.
+
+        The attitude error is that of the computed attitude relative to the true NED
+        frame (the φ-angle, or the platform angles α); for a ψ-angle convention it is
+        ψ + δθ, δθ = (δλ cos φ, −δφ, −δλ sin φ) the rotation of the computed frame.
+        """
+        out = _readout(self.names, nav, _ATTITUDE)
+        if any(n.startswith("psi_") for n in self.names):
+            out += _readout(self.names, nav, _THETA)
+        return out
+
 
 RATE_STEP = 0.02
 """Time step of the central differences giving Ṫ, s (Richardson-extrapolated: O(step⁴))."""
 
 
 # --------------------------------------------------------------------------------------
-# Readouts shared by the platform conventions of the north-pointing model
+# Position and attitude read out of state names
 # --------------------------------------------------------------------------------------
-def _north_pointing_position(nav: dict[str, np.ndarray]) -> np.ndarray:
-    """δN = (R_N + h) δφ, δE = (R_E + h) cos φ δλ (states 2 and 3)."""
-    k = nav["latitude"].shape[-1]
-    out = np.zeros((3, 7, k))
-    out[0, 2] = nav["R_N"] + nav["height"]
-    out[1, 3] = (nav["R_E"] + nav["height"]) * np.cos(nav["latitude"])
-    return out
+def _r_n(nav):
+    return nav["R_N"] + nav["height"]
 
 
-def _north_pointing_attitude(nav: dict[str, np.ndarray]) -> np.ndarray:
-    """Angles about (E, N, U) in states 4..6 -> (N, E, D)."""
+def _r_e_cos(nav):
+    return (nav["R_E"] + nav["height"]) * np.cos(nav["latitude"])
+
+
+def _one(nav):
+    return np.ones_like(nav["latitude"])
+
+
+def _minus_one(nav):
+    return -np.ones_like(nav["latitude"])
+
+
+_POSITION = {
+    # name: [(axis N=0 E=1 D=2, metres per unit of the state)]
+    "delta_latitude": [(0, _r_n)], "dlat": [(0, _r_n)], "delta_lat": [(0, _r_n)],
+    "delta_longitude": [(1, _r_e_cos)], "dlon": [(1, _r_e_cos)], "delta_lon": [(1, _r_e_cos)],
+    "dh": [(2, _minus_one)], "delta_h": [(2, _minus_one)],
+    "dr_N": [(0, _one)], "dr_E": [(1, _one)], "dr_D": [(2, _one)],
+}
+_ATTITUDE = {
+    # name: [(axis, rad per unit)]; the platform angles α and north_pointing's ψ are ENU
+    **{f"{a}_{axis}": [(k, _one)] for a in ("phi", "psi") for k, axis in enumerate("NED")},
+    "psi_U": [(2, _minus_one)], "alpha_U": [(2, _minus_one)],
+    "alpha_E": [(1, _one)], "alpha_N": [(0, _one)],
+}
+
+
+def _inv_r_n(nav):
+    return -1.0 / (nav["R_N"] + nav["height"])
+
+
+def _inv_r_e(nav):
+    return 1.0 / (nav["R_E"] + nav["height"])
+
+
+def _tan_r_e(nav):
+    return -np.tan(nav["latitude"]) / (nav["R_E"] + nav["height"])
+
+
+def _cos(nav):
+    return np.cos(nav["latitude"])
+
+
+def _minus_sin(nav):
+    return -np.sin(nav["latitude"])
+
+
+def _minus(nav):
+    return -np.ones_like(nav["latitude"])
+
+
+# δθ = (δλ cos φ, −δφ, −δλ sin φ) in NED, from each position state (name: [(axis, factor)])
+_THETA = {
+    "delta_latitude": [(1, _minus)], "dlat": [(1, _minus)],
+    "delta_longitude": [(0, _cos), (2, _minus_sin)], "dlon": [(0, _cos), (2, _minus_sin)],
+    "dr_N": [(1, _inv_r_n)], "dr_E": [(0, _inv_r_e), (2, _tan_r_e)],
+}
+
+
+def _readout(names: list[str], nav: dict[str, np.ndarray], table: dict) -> np.ndarray:
     k = nav["latitude"].shape[-1]
-    out = np.zeros((3, 7, k))
-    out[0, 5], out[1, 4], out[2, 6] = 1.0, 1.0, -1.0
+    out = np.zeros((3, len(names), k))
+    for j, name in enumerate(names):
+        for axis, factor in table.get(name, []):
+            out[axis, j] += factor(nav)
     return out
 
 
@@ -154,38 +227,99 @@ _NP_COMMON = (
     State("delta_longitude", "rad", "longitude error"),
 )
 
-REGISTRY: dict[str, dict[str, Convention]] = {
-    "north_pointing": {
-        "psi": Convention(
-            "psi", "ψ-angle: platform attitude relative to the computer frame (Benson 1975)",
-            (*_NP_COMMON,
-             State("psi_E", "rad", "ψ-angle about east (platform vs computer frame)"),
-             State("psi_N", "rad", "ψ-angle about north"),
-             State("psi_U", "rad", "ψ-angle about up")),
-            _north_pointing_psi, _north_pointing_position, _north_pointing_attitude),
-    },
-}
-"""Conventions of each model beyond its own states (``model``)."""
 
-_MODEL_READOUTS: dict[str, tuple[Readout, Readout]] = {
-    "north_pointing": (_north_pointing_position, _north_pointing_attitude),
+def _north_pointing() -> dict[str, Convention]:
+    return {"psi": Convention(
+        "psi", "ψ-angle: platform attitude relative to the computer frame (Benson 1975)",
+        (*_NP_COMMON,
+         State("psi_E", "rad", "ψ-angle about east (platform vs computer frame)"),
+         State("psi_N", "rad", "ψ-angle about north"),
+         State("psi_U", "rad", "ψ-angle about up")),
+        _north_pointing_psi)}
+
+
+def _columns(fn):
+    """Evaluate a CasADi-backed ``fn(x, ..., p) -> (nz, ne)`` at K samples in one call.
+
+    CasADi evaluates a function at several arguments placed side by side; the results
+    come back side by side too: (nz, ne K) -> (nz, ne, K).
+    """
+
+    def apply(*arrays):
+        *varying, p = arrays
+        k = varying[0].shape[-1]
+        out = np.asarray(fn(*varying, p))
+        return np.moveaxis(out.reshape(out.shape[0], k, -1), 1, 2)
+
+    return apply
+
+
+def _strapdown() -> dict[str, Convention]:
+    """The φ/ψ/modified-velocity conventions of :mod:`ins_errors.models.strapdown_conventions`,
+    each with the position in NED metres (``NAME``) or as latitude/longitude/height
+    (``NAME_geodetic``)."""
+    try:
+        from ins_errors.models import strapdown_conventions as sc
+    except ImportError:  # pragma: no cover - the module lands with the strapdown model
+        return {}
+    descriptions = {
+        "phi": "φ-angle (attitude error in the true NED frame), δv in NED",
+        "psi": "ψ-angle (attitude error relative to the computed frame), velocity error in "
+               "the computed frame (Benson 1975)",
+        "phi_modified": "φ-angle with the modified velocity error δu = δv + φ × v "
+                        "(Scherzinger & Reid)",
+        "psi_modified": "ψ-angle with the modified velocity error δu",
+    }
+    out = {}
+    for name in sc.CONVENTIONS:
+        for position, suffix, where in (("ned", "", "position in NED metres"),
+                                        ("geodetic", "_geodetic",
+                                         "position as latitude, longitude, height")):
+            conv = sc.convention(name, position)
+            states = tuple(State(n, sc.UNITS[n], _state_text(n)) for n in conv.names)
+            out[name + suffix] = Convention(
+                name + suffix, f"{descriptions.get(name, name)}; {where}", states,
+                _columns(lambda x, p, c=conv: sc.transform_matrix(c, x, p)),
+                _columns(lambda x, f, p, c=conv: sc.transform_rate(c, x, f, p)),
+                vertical=tuple(n for n in conv.names
+                               if n in ("dv_D", "dvc_D", "du_D", "dr_D", "dh")))
+    return out
+
+
+_VOCABULARY_TEXT = {
+    "phi": "φ-angle: attitude error in the true NED frame",
+    "psi": "ψ-angle: attitude error relative to the computed NED frame",
+    "dv": "velocity error in NED",
+    "dvc": "velocity error in the computed frame, δv + δθ × v",
+    "du": "modified velocity error δv + φ × v (Scherzinger & Reid)",
+    "dr": "position error in NED",
+    "dlat": "latitude error", "dlon": "longitude error", "dh": "height error (up)",
 }
+
+
+def _state_text(name: str) -> str:
+    """Meaning of a strapdown vocabulary name (``psi_N`` -> ψ-angle ..., north)."""
+    if name in _VOCABULARY_TEXT:
+        return _VOCABULARY_TEXT[name]
+    base, _, axis = name.rpartition("_")
+    return f"{_VOCABULARY_TEXT.get(base, base)}, {dict(N='north', E='east', D='down')[axis]}"
+
+REGISTRY = {"north_pointing": _north_pointing, "strapdown_ned": _strapdown}
+"""Builders of each model's conventions beyond its own states (``model``)."""
 
 
 def own_convention(model) -> Convention:
     """The model's own error states as a convention (``T = I``)."""
-    if model.name not in _MODEL_READOUTS:
-        raise InsErrorsError(f"model {model.name!r} has no position/attitude readout for "
-                             "hand-coded matrices")
-    position, attitude = _MODEL_READOUTS[model.name]
     states = tuple(State(s.name, s.unit, s.description) for s in model.error_states)
+    vertical = tuple(s.name for s in states if s.name in ("delta_h", "delta_v_D"))
     return Convention("model", f"the model's own error states ({model.name})", states,
-                      None, position, attitude)
+                      None, vertical=vertical)
 
 
 def conventions(model) -> dict[str, Convention]:
     """Every convention of ``model``, by name (``model`` first)."""
-    return {"model": own_convention(model), **REGISTRY.get(model.name, {})}
+    builder = REGISTRY.get(model.name)
+    return {"model": own_convention(model), **(builder() if builder else {})}
 
 
 def convention(model, name: str) -> Convention:

@@ -16,7 +16,8 @@ the motion it matters.
 Classes:
 
 * ``agrees``: size at most :data:`AGREEMENT`;
-* ``mistake``: a sign error, a constant wrong factor (hand/model constant and more than
+* ``mistake``: a sign error (hand/model within :data:`PARTIAL` of −1), a constant wrong
+  factor (hand/model constant and more than
   :data:`PARTIAL` away from 1), a term the model does not have (``extra term``), or any
   difference of size at or above the threshold;
 * ``dropped small term``: any other difference below the threshold: a term left out
@@ -31,6 +32,7 @@ attitude error differences are reported (:func:`propagate_effects`).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -122,6 +124,36 @@ def _profiles(model, hours: float):
     return [static, ("cruise", cruise), ("manoeuvre", weave)]
 
 
+def _weave(t: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Commands of the strapdown manoeuvre: S-turns, speed and height changes, all day.
+
+    Returns (V, dV, r, dr, v_D, dv_D): ground speed, turn rate (rad/s, to the right), down
+    velocity and their rates (see :class:`ins_errors.numeric.strapdown_truth.Flight`).
+    """
+    w_turn, w_speed, w_climb = 2 * np.pi / 1200.0, 2 * np.pi / 3600.0, 2 * np.pi / 4800.0
+    r0, dv, climb = 0.01, 30.0, 5.0
+    return (220.0 + dv * np.sin(w_speed * t), dv * w_speed * np.cos(w_speed * t),
+            r0 * np.cos(w_turn * t), -r0 * w_turn * np.sin(w_turn * t),
+            -climb * np.cos(w_climb * t), climb * w_climb * np.sin(w_climb * t))
+
+
+def _strapdown_runs(model, hours: float, step: float, p: np.ndarray):
+    """(label, Trajectory) of the three flights of a strapdown model."""
+    from ins_errors.numeric import strapdown_truth as st
+
+    lat, lon = np.radians(50.0), np.radians(30.0)
+    flights = [
+        ("static", st.static(lat, lon, 0.0, heading=np.radians(30.0))),
+        ("cruise", st.great_circle(lat, lon, np.radians(60.0), 250.0, 10_000.0)),
+        ("manoeuvre", st.Flight(lat, lon, 5000.0, np.radians(60.0), _weave,
+                                "weaving flight from φ 50°, λ 30°, course 60°: turn rate "
+                                "0.57 cos(2πt/20 min) °/s (bank up to 13°), speed 220 ± 30 m/s "
+                                "(period 1 h), height 5 ± 3.8 km (period 80 min)")),
+    ]
+    return [(label, flight.description, st.trajectory(model, flight, hours * 3600.0, step, p=p))
+            for label, flight in flights]
+
+
 def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | None = None
             ) -> list[Motion]:
     """The checker's motions for ``model``, sampled every ``step`` s for ``hours`` h.
@@ -131,19 +163,33 @@ def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | No
     a manoeuvre with turns, speed changes, climbs and descents. ``ellipsoid`` (e.g.
     ``"wgs84"``) replaces the model's default Earth shape.
     """
-    from ins_errors.numeric import trajectories as tr
+    return list(_motions(model.name, float(hours), float(step), ellipsoid))
 
+
+@lru_cache(maxsize=4)
+def _motions(model_name: str, hours: float, step: float, ellipsoid: str | None
+             ) -> tuple[Motion, ...]:
+    """Motions of :func:`motions`, kept for the next check in the same process."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(model_name)
     p = model.parameter_vector(ellipsoid=ellipsoid)
+    if model.name == "strapdown_ned":
+        runs = _strapdown_runs(model, hours, step, p)
+    else:
+        runs = [(label, profile.description,
+                 tr.trajectory(model, profile, hours * 3600.0, step, p=p))
+                for label, profile in _profiles(model, hours)]
     out = []
-    for label, profile in _profiles(model, hours):
-        run = tr.trajectory(model, profile, hours * 3600.0, step, p=p)
+    for label, description, run in runs:
         steps = np.arange(run.n_steps + 1)
         x = (np.repeat(run.truth[:, :1], steps.size, axis=1) if run.constant
              else run.truth)
         u = run.inputs_at(steps)
-        out.append(Motion(label, profile.description, run.times, x, u, run.parameters,
+        out.append(Motion(label, description, run.times, x, u, run.parameters,
                           navigation_arrays(model, x, u, run.parameters)))
-    return out
+    return tuple(out)
 
 
 # --------------------------------------------------------------------------------------
@@ -157,11 +203,12 @@ def derived_in_convention(model, conv: Convention, motion: Motion
     if conv.transform is None:
         return F, G
     T, T_dot = conv.matrices(model, motion.x, motion.p, motion.u)
-    if T.shape[1] != T.shape[2]:
-        raise InsErrorsError(f"convention {conv.name!r} is not a change of states "
-                             f"({T.shape[1]} states for {T.shape[2]} model error states)")
-    Fz = np.linalg.solve(np.swapaxes(T, 1, 2), np.swapaxes(T_dot + T @ F, 1, 2))
-    return np.swapaxes(Fz, 1, 2), T @ G
+    if T.shape[1] == T.shape[2]:
+        Fz = np.swapaxes(np.linalg.solve(np.swapaxes(T, 1, 2),
+                                         np.swapaxes(T_dot + T @ F, 1, 2)), 1, 2)
+    else:  # a direction of x_e the convention does not see (quaternion norm): T⁺
+        Fz = (T_dot + T @ F) @ np.linalg.pinv(T)
+    return Fz, T @ G
 
 
 # --------------------------------------------------------------------------------------
@@ -275,6 +322,10 @@ class MatrixReport:
     out_of_scope : list of str
         Model error sources not in G (not compared; all of them without G).
     effects : list of Effect
+    held : list of str
+        Vertical-channel states held constant in the propagation (an undamped vertical
+        channel diverges with a time constant of about 9.5 min: after 24 h its error
+        would swamp every other difference).
     """
 
     model: str
@@ -290,6 +341,7 @@ class MatrixReport:
     left_out: list[str]
     out_of_scope: list[str]
     effects: list[Effect] = field(default_factory=list)
+    held: list[str] = field(default_factory=list)
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -341,8 +393,10 @@ def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, thres
         both = (np.abs(m) * mag > tiny) & (np.abs(h) * mag > tiny)
         only_hand = (np.abs(m) * mag <= tiny) & (np.abs(h) * mag > tiny)
         q = h[both] / m[both]
-        if not only_hand.any() and np.all(np.abs(q + 1) <= 1e-6):
+        if not only_hand.any() and np.all(np.abs(q + 1) <= PARTIAL):
             kind = "sign error"
+            if np.any(np.abs(q + 1) > 1e-6):
+                detail = f"hand/model between {q.min():.6g} and {q.max():.6g}"
         elif not only_hand.any() and np.all(np.abs(q - 1) <= PARTIAL):
             kind, detail = "approximated", (f"hand/model between {q.min():.6g} and "
                                             f"{q.max():.6g}")
@@ -464,12 +518,17 @@ def _transition(A: np.ndarray, times: np.ndarray, at: list[float]) -> list[np.nd
     return [out[t] for t in at]
 
 
-def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray) -> np.ndarray:
-    """[[F, G], [0, 0]] in scaled variables (each state / source over its magnitude)."""
+def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray, held: list[int]
+               ) -> np.ndarray:
+    """[[F, G], [0, 0]] in scaled variables (each state / source over its magnitude), with
+    the rows and columns of the ``held`` states zeroed (they keep their initial value and
+    feed nothing)."""
     k, n, m = G.shape
     A = np.zeros((k, n + m, n + m))
     A[:, :n, :n] = F
     A[:, :n, n:] = G
+    A[:, held, :] = 0.0
+    A[:, :, held] = 0.0
     return A * (1 / scale)[:, None] * scale[None, :]
 
 
@@ -485,7 +544,11 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
     mags_h = np.array([report.magnitudes[s][0] for s in report.states])
     mags_src = np.array([report.magnitudes[s][0] for s in report.sources])
     mags_z = np.array([report.magnitudes[s][0] for s in names])
-    cases = ([(f"initial {s}", report.magnitudes[s][1]) for s in report.states]
+    held_z = [names.index(v) for v in conv.vertical]
+    held_h = [report.states.index(v) for v in conv.vertical if v in report.states]
+    report.held = [v for v in conv.vertical if v in report.states]
+    cases = ([(f"initial {s}", report.magnitudes[s][1]) for s in report.states
+              if s not in conv.vertical]
              + [(f"source {s}", report.magnitudes[s][1]) for s in report.sources])
     effects = []
     for motion in motion_list:
@@ -495,10 +558,12 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
         Gh = (sampled.Gh[motion.label] if m else
               np.zeros((*sampled.Fh[motion.label].shape[:2], 0)))
         hand = _transition(_augmented(sampled.Fh[motion.label], Gh,
-                                      np.concatenate([mags_h, mags_src])), motion.times, at)
+                                      np.concatenate([mags_h, mags_src]), held_h),
+                           motion.times, at)
         derived = _transition(_augmented(sampled.Fz[motion.label],
                                          sampled.Gz[motion.label][:, :, src_cols],
-                                         np.concatenate([mags_z, mags_src])), motion.times, at)
+                                         np.concatenate([mags_z, mags_src]), held_z),
+                              motion.times, at)
         # unit initial errors (scaled) of the hand's states, embedded in the convention
         embed = np.zeros((n_z + m, n_h + m))
         embed[rows, np.arange(n_h)] = 1.0

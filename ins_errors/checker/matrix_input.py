@@ -77,11 +77,15 @@ def _import_file(path: Path):
     if spec is None or spec.loader is None:
         raise InsErrorsError(f"cannot import {str(path)!r} as a Python file")
     module = importlib.util.module_from_spec(spec)
+    folder = str(path.resolve().parent)
+    sys.path.insert(0, folder)  # the file may import helpers that sit next to it
     try:
         spec.loader.exec_module(module)
     except Exception as error:  # the researcher's code: report it in one line
         raise InsErrorsError(f"cannot import {path.name}: {_describe(error, path)}") from None
-    sys.modules.pop(name, None)
+    finally:
+        sys.path.remove(folder)
+        sys.modules.pop(name, None)
     return module
 
 

@@ -79,8 +79,9 @@ def to_terminal(r: MatrixReport) -> str:
         if group:
             lines += ["", f"{title}:"] + [f"  {_finding_line(f)}" for f in group]
     if r.effects:
+        held = (f"; vertical channel held: {', '.join(r.held)}" if r.held else "")
         lines += ["", "Effect of the differences (hand − derived, propagated from each initial "
-                  "error and source at its typical size; the worst case):"]
+                  f"error and source at its typical size; the worst case{held}):"]
         rows = [EFFECT_HEADER, *_effect_rows(r)]
         widths = [max(len(row[i]) for row in rows) for i in range(len(EFFECT_HEADER))]
         lines += ["  " + "  ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)).rstrip()
@@ -111,6 +112,10 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
         out.append("")
     if r.effects:
         out += ["## Effect of the differences", "",
+                "Both models propagated from each initial error and error source at its "
+                "typical size; the worst case" + (
+                    f" (vertical channel held: {', '.join(r.held)})" if r.held else "") + ".",
+                "",
                 "| " + " | ".join(EFFECT_HEADER) + " |",
                 "|" + "---|" * len(EFFECT_HEADER)]
         out += ["| " + " | ".join(row) + " |" for row in _effect_rows(r)]
@@ -126,7 +131,7 @@ def to_json(r: MatrixReport) -> dict:
         "left_out": r.left_out, "out_of_scope": r.out_of_scope,
         "motions": [{"label": k, "description": d} for k, d in r.motions],
         "magnitudes": {k: {"si": v[0], "text": v[1]} for k, v in r.magnitudes.items()},
-        "compared": r.compared, "exit_status": r.exit_status,
+        "compared": r.compared, "exit_status": r.exit_status, "held": r.held,
         "findings": [{"matrix": f.matrix, "row": f.row, "column": f.column, "kind": f.kind,
                       "severity": f.severity, "size": f.size, "size_class": f.size_class,
                       "motion": f.motion, "time_s": f.time, "hand": f.hand, "model": f.model,

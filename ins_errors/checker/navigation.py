@@ -184,7 +184,34 @@ def _north_pointing(model, x, u, p) -> dict[str, np.ndarray]:
     }
 
 
-ADAPTERS: dict[str, Callable] = {"north_pointing": _north_pointing}
+def _strapdown_ned(model, x, u, p) -> dict[str, np.ndarray]:
+    """Strapdown NED: attitude quaternion body → NED (scalar first), IMU outputs as inputs."""
+    from ins_errors.models.earth import normal_gravity, radii_of_curvature
+
+    par = dict(zip((i.name for i in model.parameters), p, strict=True))
+    q0, q1, q2, q3 = x[0:4]
+    C = np.array([
+        [q0**2 + q1**2 - q2**2 - q3**2, 2 * (q1 * q2 - q0 * q3), 2 * (q1 * q3 + q0 * q2)],
+        [2 * (q1 * q2 + q0 * q3), q0**2 - q1**2 + q2**2 - q3**2, 2 * (q2 * q3 - q0 * q1)],
+        [2 * (q1 * q3 - q0 * q2), 2 * (q2 * q3 + q0 * q1), q0**2 - q1**2 - q2**2 + q3**2]])
+    v, lat, lon, h = x[4:7], x[7], x[8], x[9]
+    a, e2, U = par["a"], par["e2"], par["U"]
+    r_n, r_e = radii_of_curvature(lat, a, e2)
+    k = lat.shape[-1]
+    ie = np.array([U * np.cos(lat), np.zeros(k), -U * np.sin(lat)])
+    en = np.array([v[1] / (r_e + h), -v[0] / (r_n + h), -v[1] * np.tan(lat) / (r_e + h)])
+    return {
+        "latitude": lat, "longitude": lon, "height": h, "v_ned": v, "C_bn": C,
+        "omega_ie_n": ie, "omega_en_n": en,
+        "gravity": normal_gravity(lat, h, a, e2, par["gamma_e"], par["gravity_k"],
+                                  par["gravity_m"]),
+        "R_N": r_n, "R_E": r_e, "a": np.full(k, a), "e2": np.full(k, e2),
+        "earth_rate": np.full(k, U), "f_b": u[3:6], "omega_ib_b": u[0:3],
+    }
+
+
+ADAPTERS: dict[str, Callable] = {"north_pointing": _north_pointing,
+                                 "strapdown_ned": _strapdown_ned}
 """Navigation adapter of each model that supports hand-coded matrices."""
 
 
