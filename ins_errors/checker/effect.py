@@ -14,8 +14,9 @@ the model's coefficients and once with the mistake put in:
 
 The effect is the change of the position error (latitude and longitude errors, m, on a
 sphere of the model's radius) and of the platform attitude error (the error states that
-are platform angles, rad) after 1 h and 24 h; the largest over the reference points is
-kept, with the point.
+are platform angles, rad) after 1 h and 24 h, at the reference point where the finding
+is largest (for a finding without one, the largest over the points). The 24 h state
+is the 1 h transition matrix to the 24th power (exact for frozen coefficients).
 """
 
 from __future__ import annotations
@@ -30,15 +31,18 @@ HOURS = (1.0, 24.0)
 """Propagation times, h."""
 
 
-def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray, seconds: float) -> np.ndarray:
-    """x(t) of x' = F x + drive (constant), by the exponential of the augmented matrix."""
+def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray) -> list[np.ndarray]:
+    """x(t) of x' = F x + drive (constant) at each of :data:`HOURS`, by the exponential
+    of the augmented matrix over the first time and its integer powers for the others."""
     from scipy.linalg import expm
 
     n = f.shape[0]
     m = np.zeros((n + 1, n + 1))
     m[:n, :n] = f
     m[:n, n] = drive
-    return (expm(m * seconds) @ np.append(x0, 1.0))[:n]
+    step = expm(m * HOURS[0] * 3600.0)
+    start = np.append(x0, 1.0)
+    return [(np.linalg.matrix_power(step, round(h / HOURS[0])) @ start)[:n] for h in HOURS]
 
 
 def add_effects(report, d, side, comparison, identify, prepared, resolver) -> None:
@@ -54,26 +58,26 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
     radius, _ = _earth(d)
     try:
         rows = [side.state_rhs[s].xreplace(identify) for s in states]
-        f = np.zeros((k, n, n))
-        drive = np.zeros((k, n))
-        for i, row in enumerate(rows):
-            parts, _ = comparison.linear_parts(row)
-            for b, c in parts.items():
-                value = comparison.evaluate([c])[0]
-                if b in symbols:
-                    f[:, i, symbols.index(b)] = value
-                elif b in sources:
-                    drive[:, i] += value * magnitude[b]
         outputs = {name: side.delta(name).xreplace(identify)
                    for name in ("latitude", "longitude") if name in side.outputs}
-        readout = {}
+        entries = []  # (kind, row, quantity, coefficient): evaluated in one call
+        for i, row in enumerate(rows):
+            for b, c in comparison.linear_parts(row)[0].items():
+                entries.append(("f", i, b, c))
         for name, expr in outputs.items():
-            parts, _ = comparison.linear_parts(expr)
-            h = np.zeros((k, n))
-            for b, c in parts.items():
-                if b in symbols:
-                    h[:, symbols.index(b)] = comparison.evaluate([c])[0]
-            readout[name] = h
+            for b, c in comparison.linear_parts(expr)[0].items():
+                entries.append((name, 0, b, c))
+        values = comparison.evaluate([c for *_, c in entries]) if entries else []
+        f = np.zeros((k, n, n))
+        drive = np.zeros((k, n))
+        readout = {name: np.zeros((k, n)) for name in outputs}
+        for (kind, i, b, _), value in zip(entries, values, strict=True):
+            if kind == "f" and b in symbols:
+                f[:, i, symbols.index(b)] = value
+            elif kind == "f" and b in sources:
+                drive[:, i] += value * magnitude[b]
+            elif kind != "f" and b in symbols:
+                readout[kind][:, symbols.index(b)] = value
         cos_lat = (np.cos(comparison.evaluate([side.outputs["latitude"]])[0])
                    if "latitude" in side.outputs else np.ones(k))
     except (_UnresolvedError, KeyError):
@@ -93,18 +97,19 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
             lon += extra.get("longitude", 0.0)
         return radius * np.array([lat, cos_lat[point] * lon])
 
-    baseline = {}
-    for p in range(k):
-        for hours in HOURS:
-            baseline[(p, hours)] = _propagate(f[p], drive[p], x0, hours * 3600.0)
+    baseline: dict[int, list[np.ndarray]] = {}
+    labels = [point.label for point in comparison.points]
 
-    def run(delta_f: np.ndarray, delta_drive: np.ndarray, out_delta: dict) -> dict | None:
+    def run(delta_f: np.ndarray, delta_drive: np.ndarray, out_delta: dict,
+            where: str = "") -> dict | None:
+        """Effect at the finding's point (every point if it has none; the largest kept)."""
         best = None
-        for p in range(k):
+        for p in ([labels.index(where)] if where in labels else range(k)):
+            if p not in baseline:
+                baseline[p] = _propagate(f[p], drive[p], x0)
             effect = {}
-            for hours in HOURS:
-                base = baseline[(p, hours)]
-                x = _propagate(f[p] + delta_f[p], drive[p] + delta_drive[p], x0, hours * 3600.0)
+            changed = _propagate(f[p] + delta_f[p], drive[p] + delta_drive[p], x0)
+            for hours, base, x in zip(HOURS, baseline[p], changed, strict=True):
                 extra = {name: float(row[p] @ x) for name, row in out_delta.items()}
                 dpos = np.linalg.norm(position(x, p, extra) - position(base, p))
                 datt = np.linalg.norm((x - base)[platform]) if platform else 0.0
@@ -137,7 +142,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                              only=set(g.quantity.split(" -> ")))
                 except _UnresolvedError:
                     continue
-                effects[id(g)] = run(delta_f, delta_drive, {})
+                effects[id(g)] = run(delta_f, delta_drive, {}, g.point)
             result.findings = [_with(g, effects[id(g)]) if id(g) in effects else g
                                for g in result.findings]
             continue
@@ -156,10 +161,12 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                 diff = comparison.linear_parts(item.hand_isolated)[0]
                 model = comparison.linear_parts(item.model_declared)[0]
                 row = np.zeros((k, n))
-                for b in set(diff) | set(model):
-                    if b in symbols:
-                        row[:, symbols.index(b)] = comparison.evaluate(
-                            [diff.get(b, sp.S.Zero) - model.get(b, sp.S.Zero)])[0]
+                wanted = [b for b in set(diff) | set(model) if b in symbols]
+                if wanted:
+                    values = comparison.evaluate([diff.get(b, sp.S.Zero)
+                                                  - model.get(b, sp.S.Zero) for b in wanted])
+                    for b, value in zip(wanted, values, strict=True):
+                        row[:, symbols.index(b)] = value
                 out_delta[name] = row
             else:
                 for other in report.results:
@@ -180,7 +187,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                       "attitude_1h": 0.0, "attitude_24h": 0.0,
                       "note": "reaches no error-state or position line"}
         else:
-            effect = run(delta_f, delta_drive, out_delta)
+            effect = run(delta_f, delta_drive, out_delta, roots[0].point)
         result.findings = [g if g not in roots else _with(g, effect) for g in result.findings]
 
 
@@ -196,10 +203,12 @@ def _add_row(delta_f, delta_drive, row, hand, model, comparison, symbols, source
     quantities named in ``only``, if given)."""
     h = comparison.linear_parts(hand)[0]
     m = comparison.linear_parts(model)[0]
-    for b in set(h) | set(m):
-        if only is not None and str(b) not in only:
-            continue
-        value = comparison.evaluate([h.get(b, sp.S.Zero) - m.get(b, sp.S.Zero)])[0]
+    wanted = sorted((b for b in set(h) | set(m) if only is None or str(b) in only),
+                    key=sp.default_sort_key)
+    if not wanted:
+        return
+    values = comparison.evaluate([h.get(b, sp.S.Zero) - m.get(b, sp.S.Zero) for b in wanted])
+    for b, value in zip(wanted, values, strict=True):
         if b in symbols:
             delta_f[:, row, symbols.index(b)] += value
         elif b in sources:
