@@ -63,6 +63,8 @@ from ins_errors.errors import ModelDefinitionError
 from ins_errors.models.earth import (
     EARTH_RATE,
     ELLIPSOIDS,
+    MEAN_RADIUS,
+    STANDARD_GRAVITY,
     WGS84_EQUATORIAL_GRAVITY,
     WGS84_GRAVITY_M,
     WGS84_SOMIGLIANA_K,
@@ -76,7 +78,9 @@ from ins_errors.models.platform import PLATFORM_FORMS, on_platform, platform_rat
 __all__ = [
     "EARTH_RATE",
     "ELLIPSOIDS",
+    "MEAN_RADIUS",
     "PLATFORM_FORMS",
+    "STANDARD_GRAVITY",
     "WGS84_EQUATORIAL_GRAVITY",
     "WGS84_GRAVITY_M",
     "WGS84_SOMIGLIANA_K",

@@ -16,9 +16,7 @@ from functools import cache
 import pint
 
 from ins_errors.errors import InsErrorsError
-
-STANDARD_GRAVITY = 9.80665
-"""The g used by the units g, mg, ug: m/s²."""
+from ins_errors.models.earth import STANDARD_GRAVITY  # the g of the units g, mg, ug
 
 
 class UnitError(InsErrorsError):

@@ -284,7 +284,9 @@ def test_direct_and_linear_agree_at_small_magnitudes(model, rest_run, motion):
         d, lin = direct[name], linear[name]
         scale = np.abs(d).max(axis=0)
         assert np.all(scale > 0)
-        assert np.all(np.abs(d - lin).max(axis=0) < 2e-3 * scale + 1e-12), name
+        # second-order residual of the exact platform: about the largest angle (the
+        # 0.05 °/h azimuth drift turns the platform 2.6e-3 rad in 3 h)
+        assert np.all(np.abs(d - lin).max(axis=0) < 5e-3 * scale + 1e-12), name
 
 
 # --------------------------------------------------------------------------------------

@@ -260,22 +260,21 @@ def spec_system(model, spec: Spec, trajectory=None) -> LinearSystem:
 
 def _radii(model, system: LinearSystem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Latitude (rad), R_N and R_E cos φ (m) along the grid, shape (K+1,) each."""
+    from ins_errors.models.earth import earth_shape, radii_of_curvature
+
     names = [i.name for i in model.parameters]
-    p = dict(zip(names, system.p, strict=True))
-    a = p.get("a", p.get("R"))
-    if a is None:
-        raise BudgetError(f"model {model.name} has no Earth radius parameter ('a' or 'R')")
-    e2 = p.get("e2", p.get("ecc2", 0.0))
+    try:
+        a, e2, _ = earth_shape(names, system.p, f"model {model.name}")
+    except InsErrorsError as error:
+        raise BudgetError(str(error)) from None
     outputs = [o.name for o in model.outputs]
     if "latitude" not in outputs:
         raise BudgetError(f"model {model.name} has no 'latitude' output")
     phi = model.numpy.outputs(system.x, system.u, system.p)[outputs.index("latitude")]
     h = system.u[[i.name for i in model.inputs].index("h")] if "h" in [
         i.name for i in model.inputs] else 0.0
-    s2 = np.sin(phi) ** 2
-    R_N = a * (1 - e2) / (1 - e2 * s2) ** 1.5 + h
-    R_E = a / np.sqrt(1 - e2 * s2) + h
-    return phi, R_N, R_E * np.cos(phi)
+    R_N, R_E = radii_of_curvature(phi, a, e2)
+    return phi, R_N + h, (R_E + h) * np.cos(phi)
 
 
 PLATFORM_ANGLE_NAMES = (("alpha_x", "alpha_y", "alpha_z"), ("alpha_E", "alpha_N", "alpha_U"))

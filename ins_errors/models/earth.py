@@ -1,8 +1,19 @@
-"""Earth models: reference ellipsoids and the Earth rotation rate.
+"""The Earth, in one place: ellipsoids, rotation rate, radii of curvature, gravity.
 
-Values are those of ``shared/spec/NOTES.md``: Krasovsky (1940) a = 6 378 245 m,
+Values are those of the source documents' notes: Krasovsky (1940) a = 6 378 245 m,
 f = 1/298.3 (the default of the source documents); WGS-84 a = 6 378 137 m,
 f = 1/298.257223563; Earth rate U = 7.292115e-5 rad/s.
+
+Conventions, for every model, trajectory generator and budget:
+
+* latitude φ is geodetic (angle of the ellipsoid normal to the equator);
+* height h is measured along the ellipsoid normal, so a point at height h has the radii
+  of curvature ``R_N + h`` (meridian) and ``R_E + h`` (prime vertical);
+* gravity means normal gravity γ(φ, h) of the ellipsoid (gravitation plus centrifugal),
+  along the normal (:func:`normal_gravity`);
+* a model names its Earth with the parameters ``a`` and ``e2`` (or ``R`` and ``ecc2``;
+  ``R`` alone is a sphere) and ``U``; :func:`earth_shape` reads them and refuses a model
+  that lacks one, instead of filling in a constant.
 """
 
 from __future__ import annotations
@@ -13,6 +24,12 @@ from ins_errors.errors import unknown_name
 
 EARTH_RATE = 7.292115e-5
 """Earth rotation rate U, rad/s."""
+
+MEAN_RADIUS = 6_371_000.0
+"""IUGG mean Earth radius, m (the default sphere of the spherical models)."""
+
+STANDARD_GRAVITY = 9.80665
+"""Standard gravity g₀, m/s² (the g of '1e-4 g' and a constant-gravity model's default)."""
 
 
 @dataclass(frozen=True)
@@ -125,6 +142,49 @@ def normal_gravity(latitude, height, a, e2, gamma_e=WGS84_EQUATORIAL_GRAVITY,
     f = 1 - xp.sqrt(1 - e2)
     gamma0 = gamma_e * (1 + k * s2) / xp.sqrt(1 - e2 * s2)
     return gamma0 * (1 - 2 * height / a * (1 + f + m - 2 * f * s2) + 3 * height**2 / a**2)
+
+
+def earth_shape(names, values, model: str = "the model") -> tuple[float, float, float]:
+    """The Earth a model's parameter vector describes: (a, e², U).
+
+    Parameters
+    ----------
+    names : sequence of str
+        The model's parameter names.
+    values : sequence
+        Their values (numbers, or CasADi/SymPy symbols), same order.
+    model : str
+        Model name for messages.
+
+    Returns
+    -------
+    a, e2, U
+        Semi-major axis (``a`` or ``R``), m; eccentricity squared (``e2`` or ``ecc2``; 0
+        for a model whose Earth is a sphere of radius ``R`` with no eccentricity
+        parameter); Earth rate ``U``, rad/s.
+
+    Raises
+    ------
+    InsErrorsError
+        When the model has no radius or no Earth rate parameter (no fallback constant).
+    """
+    from ins_errors.errors import InsErrorsError
+
+    p = dict(zip(names, values, strict=True))
+    if "a" in p:
+        a = p["a"]
+        if "e2" not in p:
+            raise InsErrorsError(f"{model} has a semi-major axis 'a' but no eccentricity "
+                                 "parameter 'e2'")
+        e2 = p["e2"]
+    elif "R" in p:
+        a, e2 = p["R"], p.get("ecc2", 0.0)
+    else:
+        raise InsErrorsError(f"{model} has no Earth radius parameter ('a' with 'e2', or "
+                             "'R'): cannot compute its Earth")
+    if "U" not in p:
+        raise InsErrorsError(f"{model} has no Earth rate parameter 'U'")
+    return a, e2, p["U"]
 
 
 def _numpy():

@@ -41,6 +41,7 @@ import sympy as sp
 
 from ins_errors.modeling import (
     EARTH_RATE,
+    MEAN_RADIUS,
     ErrorSource,
     Mechanisation,
     ModelDefinition,
@@ -50,15 +51,17 @@ from ins_errors.modeling import (
     ellipsoid,
     on_platform,
     platform_rates,
+    radii_of_curvature,
 )
+from ins_errors.modeling import STANDARD_GRAVITY as EARTH_STANDARD_GRAVITY
 
 # --------------------------------------------------------------------------------------
 # Names (public API: keep stable)
 # --------------------------------------------------------------------------------------
-MEAN_EARTH_RADIUS = 6_371_000.0
-"""Default sphere radius R, m (IUGG mean radius)."""
+MEAN_EARTH_RADIUS = MEAN_RADIUS
+"""Default sphere radius R, m (IUGG mean radius, :mod:`ins_errors.models.earth`)."""
 
-STANDARD_GRAVITY = 9.80665
+STANDARD_GRAVITY = EARTH_STANDARD_GRAVITY
 """Default gravity g, m/s² (standard gravity, also the g of '1e-4 g')."""
 
 STATES = (
@@ -174,10 +177,9 @@ def trihedron_rates(eq: Mechanisation, s: list[sp.Symbol], h: sp.Symbol):
         north-pointing (commanded rate when ``s`` is the computed state).
     """
     v_E, v_N, lat, _lon = s
-    sin2 = sp.sin(lat) ** 2
-    r_E = eq.let("r_E", R / sp.sqrt(1 - ecc2 * sin2) + h, "{(R_E + h)}")
-    r_N = eq.let("r_N", R * (1 - ecc2) / (1 - ecc2 * sin2) ** sp.Rational(3, 2) + h,
-                 "{(R_N + h)}")
+    R_N, R_E = radii_of_curvature(lat, R, ecc2, xp=sp)
+    r_E = eq.let("r_E", R_E + h, "{(R_E + h)}")
+    r_N = eq.let("r_N", R_N + h, "{(R_N + h)}")
     omega_E = eq.let("omega_E", -v_N / r_N, r"\omega_E")
     omega_N = eq.let("omega_N", U * sp.cos(lat) + v_E / r_E, r"\omega_N")
     omega_U = eq.let("omega_U", U * sp.sin(lat) + v_E * sp.tan(lat) / r_E, r"\omega_U")
@@ -227,9 +229,8 @@ def navigation_outputs(eq: Mechanisation, s: list[sp.Symbol], inputs: list[sp.Sy
 def vertical_specific_force(s: list[sp.Expr], h: sp.Expr) -> sp.Expr:
     """True vertical specific force of level flight at height ``h``, m/s²."""
     v_E, v_N, lat, _lon = s
-    sin2 = sp.sin(lat) ** 2
-    r_E = R / sp.sqrt(1 - ecc2 * sin2) + h
-    r_N = R * (1 - ecc2) / (1 - ecc2 * sin2) ** sp.Rational(3, 2) + h
+    R_N, R_E = radii_of_curvature(lat, R, ecc2, xp=sp)
+    r_E, r_N = R_E + h, R_N + h
     return g - v_E**2 / r_E - v_N**2 / r_N - 2 * U * sp.cos(lat) * v_E
 
 

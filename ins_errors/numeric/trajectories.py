@@ -16,7 +16,8 @@ apparent accelerations the ideal-work equations need:
   time derivative of ``X`` along the flow and the commanded rates: ``a = V̇ + W − g'``;
 * the vertical apparent acceleration ``a_zeta`` (not used by the ideal horizontal
   channels) is ``dV_zeta/dt − v_E²/(R_E + h) − v_N²/(R_N + h) − 2 U cos φ v_E + γ(φ, h)``
-  with the normal gravity γ of the chosen ellipsoid (Somigliana, free-air reduction).
+  with the normal gravity γ(φ, h) of the model's ellipsoid
+  (:func:`ins_errors.models.earth.normal_gravity`).
 
 The true state is integrated with RK4 at half the run's step (compiled loop) and the
 inputs are sampled at the step times and at their midpoints (for RK4 runs). A static
@@ -37,6 +38,7 @@ import casadi as ca
 import numpy as np
 
 from ins_errors.errors import DomainError, InsErrorsError, ShapeError
+from ins_errors.models.earth import earth_shape, normal_gravity, radii_of_curvature
 from ins_errors.numeric.integrators import (
     CompiledLoop,
     DenseCall,
@@ -53,9 +55,6 @@ MAX_SAMPLES = 300_000_000
 """Largest number of floats (2.4 GB) sampled for a moving trajectory."""
 
 # Somigliana normal gravity constants: equatorial gravity (m/s²) and the k coefficient.
-_GAMMA_E = 9.7803253359
-_SOMIGLIANA_K = 0.00193185265241
-_FREE_AIR = 3.086e-6  # 1/s², gradient of normal gravity with height
 
 
 class MotionError(InsErrorsError):
@@ -385,13 +384,9 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
     acc = ca.solve(B.T @ B, B.T @ (Xdot - f0))
     # vertical apparent acceleration (normal gravity + transport/Coriolis)
     phi = y[i_lat_out]
-    a_ax = p[par["a"]] if "a" in par else 6378137.0
-    e2 = p[par["e2"]] if "e2" in par else 0.0
-    U = p[par["U"]] if "U" in par else 7.292115e-5
-    s2 = ca.sin(phi) ** 2
-    R_E = a_ax / ca.sqrt(1 - e2 * s2)
-    R_N = a_ax * (1 - e2) / (1 - e2 * s2) ** 1.5
-    gamma = _GAMMA_E * (1 + _SOMIGLIANA_K * s2) / ca.sqrt(1 - e2 * s2) - _FREE_AIR * cmd[2]
+    a_ax, e2, U = earth_shape(list(par), ca.vertsplit(p), f"model {model.name!r}")
+    R_N, R_E = radii_of_curvature(phi, a_ax, e2, xp=ca)
+    gamma = normal_gravity(phi, cmd[2], a_ax, e2, xp=ca)
     a_up = (rates[3] - v_e**2 / (R_E + cmd[2]) - v_n**2 / (R_N + cmd[2])
             - 2 * U * ca.cos(phi) * v_e + gamma)
     u_full = input_vector(cmd[2], cmd[3], dict(zip(accel_names, ca.vertsplit(acc),
