@@ -12,15 +12,29 @@ the hand coefficient equal the model's at every reference point.
 (``"mistake, small effect"`` below the threshold); only an omission of a small term is
 a ``"dropped small term"``; an omission the author declared (``@neglect``) is a
 ``"declared drop"``.
+
+*Where it comes from* (the ``role``): each line is compared as written, with the
+declared simplifications applied, and isolated (the definitions it uses corrected, each
+hand-only helper replaced by the value its simplest use needs): what the declarations
+explain is a declared drop, what isolation removes is a *knock-on* of the definitions it
+names as roots, what remains is the line's own (*root*) finding
+(:func:`line_findings`, :func:`assign_roots`, :func:`helpers`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import sympy as sp
+
+from ins_errors.checker.parse import HandEquation, HandFile, Problem
+from ins_errors.checker.sides import HandSide, ModelSide, UnresolvedError, model_expr, model_side
+
+if TYPE_CHECKING:
+    from ins_errors.checker.compare import Comparison, EquationResult, Item
 
 OMITTED = "omitted term"
 EXTRA = "extra term"
@@ -243,3 +257,272 @@ def change_that_fits(hand_expr: sp.Expr, target: np.ndarray, tiny: float,
 def _short(expr: sp.Expr, limit: int = 120) -> str:
     text = sp.sstr(expr)
     return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+# -- declared simplifications ----------------------------------------------------------
+class Declarations:
+    """The ``@neglect`` lines: variations dropped (model side) and terms left out."""
+
+    def __init__(self, hand: HandFile, resolver: HandSide, side: ModelSide):
+        self.hand = hand
+        self.dropped: list[frozenset[str]] = []
+        self.terms: list[list[sp.Expr]] = []
+        self.used = [False] * len(hand.declarations)
+        self.side = side
+        for declaration in hand.declarations:
+            names, terms = set(), []
+            for item, text in zip(declaration.items, declaration.texts, strict=True):
+                base = (resolver.variation_base(item.name) if isinstance(item, sp.Symbol)
+                        else None)
+                if base is not None:
+                    meaning = resolver.model_meaning(base)
+                    inner = ({s.name for s in meaning.free_symbols} & side.intermediates
+                             if meaning is not None else set())
+                    if base in side.intermediates:
+                        inner = {base}
+                    if not inner:
+                        hand.problems.append(Problem(declaration.line, None, (
+                            f"@neglect {text}: {base} has no variation in the model "
+                            "(not an intermediate quantity)")))
+                    names |= inner
+                    continue
+                try:
+                    resolver.trace = set()
+                    terms.append(resolver.resolve(item, len(hand.sections) - 1, ()))
+                except UnresolvedError as error:
+                    hand.problems.append(Problem(declaration.line, None,
+                                                 f"@neglect {text}: {error.message}"))
+            self.dropped.append(frozenset(names))
+            self.terms.append(terms)
+        self.term_values: list[list[dict]] = []
+
+    def finish(self, comparison: Comparison, identify: dict) -> None:
+        """Evaluate the declared terms' coefficients at the reference points."""
+        for terms in self.terms:
+            evaluated = []
+            for term in terms:
+                try:
+                    parts, _ = comparison.linear_parts(term.xreplace(identify))
+                    evaluated.append({b: comparison.evaluate([c])[0] for b, c in parts.items()})
+                except UnresolvedError:
+                    continue
+            self.term_values.append(evaluated)
+
+    def dropped_for(self, eq: HandEquation) -> frozenset[str]:
+        return frozenset().union(*(self.dropped[k] for k in eq.declarations))
+
+    def explains_term(self, eq: HandEquation, quantity: str, difference: np.ndarray,
+                      comparison: Comparison) -> bool:
+        """True if a declared term of ``eq``'s scope is the model-minus-hand difference."""
+        for k in eq.declarations:
+            for values in self.term_values[k] if k < len(self.term_values) else []:
+                for b, v in values.items():
+                    if str(b) != quantity:
+                        continue
+                    scale = np.maximum(np.abs(v), np.abs(difference))
+                    if np.all(np.abs(np.abs(difference) - np.abs(v)) <= 1e-6 * np.maximum(
+                            scale, 1e-300)):
+                        self.used[k] = True
+                        return True
+        return False
+
+    def mark(self, eq: HandEquation) -> None:
+        for k in eq.declarations:
+            if self.dropped[k]:
+                self.used[k] = True
+
+    def texts(self) -> list[str]:
+        return [f"line {d.line}: {', '.join(d.texts)}" + (f" ({d.reason})" if d.reason else "")
+                for d in self.hand.declarations]
+
+    def idle(self) -> list[str]:
+        return [f"line {d.line}: {', '.join(d.texts)}"
+                for d, used in zip(self.hand.declarations, self.used, strict=True) if not used]
+
+
+# -- hand-only helpers ------------------------------------------------------------------
+@dataclass
+class Needed:
+    """The value a hand-only helper must have, from its simplest use."""
+
+    expr: sp.Expr
+    description: str
+    line: int
+
+
+def helpers(hand: HandFile, prepared: list[list[Item]], resolver: HandSide,
+             comparison: Comparison, identify: dict, declared: Declarations
+             ) -> dict[str, Needed]:
+    """Needed value of each hand-only helper (ideal quantity with no model meaning)."""
+    helpers: dict[str, list[HandEquation]] = {}
+    for eq, items in zip(hand.equations, prepared, strict=True):
+        if isinstance(eq.lhs, sp.Symbol) and items and items[0].target == "hand-only definition" \
+                and resolver.variation_base(eq.lhs.name) is None:
+            helpers.setdefault(eq.lhs.name, []).append(eq)
+    needed: dict[str, Needed] = {}
+    for name, definitions in helpers.items():
+        ids = {id(e) for e in definitions}
+        uses = []
+        for eq, items in zip(hand.equations, prepared, strict=True):
+            for item in items:
+                if item.key is None or item.ideal or item.hand is None or not (item.deps & ids):
+                    continue
+                form = eq.forms[item.form]
+                uses.append((len(form.free_symbols), sp.count_ops(form), eq, item))
+        for _, _, eq, item in sorted(uses, key=lambda u: (u[0], u[1], u[2].line)):
+            found = _solve_helper(name, eq, item, resolver, comparison, identify, declared)
+            if found is not None:
+                needed[name] = found
+                break
+    return needed
+
+
+def _solve_helper(name: str, eq: HandEquation, item: Item, resolver: HandSide,
+                  comparison: Comparison, identify: dict, declared: Declarations
+                  ) -> Needed | None:
+    """The helper value that makes ``eq`` agree with the model (None if not unique)."""
+    helper = sp.Symbol(name, real=True)
+    resolver.symbolic = {name}
+    try:
+        hand = resolver.resolve(eq.forms[item.form], eq.section,
+                                (resolver.definition_key(eq),) if isinstance(
+                                    eq.lhs, sp.Symbol) else ())
+    except UnresolvedError:
+        return None
+    finally:
+        resolver.symbolic = set()
+    side = model_side(resolver.model.d, declared.dropped_for(eq))
+    model = model_expr(side, item.key).xreplace(identify)
+    try:
+        h, _ = comparison.linear_parts(hand)
+        m, _ = comparison.linear_parts(model, trusted=True)
+    except UnresolvedError:
+        return None
+    candidates = []
+    for b, coefficient in h.items():
+        c1 = sp.diff(coefficient, helper)
+        if c1 == 0 or sp.diff(c1, helper) != 0:
+            continue
+        c0 = coefficient.xreplace({helper: sp.S.Zero})
+        candidates.append((m.get(b, sp.S.Zero) - c0) / c1)
+    if not candidates:
+        return None
+    values = comparison.try_evaluate(candidates)
+    if values is None or not np.all(np.isfinite(values)):
+        return None
+    if not np.all(np.abs(values - values[0]) <= 1e-6 * np.maximum(np.abs(values[0]), 1e-300)):
+        return None
+    form = eq.forms[item.form]
+    shown = f"{eq.label} = {sp.sstr(form)}"
+    what = f"the value line {eq.line} ({shown}) needs"
+    if isinstance(eq.lhs, sp.Symbol) and resolver.variation_base(eq.lhs.name):
+        rest = sp.simplify(form / sp.Symbol(name))
+        if rest.is_Symbol and resolver.variation_base(rest.name):
+            what = (f"d{resolver.variation_base(eq.lhs.name)}/d"
+                    f"{resolver.variation_base(rest.name)}, as line {eq.line} ({shown}) "
+                    "needs")
+    return Needed(candidates[0], what, eq.line)
+
+
+def set_status(result: EquationResult) -> None:
+    findings = result.findings
+    if any(f.is_mistake for f in findings):
+        result.status = "mistake"
+    elif any(f.severity == DROPPED for f in findings):
+        result.status = "agrees up to dropped small terms"
+    elif findings:
+        result.status = "agrees up to declared drops"
+    else:
+        result.status = "agrees"
+
+
+def line_findings(eq: HandEquation, item: Item, comparison: Comparison, identify: dict,
+                   resolver: HandSide, declared: Declarations,
+                   needed: dict[str, Needed], result: EquationResult) -> list[Finding]:
+    """Findings of one line: as written, with declared drops, isolated (see module doc).
+
+    Only differences from the exact model count; the declared and isolated comparisons
+    say what each one is: a declared drop (gone once the declaration is applied), a
+    knock-on (gone once the definitions the line uses are correct) or the line's own.
+    """
+    full = comparison.compare(item.hand, item.model_full, item.hand_display, diagnose=False)
+    if not full:
+        return []
+    dropped = item.model_declared is not item.model_full and item.model_declared != \
+        item.model_full
+    with_declared = (comparison.compare(item.hand, item.model_declared, item.hand_display,
+                                        diagnose=False) if dropped else full)
+    declared_quantities = {f.quantity for f in with_declared}
+    own = {f.quantity: f for f in comparison.compare(
+        item.hand_isolated, item.model_declared, item.hand_display,
+        trusted=item.hand_isolated is not item.hand)}
+    names = {b.name: s for b, s in zip(comparison.basis, comparison.symbols, strict=True)}
+    raw = None
+    findings = []
+    for f in full:
+        if f.quantity not in declared_quantities:
+            declared.mark(eq)
+            findings.append(replace(f, severity=DECLARED, kind=OMITTED,
+                                    detail="left out by the file's declared simplification"))
+            continue
+        mine = own.get(f.quantity)
+        if mine is None:
+            shown = next(g for g in with_declared if g.quantity == f.quantity)
+            findings.append(replace(shown, role=KNOCK_ON))
+            continue
+        if eq.declarations and f.quantity in names:
+            if raw is None:
+                raw = comparison.differences(item.hand, item.model_declared)[0]
+            info = raw.get(names[f.quantity])
+            if info is not None and declared.explains_term(
+                    eq, f.quantity, info["model"] - info["hand"], comparison):
+                findings.append(replace(mine, severity=DECLARED, kind=OMITTED,
+                                        detail="a term the file declares it leaves out"))
+                continue
+        findings.append(mine)
+    return findings
+
+
+def assign_roots(results: list[EquationResult], prepared: list[list[Item]],
+                  hand: HandFile) -> None:
+    """Name, for each knock-on finding, the wrong definitions it comes from."""
+    by_equation: dict[int, EquationResult] = {}
+    for r in results:
+        if r.form == 0 or id(r.equation) not in by_equation:
+            by_equation.setdefault(id(r.equation), r)
+    items = {}
+    for eq, its in zip(hand.equations, prepared, strict=True):
+        for it in its:
+            items[(id(eq), it.form)] = it
+    for r in results:
+        item = items.get((id(r.equation), r.form))
+        if item is None or not any(f.role == KNOCK_ON for f in r.findings):
+            continue
+        sources = [by_equation[i] for i in sorted(item.deps, key=lambda i: by_equation[i]
+                                                  .equation.line if i in by_equation else 0)
+                   if i in by_equation]
+        wrong = [s for s in sources if any(f.role == ROOT and f.is_mistake
+                                           for f in s.findings)]
+        dropping = [s for s in sources if s.findings and s not in wrong]
+        updated = []
+        for f in r.findings:
+            if f.role != KNOCK_ON:
+                updated.append(f)
+                continue
+            if wrong:
+                updated.append(replace(f, roots=tuple(s.reference for s in wrong)))
+            elif dropping:
+                classes = {g.severity for s in dropping for g in s.findings}
+                severity = f.severity
+                if classes == {DECLARED}:
+                    severity = DECLARED
+                elif classes <= {DECLARED, DROPPED} and f.severity != MISTAKE:
+                    severity = DROPPED
+                updated.append(replace(f, roots=tuple(s.reference for s in dropping),
+                                       severity=severity,
+                                       kind=OMITTED if severity in (DECLARED, DROPPED)
+                                       else f.kind))
+            else:
+                updated.append(replace(f, role=ROOT))
+        r.findings = updated
+        set_status(r)

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import difflib
 from collections.abc import Iterable
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
@@ -39,7 +39,7 @@ import sympy as sp
 from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.notation import Notation, default_notation
-from ins_errors.checker.parse import DOT, TILDE, HandEquation, HandFile, Problem
+from ins_errors.checker.parse import TILDE, HandEquation, HandFile, Problem
 from ins_errors.checker.reference import (
     DEFAULT_ATTITUDE,
     Magnitudes,
@@ -47,9 +47,15 @@ from ins_errors.checker.reference import (
     reference_points,
     schuler_magnitudes,
 )
+from ins_errors.checker.sides import (
+    HandSide,
+    ModelSide,
+    UnresolvedError,
+    model_expr,
+    model_side,
+)
 from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
-from ins_errors.symbolic.variation import output_mechanisations, structured_variation
 
 DEFAULT_THRESHOLD = 1e-3
 """Relative size separating small effects from mistakes."""
@@ -58,16 +64,6 @@ AGREEMENT = 1e-9
 
 __all__ = ["AGREEMENT", "DEFAULT_THRESHOLD", "BasisQuantity", "CheckReport", "EquationResult",
            "Finding", "check_hand", "check_hand_file"]
-
-
-class _UnresolvedError(Exception):
-    """Internal: a symbol or definition the checker cannot resolve."""
-
-    def __init__(self, symbol: str | None, message: str):
-        message = " ".join(message.splitlines())  # reports are one line per problem
-        super().__init__(message)
-        self.symbol = symbol
-        self.message = message
 
 
 # --------------------------------------------------------------------------------------
@@ -220,365 +216,6 @@ class CheckReport:
 
 
 # --------------------------------------------------------------------------------------
-# The model side
-# --------------------------------------------------------------------------------------
-_LINES: dict[int, tuple] = {}
-
-
-def _structured(d: ModelDefinition) -> list:
-    """:func:`structured_variation` of ``d``, computed once per definition."""
-    entry = _LINES.get(id(d))
-    if entry is None or entry[0] is not d:
-        entry = (d, structured_variation(d))
-        _LINES[id(d)] = entry
-    return entry[1]
-
-
-class _ModelSide:
-    """Flat variations and ideal meanings of every model name."""
-
-    def __init__(self, d: ModelDefinition, dropped: frozenset[str] = frozenset()):
-        self.d = d
-        self.dropped = dropped
-        self.state_names = [v.name for v in d.states]
-        self.error_states = {v.name: v.symbol for v in d.error_states}
-        self.error_of_state = {v.name: d.error_states[i].symbol
-                               for i, v in enumerate(d.states)}
-        self.error_units = {v.name: v.unit for v in d.error_states}
-        self.sources = {v.name: v for v in d.sources}
-        self.source_symbols = {v.name: v.symbol for v in d.sources}
-        self.delta_of: dict[str, sp.Expr] = {}
-        self.state_rhs: dict[str, sp.Expr] = {}
-        known: dict[sp.Symbol, sp.Expr] = {}
-        for line in _structured(d):
-            rhs = line.rhs.xreplace(known)
-            if line.kind == "intermediate" and line.name in dropped:
-                rhs = sp.S.Zero
-            if line.kind == "intermediate":
-                known[line.lhs] = rhs
-                self.delta_of.setdefault(line.name, rhs)
-            elif line.kind == "state":
-                self.state_rhs[line.name] = rhs
-            else:
-                self.delta_of.setdefault(line.name, rhs)
-        self.symbols: dict[str, sp.Symbol] = {}
-        for group in (d.states, d.inputs, d.parameters):
-            self.symbols.update({v.name: v.symbol for v in group})
-        true_mech, true_out, _, _ = output_mechanisations(d)
-        for mech in (d.ideal, true_mech):
-            for df in mech.definitions:
-                self.symbols.setdefault(df.symbol.name, df.symbol)
-        self.intermediates = {name for name in self.symbols
-                              if name not in {v.name for v in (*d.states, *d.inputs,
-                                                               *d.parameters)}}
-        self.outputs = {v.name: expr for v, expr in zip(d.outputs, true_out, strict=True)}
-
-    def ideal(self, name: str) -> sp.Expr | None:
-        """Ideal value of a model name in model symbols, or None."""
-        if name in self.symbols:
-            return self.symbols[name]
-        if name in self.outputs:
-            return self.outputs[name]
-        return None
-
-    def delta_of_symbol(self, symbol: sp.Symbol) -> sp.Expr:
-        """Variation of one ideal model symbol (zero for inputs and parameters)."""
-        name = symbol.name
-        if name in self.error_of_state:
-            return self.error_of_state[name]
-        if name in self.intermediates:
-            return self.delta_of[name]
-        return sp.S.Zero
-
-    def vary(self, expr: sp.Expr) -> sp.Expr:
-        """First-order variation of an ideal expression in model symbols (chain rule)."""
-        total = sp.S.Zero
-        for symbol in sorted(expr.free_symbols, key=sp.default_sort_key):
-            delta = self.delta_of_symbol(symbol)
-            if delta != 0:
-                total += sp.diff(expr, symbol) * delta
-        return total
-
-    def delta(self, name: str) -> sp.Expr | None:
-        """Variation of a model name (state, intermediate, output), or None."""
-        if name in self.error_of_state:
-            return self.error_of_state[name]
-        if name in self.delta_of:
-            return self.delta_of[name]
-        if name in self.outputs:
-            return self.vary(self.outputs[name])
-        return None
-
-
-# --------------------------------------------------------------------------------------
-# The hand side
-# --------------------------------------------------------------------------------------
-class _HandSide:
-    """Resolves hand symbols through the hand file's definitions and the notation."""
-
-    def __init__(self, model: _ModelSide, notation: Notation, hand: HandFile):
-        self.model = model
-        self.notation = notation
-        self.hand = hand
-        self.definitions: list[dict[str, HandEquation]] = [{} for _ in hand.sections]
-        self.duplicates: set[int] = set()
-        self.broken: dict[int, str] = {}
-        self.used_definitions: set[int] = set()
-        self.from_model: dict[str, set[int]] = {}
-        self.sources_used: set[str] = set()
-        self._alias_cache: dict[str, sp.Expr] = {}
-        self.current_line = 0
-        self.keep_ideal = False
-        self.trace: set[int] = set()
-        self.isolate: _ModelSide | None = None
-        self.needed: dict[str, sp.Expr] = {}
-        self.symbolic: set[str] = set()
-        for eq in hand.equations:
-            if eq.alternative or not isinstance(eq.lhs, sp.Symbol):
-                continue
-            key = self.definition_key(eq)
-            table = self.definitions[eq.section]
-            if key in table:
-                first = table[key]
-                self.duplicates.add(id(eq))
-                hand.problems.append(Problem(
-                    eq.line, eq.column,
-                    f"duplicate definition of {key} (first at line {first.line}); the "
-                    "first is used, this one is checked on its own (mark printed "
-                    "alternatives with @alt)"))
-                continue
-            table[key] = eq
-
-    # -- classification -----------------------------------------------------------------
-    def is_source(self, name: str) -> bool:
-        return name in self.notation.sources or name in self.model.sources
-
-    def knows(self, name: str) -> bool:
-        """True if ``name`` has a meaning (model name, alias, hand definition...)."""
-        return (name in self.notation.aliases or self.model.ideal(name) is not None
-                or name in self.model.error_of_state or self.is_source(name)
-                or name in self.model.error_states or self.visible(name, None) is not None)
-
-    def variation_base(self, name: str) -> str | None:
-        """``X`` if ``name`` spells the variation of X (``Delta_X`` or ``dX``)."""
-        if self.is_source(name) or name in self.model.error_states:
-            return None
-        if name.startswith("Delta_") and len(name) > 6:
-            return name[6:]
-        if (name.startswith("d") and len(name) > 1
-                and self.visible(name, None) is None and self.model.ideal(name) is None
-                and name not in self.notation.aliases):
-            base = self.notation.spellings.get(name[1:], name[1:])
-            if (base in self.notation.aliases or self.model.ideal(base) is not None
-                    or base in self.model.error_of_state):
-                return base
-        return None
-
-    def is_variational(self, expr: sp.Expr) -> bool:
-        """True if ``expr`` contains an error quantity (variation, error state, source)."""
-        if expr.atoms(TILDE):
-            return True
-        for symbol in expr.free_symbols:
-            name = symbol.name
-            if (self.is_source(name) or name in self.model.error_states
-                    or self.variation_base(name) is not None):
-                return True
-        return False
-
-    def definition_key(self, eq: HandEquation) -> str:
-        """Name a definition provides: ``Delta_X`` for variations (incl. ``dX``)."""
-        name = eq.lhs.name
-        base = self.variation_base(name)
-        if base is not None:
-            return f"Delta_{base}"
-        model_meaning = name in self.notation.aliases or self.model.ideal(name) is not None
-        if model_meaning and any(self.is_variational(f) for f in eq.forms):
-            return f"Delta_{name}"  # printed without Δ
-        return name
-
-    def visible(self, key: str, section: int | None) -> HandEquation | None:
-        """The definition of ``key`` seen from ``section`` (None: any section)."""
-        sections = range(len(self.definitions) - 1, -1, -1) if section is None else range(
-            section, -1, -1)
-        for s in sections:
-            if key in self.definitions[s]:
-                return self.definitions[s][key]
-        return None
-
-    # -- resolution ---------------------------------------------------------------------
-    def alias(self, name: str, trail: tuple[str, ...] = ()) -> sp.Expr:
-        """Model expression of a notation alias (aliases may use other aliases)."""
-        if name in self._alias_cache:
-            return self._alias_cache[name]
-        if name in trail:
-            raise _UnresolvedError(name, f"alias {name} refers to itself")
-        from ins_errors.checker.parse import parse_text_expression
-
-        text = self.notation.aliases[name]
-        try:
-            expr, _ = parse_text_expression(text, Notation())
-        except Exception as error:
-            raise _UnresolvedError(name, f"alias {name} = {text!r} cannot be parsed: "
-                                    f"{getattr(error, 'message', error)}") from None
-        replace = {}
-        for symbol in expr.free_symbols:
-            model = self.model.ideal(symbol.name)
-            if model is not None:
-                replace[symbol] = model
-            elif symbol.name in self.notation.aliases:
-                replace[symbol] = self.alias(symbol.name, (*trail, name))
-            else:
-                raise _UnresolvedError(symbol.name, f"alias {name} = {text!r} uses "
-                                  f"{symbol.name!r}, which is not a model name")
-        result = expr.xreplace(replace)
-        self._alias_cache[name] = result
-        return result
-
-    def model_meaning(self, name: str) -> sp.Expr | None:
-        """Ideal value of ``name`` in model symbols via the notation, or None."""
-        if name in self.notation.aliases:
-            return self.alias(name)
-        return self.model.ideal(name)
-
-    def basis_symbol(self, name: str) -> sp.Symbol:
-        if name in self.notation.sources:
-            self.sources_used.add(name)
-            return sp.Symbol(name, real=True)
-        if name in self.model.sources:
-            self.sources_used.add(name)
-            return self.model.source_symbols[name]
-        return self.model.error_states[name]
-
-    def resolve(self, expr: sp.Expr, section: int, trail: tuple[str, ...]) -> sp.Expr:
-        """Bring a hand expression to basis + ideal model symbols."""
-        tildes = {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in expr.atoms(TILDE)}
-        if tildes:
-            expr = expr.xreplace(tildes)
-        if expr.atoms(DOT):
-            raise _UnresolvedError(None, "a time derivative dot(...) is only allowed on the "
-                                    "left-hand side")
-        replace = {s: self.symbol(s.name, section, trail)
-                   for s in sorted(expr.free_symbols, key=sp.default_sort_key)}
-        return expr.xreplace(replace)
-
-    def symbol(self, name: str, section: int, trail: tuple[str, ...]) -> sp.Expr:
-        """Meaning of one hand symbol (basis, hand definition, model quantity)."""
-        if self.is_source(name) or name in self.model.error_states:
-            return self.basis_symbol(name)
-        base = self.variation_base(name)
-        if base is not None:
-            return self.variation(base, section, trail)
-        eq = self.visible(name, section)
-        if eq is not None and self.definition_key(eq) == name:
-            if self.keep_ideal or name in self.symbolic:
-                return sp.Symbol(name, real=True)
-            if self.isolate is not None and name in self.needed:
-                return self.needed[name]
-            return self.use_definition(eq, name, section, trail)
-        meaning = self.model_meaning(name)
-        if meaning is not None:
-            return sp.Symbol(name, real=True) if self.keep_ideal else meaning
-        raise _UnresolvedError(name, self.unknown_message(name))
-
-    def display_form(self, expr: sp.Expr, section: int, trail: tuple[str, ...]
-                     ) -> sp.Expr | None:
-        """``expr`` with its variations resolved but its ideal symbols kept (D, R_eta)."""
-        self.keep_ideal = True
-        try:
-            return self.resolve(expr, section, trail)
-        except _UnresolvedError:
-            return None
-        finally:
-            self.keep_ideal = False
-
-    def use_definition(self, eq: HandEquation, key: str, section: int,
-                       trail: tuple[str, ...]) -> sp.Expr:
-        if key in trail:
-            raise _UnresolvedError(key, f"definition of {key} (line {eq.line}) refers to itself "
-                                   f"through {' -> '.join((*trail, key))}")
-        if id(eq) in self.broken:
-            raise _UnresolvedError(key, f"uses {key}, whose definition (line {eq.line}) has an "
-                                   "error")
-        self.used_definitions.add(id(eq))
-        self.trace.add(id(eq))
-        form = self.defining_form(eq)
-        try:
-            return self.resolve(form, eq.section, (*trail, key))
-        except _UnresolvedError as error:
-            if not trail:
-                raise
-            raise _UnresolvedError(key, f"uses {key} (line {eq.line}), which cannot be "
-                                   f"resolved: {error.message}") from None
-
-    def defining_form(self, eq: HandEquation) -> sp.Expr:
-        """First form of a chain that is not the quantity restated by name."""
-        key = self.definition_key(eq)
-        for form in eq.forms:
-            if not self.tautology(form, key):
-                return form
-        return eq.forms[0]
-
-    def tautology(self, form: sp.Expr, key: str) -> bool:
-        """True if ``form`` is ``key`` itself (``tilde(W) - W`` for ``Delta_W``)."""
-        tildes = {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in form.atoms(TILDE)}
-        expanded = sp.expand(form.xreplace(tildes))
-        return sp.expand(expanded - sp.Symbol(key)) == 0
-
-    def variation(self, base: str, section: int, trail: tuple[str, ...]) -> sp.Expr:
-        """Meaning of ``Delta_base`` on the hand side."""
-        key = f"Delta_{base}"
-        eq = self.visible(key, section)
-        if eq is not None and self.isolate is not None:
-            correct = self.correct_variation(base)
-            if correct is not None:
-                return correct
-        if eq is not None:
-            return self.use_definition(eq, key, section, trail)
-        if base in self.model.error_of_state:
-            return self.model.error_of_state[base]
-        meaning = self.model_meaning(base)
-        if meaning is None:
-            aux = self.visible(base, section)
-            if aux is None:
-                raise _UnresolvedError(key, self.unknown_message(key))
-            keep, self.keep_ideal = self.keep_ideal, False
-            try:
-                meaning = self.use_definition(aux, base, section, trail)
-            finally:
-                self.keep_ideal = keep
-        if self.isolate is None:
-            self.from_model.setdefault(key, set()).add(self.current_line)
-        return (self.isolate or self.model).vary(meaning)
-
-    def correct_variation(self, base: str) -> sp.Expr | None:
-        """The model's variation of ``base`` (in the isolating model side), or None."""
-        side = self.isolate
-        if base in side.error_of_state:
-            return side.error_of_state[base]
-        meaning = self.model_meaning(base)
-        if meaning is None:
-            return None
-        if base in side.delta_of and base not in self.notation.aliases:
-            return side.delta_of[base]
-        return side.vary(meaning)
-
-    def known_names(self) -> list[str]:
-        names = set(self.notation.aliases) | set(self.notation.sources)
-        names |= set(self.model.symbols) | set(self.model.outputs)
-        names |= set(self.model.error_states) | set(self.model.sources)
-        names |= {f"Delta_{n}" for n in (*self.model.symbols, *self.model.outputs,
-                                        *self.notation.aliases)}
-        for table in self.definitions:
-            names |= set(table)
-        return sorted(names)
-
-    def unknown_message(self, name: str) -> str:
-        close = difflib.get_close_matches(name, self.known_names(), n=3, cutoff=0.6)
-        hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
-        return f"unknown symbol {name!r}{hint}"
-
-
-# --------------------------------------------------------------------------------------
 # Comparison
 # --------------------------------------------------------------------------------------
 def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol], trusted: bool = False
@@ -593,11 +230,11 @@ def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol], trusted: bool = False
 
     Raises
     ------
-    _UnresolvedError
+    UnresolvedError
         If ``expr`` is not linear in the basis quantities or has a non-finite part.
     """
     if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
-        raise _UnresolvedError(None, "a term is not finite (division by zero?)")
+        raise UnresolvedError(None, "a term is not finite (division by zero?)")
     present = [b for b in basis if b in expr.free_symbols]
     zero = {b: sp.S.Zero for b in present}
     coefficients = {}
@@ -609,7 +246,7 @@ def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol], trusted: bool = False
     for b in present:
         derivative = sp.diff(expr, b)
         if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in present):
-            raise _UnresolvedError(b.name, f"not linear in the error quantity {b.name}: "
+            raise UnresolvedError(b.name, f"not linear in the error quantity {b.name}: "
                                    "error equations must be linear in the errors")
         coefficients[b] = derivative.xreplace(zero)
     return coefficients, expr.xreplace(zero)
@@ -637,7 +274,7 @@ def _term_difference(hand: sp.Expr, model: sp.Expr, limit: int = 150
     return sp.Add(*missing), sp.Add(*extra)
 
 
-class _Comparison:
+class Comparison:
     def __init__(self, points: list[ReferencePoint], basis: list[BasisQuantity],
                  symbols: dict[str, sp.Symbol], threshold: float,
                  values: dict[sp.Expr, np.ndarray]):
@@ -674,7 +311,7 @@ class _Comparison:
             try:
                 h, hc = self.linear_parts(hand)
                 m, mc = self.linear_parts(model, trusted=True)
-            except _UnresolvedError:
+            except UnresolvedError:
                 continue  # reported with its own equation
             wanted += [*h.values(), *m.values(), hc - mc]
         known = set(self.arguments)
@@ -696,7 +333,7 @@ class _Comparison:
             stray = set().union(*(e.free_symbols for e in missing)) - set(self.arguments)
             if stray:
                 name = sorted(stray, key=sp.default_sort_key)[0]
-                raise _UnresolvedError(str(name), f"{name} has no value at the reference "
+                raise UnresolvedError(str(name), f"{name} has no value at the reference "
                                                   "points")
             function = sp.lambdify(self.arguments, missing, modules="numpy", cse=True)
             with np.errstate(all="ignore"):
@@ -713,7 +350,7 @@ class _Comparison:
         """Values of candidate expressions (NaN where not finite or not real)."""
         try:
             values = self.raw(exprs)
-        except (_UnresolvedError, TypeError, ValueError, ZeroDivisionError):
+        except (UnresolvedError, TypeError, ValueError, ZeroDivisionError):
             return None
         bad = ~np.isfinite(values) | (np.abs(values.imag) > 1e-9 * np.maximum(
             np.abs(values.real), 1e-300))
@@ -733,10 +370,10 @@ class _Comparison:
     def checked(values: np.ndarray) -> np.ndarray:
         """Real parts, after checking the values are finite and real."""
         if not np.all(np.isfinite(values)):
-            raise _UnresolvedError(None, "a coefficient is not finite at a reference point "
+            raise UnresolvedError(None, "a coefficient is not finite at a reference point "
                                          "(division by zero?)")
         if np.any(np.abs(values.imag) > 1e-9 * np.maximum(np.abs(values.real), 1e-300)):
-            raise _UnresolvedError(None, "a coefficient is complex at a reference point")
+            raise UnresolvedError(None, "a coefficient is complex at a reference point")
         return values.real
 
     def differences(self, hand: sp.Expr, model: sp.Expr, trusted: bool = False
@@ -868,7 +505,7 @@ class _Comparison:
 # --------------------------------------------------------------------------------------
 # Driver
 # --------------------------------------------------------------------------------------
-def _basis(model: _ModelSide, notation: Notation, sources_used: Iterable[str],
+def _basis(model: ModelSide, notation: Notation, sources_used: Iterable[str],
            magnitudes: Magnitudes
            ) -> tuple[list[BasisQuantity], dict[sp.Symbol, sp.Expr], list[str]]:
     """Basis quantities, the model-side identification and the out-of-scope sources."""
@@ -908,16 +545,6 @@ def _basis(model: _ModelSide, notation: Notation, sources_used: Iterable[str],
 
 
 _SHARED: dict[tuple, tuple] = {}
-
-
-def _side(d: ModelDefinition, dropped: frozenset[str] = frozenset()) -> _ModelSide:
-    """Model side (with some intermediate variations dropped), kept per definition."""
-    key = ("side", id(d), dropped)
-    entry = _SHARED.get(key)
-    if entry is None or entry[0] is not d:
-        entry = (d, _ModelSide(d, dropped))
-        _SHARED[key] = entry
-    return entry[1]
 
 
 def _points(d: ModelDefinition, scope: str | None):
@@ -979,7 +606,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         raise InsErrorsError(f"{hand.name}: no equations to check (an empty hand file "
                              "cannot be said to agree with anything)")
     d = resolve_model(model)
-    side = _side(d)
+    side = model_side(d)
     motions, values = _points(d, hand.scope)
     if not motions.points:
         raise InsErrorsError(f"model {d.name!r} cannot fly any reference motion of scope "
@@ -991,33 +618,33 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     if mapping is not None:
         notation = notation.merged(mapping)
     notation = notation.merged(hand.notation)
-    resolver = _HandSide(side, notation, hand)
+    resolver = HandSide(side, notation, hand)
 
     # first pass: resolve every equation (this also finds the sources in use)
     prepared = []
     for eq in hand.equations:
         resolver.current_line = eq.line
         prepared.append(_prepare(eq, resolver, side))
-    declared = _Declarations(hand, resolver, side)
+    declared = cl.Declarations(hand, resolver, side)
     basis, identify, out_of_scope = _basis(side, notation, resolver.sources_used, sizes)
     symbols = {b.name: (side.error_states.get(b.name) or side.source_symbols.get(b.name)
                         or sp.Symbol(b.name, real=True)) for b in basis}
-    comparison = _Comparison(motions.points, basis, symbols, threshold, values)
+    comparison = Comparison(motions.points, basis, symbols, threshold, values)
     comparison.display_model = _reciprocal_aliases(side, notation)
     declared.finish(comparison, identify)
 
-    comparison.prefetch([(item.hand, _model_expr(side, item.key).xreplace(identify))
+    comparison.prefetch([(item.hand, model_expr(side, item.key).xreplace(identify))
                          for items in prepared for item in items
                          if item.hand is not None and item.key is not None
                          and not item.ideal and not item.status])
-    needed = _helpers(hand, prepared, resolver, comparison, identify, declared)
+    needed = cl.helpers(hand, prepared, resolver, comparison, identify, declared)
     _complete(hand, prepared, resolver, comparison, identify, declared, needed)
     results = []
     for eq, items in zip(hand.equations, prepared, strict=True):
         for item in items:
             results.append(_evaluate(eq, item, comparison, identify, hand, resolver,
                                      declared, needed))
-    _assign_roots(results, prepared, hand)
+    cl.assign_roots(results, prepared, hand)
     unused = [f"{r.equation.label} (line {r.equation.line})" for r in results
               if r.status in ("hand-only definition", "mistake", "agrees") and r.form == 0
               and r.target.startswith("value") is False and r.target == "hand-only definition"
@@ -1041,7 +668,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     return report
 
 
-def _reciprocal_aliases(side: _ModelSide, notation: Notation) -> dict[sp.Symbol, sp.Expr]:
+def _reciprocal_aliases(side: ModelSide, notation: Notation) -> dict[sp.Symbol, sp.Expr]:
     """Show model reciprocals in the notation's terms: ``inv_R_eta`` -> ``1/R_eta``."""
     from ins_errors.checker.parse import parse_text_expression
 
@@ -1059,7 +686,7 @@ def _reciprocal_aliases(side: _ModelSide, notation: Notation) -> dict[sp.Symbol,
 
 
 @dataclass
-class _Item:
+class Item:
     form: int
     target: str
     hand: sp.Expr | None = None
@@ -1076,19 +703,7 @@ class _Item:
     hand_isolated: sp.Expr | None = None
 
 
-def _model_expr(side: _ModelSide, key: tuple) -> sp.Expr:
-    """The model's expression for a target key (see :func:`_target`)."""
-    kind, what = key
-    if kind == "state":
-        return side.state_rhs[what]
-    if kind == "delta":
-        return side.delta(what)
-    if kind == "vary":
-        return side.vary(what)
-    return what  # "ideal"
-
-
-def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
+def _target(eq: HandEquation, resolver: HandSide, side: ModelSide
             ) -> tuple[str, tuple | None, bool, list[Finding], list[str]]:
     """(description, model key or None, ideal?, findings, notes) of a left side."""
     lhs = eq.lhs
@@ -1104,7 +719,7 @@ def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
             names = list(side.error_states) + [f"Delta_{s}" for s in side.state_names]
             close = difflib.get_close_matches(inner, names, n=3, cutoff=0.6)
             hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
-            raise _UnresolvedError(inner, f"equation for dot({inner}), but {shown} is not a state "
+            raise UnresolvedError(inner, f"equation for dot({inner}), but {shown} is not a state "
                                      f"of the model {side.d.name!r}{hint} (error states: "
                                      f"{', '.join(side.error_states)})")
         return f"error state {name}", ("state", name), False, [], []
@@ -1112,7 +727,7 @@ def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
     name = lhs.name
     if name in side.error_states or (key.startswith("Delta_")
                                      and key[6:] in side.error_of_state):
-        raise _UnresolvedError(name, f"{name} is an error state: give its equation as "
+        raise UnresolvedError(name, f"{name} is an error state: give its equation as "
                                 f"dot({name})")
     if key.startswith("Delta_"):
         base = key[6:]
@@ -1122,7 +737,7 @@ def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
                 return "hand-only definition", None, False, [], []
             close = difflib.get_close_matches(base, resolver.known_names(), n=3, cutoff=0.6)
             hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
-            raise _UnresolvedError(name, f"{base} is not a quantity of the model or the "
+            raise UnresolvedError(name, f"{base} is not a quantity of the model or the "
                                          f"notation{hint} (declare it with '@alias {base} = "
                                          "...' to have its variation checked)")
         findings, notes = [], []
@@ -1145,16 +760,16 @@ def _target(eq: HandEquation, resolver: _HandSide, side: _ModelSide
     return "hand-only definition", None, False, [], []
 
 
-def _prepare(eq: HandEquation, resolver: _HandSide, side: _ModelSide) -> list[_Item]:
+def _prepare(eq: HandEquation, resolver: HandSide, side: ModelSide) -> list[Item]:
     items = []
     try:
         target, key_model, ideal, findings, notes = _target(eq, resolver, side)
-    except _UnresolvedError as error:
+    except UnresolvedError as error:
         _report(eq, resolver, error)
-        return [_Item(0, "", status="input error", problem=error.message)]
+        return [Item(0, "", status="input error", problem=error.message)]
     key = resolver.definition_key(eq) if isinstance(eq.lhs, sp.Symbol) else eq.label
     for k, form in enumerate(eq.forms):
-        item = _Item(k, target, key=key_model, ideal=ideal, findings=list(findings),
+        item = Item(k, target, key=key_model, ideal=ideal, findings=list(findings),
                      notes=list(notes))
         if isinstance(eq.lhs, sp.Symbol) and resolver.tautology(form, key):
             item.status = "tautology"
@@ -1168,7 +783,7 @@ def _prepare(eq: HandEquation, resolver: _HandSide, side: _ModelSide) -> list[_I
             item.hand = resolver.resolve(form, eq.section, trail)
             item.deps = frozenset(resolver.trace)
             item.hand_display = resolver.display_form(form, eq.section, trail)
-        except _UnresolvedError as error:
+        except UnresolvedError as error:
             _report(eq, resolver, error)
             if k == 0 and isinstance(eq.lhs, sp.Symbol):
                 resolver.broken[id(eq)] = error.message
@@ -1177,7 +792,7 @@ def _prepare(eq: HandEquation, resolver: _HandSide, side: _ModelSide) -> list[_I
     return items
 
 
-def _check_linear(form: sp.Expr, resolver: _HandSide) -> None:
+def _check_linear(form: sp.Expr, resolver: HandSide) -> None:
     """Refuse a form that is not linear in its error quantities (α², sin α, α·β, 1/0).
 
     Every definition a form uses is checked on its own line, and the model's variation
@@ -1189,190 +804,25 @@ def _check_linear(form: sp.Expr, resolver: _HandSide) -> None:
     if tildes:
         form = form.xreplace(tildes)
     if form.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
-        raise _UnresolvedError(None, "a term is not finite (division by zero?)")
+        raise UnresolvedError(None, "a term is not finite (division by zero?)")
     errors = [s for s in sorted(form.free_symbols, key=sp.default_sort_key)
               if resolver.is_variational(s)]
     for b in errors:
         derivative = sp.diff(form, b)
         if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in errors):
-            raise _UnresolvedError(b.name, f"not linear in the error quantity {b.name}: "
+            raise UnresolvedError(b.name, f"not linear in the error quantity {b.name}: "
                                    "error equations must be linear in the errors")
 
 
-def _report(eq: HandEquation, resolver: _HandSide, error: _UnresolvedError) -> None:
+def _report(eq: HandEquation, resolver: HandSide, error: UnresolvedError) -> None:
     column = eq.columns.get(error.symbol, eq.column) if error.symbol else eq.column
     resolver.hand.problems.append(Problem(eq.line, column, f"{eq.label}: {error.message}"))
 
 
-# -- declared simplifications ----------------------------------------------------------
-class _Declarations:
-    """The ``@neglect`` lines: variations dropped (model side) and terms left out."""
-
-    def __init__(self, hand: HandFile, resolver: _HandSide, side: _ModelSide):
-        self.hand = hand
-        self.dropped: list[frozenset[str]] = []
-        self.terms: list[list[sp.Expr]] = []
-        self.used = [False] * len(hand.declarations)
-        self.side = side
-        for declaration in hand.declarations:
-            names, terms = set(), []
-            for item, text in zip(declaration.items, declaration.texts, strict=True):
-                base = (resolver.variation_base(item.name) if isinstance(item, sp.Symbol)
-                        else None)
-                if base is not None:
-                    meaning = resolver.model_meaning(base)
-                    inner = ({s.name for s in meaning.free_symbols} & side.intermediates
-                             if meaning is not None else set())
-                    if base in side.intermediates:
-                        inner = {base}
-                    if not inner:
-                        hand.problems.append(Problem(declaration.line, None, (
-                            f"@neglect {text}: {base} has no variation in the model "
-                            "(not an intermediate quantity)")))
-                    names |= inner
-                    continue
-                try:
-                    resolver.trace = set()
-                    terms.append(resolver.resolve(item, len(hand.sections) - 1, ()))
-                except _UnresolvedError as error:
-                    hand.problems.append(Problem(declaration.line, None,
-                                                 f"@neglect {text}: {error.message}"))
-            self.dropped.append(frozenset(names))
-            self.terms.append(terms)
-        self.term_values: list[list[dict]] = []
-
-    def finish(self, comparison: _Comparison, identify: dict) -> None:
-        """Evaluate the declared terms' coefficients at the reference points."""
-        for terms in self.terms:
-            evaluated = []
-            for term in terms:
-                try:
-                    parts, _ = comparison.linear_parts(term.xreplace(identify))
-                    evaluated.append({b: comparison.evaluate([c])[0] for b, c in parts.items()})
-                except _UnresolvedError:
-                    continue
-            self.term_values.append(evaluated)
-
-    def dropped_for(self, eq: HandEquation) -> frozenset[str]:
-        return frozenset().union(*(self.dropped[k] for k in eq.declarations))
-
-    def explains_term(self, eq: HandEquation, quantity: str, difference: np.ndarray,
-                      comparison: _Comparison) -> bool:
-        """True if a declared term of ``eq``'s scope is the model-minus-hand difference."""
-        for k in eq.declarations:
-            for values in self.term_values[k] if k < len(self.term_values) else []:
-                for b, v in values.items():
-                    if str(b) != quantity:
-                        continue
-                    scale = np.maximum(np.abs(v), np.abs(difference))
-                    if np.all(np.abs(np.abs(difference) - np.abs(v)) <= 1e-6 * np.maximum(
-                            scale, 1e-300)):
-                        self.used[k] = True
-                        return True
-        return False
-
-    def mark(self, eq: HandEquation) -> None:
-        for k in eq.declarations:
-            if self.dropped[k]:
-                self.used[k] = True
-
-    def texts(self) -> list[str]:
-        return [f"line {d.line}: {', '.join(d.texts)}" + (f" ({d.reason})" if d.reason else "")
-                for d in self.hand.declarations]
-
-    def idle(self) -> list[str]:
-        return [f"line {d.line}: {', '.join(d.texts)}"
-                for d, used in zip(self.hand.declarations, self.used, strict=True) if not used]
-
-
-# -- hand-only helpers ------------------------------------------------------------------
-@dataclass
-class _Needed:
-    """The value a hand-only helper must have, from its simplest use."""
-
-    expr: sp.Expr
-    description: str
-    line: int
-
-
-def _helpers(hand: HandFile, prepared: list[list[_Item]], resolver: _HandSide,
-             comparison: _Comparison, identify: dict, declared: _Declarations
-             ) -> dict[str, _Needed]:
-    """Needed value of each hand-only helper (ideal quantity with no model meaning)."""
-    helpers: dict[str, list[HandEquation]] = {}
-    for eq, items in zip(hand.equations, prepared, strict=True):
-        if isinstance(eq.lhs, sp.Symbol) and items and items[0].target == "hand-only definition" \
-                and resolver.variation_base(eq.lhs.name) is None:
-            helpers.setdefault(eq.lhs.name, []).append(eq)
-    needed: dict[str, _Needed] = {}
-    for name, definitions in helpers.items():
-        ids = {id(e) for e in definitions}
-        uses = []
-        for eq, items in zip(hand.equations, prepared, strict=True):
-            for item in items:
-                if item.key is None or item.ideal or item.hand is None or not (item.deps & ids):
-                    continue
-                form = eq.forms[item.form]
-                uses.append((len(form.free_symbols), sp.count_ops(form), eq, item))
-        for _, _, eq, item in sorted(uses, key=lambda u: (u[0], u[1], u[2].line)):
-            found = _solve_helper(name, eq, item, resolver, comparison, identify, declared)
-            if found is not None:
-                needed[name] = found
-                break
-    return needed
-
-
-def _solve_helper(name: str, eq: HandEquation, item: _Item, resolver: _HandSide,
-                  comparison: _Comparison, identify: dict, declared: _Declarations
-                  ) -> _Needed | None:
-    """The helper value that makes ``eq`` agree with the model (None if not unique)."""
-    helper = sp.Symbol(name, real=True)
-    resolver.symbolic = {name}
-    try:
-        hand = resolver.resolve(eq.forms[item.form], eq.section,
-                                (resolver.definition_key(eq),) if isinstance(
-                                    eq.lhs, sp.Symbol) else ())
-    except _UnresolvedError:
-        return None
-    finally:
-        resolver.symbolic = set()
-    side = _side(resolver.model.d, declared.dropped_for(eq))
-    model = _model_expr(side, item.key).xreplace(identify)
-    try:
-        h, _ = _linear_parts(hand, comparison.symbols)
-        m, _ = comparison.linear_parts(model, trusted=True)
-    except _UnresolvedError:
-        return None
-    candidates = []
-    for b, coefficient in h.items():
-        c1 = sp.diff(coefficient, helper)
-        if c1 == 0 or sp.diff(c1, helper) != 0:
-            continue
-        c0 = coefficient.xreplace({helper: sp.S.Zero})
-        candidates.append((m.get(b, sp.S.Zero) - c0) / c1)
-    if not candidates:
-        return None
-    values = comparison.try_evaluate(candidates)
-    if values is None or not np.all(np.isfinite(values)):
-        return None
-    if not np.all(np.abs(values - values[0]) <= 1e-6 * np.maximum(np.abs(values[0]), 1e-300)):
-        return None
-    form = eq.forms[item.form]
-    shown = f"{eq.label} = {sp.sstr(form)}"
-    what = f"the value line {eq.line} ({shown}) needs"
-    if isinstance(eq.lhs, sp.Symbol) and resolver.variation_base(eq.lhs.name):
-        rest = sp.simplify(form / sp.Symbol(name))
-        if rest.is_Symbol and resolver.variation_base(rest.name):
-            what = (f"d{resolver.variation_base(eq.lhs.name)}/d"
-                    f"{resolver.variation_base(rest.name)}, as line {eq.line} ({shown}) "
-                    "needs")
-    return _Needed(candidates[0], what, eq.line)
-
-
 # -- evaluation of one line ------------------------------------------------------------
-def _evaluate(eq: HandEquation, item: _Item, comparison: _Comparison,
-              identify: dict[sp.Symbol, sp.Expr], hand: HandFile, resolver: _HandSide,
-              declared: _Declarations, needed: dict[str, _Needed]) -> EquationResult:
+def _evaluate(eq: HandEquation, item: Item, comparison: Comparison,
+              identify: dict[sp.Symbol, sp.Expr], hand: HandFile, resolver: HandSide,
+              declared: cl.Declarations, needed: dict[str, cl.Needed]) -> EquationResult:
     result = EquationResult(eq, item.form, item.target or "not compared", item.status or "",
                             list(item.findings), list(item.notes))
     if item.status in ("input error", "tautology"):
@@ -1393,38 +843,26 @@ def _evaluate(eq: HandEquation, item: _Item, comparison: _Comparison,
         if item.ideal:
             if any(s.name in comparison.magnitude or s in comparison.magnitude
                    for s in item.hand.free_symbols):
-                raise _UnresolvedError(None, "mixes ideal values and error quantities")
+                raise UnresolvedError(None, "mixes ideal values and error quantities")
             result.findings += comparison.compare_values(item.hand, item.key[1])
         else:
-            result.findings += _line_findings(eq, item, comparison, identify, resolver,
+            result.findings += cl.line_findings(eq, item, comparison, identify, resolver,
                                               declared, needed, result)
-    except _UnresolvedError as error:
+    except UnresolvedError as error:
         hand.problems.append(Problem(eq.line, eq.column, f"{eq.label}: {error.message}"))
         result.status = "input error"
         result.notes.append(error.message)
         return result
-    _set_status(result)
+    cl.set_status(result)
     if result.status == "agrees" and not item.ideal:
-        model = _model_expr(resolver.model, item.key).xreplace(identify)
+        model = model_expr(resolver.model, item.key).xreplace(identify)
         if comparison.identical(item.hand, model):
             result.notes.insert(0, "identical symbolically")
     return result
 
 
-def _set_status(result: EquationResult) -> None:
-    findings = result.findings
-    if any(f.is_mistake for f in findings):
-        result.status = "mistake"
-    elif any(f.severity == cl.DROPPED for f in findings):
-        result.status = "agrees up to dropped small terms"
-    elif findings:
-        result.status = "agrees up to declared drops"
-    else:
-        result.status = "agrees"
-
-
-def _evaluate_helper(eq: HandEquation, item: _Item, result: EquationResult,
-                     comparison: _Comparison, need: _Needed, hand: HandFile
+def _evaluate_helper(eq: HandEquation, item: Item, result: EquationResult,
+                     comparison: Comparison, need: cl.Needed, hand: HandFile
                      ) -> EquationResult:
     """A hand-only helper compared with the value its simplest use needs."""
     result.target = f"value {need.description}"
@@ -1433,27 +871,27 @@ def _evaluate_helper(eq: HandEquation, item: _Item, result: EquationResult,
     try:
         result.findings += comparison.compare_values(item.hand, need.expr,
                                                      f"the value line {need.line} needs")
-    except _UnresolvedError as error:
+    except UnresolvedError as error:
         hand.problems.append(Problem(eq.line, eq.column, f"{eq.label}: {error.message}"))
         result.status = "input error"
         return result
-    _set_status(result)
+    cl.set_status(result)
     return result
 
 
-def _complete(hand: HandFile, prepared: list[list[_Item]], resolver: _HandSide,
-              comparison: _Comparison, identify: dict, declared: _Declarations,
-              needed: dict[str, _Needed]) -> None:
+def _complete(hand: HandFile, prepared: list[list[Item]], resolver: HandSide,
+              comparison: Comparison, identify: dict, declared: cl.Declarations,
+              needed: dict[str, cl.Needed]) -> None:
     """Model sides (exact, with declared drops) and isolated hand side of every line."""
     pairs = []
     for eq, items in zip(hand.equations, prepared, strict=True):
         for item in items:
             if item.hand is None or item.key is None or item.ideal or item.status:
                 continue
-            item.model_full = _model_expr(resolver.model, item.key).xreplace(identify)
+            item.model_full = model_expr(resolver.model, item.key).xreplace(identify)
             dropped = declared.dropped_for(eq)
-            side = _side(resolver.model.d, dropped) if dropped else resolver.model
-            item.model_declared = _model_expr(side, item.key).xreplace(identify)
+            side = model_side(resolver.model.d, dropped) if dropped else resolver.model
+            item.model_declared = model_expr(side, item.key).xreplace(identify)
             item.hand_isolated = item.hand
             if item.deps:
                 resolver.isolate = side
@@ -1463,7 +901,7 @@ def _complete(hand: HandFile, prepared: list[list[_Item]], resolver: _HandSide,
                              else ())
                     item.hand_isolated = resolver.resolve(eq.forms[item.form], eq.section,
                                                           trail)
-                except _UnresolvedError:
+                except UnresolvedError:
                     pass
                 finally:
                     resolver.isolate, resolver.needed = None, {}
@@ -1471,98 +909,6 @@ def _complete(hand: HandFile, prepared: list[list[_Item]], resolver: _HandSide,
                       (item.hand_isolated, item.model_declared,
                        item.hand_isolated is not item.hand)]
     comparison.prefetch(pairs)
-
-
-def _line_findings(eq: HandEquation, item: _Item, comparison: _Comparison, identify: dict,
-                   resolver: _HandSide, declared: _Declarations,
-                   needed: dict[str, _Needed], result: EquationResult) -> list[Finding]:
-    """Findings of one line: as written, with declared drops, isolated (see module doc).
-
-    Only differences from the exact model count; the declared and isolated comparisons
-    say what each one is: a declared drop (gone once the declaration is applied), a
-    knock-on (gone once the definitions the line uses are correct) or the line's own.
-    """
-    full = comparison.compare(item.hand, item.model_full, item.hand_display, diagnose=False)
-    if not full:
-        return []
-    dropped = item.model_declared is not item.model_full and item.model_declared != \
-        item.model_full
-    with_declared = (comparison.compare(item.hand, item.model_declared, item.hand_display,
-                                        diagnose=False) if dropped else full)
-    declared_quantities = {f.quantity for f in with_declared}
-    own = {f.quantity: f for f in comparison.compare(
-        item.hand_isolated, item.model_declared, item.hand_display,
-        trusted=item.hand_isolated is not item.hand)}
-    names = {b.name: s for b, s in zip(comparison.basis, comparison.symbols, strict=True)}
-    raw = None
-    findings = []
-    for f in full:
-        if f.quantity not in declared_quantities:
-            declared.mark(eq)
-            findings.append(replace(f, severity=cl.DECLARED, kind=cl.OMITTED,
-                                    detail="left out by the file's declared simplification"))
-            continue
-        mine = own.get(f.quantity)
-        if mine is None:
-            shown = next(g for g in with_declared if g.quantity == f.quantity)
-            findings.append(replace(shown, role=cl.KNOCK_ON))
-            continue
-        if eq.declarations and f.quantity in names:
-            if raw is None:
-                raw = comparison.differences(item.hand, item.model_declared)[0]
-            info = raw.get(names[f.quantity])
-            if info is not None and declared.explains_term(
-                    eq, f.quantity, info["model"] - info["hand"], comparison):
-                findings.append(replace(mine, severity=cl.DECLARED, kind=cl.OMITTED,
-                                        detail="a term the file declares it leaves out"))
-                continue
-        findings.append(mine)
-    return findings
-
-
-def _assign_roots(results: list[EquationResult], prepared: list[list[_Item]],
-                  hand: HandFile) -> None:
-    """Name, for each knock-on finding, the wrong definitions it comes from."""
-    by_equation: dict[int, EquationResult] = {}
-    for r in results:
-        if r.form == 0 or id(r.equation) not in by_equation:
-            by_equation.setdefault(id(r.equation), r)
-    items = {}
-    for eq, its in zip(hand.equations, prepared, strict=True):
-        for it in its:
-            items[(id(eq), it.form)] = it
-    for r in results:
-        item = items.get((id(r.equation), r.form))
-        if item is None or not any(f.role == cl.KNOCK_ON for f in r.findings):
-            continue
-        sources = [by_equation[i] for i in sorted(item.deps, key=lambda i: by_equation[i]
-                                                  .equation.line if i in by_equation else 0)
-                   if i in by_equation]
-        wrong = [s for s in sources if any(f.role == cl.ROOT and f.is_mistake
-                                           for f in s.findings)]
-        dropping = [s for s in sources if s.findings and s not in wrong]
-        updated = []
-        for f in r.findings:
-            if f.role != cl.KNOCK_ON:
-                updated.append(f)
-                continue
-            if wrong:
-                updated.append(replace(f, roots=tuple(s.reference for s in wrong)))
-            elif dropping:
-                classes = {g.severity for s in dropping for g in s.findings}
-                severity = f.severity
-                if classes == {cl.DECLARED}:
-                    severity = cl.DECLARED
-                elif classes <= {cl.DECLARED, cl.DROPPED} and f.severity != cl.MISTAKE:
-                    severity = cl.DROPPED
-                updated.append(replace(f, roots=tuple(s.reference for s in dropping),
-                                       severity=severity,
-                                       kind=cl.OMITTED if severity in (cl.DECLARED, cl.DROPPED)
-                                       else f.kind))
-            else:
-                updated.append(replace(f, role=cl.ROOT))
-        r.findings = updated
-        _set_status(r)
 
 
 def check_hand_file(path, model: str | ModelDefinition = "orthodromic",

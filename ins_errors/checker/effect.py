@@ -47,7 +47,7 @@ def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray) -> list[np.ndar
 
 def add_effects(report, d, side, comparison, identify, prepared, resolver) -> None:
     """Attach ``effect`` dicts to the report's root mistakes (see module docstring)."""
-    from ins_errors.checker.compare import _UnresolvedError
+    from ins_errors.checker.sides import UnresolvedError as _UnresolvedError
 
     states = [v.name for v in d.error_states]
     symbols = [side.error_states[s] for s in states]
