@@ -326,6 +326,10 @@ class MatrixReport:
         Vertical-channel states held constant in the propagation (an undamped vertical
         channel diverges with a time constant of about 9.5 min: after 24 h its error
         would swamp every other difference).
+    finding_effects : dict
+        ``entry`` -> (position change m, attitude change rad, motion): the derived model
+        with only that entry replaced by the hand's, after 24 h, worst case
+        (:func:`finding_effects`).
     """
 
     model: str
@@ -342,6 +346,7 @@ class MatrixReport:
     out_of_scope: list[str]
     effects: list[Effect] = field(default_factory=list)
     held: list[str] = field(default_factory=list)
+    finding_effects: dict[str, tuple[float, float, str]] = field(default_factory=dict)
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -532,58 +537,140 @@ def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray, held: list[int]
     return A * (1 / scale)[:, None] * scale[None, :]
 
 
+@dataclass
+class _Propagation:
+    """What both propagations share: names, magnitudes, held states and the cases."""
+
+    rows: list[int]
+    src_cols: list[int]
+    mags_h: np.ndarray
+    mags_src: np.ndarray
+    mags_z: np.ndarray
+    held_h: list[int]
+    held_z: list[int]
+    cases: list[tuple[int, str, str]]  # (column of the response, label, magnitude text)
+
+    @classmethod
+    def of(cls, report: MatrixReport, conv: Convention, model) -> _Propagation:
+        names = conv.names
+        src_names = [s.name for s in model.sources]
+        n_h = len(report.states)
+        cases = ([(j, f"initial {s}", report.magnitudes[s][1])
+                  for j, s in enumerate(report.states) if s not in conv.vertical]
+                 + [(n_h + b, f"source {s}", report.magnitudes[s][1])
+                    for b, s in enumerate(report.sources)])
+        return cls([names.index(s) for s in report.states],
+                   [src_names.index(s) for s in report.sources],
+                   np.array([report.magnitudes[s][0] for s in report.states]),
+                   np.array([report.magnitudes[s][0] for s in report.sources]),
+                   np.array([report.magnitudes[s][0] for s in names]),
+                   [report.states.index(v) for v in conv.vertical if v in report.states],
+                   [names.index(v) for v in conv.vertical], cases)
+
+    def derived(self, Fz: np.ndarray, Gz: np.ndarray, motion: Motion, at: list[float]
+                ) -> list[np.ndarray]:
+        """Response of the hand's states (SI) to each unit case, derived model: (n_h, cases)."""
+        n_z, n_h, m = Fz.shape[1], len(self.rows), len(self.src_cols)
+        phis = _transition(_augmented(Fz, Gz[:, :, self.src_cols],
+                                      np.concatenate([self.mags_z, self.mags_src]),
+                                      self.held_z), motion.times, at)
+        embed = np.zeros((n_z + m, n_h + m))
+        embed[self.rows, np.arange(n_h)] = 1.0
+        embed[n_z:, n_h:] = np.eye(m)
+        return [(phi @ embed)[self.rows] * self.mags_h[:, None] for phi in phis]
+
+    def hand(self, Fh: np.ndarray, Gh: np.ndarray | None, motion: Motion, at: list[float]
+             ) -> list[np.ndarray]:
+        """The same for the hand model."""
+        n_h = len(self.rows)
+        Gh = np.zeros((*Fh.shape[:2], 0)) if Gh is None else Gh
+        phis = _transition(_augmented(Fh, Gh, np.concatenate([self.mags_h, self.mags_src]),
+                                      self.held_h), motion.times, at)
+        return [phi[:n_h] * self.mags_h[:, None] for phi in phis]
+
+
+def _times(motion: Motion, hours: tuple[float, ...]) -> list[float]:
+    return [h * 3600.0 for h in hours if h * 3600.0 <= motion.times[-1] + 1e-9]
+
+
 def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                       motion_list: list[Motion], hours: tuple[float, ...] = EFFECT_HOURS
                       ) -> list[Effect]:
     """Propagate the hand and the derived model; differences per initial error/source."""
-    names = conv.names
-    rows = [names.index(s) for s in report.states]
-    src_names = [s.name for s in model.sources]
-    src_cols = [src_names.index(s) for s in report.sources]
-    n_h, n_z, m = len(rows), len(names), len(src_cols)
-    mags_h = np.array([report.magnitudes[s][0] for s in report.states])
-    mags_src = np.array([report.magnitudes[s][0] for s in report.sources])
-    mags_z = np.array([report.magnitudes[s][0] for s in names])
-    held_z = [names.index(v) for v in conv.vertical]
-    held_h = [report.states.index(v) for v in conv.vertical if v in report.states]
+    prop = _Propagation.of(report, conv, model)
     report.held = [v for v in conv.vertical if v in report.states]
-    cases = ([(f"initial {s}", report.magnitudes[s][1]) for s in report.states
-              if s not in conv.vertical]
-             + [(f"source {s}", report.magnitudes[s][1]) for s in report.sources])
     effects = []
     for motion in motion_list:
-        at = [h * 3600.0 for h in hours if h * 3600.0 <= motion.times[-1] + 1e-9]
+        at = _times(motion, hours)
         if not at:
             continue
-        Gh = (sampled.Gh[motion.label] if m else
-              np.zeros((*sampled.Fh[motion.label].shape[:2], 0)))
-        hand = _transition(_augmented(sampled.Fh[motion.label], Gh,
-                                      np.concatenate([mags_h, mags_src]), held_h),
-                           motion.times, at)
-        derived = _transition(_augmented(sampled.Fz[motion.label],
-                                         sampled.Gz[motion.label][:, :, src_cols],
-                                         np.concatenate([mags_z, mags_src]), held_z),
-                              motion.times, at)
-        # unit initial errors (scaled) of the hand's states, embedded in the convention
-        embed = np.zeros((n_z + m, n_h + m))
-        embed[rows, np.arange(n_h)] = 1.0
-        embed[n_z:, n_h:] = np.eye(m)
+        hand = prop.hand(sampled.Fh[motion.label], sampled.Gh.get(motion.label), motion, at)
+        derived = prop.derived(sampled.Fz[motion.label], sampled.Gz[motion.label], motion, at)
         position = conv.position(motion.navigation)  # (3, nz, K)
         attitude = conv.attitude(motion.navigation)
-        for t, phi_h, phi_z in zip(at, hand, derived, strict=True):
+        for t, resp_h, resp_z in zip(at, hand, derived, strict=True):
             k = round(t / (motion.times[1] - motion.times[0]))
-            resp_h = phi_h[:n_h] * mags_h[:, None]       # SI hand states per case
-            resp_z = (phi_z @ embed)[rows] * mags_h[:, None]
-            P = position[:, rows, k]
-            A = attitude[:, rows, k]
-            for c, (case, text) in enumerate(cases):
-                dp = P[:2] @ (resp_h[:, c] - resp_z[:, c])
-                da = A @ (resp_h[:, c] - resp_z[:, c])
+            P = position[:2, prop.rows, k]
+            A = attitude[:, prop.rows, k]
+            for c, case, text in prop.cases:
+                diff = resp_h[:, c] - resp_z[:, c]
                 effects.append(Effect(
-                    motion.label, t / 3600.0, case, text, float(np.linalg.norm(dp)),
-                    float(np.linalg.norm(P[:2] @ resp_z[:, c])), float(np.linalg.norm(da)),
+                    motion.label, t / 3600.0, case, text, float(np.linalg.norm(P @ diff)),
+                    float(np.linalg.norm(P @ resp_z[:, c])), float(np.linalg.norm(A @ diff)),
                     float(np.linalg.norm(A @ resp_z[:, c]))))
     return effects
+
+
+def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
+                    motion_list: list[Motion], hours: float = EFFECT_HOURS[-1]
+                    ) -> dict[str, tuple[float, float, str]]:
+    """Effect of each finding alone: the derived model with only that entry replaced by
+    the hand's, propagated like :func:`propagate_effects` (entries of held vertical-channel
+    states are left out).
+
+    Returns
+    -------
+    dict
+        ``finding.entry`` -> (largest horizontal position change, m; largest attitude
+        change, rad; motion where the position change is largest), over every case.
+    """
+    prop = _Propagation.of(report, conv, model)
+    names = conv.names
+    src_names = [s.name for s in model.sources]
+    out: dict[str, tuple[float, float, str]] = {}
+    for motion in motion_list:
+        at = _times(motion, (hours,))
+        if not at:
+            continue
+        Fz, Gz = sampled.Fz[motion.label], sampled.Gz[motion.label]
+        [base] = prop.derived(Fz, Gz, motion, at)
+        k = round(at[0] / (motion.times[1] - motion.times[0]))
+        P = conv.position(motion.navigation)[:2, prop.rows, k]
+        A = conv.attitude(motion.navigation)[:, prop.rows, k]
+        columns = [c for c, _, _ in prop.cases]
+        for f in report.findings:
+            if f.row in conv.vertical or f.column in conv.vertical:
+                continue  # held in the propagation: no effect to show
+            a, i = report.states.index(f.row), names.index(f.row)
+            F2, G2 = Fz.copy(), Gz
+            if f.matrix == "F":
+                j = names.index(f.column)
+                F2[:, i, j] = (sampled.Fh[motion.label][:, a, report.states.index(f.column)]
+                               if f.column in report.states else 0.0)
+            else:
+                G2 = Gz.copy()
+                G2[:, i, src_names.index(f.column)] = (
+                    sampled.Gh[motion.label][:, a, report.sources.index(f.column)])
+            [changed] = prop.derived(F2, G2, motion, at)
+            diff = (changed - base)[:, columns]
+            dp = float(np.linalg.norm(P @ diff, axis=0).max(initial=0.0))
+            da = float(np.linalg.norm(A @ diff, axis=0).max(initial=0.0))
+            old = out.get(f.entry)
+            if old is None or dp > old[0]:
+                out[f.entry] = (dp, max(da, old[1]) if old else da, motion.label)
+            else:
+                out[f.entry] = (old[0], max(da, old[1]), old[2])
+    return out
 
 
 # --------------------------------------------------------------------------------------
@@ -660,6 +747,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     _compare(report, sampled, conv, model, motion_list)
     if effects:
         report.effects = propagate_effects(report, sampled, conv, model, motion_list)
+        report.finding_effects = finding_effects(report, sampled, conv, model, motion_list)
     return report
 
 

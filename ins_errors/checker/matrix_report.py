@@ -14,11 +14,21 @@ def _where(f: EntryFinding) -> str:
     return f"largest on {f.motion} at t = {_hours(f.time)} (per motion: {others})"
 
 
-def _finding_line(f: EntryFinding) -> str:
+def _alone(r: MatrixReport, f: EntryFinding) -> str:
+    """The effect of this difference alone after 24 h, or ''."""
+    if f.entry not in r.finding_effects:
+        return ""
+    dp, da, motion = r.finding_effects[f.entry]
+    return f"alone after 24 h: {dp:.3g} m, {da / ARCSEC:.3g}″ (largest on {motion})"
+
+
+def _finding_line(r: MatrixReport, f: EntryFinding) -> str:
     detail = f"; {f.detail}" if f.detail else ""
+    alone = _alone(r, f)
     return (f"{f.entry}: {f.kind}, size {f.size:.2g} of the row's largest term "
             f"({f.size_class}); hand {f.hand:.6g}, model {f.model:.6g} "
-            f"(Δ term {f.absolute:.2g} {f.unit}){detail}; {_where(f)}")
+            f"(Δ term {f.absolute:.2g} {f.unit}){detail}; {_where(f)}"
+            + (f"; {alone}" if alone else ""))
 
 
 def _summary(r: MatrixReport) -> str:
@@ -77,7 +87,7 @@ def to_terminal(r: MatrixReport) -> str:
                          ("Dropped small terms",
                           [f for f in r.findings if f.severity != "mistake"])):
         if group:
-            lines += ["", f"{title}:"] + [f"  {_finding_line(f)}" for f in group]
+            lines += ["", f"{title}:"] + [f"  {_finding_line(r, f)}" for f in group]
     if r.effects:
         held = (f"; vertical channel held: {', '.join(r.held)}" if r.held else "")
         lines += ["", "Effect of the differences (hand − derived, propagated from each initial "
@@ -103,12 +113,13 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
     out += ["", "Typical magnitudes: " + ", ".join(
         f"`{k}` {v[1]}" for k, v in r.magnitudes.items()) + ".", "", _summary(r) + ".", ""]
     if r.findings:
-        out += ["| entry | class | kind | size | largest on | hand | model | detail |",
-                "|---|---|---|---|---|---|---|---|"]
+        out += ["| entry | class | kind | size | largest on | hand | model | detail | "
+                "effect alone |",
+                "|---|---|---|---|---|---|---|---|---|"]
         for f in r.findings:
             out.append(f"| `{f.entry}` | {f.severity} ({f.size_class}) | {f.kind} | "
                        f"{f.size:.2g} | {f.motion}, {_hours(f.time)} | {f.hand:.6g} | "
-                       f"{f.model:.6g} | {f.detail} |")
+                       f"{f.model:.6g} | {f.detail} | {_alone(r, f)} |")
         out.append("")
     if r.effects:
         out += ["## Effect of the differences", "",
@@ -136,7 +147,12 @@ def to_json(r: MatrixReport) -> dict:
                       "severity": f.severity, "size": f.size, "size_class": f.size_class,
                       "motion": f.motion, "time_s": f.time, "hand": f.hand, "model": f.model,
                       "absolute": f.absolute, "unit": f.unit, "per_motion": f.per_motion,
-                      "detail": f.detail} for f in r.findings],
+                      "detail": f.detail,
+                      "effect_alone_24h": ({"position_m": r.finding_effects[f.entry][0],
+                                            "attitude_rad": r.finding_effects[f.entry][1],
+                                            "motion": r.finding_effects[f.entry][2]}
+                                           if f.entry in r.finding_effects else None)}
+                     for f in r.findings],
         "effects": [{"motion": e.motion, "hours": e.hours, "case": e.case,
                      "magnitude": e.magnitude,
                      "position_difference_m": e.position_difference,
