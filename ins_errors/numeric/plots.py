@@ -100,5 +100,9 @@ def plot_comparison(comparison: Comparison, path: str | Path,
     axes[0, 0].legend(fontsize=7, loc="best")
     axes[0, 1].legend(fontsize=7, loc="best")
     fig.suptitle(title or comparison.label, fontsize=9)
-    fig.tight_layout(rect=(0, 0, 1, 1 - 0.5 / (1.75 * n + 1.1)))
+    # fixed margins in inches (tight_layout measured every tick label: seconds a figure)
+    width, height = fig.get_size_inches()
+    fig.subplots_adjust(left=1.0 / width, right=1 - 0.15 / width, bottom=0.55 / height,
+                        top=1 - 0.65 / height, wspace=0.95 / (width / 2),
+                        hspace=0.3 / 1.75)
     return save_figure(fig, path, dpi=100)
