@@ -13,16 +13,17 @@ the model's terms, including every model error source) at the same sample; the l
 ratio over all samples is its *size*, and the sample where it is reached says where along
 the motion it matters.
 
-Classes:
+Classes (the vocabulary of :mod:`~ins_errors.checker.classify`):
 
 * ``agrees``: size at most :data:`AGREEMENT`;
-* ``mistake``: a sign error (hand/model within :data:`PARTIAL` of −1), a constant wrong
-  factor (hand/model constant and more than
-  :data:`PARTIAL` away from 1), a term the model does not have (``extra term``), or any
-  difference of size at or above the threshold;
-* ``dropped small term``: any other difference below the threshold: a term left out
-  (``missing term``), a coefficient approximated (``approximated``: e.g. a constant Earth
-  radius for R_N + h, constant gravity), or coupling to a state the hand model omits.
+* kinds: ``omitted term`` (the hand has nothing), ``extra term`` (the model has nothing),
+  ``wrong sign`` (hand/model within :data:`PARTIAL` of −1), ``approximated`` (hand/model
+  within :data:`PARTIAL` of 1: part of the coefficient left out, e.g. a constant Earth
+  radius for R_N + h, a constant g), ``wrong coefficient`` (anything else; a constant
+  ratio is named), ``state left out`` (coupling to a state the hand model does not have);
+* severity: at or above the threshold every kind is a ``mistake``; below it the
+  omissions (``omitted term``, ``approximated``, ``state left out``) are a ``dropped small
+  term`` and a term that is present but wrong is a ``mistake, small effect``.
 
 Then both linear models are propagated on each motion for 1 h and 24 h from each initial
 error (and each error source of G) at its typical magnitude, and the position and
@@ -37,6 +38,15 @@ from pathlib import Path
 
 import numpy as np
 
+from ins_errors.checker.classify import (
+    COEFFICIENT,
+    EXTRA,
+    MISTAKE,
+    OMITTED,
+    SIGN,
+    SMALL_MISTAKE,
+)
+from ins_errors.checker.classify import severity as classify_severity
 from ins_errors.checker.conventions import Convention, convention
 from ins_errors.checker.matrix_input import (
     HandMatrices,
@@ -54,7 +64,7 @@ DEFAULT_THRESHOLD = 1e-3
 AGREEMENT = 1e-6
 """Relative size at or below which two entries agree (rounding, constants' last digits)."""
 PARTIAL = 0.05
-"""A hand/model ratio within this of 1 is an approximation, not a wrong factor."""
+"""A hand/model ratio within this of 1 is an approximation (within this of −1: a wrong sign)."""
 HOURS = 24.0
 """Length of every motion, h."""
 STEP = 60.0
@@ -62,6 +72,11 @@ STEP = 60.0
 EFFECT_HOURS = (1.0, 24.0)
 """Times at which the propagated models are compared, h."""
 ARCSEC = np.pi / (180 * 3600)
+APPROXIMATED = "approximated"
+"""Kind of a coefficient the hand writes within :data:`PARTIAL` of the model's (a small
+part of it left out: a constant radius for R_N + h, a constant g): an omission."""
+LEFT_OUT = "state left out"
+"""Kind of the coupling to a convention state the hand model does not have."""
 
 
 # --------------------------------------------------------------------------------------
@@ -226,9 +241,12 @@ class EntryFinding:
     column : str
         The state or error source the entry multiplies.
     kind : str
-        ``missing term``, ``extra term``, ``sign error``, ``wrong factor``,
-        ``approximated``, ``wrong coefficient``, ``state left out``.
-    severity : {"dropped small term", "mistake"}
+        ``omitted term``, ``extra term``, ``wrong sign``, ``wrong coefficient`` (with
+        ``hand/model = r at every sample`` in ``detail`` for a constant factor),
+        ``approximated``, ``state left out``.
+    severity : str
+        ``mistake``, ``mistake, small effect`` (a wrong term below the threshold) or
+        ``dropped small term`` (the severities of :mod:`~ins_errors.checker.classify`).
     size : float
         Largest ratio over the samples of |hand − model| × magnitude to the row's largest
         term.
@@ -351,7 +369,7 @@ class MatrixReport:
     @property
     def mistakes(self) -> list[EntryFinding]:
         """Findings classed as mistakes."""
-        return [f for f in self.findings if f.severity == "mistake"]
+        return [f for f in self.findings if f.severity in (MISTAKE, SMALL_MISTAKE)]
 
     @property
     def exit_status(self) -> int:
@@ -389,29 +407,31 @@ def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, thres
     model_zero = np.all(np.abs(m) * mag <= tiny)
     detail = ""
     if left_out:
-        kind = "state left out"
+        kind = LEFT_OUT
     elif hand_zero:
-        kind = "missing term"
+        kind = OMITTED
     elif model_zero:
-        kind = "extra term"
+        kind = EXTRA
     else:
         both = (np.abs(m) * mag > tiny) & (np.abs(h) * mag > tiny)
         only_hand = (np.abs(m) * mag <= tiny) & (np.abs(h) * mag > tiny)
         q = h[both] / m[both]
         if not only_hand.any() and np.all(np.abs(q + 1) <= PARTIAL):
-            kind = "sign error"
+            kind = SIGN
             if np.any(np.abs(q + 1) > 1e-6):
                 detail = f"hand/model between {q.min():.6g} and {q.max():.6g}"
         elif not only_hand.any() and np.all(np.abs(q - 1) <= PARTIAL):
-            kind, detail = "approximated", (f"hand/model between {q.min():.6g} and "
+            kind, detail = APPROXIMATED, (f"hand/model between {q.min():.6g} and "
                                             f"{q.max():.6g}")
         elif (not only_hand.any() and q.size
               and np.ptp(q) <= 1e-6 * np.abs(np.median(q))):
-            kind, detail = "wrong factor", f"hand/model = {np.median(q):.6g} at every sample"
+            kind, detail = COEFFICIENT, f"hand/model = {np.median(q):.6g} at every sample"
         else:
-            kind = "wrong coefficient"
-    wrong_form = kind in ("sign error", "wrong factor", "extra term")
-    severity = "mistake" if wrong_form or size >= threshold else "dropped small term"
+            kind = COEFFICIENT
+    # omissions (a whole term, part of a coefficient, a state left out) are drops when
+    # small; a term that is present but wrong is a mistake whatever its size
+    severity = classify_severity(OMITTED if kind in (APPROXIMATED, LEFT_OUT) else kind, size,
+                                 threshold)
     return kind, severity, detail
 
 
@@ -476,7 +496,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                 size_class(float(ratio[s]), report.threshold), where[s][0], float(where[s][1]),
                 float(h[s]), float(m[s]), float(abs(h[s] - m[s]) * mag), unit, per_motion,
                 detail))
-    findings.sort(key=lambda f: (f.severity != "mistake", -f.size))
+    findings.sort(key=lambda f: (f.severity not in (MISTAKE, SMALL_MISTAKE), -f.size))
     report.findings = findings
     report.compared = compared
 

@@ -85,7 +85,7 @@ def to_terminal(r: MatrixReport) -> str:
     lines.append(_summary(r))
     for title, group in (("Mistakes", r.mistakes),
                          ("Dropped small terms",
-                          [f for f in r.findings if f.severity != "mistake"])):
+                          [f for f in r.findings if f not in r.mistakes])):
         if group:
             lines += ["", f"{title}:"] + [f"  {_finding_line(r, f)}" for f in group]
     if r.effects:
