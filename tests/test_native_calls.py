@@ -74,3 +74,12 @@ def test_thread_count_from_the_environment_is_checked(monkeypatch):
     monkeypatch.setenv("INS_ERRORS_THREADS", "two")
     with pytest.raises(integ.InsErrorsError, match="INS_ERRORS_THREADS must be a whole"):
         integ.worker_count()
+
+
+def test_a_pool_worker_runs_its_batches_on_one_thread(monkeypatch):
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    monkeypatch.delenv("INS_ERRORS_THREADS", raising=False)
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
+        assert pool.submit(integ.worker_count).result() == 1

@@ -508,8 +508,9 @@ _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
 
 def worker_count() -> int:
-    """Cores batched cases may use (``$INS_ERRORS_THREADS`` or the cores this process may
-    run on)."""
+    """Cores batched cases may use: ``$INS_ERRORS_THREADS``, else 1 in a worker process of
+    a pool (its siblings already share the cores), else the cores this process may run
+    on."""
     text = os.environ.get("INS_ERRORS_THREADS")
     if text:
         try:
@@ -520,6 +521,10 @@ def worker_count() -> int:
         if count < 1:
             raise InsErrorsError(f"INS_ERRORS_THREADS must be at least 1, got {count}")
         return count
+    import multiprocessing
+
+    if multiprocessing.parent_process() is not None:
+        return 1
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
