@@ -99,3 +99,14 @@ def test_a_long_streamed_run_keeps_memory_bounded(orthodromic):
         tracemalloc.stop()
     assert traj.is_streamed and sim.ideal.shape == (8, 361, 1)
     assert peak < 40e6, f"peak {peak / 1e6:.0f} MB"
+
+
+def test_error_equations_along_a_streamed_motion_equal_the_stored_ones(orthodromic, motions):
+    from ins_errors.numeric.linear_system import system_from_trajectory
+
+    stored, streamed = motions
+    a = system_from_trajectory(orthodromic, stored, 2.5)
+    b = system_from_trajectory(orthodromic, streamed, 2.5)
+    assert streamed.is_streamed  # not stored on the way
+    for name in ("F", "G", "H", "E", "x", "u"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name

@@ -222,7 +222,17 @@ def system_from_trajectory(model, trajectory, step: float | None = None) -> Line
             x=np.repeat(x[:, None], len(times), 1), u=np.repeat(u[:, None], len(times), 1),
             p=p, labels={"trajectory": trajectory.description})
     steps = np.arange(0, count + 1, stride)
-    system = trajectory_system(model, times, trajectory.truth[:, steps],
-                               trajectory.inputs_at(steps), c, p)
+    if trajectory.is_streamed:  # pick the grid's samples while the motion streams by
+        x = np.empty((len(model.states), len(steps)))
+        u = np.empty((len(model.inputs), len(steps)))
+        x[:, 0], u[:, 0] = trajectory.start_state, trajectory.start_inputs
+        piece = stride * max(1, 65536 // stride)
+        for chunk in trajectory.chunks(piece):
+            first, last = chunk.start // stride + 1, (chunk.start + chunk.size) // stride
+            x[:, first:last + 1] = chunk.truth[:, stride::stride]
+            u[:, first:last + 1] = chunk.inputs[:, stride::stride]
+    else:
+        x, u = trajectory.truth[:, steps], trajectory.inputs_at(steps)
+    system = trajectory_system(model, times, x, u, c, p)
     system.labels["trajectory"] = trajectory.description
     return system
