@@ -293,3 +293,21 @@ def test_psi_attitude_readout_is_the_true_attitude_error(model_name, reference, 
         z = np.einsum("kij,jk->ik", T, e)
         readings.append(np.einsum("aik,ik->ak", conv.attitude(motion.navigation), z))
     assert np.abs(readings[0] - readings[1]).max() < 1e-12 * np.abs(readings[0]).max() + 1e-18
+
+
+def test_magnitudes_scale_the_sizes(strapdown_motions, psi_report):
+    """A position error 10× larger makes the dropped ∂γ/∂φ term 10× larger relative to the
+    vertical channel's largest term (the 1e-4 g accelerometer bias); with Schuler-consistent
+    sizes (θ = 1e-4 rad: R θ ≈ 640 m) the spherical gravity gradient becomes a mistake."""
+    bigger = mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi",
+                               motion_list=strapdown_motions, effects=False,
+                               magnitudes={"m": "100 m"})
+    before = psi_report.finding("dvc_D", "dr_N").size
+    assert bigger.finding("dvc_D", "dr_N").size == pytest.approx(10 * before, rel=1e-9)
+    assert bigger.magnitudes["dr_N"][1] == "100 m"
+    schuler = mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi",
+                                motion_list=strapdown_motions, effects=False,
+                                magnitudes={"attitude": "1e-4 rad"})
+    assert schuler.magnitudes["dr_N"][0] == pytest.approx(6.37e6 * 1e-4, rel=0.01)
+    assert {(f.row, f.column) for f in schuler.mistakes} >= {("dvc_N", "dr_N"),
+                                                              ("dvc_E", "dr_E")}

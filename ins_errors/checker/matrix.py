@@ -700,7 +700,8 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                    threshold: float = DEFAULT_THRESHOLD, hours: float = HOURS,
                    step: float = STEP, effects: bool = True,
                    motion_list: list[Motion] | None = None,
-                   ellipsoid: str | None = None) -> MatrixReport:
+                   ellipsoid: str | None = None,
+                   magnitudes: dict[str, str] | None = None) -> MatrixReport:
     """Check a hand-coded F (and G) against the derived model of ``model_name``.
 
     Parameters
@@ -721,6 +722,10 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         Pre-computed motions (default: :func:`motions`).
     ellipsoid : str, optional
         Earth shape of the motions (default: the model's own).
+    magnitudes : dict, optional
+        Typical sizes by SI unit (``{"m": "600 m"}``) replacing the fixed ones; with
+        ``"attitude"`` (``{"attitude": "20 arcsec"}``) every size follows from it by the
+        Schuler relations (:func:`~ins_errors.checker.reference.schuler_magnitudes`).
 
     Raises
     ------
@@ -745,11 +750,12 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         else:
             hand = read_matrix_file(path, motion_list)
     _check_names(hand.states, hand.sources, conv, model)
+    size_of = _magnitudes(model, magnitudes)
     magnitudes = {}
     for s in conv.states:
-        magnitudes[s.name] = typical_magnitude(s.unit)
+        magnitudes[s.name] = size_of(s.unit)
     for s in model.sources:
-        magnitudes[s.name] = typical_magnitude(s.unit)
+        magnitudes[s.name] = size_of(s.unit)
     sampled = _Sampled(hand.F, hand.G, {}, {})
     for motion in motion_list:
         sampled.Fz[motion.label], sampled.Gz[motion.label] = derived_in_convention(
@@ -769,6 +775,27 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         report.effects = propagate_effects(report, sampled, conv, model, motion_list)
         report.finding_effects = finding_effects(report, sampled, conv, model, motion_list)
     return report
+
+
+def _magnitudes(model, overrides: dict[str, str] | None):
+    """Typical size (SI, text) by SI unit: fixed, overridden, or Schuler-consistent."""
+    from ins_errors.checker.reference import MAGNITUDE_UNITS, schuler_magnitudes
+    from ins_errors.units import parse_quantity
+
+    overrides = dict(overrides or {})
+    if "attitude" in overrides:
+        attitude = overrides.pop("attitude")
+        return schuler_magnitudes(model.symbolic, attitude, overrides).of
+    fixed: dict[str, tuple[float, str]] = {}
+    for unit, text in overrides.items():
+        if unit not in MAGNITUDE_UNITS:
+            raise InsErrorsError(f"magnitude for unknown unit {unit!r} (known: "
+                                 f"{', '.join(MAGNITUDE_UNITS)}, or 'attitude')")
+        value = parse_quantity(text, unit, f"magnitude of {unit}")
+        if not value > 0:
+            raise InsErrorsError(f"magnitude of {unit} must be positive, got {text!r}")
+        fixed[unit] = (value, text)
+    return lambda unit: fixed[unit] if unit in fixed else typical_magnitude(unit)
 
 
 def _check_names(states: list[str], sources: list[str], conv: Convention, model) -> None:

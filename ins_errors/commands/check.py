@@ -65,6 +65,20 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=run)
 
 
+def parse_magnitudes(entries: list[str]) -> dict[str, str]:
+    """``--magnitude UNIT=QUANTITY`` entries -> {unit: quantity text}."""
+    from ins_errors.errors import InsErrorsError
+
+    magnitudes = {}
+    for entry in entries:
+        unit, sep, quantity = entry.partition("=")
+        if not sep or not unit.strip() or not quantity.strip():
+            raise InsErrorsError(f"--magnitude {entry!r}: expected UNIT=QUANTITY, e.g. "
+                                 "'m/s=0.1 m/s' or 'attitude=20 arcsec'")
+        magnitudes[unit.strip()] = quantity.strip()
+    return magnitudes
+
+
 def run(args: argparse.Namespace) -> int:
     if args.matrix or args.list_conventions or args.write_samples:
         from ins_errors.commands.check_matrix import run_matrix
@@ -78,13 +92,7 @@ def run(args: argparse.Namespace) -> int:
     if args.file is None:
         raise InsErrorsError("check needs a hand FILE of equations or --matrix "
                              "FILE.py:FUNCTION")
-    magnitudes = {}
-    for entry in args.magnitude:
-        unit, sep, quantity = entry.partition("=")
-        if not sep or not unit.strip() or not quantity.strip():
-            raise InsErrorsError(f"--magnitude {entry!r}: expected UNIT=QUANTITY, e.g. "
-                                 "'m/s=0.1 m/s' or 'attitude=20 arcsec'")
-        magnitudes[unit.strip()] = quantity.strip()
+    magnitudes = parse_magnitudes(args.magnitude)
     if args.report is not None:
         check_file(args.report)
     from ins_errors.model_lookup import definition_of, resolve

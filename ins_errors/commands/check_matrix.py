@@ -12,11 +12,17 @@ def run_matrix(args: argparse.Namespace) -> int:
     from ins_errors.checker.matrix import check_matrices, motions
     from ins_errors.checker.matrix_input import write_samples
     from ins_errors.checker.matrix_report import to_json, to_markdown, to_terminal
+    from ins_errors.commands.check import parse_magnitudes
     from ins_errors.errors import InsErrorsError
     from ins_errors.numeric.model import load_model
+    from ins_errors.output import check_file, write_text
 
     if args.file is not None:
         raise InsErrorsError("give either a hand FILE of equations or --matrix, not both")
+    for flag, given in (("--latex", args.latex), ("--mapping", args.mapping),
+                        ("--latex-parser", args.latex_parser != "lalr")):
+        if given:
+            raise InsErrorsError(f"{flag} applies to equation files, not to --matrix")
     model = load_model(args.model)
     if args.list_conventions:
         for conv in conventions(model).values():
@@ -31,15 +37,14 @@ def run_matrix(args: argparse.Namespace) -> int:
               f"{motion_list[0].times.size} samples each")
         if not args.matrix:
             return 0
-    report = check_matrices(args.model, args.matrix, args.convention,
-                            threshold=args.threshold, motion_list=motion_list)
     if args.report is not None:
-        try:
-            args.report.write_text(to_markdown(report, f"`ins-errors check --matrix` of "
-                                               f"`{report.hand_name}`"), encoding="utf-8")
-        except OSError as error:
-            raise InsErrorsError(f"cannot write report {str(args.report)!r}: "
-                                 f"{error.strerror}") from None
+        check_file(args.report)
+    report = check_matrices(args.model, args.matrix, args.convention,
+                            threshold=args.threshold, motion_list=motion_list,
+                            magnitudes=parse_magnitudes(args.magnitude))
+    if args.report is not None:
+        write_text(args.report, to_markdown(report, f"`ins-errors check --matrix` of "
+                                            f"`{report.hand_name}`"))
     if args.json:
         print(json.dumps(to_json(report), indent=2))
     else:
