@@ -88,7 +88,7 @@ def main(quick: bool = False) -> None:
         for workers in (1, 2):
             start = time.perf_counter()
             with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                              host="127.0.0.1", dashboard_address=None,
+                              host="127.0.0.1", dashboard_address="127.0.0.1:0",
                               silence_logs=logging.ERROR) as cluster:
                 started = time.perf_counter() - start
                 address = cluster.scheduler_address

@@ -81,6 +81,20 @@ def _free_port() -> int:
         return probe.getsockname()[1]
 
 
+def listening_addresses(started) -> set[str]:
+    """Addresses the started processes and their children listen on."""
+    import psutil
+
+    found = set()
+    for process in started:
+        root = psutil.Process(process.pid)
+        for member in [root, *root.children(recursive=True)]:
+            for connection in member.net_connections(kind="inet"):
+                if connection.status == psutil.CONN_LISTEN:
+                    found.add(connection.laddr.ip)
+    return found
+
+
 @pytest.fixture(scope="module")
 def cluster():
     """A scheduler and a worker of 2 processes, started with the README's commands (on
@@ -93,7 +107,7 @@ def cluster():
     scheduler, worker, sweep = cluster_commands()
     port = _free_port()
     address = f"127.0.0.1:{port}"
-    local = ["--host", "127.0.0.1", "--no-dashboard"]
+    local = ["--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0"]
     assert scheduler.startswith("dask scheduler") and worker.startswith("dask worker")
     commands = [
         [str(dask), *shlex.split(scheduler.replace("8786", str(port)))[1:], *local],
@@ -116,6 +130,7 @@ def cluster():
                 if time.monotonic() > deadline or started[0].poll() is not None:
                     raise
                 time.sleep(0.5)
+        assert listening_addresses(started) == {"127.0.0.1"}
         yield Cluster(f"tcp://{address}",
                       shlex.split(sweep.replace("SCHEDULER-HOST:8786", address))[1:])
     finally:

@@ -199,7 +199,7 @@ def _run_dask(function, tasks, shared, scheduler, workers, stats, done) -> None:
     try:
         if scheduler is None:
             cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   host="127.0.0.1", dashboard_address=None,
+                                   host="127.0.0.1", dashboard_address="127.0.0.1:0",
                                    silence_logs=logging.CRITICAL)
             client = Client(cluster)
             stats.where = f"local Dask cluster of {workers} worker(s)"
