@@ -32,13 +32,15 @@ def test_stated_sampling_error_matches_the_spread_of_sample_rms(orthodromic):
 
 
 def test_direct_runs_do_not_depend_on_batching_or_workers(orthodromic):
+    """Draws are seeded one by one: other task sizes on a process pool give the same
+    samples (Dask against one process: tests/test_distributed.py)."""
     motion = tr.trajectory(orthodromic, tr.static_profile(PHI), 600.0, 1.0)
     sources = [cv.SourceStatistics("gyro_drift_y", "constant", 1e-7),
                cv.SourceStatistics("accel_bias_x", "constant", 1e-4)]
     one = mc.direct_monte_carlo(orthodromic, motion, sources, 12, seed=4, batch=5,
                                 workers=1, record_interval=60.0, progress=False)
     two = mc.direct_monte_carlo(orthodromic, motion, sources, 12, seed=4, batch=6,
-                                workers=2, record_interval=60.0, progress=False)
+                                workers=2, engine="pool", record_interval=60.0, progress=False)
     assert np.array_equal(one.sources, two.sources)
     assert one.names == two.names
     assert np.allclose(one.values, two.values, rtol=1e-12, atol=1e-300)
