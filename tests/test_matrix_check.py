@@ -311,3 +311,25 @@ def test_magnitudes_scale_the_sizes(strapdown_motions, psi_report):
     assert schuler.magnitudes["dr_N"][0] == pytest.approx(6.37e6 * 1e-4, rel=0.01)
     assert {(f.row, f.column) for f in schuler.mistakes} >= {("dvc_N", "dr_N"),
                                                               ("dvc_E", "dr_E")}
+
+
+def test_horizontal_psi_model_leaves_the_vertical_channel_out(tmp_path, strapdown_motions):
+    """A 7-state textbook model without δv_D and δr_D: the coupling of the omitted states
+    into its rows is reported as 'state left out'. The Coriolis term 2Ω cos φ δv_D of δv̇_E
+    at rest is 9.4e-6 m/s² per 0.1 m/s, ~1 % of the row's largest term g·1e-4: a mistake
+    at the default threshold; the rest still agrees or is a small drop."""
+    text = PSI.read_text(encoding="utf-8").replace(
+        "    return F, G",
+        "    keep = [0, 1, 2, 3, 4, 6, 7]\n    return F[np.ix_(keep, keep)], G[keep]")
+    text = text.replace('"dvc_E", "dvc_D", "dr_N", "dr_E", "dr_D"]', '"dvc_E", "dr_N", "dr_E"]')
+    path = tmp_path / "psi_horizontal.py"
+    path.write_text(text, encoding="utf-8")
+    report = mc.check_matrices("strapdown_ned", f"{path}:psi_model", "psi",
+                               motion_list=strapdown_motions, effects=False)
+    assert report.left_out == ["dvc_D", "dr_D"]
+    f = report.finding("dvc_E", "dvc_D")
+    assert f.kind == "state left out" and f.severity == "mistake"
+    U, phi, g = 7.292115e-5, np.radians(50.0), 9.81
+    assert f.per_motion["static"] == pytest.approx(2 * U * np.cos(phi) * 0.1 / (g * 1e-4),
+                                                   rel=1e-3)
+    assert {m.column for m in report.mistakes} <= {"dvc_D", "dr_D"}
