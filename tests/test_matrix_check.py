@@ -333,3 +333,19 @@ def test_horizontal_psi_model_leaves_the_vertical_channel_out(tmp_path, strapdow
     assert f.per_motion["static"] == pytest.approx(2 * U * np.cos(phi) * 0.1 / (g * 1e-4),
                                                    rel=1e-3)
     assert {m.column for m in report.mistakes} <= {"dvc_D", "dr_D"}
+
+
+def test_stepped_transition_matches_the_matrix_exponential(wgs84):
+    """The moving-motion propagator (exp of the step-mean A, scaled Taylor series) against
+    scipy's expm on a time-invariant system: the static base's scaled [[F, G], [0, 0]]."""
+    from scipy.linalg import expm
+
+    model = load_model(MODEL)
+    F, G = mc.derived_in_convention(model, convention(model, "model"), wgs84[0])
+    scale = np.array([0.1, 0.1, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4] + [1e-7] * G.shape[2])
+    A = mc._augmented(F, G, scale, [])
+    steps = mc._taylor_steps(0.5 * (A[1:] + A[:-1]), 120.0)
+    phi = np.eye(A.shape[1])
+    for step in steps[:30]:  # one hour
+        phi = step @ phi
+    assert np.abs(phi - expm(A[0] * 3600.0)).max() < 1e-10
