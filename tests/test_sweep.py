@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import textwrap
+import warnings
 
 import numpy as np
 import pytest
@@ -71,7 +72,9 @@ def test_static_bias_tilt_and_second_order_residual_across_the_grid(tmp_path, ca
     # the store is a labelled xarray dataset with units
     import xarray as xr
 
-    ds = xr.open_zarr(store, chunks=None, consolidated=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")           # consolidated metadata, no warning
+        ds = xr.open_zarr(store, chunks=None)
     assert ds["direct"].dims == ("point", "time", "quantity")
     assert ds["time"].attrs["units"] == "s" and ds["latitude"].attrs["units"] == "rad"
     assert ds["quantity_unit"].sel(quantity="delta_v_N").item() == "m/s"

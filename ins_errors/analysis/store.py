@@ -236,4 +236,7 @@ def _create(work: Path, layout: Layout) -> None:
            "SI, the unit of each source is in coordinate source_unit"})
     array("done", ("point",), (P,), "i1", None,
           {"long_name": "1 once the point's results are written", "units": "1"})
+    # the metadata never changes after this (points only fill chunks), so a consolidated
+    # copy stays valid: plain xr.open_zarr(path) reads the store without a warning
+    zarr.consolidate_metadata(str(scratch), zarr_format=2)
     scratch.rename(work)
