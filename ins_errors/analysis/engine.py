@@ -164,7 +164,8 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
             _run_pool(function, tasks, shared, stats.workers, done)
         else:
             stats = EngineStats("dask", 0)
-            _run_dask(function, tasks, shared, scheduler, workers, stats, done)
+            _run_dask(function, tasks, shared, scheduler, min(workers, len(tasks)), stats,
+                      done)
     finally:
         if bar is not None:
             bar.close()
