@@ -102,6 +102,13 @@ def test_monte_carlo_draws_are_seeded_per_draw(tmp_path):
     assert not np.any(ds["source_value"].drop_sel(source="accel_bias_y").values)
     alpha_x = ds["max_direct"].sel(quantity="alpha_x").values
     assert alpha_x == pytest.approx(2 * np.abs(bias) / G, rel=0.015)
+    # over the draws of each latitude: RMS of the tilt = 2 RMS(b)/g
+    stats = sw.over_draws(ds)
+    assert [row["draws"] for row in stats] == [3, 3]
+    assert [row["latitude"] for row in stats] == pytest.approx(np.radians([30, 60]))
+    for row in stats:
+        assert row["rms_max_direct"]["alpha_x"] == pytest.approx(
+            2 * np.sqrt(np.mean(bias[:3] ** 2)) / G, rel=0.015)
     other = load_scenario(scenario_file(tmp_path, sweep.replace("seed = 5", "seed = 6"),
                                         base, name="t.toml"))
     again = sw.run_sweep(other, tmp_path / "mc6.nc", engine="serial").dataset

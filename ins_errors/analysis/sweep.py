@@ -597,6 +597,37 @@ def summary(dataset) -> list[dict]:
     return rows
 
 
+def over_draws(dataset) -> list[dict]:
+    """Monte Carlo statistics per grid point: over its draws, the RMS and the largest of
+    each quantity's max |direct error| (SI) and the largest worst linear/direct ratio.
+
+    Empty when the sweep has no draws.
+    """
+    labels = [n for n in swept_names(dataset) if n != "draw"]
+    if "draw" not in swept_names(dataset):
+        return []
+    quantities = [str(q) for q in dataset["quantity"].values]
+    peaks = dataset["max_direct"].values
+    worst = _worst(dataset, "linear")[0]
+    groups: dict[tuple, list[int]] = {}
+    for k in range(dataset.sizes["point"]):
+        key = tuple(float(dataset[n].values[k]) for n in labels)
+        groups.setdefault(key, []).append(k)
+    rows = []
+    for key, members in groups.items():
+        block = peaks[members]
+        row: dict[str, Any] = dict(zip(labels, key, strict=True))
+        row["draws"] = len(members)
+        row["rms_max_direct"] = {q: _number(v) for q, v in
+                                 zip(quantities, np.sqrt(np.mean(block**2, axis=0)),
+                                     strict=True)}
+        row["largest_max_direct"] = {q: _number(v) for q, v in
+                                     zip(quantities, np.max(block, axis=0), strict=True)}
+        row["largest_worst_linear_ratio"] = _number(np.nanmax(worst[members]))
+        rows.append(row)
+    return rows
+
+
 def _number(value: float) -> float | None:
     value = float(value)
     return value if np.isfinite(value) else None
@@ -640,6 +671,45 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
     lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows]
     if dataset.sizes["point"] > limit:
         lines.append(f"... {dataset.sizes['point'] - limit} more points (--json for all)")
+    return "\n".join(lines)
+
+
+def draws_table(dataset, quantities: Sequence[str] | None = None) -> str:
+    """Plain-text table of :func:`over_draws` (empty text without draws)."""
+    from ins_errors.units import display_scale
+
+    rows = over_draws(dataset)
+    if not rows:
+        return ""
+    names = [str(q) for q in dataset["quantity"].values]
+    units = dict(zip(names, (str(u) for u in dataset["quantity_unit"].values), strict=True))
+    if quantities is None:
+        quantities = [q for q in names if q.startswith("delta_")
+                      and any(r["largest_max_direct"][q] for r in rows)][:3]
+    labels = [n for n in swept_names(dataset) if n != "draw"]
+    shown = []
+    for name in labels:
+        unit = dataset[name].attrs.get("display_unit", "1")
+        shown.append(f"{name} [{unit}]" if unit != "1" else name)
+    head = [*shown, "draws", "largest lin/dir",
+            *(f"RMS max {q} [{display_scale(units[q])[1]}]" for q in quantities)]
+    body = []
+    for row in rows:
+        cells = []
+        for name in labels:
+            attrs = dataset[name].attrs
+            parameter = Parameter(name, "", attrs.get("units", "1"), (),
+                                  attrs.get("display_unit", "1"))
+            cells.append(f"{parameter.shown(row[name]):.6g}")
+        ratio = row["largest_worst_linear_ratio"]
+        cells += [str(row["draws"]), "–" if ratio is None else f"{ratio:.3e}"]
+        for q in quantities:
+            value = row["rms_max_direct"][q]
+            cells.append("–" if value is None else f"{value * display_scale(units[q])[0]:.4g}")
+        body.append(cells)
+    widths = [max(len(h), *(len(r[i]) for r in body)) for i, h in enumerate(head)]
+    lines = ["  ".join(h.rjust(w) for h, w in zip(head, widths, strict=True))]
+    lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in body]
     return "\n".join(lines)
 
 

@@ -70,11 +70,16 @@ def run(args: argparse.Namespace) -> int:
                           "engine": where, "plot": None if plotted is None else str(plotted),
                           "parameters": {name: data[name].attrs.get("units", "1")
                                          for name in sw.swept_names(data)},
-                          "summary": sw.summary(data)}, indent=2, ensure_ascii=False))
+                          "summary": sw.summary(data),
+                          "over_draws": sw.over_draws(data)}, indent=2, ensure_ascii=False))
         return 0
     print(f"{scenario.title}: {result.points} points, {result.computed} computed "
           f"({where}), {result.reused} read back from the store")
     print(sw.table(data, scenario.quantities))
+    over = sw.draws_table(data, scenario.quantities)
+    if over:
+        print(f"\nover the {scenario.sweep.draws} draws of each point:")
+        print(over)
     print(f"store: {result.store}")
     if plotted is not None:
         print(f"plot written to {plotted}")
