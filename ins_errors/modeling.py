@@ -43,6 +43,15 @@ The vocabulary the machinery relies on:
 * the error state is ``x~ - (x, 0)``; its linearisation ``d(xe)/dt = F xe + G w`` and the
   output errors ``H xe`` are derived mechanically (:mod:`ins_errors.symbolic.variation`).
 
+Rules a definition must follow (checked, with a one-line error naming the quantity, by
+:func:`ins_errors.symbolic.consistency.check_definition` before a model file is derived):
+symbols come from the declared names (``Variable.symbol``, real-valued; a bare
+``sp.Symbol("g")`` is a different symbol); every right-hand side has one row per state;
+every symbol an equation uses is declared (or recorded with ``let``); functions are
+SymPy's; and with the computed state on the true one and every error source zero, the
+real work gives the ideal derivatives and zero for the extra states (else the error
+equations would have a forcing that no error source explains).
+
 A complete small model, written step by step, is the tutorial
 ``examples/own_model/schuler_loop.py`` (a single-axis Schuler loop); the built-in
 ``ins_errors/models/north_pointing.py`` is a full platform INS in the same style.
