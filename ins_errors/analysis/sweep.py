@@ -792,8 +792,6 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
     ax.set_title(heading, fontsize=10)
     ax.grid(True, alpha=0.3)
     figure_.tight_layout()
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    figure_.savefig(path, dpi=120)
-    plt.close(figure_)
-    return path
+    from ins_errors.output import save_figure
+
+    return save_figure(figure_, path, dpi=120)  # atomic, parent folders created
