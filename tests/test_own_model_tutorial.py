@@ -56,6 +56,10 @@ def test_tutorial_command(line, status, workspace, capsys):
         names = sorted(p.name for p in (workspace / "out" / "own").iterdir())
         assert names == ["__init__.py", "casadi_model.py", "error_equations.md",
                          "numpy_model.py"]
+        listing = (workspace / "out" / "own" / "error_equations.md").read_text(encoding="utf-8")
+        for quoted in (r"\Delta \tilde{f} = \nabla - g \psi", r"\Delta \omega = \frac{\Delta V}{R}",
+                       r"\dot{\psi} = \Delta \omega + \varepsilon"):
+            assert quoted in listing, quoted
     if line.startswith("compare") and "accel_bias=100ug" in line:
         # the numbers the page quotes: 2b/g tilt, b/ω_s velocity error
         assert re.search(r"`psi` \| arcmin \| 6\.875e-01", out), out  # 2e-4 rad

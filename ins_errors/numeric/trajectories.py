@@ -382,13 +382,16 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
     xdot0 = f0  # position/heading rates do not depend on the accelerations
     Xdot = ca.jtimes(X, x, xdot0) + ca.jtimes(X, cmd, rates)
     acc = ca.solve(B.T @ B, B.T @ (Xdot - f0))
-    # vertical apparent acceleration (normal gravity + transport/Coriolis)
-    phi = y[i_lat_out]
-    a_ax, e2, U = earth_shape(list(par), ca.vertsplit(p), f"model {model.name!r}")
-    R_N, R_E = radii_of_curvature(phi, a_ax, e2, xp=ca)
-    gamma = normal_gravity(phi, cmd[2], a_ax, e2, xp=ca)
-    a_up = (rates[3] - v_e**2 / (R_E + cmd[2]) - v_n**2 / (R_N + cmd[2])
-            - 2 * U * ca.cos(phi) * v_e + gamma)
+    # vertical apparent acceleration (normal gravity + transport/Coriolis), for a model
+    # with that input; a horizontal-only model needs no Earth shape or rate here
+    a_up = ca.SX(0)
+    if "a_zeta" in input_names:
+        phi = y[i_lat_out]
+        a_ax, e2, U = earth_shape(list(par), ca.vertsplit(p), f"model {model.name!r}")
+        R_N, R_E = radii_of_curvature(phi, a_ax, e2, xp=ca)
+        gamma = normal_gravity(phi, cmd[2], a_ax, e2, xp=ca)
+        a_up = (rates[3] - v_e**2 / (R_E + cmd[2]) - v_n**2 / (R_N + cmd[2])
+                - 2 * U * ca.cos(phi) * v_e + gamma)
     u_full = input_vector(cmd[2], cmd[3], dict(zip(accel_names, ca.vertsplit(acc),
                                                    strict=True)), a_up)
     inputs = ca.Function("motion_inputs", [x, cmd, rates, p], [u_full])
