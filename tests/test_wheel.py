@@ -93,3 +93,20 @@ def test_wheel_derives_a_model_file(installed_wheel, tmp_path):
     assert result.returncode == 0, result.stderr
     assert "initial_tilt" in result.stdout and result.stderr == ""  # found next to the file
     assert (tmp_path / "schuler_loop_generated" / "casadi_model.py").is_file()
+
+
+def test_wheel_without_plots_extra_says_so_before_computing(installed_wheel, tmp_path):
+    """Installed without matplotlib: one line naming the extra, no folder, no traceback."""
+    scenario = tmp_path / "drift.toml"
+    scenario.write_text('model = "orthodromic"\n[run]\nduration = "2 h"\n[[case]]\n'
+                        'gyro_drift_y = "0.01 deg/h"\n', encoding="utf-8")
+    for argv in (["run", "drift.toml", "--out", "rep"],
+                 ["compare", "orthodromic", "-s", "gyro_drift_x=0.01deg/h", "--plot", "d.png"]):
+        code = ("import sys; sys.modules['matplotlib'] = None  # as if the extra were absent\n"
+                f"from ins_errors.cli import main; sys.exit(main({argv!r}))")
+        result = _run_outside(installed_wheel, code, tmp_path)
+        assert result.returncode == 2, result.stderr
+        assert result.stderr.strip().splitlines() == [
+            "ins-errors: error: " + result.stderr.split("ins-errors: error: ", 1)[1].strip()]
+        assert "install ins-errors[plots]" in result.stderr and not result.stdout
+    assert not (tmp_path / "rep").exists() and not (tmp_path / "d.png").exists()
