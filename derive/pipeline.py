@@ -20,6 +20,7 @@ from pathlib import Path
 
 from ins_errors.errors import unknown_name
 from ins_errors.models import definition, model_names
+from ins_errors.symbolic.consistency import check_definition
 
 from .hand_check_report import write_hand_check_reports
 from .model_files import ModelSummary, write_model
@@ -33,6 +34,7 @@ EXTRA_STEPS: list[Callable[[Path], None]] = [write_transfer_functions, write_han
 def _write_one(name: str, root: Path) -> ModelSummary:
     with step(name, "build the definition"):
         model = definition(name)
+    check_definition(model)  # the checks a researcher's model file gets, one line each
     return write_model(model, root)
 
 
