@@ -152,3 +152,19 @@ def test_strapdown_position_lines():
     wrong = _check("strapdown_ned", text.replace("= -Delta_v_D", "= Delta_v_D"))
     ((result, finding),) = wrong.mistakes
     assert (result.equation.line, finding.kind) == (1, "wrong sign")
+
+
+@pytest.mark.parametrize(("directive", "message"), [
+    ("@scope moving", "@scope: unknown motion class 'moving'"),
+    ("@magnitude m/s = abc", "cannot read 'abc' as a quantity"),
+    ("@magnitude furlong = 3 m", "magnitude for unknown unit 'furlong'"),
+    ("@neglect Delta_Rq_xi", "Rq_xi has no variation in the model"),
+])
+def test_bad_directives_are_one_line_input_errors(tmp_path, capsys, directive, message):
+    path = tmp_path / "bad.txt"
+    path.write_text(f"{directive}\ndot(alpha_x) = -omega_eta*alpha_z + omega_zeta*alpha_y "
+                    "+ Delta_omega_xi + omega_dp\n")
+    assert main(["check", "orthodromic", str(path)]) == 2
+    captured = capsys.readouterr()
+    assert message in captured.out + captured.err
+    assert "Traceback" not in captured.out + captured.err
