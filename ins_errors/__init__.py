@@ -6,8 +6,10 @@ Quick start::
     model = ins_errors.load_model("orthodromic")
     model.sources          # error sources with units and meaning
     F = model.state_matrix(x, u)   # linear error equations, numpy
+    own = ins_errors.load_model("my_ins.py")   # a model file (ins_errors.modeling)
 
-See README.md for the tour and ``generated/<model>/error_equations.md`` for the equations.
+See README.md for the tour and ``generated/<model>/error_equations.md`` for the equations;
+``examples/own_model/`` for writing a model of your own.
 """
 
 from ins_errors.errors import DomainError, InsErrorsError, ShapeError, UnknownNameError
