@@ -14,7 +14,8 @@ The generated code of a model file (or entry-point module) is identified by the 
 of the file. It is taken from ``<file folder>/<file stem>_generated/`` (what
 ``ins-errors derive FILE`` writes by default) when that package records the same hash,
 else from the user cache (``$INS_ERRORS_CACHE/models`` or ``~/.cache/ins-errors/models``),
-where it is derived on first use. A stale package (the model file was edited since) is
+where it is derived on first use (the :data:`KEEP_VERSIONS` newest versions of each model
+are kept there). A stale package (the model file was edited since) is
 never used: one line on stderr says so and the code is regenerated in the cache.
 """
 
@@ -25,6 +26,7 @@ import importlib.metadata
 import importlib.util
 import os
 import re
+import shutil
 import sys
 from dataclasses import dataclass
 from functools import cache
@@ -41,6 +43,9 @@ from ins_errors.errors import (
 
 ENTRY_POINT_GROUP = "ins_errors.models"
 """Entry-point group through which installed packages register models."""
+
+KEEP_VERSIONS = 5
+"""Versions of one model file kept in the cache (older ones are deleted as new ones come)."""
 
 NEXT_TO_SUFFIX = "_generated"
 """``my_ins.py`` -> ``my_ins_generated/``: where ``ins-errors derive`` writes by default."""
@@ -290,7 +295,19 @@ def generated_folder(ref: ModelRef) -> Path:
             raise
         raise InsErrorsError(f"cannot write the model cache {str(cached)!r}: "
                              f"{error.strerror}") from None
+    _prune(cached)
     return cached
+
+
+def _prune(current: Path) -> None:
+    """Keep the :data:`KEEP_VERSIONS` newest cached versions of ``current``'s model."""
+    name = current.name.rsplit("-", 1)[0]
+    versions = [f for f in current.parent.glob(f"{name}-*")
+                if f.is_dir() and f != current and f.name.rsplit("-", 1)[0] == name
+                and recorded_sha256(f) is not None]
+    versions.sort(key=lambda f: f.stat().st_mtime, reverse=True)
+    for old in versions[KEEP_VERSIONS - 1:]:
+        shutil.rmtree(old, ignore_errors=True)
 
 
 def load_module(path: Path, name: str) -> ModuleType:

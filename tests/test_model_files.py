@@ -351,3 +351,15 @@ def test_a_module_next_to_the_model_file_is_part_of_its_identity(tmp_path, capsy
     model = load_model(str(path))  # same process, model file itself unchanged
     assert abs(_gravity(model) - 9.5) < 1e-9
     assert "stale" in capsys.readouterr().err
+
+
+def test_the_cache_keeps_a_few_versions_of_an_edited_model(tmp_path, private_cache):
+    from ins_errors.model_lookup import KEEP_VERSIONS
+
+    path = copy_model(tmp_path)
+    for k in range(KEEP_VERSIONS + 2):
+        path.write_text(path.read_text(encoding="utf-8") + f"\n# edit {k}\n", encoding="utf-8")
+        assert load_model(str(path)).name == "schuler_loop"
+    versions = sorted(private_cache.glob("schuler_loop-*"))
+    assert len(versions) == KEEP_VERSIONS
+    assert load_model(str(path)).folder in versions  # the newest is among them
