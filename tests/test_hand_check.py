@@ -217,6 +217,8 @@ def test_manual_d_factor_two_and_final_exponent(manual_reports):
     assert result.target.startswith("value dR_E/dphi")
     assert (first.kind, first.severity, first.role) == ("wrong coefficient", "mistake", "root")
     assert first.detail.endswith("hand/model = 2 at every point")
+    # D acts through Δg' on the velocity errors: a (small) change of the position error
+    assert 0 < first.effect["position_24h"] < 100
     expanded = _manual_line("@section Error equations (expanded form)")
     final, _ = _finding(text, _manual_line("D =", expanded), "(value)", label="D")
     assert (final.kind, final.severity) == ("wrong exponent", "mistake")

@@ -123,9 +123,10 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
     state_of = {f"error state {s}": i for i, s in enumerate(states)}
     for result in report.results:
         item = items.get((id(result.equation), result.form))
-        if item is None or item.hand is None or item.model_full is None:
+        if item is None or item.hand is None:
             continue
-        if result.target in state_of:  # one effect per finding: only its own columns
+        # an error-state line: one effect per finding, only its own columns
+        if result.target in state_of and item.model_full is not None:
             effects = {}
             for g in result.findings:
                 if g.role != cl.ROOT or not np.isfinite(g.size):
