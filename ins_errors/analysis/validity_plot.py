@@ -11,6 +11,7 @@ from ins_errors.analysis.validity import SourceValidity
 from ins_errors.output import save_figure
 
 _COLOURS = {"static": "tab:blue", "great-circle": "tab:orange", "manoeuvre": "tab:green"}
+_MARKERS = {"static": "o", "great-circle": "^", "manoeuvre": "D"}
 
 
 def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: str = "") -> Path:
@@ -47,8 +48,9 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
         colour = _COLOURS.get(r.motion, "black")
         lin = np.array(r.linear_ratio)
         ref = np.array(r.refined_ratio)
-        ax.loglog(m[lin > 0], lin[lin > 0], "o-", color=colour,
-                  label=f"{r.motion}: linear (slope {_slope(r.linear_slope)})")
+        marker = _MARKERS.get(r.motion, "o")
+        ax.loglog(m[lin > 0], lin[lin > 0], marker=marker, ls="-", color=colour,
+                  mfc="none", ms=7, label=f"{r.motion}: linear (slope {_slope(r.linear_slope)})")
         ax.loglog(m[ref > 0], ref[ref > 0], "s--", color=colour, alpha=0.6, ms=4,
                   label=f"{r.motion}: refined (slope {_slope(r.refined_slope)})")
         for level, value in ((0.01, r.magnitude_1pct), (0.1, r.magnitude_10pct)):
