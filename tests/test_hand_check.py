@@ -291,7 +291,27 @@ def test_manual_declared_drops_are_no_mistakes(manual_reports):
         (line("dot(Delta_V_eta)", expanded), "alpha_z"),
         *((line("Delta_lam", expanded), q) for q in (
             "delta_u11", "delta_u21", "delta_u12", "delta_u22", "delta_u32")),
-        (line("Delta_v_N", expanded), "delta_u31"), (line("v_E ="), "(left-hand side)")}
+        (line("Delta_v_N", expanded), "delta_u31"), (line("v_E ="), "(left-hand side)"),
+        # real work: the misprinted a_z row, the terms printed outside the step tau
+        (line("a_z ="), "(value)"), (line("a_z ="), "alpha_x"), (line("a_z ="), "alpha_z"),
+        (line("tilde(V_xi_k1)"), "(time step)"), (line("tilde(V_eta_k1)"), "(time step)")}
+
+
+def test_manual_real_work_lines(manual_reports):
+    """The printed a_z row is not the platform rotation's third row (a_zeta + a_xi*alpha_y
+    - a_eta*alpha_x, see tests/test_hand_realwork.py); a_x and a_y are; the printed
+    velocity updates add g' + Delta_a outside the step tau."""
+    for report in manual_reports:
+        assert [r.status for r in results_at(report, _manual_line("a_x ="))] == ["agrees"]
+        assert [r.status for r in results_at(report, _manual_line("a_y ="))] == ["agrees"]
+        f, result = _finding(report, _manual_line("a_z ="), "(value)")
+        assert result.status == "mistake" and (f.kind, f.severity) == (
+            "wrong symbol or index", "mistake")
+        assert f.detail == "a_xi written where a_zeta belongs"
+        for start, channel in (("tilde(V_xi_k1)", "xi"), ("tilde(V_eta_k1)", "eta")):
+            f, _ = _finding(report, _manual_line(start), "(time step)")
+            assert (f.kind, f.severity) == ("outside the time step", "mistake")
+            assert f.hand == f"Delta_a + tilde(g_{channel})"
 
 
 def test_report_reads_roots_then_knock_ons_then_drops(manual_reports):

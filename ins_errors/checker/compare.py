@@ -602,7 +602,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     """
     if not 0 < threshold < 1:
         raise InsErrorsError(f"threshold must be between 0 and 1, got {threshold}")
-    if not hand.equations and not hand.problems:
+    if not hand.equations and not hand.real_work and not hand.problems:
         raise InsErrorsError(f"{hand.name}: no equations to check (an empty hand file "
                              "cannot be said to agree with anything)")
     d = resolve_model(model)
@@ -645,6 +645,14 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
             results.append(_evaluate(eq, item, comparison, identify, hand, resolver,
                                      declared, needed))
     cl.assign_roots(results, prepared, hand)
+    if hand.real_work:
+        from ins_errors.checker.realwork import check_real_work
+
+        angle = next((b.magnitude for b in basis if b.name in side.error_states
+                      and b.unit == "rad" and b.name.startswith("alpha")), 1e-4)
+        results = sorted(results + check_real_work(hand, comparison.points, angle,
+                                                   threshold),
+                         key=lambda r: r.equation.line)
     unused = [f"{r.equation.label} (line {r.equation.line})" for r in results
               if r.status in ("hand-only definition", "mistake", "agrees") and r.form == 0
               and r.target.startswith("value") is False and r.target == "hand-only definition"

@@ -28,6 +28,12 @@ with ``@`` are directives, in both formats:
 ``@scope MOTION``
     the derivation holds only on this motion class (``static base``): it is compared
     at those reference points only, so terms that vanish there are no findings.
+``@realwork TITLE``
+    start a section of *real-work* lines (instrument model and computer, not error
+    equations): the accelerometer outputs ``a_x = ...`` and difference-scheme updates
+    ``X_{k+1} = X_k + tau*(...)`` (text: ``X_k1``, ``X_k``). They are kept apart in
+    :attr:`HandFile.real_work` and compared by :mod:`ins_errors.checker.realwork`; the
+    next ``@section`` ends the real-work section.
 
 Comments start with ``#`` (text) or ``%`` (LaTeX). Symbol spellings are documented in
 ``docs/hand_check.md``. The parser only reads and spells; what each symbol means in the
@@ -108,6 +114,8 @@ class HandEquation:
         Symbol name -> column of its first occurrence (for messages).
     declarations : tuple of int
         Indices into :attr:`HandFile.declarations` in force at this line.
+    step : bool
+        A real-work difference-scheme update (left-hand side at step k+1).
     """
 
     line: int
@@ -120,6 +128,7 @@ class HandEquation:
     note: str = ""
     columns: dict[str, int] = field(default_factory=dict)
     declarations: tuple[int, ...] = ()
+    step: bool = False
 
     @property
     def label(self) -> str:
@@ -165,6 +174,7 @@ class HandFile:
     declarations: list[Declaration] = field(default_factory=list)
     magnitudes: dict[str, str] = field(default_factory=dict)
     scope: str | None = None
+    real_work: list[HandEquation] = field(default_factory=list)
 
 
 class _LineError(Exception):
@@ -855,6 +865,7 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
     notation = notation.merged(Notation())  # a copy: @name lines add spellings
     parse = (partial(parse_latex_expression, backend=latex_backend) if latex
              else parse_text_expression)
+    real = False
     for number, raw in enumerate(text.splitlines(), start=1):
         body = _strip_comment(raw, "%" if latex else "#")
         stripped = body.strip()
@@ -864,9 +875,10 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
         try:
             if stripped.startswith("@"):
                 keyword = stripped.split(maxsplit=1)[0]
-                if keyword == "@section":
+                if keyword in ("@section", "@realwork"):
                     title = stripped[len(keyword):].strip() or f"section {len(hand.sections)}"
                     hand.sections.append(title)
+                    real = keyword == "@realwork"
                     continue
                 if keyword in ("@alias", "@source", "@name", "@magnitude"):
                     _directive(hand, keyword, stripped, body.index("@") + 1, notation)
@@ -883,12 +895,16 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
                     continue
                 if keyword != "@alt":
                     raise _LineError(body.index("@") + 1, f"unknown directive {keyword!r} "
-                                     "(known: @section, @alt, @alias, @source, @name, "
-                                     "@neglect, @magnitude, @scope)")
+                                     "(known: @section, @realwork, @alt, @alias, @source, "
+                                     "@name, @neglect, @magnitude, @scope)")
                 alternative = True
                 cut = body.index("@alt") + 4
                 body = " " * cut + body[cut:]
             for segment, offset, note in _segments(body, latex):
+                if real:
+                    _real_work_equation(hand, number, segment, offset + 1, parse, notation,
+                                        latex)
+                    continue
                 _equation(hand, number, segment, offset + 1, note, alternative, parse,
                           notation, latex)
         except _LineError as error:
@@ -923,6 +939,52 @@ def _equation(hand: HandFile, number: int, segment: str, column: int, note: str,
         section=len(hand.sections) - 1, lhs=lhs, forms=exprs[1:], alternative=alternative,
         text=" ".join(segment.split()), note=note, columns=columns,
         declarations=tuple(range(len(hand.declarations)))))
+
+
+_STEP_LATEX = re.compile(r"(_\{(?:\\[a-zA-Z]+|[a-zA-Z0-9]+?))\s*k\s*(\+\s*1\s*)?\}")
+_STEP_TEXT = re.compile(r"(?<=[A-Za-z0-9])_k(1)?\b")
+
+
+def _strip_steps(text: str, latex: bool) -> tuple[str, bool]:
+    """Remove the time index ``k`` / ``k+1`` of a difference scheme (columns kept).
+
+    Returns the text without the index and whether it held a ``k+1``.
+    """
+    found = False
+
+    def cut(match: re.Match) -> str:
+        nonlocal found
+        found = found or match.group(match.re.groups) is not None
+        kept = match.group(1) + "}" if latex else ""
+        return kept + " " * (len(match.group()) - len(kept))
+
+    return (_STEP_LATEX if latex else _STEP_TEXT).sub(cut, text), found
+
+
+def _real_work_equation(hand: HandFile, number: int, segment: str, column: int, parse,
+                        notation: Notation, latex: bool) -> None:
+    """One real-work line: ``a_x = ...`` or ``X_{k+1} = X_k + tau*(...)``."""
+    parts = _split_chain(segment, latex)
+    start = column + len(segment) - len(segment.lstrip())
+    if len(parts) != 2:
+        raise _LineError(start, f"a real-work line needs exactly one '=': "
+                                f"{segment.strip()!r}")
+    (left, left_at), (right, right_at) = parts
+    left, step = _strip_steps(left, latex)
+    right, _ = _strip_steps(right, latex)
+    columns: dict[str, int] = {}
+    lhs, where = parse(left, notation, column + left_at)
+    columns.update(where)
+    rhs, where = parse(right, notation, column + right_at)
+    for key, value in where.items():
+        columns.setdefault(key, value)
+    inner = lhs.args[0] if isinstance(lhs, sp.Function) and lhs.func == TILDE else lhs
+    if not isinstance(inner, sp.Symbol):
+        raise _LineError(start, f"left-hand side {left.strip()!r} of a real-work line must "
+                                "be one quantity (a_x, or tilde(V_xi) at step k+1)")
+    hand.real_work.append(HandEquation(
+        line=number, column=start, section=len(hand.sections) - 1, lhs=lhs, forms=[rhs],
+        text=" ".join(segment.split()), columns=columns, step=step))
 
 
 def _directive(hand: HandFile, keyword: str, text: str, column: int,

@@ -1,0 +1,105 @@
+"""Real-work lines of a hand file: accelerometer outputs and the velocity update.
+
+The reference for the accelerometer rows is an independent one: the platform attitude
+as a scipy rotation (z-y-x angles, platform → trihedron), its transpose applied to a
+specific-force vector and differentiated numerically at α = 0.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.spatial.transform import Rotation
+
+from ins_errors.checker.compare import check_hand
+from ins_errors.checker.notation import default_notation
+from ins_errors.checker.parse import parse_hand_text
+
+PRINTED_AZ = "a_z = a_xi - a_eta*alpha_z + alpha_x*a_zeta"
+CORRECT = """@realwork instrument model and computer
+tilde(V_xi_k1) = tilde(V_xi_k) + tau*(a_x_k - (tilde(omega_eta_k)*tilde(V_zeta_k) \
+- tilde(omega_zeta_k)*tilde(V_eta_k)) + tilde(g_xi_k) + Delta_a)
+a_x = a_xi + a_eta*alpha_z - a_zeta*alpha_y
+a_y = a_eta - a_xi*alpha_z + a_zeta*alpha_x
+a_z = a_zeta + a_xi*alpha_y - a_eta*alpha_x
+"""
+
+
+def check(text: str):
+    hand = parse_hand_text(text, default_notation("orthodromic"))
+    return check_hand(hand, effects=False)
+
+
+def _rotation_rows(row: int) -> tuple[float, np.ndarray]:
+    """d(f^p_row)/dα by central differences of the exact rotation, for f = (1, 2, 3)."""
+    f = np.array([1.0, 2.0, 3.0])
+
+    def out(alpha):
+        c = Rotation.from_euler("ZYX", [alpha[2], alpha[1], alpha[0]]).as_matrix()
+        return (c.T @ f)[row]
+
+    step = 1e-6
+    grad = np.array([(out(np.eye(3)[i] * step) - out(-np.eye(3)[i] * step)) / (2 * step)
+                     for i in range(3)])
+    return out(np.zeros(3)), grad
+
+
+def _printed_row(expr: str) -> tuple[float, np.ndarray]:
+    """Value and α-gradient of a printed row at (a_xi, a_eta, a_zeta) = (1, 2, 3)."""
+    rhs = sp.sympify(expr.split("=", 1)[1]).subs({"a_xi": 1.0, "a_eta": 2.0, "a_zeta": 3.0})
+    value = sp.lambdify(sp.symbols("alpha_x alpha_y alpha_z"), rhs)
+    return value(0, 0, 0), np.array([value(*np.eye(3)[i]) - value(0, 0, 0)
+                                     for i in range(3)])
+
+
+def test_printed_az_row_is_not_the_rotation_but_the_checker_reference_is():
+    rows = CORRECT.splitlines()[2:5]
+    for row, line in enumerate(rows):  # the correct rows are the rotation's expansion
+        value, grad = _printed_row(line)
+        ref_value, ref_grad = _rotation_rows(row)
+        assert value == pytest.approx(ref_value) and grad == pytest.approx(ref_grad, abs=1e-6)
+    value, grad = _printed_row(PRINTED_AZ)
+    ref_value, ref_grad = _rotation_rows(2)
+    assert value != pytest.approx(ref_value) and grad != pytest.approx(ref_grad, abs=1e-3)
+
+
+def test_correct_real_work_agrees():
+    report = check(CORRECT)
+    assert [r.status for r in report.results] == ["agrees"] * 4
+    assert report.exit_status == 0
+
+
+def test_printed_az_row_is_a_mistake():
+    report = check(CORRECT.replace(CORRECT.splitlines()[4], PRINTED_AZ))
+    (result,) = [r for r in report.results if r.equation.label == "a_z"]
+    found = {f.quantity: f for f in result.findings}
+    assert result.status == "mistake" and report.exit_status == 1
+    assert (found["(value)"].kind, found["(value)"].severity) == (
+        "wrong symbol or index", "mistake")
+    assert found["(value)"].detail == "a_xi written where a_zeta belongs"
+    assert found["alpha_x"].kind == "wrong symbol or index"
+    assert found["alpha_z"].kind == "extra term" and found["alpha_y"].kind == "omitted term"
+
+
+def test_injected_sign_error_in_ax_is_found():
+    report = check(CORRECT.replace("a_xi + a_eta*alpha_z", "a_xi - a_eta*alpha_z"))
+    (result,) = [r for r in report.results if r.equation.label == "a_x"]
+    (finding,) = result.findings
+    assert (finding.quantity, finding.kind) == ("alpha_z", "wrong sign")
+    assert finding.is_mistake
+
+
+def test_terms_outside_the_time_step_are_reported():
+    printed = CORRECT.replace("+ tilde(g_xi_k) + Delta_a)", ") + tilde(g_xi_k) + Delta_a")
+    report = check(printed)
+    (result,) = [r for r in report.results if r.equation.step]
+    (finding,) = result.findings
+    assert (finding.kind, finding.severity) == ("outside the time step", "mistake")
+    assert finding.hand == "Delta_a + tilde(g_xi)"
+
+
+def test_real_work_line_errors_are_input_problems():
+    hand = parse_hand_text("@realwork x\na_x + a_y = a_xi\na_x = a_xi = a_eta\n",
+                           default_notation("orthodromic"))
+    assert [p.line for p in hand.problems] == [2, 3] and not hand.real_work
