@@ -309,9 +309,16 @@ def test_manual_real_work_lines(manual_reports):
             "wrong symbol or index", "mistake")
         assert f.detail == "a_xi written where a_zeta belongs"
         for start, channel in (("tilde(V_xi_k1)", "xi"), ("tilde(V_eta_k1)", "eta")):
-            f, _ = _finding(report, _manual_line(start), "(time step)")
+            f, _ = _finding(report, _manual_line(start), "(time step)",
+                            label=f"tilde(V_{channel})")
             assert (f.kind, f.severity) == ("outside the time step", "mistake")
             assert f.hand == f"Delta_a + tilde(g_{channel})"
+            # its first-order variation (read inside tau) carries only D's knock-on
+            (varied,) = [r for r in results_at(report, _manual_line(start))
+                         if r.target == f"error state delta_V_{channel}"]
+            assert varied.findings and all(
+                g.role == "knock-on" and any(x.endswith(" D") for x in g.roots)
+                for g in varied.findings)
 
 
 def test_report_reads_roots_then_knock_ons_then_drops(manual_reports):

@@ -66,8 +66,19 @@ def test_printed_az_row_is_not_the_rotation_but_the_checker_reference_is():
 
 def test_correct_real_work_agrees():
     report = check(CORRECT)
-    assert [r.status for r in report.results] == ["agrees"] * 4
+    assert [r.status for r in report.results] == ["agrees"] * 5
+    assert {"real work: difference-scheme update of tilde(V_xi) (increment proportional to "
+            "tau)", "error state delta_V_xi"} <= {r.target for r in report.results}
     assert report.exit_status == 0
+
+
+def test_wrong_coriolis_sign_in_the_update_is_found_by_its_variation():
+    report = check(CORRECT.replace("- tilde(omega_zeta_k)", "+ tilde(omega_zeta_k)"))
+    (result,) = [r for r in report.results if r.target == "error state delta_V_xi"]
+    found = {f.quantity: f for f in result.findings}
+    # -omega_zeta where +omega_zeta belongs (beside the V_zeta terms of the same coefficient)
+    assert found["delta_V_eta"].severity == "mistake"
+    assert found["delta_V_eta"].kind in ("wrong sign", "wrong coefficient")
 
 
 def test_printed_az_row_is_a_mistake():

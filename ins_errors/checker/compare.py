@@ -605,6 +605,12 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     if not hand.equations and not hand.real_work and not hand.problems:
         raise InsErrorsError(f"{hand.name}: no equations to check (an empty hand file "
                              "cannot be said to agree with anything)")
+    if hand.real_work:  # the real-work updates' variations are error-state lines too
+        from dataclasses import replace
+
+        from ins_errors.checker.realwork import update_variations
+
+        hand = replace(hand, equations=[*hand.equations, *update_variations(hand)])
     d = resolve_model(model)
     side = model_side(d)
     motions, values = _points(d, hand.scope)

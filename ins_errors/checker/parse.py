@@ -984,7 +984,8 @@ def _real_work_equation(hand: HandFile, number: int, segment: str, column: int, 
                                 "be one quantity (a_x, or tilde(V_xi) at step k+1)")
     hand.real_work.append(HandEquation(
         line=number, column=start, section=len(hand.sections) - 1, lhs=lhs, forms=[rhs],
-        text=" ".join(segment.split()), columns=columns, step=step))
+        text=" ".join(segment.split()), columns=columns, step=step,
+        declarations=tuple(range(len(hand.declarations)))))
 
 
 def _directive(hand: HandFile, keyword: str, text: str, column: int,

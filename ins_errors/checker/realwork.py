@@ -27,7 +27,7 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import classify as cl
-from ins_errors.checker.parse import TILDE, HandEquation, HandFile
+from ins_errors.checker.parse import DOT, TILDE, HandEquation, HandFile
 from ins_errors.models.platform import on_platform
 
 STEP = "outside the time step"
@@ -173,6 +173,46 @@ def check_step(eq: HandEquation, threshold: float):
               f"reading integrates it, tau*({sp.expand(inside + outside)})")
     return target, [cl.Finding("(time step)", STEP, cl.MISTAKE, 1.0, "every step", str(outside),
                                "0", detail)]
+
+
+def update_variations(hand: HandFile) -> list[HandEquation]:
+    """First-order variations of the real-work updates, as error-equation lines.
+
+    The rate of each update ``X_{k+1} = X_k + τ(...)`` (terms printed outside τ read
+    inside) is varied to first order: ``tilde(Y) → Y + ε ΔY``, platform angles and
+    ``Delta_*`` error sources scaled by ε, the accelerometer outputs replaced by the
+    file's own ``a_x``/``a_y`` lines. The ε-coefficient is a line ``dot(Delta_X) = ...``
+    that the error-equation comparison checks against the model's variation (with the
+    file's definitions of ΔW, Δg', Δω, ... and its declared simplifications).
+
+    Parameters
+    ----------
+    hand : HandFile
+
+    Returns
+    -------
+    list of HandEquation
+        One per update of a ``tilde(X)``, at the update's line and section.
+    """
+    eps = sp.Dummy("epsilon")
+    outputs = {e.lhs: e.forms[0] for e in hand.real_work
+               if not e.step and isinstance(e.lhs, sp.Symbol) and e.lhs.name in OUTPUTS}
+    lines = []
+    for eq in hand.real_work:
+        if not (eq.step and eq.lhs.func == TILDE and TAU in eq.forms[0].free_symbols):
+            continue
+        rate = sp.expand(eq.forms[0] - eq.lhs).subs(TAU, 1).xreplace(outputs)
+        rate = rate.xreplace({s: eps * s for s in rate.free_symbols
+                              if s.name.startswith(("alpha_", "Delta_"))})
+        rate = rate.xreplace({f: f.args[0] + eps * sp.Symbol(f"Delta_{f.args[0]}")
+                              for f in rate.atoms(TILDE)})
+        variation = sp.expand(sp.diff(rate, eps).subs(eps, 0))
+        lines.append(HandEquation(
+            line=eq.line, column=eq.column, section=eq.section,
+            lhs=DOT(sp.Symbol(f"Delta_{eq.lhs.args[0]}")), forms=[variation],
+            text=f"variation of: {eq.text}", note="real-work update, varied to first order",
+            columns=eq.columns, declarations=eq.declarations))
+    return lines
 
 
 def check_real_work(hand: HandFile, points: list, angle: float, threshold: float
