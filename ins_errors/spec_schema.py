@@ -9,7 +9,7 @@ source's correlation time...).
 
 from __future__ import annotations
 
-from typing import Literal
+from typing import Annotated, Literal
 
 from pydantic import (
     BaseModel,
@@ -28,6 +28,8 @@ from ins_errors.scenario_schema import one_line
 
 Quantity = StrictStr | StrictFloat | StrictInt
 Number = StrictFloat | StrictInt
+Positive = Annotated[StrictFloat, Field(gt=0)] | Annotated[StrictInt, Field(gt=0)]
+"""A plain number above zero (the bound on each member, so the JSON Schema carries it)."""
 _UNIT = {"description": "a value with its unit, e.g. '8 h', '3.7 km/h', '0.01 deg/h'"}
 
 
@@ -60,7 +62,7 @@ class SpecItem(_Table):
 class SourceTable(_Table):
     """``[sources.NAME]``: how the budget treats one error source."""
 
-    weight: Number = Field(1.0, gt=0)
+    weight: Positive = 1.0
     fixed: Quantity | None = Field(None, json_schema_extra=_UNIT)
     kind: Literal["constant", "white", "markov"] = "constant"
     tau: Quantity | None = Field(None, json_schema_extra=_UNIT)
@@ -88,7 +90,7 @@ class SpecFile(_Table):
     """A whole accuracy-spec file (TOML)."""
 
     title: str | None = None
-    sigma_level: Number = Field(1, gt=0, description="the spec's values are this many σ")
+    sigma_level: Positive = Field(1, description="the spec's values are this many σ")
     operating_time: Quantity = Field("1 h", json_schema_extra=_UNIT)
     step: Quantity = Field("60 s", json_schema_extra=_UNIT)
     motion: SpecMotion = Field(default_factory=SpecMotion)
@@ -125,3 +127,12 @@ def validate(data: dict) -> SpecFile:
         if len(loc) >= 3 and loc[0] == "sources":
             tables[str(loc[1])] = SourceTable
         raise one_line(error, "", tables) from None
+
+
+def json_schema() -> str:
+    """The JSON Schema (draft 2020-12) of an accuracy-spec file, as stable, indented text."""
+    import json
+
+    schema = SpecFile.model_json_schema()
+    schema["$schema"] = "https://json-schema.org/draft/2020-12/schema"
+    return json.dumps(schema, indent=2, sort_keys=True, ensure_ascii=False) + "\n"

@@ -14,7 +14,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "variance among the sources (equal shares unless the spec weights or "
                     "fixes some), report the allowed magnitudes and the item binding each "
                     "source, and optionally check the result with direct Monte Carlo runs.")
-    parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
+    parser.add_argument("model", nargs="?",
+                        help="model name (e.g. orthodromic) or model file (my_ins.py)")
+    parser.add_argument("--schema", action="store_true",
+                        help="print the JSON Schema of accuracy-spec files (for editors) "
+                             "and exit")
     parser.add_argument("--spec",
                         help="spec file (TOML with units); default: the built-in 802m spec")
     parser.add_argument("--plot", metavar="PNG", help="write a stacked contribution plot")
@@ -52,6 +56,13 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.model import load_model
     from ins_errors.specs import SpecError, default_spec_path, load_spec
 
+    if args.schema:
+        from ins_errors.spec_schema import json_schema
+
+        print(json_schema(), end="")
+        return 0
+    if args.model is None:
+        raise SpecError("budget needs a MODEL (or --schema)")
     if args.plot or args.plot_at:
         from ins_errors.output import require_matplotlib
 
