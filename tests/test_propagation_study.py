@@ -118,3 +118,53 @@ def test_command_line(tmp_path, capsys):
     assert main(["propagation", "--drift", "0.1 m/s"]) == 2
     assert "--drift" in capsys.readouterr().err
     assert main(["propagation", "--hours", "0"]) == 2
+
+
+def test_default_run_estimates_a_small_integration_error(result):
+    """RK4 at 10 s: the estimate matches the closed forms' verdict on the linear run
+    (analytic vs linear numeric is that run's true integration error) and gives no warning."""
+    for c in result.curves:
+        true = c.agreement("analytic", "linear")
+        if np.all(np.isnan(true)) or np.nanmax(true) < 1e-10:
+            continue
+        assert 0.5 < c.integration_share() / np.nanmax(true) < 2.0, c.source
+        assert not c.warnings, c.source
+
+
+def test_coarse_rectangle_run_estimates_its_true_error_and_warns():
+    """Rectangle method at τ = 20 s over 2 h: the step-doubling estimate of every
+    quantity is within a factor 2 of its true error, measured against an RK4 run at
+    10 s (whose own error is ~1e-9 relative), and the run warns naming a finer step."""
+    reference = run(Experiment(duration=7200.0))
+    coarse = run(Experiment(duration=7200.0, method="euler", step=20.0))
+    checked = 0
+    for c, r in zip(coarse.curves, reference.curves, strict=True):
+        true = np.max(np.abs(c.direct - r.direct), axis=1)
+        scale = np.max(np.abs(r.direct), axis=1)
+        used = true > 1e-3 * scale
+        ratio = c.integration_error[used] / true[used]
+        assert np.all((ratio > 0.5) & (ratio < 2.0)), (c.source, ratio)
+        checked += int(used.sum())
+        if np.any(used):
+            assert any("rectangle method with τ = 20 s is too coarse" in w
+                       and "would do" in w for w in c.warnings), c.source
+    assert checked > 50
+    assert "Warnings:" in coarse.summary_markdown()
+
+
+def test_command_line_reports_the_integration_error(capsys):
+    import json
+
+    from ins_errors.cli import main
+
+    assert main(["propagation", "--hours", "1", "--method", "euler", "--step", "20s",
+                 "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["method"] == "euler"
+    row = next(s for s in data["sources"] if s["source"] == "accel_bias_north")
+    assert row["integration_error"] > 1e-3 and set(row["integration_error_si"]) == {
+        q[0] for q in QUANTITIES}
+    assert any("too coarse" in w for w in row["warnings"])
+    assert main(["propagation", "--hours", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "integration error |" in out and "Warnings:" not in out

@@ -28,7 +28,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "source with --out. --orthodromic runs source 000, task 4 instead.")
     parser.add_argument("--latitude", default="39deg", help="latitude (default 39deg)")
     parser.add_argument("--hours", type=float, default=24.0, help="duration, h (default 24)")
-    parser.add_argument("--step", default="10 s", help="RK4 step of the numeric runs")
+    parser.add_argument("--step", default="10 s", help="integration step of the numeric runs")
+    parser.add_argument("--method", choices=("rk4", "euler"), default="rk4",
+                        help="rk4 (default) or euler = the manual's rectangle method; the "
+                             "integration error is estimated either way (not with "
+                             "--orthodromic)")
     parser.add_argument("--drift", default="0.1 deg/h", help="gyro drift")
     parser.add_argument("--bias", default="1e-4 g", help="accelerometer bias")
     parser.add_argument("--velocity", default="0.1 m/s", help="initial velocity error")
@@ -95,7 +99,7 @@ def run(args: argparse.Namespace) -> int:
         position_error=parse_quantity(args.position, "rad", "--position"),
         level_error=parse_quantity(args.level, "rad", "--level"),
         azimuth_error=parse_quantity(args.azimuth, "rad", "--azimuth"),
-        duration=duration, step=step, record_interval=record)
+        duration=duration, step=step, record_interval=record, method=args.method)
     with stage("closed forms, linear and direct runs of every source"):
         result = propagation.run(experiment)
     if args.out is not None:
@@ -104,10 +108,13 @@ def run(args: argparse.Namespace) -> int:
             print(f"wrote {path} and {len(result.curves)} plots")
     if args.json:
         _print_json({"latitude_rad": experiment.latitude, "duration_s": duration,
-                     "periods_s": result.periods,
+                     "step_s": step, "method": args.method, "periods_s": result.periods,
                      "sources": [{"source": c.source, "magnitude_si": c.magnitude,
                                   **{key: _finite(np.nanmax(c.agreement(a, b)))
-                                     for key, (a, b) in _AGREEMENTS.items()}}
+                                     for key, (a, b) in _AGREEMENTS.items()},
+                                  "integration_error": _finite(c.integration_share()),
+                                  "integration_error_si": _per_quantity(c.integration_error),
+                                  "warnings": c.warnings}
                                  for c in result.curves]})
     else:
         print(result.summary_markdown(), end="")
@@ -117,6 +124,15 @@ def run(args: argparse.Namespace) -> int:
 _AGREEMENTS = {"analytic_vs_linear": ("analytic", "linear"),
                "direct_vs_linear": ("direct", "linear"),
                "reduced_vs_full": ("reduced", "analytic")}
+
+
+def _per_quantity(errors) -> dict[str, float] | None:
+    """Integration error per error quantity (SI, keyed by error state), or None."""
+    from ins_errors.studies.propagation import QUANTITIES
+
+    if errors is None:
+        return None
+    return {q[0]: float(e) for q, e in zip(QUANTITIES, errors, strict=True)}
 
 
 def _finite(value) -> float | None:

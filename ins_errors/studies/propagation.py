@@ -10,6 +10,12 @@ position and attitude errors) at the report's magnitudes, three curves over 24 h
 * **direct numeric**: the nonlinear ideal- and real-work equations integrated side by
   side (RK4, same step) and subtracted.
 
+The direct and linear runs estimate their own integration error by step doubling, with
+the machinery of ``compare`` (:func:`ins_errors.numeric.compare.add_integration_errors`):
+the estimate is printed beside the direct-vs-linear agreement, and a source whose
+estimate exceeds 10 % of the direct-vs-linear difference or 1 % of the error gets a
+warning naming a step that would do.
+
 The agreement figures (largest difference over the run relative to the largest value
 of the linear curve, per error quantity) go into a Markdown summary, and every source
 gets a PNG of its seven error quantities (the report's dVx, dVy, dL, dN, Qx, Qy, Qz).
@@ -24,7 +30,9 @@ import numpy as np
 
 from ins_errors.errors import DomainError
 from ins_errors.models.earth import EARTH_RATE
+from ins_errors.numeric.accuracy import ORDERS
 from ins_errors.numeric.closed_forms import closed_forms
+from ins_errors.numeric.compare import Comparison, add_integration_errors, comparisons_of
 from ins_errors.numeric.integrators import step_count
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.numeric.simulate import simulate
@@ -33,6 +41,8 @@ from ins_errors.output import OutputFolder
 from ins_errors.units import STANDARD_GRAVITY, registry
 
 MODEL = "north_pointing"
+
+_SCHEMES = {"rk4": "RK4", "euler": "rectangle-method"}
 
 QUANTITIES: tuple[tuple[str, str, str, str], ...] = (
     # (error state, report name, display unit, label)
@@ -60,7 +70,9 @@ class Experiment:
     duration : float
         24 h.
     step, record_interval : float
-        RK4 step and sampling of the numeric runs, s.
+        Integration step and sampling of the numeric runs, s.
+    method : {"rk4", "euler"}
+        Integration scheme (``"euler"``: the manual's rectangle method).
     """
 
     latitude: float = float(np.radians(39.0))
@@ -73,6 +85,7 @@ class Experiment:
     duration: float = 24 * 3600.0
     step: float = 10.0
     record_interval: float = 300.0
+    method: str = "rk4"
 
     def sources(self) -> dict[str, float]:
         """Source name -> magnitude (SI), one run per source, in the report's order."""
@@ -104,6 +117,10 @@ class Experiment:
         for name in ("duration", "step", "record_interval"):
             if getattr(self, name) <= 0:
                 raise DomainError(f"experiment: {name} must be positive")
+        if self.method not in ORDERS:
+            from ins_errors.errors import unknown_name
+
+            raise unknown_name("integration method", self.method, list(ORDERS))
 
 
 @dataclass
@@ -117,6 +134,11 @@ class SourceCurves:
         SI.
     analytic, reduced, linear, direct : numpy.ndarray, shape (7, T)
         Quantities in the order of :data:`QUANTITIES`, SI.
+    integration_error : numpy.ndarray, shape (7,), optional
+        Estimated integration error (step doubling) of each quantity, SI: the larger of
+        the direct and the linear run's estimates; None when not estimated.
+    warnings : list of str
+        One line each, e.g. an integration error too large, with a step that would do.
     """
 
     source: str
@@ -125,6 +147,19 @@ class SourceCurves:
     reduced: np.ndarray
     linear: np.ndarray
     direct: np.ndarray
+    integration_error: np.ndarray | None = None
+    warnings: list[str] = field(default_factory=list)
+
+    def integration_share(self) -> float:
+        """Worst over quantities of integration error / max |linear numeric|: on the same
+        scale as :meth:`agreement`, to be read beside ``agreement("direct", "linear")``
+        (NaN when not estimated or nothing is excited)."""
+        if self.integration_error is None:
+            return float("nan")
+        scale = np.max(np.abs(self.linear), axis=1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            share = np.where(scale > 0, self.integration_error / scale, np.nan)
+        return float(np.nanmax(share)) if np.any(np.isfinite(share)) else float("nan")
 
     def agreement(self, a: str, b: str) -> np.ndarray:
         """max|a − b| / max|b| per quantity (NaN where b is identically zero)."""
@@ -161,7 +196,7 @@ class PropagationResult:
         lines = [
             "# Error propagation of the north-pointing INS (source 001 experiment)", "",
             f"Static base at latitude {np.degrees(e.latitude):.4g}°, "
-            f"{e.duration / 3600:.4g} h; RK4 step {e.step:g} s, sampled every "
+            f"{e.duration / 3600:.4g} h; {_SCHEMES[e.method]} step {e.step:g} s, sampled every "
             f"{e.record_interval:g} s. Sources one at a time: gyro drift "
             f"{ureg.Quantity(e.gyro_drift, 'rad/s').to('deg/h').magnitude:.4g} °/h, "
             f"accelerometer bias {e.accel_bias / STANDARD_GRAVITY:.4g} g, velocity error "
@@ -169,18 +204,26 @@ class PropagationResult:
             f"level error {np.degrees(e.level_error) * 3600:.4g}″, azimuth error "
             f"{np.degrees(e.azimuth_error) * 60:.4g}′.", "",
             "Agreement = max over the run of |difference| / max |linear numeric|, the worst "
-            "error quantity of each source (quantities that stay exactly zero skipped).", "",
+            "error quantity of each source (quantities that stay exactly zero skipped). "
+            "Integration error = the larger estimated integration error (step doubling) "
+            "of the direct and linear runs on the same scale, worst quantity: to be read "
+            "beside 'direct vs linear'.", "",
             "| source | analytic (full) vs linear numeric | direct vs linear numeric | "
-            "reduced vs full analytic | worst quantity (direct) |",
-            "|---|---|---|---|---|",
+            "integration error | reduced vs full analytic | worst quantity (direct) |",
+            "|---|---|---|---|---|---|",
         ]
         for c in self.curves:
             a = c.agreement("analytic", "linear")
             d = c.agreement("direct", "linear")
             r = c.agreement("reduced", "analytic")
             worst = QUANTITIES[int(np.nanargmax(d))][1] if np.any(np.isfinite(d)) else "–"
+            share = c.integration_share()
+            shown = f"{share:.2e}" if np.isfinite(share) else "–"
             lines.append(f"| `{c.source}` | {np.nanmax(a):.2e} | {np.nanmax(d):.2e} | "
-                         f"{np.nanmax(r):.2e} | {worst} |")
+                         f"{shown} | {np.nanmax(r):.2e} | {worst} |")
+        warned = [(c.source, w) for c in self.curves for w in c.warnings]
+        if warned:
+            lines += ["", "Warnings:", ""] + [f"- `{name}`: {w}" for name, w in warned]
         lines += ["", "Periods from the closed forms (min):", "",
                   "| variant | mode | period, min |", "|---|---|---|"]
         for variant, periods in self.periods.items():
@@ -240,8 +283,11 @@ def run(experiment: Experiment | None = None, progress: bool = False) -> Propaga
     trajectory = _static_trajectory(model, e, p)
     sources = e.sources()
     cases = [{name: value} for name, value in sources.items()]
-    sim = simulate(model, trajectory, cases, method="rk4", record_interval=e.record_interval,
-                   parts=("real", "linear"), jit=False, progress=progress)
+    sim = simulate(model, trajectory, cases, method=e.method,
+                   record_interval=e.record_interval, parts=("real", "linear"), jit=False,
+                   progress=progress)
+    comparisons = comparisons_of(sim, labels=list(sources))
+    add_integration_errors(comparisons, sim, jit=False)
     times = sim.times
     direct, linear = sim.direct_errors(), sim.linear_errors()
     cf = closed_forms(model, e.latitude, p)
@@ -258,9 +304,19 @@ def run(experiment: Experiment | None = None, progress: bool = False) -> Propaga
             reduced=unit["reduced"][rows, j] * magnitude,
             linear=np.stack([linear[q[0]][:, b] for q in QUANTITIES]),
             direct=np.stack([direct[q[0]][:, b] for q in QUANTITIES]),
+            integration_error=_integration_errors(comparisons[b]),
+            warnings=list(comparisons[b].warnings),
         ))
     result.periods = {"full": cf.periods("full"), "report_reduced": cf.periods("report_reduced")}
     return result
+
+
+def _integration_errors(comparison: Comparison) -> np.ndarray | None:
+    """Per quantity of :data:`QUANTITIES`: the larger integration-error estimate, SI."""
+    errors = [comparison.metric(q[0]).integration_error for q in QUANTITIES]
+    if any(e is None for e in errors):
+        return None
+    return np.array(errors, dtype=float)
 
 
 def plot(result: PropagationResult, folder: OutputFolder,
