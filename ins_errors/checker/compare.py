@@ -605,6 +605,10 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     if not hand.equations and not hand.real_work and not hand.problems:
         raise InsErrorsError(f"{hand.name}: no equations to check (an empty hand file "
                              "cannot be said to agree with anything)")
+    if hand.convention is not None:
+        raise InsErrorsError(f"{hand.name}: a file with '@convention {hand.convention}' is "
+                             "checked by ins_errors.checker.convention_equations "
+                             "(`ins-errors check MODEL FILE` does this)")
     if hand.real_work:  # the real-work updates' variations are error-state lines too
         from dataclasses import replace
 

@@ -34,6 +34,9 @@ with ``@`` are directives, in both formats:
     ``X_{k+1} = X_k + tau*(...)`` (text: ``X_k1``, ``X_k``). They are kept apart in
     :attr:`HandFile.real_work` and compared by :mod:`ins_errors.checker.realwork`; the
     next ``@section`` ends the real-work section.
+``@convention NAME``
+    the equations are written in a convention's states (``strapdown_ned``: ``phi``,
+    ``psi``, ...): checked by :mod:`ins_errors.checker.convention_equations`.
 
 Comments start with ``#`` (text) or ``%`` (LaTeX). Symbol spellings are documented in
 ``docs/hand_check.md``. The parser only reads and spells; what each symbol means in the
@@ -175,6 +178,7 @@ class HandFile:
     magnitudes: dict[str, str] = field(default_factory=dict)
     scope: str | None = None
     real_work: list[HandEquation] = field(default_factory=list)
+    convention: str | None = None
 
 
 class _LineError(Exception):
@@ -893,10 +897,17 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
                                          f"class {scope!r} (known: {', '.join(_SCOPES)})")
                     hand.scope = scope
                     continue
+                if keyword == "@convention":
+                    name = stripped[len(keyword):].strip()
+                    if not name.isidentifier():
+                        raise _LineError(body.index("@") + 1, "@convention needs a "
+                                         "convention name (e.g. '@convention phi')")
+                    hand.convention = name
+                    continue
                 if keyword != "@alt":
                     raise _LineError(body.index("@") + 1, f"unknown directive {keyword!r} "
                                      "(known: @section, @realwork, @alt, @alias, @source, "
-                                     "@name, @neglect, @magnitude, @scope)")
+                                     "@name, @neglect, @magnitude, @scope, @convention)")
                 alternative = True
                 cut = body.index("@alt") + 4
                 body = " " * cut + body[cut:]

@@ -99,6 +99,8 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.progress import stage
 
     definition = definition_of(resolve(args.model))  # a name, a model file or an entry point
+    if _declares_convention(args.file):
+        return _run_convention(args, definition.name, magnitudes)
     with stage(f"checking {args.file.name} against {definition.name}"):
         report = check_hand_file(args.file, model=definition, threshold=args.threshold,
                                  latex=True if args.latex else None,
@@ -112,3 +114,40 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(to_terminal(report))
     return report.exit_status
+
+
+def _declares_convention(path: Path) -> bool:
+    """Whether the hand file has an ``@convention NAME`` line (read errors: no)."""
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return False
+    return any(line.strip().split(maxsplit=1)[:1] == ["@convention"]
+               for line in text.splitlines())
+
+
+def _run_convention(args: argparse.Namespace, model_name: str,
+                    magnitudes: dict[str, str]) -> int:
+    """Check a hand file written in a convention's states (``@convention NAME``)."""
+    from ins_errors.checker.convention_equations import check_convention_file, to_terminal
+    from ins_errors.checker.matrix_report import to_json, to_markdown
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.output import write_text
+    from ins_errors.progress import stage
+
+    if args.mapping is not None:
+        raise InsErrorsError("--mapping does not apply to a file with @convention")
+    with stage(f"checking {args.file.name} against {model_name} in its convention"):
+        check = check_convention_file(args.file, model_name, threshold=args.threshold,
+                                      magnitudes=magnitudes,
+                                      latex=True if args.latex else None)
+    if args.report is not None:
+        write_text(args.report, to_markdown(check.report, f"`ins-errors check` from "
+                                                          f"`{args.file.name}`"))
+    if args.json:
+        out = to_json(check.report)
+        out["lines"] = {row: line for row, (line, _) in check.lines.items()}
+        print(json.dumps(out, indent=2))
+    else:
+        print(to_terminal(check))
+    return check.exit_status

@@ -1,0 +1,259 @@
+r"""Hand-written error equations in a researcher's convention (``@convention NAME``).
+
+A hand file of ``strapdown_ned`` (or any model with conventions, see
+:mod:`~ins_errors.checker.conventions`) may declare ``@convention phi`` (or ``psi``,
+``phi_modified``, ... ``--list-conventions``). Its left-hand sides are then the time
+derivatives of that convention's states (``dot(phi_N)``), and its right-hand sides are
+linear in those states and the model's error sources, with coefficients written in named
+quantities of the reference motion (:data:`QUANTITIES`: ``omega_ie_N``, ``f_E``, ``C12``,
+...). Vector forms are written per component: ``φ̇ = −ω_in × φ + δω_in − C_b^n δω_ib``
+becomes three lines.
+
+Each equation's coefficients are evaluated along the matrix checker's motions and placed
+in that row of F and G; rows the file does not give are taken from the derived model. The
+comparison is then exactly :func:`~ins_errors.checker.matrix.check_matrices` against the
+derived model carried into the convention (``F_c = (T F + Ṫ) T⁺``, ``G_c = T G``), and each
+finding is traced back to the line of its row.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import sympy as sp
+
+from ins_errors.errors import InsErrorsError
+
+QUANTITIES: dict[str, str] = {
+    "lat": "geodetic latitude φ, rad",
+    "h": "height above the ellipsoid, m",
+    "v_N": "north velocity, m/s", "v_E": "east velocity, m/s", "v_D": "down velocity, m/s",
+    "R_N": "meridian radius of curvature (h not included), m",
+    "R_E": "prime-vertical radius of curvature (h not included), m",
+    "a": "semi-major axis, m", "e2": "first eccentricity squared",
+    "U": "Earth rotation rate, rad/s", "g": "magnitude of gravity, m/s²",
+    **{f"omega_ie_{k}": f"Earth rate in NED, {k} component (U cos φ, 0, −U sin φ), rad/s"
+       for k in "NED"},
+    **{f"omega_en_{k}": f"transport rate in NED, {k} component, rad/s" for k in "NED"},
+    **{f"omega_in_{k}": f"ω_ie + ω_en, {k} component, rad/s" for k in "NED"},
+    **{f"f_{k}": f"specific force in NED (f^n = C_b^n f^b), {k} component, m/s²"
+       for k in "NED"},
+    **{f"f_{k}": f"specific force in the body frame (accelerometer output), {k}, m/s²"
+       for k in "xyz"},
+    **{f"omega_ib_{k}": f"body rate (gyro output), {k}, rad/s" for k in "xyz"},
+    **{f"C{i + 1}{j + 1}": f"C_b^n (body → NED) row {i + 1}, column {j + 1}"
+       for i in range(3) for j in range(3)},
+}
+"""Named quantities of the reference motion a right-hand side may use, with meanings."""
+
+
+def quantity_values(nav: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Values of :data:`QUANTITIES` along a motion's navigation arrays (trailing axis K)."""
+    k = np.asarray(nav["latitude"]).shape[-1]
+
+    def full(value) -> np.ndarray:
+        return np.broadcast_to(np.asarray(value, dtype=float), (k,)).copy()
+
+    out = {"lat": full(nav["latitude"]), "h": full(nav["height"]),
+           "R_N": full(nav["R_N"]), "R_E": full(nav["R_E"]), "a": full(nav["a"]),
+           "e2": full(nav["e2"]), "U": full(nav["earth_rate"]), "g": full(nav["gravity"])}
+    f_n = np.einsum("ijk,jk->ik", nav["C_bn"], nav["f_b"])
+    for n, axis in enumerate("NED"):
+        out[f"v_{axis}"] = full(nav["v_ned"][n])
+        out[f"omega_ie_{axis}"] = full(nav["omega_ie_n"][n])
+        out[f"omega_en_{axis}"] = full(nav["omega_en_n"][n])
+        out[f"omega_in_{axis}"] = out[f"omega_ie_{axis}"] + out[f"omega_en_{axis}"]
+        out[f"f_{axis}"] = full(f_n[n])
+    for n, axis in enumerate("xyz"):
+        out[f"f_{axis}"] = full(nav["f_b"][n])
+        out[f"omega_ib_{axis}"] = full(nav["omega_ib_b"][n])
+    for i in range(3):
+        for j in range(3):
+            out[f"C{i + 1}{j + 1}"] = full(nav["C_bn"][i, j])
+    return out
+
+
+@dataclass
+class ConventionCheck:
+    """Result of checking a ``@convention`` hand file.
+
+    Attributes
+    ----------
+    report : MatrixReport
+        The entry-by-entry comparison (:mod:`~ins_errors.checker.matrix`).
+    lines : dict
+        Row (state name) -> (line number, equation text) of the hand file.
+    from_model : list of str
+        Rows the file does not give (taken from the derived model, not compared).
+    """
+
+    report: object
+    lines: dict[str, tuple[int, str]] = field(default_factory=dict)
+    from_model: list[str] = field(default_factory=list)
+
+    @property
+    def exit_status(self) -> int:
+        """0 no mistake, 1 at least one mistake."""
+        return self.report.exit_status
+
+    def line_of(self, finding) -> int:
+        """Line number of a finding's row."""
+        return self.lines[finding.row][0]
+
+
+def _rows(hand, states: list[str], sources: list[str]):
+    """{row: (line, text, expression)} of the hand file's equations; one-line errors."""
+    from ins_errors.checker.parse import DOT
+
+    if hand.problems:
+        first = hand.problems[0]
+        raise InsErrorsError(f"{hand.name}: {first}")
+    known = set(states) | set(sources) | set(QUANTITIES)
+    rows: dict[str, tuple[int, str, sp.Expr]] = {}
+    for eq in hand.equations:
+        lhs = eq.lhs
+        if not (isinstance(lhs, sp.Function) and lhs.func == DOT
+                and isinstance(lhs.args[0], sp.Symbol) and lhs.args[0].name in states):
+            raise InsErrorsError(f"{hand.name}, line {eq.line}: left-hand side {str(lhs)!r} "
+                                 f"must be dot(STATE) of a state of the convention "
+                                 f"({', '.join(states)})")
+        row = lhs.args[0].name
+        if row in rows:
+            raise InsErrorsError(f"{hand.name}, line {eq.line}: second equation for "
+                                 f"dot({row}) (first on line {rows[row][0]})")
+        if len(eq.forms) != 1:
+            raise InsErrorsError(f"{hand.name}, line {eq.line}: one right-hand side per "
+                                 "equation under @convention")
+        rhs = eq.forms[0]
+        for s in sorted(rhs.free_symbols, key=str):
+            if s.name not in known:
+                raise InsErrorsError(
+                    f"{hand.name}, line {eq.line}: unknown name {s.name!r} (states: "
+                    f"{', '.join(states)}; error sources of the model; named quantities: "
+                    "docs/hand_check.md)")
+        rows[row] = (eq.line, eq.text, rhs)
+    if not rows:
+        raise InsErrorsError(f"{hand.name}: no equation under @convention")
+    return rows
+
+
+def _coefficients(row: str, line: int, name: str, rhs: sp.Expr, variables: list[str]
+                  ) -> list[sp.Expr]:
+    """Coefficient of each variable in ``rhs``; error if not linear in them."""
+    symbols = [sp.Symbol(v) for v in variables]
+    out = [sp.diff(rhs, s) for s in symbols]
+    for s, c in zip(symbols, out, strict=True):
+        if c.free_symbols & set(symbols):
+            raise InsErrorsError(f"{name}, line {line}: dot({row}) is not linear in the error "
+                                 f"quantities (coefficient of {s} is {c})")
+    rest = sp.simplify(rhs.subs({s: 0 for s in symbols}))
+    if rest != 0:
+        raise InsErrorsError(f"{name}, line {line}: dot({row}) has a term without an error "
+                             f"quantity: {rest}")
+    return out
+
+
+def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
+                          threshold: float | None = None,
+                          magnitudes: dict[str, str] | None = None,
+                          latex: bool | None = None, hours: float | None = None,
+                          step: float | None = None, effects: bool = True
+                          ) -> ConventionCheck:
+    """Check a hand file with ``@convention NAME`` against the derived model.
+
+    Parameters
+    ----------
+    path : str or Path
+        Hand file (SymPy text; LaTeX by suffix or ``latex``).
+    model_name : str
+        Model with conventions (``strapdown_ned``).
+    threshold : float, optional
+        Relative size separating dropped small terms from mistakes (default 1e-3).
+    magnitudes : dict, optional
+        Typical sizes by SI unit (added to the file's ``@magnitude`` lines, overriding them).
+    hours, step : float, optional
+        Length (h) and sample step (s) of the motions (default: the matrix checker's).
+    effects : bool
+        Also propagate both linear models (1 h and 24 h).
+
+    Raises
+    ------
+    InsErrorsError
+        Unreadable file, unknown names, non-linear equations, no ``@convention``.
+    """
+    from ins_errors.checker import matrix as mx
+    from ins_errors.checker.conventions import convention
+    from ins_errors.checker.matrix_input import HandMatrices
+    from ins_errors.checker.notation import Notation
+    from ins_errors.checker.parse import read_hand_file
+    from ins_errors.numeric.model import load_model
+
+    hand = read_hand_file(path, Notation(), latex=latex)
+    if hand.convention is None:
+        raise InsErrorsError(f"{hand.name}: no '@convention NAME' line")
+    model = load_model(model_name)
+    conv = convention(model, hand.convention)
+    states = conv.names
+    src_names = [s.name for s in model.sources]
+    rows = _rows(hand, states, src_names)
+    used = [s for s in src_names if any(sp.Symbol(s) in r[2].free_symbols
+                                        for r in rows.values())]
+    variables = states + used
+    quantity_symbols = [sp.Symbol(q) for q in QUANTITIES]
+    functions = {}
+    for row, (line, _, rhs) in rows.items():
+        coefficients = _coefficients(row, line, hand.name, rhs, variables)
+        functions[row] = sp.lambdify(quantity_symbols, coefficients, modules="numpy")
+    motion_list = mx.motions(model, mx.HOURS if hours is None else hours,
+                             mx.STEP if step is None else step)
+    if hand.scope is not None:
+        label = {"static base": "static", "cruise": "cruise", "climb": "manoeuvre"}[hand.scope]
+        motion_list = [m for m in motion_list if m.label == label]
+    F, G = {}, {}
+    src_cols = [src_names.index(s) for s in used]
+    for motion in motion_list:
+        Fz, Gz = mx.derived_in_convention(model, conv, motion)
+        Fh, Gh = Fz.copy(), Gz[:, :, src_cols].copy()
+        values = quantity_values(motion.navigation)
+        args = [values[q] for q in QUANTITIES]
+        k = Fz.shape[0]
+        for row, fn in functions.items():
+            i = states.index(row)
+            coefficients = [np.broadcast_to(np.asarray(c, dtype=float), (k,))
+                            for c in fn(*args)]
+            Fh[:, i, :] = np.stack(coefficients[:len(states)], axis=-1)
+            if used:
+                Gh[:, i, :] = np.stack(coefficients[len(states):], axis=-1)
+        F[motion.label], G[motion.label] = Fh, (Gh if used else {})
+    if not used:
+        G = {}
+    sampled = HandMatrices(Path(path).name, list(states), used, F, G)
+    overrides = {**hand.magnitudes, **(magnitudes or {})}
+    report = mx.check_matrices(model_name, sampled, conv.name,
+                               threshold=1e-3 if threshold is None else threshold,
+                               effects=effects, motion_list=motion_list,
+                               magnitudes=overrides)
+    # rows taken from the derived model agree by construction: count the file's rows only
+    report.findings = [f for f in report.findings if f.row in rows]
+    report.compared = len(rows) * (len(states) + len(used))
+    return ConventionCheck(report, {r: (v[0], v[1]) for r, v in rows.items()},
+                           [s for s in states if s not in rows])
+
+
+def to_terminal(check: ConventionCheck) -> str:
+    """The matrix report, then every finding with the hand file's line."""
+    from ins_errors.checker.matrix_report import to_terminal as matrix_terminal
+
+    out = [matrix_terminal(check.report), "", "Findings by line of the hand file:"]
+    if not check.report.findings:
+        out.append("  (none: every term agrees)")
+    for f in check.report.findings:
+        line, text = check.lines[f.row]
+        out.append(f"  line {line}: {f.severity}: {f.kind} {f.entry} (size {f.size:.2g}"
+                   f"{', ' + f.detail if f.detail else ''})  [{text}]")
+    if check.from_model:
+        out.append(f"Rows not in the file (taken from the derived model, not compared): "
+                   f"{', '.join(check.from_model)}")
+    return "\n".join(out)

@@ -1,0 +1,102 @@
+"""Hand equations of strapdown_ned in a researcher's convention (``@convention``).
+
+The reference is the textbook φ-angle attitude equation (Titterton and Weston, ch. 12)
+written per component, compared with the derived model carried into the φ convention.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from ins_errors.checker.convention_equations import check_convention_file
+from ins_errors.cli import main
+from ins_errors.errors import InsErrorsError
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples" / "strapdown"
+FAST = {"hours": 2.0, "step": 600.0, "effects": False}
+
+
+def _line_of(path: Path, start: str) -> int:
+    lines = path.read_text().splitlines()
+    return next(n for n, text in enumerate(lines, start=1) if text.startswith(start))
+
+
+def test_textbook_phi_attitude_equations_agree_on_every_motion():
+    check = check_convention_file(EXAMPLES / "phi_attitude.txt", **FAST)
+    assert check.report.findings == []
+    assert check.exit_status == 0
+    # three rows of nine states and three gyro biases, all compared
+    assert check.report.compared == 3 * 12
+    assert sorted(check.lines) == ["phi_D", "phi_E", "phi_N"]
+    assert [label for label, _ in check.report.motions] == ["static", "cruise", "manoeuvre"]
+
+
+def test_radii_held_fixed_are_dropped_small_terms_only(tmp_path):
+    """The common simplification (R_N, R_E constant in δω_en) drops terms, no sign slip."""
+    text = (EXAMPLES / "phi_attitude.txt").read_text()
+    lines = [line for line in text.splitlines() if not line.startswith("dot(")]
+    lines += [
+        "dot(phi_N) = omega_in_D*phi_E - omega_in_E*phi_D - U*sin(lat)*dr_N/(R_N + h)"
+        " + dv_E/(R_E + h) + v_E*dr_D/(R_E + h)**2"
+        " - (C11*gyro_bias_x + C12*gyro_bias_y + C13*gyro_bias_z)",
+        "@scope static base",
+    ]
+    path = tmp_path / "fixed_radii.txt"
+    path.write_text("\n".join(lines) + "\n")
+    check = check_convention_file(path, **FAST)
+    assert check.report.findings == []  # on the static base v = 0: the radii terms vanish
+    path.write_text("\n".join(lines[:-1]) + "\n")
+    moving = check_convention_file(path, **FAST)
+    assert moving.report.findings
+    for f in moving.report.findings:
+        assert (f.row, f.column) == ("phi_N", "dr_N")
+        assert f.size < 1e-3
+
+
+def test_wrong_sign_is_reported_on_its_line():
+    path = EXAMPLES / "phi_attitude_sign_error.txt"
+    check = check_convention_file(path, **FAST)
+    assert len(check.report.findings) == 1
+    f = check.report.findings[0]
+    assert (f.matrix, f.row, f.column, f.kind, f.severity) == (
+        "F", "phi_E", "phi_N", "wrong sign", "mistake")
+    # hand +ω_in,D where −ω_in,D belongs (U sin φ on the static base)
+    assert check.line_of(f) == _line_of(path, "dot(phi_E)")
+    assert check.exit_status == 1
+
+
+def test_static_base_entry_is_the_earth_rate(tmp_path):
+    """F[phi_E, phi_N] of the derived model is −ω_in,D = U sin φ at rest (φ 50°): the
+    east row of −ω_in × φ is ω_in,N φ_D − ω_in,D φ_N."""
+    import numpy as np
+
+    path = tmp_path / "one.txt"
+    path.write_text("@convention phi\n@scope static base\ndot(phi_E) = 0*phi_N\n")
+    check = check_convention_file(path, **FAST)
+    f = next(f for f in check.report.findings if f.column == "phi_N")
+    assert f.model == pytest.approx(7.292115e-5 * np.sin(np.radians(50.0)), rel=1e-6)
+
+
+@pytest.mark.parametrize("body, message", [
+    ("dot(phi_N) = omega_xx*phi_E", "unknown name 'omega_xx'"),
+    ("dot(phi_N) = phi_E**2", "not linear"),
+    ("dot(phi_N) = U", "without an error quantity"),
+    ("phi_N = phi_E", "left-hand side"),
+    ("dot(phi_N) = phi_E\ndot(phi_N) = phi_D", "second equation"),
+])
+def test_bad_equations_give_one_line_errors(tmp_path, body, message):
+    path = tmp_path / "bad.txt"
+    path.write_text(f"@convention phi\n{body}\n")
+    with pytest.raises(InsErrorsError, match=message):
+        check_convention_file(path, **FAST)
+
+
+def test_cli_unknown_convention_exits_2(tmp_path, capsys):
+    path = tmp_path / "bad.txt"
+    path.write_text("@convention phy\ndot(phi_N) = phi_E\n")
+    assert main(["check", "strapdown_ned", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "phy" in err and "Traceback" not in err
