@@ -100,3 +100,42 @@ def test_cli_unknown_convention_exits_2(tmp_path, capsys):
     assert main(["check", "strapdown_ned", str(path)]) == 2
     err = capsys.readouterr().err
     assert "phy" in err and "Traceback" not in err
+
+
+def test_vector_line_agrees_and_expands_to_three_rows():
+    path = EXAMPLES / "phi_attitude_vector.txt"
+    check = check_convention_file(path, **FAST)
+    assert check.report.findings == []
+    line = _line_of(path, "dot(phi)")
+    assert {row: check.lines[row][0] for row in ("phi_N", "phi_E", "phi_D")} == {
+        "phi_N": line, "phi_E": line, "phi_D": line}
+
+
+def test_skew_form_equals_cross_and_a_wrong_cross_sign_is_found(tmp_path):
+    text = (EXAMPLES / "phi_attitude_vector.txt").read_text()
+    skew = tmp_path / "skew.txt"
+    skew.write_text(text.replace("-cross(omega_in, phi)", "-skew(omega_in)*phi"))
+    assert check_convention_file(skew, **FAST).report.findings == []
+    wrong = tmp_path / "wrong.txt"
+    wrong.write_text(text.replace("-cross(omega_in, phi)", "+cross(omega_in, phi)"))
+    check = check_convention_file(wrong, **FAST)
+    # −ω_in × φ has six off-diagonal entries, ω_in,E vanishes on the static base only
+    entries = {(f.row, f.column) for f in check.report.findings}
+    assert entries == {(r, c) for r in ("phi_N", "phi_E", "phi_D")
+                       for c in ("phi_N", "phi_E", "phi_D") if r != c}
+    assert all(f.kind == "wrong sign" and f.severity == "mistake"
+               for f in check.report.findings)
+    assert {check.line_of(f) for f in check.report.findings} == {_line_of(wrong, "dot(phi)")}
+
+
+@pytest.mark.parametrize("body, message", [
+    ("dot(phi) = phi_N", "3-vector"),
+    ("dot(phi) = cross(omega_xx, phi)", "unknown name 'omega_xx'"),
+    ("dot(phi) = cross(omega_in, phi) + C_bn", "cannot evaluate"),
+    ("dot(phi) = phi.T", "attribute"),
+])
+def test_bad_vector_lines_give_one_line_errors(tmp_path, body, message):
+    path = tmp_path / "bad.txt"
+    path.write_text(f"@convention phi\n{body}\n")
+    with pytest.raises(InsErrorsError, match=message):
+        check_convention_file(path, **FAST)

@@ -6,8 +6,9 @@ A hand file of ``strapdown_ned`` (or any model with conventions, see
 derivatives of that convention's states (``dot(phi_N)``), and its right-hand sides are
 linear in those states and the model's error sources, with coefficients written in named
 quantities of the reference motion (:data:`QUANTITIES`: ``omega_ie_N``, ``f_E``, ``C12``,
-...). Vector forms are written per component: ``φ̇ = −ω_in × φ + δω_in − C_b^n δω_ib``
-becomes three lines.
+...). ``φ̇ = −ω_in × φ + δω_in − C_b^n δω_ib`` is written as three component lines or as
+one vector line ``dot(phi) = -cross(omega_in, phi) + vec(...) - C_bn*gyro_bias``
+(:func:`split_vector_lines`).
 
 Each equation's coefficients are evaluated along the matrix checker's motions and placed
 in that row of F and G; rows the file does not give are taken from the derived model. The
@@ -18,6 +19,8 @@ finding is traced back to the line of its row.
 
 from __future__ import annotations
 
+import ast
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -103,7 +106,106 @@ class ConventionCheck:
         return self.lines[finding.row][0]
 
 
-def _rows(hand, states: list[str], sources: list[str]):
+VECTORS: dict[str, tuple[str, ...]] = {
+    **{f"omega_{k}": tuple(f"omega_{k}_{a}" for a in "NED") for k in ("ie", "en", "in")},
+    "f_n": ("f_N", "f_E", "f_D"), "v_n": ("v_N", "v_E", "v_D"),
+    "f_b": ("f_x", "f_y", "f_z"), "omega_ib": ("omega_ib_x", "omega_ib_y", "omega_ib_z"),
+}
+"""Vector names of a vector line (NED or body components of :data:`QUANTITIES`); also
+``C_bn`` (the 3 × 3 matrix ``C11`` … ``C33``), every triple of convention states by its
+prefix (``phi``, ``dv``, ``dr``) and of error sources (``gyro_bias``, ``accel_bias``)."""
+
+_VECTOR_LINE = re.compile(r"^\s*dot\(\s*([A-Za-z_][A-Za-z0-9_]*)\s*\)\s*=(.*)$")
+
+
+def _triples(names: list[str], suffixes: tuple[str, str, str]) -> dict[str, tuple[str, ...]]:
+    """Prefix -> three names ``PREFIX_a`` for every complete triple of suffixes."""
+    out = {}
+    for n in names:
+        prefix, _, axis = n.rpartition("_")
+        if prefix and axis == suffixes[0] and all(f"{prefix}_{a}" in names
+                                                  for a in suffixes):
+            out[prefix] = tuple(f"{prefix}_{a}" for a in suffixes)
+    return out
+
+
+def _vector_namespace(states: list[str], sources: list[str]) -> dict[str, object]:
+    """Names a vector line may use: vectors (3 × 1), ``C_bn``, scalars, functions."""
+    space: dict[str, object] = {q: sp.Symbol(q) for q in QUANTITIES}
+    space.update({n: sp.Symbol(n) for n in (*states, *sources)})
+    vectors = {**VECTORS, **_triples(states, ("N", "E", "D")),
+               **_triples(sources, ("x", "y", "z"))}
+    space.update({k: sp.Matrix([sp.Symbol(c) for c in v]) for k, v in vectors.items()})
+    space["C_bn"] = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"C{i + 1}{j + 1}"))
+    space.update({"cross": lambda a, b: sp.Matrix(a).cross(sp.Matrix(b)),
+                  "skew": lambda a: sp.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]],
+                                               [-a[1], a[0], 0]]),
+                  "vec": lambda *c: sp.Matrix(c), "sin": sp.sin, "cos": sp.cos,
+                  "tan": sp.tan, "sqrt": sp.sqrt, "pi": sp.pi})
+    return space
+
+
+class _DropUnaryPlus(ast.NodeTransformer):
+    """``+a`` -> ``a`` (SymPy matrices have no unary plus)."""
+
+    def visit_UnaryOp(self, node: ast.UnaryOp) -> ast.AST:
+        self.generic_visit(node)
+        return node.operand if isinstance(node.op, ast.UAdd) else node
+
+
+def split_vector_lines(text: str, states: list[str], sources: list[str], name: str
+                       ) -> tuple[str, dict[str, tuple[int, str, sp.Expr]]]:
+    """Take the vector lines ``dot(phi) = ...`` out of a hand file's text.
+
+    Returns the text with those lines blanked (line numbers kept) and their rows
+    {state: (line, text, expression)}; a vector line gives the three rows of its prefix.
+
+    Raises
+    ------
+    InsErrorsError
+        A right-hand side that cannot be read or is not a 3-vector.
+    """
+    prefixes = _triples(states, ("N", "E", "D"))
+    space = _vector_namespace(states, sources)
+    kept, rows = [], {}
+    for number, raw in enumerate(text.splitlines(), start=1):
+        body = raw.split("#", 1)[0]
+        match = _VECTOR_LINE.match(body)
+        if not match or match.group(1) not in prefixes:
+            kept.append(raw)
+            continue
+        kept.append("")
+        shown = " ".join(body.split())
+        try:
+            tree = ast.parse(match.group(2).strip(), mode="eval")
+        except SyntaxError as error:
+            raise InsErrorsError(f"{name}, line {number}: cannot parse the right-hand side: "
+                                 f"{error.msg}") from None
+        for node in ast.walk(tree):
+            if isinstance(node, ast.Attribute):
+                raise InsErrorsError(f"{name}, line {number}: attribute access is not allowed")
+            if isinstance(node, ast.Name) and node.id not in space:
+                raise InsErrorsError(f"{name}, line {number}: unknown name {node.id!r} "
+                                     "(vectors, states, sources and named quantities: "
+                                     "docs/hand_check.md)")
+        tree = ast.fix_missing_locations(_DropUnaryPlus().visit(tree))
+        try:
+            value = eval(compile(tree, name, "eval"), {"__builtins__": {}}, dict(space))
+        except Exception as error:  # shapes, wrong arguments: one line
+            raise InsErrorsError(f"{name}, line {number}: cannot evaluate the right-hand "
+                                 f"side: {' '.join(str(error).split())}") from None
+        if not isinstance(value, sp.MatrixBase) or value.shape != (3, 1):
+            raise InsErrorsError(f"{name}, line {number}: dot({match.group(1)}) needs a "
+                                 "3-vector on the right-hand side")
+        for row, expr in zip(prefixes[match.group(1)], value, strict=True):
+            if row in rows:
+                raise InsErrorsError(f"{name}, line {number}: second equation for dot({row})")
+            rows[row] = (number, shown, sp.expand(expr))
+    return "\n".join(kept) + "\n", rows
+
+
+def _rows(hand, states: list[str], sources: list[str],
+          vector_rows: dict[str, tuple[int, str, sp.Expr]]):
     """{row: (line, text, expression)} of the hand file's equations; one-line errors."""
     from ins_errors.checker.parse import DOT
 
@@ -111,7 +213,7 @@ def _rows(hand, states: list[str], sources: list[str]):
         first = hand.problems[0]
         raise InsErrorsError(f"{hand.name}: {first}")
     known = set(states) | set(sources) | set(QUANTITIES)
-    rows: dict[str, tuple[int, str, sp.Expr]] = {}
+    rows: dict[str, tuple[int, str, sp.Expr]] = dict(vector_rows)
     for eq in hand.equations:
         lhs = eq.lhs
         if not (isinstance(lhs, sp.Function) and lhs.func == DOT
@@ -136,6 +238,9 @@ def _rows(hand, states: list[str], sources: list[str]):
         rows[row] = (eq.line, eq.text, rhs)
     if not rows:
         raise InsErrorsError(f"{hand.name}: no equation under @convention")
+    for s in sorted(set().union(*(r[2].free_symbols for r in rows.values())), key=str):
+        if s.name not in known:
+            raise InsErrorsError(f"{hand.name}: unknown name {s.name!r}")
     return rows
 
 
@@ -187,7 +292,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     from ins_errors.checker.conventions import convention
     from ins_errors.checker.matrix_input import HandMatrices
     from ins_errors.checker.notation import Notation
-    from ins_errors.checker.parse import read_hand_file
+    from ins_errors.checker.parse import parse_hand_text, read_hand_file
     from ins_errors.numeric.model import load_model
 
     hand = read_hand_file(path, Notation(), latex=latex)
@@ -197,7 +302,12 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     conv = convention(model, hand.convention)
     states = conv.names
     src_names = [s.name for s in model.sources]
-    rows = _rows(hand, states, src_names)
+    vector_rows: dict[str, tuple[int, str, sp.Expr]] = {}
+    if hand.format == "text":
+        text, vector_rows = split_vector_lines(Path(path).read_text(encoding="utf-8"),
+                                               states, src_names, hand.name)
+        hand = parse_hand_text(text, Notation(), name=hand.name)
+    rows = _rows(hand, states, src_names, vector_rows)
     used = [s for s in src_names if any(sp.Symbol(s) in r[2].free_symbols
                                         for r in rows.values())]
     variables = states + used
