@@ -139,3 +139,35 @@ def test_cli_runs_a_short_study_with_plot(capsys, tmp_path):
     out = capsys.readouterr().out
     assert "delta_latitude" in out and "equivalent sources" in out
     assert (tmp_path / "gravity_projections_static.png").stat().st_size > 5000
+
+
+def test_coarse_study_estimates_its_true_integration_error_and_warns():
+    """RK4 at τ = 300 s over a 4-h great-circle flight: the step-doubling estimate of each
+    quantity (the machinery of ``compare``) is within a factor 2 of its true error against
+    an RK4 run at 60 s (error (60/300)^4 = 1/625 as large), and a warning names a step."""
+    kwargs = dict(duration=4 * 3600.0, record_interval=1200.0)
+    reference = meth.run("coriolis", "flight", tau=60.0, integration_error=False, **kwargs)
+    coarse = meth.run("coriolis", "flight", tau=300.0, **kwargs)
+    assert np.array_equal(coarse.times, reference.times)
+    for name in coarse.direct.names:
+        true = np.max(np.abs(coarse.direct[name][:, 0] - reference.direct[name][:, 0]))
+        assert 0.5 < coarse.integration_error(name) / true < 2.0, name
+    assert any("τ = 300 s is too coarse" in w and "would do" in w for w in coarse.warnings)
+    text = "\n".join(coarse.summary())
+    assert "integration error" in text and "warning: integration error of" in text
+
+
+def test_cli_study_json_reports_the_integration_error(capsys):
+    import json
+
+    from ins_errors.cli import main
+
+    argv = ["study", "gravity_projections", "--scenario", "static", "--hours", "1",
+            "--step", "60s", "--json"]
+    assert main(argv) == 0
+    (run,) = json.loads(capsys.readouterr().out)["runs"]
+    errors = run["integration_error_si"]
+    assert set(errors) == set(run["agreement"])
+    assert all(e is not None and e >= 0 for e in errors.values())
+    assert any("integration error" in line for line in run["lines"])
+    assert isinstance(run["warnings"], list)

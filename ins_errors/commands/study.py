@@ -103,7 +103,10 @@ def run(args: argparse.Namespace) -> int:
             path = methodological.plot(result, folder.file(f"{args.name}_{scenario}.png"))
             lines.append(f"  plot: {path}")
         report.append({"scenario": scenario, "lines": lines,
-                       "agreement": {q: result.agreement(q) for q in result.direct.names}})
+                       "agreement": {q: result.agreement(q) for q in result.direct.names},
+                       "integration_error_si": {q: result.integration_error(q)
+                                                for q in result.direct.names},
+                       "warnings": result.warnings})
         if not args.json:
             print("\n".join(lines))
     if folder is not None:

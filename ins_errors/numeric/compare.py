@@ -299,17 +299,47 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
         for c in comparisons:
             c.warnings.append(f"integration error not estimated: {why}")
         return
-    fine_i, coarse_i = accuracy.common_samples(sim.stride, stride, n_steps)
-    curves = [(sim.direct_errors(), csim.direct_errors(), "direct_integration_error"),
-              (sim.linear_errors(), csim.linear_errors(), "linear_integration_error")]
+    estimate_integration_errors(comparisons, (sim.direct_errors(), sim.linear_errors()),
+                                (csim.direct_errors(), csim.linear_errors()), sim.stride,
+                                stride, n_steps, trajectory.tau, method)
+
+
+def estimate_integration_errors(comparisons: Sequence[Comparison],
+                                fine: tuple[ErrorCurves, ErrorCurves],
+                                coarse: tuple[ErrorCurves, ErrorCurves], stride: int,
+                                coarse_stride: int, n_steps: int, tau: float,
+                                method: str) -> None:
+    """Fill the integration errors of ``comparisons`` from runs at τ and 2τ; warn.
+
+    The step-doubling estimate of :func:`add_integration_errors`, for callers that run
+    the doubled-step case themselves (studies with their own compiled loops).
+
+    Parameters
+    ----------
+    comparisons : sequence of Comparison
+        One per batch member of the curves.
+    fine, coarse : tuple of ErrorCurves
+        (direct, linear) error curves at step ``tau`` and at ``2 tau``, same quantities.
+    stride, coarse_stride : int
+        Recording strides (in their own steps) of the fine and of the coarse run.
+    n_steps : int
+        Steps of the fine run.
+    tau : float
+        Step of the fine run, s.
+    method : {"rk4", "euler"}
+        Scheme of both runs.
+    """
+    fine_i, coarse_i = accuracy.common_samples(stride, coarse_stride, n_steps)
+    curves = [(fine[0], coarse[0], "direct_integration_error"),
+              (fine[1], coarse[1], "linear_integration_error")]
     for b, comparison in enumerate(comparisons):
-        for fine, rough, attribute in curves:
+        for fine_curves, rough, attribute in curves:
             for k, metric in enumerate(comparison.metrics):
-                gap = _difference(fine.values[k, fine_i, b], rough.values[k, coarse_i, b],
-                                  metric.unit)
+                gap = _difference(fine_curves.values[k, fine_i, b],
+                                  rough.values[k, coarse_i, b], metric.unit)
                 error = float(np.max(np.abs(gap))) / (2 ** accuracy.ORDERS[method] - 1)
                 setattr(metric, attribute, error)
-        _integration_warning(comparison, sim.trajectory.tau, method)
+        _integration_warning(comparison, tau, method)
 
 
 def _integration_warning(comparison: Comparison, tau: float, method: str) -> None:

@@ -36,6 +36,8 @@ import casadi as ca
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.numeric import accuracy
+from ins_errors.numeric.compare import Comparison, estimate_integration_errors, metrics_of
 from ins_errors.numeric.integrators import CompiledLoop, input_stream
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.numeric.simulate import ErrorCurves, chunk_size, error_curves
@@ -230,6 +232,9 @@ class StudyResult:
     forcing : numpy.ndarray, shape (11, R + 1)
         Equivalent source along the motion (SI: 1/s for direction cosines, m/s² for
         velocities, rad/s for the platform).
+    comparison : Comparison or None
+        Direct vs linear metrics with the estimated integration error of each quantity
+        (step doubling, as ``compare``) and its warnings; None when not estimated.
     """
 
     study: Study
@@ -239,6 +244,16 @@ class StudyResult:
     linear: ErrorCurves
     forcing_names: tuple[str, ...]
     forcing: np.ndarray
+    comparison: Comparison | None = None
+
+    @property
+    def warnings(self) -> list[str]:
+        """One line each (e.g. an integration error too large, with a step that would do)."""
+        return [] if self.comparison is None else list(self.comparison.warnings)
+
+    def integration_error(self, name: str) -> float | None:
+        """Estimated integration error of one quantity (larger of direct and linear), SI."""
+        return None if self.comparison is None else self.comparison.metric(name).integration_error
 
     @property
     def times(self) -> np.ndarray:
@@ -278,8 +293,11 @@ class StudyResult:
             floor = MISMATCH_FLOOR["m/s" if name.startswith("delta_v") else "rad"]
             mismatch = (f"{100 * self.agreement(name):.3g} %" if largest > floor else
                         "– (error at rounding level)")
+            error = self.integration_error(name)
+            integration = "" if error is None else f"  integration error {error * scale:.2g}"
             lines.append(f"  {name:<16} direct {d:11.4g}  linear {lin:11.4g} {unit:<16}"
-                         f" mismatch {mismatch}")
+                         f" mismatch {mismatch}{integration}")
+        lines += [f"  warning: {w}" for w in self.warnings]
         return lines
 
 
@@ -305,7 +323,8 @@ def motion(scenario: str, latitude: float, duration: float, tau: float,
 
 def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
         duration: float = 24 * 3600.0, tau: float = 20.0, record_interval: float = 600.0,
-        speed: float = 250.0, track: float = np.radians(60.0)) -> StudyResult:
+        speed: float = 250.0, track: float = np.radians(60.0),
+        integration_error: bool = True) -> StudyResult:
     """Run one methodological study: direct and linear, RK4 with step ``tau``.
 
     Parameters
@@ -319,6 +338,9 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
         Start latitude, rad.
     duration, tau, record_interval : float
         Run length, integration step and recording interval, s.
+    integration_error : bool
+        Estimate the integration error by running again at twice the step (as
+        ``compare`` does) and warn when it is too large.
     """
     st = study(name)
     if not (np.isfinite(tau) and tau > 0 and np.isfinite(duration) and duration > 0):
@@ -354,8 +376,33 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     linear = error_curves(model, times, e[n:, :, None],
                           np.einsum("ijt,jt->it", H, e)[:, :, None])
     forcing = forcing_fn(x, u, p)
-    return StudyResult(st, scenario, traj.description, direct, linear, FORCING_ROWS,
-                       np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy())
+    result = StudyResult(st, scenario, traj.description, direct, linear, FORCING_ROWS,
+                         np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy())
+    if integration_error:
+        result.comparison = _integration_errors(result, traj.n_steps, stride, tau, latitude,
+                                                speed, track)
+    return result
+
+
+def _integration_errors(result: StudyResult, n_steps: int, stride: int, tau: float,
+                        latitude: float, speed: float, track: float) -> Comparison:
+    """The study's direct-vs-linear comparison with the step-doubling estimate of its
+    integration error (:func:`ins_errors.numeric.compare.estimate_integration_errors`)."""
+    comparison = Comparison(result.study.name, {},
+                            metrics_of(result.direct, result.linear, None, 0), result.times,
+                            {}, {}, {})
+    half = n_steps // 2
+    if half < 1:
+        comparison.warnings.append("integration error not estimated: the run has a single "
+                                   "step")
+        return comparison
+    coarse_stride = accuracy.coarse_stride(stride, n_steps)
+    coarse = run(result.study.name, result.scenario, latitude, 2 * half * tau, 2 * tau,
+                 coarse_stride * 2 * tau, speed, track, integration_error=False)
+    estimate_integration_errors([comparison], (result.direct, result.linear),
+                                (coarse.direct, coarse.linear), stride, coarse_stride,
+                                n_steps, tau, "rk4")
+    return comparison
 
 
 # --------------------------------------------------------------------------------------
