@@ -116,6 +116,9 @@ def test_skew_form_equals_cross_and_a_wrong_cross_sign_is_found(tmp_path):
     skew = tmp_path / "skew.txt"
     skew.write_text(text.replace("-cross(omega_in, phi)", "-skew(omega_in)*phi"))
     assert check_convention_file(skew, **FAST).report.findings == []
+    times = tmp_path / "times.txt"
+    times.write_text(text.replace("-cross(omega_in, phi)", "-omega_in × phi"), encoding="utf-8")
+    assert check_convention_file(times, **FAST).report.findings == []
     wrong = tmp_path / "wrong.txt"
     wrong.write_text(text.replace("-cross(omega_in, phi)", "+cross(omega_in, phi)"))
     check = check_convention_file(wrong, **FAST)

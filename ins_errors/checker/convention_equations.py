@@ -8,7 +8,7 @@ linear in those states and the model's error sources, with coefficients written 
 quantities of the reference motion (:data:`QUANTITIES`: ``omega_ie_N``, ``f_E``, ``C12``,
 ...). ``φ̇ = −ω_in × φ + δω_in − C_b^n δω_ib`` is written as three component lines or as
 one vector line ``dot(phi) = -cross(omega_in, phi) + vec(...) - C_bn*gyro_bias``
-(:func:`split_vector_lines`).
+(:func:`split_vector_lines`; ``omega_in × phi`` is read as ``cross(omega_in, phi)``).
 
 Each equation's coefficients are evaluated along the matrix checker's motions and placed
 in that row of F and G; rows the file does not give are taken from the derived model. The
@@ -145,12 +145,19 @@ def _vector_namespace(states: list[str], sources: list[str]) -> dict[str, object
     return space
 
 
-class _DropUnaryPlus(ast.NodeTransformer):
-    """``+a`` -> ``a`` (SymPy matrices have no unary plus)."""
+class _VectorSyntax(ast.NodeTransformer):
+    """``+a`` -> ``a`` (SymPy matrices have no unary plus); ``a @ b`` (written ``a × b``)
+    -> ``cross(a, b)``."""
 
     def visit_UnaryOp(self, node: ast.UnaryOp) -> ast.AST:
         self.generic_visit(node)
         return node.operand if isinstance(node.op, ast.UAdd) else node
+
+    def visit_BinOp(self, node: ast.BinOp) -> ast.AST:
+        self.generic_visit(node)
+        if isinstance(node.op, ast.MatMult):
+            return ast.Call(ast.Name("cross", ast.Load()), [node.left, node.right], [])
+        return node
 
 
 def split_vector_lines(text: str, states: list[str], sources: list[str], name: str
@@ -169,13 +176,13 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
     space = _vector_namespace(states, sources)
     kept, rows = [], {}
     for number, raw in enumerate(text.splitlines(), start=1):
-        body = raw.split("#", 1)[0]
+        body = raw.split("#", 1)[0].replace("×", "@")  # same width: a × b is cross(a, b)
         match = _VECTOR_LINE.match(body)
         if not match or match.group(1) not in prefixes:
             kept.append(raw)
             continue
         kept.append("")
-        shown = " ".join(body.split())
+        shown = " ".join(raw.split("#", 1)[0].split())
         try:
             tree = ast.parse(match.group(2).strip(), mode="eval")
         except SyntaxError as error:
@@ -188,7 +195,7 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
                 raise InsErrorsError(f"{name}, line {number}: unknown name {node.id!r} "
                                      "(vectors, states, sources and named quantities: "
                                      "docs/hand_check.md)")
-        tree = ast.fix_missing_locations(_DropUnaryPlus().visit(tree))
+        tree = ast.fix_missing_locations(_VectorSyntax().visit(tree))
         try:
             value = eval(compile(tree, name, "eval"), {"__builtins__": {}}, dict(space))
         except Exception as error:  # shapes, wrong arguments: one line
