@@ -170,7 +170,9 @@ def check_step(eq: HandEquation, threshold: float):
         return target, []
     inside = sp.expand(increment - outside).subs(TAU, 1)
     detail = (f"{outside} is added outside tau: a rate added to a value; the consistent "
-              f"reading integrates it, tau*({sp.expand(inside + outside)})")
+              f"reading integrates it, tau*({sp.expand(inside + outside)}); the two agree "
+              f"only for a step tau of 1 s (per step the printed form adds "
+              f"(1 - tau)*({outside}) more)")
     return target, [cl.Finding("(time step)", STEP, cl.MISTAKE, 1.0, "every step", str(outside),
                                "0", detail)]
 
