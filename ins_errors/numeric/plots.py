@@ -71,7 +71,7 @@ def plot_comparison(comparison: Comparison, path: str | Path,
     for q in quantities:
         comparison.metric(q)  # raises a one-line error for unknown names
     n = len(quantities)
-    fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.1), squeeze=False,
+    fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.5), squeeze=False,
                              sharex=True)
     hours = comparison.times / 3600.0
     for (curves, residuals), q in zip(axes, quantities, strict=True):
@@ -93,16 +93,17 @@ def plot_comparison(comparison: Comparison, path: str | Path,
             ax.grid(True, alpha=0.3)
             ax.tick_params(labelsize=7)
             ax.ticklabel_format(axis="y", useOffset=False)
-    axes[0, 0].set_title("error curves", fontsize=9)
-    axes[0, 1].set_title("residuals: what the linear / refined models miss", fontsize=9)
+    axes[0, 0].set_title("error curves", fontsize=9, pad=14)
+    axes[0, 1].set_title("residuals: what the linear / refined models miss", fontsize=9,
+                        pad=14)
     for ax in axes[-1]:
         ax.set_xlabel("time [h]", fontsize=8)
     axes[0, 0].legend(fontsize=7, loc="best")
     axes[0, 1].legend(fontsize=7, loc="best")
-    fig.suptitle(title or comparison.label, fontsize=9)
     # fixed margins in inches (tight_layout measured every tick label: seconds a figure)
     width, height = fig.get_size_inches()
+    fig.suptitle(title or comparison.label, fontsize=9, y=1 - 0.1 / height, va="top")
     fig.subplots_adjust(left=1.0 / width, right=1 - 0.15 / width, bottom=0.55 / height,
-                        top=1 - 0.65 / height, wspace=0.95 / (width / 2),
-                        hspace=0.3 / 1.75)
+                        top=1 - 1.0 / height, wspace=0.95 / (width / 2),
+                        hspace=0.4 / 1.75)
     return save_figure(fig, path, dpi=100)
