@@ -128,7 +128,11 @@ def _spheroid(args: argparse.Namespace, speed: float, step: float, folder) -> in
         folder.finish()
         lines.append(f"plot: {path}")
     if args.json:
+        error = result.integration_error
         print(json.dumps({"study": SPHEROID, "lines": lines,
+                          "integration_error_km": None if error is None else
+                          float(error.max() * result.a / 1000),
+                          "warnings": result.warnings,
                           "formula_10_maximum": spheroid_error.formula_10_maximum()}, indent=2))
     else:
         print("\n".join(lines))

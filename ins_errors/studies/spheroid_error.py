@@ -30,15 +30,18 @@ the platform on the geodetic vertical, against the exact rate of the geodetic fr
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ins_errors.errors import DomainError, InsErrorsError
 from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
+from ins_errors.numeric import accuracy
+from ins_errors.numeric.compare import Comparison, estimate_integration_errors, metrics_of
 from ins_errors.numeric.integrators import record_stride, step_count
 from ins_errors.numeric.model import load_model
+from ins_errors.numeric.simulate import ErrorCurves
 from ins_errors.output import save_figure
 
 
@@ -222,6 +225,11 @@ class FlightErrors:
         True geodetic orthodromic latitude, rad.
     a : float
         Semi-major axis used to express errors in km.
+    integration_error : numpy.ndarray, shape (2, F), optional
+        Estimated integration error of (ΔΦ, ΔΛ) per flight, rad (step doubling, see
+        :func:`integration_errors`); None when not estimated.
+    warnings : list of str
+        Integration-error warnings, one line each.
     """
 
     times: np.ndarray
@@ -233,6 +241,8 @@ class FlightErrors:
     completed: np.ndarray
     Phi: np.ndarray
     a: float
+    integration_error: np.ndarray | None = None
+    warnings: list[str] = field(default_factory=list)
 
     def km(self, errors: np.ndarray) -> np.ndarray:
         """(ΔΦ a, ΔΛ a cos Φ) in km, shape (2, T, F)."""
@@ -404,6 +414,11 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
     la, an = np.meshgrid(np.radians(latitudes_deg), np.radians(angles_deg), indexing="ij")
     result = simulate_flights(la.ravel(), np.zeros(la.size), an.ravel(), duration, speed, step,
                               record_interval=60 * step)
+    integration = integration_errors(result, duration, speed, step, 60)
+    if all(len(c.metrics) == 2 for c in integration):
+        result.integration_error = np.array([[m.integration_error for m in c.metrics]
+                                             for c in integration]).T
+    result.warnings = [w for c in integration for w in c.warnings]
     closed = simulate_flights(la.ravel(), np.zeros(la.size), an.ravel(), duration, speed, step,
                               record_interval=60 * step, closed_loop=True)
     worst = result.mismatch_km("completed")
@@ -430,6 +445,7 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
                  "≈ 22 km bounds the current-point term alone, so a long flight can exceed it); "
                  f"worst mismatch with completed (10) {worst.max():.3f} km; "
                  f"closed loop up to {closed_largest.max():.2f} km")
+    lines += integration_lines(result, integration)
     deg_h = np.pi / 180 / 3600
     rate = max(np.abs(correction_rate_error(lat, 0.0, ang, np.linspace(0, 0.6, 7), speed)).max()
                for lat, ang in zip(la.ravel(), an.ravel(), strict=True))
@@ -437,6 +453,72 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
                  f"{rate / deg_h:.3f} °/h at {speed:g} m/s (R is not a radius of curvature: "
                  "the platform does not hold the geodetic vertical exactly)")
     return result, lines
+
+
+def integration_errors(result: FlightErrors, duration: float, speed: float, step: float,
+                       stride: int, a: float | None = None,
+                       b: float | None = None) -> list[Comparison]:
+    """Step-doubling estimate of the direct flights' integration error, per flight.
+
+    The flights are flown again at twice the step and the estimate is made by
+    :func:`ins_errors.numeric.compare.estimate_integration_errors` (the machinery of
+    ``compare``), formula (10) completed playing the part of the linear model: each
+    flight's comparison gets the integration error of ΔΦ and ΔΛ (rad) and a warning
+    when it exceeds 10 % of |direct − (10)| or 1 % of the error.
+
+    Parameters
+    ----------
+    result : FlightErrors
+        The flights at ``step``, recorded every ``stride`` steps.
+    duration, speed, step : float
+        As given to :func:`simulate_flights`, s, m/s, s.
+    stride : int
+        Recording stride of ``result``.
+    a, b : float, optional
+        Semi-axes of the flights, m (default Krasovsky).
+    """
+    n_steps = step_count(duration, step)
+    half = n_steps // 2
+    comparisons = [Comparison(f"flight {k}", {}, [], result.times, {}, {}, {})
+                   for k in range(result.start.shape[1])]
+    if half < 1:
+        for c in comparisons:
+            c.warnings.append("integration error not estimated: the run has a single step")
+        return comparisons
+    coarse_stride = accuracy.coarse_stride(stride, n_steps)
+    coarse = simulate_flights(result.start[0], result.start[1], result.start[2],
+                              2 * half * step, speed, 2 * step,
+                              record_interval=coarse_stride * 2 * step, a=a, b=b)
+    fine = (_curves(result, result.direct), _curves(result, result.completed))
+    rough = (_curves(coarse, coarse.direct), _curves(coarse, coarse.completed))
+    for k, c in enumerate(comparisons):
+        c.metrics = metrics_of(fine[0], fine[1], None, k)
+    estimate_integration_errors(comparisons, fine, rough, stride, coarse_stride, n_steps,
+                                step, "rk4")
+    return comparisons
+
+
+def _curves(result: FlightErrors, values: np.ndarray) -> ErrorCurves:
+    return ErrorCurves(["delta_Phi", "delta_Lambda"], ["rad", "rad"], result.times, values)
+
+
+def integration_lines(result: FlightErrors, comparisons: list[Comparison]) -> list[str]:
+    """Report lines: the largest integration error beside the mismatch with (10)."""
+    errors = [m.integration_error for c in comparisons for m in c.metrics
+              if m.integration_error is not None]
+    if not errors:
+        return [w for c in comparisons for w in c.warnings][:1]
+    km = max(errors) * result.a / 1000
+    lines = [f"integration error of the direct flights (step doubling): up to {km:.2g} km, "
+             f"beside a worst mismatch with completed (10) of "
+             f"{result.mismatch_km('completed').max():.3g} km"]
+    warned = [(k, c.warnings) for k, c in enumerate(comparisons) if c.warnings]
+    if warned:
+        k, warnings = warned[0]
+        lines.append(f"warning ({len(warned)} of {len(comparisons)} flights; flight from "
+                     f"φ0 = {np.degrees(result.start[0, k]):.4g}°, N0 = "
+                     f"{np.degrees(result.start[2, k]):.4g}°): {warnings[0]}")
+    return lines
 
 
 PLOT_FLOOR_KM = 0.05
