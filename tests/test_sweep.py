@@ -207,3 +207,27 @@ def test_store_of_another_sweep_is_refused(tmp_path, capsys):
     plain.write_text(BASE)
     assert main(["sweep", str(plain)]) == 2
     assert "no [sweep] table" in capsys.readouterr().err
+
+
+def test_sweep_summary_reports_each_points_integration_error(tmp_path, capsys):
+    """Every point keeps compare's step-doubling estimate: negligible with RK4 at 10 s;
+    with the rectangle method at 10 s about the growth of its Schuler swing,
+    (1 + ω²τ²)^(t/2τ) − 1 with ω² = g/R (2.8 % in an hour)."""
+    base = BASE.replace('step = "1 s"', 'step = "10 s"')
+    path = scenario_file(tmp_path, '[sweep]\nstep = ["10 s"]\n', base=base)
+    assert main(["sweep", str(path), "--store", str(tmp_path / "r.zarr"), "--engine",
+                 "serial", "--no-progress"]) == 0
+    assert "integ. err/err" in capsys.readouterr().out
+    assert main(["sweep", str(path), "--store", str(tmp_path / "r2.zarr"), "--engine",
+                 "serial", "--json", "--no-progress"]) == 0
+    [row] = json.loads(capsys.readouterr().out)["summary"]
+    assert row["worst_integration_error_ratio"] < 1e-6
+    assert set(row["integration_error"]) == set(row["max_direct"])
+    euler = scenario_file(tmp_path, '[sweep]\nstep = ["10 s"]\n', name="e.toml",
+                          base=base.replace('method = "rk4"', 'method = "euler"'))
+    assert main(["sweep", str(euler), "--store", str(tmp_path / "e.zarr"), "--engine",
+                 "serial", "--json", "--no-progress"]) == 0
+    [row] = json.loads(capsys.readouterr().out)["summary"]
+    tau, t = 10.0, 3600.0
+    growth = (1 + G / 6.371e6 * tau**2) ** (t / (2 * tau)) - 1
+    assert 0.5 < row["worst_integration_error_ratio"] / growth < 2.0

@@ -7,6 +7,8 @@ attributes)::
     max_direct                  (point, quantity)        max |direct error|
     linear_ratio[, refined_ratio] (point, quantity)      max |linear − direct| / max |direct|
     excited                     (point, quantity)        1 where the ratio is meaningful
+    integration_error           (point, quantity)        estimated integration error
+                                                         (step doubling, as compare)
     source_value                (point, source)          error sources the point ran with
     done                        (point)                  1 once the point is written
     coordinates                 time (s), quantity and its unit, source and its unit,
@@ -231,6 +233,9 @@ def _create(work: Path, layout: Layout) -> None:
     array("excited", ("point", "quantity"), (P, Q), "i1", None,
           {"long_name": "1 where the quantity is excited (its ratios are meaningful)",
            "units": "1"})
+    array("integration_error", ("point", "quantity"), (P, Q), "f8", np.nan,
+          {"long_name": "estimated integration error (step doubling; larger of direct "
+                        "and linear)", "units": per_quantity})
     array("source_value", ("point", "source"), (P, W), "f8", np.nan,
           {"long_name": "error sources of the point", "units":
            "SI, the unit of each source is in coordinate source_unit"})

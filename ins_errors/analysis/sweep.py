@@ -424,6 +424,9 @@ def _run_point(job: PointJob) -> dict[str, np.ndarray]:
     if job.refined:
         out["refined_ratio"] = np.array([metrics[q].refined_ratio for q in names])
     out["excited"] = np.array([metrics[q].excited for q in names], dtype=np.int8)
+    out["integration_error"] = np.array(
+        [np.nan if metrics[q].integration_error is None else metrics[q].integration_error
+         for q in names])
     out["source_value"] = model.source_vector(**sources)
     return out
 
@@ -480,7 +483,7 @@ def layout(scenario, points: Grid):
     names, units = error_quantities(model)
     curves = ("direct", "linear", "refined") if scenario.refined else ("direct", "linear")
     settings = {"model": scenario.model, "curves": curves, "quantities": names,
-                "times": times.tolist()}
+                "times": times.tolist(), "store": 2}
     spec = scenario.sweep
     attributes = {
         "title": scenario.title, "model": scenario.model, "method": scenario.method,
@@ -490,7 +493,7 @@ def layout(scenario, points: Grid):
         "swept": [name for name, (_, attrs) in points.coordinates.items()
                   if attrs.get("swept")],
         "motion": {k: str(v) for k, v in scenario.motion.items()},
-        "Conventions": "ins-errors sweep store 1",
+        "Conventions": "ins-errors sweep store 2",
     }
     return Layout(len(points.jobs), times, tuple(names), tuple(units),
                   tuple(s.name for s in model.sources), tuple(s.unit for s in model.sources),
@@ -570,12 +573,25 @@ def _worst(dataset, curve: str) -> tuple[np.ndarray, list[str | None]]:
     return np.where(np.isfinite(best), best, np.nan), names
 
 
+def worst_integration_ratio(dataset) -> np.ndarray:
+    """Per point: worst over excited quantities of integration error / max |direct|
+    (NaN where nothing is excited), shape (P,)."""
+    excited = dataset["excited"].values == 1
+    peak = dataset["max_direct"].values
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratio = np.where(excited & (peak > 0), dataset["integration_error"].values / peak,
+                         -np.inf)
+    best = np.max(ratio, axis=1) if ratio.size else np.full(len(ratio), -np.inf)
+    return np.where(np.isfinite(best), best, np.nan)
+
+
 def summary(dataset) -> list[dict]:
     """Per grid point: its labels, worst linear (refined) ratio and max errors, SI."""
     rows = []
     labels = swept_names(dataset)
     quantities = [str(q) for q in dataset["quantity"].values]
     worst_linear, linear_names = _worst(dataset, "linear")
+    integration = worst_integration_ratio(dataset)
     refined = "refined_ratio" in dataset
     if refined:
         worst_refined, refined_names = _worst(dataset, "refined")
@@ -593,6 +609,9 @@ def summary(dataset) -> list[dict]:
                              zip(quantities, dataset["max_direct"].values[k], strict=True)}
         row["linear_ratio"] = {q: _number(v) for q, v in
                                zip(quantities, dataset["linear_ratio"].values[k], strict=True)}
+        row["integration_error"] = {q: _number(v) for q, v in zip(
+            quantities, dataset["integration_error"].values[k], strict=True)}
+        row["worst_integration_error_ratio"] = _number(integration[k])
         rows.append(row)
     return rows
 
@@ -649,10 +668,11 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
     for name in labels:
         unit = dataset[name].attrs.get("display_unit", "")
         shown[name] = f"{name} [{unit}]" if unit and unit != "1" else name
-    head = [*shown.values(), "worst lin/dir", "quantity",
+    head = [*shown.values(), "worst lin/dir", "quantity", "integ. err/err",
             *(f"max {q} [{scales[q][1]}]" for q in quantities)]
     rows = []
     worst, names = _worst(dataset, "linear")
+    integration = worst_integration_ratio(dataset)
     for k in range(min(dataset.sizes["point"], limit)):
         cells = []
         for name in labels:
@@ -660,7 +680,8 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
             attrs = dataset[name].attrs
             unit, display = attrs.get("units", "1"), attrs.get("display_unit", "1")
             cells.append(f"{Parameter(name, '', unit, (), display).shown(value):.6g}")
-        cells += [f"{worst[k]:.3e}" if np.isfinite(worst[k]) else "–", names[k] or "–"]
+        cells += [f"{worst[k]:.3e}" if np.isfinite(worst[k]) else "–", names[k] or "–",
+                  f"{integration[k]:.1e}" if np.isfinite(integration[k]) else "–"]
         for q in quantities:
             value = dataset["max_direct"].values[k, all_quantities.index(q)]
             cells.append(f"{value * scales[q][0]:.4g}")
