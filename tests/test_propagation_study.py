@@ -100,6 +100,17 @@ def test_orthodromic_day_numeric_vs_analytic():
         assert np.max(np.abs(day.linear[:, j])) < 1e-15, day.sources[j]
     text = day.summary_markdown()
     assert "not excited" in text and "`gyro_drift_z`" in text
+    # the step-doubling estimate agrees with the closed forms' verdict on the linear run
+    # (agreement's worst state may be one the estimate leaves out as barely excited, so
+    # it only bounds the estimate from above there)
+    true = day.agreement("analytic", "linear")
+    close = 0
+    for j in np.nonzero(excited & (true > 1e-10))[0]:
+        assert day.integration[j] / true[j] < 2.0, day.sources[j]
+        close += bool(day.integration[j] / true[j] > 0.5)
+        assert not day.warnings[j], day.sources[j]
+    assert close >= 12
+    assert "integration error |" in text and "Warnings:" not in text
     with pytest.raises(DomainError, match="90"):
         orthodromic_day(latitude=np.pi / 2)
 

@@ -31,8 +31,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--step", default="10 s", help="integration step of the numeric runs")
     parser.add_argument("--method", choices=("rk4", "euler"), default="rk4",
                         help="rk4 (default) or euler = the manual's rectangle method; the "
-                             "integration error is estimated either way (not with "
-                             "--orthodromic)")
+                             "integration error is estimated either way (--orthodromic: "
+                             "RK4 always)")
     parser.add_argument("--drift", default="0.1 deg/h", help="gyro drift")
     parser.add_argument("--bias", default="1e-4 g", help="accelerometer bias")
     parser.add_argument("--velocity", default="0.1 m/s", help="initial velocity error")
@@ -86,7 +86,9 @@ def run(args: argparse.Namespace) -> int:
                          "periods_s": day.periods,
                          "sources": [{"source": s, "excited": bool(day.excited()[j]),
                                       "analytic_vs_linear": _finite(analytic[j]),
-                                      "direct_vs_linear": _finite(direct[j])}
+                                      "direct_vs_linear": _finite(direct[j]),
+                                      "integration_error": _finite(day.integration[j]),
+                                      "warnings": day.warnings[j]}
                                      for j, s in enumerate(day.sources)]})
         else:
             print(text, end="")

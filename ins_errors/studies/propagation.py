@@ -446,6 +446,11 @@ class DayResult:
     error_states : list of str
     periods : dict
         Mode name -> period, s (closed forms).
+    integration : numpy.ndarray, shape (nw,), optional
+        Per source: worst over excited quantities of the estimated integration error
+        (step doubling, as ``compare``) / max |direct error|; NaN where not excited.
+    warnings : list of list of str
+        Per source: integration-error warnings, one line each.
     """
 
     latitude: float
@@ -457,6 +462,8 @@ class DayResult:
     sources: list[str]
     error_states: list[str]
     periods: dict[str, float]
+    integration: np.ndarray | None = None
+    warnings: list[list[str]] = field(default_factory=list)
 
     def excited(self) -> np.ndarray:
         """Per source: True unless the closed form is identically zero (a factor whose
@@ -486,8 +493,11 @@ class DayResult:
             "forms: " + ", ".join(f"{k} {v / 60:.2f} min" for k, v in self.periods.items())
             + ".", "",
             "Agreement = worst error state of max |difference| / max |linear numeric|.", "",
-            "| source | magnitude | analytic vs linear numeric | direct vs linear |",
-            "|---|---|---|---|"]
+            "Integration error = estimated integration error (step doubling) / max |direct|,"
+            " worst excited quantity.", "",
+            "| source | magnitude | analytic vs linear numeric | direct vs linear | "
+            "integration error |",
+            "|---|---|---|---|---|"]
         from ins_errors.units import format_quantity
 
         model = load_model("orthodromic")
@@ -498,10 +508,15 @@ class DayResult:
                                     info.display_unit or info.unit)
             if not self.excited()[j]:
                 lines.append(f"| `{source}` | {shown} | not "
-                             "excited on a static base (its input is zero there) | – |")
+                             "excited on a static base (its input is zero there) | – | – |")
                 continue
-            lines.append(f"| `{source}` | {shown} | "
-                         f"{a[j]:.2e} | {d[j]:.2e} |")
+            share = np.nan if self.integration is None else self.integration[j]
+            lines.append(f"| `{source}` | {shown} | {a[j]:.2e} | {d[j]:.2e} | "
+                         + (f"{share:.2e} |" if np.isfinite(share) else "– |"))
+        warned = [(s, w) for s, ws in zip(self.sources, self.warnings, strict=False)
+                  for w in ws]
+        if warned:
+            lines += ["", "Warnings:", ""] + [f"- `{s}`: {w}" for s, w in warned]
         return "\n".join(lines) + "\n"
 
 
@@ -536,6 +551,8 @@ def orthodromic_day(latitude: float = float(np.radians(50.0)), duration: float =
     sim = simulate(model, traj, cases, method="rk4", record_interval=record_interval,
                    parts=("real", "linear"), jit=False, progress=progress,
                    platform="small_angle")
+    comparisons = comparisons_of(sim, labels=sources)
+    add_integration_errors(comparisons, sim, jit=False)
     n = len(model.states)
     ideal = sim.ideal
     platform = np.zeros((sim.real.shape[0] - n, *ideal.shape[1:]))
@@ -543,6 +560,10 @@ def orthodromic_day(latitude: float = float(np.radians(50.0)), duration: float =
     order = [[s.name for s in model.sources].index(s) for s in sources]
     magnitudes = np.array([ORTHODROMIC_MAGNITUDES[s] for s in sources])
     analytic = cf.responses(sim.times)[:, order] * magnitudes[None, :, None]
+    shares = np.array([max((m.integration_error / m.max_direct for m in c.excited
+                            if m.integration_error is not None), default=np.nan)
+                       for c in comparisons])
     return DayResult(latitude, duration, sim.times, analytic,
                      np.transpose(sim.linear, (0, 2, 1)), np.transpose(direct, (0, 2, 1)),
-                     sources, [s.name for s in model.error_states], cf.periods())
+                     sources, [s.name for s in model.error_states], cf.periods(),
+                     shares, [list(c.warnings) for c in comparisons])
