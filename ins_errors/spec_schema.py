@@ -18,15 +18,13 @@ from pydantic import (
     StrictBool,
     StrictFloat,
     StrictInt,
-    StrictStr,
     ValidationError,
     create_model,
 )
 
 from ins_errors.errors import InsErrorsError
-from ins_errors.scenario_schema import one_line
+from ins_errors.scenario_schema import Quantity, one_line
 
-Quantity = StrictStr | StrictFloat | StrictInt
 Number = StrictFloat | StrictInt
 Positive = Annotated[StrictFloat, Field(gt=0)] | Annotated[StrictInt, Field(gt=0)]
 """A plain number above zero (the bound on each member, so the JSON Schema carries it)."""

@@ -779,8 +779,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
 
 def _magnitudes(model, overrides: dict[str, str] | None):
     """Typical size (SI, text) by SI unit: fixed, overridden, or Schuler-consistent."""
-    from ins_errors.checker.reference import MAGNITUDE_UNITS, schuler_magnitudes
-    from ins_errors.units import parse_quantity
+    from ins_errors.checker.reference import magnitude_override, schuler_magnitudes
 
     overrides = dict(overrides or {})
     if "attitude" in overrides:
@@ -788,13 +787,7 @@ def _magnitudes(model, overrides: dict[str, str] | None):
         return schuler_magnitudes(model.symbolic, attitude, overrides).of
     fixed: dict[str, tuple[float, str]] = {}
     for unit, text in overrides.items():
-        if unit not in MAGNITUDE_UNITS:
-            raise InsErrorsError(f"magnitude for unknown unit {unit!r} (known: "
-                                 f"{', '.join(MAGNITUDE_UNITS)}, or 'attitude')")
-        value = parse_quantity(text, unit, f"magnitude of {unit}")
-        if not value > 0:
-            raise InsErrorsError(f"magnitude of {unit} must be positive, got {text!r}")
-        fixed[unit] = (value, text)
+        fixed[unit] = (magnitude_override(unit, text), text)
     return lambda unit: fixed[unit] if unit in fixed else typical_magnitude(unit)
 
 

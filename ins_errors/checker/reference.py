@@ -126,6 +126,35 @@ def _text(value: float, unit: str) -> str:
     return f"{value:.3g} {shown}".strip()
 
 
+def magnitude_override(unit: str, text: str) -> float:
+    """A typical size given by the user for one SI unit, checked and in SI.
+
+    Parameters
+    ----------
+    unit : str
+        One of :data:`MAGNITUDE_UNITS` (``"rad"``, ``"m/s"``, ...).
+    text : str
+        The size with its unit (``"0.5 m/s"``).
+
+    Returns
+    -------
+    float
+        The size in ``unit``, positive.
+
+    Raises
+    ------
+    InsErrorsError
+        For an unknown unit or a size that is not positive.
+    """
+    if unit not in MAGNITUDE_UNITS:
+        raise InsErrorsError(f"magnitude for unknown unit {unit!r} (known: "
+                             f"{', '.join(MAGNITUDE_UNITS)}, or 'attitude')")
+    value = parse_quantity(text, unit, f"magnitude of {unit}")
+    if not value > 0:
+        raise InsErrorsError(f"magnitude of {unit} must be positive, got {text!r}")
+    return value
+
+
 def schuler_magnitudes(d: ModelDefinition, attitude: str | float = DEFAULT_ATTITUDE,
                        overrides: dict[str, str] | None = None) -> Magnitudes:
     """Typical error sizes tied together by the Schuler loop of model ``d``.
@@ -162,13 +191,7 @@ def schuler_magnitudes(d: ModelDefinition, attitude: str | float = DEFAULT_ATTIT
               "angles θ, velocities √(gR)·θ, positions R·θ, rates ω_s·θ, accelerations g·θ")
     changed = []
     for unit, text in (overrides or {}).items():
-        if unit not in MAGNITUDE_UNITS:
-            raise InsErrorsError(f"magnitude for unknown unit {unit!r} (known: "
-                                 f"{', '.join(MAGNITUDE_UNITS)}, or 'attitude')")
-        value = parse_quantity(text, unit, f"magnitude of {unit}")
-        if not value > 0:
-            raise InsErrorsError(f"magnitude of {unit} must be positive, got {text!r}")
-        by_unit[unit] = (value, text)
+        by_unit[unit] = (magnitude_override(unit, text), text)
         changed.append(f"{unit}: {text}")
     if changed:
         origin += "; overridden: " + ", ".join(changed)

@@ -43,7 +43,7 @@ from ins_errors.errors import DomainError
 from ins_errors.models.earth import normal_gravity, radii_of_curvature
 from ins_errors.numeric.integrators import StepError, step_count
 from ins_errors.numeric.model import Model
-from ins_errors.numeric.trajectories import Leg, MotionError, Profile, Trajectory
+from ins_errors.numeric.trajectories import Leg, MotionError, Profile, Trajectory, smoothstep
 
 MODEL = "strapdown_ned"
 """The model whose inputs this module generates."""
@@ -132,16 +132,6 @@ def great_circle(latitude: float, longitude: float, course: float, speed: float,
                   f"{speed:g} m/s, h={height:g} m")
 
 
-def _ramp(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """C² ramp 0 → 1 on [0, 1] (10θ³ − 15θ⁴ + 6θ⁵) with its first two derivatives."""
-    t = np.clip(theta, 0.0, 1.0)
-    inside = (theta > 0) & (theta < 1)
-    s = t**3 * (10 - 15 * t + 6 * t**2)
-    ds = np.where(inside, 30 * t**2 * (1 - t) ** 2, 0.0)
-    dds = np.where(inside, 60 * t * (1 - t) * (1 - 2 * t), 0.0)
-    return s, ds, dds
-
-
 def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
               legs: Sequence[Leg], height: float = 0.0) -> Flight:
     """A flight of smooth legs: turns (coordinated bank), speed changes, climbs, descents.
@@ -167,7 +157,7 @@ def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
         r, dr = np.zeros(t.shape), np.zeros(t.shape)
         vD, dvD = np.zeros(t.shape), np.zeros(t.shape)
         for start, length, vs, hs, leg in starts:
-            s, ds, dds = _ramp((t - start) / length)
+            s, ds, dds = smoothstep((t - start) / length)
             active = t >= start
             V = np.where(active, vs + (leg.speed - vs) * s, V)
             dV = np.where(active, (leg.speed - vs) * ds / length, dV)

@@ -166,7 +166,7 @@ class Leg:
     height: float = 0.0
 
 
-def _smoothstep(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def smoothstep(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """C² ramp 0→1 on [0, 1] with its first and second derivatives."""
     t = np.clip(theta, 0.0, 1.0)
     inside = (theta > 0) & (theta < 1)
@@ -217,7 +217,7 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
         if before.any():  # before the first leg: the initial values, unchanged
             length = np.where(before, 1.0, length)
             vs, hs = np.where(before, float(speed), vs), np.where(before, float(h), hs)
-        s, ds, dds = _smoothstep((t - start) / length)
+        s, ds, dds = smoothstep((t - start) / length)
         v = vs + dv_leg * s
         dv = dv_leg * ds / length
         psi = ps + turn * s
