@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from collections.abc import Callable
 from pathlib import Path
 
 
@@ -87,7 +88,7 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.checker.compare import check_hand_file
     from ins_errors.checker.report import to_json, to_markdown, to_terminal
     from ins_errors.errors import InsErrorsError
-    from ins_errors.output import check_file, write_text
+    from ins_errors.output import check_file
 
     if args.file is None:
         raise InsErrorsError("check needs a hand FILE of equations or --matrix "
@@ -106,14 +107,22 @@ def run(args: argparse.Namespace) -> int:
                                  latex=True if args.latex else None,
                                  mapping_path=args.mapping, latex_backend=args.latex_parser,
                                  magnitudes=magnitudes)
-    if args.report is not None:
-        write_text(args.report, to_markdown(report, f"`ins-errors check` from "
-                                            f"`{args.file.name}`"))
-    if args.json:
-        print(json.dumps(to_json(report), indent=2))
-    else:
-        print(to_terminal(report))
+    emit_report(args, lambda: to_markdown(report, f"`ins-errors check` from `{args.file.name}`"),
+                lambda: to_json(report), lambda: to_terminal(report))
     return report.exit_status
+
+
+def emit_report(args: argparse.Namespace, markdown: Callable[[], str],
+                as_json: Callable[[], dict], terminal: Callable[[], str]) -> None:
+    """Write ``--report`` (Markdown) if asked, then print the JSON or the terminal form.
+
+    Each form is built only when it is shown.
+    """
+    from ins_errors.output import write_text
+
+    if args.report is not None:
+        write_text(args.report, markdown())
+    print(json.dumps(as_json(), indent=2) if args.json else terminal())
 
 
 def _declares_convention(path: Path) -> bool:
@@ -132,7 +141,6 @@ def _run_convention(args: argparse.Namespace, model_name: str,
     from ins_errors.checker.convention_equations import check_convention_file, to_terminal
     from ins_errors.checker.matrix_report import to_json, to_markdown
     from ins_errors.errors import InsErrorsError
-    from ins_errors.output import write_text
     from ins_errors.progress import stage
 
     if args.mapping is not None:
@@ -141,13 +149,13 @@ def _run_convention(args: argparse.Namespace, model_name: str,
         check = check_convention_file(args.file, model_name, threshold=args.threshold,
                                       magnitudes=magnitudes,
                                       latex=True if args.latex else None)
-    if args.report is not None:
-        write_text(args.report, to_markdown(check.report, f"`ins-errors check` from "
-                                                          f"`{args.file.name}`"))
-    if args.json:
+
+    def as_json() -> dict:
         out = to_json(check.report)
         out["lines"] = {row: line for row, (line, _) in check.lines.items()}
-        print(json.dumps(out, indent=2))
-    else:
-        print(to_terminal(check))
+        return out
+
+    emit_report(args,
+                lambda: to_markdown(check.report, f"`ins-errors check` from `{args.file.name}`"),
+                as_json, lambda: to_terminal(check))
     return check.exit_status

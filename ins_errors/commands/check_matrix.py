@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 
 def run_matrix(args: argparse.Namespace) -> int:
@@ -12,10 +11,10 @@ def run_matrix(args: argparse.Namespace) -> int:
     from ins_errors.checker.matrix import check_matrices, motions
     from ins_errors.checker.matrix_input import write_samples
     from ins_errors.checker.matrix_report import to_json, to_markdown, to_terminal
-    from ins_errors.commands.check import parse_magnitudes
+    from ins_errors.commands.check import emit_report, parse_magnitudes
     from ins_errors.errors import InsErrorsError
     from ins_errors.numeric.model import load_model
-    from ins_errors.output import check_file, write_text
+    from ins_errors.output import check_file
 
     if args.file is not None:
         raise InsErrorsError("give either a hand FILE of equations or --matrix, not both")
@@ -42,11 +41,7 @@ def run_matrix(args: argparse.Namespace) -> int:
     report = check_matrices(args.model, args.matrix, args.convention,
                             threshold=args.threshold, motion_list=motion_list,
                             magnitudes=parse_magnitudes(args.magnitude))
-    if args.report is not None:
-        write_text(args.report, to_markdown(report, f"`ins-errors check --matrix` of "
-                                            f"`{report.hand_name}`"))
-    if args.json:
-        print(json.dumps(to_json(report), indent=2))
-    else:
-        print(to_terminal(report))
+    emit_report(args,
+                lambda: to_markdown(report, f"`ins-errors check --matrix` of `{report.hand_name}`"),
+                lambda: to_json(report), lambda: to_terminal(report))
     return report.exit_status
