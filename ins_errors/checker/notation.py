@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING
 import sympy as sp
 
 if TYPE_CHECKING:
-    from ins_errors.models.base import ModelDefinition
+    from ins_errors.modeling import ModelDefinition
 
 
 @dataclass

@@ -17,7 +17,7 @@ import sympy as sp
 
 from ins_errors.checker.notation import Notation
 from ins_errors.checker.parse import DOT, TILDE, HandEquation, HandFile, Problem
-from ins_errors.models.base import ModelDefinition
+from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.variation import output_mechanisations, structured_variation
 
 
