@@ -61,6 +61,52 @@ def test_markov_variance_is_stationary():
     assert decay**2 * sigma**2 + Qd[0, 0] == pytest.approx(sigma**2, rel=1e-12)
 
 
+
+def test_square_sums_equal_the_closed_form_schuler_variances():
+    """Blocked square sums (rank-reduced columns, cache-sized products) against the closed
+    form of a Schuler oscillator ẍ = −ω²x + b with random x(0), v(0) and a bias b set by
+    two independent sources (collinear columns: one is dropped by the rank reduction),
+    plus a functional in tiny units beside one in large units."""
+    omega = np.sqrt(9.81 / 6.371e6)
+    sx, sv, s1, s2 = 300.0, 0.2, 1e-4, 3e-5
+    A = np.array([[0.0, 1.0, 0.0], [-omega**2, 0.0, 1.0], [0.0, 0.0, 0.0]])
+    Phi = expm(A)                                 # 1-s step, exact for constant A
+    Z0 = np.array([[sx, 0.0, 0.0, 0.0], [0.0, sv, 0.0, 0.0], [0.0, 0.0, s1, s2]])
+    C = np.array([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [1e-9, 0.0, 0.0]])
+    assert cv.column_factor(Z0).shape == (3, 3)
+    steps = 20_000                                 # about 3.8 Schuler periods
+    got = cv.power_sequence(Phi, Z0, C, steps, reduce="square-sum")
+    wt = omega * np.arange(steps + 1)
+    c, s = np.cos(wt), np.sin(wt)
+    bias = s1**2 + s2**2
+    var_x = sx**2 * c**2 + sv**2 * s**2 / omega**2 + bias * (1 - c)**2 / omega**4
+    var_v = sx**2 * omega**2 * s**2 + sv**2 * c**2 + bias * s**2 / omega**2
+    expected = np.stack([var_x, var_v, 1e-18 * var_x], axis=1)
+    np.testing.assert_allclose(got / expected.max(0), expected / expected.max(0), rtol=0,
+                               atol=1e-9)
+
+
+def test_square_sums_equal_a_step_by_step_sum():
+    """Against the plain definition Σ_m (C Φᵏ Z₀)², one step at a time, on a random
+    system whose rows mix scales 1e-6..1e6 and whose columns repeat up to a factor."""
+    rng = np.random.default_rng(5)
+    N = 6
+    Phi = expm(0.05 * rng.normal(size=(N, N)))
+    rows = np.logspace(-6, 6, N)[:, None]
+    base = rng.normal(size=(N, 3))
+    Z0 = rows * np.hstack([base, 2.5 * base[:, :1], -base[:, 1:2]])   # rank 3 of 5
+    C = rng.normal(size=(4, N)) / rows.T
+    steps = 700
+    got = cv.power_sequence(Phi, Z0, C, steps, reduce="square-sum")
+    Z, expected = Z0.copy(), []
+    for _ in range(steps + 1):
+        expected.append(((C @ Z) ** 2).sum(1))
+        Z = Phi @ Z
+    expected = np.array(expected)
+    assert cv.column_factor(Z0).shape == (N, 3)
+    np.testing.assert_allclose(got / expected.max(0), expected / expected.max(0), rtol=0,
+                               atol=1e-12)
+
 # ------------------------------------------------------------------------------------
 # Static base: textbook INS results
 # ------------------------------------------------------------------------------------

@@ -169,17 +169,17 @@ def power_sequence(Phi: np.ndarray, Z0: np.ndarray, C: np.ndarray, steps: int,
     steps : int
     reduce : {"none", "square-sum"}
         ``"none"`` returns shape (steps+1, q, m); ``"square-sum"`` returns
-        ``Σ_m (C Φᵏ Z₀)²``, shape (steps+1, q), without storing the full array.
+        ``Σ_m (C Φᵏ Z₀)²``, shape (steps+1, q), without storing the full array
+        (:func:`_square_sums`).
     """
+    if reduce == "square-sum":
+        return _square_sums(Phi, Z0, C, steps)
     total = steps + 1
     block = max(1, int(np.ceil(np.sqrt(total))))
     N, m, q = Phi.shape[0], Z0.shape[1], C.shape[0]
     if m == 0:
-        return np.zeros((total, q) if reduce == "square-sum" else (total, q, 0))
-    powers = np.empty((block, N, N))
-    powers[0] = np.eye(N)
-    for i in range(1, block):
-        powers[i] = powers[i - 1] @ Phi
+        return np.zeros((total, q, 0))
+    powers = _powers(Phi, block)
     CP = (C @ powers).reshape(block * q, N)          # rows: (i, q)
     jump = powers[-1] @ Phi                           # Φ^block
     starts = -(-total // block)
@@ -187,21 +187,91 @@ def power_sequence(Phi: np.ndarray, Z0: np.ndarray, C: np.ndarray, steps: int,
     Zs[0] = Z0
     for j in range(1, starts):
         Zs[j] = jump @ Zs[j - 1]
-    out_shape = (total, q) if reduce == "square-sum" else (total, q, m)
-    out = np.empty(out_shape)
+    out = np.empty((total, q, m))
     chunk = max(1, int(4_000_000 // max(1, block * q * m)))
     for j0 in range(0, starts, chunk):
         j1 = min(starts, j0 + chunk)
         Y = CP @ np.moveaxis(Zs[j0:j1], 0, 1).reshape(N, (j1 - j0) * m)
         k0, k1 = j0 * block, min(total, j1 * block)
-        if reduce == "square-sum":
-            Y *= Y
-            S = Y.reshape(block, q, j1 - j0, m).sum(-1)              # (i, q, j)
-            out[k0:k1] = S.transpose(2, 0, 1).reshape(-1, q)[: k1 - k0]
-        else:
-            Y = Y.reshape(block, q, j1 - j0, m).transpose(2, 0, 1, 3)   # (j, i, q, m)
-            out[k0:k1] = Y.reshape(-1, q, m)[: k1 - k0]
+        Y = Y.reshape(block, q, j1 - j0, m).transpose(2, 0, 1, 3)   # (j, i, q, m)
+        out[k0:k1] = Y.reshape(-1, q, m)[: k1 - k0]
     return out
+
+
+def _powers(Phi: np.ndarray, count: int) -> np.ndarray:
+    """``Φ⁰ … Φ^(count−1)``, shape (count, N, N)."""
+    powers = np.empty((count, *Phi.shape))
+    powers[0] = np.eye(Phi.shape[0])
+    for i in range(1, count):
+        np.matmul(powers[i - 1], Phi, out=powers[i])
+    return powers
+
+
+def column_factor(Z: np.ndarray, tolerance: float = 1e-12) -> np.ndarray:
+    """A factor ``L`` with ``L Lᵀ = Z Zᵀ`` and no more columns than the rank of ``Z``.
+
+    Columns of ``Z`` that are (nearly) combinations of others, e.g. two error sources
+    entering the equations in the same place, collapse into one. The rank is judged on
+    ``Z`` with rows scaled to unit norm, because the rows mix units (rad, m/s, ...): a
+    direction is dropped only if its singular value is below ``tolerance`` times the
+    largest one, so it changes no row's second moments by more than ``tolerance²`` of
+    their size.
+
+    Parameters
+    ----------
+    Z : numpy.ndarray, shape (N, m)
+    tolerance : float
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, r), r <= min(N, m); ``Z`` itself when nothing would be saved.
+    """
+    m = Z.shape[1]
+    scale = np.sqrt(np.einsum("ij,ij->i", Z, Z))
+    scale[scale == 0] = 1.0
+    U, s, _ = np.linalg.svd(Z / scale[:, None], full_matrices=False)
+    keep = s > tolerance * s[0] if s.size else s > 0
+    if keep.sum() >= m:
+        return Z
+    return scale[:, None] * (U[:, keep] * s[keep])
+
+
+def _square_sums(Phi: np.ndarray, Z0: np.ndarray, C: np.ndarray, steps: int) -> np.ndarray:
+    """``Σ_m (C Φᵏ Z₀)²`` for k = 0..steps, shape (steps+1, q): the diagonal of
+    ``C Φᵏ Z₀Z₀ᵀ Φᵏᵀ Cᵀ``.
+
+    ``Z₀`` is first replaced by a factor of ``Z₀Z₀ᵀ`` with as few columns as its rank
+    (:func:`column_factor`). With ``k = j B + i`` (B ≈ √steps) every value is a row of
+    ``(Φ^{jB} Z₀)ᵀ`` times a column of ``(C Φⁱ)ᵀ``; these products are taken a few block
+    starts ``j`` at a time, laid out (j, m, i, q) so that the sum over the columns of
+    ``Z₀`` runs over contiguous rows and the result lands in time order without a
+    transpose.
+    """
+    total = steps + 1
+    q = C.shape[0]
+    if Z0.shape[1] == 0:
+        return np.zeros((total, q))
+    Z0 = column_factor(Z0)
+    N, m = Z0.shape
+    block = max(1, int(np.ceil(np.sqrt(total))))
+    powers = _powers(Phi, block)
+    CPt = np.ascontiguousarray((C @ powers).reshape(block * q, N).T)   # (N, (i, q))
+    jump_t = (powers[-1] @ Phi).T                                      # (Φ^B)ᵀ
+    starts = -(-total // block)
+    Zt = np.empty((starts, m, N))                                       # (Φ^{jB} Z₀)ᵀ
+    Zt[0] = Z0.T
+    for j in range(1, starts):
+        np.matmul(Zt[j - 1], jump_t, out=Zt[j])
+    out = np.empty((starts * block, q))
+    rows = out.reshape(starts, block * q)
+    # about 2 MB of products at a time: they stay in the cache while squared and summed
+    chunk = max(1, 250_000 // (block * q * m))
+    for j0 in range(0, starts, chunk):
+        j1 = min(starts, j0 + chunk)
+        Y = Zt[j0:j1].reshape(-1, N) @ CPt                              # ((j, m), (i, q))
+        Y *= Y
+        np.sum(Y.reshape(j1 - j0, m, block * q), axis=1, out=rows[j0:j1])
+    return out[:total]
 
 
 # --------------------------------------------------------------------------------------
