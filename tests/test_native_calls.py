@@ -70,6 +70,22 @@ def test_batch_split_over_threads_equals_one_serial_batch(orthodromic, method, m
     assert np.abs(serial.real[8:]).max() > 0  # the cases really differ from zero
 
 
+def test_static_batch_threads_run_their_groups_through_the_whole_run(orthodromic,
+                                                                    monkeypatch):
+    """Constant inputs: each thread runs its group start to end without waiting for the
+    other (several progress pieces, a tail shorter than a chunk); same bits as serial."""
+    traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
+                         3 * 3600.0, 1.0)
+    cases = [{"gyro_drift_x": 1e-6}, {"accel_bias_y": 1e-4}, {"initial_tilt_x": 1e-4}]
+    monkeypatch.setenv("INS_ERRORS_THREADS", "2")  # groups of 2 and 1 (padded to 2)
+    threaded = simulate(orthodromic, traj, cases, record_interval=2.0, progress=True)
+    monkeypatch.setenv("INS_ERRORS_THREADS", "1")
+    serial = simulate(orthodromic, traj, cases, record_interval=2.0)
+    for part in ("ideal", "real", "linear", "refined"):
+        assert np.array_equal(getattr(threaded, part), getattr(serial, part)), part
+    assert np.abs(serial.real[8:, -1]).min() > 0  # every case tilts the platform
+
+
 def test_thread_count_from_the_environment_is_checked(monkeypatch):
     monkeypatch.setenv("INS_ERRORS_THREADS", "two")
     with pytest.raises(integ.InsErrorsError, match="INS_ERRORS_THREADS must be a whole"):

@@ -782,16 +782,34 @@ class CompiledLoop:
         bar = progress_bar(n_steps, progress)
         # progress is shown between pieces of about 1/100 of the run (whole chunks)
         piece = max(self.chunk, -(-n_rec // 100 // self.chunk) * self.chunk)
-        done = 0
-        try:
+
+        def pieces(g: int | None) -> None:
+            """Run the whole recording in pieces: every group (g None) or group g."""
+            done = 0
             while done < n_rec:
                 size = min(piece, n_rec - done)
-                self.advance(carry, size * k,
-                             None if stream is None else stream[done * k:(done + size) * k],
-                             states[:, done + 1:done + 1 + size], margins[done:done + size])
+                recorded = states[:, done + 1:done + 1 + size], margins[done:done + size]
+                if g is None:
+                    self.advance(carry, size * k,
+                                 None if stream is None else stream[done * k:(done + size) * k],
+                                 *recorded)
+                else:
+                    self._advance_group(carry, size, None, *recorded, g)
                 done += size
-                if bar is not None:
+                if bar is not None and not g:
                     bar.update(size * k)
+
+        try:
+            if self.constant_inputs and self.workers > 1:
+                # no input stream to share: each thread runs its group from start to end,
+                # never waiting for the other groups (the first group shows the progress)
+                from concurrent.futures import ThreadPoolExecutor
+
+                with ThreadPoolExecutor(self.workers) as pool:
+                    for job in [pool.submit(pieces, g) for g in range(self.workers)]:
+                        job.result()
+            else:
+                pieces(None)
         finally:
             if bar is not None:
                 bar.close()
