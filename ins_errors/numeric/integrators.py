@@ -332,15 +332,41 @@ def compile_library(functions: list[ca.Function], jit: bool = True) -> Path | No
     """
     if not jit or os.environ.get("INS_ERRORS_NO_JIT"):
         return None
+    return compile_source(generated_source(functions))
+
+
+def generated_source(functions: list[ca.Function]) -> str:
+    """C source of CasADi functions (``double``, no header), one translation unit."""
+    generator = ca.CodeGenerator("loop.c", {"with_header": False, "casadi_real": "double"})
+    for function in functions:
+        generator.add(function)
+    return generator.dump()
+
+
+DEFAULT_FLAGS: tuple[str, ...] = ("-O3", "-march=native", "-shared", "-fPIC")
+"""C compiler flags of :func:`compile_source`."""
+
+IEEE_FLAGS: tuple[str, ...] = (*DEFAULT_FLAGS, "-ffp-contract=off", "-fno-math-errno",
+                               "-fno-semantic-interposition")
+"""Flags of the simulation loops: every operation rounded on its own as IEEE 754 says
+(no fused multiply-add contraction), so a compiled loop gives the bits of the CasADi
+virtual machine whatever the compiler inlines; ``errno`` is not set by ``sqrt`` (no
+branch around it) and the functions of one library call each other directly."""
+
+
+def compile_source(source: str, flags: Sequence[str] = DEFAULT_FLAGS) -> Path | None:
+    """Compile C source to a shared library in the cache (once) and return its path.
+
+    Returns
+    -------
+    pathlib.Path or None
+        None when no compiler works (then a one-time :class:`RuntimeWarning` says so).
+    """
     compiler = _compiler()
     if compiler is None:
         _vm_notice("none of $CC, cc, gcc, clang found")
         return None
-    generator = ca.CodeGenerator("loop.c", {"with_header": False, "casadi_real": "double"})
-    for function in functions:
-        generator.add(function)
-    source = generator.dump()
-    flags = ["-O3", "-march=native", "-shared", "-fPIC"]
+    flags = list(flags)
     # -march=native code runs only on this kind of CPU: the CPU is part of the cache key
     key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__
                           + _cpu_identity()).encode())
@@ -406,6 +432,16 @@ def native_functions(functions: list[ca.Function], jit: bool = True) -> list[Den
     return [NativeFunction(library, f) for f in functions]
 
 
+@dataclass(frozen=True)
+class Signature:
+    """Name and dense argument shapes (rows, columns) of a compiled C entry point written
+    by hand in the CasADi calling convention (no casadi.Function behind it)."""
+
+    name: str
+    inputs: tuple[tuple[int, int], ...]
+    outputs: tuple[tuple[int, int], ...]
+
+
 class DenseCall:
     """A function with dense inputs and outputs, called on numpy buffers.
 
@@ -414,7 +450,11 @@ class DenseCall:
     numbers are read and written in place.
     """
 
-    def __init__(self, function: ca.Function):
+    def __init__(self, function: ca.Function | Signature):
+        if isinstance(function, Signature):
+            self.name = function.name
+            self.shapes_in, self.shapes_out = list(function.inputs), list(function.outputs)
+            return
         for i in range(function.n_in()):
             if not function.sparsity_in(i).is_dense():
                 raise ShapeError(f"{function.name()}: input {i} is not dense")
@@ -453,11 +493,11 @@ class NativeFunction(DenseCall):
     ----------
     library : pathlib.Path
         Shared library made by :func:`compile_library` from ``function``.
-    function : casadi.Function
+    function : casadi.Function or Signature
         The function (for its name and shapes).
     """
 
-    def __init__(self, library: Path, function: ca.Function):
+    def __init__(self, library: Path, function: ca.Function | Signature):
         super().__init__(function)
         self._library = ctypes.CDLL(str(library))
         self._entry = getattr(self._library, self.name)
@@ -626,7 +666,39 @@ class CompiledLoop:
             stream = ca.SX.sym("u", self.n_stream)
             extra_in = [stream]
         z_next = casadi_step(f, method, z, stream, w, tau_num)
-        step = ca.Function("ins_step", [carry, *extra_in], [ca.vertcat(ca.cse(z_next), carry[nz:])])
+        z_next = ca.cse(z_next)
+        u_end = None
+        if margin is not None:
+            u_end = (ca.DM(np.asarray(constant_inputs, dtype=float)) if self.constant_inputs
+                     else stream[-nu:])   # the last step's u[k+1] (RK4) or u[k] (Euler)
+        compiled = None
+        if jit and not os.environ.get("INS_ERRORS_NO_JIT"):
+            step_c = ca.Function("ins_step_c", [carry, *extra_in], [z_next])
+            functions = [step_c]
+            if margin is not None:
+                functions.append(ca.Function("ins_margin_c", [carry, *extra_in], [
+                    margin(z, u_end, w, p_num)]))
+            library = compile_source(generated_source(functions) + _driver_source(
+                self, chunk, margin is not None, functions), IEEE_FLAGS)
+            if library is not None:
+                n_in = [(self.n_carry, self.group)]
+                compiled = [NativeFunction(library, Signature(
+                    name, (*n_in, *([(self.n_stream, record_every * size)]
+                                    if not self.constant_inputs else [])),
+                    ((self.n_carry, size * self.group),))) for name, size in
+                    (("ins_chunk_f", chunk), ("ins_single_f", 1))]
+        if compiled is None:  # the CasADi virtual machine runs the same arithmetic
+            compiled = self._virtual(carry, extra_in, z_next, margin, constant_inputs, p_num,
+                                     chunk)
+        self._chunk_fn, self._single_fn = compiled
+
+    def _virtual(self, carry: ca.SX, extra_in: list[ca.SX], z_next: ca.SX,
+                 margin: ca.Function | None, constant_inputs: np.ndarray | None,
+                 p_num: ca.DM, chunk: int) -> list[DenseCall]:
+        """The chunk functions as CasADi fold/mapaccum/map graphs in the virtual machine."""
+        nz = self.nz
+        step = ca.Function("ins_step", [carry, *extra_in], [ca.vertcat(z_next, carry[nz:])])
+        record_every = self.record_every
         block = step.fold(record_every) if record_every > 1 else step
         # domain check once per recording interval, on the last state of the block
         carry_mx = ca.MX.sym("carry", self.n_carry)
@@ -635,7 +707,7 @@ class CompiledLoop:
         out = block(*block_in)
         if margin is not None:
             u_end = (ca.DM(np.asarray(constant_inputs, dtype=float)) if self.constant_inputs
-                     else block_in[1][-nu:, -1] if method == "rk4" else block_in[1][:, -1])
+                     else block_in[1][-self.nu:, -1])
             m = ca.fmin(out[nz], margin(out[:nz], u_end, out[nz + 1:], p_num))
             out = ca.vertcat(out[:nz], m, out[nz + 1:])
         block = ca.Function("ins_block", block_in, [out])
@@ -645,9 +717,8 @@ class CompiledLoop:
             reduce = [] if self.constant_inputs else [1]
             chunked = chunked.map("ins_chunk_b", "serial", self.group, reduce, [])
             single = block.map("ins_single_b", "serial", self.group, reduce, [])
-        chunked = _rename(chunked, "ins_chunk_f")
-        single = _rename(single, "ins_single_f")
-        self._chunk_fn, self._single_fn = native_functions([chunked, single], jit=jit)
+        return [VirtualFunction(_rename(chunked, "ins_chunk_f")),
+                VirtualFunction(_rename(single, "ins_single_f"))]
 
     # -- running -----------------------------------------------------------------------
     def start(self, z0: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -814,6 +885,95 @@ class CompiledLoop:
             if bar is not None:
                 bar.close()
         return LoopResult(states, margins)
+
+
+_DRIVER = """
+/* The recording loop around ins_step_c, written for this loop (not by CasADi): for
+   each of GROUP cases, SIZE recorded samples of K steps each, the state ping-ponging
+   between two buffers; after every K steps the domain margin's running minimum and
+   the carried vector [z, m, w] are written out. Same arithmetic as CasADi's
+   fold/mapaccum/map of ins_step (the virtual-machine path), without their copies. */
+#define INS_NZ {nz}
+#define INS_NC {nc}
+#define INS_NS {ns}
+#define INS_K {k}
+#define INS_GROUP {group}
+#define INS_MARGIN {margin}
+static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size) {{
+  const casadi_real* carry = arg[0];
+  const casadi_real* stream = arg[1];
+  casadi_real* out = res[0];
+  casadi_real buf[2][INS_NC], m, value, *o;
+  const casadi_real* sarg[{sz_arg}];
+  casadi_real* sres[{sz_res}];
+  casadi_int iw[{sz_iw}];
+  casadi_real wk[{sz_w}];
+  casadi_int g, r, s, i;
+  int cur;
+  (void)stream; (void)value;
+  for (g = 0; g < INS_GROUP; ++g) {{
+    for (i = 0; i < INS_NC; ++i) buf[0][i] = buf[1][i] = carry[g * INS_NC + i];
+    m = buf[0][INS_NZ];
+    cur = 0;
+    for (r = 0; r < size; ++r) {{
+      for (s = 0; s < INS_K; ++s) {{
+        sarg[0] = buf[cur];
+#if INS_NS
+        sarg[1] = stream + (r * INS_K + s) * INS_NS;
+#endif
+        sres[0] = buf[1 - cur];
+        if (ins_step_c(sarg, sres, iw, wk, 0)) return 1;
+        cur = 1 - cur;
+      }}
+#if INS_MARGIN
+      sarg[0] = buf[cur];
+#if INS_NS
+      sarg[1] = stream + (r * INS_K + INS_K - 1) * INS_NS;
+#endif
+      sres[0] = &value;
+      if (ins_margin_c(sarg, sres, iw, wk, 0)) return 1;
+      m = fmin(m, value);
+#endif
+      o = out + (g * size + r) * INS_NC;
+      for (i = 0; i < INS_NC; ++i) o[i] = buf[cur][i];
+      o[INS_NZ] = m;
+    }}
+  }}
+  return 0;
+}}
+CASADI_SYMBOL_EXPORT int ins_chunk_f(const casadi_real** arg, casadi_real** res,
+                                     casadi_int* iw, casadi_real* w, int mem) {{
+  (void)iw; (void)w; (void)mem;
+  return ins_drive(arg, res, {chunk});
+}}
+CASADI_SYMBOL_EXPORT int ins_single_f(const casadi_real** arg, casadi_real** res,
+                                      casadi_int* iw, casadi_real* w, int mem) {{
+  (void)iw; (void)w; (void)mem;
+  return ins_drive(arg, res, 1);
+}}
+CASADI_SYMBOL_EXPORT int ins_chunk_f_work(casadi_int* sz_arg, casadi_int* sz_res,
+                                          casadi_int* sz_iw, casadi_int* sz_w) {{
+  *sz_arg = 2; *sz_res = 1; *sz_iw = 0; *sz_w = 0;
+  return 0;
+}}
+CASADI_SYMBOL_EXPORT int ins_single_f_work(casadi_int* sz_arg, casadi_int* sz_res,
+                                           casadi_int* sz_iw, casadi_int* sz_w) {{
+  return ins_chunk_f_work(sz_arg, sz_res, sz_iw, sz_w);
+}}
+"""
+
+
+def _driver_source(loop: CompiledLoop, chunk: int, margin: bool,
+                   functions: list[ca.Function]) -> str:
+    """C source of ``ins_chunk_f`` and ``ins_single_f`` for ``loop`` (see ``_DRIVER``)."""
+    def most(size: str) -> int:
+        return 1 + max(getattr(f, size)() for f in functions)
+
+    return _DRIVER.format(nz=loop.nz, nc=loop.n_carry,
+                          ns=0 if loop.constant_inputs else loop.n_stream,
+                          k=loop.record_every, group=loop.group, margin=int(margin),
+                          chunk=chunk, sz_arg=most("sz_arg"), sz_res=most("sz_res"),
+                          sz_iw=most("sz_iw"), sz_w=most("sz_w"))
 
 
 def progress_bar(total: int, progress: bool | str):
