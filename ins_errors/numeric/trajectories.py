@@ -80,6 +80,13 @@ class Profile:
         Start point and initial heading, rad.
     description : str
         One line for reports.
+    static : bool
+        True for a vehicle at rest.
+    breaks : tuple of float, optional
+        Times (s) where the commands may lose smoothness (leg joins, ramp ends, spline
+        knots); between them the commands are smooth (analytic). ``()`` for a motion
+        smooth throughout, None when unknown: only a profile with known breaks gets the
+        fast interpolated truth (:mod:`ins_errors.numeric.interpolated_truth`).
     """
 
     frame: str
@@ -89,6 +96,7 @@ class Profile:
     heading: float
     description: str
     static: bool = False
+    breaks: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         if self.frame not in ("track", "geographic"):
@@ -113,7 +121,7 @@ def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0
 
     return Profile("track", commands, latitude, longitude, heading,
                    f"static base at φ={np.degrees(latitude):.4g}°, λ={np.degrees(longitude):.4g}°,"
-                   f" χ={np.degrees(heading):.4g}°, h={h:g} m", static=True)
+                   f" χ={np.degrees(heading):.4g}°, h={h:g} m", static=True, breaks=())
 
 
 def great_circle_profile(latitude: float, longitude: float, track: float, speed: float,
@@ -140,7 +148,7 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
     return Profile("track", commands, latitude, longitude, track,
                    f"great circle from φ={np.degrees(latitude):.4g}°, "
                    f"λ={np.degrees(longitude):.4g}°, track {np.degrees(track):.4g}°, "
-                   f"{speed:g} m/s, h={h:g} m")
+                   f"{speed:g} m/s, h={h:g} m", breaks=())
 
 
 @dataclass(frozen=True)
@@ -232,7 +240,8 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
 
     return Profile("track", commands, latitude, longitude, track,
                    f"manoeuvring flight of {len(legs)} legs from φ={np.degrees(latitude):.4g}°,"
-                   f" λ={np.degrees(longitude):.4g}°")
+                   f" λ={np.degrees(longitude):.4g}°",
+                   breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])))
 
 
 def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: float,
@@ -283,7 +292,8 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
         return values, rates
 
     return Profile(frame, commands, latitude, longitude, heading,
-                   f"sampled motion ({t.size} samples, {frame} frame)")
+                   f"sampled motion ({t.size} samples, {frame} frame)",
+                   breaks=tuple(float(b) for b in t))
 
 
 # --------------------------------------------------------------------------------------
@@ -693,7 +703,7 @@ class ProfileTruth:
 
 def trajectory(model: Model, profile: Profile, duration: float, tau: float,
                p: np.ndarray | None = None, progress: bool = False,
-               stream: bool | None = None) -> Trajectory:
+               stream: bool | None = None, truth: str = "auto") -> Trajectory:
     """Sample a motion profile for ``model`` on the grid ``t = k τ``, ``k = 0..N``.
 
     Parameters
@@ -714,6 +724,14 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         (:class:`ProfileTruth`); default: stream when the stored samples would exceed
         :data:`STREAM_BYTES`. A streamed motion that leaves the model's domain is
         reported when it is run.
+    truth : {"auto", "interpolated", "fine"}
+        How a moving truth is computed. ``"fine"``: RK4 at half the step and the inputs
+        evaluated at every half step (:class:`ProfileTruth`); ``"interpolated"``: on
+        coarse intervals of about 10 s between the profile's breaks, interpolated to the
+        steps by polynomials of degree 7 (:mod:`ins_errors.numeric.interpolated_truth`,
+        hundreds of times cheaper per step); ``"auto"`` (default): interpolated when the
+        profile's breaks are known and an interval holds at least
+        :data:`~ins_errors.numeric.interpolated_truth.MIN_STEPS` steps, else fine.
 
     Raises
     ------
@@ -725,6 +743,10 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
 
         return strapdown_truth.trajectory(model, strapdown_truth.flight_from_profile(profile),
                                           duration, tau, p)
+    if truth not in TRUTHS:
+        from ins_errors.errors import unknown_name
+
+        raise unknown_name("truth", truth, TRUTHS)
     n_steps = step_count(duration, tau)
     p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
     frame = profile.frame
@@ -745,7 +767,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         if np.abs(model.numpy.ideal_rhs(x0, u0, p)).max() <= STATIC_TOLERANCE:
             return Trajectory(model.key, float(tau), n_steps, x0[:, None], u0[:, None],
                               u0[:, None], p, c0, True, profile.description)
-    source = ProfileTruth(model, profile, frame, tau, n_steps, p, x0)
+    source = _truth_source(model, profile, frame, float(tau), n_steps, p, x0, truth)
     # about 74 numbers per step for the orthodromic model while it is built
     n_values = (4 * n_steps + 1) * 8 + (2 * n_steps + 1) * (2 * len(model.states)
                                                           + len(model.inputs))
@@ -763,6 +785,25 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
 
 STATIC_TOLERANCE = 1e-12
 """Largest |dx/dt| (SI per second) for which a state at rest is treated as constant."""
+
+TRUTHS = ("auto", "interpolated", "fine")
+"""Ways of computing a moving truth (see :func:`trajectory`)."""
+
+
+def _truth_source(model: Model, profile: Profile, frame: str, tau: float, n_steps: int,
+                  p: np.ndarray, x0: np.ndarray, truth: str) -> MotionSource:
+    """The fine or the interpolated truth generator, as ``truth`` asks."""
+    from ins_errors.numeric import interpolated_truth as it
+
+    if truth == "interpolated" and profile.breaks is None:
+        raise MotionError("the interpolated truth needs a profile whose breaks are known "
+                          "(a great circle, a manoeuvre or a sampled motion)")
+    if truth == "auto":
+        truth = ("interpolated" if profile.breaks is not None
+                 and it.INTERVAL / tau >= it.MIN_STEPS else "fine")
+    if truth == "interpolated":
+        return it.InterpolatedTruth(model, profile, frame, tau, n_steps, p, x0)
+    return ProfileTruth(model, profile, frame, tau, n_steps, p, x0)
 
 
 @lru_cache(maxsize=16)

@@ -1,0 +1,201 @@
+"""The interpolated (coarse-grid) truth against the fine truth and closed forms.
+
+References: the fine truth (RK4 at half the step, inputs evaluated at every half step:
+the previous code path, kept as ``truth="fine"``), spherical great-circle geometry
+(closed form), and the direct error runs that users read. The interpolated truth must
+reproduce the fine one to far below the linear-vs-direct differences the toolchain
+reports.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from ins_errors.errors import DomainError, InsErrorsError
+from ins_errors.numeric import interpolated_truth as it
+from ins_errors.numeric import trajectories as tr
+from ins_errors.numeric.simulate import simulate
+
+DEG = np.pi / 180.0
+# leg joins at 300 s, 423.456 s (off the step grid), 723.456 s; ramps of 1.875x mean rate
+LEGS = [tr.Leg(300.0, 280.0, 75 * DEG, 2500.0), tr.Leg(123.456, 230.0, -40 * DEG, 1500.0),
+        tr.Leg(300.0, 200.0, -90 * DEG, 500.0)]
+SOURCES = {"gyro_drift_x": 0.01 * DEG / 3600, "accel_bias_y": 1e-4,
+           "initial_azimuth_error": 2e-4}
+
+
+def _both(model, profile, duration, tau):
+    fine = tr.trajectory(model, profile, duration, tau, stream=True, truth="fine")
+    fast = tr.trajectory(model, profile, duration, tau, stream=True, truth="interpolated")
+    return fine, fast
+
+
+def _joined(traj, size=20000):
+    chunks = list(traj.chunks(size))
+    truth = np.hstack([chunks[0].truth[:, :1]] + [c.truth[:, 1:] for c in chunks])
+    inputs = np.hstack([chunks[0].inputs[:, :1]] + [c.inputs[:, 1:] for c in chunks])
+    midpoints = np.hstack([c.midpoints for c in chunks])
+    return truth, inputs, midpoints
+
+
+@pytest.fixture(scope="module")
+def manoeuvre(orthodromic):
+    profile = tr.manoeuvre_profile(48 * DEG, 20 * DEG, 30 * DEG, 220.0, LEGS, h=1000.0)
+    return _both(orthodromic, profile, 900.0, 0.01)
+
+
+@pytest.fixture(scope="module")
+def cruise(orthodromic):
+    profile = tr.great_circle_profile(50 * DEG, 30 * DEG, 90 * DEG, 250.0, 5000.0)
+    return _both(orthodromic, profile, 1200.0, 0.01)
+
+
+def _unit_sizes(values, units):
+    """Largest magnitude over the run of all quantities sharing each row's unit."""
+    size = np.abs(values).max(axis=1)
+    return np.array([max(size[[k for k, v in enumerate(units) if v == unit]].max(), 1e-30)
+                     for unit in units])
+
+
+@pytest.mark.parametrize("motion", ["cruise", "manoeuvre"])
+def test_states_and_inputs_match_the_fine_truth(orthodromic, motion, request):
+    """At every 100 Hz step and midpoint, across the leg joins (one off the grid)."""
+    fine, fast = request.getfixturevalue(motion)
+    assert isinstance(fast.source, it.InterpolatedTruth)
+    x_f, u_f, m_f = _joined(fine)
+    x_i, u_i, m_i = _joined(fast)
+    # relative to the size of the quantities of the same unit over the run (inputs:
+    # accelerations, V_zeta, h; states: direction cosines, velocities); measured: inputs
+    # 9e-16 (cruise) and 3e-11 (manoeuvre), states 2e-14 and 4e-9 (the RK4 error of the
+    # coarse node-to-node steps, 2e-6 m/s of the velocities after 900 s of manoeuvres)
+    state_units = [s.unit for s in orthodromic.states]
+    input_units = [i.unit for i in orthodromic.inputs]
+    for fine_values, fast_values, units, tolerance in (
+            (x_f, x_i, state_units, 2e-8), (u_f, u_i, input_units, 1e-9),
+            (m_f, m_i, input_units, 1e-9)):
+        size = _unit_sizes(fine_values, units)
+        error = (np.abs(fast_values - fine_values).max(axis=1) / size).max()
+        assert error < tolerance, (error, np.abs(fast_values - fine_values).max(axis=1) / size)
+    if motion == "manoeuvre":  # the joins really are rough: the accelerations jump in slope
+        a_eta = u_f[1]
+        assert np.abs(a_eta).max() > 0.5
+    # the interpolation's own (cautious) estimate is small for these motions
+    estimate = fast.source.error_estimate
+    units = state_units + input_units
+    sizes = np.concatenate([_unit_sizes(x_f, state_units), _unit_sizes(u_f, input_units)])
+    assert (estimate / sizes).max() < 1e-8 and fast.source.worst < it.WARN_RELATIVE
+    assert len(units) == len(estimate)
+
+
+@pytest.mark.parametrize("method", ["euler", "rk4"])
+@pytest.mark.parametrize("motion", ["cruise", "manoeuvre"])
+def test_direct_errors_match_the_fine_truth_far_below_linear_differences(
+        orthodromic, motion, method, request):
+    fine, fast = request.getfixturevalue(motion)
+    runs = [simulate(orthodromic, t, SOURCES, method=method, record_interval=1.0,
+                     parts=("real", "linear")) for t in (fine, fast)]
+    direct_fine, direct_fast = (r.direct_errors() for r in runs)
+    linear = runs[0].linear_errors()
+    size = np.abs(direct_fine.values).max(axis=(1, 2))
+    excited = size > 0
+    fast_vs_fine = np.abs(direct_fast.values - direct_fine.values).max(axis=(1, 2))[excited]
+    linear_vs_direct = np.abs(linear.values - direct_fine.values).max(axis=(1, 2))[excited]
+    # measured about 3e-11 (cruise) and 2e-9 (manoeuvre) of each error curve; the
+    # linear-vs-direct differences are 1e-6 to 1e-4 of them
+    assert (fast_vs_fine / size[excited]).max() < 1e-7
+    assert (fast_vs_fine / linear_vs_direct).max() < 1e-2
+
+
+def test_great_circle_follows_spherical_geometry(orthodromic):
+    sphere = orthodromic.parameter_vector(e2=0.0)
+    phi0, lam0, chi0, speed, h = -30 * DEG, 100 * DEG, 140 * DEG, 300.0, 2000.0
+    traj = tr.trajectory(orthodromic, tr.great_circle_profile(phi0, lam0, chi0, speed, h),
+                         3600.0, 0.05, p=sphere)
+    assert isinstance(traj.source, it.InterpolatedTruth)  # "auto" chose it
+    y = orthodromic.numpy.outputs(traj.truth, traj.inputs, sphere)
+    angle = speed * traj.times / (sphere[0] + h)
+    phi = np.arcsin(np.sin(phi0) * np.cos(angle) + np.cos(phi0) * np.sin(angle) * np.cos(chi0))
+    lam = lam0 + np.arctan2(np.sin(chi0) * np.sin(angle) * np.cos(phi0),
+                            np.cos(angle) - np.sin(phi0) * np.sin(phi))
+    assert np.abs(y[0] - phi).max() < 1e-11
+    assert np.abs((y[1] - lam + np.pi) % (2 * np.pi) - np.pi).max() < 1e-11
+    np.testing.assert_allclose(np.hypot(y[5], y[6]), speed, rtol=1e-11)
+
+
+def test_chunks_do_not_change_the_numbers(orthodromic):
+    """Stored, streamed in any chunk size, runs fed either way: identical to the bit."""
+    profile = tr.manoeuvre_profile(48 * DEG, 20 * DEG, 30 * DEG, 220.0, LEGS, h=1000.0)
+    stored = tr.trajectory(orthodromic, profile, 1500.0, 0.1, stream=False)
+    streamed = tr.trajectory(orthodromic, profile, 1500.0, 0.1, stream=True)
+    assert isinstance(streamed.source, it.InterpolatedTruth)
+    for size in (7, 250, 5000, 15000):  # blocks of 6400 steps: every boundary crossed
+        chunks = list(streamed.chunks(size))
+        assert sum(c.size for c in chunks) == stored.n_steps
+        truth = np.hstack([chunks[0].truth[:, :1]] + [c.truth[:, 1:] for c in chunks])
+        inputs = np.hstack([chunks[0].inputs[:, :1]] + [c.inputs[:, 1:] for c in chunks])
+        midpoints = np.hstack([c.midpoints for c in chunks])
+        assert np.array_equal(truth, stored.truth)
+        assert np.array_equal(inputs, stored.inputs)
+        assert np.array_equal(midpoints, stored.midpoints)
+    a = simulate(orthodromic, stored, SOURCES, method="rk4", record_interval=10.0)
+    b = simulate(orthodromic, streamed, SOURCES, method="rk4", record_interval=10.0)
+    for part in ("ideal", "real", "linear", "refined"):
+        assert np.array_equal(getattr(a, part), getattr(b, part)), part
+
+
+def test_coarse_steps_keep_the_fine_truth_bit_for_bit(orthodromic):
+    """At steps where an interval would hold few steps, "auto" is the fine truth."""
+    profile = tr.manoeuvre_profile(48 * DEG, 20 * DEG, 30 * DEG, 220.0, LEGS, h=1000.0)
+    auto = tr.trajectory(orthodromic, profile, 600.0, 0.5)
+    fine = tr.trajectory(orthodromic, profile, 600.0, 0.5, truth="fine")
+    assert np.array_equal(auto.truth, fine.truth) and np.array_equal(auto.inputs, fine.inputs)
+
+
+def test_plan_ends_intervals_at_every_break():
+    plan = it.plan(90000, 0.01, (300.0, 423.456, 723.456, 5000.0))
+    ends = plan.start + plan.length
+    for b in (300.0, 423.456, 723.456):
+        assert np.min(np.abs(ends - b)) < 1e-9  # an interval ends there
+    assert plan.length.max() <= it.INTERVAL + 0.01 and plan.start[0] == 0.0
+    assert ends[-1] == pytest.approx(900.0)
+    np.testing.assert_allclose(plan.start[1:], ends[:-1])
+    # every half step belongs to exactly one interval, in order
+    assert plan.first_half[0] == 0 and plan.first_half[-1] == 2 * 90000 + 1
+    assert np.all(np.diff(plan.first_half) > 0)
+
+
+def test_too_fast_a_motion_is_flagged(orthodromic):
+    """A weave with a 4 s period declared smooth: the estimate sees it and warns."""
+    smooth = tr.great_circle_profile(50 * DEG, 30 * DEG, 0.0, 250.0)
+
+    def commands(t):
+        values, rates = smooth.commands(t)
+        values[1] = 20.0 * np.sin(2 * np.pi * t / 4.0)
+        rates[1] = 20.0 * 2 * np.pi / 4.0 * np.cos(2 * np.pi * t / 4.0)
+        return values, rates
+
+    weave = tr.Profile("track", commands, 50 * DEG, 30 * DEG, 0.0, "weave", breaks=())
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        traj = tr.trajectory(orthodromic, weave, 60.0, 0.01, stream=True)
+        list(traj.chunks(1000))
+    assert any("truth='fine'" in str(w.message) for w in caught)
+    assert traj.source.error_estimate.max() > 1e-3
+
+
+def test_bad_truth_choices_raise_one_line_errors(orthodromic):
+    great = tr.great_circle_profile(50 * DEG, 30 * DEG, 0.0, 250.0)
+    with pytest.raises(InsErrorsError, match="truth"):
+        tr.trajectory(orthodromic, great, 10.0, 0.01, truth="coarse")
+    unknown = tr.Profile("track", great.commands, 50 * DEG, 30 * DEG, 0.0, "own")
+    with pytest.raises(InsErrorsError, match="breaks"):
+        tr.trajectory(orthodromic, unknown, 10.0, 0.01, truth="interpolated")
+    # a flight over the pole (after about 37 s) leaves the domain: named with its time
+    # (the first coarse block, 640 s, is integrated when the trajectory is made)
+    polar = tr.great_circle_profile(89.9 * DEG, 0.0, 0.0, 300.0)
+    with pytest.raises(DomainError, match=r"true motion leaves the model's domain at t = 3\d"):
+        streamed = tr.trajectory(orthodromic, polar, 600.0, 0.01, stream=True)
+        simulate(orthodromic, streamed, {"gyro_drift_x": 1e-7})
