@@ -230,10 +230,10 @@ class _Block:
                     q = np.arange(q_a + (parity - q_a) % 2, q_b, 2)
                     theta = (q * (self._tau / 2.0) - self._plan.start[j]) / self._plan.length[j]
                     B = lagrange_matrix(theta)
-                values = np.matmul(B, self.nodes[intervals, :, columns])
                 row = (q_a + (parity - q_a) % 2 - first) // 2
-                out[row:row + values.shape[0] * values.shape[1]] = values.reshape(
-                    -1, out.shape[1])
+                count = intervals.stop - intervals.start
+                target = out[row:row + count * B.shape[0]].reshape(count, B.shape[0], -1)
+                np.matmul(B, self.nodes[intervals, :, columns], out=target)
             self._cache[key, parity] = out
         return self._cache[key, parity]
 
