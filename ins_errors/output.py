@@ -136,7 +136,7 @@ def write_text(path: str | Path, text: str) -> Path:
     return write_with(path, lambda p: p.write_text(text, encoding="utf-8"))
 
 
-def save_figure(figure, path: str | Path, **options) -> Path:
+def save_figure(figure, path: str | Path, close: bool = True, **options) -> Path:
     """Save a matplotlib figure atomically and close it.
 
     Parameters
@@ -145,6 +145,8 @@ def save_figure(figure, path: str | Path, **options) -> Path:
         The figure.
     path : str or Path
         Target; its suffix (png, pdf, svg, ...) chooses the format.
+    close : bool
+        Close the figure afterwards (``False``: the caller draws it again).
     **options
         Passed to ``Figure.savefig`` (e.g. ``dpi``).
     """
@@ -155,7 +157,8 @@ def save_figure(figure, path: str | Path, **options) -> Path:
     try:
         return write_with(path, lambda p: figure.savefig(p, format=fmt, **options))
     finally:
-        plt.close(figure)
+        if close:
+            plt.close(figure)
 
 
 class OutputFolder:

@@ -155,16 +155,14 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
         If the folder cannot be written or must not be.
     """
     from ins_errors.export import curves_csv, save_curves_mat
-    from ins_errors.numeric.plots import plot_comparison, shared_quantities
+    from ins_errors.numeric.plots import plot_comparisons, shared_quantities
 
     out = OutputFolder(folder, force=force)
-    plots = []
-    quantities = result.scenario.quantities or shared_quantities(result.comparisons)
-    for k, comparison in enumerate(result.comparisons, 1):
-        name = f"case_{k}.png"
-        plot_comparison(comparison, out.file(name), quantities=quantities,
-                        title=f"{result.scenario.title}\n{comparison.label}")
-        plots.append(name)
+    plots = [f"case_{k}.png" for k in range(1, len(result.comparisons) + 1)]
+    plot_comparisons(result.comparisons, [out.file(name) for name in plots],
+                     quantities=result.scenario.quantities
+                     or shared_quantities(result.comparisons),
+                     titles=[f"{result.scenario.title}\n{c.label}" for c in result.comparisons])
     text = report_markdown(result, plots)
     out.write_text("report.md", text)
     out.write_text("report.html", markdown_to_html(text, result.scenario.title, out.path))

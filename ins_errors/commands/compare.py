@@ -166,15 +166,14 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         from pathlib import Path
 
-        from ins_errors.numeric.plots import plot_comparison, shared_quantities
+        from ins_errors.numeric.plots import plot_comparisons, shared_quantities
 
         path = Path(args.plot)
-        shown = shared_quantities(comparisons)  # one layout for every case
-        for k, comparison in enumerate(comparisons):
-            target = path if len(comparisons) == 1 else path.with_name(
-                f"{path.stem}_{k + 1}{path.suffix}")
-            plot_comparison(comparison, target, quantities=shown,
-                            title=f"{comparison.label}\n{title}")
+        targets = [path] if len(comparisons) == 1 else [
+            path.with_name(f"{path.stem}_{k + 1}{path.suffix}") for k in range(len(comparisons))]
+        plot_comparisons(comparisons, targets,
+                         quantities=shared_quantities(comparisons),  # one layout for all
+                         titles=[f"{c.label}\n{title}" for c in comparisons])
     if args.json:
         json.dump({"model": model.name, "motion": profile.description, "duration_s": duration,
                    "step_s": tau, "record_s": record, "method": args.method,

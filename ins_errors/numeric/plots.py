@@ -61,49 +61,123 @@ def plot_comparison(comparison: Comparison, path: str | Path,
     InsErrorsError
         If a quantity is unknown or the file cannot be written.
     """
+    return plot_comparisons([comparison], [path], quantities, [title])[0]
+
+
+def plot_comparisons(comparisons: Sequence[Comparison], paths: Sequence[str | Path],
+                     quantities: Sequence[str] | None = None,
+                     titles: Sequence[str] | None = None) -> list[Path]:
+    """Save one :func:`plot_comparison` figure per case, drawing the panels only once.
+
+    The cases share one figure whose curves, limits and title are replaced case by
+    case: the files are the same as drawing each case afresh, without building every
+    panel and tick again (most of matplotlib's cost for these many-panel figures).
+
+    Parameters
+    ----------
+    comparisons : sequence of Comparison
+        The cases.
+    paths : sequence of str or Path
+        One output file per case.
+    quantities : sequence of str, optional
+        Quantities to draw, one row each, for every case (default: per case, as
+        :func:`plot_comparison`).
+    titles : sequence of str, optional
+        One figure title per case (an empty title: the case label).
+
+    Returns
+    -------
+    list of Path
+        The written files.
+
+    Raises
+    ------
+    InsErrorsError
+        If a quantity is unknown or a file cannot be written.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    if quantities is None:
-        quantities = shared_quantities([comparison])
-    for q in quantities:
-        comparison.metric(q)  # raises a one-line error for unknown names
-    n = len(quantities)
-    fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.5), squeeze=False,
-                             sharex=True)
-    hours = comparison.times / 3600.0
-    for (curves, residuals), q in zip(axes, quantities, strict=True):
-        scale, unit = _scale(comparison.metric(q).unit)
-        direct = comparison.direct[q] * scale
-        curves.plot(hours, direct, color="black", lw=1.6, label="direct")
-        curves.plot(hours, comparison.linear[q] * scale, color="tab:orange", lw=1.0, ls="--",
-                    label="linear")
-        residuals.plot(hours, direct - comparison.linear[q] * scale, color="tab:orange",
-                       lw=1.0, label="direct − linear")
-        if comparison.refined:
-            curves.plot(hours, comparison.refined[q] * scale, color="tab:blue", lw=1.0,
-                        ls=":", label="refined")
-            residuals.plot(hours, direct - comparison.refined[q] * scale, color="tab:blue",
-                           lw=1.0, label="direct − refined")
-        curves.set_ylabel(f"{q}\n[{unit}]", fontsize=8)
-        residuals.set_ylabel(f"residual [{unit}]", fontsize=8)
-        for ax in (curves, residuals):
-            ax.grid(True, alpha=0.3)
-            ax.tick_params(labelsize=7)
-            ax.ticklabel_format(axis="y", useOffset=False)
-    axes[0, 0].set_title("error curves", fontsize=9, pad=14)
-    axes[0, 1].set_title("residuals: what the linear / refined models miss", fontsize=9,
-                        pad=14)
-    for ax in axes[-1]:
-        ax.set_xlabel("time [h]", fontsize=8)
-    axes[0, 0].legend(fontsize=7, loc="best")
-    axes[0, 1].legend(fontsize=7, loc="best")
-    # fixed margins in inches (tight_layout measured every tick label: seconds a figure)
-    width, height = fig.get_size_inches()
-    fig.suptitle(title or comparison.label, fontsize=9, y=1 - 0.1 / height, va="top")
-    fig.subplots_adjust(left=1.0 / width, right=1 - 0.15 / width, bottom=0.55 / height,
-                        top=1 - 1.0 / height, wspace=0.95 / (width / 2),
-                        hspace=0.4 / 1.75)
-    return save_figure(fig, path, dpi=100)
+    titles = list(titles) if titles is not None else [""] * len(comparisons)
+    written, figure = [], None
+    try:
+        for comparison, path, title in zip(comparisons, paths, titles, strict=True):
+            shown = list(quantities) if quantities is not None else shared_quantities(
+                [comparison])
+            for q in shown:
+                comparison.metric(q)  # raises a one-line error for unknown names
+            layout = (tuple(shown), bool(comparison.refined))
+            if figure is None or figure.layout != layout:
+                if figure is not None:
+                    plt.close(figure.fig)
+                figure = _ComparisonFigure(comparison, shown)
+            figure.show(comparison, title or comparison.label)
+            written.append(save_figure(figure.fig, path, dpi=100, close=False))
+    finally:
+        if figure is not None:
+            plt.close(figure.fig)
+    return written
+
+
+class _ComparisonFigure:
+    """The panels of :func:`plot_comparison` for one layout, refilled case by case."""
+
+    def __init__(self, comparison: Comparison, quantities: list[str]):
+        import matplotlib.pyplot as plt
+
+        self.layout = (tuple(quantities), bool(comparison.refined))
+        n = len(quantities)
+        fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.5), squeeze=False,
+                                 sharex=True)
+        self.fig, self.axes, self.lines = fig, axes, []
+        for (curves, residuals), q in zip(axes, quantities, strict=True):
+            scale, unit = _scale(comparison.metric(q).unit)
+            row = [curves.plot([], [], color="black", lw=1.6, label="direct")[0],
+                   curves.plot([], [], color="tab:orange", lw=1.0, ls="--",
+                               label="linear")[0],
+                   residuals.plot([], [], color="tab:orange", lw=1.0,
+                                  label="direct − linear")[0]]
+            if comparison.refined:
+                row += [curves.plot([], [], color="tab:blue", lw=1.0, ls=":",
+                                    label="refined")[0],
+                        residuals.plot([], [], color="tab:blue", lw=1.0,
+                                       label="direct − refined")[0]]
+            self.lines.append((q, scale, row))
+            curves.set_ylabel(f"{q}\n[{unit}]", fontsize=8)
+            residuals.set_ylabel(f"residual [{unit}]", fontsize=8)
+            for ax in (curves, residuals):
+                ax.grid(True, alpha=0.3)
+                ax.tick_params(labelsize=7)
+                ax.ticklabel_format(axis="y", useOffset=False)
+        axes[0, 0].set_title("error curves", fontsize=9, pad=14)
+        axes[0, 1].set_title("residuals: what the linear / refined models miss", fontsize=9,
+                             pad=14)
+        for ax in axes[-1]:
+            ax.set_xlabel("time [h]", fontsize=8)
+        axes[0, 0].legend(fontsize=7, loc="best")
+        axes[0, 1].legend(fontsize=7, loc="best")
+        # fixed margins in inches (tight_layout measured every tick label: seconds a figure)
+        width, height = fig.get_size_inches()
+        self.title = fig.suptitle("", fontsize=9, y=1 - 0.1 / height, va="top")
+        fig.subplots_adjust(left=1.0 / width, right=1 - 0.15 / width, bottom=0.55 / height,
+                            top=1 - 1.0 / height, wspace=0.95 / (width / 2),
+                            hspace=0.4 / 1.75)
+
+    def show(self, comparison: Comparison, title: str) -> None:
+        """Put one case's curves, limits and title in the figure."""
+        hours = comparison.times / 3600.0
+        for q, scale, row in self.lines:
+            direct = comparison.direct[q] * scale
+            linear = comparison.linear[q] * scale
+            curves = [direct, linear, direct - linear]
+            if comparison.refined:
+                refined = comparison.refined[q] * scale
+                curves += [refined, direct - refined]
+            for line, values in zip(row, curves, strict=True):
+                line.set_data(hours, values)
+        for ax in self.axes.flat:
+            ax.relim()
+            ax.autoscale_view()
+        self.title.set_text(title)
