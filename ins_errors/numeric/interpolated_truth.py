@@ -37,6 +37,7 @@ import numpy as np
 from ins_errors.errors import DomainError
 from ins_errors.numeric.integrators import DenseCall, casadi_step, native_functions
 from ins_errors.numeric.model import Model
+from ins_errors.numeric.trajectories import TruthChunk
 
 DEGREE = 7
 """Degree of the interpolating polynomial in every interval (DEGREE + 1 nodes)."""
@@ -245,7 +246,7 @@ def _regular_matrix(m: int, parity: int) -> np.ndarray:
     return lagrange_matrix((np.arange(m) + 0.5 * parity) / m)
 
 
-class _Chunk:
+class _Chunk(TruthChunk):
     """A :class:`TruthChunk` whose arrays are interpolated when first read."""
 
     def __init__(self, start: int, m: int, blocks: list[_Block], n: int, nu: int):
@@ -445,7 +446,7 @@ class InterpolatedTruth:
                               "(e.g. passes a pole)")
 
     # -- the MotionSource interface ------------------------------------------------------
-    def chunks(self, size: int) -> Iterator:
+    def chunks(self, size: int) -> Iterator[TruthChunk]:
         """Chunks of at most ``size`` steps (see :class:`MotionSource`)."""
         blocks = self._blocks()
         held: list[_Block] = []

@@ -730,8 +730,9 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         coarse intervals of about 10 s between the profile's breaks, interpolated to the
         steps by polynomials of degree 7 (:mod:`ins_errors.numeric.interpolated_truth`,
         hundreds of times cheaper per step); ``"auto"`` (default): interpolated when the
-        profile's breaks are known and an interval holds at least
-        :data:`~ins_errors.numeric.interpolated_truth.MIN_STEPS` steps, else fine.
+        profile's breaks are known and the intervals hold at least
+        :data:`~ins_errors.numeric.interpolated_truth.MIN_STEPS` steps (on average,
+        counting the breaks), else fine.
 
     Raises
     ------
@@ -799,8 +800,13 @@ def _truth_source(model: Model, profile: Profile, frame: str, tau: float, n_step
         raise MotionError("the interpolated truth needs a profile whose breaks are known "
                           "(a great circle, a manoeuvre or a sampled motion)")
     if truth == "auto":
-        truth = ("interpolated" if profile.breaks is not None
-                 and it.INTERVAL / tau >= it.MIN_STEPS else "fine")
+        truth = "fine"
+        if profile.breaks is not None:
+            duration = n_steps * tau
+            inside = sum(1 for b in profile.breaks if 0.0 < b < duration)
+            intervals = np.ceil(duration / it.INTERVAL) + inside
+            if it.INTERVAL / tau >= it.MIN_STEPS and n_steps >= it.MIN_STEPS * intervals:
+                truth = "interpolated"
     if truth == "interpolated":
         return it.InterpolatedTruth(model, profile, frame, tau, n_steps, p, x0)
     return ProfileTruth(model, profile, frame, tau, n_steps, p, x0)
