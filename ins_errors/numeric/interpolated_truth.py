@@ -158,7 +158,8 @@ def plan(n_steps: int, tau: float, breaks: Sequence[float], interval: float = IN
     per = max(1, int(np.floor(interval / tau + 1e-9)))
     # knots as (step index or None, time)
     edges: list[tuple[int | None, float]] = [(0, 0.0)]
-    inner = sorted({float(b) for b in breaks if 0.0 < b < duration})
+    breaks = np.unique(np.asarray(breaks, dtype=float))
+    inner = [float(b) for b in breaks[(breaks > 0.0) & (breaks < duration)]]
     for b in [*inner, duration]:
         k = round(b / tau)
         on_grid = abs(b / tau - k) < 1e-6

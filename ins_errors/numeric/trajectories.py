@@ -82,7 +82,7 @@ class Profile:
         One line for reports.
     static : bool
         True for a vehicle at rest.
-    breaks : tuple of float, optional
+    breaks : sequence of float or numpy.ndarray, optional
         Times (s) where the commands may lose smoothness (leg joins, ramp ends, spline
         knots); between them the commands are smooth (analytic). ``()`` for a motion
         smooth throughout, None when unknown: only a profile with known breaks gets the
@@ -96,7 +96,7 @@ class Profile:
     heading: float
     description: str
     static: bool = False
-    breaks: tuple[float, ...] | None = None
+    breaks: Sequence[float] | np.ndarray | None = None
 
     def __post_init__(self) -> None:
         if self.frame not in ("track", "geographic"):
@@ -292,8 +292,7 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
         return values, rates
 
     return Profile(frame, commands, latitude, longitude, heading,
-                   f"sampled motion ({t.size} samples, {frame} frame)",
-                   breaks=tuple(float(b) for b in t))
+                   f"sampled motion ({t.size} samples, {frame} frame)", breaks=t.copy())
 
 
 # --------------------------------------------------------------------------------------
@@ -803,7 +802,8 @@ def _truth_source(model: Model, profile: Profile, frame: str, tau: float, n_step
         truth = "fine"
         if profile.breaks is not None:
             duration = n_steps * tau
-            inside = sum(1 for b in profile.breaks if 0.0 < b < duration)
+            breaks = np.asarray(profile.breaks, dtype=float)
+            inside = np.count_nonzero((breaks > 0.0) & (breaks < duration))
             intervals = np.ceil(duration / it.INTERVAL) + inside
             if it.INTERVAL / tau >= it.MIN_STEPS and n_steps >= it.MIN_STEPS * intervals:
                 truth = "interpolated"
