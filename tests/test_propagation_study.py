@@ -78,6 +78,20 @@ def test_summary_and_plots(tmp_path, result):
         result.curve("gyro_drift_nort")
 
 
+def test_plots_drawn_in_one_figure_equal_fresh_figures(tmp_path, result):
+    """The sources share one reused figure (curves, ranges, title and tight layout
+    redone per source): each file must be byte for byte the source drawn alone, also
+    after a source whose flat curves fixed a panel's range."""
+    from ins_errors.output import OutputFolder
+    from ins_errors.studies.propagation import plot
+
+    names = ["gyro_drift_up", "initial_longitude_error", "accel_bias_north"]  # 2nd is flat
+    together = plot(result, OutputFolder(tmp_path / "together"), names)
+    for name, path in zip(names, together, strict=True):
+        alone = plot(result, OutputFolder(tmp_path / name), [name])[0]
+        assert path.read_bytes() == alone.read_bytes(), name
+
+
 def test_bad_experiments_give_one_line_errors():
     with pytest.raises(DomainError, match="±90"):
         run(Experiment(latitude=np.pi / 2))

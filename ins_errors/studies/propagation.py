@@ -323,6 +323,10 @@ def plot(result: PropagationResult, folder: OutputFolder,
          sources: list[str] | None = None) -> list[Path]:
     """One PNG per source (default every source): its seven error quantities, four curves.
 
+    The sources share one figure whose curves, ranges and title are replaced source by
+    source (the same files as a fresh figure each, without building every panel and
+    tick again).
+
     Returns
     -------
     list of pathlib.Path
@@ -339,31 +343,46 @@ def plot(result: PropagationResult, folder: OutputFolder,
     hours = result.times / 3600
     paths = []
     chosen = [result.curve(name) for name in sources] if sources else result.curves
-    for c in chosen:
-        fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13), sharex=True)
-        for k, (ax, (_, short, unit, label)) in enumerate(zip(axes, QUANTITIES, strict=True)):
-            ax.plot(hours, _display(c.direct[k], unit), color="C0", lw=2.2, alpha=0.6,
-                    label="direct numeric")
-            ax.plot(hours, _display(c.linear[k], unit), color="C1", lw=1.2,
-                    label="linear numeric")
-            ax.plot(hours, _display(c.analytic[k], unit), color="k", lw=0.8, ls="--",
-                    label="analytic (full)")
-            ax.plot(hours, _display(c.reduced[k], unit), color="C3", lw=0.8, ls=":",
-                    label="analytic (report's reduced)")
+    if not chosen:
+        return paths
+    runs = ("direct", "linear", "analytic", "reduced")
+    styles = ({"color": "C0", "lw": 2.2, "alpha": 0.6, "label": "direct numeric"},
+              {"color": "C1", "lw": 1.2, "label": "linear numeric"},
+              {"color": "k", "lw": 0.8, "ls": "--", "label": "analytic (full)"},
+              {"color": "C3", "lw": 0.8, "ls": ":", "label": "analytic (report's reduced)"})
+    fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13), sharex=True)
+    try:
+        lines = []
+        for ax, (_, short, unit, label) in zip(axes, QUANTITIES, strict=True):
+            lines.append([ax.plot([], [], **style)[0] for style in styles])
             ax.set_ylabel(f"{short}, {unit}", fontsize=8)
             ax.set_title(label, fontsize=8, loc="left")
             ax.ticklabel_format(axis="y", useOffset=False)
-            _honest_range(ax, [_display(getattr(c, run)[k], unit)
-                               for run in ("direct", "linear", "analytic", "reduced")])
             ax.grid(True, alpha=0.3)
         axes[0].legend(fontsize=7, ncol=2)
         axes[-1].set_xlabel("time, h")
-        info = model.source(c.source)
-        shown = format_quantity(c.magnitude, info.unit, info.display_unit or info.unit)
-        fig.suptitle(f"north_pointing, {c.source} = {shown}, φ = "
-                     f"{np.degrees(result.experiment.latitude):.4g}°", fontsize=9)
-        fig.tight_layout()
-        paths.append(folder.save_figure(fig, f"{c.source}.png", dpi=90))
+        title = fig.suptitle("", fontsize=9)
+        for c in chosen:
+            for k, (ax, row, (_, _, unit, _)) in enumerate(zip(axes, lines, QUANTITIES,
+                                                                strict=True)):
+                shown = [_display(getattr(c, run)[k], unit) for run in runs]
+                for line, values in zip(row, shown, strict=True):
+                    line.set_data(hours, values)
+                ax.set_autoscaley_on(True)  # the previous source may have fixed it
+                ax.relim()
+                ax.autoscale_view()
+                _honest_range(ax, shown)
+            info = model.source(c.source)
+            magnitude = format_quantity(c.magnitude, info.unit, info.display_unit or info.unit)
+            title.set_text(f"north_pointing, {c.source} = {magnitude}, φ = "
+                           f"{np.degrees(result.experiment.latitude):.4g}°")
+            # tight_layout starts from the current margins: start where a new figure does
+            fig.subplots_adjust(**{k: matplotlib.rcParams[f"figure.subplot.{k}"] for k in
+                                   ("left", "right", "bottom", "top", "wspace", "hspace")})
+            fig.tight_layout()
+            paths.append(folder.save_figure(fig, f"{c.source}.png", dpi=90, close=False))
+    finally:
+        plt.close(fig)
     return paths
 
 
