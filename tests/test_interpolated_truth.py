@@ -220,3 +220,13 @@ def test_bad_truth_choices_raise_one_line_errors(orthodromic):
     with pytest.raises(DomainError, match=r"true motion leaves the model's domain at t = 3\d"):
         streamed = tr.trajectory(orthodromic, polar, 600.0, 0.01, stream=True)
         simulate(orthodromic, streamed, {"gyro_drift_x": 1e-7})
+
+
+@pytest.mark.parametrize("stream", [False, True])
+def test_a_run_of_no_steps_is_its_start(orthodromic, stream):
+    great = tr.great_circle_profile(50 * DEG, 30 * DEG, 10 * DEG, 250.0)
+    empty = tr.trajectory(orthodromic, great, 0.0, 0.01, stream=stream)
+    longer = tr.trajectory(orthodromic, great, 10.0, 0.01, truth="fine")
+    assert empty.truth.shape == (8, 1) and empty.inputs.shape == (5, 1)
+    np.testing.assert_allclose(empty.truth[:, 0], longer.truth[:, 0], rtol=0, atol=1e-15)
+    np.testing.assert_allclose(empty.inputs[:, 0], longer.inputs[:, 0], rtol=1e-12, atol=1e-15)

@@ -19,9 +19,9 @@ it on a coarse grid instead and interpolates:
 Per 100 Hz step this costs a few nanoseconds instead of about two microseconds. The
 interpolation error of every interval is estimated from its last Chebyshev coefficient
 (:attr:`InterpolatedTruth.error_estimate`, a warning above :data:`WARN_RELATIVE`); the
-tests compare the inputs and the error
-runs with the fine truth. A chunk's numbers do not depend on the chunk size: intervals,
-compiled batches and the matrix products are fixed by the grid alone.
+tests compare the states, the inputs and the error runs with the fine truth. A chunk's
+numbers do not depend on the chunk size: intervals, compiled batches and the matrix
+products are fixed by the grid alone.
 """
 
 from __future__ import annotations
@@ -36,8 +36,8 @@ import numpy as np
 
 from ins_errors.errors import DomainError
 from ins_errors.numeric.integrators import DenseCall, casadi_step, native_functions
-from ins_errors.numeric.model import Model
-from ins_errors.numeric.trajectories import TruthChunk
+from ins_errors.numeric.model import Model, load_model
+from ins_errors.numeric.trajectories import TruthChunk, _kinematics
 
 DEGREE = 7
 """Degree of the interpolating polynomial in every interval (DEGREE + 1 nodes)."""
@@ -54,7 +54,7 @@ BATCH = 128
 
 WARN_RELATIVE = 1e-7
 """A warning is given when an interval's estimated interpolation error exceeds this
-fraction of a quantity's size in the interval."""
+fraction of the size of the quantities of the same unit over its block of intervals."""
 
 _NODES = 0.5 * (1.0 - np.cos(np.pi * np.arange(DEGREE + 1) / DEGREE))
 """Chebyshev–Lobatto nodes on [0, 1], increasing."""
@@ -99,9 +99,6 @@ substeps, ``t + i h / (2 SUBSTEPS)``, ``i = 0..2 SUBSTEPS``."""
 def _gap_function(model_name: str, frame: str, p: tuple[float, ...]) -> DenseCall:
     """Compiled ``(x, gaps (G, GAP_COLUMNS)) -> (x after each gap (G, n), [u, margin]
     (G, nu + 1))``: RK4 substeps from node to node, the inputs at the nodes."""
-    from ins_errors.numeric.model import load_model
-    from ins_errors.numeric.trajectories import _kinematics
-
     model = load_model(model_name)
     kin = _kinematics(model_name, frame)
     margins = model.casadi.function("domain_margins")

@@ -603,6 +603,7 @@ class Trajectory:
         truth = np.empty((n, self.n_steps + 1))
         inputs = np.empty((nu, self.n_steps + 1))
         midpoints = np.empty((nu, self.n_steps))
+        truth[:, 0], inputs[:, 0] = self._truth[:, 0], self._inputs[:, 0]  # a run of 0 steps
         for chunk in self.source.chunks(STORE_CHUNK):
             k, m = chunk.start, chunk.size
             truth[:, k:k + m + 1] = chunk.truth
@@ -773,7 +774,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
                                                           + len(model.inputs))
     if stream is None:
         stream = 8 * n_values > STREAM_BYTES
-    if stream:
+    if stream and n_steps:  # (a run of no steps is its start, stored)
         first = next(source.chunks(1))  # checks the start of the motion now
         return Trajectory.streamed(model.key, tau, n_steps, source, first.truth[:, 0],
                                    first.inputs[:, 0], p, c0, profile.description)
