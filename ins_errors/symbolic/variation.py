@@ -29,6 +29,7 @@ import sympy as sp
 
 from ins_errors.errors import InsErrorsError, ModelDefinitionError
 from ins_errors.modeling import Mechanisation, ModelDefinition, accent
+from ins_errors.symbolic.shared_trees import SharedTrees
 
 
 @dataclass
@@ -78,11 +79,13 @@ class ErrorModel:
 
 
 def _second_order_term(jacobian: sp.Matrix, variables: list[sp.Symbol],
-                       directions: list[sp.Symbol], point: dict[sp.Symbol, sp.Expr]) -> sp.Matrix:
+                       directions: list[sp.Symbol], point: dict[sp.Symbol, sp.Expr],
+                       trees: SharedTrees) -> sp.Matrix:
     """½ Σ_jk ∂²f_i/∂v_j∂v_k d_j d_k at ``point``, from the Jacobian ∂f_i/∂v_j.
 
     Differentiating each nonzero Jacobian entry once more (only by the variables it
-    contains) is much cheaper than differentiating the shifted expression twice.
+    contains) is much cheaper than differentiating the shifted expression twice;
+    ``trees`` differentiates and substitutes each distinct subtree once.
     """
     terms = []
     for i in range(jacobian.rows):
@@ -92,9 +95,9 @@ def _second_order_term(jacobian: sp.Matrix, variables: list[sp.Symbol],
             if entry == 0:
                 continue
             for k, v_k in enumerate(variables):
-                if k < j or v_k not in entry.free_symbols:
+                if k < j or v_k not in trees.free_symbols(entry):
                     continue
-                curvature = sp.diff(entry, v_k).xreplace(point)
+                curvature = trees.xreplace(trees.derivative(entry, v_k), point)
                 if curvature != 0:
                     weight = 1 if k == j else 2  # symmetric off-diagonal pairs counted once
                     total += weight * curvature * d_j * directions[k]
@@ -111,7 +114,9 @@ def second_order_of(definition: ModelDefinition, real_rhs: sp.Matrix) -> sp.Matr
     d = definition
     variables = [*d.real_states, *d.w]
     point = {**d.at_ideal(), **d.no_errors()}
-    return _second_order_term(real_rhs.jacobian(variables), variables, [*d.xe, *d.w], point)
+    with SharedTrees().differentiating() as trees:
+        return _second_order_term(real_rhs.jacobian(variables), variables, [*d.xe, *d.w],
+                                  point, trees)
 
 
 @contextmanager
@@ -130,12 +135,20 @@ def _step(model: str, quantity: str) -> Iterator[None]:
 def vary(definition: ModelDefinition) -> ErrorModel:
     """Derive the closed first- and second-order error model of ``definition``.
 
+    Every Jacobian and substitution goes through one :class:`SharedTrees` (each distinct
+    subtree of the closed equations is differentiated and substituted once; the results
+    are SymPy's own).
+
     Raises
     ------
     ModelDefinitionError
         If SymPy fails on one of the quantities (the message names it).
     """
-    d = definition
+    with SharedTrees().differentiating() as trees:
+        return _vary(definition, trees)
+
+
+def _vary(d: ModelDefinition, trees: SharedTrees) -> ErrorModel:
     n = len(d.states)
     at_ideal = d.at_ideal()
     no_errors = d.no_errors()
@@ -145,7 +158,7 @@ def vary(definition: ModelDefinition) -> ErrorModel:
         outputs = d.outputs_expanded()
 
     def at_point(m: sp.Matrix) -> sp.Matrix:
-        return m.xreplace(at_ideal).xreplace(no_errors)
+        return trees.xreplace_matrix(trees.xreplace_matrix(m, at_ideal), no_errors)
 
     variables = [*d.real_states, *d.w]
     with _step(d.name, "state matrix F and source matrix G"):
@@ -158,11 +171,11 @@ def vary(definition: ModelDefinition) -> ErrorModel:
 
     point = {**at_ideal, **no_errors}
     with _step(d.name, "second-order terms"):
-        second = _second_order_term(jacobian, variables, [*d.xe, *d.w], point)
-        output_second = _second_order_term(output_jacobian, d.x, d.xe[:n], {})
+        second = _second_order_term(jacobian, variables, [*d.xe, *d.w], point, trees)
+        output_second = _second_order_term(output_jacobian, d.x, d.xe[:n], {}, trees)
 
     with _step(d.name, "initial error matrix E"):
-        E = d.initial_real_state.jacobian(d.w).xreplace(no_errors)
+        E = trees.xreplace_matrix(d.initial_real_state.jacobian(d.w), no_errors)
     with _step(d.name, "ideal-work equations (intermediates substituted)"):
         ideal_rhs = d.ideal_rhs_expanded()
     return ErrorModel(
