@@ -1,8 +1,11 @@
-"""Everything `make derive` writes, in order, all or nothing.
+"""Everything `make derive` writes, all or nothing.
 
-Model files first (one folder per model), then the documents that other steps register
-in :data:`EXTRA_STEPS` (reports that are regenerated with the code, e.g. the checker's
-report on the manual's printed equations).
+One job per model writes its folder and, on a full run, the model's transfer-function
+documents (:mod:`derive.transfer_functions`, in the same process, so the model is
+built once); the documents that other steps register in :data:`EXTRA_STEPS` (reports
+regenerated with the code, e.g. the checker's report on the manual's printed
+equations) are jobs of their own. The jobs are independent and run in one pool of
+forked workers, longest first; the output does not depend on the order.
 
 Everything is written into a temporary folder next to the target; the target is
 replaced only when every step has succeeded. A failing step raises :class:`DeriveError`
@@ -15,36 +18,62 @@ import os
 import shutil
 import tempfile
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 
 from ins_errors.errors import unknown_name
 from ins_errors.models import definition, model_names
 from ins_errors.symbolic.consistency import check_definition
+from ins_errors.symbolic.static_base import SETUPS
 
 from .hand_check_report import write_hand_check_reports
 from .model_files import ModelSummary, write_model
 from .steps import step
 from .transfer_functions import write_transfer_functions
 
-EXTRA_STEPS: list[Callable[[Path], None]] = [write_transfer_functions, write_hand_check_reports]
-"""Callables ``step(generated_root)`` run after every model has been written."""
+EXTRA_STEPS: list[Callable[[Path], None]] = [write_hand_check_reports]
+"""Callables ``step(generated_root)`` run on a full run, besides the models."""
+
+_LONGEST_FIRST = ("orthodromic", "north_pointing")
+"""Models whose jobs take longest (their transfer functions): started first."""
 
 
-def _write_one(name: str, root: Path) -> ModelSummary:
+def _write_one(name: str, root: Path, documents: bool) -> ModelSummary:
     with step(name, "build the definition"):
         model = definition(name)
     check_definition(model)  # the checks a researcher's model file gets, one line each
-    return write_model(model, root)
+    summary = write_model(model, root)
+    if documents and name in SETUPS:
+        with step(name, "transfer functions"):
+            write_transfer_functions(root, name)
+    return summary
 
 
-def _write_models(names: list[str], root: Path) -> list[ModelSummary]:
-    """Write each model's folder; models are independent, so use every core."""
-    workers = min(len(names), os.cpu_count() or 1)
+def _run_extra(extra: Callable[[Path], None], root: Path) -> None:
+    with step("all models", extra.__name__.removeprefix("write_").replace("_", " ")):
+        extra(root)
+
+
+def _run_jobs(names: list[str], root: Path, documents: bool) -> list[ModelSummary]:
+    """Every model's job and, if ``documents``, every extra step; both cores if there are."""
+    extras = EXTRA_STEPS if documents else []
+    workers = min(len(names) + len(extras), os.cpu_count() or 1)
     if workers <= 1:
-        return [_write_one(name, root) for name in names]
+        summaries = [_write_one(name, root, documents) for name in names]
+        for extra in extras:
+            _run_extra(extra, root)
+        return summaries
+    first = [n for n in _LONGEST_FIRST if n in names]
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        return list(pool.map(_write_one, names, [root] * len(names)))
+        jobs: dict[str, Future] = {
+            name: pool.submit(_write_one, name, root, documents)
+            for name in first}
+        others = [pool.submit(_run_extra, extra, root) for extra in extras]
+        jobs.update({name: pool.submit(_write_one, name, root, documents)
+                     for name in names if name not in jobs})
+        for job in others:
+            job.result()
+        return [jobs[name].result() for name in names]
 
 
 def derive_all(root: Path, models: list[str] | None = None) -> list[ModelSummary]:
@@ -72,11 +101,7 @@ def derive_all(root: Path, models: list[str] | None = None) -> list[ModelSummary
         init = work / "__init__.py"
         init.write_text('"""Generated code of every model (written by `make derive`)."""\n\n'
                         f"MODELS = {tuple(model_names())!r}\n", encoding="utf-8")
-        summaries = _write_models(names, work)
-        if models is None:
-            for extra in EXTRA_STEPS:
-                with step("all models", extra.__name__.removeprefix("write_").replace("_", " ")):
-                    extra(work)
+        summaries = _run_jobs(names, work, documents=models is None)
         _replace(root, work)
     finally:
         shutil.rmtree(work, ignore_errors=True)

@@ -12,9 +12,6 @@ writes
 
 from __future__ import annotations
 
-import multiprocessing
-import os
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 import sympy as sp
@@ -214,22 +211,9 @@ def model_files(model: str) -> dict[str, str]:
             "closed_forms.py": closed_form_module(model, results)}
 
 
-def write_transfer_functions(root: Path) -> None:
-    """The EXTRA_STEPS entry: write both files for every model with a static setup.
-
-    The models are analysed in parallel worker processes (each analysis is independent
-    and CPU-bound); the output does not depend on the order.
-    """
-    models = list(SETUPS)
-    workers = min(len(models), os.cpu_count() or 1)
-    if workers > 1:
-        context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(workers, mp_context=context) as pool:
-            texts = list(pool.map(model_files, models))
-    else:
-        texts = [model_files(m) for m in models]
-    for model, files in zip(models, texts, strict=True):
-        folder = root / model
-        folder.mkdir(parents=True, exist_ok=True)
-        for name, text in files.items():
-            (folder / name).write_text(text, encoding="utf-8")
+def write_transfer_functions(root: Path, model: str) -> None:
+    """Write both files of ``model`` (one with a static setup) under ``root/<model>/``."""
+    folder = root / model
+    folder.mkdir(parents=True, exist_ok=True)
+    for name, text in model_files(model).items():
+        (folder / name).write_text(text, encoding="utf-8")

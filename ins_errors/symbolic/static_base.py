@@ -28,6 +28,7 @@ import sympy as sp
 from ins_errors.modeling import ModelDefinition
 from ins_errors.models import definition
 from ins_errors.symbolic.analytic import Frequency, Parametrisation, StaticAnalysis, analyse
+from ins_errors.symbolic.shared_trees import SharedTrees
 from ins_errors.symbolic.simplifications import DroppedTerm, simplification
 
 OMEGA_N = sp.Symbol("Omega_N", positive=True)
@@ -245,14 +246,16 @@ def static_matrices(name: str, point: dict, initial_point: dict | None = None
     d = definition(name)
     at_ideal, no_errors = d.at_ideal(), d.no_errors()
     real_rhs = d.real_rhs_expanded()
+    with SharedTrees().differentiating() as trees:
 
-    def at(m: sp.Matrix) -> sp.Matrix:
-        return m.xreplace(at_ideal).xreplace(no_errors).xreplace(point)
+        def at(m: sp.Matrix, *rules: dict) -> sp.Matrix:
+            for rule in rules:
+                m = trees.xreplace_matrix(m, rule)
+            return m
 
-    F = at(real_rhs.jacobian(d.real_states))
-    G = at(real_rhs.jacobian(d.w))
-    E = d.initial_real_state.jacobian(d.w).xreplace(no_errors)
-    E = E.xreplace(initial_point or {}).xreplace(point)
+        F = at(real_rhs.jacobian(d.real_states), at_ideal, no_errors, point)
+        G = at(real_rhs.jacobian(d.w), at_ideal, no_errors, point)
+        E = at(d.initial_real_state.jacobian(d.w), no_errors, initial_point or {}, point)
     return F, G, E
 
 
