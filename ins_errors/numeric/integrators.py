@@ -15,12 +15,15 @@ Schemes
 
 Compiled path
 -------------
-:class:`CompiledLoop` builds the one-step map as a CasADi function, repeats it
-``record_every`` times with ``fold`` (only the last state is kept), repeats that block
-``chunk`` times with ``mapaccum`` (one recorded column per block), generates C code,
-compiles it once with the machine's C compiler into a shared library cached on disk
-(``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``; a temporary folder if that is
-not writable; size-limited, least recently used first out: :mod:`ins_errors.numeric.cache`)
+:class:`CompiledLoop` builds the one-step map as a CasADi function and generates its C
+code; a small loop written here in C (not by CasADi) repeats it ``record_every`` times
+per recorded sample and ``chunk`` samples per call, keeping the state in two buffers.
+It is compiled once with the machine's C compiler, without fused multiply-add
+contraction (:data:`IEEE_FLAGS`: every operation rounded as IEEE 754 says, so the
+compiled loop gives the bits of the CasADi virtual machine), into a shared library cached
+on disk (``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``; a temporary folder if
+that is not writable; size-limited, least recently used first out:
+:mod:`ins_errors.numeric.cache`)
 and calls it on numpy buffers in place through :mod:`ctypes` (:class:`NativeFunction`).
 Where no compiler works it falls back to the CasADi virtual machine and says so once
 (a :class:`RuntimeWarning`); ``jit=False`` or the environment variable
@@ -600,9 +603,10 @@ class CompiledLoop:
     every subexpression that depends on them only (about a quarter of the work of the
     orthodromic equations on a static base). The per-case constants ``w`` (error
     sources) travel with the state in one carried vector ``[z, m, w]`` (``m``: running
-    minimum of the domain margin, checked at the end of every recording interval), so
-    that ``fold`` and ``mapaccum`` feed it back whole. A compiled library is cached on
-    disk under the hash of its C source: the same loop is compiled once per machine.
+    minimum of the domain margin, checked at the end of every recording interval). A
+    compiled library is cached on disk under the hash of its C source: the same loop is
+    compiled once per machine. Without a compiler the same loop runs in the CasADi
+    virtual machine as ``fold``/``mapaccum``/``map`` graphs, with the same arithmetic.
 
     The compiled functions are called on numpy buffers in place (:class:`NativeFunction`).
     A batch is split into groups, one per core (:func:`worker_count`), run in threads;
