@@ -234,6 +234,7 @@ class _Block:
                 count = intervals.stop - intervals.start
                 target = out[row:row + count * B.shape[0]].reshape(count, B.shape[0], -1)
                 np.matmul(B, self.nodes[intervals, :, columns], out=target)
+            out.flags.writeable = False  # chunks hand out views of it
             self._cache[key, parity] = out
         return self._cache[key, parity]
 
