@@ -8,7 +8,10 @@ it on a coarse grid instead and interpolates:
 
 * the run is cut into *intervals* of about :data:`INTERVAL` seconds whose ends include
   every break of the profile (:attr:`Profile.breaks`: leg joins, ramp ends, spline
-  knots), so that the motion is smooth (analytic) inside every interval;
+  knots), so that the motion is smooth (analytic) inside every interval; an interval
+  whose commands the polynomial would not resolve (hard turns, a fast weave: the last
+  Chebyshev coefficient of the commands through its nodes above
+  :data:`REFINE_RELATIVE`) is halved, up to :data:`MAX_SPLITS` times;
 * in each interval the true state is integrated with RK4 from Chebyshev–Lobatto node to
   node (:data:`DEGREE` steps, compiled, the nodes' inputs evaluated there);
 * the true state and the inputs at the run's step times (and midpoints) are the
@@ -51,6 +54,18 @@ MIN_STEPS = 50
 
 BATCH = 128
 """Intervals integrated per compiled call."""
+
+REFINE_RELATIVE = 1e-10
+"""An interval is halved when the last Chebyshev coefficient of a command (speed, height,
+their rates) through its nodes exceeds this fraction of the largest command of that unit
+over its block of intervals."""
+
+MAX_SPLITS = 5
+"""Most times an interval is halved (10 s down to about 0.3 s)."""
+
+_COMMAND_UNITS = ([0, 1, 3, 6], [0, 1, 3, 6], [2], [0, 1, 3, 6], [4, 5, 7], [4, 5, 7],
+                  [0, 1, 3, 6], [4, 5, 7])
+"""Commands (v1, v2, h, V_zeta and their rates) of the same unit as each command."""
 
 WARN_RELATIVE = 1e-7
 """A warning is given when an interval's estimated interpolation error exceeds this
@@ -139,12 +154,49 @@ class Plan:
     regular : numpy.ndarray, shape (J,)
         Steps of an interval that starts on a step and holds a whole number of them
         (its evaluation matrices depend on that number only), else 0.
+    times : numpy.ndarray, shape (J + 1,)
+        The knots (interval ends), s.
+    steps : numpy.ndarray, shape (J + 1,)
+        Step index of every knot on the step grid, -1 for a knot between steps.
     """
 
     start: np.ndarray
     length: np.ndarray
     first_half: np.ndarray
     regular: np.ndarray
+    times: np.ndarray
+    steps: np.ndarray
+
+
+def _plan_of_knots(times: np.ndarray, steps: np.ndarray, tau: float, q_first: int,
+                   q_last: int) -> Plan:
+    """The :class:`Plan` of knots ``times`` (s) with step indices ``steps`` (-1: off the
+    grid); the first and the last interval end at half steps ``q_first``, ``q_last``."""
+    first_half = np.where(steps >= 0, 2 * steps, np.ceil(2.0 * times / tau)).astype(np.int64)
+    first_half[0], first_half[-1] = q_first, q_last
+    on_grid = (steps[:-1] >= 0) & (steps[1:] >= 0)
+    regular = np.where(on_grid, np.diff(steps), 0)
+    return Plan(times[:-1], np.diff(times), first_half, regular, times, steps)
+
+
+def _split(times: np.ndarray, steps: np.ndarray, split: np.ndarray,
+           tau: float) -> tuple[np.ndarray, np.ndarray]:
+    """Knots with the intervals marked in ``split`` cut in two (at a step where one is
+    inside, so that halves of whole steps share their evaluation matrices)."""
+    new_times, new_steps = [], []
+    for j in np.flatnonzero(split):
+        k_a, k_b, t_a, t_b = steps[j], steps[j + 1], times[j], times[j + 1]
+        if k_a >= 0 and k_b >= 0 and k_b - k_a >= 2:
+            k = (k_a + k_b) // 2
+        else:
+            k = round(0.5 * (t_a + t_b) / tau)
+            if not t_a < k * tau < t_b:
+                k = -1
+        new_times.append(k * tau if k >= 0 else 0.5 * (t_a + t_b))
+        new_steps.append(k)
+    order = np.argsort(np.concatenate([times, new_times]), kind="stable")
+    return (np.concatenate([times, new_times])[order],
+            np.concatenate([steps, np.array(new_steps, dtype=steps.dtype)])[order])
 
 
 def plan(n_steps: int, tau: float, breaks: Sequence[float], interval: float = INTERVAL) -> Plan:
@@ -174,15 +226,8 @@ def plan(n_steps: int, tau: float, breaks: Sequence[float], interval: float = IN
         if t_end > knots[-1][1]:
             knots.append((k_end, t_end))
     times = np.array([t for _, t in knots])
-    steps = [k for k, _ in knots]
-    start, length = times[:-1], np.diff(times)
-    first_half = np.array([2 * k if k is not None else int(np.ceil(2 * t / tau))
-                           for k, t in knots])
-    first_half[-1] = 2 * n_steps + 1
-    regular = np.array([steps[j + 1] - steps[j]
-                        if steps[j] is not None and steps[j + 1] is not None else 0
-                        for j in range(len(start))], dtype=int)
-    return Plan(start, length, first_half, regular)
+    steps = np.array([-1 if k is None else k for k, _ in knots], dtype=np.int64)
+    return _plan_of_knots(times, steps, tau, 0, 2 * n_steps + 1)
 
 
 # --------------------------------------------------------------------------------------
@@ -353,31 +398,55 @@ class InterpolatedTruth:
         J = len(plan_.start)
         x = self.x0.copy()
         # node 0 of the first interval: a zero-length gap evaluates the inputs at t = 0
-        first = self._gaps(np.array([0.0]), np.array([0.0]))[:1]
+        first = self._gaps(np.array([0.0]), np.array([0.0]))[0][:1]
         first[:, 0] = 0.0
         xs, ys = self._call(fn, x, first)
         previous = np.concatenate([x, ys[0, :nu]])
         self._check(ys[:1], xs[:1], 0.0)
         for j0 in range(0, J, BATCH):
             j1 = min(j0 + BATCH, J)
-            gaps = self._gaps(plan_.start[j0:j1], plan_.length[j0:j1])
+            sub, gaps = self._refined(plan_.times[j0:j1 + 1], plan_.steps[j0:j1 + 1],
+                                      int(plan_.first_half[j0]), int(plan_.first_half[j1]))
+            count = len(sub.start)
             xs, ys = self._call(fn, x, gaps)
-            times = (plan_.start[j0:j1, None] + plan_.length[j0:j1, None] * _NODES[1:]).ravel()
+            times = (sub.start[:, None] + sub.length[:, None] * _NODES[1:]).ravel()
             self._check(ys, xs, times)
             x = xs[-1].copy()
-            nodes = np.empty((j1 - j0, d + 1, n + nu))
-            nodes[:, 1:, :n] = xs.reshape(j1 - j0, d, n)
-            nodes[:, 1:, n:] = ys[:, :nu].reshape(j1 - j0, d, nu)
+            nodes = np.empty((count, d + 1, n + nu))
+            nodes[:, 1:, :n] = xs.reshape(count, d, n)
+            nodes[:, 1:, n:] = ys[:, :nu].reshape(count, d, nu)
             nodes[0, 0] = previous
             nodes[1:, 0] = nodes[:-1, d]
             previous = nodes[-1, d].copy()
             tail = np.abs(np.einsum("i,jic->jc", _CHEBYSHEV[-1], nodes))
             np.maximum(self.error_estimate, tail.max(axis=0), out=self.error_estimate)
-            self._warn_if_coarse(tail, nodes, plan_.start[j0:j1])
-            yield _Block(plan_, j0, j1, nodes, self.tau)
+            self._warn_if_coarse(tail, nodes, sub.start)
+            yield _Block(sub, 0, count, nodes, self.tau)
 
-    def _gaps(self, start: np.ndarray, length: np.ndarray) -> np.ndarray:
-        """Gap rows (J·DEGREE, GAP_COLUMNS) of intervals at ``start`` of ``length`` (s)."""
+    def _refined(self, times: np.ndarray, steps: np.ndarray, q_first: int,
+                 q_last: int) -> tuple[Plan, np.ndarray]:
+        """The intervals between knots ``times`` (a block of the coarse plan), halved
+        where the profile's commands are not resolved to :data:`REFINE_RELATIVE` (at
+        most :data:`MAX_SPLITS` times), and their gap rows."""
+        for depth in range(MAX_SPLITS + 1):
+            start, length = times[:-1], np.diff(times)
+            gaps, commands = self._gaps(start, length)
+            if depth == MAX_SPLITS:
+                break
+            nodes = commands[:, ::2 * SUBSTEPS]  # (J, DEGREE + 1, 8)
+            tail = np.abs(np.einsum("i,jic->jc", _CHEBYSHEV[-1], nodes))
+            largest = np.abs(nodes).max(axis=(0, 1))
+            size = np.array([largest[group].max() for group in _COMMAND_UNITS])
+            split = ((tail > REFINE_RELATIVE * size).any(axis=1)
+                     & (length >= 2.0 * self.tau))
+            if not split.any():
+                break
+            times, steps = _split(times, steps, split, self.tau)
+        return _plan_of_knots(times, steps, self.tau, q_first, q_last), gaps
+
+    def _gaps(self, start: np.ndarray, length: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Gap rows (J·DEGREE, GAP_COLUMNS) of intervals at ``start`` of ``length`` (s),
+        and the commands at the ends and midpoints of their RK4 steps (J, ., 8)."""
         d = DEGREE
         S = 2 * SUBSTEPS
         fractions = (_NODES[:-1, None] + np.diff(_NODES)[:, None] * np.arange(S) / S).ravel()
@@ -393,7 +462,7 @@ class InterpolatedTruth:
         rows[:, :, 0] = length[:, None] * np.diff(_NODES)[None, :]
         for i in range(S + 1):
             rows[:, :, 1 + 8 * i:9 + 8 * i] = commands[:, i:i + S * d:S]
-        return rows.reshape(-1, GAP_COLUMNS)
+        return rows.reshape(-1, GAP_COLUMNS), commands
 
     def _call(self, fn: DenseCall, x: np.ndarray, gaps: np.ndarray):
         """Integrate the gaps from ``x`` in compiled batches (the last one padded)."""
