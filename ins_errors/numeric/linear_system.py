@@ -40,7 +40,8 @@ class LinearSystem:
     source_kinds : tuple of str
         The model's kind of each source (``"constant"`` or ``"initial"``).
     x, u : numpy.ndarray
-        Ideal state (n_x, K+1) and inputs (n_u, K+1) the matrices were evaluated at.
+        Ideal state (n_x, K+1) and inputs (n_u, K+1) the matrices were evaluated at
+        (read-only views of one column on a static base).
     p : numpy.ndarray
         Parameters.
     """
@@ -142,7 +143,9 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
         E=model.initial_error_matrix(c, u, p), H=model.output_matrix(x, u, p),
         source_names=tuple(i.name for i in model.sources),
         source_kinds=tuple(i.kind for i in model.sources),
-        x=np.repeat(x[:, None], len(times), axis=1), u=np.repeat(u[:, None], len(times), 1),
+        # the same state and inputs at every time: read-only views, not copies
+        x=np.broadcast_to(x[:, None], (len(x), len(times))),
+        u=np.broadcast_to(u[:, None], (len(u), len(times))),
         p=p, labels={"trajectory": f"static base at φ={np.degrees(latitude):.4g}°",
                      "latitude": latitude, "height": height},
     )
