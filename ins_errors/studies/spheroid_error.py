@@ -31,6 +31,7 @@ the platform on the geodetic vertical, against the exact rate of the geodetic fr
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -345,6 +346,21 @@ def simulate_flights(start_latitudes, start_longitudes, orthodrome_angles, durat
                         printed, completed, out["Phi"], a)
 
 
+@cache
+def _formula_9():
+    """The correction rates (9) of the model ``geodetic_vertical`` as a numpy function
+    ``f(x, u, p)`` (lambdified once: the expansion is the same for every flight)."""
+    import sympy as sp
+
+    from ins_errors.models import definition
+
+    d = definition("geodetic_vertical")
+    named = {df.symbol.name: df.symbol for df in d.ideal.definitions}
+    rates = sp.Matrix([d.ideal.expand(named[n]) for n in ("Omega_xi", "Omega_eta",
+                                                            "Omega_zeta")])
+    return sp.lambdify([d.x, d.u, d.p], rates, "numpy")
+
+
 def correction_rate_error(start_latitude: float, start_longitude: float,
                           orthodrome_angle: float, section_angles, speed: float = 250.0,
                           a: float | None = None, b: float | None = None) -> np.ndarray:
@@ -370,18 +386,10 @@ def correction_rate_error(start_latitude: float, start_longitude: float,
     numpy.ndarray, shape (3, K)
         Ω(9) − Ω_true on ξ, η, ζ, rad/s.
     """
-    import sympy as sp
-
-    from ins_errors.models import definition
-
     if a is None or b is None:
         a, b = krasovsky_axes()
     _check_axes(a, b)
-    d = definition("geodetic_vertical")
-    named = {df.symbol.name: df.symbol for df in d.ideal.definitions}
-    rates = sp.Matrix([d.ideal.expand(named[n]) for n in ("Omega_xi", "Omega_eta",
-                                                            "Omega_zeta")])
-    formula_9 = sp.lambdify([d.x, d.u, d.p], rates, "numpy")
+    formula_9 = _formula_9()
     model = load_model("geodetic_vertical")
     p = model.parameter_vector(a=a, e2=1 - (b / a) ** 2, orth_latitude=start_latitude,
                                orth_longitude=start_longitude, orth_angle=orthodrome_angle)
