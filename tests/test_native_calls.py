@@ -54,6 +54,20 @@ def test_native_call_refuses_a_buffer_of_the_wrong_shape():
         virtual([np.zeros(3), np.zeros((2, 4))[:, ::2]], [np.empty((4, 2)), np.empty(3)])
 
 
+def _group_spy(monkeypatch) -> set[int]:
+    """The groups of cases a loop runs (filled as simulations run): two groups mean the
+    batch was split over two threads."""
+    seen: set[int] = set()
+    original = integ.CompiledLoop._advance_group
+
+    def spy(self, *args):
+        seen.add(args[-1])
+        return original(self, *args)
+
+    monkeypatch.setattr(integ.CompiledLoop, "_advance_group", spy)
+    return seen
+
+
 @pytest.mark.parametrize("method", ["euler", "rk4"])
 def test_batch_split_over_threads_equals_one_serial_batch(orthodromic, method, monkeypatch):
     legs = [tr.Leg(60.0, 260.0, 45 * DEG, 1500.0)]
@@ -61,10 +75,14 @@ def test_batch_split_over_threads_equals_one_serial_batch(orthodromic, method, m
                          120.0, 0.5)
     cases = [{"gyro_drift_x": 1e-6}, {"accel_bias_y": 1e-4}, {"initial_tilt_x": 1e-4},
              {"gyro_drift_z": -2e-6, "accel_bias_x": 3e-5}, {"initial_azimuth_error": 1e-3}]
+    groups = _group_spy(monkeypatch)
     monkeypatch.setenv("INS_ERRORS_THREADS", "2")  # groups of 3 and 2 (padded to 3)
     threaded = simulate(orthodromic, traj, cases, method=method, record_interval=5.0)
+    assert groups == {0, 1}
+    groups.clear()
     monkeypatch.setenv("INS_ERRORS_THREADS", "1")
     serial = simulate(orthodromic, traj, cases, method=method, record_interval=5.0)
+    assert groups == {0}
     for part in ("ideal", "real", "linear", "refined"):
         assert np.array_equal(getattr(threaded, part), getattr(serial, part)), part
     assert np.abs(serial.real[8:]).max() > 0  # the cases really differ from zero
@@ -77,10 +95,14 @@ def test_static_batch_threads_run_their_groups_through_the_whole_run(orthodromic
     traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
                          3 * 3600.0, 1.0)
     cases = [{"gyro_drift_x": 1e-6}, {"accel_bias_y": 1e-4}, {"initial_tilt_x": 1e-4}]
+    groups = _group_spy(monkeypatch)
     monkeypatch.setenv("INS_ERRORS_THREADS", "2")  # groups of 2 and 1 (padded to 2)
     threaded = simulate(orthodromic, traj, cases, record_interval=2.0, progress=True)
+    assert groups == {0, 1}
+    groups.clear()
     monkeypatch.setenv("INS_ERRORS_THREADS", "1")
     serial = simulate(orthodromic, traj, cases, record_interval=2.0)
+    assert groups == {0}
     for part in ("ideal", "real", "linear", "refined"):
         assert np.array_equal(getattr(threaded, part), getattr(serial, part)), part
     assert np.abs(serial.real[8:, -1]).min() > 0  # every case tilts the platform

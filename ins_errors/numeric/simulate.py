@@ -56,6 +56,7 @@ from ins_errors.numeric.integrators import (
     input_stream,
     progress_bar,
     record_stride,
+    worker_count,
 )
 from ins_errors.numeric.model import Model
 from ins_errors.numeric.trajectories import Trajectory
@@ -140,7 +141,8 @@ def _system(model_name: str, parts: tuple[str, ...],
 @lru_cache(maxsize=32)
 def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau: float,
           p: tuple[float, ...], u: tuple[float, ...] | None, active: tuple[bool, ...],
-          batch: int, jit: bool, chunk: int, platform: str = "exact") -> CompiledLoop:
+          batch: int, jit: bool, chunk: int, platform: str = "exact",
+          workers: int = 1) -> CompiledLoop:
     """The compiled loop, specialised to the error sources that are non-zero in some case.
 
     Sources that are zero in every case of the batch are baked in as zeros, so the C
@@ -158,7 +160,8 @@ def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau
     rhs = ca.Function("active_rhs", [z, uu, w_active, par], [full_rhs(z, uu, w, par)])
     margin = ca.Function("active_margin", [z, uu, w_active, par], [full_margin(z, uu, w, par)])
     return CompiledLoop(rhs, margin, method, stride, tau, np.array(p),
-                        None if u is None else np.array(u), chunk=chunk, batch=batch, jit=jit)
+                        None if u is None else np.array(u), chunk=chunk, batch=batch, jit=jit,
+                        workers=workers)
 
 
 # --------------------------------------------------------------------------------------
@@ -402,7 +405,7 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
     chunk = chunk_size(records) if trajectory.constant else min(
         chunk_size(records), _power_of_two_below(max(1, STREAM_STEPS // stride)))
     loop = _loop(model.key, parts, method, stride, float(tau), tuple(p), u_const,
-                 tuple(bool(a) for a in active), B, jit, chunk, platform)
+                 tuple(bool(a) for a in active), B, jit, chunk, platform, worker_count())
     if trajectory.constant:
         result = loop.run(z0, w[active], N, None, progress=progress)
         recorded = None
