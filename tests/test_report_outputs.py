@@ -24,6 +24,8 @@ record = "60 s"
 gyro_drift_x = "0.01 deg/h"
 [[case]]
 accel_bias_y = "50 ug"
+[outputs]
+quantities = ["alpha_y", "delta_v_N"]   # in the tables and plots; the curve files hold all
 """
 
 
