@@ -20,6 +20,7 @@ from ins_errors.models import definition
 from ins_errors.symbolic.analytic import S, T
 from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_numpy_function, prepare
 from ins_errors.symbolic.documents import to_latex
+from ins_errors.symbolic.shared_trees import SharedTrees
 from ins_errors.symbolic.static_base import LATEX, SETUPS, VariantResult, static_analyses
 
 from .model_files import NUMPY_PRELUDE
@@ -90,6 +91,7 @@ def markdown(model: str, results: list[VariantResult]) -> str:
     setup = SETUPS[model]()
     names = _names(model)
     states = [v.name for v in d.error_states]
+    trees = SharedTrees()
     out = [f"# Transfer functions and closed-form responses of `{model}` (static base)", "",
            f"{d.title}. Source: {d.source}.", "",
            setup.description, "",
@@ -116,7 +118,7 @@ def markdown(model: str, results: list[VariantResult]) -> str:
                 out.append(f"| $\\dot{{{eq}}}$ | ${to_latex(value, names)}\\,{var}$ | "
                            f"${to_latex(value, names)}$ | {term.reason} |")
             out.append("")
-        shown_F = a.state_matrix.applyfunc(lambda e, par=par: sp.expand(par.to_model(e)))
+        shown_F = a.state_matrix.applyfunc(lambda e, par=par: sp.expand(par.to_model(e, trees)))
         delta = _mode_product(result)
         out += ["State matrix at the static base (rows and columns: "
                 + ", ".join(f"`{n}`" for n in states) + "):", "",
@@ -178,19 +180,20 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
            ' are the mode frequencies,\nrad/s, in the order of MODES[<variant>]. BAKED: '
            'parameter values the closed forms\nwere derived for."""', NUMPY_PRELUDE]
     variants, modes = [], {}
+    trees = SharedTrees()
     for result in results:
         a = result.analysis
         name = result.variant.name
         variants.append(name)
         matrix = sp.Matrix.hstack(*[a.responses[s] for s in result.sources])
-        matrix = matrix.applyfunc(a.in_model_symbols)
+        matrix = matrix.applyfunc(lambda e, a=a: a.in_model_symbols(e, trees))
         spec = FunctionSpec(f"responses_{name}", [t_arg, x_arg, u_arg, p_arg], matrix,
                             f"Closed-form responses of variant {name!r}: unit source -> "
                             "error state.", "error state i for unit source j")
         src.append("\n" + emit_numpy_function(prepare(spec)) + "\n")
         oscillators = [m for m in a.modes if m.symbol is not None]
         modes[name] = tuple(m.name for m in oscillators)
-        freq = sp.Matrix([a.in_model_symbols(a.parametrisation.to_model(m.symbol))
+        freq = sp.Matrix([a.in_model_symbols(a.parametrisation.to_model(m.symbol, trees), trees)
                           for m in oscillators])
         spec = FunctionSpec(f"frequencies_{name}", [x_arg, u_arg, p_arg], freq,
                             f"Mode frequencies of variant {name!r}, rad/s.",

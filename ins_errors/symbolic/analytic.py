@@ -23,6 +23,7 @@ definitions of those symbols back to the model's own symbols for numerics and do
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -32,6 +33,7 @@ import sympy as sp
 from sympy.polys.matrices import DomainMatrix
 
 from ins_errors.errors import InsErrorsError
+from ins_errors.symbolic.shared_trees import SharedTrees
 
 S = sp.Symbol("s")
 """Laplace variable."""
@@ -91,12 +93,17 @@ class Parametrisation:
     frequencies: Sequence[Frequency] = ()
     description: str = ""
 
-    def to_model(self, expr: sp.Expr) -> sp.Expr:
-        """Substitute the definitions (repeatedly), giving ``expr`` in the model's symbols."""
+    def to_model(self, expr: sp.Expr, trees: SharedTrees | None = None) -> sp.Expr:
+        """Substitute the definitions (repeatedly), giving ``expr`` in the model's symbols.
+
+        ``trees`` (optional) substitutes each distinct subtree once across calls.
+        """
+        trees = trees or SharedTrees()
+        rule = dict(self.definitions)
         for _ in range(len(self.definitions) + 1):
-            if not expr.free_symbols & set(self.definitions):
+            if not trees.free_symbols(expr) & rule.keys():
                 return expr
-            expr = expr.xreplace(dict(self.definitions))
+            expr = trees.xreplace(expr, rule)
         raise AnalysisError("parametrisation definitions are circular")
 
 
@@ -279,8 +286,13 @@ def inverse_laplace(X: sp.Expr, modes: Sequence[Mode], s: sp.Symbol = S,
 
 def _inverse_laplace_poly(num_p: sp.Poly, den_p: sp.Poly, field, modes: Sequence[Mode],
                           s: sp.Symbol, t: sp.Symbol,
-                          tidy: Callable[[sp.Expr], sp.Expr] | None) -> sp.Expr:
-    """:func:`inverse_laplace` of num/den given as polynomials in ``s`` over ``field``."""
+                          tidy: Callable[[sp.Expr], sp.Expr] | None,
+                          table: _PoleTable | None = None) -> sp.Expr:
+    """:func:`inverse_laplace` of num/den given as polynomials in ``s`` over ``field``.
+
+    ``table`` remembers the pole split of each denominator (the responses of one model
+    share a few denominators).
+    """
     if num_p.is_zero:
         return sp.S.Zero
     # make the denominator even in s: multiply by s if it has an odd power of s
@@ -296,15 +308,16 @@ def _inverse_laplace_poly(num_p: sp.Poly, den_p: sp.Poly, field, modes: Sequence
         coefficients = {(k // 2,): c for (k,), c in terms}
         return sp.Poly.from_dict(coefficients or {(0,): field.zero}, Z, domain=field)
 
-    den_z = in_z(den_p.terms())
-    even = in_z([(m, c) for m, c in num_p.terms() if m[0] % 2 == 0])
-    odd = in_z([((m[0] - 1,), c) for m, c in num_p.terms() if m[0] % 2 == 1])
-    poles = _z_poles(den_z, modes, field)
+    num_terms = num_p.rep.terms()  # coefficients in ``field`` (Poly.terms() would
+    den_z = in_z(den_p.rep.terms())  # convert them to SymPy and back)
+    even = in_z([(m, c) for m, c in num_terms if m[0] % 2 == 0])
+    odd = in_z([((m[0] - 1,), c) for m, c in num_terms if m[0] % 2 == 1])
+    table = table or _PoleTable(modes, field)
     result = sp.S.Zero
     for part, is_odd in ((even, False), (odd, True)):
         if part.is_zero:
             continue
-        for coefficient, mode, power in _partial_fractions(part, den_z, poles, field):
+        for coefficient, mode, power in table.partial_fractions(part, den_z):
             if not coefficient:
                 continue
             coefficient = field.to_sympy(coefficient)
@@ -337,29 +350,67 @@ def _z_poles(den: sp.Poly, modes: Sequence[Mode], field) -> list[tuple[Mode, int
     return poles
 
 
-def _partial_fractions(num: sp.Poly, den: sp.Poly, poles: list[tuple[Mode, int]], field):
-    """Partial fractions of num/den in z by residues: (coefficient, mode, power) triples.
+def _taylor_head(poly: sp.Poly, point: sp.Expr, count: int) -> list[sp.Expr]:
+    """``poly.shift(point).all_coeffs()[::-1][:count]``: the lowest Taylor coefficients.
 
-    ``den`` = κ Π (z + ω_i²)^(m_i); the coefficient of 1/(z + ω²)^(m − j) is the j-th
-    Taylor coefficient at z = −ω² of num/rest, rest being den without that factor.
+    Runs only the first ``count`` passes of SymPy's Taylor shift (``dup_shift``), which
+    are the passes that fix those coefficients: the same arithmetic, so the same values.
     """
-    out = []
-    for mode, power in poles:
-        rest = den
-        for _ in range(power):
-            rest = rest.quo(_mode_poly(mode.squared, field))
-        point = -_mode_poly(mode.squared, field).TC()
-        a = num.shift(point).all_coeffs()[::-1]
-        b = rest.shift(point).all_coeffs()[::-1]
-        series: list = []
-        for k in range(power):
-            acc = a[k] if k < len(a) else field.zero
-            for i in range(1, k + 1):
-                if i < len(b):
-                    acc -= b[i] * series[k - i]
-            series.append(acc / b[0])
-        out += [(series[j], mode, power - j) for j in range(power)]
-    return out
+    domain = poly.rep.dom
+    a = domain.convert(point)
+    f = list(poly.rep.to_list())
+    n = len(f) - 1
+    if n < 0:
+        return [sp.S.Zero]
+    for i in range(n, max(n - count, 0), -1):
+        for j in range(i):
+            f[j + 1] += a * f[j]
+    return [domain.to_sympy(c) for c in f[::-1][:count]]
+
+
+class _PoleTable:
+    """Pole split and Taylor coefficients of each denominator, computed once."""
+
+    def __init__(self, modes: Sequence[Mode], field) -> None:
+        self.modes, self.field = modes, field
+        self._rests: dict[sp.Poly, list[tuple[Mode, int, sp.Expr, list[sp.Expr]]]] = {}
+
+    def _split(self, den: sp.Poly) -> list[tuple[Mode, int, sp.Expr, list[sp.Expr]]]:
+        """Per pole of ``den``: (mode, power, point z = −ω², Taylor coefficients there of
+        the rest of ``den``)."""
+        try:
+            return self._rests[den]
+        except KeyError:
+            pass
+        split = []
+        for mode, power in _z_poles(den, self.modes, self.field):
+            factor = _mode_poly(mode.squared, self.field)
+            rest = den
+            for _ in range(power):
+                rest = rest.quo(factor)
+            point = -factor.TC()
+            split.append((mode, power, point, _taylor_head(rest, point, power)))
+        self._rests[den] = split
+        return split
+
+    def partial_fractions(self, num: sp.Poly, den: sp.Poly) -> list:
+        """Partial fractions of num/den in z by residues: (coefficient, mode, power).
+
+        ``den`` = κ Π (z + ω_i²)^(m_i); the coefficient of 1/(z + ω²)^(m − j) is the j-th
+        Taylor coefficient at z = −ω² of num/rest, rest being den without that factor.
+        """
+        out = []
+        for mode, power, point, b in self._split(den):
+            a = _taylor_head(num, point, power)
+            series: list = []
+            for k in range(power):
+                acc = a[k] if k < len(a) else self.field.zero
+                for i in range(1, k + 1):
+                    if i < len(b):
+                        acc -= b[i] * series[k - i]
+                series.append(acc / b[0])
+            out += [(series[j], mode, power - j) for j in range(power)]
+        return out
 
 
 # --------------------------------------------------------------------------------------
@@ -398,11 +449,15 @@ class StaticAnalysis:
     laplace: dict[str, sp.Matrix]
     parametrisation: Parametrisation
 
-    def in_model_symbols(self, expr: sp.Expr) -> sp.Expr:
-        """``expr`` with mode symbols and parametrisation symbols replaced by definitions."""
-        expr = expr.xreplace({m.symbol: sp.sqrt(m.squared) for m in self.modes
-                              if m.symbol is not None and m.name.startswith("mode ")})
-        return self.parametrisation.to_model(expr)
+    def in_model_symbols(self, expr: sp.Expr, trees: SharedTrees | None = None) -> sp.Expr:
+        """``expr`` with mode symbols and parametrisation symbols replaced by definitions.
+
+        ``trees`` (optional) substitutes each distinct subtree once across calls.
+        """
+        trees = trees or SharedTrees()
+        expr = trees.xreplace(expr, {m.symbol: sp.sqrt(m.squared) for m in self.modes
+                                     if m.symbol is not None and m.name.startswith("mode ")})
+        return self.parametrisation.to_model(expr, trees)
 
 
 def _split_in_s(element, outer, inner, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
@@ -458,9 +513,10 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
                                       for f in parametrisation.frequencies))) - {s},
                      key=sp.default_sort_key)
     outer = sp.QQ.frac_field(s, *symbols)
+    # sparse elimination: F is mostly zeros (the inverse is exact, so the same entries)
     inverse = DomainMatrix.from_list_sympy(Fp.rows, Fp.cols,
                                            (s * sp.eye(Fp.rows) - Fp).tolist()).convert_to(
-        outer).inv()
+        outer).to_sparse().inv()
     C = inverse.to_Matrix()
     characteristic = characteristic_polynomial(Fp, s)
     determinant = outer.from_sympy(sp.expand(characteristic))
@@ -473,6 +529,9 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     Bd = DomainMatrix.from_list_sympy(B.rows, B.cols, B.tolist()).convert_to(outer)
     Xd = (inverse * Bd).to_dense().rep.to_ddm()
     s_elem = outer.from_sympy(s)
+    table = _PoleTable(poles, inner)
+    if tidy is not None:  # the same coefficient recurs across sources and states
+        tidy = functools.cache(tidy)
     responses: dict[str, sp.Matrix] = {}
     laplace: dict[str, sp.Matrix] = {}
     for j, name in enumerate(names):
@@ -480,7 +539,8 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
         entries = [Xd[i][j] / s_elem if is_step else Xd[i][j] for i in range(Fp.rows)]
         laplace[name] = sp.Matrix([outer.to_sympy(e) for e in entries])
         responses[name] = sp.Matrix([
-            _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, poles, s, t, tidy)
+            _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, poles, s, t, tidy,
+                                  table)
             for e in entries])
     return StaticAnalysis(Fp, characteristic, modes, C, adjugate, responses, laplace,
                           parametrisation)

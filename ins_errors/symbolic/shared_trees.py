@@ -38,7 +38,7 @@ class SharedTrees:
     def __init__(self) -> None:
         self._free: dict[sp.Basic, frozenset] = {}
         self._derivatives: dict[tuple[sp.Basic, sp.Symbol], sp.Expr] = {}
-        self._substituted: dict[int, tuple[Mapping, dict]] = {}
+        self._substituted: dict[frozenset, dict] = {}
 
     def free_symbols(self, expr: sp.Basic) -> frozenset:
         """``expr.free_symbols``, computed once per distinct subtree."""
@@ -56,12 +56,10 @@ class SharedTrees:
     def xreplace(self, expr: sp.Basic, rule: Mapping) -> sp.Basic:
         """``expr.xreplace(rule)`` (same result), each distinct subtree replaced once.
 
-        ``rule`` must not be mutated while this instance is in use.
+        The memo is per rule (by its items), so calls with equal rules share it.
         """
-        entry = self._substituted.get(id(rule))
-        if entry is None or entry[0] is not rule:
-            entry = self._substituted[id(rule)] = (rule, {})
-        return self._xreplace(expr, rule, entry[1])[0]
+        memo = self._substituted.setdefault(frozenset(rule.items()), {})
+        return self._xreplace(expr, rule, memo)[0]
 
     def xreplace_matrix(self, matrix: sp.Matrix, rule: Mapping) -> sp.Matrix:
         """``matrix.xreplace(rule)`` with :meth:`xreplace` on each entry."""

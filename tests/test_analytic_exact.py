@@ -1,0 +1,51 @@
+"""The shortcuts of the static-base analysis give SymPy's own values, exactly.
+
+References: SymPy's full Taylor shift, its dense inverse and a sum of residues that is
+checked against the rational function itself.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+from sympy.polys.matrices import DomainMatrix
+
+from ins_errors.symbolic import analytic as an
+
+
+def _field_and_symbols():
+    g, R, W = sp.symbols("g R Omega", positive=True)
+    return sp.QQ.frac_field(g, R, W), (g, R, W)
+
+
+def test_taylor_head_is_the_start_of_sympys_taylor_shift():
+    field, (g, R, W) = _field_and_symbols()
+    z = an.Z
+    poly = sp.Poly((z + g / R) ** 2 * (z + W**2) * (3 * z - g), z, domain=field)
+    point = -g / R
+    full = poly.shift(point).all_coeffs()[::-1]
+    for count in (1, 2, 3, 7):
+        assert an._taylor_head(poly, point, count) == full[:count]
+    assert an._taylor_head(sp.Poly(0, z, domain=field), point, 2) == [0]
+
+
+def test_partial_fractions_sum_back_to_the_fraction():
+    field, (g, R, W) = _field_and_symbols()
+    z = an.Z
+    schuler = an.Mode("Schuler", sp.Symbol("w_s"), g / R, 2)
+    earth = an.Mode("Earth", W, W**2, 1)
+    den = sp.Poly((z + g / R) ** 2 * (z + W**2), z, domain=field)
+    num = sp.Poly(z**2 - 5 * g * z + R, z, domain=field)
+    table = an._PoleTable([schuler, earth], field)
+    parts = table.partial_fractions(num, den)
+    assert table.partial_fractions(num, den) == parts  # the memo answers the same
+    total = sum(c / (z + m.squared) ** p for c, m, p in parts)
+    assert sp.cancel(total - num.as_expr() / den.as_expr()) == 0
+
+
+def test_sparse_inverse_equals_the_dense_one():
+    s = an.S
+    g, R, W = sp.symbols("g R Omega", positive=True)
+    F = sp.Matrix([[0, 1, 0, 0], [-g / R, 0, 2 * W, 0], [0, -2 * W, 0, 1], [0, 0, -g / R, 0]])
+    outer = sp.QQ.frac_field(s, g, R, W)
+    matrix = DomainMatrix.from_list_sympy(4, 4, (s * sp.eye(4) - F).tolist()).convert_to(outer)
+    assert matrix.to_sparse().inv().to_Matrix() == matrix.inv().to_Matrix()
