@@ -17,6 +17,7 @@ from pathlib import Path
 
 from ins_errors.checker.compare import check_hand_file
 from ins_errors.checker.report import to_markdown
+from ins_errors.symbolic.shared_trees import SharedTrees
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLES = ROOT / "examples" / "manual_000"
@@ -29,8 +30,10 @@ def write_hand_check_reports(generated_root: Path) -> None:
     """Check both transcriptions and write their Markdown reports under ``generated_root``."""
     folder = generated_root / "orthodromic"
     folder.mkdir(parents=True, exist_ok=True)
-    for source, target in REPORTS:
-        report = check_hand_file(EXAMPLES / source, model="orthodromic")
+    with SharedTrees().differentiating():  # the checker's derivatives, each subtree once
+        reports = [check_hand_file(EXAMPLES / source, model="orthodromic")
+                   for source, _ in REPORTS]
+    for (source, target), report in zip(REPORTS, reports, strict=True):
         origin = (f"`make derive` (step derive/hand_check_report.py) from "
                   f"examples/manual_000/{source}")
         (folder / target).write_text(to_markdown(report, origin), encoding="utf-8")

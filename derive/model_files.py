@@ -20,6 +20,7 @@ from ins_errors.symbolic.codegen import (
     prepare,
 )
 from ins_errors.symbolic.documents import error_equations_markdown
+from ins_errors.symbolic.shared_trees import SharedTrees
 from ins_errors.symbolic.variation import ErrorModel, second_order_of, vary
 
 from .steps import step
@@ -199,9 +200,10 @@ def write_model(d: ModelDefinition, root: Path, origin: tuple[str, str] | None =
     with step(d.name, "vary (first- and second-order error equations)"):
         em = vary(d)
     prepared = []
+    trees = SharedTrees()  # the functions share subtrees (and their free symbols)
     for spec in function_specs(em):
         with step(d.name, f"generate numeric code of {spec.name}"):
-            prepared.append(prepare(spec))
+            prepared.append(prepare(spec, trees))
     folder = root / d.name
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "__init__.py").write_text(header(d, origin=origin) + _metadata(d, record),

@@ -190,7 +190,7 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
         spec = FunctionSpec(f"responses_{name}", [t_arg, x_arg, u_arg, p_arg], matrix,
                             f"Closed-form responses of variant {name!r}: unit source -> "
                             "error state.", "error state i for unit source j")
-        src.append("\n" + emit_numpy_function(prepare(spec)) + "\n")
+        src.append("\n" + emit_numpy_function(prepare(spec, trees)) + "\n")
         oscillators = [m for m in a.modes if m.symbol is not None]
         modes[name] = tuple(m.name for m in oscillators)
         freq = sp.Matrix([a.in_model_symbols(a.parametrisation.to_model(m.symbol, trees), trees)
@@ -198,7 +198,7 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
         spec = FunctionSpec(f"frequencies_{name}", [x_arg, u_arg, p_arg], freq,
                             f"Mode frequencies of variant {name!r}, rad/s.",
                             "one frequency per entry of MODES")
-        src.append("\n" + emit_numpy_function(prepare(spec)) + "\n")
+        src.append("\n" + emit_numpy_function(prepare(spec, trees)) + "\n")
     src.append(f"\nVARIANTS = {tuple(variants)!r}\nMODES = {modes!r}\n"
                f"SOURCES = {tuple(s.name for s in d.sources)!r}\n"
                f"BAKED = {setup.baked!r}\n"

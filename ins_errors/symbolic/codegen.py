@@ -20,6 +20,8 @@ from dataclasses import dataclass
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from ins_errors.symbolic.shared_trees import SharedTrees
+
 _FUNCTIONS = ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "exp", "log",
               "sinh", "cosh", "tanh", "Abs")
 _NUMPY_NAMES = {"asin": "arcsin", "acos": "arccos", "atan": "arctan", "atan2": "arctan2",
@@ -98,20 +100,24 @@ def _identifier(symbol: sp.Symbol, taken: set[str]) -> str:
     return name
 
 
-def prepare(spec: FunctionSpec) -> _Prepared:
-    """Unpack arguments, CSE the result, count operations."""
+def prepare(spec: FunctionSpec, trees: SharedTrees | None = None) -> _Prepared:
+    """Unpack arguments, CSE the result, count operations.
+
+    ``trees`` (optional) renames each distinct subtree of the result once.
+    """
+    trees = trees or SharedTrees()
     taken: set[str] = set()
     rename: dict[sp.Symbol, sp.Symbol] = {}
     unpack: list[tuple[str, str, int]] = []
-    used = spec.result.free_symbols
+    used = set().union(*(trees.free_symbols(e) for e in spec.result))
     for argument in spec.arguments:
         for index, symbol in enumerate(argument.symbols):
             if symbol in used and symbol not in rename:
                 local = _identifier(symbol, taken)
                 rename[symbol] = sp.Symbol(local, real=True)
                 unpack.append((local, argument.name, index))
-    result = spec.result.xreplace(rename)
-    unknown = result.free_symbols - set(rename.values())
+    result = trees.xreplace_matrix(spec.result, rename)
+    unknown = set().union(*(trees.free_symbols(e) for e in result)) - set(rename.values())
     if unknown:
         missing = sorted(map(str, unknown))
         raise ValueError(f"{spec.name}: symbols not among the arguments: {missing}")

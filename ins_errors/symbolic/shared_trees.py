@@ -23,6 +23,7 @@ from collections.abc import Iterator, Mapping
 
 import sympy as sp
 from sympy.core.expr import Expr
+from sympy.matrices.expressions.matexpr import MatrixExpr
 
 _UNION_NODES = (sp.Add, sp.Mul, sp.Pow, sp.Function)
 """Node types whose free symbols are the union of their arguments' (no bound symbols)."""
@@ -118,7 +119,8 @@ class SharedTrees:
             return
 
         def diff(expr, *symbols, **options):
-            if len(symbols) == 1 and not options and not isinstance(expr, sp.Derivative):
+            if (len(symbols) == 1 and not options
+                    and not isinstance(expr, (sp.Derivative, MatrixExpr))):
                 symbol, count = symbols[0], 1
                 if isinstance(symbol, tuple) and len(symbol) == 2:
                     symbol, count = symbol

@@ -20,6 +20,7 @@ Two views are produced:
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -269,6 +270,11 @@ def structured_variation(d: ModelDefinition) -> list[VariedEquation]:
     sources themselves. Coefficients are evaluated at the ideal point and written with
     the ideal intermediate symbols (R_ξ^{-1}, ω_ξ, ...), as a paper would.
     """
+    with SharedTrees().differentiating() as trees:
+        return _structured_variation(d, trees)
+
+
+def _structured_variation(d: ModelDefinition, trees: SharedTrees) -> list[VariedEquation]:
     true_mech, _, computed_mech, computed_out = output_mechanisations(d)
     latex = d.latex_names()
     latex.update({df.symbol: df.latex for df in true_mech.definitions})
@@ -284,8 +290,8 @@ def structured_variation(d: ModelDefinition) -> list[VariedEquation]:
 
     def vary_expression(expr: sp.Expr) -> sp.Expr:
         total = sp.S.Zero
-        for arg in sorted(expr.free_symbols & set(variation), key=sp.default_sort_key):
-            coefficient = _tidy(sp.diff(expr, arg).xreplace(ideal_of))
+        for arg in sorted(trees.free_symbols(expr) & variation.keys(), key=sp.default_sort_key):
+            coefficient = _tidy(trees.xreplace(trees.derivative(expr, arg), ideal_of))
             total += coefficient * variation[arg]
         return total
 
@@ -315,6 +321,7 @@ def structured_variation(d: ModelDefinition) -> list[VariedEquation]:
     return lines
 
 
+@functools.lru_cache(maxsize=4096)
 def _tidy(coefficient: sp.Expr) -> sp.Expr:
     """Light simplification of a coefficient (radicals combined), kept cheap."""
     if coefficient.is_number or not coefficient.has(sp.Pow):
