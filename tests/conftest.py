@@ -18,3 +18,12 @@ def orthodromic_error_model(orthodromic):
     from ins_errors.symbolic.variation import vary
 
     return vary(orthodromic.symbolic)
+
+
+@pytest.fixture(scope="session")
+def example_reports() -> dict:
+    """Report folders written by ``ins-errors run examples/NAME.toml --out DIR`` in this
+    session, by example file name: the README's commands (test_docs_commands.py) write
+    them, the example checks (test_scenarios.py) read them instead of running the same
+    example again (and run it themselves when it is not there)."""
+    return {}

@@ -13,6 +13,9 @@ How each kind of line runs, after the set-up the README describes (``make test``
   (:func:`ins_errors.cli.main`) in a fresh scratch folder holding a link to examples/,
   without a pre-made ``out/`` (commands create the folders they write into).
   ``ins-errors cache ...`` runs against a scratch compile cache, never the user's.
+  The report folder of an ``ins-errors run examples/NAME.toml --out DIR`` line is handed
+  to tests/test_scenarios.py (fixture ``example_reports``), which checks its contents
+  instead of running the example a second time.
 * a block with any other line (``source .venv/bin/activate``...): run whole by bash from
   the repository root, as a reader would paste it.
 """
@@ -86,7 +89,7 @@ def test_make_targets_exist(command):
 
 
 @pytest.mark.parametrize("command, status", INS_ERRORS, ids=[c[:60] for c, _ in INS_ERRORS])
-def test_documented_command(command, status, tmp_path, monkeypatch, capsys):
+def test_documented_command(command, status, tmp_path, monkeypatch, capsys, example_reports):
     os.symlink(ROOT / "examples", tmp_path / "examples")
     monkeypatch.chdir(tmp_path)
     argv = shlex.split(command)[1:]
@@ -99,6 +102,8 @@ def test_documented_command(command, status, tmp_path, monkeypatch, capsys):
     captured = capsys.readouterr()
     assert result == status, captured.err
     assert captured.out.strip(), "the command printed nothing"
+    if argv[0] == "run" and argv[1].startswith("examples/") and "--out" in argv:
+        example_reports[Path(argv[1]).name] = tmp_path / argv[argv.index("--out") + 1]
 
 
 @pytest.mark.parametrize("page, lines", SHELL, ids=[p for p, _ in SHELL])
