@@ -231,10 +231,14 @@ def test_missing_matplotlib_is_one_line_before_computing(argv, scratch, capsys, 
     assert not out  # nothing computed, nothing printed
 
 
+SMALL_PLOTS = '[outputs]\nquantities = ["alpha_y"]\n'
+"""One quantity in the report's tables and plots: these tests are about the folder."""
+
+
 def test_existing_report_folder_is_replaced_cleanly(scratch, capsys):
     """A re-run replaces the report and removes its stale files, leaves others alone."""
-    two_cases = SCENARIO.replace('duration = "1 h"', 'duration = "10 min"') + (
-        '[[case]]\ngyro_drift_y = "0.01 deg/h"\n')
+    two_cases = SCENARIO.replace('duration = "1 h"', 'duration = "10 min"').replace(
+        "[[case]]", SMALL_PLOTS + "[[case]]") + '[[case]]\ngyro_drift_y = "0.01 deg/h"\n'
     Path("two.toml").write_text(two_cases, encoding="utf-8")
     assert _run(["run", "two.toml", "--out", "rep", "--no-progress"], capsys)[0] == 0
     assert (scratch / "rep" / "case_2.png").exists()
@@ -249,7 +253,8 @@ def test_existing_report_folder_is_replaced_cleanly(scratch, capsys):
 
 
 def test_force_writes_into_a_foreign_folder_leaving_its_files(scratch, capsys):
-    short = SCENARIO.replace('duration = "1 h"', 'duration = "10 min"')
+    short = SCENARIO.replace('duration = "1 h"', 'duration = "10 min"').replace(
+        "[[case]]", SMALL_PLOTS + "[[case]]")
     Path("short.toml").write_text(short, encoding="utf-8")
     status, _out, err = _run(["run", "short.toml", "--out", ".", "--no-progress"], capsys)
     assert status == 2 and "--force" in err
