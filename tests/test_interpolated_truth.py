@@ -259,3 +259,29 @@ def test_a_run_of_no_steps_is_its_start(orthodromic, stream):
     assert empty.truth.shape == (8, 1) and empty.inputs.shape == (5, 1)
     np.testing.assert_allclose(empty.truth[:, 0], longer.truth[:, 0], rtol=0, atol=1e-15)
     np.testing.assert_allclose(empty.inputs[:, 0], longer.inputs[:, 0], rtol=1e-12, atol=1e-15)
+
+
+def test_manoeuvre_commands_follow_the_legs():
+    """Commands against the C² ramp written out: before, inside and after the legs."""
+    profile = tr.manoeuvre_profile(0.5, 0.1, 0.0, 220.0, LEGS, h=1000.0)
+    t = np.array([-3.0, 0.0, 150.0, 300.0, 361.728, 1000.0])
+    values, rates = profile.commands(t)
+    # before and at the start of the first leg: the initial speed along ξ, at rest in h
+    np.testing.assert_array_equal(values[:, :2], [[220.0, 220.0], [0.0, 0.0],
+                                                  [1000.0, 1000.0], [0.0, 0.0]])
+    np.testing.assert_array_equal(rates[:, :2], 0.0)
+    # mid first leg: s = 1/2, ds/dθ = 30/16, course 75°/2, height halfway to 2500 m
+    speed, course = 220.0 + 60.0 / 2, 75 * DEG / 2
+    np.testing.assert_allclose(values[:, 2], [speed * np.cos(course), speed * np.sin(course),
+                                              1750.0, 1500.0 * 30 / 16 / 300.0], rtol=1e-14)
+    dv, dpsi = 60.0 * 30 / 16 / 300.0, 75 * DEG * 30 / 16 / 300.0
+    np.testing.assert_allclose(rates[:2, 2], [dv * np.cos(course) - speed * np.sin(course) * dpsi,
+                                              dv * np.sin(course) + speed * np.cos(course) * dpsi],
+                               rtol=1e-13)
+    # at the join and after the last leg: the legs' end values, steady
+    np.testing.assert_allclose(np.hypot(values[0, 3], values[1, 3]), 280.0, rtol=1e-15)
+    course_end = (75 - 40 - 90) * DEG
+    np.testing.assert_allclose(values[:, 5], [200.0 * np.cos(course_end),
+                                              200.0 * np.sin(course_end), 500.0, 0.0],
+                               rtol=1e-14, atol=1e-12)
+    np.testing.assert_allclose(rates[:, 5], 0.0, atol=1e-15)

@@ -220,11 +220,11 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
         # only the last leg begun by t shapes the motion at t: evaluate that leg alone
         leg = np.searchsorted(begins, t, side="right") - 1
         before = leg < 0
-        (start, length, vs, dv_leg, ps, turn, hs, dh_leg) = (
-            np.where(before, 0.0, row[np.maximum(leg, 0)]) for row in table)
+        rows = table[:, np.maximum(leg, 0)]  # one gather of every leg parameter
         if before.any():  # before the first leg: the initial values, unchanged
-            length = np.where(before, 1.0, length)
-            vs, hs = np.where(before, float(speed), vs), np.where(before, float(h), hs)
+            rows[:, before] = 0.0
+            rows[1, before], rows[2, before], rows[6, before] = 1.0, float(speed), float(h)
+        start, length, vs, dv_leg, ps, turn, hs, dh_leg = rows
         s, ds, dds = smoothstep((t - start) / length)
         v = vs + dv_leg * s
         dv = dv_leg * ds / length
@@ -233,9 +233,9 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
         hh = hs + dh_leg * s
         dh = dh_leg * ds / length
         ddh = dh_leg * dds / length**2
-        values = np.vstack([v * np.cos(psi), v * np.sin(psi), hh, dh])
-        rates = np.vstack([dv * np.cos(psi) - v * np.sin(psi) * dpsi,
-                           dv * np.sin(psi) + v * np.cos(psi) * dpsi, dh, ddh])
+        cos, sin = np.cos(psi), np.sin(psi)
+        values = np.vstack([v * cos, v * sin, hh, dh])
+        rates = np.vstack([dv * cos - v * sin * dpsi, dv * sin + v * cos * dpsi, dh, ddh])
         return values, rates
 
     return Profile("track", commands, latitude, longitude, track,
