@@ -732,22 +732,23 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         hundreds of times cheaper per step); ``"auto"`` (default): interpolated when the
         profile's breaks are known and the intervals hold at least
         :data:`~ins_errors.numeric.interpolated_truth.MIN_STEPS` steps (on average,
-        counting the breaks), else fine.
+        counting the breaks), else fine. (The strapdown model's true IMU signals come
+        from :mod:`ins_errors.numeric.strapdown_truth` whatever this says.)
 
     Raises
     ------
     StepError, MotionError, DomainError
         Bad grid, a motion the model cannot follow, or a motion through a pole.
     """
+    if truth not in TRUTHS:
+        from ins_errors.errors import unknown_name
+
+        raise unknown_name("truth", truth, TRUTHS)
     if model.name == "strapdown_ned":  # body rates and specific force, not a_* inputs
         from ins_errors.numeric import strapdown_truth
 
         return strapdown_truth.trajectory(model, strapdown_truth.flight_from_profile(profile),
                                           duration, tau, p)
-    if truth not in TRUTHS:
-        from ins_errors.errors import unknown_name
-
-        raise unknown_name("truth", truth, TRUTHS)
     n_steps = step_count(duration, tau)
     p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
     frame = profile.frame
