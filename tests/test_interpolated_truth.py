@@ -147,6 +147,8 @@ def test_chunks_do_not_change_the_numbers(orthodromic):
     stored = tr.trajectory(orthodromic, profile, 1500.0, 0.1, stream=False)
     streamed = tr.trajectory(orthodromic, profile, 1500.0, 0.1, stream=True)
     assert isinstance(streamed.source, it.InterpolatedTruth)
+    assert np.array_equal(streamed.start_state, stored.truth[:, 0])
+    assert np.array_equal(streamed.start_inputs, stored.inputs[:, 0])
     for size in (7, 250, 5000, 15000):  # blocks of 12800 steps: every boundary crossed
         chunks = list(streamed.chunks(size))
         assert sum(c.size for c in chunks) == stored.n_steps

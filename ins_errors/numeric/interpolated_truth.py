@@ -397,12 +397,7 @@ class InterpolatedTruth:
         plan_, n, nu, d = self.plan, self.n, self.nu, DEGREE
         J = len(plan_.start)
         x = self.x0.copy()
-        # node 0 of the first interval: a zero-length gap evaluates the inputs at t = 0
-        first = self._gaps(np.array([0.0]), np.array([0.0]))[0][:1]
-        first[:, 0] = 0.0
-        xs, ys = self._call(fn, x, first)
-        previous = np.concatenate([x, ys[0, :nu]])
-        self._check(ys[:1], xs[:1], 0.0)
+        previous = np.concatenate(self.start())  # node 0 of the first interval
         for j0 in range(0, J, BATCH):
             j1 = min(j0 + BATCH, J)
             sub, gaps = self._refined(plan_.times[j0:j1 + 1], plan_.steps[j0:j1 + 1],
@@ -422,6 +417,17 @@ class InterpolatedTruth:
             np.maximum(self.error_estimate, tail.max(axis=0), out=self.error_estimate)
             self._warn_if_coarse(tail, nodes, sub.start)
             yield _Block(sub, 0, count, nodes, self.tau)
+
+    def start(self) -> tuple[np.ndarray, np.ndarray]:
+        """True state (n,) and inputs (nu,) at t = 0, the first column of the first chunk
+        (the inputs from a gap of zero length); raises if the motion starts outside the
+        model's domain."""
+        fn = _gap_function(self.model_name, self.frame, self.p)
+        first = self._gaps(np.array([0.0]), np.array([0.0]))[0][:1]
+        first[:, 0] = 0.0
+        xs, ys = self._call(fn, self.x0, first)
+        self._check(ys[:1], xs[:1], 0.0)
+        return self.x0.copy(), ys[0, :self.nu].copy()
 
     def _refined(self, times: np.ndarray, steps: np.ndarray, q_first: int,
                  q_last: int) -> tuple[Plan, np.ndarray]:

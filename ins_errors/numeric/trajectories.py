@@ -776,9 +776,13 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     if stream is None:
         stream = 8 * n_values > STREAM_BYTES
     if stream and n_steps:  # (a run of no steps is its start, stored)
-        first = next(source.chunks(1))  # checks the start of the motion now
-        return Trajectory.streamed(model.key, tau, n_steps, source, first.truth[:, 0],
-                                   first.inputs[:, 0], p, c0, profile.description)
+        if isinstance(source, ProfileTruth):
+            first = next(source.chunks(1))  # checks the start of the motion now
+            x_first, u_first = first.truth[:, 0], first.inputs[:, 0]
+        else:
+            x_first, u_first = source.start()
+        return Trajectory.streamed(model.key, tau, n_steps, source, x_first, u_first, p, c0,
+                                   profile.description)
     traj = Trajectory.streamed(model.key, tau, n_steps, source, x0, u0, p, c0,
                                profile.description)
     traj._store()
