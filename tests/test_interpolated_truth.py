@@ -245,11 +245,11 @@ def test_bad_truth_choices_raise_one_line_errors(orthodromic):
     unknown = tr.Profile("track", great.commands, 50 * DEG, 30 * DEG, 0.0, "own")
     with pytest.raises(InsErrorsError, match="breaks"):
         tr.trajectory(orthodromic, unknown, 10.0, 0.01, truth="interpolated")
-    # a flight over the pole (after about 37 s) leaves the domain: named with its time
-    # (the first coarse block, 640 s, is integrated when the trajectory is made)
+    # a flight over the pole (after about 37 s) leaves the domain: named with its time,
+    # when it is run
     polar = tr.great_circle_profile(89.9 * DEG, 0.0, 0.0, 300.0)
+    streamed = tr.trajectory(orthodromic, polar, 600.0, 0.01, stream=True)
     with pytest.raises(DomainError, match=r"true motion leaves the model's domain at t = 3\d"):
-        streamed = tr.trajectory(orthodromic, polar, 600.0, 0.01, stream=True)
         simulate(orthodromic, streamed, {"gyro_drift_x": 1e-7})
 
 
