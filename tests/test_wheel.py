@@ -87,6 +87,7 @@ def test_wheel_command_line(installed_wheel, tmp_path):
 def test_wheel_runs_a_scenario(installed_wheel, tmp_path):
     scenario = tmp_path / "drift.toml"
     scenario.write_text('model = "orthodromic"\n[run]\nduration = "2 h"\nstep = "2 s"\n'
+                        '[outputs]\nquantities = ["alpha_x", "delta_latitude"]\n'
                         '[[case]]\ngyro_drift_y = "0.01 deg/h"\n', encoding="utf-8")
     code = ("import sys; from ins_errors.cli import main; "
             "sys.exit(main(['run', 'drift.toml', '--out', 'rep', '--no-progress']))")
