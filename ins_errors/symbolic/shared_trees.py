@@ -40,6 +40,7 @@ class SharedTrees:
         self._free: dict[sp.Basic, frozenset] = {}
         self._derivatives: dict[tuple[sp.Basic, sp.Symbol], sp.Expr] = {}
         self._substituted: dict[frozenset, dict] = {}
+        self._unevaluated: dict[sp.Basic, bool] = {}
 
     def free_symbols(self, expr: sp.Basic) -> frozenset:
         """``expr.free_symbols``, computed once per distinct subtree."""
@@ -88,6 +89,17 @@ class SharedTrees:
         memo[expr] = result
         return result
 
+    def _has_derivative(self, expr: sp.Basic) -> bool:
+        """``expr.has(sp.Derivative)``, once per distinct subtree."""
+        try:
+            return self._unevaluated[expr]
+        except KeyError:
+            pass
+        found = isinstance(expr, sp.Derivative) or any(
+            self._has_derivative(a) for a in expr.args if isinstance(a, sp.Basic))
+        self._unevaluated[expr] = found
+        return found
+
     def derivative(self, expr: sp.Expr, symbol: sp.Symbol) -> sp.Expr:
         """``sp.diff(expr, symbol)`` (same result); use inside :meth:`differentiating`."""
         key = (expr, symbol)
@@ -99,7 +111,7 @@ class SharedTrees:
             result = sp.S.Zero
         else:
             result = expr._eval_derivative_n_times(symbol, 1)
-            if result is None or result.has(sp.Derivative):  # left for SymPy to finish
+            if result is None or self._has_derivative(result):  # left for SymPy to finish
                 result = _SYMPY_DIFF(expr, symbol)
         self._derivatives[key] = result
         return result
