@@ -1,7 +1,7 @@
-"""The shortcuts of the static-base analysis give SymPy's own values, exactly.
+"""The shortcuts of the static-base analysis and the code printer give the same values.
 
-References: SymPy's full Taylor shift, its dense inverse and a sum of residues that is
-checked against the rational function itself.
+References: SymPy's full Taylor shift, its dense inverse, each backend's own printer, and
+a sum of residues checked against the rational function itself.
 """
 
 from __future__ import annotations
@@ -49,3 +49,17 @@ def test_sparse_inverse_equals_the_dense_one():
     outer = sp.QQ.frac_field(s, g, R, W)
     matrix = DomainMatrix.from_list_sympy(4, 4, (s * sp.eye(4) - F).tolist()).convert_to(outer)
     assert matrix.to_sparse().inv().to_Matrix() == matrix.inv().to_Matrix()
+
+
+def test_one_printing_serves_both_backends():
+    from ins_errors.symbolic import codegen
+
+    x, y = sp.symbols("x y", real=True)
+    expr = (sp.asin(x) + sp.acos(y) * sp.atan(x / y) - sp.atan2(y, x) + sp.Abs(x) ** 3
+            + 1 / sp.sqrt(x**2 + y**2) + sp.exp(-sp.tanh(x)) * sp.log(sp.cosh(y))
+            + sp.pi * sp.sinh(x) / sp.tan(y) - sp.Rational(3, 7) * sp.sqrt(sp.sin(x)))
+    neutral = codegen._NEUTRAL_PRINTER.doprint(expr)
+    assert codegen._in_backend(neutral, codegen._NUMPY_NAMES) == \
+        codegen.NUMPY_PRINTER.doprint(expr)
+    assert codegen._in_backend(neutral, codegen._CASADI_NAMES) == \
+        codegen.CASADI_PRINTER.doprint(expr)

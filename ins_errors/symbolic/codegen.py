@@ -13,7 +13,9 @@ apart; tests compare them with each other and with SymPy evaluated in memory.
 
 from __future__ import annotations
 
+import functools
 import keyword
+import re
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -58,6 +60,21 @@ class _BackendPrinter(PythonCodePrinter):
 
 NUMPY_PRINTER = _BackendPrinter(_NUMPY_NAMES)
 CASADI_PRINTER = _BackendPrinter(_CASADI_NAMES)
+"""Each backend's own printer (what the emitted text equals; see _in_backend)."""
+
+_MARK = "\x00"
+_NEUTRAL_PRINTER = _BackendPrinter({f: _MARK + f for f in _FUNCTIONS})
+"""Prints ``_m.<mark><function>``: one printing serves both backends (see _in_backend)."""
+_MARKED = re.compile(r"_m\." + _MARK + r"(\w+)")
+
+
+def _in_backend(text: str, names: dict[str, str]) -> str:
+    """Text of :data:`_NEUTRAL_PRINTER` as the backend with function ``names`` prints it.
+
+    The printers differ only in the function-name strings they are given, which the
+    printer inserts verbatim, so replacing the marked names gives the backend's text.
+    """
+    return _MARKED.sub(lambda m: f"_m.{names.get(m[1], m[1])}", text)
 
 
 @dataclass(frozen=True)
@@ -87,6 +104,12 @@ class _Prepared:
     assignments: list[tuple[str, sp.Expr]]
     entries: list[tuple[int, int, sp.Expr]]  # nonzero entries after CSE
     operations: int
+
+    @functools.cached_property
+    def printed(self) -> tuple[list[tuple[str, str]], list[tuple[int, int, str]]]:
+        """Assignments and entries as printed by :data:`_NEUTRAL_PRINTER`, once."""
+        return ([(name, _NEUTRAL_PRINTER.doprint(e)) for name, e in self.assignments],
+                [(i, j, _NEUTRAL_PRINTER.doprint(e)) for i, j, e in self.entries])
 
 
 def _identifier(symbol: sp.Symbol, taken: set[str]) -> str:
@@ -158,14 +181,15 @@ def emit_numpy_function(prepared: _Prepared) -> str:
     out.append(f"    _batch = _np.broadcast_shapes({batch})")
     for local, argument, index in prepared.unpack:
         out.append(f"    {local} = {argument}[{index}]")
-    for name, expr in prepared.assignments:
-        out.append(f"    {name} = {NUMPY_PRINTER.doprint(expr)}")
+    assignments, entries = prepared.printed
+    for name, text in assignments:
+        out.append(f"    {name} = {_in_backend(text, _NUMPY_NAMES)}")
     rows, cols = spec.result.shape
     shape = f"({rows},)" if cols == 1 else f"({rows}, {cols})"
     out.append(f"    _out = _np.zeros({shape} + _batch)")
-    for i, j, expr in prepared.entries:
+    for i, j, text in entries:
         target = f"_out[{i}]" if cols == 1 else f"_out[{i}, {j}]"
-        out.append(f"    {target} = {NUMPY_PRINTER.doprint(expr)}")
+        out.append(f"    {target} = {_in_backend(text, _NUMPY_NAMES)}")
     out.append("    return _out")
     return "\n".join(out)
 
@@ -178,12 +202,13 @@ def emit_casadi_builder(prepared: _Prepared) -> str:
         out.append(f"    {argument.name} = _m.SX.sym({argument.name!r}, {len(argument.symbols)})")
     for local, argument, index in prepared.unpack:
         out.append(f"    {local} = {argument}[{index}]")
-    for name, expr in prepared.assignments:
-        out.append(f"    {name} = {CASADI_PRINTER.doprint(expr)}")
+    assignments, entries = prepared.printed
+    for name, text in assignments:
+        out.append(f"    {name} = {_in_backend(text, _CASADI_NAMES)}")
     rows, cols = spec.result.shape
     out.append(f"    _out = _m.SX({rows}, {cols})")
-    for i, j, expr in prepared.entries:
-        out.append(f"    _out[{i}, {j}] = {CASADI_PRINTER.doprint(expr)}")
+    for i, j, text in entries:
+        out.append(f"    _out[{i}, {j}] = {_in_backend(text, _CASADI_NAMES)}")
     names = ", ".join(a.name for a in spec.arguments)
     labels = ", ".join(repr(a.name) for a in spec.arguments)
     out.append(f"    return _m.Function({spec.name!r}, [{names}], [_out], [{labels}], ['out'])")
