@@ -64,6 +64,11 @@ def _run_jobs(names: list[str], root: Path, documents: bool) -> list[ModelSummar
             _run_extra(extra, root)
         return summaries
     first = [n for n in _LONGEST_FIRST if n in names]
+    # built once here and inherited by the forked workers: a report job needs the
+    # definition of a model that another worker derives
+    for name in names if documents else ():
+        with step(name, "build the definition"):
+            definition(name)
     with ProcessPoolExecutor(max_workers=workers) as pool:
         jobs: dict[str, Future] = {
             name: pool.submit(_write_one, name, root, documents)

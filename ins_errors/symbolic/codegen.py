@@ -123,6 +123,12 @@ def _identifier(symbol: sp.Symbol, taken: set[str]) -> str:
     return name
 
 
+@functools.lru_cache(maxsize=8192)
+def _count_ops(expr: sp.Expr) -> int:
+    """``sp.count_ops(expr)``; a model's functions share many CSE assignments."""
+    return sp.count_ops(expr)
+
+
 def prepare(spec: FunctionSpec, trees: SharedTrees | None = None) -> _Prepared:
     """Unpack arguments, CSE the result, count operations.
 
@@ -150,8 +156,8 @@ def prepare(spec: FunctionSpec, trees: SharedTrees | None = None) -> _Prepared:
     assignments, reduced = sp.cse([e for _, _, e in flat], symbols=temporaries,
                                   order="none")
     entries = [(i, j, e) for (i, j, _), e in zip(flat, reduced, strict=True)]
-    operations = sum(sp.count_ops(e) for _, e in assignments) + sum(
-        sp.count_ops(e) for _, _, e in entries)
+    operations = sum(_count_ops(e) for _, e in assignments) + sum(
+        _count_ops(e) for _, _, e in entries)
     return _Prepared(spec, unpack, [(str(s), e) for s, e in assignments], entries,
                      int(operations))
 
