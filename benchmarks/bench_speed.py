@@ -95,7 +95,7 @@ def _static_direct(hours: float, platform: str = "exact") -> dict:
     return {"cpu": best[0], "wall": best[1]}
 
 
-def _batch(hours: float, threads: int) -> dict:
+def _batch(hours: float, threads: int, repeats: int) -> dict:
     os.environ["INS_ERRORS_THREADS"] = str(threads)
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.model import load_model
@@ -109,9 +109,13 @@ def _batch(hours: float, threads: int) -> dict:
     traj = tr.trajectory(model, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
                          hours * 3600.0, 0.01)
     simulate(model, traj, cases, record_interval=60.0, parts=("real",))
-    wall, cpu = time.perf_counter(), _cpu()
-    simulate(model, traj, cases, record_interval=60.0, parts=("real",))
-    return {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall, "cases": len(cases)}
+    # the best of a few runs: the wall time depends on what else the machine runs
+    best = (np.inf, np.inf)
+    for _ in range(repeats):
+        wall, cpu = time.perf_counter(), _cpu()
+        simulate(model, traj, cases, record_interval=60.0, parts=("real",))
+        best = min(best, (time.perf_counter() - wall, _cpu() - cpu))
+    return {"cpu": best[1], "wall": best[0], "cases": len(cases)}
 
 
 def _covariance(moving: bool, hours: float) -> dict:
@@ -171,8 +175,8 @@ FIGURES = {
     "week": lambda q: _moving("great circle", 6.0 if q else 7 * 24.0, 10.0),
     "static-direct": lambda q: _static_direct(1.0 if q else 24.0),
     "static-small-angle": lambda q: _static_direct(1.0 if q else 24.0, "small_angle"),
-    "batch-serial": lambda q: _batch(1.0 if q else 24.0, 1),
-    "batch-threads": lambda q: _batch(1.0 if q else 24.0, 2),
+    "batch-serial": lambda q: _batch(1.0 if q else 24.0, 1, 3 if q else 2),
+    "batch-threads": lambda q: _batch(1.0 if q else 24.0, 2, 3 if q else 2),
     "covariance-static": lambda q: _covariance(False, 24.0),
     "covariance-moving": lambda q: _covariance(True, 1.0 if q else 24.0),
     "derive": lambda q: _derive(),
