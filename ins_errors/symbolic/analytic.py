@@ -438,16 +438,33 @@ class StaticAnalysis:
     laplace : dict
         Source name -> the same responses in the Laplace domain.
     parametrisation : Parametrisation
+
+    ``resolvent``, ``adjugate`` and ``laplace`` are converted to SymPy when first read
+    (``make derive`` prints the adjugate of small models only).
     """
 
     state_matrix: sp.Matrix
     characteristic: sp.Expr
     modes: list[Mode]
-    resolvent: sp.Matrix
-    adjugate: sp.Matrix
     responses: dict[str, sp.Matrix]
-    laplace: dict[str, sp.Matrix]
     parametrisation: Parametrisation
+    _inverse: DomainMatrix = field(repr=False)
+    _determinant: object = field(repr=False)
+    _laplace: dict[str, list] = field(repr=False)
+
+    @functools.cached_property
+    def resolvent(self) -> sp.Matrix:
+        return self._inverse.to_Matrix()
+
+    @functools.cached_property
+    def adjugate(self) -> sp.Matrix:
+        return (self._inverse * self._determinant).to_Matrix()
+
+    @functools.cached_property
+    def laplace(self) -> dict[str, sp.Matrix]:
+        to_sympy = self._inverse.domain.to_sympy
+        return {name: sp.Matrix([to_sympy(e) for e in entries])
+                for name, entries in self._laplace.items()}
 
     def in_model_symbols(self, expr: sp.Expr, trees: SharedTrees | None = None) -> sp.Expr:
         """``expr`` with mode symbols and parametrisation symbols replaced by definitions.
@@ -517,10 +534,8 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     inverse = DomainMatrix.from_list_sympy(Fp.rows, Fp.cols,
                                            (s * sp.eye(Fp.rows) - Fp).tolist()).convert_to(
         outer).to_sparse().inv()
-    C = inverse.to_Matrix()
     characteristic = characteristic_polynomial(Fp, s)
     determinant = outer.from_sympy(sp.expand(characteristic))
-    adjugate = (inverse * determinant).to_Matrix()
     modes = split_modes(characteristic, parametrisation.frequencies, s)
     poles = list(modes)
     if not any(m.symbol is None for m in modes):  # step inputs add a pole at s = 0
@@ -533,14 +548,14 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     if tidy is not None:  # the same coefficient recurs across sources and states
         tidy = functools.cache(tidy)
     responses: dict[str, sp.Matrix] = {}
-    laplace: dict[str, sp.Matrix] = {}
+    laplace: dict[str, list] = {}
     for j, name in enumerate(names):
         is_step = columns[name][1]
         entries = [Xd[i][j] / s_elem if is_step else Xd[i][j] for i in range(Fp.rows)]
-        laplace[name] = sp.Matrix([outer.to_sympy(e) for e in entries])
+        laplace[name] = entries
         responses[name] = sp.Matrix([
             _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, poles, s, t, tidy,
                                   table)
             for e in entries])
-    return StaticAnalysis(Fp, characteristic, modes, C, adjugate, responses, laplace,
-                          parametrisation)
+    return StaticAnalysis(Fp, characteristic, modes, responses, parametrisation, inverse,
+                          determinant, laplace)
