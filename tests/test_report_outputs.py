@@ -109,3 +109,31 @@ def test_case_plots_drawn_in_one_figure_equal_fresh_figures(report, tmp_path):
                                 title=title)
         assert together[k].read_bytes() == alone.read_bytes(), k
     assert together[0].read_bytes() != together[1].read_bytes()
+
+
+def test_save_figure_after_tight_layout_writes_the_bytes_of_a_plain_savefig(tmp_path):
+    """``save_figure`` skips the extra layout pass a ``tight_layout()`` placeholder
+    causes: the file must still be the one matplotlib's own ``savefig`` writes, and the
+    figure keeps its placeholder (a later colorbar still sees the tight layout's rules)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.layout_engine import PlaceHolderLayoutEngine
+
+    from ins_errors.output import save_figure
+
+    fig, axes = plt.subplots(2, 1, figsize=(4, 4))
+    axes[0].plot([0, 1, 2], [3e-7, 1e-6, -2e-7])
+    axes[1].plot([0, 1, 2], [1e4, 3e5, 2e4])
+    axes[1].set_xlabel("time, h")
+    fig.suptitle("a title")
+    fig.tight_layout()
+    engine = fig.get_layout_engine()
+    assert isinstance(engine, PlaceHolderLayoutEngine)
+    plain = tmp_path / "plain.png"
+    fig.savefig(plain, dpi=60)
+    ours = save_figure(fig, tmp_path / "ours.png", close=False, dpi=60)
+    assert ours.read_bytes() == plain.read_bytes()
+    assert fig.get_layout_engine() is engine
+    plt.close(fig)
