@@ -158,6 +158,20 @@ def test_compiled_margins_are_the_running_minimum_of_the_virtual_machine(method,
     assert np.ptp(results[0].margins) > 0.1
 
 
+def test_loop_source_reads_its_arguments_without_pointer_tests():
+    """The driver passes every pointer, so the generated step loses CasADi's tests of
+    them (one basic block: sin and cos of one angle become one sincos call); a CasADi
+    whose code no longer matches the patterns would silently lose that."""
+    x, u = ca.SX.sym("x", 3), ca.SX.sym("u", 2)
+    step = ca.Function("probe_step", [x, u], [ca.vertcat(ca.sin(x[0]) * u[0],
+                                                         ca.cos(x[0]) + x[1] * u[1])])
+    source = integ.generated_source([step])
+    assert "arg[0]? arg[0][" in source and "if (res[0]!=0) res[0][" in source
+    stripped = integ._assume_arguments(source)
+    assert "?" not in stripped.split("probe_step:")[1].split("}")[0]
+    assert "!=0" not in stripped.split("probe_step:")[1].split("}")[0]
+
+
 def test_thread_count_from_the_environment_is_checked(monkeypatch):
     monkeypatch.setenv("INS_ERRORS_THREADS", "two")
     with pytest.raises(integ.InsErrorsError, match="INS_ERRORS_THREADS must be a whole"):
