@@ -41,7 +41,7 @@ import numpy as np
 
 from ins_errors.errors import DomainError
 from ins_errors.models.earth import normal_gravity, radii_of_curvature
-from ins_errors.numeric.integrators import StepError, step_count
+from ins_errors.numeric.integrators import step_count
 from ins_errors.numeric.model import Model
 from ins_errors.numeric.trajectories import Leg, MotionError, Profile, Trajectory, smoothstep
 
@@ -50,10 +50,6 @@ MODEL = "strapdown_ned"
 
 BANK_GRAVITY = 9.80665
 """g₀ of the coordinated-bank rule roll = atan(V r / g₀), m/s² (a choice of the flight)."""
-
-_CHUNK = 1_000_000
-MAX_STEPS = 20_000_000
-"""Longest run (steps) sampled: 24 h at 100 Hz is 8.64 million."""
 
 
 @dataclass
@@ -76,6 +72,11 @@ class Flight:
         True for a vehicle at rest (constant inputs).
     roll, pitch : float
         Attitude of a vehicle at rest, rad (moving flights follow the flight path).
+    breaks : sequence of float, optional
+        Times (s) where the commands may lose smoothness (leg joins); between them the
+        commands are smooth (analytic). ``()`` for a flight smooth throughout, None when
+        unknown: only a flight with known breaks gets the fast interpolated truth
+        (:class:`~ins_errors.numeric.strapdown_stream.InterpolatedFlight`).
     """
 
     latitude: float
@@ -87,6 +88,7 @@ class Flight:
     static: bool = False
     roll: float = 0.0
     pitch: float = 0.0
+    breaks: Sequence[float] | None = None
 
     def __post_init__(self) -> None:
         for name in ("latitude", "longitude", "height", "course", "roll", "pitch"):
@@ -129,7 +131,7 @@ def great_circle(latitude: float, longitude: float, course: float, speed: float,
     return Flight(latitude, longitude, height, course, commands,
                   f"great circle from φ={np.degrees(latitude):.4g}°, "
                   f"λ={np.degrees(longitude):.4g}°, course {np.degrees(course):.4g}°, "
-                  f"{speed:g} m/s, h={height:g} m")
+                  f"{speed:g} m/s, h={height:g} m", breaks=())
 
 
 def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
@@ -171,7 +173,8 @@ def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
 
     return Flight(latitude, longitude, height, course, commands,
                   f"manoeuvring flight of {len(legs)} legs from φ={np.degrees(latitude):.4g}°,"
-                  f" λ={np.degrees(longitude):.4g}°")
+                  f" λ={np.degrees(longitude):.4g}°",
+                  breaks=tuple(float(start + length) for start, length, *_ in starts))
 
 
 def standard_manoeuvre(latitude: float = np.radians(50.0), longitude: float = np.radians(30.0),
@@ -188,6 +191,15 @@ def standard_manoeuvre(latitude: float = np.radians(50.0), longitude: float = np
     return manoeuvre(latitude, longitude, course, 100.0, legs)
 
 
+_AROUND = np.array([-2.0, -1.0, 1.0, 2.0])
+_CENTRAL = np.array([0.0, 1.0, -8.0, 8.0, -1.0])
+"""Weights (×1/12) of r at 0 and at the steps ``_AROUND``: the centred difference."""
+_AHEAD = np.array([1.0, 2.0, 3.0, 4.0])
+_FORWARD = np.array([-25.0, 48.0, -36.0, 16.0, -3.0])
+"""Weights (×1/12) of r at 0 and at the steps ``_AHEAD``: the one-sided difference (its
+mirror, steps and weights negated, looks back)."""
+
+
 def flight_from_profile(profile: Profile) -> Flight:
     """The strapdown flight of a track-frame motion profile (CLI and scenario motions).
 
@@ -196,7 +208,9 @@ def flight_from_profile(profile: Profile) -> Flight:
     height and the vertical speed. Its speed is ``V = |v|``, its course the trihedron's
     heading minus ``atan2(v_η, v_ξ)`` (v_η to the left), so the commanded turn rate is
     ``r = −d/dt atan2(v_η, v_ξ)``; the rate of ``r`` (needed for the bank rate) is a
-    central difference over 1 ms of the profile's C² commands.
+    five-point difference over 1-ms steps of the profile's C² commands (fourth order:
+    exact for the quartic turn rates of the legs up to rounding), one-sided next to the
+    start and to the profile's breaks so that it never straddles a leg join.
 
     Raises
     ------
@@ -217,11 +231,24 @@ def flight_from_profile(profile: Profile) -> Flight:
         speed = np.hypot(v1, v2)
         return values, rates, speed, -(v1 * dv2 - v2 * dv1) / speed**2
 
+    # the rate of r: five-point differences over 1-ms steps (exact for the legs' quartic
+    # turn rates up to rounding), one-sided within two steps after the start or a break
+    # and before a break, so that they never straddle a join where r's higher rates jump
+    known = np.unique(np.concatenate([[0.0], np.asarray(profile.breaks or (), dtype=float)]))
+    step = 1e-3
+
     def commands(t: np.ndarray):
         values, rates, speed, r = turn(t)
-        step = 1e-3
-        dr = (turn(t + step)[3] - turn(np.maximum(t - step, 0.0))[3]) / (
-            t + step - np.maximum(t - step, 0.0))
+        last = np.searchsorted(known, t, side="right") - 1
+        forward = (last < 0) | (t - known[np.maximum(last, 0)] < 2 * step)
+        after = np.minimum(last + 1, known.size - 1)
+        backward = ~forward & (last + 1 < known.size) & (known[after] - t < 2 * step)
+        rows = np.where(forward[:, None], _FORWARD,
+                        np.where(backward[:, None], -_FORWARD, _CENTRAL))
+        offsets = np.where(forward[:, None], _AHEAD,
+                           np.where(backward[:, None], -_AHEAD, _AROUND))
+        r_near = turn((t[:, None] + step * offsets).ravel())[3].reshape(offsets.shape)
+        dr = (rows[:, 0] * r + np.einsum("ij,ij->i", rows[:, 1:], r_near)) / (12 * step)
         dspeed = (values[0] * rates[0] + values[1] * rates[1]) / speed
         return speed, dspeed, r, dr, -values[3], -rates[3]
 
@@ -229,8 +256,9 @@ def flight_from_profile(profile: Profile) -> Flight:
     if not np.hypot(values0[0, 0], values0[1, 0]) > 0:
         raise MotionError("a moving strapdown flight must start with a positive speed")
     course = profile.heading - np.arctan2(values0[1, 0], values0[0, 0])
+    breaks = None if profile.breaks is None else tuple(float(b) for b in profile.breaks)
     return Flight(profile.latitude, profile.longitude, float(values0[2, 0]), float(course),
-                  commands, profile.description)
+                  commands, profile.description, breaks=breaks)
 
 
 # --------------------------------------------------------------------------------------
@@ -363,7 +391,8 @@ def _signals(flight: Flight, earth: _Earth, t: np.ndarray, y: np.ndarray):
 
 
 def trajectory(model: Model, flight: Flight, duration: float, tau: float,
-               p: np.ndarray | None = None) -> Trajectory:
+               p: np.ndarray | None = None, truth: str = "auto",
+               stream: bool | None = None) -> Trajectory:
     """Sample a flight's true state and IMU signals on the grid ``t = k τ``.
 
     Parameters
@@ -377,24 +406,43 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
         whole number of steps.
     p : numpy.ndarray, optional
         Model parameters (default: the model's, WGS-84).
+    truth : {"auto", "interpolated", "fine"}
+        How a moving flight's signals are computed (:mod:`ins_errors.numeric.strapdown_stream`).
+        ``"fine"``: the exact kinematics at every step and midpoint of the position
+        integrated by DOP853; ``"interpolated"``: at the nodes of coarse intervals of
+        about 10 s ending at the flight's leg joins, interpolated to the steps by
+        polynomials of degree 7 (hundreds of times cheaper per step); ``"auto"``
+        (default): interpolated when the flight's breaks are known and the intervals
+        hold at least :data:`~ins_errors.numeric.interpolated_truth.MIN_STEPS` steps
+        (on average, counting the breaks), else fine.
+    stream : bool, optional
+        Generate a moving flight chunk by chunk whenever it is run instead of storing it;
+        default: stream when the stored samples would exceed
+        :data:`~ins_errors.numeric.trajectories.STREAM_BYTES`. A streamed flight that
+        reaches a pole is reported when it is run.
 
     Returns
     -------
     Trajectory
-        Truth (10, N + 1), inputs at the steps (7, N + 1) and midpoints (7, N); a static
-        base gives one constant column.
+        Truth (10, N + 1), inputs at the steps (7, N + 1) and midpoints (7, N), stored or
+        streamed; a static base gives one constant column.
 
     Raises
     ------
     MotionError, StepError, DomainError
         Wrong model, bad grid, or a flight that reaches a pole or pitch ±90°.
     """
+    from ins_errors.numeric import interpolated_truth as it
+    from ins_errors.numeric import strapdown_stream as ss
+    from ins_errors.numeric.trajectories import STREAM_BYTES, TRUTHS
+
     if model.name != MODEL:
         raise MotionError(f"strapdown flights feed the model {MODEL!r}, not {model.name!r}")
+    if truth not in TRUTHS:
+        from ins_errors.errors import unknown_name
+
+        raise unknown_name("truth", truth, TRUTHS)
     n_steps = step_count(duration, tau)
-    if n_steps > MAX_STEPS:
-        raise StepError(f"a run of {n_steps:,} steps is longer than {MAX_STEPS:,} steps; "
-                        "use a longer step or a shorter run")
     p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
     earth = _earth(model, p)
     y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
@@ -403,42 +451,47 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
         c0 = _initial_conditions(state[:, 0], euler[:, 0])
         return Trajectory(MODEL, float(tau), n_steps, state, inputs, inputs.copy(), p, c0,
                           True, flight.description)
+    if truth == "interpolated" and flight.breaks is None:
+        raise MotionError("the interpolated truth needs a flight whose breaks are known "
+                          "(a great circle or a manoeuvre)")
+    if truth == "auto":
+        truth = "fine"
+        if flight.breaks is not None:
+            breaks = np.asarray(flight.breaks, dtype=float)
+            inside = np.count_nonzero((breaks > 0.0) & (breaks < n_steps * tau))
+            intervals = np.ceil(n_steps * tau / it.INTERVAL) + inside
+            if it.INTERVAL / tau >= it.MIN_STEPS and n_steps >= it.MIN_STEPS * intervals:
+                truth = "interpolated"
+    if truth == "interpolated":
+        source = ss.InterpolatedFlight(model, flight, earth, float(tau), n_steps, p)
+    else:
+        source = ss.FullRateTruth(flight, earth, float(tau), n_steps,
+                                  _position_solution(flight, earth, n_steps * tau, tau).sol)
+    x0, u0, euler0 = source.start_with_euler()
+    c0 = _initial_conditions(x0, euler0)
+    traj = Trajectory.streamed(MODEL, tau, n_steps, source, x0, u0, p, c0,
+                               flight.description)
+    if stream is None:
+        stream = 8 * (n_steps + 1) * (len(x0) + 2 * len(u0)) > STREAM_BYTES
+    if not stream or not n_steps:  # (a run of no steps is its start, stored)
+        traj._store()
+    return traj
+
+
+def _position_solution(flight: Flight, earth: _Earth, t_end: float, tau: float):
+    """Latitude, longitude, height and course over ``[0, t_end]`` by DOP853 (rtol 1e-13)
+    with dense output (``.sol``)."""
     from scipy.integrate import solve_ivp
 
-    t_end = n_steps * tau
+    y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
     solution = solve_ivp(_position_rhs(flight, earth), (0.0, t_end), y0, method="DOP853",
                          rtol=1e-13, atol=1e-15 * np.array([1, 1, 1e7, 1]), dense_output=True,
                          max_step=max(tau, min(60.0, t_end / 4 or tau)))
     if not solution.success:
         raise DomainError(f"the true flight could not be integrated: {solution.message}")
-    truth = np.empty((10, n_steps + 1))
-    inputs = np.empty((7, n_steps + 1))
-    midpoints = np.empty((7, n_steps))
-    for start in range(0, n_steps + 1, _CHUNK):
-        stop = min(start + _CHUNK, n_steps + 1)
-        t = np.arange(start, stop) * tau
-        state, u, euler = _signals(flight, earth, t, solution.sol(t))
-        if start == 0:
-            c0 = _initial_conditions(state[:, 0], euler[:, 0])
-        truth[:, start:stop], inputs[:, start:stop] = state, u
-        mid_stop = min(stop, n_steps)
-        if mid_stop > start:
-            tm = (np.arange(start, mid_stop) + 0.5) * tau
-            _, midpoints[:, start:mid_stop], _ = _signals(flight, earth, tm, solution.sol(tm))
-    _check(truth, inputs)
-    return Trajectory(MODEL, float(tau), n_steps, truth, inputs, midpoints, p, c0, False,
-                      flight.description)
+    return solution
 
 
 def _initial_conditions(state: np.ndarray, euler: np.ndarray) -> np.ndarray:
     """c = (latitude, longitude, height, v_N0, v_E0, v_D0, roll, pitch, heading)."""
     return np.array([state[7], state[8], state[9], state[4], state[5], state[6], *euler])
-
-
-def _check(truth: np.ndarray, inputs: np.ndarray) -> None:
-    bad = ~(np.all(np.isfinite(truth), axis=0) & np.all(np.isfinite(inputs), axis=0))
-    if bad.any():
-        raise DomainError(f"the true flight is NaN or infinite from step {int(np.argmax(bad))}")
-    polar = np.cos(truth[7]) ** 2 <= 1e-12
-    if polar.any():
-        raise DomainError(f"the true flight reaches a pole at step {int(np.argmax(polar))}")

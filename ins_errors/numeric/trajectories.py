@@ -733,7 +733,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         profile's breaks are known and the intervals hold at least
         :data:`~ins_errors.numeric.interpolated_truth.MIN_STEPS` steps (on average,
         counting the breaks), else fine. (The strapdown model's true IMU signals come
-        from :mod:`ins_errors.numeric.strapdown_truth` whatever this says.)
+        from :mod:`ins_errors.numeric.strapdown_truth`, fine or interpolated alike.)
 
     Raises
     ------
@@ -748,7 +748,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         from ins_errors.numeric import strapdown_truth
 
         return strapdown_truth.trajectory(model, strapdown_truth.flight_from_profile(profile),
-                                          duration, tau, p)
+                                          duration, tau, p, truth=truth, stream=stream)
     n_steps = step_count(duration, tau)
     p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
     frame = profile.frame

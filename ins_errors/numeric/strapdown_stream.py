@@ -1,0 +1,287 @@
+"""The true IMU signals of a strapdown flight, generated chunk by chunk (MotionSources).
+
+Two generators feed :func:`ins_errors.numeric.strapdown_truth.trajectory`; neither stores
+more than a chunk of step-sized samples, so a day or a week at 100 Hz needs memory only
+for what a run records.
+
+* :class:`FullRateTruth` (``truth="fine"``): the position and course integrated once by
+  DOP853 at a relative tolerance of 1e-13 (dense output), the exact kinematics evaluated
+  at every step time and midpoint (about 1 µs per sample). The numbers are those the
+  trajectory stored whole before it was streamed, bit for bit.
+* :class:`InterpolatedFlight` (``truth="interpolated"``, the default at small steps): the
+  coarse intervals of :mod:`ins_errors.numeric.interpolated_truth` (about 10 s, ending at
+  every leg join of the flight, halved where the states or inputs change faster). In
+  every interval the position and course are the degree-7 polynomials through the
+  Chebyshev–Lobatto nodes that solve the integral form of their equations (Picard
+  iteration with the exact integrals of the node polynomials, compiled; Clenshaw–Curtis
+  accuracy, the same as the interpolation's), the exact kinematics are evaluated at the
+  nodes only, and the states and inputs at the run's steps are the polynomials through
+  the node values (a few nanoseconds per step).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from functools import lru_cache
+
+import casadi as ca
+import numpy as np
+
+from ins_errors.errors import DomainError
+from ins_errors.models.earth import radii_of_curvature
+from ins_errors.numeric import interpolated_truth as it
+from ins_errors.numeric.integrators import DenseCall, native_functions
+from ins_errors.numeric.model import Model
+from ins_errors.numeric.strapdown_truth import Flight, _Earth, _signals
+from ins_errors.numeric.trajectories import TruthChunk
+
+PICARD = 6
+"""Picard iterations of an interval's position and course. One iteration multiplies the
+error by about L T (T the interval, L the largest rate of the equations' right-hand side
+with respect to the position and course: 4e-4 for 10 s at 50° latitude, 0.05 at 85°),
+divided by the iteration count's factorial: 6 reach rounding below 85°."""
+
+_COMMANDS = (0, 2, 4)
+"""The commands the position and course equations read: V, r, v_D (of the six)."""
+
+ROW_COLUMNS = 1 + 3 * (it.DEGREE + 1)
+"""One interval row: its length, then (V, r, v_D) at its nodes."""
+
+
+def integration_matrix() -> np.ndarray:
+    """``S[i, j] = ∫_0^{x_i} ℓ_j(s) ds`` for the Chebyshev–Lobatto nodes ``x`` on [0, 1]
+    and their Lagrange polynomials ``ℓ_j``, shape (DEGREE + 1, DEGREE + 1): the
+    integrals from 0 to every node of the polynomial through node values ``f`` are
+    ``S @ f``."""
+    from numpy.polynomial import chebyshev as cheb
+
+    u = 2.0 * it._NODES - 1.0  # on [-1, 1]
+    coefficients = cheb.chebfit(u, np.eye(it.DEGREE + 1), it.DEGREE)  # one column per ℓ_j
+    integrals = cheb.chebint(coefficients, lbnd=-1.0)
+    return 0.5 * cheb.chebval(u, integrals).T  # (x = (u + 1) / 2)
+
+
+def _check_signals(state: np.ndarray, inputs: np.ndarray, times: np.ndarray) -> None:
+    """Raise at the first time where the flight is not finite or reaches a pole."""
+    bad = ~(np.all(np.isfinite(state), axis=0) & np.all(np.isfinite(inputs), axis=0))
+    bad |= np.cos(state[7]) ** 2 <= 1e-12
+    if bad.any():
+        raise DomainError(f"the true flight reaches a pole or is not finite at "
+                          f"t = {times[int(np.argmax(bad))]:.6g} s")
+
+
+class FullRateTruth:
+    """The kinematics at every step and midpoint of a flight integrated by DOP853.
+
+    Parameters
+    ----------
+    flight : Flight
+    earth : _Earth
+        Ellipsoid, Earth rate and normal gravity of the model's parameters.
+    tau : float
+        Step, s.
+    n_steps : int
+        Steps N.
+    solution : scipy.integrate.OdeSolution
+        Dense output of (latitude, longitude, height, course) over ``[0, N τ]``.
+    """
+
+    def __init__(self, flight: Flight, earth: _Earth, tau: float, n_steps: int, solution):
+        self.flight, self.earth, self.tau, self.n_steps = flight, earth, float(tau), n_steps
+        self.solution = solution
+
+    def start(self) -> tuple[np.ndarray, np.ndarray]:
+        """True state (10,) and inputs (7,) at t = 0."""
+        state, inputs, _ = self.start_with_euler()
+        return state, inputs
+
+    def start_with_euler(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """True state (10,), inputs (7,) and Euler angles (3,) at t = 0."""
+        t = np.zeros(1)
+        state, inputs, euler = _signals(self.flight, self.earth, t, self.solution(t))
+        _check_signals(state, inputs, t)
+        return state[:, 0], inputs[:, 0], euler[:, 0]
+
+    def chunks(self, size: int) -> Iterator[TruthChunk]:
+        """Chunks of at most ``size`` steps (see
+        :class:`~ins_errors.numeric.trajectories.MotionSource`)."""
+        for start in range(0, self.n_steps, size):
+            stop = min(start + size, self.n_steps)
+            t = np.arange(start, stop + 1) * self.tau
+            state, inputs, _ = _signals(self.flight, self.earth, t, self.solution(t))
+            _check_signals(state, inputs, t)
+            tm = (np.arange(start, stop) + 0.5) * self.tau
+            _, midpoints, _ = _signals(self.flight, self.earth, tm, self.solution(tm))
+            yield TruthChunk(start, state, inputs, midpoints)
+
+
+@lru_cache(maxsize=16)
+def _interval_function(a: float, e2: float) -> DenseCall:
+    """Compiled ``(y, rows (J, ROW_COLUMNS)) -> (y at the end of each interval (J, 4),
+    y at its nodes 1..DEGREE (J, 4 DEGREE))`` for y = (latitude, longitude, height,
+    course), the intervals chained: :data:`PICARD` iterations of
+    ``y(x_i) = y(0) + T Σ_j S_ij f(x_j, y(x_j))`` (:func:`integration_matrix`)."""
+    d = it.DEGREE
+    y, row = ca.SX.sym("y", 4), ca.SX.sym("row", ROW_COLUMNS)
+    S = integration_matrix()
+    length = row[0]
+
+    def rhs(z, j):
+        lat, h, psi = z[0], z[2], z[3]
+        V, r, vD = row[1 + 3 * j], row[2 + 3 * j], row[3 + 3 * j]
+        R_N, R_E = radii_of_curvature(lat, a, e2, xp=ca)
+        vN, vE = V * ca.cos(psi), V * ca.sin(psi)
+        return ca.vertcat(vN / (R_N + h), vE / ((R_E + h) * ca.cos(lat)), -vD,
+                          vE * ca.tan(lat) / (R_E + h) + r)
+
+    f0 = rhs(y, 0)
+    nodes = [y] * (d + 1)
+    for _ in range(PICARD):
+        rates = [f0] + [rhs(nodes[j], j) for j in range(1, d + 1)]
+        nodes = [y] + [y + length * sum(float(S[i, j]) * rates[j] for j in range(d + 1))
+                       for i in range(1, d + 1)]
+    out = ca.cse(ca.vertcat(*nodes[1:]))
+    interval = ca.Function("strapdown_interval", [y, row], [out[-4:], out])
+    return native_functions([interval.mapaccum("strapdown_intervals", it.BATCH)])[0]
+
+
+class InterpolatedFlight(it.InterpolatedTruth):
+    """A strapdown flight on the coarse grid of :mod:`~ins_errors.numeric.interpolated_truth`,
+    interpolated to the run's steps (a MotionSource).
+
+    Parameters
+    ----------
+    model : Model
+        The ``strapdown_ned`` model (for the names and units of its states and inputs).
+    flight : Flight
+        A moving flight whose :attr:`Flight.breaks` are known.
+    earth : _Earth
+    tau : float
+        Step, s.
+    n_steps : int
+        Steps N.
+    p : numpy.ndarray
+        Model parameters.
+
+    Attributes
+    ----------
+    error_estimate, worst
+        As for :class:`~ins_errors.numeric.interpolated_truth.InterpolatedTruth`.
+    """
+
+    def __init__(self, model: Model, flight: Flight, earth: _Earth, tau: float, n_steps: int,
+                 p: np.ndarray):
+        self.flight, self.earth = flight, earth
+        self.tau, self.n_steps, self.p = float(tau), int(n_steps), tuple(float(v) for v in p)
+        self.y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
+        self.n, self.nu = len(model.states), len(model.inputs)
+        self.plan = it.plan(self.n_steps, self.tau, flight.breaks)
+        self.error_estimate = np.zeros(self.n + self.nu)
+        self.names = [s.name for s in model.states] + [i.name for i in model.inputs]
+        units = [s.unit for s in model.states] + [i.unit for i in model.inputs]
+        self._same_unit = [[k for k, other in enumerate(units) if other == unit]
+                           for unit in units]
+        self._warned = False
+        self.worst = 0.0
+
+    def start(self) -> tuple[np.ndarray, np.ndarray]:
+        """True state (n,) and inputs (nu,) at t = 0 (the first column of the first chunk)."""
+        state, inputs, _ = self.start_with_euler()
+        return state, inputs
+
+    def start_with_euler(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """True state (10,), inputs (7,) and Euler angles (3,) at t = 0."""
+        t = np.zeros(1)
+        state, inputs, euler = _signals(self.flight, self.earth, t, self.y0[:, None])
+        _check_signals(state, inputs, t)
+        return state[:, 0], inputs[:, 0], euler[:, 0]
+
+    def _rows(self, start: np.ndarray, length: np.ndarray) -> np.ndarray:
+        """Interval rows (J, ROW_COLUMNS) of intervals at ``start`` of ``length`` (s)."""
+        t = (start[:, None] + length[:, None] * it._NODES[None, :]).ravel()
+        commands = np.vstack(self.flight.commands(t))
+        bad = ~np.all(np.isfinite(commands), axis=0)
+        if bad.any():
+            raise DomainError(f"flight commands are NaN or infinite at "
+                              f"t = {t[int(np.argmax(bad))]:.6g} s")
+        rows = np.empty((len(start), ROW_COLUMNS))
+        rows[:, 0] = length
+        rows[:, 1:] = commands[list(_COMMANDS)].T.reshape(len(start), -1)
+        return rows
+
+    def _integrate(self, fn: DenseCall, y: np.ndarray, rows: np.ndarray) -> np.ndarray:
+        """Position and course at the nodes 1..DEGREE of every interval from ``y`` at
+        the first one's start, shape (J, DEGREE, 4), compiled in batches (the last one
+        padded with empty intervals)."""
+        size, d = it.BATCH, it.DEGREE
+        count = rows.shape[0]
+        ys = np.empty((count, 4 * d))
+        y = np.ascontiguousarray(y)
+        for a in range(0, count, size):
+            b = min(a + size, count)
+            batch = rows[a:b]
+            if b - a < size:
+                pad = np.repeat(batch[-1:], size - (b - a), axis=0)
+                pad[:, 0] = 0.0
+                batch = np.vstack([batch, pad])
+            ends, out = np.empty((size, 4)), np.empty((size, 4 * d))
+            fn([y, np.ascontiguousarray(batch)], [ends, out])
+            ys[a:b] = out[:b - a]
+            y = np.ascontiguousarray(ends[b - a - 1])
+        return ys.reshape(count, d, 4)
+
+    def _nodes(self, fn: DenseCall, y: np.ndarray, first: np.ndarray, times: np.ndarray,
+               steps: np.ndarray, q_first: int,
+               q_last: int) -> tuple[it.Plan, np.ndarray, np.ndarray, np.ndarray]:
+        """Node values of the intervals between knots ``times`` (a block of the coarse
+        plan) integrated from position and course ``y`` (4,) where the states and inputs
+        are ``first`` (n + nu,), with every interval halved (at most
+        :data:`~ins_errors.numeric.interpolated_truth.MAX_SPLITS` times) whose
+        polynomials would not resolve the states and inputs: their last Chebyshev
+        coefficient above :data:`~ins_errors.numeric.interpolated_truth.REFINE_RELATIVE`
+        of the largest value of that unit over the block.
+
+        Returns the block's plan, the nodes (J, DEGREE + 1, n + nu), the magnitudes of
+        their last Chebyshev coefficients (J, n + nu) and the position and course at the
+        block's end (4,).
+        """
+        d, n, nu = it.DEGREE, self.n, self.nu
+        for depth in range(it.MAX_SPLITS + 1):
+            start, length = times[:-1], np.diff(times)
+            ys = self._integrate(fn, y, self._rows(start, length)).reshape(-1, 4)
+            at = (start[:, None] + length[:, None] * it._NODES[1:]).ravel()
+            state, inputs, _ = _signals(self.flight, self.earth, at, ys.T)
+            _check_signals(state, inputs, at)
+            nodes = np.empty((len(start), d + 1, n + nu))
+            nodes[:, 1:, :n] = state.T.reshape(len(start), d, n)
+            nodes[:, 1:, n:] = inputs.T.reshape(len(start), d, nu)
+            nodes[0, 0] = first
+            nodes[1:, 0] = nodes[:-1, d]
+            tail = np.abs(np.einsum("i,jic->jc", it._CHEBYSHEV[-1], nodes))
+            if depth == it.MAX_SPLITS:
+                break
+            largest = np.abs(nodes).max(axis=(0, 1))
+            size = np.array([largest[group].max() for group in self._same_unit])
+            split = (tail > it.REFINE_RELATIVE * size).any(axis=1) & (length >= 2.0 * self.tau)
+            if not split.any():
+                break
+            times, steps = it._split(times, steps, split, self.tau)
+        plan_ = it._plan_of_knots(times, steps, self.tau, q_first, q_last)
+        return plan_, nodes, tail, ys[-1].copy()
+
+    def _blocks(self) -> Iterator[it._Block]:
+        fn = _interval_function(self.earth.a, self.earth.e2)
+        plan_, d = self.plan, it.DEGREE
+        J = len(plan_.start)
+        y = self.y0.copy()
+        previous = np.concatenate(self.start())  # node 0 of the first interval
+        for j0 in range(0, J, it.BATCH):
+            j1 = min(j0 + it.BATCH, J)
+            sub, nodes, tail, y = self._nodes(fn, y, previous, plan_.times[j0:j1 + 1],
+                                              plan_.steps[j0:j1 + 1],
+                                              int(plan_.first_half[j0]),
+                                              int(plan_.first_half[j1]))
+            previous = nodes[-1, d].copy()
+            np.maximum(self.error_estimate, tail.max(axis=0), out=self.error_estimate)
+            self._warn_if_coarse(tail, nodes, sub.start)
+            yield it._Block(sub, 0, len(sub.start), nodes, self.tau)
