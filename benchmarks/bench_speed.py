@@ -272,7 +272,7 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
         if failed(name):
             continue
         x = r[name]
-        _row(f"strapdown_ned {hours:g} h {label} 100 Hz, truth+direct+linear",
+        _row(f"strapdown {hours:g} h {label}, truth+direct+linear",
              f"{x['cpu']:.2f} s CPU ({x['wall']:.1f} s wall)", f"<= {2.0 * scale:.3g} s CPU",
              x["cpu"] <= 2.0 * scale)
         _row("  peak memory", f"{x['peak']:.0f} MB", "<= 300 MB", x["peak"] <= 300)
@@ -281,7 +281,7 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
         x = r["strapdown-week"]
         growth = x["peak"] - x["base"]
         days = 0.25 if quick else 7
-        _row(f"strapdown_ned {days:g}-day flight at 100 Hz, recording every 10 s",
+        _row(f"strapdown {days:g}-day flight at 100 Hz, recording every 10 s",
              f"ran: {x['cpu']:.0f} s CPU, peak {x['peak']:.0f} MB", "runs (not refused)", True)
         _row("  memory growth vs recorded output", f"{growth:.0f} MB vs {x['recorded']:.0f} MB",
              "<= output + 100 MB buffers", growth <= x["recorded"] + 100)

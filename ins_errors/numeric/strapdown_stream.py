@@ -41,6 +41,10 @@ error by about L T (T the interval, L the largest rate of the equations' right-h
 with respect to the position and course: 4e-4 for 10 s at 50° latitude, 0.05 at 85°),
 divided by the iteration count's factorial: 6 reach rounding below 85°."""
 
+PICARD_CHANGE = 1e-13
+"""An interval is also halved when the last Picard iteration still changed its position
+or course by more than this (rad): near a pole, where the iteration converges slowly."""
+
 _COMMANDS = (0, 2, 4)
 """The commands the position and course equations read: V, r, v_D (of the six)."""
 
@@ -118,9 +122,10 @@ class FullRateTruth:
 @lru_cache(maxsize=16)
 def _interval_function(a: float, e2: float) -> DenseCall:
     """Compiled ``(y, rows (J, ROW_COLUMNS)) -> (y at the end of each interval (J, 4),
-    y at its nodes 1..DEGREE (J, 4 DEGREE))`` for y = (latitude, longitude, height,
-    course), the intervals chained: :data:`PICARD` iterations of
-    ``y(x_i) = y(0) + T Σ_j S_ij f(x_j, y(x_j))`` (:func:`integration_matrix`)."""
+    [y at its nodes 1..DEGREE, change] (J, 4 DEGREE + 1))`` for y = (latitude, longitude,
+    height, course), the intervals chained: :data:`PICARD` iterations of
+    ``y(x_i) = y(0) + T Σ_j S_ij f(x_j, y(x_j))`` (:func:`integration_matrix`); ``change``
+    is the largest change of the last iteration (rad; the height divided by ``a``)."""
     d = it.DEGREE
     y, row = ca.SX.sym("y", 4), ca.SX.sym("row", ROW_COLUMNS)
     S = integration_matrix()
@@ -135,13 +140,18 @@ def _interval_function(a: float, e2: float) -> DenseCall:
                           vE * ca.tan(lat) / (R_E + h) + r)
 
     f0 = rhs(y, 0)
-    nodes = [y] * (d + 1)
+    nodes = previous = [y] * (d + 1)
     for _ in range(PICARD):
         rates = [f0] + [rhs(nodes[j], j) for j in range(1, d + 1)]
-        nodes = [y] + [y + length * sum(float(S[i, j]) * rates[j] for j in range(d + 1))
-                       for i in range(1, d + 1)]
-    out = ca.cse(ca.vertcat(*nodes[1:]))
-    interval = ca.Function("strapdown_interval", [y, row], [out[-4:], out])
+        nodes, previous = [y] + [y + length * sum(float(S[i, j]) * rates[j]
+                                                  for j in range(d + 1))
+                                 for i in range(1, d + 1)], nodes
+    # the last iteration's change (height in radians of the equator)
+    scale = ca.DM([1.0, 1.0, 1.0 / a, 1.0])
+    steps = [(n - m) * scale for n, m in zip(nodes[1:], previous[1:], strict=True)]
+    change = ca.mmax(ca.fabs(ca.vertcat(*steps)))
+    out = ca.cse(ca.vertcat(*nodes[1:], change))
+    interval = ca.Function("strapdown_interval", [y, row], [out[-5:-1], out])
     return native_functions([interval.mapaccum("strapdown_intervals", it.BATCH)])[0]
 
 
@@ -211,11 +221,12 @@ class InterpolatedFlight(it.InterpolatedTruth):
 
     def _integrate(self, fn: DenseCall, y: np.ndarray, rows: np.ndarray) -> np.ndarray:
         """Position and course at the nodes 1..DEGREE of every interval from ``y`` at
-        the first one's start, shape (J, DEGREE, 4), compiled in batches (the last one
-        padded with empty intervals)."""
+        the first one's start, shape (J, DEGREE, 4), and the last Picard iteration's
+        change of every interval (J,), compiled in batches (the last one padded with
+        empty intervals)."""
         size, d = it.BATCH, it.DEGREE
         count = rows.shape[0]
-        ys = np.empty((count, 4 * d))
+        ys = np.empty((count, 4 * d + 1))
         y = np.ascontiguousarray(y)
         for a in range(0, count, size):
             b = min(a + size, count)
@@ -224,11 +235,11 @@ class InterpolatedFlight(it.InterpolatedTruth):
                 pad = np.repeat(batch[-1:], size - (b - a), axis=0)
                 pad[:, 0] = 0.0
                 batch = np.vstack([batch, pad])
-            ends, out = np.empty((size, 4)), np.empty((size, 4 * d))
+            ends, out = np.empty((size, 4)), np.empty((size, 4 * d + 1))
             fn([y, np.ascontiguousarray(batch)], [ends, out])
             ys[a:b] = out[:b - a]
             y = np.ascontiguousarray(ends[b - a - 1])
-        return ys.reshape(count, d, 4)
+        return ys[:, :-1].reshape(count, d, 4), ys[:, -1]
 
     def _nodes(self, fn: DenseCall, y: np.ndarray, first: np.ndarray, times: np.ndarray,
                steps: np.ndarray, q_first: int,
@@ -239,7 +250,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
         :data:`~ins_errors.numeric.interpolated_truth.MAX_SPLITS` times) whose
         polynomials would not resolve the states and inputs: their last Chebyshev
         coefficient above :data:`~ins_errors.numeric.interpolated_truth.REFINE_RELATIVE`
-        of the largest value of that unit over the block.
+        of the largest value of that unit over the block, or whose last Picard iteration
+        still changed the position or course by more than :data:`PICARD_CHANGE`.
 
         Returns the block's plan, the nodes (J, DEGREE + 1, n + nu), the magnitudes of
         their last Chebyshev coefficients (J, n + nu) and the position and course at the
@@ -248,7 +260,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
         d, n, nu = it.DEGREE, self.n, self.nu
         for depth in range(it.MAX_SPLITS + 1):
             start, length = times[:-1], np.diff(times)
-            ys = self._integrate(fn, y, self._rows(start, length)).reshape(-1, 4)
+            ys, change = self._integrate(fn, y, self._rows(start, length))
+            ys = ys.reshape(-1, 4)
             at = (start[:, None] + length[:, None] * it._NODES[1:]).ravel()
             state, inputs, _ = _signals(self.flight, self.earth, at, ys.T)
             _check_signals(state, inputs, at)
@@ -262,7 +275,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
                 break
             largest = np.abs(nodes).max(axis=(0, 1))
             size = np.array([largest[group].max() for group in self._same_unit])
-            split = (tail > it.REFINE_RELATIVE * size).any(axis=1) & (length >= 2.0 * self.tau)
+            split = (((tail > it.REFINE_RELATIVE * size).any(axis=1) | (change > PICARD_CHANGE))
+                     & (length >= 2.0 * self.tau))
             if not split.any():
                 break
             times, steps = it._split(times, steps, split, self.tau)

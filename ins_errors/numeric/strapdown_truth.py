@@ -6,10 +6,14 @@ flight path: heading = course ψ, pitch = flight-path angle ``atan(−v_D / V)``
 coordinated bank ``atan(V r / g₀)``. The course obeys ``ψ̇ = v_E tan φ / (R_E + h) + r``:
 with ``r = 0`` the vehicle flies along a geodesic of the ellipsoid ("great circle").
 
-Latitude, longitude, height and course are integrated with an adaptive 8th-order
-Runge–Kutta method at a relative tolerance of 1e-13 (:func:`scipy.integrate.solve_ivp`,
-DOP853 with dense output), then at every step time and step midpoint of the run the
-exact rigid-body kinematics give the true body rate and specific force:
+Latitude, longitude, height and course are integrated, and at the times where the
+signals are needed the exact rigid-body kinematics give the true body rate and specific
+force. Two ways (:mod:`ins_errors.numeric.strapdown_stream`, both streamed chunk by
+chunk): ``truth="fine"`` integrates with an adaptive 8th-order Runge–Kutta method at a
+relative tolerance of 1e-13 (:func:`scipy.integrate.solve_ivp`, DOP853 with dense
+output) and evaluates the kinematics at every step time and step midpoint;
+``truth="interpolated"`` (the default at small steps) solves on the nodes of coarse
+intervals ending at the flight's leg joins and interpolates to the steps. The kinematics:
 
 * ``ω_ib^b = ω_nb^b + C_n^b ω_in^n``, with ``ω_nb^b`` from the Euler-angle rates and
   ``ω_in^n = ω_ie^n + ω_en^n`` (Earth rate plus transport rate);
