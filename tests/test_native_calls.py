@@ -158,6 +158,32 @@ def test_compiled_margins_are_the_running_minimum_of_the_virtual_machine(method,
     assert np.ptp(results[0].margins) > 0.1
 
 
+def test_an_interrupted_threaded_batch_stops_every_group(monkeypatch):
+    """Ctrl-C (or an error) in one group's thread ends the other threads at their next
+    piece, instead of letting them run to the end of the run."""
+    import time
+
+    z, u, w, p = ca.SX.sym("z", 1), ca.SX.sym("u", 1), ca.SX.sym("w", 1), ca.SX.sym("p", 0)
+    rhs = ca.Function("toy", [z, u, w, p], [-z + w])
+    loop = integ.CompiledLoop(rhs, None, "euler", 1, 0.1, np.zeros(0), np.zeros(1),
+                              chunk=4, batch=2, workers=2)
+    calls = {0: 0, 1: 0}
+    original = integ.CompiledLoop._advance_group
+
+    def flaky(self, *args):
+        g = args[-1]
+        calls[g] += 1
+        if g == 1:
+            raise KeyboardInterrupt
+        time.sleep(0.005)
+        return original(self, *args)
+
+    monkeypatch.setattr(integ.CompiledLoop, "_advance_group", flaky)
+    with pytest.raises(KeyboardInterrupt):
+        loop.run(np.zeros(1), np.array([[1.0, 2.0]]), 400 * 4)   # 100 pieces a group
+    assert calls[1] == 1 and calls[0] < 20
+
+
 def test_loop_source_reads_its_arguments_without_pointer_tests():
     """The driver passes every pointer, so the generated step loses CasADi's tests of
     them (one basic block: sin and cos of one angle become one sincos call); a CasADi

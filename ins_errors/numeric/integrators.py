@@ -45,6 +45,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+import threading
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -860,10 +861,12 @@ class CompiledLoop:
         # progress is shown between pieces of about 1/100 of the run (whole chunks)
         piece = max(self.chunk, -(-n_rec // 100 // self.chunk) * self.chunk)
 
+        stop = threading.Event()
+
         def pieces(g: int | None) -> None:
             """Run the whole recording in pieces: every group (g None) or group g."""
             done = 0
-            while done < n_rec:
+            while done < n_rec and not stop.is_set():
                 size = min(piece, n_rec - done)
                 recorded = states[:, done + 1:done + 1 + size], margins[done:done + size]
                 if g is None:
@@ -880,11 +883,16 @@ class CompiledLoop:
             if self.constant_inputs and self.workers > 1:
                 # no input stream to share: each thread runs its group from start to end,
                 # never waiting for the other groups (the first group shows the progress)
-                from concurrent.futures import ThreadPoolExecutor
+                from concurrent.futures import ThreadPoolExecutor, as_completed
 
                 with ThreadPoolExecutor(self.workers) as pool:
-                    for job in [pool.submit(pieces, g) for g in range(self.workers)]:
-                        job.result()
+                    jobs = [pool.submit(pieces, g) for g in range(self.workers)]
+                    try:
+                        for job in as_completed(jobs):
+                            job.result()
+                    except BaseException:  # an error or Ctrl-C: the others stop too
+                        stop.set()
+                        raise
             else:
                 pieces(None)
         finally:
