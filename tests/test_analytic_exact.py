@@ -63,3 +63,15 @@ def test_one_printing_serves_both_backends():
         codegen.NUMPY_PRINTER.doprint(expr)
     assert codegen._in_backend(neutral, codegen._CASADI_NAMES) == \
         codegen.CASADI_PRINTER.doprint(expr)
+
+
+def test_remembered_factor_lists_give_sympys_factorisations():
+    g, R, W = sp.symbols("g R Omega", positive=True)
+    shared = (g + R * W**2) * (g - R * W**2)
+    coefficients = [shared / (R * (W**2 + 1)), 3 * shared**2 / (g * R - R**2 * W),
+                    -shared / (2 * (W**2 + 1) ** 2)]
+    expected = [sp.factor(c) for c in coefficients]
+    original = sp.Poly.factor_list
+    with an._factor_lists_remembered():
+        assert [sp.factor(c) for c in coefficients + coefficients] == expected + expected
+    assert sp.Poly.factor_list is original

@@ -23,9 +23,10 @@ definitions of those symbols back to the model's own symbols for numerics and do
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -477,6 +478,37 @@ class StaticAnalysis:
         return self.parametrisation.to_model(expr, trees)
 
 
+@contextlib.contextmanager
+def _factor_lists_remembered() -> Iterator[None]:
+    """``Poly.factor_list`` answers each distinct polynomial once inside the block.
+
+    The partial-fraction coefficients of one analysis share most of their numerator and
+    denominator polynomials (817 of them, 78 distinct, for north_pointing), and
+    ``sp.factor`` factors each one again. The answers are SymPy's own (a copy of the
+    factor list each time, since callers may extend it). Not thread-safe: the block
+    swaps a method of ``sympy.Poly`` and restores it on exit.
+    """
+    original = sp.Poly.factor_list
+    if getattr(original, "remembered", False):  # nested: the outer block serves
+        yield
+        return
+    memo: dict[sp.Poly, tuple] = {}
+
+    def factor_list(poly):
+        try:
+            coeff, factors = memo[poly]
+        except KeyError:
+            coeff, factors = memo[poly] = original(poly)
+        return coeff, list(factors)
+
+    factor_list.remembered = True
+    sp.Poly.factor_list = factor_list
+    try:
+        yield
+    finally:
+        sp.Poly.factor_list = original
+
+
 def _split_in_s(element, outer, inner, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
     """Numerator and denominator of an element of QQ(s, p...) as polynomials in s over QQ(p...)."""
     index = outer.symbols.index(s)
@@ -549,13 +581,14 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
         tidy = functools.cache(tidy)
     responses: dict[str, sp.Matrix] = {}
     laplace: dict[str, list] = {}
-    for j, name in enumerate(names):
-        is_step = columns[name][1]
-        entries = [Xd[i][j] / s_elem if is_step else Xd[i][j] for i in range(Fp.rows)]
-        laplace[name] = entries
-        responses[name] = sp.Matrix([
-            _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, poles, s, t, tidy,
-                                  table)
-            for e in entries])
+    with _factor_lists_remembered():
+        for j, name in enumerate(names):
+            is_step = columns[name][1]
+            entries = [Xd[i][j] / s_elem if is_step else Xd[i][j] for i in range(Fp.rows)]
+            laplace[name] = entries
+            responses[name] = sp.Matrix([
+                _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, poles, s, t,
+                                      tidy, table)
+                for e in entries])
     return StaticAnalysis(Fp, characteristic, modes, responses, parametrisation, inverse,
                           determinant, laplace)
