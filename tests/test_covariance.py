@@ -315,7 +315,9 @@ def test_moving_base_reduced_exponential_matches_the_augmented_one(orthodromic):
     from ins_errors.numeric.linear_system import system_from_trajectory
 
     profile = tr.great_circle_profile(np.radians(50), np.radians(30), np.radians(90), 250.0)
-    traj = tr.trajectory(orthodromic, profile, 1800.0, 5.0)
+    # half an hour in 60 steps of 30 s: each step is one exponential of each kind (a few
+    # ms apiece), compared step by step, so 5 s steps (360 of them) only repeated it
+    traj = tr.trajectory(orthodromic, profile, 1800.0, 30.0)
     system = system_from_trajectory(orthodromic, traj)
     everything = cv.state_and_output_functionals(orthodromic, system)
     valued = np.arange(len(orthodromic.sources))
