@@ -33,6 +33,10 @@ MANIFEST = ".ins-errors-files.json"
 """Name of the file, inside an output folder, that lists what ins-errors wrote there."""
 
 
+PNG_ZLIB_RLE = 3
+"""zlib's ``Z_RLE`` strategy, Pillow's ``compress_type`` for PNG files."""
+
+
 class OutputError(InsErrorsError):
     """An output file or folder that cannot be written (or must not be overwritten)."""
 
@@ -155,6 +159,10 @@ def save_figure(figure, path: str | Path, close: bool = True, **options) -> Path
 
     path = Path(path)
     fmt = path.suffix.lstrip(".").lower() or None
+    if fmt == "png":
+        # zlib's run-length strategy: the same pixels in about half the encoding time of
+        # the default, for a file about 10 % larger (plots are mostly flat runs of colour)
+        options.setdefault("pil_kwargs", {"compress_type": PNG_ZLIB_RLE})
     try:
         with _without_layout_placeholder(figure):
             return write_with(path, lambda p: figure.savefig(p, format=fmt, **options))
