@@ -78,3 +78,22 @@ def save_curves_mat(comparisons: Sequence, path: str | Path) -> None:
             **{run: {q: np.asarray(v, float) for q, v in getattr(comparison, run).items()}
                for run in RUNS if getattr(comparison, run)}}
     savemat(str(path), content, do_compression=True, oned_as="row")
+
+
+def write_curves(folder, comparisons: Sequence) -> list[Path]:
+    """Write ``curves.csv`` and ``curves.mat`` into a report folder, atomically.
+
+    Parameters
+    ----------
+    folder : ins_errors.output.OutputFolder
+        The folder (its manifest records the two files; the caller calls ``finish``).
+    comparisons : sequence of Comparison
+        The compared cases.
+
+    Returns
+    -------
+    list of Path
+        The two files.
+    """
+    return [folder.write_text("curves.csv", curves_csv(comparisons)),
+            folder.write_with("curves.mat", lambda p: save_curves_mat(comparisons, p))]

@@ -154,7 +154,7 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
     InsErrorsError
         If the folder cannot be written or must not be.
     """
-    from ins_errors.export import curves_csv, save_curves_mat
+    from ins_errors.export import write_curves
     from ins_errors.numeric.plots import plot_comparisons, shared_quantities
 
     out = OutputFolder(folder, force=force)
@@ -174,7 +174,6 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
                "curves": {"csv": "curves.csv", "mat": "curves.mat"},
                "cases": [c.to_dict() for c in result.comparisons]}
     out.write_text("results.json", json.dumps(summary, indent=2) + "\n")
-    out.write_text("curves.csv", curves_csv(result.comparisons))
-    out.write_with("curves.mat", lambda p: save_curves_mat(result.comparisons, p))
+    write_curves(out, result.comparisons)
     out.finish()
     return out.path / "report.md"

@@ -126,3 +126,63 @@ def test_repeated_source_and_bare_angle_are_refused(capsys):
     assert main(["compare", "orthodromic", "-s", "gyro_drift_x=1deg/h", "--latitude", "50",
                  "--hours", "1"]) == 2
     assert "needs a unit" in capsys.readouterr().err
+
+
+def test_out_writes_the_curves_as_csv_and_mat(capsys, tmp_path):
+    """``--out DIR``: curves.csv and curves.mat hold the very curves of the comparison
+    (the same files as ``run`` writes), under the folder rules of ins_errors.output."""
+    import csv
+
+    from scipy.io import loadmat
+
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.motion_spec import motion_profile
+
+    out = tmp_path / "curves"
+    args = ["-s", "gyro_drift_x=0.01deg/h", "-s", "accel_bias_y=50ug", "--separately",
+            "--duration", "30 min", "--step", "10s", "--no-refined"]
+    status, _out, err = run(capsys, *args, "--out", str(out))
+    assert status == 0, err
+    # the same comparison, computed here through the library
+    model = load_model("orthodromic")
+    trajectory = tr.trajectory(model, motion_profile({"kind": "static", "latitude": "50deg",
+                                                      "longitude": "30deg"}), 1800.0, 10.0)
+    expected = compare(model, trajectory,
+                       [{"gyro_drift_x": 0.01 * DEG_PER_HOUR}, {"accel_bias_y": 50e-6 * 9.80665}],
+                       record_interval=60.0, refined=False)
+    with open(out / "curves.csv", encoding="utf-8", newline="") as handle:
+        rows = list(csv.reader(handle))
+    header, body = rows[0], np.array(rows[1:], dtype=float)
+    assert header[:2] == ["case", "t [s]"]
+    assert not any(".refined" in name for name in header)
+    assert body.shape == (2 * 31, len(header))
+    mat = loadmat(out / "curves.mat", squeeze_me=True, struct_as_record=False)
+    for k, comparison in enumerate(expected, 1):
+        mine = body[body[:, 0] == k]
+        np.testing.assert_array_equal(mine[:, 1], comparison.times)
+        assert comparison.times[-1] == 1800.0
+        for run_name in ("direct", "linear"):
+            for quantity, curve in getattr(comparison, run_name).items():
+                column = next(i for i, name in enumerate(header)
+                              if name.startswith(f"{quantity}.{run_name} ["))
+                np.testing.assert_array_equal(mine[:, column], curve)  # repr: round trip
+                np.testing.assert_array_equal(
+                    getattr(getattr(mat[f"case_{k}"], run_name), quantity), curve)
+    # a gyro drift tilts the platform: alpha_x grows, it is not a column of zeros
+    assert np.max(np.abs(expected[0].direct["alpha_x"])) > 1e-7
+    # again into the same folder: replaced, a file of someone else's is left alone
+    (out / "notes.txt").write_text("mine")
+    status, _out, err = run(capsys, *args, "--out", str(out))
+    assert status == 0, err
+    assert sorted(p.name for p in out.iterdir()) == [".ins-errors-files.json", "curves.csv",
+                                                      "curves.mat", "notes.txt"]
+    # a folder ins-errors did not write is refused before computing, unless --force
+    stranger = tmp_path / "stranger"
+    stranger.mkdir()
+    (stranger / "data.txt").write_text("x")
+    status, _out, err = run(capsys, *args, "--out", str(stranger))
+    assert status == 2 and "--force" in err and len(err.strip().splitlines()) == 1
+    status, _out, err = run(capsys, *args, "--out", str(stranger), "--force")
+    assert status == 0 and (stranger / "curves.csv").exists() and (stranger / "data.txt").exists()

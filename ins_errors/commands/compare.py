@@ -3,7 +3,7 @@
 Example::
 
     ins-errors compare orthodromic --source gyro_drift_x=0.01deg/h --motion static \\
-        --hours 24 --plot out.png --json
+        --hours 24 --plot out.png --out curves/ --json
 
 Every quantity is read with its unit by the units library (``0.01deg/h``, ``10ug``,
 ``20arcsec``, ``50deg``, ``250m/s``, ``1s``); a bare number is taken in SI.
@@ -63,6 +63,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="skip the second-order (refined) run")
     parser.add_argument("--plot", metavar="FILE", help="write overlaid curves (png/pdf/svg)")
     parser.add_argument("--markdown", metavar="FILE", help="write the Markdown tables")
+    parser.add_argument("--out", "-o", metavar="DIR",
+                        help="folder for every curve of every case as curves.csv and MATLAB "
+                             "curves.mat (SI units; the same files as 'ins-errors run' writes)")
+    parser.add_argument("--force", action="store_true",
+                        help="write into a non-empty --out folder that ins-errors did not "
+                             "write (only curves.csv and curves.mat are replaced)")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
     parser.set_defaults(func=run)
@@ -111,7 +117,7 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.integrators import step_count
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.motion_spec import motion_profile
-    from ins_errors.output import check_file
+    from ins_errors.output import OutputFolder, check_file
     from ins_errors.units import parse_quantity
 
     if args.plot:
@@ -121,6 +127,8 @@ def run(args: argparse.Namespace) -> int:
     for target in (args.plot, args.markdown):
         if target:
             check_file(target)
+    if args.out:  # refuse a stranger's folder before computing
+        OutputFolder(args.out, force=args.force, create=False)
     model = load_model(args.model)
     sources = _sources(model, args.source)
     if args.hours is not None and args.duration is not None:
@@ -163,6 +171,12 @@ def run(args: argparse.Namespace) -> int:
         from ins_errors.output import write_text
 
         write_text(args.markdown, text)
+    if args.out:
+        from ins_errors.export import write_curves
+
+        folder = OutputFolder(args.out, force=args.force)
+        write_curves(folder, comparisons)
+        folder.finish()
     if args.plot:
         from pathlib import Path
 
