@@ -290,3 +290,30 @@ def test_spheroid_flights_estimate_their_integration_error(capsys):
     assert 0 <= data["integration_error_km"] < 1e-9 and data["warnings"] == []
     assert any(line.startswith("integration error of the direct flights")
                for line in data["lines"])
+
+
+def test_spheroid_study_records_at_a_coarse_step(capsys):
+    """``study spheroid --step 300s --hours 2`` runs (the recording interval follows the
+    step: 24 steps, recorded every 4 = 1200 s, the default 20-s run's recording times),
+    and its flights agree with the 20-s run at those times within its own
+    step-doubling estimate of the integration error (plus a rounding floor)."""
+    import json
+
+    from ins_errors.cli import main
+
+    assert main(["study", "spheroid", "--step", "300s", "--hours", "2", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert any("step 300 s" in line for line in data["lines"]) and data["warnings"] == []
+    assert main(["study", "spheroid", "--step", "7s", "--hours", "1"]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "not a whole number of steps of 7 s" in line
+    grid = {"latitudes_deg": (20.0, 60.0), "angles_deg": (30.0, 225.0), "duration": 7200.0}
+    coarse, _ = se.survey(step=300.0, **grid)
+    fine, _ = se.survey(step=20.0, **grid)
+    assert coarse.times.tolist() == [0.0, 1200.0, 2400.0, 3600.0, 4800.0, 6000.0, 7200.0]
+    at = np.isin(fine.times, coarse.times)
+    assert at.sum() == coarse.times.size
+    assert np.abs(coarse.direct).max() > 1e-4  # kilometres of error, not a flat curve
+    difference = np.abs(coarse.direct - fine.direct[:, at]).max(axis=1)  # (2, F), rad
+    assert np.all(difference <= 2 * coarse.integration_error + 1e-15)
+    assert se.survey_stride(24) == 4 and se.survey_stride(360) == 60 and se.survey_stride(7) == 1

@@ -44,7 +44,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="methodological studies: motion (default both)")
     parser.add_argument("--hours", type=float, default=None,
                         help="duration, h (default 24; spheroid: 6)")
-    parser.add_argument("--step", default=None, help="integration step (default 20 s)")
+    parser.add_argument("--step", default=None,
+                        help="integration step (default 20 s); it must divide the duration, "
+                             "and the spheroid study's recording interval follows it")
     parser.add_argument("--latitude", default="50deg",
                         help="methodological studies: start latitude (default 50deg)")
     parser.add_argument("--speed", default="250m/s", help="ground speed in flight")

@@ -415,20 +415,48 @@ def correction_rate_error(start_latitude: float, start_longitude: float,
     return np.array(out).T
 
 
+SURVEY_RECORD_STEPS = 60
+"""Steps between two recorded samples of :func:`survey` when that divides the run."""
+
+
+def survey_stride(n_steps: int) -> int:
+    """Recording stride of :func:`survey`: the recording interval follows the step.
+
+    Every :data:`SURVEY_RECORD_STEPS` steps when that divides the run; otherwise (a coarse
+    step, e.g. 300 s over 2 h) the largest divisor of the step count that leaves at least
+    six recorded intervals (every step for a run of fewer than twelve steps).
+
+    Parameters
+    ----------
+    n_steps : int
+        Steps of the run.
+
+    Returns
+    -------
+    int
+        Steps between two recorded samples; it divides ``n_steps``.
+    """
+    if n_steps % SURVEY_RECORD_STEPS == 0:
+        return SURVEY_RECORD_STEPS
+    cap = max(1, min(SURVEY_RECORD_STEPS, n_steps // 6))
+    return max(d for d in range(1, cap + 1) if n_steps % d == 0)
+
+
 def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0, 225.0),
            duration: float = 6 * 3600.0, speed: float = 250.0, step: float = 10.0
            ) -> tuple[FlightErrors, list[str]]:
     """Flights from several latitudes along several orthodrome angles; report lines."""
     la, an = np.meshgrid(np.radians(latitudes_deg), np.radians(angles_deg), indexing="ij")
+    stride = survey_stride(step_count(duration, step))
     result = simulate_flights(la.ravel(), np.zeros(la.size), an.ravel(), duration, speed, step,
-                              record_interval=60 * step)
-    integration = integration_errors(result, duration, speed, step, 60)
+                              record_interval=stride * step)
+    integration = integration_errors(result, duration, speed, step, stride)
     if all(len(c.metrics) == 2 for c in integration):
         result.integration_error = np.array([[m.integration_error for m in c.metrics]
                                              for c in integration]).T
     result.warnings = [w for c in integration for w in c.warnings]
     closed = simulate_flights(la.ravel(), np.zeros(la.size), an.ravel(), duration, speed, step,
-                              record_interval=60 * step, closed_loop=True)
+                              record_interval=stride * step, closed_loop=True)
     worst = result.mismatch_km("completed")
     worst_printed = result.mismatch_km("printed")
     largest = result.largest_km()
