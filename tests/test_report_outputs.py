@@ -7,6 +7,7 @@ comparison (to the digits written), and the page must need nothing from the netw
 from __future__ import annotations
 
 import csv
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -109,6 +110,31 @@ def test_case_plots_drawn_in_one_figure_equal_fresh_figures(report, tmp_path):
                                 title=title)
         assert together[k].read_bytes() == alone.read_bytes(), k
     assert together[0].read_bytes() != together[1].read_bytes()
+
+
+def test_case_plots_equal_the_shared_time_axis_drawing(report, tmp_path, monkeypatch):
+    """The case figure's panels share their time range by construction, not through
+    matplotlib's sharex (which made every panel visit its siblings on each update): the
+    files must be byte for byte those of the same figure built with ``sharex=True``, also
+    when one curve stops early (NaN) and the others set the range."""
+    import matplotlib.pyplot as plt
+
+    from ins_errors.numeric.plots import plot_comparisons
+
+    result, _ = report
+    first, second = result.comparisons
+    cut = {q: v.copy() for q, v in first.direct.items()}
+    cut["alpha_y"][len(first.times) // 2:] = np.nan
+    cases = [first, second, replace(first, direct=cut)]
+    shown = ["alpha_y", "delta_v_N", "delta_latitude"]
+    ours = plot_comparisons(cases, [tmp_path / f"ours{k}.png" for k in range(3)],
+                            quantities=shown)
+    subplots = plt.subplots
+    monkeypatch.setattr(plt, "subplots", lambda *a, **k: subplots(*a, **k, sharex=True))
+    shared = plot_comparisons(cases, [tmp_path / f"shared{k}.png" for k in range(3)],
+                              quantities=shown)
+    for k in range(3):
+        assert ours[k].read_bytes() == shared[k].read_bytes(), k
 
 
 def test_save_figure_after_tight_layout_writes_the_bytes_of_a_plain_savefig(tmp_path):
