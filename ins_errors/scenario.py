@@ -28,6 +28,9 @@ Every value with a unit is read by :mod:`ins_errors.units`. Example::
     [outputs]
     quantities = ["alpha_y", "delta_latitude", "delta_v_N"]   # default: every excited one
 
+    [parameters]             # optional: model parameters with units (ins-errors models MODEL)
+    k_h1 = "0.0047 1/s"      # e.g. strapdown_ned's vertical damping gains (default 0)
+
 :func:`run_scenario` returns the comparisons; :mod:`ins_errors.report` writes them as a
 report folder (Markdown, HTML, plots, JSON).
 """
@@ -83,6 +86,9 @@ class Scenario:
         Linear/direct ratio above which a case is warned about.
     ellipsoid : str or None
         Earth model for the parameters (``None``: the model's default).
+    parameters : dict of str to float
+        Model parameters set by the file's ``[parameters]`` table, SI (the others keep
+        their defaults; see :mod:`ins_errors.model_parameters`).
     cases : list of Case
         Error-source sets, each run as its own case.
     quantities : list of str or None
@@ -105,6 +111,7 @@ class Scenario:
     platform: str = "exact"
     validity_threshold: float = 0.05
     ellipsoid: str | None = None
+    parameters: dict[str, float] = field(default_factory=dict)
     cases: list[Case] = field(default_factory=list)
     quantities: list[str] | None = None
     description: str = ""
@@ -161,6 +168,11 @@ def load_scenario(path: str | Path) -> Scenario:
             raise ScenarioError(f"{path.name}: case {k} names no error source")
         label = label or ", ".join(f"{n} = {raw[n]}" for n in sources)
         cases.append(Case(label, sources))
+    from ins_errors.model_parameters import parse_parameters
+
+    parameters = parse_parameters(model, checked.parameters or {},
+                                  f"{path.name} [parameters]", numbers_are_si=False)
+    model.parameter_vector(ellipsoid=run.ellipsoid, **parameters)  # checked before any run
     quantities = checked.outputs.quantities
     if quantities is not None:
         from ins_errors.numeric.simulate import error_quantities
@@ -190,6 +202,7 @@ def load_scenario(path: str | Path) -> Scenario:
         platform=run.platform,
         validity_threshold=float(run.validity_threshold),
         ellipsoid=run.ellipsoid,
+        parameters=parameters,
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
         base=path.parent,
@@ -215,7 +228,7 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
 
     model = load_model(scenario.model)
     profile = motion_profile(scenario.motion, base=scenario.base)
-    p = model.parameter_vector(ellipsoid=scenario.ellipsoid)
+    p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **scenario.parameters)
     trajectory = tr.trajectory(model, profile, scenario.duration, scenario.step, p=p,
                                progress=progress)
     comparisons = compare(model, trajectory, [c.sources for c in scenario.cases],

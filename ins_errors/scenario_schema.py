@@ -108,6 +108,10 @@ class ScenarioFile(_Table):
     run: Run = Field(default_factory=Run)
     case: list[Case] = Field(min_length=1, description="one [[case]] per set of sources")
     outputs: Outputs = Field(default_factory=Outputs)
+    parameters: dict[str, Quantity] | None = Field(
+        None, description="model parameters with units (ins-errors models MODEL lists "
+                          "them), e.g. strapdown_ned's vertical damping gains "
+                          "k_h1 = '0.0047 1/s', k_h2 = '1.4e-5 1/s**2' (default: the model's)")
     sweep: dict[str, Any] | None = Field(None, description="grids over settings "
                                                            "(ins-errors sweep)")
 

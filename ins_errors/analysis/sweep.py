@@ -264,6 +264,8 @@ class PointJob:
         Draw number (None: no random draw).
     platform : str
         ``"exact"`` or ``"small_angle"`` platform kinematics of the direct run.
+    parameters : tuple of (str, float)
+        Model parameters set by the scenario's ``[parameters]`` table, SI.
     label : str
         The point's swept values as written (for messages).
     """
@@ -283,6 +285,7 @@ class PointJob:
     draw: int | None = None
     platform: str = "exact"
     label: str = ""
+    parameters: tuple[tuple[str, float], ...] = ()
 
 
 @dataclass
@@ -338,7 +341,8 @@ def grid(scenario) -> Grid:
                     scenario.model, tuple(sorted(motion.items())), str(scenario.base),
                     duration, step, scenario.record, scenario.method, scenario.refined,
                     scenario.ellipsoid, tuple(sorted(sources.items())), spec.random,
-                    spec.seed, draw, scenario.platform, ", ".join(label)))
+                    spec.seed, draw, scenario.platform, ", ".join(label),
+                    tuple(sorted(scenario.parameters.items()))))
     _check_grids(scenario, jobs)
     coordinates = {p.name: (np.array(labels[p.name]), {"units": p.unit, "display_unit":
                                                        p.display_unit, "swept": 1})
@@ -367,7 +371,7 @@ def _check_grids(scenario, jobs: Sequence[PointJob]) -> None:
 
 @lru_cache(maxsize=4)
 def _trajectory(model_name: str, motion: str, base: str, duration: float, step: float,
-                ellipsoid: str | None):
+                ellipsoid: str | None, parameters: tuple[tuple[str, float], ...] = ()):
     """The true motion of a point (kept for the next point with the same motion)."""
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.model import load_model
@@ -375,7 +379,7 @@ def _trajectory(model_name: str, motion: str, base: str, duration: float, step: 
 
     model = load_model(model_name)
     profile = motion_profile(json.loads(motion), base=Path(base))
-    p = model.parameter_vector(ellipsoid=ellipsoid)
+    p = model.parameter_vector(ellipsoid=ellipsoid, **dict(parameters))
     return tr.trajectory(model, profile, duration, step, p=p)
 
 
@@ -405,7 +409,7 @@ def _run_point(job: PointJob) -> dict[str, np.ndarray]:
     model = load_model(job.model)
     motion = json.dumps(dict(job.motion), sort_keys=True)
     trajectory = _trajectory(job.model, motion, job.base, job.duration, job.step,
-                             job.ellipsoid)
+                             job.ellipsoid, job.parameters)
     sources = dict(job.sources)
     if job.draw is not None:
         rng = draw_generator(job.seed, job.draw)
@@ -464,6 +468,8 @@ def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
         row = asdict(job)
         if "file" not in dict(job.motion):
             del row["base"]  # the folder matters to motion files only
+        if not job.parameters:
+            del row["parameters"]  # a sweep stored before [parameters] existed is the same
         rows.append(row)
     text = json.dumps({"jobs": rows, **extra}, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:32]

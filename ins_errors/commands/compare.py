@@ -29,6 +29,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--source", "-s", action="append", default=[], metavar="NAME=VALUE",
                         help="error source with unit, e.g. gyro_drift_x=0.01deg/h "
                              "(repeatable; see 'ins-errors models MODEL')")
+    parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
+                        help="model parameter with unit, e.g. strapdown_ned's vertical "
+                             "damping gains k_h1=0.0047/s and k_h2=1.4e-5/s^2 (repeatable; "
+                             "default: the model's values, listed by 'ins-errors models MODEL')")
     parser.add_argument("--separately", action="store_true",
                         help="run each --source as its own case (default: all together)")
     parser.add_argument("--motion", choices=MOTIONS, default="static",
@@ -112,6 +116,7 @@ def parse_ratio(text: str, what: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import InsErrorsError
+    from ins_errors.model_parameters import parse_parameter_options
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.compare import compare, markdown_summary, markdown_table
     from ins_errors.numeric.integrators import step_count
@@ -131,6 +136,7 @@ def run(args: argparse.Namespace) -> int:
         OutputFolder(args.out, force=args.force, create=False)
     model = load_model(args.model)
     sources = _sources(model, args.source)
+    parameters = parse_parameter_options(model, args.parameter)
     if args.hours is not None and args.duration is not None:
         raise InsErrorsError("give either --hours or --duration, not both")
     if args.duration is not None:
@@ -156,7 +162,8 @@ def run(args: argparse.Namespace) -> int:
         motion["file"] = args.motion_file
     profile = motion_profile(motion)
     progress = not args.no_progress and n_steps >= 100_000
-    trajectory = tr.trajectory(model, profile, duration, tau, progress=progress)
+    trajectory = tr.trajectory(model, profile, duration, tau,
+                               p=model.parameter_vector(**parameters), progress=progress)
     cases = ([{name: value} for name, value in sources] if args.separately
              else [dict(sources)])
     comparisons = compare(model, trajectory, cases, method=args.method, record_interval=record,

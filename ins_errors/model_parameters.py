@@ -1,0 +1,89 @@
+"""Model parameters set by the user: ``--parameter NAME=VALUE`` and a scenario's ``[parameters]``.
+
+A model's parameters (Earth shape, gravity constants, loop gains; ``ins-errors models
+MODEL`` lists them) have defaults; a run may set any of them, each with its unit
+(``k_h1 = "0.0047 1/s"``), read at the edge by :mod:`ins_errors.units` and kept SI. The
+vertical damping gains of ``strapdown_ned`` are the reason this exists: ``k_h1`` (1/s) on
+the height difference in ``ḣ`` and ``k_h2`` (1/s²) in ``v̇_D``; ``k_h1 = 2ζω₀``,
+``k_h2 = ω₀² + 2γ/R`` give a loop of natural frequency ω₀ and damping ζ (0: undamped).
+
+Gains (:data:`NON_NEGATIVE`) must not be negative: a negative gain turns the damping
+loop into a second source of divergence, which no one means to ask for.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+from ins_errors.errors import InsErrorsError
+
+NON_NEGATIVE = {"k_h1": "vertical damping gain", "k_h2": "vertical damping gain"}
+"""Parameters (of any model that has them) that must be zero or positive, with what they are."""
+
+
+def parse_parameters(model, values: Mapping[str, object], where: str = "",
+                     numbers_are_si: bool = True) -> dict[str, float]:
+    """Read parameter values with their units, checked against the model.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        The model whose parameters are set.
+    values : mapping of str to str or float
+        Parameter name -> value with unit (``"0.0047 1/s"``); a bare number is SI when
+        ``numbers_are_si``, refused otherwise (scenario files).
+    where : str
+        Prefix of messages (``"s.toml [parameters]"``).
+    numbers_are_si : bool
+        Accept a bare number as SI.
+
+    Returns
+    -------
+    dict of str to float
+        The values in SI units.
+
+    Raises
+    ------
+    InsErrorsError
+        One line: an unknown name (close names suggested), a value without unit or in
+        the wrong unit, NaN or infinity, a negative gain.
+    """
+    from ins_errors.units import parse_quantity
+
+    out: dict[str, float] = {}
+    prefix = f"{where}: " if where else ""
+    for name, text in values.items():
+        try:
+            info = model.parameters[model.index("parameters", name)]
+        except InsErrorsError as error:
+            raise type(error)(f"{prefix}{error}") from None
+        try:
+            value = parse_quantity(text, info.unit, name, numbers_are_si=numbers_are_si)
+        except InsErrorsError as error:
+            raise type(error)(f"{prefix}{error}") from None
+        if name in NON_NEGATIVE and value < 0:
+            raise InsErrorsError(f"{prefix}{name} = {text!r}: a {NON_NEGATIVE[name]} must be "
+                                 f"zero (undamped) or positive, in {info.unit}")
+        out[name] = value
+    return out
+
+
+def parse_parameter_options(model, items: Iterable[str]) -> dict[str, float]:
+    """Read repeated ``--parameter NAME=VALUE`` options (see :func:`parse_parameters`).
+
+    Raises
+    ------
+    InsErrorsError
+        For an item without ``=``, a name given twice, or a bad value.
+    """
+    values: dict[str, str] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not text.strip():
+            raise InsErrorsError(f"--parameter {item!r}: expected NAME=VALUE, e.g. "
+                                 "k_h1=0.0047/s")
+        if name in values:
+            raise InsErrorsError(f"--parameter {name} given twice")
+        values[name] = text
+    return parse_parameters(model, values, "--parameter")
