@@ -26,6 +26,9 @@ def test_taylor_head_is_the_start_of_sympys_taylor_shift():
     for count in (1, 2, 3, 7):
         assert an._taylor_head(poly, point, count) == full[:count]
     assert an._taylor_head(sp.Poly(0, z, domain=field), point, 2) == [0]
+    # the pole table passes the point already converted to the field: same coefficients
+    for count in (1, 2, 3, 7):
+        assert an._taylor_head(poly, field.convert(point), count) == full[:count]
 
 
 def test_partial_fractions_sum_back_to_the_fraction():

@@ -351,11 +351,13 @@ def _z_poles(den: sp.Poly, modes: Sequence[Mode], field) -> list[tuple[Mode, int
     return poles
 
 
-def _taylor_head(poly: sp.Poly, point: sp.Expr, count: int) -> list[sp.Expr]:
+def _taylor_head(poly: sp.Poly, point, count: int) -> list[sp.Expr]:
     """``poly.shift(point).all_coeffs()[::-1][:count]``: the lowest Taylor coefficients.
 
     Runs only the first ``count`` passes of SymPy's Taylor shift (``dup_shift``), which
     are the passes that fix those coefficients: the same arithmetic, so the same values.
+    ``point`` is a SymPy expression or already an element of the polynomial's domain
+    (then used as it is).
     """
     domain = poly.rep.dom
     a = domain.convert(point)
@@ -389,7 +391,8 @@ class _PoleTable:
             rest = den
             for _ in range(power):
                 rest = rest.quo(factor)
-            point = -factor.TC()
+            # z = -ω² as an element of the field, converted once for every numerator
+            point = self.field.convert(-factor.TC())
             split.append((mode, power, point, _taylor_head(rest, point, power)))
         self._rests[den] = split
         return split
