@@ -142,3 +142,29 @@ def test_bad_vector_lines_give_one_line_errors(tmp_path, body, message):
     path.write_text(f"@convention phi\n{body}\n")
     with pytest.raises(InsErrorsError, match=message):
         check_convention_file(path, **FAST)
+
+
+@pytest.mark.parametrize("rhs, message", [
+    ("__import__('os').system('touch pwned')", "unknown name '__import__'"),
+    ("vec(1, 2, 3).__class__", "attribute access is not allowed"),
+    ("(phi).__class__.__mro__", "attribute access is not allowed"),
+    ("lambda: phi", "unknown name 'lambda'"),
+    ("phi[0]", "operator '\\[' is not allowed"),
+    ("'phi'", "strings are not allowed in a right-hand side"),
+    ("-cross(omega_in, phi", "cannot parse the right-hand side: unclosed parenthesis"),
+    ("-cross(omega_in, phi))", "cannot parse the right-hand side: unmatched '\\)'"),
+    ("-omega_in × C_bn", "cannot evaluate the right-hand side: a × b needs two 3-vectors"),
+])
+def test_malicious_or_malformed_vector_rhs_is_refused_in_one_line(tmp_path, monkeypatch,
+                                                                 capsys, rhs, message):
+    """The right-hand side is read by SymPy's parser over the vector namespace alone: no
+    builtins, no attributes, nothing run; every refusal is one line naming the line."""
+    monkeypatch.chdir(tmp_path)
+    path = tmp_path / "bad.txt"
+    path.write_text(f"@convention phi\n# a comment\ndot(phi) = {rhs}\n", encoding="utf-8")
+    with pytest.raises(InsErrorsError, match=f"^bad.txt, line 3: {message}"):
+        check_convention_file(path, **FAST)
+    assert main(["check", "strapdown_ned", str(path)]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "line 3" in line and "Traceback" not in line
+    assert not (tmp_path / "pwned").exists()

@@ -19,7 +19,6 @@ finding is traced back to the line of its row.
 
 from __future__ import annotations
 
-import ast
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -129,35 +128,96 @@ def _triples(names: list[str], suffixes: tuple[str, str, str]) -> dict[str, tupl
     return out
 
 
+class _Vector(sp.MutableDenseMatrix):
+    """A SymPy matrix of a vector line in which ``a @ b`` (written ``a × b``) is the cross
+    product of two 3-vectors and ``+a`` is ``a``; sums and products with it stay of this
+    class (its class priority is above SymPy's matrices)."""
+
+    _class_priority = 20
+
+    def __pos__(self):
+        return self
+
+    def __matmul__(self, other):
+        if self.shape == (3, 1) and getattr(other, "shape", None) == (3, 1):
+            return _Vector(self.cross(other))
+        raise ValueError("a × b needs two 3-vectors")
+
+    def __rmatmul__(self, other):
+        raise ValueError("a × b needs two 3-vectors")
+
+
 def _vector_namespace(states: list[str], sources: list[str]) -> dict[str, object]:
     """Names a vector line may use: vectors (3 × 1), ``C_bn``, scalars, functions."""
     space: dict[str, object] = {q: sp.Symbol(q) for q in QUANTITIES}
     space.update({n: sp.Symbol(n) for n in (*states, *sources)})
     vectors = {**VECTORS, **_triples(states, ("N", "E", "D")),
                **_triples(sources, ("x", "y", "z"))}
-    space.update({k: sp.Matrix([sp.Symbol(c) for c in v]) for k, v in vectors.items()})
-    space["C_bn"] = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"C{i + 1}{j + 1}"))
-    space.update({"cross": lambda a, b: sp.Matrix(a).cross(sp.Matrix(b)),
-                  "skew": lambda a: sp.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]],
-                                               [-a[1], a[0], 0]]),
-                  "vec": lambda *c: sp.Matrix(c), "sin": sp.sin, "cos": sp.cos,
+    space.update({k: _Vector([sp.Symbol(c) for c in v]) for k, v in vectors.items()})
+    space["C_bn"] = _Vector(3, 3, lambda i, j: sp.Symbol(f"C{i + 1}{j + 1}"))
+    space.update({"cross": lambda a, b: _Vector(sp.Matrix(a).cross(sp.Matrix(b))),
+                  "skew": lambda a: _Vector([[0, -a[2], a[1]], [a[2], 0, -a[0]],
+                                             [-a[1], a[0], 0]]),
+                  "vec": lambda *c: _Vector(c), "sin": sp.sin, "cos": sp.cos,
                   "tan": sp.tan, "sqrt": sp.sqrt, "pi": sp.pi})
     return space
 
 
-class _VectorSyntax(ast.NodeTransformer):
-    """``+a`` -> ``a`` (SymPy matrices have no unary plus); ``a @ b`` (written ``a × b``)
-    -> ``cross(a, b)``."""
+class _RefusedError(Exception):
+    """A right-hand side that uses something a vector line may not (message for people)."""
 
-    def visit_UnaryOp(self, node: ast.UnaryOp) -> ast.AST:
-        self.generic_visit(node)
-        return node.operand if isinstance(node.op, ast.UAdd) else node
 
-    def visit_BinOp(self, node: ast.BinOp) -> ast.AST:
-        self.generic_visit(node)
-        if isinstance(node.op, ast.MatMult):
-            return ast.Call(ast.Name("cross", ast.Load()), [node.left, node.right], [])
-        return node
+_OPERATORS = frozenset({"+", "-", "*", "/", "**", "@", "(", ")", ","})
+"""The operators a vector line may use (``@`` is ``×``, the cross product)."""
+
+
+def _only_known_names(tokens: list, local_dict: dict, global_dict: dict) -> list:
+    """SymPy parser transformation run first: let through only the namespace's names,
+    numbers and arithmetic; refuse the rest (attributes, strings, brackets, keywords)."""
+    from tokenize import ENDMARKER, NAME, NEWLINE, NUMBER, OP, STRING
+
+    for kind, text in tokens:
+        if kind == STRING:
+            raise _RefusedError(f"strings are not allowed in a right-hand side ({text})")
+        if kind == NAME and text not in local_dict:
+            raise _RefusedError(f"unknown name {text!r} (vectors, states, sources and named "
+                           "quantities: docs/hand_check.md)")
+        if kind == OP and text == ".":
+            raise _RefusedError("attribute access is not allowed")
+        if kind == OP and text not in _OPERATORS:
+            raise _RefusedError(f"operator {text!r} is not allowed (+ - * / ** × and calls)")
+        if kind not in (NAME, NUMBER, OP, NEWLINE, ENDMARKER):
+            raise _RefusedError(f"{text!r} is not allowed in a right-hand side")
+    return tokens
+
+
+def _parse_vector_rhs(text: str, space: dict[str, object]):
+    """Read a right-hand side with SymPy's parser over ``space`` only (no builtins).
+
+    Names are checked token by token before anything is evaluated; numbers become SymPy
+    numbers (``1/2`` is exact).
+
+    Raises
+    ------
+    _RefusedError
+        Unbalanced parentheses, an unknown name, a disallowed operator, attribute or
+        string.
+    SyntaxError, tokenize.TokenError, TypeError, ValueError, ...
+        Text that does not parse or does not evaluate (shapes, arguments).
+    """
+    from sympy.parsing.sympy_parser import auto_number, parse_expr
+
+    depth = 0
+    for character in text:
+        depth += {"(": 1, ")": -1}.get(character, 0)
+        if depth < 0:
+            raise _RefusedError("cannot parse the right-hand side: unmatched ')'")
+    if depth:
+        raise _RefusedError("cannot parse the right-hand side: unclosed parenthesis")
+    numbers = {"Integer": sp.Integer, "Float": sp.Float, "Rational": sp.Rational}
+    return parse_expr(text, local_dict=dict(space),
+                      global_dict={"__builtins__": {}, **numbers},
+                      transformations=(_only_known_names, auto_number))
 
 
 def split_vector_lines(text: str, states: list[str], sources: list[str], name: str
@@ -166,12 +226,16 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
 
     Returns the text with those lines blanked (line numbers kept) and their rows
     {state: (line, text, expression)}; a vector line gives the three rows of its prefix.
+    The right-hand side is read by SymPy's parser (:func:`_parse_vector_rhs`) over the
+    names of :func:`_vector_namespace` alone: no Python is run.
 
     Raises
     ------
     InsErrorsError
-        A right-hand side that cannot be read or is not a 3-vector.
+        A right-hand side that cannot be read or is not a 3-vector (one line, naming it).
     """
+    from tokenize import TokenError
+
     prefixes = _triples(states, ("N", "E", "D"))
     space = _vector_namespace(states, sources)
     kept, rows = [], {}
@@ -183,30 +247,26 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
             continue
         kept.append("")
         shown = " ".join(raw.split("#", 1)[0].split())
+        where = f"{name}, line {number}"
         try:
-            tree = ast.parse(match.group(2).strip(), mode="eval")
+            value = _parse_vector_rhs(match.group(2).strip(), space)
+        except _RefusedError as error:
+            raise InsErrorsError(f"{where}: {error}") from None
+        except TokenError as error:
+            raise InsErrorsError(f"{where}: cannot parse the right-hand side: "
+                                 f"{' '.join(str(error.args[0]).split())}") from None
         except SyntaxError as error:
-            raise InsErrorsError(f"{name}, line {number}: cannot parse the right-hand side: "
-                                 f"{error.msg}") from None
-        for node in ast.walk(tree):
-            if isinstance(node, ast.Attribute):
-                raise InsErrorsError(f"{name}, line {number}: attribute access is not allowed")
-            if isinstance(node, ast.Name) and node.id not in space:
-                raise InsErrorsError(f"{name}, line {number}: unknown name {node.id!r} "
-                                     "(vectors, states, sources and named quantities: "
-                                     "docs/hand_check.md)")
-        tree = ast.fix_missing_locations(_VectorSyntax().visit(tree))
-        try:
-            value = eval(compile(tree, name, "eval"), {"__builtins__": {}}, dict(space))
+            raise InsErrorsError(f"{where}: cannot parse the right-hand side: "
+                                 f"{' '.join(str(error.msg).split())}") from None
         except Exception as error:  # shapes, wrong arguments: one line
-            raise InsErrorsError(f"{name}, line {number}: cannot evaluate the right-hand "
-                                 f"side: {' '.join(str(error).split())}") from None
+            raise InsErrorsError(f"{where}: cannot evaluate the right-hand side: "
+                                 f"{' '.join(str(error).split())}") from None
         if not isinstance(value, sp.MatrixBase) or value.shape != (3, 1):
-            raise InsErrorsError(f"{name}, line {number}: dot({match.group(1)}) needs a "
-                                 "3-vector on the right-hand side")
+            raise InsErrorsError(f"{where}: dot({match.group(1)}) needs a 3-vector on the "
+                                 "right-hand side")
         for row, expr in zip(prefixes[match.group(1)], value, strict=True):
             if row in rows:
-                raise InsErrorsError(f"{name}, line {number}: second equation for dot({row})")
+                raise InsErrorsError(f"{where}: second equation for dot({row})")
             rows[row] = (number, shown, sp.expand(expr))
     return "\n".join(kept) + "\n", rows
 
