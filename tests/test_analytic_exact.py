@@ -78,3 +78,24 @@ def test_remembered_factor_lists_give_sympys_factorisations():
     with an._factor_lists_remembered():
         assert [sp.factor(c) for c in coefficients + coefficients] == expected + expected
     assert sp.Poly.factor_list is original
+
+
+def test_factor_product_equals_sympys_factor():
+    field, (g, R, W) = _field_and_symbols()
+    z = an.Z
+    schuler = an.Mode("Schuler", sp.Symbol("w_s"), g / R, 2)
+    earth = an.Mode("Earth", W, W**2, 1)
+    table = an._PoleTable([schuler, earth], field)
+    den = sp.Poly((z + g / R) ** 2 * (z + W**2), z, domain=field)
+    coefficients = []
+    for num in (z**2 - 5 * g * z + R, 3 * z - g * W, sp.Rational(-2, 7) * z**2 + W**2 * R):
+        coefficients += [c for c, _, _ in table.partial_fractions(
+            sp.Poly(num, z, domain=field), den)]
+    a, b = sp.symbols("a b", real=True)
+    coefficients += [  # the shapes of partial-fraction coefficients, and what falls back
+        (a - b) * (b - a) ** 3 / (2 * (a**2 - b**2)), -6 * (a + 2 * b) ** 2 / (4 * a - 8 * b),
+        (b - a) / (a**2 + 2 * a * b + b**2) ** 2, -a / b, sp.Integer(3), sp.Rational(-1, 2),
+        a / (b + 1) + b / (a - 1), sp.sin(a) * (a**2 - 1) / (a + 1), sp.sqrt(a) * (a - b)]
+    assert len(coefficients) > 12
+    for c in coefficients:
+        assert an.factor_product(c) == sp.factor(c), c
