@@ -99,3 +99,15 @@ def test_factor_product_equals_sympys_factor():
     assert len(coefficients) > 12
     for c in coefficients:
         assert an.factor_product(c) == sp.factor(c), c
+
+
+def test_operation_count_is_sympys_count_of_the_cse_result():
+    from ins_errors.symbolic import codegen
+
+    x, y = sp.symbols("x y", real=True)
+    matrix = sp.Matrix([sp.sin(x) * y + sp.sin(x) ** 2 - x / y, (x - y) ** 3 / sp.sqrt(x)])
+    spec = codegen.FunctionSpec("f", [codegen.Argument("v", [x, y], "")], matrix, "", "")
+    prepared = codegen.prepare(spec)
+    expected = sum(sp.count_ops(e) for _, e in prepared.assignments) + sum(
+        sp.count_ops(e) for _, _, e in prepared.entries)
+    assert prepared.operations == expected > 0

@@ -103,7 +103,13 @@ class _Prepared:
     unpack: list[tuple[str, str, int]]  # (local, argument, index)
     assignments: list[tuple[str, sp.Expr]]
     entries: list[tuple[int, int, sp.Expr]]  # nonzero entries after CSE
-    operations: int
+
+    @functools.cached_property
+    def operations(self) -> int:
+        """SymPy's operation count of the CSE'd function (counted when first read:
+        ``make derive`` reports it for the model files only)."""
+        return int(sum(_count_ops(e) for _, e in self.assignments)
+                   + sum(_count_ops(e) for _, _, e in self.entries))
 
     @functools.cached_property
     def printed(self) -> tuple[list[tuple[str, str]], list[tuple[int, int, str]]]:
@@ -130,7 +136,7 @@ def _count_ops(expr: sp.Expr) -> int:
 
 
 def prepare(spec: FunctionSpec, trees: SharedTrees | None = None) -> _Prepared:
-    """Unpack arguments, CSE the result, count operations.
+    """Unpack arguments and CSE the result (the operation count is counted when read).
 
     ``trees`` (optional) renames each distinct subtree of the result once.
     """
@@ -156,10 +162,7 @@ def prepare(spec: FunctionSpec, trees: SharedTrees | None = None) -> _Prepared:
     assignments, reduced = sp.cse([e for _, _, e in flat], symbols=temporaries,
                                   order="none")
     entries = [(i, j, e) for (i, j, _), e in zip(flat, reduced, strict=True)]
-    operations = sum(_count_ops(e) for _, e in assignments) + sum(
-        _count_ops(e) for _, _, e in entries)
-    return _Prepared(spec, unpack, [(str(s), e) for s, e in assignments], entries,
-                     int(operations))
+    return _Prepared(spec, unpack, [(str(s), e) for s, e in assignments], entries)
 
 
 def _docstring(spec: FunctionSpec, indent: str) -> list[str]:
