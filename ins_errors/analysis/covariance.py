@@ -46,6 +46,7 @@ from ins_errors.numeric.linear_system import (
     trajectory_system,
     uniform_grid,
 )
+from ins_errors.numeric.step_exponential import exp_and_integral
 
 KINDS = ("constant", "white", "markov")
 """The statistical kinds a source may have."""
@@ -485,10 +486,19 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
             else system.G
         C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
             else functionals.C_x
+        chunks = _sensitivity_chunks(F, G, cols_b, decay, dt, Z0, C_x, C_b, keep)
+        if not by_source and len(valued) == len(sources) and not np.any(decay):
+            # constants only: the total piece by piece, never the whole (nt, q, ns) array
+            total = np.zeros((len(keep), q, 1))
+            for i0, i1, Y in chunks:
+                part = np.zeros((i1 - i0, q, len(sources)))
+                part[:, :, valued] = Y**2
+                total[i0:i1] = (part * sigma2).sum(-1, keepdims=True)
+            return Covariance(system.times[keep], functionals.names, functionals.units, (),
+                              total, total_only=True)
+        for i0, i1, Y in chunks:
+            unit[i0:i1, :, valued] = Y**2
         keep_set = set(keep.tolist())
-        Ys = _moving_sensitivities(_step_matrix(F), _step_matrix(G)[..., cols_b], decay, dt,
-                                   Z0, C_x, C_b, keep)
-        unit[:, :, valued] = Ys**2
         for i, s in enumerate(sources):
             if s.kind == "constant":
                 continue
@@ -513,17 +523,19 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
                       total_only=not by_source)
 
 
-def _moving_sensitivities(F: np.ndarray, G_b: np.ndarray, decay: np.ndarray, dt: float,
-                          Z0: np.ndarray, C_x: np.ndarray, C_b: np.ndarray,
-                          keep: np.ndarray) -> np.ndarray:
+def _moving_sensitivities(F: np.ndarray, G: np.ndarray, cols_b: list[int],
+                          decay: np.ndarray, dt: float, Z0: np.ndarray, C_x: np.ndarray,
+                          C_b: np.ndarray, keep: np.ndarray) -> np.ndarray:
     """``C_k z_k`` of the augmented state along a time-varying system, at ``keep``.
 
     Parameters
     ----------
-    F : numpy.ndarray, shape (K, n, n)
-        Per-step error-state matrices.
-    G_b : numpy.ndarray, shape (K, n, m)
-        Per-step columns of the valued sources.
+    F : numpy.ndarray, shape (K + 1, n, n)
+        Error-state matrix at the grid times (held at the mean of its ends over a step).
+    G : numpy.ndarray, shape (K + 1, n, nw)
+        Source matrix at the grid times.
+    cols_b : list of int
+        Columns of ``G`` of the valued sources (m of them).
     decay : numpy.ndarray, shape (m,)
         ``-1/τ`` of Markov sources, 0 for constants.
     Z0 : numpy.ndarray, shape (n + m, m)
@@ -533,35 +545,48 @@ def _moving_sensitivities(F: np.ndarray, G_b: np.ndarray, decay: np.ndarray, dt:
     Returns
     -------
     numpy.ndarray, shape (len(keep), q, m)
+    """
+    Ys = np.zeros((len(keep), C_b.shape[0], len(cols_b)))
+    for i0, i1, Y in _sensitivity_chunks(F, G, cols_b, decay, dt, Z0, C_x, C_b, keep):
+        Ys[i0:i1] = Y
+    return Ys
+
+
+def _sensitivity_chunks(F: np.ndarray, G: np.ndarray, cols_b: list[int],
+                        decay: np.ndarray, dt: float, Z0: np.ndarray, C_x: np.ndarray,
+                        C_b: np.ndarray, keep: np.ndarray):
+    """:func:`_moving_sensitivities` in pieces: yields ``(i0, i1, Ys[i0:i1])``.
 
     When every valued source is a constant the sources never change, so only the error
-    state is carried: ``x_{k+1} = Φ_k x_k + Γ_k`` with ``Φ_k, W_k`` from the exponential of
-    the 2n-square ``[[F, I], [0, 0]] dt`` and ``Γ_k = W_k G_b`` (Van Loan), instead of
-    the exponential of the (n + m)-square augmented matrix: the same transition, a third
-    of the work.
+    state is carried: ``x_{k+1} = Φ_k x_k + Γ_k`` with ``Φ_k = e^{F_k dt}`` and
+    ``Γ_k = W_k G_b``, ``W_k = ∫₀^dt e^{F_k s} ds`` (the blocks of the exponential of
+    ``[[F, I], [0, 0]] dt``, Van Loan), instead of the exponential of the (n + m)-square
+    augmented matrix. Φ and W come from a batched series
+    (:func:`~ins_errors.numeric.step_exponential.exp_and_integral`) a few thousand steps
+    at a time, and the pieces are yielded as they are done, so the working memory is a
+    few MB whatever the duration.
     """
-    K, n, m = F.shape[0], F.shape[-1], G_b.shape[-1]
-    q = C_b.shape[0]
-    Ys = np.zeros((len(keep), q, m))
+    K, n, m = F.shape[0] - 1, F.shape[-1], len(cols_b)
     if m == 0:
-        return Ys
+        return
+    if not np.any(decay):
+        X = Z0[:n].copy()  # the source rows stay the identity
+        for k0 in range(0, max(K, 1), _CHUNK):
+            k1 = min(K, k0 + _CHUNK)
+            Phi, W = exp_and_integral(_step_matrix(F[k0:k1 + 1]), dt)
+            Gamma = W @ _step_matrix(G[k0:k1 + 1])[..., cols_b]
+            Xs = affine_states(Phi, Gamma, X)                   # states k0 .. k1
+            last = k1 + 1 if k1 == K else k1                    # outputs k0 .. last-1
+            i0, i1 = (int(i) for i in np.searchsorted(keep, [k0, last]))
+            ks = keep[i0:i1]
+            yield i0, i1, C_x[ks] @ Xs[ks - k0] + C_b
+            X = Xs[-1]
+        return
+    Ys = np.zeros((len(keep), C_b.shape[0], m))
     keep_set = set(keep.tolist())
     out = 0
-    if not np.any(decay):
-        block = np.zeros((K, 2 * n, 2 * n))
-        block[:, :n, :n] = F
-        block[:, :n, n:] = np.eye(n)
-        exp = expm(block * dt)
-        Phi, Gamma = exp[:, :n, :n], exp[:, :n, n:] @ G_b
-        X = Z0[:n].copy()  # the source rows stay the identity
-        for k in range(K + 1):
-            if k in keep_set:
-                Ys[out] = C_x[k] @ X + C_b
-                out += 1
-            if k < K:
-                X = Phi[k] @ X + Gamma[k]
-        return Ys
-    Phis = expm(augmented_dynamics(F, G_b, decay) * dt)
+    Phis = expm(augmented_dynamics(_step_matrix(F), _step_matrix(G)[..., cols_b], decay)
+                * dt)
     Z = Z0.copy()
     for k in range(K + 1):
         if k in keep_set:
@@ -569,7 +594,33 @@ def _moving_sensitivities(F: np.ndarray, G_b: np.ndarray, decay: np.ndarray, dt:
             out += 1
         if k < K:
             Z = Phis[k] @ Z
-    return Ys
+    yield 0, len(keep), Ys
+
+
+_CHUNK = 4096
+"""Steps whose exponentials are evaluated together (a few MB of arrays)."""
+
+
+def affine_states(Phi: np.ndarray, Gamma: np.ndarray, X0: np.ndarray) -> np.ndarray:
+    """States of ``X_{k+1} = Φ_k X_k + Γ_k`` from ``X_0``, each step a product then a sum.
+
+    Parameters
+    ----------
+    Phi : numpy.ndarray, shape (K, n, n)
+    Gamma : numpy.ndarray, shape (K, n, m)
+    X0 : numpy.ndarray, shape (n, m)
+
+    Returns
+    -------
+    numpy.ndarray, shape (K + 1, n, m)
+        ``X_0 … X_K``.
+    """
+    Xs = np.empty((len(Phi) + 1, *X0.shape))
+    Xs[0] = X0
+    for P, g, x, y in zip(Phi, Gamma, Xs[:-1], Xs[1:], strict=True):
+        np.matmul(P, x, out=y)
+        y += g
+    return Xs
 
 
 def _constants_total(Phi: np.ndarray, n: int, E: np.ndarray, C_b: np.ndarray,

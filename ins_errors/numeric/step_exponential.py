@@ -1,0 +1,133 @@
+r"""Batched step exponentials: ``e^{F h}`` and ``∫₀^h e^{F s} ds`` for a stack of F.
+
+A time-varying linear system held constant over each step needs, per step, the transition
+``Φ = e^{F h}`` and the integral ``W = ∫₀^h e^{F s} ds`` (the response to a constant
+input). SciPy's ``expm`` of the 2n-square block ``[[F, I], [0, 0]] h`` gives both but works
+one matrix at a time; here the whole stack is evaluated at once with a truncated Taylor
+series of :math:`φ_1(A) = Σ_k A^k/(k+1)!` (``A = F h``), from which ``W = h φ_1(A)`` and
+``Φ = I + A φ_1(A)``, with scaling and squaring when the norms call for it.
+
+Truncation bound. With ``A`` scaled by ``2^{-s}`` and the series cut after degree ``m``,
+the neglected terms of :math:`φ_1` are bounded in the 1-norm by
+:math:`Σ_{k>m} ‖A^k‖/(k+1)!` and those of :math:`e^A` by :math:`Σ_{k>m+1} ‖A^k‖/k!`,
+where :math:`‖A^k‖ ≤ ‖A^2‖^{⌊k/2⌋} ‖A‖^{k \bmod 2}` uses the computed largest norms of
+``A`` and ``A²`` over the batch. ``(s, m)`` is the cheapest pair for which both bounds are
+at most the unit round-off 2⁻⁵³ (absolute; Φ and φ₁ are close to the identity over a
+step, so this is below the rounding of their order-one entries). This matters for the
+error equations of an INS: ``‖F h‖`` is about g·h (a tilt drives a velocity error) but
+``‖(F h)²‖`` only about (ω_s h)², so a few terms suffice at h = 1 s without any scaling,
+where a norm-based choice (e.g. SciPy's) would scale and square. Squaring then doubles
+the step ``s`` times: ``W ← W + Φ W``, ``Φ ← Φ²``.
+
+The polynomial is evaluated in powers of ``A²`` (Paterson-Stockmeyer with pairs):
+``(m + 1)/2 + 1`` batched products for degree ``m`` (odd), e.g. 5 for m = 7.
+"""
+
+from __future__ import annotations
+
+from math import factorial
+
+import numpy as np
+
+from ins_errors.errors import DomainError
+
+UNIT_ROUNDOFF = 2.0**-53
+"""Truncation target, 1-norm (absolute)."""
+
+MAX_DEGREE = 17
+"""Highest degree of the truncated φ₁ series (odd)."""
+
+
+def _tails(a1: float, a2: float, m: int) -> tuple[float, float]:
+    """1-norm bounds of the neglected terms of φ₁ (degree ``m``) and e^A (degree m+1).
+
+    ``a1 >= ‖A‖``, ``a2 >= ‖A²‖``; requires ``a2 <= 1`` and ``a1 <= 2**10``, so that the
+    terms past 40 further ones are below 2**10/41! and the sum is taken that far.
+    """
+    phi1 = expo = 0.0
+    for k in range(m + 1, m + 42):
+        bound = a2 ** (k // 2) * a1 ** (k % 2)
+        phi1 += bound / factorial(k + 1)
+        if k > m + 1:
+            expo += bound / factorial(k)
+    return phi1, expo
+
+
+def choose_scaling(a1: float, a2: float) -> tuple[int, int]:
+    """Cheapest ``(s, m)``: scaling ``2^{-s}`` and odd degree ``m`` meeting the bound.
+
+    Parameters
+    ----------
+    a1, a2 : float
+        Largest 1-norms of ``A`` and ``A²`` over the batch (unscaled).
+
+    Returns
+    -------
+    s, m : int
+        Number of squarings and degree of the φ₁ series; the cost in batched products is
+        ``(m + 1)/2 + 1 + 2 s``.
+    """
+    if not (np.isfinite(a1) and np.isfinite(a2)):
+        raise DomainError("step exponential: the system matrices are not finite (NaN or "
+                          "infinite entries)")
+    best: tuple[int, int, int] | None = None
+    s = 0
+    while True:
+        a1s, a2s = a1 / 2.0**s, a2 / 4.0**s
+        if a2s <= 1.0 and a1s <= 2.0**10:
+            for m in range(1, MAX_DEGREE + 1, 2):
+                if max(_tails(a1s, a2s, m)) <= UNIT_ROUNDOFF:
+                    cost = (m + 1) // 2 + 1 + 2 * s
+                    if best is None or cost < best[0]:
+                        best = (cost, s, m)
+                    break
+        # more squarings only pay while they can beat the best cost found
+        if best is not None and 2 * (s + 1) + 2 >= best[0]:
+            return best[1], best[2]
+        s += 1
+
+
+def exp_and_integral(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """``Φ = e^{F h}`` and ``W = ∫₀^h e^{F s} ds`` for each matrix of a stack.
+
+    Parameters
+    ----------
+    F : numpy.ndarray, shape (K, n, n)
+        Continuous-time matrices, 1/s.
+    h : float
+        Step, s.
+
+    Returns
+    -------
+    Phi, W : numpy.ndarray, shape (K, n, n)
+        Transitions (dimensionless) and integrals (s), each within the truncation bound of
+        the module docstring plus rounding.
+    """
+    F = np.asarray(F, dtype=float)
+    K, n = F.shape[0], F.shape[-1]
+    if K == 0:
+        return np.empty_like(F), np.empty_like(F)
+    A = F * h
+    A2 = A @ A
+    a1 = float(np.abs(A).sum(axis=-2).max())
+    a2 = float(np.abs(A2).sum(axis=-2).max())
+    s, m = choose_scaling(a1, a2)
+    if s:
+        A *= 2.0**-s
+        A2 *= 4.0**-s
+    eye = np.eye(n)
+    # φ₁(A) = Σ_k c_k A^k, c_k = 1/(k+1)!, grouped as Σ_j (c_2j I + c_2j+1 A) (A²)^j
+    pairs = (m + 1) // 2
+    S = A * (1.0 / factorial(2 * pairs))
+    S += eye * (1.0 / factorial(2 * pairs - 1))
+    for j in range(pairs - 2, -1, -1):
+        S = A2 @ S
+        S += A * (1.0 / factorial(2 * j + 2))
+        S += eye * (1.0 / factorial(2 * j + 1))
+    Phi = A @ S
+    Phi += eye
+    W = S * (h * 2.0**-s)
+    for _ in range(s):
+        W += Phi @ W
+        Phi = Phi @ Phi
+    return Phi, W

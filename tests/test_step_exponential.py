@@ -1,0 +1,82 @@
+"""Batched step exponentials against SciPy's expm and a 40-digit reference."""
+
+from __future__ import annotations
+
+import mpmath
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+from ins_errors.analysis import covariance as cv
+from ins_errors.errors import InsErrorsError
+from ins_errors.numeric import step_exponential as se
+from ins_errors.numeric import trajectories as tr
+from ins_errors.numeric.linear_system import system_from_trajectory
+
+
+def _step_matrices(orthodromic, step: float, duration: float) -> np.ndarray:
+    """Per-step F of the orthodromic model along a great circle, shape (K, 11, 11)."""
+    profile = tr.great_circle_profile(np.radians(50), np.radians(30), np.radians(90), 250.0)
+    traj = tr.trajectory(orthodromic, profile, duration, step)
+    return cv._step_matrix(system_from_trajectory(orthodromic, traj).F)
+
+
+def _block_exponential(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """Φ and W as the blocks of expm([[F, I], [0, 0]] h) (Van Loan)."""
+    n = F.shape[-1]
+    block = np.zeros((*F.shape[:-2], 2 * n, 2 * n))
+    block[..., :n, :n] = F
+    block[..., :n, n:] = np.eye(n)
+    X = expm(block * h)
+    return X[..., :n, :n], X[..., :n, n:]
+
+
+def _norm(M: np.ndarray) -> np.ndarray:
+    return np.abs(M).sum(axis=-2).max(axis=-1)
+
+
+@pytest.mark.parametrize("step, duration", [(1.0, 600.0), (30.0, 1800.0), (600.0, 36000.0)])
+def test_batched_exponential_equals_scipy_on_the_model_steps(orthodromic, step, duration):
+    """1 s: no scaling (‖(F h)²‖ ~ 1e-3 though ‖F h‖ ~ 10); 30 s and 600 s: squarings."""
+    F = _step_matrices(orthodromic, step, duration)
+    Phi, W = se.exp_and_integral(F, step)
+    Phi0, W0 = _block_exponential(F, step)
+    assert np.max(_norm(Phi - Phi0) / _norm(Phi0)) < 1e-14
+    assert np.max(_norm(W - W0) / _norm(W0)) < 1e-14
+
+
+def test_batched_exponential_equals_a_40_digit_reference_entry_by_entry(orthodromic):
+    """Entry by entry, where SciPy's own small entries are off by up to ~1e-6 relative."""
+    F = _step_matrices(orthodromic, 1.0, 600.0)[[0, 299, 599]]
+    Phi, W = se.exp_and_integral(F, 1.0)
+    n = F.shape[-1]
+    mpmath.mp.dps = 40
+    for k in range(len(F)):
+        block = np.zeros((2 * n, 2 * n))
+        block[:n, :n] = F[k]
+        block[:n, n:] = np.eye(n)
+        exact = np.array(mpmath.expm(mpmath.matrix(block)).tolist(), dtype=float)
+        for mine, ref in ((Phi[k], exact[:n, :n]), (W[k], exact[:n, n:])):
+            nonzero = ref != 0
+            assert np.all(mine[~nonzero] == 0)
+            assert np.max(np.abs(mine - ref)[nonzero] / np.abs(ref[nonzero])) < 1e-12
+
+
+def test_truncation_bound_and_choice():
+    """The chosen degree meets the bound and the next lower one does not (or is cheaper
+    with fewer squarings); a larger norm needs squarings."""
+    s, m = se.choose_scaling(9.8, 1.1e-3)          # the orthodromic model at 1 s
+    assert (s, m) == (0, 7)
+    assert max(se._tails(9.8, 1.1e-3, 7)) <= se.UNIT_ROUNDOFF
+    assert max(se._tails(9.8, 1.1e-3, 5)) > se.UNIT_ROUNDOFF
+    s, m = se.choose_scaling(50.0, 50.0**2)
+    assert s > 0 and max(se._tails(50.0 / 2**s, 50.0**2 / 4**s, m)) <= se.UNIT_ROUNDOFF
+    # a random dense matrix of norm ~ 8: against SciPy
+    rng = np.random.default_rng(3)
+    A = rng.normal(size=(4, 6, 6))
+    Phi, W = se.exp_and_integral(A, 1.0)
+    Phi0, W0 = _block_exponential(A, 1.0)
+    assert np.max(_norm(Phi - Phi0) / _norm(Phi0)) < 1e-13
+    assert np.max(_norm(W - W0) / _norm(W0)) < 1e-13
+    with pytest.raises(InsErrorsError, match="not finite"):
+        se.exp_and_integral(np.full((1, 2, 2), np.nan), 1.0)
