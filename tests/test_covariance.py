@@ -382,3 +382,10 @@ def test_moving_base_constants_match_the_per_step_scipy_exponential(orthodromic,
     assert np.array_equal(every_7.times, system.times[::7])
     np.testing.assert_allclose(every_7.unit_variances, pieces.unit_variances[::7],
                                rtol=0, atol=0)
+    # unevenly spaced outputs (indexed rather than sliced): the same numbers
+    valued = list(range(len(sources)))
+    Z0 = np.vstack([system.E, np.eye(len(valued))])
+    uneven = np.array([0, 5, 6, 7, 600, 1200])
+    Ys = cv._moving_sensitivities(system.F, system.G, valued, np.zeros(len(valued)),
+                                  system.step, Z0, fn.C_x, fn.C_b, uneven)
+    assert np.array_equal(Ys**2, pieces.unit_variances[uneven])

@@ -490,10 +490,10 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
         if not by_source and len(valued) == len(sources) and not np.any(decay):
             # constants only: the total piece by piece, never the whole (nt, q, ns) array
             total = np.zeros((len(keep), q, 1))
-            for i0, i1, Y in chunks:
-                part = np.zeros((i1 - i0, q, len(sources)))
-                part[:, :, valued] = Y**2
-                total[i0:i1] = (part * sigma2).sum(-1, keepdims=True)
+            for i0, i1, Y in chunks:      # valued = every source, in order
+                np.square(Y, out=Y)
+                Y *= sigma2
+                total[i0:i1] = Y.sum(-1, keepdims=True)
             return Covariance(system.times[keep], functionals.names, functionals.units, (),
                               total, total_only=True)
         for i0, i1, Y in chunks:
@@ -571,6 +571,9 @@ def _sensitivity_chunks(F: np.ndarray, G: np.ndarray, cols_b: list[int],
         return
     if not np.any(decay):
         X = Z0[:n].copy()  # the source rows stay the identity
+        every = int(keep[1] - keep[0]) if len(keep) > 1 else 1
+        if every < 1 or not np.array_equal(keep, np.arange(keep[0], keep[-1] + 1, every)):
+            every = 0
         for k0 in range(0, max(K, 1), _CHUNK):
             k1 = min(K, k0 + _CHUNK)
             Phi, W = exp_and_integral(_step_matrix(F[k0:k1 + 1]), dt)
@@ -578,8 +581,13 @@ def _sensitivity_chunks(F: np.ndarray, G: np.ndarray, cols_b: list[int],
             Xs = affine_states(Phi, Gamma, X)                   # states k0 .. k1
             last = k1 + 1 if k1 == K else k1                    # outputs k0 .. last-1
             i0, i1 = (int(i) for i in np.searchsorted(keep, [k0, last]))
-            ks = keep[i0:i1]
-            yield i0, i1, C_x[ks] @ Xs[ks - k0] + C_b
+            if i1 > i0 and every:          # evenly spaced outputs: views, not copies
+                ks = slice(int(keep[i0]), int(keep[i1 - 1]) + 1, every)
+                shifted = slice(ks.start - k0, ks.stop - k0, every)
+            else:
+                ks = keep[i0:i1]
+                shifted = ks - k0
+            yield i0, i1, C_x[ks] @ Xs[shifted] + C_b
             X = Xs[-1]
         return
     Ys = np.zeros((len(keep), C_b.shape[0], m))
