@@ -125,15 +125,15 @@ def test_case_plots_equal_the_shared_time_axis_drawing(report, tmp_path, monkeyp
     first, second = result.comparisons
     cut = {q: v.copy() for q, v in first.direct.items()}
     cut["alpha_y"][len(first.times) // 2:] = np.nan
-    cases = [first, second, replace(first, direct=cut)]
-    shown = ["alpha_y", "delta_v_N", "delta_latitude"]
-    ours = plot_comparisons(cases, [tmp_path / f"ours{k}.png" for k in range(3)],
+    cases = [second, replace(first, direct=cut)]  # the second refills the first's figure
+    shown = ["alpha_y", "delta_v_N"]
+    ours = plot_comparisons(cases, [tmp_path / f"ours{k}.png" for k in range(2)],
                             quantities=shown)
     subplots = plt.subplots
     monkeypatch.setattr(plt, "subplots", lambda *a, **k: subplots(*a, **k, sharex=True))
-    shared = plot_comparisons(cases, [tmp_path / f"shared{k}.png" for k in range(3)],
+    shared = plot_comparisons(cases, [tmp_path / f"shared{k}.png" for k in range(2)],
                               quantities=shown)
-    for k in range(3):
+    for k in range(2):
         assert ours[k].read_bytes() == shared[k].read_bytes(), k
 
 
