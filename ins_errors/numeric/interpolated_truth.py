@@ -40,7 +40,7 @@ import numpy as np
 from ins_errors.errors import DomainError
 from ins_errors.numeric.integrators import DenseCall, casadi_step, native_functions
 from ins_errors.numeric.model import Model, load_model
-from ins_errors.numeric.trajectories import TruthChunk, _kinematics
+from ins_errors.numeric.trajectories import MotionError, TruthChunk, _kinematics
 
 DEGREE = 7
 """Degree of the interpolating polynomial in every interval (DEGREE + 1 nodes)."""
@@ -197,6 +197,77 @@ def _split(times: np.ndarray, steps: np.ndarray, split: np.ndarray,
     order = np.argsort(np.concatenate([times, new_times]), kind="stable")
     return (np.concatenate([times, new_times])[order],
             np.concatenate([steps, np.array(new_steps, dtype=steps.dtype)])[order])
+
+
+def chosen_truth(truth: str, breaks: Sequence[float] | None, n_steps: int, tau: float,
+                 what: str) -> str:
+    """Resolve a requested truth to ``"fine"`` or ``"interpolated"``.
+
+    ``"auto"`` picks the interpolated truth when the motion's breaks are known and every
+    interval of the coarse grid (at most :data:`INTERVAL` long, ending at each break)
+    holds at least :data:`MIN_STEPS` steps; otherwise the fine truth.
+
+    Parameters
+    ----------
+    truth : {"auto", "fine", "interpolated"}
+    breaks : sequence of float or None
+        Times of the motion's leg joins and knots, s (None: unknown).
+    n_steps : int
+    tau : float
+        Step, s.
+    what : str
+        The motion's name in the error message ("a profile whose ...").
+
+    Raises
+    ------
+    MotionError
+        ``"interpolated"`` asked for a motion whose breaks are unknown.
+    """
+    if truth == "interpolated" and breaks is None:
+        raise MotionError(f"the interpolated truth needs {what} whose breaks are known")
+    if truth != "auto":
+        return truth
+    if breaks is None:
+        return "fine"
+    duration = n_steps * tau
+    points = np.asarray(breaks, dtype=float)
+    inside = np.count_nonzero((points > 0.0) & (points < duration))
+    intervals = np.ceil(duration / INTERVAL) + inside
+    if INTERVAL / tau >= MIN_STEPS and n_steps >= MIN_STEPS * intervals:
+        return "interpolated"
+    return "fine"
+
+
+def carried_batches(fn: DenseCall, carry: np.ndarray, rows: np.ndarray, size: int,
+                    carried: int, extra: int) -> tuple[np.ndarray, np.ndarray]:
+    """Call a compiled interval integrator over ``rows`` in batches of ``size``.
+
+    ``fn([carry, batch], [ends, out])`` integrates the batch's rows one after another
+    from ``carry``: ``ends`` (size, carried) holds the carried values at the end of each
+    row, ``out`` (size, extra) anything else per row. The last batch is padded with
+    copies of its last row of zero length (column 0), and each batch starts from the
+    previous batch's last end.
+
+    Returns
+    -------
+    ends : numpy.ndarray, shape (len(rows), carried)
+    out : numpy.ndarray, shape (len(rows), extra)
+    """
+    count = rows.shape[0]
+    ends_all, out_all = np.empty((count, carried)), np.empty((count, extra))
+    carry = np.ascontiguousarray(carry)
+    for a in range(0, count, size):
+        b = min(a + size, count)
+        batch = rows[a:b]
+        if b - a < size:
+            pad = np.repeat(batch[-1:], size - (b - a), axis=0)
+            pad[:, 0] = 0.0
+            batch = np.vstack([batch, pad])
+        ends, out = np.empty((size, carried)), np.empty((size, extra))
+        fn([carry, np.ascontiguousarray(batch)], [ends, out])
+        ends_all[a:b], out_all[a:b] = ends[:b - a], out[:b - a]
+        carry = np.ascontiguousarray(ends[b - a - 1])
+    return ends_all, out_all
 
 
 def plan(n_steps: int, tau: float, breaks: Sequence[float], interval: float = INTERVAL) -> Plan:
@@ -472,24 +543,7 @@ class InterpolatedTruth:
 
     def _call(self, fn: DenseCall, x: np.ndarray, gaps: np.ndarray):
         """Integrate the gaps from ``x`` in compiled batches (the last one padded)."""
-        size = BATCH * DEGREE
-        count = gaps.shape[0]
-        xs = np.empty((count, self.n))
-        ys = np.empty((count, self.nu + 1))
-        x = np.ascontiguousarray(x)
-        for a in range(0, count, size):
-            b = min(a + size, count)
-            rows = gaps[a:b]
-            if b - a < size:
-                pad = np.repeat(rows[-1:], size - (b - a), axis=0)
-                pad[:, 0] = 0.0
-                rows = np.vstack([rows, pad])
-            rows = np.ascontiguousarray(rows)
-            out_x, out_y = np.empty((size, self.n)), np.empty((size, self.nu + 1))
-            fn([x, rows], [out_x, out_y])
-            xs[a:b], ys[a:b] = out_x[:b - a], out_y[:b - a]
-            x = np.ascontiguousarray(out_x[b - a - 1])
-        return xs, ys
+        return carried_batches(fn, x, gaps, BATCH * DEGREE, self.n, self.nu + 1)
 
     def _warn_if_coarse(self, tail: np.ndarray, nodes: np.ndarray, starts: np.ndarray) -> None:
         """Warn once if an interval's interpolation error may exceed :data:`WARN_RELATIVE`

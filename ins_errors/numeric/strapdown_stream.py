@@ -224,21 +224,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
         the first one's start, shape (J, DEGREE, 4), and the last Picard iteration's
         change of every interval (J,), compiled in batches (the last one padded with
         empty intervals)."""
-        size, d = it.BATCH, it.DEGREE
-        count = rows.shape[0]
-        ys = np.empty((count, 4 * d + 1))
-        y = np.ascontiguousarray(y)
-        for a in range(0, count, size):
-            b = min(a + size, count)
-            batch = rows[a:b]
-            if b - a < size:
-                pad = np.repeat(batch[-1:], size - (b - a), axis=0)
-                pad[:, 0] = 0.0
-                batch = np.vstack([batch, pad])
-            ends, out = np.empty((size, 4)), np.empty((size, 4 * d + 1))
-            fn([y, np.ascontiguousarray(batch)], [ends, out])
-            ys[a:b] = out[:b - a]
-            y = np.ascontiguousarray(ends[b - a - 1])
+        d, count = it.DEGREE, rows.shape[0]
+        _, ys = it.carried_batches(fn, y, rows, it.BATCH, 4, 4 * d + 1)
         return ys[:, :-1].reshape(count, d, 4), ys[:, -1]
 
     def _nodes(self, fn: DenseCall, y: np.ndarray, first: np.ndarray, times: np.ndarray,

@@ -455,17 +455,8 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
         c0 = _initial_conditions(state[:, 0], euler[:, 0])
         return Trajectory(MODEL, float(tau), n_steps, state, inputs, inputs.copy(), p, c0,
                           True, flight.description)
-    if truth == "interpolated" and flight.breaks is None:
-        raise MotionError("the interpolated truth needs a flight whose breaks are known "
-                          "(a great circle or a manoeuvre)")
-    if truth == "auto":
-        truth = "fine"
-        if flight.breaks is not None:
-            breaks = np.asarray(flight.breaks, dtype=float)
-            inside = np.count_nonzero((breaks > 0.0) & (breaks < n_steps * tau))
-            intervals = np.ceil(n_steps * tau / it.INTERVAL) + inside
-            if it.INTERVAL / tau >= it.MIN_STEPS and n_steps >= it.MIN_STEPS * intervals:
-                truth = "interpolated"
+    truth = it.chosen_truth(truth, flight.breaks, n_steps, float(tau),
+                            "a flight (a great circle or a manoeuvre)")
     if truth == "interpolated":
         source = ss.InterpolatedFlight(model, flight, earth, float(tau), n_steps, p)
     else:

@@ -801,18 +801,8 @@ def _truth_source(model: Model, profile: Profile, frame: str, tau: float, n_step
     """The fine or the interpolated truth generator, as ``truth`` asks."""
     from ins_errors.numeric import interpolated_truth as it
 
-    if truth == "interpolated" and profile.breaks is None:
-        raise MotionError("the interpolated truth needs a profile whose breaks are known "
-                          "(a great circle, a manoeuvre or a sampled motion)")
-    if truth == "auto":
-        truth = "fine"
-        if profile.breaks is not None:
-            duration = n_steps * tau
-            breaks = np.asarray(profile.breaks, dtype=float)
-            inside = np.count_nonzero((breaks > 0.0) & (breaks < duration))
-            intervals = np.ceil(duration / it.INTERVAL) + inside
-            if it.INTERVAL / tau >= it.MIN_STEPS and n_steps >= it.MIN_STEPS * intervals:
-                truth = "interpolated"
+    truth = it.chosen_truth(truth, profile.breaks, n_steps, tau,
+                            "a profile (a great circle, a manoeuvre or a sampled motion)")
     if truth == "interpolated":
         return it.InterpolatedTruth(model, profile, frame, tau, n_steps, p, x0)
     return ProfileTruth(model, profile, frame, tau, n_steps, p, x0)
