@@ -241,6 +241,16 @@ def _row(figure: str, measured: str, goal: str, ok: bool | None) -> None:
     print(f"  {figure:<50} {measured:<36} {goal:<28} {mark}".rstrip())
 
 
+def _week_rows(label: str, x: dict, quick: bool) -> None:
+    """Rows of a week-long flight: that it ran, and its memory growth vs its output."""
+    growth = x["peak"] - x["base"]
+    days = 0.25 if quick else 7
+    _row(f"{label}{days:g}-day flight at 100 Hz, recording every 10 s",
+         f"ran: {x['cpu']:.0f} s CPU, peak {x['peak']:.0f} MB", "runs (not refused)", True)
+    _row("  memory growth vs recorded output", f"{growth:.0f} MB vs {x['recorded']:.0f} MB",
+         "<= output + 100 MB buffers", growth <= x["recorded"] + 100)
+
+
 def main(quick: bool = False, wanted: list[str] | None = None) -> None:
     """Measure the figures (all, or those named in ``wanted``) and print the table."""
     hours = 1.0 if quick else 24.0
@@ -278,21 +288,9 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
         _row("  peak memory", f"{x['peak']:.0f} MB", "<= 300 MB", x["peak"] <= 300)
         _row("  of which the true IMU signals", f"{x['truth']:.2f} s CPU", "", None)
     if not failed("strapdown-week"):
-        x = r["strapdown-week"]
-        growth = x["peak"] - x["base"]
-        days = 0.25 if quick else 7
-        _row(f"strapdown {days:g}-day flight at 100 Hz, recording every 10 s",
-             f"ran: {x['cpu']:.0f} s CPU, peak {x['peak']:.0f} MB", "runs (not refused)", True)
-        _row("  memory growth vs recorded output", f"{growth:.0f} MB vs {x['recorded']:.0f} MB",
-             "<= output + 100 MB buffers", growth <= x["recorded"] + 100)
+        _week_rows("strapdown ", r["strapdown-week"], quick)
     if not failed("week"):
-        x = r["week"]
-        growth = x["peak"] - x["base"]
-        days = 0.25 if quick else 7
-        _row(f"{days:g}-day flight at 100 Hz, recording every 10 s",
-             f"ran: {x['cpu']:.0f} s CPU, peak {x['peak']:.0f} MB", "runs (not refused)", True)
-        _row("  memory growth vs recorded output", f"{growth:.0f} MB vs {x['recorded']:.0f} MB",
-             "<= output + 100 MB buffers", growth <= x["recorded"] + 100)
+        _week_rows("", r["week"], quick)
     if not failed("static-direct"):
         x = r["static-direct"]
         _row(f"static {hours:g} h at 100 Hz, direct", f"{x['cpu']:.3f} s CPU",

@@ -68,6 +68,27 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
     return out
 
 
+def name_value_pairs(items: Iterable[str], option: str, example: str) -> dict[str, str]:
+    """Split repeated ``OPTION NAME=VALUE`` items into names and value texts, in order.
+
+    Raises
+    ------
+    InsErrorsError
+        For an item without ``=`` or without a value (the message shows ``example``), or
+        a name given twice.
+    """
+    values: dict[str, str] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not text.strip():
+            raise InsErrorsError(f"{option} {item!r}: expected NAME=VALUE, e.g. {example}")
+        if name in values:
+            raise InsErrorsError(f"{option} {name} given twice")
+        values[name] = text
+    return values
+
+
 def parse_parameter_options(model, items: Iterable[str]) -> dict[str, float]:
     """Read repeated ``--parameter NAME=VALUE`` options (see :func:`parse_parameters`).
 
@@ -76,14 +97,5 @@ def parse_parameter_options(model, items: Iterable[str]) -> dict[str, float]:
     InsErrorsError
         For an item without ``=``, a name given twice, or a bad value.
     """
-    values: dict[str, str] = {}
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not text.strip():
-            raise InsErrorsError(f"--parameter {item!r}: expected NAME=VALUE, e.g. "
-                                 "k_h1=0.0047/s")
-        if name in values:
-            raise InsErrorsError(f"--parameter {name} given twice")
-        values[name] = text
+    values = name_value_pairs(items, "--parameter", "k_h1=0.0047/s")
     return parse_parameters(model, values, "--parameter")

@@ -80,23 +80,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def _sources(model, items: list[str]) -> list[tuple[str, float]]:
     from ins_errors.errors import InsErrorsError
+    from ins_errors.model_parameters import name_value_pairs
     from ins_errors.units import parse_quantity
 
     if not items:
         raise InsErrorsError("give at least one --source NAME=VALUE, e.g. "
                              "--source gyro_drift_x=0.01deg/h")
-    out = []
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not text.strip():
-            raise InsErrorsError(f"--source {item!r}: expected NAME=VALUE, e.g. "
-                                 "gyro_drift_x=0.01deg/h")
-        info = model.sources[model.index("sources", name)]
-        if any(name == seen for seen, _ in out):
-            raise InsErrorsError(f"--source {name} given twice")
-        out.append((name, parse_quantity(text, info.unit, name)))
-    return out
+    pairs = name_value_pairs(items, "--source", "gyro_drift_x=0.01deg/h")
+    return [(name, parse_quantity(text, model.sources[model.index("sources", name)].unit, name))
+            for name, text in pairs.items()]
 
 
 def parse_ratio(text: str, what: str) -> float:
