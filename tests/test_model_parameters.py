@@ -120,3 +120,99 @@ def test_sweep_points_carry_the_parameters(tmp_path):
     assert [j.parameters for j in jobs] == [(("k_h1", 0.03),)] * 2
     plain_jobs = grid(load_scenario(plain)).jobs
     assert fingerprint(plain_jobs, {}) != fingerprint(jobs, {})
+
+
+# --------------------------------------------------------------------------------------
+# budget and validity take the same --parameter
+# --------------------------------------------------------------------------------------
+# Reference: on a spherical Earth of radius R (e2 = 0) an x-accelerometer bias b tilts
+# the platform by θ(t) = (b/g)(1 − cos ωt), ω = √(g/R) (Schuler). With θ limited to
+# 0.1° at t = 30 min, the allowed bias is g·0.1°/(1 − cos ωt): 2.9 times larger when R is
+# four times the Earth's (Schuler period 169 min instead of 84 min).
+R_EARTH, R_BIG = 6_371_000.0, 4 * 6_371_000.0
+SPHERE = ["-p", "e2=0", "-p"]
+
+
+def budget_spec(tmp_path):
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("orthodromic")
+    lines = ['sigma_level = 2', 'operating_time = "30 min"', 'step = "60 s"', '[motion]',
+             'latitude = "50 deg"', '[items.vertical_error]', 'value = "0.1 deg"',
+             'times = ["30 min"]']
+    lines += [f"[sources.{s.name}]\ninclude = false" for s in model.sources
+              if s.name != "accel_bias_x"]
+    path = tmp_path / "spec.toml"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return model, path
+
+
+def allowed_bias(capsys, spec, *options) -> float:
+    import json
+
+    assert main(["budget", "orthodromic", "--spec", str(spec), "--json", *options]) == 0
+    [source] = json.loads(capsys.readouterr().out)["sources"]
+    assert source["name"] == "accel_bias_x" and source["binding_time_h"] == 0.5
+    return source["magnitude"]
+
+
+def test_budget_parameters_change_the_schuler_bound(tmp_path, capsys):
+    from ins_errors.analysis import budget as bd
+    from ins_errors.specs import load_spec
+
+    model, path = budget_spec(tmp_path)
+    default = allowed_bias(capsys, path)
+    small = allowed_bias(capsys, path, *SPHERE, f"a={R_EARTH / 1000:g}km")
+    big = allowed_bias(capsys, path, *SPHERE, f"a={R_BIG / 1000:g} km")
+    spec = load_spec(path)
+    for radius, value in ((R_EARTH, small), (R_BIG, big)):
+        p = model.parameter_vector(a=radius, e2=0.0)
+        g = float(bd.spec_trajectory(model, spec, p=p).inputs[2, 0])
+        expected = g * np.radians(0.1) / (1 - np.cos(np.sqrt(g / radius) * 1800.0))
+        assert value == pytest.approx(expected, rel=2e-3)
+        # the same number through the library
+        api = bd.allocate(bd.unit_budget(model, spec, p=p)).magnitudes[0]
+        assert value == api
+    assert big / small == pytest.approx(2.88, rel=0.01)
+    assert default == pytest.approx(small, rel=0.01)  # the ellipsoid is close to the sphere
+    assert default != small
+
+
+def test_budget_monte_carlo_runs_with_the_parameters(tmp_path, capsys):
+    """Direct runs on the big sphere agree with its covariance (the default Earth's tilt
+    would be 2.9 times the big sphere's and fail the ratio)."""
+    import json
+
+    _, path = budget_spec(tmp_path)
+    assert main(["budget", "orthodromic", "--spec", str(path), "--json", *SPHERE,
+                 f"a={R_BIG / 1000:g}km", "--monte-carlo", "50", "--mc-duration", "30 min",
+                 "--mc-step", "10 s", "--engine", "serial"]) == 0
+    [row] = json.loads(capsys.readouterr().out)["monte_carlo"]["rows"]
+    assert 0.75 < row["ratio"] < 1.25, row
+
+
+def test_validity_parameters_reach_the_runs(capsys):
+    """The linear residual is second order in the tilt, so its share of the error scales
+    with the tilt at 30 min: 2.9 times smaller on the big sphere (measured 2.97)."""
+    import json
+
+    ratios = []
+    for radius in (R_EARTH, R_BIG):
+        assert main(["validity", "orthodromic", "-s", "accel_bias_x", "--motion", "static",
+                     "--hours", "0.5", "--step", "10s", "--engine", "serial", "--json",
+                     "--no-progress", *SPHERE, f"a={radius / 1000:g}km"]) == 0
+        [result] = json.loads(capsys.readouterr().out)["sources"]
+        ratios.append(np.array(result["linear_ratio"]))
+    assert np.all((ratios[0] / ratios[1] > 2.5) & (ratios[0] / ratios[1] < 3.5))
+
+
+@pytest.mark.parametrize("command", [["budget", "strapdown_ned"],
+                                     ["validity", "strapdown_ned", "--motion", "static"]])
+@pytest.mark.parametrize("option", ["k_h1=-1/s", "k_h3=0.01/s", "k_h1=0.01", "k_h1"])
+def test_bad_parameters_of_budget_and_validity(capsys, command, option):
+    """The one-line message compare gives, exit status 2, nothing computed."""
+    assert main([*RUN, "--parameter", option]) == 2
+    (expected,) = capsys.readouterr().err.strip().splitlines()
+    assert main([*command, "--parameter", option]) == 2
+    captured = capsys.readouterr()
+    assert captured.err.strip() == expected and not captured.out

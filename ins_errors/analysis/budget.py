@@ -207,7 +207,7 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
 
 
 def spec_trajectory(model, spec: Spec, tau: float | None = None,
-                    duration: float | None = None):
+                    duration: float | None = None, p: np.ndarray | None = None):
     """The true motion of the spec (trajectories module).
 
     Parameters
@@ -218,6 +218,8 @@ def spec_trajectory(model, spec: Spec, tau: float | None = None,
         Step, s (default: the spec's analysis step).
     duration : float, optional
         Length, s, rounded to whole steps (default: the operating time).
+    p : numpy.ndarray, optional
+        Model parameters, SI (``Model.parameter_vector``; default: the model's defaults).
     """
     from ins_errors.numeric import trajectories
 
@@ -229,21 +231,24 @@ def spec_trajectory(model, spec: Spec, tau: float | None = None,
                                                     m.speed, m.height)
     step = spec.step if tau is None else tau
     length = spec.operating_time if duration is None else duration
-    return trajectories.trajectory(model, profile, step * max(1, round(length / step)), step)
+    return trajectories.trajectory(model, profile, step * max(1, round(length / step)), step,
+                                   p=p)
 
 
-def spec_system(model, spec: Spec, trajectory=None) -> LinearSystem:
+def spec_system(model, spec: Spec, trajectory=None,
+                p: np.ndarray | None = None) -> LinearSystem:
     """The linear error equations along the spec's motion, on the spec's grid.
 
     The true motion comes from :mod:`ins_errors.numeric.trajectories`; for a static
     motion of a model those generators do not cover, the model's own rest state is used
     (:func:`~ins_errors.analysis.covariance.static_system`, a_ζ = 9.81 m/s² where the
-    model has it).
+    model has it). ``p``: model parameters, SI (default: the model's defaults; a given
+    ``trajectory`` carries its own).
     """
     if trajectory is not None:
         return system_from_trajectory(model, trajectory, spec.step)
     try:
-        trajectory = spec_trajectory(model, spec)
+        trajectory = spec_trajectory(model, spec, p=p)
     except InsErrorsError as error:
         if spec.motion.kind != "static":
             raise
@@ -252,7 +257,7 @@ def spec_system(model, spec: Spec, trajectory=None) -> LinearSystem:
             return static_system(model, m.latitude, m.longitude, m.heading, m.height,
                                  duration=spec.step * max(1, round(spec.operating_time
                                                                    / spec.step)),
-                                 step=spec.step)
+                                 step=spec.step, p=p)
         except InsErrorsError:
             raise error from None
     return system_from_trajectory(model, trajectory, spec.step)
@@ -342,7 +347,8 @@ def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functiona
     return Functionals(tuple(r[0] for r in rows), units, C_x, C_b), groups
 
 
-def unit_budget(model, spec: Spec, trajectory=None) -> UnitBudget:
+def unit_budget(model, spec: Spec, trajectory=None,
+                p: np.ndarray | None = None) -> UnitBudget:
     """Variance of every spec row per unit variance of every source.
 
     Parameters
@@ -351,9 +357,11 @@ def unit_budget(model, spec: Spec, trajectory=None) -> UnitBudget:
     spec : Spec
     trajectory : Trajectory, optional
         True motion (default: the spec's motion over its operating time, on its step).
+    p : numpy.ndarray, optional
+        Model parameters, SI (``Model.parameter_vector``; default: the model's defaults).
     """
     sources = resolve_sources(model, spec)
-    system = spec_system(model, spec, trajectory)
+    system = spec_system(model, spec, trajectory, p)
     covariance = _propagate(model, system, spec,
                             [SourceStatistics(s.name, s.statistics, 1.0, s.tau)
                              for s in sources])
@@ -516,20 +524,22 @@ class Evaluation:
         return self.values / np.array([r.limit for r in self.rows])
 
 
-def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None) -> Evaluation:
+def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None,
+             p: np.ndarray | None = None) -> Evaluation:
     """Propagate the given 1σ magnitudes (SI) and evaluate every spec row.
 
     The covariance is propagated again at the actual magnitudes, so this checks the
     allocation arithmetic (shares, binding items, fill). It uses the same propagation as
     the allocation: for an independent check of the covariance itself compare with the
-    Monte Carlo runs (:mod:`ins_errors.analysis.monte_carlo`).
+    Monte Carlo runs (:mod:`ins_errors.analysis.monte_carlo`). ``p``: model
+    parameters, SI, as in :func:`unit_budget`.
     """
     sources = resolve_sources(model, spec)
     known = {s.name for s in sources}
     for name in sigma:
         if name not in known:
             raise unknown_name("budget source", name, sorted(known))
-    system = spec_system(model, spec, trajectory)
+    system = spec_system(model, spec, trajectory, p)
     stats = [SourceStatistics(s.name, s.statistics, float(sigma.get(s.name, 0.0)), s.tau)
              for s in sources]
     covariance = _propagate(model, system, spec, stats)

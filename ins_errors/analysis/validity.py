@@ -17,6 +17,7 @@ run in this process, a process pool or on a Dask cluster
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -67,6 +68,8 @@ class ValidityTask:
         Integration step, s.
     method : str
         Integration scheme.
+    parameters : tuple of (str, float)
+        Model parameters set for the runs, SI (empty: the model's defaults).
     """
 
     model: str
@@ -76,6 +79,7 @@ class ValidityTask:
     hours: float = 24.0
     step: float = 2.0
     method: str = "rk4"
+    parameters: tuple[tuple[str, float], ...] = ()
 
 
 @dataclass
@@ -139,7 +143,8 @@ def typical_magnitude(model, source: str) -> float:
 
 def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
                    step: float = 2.0, method: str = "rk4",
-                   factors: tuple[float, ...] = FACTORS) -> list[ValidityTask]:
+                   factors: tuple[float, ...] = FACTORS,
+                   parameters: Mapping[str, float] | None = None) -> list[ValidityTask]:
     """The independent tasks of a validity map: one per source and motion.
 
     Parameters
@@ -154,13 +159,17 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
         Run length (h), integration step (s) and scheme of every run.
     factors : tuple of float
         Magnitudes as multiples of each source's typical size.
+    parameters : mapping of str to float, optional
+        Model parameters for every run, SI (:mod:`ins_errors.model_parameters`; default:
+        the model's own values).
     """
     names = list(sources) if sources else [s.name for s in model.sources]
     for name in names:
         model.index("sources", name)
     return [ValidityTask(model.key, motion, name,
                          tuple(f * typical_magnitude(model, name) for f in factors),
-                         float(hours), float(step), method)
+                         float(hours), float(step), method,
+                         tuple((parameters or {}).items()))
             for motion in motions for name in names]
 
 
@@ -202,7 +211,8 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
     model = load_model(task.model)
     info = model.source(task.source)
     profile = motion_profile({"kind": task.motion})
-    trajectory = tr.trajectory(model, profile, task.hours * 3600.0, task.step)
+    trajectory = tr.trajectory(model, profile, task.hours * 3600.0, task.step,
+                               p=model.parameter_vector(**dict(task.parameters)))
     stride = max(1, min(trajectory.n_steps, round(300.0 / task.step)))
     while trajectory.n_steps % stride:  # the largest stride up to 5 min that divides the run
         stride -= 1

@@ -21,6 +21,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "and exit")
     parser.add_argument("--spec",
                         help="spec file (TOML with units); default: the built-in 802m spec")
+    parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
+                        help="model parameter with unit, as for 'ins-errors compare', e.g. "
+                             "strapdown_ned's k_h1=0.0047/s (repeatable; used by the "
+                             "covariance and the Monte Carlo runs)")
     parser.add_argument("--plot", metavar="PNG", help="write a stacked contribution plot")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--fill", action="store_true",
@@ -53,6 +57,7 @@ def run(args: argparse.Namespace) -> int:
 
     from ins_errors.analysis import budget as bd
     from ins_errors.analysis import budget_report as rep
+    from ins_errors.model_parameters import parse_parameter_options
     from ins_errors.numeric.model import load_model
     from ins_errors.specs import SpecError, default_spec_path, load_spec
 
@@ -75,6 +80,7 @@ def run(args: argparse.Namespace) -> int:
         if target:
             check_file(target)
     model = load_model(args.model)
+    p = model.parameter_vector(**parse_parameter_options(model, args.parameter))
     path = args.spec or default_spec_path()
     if args.spec is None and not path.exists():
         raise SpecError("no --spec given and the built-in 802m spec is missing")
@@ -84,13 +90,13 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.progress import stage
 
     with stage(f"propagating the covariance of {len(model.sources)} sources"):
-        unit = bd.unit_budget(model, spec)
+        unit = bd.unit_budget(model, spec, p=p)
         allocation = bd.allocate(unit)
     data = rep.report(allocation)
     if args.plot:
         rep.plot(allocation, args.plot)
     if args.monte_carlo:
-        data["monte_carlo"] = _monte_carlo(model, spec, allocation, args)
+        data["monte_carlo"] = _monte_carlo(model, spec, allocation, args, p)
     outputs = None
     if args.at:
         from ins_errors.units import parse_quantity
@@ -125,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _monte_carlo(model, spec, allocation, args) -> dict:
+def _monte_carlo(model, spec, allocation, args, p) -> dict:
     import time
 
     import numpy as np
@@ -155,7 +161,7 @@ def _monte_carlo(model, spec, allocation, args) -> dict:
     statistics = [st for st in budget.statistics(np.array([sigma.get(s.name, 0.0)
                                                            for s in budget.sources]))
                   if st.sigma > 0]
-    trajectory = bd.spec_trajectory(model, spec, tau=step, duration=duration)
+    trajectory = bd.spec_trajectory(model, spec, tau=step, duration=duration, p=p)
     start = time.perf_counter()
     if args.workers is not None and args.workers < 1:
         raise SpecError(f"--workers must be at least 1, got {args.workers}")
@@ -165,7 +171,7 @@ def _monte_carlo(model, spec, allocation, args) -> dict:
                                 workers=args.workers)
     seconds = time.perf_counter() - start
     rows, values = bd.direct_rows(model, budget, errors)
-    predicted = bd.evaluate(model, spec, sigma)
+    predicted = bd.evaluate(model, spec, sigma, p=p)
     lookup = {(r.item, r.time, r.component): v for r, v in zip(predicted.rows,
                                                                predicted.values, strict=True)}
     out = []

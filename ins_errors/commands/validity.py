@@ -33,6 +33,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="true motion (repeatable; default: static and great-circle)")
     parser.add_argument("--source", "-s", action="append", metavar="NAME",
                         help="error source (repeatable; default: every source)")
+    parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
+                        help="model parameter with unit, as for 'ins-errors compare', e.g. "
+                             "strapdown_ned's k_h1=0.0047/s (repeatable; used by every run)")
     parser.add_argument("--hours", type=float, default=24.0,
                         help="length of each run in hours (default 24)")
     parser.add_argument("--step", default="2s", help="integration step (default 2s, RK4)")
@@ -82,16 +85,19 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.validity import MOTIONS as DEFAULT_MOTIONS
     from ins_errors.analysis.validity import validity_map, validity_tasks
     from ins_errors.errors import InsErrorsError
+    from ins_errors.model_parameters import parse_parameter_options
     from ins_errors.numeric.model import load_model
     from ins_errors.output import OutputFolder, require_matplotlib
     from ins_errors.units import parse_quantity
 
     model = load_model(args.model)
+    parameters = parse_parameter_options(model, args.parameter)
     if not args.hours > 0:
         raise InsErrorsError(f"--hours must be positive, got {args.hours:g}")
     step = parse_quantity(args.step, "s", "--step")
     motions = args.motion or list(DEFAULT_MOTIONS)
-    tasks = validity_tasks(model, motions, args.source, hours=args.hours, step=step)
+    tasks = validity_tasks(model, motions, args.source, hours=args.hours, step=step,
+                           parameters=parameters)
     out_dir = args.out or (f"validity_{model.name}" if args.plot else None)
     if args.plot:
         require_matplotlib("--plot")
