@@ -76,3 +76,10 @@ def test_cli_unknown_source_is_one_line(capsys):
     status = main(["validity", "orthodromic", "--source", "gyro_drift_q", "--no-progress"])
     _, err = capsys.readouterr()
     assert status == 2 and err.count("\n") == 1 and "gyro_drift_q" in err
+
+
+def test_validity_of_a_source_without_typical_size_is_one_line(capsys):
+    """strapdown_ned's initial height error is quoted in m, which has no typical size."""
+    assert main(["validity", "strapdown_ned", "-s", "initial_position_error_D"]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "no typical size for initial_position_error_D, quoted in 'm'" in line

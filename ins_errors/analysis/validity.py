@@ -137,7 +137,10 @@ def typical_magnitude(model, source: str) -> float:
     info = model.source(source)
     shown = info.display_unit or info.unit
     if shown not in TYPICAL:
-        raise ValueError(f"no typical size for sources quoted in {shown!r}")
+        from ins_errors.errors import InsErrorsError
+
+        raise InsErrorsError(f"no typical size for {source}, quoted in {shown!r} (known: "
+                             f"{', '.join(TYPICAL)}); choose the sources with --source NAME")
     return parse_quantity(f"{TYPICAL[shown]} {shown}", info.unit, source)
 
 
