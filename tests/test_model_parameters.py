@@ -216,4 +216,3 @@ def test_bad_parameters_of_budget_and_validity(capsys, command, option):
     assert main([*command, "--parameter", option]) == 2
     captured = capsys.readouterr()
     assert captured.err.strip() == expected and not captured.out
-
