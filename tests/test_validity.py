@@ -12,6 +12,7 @@ import json
 import numpy as np
 import pytest
 
+from ins_errors.analysis import validity
 from ins_errors.analysis.validity import (
     ValidityTask,
     run_validity_task,
@@ -21,6 +22,7 @@ from ins_errors.analysis.validity import (
 from ins_errors.cli import main
 from ins_errors.numeric import trajectories as tr
 from ins_errors.numeric.compare import compare
+from ins_errors.numeric.model import load_model
 from ins_errors.numeric.motion_spec import motion_profile
 
 
@@ -78,8 +80,21 @@ def test_cli_unknown_source_is_one_line(capsys):
     assert status == 2 and err.count("\n") == 1 and "gyro_drift_q" in err
 
 
-def test_validity_of_a_source_without_typical_size_is_one_line(capsys):
-    """strapdown_ned's initial height error is quoted in m, which has no typical size."""
+def test_every_built_in_source_has_a_typical_size():
+    """A plain 'ins-errors validity MODEL' sweeps every source of the model, so each
+    built-in model's sources must be quoted in a unit with a typical size."""
+    for name in ("orthodromic", "north_pointing", "free_azimuth", "geodetic_vertical",
+                 "strapdown_ned"):
+        model = load_model(name)
+        for source in model.sources:
+            assert validity.typical_magnitude(model, source.name) > 0, (name, source.name)
+
+
+def test_validity_of_a_source_without_typical_size_is_one_line(capsys, monkeypatch):
+    """A source quoted in a unit without a typical size (here metres, taken out of the
+    table as a model file's own unit would be missing) is refused in one line."""
+    monkeypatch.setattr(validity, "TYPICAL", {k: v for k, v in validity.TYPICAL.items()
+                                              if k != "m"})
     assert main(["validity", "strapdown_ned", "-s", "initial_position_error_D"]) == 2
     (line,) = capsys.readouterr().err.strip().splitlines()
     assert "no typical size for initial_position_error_D, quoted in 'm'" in line

@@ -24,8 +24,9 @@ from typing import Any
 import numpy as np
 
 TYPICAL: dict[str, float] = {"deg/h": 0.01, "ug": 50.0, "arcsec": 20.0, "arcmin": 3.0,
-                             "m/s": 0.5, "ppm": 100.0}
-"""Typical size of a source, by the unit it is quoted in (navigation-grade instruments)."""
+                             "m/s": 0.5, "ppm": 100.0, "m": 10.0}
+"""Typical size of a source, by the unit it is quoted in (navigation-grade instruments;
+initial position errors of a GNSS-initialised alignment)."""
 
 FACTORS: tuple[float, ...] = (0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0, 300.0)
 """Magnitudes of the sweep, as multiples of the typical size (the large ones lift the
