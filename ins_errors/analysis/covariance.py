@@ -24,8 +24,11 @@ Discretisation is exact for a system held constant over each step (Van Loan 1978
 ``expm([[F, G_b], [0, D]] dt)`` gives the transition of the augmented state
 ``z = (x_e, b)``, and ``expm([[-A, B Q Bᵀ], [0, Aᵀ]] dt)`` the noise covariance added in
 a step. Along a moving trajectory F and G are held at the mean of the two ends of each
-step. On a time-invariant system (static base) the step transition Φ is computed once and
-the powers ``C Φᵏ Z₀`` are formed in blocks with a few matrix products, which is what
+step, and these exponentials (Van Loan blocks, augmented transitions) are evaluated a few
+thousand steps at a time with the batched series of
+:mod:`ins_errors.numeric.step_exponential` instead of SciPy's ``expm`` step by step.
+On a time-invariant system (static base) the step transition Φ is computed once and the
+powers ``C Φᵏ Z₀`` are formed in blocks with a few matrix products, which is what
 makes 24 h at 1 s output take milliseconds.
 """
 
@@ -46,7 +49,7 @@ from ins_errors.numeric.linear_system import (
     trajectory_system,
     uniform_grid,
 )
-from ins_errors.numeric.step_exponential import exp_and_integral
+from ins_errors.numeric.step_exponential import exp_and_integral, exponential
 
 KINDS = ("constant", "white", "markov")
 """The statistical kinds a source may have."""
@@ -115,7 +118,8 @@ def augmented_dynamics(F: np.ndarray, G_b: np.ndarray, decay: np.ndarray) -> np.
     return A
 
 
-def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
+def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float,
+             batched: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Exact discretisation of ``ż = A z + noise`` (noise covariance rate ``B Q Bᵀ``).
 
     Parameters
@@ -124,6 +128,10 @@ def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float) -> tuple[np.ndarray, np
     BQBt : numpy.ndarray, shape (..., N, N)
     dt : float
         Step, s.
+    batched : bool
+        If True (A of shape (K, N, N)), the block exponential of all K steps comes from
+        the batched series of :func:`~ins_errors.numeric.step_exponential.exponential`
+        instead of SciPy's ``expm`` one matrix at a time.
 
     Returns
     -------
@@ -136,7 +144,7 @@ def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float) -> tuple[np.ndarray, np
     M[..., :N, :N] = -A
     M[..., :N, N:] = BQBt
     M[..., N:, N:] = np.swapaxes(A, -1, -2)
-    X = expm(M * dt)
+    X = exponential(M, dt) if batched else expm(M * dt)
     Phi = np.swapaxes(X[..., N:, N:], -1, -2)
     Qd = Phi @ X[..., :N, N:]
     return Phi, 0.5 * (Qd + np.swapaxes(Qd, -1, -2))
@@ -498,29 +506,70 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
                               total, total_only=True)
         for i0, i1, Y in chunks:
             unit[i0:i1, :, valued] = Y**2
-        keep_set = set(keep.tolist())
         for i, s in enumerate(sources):
-            if s.kind == "constant":
-                continue
-            A, BQBt, _ = _noise_system(_step_matrix(F), _step_matrix(G)[
-                ..., columns[i]], s, functionals.C_x, functionals.C_b[:, columns[i]])
-            Phi_n, Qd = van_loan(A, BQBt, dt)
-            m = A.shape[-1]
-            P = np.zeros((m, m))
-            out = 0
-            for k in range(K + 1):
-                if k in keep_set:
-                    Ck = C_x[k] if m == n else np.hstack([C_x[k], functionals.C_b[
-                        :, [columns[i]]]])
-                    unit[out, :, i] += np.einsum("qa,ab,qb->q", Ck, P, Ck)
-                    out += 1
-                if k < K:
-                    P = Phi_n[k] @ P @ Phi_n[k].T + Qd[k]
+            if s.kind != "constant":
+                unit[:, :, i] += _moving_noise_variance(F, G[..., columns[i]], s, dt, C_x,
+                                                        functionals.C_b[:, columns[i]], keep)
         if not by_source:
             unit = (unit * sigma2).sum(-1, keepdims=True)
     used = tuple(sources) if by_source else ()
     return Covariance(system.times[keep], functionals.names, functionals.units, used, unit,
                       total_only=not by_source)
+
+
+def _moving_noise_variance(F: np.ndarray, g: np.ndarray, source: SourceStatistics,
+                           dt: float, C_x: np.ndarray, c_b: np.ndarray,
+                           keep: np.ndarray) -> np.ndarray:
+    """Variance of the functionals from one unit noise source along a time-varying system.
+
+    The covariance of the noise system (:func:`_noise_system`) is carried step by step,
+    ``P_{k+1} = Φ_k P_k Φ_kᵀ + Qd_k``, from ``P_0 = 0``; Φ and Qd come from the Van Loan
+    blocks of :data:`_CHUNK` steps at a time through the batched series, so the working
+    memory stays a few MB whatever the duration.
+
+    Parameters
+    ----------
+    F : numpy.ndarray, shape (K + 1, n, n)
+    g : numpy.ndarray, shape (K + 1, n)
+        The source's column of G at the grid times.
+    source : SourceStatistics
+        A white or Markov source (its sigma is not used: unit statistics).
+    dt : float
+        Step, s.
+    C_x : numpy.ndarray, shape (K + 1, q, n)
+    c_b : numpy.ndarray, shape (q,)
+        The functionals' direct dependence on the source's value (Markov sources).
+    keep : numpy.ndarray of int
+        Output grid indices, increasing.
+
+    Returns
+    -------
+    numpy.ndarray, shape (len(keep), q)
+    """
+    K, n = F.shape[0] - 1, F.shape[-1]
+    var = np.zeros((len(keep), C_x.shape[1]))
+    m = n if source.kind == "white" else n + 1
+    P = np.zeros((m, m))
+    for k0 in range(0, K + 1, _CHUNK):
+        k1 = min(K + 1, k0 + _CHUNK)      # covariances P_k0 .. P_{k1-1} in this piece
+        s1 = min(K, k1)                   # steps k0 .. s1-1 taken here
+        if s1 > k0:
+            A, BQBt, _ = _noise_system(_step_matrix(F[k0:s1 + 1]),
+                                       _step_matrix(g[k0:s1 + 1]), source, C_x[0], c_b)
+            Phi, Qd = van_loan(A, BQBt, dt, batched=True)
+        Ps = np.empty((k1 - k0, m, m))
+        for k in range(k0, k1):
+            Ps[k - k0] = P
+            if k < K:
+                P = Phi[k - k0] @ P @ Phi[k - k0].T + Qd[k - k0]
+        i0, i1 = (int(i) for i in np.searchsorted(keep, [k0, k1]))
+        ks = keep[i0:i1]
+        Ck = C_x[ks]
+        if m > n:
+            Ck = np.concatenate([Ck, np.broadcast_to(c_b[:, None], (len(ks), len(c_b), 1))],
+                                axis=-1)
+        var[i0:i1] = np.einsum("kqa,kab,kqb->kq", Ck, Ps[ks - k0], Ck)
+    return var
 
 
 def _moving_sensitivities(F: np.ndarray, G: np.ndarray, cols_b: list[int],
@@ -593,8 +642,8 @@ def _sensitivity_chunks(F: np.ndarray, G: np.ndarray, cols_b: list[int],
     Ys = np.zeros((len(keep), C_b.shape[0], m))
     keep_set = set(keep.tolist())
     out = 0
-    Phis = expm(augmented_dynamics(_step_matrix(F), _step_matrix(G)[..., cols_b], decay)
-                * dt)
+    Phis = exponential(augmented_dynamics(_step_matrix(F), _step_matrix(G)[..., cols_b],
+                                          decay), dt)
     Z = Z0.copy()
     for k in range(K + 1):
         if k in keep_set:

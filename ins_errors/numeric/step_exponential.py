@@ -87,26 +87,9 @@ def choose_scaling(a1: float, a2: float) -> tuple[int, int]:
         s += 1
 
 
-def exp_and_integral(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
-    """``Φ = e^{F h}`` and ``W = ∫₀^h e^{F s} ds`` for each matrix of a stack.
-
-    Parameters
-    ----------
-    F : numpy.ndarray, shape (K, n, n)
-        Continuous-time matrices, 1/s.
-    h : float
-        Step, s.
-
-    Returns
-    -------
-    Phi, W : numpy.ndarray, shape (K, n, n)
-        Transitions (dimensionless) and integrals (s), each within the truncation bound of
-        the module docstring plus rounding.
-    """
-    F = np.asarray(F, dtype=float)
-    K, n = F.shape[0], F.shape[-1]
-    if K == 0:
-        return np.empty_like(F), np.empty_like(F)
+def _scaled_series(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, int]:
+    """``(Φ, φ₁, s)`` of the scaled step ``F h 2^{-s}``: the series part, before squaring."""
+    n = F.shape[-1]
     A = F * h
     A2 = A @ A
     a1 = float(np.abs(A).sum(axis=-2).max())
@@ -126,8 +109,56 @@ def exp_and_integral(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
         S += eye * (1.0 / factorial(2 * j + 1))
     Phi = A @ S
     Phi += eye
+    return Phi, S, s
+
+
+def exp_and_integral(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
+    """``Φ = e^{F h}`` and ``W = ∫₀^h e^{F s} ds`` for each matrix of a stack.
+
+    Parameters
+    ----------
+    F : numpy.ndarray, shape (K, n, n)
+        Continuous-time matrices, 1/s.
+    h : float
+        Step, s.
+
+    Returns
+    -------
+    Phi, W : numpy.ndarray, shape (K, n, n)
+        Transitions (dimensionless) and integrals (s), each within the truncation bound of
+        the module docstring plus rounding.
+    """
+    F = np.asarray(F, dtype=float)
+    if F.shape[0] == 0:
+        return np.empty_like(F), np.empty_like(F)
+    Phi, S, s = _scaled_series(F, h)
     W = S * (h * 2.0**-s)
     for _ in range(s):
         W += Phi @ W
         Phi = Phi @ Phi
     return Phi, W
+
+
+def exponential(F: np.ndarray, h: float) -> np.ndarray:
+    """``Φ = e^{F h}`` alone for each matrix of a stack (the same series, no integral).
+
+    Parameters
+    ----------
+    F : numpy.ndarray, shape (K, n, n)
+        Continuous-time matrices, 1/s.
+    h : float
+        Step, s.
+
+    Returns
+    -------
+    numpy.ndarray, shape (K, n, n)
+        Transitions, within the truncation bound of the module docstring plus rounding
+        (absolute, 1-norm: scale F, or h, so that the entries of Φ are of order one).
+    """
+    F = np.asarray(F, dtype=float)
+    if F.shape[0] == 0:
+        return np.empty_like(F)
+    Phi, _, s = _scaled_series(F, h)
+    for _ in range(s):
+        Phi = Phi @ Phi
+    return Phi
