@@ -68,6 +68,28 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
     return out
 
 
+def parameters_record(model, parameters: Mapping[str, float]) -> dict[str, dict[str, object]]:
+    """The parameters a run set, for its machine-readable output (JSON).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        The model whose parameters were set.
+    parameters : mapping of str to float
+        Parameter name -> SI value, as :func:`parse_parameters` returned (the others kept
+        the model's defaults).
+
+    Returns
+    -------
+    dict of str to dict
+        Name -> ``{"value": SI value, "unit": SI unit}``, in the order given; empty when
+        every parameter kept its default.
+    """
+    return {name: {"value": float(value),
+                   "unit": model.parameters[model.index("parameters", name)].unit}
+            for name, value in parameters.items()}
+
+
 def name_value_pairs(items: Iterable[str], option: str, example: str) -> dict[str, str]:
     """Split repeated ``OPTION NAME=VALUE`` items into names and value texts, in order.
 

@@ -17,6 +17,7 @@ import re
 from importlib import resources
 from pathlib import Path
 
+from ins_errors.model_parameters import parameters_record
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.output import OutputFolder
 from ins_errors.scenario import ScenarioResult
@@ -166,10 +167,12 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
     text = report_markdown(result, plots)
     out.write_text("report.md", text)
     out.write_text("report.html", markdown_to_html(text, result.scenario.title, out.path))
-    summary = {"title": result.scenario.title, "model": load_model(result.scenario.model).name,
+    model = load_model(result.scenario.model)
+    summary = {"title": result.scenario.title, "model": model.name,
                "motion": result.motion_description, "duration_s": result.scenario.duration,
                "step_s": result.scenario.step, "record_s": result.scenario.record,
                "method": result.scenario.method,
+               "parameters": parameters_record(model, result.scenario.parameters),
                "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
                "curves": {"csv": "curves.csv", "mat": "curves.mat"},
                "cases": [c.to_dict() for c in result.comparisons]}

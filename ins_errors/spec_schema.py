@@ -95,6 +95,11 @@ class SpecFile(_Table):
     items: Items  # type: ignore[valid-type]
     allocation: Allocation = Field(default_factory=Allocation)
     sources: dict[str, SourceTable] = Field(default_factory=dict)
+    parameters: dict[str, Quantity] | None = Field(
+        None, description="model parameters with units, as in a scenario's [parameters] "
+                          "(ins-errors models MODEL lists them), e.g. strapdown_ned's "
+                          "k_h1 = '0.0047 1/s'; 'ins-errors budget --parameter' overrides "
+                          "them (default: the model's)")
 
 
 _TABLES: dict[str, type[BaseModel]] = {"": SpecFile, "motion": SpecMotion, "items": Items,

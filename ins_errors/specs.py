@@ -36,11 +36,14 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
     fill = false                     # scale the free sources up until an item is met exactly
     [sources.gyro_drift_z]
     weight = 2                       # or fixed = "0.01 deg/h", kind = "markov", tau = "1 h"
+    [parameters]                     # optional: model parameters with units, as in a
+    k_h1 = "0.0047 1/s"              # scenario (--parameter overrides them)
 """
 
 from __future__ import annotations
 
 import sys
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -208,6 +211,9 @@ class Spec:
         until the tightest item is met exactly.
     path : str
         Where the spec was read from.
+    parameters : dict of str to str
+        The ``[parameters]`` table: model parameter name -> value with unit, as text until
+        the spec is bound to a model (:func:`spec_parameters`).
     """
 
     title: str
@@ -219,6 +225,7 @@ class Spec:
     sources: dict[str, SourceOption] = field(default_factory=dict)
     fill: bool = False
     path: str = ""
+    parameters: dict[str, Any] = field(default_factory=dict)
 
     def item(self, name: str) -> SpecItem:
         """The item ``name``."""
@@ -360,7 +367,37 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         sources[name] = SourceOption(name, float(table.weight), table.fixed, table.kind, tau,
                                      table.include)
     return Spec(title, float(checked.sigma_level), operating_time, step, motion, tuple(items),
-                sources, checked.allocation.fill, path)
+                sources, checked.allocation.fill, path, dict(checked.parameters or {}))
+
+
+def spec_parameters(spec: Spec, model, options: Iterable[str] = ()) -> dict[str, float]:
+    """The model parameters of a budget: the spec's ``[parameters]``, then ``--parameter``.
+
+    Parameters
+    ----------
+    spec : Spec
+        The spec; its ``[parameters]`` values need units (as a scenario's do).
+    model : ins_errors.numeric.model.Model
+        The model the spec is bound to.
+    options : iterable of str
+        ``--parameter NAME=VALUE`` items; each replaces the spec's value of that name.
+
+    Returns
+    -------
+    dict of str to float
+        Parameter name -> SI value (spec order, then new names of the options).
+
+    Raises
+    ------
+    InsErrorsError
+        One line: an unknown name, a value without or in the wrong unit, a negative gain.
+    """
+    from ins_errors.model_parameters import parse_parameter_options, parse_parameters
+
+    where = f"{Path(spec.path).name} [parameters]" if spec.path else "[parameters]"
+    values = parse_parameters(model, spec.parameters, where, numbers_are_si=False)
+    values.update(parse_parameter_options(model, options))
+    return values
 
 
 def load_spec(path: str | Path) -> Spec:

@@ -24,7 +24,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
                         help="model parameter with unit, as for 'ins-errors compare', e.g. "
                              "strapdown_ned's k_h1=0.0047/s (repeatable; used by the "
-                             "covariance and the Monte Carlo runs)")
+                             "covariance and the Monte Carlo runs; overrides the spec's "
+                             "[parameters])")
     parser.add_argument("--plot", metavar="PNG", help="write a stacked contribution plot")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--fill", action="store_true",
@@ -57,9 +58,9 @@ def run(args: argparse.Namespace) -> int:
 
     from ins_errors.analysis import budget as bd
     from ins_errors.analysis import budget_report as rep
-    from ins_errors.model_parameters import parse_parameter_options
+    from ins_errors.model_parameters import parameters_record
     from ins_errors.numeric.model import load_model
-    from ins_errors.specs import SpecError, default_spec_path, load_spec
+    from ins_errors.specs import SpecError, default_spec_path, load_spec, spec_parameters
 
     if args.schema:
         from ins_errors.spec_schema import json_schema
@@ -80,11 +81,12 @@ def run(args: argparse.Namespace) -> int:
         if target:
             check_file(target)
     model = load_model(args.model)
-    p = model.parameter_vector(**parse_parameter_options(model, args.parameter))
     path = args.spec or default_spec_path()
     if args.spec is None and not path.exists():
         raise SpecError("no --spec given and the built-in 802m spec is missing")
     spec = load_spec(path)
+    parameters = spec_parameters(spec, model, args.parameter)
+    p = model.parameter_vector(**parameters)
     if args.fill:
         spec = replace(spec, fill=True)
     from ins_errors.progress import stage
@@ -93,6 +95,7 @@ def run(args: argparse.Namespace) -> int:
         unit = bd.unit_budget(model, spec, p=p)
         allocation = bd.allocate(unit)
     data = rep.report(allocation)
+    data["parameters"] = parameters_record(model, parameters)
     if args.plot:
         rep.plot(allocation, args.plot)
     if args.monte_carlo:

@@ -108,7 +108,7 @@ def parse_ratio(text: str, what: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import InsErrorsError
-    from ins_errors.model_parameters import parse_parameter_options
+    from ins_errors.model_parameters import parameters_record, parse_parameter_options
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.compare import compare, markdown_summary, markdown_table
     from ins_errors.numeric.integrators import step_count
@@ -190,6 +190,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         json.dump({"model": model.name, "motion": profile.description, "duration_s": duration,
                    "step_s": tau, "record_s": record, "method": args.method,
+                   "parameters": parameters_record(model, parameters),
                    "cases": [c.to_dict() for c in comparisons]}, sys.stdout, indent=2)
         print()
     else:
