@@ -199,6 +199,15 @@ def _split(times: np.ndarray, steps: np.ndarray, split: np.ndarray,
             np.concatenate([steps, np.array(new_steps, dtype=steps.dtype)])[order])
 
 
+def named_columns(model: Model) -> tuple[list[str], list[list[int]]]:
+    """Names of a truth chunk's columns (the model's states, then its inputs) and, for
+    each column, the columns of the same unit (the scale an interpolation error is judged
+    against)."""
+    names = [s.name for s in model.states] + [i.name for i in model.inputs]
+    units = [s.unit for s in model.states] + [i.unit for i in model.inputs]
+    return names, [[k for k, other in enumerate(units) if other == unit] for unit in units]
+
+
 def chosen_truth(truth: str, breaks: Sequence[float] | None, n_steps: int, tau: float,
                  what: str) -> str:
     """Resolve a requested truth to ``"fine"`` or ``"interpolated"``.
@@ -455,10 +464,7 @@ class InterpolatedTruth:
         self.n, self.nu = len(model.states), len(model.inputs)
         self.plan = plan(self.n_steps, self.tau, profile.breaks)
         self.error_estimate = np.zeros(self.n + self.nu)
-        self.names = [s.name for s in model.states] + [i.name for i in model.inputs]
-        units = [s.unit for s in model.states] + [i.unit for i in model.inputs]
-        self._same_unit = [[k for k, other in enumerate(units) if other == unit]
-                           for unit in units]
+        self.names, self._same_unit = named_columns(model)
         self._warned = False
         self.worst = 0.0
 

@@ -187,10 +187,7 @@ class InterpolatedFlight(it.InterpolatedTruth):
         self.n, self.nu = len(model.states), len(model.inputs)
         self.plan = it.plan(self.n_steps, self.tau, flight.breaks)
         self.error_estimate = np.zeros(self.n + self.nu)
-        self.names = [s.name for s in model.states] + [i.name for i in model.inputs]
-        units = [s.unit for s in model.states] + [i.unit for i in model.inputs]
-        self._same_unit = [[k for k, other in enumerate(units) if other == unit]
-                           for unit in units]
+        self.names, self._same_unit = it.named_columns(model)
         self._warned = False
         self.worst = 0.0
 
