@@ -245,6 +245,14 @@ def _row(figure: str, measured: str, goal: str, ok: bool | None) -> None:
     print(f"  {figure:<50} {measured:<36} {goal:<28} {mark}".rstrip())
 
 
+def _moving_rows(label: str, x: dict, scale: float, truth: str) -> None:
+    """Rows of a day-long moving run: CPU against the goal, peak memory, the truth's share."""
+    _row(f"{label} truth+direct+linear", f"{x['cpu']:.2f} s CPU ({x['wall']:.1f} s wall)",
+         f"<= {2.0 * scale:.3g} s CPU", x["cpu"] <= 2.0 * scale)
+    _row("  peak memory", f"{x['peak']:.0f} MB", "<= 300 MB", x["peak"] <= 300)
+    _row(f"  of which {truth}", f"{x['truth']:.2f} s CPU", "", None)
+
+
 def _week_rows(label: str, x: dict, quick: bool) -> None:
     """Rows of a week-long flight: that it ran, and its memory growth vs its output."""
     growth = x["peak"] - x["base"]
@@ -274,23 +282,13 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
     for name, label in (("great-circle", "great-circle"), ("manoeuvre", "manoeuvre")):
         if failed(name):
             continue
-        x = r[name]
-        _row(f"{hours:g} h {label} at 100 Hz, truth+direct+linear",
-             f"{x['cpu']:.2f} s CPU ({x['wall']:.1f} s wall)", f"<= {2.0 * scale:.3g} s CPU",
-             x["cpu"] <= 2.0 * scale)
-        _row("  peak memory", f"{x['peak']:.0f} MB", "<= 300 MB", x["peak"] <= 300)
-        _row("  of which the true motion (its inputs alone)", f"{x['truth']:.2f} s CPU", "",
-             None)
+        _moving_rows(f"{hours:g} h {label} at 100 Hz,", r[name], scale,
+                     "the true motion (its inputs alone)")
     for name, label in (("strapdown-great-circle", "great circle"),
                         ("strapdown-manoeuvre", "manoeuvre"), ("strapdown-static", "static")):
         if failed(name):
             continue
-        x = r[name]
-        _row(f"strapdown {hours:g} h {label}, truth+direct+linear",
-             f"{x['cpu']:.2f} s CPU ({x['wall']:.1f} s wall)", f"<= {2.0 * scale:.3g} s CPU",
-             x["cpu"] <= 2.0 * scale)
-        _row("  peak memory", f"{x['peak']:.0f} MB", "<= 300 MB", x["peak"] <= 300)
-        _row("  of which the true IMU signals", f"{x['truth']:.2f} s CPU", "", None)
+        _moving_rows(f"strapdown {hours:g} h {label},", r[name], scale, "the true IMU signals")
     if not failed("strapdown-week"):
         _week_rows("strapdown ", r["strapdown-week"], quick)
     if not failed("week"):
