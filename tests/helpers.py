@@ -67,3 +67,26 @@ def source_steps(model: ins_errors.Model) -> np.ndarray:
     """Finite-difference step per error source, by its SI unit."""
     scale = {"rad": 1e-6, "rad/s": 1e-9, "m/s**2": 1e-6, "m/s": 1e-3, "1": 1e-6}
     return np.array([scale[s.unit] for s in model.sources])
+
+
+def joined_chunks(trajectory, size: int = 20_000):
+    """A streamed trajectory's chunks of ``size`` steps joined: states, inputs, midpoints."""
+    chunks = list(trajectory.chunks(size))
+    truth = np.hstack([chunks[0].truth[:, :1]] + [c.truth[:, 1:] for c in chunks])
+    inputs = np.hstack([chunks[0].inputs[:, :1]] + [c.inputs[:, 1:] for c in chunks])
+    midpoints = np.hstack([c.midpoints for c in chunks])
+    return truth, inputs, midpoints
+
+
+def assert_chunks_join_into(streamed, stored, sizes) -> None:
+    """A streamed trajectory's chunks, for every chunk size in ``sizes``, join into the
+    stored trajectory of the same motion bit for bit: start, states, inputs, midpoints."""
+    assert np.array_equal(streamed.start_state, stored.truth[:, 0])
+    assert np.array_equal(streamed.start_inputs, stored.inputs[:, 0])
+    for size in sizes:
+        chunks = list(streamed.chunks(size))
+        assert chunks[0].start == 0 and sum(c.size for c in chunks) == stored.n_steps
+        truth, inputs, midpoints = joined_chunks(streamed, size)
+        assert np.array_equal(truth, stored.truth)
+        assert np.array_equal(inputs, stored.inputs)
+        assert np.array_equal(midpoints, stored.midpoints)

@@ -18,6 +18,7 @@ from ins_errors.errors import DomainError, InsErrorsError
 from ins_errors.numeric import interpolated_truth as it
 from ins_errors.numeric import trajectories as tr
 from ins_errors.numeric.simulate import simulate
+from tests.helpers import assert_chunks_join_into, joined_chunks
 
 DEG = np.pi / 180.0
 # leg joins at 300 s, 423.456 s (off the step grid), 723.456 s; ramps of 1.875x mean rate
@@ -31,14 +32,6 @@ def _both(model, profile, duration, tau):
     fine = tr.trajectory(model, profile, duration, tau, stream=True, truth="fine")
     fast = tr.trajectory(model, profile, duration, tau, stream=True, truth="interpolated")
     return fine, fast
-
-
-def _joined(traj, size=20000):
-    chunks = list(traj.chunks(size))
-    truth = np.hstack([chunks[0].truth[:, :1]] + [c.truth[:, 1:] for c in chunks])
-    inputs = np.hstack([chunks[0].inputs[:, :1]] + [c.inputs[:, 1:] for c in chunks])
-    midpoints = np.hstack([c.midpoints for c in chunks])
-    return truth, inputs, midpoints
 
 
 @pytest.fixture(scope="module")
@@ -79,8 +72,8 @@ def test_states_and_inputs_match_the_fine_truth(orthodromic, motion, request):
     """At every 100 Hz step and midpoint, across the leg joins (one off the grid)."""
     fine, fast = request.getfixturevalue(motion)
     assert isinstance(fast.source, it.InterpolatedTruth)
-    x_f, u_f, m_f = _joined(fine)
-    x_i, u_i, m_i = _joined(fast)
+    x_f, u_f, m_f = joined_chunks(fine)
+    x_i, u_i, m_i = joined_chunks(fast)
     # relative to the size of the quantities of the same unit over the run (inputs:
     # accelerations, V_zeta, h; states: direction cosines, velocities); measured: inputs
     # 1e-15 (cruise, sampled) and 2e-12 (manoeuvre), states 2e-14, 2e-13 and 4e-10 (the
@@ -147,17 +140,8 @@ def test_chunks_do_not_change_the_numbers(orthodromic):
     stored = tr.trajectory(orthodromic, profile, 1500.0, 0.1, stream=False)
     streamed = tr.trajectory(orthodromic, profile, 1500.0, 0.1, stream=True)
     assert isinstance(streamed.source, it.InterpolatedTruth)
-    assert np.array_equal(streamed.start_state, stored.truth[:, 0])
-    assert np.array_equal(streamed.start_inputs, stored.inputs[:, 0])
-    for size in (7, 250, 5000, 15000):  # blocks of 12800 steps: every boundary crossed
-        chunks = list(streamed.chunks(size))
-        assert sum(c.size for c in chunks) == stored.n_steps
-        truth = np.hstack([chunks[0].truth[:, :1]] + [c.truth[:, 1:] for c in chunks])
-        inputs = np.hstack([chunks[0].inputs[:, :1]] + [c.inputs[:, 1:] for c in chunks])
-        midpoints = np.hstack([c.midpoints for c in chunks])
-        assert np.array_equal(truth, stored.truth)
-        assert np.array_equal(inputs, stored.inputs)
-        assert np.array_equal(midpoints, stored.midpoints)
+    # blocks of 12800 steps: every boundary crossed
+    assert_chunks_join_into(streamed, stored, (7, 250, 5000, 15000))
     a = simulate(orthodromic, stored, SOURCES, method="rk4", record_interval=10.0)
     b = simulate(orthodromic, streamed, SOURCES, method="rk4", record_interval=10.0)
     for part in ("ideal", "real", "linear", "refined"):
@@ -216,8 +200,8 @@ def test_fast_motions_get_shorter_intervals(orthodromic, motion):
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no warning: the intervals resolve the motion
         fine, fast = _both(orthodromic, profile, 80.0, 0.01)
-        _, u_f, m_f = _joined(fine)
-        _, u_i, m_i = _joined(fast)
+        _, u_f, m_f = joined_chunks(fine)
+        _, u_i, m_i = joined_chunks(fast)
     blocks = list(fast.source._blocks())
     assert sum(len(b.nodes) for b in blocks) > 2 * len(fast.source.plan.start)  # refined
     units = [i.unit for i in orthodromic.inputs]

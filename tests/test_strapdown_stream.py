@@ -20,6 +20,7 @@ from ins_errors.numeric import strapdown_stream as ss
 from ins_errors.numeric import strapdown_truth as st
 from ins_errors.numeric import trajectories as tr
 from ins_errors.numeric.simulate import simulate
+from tests.helpers import joined_chunks
 
 DEG = np.pi / 180.0
 SOURCES = {"gyro_bias_x": 0.01 * DEG / 3600, "accel_bias_y": 5e-5,
@@ -55,14 +56,6 @@ def pairs(model):
             for name, flight in FLIGHTS.items()}
 
 
-def _joined(traj, size=25_000):
-    chunks = list(traj.chunks(size))
-    truth = np.hstack([chunks[0].truth[:, :1]] + [c.truth[:, 1:] for c in chunks])
-    inputs = np.hstack([chunks[0].inputs[:, :1]] + [c.inputs[:, 1:] for c in chunks])
-    midpoints = np.hstack([c.midpoints for c in chunks])
-    return truth, inputs, midpoints
-
-
 def _unit_sizes(values, units):
     """Largest magnitude over the run of the quantities sharing each row's unit."""
     size = np.abs(values).max(axis=1)
@@ -90,7 +83,7 @@ def test_fine_truth_streamed_is_the_stored_truth_bit_for_bit(model):
         assert np.array_equal(got, want)
     streamed = st.trajectory(model, flight, duration, tau, truth="fine", stream=True)
     assert streamed.is_streamed
-    for got, want in zip(_joined(streamed, 777), (truth, inputs, midpoints), strict=True):
+    for got, want in zip(joined_chunks(streamed, 777), (truth, inputs, midpoints), strict=True):
         assert np.array_equal(got, want)
 
 
@@ -109,8 +102,8 @@ def test_interpolated_states_and_inputs_match_the_fine_truth(model, pairs, name)
     """At every 100 Hz step and midpoint, across leg joins on and off the step grid."""
     fine, fast = pairs[name]
     assert isinstance(fast.source, ss.InterpolatedFlight)
-    x_f, u_f, m_f = _joined(fine)
-    x_i, u_i, m_i = _joined(fast)
+    x_f, u_f, m_f = joined_chunks(fine)
+    x_i, u_i, m_i = joined_chunks(fast)
     state_units = [s.unit for s in model.states]
     input_units = [i.unit for i in model.inputs]
     states, inputs = TOLERANCES[name]
@@ -170,7 +163,7 @@ def test_interpolated_position_follows_an_exact_integration(model, pairs):
                       atol=1e-16 * np.array([1, 1, 1e7, 1]), max_step=1.0).y[:, -1]
         exact[b] = y
     truth = pairs["profile"][1]
-    x = _joined(truth)[0]
+    x = joined_chunks(truth)[0]
     for t in checks:
         lat, lon, h = x[7:, round(t / 0.01)]
         metres = np.array([(lat - exact[t][0]) * 6.4e6,
@@ -185,7 +178,7 @@ def test_interpolated_chunks_do_not_change_the_numbers(model):
     stored = st.trajectory(model, flight, 1000.0, 0.01, stream=False)
     assert isinstance(stored.source, ss.InterpolatedFlight)  # "auto" chose it
     streamed = st.trajectory(model, flight, 1000.0, 0.01, stream=True)
-    for got, want in zip(_joined(streamed, 3333), (stored.truth, stored.inputs,
+    for got, want in zip(joined_chunks(streamed, 3333), (stored.truth, stored.inputs,
                                                    stored.midpoints), strict=True):
         assert np.array_equal(got, want)
     week = st.trajectory(model, flight, 7 * 86400.0, 0.01)

@@ -15,6 +15,7 @@ import pytest
 from ins_errors.numeric import simulate as simulate_module
 from ins_errors.numeric import trajectories as tr
 from ins_errors.numeric.simulate import simulate
+from tests.helpers import assert_chunks_join_into
 
 DEG = np.pi / 180.0
 LEGS = [tr.Leg(100.0, 280.0, 60 * DEG, 2500.0), tr.Leg(150.0, 200.0, -90 * DEG, 500.0)]
@@ -32,17 +33,7 @@ def motions(orthodromic):
 def test_chunks_join_into_the_stored_truth(motions):
     stored, streamed = motions
     assert not stored.is_streamed and streamed.is_streamed
-    assert np.array_equal(streamed.start_state, stored.truth[:, 0])
-    assert np.array_equal(streamed.start_inputs, stored.inputs[:, 0])
-    for size in (7, 250, 5000):
-        chunks = list(streamed.chunks(size))
-        assert chunks[0].start == 0 and sum(c.size for c in chunks) == stored.n_steps
-        truth = np.hstack([chunks[0].truth[:, :1]] + [c.truth[:, 1:] for c in chunks])
-        inputs = np.hstack([chunks[0].inputs[:, :1]] + [c.inputs[:, 1:] for c in chunks])
-        midpoints = np.hstack([c.midpoints for c in chunks])
-        assert np.array_equal(truth, stored.truth)
-        assert np.array_equal(inputs, stored.inputs)
-        assert np.array_equal(midpoints, stored.midpoints)
+    assert_chunks_join_into(streamed, stored, (7, 250, 5000))
 
 
 @pytest.mark.parametrize("method", ["euler", "rk4"])
