@@ -79,10 +79,10 @@ def test_summary_and_plots(tmp_path, result):
 
 
 def test_plots_drawn_in_one_figure_equal_fresh_figures(tmp_path, result):
-    """The sources share one reused figure (curves, ranges, title and tight layout
-    redone per source): the second file must be byte for byte that source drawn alone,
-    after a first source whose flat curves fixed the panels' ranges (the first file is
-    drawn as a lone source is)."""
+    """The sources share one reused figure (curves, ranges and title redone per
+    source): the second file must be byte for byte that source drawn alone, after a
+    first source whose flat curves fixed the panels' ranges (the first file is drawn as
+    a lone source is)."""
     from ins_errors.output import OutputFolder
     from ins_errors.studies.propagation import plot
 
@@ -91,6 +91,39 @@ def test_plots_drawn_in_one_figure_equal_fresh_figures(tmp_path, result):
     alone = plot(result, OutputFolder(tmp_path / "alone"), names[1:])[0]
     assert together[1].read_bytes() == alone.read_bytes()
     assert together[0].read_bytes() != alone.read_bytes()
+
+
+def test_plots_equal_the_shared_time_axis_drawing_and_fit_the_figure(tmp_path, result,
+                                                                     monkeypatch):
+    """The panels share their time range by construction, not through matplotlib's
+    sharex (which lays out every sibling's tick labels again for each panel): the file
+    must be byte for byte the same figure built with ``sharex=True``. The fixed margins
+    must hold every label: nothing drawn may stick out of the figure (the source with
+    the widest tick labels, -0.025 and 0.000)."""
+    import matplotlib.pyplot as plt
+
+    from ins_errors.output import OutputFolder
+    from ins_errors.studies.propagation import plot
+
+    source = ["initial_velocity_error_north"]
+    outside = []
+
+    def save(self, fig, name, **options):
+        renderer = fig.canvas.get_renderer()
+        box = fig.get_tightbbox(renderer).transformed(fig.dpi_scale_trans.inverted())
+        width, height = fig.get_size_inches()
+        outside.append((box.x0 < 0, box.y0 < 0, box.x1 > width, box.y1 > height))
+        return save_figure(self, fig, name, **options)
+
+    save_figure = OutputFolder.save_figure
+    monkeypatch.setattr(OutputFolder, "save_figure", save)
+    ours = plot(result, OutputFolder(tmp_path / "ours"), source)[0]
+    assert outside == [(False, False, False, False)]
+    monkeypatch.setattr(OutputFolder, "save_figure", save_figure)
+    subplots = plt.subplots
+    monkeypatch.setattr(plt, "subplots", lambda *a, **k: subplots(*a, **k, sharex=True))
+    shared = plot(result, OutputFolder(tmp_path / "shared"), source)[0]
+    assert ours.read_bytes() == shared.read_bytes()
 
 
 def test_bad_experiments_give_one_line_errors():

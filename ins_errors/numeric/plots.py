@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
+from ins_errors.figure_layout import common_time_range, share_time_axis
 from ins_errors.numeric.compare import Comparison
 from ins_errors.output import save_figure
 
@@ -134,9 +135,7 @@ class _ComparisonFigure:
         # and draw: ~20 % of the figure's time with 20 panels); as sharex would, only the
         # bottom row labels the time ticks
         fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.5), squeeze=False)
-        for ax in axes[:-1].flat:
-            ax.xaxis.set_tick_params(which="both", labelbottom=False)
-            ax.xaxis.offsetText.set_visible(False)
+        share_time_axis(axes)
         self.fig, self.axes, self.lines = fig, axes, []
         for (curves, residuals), q in zip(axes, quantities, strict=True):
             scale, unit = _scale(comparison.metric(q).unit)
@@ -188,7 +187,5 @@ class _ComparisonFigure:
             ax.autoscale_view()
         # one time range for all panels, as a shared axis would give (a panel whose curve
         # is cut short by NaNs still spans the whole run)
-        lows, highs = zip(*(ax.get_xlim() for ax in self.axes.flat), strict=True)
-        for ax in self.axes.flat:
-            ax.set_xlim(min(lows), max(highs), auto=None)
+        common_time_range(self.axes.flat)
         self.title.set_text(title)

@@ -337,6 +337,7 @@ def plot(result: PropagationResult, folder: OutputFolder,
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ins_errors.figure_layout import common_time_range, fixed_margins, share_time_axis
     from ins_errors.units import format_quantity
 
     model = load_model("north_pointing")
@@ -350,7 +351,12 @@ def plot(result: PropagationResult, folder: OutputFolder,
               {"color": "C1", "lw": 1.2, "label": "linear numeric"},
               {"color": "k", "lw": 0.8, "ls": "--", "label": "analytic (full)"},
               {"color": "C3", "lw": 0.8, "ls": ":", "label": "analytic (report's reduced)"})
-    fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13), sharex=True)
+    # no sharex and no tight_layout: both redo every panel's ticks several times a
+    # draw (see figure_layout); the same times give the same range, fixed margins fit
+    # the labels
+    fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13))
+    share_time_axis(axes)
+    fixed_margins(fig, left=1.0, right=0.2, bottom=0.6, top=0.62, hspace=0.38)
     try:
         lines = []
         for ax, (_, short, unit, label) in zip(axes, QUANTITIES, strict=True):
@@ -372,14 +378,11 @@ def plot(result: PropagationResult, folder: OutputFolder,
                 ax.relim()
                 ax.autoscale_view()
                 _honest_range(ax, shown)
+            common_time_range(axes)
             info = model.source(c.source)
             magnitude = format_quantity(c.magnitude, info.unit, info.display_unit or info.unit)
             title.set_text(f"north_pointing, {c.source} = {magnitude}, φ = "
                            f"{np.degrees(result.experiment.latitude):.4g}°")
-            # tight_layout starts from the current margins: start where a new figure does
-            fig.subplots_adjust(**{k: matplotlib.rcParams[f"figure.subplot.{k}"] for k in
-                                   ("left", "right", "bottom", "top", "wspace", "hspace")})
-            fig.tight_layout()
             paths.append(folder.save_figure(fig, f"{c.source}.png", dpi=90, close=False))
     finally:
         plt.close(fig)

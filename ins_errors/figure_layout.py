@@ -1,0 +1,74 @@
+"""Cheap layout for figures of stacked panels: fixed margins and one time axis.
+
+Two matplotlib conveniences cost most of a many-panel figure's drawing time:
+
+* ``tight_layout`` measures every tick label of every panel (about one extra draw of the
+  figure) to choose the margins; margins fixed in inches, wide enough for the labels
+  these figures have, give the same picture without the measuring pass;
+* ``sharex=True`` makes every panel visit all its siblings on each limit update and each
+  draw (the tick labels of every sibling are laid out again for each panel). Panels that
+  plot against the same times get the same range by construction; :func:`share_time_axis`
+  then hides the inner time labels as ``sharex`` would.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+
+def fixed_margins(fig, left: float, right: float, bottom: float, top: float,
+                  wspace: float = 0.0, hspace: float = 0.0) -> None:
+    """Place the panels with margins and gaps given in inches.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure (its size is read now: set it first).
+    left, right, bottom, top : float
+        Distance of the panel grid from each figure edge, in inches.
+    wspace, hspace : float
+        Gap between two columns / two rows of panels, in inches.
+    """
+    width, height = fig.get_size_inches()
+    columns, rows = _grid_shape(fig)
+    panel_width = (width - left - right - (columns - 1) * wspace) / columns
+    panel_height = (height - bottom - top - (rows - 1) * hspace) / rows
+    fig.subplots_adjust(left=left / width, right=1 - right / width, bottom=bottom / height,
+                        top=1 - top / height, wspace=wspace / panel_width,
+                        hspace=hspace / panel_height)
+
+
+def _grid_shape(fig) -> tuple[int, int]:
+    for ax in fig.axes:
+        spec = ax.get_subplotspec()
+        if spec is not None:
+            rows, columns = spec.get_gridspec().get_geometry()
+            return columns, rows
+    return 1, 1
+
+
+def share_time_axis(axes) -> None:
+    """Hide the time tick labels of every panel but those of the bottom row.
+
+    Parameters
+    ----------
+    axes : numpy.ndarray of matplotlib.axes.Axes, shape (rows,) or (rows, columns)
+        The panels, as ``plt.subplots`` returns them.
+
+    Notes
+    -----
+    Call :func:`common_time_range` after the curves are in, so that every panel spans
+    the same times (a panel whose curve ends early in NaNs included).
+    """
+    grid = axes.reshape(len(axes), -1)
+    for ax in grid[:-1].flat:
+        ax.xaxis.set_tick_params(which="both", labelbottom=False)
+        ax.xaxis.offsetText.set_visible(False)
+
+
+def common_time_range(axes: Iterable) -> None:
+    """Give every panel the union of their autoscaled time ranges, as ``sharex`` would."""
+    axes = list(axes)
+    lows, highs = zip(*(ax.get_xlim() for ax in axes), strict=True)
+    for ax in axes:
+        ax.set_xlim(min(lows), max(highs), auto=None)
