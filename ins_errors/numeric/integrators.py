@@ -231,20 +231,37 @@ def exact_discretisation(F: np.ndarray, G: np.ndarray, tau: float) -> tuple[np.n
 # CasADi schemes
 # --------------------------------------------------------------------------------------
 def casadi_step(rhs: Callable, method: Method, z: ca.SX, u_stream: ca.SX, q: ca.SX,
-                tau: ca.SX | float) -> ca.SX:
+                tau: ca.SX | float, rotations: Sequence[tuple[int, int, int]] = ()) -> ca.SX:
     """Symbolic one-step map of ``rhs(z, u, q)`` (a casadi.Function or a callable).
 
     ``u_stream`` is ``u[k]`` for Euler and ``vertcat(u[k], u[k+1/2], u[k+1])`` for RK4.
+    ``rotations`` lists ``(angle, sine, cosine)`` indices of ``z`` whose sine and cosine
+    components are carried (:mod:`ins_errors.numeric.carried_trig`): wherever the scheme
+    moves ``z`` on by an increment, those two components are rotated through the angle's
+    increment instead (what ``rhs`` returns for them is not used).
     """
     if method == "euler":
-        return z + tau * rhs(z, u_stream, q)
+        return _moved(z, tau * rhs(z, u_stream, q), rotations)
     nu = u_stream.shape[0] // 3
     u0, uh, u1 = u_stream[:nu], u_stream[nu:2 * nu], u_stream[2 * nu:]
     k1 = rhs(z, u0, q)
-    k2 = rhs(z + 0.5 * tau * k1, uh, q)
-    k3 = rhs(z + 0.5 * tau * k2, uh, q)
-    k4 = rhs(z + tau * k3, u1, q)
-    return z + tau / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+    k2 = rhs(_moved(z, 0.5 * tau * k1, rotations), uh, q)
+    k3 = rhs(_moved(z, 0.5 * tau * k2, rotations), uh, q)
+    k4 = rhs(_moved(z, tau * k3, rotations), u1, q)
+    return _moved(z, tau / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4), rotations)
+
+
+def _moved(z: ca.SX, increment: ca.SX, rotations: Sequence[tuple[int, int, int]]) -> ca.SX:
+    """``z + increment``, the carried sines and cosines rotated by their angle's increment."""
+    moved = z + increment
+    if not rotations:
+        return moved
+    from ins_errors.numeric.carried_trig import rotate
+
+    parts = [moved[k] for k in range(moved.shape[0])]
+    for angle, sine, cosine in rotations:
+        parts[sine], parts[cosine] = rotate(z[sine], z[cosine], increment[angle])
+    return ca.vertcat(*parts)
 
 
 def input_stream(inputs: np.ndarray, midpoints: np.ndarray | None, method: Method) -> np.ndarray:
@@ -638,12 +655,16 @@ class CompiledLoop:
         Compile to C (default) or stay in the CasADi virtual machine.
     workers : int, optional
         Threads a batch is split over (default :func:`worker_count`, at most ``batch``).
+    rotations : sequence of (int, int, int), optional
+        ``(angle, sine, cosine)`` indices of state components whose sine and cosine are
+        carried with the state and rotated each step (see :func:`casadi_step`).
     """
 
     def __init__(self, rhs: ca.Function, margin: ca.Function | None, method: Method,
                  record_every: int, tau: float, p: np.ndarray,
                  constant_inputs: np.ndarray | None = None, chunk: int = 32, batch: int = 1,
-                 jit: bool = True, workers: int | None = None):
+                 jit: bool = True, workers: int | None = None,
+                 rotations: Sequence[tuple[int, int, int]] = ()):
         check_method(method)
         if record_every < 1 or chunk < 1 or batch < 1:
             raise StepError("record_every, chunk and batch must be positive integers")
@@ -671,7 +692,7 @@ class CompiledLoop:
         else:
             stream = ca.SX.sym("u", self.n_stream)
             extra_in = [stream]
-        z_next = casadi_step(f, method, z, stream, w, tau_num)
+        z_next = casadi_step(f, method, z, stream, w, tau_num, rotations)
         z_next = ca.cse(z_next)
         u_end = None
         if margin is not None:

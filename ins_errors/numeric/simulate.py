@@ -38,6 +38,7 @@ Example
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache, lru_cache
@@ -100,9 +101,16 @@ def real_rhs_name(model: Model, platform: str) -> str:
 
 
 @cache
-def _system(model_name: str, parts: tuple[str, ...],
-            platform: str = "exact") -> tuple[ca.Function, ca.Function]:
-    """``rhs(z, u, w, p)`` and ``margin(z, u, w, p)`` of ``z = [x, x̃?, e?, e₂?]``."""
+def _system(model_name: str, parts: tuple[str, ...], platform: str = "exact"
+            ) -> tuple[ca.Function, ca.Function, tuple[int, ...]]:
+    """``rhs(z, u, w, p)`` and ``margin(z, u, w, p)`` of ``z = [x, x̃?, e?, e₂?, s?, c?]``.
+
+    The third value lists the real-work states (indices into ``x̃``, platform angles)
+    whose sines ``s`` and cosines ``c`` are carried at the end of ``z`` instead of being
+    computed at every evaluation (:mod:`ins_errors.numeric.carried_trig`); empty when the
+    real run is off or its equations take no sine or cosine of a bare platform angle.
+    """
+    from ins_errors.numeric.carried_trig import with_trig_inputs
     from ins_errors.numeric.model import load_model
 
     model = load_model(model_name)
@@ -112,6 +120,13 @@ def _system(model_name: str, parts: tuple[str, ...],
     sizes = {"ideal": n, "real": ne, "linear": ne, "refined": ne}
     layout = ["ideal", *parts]
     nz = sum(sizes[k] for k in layout)
+    carried: list[int] = []
+    if "real" in parts:
+        real_fn = fn(real_rhs_name(model, platform))
+        carried = with_trig_inputs(real_fn, 0, range(n, ne))[1]   # the platform angles
+        if carried:
+            real_fn = with_trig_inputs(real_fn, 0, carried)[0]
+        nz += 2 * len(carried)
     z, u = ca.SX.sym("z", nz), ca.SX.sym("u", nu)
     w, p = ca.SX.sym("w", nw), ca.SX.sym("p", npar)
     pieces, offset = {}, 0
@@ -125,7 +140,8 @@ def _system(model_name: str, parts: tuple[str, ...],
         F, G = fn("state_matrix")(x, u, p), fn("source_matrix")(x, u, p)
     if "real" in parts:
         xr = pieces["real"]
-        rates.append(fn(real_rhs_name(model, platform))(xr, x, u, w, p))
+        trig = [z[offset:offset + len(carried)], z[offset + len(carried):]] if carried else []
+        rates.append(real_fn(xr, x, u, w, p, *trig))
         margins.append(fn("domain_margins")(xr[:n], u, p))
     if "linear" in parts:
         rates.append(F @ pieces["linear"] + G @ w)
@@ -133,9 +149,20 @@ def _system(model_name: str, parts: tuple[str, ...],
         e2 = pieces["refined"]
         second = "second_order" if platform == "exact" else "second_order_small_angle"
         rates.append(F @ e2 + G @ w + fn(second)(x, u, p, e2, w))
+    rates.append(ca.SX.zeros(2 * len(carried)))  # not used: the step rotates them
     rhs = ca.Function("system_rhs", [z, u, w, p], [ca.vertcat(*rates)])
     margin = ca.Function("system_margin", [z, u, w, p], [ca.mmin(ca.vertcat(*margins))])
-    return rhs, margin
+    return rhs, margin, tuple(carried)
+
+
+def _rotations(model: Model, parts: tuple[str, ...],
+               carried: tuple[int, ...]) -> tuple[tuple[int, int, int], ...]:
+    """``(angle, sine, cosine)`` indices into ``z`` of the carried platform angles."""
+    if not carried:
+        return ()
+    n, ne = len(model.states), len(model.error_states)
+    end = n + ne * len(parts)
+    return tuple((n + a, end + j, end + len(carried) + j) for j, a in enumerate(carried))
 
 
 @lru_cache(maxsize=32)
@@ -148,7 +175,9 @@ def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau
     Sources that are zero in every case of the batch are baked in as zeros, so the C
     compiler drops every term they multiply.
     """
-    full_rhs, full_margin = _system(model_name, parts, platform)
+    from ins_errors.numeric.model import load_model
+
+    full_rhs, full_margin, carried = _system(model_name, parts, platform)
     nz, nu, npar = full_rhs.size1_in(0), full_rhs.size1_in(1), full_rhs.size1_in(3)
     z, uu, par = ca.SX.sym("z", nz), ca.SX.sym("u", nu), ca.SX.sym("p", npar)
     w_active = ca.SX.sym("w", sum(active))
@@ -161,7 +190,8 @@ def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau
     margin = ca.Function("active_margin", [z, uu, w_active, par], [full_margin(z, uu, w, par)])
     return CompiledLoop(rhs, margin, method, stride, tau, np.array(p),
                         None if u is None else np.array(u), chunk=chunk, batch=batch, jit=jit,
-                        workers=workers)
+                        workers=workers,
+                        rotations=_rotations(load_model(model_name), parts, carried))
 
 
 # --------------------------------------------------------------------------------------
@@ -397,6 +427,10 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         blocks.append(E @ w)
     if "refined" in parts:
         blocks.append(exact0)
+    carried = _system(model.key, parts, platform)[2]
+    if carried:   # sines, then cosines of the platform angles (the C library's, as before)
+        angles = xr0[list(carried)]
+        blocks += [np.vectorize(math.sin)(angles), np.vectorize(math.cos)(angles)]
     z0 = np.vstack(blocks)
     u_const = tuple(u0) if trajectory.constant else None
     active = np.any(w != 0, axis=1)
