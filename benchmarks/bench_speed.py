@@ -299,7 +299,7 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
              f"<= {0.25 * scale:.3g} s CPU", x["cpu"] <= 0.25 * scale)
     if not failed("static-small-angle"):
         x = r["static-small-angle"]
-        _row("  the same, small-angle platform (no trigonometry)",
+        _row("  the same, small-angle platform (no rotation matrix)",
              f"{x['cpu']:.3f} s CPU", "", None)
     if not failed("batch-serial") and not failed("batch-threads"):
         s, t = r["batch-serial"], r["batch-threads"]
