@@ -452,9 +452,13 @@ class StaticAnalysis:
     modes: list[Mode]
     responses: dict[str, sp.Matrix]
     parametrisation: Parametrisation
-    _inverse: DomainMatrix = field(repr=False)
+    _inverse_parts: _FractionFreeInverse = field(repr=False)
     _determinant: object = field(repr=False)
     _laplace: dict[str, list] = field(repr=False)
+
+    @functools.cached_property
+    def _inverse(self) -> DomainMatrix:
+        return self._inverse_parts.inverse()
 
     @functools.cached_property
     def resolvent(self) -> sp.Matrix:
@@ -479,6 +483,44 @@ class StaticAnalysis:
         expr = trees.xreplace(expr, {m.symbol: sp.sqrt(m.squared) for m in self.modes
                                      if m.symbol is not None and m.name.startswith("mode ")})
         return self.parametrisation.to_model(expr, trees)
+
+
+class _FractionFreeInverse:
+    """A⁻¹ of a square matrix over a field of rational functions, fraction-free.
+
+    A = A_num / d with A_num over the polynomial ring, and A_num adj = Δ I
+    (``DomainMatrix.inv_den``: fraction-free elimination, no polynomial gcd per step),
+    so A⁻¹ = d adj / Δ and A⁻¹ B = d (adj B_num) / (Δ d_B). Each entry is then one
+    element of the field, which keeps its elements cancelled (numerator and denominator
+    coprime, normalised): the same elements as the field's own ``inv``, in less than
+    half the time on the sparse 10×10 and 11×11 static-base matrices.
+    """
+
+    def __init__(self, A: DomainMatrix) -> None:
+        self.field = A.domain
+        scale, numerators = A.to_dense().clear_denoms(convert=True)
+        self.ring = numerators.domain
+        self.scale = scale.element
+        self.adjugate, self.denominator = numerators.to_sparse().inv_den()
+
+    def _element(self, numerator, denominator):
+        convert = self.field.convert_from
+        return convert(numerator, self.ring) / convert(denominator, self.ring)
+
+    def times(self, B: DomainMatrix) -> list[list]:
+        """Entries of A⁻¹ B (``B`` over the same field), as a list of rows."""
+        scale, numerators = B.to_dense().clear_denoms(convert=True)
+        product = (self.adjugate * numerators.convert_to(self.ring).to_sparse()
+                   ).to_dense().rep.to_ddm()
+        denominator = self.denominator * scale.element
+        return [[self._element(entry * self.scale, denominator) for entry in row]
+                for row in product]
+
+    def inverse(self) -> DomainMatrix:
+        """A⁻¹ over the field."""
+        n = self.adjugate.shape[0]
+        return DomainMatrix(self.times(DomainMatrix.eye(n, self.field).to_dense()),
+                            (n, n), self.field)
 
 
 def factor_product(expr: sp.Expr) -> sp.Expr:
@@ -593,10 +635,8 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
                                       for f in parametrisation.frequencies))) - {s},
                      key=sp.default_sort_key)
     outer = sp.QQ.frac_field(s, *symbols)
-    # sparse elimination: F is mostly zeros (the inverse is exact, so the same entries)
-    inverse = DomainMatrix.from_list_sympy(Fp.rows, Fp.cols,
-                                           (s * sp.eye(Fp.rows) - Fp).tolist()).convert_to(
-        outer).to_sparse().inv()
+    inverse = _FractionFreeInverse(DomainMatrix.from_list_sympy(
+        Fp.rows, Fp.cols, (s * sp.eye(Fp.rows) - Fp).tolist()).convert_to(outer))
     characteristic = characteristic_polynomial(Fp, s)
     determinant = outer.from_sympy(sp.expand(characteristic))
     modes = split_modes(characteristic, parametrisation.frequencies, s)
@@ -605,7 +645,7 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
         poles.append(Mode("integrator", None, sp.S.Zero, 0))
     inner = sp.QQ.frac_field(*symbols) if symbols else sp.QQ
     Bd = DomainMatrix.from_list_sympy(B.rows, B.cols, B.tolist()).convert_to(outer)
-    Xd = (inverse * Bd).to_dense().rep.to_ddm()
+    Xd = inverse.times(Bd)
     s_elem = outer.from_sympy(s)
     table = _PoleTable(poles, inner)
     if tidy is sp.factor:  # the same result, faster on these coefficients
