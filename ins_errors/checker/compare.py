@@ -235,14 +235,12 @@ def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol], trusted: bool = False
     """
     if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         raise UnresolvedError(None, "a term is not finite (division by zero?)")
-    present = [b for b in basis if b in expr.free_symbols]
+    free = expr.free_symbols
+    present = [b for b in basis if b in free]
     zero = {b: sp.S.Zero for b in present}
     coefficients = {}
     if trusted:  # linear by construction (the model's variation): substitute, no diff
-        constant = expr.xreplace(zero)
-        for b in present:
-            coefficients[b] = expr.xreplace({**zero, b: sp.S.One}) - constant
-        return coefficients, constant
+        return _split_by_substitution(expr, present)
     for b in present:
         derivative = sp.diff(expr, b)
         if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in present):
@@ -250,6 +248,61 @@ def _linear_parts(expr: sp.Expr, basis: list[sp.Symbol], trusted: bool = False
                                    "error equations must be linear in the errors")
         coefficients[b] = derivative.xreplace(zero)
     return coefficients, expr.xreplace(zero)
+
+
+def _split_by_substitution(expr: sp.Expr, present: list[sp.Symbol]
+                           ) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
+    """Coefficients and constant part of a linear ``expr`` by substitution.
+
+    The same expressions as ``expr.xreplace(zero)`` and ``expr.xreplace({**zero, b: 1})
+    - constant`` (``zero``: every quantity of ``present`` set to 0), built the way
+    :meth:`sympy.Basic.xreplace` builds them, but each distinct subtree is visited once
+    per substitution and the subtrees without ``b`` reuse the constant part's result:
+    the model's variations share most of their subtrees.
+    """
+    keys = set(present)
+    inside: dict[int, frozenset] = {}  # id(node) -> quantities of ``present`` in it
+
+    def scan(node) -> frozenset:
+        found = inside.get(id(node))
+        if found is None:
+            if node in keys:
+                found = frozenset((node,))
+            else:
+                found = frozenset().union(*(scan(a) for a in node.args
+                                            if getattr(a, "_xreplace", None) is not None))
+            inside[id(node)] = found
+        return found
+
+    scan(expr)
+    zero = {b: sp.S.Zero for b in present}
+
+    def replace(node, rule: dict, wanted, memo: dict, fallback):
+        """``node.xreplace(rule)`` for the nodes holding ``wanted`` (see above)."""
+        if node in rule:
+            return rule[node]
+        held = inside[id(node)]
+        if not held or (wanted is not None and wanted not in held):
+            return fallback(node)
+        done = memo.get(id(node))
+        if done is None:
+            args = tuple(replace(a, rule, wanted, memo, fallback)
+                         if getattr(a, "_xreplace", None) is not None else a
+                         for a in node.args)
+            done = node.func(*args)  # held is not empty: something was replaced
+            memo[id(node)] = done
+        return done
+
+    constants: dict[int, sp.Expr] = {}
+
+    def constant_of(node):
+        return replace(node, zero, None, constants, lambda n: n)
+
+    constant = constant_of(expr)
+    coefficients = {}
+    for b in present:
+        coefficients[b] = replace(expr, {**zero, b: sp.S.One}, b, {}, constant_of) - constant
+    return coefficients, constant
 
 
 def _display(expr: sp.Expr, limit: int = 200) -> str:
@@ -319,7 +372,8 @@ class Comparison:
                                   and e.free_symbols <= known))
         if not todo:
             return
-        function = sp.lambdify(self.arguments, todo, modules="numpy", cse=True)
+        function = sp.lambdify(self.arguments, todo, modules="numpy", cse=True,
+                                 docstring_limit=0)
         with np.errstate(all="ignore"):
             values = function(*self.arrays)
         for expr, value in zip(todo, values, strict=True):
@@ -335,7 +389,8 @@ class Comparison:
                 name = sorted(stray, key=sp.default_sort_key)[0]
                 raise UnresolvedError(str(name), f"{name} has no value at the reference "
                                                   "points")
-            function = sp.lambdify(self.arguments, missing, modules="numpy", cse=True)
+            function = sp.lambdify(self.arguments, missing, modules="numpy", cse=True,
+                                 docstring_limit=0)
             with np.errstate(all="ignore"):
                 for e, v in zip(missing, function(*self.arrays), strict=True):
                     self._values[e] = np.broadcast_to(np.asarray(v, dtype=complex),

@@ -382,7 +382,8 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     functions = {}
     for row, (line, _, rhs) in rows.items():
         coefficients = _coefficients(row, line, hand.name, rhs, variables)
-        functions[row] = sp.lambdify(quantity_symbols, coefficients, modules="numpy")
+        functions[row] = sp.lambdify(quantity_symbols, coefficients, modules="numpy",
+                                     docstring_limit=0)
     motion_list = mx.motions(model, mx.HOURS if hours is None else hours,
                              mx.STEP if step is None else step)
     if hand.scope is not None:

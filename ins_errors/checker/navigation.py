@@ -144,7 +144,7 @@ def _intermediates(model_name: str) -> tuple[list[str], Callable]:
     d = definition(model_name)
     closed = ideal_intermediate_values(d)
     names = [s.name for s in closed]
-    fn = sp.lambdify([d.x, d.u, d.p], list(closed.values()), "numpy")
+    fn = sp.lambdify([d.x, d.u, d.p], list(closed.values()), "numpy", docstring_limit=0)
     return names, fn
 
 

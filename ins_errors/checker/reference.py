@@ -284,15 +284,17 @@ def _evaluators(d: ModelDefinition):
     if id(d) in _EVALUATORS and _EVALUATORS[id(d)][0] is d:
         return _EVALUATORS[id(d)][1:]
     c, u, p, x = d.c, d.u, d.p, d.x
-    initial = sp.lambdify([c, u, p], list(d.initial_state), "numpy")
+    initial = sp.lambdify([c, u, p], list(d.initial_state), "numpy",
+                          docstring_limit=0)
     rhs_expr = d.ideal_rhs_expanded()
-    rhs = sp.lambdify([x, u, p], list(rhs_expr), "numpy")
+    rhs = sp.lambdify([x, u, p], list(rhs_expr), "numpy", docstring_limit=0)
     free = [v.symbol for v in d.inputs if _is_solved_input(v.name)]
     jacobian = sp.lambdify([x, u, p], rhs_expr.jacobian(free) if free else sp.zeros(
-        len(x), 0), "numpy")
+        len(x), 0), "numpy", docstring_limit=0)
     closed = ideal_intermediate_values(d)
     symbols = list(closed)
-    intermediates = sp.lambdify([x, u, p], [closed[s] for s in symbols], "numpy")
+    intermediates = sp.lambdify([x, u, p], [closed[s] for s in symbols], "numpy",
+                                docstring_limit=0)
     _EVALUATORS[id(d)] = (d, initial, rhs, jacobian, intermediates, symbols)
     return initial, rhs, jacobian, intermediates, symbols
 
