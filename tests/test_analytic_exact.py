@@ -45,13 +45,23 @@ def test_partial_fractions_sum_back_to_the_fraction():
     assert sp.cancel(total - num.as_expr() / den.as_expr()) == 0
 
 
-def test_sparse_inverse_equals_the_dense_one():
+def test_fraction_free_inverse_gives_the_fields_own_elements():
     s = an.S
     g, R, W = sp.symbols("g R Omega", positive=True)
     F = sp.Matrix([[0, 1, 0, 0], [-g / R, 0, 2 * W, 0], [0, -2 * W, 0, 1], [0, 0, -g / R, 0]])
     outer = sp.QQ.frac_field(s, g, R, W)
     matrix = DomainMatrix.from_list_sympy(4, 4, (s * sp.eye(4) - F).tolist()).convert_to(outer)
-    assert matrix.to_sparse().inv().to_Matrix() == matrix.inv().to_Matrix()
+    B = DomainMatrix.from_list_sympy(4, 3, [[1, 0, g / 3], [0, W / R, 0], [0, 0, 1],
+                                            [R, 0, -W**2]]).convert_to(outer)
+    dense = matrix.inv()  # the reference: Gauss-Jordan over the field
+    expected = (dense * B).to_Matrix()
+    inverse = an._FractionFreeInverse(matrix)
+    product = inverse.times(B)
+    assert sp.Matrix(4, 3, [outer.to_sympy(e) for row in product for e in row]) == expected
+    for row, reference in zip(product, (dense * B).rep.to_ddm(), strict=True):
+        for e, r in zip(row, reference, strict=True):  # the same cancelled representation
+            assert (e.numer, e.denom) == (r.numer, r.denom)
+    assert inverse.inverse().to_Matrix() == dense.to_Matrix()
 
 
 def test_one_printing_serves_both_backends():
@@ -111,3 +121,22 @@ def test_operation_count_is_sympys_count_of_the_cse_result():
     expected = sum(sp.count_ops(e) for _, e in prepared.assignments) + sum(
         sp.count_ops(e) for _, _, e in prepared.entries)
     assert prepared.operations == expected > 0
+
+
+def test_static_matrices_from_the_varied_model_equal_the_direct_jacobians():
+    from ins_errors.models import definition
+    from ins_errors.symbolic import variation
+    from ins_errors.symbolic.static_base import setup, static_matrices
+
+    name = "north_pointing"
+    point = setup(name).point
+    initial = {sp.Symbol("latitude", real=True): sp.Rational(1, 3)}
+    variation._LAST_VARIED = None
+    direct = static_matrices(name, point, initial)  # differentiates the equations itself
+    variation.vary(definition(name))
+    assert variation.last_varied(definition(name)) is not None
+    assert variation.last_varied(definition("free_azimuth")) is None
+    reused = static_matrices(name, point, initial)  # substitutes into vary's F, G, E
+    for a, b in zip(direct, reused, strict=True):
+        assert a == b
+        assert [sp.srepr(e) for e in a] == [sp.srepr(e) for e in b]

@@ -30,6 +30,7 @@ from ins_errors.models import definition
 from ins_errors.symbolic.analytic import Frequency, Parametrisation, StaticAnalysis, analyse
 from ins_errors.symbolic.shared_trees import SharedTrees
 from ins_errors.symbolic.simplifications import DroppedTerm, simplification
+from ins_errors.symbolic.variation import last_varied
 
 OMEGA_N = sp.Symbol("Omega_N", positive=True)
 """Ω_N = Ω cos φ, rad/s."""
@@ -241,11 +242,13 @@ def static_matrices(name: str, point: dict, initial_point: dict | None = None
 
     The same Jacobians as :func:`~ins_errors.symbolic.variation.vary`, without its
     second-order terms (which the static analysis does not need and which dominate
-    its cost).
+    its cost). Where :func:`~ins_errors.symbolic.variation.vary` has just derived the
+    model (``make derive``), its F, G and E at the ideal point are taken and only the
+    static point is substituted: the same matrices, without differentiating again.
     """
     d = definition(name)
     at_ideal, no_errors = d.at_ideal(), d.no_errors()
-    real_rhs = d.real_rhs_expanded()
+    varied = last_varied(d)
     with SharedTrees().differentiating() as trees:
 
         def at(m: sp.Matrix, *rules: dict) -> sp.Matrix:
@@ -253,6 +256,10 @@ def static_matrices(name: str, point: dict, initial_point: dict | None = None
                 m = trees.xreplace_matrix(m, rule)
             return m
 
+        if varied is not None:  # the same Jacobians and the same substitutions, in order
+            return (at(varied.state_matrix, point), at(varied.source_matrix, point),
+                    at(varied.initial_error_matrix, initial_point or {}, point))
+        real_rhs = d.real_rhs_expanded()
         F = at(real_rhs.jacobian(d.real_states), at_ideal, no_errors, point)
         G = at(real_rhs.jacobian(d.w), at_ideal, no_errors, point)
         E = at(d.initial_real_state.jacobian(d.w), no_errors, initial_point or {}, point)

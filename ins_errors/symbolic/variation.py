@@ -145,8 +145,23 @@ def vary(definition: ModelDefinition) -> ErrorModel:
     ModelDefinitionError
         If SymPy fails on one of the quantities (the message names it).
     """
+    global _LAST_VARIED
     with SharedTrees().differentiating() as trees:
-        return _vary(definition, trees)
+        varied = _vary(definition, trees)
+    _LAST_VARIED = varied
+    return varied
+
+
+_LAST_VARIED: ErrorModel | None = None
+"""The error model :func:`vary` derived last in this process (see :func:`last_varied`)."""
+
+
+def last_varied(definition: ModelDefinition) -> ErrorModel | None:
+    """What :func:`vary` returned for this very ``definition`` object, if it was the last
+    model varied in this process (``make derive`` varies a model, then analyses it at a
+    static base from the same Jacobians); else None."""
+    varied = _LAST_VARIED
+    return varied if varied is not None and varied.definition is definition else None
 
 
 def _vary(d: ModelDefinition, trees: SharedTrees) -> ErrorModel:
