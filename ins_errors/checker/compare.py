@@ -32,6 +32,7 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 import sympy as sp
@@ -305,6 +306,7 @@ def _split_by_substitution(expr: sp.Expr, present: list[sp.Symbol]
     return coefficients, constant
 
 
+@lru_cache(maxsize=16384)
 def _display(expr: sp.Expr, limit: int = 200) -> str:
     """Canonical (expanded when cheap) text of a coefficient, shortened to ``limit``."""
     if expr == 0:
@@ -327,6 +329,31 @@ def _term_difference(hand: sp.Expr, model: sp.Expr, limit: int = 150
     return sp.Add(*missing), sp.Add(*extra)
 
 
+@lru_cache(maxsize=16384)
+def _shared_linear_parts(expr: sp.Expr, basis: tuple[sp.Symbol, ...], trusted: bool
+                         ) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
+    """:func:`_linear_parts`, kept for the next check in the same process.
+
+    A pure function of its arguments (SymPy expressions compare by structure, symbols
+    with their assumptions), so a repeated check, or one of a file that differs in a few
+    lines, splits only what is new. The coefficient dictionaries are shared: read only.
+    """
+    return _linear_parts(expr, list(basis), trusted)
+
+
+@lru_cache(maxsize=16384)
+def _identical(hand: sp.Expr, model: sp.Expr, basis: tuple[sp.Symbol, ...], limit: int
+               ) -> bool | None:
+    """:meth:`Comparison.identical` (a pure function as well, kept likewise)."""
+    h, hc = _shared_linear_parts(hand, basis, True)
+    m, mc = _shared_linear_parts(model, basis, True)
+    pairs = [(h.get(b, sp.S.Zero), m.get(b, sp.S.Zero)) for b in set(h) | set(m)]
+    pairs.append((hc, mc))
+    if sum(sp.count_ops(a) + sp.count_ops(b) for a, b in pairs) > limit:
+        return None
+    return all(sp.expand(a - b) == 0 for a, b in pairs)
+
+
 class Comparison:
     def __init__(self, points: list[ReferencePoint], basis: list[BasisQuantity],
                  symbols: dict[str, sp.Symbol], threshold: float,
@@ -336,6 +363,7 @@ class Comparison:
         self.arrays = [np.array([p.values[s] for p in points]) for s in self.arguments]
         self.basis = basis
         self.symbols = [symbols[b.name] for b in basis]
+        self._basis_key = tuple(self.symbols)
         self.magnitude = {symbols[b.name]: b.magnitude for b in basis}
         self.threshold = threshold
         self._parts: dict[sp.Expr, tuple[dict[sp.Symbol, sp.Expr], sp.Expr]] = {}
@@ -351,7 +379,7 @@ class Comparison:
         substitution.
         """
         if expr not in self._parts:
-            self._parts[expr] = _linear_parts(expr, self.symbols, trusted)
+            self._parts[expr] = _shared_linear_parts(expr, self._basis_key, trusted)
         return self._parts[expr]
 
     def prefetch(self, pairs: list[tuple]) -> None:
@@ -413,13 +441,7 @@ class Comparison:
 
     def identical(self, hand: sp.Expr, model: sp.Expr, limit: int = 400) -> bool | None:
         """True if every coefficient is the same expression (expanded), None if too big."""
-        h, hc = self.linear_parts(hand)
-        m, mc = self.linear_parts(model, trusted=True)
-        pairs = [(h.get(b, sp.S.Zero), m.get(b, sp.S.Zero)) for b in set(h) | set(m)]
-        pairs.append((hc, mc))
-        if sum(sp.count_ops(a) + sp.count_ops(b) for a, b in pairs) > limit:
-            return None
-        return all(sp.expand(a - b) == 0 for a, b in pairs)
+        return _identical(hand, model, self._basis_key, limit)
 
     @staticmethod
     def checked(values: np.ndarray) -> np.ndarray:

@@ -229,6 +229,10 @@ def parse_text_expression(text: str, notation: Notation, column: int = 1
                           ) -> tuple[sp.Expr, dict[str, int]]:
     """Parse one SymPy-syntax expression of a hand file.
 
+    The result depends only on the text, the column and the notation's spellings, and
+    is kept for the next parse of the same line (the same file checked again, or a copy
+    of it with a few lines changed).
+
     Parameters
     ----------
     text : str
@@ -244,6 +248,15 @@ def parse_text_expression(text: str, notation: Notation, column: int = 1
     columns : dict
         Canonical symbol name -> column of its first occurrence.
     """
+    expr, columns = _parsed_text(text, column, tuple(notation.spellings.items()))
+    return expr, dict(columns)
+
+
+@lru_cache(maxsize=16384)
+def _parsed_text(text: str, column: int, spellings: tuple[tuple[str, str], ...]
+                 ) -> tuple[sp.Expr, dict[str, int]]:
+    """:func:`parse_text_expression` for the given spellings (read-only result)."""
+    notation = Notation(spellings=dict(spellings))
     source = re.sub(r"\blambda\b", "lam   ", text)  # same length: columns stay right
     stripped = source.strip()
     shown = text.strip()
@@ -768,6 +781,18 @@ def parse_latex_expression(text: str, notation: Notation, column: int = 1,
     if backend not in LATEX_BACKENDS:
         raise InsErrorsError(f"unknown LaTeX backend {backend!r} (known: "
                              f"{', '.join(LATEX_BACKENDS)})")
+    expr, columns = _parsed_latex(text, column, backend, tuple(notation.spellings.items()),
+                                  tuple(notation.latex_primes.items()))
+    return expr, dict(columns)
+
+
+@lru_cache(maxsize=16384)
+def _parsed_latex(text: str, column: int, backend: str,
+                  spellings: tuple[tuple[str, str], ...],
+                  primes: tuple[tuple[str, str], ...]) -> tuple[sp.Expr, dict[str, int]]:
+    """:func:`parse_latex_expression` for the given spellings and primes, kept for the
+    next parse of the same line (read-only result)."""
+    notation = Notation(spellings=dict(spellings), latex_primes=dict(primes))
     converter = _LatexConverter(text, column, notation, backend)
     pieces = converter.convert()
     if converter.peek() is not None:

@@ -12,6 +12,7 @@ and can *isolate* a line: every definition it uses replaced by the correct one.
 from __future__ import annotations
 
 import difflib
+from functools import lru_cache
 
 import sympy as sp
 
@@ -60,6 +61,7 @@ class ModelSide:
         self.sources = {v.name: v for v in d.sources}
         self.source_symbols = {v.name: v.symbol for v in d.sources}
         self.delta_of: dict[str, sp.Expr] = {}
+        self._varied: dict[sp.Expr, sp.Expr] = {}  # vary() of each expression asked for
         self.state_rhs: dict[str, sp.Expr] = {}
         known: dict[sp.Symbol, sp.Expr] = {}
         for line in _structured(d):
@@ -104,11 +106,14 @@ class ModelSide:
 
     def vary(self, expr: sp.Expr) -> sp.Expr:
         """First-order variation of an ideal expression in model symbols (chain rule)."""
-        total = sp.S.Zero
-        for symbol in sorted(expr.free_symbols, key=sp.default_sort_key):
-            delta = self.delta_of_symbol(symbol)
-            if delta != 0:
-                total += sp.diff(expr, symbol) * delta
+        total = self._varied.get(expr)
+        if total is None:
+            total = sp.S.Zero
+            for symbol in sorted(expr.free_symbols, key=sp.default_sort_key):
+                delta = self.delta_of_symbol(symbol)
+                if delta != 0:
+                    total += sp.diff(expr, symbol) * delta
+            self._varied[expr] = total
         return total
 
     def delta(self, name: str) -> sp.Expr | None:
@@ -332,9 +337,7 @@ class HandSide:
 
     def tautology(self, form: sp.Expr, key: str) -> bool:
         """True if ``form`` is ``key`` itself (``tilde(W) - W`` for ``Delta_W``)."""
-        tildes = {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in form.atoms(TILDE)}
-        expanded = sp.expand(form.xreplace(tildes))
-        return sp.expand(expanded - sp.Symbol(key)) == 0
+        return _tautology(form, key)
 
     def variation(self, base: str, section: int, trail: tuple[str, ...]) -> sp.Expr:
         """Meaning of ``Delta_base`` on the hand side."""
@@ -388,6 +391,14 @@ class HandSide:
         close = difflib.get_close_matches(name, self.known_names(), n=3, cutoff=0.6)
         hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
         return f"unknown symbol {name!r}{hint}"
+
+
+@lru_cache(maxsize=16384)
+def _tautology(form: sp.Expr, key: str) -> bool:
+    """:meth:`HandSide.tautology`: a pure function, kept for the next line and check."""
+    tildes = {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in form.atoms(TILDE)}
+    expanded = sp.expand(form.xreplace(tildes))
+    return sp.expand(expanded - sp.Symbol(key)) == 0
 
 
 _SHARED: dict[tuple, tuple] = {}
