@@ -64,6 +64,28 @@ def share_time_axis(axes) -> None:
     for ax in grid[:-1].flat:
         ax.xaxis.set_tick_params(which="both", labelbottom=False)
         ax.xaxis.offsetText.set_visible(False)
+        _skip_hidden_label_layout(ax.xaxis)
+
+
+def _skip_hidden_label_layout(axis) -> None:
+    """Spare an axis whose tick labels are hidden the work of laying them out.
+
+    Its labels are still formatted on every draw and measured to place the (empty) axis
+    label below them; neither shows. No formatter and a fixed place for the axis label
+    draw the same pixels.
+    """
+    from matplotlib.ticker import NullFormatter
+
+    if len(axis.axes.get_shared_x_axes().get_siblings(axis.axes)) == 1:
+        axis.set_major_formatter(NullFormatter())  # (shared axes share one formatter)
+    axis.set_label_coords(0.5, 0.0)
+
+
+def fixed_title(ax, text: str, **options) -> None:
+    """``ax.set_title`` at the top of the panel, without matplotlib's search on every
+    draw for tick labels or an offset text above the panel that the title should clear
+    (use it when nothing is drawn there, or the title's ``pad`` already clears it)."""
+    ax.set_title(text, y=1.0, **options)
 
 
 def common_time_range(axes: Iterable) -> None:

@@ -137,6 +137,22 @@ def test_case_plots_equal_the_shared_time_axis_drawing(report, tmp_path, monkeyp
         assert ours[k].read_bytes() == shared[k].read_bytes(), k
 
 
+def test_layout_shortcuts_change_no_pixel(report, tmp_path, monkeypatch):
+    """The hidden time labels of the inner rows are neither formatted nor measured, and
+    the column titles keep a fixed place: the file must be byte for byte the figure
+    drawn with matplotlib's own formatting, label placement and title search."""
+    from ins_errors import figure_layout
+    from ins_errors.numeric import plots
+
+    result, _ = report
+    shown = ["alpha_y", "delta_v_N"]
+    ours = plots.plot_comparison(result.comparisons[0], tmp_path / "ours.png", shown)
+    monkeypatch.setattr(figure_layout, "_skip_hidden_label_layout", lambda axis: None)
+    monkeypatch.setattr(plots, "fixed_title", lambda ax, text, **o: ax.set_title(text, **o))
+    plain = plots.plot_comparison(result.comparisons[0], tmp_path / "plain.png", shown)
+    assert ours.read_bytes() == plain.read_bytes()
+
+
 def test_save_figure_after_tight_layout_writes_the_bytes_of_a_plain_savefig(tmp_path):
     """``save_figure`` skips the extra layout pass a ``tight_layout()`` placeholder
     causes: the file must still be the one matplotlib's own ``savefig`` writes, and the

@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from pathlib import Path
 
-from ins_errors.figure_layout import common_time_range, share_time_axis
+from ins_errors.figure_layout import common_time_range, fixed_title, share_time_axis
 from ins_errors.numeric.compare import Comparison
 from ins_errors.output import save_figure
 
@@ -156,9 +156,10 @@ class _ComparisonFigure:
                 ax.grid(True, alpha=0.3)
                 ax.tick_params(labelsize=7)
                 ax.ticklabel_format(axis="y", useOffset=False)
-        axes[0, 0].set_title("error curves", fontsize=9, pad=14)
-        axes[0, 1].set_title("residuals: what the linear / refined models miss", fontsize=9,
-                             pad=14)
+        # (the pad clears the residuals' offset text, e.g. 1e-6)
+        fixed_title(axes[0, 0], "error curves", fontsize=9, pad=14)
+        fixed_title(axes[0, 1], "residuals: what the linear / refined models miss",
+                    fontsize=9, pad=14)
         for ax in axes[-1]:
             ax.set_xlabel("time [h]", fontsize=8)
         axes[0, 0].legend(fontsize=7, loc="best")
