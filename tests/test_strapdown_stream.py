@@ -189,6 +189,47 @@ def test_interpolated_chunks_do_not_change_the_numbers(model):
     assert np.array_equal(week.start_state, stored.truth[:, 0])
 
 
+def test_sampled_commands_have_the_bits_of_scipys_hermite_splines():
+    """The fine truth's position integrator reads the commands through cubic Hermite
+    pieces evaluated on Python floats: the same bits as SciPy's CubicHermiteSpline of
+    each block, at random times, on the breakpoints, just before them and at block ends,
+    in the order the integrator asks (forwards) and out of order."""
+    from scipy.interpolate import CubicHermiteSpline
+
+    flight = FLIGHTS["profile"]
+    commands = st._SampledCommands(flight)
+    span = commands.SPACING * commands.BLOCK
+    rng = np.random.default_rng(5)
+    grid = np.arange(0.0, 3.5 * span, commands.SPACING)
+    times = np.concatenate([np.sort(rng.uniform(0.0, 3.5 * span, 1000)), grid,
+                            np.nextafter(grid[1:], 0.0), rng.uniform(0.0, 3.5 * span, 100),
+                            [span, 2 * span, np.nextafter(span, 0.0)]])
+    splines = {}
+    for k in range(int(times.max() // span) + 1):
+        knots = k * span + commands.SPACING * np.arange(commands.BLOCK + 1)
+        V, dV, r, dr, vD, dvD = flight.commands(knots)
+        splines[k] = CubicHermiteSpline(knots, np.array([V, r, vD]),
+                                        np.array([dV, dr, dvD]), axis=1)
+    for t in times:
+        assert commands(t) == tuple(splines[int(t // span)](t).tolist()), t
+
+
+def test_manoeuvre_commands_of_any_time_span_have_the_bits_of_the_whole_flights():
+    """A manoeuvre's commands evaluated over a span that leaves out some legs (they are
+    skipped) equal, bit for bit, the same times evaluated with the whole flight (every
+    leg evaluated)."""
+    flight = FLIGHTS["manoeuvre"]
+    t = np.concatenate([np.arange(0.0, 1200.0, 0.0625), [np.nextafter(b, 0) for b in
+                                                         flight.breaks], flight.breaks])
+    t.sort()
+    whole = np.array(flight.commands(t))
+    rng = np.random.default_rng(3)
+    for a, b in [(0.0, 10.0), (100.0, 130.0), (119.9, 120.1), (900.0, 1200.0),
+                 *np.sort(rng.uniform(0.0, 1200.0, (20, 2)), axis=1)]:
+        part = (t >= a) & (t <= b)
+        assert np.array_equal(np.array(flight.commands(t[part])), whole[:, part]), (a, b)
+
+
 def test_coarse_steps_keep_the_full_rate_truth(model):
     """At steps of 0.5 s (fewer than 50 per interval) "auto" keeps the full-rate truth, as
     does a flight whose breaks are unknown."""
