@@ -349,3 +349,21 @@ def test_stepped_transition_matches_the_matrix_exponential(wgs84):
     for step in steps[:30]:  # one hour
         phi = step @ phi
     assert np.abs(phi - expm(A[0] * 3600.0)).max() < 1e-10
+
+
+def test_derived_model_kept_on_a_motion_is_per_model_and_convention(strapdown_motions, wgs84):
+    """What a motion keeps for the next check equals a fresh computation, for each model
+    and convention in turn, and cannot be changed by a caller."""
+    strapdown, north = load_model("strapdown_ned"), load_model(MODEL)
+    for _ in range(2):  # the second round reads what the first kept
+        for model, motion, name in ((strapdown, strapdown_motions[2], "psi"),
+                                    (strapdown, strapdown_motions[2], "model"),
+                                    (north, wgs84[2], "model")):
+            conv = convention(model, name)
+            F, G = mc.derived_in_convention(model, conv, motion)
+            fresh_F, fresh_G = mc._derived_in_convention(model, conv, motion)
+            assert np.array_equal(F, fresh_F) and np.array_equal(G, fresh_G)
+            assert F.shape[1] == len(conv.names) and not F.flags.writeable
+    psi, own = (mc.derived_in_convention(strapdown, convention(strapdown, n),
+                                         strapdown_motions[2])[0] for n in ("psi", "model"))
+    assert psi.shape != own.shape or not np.array_equal(psi, own)

@@ -100,6 +100,9 @@ class Motion:
         Parameters.
     navigation : dict
         Navigation arrays (:data:`~ins_errors.checker.navigation.FIELDS`), trailing axis K.
+    kept : dict
+        What checks along this motion computed from it and may reuse (the derived model
+        in a convention, :func:`derived_in_convention`); read-only arrays.
     """
 
     label: str
@@ -109,6 +112,7 @@ class Motion:
     u: np.ndarray
     p: np.ndarray
     navigation: dict[str, np.ndarray]
+    kept: dict = field(default_factory=dict, repr=False, compare=False)
 
 
 def _profiles(model, hours: float):
@@ -181,7 +185,7 @@ def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | No
     return list(_motions(model.name, float(hours), float(step), ellipsoid))
 
 
-@lru_cache(maxsize=4)
+@lru_cache(maxsize=8)
 def _motions(model_name: str, hours: float, step: float, ellipsoid: str | None
              ) -> tuple[Motion, ...]:
     """Motions of :func:`motions`, kept for the next check in the same process."""
@@ -212,7 +216,22 @@ def _motions(model_name: str, hours: float, step: float, ellipsoid: str | None
 # --------------------------------------------------------------------------------------
 def derived_in_convention(model, conv: Convention, motion: Motion
                           ) -> tuple[np.ndarray, np.ndarray]:
-    """The derived F and G carried into ``conv``: shapes (K, nz, nz) and (K, nz, nw)."""
+    """The derived F and G carried into ``conv``: shapes (K, nz, nz) and (K, nz, nw).
+
+    Kept on the motion for the next check of the same model in the same convention
+    (read-only arrays).
+    """
+    key = ("derived", model.key, conv.name)
+    if key not in motion.kept:
+        F, G = _derived_in_convention(model, conv, motion)
+        F.setflags(write=False)
+        G.setflags(write=False)
+        motion.kept[key] = (F, G)
+    return motion.kept[key]
+
+
+def _derived_in_convention(model, conv: Convention, motion: Motion
+                           ) -> tuple[np.ndarray, np.ndarray]:
     F = np.moveaxis(model.state_matrix(motion.x, motion.u, motion.p), -1, 0)
     G = np.moveaxis(model.source_matrix(motion.x, motion.u, motion.p), -1, 0)
     if conv.transform is None:
