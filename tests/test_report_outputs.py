@@ -155,15 +155,16 @@ def test_layout_shortcuts_change_no_pixel(report, tmp_path, monkeypatch):
 
 def test_save_figure_after_tight_layout_writes_the_bytes_of_a_plain_savefig(tmp_path):
     """``save_figure`` skips the extra layout pass a ``tight_layout()`` placeholder
-    causes: the file must still be the one matplotlib's own ``savefig`` writes, and the
-    figure keeps its placeholder (a later colorbar still sees the tight layout's rules)."""
+    causes: the file must still be the one matplotlib's own ``savefig`` writes (with
+    the same settings), and the figure keeps its placeholder (a later colorbar still
+    sees the tight layout's rules)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.layout_engine import PlaceHolderLayoutEngine
 
-    from ins_errors.output import PNG_ZLIB_RLE, save_figure
+    from ins_errors.output import DRAWING_RC, PNG_ZLIB_RLE, save_figure
 
     fig, axes = plt.subplots(2, 1, figsize=(4, 4))
     axes[0].plot([0, 1, 2], [3e-7, 1e-6, -2e-7])
@@ -174,7 +175,8 @@ def test_save_figure_after_tight_layout_writes_the_bytes_of_a_plain_savefig(tmp_
     engine = fig.get_layout_engine()
     assert isinstance(engine, PlaceHolderLayoutEngine)
     plain = tmp_path / "plain.png"
-    fig.savefig(plain, dpi=60, pil_kwargs={"compress_type": PNG_ZLIB_RLE})
+    with matplotlib.rc_context(DRAWING_RC):
+        fig.savefig(plain, dpi=60, pil_kwargs={"compress_type": PNG_ZLIB_RLE})
     ours = save_figure(fig, tmp_path / "ours.png", close=False, dpi=60)
     assert ours.read_bytes() == plain.read_bytes()
     assert fig.get_layout_engine() is engine
@@ -183,14 +185,15 @@ def test_save_figure_after_tight_layout_writes_the_bytes_of_a_plain_savefig(tmp_
 
 def test_png_files_hold_the_pixels_of_matplotlibs_default_png(tmp_path):
     """``save_figure`` writes PNGs with a faster zlib strategy: the decoded picture must be
-    the one of matplotlib's default PNG, pixel for pixel, in a file not much larger."""
+    the one of matplotlib's default PNG (drawn with the same settings), pixel for pixel,
+    in a file not much larger."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from PIL import Image
 
-    from ins_errors.output import save_figure
+    from ins_errors.output import DRAWING_RC, save_figure
 
     fig, ax = plt.subplots(figsize=(5, 3))
     t = np.linspace(0.0, 24.0, 500)
@@ -199,7 +202,8 @@ def test_png_files_hold_the_pixels_of_matplotlibs_default_png(tmp_path):
     ax.grid(True, alpha=0.3)
     ax.legend()
     default = tmp_path / "default.png"
-    fig.savefig(default, dpi=80)
+    with matplotlib.rc_context(DRAWING_RC):
+        fig.savefig(default, dpi=80)
     ours = save_figure(fig, tmp_path / "ours.png", dpi=80)
     with Image.open(default) as a, Image.open(ours) as b:
         assert a.mode == b.mode == "RGBA" and a.size == b.size
