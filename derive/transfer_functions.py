@@ -77,11 +77,14 @@ def _mode_product(result: VariantResult) -> sp.Expr:
     return product
 
 
-def _shorten(expr: sp.Expr, modes) -> sp.Expr:
-    """Write each mode's ω² (e.g. Ω_N² + Ω_U²) as its symbol squared (Ω²), for reading."""
+def _shorten(expr: sp.Expr, modes, trees: SharedTrees) -> sp.Expr:
+    """Write each mode's ω² (e.g. Ω_N² + Ω_U²) as its symbol squared (Ω²), for reading.
+
+    ``expr.subs`` (through ``trees``: the same result, each subtree once).
+    """
     for mode in modes:
         if mode.symbol is not None and mode.squared.is_Add:
-            expr = expr.subs(mode.squared, mode.symbol**2)
+            expr = trees.subs(expr, mode.squared, mode.symbol**2)
     return expr
 
 
@@ -135,7 +138,7 @@ def markdown(model: str, results: list[VariantResult]) -> str:
             for j, col_name in enumerate(states):
                 entry = a.adjugate[i, j]
                 if entry != 0:
-                    numerator = sp.collect(_shorten(entry, a.modes), S)
+                    numerator = sp.collect(_shorten(entry, a.modes, trees), S)
                     out += [f"$$ \\operatorname{{adj}}_{{{i + 1}{j + 1}}} = "
                             f"[{names[sp.Symbol(row_name, real=True)]} \\leftarrow "
                             f"{names[sp.Symbol(col_name, real=True)]}(0)] = "
@@ -159,7 +162,7 @@ def markdown(model: str, results: list[VariantResult]) -> str:
             for i, state in enumerate(d.error_states):
                 if column[i] != 0:
                     out += [f"$$ {state.latex}(t) = {source.latex}\\,\\left("
-                            f"{to_latex(_shorten(column[i], a.modes), names)}\\right) $$",
+                            f"{to_latex(_shorten(column[i], a.modes, trees), names)}\\right) $$",
                             ""]
     return "\n".join(out) + "\n"
 

@@ -63,3 +63,24 @@ def test_other_derivatives_are_sympys_and_diff_is_restored():
                 sp.diff(expr, f(x * y))] == expected
         raise RuntimeError("leave the block")
     assert Expr.diff is original
+
+
+def test_subs_of_a_sum_gives_sympys_subs():
+    a, b, c, t, w = sp.symbols("a b c t w", positive=True)
+    old, new = a**2 + b**2, w**2
+    shared = sp.sin(c * t) / (a**2 + b**2)
+    cases = [
+        shared * (a**2 + b**2 + c) + sp.cos(t * sp.sqrt(a**2 + b**2)) * shared,  # repeats
+        2 * a**2 + 2 * b**2 + c,  # a multiple of the sum among other terms
+        -a**2 - b**2 + c * t,  # its negative
+        (a**2 + b**2) ** 3 * (a**2 - b**2) / (c + a**2 + b**2) ** 2,
+        a**2 * c + b**2,  # the terms without the pattern's coefficients: no match
+        sp.Integer(3), c, a**2, sp.Derivative(sp.Function("f")(a**2 + b**2), a),
+    ]
+    trees = SharedTrees()
+    for expr in cases:
+        expected = expr.subs(old, new)
+        got = trees.subs(expr, old, new)
+        assert got == expected and sp.srepr(got) == sp.srepr(expected), expr
+    assert trees.subs(cases[0], old, new) != cases[0]  # the repeated subtree was replaced
+    assert trees.subs(cases[4], old, new) is cases[4]  # no match: the same object back

@@ -22,6 +22,7 @@ import contextlib
 from collections.abc import Iterator, Mapping
 
 import sympy as sp
+from sympy.core.basic import _aresame
 from sympy.core.expr import Expr
 from sympy.matrices.expressions.matexpr import MatrixExpr
 
@@ -89,6 +90,43 @@ class SharedTrees:
         memo[expr] = result
         return result
 
+    def subs(self, expr: sp.Basic, old: sp.Basic, new: sp.Basic) -> sp.Basic:
+        """``expr.subs(old, new)`` (same result) for one SymPy pair, each distinct
+        subtree visited once.
+
+        Mirrors ``Basic._subs``: a node equal to ``old`` becomes ``new``; else the node's
+        own ``_eval_subs`` (SymPy's, e.g. an Add matching part of its terms) decides,
+        and failing that the node is rebuilt exactly when one of its arguments changed.
+        SymPy decides "changed" by comparing the new argument with the old one node by
+        node, which makes a substitution into a large tree quadratic in its depth; an
+        argument that comes back as the very same object is unchanged without that walk.
+        """
+        memo = self._substituted.setdefault(("subs", old, new), {})
+        return self._subs(expr, old, new, memo)
+
+    def _subs(self, expr: sp.Basic, old: sp.Basic, new: sp.Basic, memo: dict) -> sp.Basic:
+        try:
+            return memo[expr]
+        except KeyError:
+            pass
+        if type(expr)._subs is not _SYMPY_SUBS:  # a class with its own rule: SymPy's way
+            result = expr._subs(old, new)
+        elif _aresame(expr, old):
+            result = new
+        else:
+            result = expr._eval_subs(old, new)
+            if result is None:
+                args, hit = list(expr.args), False
+                for i, arg in enumerate(args):
+                    if not hasattr(arg, "_eval_subs"):
+                        continue
+                    value = self._subs(arg, old, new, memo)
+                    if value is not arg and not _aresame(value, arg):
+                        args[i], hit = value, True
+                result = expr.func(*args) if hit else expr
+        memo[expr] = result
+        return result
+
     def _has_derivative(self, expr: sp.Basic) -> bool:
         """``expr.has(sp.Derivative)``, once per distinct subtree."""
         try:
@@ -148,3 +186,4 @@ class SharedTrees:
 
 
 _SYMPY_DIFF = Expr.diff
+_SYMPY_SUBS = sp.Basic._subs
