@@ -207,10 +207,13 @@ def test_formula_10_maximum_is_about_22_km():
 
 @pytest.fixture(scope="module")
 def flights():
+    """Seven 4-h flights at a 300-s step: the open-loop flights' integration error is
+    at rounding level at this step (their errors equal a 20-s run's to 2e-14 rad, see
+    test_spheroid_flights_estimate_their_integration_error), far below the km checked."""
     lat = np.radians([0.0, 0.0, 30.0, 30.0, 50.0, 50.0, -40.0])
     angle = np.radians([40.0, 90.0, 20.0, 135.0, 90.0, 250.0, 300.0])
     return se.simulate_flights(lat, np.zeros(lat.size), angle, duration=4 * 3600.0,
-                               speed=250.0, step=20.0, record_interval=600.0)
+                               speed=250.0, step=300.0, record_interval=600.0)
 
 
 def test_formula_10_matches_the_direct_simulation(flights):
@@ -226,7 +229,8 @@ def test_formula_10_matches_the_direct_simulation(flights):
 
 def test_closed_loop_computer_adds_a_coriolis_feedback_error():
     lat, angle = np.radians([30.0]), np.radians([90.0])
-    kwargs = {"duration": 4 * 3600.0, "speed": 250.0, "step": 20.0, "record_interval": 600.0}
+    # a 120-s step: the closed loop's errors equal a 20-s run's to 1e-9 of their size
+    kwargs = {"duration": 4 * 3600.0, "speed": 250.0, "step": 120.0, "record_interval": 600.0}
     geometric = se.simulate_flights(lat, [0.0], angle, **kwargs)
     closed = se.simulate_flights(lat, [0.0], angle, closed_loop=True, **kwargs)
     # the geometric error is along the track here; in closed loop the wrong sin B of the
@@ -271,13 +275,14 @@ def test_correction_rates_9_miss_the_radius_of_curvature():
 def test_spheroid_flights_estimate_their_integration_error(capsys):
     """The direct flights' integration error (step doubling, compare's machinery) is
     reported beside the mismatch with (10): at 300 s it is at rounding level, like the
-    true error against a 10-s reference, far below the 1 % / 10 % warning limits."""
+    true error against a 60-s reference (which equals a 10-s one to 1e-16 rad), far
+    below the 1 % / 10 % warning limits."""
     import json
 
     from ins_errors.cli import main
 
     la, an = np.radians([20.0, 60.0]), np.radians([30.0, 225.0])
-    ref = se.simulate_flights(la, np.zeros(2), an, 7200.0, 250.0, 10.0, record_interval=600.0)
+    ref = se.simulate_flights(la, np.zeros(2), an, 7200.0, 250.0, 60.0, record_interval=600.0)
     run = se.simulate_flights(la, np.zeros(2), an, 7200.0, 250.0, 300.0, record_interval=600.0)
     flights = se.integration_errors(run, 7200.0, 250.0, 300.0, 2)
     true = np.max(np.abs(run.direct - ref.direct), axis=1)  # (2, F), rad
