@@ -69,6 +69,17 @@ def cluster_commands() -> list[str]:
     return [line.split(" #")[0].strip() for line in block.splitlines() if line.strip()]
 
 
+QUIET_DASK = {**os.environ,
+              "DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED": "False",
+              "DASK_DISTRIBUTED__ADMIN__TICK__INTERVAL": "1s",
+              "DASK_DISTRIBUTED__ADMIN__SYSTEM_MONITOR__INTERVAL": "5s",
+              "DASK_DISTRIBUTED__WORKER__MEMORY__MONITOR_INTERVAL": "2s"}
+"""Environment of the cluster's processes: Dask's statistical profiler (every 10 ms in
+each worker and nanny) and its 20-ms / 500-ms / 100-ms health, system and memory
+monitors cost about 0.1 s CPU per second of an idle cluster; none is what these tests
+look at (dashboards and diagnostics)."""
+
+
 @dataclass
 class Cluster:
     scheduler_address: str
@@ -115,11 +126,10 @@ def cluster():
     ]
     started = []
     try:
-        for command in commands:
+        for command in commands:   # the worker retries until the scheduler listens
             started.append(subprocess.Popen(command, stdout=subprocess.DEVNULL,
                                             stderr=subprocess.DEVNULL,
-                                            start_new_session=True))
-            time.sleep(0.5)
+                                            start_new_session=True, env=QUIET_DASK))
         deadline = time.monotonic() + 60
         while True:
             try:
