@@ -153,6 +153,53 @@ def test_layout_shortcuts_change_no_pixel(report, tmp_path, monkeypatch):
     assert ours.read_bytes() == plain.read_bytes()
 
 
+def _sticking_out(fig) -> tuple[bool, bool, bool, bool]:
+    """Whether anything drawn passes the left, bottom, right or top edge of the figure."""
+    box = fig.get_tightbbox(fig.canvas.get_renderer()).transformed(
+        fig.dpi_scale_trans.inverted())
+    width, height = fig.get_size_inches()
+    return bool(box.x0 < 0), bool(box.y0 < 0), bool(box.x1 > width), bool(box.y1 > height)
+
+
+def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
+    """The study figures use fixed margins (no tight_layout): with the widest tick labels
+    plain formatting gives (-0.00025 and the like; 12500 km), nothing may stick out of
+    the figure, and the inner panels must not label the time axis."""
+    from types import SimpleNamespace
+
+    from ins_errors.output import save_figure
+    from ins_errors.studies import methodological, spheroid_error
+
+    seen = []
+
+    def check(fig, path, **options):
+        seen.append((_sticking_out(fig), [bool(ax.xaxis.get_ticklabels())  # (visible ones)
+                                          for ax in fig.axes if ax.get_visible()]))
+        return save_figure(fig, path, **options)
+
+    for module in (methodological, spheroid_error):
+        monkeypatch.setattr(module, "save_figure", check)
+    times = np.linspace(0.0, 24 * 3600.0, 49)
+    wave = np.sin(times / 5000.0)[:, None]
+    names = ["delta_latitude", "delta_longitude", "delta_v_N", "delta_v_E", "alpha_x",
+             "alpha_y", "alpha_z", "delta_heading"]
+    curves = {n: -2.5e-4 * wave / 6371.0 for n in names}  # -0.00025 km and the like
+    study = SimpleNamespace(study=SimpleNamespace(name="wide", description="labels"),
+                            motion="a static base", times=times, direct=curves,
+                            linear=curves)
+    methodological.plot(study, tmp_path / "study.png")
+    grow = np.linspace(0.0, 1.0, times.size)[:, None] * np.ones((1, 8))
+    errors = np.stack([grow, grow]) * 12500e3 / 6378245.0  # 12500 km and the like
+    angles = [30, 90, 150, 225]  # as the survey flies them, from two latitudes
+    flights = SimpleNamespace(times=times, start=np.radians([[0] * 4 + [60] * 4, [0] * 8,
+                                                             angles * 2]),
+                              direct=errors, printed=errors * 0.5, completed=errors,
+                              km=lambda e: np.stack([e[0], e[1] * 0.0]) * 6378.245)
+    spheroid_error.plot(flights, tmp_path / "flights.png")
+    assert seen == [((False,) * 4, [False, False, False, True]),
+                    ((False,) * 4, [False] * 4 + [True] * 4)]
+
+
 def test_save_figure_after_tight_layout_writes_the_bytes_of_a_plain_savefig(tmp_path):
     """``save_figure`` skips the extra layout pass a ``tight_layout()`` placeholder
     causes: the file must still be the one matplotlib's own ``savefig`` writes (with

@@ -415,6 +415,8 @@ def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ins_errors.figure_layout import common_time_range, fixed_margins, share_time_axis
+
     hours = result.times / 3600
     panels = [
         ("position error, km", [("delta_latitude", "Δφ·R", radius / 1000),
@@ -425,7 +427,11 @@ def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> 
         ("azimuth / heading error, arcmin", [("alpha_z", "α_z", 180 / np.pi * 60),
                                              ("delta_heading", "Δχ", 180 / np.pi * 60)]),
     ]
-    fig, axes = plt.subplots(len(panels), 1, figsize=(9, 10), sharex=True)
+    # no sharex and no tight_layout (each lays out every panel's tick labels again,
+    # see ins_errors.figure_layout): the panels share the times, fixed margins fit
+    fig, axes = plt.subplots(len(panels), 1, figsize=(9, 10))
+    share_time_axis(axes)
+    fixed_margins(fig, left=1.05, right=0.15, bottom=0.6, top=0.66, hspace=0.25)
     for ax, (title, curves) in zip(axes, panels, strict=True):
         for k, (name, label, scale) in enumerate(curves):
             color = f"C{k}"
@@ -437,5 +443,5 @@ def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> 
         ax.legend(fontsize=7, ncol=2)
     axes[-1].set_xlabel("time, h")
     fig.suptitle(f"{result.study.name}: {result.study.description}\n{result.motion}", fontsize=9)
-    fig.tight_layout()
+    common_time_range(axes)
     return save_figure(fig, path, dpi=110)

@@ -574,14 +574,21 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ins_errors.figure_layout import common_time_range, fixed_margins, share_time_axis
+
     hours = result.times / 3600
     direct, printed, completed = (np.hypot(*result.km(e)) for e in
                                   (result.direct, result.printed, result.completed))
     latitudes = sorted(set(np.round(np.degrees(result.start[0]), 6)))
     angles = sorted(set(np.round(np.degrees(result.start[2]), 6)))
     rows, cols = len(latitudes), len(angles)
+    # no sharex and no tight_layout (each lays out every panel's tick labels again,
+    # see ins_errors.figure_layout): every flight has the same times, and fixed margins
+    # fit the labels
     fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols + 0.6, 2.1 * rows + 1.2),
-                             sharex=True, squeeze=False)
+                             squeeze=False)
+    share_time_axis(axes)
+    fixed_margins(fig, left=0.7, right=0.15, bottom=0.9, top=0.9, wspace=0.5, hspace=0.38)
     for ax in axes.flat:
         ax.set_visible(False)
     for f in range(direct.shape[1]):
@@ -608,5 +615,5 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
     fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8)
     fig.suptitle("004: spherical-formula reckoning over the Krasovsky spheroid, every flight "
                  f"({direct.shape[1]}): direct simulation vs formula (10)", fontsize=10)
-    fig.tight_layout(rect=(0, 0.04, 1, 0.97))
+    common_time_range(ax for ax in axes.flat if ax.get_visible())
     return save_figure(fig, path, dpi=100)
