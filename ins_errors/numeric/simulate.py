@@ -4,15 +4,20 @@
   same scheme, step and inputs; the errors are real − ideal (the source documents'
   "direct modelling"). The real work's platform is exact by default (``platform="exact"``:
   rotation of the platform relative to its trihedron, :mod:`ins_errors.models.platform`);
-  ``platform="small_angle"`` uses the source documents' small-angle platform matrix;
+  ``platform="small_angle"`` uses the source documents' small-angle platform matrix.
+  The sines and cosines of the exact platform's angles travel with the state and are
+  rotated through each step's angle increment (:mod:`ins_errors.numeric.carried_trig`)
+  rather than recomputed by the C library at every evaluation: the same scheme, up to
+  rounding, in about two thirds of the time;
 * **linear**: the generated first-order error equations ``ė = F e + G w`` along the
   *ideal run's* states, from ``e(0) = E w``;
 * **refined**: the same plus the generated second-order terms, from the exact initial
   difference ``x̃(0) − (x(0), 0)``.
 
-All three are integrated in one compiled loop (state ``[x, x̃, e, e₂]``), so they share
-the ideal trajectory exactly; the rectangle scheme of the linear run is then exactly
-the first-order variation of the direct rectangle scheme, whatever the step.
+All three are integrated in one compiled loop (state ``[x, x̃, e, e₂]``, then any carried
+sines and cosines), so they share the ideal trajectory exactly; the rectangle scheme of
+the linear run is then exactly the first-order variation of the direct rectangle scheme,
+whatever the step.
 
 Errors are reported per *quantity*: the platform angles (the error states beyond the
 computed states) and the change of every navigation output (latitude, longitude,
