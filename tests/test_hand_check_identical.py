@@ -80,3 +80,17 @@ def test_a_check_after_other_checks_equals_one_with_nothing_kept():
     cold = report(wrong)
     assert warm == cold
     assert warm["summary"]["mistakes"] >= 1
+
+
+def test_checks_run_with_one_blas_thread_and_restore_the_pools():
+    from threadpoolctl import threadpool_info
+
+    from ins_errors.checker.blas import one_blas_thread
+
+    def blas_threads():
+        return [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+
+    before = blas_threads()
+    inside = one_blas_thread(blas_threads)()
+    assert inside and set(inside) == {1}
+    assert blas_threads() == before

@@ -38,6 +38,7 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import classify as cl
+from ins_errors.checker.blas import one_blas_thread
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.notation import Notation, default_notation
 from ins_errors.checker.parse import TILDE, HandEquation, HandFile, Problem
@@ -644,6 +645,7 @@ def resolve_model(model: str | ModelDefinition) -> ModelDefinition:
     return definition_of(resolve(model))
 
 
+@one_blas_thread
 def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
                threshold: float = DEFAULT_THRESHOLD, mapping: Notation | None = None,
                magnitudes: dict[str, str] | None = None, effects: bool = True

@@ -38,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ins_errors.checker.blas import one_blas_thread
 from ins_errors.checker.classify import (
     COEFFICIENT,
     EXTRA,
@@ -186,6 +187,7 @@ def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | No
 
 
 @lru_cache(maxsize=8)
+@one_blas_thread
 def _motions(model_name: str, hours: float, step: float, ellipsoid: str | None
              ) -> tuple[Motion, ...]:
     """Motions of :func:`motions`, kept for the next check in the same process."""
@@ -715,6 +717,7 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
 # --------------------------------------------------------------------------------------
 # Driver
 # --------------------------------------------------------------------------------------
+@one_blas_thread
 def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_name: str,
                    threshold: float = DEFAULT_THRESHOLD, hours: float = HOURS,
                    step: float = STEP, effects: bool = True,
