@@ -200,6 +200,70 @@ def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
                     ((False,) * 4, [False] * 4 + [True] * 4)]
 
 
+def _day_of_seconds():
+    """A day recorded every second: a random walk with two one-sample spikes."""
+    rng = np.random.default_rng(7)
+    t = np.arange(86_401.0)
+    y = np.cumsum(rng.normal(size=t.size))
+    y[5_000] += 900.0
+    y[70_001] -= 1200.0
+    return t, y
+
+
+def test_column_envelope_keeps_every_columns_extremes():
+    """Per column of the drawing, the reduced curve has the very smallest and largest
+    sample of the full curve (no peak is lost), keeps the first and last sample, and
+    keeps whole a curve with NaN gaps or one already short."""
+    from ins_errors.numeric.envelope import column_envelopes
+
+    t, y = _day_of_seconds()
+    columns = 890
+    (tr, yr), (tn, yn) = column_envelopes(t, [y, np.where(t > 80_000, np.nan, y)],
+                                          columns)
+    assert tr.size <= 4 * columns and tr.size < t.size / 20
+    kept = np.searchsorted(t, tr)
+    np.testing.assert_array_equal(t[kept], tr)  # samples of the curve, in order
+    np.testing.assert_array_equal(y[kept], yr)
+    assert (tr[0], tr[-1]) == (t[0], t[-1])
+    column = np.minimum((t * columns / t[-1]).astype(int), columns - 1)
+    mine = column[kept]
+    for k in range(columns):
+        assert yr[mine == k].max() == y[column == k].max(), k
+        assert yr[mine == k].min() == y[column == k].min(), k
+    assert yr.max() == y[5_000] and yr.min() == y[70_001]  # the spikes
+    assert tn is t and yn.size == t.size  # NaN gaps: drawn as they are
+    short = column_envelopes(t[:3000], [y[:3000]], columns)[0]
+    assert short[0].size == 3000
+
+
+def test_long_curve_drawn_from_its_envelope_covers_the_same_pixels(tmp_path):
+    """A day at 1 s drawn through its envelope and through every sample: the same
+    picture (solid lines; antialiased edges may differ by a few levels)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from PIL import Image
+
+    from ins_errors.numeric.envelope import column_envelopes
+    from ins_errors.output import save_figure
+
+    t, y = _day_of_seconds()
+    pictures = []
+    for columns in (0, 2 * 400):  # 0: every sample
+        fig, ax = plt.subplots(figsize=(5, 2.5))
+        fig.subplots_adjust(left=0.1, right=0.9)  # 4 inches at 100 dpi: 400 columns
+        ax.plot(*column_envelopes(t / 3600, [y], columns)[0], lw=1.0)
+        ax.set_xlim(0, 24)
+        path = save_figure(fig, tmp_path / f"{columns}.png", dpi=100)
+        with Image.open(path) as image:
+            pictures.append(np.asarray(image.convert("L"), dtype=int))
+    full, reduced = pictures
+    assert full.shape == reduced.shape
+    differ = np.abs(full - reduced)
+    assert (differ > 64).sum() <= 0.001 * full.size, (differ > 64).sum()
+
+
 def test_save_figure_after_tight_layout_writes_the_bytes_of_a_plain_savefig(tmp_path):
     """``save_figure`` skips the extra layout pass a ``tight_layout()`` placeholder
     causes: the file must still be the one matplotlib's own ``savefig`` writes (with
