@@ -41,7 +41,7 @@ from ins_errors.checker import classify as cl
 from ins_errors.checker.blas import one_blas_thread
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.notation import Notation, default_notation
-from ins_errors.checker.parse import TILDE, HandEquation, HandFile, Problem
+from ins_errors.checker.parse import HandEquation, HandFile, Problem
 from ins_errors.checker.reference import (
     DEFAULT_ATTITUDE,
     Magnitudes,
@@ -55,6 +55,7 @@ from ins_errors.checker.sides import (
     UnresolvedError,
     model_expr,
     model_side,
+    tilde_variations,
 )
 from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
@@ -897,18 +898,30 @@ def _check_linear(form: sp.Expr, resolver: HandSide) -> None:
     can then be split into coefficients by substitution (cheap) instead of by
     differentiation of deep expressions.
     """
-    tildes = {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in form.atoms(TILDE)}
+    tildes = tilde_variations(form)
     if tildes:
         form = form.xreplace(tildes)
     if form.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         raise UnresolvedError(None, "a term is not finite (division by zero?)")
-    errors = [s for s in sorted(form.free_symbols, key=sp.default_sort_key)
-              if resolver.is_variational(s)]
+    errors = tuple(s for s in sorted(form.free_symbols, key=sp.default_sort_key)
+                   if resolver.is_variational(s))
+    b = _first_nonlinear(form, errors)
+    if b is not None:
+        raise UnresolvedError(b.name, f"not linear in the error quantity {b.name}: "
+                               "error equations must be linear in the errors")
+
+
+@lru_cache(maxsize=16384)
+def _first_nonlinear(form: sp.Expr, errors: tuple[sp.Symbol, ...]) -> sp.Symbol | None:
+    """The first of ``errors`` whose derivative still holds one of them, or None.
+
+    A pure function of its arguments, kept for the next check in the same process.
+    """
     for b in errors:
         derivative = sp.diff(form, b)
         if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in errors):
-            raise UnresolvedError(b.name, f"not linear in the error quantity {b.name}: "
-                                   "error equations must be linear in the errors")
+            return b
+    return None
 
 
 def _report(eq: HandEquation, resolver: HandSide, error: UnresolvedError) -> None:

@@ -32,6 +32,23 @@ class UnresolvedError(Exception):
         self.message = message
 
 
+@lru_cache(maxsize=16384)
+def tilde_variations(expr: sp.Expr) -> dict[sp.Expr, sp.Expr]:
+    """``tilde(X)`` -> ``X + Delta_X`` for each real-work value in ``expr`` (read only).
+
+    Kept per expression: walking a tree for a function class is slow in SymPy (each
+    node's class check goes through the function metaclass), and a hand form is asked
+    for its real-work values several times per check.
+    """
+    return {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in expr.atoms(TILDE)}
+
+
+@lru_cache(maxsize=16384)
+def _has_dot(expr: sp.Expr) -> bool:
+    """Whether ``expr`` holds a time derivative ``dot(...)`` (kept per expression)."""
+    return bool(expr.atoms(DOT))
+
+
 # --------------------------------------------------------------------------------------
 # The model side
 # --------------------------------------------------------------------------------------
@@ -193,7 +210,7 @@ class HandSide:
 
     def is_variational(self, expr: sp.Expr) -> bool:
         """True if ``expr`` contains an error quantity (variation, error state, source)."""
-        if expr.atoms(TILDE):
+        if tilde_variations(expr):
             return True
         for symbol in expr.free_symbols:
             name = symbol.name
@@ -268,10 +285,10 @@ class HandSide:
 
     def resolve(self, expr: sp.Expr, section: int, trail: tuple[str, ...]) -> sp.Expr:
         """Bring a hand expression to basis + ideal model symbols."""
-        tildes = {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in expr.atoms(TILDE)}
+        tildes = tilde_variations(expr)
         if tildes:
             expr = expr.xreplace(tildes)
-        if expr.atoms(DOT):
+        if _has_dot(expr):
             raise UnresolvedError(None, "a time derivative dot(...) is only allowed on the "
                                     "left-hand side")
         replace = {s: self.symbol(s.name, section, trail)
@@ -396,7 +413,7 @@ class HandSide:
 @lru_cache(maxsize=16384)
 def _tautology(form: sp.Expr, key: str) -> bool:
     """:meth:`HandSide.tautology`: a pure function, kept for the next line and check."""
-    tildes = {f: f.args[0] + sp.Symbol(f"Delta_{f.args[0]}") for f in form.atoms(TILDE)}
+    tildes = tilde_variations(form)
     expanded = sp.expand(form.xreplace(tildes))
     return sp.expand(expanded - sp.Symbol(key)) == 0
 
