@@ -1,4 +1,10 @@
-"""The built wheel works outside the source tree, generated code included."""
+"""The built wheel works outside the source tree, generated code included.
+
+The snippets run with the installed wheel first on ``sys.path`` from folders outside the
+source tree, several in one fresh interpreter (its start-up and the package's import
+are most of a snippet's cost); each test asserts on its own snippet's exit status and
+output, captured separately.
+"""
 
 from __future__ import annotations
 
@@ -57,83 +63,140 @@ def installed_wheel(tmp_path_factory) -> Path:
     return target
 
 
-def _run_outside(target: Path, code: str, cwd: Path) -> subprocess.CompletedProcess:
+DRIVER = """
+import contextlib, io, json, os, sys, traceback
+results = {}
+for name, folder, code in json.loads(sys.argv[1]):
+    os.chdir(folder)
+    out, err, status = io.StringIO(), io.StringIO(), 0
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            exec(code, {"__name__": "__main__"})
+        except SystemExit as stop:
+            status = stop.code if isinstance(stop.code, int) else int(stop.code is not None)
+        except BaseException:
+            traceback.print_exc()
+            status = 1
+    results[name] = [status, out.getvalue(), err.getvalue()]
+sys.stdout.write(json.dumps(results))
+"""
+"""Runs snippets one after the other in one process outside the source tree, each in its
+own folder: (exit status, stdout, stderr) of each, by name, as JSON on stdout."""
+
+
+def _run_outside(target: Path, snippets: list[tuple[str, Path, str]], cwd: Path,
+                 prelude: str = "") -> dict[str, tuple[int, str, str]]:
+    """Run ``snippets`` (name, folder, code) with the installed wheel first on the path,
+    in one fresh interpreter (one start-up and import of the package for all of them)."""
+    import json
+
     env = dict(os.environ, PYTHONPATH=str(target))
-    return subprocess.run([sys.executable, "-c", code], cwd=cwd, env=env, capture_output=True,
-                          text=True)
+    done = subprocess.run([sys.executable, "-c", prelude + DRIVER,
+                           json.dumps([(n, str(f), c) for n, f, c in snippets])],
+                          cwd=cwd, env=env, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr[-2000:]
+    return {name: tuple(result) for name, result in json.loads(done.stdout).items()}
 
 
-def test_wheel_loads_models_without_the_source_tree(installed_wheel, tmp_path):
-    code = (
-        "import numpy as np, ins_errors\n"
-        f"assert ins_errors.__file__.startswith({str(installed_wheel)!r}), ins_errors.__file__\n"
-        "m = ins_errors.load_model('orthodromic')\n"
-        "c = m.initial_condition_vector(latitude=0.7)\n"
-        "x = m.initial_state(c, m.input_vector())\n"
-        "print(m.state_matrix(x, m.input_vector(a_zeta=9.8)).shape)\n"
-    )
-    result = _run_outside(installed_wheel, code, tmp_path)
-    assert result.returncode == 0, result.stderr
-    assert result.stdout.strip() == "(11, 11)"
+def _folder(root: Path, name: str, files: dict[str, str]) -> Path:
+    folder = root / name
+    folder.mkdir()
+    for file, text in files.items():
+        (folder / file).write_text(text, encoding="utf-8")
+    return folder
 
 
-def test_wheel_command_line(installed_wheel, tmp_path):
-    code = "import sys; from ins_errors.cli import main; sys.exit(main(['models', 'orthodromic']))"
-    result = _run_outside(installed_wheel, code, tmp_path)
-    assert result.returncode == 0, result.stderr
-    assert "gyro_drift_x" in result.stdout
+SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
+DRIFT = ('model = "orthodromic"\n[run]\nduration = "2 h"\nstep = "2 s"\n'
+         '[outputs]\nquantities = ["alpha_x", "delta_latitude"]\n'
+         '[[case]]\ngyro_drift_y = "0.01 deg/h"\n')
 
 
-def test_wheel_runs_a_scenario(installed_wheel, tmp_path):
-    scenario = tmp_path / "drift.toml"
-    scenario.write_text('model = "orthodromic"\n[run]\nduration = "2 h"\nstep = "2 s"\n'
-                        '[outputs]\nquantities = ["alpha_x", "delta_latitude"]\n'
-                        '[[case]]\ngyro_drift_y = "0.01 deg/h"\n', encoding="utf-8")
-    code = ("import sys; from ins_errors.cli import main; "
-            "sys.exit(main(['run', 'drift.toml', '--out', 'rep', '--no-progress']))")
-    result = _run_outside(installed_wheel, code, tmp_path)
-    assert result.returncode == 0, result.stderr
-    report = (tmp_path / "rep" / "report.md").read_text(encoding="utf-8")
+@pytest.fixture(scope="module")
+def outside(installed_wheel, tmp_path_factory) -> dict[str, tuple[int, str, str]]:
+    """The tests' snippets run with the installed wheel outside the source tree (one
+    process for all: each test below asserts on its own snippet's status and output)."""
+    root = tmp_path_factory.mktemp("outside")
+    snippets = [
+        ("models", _folder(root, "models", {}), (
+            "import numpy as np, ins_errors\n"
+            f"assert ins_errors.__file__.startswith({str(installed_wheel)!r}), "
+            "ins_errors.__file__\n"
+            "m = ins_errors.load_model('orthodromic')\n"
+            "c = m.initial_condition_vector(latitude=0.7)\n"
+            "x = m.initial_state(c, m.input_vector())\n"
+            "print(m.state_matrix(x, m.input_vector(a_zeta=9.8)).shape)\n")),
+        ("command line", _folder(root, "cli", {}),
+         "import sys; from ins_errors.cli import main; "
+         "sys.exit(main(['models', 'orthodromic']))"),
+        ("scenario", _folder(root, "scenario", {"drift.toml": DRIFT}),
+         "import sys; from ins_errors.cli import main; "
+         "sys.exit(main(['run', 'drift.toml', '--out', 'rep', '--no-progress']))"),
+        ("spec", _folder(root, "spec", {}),
+         "import sys; from ins_errors.specs import default_spec_path; "
+         "p = default_spec_path(); print(p); sys.exit(0 if p.exists() else 1)"),
+        ("derive", _folder(root, "derive", {
+            "schuler_loop.py": SCHULER.read_text(encoding="utf-8")}),
+         "import sys; from ins_errors.cli import main; "
+         "sys.exit(main(['derive', 'schuler_loop.py']) "
+         "or main(['models', 'schuler_loop.py']))"),
+    ]
+    results = _run_outside(installed_wheel, snippets, root)
+    return {name: (*results[name], folder) for name, folder, _ in snippets}
+
+
+def test_wheel_loads_models_without_the_source_tree(outside):
+    status, out, err, _ = outside["models"]
+    assert status == 0, err
+    assert out.strip() == "(11, 11)"
+
+
+def test_wheel_command_line(outside):
+    status, out, err, _ = outside["command line"]
+    assert status == 0, err
+    assert "gyro_drift_x" in out
+
+
+def test_wheel_runs_a_scenario(outside):
+    status, _out, err, folder = outside["scenario"]
+    assert status == 0, err
+    report = (folder / "rep" / "report.md").read_text(encoding="utf-8")
     assert "## Equations used" in report and "\\dot{\\alpha}_x" in report
 
 
-def test_wheel_budget_uses_the_built_in_spec(installed_wheel, tmp_path):
+def test_wheel_budget_uses_the_built_in_spec(outside, installed_wheel):
     from ins_errors.specs import default_spec_path, load_spec
 
     assert load_spec(default_spec_path())  # the source tree's copy parses
-    code = ("import sys; from ins_errors.specs import default_spec_path; "
-            "p = default_spec_path(); print(p); sys.exit(0 if p.exists() else 1)")
-    result = _run_outside(installed_wheel, code, tmp_path)
-    assert result.returncode == 0, result.stdout + result.stderr
-    assert result.stdout.startswith(str(installed_wheel))
+    status, out, err, _ = outside["spec"]
+    assert status == 0, out + err
+    assert out.startswith(str(installed_wheel))
 
 
-def test_wheel_derives_a_model_file(installed_wheel, tmp_path):
+def test_wheel_derives_a_model_file(outside):
     """`ins-errors derive FILE` needs the code writer, which ships as ins_errors.derive."""
-    model = ROOT / "examples" / "own_model" / "schuler_loop.py"
-    (tmp_path / "schuler_loop.py").write_text(model.read_text(encoding="utf-8"),
-                                              encoding="utf-8")
-    code = ("import sys; from ins_errors.cli import main; "
-            "sys.exit(main(['derive', 'schuler_loop.py']) "
-            "or main(['models', 'schuler_loop.py']))")
-    result = _run_outside(installed_wheel, code, tmp_path)
-    assert result.returncode == 0, result.stderr
-    assert "initial_tilt" in result.stdout and result.stderr == ""  # found next to the file
-    assert (tmp_path / "schuler_loop_generated" / "casadi_model.py").is_file()
+    status, out, err, folder = outside["derive"]
+    assert status == 0, err
+    assert "initial_tilt" in out and err == ""  # found next to the file
+    assert (folder / "schuler_loop_generated" / "casadi_model.py").is_file()
 
 
 def test_wheel_without_plots_extra_says_so_before_computing(installed_wheel, tmp_path):
-    """Installed without matplotlib: one line naming the extra, no folder, no traceback."""
-    scenario = tmp_path / "drift.toml"
-    scenario.write_text('model = "orthodromic"\n[run]\nduration = "2 h"\n[[case]]\n'
-                        'gyro_drift_y = "0.01 deg/h"\n', encoding="utf-8")
-    for argv in (["run", "drift.toml", "--out", "rep"],
-                 ["compare", "orthodromic", "-s", "gyro_drift_x=0.01deg/h", "--plot", "d.png"]):
-        code = ("import sys; sys.modules['matplotlib'] = None  # as if the extra were absent\n"
-                f"from ins_errors.cli import main; sys.exit(main({argv!r}))")
-        result = _run_outside(installed_wheel, code, tmp_path)
-        assert result.returncode == 2, result.stderr
-        assert result.stderr.strip().splitlines() == [
-            "ins-errors: error: " + result.stderr.split("ins-errors: error: ", 1)[1].strip()]
-        assert "install ins-errors[plots]" in result.stderr and not result.stdout
+    """Installed without matplotlib: one line naming the extra, no folder, no traceback
+    (both commands in one fresh process where matplotlib cannot be imported)."""
+    (tmp_path / "drift.toml").write_text('model = "orthodromic"\n[run]\nduration = "2 h"\n'
+                                         '[[case]]\ngyro_drift_y = "0.01 deg/h"\n',
+                                         encoding="utf-8")
+    argvs = {"run": ["run", "drift.toml", "--out", "rep"],
+             "compare": ["compare", "orthodromic", "-s", "gyro_drift_x=0.01deg/h",
+                         "--plot", "d.png"]}
+    results = _run_outside(
+        installed_wheel, [(name, tmp_path, "import sys; from ins_errors.cli import main; "
+                           f"sys.exit(main({argv!r}))") for name, argv in argvs.items()],
+        tmp_path, prelude="import sys; sys.modules['matplotlib'] = None  # extra absent\n")
+    for status, out, err in results.values():
+        assert status == 2, err
+        assert err.strip().splitlines() == [
+            "ins-errors: error: " + err.split("ins-errors: error: ", 1)[1].strip()]
+        assert "install ins-errors[plots]" in err and not out
     assert not (tmp_path / "rep").exists() and not (tmp_path / "d.png").exists()
