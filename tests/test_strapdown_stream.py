@@ -34,15 +34,19 @@ def model():
     return load_model("strapdown_ned")
 
 
+PROFILE = tr.manoeuvre_profile(
+    48 * DEG, 20 * DEG, 30 * DEG, 220.0,
+    [tr.Leg(300.0, 280.0, 75 * DEG, 2500.0), tr.Leg(123.456, 230.0, -40 * DEG, 1500.0),
+     tr.Leg(12.0, 230.0, 90 * DEG, 1500.0), tr.Leg(300.0, 200.0, -90 * DEG, 500.0)], h=1000.0)
+"""A CLI-style profile whose leg joins fall between steps (423.456 s) with a hard turn
+(90° in 12 s, about 2 g of bank)."""
+
+
 def _flights():
-    """A cruise, the standard manoeuvre, and a CLI-style profile whose leg joins fall
-    between steps (423.456 s) with a hard turn (90° in 12 s, about 2 g of bank)."""
-    legs = [tr.Leg(300.0, 280.0, 75 * DEG, 2500.0), tr.Leg(123.456, 230.0, -40 * DEG, 1500.0),
-            tr.Leg(12.0, 230.0, 90 * DEG, 1500.0), tr.Leg(300.0, 200.0, -90 * DEG, 500.0)]
-    profile = tr.manoeuvre_profile(48 * DEG, 20 * DEG, 30 * DEG, 220.0, legs, h=1000.0)
+    """A cruise, the standard manoeuvre, and the CLI-style profile."""
     return {"cruise": st.great_circle(50 * DEG, 30 * DEG, 60 * DEG, 250.0, 10_000.0),
             "manoeuvre": st.standard_manoeuvre(),
-            "profile": st.flight_from_profile(profile)}
+            "profile": st.flight_from_profile(PROFILE)}
 
 
 FLIGHTS = _flights()
@@ -148,7 +152,12 @@ def test_interpolated_position_follows_an_exact_integration(model, pairs):
 
     def rhs(t, y):
         lat, _, h, psi = y
-        V, _, r, _, vD, _ = (float(c[0]) for c in flight.commands(np.array([t])))
+        # the flight's speed, turn rate and down velocity (its commands, without the
+        # rate of the turn rate this integration does not need) from the profile's
+        values, rates = PROFILE.commands(np.array([t]))
+        speed = np.hypot(values[0], values[1])
+        V, r, vD = (float(c[0]) for c in (speed, -(values[0] * rates[1] - values[1] * rates[0])
+                                          / speed**2, -values[3]))
         R_N, R_E = radii_of_curvature(lat, earth.a, earth.e2)
         vN, vE = V * np.cos(psi), V * np.sin(psi)
         return [vN / (R_N + h), vE / ((R_E + h) * np.cos(lat)), -vD,
