@@ -162,9 +162,10 @@ def _sticking_out(fig) -> tuple[bool, bool, bool, bool]:
 
 
 def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
-    """The study figures use fixed margins (no tight_layout): with the widest tick labels
-    plain formatting gives (-0.00025 and the like; 12500 km), nothing may stick out of
-    the figure, and the inner panels must not label the time axis."""
+    """The study and validity figures use fixed margins (no tight_layout): with the
+    widest tick labels plain formatting gives (-0.00025 and the like; 12500 km; 1e-12 as
+    a power of ten), nothing may stick out of the figure, and the inner panels must not
+    label the time axis."""
     from types import SimpleNamespace
 
     from ins_errors.output import save_figure
@@ -198,6 +199,18 @@ def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
     spheroid_error.plot(flights, tmp_path / "flights.png")
     assert seen == [((False,) * 4, [False, False, False, True]),
                     ((False,) * 4, [False] * 4 + [True] * 4)]
+    from ins_errors.analysis import validity_plot
+    from ins_errors.analysis.validity import SourceValidity
+
+    monkeypatch.setattr(validity_plot, "save_figure", check)
+    magnitudes = list(np.logspace(-3, 3, 7))
+    sweep = SourceValidity("gyro_drift_x", "great-circle", "rad/s", "deg/h",
+                           [m * 4.8e-9 for m in magnitudes], "alpha_z",
+                           linear_ratio=list(np.logspace(-5, 0, 7)),
+                           refined_ratio=list(np.logspace(-12, -2, 7)), linear_slope=1.0,
+                           refined_slope=2.0, magnitude_1pct=4.8e-9)
+    validity_plot.plot_validity([sweep], tmp_path / "validity.png", "a title")
+    assert seen[-1] == ((False,) * 4, [True])
 
 
 def _day_of_seconds():

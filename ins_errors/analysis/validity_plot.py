@@ -36,6 +36,7 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    from ins_errors.figure_layout import fixed_margins
     from ins_errors.units import parse_quantity
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
@@ -66,7 +67,9 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
     ax.grid(True, which="both", alpha=0.25)
     ax.legend(fontsize=7, loc="best")
     ax.set_title(title, fontsize=9)
-    fig.tight_layout()
+    # fixed margins fit the powers of ten and the labels (tight_layout measured every
+    # tick label first: about one more drawing of the figure)
+    fixed_margins(fig, left=0.85, right=0.15, bottom=0.6, top=0.34)
     return save_figure(fig, path, dpi=110)
 
 
