@@ -267,3 +267,17 @@ def test_bad_truth_choices_and_polar_flights_are_one_line_errors(model):
             warnings.simplefilter("ignore")
             with pytest.raises(DomainError, match=r"(pole|domain).* at t = 3\d"):
                 simulate(model, streamed, {"gyro_bias_x": 1e-7})
+
+
+def test_own_flight_with_commands_that_are_not_finite_is_a_one_line_error(model):
+    """The fine truth names the time span where a flight's own commands are NaN."""
+    cruise = FLIGHTS["cruise"]
+
+    def commands(t):
+        V, *rest = cruise.commands(t)
+        return (np.where(t > 100.0, np.nan, V), *rest)
+
+    own = st.Flight(cruise.latitude, cruise.longitude, cruise.height, cruise.course,
+                    commands, "own")
+    with pytest.raises(DomainError, match=r"commands are not finite between t = \d+ and \d+ s"):
+        st.trajectory(model, own, 200.0, 0.5, truth="fine")
