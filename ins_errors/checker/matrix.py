@@ -526,18 +526,27 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
 # Propagation of both linear models
 # --------------------------------------------------------------------------------------
 def _taylor_steps(A: np.ndarray, dt: float) -> np.ndarray:
-    """exp(A dt) for a batch (K, n, n): scaling and squaring with a degree-10 Taylor sum."""
+    """exp(A dt) for a batch (K, n, n): scaling and squaring with a degree-10 Taylor sum.
+
+    ``result = Σ_k term_k``, ``term_k = term_{k-1} @ M / k`` (``M = A dt / 2^s``), then
+    ``s`` squarings; evaluated in place (the stacks are megabytes: fresh arrays for each
+    operation cost as much as the products), the same operations in the same order.
+    """
     M = A * dt
     norm = np.max(np.sum(np.abs(M), axis=-1))
     squarings = max(0, int(np.ceil(np.log2(norm / 0.25)))) if norm > 0.25 else 0
-    M = M / 2**squarings
-    eye = np.broadcast_to(np.eye(A.shape[-1]), A.shape)
-    result, term = eye.copy(), eye.copy()
+    M /= 2**squarings
+    result = np.empty_like(M)
+    result[...] = np.eye(A.shape[-1])
+    term, spare = result.copy(), np.empty_like(M)
     for k in range(1, 11):
-        term = term @ M / k
-        result = result + term
+        np.matmul(term, M, out=spare)
+        spare /= k
+        term, spare = spare, term
+        result += term
     for _ in range(squarings):
-        result = result @ result
+        np.matmul(result, result, out=spare)
+        result, spare = spare, result
     return result
 
 
@@ -552,15 +561,18 @@ def _transition(A: np.ndarray, times: np.ndarray, at: list[float]) -> list[np.nd
     if np.all(A[:1] == A):
         return [expm(A[0] * t) for t in at]
     dt = float(times[1] - times[0])
-    steps = _taylor_steps(0.5 * (A[1:] + A[:-1]), dt)
+    mean = A[1:] + A[:-1]
+    mean *= 0.5
+    steps = _taylor_steps(mean, dt)
     wanted = {round(t / dt): t for t in at}
     out: dict[float, np.ndarray] = {}
-    phi = np.eye(A.shape[-1])
+    phi, spare = np.eye(A.shape[-1]), np.empty(A.shape[1:])
     for k in range(steps.shape[0] + 1):
         if k in wanted:
             out[wanted[k]] = phi.copy()
         if k < steps.shape[0]:
-            phi = steps[k] @ phi
+            np.matmul(steps[k], phi, out=spare)
+            phi, spare = spare, phi
     return [out[t] for t in at]
 
 
@@ -575,7 +587,9 @@ def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray, held: list[int]
     A[:, :n, n:] = G
     A[:, held, :] = 0.0
     A[:, :, held] = 0.0
-    return A * (1 / scale)[:, None] * scale[None, :]
+    A *= (1 / scale)[:, None]
+    A *= scale[None, :]
+    return A
 
 
 @dataclass
@@ -635,9 +649,13 @@ def _times(motion: Motion, hours: tuple[float, ...]) -> list[float]:
 
 
 def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
-                      motion_list: list[Motion], hours: tuple[float, ...] = EFFECT_HOURS
-                      ) -> list[Effect]:
-    """Propagate the hand and the derived model; differences per initial error/source."""
+                      motion_list: list[Motion], hours: tuple[float, ...] = EFFECT_HOURS,
+                      responses: dict | None = None) -> list[Effect]:
+    """Propagate the hand and the derived model; differences per initial error/source.
+
+    ``responses``, if given, receives the derived model's responses by (motion, time)
+    (:func:`finding_effects` starts from them).
+    """
     prop = _Propagation.of(report, conv, model)
     report.held = [v for v in conv.vertical if v in report.states]
     effects = []
@@ -647,6 +665,8 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
             continue
         hand = prop.hand(sampled.Fh[motion.label], sampled.Gh.get(motion.label), motion, at)
         derived = prop.derived(sampled.Fz[motion.label], sampled.Gz[motion.label], motion, at)
+        if responses is not None:
+            responses.update({(motion.label, t): r for t, r in zip(at, derived, strict=True)})
         position = conv.position(motion.navigation)  # (3, nz, K)
         attitude = conv.attitude(motion.navigation)
         for t, resp_h, resp_z in zip(at, hand, derived, strict=True):
@@ -663,11 +683,12 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
 
 
 def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
-                    motion_list: list[Motion], hours: float = EFFECT_HOURS[-1]
-                    ) -> dict[str, tuple[float, float, str]]:
+                    motion_list: list[Motion], hours: float = EFFECT_HOURS[-1],
+                    responses: dict | None = None) -> dict[str, tuple[float, float, str]]:
     """Effect of each finding alone: the derived model with only that entry replaced by
     the hand's, propagated like :func:`propagate_effects` (entries of held vertical-channel
-    states are left out).
+    states are left out). ``responses``: the derived model's responses by (motion, time)
+    from :func:`propagate_effects`, if at hand (the same numbers; not computed again).
 
     Returns
     -------
@@ -684,7 +705,8 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
         if not at:
             continue
         Fz, Gz = sampled.Fz[motion.label], sampled.Gz[motion.label]
-        [base] = prop.derived(Fz, Gz, motion, at)
+        known = (responses or {}).get((motion.label, at[0]))
+        [base] = [known] if known is not None else prop.derived(Fz, Gz, motion, at)
         k = round(at[0] / (motion.times[1] - motion.times[0]))
         P = conv.position(motion.navigation)[:2, prop.rows, k]
         A = conv.attitude(motion.navigation)[:, prop.rows, k]
@@ -794,8 +816,11 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         out_of_scope=[s.name for s in model.sources if s.name not in used_sources])
     _compare(report, sampled, conv, model, motion_list)
     if effects:
-        report.effects = propagate_effects(report, sampled, conv, model, motion_list)
-        report.finding_effects = finding_effects(report, sampled, conv, model, motion_list)
+        responses: dict = {}  # the derived model's, shared by both
+        report.effects = propagate_effects(report, sampled, conv, model, motion_list,
+                                           responses=responses)
+        report.finding_effects = finding_effects(report, sampled, conv, model, motion_list,
+                                                 responses=responses)
     return report
 
 
