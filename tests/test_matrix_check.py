@@ -407,3 +407,28 @@ def test_in_place_propagation_is_the_plain_formula_to_the_bit(wgs84):
     at = [30 * dt, steps.shape[0] * dt]
     got = mc._transition(A, motion.times, at)
     assert np.array_equal(got[0], wanted[30]) and np.array_equal(got[1], wanted[len(steps)])
+
+
+def test_a_hand_function_that_changes_its_arguments_is_refused(tmp_path):
+    """The samples are kept for the next check, so they are read-only: changing one in
+    place is a one-line error naming the function, the motion and the line; the samples
+    stay as they were."""
+    from ins_errors.errors import InsErrorsError
+
+    ms = mc.motions(load_model(MODEL), hours=2.0, step=600.0)
+    before = [(nav.v_ned.copy(), imu.f_n.copy()) for nav, imu in samples(
+        ms[1].navigation, ms[1].times, ms[1].label)]
+    text = HAND.read_text(encoding="utf-8").replace(
+        "    phi, h = nav.latitude, nav.height\n",
+        "    phi, h = nav.latitude, nav.height\n    imu.f_n[2] += 0.0\n")
+    path = tmp_path / "changes_inputs.py"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(InsErrorsError, match=r"changes_inputs.py:error_model on static at "
+                                             r"t = 0 s: ValueError: .*read-only \(line \d+\)"):
+        mc.check_matrices(MODEL, f"{path}:error_model", "model", motion_list=ms)
+    report = mc.check_matrices(MODEL, f"{HAND}:error_model", "model", motion_list=ms,
+                               effects=False)
+    assert report.findings == []
+    kept = ms[1].kept["samples"]
+    assert all(np.array_equal(nav.v_ned, v) and np.array_equal(imu.f_n, f)
+               for (nav, imu), (v, f) in zip(kept, before, strict=True))

@@ -149,9 +149,29 @@ def _check_matrix(value, shape: tuple[int, int], what: str, where: str) -> np.nd
     return array
 
 
+def _kept_samples(motion) -> list:
+    """The (Navigation, Imu) pairs of a motion, kept on it for the next check.
+
+    Their arrays are read-only: a function that changed its arguments in place would
+    otherwise change them for every later check along the motion.
+    """
+    kept = motion.kept.get("samples")
+    if kept is None:
+        kept = samples(motion.navigation, motion.times, motion.label)
+        for pair in kept:
+            for part in pair:
+                for value in vars(part).values():
+                    if isinstance(value, np.ndarray):
+                        value.setflags(write=False)
+        motion.kept["samples"] = kept
+    return kept
+
+
 def evaluate_function(fn, name: str, path: Path, states: list[str], sources: list[str],
                       motions) -> HandMatrices:
     """Call the researcher's function at every sample of every motion.
+
+    The function's arguments are read-only (they are kept for the next check).
 
     Parameters
     ----------
@@ -171,7 +191,7 @@ def evaluate_function(fn, name: str, path: Path, states: list[str], sources: lis
     G: dict[str, np.ndarray] = {}
     for motion in motions:
         fs, gs = [], []
-        for nav, imu in samples(motion.navigation, motion.times, motion.label):
+        for nav, imu in _kept_samples(motion):
             where = f"{name} on {motion.label} at t = {nav.t:g} s"
             try:
                 result = fn(nav, imu)
