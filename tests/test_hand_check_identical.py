@@ -56,9 +56,20 @@ def test_kept_parses_follow_the_notation():
     assert parse_text_expression("2*w_xi", plain)[1] == {"w_xi": 3}
 
 
+def _forget_kept_results() -> None:
+    """Empty every per-process cache of the checker (as in a fresh interpreter)."""
+    from ins_errors.checker import compare, parse, sides
+
+    for kept in (compare._shared_linear_parts, compare._identical, compare._display,
+                 sides._tautology, parse._parsed_text, parse._parsed_latex):
+        kept.cache_clear()
+    for side in sides._SHARED.values():
+        side[1]._varied.clear()
+    compare._SHARED.clear()  # reference points and their evaluated coefficients
+
+
 def test_a_check_after_other_checks_equals_one_with_nothing_kept():
     """The kept splits, comparisons, tautologies and parses change no report."""
-    from ins_errors.checker import compare, parse, sides
     from ins_errors.checker.compare import check_hand
     from ins_errors.checker.notation import default_notation
     from ins_errors.checker.parse import parse_hand_text
@@ -72,11 +83,7 @@ def test_a_check_after_other_checks_equals_one_with_nothing_kept():
     wrong = CORRECT.replace("- a_zeta*alpha_y", "+ a_zeta*alpha_y")
     report(CORRECT)
     warm = report(wrong)
-    for kept in (compare._shared_linear_parts, compare._identical, compare._display,
-                 sides._tautology, parse._parsed_text, parse._parsed_latex):
-        kept.cache_clear()
-    for side in sides._SHARED.values():
-        side[1]._varied.clear()
+    _forget_kept_results()
     cold = report(wrong)
     assert warm == cold
     assert warm["summary"]["mistakes"] >= 1
@@ -94,3 +101,57 @@ def test_checks_run_with_one_blas_thread_and_restore_the_pools():
     inside = one_blas_thread(blas_threads)()
     assert inside and set(inside) == {1}
     assert blas_threads() == before
+
+
+def test_reports_do_not_depend_on_the_order_of_the_checks():
+    """Kept coefficient values depend on the batch they were evaluated in (last bit);
+    exact ties such as the manual's "hand/model = 2 at every point" (lines 50-51) must
+    still name the same point whichever check ran first."""
+    from ins_errors.checker.compare import check_hand
+    from ins_errors.checker.notation import default_notation
+    from ins_errors.checker.parse import parse_hand_text
+    from ins_errors.checker.report import to_json, to_markdown
+    from tests.test_hand_check import CORRECT, MANUAL
+
+    manual = (MANUAL / "equations.txt").read_text()
+    wrong = CORRECT.replace("- a_zeta*alpha_y", "+ a_zeta*alpha_y")
+
+    def report(text):
+        result = check_hand(parse_hand_text(text, default_notation("orthodromic")),
+                            threshold=1e-3, effects=False)
+        return to_json(result), to_markdown(result)
+
+    _forget_kept_results()
+    manual_first, wrong_second = report(manual), report(wrong)
+    _forget_kept_results()
+    wrong_first, manual_second = report(wrong), report(manual)
+    assert manual_first == manual_second
+    assert wrong_first == wrong_second
+    tied = [f for r in manual_first[0]["equations"] if r["line"] in (50, 51)
+            for f in r["findings"] if "= 2 at every point" in f["detail"]]
+    assert tied and {f["point"] for f in tied} == {"static base"}
+
+
+def test_first_largest_ignores_last_bit_differences():
+    import numpy as np
+
+    from ins_errors.checker.extreme import at_least, first_largest, first_largest_item
+
+    half = 0.5
+    above = np.nextafter(half, 1.0)
+    # the same tie with the last bit landing on either point: the first point both times
+    assert first_largest(np.array([0.1, half, above, 0.2])) == 1
+    assert first_largest(np.array([0.1, above, half, 0.2])) == 1
+    assert first_largest(np.array([2.0 * (1 - 4e-16), 2.0, 1.0])) == 0
+    # a real difference (1e-9 relative) still picks the larger one
+    assert first_largest(np.array([half, half * (1 + 1e-9)])) == 1
+    assert first_largest(np.array([-3.0, -1.0, np.nextafter(-1.0, 0.0)])) == 1
+    # non-finite largest values: their first occurrence, as numpy.argmax
+    assert first_largest(np.array([1.0, np.inf, np.inf])) == 1
+    assert first_largest(np.array([1.0, np.nan, 2.0])) == 1
+    assert at_least(half, above) and at_least(above, half)
+    assert not at_least(half, half * (1 + 1e-9))
+    assert at_least(np.inf, np.inf) and not at_least(1.0, np.inf)
+    items = [("a", half), ("b", above), ("c", 0.3)]
+    assert first_largest_item(items, lambda item: item[1])[0] == "a"
+    assert first_largest_item(items[::-1], lambda item: item[1])[0] == "b"

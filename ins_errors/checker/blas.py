@@ -8,20 +8,30 @@ save. On a busy 2-core machine ``scipy.linalg.expm`` of an 11 × 11 matrix took 
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
-from functools import cache, wraps
+from functools import wraps
 from typing import ParamSpec, TypeVar
 
 P = ParamSpec("P")
 R = TypeVar("R")
 
+_KEPT: list = [-1, None]  # [number of imported modules at the lookup, controller]
 
-@cache
+
 def _controller():
-    """The process's BLAS thread pools (looked up once: the lookup costs milliseconds)."""
-    from threadpoolctl import ThreadpoolController
+    """The process's BLAS thread pools.
 
-    return ThreadpoolController()
+    The lookup costs milliseconds, so it is kept, and repeated only when modules were
+    imported since (an import can load another BLAS library, e.g. a second OpenBLAS
+    bundled with another package, which must be limited too).
+    """
+    if _KEPT[0] != len(sys.modules):
+        from threadpoolctl import ThreadpoolController
+
+        _KEPT[1] = ThreadpoolController()
+        _KEPT[0] = len(sys.modules)
+    return _KEPT[1]
 
 
 def one_blas_thread(function: Callable[P, R]) -> Callable[P, R]:

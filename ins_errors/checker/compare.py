@@ -40,6 +40,7 @@ import sympy as sp
 from ins_errors.checker import classify as cl
 from ins_errors.checker.blas import one_blas_thread
 from ins_errors.checker.classify import Finding
+from ins_errors.checker.extreme import at_least, first_largest
 from ins_errors.checker.notation import Notation, default_notation
 from ins_errors.checker.parse import HandEquation, HandFile, Problem
 from ins_errors.checker.reference import (
@@ -473,7 +474,7 @@ class Comparison:
         raw: dict[sp.Symbol, dict] = {}
         for i, b in enumerate(quantities):
             ratios = np.abs(hv[i] - mv[i]) * weights[i] / safe
-            j = int(np.argmax(ratios))
+            j = first_largest(ratios)
             if ratios[j] > AGREEMENT:
                 raw[b] = {"size": float(ratios[j]), "point": self.points[j].label,
                           "hand": hv[i], "model": mv[i], "largest": largest,
@@ -501,7 +502,7 @@ class Comparison:
         safe = np.where(largest > 0, largest, np.inf)
         ratios = np.where(largest > 0, np.abs(constant) / safe,
                           np.where(constant == 0, 0.0, np.inf))
-        j = int(np.argmax(ratios))
+        j = first_largest(ratios)
         if ratios[j] > AGREEMENT:
             _, hc = self.linear_parts(hand)
             findings.append(Finding("(none)", cl.NOT_ERROR, cl.MISTAKE, float(ratios[j]),
@@ -543,9 +544,9 @@ class Comparison:
                 if scale == 0 or not np.all(np.abs(da + db) <= 1e-6 * scale):
                     continue
                 # the model's term is lost on one quantity and found on the other
-                lost, got = (a, b) if np.sum(np.abs(raw[a]["model"])) >= np.sum(
-                    np.abs(raw[b]["model"])) else (b, a)
-                first = raw[a] if raw[a]["size"] >= raw[b]["size"] else raw[b]
+                lost, got = (a, b) if at_least(float(np.sum(np.abs(raw[a]["model"]))), float(
+                    np.sum(np.abs(raw[b]["model"])))) else (b, a)
+                first = raw[a] if at_least(raw[a]["size"], raw[b]["size"]) else raw[b]
                 moved = _display((raw[lost]["model_expr"] - raw[lost]["hand_expr"]).xreplace(
                     self.display_model))
                 findings.append(Finding(
@@ -563,7 +564,7 @@ class Comparison:
         h, m = self.evaluate([hand, model])
         scale = np.maximum(np.abs(h), np.abs(m))
         ratios = np.where(scale > 0, np.abs(h - m) / np.where(scale > 0, scale, 1), 0.0)
-        j = int(np.argmax(ratios))
+        j = first_largest(ratios)
         if ratios[j] <= AGREEMENT:
             return []
         tiny = 1e-12 * float(np.max(scale))

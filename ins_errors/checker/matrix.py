@@ -49,6 +49,7 @@ from ins_errors.checker.classify import (
 )
 from ins_errors.checker.classify import severity as classify_severity
 from ins_errors.checker.conventions import Convention, convention
+from ins_errors.checker.extreme import first_largest
 from ins_errors.checker.matrix_input import (
     HandMatrices,
     evaluate_function,
@@ -509,7 +510,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                 continue
             kind, severity, detail = verdict
             ratio = np.abs(h - m) * mag / scale
-            s = int(np.argmax(ratio))
+            s = first_largest(ratio)
             per_motion = {lab: float(ratio[sample_motion == k].max())
                           for k, lab in enumerate(labels)}
             findings.append(EntryFinding(

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ins_errors.checker.extreme import first_largest_item
 from ins_errors.checker.matrix import ARCSEC, Effect, EntryFinding, MatrixReport
 
 
@@ -47,8 +48,9 @@ def worst_effects(r: MatrixReport) -> list[tuple[str, float, Effect, Effect]]:
     out = []
     for motion, hours in keys:
         group = [e for e in r.effects if (e.motion, e.hours) == (motion, hours)]
-        out.append((motion, hours, max(group, key=lambda e: e.position_difference),
-                    max(group, key=lambda e: e.attitude_difference)))
+        out.append((motion, hours,
+                    first_largest_item(group, lambda e: e.position_difference),
+                    first_largest_item(group, lambda e: e.attitude_difference)))
     return out
 
 

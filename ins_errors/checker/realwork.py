@@ -27,6 +27,7 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import classify as cl
+from ins_errors.checker.extreme import first_largest
 from ins_errors.checker.parse import DOT, TILDE, HandEquation, HandFile
 from ins_errors.models.platform import on_platform
 
@@ -146,7 +147,7 @@ def check_output(eq: HandEquation, points: list, angle: float, threshold: float)
             continue
         kind, detail = _kind(h[key], m[key])
         ratios = np.nan_to_num(np.abs(_values(points, difference))) * scale[key] / safe
-        j = int(np.argmax(ratios)) if len(ratios) else 0
+        j = first_largest(ratios) if len(ratios) else 0
         size = float(ratios[j]) if len(ratios) else 1.0
         where = points[j].label if points else "-"
         if size == 0.0:
