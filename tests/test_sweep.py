@@ -231,3 +231,27 @@ def test_sweep_summary_reports_each_points_integration_error(tmp_path, capsys):
     tau, t = 10.0, 3600.0
     growth = (1 + G / 6.371e6 * tau**2) ** (t / (2 * tau)) - 1
     assert 0.5 < row["worst_integration_error_ratio"] / growth < 2.0
+
+
+def test_sweep_records_the_model_parameters_it_set(tmp_path, capsys):
+    """Like compare/budget/validity/run JSON: --json and the store's attributes carry
+    ``parameters`` (name -> SI value and unit; {} when the scenario sets none); the swept
+    parameters' units are under ``swept``."""
+    import xarray as xr
+
+    short = BASE.replace('"1 h"', '"2 min"').replace('"1 s"', '"60 s"')
+    sweep = '[sweep]\nlatitude = ["50 deg"]\n'
+    # 6400 km = 6.4e6 m, converted by hand
+    cases = {"set": ('[parameters]\na = "6400 km"\n', {"a": {"value": 6.4e6, "unit": "m"}}),
+             "none": ("", {})}
+    for name, (table, expected) in cases.items():
+        path = scenario_file(tmp_path, table + sweep, short,
+                             name=f"{name}.toml")
+        store = tmp_path / f"{name}.nc"
+        assert main(["sweep", str(path), "--store", str(store), "--engine", "serial",
+                     "--json", "--no-progress"]) == 0
+        data = json.loads(capsys.readouterr().out)
+        assert data["parameters"] == expected, name
+        assert data["swept"] == {"latitude": "rad"}
+        with xr.open_dataset(store) as ds:
+            assert sw.model_parameters(ds) == expected, name

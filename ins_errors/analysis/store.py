@@ -13,6 +13,9 @@ attributes)::
     done                        (point)                  1 once the point is written
     coordinates                 time (s), quantity and its unit, source and its unit,
                                 every swept parameter per point (with its unit), case, draw
+    attributes                  title, model, settings, the swept names, and
+                                ``parameters``: the model parameters the scenario set
+                                (JSON text, name -> SI value and unit; ``{}``: none)
 
 Each point is its own chunk, written by the calling process only (one writer), data
 first and ``done`` last: a point whose write was interrupted is not marked done and runs

@@ -478,6 +478,7 @@ def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
 def layout(scenario, points: Grid):
     """The store layout of a sweep."""
     from ins_errors.analysis.store import Layout
+    from ins_errors.model_parameters import parameters_record
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.simulate import error_quantities
 
@@ -499,6 +500,7 @@ def layout(scenario, points: Grid):
         "swept": [name for name, (_, attrs) in points.coordinates.items()
                   if attrs.get("swept")],
         "motion": {k: str(v) for k, v in scenario.motion.items()},
+        "parameters": parameters_record(model, scenario.parameters),
         "Conventions": "ins-errors sweep store 2",
     }
     return Layout(len(points.jobs), times, tuple(names), tuple(units),
@@ -568,6 +570,20 @@ def swept_names(dataset) -> list[str]:
     """Per-point coordinates that label the grid: the parameters in file order, then
     ``case`` and ``draw``."""
     return list(json.loads(dataset.attrs.get("swept", "[]")))
+
+
+def model_parameters(dataset) -> dict[str, dict[str, object]]:
+    """The model parameters the sweep set (its scenario's ``[parameters]``), as stored.
+
+    Returns
+    -------
+    dict of str to dict
+        Name -> ``{"value": SI value, "unit": SI unit}``, as
+        :func:`ins_errors.model_parameters.parameters_record` gives it; empty when none
+        was set (also for a store written before the record existed, whose fingerprint
+        then says none was set).
+    """
+    return json.loads(dataset.attrs.get("parameters", "{}"))
 
 
 def _worst(dataset, curve: str) -> tuple[np.ndarray, list[str | None]]:

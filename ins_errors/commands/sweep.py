@@ -46,6 +46,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis import sweep as sw
+    from ins_errors.model_parameters import parameters_record
+    from ins_errors.numeric.model import load_model
     from ins_errors.scenario import load_scenario
 
     scenario = load_scenario(args.scenario)
@@ -65,11 +67,13 @@ def run(args: argparse.Namespace) -> int:
         plotted = sw.plot(data, args.figure, [a.strip() for a in against], args.plot)
     where = result.engine.where if result.engine is not None else "nothing to run"
     if args.json:
+        model = load_model(scenario.model)
         print(json.dumps({"store": str(result.store), "points": result.points,
                           "computed": result.computed, "reused": result.reused,
                           "engine": where, "plot": None if plotted is None else str(plotted),
-                          "parameters": {name: data[name].attrs.get("units", "1")
-                                         for name in sw.swept_names(data)},
+                          "parameters": parameters_record(model, scenario.parameters),
+                          "swept": {name: data[name].attrs.get("units", "1")
+                                    for name in sw.swept_names(data)},
                           "summary": sw.summary(data),
                           "over_draws": sw.over_draws(data)}, indent=2, ensure_ascii=False))
         return 0
