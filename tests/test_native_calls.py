@@ -211,3 +211,27 @@ def test_a_pool_worker_runs_its_batches_on_one_thread(monkeypatch):
     monkeypatch.delenv("INS_ERRORS_THREADS", raising=False)
     with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("fork")) as pool:
         assert pool.submit(integ.worker_count).result() == 1
+
+
+@pytest.mark.parametrize("method", ["euler", "rk4"])
+def test_stream_rows_are_the_transposed_input_stream_to_the_bit(method):
+    """The rows a compiled loop reads, built with one copy, hold exactly the numbers of
+    the stacked stream transposed (and are C-contiguous, as ``advance`` requires)."""
+    rng = np.random.default_rng(3)
+    inputs, mid = rng.standard_normal((7, 41)), rng.standard_normal((7, 40))
+    rows = integ.stream_rows(inputs, mid, method)
+    assert rows.flags.c_contiguous and rows.dtype == np.float64
+    assert np.array_equal(rows, integ.input_stream(inputs, mid, method).T)
+    if method == "rk4":
+        with pytest.raises(integ.StepError, match="midpoints"):
+            integ.stream_rows(inputs, None, method)
+
+
+
+def test_stream_rows_fill_a_given_buffer_and_refuse_a_wrong_one():
+    inputs, mid = np.ones((2, 6)), np.zeros((2, 5))
+    out = np.full((5, 6), np.nan)
+    assert integ.stream_rows(inputs, mid, "rk4", out) is out
+    assert np.array_equal(out, integ.input_stream(inputs, mid, "rk4").T)
+    with pytest.raises(integ.StepError, match=r"shape \(5, 6\)"):
+        integ.stream_rows(inputs, mid, "rk4", np.empty((5, 2)))

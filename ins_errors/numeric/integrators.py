@@ -285,6 +285,43 @@ def input_stream(inputs: np.ndarray, midpoints: np.ndarray | None, method: Metho
     return np.vstack([inputs[:, :-1], midpoints, inputs[:, 1:]])
 
 
+def stream_rows(inputs: np.ndarray, midpoints: np.ndarray | None, method: Method,
+                out: np.ndarray | None = None) -> np.ndarray:
+    """The rows of :func:`input_stream`, one per step, as :meth:`CompiledLoop.advance`
+    reads them: the same numbers, copied once (no stacked intermediate), into ``out``
+    when given (a long run reuses one buffer instead of faulting in fresh pages per piece).
+
+    Parameters
+    ----------
+    inputs : numpy.ndarray, shape (nu, N + 1)
+        Inputs at the step times.
+    midpoints : numpy.ndarray, shape (nu, N) or None
+        Inputs at the midpoints (RK4 only).
+    out : numpy.ndarray, optional
+        C-ordered float buffer of the returned shape to fill.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N, nu) for Euler or (N, 3 nu) for RK4, C order
+    """
+    nu, n = inputs.shape[0], inputs.shape[1] - 1
+    if method != "euler" and midpoints is None:
+        raise StepError("RK4 needs the inputs at the step midpoints")
+    shape = (n, nu if method == "euler" else 3 * nu)
+    if out is None:
+        out = np.empty(shape)
+    elif out.shape != shape or out.dtype != np.float64 or not out.flags.c_contiguous:
+        raise StepError(f"stream buffer must be a contiguous float array of shape {shape}, "
+                        f"got {out.shape}")
+    rows = out
+    if method == "euler":
+        rows[:] = inputs[:, :-1].T
+        return rows
+    rows[:, :nu] = inputs[:, :-1].T
+    rows[:, nu:2 * nu] = midpoints.T
+    rows[:, 2 * nu:] = inputs[:, 1:].T
+    return rows
+
 # --------------------------------------------------------------------------------------
 # Compilation with an on-disk cache
 # --------------------------------------------------------------------------------------

@@ -59,9 +59,9 @@ from ins_errors.numeric.integrators import (
     StepError,
     check_method,
     exact_discretisation,
-    input_stream,
     progress_bar,
     record_stride,
+    stream_rows,
     worker_count,
 )
 from ins_errors.numeric.model import Model
@@ -488,10 +488,13 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
     recorded = np.empty((len(trajectory.start_inputs), records + 1))
     recorded[:, 0] = trajectory.start_inputs
     bar = progress_bar(N, "direct and linear runs" if progress else False)
+    buffers: dict[int, np.ndarray] = {}
     try:
         for part in trajectory.chunks(piece):
             k, m = part.start, part.size
-            stream = np.ascontiguousarray(input_stream(part.inputs, part.midpoints, method).T)
+            buffer = buffers.get(m)
+            stream = stream_rows(part.inputs, part.midpoints, method, buffer)
+            buffers[m] = stream   # reused by the next piece of the same size
             r0, r1 = k // stride, (k + m) // stride
             loop.advance(carry, m, stream, states[:, r0 + 1:r1 + 1], margins[r0:r1])
             recorded[:, r0 + 1:r1 + 1] = part.inputs[:, stride::stride]
