@@ -87,6 +87,45 @@ def test_own_motion_from_a_csv_file(capsys, tmp_path):
     assert status == 2 and "leaves the sampled motion" in err
 
 
+def test_truth_option_fine_and_interpolated_agree(capsys):
+    """``--truth``: the interpolated truth (coarse Chebyshev intervals) gives the direct
+    errors of the fine truth (integrated at every step) to far below any linear-vs-direct
+    difference. Reference: tests/test_interpolated_truth.py measures the interpolated
+    direct errors within 1.8e-9 of the fine ones relative to their size (asserted < 1e-7
+    there); the same bound is used here on a 20 min great circle at a 1 s step."""
+    from ins_errors.numeric.trajectories import TRUTHS
+
+    reports = {}
+    for truth in TRUTHS:
+        status, out, err = run(capsys, "-s", "gyro_drift_x=0.01deg/h", "-s",
+                               "accel_bias_y=10ug", "--motion", "great-circle", "--duration",
+                               "20 min", "--step", "1s", "--no-refined", "--json",
+                               "--truth", truth)
+        assert status == 0, err
+        reports[truth] = json.loads(out)
+        assert reports[truth]["truth"] == truth
+    fine, fast, auto = ([(m["max_direct"], m["linear_difference"])
+                         for m in reports[t]["cases"][0]["metrics"]] for t in
+                        ("fine", "interpolated", "auto"))
+    fine, fast = np.array(fine), np.array(fast)
+    assert fine[:, 0].min() > 0  # every quantity excited
+    size = fine[:, :1]  # max direct error of each quantity
+    change = np.abs(fast - fine)  # of the max direct error and of max |linear - direct|
+    assert (change / size).max() < 1e-7
+    assert (change[:, 1] / fine[:, 1]).max() < 1e-2  # far below linear-vs-direct
+    assert not np.array_equal(fast, fine)  # the option reached the truth: two computations
+    # at 1 s an interval of about 10 s holds fewer than MIN_STEPS steps: auto is fine
+    assert np.array_equal(np.array(auto), fine)
+
+
+def test_unknown_truth_is_a_one_line_usage_error(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        run(capsys, "-s", "gyro_drift_x=0.01deg/h", "--truth", "bogus")
+    assert exit_.value.code == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and "--truth" in lines[0] and "'bogus'" in lines[0]
+    assert "interpolated" in lines[0]  # the choices are named
+
 @pytest.mark.parametrize(("args", "message"), [
     (["-s", "gyro_drft_x=0.01deg/h"], "did you mean 'gyro_drift_x'"),
     (["-s", "gyro_drift_x=0.01deg/h", "--step", "0"], "step must be a positive"),

@@ -63,6 +63,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--platform", choices=("exact", "small-angle"), default="exact",
                         help="platform kinematics of the direct run: exact rotation (default) "
                              "or the source documents' small-angle matrix")
+    parser.add_argument("--truth", choices=("auto", "interpolated", "fine"), default="auto",
+                        help="how the true motion of a moving run is built: interpolated = "
+                             "the exact truth computed on coarse intervals (about 10 s, "
+                             "ending at the motion's leg joins) and interpolated to the "
+                             "steps by Chebyshev polynomials (much cheaper at small steps); "
+                             "fine = the truth integrated at every step; auto (default) = "
+                             "the library's choice (interpolated when every interval holds "
+                             "enough steps, else fine)")
     parser.add_argument("--no-refined", action="store_true",
                         help="skip the second-order (refined) run")
     parser.add_argument("--plot", metavar="FILE", help="write overlaid curves (png/pdf/svg)")
@@ -155,7 +163,8 @@ def run(args: argparse.Namespace) -> int:
     profile = motion_profile(motion)
     progress = not args.no_progress and n_steps >= 100_000
     trajectory = tr.trajectory(model, profile, duration, tau,
-                               p=model.parameter_vector(**parameters), progress=progress)
+                               p=model.parameter_vector(**parameters), progress=progress,
+                               truth=args.truth)
     cases = ([{name: value} for name, value in sources] if args.separately
              else [dict(sources)])
     comparisons = compare(model, trajectory, cases, method=args.method, record_interval=record,
@@ -190,7 +199,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         json.dump({"model": model.name, "motion": profile.description, "duration_s": duration,
                    "step_s": tau, "record_s": record, "method": args.method,
-                   "parameters": parameters_record(model, parameters),
+                   "truth": args.truth, "parameters": parameters_record(model, parameters),
                    "cases": [c.to_dict() for c in comparisons]}, sys.stdout, indent=2)
         print()
     else:
