@@ -313,14 +313,13 @@ def stream_rows(inputs: np.ndarray, midpoints: np.ndarray | None, method: Method
     elif out.shape != shape or out.dtype != np.float64 or not out.flags.c_contiguous:
         raise StepError(f"stream buffer must be a contiguous float array of shape {shape}, "
                         f"got {out.shape}")
-    rows = out
     if method == "euler":
-        rows[:] = inputs[:, :-1].T
-        return rows
-    rows[:, :nu] = inputs[:, :-1].T
-    rows[:, nu:2 * nu] = midpoints.T
-    rows[:, 2 * nu:] = inputs[:, 1:].T
-    return rows
+        out[:] = inputs[:, :-1].T
+        return out
+    out[:, :nu] = inputs[:, :-1].T
+    out[:, nu:2 * nu] = midpoints.T
+    out[:, 2 * nu:] = inputs[:, 1:].T
+    return out
 
 # --------------------------------------------------------------------------------------
 # Compilation with an on-disk cache
