@@ -102,19 +102,53 @@ def with_trig_inputs(function: ca.Function, argument: int,
     return rebuilt, sorted(used)
 
 
+# Taylor coefficients of sin d and cos d (the same numbers in the graph and in C)
+_S3, _S5 = -1.0 / 6.0, 1.0 / 120.0
+_C2, _C4, _C6 = -0.5, 1.0 / 24.0, -1.0 / 720.0
+
+TINY_SQUARE = 2.0 ** -54
+"""Below this ``d²`` the polynomials round to exactly ``cos d = 1`` and ``sin d = d + 0``
+(``|d| < 2⁻²⁷ ≈ 7.5e-9`` rad): see :data:`ROTATE_C`."""
+
+
 def sin_small(d: ca.SX) -> ca.SX:
     """``sin d`` for a small increment: ``d − d³/6 + d⁵/120``."""
     d2 = d * d
-    return d + d * d2 * (-1.0 / 6.0 + d2 * (1.0 / 120.0))
+    return d + d * d2 * (_S3 + d2 * _S5)
 
 
 def cos_small(d: ca.SX) -> ca.SX:
     """``cos d`` for a small increment: ``1 − d²/2 + d⁴/24 − d⁶/720``."""
     d2 = d * d
-    return 1.0 + d2 * (-0.5 + d2 * (1.0 / 24.0 + d2 * (-1.0 / 720.0)))
+    return 1.0 + d2 * (_C2 + d2 * (_C4 + d2 * _C6))
 
 
 def rotate(s: ca.SX, c: ca.SX, d: ca.SX) -> tuple[ca.SX, ca.SX]:
     """Sine and cosine of ``α + d`` from those of ``α`` (``d`` a small increment, rad)."""
     sd, cd = sin_small(d), cos_small(d)
     return s * cd + c * sd, c * cd - s * sd
+
+
+ROTATE_C = f"""
+/* Sine and cosine of an angle moved on by a small increment d (rad): the operations of
+   carried_trig.rotate in the same order, so the same bits. When d*d < 2^-54 the
+   polynomials round to cos d = 1 and sin d = d + 0 exactly (their higher terms are below
+   a quarter unit in the last place of the leading ones; d + 0 turns -0 into +0 as
+   d + d*d*d*(-1/6) does), and s*1 = s: the short branch skips operations, not bits. */
+static inline void ins_rotate(casadi_real d, casadi_real s, casadi_real c,
+                              casadi_real* s_out, casadi_real* c_out) {{
+  casadi_real d2 = d * d, cd, sd;
+  if (d2 < {TINY_SQUARE.hex()}) {{
+    sd = d + 0.0;
+    *s_out = s + c * sd;
+    *c_out = c - s * sd;
+    return;
+  }}
+  cd = 1.0 + d2 * ({_C2.hex()} + d2 * ({_C4.hex()} + d2 * {_C6.hex()}));
+  sd = d + d * d2 * ({_S3.hex()} + d2 * {_S5.hex()});
+  *s_out = s * cd + c * sd;
+  *c_out = c * cd - s * sd;
+}}
+"""
+"""C function ``ins_rotate(d, s, c, &s_out, &c_out)``: :func:`rotate` for the compiled
+loops, with the same bits (compiled without fused multiply-add contraction)."""

@@ -405,11 +405,15 @@ DEFAULT_FLAGS: tuple[str, ...] = ("-O3", "-march=native", "-shared", "-fPIC")
 """C compiler flags of :func:`compile_source`."""
 
 IEEE_FLAGS: tuple[str, ...] = (*DEFAULT_FLAGS, "-ffp-contract=off", "-fno-math-errno",
-                               "-fno-semantic-interposition")
+                               "-fno-semantic-interposition", "-fno-tree-vectorize")
 """Flags of the simulation loops: every operation rounded on its own as IEEE 754 says
 (no fused multiply-add contraction), so a compiled loop gives the bits of the CasADi
 virtual machine whatever the compiler inlines; ``errno`` is not set by ``sqrt`` (no
-branch around it) and the functions of one library call each other directly."""
+branch around it) and the functions of one library call each other directly. No
+vectorisation (it changes no result, only speed): a step's state is read back by the
+next step right after it was written, and the vectoriser's pairs of state components
+read as one 16-byte load what were two 8-byte stores, which stalls the store-to-load
+forwarding on the loop's critical path (a static exact-platform step: ~39 -> ~33 ns)."""
 
 
 def compile_source(source: str, flags: Sequence[str] = DEFAULT_FLAGS) -> Path | None:
@@ -728,22 +732,34 @@ class CompiledLoop:
         else:
             stream = ca.SX.sym("u", self.n_stream)
             extra_in = [stream]
-        z_next = casadi_step(f, method, z, stream, w, tau_num, rotations)
-        z_next = ca.cse(z_next)
+        rotations = tuple(rotations)
+        # Euler with carried sines and cosines: the compiled step returns the plain
+        # update and the angle increments, and the C driver rotates (ins_rotate)
+        c_rotations = method == "euler" and bool(rotations)
+        if c_rotations:
+            increment = tau_num * f(z, stream, w)
+            plain = ca.cse(ca.vertcat(z + increment,
+                                      *[increment[angle] for angle, _, _ in rotations]))
+            z_next = ca.cse(_moved(z, increment, rotations))   # the same, rotated in the graph
+        else:
+            z_next = ca.cse(casadi_step(f, method, z, stream, w, tau_num, rotations))
         u_end = None
         if margin is not None:
             u_end = (ca.DM(np.asarray(constant_inputs, dtype=float)) if self.constant_inputs
                      else stream[-nu:])   # the last step's u[k+1] (RK4) or u[k] (Euler)
         compiled = None
         if jit and not os.environ.get("INS_ERRORS_NO_JIT"):
-            step_c = ca.Function("ins_step_c", [carry, *extra_in], [z_next])
+            step_c = ca.Function("ins_step_c", [carry, *extra_in],
+                                 [plain[:nz], plain[nz:]] if c_rotations else [z_next])
             functions = [step_c]
             if margin is not None:
                 functions.append(ca.Function("ins_margin_c", [carry, *extra_in], [
                     margin(z, u_end, w, p_num)]))
             library = compile_source(_assume_arguments(generated_source(functions))
                                      + _driver_source(self, chunk, margin is not None,
-                                                      functions), IEEE_FLAGS)
+                                                      functions,
+                                                      rotations if c_rotations else ()),
+                                     IEEE_FLAGS)
             if library is not None:
                 n_in = [(self.n_carry, self.group)]
                 compiled = [NativeFunction(library, Signature(
@@ -963,25 +979,29 @@ _DRIVER = """
    each of GROUP cases, SIZE recorded samples of K steps each, the state ping-ponging
    between two buffers; after every K steps the domain margin's running minimum and
    the carried vector [z, m, w] are written out. Same arithmetic as CasADi's
-   fold/mapaccum/map of ins_step (the virtual-machine path), without their copies. */
+   fold/mapaccum/map of ins_step (the virtual-machine path), without their copies.
+   With INS_NROT carried angles (Euler), ins_step_c also returns the angle increments and
+   ins_rotations moves the sines and cosines on (carried_trig.ROTATE_C). */
 #define INS_NZ {nz}
 #define INS_NC {nc}
 #define INS_NS {ns}
 #define INS_K {k}
 #define INS_GROUP {group}
 #define INS_MARGIN {margin}
+#define INS_NROT {nrot}
+{rotate}
 static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size) {{
   const casadi_real* carry = arg[0];
   const casadi_real* stream = arg[1];
   casadi_real* out = res[0];
-  casadi_real buf[2][INS_NC], m, value, *o;
+  casadi_real buf[2][INS_NC], m, value, *o, d[INS_NROT + 1];
   const casadi_real* sarg[{sz_arg}];
   casadi_real* sres[{sz_res}];
   casadi_int iw[{sz_iw}];
   casadi_real wk[{sz_w}];
   casadi_int g, r, s, i;
   int cur;
-  (void)stream; (void)value;
+  (void)stream; (void)value; (void)d;
   for (g = 0; g < INS_GROUP; ++g) {{
     for (i = 0; i < INS_NC; ++i) buf[0][i] = buf[1][i] = carry[g * INS_NC + i];
     m = buf[0][INS_NZ];
@@ -993,7 +1013,13 @@ static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size
         sarg[1] = stream + (r * INS_K + s) * INS_NS;
 #endif
         sres[0] = buf[1 - cur];
+#if INS_NROT
+        sres[1] = d;   /* the angle increments; the driver rotates their sines, cosines */
+#endif
         if (ins_step_c(sarg, sres, iw, wk, 0)) return 1;
+#if INS_NROT
+        ins_rotations(buf[cur], buf[1 - cur], d);
+#endif
         cur = 1 - cur;
       }}
 #if INS_MARGIN
@@ -1048,12 +1074,23 @@ def _assume_arguments(source: str) -> str:
 
 
 def _driver_source(loop: CompiledLoop, chunk: int, margin: bool,
-                   functions: list[ca.Function]) -> str:
-    """C source of ``ins_chunk_f`` and ``ins_single_f`` for ``loop`` (see ``_DRIVER``)."""
+                   functions: list[ca.Function],
+                   rotations: Sequence[tuple[int, int, int]] = ()) -> str:
+    """C source of ``ins_chunk_f`` and ``ins_single_f`` for ``loop`` (see ``_DRIVER``);
+    ``rotations``: ``(angle, sine, cosine)`` state indices the driver rotates."""
     def most(size: str) -> int:
         return 1 + max(getattr(f, size)() for f in functions)
 
-    return _DRIVER.format(nz=loop.nz, nc=loop.n_carry,
+    rotate = ""
+    if rotations:
+        from ins_errors.numeric.carried_trig import ROTATE_C
+
+        calls = "".join(f"  ins_rotate(d[{j}], z[{s}], z[{c}], next + {s}, next + {c});\n"
+                        for j, (_, s, c) in enumerate(rotations))
+        rotate = (ROTATE_C + "static inline void ins_rotations(const casadi_real* z, "
+                  "casadi_real* next, const casadi_real* d) {\n" + calls + "}\n")
+    return _DRIVER.format(nz=loop.nz, nc=loop.n_carry, nrot=len(rotations),
+                          rotate=rotate,
                           ns=0 if loop.constant_inputs else loop.n_stream,
                           k=loop.record_every, group=loop.group, margin=int(margin),
                           chunk=chunk, sz_arg=most("sz_arg"), sz_res=most("sz_res"),
