@@ -1,0 +1,75 @@
+"""Compiled time-invariant loops with the state that never moves written in as numbers.
+
+A static run's ideal work stays exactly at its start (its step returns the same bits);
+the compiled loop then bakes those components into the C source as exact numbers and the
+compiler folds every operation on them alone (``CompiledLoop._frozen``). The results must
+be the general loop's to the last bit: checked against the CasADi virtual machine (which
+never freezes anything) and against the compiled loop with freezing switched off.
+"""
+
+from __future__ import annotations
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from ins_errors.numeric import integrators as integ
+from ins_errors.numeric import trajectories as tr
+from ins_errors.numeric.simulate import simulate
+
+DEG = np.pi / 180.0
+
+
+def _toy_loop(jit: bool, batch: int) -> integ.CompiledLoop:
+    """a' = w; b' = u (b - 1) (at rest at b = 1); c' = a (still for one step, then
+    driven by a); e' = (b - 1) e + (b - 1) / 3 (at rest while b = 1)."""
+    z, u, w, p = ca.SX.sym("z", 4), ca.SX.sym("u", 1), ca.SX.sym("w", 1), ca.SX.sym("p", 0)
+    a, b, e = z[0], z[1], z[3]
+    rhs = ca.Function("toy", [z, u, w, p], [ca.vertcat(w[0], u[0] * (b - 1), a,
+                                                       (b - 1) * e + (b - 1) / 3)])
+    return integ.CompiledLoop(rhs, None, "rk4", 3, 0.1, np.zeros(0), np.array([0.3]),
+                              chunk=4, batch=batch, jit=jit, workers=1)
+
+
+@pytest.mark.parametrize("shared_e", [True, False])
+def test_only_components_at_rest_that_depend_on_components_at_rest_are_frozen(shared_e):
+    z0 = np.array([[0.0, 0.0], [1.0, 1.0], [0.25, 0.25], [0.7, 0.7 if shared_e else 0.8]])
+    w = np.array([[0.5, -1.5]])
+    loop = _toy_loop(True, 2)
+    frozen = loop._frozen(loop.start(z0, w))
+    # c is unchanged by the first step too (a starts at 0) but a moves: c is not frozen
+    assert frozen == (((1, 1.0), (3, 0.7)) if shared_e else ((1, 1.0),))
+    compiled = loop.run(z0, w, 60).states
+    virtual = _toy_loop(False, 2).run(z0, w, 60).states
+    assert np.array_equal(compiled.view(np.int64), virtual.view(np.int64))
+    assert np.all(compiled[1] == 1.0) and np.all(compiled[3] == z0[3])
+    assert np.all(np.abs(compiled[2, -1] - 0.25) > 0.1)   # c was driven by a
+
+
+@pytest.mark.parametrize(("method", "platform"), [("euler", "exact"), ("rk4", "exact"),
+                                                 ("euler", "small_angle")])
+def test_static_runs_equal_the_unfrozen_loop_bit_for_bit(orthodromic, method, platform,
+                                                         monkeypatch):
+    traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
+                         600.0, 0.01)
+    cases = [{"gyro_drift_x": 1e-6, "accel_bias_y": 1e-4}, {"initial_tilt_x": 1e-3}]
+    seen = []
+    original = integ.CompiledLoop._frozen
+
+    def spy(self, carry):
+        seen.append(original(self, carry))
+        return seen[-1]
+
+    monkeypatch.setattr(integ.CompiledLoop, "_frozen", spy)
+    frozen = simulate(orthodromic, traj, cases, method=method, record_interval=1.0,
+                      platform=platform)
+    n = len(orthodromic.states)
+    # the ideal work stays at rest to the last bit: all of it is frozen, nothing else
+    assert [i for i, _ in seen[-1]] == list(range(n))
+    monkeypatch.setattr(integ.CompiledLoop, "_frozen", lambda self, carry: ())
+    general = simulate(orthodromic, traj, cases, method=method, record_interval=1.0,
+                       platform=platform)
+    for part in ("ideal", "real", "linear", "refined"):
+        assert np.array_equal(getattr(frozen, part).view(np.int64),
+                              getattr(general, part).view(np.int64)), part
+    assert np.abs(frozen.real[n:, -1]).min() > 0   # the error runs did move
