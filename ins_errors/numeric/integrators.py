@@ -767,7 +767,7 @@ class CompiledLoop:
             self._source = (_assume_arguments(generated_source(functions)),
                             _driver_source(self, chunk, margin is not None, functions,
                                            rotations if c_rotations else ()))
-        self._built: dict[tuple[tuple[int, float], ...], tuple[DenseCall, DenseCall]] = {}
+        self._built: dict[tuple[tuple[int, float], ...], _LoopCalls] = {}
         self._build_lock = threading.Lock()
         # a time-invariant loop may start where part of the state does not move (the
         # ideal work on a static base): which state each next state depends on
@@ -778,8 +778,7 @@ class CompiledLoop:
             self._depends = np.zeros((nz, self.n_carry), dtype=bool)
             self._depends[rows, cols] = True
 
-    def _functions(self, frozen: tuple[tuple[int, float], ...] = ()
-                   ) -> tuple[DenseCall, DenseCall]:
+    def _functions(self, frozen: tuple[tuple[int, float], ...] = ()) -> _LoopCalls:
         """The chunk and single-record functions, compiled once per ``frozen`` set.
 
         ``frozen`` lists ``(index, value)`` of state components the step leaves unchanged
@@ -794,7 +793,7 @@ class CompiledLoop:
                 built = self._built[frozen] = self._build(dict(frozen))
             return built
 
-    def _build(self, frozen: dict[int, float]) -> tuple[DenseCall, DenseCall]:
+    def _build(self, frozen: dict[int, float]) -> _LoopCalls:
         if self._source is not None:
             generated, driver = self._source
             if frozen:
@@ -811,10 +810,10 @@ class CompiledLoop:
                                     if not self.constant_inputs else [])),
                     ((self.n_carry, size * self.group),))) for name, size in
                     (("ins_chunk_f", self.chunk), ("ins_single_f", 1)))
-                return chunk_fn, single_fn
+                return chunk_fn, single_fn, _SizedRun(library)
         # the CasADi virtual machine runs the same arithmetic
         chunk_fn, single_fn = self._virtual(*self._virtual_args)
-        return chunk_fn, single_fn
+        return chunk_fn, single_fn, None
 
     def _frozen(self, carry: np.ndarray) -> tuple[tuple[int, float], ...]:
         """State components that stay exactly at their start in every case of a run.
@@ -928,7 +927,7 @@ class CompiledLoop:
                             f"{None if stream is None else stream.shape}")
         self._advance(self._functions(), carry, n_steps // k, stream, states, margins)
 
-    def _advance(self, functions: tuple[DenseCall, DenseCall], carry: np.ndarray, n_rec: int,
+    def _advance(self, functions: _LoopCalls, carry: np.ndarray, n_rec: int,
                  stream: np.ndarray | None, states: np.ndarray, margins: np.ndarray) -> None:
         if self.workers == 1:
             self._advance_group(functions, carry, n_rec, stream, states, margins, 0)
@@ -941,11 +940,11 @@ class CompiledLoop:
             for job in jobs:
                 job.result()
 
-    def _advance_group(self, functions: tuple[DenseCall, DenseCall], carry: np.ndarray,
+    def _advance_group(self, functions: _LoopCalls, carry: np.ndarray,
                        n_rec: int, stream: np.ndarray | None, states: np.ndarray,
                        margins: np.ndarray, g: int) -> None:
         k, size_g, nz = self.record_every, self.group, self.nz
-        chunk_fn, single_fn = functions
+        chunk_fn, single_fn, sized = functions
         first = g * size_g
         members = slice(first, min(first + size_g, self.batch))
         count = members.stop - members.start
@@ -953,15 +952,20 @@ class CompiledLoop:
         buffers = {}
         done = 0
         while done < n_rec:
-            size = self.chunk if n_rec - done >= self.chunk else 1
-            fn = chunk_fn if size == self.chunk else single_fn
+            if sized is not None:   # the compiled driver runs any number of records
+                size = n_rec - done
+            else:
+                size = self.chunk if n_rec - done >= self.chunk else 1
             out = buffers.get(size)
             if out is None:
                 out = buffers[size] = np.empty((size_g, size, self.n_carry))
             args = [own]
             if not self.constant_inputs:
                 args.append(stream[done * k:(done + size) * k])
-            fn(args, [out])
+            if sized is not None:
+                sized(args, out)
+            else:
+                (chunk_fn if size == self.chunk else single_fn)(args, [out])
             states[:, done:done + size, members] = out[:count, :, :nz].transpose(2, 1, 0)
             margins[done:done + size, members] = out[:count, :, nz].T
             own[:] = out[:, -1]
@@ -1048,6 +1052,28 @@ class CompiledLoop:
         return LoopResult(states, margins)
 
 
+class _SizedRun:
+    """``ins_run_n`` of a compiled loop library: any number of records in one call (the
+    chunk functions have a fixed number, so a run's tail took one call per record)."""
+
+    def __init__(self, library: Path):
+        self._entry = ctypes.CDLL(str(library)).ins_run_n
+        self._entry.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
+                                ctypes.c_longlong]
+        self._entry.restype = ctypes.c_int
+
+    def __call__(self, args: list[np.ndarray], out: np.ndarray) -> None:
+        """Run ``out.shape[1]`` records from the carried rows ``args[0]`` (and the input
+        rows ``args[1]``), writing them into ``out`` (groups, records, carried vector);
+        the buffers are the loop's own, contiguous and of the right shapes."""
+        stream = args[1].ctypes.data if len(args) > 1 else None
+        if self._entry(args[0].ctypes.data, stream, out.ctypes.data, out.shape[1]):
+            raise InsErrorsError("ins_run_n: the compiled loop failed")
+
+
+_LoopCalls = tuple[DenseCall, DenseCall, "_SizedRun | None"]
+"""The chunk function, the single-record function and, when compiled, ``ins_run_n``."""
+
 _DRIVER = """
 /* The recording loop around ins_step_c, written for this loop (not by CasADi): for
    each of GROUP cases, SIZE recorded samples of K steps each, the state ping-ponging
@@ -1064,7 +1090,8 @@ _DRIVER = """
 #define INS_MARGIN {margin}
 #define INS_NROT {nrot}
 {rotate}
-static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size) {{
+static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size,
+                     casadi_int chunk) {{
   const casadi_real* carry = arg[0];
   const casadi_real* stream = arg[1];
   casadi_real* out = res[0];
@@ -1073,7 +1100,7 @@ static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size
   casadi_real* sres[{sz_res}];
   casadi_int iw[{sz_iw}];
   casadi_real wk[{sz_w}];
-  casadi_int g, r, s, i;
+  casadi_int g, r, s, i, whole = size / chunk * chunk;
   int cur;
   (void)stream; (void)value; (void)d;
   for (g = 0; g < INS_GROUP; ++g) {{
@@ -1081,6 +1108,9 @@ static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size
     m = buf[0][INS_NZ];
     cur = 0;
     for (r = 0; r < size; ++r) {{
+      /* the margin is a running minimum over each chunk of records, then over each
+         single record of the tail (as one call per chunk and per record gives) */
+      if (r && (r >= whole || r % chunk == 0)) m = INFINITY;
       for (s = 0; s < INS_K; ++s) {{
         sarg[0] = buf[cur];
 #if INS_NS
@@ -1115,12 +1145,19 @@ static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size
 CASADI_SYMBOL_EXPORT int ins_chunk_f(const casadi_real** arg, casadi_real** res,
                                      casadi_int* iw, casadi_real* w, int mem) {{
   (void)iw; (void)w; (void)mem;
-  return ins_drive(arg, res, {chunk});
+  return ins_drive(arg, res, {chunk}, {chunk});
 }}
 CASADI_SYMBOL_EXPORT int ins_single_f(const casadi_real** arg, casadi_real** res,
                                       casadi_int* iw, casadi_real* w, int mem) {{
   (void)iw; (void)w; (void)mem;
-  return ins_drive(arg, res, 1);
+  return ins_drive(arg, res, 1, 1);
+}}
+CASADI_SYMBOL_EXPORT int ins_run_n(const casadi_real* carry, const casadi_real* stream,
+                                   casadi_real* out, long long size) {{
+  const casadi_real* arg[2];
+  casadi_real* res[1];
+  arg[0] = carry; arg[1] = stream; res[0] = out;
+  return ins_drive(arg, res, (casadi_int)size, {chunk});
 }}
 CASADI_SYMBOL_EXPORT int ins_chunk_f_work(casadi_int* sz_arg, casadi_int* sz_res,
                                           casadi_int* sz_iw, casadi_int* sz_w) {{
