@@ -1090,8 +1090,13 @@ _DRIVER = """
 #define INS_MARGIN {margin}
 #define INS_NROT {nrot}
 {rotate}
-static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size,
-                     casadi_int chunk) {{
+#if defined(__GNUC__)   /* the step inlined: its increments stay in registers */
+#define INS_FLATTEN __attribute__((flatten))
+#else
+#define INS_FLATTEN
+#endif
+INS_FLATTEN static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size,
+                                 casadi_int chunk) {{
   const casadi_real* carry = arg[0];
   const casadi_real* stream = arg[1];
   casadi_real* out = res[0];
