@@ -105,7 +105,7 @@ def test_compiled_step_with_carried_trig_follows_the_library_trig_scheme(method)
 
 def test_compiled_rotation_gives_the_bits_of_the_graph_rotation():
     """The C driver's rotation (carried_trig.ROTATE_C, with its short branch for
-    d² < 2⁻⁵⁴) against carried_trig.rotate evaluated by CasADi's virtual machine, bit
+    0 < |d| < 2⁻²⁷) against carried_trig.rotate evaluated by CasADi's virtual machine, bit
     for bit, for increments on both sides of the branch and at it, signed zeros,
     subnormals and a sine of -0 (Euler at τ = 1 s with α̇ = u: the increment is u)."""
     edge = 2.0 ** -27

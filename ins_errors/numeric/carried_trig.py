@@ -106,9 +106,9 @@ def with_trig_inputs(function: ca.Function, argument: int,
 _S3, _S5 = -1.0 / 6.0, 1.0 / 120.0
 _C2, _C4, _C6 = -0.5, 1.0 / 24.0, -1.0 / 720.0
 
-TINY_SQUARE = 2.0 ** -54
-"""Below this ``d²`` the polynomials round to exactly ``cos d = 1`` and ``sin d = d + 0``
-(``|d| < 2⁻²⁷ ≈ 7.5e-9`` rad): see :data:`ROTATE_C`."""
+TINY = 2.0 ** -27
+"""Below this ``|d|`` (rad; then ``d² < 2⁻⁵⁴``) the polynomials round to exactly
+``cos d = 1`` and ``sin d = d`` for ``d ≠ 0``: see :data:`ROTATE_C`."""
 
 
 def sin_small(d: ca.SX) -> ca.SX:
@@ -131,19 +131,20 @@ def rotate(s: ca.SX, c: ca.SX, d: ca.SX) -> tuple[ca.SX, ca.SX]:
 
 ROTATE_C = f"""
 /* Sine and cosine of an angle moved on by a small increment d (rad): the operations of
-   carried_trig.rotate in the same order, so the same bits. When d*d < 2^-54 the
-   polynomials round to cos d = 1 and sin d = d + 0 exactly (their higher terms are below
-   a quarter unit in the last place of the leading ones; d + 0 turns -0 into +0 as
-   d + d*d*d*(-1/6) does), and s*1 = s: the short branch skips operations, not bits. */
+   carried_trig.rotate in the same order, so the same bits. When 0 < |d| < 2^-27
+   (d*d < 2^-54) the polynomials round to cos d = 1 and sin d = d exactly (their higher
+   terms are below a quarter unit in the last place of the leading ones), and s*1 = s:
+   the short branch skips operations, not bits. (d = -0 takes the long way: there
+   d + d*d*d*(-1/6) is +0.) */
 static inline void ins_rotate(casadi_real d, casadi_real s, casadi_real c,
                               casadi_real* s_out, casadi_real* c_out) {{
-  casadi_real d2 = d * d, cd, sd;
-  if (d2 < {TINY_SQUARE.hex()}) {{
-    sd = d + 0.0;
-    *s_out = s + c * sd;
-    *c_out = c - s * sd;
+  casadi_real d2, cd, sd;
+  if (fabs(d) < {TINY.hex()} && d != 0.0) {{
+    *s_out = s + c * d;
+    *c_out = c - s * d;
     return;
   }}
+  d2 = d * d;
   cd = 1.0 + d2 * ({_C2.hex()} + d2 * ({_C4.hex()} + d2 * {_C6.hex()}));
   sd = d + d * d2 * ({_S3.hex()} + d2 * {_S5.hex()});
   *s_out = s * cd + c * sd;
