@@ -66,9 +66,13 @@ def _blocks() -> list[tuple[str, list[tuple[str, int]]]]:
 
 
 BLOCKS = _blocks()
-INS_ERRORS = sorted({(command, status) for _, lines in BLOCKS for command, status in lines
+# one run per distinct command: the same words spaced differently (a README line
+# continued with a backslash) are the same command
+INS_ERRORS = sorted({(tuple(shlex.split(command)), status): (command, status)
+                     for _, lines in BLOCKS for command, status in lines
                      if command.split()[0] == "ins-errors"
-                     and all(c.split()[0] in ("ins-errors", "make") for c, _ in lines)})
+                     and all(c.split()[0] in ("ins-errors", "make") for c, _ in lines)
+                     }.values())
 MAKE = sorted({command for _, lines in BLOCKS for command, _ in lines
                if command.split()[0] == "make"})
 SHELL = [(page, lines) for page, lines in BLOCKS

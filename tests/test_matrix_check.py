@@ -432,3 +432,37 @@ def test_a_hand_function_that_changes_its_arguments_is_refused(tmp_path):
     kept = ms[1].kept["samples"]
     assert all(np.array_equal(nav.v_ned, v) and np.array_equal(imu.f_n, f)
                for (nav, imu), (v, f) in zip(kept, before, strict=True))
+
+
+def test_kept_propagations_equal_fresh_ones_and_change_no_report(strapdown_motions):
+    """A propagation kept from an earlier check (same content of A, times and instants)
+    is what a fresh computation gives, to the bit, and read-only; a check after others
+    (the kept derived model and single-entry changes) reports exactly what it reports
+    with nothing kept."""
+    spec = f"{PSI.parent / 'psi_model_sign_error.py'}:psi_model_sign_error"
+
+    def report():
+        r = mc.check_matrices("strapdown_ned", spec, "psi", motion_list=strapdown_motions)
+        return r.findings, r.effects, r.finding_effects
+
+    mc._KEPT_TRANSITIONS.clear()
+    cold = report()
+    assert len(mc._KEPT_TRANSITIONS) > 3
+    mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi",
+                      motion_list=strapdown_motions)
+    assert report() == cold
+    assert all(not phi.flags.writeable for kept in mc._KEPT_TRANSITIONS.values()
+               for phi in kept)
+    motion = strapdown_motions[2]
+    model = load_model("strapdown_ned")
+    F, G = mc.derived_in_convention(model, convention(model, "psi"), motion)
+    A = mc._augmented(F, G, np.ones(F.shape[1] + G.shape[2]), [])
+    at = [3600.0, 7200.0]
+    first = mc._transition(A, motion.times, at)
+    again = mc._transition(A.copy(), motion.times.copy(), at)  # equal content, new arrays
+    fresh = mc._transition_of(A, motion.times, at)
+    assert all(a is b for a, b in zip(first, again, strict=True))
+    assert all(np.array_equal(a, b) for a, b in zip(first, fresh, strict=True))
+    changed = A.copy()
+    changed[5, 0, 1] += 1e-9
+    assert not np.array_equal(mc._transition(changed, motion.times, at)[1], first[1])

@@ -32,6 +32,8 @@ attitude error differences are reported (:func:`propagate_effects`).
 
 from __future__ import annotations
 
+import hashlib
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -551,12 +553,39 @@ def _taylor_steps(A: np.ndarray, dt: float) -> np.ndarray:
     return result
 
 
+_KEPT_TRANSITIONS: OrderedDict[tuple, tuple[np.ndarray, ...]] = OrderedDict()
+KEEP_TRANSITIONS = 256
+"""Propagations kept for the next check in the same process (a few kB each)."""
+
+
 def _transition(A: np.ndarray, times: np.ndarray, at: list[float]) -> list[np.ndarray]:
     """Φ(t) of ``ẏ = A(t) y`` (A sampled on the uniform grid ``times``) at times ``at``.
 
     A constant A (one sample repeated) uses the matrix exponential directly; otherwise each
     step uses the exponential of the mean of A at its two ends (second order).
+
+    Kept for the next check in the same process, by the content of ``A``, ``times`` and
+    ``at`` (checks of the same model on the same motions propagate the same derived model,
+    and mostly the same single-entry changes of it); the kept matrices are read-only.
     """
+    key = (A.shape, A.dtype.str, hashlib.blake2b(np.ascontiguousarray(A).data).digest(),
+           hashlib.blake2b(np.ascontiguousarray(times, dtype=float).data).digest(),
+           tuple(float(t) for t in at))
+    kept = _KEPT_TRANSITIONS.get(key)
+    if kept is None:
+        kept = tuple(_transition_of(A, times, at))
+        for phi in kept:
+            phi.setflags(write=False)
+        _KEPT_TRANSITIONS[key] = kept
+        while len(_KEPT_TRANSITIONS) > KEEP_TRANSITIONS:
+            _KEPT_TRANSITIONS.popitem(last=False)
+    else:
+        _KEPT_TRANSITIONS.move_to_end(key)
+    return list(kept)
+
+
+def _transition_of(A: np.ndarray, times: np.ndarray, at: list[float]) -> list[np.ndarray]:
+    """:func:`_transition`, computed."""
     from scipy.linalg import expm
 
     if np.all(A[:1] == A):
