@@ -12,11 +12,13 @@ from __future__ import annotations
 
 import re
 from functools import cache
-
-import pint
+from typing import TYPE_CHECKING
 
 from ins_errors.errors import InsErrorsError
 from ins_errors.models.earth import STANDARD_GRAVITY  # the g of the units g, mg, ug
+
+if TYPE_CHECKING:
+    import pint
 
 
 class UnitError(InsErrorsError):
@@ -25,7 +27,14 @@ class UnitError(InsErrorsError):
 
 @cache
 def registry() -> pint.UnitRegistry:
-    """The shared pint registry, with the INS engineering units added."""
+    """The shared pint registry, with the INS engineering units added.
+
+    pint is imported here, when a unit is first converted: importing it (it imports
+    dask where dask is installed) and building the registry cost about 0.5 s CPU, which
+    e.g. ``make derive`` needs for nothing but numbers already in SI units.
+    """
+    import pint
+
     ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
     # 'g' means standard gravity in INS work (pint's 'g' is the gram).
     ureg.define(f"gee = {STANDARD_GRAVITY} * meter / second ** 2 = g_n")
@@ -65,6 +74,15 @@ def _needs_unit(text: object, unit: str, what: str) -> UnitError:
     return UnitError(f"{what}: {text!r} has no unit; give {family.format(v=text)}")
 
 
+_IN_TARGET_UNIT = re.compile(
+    r"\s*(?P<number>[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)\s+(?P<unit>[A-Za-z/*0-9]+)\s*")
+"""A plain decimal number and a unit, e.g. ``"1e-4 rad"`` or ``"0.1 m/s"``."""
+
+_PLAIN_SI = frozenset({"rad", "m", "m/s", "rad/s", "s"})
+"""SI units that :func:`parse_quantity` reads without pint when the text is a plain
+number in that very unit (pint's conversion factor is then exactly 1)."""
+
+
 def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
                    numbers_are_si: bool = True) -> float:
     """Convert ``text`` to a float in the SI ``unit``.
@@ -95,6 +113,12 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
         If the text does not parse, is not finite, lacks a unit, or has another
         dimension.
     """
+    if isinstance(text, str):
+        plain = _IN_TARGET_UNIT.fullmatch(text)
+        if plain is not None and plain["unit"] == unit and unit in _PLAIN_SI:
+            value = float(plain["number"])  # what pint gives: the same unit, factor 1
+            if value - value == 0:  # finite (else pint's path words the error)
+                return value
     ureg = registry()
     target = ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
     if isinstance(text, bool):  # True is an int in Python: never a magnitude
@@ -113,6 +137,8 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
             if unit != "1" and value != 0 and value == value:
                 raise _needs_unit(str(text).strip(), unit, what)
         else:
+            import pint  # imported by registry() above
+
             try:
                 value = float(quantity.to(target).magnitude)
             except pint.DimensionalityError:

@@ -91,6 +91,23 @@ def test_units_at_the_edge():
         parse_quantity("nan deg", "rad")
 
 
+def test_plain_si_text_read_without_pint_equals_pint():
+    """A plain number in the very SI unit asked for is read without pint (derive needs
+    no registry): the same float pint's conversion gives, and the same errors."""
+    from ins_errors.units import UnitError, _normalise, parse_quantity, registry
+
+    ureg = registry()
+    for text, unit in [("1e-4 rad", "rad"), ("0.1 m/s", "m/s"), ("  7 s ", "s"),
+                       ("-3.5e-7 rad/s", "rad/s"), (".5 m", "m"), ("1E2 rad", "rad"),
+                       ("123456789.123456789 m", "m"), ("2.5e-300 rad", "rad"), ("20 m", "m")]:
+        by_pint = ureg.parse_expression(_normalise(text)).to(ureg.parse_units(unit)).magnitude
+        assert parse_quantity(text, unit) == float(by_pint)  # to the bit
+    with pytest.raises(UnitError, match="not a finite number"):
+        parse_quantity("1e999 m", "m")
+    with pytest.raises(UnitError, match="do not convert to m/s"):
+        parse_quantity("0.1 m", "m/s")
+
+
 def test_source_lookup_by_name(orthodromic):
     assert orthodromic.source("gyro_drift_z").display_unit == "deg/h"
     assert "000" in orthodromic.source_document

@@ -88,9 +88,9 @@ def _second_order_term(jacobian: sp.Matrix, variables: list[sp.Symbol],
     contains) is much cheaper than differentiating the shifted expression twice;
     ``trees`` differentiates and substitutes each distinct subtree once.
     """
-    terms = []
+    rows = []
     for i in range(jacobian.rows):
-        total = sp.S.Zero
+        terms = []
         for j, d_j in enumerate(directions):
             entry = jacobian[i, j]
             if entry == 0:
@@ -101,9 +101,11 @@ def _second_order_term(jacobian: sp.Matrix, variables: list[sp.Symbol],
                 curvature = trees.xreplace(trees.derivative(entry, v_k), point)
                 if curvature != 0:
                     weight = 1 if k == j else 2  # symmetric off-diagonal pairs counted once
-                    total += weight * curvature * d_j * directions[k]
-        terms.append(total / 2)
-    return sp.Matrix(terms)
+                    terms.append(weight * curvature * d_j * directions[k])
+        # one sum of all terms: the same Add as adding them one by one, without
+        # flattening the growing sum again at every term
+        rows.append(sp.Add(*terms) / 2)
+    return sp.Matrix(rows)
 
 
 def second_order_of(definition: ModelDefinition, real_rhs: sp.Matrix) -> sp.Matrix:
