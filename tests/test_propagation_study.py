@@ -78,52 +78,42 @@ def test_summary_and_plots(tmp_path, result):
         result.curve("gyro_drift_nort")
 
 
-def test_plots_drawn_in_one_figure_equal_fresh_figures(tmp_path, result):
-    """The sources share one reused figure (curves, ranges and title redone per
-    source): the second file must be byte for byte that source drawn alone, after a
-    first source whose flat curves fixed the panels' ranges (the first file is drawn as
-    a lone source is)."""
-    from ins_errors.output import OutputFolder
-    from ins_errors.studies.propagation import plot
-
-    names = ["initial_longitude_error", "gyro_drift_up"]  # the first is flat
-    together = plot(result, OutputFolder(tmp_path / "together"), names)
-    alone = plot(result, OutputFolder(tmp_path / "alone"), names[1:])[0]
-    assert together[1].read_bytes() == alone.read_bytes()
-    assert together[0].read_bytes() != alone.read_bytes()
-
-
-def test_plots_equal_the_shared_time_axis_drawing_and_fit_the_figure(tmp_path, result,
-                                                                     monkeypatch):
-    """The panels share their time range by construction, not through matplotlib's
-    sharex (which lays out every sibling's tick labels again for each panel): the file
-    must be byte for byte the same figure built with ``sharex=True``. The fixed margins
-    must hold every label: nothing drawn may stick out of the figure (the source with
-    the widest tick labels, -0.025 and 0.000)."""
+def test_plots_equal_fresh_shared_axis_figures_and_fit_the_figure(tmp_path, result,
+                                                                   monkeypatch):
+    """The sources share one reused figure (curves, ranges and title redone per source)
+    whose panels share their time range by construction, not through matplotlib's
+    sharex (which lays out every sibling's tick labels again for each panel): each file
+    after the first must be byte for byte that source drawn alone in a figure built with
+    ``sharex=True``, after a first source whose flat curves fixed the panels' ranges.
+    The fixed margins must hold every label: nothing drawn may stick out of the figure
+    (the last source has the widest tick labels, -0.025 and 0.000)."""
     import matplotlib.pyplot as plt
 
     from ins_errors.output import OutputFolder
     from ins_errors.studies.propagation import plot
 
-    source = ["initial_velocity_error_north"]
+    names = ["initial_longitude_error", "gyro_drift_up", "initial_velocity_error_north"]
     outside = []
 
     def save(self, fig, name, **options):
-        renderer = fig.canvas.get_renderer()
-        box = fig.get_tightbbox(renderer).transformed(fig.dpi_scale_trans.inverted())
-        width, height = fig.get_size_inches()
-        outside.append((box.x0 < 0, box.y0 < 0, box.x1 > width, box.y1 > height))
+        if name == f"{names[-1]}.png":
+            renderer = fig.canvas.get_renderer()
+            box = fig.get_tightbbox(renderer).transformed(fig.dpi_scale_trans.inverted())
+            width, height = fig.get_size_inches()
+            outside.append((box.x0 < 0, box.y0 < 0, box.x1 > width, box.y1 > height))
         return save_figure(self, fig, name, **options)
 
     save_figure = OutputFolder.save_figure
     monkeypatch.setattr(OutputFolder, "save_figure", save)
-    ours = plot(result, OutputFolder(tmp_path / "ours"), source)[0]
+    together = plot(result, OutputFolder(tmp_path / "together"), names)
     assert outside == [(False, False, False, False)]
     monkeypatch.setattr(OutputFolder, "save_figure", save_figure)
     subplots = plt.subplots
     monkeypatch.setattr(plt, "subplots", lambda *a, **k: subplots(*a, **k, sharex=True))
-    shared = plot(result, OutputFolder(tmp_path / "shared"), source)[0]
-    assert ours.read_bytes() == shared.read_bytes()
+    for k, name in enumerate(names[1:], 1):
+        alone = plot(result, OutputFolder(tmp_path / name), [name])[0]
+        assert together[k].read_bytes() == alone.read_bytes(), name
+    assert together[0].read_bytes() != together[1].read_bytes()
 
 
 def test_bad_experiments_give_one_line_errors():

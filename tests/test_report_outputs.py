@@ -89,68 +89,40 @@ def test_files_get_the_usual_permissions(report):
         assert (folder / name).stat().st_mode & 0o777 == 0o666 & ~mask, name
 
 
-def test_case_plots_drawn_in_one_figure_equal_fresh_figures(report, tmp_path):
-    """The report draws its cases in one reused figure (curves, limits, title replaced):
-    each file must be byte for byte the figure drawn afresh for that case alone, also
-    across a change of layout (a case without refined curves needs other panels). One
-    panel row suffices: every row is refilled the same way."""
-    from dataclasses import replace
-
-    from ins_errors.numeric.plots import plot_comparison, plot_comparisons
-
-    result, _ = report
-    first, second = result.comparisons
-    cases = [first, second, replace(first, refined={})]  # reused, then a new layout
-    shown = ["delta_v_N"]
-    titles = ["first", "second", ""]
-    together = plot_comparisons(cases, [tmp_path / f"c{k}.png" for k in range(3)],
-                                quantities=shown, titles=titles)
-    for k, (case, title) in enumerate(zip(cases, titles, strict=True)):
-        alone = plot_comparison(case, tmp_path / f"alone{k}.png", quantities=shown,
-                                title=title)
-        assert together[k].read_bytes() == alone.read_bytes(), k
-    assert together[0].read_bytes() != together[1].read_bytes()
-
-
-def test_case_plots_equal_the_shared_time_axis_drawing(report, tmp_path, monkeypatch):
-    """The case figure's panels share their time range by construction, not through
-    matplotlib's sharex (which made every panel visit its siblings on each update): the
-    files must be byte for byte those of the same figure built with ``sharex=True``, also
-    when one curve stops early (NaN) and the others set the range."""
+def test_case_plots_equal_fresh_plain_matplotlib_figures(report, tmp_path, monkeypatch):
+    """The report draws its cases in one reused figure (curves, limits, title replaced)
+    whose panels share their time range by construction (not matplotlib's sharex, which
+    made every panel visit its siblings on each update), whose inner rows' hidden time
+    labels are neither formatted nor measured and whose column titles keep a fixed place.
+    Each file must be byte for byte the figure drawn afresh for that case alone with
+    matplotlib's own ``sharex=True``, formatting, label placement and title search: also
+    when one curve stops early (NaN) and the others set the range, and across a change
+    of layout (a case without refined curves needs other panels). Each case is drawn
+    once each way: the reused figure is checked against all shortcuts undone at once."""
     import matplotlib.pyplot as plt
 
-    from ins_errors.numeric.plots import plot_comparisons
+    from ins_errors import figure_layout
+    from ins_errors.numeric import plots
 
     result, _ = report
     first, second = result.comparisons
     cut = {q: v.copy() for q, v in first.direct.items()}
     cut["alpha_y"][len(first.times) // 2:] = np.nan
-    cases = [second, replace(first, direct=cut)]  # the second refills the first's figure
+    # the second refills the first's figure; the third needs a new layout
+    cases = [second, replace(first, direct=cut), replace(first, refined={})]
     shown = ["alpha_y", "delta_v_N"]
-    ours = plot_comparisons(cases, [tmp_path / f"ours{k}.png" for k in range(2)],
-                            quantities=shown)
+    titles = ["second", "", "no refined curves"]
+    ours = plots.plot_comparisons(cases, [tmp_path / f"ours{k}.png" for k in range(3)],
+                                  quantities=shown, titles=titles)
+    assert ours[0].read_bytes() != ours[1].read_bytes()
     subplots = plt.subplots
     monkeypatch.setattr(plt, "subplots", lambda *a, **k: subplots(*a, **k, sharex=True))
-    shared = plot_comparisons(cases, [tmp_path / f"shared{k}.png" for k in range(2)],
-                              quantities=shown)
-    for k in range(2):
-        assert ours[k].read_bytes() == shared[k].read_bytes(), k
-
-
-def test_layout_shortcuts_change_no_pixel(report, tmp_path, monkeypatch):
-    """The hidden time labels of the inner rows are neither formatted nor measured, and
-    the column titles keep a fixed place: the file must be byte for byte the figure
-    drawn with matplotlib's own formatting, label placement and title search."""
-    from ins_errors import figure_layout
-    from ins_errors.numeric import plots
-
-    result, _ = report
-    shown = ["alpha_y", "delta_v_N"]
-    ours = plots.plot_comparison(result.comparisons[0], tmp_path / "ours.png", shown)
     monkeypatch.setattr(figure_layout, "_skip_hidden_label_layout", lambda axis: None)
     monkeypatch.setattr(plots, "fixed_title", lambda ax, text, **o: ax.set_title(text, **o))
-    plain = plots.plot_comparison(result.comparisons[0], tmp_path / "plain.png", shown)
-    assert ours.read_bytes() == plain.read_bytes()
+    for k, (case, title) in enumerate(zip(cases, titles, strict=True)):
+        plain = plots.plot_comparison(case, tmp_path / f"plain{k}.png", quantities=shown,
+                                      title=title)
+        assert ours[k].read_bytes() == plain.read_bytes(), k
 
 
 def _sticking_out(fig) -> tuple[bool, bool, bool, bool]:

@@ -74,7 +74,8 @@ def test_bad_scenarios_give_one_line(tmp_path, text, message):
 
 
 def test_cli_run_writes_the_report(tmp_path, capsys):
-    path = _write(tmp_path, GOOD)
+    # one plotted quantity: the figure is not what this checks (the examples' are)
+    path = _write(tmp_path, GOOD + '[outputs]\nquantities = ["alpha_y"]\n')
     assert main(["run", str(path), "--out", str(tmp_path / "rep"), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["cases"][0]["sources"] == {"gyro_drift_x": pytest.approx(4.84813681e-8)}
