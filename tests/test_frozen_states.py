@@ -73,3 +73,29 @@ def test_static_runs_equal_the_unfrozen_loop_bit_for_bit(orthodromic, method, pl
         assert np.array_equal(getattr(frozen, part).view(np.int64),
                               getattr(general, part).view(np.int64)), part
     assert np.abs(frozen.real[n:, -1]).min() > 0   # the error runs did move
+
+
+def test_library_functions_of_frozen_components_stay_calls(monkeypatch):
+    """A frozen component inside sin/cos: the compiler must not evaluate them itself (its
+    correctly rounded values may differ in the last bit from the C library's, which the
+    general loop and the virtual machine call), so the frozen build keeps the calls."""
+    z, u, w, p = ca.SX.sym("z", 3), ca.SX.sym("u", 1), ca.SX.sym("w", 1), ca.SX.sym("p", 0)
+    rest = 0.7
+    rhs = ca.Function("toy", [z, u, w, p], [ca.vertcat(
+        u[0] * (z[0] - rest),                                  # at rest at 0.7
+        (ca.sin(z[0]) - np.sin(rest)) * z[1] + w[0] * ca.cos(z[0]) * z[2],
+        -ca.tan(z[0]) * z[1])])
+    flags = []
+    original = integ.compile_source
+
+    def spy(source, options=integ.DEFAULT_FLAGS):
+        flags.append(tuple(options))
+        return original(source, options)
+
+    monkeypatch.setattr(integ, "compile_source", spy)
+    z0, w0 = np.array([rest, 0.3, -0.2]), np.array([0.05])
+    runs = [integ.CompiledLoop(rhs, None, "euler", 2, 0.1, np.zeros(0), np.array([-0.4]),
+                               jit=jit).run(z0, w0, 40).states for jit in (True, False)]
+    assert "-fno-builtin-sin" in flags[-1] and "-fno-builtin-tan" in flags[-1]
+    assert np.array_equal(runs[0].view(np.int64), runs[1].view(np.int64))
+    assert np.all(runs[0][0] == rest) and np.ptp(runs[0][1]) > 0.01

@@ -802,7 +802,8 @@ class CompiledLoop:
                     return match.group(0) if value is None else f"({value.hex()})"
 
                 generated = re.sub(r"arg\[0\]\[(\d+)\]", number, generated)
-            library = compile_source(generated + driver, IEEE_FLAGS)
+            library = compile_source(generated + driver,
+                                     IEEE_FLAGS + (NO_FOLDING_FLAGS if frozen else ()))
             if library is not None:
                 n_in = [(self.n_carry, self.group)]
                 chunk_fn, single_fn = (NativeFunction(library, Signature(
@@ -1188,6 +1189,16 @@ def _assume_arguments(source: str) -> str:
     source = re.sub(r"arg\[(\d+)\]\? arg\[\1\]\[(\d+)\] : 0", r"arg[\1][\2]", source)
     return re.sub(r"if \(res\[(\d+)\]!=0\) res\[\1\]", r"res[\1]", source)
 
+
+NO_FOLDING_FLAGS: tuple[str, ...] = tuple(
+    f"-fno-builtin-{name}" for name in (
+        "sin", "cos", "tan", "sincos", "asin", "acos", "atan", "atan2", "sinh", "cosh",
+        "tanh", "asinh", "acosh", "atanh", "exp", "exp2", "expm1", "log", "log2", "log10",
+        "log1p", "pow", "hypot", "cbrt", "erf", "erfc"))
+"""Extra flags of a loop with frozen state (:meth:`CompiledLoop._frozen`): the compiler
+would evaluate these functions of its constant arguments with its own correctly rounded
+arithmetic, which may differ in the last bit from the C library the general loop calls
+at run time; so they stay calls. (+, −, ×, /, sqrt are exact in both.)"""
 
 INLINE_LIMIT = 600
 """Longest step (CasADi instructions) the C driver inlines into its record loop: a
