@@ -85,7 +85,7 @@ def test_remembered_factor_lists_give_sympys_factorisations():
                     -shared / (2 * (W**2 + 1) ** 2)]
     expected = [sp.factor(c) for c in coefficients]
     original = sp.Poly.factor_list
-    with an._factor_lists_remembered():
+    with an.factor_lists_remembered():
         assert [sp.factor(c) for c in coefficients + coefficients] == expected + expected
     assert sp.Poly.factor_list is original
 

@@ -84,3 +84,21 @@ def test_subs_of_a_sum_gives_sympys_subs():
         assert got == expected and sp.srepr(got) == sp.srepr(expected), expr
     assert trees.subs(cases[0], old, new) != cases[0]  # the repeated subtree was replaced
     assert trees.subs(cases[4], old, new) is cases[4]  # no match: the same object back
+
+
+def test_renames_share_a_memo_only_where_their_rules_agree(model):
+    _d, rhs, _variables = model
+    symbols = sorted(set().union(*(e.free_symbols for e in rhs)), key=str)
+    first = {s: sp.Symbol(f"{s.name}_", real=True) for s in symbols}
+    # the same renames for all but one symbol, which another rule sends elsewhere
+    other = dict(first)
+    other[symbols[0]] = sp.Symbol("elsewhere", real=True)
+    part = rhs[:2, :]  # fewer symbols, agreeing with the first rule
+    partial = {s: first[s] for s in list(symbols)[1:]}  # misses a symbol: plain xreplace
+    trees = SharedTrees()
+    for rule, matrix in ((first, rhs), (other, rhs), (first, part), (partial, rhs),
+                         (other, part)):
+        used = {s: rule[s] for s in set().union(*(e.free_symbols for e in matrix))
+                if s in rule}
+        assert trees.rename_matrix(matrix, used) == matrix.xreplace(used)
+    assert len(trees._renames) == 2  # the first and the disagreeing rule, one memo each

@@ -552,7 +552,7 @@ def factor_product(expr: sp.Expr) -> sp.Expr:
 
 
 @contextlib.contextmanager
-def _factor_lists_remembered() -> Iterator[None]:
+def factor_lists_remembered() -> Iterator[None]:
     """``Poly.factor_list`` answers each distinct polynomial once inside the block.
 
     The partial-fraction coefficients of one analysis share most of their numerator and
@@ -654,7 +654,7 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
         tidy = functools.cache(tidy)
     responses: dict[str, sp.Matrix] = {}
     laplace: dict[str, list] = {}
-    with _factor_lists_remembered():
+    with factor_lists_remembered():
         for j, name in enumerate(names):
             is_step = columns[name][1]
             entries = [Xd[i][j] / s_elem if is_step else Xd[i][j] for i in range(Fp.rows)]

@@ -151,7 +151,7 @@ def prepare(spec: FunctionSpec, trees: SharedTrees | None = None) -> _Prepared:
                 local = _identifier(symbol, taken)
                 rename[symbol] = sp.Symbol(local, real=True)
                 unpack.append((local, argument.name, index))
-    result = trees.xreplace_matrix(spec.result, rename)
+    result = trees.rename_matrix(spec.result, rename)
     unknown = set().union(*(trees.free_symbols(e) for e in result)) - set(rename.values())
     if unknown:
         missing = sorted(map(str, unknown))

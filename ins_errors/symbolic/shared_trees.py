@@ -42,6 +42,7 @@ class SharedTrees:
         self._derivatives: dict[tuple[sp.Basic, sp.Symbol], sp.Expr] = {}
         self._substituted: dict[frozenset, dict] = {}
         self._unevaluated: dict[sp.Basic, bool] = {}
+        self._renames: list[tuple[dict, dict]] = []  # (symbol renames so far, their memo)
 
     def free_symbols(self, expr: sp.Basic) -> frozenset:
         """``expr.free_symbols``, computed once per distinct subtree."""
@@ -67,6 +68,30 @@ class SharedTrees:
     def xreplace_matrix(self, matrix: sp.Matrix, rule: Mapping) -> sp.Matrix:
         """``matrix.xreplace(rule)`` with :meth:`xreplace` on each entry."""
         return matrix.applyfunc(lambda e: self.xreplace(e, rule))
+
+    def rename_matrix(self, matrix: sp.Matrix, rule: Mapping[sp.Symbol, sp.Symbol]) -> sp.Matrix:
+        """``matrix.xreplace(rule)`` (same result) for a rule that renames symbols.
+
+        The substitution of a subtree depends only on what the rule does to the subtree's
+        own free symbols. When ``rule`` maps every free symbol of ``matrix``, it shares
+        its memo with earlier calls whose rules agree with it on every symbol both
+        name (the functions of one model rename their common arguments alike), so a
+        subtree common to several of them is rebuilt once. Otherwise as
+        :meth:`xreplace_matrix`.
+        """
+        free = frozenset().union(*(self.free_symbols(e) for e in matrix))
+        if not free <= rule.keys():
+            return self.xreplace_matrix(matrix, rule)
+        used = {symbol: rule[symbol] for symbol in free}
+        agreeing = [(renames, memo) for renames, memo in self._renames
+                    if all(renames.get(symbol, new) == new for symbol, new in used.items())]
+        if agreeing:
+            renames, memo = agreeing[0]
+            renames.update(used)
+        else:
+            memo = {}
+            self._renames.append((dict(used), memo))
+        return matrix.applyfunc(lambda e: self._xreplace(e, used, memo)[0])
 
     def _xreplace(self, expr: sp.Basic, rule: Mapping, memo: dict) -> tuple[sp.Basic, bool]:
         # mirrors Basic._xreplace: rebuild when any argument was replaced

@@ -27,7 +27,13 @@ import sympy as sp
 
 from ins_errors.modeling import ModelDefinition
 from ins_errors.models import definition
-from ins_errors.symbolic.analytic import Frequency, Parametrisation, StaticAnalysis, analyse
+from ins_errors.symbolic.analytic import (
+    Frequency,
+    Parametrisation,
+    StaticAnalysis,
+    analyse,
+    factor_lists_remembered,
+)
 from ins_errors.symbolic.shared_trees import SharedTrees
 from ins_errors.symbolic.simplifications import DroppedTerm, simplification
 from ins_errors.symbolic.variation import last_varied
@@ -290,15 +296,16 @@ def static_analyses(name: str) -> list[VariantResult]:
                          "closed forms need it constant")
     columns = source_columns(d, G, E)
     results = []
-    for variant in setup.variants:
-        dropped: list[tuple[DroppedTerm, sp.Expr]] = []
-        Fv = F
-        if variant.simplification:
-            Fv, dropped = simplification(variant.simplification).apply(
-                F, [v.name for v in d.error_states])
-        analysis = analyse(Fv, columns, variant.parametrisation,
-                           tidy=sp.factor if variant.factored else None)
-        results.append(VariantResult(variant, analysis, dropped, list(columns)))
+    with factor_lists_remembered():  # the variants share most polynomials they factor
+        for variant in setup.variants:
+            dropped: list[tuple[DroppedTerm, sp.Expr]] = []
+            Fv = F
+            if variant.simplification:
+                Fv, dropped = simplification(variant.simplification).apply(
+                    F, [v.name for v in d.error_states])
+            analysis = analyse(Fv, columns, variant.parametrisation,
+                               tidy=sp.factor if variant.factored else None)
+            results.append(VariantResult(variant, analysis, dropped, list(columns)))
     return results
 
 
