@@ -2,10 +2,11 @@
 
 One job per model writes its folder and, on a full run, the model's transfer-function
 documents (:mod:`derive.transfer_functions`, in the same process, so the model is
-built once); the documents that other steps register in :data:`EXTRA_STEPS` (reports
-regenerated with the code, e.g. the checker's report on the manual's printed
-equations) are jobs of their own. The jobs are independent and run in one pool of
-forked workers, longest first; the output does not depend on the order.
+built once) and the documents that other steps register for it in
+:data:`EXTRA_STEPS` (reports regenerated with the code, e.g. the checker's report on
+the manual's printed equations, which reuses the model's structured variation). The
+jobs are independent and run in one pool of forked workers, longest first; the output
+does not depend on the order.
 
 Everything is written into a temporary folder next to the target; the target is
 replaced only when every step has succeeded. A failing step raises :class:`DeriveError`
@@ -31,8 +32,10 @@ from .model_files import ModelSummary, write_model
 from .steps import step
 from .transfer_functions import write_transfer_functions
 
-EXTRA_STEPS: list[Callable[[Path], None]] = [write_hand_check_reports]
-"""Callables ``step(generated_root)`` run on a full run, besides the models."""
+EXTRA_STEPS: list[tuple[str, Callable[[Path], None]]] = [
+    ("orthodromic", write_hand_check_reports)]
+"""(model, callable ``step(generated_root)``): run on a full run, in the model's job
+after its own files (the model's derivation is then at hand in that process)."""
 
 _LONGEST_FIRST = ("orthodromic", "north_pointing")
 """Models whose jobs take longest (their transfer functions): started first."""
@@ -46,6 +49,9 @@ def _write_one(name: str, root: Path, documents: bool) -> ModelSummary:
     if documents and name in SETUPS:
         with step(name, "transfer functions"):
             write_transfer_functions(root, name)
+    for model, extra in EXTRA_STEPS if documents else ():
+        if model == name:
+            _run_extra(extra, root)
     return summary
 
 
@@ -55,29 +61,17 @@ def _run_extra(extra: Callable[[Path], None], root: Path) -> None:
 
 
 def _run_jobs(names: list[str], root: Path, documents: bool) -> list[ModelSummary]:
-    """Every model's job and, if ``documents``, every extra step; both cores if there are."""
-    extras = EXTRA_STEPS if documents else []
-    workers = min(len(names) + len(extras), os.cpu_count() or 1)
+    """Every model's job (with its extra steps if ``documents``); both cores if there are."""
+    workers = min(len(names), os.cpu_count() or 1)
     if workers <= 1:
-        summaries = [_write_one(name, root, documents) for name in names]
-        for extra in extras:
-            _run_extra(extra, root)
-        return summaries
+        return [_write_one(name, root, documents) for name in names]
     first = [n for n in _LONGEST_FIRST if n in names]
-    # built once here and inherited by the forked workers: a report job needs the
-    # definition of a model that another worker derives
-    for name in names if documents else ():
-        with step(name, "build the definition"):
-            definition(name)
     with ProcessPoolExecutor(max_workers=workers) as pool:
         jobs: dict[str, Future] = {
             name: pool.submit(_write_one, name, root, documents)
             for name in first}
-        others = [pool.submit(_run_extra, extra, root) for extra in extras]
         jobs.update({name: pool.submit(_write_one, name, root, documents)
                      for name in names if name not in jobs})
-        for job in others:
-            job.result()
         return [jobs[name].result() for name in names]
 
 

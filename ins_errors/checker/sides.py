@@ -52,16 +52,9 @@ def _has_dot(expr: sp.Expr) -> bool:
 # --------------------------------------------------------------------------------------
 # The model side
 # --------------------------------------------------------------------------------------
-_LINES: dict[int, tuple] = {}
-
-
 def _structured(d: ModelDefinition) -> list:
-    """:func:`structured_variation` of ``d``, computed once per definition."""
-    entry = _LINES.get(id(d))
-    if entry is None or entry[0] is not d:
-        entry = (d, structured_variation(d))
-        _LINES[id(d)] = entry
-    return entry[1]
+    """:func:`structured_variation` of ``d`` (computed once per definition)."""
+    return structured_variation(d)
 
 
 class ModelSide:

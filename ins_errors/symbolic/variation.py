@@ -286,9 +286,20 @@ def structured_variation(d: ModelDefinition) -> list[VariedEquation]:
     state, computed intermediates their ``Delta_`` symbol, platform angles and error
     sources themselves. Coefficients are evaluated at the ideal point and written with
     the ideal intermediate symbols (R_ξ^{-1}, ω_ξ, ...), as a paper would.
+
+    Computed once per definition object in a process (the error-equation document and
+    the hand-derivation checker both read it); the lines are frozen, the list is a copy.
     """
-    with SharedTrees().differentiating() as trees:
-        return _structured_variation(d, trees)
+    entry = _STRUCTURED.get(id(d))
+    if entry is None or entry[0] is not d:
+        with SharedTrees().differentiating() as trees:
+            entry = (d, _structured_variation(d, trees))
+        _STRUCTURED[id(d)] = entry
+    return list(entry[1])
+
+
+_STRUCTURED: dict[int, tuple[ModelDefinition, list[VariedEquation]]] = {}
+"""Per definition (by id, with the definition itself kept to check identity): its lines."""
 
 
 def _structured_variation(d: ModelDefinition, trees: SharedTrees) -> list[VariedEquation]:
