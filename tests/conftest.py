@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import gc
+
 import pytest
 
 import ins_errors
@@ -27,3 +29,18 @@ def example_reports() -> dict:
     them, the example checks (test_scenarios.py) read them instead of running the same
     example again (and run it themselves when it is not there)."""
     return {}
+
+
+def pytest_collection_finish(session) -> None:
+    """Fewer and cheaper garbage collections for the rest of the session.
+
+    The suite builds large SymPy trees and keeps many of them (the per-process caches of
+    the variation and the checker): the cyclic collector's full passes scanned them again
+    and again (~6 % of the symbolic tests' CPU, 2.7 s in 42 s). What exists once the tests
+    are collected is frozen (never scanned again), and the youngest generation is
+    collected every 20 000 net allocations instead of 700. When garbage is collected
+    changes no result.
+    """
+    gc.collect()
+    gc.freeze()
+    gc.set_threshold(20_000, 20, 20)
