@@ -98,13 +98,6 @@ def test_linear_estimate_matches_direct_run(name, scenario):
     assert lines[0].startswith(name) and any("delta_latitude" in line for line in lines)
 
 
-def test_plot_is_written(tmp_path):
-    result = meth.run("nonsphericity", "static", LATITUDE, duration=3600, tau=60.0,
-                   record_interval=600.0)
-    path = meth.plot(result, tmp_path / "study.png")
-    assert path.exists() and path.stat().st_size > 5000
-
-
 def test_unknown_study_suggests_close_names():
     with pytest.raises(UnknownNameError, match="nonsphericity"):
         meth.run("nonspherity")
