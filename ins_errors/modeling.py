@@ -83,6 +83,7 @@ from ins_errors.models.earth import (
     radii_of_curvature,
 )
 from ins_errors.models.platform import PLATFORM_FORMS, on_platform, platform_rates
+from ins_errors.symbolic.shared_trees import SharedTrees
 
 __all__ = [
     "EARTH_RATE",
@@ -306,9 +307,21 @@ class Mechanisation:
         return symbol
 
     def expand(self, expression: sp.Expr | sp.Matrix) -> sp.Expr | sp.Matrix:
-        """Substitute every recorded definition, innermost last, into ``expression``."""
+        """Substitute every recorded definition, innermost last, into ``expression``.
+
+        Each substitution is ``xreplace`` (the same result) through one
+        :class:`~ins_errors.symbolic.shared_trees.SharedTrees`, which rebuilds each
+        distinct subtree once: the substituted formulas repeat their subtrees many times.
+        """
+        trees = SharedTrees()
         for definition in reversed(self.definitions):
-            expression = expression.xreplace({definition.symbol: definition.expression})
+            rule = {definition.symbol: definition.expression}
+            if isinstance(expression, sp.MatrixBase):
+                expression = trees.xreplace_matrix(expression, rule)
+            elif isinstance(expression, sp.Basic):
+                expression = trees.xreplace(expression, rule)
+            else:
+                expression = expression.xreplace(rule)
         return expression
 
 

@@ -20,7 +20,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import sympy as sp
+from sympy.core.function import _coeff_isneg
+from sympy.core.operations import LatticeOp
 from sympy.printing.pycode import PythonCodePrinter
+from sympy.simplify.radsimp import fraction
 
 from ins_errors.symbolic.shared_trees import SharedTrees
 
@@ -129,10 +132,68 @@ def _identifier(symbol: sp.Symbol, taken: set[str]) -> str:
     return name
 
 
-@functools.lru_cache(maxsize=8192)
 def _count_ops(expr: sp.Expr) -> int:
-    """``sp.count_ops(expr)``; a model's functions share many CSE assignments."""
-    return sp.count_ops(expr)
+    """``sp.count_ops(expr)`` (the same number), each distinct subtree counted once.
+
+    SymPy's count walks the tree once, appending a symbol per operation (``ADD``,
+    ``NEG``, ``2*MUL``...) and adds them up symbolically at the end; the number is the
+    sum of their coefficients. :func:`_walk` follows the same walk node by node, with
+    the same tests and the same rewritten operands (``-a``, ``fraction``), and adds
+    integers. Anything but a plain expression goes to SymPy.
+    """
+    if not isinstance(expr, sp.Expr) or expr.is_Relational:
+        return sp.count_ops(expr)
+    return _walk(expr)
+
+
+@functools.lru_cache(maxsize=65536)
+def _walk(a: sp.Basic) -> int:
+    """Operations ``sp.count_ops`` counts for node ``a`` and the operands it visits next."""
+    if a.is_Rational:
+        if a is not sp.S.One:
+            return (a.p < 0) + (a.q != 1)  # -1/3 = NEG + DIV
+    elif a.is_Mul:
+        ops = 0
+        if _coeff_isneg(a):
+            ops += 1  # NEG
+            a = a.as_two_terms()[1] if a.args[0] is sp.S.NegativeOne else -a
+        n, d = fraction(a)
+        if n.is_Integer:  # DIV (and NEG); d is no -Mul, but may be an Add
+            return ops + 1 + (1 if n < 0 else 0) + _walk(d)
+        if d is not sp.S.One:  # DIV; n may be a -Mul
+            return ops + 1 + (0 if d.is_Integer else _walk(d)) + _walk(n)
+        return ops + _own_and_operands(a)
+    elif a.is_Add:
+        ops, negative = 0, 0
+        for i, term in enumerate(a.args):
+            if _coeff_isneg(term):
+                negative += 1
+                ops += _walk(-term) + (i > 0)  # SUB
+            else:
+                ops += _walk(term) + (i > 0)  # ADD
+        # all negative: -x - y = NEG + SUB; a negative first term: SUB - ADD, no change
+        return ops + (negative == len(a.args))
+    return _own_and_operands(a)
+
+
+def _own_and_operands(a: sp.Basic) -> int:
+    """The rest of ``sp.count_ops``'s walk for one node: exponentials, divisions by a
+    power -1, the node's own operations, then its arguments (none for a symbol)."""
+    if a.is_Pow and a.exp is sp.S.NegativeOne:
+        return 1 + _walk(a.base)  # DIV
+    if a == sp.S.Exp1:
+        return 1  # EXP
+    if a.is_Pow and a.base == sp.S.Exp1:
+        return 1 + _walk(a.exp)  # EXP
+    ops = 0
+    if a.is_Mul or isinstance(a, LatticeOp):
+        ops = len(a.args) - 1
+    elif a.args and (a.is_Pow or a.is_Function
+                     or isinstance(a, (sp.Derivative, sp.Integral, sp.Sum))):
+        ops = 1
+    if not a.is_Symbol:
+        ops += sum(_walk(arg) for arg in a.args)
+    return ops
 
 
 def prepare(spec: FunctionSpec, trees: SharedTrees | None = None) -> _Prepared:
