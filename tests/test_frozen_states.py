@@ -99,3 +99,18 @@ def test_library_functions_of_frozen_components_stay_calls(monkeypatch):
     assert "-fno-builtin-sin" in flags[-1] and "-fno-builtin-tan" in flags[-1]
     assert np.array_equal(runs[0].view(np.int64), runs[1].view(np.int64))
     assert np.all(runs[0][0] == rest) and np.ptp(runs[0][1]) > 0.01
+
+
+def test_a_frozen_zero_keeps_its_sign():
+    """Frozen -0.0 and +0.0 are different numbers for the compiled loop (x * -0.0 and
+    x * +0.0 differ in sign): one loop object run from each gives each its own bits."""
+    z, u, w, p = ca.SX.sym("z", 2), ca.SX.sym("u", 1), ca.SX.sym("w", 1), ca.SX.sym("p", 0)
+    rhs = ca.Function("toy", [z, u, w, p], [ca.vertcat(u[0] * z[0], 1.0 / (w[0] * z[0]))])
+    loops = [integ.CompiledLoop(rhs, None, "euler", 1, 0.5, np.zeros(0), np.array([2.0]),
+                                jit=jit) for jit in (True, False)]
+    for zero in (-0.0, 0.0, -0.0):
+        runs = [loop.run(np.array([zero, 1.0]), np.array([3.0]), 3).states
+                for loop in loops]
+        assert np.array_equal(runs[0].view(np.int64), runs[1].view(np.int64))
+        assert runs[0][1, -1] == np.copysign(np.inf, zero)   # 1 + 0.5 / (3 * ±0)
+        assert np.signbit(runs[0][0, -1]) == np.signbit(zero)

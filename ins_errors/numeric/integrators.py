@@ -767,7 +767,7 @@ class CompiledLoop:
             self._source = (_assume_arguments(generated_source(functions)),
                             _driver_source(self, chunk, margin is not None, functions,
                                            rotations if c_rotations else ()))
-        self._built: dict[tuple[tuple[int, float], ...], _LoopCalls] = {}
+        self._built: dict[tuple[tuple[int, str], ...], _LoopCalls] = {}
         self._build_lock = threading.Lock()
         # a time-invariant loop may start where part of the state does not move (the
         # ideal work on a static base): which state each next state depends on
@@ -787,10 +787,11 @@ class CompiledLoop:
         The compiler folds with IEEE rounding (no fast-math flags), so every remaining
         number is the one the general loop computes.
         """
+        key = tuple((i, value.hex()) for i, value in frozen)   # -0.0 is not 0.0 here
         with self._build_lock:
-            built = self._built.get(frozen)
+            built = self._built.get(key)
             if built is None:
-                built = self._built[frozen] = self._build(dict(frozen))
+                built = self._built[key] = self._build(dict(frozen))
             return built
 
     def _build(self, frozen: dict[int, float]) -> _LoopCalls:
