@@ -166,3 +166,51 @@ def test_first_largest_ignores_last_bit_differences():
     items = [("a", half), ("b", above), ("c", 0.3)]
     assert first_largest_item(items, lambda item: item[1])[0] == "a"
     assert first_largest_item(items[::-1], lambda item: item[1])[0] == "b"
+
+
+def _first_nonlinear_by_diff(form: sp.Expr, errors: tuple[sp.Symbol, ...]):
+    for b in errors:
+        derivative = sp.diff(form, b)
+        if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in errors):
+            return b
+    return None
+
+
+def test_linearity_read_off_the_tree_is_the_differentiated_answer():
+    """The structural shortcut of the linearity check answers what differentiation
+    answers, on every printed form of the hand files and on non-linear forms."""
+    from pathlib import Path
+
+    from ins_errors.checker.compare import _first_nonlinear
+    from ins_errors.checker.notation import default_notation
+    from ins_errors.checker.parse import parse_hand_text
+    from ins_errors.checker.sides import HandSide, model_side, tilde_variations
+
+    root = Path(__file__).resolve().parent.parent
+    files = [(f"hand_correct_{m}.txt", m) for m in ("orthodromic", "north_pointing",
+                                                    "free_azimuth", "geodetic_vertical")]
+    files = [(root / "tests" / "data" / name, m) for name, m in files]
+    files.append((root / "examples" / "manual_000" / "equations.txt", "orthodromic"))
+    extra = ["alpha_z**2 + omega_zeta*alpha_y", "sin(alpha_z)*omega_eta",
+             "alpha_z*alpha_y", "omega_xi/alpha_z", "sqrt(alpha_z)*U", "U**alpha_z",
+             "(alpha_z + alpha_y)**2 - alpha_z**2 - alpha_y**2",
+             "(U + alpha_z)*(omega_xi - alpha_y)", "(omega_xi + U)**3*alpha_y",
+             "cos(phi + alpha_z)", "alpha_z*omega_xi*(1 + U)**2 - 2*alpha_y/R_xi"]
+    checked = nonlinear = 0
+    for path, model in files:
+        notation = default_notation(model)
+        text = path.read_text(encoding="utf-8")
+        if model == "orthodromic":
+            text += "".join(f"\nDelta_X{k} = {rhs}" for k, rhs in enumerate(extra))
+        hand = parse_hand_text(text, notation)
+        resolver = HandSide(model_side(definition(model)), notation, hand)
+        for eq in hand.equations:
+            for form in eq.forms:
+                form = form.xreplace(tilde_variations(form))
+                errors = tuple(s for s in sorted(form.free_symbols, key=sp.default_sort_key)
+                               if resolver.is_variational(s))
+                expected = _first_nonlinear_by_diff(form, errors)
+                assert _first_nonlinear.__wrapped__(form, errors) == expected, form
+                checked += 1
+                nonlinear += expected is not None
+    assert checked > 100 and nonlinear >= 8, (checked, nonlinear)

@@ -916,13 +916,53 @@ def _check_linear(form: sp.Expr, resolver: HandSide) -> None:
 def _first_nonlinear(form: sp.Expr, errors: tuple[sp.Symbol, ...]) -> sp.Symbol | None:
     """The first of ``errors`` whose derivative still holds one of them, or None.
 
-    A pure function of its arguments, kept for the next check in the same process.
+    A pure function of its arguments, kept for the next check in the same process. A
+    form that is a sum of products with at most one error factor each (the usual hand
+    line) is linear by its structure alone: its derivatives hold no error quantity, so
+    the answer is None without differentiating.
     """
+    degree = _degree(form, frozenset(errors), {})
+    if degree is not None and degree <= 1:
+        return None
     for b in errors:
         derivative = sp.diff(form, b)
         if any(q in derivative.free_symbols and sp.diff(derivative, q) != 0 for q in errors):
             return b
     return None
+
+
+def _degree(node: sp.Basic, errors: frozenset, memo: dict) -> int | None:
+    """Polynomial degree of ``node`` in ``errors`` read off its tree, or None.
+
+    Sums take the largest degree of their terms, products the sum, a power of a
+    polynomial part with a positive integer exponent multiplies it; any other node is of
+    degree 0 if none of its arguments holds an error quantity. None: an error quantity
+    inside a function, a denominator or a non-integer power (not a polynomial).
+    """
+    key = id(node)
+    if key in memo:
+        return memo[key]
+    if node.is_Symbol:
+        degree = 1 if node in errors else 0
+    elif node.is_Add or node.is_Mul:
+        degrees = [_degree(a, errors, memo) for a in node.args]
+        degree = (None if None in degrees
+                  else max(degrees) if node.is_Add else sum(degrees))
+    elif node.is_Pow:
+        base, exp = _degree(node.base, errors, memo), _degree(node.exp, errors, memo)
+        if base is None or exp is None or exp > 0:
+            degree = None
+        elif base == 0:
+            degree = 0
+        elif node.exp.is_Integer and node.exp > 0:
+            degree = base * int(node.exp)
+        else:
+            degree = None
+    else:
+        degrees = [_degree(a, errors, memo) for a in node.args]
+        degree = 0 if all(d == 0 for d in degrees) else None
+    memo[key] = degree
+    return degree
 
 
 def _report(eq: HandEquation, resolver: HandSide, error: UnresolvedError) -> None:
