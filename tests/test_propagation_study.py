@@ -82,38 +82,62 @@ def test_plots_equal_fresh_shared_axis_figures_and_fit_the_figure(tmp_path, resu
                                                                    monkeypatch):
     """The sources share one reused figure (curves, ranges and title redone per source)
     whose panels share their time range by construction, not through matplotlib's
-    sharex (which lays out every sibling's tick labels again for each panel): each file
-    after the first must be byte for byte that source drawn alone in a figure built with
-    ``sharex=True``, after a first source whose flat curves fixed the panels' ranges.
-    The fixed margins must hold every label: nothing drawn may stick out of the figure
-    (the last source has the widest tick labels, -0.025 and 0.000)."""
-    import matplotlib.pyplot as plt
+    sharex (which lays out every sibling's tick labels again for each panel), and whose
+    panel titles keep a fixed place (no search for an offset text to clear: a
+    power-of-ten multiplier sits at the right end). Each file after the first must be
+    byte for byte that source drawn alone in a figure built with ``sharex=True`` and
+    matplotlib's own title placement, after first sources whose flat or tiny curves
+    fixed the panels' ranges and showed multipliers. The fixed margins must hold every
+    label: nothing drawn may stick out of the figure (the last source has the widest tick
+    labels, -0.025 and 0.000), nor may a multiplier overlap its panel's title."""
+    from dataclasses import replace
 
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Text
+
+    from ins_errors import figure_layout
     from ins_errors.output import OutputFolder
     from ins_errors.studies.propagation import plot
 
-    names = ["initial_longitude_error", "gyro_drift_up", "initial_velocity_error_north"]
-    outside = []
+    up = result.curve("gyro_drift_up")
+    tiny = replace(up, source="gyro_drift_east", **{  # values of 1e-9: multipliers show
+        run: getattr(up, run) * 1e-9 for run in ("direct", "linear", "analytic", "reduced")})
+    shown = replace(result, curves=[tiny, *result.curves[1:]])
+    assert result.curves[0].source == "gyro_drift_east"
+    names = ["gyro_drift_east", "initial_longitude_error", "gyro_drift_up",
+             "initial_velocity_error_north"]
+    checked = []
 
     def save(self, fig, name, **options):
-        if name == f"{names[-1]}.png":
+        if name in ("gyro_drift_east.png", f"{names[-1]}.png"):
             renderer = fig.canvas.get_renderer()
             box = fig.get_tightbbox(renderer).transformed(fig.dpi_scale_trans.inverted())
             width, height = fig.get_size_inches()
-            outside.append((box.x0 < 0, box.y0 < 0, box.x1 > width, box.y1 > height))
+            clear = []
+            for ax in fig.axes:
+                multiplier = ax.yaxis.offsetText
+                title = [t for t in ax.get_children() if isinstance(t, Text)
+                         and t.get_text() == ax.get_title(loc="left")]
+                if multiplier.get_text():
+                    clear.append(not multiplier.get_window_extent(renderer).overlaps(
+                        title[0].get_window_extent(renderer)))
+            checked.append((box.x0 < 0, box.y0 < 0, box.x1 > width, box.y1 > height, clear))
         return save_figure(self, fig, name, **options)
 
     save_figure = OutputFolder.save_figure
     monkeypatch.setattr(OutputFolder, "save_figure", save)
-    together = plot(result, OutputFolder(tmp_path / "together"), names)
-    assert outside == [(False, False, False, False)]
+    together = plot(shown, OutputFolder(tmp_path / "together"), names)
+    assert checked == [(False, False, False, False, [True] * 7),  # every panel: 1e-9
+                       (False, False, False, False, [])]
     monkeypatch.setattr(OutputFolder, "save_figure", save_figure)
     subplots = plt.subplots
     monkeypatch.setattr(plt, "subplots", lambda *a, **k: subplots(*a, **k, sharex=True))
-    for k, name in enumerate(names[1:], 1):
+    monkeypatch.setattr(figure_layout, "fixed_title",
+                        lambda ax, text, **o: ax.set_title(text, **o))
+    for k, name in enumerate(names[2:], 2):
         alone = plot(result, OutputFolder(tmp_path / name), [name])[0]
         assert together[k].read_bytes() == alone.read_bytes(), name
-    assert together[0].read_bytes() != together[1].read_bytes()
+    assert together[1].read_bytes() != together[2].read_bytes()
 
 
 def test_bad_experiments_give_one_line_errors():

@@ -337,7 +337,8 @@ def plot(result: PropagationResult, folder: OutputFolder,
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ins_errors.figure_layout import common_time_range, fixed_margins, share_time_axis
+    from ins_errors.figure_layout import (common_time_range, fixed_margins, fixed_title,
+                                          share_time_axis)
     from ins_errors.units import format_quantity
 
     model = load_model("north_pointing")
@@ -362,7 +363,11 @@ def plot(result: PropagationResult, folder: OutputFolder,
         for ax, (_, short, unit, label) in zip(axes, QUANTITIES, strict=True):
             lines.append([ax.plot([], [], **style)[0] for style in styles])
             ax.set_ylabel(f"{short}, {unit}", fontsize=8)
-            ax.set_title(label, fontsize=8, loc="left")
+            # the title keeps its place above the left end (matplotlib's search for an
+            # offset text to clear lays out the panel's tick labels once more every
+            # draw); a power-of-ten multiplier of tiny values goes to the right end
+            fixed_title(ax, label, fontsize=8, loc="left")
+            ax.yaxis.set_offset_position("right")
             ax.ticklabel_format(axis="y", useOffset=False)
             ax.grid(True, alpha=0.3)
         axes[0].legend(fontsize=7, ncol=2)
