@@ -337,8 +337,7 @@ def plot(result: PropagationResult, folder: OutputFolder,
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ins_errors.figure_layout import (common_time_range, fixed_margins, fixed_title,
-                                          share_time_axis)
+    from ins_errors import figure_layout as layout
     from ins_errors.units import format_quantity
 
     model = load_model("north_pointing")
@@ -356,8 +355,8 @@ def plot(result: PropagationResult, folder: OutputFolder,
     # draw (see figure_layout); the same times give the same range, fixed margins fit
     # the labels
     fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13))
-    share_time_axis(axes)
-    fixed_margins(fig, left=1.0, right=0.2, bottom=0.6, top=0.62, hspace=0.38)
+    layout.share_time_axis(axes)
+    layout.fixed_margins(fig, left=1.0, right=0.2, bottom=0.6, top=0.62, hspace=0.38)
     try:
         lines = []
         for ax, (_, short, unit, label) in zip(axes, QUANTITIES, strict=True):
@@ -366,7 +365,7 @@ def plot(result: PropagationResult, folder: OutputFolder,
             # the title keeps its place above the left end (matplotlib's search for an
             # offset text to clear lays out the panel's tick labels once more every
             # draw); a power-of-ten multiplier of tiny values goes to the right end
-            fixed_title(ax, label, fontsize=8, loc="left")
+            layout.fixed_title(ax, label, fontsize=8, loc="left")
             ax.yaxis.set_offset_position("right")
             ax.ticklabel_format(axis="y", useOffset=False)
             ax.grid(True, alpha=0.3)
@@ -383,7 +382,7 @@ def plot(result: PropagationResult, folder: OutputFolder,
                 ax.relim()
                 ax.autoscale_view()
                 _honest_range(ax, shown)
-            common_time_range(axes)
+            layout.common_time_range(axes)
             info = model.source(c.source)
             magnitude = format_quantity(c.magnitude, info.unit, info.display_unit or info.unit)
             title.set_text(f"north_pointing, {c.source} = {magnitude}, φ = "
