@@ -58,9 +58,10 @@ def test_kept_parses_follow_the_notation():
 
 def _forget_kept_results() -> None:
     """Empty every per-process cache of the checker (as in a fresh interpreter)."""
-    from ins_errors.checker import compare, parse, sides
+    from ins_errors.checker import classify, compare, parse, sides
 
     for kept in (compare._shared_linear_parts, compare._identical, compare._display,
+                 compare._shown, classify._candidates, compare._first_nonlinear,
                  sides._tautology, parse._parsed_text, parse._parsed_latex):
         kept.cache_clear()
     for side in sides._SHARED.values():

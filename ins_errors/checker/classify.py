@@ -25,6 +25,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from functools import lru_cache
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -153,6 +154,14 @@ def _exponent_changes(exp: sp.Rational) -> list[sp.Rational]:
 
 def candidates(expr: sp.Expr, known: list[sp.Symbol]) -> list[tuple[str, str, sp.Expr]]:
     """One-place changes of ``expr``: (kind, description, changed expression)."""
+    return list(_candidates(expr, tuple(known)))
+
+
+@lru_cache(maxsize=4096)
+def _candidates(expr: sp.Expr, known: tuple[sp.Symbol, ...]
+                ) -> tuple[tuple[str, str, sp.Expr], ...]:
+    """:func:`candidates`: a pure function of its arguments, kept for the next check in
+    the same process (a coefficient diagnosed again builds its substitutions once)."""
     out: list[tuple[str, str, sp.Expr]] = []
     for symbol in sorted(expr.free_symbols, key=sp.default_sort_key):
         for other in _siblings(symbol, known):
@@ -173,7 +182,7 @@ def candidates(expr: sp.Expr, known: list[sp.Symbol]) -> list[tuple[str, str, sp
             for e in _exponent_changes(power.exp):
                 out.append((EXPONENT, f"exponent {power.exp} where {e} belongs",
                             expr.xreplace({power: power.base ** e})))
-    return out
+    return tuple(out)
 
 
 def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.ndarray,

@@ -345,6 +345,13 @@ def _shared_linear_parts(expr: sp.Expr, basis: tuple[sp.Symbol, ...], trusted: b
 
 
 @lru_cache(maxsize=16384)
+def _shown(expr: sp.Expr, rule: tuple[tuple[sp.Expr, sp.Expr], ...]) -> sp.Expr:
+    """``expr.xreplace(dict(rule))``: a coefficient in the notation's terms, kept for the
+    next check in the same process."""
+    return expr.xreplace(dict(rule))
+
+
+@lru_cache(maxsize=16384)
 def _identical(hand: sp.Expr, model: sp.Expr, basis: tuple[sp.Symbol, ...], limit: int
                ) -> bool | None:
     """:meth:`Comparison.identical` (a pure function as well, kept likewise)."""
@@ -493,9 +500,10 @@ class Comparison:
         raw, largest, constant = self.differences(hand, model, trusted)
         shown = (self.linear_parts(hand_display, trusted=True)[0] if hand_display is not None
                  else self.linear_parts(hand)[0])
+        rule = tuple(self.display_model.items())
         for b, info in raw.items():
-            info["hand_shown"] = shown.get(b, sp.S.Zero).xreplace(self.display_model)
-            info["model_shown"] = info["model_expr"].xreplace(self.display_model)
+            info["hand_shown"] = _shown(shown.get(b, sp.S.Zero), rule)
+            info["model_shown"] = _shown(info["model_expr"], rule)
         findings = self.pair_wrong_variables(raw)
         for b, info in raw.items():
             findings.append(self.finding(b, info, diagnose))
