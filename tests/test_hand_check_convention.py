@@ -168,3 +168,19 @@ def test_malicious_or_malformed_vector_rhs_is_refused_in_one_line(tmp_path, monk
     (line,) = capsys.readouterr().err.strip().splitlines()
     assert "line 3" in line and "Traceback" not in line
     assert not (tmp_path / "pwned").exists()
+
+
+def test_a_file_checked_again_reuses_its_row_functions_and_reports_the_same():
+    """The rows' numpy functions are kept per expression: a second check of the same
+    file compiles nothing new and its report (findings, sizes, effects) is the same."""
+    from ins_errors.checker import convention_equations as ce
+
+    path = EXAMPLES / "phi_attitude_sign_error.txt"
+    options = {"hours": 2.0, "step": 600.0}
+    ce._row_function.cache_clear()
+    first = check_convention_file(path, **options)
+    built = ce._row_function.cache_info().currsize
+    again = check_convention_file(path, **options)
+    assert built == 3 and ce._row_function.cache_info().currsize == built
+    assert first.report.findings and again.report.findings == first.report.findings
+    assert again.report.effects == first.report.effects

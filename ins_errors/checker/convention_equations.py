@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
@@ -327,6 +328,15 @@ def _coefficients(row: str, line: int, name: str, rhs: sp.Expr, variables: list[
     return out
 
 
+@lru_cache(maxsize=1024)
+def _row_function(coefficients: tuple[sp.Expr, ...]):
+    """The coefficients of one row as a numpy function of :data:`QUANTITIES`, kept per
+    process: a file checked again (or a copy with other rows changed) prints and
+    compiles each row once (the same expressions give the same code)."""
+    return sp.lambdify([sp.Symbol(q) for q in QUANTITIES], list(coefficients),
+                       modules="numpy", docstring_limit=0)
+
+
 def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                           threshold: float | None = None,
                           magnitudes: dict[str, str] | None = None,
@@ -378,12 +388,10 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     used = [s for s in src_names if any(sp.Symbol(s) in r[2].free_symbols
                                         for r in rows.values())]
     variables = states + used
-    quantity_symbols = [sp.Symbol(q) for q in QUANTITIES]
     functions = {}
     for row, (line, _, rhs) in rows.items():
         coefficients = _coefficients(row, line, hand.name, rhs, variables)
-        functions[row] = sp.lambdify(quantity_symbols, coefficients, modules="numpy",
-                                     docstring_limit=0)
+        functions[row] = _row_function(tuple(coefficients))
     motion_list = mx.motions(model, mx.HOURS if hours is None else hours,
                              mx.STEP if step is None else step)
     if hand.scope is not None:
