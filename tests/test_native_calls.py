@@ -235,3 +235,43 @@ def test_stream_rows_fill_a_given_buffer_and_refuse_a_wrong_one():
     assert np.array_equal(out, integ.input_stream(inputs, mid, "rk4").T)
     with pytest.raises(integ.StepError, match=r"shape \(5, 6\)"):
         integ.stream_rows(inputs, mid, "rk4", np.empty((5, 2)))
+
+
+def test_a_cached_loop_is_found_by_its_description_and_only_by_it(tmp_path, monkeypatch):
+    """A loop whose library is in the cache is not written again (its description, not
+    its C source, names the library); any change to what the C is written from (the
+    function, a baked-in constant or input, the step, the scheme, the
+    writing code) names another library, whose results are the virtual machine's bits."""
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))
+    if integ._compiler() is None:
+        pytest.skip("no C compiler")
+    z, u, w, p = ca.SX.sym("z", 2), ca.SX.sym("u", 2), ca.SX.sym("w", 1), ca.SX.sym("p", 1)
+
+    def toy(c: float) -> ca.Function:
+        return ca.Function("toy", [z, u, w, p], [ca.vertcat(-z[0] + u[0] * w[0],
+                                                            p[0] * z[0] + c * z[1])])
+
+    def run(jit=True, c=0.5, method="rk4", tau=0.05, p0=0.3, u0=0.4):
+        loop = integ.CompiledLoop(toy(c), None, method, 5, tau, np.array([p0]),
+                                  np.array([u0, 1.0]), chunk=4, batch=1, jit=jit)
+        return loop.run(np.array([0.2, -0.5]), np.array([1.5]), 40).states
+
+    first = run()
+    assert len(list(tmp_path.glob("loop_*.so"))) == 1
+
+    def no_writing(functions):
+        raise AssertionError("the C source was written again")
+
+    with monkeypatch.context() as patched:
+        patched.setattr(integ, "generated_source", no_writing)
+        assert np.array_equal(run(), first)
+    changes = [{"c": 0.5 + 1e-12}, {"p0": 0.3 + 1e-12}, {"u0": 0.4 + 1e-12},
+               {"tau": 0.04}, {"method": "euler"}]
+    for k, change in enumerate(changes, start=2):
+        states = run(**change)
+        assert len(list(tmp_path.glob("loop_*.so"))) == k, change
+        assert np.array_equal(states, run(jit=False, **change)), change
+        assert not np.array_equal(states, first), change
+    monkeypatch.setattr(integ, "_writer_version", lambda: "another version of the writer")
+    assert np.array_equal(run(), first)
+    assert len(list(tmp_path.glob("loop_*.so"))) == len(changes) + 2

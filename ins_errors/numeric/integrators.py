@@ -49,6 +49,7 @@ import threading
 import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from functools import cache as cache_function
 from pathlib import Path
 from typing import Literal
 
@@ -390,7 +391,8 @@ def compile_library(functions: list[ca.Function], jit: bool = True) -> Path | No
     """
     if not jit or os.environ.get("INS_ERRORS_NO_JIT"):
         return None
-    return compile_source(generated_source(functions))
+    return compile_source(lambda: generated_source(functions),
+                          key=_functions_key("library", functions))
 
 
 def generated_source(functions: list[ca.Function]) -> str:
@@ -416,8 +418,22 @@ read as one 16-byte load what were two 8-byte stores, which stalls the store-to-
 forwarding on the loop's critical path (a static exact-platform step: ~39 -> ~33 ns)."""
 
 
-def compile_source(source: str, flags: Sequence[str] = DEFAULT_FLAGS) -> Path | None:
+def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAULT_FLAGS,
+                   key: str | None = None) -> Path | None:
     """Compile C source to a shared library in the cache (once) and return its path.
+
+    Parameters
+    ----------
+    source : str or callable
+        The C source, or a function writing it (called only when the library is not in
+        the cache yet and ``key`` is given).
+    flags : sequence of str
+        Compiler flags.
+    key : str, optional
+        What the library is cached under instead of the source: a complete description
+        of everything the source is written from (:func:`_functions_key`), so that a
+        cached library is found without writing its source again. Without it the
+        source itself is the key.
 
     Returns
     -------
@@ -429,10 +445,14 @@ def compile_source(source: str, flags: Sequence[str] = DEFAULT_FLAGS) -> Path | 
         _vm_notice("none of $CC, cc, gcc, clang found")
         return None
     flags = list(flags)
+    if key is None:
+        key = source if isinstance(source, str) else source()
+    else:
+        key = "described by: " + key   # never the text of a C source
     # -march=native code runs only on this kind of CPU: the CPU is part of the cache key
-    key = hashlib.sha256((source + compiler + " ".join(flags) + ca.__version__
-                          + _cpu_identity()).encode())
-    name = f"loop_{key.hexdigest()[:24]}.so"
+    digest = hashlib.sha256((key + compiler + " ".join(flags) + ca.__version__
+                             + _cpu_identity()).encode())
+    name = f"loop_{digest.hexdigest()[:24]}.so"
     directory = _writable(cache_directory())
     library = directory / name
     if library.exists():
@@ -444,7 +464,7 @@ def compile_source(source: str, flags: Sequence[str] = DEFAULT_FLAGS) -> Path | 
         with stage("compiling a simulation loop (once, then cached)"), \
                 tempfile.TemporaryDirectory(dir=directory) as scratch:
             c_file = Path(scratch) / "loop.c"
-            c_file.write_text(source)
+            c_file.write_text(source if isinstance(source, str) else source())
             target = Path(scratch) / "loop.so"
             subprocess.run([compiler, *flags, "-o", str(target), str(c_file), "-lm"],
                            check=True, capture_output=True, timeout=600)
@@ -454,6 +474,44 @@ def compile_source(source: str, flags: Sequence[str] = DEFAULT_FLAGS) -> Path | 
         return None
     cache.register(library)
     return library
+
+
+@cache_function
+def _writer_version() -> str | None:
+    """Hash of the code that writes a loop's C source from its description: this module
+    and :mod:`ins_errors.numeric.carried_trig` (the rotation of carried sines and cosines
+    inside a step and in the C driver); None when their source files cannot be read."""
+    from ins_errors.numeric import carried_trig
+
+    digest = hashlib.sha256()
+    try:
+        for module_file in (__file__, carried_trig.__file__):
+            digest.update(Path(module_file).read_bytes())
+    except (OSError, TypeError):
+        return None
+    return digest.hexdigest()
+
+
+def _functions_key(kind: str, functions: Sequence[ca.Function | None],
+                   *settings: object) -> str | None:
+    """A complete description of the C source written from ``functions`` and
+    ``settings``: the version of the writing code, CasADi's serialisation of each
+    function (its whole algorithm, constants to the bit) and the settings' ``repr``
+    (arrays by their bytes). None when it cannot be made (a function CasADi cannot
+    serialise, unreadable source files): the source itself is then the key."""
+    version = _writer_version()
+    if version is None:
+        return None
+    parts = [kind, version]
+    try:
+        parts += [f.serialize() if f is not None else "-" for f in functions]
+    except RuntimeError:
+        return None
+    for value in settings:
+        if isinstance(value, np.ndarray):
+            value = (value.dtype.str, value.shape, value.tobytes().hex())
+        parts.append(repr(value))
+    return hashlib.sha256("\x00".join(parts).encode()).hexdigest()
 
 
 def compile_functions(functions: list[ca.Function], jit: bool = True) -> list[ca.Function]:
@@ -569,22 +627,23 @@ class NativeFunction(DenseCall):
         work.restype = ctypes.c_int
         if work(*[ctypes.byref(s) for s in sizes]):
             raise InsErrorsError(f"{self.name}: the compiled library reports an error")
-        self._n_arg, self._n_res, self._n_iw, self._n_w = (max(int(s.value), 1) for s in sizes)
+        n_arg, n_res, n_iw, n_w = (max(int(s.value), 1) for s in sizes)
+        # pointer tables (unused entries NULL) and work arrays, made afresh for each call
+        # (several threads may call at once); a buffer's address is read from its array
+        # interface, the cheapest way numpy offers
+        self._args = ctypes.c_void_p * max(n_arg, len(self.shapes_in))
+        self._results = ctypes.c_void_p * max(n_res, len(self.shapes_out))
+        self._iw = ctypes.c_longlong * n_iw
+        self._w = ctypes.c_double * n_w
 
     def __call__(self, inputs: Sequence[np.ndarray], outputs: Sequence[np.ndarray]) -> None:
         """Evaluate, reading ``inputs`` and writing ``outputs`` in place."""
         self._check(inputs, self.shapes_in, "input")
         self._check(outputs, self.shapes_out, "output")
-        args = (_DOUBLE_P * max(self._n_arg, len(inputs)))()
-        results = (_DOUBLE_P * max(self._n_res, len(outputs)))()
-        for k, array in enumerate(inputs):
-            args[k] = array.ctypes.data_as(_DOUBLE_P)
-        for k, array in enumerate(outputs):
-            results[k] = array.ctypes.data_as(_DOUBLE_P)
-        iw = np.empty(self._n_iw, dtype=np.int64)
-        w = np.empty(self._n_w)
-        status = self._entry(args, results, iw.ctypes.data_as(ctypes.POINTER(ctypes.c_longlong)),
-                             w.ctypes.data_as(_DOUBLE_P), 0)
+        status = self._entry(self._args(*[a.__array_interface__["data"][0] for a in inputs]),
+                             self._results(*[a.__array_interface__["data"][0]
+                                             for a in outputs]),
+                             self._iw(), self._w(), 0)
         if status:
             raise InsErrorsError(f"{self.name}: the compiled function failed (status {status})")
 
@@ -604,9 +663,6 @@ class VirtualFunction(DenseCall):
                                       in zip(inputs, self.shapes_in, strict=True)])
         for array, value in zip(outputs, values, strict=True):
             array.reshape(-1)[:] = np.asarray(value).ravel(order="F")
-
-
-_DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
 
 def worker_count() -> int:
@@ -662,8 +718,10 @@ class CompiledLoop:
     orthodromic equations on a static base). The per-case constants ``w`` (error
     sources) travel with the state in one carried vector ``[z, m, w]`` (``m``: running
     minimum of the domain margin, checked at the end of every recording interval). A
-    compiled library is cached on disk under the hash of its C source: the same loop is
-    compiled once per machine. Without a compiler the same loop runs in the CasADi
+    compiled library is cached on disk under the hash of a complete description of its
+    C source (:func:`_functions_key`: the functions, settings and the writing code), so
+    the same loop is compiled once per machine and, once cached, found without writing
+    its source again. Without a compiler the same loop runs in the CasADi
     virtual machine as ``fold``/``mapaccum``/``map`` graphs, with the same arithmetic.
 
     The library is built at the first run. For a time-invariant motion, state components
@@ -724,8 +782,10 @@ class CompiledLoop:
         nz, nu, nw = self.nz, self.nu, self.nw
         self.n_stream = nu if method == "euler" else 3 * nu
         self.n_carry = nz + 1 + nw
-        p_num = ca.DM(np.asarray(p, dtype=float))
+        p_array = np.asarray(p, dtype=float)
+        p_num = ca.DM(p_array)
         tau_num = float(tau)
+        u_array = None if constant_inputs is None else np.asarray(constant_inputs, dtype=float)
 
         def f(z, u, w):
             return rhs(z, u, w, p_num)
@@ -733,7 +793,7 @@ class CompiledLoop:
         carry = ca.SX.sym("carry", self.n_carry)
         z, w = carry[:nz], carry[nz + 1:]
         if self.constant_inputs:
-            u_num = ca.DM(np.asarray(constant_inputs, dtype=float))
+            u_num = ca.DM(u_array)
             stream = u_num if method == "euler" else ca.vertcat(u_num, u_num, u_num)
             extra_in: list[ca.SX] = []
         else:
@@ -743,40 +803,58 @@ class CompiledLoop:
         # Euler with carried sines and cosines: the compiled step returns the plain
         # update and the angle increments, and the C driver rotates (ins_rotate)
         c_rotations = method == "euler" and bool(rotations)
-        if c_rotations:
-            increment = tau_num * f(z, stream, w)
-            plain = ca.cse(ca.vertcat(z + increment,
-                                      *[increment[angle] for angle, _, _ in rotations]))
-            z_next = ca.cse(_moved(z, increment, rotations))   # the same, rotated in the graph
-        else:
-            z_next = ca.cse(casadi_step(f, method, z, stream, w, tau_num, rotations))
+        graphs: list[tuple[ca.SX | None, ca.SX]] = []
+
+        def graph() -> tuple[ca.SX | None, ca.SX]:
+            """``(plain, z_next)``: the step's graphs, built (and CSE'd) when first
+            needed, which a loop whose library is in the cache may never be."""
+            if not graphs:
+                if c_rotations:
+                    increment = tau_num * f(z, stream, w)
+                    plain = ca.cse(ca.vertcat(z + increment,
+                                              *[increment[angle] for angle, _, _ in rotations]))
+                    # the same, rotated in the graph
+                    graphs.append((plain, ca.cse(_moved(z, increment, rotations))))
+                else:
+                    graphs.append((None, ca.cse(casadi_step(f, method, z, stream, w, tau_num,
+                                                            rotations))))
+            return graphs[0]
+
         u_end = None
         if margin is not None:
-            u_end = (ca.DM(np.asarray(constant_inputs, dtype=float)) if self.constant_inputs
+            u_end = (ca.DM(u_array) if self.constant_inputs
                      else stream[-nu:])   # the last step's u[k+1] (RK4) or u[k] (Euler)
         self._jit = jit and not os.environ.get("INS_ERRORS_NO_JIT")
-        self._virtual_args = (carry, extra_in, z_next, margin, constant_inputs, p_num, chunk)
-        self._source: tuple[str, str] | None = None
-        if self._jit:
-            step_c = ca.Function("ins_step_c", [carry, *extra_in],
-                                 [plain[:nz], plain[nz:]] if c_rotations else [z_next])
-            functions = [step_c]
-            if margin is not None:
-                functions.append(ca.Function("ins_margin_c", [carry, *extra_in], [
-                    margin(z, u_end, w, p_num)]))
-            self._source = (_assume_arguments(generated_source(functions)),
-                            _driver_source(self, chunk, margin is not None, functions,
-                                           rotations if c_rotations else ()))
+        self._graph = graph
+        self._carry_sym = carry
+        self._virtual_args = (carry, extra_in, margin, constant_inputs, p_num, chunk)
+        written: list[tuple[str, str]] = []
+
+        def source() -> tuple[str, str]:
+            """The C of the step (and margin) and of the driver, written once."""
+            if not written:
+                plain, z_next = graph()
+                step_c = ca.Function("ins_step_c", [carry, *extra_in],
+                                     [plain[:nz], plain[nz:]] if c_rotations else [z_next])
+                functions = [step_c]
+                if margin is not None:
+                    functions.append(ca.Function("ins_margin_c", [carry, *extra_in], [
+                        margin(z, u_end, w, p_num)]))
+                written.append((_assume_arguments(generated_source(functions)),
+                                _driver_source(self, chunk, margin is not None, functions,
+                                               rotations if c_rotations else ())))
+            return written[0]
+
+        self._source = source if self._jit else None
+        self._key = _functions_key("loop", [rhs, margin], method, record_every, tau_num,
+                                   p_array, u_array, chunk, self.group,
+                                   rotations) if self._jit else None
         self._built: dict[tuple[tuple[int, str], ...], _LoopCalls] = {}
         self._build_lock = threading.Lock()
         # a time-invariant loop may start where part of the state does not move (the
-        # ideal work on a static base): which state each next state depends on
+        # ideal work on a static base): which state each next state depends on (made at
+        # the first run, :meth:`_frozen`)
         self._probe = self._depends = None
-        if self.constant_inputs and self._jit:
-            self._probe = ca.Function("ins_probe", [carry], [z_next])
-            rows, cols = ca.jacobian_sparsity(z_next, carry).get_triplet()
-            self._depends = np.zeros((nz, self.n_carry), dtype=bool)
-            self._depends[rows, cols] = True
 
     def _functions(self, frozen: tuple[tuple[int, float], ...] = ()) -> _LoopCalls:
         """The chunk and single-record functions, compiled once per ``frozen`` set.
@@ -796,15 +874,20 @@ class CompiledLoop:
 
     def _build(self, frozen: dict[int, float]) -> _LoopCalls:
         if self._source is not None:
-            generated, driver = self._source
-            if frozen:
-                def number(match: re.Match) -> str:
-                    value = frozen.get(int(match.group(1)))
-                    return match.group(0) if value is None else f"({value.hex()})"
+            def source() -> str:
+                generated, driver = self._source()
+                if frozen:
+                    def number(match: re.Match) -> str:
+                        value = frozen.get(int(match.group(1)))
+                        return match.group(0) if value is None else f"({value.hex()})"
 
-                generated = re.sub(r"arg\[0\]\[(\d+)\]", number, generated)
-            library = compile_source(generated + driver,
-                                     IEEE_FLAGS + (NO_FOLDING_FLAGS if frozen else ()))
+                    generated = re.sub(r"arg\[0\]\[(\d+)\]", number, generated)
+                return generated + driver
+
+            key = None if self._key is None else self._key + "".join(
+                f" {i}={value.hex()}" for i, value in sorted(frozen.items()))
+            library = compile_source(source, IEEE_FLAGS + (NO_FOLDING_FLAGS if frozen else ()),
+                                     key=key)
             if library is not None:
                 n_in = [(self.n_carry, self.group)]
                 chunk_fn, single_fn = (NativeFunction(library, Signature(
@@ -814,7 +897,8 @@ class CompiledLoop:
                     (("ins_chunk_f", self.chunk), ("ins_single_f", 1)))
                 return chunk_fn, single_fn, _SizedRun(library)
         # the CasADi virtual machine runs the same arithmetic
-        chunk_fn, single_fn = self._virtual(*self._virtual_args)
+        carry, extra_in, *rest = self._virtual_args
+        chunk_fn, single_fn = self._virtual(carry, extra_in, self._graph()[1], *rest)
         return chunk_fn, single_fn, None
 
     def _frozen(self, carry: np.ndarray) -> tuple[tuple[int, float], ...]:
@@ -826,8 +910,14 @@ class CompiledLoop:
         sources): then every later step computes it from the same numbers by the same
         operations, so it never moves. Typically the ideal work on a static base.
         """
-        if self._probe is None:
+        if not (self.constant_inputs and self._jit):
             return ()
+        if self._probe is None:
+            z_next = self._graph()[1]
+            self._probe = ca.Function("ins_probe", [self._carry_sym], [z_next])
+            rows, cols = ca.jacobian_sparsity(z_next, self._carry_sym).get_triplet()
+            self._depends = np.zeros((self.nz, self.n_carry), dtype=bool)
+            self._depends[rows, cols] = True
         nz, start = self.nz, carry[:, :self.nz]
         bits = start.view(np.int64)
         candidate = np.all(bits == bits[0], axis=0) & np.isfinite(start[0])
