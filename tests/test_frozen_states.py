@@ -88,9 +88,9 @@ def test_library_functions_of_frozen_components_stay_calls(monkeypatch):
     flags = []
     original = integ.compile_source
 
-    def spy(source, options=integ.DEFAULT_FLAGS):
+    def spy(source, options=integ.DEFAULT_FLAGS, **keywords):
         flags.append(tuple(options))
-        return original(source, options)
+        return original(source, options, **keywords)
 
     monkeypatch.setattr(integ, "compile_source", spy)
     z0, w0 = np.array([rest, 0.3, -0.2]), np.array([0.05])
