@@ -479,7 +479,7 @@ def responses_report_reduced(t, x, u, p):
     _out[1, 4] = _t37
     _out[1, 6] = _t23
     _out[1, 7] = -_t10*_t20 - _t41
-    _out[1, 9] = -R_*_t18*_t4**((3/2)) - _t41
+    _out[1, 9] = -R_*_t18*(_t4*_m.sqrt(_t4)) - _t41
     _out[1, 10] = _t38
     _out[1, 11] = -_t12*_t23*_t25 + _t25*_t31
     _out[2, 0] = _t19 - _t40*_t43

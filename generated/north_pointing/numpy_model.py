@@ -54,7 +54,7 @@ def ideal_rhs(x, u, p):
     _out = _np.zeros((4,) + _batch)
     _out[0] = V_N_*_t3 + a_E_
     _out[1] = -V_E_*_t3 + a_N_
-    _out[2] = V_N_/(R_*(1 - ecc2_)/_t1**((3/2)) + h_)
+    _out[2] = V_N_/(R_*(1 - ecc2_)/(_t1*_m.sqrt(_t1)) + h_)
     _out[3] = _t2/_m.cos(phi_)
     return _out
 
@@ -121,13 +121,13 @@ def real_rhs(xr, x, u, w, p):
     _t11 = -_t10**2*ecc2_ + 1
     _t12 = 1/(R_/_m.sqrt(_t11) + h_)
     _t13 = R_*(1 - ecc2_)
-    _t14 = 1/(h_ + _t13/_t11**((3/2)))
+    _t14 = 1/(h_ + _t13/(_t11*_m.sqrt(_t11)))
     _t15 = U_*_m.cos(phi_)
     _t16 = -V_E_**2*_t12 - 2*V_E_*_t15 - V_N_**2*_t14 + g_
     _t17 = _m.sin(alpha_N_)
     _t18 = _m.cos(alpha_E_)
     _t19 = _m.sin(alpha_E_)
-    _t20 = V_N_c_/(_t13/_t2**((3/2)) + h_)
+    _t20 = V_N_c_/(_t13/(_t2*_m.sqrt(_t2)) + h_)
     _t21 = _m.cos(phi_c_)
     _t22 = V_E_*_t12
     _t23 = U_*_t10 + _t22*_m.tan(phi_)
@@ -207,10 +207,10 @@ def real_rhs_small_angle(xr, x, u, w, p):
     _t8 = -_t7**2*ecc2_ + 1
     _t9 = 1/(R_/_m.sqrt(_t8) + h_)
     _t10 = R_*(1 - ecc2_)
-    _t11 = 1/(_t10/_t8**((3/2)) + h_)
+    _t11 = 1/(_t10/(_t8*_m.sqrt(_t8)) + h_)
     _t12 = U_*_m.cos(phi_)
     _t13 = -V_E_**2*_t9 - 2*V_E_*_t12 - V_N_**2*_t11 + g_
-    _t14 = V_N_c_/(_t10/_t2**((3/2)) + h_)
+    _t14 = V_N_c_/(_t10/(_t2*_m.sqrt(_t2)) + h_)
     _t15 = _m.cos(phi_c_)
     _t16 = V_N_*_t11
     _t17 = U_*_t7
@@ -276,7 +276,7 @@ def second_order_small_angle(x, u, p, xe, w):
     _t7 = _m.tan(phi_)
     _t8 = _t7**2
     _t9 = _t5**(-2)
-    _t10 = _t4**((-3/2))
+    _t10 = (1/(_t4*_m.sqrt(_t4)))
     _t11 = R_*_t10
     _t12 = _t11*_t9*ecc2_
     _t13 = _m.cos(phi_)
@@ -291,7 +291,7 @@ def second_order_small_angle(x, u, p, xe, w):
     _t22 = V_E_*_t13
     _t23 = _t12*_t22
     _t24 = V_E_*_t9
-    _t25 = 3*R_/_t4**((5/2))
+    _t25 = 3*R_/(_t4**2*_m.sqrt(_t4))
     _t26 = _t2*_t25
     _t27 = _t14*_t17*_t24*_t26
     _t28 = -R_*V_E_*_t10*_t2*_t7*_t9*ecc2_ - 2*V_E_*_t14*_t16*_t17*_t18*_t19*_t2*_t7 - V_E_*_t6*_t7*(2*_t8 + 2) + _t0*_t21*_t23 + _t15*_t7 + _t27*_t7
@@ -315,7 +315,7 @@ def second_order_small_angle(x, u, p, xe, w):
     _t46 = _t25*ecc2_
     _t47 = _t41*_t43
     _t48 = _t17*_t2
-    _t49 = -15*R_*_t45*_t48/_t4**((7/2)) + V_N_*_t25*_t3*_t47 + 18*_t16*_t41**2*_t44*_t48/(_t4**5*_t42**3) - _t45*_t46
+    _t49 = -15*R_*_t45*_t48/(_t4**3*_m.sqrt(_t4)) + V_N_*_t25*_t3*_t47 + 18*_t16*_t41**2*_t44*_t48/(_t4**5*_t42**3) - _t45*_t46
     _t50 = _t0*_t13*delta_latitude_
     _t51 = _t46*_t47*_t50*delta_v_N_
     _t52 = 1/_t13
@@ -409,7 +409,7 @@ def state_matrix(x, u, p):
     _t10 = _m.cos(phi_)
     _t11 = U_*_t10
     _t12 = 2*_t11
-    _t13 = R_/_t1**((3/2))
+    _t13 = R_/(_t1*_m.sqrt(_t1))
     _t14 = _t0*ecc2_
     _t15 = V_E_*_t13*_t14/_t2**2
     _t16 = _t10*_t15
@@ -419,7 +419,7 @@ def state_matrix(x, u, p):
     _t20 = _t13*_t19 + h_
     _t21 = 1/_t20
     _t22 = V_E_**2*_t3 + V_E_*_t12 + V_N_**2*_t21 - g_
-    _t23 = 3*R_*V_N_*_t10*_t14*_t19/(_t1**((5/2))*_t20**2)
+    _t23 = 3*R_*V_N_*_t10*_t14*_t19/((_t1**2*_m.sqrt(_t1))*_t20**2)
     _t24 = _t6 + _t9
     _t25 = _t11 + _t8
     _t26 = V_N_*_t21
@@ -569,7 +569,7 @@ def second_order(x, u, p, xe, w):
     _t11 = _m.tan(phi_)
     _t12 = _t11**2
     _t13 = _t9**(-2)
-    _t14 = _t8**((-3/2))
+    _t14 = (1/(_t8*_m.sqrt(_t8)))
     _t15 = R_*_t14
     _t16 = _t13*_t15*ecc2_
     _t17 = _m.cos(phi_)
@@ -584,7 +584,7 @@ def second_order(x, u, p, xe, w):
     _t26 = _t16*_t25
     _t27 = 2*_t26*_t3
     _t28 = V_E_*_t13
-    _t29 = 3*R_/_t8**((5/2))
+    _t29 = 3*R_/(_t8**2*_m.sqrt(_t8))
     _t30 = _t21*_t6
     _t31 = _t18*_t28*_t29*_t30
     _t32 = -R_*V_E_*_t11*_t13*_t14*_t6*ecc2_ - V_E_*_t10*_t11*(2*_t12 + 2) - 2*V_E_*_t11*_t18*_t20*_t21*_t22*_t23*_t6 + _t11*_t19 + _t11*_t31 + _t24*_t27
@@ -612,7 +612,7 @@ def second_order(x, u, p, xe, w):
     _t54 = _t50*_t52*_t53
     _t55 = _t29*ecc2_
     _t56 = _t50*_t52
-    _t57 = -15*R_*_t30*_t54/_t8**((7/2)) + V_N_*_t29*_t56*_t7 + 18*_t20*_t30*_t50**2*_t53/(_t51**3*_t8**5) - _t54*_t55
+    _t57 = -15*R_*_t30*_t54/(_t8**3*_m.sqrt(_t8)) + V_N_*_t29*_t56*_t7 + 18*_t20*_t30*_t50**2*_t53/(_t51**3*_t8**5) - _t54*_t55
     _t58 = _t17*delta_latitude_
     _t59 = _t3*_t55*_t56*_t58*delta_v_N_
     _t60 = 1/_t17

@@ -66,7 +66,7 @@ def _build_ideal_rhs():
     _t12 = _t9*_m.tan(lat_)
     _t13 = -_t11 - _t12
     _t14 = 1 - e2_
-    _t15 = 1/(_t14*a_/_t7**((3/2)) + h_)
+    _t15 = 1/(_t14*a_/(_t7*_m.sqrt(_t7)) + h_)
     _t16 = _t15*v_N_
     _t17 = ((1/2))*q0_
     _t18 = -2*_t11 - _t12
@@ -173,7 +173,7 @@ def _build_real_rhs():
     _t15 = _t12*_m.tan(lat_c_)
     _t16 = -_t14 - _t15
     _t17 = 1 - e2_
-    _t18 = 1/(h_c_ + _t17*a_/_t10**((3/2)))
+    _t18 = 1/(h_c_ + _t17*a_/(_t10*_m.sqrt(_t10)))
     _t19 = _t18*v_N_c_
     _t20 = ((1/2))*q0_c_
     _t21 = -2*_t14 - _t15
@@ -287,7 +287,7 @@ def _build_state_matrix():
     _t12 = -_t0 + _t11
     _t13 = ((1/2))*omega_y_
     _t14 = 1 - e2_
-    _t15 = _t5**((-3/2))
+    _t15 = (1/(_t5*_m.sqrt(_t5)))
     _t16 = _t15*a_
     _t17 = _t14*_t16 + h_
     _t18 = 1/_t17
@@ -315,7 +315,7 @@ def _build_state_matrix():
     _t40 = ((1/2))*_t39
     _t41 = _t17**(-2)
     _t42 = _t41*v_N_
-    _t43 = _t5**((-5/2))
+    _t43 = (1/(_t5**2*_m.sqrt(_t5)))
     _t44 = _t1*_t14*_t34*_t43*a_
     _t45 = ((3/2))*_t42*_t44
     _t46 = ((1/2))*q2_
@@ -722,7 +722,7 @@ def _build_second_order():
     _t6 = _t5**2
     _t7 = _t6*e2_
     _t8 = 1 - _t7
-    _t9 = _t8**((-3/2))
+    _t9 = (1/(_t8*_m.sqrt(_t8)))
     _t10 = _t9*a_
     _t11 = _t10*_t4 + h_
     _t12 = _t11**(-3)
@@ -747,7 +747,7 @@ def _build_second_order():
     _t31 = _t8**(-3)
     _t32 = _t27*_t30
     _t33 = _t32*_t6
-    _t34 = _t8**((-5/2))
+    _t34 = (1/(_t8**2*_m.sqrt(_t8)))
     _t35 = _t34*a_
     _t36 = 3*_t35
     _t37 = _t25*_t36
@@ -778,7 +778,7 @@ def _build_second_order():
     _t62 = _t60*_t61
     _t63 = _t29*_t33*_t4**2/_t8**5
     _t64 = 9*_t63
-    _t65 = _t8**((-7/2))
+    _t65 = (1/(_t8**3*_m.sqrt(_t8)))
     _t66 = _t33*_t65*a_
     _t67 = ((15/2))*_t66
     _t68 = ((1/2))*delta_q1_
@@ -1228,7 +1228,7 @@ def _build_output_second_order():
     _t68 = _t66*(-_t18 - _t67*q2_)
     _t69 = 2*q0_
     _t70 = _t0*_t2 + _t69*_t8
-    _t71 = _t9**((-3/2))
+    _t71 = (1/(_t9*_m.sqrt(_t9)))
     _t72 = _t64*_t71
     _t73 = _t70*_t72
     _t74 = _t59*_t63
@@ -1384,7 +1384,7 @@ def _build_initial_real_state():
     _out[4, 0] = initial_velocity_error_N_ + v_N0_
     _out[5, 0] = initial_velocity_error_E_ + v_E0_
     _out[6, 0] = initial_velocity_error_D_ + v_D0_
-    _out[7, 0] = initial_position_error_N_/(height_ + a_*(1 - e2_)/_t12**((3/2))) + latitude_
+    _out[7, 0] = initial_position_error_N_/(height_ + a_*(1 - e2_)/(_t12*_m.sqrt(_t12))) + latitude_
     _out[8, 0] = initial_position_error_E_/((height_ + a_/_m.sqrt(_t12))*_m.cos(latitude_)) + longitude_
     _out[9, 0] = height_ - initial_position_error_D_
     return _m.Function('initial_real_state', [c, u, w, p], [_out], ['c', 'u', 'w', 'p'], ['out'])
@@ -1443,7 +1443,7 @@ def _build_initial_error_matrix():
     _out[4, 27] = 1
     _out[5, 28] = 1
     _out[6, 29] = 1
-    _out[7, 30] = 1/(height_ + a_*(1 - e2_)/_t25**((3/2)))
+    _out[7, 30] = 1/(height_ + a_*(1 - e2_)/(_t25*_m.sqrt(_t25)))
     _out[8, 31] = 1/((height_ + a_/_m.sqrt(_t25))*_m.cos(latitude_))
     _out[9, 32] = -1
     return _m.Function('initial_error_matrix', [c, u, p], [_out], ['c', 'u', 'p'], ['out'])
