@@ -418,3 +418,27 @@ def test_moving_base_noise_matches_the_per_step_scipy_exponential(orthodromic, m
     ref = previous.variance
     np.testing.assert_allclose(total.variance / ref.max(axis=0), ref / ref.max(axis=0),
                                rtol=0, atol=1e-9)
+
+
+def test_linear_monte_carlo_on_one_blas_thread_gives_the_threaded_numbers(orthodromic,
+                                                                          monkeypatch):
+    """linear_monte_carlo() limits BLAS to one thread (as propagate does); its products
+    are tens of rows deep, so the threaded pool computes the same numbers."""
+    from threadpoolctl import threadpool_info
+
+    system = cv.static_system(orthodromic, PHI, duration=1800.0, step=60.0)
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    original = mc._linear_monte_carlo
+    limited = mc.linear_monte_carlo(system, SOURCES, fn, 300, seed=3, substeps=2)
+    threaded = original(system, SOURCES, fn, 300, 3, 2)
+    assert np.array_equal(limited.samples, threaded.samples)
+    assert np.abs(limited.samples).max() > 0
+    seen = []
+
+    def spy(*args):
+        seen.append({p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"})
+        return original(*args)
+
+    monkeypatch.setattr(mc, "_linear_monte_carlo", spy)
+    mc.linear_monte_carlo(system, SOURCES, fn, 2, seed=3)
+    assert seen == [{1}]

@@ -400,7 +400,7 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
 
 
 @cache
-def _blas_controller():
+def blas_controller():
     """The process's BLAS thread pools (looked up once: the lookup costs milliseconds)."""
     from threadpoolctl import ThreadpoolController
 
@@ -434,7 +434,7 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
     -------
     Covariance
     """
-    with _blas_controller().limit(limits=1, user_api="blas"):
+    with blas_controller().limit(limits=1, user_api="blas"):
         return _propagate(system, sources, functionals, output_every, by_source)
 
 
