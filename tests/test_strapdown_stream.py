@@ -283,11 +283,12 @@ def test_own_flight_with_commands_that_are_not_finite_is_a_one_line_error(model)
         st.trajectory(model, own, 200.0, 0.5, truth="fine")
 
 
-def test_streamed_run_keeps_its_bits_with_the_one_copy_stream(model, monkeypatch):
-    """A streamed run (real + linear, RK4, several pieces and a tail of single records)
-    gives the same bits whether each piece's rows are built by ``stream_rows`` into a
-    reused buffer or by stacking the stream and copying its transpose (the construction
-    it replaced)."""
+@pytest.mark.parametrize("method", ["rk4", "euler"])
+def test_streamed_run_keeps_its_bits_with_rows_read_in_place(model, monkeypatch, method):
+    """A streamed run (real + linear, several pieces and a tail of single records) gives
+    the same bits whether the compiled driver reads each piece's input rows where they
+    lie (InputRows), reads the stream built by stacking them and copying its transpose
+    (the construction it replaced), or runs in the CasADi virtual machine."""
     from ins_errors.numeric import integrators as integ
     from ins_errors.numeric import simulate as sim_module
 
@@ -295,14 +296,16 @@ def test_streamed_run_keeps_its_bits_with_the_one_copy_stream(model, monkeypatch
                                                 10_000.0), 100.0, 0.01)
     monkeypatch.setattr(sim_module, "STREAM_STEPS", 3200)   # pieces of 32 records
 
-    def run():
-        return simulate(model, traj, SOURCES, method="rk4", record_interval=1.0,
-                        parts=("real", "linear"))
+    def run(jit=True):
+        return simulate(model, traj, SOURCES, method=method, record_interval=1.0,
+                        parts=("real", "linear"), jit=jit)
 
     new = run()
-    monkeypatch.setattr(sim_module, "stream_rows", lambda inputs, mid, method, out=None:
-                        np.ascontiguousarray(integ.input_stream(inputs, mid, method).T))
+    virtual = run(jit=False)
+    monkeypatch.setattr(sim_module, "_piece_rows", lambda part, method: np.ascontiguousarray(
+        integ.input_stream(part.inputs, part.midpoints, method).T))
     old = run()
     for part in ("ideal", "real", "linear"):
         assert np.array_equal(getattr(new, part), getattr(old, part)), part
+        assert np.array_equal(getattr(new, part), getattr(virtual, part)), part
     assert np.abs(new.linear[:, -1]).min() > 0

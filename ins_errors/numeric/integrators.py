@@ -286,6 +286,35 @@ def input_stream(inputs: np.ndarray, midpoints: np.ndarray | None, method: Metho
     return np.vstack([inputs[:, :-1], midpoints, inputs[:, 1:]])
 
 
+@dataclass(frozen=True)
+class InputRows:
+    """A piece of a run's inputs as rows, read by a compiled loop where they lie (no
+    stream of :func:`stream_rows` is built; the same numbers reach every step).
+
+    Attributes
+    ----------
+    steps : numpy.ndarray, shape (N + 1, nu), C order
+        Inputs at the step times.
+    midpoints : numpy.ndarray, shape (N, nu), C order, or None
+        Inputs at the step midpoints (RK4; None for Euler).
+    """
+
+    steps: np.ndarray
+    midpoints: np.ndarray | None
+
+    def check(self, n_steps: int, nu: int, method: Method) -> None:
+        """Raise :class:`StepError` unless the rows fit ``n_steps`` steps of ``nu``
+        inputs for ``method``."""
+        wanted = [(self.steps, (n_steps + 1, nu))]
+        if method != "euler":
+            wanted.append((self.midpoints, (n_steps, nu)))
+        for array, shape in wanted:
+            if (array is None or array.shape != shape or array.dtype != np.float64
+                    or not array.flags.c_contiguous):
+                raise StepError(f"input rows must be contiguous float arrays of shape "
+                                f"{shape}, got {None if array is None else array.shape}")
+
+
 def stream_rows(inputs: np.ndarray, midpoints: np.ndarray | None, method: Method,
                 out: np.ndarray | None = None) -> np.ndarray:
     """The rows of :func:`input_stream`, one per step, as :meth:`CompiledLoop.advance`
@@ -990,7 +1019,7 @@ class CompiledLoop:
             rows = np.vstack([rows, np.repeat(rows[-1:], padded - B, axis=0)])
         return np.ascontiguousarray(rows)
 
-    def advance(self, carry: np.ndarray, n_steps: int, stream: np.ndarray | None,
+    def advance(self, carry: np.ndarray, n_steps: int, stream: np.ndarray | InputRows | None,
                 states: np.ndarray, margins: np.ndarray) -> None:
         """Integrate ``n_steps`` from ``carry`` (updated in place), recording as it goes.
 
@@ -1000,8 +1029,11 @@ class CompiledLoop:
             From :meth:`start` or a previous :meth:`advance`.
         n_steps : int
             A multiple of ``record_every``.
-        stream : numpy.ndarray, shape (n_steps, n_stream), C order, or None
-            The per-step inputs, one row per step (None for constant inputs).
+        stream : numpy.ndarray, shape (n_steps, n_stream), C order, or InputRows or None
+            The per-step inputs, one row per step (:func:`stream_rows`), or the inputs
+            as rows at the step times and midpoints (:class:`InputRows`: the compiled
+            driver reads them as they are, the virtual machine gets them as a stream),
+            None for constant inputs.
         states : numpy.ndarray, shape (nz, n_steps // record_every, B)
             Filled with the states at the end of every recording interval.
         margins : numpy.ndarray, shape (n_steps // record_every, B)
@@ -1011,13 +1043,19 @@ class CompiledLoop:
         if n_steps % k:
             raise StepError(f"{n_steps} steps are not a whole number of recording "
                             f"intervals of {k} steps")
-        if not self.constant_inputs and (
+        functions = self._functions()
+        if isinstance(stream, InputRows) and not self.constant_inputs:
+            stream.check(n_steps, self.nu, self.method)
+            if functions[2] is None:   # the virtual machine reads one stream
+                stream = stream_rows(stream.steps.T, None if stream.midpoints is None
+                                     else stream.midpoints.T, self.method)
+        elif not self.constant_inputs and (
                 stream is None or stream.shape != (n_steps, self.n_stream)
                 or stream.dtype != np.float64 or not stream.flags.c_contiguous):
             raise StepError(f"input stream must be a contiguous array of shape "
                             f"({n_steps}, {self.n_stream}), got "
                             f"{None if stream is None else stream.shape}")
-        self._advance(self._functions(), carry, n_steps // k, stream, states, margins)
+        self._advance(functions, carry, n_steps // k, stream, states, margins)
 
     def _advance(self, functions: _LoopCalls, carry: np.ndarray, n_rec: int,
                  stream: np.ndarray | None, states: np.ndarray, margins: np.ndarray) -> None:
@@ -1052,7 +1090,11 @@ class CompiledLoop:
             if out is None:
                 out = buffers[size] = np.empty((size_g, size, self.n_carry))
             args = [own]
-            if not self.constant_inputs:
+            if isinstance(stream, InputRows):
+                args += [stream.steps[done * k:(done + size) * k + 1],
+                         None if stream.midpoints is None
+                         else stream.midpoints[done * k:(done + size) * k]]
+            elif not self.constant_inputs:
                 args.append(stream[done * k:(done + size) * k])
             if sized is not None:
                 sized(args, out)
@@ -1149,17 +1191,28 @@ class _SizedRun:
     chunk functions have a fixed number, so a run's tail took one call per record)."""
 
     def __init__(self, library: Path):
-        self._entry = ctypes.CDLL(str(library)).ins_run_n
+        handle = ctypes.CDLL(str(library))
+        self._entry, self._rows = handle.ins_run_n, handle.ins_run_rows
         self._entry.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
                                 ctypes.c_longlong]
-        self._entry.restype = ctypes.c_int
+        self._rows.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
+                               ctypes.c_void_p, ctypes.c_longlong]
+        self._entry.restype = self._rows.restype = ctypes.c_int
 
-    def __call__(self, args: list[np.ndarray], out: np.ndarray) -> None:
+    def __call__(self, args: list[np.ndarray | None], out: np.ndarray) -> None:
         """Run ``out.shape[1]`` records from the carried rows ``args[0]`` (and the input
-        rows ``args[1]``), writing them into ``out`` (groups, records, carried vector);
-        the buffers are the loop's own, contiguous and of the right shapes."""
-        stream = args[1].ctypes.data if len(args) > 1 else None
-        if self._entry(args[0].ctypes.data, stream, out.ctypes.data, out.shape[1]):
+        stream ``args[1]``, or the input rows at the step times ``args[1]`` and at the
+        midpoints ``args[2]``, None for Euler: :class:`InputRows`), writing them into
+        ``out`` (groups, records, carried vector); the buffers are the loop's own,
+        contiguous and of the right shapes."""
+        if len(args) > 2:
+            mids = None if args[2] is None else args[2].ctypes.data
+            status = self._rows(args[0].ctypes.data, args[1].ctypes.data, mids,
+                                out.ctypes.data, out.shape[1])
+        else:
+            stream = args[1].ctypes.data if len(args) > 1 else None
+            status = self._entry(args[0].ctypes.data, stream, out.ctypes.data, out.shape[1])
+        if status:
             raise InsErrorsError("ins_run_n: the compiled loop failed")
 
 
@@ -1173,8 +1226,12 @@ _DRIVER = """
    the carried vector [z, m, w] are written out. Same arithmetic as CasADi's
    fold/mapaccum/map of ins_step (the virtual-machine path), without their copies.
    With INS_NROT carried angles (Euler), ins_step_c also returns the angle increments and
-   ins_rotations moves the sines and cosines on (carried_trig.ROTATE_C). */
+   ins_rotations moves the sines and cosines on (carried_trig.ROTATE_C).
+   Inputs (SPLIT): arg[1] the stream, one row of INS_NS per step; or (split) arg[1] the
+   inputs at the step times and arg[2] at the midpoints, rows of INS_NU, whose step row
+   [u(k), u(k+1/2), u(k+1)] is copied into u (the same numbers, no stream built). */
 #define INS_NZ {nz}
+#define INS_NU {nu}
 #define INS_NC {nc}
 #define INS_NS {ns}
 #define INS_K {k}
@@ -1188,18 +1245,20 @@ _DRIVER = """
 #define INS_FLATTEN
 #endif
 INS_FLATTEN static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size,
-                                 casadi_int chunk) {{
+                                 casadi_int chunk, int split) {{
   const casadi_real* carry = arg[0];
   const casadi_real* stream = arg[1];
+  const casadi_real* mids = split ? arg[2] : 0;
+  const casadi_real *a, *h;
   casadi_real* out = res[0];
-  casadi_real buf[2][INS_NC], m, value, *o, d[INS_NROT + 1];
+  casadi_real buf[2][INS_NC], m, value, *o, d[INS_NROT + 1], u[INS_NS + 1];
   const casadi_real* sarg[{sz_arg}];
   casadi_real* sres[{sz_res}];
   casadi_int iw[{sz_iw}];
   casadi_real wk[{sz_w}];
   casadi_int g, r, s, i, whole = size / chunk * chunk;
   int cur;
-  (void)stream; (void)value; (void)d;
+  (void)stream; (void)value; (void)d; (void)mids; (void)a; (void)h; (void)u;
   for (g = 0; g < INS_GROUP; ++g) {{
     for (i = 0; i < INS_NC; ++i) buf[0][i] = buf[1][i] = carry[g * INS_NC + i];
     m = buf[0][INS_NZ];
@@ -1211,7 +1270,18 @@ INS_FLATTEN static int ins_drive(const casadi_real** arg, casadi_real** res, cas
       for (s = 0; s < INS_K; ++s) {{
         sarg[0] = buf[cur];
 #if INS_NS
-        sarg[1] = stream + (r * INS_K + s) * INS_NS;
+        if (split) {{
+          a = stream + (r * INS_K + s) * INS_NU;
+          for (i = 0; i < INS_NU; ++i) u[i] = a[i];
+#if INS_NS > INS_NU
+          h = mids + (r * INS_K + s) * INS_NU;
+          for (i = 0; i < INS_NU; ++i) u[INS_NU + i] = h[i];
+          for (i = 0; i < INS_NU; ++i) u[2 * INS_NU + i] = a[INS_NU + i];
+#endif
+          sarg[1] = u;
+        }} else {{
+          sarg[1] = stream + (r * INS_K + s) * INS_NS;
+        }}
 #endif
         sres[0] = buf[1 - cur];
 #if INS_NROT
@@ -1226,7 +1296,7 @@ INS_FLATTEN static int ins_drive(const casadi_real** arg, casadi_real** res, cas
 #if INS_MARGIN
       sarg[0] = buf[cur];
 #if INS_NS
-      sarg[1] = stream + (r * INS_K + INS_K - 1) * INS_NS;
+      sarg[1] = split ? u : stream + (r * INS_K + INS_K - 1) * INS_NS;
 #endif
       sres[0] = &value;
       if (ins_margin_c(sarg, sres, iw, wk, 0)) return 1;
@@ -1242,19 +1312,27 @@ INS_FLATTEN static int ins_drive(const casadi_real** arg, casadi_real** res, cas
 CASADI_SYMBOL_EXPORT int ins_chunk_f(const casadi_real** arg, casadi_real** res,
                                      casadi_int* iw, casadi_real* w, int mem) {{
   (void)iw; (void)w; (void)mem;
-  return ins_drive(arg, res, {chunk}, {chunk});
+  return ins_drive(arg, res, {chunk}, {chunk}, 0);
 }}
 CASADI_SYMBOL_EXPORT int ins_single_f(const casadi_real** arg, casadi_real** res,
                                       casadi_int* iw, casadi_real* w, int mem) {{
   (void)iw; (void)w; (void)mem;
-  return ins_drive(arg, res, 1, 1);
+  return ins_drive(arg, res, 1, 1, 0);
 }}
 CASADI_SYMBOL_EXPORT int ins_run_n(const casadi_real* carry, const casadi_real* stream,
                                    casadi_real* out, long long size) {{
   const casadi_real* arg[2];
   casadi_real* res[1];
   arg[0] = carry; arg[1] = stream; res[0] = out;
-  return ins_drive(arg, res, (casadi_int)size, {chunk});
+  return ins_drive(arg, res, (casadi_int)size, {chunk}, 0);
+}}
+CASADI_SYMBOL_EXPORT int ins_run_rows(const casadi_real* carry, const casadi_real* steps,
+                                      const casadi_real* mids, casadi_real* out,
+                                      long long size) {{
+  const casadi_real* arg[3];
+  casadi_real* res[1];
+  arg[0] = carry; arg[1] = steps; arg[2] = mids; res[0] = out;
+  return ins_drive(arg, res, (casadi_int)size, {chunk}, 1);
 }}
 CASADI_SYMBOL_EXPORT int ins_chunk_f_work(casadi_int* sz_arg, casadi_int* sz_res,
                                           casadi_int* sz_iw, casadi_int* sz_w) {{
@@ -1318,7 +1396,7 @@ def _driver_source(loop: CompiledLoop, chunk: int, margin: bool,
     inline = int(functions[0].n_instructions() <= INLINE_LIMIT)
     return _DRIVER.format(nz=loop.nz, nc=loop.n_carry, nrot=len(rotations), inline=inline,
                           rotate=rotate,
-                          ns=0 if loop.constant_inputs else loop.n_stream,
+                          ns=0 if loop.constant_inputs else loop.n_stream, nu=loop.nu,
                           k=loop.record_every, group=loop.group, margin=int(margin),
                           chunk=chunk, sz_arg=most("sz_arg"), sz_res=most("sz_res"),
                           sz_iw=most("sz_iw"), sz_w=most("sz_w"))

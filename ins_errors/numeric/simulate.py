@@ -54,6 +54,7 @@ import numpy as np
 from ins_errors.errors import DomainError, ShapeError, unknown_name
 from ins_errors.numeric.integrators import (
     CompiledLoop,
+    InputRows,
     LoopResult,
     Method,
     StepError,
@@ -61,7 +62,6 @@ from ins_errors.numeric.integrators import (
     exact_discretisation,
     progress_bar,
     record_stride,
-    stream_rows,
     worker_count,
 )
 from ins_errors.numeric.model import Model
@@ -488,13 +488,10 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
     recorded = np.empty((len(trajectory.start_inputs), records + 1))
     recorded[:, 0] = trajectory.start_inputs
     bar = progress_bar(N, "direct and linear runs" if progress else False)
-    buffers: dict[int, np.ndarray] = {}
     try:
         for part in trajectory.chunks(piece):
             k, m = part.start, part.size
-            buffer = buffers.get(m)
-            stream = stream_rows(part.inputs, part.midpoints, method, buffer)
-            buffers[m] = stream   # reused by the next piece of the same size
+            stream = _piece_rows(part, method)
             r0, r1 = k // stride, (k + m) // stride
             loop.advance(carry, m, stream, states[:, r0 + 1:r1 + 1], margins[r0:r1])
             recorded[:, r0 + 1:r1 + 1] = part.inputs[:, stride::stride]
@@ -504,6 +501,13 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
         if bar is not None:
             bar.close()
     return LoopResult(states, margins), recorded
+
+
+def _piece_rows(part, method: str) -> InputRows:
+    """A piece's inputs as the rows the compiled loop reads in place (a chunk of the
+    interpolated truth already holds them so: no copy)."""
+    midpoints = None if method == "euler" else np.ascontiguousarray(part.midpoints.T)
+    return InputRows(np.ascontiguousarray(part.inputs.T), midpoints)
 
 
 def chunk_size(records: int) -> int:
