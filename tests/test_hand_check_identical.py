@@ -93,7 +93,7 @@ def test_a_check_after_other_checks_equals_one_with_nothing_kept():
 def test_checks_run_with_one_blas_thread_and_restore_the_pools():
     from threadpoolctl import threadpool_info
 
-    from ins_errors.checker.blas import one_blas_thread
+    from ins_errors.numeric.blas_threads import one_blas_thread
 
     def blas_threads():
         return [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]

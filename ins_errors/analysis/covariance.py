@@ -36,12 +36,12 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import cache
 
 import numpy as np
 from scipy.linalg import expm
 
 from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
+from ins_errors.numeric.blas_threads import one_blas_thread
 from ins_errors.numeric.linear_system import (
     LinearSystem,
     static_system,
@@ -399,14 +399,7 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
     return columns
 
 
-@cache
-def blas_controller():
-    """The process's BLAS thread pools (looked up once: the lookup costs milliseconds)."""
-    from threadpoolctl import ThreadpoolController
-
-    return ThreadpoolController()
-
-
+@one_blas_thread
 def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
               functionals: Functionals, output_every: int = 1,
               by_source: bool = True) -> Covariance:
@@ -434,8 +427,7 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
     -------
     Covariance
     """
-    with blas_controller().limit(limits=1, user_api="blas"):
-        return _propagate(system, sources, functionals, output_every, by_source)
+    return _propagate(system, sources, functionals, output_every, by_source)
 
 
 def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],

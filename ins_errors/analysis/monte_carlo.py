@@ -23,13 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ins_errors.analysis.covariance import (
-    Functionals,
-    LinearSystem,
-    SourceStatistics,
-    blas_controller,
-)
+from ins_errors.analysis.covariance import Functionals, LinearSystem, SourceStatistics
 from ins_errors.errors import InsErrorsError
+from ins_errors.numeric.blas_threads import one_blas_thread
 
 
 class MonteCarloError(InsErrorsError):
@@ -91,6 +87,7 @@ def _check_runs(runs: int) -> None:
         raise MonteCarloError(f"runs must be an integer >= 2, got {runs!r}")
 
 
+@one_blas_thread
 def linear_monte_carlo(system: LinearSystem, sources: Sequence[SourceStatistics],
                        functionals: Functionals, runs: int, seed: int = 0,
                        substeps: int = 1) -> MonteCarloResult:
@@ -118,8 +115,7 @@ def linear_monte_carlo(system: LinearSystem, sources: Sequence[SourceStatistics]
     threads cost more CPU than they save (3000 runs of the static 11-state model: about
     0.6 s CPU with one thread, 1.6 s with two, same numbers).
     """
-    with blas_controller().limit(limits=1, user_api="blas"):
-        return _linear_monte_carlo(system, sources, functionals, runs, seed, substeps)
+    return _linear_monte_carlo(system, sources, functionals, runs, seed, substeps)
 
 
 def _linear_monte_carlo(system: LinearSystem, sources: Sequence[SourceStatistics],

@@ -38,7 +38,6 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import classify as cl
-from ins_errors.checker.blas import one_blas_thread
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.extreme import at_least, first_largest
 from ins_errors.checker.notation import Notation, default_notation
@@ -60,6 +59,7 @@ from ins_errors.checker.sides import (
 )
 from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
+from ins_errors.numeric.blas_threads import one_blas_thread
 
 DEFAULT_THRESHOLD = 1e-3
 """Relative size separating small effects from mistakes."""

@@ -40,7 +40,6 @@ from pathlib import Path
 
 import numpy as np
 
-from ins_errors.checker.blas import one_blas_thread
 from ins_errors.checker.classify import (
     COEFFICIENT,
     EXTRA,
@@ -62,6 +61,7 @@ from ins_errors.checker.matrix_input import (
 from ins_errors.checker.navigation import navigation_arrays
 from ins_errors.checker.reference import typical_magnitude
 from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.numeric.blas_threads import one_blas_thread
 
 DEFAULT_THRESHOLD = 1e-3
 """Relative size separating a dropped small term from a mistake."""

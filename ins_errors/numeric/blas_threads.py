@@ -1,9 +1,10 @@
-"""One BLAS thread for the checker's small matrices.
+"""One BLAS thread for work on small matrices.
 
-The checker's matrices have tens of rows (the exponential of an 11 × 11 error-equation
-matrix, stacks of 15 × 15 steps): waking BLAS threads for them costs far more than they
-save. On a busy 2-core machine ``scipy.linalg.expm`` of an 11 × 11 matrix took about
-8 ms of CPU with OpenBLAS's threads and 40 µs with one.
+The error equations have tens of rows (the exponential of an 11 × 11 error-equation
+matrix, stacks of 15 × 15 steps, covariance and Monte Carlo products): waking BLAS threads
+for them costs far more than they save. On a busy 2-core machine ``scipy.linalg.expm`` of
+an 11 × 11 matrix took about 8 ms of CPU with OpenBLAS's threads and 40 µs with one. Used
+by the hand checker, covariance propagation and the linear Monte Carlo.
 """
 
 from __future__ import annotations
