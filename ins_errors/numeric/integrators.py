@@ -506,10 +506,12 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
 
 
 @cache_function
+@cache_function
 def _writer_version() -> str | None:
     """Hash of the code that writes a loop's C source from its description: this module
     and :mod:`ins_errors.numeric.carried_trig` (the rotation of carried sines and cosines
-    inside a step and in the C driver); None when their source files cannot be read."""
+    inside a step and in the C driver); None when their source files cannot be read.
+    Read once per process: the code that runs is the code imported at its start."""
     from ins_errors.numeric import carried_trig
 
     digest = hashlib.sha256()
