@@ -13,6 +13,7 @@ import importlib
 import os
 import re
 import sys
+from functools import cache
 
 COMMAND_MODULES = (
     "ins_errors.commands.models",
@@ -47,6 +48,15 @@ def version() -> str:
         return __version__
 
 
+class _LazyVersion(argparse._VersionAction):
+    """``--version``: reads the installed version only when asked (reading the package
+    metadata costs a few milliseconds, which every other command would pay)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        self.version = f"%(prog)s {version()}"
+        super().__call__(parser, namespace, values, option_string)
+
+
 class _Parser(argparse.ArgumentParser):
     """An argument parser whose usage errors are one line, like every other error."""
 
@@ -70,7 +80,7 @@ def build_parser() -> argparse.ArgumentParser:
         description="Error analysis of inertial navigation systems: derived error "
                     "equations, direct vs linear simulation, checks of hand derivations.",
     )
-    parser.add_argument("--version", action="version", version=f"%(prog)s {version()}")
+    parser.add_argument("--version", action=_LazyVersion)
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name in COMMAND_MODULES:
         importlib.import_module(name).register(subparsers)
@@ -78,11 +88,24 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+@cache
+def _shared_parser() -> argparse.ArgumentParser:
+    """The parser :func:`main` uses, built once per process.
+
+    Building it imports and registers every command (~25 ms CPU), which scripts and
+    tests calling :func:`main` many times paid at every call. Reusing it is safe:
+    ``parse_args`` makes a fresh namespace each call and fills it from the parsers'
+    defaults and ``set_defaults``, ``append`` options copy their default list before
+    adding to it, and no command mutates the parsed values in place.
+    """
+    return build_parser()
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status."""
     from ins_errors.errors import InsErrorsError
 
-    parser = build_parser()
+    parser = _shared_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
