@@ -34,7 +34,7 @@ def test_sphere_on_board_equals_hand_formula(rest):
     """e² = 0 in 1/R_η and R_E: drift U R_E cos φ e² sin²φ /(2a), g' change U² ΔR_E sinφ cosφ."""
     x, u, p = rest
     a, e2 = p[0], p[1]
-    d = meth._variant("sphere")[1](x, u, p)
+    d = meth._forcing_function("sphere")(x, u, p)
     R_E = _prime_vertical_radius(p)
     s, c = np.sin(LATITUDE), np.cos(LATITUDE)
     drift = U * R_E * c * e2 * s**2 / (2 * a)
@@ -60,7 +60,7 @@ def test_dropped_terms_at_rest_equal_u2_r_sin_cos(rest, flag):
     absolute velocity V_η = −U R_η cos φ of the resting vehicle.
     """
     x, u, p = rest
-    d = meth._variant(flag)[1](x, u, p)
+    d = meth._forcing_function(flag)(x, u, p)
     a, e2 = p[0], p[1]
     radius = (a / (1 - e2 * np.sin(LATITUDE) ** 2 / 2) if flag == "no_coriolis"
               else _prime_vertical_radius(p))
@@ -164,3 +164,27 @@ def test_cli_study_json_reports_the_integration_error(capsys):
     assert all(e is not None and e >= 0 for e in errors.values())
     assert any("integration error" in line for line in run["lines"])
     assert isinstance(run["warnings"], list)
+
+
+def _clear_study_caches() -> None:
+    for cached in (meth._symbolic_variant, meth._study_functions, meth._forcing_function,
+                   meth._study_loop):
+        cached.cache_clear()
+
+
+def test_shared_symbolic_pieces_give_the_results_of_fresh_ones():
+    """The per-process caches (the variant's SymPy pieces, its casadi functions shared by
+    every step and motion, its forcing) change no bit: a flight run after another run of
+    the same study equals the run from emptied caches, and each study keeps its own."""
+    kwargs = dict(duration=2 * 3600.0, record_interval=1200.0, integration_error=False)
+    meth.run("coriolis", "static", tau=300.0, **kwargs)  # fills the caches
+    shared = meth.run("coriolis", "flight", tau=120.0, **kwargs)
+    _clear_study_caches()
+    fresh = meth.run("coriolis", "flight", tau=120.0, **kwargs)
+    for name in fresh.direct.names:
+        assert np.array_equal(shared.direct[name], fresh.direct[name]), name
+        assert np.array_equal(shared.linear[name], fresh.linear[name]), name
+    assert np.array_equal(shared.forcing, fresh.forcing)
+    other = meth.run("gravity_projections", "flight", tau=120.0, **kwargs)
+    assert meth._study_functions("coriolis") is not meth._study_functions("no_gravity")
+    assert not np.array_equal(other.forcing, fresh.forcing)

@@ -135,9 +135,10 @@ def _symbolic_variant(flag: str):
     """
     import sympy as sp
 
+    from ins_errors.models import definition
     from ins_errors.models.orthodromic import build
 
-    exact = build()
+    exact = definition("orthodromic")  # the registered model: build() with no flags
     simple = build(frozenset({flag}))
     real = simple.real_rhs_expanded().xreplace(simple.no_errors())
     at_ideal = real.xreplace(simple.at_ideal())
@@ -147,29 +148,11 @@ def _symbolic_variant(flag: str):
 
 
 @cache
-def _variant(flag: str):
-    """Numpy callables of the computer simplified by ``flag``.
-
-    Returns
-    -------
-    direct_rhs : callable
-        ``(xr, x, u, p) -> dxr/dt`` of the simplified real work, no instrument errors.
-    forcing : callable
-        ``(x, u, p) -> d``: simplified minus exact right-hand side at the ideal point.
-    state_matrix : callable
-        ``(x, u, p) -> F~``: the simplified real work's Jacobian at the ideal point.
-    """
-    simple, real, forcing, jacobian = _symbolic_variant(flag)
-    direct = _vector_function([simple.real_states, simple.x, simple.u, simple.p], real)
-    equivalent = _vector_function([simple.x, simple.u, simple.p], forcing)
-    ne = len(simple.real_states)
-    flat = _vector_function([simple.x, simple.u, simple.p], list(jacobian))
-
-    def state_matrix(x, u, p):
-        values = flat(x, u, p)
-        return values.reshape(ne, ne, *values.shape[1:])
-
-    return direct, equivalent, state_matrix
+def _forcing_function(flag: str):
+    """``(x, u, p) -> d``, numpy: the equivalent source of the computer simplified by
+    ``flag`` (simplified minus exact right-hand side at the ideal point), shape (11, ...)."""
+    simple, _real, forcing, _jacobian = _symbolic_variant(flag)
+    return _vector_function([simple.x, simple.u, simple.p], forcing)
 
 
 def _casadi_function(name: str, arguments: list, result) -> ca.Function:
@@ -184,20 +167,37 @@ def _casadi_function(name: str, arguments: list, result) -> ca.Function:
 
 
 @cache
-def _study_loop(flag: str, tau: float, stride: int, p: tuple[float, ...],
-                constant_inputs: tuple[float, ...] | None, chunk: int) -> CompiledLoop:
-    """Compiled RK4 loop of ``z = [x, x~, e]``: ideal work, simplified real work, and the
-    linear estimate ``ė = F~ e + d``."""
+def _study_functions(flag: str) -> tuple[ca.Function, ca.Function]:
+    """casadi.Functions of the computer simplified by ``flag`` (one per process and flag:
+    every step, duration and motion of a study shares them).
+
+    Returns
+    -------
+    direct : casadi.Function
+        ``(xr, x, u, p) -> dxr/dt``, the simplified real work without instrument errors.
+    linear_terms : casadi.Function
+        ``(x, u, p, e) -> F~ e + d``, the right-hand side of the linear estimate.
+    """
     import sympy as sp
 
     simple, real, forcing, jacobian = _symbolic_variant(flag)
-    model = load_model("orthodromic")
     args = [("x", simple.x), ("u", simple.u), ("p", simple.p)]
     direct = _casadi_function("simplified_real_rhs",
                               [("xr", simple.real_states), *args], real)
     linear_terms = _casadi_function(
         "simplified_linear", [*args, ("e", simple.xe)],
         jacobian * sp.Matrix(simple.xe) + forcing)
+    return direct, linear_terms
+
+
+@cache
+def _study_loop(flag: str, tau: float, stride: int, p: tuple[float, ...],
+                constant_inputs: tuple[float, ...] | None, chunk: int) -> CompiledLoop:
+    """Compiled RK4 loop of ``z = [x, x~, e]``: ideal work, simplified real work, and the
+    linear estimate ``ė = F~ e + d``."""
+    simple = _symbolic_variant(flag)[0]
+    direct, linear_terms = _study_functions(flag)
+    model = load_model("orthodromic")
     ideal = model.casadi.function("ideal_rhs")
     n, ne = len(simple.x), len(simple.real_states)
     z, u = ca.SX.sym("z", n + 2 * ne), ca.SX.sym("u", len(simple.u))
@@ -351,7 +351,7 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
                          f"{tau} s")
     model = load_model("orthodromic")
     traj = motion(scenario, latitude, duration, tau, speed, track, model)
-    _, forcing_fn, _ = _variant(st.flag)
+    forcing_fn = _forcing_function(st.flag)
     np_ = model.numpy
     p = traj.parameters
     u_steps, _ = traj.full_inputs()
