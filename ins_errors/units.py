@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import os
 import re
-from functools import cache
+from functools import cache, lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -136,8 +136,6 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
             value = float(plain["number"])  # what pint gives: the same unit, factor 1
             if value - value == 0:  # finite (else pint's path words the error)
                 return value
-    ureg = registry()
-    target = ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
     if isinstance(text, bool):  # True is an int in Python: never a magnitude
         raise UnitError(f"{what}: expected a number or a quantity with a unit, got {text!r}")
     if isinstance(text, (int, float)):
@@ -146,24 +144,61 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
             raise _needs_unit(text, unit, what)
     else:
         try:
-            quantity = ureg.parse_expression(_normalise(str(text)))
-        except Exception as error:  # pint raises several unrelated types
-            raise UnitError(f"{what}: cannot read {text!r} as a quantity ({error})") from None
-        if not isinstance(quantity, ureg.Quantity) or quantity.units == ureg.dimensionless:
-            value = float(getattr(quantity, "magnitude", quantity))
-            if unit != "1" and value != 0 and value == value:
-                raise _needs_unit(str(text).strip(), unit, what)
-        else:
-            import pint  # imported by registry() above
-
-            try:
-                value = float(quantity.to(target).magnitude)
-            except pint.DimensionalityError:
-                raise UnitError(f"{what}: {text!r} has units of {quantity.units:~}, which do "
-                                f"not convert to {unit}") from None
+            value = _text_value(registry(), str(text), unit)
+        except _UnreadableError as problem:
+            raise UnitError(f"{what}: cannot read {text!r} as a quantity ({problem})") from None
+        except _NoUnitError:
+            raise _needs_unit(str(text).strip(), unit, what) from None
+        except _OtherDimensionError as problem:
+            raise UnitError(f"{what}: {text!r} has units of {problem}, which do not convert "
+                            f"to {unit}") from None
     if value != value or value in (float("inf"), float("-inf")):
         raise UnitError(f"{what}: {text!r} is not a finite number")
     return value
+
+
+class _UnreadableError(Exception):
+    """pint cannot parse the text (the message is pint's)."""
+
+
+class _NoUnitError(Exception):
+    """A plain number where the target unit needs one."""
+
+
+class _OtherDimensionError(Exception):
+    """A quantity whose units (the message) do not convert to the target unit."""
+
+
+@lru_cache(maxsize=4096)
+def _text_value(ureg: pint.UnitRegistry, text: str, unit: str) -> float:
+    """``text`` in the SI ``unit`` through ``ureg`` (raises the problems above).
+
+    Kept per process (and registry): scenario, spec and command-line values repeat the
+    same few texts, and pint's parser costs ~0.3 ms CPU per call. A conversion depends
+    on nothing but the registry, the text and the unit, which form the key; failures
+    are not kept (they raise) and are worded by the caller.
+    """
+    try:
+        quantity = ureg.parse_expression(_normalise(text))
+    except Exception as error:  # pint raises several unrelated types
+        raise _UnreadableError(str(error)) from None
+    if not isinstance(quantity, ureg.Quantity) or quantity.units == ureg.dimensionless:
+        value = float(getattr(quantity, "magnitude", quantity))
+        if unit != "1" and value != 0 and value == value:
+            raise _NoUnitError
+        return value
+    import pint  # imported by registry()
+
+    try:
+        return float(quantity.to(_units(ureg, unit)).magnitude)
+    except pint.DimensionalityError:
+        raise _OtherDimensionError(f"{quantity.units:~}") from None
+
+
+@lru_cache(maxsize=256)
+def _units(ureg: pint.UnitRegistry, unit: str) -> pint.Unit:
+    """The pint unit of a unit text as the model or a table states it (``"1"``: none)."""
+    return ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
 
 
 DISPLAY_UNITS: dict[str, str] = {"rad": "arcmin", "rad/s": "deg/h", "m/s**2": "ug",
@@ -186,8 +221,5 @@ def display_scale(unit: str) -> tuple[float, str]:
 def format_quantity(value_si: float, unit: str, display_unit: str, digits: int = 4) -> str:
     """Format an SI value in an engineering unit, e.g. ``4.848e-8 rad/s -> '0.01 deg/h'``."""
     ureg = registry()
-    source = ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
-    target = ureg.parse_units(_normalise(display_unit) if display_unit != "1"
-                              else "dimensionless")
-    value = ureg.Quantity(value_si, source).to(target).magnitude
+    value = ureg.Quantity(value_si, _units(ureg, unit)).to(_units(ureg, display_unit)).magnitude
     return f"{value:.{digits}g} {display_unit}"
