@@ -38,6 +38,7 @@ Example
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -321,33 +322,46 @@ def _course_rate(earth: _Earth, lat, h, vE, r):
 
 class _SampledCommands:
     """A flight's commands for the position integrator: evaluated in vectorised blocks
-    (1024 samples 1/16 s apart) and interpolated by cubic Hermite polynomials from the
-    values and their rates (a 15-min manoeuvre then matches the ideal-work equations to
-    1e-8 m/s and 2e-8 m), so the scalar calls of the adaptive integrator stay cheap
-    however many legs a flight has.
+    (samples 1/16 s apart) and interpolated by cubic Hermite polynomials from the values
+    and their rates (a 15-min manoeuvre then matches the ideal-work equations to 1e-8 m/s
+    and 2e-8 m), so the scalar calls of the adaptive integrator stay cheap however many
+    legs a flight has.
 
     The piece of a call is SciPy's :class:`~scipy.interpolate.CubicHermiteSpline` of the
     block, built and evaluated with SciPy's arithmetic (its coefficients from the two
     samples around ``t``; the interval ``x[i] <= t < x[i + 1]``, ``s = t − x[i]`` and the
     power-basis terms summed from the constant one up) on Python floats, and only for the
     interval asked: the same bits at a fraction of the cost (a day-long flight asks about
-    17 of each block's 1024 intervals).
+    70 of each block's 4096 intervals).
+
+    Parameters
+    ----------
+    flight : Flight
+    t_end : float, optional
+        Last time asked, s: no block reaches more than one interval beyond it (the
+        commands are pointwise functions of time, so a block's length changes no bit).
     """
 
     SPACING = 0.0625
-    BLOCK = 1024
+    BLOCK = 4096
+    """Intervals of a full block (256 s): one vectorised call of the flight's commands."""
     KEPT = 2
     """Blocks held (the integrator only moves forward)."""
 
-    def __init__(self, flight: Flight):
+    def __init__(self, flight: Flight, t_end: float = np.inf):
         self.flight = flight
-        self.blocks: dict[int, tuple[list[float], np.ndarray]] = {}
+        self.last_knot = (int(np.ceil(t_end / self.SPACING)) if np.isfinite(t_end)
+                          else None)
+        self.blocks: dict[int, tuple[float, int, np.ndarray]] = {}
 
-    def _block(self, k: int) -> tuple[list[float], np.ndarray]:
-        """Knots of block k and the samples there, (BLOCK + 1, 6): V, r, v_D and their
-        rates."""
-        span = self.SPACING * self.BLOCK
-        grid = k * span + self.SPACING * np.arange(self.BLOCK + 1)
+    def _block(self, k: int) -> tuple[float, int, np.ndarray]:
+        """Block k: its first knot (s), its last interval and the samples at its knots,
+        shape (knots, 6): V, r, v_D and their rates."""
+        first = k * self.BLOCK
+        count = self.BLOCK
+        if self.last_knot is not None:
+            count = max(1, min(count, self.last_knot - first))
+        grid = first * self.SPACING + self.SPACING * np.arange(count + 1)
         V, dV, r, dr, vD, dvD = self.flight.commands(grid)
         samples = np.stack([V, r, vD, dV, dr, dvD], axis=1).astype(float)
         if not np.all(np.isfinite(samples)):
@@ -355,44 +369,56 @@ class _SampledCommands:
                               f" and {grid[-1]:g} s")
         if len(self.blocks) >= self.KEPT:
             del self.blocks[next(iter(self.blocks))]
-        self.blocks[k] = (grid.tolist(), samples)
+        self.blocks[k] = (float(grid[0]), count - 1, samples)
         return self.blocks[k]
 
-    def __call__(self, t: float) -> tuple[float, ...]:
+    def __call__(self, t: float) -> tuple[float, float, float]:
         """(V, r, v_D) at time t."""
         t = float(t)
         k = int(t // (self.SPACING * self.BLOCK))
         block = self.blocks.get(k)
-        x, samples = block if block is not None else self._block(k)
-        last = self.BLOCK - 1
-        i = min(max(int((t - x[0]) / self.SPACING), 0), last)
-        while i > 0 and t < x[i]:
-            i -= 1
-        while i < last and t >= x[i + 1]:
-            i += 1
-        h = x[i + 1] - x[i]
-        s = t - x[i]
+        x0, last, samples = block if block is not None else self._block(k)
+        # the knots x0 + i/16 are exact, so this is SciPy's interval x[i] <= t < x[i + 1]
+        # (the last one beyond) and s = t − x[i] exactly; h = 1/16
+        i = min(max(int((t - x0) / self.SPACING), 0), last)
+        h = self.SPACING
+        s = t - (x0 + i * h)
         s2 = s * s
         s3 = s2 * s
-        here, there = samples[i:i + 2].tolist()
-        out = []
-        for y0, y1, d0, d1 in zip(here[:3], there[:3], here[3:], there[3:], strict=True):
-            slope = (y1 - y0) / h
-            c = (d0 + d1 - 2 * slope) / h
-            out.append(y0 + d0 * s + ((slope - d0) / h - c) * s2 + c / h * s3)
-        return tuple(out)
+        y0, r0, v0, dy0, dr0, dv0, y1, r1, v1, dy1, dr1, dv1 = samples[i:i + 2].ravel().tolist()
+        # SciPy's piece from (y0, dy0) to (y1, dy1): slope = (y1 − y0)/h,
+        # c = (dy0 + dy1 − 2 slope)/h, y0 + dy0 s + ((slope − dy0)/h − c) s² + c/h s³
+        slope = (y1 - y0) / h
+        c = (dy0 + dy1 - 2 * slope) / h
+        V = y0 + dy0 * s + ((slope - dy0) / h - c) * s2 + c / h * s3
+        slope = (r1 - r0) / h
+        c = (dr0 + dr1 - 2 * slope) / h
+        r = r0 + dr0 * s + ((slope - dr0) / h - c) * s2 + c / h * s3
+        slope = (v1 - v0) / h
+        c = (dv0 + dv1 - 2 * slope) / h
+        return V, r, v0 + dv0 * s + ((slope - dv0) / h - c) * s2 + c / h * s3
 
 
-def _position_rhs(flight: Flight, earth: _Earth):
-    commands = _SampledCommands(flight)
+def _position_rhs(flight: Flight, earth: _Earth, t_end: float = np.inf):
+    """``rhs(t, y)`` of latitude, longitude, height and course on Python floats (the
+    arithmetic of :func:`_course_rate` and
+    :func:`~ins_errors.models.earth.radii_of_curvature`, with the C library's sin, cos,
+    tan and sqrt)."""
+    commands = _SampledCommands(flight, t_end)
+    a, e2 = earth.a, earth.e2
+    sin, cos, tan, sqrt = math.sin, math.cos, math.tan, math.sqrt
+    array = np.array
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
-        lat, _lon, h, psi = y
+        lat, _lon, h, psi = y.tolist()
         V, r, vD = commands(t)
-        R_N, R_E = radii_of_curvature(lat, earth.a, earth.e2)
-        vN, vE = V * np.cos(psi), V * np.sin(psi)
-        return np.array([vN / (R_N + h), vE / ((R_E + h) * np.cos(lat)), -vD,
-                         _course_rate(earth, lat, h, vE, r)])
+        s = sin(lat)
+        w2 = 1 - e2 * (s * s)
+        w = sqrt(w2)
+        R_N, R_E = a * (1 - e2) / (w2 * w), a / w
+        vN, vE = V * cos(psi), V * sin(psi)
+        return array([vN / (R_N + h), vE / ((R_E + h) * cos(lat)), -vD,
+                      vE * tan(lat) / (R_E + h) + r])
 
     return rhs
 
@@ -519,9 +545,9 @@ def _position_solution(flight: Flight, earth: _Earth, t_end: float, tau: float):
     from scipy.integrate import solve_ivp
 
     y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
-    solution = solve_ivp(_position_rhs(flight, earth), (0.0, t_end), y0, method="DOP853",
-                         rtol=1e-13, atol=1e-15 * np.array([1, 1, 1e7, 1]), dense_output=True,
-                         max_step=max(tau, min(60.0, t_end / 4 or tau)))
+    solution = solve_ivp(_position_rhs(flight, earth, t_end), (0.0, t_end), y0,
+                         method="DOP853", rtol=1e-13, atol=1e-15 * np.array([1, 1, 1e7, 1]),
+                         dense_output=True, max_step=max(tau, min(60.0, t_end / 4 or tau)))
     if not solution.success:
         raise DomainError(f"the true flight could not be integrated: {solution.message}")
     return solution
