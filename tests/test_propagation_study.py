@@ -140,6 +140,46 @@ def test_plots_equal_fresh_shared_axis_figures_and_fit_the_figure(tmp_path, resu
     assert together[1].read_bytes() != together[2].read_bytes()
 
 
+def test_long_record_drawn_from_its_envelope_covers_the_same_pixels(tmp_path, result,
+                                                                    monkeypatch):
+    """Six hours recorded every second (21 601 samples: smooth curves with a ripple
+    and one-sample spikes) draws its solid curves through the column envelope: the
+    picture of every sample drawn (antialiased edges may differ by a few levels). The
+    dashed and dotted curves stay whole: their pattern runs along the drawn length,
+    which a reduction changes (their dots would move)."""
+    from dataclasses import replace
+
+    from PIL import Image
+
+    from ins_errors.output import OutputFolder
+    from ins_errors.studies import propagation
+
+    times = np.arange(21_601.0)
+    ripple = np.sin(2 * np.pi * times / 1500.0)
+    source = result.curve("gyro_drift_up")
+
+    def fine(curves):  # the record at 1 s, with a ripple and two spikes on top
+        out = np.array([np.interp(times, result.times, row) for row in curves])
+        out += 0.05 * np.abs(out).max(axis=1, keepdims=True) * ripple
+        out[:, 5_000] *= 1.5
+        out[:, 17_001] *= -1.0
+        return out
+
+    long = replace(result, times=times, curves=[replace(source, **{
+        run: fine(getattr(source, run)) for run in ("direct", "linear", "analytic",
+                                                    "reduced")})])
+    reduced = propagation.plot(long, OutputFolder(tmp_path / "reduced"))[0]
+    monkeypatch.setattr(propagation, "column_envelopes",
+                        lambda x, curves, columns: [(x, y) for y in curves])
+    full = propagation.plot(long, OutputFolder(tmp_path / "full"))[0]
+    with Image.open(reduced) as a, Image.open(full) as b:
+        ours, every = (np.asarray(i.convert("L"), dtype=int) for i in (a, b))
+    assert ours.shape == every.shape
+    differ = np.abs(ours - every)
+    assert (differ > 64).sum() <= 0.001 * ours.size, (differ > 64).sum()
+    assert reduced.read_bytes() != full.read_bytes()  # (the envelope is in use)
+
+
 def test_bad_experiments_give_one_line_errors():
     with pytest.raises(DomainError, match="±90"):
         run(Experiment(latitude=np.pi / 2))

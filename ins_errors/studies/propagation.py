@@ -23,6 +23,7 @@ gets a PNG of its seven error quantities (the report's dVx, dVy, dL, dN, Qx, Qy,
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -33,6 +34,7 @@ from ins_errors.models.earth import EARTH_RATE
 from ins_errors.numeric.accuracy import ORDERS
 from ins_errors.numeric.closed_forms import closed_forms
 from ins_errors.numeric.compare import Comparison, add_integration_errors, comparisons_of
+from ins_errors.numeric.envelope import column_envelopes
 from ins_errors.numeric.integrators import step_count
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.numeric.simulate import simulate
@@ -319,13 +321,20 @@ def _integration_errors(comparison: Comparison) -> np.ndarray | None:
     return np.array(errors, dtype=float)
 
 
+PLOT_DPI = 90
+"""Resolution of the per-source figures of :func:`plot`, dots per inch."""
+
+
 def plot(result: PropagationResult, folder: OutputFolder,
          sources: list[str] | None = None) -> list[Path]:
     """One PNG per source (default every source): its seven error quantities, four curves.
 
     The sources share one figure whose curves, ranges and title are replaced source by
     source (the same files as a fresh figure each, without building every panel and
-    tick again).
+    tick again). The solid curves of long records are drawn through their column
+    envelope (:func:`~ins_errors.numeric.envelope.column_envelopes`): per half pixel
+    column each curve's first, last, smallest and largest sample, the same picture as
+    every sample.
 
     Returns
     -------
@@ -357,6 +366,7 @@ def plot(result: PropagationResult, folder: OutputFolder,
     fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13))
     layout.share_time_axis(axes)
     layout.fixed_margins(fig, left=1.0, right=0.2, bottom=0.6, top=0.62, hspace=0.38)
+    columns = 2 * math.ceil(axes[0].get_position().width * fig.get_figwidth() * PLOT_DPI)
     try:
         lines = []
         for ax, (_, short, unit, label) in zip(axes, QUANTITIES, strict=True):
@@ -376,8 +386,12 @@ def plot(result: PropagationResult, folder: OutputFolder,
             for k, (ax, row, (_, _, unit, _)) in enumerate(zip(axes, lines, QUANTITIES,
                                                                 strict=True)):
                 shown = [_display(getattr(c, run)[k], unit) for run in runs]
-                for line, values in zip(row, shown, strict=True):
-                    line.set_data(hours, values)
+                # the solid lines through their envelope; a dashed line's pattern runs
+                # along the drawn length, which any reduction changes: drawn whole
+                drawn = column_envelopes(hours, shown[:2], columns) + [
+                    (hours, values) for values in shown[2:]]
+                for line, (times, values) in zip(row, drawn, strict=True):
+                    line.set_data(times, values)
                 ax.set_autoscaley_on(True)  # the previous source may have fixed it
                 ax.relim()
                 ax.autoscale_view()
@@ -387,7 +401,8 @@ def plot(result: PropagationResult, folder: OutputFolder,
             magnitude = format_quantity(c.magnitude, info.unit, info.display_unit or info.unit)
             title.set_text(f"north_pointing, {c.source} = {magnitude}, φ = "
                            f"{np.degrees(result.experiment.latitude):.4g}°")
-            paths.append(folder.save_figure(fig, f"{c.source}.png", dpi=90, close=False))
+            paths.append(folder.save_figure(fig, f"{c.source}.png", dpi=PLOT_DPI,
+                                            close=False))
     finally:
         plt.close(fig)
     return paths
