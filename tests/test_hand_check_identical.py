@@ -106,9 +106,10 @@ def test_checks_run_with_one_blas_thread_and_restore_the_pools():
 
 def _forget_kept_values() -> None:
     """Empty the evaluated coefficients (and reference points) the checker keeps: the one
-    kept result that depends on what was checked before (a value's last bit follows the
-    batch it was evaluated in). The kept symbolic results are pure functions of their
-    arguments (test_a_check_after_other_checks_equals_one_with_nothing_kept)."""
+    kept result that could depend on what was checked before (a value compiled in a
+    batch may differ in its last bit from the same value in another batch). The kept
+    symbolic results are pure functions of their arguments
+    (test_a_check_after_other_checks_equals_one_with_nothing_kept)."""
     from ins_errors.checker import compare
 
     compare._SHARED.clear()
@@ -214,3 +215,84 @@ def test_linearity_read_off_the_tree_is_the_differentiated_answer():
                 checked += 1
                 nonlinear += expected is not None
     assert checked > 90 and nonlinear >= 8, (checked, nonlinear)
+
+
+def test_node_by_node_values_equal_the_compiled_functions():
+    """The checker's node-by-node evaluation (checker.tree_values) gives the values
+    SymPy's compiled functions give, to rounding, on the model's variations, their
+    coefficients and the differences the checker builds from them; a node it does not
+    evaluate (Piecewise) is left to the compiled function; non-finite results stay
+    NaN/inf as in the compiled code."""
+    import itertools
+
+    import numpy as np
+
+    from ins_errors.checker.compare import _points
+    from ins_errors.checker.tree_values import TreeValues, UnsupportedError
+
+    d = definition("orthodromic")
+    side = model_side(d)
+    points = _points(d, None)[0].points
+    arguments = sorted(points[0].values, key=sp.default_sort_key)
+    arrays = [np.array([p.values[s] for p in points]) for s in arguments]
+    basis = [*side.error_states.values(), *side.source_symbols.values()]
+    exprs = []
+    for expr in [*side.state_rhs.values(), *side.delta_of.values()]:
+        coefficients, _ = _split_by_substitution(
+            expr, [b for b in basis if b in expr.free_symbols])
+        exprs += [c for c in coefficients.values() if c.free_symbols <= set(arguments)]
+    exprs += [a - 2 * b for a, b in itertools.pairwise(exprs)]
+    assert len(exprs) > 100
+    tree = TreeValues(arguments, arrays)
+    ours = np.array([np.broadcast_to(tree.value(e), (len(points),)) for e in exprs])
+    compiled = sp.lambdify(arguments, exprs, "numpy", cse=True)(*arrays)
+    compiled = np.array([np.broadcast_to(v, (len(points),)) for v in compiled])
+    scale = np.max(np.abs(compiled), axis=1, keepdims=True)
+    assert np.all(np.abs(ours - compiled) <= 1e-13 * np.maximum(scale, 1e-300))
+    assert np.count_nonzero(scale) > 100
+
+    x, y = sp.symbols("x y", real=True)
+    small = TreeValues([x, y], [np.array([-4.0, 0.0, 9.0]), np.array([0.0, 2.0, 3.0])])
+    with np.errstate(all="ignore"):
+        root = small.value(sp.sqrt(x))
+        quotient = small.value(x / y)
+        assert np.isnan(root[0]) and root[2] == 3.0
+        assert np.isinf(quotient[0]) and quotient[1] == 0.0 and quotient[2] == 3.0
+    assert small.value(sp.I * x).dtype == complex
+    for unsupported in (sp.Piecewise((x, y > 1), (y, True)), sp.Symbol("z")):
+        try:
+            small.value(unsupported + x)
+        except UnsupportedError:
+            continue
+        raise AssertionError(f"{unsupported} was evaluated")
+
+
+def test_reports_from_node_values_equal_reports_from_compiled_functions(monkeypatch):
+    """The manual's report (every finding, size to 9 digits, point, effect) is the same
+    whether the coefficients are evaluated node by node or by compiled functions (the
+    way before checker.tree_values)."""
+    from ins_errors.checker import tree_values
+    from ins_errors.checker.compare import check_hand
+    from ins_errors.checker.notation import default_notation
+    from ins_errors.checker.parse import parse_hand_text
+    from ins_errors.checker.report import to_json, to_markdown
+    from tests.test_hand_check import MANUAL
+
+    manual = (MANUAL / "equations.txt").read_text()
+
+    def report():
+        _forget_kept_values()
+        result = check_hand(parse_hand_text(manual, default_notation("orthodromic")),
+                            threshold=1e-3)
+        return to_json(result), to_markdown(result)
+
+    by_nodes = report()
+
+    def refuse(self, expr):
+        raise tree_values.UnsupportedError("compiled")
+
+    monkeypatch.setattr(tree_values.TreeValues, "value", refuse)
+    compiled = report()
+    _forget_kept_values()
+    assert by_nodes == compiled
+    assert by_nodes[0]["summary"]["mistakes"] >= 1

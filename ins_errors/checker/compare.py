@@ -57,6 +57,7 @@ from ins_errors.checker.sides import (
     model_side,
     tilde_variations,
 )
+from ins_errors.checker.tree_values import TreeValues, UnsupportedError
 from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
 from ins_errors.numeric.blas_threads import one_blas_thread
@@ -367,7 +368,7 @@ def _identical(hand: sp.Expr, model: sp.Expr, basis: tuple[sp.Symbol, ...], limi
 class Comparison:
     def __init__(self, points: list[ReferencePoint], basis: list[BasisQuantity],
                  symbols: dict[str, sp.Symbol], threshold: float,
-                 values: dict[sp.Expr, np.ndarray]):
+                 values: dict[sp.Expr, np.ndarray], tree: TreeValues | None = None):
         self.points = points
         self.arguments = sorted(points[0].values, key=sp.default_sort_key)
         self.arrays = [np.array([p.values[s] for p in points]) for s in self.arguments]
@@ -379,6 +380,7 @@ class Comparison:
         self._parts: dict[sp.Expr, tuple[dict[sp.Symbol, sp.Expr], sp.Expr]] = {}
         self.display_model: dict[sp.Symbol, sp.Expr] = {}
         self._values = values
+        self._tree = TreeValues(self.arguments, self.arrays) if tree is None else tree
 
     def linear_parts(self, expr: sp.Expr, trusted: bool = True
                      ) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
@@ -408,15 +410,8 @@ class Comparison:
         known = set(self.arguments)
         todo = list(dict.fromkeys(e for e in wanted if e not in self._values
                                   and e.free_symbols <= known))
-        if not todo:
-            return
-        function = sp.lambdify(self.arguments, todo, modules="numpy", cse=True,
-                                 docstring_limit=0)
-        with np.errstate(all="ignore"):
-            values = function(*self.arrays)
-        for expr, value in zip(todo, values, strict=True):
-            self._values[expr] = np.broadcast_to(np.asarray(value, dtype=complex),
-                                                 (len(self.points),))
+        if todo:
+            self._compute(todo)
 
     def raw(self, exprs: list[sp.Expr]) -> np.ndarray:
         """Complex values of ``exprs`` at every point, shape (len(exprs), points)."""
@@ -427,13 +422,26 @@ class Comparison:
                 name = sorted(stray, key=sp.default_sort_key)[0]
                 raise UnresolvedError(str(name), f"{name} has no value at the reference "
                                                   "points")
-            function = sp.lambdify(self.arguments, missing, modules="numpy", cse=True,
-                                 docstring_limit=0)
-            with np.errstate(all="ignore"):
-                for e, v in zip(missing, function(*self.arrays), strict=True):
-                    self._values[e] = np.broadcast_to(np.asarray(v, dtype=complex),
-                                                      (len(self.points),))
+            self._compute(missing)
         return np.array([self._values[e] for e in exprs])
+
+    def _compute(self, exprs: list[sp.Expr]) -> None:
+        """Evaluate ``exprs`` (symbols: the points' only) into the kept values.
+
+        Node by node with the values of the subtrees met before
+        (:class:`~ins_errors.checker.tree_values.TreeValues`); an expression with a node
+        it does not evaluate, in one compiled function.
+        """
+        with np.errstate(all="ignore"):
+            try:
+                values = [self._tree.value(e) for e in exprs]
+            except UnsupportedError:
+                function = sp.lambdify(self.arguments, exprs, modules="numpy", cse=True,
+                                       docstring_limit=0)
+                values = function(*self.arrays)
+        for expr, value in zip(exprs, values, strict=True):
+            self._values[expr] = np.broadcast_to(np.asarray(value, dtype=complex),
+                                                 (len(self.points),))
 
     def evaluate(self, exprs: list[sp.Expr]) -> np.ndarray:
         """Real values of ``exprs`` at every reference point, shape (len(exprs), points)."""
@@ -636,13 +644,20 @@ _SHARED: dict[tuple, tuple] = {}
 
 
 def _points(d: ModelDefinition, scope: str | None):
-    """Reference motions and the evaluated-coefficient cache, kept per definition."""
+    """Reference motions, the evaluated-coefficient cache and the node values
+    (:class:`~ins_errors.checker.tree_values.TreeValues`), kept per definition."""
     key = ("points", id(d), scope)
     entry = _SHARED.get(key)
     if entry is None or entry[0] is not d:
-        entry = (d, reference_points(d, scope), {})
+        motions = reference_points(d, scope)
+        tree = None
+        if motions.points:
+            arguments = sorted(motions.points[0].values, key=sp.default_sort_key)
+            tree = TreeValues(arguments, [np.array([p.values[s] for p in motions.points])
+                                          for s in arguments])
+        entry = (d, motions, {}, tree)
         _SHARED[key] = entry
-    return entry[1], entry[2]
+    return entry[1], entry[2], entry[3]
 
 
 def resolve_model(model: str | ModelDefinition) -> ModelDefinition:
@@ -706,7 +721,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         hand = replace(hand, equations=[*hand.equations, *update_variations(hand)])
     d = resolve_model(model)
     side = model_side(d)
-    motions, values = _points(d, hand.scope)
+    motions, values, tree = _points(d, hand.scope)
     if not motions.points:
         raise InsErrorsError(f"model {d.name!r} cannot fly any reference motion of scope "
                              f"{hand.scope!r}: {'; '.join(motions.skipped)}")
@@ -728,7 +743,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     basis, identify, out_of_scope = _basis(side, notation, resolver.sources_used, sizes)
     symbols = {b.name: (side.error_states.get(b.name) or side.source_symbols.get(b.name)
                         or sp.Symbol(b.name, real=True)) for b in basis}
-    comparison = Comparison(motions.points, basis, symbols, threshold, values)
+    comparison = Comparison(motions.points, basis, symbols, threshold, values, tree)
     comparison.display_model = _reciprocal_aliases(side, notation)
     declared.finish(comparison, identify)
 
