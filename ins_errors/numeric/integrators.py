@@ -506,21 +506,20 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
 
 
 @cache_function
-@cache_function
 def _writer_version() -> str | None:
-    """Hash of the code that writes a loop's C source from its description: this module
-    and :mod:`ins_errors.numeric.carried_trig` (the rotation of carried sines and cosines
-    inside a step and in the C driver); None when their source files cannot be read.
-    Read once per process: the code that runs is the code imported at its start."""
-    from ins_errors.numeric import carried_trig
+    """Fingerprint of the code that writes a loop's C source and builds it (the syntax
+    trees of this module's writing functions, C templates and flags, and of what they
+    use in :mod:`ins_errors.numeric.carried_trig`: see
+    :mod:`ins_errors.numeric.writer_key`), so that editing a comment, a docstring or
+    code that writes no C keeps every cached library; None when the source files cannot
+    be read or parsed. Made once per process: the code that runs is the code imported
+    at its start."""
+    from ins_errors.numeric.writer_key import installed_fingerprint
 
-    digest = hashlib.sha256()
     try:
-        for module_file in (__file__, carried_trig.__file__):
-            digest.update(Path(module_file).read_bytes())
-    except (OSError, TypeError):
+        return installed_fingerprint()
+    except (OSError, SyntaxError, ValueError):
         return None
-    return digest.hexdigest()
 
 
 def _functions_key(kind: str, functions: Sequence[ca.Function | None],
