@@ -176,7 +176,8 @@ def test_long_record_drawn_from_its_envelope_covers_the_same_pixels(tmp_path, re
         ours, every = (np.asarray(i.convert("L"), dtype=int) for i in (a, b))
     assert ours.shape == every.shape
     differ = np.abs(ours - every)
-    assert (differ > 64).sum() <= 0.001 * ours.size, (differ > 64).sum()
+    # (none here; all four curves through the envelope: ~1500)
+    assert (differ > 64).sum() <= 20, (differ > 64).sum()
     assert reduced.read_bytes() != full.read_bytes()  # (the envelope is in use)
 
 

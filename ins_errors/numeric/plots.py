@@ -187,11 +187,15 @@ class _ComparisonFigure:
             if comparison.refined:
                 refined = comparison.refined[q] * scale
                 curves += [refined, direct - refined]
-            # the drawn paths keep, per half pixel column, each curve's first, last,
-            # smallest and largest sample: the same picture, cheaper for long records
-            reduced = column_envelopes(hours, curves, self.columns)
-            for line, (times, values) in zip(row, reduced, strict=True):
-                line.set_data(times, values)
+            # the solid lines' paths keep, per half pixel column, each curve's first,
+            # last, smallest and largest sample: the same picture, cheaper for long
+            # records; the dashed and dotted ones (linear, refined) are drawn whole:
+            # their pattern runs along the drawn length, which a reduction changes
+            solid = [line.get_linestyle() == "-" for line in row]
+            reduced = iter(column_envelopes(
+                hours, [c for c, s in zip(curves, solid, strict=True) if s], self.columns))
+            for line, values, is_solid in zip(row, curves, solid, strict=True):
+                line.set_data(*(next(reduced) if is_solid else (hours, values)))
         for ax in self.axes.flat:
             ax.relim()
             ax.autoscale_view()
