@@ -21,6 +21,7 @@ import sympy as sp
 import ins_errors
 from ins_errors.errors import DomainError
 from ins_errors.models import geodetic_vertical as gv
+from ins_errors.models.earth import EARTH_RATE
 from ins_errors.numeric.simulate import simulate
 from ins_errors.numeric.trajectories import Profile, trajectory
 from ins_errors.studies import spheroid_error as se
@@ -214,6 +215,69 @@ def flights():
     angle = np.radians([40.0, 90.0, 20.0, 135.0, 90.0, 250.0, 300.0])
     return se.simulate_flights(lat, np.zeros(lat.size), angle, duration=4 * 3600.0,
                                speed=250.0, step=300.0, record_interval=600.0)
+
+
+def test_flight_measurements_keep_the_bits_of_the_plain_numpy_formulas():
+    """The flights' right-hand side reads its kinematics with numpy's cross product,
+    vector norm, axis moves and sums replaced by the same operations without their
+    Python wrappers: bit for bit the formulas written with them, on flights from the
+    equator, mid and high latitudes (zero frame entries included) at random section
+    angles, and the geocentric start frames and axis tables likewise."""
+    lat = np.radians([0.0, 30.0, 50.0, -40.0, 89.0])
+    lon = np.radians([0.0, 10.0, -70.0, 180.0, 0.0])
+    angle = np.radians([90.0, 20.0, 250.0, 300.0, 0.0])
+    s, c = np.sin, np.cos
+    frames = np.moveaxis(np.array([
+        [c(lon) * c(angle) + s(lon) * s(lat) * s(angle), c(lat) * s(angle),
+         s(lat) * c(lon) * s(angle) - s(lon) * c(angle)],
+        [s(lon) * s(lat) * c(angle) - c(lon) * s(angle), c(lat) * c(angle),
+         c(lon) * s(lat) * c(angle) + s(lon) * s(angle)],
+        [s(lon) * c(lat), -s(lat), c(lon) * c(lat)]]), -1, 0)
+    assert np.array_equal(se._start_frames(lat, lon, angle), frames)
+    q = np.array([A**-2, B_AXIS**-2, A**-2])
+    section = se._Section(frames, q, np.full(lat.size, 250.0), EARTH_RATE)
+    same = lambda a, b: a.shape == b.shape and np.array_equal(a.view(np.int64),  # noqa: E731
+                                                               b.view(np.int64))
+    rng = np.random.default_rng(4)
+    for lam1 in [np.zeros(lat.size), *rng.uniform(-np.pi, np.pi, (6, lat.size))]:
+        xi1, zeta1 = frames[:, 0, :], frames[:, 2, :]
+        sl, cl = np.sin(lam1)[:, None], np.cos(lam1)[:, None]
+        d, d1 = sl * xi1 + cl * zeta1, cl * xi1 - sl * zeta1
+        qv = np.sum(d * d * q, axis=1)
+        q1 = 2 * np.sum(d1 * d * q, axis=1)
+        q2 = 2 * (-qv + np.sum(d1 * d1 * q, axis=1))
+        rho, rho1 = qv**-0.5, -0.5 * qv**-1.5 * q1
+        rho2 = 0.75 * qv**-2.5 * q1**2 - 0.5 * qv**-1.5 * q2
+        r = rho[:, None] * d
+        r1 = rho1[:, None] * d + rho[:, None] * d1
+        r2 = rho2[:, None] * d + 2 * rho1[:, None] * d1 - rho[:, None] * d
+        norm1 = np.linalg.norm(r1, axis=1)
+        lam_dot = 250.0 / norm1
+        lam_ddot = -250.0 * np.sum(r1 * r2, axis=1) / norm1**3 * lam_dot
+        v = r1 * lam_dot[:, None]
+        acc = r2 * (lam_dot**2)[:, None] + r1 * lam_ddot[:, None]
+        normal = r * q
+        normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+        n = np.einsum("bij,bj->bi", frames, normal)
+        Phi = np.arctan2(-n[:, 1], np.hypot(n[:, 0], n[:, 2]))
+        Lam = np.arctan2(n[:, 0], n[:, 2])
+        table = np.moveaxis(np.array([
+            [c(Lam), np.zeros_like(Phi), -s(Lam)],
+            [s(Lam) * s(Phi), c(Phi), c(Lam) * s(Phi)],
+            [s(Lam) * c(Phi), -s(Phi), c(Lam) * c(Phi)]]), -1, 0)
+        assert same(se._table2(Phi, Lam), table)
+        axes = np.einsum("bij,bjk->bik", table, frames)
+        specific = acc + 2 * np.cross(np.array([0.0, EARTH_RATE, 0.0]), v)
+        u = np.stack([np.sum(specific * axes[:, 0], axis=1),
+                      np.sum(specific * axes[:, 1], axis=1), np.full(lat.size, 9.81),
+                      np.sum(v * axes[:, 2], axis=1)])
+        W = np.stack([np.sum(v * axes[:, 0], axis=1), np.sum(v * axes[:, 1], axis=1)])
+        B = np.arcsin(np.clip(-axes[:, 2, 1], -1, 1))
+        N = np.arctan2(axes[:, 0, 1], axes[:, 1, 1])
+        got_u, got_true, got_rate = section.measurements(lam1, 9.81)
+        assert same(got_u, u) and same(got_rate, lam_dot)
+        for got, want in zip(got_true, (Phi, Lam, W, B, N), strict=True):
+            assert same(got, want)
 
 
 def test_formula_10_matches_the_direct_simulation(flights):

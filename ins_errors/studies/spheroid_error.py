@@ -136,7 +136,7 @@ def _start_frames(lat0: np.ndarray, lon0: np.ndarray, angle0: np.ndarray) -> np.
          c(lon0) * s(lat0) * c(angle0) + s(lon0) * s(angle0)],
         [s(lon0) * c(lat0), -s(lat0), c(lon0) * c(lat0)],
     ]
-    return np.moveaxis(np.array(rows, dtype=float), -1, 0)
+    return np.array(rows, dtype=float).transpose(2, 0, 1)
 
 
 def _table2(Phi: np.ndarray, Lam: np.ndarray) -> np.ndarray:
@@ -145,7 +145,12 @@ def _table2(Phi: np.ndarray, Lam: np.ndarray) -> np.ndarray:
     rows = [[c(Lam), z, -s(Lam)],
             [s(Lam) * s(Phi), c(Phi), c(Lam) * s(Phi)],
             [s(Lam) * c(Phi), -s(Phi), c(Lam) * c(Phi)]]
-    return np.moveaxis(np.array(rows), -1, 0)
+    return np.array(rows).transpose(2, 0, 1)
+
+
+_row_sum = np.add.reduce
+"""``np.sum`` (the same reduction, so the same bits) without its Python wrapper: the
+flights' right-hand side sums rows of a few numbers about a dozen times a call."""
 
 
 @dataclass
@@ -164,18 +169,18 @@ class _Section:
         d = sl * xi1 + cl * zeta1
         d1 = cl * xi1 - sl * zeta1
         Q = self.q
-        qv = np.sum(d * d * Q, axis=1)
-        q1 = 2 * np.sum(d1 * d * Q, axis=1)
-        q2 = 2 * (-qv + np.sum(d1 * d1 * Q, axis=1))
+        qv = _row_sum(d * d * Q, axis=1)
+        q1 = 2 * _row_sum(d1 * d * Q, axis=1)
+        q2 = 2 * (-qv + _row_sum(d1 * d1 * Q, axis=1))
         rho = qv**-0.5
         rho1 = -0.5 * qv**-1.5 * q1
         rho2 = 0.75 * qv**-2.5 * q1**2 - 0.5 * qv**-1.5 * q2
         r = rho[:, None] * d
         r1 = rho1[:, None] * d + rho[:, None] * d1
         r2 = rho2[:, None] * d + 2 * rho1[:, None] * d1 - rho[:, None] * d
-        norm1 = np.linalg.norm(r1, axis=1)
+        norm1 = np.sqrt(_row_sum(r1 * r1, axis=1))  # numpy's norm, without its checks
         lam_dot = self.speed / norm1
-        lam_ddot = -self.speed * np.sum(r1 * r2, axis=1) / norm1**3 * lam_dot
+        lam_ddot = -self.speed * _row_sum(r1 * r2, axis=1) / norm1**3 * lam_dot
         v = r1 * lam_dot[:, None]
         acc = r2 * (lam_dot**2)[:, None] + r1 * lam_ddot[:, None]
         return r, v, acc, lam_dot
@@ -183,7 +188,7 @@ class _Section:
     def geodetic(self, r: np.ndarray):
         """Normal, its orthodromic (Φ, Λ), the geodetic axes (B, 3, 3), B and N."""
         normal = r * self.q
-        normal /= np.linalg.norm(normal, axis=1, keepdims=True)
+        normal /= np.sqrt(_row_sum(normal * normal, axis=1, keepdims=True))
         s = np.einsum("bij,bj->bi", self.n, normal)
         Phi = np.arctan2(-s[:, 1], np.hypot(s[:, 0], s[:, 2]))
         Lam = np.arctan2(s[:, 0], s[:, 2])
@@ -196,12 +201,18 @@ class _Section:
         """Model inputs (j_ξ, j_η, j_ζ, V_ζ), shape (4, B), true (Φ, Λ, W, B, N), Λ̇1."""
         r, v, acc, lam_dot = self.kinematics(lam1)
         Phi, Lam, axes, lat, N = self.geodetic(r)
-        k = np.array([0.0, self.omega, 0.0])  # η0 along the Earth's angular velocity
-        specific = acc + 2 * np.cross(k, v)
-        j_xi = np.sum(specific * axes[:, 0], axis=1)
-        j_eta = np.sum(specific * axes[:, 1], axis=1)
-        W = np.stack([np.sum(v * axes[:, 0], axis=1), np.sum(v * axes[:, 1], axis=1)])
-        V_zeta = np.sum(v * axes[:, 2], axis=1)
+        # k × v for k = (0, ω, 0) (η0 along the Earth's angular velocity), with the
+        # operations of numpy's cross product (the zero terms kept: the same signed zeros)
+        w, vx, vy, vz = self.omega, v[:, 0], v[:, 1], v[:, 2]
+        k_v = np.empty_like(v)
+        k_v[:, 0] = w * vz - 0.0 * vy
+        k_v[:, 1] = 0.0 * vx - 0.0 * vz
+        k_v[:, 2] = 0.0 * vy - w * vx
+        specific = acc + 2 * k_v
+        j_xi = _row_sum(specific * axes[:, 0], axis=1)
+        j_eta = _row_sum(specific * axes[:, 1], axis=1)
+        W = np.stack([_row_sum(v * axes[:, 0], axis=1), _row_sum(v * axes[:, 1], axis=1)])
+        V_zeta = _row_sum(v * axes[:, 2], axis=1)
         u = np.stack([j_xi, j_eta, np.full_like(j_xi, gravity), V_zeta])
         return u, (Phi, Lam, W, lat, N), lam_dot
 
