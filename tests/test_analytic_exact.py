@@ -45,6 +45,60 @@ def test_partial_fractions_sum_back_to_the_fraction():
     assert sp.cancel(total - num.as_expr() / den.as_expr()) == 0
 
 
+def _pole_table_cases():
+    """Modes with polynomial ω² (as in the static analyses) and one with ω² = g/R."""
+    field, (g, R, W) = _field_and_symbols()
+    z = an.Z
+    schuler = an.Mode("Schuler", sp.Symbol("w_s"), g * R, 2)
+    earth = an.Mode("Earth", W, W**2, 1)
+    integrator = an.Mode("integrator", None, sp.S.Zero, 1)
+    rational = an.Mode("rational", sp.Symbol("w_r"), g / R, 1)
+    dens = [sp.Poly(d, z, domain=field) for d in (
+        (z + g * R) ** 2 * (z + W**2), 3 * R * (z + g * R) * (z + W**2) ** 2,
+        sp.Rational(2, 5) * z * (z + W**2) * (z + g * R) ** 2)]
+    nums = [sp.Poly(n, z, domain=field) for n in (
+        z**2 - 5 * g * z + R, 3 * z - g * W, sp.Rational(-2, 7) * z**2 + W**2 * R,
+        sp.Integer(4), (g - R * W**2) * (z + g * R) * W, g * (g - R * W**2) ** 2,
+        z / R + g)]
+    return field, (schuler, earth, integrator), rational, dens, nums
+
+
+def test_pole_table_in_the_ring_gives_the_fields_coefficients():
+    field, modes, rational, dens, nums = _pole_table_cases()
+    z = an.Z
+    cases = [(modes, den) for den in dens] + [  # ω² = g/R: the field throughout
+        ((rational, *modes), sp.Poly((z + rational.squared) * (z + modes[1].squared), z,
+                                     domain=field))]
+    for poles, den in cases:
+        ring_table, field_table = an._PoleTable(poles, field), an._PoleTable(poles, field)
+        field_table.ring = None  # the reference: every operation in the field
+        for num in nums:
+            if num.degree() < den.degree():
+                assert ring_table.partial_fractions(num, den) == \
+                    field_table.partial_fractions(num, den)
+
+
+def test_factored_partial_fractions_are_sympys_factorisations():
+    field, modes, rational, dens, nums = _pole_table_cases()
+    table = an._PoleTable(modes, field)
+    checked = 0
+    for den in dens:
+        for num in nums:
+            if num.degree() >= den.degree():
+                continue
+            factored = table.factored_fractions(num, den)
+            if num == nums[-1]:  # a coefficient that is no polynomial: not in the ring
+                assert factored is None
+                continue
+            expected = [(sp.factor(field.to_sympy(c)), m, p)  # (a zero value is left out)
+                        for c, m, p in table.partial_fractions(num, den)]
+            assert factored == [e for e in expected if e[0] != 0]
+            checked += len(expected)
+    assert checked > 30
+    den = sp.Poly(an.Z + rational.squared, an.Z, domain=field)
+    assert an._PoleTable((rational,), field).factored_fractions(nums[3], den) is None
+
+
 def test_fraction_free_inverse_gives_the_fields_own_elements():
     s = an.S
     g, R, W = sp.symbols("g R Omega", positive=True)

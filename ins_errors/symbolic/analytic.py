@@ -31,7 +31,10 @@ from dataclasses import dataclass, field
 from functools import cache
 
 import sympy as sp
+from sympy.core.mul import _keep_coeff
+from sympy.polys.domains import FractionField
 from sympy.polys.matrices import DomainMatrix
+from sympy.polys.rings import PolyElement
 
 from ins_errors.errors import InsErrorsError
 from ins_errors.symbolic.shared_trees import SharedTrees
@@ -318,11 +321,19 @@ def _inverse_laplace_poly(num_p: sp.Poly, den_p: sp.Poly, field, modes: Sequence
     for part, is_odd in ((even, False), (odd, True)):
         if part.is_zero:
             continue
-        for coefficient, mode, power in table.partial_fractions(part, den_z):
-            if not coefficient:
-                continue
-            coefficient = field.to_sympy(coefficient)
-            coefficient = tidy(coefficient) if tidy else coefficient
+        terms = table.factored_fractions(part, den_z) if tidy is sp.factor else None
+        if terms is None:  # the coefficients as SymPy builds them, then ``tidy``
+            terms = []
+            for coefficient, mode, power in table.partial_fractions(part, den_z):
+                if not coefficient:
+                    continue
+                coefficient = field.to_sympy(coefficient)
+                if tidy is sp.factor:  # the same result, faster on these coefficients
+                    coefficient = factor_product(coefficient)
+                elif tidy:
+                    coefficient = tidy(coefficient)
+                terms.append((coefficient, mode, power))
+        for coefficient, mode, power in terms:
             result += coefficient * _time_function(mode, power, is_odd, t)
     return result
 
@@ -371,12 +382,62 @@ def _taylor_head(poly: sp.Poly, point, count: int) -> list[sp.Expr]:
     return [domain.to_sympy(c) for c in f[::-1][:count]]
 
 
+def _ring_element(value, ring):
+    """A field element whose denominator is a constant, as an element of ``ring`` (or None)."""
+    if not value.denom.is_ground:
+        return None
+    return value.numer if value.denom == ring.one else value.numer.quo_ground(value.denom.LC)
+
+
+def _ring_coefficients(poly: sp.Poly, ring) -> list | None:
+    """Coefficients of ``poly`` (highest power first) in ``ring``, or None if one of them
+    is not a polynomial."""
+    out = []
+    for c in poly.rep.to_list():
+        c = _ring_element(c, ring)
+        if c is None:
+            return None
+        out.append(c)
+    return out
+
+
+def _divide_linear(coefficients: list, point) -> tuple[list, object]:
+    """Quotient and remainder of a polynomial (coefficients, highest first) by z − point."""
+    out = [coefficients[0]]
+    for c in coefficients[1:]:
+        out.append(c + point * out[-1])
+    return out[:-1], out[-1]
+
+
+def _ring_taylor_head(coefficients: list, point, count: int, zero) -> list:
+    """:func:`_taylor_head` on a coefficient list (highest first): the same passes."""
+    f = list(coefficients)
+    n = len(f) - 1
+    if n < 0:
+        return [zero]
+    for i in range(n, max(n - count, 0), -1):
+        for j in range(i):
+            f[j + 1] += point * f[j]
+    return f[::-1][:count]
+
+
 class _PoleTable:
-    """Pole split and Taylor coefficients of each denominator, computed once."""
+    """Pole split and Taylor coefficients of each denominator, computed once.
+
+    Where the field is a field of rational functions and every coefficient involved is
+    a polynomial (the case of :func:`analyse`: numerators and denominators come from
+    the polynomial parts of the resolvent, the points z = −ω² are polynomials), the
+    divisions by z + ω² and the Taylor coefficients are computed in the field's
+    polynomial ring: the same values without a gcd per operation (the field cancels
+    every intermediate result). Otherwise in the field itself.
+    """
 
     def __init__(self, modes: Sequence[Mode], field) -> None:
         self.modes, self.field = modes, field
+        self.ring = field.field.ring if isinstance(field, FractionField) else None
         self._rests: dict[sp.Poly, list[tuple[Mode, int, sp.Expr, list[sp.Expr]]]] = {}
+        self._ring_rests: dict[tuple, list | None] = {}
+        self._factor_lists: dict = {}
 
     def _split(self, den: sp.Poly) -> list[tuple[Mode, int, sp.Expr, list[sp.Expr]]]:
         """Per pole of ``den``: (mode, power, point z = −ω², Taylor coefficients there of
@@ -385,6 +446,12 @@ class _PoleTable:
             return self._rests[den]
         except KeyError:
             pass
+        ring_split = self._ring_split(den)
+        if ring_split is not None:
+            split = [(mode, power, point, [self._to_sympy(c) for c in b])
+                     for mode, power, point, b in ring_split]
+            self._rests[den] = split
+            return split
         split = []
         for mode, power in _z_poles(den, self.modes, self.field):
             factor = _mode_poly(mode.squared, self.field)
@@ -397,15 +464,72 @@ class _PoleTable:
         self._rests[den] = split
         return split
 
+    def _to_sympy(self, value) -> sp.Expr:
+        """A ring element as SymPy writes the field element of the same value."""
+        if all(c.denominator == 1 for c in value.values()):  # the field's own form
+            return value.as_expr()
+        return self.field.to_sympy(self.field.field.new(value))
+
+    def _ring_split(self, den: sp.Poly) -> list | None:
+        """:meth:`_split` in the polynomial ring, points and Taylor coefficients as ring
+        elements; None where it does not apply."""
+        if self.ring is None:
+            return None
+        coefficients = _ring_coefficients(den, self.ring)
+        if coefficients is None:
+            return None
+        key = tuple(coefficients)
+        try:
+            return self._ring_rests[key]
+        except KeyError:
+            pass
+        poles, remaining = [], coefficients
+        for mode in self.modes:
+            factor = _mode_poly(mode.squared, self.field)
+            point = _ring_element(self.field.convert(-factor.TC()), self.ring)
+            if point is None:
+                self._ring_rests[key] = None
+                return None
+            power = 0
+            while len(remaining) > 1:
+                quotient, remainder = _divide_linear(remaining, point)
+                if remainder:
+                    break
+                remaining, power = quotient, power + 1
+            if power:
+                poles.append((mode, power, point))
+        if len(remaining) > 1:
+            leftover = sp.Add(*[self._to_sympy(c) * Z**k
+                                for k, c in enumerate(reversed(remaining))])
+            raise AnalysisError(f"denominator factor {leftover} is not among the modes")
+        split = []
+        for mode, power, point in poles:
+            rest = coefficients
+            for _ in range(power):
+                rest, _ = _divide_linear(rest, point)
+            split.append((mode, power, point,
+                          _ring_taylor_head(rest, point, power, self.ring.zero)))
+        self._ring_rests[key] = split
+        return split
+
     def partial_fractions(self, num: sp.Poly, den: sp.Poly) -> list:
         """Partial fractions of num/den in z by residues: (coefficient, mode, power).
 
         ``den`` = κ Π (z + ω_i²)^(m_i); the coefficient of 1/(z + ω²)^(m − j) is the j-th
         Taylor coefficient at z = −ω² of num/rest, rest being den without that factor.
         """
+        numerator = None
+        if self._ring_split(den) is not None:
+            numerator = _ring_coefficients(num, self.ring)
         out = []
         for mode, power, point, b in self._split(den):
-            a = _taylor_head(num, point, power)
+            if numerator is not None:
+                a = [self._to_sympy(c) for c in
+                     _ring_taylor_head(numerator, point, power, self.ring.zero)]
+            elif isinstance(point, PolyElement):  # den split in the ring, num not
+                a = _taylor_head(num, self.field.field.new(point), power)
+            else:
+                a = _taylor_head(num, point, power)
             series: list = []
             for k in range(power):
                 acc = a[k] if k < len(a) else self.field.zero
@@ -415,6 +539,71 @@ class _PoleTable:
                 series.append(acc / b[0])
             out += [(series[j], mode, power - j) for j in range(power)]
         return out
+
+    def factored_fractions(self, num: sp.Poly, den: sp.Poly) -> list | None:
+        """:meth:`partial_fractions` with each nonzero coefficient as ``sp.factor`` gives
+        it (the same expressions), computed from the coefficient's value: None where the
+        ring does not apply.
+
+        The j-th coefficient at a pole of power m is S_j / b₀^(j+1) with
+        S_j = a_j b₀^j − Σ_{i=1..j} b_i S_(j−i) b₀^(i−1) (a: Taylor coefficients of num,
+        b: of the rest of den), all polynomials. ``sp.factor`` of a rational function is
+        its factorisation into SymPy's normalised irreducible factors (primitive, positive
+        leading coefficient) times a rational coefficient, whatever expression of it is
+        given; each distinct polynomial is factored once (SymPy's ``Poly.factor_list``).
+        """
+        split = self._ring_split(den)
+        if split is None:
+            return None
+        numerator = _ring_coefficients(num, self.ring)
+        if numerator is None:
+            return None
+        zero = self.ring.zero
+        out = []
+        for mode, power, point, b in split:
+            a = _ring_taylor_head(numerator, point, power, zero)
+            b0 = b[0]
+            series: list = []
+            for k in range(power):
+                acc = (a[k] if k < len(a) else zero) * b0**k
+                for i in range(1, k + 1):
+                    if i < len(b):
+                        acc -= b[i] * series[k - i] * b0 ** (i - 1)
+                series.append(acc)
+            out += [(self._factored(series[j], b0, j + 1), mode, power - j)
+                    for j in range(power) if series[j]]
+        return out
+
+    def _factored(self, numerator, denominator, power: int) -> sp.Expr:
+        """``sp.factor`` of numerator / denominator**power (ring elements)."""
+        coefficient, factors = sp.S.One, []
+        for value, exponent in ((numerator, 1), (denominator, -power)):
+            c, fs = self._factor_list(value)
+            coefficient *= c**exponent
+            factors += [(f, k * exponent) for f, k in fs]
+        return _keep_coeff(coefficient, sp.Mul(*[f**k for f, k in factors]))
+
+    def _factor_list(self, value) -> tuple[sp.Expr, list[tuple[sp.Expr, int]]]:
+        """SymPy's factor list of a nonzero ring element: its coefficient, then each
+        irreducible factor as an expression with its power.
+
+        Factored once per primitive polynomial with a positive leading coefficient
+        (values that differ by a rational factor share their irreducible factors).
+        """
+        domain = self.ring.domain
+        if value.is_ground:
+            return domain.to_sympy(value.LC), []
+        denominator, value = value.clear_denoms()
+        content, value = value.primitive()
+        if value.LC < 0:
+            content, value = -content, -value
+        try:
+            coefficient, factors = self._factor_lists[value]
+        except KeyError:
+            coefficient, factors = sp.Poly(value.as_expr()).factor_list()
+            factors = [(f.as_expr(), k) for f, k in factors]
+            self._factor_lists[value] = coefficient, factors
+        return coefficient * domain.to_sympy(content / denominator), factors
 
 
 # --------------------------------------------------------------------------------------
@@ -534,7 +723,6 @@ def factor_product(expr: sp.Expr) -> sp.Expr:
     still factored by SymPy's own ``Poly.factor_list`` and multiplied as ``sp.factor``
     does. Any other expression goes to ``sp.factor`` unchanged.
     """
-    from sympy.core.mul import _keep_coeff
     from sympy.polys import polyoptions
     from sympy.polys.polytools import _factors_product, _symbolic_factor_list
 
@@ -648,10 +836,8 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     Xd = inverse.times(Bd)
     s_elem = outer.from_sympy(s)
     table = _PoleTable(poles, inner)
-    if tidy is sp.factor:  # the same result, faster on these coefficients
-        tidy = factor_product
-    if tidy is not None:  # the same coefficient recurs across sources and states
-        tidy = functools.cache(tidy)
+    if tidy is not None and tidy is not sp.factor:  # (sp.factor: see _PoleTable)
+        tidy = functools.cache(tidy)  # the same coefficient recurs across sources and states
     responses: dict[str, sp.Matrix] = {}
     laplace: dict[str, list] = {}
     with factor_lists_remembered():
