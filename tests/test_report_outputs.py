@@ -97,8 +97,9 @@ def test_case_plots_equal_fresh_plain_matplotlib_figures(report, tmp_path, monke
     Each file must be byte for byte the figure drawn afresh for that case alone with
     matplotlib's own ``sharex=True``, formatting, label placement and title search: also
     when one curve stops early (NaN) and the others set the range, and across a change
-    of layout (a case without refined curves needs other panels). Each case is drawn
-    once each way: the reused figure is checked against all shortcuts undone at once."""
+    of layout (a case without refined curves needs other panels), and in a later call
+    that takes the figure an earlier call kept. Each case is drawn once each way: the
+    reused figure is checked against all shortcuts undone at once."""
     import matplotlib.pyplot as plt
 
     from ins_errors import figure_layout
@@ -115,6 +116,14 @@ def test_case_plots_equal_fresh_plain_matplotlib_figures(report, tmp_path, monke
     ours = plots.plot_comparisons(cases, [tmp_path / f"ours{k}.png" for k in range(3)],
                                   quantities=shown, titles=titles)
     assert ours[0].read_bytes() != ours[1].read_bytes()
+    kept = list(plots._SPARE_FIGURES.figures)
+    again = plots.plot_comparisons([second], [tmp_path / "again.png"], quantities=shown,
+                                   titles=titles[:1])[0]
+    assert plots._SPARE_FIGURES.figures[-1] in kept  # the first call's figure, redrawn
+    assert again.read_bytes() == ours[0].read_bytes()
+    fresh = plots._SpareFigures()
+    fresh.size = 0  # every plain figure built afresh, none kept
+    monkeypatch.setattr(plots, "_SPARE_FIGURES", fresh)
     subplots = plt.subplots
     monkeypatch.setattr(plt, "subplots", lambda *a, **k: subplots(*a, **k, sharex=True))
     monkeypatch.setattr(figure_layout, "_skip_hidden_label_layout", lambda axis: None)

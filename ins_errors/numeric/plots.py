@@ -7,6 +7,7 @@ hours; the conversion goes through the units library.
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -77,7 +78,9 @@ def plot_comparisons(comparisons: Sequence[Comparison], paths: Sequence[str | Pa
 
     The cases share one figure whose curves, limits and title are replaced case by
     case: the files are the same as drawing each case afresh, without building every
-    panel and tick again (most of matplotlib's cost for these many-panel figures).
+    panel and tick again (most of matplotlib's cost for these many-panel figures). The
+    last figures are kept for the next call with the same panels (quantities, units,
+    refined curves or not) and matplotlib settings, e.g. the next report of a session.
 
     Parameters
     ----------
@@ -104,7 +107,6 @@ def plot_comparisons(comparisons: Sequence[Comparison], paths: Sequence[str | Pa
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
     titles = list(titles) if titles is not None else [""] * len(comparisons)
     written, figure = [], None
@@ -114,32 +116,74 @@ def plot_comparisons(comparisons: Sequence[Comparison], paths: Sequence[str | Pa
                 [comparison])
             for q in shown:
                 comparison.metric(q)  # raises a one-line error for unknown names
-            layout = (tuple(shown), bool(comparison.refined))
+            layout = _ComparisonFigure.layout_of(comparison, shown)
             if figure is None or figure.layout != layout:
                 if figure is not None:
-                    plt.close(figure.fig)
-                figure = _ComparisonFigure(comparison, shown)
+                    _SPARE_FIGURES.keep(figure)
+                figure = _SPARE_FIGURES.take(layout) or _ComparisonFigure(comparison, shown)
             figure.show(comparison, title or comparison.label)
             written.append(save_figure(figure.fig, path, dpi=DPI, close=False))
+    except BaseException:
+        figure = None  # (a figure left half-drawn is not kept)
+        raise
     finally:
         if figure is not None:
-            plt.close(figure.fig)
+            _SPARE_FIGURES.keep(figure)
     return written
+
+
+class _SpareFigures:
+    """The last few comparison figures of this process, for calls with the same panels.
+
+    A figure is taken out while it is drawn (another thread gets a new one) and kept
+    with the matplotlib settings it was built with: it is reused only under the same.
+    """
+
+    size = 2
+    """Figures kept (each holds its drawing buffer, ~8 MB for ten rows)."""
+
+    def __init__(self):
+        self.figures: list[_ComparisonFigure] = []
+        self.lock = threading.Lock()
+
+    def take(self, layout: tuple) -> _ComparisonFigure | None:
+        """A kept figure with these panels and today's settings, removed from the store."""
+        import matplotlib
+
+        settings = dict(matplotlib.rcParams)
+        with self.lock:
+            for k, figure in enumerate(self.figures):
+                if figure.layout == layout and figure.settings == settings:
+                    return self.figures.pop(k)
+        return None
+
+    def keep(self, figure: _ComparisonFigure) -> None:
+        """Keep ``figure`` for a later call (the oldest kept ones beyond ``size`` go)."""
+        with self.lock:
+            self.figures.append(figure)
+            while len(self.figures) > self.size:
+                self.figures.pop(0)
+
+
+_SPARE_FIGURES = _SpareFigures()
 
 
 class _ComparisonFigure:
     """The panels of :func:`plot_comparison` for one layout, refilled case by case."""
 
     def __init__(self, comparison: Comparison, quantities: list[str]):
+        import matplotlib
         import matplotlib.pyplot as plt
 
-        self.layout = (tuple(quantities), bool(comparison.refined))
+        self.layout = self.layout_of(comparison, quantities)
+        self.settings = dict(matplotlib.rcParams)
         n = len(quantities)
         # every panel plots against the same times, so their time ranges agree without
         # sharex (sharing makes each axis visit all its siblings on every limit update
         # and draw: ~20 % of the figure's time with 20 panels); as sharex would, only the
         # bottom row labels the time ticks
         fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.5), squeeze=False)
+        plt.close(fig)  # (pyplot forgets it; the figure is still drawn and saved)
         share_time_axis(axes)
         self.fig, self.axes, self.lines = fig, axes, []
         for (curves, residuals), q in zip(axes, quantities, strict=True):
@@ -176,6 +220,12 @@ class _ComparisonFigure:
                             top=1 - 1.0 / height, wspace=0.95 / (width / 2),
                             hspace=0.4 / 1.75)
         self.columns = 2 * math.ceil(axes[0, 0].get_position().width * width * DPI)
+
+    @staticmethod
+    def layout_of(comparison: Comparison, quantities: Sequence[str]) -> tuple:
+        """What the panels depend on: the quantities, their units, refined curves or not."""
+        return (tuple(quantities), tuple(comparison.metric(q).unit for q in quantities),
+                bool(comparison.refined))
 
     def show(self, comparison: Comparison, title: str) -> None:
         """Put one case's curves, limits and title in the figure."""
