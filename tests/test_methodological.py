@@ -167,24 +167,51 @@ def test_cli_study_json_reports_the_integration_error(capsys):
 
 
 def _clear_study_caches() -> None:
-    for cached in (meth._symbolic_variant, meth._study_functions, meth._forcing_function,
-                   meth._study_loop):
+    for cached in (meth._symbolic_variant, meth._study_functions, meth._study_loop):
         cached.cache_clear()
 
 
-def test_shared_symbolic_pieces_give_the_results_of_fresh_ones():
-    """The per-process caches (the variant's SymPy pieces, its casadi functions shared by
-    every step and motion, its forcing) change no bit: a flight run after another run of
-    the same study equals the run from emptied caches, and each study keeps its own."""
+def _same_runs(a, b) -> bool:
+    return (all(np.array_equal(a.direct[n], b.direct[n]) and
+                np.array_equal(a.linear[n], b.linear[n]) for n in a.direct.names)
+            and np.array_equal(a.forcing, b.forcing))
+
+
+def test_kept_functions_give_the_results_of_freshly_derived_ones(tmp_path, monkeypatch):
+    """The simplified computer's casadi functions, shared by every run of a study in a
+    process and kept on disk between processes, change no bit: a flight run after
+    another run of the same study, a run from emptied caches (derived from SymPy) and a
+    run reading the kept file are equal; an unreadable or other-version file is derived
+    again; each study has its own file."""
+    from ins_errors.studies import function_cache
+
+    folder = tmp_path / "functions"
+    monkeypatch.setattr(function_cache, "cache_directory", lambda: folder)
     kwargs = dict(duration=2 * 3600.0, record_interval=1200.0, integration_error=False)
-    meth.run("coriolis", "static", tau=300.0, **kwargs)  # fills the caches
+    meth.run("coriolis", "static", tau=300.0, **kwargs)  # fills the per-process caches
     shared = meth.run("coriolis", "flight", tau=120.0, **kwargs)
     _clear_study_caches()
-    fresh = meth.run("coriolis", "flight", tau=120.0, **kwargs)
-    for name in fresh.direct.names:
-        assert np.array_equal(shared.direct[name], fresh.direct[name]), name
-        assert np.array_equal(shared.linear[name], fresh.linear[name]), name
-    assert np.array_equal(shared.forcing, fresh.forcing)
-    other = meth.run("gravity_projections", "flight", tau=120.0, **kwargs)
-    assert meth._study_functions("coriolis") is not meth._study_functions("no_gravity")
-    assert not np.array_equal(other.forcing, fresh.forcing)
+    fresh = meth.run("coriolis", "flight", tau=120.0, **kwargs)  # derived, then written
+    kept = list(folder.glob("methodological-no_coriolis-*.json"))
+    assert len(kept) == 1
+    derived = []
+    functions = meth._study_functions("no_coriolis")
+    monkeypatch.setattr(meth, "_derive_functions",
+                        lambda flag: derived.append(flag) or functions)
+    _clear_study_caches()
+    read = meth.run("coriolis", "flight", tau=120.0, **kwargs)
+    assert derived == []  # from the file, no SymPy
+    assert _same_runs(shared, fresh) and _same_runs(fresh, read)
+    kept[0].write_text("{not json", encoding="utf-8")
+    _clear_study_caches()
+    meth._study_functions("no_coriolis")
+    assert derived == ["no_coriolis"]  # the damaged file is derived again and replaced
+    _clear_study_caches()
+    meth._study_functions("no_coriolis")
+    assert derived == ["no_coriolis"]
+    monkeypatch.setattr(function_cache, "source_key", lambda: "0" * 32)  # other sources
+    _clear_study_caches()
+    meth._study_functions("no_coriolis")
+    assert derived == ["no_coriolis"] * 2
+    assert function_cache.read("methodological-no_gravity", meth.FUNCTION_NAMES) is None
+    _clear_study_caches()  # what this test's fakes put there

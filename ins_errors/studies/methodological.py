@@ -103,21 +103,8 @@ def study(name: str) -> Study:
 
 
 # --------------------------------------------------------------------------------------
-# Symbolic part: the simplified real work and the equivalent forcing, as numpy callables
+# Symbolic part: the simplified real work and the equivalent forcing, as casadi functions
 # --------------------------------------------------------------------------------------
-def _vector_function(args, expressions):
-    """numpy callable returning the stacked, broadcast expressions (shape (rows, ...))."""
-    import sympy as sp
-
-    f = sp.lambdify(args, list(expressions), modules="numpy", cse=True)
-
-    def call(*values):
-        rows = f(*values)
-        return np.stack(np.broadcast_arrays(*[np.asarray(r, dtype=float) for r in rows]))
-
-    return call
-
-
 @cache
 def _symbolic_variant(flag: str):
     """SymPy pieces of the computer simplified by ``flag``.
@@ -147,14 +134,6 @@ def _symbolic_variant(flag: str):
     return simple, real, forcing, jacobian
 
 
-@cache
-def _forcing_function(flag: str):
-    """``(x, u, p) -> d``, numpy: the equivalent source of the computer simplified by
-    ``flag`` (simplified minus exact right-hand side at the ideal point), shape (11, ...)."""
-    simple, _real, forcing, _jacobian = _symbolic_variant(flag)
-    return _vector_function([simple.x, simple.u, simple.p], forcing)
-
-
 def _casadi_function(name: str, arguments: list, result) -> ca.Function:
     """A casadi.Function of a SymPy matrix, through the project's code generator."""
     from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_casadi_builder, prepare
@@ -166,18 +145,12 @@ def _casadi_function(name: str, arguments: list, result) -> ca.Function:
     return namespace[f"_build_{name}"]()
 
 
-@cache
-def _study_functions(flag: str) -> tuple[ca.Function, ca.Function]:
-    """casadi.Functions of the computer simplified by ``flag`` (one per process and flag:
-    every step, duration and motion of a study shares them).
+FUNCTION_NAMES = ("direct", "linear_terms", "forcing")
+"""The casadi functions of one simplified computer, in :func:`_study_functions` order."""
 
-    Returns
-    -------
-    direct : casadi.Function
-        ``(xr, x, u, p) -> dxr/dt``, the simplified real work without instrument errors.
-    linear_terms : casadi.Function
-        ``(x, u, p, e) -> F~ e + d``, the right-hand side of the linear estimate.
-    """
+
+def _derive_functions(flag: str) -> tuple[ca.Function, ca.Function, ca.Function]:
+    """The casadi functions of the computer simplified by ``flag``, from SymPy (~1 s CPU)."""
     import sympy as sp
 
     simple, real, forcing, jacobian = _symbolic_variant(flag)
@@ -187,7 +160,50 @@ def _study_functions(flag: str) -> tuple[ca.Function, ca.Function]:
     linear_terms = _casadi_function(
         "simplified_linear", [*args, ("e", simple.xe)],
         jacobian * sp.Matrix(simple.xe) + forcing)
-    return direct, linear_terms
+    return direct, linear_terms, _casadi_function("equivalent_forcing", args, forcing)
+
+
+@cache
+def _study_functions(flag: str) -> tuple[ca.Function, ca.Function, ca.Function]:
+    """casadi.Functions of the computer simplified by ``flag``: once per process and flag
+    (every step, duration and motion of a study shares them), and kept on disk
+    (:mod:`ins_errors.studies.function_cache`) so that a new process skips the SymPy
+    derivation.
+
+    Returns
+    -------
+    direct : casadi.Function
+        ``(xr, x, u, p) -> dxr/dt``, the simplified real work without instrument errors.
+    linear_terms : casadi.Function
+        ``(x, u, p, e) -> F~ e + d``, the right-hand side of the linear estimate.
+    forcing : casadi.Function
+        ``(x, u, p) -> d``: simplified minus exact right-hand side at the ideal point.
+    """
+    from ins_errors.studies import function_cache
+
+    name = f"methodological-{flag}"
+    kept = function_cache.read(name, FUNCTION_NAMES)
+    if kept is not None:
+        return kept  # type: ignore[return-value]
+    functions = _derive_functions(flag)
+    function_cache.write(name, dict(zip(FUNCTION_NAMES, functions, strict=True)))
+    return functions
+
+
+def _forcing_function(flag: str):
+    """``(x, u, p) -> d``, numpy: the equivalent source of the computer simplified by
+    ``flag``, shape (11,) for one point or (11, N) for N columns of ``x`` and ``u``
+    (``p`` is one parameter vector)."""
+    forcing = _study_functions(flag)[2]
+
+    def call(x, u, p):
+        x, u, p = (np.asarray(v, dtype=float) for v in (x, u, p))
+        if x.ndim == 1:
+            return np.asarray(forcing(x, u, p)).reshape(-1)
+        columns = x.shape[1]
+        return np.asarray(forcing.map(columns)(x, u, np.repeat(p[:, None], columns, axis=1)))
+
+    return call
 
 
 @cache
@@ -195,13 +211,13 @@ def _study_loop(flag: str, tau: float, stride: int, p: tuple[float, ...],
                 constant_inputs: tuple[float, ...] | None, chunk: int) -> CompiledLoop:
     """Compiled RK4 loop of ``z = [x, x~, e]``: ideal work, simplified real work, and the
     linear estimate ``ė = F~ e + d``."""
-    simple = _symbolic_variant(flag)[0]
-    direct, linear_terms = _study_functions(flag)
+    direct, linear_terms, _forcing = _study_functions(flag)
     model = load_model("orthodromic")
     ideal = model.casadi.function("ideal_rhs")
-    n, ne = len(simple.x), len(simple.real_states)
-    z, u = ca.SX.sym("z", n + 2 * ne), ca.SX.sym("u", len(simple.u))
-    par, none = ca.SX.sym("p", len(simple.p)), ca.SX.sym("none", 0)
+    # direct(xr, x, u, p): the sizes of the real and ideal states, inputs and parameters
+    ne, n, nu, npar = (direct.size1_in(k) for k in range(4))
+    z, u = ca.SX.sym("z", n + 2 * ne), ca.SX.sym("u", nu)
+    par, none = ca.SX.sym("p", npar), ca.SX.sym("none", 0)
     x, xr, e = z[:n], z[n:n + ne], z[n + ne:]
     rhs = ca.Function("study_rhs", [z, u, none, par],
                       [ca.vertcat(ideal(x, u, par), direct(xr, x, u, par),

@@ -1,0 +1,104 @@
+"""casadi functions derived from SymPy at run time, kept on disk between processes.
+
+A methodological study's simplified computer takes about 1 s CPU of SymPy work to
+derive in each new process. Its casadi functions are kept, in casadi's own
+serialisation, in ``$INS_ERRORS_CACHE/functions`` (or the user cache folder next to the
+compiled loops): one JSON file per name and key. The key is the SHA-256 of every Python
+source file of the package together with the versions of SymPy and casadi, so that a
+changed model, code generator or library gives another key and a kept file is never
+used for other code. At most :data:`KEEP_VERSIONS` files of one name are kept (the
+least recently used are deleted), a few tens of kB each. A file that cannot be read is
+derived again; a cache folder that cannot be written only costs the derivation.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import json
+import os
+import re
+from collections.abc import Mapping, Sequence
+from functools import cache
+from pathlib import Path
+
+import casadi as ca
+
+FORMAT = 1
+"""Version of the file layout (part of the key)."""
+
+KEEP_VERSIONS = 3
+"""Files of one name kept in the folder (other source versions, e.g. other checkouts)."""
+
+
+def cache_directory() -> Path:
+    """``$INS_ERRORS_CACHE/functions``, or ``functions`` next to the compiled loops'
+    folder in the user cache."""
+    from ins_errors.numeric.cache import directory
+
+    root = os.environ.get("INS_ERRORS_CACHE")
+    return (Path(root) if root else directory().parent) / "functions"
+
+
+@cache
+def source_key() -> str:
+    """SHA-256 (32 hex digits) of the package's Python sources and of the SymPy and
+    casadi versions. Read once per process: the code that runs is the code imported."""
+    from importlib.metadata import version
+
+    package = Path(__file__).resolve().parents[1]
+    digest = hashlib.sha256(f"format {FORMAT}; casadi {ca.__version__}; "
+                            f"sympy {version('sympy')}".encode())
+    for path in sorted(package.rglob("*.py")):
+        data = path.read_bytes()
+        digest.update(f"\n{path.relative_to(package).as_posix()} {len(data)}\n".encode())
+        digest.update(data)
+    return digest.hexdigest()[:32]
+
+
+def _file(name: str) -> Path:
+    return cache_directory() / f"{name}-{source_key()}.json"
+
+
+def read(name: str, names: Sequence[str]) -> tuple[ca.Function, ...] | None:
+    """The functions ``names`` kept under ``name`` for this source key, or None when
+    there is no readable file."""
+    path = _file(name)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+        functions = tuple(ca.Function.deserialize(data[n]) for n in names)
+    except (OSError, ValueError, KeyError, TypeError, RuntimeError):
+        return None
+    if any(f.is_null() for f in functions):  # e.g. an empty string deserialises to NULL
+        return None
+    with contextlib.suppress(OSError):
+        os.utime(path)  # last use, for the pruning order
+    return functions
+
+
+def write(name: str, functions: Mapping[str, ca.Function]) -> None:
+    """Keep ``functions`` under ``name`` for this source key (atomically; best effort)."""
+    path = _file(name)
+    text = json.dumps({n: f.serialize() for n, f in functions.items()})
+    scratch = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        scratch.write_text(text, encoding="utf-8")
+        os.replace(scratch, path)
+        _prune(path, name)
+    except OSError:
+        scratch.unlink(missing_ok=True)
+
+
+def _prune(current: Path, name: str) -> None:
+    """Delete the least recently used files of ``name`` beyond :data:`KEEP_VERSIONS`."""
+    pattern = re.compile(re.escape(name) + r"-[0-9a-f]{32}\.json")
+    others = []
+    for path in current.parent.iterdir():
+        if path != current and pattern.fullmatch(path.name):
+            try:
+                others.append((path.stat().st_mtime, path))
+            except OSError:
+                continue  # removed meanwhile
+    for _, path in sorted(others, reverse=True)[KEEP_VERSIONS - 1:]:
+        path.unlink(missing_ok=True)
