@@ -466,3 +466,42 @@ def test_kept_propagations_equal_fresh_ones_and_change_no_report(strapdown_motio
     changed = A.copy()
     changed[5, 0, 1] += 1e-9
     assert not np.array_equal(mc._transition(changed, motion.times, at)[1], first[1])
+
+
+def test_stored_motions_are_the_flown_ones_to_the_bit(tmp_path, monkeypatch):
+    """The motions read back from the on-disk store (the next `ins-errors check` process)
+    are the flown ones bit for bit (samples and navigation arrays), so they give the same
+    reports; another request is another file, an unreadable file is flown again, and the
+    store keeps at most KEEP files."""
+    from ins_errors.checker import motion_store
+
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))
+    fly = mc._motions.__wrapped__  # past the per-process cache
+    flown = fly(MODEL, 2.0, 600.0, None)
+    (stored,) = (tmp_path / "motions").glob("*.npz")
+    read = fly(MODEL, 2.0, 600.0, None)
+    assert [m.label for m in read] == ["static", "cruise", "manoeuvre"]
+    for a, b in zip(flown, read, strict=True):
+        assert (a.label, a.description) == (b.label, b.description)
+        for name in ("times", "x", "u", "p"):
+            assert np.array_equal(getattr(a, name), getattr(b, name)), name
+        assert a.navigation.keys() == b.navigation.keys()
+        assert all(np.array_equal(a.navigation[k], b.navigation[k]) for k in a.navigation)
+    model = load_model(MODEL)
+    p = model.parameter_vector()
+    keys = {motion_store.key(model, 2.0, 600.0, None, p),
+            motion_store.key(model, 2.0, 300.0, None, p),
+            motion_store.key(model, 3.0, 600.0, None, p),
+            motion_store.key(model, 2.0, 600.0, "wgs84", model.parameter_vector(
+                ellipsoid="wgs84")),
+            motion_store.key(model, 2.0, 600.0, None, p * (1 + 1e-15))}
+    assert len(keys) == 5 and stored.stem in keys
+    stored.write_bytes(b"not a store")
+    again = fly(MODEL, 2.0, 600.0, None)
+    assert np.array_equal(again[2].x, flown[2].x)
+    assert motion_store.load(stored.stem) is not None  # written anew
+    for i in range(motion_store.KEEP + 3):
+        motion_store.store(f"extra_{i}", [("static", "", {f: np.zeros(2) for f in
+                                                           motion_store.FIELDS})])
+    assert len(list((tmp_path / "motions").glob("*.npz"))) == motion_store.KEEP
+    assert not list((tmp_path / "motions").glob("*.tmp"))

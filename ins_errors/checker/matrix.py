@@ -40,6 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ins_errors.checker import motion_store
 from ins_errors.checker.classify import (
     COEFFICIENT,
     EXTRA,
@@ -193,12 +194,27 @@ def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | No
 @one_blas_thread
 def _motions(model_name: str, hours: float, step: float, ellipsoid: str | None
              ) -> tuple[Motion, ...]:
-    """Motions of :func:`motions`, kept for the next check in the same process."""
-    from ins_errors.numeric import trajectories as tr
+    """Motions of :func:`motions`, kept for the next check in the same process (and on
+    disk for the next process: :mod:`~ins_errors.checker.motion_store`)."""
     from ins_errors.numeric.model import load_model
 
     model = load_model(model_name)
     p = model.parameter_vector(ellipsoid=ellipsoid)
+    name = motion_store.key(model, hours, step, ellipsoid, p)
+    flown = motion_store.load(name)
+    if flown is None:
+        flown = _fly(model, hours, step, p)
+        motion_store.store(name, flown)
+    return tuple(Motion(label, description, a["times"], a["x"], a["u"], a["p"],
+                        navigation_arrays(model, a["x"], a["u"], a["p"]))
+                 for label, description, a in flown)
+
+
+def _fly(model, hours: float, step: float, p: np.ndarray
+         ) -> list[tuple[str, str, dict[str, np.ndarray]]]:
+    """(label, description, {times, x, u, p}) of each motion, flown."""
+    from ins_errors.numeric import trajectories as tr
+
     if model.name == "strapdown_ned":
         runs = _strapdown_runs(model, hours, step, p)
     else:
@@ -210,10 +226,12 @@ def _motions(model_name: str, hours: float, step: float, ellipsoid: str | None
         steps = np.arange(run.n_steps + 1)
         x = (np.repeat(run.truth[:, :1], steps.size, axis=1) if run.constant
              else run.truth)
-        u = run.inputs_at(steps)
-        out.append(Motion(label, description, run.times, x, u, run.parameters,
-                          navigation_arrays(model, x, u, run.parameters)))
-    return tuple(out)
+        arrays = {"times": run.times, "x": x, "u": run.inputs_at(steps), "p": run.parameters}
+        # C order, as read back from the store: a check on flown motions and one on
+        # stored motions do the same arithmetic
+        out.append((label, description, {f: np.ascontiguousarray(a, dtype=float)
+                                          for f, a in arrays.items()}))
+    return out
 
 
 # --------------------------------------------------------------------------------------

@@ -1,0 +1,105 @@
+"""The matrix check's flown motions, kept on disk for the next ``ins-errors check``.
+
+Every matrix or ``@convention`` check flies the same three motions of its model (a day
+at 60-s samples: for the strapdown model a fine numerical integration of each flight,
+about a second of CPU), and a researcher runs the check again and again on their own
+file. The flown samples (times, ideal states, inputs, parameters) are stored once per
+model, length, step, Earth shape and code version in ``$INS_ERRORS_CACHE/motions``
+(or ``motions/`` next to the compiled loops in the user cache folder), as ``.npz``
+files, and read back exactly (the same bits: the reports cannot change).
+
+The key holds everything the samples follow from: the model's generated numeric code
+(its file's bytes), the request, the parameter vector, the source of the checker's
+motion definitions and of the numeric package that flies them, and the versions of
+Python, NumPy and SciPy. Any change there is a new key (the stale file is never read);
+only the :data:`KEEP` most recently used files are kept. A file that cannot be read or
+written is no error: the motions are then flown as before.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import sys
+import tempfile
+from functools import cache
+from pathlib import Path
+
+import numpy as np
+
+KEEP = 16
+"""Stored motion sets kept (the most recently used)."""
+FIELDS = ("times", "x", "u", "p")
+"""Arrays stored per motion (see :class:`ins_errors.checker.matrix.Motion`)."""
+
+
+def folder() -> Path:
+    """``$INS_ERRORS_CACHE/motions``, or ``motions`` next to the compiled loops."""
+    from ins_errors.numeric.cache import directory
+
+    root = os.environ.get("INS_ERRORS_CACHE")
+    return (Path(root) if root else directory().parent) / "motions"
+
+
+@cache
+def _code_version() -> str:
+    """Hash of the source files the flown samples follow from (read once per process)."""
+    import scipy
+
+    checker = Path(__file__).resolve().parent
+    numeric = checker.parent / "numeric"
+    digest = hashlib.sha256()
+    for path in [checker / "matrix.py", *sorted(numeric.glob("*.py"))]:
+        digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    digest.update(f"{sys.version}|{np.__version__}|{scipy.__version__}".encode())
+    return digest.hexdigest()
+
+
+def key(model, hours: float, step: float, ellipsoid: str | None, p: np.ndarray) -> str:
+    """The file name (without suffix) of one request's motions."""
+    digest = hashlib.sha256()
+    digest.update(_code_version().encode())
+    digest.update(Path(model.numpy.__file__).read_bytes())
+    digest.update(repr((model.key, float(hours), float(step), ellipsoid)).encode())
+    digest.update(np.ascontiguousarray(p, dtype=float).tobytes())
+    return f"{model.name}_{digest.hexdigest()[:32]}"
+
+
+def load(name: str) -> list[tuple[str, str, dict[str, np.ndarray]]] | None:
+    """The stored motions ``(label, description, arrays)``, or None if not stored."""
+    path = folder() / f"{name}.npz"
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            labels = [str(s) for s in data["labels"]]
+            descriptions = [str(s) for s in data["descriptions"]]
+            out = [(label, text, {f: data[f"{i}_{f}"] for f in FIELDS})
+                   for i, (label, text) in enumerate(zip(labels, descriptions, strict=True))]
+        os.utime(path)  # most recently used
+    except (OSError, KeyError, ValueError):
+        return None
+    return out
+
+
+def store(name: str, motions: list[tuple[str, str, dict[str, np.ndarray]]]) -> None:
+    """Store ``motions`` under ``name`` (atomically) and drop the oldest beyond :data:`KEEP`."""
+    target = folder()
+    arrays = {"labels": np.array([m[0] for m in motions]),
+              "descriptions": np.array([m[1] for m in motions])}
+    for i, (_, _, fields) in enumerate(motions):
+        arrays.update({f"{i}_{f}": np.asarray(fields[f]) for f in FIELDS})
+    temporary = None
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=target, suffix=".tmp")
+        with os.fdopen(handle, "wb") as out:
+            np.savez(out, **arrays)
+        os.replace(temporary, target / f"{name}.npz")
+        temporary = None
+        kept = sorted(target.glob("*.npz"), key=lambda f: f.stat().st_mtime, reverse=True)
+        for old in kept[KEEP:]:
+            old.unlink(missing_ok=True)
+    except OSError:
+        pass  # no store: the next check flies the motions again
+    finally:
+        if temporary is not None:
+            Path(temporary).unlink(missing_ok=True)
