@@ -114,3 +114,45 @@ def test_a_frozen_zero_keeps_its_sign():
         assert np.array_equal(runs[0].view(np.int64), runs[1].view(np.int64))
         assert runs[0][1, -1] == np.copysign(np.inf, zero)   # 1 + 0.5 / (3 * ±0)
         assert np.signbit(runs[0][0, -1]) == np.signbit(zero)
+
+
+def test_what_a_loop_freezes_is_kept_with_its_library(tmp_path, monkeypatch):
+    """The frozen set is found once (it needs the step's graph) and kept as a note in the
+    cache folder: a new loop of the same description run from the same states reads it
+    back and runs its cached library without building any graph, to the same bits;
+    other per-case constants read the same note (they never decide it), other start
+    states get their own, and with the notes gone everything is found again."""
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))
+    if integ._compiler() is None:
+        pytest.skip("no C compiler")
+    z0 = np.array([[0.0, 0.0], [1.0, 1.0], [0.25, 0.25], [0.7, 0.7]])
+    w = np.array([[0.5, -1.5]])
+    first = _toy_loop(True, 2).run(z0, w, 60).states
+    notes = tmp_path / "notes"
+    assert len(list(notes.glob("frozen_*"))) == 1
+
+    def no_graph():
+        raise AssertionError("the step's graph was built")
+
+    again = _toy_loop(True, 2)
+    again._graph = no_graph
+    assert again._frozen(again.start(z0, w)) == ((1, 1.0), (3, 0.7))
+    assert np.array_equal(again.run(z0, w, 60).states.view(np.int64), first.view(np.int64))
+    other_w = again.run(z0, np.array([[0.0, 2.5]]), 60).states
+    virtual = _toy_loop(False, 2)
+    assert np.array_equal(other_w.view(np.int64),
+                          virtual.run(z0, np.array([[0.0, 2.5]]), 60).states.view(np.int64))
+    assert len(list(notes.glob("frozen_*"))) == 1
+    z1 = z0.copy()
+    z1[3, 1] = 0.8   # e differs between the cases: e is no longer frozen
+    moved = _toy_loop(True, 2)
+    assert moved._frozen(moved.start(z1, w)) == ((1, 1.0),)
+    assert len(list(notes.glob("frozen_*"))) == 2
+    assert np.array_equal(moved.run(z1, w, 60).states.view(np.int64),
+                          virtual.run(z1, w, 60).states.view(np.int64))
+    from ins_errors.numeric import cache
+
+    cache.clear(tmp_path)
+    assert not notes.exists()
+    fresh = _toy_loop(True, 2)
+    assert np.array_equal(fresh.run(z0, w, 60).states.view(np.int64), first.view(np.int64))

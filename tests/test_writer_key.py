@@ -111,7 +111,7 @@ def test_the_fingerprint_is_kept_on_disk_and_checked(tmp_path, monkeypatch, inst
     wk.installed_fingerprint.cache_clear()
     try:
         assert wk.installed_fingerprint() == installed
-        [memo] = tmp_path.glob("writer_*.key")
+        [memo] = (tmp_path / "notes").glob("writer_*")
 
         def no_walking(*args):
             raise AssertionError("the syntax trees were read again")

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import hashlib
 import os
+import shutil
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -28,6 +30,13 @@ DEFAULT_LIMIT_MB = 200.0
 
 PATTERN = "loop_*.so"
 """File names of compiled libraries in the cache."""
+
+NOTES = "notes"
+"""Subfolder of small notes that spare work on a cache hit (what a loop freezes, the
+fingerprint of the code that writes loops): each named by a hash of what it answers."""
+
+NOTE_LIMIT = 4096
+"""Most notes kept; writing one beyond it deletes the older half."""
 
 
 def directory() -> Path:
@@ -77,6 +86,32 @@ def touch(library: Path) -> None:
         _mark(library)
     except OSError:
         pass  # a read-only cache still works; only its order is not kept
+
+
+def read_note(name: str) -> str | None:
+    """The note ``name`` (:data:`NOTES`), or None when there is none or it cannot be read."""
+    try:
+        return (directory() / NOTES / name).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError):
+        return None
+
+
+def write_note(name: str, text: str) -> None:
+    """Keep ``text`` as the note ``name`` (atomically; nothing happens where the folder
+    cannot be written). Beyond :data:`NOTE_LIMIT` notes the older half is deleted."""
+    folder = directory() / NOTES
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        scratch = folder / f".{name}.{os.getpid()}.{threading.get_ident()}"
+        scratch.write_text(text, encoding="utf-8")
+        os.replace(scratch, folder / name)
+        notes = [path for path in folder.iterdir() if not path.name.startswith(".")]
+        if len(notes) > NOTE_LIMIT:
+            notes.sort(key=lambda path: path.stat().st_mtime)
+            for path in notes[:len(notes) // 2]:
+                path.unlink(missing_ok=True)
+    except OSError:
+        pass
 
 
 def register(library: Path) -> None:
@@ -153,7 +188,8 @@ def _remove(folder: Path, library: Path) -> bool:
 
 
 def clear(folder: Path | None = None, checkout_only: bool = False) -> tuple[int, int]:
-    """Delete compiled libraries: all of them, or those this checkout used and no other.
+    """Delete compiled libraries: all of them (and the notes), or those this checkout used
+    and no other.
 
     Returns
     -------
@@ -166,6 +202,7 @@ def clear(folder: Path | None = None, checkout_only: bool = False) -> tuple[int,
         return 0, 0
     if not checkout_only:
         targets = [e for e in entries(folder)]
+        shutil.rmtree(folder / NOTES, ignore_errors=True)
     else:
         mine = _owners(folder) / checkout_id()
         others = {m.name for d in _owners(folder).glob("*") if d != mine and d.is_dir()

@@ -932,6 +932,37 @@ class CompiledLoop:
         return chunk_fn, single_fn, None
 
     def _frozen(self, carry: np.ndarray) -> tuple[tuple[int, float], ...]:
+        """State components that stay exactly at their start in every case of a run
+        (:meth:`_frozen_probed`), as ``(index, value)``.
+
+        Finding them needs the step's graph, which a loop whose library is cached is
+        otherwise never built for (~20 ms for a strapdown step, the most a warm run
+        spends outside the loop), so the answer is kept as a note of the cache folder
+        (:func:`ins_errors.numeric.cache.write_note`) named by the hash of the loop's
+        key (everything its C is written from, :func:`_functions_key`) and the start
+        states (it depends on nothing else: never on the per-case constants).
+        """
+        if not (self.constant_inputs and self._jit):
+            return ()
+        name = None
+        if self._key is not None:
+            start = np.ascontiguousarray(carry[:, :self.nz])
+            name = "frozen_" + hashlib.sha256(
+                f"{self._key} {start.shape}".encode() + start.tobytes()).hexdigest()[:32]
+            note = cache.read_note(name)
+            if note is not None and note.startswith("frozen\n"):
+                try:
+                    return tuple((int(i), float.fromhex(v)) for i, v in
+                                 (line.split(" ") for line in note.split("\n")[1:] if line))
+                except ValueError:
+                    pass
+        frozen = self._frozen_probed(carry)
+        if name is not None:
+            cache.write_note(name, "frozen\n" + "".join(f"{i} {v.hex()}\n"
+                                                         for i, v in frozen))
+        return frozen
+
+    def _frozen_probed(self, carry: np.ndarray) -> tuple[tuple[int, float], ...]:
         """State components that stay exactly at their start in every case of a run.
 
         A component is frozen when every case starts it at the same finite value, one step
@@ -940,8 +971,6 @@ class CompiledLoop:
         sources): then every later step computes it from the same numbers by the same
         operations, so it never moves. Typically the ideal work on a static base.
         """
-        if not (self.constant_inputs and self._jit):
-            return ()
         if self._probe is None:
             z_next = self._graph()[1]
             self._probe = ca.Function("ins_probe", [self._carry_sym], [z_next])

@@ -17,7 +17,6 @@ from __future__ import annotations
 import ast
 import hashlib
 import importlib.util
-import os
 import sys
 from collections.abc import Iterator, Mapping
 from functools import cache
@@ -25,9 +24,10 @@ from functools import cache
 ROOTS: dict[str, tuple[str, ...]] = {
     "ins_errors.numeric.integrators": (
         "compile_library", "compile_source", "_functions_key", "CompiledLoop.__init__",
-        "CompiledLoop._build"),
+        "CompiledLoop._build", "CompiledLoop._frozen_probed"),
 }
-"""Where the C text of a compiled library is written and built (module: qualified names)."""
+"""Where the C text of a compiled library is written and built (module: qualified names);
+``_frozen_probed`` chooses the numbers a time-invariant loop's C is written with."""
 
 OTHERS: frozenset[str] = frozenset({
     # run-time bookkeeping: where the library goes, what is said, how it is called
@@ -212,33 +212,26 @@ def _text_hash(text: str) -> str:
 def installed_fingerprint() -> str:
     """:func:`fingerprint` of the code this process imported, made once per process.
 
-    Reading the syntax trees takes ~50 ms, so the result is also kept in the cache
-    folder under the hash of the texts of :data:`MEMO_MODULES` (and the Python version,
-    which shapes the trees), with the hashes of any other module it read, checked on
-    reading (~1 ms). A folder that cannot be read or written only costs the time.
+    Reading the syntax trees takes ~50 ms, so the result is also kept as a note of the
+    cache folder (:func:`ins_errors.numeric.cache.write_note`) under the hash of the
+    texts of :data:`MEMO_MODULES` (and the Python version, which shapes the trees), with
+    the hashes of any other module it read, checked on reading (~1 ms). A folder that
+    cannot be read or written only costs the time.
     """
     from ins_errors.numeric import cache as disk
 
     texts = {m: _source(m, {}) or "" for m in MEMO_MODULES}
-    name = _text_hash(sys.version + "".join(texts[m] for m in MEMO_MODULES))[:24]
-    memo = disk.directory() / f"writer_{name}.key"
-    try:
-        lines = memo.read_text(encoding="utf-8").split("\n")
+    name = "writer_" + _text_hash(sys.version + "".join(texts[m] for m in MEMO_MODULES))[:24]
+    note = disk.read_note(name)
+    if note is not None:
+        lines = note.split("\n")
         value, others = lines[0], [line.split(" ") for line in lines[1:] if line]
         if len(value) == 64 and all(len(o) == 2 and _text_hash(_source(o[0], {}) or "") == o[1]
                                     for o in others):
             return value
-    except (OSError, ValueError):
-        pass
     code = writer_code()
     value = _digest(code)
     visited = sorted({key.split(":")[0] for key in code} - set(MEMO_MODULES))
     lines = [value, *(f"{m} {_text_hash(_source(m, {}) or '')}" for m in visited)]
-    try:
-        memo.parent.mkdir(parents=True, exist_ok=True)
-        scratch = memo.with_name(f"{memo.name}.{os.getpid()}")
-        scratch.write_text("\n".join(lines) + "\n", encoding="utf-8")
-        os.replace(scratch, memo)
-    except OSError:
-        pass
+    disk.write_note(name, "\n".join(lines) + "\n")
     return value
