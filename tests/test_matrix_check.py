@@ -434,11 +434,13 @@ def test_a_hand_function_that_changes_its_arguments_is_refused(tmp_path):
                for (nav, imu), (v, f) in zip(kept, before, strict=True))
 
 
-def test_kept_propagations_equal_fresh_ones_and_change_no_report(strapdown_motions):
+def test_kept_propagations_equal_fresh_ones_and_change_no_report(strapdown_motions, tmp_path,
+                                                                  monkeypatch):
     """A propagation kept from an earlier check (same content of A, times and instants)
     is what a fresh computation gives, to the bit, and read-only; a check after others
     (the kept derived model and single-entry changes) reports exactly what it reports
-    with nothing kept."""
+    with nothing kept (in the process or on disk)."""
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))  # an empty store on disk
     spec = f"{PSI.parent / 'psi_model_sign_error.py'}:psi_model_sign_error"
 
     def report():
@@ -505,3 +507,36 @@ def test_stored_motions_are_the_flown_ones_to_the_bit(tmp_path, monkeypatch):
                                                            motion_store.FIELDS})])
     assert len(list((tmp_path / "motions").glob("*.npz"))) == motion_store.KEEP
     assert not list((tmp_path / "motions").glob("*.tmp"))
+
+
+def test_stored_propagations_are_the_computed_ones_to_the_bit(tmp_path, monkeypatch):
+    """A propagation read back from the on-disk store (the next process) is the computed
+    one bit for bit; a damaged file is computed again; other instants are another
+    entry; pruning keeps the most recently used files."""
+    from collections import OrderedDict
+
+    from ins_errors.checker import propagation_store
+
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))
+    rng = np.random.default_rng(5)
+    times = np.arange(0.0, 3601.0, 60.0)
+    A = 1e-3 * rng.standard_normal((times.size, 6, 6))
+    expected = mc._transition_of(A, times, [1800.0, 3600.0])
+
+    def fresh(at):
+        monkeypatch.setattr(mc, "_KEPT_TRANSITIONS", OrderedDict())  # a new process
+        return mc._transition(A, times, at)
+
+    first = fresh([1800.0, 3600.0])
+    (stored,) = (tmp_path / "transitions").glob("*.npy")
+    second = fresh([1800.0, 3600.0])
+    for got in (first, second):
+        assert all(np.array_equal(g, e) for g, e in zip(got, expected, strict=True))
+    stored.write_bytes(b"damaged")
+    again = fresh([1800.0, 3600.0])
+    assert all(np.array_equal(g, e) for g, e in zip(again, expected, strict=True))
+    assert propagation_store.load(stored.stem) is not None  # written anew
+    fresh([3600.0])
+    assert len(list((tmp_path / "transitions").glob("*.npy"))) == 2
+    propagation_store.prune(tmp_path / "transitions", 1)
+    assert len(list((tmp_path / "transitions").glob("*.npy"))) == 1

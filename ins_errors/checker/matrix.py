@@ -40,7 +40,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ins_errors.checker import motion_store
+from ins_errors.checker import motion_store, propagation_store
 from ins_errors.checker.classify import (
     COEFFICIENT,
     EXTRA,
@@ -584,13 +584,18 @@ def _transition(A: np.ndarray, times: np.ndarray, at: list[float]) -> list[np.nd
 
     Kept for the next check in the same process, by the content of ``A``, ``times`` and
     ``at`` (checks of the same model on the same motions propagate the same derived model,
-    and mostly the same single-entry changes of it); the kept matrices are read-only.
+    and mostly the same single-entry changes of it), and on disk for the next process
+    (:mod:`~ins_errors.checker.propagation_store`); the kept matrices are read-only.
     """
     key = (A.shape, A.dtype.str, _digest(A), _digest(np.asarray(times, dtype=float)),
            tuple(float(t) for t in at))
     kept = _KEPT_TRANSITIONS.get(key)
     if kept is None:
-        kept = tuple(_transition_of(A, times, at))
+        stored = propagation_store.name(key)
+        kept = propagation_store.load(stored)
+        if kept is None or len(kept) != len(at) or kept[0].shape != A.shape[1:]:
+            kept = tuple(_transition_of(A, times, at))
+            propagation_store.store(stored, kept)
         for phi in kept:
             phi.setflags(write=False)
         _KEPT_TRANSITIONS[key] = kept

@@ -42,7 +42,7 @@ def folder() -> Path:
 
 
 @cache
-def _code_version() -> str:
+def code_version() -> str:
     """Hash of the source files the flown samples follow from (read once per process)."""
     import scipy
 
@@ -58,7 +58,7 @@ def _code_version() -> str:
 def key(model, hours: float, step: float, ellipsoid: str | None, p: np.ndarray) -> str:
     """The file name (without suffix) of one request's motions."""
     digest = hashlib.sha256()
-    digest.update(_code_version().encode())
+    digest.update(code_version().encode())
     digest.update(Path(model.numpy.__file__).read_bytes())
     digest.update(repr((model.key, float(hours), float(step), ellipsoid)).encode())
     digest.update(np.ascontiguousarray(p, dtype=float).tobytes())

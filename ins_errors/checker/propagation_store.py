@@ -1,0 +1,99 @@
+"""The matrix check's propagations, kept on disk for the next ``ins-errors check``.
+
+A matrix check propagates the derived model, the hand model and the derived model with
+each finding's entry replaced, over a day of samples (a product of ~1,440 step
+exponentials each, :func:`ins_errors.checker.matrix._transition`). The next check of
+the same model along the same motions propagates mostly the same matrices again (the
+derived model always; the hand's entries until the researcher changes them). Each
+result is stored under the content of its inputs (the digests of the sampled matrix
+stack, of the sample times and the requested instants: the key the process already
+keeps them under) and the code version (:func:`~ins_errors.checker.motion_store.
+code_version`), in ``transitions/`` beside the stored motions, and read back exactly.
+
+At most :data:`KEEP` files are kept (a few kB each); the oldest are dropped by the first
+store of each process. A file that cannot be read or written is no error: the
+propagation is then computed as before.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import os
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.checker.motion_store import code_version
+from ins_errors.checker.motion_store import folder as motions_folder
+
+KEEP = 4096
+"""Stored propagations kept (the most recently used; ~2-8 kB each)."""
+
+_pruned: list[bool] = []
+
+
+def folder() -> Path:
+    """``transitions/`` next to the stored motions."""
+    return motions_folder().parent / "transitions"
+
+
+def name(key: tuple) -> str:
+    """File name (without suffix) of the propagation kept in process under ``key``."""
+    digest = hashlib.sha256(code_version().encode())
+    digest.update(repr(key).encode())
+    return digest.hexdigest()[:40]
+
+
+def load(name: str) -> tuple[np.ndarray, ...] | None:
+    """The stored transition matrices, or None if not stored."""
+    path = folder() / f"{name}.npy"
+    try:
+        stack = np.load(path, allow_pickle=False)
+    except (OSError, ValueError):
+        return None
+    if stack.ndim != 3:
+        return None
+    with contextlib.suppress(OSError):
+        os.utime(path)  # most recently used
+    return tuple(np.array(phi) for phi in stack)
+
+
+def store(name: str, phis: tuple[np.ndarray, ...]) -> None:
+    """Store ``phis`` under ``name`` (atomically); the first store of a process drops the
+    oldest files beyond :data:`KEEP`."""
+    target = folder()
+    temporary = None
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+        handle, temporary = tempfile.mkstemp(dir=target, suffix=".tmp")
+        with os.fdopen(handle, "wb") as out:
+            np.save(out, np.array(phis))
+        os.replace(temporary, target / f"{name}.npy")
+        temporary = None
+        if not _pruned:
+            _pruned.append(True)
+            prune(target, KEEP)
+    except OSError:
+        pass  # not stored: computed again next time
+    finally:
+        if temporary is not None:
+            Path(temporary).unlink(missing_ok=True)
+
+
+def prune(target: Path, keep: int) -> None:
+    """Delete all but the ``keep`` most recently used files of ``target``."""
+    with os.scandir(target) as entries:
+        files = [e for e in entries if e.name.endswith(".npy")]
+    if len(files) <= keep:
+        return
+    dated = []
+    for entry in files:
+        try:
+            dated.append((entry.stat().st_mtime, entry.path))
+        except OSError:
+            continue
+    dated.sort(reverse=True)
+    for _, path in dated[keep:]:
+        Path(path).unlink(missing_ok=True)
