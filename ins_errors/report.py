@@ -14,6 +14,7 @@ import html
 import json
 import mimetypes
 import re
+from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
@@ -78,8 +79,13 @@ def _selected(comparison, quantities):
     return replace(comparison, metrics=[comparison.metric(q) for q in quantities])
 
 
+@lru_cache(maxsize=2048)
 def _mathml(latex: str, display: bool) -> str:
-    """LaTeX to MathML (latex2mathml), or the escaped LaTeX in ``<code>`` if it fails."""
+    """LaTeX to MathML (latex2mathml), or the escaped LaTeX in ``<code>`` if it fails.
+
+    Kept per process: the reports of one session repeat the same model equations
+    (~2.5 ms CPU each to convert), and the text depends on nothing but the arguments.
+    """
     from latex2mathml.converter import convert
 
     try:

@@ -48,6 +48,20 @@ def test_html_is_self_contained(report):
     assert page.count("data:image/png;base64,") == 2  # both plots embedded
 
 
+
+def test_kept_mathml_is_the_converters_text_and_keeps_display_apart():
+    """The MathML of a formula is kept per process: the text the converter gives for the
+    same LaTeX and display mode, and a display formula is not an inline one."""
+    from ins_errors import report
+
+    formulas = [r"\dot{\alpha}_x = -\omega_\eta + \varepsilon_x", r"\frac{b}{g}", r"\nosuchmacro x"]
+    for latex in formulas:
+        for display in (True, False):
+            first = report._mathml(latex, display)
+            assert report._mathml(latex, display) == first
+            assert first == report._mathml.__wrapped__(latex, display)
+    assert report._mathml(r"\frac{b}{g}", True) != report._mathml(r"\frac{b}{g}", False)
+
 def test_curves_csv_holds_every_curve_of_every_case(report):
     result, folder = report
     with open(folder / "curves.csv", encoding="utf-8", newline="") as handle:
