@@ -27,6 +27,7 @@ from sympy.printing.pycode import PythonCodePrinter
 from sympy.simplify.radsimp import fraction
 
 from ins_errors.symbolic.shared_trees import SharedTrees
+from ins_errors.symbolic.term_order import FastTermOrder
 
 _FUNCTIONS = ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "exp", "log",
               "sinh", "cosh", "tanh", "Abs")
@@ -35,8 +36,9 @@ _NUMPY_NAMES = {"asin": "arcsin", "acos": "arccos", "atan": "arctan", "atan2": "
 _CASADI_NAMES = {"Abs": "fabs"}
 
 
-class _BackendPrinter(PythonCodePrinter):
-    """Python printer whose elementary functions live in module alias ``_m``."""
+class _BackendPrinter(FastTermOrder, PythonCodePrinter):
+    """Python printer whose elementary functions live in module alias ``_m`` (sums in
+    SymPy's order, :mod:`~ins_errors.symbolic.term_order`)."""
 
     def __init__(self, names: dict[str, str]):
         functions = {f: f"_m.{names.get(f, f)}" for f in _FUNCTIONS}
@@ -68,6 +70,13 @@ class _BackendPrinter(PythonCodePrinter):
 
     def _module_format(self, fqn, register=True):  # keep "_m.sin" as written
         return fqn
+
+    def _handle_UnevaluatedExpr(self, expr):
+        # SymPy's version rebuilds the whole tree to rewrite re(...) of real arguments:
+        # the same expression where there is none
+        if isinstance(expr, sp.Basic) and not expr.has(sp.re):
+            return expr
+        return super()._handle_UnevaluatedExpr(expr)
 
     def _print_Float(self, expr):
         return repr(float(expr))

@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import sympy as sp
+from sympy.printing.latex import LatexPrinter
 
 from ins_errors.modeling import ModelDefinition
+from ins_errors.symbolic.term_order import FastTermOrder
 from ins_errors.symbolic.variation import (
     VariedEquation,
     output_mechanisations,
@@ -24,9 +26,14 @@ def latex_symbol_names(d: ModelDefinition, lines: list[VariedEquation]) -> dict[
     return names
 
 
+class _LatexPrinter(FastTermOrder, LatexPrinter):
+    """SymPy's LaTeX printer, sums ordered by :mod:`~ins_errors.symbolic.term_order`."""
+
+
 def to_latex(expr: sp.Expr, names: dict[sp.Symbol, str]) -> str:
-    """LaTeX of ``expr`` with the model's own notation."""
-    return sp.latex(expr, symbol_names=names, mul_symbol=None)
+    """LaTeX of ``expr`` with the model's own notation: ``sp.latex(expr,
+    symbol_names=names, mul_symbol=None)``, the same text."""
+    return _LatexPrinter({"symbol_names": names, "mul_symbol": None}).doprint(expr)
 
 
 def _table(header: list[str], rows: list[list[str]]) -> list[str]:

@@ -1,0 +1,86 @@
+"""The SymPy shortcuts of `make derive` answer as SymPy does (SymPy itself is the reference).
+
+ins_errors/symbolic/term_order.py (the printers' order of a sum's terms) and
+ins_errors/symbolic/minus_sign.py (``Mul.could_extract_minus_sign``).
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+from sympy.printing.printer import Printer
+
+from ins_errors.symbolic import codegen, documents, minus_sign, term_order
+
+
+def _expressions() -> list[sp.Expr]:
+    x, y, z = sp.symbols("x y z", real=True)
+    a, b = sp.symbols("a b", positive=True)
+    A, B = sp.symbols("A B", commutative=False)
+    big = sp.Integer(2**60 + 1)
+    terms = [
+        x + y, 2 * x - 3 * y + 1, sp.Rational(1, 3) * x - sp.Rational(2, 3) * y * z,
+        big * x + (big + 2) * y, x / big - y / (big - 1), sp.Rational(10**400 + 1, 3) * x + y,
+        sp.Float(0.1) * x + sp.Float(-2.5) * y**2, sp.sqrt(2) * x + sp.pi * y + sp.E,
+        3 - 2 * x, -3 + 2 * x, 1 - sp.sqrt(2) * x, sp.pi - 3 * y, x**2 * y + x * y**2 + x**3,
+        sp.sin(x) ** 2 * sp.cos(x) + sp.sin(x) ** 2 + 1, sp.I * x + 2 * sp.I * y + 3,
+        (1 + sp.I) * x - y, sp.sqrt(a + b) * x - sp.sqrt(a) / 7 + b**sp.Rational(3, 2),
+        A * B + B * A + 2 * x, x + sp.O(x**2), 1 / (x + y) - x / (y - z) ** 2,
+        sp.exp(-x) * a - sp.log(b) / 3 + sp.atan2(y, x) ** 2, x * sp.sqrt(3) / 2 - y / 2]
+    nested = [t1 * t2 - t2 / 7 for t1, t2 in zip(terms[:10], terms[10:20], strict=True)]
+    return terms + nested
+
+
+def test_ordered_terms_are_sympys():
+    for expr in _expressions():
+        for e in sp.preorder_traversal(expr):
+            if isinstance(e, sp.Expr) and e.is_Add:
+                assert term_order.ordered_terms(e) == e.as_ordered_terms(), e
+
+
+def test_printers_write_sympys_text():
+    from sympy.printing.codeprinter import CodePrinter
+
+    class Reference(codegen._BackendPrinter):  # the same printer as SymPy runs it
+        _as_ordered_terms = Printer._as_ordered_terms
+        _handle_UnevaluatedExpr = CodePrinter._handle_UnevaluatedExpr
+
+    neutral = Reference({f: codegen._MARK + f for f in codegen._FUNCTIONS})
+    numpy = Reference(codegen._NUMPY_NAMES)
+    names = {sp.Symbol("x", real=True): r"\xi"}
+    for expr in _expressions():
+        if expr.is_commutative and not expr.has(sp.Order):
+            assert codegen._NEUTRAL_PRINTER.doprint(expr) == neutral.doprint(expr)
+            assert codegen.NUMPY_PRINTER.doprint(expr) == numpy.doprint(expr)
+        assert documents.to_latex(expr, names) == sp.latex(expr, symbol_names=names,
+                                                           mul_symbol=None)
+    # trees with re(...) still go through SymPy's rewrite (of re of a real argument)
+    x, w = sp.Symbol("x", real=True), sp.Symbol("w")
+    for expr in (sp.re(sp.UnevaluatedExpr(x)) * 3 + x, sp.re(w) + sp.sin(x), x**2 + 1):
+        assert codegen._NEUTRAL_PRINTER._handle_UnevaluatedExpr(expr) == \
+            CodePrinter._handle_UnevaluatedExpr(neutral, expr)
+
+
+def test_quick_minus_sign_answers_as_sympy():
+    x, y = sp.symbols("x y", real=True)
+    unevaluated = [
+        sp.Mul(2, 0, x, evaluate=False), sp.Mul(1, -1, x, evaluate=False),
+        sp.Mul(-2, sp.zoo, x, evaluate=False), sp.Mul(-1, x + y, evaluate=False),
+        sp.Mul(sp.nan, x, evaluate=False), sp.Mul(-3, sp.oo, x, evaluate=False),
+        sp.Mul(-3, 2, x, evaluate=False), sp.Mul(x, -2, evaluate=False),
+        sp.Mul(sp.Rational(-1, 2), x + y, evaluate=False)]
+    evaluated = [sp.zoo * x, -x * y, sp.Float(-1.5) * x, sp.Float(2.0) * y, -sp.pi * x,
+                 sp.sqrt(2) * x, -sp.sqrt(2) * x, -sp.I * x, 3 * sp.I * y, -x / y]
+    products = unevaluated + evaluated + [
+        e for expr in _expressions() for e in sp.preorder_traversal(expr)
+        if isinstance(e, sp.Mul)]
+    assert len(products) > 100
+    sympys = [minus_sign._SYMPYS(p) for p in products]
+    assert [minus_sign.could_extract_minus_sign(p) for p in products] == sympys
+    assert any(sympys) and not all(sympys)
+    with minus_sign.quick_minus_sign():
+        assert sp.Mul.could_extract_minus_sign is minus_sign.could_extract_minus_sign
+        assert [p.could_extract_minus_sign() for p in products] == sympys
+        with minus_sign.quick_minus_sign():  # nested: the outer block restores
+            pass
+        assert sp.Mul.could_extract_minus_sign is minus_sign.could_extract_minus_sign
+    assert sp.Mul.could_extract_minus_sign is minus_sign._SYMPYS
