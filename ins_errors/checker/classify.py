@@ -31,32 +31,30 @@ from typing import TYPE_CHECKING
 import numpy as np
 import sympy as sp
 
+from ins_errors.checker.kinds import (  # noqa: F401 (also names of this module)
+    COEFFICIENT,
+    DECLARED,
+    DEFINITION,
+    DROPPED,
+    EXPONENT,
+    EXTRA,
+    FUNCTION,
+    KINDS,
+    LEFT_SIDE,
+    MISTAKE,
+    NOT_ERROR,
+    OMITTED,
+    SEVERITIES,
+    SIGN,
+    SMALL_MISTAKE,
+    SYMBOL,
+    severity,
+)
 from ins_errors.checker.parse import HandEquation, HandFile, Problem
 from ins_errors.checker.sides import HandSide, ModelSide, UnresolvedError, model_expr, model_side
 
 if TYPE_CHECKING:
     from ins_errors.checker.compare import Comparison, EquationResult, Item
-
-OMITTED = "omitted term"
-EXTRA = "extra term"
-SIGN = "wrong sign"
-COEFFICIENT = "wrong coefficient"
-SYMBOL = "wrong symbol or index"
-FUNCTION = "wrong function"
-EXPONENT = "wrong exponent"
-NOT_ERROR = "not an error quantity"
-LEFT_SIDE = "left-hand side without Δ"
-DEFINITION = "wrong definition"
-KINDS = (OMITTED, EXTRA, SIGN, COEFFICIENT, SYMBOL, FUNCTION, EXPONENT, NOT_ERROR,
-         LEFT_SIDE, DEFINITION)
-"""What a difference can be."""
-
-MISTAKE = "mistake"
-SMALL_MISTAKE = "mistake, small effect"
-DROPPED = "dropped small term"
-DECLARED = "declared drop"
-SEVERITIES = (MISTAKE, SMALL_MISTAKE, DROPPED, DECLARED)
-"""How much it matters; the first two are mistakes."""
 
 ROOT = "root"
 KNOCK_ON = "knock-on"
@@ -115,13 +113,6 @@ class Finding:
     def is_mistake(self) -> bool:
         """True for mistakes of any size."""
         return self.severity in (MISTAKE, SMALL_MISTAKE)
-
-
-def severity(kind: str, size: float, threshold: float) -> str:
-    """Severity of a finding: omissions of small terms are drops, everything else a mistake."""
-    if size >= threshold:
-        return MISTAKE
-    return DROPPED if kind == OMITTED else SMALL_MISTAKE
 
 
 def _siblings(symbol: sp.Symbol, known: list[sp.Symbol]) -> list[sp.Symbol]:

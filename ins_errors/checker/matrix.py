@@ -7,7 +7,7 @@ restricted to the researcher's states, in their order. Each entry of F and G is 
 compared with the hand's at every sample.
 
 Sizes follow the hand checker: a term's size is ``|coefficient| × typical magnitude`` of
-the state or source it multiplies (:func:`~ins_errors.checker.reference.typical_magnitude`);
+the state or source it multiplies (:func:`~ins_errors.checker.typical.typical_magnitude`);
 a discrepancy is measured relative to the largest term of its row (over the hand's and
 the model's terms, including every model error source) at the same sample; the largest
 ratio over all samples is its *size*, and the sample where it is reached says where along
@@ -41,7 +41,9 @@ from pathlib import Path
 import numpy as np
 
 from ins_errors.checker import motion_store, propagation_store
-from ins_errors.checker.classify import (
+from ins_errors.checker.conventions import Convention, convention
+from ins_errors.checker.extreme import first_largest
+from ins_errors.checker.kinds import (
     COEFFICIENT,
     EXTRA,
     MISTAKE,
@@ -49,9 +51,7 @@ from ins_errors.checker.classify import (
     SIGN,
     SMALL_MISTAKE,
 )
-from ins_errors.checker.classify import severity as classify_severity
-from ins_errors.checker.conventions import Convention, convention
-from ins_errors.checker.extreme import first_largest
+from ins_errors.checker.kinds import severity as classify_severity
 from ins_errors.checker.matrix_input import (
     HandMatrices,
     evaluate_function,
@@ -60,7 +60,7 @@ from ins_errors.checker.matrix_input import (
     split_spec,
 )
 from ins_errors.checker.navigation import navigation_arrays
-from ins_errors.checker.reference import typical_magnitude
+from ins_errors.checker.typical import magnitude_override, typical_magnitude
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.blas_threads import one_blas_thread
 
@@ -884,10 +884,10 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
 
 def _magnitudes(model, overrides: dict[str, str] | None):
     """Typical size (SI, text) by SI unit: fixed, overridden, or Schuler-consistent."""
-    from ins_errors.checker.reference import magnitude_override, schuler_magnitudes
-
     overrides = dict(overrides or {})
-    if "attitude" in overrides:
+    if "attitude" in overrides:  # (SymPy: the model's definition gives R and g)
+        from ins_errors.checker.reference import schuler_magnitudes
+
         attitude = overrides.pop("attitude")
         return schuler_magnitudes(model.symbolic, attitude, overrides).of
     fixed: dict[str, tuple[float, str]] = {}
