@@ -17,7 +17,7 @@ from pathlib import Path
 os.environ.setdefault("SYMPY_CACHE_SIZE", "20000")
 
 from ins_errors.errors import InsErrorsError
-from ins_errors.symbolic.minus_sign import quick_minus_sign
+from ins_errors.symbolic.quick_sympy import quick_sympy
 
 from .pipeline import derive_all
 
@@ -40,7 +40,7 @@ def main(argv: list[str] | None = None) -> int:
     gc.disable()
     start = time.perf_counter()
     try:
-        with quick_minus_sign():  # the same answers, in the forked workers too
+        with quick_sympy():  # the same answers, in the forked workers too
             summaries = derive_all(args.out, args.model)
     except InsErrorsError as error:
         print(f"derive: error: {error}", file=sys.stderr)

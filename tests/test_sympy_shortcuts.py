@@ -1,7 +1,8 @@
 """The SymPy shortcuts of `make derive` answer as SymPy does (SymPy itself is the reference).
 
 ins_errors/symbolic/term_order.py (the printers' order of a sum's terms) and
-ins_errors/symbolic/minus_sign.py (``Mul.could_extract_minus_sign``).
+ins_errors/symbolic/quick_sympy.py (``Mul.could_extract_minus_sign``, ``complex`` of
+a rational).
 """
 
 from __future__ import annotations
@@ -9,7 +10,7 @@ from __future__ import annotations
 import sympy as sp
 from sympy.printing.printer import Printer
 
-from ins_errors.symbolic import codegen, documents, minus_sign, term_order
+from ins_errors.symbolic import codegen, documents, quick_sympy, term_order
 
 
 def _expressions() -> list[sp.Expr]:
@@ -25,7 +26,9 @@ def _expressions() -> list[sp.Expr]:
         sp.sin(x) ** 2 * sp.cos(x) + sp.sin(x) ** 2 + 1, sp.I * x + 2 * sp.I * y + 3,
         (1 + sp.I) * x - y, sp.sqrt(a + b) * x - sp.sqrt(a) / 7 + b**sp.Rational(3, 2),
         A * B + B * A + 2 * x, x + sp.O(x**2), 1 / (x + y) - x / (y - z) ** 2,
-        sp.exp(-x) * a - sp.log(b) / 3 + sp.atan2(y, x) ** 2, x * sp.sqrt(3) / 2 - y / 2]
+        sp.exp(-x) * a - sp.log(b) / 3 + sp.atan2(y, x) ** 2, x * sp.sqrt(3) / 2 - y / 2,
+        # one monomial, so ordered by the numeric factors' values
+        sp.sqrt(2) * x + sp.pi * x + sp.Rational(17, 25) * sp.sqrt(3) * x - sp.E * x]
     nested = [t1 * t2 - t2 / 7 for t1, t2 in zip(terms[:10], terms[10:20], strict=True)]
     return terms + nested
 
@@ -74,13 +77,33 @@ def test_quick_minus_sign_answers_as_sympy():
         e for expr in _expressions() for e in sp.preorder_traversal(expr)
         if isinstance(e, sp.Mul)]
     assert len(products) > 100
-    sympys = [minus_sign._SYMPYS(p) for p in products]
-    assert [minus_sign.could_extract_minus_sign(p) for p in products] == sympys
+    sympys = [quick_sympy._SYMPYS_MINUS_SIGN(p) for p in products]
+    assert [quick_sympy.could_extract_minus_sign(p) for p in products] == sympys
     assert any(sympys) and not all(sympys)
-    with minus_sign.quick_minus_sign():
-        assert sp.Mul.could_extract_minus_sign is minus_sign.could_extract_minus_sign
+    with quick_sympy.quick_sympy():
+        assert sp.Mul.could_extract_minus_sign is quick_sympy.could_extract_minus_sign
         assert [p.could_extract_minus_sign() for p in products] == sympys
-        with minus_sign.quick_minus_sign():  # nested: the outer block restores
+        with quick_sympy.quick_sympy():  # nested: the outer block restores
             pass
-        assert sp.Mul.could_extract_minus_sign is minus_sign.could_extract_minus_sign
-    assert sp.Mul.could_extract_minus_sign is minus_sign._SYMPYS
+        assert sp.Mul.could_extract_minus_sign is quick_sympy.could_extract_minus_sign
+    assert sp.Mul.could_extract_minus_sign is quick_sympy._SYMPYS_MINUS_SIGN
+
+
+def test_quick_complex_of_a_rational_is_sympys():
+    import random
+
+    rng = random.Random(5)
+    values = [sp.Integer(n) for n in (0, 1, -1, 2**53 + 1, -(2**64) - 3, 10**308)]
+    values += [sp.S.Half, sp.Rational(-1, 3), sp.Rational(17, 25), sp.Rational(1, 10**320),
+               sp.Rational(-(10**300) + 7, 3), sp.Rational(3, 2**1075)]
+    for bits in (8, 40, 60, 200):
+        values += [sp.Rational(rng.getrandbits(bits) - 2 ** (bits - 1), rng.getrandbits(bits) + 1)
+                   for _ in range(50)]
+    expected = [sp.Expr.__complex__(r) for r in values]
+    assert expected[8] != complex(17 / 25)  # SymPy's own rounding (not p/q's) is kept
+    for _ in range(2):  # converted, then remembered
+        assert [quick_sympy.rational_complex(r) for r in values] == expected
+    with quick_sympy.quick_sympy():
+        assert [complex(r) for r in values] == expected
+        assert complex(sp.Float(0.1)) == 0.1 and complex(sp.sqrt(2)) == 2**0.5
+    assert "__complex__" not in sp.Rational.__dict__

@@ -2,10 +2,10 @@
 
 SymPy's printers write a sum's terms in the order of ``Expr.as_ordered_terms()``, whose
 sort key holds each term's numeric coefficient as a Python complex number, obtained with
-``complex(coefficient)``: for a rational coefficient that is a full ``evalf`` (about a
-third of the time ``make derive`` spends printing). :func:`ordered_terms` is the same
-function with a rational's complex value taken as the quotient of its integers, which
-is the same number (both are p/q correctly rounded to a double), and
+``complex(coefficient)``: for a rational coefficient that is a full ``evalf`` each time
+(about a third of the time ``make derive`` spent printing). :func:`ordered_terms` is
+the same function with the complex value of each distinct rational computed once by
+SymPy and remembered (:func:`~ins_errors.symbolic.quick_sympy.rational_complex`), and
 :class:`FastTermOrder` gives a printer that method.
 """
 
@@ -16,15 +16,12 @@ from sympy.core.exprtools import decompose_power
 from sympy.core.numbers import Number, NumberSymbol
 from sympy.core.sorting import default_sort_key
 
+from ins_errors.symbolic.quick_sympy import rational_complex
+
 
 def _complex(number: sp.Expr) -> complex:
-    """``complex(number)``: the same value, without ``evalf`` for a rational."""
-    if number.is_Rational:
-        try:
-            return complex(number.p / number.q)
-        except OverflowError:  # beyond a double: SymPy's own conversion decides
-            pass
-    return complex(number)
+    """``complex(number)``: the same value, remembered for a rational."""
+    return rational_complex(number) if number.is_Rational else complex(number)
 
 
 def _as_terms(expr: sp.Expr) -> list[tuple[sp.Expr, tuple]]:

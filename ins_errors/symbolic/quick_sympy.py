@@ -1,0 +1,81 @@
+"""Two SymPy answers computed without SymPy's detours (the same answers), for a block.
+
+``make derive`` asks SymPy two small questions very often:
+
+* ``Mul.could_extract_minus_sign``: could a minus sign be pulled out of this product?
+  (common subexpression elimination asks it of every product it visits, the printers
+  of every product they parenthesise). SymPy first builds ``-self`` and compares it
+  with ``self`` (to rule out products such as ``zoo*x``, equal to their negation),
+  then looks at the numeric coefficient. For a product whose first factor is a nonzero
+  rational and whose other factors are neither numbers nor ``zoo`` (the canonical
+  form), ``-self`` has the opposite coefficient and never equals ``self``, so the
+  answer is the coefficient's sign; a product whose first factor is not a number never
+  answers yes. Every other product (zero, infinite or float factors, unevaluated
+  products with several numbers) is left to SymPy.
+* ``complex(rational)``: the sort keys of sums (printing order, canonical signs) hold
+  their coefficients as Python complex numbers, and SymPy converts a rational through
+  a full ``evalf`` each time (to 57 bits rounded down, then to 53 bits to nearest: not
+  always p/q correctly rounded, e.g. 17/25). The same few rationals recur, so each
+  distinct one is converted once, by SymPy, and remembered.
+
+:func:`quick_sympy` installs both for the duration of a block.
+"""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import Iterator
+
+import sympy as sp
+
+_SYMPYS_MINUS_SIGN = sp.Mul.could_extract_minus_sign
+_SYMPYS_COMPLEX = sp.Rational.__complex__  # (Expr's: through evalf)
+
+
+def could_extract_minus_sign(product: sp.Mul) -> bool:
+    """``product.could_extract_minus_sign()`` as SymPy answers it."""
+    args = product.args
+    first = args[0]
+    if not first.is_Number:
+        return False
+    if first.is_Rational and first.p != 0 and not any(
+            a.is_Number or a is sp.S.ComplexInfinity for a in args[1:]):
+        return first.p < 0
+    return _SYMPYS_MINUS_SIGN(product)
+
+
+def rational_complex(rational: sp.Rational) -> complex:
+    """``complex(rational)`` as SymPy converts it (each distinct value converted once)."""
+    key = rational.p, rational.q
+    try:
+        return _COMPLEX[key]
+    except KeyError:
+        value = _COMPLEX[key] = _SYMPYS_COMPLEX(rational)
+        return value
+
+
+_COMPLEX: dict[tuple[int, int], complex] = {}
+"""(numerator, denominator) -> SymPy's complex value of the rational."""
+
+
+@contextlib.contextmanager
+def quick_sympy() -> Iterator[None]:
+    """SymPy products and rationals answer with the functions above inside the block.
+
+    Not thread-safe: the block sets ``sympy.Mul.could_extract_minus_sign`` and
+    ``sympy.Rational.__complex__`` and restores SymPy's on exit.
+    """
+    if sp.Mul.could_extract_minus_sign is could_extract_minus_sign:  # nested
+        yield
+        return
+    own_complex = sp.Rational.__dict__.get("__complex__")  # (None: Expr's)
+    sp.Mul.could_extract_minus_sign = could_extract_minus_sign
+    sp.Rational.__complex__ = rational_complex
+    try:
+        yield
+    finally:
+        sp.Mul.could_extract_minus_sign = _SYMPYS_MINUS_SIGN
+        if own_complex is None:
+            del sp.Rational.__complex__
+        else:
+            sp.Rational.__complex__ = own_complex
