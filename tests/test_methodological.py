@@ -214,4 +214,9 @@ def test_kept_functions_give_the_results_of_freshly_derived_ones(tmp_path, monke
     meth._study_functions("no_coriolis")
     assert derived == ["no_coriolis"] * 2
     assert function_cache.read("methodological-no_gravity", meth.FUNCTION_NAMES) is None
+    files = sorted(folder.iterdir())
+    monkeypatch.setattr(function_cache, "source_key", lambda: None)  # no sources to hash
+    _clear_study_caches()
+    meth._study_functions("no_coriolis")
+    assert derived == ["no_coriolis"] * 3 and sorted(folder.iterdir()) == files
     _clear_study_caches()  # what this test's fakes put there

@@ -41,29 +41,36 @@ def cache_directory() -> Path:
 
 
 @cache
-def source_key() -> str:
+def source_key() -> str | None:
     """SHA-256 (32 hex digits) of the package's Python sources and of the SymPy and
-    casadi versions. Read once per process: the code that runs is the code imported."""
+    casadi versions; None when the package has no source files to hash (then nothing
+    is kept). Read once per process: the code that runs is the code imported."""
     from importlib.metadata import version
 
     package = Path(__file__).resolve().parents[1]
+    sources = sorted(package.rglob("*.py"))
+    if Path(__file__).resolve() not in sources:
+        return None
     digest = hashlib.sha256(f"format {FORMAT}; casadi {ca.__version__}; "
                             f"sympy {version('sympy')}".encode())
-    for path in sorted(package.rglob("*.py")):
+    for path in sources:
         data = path.read_bytes()
         digest.update(f"\n{path.relative_to(package).as_posix()} {len(data)}\n".encode())
         digest.update(data)
     return digest.hexdigest()[:32]
 
 
-def _file(name: str) -> Path:
-    return cache_directory() / f"{name}-{source_key()}.json"
+def _file(name: str) -> Path | None:
+    key = source_key()
+    return None if key is None else cache_directory() / f"{name}-{key}.json"
 
 
 def read(name: str, names: Sequence[str]) -> tuple[ca.Function, ...] | None:
     """The functions ``names`` kept under ``name`` for this source key, or None when
     there is no readable file."""
     path = _file(name)
+    if path is None:
+        return None
     try:
         data = json.loads(path.read_text(encoding="utf-8"))
         functions = tuple(ca.Function.deserialize(data[n]) for n in names)
@@ -79,6 +86,8 @@ def read(name: str, names: Sequence[str]) -> tuple[ca.Function, ...] | None:
 def write(name: str, functions: Mapping[str, ca.Function]) -> None:
     """Keep ``functions`` under ``name`` for this source key (atomically; best effort)."""
     path = _file(name)
+    if path is None:
+        return
     text = json.dumps({n: f.serialize() for n, f in functions.items()})
     scratch = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
