@@ -10,10 +10,11 @@ files, and read back exactly (the same bits: the reports cannot change).
 
 The key holds everything the samples follow from: the model's generated numeric code
 (its file's bytes), the request, the parameter vector, the source of the checker's
-motion definitions and of the numeric package that flies them, and the versions of
-Python, NumPy and SciPy. Any change there is a new key (the stale file is never read);
-only the :data:`KEEP` most recently used files are kept. A file that cannot be read or
-written is no error: the motions are then flown as before.
+motion definitions, of the numeric package that flies them and of the Earth model and
+units it uses, and the versions of Python, NumPy, SciPy and CasADi. Any change there
+is a new key (the stale file is never read); only the :data:`KEEP` most recently used
+files are kept. A file that cannot be read or written is no error: the motions are
+then flown as before.
 """
 
 from __future__ import annotations
@@ -43,15 +44,22 @@ def folder() -> Path:
 
 @cache
 def code_version() -> str:
-    """Hash of the source files the flown samples follow from (read once per process)."""
-    import scipy
+    """Hash of the source files and library versions the flown samples follow from (read
+    once per process): checker/matrix.py, numeric/*.py, models/earth.py, units.py."""
+    from importlib.metadata import PackageNotFoundError, version
 
-    checker = Path(__file__).resolve().parent
-    numeric = checker.parent / "numeric"
+    package = Path(__file__).resolve().parent.parent
     digest = hashlib.sha256()
-    for path in [checker / "matrix.py", *sorted(numeric.glob("*.py"))]:
+    for path in [package / "checker" / "matrix.py", *sorted((package / "numeric").glob("*.py")),
+                 package / "models" / "earth.py", package / "units.py"]:
         digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
-    digest.update(f"{sys.version}|{np.__version__}|{scipy.__version__}".encode())
+    versions = [sys.version, np.__version__]
+    for name in ("scipy", "casadi"):
+        try:
+            versions.append(f"{name} {version(name)}")
+        except PackageNotFoundError:
+            versions.append(f"{name} -")
+    digest.update("|".join(versions).encode())
     return digest.hexdigest()
 
 
