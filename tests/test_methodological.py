@@ -220,3 +220,30 @@ def test_kept_functions_give_the_results_of_freshly_derived_ones(tmp_path, monke
     meth._study_functions("no_coriolis")
     assert derived == ["no_coriolis"] * 3 and sorted(folder.iterdir()) == files
     _clear_study_caches()  # what this test's fakes put there
+
+
+def test_function_cache_keeps_the_newest_versions_only(tmp_path, monkeypatch):
+    """The folder stays bounded: writing a name keeps its KEEP_VERSIONS most recently
+    used files (the new one among them) and leaves other names alone."""
+    import os
+
+    import casadi as ca
+
+    from ins_errors.studies import function_cache
+
+    monkeypatch.setattr(function_cache, "cache_directory", lambda: tmp_path)
+    keep = function_cache.KEEP_VERSIONS
+    for k in range(keep + 3):  # older versions, oldest first
+        old = tmp_path / f"study-{k:032x}.json"
+        old.write_text("{}", encoding="utf-8")
+        os.utime(old, (1e9 + k, 1e9 + k))
+    (tmp_path / f"other-{0:032x}.json").write_text("{}", encoding="utf-8")
+    x = ca.SX.sym("x")
+    function_cache.write("study", {"f": ca.Function("f", [x], [2 * x])})
+    left = sorted(p.name for p in tmp_path.glob("study-*.json"))
+    newest = [f"study-{k:032x}.json" for k in range(3 + 1, keep + 3)]
+    current = function_cache._file("study").name
+    assert left == sorted([*newest, current])
+    assert (tmp_path / f"other-{0:032x}.json").exists()
+    (f,) = function_cache.read("study", ["f"])
+    assert float(f(1.5)) == 3.0

@@ -27,8 +27,9 @@ import casadi as ca
 FORMAT = 1
 """Version of the file layout (part of the key)."""
 
-KEEP_VERSIONS = 3
-"""Files of one name kept in the folder (other source versions, e.g. other checkouts)."""
+KEEP_VERSIONS = 8
+"""Files of one name kept in the folder: other source versions, e.g. the checkouts of one
+user sharing the cache (~45 kB a file)."""
 
 
 def cache_directory() -> Path:
