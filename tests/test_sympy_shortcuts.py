@@ -107,3 +107,43 @@ def test_quick_complex_of_a_rational_is_sympys():
         assert [complex(r) for r in values] == expected
         assert complex(sp.Float(0.1)) == 0.1 and complex(sp.sqrt(2)) == 2**0.5
     assert "__complex__" not in sp.Rational.__dict__
+
+
+def test_fast_ordered_set_keeps_sympys_orders():
+    import random
+
+    from sympy.core.containers import OrderedSet
+
+    rng = random.Random(3)
+    for _ in range(200):
+        a_items = [rng.randrange(30) for _ in range(rng.randrange(12))]
+        b_items = [rng.randrange(30) for _ in range(rng.randrange(12))]
+        pairs = [(cls(a_items), cls(b_items)) for cls in (OrderedSet, quick_sympy.FastOrderedSet)]
+        results = []
+        for a, b in pairs:
+            out = [list(a & b), list(a | b), list(a - b), list(a.intersection(b)),
+                   list(a.difference(b)), list(a - b_items), list(a & b_items)]
+            c = type(a)(a)
+            c &= b
+            d = type(a)(a)
+            d.update(b_items)
+            out += [list(c), list(d), len(a), 3 in a]
+            if len(a) > 1:
+                out += [a.pop(last=False), list(a), a.pop(), list(a)]
+            a.add(99)
+            a.discard(99)
+            a.clear()
+            out.append(list(a))
+            results.append(out)
+        assert results[0] == results[1]
+
+
+def test_cse_inside_the_block_is_sympys():
+    x, y, z = sp.symbols("x y z", real=True)
+    exprs = [(x + y + z) ** 2 * sp.sin(x + y) - (x + y) * z / (x - z) ** 3,
+             sp.sqrt(x * y + z) * (x * y + 2 * z) - 3 * x * y * z + (x + y + z) ** 2,
+             -x * y * sp.cos(x * y * z) + sp.Rational(17, 25) * (x + z) - sp.sqrt(2) * x * y]
+    for order in ("none", "canonical"):
+        expected = sp.cse(exprs, symbols=sp.numbered_symbols("_t"), order=order)
+        with quick_sympy.quick_sympy():
+            assert sp.cse(exprs, symbols=sp.numbered_symbols("_t"), order=order) == expected
