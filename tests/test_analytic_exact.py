@@ -116,6 +116,13 @@ def test_fraction_free_inverse_gives_the_fields_own_elements():
         for e, r in zip(row, reference, strict=True):  # the same cancelled representation
             assert (e.numer, e.denom) == (r.numer, r.denom)
     assert inverse.inverse().to_Matrix() == dense.to_Matrix()
+    determinant = matrix.det()  # the adjugate: A⁻¹ det A, and any other factor
+    for factor in (determinant, outer.from_sympy(g / (3 * R) + s), outer.one):
+        scaled = inverse.scaled_inverse(factor)
+        for row, reference in zip(scaled.rep.to_ddm(), (dense * factor).rep.to_ddm(),
+                                  strict=True):
+            for e, r in zip(row, reference, strict=True):
+                assert (e.numer, e.denom) == (r.numer, r.denom)
 
 
 def test_one_printing_serves_both_backends():

@@ -655,7 +655,7 @@ class StaticAnalysis:
 
     @functools.cached_property
     def adjugate(self) -> sp.Matrix:
-        return (self._inverse * self._determinant).to_Matrix()
+        return self._inverse_parts.scaled_inverse(self._determinant).to_Matrix()
 
     @functools.cached_property
     def laplace(self) -> dict[str, sp.Matrix]:
@@ -704,6 +704,20 @@ class _FractionFreeInverse:
         denominator = self.denominator * scale.element
         return [[self._element(entry * self.scale, denominator) for entry in row]
                 for row in product]
+
+    def scaled_inverse(self, factor) -> DomainMatrix:
+        """A⁻¹ · ``factor`` over the field (``factor`` = det A: the adjugate of A).
+
+        A⁻¹ factor = adj · (d factor / Δ): the scalar is reduced once, and each entry is
+        one product of it with a polynomial of adj, reduced by the field, instead of
+        d adj_ij / Δ reduced and then multiplied by ``factor`` (two reductions by large
+        polynomials per entry). The same field elements.
+        """
+        ratio = self._element(self.scale, self.denominator) * factor
+        convert = self.field.convert_from
+        rows = [[ratio * convert(entry, self.ring) for entry in row]
+                for row in self.adjugate.to_dense().rep.to_ddm()]
+        return DomainMatrix(rows, self.adjugate.shape, self.field)
 
     def inverse(self) -> DomainMatrix:
         """A⁻¹ over the field."""
