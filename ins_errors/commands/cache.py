@@ -1,53 +1,185 @@
-"""``ins-errors cache info|clear``: the on-disk cache of compiled loops."""
+"""``ins-errors cache info|clear``: every on-disk store of the user cache folder."""
 
 from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import dataclass
+from pathlib import Path
+
+from ins_errors.errors import InsErrorsError
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
-        "cache", help="show or clear the cache of compiled loops",
-        description="Compiled simulation loops are kept in a cache folder "
-                    "($INS_ERRORS_CACHE, default ~/.cache/ins-errors/casadi) limited to "
-                    "$INS_ERRORS_CACHE_LIMIT MB (default 200); the least recently used "
-                    "are deleted first when it is full. Both actions take --json for "
-                    "machine-readable output.")
+        "cache", help="show or clear the on-disk caches (compiled loops and the rest)",
+        description="Work that is costly to redo is kept on disk, in folders under "
+                    "$INS_ERRORS_CACHE (compiled loops in the folder itself, the others "
+                    "in subfolders; without the variable, ~/.cache/ins-errors/casadi for "
+                    "the loops and ~/.cache/ins-errors/<store> for the others). Compiled "
+                    "loops are bounded by size, $INS_ERRORS_CACHE_LIMIT MB (default 200, "
+                    "least recently used deleted first); notes of frozen states, "
+                    "generated model code, CasADi functions of the studies, flown motions "
+                    "and propagations by a number of files or versions each; pint's parsed "
+                    "unit definitions only grow with new pint versions. Everything is "
+                    "rebuilt when needed. Both actions take --json.")
     actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
-    info = actions.add_parser("info", help="folder, number of libraries, size and limit")
-    clear = actions.add_parser("clear", help="delete compiled libraries")
+    info = actions.add_parser("info", help="each store's folder, files, size and bound")
+    clear = actions.add_parser("clear", help="empty every store (loops and the rest)")
     clear.add_argument("--checkout", action="store_true",
-                       help="only the libraries this checkout used and no other checkout "
-                            "uses (what `make clean` runs)")
+                       help="only the compiled loops this checkout used and no other "
+                            "checkout uses (what `make clean` runs); the other stores "
+                            "do not record who used an entry and are kept")
     for action in (info, clear):
         action.add_argument("--json", action="store_true", help="machine-readable output")
     parser.set_defaults(func=run)
+
+
+@dataclass(frozen=True)
+class Store:
+    """One on-disk store besides the compiled loops.
+
+    Attributes
+    ----------
+    name : str
+        Short name (the folder's own name).
+    folder : pathlib.Path
+        Where it is kept.
+    holds : str
+        What it keeps.
+    bound : str
+        How it is kept from growing.
+    limit : dict
+        The bound as numbers (``{"files": n}`` or ``{"versions_per_name": n}``), empty
+        where there is none.
+    """
+
+    name: str
+    folder: Path
+    holds: str
+    bound: str
+    limit: dict
+
+
+def stores() -> list[Store]:
+    """The stores besides the compiled loops, each at the folder its own module uses."""
+    from ins_errors import model_lookup, units
+    from ins_errors.checker import motion_store, propagation_store
+    from ins_errors.numeric import cache
+    from ins_errors.studies import function_cache
+
+    return [
+        Store("notes", cache.directory() / cache.NOTES,
+              "notes of compiled loops (frozen states, code fingerprint)",
+              f"at most {cache.NOTE_LIMIT} notes, the older half dropped beyond",
+              {"files": cache.NOTE_LIMIT}),
+        Store("models", model_lookup.models_cache_directory(),
+              "generated code of model files",
+              f"the {model_lookup.KEEP_VERSIONS} newest versions of each model file",
+              {"versions_per_name": model_lookup.KEEP_VERSIONS}),
+        Store("units", units.units_cache_directory(), "pint's parsed unit definitions",
+              "none (one set per definitions file and pint version)", {}),
+        Store("functions", function_cache.cache_directory(),
+              "CasADi functions of the methodological studies",
+              f"the {function_cache.KEEP_VERSIONS} most recently used versions of each",
+              {"versions_per_name": function_cache.KEEP_VERSIONS}),
+        Store("motions", motion_store.folder(), "flown motions of the matrix checks",
+              f"the {motion_store.KEEP} most recently used",
+              {"files": motion_store.KEEP}),
+        Store("transitions", propagation_store.folder(),
+              "propagations of the matrix checks",
+              f"the {propagation_store.KEEP} most recently used",
+              {"files": propagation_store.KEEP}),
+    ]
+
+
+def _check_folder(folder: Path) -> None:
+    if folder.exists() and not folder.is_dir():
+        raise InsErrorsError(f"the cache folder {str(folder)!r} is not a folder "
+                             "(see $INS_ERRORS_CACHE)")
+
+
+def _failed(action: str, folder: Path, error: OSError) -> InsErrorsError:
+    where = error.filename or folder
+    return InsErrorsError(f"cannot {action} the cache folder {str(folder)!r}: "
+                          f"{error.strerror or error} ({where})")
+
+
+def _size(count: int) -> str:
+    return f"{count / 1e6:.1f} MB" if count >= 1e5 else f"{count / 1e3:.1f} kB"
 
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric import cache
 
     folder = cache.directory()
+    _check_folder(folder)
+    others = stores()
     if args.action == "clear":
-        count, freed = cache.clear(folder, checkout_only=args.checkout)
-        if args.json:
-            print(json.dumps({"folder": str(folder), "removed": count, "bytes_freed": freed,
-                              "checkout_only": args.checkout}))
-            return 0
-        which = "of this checkout " if args.checkout else ""
-        print(f"removed {count} compiled libraries {which}({freed / 1e6:.1f} MB) from {folder}")
-        return 0
-    entries = cache.entries(folder) if folder.is_dir() else []
+        return _clear(args, folder, others)
+    limit = cache.limit_bytes()
+    try:
+        entries = cache.entries(folder) if folder.is_dir() else []
+        used = {store.name: cache.usage(store.folder) for store in others}
+    except OSError as error:
+        raise _failed("read", folder, error) from None
     total = sum(e.size for e in entries)
     mine = [e for e in entries if e.mine]
+    rows = [{"name": "loops", "folder": str(folder), "files": len(entries), "bytes": total,
+             "holds": "compiled simulation loops",
+             "bound": f"{limit / 1e6:g} MB, least recently used deleted first",
+             "limit": {"bytes": limit}}]
+    rows += [{"name": s.name, "folder": str(s.folder), "files": used[s.name][0],
+              "bytes": used[s.name][1], "holds": s.holds, "bound": s.bound,
+              "limit": s.limit} for s in others]
     if args.json:
         print(json.dumps({"folder": str(folder), "libraries": len(entries), "bytes": total,
-                          "limit_bytes": cache.limit_bytes(), "checkout_libraries": len(mine),
-                          "checkout_bytes": sum(e.size for e in mine)}))
+                          "limit_bytes": limit, "checkout_libraries": len(mine),
+                          "checkout_bytes": sum(e.size for e in mine), "stores": rows,
+                          "total_files": sum(r["files"] for r in rows),
+                          "total_bytes": sum(r["bytes"] for r in rows)}))
         return 0
     print(f"folder: {folder}")
     print(f"libraries: {len(entries)}, {total / 1e6:.1f} MB "
-          f"(limit {cache.limit_bytes() / 1e6:g} MB, least recently used deleted first)")
+          f"(limit {limit / 1e6:g} MB, least recently used deleted first)")
     print(f"used by this checkout: {len(mine)}, {sum(e.size for e in mine) / 1e6:.1f} MB")
+    print("stores:")
+    width = max(len(r["folder"]) for r in rows)
+    for r in rows:
+        print(f"  {r['name']:<12} {r['folder']:<{width}} {r['files']:>6} files "
+              f"{_size(r['bytes']):>9}  bound: {r['bound']}")
+    print(f"total: {sum(r['files'] for r in rows)} files, "
+          f"{sum(r['bytes'] for r in rows) / 1e6:.1f} MB")
     return 0
+
+
+def _clear(args: argparse.Namespace, folder: Path, others: list[Store]) -> int:
+    from ins_errors.numeric import cache
+
+    rows = []
+    try:
+        if not args.checkout:
+            for store in others:
+                files, freed = cache.empty(store.folder)
+                rows.append({"name": store.name, "folder": str(store.folder),
+                             "removed": files, "bytes_freed": freed})
+        count, freed = cache.clear(folder, checkout_only=args.checkout)
+    except OSError as error:
+        raise _failed("clear", folder, error) from None
+    rows.insert(0, {"name": "loops", "folder": str(folder), "removed": count,
+                    "bytes_freed": freed})
+    if args.json:
+        print(json.dumps({"folder": str(folder), "removed": count, "bytes_freed": freed,
+                          "checkout_only": args.checkout, "stores": rows}))
+        return 0
+    which = "of this checkout " if args.checkout else ""
+    print(f"removed {count} compiled libraries {which}({freed / 1e6:.1f} MB) from {folder}")
+    if args.checkout:
+        print("kept the other stores (" + ", ".join(s.name for s in others)
+              + "): they do not record which checkout used an entry")
+        return 0
+    for row in rows[1:]:
+        print(f"removed {row['removed']} files ({_size(row['bytes_freed'])}) "
+              f"of {row['name']} from {row['folder']}")
+    return 0
+

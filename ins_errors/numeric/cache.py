@@ -217,3 +217,57 @@ def clear(folder: Path | None = None, checkout_only: bool = False) -> tuple[int,
             count += 1
             freed += entry.size
     return count, freed
+
+
+def usage(folder: Path) -> tuple[int, int]:
+    """Number of files and their bytes under ``folder`` (recursively; 0, 0 if missing).
+
+    Raises
+    ------
+    OSError
+        If ``folder`` exists but cannot be read.
+    """
+    files = size = 0
+    if not folder.is_dir():
+        return 0, 0
+    for root, _, names in os.walk(folder, onerror=_raise):
+        for name in names:
+            try:
+                size += os.lstat(os.path.join(root, name)).st_size
+            except FileNotFoundError:
+                continue  # removed meanwhile
+            files += 1
+    return files, size
+
+
+def empty(folder: Path) -> tuple[int, int]:
+    """Delete everything inside ``folder`` (the folder itself is kept; nothing happens if
+    it is missing).
+
+    Returns
+    -------
+    (int, int)
+        Number of files deleted and their bytes.
+
+    Raises
+    ------
+    OSError
+        If something in ``folder`` cannot be deleted.
+    """
+    files, size = usage(folder)
+    if not folder.is_dir():
+        return 0, 0
+    for root, folders, names in os.walk(folder, topdown=False, onerror=_raise):
+        for name in names:
+            Path(root, name).unlink(missing_ok=True)
+        for name in folders:
+            path = Path(root, name)
+            try:
+                path.unlink() if path.is_symlink() else path.rmdir()
+            except FileNotFoundError:
+                continue  # removed meanwhile
+    return files, size
+
+
+def _raise(error: OSError) -> None:
+    raise error
