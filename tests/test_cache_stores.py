@@ -1,6 +1,7 @@
 """``ins-errors cache info|clear`` see and empty every on-disk store, not only the
-compiled loops: notes, model code, pint's units, study functions, flown motions and
-propagations (each at the folder its own module writes to)."""
+compiled loops: notes, model code, pint's units, study functions, flown motions,
+propagations (each at the folder its own module writes to) and what interrupted or older
+runs left beside the loops."""
 
 from __future__ import annotations
 
@@ -29,6 +30,8 @@ STORES = {
     "functions": (function_cache.cache_directory, {f"study-{'0' * 32}.json": 4500}),
     "motions": (motion_store.folder, {"orthodromic_ab.npz": 1200}),
     "transitions": (propagation_store.folder, {"t1.npy": 64, "t2.npy": 64, "t3.npy": 80}),
+    "leftovers": (cache.directory, {"tmpk2j4/loop.c": 50, "tmpk2j4/loop.so": 70,
+                                    "writer_ab12.key": 30, "verified-generated.json": 20}),
 }
 
 
@@ -49,6 +52,7 @@ def filled(tmp_path, monkeypatch):
             path = folder() / relative
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_bytes(b"x" * size)
+    (root / "keep.txt").write_text("not the cache's")  # no store's: never counted nor removed
     return root
 
 
@@ -88,8 +92,9 @@ def test_clear_empties_every_store_and_checkout_only_this_checkouts_loops(filled
     assert (cleared["removed"], cleared["bytes_freed"]) == (1, 1000)
     assert [row["name"] for row in cleared["stores"]] == ["loops"]
     assert (filled / "loop_theirs.so").exists()
-    for folder, files in STORES.values():   # nothing else can tell who used an entry
-        assert cache.usage(folder()) == (len(files), sum(files.values()))
+    kept = {row["name"]: row for row in _json(["cache", "info"], capsys)["stores"]}
+    for name, (_, files) in STORES.items():  # nothing else can tell who used an entry
+        assert (kept[name]["files"], kept[name]["bytes"]) == (len(files), sum(files.values()))
 
     cleared = _json(["cache", "clear"], capsys)
     assert (cleared["removed"], cleared["bytes_freed"]) == (1, 3000)
@@ -97,8 +102,11 @@ def test_clear_empties_every_store_and_checkout_only_this_checkouts_loops(filled
     for name, (folder, files) in STORES.items():
         assert (rows[name]["removed"], rows[name]["bytes_freed"]) == (
             len(files), sum(files.values()))
-        assert cache.usage(folder()) == (0, 0)
+        if name != "leftovers":
+            assert cache.usage(folder()) == (0, 0)
     assert not list(filled.glob(cache.PATTERN))
+    assert sorted(p.name for p in filled.iterdir() if not p.is_dir()) == ["keep.txt"]
+    assert not (filled / "tmpk2j4").exists()
     info = _json(["cache", "info"], capsys)
     assert info["total_files"] == 0 and info["total_bytes"] == 0
 
@@ -170,3 +178,4 @@ def test_readme_table_states_the_bounds_the_code_keeps():
     assert f"the {function_cache.KEEP_VERSIONS} most" in rows["functions"]
     assert f"the {motion_store.KEEP} most" in rows["motions"]
     assert f"the {propagation_store.KEEP} most" in rows["transitions"]
+    assert "none" in rows["leftovers"]

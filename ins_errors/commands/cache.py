@@ -21,8 +21,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "least recently used deleted first); notes of frozen states, "
                     "generated model code, CasADi functions of the studies, flown motions "
                     "and propagations by a number of files or versions each; pint's parsed "
-                    "unit definitions only grow with new pint versions. Everything is "
-                    "rebuilt when needed. Both actions take --json.")
+                    "unit definitions only grow with new pint versions; leftovers of "
+                    "interrupted or older runs beside the loops are shown and cleared "
+                    "too. Everything is rebuilt when needed. Both actions take --json.")
     actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
     info = actions.add_parser("info", help="each store's folder, files, size and bound")
     clear = actions.add_parser("clear", help="empty every store (loops and the rest)")
@@ -33,6 +34,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     for action in (info, clear):
         action.add_argument("--json", action="store_true", help="machine-readable output")
     parser.set_defaults(func=run)
+
+
+LEFTOVERS = ("tmp*", "writer_*.key", "verified-generated.json")
+"""Names of entries of the compiled loops' folder that no current store keeps: scratch
+folders of compiles that were interrupted (``tempfile``'s ``tmp`` prefix), fingerprint
+files an older version wrote beside the loops, the test suite's record of verified
+generated code (tests/test_generated_fresh.py)."""
 
 
 @dataclass(frozen=True)
@@ -52,6 +60,9 @@ class Store:
     limit : dict
         The bound as numbers (``{"files": n}`` or ``{"versions_per_name": n}``), empty
         where there is none.
+    patterns : tuple of str
+        Only the entries of ``folder`` whose names match these (glob patterns) belong to
+        the store; empty: all of the folder.
     """
 
     name: str
@@ -59,6 +70,50 @@ class Store:
     holds: str
     bound: str
     limit: dict
+    patterns: tuple[str, ...] = ()
+
+    def _parts(self) -> list[Path]:
+        if not self.folder.is_dir():
+            return []
+        return sorted({p for pattern in self.patterns for p in self.folder.glob(pattern)})
+
+    def usage(self) -> tuple[int, int]:
+        """Number of files and bytes in the store (0, 0 if its folder is missing)."""
+        from ins_errors.numeric import cache
+
+        if not self.patterns:
+            return cache.usage(self.folder)
+        files = size = 0
+        for path in self._parts():
+            if path.is_dir() and not path.is_symlink():
+                more, extra = cache.usage(path)
+            else:
+                try:
+                    more, extra = 1, path.lstat().st_size
+                except FileNotFoundError:
+                    continue  # removed meanwhile
+            files, size = files + more, size + extra
+        return files, size
+
+    def empty(self) -> tuple[int, int]:
+        """Delete the store's contents; returns the files and bytes deleted."""
+        from ins_errors.numeric import cache
+
+        if not self.patterns:
+            return cache.empty(self.folder)
+        files = size = 0
+        for path in self._parts():
+            if path.is_dir() and not path.is_symlink():
+                more, extra = cache.empty(path)
+                path.rmdir()
+            else:
+                try:
+                    more, extra = 1, path.lstat().st_size
+                except FileNotFoundError:
+                    continue  # removed meanwhile
+                path.unlink(missing_ok=True)
+            files, size = files + more, size + extra
+        return files, size
 
 
 def stores() -> list[Store]:
@@ -90,6 +145,11 @@ def stores() -> list[Store]:
               "propagations of the matrix checks",
               f"the {propagation_store.KEEP} most recently used",
               {"files": propagation_store.KEEP}),
+        Store("leftovers", cache.directory(),
+              "scratch folders of interrupted compiles, files of older versions, the "
+              "test suite's note of verified generated code",
+              "none (small; only what an interrupted or older run left)", {},
+              patterns=LEFTOVERS),
     ]
 
 
@@ -120,7 +180,7 @@ def run(args: argparse.Namespace) -> int:
     limit = cache.limit_bytes()
     try:
         entries = cache.entries(folder) if folder.is_dir() else []
-        used = {store.name: cache.usage(store.folder) for store in others}
+        used = {store.name: store.usage() for store in others}
     except OSError as error:
         raise _failed("read", folder, error) from None
     total = sum(e.size for e in entries)
@@ -160,7 +220,7 @@ def _clear(args: argparse.Namespace, folder: Path, others: list[Store]) -> int:
     try:
         if not args.checkout:
             for store in others:
-                files, freed = cache.empty(store.folder)
+                files, freed = store.empty()
                 rows.append({"name": store.name, "folder": str(store.folder),
                              "removed": files, "bytes_freed": freed})
         count, freed = cache.clear(folder, checkout_only=args.checkout)
