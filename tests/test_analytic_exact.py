@@ -125,6 +125,20 @@ def test_fraction_free_inverse_gives_the_fields_own_elements():
                 assert (e.numer, e.denom) == (r.numer, r.denom)
 
 
+def test_division_by_s_gives_the_fields_quotient():
+    s = an.S
+    g, R, W = sp.symbols("g R Omega", positive=True)
+    outer = sp.QQ.frac_field(s, g, R, W)
+    s_elem = outer.from_sympy(s)
+    values = [(s**2 + g) / (3 * R * s + W), s * (g - R) / (s**2 + W**2), sp.Integer(0),
+              sp.Rational(-2, 7) * s**3 / (R * (s + 1)), (g * s + R) / s**2, 5 / s,
+              (s * g / 3 + W**2 * s**2) / (s**2 - g / R) ** 2, -g / (2 * W), s / 4]
+    for v in values:
+        element = outer.from_sympy(v)
+        quotient, reference = an._over_first_generator(element), element / s_elem
+        assert (quotient.numer, quotient.denom) == (reference.numer, reference.denom), v
+
+
 def test_one_printing_serves_both_backends():
     from ins_errors.symbolic import codegen
 

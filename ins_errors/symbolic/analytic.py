@@ -807,6 +807,25 @@ def _split_in_s(element, outer, inner, s: sp.Symbol) -> tuple[sp.Poly, sp.Poly]:
     return to_poly(element.numer), to_poly(element.denom)
 
 
+def _over_first_generator(value):
+    """``value / x`` for the first generator x of its field (s in :func:`analyse`): the
+    element the field's division gives, without its gcd.
+
+    The numerator n and denominator d of a field element are coprime, with integer
+    coefficients and d's leading coefficient positive; so gcd(n, d x) is x if x divides
+    n and 1 otherwise, and the reduced quotient is (n / x, d) or (n, d x) (d x keeps d's
+    leading coefficient, x being the first variable of the lexicographic order).
+    """
+    numer, denom = value.numer, value.denom
+    if not numer:
+        return value
+    if all(monom[0] for monom in numer.itermonoms()):
+        numer = numer.ring.from_dict({(m[0] - 1, *m[1:]): c for m, c in numer.items()})
+    else:
+        denom = denom.mul_monom((1,) + (0,) * (denom.ring.ngens - 1))
+    return value.raw_new(numer, denom)
+
+
 def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
             parametrisation: Parametrisation = Parametrisation(),
             s: sp.Symbol = S, t: sp.Symbol = T,
@@ -848,7 +867,6 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     inner = sp.QQ.frac_field(*symbols) if symbols else sp.QQ
     Bd = DomainMatrix.from_list_sympy(B.rows, B.cols, B.tolist()).convert_to(outer)
     Xd = inverse.times(Bd)
-    s_elem = outer.from_sympy(s)
     table = _PoleTable(poles, inner)
     if tidy is not None and tidy is not sp.factor:  # (sp.factor: see _PoleTable)
         tidy = functools.cache(tidy)  # the same coefficient recurs across sources and states
@@ -857,7 +875,8 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     with factor_lists_remembered():
         for j, name in enumerate(names):
             is_step = columns[name][1]
-            entries = [Xd[i][j] / s_elem if is_step else Xd[i][j] for i in range(Fp.rows)]
+            entries = [_over_first_generator(Xd[i][j]) if is_step else Xd[i][j]
+                       for i in range(Fp.rows)]
             laplace[name] = entries
             responses[name] = sp.Matrix([
                 _inverse_laplace_poly(*_split_in_s(e, outer, inner, s), inner, poles, s, t,
