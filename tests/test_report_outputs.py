@@ -150,8 +150,7 @@ def test_case_plots_equal_fresh_plain_matplotlib_figures(report, tmp_path, monke
 
 def _sticking_out(fig) -> tuple[bool, bool, bool, bool]:
     """Whether anything drawn passes the left, bottom, right or top edge of the figure."""
-    box = fig.get_tightbbox(fig.canvas.get_renderer()).transformed(
-        fig.dpi_scale_trans.inverted())
+    box = fig.get_tightbbox(fig.canvas.get_renderer())  # inches
     width, height = fig.get_size_inches()
     return bool(box.x0 < 0), bool(box.y0 < 0), bool(box.x1 > width), bool(box.y1 > height)
 
@@ -206,6 +205,120 @@ def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
                            refined_slope=2.0, magnitude_1pct=4.8e-9)
     validity_plot.plot_validity([sweep], tmp_path / "validity.png", "a title")
     assert seen[-1] == ((False,) * 4, [True])
+
+
+def _overlapping(fig) -> list[tuple[str, str]]:
+    """Texts of a drawn figure that overlap another text, or a panel not their own.
+
+    Texts: every visible tick label within its axis' limits, axis labels, offset texts,
+    titles, texts on the panels and on the figure (suptitle included), and the figure's
+    legends. Returned as pairs of the texts' strings (a panel as "panel").
+    """
+    renderer = fig.canvas.get_renderer()
+    texts, panels = [], []
+    for ax in (a for a in fig.axes if a.get_visible()):
+        panels.append((ax, ax.bbox))
+        owned = [ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label,
+                 ax.xaxis.offsetText, ax.yaxis.offsetText, *ax.texts]
+        for axis in (ax.xaxis, ax.yaxis):
+            low, high = sorted(axis.get_view_interval())
+            slack = (high - low) * 1e-9
+            locs = axis.get_majorticklocs()
+            for tick, loc in zip(axis.get_major_ticks(len(locs)), locs, strict=True):
+                if low - slack <= loc <= high + slack:
+                    owned += [tick.label1, tick.label2]
+        texts += [(ax, t.get_text(), t.get_window_extent(renderer)) for t in owned
+                  if t.get_visible() and t.get_text().strip()]
+    texts += [(None, t.get_text(), t.get_window_extent(renderer)) for t in fig.texts
+              if t.get_visible() and t.get_text().strip()]
+    texts += [(None, "legend", legend.get_window_extent(renderer)) for legend in fig.legends]
+
+    def meet(a, b) -> bool:  # by more than a pixel each way
+        return min(a.x1, b.x1) - max(a.x0, b.x0) > 1 and min(a.y1, b.y1) - max(a.y0, b.y0) > 1
+
+    found = [(s, z) for k, (_, s, a) in enumerate(texts) for _, z, b in texts[k + 1:]
+             if meet(a, b)]
+    found += [(s, "panel") for owner, s, a in texts for ax, b in panels
+              if ax is not owner and meet(a, b)]
+    return found
+
+
+def test_budget_and_sweep_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
+    """The budget figures and the sweep figure use fixed margins measured from their
+    labels (no tight_layout): with the longest labels the product makes (the longest
+    source names and magnitudes, many sources, long titles, units with superscripts,
+    wide tick labels and offsets) and with short ones, nothing may stick out of the
+    figure and no text may overlap another or lie on another panel."""
+    from types import SimpleNamespace
+
+    from ins_errors import output
+    from ins_errors.analysis import budget_report, sweep
+
+    seen = []
+
+    def check(fig, path, **options):
+        fig.draw_without_rendering()
+        seen.append((path.name, _sticking_out(fig), _overlapping(fig)))
+        return save(fig, path, **options)
+
+    save = output.save_figure
+    monkeypatch.setattr(output, "save_figure", check)
+    monkeypatch.setattr(budget_report, "save_figure", check)
+    names = ["velocity_integrator_gain_error_eta", "position_integrator_gain_error_Phi",
+             "initial_velocity_error_north", "correction_gain_error_z", "gyro_drift_x"]
+    items = ["position_error", "ground_speed_error", "vertical_error", "heading_drift"]
+    long_title = ("product 802m with every source of the strapdown model, a title written "
+                  "out at length by its author (lab manual 000, appendix, table 3) ") * 2
+    long_motion = ("great circle from φ=-45.25°, λ=-170.5°, heading χ=359.75°, h=12500 m, "
+                   "at 250 m/s, turning at the waypoints of the route file") * 2
+
+    def budget(count, free, title, motion, display, when):
+        sources = [{"name": f"{names[j % len(names)]}_{j}"[:36], "display": display,
+                    "binding_item": items[j % 4], "binding_time_h": when,
+                    "share_at_binding": 0.02 + 0.3 * (j == 1), "fixed": False}
+                   for j in range(count)]
+        sources += [{"name": n, "binding_item": None, "fixed": False} for n in free]
+        rows = [{"item": n, "ratio": 0.1 + 0.3 * i, "time_h": when,
+                 "display": f"{display} of {display}"} for i, n in enumerate(items)]
+        monkeypatch.setattr(budget_report, "report", lambda allocation: {
+            "sources": sources, "rows": rows, "motion": motion})
+        spec = SimpleNamespace(title=title, sigma_level=2.0,
+                               items=[SimpleNamespace(name=n) for n in items])
+        return SimpleNamespace(budget=SimpleNamespace(spec=spec))
+
+    budget_report.plot(budget(60, names * 8, long_title, long_motion, "-1.235e-05 deg/h",
+                              23.99), tmp_path / "budget_long.png")
+    budget_report.plot(budget(1, [], "802m", "static", "1 ug", 1.0),
+                       tmp_path / "budget_short.png")
+    for times, quantities in (([1.0, 2.0, 24.0], 12), ([1.0], 3)):
+        sources = [f"{names[j % len(names)]}_{j}" for j in range(30)]
+        std = np.random.default_rng(1).uniform(0.5, 1, (len(times), quantities, 31))
+        std[..., -1] = 12345.6789
+        budget_report.plot_outputs({
+            "std": std, "times_h": times, "sources": sources,
+            "quantities": ["delta_longitude", "delta_v_N", "alpha_z"] * (quantities // 3),
+            "units": ["arcmin", "m/s²", "deg/h"] * (quantities // 3)},
+            tmp_path / f"outputs_{len(times)}.png")
+
+    wide = "velocity_integrator_gain_error_eta"
+
+    class Dataset(dict):
+        attrs: dict
+
+    dataset = Dataset({
+        wide: SimpleNamespace(attrs={"units": "m/s²"}, values=np.repeat(
+            np.linspace(-123456.789, 123456.789, 40), 40)),
+        "heading": SimpleNamespace(attrs={"units": "deg"}, values=np.tile(
+            np.linspace(-179.5, 179.5, 40), 40)),
+        "latitude": SimpleNamespace(attrs={"units": "deg"}, values=np.zeros(1600))})
+    dataset.attrs = {"title": long_title, "swept": f'["{wide}", "heading", "latitude"]'}
+    label = f"max |{wide}| [m/s²]"
+    for values in (np.linspace(1e-9, 3e-9, 1600), np.linspace(-123456.7, 1e6, 1600)):
+        monkeypatch.setattr(sweep, "figure_values", lambda data, figure, v=values: (v, label))
+        sweep.plot(dataset, "max_direct:x", [wide], tmp_path / "sweep_line.png")
+        sweep.plot(dataset, "max_direct:x", [wide, "heading"], tmp_path / "sweep_map.png")
+    assert [s for s in seen if s[1:] != ((False,) * 4, [])] == []
+    assert len(seen) == 8
 
 
 def _day_of_seconds():

@@ -782,6 +782,76 @@ def figure_values(dataset, figure: str) -> tuple[np.ndarray, str]:
     return dataset[kind].values[:, j] * scale, f"{title} [{unit}]"
 
 
+BAR_WIDTH, BAR_PAD = 0.18, 0.25
+"""Width of the colour bar of :func:`plot` and its gap from the panel, inches."""
+
+
+def _tick_labels(axis) -> tuple[list[str], str]:
+    """The tick labels an axis will draw at its current limits, and its offset text
+    (from its locator and formatter, without drawing)."""
+    low, high = sorted(axis.get_view_interval())
+    span = (high - low) * 1e-9
+    locs = [v for v in axis.get_majorticklocs() if low - span <= v <= high + span]
+    formatter = axis.get_major_formatter()
+    return formatter.format_ticks(locs), formatter.get_offset()
+
+
+def _width(texts, size: float) -> float:
+    """Width of the widest line of ``texts`` at ``size`` points in the default font,
+    inches (measured from the glyphs; text between two $ as mathtext)."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import text_to_path
+
+    font = FontProperties(size=size)
+    return max((text_to_path.get_text_width_height_descent(
+        line, font, ismath=line.count("$") >= 2)[0] for text in texts
+        for line in text.split("\n") if line), default=0.0) / 72
+
+
+def _wrap(text: str, size: float, width: float) -> str:
+    """``text`` with each line wider than ``width`` inches at ``size`` points broken at
+    spaces."""
+    import textwrap
+
+    lines = []
+    for line in text.split("\n"):
+        chars = len(line)
+        while chars > 10 and _width([textwrap.fill(line, chars)], size) > width:
+            chars = int(chars * 0.9)
+        lines.append(textwrap.fill(line, chars) if chars < len(line) else line)
+    return "\n".join(lines)
+
+
+def _fixed_margins(figure_, ax, bar, heading: str, width: float) -> None:
+    """Place the panel (and colour bar) with margins that fit its labels and title.
+
+    Sizes in inches: tick labels measured at their formatted values, a line of text
+    1.2 × its size high. Replaces ``tight_layout``, which draws the figure once more
+    only to measure it.
+    """
+    size = 10 / 72  # the default font size, inches
+    ticks = 7 / 72  # tick length + pad
+    for _ in range(2):  # the tick labels chosen for the panel's first size, then its own
+        ylabels, yoffset = _tick_labels(ax.yaxis)
+        xlabels, xoffset = _tick_labels(ax.xaxis)
+        blabels, boffset = _tick_labels(bar.ax.yaxis) if bar is not None else ([], "")
+        left = 0.12 + 1.2 * size + 4 / 72 + _width(ylabels, 10) + ticks
+        bottom = 0.12 + 1.2 * size * 2 + 4 / 72 + ticks + (1.2 * size if xoffset else 0.0)
+        right = 0.15 + _width(xlabels[-1:], 10) / 2
+        if bar is not None:  # the bar, its tick labels and its label right of the panel
+            labels = 0.12 + 1.2 * size + 4 / 72 + _width(blabels, 10) + ticks
+            right = max(right, labels + BAR_WIDTH + BAR_PAD)
+        title = _wrap(heading, 10, width - left - right)  # (over the panel only)
+        ax.set_title(title, fontsize=10)
+        top = 0.12 + 1.2 * size * (title.count("\n") + 1) + 6 / 72 + (
+            1.2 * size + 0.05 if yoffset or boffset else 0.0)
+        if bar is not None:
+            bar.ax.set_position(((width - right + BAR_PAD) / width, bottom / 4.5,
+                                 BAR_WIDTH / width, (4.5 - top - bottom) / 4.5))
+        ax.set_position((left / width, bottom / 4.5, (width - left - right) / width,
+                         (4.5 - top - bottom) / 4.5))
+
+
 def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path:
     """Plot a figure against one (line) or two (colour map) swept parameters.
 
@@ -813,7 +883,9 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
     for key, value in zip(keys, values, strict=True):
         if np.isfinite(value):
             reduced[key] = max(reduced.get(key, -np.inf), float(value))
-    figure_, ax = plt.subplots(figsize=(7, 4.5))
+    width = 7.0
+    figure_, ax = plt.subplots(figsize=(width, 4.5))
+    bar = None
     if len(axes) == 1:
         xs = sorted(reduced)
         ax.plot([x[0] for x in xs], [reduced[x] for x in xs], "o-")
@@ -826,15 +898,16 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
         for (x, y), v in reduced.items():
             grid_[ys.index(y), xs.index(x)] = v
         mesh = ax.pcolormesh(xs, ys, grid_, shading="nearest")
-        figure_.colorbar(mesh, ax=ax, label=title)
+        # on an axes of its own, placed by _fixed_margins
+        bar = figure_.colorbar(mesh, cax=figure_.add_axes((0.9, 0.1, 0.02, 0.8)),
+                               label=title)
         ax.set_xlabel(f"{axes[0][0]} [{axes[0][1]}]")
         ax.set_ylabel(f"{axes[1][0]} [{axes[1][1]}]")
     heading = dataset.attrs.get("title", "sweep")
     if others:
         heading += f"\n(max over {', '.join(others)})"
-    ax.set_title(heading, fontsize=10)
     ax.grid(True, alpha=0.3)
-    figure_.tight_layout()
+    _fixed_margins(figure_, ax, bar, heading, width)
     from ins_errors.output import save_figure
 
     return save_figure(figure_, path, dpi=120)  # atomic, parent folders created
