@@ -191,8 +191,17 @@ def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
                               direct=errors, printed=errors * 0.5, completed=errors,
                               km=lambda e: np.stack([e[0], e[1] * 0.0]) * 6378.245)
     spheroid_error.plot(flights, tmp_path / "flights.png")
+    for few in ([30, 90], [90]):  # narrow figures: the title and legend must still fit
+        spheroid_error.plot(SimpleNamespace(
+            times=times, start=np.radians([[0] * len(few) + [60] * len(few),
+                                           [0] * 2 * len(few), few * 2]),
+            direct=errors[:, :, :2 * len(few)], printed=errors[:, :, :2 * len(few)] * 0.5,
+            completed=errors[:, :, :2 * len(few)], km=flights.km),
+            tmp_path / f"flights{len(few)}.png")
     assert seen == [((False,) * 4, [False, False, False, True]),
-                    ((False,) * 4, [False] * 4 + [True] * 4)]
+                    ((False,) * 4, [False] * 4 + [True] * 4),
+                    ((False,) * 4, [False, False, True, True]),
+                    ((False,) * 4, [False, True])]
     from ins_errors.analysis import validity_plot
     from ins_errors.analysis.validity import SourceValidity
 

@@ -596,10 +596,18 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
     # no sharex and no tight_layout (each lays out every panel's tick labels again,
     # see ins_errors.figure_layout): every flight has the same times, and fixed margins
     # fit the labels
-    fig, axes = plt.subplots(rows, cols, figsize=(3.0 * cols + 0.6, 2.1 * rows + 1.2),
-                             squeeze=False)
+    width = 3.0 * cols + 0.6
+    fig, axes = plt.subplots(rows, cols, figsize=(width, 2.1 * rows + 1.2), squeeze=False)
     share_time_axis(axes)
-    fixed_margins(fig, left=0.7, right=0.15, bottom=0.9, top=0.9, wspace=0.5, hspace=0.38)
+    # a narrow figure (few angles) breaks the title into lines and stacks the legend
+    title = _fill(f"004: spherical-formula reckoning over the Krasovsky spheroid, every "
+                  f"flight ({direct.shape[1]}): direct simulation vs formula (10)", 10,
+                  width - 0.3)
+    names = ["direct simulation", "(10) with start term", "(10) as printed"]
+    ncol = 3 if _text_width(names, 8) * 3 + 3 * 3.8 * 8 / 72 < width - 0.3 else 1
+    fixed_margins(fig, left=0.7, right=0.15, bottom=0.9 + (0.3 if ncol == 1 else 0.0),
+                  top=max(0.9, 0.6 + 1.2 * 10 / 72 * (title.count("\n") + 1)),
+                  wspace=0.5, hspace=0.38)
     for ax in axes.flat:
         ax.set_visible(False)
     for f in range(direct.shape[1]):
@@ -607,10 +615,9 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
         c = angles.index(np.round(np.degrees(result.start[2, f]), 6))
         ax = axes[r, c]
         ax.set_visible(True)
-        ax.plot(hours, direct[:, f], color="black", lw=1.6, label="direct simulation")
-        ax.plot(hours, completed[:, f], "--", color="tab:orange", lw=1.0,
-                label="(10) with start term")
-        ax.plot(hours, printed[:, f], ":", color="tab:blue", lw=1.0, label="(10) as printed")
+        ax.plot(hours, direct[:, f], color="black", lw=1.6, label=names[0])
+        ax.plot(hours, completed[:, f], "--", color="tab:orange", lw=1.0, label=names[1])
+        ax.plot(hours, printed[:, f], ":", color="tab:blue", lw=1.0, label=names[2])
         top = max(PLOT_FLOOR_KM, float(np.nanmax([direct[:, f], completed[:, f],
                                                   printed[:, f]])) * 1.08)
         ax.set_ylim(0, top)
@@ -623,8 +630,28 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
         if r == rows - 1:
             ax.set_xlabel("time, h", fontsize=8)
     handles, labels = axes[0, 0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=3, fontsize=8)
-    fig.suptitle("004: spherical-formula reckoning over the Krasovsky spheroid, every flight "
-                 f"({direct.shape[1]}): direct simulation vs formula (10)", fontsize=10)
+    fig.legend(handles, labels, loc="lower center", ncol=ncol, fontsize=8)
+    fig.suptitle(title, fontsize=10)
     common_time_range(ax for ax in axes.flat if ax.get_visible())
     return save_figure(fig, path, dpi=100)
+
+
+def _text_width(texts, size: float) -> float:
+    """Width of the widest of ``texts`` at ``size`` points in the default font, inches
+    (measured from the glyphs, without drawing)."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import text_to_path
+
+    font = FontProperties(size=size)
+    return max(text_to_path.get_text_width_height_descent(t, font, ismath=False)[0]
+               for t in texts) / 72
+
+
+def _fill(text: str, size: float, width: float) -> str:
+    """``text`` broken at spaces into lines no wider than ``width`` inches."""
+    import textwrap
+
+    chars = len(text)
+    while chars > 10 and _text_width(textwrap.wrap(text, chars), size) > width:
+        chars = int(chars * 0.9)
+    return textwrap.fill(text, chars)
