@@ -94,3 +94,50 @@ def common_time_range(axes: Iterable) -> None:
     lows, highs = zip(*(ax.get_xlim() for ax in axes), strict=True)
     for ax in axes:
         ax.set_xlim(min(lows), max(highs), auto=None)
+
+
+def text_width(texts: Iterable[str], size: float) -> float:
+    """Width of the widest line of ``texts`` at ``size`` points in the default font.
+
+    Measured from the glyphs, without drawing anything; a line holding two or more
+    ``$`` is measured as mathtext, as matplotlib would draw it.
+
+    Parameters
+    ----------
+    texts : iterable of str
+        Texts; each may hold several lines (``\\n``).
+    size : float
+        Font size, points.
+
+    Returns
+    -------
+    float
+        Width, inches (0 for no text).
+    """
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import text_to_path
+
+    font = FontProperties(size=size)
+    return max((text_to_path.get_text_width_height_descent(
+        line, font, ismath=line.count("$") >= 2)[0]
+        for text in texts for line in text.split("\n") if line), default=0.0) / 72
+
+
+def text_height(text: str, size: float) -> float:
+    """Height of the lines of ``text`` at ``size`` points, inches (matplotlib's line
+    spacing of 1.2, rounded up)."""
+    return 1.2 * size * (text.count("\n") + 1) / 72
+
+
+def wrap_to_width(text: str, size: float, width: float) -> str:
+    """``text`` with every line wider than ``width`` inches at ``size`` points broken at
+    spaces (lines that fit are kept as they are)."""
+    import textwrap
+
+    lines = []
+    for line in text.split("\n"):
+        chars = len(line)
+        while chars > 10 and text_width([textwrap.fill(line, chars)], size) > width:
+            chars = int(chars * 0.9)
+        lines.append(textwrap.fill(line, chars) if chars < len(line) else line)
+    return "\n".join(lines)

@@ -16,7 +16,7 @@ from ins_errors.analysis.budget import (
     display,
     format_time,
 )
-from ins_errors.figure_layout import fixed_margins
+from ins_errors.figure_layout import fixed_margins, text_height, text_width, wrap_to_width
 from ins_errors.output import require_matplotlib, save_figure
 
 
@@ -161,7 +161,7 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
         when = format_time(s["binding_time_h"] * HOUR)
         text = f"  {s['binding_item']} at {when}"
         left.text(100 * s["share_at_binding"], yy, text, va="center", fontsize=7)
-        notes.append((100 * s["share_at_binding"] / (largest * 1.6), _text_width([text], 7)))
+        notes.append((100 * s["share_at_binding"] / (largest * 1.6), text_width([text], 7)))
     left.set_xlim(0, largest * 1.6)
     left.set_title("allowed magnitude of each source", fontsize=10)
     left.grid(True, axis="x", alpha=0.3)
@@ -186,27 +186,27 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     if free:
         import textwrap
 
-        note = _wrap_to(textwrap.fill(f"not limited on this motion: {', '.join(free)}",
-                                      170), 7, width - 0.3)
+        note = wrap_to_width(textwrap.fill(
+            f"not limited on this motion: {', '.join(free)}", 170), 7, width - 0.3)
         fig.text(0.1 / width, 0.1 / height, note, fontsize=7, va="bottom")
-    heading = _wrap_to(f"Error budget: {spec.title}\n{data['motion']}", 10, width - 0.4)
+    heading = wrap_to_width(f"Error budget: {spec.title}\n{data['motion']}", 10, width - 0.4)
     fig.suptitle(heading, fontsize=10, y=1 - 0.1 / height, va="top")
     margin, ticks = 0.12, 7 / 72  # edge clearance; tick length + pad
-    left_margin = margin + _text_width(sources, 8) + ticks
-    gap = margin + 0.2 + _text_width(checks, 8) + ticks
+    left_margin = margin + text_width(sources, 8) + ticks
+    gap = margin + 0.2 + text_width(checks, 8) + ticks
     share = 2.2 / 3.2  # of the panels' width that is the left panel's
     for _ in range(4):  # the bar notes (after the bars) may need a wider gap
         panel = (width - left_margin - 0.3 - gap) * share
         over = max((f * panel + w - panel for f, w in notes), default=0.0)
-        gap = margin + 0.2 + _text_width(checks, 8) + ticks + max(0.0, over)
+        gap = margin + 0.2 + text_width(checks, 8) + ticks + max(0.0, over)
     xlabel = (f"share of the binding item's allowed variance, % ({k} magnitudes as "
               "labelled)")
-    if _text_width([xlabel], 10) > panel:
+    if text_width([xlabel], 10) > panel:
         xlabel = xlabel.replace(" (", "\n(")
     left.set_xlabel(xlabel)
-    top = 0.1 + _text_height(heading, 10) + 0.12 + _text_height("title", 10) + 6 / 72
-    bottom = (margin + ticks + _text_height("0", 10) + 4 / 72
-              + _text_height(xlabel, 10) + (_text_height(note, 7) + 0.1 if note else 0))
+    top = 0.1 + text_height(heading, 10) + 0.12 + text_height("title", 10) + 6 / 72
+    bottom = (margin + ticks + text_height("0", 10) + 4 / 72
+              + text_height(xlabel, 10) + (text_height(note, 7) + 0.1 if note else 0))
     fixed_margins(fig, left=left_margin, right=0.3, bottom=bottom, top=top, wspace=gap)
     save_figure(fig, path, dpi=110)
 
@@ -273,45 +273,17 @@ def plot_outputs(data: dict, path: str, top: int = 14) -> None:
     # the legend's columns as many as fit the width (at most 5), its rows under the
     # panels; all sizes in inches
     em = 8 / 72  # the legend's font size
-    column = _text_width(names, 8) + (2.0 + 0.8 + 2.0) * em  # handle, pad, spacing
+    column = text_width(names, 8) + (2.0 + 0.8 + 2.0) * em  # handle, pad, spacing
     ncol = int(max(1, min(5, (width - 0.3 - 2 * em) // column)))
     fig.legend(handles, names, loc="lower center", ncol=ncol, fontsize=8)
     rows = -(-len(names) // ncol)
     legend = (rows * 1.2 + (rows - 1) * 0.5 + 2 * 0.4 + 0.5) * em + 0.05
-    ticks = 7 / 72 + _text_height("\n", 7)  # tick length + pad, two-line labels
-    title = _text_height("t", 10) + 6 / 72
-    fixed_margins(fig, left=0.12 + _text_height("share", 10) + 4 / 72
-                  + _text_width(["0.0", "1.0"], 10) + 7 / 72,
+    ticks = 7 / 72 + text_height("\n", 7)  # tick length + pad, two-line labels
+    title = text_height("t", 10) + 6 / 72
+    fixed_margins(fig, left=0.12 + text_height("share", 10) + 4 / 72
+                  + text_width(["0.0", "1.0"], 10) + 7 / 72,
                   right=0.2, top=0.12 + title, bottom=legend + 0.15 + ticks,
                   hspace=ticks + 0.2 + title)
     save_figure(fig, path, dpi=120)
 
 
-def _text_width(texts, size: float) -> float:
-    """Width of the widest line of ``texts`` set in the default font at ``size`` points,
-    inches (measured from the glyphs, without drawing anything)."""
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    font = FontProperties(size=size)
-    return max((text_to_path.get_text_width_height_descent(line, font, ismath=False)[0]
-                for text in texts for line in text.split("\n")), default=0.0) / 72
-
-
-def _text_height(text: str, size: float) -> float:
-    """Height of the lines of ``text`` at ``size`` points, inches (at matplotlib's 1.2
-    line spacing, rounded up)."""
-    return 1.2 * size * (text.count("\n") + 1) / 72
-
-
-def _wrap_to(text: str, size: float, width: float) -> str:
-    """``text`` with each line that is wider than ``width`` inches broken at spaces."""
-    import textwrap
-
-    lines = []
-    for line in text.split("\n"):
-        chars = len(line)
-        while chars > 10 and _text_width([textwrap.fill(line, chars)], size) > width:
-            chars = int(chars * 0.9)
-        lines.append(textwrap.fill(line, chars) if chars < len(line) else line)
-    return "\n".join(lines)

@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.figure_layout import text_width, wrap_to_width
 from ins_errors.units import parse_quantity
 
 MOTION_PARAMETERS: dict[str, str] = {"latitude": "rad", "longitude": "rad", "heading": "rad",
@@ -796,30 +797,6 @@ def _tick_labels(axis) -> tuple[list[str], str]:
     return formatter.format_ticks(locs), formatter.get_offset()
 
 
-def _width(texts, size: float) -> float:
-    """Width of the widest line of ``texts`` at ``size`` points in the default font,
-    inches (measured from the glyphs; text between two $ as mathtext)."""
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    font = FontProperties(size=size)
-    return max((text_to_path.get_text_width_height_descent(
-        line, font, ismath=line.count("$") >= 2)[0] for text in texts
-        for line in text.split("\n") if line), default=0.0) / 72
-
-
-def _wrap(text: str, size: float, width: float) -> str:
-    """``text`` with each line wider than ``width`` inches at ``size`` points broken at
-    spaces."""
-    import textwrap
-
-    lines = []
-    for line in text.split("\n"):
-        chars = len(line)
-        while chars > 10 and _width([textwrap.fill(line, chars)], size) > width:
-            chars = int(chars * 0.9)
-        lines.append(textwrap.fill(line, chars) if chars < len(line) else line)
-    return "\n".join(lines)
 
 
 def _fixed_margins(figure_, ax, bar, heading: str, width: float) -> None:
@@ -835,13 +812,13 @@ def _fixed_margins(figure_, ax, bar, heading: str, width: float) -> None:
         ylabels, yoffset = _tick_labels(ax.yaxis)
         xlabels, xoffset = _tick_labels(ax.xaxis)
         blabels, boffset = _tick_labels(bar.ax.yaxis) if bar is not None else ([], "")
-        left = 0.12 + 1.2 * size + 4 / 72 + _width(ylabels, 10) + ticks
+        left = 0.12 + 1.2 * size + 4 / 72 + text_width(ylabels, 10) + ticks
         bottom = 0.12 + 1.2 * size * 2 + 4 / 72 + ticks + (1.2 * size if xoffset else 0.0)
-        right = 0.15 + _width(xlabels[-1:], 10) / 2
+        right = 0.15 + text_width(xlabels[-1:], 10) / 2
         if bar is not None:  # the bar, its tick labels and its label right of the panel
-            labels = 0.12 + 1.2 * size + 4 / 72 + _width(blabels, 10) + ticks
+            labels = 0.12 + 1.2 * size + 4 / 72 + text_width(blabels, 10) + ticks
             right = max(right, labels + BAR_WIDTH + BAR_PAD)
-        title = _wrap(heading, 10, width - left - right)  # (over the panel only)
+        title = wrap_to_width(heading, 10, width - left - right)  # (over the panel only)
         ax.set_title(title, fontsize=10)
         top = 0.12 + 1.2 * size * (title.count("\n") + 1) + 6 / 72 + (
             1.2 * size + 0.05 if yoffset or boffset else 0.0)

@@ -585,7 +585,13 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from ins_errors.figure_layout import common_time_range, fixed_margins, share_time_axis
+    from ins_errors.figure_layout import (
+        common_time_range,
+        fixed_margins,
+        share_time_axis,
+        text_width,
+        wrap_to_width,
+    )
 
     hours = result.times / 3600
     direct, printed, completed = (np.hypot(*result.km(e)) for e in
@@ -600,11 +606,11 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
     fig, axes = plt.subplots(rows, cols, figsize=(width, 2.1 * rows + 1.2), squeeze=False)
     share_time_axis(axes)
     # a narrow figure (few angles) breaks the title into lines and stacks the legend
-    title = _fill(f"004: spherical-formula reckoning over the Krasovsky spheroid, every "
+    title = wrap_to_width(f"004: spherical-formula reckoning over the Krasovsky spheroid, every "
                   f"flight ({direct.shape[1]}): direct simulation vs formula (10)", 10,
                   width - 0.3)
     names = ["direct simulation", "(10) with start term", "(10) as printed"]
-    ncol = 3 if _text_width(names, 8) * 3 + 3 * 3.8 * 8 / 72 < width - 0.3 else 1
+    ncol = 3 if text_width(names, 8) * 3 + 3 * 3.8 * 8 / 72 < width - 0.3 else 1
     fixed_margins(fig, left=0.7, right=0.15, bottom=0.9 + (0.3 if ncol == 1 else 0.0),
                   top=max(0.9, 0.6 + 1.2 * 10 / 72 * (title.count("\n") + 1)),
                   wspace=0.5, hspace=0.38)
@@ -635,23 +641,3 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
     common_time_range(ax for ax in axes.flat if ax.get_visible())
     return save_figure(fig, path, dpi=100)
 
-
-def _text_width(texts, size: float) -> float:
-    """Width of the widest of ``texts`` at ``size`` points in the default font, inches
-    (measured from the glyphs, without drawing)."""
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import text_to_path
-
-    font = FontProperties(size=size)
-    return max(text_to_path.get_text_width_height_descent(t, font, ismath=False)[0]
-               for t in texts) / 72
-
-
-def _fill(text: str, size: float, width: float) -> str:
-    """``text`` broken at spaces into lines no wider than ``width`` inches."""
-    import textwrap
-
-    chars = len(text)
-    while chars > 10 and _text_width(textwrap.wrap(text, chars), size) > width:
-        chars = int(chars * 0.9)
-    return textwrap.fill(text, chars)
