@@ -54,6 +54,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         f"| recorded every | {s.record:g} s |",
         f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |",
         f"| Earth model | {s.ellipsoid or 'model default'} |",
+        f"| truth | {s.truth} |",
         "",
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
         "equations along the same motion; refined = with the second-order terms. A ratio is "
@@ -177,7 +178,7 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
     summary = {"title": result.scenario.title, "model": model.name,
                "motion": result.motion_description, "duration_s": result.scenario.duration,
                "step_s": result.scenario.step, "record_s": result.scenario.record,
-               "method": result.scenario.method,
+               "method": result.scenario.method, "truth": result.scenario.truth,
                "parameters": parameters_record(model, result.scenario.parameters),
                "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
                "curves": {"csv": "curves.csv", "mat": "curves.mat"},

@@ -20,6 +20,7 @@ Every value with a unit is read by :mod:`ins_errors.units`. Example::
     platform = "exact"       # or "small_angle" (the source documents' platform matrix)
     validity_threshold = 0.05  # warn when linear − direct exceeds 5 % of the error
     ellipsoid = "wgs84"      # default: the model's own Earth
+    truth = "auto"           # moving truth: "fine", "interpolated" or "auto" (default)
 
     [[case]]
     label = "0.01 deg/h about x"      # optional
@@ -86,6 +87,9 @@ class Scenario:
         Linear/direct ratio above which a case is warned about.
     ellipsoid : str or None
         Earth model for the parameters (``None``: the model's default).
+    truth : str
+        How a moving truth is computed: ``"auto"`` (default), ``"interpolated"`` or
+        ``"fine"`` (see :func:`ins_errors.numeric.trajectories.trajectory`).
     parameters : dict of str to float
         Model parameters set by the file's ``[parameters]`` table, SI (the others keep
         their defaults; see :mod:`ins_errors.model_parameters`).
@@ -111,6 +115,7 @@ class Scenario:
     platform: str = "exact"
     validity_threshold: float = 0.05
     ellipsoid: str | None = None
+    truth: str = "auto"
     parameters: dict[str, float] = field(default_factory=dict)
     cases: list[Case] = field(default_factory=list)
     quantities: list[str] | None = None
@@ -202,6 +207,7 @@ def load_scenario(path: str | Path) -> Scenario:
         platform=run.platform,
         validity_threshold=float(run.validity_threshold),
         ellipsoid=run.ellipsoid,
+        truth=run.truth,
         parameters=parameters,
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
@@ -230,7 +236,7 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
     profile = motion_profile(scenario.motion, base=scenario.base)
     p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **scenario.parameters)
     trajectory = tr.trajectory(model, profile, scenario.duration, scenario.step, p=p,
-                               progress=progress)
+                               progress=progress, truth=scenario.truth)
     comparisons = compare(model, trajectory, [c.sources for c in scenario.cases],
                           method=scenario.method, record_interval=scenario.record,
                           refined=scenario.refined, progress=progress,

@@ -77,6 +77,10 @@ class Run(_Table):
     platform: Literal["exact", "small_angle"] = "exact"
     validity_threshold: float = Field(0.05, gt=0, lt=10,
                                       description="linear/direct ratio that warns")
+    truth: Literal["auto", "interpolated", "fine"] = Field(
+        "auto", description="true motion of a moving run: 'fine' integrated at every step, "
+                            "'interpolated' from coarse exact intervals, 'auto' the "
+                            "library's choice (as 'ins-errors compare --truth')")
 
 
 class Outputs(_Table):
@@ -174,6 +178,11 @@ def _one_line(error: ValidationError, name: str) -> InsErrorsError:
     if loc == ("case",) and kind == "list_type":
         return InsErrorsError(f"{name}: cases are an array of tables: write [[case]], "
                               "not [case]")
+    if loc == ("run", "truth") and kind == "literal_error":
+        from ins_errors.numeric.trajectories import TRUTHS
+
+        return InsErrorsError(f"{name}: unknown run truth {first['input']!r}; allowed: "
+                              f"{', '.join(TRUTHS)}")
     if loc == ("model",) and kind == "missing":
         return InsErrorsError(f"{name}: missing 'model' (e.g. model = \"orthodromic\")")
     return one_line(error, name, _TABLES)

@@ -269,6 +269,8 @@ class PointJob:
         Model parameters set by the scenario's ``[parameters]`` table, SI.
     label : str
         The point's swept values as written (for messages).
+    truth : str
+        How a moving truth is computed: ``"auto"``, ``"interpolated"`` or ``"fine"``.
     """
 
     model: str
@@ -287,6 +289,7 @@ class PointJob:
     platform: str = "exact"
     label: str = ""
     parameters: tuple[tuple[str, float], ...] = ()
+    truth: str = "auto"
 
 
 @dataclass
@@ -343,7 +346,7 @@ def grid(scenario) -> Grid:
                     duration, step, scenario.record, scenario.method, scenario.refined,
                     scenario.ellipsoid, tuple(sorted(sources.items())), spec.random,
                     spec.seed, draw, scenario.platform, ", ".join(label),
-                    tuple(sorted(scenario.parameters.items()))))
+                    tuple(sorted(scenario.parameters.items())), scenario.truth))
     _check_grids(scenario, jobs)
     coordinates = {p.name: (np.array(labels[p.name]), {"units": p.unit, "display_unit":
                                                        p.display_unit, "swept": 1})
@@ -372,7 +375,8 @@ def _check_grids(scenario, jobs: Sequence[PointJob]) -> None:
 
 @lru_cache(maxsize=4)
 def _trajectory(model_name: str, motion: str, base: str, duration: float, step: float,
-                ellipsoid: str | None, parameters: tuple[tuple[str, float], ...] = ()):
+                ellipsoid: str | None, parameters: tuple[tuple[str, float], ...] = (),
+                truth: str = "auto"):
     """The true motion of a point (kept for the next point with the same motion)."""
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.model import load_model
@@ -381,7 +385,7 @@ def _trajectory(model_name: str, motion: str, base: str, duration: float, step: 
     model = load_model(model_name)
     profile = motion_profile(json.loads(motion), base=Path(base))
     p = model.parameter_vector(ellipsoid=ellipsoid, **dict(parameters))
-    return tr.trajectory(model, profile, duration, step, p=p)
+    return tr.trajectory(model, profile, duration, step, p=p, truth=truth)
 
 
 def run_point(job: PointJob) -> dict[str, np.ndarray]:
@@ -410,7 +414,7 @@ def _run_point(job: PointJob) -> dict[str, np.ndarray]:
     model = load_model(job.model)
     motion = json.dumps(dict(job.motion), sort_keys=True)
     trajectory = _trajectory(job.model, motion, job.base, job.duration, job.step,
-                             job.ellipsoid, job.parameters)
+                             job.ellipsoid, job.parameters, job.truth)
     sources = dict(job.sources)
     if job.draw is not None:
         rng = draw_generator(job.seed, job.draw)
@@ -471,6 +475,8 @@ def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
             del row["base"]  # the folder matters to motion files only
         if not job.parameters:
             del row["parameters"]  # a sweep stored before [parameters] existed is the same
+        if job.truth == "auto":
+            del row["truth"]  # likewise before truth could be chosen
         rows.append(row)
     text = json.dumps({"jobs": rows, **extra}, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:32]
@@ -495,7 +501,7 @@ def layout(scenario, points: Grid):
     spec = scenario.sweep
     attributes = {
         "title": scenario.title, "model": scenario.model, "method": scenario.method,
-        "platform": scenario.platform,
+        "platform": scenario.platform, "truth": scenario.truth,
         "record_s": record, "draws": spec.draws, "seed": spec.seed,
         "random": {name: sigma for name, sigma in spec.random},
         "swept": [name for name, (_, attrs) in points.coordinates.items()

@@ -71,6 +71,8 @@ class ValidityTask:
         Integration scheme.
     parameters : tuple of (str, float)
         Model parameters set for the runs, SI (empty: the model's defaults).
+    truth : str
+        How a moving truth is computed: ``"auto"``, ``"interpolated"`` or ``"fine"``.
     """
 
     model: str
@@ -81,6 +83,7 @@ class ValidityTask:
     step: float = 2.0
     method: str = "rk4"
     parameters: tuple[tuple[str, float], ...] = ()
+    truth: str = "auto"
 
 
 @dataclass
@@ -148,7 +151,8 @@ def typical_magnitude(model, source: str) -> float:
 def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
                    step: float = 2.0, method: str = "rk4",
                    factors: tuple[float, ...] = FACTORS,
-                   parameters: Mapping[str, float] | None = None) -> list[ValidityTask]:
+                   parameters: Mapping[str, float] | None = None,
+                   truth: str = "auto") -> list[ValidityTask]:
     """The independent tasks of a validity map: one per source and motion.
 
     Parameters
@@ -166,6 +170,9 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
     parameters : mapping of str to float, optional
         Model parameters for every run, SI (:mod:`ins_errors.model_parameters`; default:
         the model's own values).
+    truth : {"auto", "interpolated", "fine"}
+        How the moving truths are computed
+        (:func:`ins_errors.numeric.trajectories.trajectory`).
     """
     names = list(sources) if sources else [s.name for s in model.sources]
     for name in names:
@@ -173,7 +180,7 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
     return [ValidityTask(model.key, motion, name,
                          tuple(f * typical_magnitude(model, name) for f in factors),
                          float(hours), float(step), method,
-                         tuple((parameters or {}).items()))
+                         tuple((parameters or {}).items()), truth)
             for motion in motions for name in names]
 
 
@@ -216,7 +223,8 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
     info = model.source(task.source)
     profile = motion_profile({"kind": task.motion})
     trajectory = tr.trajectory(model, profile, task.hours * 3600.0, task.step,
-                               p=model.parameter_vector(**dict(task.parameters)))
+                               p=model.parameter_vector(**dict(task.parameters)),
+                               truth=task.truth)
     stride = max(1, min(trajectory.n_steps, round(300.0 / task.step)))
     while trajectory.n_steps % stride:  # the largest stride up to 5 min that divides the run
         stride -= 1

@@ -7,6 +7,8 @@ import json
 import sys
 from pathlib import Path
 
+TRUTHS = ("auto", "interpolated", "fine")  # trajectories.TRUTHS, without importing numpy
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
@@ -26,6 +28,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--force", action="store_true",
                         help="write into a non-empty --out folder that ins-errors did not "
                              "write (only the report's own files are replaced)")
+    parser.add_argument("--truth", choices=TRUTHS, default=None,
+                        help="how the true motion of a moving run is built, as for "
+                             "'ins-errors compare --truth': auto, interpolated or fine "
+                             "(default: the scenario's [run] truth, else auto)")
     parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
     parser.set_defaults(func=run)
 
@@ -47,6 +53,8 @@ def run(args: argparse.Namespace) -> int:
         raise InsErrorsError("run needs a SCENARIO file (or --schema)")
     require_matplotlib("the report's plots")
     scenario = load_scenario(args.scenario)
+    if args.truth is not None:  # the command line overrides the file
+        scenario.truth = args.truth
     out = Path(args.out) if args.out else Path(f"report_{Path(args.scenario).stem}")
     OutputFolder(out, force=args.force, create=False)  # refuse a stranger's, before computing
     steps = scenario.duration / scenario.step

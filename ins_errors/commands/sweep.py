@@ -40,6 +40,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--against", metavar="P[,Q]",
                         help="swept parameter(s) on the plot's axes (default: the first "
                              "one or two)")
+    parser.add_argument("--truth", choices=("auto", "interpolated", "fine"), default=None,
+                        help="how the true motion of a moving run is built, as for "
+                             "'ins-errors compare --truth': auto, interpolated or fine "
+                             "(default: the scenario's [run] truth, else auto)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -54,6 +58,8 @@ def run(args: argparse.Namespace) -> int:
     if scenario.sweep is None:
         raise sw.SweepError(f"{args.scenario}: no [sweep] table (ins-errors run runs a "
                             "scenario without one)")
+    if args.truth is not None:  # the command line overrides the file
+        scenario.truth = args.truth
     if args.workers is not None and args.workers < 1:
         raise sw.SweepError(f"--workers must be at least 1, got {args.workers}")
     store = args.store or sw.default_store(args.scenario)
@@ -71,6 +77,7 @@ def run(args: argparse.Namespace) -> int:
         print(json.dumps({"store": str(result.store), "points": result.points,
                           "computed": result.computed, "reused": result.reused,
                           "engine": where, "plot": None if plotted is None else str(plotted),
+                          "truth": scenario.truth,
                           "parameters": parameters_record(model, scenario.parameters),
                           "swept": {name: data[name].attrs.get("units", "1")
                                     for name in sw.swept_names(data)},

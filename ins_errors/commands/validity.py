@@ -39,6 +39,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--hours", type=float, default=24.0,
                         help="length of each run in hours (default 24)")
     parser.add_argument("--step", default="2s", help="integration step (default 2s, RK4)")
+    parser.add_argument("--truth", choices=("auto", "interpolated", "fine"), default="auto",
+                        help="how the true motion of a moving run is built, as for "
+                             "'ins-errors compare --truth': auto (default), interpolated "
+                             "or fine")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--plot", action="store_true",
                         help="write one log-log plot per source into --out")
@@ -97,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
     step = parse_quantity(args.step, "s", "--step")
     motions = args.motion or list(DEFAULT_MOTIONS)
     tasks = validity_tasks(model, motions, args.source, hours=args.hours, step=step,
-                           parameters=parameters)
+                           parameters=parameters, truth=args.truth)
     out_dir = args.out or (f"validity_{model.name}" if args.plot else None)
     if args.plot:
         require_matplotlib("--plot")
@@ -109,7 +113,7 @@ def run(args: argparse.Namespace) -> int:
     results = validity_map(tasks, engine=engine, progress=not args.no_progress,
                            scheduler=args.scheduler, workers=args.workers)
     payload = {"model": model.name, "hours": args.hours, "step_s": step, "method": "rk4",
-               "parameters": parameters_record(model, parameters),
+               "truth": args.truth, "parameters": parameters_record(model, parameters),
                "sources": [r.to_dict() for r in results]}
     if out_dir is not None:
         out = OutputFolder(out_dir, force=args.force)
