@@ -152,6 +152,14 @@ def test_validity_truth(tmp_path, capsys):
     assert not np.array_equal(ratios["interpolated"], ratios["fine"])
     # |linear - direct| / |direct| moves by no more than the direct errors' own agreement
     assert np.abs(ratios["interpolated"] - ratios["fine"]).max() < 1e-7
+    # at 0.1 s every interval holds enough steps: auto is the interpolated truth
+    small = {}
+    for truth in ("auto", "interpolated"):
+        assert main(["validity", "orthodromic", "--source", "accel_bias_x", "--motion",
+                     "manoeuvre", "--hours", "0.05", "--step", "0.1s", "--json",
+                     "--no-progress", "--truth", truth]) == 0
+        small[truth] = json.loads(capsys.readouterr().out)["sources"]
+    assert small["auto"] == small["interpolated"]
     with pytest.raises(SystemExit) as exit_:
         main(["validity", "orthodromic", "--truth", "bogus"])
     assert exit_.value.code == 2
