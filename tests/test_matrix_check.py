@@ -130,11 +130,12 @@ def test_effect_of_a_missing_coriolis_term(tmp_path, wgs84):
     assert 0 < case[1.0].position_difference < case[24.0].position_difference
     assert case[24.0].position_difference > 10.0
     # the only difference: its effect alone is the whole difference
-    alone, _, motion = report.finding_effects["F[delta_v_E, delta_v_N]"]
+    alone = report.finding_effects["F[delta_v_E, delta_v_N]"]
     whole = max((e for e in report.effects if e.hours == 24.0),
                 key=lambda e: e.position_difference)
-    assert alone == pytest.approx(whole.position_difference, rel=1e-6)
-    assert motion == whole.motion
+    assert alone.position == pytest.approx(whole.position_difference, rel=1e-6)
+    assert alone.motion == whole.motion and alone.position_above_rounding
+    assert whole.position_above_rounding and whole.position_difference > 1e6 * whole.position_floor
 
 
 def test_sampled_matrices_from_npz_and_mat(tmp_path, model):

@@ -27,7 +27,9 @@ Classes (the vocabulary of :mod:`~ins_errors.checker.classify`):
 
 Then both linear models are propagated on each motion for 1 h and 24 h from each initial
 error (and each error source of G) at its typical magnitude, and the position and
-attitude error differences are reported (:func:`propagate_effects`).
+attitude error differences are reported (:func:`propagate_effects`), each against its
+rounding floor (:func:`rounding_floor`): a difference below it is no effect, and no
+initial error or source is named for it.
 """
 
 from __future__ import annotations
@@ -77,6 +79,8 @@ STEP = 60.0
 EFFECT_HOURS = (1.0, 24.0)
 """Times at which the propagated models are compared, h."""
 ARCSEC = np.pi / (180 * 3600)
+EPS = float(np.finfo(float).eps)
+"""Machine epsilon of the propagation (float64)."""
 APPROXIMATED = "approximated"
 """Kind of a coefficient the hand writes within :data:`PARTIAL` of the model's (a small
 part of it left out: a constant radius for R_N + h, a constant g): an omission."""
@@ -348,6 +352,9 @@ class Effect:
         Horizontal position error: |hand − model| and |model|, m.
     attitude_difference, attitude_model : float
         Attitude error (norm of the three angles): |hand − model| and |model|, rad.
+    position_floor, attitude_floor : float
+        Rounding floor of the differences on this motion at this time (the same for every
+        case; :func:`rounding_floor`), m and rad: a difference at or below it is no effect.
     """
 
     motion: str
@@ -358,6 +365,55 @@ class Effect:
     position_model: float
     attitude_difference: float
     attitude_model: float
+    position_floor: float = 0.0
+    attitude_floor: float = 0.0
+
+    @property
+    def position_above_rounding(self) -> bool:
+        """The position difference is above its rounding floor."""
+        return self.position_difference > self.position_floor
+
+    @property
+    def attitude_above_rounding(self) -> bool:
+        """The attitude difference is above its rounding floor."""
+        return self.attitude_difference > self.attitude_floor
+
+
+@dataclass(frozen=True)
+class AloneEffect:
+    """Effect of one finding alone after 24 h: the derived model with only that entry
+    replaced by the hand's (:func:`finding_effects`).
+
+    Attributes
+    ----------
+    position : float
+        Largest horizontal position change over every case and motion, m (rounding
+        included: compare with ``position_floor``).
+    attitude : float
+        Largest attitude change, rad.
+    motion : str or None
+        Motion where the position change above its floor is largest; None when it is
+        below the floor on every motion (no motion is named for rounding).
+    position_floor, attitude_floor : float
+        Rounding floors (:func:`rounding_floor`): of the motion named, or the largest over
+        the motions when the change is below them everywhere; m and rad.
+    """
+
+    position: float
+    attitude: float
+    motion: str | None
+    position_floor: float
+    attitude_floor: float
+
+    @property
+    def position_above_rounding(self) -> bool:
+        """The position change is above its rounding floor on some motion."""
+        return self.motion is not None
+
+    @property
+    def attitude_above_rounding(self) -> bool:
+        """The attitude change is above its rounding floor on some motion."""
+        return self.attitude > self.attitude_floor
 
 
 @dataclass
@@ -387,9 +443,8 @@ class MatrixReport:
         channel diverges with a time constant of about 9.5 min: after 24 h its error
         would swamp every other difference).
     finding_effects : dict
-        ``entry`` -> (position change m, attitude change rad, motion): the derived model
-        with only that entry replaced by the hand's, after 24 h, worst case
-        (:func:`finding_effects`).
+        ``entry`` -> :class:`AloneEffect`: the derived model with only that entry replaced
+        by the hand's, after 24 h, worst case (:func:`finding_effects`).
     """
 
     model: str
@@ -406,7 +461,7 @@ class MatrixReport:
     out_of_scope: list[str]
     effects: list[Effect] = field(default_factory=list)
     held: list[str] = field(default_factory=list)
-    finding_effects: dict[str, tuple[float, float, str]] = field(default_factory=dict)
+    finding_effects: dict[str, AloneEffect] = field(default_factory=dict)
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -682,7 +737,9 @@ class _Propagation:
 
     def derived(self, Fz: np.ndarray, Gz: np.ndarray, motion: Motion, at: list[float]
                 ) -> list[np.ndarray]:
-        """Response of the hand's states (SI) to each unit case, derived model: (n_h, cases)."""
+        """Response of the derived model to each unit case, in scaled variables (each
+        state or source over its typical magnitude): (n_z + m, n_h + m) at each time, every
+        convention state included (:meth:`si` gives the hand's states in SI)."""
         n_z, n_h, m = Fz.shape[1], len(self.rows), len(self.src_cols)
         phis = _transition(_augmented(Fz, Gz[:, :, self.src_cols],
                                       np.concatenate([self.mags_z, self.mags_src]),
@@ -690,33 +747,88 @@ class _Propagation:
         embed = np.zeros((n_z + m, n_h + m))
         embed[self.rows, np.arange(n_h)] = 1.0
         embed[n_z:, n_h:] = np.eye(m)
-        return [(phi @ embed)[self.rows] * self.mags_h[:, None] for phi in phis]
+        return [phi @ embed for phi in phis]
+
+    def si(self, scaled: np.ndarray) -> np.ndarray:
+        """The hand's states (SI) of a scaled derived response: (n_h, n_h + m)."""
+        return scaled[self.rows] * self.mags_h[:, None]
 
     def hand(self, Fh: np.ndarray, Gh: np.ndarray | None, motion: Motion, at: list[float]
              ) -> list[np.ndarray]:
-        """The same for the hand model."""
-        n_h = len(self.rows)
+        """The same for the hand model, in scaled variables: (n_h + m, n_h + m)."""
         Gh = np.zeros((*Fh.shape[:2], 0)) if Gh is None else Gh
-        phis = _transition(_augmented(Fh, Gh, np.concatenate([self.mags_h, self.mags_src]),
+        return _transition(_augmented(Fh, Gh, np.concatenate([self.mags_h, self.mags_src]),
                                       self.held_h), motion.times, at)
-        return [phi[:n_h] * self.mags_h[:, None] for phi in phis]
+
+    def floors(self, scaled: list[np.ndarray], steps: int, readout: np.ndarray) -> float:
+        """:func:`rounding_floor` of a readout (rows: m or rad per SI unit of the hand's
+        states) of responses (scaled) after ``steps`` steps."""
+        columns = [c for c, _, _ in self.cases]
+        largest = max((float(np.abs(r[:, columns]).max(initial=0.0)) for r in scaled),
+                      default=0.0)
+        size = max(r.shape[0] for r in scaled)
+        return rounding_floor(largest, size, steps,
+                              float(np.linalg.norm(np.abs(readout) @ self.mags_h)))
+
+
+def rounding_floor(largest: float, size: int, steps: int, unit: float) -> float:
+    """Rounding floor of a difference of two propagations: ``size·steps·ε·largest·unit``.
+
+    Both models are propagated in scaled variables (each state and source over its typical
+    magnitude) as a product of ``steps`` step exponentials of ``size × size`` matrices. The
+    forward error of such a product, and so of any of its entries, is bounded by
+    γ = size·steps·ε (ε the machine epsilon) times the largest scaled response
+    (``largest``); the same bound covers hand entries that equal the derived ones only to
+    the last bits (they change each step exponential by a few ε). A readout (horizontal
+    position, attitude) of that error is at most γ·largest·``unit``, ``unit`` =
+    ‖ |R| m ‖ for the readout rows R and the typical magnitudes m of the states. On the
+    static base the transition is one exponential exp(A t), whose forward error grows
+    with ‖A t‖ (~ a hundred for a day of Schuler and Earth-rate cycles), well inside
+    the same bound for the steps a day has.
+
+    A difference at or below this floor says nothing: which initial error or source
+    reaches the largest such difference changes with the last bits of the arithmetic.
+
+    Parameters
+    ----------
+    largest : float
+        Largest |entry| of the scaled responses compared (both models), dimensionless.
+    size : int
+        Dimension of the propagated (augmented) system.
+    steps : int
+        Number of steps propagated (at least 1).
+    unit : float
+        Readout of a unit scaled error, m or rad.
+
+    Returns
+    -------
+    float
+        The floor, m or rad.
+    """
+    return size * max(steps, 1) * EPS * largest * unit
 
 
 def _times(motion: Motion, hours: tuple[float, ...]) -> list[float]:
     return [h * 3600.0 for h in hours if h * 3600.0 <= motion.times[-1] + 1e-9]
 
 
+def _steps(motion: Motion, t: float) -> int:
+    return round(t / (motion.times[1] - motion.times[0]))
+
+
 def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                       motion_list: list[Motion], hours: tuple[float, ...] = EFFECT_HOURS,
                       responses: dict | None = None) -> list[Effect]:
-    """Propagate the hand and the derived model; differences per initial error/source.
+    """Propagate the hand and the derived model; differences per initial error/source,
+    with the rounding floor of each motion and time (:func:`rounding_floor`).
 
-    ``responses``, if given, receives the derived model's responses by (motion, time)
-    (:func:`finding_effects` starts from them).
+    ``responses``, if given, receives the derived model's scaled responses by (motion,
+    time) (:func:`finding_effects` starts from them).
     """
     prop = _Propagation.of(report, conv, model)
     report.held = [v for v in conv.vertical if v in report.states]
     effects = []
+    n_h = len(prop.rows)
     for motion in motion_list:
         at = _times(motion, hours)
         if not at:
@@ -727,37 +839,46 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
             responses.update({(motion.label, t): r for t, r in zip(at, derived, strict=True)})
         position = conv.position(motion.navigation)  # (3, nz, K)
         attitude = conv.attitude(motion.navigation)
-        for t, resp_h, resp_z in zip(at, hand, derived, strict=True):
-            k = round(t / (motion.times[1] - motion.times[0]))
+        for t, scaled_h, scaled_z in zip(at, hand, derived, strict=True):
+            k = _steps(motion, t)
             P = position[:2, prop.rows, k]
             A = attitude[:, prop.rows, k]
+            resp_h, resp_z = scaled_h[:n_h] * prop.mags_h[:, None], prop.si(scaled_z)
+            floor_p = prop.floors([scaled_h, scaled_z], k, P)
+            floor_a = prop.floors([scaled_h, scaled_z], k, A)
             for c, case, text in prop.cases:
                 diff = resp_h[:, c] - resp_z[:, c]
                 effects.append(Effect(
                     motion.label, t / 3600.0, case, text, float(np.linalg.norm(P @ diff)),
                     float(np.linalg.norm(P @ resp_z[:, c])), float(np.linalg.norm(A @ diff)),
-                    float(np.linalg.norm(A @ resp_z[:, c]))))
+                    float(np.linalg.norm(A @ resp_z[:, c])), floor_p, floor_a))
     return effects
 
 
 def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                     motion_list: list[Motion], hours: float = EFFECT_HOURS[-1],
-                    responses: dict | None = None) -> dict[str, tuple[float, float, str]]:
+                    responses: dict | None = None) -> dict[str, AloneEffect]:
     """Effect of each finding alone: the derived model with only that entry replaced by
     the hand's, propagated like :func:`propagate_effects` (entries of held vertical-channel
-    states are left out). ``responses``: the derived model's responses by (motion, time)
-    from :func:`propagate_effects`, if at hand (the same numbers; not computed again).
+    states are left out). ``responses``: the derived model's scaled responses by (motion,
+    time) from :func:`propagate_effects`, if at hand (the same numbers; not computed
+    again).
+
+    On each motion the change is compared with its rounding floor (:func:`rounding_floor`
+    of both propagations); the motion named is the one with the largest change above its
+    floor, and none when the change is below the floor on every motion.
 
     Returns
     -------
     dict
-        ``finding.entry`` -> (largest horizontal position change, m; largest attitude
-        change, rad; motion where the position change is largest), over every case.
+        ``finding.entry`` -> :class:`AloneEffect` (largest horizontal position change, m;
+        largest attitude change, rad; motion; floors), over every case.
     """
     prop = _Propagation.of(report, conv, model)
     names = conv.names
     src_names = [s.name for s in model.sources]
-    out: dict[str, tuple[float, float, str]] = {}
+    # entry -> [(motion, position, attitude, position floor, attitude floor)]
+    per_motion: dict[str, list[tuple[str, float, float, float, float]]] = {}
     for motion in motion_list:
         at = _times(motion, (hours,))
         if not at:
@@ -765,7 +886,7 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
         Fz, Gz = sampled.Fz[motion.label], sampled.Gz[motion.label]
         known = (responses or {}).get((motion.label, at[0]))
         [base] = [known] if known is not None else prop.derived(Fz, Gz, motion, at)
-        k = round(at[0] / (motion.times[1] - motion.times[0]))
+        k = _steps(motion, at[0])
         P = conv.position(motion.navigation)[:2, prop.rows, k]
         A = conv.attitude(motion.navigation)[:, prop.rows, k]
         columns = [c for c, _, _ in prop.cases]
@@ -783,15 +904,29 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
                 G2[:, i, src_names.index(f.column)] = (
                     sampled.Gh[motion.label][:, a, report.sources.index(f.column)])
             [changed] = prop.derived(F2, G2, motion, at)
-            diff = (changed - base)[:, columns]
-            dp = float(np.linalg.norm(P @ diff, axis=0).max(initial=0.0))
-            da = float(np.linalg.norm(A @ diff, axis=0).max(initial=0.0))
-            old = out.get(f.entry)
-            if old is None or dp > old[0]:
-                out[f.entry] = (dp, max(da, old[1]) if old else da, motion.label)
-            else:
-                out[f.entry] = (old[0], max(da, old[1]), old[2])
-    return out
+            diff = (prop.si(changed) - prop.si(base))[:, columns]
+            per_motion.setdefault(f.entry, []).append((
+                motion.label, float(np.linalg.norm(P @ diff, axis=0).max(initial=0.0)),
+                float(np.linalg.norm(A @ diff, axis=0).max(initial=0.0)),
+                prop.floors([base, changed], k, P), prop.floors([base, changed], k, A)))
+    return {entry: _alone(rows) for entry, rows in per_motion.items()}
+
+
+def _alone(rows: list[tuple[str, float, float, float, float]]) -> AloneEffect:
+    """One finding's :class:`AloneEffect` from its (motion, position, attitude, floors)."""
+    position = max(r[1] for r in rows)
+    real = [r for r in rows if r[1] > r[3]]
+    real_a = [r for r in rows if r[2] > r[4]]
+    attitude = max(r[2] for r in (real_a or rows))
+    floor_a = (max(r[4] for r in real_a if r[2] == attitude) if real_a
+               else max(r[4] for r in rows))
+    if not real:
+        return AloneEffect(position, attitude, None, max(r[3] for r in rows), floor_a)
+    best = real[0]
+    for r in real[1:]:  # the first motion on ties
+        if r[1] > best[1]:
+            best = r
+    return AloneEffect(best[1], attitude, best[0], best[3], floor_a)
 
 
 # --------------------------------------------------------------------------------------

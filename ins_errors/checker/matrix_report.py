@@ -1,9 +1,20 @@
-"""Terminal, Markdown and JSON forms of a :class:`~ins_errors.checker.matrix.MatrixReport`."""
+"""Terminal, Markdown and JSON forms of a :class:`~ins_errors.checker.matrix.MatrixReport`.
+
+A propagated difference at or below its rounding floor
+(:func:`~ins_errors.checker.matrix.rounding_floor`) is written as ``< floor`` and "no
+effect above rounding", naming no initial error, source or motion: which one reaches the
+largest rounding difference changes with the last bits of the arithmetic.
+"""
 
 from __future__ import annotations
 
+import math
+
 from ins_errors.checker.extreme import first_largest_item
 from ins_errors.checker.matrix import ARCSEC, Effect, EntryFinding, MatrixReport
+
+NO_EFFECT = "no effect above rounding"
+"""What the report says for a difference at or below its rounding floor."""
 
 
 def _hours(seconds: float) -> str:
@@ -15,12 +26,29 @@ def _where(f: EntryFinding) -> str:
     return f"largest on {f.motion} at t = {_hours(f.time)} (per motion: {others})"
 
 
+def below(floor: float, unit: str) -> str:
+    """``< floor`` rounded up to one significant digit (``< 3e-11 m``, ``< 2e-09″``)."""
+    sep = "" if unit == "″" else " "
+    if not floor > 0:
+        return f"0{sep}{unit}"
+    digit = 10.0 ** math.floor(math.log10(floor))
+    return f"< {math.ceil(floor / digit * (1 - 1e-9)) * digit:.0e}{sep}{unit}"
+
+
 def _alone(r: MatrixReport, f: EntryFinding) -> str:
     """The effect of this difference alone after 24 h, or ''."""
     if f.entry not in r.finding_effects:
         return ""
-    dp, da, motion = r.finding_effects[f.entry]
-    return f"alone after 24 h: {dp:.3g} m, {da / ARCSEC:.3g}″ (largest on {motion})"
+    e = r.finding_effects[f.entry]
+    attitude = (f"{e.attitude / ARCSEC:.3g}″" if e.attitude_above_rounding
+                else below(e.attitude_floor / ARCSEC, "″"))
+    if not e.position_above_rounding:
+        if not e.attitude_above_rounding:
+            return (f"alone after 24 h: {NO_EFFECT} "
+                    f"({below(e.position_floor, 'm')}, {attitude})")
+        return (f"alone after 24 h: position {NO_EFFECT} "
+                f"({below(e.position_floor, 'm')}), {attitude}")
+    return f"alone after 24 h: {e.position:.3g} m, {attitude} (largest on {e.motion})"
 
 
 def _finding_line(r: MatrixReport, f: EntryFinding) -> str:
@@ -61,11 +89,17 @@ def _share(ratio: float) -> str:
 def _effect_rows(r: MatrixReport) -> list[list[str]]:
     rows = []
     for motion, hours, p, a in worst_effects(r):
-        share = p.position_difference / p.position_model if p.position_model else 0.0
-        rows.append([motion, f"{hours:g} h", f"{p.position_difference:.3g} m",
-                     _share(share) if p.position_model else "–",
-                     f"{p.case} ({p.magnitude})",
-                     f"{a.attitude_difference / ARCSEC:.3g}″", f"{a.case} ({a.magnitude})"])
+        if p.position_above_rounding:
+            share = p.position_difference / p.position_model if p.position_model else 0.0
+            position = [f"{p.position_difference:.3g} m",
+                        _share(share) if p.position_model else "–",
+                        f"{p.case} ({p.magnitude})"]
+        else:
+            position = [below(p.position_floor, "m"), "–", NO_EFFECT]
+        attitude = ([f"{a.attitude_difference / ARCSEC:.3g}″", f"{a.case} ({a.magnitude})"]
+                    if a.attitude_above_rounding
+                    else [below(a.attitude_floor / ARCSEC, "″"), NO_EFFECT])
+        rows.append([motion, f"{hours:g} h", *position, *attitude])
     return rows
 
 
@@ -150,9 +184,7 @@ def to_json(r: MatrixReport) -> dict:
                       "motion": f.motion, "time_s": f.time, "hand": f.hand, "model": f.model,
                       "absolute": f.absolute, "unit": f.unit, "per_motion": f.per_motion,
                       "detail": f.detail,
-                      "effect_alone_24h": ({"position_m": r.finding_effects[f.entry][0],
-                                            "attitude_rad": r.finding_effects[f.entry][1],
-                                            "motion": r.finding_effects[f.entry][2]}
+                      "effect_alone_24h": (_alone_json(r.finding_effects[f.entry])
                                            if f.entry in r.finding_effects else None)}
                      for f in r.findings],
         "effects": [{"motion": e.motion, "hours": e.hours, "case": e.case,
@@ -160,5 +192,19 @@ def to_json(r: MatrixReport) -> dict:
                      "position_difference_m": e.position_difference,
                      "position_model_m": e.position_model,
                      "attitude_difference_rad": e.attitude_difference,
-                     "attitude_model_rad": e.attitude_model} for e in r.effects],
+                     "attitude_model_rad": e.attitude_model,
+                     "position_floor_m": e.position_floor,
+                     "position_below_rounding": not e.position_above_rounding,
+                     "attitude_floor_rad": e.attitude_floor,
+                     "attitude_below_rounding": not e.attitude_above_rounding}
+                    for e in r.effects],
     }
+
+
+def _alone_json(e) -> dict:
+    """``effect_alone_24h`` of a finding: the numbers, their floors, whether below."""
+    return {"position_m": e.position, "attitude_rad": e.attitude, "motion": e.motion,
+            "position_floor_m": e.position_floor,
+            "position_below_rounding": not e.position_above_rounding,
+            "attitude_floor_rad": e.attitude_floor,
+            "attitude_below_rounding": not e.attitude_above_rounding}
