@@ -132,3 +132,18 @@ def test_rounding_floor_is_the_product_error_bound():
     eps = np.finfo(float).eps
     assert mc.rounding_floor(2.0, 15, 1440, 10.0) == pytest.approx(15 * 1440 * eps * 20.0)
     assert mc.rounding_floor(1.0, 3, 0, 1.0) == pytest.approx(3 * eps)  # at least one step
+
+
+def test_phi_attitude_example_has_no_effect_above_rounding():
+    """examples/strapdown/phi_attitude.txt agrees with the derived φ-angle attitude rows:
+    its effect table (24 h, the README's command) names no case on any motion."""
+    from ins_errors.checker.convention_equations import check_convention_file
+    from ins_errors.checker.convention_equations import to_terminal as convention_text
+
+    path = HAND.parent.parent.parent / "examples" / "strapdown" / "phi_attitude.txt"
+    report = check_convention_file(path).report
+    assert report.findings == [] and len(report.effects) > 0
+    assert max(e.position_difference for e in report.effects) < 1e-9
+    assert not any(e.position_above_rounding or e.attitude_above_rounding
+                   for e in report.effects)
+    assert convention_text(check_convention_file(path)).count(NO_EFFECT) == 12
