@@ -6,7 +6,6 @@ runs left beside the loops."""
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 from pathlib import Path
@@ -140,29 +139,33 @@ def test_a_store_that_cannot_be_emptied_is_one_line(filled, monkeypatch, capsys)
     assert "Permission denied" in err
 
 
-def test_after_clearing_the_stores_are_rebuilt_and_results_unchanged(tmp_path):
-    """Real use in fresh processes: a model file's comparison fills loops, notes, model
-    code and units; after ``cache clear`` the same command gives the same numbers and
-    fills them again."""
-    env = {**os.environ, "INS_ERRORS_CACHE": str(tmp_path / "cache")}
-    command = [sys.executable, "-m", "ins_errors.cli"]
-    compare = [*command, "compare", str(ROOT / "examples/own_model/schuler_loop.py"),
+def test_after_clearing_the_stores_are_rebuilt_and_results_unchanged(tmp_path, monkeypatch,
+                                                                    capsys):
+    """Real use: a model file's comparison, each in a fresh process, fills loops, notes,
+    model code and units; after ``cache clear`` the same command gives the same numbers
+    and fills them again. (``cache info`` and ``clear`` only read and delete files: they
+    run in this process, against the same folder.)"""
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))
+    compare = [sys.executable, "-m", "ins_errors.cli", "compare",
+               str(ROOT / "examples/own_model/schuler_loop.py"),
                "--source", "accel_bias=100ug", "--hours", "1", "--step", "60s"]
 
-    def run(argv):
-        done = subprocess.run(argv, env=env, capture_output=True, text=True, timeout=120)
+    def run_compare():
+        done = subprocess.run(compare, capture_output=True, text=True, timeout=120)
         assert done.returncode == 0, done.stderr
         return done.stdout
 
     def filled_stores():
-        info = json.loads(run([*command, "cache", "info", "--json"]))
+        capsys.readouterr()
+        assert main(["cache", "info", "--json"]) == 0
+        info = json.loads(capsys.readouterr().out)
         return {r["name"] for r in info["stores"] if r["files"]}
 
-    first = run(compare)
+    first = run_compare()
     assert {"notes", "models", "units"} <= filled_stores()
-    run([*command, "cache", "clear"])
+    assert main(["cache", "clear"]) == 0
     assert filled_stores() == set()
-    assert run(compare) == first
+    assert run_compare() == first
     assert {"notes", "models", "units"} <= filled_stores()
 
 
