@@ -90,3 +90,21 @@ def assert_chunks_join_into(streamed, stored, sizes) -> None:
         assert np.array_equal(truth, stored.truth)
         assert np.array_equal(inputs, stored.inputs)
         assert np.array_equal(midpoints, stored.midpoints)
+
+
+def assert_pictures_alike(reduced, full, most: int = 20) -> None:
+    """Two PNG files of the same figure differ in at most ``most`` pixels by more than 64
+    grey levels (a quarter of the range), and are not the same file.
+
+    Used to compare a figure drawn through the column envelope (``reduced``) with the
+    same figure drawn from every sample (``full``): antialiased edges may differ by a
+    few levels, a missing or moved stroke shows as dark pixels.
+    """
+    from PIL import Image
+
+    with Image.open(reduced) as a, Image.open(full) as b:
+        ours, every = (np.asarray(i.convert("L"), dtype=int) for i in (a, b))
+    assert ours.shape == every.shape
+    strokes = int((np.abs(ours - every) > 64).sum())
+    assert strokes <= most, strokes
+    assert reduced.read_bytes() != full.read_bytes()  # (the envelope is in use)
