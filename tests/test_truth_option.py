@@ -160,6 +160,13 @@ def test_validity_truth(tmp_path, capsys):
                      "--no-progress", "--truth", truth]) == 0
         small[truth] = json.loads(capsys.readouterr().out)["sources"]
     assert small["auto"] == small["interpolated"]
+    # the table's heading names the truth of a moving run (not of a static one)
+    for motion, named in (("manoeuvre", True), ("static", False)):
+        assert main(["validity", "orthodromic", "--source", "accel_bias_x", "--motion",
+                     motion, "--hours", "0.05", "--step", "2s", "--no-progress",
+                     "--truth", "fine"]) == 0
+        heading = capsys.readouterr().out.splitlines()[0]
+        assert ("fine truth" in heading) == named, heading
     with pytest.raises(SystemExit) as exit_:
         main(["validity", "orthodromic", "--truth", "bogus"])
     assert exit_.value.code == 2

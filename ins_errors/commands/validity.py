@@ -130,7 +130,8 @@ def run(args: argparse.Namespace) -> int:
         print()
     else:
         print(f"### {model.name}: validity of the linear error equations "
-              f"({args.hours:g} h runs, τ = {step:g} s, RK4)\n")
+              f"({args.hours:g} h runs, τ = {step:g} s, RK4"
+              + (f", {args.truth} truth" if set(motions) - {"static"} else "") + ")\n")
         print(table(results, model))
         if out_dir is not None:
             print(f"written: {out_dir}/results.json" + (" and one plot per source"
