@@ -227,10 +227,9 @@ def definition_of(ref: ModelRef):
 def models_cache_directory() -> Path:
     """Where the generated code of model files is kept (``$INS_ERRORS_CACHE/models`` or
     the user cache folder next to the compiled loops)."""
-    from ins_errors.numeric.cache import directory
+    from ins_errors.numeric.cache import store_directory
 
-    root = os.environ.get("INS_ERRORS_CACHE")
-    return (Path(root) if root else directory().parent) / "models"
+    return store_directory("models")
 
 
 def next_to(path: Path) -> Path:

@@ -10,7 +10,6 @@ the quantity needs (an angle given in m/s is an error, not a silent number).
 
 from __future__ import annotations
 
-import os
 import re
 from functools import cache, lru_cache
 from pathlib import Path
@@ -55,10 +54,9 @@ def registry() -> pint.UnitRegistry:
 def units_cache_directory() -> Path:
     """Where pint's parsed unit definitions are kept (``$INS_ERRORS_CACHE/units`` or the
     user cache folder next to the compiled loops)."""
-    from ins_errors.numeric.cache import directory
+    from ins_errors.numeric.cache import store_directory
 
-    root = os.environ.get("INS_ERRORS_CACHE")
-    return (Path(root) if root else directory().parent) / "units"
+    return store_directory("units")
 
 
 _ALIASES = {"deg/hr": "deg/h", "°/h": "deg/h", "″": "arcsec", "′": "arcmin", "°": "deg"}

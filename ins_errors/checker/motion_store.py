@@ -20,9 +20,9 @@ then flown as before.
 from __future__ import annotations
 
 import hashlib
+import io
 import os
 import sys
-import tempfile
 from functools import cache
 from pathlib import Path
 
@@ -36,10 +36,9 @@ FIELDS = ("times", "x", "u", "p")
 
 def folder() -> Path:
     """``$INS_ERRORS_CACHE/motions``, or ``motions`` next to the compiled loops."""
-    from ins_errors.numeric.cache import directory
+    from ins_errors.numeric.cache import store_directory
 
-    root = os.environ.get("INS_ERRORS_CACHE")
-    return (Path(root) if root else directory().parent) / "motions"
+    return store_directory("motions")
 
 
 @cache
@@ -90,24 +89,17 @@ def load(name: str) -> list[tuple[str, str, dict[str, np.ndarray]]] | None:
 
 def store(name: str, motions: list[tuple[str, str, dict[str, np.ndarray]]]) -> None:
     """Store ``motions`` under ``name`` (atomically) and drop the oldest beyond :data:`KEEP`."""
+    from ins_errors.numeric.cache import drop_least_recent, replace_file
+
     target = folder()
     arrays = {"labels": np.array([m[0] for m in motions]),
               "descriptions": np.array([m[1] for m in motions])}
     for i, (_, _, fields) in enumerate(motions):
         arrays.update({f"{i}_{f}": np.asarray(fields[f]) for f in FIELDS})
-    temporary = None
+    data = io.BytesIO()
+    np.savez(data, **arrays)
     try:
-        target.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=target, suffix=".tmp")
-        with os.fdopen(handle, "wb") as out:
-            np.savez(out, **arrays)
-        os.replace(temporary, target / f"{name}.npz")
-        temporary = None
-        kept = sorted(target.glob("*.npz"), key=lambda f: f.stat().st_mtime, reverse=True)
-        for old in kept[KEEP:]:
-            old.unlink(missing_ok=True)
+        replace_file(target / f"{name}.npz", data.getvalue())
+        drop_least_recent(target.glob("*.npz"), KEEP)
     except OSError:
         pass  # no store: the next check flies the motions again
-    finally:
-        if temporary is not None:
-            Path(temporary).unlink(missing_ok=True)

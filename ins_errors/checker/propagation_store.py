@@ -19,8 +19,8 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import io
 import os
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -63,37 +63,22 @@ def load(name: str) -> tuple[np.ndarray, ...] | None:
 def store(name: str, phis: tuple[np.ndarray, ...]) -> None:
     """Store ``phis`` under ``name`` (atomically); the first store of a process drops the
     oldest files beyond :data:`KEEP`."""
+    from ins_errors.numeric.cache import replace_file
+
     target = folder()
-    temporary = None
+    data = io.BytesIO()
+    np.save(data, np.array(phis))
     try:
-        target.mkdir(parents=True, exist_ok=True)
-        handle, temporary = tempfile.mkstemp(dir=target, suffix=".tmp")
-        with os.fdopen(handle, "wb") as out:
-            np.save(out, np.array(phis))
-        os.replace(temporary, target / f"{name}.npy")
-        temporary = None
+        replace_file(target / f"{name}.npy", data.getvalue())
         if not _pruned:
             _pruned.append(True)
             prune(target, KEEP)
     except OSError:
         pass  # not stored: computed again next time
-    finally:
-        if temporary is not None:
-            Path(temporary).unlink(missing_ok=True)
 
 
 def prune(target: Path, keep: int) -> None:
     """Delete all but the ``keep`` most recently used files of ``target``."""
-    with os.scandir(target) as entries:
-        files = [e for e in entries if e.name.endswith(".npy")]
-    if len(files) <= keep:
-        return
-    dated = []
-    for entry in files:
-        try:
-            dated.append((entry.stat().st_mtime, entry.path))
-        except OSError:
-            continue
-    dated.sort(reverse=True)
-    for _, path in dated[keep:]:
-        Path(path).unlink(missing_ok=True)
+    from ins_errors.numeric.cache import drop_least_recent
+
+    drop_least_recent(target.glob("*.npy"), keep)

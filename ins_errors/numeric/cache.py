@@ -19,7 +19,8 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
-import threading
+import tempfile
+from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -88,6 +89,49 @@ def touch(library: Path) -> None:
         pass  # a read-only cache still works; only its order is not kept
 
 
+def store_directory(name: str) -> Path:
+    """The folder of the on-disk store ``name`` beside the compiled loops:
+    ``$INS_ERRORS_CACHE/<name>``, else ``<name>`` next to the loops' folder in the user
+    cache (e.g. ``~/.cache/ins-errors/motions``); may not exist."""
+    root = os.environ.get("INS_ERRORS_CACHE")
+    return (Path(root) if root else directory().parent) / name
+
+
+def replace_file(path: Path, data: bytes) -> None:
+    """Write ``data`` to ``path`` atomically: into a scratch file of the same folder
+    (created if missing), renamed over ``path``; the scratch file never stays behind.
+
+    Raises
+    ------
+    OSError
+        If the folder or the file cannot be written (``path`` is then unchanged).
+    """
+    path.parent.mkdir(parents=True, exist_ok=True)
+    handle, scratch = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.",
+                                       suffix=".tmp")
+    try:
+        with os.fdopen(handle, "wb") as out:
+            out.write(data)
+        os.replace(scratch, path)
+    except BaseException:
+        Path(scratch).unlink(missing_ok=True)
+        raise
+
+
+def drop_least_recent(paths: Iterable[Path], keep: int) -> None:
+    """Delete all but the ``keep`` most recently modified of ``paths`` (files; a path
+    that has gone meanwhile is skipped)."""
+    dated = []
+    for path in paths:
+        try:
+            dated.append((path.stat().st_mtime, path))
+        except OSError:
+            continue
+    dated.sort(reverse=True)
+    for _, path in dated[max(keep, 0):]:
+        path.unlink(missing_ok=True)
+
+
 def read_note(name: str) -> str | None:
     """The note ``name`` (:data:`NOTES`), or None when there is none or it cannot be read."""
     try:
@@ -101,15 +145,10 @@ def write_note(name: str, text: str) -> None:
     cannot be written). Beyond :data:`NOTE_LIMIT` notes the older half is deleted."""
     folder = directory() / NOTES
     try:
-        folder.mkdir(parents=True, exist_ok=True)
-        scratch = folder / f".{name}.{os.getpid()}.{threading.get_ident()}"
-        scratch.write_text(text, encoding="utf-8")
-        os.replace(scratch, folder / name)
+        replace_file(folder / name, text.encode("utf-8"))
         notes = [path for path in folder.iterdir() if not path.name.startswith(".")]
         if len(notes) > NOTE_LIMIT:
-            notes.sort(key=lambda path: path.stat().st_mtime)
-            for path in notes[:len(notes) // 2]:
-                path.unlink(missing_ok=True)
+            drop_least_recent(notes, len(notes) - len(notes) // 2)
     except OSError:
         pass
 

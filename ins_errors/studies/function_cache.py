@@ -35,10 +35,9 @@ user sharing the cache (~45 kB a file)."""
 def cache_directory() -> Path:
     """``$INS_ERRORS_CACHE/functions``, or ``functions`` next to the compiled loops'
     folder in the user cache."""
-    from ins_errors.numeric.cache import directory
+    from ins_errors.numeric.cache import store_directory
 
-    root = os.environ.get("INS_ERRORS_CACHE")
-    return (Path(root) if root else directory().parent) / "functions"
+    return store_directory("functions")
 
 
 @cache
@@ -89,26 +88,14 @@ def write(name: str, functions: Mapping[str, ca.Function]) -> None:
     path = _file(name)
     if path is None:
         return
+    from ins_errors.numeric.cache import drop_least_recent, replace_file
+
     text = json.dumps({n: f.serialize() for n, f in functions.items()})
-    scratch = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        scratch.write_text(text, encoding="utf-8")
-        os.replace(scratch, path)
-        _prune(path, name)
-    except OSError:
-        scratch.unlink(missing_ok=True)
-
-
-def _prune(current: Path, name: str) -> None:
-    """Delete the least recently used files of ``name`` beyond :data:`KEEP_VERSIONS`."""
     pattern = re.compile(re.escape(name) + r"-[0-9a-f]{32}\.json")
-    others = []
-    for path in current.parent.iterdir():
-        if path != current and pattern.fullmatch(path.name):
-            try:
-                others.append((path.stat().st_mtime, path))
-            except OSError:
-                continue  # removed meanwhile
-    for _, path in sorted(others, reverse=True)[KEEP_VERSIONS - 1:]:
-        path.unlink(missing_ok=True)
+    try:
+        replace_file(path, text.encode("utf-8"))
+        # the least recently used other versions of ``name`` beyond KEEP_VERSIONS go
+        drop_least_recent((p for p in path.parent.iterdir()
+                           if p != path and pattern.fullmatch(p.name)), KEEP_VERSIONS - 1)
+    except OSError:
+        pass  # not kept: derived again next time
