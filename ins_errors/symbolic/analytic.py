@@ -329,7 +329,7 @@ def _inverse_laplace_poly(num_p: sp.Poly, den_p: sp.Poly, field, modes: Sequence
                     continue
                 coefficient = field.to_sympy(coefficient)
                 if tidy is sp.factor:  # the same result, faster on these coefficients
-                    coefficient = factor_product(coefficient)
+                    coefficient = table.factored(coefficient)
                 elif tidy:
                     coefficient = tidy(coefficient)
                 terms.append((coefficient, mode, power))
@@ -438,6 +438,16 @@ class _PoleTable:
         self._rests: dict[sp.Poly, list[tuple[Mode, int, sp.Expr, list[sp.Expr]]]] = {}
         self._ring_rests: dict[tuple, list | None] = {}
         self._factor_lists: dict = {}
+        self._factored: dict[sp.Expr, sp.Expr] = {}
+
+    def factored(self, coefficient: sp.Expr) -> sp.Expr:
+        """:func:`factor_product` of ``coefficient``, each distinct one computed once (the
+        same coefficient recurs across sources and states)."""
+        try:
+            return self._factored[coefficient]
+        except KeyError:
+            value = self._factored[coefficient] = factor_product(coefficient)
+            return value
 
     def _split(self, den: sp.Poly) -> list[tuple[Mode, int, sp.Expr, list[sp.Expr]]]:
         """Per pole of ``den``: (mode, power, point z = −ω², Taylor coefficients there of
