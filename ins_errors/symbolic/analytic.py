@@ -329,7 +329,7 @@ def _inverse_laplace_poly(num_p: sp.Poly, den_p: sp.Poly, field, modes: Sequence
                     continue
                 coefficient = field.to_sympy(coefficient)
                 if tidy is sp.factor:  # the same result, faster on these coefficients
-                    coefficient = table.factored(coefficient)
+                    coefficient = table.factor_product(coefficient)
                 elif tidy:
                     coefficient = tidy(coefficient)
                 terms.append((coefficient, mode, power))
@@ -438,15 +438,15 @@ class _PoleTable:
         self._rests: dict[sp.Poly, list[tuple[Mode, int, sp.Expr, list[sp.Expr]]]] = {}
         self._ring_rests: dict[tuple, list | None] = {}
         self._factor_lists: dict = {}
-        self._factored: dict[sp.Expr, sp.Expr] = {}
+        self._factor_products: dict[sp.Expr, sp.Expr] = {}
 
-    def factored(self, coefficient: sp.Expr) -> sp.Expr:
+    def factor_product(self, coefficient: sp.Expr) -> sp.Expr:
         """:func:`factor_product` of ``coefficient``, each distinct one computed once (the
         same coefficient recurs across sources and states)."""
         try:
-            return self._factored[coefficient]
+            return self._factor_products[coefficient]
         except KeyError:
-            value = self._factored[coefficient] = factor_product(coefficient)
+            value = self._factor_products[coefficient] = factor_product(coefficient)
             return value
 
     def _split(self, den: sp.Poly) -> list[tuple[Mode, int, sp.Expr, list[sp.Expr]]]:
