@@ -890,6 +890,7 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
         P = conv.position(motion.navigation)[:2, prop.rows, k]
         A = conv.attitude(motion.navigation)[:, prop.rows, k]
         columns = [c for c, _, _ in prop.cases]
+        base_si = prop.si(base)
         for f in report.findings:
             if f.row in conv.vertical or f.column in conv.vertical:
                 continue  # held in the propagation: no effect to show
@@ -904,7 +905,7 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
                 G2[:, i, src_names.index(f.column)] = (
                     sampled.Gh[motion.label][:, a, report.sources.index(f.column)])
             [changed] = prop.derived(F2, G2, motion, at)
-            diff = (prop.si(changed) - prop.si(base))[:, columns]
+            diff = (prop.si(changed) - base_si)[:, columns]
             per_motion.setdefault(f.entry, []).append((
                 motion.label, float(np.linalg.norm(P @ diff, axis=0).max(initial=0.0)),
                 float(np.linalg.norm(A @ diff, axis=0).max(initial=0.0)),
@@ -922,10 +923,7 @@ def _alone(rows: list[tuple[str, float, float, float, float]]) -> AloneEffect:
                else max(r[4] for r in rows))
     if not real:
         return AloneEffect(position, attitude, None, max(r[3] for r in rows), floor_a)
-    best = real[0]
-    for r in real[1:]:  # the first motion on ties
-        if r[1] > best[1]:
-            best = r
+    best = max(real, key=lambda r: r[1])  # (the first motion on ties)
     return AloneEffect(best[1], attitude, best[0], best[3], floor_a)
 
 

@@ -26,7 +26,6 @@ from pathlib import Path
 import numpy as np
 
 from ins_errors.checker.motion_store import code_version
-from ins_errors.checker.motion_store import folder as motions_folder
 
 KEEP = 4096
 """Stored propagations kept (the most recently used; ~2-8 kB each)."""
@@ -35,8 +34,11 @@ _pruned: list[bool] = []
 
 
 def folder() -> Path:
-    """``transitions/`` next to the stored motions."""
-    return motions_folder().parent / "transitions"
+    """``$INS_ERRORS_CACHE/transitions``, or ``transitions`` next to the compiled loops
+    (beside the stored motions)."""
+    from ins_errors.numeric.cache import store_directory
+
+    return store_directory("transitions")
 
 
 def name(key: tuple) -> str:

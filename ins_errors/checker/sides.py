@@ -52,11 +52,6 @@ def _has_dot(expr: sp.Expr) -> bool:
 # --------------------------------------------------------------------------------------
 # The model side
 # --------------------------------------------------------------------------------------
-def _structured(d: ModelDefinition) -> list:
-    """:func:`structured_variation` of ``d`` (computed once per definition)."""
-    return structured_variation(d)
-
-
 class ModelSide:
     """Flat variations and ideal meanings of every model name."""
 
@@ -74,7 +69,7 @@ class ModelSide:
         self._varied: dict[sp.Expr, sp.Expr] = {}  # vary() of each expression asked for
         self.state_rhs: dict[str, sp.Expr] = {}
         known: dict[sp.Symbol, sp.Expr] = {}
-        for line in _structured(d):
+        for line in structured_variation(d):  # (kept per definition)
             rhs = line.rhs.xreplace(known)
             if line.kind == "intermediate" and line.name in dropped:
                 rhs = sp.S.Zero

@@ -15,6 +15,8 @@ import argparse
 import json
 import sys
 
+from ins_errors.commands.run import TRUTHS
+
 MOTIONS = ("static", "great-circle", "manoeuvre")  # motion_spec.MOTION_KINDS less "file"
 
 
@@ -63,7 +65,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--platform", choices=("exact", "small-angle"), default="exact",
                         help="platform kinematics of the direct run: exact rotation (default) "
                              "or the source documents' small-angle matrix")
-    parser.add_argument("--truth", choices=("auto", "interpolated", "fine"), default="auto",
+    parser.add_argument("--truth", choices=TRUTHS, default="auto",
                         help="how the true motion of a moving run is built: interpolated = "
                              "the exact truth computed on coarse intervals (about 10 s, "
                              "ending at the motion's leg joins) and interpolated to the "

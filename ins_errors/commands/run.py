@@ -8,6 +8,10 @@ import sys
 from pathlib import Path
 
 TRUTHS = ("auto", "interpolated", "fine")  # trajectories.TRUTHS, without importing numpy
+SCENARIO_TRUTH_HELP = ("how the true motion of a moving run is built, as for 'ins-errors "
+                       "compare --truth': auto, interpolated or fine (default: the "
+                       "scenario's [run] truth, else auto)")
+"""--truth of the commands that read a scenario file (run, sweep)."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -28,10 +32,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--force", action="store_true",
                         help="write into a non-empty --out folder that ins-errors did not "
                              "write (only the report's own files are replaced)")
-    parser.add_argument("--truth", choices=TRUTHS, default=None,
-                        help="how the true motion of a moving run is built, as for "
-                             "'ins-errors compare --truth': auto, interpolated or fine "
-                             "(default: the scenario's [run] truth, else auto)")
+    parser.add_argument("--truth", choices=TRUTHS, default=None, help=SCENARIO_TRUTH_HELP)
     parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
     parser.set_defaults(func=run)
 

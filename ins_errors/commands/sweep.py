@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import json
 
+from ins_errors.commands.run import SCENARIO_TRUTH_HELP, TRUTHS
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
@@ -40,10 +42,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--against", metavar="P[,Q]",
                         help="swept parameter(s) on the plot's axes (default: the first "
                              "one or two)")
-    parser.add_argument("--truth", choices=("auto", "interpolated", "fine"), default=None,
-                        help="how the true motion of a moving run is built, as for "
-                             "'ins-errors compare --truth': auto, interpolated or fine "
-                             "(default: the scenario's [run] truth, else auto)")
+    parser.add_argument("--truth", choices=TRUTHS, default=None, help=SCENARIO_TRUTH_HELP)
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 

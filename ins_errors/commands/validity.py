@@ -17,6 +17,8 @@ import argparse
 import json
 import sys
 
+from ins_errors.commands.run import TRUTHS
+
 MOTIONS = ("static", "great-circle", "manoeuvre")
 
 
@@ -39,7 +41,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--hours", type=float, default=24.0,
                         help="length of each run in hours (default 24)")
     parser.add_argument("--step", default="2s", help="integration step (default 2s, RK4)")
-    parser.add_argument("--truth", choices=("auto", "interpolated", "fine"), default="auto",
+    parser.add_argument("--truth", choices=TRUTHS, default="auto",
                         help="how the true motion of a moving run is built, as for "
                              "'ins-errors compare --truth': auto (default), interpolated "
                              "or fine")
