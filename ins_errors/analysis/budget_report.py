@@ -147,8 +147,8 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     free = [s["name"] for s in data["sources"]
             if s["binding_item"] is None and not s["fixed"]]
     colours = {name: plt.get_cmap("tab10")(n % 10) for n, name in enumerate(items)}
-    height = 0.32 * max(len(limited), len(items)) + 2.2
-    fig, (left, right) = plt.subplots(1, 2, figsize=(13, height),
+    width, height = 13.0, 0.32 * max(len(limited), len(items)) + 2.2
+    fig, (left, right) = plt.subplots(1, 2, figsize=(width, height),
                                       gridspec_kw={"width_ratios": [2.2, 1]})
     y = np.arange(len(limited))[::-1]
     left.barh(y, [100 * s["share_at_binding"] for s in limited],
@@ -181,7 +181,6 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     right.grid(True, axis="x", alpha=0.3)
     # fixed margins from the labels' measured widths (no tight_layout: it draws the
     # figure once more only to measure it); all sizes in inches
-    width = 13.0
     note = ""
     if free:
         import textwrap

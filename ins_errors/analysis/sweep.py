@@ -803,15 +803,14 @@ def _tick_labels(axis) -> tuple[list[str], str]:
     return formatter.format_ticks(locs), formatter.get_offset()
 
 
-
-
-def _fixed_margins(figure_, ax, bar, heading: str, width: float) -> None:
+def _fixed_margins(figure_, ax, bar, heading: str) -> None:
     """Place the panel (and colour bar) with margins that fit its labels and title.
 
     Sizes in inches: tick labels measured at their formatted values, a line of text
     1.2 × its size high. Replaces ``tight_layout``, which draws the figure once more
     only to measure it.
     """
+    width, height = figure_.get_size_inches()
     size = 10 / 72  # the default font size, inches
     ticks = 7 / 72  # tick length + pad
     for _ in range(2):  # the tick labels chosen for the panel's first size, then its own
@@ -829,10 +828,10 @@ def _fixed_margins(figure_, ax, bar, heading: str, width: float) -> None:
         top = 0.12 + 1.2 * size * (title.count("\n") + 1) + 6 / 72 + (
             1.2 * size + 0.05 if yoffset or boffset else 0.0)
         if bar is not None:
-            bar.ax.set_position(((width - right + BAR_PAD) / width, bottom / 4.5,
-                                 BAR_WIDTH / width, (4.5 - top - bottom) / 4.5))
-        ax.set_position((left / width, bottom / 4.5, (width - left - right) / width,
-                         (4.5 - top - bottom) / 4.5))
+            bar.ax.set_position(((width - right + BAR_PAD) / width, bottom / height,
+                                 BAR_WIDTH / width, (height - top - bottom) / height))
+        ax.set_position((left / width, bottom / height, (width - left - right) / width,
+                         (height - top - bottom) / height))
 
 
 def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path:
@@ -866,8 +865,7 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
     for key, value in zip(keys, values, strict=True):
         if np.isfinite(value):
             reduced[key] = max(reduced.get(key, -np.inf), float(value))
-    width = 7.0
-    figure_, ax = plt.subplots(figsize=(width, 4.5))
+    figure_, ax = plt.subplots(figsize=(7.0, 4.5))
     bar = None
     if len(axes) == 1:
         xs = sorted(reduced)
@@ -890,7 +888,7 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
     if others:
         heading += f"\n(max over {', '.join(others)})"
     ax.grid(True, alpha=0.3)
-    _fixed_margins(figure_, ax, bar, heading, width)
+    _fixed_margins(figure_, ax, bar, heading)
     from ins_errors.output import save_figure
 
     return save_figure(figure_, path, dpi=120)  # atomic, parent folders created
