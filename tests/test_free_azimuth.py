@@ -172,12 +172,14 @@ def test_backends_agree_with_sympy(model):
     import sympy as sp
 
     # in-memory SymPy: the first-order part of the variation (vary() without its
-    # slower second-order terms)
+    # slower second-order terms); the sources are switched off before differentiating by
+    # the states, and the state put at the ideal point before differentiating by the
+    # sources (the same derivatives, of smaller expressions)
     d = model.symbolic
     real = d.real_rhs_expanded()
-    point = {**d.at_ideal(), **d.no_errors()}
-    F_sym = sp.lambdify([d.x, d.u, d.p], real.jacobian(d.real_states).xreplace(point), "numpy")
-    G_sym = sp.lambdify([d.x, d.u, d.p], real.jacobian(d.w).xreplace(point), "numpy")
+    F_expr = real.xreplace(d.no_errors()).jacobian(d.real_states).xreplace(d.at_ideal())
+    G_expr = real.xreplace(d.at_ideal()).jacobian(d.w).xreplace(d.no_errors())
+    F_sym, G_sym = (sp.lambdify([d.x, d.u, d.p], m, "numpy") for m in (F_expr, G_expr))
     F_ca, G_ca = model.casadi.function("state_matrix"), model.casadi.function("source_matrix")
     H_ca = model.casadi.function("output_matrix")
     for x, u, p, _c in _points(model, 6, 17):
