@@ -282,6 +282,63 @@ def test_flight_measurements_keep_the_bits_of_the_plain_numpy_formulas():
             assert same(got, want)
 
 
+def _flights_step_by_step(lat, lon, angle, duration, step, stride, closed_loop):
+    """The direct flights as RK4 of the whole state (Λ1 and the model's state together),
+    the measurements evaluated at every stage: the loop simulate_flights replaced."""
+    model = ins_errors.load_model("geodetic_vertical")
+    p = np.stack([model.parameter_vector(a=A, e2=1 - (B_AXIS / A) ** 2, orth_latitude=la,
+                                         orth_longitude=lo, orth_angle=an)
+                  for la, lo, an in zip(lat, lon, angle, strict=True)], axis=1)
+    section = se._Section(se._start_frames(lat, lon, angle),
+                          np.array([A**-2, B_AXIS**-2, A**-2]), np.full(lat.size, 250.0),
+                          EARTH_RATE)
+
+    def rhs(z):
+        u, (Phi, Lam, _W, _B, _N), lam_dot = section.measurements(z[0], 9.81)
+        state = z[1:] if closed_loop else np.vstack([Phi, Lam, z[3:]])
+        return np.vstack([lam_dot, model.numpy.ideal_rhs(state, u, p)])
+
+    _, (Phi, Lam, W, _B, _N), _ = section.measurements(np.zeros(lat.size), 9.81)
+    z = np.vstack([np.zeros(lat.size), Phi, Lam, W])
+    records = [z]
+    for k in range(round(duration / step)):
+        k1 = rhs(z)
+        k2 = rhs(z + 0.5 * step * k1)
+        k3 = rhs(z + 0.5 * step * k2)
+        k4 = rhs(z + step * k3)
+        z = z + step / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+        if (k + 1) % stride == 0:
+            records.append(z)
+    true = [section.measurements(z[0], 9.81)[1] for z in records]
+    return (np.array([t[0] for t in true]), np.array([t[1] for t in true]),
+            np.array([z[1] for z in records]), np.array([z[2] for z in records]))
+
+
+@pytest.mark.parametrize("closed_loop", [False, True], ids=["geometric", "closed"])
+@pytest.mark.parametrize("flights", [1, 3])
+def test_flights_keep_the_bits_of_the_step_by_step_integration(monkeypatch, flights,
+                                                                closed_loop):
+    """simulate_flights steps Λ1 first and evaluates the measurements of a block of steps
+    at once: bit for bit the RK4 of the whole state with the measurements evaluated
+    stage by stage, across blocks (of 7 steps here) and for one flight (whose frames
+    numpy lays out differently) as for several."""
+    monkeypatch.setattr(se, "_BLOCK_STEPS", 7)
+    lat = np.radians([30.0, -40.0, 50.0])[:flights]
+    lon = np.radians([0.0, 20.0, -70.0])[:flights]
+    angle = np.radians([90.0, 300.0, 20.0])[:flights]
+    got = se.simulate_flights(lat, lon, angle, 3600.0, 250.0, 100.0 if flights == 1 else 60.0,
+                              record_interval=300.0 if flights == 1 else 120.0,
+                              closed_loop=closed_loop)
+    Phi, Lam, Phi_c, Lam_c = _flights_step_by_step(
+        lat, lon, angle, 3600.0, 100.0 if flights == 1 else 60.0, 3 if flights == 1 else 2,
+        closed_loop)
+    same = lambda a, b: np.array_equal(a.view(np.int64), b.view(np.int64))  # noqa: E731
+    assert same(got.Phi, Phi) and same(got.direct[0], Phi - Phi_c)
+    wrap = (Lam - Lam_c + np.pi) % (2 * np.pi) - np.pi
+    assert same(got.direct[1], wrap)
+    assert np.abs(got.direct).max() > 1e-4  # kilometres of error: a real flight
+
+
 def test_formula_10_matches_the_direct_simulation(flights):
     largest = flights.largest_km()
     assert largest.max() > 15.0  # errors of the size the paper talks about

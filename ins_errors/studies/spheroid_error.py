@@ -162,8 +162,9 @@ class _Section:
     speed: np.ndarray  # (B,)
     omega: float
 
-    def kinematics(self, lam1: np.ndarray):
-        """r, ṙ, r̈ (Earth frame) and Λ̇1 at section angle Λ1, each (B, 3) / (B,)."""
+    def _first_order(self, lam1: np.ndarray):
+        """The terms of :meth:`kinematics` that Λ̇1 needs: d, d1, qv, q1, ρ, ρ', r', |r'|
+        and Λ̇1."""
         xi1, zeta1 = self.n[:, 0, :], self.n[:, 2, :]
         sl, cl = np.sin(lam1)[:, None], np.cos(lam1)[:, None]
         d = sl * xi1 + cl * zeta1
@@ -171,19 +172,39 @@ class _Section:
         Q = self.q
         qv = _row_sum(d * d * Q, axis=1)
         q1 = 2 * _row_sum(d1 * d * Q, axis=1)
-        q2 = 2 * (-qv + _row_sum(d1 * d1 * Q, axis=1))
         rho = qv**-0.5
         rho1 = -0.5 * qv**-1.5 * q1
+        r1 = rho1[:, None] * d + rho[:, None] * d1
+        norm1 = np.sqrt(_row_sum(r1 * r1, axis=1))  # numpy's norm, without its checks
+        return d, d1, qv, q1, rho, rho1, r1, norm1, self.speed / norm1
+
+    def angle_rate(self, lam1: np.ndarray) -> np.ndarray:
+        """Λ̇1 at section angle Λ1, shape (B,), rad/s (the value :meth:`kinematics` gives)."""
+        return self._first_order(lam1)[-1]
+
+    def kinematics(self, lam1: np.ndarray):
+        """r, ṙ, r̈ (Earth frame) and Λ̇1 at section angle Λ1, each (B, 3) / (B,)."""
+        d, d1, qv, q1, rho, rho1, r1, norm1, lam_dot = self._first_order(lam1)
+        q2 = 2 * (-qv + _row_sum(d1 * d1 * self.q, axis=1))
         rho2 = 0.75 * qv**-2.5 * q1**2 - 0.5 * qv**-1.5 * q2
         r = rho[:, None] * d
-        r1 = rho1[:, None] * d + rho[:, None] * d1
         r2 = rho2[:, None] * d + 2 * rho1[:, None] * d1 - rho[:, None] * d
-        norm1 = np.sqrt(_row_sum(r1 * r1, axis=1))  # numpy's norm, without its checks
-        lam_dot = self.speed / norm1
         lam_ddot = -self.speed * _row_sum(r1 * r2, axis=1) / norm1**3 * lam_dot
         v = r1 * lam_dot[:, None]
         acc = r2 * (lam_dot**2)[:, None] + r1 * lam_ddot[:, None]
         return r, v, acc, lam_dot
+
+    def repeated(self, times: int) -> _Section:
+        """The same flights ``times`` over (batch index = repeat × B + flight): one call
+        evaluates several section angles per flight. The frames keep their memory layout
+        (:func:`_start_frames` gives a transposed view, C-ordered for a single flight):
+        numpy's ``einsum`` adds its terms in an order that follows the layout, so the same
+        layout gives the same bits."""
+        if self.n.flags.c_contiguous:
+            frames = np.tile(self.n, (times, 1, 1))
+        else:
+            frames = np.tile(self.n.transpose(1, 2, 0), (1, 1, times)).transpose(2, 0, 1)
+        return _Section(frames, self.q, np.tile(self.speed, times), self.omega)
 
     def geodetic(self, r: np.ndarray):
         """Normal, its orthodromic (Φ, Λ), the geodetic axes (B, 3, 3), B and N."""
@@ -317,33 +338,42 @@ def simulate_flights(start_latitudes, start_longitudes, orthodrome_angles, durat
     c = flattening_constant(a, b)
     rhs_model = model.numpy.ideal_rhs
 
-    def rhs(z):
-        u, (Phi, Lam, _W, _B, _N), lam_dot = section.measurements(z[0], gravity)
-        state = z[1:] if closed_loop else np.vstack([Phi, Lam, z[3:]])
-        return np.vstack([lam_dot, rhs_model(state, u, p)])
+    def rhs(y, u, Phi, Lam):
+        """The model's dx/dt at its state y (closed loop) or at the true (Φ, Λ) with y's
+        velocity (the paper's setting)."""
+        state = y if closed_loop else np.vstack([Phi, Lam, y[2:]])
+        return rhs_model(state, u, p)
 
-    # start exactly on the true geodetic coordinates and velocity
-    _, (Phi_t, Lam_t, W_t, B_t, N_t), _ = section.measurements(np.zeros(flights), gravity)
-    z = np.vstack([np.zeros(flights), Phi_t, Lam_t, W_t])
-    start_state = (B_t.copy(), N_t.copy(), Phi_t.copy())
     records = n_steps // stride + 1
     out = {k: np.empty((records, flights)) for k in ("Phi", "Lam", "Phi_c", "Lam_c", "B", "N")}
+    # Λ1 obeys its own equation (Λ̇1 depends on Λ1 alone) and the measurements depend on
+    # Λ1 alone: per block of steps, Λ1 is stepped first (the RK4 of the whole state
+    # (Λ1, model state) row by row, so the same bits), the measurements at every stage
+    # are evaluated at once, and only the model's equations step one by one.
+    y = None  # the model's state (start: the true geodetic coordinates and velocity)
+    lam = np.zeros(flights)
+    for first in range(0, n_steps, _BLOCK_STEPS):
+        steps = min(_BLOCK_STEPS, n_steps - first)
+        angles, lam = _stage_angles(section, lam, steps, step)
+        u, (Phi, Lam, W, B, N), _ = section.repeated(4 * steps + 1).measurements(
+            angles.ravel(), gravity)
+        u = u.reshape(4, 4 * steps + 1, flights)
+        Phi, Lam, B, N = (v.reshape(4 * steps + 1, flights) for v in (Phi, Lam, B, N))
+        if y is None:
+            y = np.vstack([Phi[0], Lam[0], W[:, :flights]])
+            start_state = (B[0].copy(), N[0].copy(), Phi[0].copy())
+            _record(out, 0, y, Phi[0], Lam[0], B[0], N[0])
 
-    def record(j, z):
-        _, (Phi, Lam, _W, B, N), _ = section.measurements(z[0], gravity)
-        for key, value in (("Phi", Phi), ("Lam", Lam), ("Phi_c", z[1]), ("Lam_c", z[2]),
-                           ("B", B), ("N", N)):
-            out[key][j] = value
-
-    record(0, z)
-    for k in range(n_steps):
-        k1 = rhs(z)
-        k2 = rhs(z + 0.5 * step * k1)
-        k3 = rhs(z + 0.5 * step * k2)
-        k4 = rhs(z + step * k3)
-        z = z + step / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-        if (k + 1) % stride == 0:
-            record((k + 1) // stride, z)
+        for k in range(steps):
+            row = 4 * k
+            k1 = rhs(y, u[:, row], Phi[row], Lam[row])
+            k2 = rhs(y + 0.5 * step * k1, u[:, row + 1], Phi[row + 1], Lam[row + 1])
+            k3 = rhs(y + 0.5 * step * k2, u[:, row + 2], Phi[row + 2], Lam[row + 2])
+            k4 = rhs(y + step * k3, u[:, row + 3], Phi[row + 3], Lam[row + 3])
+            y = y + step / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+            if (first + k + 1) % stride == 0:
+                row += 4
+                _record(out, (first + k + 1) // stride, y, Phi[row], Lam[row], B[row], N[row])
     if not all(np.all(np.isfinite(v)) for v in out.values()):
         raise DomainError("the simulated flight left the domain (NaN): does it pass a pole?")
     wrap = lambda angle: (angle + np.pi) % (2 * np.pi) - np.pi  # noqa: E731
@@ -355,6 +385,36 @@ def simulate_flights(start_latitudes, start_longitudes, orthodrome_angles, durat
     times = np.arange(records) * stride * step
     return FlightErrors(times, np.stack([lat0, lon0, ang0]), out["B"], out["N"], direct,
                         printed, completed, out["Phi"], a)
+
+
+_BLOCK_STEPS = 512
+"""Steps of :func:`simulate_flights` whose measurements are evaluated in one call."""
+
+
+def _stage_angles(section: _Section, lam: np.ndarray, steps: int, step: float):
+    """Λ1 at the four RK4 stages of ``steps`` steps from ``lam`` (rows 4 k + stage) and
+    after the last step (last row), shape (4 steps + 1, B), and Λ1 after the last step."""
+    rate = section.angle_rate
+    angles = np.empty((4 * steps + 1, lam.size))
+    for k in range(steps):
+        k1 = rate(lam)
+        lam2 = lam + 0.5 * step * k1
+        k2 = rate(lam2)
+        lam3 = lam + 0.5 * step * k2
+        k3 = rate(lam3)
+        lam4 = lam + step * k3
+        k4 = rate(lam4)
+        angles[4 * k:4 * k + 4] = lam, lam2, lam3, lam4
+        lam = lam + step / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+    angles[-1] = lam
+    return angles, lam
+
+
+def _record(out: dict[str, np.ndarray], j: int, y: np.ndarray, Phi, Lam, B, N) -> None:
+    """Record j: true (Φ, Λ, B, N) and the computed (Φ, Λ) (the model state's first rows)."""
+    for key, value in (("Phi", Phi), ("Lam", Lam), ("Phi_c", y[0]), ("Lam_c", y[1]),
+                       ("B", B), ("N", N)):
+        out[key][j] = value
 
 
 @cache
