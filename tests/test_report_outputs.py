@@ -7,6 +7,7 @@ comparison (to the digits written), and the page must need nothing from the netw
 from __future__ import annotations
 
 import csv
+from contextlib import contextmanager
 from dataclasses import replace
 
 import numpy as np
@@ -156,6 +157,23 @@ def _sticking_out(fig) -> tuple[bool, bool, bool, bool]:
     return bool(box.x0 < 0), bool(box.y0 < 0), bool(box.x1 > width), bool(box.y1 > height)
 
 
+@contextmanager
+def _as_saved(fig, dpi: float):
+    """The figure at the resolution and drawing settings ``save_figure`` gives its file,
+    for measuring its layout instead of writing it (the figure is closed afterwards)."""
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    from ins_errors.output import DRAWING_RC
+
+    fig.set_dpi(dpi)
+    try:
+        with matplotlib.rc_context(DRAWING_RC):
+            yield fig
+    finally:
+        plt.close(fig)
+
+
 def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
     """The study and validity figures use fixed margins (no tight_layout): with the
     widest tick labels plain formatting gives (-0.00025 and the like; 12500 km; 1e-12 as
@@ -163,15 +181,15 @@ def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
     label the time axis."""
     from types import SimpleNamespace
 
-    from ins_errors.output import save_figure
     from ins_errors.studies import methodological, spheroid_error
 
     seen = []
 
-    def check(fig, path, **options):
-        seen.append((_sticking_out(fig), [bool(ax.xaxis.get_ticklabels())  # (visible ones)
-                                          for ax in fig.axes if ax.get_visible()]))
-        return save_figure(fig, path, **options)
+    def check(fig, path, dpi):  # (the layout as saved; no file is needed)
+        with _as_saved(fig, dpi):
+            seen.append((_sticking_out(fig), [bool(ax.xaxis.get_ticklabels())  # (visible)
+                                              for ax in fig.axes if ax.get_visible()]))
+        return path
 
     for module in (methodological, spheroid_error):
         monkeypatch.setattr(module, "save_figure", check)
@@ -266,12 +284,12 @@ def test_budget_and_sweep_figures_fit_their_fixed_margins(tmp_path, monkeypatch)
 
     seen = []
 
-    def check(fig, path, **options):
-        fig.draw_without_rendering()
-        seen.append((path.name, _sticking_out(fig), _overlapping(fig)))
-        return save(fig, path, **options)
+    def check(fig, path, dpi):  # (the layout as saved; no file is needed)
+        with _as_saved(fig, dpi):
+            fig.draw_without_rendering()
+            seen.append((path.name, _sticking_out(fig), _overlapping(fig)))
+        return path
 
-    save = output.save_figure
     monkeypatch.setattr(output, "save_figure", check)
     monkeypatch.setattr(budget_report, "save_figure", check)
     names = ["velocity_integrator_gain_error_eta", "position_integrator_gain_error_Phi",
