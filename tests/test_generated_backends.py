@@ -16,19 +16,23 @@ def _close(a, b, rtol=1e-10, atol=1e-15):
     return np.abs(a - b).max() <= rtol * np.abs(b).max() + atol
 
 
-@pytest.mark.parametrize("moving", [False, True], ids=["static", "moving"])
-def test_backends_agree(orthodromic, orthodromic_error_model, moving):
+@pytest.fixture(scope="module")
+def references(orthodromic, orthodromic_error_model):
+    """The in-memory variation lambdified once for both motions: the first-order
+    functions, the second-order term and the real right-hand side."""
     error_model = orthodromic_error_model
     d = orthodromic.symbolic
-    lambdas = {
-        "state_matrix": sp.lambdify([d.x, d.u, d.p], error_model.state_matrix, "numpy"),
-        "source_matrix": sp.lambdify([d.x, d.u, d.p], error_model.source_matrix, "numpy"),
-        "output_matrix": sp.lambdify([d.x, d.u, d.p], error_model.output_matrix, "numpy"),
-        "ideal_rhs": sp.lambdify([d.x, d.u, d.p], error_model.ideal_rhs, "numpy"),
-        "outputs": sp.lambdify([d.x, d.u, d.p], error_model.outputs, "numpy"),
-    }
+    lambdas = {name: sp.lambdify([d.x, d.u, d.p], getattr(error_model, name), "numpy")
+               for name in ("state_matrix", "source_matrix", "output_matrix", "ideal_rhs",
+                            "outputs")}
     second = sp.lambdify([d.x, d.u, d.p, d.xe, d.w], error_model.second_order, "numpy")
     real = sp.lambdify([d.real_states, d.x, d.u, d.w, d.p], error_model.real_rhs, "numpy")
+    return lambdas, second, real
+
+
+@pytest.mark.parametrize("moving", [False, True], ids=["static", "moving"])
+def test_backends_agree(orthodromic, references, moving):
+    lambdas, second, real = references
     rng = np.random.default_rng(7)
     for x, u, p in random_points(orthodromic, 6, seed=11 + moving, moving=moving):
         for name, fn in lambdas.items():
