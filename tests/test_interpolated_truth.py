@@ -29,7 +29,9 @@ SOURCES = {"gyro_drift_x": 0.01 * DEG / 3600, "accel_bias_y": 1e-4,
 
 
 def _both(model, profile, duration, tau):
-    fine = tr.trajectory(model, profile, duration, tau, stream=True, truth="fine")
+    """The fine truth stored (the tests read it three times; streamed, it would be
+    integrated again each time) and the interpolated truth streamed."""
+    fine = tr.trajectory(model, profile, duration, tau, stream=False, truth="fine")
     fast = tr.trajectory(model, profile, duration, tau, stream=True, truth="interpolated")
     return fine, fast
 
