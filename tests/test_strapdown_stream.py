@@ -54,8 +54,11 @@ FLIGHTS = _flights()
 
 @pytest.fixture(scope="module")
 def pairs(model):
-    """(fine, interpolated) streamed trajectories of 600 s at 100 Hz for every flight."""
-    return {name: tuple(st.trajectory(model, flight, 600.0, 0.01, truth=truth, stream=True)
+    """(fine, interpolated) trajectories of 600 s at 100 Hz for every flight: the fine
+    one stored (read twice; streamed, its signals would be computed again each time),
+    the interpolated one streamed."""
+    return {name: tuple(st.trajectory(model, flight, 600.0, 0.01, truth=truth,
+                                      stream=truth == "interpolated")
                         for truth in ("fine", "interpolated"))
             for name, flight in FLIGHTS.items()}
 
