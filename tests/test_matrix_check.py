@@ -314,6 +314,22 @@ def test_magnitudes_scale_the_sizes(strapdown_motions, psi_report):
                                                               ("dvc_E", "dr_E")}
 
 
+@pytest.mark.parametrize("name", ["orthodromic", "north_pointing", "strapdown_ned",
+                                  "examples/own_model/schuler_loop.py"])
+def test_schuler_magnitudes_from_the_metadata_are_the_definitions(name):
+    """The matrix check reads R and g from the generated package's metadata (no SymPy);
+    equation checks from the SymPy definition: the same sizes to the bit, and the
+    textbook Schuler period (84.4 min on the spherical 6371 km Earth)."""
+    from ins_errors.checker.typical import schuler_magnitudes
+
+    model = load_model(str(Path(__file__).resolve().parent.parent / name)
+                       if name.endswith(".py") else name)
+    numeric = schuler_magnitudes(model, "20 arcsec", {"m/s": "0.1 m/s"})
+    symbolic = schuler_magnitudes(model.symbolic, "20 arcsec", {"m/s": "0.1 m/s"})
+    assert numeric == symbolic
+    if name == "north_pointing":
+        assert "Schuler period 84.4 min" in numeric.origin
+
 def test_horizontal_psi_model_leaves_the_vertical_channel_out(tmp_path, strapdown_motions):
     """A 7-state textbook model without δv_D and δr_D: the coupling of the omitted states
     into its rows is reported as 'state left out'. The Coriolis term 2Ω cos φ δv_D of δv̇_E

@@ -62,7 +62,7 @@ from ins_errors.checker.matrix_input import (
     split_spec,
 )
 from ins_errors.checker.navigation import navigation_arrays
-from ins_errors.checker.typical import magnitude_override, typical_magnitude
+from ins_errors.checker.typical import magnitude_override, schuler_magnitudes, typical_magnitude
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.blas_threads import one_blas_thread
 
@@ -1018,11 +1018,9 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
 def _magnitudes(model, overrides: dict[str, str] | None):
     """Typical size (SI, text) by SI unit: fixed, overridden, or Schuler-consistent."""
     overrides = dict(overrides or {})
-    if "attitude" in overrides:  # (SymPy: the model's definition gives R and g)
-        from ins_errors.checker.reference import schuler_magnitudes
-
+    if "attitude" in overrides:  # R and g from the model's parameters (no SymPy)
         attitude = overrides.pop("attitude")
-        return schuler_magnitudes(model.symbolic, attitude, overrides).of
+        return schuler_magnitudes(model, attitude, overrides).of
     fixed: dict[str, tuple[float, str]] = {}
     for unit, text in overrides.items():
         fixed[unit] = (magnitude_override(unit, text), text)

@@ -30,116 +30,28 @@ multiplies. Both come from the model's own SymPy definition (no generated code):
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
 
 from ins_errors.checker.typical import (  # noqa: F401 (also names of this module)
+    DEFAULT_ATTITUDE,
+    GRAVITY,
     MAGNITUDE_UNITS,
     TYPICAL_BY_UNIT,
+    Magnitudes,
+    _earth,
     magnitude_override,
+    schuler_magnitudes,
     typical_magnitude,
 )
 from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.variation import ideal_intermediate_values
-from ins_errors.units import parse_quantity
-
-GRAVITY = 9.81
-"""Apparent vertical acceleration a_ζ used at the reference points, m/s²."""
-
-DEFAULT_ATTITUDE = "1e-4 rad"
-"""Declared attitude error the Schuler-consistent magnitudes are built from."""
 
 STATIC_BASE = "static base"
 """Scope name of the static-base motion class (``@scope static base``)."""
-
-
-@dataclass(frozen=True)
-class Magnitudes:
-    """Typical error sizes by SI unit, and how they were obtained.
-
-    Attributes
-    ----------
-    by_unit : dict
-        SI unit -> (value in SI, text as people write it).
-    origin : str
-        One line: the relations and the declared attitude error they come from.
-    """
-
-    by_unit: dict[str, tuple[float, str]]
-    origin: str
-
-    def of(self, unit: str) -> tuple[float, str]:
-        """Typical size (SI) and its spelling for an error quantity of ``unit``."""
-        if unit not in self.by_unit:
-            raise InsErrorsError(f"no typical error magnitude for unit {unit!r} "
-                                 f"(known: {', '.join(self.by_unit)})")
-        return self.by_unit[unit]
-
-
-def _earth(d: ModelDefinition) -> tuple[float, float]:
-    """(Earth radius R in m, gravity g in m/s²) of a model, from its parameters."""
-    radius, gravity = 6_371_000.0, GRAVITY
-    for p in d.parameters:
-        if p.unit == "m" and p.name in ("a", "R", "R_earth", "semi_major_axis"):
-            radius = float(p.default)
-            break
-    for p in d.parameters:
-        if p.unit == "m/s**2" and p.name in ("g", "gravity", "g0"):
-            gravity = float(p.default)
-            break
-    return radius, gravity
-
-
-def _text(value: float, unit: str) -> str:
-    shown = {"m/s**2": "m/s²", "1": ""}.get(unit, unit)
-    return f"{value:.3g} {shown}".strip()
-
-
-def schuler_magnitudes(d: ModelDefinition, attitude: str | float = DEFAULT_ATTITUDE,
-                       overrides: dict[str, str] | None = None) -> Magnitudes:
-    """Typical error sizes tied together by the Schuler loop of model ``d``.
-
-    Parameters
-    ----------
-    d : ModelDefinition
-        Supplies the Earth radius (parameter ``a`` or ``R``) and gravity (``g``, else
-        9.81 m/s²).
-    attitude : str or float
-        Declared attitude error θ (``"20 arcsec"``, or radians).
-    overrides : dict, optional
-        SI unit (``"m/s"``, ``"rad/s"``...) -> quantity text (``"0.1 m/s"``) replacing
-        the Schuler value.
-
-    Returns
-    -------
-    Magnitudes
-    """
-    theta = (float(attitude) if isinstance(attitude, (int, float))
-             else parse_quantity(attitude, "rad", "attitude error"))
-    if not theta > 0:
-        raise InsErrorsError(f"the attitude error must be positive, got {attitude!r}")
-    radius, gravity = _earth(d)
-    omega_s = math.sqrt(gravity / radius)
-    values = {"rad": theta, "1": theta, "m/s": math.sqrt(gravity * radius) * theta,
-              "m": radius * theta, "rad/s": omega_s * theta, "m/s**2": gravity * theta}
-    by_unit = {unit: (value, _text(value, unit)) for unit, value in values.items()}
-    by_unit["rad/s"] = (values["rad/s"], f"{values['rad/s'] * 180 / math.pi * 3600:.3g} deg/h")
-    shown_theta = attitude if isinstance(attitude, str) else f"{theta:g} rad"
-    origin = (f"Schuler relations from a declared attitude error θ = {shown_theta} "
-              f"(R = {radius:.0f} m, g = {gravity:g} m/s², ω_s = √(g/R) = "
-              f"{omega_s:.4g} rad/s, Schuler period {2 * math.pi / omega_s / 60:.1f} min): "
-              "angles θ, velocities √(gR)·θ, positions R·θ, rates ω_s·θ, accelerations g·θ")
-    changed = []
-    for unit, text in (overrides or {}).items():
-        by_unit[unit] = (magnitude_override(unit, text), text)
-        changed.append(f"{unit}: {text}")
-    if changed:
-        origin += "; overridden: " + ", ".join(changed)
-    return Magnitudes(by_unit, origin)
 
 
 @dataclass(frozen=True)

@@ -1,12 +1,16 @@
-"""Fixed typical error sizes by SI unit (no SymPy needed).
+"""Typical error sizes by SI unit (no SymPy needed).
 
-The matrix check weighs its terms with these (:mod:`~ins_errors.checker.matrix`);
-equation checks tie their sizes together by the Schuler loop instead
-(:func:`ins_errors.checker.reference.schuler_magnitudes`).
+The matrix check weighs its terms with fixed sizes (:func:`typical_magnitude`,
+:mod:`~ins_errors.checker.matrix`); equation checks, and a matrix check given an attitude
+error, tie them together by the Schuler loop instead (:func:`schuler_magnitudes`), from
+the model's Earth radius and gravity: its parameters, read from the SymPy definition or
+from the generated package's metadata alike.
 """
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
 from functools import cache
 
 from ins_errors.errors import InsErrorsError
@@ -71,3 +75,101 @@ def magnitude_override(unit: str, text: str) -> float:
     if not value > 0:
         raise InsErrorsError(f"magnitude of {unit} must be positive, got {text!r}")
     return value
+
+
+GRAVITY = 9.81
+"""Apparent vertical acceleration a_ζ at the checker's reference points, and the gravity
+of a model without a gravity parameter, m/s²."""
+
+DEFAULT_ATTITUDE = "1e-4 rad"
+"""Declared attitude error the Schuler-consistent magnitudes are built from."""
+
+
+@dataclass(frozen=True)
+class Magnitudes:
+    """Typical error sizes by SI unit, and how they were obtained.
+
+    Attributes
+    ----------
+    by_unit : dict
+        SI unit -> (value in SI, text as people write it).
+    origin : str
+        One line: the relations and the declared attitude error they come from.
+    """
+
+    by_unit: dict[str, tuple[float, str]]
+    origin: str
+
+    def of(self, unit: str) -> tuple[float, str]:
+        """Typical size (SI) and its spelling for an error quantity of ``unit``."""
+        if unit not in self.by_unit:
+            raise InsErrorsError(f"no typical error magnitude for unit {unit!r} "
+                                 f"(known: {', '.join(self.by_unit)})")
+        return self.by_unit[unit]
+
+
+def _earth(d) -> tuple[float, float]:
+    """(Earth radius R in m, gravity g in m/s²) of a model, from its parameters.
+
+    ``d``: anything with ``parameters`` that have ``name``, ``unit`` and ``default``: a
+    :class:`~ins_errors.modeling.ModelDefinition` or a loaded
+    :class:`~ins_errors.numeric.model.Model` (whose metadata records the same defaults).
+    """
+    radius, gravity = 6_371_000.0, GRAVITY
+    for p in d.parameters:
+        if p.unit == "m" and p.name in ("a", "R", "R_earth", "semi_major_axis"):
+            radius = float(p.default)
+            break
+    for p in d.parameters:
+        if p.unit == "m/s**2" and p.name in ("g", "gravity", "g0"):
+            gravity = float(p.default)
+            break
+    return radius, gravity
+
+
+def _text(value: float, unit: str) -> str:
+    shown = {"m/s**2": "m/s²", "1": ""}.get(unit, unit)
+    return f"{value:.3g} {shown}".strip()
+
+
+def schuler_magnitudes(d, attitude: str | float = DEFAULT_ATTITUDE,
+                       overrides: dict[str, str] | None = None) -> Magnitudes:
+    """Typical error sizes tied together by the Schuler loop of model ``d``.
+
+    Parameters
+    ----------
+    d : ModelDefinition or Model
+        Supplies the Earth radius (parameter ``a`` or ``R``) and gravity (``g``, else
+        9.81 m/s²).
+    attitude : str or float
+        Declared attitude error θ (``"20 arcsec"``, or radians).
+    overrides : dict, optional
+        SI unit (``"m/s"``, ``"rad/s"``...) -> quantity text (``"0.1 m/s"``) replacing
+        the Schuler value.
+
+    Returns
+    -------
+    Magnitudes
+    """
+    theta = (float(attitude) if isinstance(attitude, (int, float))
+             else parse_quantity(attitude, "rad", "attitude error"))
+    if not theta > 0:
+        raise InsErrorsError(f"the attitude error must be positive, got {attitude!r}")
+    radius, gravity = _earth(d)
+    omega_s = math.sqrt(gravity / radius)
+    values = {"rad": theta, "1": theta, "m/s": math.sqrt(gravity * radius) * theta,
+              "m": radius * theta, "rad/s": omega_s * theta, "m/s**2": gravity * theta}
+    by_unit = {unit: (value, _text(value, unit)) for unit, value in values.items()}
+    by_unit["rad/s"] = (values["rad/s"], f"{values['rad/s'] * 180 / math.pi * 3600:.3g} deg/h")
+    shown_theta = attitude if isinstance(attitude, str) else f"{theta:g} rad"
+    origin = (f"Schuler relations from a declared attitude error θ = {shown_theta} "
+              f"(R = {radius:.0f} m, g = {gravity:g} m/s², ω_s = √(g/R) = "
+              f"{omega_s:.4g} rad/s, Schuler period {2 * math.pi / omega_s / 60:.1f} min): "
+              "angles θ, velocities √(gR)·θ, positions R·θ, rates ω_s·θ, accelerations g·θ")
+    changed = []
+    for unit, text in (overrides or {}).items():
+        by_unit[unit] = (magnitude_override(unit, text), text)
+        changed.append(f"{unit}: {text}")
+    if changed:
+        origin += "; overridden: " + ", ".join(changed)
+    return Magnitudes(by_unit, origin)
