@@ -51,7 +51,14 @@ from ins_errors.checker.kinds import (  # noqa: F401 (also names of this module)
     severity,
 )
 from ins_errors.checker.parse import HandEquation, HandFile, Problem
-from ins_errors.checker.sides import HandSide, ModelSide, UnresolvedError, model_expr, model_side
+from ins_errors.checker.sides import (
+    HandSide,
+    ModelSide,
+    UnresolvedError,
+    identified,
+    model_expr,
+    model_side,
+)
 
 if TYPE_CHECKING:
     from ins_errors.checker.compare import Comparison, EquationResult, Item
@@ -392,7 +399,7 @@ def _solve_helper(name: str, eq: HandEquation, item: Item, resolver: HandSide,
     finally:
         resolver.symbolic = set()
     side = model_side(resolver.model.d, declared.dropped_for(eq))
-    model = model_expr(side, item.key).xreplace(identify)
+    model = identified(model_expr(side, item.key), identify)
     try:
         h, _ = comparison.linear_parts(hand)
         m, _ = comparison.linear_parts(model, trusted=True)

@@ -53,6 +53,7 @@ from ins_errors.checker.sides import (
     HandSide,
     ModelSide,
     UnresolvedError,
+    identified,
     model_expr,
     model_side,
     tilde_variations,
@@ -360,8 +361,11 @@ def _identical(hand: sp.Expr, model: sp.Expr, basis: tuple[sp.Symbol, ...], limi
     m, mc = _shared_linear_parts(model, basis, True)
     pairs = [(h.get(b, sp.S.Zero), m.get(b, sp.S.Zero)) for b in set(h) | set(m)]
     pairs.append((hc, mc))
-    if sum(sp.count_ops(a) + sp.count_ops(b) for a, b in pairs) > limit:
-        return None
+    size = 0
+    for a, b in pairs:  # counts are never negative: stop as soon as the sum is too big
+        size += sp.count_ops(a) + sp.count_ops(b)
+        if size > limit:
+            return None
     return all(sp.expand(a - b) == 0 for a, b in pairs)
 
 
@@ -747,7 +751,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     comparison.display_model = _reciprocal_aliases(side, notation)
     declared.finish(comparison, identify)
 
-    comparison.prefetch([(item.hand, model_expr(side, item.key).xreplace(identify))
+    comparison.prefetch([(item.hand, identified(model_expr(side, item.key), identify))
                          for items in prepared for item in items
                          if item.hand is not None and item.key is not None
                          and not item.ideal and not item.status])
@@ -1029,7 +1033,7 @@ def _evaluate(eq: HandEquation, item: Item, comparison: Comparison,
         return result
     cl.set_status(result)
     if result.status == "agrees" and not item.ideal:
-        model = model_expr(resolver.model, item.key).xreplace(identify)
+        model = identified(model_expr(resolver.model, item.key), identify)
         if comparison.identical(item.hand, model):
             result.notes.insert(0, "identical symbolically")
     return result
@@ -1062,10 +1066,10 @@ def _complete(hand: HandFile, prepared: list[list[Item]], resolver: HandSide,
         for item in items:
             if item.hand is None or item.key is None or item.ideal or item.status:
                 continue
-            item.model_full = model_expr(resolver.model, item.key).xreplace(identify)
+            item.model_full = identified(model_expr(resolver.model, item.key), identify)
             dropped = declared.dropped_for(eq)
             side = model_side(resolver.model.d, dropped) if dropped else resolver.model
-            item.model_declared = model_expr(side, item.key).xreplace(identify)
+            item.model_declared = identified(model_expr(side, item.key), identify)
             item.hand_isolated = item.hand
             if item.deps:
                 resolver.isolate = side

@@ -26,6 +26,7 @@ import sympy as sp
 
 from ins_errors.checker import classify as cl
 from ins_errors.checker.reference import _earth
+from ins_errors.checker.sides import identified
 
 HOURS = (1.0, 24.0)
 """Propagation times, h."""
@@ -57,8 +58,8 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
     n, k = len(states), len(comparison.points)
     radius, _ = _earth(d)
     try:
-        rows = [side.state_rhs[s].xreplace(identify) for s in states]
-        outputs = {name: side.delta(name).xreplace(identify)
+        rows = [identified(side.state_rhs[s], identify) for s in states]
+        outputs = {name: identified(side.delta(name), identify)
                    for name in ("latitude", "longitude") if name in side.outputs}
         entries = []  # (kind, row, quantity, coefficient): evaluated in one call
         for i, row in enumerate(rows):

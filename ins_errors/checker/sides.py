@@ -402,8 +402,12 @@ class HandSide:
 def _tautology(form: sp.Expr, key: str) -> bool:
     """:meth:`HandSide.tautology`: a pure function, kept for the next line and check."""
     tildes = tilde_variations(form)
-    expanded = sp.expand(form.xreplace(tildes))
-    return sp.expand(expanded - sp.Symbol(key)) == 0
+    plain = form.xreplace(tildes)
+    name = sp.Symbol(key)
+    if name not in plain.free_symbols:
+        # expanding never brings in a symbol, so ``expand(plain) - key`` keeps its ``-key``
+        return False
+    return sp.expand(sp.expand(plain) - name) == 0
 
 
 _SHARED: dict[tuple, tuple] = {}
@@ -429,3 +433,21 @@ def model_expr(side: ModelSide, key: tuple) -> sp.Expr:
     if kind == "vary":
         return side.vary(what)
     return what  # "ideal"
+
+
+@lru_cache(maxsize=16384)
+def _identified_expr(expr: sp.Expr, rule: tuple[tuple[sp.Symbol, sp.Expr], ...]) -> sp.Expr:
+    """``expr.xreplace(dict(rule))``, kept for the next use in the same process."""
+    return expr.xreplace(dict(rule))
+
+
+def identified(expr: sp.Expr, identify: dict[sp.Symbol, sp.Expr]) -> sp.Expr:
+    """A model expression with the file's identification applied (``Delta_a`` for both
+    accelerometer biases, out-of-scope sources zero): ``expr.xreplace(identify)``.
+
+    Each line's model side is asked for this several times per check (prefetch, the
+    exact and declared model sides, the symbolic-identity note, the helpers' and the
+    effects' rows), and the deep model trees cost a full walk each time; the result
+    is a pure function of its arguments, so it is kept (read only).
+    """
+    return _identified_expr(expr, tuple(identify.items()))
