@@ -161,10 +161,14 @@ def _linear_monte_carlo(system: LinearSystem, sources: Sequence[SourceStatistics
             drive = b.copy()
             for j, _ in white:
                 drive[j] = 0.0
-            k1 = F0 @ x + G0 @ drive
-            k2 = Fm @ (x + 0.5 * h * k1) + Gm @ drive
-            k3 = Fm @ (x + 0.5 * h * k2) + Gm @ drive
-            k4 = F1 @ (x + h * k3) + G1 @ drive
+            # each distinct G times the sources once (one G for a time-invariant system)
+            forcing0 = G0 @ drive
+            forcing_m = forcing0 if Gm is G0 else Gm @ drive
+            forcing1 = forcing0 if G1 is G0 else G1 @ drive
+            k1 = F0 @ x + forcing0
+            k2 = Fm @ (x + 0.5 * h * k1) + forcing_m
+            k3 = Fm @ (x + 0.5 * h * k2) + forcing_m
+            k4 = F1 @ (x + h * k3) + forcing1
             x = x + h / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
             for j, s in white:
                 x = x + np.outer(Gm[:, j], rng.normal(0.0, s.sigma * np.sqrt(h), runs))
