@@ -1,9 +1,9 @@
 """The built wheel works outside the source tree, generated code included.
 
 The snippets run with the installed wheel first on ``sys.path`` from folders outside the
-source tree, several in one fresh interpreter (its start-up and the package's import
-are most of a snippet's cost); each test asserts on its own snippet's exit status and
-output, captured separately.
+source tree, all in one fresh interpreter (its start-up and the package's import are most
+of a snippet's cost); each test asserts on its own snippet's exit status and output,
+captured separately.
 """
 
 from __future__ import annotations
@@ -95,14 +95,14 @@ sys.stdout.write(json.dumps(results))
 own folder: (exit status, stdout, stderr) of each, by name, as JSON on stdout."""
 
 
-def _run_outside(target: Path, snippets: list[tuple[str, Path, str]], cwd: Path,
-                 prelude: str = "") -> dict[str, tuple[int, str, str]]:
+def _run_outside(target: Path, snippets: list[tuple[str, Path, str]],
+                 cwd: Path) -> dict[str, tuple[int, str, str]]:
     """Run ``snippets`` (name, folder, code) with the installed wheel first on the path,
     in one fresh interpreter (one start-up and import of the package for all of them)."""
     import json
 
     env = dict(os.environ, PYTHONPATH=str(target))
-    done = subprocess.run([sys.executable, "-c", prelude + DRIVER,
+    done = subprocess.run([sys.executable, "-c", DRIVER,
                            json.dumps([(n, str(f), c) for n, f, c in snippets])],
                           cwd=cwd, env=env, capture_output=True, text=True)
     assert done.returncode == 0, done.stderr[-2000:]
@@ -118,6 +118,20 @@ def _folder(root: Path, name: str, files: dict[str, str]) -> Path:
 
 
 SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
+NO_PLOTS = {"run": ["run", "drift.toml", "--out", "rep"],
+            "compare": ["compare", "orthodromic", "-s", "gyro_drift_x=0.01deg/h", "--plot",
+                        "d.png"]}
+"""Commands run from the installed wheel as if it were installed without matplotlib."""
+HIDDEN_MATPLOTLIB = """import sys
+from ins_errors.cli import main
+sys.modules["matplotlib"] = None  # the plots extra absent: import matplotlib fails
+try:
+    sys.exit(main({argv!r}))
+finally:
+    del sys.modules["matplotlib"]  # the snippets after this one draw
+"""
+"""A snippet running ``argv`` where ``import matplotlib`` raises ImportError. These run
+first in the fresh interpreter, before any snippet has imported matplotlib."""
 DRIFT = ('model = "orthodromic"\n[run]\nduration = "2 h"\nstep = "2 s"\n'
          '[outputs]\nquantities = ["alpha_x", "delta_latitude"]\n'
          '[[case]]\ngyro_drift_y = "0.01 deg/h"\n')
@@ -128,7 +142,12 @@ def outside(installed_wheel, tmp_path_factory) -> dict[str, tuple[int, str, str]
     """The tests' snippets run with the installed wheel outside the source tree (one
     process for all: each test below asserts on its own snippet's status and output)."""
     root = tmp_path_factory.mktemp("outside")
+    no_plots = _folder(root, "no_plots", {"drift.toml": (
+        'model = "orthodromic"\n[run]\nduration = "2 h"\n'
+        '[[case]]\ngyro_drift_y = "0.01 deg/h"\n')})
     snippets = [
+        *((f"no plots: {name}", no_plots, HIDDEN_MATPLOTLIB.format(argv=argv))
+          for name, argv in NO_PLOTS.items()),
         ("models", _folder(root, "models", {}), (
             "import numpy as np, ins_errors\n"
             f"assert ins_errors.__file__.startswith({str(installed_wheel)!r}), "
@@ -192,22 +211,13 @@ def test_wheel_derives_a_model_file(outside):
     assert (folder / "schuler_loop_generated" / "casadi_model.py").is_file()
 
 
-def test_wheel_without_plots_extra_says_so_before_computing(installed_wheel, tmp_path):
+def test_wheel_without_plots_extra_says_so_before_computing(outside):
     """Installed without matplotlib: one line naming the extra, no folder, no traceback
-    (both commands in one fresh process where matplotlib cannot be imported)."""
-    (tmp_path / "drift.toml").write_text('model = "orthodromic"\n[run]\nduration = "2 h"\n'
-                                         '[[case]]\ngyro_drift_y = "0.01 deg/h"\n',
-                                         encoding="utf-8")
-    argvs = {"run": ["run", "drift.toml", "--out", "rep"],
-             "compare": ["compare", "orthodromic", "-s", "gyro_drift_x=0.01deg/h",
-                         "--plot", "d.png"]}
-    results = _run_outside(
-        installed_wheel, [(name, tmp_path, "import sys; from ins_errors.cli import main; "
-                           f"sys.exit(main({argv!r}))") for name, argv in argvs.items()],
-        tmp_path, prelude="import sys; sys.modules['matplotlib'] = None  # extra absent\n")
-    for status, out, err in results.values():
+    (both commands run where matplotlib cannot be imported, before anything drew)."""
+    for name in NO_PLOTS:
+        status, out, err, folder = outside[f"no plots: {name}"]
         assert status == 2, err
         assert err.strip().splitlines() == [
             "ins-errors: error: " + err.split("ins-errors: error: ", 1)[1].strip()]
         assert "install ins-errors[plots]" in err and not out
-    assert not (tmp_path / "rep").exists() and not (tmp_path / "d.png").exists()
+    assert not (folder / "rep").exists() and not (folder / "d.png").exists()
