@@ -58,11 +58,13 @@ def test_kept_parses_follow_the_notation():
 
 def _forget_kept_results() -> None:
     """Empty every per-process cache of the checker (as in a fresh interpreter)."""
-    from ins_errors.checker import classify, compare, parse, sides
+    from ins_errors.checker import classify, compare, parse, realwork, sides
 
     for kept in (compare._shared_linear_parts, compare._identical, compare._display,
                  compare._shown, classify._candidates, compare._first_nonlinear,
-                 sides._tautology, parse._parsed_text, parse._parsed_latex):
+                 sides._tautology, sides._identified_expr, parse._parsed_text,
+                 parse._parsed_latex, realwork._first_order_outputs, realwork._split,
+                 realwork._varied_rate):
         kept.cache_clear()
     for side in sides._SHARED.values():
         side[1]._varied.clear()
@@ -70,24 +72,27 @@ def _forget_kept_results() -> None:
 
 
 def test_a_check_after_other_checks_equals_one_with_nothing_kept():
-    """The kept splits, comparisons, tautologies and parses change no report."""
+    """The kept splits, comparisons, tautologies, parses and real-work expansions change
+    no report (the manual's file has real-work lines)."""
     from ins_errors.checker.compare import check_hand
     from ins_errors.checker.notation import default_notation
     from ins_errors.checker.parse import parse_hand_text
     from ins_errors.checker.report import to_json
-    from tests.test_hand_check import CORRECT
+    from tests.test_hand_check import CORRECT, MANUAL
 
     def report(text):
         hand = parse_hand_text(text, default_notation("orthodromic"))
         return to_json(check_hand(hand, threshold=1e-3, effects=False))
 
     wrong = CORRECT.replace("- a_zeta*alpha_y", "+ a_zeta*alpha_y")
+    manual = (MANUAL / "equations.txt").read_text(encoding="utf-8")
     report(CORRECT)
-    warm = report(wrong)
+    warm = report(wrong), report(manual)
     _forget_kept_results()
-    cold = report(wrong)
+    cold = report(wrong), report(manual)
     assert warm == cold
-    assert warm["summary"]["mistakes"] >= 1
+    assert warm[0]["summary"]["mistakes"] >= 1
+    assert any(e["compared_with"].startswith("real work") for e in warm[1]["equations"])
 
 
 def test_checks_run_with_one_blas_thread_and_restore_the_pools():

@@ -23,6 +23,8 @@ Any other real-work line is listed as not compared.
 
 from __future__ import annotations
 
+from functools import cache, lru_cache
+
 import numpy as np
 import sympy as sp
 
@@ -51,10 +53,16 @@ def first_order_outputs() -> list[sp.Expr]:
         ``a_x, a_y, a_z`` in terms of ``a_xi, a_eta, a_zeta`` (m/s²) and
         ``alpha_x, alpha_y, alpha_z`` (rad): the exact rotation's Taylor expansion.
     """
+    return list(_first_order_outputs())
+
+
+@cache
+def _first_order_outputs() -> tuple[sp.Expr, ...]:
+    """:func:`first_order_outputs`, expanded once per process (it has no arguments)."""
     exact = on_platform(ANGLES, ACCELERATIONS, "exact")
     zero = dict.fromkeys(ANGLES, 0)
-    return [sp.expand(e.subs(zero) + sum(sp.diff(e, a).subs(zero) * a for a in ANGLES))
-            for e in exact]
+    return tuple(sp.expand(e.subs(zero) + sum(sp.diff(e, a).subs(zero) * a for a in ANGLES))
+                 for e in exact)
 
 
 def _by_name(expr: sp.Expr) -> sp.Expr:
@@ -62,8 +70,10 @@ def _by_name(expr: sp.Expr) -> sp.Expr:
     return expr.xreplace({s: sp.Symbol(s.name) for s in expr.free_symbols})
 
 
+@lru_cache(maxsize=1024)
 def _split(expr: sp.Expr) -> dict[str, sp.Expr]:
-    """``{"(value)": zero-order part, "alpha_x": its coefficient, ...}``."""
+    """``{"(value)": zero-order part, "alpha_x": its coefficient, ...}`` (a pure function,
+    kept for the next line and check: read only)."""
     zero = dict.fromkeys(ANGLES, 0)
     parts = {"(value)": sp.expand(expr.subs(zero))}
     for a in ANGLES:
@@ -197,25 +207,34 @@ def update_variations(hand: HandFile) -> list[HandEquation]:
     list of HandEquation
         One per update of a ``tilde(X)``, at the update's line and section.
     """
-    eps = sp.Dummy("epsilon")
     outputs = {e.lhs: e.forms[0] for e in hand.real_work
                if not e.step and isinstance(e.lhs, sp.Symbol) and e.lhs.name in OUTPUTS}
     lines = []
     for eq in hand.real_work:
         if not (eq.step and eq.lhs.func == TILDE and TAU in eq.forms[0].free_symbols):
             continue
-        rate = sp.expand(eq.forms[0] - eq.lhs).subs(TAU, 1).xreplace(outputs)
-        rate = rate.xreplace({s: eps * s for s in rate.free_symbols
-                              if s.name.startswith(("alpha_", "Delta_"))})
-        rate = rate.xreplace({f: f.args[0] + eps * sp.Symbol(f"Delta_{f.args[0]}")
-                              for f in rate.atoms(TILDE)})
-        variation = sp.expand(sp.diff(rate, eps).subs(eps, 0))
+        variation = _varied_rate(eq.forms[0], eq.lhs, tuple(outputs.items()))
         lines.append(HandEquation(
             line=eq.line, column=eq.column, section=eq.section,
             lhs=DOT(sp.Symbol(f"Delta_{eq.lhs.args[0]}")), forms=[variation],
             text=f"variation of: {eq.text}", note="real-work update, varied to first order",
             columns=eq.columns, declarations=eq.declarations))
     return lines
+
+
+@lru_cache(maxsize=1024)
+def _varied_rate(form: sp.Expr, lhs: sp.Expr, outputs: tuple[tuple[sp.Expr, sp.Expr], ...]
+                 ) -> sp.Expr:
+    """The ε-coefficient of one update's rate (see :func:`update_variations`): a pure
+    function of the update, its left side and the file's output lines, kept for the next
+    check in the same process."""
+    eps = sp.Dummy("epsilon")
+    rate = sp.expand(form - lhs).subs(TAU, 1).xreplace(dict(outputs))
+    rate = rate.xreplace({s: eps * s for s in rate.free_symbols
+                          if s.name.startswith(("alpha_", "Delta_"))})
+    rate = rate.xreplace({f: f.args[0] + eps * sp.Symbol(f"Delta_{f.args[0]}")
+                          for f in rate.atoms(TILDE)})
+    return sp.expand(sp.diff(rate, eps).subs(eps, 0))
 
 
 def check_real_work(hand: HandFile, points: list, angle: float, threshold: float
