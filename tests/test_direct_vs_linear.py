@@ -52,10 +52,12 @@ def runs(orthodromic):
         traj = tr.trajectory(orthodromic, profile, duration, 1.0)
         # only direct and linear are asserted here: no refined run, and none of the
         # extra runs behind the integration-error and validity warnings (tested on
-        # their own in test_integration_error.py and test_validity.py)
+        # their own in test_integration_error.py and test_validity.py); the manual's
+        # rectangle method, named (compare's default became RK4: test_rk4_runs_agree_as_well)
         out[name] = {c.label.split(" =")[0]: c for c in
-                     compare(orthodromic, traj, small_cases(orthodromic), record_interval=60.0,
-                             refined=False, integration_error=False, validity_threshold=None)}
+                     compare(orthodromic, traj, small_cases(orthodromic), method="euler",
+                             record_interval=60.0, refined=False, integration_error=False,
+                             validity_threshold=None)}
     return out
 
 
