@@ -34,12 +34,28 @@ def model():
     return load_model("strapdown_ned")
 
 
-PROFILE = tr.manoeuvre_profile(
-    48 * DEG, 20 * DEG, 30 * DEG, 220.0,
-    [tr.Leg(300.0, 280.0, 75 * DEG, 2500.0), tr.Leg(123.456, 230.0, -40 * DEG, 1500.0),
-     tr.Leg(12.0, 230.0, 90 * DEG, 1500.0), tr.Leg(300.0, 200.0, -90 * DEG, 500.0)], h=1000.0)
+PROFILE_LEGS = [tr.Leg(300.0, 280.0, 75 * DEG, 2500.0), tr.Leg(123.456, 230.0, -40 * DEG, 1500.0),
+                tr.Leg(12.0, 230.0, 90 * DEG, 1500.0), tr.Leg(300.0, 200.0, -90 * DEG, 500.0)]
+PROFILE = tr.manoeuvre_profile(48 * DEG, 20 * DEG, 30 * DEG, 220.0, PROFILE_LEGS, h=1000.0)
 """A CLI-style profile whose leg joins fall between steps (423.456 s) with a hard turn
 (90° in 12 s, about 2 g of bank)."""
+
+
+def _profile_flight_at(t: float) -> tuple[float, float, float]:
+    """Ground speed V (m/s), turn rate r (rad/s, to the right) and down velocity v_D (m/s)
+    of PROFILE at time t, from its legs' definition: within a leg the speed, the course
+    (to the left) and the height move from their start to their end values along
+    s(θ) = 10θ³ − 15θ⁴ + 6θ⁵, θ = (t − start)/duration; constant after the last leg."""
+    start, speed, height = 0.0, 220.0, 1000.0
+    for leg in PROFILE_LEGS:
+        if t < start + leg.duration:
+            theta = max(t - start, 0.0) / leg.duration
+            ramp = theta**3 * (10 - 15 * theta + 6 * theta**2)
+            slope = 30 * theta**2 * (1 - theta) ** 2 / leg.duration  # ds/dt
+            return (speed + (leg.speed - speed) * ramp, -leg.turn * slope,
+                    -(leg.height - height) * slope)
+        start, speed, height = start + leg.duration, leg.speed, leg.height
+    return speed, 0.0, 0.0
 
 
 def _flights():
@@ -144,8 +160,9 @@ def test_direct_errors_match_far_below_linear_differences(model, pairs, name):
 
 def test_interpolated_position_follows_an_exact_integration(model, pairs):
     """Latitude, longitude and height of the interpolated truth against DOP853 at the
-    tightest tolerance, restarted at every leg join and reading the commands directly
-    (not through samples): 1e-8 m measured, where the fine truth is 2e-4 m off."""
+    tightest tolerance, restarted at every leg join and reading the speed, turn rate and
+    down velocity from the legs' definition (not through the profile's commands or
+    samples): 1e-8 m measured, where the fine truth is 2e-4 m off."""
     from scipy.integrate import solve_ivp
 
     from ins_errors.models.earth import radii_of_curvature
@@ -155,12 +172,7 @@ def test_interpolated_position_follows_an_exact_integration(model, pairs):
 
     def rhs(t, y):
         lat, _, h, psi = y
-        # the flight's speed, turn rate and down velocity (its commands, without the
-        # rate of the turn rate this integration does not need) from the profile's
-        values, rates = PROFILE.commands(np.array([t]))
-        speed = np.hypot(values[0], values[1])
-        V, r, vD = (float(c[0]) for c in (speed, -(values[0] * rates[1] - values[1] * rates[0])
-                                          / speed**2, -values[3]))
+        V, r, vD = _profile_flight_at(t)  # the legs' own definition, not the commands
         R_N, R_E = radii_of_curvature(lat, earth.a, earth.e2)
         vN, vE = V * np.cos(psi), V * np.sin(psi)
         return [vN / (R_N + h), vE / ((R_E + h) * np.cos(lat)), -vD,
@@ -293,13 +305,15 @@ def test_fine_position_follows_an_exact_integration(model):
                 0.01 * np.cos(w * t), -0.01 * w * np.sin(w * t),
                 -5.0 * np.cos(v * t), 5.0 * v * np.sin(v * t))
 
-    flights = {"cruise": (FLIGHTS["cruise"], 1e-7),
+    # each flight with its speed, turn rate and down velocity at one time (floats): the
+    # cruise's definition (250 m/s, level, no turn) and the weave's own functions
+    flights = {"cruise": (FLIGHTS["cruise"], lambda t: (250.0, 0.0, 0.0), 1e-7),
                "weave": (st.Flight(50 * DEG, 30 * DEG, 5000.0, 60 * DEG, weave, "weave"),
-                         1e-5)}
-    for name, (flight, tolerance) in flights.items():
-        def rhs(t, y, flight=flight):
+                         lambda t: weave(t)[::2], 1e-5)}
+    for name, (flight, flown, tolerance) in flights.items():
+        def rhs(t, y, flown=flown):
             lat, _, h, psi = y
-            V, _, r, _, vD, _ = (float(c[0]) for c in flight.commands(np.array([t])))
+            V, r, vD = flown(t)
             w = math.sqrt(1 - earth.e2 * math.sin(lat) ** 2)
             R_N, R_E = earth.a * (1 - earth.e2) / w**3, earth.a / w
             vN, vE = V * math.cos(psi), V * math.sin(psi)
