@@ -148,7 +148,7 @@ def test_backends_agree_with_sympy(model):
     real = d.real_rhs_expanded()
     F_expr = real.xreplace(d.no_errors()).jacobian(d.real_states).xreplace(d.at_ideal())
     G_expr = real.xreplace(d.at_ideal()).jacobian(d.w).xreplace(d.no_errors())
-    F_sym, G_sym = (sp.lambdify([d.x, d.u, d.p], m, "numpy") for m in (F_expr, G_expr))
+    F_sym, G_sym = (sp.lambdify([d.x, d.u, d.p], m, "numpy", cse=True) for m in (F_expr, G_expr))
     F_ca, G_ca = model.casadi.function("state_matrix"), model.casadi.function("source_matrix")
     for x, u, p, _c in _points(model, 6, 51):
         F, G = model.state_matrix(x, u, p), model.source_matrix(x, u, p)
