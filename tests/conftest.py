@@ -3,10 +3,16 @@
 from __future__ import annotations
 
 import gc
+import os
 
 import pytest
 
-import ins_errors
+from tests.helpers import QUIET_DASK
+
+for _name, _value in QUIET_DASK.items():  # before anything imports Dask
+    os.environ.setdefault(_name, _value)
+
+import ins_errors  # noqa: E402
 
 
 @pytest.fixture(scope="session")

@@ -31,6 +31,7 @@ from ins_errors.analysis import monte_carlo as mc
 from ins_errors.analysis import sweep as sw
 from ins_errors.numeric import trajectories as tr
 from ins_errors.scenario import load_scenario
+from tests.helpers import QUIET_DASK
 
 SCENARIO = """
 title = "great circle, drawn biases"
@@ -67,17 +68,6 @@ def cluster_commands() -> list[str]:
     section = README.split("On a cluster, with Dask's own commands", 1)[1]
     block = section.split("```text\n", 1)[1].split("```", 1)[0]
     return [line.split(" #")[0].strip() for line in block.splitlines() if line.strip()]
-
-
-QUIET_DASK = {**os.environ,
-              "DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED": "False",
-              "DASK_DISTRIBUTED__ADMIN__TICK__INTERVAL": "1s",
-              "DASK_DISTRIBUTED__ADMIN__SYSTEM_MONITOR__INTERVAL": "5s",
-              "DASK_DISTRIBUTED__WORKER__MEMORY__MONITOR_INTERVAL": "2s"}
-"""Environment of the cluster's processes: Dask's statistical profiler (every 10 ms in
-each worker and nanny) and its 20-ms / 500-ms / 100-ms health, system and memory
-monitors cost about 0.1 s CPU per second of an idle cluster; none is what these tests
-look at (dashboards and diagnostics)."""
 
 
 @dataclass
@@ -129,7 +119,8 @@ def cluster():
         for command in commands:   # the worker retries until the scheduler listens
             started.append(subprocess.Popen(command, stdout=subprocess.DEVNULL,
                                             stderr=subprocess.DEVNULL,
-                                            start_new_session=True, env=QUIET_DASK))
+                                            start_new_session=True,
+                                            env={**os.environ, **QUIET_DASK}))
         deadline = time.monotonic() + 60
         while True:
             try:
