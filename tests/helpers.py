@@ -82,7 +82,11 @@ def source_steps(model: ins_errors.Model) -> np.ndarray:
 
 def joined_chunks(trajectory, size: int = 20_000):
     """A streamed trajectory's chunks of ``size`` steps joined: states, inputs, midpoints."""
-    chunks = list(trajectory.chunks(size))
+    return _joined(list(trajectory.chunks(size)))
+
+
+def _joined(chunks):
+    """Consecutive chunks joined: states, inputs, midpoints."""
     truth = np.hstack([chunks[0].truth[:, :1]] + [c.truth[:, 1:] for c in chunks])
     inputs = np.hstack([chunks[0].inputs[:, :1]] + [c.inputs[:, 1:] for c in chunks])
     midpoints = np.hstack([c.midpoints for c in chunks])
@@ -95,9 +99,9 @@ def assert_chunks_join_into(streamed, stored, sizes) -> None:
     assert np.array_equal(streamed.start_state, stored.truth[:, 0])
     assert np.array_equal(streamed.start_inputs, stored.inputs[:, 0])
     for size in sizes:
-        chunks = list(streamed.chunks(size))
+        chunks = list(streamed.chunks(size))  # generated once, checked and joined
         assert chunks[0].start == 0 and sum(c.size for c in chunks) == stored.n_steps
-        truth, inputs, midpoints = joined_chunks(streamed, size)
+        truth, inputs, midpoints = _joined(chunks)
         assert np.array_equal(truth, stored.truth)
         assert np.array_equal(inputs, stored.inputs)
         assert np.array_equal(midpoints, stored.midpoints)
