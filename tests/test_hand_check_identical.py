@@ -27,7 +27,8 @@ def test_split_by_substitution_is_plain_xreplace():
     assert len(expressions) > 20
     split = 0
     for expr in expressions:
-        present = [b for b in basis if b in expr.free_symbols]
+        free = expr.free_symbols
+        present = [b for b in basis if b in free]
         coefficients, constant = _split_by_substitution(expr, present)
         plain, plain_constant = _plain_split(expr, present)
         assert sp.srepr(constant) == sp.srepr(plain_constant)
@@ -243,8 +244,8 @@ def test_node_by_node_values_equal_the_compiled_functions():
     basis = [*side.error_states.values(), *side.source_symbols.values()]
     exprs = []
     for expr in [*side.state_rhs.values(), *side.delta_of.values()]:
-        coefficients, _ = _split_by_substitution(
-            expr, [b for b in basis if b in expr.free_symbols])
+        free = expr.free_symbols
+        coefficients, _ = _split_by_substitution(expr, [b for b in basis if b in free])
         exprs += [c for c in coefficients.values() if c.free_symbols <= set(arguments)]
     exprs += [a - 2 * b for a, b in itertools.pairwise(exprs)]
     assert len(exprs) > 100

@@ -385,8 +385,8 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                                                states, src_names, hand.name)
         hand = parse_hand_text(text, Notation(), name=hand.name)
     rows = _rows(hand, states, src_names, vector_rows)
-    used = [s for s in src_names if any(sp.Symbol(s) in r[2].free_symbols
-                                        for r in rows.values())]
+    held = set().union(*(r[2].free_symbols for r in rows.values()))  # (one walk a row)
+    used = [s for s in src_names if sp.Symbol(s) in held]
     variables = states + used
     functions = {}
     for row, (line, _, rhs) in rows.items():
