@@ -174,8 +174,11 @@ def save_figure(figure, path: str | Path, close: bool = True, **options) -> Path
         options.setdefault("pil_kwargs", {"compress_type": PNG_ZLIB_RLE})
     import matplotlib
 
+    from ins_errors.text_layouts import remembered_layouts
+
     try:
-        with _without_layout_placeholder(figure), matplotlib.rc_context(DRAWING_RC):
+        with (_without_layout_placeholder(figure), matplotlib.rc_context(DRAWING_RC),
+              remembered_layouts()):
             return write_with(path, lambda p: figure.savefig(p, format=fmt, **options))
     finally:
         if close:
