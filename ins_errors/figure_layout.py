@@ -13,6 +13,7 @@ Two matplotlib conveniences cost most of a many-panel figure's drawing time:
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Iterable
 
 
@@ -114,13 +115,36 @@ def text_width(texts: Iterable[str], size: float) -> float:
     float
         Width, inches (0 for no text).
     """
+    import matplotlib
+
+    rc = matplotlib.rcParams
+    fonts = repr([rc[k] for k in _FONT_KEYS])
+    return max(((_measure_line if line.count("$") >= 2 else _line_width)(line, size, fonts)
+                for text in texts for line in text.split("\n") if line),
+               default=0.0) / 72
+
+
+_FONT_KEYS = ("font.family", "font.sans-serif", "font.serif", "font.monospace",
+              "font.cursive", "font.fantasy", "font.style", "font.variant", "font.weight",
+              "font.stretch", "text.kerning_factor")
+"""Settings a default-font line's width depends on, besides its text and size."""
+
+
+@functools.lru_cache(maxsize=4096)
+def _line_width(line: str, size: float, fonts: str) -> float:
+    """:func:`_measure_line`, kept: matplotlib shapes a line to measure it (~0.4 ms, more
+    for long lines), and the same lines are measured again (``fonts``, the font settings
+    in force, is part of the key; mathtext, which has settings of its own, is not kept)."""
+    return _measure_line(line, size, fonts)
+
+
+def _measure_line(line: str, size: float, fonts: str = "") -> float:
+    """Width of one line at ``size`` points in the default font, points."""
     from matplotlib.font_manager import FontProperties
     from matplotlib.textpath import text_to_path
 
-    font = FontProperties(size=size)
-    return max((text_to_path.get_text_width_height_descent(
-        line, font, ismath=line.count("$") >= 2)[0]
-        for text in texts for line in text.split("\n") if line), default=0.0) / 72
+    return text_to_path.get_text_width_height_descent(
+        line, FontProperties(size=size), ismath=line.count("$") >= 2)[0]
 
 
 def text_height(text: str, size: float) -> float:

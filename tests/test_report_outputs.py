@@ -510,57 +510,67 @@ def test_png_files_hold_the_pixels_of_matplotlibs_default_png(tmp_path):
 
 def test_kept_text_layouts_write_the_bytes_of_a_plain_savefig(tmp_path):
     """``save_figure`` keeps text layouts (each text's box between its measurements and
-    drawing, each string's glyph placement per font and size, across figures): the
-    files must be byte for byte matplotlib's own ``savefig`` with the same settings, for
-    a figure drawn three times with new limits, tick labels and titles and a label whose
-    font size changes in place; with multi-line, rotated, wrapped, mathtext and
-    non-ASCII texts, an offset text and a legend. Afterwards matplotlib's methods are
-    its own again."""
+    drawing, each string's glyph placement and size per font and size, across figures):
+    its files must be byte for byte matplotlib's own ``savefig`` with the same settings
+    of a twin figure (its own renderer and matplotlib's caches), for a figure saved three
+    times with new limits, tick labels and titles and two labels whose font size changes
+    in place; with multi-line, rotated, wrapped, mathtext and non-ASCII texts, an offset
+    text and a legend. Afterwards matplotlib's methods are its own again."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib import ft2font
+    from matplotlib.backends.backend_agg import RendererAgg
     from matplotlib.text import Text
 
     from ins_errors import text_layouts
     from ins_errors.output import DRAWING_RC, PNG_ZLIB_RLE, save_figure
 
     def methods():
-        return [Text._get_layout, *(getattr(ft2font.FT2Font, name, None)
-                                    for name in ("_layout", "set_size", "clear"))]
+        return [Text._get_layout, RendererAgg.get_text_width_height_descent,
+                *(getattr(ft2font.FT2Font, name, None) for name in ("_layout", "set_size",
+                                                                   "clear"))]
+
+    values = np.array([3e-7, 1e-6, -2e-7])
+
+    def figure():
+        # (saved at the figure's own resolution, a figure keeps its renderer, and the
+        # layouts measured with it, from one save to the next)
+        fig, axes = plt.subplots(2, 1, figsize=(4, 4), dpi=60)
+        line, = axes[0].plot([0, 1, 2], values, label="direct")
+        axes[0].legend(loc="best", fontsize=7)
+        axes[0].set_ylabel("alpha_y\n[arcmin]")
+        axes[0].set_title("error curves", loc="left")
+        fig.subplots_adjust(left=0.3, hspace=0.6)
+        axes[1].plot([0, 1, 2], [1e4, 3e5, 2e4], label="− linear")
+        axes[1].set_xlabel(r"time, h ($\tau$ = 1 s)")
+        axes[1].set_title("a title long enough to be wrapped at the figure's edge, twice "
+                          "over", wrap=True, fontsize=9)
+        return fig, axes, line
 
     before = methods()
-    # (saved at the figure's own resolution, the renderer and the layouts it measured
-    # with are kept from one save to the next)
-    fig, axes = plt.subplots(2, 1, figsize=(4, 4), dpi=60)
-    values = np.array([3e-7, 1e-6, -2e-7])
-    line, = axes[0].plot([0, 1, 2], values, label="direct")
-    axes[0].legend(loc="best", fontsize=7)
-    axes[0].set_ylabel("alpha_y\n[arcmin]")
-    axes[0].set_title("error curves", loc="left")
-    fig.subplots_adjust(left=0.3, hspace=0.6)
-    axes[1].plot([0, 1, 2], [1e4, 3e5, 2e4], label="− linear")
-    axes[1].set_xlabel(r"time, h ($\tau$ = 1 s)")
-    axes[1].set_title("a title long enough to be wrapped at the figure's edge, twice over",
-                      wrap=True, fontsize=9)
     text_layouts._boxes.clear()
+    twins = [figure(), figure()]
     for k, (scale, title) in enumerate(((1.0, "φ = 39°"), (1e3, "m/s², second"),
                                         (1e3, "m/s², second"))):
-        line.set_ydata(values * scale)
-        axes[0].relim()
-        axes[0].autoscale_view()
-        fig.suptitle(title)
-        if k == 2:
-            for text in (axes[0].yaxis.label, axes[0]._left_title):
-                text.set_fontsize(14)  # (changes its font properties in place)
-        ours = save_figure(fig, tmp_path / f"ours{k}.png", close=False, dpi=60)
-        plain = tmp_path / f"plain{k}.png"
+        for fig, axes, line in twins:
+            line.set_ydata(values * scale)
+            axes[0].relim()
+            axes[0].autoscale_view()
+            fig.suptitle(title)
+            if k == 2:
+                for text in (axes[0].yaxis.label, axes[0]._left_title):
+                    text.set_fontsize(14)  # (changes its font properties in place)
+        (ours, _, _), (plain, _, _) = twins
+        saved = save_figure(ours, tmp_path / f"ours{k}.png", close=False, dpi=60)
         with matplotlib.rc_context(DRAWING_RC):
-            fig.savefig(plain, dpi=60, pil_kwargs={"compress_type": PNG_ZLIB_RLE})
-        assert ours.read_bytes() == plain.read_bytes(), k
-    plt.close(fig)
-    assert len(text_layouts._boxes) > 10  # (the layouts were kept)
+            plain.savefig(tmp_path / f"plain{k}.png", dpi=60,
+                          pil_kwargs={"compress_type": PNG_ZLIB_RLE})
+        assert saved.read_bytes() == (tmp_path / f"plain{k}.png").read_bytes(), k
+    for fig, _, _ in twins:
+        plt.close(fig)
+    assert len(text_layouts._boxes) > 10 and text_layouts._measures  # (they were kept)
     if hasattr(ft2font.FT2Font, "_layout"):
         assert text_layouts._glyphs
     assert methods() == before
