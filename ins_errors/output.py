@@ -175,10 +175,11 @@ def save_figure(figure, path: str | Path, close: bool = True, **options) -> Path
     import matplotlib
 
     from ins_errors.text_layouts import remembered_layouts
+    from ins_errors.tick_updates import ticks_updated_once
 
     try:
         with (_without_layout_placeholder(figure), matplotlib.rc_context(DRAWING_RC),
-              remembered_layouts()):
+              remembered_layouts(), ticks_updated_once()):
             return write_with(path, lambda p: figure.savefig(p, format=fmt, **options))
     finally:
         if close:

@@ -510,17 +510,19 @@ def test_png_files_hold_the_pixels_of_matplotlibs_default_png(tmp_path):
 
 def test_kept_text_layouts_write_the_bytes_of_a_plain_savefig(tmp_path):
     """``save_figure`` keeps text layouts (each text's box between its measurements and
-    drawing, each string's glyph placement and size per font and size, across figures):
-    its files must be byte for byte matplotlib's own ``savefig`` with the same settings
-    of a twin figure (its own renderer and matplotlib's caches), for a figure saved three
-    times with new limits, tick labels and titles and two labels whose font size changes
-    in place; with multi-line, rotated, wrapped, mathtext and non-ASCII texts, an offset
-    text and a legend. Afterwards matplotlib's methods are its own again."""
+    drawing, each string's glyph placement and size per font and size, across figures)
+    and updates each axis' ticks once per drawing of it: its files must be byte for byte
+    matplotlib's own ``savefig`` with the same settings of a twin figure (its own
+    renderer and matplotlib's caches), for a figure saved three times with new limits,
+    tick labels and titles and two labels whose font size changes in place; with shared
+    time axes, multi-line, rotated, wrapped, mathtext and non-ASCII texts, an offset text
+    and a legend. Afterwards matplotlib's methods are its own again."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib import ft2font
+    from matplotlib.axis import Axis
     from matplotlib.backends.backend_agg import RendererAgg
     from matplotlib.text import Text
 
@@ -528,7 +530,8 @@ def test_kept_text_layouts_write_the_bytes_of_a_plain_savefig(tmp_path):
     from ins_errors.output import DRAWING_RC, PNG_ZLIB_RLE, save_figure
 
     def methods():
-        return [Text._get_layout, RendererAgg.get_text_width_height_descent,
+        return [Text._get_layout, RendererAgg.get_text_width_height_descent, Axis.draw,
+                Axis._update_ticks,
                 *(getattr(ft2font.FT2Font, name, None) for name in ("_layout", "set_size",
                                                                    "clear"))]
 
@@ -537,7 +540,7 @@ def test_kept_text_layouts_write_the_bytes_of_a_plain_savefig(tmp_path):
     def figure():
         # (saved at the figure's own resolution, a figure keeps its renderer, and the
         # layouts measured with it, from one save to the next)
-        fig, axes = plt.subplots(2, 1, figsize=(4, 4), dpi=60)
+        fig, axes = plt.subplots(2, 1, figsize=(4, 4), dpi=60, sharex=True)
         line, = axes[0].plot([0, 1, 2], values, label="direct")
         axes[0].legend(loc="best", fontsize=7)
         axes[0].set_ylabel("alpha_y\n[arcmin]")
