@@ -36,6 +36,8 @@ import weakref
 from collections.abc import Iterator
 from contextlib import contextmanager
 
+from ins_errors.method_patches import MethodPatches
+
 _RC_KEYS = ("text.hinting", "text.hinting_factor", "text.kerning_factor", "font.family",
             "font.sans-serif", "font.serif", "font.monospace", "font.cursive",
             "font.fantasy")
@@ -55,9 +57,25 @@ _measures: dict = {}
 """Per (renderer class, dpi, string, font, text settings): width, height, descent."""
 _local = threading.local()
 """Per thread: the text settings of each :func:`remembered_layouts` it is inside."""
-_lock = threading.Lock()
-_users = 0
-_originals: dict = {}
+
+
+def _patches() -> list:
+    from matplotlib import ft2font
+    from matplotlib.backends.backend_agg import RendererAgg
+    from matplotlib.text import Text
+
+    patches = [(Text, "_get_layout", _kept_box),
+               (RendererAgg, "get_text_width_height_descent", _kept_measure)]
+    if hasattr(ft2font.FT2Font, "_layout"):  # (matplotlib >= 3.11 shapes every string)
+        patches += [(ft2font.FT2Font, "_layout", _kept_glyphs),
+                    (ft2font.FT2Font, "set_size", _seen_size),
+                    (ft2font.FT2Font, "clear", _cleared)]
+    return patches
+
+
+_installed = MethodPatches(_patches, reset=_sizes.clear)
+"""The wrappers; the sizes seen are forgotten whenever they are not installed (sizes set
+meanwhile were not seen)."""
 
 
 @contextmanager
@@ -72,56 +90,13 @@ def remembered_layouts() -> Iterator[None]:
 
     rc = matplotlib.rcParams
     settings = repr([rc[k] for k in _RC_KEYS if k in rc])  # (fixed while drawing)
-    with _lock:
-        if _users == 0:
-            _install()
-        _set_users(_users + 1)
-    stack = _local.__dict__.setdefault("settings", [])
-    stack.append(settings)
-    try:
-        yield
-    finally:
-        stack.pop()
-        with _lock:
-            _set_users(_users - 1)
-            if _users == 0:
-                _uninstall()
-
-
-def _set_users(count: int) -> None:
-    global _users
-    _users = count
-
-
-def _install() -> None:
-    from matplotlib import ft2font
-    from matplotlib.backends.backend_agg import RendererAgg
-    from matplotlib.text import Text
-
-    _originals["box"] = Text._get_layout
-    Text._get_layout = _kept_box(Text._get_layout)
-    _originals["measure"] = RendererAgg.get_text_width_height_descent
-    RendererAgg.get_text_width_height_descent = _kept_measure(_originals["measure"])
-    font = ft2font.FT2Font
-    if hasattr(font, "_layout"):  # (matplotlib >= 3.11 shapes every string drawn)
-        _sizes.clear()  # sizes set while uninstalled were not seen
-        for name, kept in (("_layout", _kept_glyphs), ("set_size", _seen_size),
-                           ("clear", _cleared)):
-            _originals[name] = getattr(font, name)
-            setattr(font, name, kept(_originals[name]))
-
-
-def _uninstall() -> None:
-    from matplotlib import ft2font
-    from matplotlib.backends.backend_agg import RendererAgg
-    from matplotlib.text import Text
-
-    Text._get_layout = _originals.pop("box")
-    RendererAgg.get_text_width_height_descent = _originals.pop("measure")
-    for name in ("_layout", "set_size", "clear"):
-        if name in _originals:
-            setattr(ft2font.FT2Font, name, _originals.pop(name))
-    _sizes.clear()
+    with _installed.applied():
+        stack = _local.__dict__.setdefault("settings", [])
+        stack.append(settings)
+        try:
+            yield
+        finally:
+            stack.pop()
 
 
 def _kept_box(layout):

@@ -16,35 +16,31 @@ import threading
 from collections.abc import Iterator
 from contextlib import contextmanager
 
+from ins_errors.method_patches import MethodPatches
+
 _local = threading.local()
 """Per thread: how many contexts it is inside, and per axis being drawn its ticks."""
-_lock = threading.Lock()
-_users = 0
-_originals: dict = {}
+
+
+def _patches() -> list:
+    from matplotlib.axis import Axis
+
+    return [(Axis, "draw", _drawing), (Axis, "_update_ticks", _updating)]
+
+
+_installed = MethodPatches(_patches)
 
 
 @contextmanager
 def ticks_updated_once() -> Iterator[None]:
     """Update each axis' ticks once per drawing of it (see the module notes); nestable,
     and safe with several threads (only threads inside the context are affected)."""
-    global _users
-    from matplotlib.axis import Axis
-
-    with _lock:
-        if _users == 0:
-            _originals["draw"], _originals["update"] = Axis.draw, Axis._update_ticks
-            Axis.draw = _drawing(Axis.draw)
-            Axis._update_ticks = _updating(Axis._update_ticks)
-        _users += 1
-    _local.depth = getattr(_local, "depth", 0) + 1
-    try:
-        yield
-    finally:
-        _local.depth -= 1
-        with _lock:
-            _users -= 1
-            if _users == 0:
-                Axis.draw, Axis._update_ticks = _originals.pop("draw"), _originals.pop("update")
+    with _installed.applied():
+        _local.depth = getattr(_local, "depth", 0) + 1
+        try:
+            yield
+        finally:
+            _local.depth -= 1
 
 
 def _drawing(draw):
