@@ -81,37 +81,32 @@ class Store:
         """Number of files and bytes in the store (0, 0 if its folder is missing)."""
         from ins_errors.numeric import cache
 
-        if not self.patterns:
-            return cache.usage(self.folder)
-        files = size = 0
-        for path in self._parts():
-            if path.is_dir() and not path.is_symlink():
-                more, extra = cache.usage(path)
-            else:
-                try:
-                    more, extra = 1, path.lstat().st_size
-                except FileNotFoundError:
-                    continue  # removed meanwhile
-            files, size = files + more, size + extra
-        return files, size
+        return self._tally(cache.usage, remove=False)
 
     def empty(self) -> tuple[int, int]:
         """Delete the store's contents; returns the files and bytes deleted."""
         from ins_errors.numeric import cache
 
+        return self._tally(cache.empty, remove=True)
+
+    def _tally(self, folder_tally, remove: bool) -> tuple[int, int]:
+        """Files and bytes of the store's parts, each folder counted by ``folder_tally``
+        (``cache.usage`` or ``cache.empty``); with ``remove`` the parts are deleted."""
         if not self.patterns:
-            return cache.empty(self.folder)
+            return folder_tally(self.folder)
         files = size = 0
         for path in self._parts():
             if path.is_dir() and not path.is_symlink():
-                more, extra = cache.empty(path)
-                path.rmdir()
+                more, extra = folder_tally(path)
+                if remove:
+                    path.rmdir()
             else:
                 try:
                     more, extra = 1, path.lstat().st_size
                 except FileNotFoundError:
                     continue  # removed meanwhile
-                path.unlink(missing_ok=True)
+                if remove:
+                    path.unlink(missing_ok=True)
             files, size = files + more, size + extra
         return files, size
 
