@@ -119,13 +119,17 @@ def text_width(texts: Iterable[str], size: float) -> float:
 
     rc = matplotlib.rcParams
     fonts = repr([rc[k] for k in _FONT_KEYS])
-    return max(((_measure_line if line.count("$") >= 2 else _line_width)(line, size, fonts)
+    return max((_measure_line(line, size) if line.count("$") >= 2
+                else _line_width(line, size, fonts)
                 for text in texts for line in text.split("\n") if line),
                default=0.0) / 72
 
 
-_FONT_KEYS = ("font.family", "font.sans-serif", "font.serif", "font.monospace",
-              "font.cursive", "font.fantasy", "font.style", "font.variant", "font.weight",
+FONT_FAMILY_SETTINGS = ("font.family", "font.sans-serif", "font.serif", "font.monospace",
+                        "font.cursive", "font.fantasy")
+"""matplotlib settings that decide which font a family name (or the default) resolves to."""
+
+_FONT_KEYS = (*FONT_FAMILY_SETTINGS, "font.style", "font.variant", "font.weight",
               "font.stretch", "text.kerning_factor")
 """Settings a default-font line's width depends on, besides its text and size."""
 
@@ -135,10 +139,10 @@ def _line_width(line: str, size: float, fonts: str) -> float:
     """:func:`_measure_line`, kept: matplotlib shapes a line to measure it (~0.4 ms, more
     for long lines), and the same lines are measured again (``fonts``, the font settings
     in force, is part of the key; mathtext, which has settings of its own, is not kept)."""
-    return _measure_line(line, size, fonts)
+    return _measure_line(line, size)
 
 
-def _measure_line(line: str, size: float, fonts: str = "") -> float:
+def _measure_line(line: str, size: float) -> float:
     """Width of one line at ``size`` points in the default font, points."""
     from matplotlib.font_manager import FontProperties
     from matplotlib.textpath import text_to_path

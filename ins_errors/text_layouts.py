@@ -36,11 +36,11 @@ import weakref
 from collections.abc import Iterator
 from contextlib import contextmanager
 
+from ins_errors.figure_layout import FONT_FAMILY_SETTINGS
 from ins_errors.method_patches import MethodPatches
 
-_RC_KEYS = ("text.hinting", "text.hinting_factor", "text.kerning_factor", "font.family",
-            "font.sans-serif", "font.serif", "font.monospace", "font.cursive",
-            "font.fantasy")
+_RC_KEYS = ("text.hinting", "text.hinting_factor", "text.kerning_factor",
+            *FONT_FAMILY_SETTINGS)
 """Settings that change how a text measures (hinting, kerning, the font families a
 generic family name resolves to)."""
 
