@@ -38,7 +38,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.linalg import expm
 
 from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
 from ins_errors.numeric.blas_threads import one_blas_thread
@@ -118,6 +117,18 @@ def augmented_dynamics(F: np.ndarray, G_b: np.ndarray, decay: np.ndarray) -> np.
     return A
 
 
+def _expm(matrix: np.ndarray) -> np.ndarray:
+    """SciPy's ``expm`` of a square matrix (or a stack of them), imported on first use.
+
+    Importing SciPy's linear algebra costs about 0.2-0.3 s CPU, and the processes that
+    import this module for its types (Monte Carlo, sweep and validity tasks on every Dask
+    worker, the Dask scheduler unpickling those tasks) never call it.
+    """
+    from scipy.linalg import expm
+
+    return expm(matrix)
+
+
 def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float,
              batched: bool = False) -> tuple[np.ndarray, np.ndarray]:
     """Exact discretisation of ``ż = A z + noise`` (noise covariance rate ``B Q Bᵀ``).
@@ -144,7 +155,7 @@ def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float,
     M[..., :N, :N] = -A
     M[..., :N, N:] = BQBt
     M[..., N:, N:] = np.swapaxes(A, -1, -2)
-    X = exponential(M, dt) if batched else expm(M * dt)
+    X = exponential(M, dt) if batched else _expm(M * dt)
     Phi = np.swapaxes(X[..., N:, N:], -1, -2)
     Qd = Phi @ X[..., :N, N:]
     return Phi, 0.5 * (Qd + np.swapaxes(Qd, -1, -2))
@@ -458,7 +469,7 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
         keep = np.arange(0, K // output_every + 1) * output_every
         K_out, dt_out = len(keep) - 1, dt * output_every
         unit = np.zeros((len(keep), q, len(sources) if by_source else 1))
-        Phi = expm(augmented_dynamics(system.F, system.G[:, cols_b], decay) * dt_out)
+        Phi = _expm(augmented_dynamics(system.F, system.G[:, cols_b], decay) * dt_out)
         C = np.hstack([functionals.C_x, C_b])
         if by_source:
             unit[:, :, valued] = power_sequence(Phi, Z0, C, K_out)**2
