@@ -17,6 +17,7 @@ from ins_errors.checker import motion_store, propagation_store
 from ins_errors.cli import main
 from ins_errors.numeric import cache
 from ins_errors.studies import function_cache
+from ins_errors.symbolic import variation_store
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -29,6 +30,7 @@ STORES = {
     "functions": (function_cache.cache_directory, {f"study-{'0' * 32}.json": 4500}),
     "motions": (motion_store.folder, {"orthodromic_ab.npz": 1200}),
     "transitions": (propagation_store.folder, {"t1.npy": 64, "t2.npy": 64, "t3.npy": 80}),
+    "variations": (variation_store.folder, {f"orthodromic_{'0' * 32}.pickle": 6400}),
     "leftovers": (cache.directory, {"tmpk2j4/loop.c": 50, "tmpk2j4/loop.so": 70,
                                     "writer_ab12.key": 30, "verified-generated.json": 20}),
 }
@@ -181,4 +183,5 @@ def test_readme_table_states_the_bounds_the_code_keeps():
     assert f"the {function_cache.KEEP_VERSIONS} most" in rows["functions"]
     assert f"the {motion_store.KEEP} most" in rows["motions"]
     assert f"the {propagation_store.KEEP} most" in rows["transitions"]
+    assert f"the {variation_store.KEEP} most" in rows["variations"]
     assert "none" in rows["leftovers"]

@@ -19,9 +19,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "the loops and ~/.cache/ins-errors/<store> for the others). Compiled "
                     "loops are bounded by size, $INS_ERRORS_CACHE_LIMIT MB (default 200, "
                     "least recently used deleted first); notes of frozen states, "
-                    "generated model code, CasADi functions of the studies, flown motions "
-                    "and propagations by a number of files or versions each; pint's parsed "
-                    "unit definitions only grow with new pint versions; leftovers of "
+                    "generated model code, CasADi functions of the studies, flown motions, "
+                    "propagations and structured variations by a number of files or "
+                    "versions each; pint's parsed unit definitions only grow with new "
+                    "pint versions; leftovers of "
                     "interrupted or older runs beside the loops are shown and cleared "
                     "too. Everything is rebuilt when needed. Both actions take --json.")
     actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
@@ -117,6 +118,7 @@ def stores() -> list[Store]:
     from ins_errors.checker import motion_store, propagation_store
     from ins_errors.numeric import cache
     from ins_errors.studies import function_cache
+    from ins_errors.symbolic import variation_store
 
     return [
         Store("notes", cache.directory() / cache.NOTES,
@@ -140,6 +142,11 @@ def stores() -> list[Store]:
               "propagations of the matrix checks",
               f"the {propagation_store.KEEP} most recently used",
               {"files": propagation_store.KEEP}),
+        Store("variations", variation_store.folder(),
+              "structured variations of models (the hand-derivation checker's and the "
+              "documents' error lines)",
+              f"the {variation_store.KEEP} most recently used",
+              {"files": variation_store.KEEP}),
         Store("leftovers", cache.directory(),
               "scratch folders of interrupted compiles, files of older versions, the "
               "test suite's note of verified generated code",

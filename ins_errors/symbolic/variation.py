@@ -288,12 +288,20 @@ def structured_variation(d: ModelDefinition) -> list[VariedEquation]:
     the ideal intermediate symbols (R_ξ^{-1}, ω_ξ, ...), as a paper would.
 
     Computed once per definition object in a process (the error-equation document and
-    the hand-derivation checker both read it); the lines are frozen, the list is a copy.
+    the hand-derivation checker both read it); the lines are frozen, the list is a copy;
+    kept on disk for later processes (:mod:`ins_errors.symbolic.variation_store`).
     """
     entry = _STRUCTURED.get(id(d))
     if entry is None or entry[0] is not d:
-        with SharedTrees().differentiating() as trees:
-            entry = (d, _structured_variation(d, trees))
+        from ins_errors.symbolic import variation_store
+
+        name = variation_store.key(d)
+        lines = variation_store.load(name)
+        if lines is None or not all(isinstance(line, VariedEquation) for line in lines):
+            with SharedTrees().differentiating() as trees:
+                lines = _structured_variation(d, trees)
+            variation_store.store(name, lines)
+        entry = (d, lines)
         _STRUCTURED[id(d)] = entry
     return list(entry[1])
 
