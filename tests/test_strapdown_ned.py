@@ -232,9 +232,8 @@ def _mapped_and_convention_runs(model, tau, names):
     w = model.source_vector(gyro_bias_x=1 * DEG_H, accel_bias_y=1e-3, gyro_scale_error_z=1e-4,
                             initial_heading_error=1e-3, initial_position_error_N=10.0)
     e0 = model.initial_error_matrix(traj.initial_conditions, u[:, 0], p) @ w
-    K = x.shape[1]
-    F = [model.state_matrix(x[:, k], u[:, k], p) for k in range(K)]
-    Gw = [model.source_matrix(x[:, k], u[:, k], p) @ w for k in range(K)]
+    F = np.moveaxis(model.state_matrix(x, u, p), -1, 0)
+    Gw = np.einsum("ijk,j->ki", model.source_matrix(x, u, p), w)
 
     def heun(e, A, b):
         for k in range(traj.n_steps):
@@ -245,13 +244,31 @@ def _mapped_and_convention_runs(model, tau, names):
     e = heun(e0, F, Gw)
     out = {}
     for name in names:
-        FG = [sc.convention_matrices(model, name, x[:, k], u[:, k], p) for k in range(K)]
-        ec = heun(sc.transform_matrix(name, x[:, 0], p) @ e0, [a for a, _ in FG],
-                  [g @ w for _, g in FG])
+        F_c, G_c = sc.convention_matrices(model, name, x, u, p)  # all samples at once
+        ec = heun(sc.transform_matrix(name, x[:, 0], p) @ e0, np.moveaxis(F_c, -1, 0),
+                  np.einsum("ijk,j->ki", G_c, w))
         mapped = sc.transform_matrix(name, x[:, -1], p) @ e
         out[name] = np.array([np.abs(ec[b] - mapped[b]).max() / np.abs(mapped[b]).max()
                               for b in (slice(0, 3), slice(3, 6), slice(6, 9))])
     return out
+
+
+def test_convention_matrices_of_many_samples_are_those_of_each(model):
+    """The batched call (states (10, K)) gives each sample's F_c and G_c of a call per
+    sample, to rounding, in every convention and position form."""
+    flight = st.manoeuvre(np.radians(50), 0.0, 0.3, 200.0,
+                          [st.Leg(20.0, 240.0, np.radians(70.0), 800.0)])
+    traj = st.trajectory(model, flight, 20.0, 2.0)
+    p, x, u = traj.parameters, traj.truth, traj.inputs
+    for name in sc.CONVENTIONS:
+        for position in ("ned", "geodetic"):
+            F_c, G_c = sc.convention_matrices(model, name, x, u, p, position)
+            assert F_c.shape == (9, 9, x.shape[1]) and G_c.shape[::2] == (9, x.shape[1])
+            for k in range(x.shape[1]):
+                F, G = sc.convention_matrices(model, name, x[:, k], u[:, k], p, position)
+                scale = np.abs(F).max() + np.abs(G).max()
+                np.testing.assert_allclose(F_c[..., k], F, rtol=0, atol=1e-14 * scale)
+                np.testing.assert_allclose(G_c[..., k], G, rtol=0, atol=1e-14 * scale)
 
 
 def test_convention_models_propagate_the_mapped_errors(model):

@@ -236,24 +236,49 @@ def convention_matrices(model, name: str | Convention, x, u, p,
     name : str or Convention
         Convention (see :data:`CONVENTIONS`).
     x, u, p : numpy.ndarray
-        True state (10,), inputs (7,) and parameters (8,).
+        True state (10,), inputs (7,) and parameters (8,); or K samples at once, states
+        (10, K) and inputs (7, K) (one call instead of K: CasADi and the model evaluate
+        all columns together).
     position : {"ned", "geodetic"}
         Position form.
 
     Returns
     -------
-    F_c : numpy.ndarray, shape (9, 9)
+    F_c : numpy.ndarray, shape (9, 9) or (9, 9, K)
         ``(T F + Ṫ) T⁺``; rows and columns in the order of :func:`state_names`.
-    G_c : numpy.ndarray, shape (9, nw)
+    G_c : numpy.ndarray, shape (9, nw) or (9, nw, K)
         ``T G``; columns are the model's error sources.
     """
     conv = _conv(name, position)
+    x = np.asarray(x, dtype=float)
+    if x.ndim == 2:
+        return _convention_matrices_along(model, conv, x, np.asarray(u, dtype=float), p)
     T = transform_matrix(conv, x, p)
     T_dot = transform_rate(conv, x, model.ideal_rhs(x, u, p), p)
     F = model.state_matrix(x, u, p)
     G = model.source_matrix(x, u, p)
     T_plus = np.linalg.pinv(T)
     return (T @ F + T_dot) @ T_plus, T @ G
+
+
+def _convention_matrices_along(model, conv: Convention, x: np.ndarray, u: np.ndarray, p
+                               ) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`convention_matrices` at the K columns of ``x`` (10, K) and ``u`` (7, K)."""
+    k = x.shape[1]
+    transform, rate = _functions(conv)
+    ae2 = np.asarray(p)[:2]
+
+    def stacked(columns) -> np.ndarray:
+        """CasADi's (rows, 10 K) side-by-side results -> (K, rows, 10)."""
+        out = np.asarray(columns)
+        return np.moveaxis(out.reshape(out.shape[0], k, -1), 1, 0)
+
+    T = stacked(transform(x, ae2))
+    T_dot = stacked(rate(x, model.ideal_rhs(x, u, p), ae2))
+    F = np.moveaxis(model.state_matrix(x, u, p), -1, 0)
+    G = np.moveaxis(model.source_matrix(x, u, p), -1, 0)
+    T_plus = np.linalg.pinv(T)
+    return (np.moveaxis((T @ F + T_dot) @ T_plus, 0, -1), np.moveaxis(T @ G, 0, -1))
 
 
 def to_convention(name: str | Convention, x, e, p, position: str = "ned") -> np.ndarray:
