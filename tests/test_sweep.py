@@ -6,6 +6,7 @@ tests/test_distributed.py.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import textwrap
 import warnings
@@ -15,6 +16,7 @@ import pytest
 
 pytest.importorskip("zarr")  # the store needs the 'distributed' extra (in 'dev')
 
+from ins_errors import units
 from ins_errors.analysis import sweep as sw
 from ins_errors.cli import main
 from ins_errors.scenario import load_scenario
@@ -255,3 +257,31 @@ def test_sweep_records_the_model_parameters_it_set(tmp_path, capsys):
         assert data["swept"] == {"latitude": "rad"}
         with xr.open_dataset(store) as ds:
             assert sw.model_parameters(ds) == expected, name
+
+
+def test_points_run_without_pint_and_give_the_bits_of_the_motion_as_written(tmp_path,
+                                                                            monkeypatch):
+    """A point's job carries its motion in exact SI text too (a worker builds the true
+    motion and labels its case without importing pint), with the same numbers as the
+    motion as written; the sweep's identity (store fingerprint) is that of the written
+    motion alone."""
+    path = scenario_file(tmp_path, """
+        [sweep]
+        latitude = ["35 deg"]
+        accel_bias_x = ["70 ug"]
+    """, BASE.replace('"static"', '"great-circle"').replace('"1 h"', '"5 min"'))
+    jobs = sw.grid(load_scenario(path)).jobs
+    written = [dataclasses.replace(job, motion_si=()) for job in jobs]
+    assert sw.fingerprint(jobs, {}) == sw.fingerprint(written, {})
+    assert dict(jobs[0].motion_si)["longitude"].endswith(" rad")  # the default "30 deg"
+    expected = sw.run_point(written[0])
+
+    def refuse():
+        raise AssertionError("pint was asked for a unit")
+
+    sw._trajectory.cache_clear()
+    monkeypatch.setattr(units, "registry", refuse)
+    got = sw.run_point(jobs[0])
+    assert sorted(got) == sorted(expected)
+    for name, values in expected.items():
+        assert np.array_equal(got[name], values, equal_nan=True), name

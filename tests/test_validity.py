@@ -7,11 +7,13 @@ that magnitude.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 
 import numpy as np
 import pytest
 
+from ins_errors import units
 from ins_errors.analysis import validity
 from ins_errors.analysis.validity import (
     ValidityTask,
@@ -57,6 +59,23 @@ def test_a_source_with_no_effect_is_reported_not_excited(orthodromic):
     result = run_validity_task(ValidityTask("orthodromic", "static", "accel_scale_error_x",
                                             (m, 10 * m), hours=1.0, step=10.0))
     assert result.status == "not excited" and result.linear_slope is None
+
+
+def test_a_task_runs_without_pint_and_gives_the_bits_of_the_motion_kind(orthodromic,
+                                                                         monkeypatch):
+    """A task carries its motion in exact SI text and its source's typical size (a worker
+    needs no pint); the result is that of the motion kind and typical size worked out
+    in the worker."""
+    (task,) = validity_tasks(orthodromic, ["great-circle"], ["gyro_drift_x"], hours=1.0,
+                             step=10.0, factors=(1.0, 10.0, 100.0))
+    assert task.typical == typical_magnitude(orthodromic, "gyro_drift_x")
+    expected = run_validity_task(dataclasses.replace(task, motion_si=(), typical=None))
+
+    def refuse():
+        raise AssertionError("pint was asked for a unit")
+
+    monkeypatch.setattr(units, "registry", refuse)
+    assert run_validity_task(task).to_dict() == expected.to_dict()
 
 
 def test_cli_json_and_plot(capsys, tmp_path):

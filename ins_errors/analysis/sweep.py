@@ -271,6 +271,11 @@ class PointJob:
         The point's swept values as written (for messages).
     truth : str
         How a moving truth is computed: ``"auto"``, ``"interpolated"`` or ``"fine"``.
+    motion_si : tuple of (str, object)
+        The same motion with every quantity as exact SI text
+        (:func:`ins_errors.numeric.motion_spec.in_si`), which the worker reads without
+        pint; empty: read ``motion``. Not part of the sweep's identity (it says nothing
+        ``motion`` does not).
     """
 
     model: str
@@ -290,6 +295,7 @@ class PointJob:
     label: str = ""
     parameters: tuple[tuple[str, float], ...] = ()
     truth: str = "auto"
+    motion_si: tuple[tuple[str, Any], ...] = ()
 
 
 @dataclass
@@ -311,6 +317,8 @@ class Grid:
 
 def grid(scenario) -> Grid:
     """Every grid point of a scenario with a ``[sweep]`` table, in a fixed order."""
+    from ins_errors.numeric.motion_spec import in_si
+
     spec: SweepSpec = scenario.sweep
     if spec is None:
         raise SweepError(f"scenario {scenario.title!r} has no [sweep] table")
@@ -319,6 +327,7 @@ def grid(scenario) -> Grid:
     draws: list[int | None] = list(range(spec.draws)) if spec.draws else [None]
     jobs, labels = [], {p.name: [] for p in spec.parameters}
     case_index, draw_index = [], []
+    in_si_text: dict[str, tuple[tuple[str, Any], ...]] = {}  # by the motion as written
     for values in itertools.product(*axes):
         for case in cases:
             for draw in draws:
@@ -341,12 +350,16 @@ def grid(scenario) -> Grid:
                          for p, v in zip(spec.parameters, values, strict=True)]
                 label += [f"case {case + 1}"] if len(cases) > 1 else []
                 label += [f"draw {draw}"] if draw is not None else []
+                written = json.dumps(motion, sort_keys=True)
+                if written not in in_si_text:
+                    in_si_text[written] = tuple(sorted(in_si(motion).items()))
                 jobs.append(PointJob(
                     scenario.model, tuple(sorted(motion.items())), str(scenario.base),
                     duration, step, scenario.record, scenario.method, scenario.refined,
                     scenario.ellipsoid, tuple(sorted(sources.items())), spec.random,
                     spec.seed, draw, scenario.platform, ", ".join(label),
-                    tuple(sorted(scenario.parameters.items())), scenario.truth))
+                    tuple(sorted(scenario.parameters.items())), scenario.truth,
+                    in_si_text[written]))
     _check_grids(scenario, jobs)
     coordinates = {p.name: (np.array(labels[p.name]), {"units": p.unit, "display_unit":
                                                        p.display_unit, "swept": 1})
@@ -412,7 +425,7 @@ def _run_point(job: PointJob) -> dict[str, np.ndarray]:
     from ins_errors.numeric.simulate import error_quantities
 
     model = load_model(job.model)
-    motion = json.dumps(dict(job.motion), sort_keys=True)
+    motion = json.dumps(dict(job.motion_si or job.motion), sort_keys=True)
     trajectory = _trajectory(job.model, motion, job.base, job.duration, job.step,
                              job.ellipsoid, job.parameters, job.truth)
     sources = dict(job.sources)
@@ -422,7 +435,7 @@ def _run_point(job: PointJob) -> dict[str, np.ndarray]:
             sources[name] = sources.get(name, 0.0) + rng.normal(0.0, sigma)
     [comparison] = compare(model, trajectory, [sources], method=job.method,
                            record_interval=job.record, refined=job.refined,
-                           platform=job.platform)
+                           platform=job.platform, labels=[job.label or "the point"])
     names = error_quantities(model)[0]
     metrics = {m.quantity: m for m in comparison.metrics}
     out = {curve: np.stack([getattr(comparison, curve)[q] for q in names], axis=1)
@@ -471,6 +484,7 @@ def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
     rows = []
     for job in jobs:
         row = asdict(job)
+        del row["motion_si"]  # the same motion as job.motion
         if "file" not in dict(job.motion):
             del row["base"]  # the folder matters to motion files only
         if not job.parameters:

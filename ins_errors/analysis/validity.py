@@ -73,6 +73,12 @@ class ValidityTask:
         Model parameters set for the runs, SI (empty: the model's defaults).
     truth : str
         How a moving truth is computed: ``"auto"``, ``"interpolated"`` or ``"fine"``.
+    motion_si : tuple of (str, object)
+        The motion's description in exact SI text
+        (:func:`ins_errors.numeric.motion_spec.in_si`), read by the worker without pint;
+        empty: the defaults of ``motion``.
+    typical : float, optional
+        The source's :func:`typical_magnitude` (SI); None: worked out by the worker.
     """
 
     model: str
@@ -84,6 +90,8 @@ class ValidityTask:
     method: str = "rk4"
     parameters: tuple[tuple[str, float], ...] = ()
     truth: str = "auto"
+    motion_si: tuple[tuple[str, Any], ...] = ()
+    typical: float | None = None
 
 
 @dataclass
@@ -174,13 +182,16 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
         How the moving truths are computed
         (:func:`ins_errors.numeric.trajectories.trajectory`).
     """
+    from ins_errors.numeric.motion_spec import in_si
+
     names = list(sources) if sources else [s.name for s in model.sources]
     for name in names:
         model.index("sources", name)
-    return [ValidityTask(model.key, motion, name,
-                         tuple(f * typical_magnitude(model, name) for f in factors),
+    typical = {name: typical_magnitude(model, name) for name in names}
+    return [ValidityTask(model.key, motion, name, tuple(f * typical[name] for f in factors),
                          float(hours), float(step), method,
-                         tuple((parameters or {}).items()), truth)
+                         tuple((parameters or {}).items()), truth,
+                         tuple(sorted(in_si({"kind": motion}).items())), typical[name])
             for motion in motions for name in names]
 
 
@@ -221,7 +232,7 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
 
     model = load_model(task.model)
     info = model.source(task.source)
-    profile = motion_profile({"kind": task.motion})
+    profile = motion_profile(dict(task.motion_si) or {"kind": task.motion})
     trajectory = tr.trajectory(model, profile, task.hours * 3600.0, task.step,
                                p=model.parameter_vector(**dict(task.parameters)),
                                truth=task.truth)
@@ -232,11 +243,13 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
     cases = [{task.source: m} for m in task.magnitudes]
     comparisons = compare(model, trajectory, cases, method=task.method,
                           record_interval=record, integration_error=False,
-                          validity_threshold=None)
+                          validity_threshold=None,
+                          labels=[f"{task.source} = {m!r} {info.unit}" for m in task.magnitudes])
     magnitudes = np.array(task.magnitudes)
     result = SourceValidity(task.source, task.motion, info.unit,
                             info.display_unit or info.unit, list(task.magnitudes), None)
-    typical = int(np.argmin(np.abs(np.log(magnitudes / typical_magnitude(model, task.source)))))
+    size = typical_magnitude(model, task.source) if task.typical is None else task.typical
+    typical = int(np.argmin(np.abs(np.log(magnitudes / size))))
     worst = comparisons[typical].worst_linear
     if worst is None:
         result.status = "not excited"

@@ -225,7 +225,8 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
             method: str = "rk4", record_interval: float | None = None,
             refined: bool = True, jit: bool = True, progress: bool = False,
             platform: str = "exact", integration_error: bool = True,
-            validity_threshold: float | None = VALIDITY_THRESHOLD) -> list[Comparison]:
+            validity_threshold: float | None = VALIDITY_THRESHOLD,
+            labels: Sequence[str] | None = None) -> list[Comparison]:
     """Run direct, linear (and refined) for several cases in one batch and compare.
 
     Parameters
@@ -249,6 +250,10 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     validity_threshold : float or None
         Warn when the worst linear/direct ratio exceeds it (one more run at half the
         magnitudes measures the scaling); None: never.
+    labels : sequence of str, optional
+        Label of each case; default: :func:`case_label` (which converts each source to
+        its display unit through pint, a 0.15-0.5 s import in a process that has no
+        other use for it, such as a sweep's worker).
 
     Returns
     -------
@@ -259,7 +264,7 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     sim = simulate(model, trajectory, list(cases), method=method,
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
-    comparisons = comparisons_of(sim)
+    comparisons = comparisons_of(sim, labels)
     if integration_error:
         add_integration_errors(comparisons, sim, jit=jit)
     if validity_threshold is not None:

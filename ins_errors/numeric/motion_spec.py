@@ -100,6 +100,47 @@ def _quantity(table: Mapping[str, Any], key: str, default: Any, unit: str) -> fl
     return parse_quantity(table[key], unit, f"leg {key}", numbers_are_si=False)
 
 
+_SI_UNITS = {"latitude": "rad", "longitude": "rad", "heading": "rad", "speed": "m/s",
+             "height": "m"}
+"""The SI unit of each quantity of a motion description."""
+
+
+def _read(description: Mapping[str, Any]) -> tuple[str, dict[str, float], Any,
+                                                   list[tr.Leg] | None]:
+    """Check a motion description and read it: (kind, SI values by :data:`_SI_UNITS` key,
+    the ``file`` setting or None, the legs of a manoeuvre that lists its own or None)."""
+    for key in description:
+        if key not in _KEYS:
+            raise unknown_name("motion setting", key, sorted(_KEYS))
+    spec = {**DEFAULTS, **{k: v for k, v in description.items() if v is not None}}
+    kind = str(spec["kind"]).replace("_", "-")  # spec files spell it great_circle
+    if kind not in MOTION_KINDS:
+        raise unknown_name("motion kind", kind, MOTION_KINDS)
+    if kind != "static" and description.get("heading") is None:
+        spec["heading"] = MOVING_HEADING
+    values = {key: _angle(spec[key], f"motion {key}")
+              for key in ("latitude", "longitude", "heading")}
+    values["speed"] = parse_quantity(spec["speed"], "m/s", "motion speed",
+                                     numbers_are_si=False)
+    values["height"] = parse_quantity(spec["height"], "m", "motion height",
+                                      numbers_are_si=False)
+    legs = None
+    if kind == "manoeuvre" and "legs" in spec:
+        if not isinstance(spec["legs"], list) or not all(isinstance(leg, dict)
+                                                         for leg in spec["legs"]):
+            raise InsErrorsError("motion legs: expected a list of tables, [[motion.legs]]")
+        for leg in spec["legs"]:
+            for key in leg:
+                if key not in _LEG_KEYS:
+                    raise unknown_name("key of a motion leg", key, _LEG_KEYS)
+        legs = [tr.Leg(_quantity(leg, "duration", "600 s", "s"),
+                       _quantity(leg, "speed", values["speed"], "m/s"),
+                       _quantity(leg, "turn", 0.0, "rad"),
+                       _quantity(leg, "height", values["height"], "m"))
+                for leg in spec["legs"]]
+    return kind, values, spec.get("file"), legs
+
+
 def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> tr.Profile:
     """Build a Profile from a motion description.
 
@@ -119,42 +160,47 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
     InsErrorsError
         For unknown keys or kinds, values with wrong units, unreadable files.
     """
-    for key in description:
-        if key not in _KEYS:
-            raise unknown_name("motion setting", key, sorted(_KEYS))
-    spec = {**DEFAULTS, **{k: v for k, v in description.items() if v is not None}}
-    kind = str(spec["kind"]).replace("_", "-")  # spec files spell it great_circle
-    if kind not in MOTION_KINDS:
-        raise unknown_name("motion kind", kind, MOTION_KINDS)
-    if kind != "static" and description.get("heading") is None:
-        spec["heading"] = MOVING_HEADING
-    lat, lon, heading = (_angle(spec[key], f"motion {key}")
-                         for key in ("latitude", "longitude", "heading"))
-    speed = parse_quantity(spec["speed"], "m/s", "motion speed", numbers_are_si=False)
-    height = parse_quantity(spec["height"], "m", "motion height", numbers_are_si=False)
+    kind, values, file, legs = _read(description)
+    lat, lon, heading = values["latitude"], values["longitude"], values["heading"]
+    speed, height = values["speed"], values["height"]
     if kind == "static":
         return tr.static_profile(lat, lon, heading, height)
     if kind == "great-circle":
         return tr.great_circle_profile(lat, lon, heading, speed, height)
     if kind == "file":
-        if "file" not in spec:
+        if file is None:
             raise InsErrorsError("motion kind 'file' needs file = 'path/to/motion.csv'")
-        path = Path(spec["file"])
+        path = Path(file)
         if base is not None and not path.is_absolute():
             path = base / path
         return read_motion_file(path, lat, lon, heading, height)
-    legs = default_legs(speed, height)
-    if "legs" in spec:
-        if not isinstance(spec["legs"], list) or not all(isinstance(leg, dict)
-                                                         for leg in spec["legs"]):
-            raise InsErrorsError("motion legs: expected a list of tables, [[motion.legs]]")
-        for leg in spec["legs"]:
-            for key in leg:
-                if key not in _LEG_KEYS:
-                    raise unknown_name("key of a motion leg", key, _LEG_KEYS)
-        legs = [tr.Leg(_quantity(leg, "duration", "600 s", "s"),
-                       _quantity(leg, "speed", speed, "m/s"),
-                       _quantity(leg, "turn", 0.0, "rad"),
-                       _quantity(leg, "height", height, "m"))
-                for leg in spec["legs"]]
-    return tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)
+    return tr.manoeuvre_profile(lat, lon, heading, speed,
+                                default_legs(speed, height) if legs is None else legs,
+                                height)
+
+
+def in_si(description: Mapping[str, Any]) -> dict[str, Any]:
+    """The same motion with its defaults filled in and every quantity written as its exact
+    SI value in its SI unit (``"0.8726646259971648 rad"``).
+
+    :func:`motion_profile` reads such text without pint (a plain number in the very unit
+    it wants) and gives the same profile bit for bit (a float's ``repr`` reads back as the
+    same float). Sweep and validity tasks carry their motion in this form, so the worker
+    processes that run them never import pint or build its registry (about 0.15 s CPU
+    each beside Dask, 0.5 s alone).
+
+    Raises
+    ------
+    InsErrorsError
+        As :func:`motion_profile` (a missing or unreadable motion file is not checked).
+    """
+    kind, values, file, legs = _read(description)
+    out: dict[str, Any] = {"kind": kind}
+    out.update({key: f"{value!r} {_SI_UNITS[key]}" for key, value in values.items()})
+    if file is not None:
+        out["file"] = file
+    if legs is not None:
+        out["legs"] = [{"duration": f"{leg.duration!r} s", "speed": f"{leg.speed!r} m/s",
+                        "turn": f"{leg.turn!r} rad", "height": f"{leg.height!r} m"}
+                       for leg in legs]
+    return out
