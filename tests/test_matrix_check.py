@@ -330,6 +330,20 @@ def test_schuler_magnitudes_from_the_metadata_are_the_definitions(name):
     if name == "north_pointing":
         assert "Schuler period 84.4 min" in numeric.origin
 
+
+def test_fixed_typical_sizes_are_pints_conversions():
+    """The matrix check's fixed sizes, converted without pint, are pint's conversions of
+    their texts to the bit (0.01 deg/h = 4.848e-8 rad/s, 1e-4 g = 9.807e-4 m/s²)."""
+    from ins_errors import units
+    from ins_errors.checker.typical import TYPICAL_BY_UNIT, typical_magnitude
+
+    for unit, (text, si) in TYPICAL_BY_UNIT.items():
+        value, shown = typical_magnitude(unit)
+        assert shown == text
+        assert value == units._text_value(units.registry(), text, si), unit
+    assert typical_magnitude("rad/s")[0] == pytest.approx(4.8481368e-8, rel=1e-7)
+    assert typical_magnitude("m/s**2")[0] == pytest.approx(9.80665e-4, rel=1e-12)
+
 def test_horizontal_psi_model_leaves_the_vertical_channel_out(tmp_path, strapdown_motions):
     """A 7-state textbook model without δv_D and δr_D: the coupling of the omitted states
     into its rows is reported as 'state left out'. The Coriolis term 2Ω cos φ δv_D of δv̇_E

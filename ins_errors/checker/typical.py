@@ -14,6 +14,7 @@ from dataclasses import dataclass
 from functools import cache
 
 from ins_errors.errors import InsErrorsError
+from ins_errors.models.earth import STANDARD_GRAVITY
 from ins_errors.units import parse_quantity
 
 MAGNITUDE_UNITS = {"rad": "rad", "1": "1", "m/s": "m/s", "rad/s": "rad/s",
@@ -31,6 +32,13 @@ TYPICAL_BY_UNIT = {
 """Fixed typical sizes by SI unit (text, unit), kept for the matrix check
 (:mod:`ins_errors.checker.matrix`); equation checks use :func:`schuler_magnitudes`."""
 
+_CONVERTED = {"1e-4": 1e-4, "0.01 deg/h": 0.01 * math.pi / 180 / 3600,
+              "1e-4 g": 1e-4 * STANDARD_GRAVITY}
+"""The fixed sizes of :data:`TYPICAL_BY_UNIT` that :func:`~ins_errors.units.parse_quantity`
+reads with pint (a plain ratio, units other than SI), in SI: the same bits as pint's
+conversion, which a test checks. A matrix check reads no other text, and importing pint
+for these (~0.3 s CPU) cost about as much as the check's own arithmetic."""
+
 
 @cache
 def typical_magnitude(unit: str) -> tuple[float, str]:
@@ -45,6 +53,8 @@ def typical_magnitude(unit: str) -> tuple[float, str]:
         raise InsErrorsError(f"no typical error magnitude for unit {unit!r} "
                              f"(known: {', '.join(TYPICAL_BY_UNIT)})")
     text, si = TYPICAL_BY_UNIT[unit]
+    if text in _CONVERTED:
+        return _CONVERTED[text], text
     return parse_quantity(text, si, "typical magnitude"), text
 
 
