@@ -3,8 +3,8 @@
 A model file is a Python file written with :mod:`ins_errors.modeling` that defines a
 function ``build()`` returning a :class:`~ins_errors.modeling.ModelDefinition`. It may
 import modules that sit next to it (``from my_constants import ...``); those are part of
-its identity: :func:`model_sha256` hashes the file and every such module, so editing any
-of them makes the generated code stale. Any
+its identity: :func:`~ins_errors.model_identity.model_sha256` hashes the file and every
+such module, so editing any of them makes the generated code stale. Any
 failure (a Python exception while importing the file or running ``build()``, a
 definition that does not pass :func:`~ins_errors.symbolic.consistency.check_definition`)
 becomes one :class:`~ins_errors.errors.ModelDefinitionError` line that names the file,
@@ -13,7 +13,6 @@ the model, the quantity and the step.
 
 from __future__ import annotations
 
-import ast
 import hashlib
 import importlib.util
 import sys
@@ -22,65 +21,8 @@ from pathlib import Path
 from types import ModuleType
 
 from ins_errors.errors import InsErrorsError, ModelDefinitionError
+from ins_errors.model_identity import source_files
 from ins_errors.modeling import ModelDefinition
-
-
-def file_sha256(path: Path) -> str:
-    """SHA-256 (hex) of a model file's bytes: the identity of its generated code."""
-    try:
-        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-    except OSError as error:
-        raise InsErrorsError(f"cannot read model file {str(path)!r}: {error.strerror}") from None
-
-
-def _sibling_imports(path: Path) -> list[Path]:
-    """Files next to ``path`` that it imports by absolute name (``x.py``, ``x/*.py``)."""
-    try:
-        tree = ast.parse(path.read_bytes())
-    except (OSError, SyntaxError, ValueError):
-        return []  # unreadable or not Python: the import step reports it
-    heads = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            heads.update(alias.name.split(".")[0] for alias in node.names)
-        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
-            heads.add(node.module.split(".")[0])
-    found = []
-    for head in sorted(heads):
-        module, package = path.parent / f"{head}.py", path.parent / head
-        if module.is_file():
-            found.append(module)
-        elif (package / "__init__.py").is_file():
-            found += sorted(package.rglob("*.py"))
-    return found
-
-
-def source_files(path: Path) -> list[Path]:
-    """The model file, then the modules next to it that it imports (recursively)."""
-    first = Path(path).resolve()
-    seen, todo = [first], [first]
-    while todo:
-        for found in _sibling_imports(todo.pop()):
-            found = found.resolve()
-            if found not in seen:
-                seen.append(found)
-                todo.append(found)
-    return [first, *sorted(seen[1:])]
-
-
-def model_sha256(path: Path) -> str:
-    """Identity of a model file's generated code: SHA-256 of the file alone, or of the
-    file and the sibling modules it imports (names and bytes, in a fixed order)."""
-    files = source_files(path)
-    if len(files) == 1:
-        return file_sha256(path)
-    digest = hashlib.sha256()
-    for file in files:
-        try:
-            digest.update(file.name.encode() + b"\0" + file.read_bytes() + b"\0")
-        except OSError as error:
-            raise InsErrorsError(f"cannot read {str(file)!r}: {error.strerror}") from None
-    return digest.hexdigest()
 
 
 def _where(error: BaseException, path: Path) -> str:

@@ -21,6 +21,7 @@ never used: one line on stderr says so and the code is regenerated in the cache.
 
 from __future__ import annotations
 
+import glob
 import importlib
 import importlib.metadata
 import importlib.util
@@ -155,7 +156,7 @@ def resolve(spec: str, relative_to: str | Path | None = None) -> ModelRef:
     builtins = builtin_names()
     if spec in builtins:
         return ModelRef("builtin", spec)
-    from ins_errors.model_files import model_sha256
+    from ins_errors.model_identity import model_sha256
 
     if _looks_like_path(spec) or Path(spec).is_file():
         path = Path(spec).expanduser()
@@ -270,13 +271,14 @@ def generated_folder(ref: ModelRef) -> Path:
     recorded = recorded_sha256(beside)
     if recorded == ref.sha256:
         return beside
-    d = definition_of(ref)
-    cached = models_cache_directory() / f"{d.name}-{ref.sha256[:16]}"
-    if recorded_sha256(cached) == ref.sha256:
+    cached = _cached_package(ref)
+    if cached is not None:
         if recorded is not None:
             _say(f"{beside.name}/ is stale ({ref.path.name} changed since it was derived); "
                  "using the up-to-date code in the cache")
         return cached
+    d = definition_of(ref)
+    cached = models_cache_directory() / f"{d.name}-{ref.sha256[:16]}"
     if recorded is not None:
         _say(f"{beside.name}/ is stale ({ref.path.name} changed since it was derived); "
              "deriving again into the cache")
@@ -296,6 +298,26 @@ def generated_folder(ref: ModelRef) -> Path:
                              f"{error.strerror}") from None
     _prune(cached)
     return cached
+
+
+def _cached_package(ref: ModelRef) -> Path | None:
+    """The cached package of this version of a model file, if there is one.
+
+    Found by the hash its folder name ends with and its record, not by the model's name:
+    the name is known only once the file is imported and its ``build()`` has run (with
+    SymPy, about 0.5 s CPU), which a process that only runs the generated code does not
+    need. An entry point's package must bear the entry point's name (the model's own
+    name, else :func:`definition_of` refuses it).
+    """
+    name = glob.escape(ref.spec) if ref.kind == "entry_point" else "*"
+    try:
+        candidates = sorted(models_cache_directory().glob(f"{name}-{ref.sha256[:16]}"))
+    except OSError:
+        return None
+    for folder in candidates:
+        if recorded_sha256(folder) == ref.sha256:
+            return folder
+    return None
 
 
 def _prune(current: Path) -> None:

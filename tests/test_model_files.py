@@ -15,6 +15,7 @@ import json
 import math
 import re
 import shutil
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -194,6 +195,22 @@ def test_edited_model_file_never_uses_stale_generated_code(tmp_path, capsys):
     _file_model.cache_clear()
     assert load_model(str(path)).folder == beside
     assert capsys.readouterr().err == ""
+
+
+def test_a_derived_model_file_is_loaded_without_importing_it(tmp_path, monkeypatch):
+    """Once derived, a model file is named and loaded (as by a command or a worker
+    process) by its hash alone: neither the file nor the modelling API (SymPy) is
+    imported, and its build() does not run."""
+    from ins_errors import model_lookup
+    from ins_errors.numeric.model import _file_model
+
+    path = copy_model(tmp_path)
+    first = load_model(str(path))  # derived into the (private) cache
+    _file_model.cache_clear()
+    model_lookup._definition.cache_clear()
+    monkeypatch.setitem(sys.modules, "ins_errors.model_files", None)  # importing it fails
+    model = load_model(str(path))
+    assert model.folder == first.folder and abs(_gravity(model) - G) < 1e-9
 
 
 def test_a_key_refuses_a_model_file_edited_during_a_run(tmp_path):
