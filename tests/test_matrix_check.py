@@ -508,7 +508,8 @@ def test_stored_motions_are_the_flown_ones_to_the_bit(tmp_path, monkeypatch):
     store keeps at most KEEP files."""
     from ins_errors.checker import motion_store
 
-    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))
+    # an empty motion store; the compiled loops that fly them stay where they are
+    monkeypatch.setattr(motion_store, "folder", lambda: tmp_path / "motions")
     fly = mc._motions.__wrapped__  # past the per-process cache
     flown = fly(MODEL, 2.0, 600.0, None)
     (stored,) = (tmp_path / "motions").glob("*.npz")
