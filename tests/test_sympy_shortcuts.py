@@ -147,3 +147,52 @@ def test_cse_inside_the_block_is_sympys():
         expected = sp.cse(exprs, symbols=sp.numbered_symbols("_t"), order=order)
         with quick_sympy.quick_sympy():
             assert sp.cse(exprs, symbols=sp.numbered_symbols("_t"), order=order) == expected
+
+
+def test_factors_of_a_dict_are_sympys():
+    from sympy.core.exprtools import Factors
+
+    x, y = sp.symbols("x y", real=True)
+    n = sp.Symbol("n", integer=True)
+    dicts = [{}, {x: 2}, {x: 1, y: -3}, {sp.S.NegativeOne: 1, x: 2},
+             {sp.S.NegativeOne: n, y: 1}, {sp.S.One: 5, x: sp.Rational(1, 2)},
+             {sp.I: 3, x: 1}, {sp.I: 2, sp.S.NegativeOne: 1}, {sp.Integer(2): n, x + y: -1},
+             {sp.S.NegativeOne: sp.Rational(1, 2), x: 1}]
+    others = [None, 1, 0, sp.S.One, sp.Rational(-3, 4), x, 2 * x**2 / y, Factors({x: 2})]
+    expected = [(f.factors, f.gens) for f in (Factors(dict(d)) for d in dicts)]
+    expected_others = [(f.factors, f.gens) for f in map(Factors, others)]
+    with quick_sympy.quick_sympy():
+        assert Factors.__init__ is quick_sympy.factors_init
+        built = [Factors(dict(d)) for d in dicts]
+        assert [(f.factors, f.gens) for f in built] == expected
+        assert all(type(f.factors) is dict for f in built)
+        # the other forms of argument go to SymPy's code unchanged
+        assert [(f.factors, f.gens) for f in map(Factors, others)] == expected_others
+    assert Factors.__init__ is quick_sympy._SYMPYS_FACTORS_INIT
+
+
+def test_gcd_terms_and_assumptions_answer_as_sympy():
+    """factor_terms/together (Factors of dicts) and assumption queries (facts tried in the
+    order found instead of a shuffled one) give SymPy's results, on fresh expressions."""
+    from sympy.core.cache import clear_cache
+
+    def answers(tag: str) -> list:
+        clear_cache()
+        x, y = sp.symbols(f"x{tag} y{tag}", real=True)
+        a, b = sp.symbols(f"a{tag} b{tag}", positive=True)
+        k = sp.Symbol(f"k{tag}", integer=True)
+        exprs = [x / (1 + y**2) + sp.sqrt(a) * x / 3, sp.sqrt(a + b) / (a * x) - y / (2 * b),
+                 (x - y) ** 2 / (a * b) + sp.sin(x) / a, 1 / (sp.sqrt(a) * b) - 1 / a**2,
+                 a**k * x + a ** (k + 1) * y, sp.cos(x) ** 2 / (b - a) + k / 2]
+        out = [sp.srepr(sp.factor_terms(sp.together(e))).replace(tag, "") for e in exprs]
+        facts = ("zero", "positive", "negative", "nonnegative", "integer", "rational",
+                 "finite", "extended_real", "even", "odd", "prime", "composite")
+        probes = [*exprs, a - b, a * b + 1, x**2 + a, k**2 - k, 2 * k + 1, a / b - 1, -a - b,
+                  sp.sqrt(a) * k, x * y * a, sp.Abs(x) + b]
+        out += [[getattr(e, f"is_{f}") for f in facts] for e in probes]
+        return out
+
+    reference = answers("_0")
+    with quick_sympy.quick_sympy():
+        assert answers("_1") == reference
+    assert answers("_2") == reference

@@ -1,4 +1,4 @@
-"""Two SymPy answers computed without SymPy's detours (the same answers), for a block.
+"""SymPy answers computed without SymPy's detours (the same answers), for a block.
 
 ``make derive`` asks SymPy two small questions very often:
 
@@ -23,7 +23,19 @@
   same elements in the same order on a plain dict (insertion-ordered too), with the
   operations CSE uses written directly. About a third of CSE's time was spent there.
 
-:func:`quick_sympy` installs the three for the duration of a block.
+* ``Factors(d)`` of a plain dict ``d`` (``factor_terms`` and ``gcd_terms`` build them
+  for every term they visit): SymPy first asks whether ``d`` is ``None`` or ``S.One``,
+  and ``S.One == d`` sympifies the whole dict into a ``Dict`` (sorting its items) only
+  to answer False. :func:`factors_init` hands SymPy the same items in a dict that
+  refuses to be sympified (:class:`_PlainFactors`), so the comparisons answer False at
+  once and SymPy's own code builds the same ``Factors``.
+* the order in which SymPy's assumption system tries the facts that may decide an
+  unknown one: ``sympy.core.assumptions`` shuffles them with an unseeded generator
+  (to expose handlers that disagree with its inference rules, which would give
+  answers depending on the order); the answers are the same in every order, so the
+  block keeps the order as found instead of drawing a random permutation each time.
+
+:func:`quick_sympy` installs the five for the duration of a block.
 """
 
 from __future__ import annotations
@@ -34,8 +46,12 @@ from collections.abc import Iterable, Iterator, Set
 
 import sympy as sp
 from sympy.core.containers import OrderedSet
+from sympy.core.exprtools import Factors
 
 _CSE = importlib.import_module("sympy.simplify.cse_main")
+_ASSUMPTIONS = importlib.import_module("sympy.core.assumptions")
+_SYMPYS_SHUFFLE = _ASSUMPTIONS.shuffle
+_SYMPYS_FACTORS_INIT = Factors.__init__
 
 _SYMPYS_MINUS_SIGN = sp.Mul.could_extract_minus_sign
 _SYMPYS_COMPLEX = sp.Rational.__complex__  # (Expr's: through evalf)
@@ -136,13 +152,33 @@ class FastOrderedSet(OrderedSet):
         return out
 
 
+class _PlainFactors(dict):
+    """A dict SymPy will not sympify (comparisons with SymPy numbers are False at once)."""
+
+    __sympy__ = False  # strict sympify refuses it
+
+
+def factors_init(self: Factors, factors=None) -> None:
+    """``Factors.__init__`` as SymPy runs it; a plain dict's items arrive in a
+    :class:`_PlainFactors` (SymPy copies them into a plain dict, as it does the
+    caller's dict)."""
+    if type(factors) is dict:
+        factors = _PlainFactors(factors)
+    _SYMPYS_FACTORS_INIT(self, factors)
+
+
+def _keep_order(facts: list) -> None:
+    """In place of SymPy's shuffle of the facts to try next: the order as found."""
+
+
 @contextlib.contextmanager
 def quick_sympy() -> Iterator[None]:
     """SymPy products and rationals answer with the functions above inside the block.
 
     Not thread-safe: the block sets ``sympy.Mul.could_extract_minus_sign``,
-    ``sympy.Rational.__complex__`` and ``OrderedSet`` of ``sympy.simplify.cse_main`` and
-    restores SymPy's on exit.
+    ``sympy.Rational.__complex__``, ``OrderedSet`` of ``sympy.simplify.cse_main``,
+    ``Factors.__init__`` and the shuffle of ``sympy.core.assumptions`` and restores
+    SymPy's on exit.
     """
     if sp.Mul.could_extract_minus_sign is could_extract_minus_sign:  # nested
         yield
@@ -151,9 +187,13 @@ def quick_sympy() -> Iterator[None]:
     sp.Mul.could_extract_minus_sign = could_extract_minus_sign
     sp.Rational.__complex__ = rational_complex
     _CSE.OrderedSet = FastOrderedSet
+    Factors.__init__ = factors_init
+    _ASSUMPTIONS.shuffle = _keep_order
     try:
         yield
     finally:
+        _ASSUMPTIONS.shuffle = _SYMPYS_SHUFFLE
+        Factors.__init__ = _SYMPYS_FACTORS_INIT
         _CSE.OrderedSet = OrderedSet
         sp.Mul.could_extract_minus_sign = _SYMPYS_MINUS_SIGN
         if own_complex is None:
