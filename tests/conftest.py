@@ -3,7 +3,12 @@
 from __future__ import annotations
 
 import gc
+import getpass
 import os
+import shutil
+import sys
+import tempfile
+from pathlib import Path
 
 import pytest
 
@@ -35,6 +40,34 @@ def example_reports() -> dict:
     them, the example checks (test_scenarios.py) read them instead of running the same
     example again (and run it themselves when it is not there)."""
     return {}
+
+
+def compiled_temporary_files() -> Path | None:
+    """Where byte-code of the files in pytest's temporary folders goes, or None.
+
+    With a byte-code prefix (the Makefile sets ``PYTHONPYCACHEPREFIX`` inside the virtual
+    environment) Python mirrors every imported file's folder below it, including the
+    model files, wheels and scripts the tests write to pytest's temporary folders: new
+    folders every session, which pytest's own clean-up of old temporary folders leaves
+    behind (~1 MB per session).
+    """
+    if not sys.pycache_prefix:
+        return None
+    try:
+        user = getpass.getuser()
+    except Exception:  # pytest's own fallback when the user cannot be found
+        user = "unknown"
+    root = os.environ.get("PYTEST_DEBUG_TEMPROOT") or tempfile.gettempdir()
+    parts = (Path(root).resolve() / f"pytest-of-{user}").parts
+    return Path(sys.pycache_prefix, *parts[1:])
+
+
+def pytest_sessionstart(session) -> None:
+    """Byte-code of earlier sessions' temporary files is removed (see
+    :func:`compiled_temporary_files`); the package's own byte-code is kept."""
+    mirror = compiled_temporary_files()
+    if mirror is not None:
+        shutil.rmtree(mirror, ignore_errors=True)
 
 
 def pytest_collection_finish(session) -> None:
