@@ -29,6 +29,7 @@ memory, Zarr any size.
 
 from __future__ import annotations
 
+import asyncio
 import json
 import shutil
 from collections.abc import Mapping, Sequence
@@ -106,8 +107,11 @@ class SweepStore:
         self.layout = layout
         self.done = done
         _, zarr = _libraries()
-        self._group = None if done.all() and not work.exists() else zarr.open_group(
+        group = None if done.all() and not work.exists() else zarr.open_group(
             str(work), mode="r+", zarr_format=2)
+        # opened once (the consolidated metadata lists them): a point's write then only
+        # stores chunks instead of reading each array's metadata again
+        self._arrays = {} if group is None else dict(group.arrays())
 
     # ----------------------------------------------------------------------------------
     @classmethod
@@ -144,17 +148,29 @@ class SweepStore:
 
     # ----------------------------------------------------------------------------------
     def write(self, index: int, values: Mapping[str, np.ndarray]) -> None:
-        """Write one finished point (data first, then its ``done`` flag)."""
-        group = self._group
+        """Write one finished point (data first, then its ``done`` flag).
+
+        The point's chunks are stored concurrently (one round trip to Zarr's I/O thread
+        instead of one per array); ``done`` is stored after all of them.
+        """
+        from zarr.core.sync import sync
+
+        arrays = self._arrays
         nt = len(self.layout.times)
+        chunks = []
         for name, value in values.items():
             value = np.asarray(value)
             if name in self.layout.curves:
                 padded = np.full((nt, value.shape[1]), np.nan)
                 padded[:value.shape[0]] = value
                 value = padded
-            group[name][index] = value
-        group["done"][index] = 1
+            chunks.append(arrays[name].async_array.setitem(index, value))
+
+        async def data() -> None:
+            await asyncio.gather(*chunks)
+
+        sync(data())
+        arrays["done"][index] = 1
         self.done[index] = True
 
     @property
