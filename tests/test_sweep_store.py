@@ -51,3 +51,84 @@ def test_points_written_in_any_order_read_back_to_the_bit_and_unwritten_stay_emp
         assert np.isnan(data[name].values[1]).all(), name
     assert data["excited"].values[1].tolist() == [0, 0]
     assert SweepStore.open(tmp_path / "s.zarr", layout).done.tolist() == [True, False, True]
+
+
+def _reference_store(path, layout: Layout) -> None:
+    """The store as xarray writes the coordinates and zarr adds the empty arrays (how the
+    store was made before it was built in one go): the reference for the layout."""
+    import json
+
+    import xarray as xr
+    import zarr
+
+    coords = {"point": ("point", np.arange(layout.points)),
+              "time": ("time", np.asarray(layout.times, dtype=float), {"units": "s"}),
+              "quantity": ("quantity", list(layout.quantities)),
+              "quantity_unit": ("quantity", list(layout.quantity_units)),
+              "source": ("source", list(layout.sources)),
+              "source_unit": ("source", list(layout.source_units))}
+    for name, (values, attrs) in layout.coordinates.items():
+        coords[name] = ("point", np.asarray(values), dict(attrs))
+    attrs = {k: (v if isinstance(v, (str, int, float)) else json.dumps(v))
+             for k, v in layout.attributes.items()}
+    attrs["fingerprint"] = layout.fingerprint
+    xr.Dataset(coords=coords, attrs=attrs).to_zarr(str(path), mode="w", consolidated=False,
+                                                  zarr_format=2)
+    group = zarr.open_group(str(path), mode="r+", zarr_format=2)
+    P, T, Q, W = layout.points, len(layout.times), len(layout.quantities), len(layout.sources)
+    per_quantity = "SI, the unit of each quantity is in coordinate quantity_unit"
+    arrays = [(c, ("point", "time", "quantity"), (P, T, Q), "f8", np.nan,
+               {"long_name": f"{c} error", "units": per_quantity}) for c in layout.curves]
+    arrays += [("max_direct", ("point", "quantity"), (P, Q), "f8", np.nan,
+                {"long_name": "max |direct error| over the run", "units": per_quantity})]
+    arrays += [(f"{c}_ratio", ("point", "quantity"), (P, Q), "f8", np.nan,
+                {"long_name": f"max |{c} - direct| / max |direct|", "units": "1"})
+               for c in layout.curves[1:]]
+    arrays += [("excited", ("point", "quantity"), (P, Q), "i1", None,
+                {"long_name": "1 where the quantity is excited (its ratios are meaningful)",
+                 "units": "1"}),
+               ("integration_error", ("point", "quantity"), (P, Q), "f8", np.nan,
+                {"long_name": "estimated integration error (step doubling; larger of "
+                              "direct and linear)", "units": per_quantity}),
+               ("source_value", ("point", "source"), (P, W), "f8", np.nan,
+                {"long_name": "error sources of the point", "units":
+                 "SI, the unit of each source is in coordinate source_unit"}),
+               ("done", ("point",), (P,), "i1", None,
+                {"long_name": "1 once the point's results are written", "units": "1"})]
+    for name, dims, shape, dtype, fill, extra in arrays:
+        group.create_array(name, shape=shape, chunks=(1, *shape[1:]), dtype=dtype,
+                           fill_value=fill,
+                           attributes={"_ARRAY_DIMENSIONS": list(dims), **extra})
+    zarr.consolidate_metadata(str(path), zarr_format=2)
+
+
+def _files(folder) -> dict[str, object]:
+    import json
+
+    return {str(f.relative_to(folder)): json.loads(f.read_text()) if f.name.startswith(".")
+            else f.read_bytes() for f in sorted(folder.rglob("*")) if f.is_file()}
+
+
+@pytest.mark.parametrize("curves", [("direct", "linear"), ("direct", "linear", "refined")])
+def test_a_new_store_holds_what_xarray_and_zarr_write_for_its_layout(tmp_path, curves):
+    """A new store's files are those of the reference construction (xarray writing the
+    coordinates, zarr adding each empty array): same metadata and attributes (JSON),
+    same chunk bytes; xarray reads both as identical datasets. Per-point coordinates of
+    each kind a grid makes: floats with units, integer case and draw labels, and text."""
+    import xarray as xr
+
+    layout = _layout(4)
+    coordinates = {"latitude": (np.linspace(0.1, 0.4, 4), {"units": "rad", "swept": 1}),
+                   "case": (np.array([0, 1, 0, 1]), {"long_name": "case"}),
+                   "draw": (np.arange(4), {}),
+                   "label": (np.array(["a", "bb", "µ", "d"]), {})}
+    layout = Layout(**{**layout.__dict__, "coordinates": coordinates, "curves": curves,
+                       "times": np.array([0.0, 0.5, 1e-3, 3600.0])})
+    SweepStore.open(tmp_path / "new.zarr", layout)
+    _reference_store(tmp_path / "ref.zarr", layout)
+    new, ref = _files(tmp_path / "new.zarr"), _files(tmp_path / "ref.zarr")
+    assert sorted(new) == sorted(ref)
+    for name in ref:
+        assert new[name] == ref[name], name
+    with xr.open_zarr(tmp_path / "new.zarr") as a, xr.open_zarr(tmp_path / "ref.zarr") as b:
+        assert a.identical(b)
