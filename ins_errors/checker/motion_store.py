@@ -47,19 +47,18 @@ def code_version() -> str:
     once per process): checker/matrix.py, numeric/*.py, models/earth.py, units.py."""
     from importlib.metadata import PackageNotFoundError, version
 
+    from ins_errors.numeric.cache import code_digest
+
     package = Path(__file__).resolve().parent.parent
-    digest = hashlib.sha256()
-    for path in [package / "checker" / "matrix.py", *sorted((package / "numeric").glob("*.py")),
-                 package / "models" / "earth.py", package / "units.py"]:
-        digest.update(path.name.encode() + b"\0" + path.read_bytes() + b"\0")
+    files = [package / "checker" / "matrix.py", *sorted((package / "numeric").glob("*.py")),
+             package / "models" / "earth.py", package / "units.py"]
     versions = [sys.version, np.__version__]
     for name in ("scipy", "casadi"):
         try:
             versions.append(f"{name} {version(name)}")
         except PackageNotFoundError:
             versions.append(f"{name} -")
-    digest.update("|".join(versions).encode())
-    return digest.hexdigest()
+    return code_digest(((path.name, path) for path in files), versions)
 
 
 def key(model, hours: float, step: float, ellipsoid: str | None, p: np.ndarray) -> str:

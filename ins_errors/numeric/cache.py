@@ -97,6 +97,25 @@ def store_directory(name: str) -> Path:
     return (Path(root) if root else directory().parent) / name
 
 
+def code_digest(files: Iterable[tuple[str, Path]], versions: Iterable[str]) -> str:
+    """SHA-256 (hex) of the code a stored result follows from: each file's label and
+    bytes, then the version strings joined by ``|`` (the part of a store's key that
+    makes a change of code or library a new key).
+
+    Parameters
+    ----------
+    files : iterable of (str, Path)
+        A label (the file's name or package-relative path) and the file, in a fixed order.
+    versions : iterable of str
+        Python's and the libraries' versions, e.g. ``"sympy 1.13.3"``.
+    """
+    digest = hashlib.sha256()
+    for label, path in files:
+        digest.update(label.encode() + b"\0" + path.read_bytes() + b"\0")
+    digest.update("|".join(versions).encode())
+    return digest.hexdigest()
+
+
 def replace_file(path: Path, data: bytes) -> None:
     """Write ``data`` to ``path`` atomically: into a scratch file of the same folder
     (created if missing), renamed over ``path``; the scratch file never stays behind.

@@ -48,12 +48,11 @@ def folder() -> Path:
 @cache
 def code_version() -> str:
     """Hash of the code the lines follow from (read once per process)."""
+    from ins_errors.numeric.cache import code_digest
+
     package = Path(__file__).resolve().parent.parent
-    digest = hashlib.sha256()
-    for relative in _SOURCES:
-        digest.update(relative.encode() + b"\0" + (package / relative).read_bytes() + b"\0")
-    digest.update(f"{sys.version}|sympy {sp.__version__}".encode())
-    return digest.hexdigest()
+    return code_digest(((relative, package / relative) for relative in _SOURCES),
+                       [sys.version, f"sympy {sp.__version__}"])
 
 
 def fingerprint(d) -> str:
