@@ -238,22 +238,6 @@ def _north_pointing() -> dict[str, Convention]:
         _north_pointing_psi)}
 
 
-def _columns(fn):
-    """Evaluate a CasADi-backed ``fn(x, ..., p) -> (nz, ne)`` at K samples in one call.
-
-    CasADi evaluates a function at several arguments placed side by side; the results
-    come back side by side too: (nz, ne K) -> (nz, ne, K).
-    """
-
-    def apply(*arrays):
-        *varying, p = arrays
-        k = varying[0].shape[-1]
-        out = np.asarray(fn(*varying, p))
-        return np.moveaxis(out.reshape(out.shape[0], k, -1), 1, 2)
-
-    return apply
-
-
 def _strapdown() -> dict[str, Convention]:
     """The φ/ψ/modified-velocity conventions of :mod:`ins_errors.models.strapdown_conventions`,
     each with the position in NED metres (``NAME``) or as latitude/longitude/height
@@ -279,8 +263,9 @@ def _strapdown() -> dict[str, Convention]:
             states = tuple(State(n, sc.UNITS[n], _state_text(n)) for n in conv.names)
             out[name + suffix] = Convention(
                 name + suffix, f"{descriptions.get(name, name)}; {where}", states,
-                _columns(lambda x, p, c=conv: sc.transform_matrix(c, x, p)),
-                _columns(lambda x, f, p, c=conv: sc.transform_rate(c, x, f, p)),
+                # (n, K) states -> (nz, ne, K), in one CasADi call each
+                lambda x, p, c=conv: sc.transform_matrix(c, x, p),
+                lambda x, f, p, c=conv: sc.transform_rate(c, x, f, p),
                 vertical=tuple(n for n in conv.names
                                if n in ("dv_D", "dvc_D", "du_D", "dr_D", "dh")))
     return out

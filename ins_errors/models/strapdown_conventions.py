@@ -194,6 +194,16 @@ def _conv(name: str | Convention, position: str) -> Convention:
     return name if isinstance(name, Convention) else convention(name, position)
 
 
+def _side_by_side(out, x: np.ndarray) -> np.ndarray:
+    """A CasADi result as an array: (rows, 10) at one state ``x`` (10,); at K states
+    ``x`` (10, K), which CasADi evaluates side by side and returns side by side
+    (rows, 10 K), as (rows, 10, K)."""
+    out = np.asarray(out)
+    if x.ndim == 1:
+        return out
+    return np.moveaxis(out.reshape(out.shape[0], x.shape[1], -1), 1, 2)
+
+
 def transform_matrix(name: str | Convention, x, p, position: str = "ned") -> np.ndarray:
     """``T(x)``, shape (9, 10): convention state = T × model error state (first order).
 
@@ -201,14 +211,16 @@ def transform_matrix(name: str | Convention, x, p, position: str = "ned") -> np.
     ----------
     name : str or Convention
         A name of :data:`CONVENTIONS` or a :class:`Convention`.
-    x : numpy.ndarray, shape (10,)
-        True state of ``strapdown_ned``.
+    x : numpy.ndarray, shape (10,) or (10, K)
+        True state of ``strapdown_ned`` (or K of them: ``T`` is then (9, 10, K), from one
+        CasADi call).
     p : numpy.ndarray, shape (8,)
         Model parameters.
     position : {"ned", "geodetic"}
         Position form (ignored when ``name`` is a Convention).
     """
-    return np.asarray(_functions(_conv(name, position))[0](x, np.asarray(p)[:2]))
+    x = np.asarray(x, dtype=float)
+    return _side_by_side(_functions(_conv(name, position))[0](x, np.asarray(p)[:2]), x)
 
 
 def transform_rate(name: str | Convention, x, xdot, p, position: str = "ned") -> np.ndarray:
@@ -216,12 +228,15 @@ def transform_rate(name: str | Convention, x, xdot, p, position: str = "ned") ->
 
     Parameters
     ----------
-    x, xdot : numpy.ndarray, shape (10,)
-        True state and its time derivative (the model's ``ideal_rhs``).
+    x, xdot : numpy.ndarray, shape (10,) or (10, K)
+        True state and its time derivative (the model's ``ideal_rhs``); for K samples
+        the result is (9, 10, K), as :func:`transform_matrix`.
     p : numpy.ndarray
         Model parameters (``a``, ``e2`` first).
     """
-    return np.asarray(_functions(_conv(name, position))[1](x, xdot, np.asarray(p)[:2]))
+    x = np.asarray(x, dtype=float)
+    return _side_by_side(_functions(_conv(name, position))[1](x, xdot, np.asarray(p)[:2]),
+                         x)
 
 
 def convention_matrices(model, name: str | Convention, x, u, p,
@@ -264,17 +279,8 @@ def convention_matrices(model, name: str | Convention, x, u, p,
 def _convention_matrices_along(model, conv: Convention, x: np.ndarray, u: np.ndarray, p
                                ) -> tuple[np.ndarray, np.ndarray]:
     """:func:`convention_matrices` at the K columns of ``x`` (10, K) and ``u`` (7, K)."""
-    k = x.shape[1]
-    transform, rate = _functions(conv)
-    ae2 = np.asarray(p)[:2]
-
-    def stacked(columns) -> np.ndarray:
-        """CasADi's (rows, 10 K) side-by-side results -> (K, rows, 10)."""
-        out = np.asarray(columns)
-        return np.moveaxis(out.reshape(out.shape[0], k, -1), 1, 0)
-
-    T = stacked(transform(x, ae2))
-    T_dot = stacked(rate(x, model.ideal_rhs(x, u, p), ae2))
+    T = np.moveaxis(transform_matrix(conv, x, p), -1, 0)
+    T_dot = np.moveaxis(transform_rate(conv, x, model.ideal_rhs(x, u, p), p), -1, 0)
     F = np.moveaxis(model.state_matrix(x, u, p), -1, 0)
     G = np.moveaxis(model.source_matrix(x, u, p), -1, 0)
     T_plus = np.linalg.pinv(T)
