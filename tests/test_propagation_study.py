@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
+import functools
+
 import numpy as np
 import pytest
 
@@ -276,3 +279,38 @@ def test_command_line_reports_the_integration_error(capsys):
     assert main(["propagation", "--hours", "1"]) == 0
     out = capsys.readouterr().out
     assert "integration error |" in out and "Warnings:" not in out
+
+
+def _same_bits(a, b) -> bool:
+    """Equal to the last bit: arrays by dtype, shape and bytes, containers item by item."""
+    if isinstance(a, np.ndarray):
+        return (isinstance(b, np.ndarray) and a.dtype == b.dtype and a.shape == b.shape
+                and a.tobytes() == b.tobytes())
+    if dataclasses.is_dataclass(a):
+        return type(a) is type(b) and all(_same_bits(getattr(a, f.name), getattr(b, f.name))
+                                          for f in dataclasses.fields(a))
+    if isinstance(a, (list, tuple)):
+        return len(a) == len(b) and all(map(_same_bits, a, b))
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_same_bits(a[k], b[k]) for k in a)
+    if isinstance(a, float):
+        return np.float64(a).tobytes() == np.float64(b).tobytes()
+    return a == b
+
+
+def test_compiled_runs_give_the_bits_of_the_virtual_machine(monkeypatch):
+    """The study's runs use the compiled (cached) loops: the experiment and the day run,
+    each with its step-doubling estimate, give the numbers, warnings and summaries the
+    CasADi virtual machine gives, to the last bit."""
+    from ins_errors.studies import propagation
+
+    compiled = (run(Experiment(duration=7200.0, method="euler", step=20.0)),
+                propagation.orthodromic_day(duration=7200.0))
+    for name in ("simulate", "add_integration_errors"):
+        monkeypatch.setattr(propagation, name, functools.partial(
+            getattr(propagation, name), jit=False))
+    virtual = (run(Experiment(duration=7200.0, method="euler", step=20.0)),
+               propagation.orthodromic_day(duration=7200.0))
+    for a, b in zip(compiled, virtual, strict=True):
+        assert _same_bits(a, b)
+        assert a.summary_markdown() == b.summary_markdown()

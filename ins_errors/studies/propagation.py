@@ -286,10 +286,10 @@ def run(experiment: Experiment | None = None, progress: bool = False) -> Propaga
     sources = e.sources()
     cases = [{name: value} for name, value in sources.items()]
     sim = simulate(model, trajectory, cases, method=e.method,
-                   record_interval=e.record_interval, parts=("real", "linear"), jit=False,
+                   record_interval=e.record_interval, parts=("real", "linear"),
                    progress=progress)
     comparisons = comparisons_of(sim, labels=list(sources))
-    add_integration_errors(comparisons, sim, jit=False)
+    add_integration_errors(comparisons, sim)
     times = sim.times
     direct, linear = sim.direct_errors(), sim.linear_errors()
     cf = closed_forms(model, e.latitude, p)
@@ -590,10 +590,10 @@ def orthodromic_day(latitude: float = float(np.radians(50.0)), duration: float =
     sources = list(ORTHODROMIC_MAGNITUDES)
     cases = [{s: ORTHODROMIC_MAGNITUDES[s]} for s in sources]
     sim = simulate(model, traj, cases, method="rk4", record_interval=record_interval,
-                   parts=("real", "linear"), jit=False, progress=progress,
+                   parts=("real", "linear"), progress=progress,
                    platform="small_angle")
     comparisons = comparisons_of(sim, labels=sources)
-    add_integration_errors(comparisons, sim, jit=False)
+    add_integration_errors(comparisons, sim)
     n = len(model.states)
     ideal = sim.ideal
     platform = np.zeros((sim.real.shape[0] - n, *ideal.shape[1:]))
