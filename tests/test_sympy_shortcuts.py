@@ -1,8 +1,8 @@
 """The SymPy shortcuts of `make derive` answer as SymPy does (SymPy itself is the reference).
 
-ins_errors/symbolic/term_order.py (the printers' order of a sum's terms) and
+ins_errors/symbolic/term_order.py (the printers' order of a sum's terms),
 ins_errors/symbolic/quick_sympy.py (``Mul.could_extract_minus_sign``, ``complex`` of
-a rational).
+a rational) and ins_errors/symbolic/symbol_order.py (the canonical order of symbols).
 """
 
 from __future__ import annotations
@@ -196,3 +196,37 @@ def test_gcd_terms_and_assumptions_answer_as_sympy():
     with quick_sympy.quick_sympy():
         assert answers("_1") == reference
     assert answers("_2") == reference
+
+
+def test_symbol_order_is_sympys():
+    """sorted_symbols gives sorted(..., key=default_sort_key), element for element, on
+    the free symbols of the orthodromic model's structured variation and on sets where the two
+    keys could part: equal names with different assumptions (ties keep their input
+    order under both), names that sort differently as text and as SymPy would if it
+    compared anything else, and non-Symbol elements (Dummy, Wild, indexed)."""
+    from ins_errors.models import definition
+    from ins_errors.symbolic.symbol_order import sorted_symbols
+    from ins_errors.symbolic.variation import structured_variation
+
+    def same(items):
+        got, expected = sorted_symbols(items), sorted(items, key=sp.default_sort_key)
+        assert len(got) == len(expected)
+        assert all(a is b for a, b in zip(got, expected, strict=True)), (got, expected)
+
+    checked = 0
+    for line in structured_variation(definition("orthodromic")):
+        same(list(line.rhs.free_symbols))
+        checked += 1
+    assert checked > 30
+    x_real, x_plain, x_positive = (sp.Symbol("x", real=True), sp.Symbol("x"),
+                                   sp.Symbol("x", positive=True))
+    names = [sp.Symbol(n) for n in ("b", "B", "a10", "a2", "_a", "Delta_x", "delta_x",
+                                    "alpha_z", "\u03b1", "x_c")]
+    for order in ([x_real, x_plain, x_positive], [x_positive, x_real, x_plain]):
+        same(order + names)
+        same(names[::-1] + order)
+    i = sp.Idx("i")
+    for odd in (sp.Dummy("a"), sp.Wild("a"), sp.Indexed("y", i), sp.Dummy("x")):
+        same([odd, *names, x_real])
+        same([x_real, *names, odd])
+    same([])

@@ -59,6 +59,7 @@ from ins_errors.checker.sides import (
     model_expr,
     model_side,
 )
+from ins_errors.symbolic.symbol_order import sorted_symbols
 
 if TYPE_CHECKING:
     from ins_errors.checker.compare import Comparison, EquationResult, Item
@@ -161,7 +162,7 @@ def _candidates(expr: sp.Expr, known: tuple[sp.Symbol, ...]
     """:func:`candidates`: a pure function of its arguments, kept for the next check in
     the same process (a coefficient diagnosed again builds its substitutions once)."""
     out: list[tuple[str, str, sp.Expr]] = []
-    for symbol in sorted(expr.free_symbols, key=sp.default_sort_key):
+    for symbol in sorted_symbols(expr.free_symbols):
         for other in _siblings(symbol, known):
             out.append((SYMBOL, f"{symbol} written where {other} belongs",
                         expr.xreplace({symbol: other})))

@@ -62,6 +62,7 @@ from ins_errors.checker.tree_values import TreeValues, UnsupportedError
 from ins_errors.errors import InsErrorsError
 from ins_errors.modeling import ModelDefinition
 from ins_errors.numeric.blas_threads import one_blas_thread
+from ins_errors.symbolic.symbol_order import sorted_symbols
 
 DEFAULT_THRESHOLD = 1e-3
 """Relative size separating small effects from mistakes."""
@@ -374,7 +375,7 @@ class Comparison:
                  symbols: dict[str, sp.Symbol], threshold: float,
                  values: dict[sp.Expr, np.ndarray], tree: TreeValues | None = None):
         self.points = points
-        self.arguments = sorted(points[0].values, key=sp.default_sort_key)
+        self.arguments = sorted_symbols(points[0].values)
         self.arrays = [np.array([p.values[s] for p in points]) for s in self.arguments]
         self.basis = basis
         self.symbols = [symbols[b.name] for b in basis]
@@ -656,7 +657,7 @@ def _points(d: ModelDefinition, scope: str | None):
         motions = reference_points(d, scope)
         tree = None
         if motions.points:
-            arguments = sorted(motions.points[0].values, key=sp.default_sort_key)
+            arguments = sorted_symbols(motions.points[0].values)
             tree = TreeValues(arguments, [np.array([p.values[s] for p in motions.points])
                                           for s in arguments])
         entry = (d, motions, {}, tree)
@@ -931,7 +932,7 @@ def _check_linear(form: sp.Expr, resolver: HandSide) -> None:
         form = form.xreplace(tildes)
     if form.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
         raise UnresolvedError(None, "a term is not finite (division by zero?)")
-    errors = tuple(s for s in sorted(form.free_symbols, key=sp.default_sort_key)
+    errors = tuple(s for s in sorted_symbols(form.free_symbols)
                    if resolver.is_variational(s))
     b = _first_nonlinear(form, errors)
     if b is not None:

@@ -19,6 +19,7 @@ import sympy as sp
 from ins_errors.checker.notation import Notation
 from ins_errors.checker.parse import DOT, TILDE, HandEquation, HandFile, Problem
 from ins_errors.modeling import ModelDefinition
+from ins_errors.symbolic.symbol_order import sorted_symbols
 from ins_errors.symbolic.variation import output_mechanisations, structured_variation
 
 
@@ -114,7 +115,7 @@ class ModelSide:
         total = self._varied.get(expr)
         if total is None:
             total = sp.S.Zero
-            for symbol in sorted(expr.free_symbols, key=sp.default_sort_key):
+            for symbol in sorted_symbols(expr.free_symbols):
                 delta = self.delta_of_symbol(symbol)
                 if delta != 0:
                     total += sp.diff(expr, symbol) * delta
@@ -280,7 +281,7 @@ class HandSide:
             raise UnresolvedError(None, "a time derivative dot(...) is only allowed on the "
                                     "left-hand side")
         replace = {s: self.symbol(s.name, section, trail)
-                   for s in sorted(expr.free_symbols, key=sp.default_sort_key)}
+                   for s in sorted_symbols(expr.free_symbols)}
         return expr.xreplace(replace)
 
     def symbol(self, name: str, section: int, trail: tuple[str, ...]) -> sp.Expr:
