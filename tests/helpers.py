@@ -62,6 +62,41 @@ def central_difference(f, at: np.ndarray, steps: np.ndarray) -> np.ndarray:
     return np.stack(columns, axis=1)
 
 
+def complex_step_matrices(model: ins_errors.Model):
+    """F and G of ``model`` by complex-step differentiation of its in-memory SymPy
+    real-work equations (printed by ``sympy.lambdify``, intermediates substituted).
+
+    ``Im f(v + i h e_j) / h`` is the derivative by ``v_j`` to rounding (no difference
+    of nearby values is taken, unlike finite differences) when ``f`` is analytic in
+    ``v`` near the point: true of the built-in models' equations (rational functions,
+    sin, cos, tan, powers of positive quantities). Independent of the variation
+    machinery and of the generated code.
+
+    Returns
+    -------
+    callable
+        ``(x, u, p) -> (F, G)``, shapes (ne, ne) and (ne, nw).
+    """
+    import sympy as sp
+
+    d = model.symbolic
+    real = sp.lambdify([d.real_states, d.x, d.u, d.w, d.p], list(d.real_rhs_expanded()),
+                       "numpy")
+    ne, nw, step = len(d.real_states), len(d.w), 1e-100
+
+    def matrices(x, u, p):
+        xr, w = np.r_[x, np.zeros(ne - len(x))], np.zeros(nw)
+
+        def columns(values, count):  # row i: d f_i / d v_j for each column j
+            return np.array([np.broadcast_to(v, (count,)) for v in values]).imag / step
+
+        F = columns(real(xr[:, None] + 1j * step * np.eye(ne), x, u, w, p), ne)
+        G = columns(real(xr, x, u, w[:, None] + 1j * step * np.eye(nw), p), nw)
+        return F, G
+
+    return matrices
+
+
 def row_relative_error(approx: np.ndarray, exact: np.ndarray) -> float:
     """Largest row-wise error relative to the row's largest entry (zero rows must match)."""
     worst = 0.0
