@@ -63,7 +63,8 @@ def _forget_kept_results() -> None:
 
     for kept in (compare._shared_linear_parts, compare._identical, compare._display,
                  compare._shown, classify._candidates, compare._first_nonlinear,
-                 sides._tautology, sides._identified_expr, parse._parsed_text,
+                 sides._tautology, sides._identified_expr, sides._symbols_of,
+                 sides._substituted, parse._parsed_text,
                  parse._parsed_latex, realwork._first_order_outputs, realwork._split,
                  realwork._varied_rate):
         kept.cache_clear()

@@ -45,6 +45,27 @@ def tilde_variations(expr: sp.Expr) -> dict[sp.Expr, sp.Expr]:
 
 
 @lru_cache(maxsize=16384)
+def _symbols_of(expr: sp.Expr) -> tuple[sp.Symbol, ...]:
+    """Free symbols of a hand form in SymPy's canonical order (kept per form: each is
+    resolved several times per check, and again in the next check of the same line)."""
+    return tuple(sorted_symbols(expr.free_symbols))
+
+
+@lru_cache(maxsize=16384)
+def _substituted(expr: sp.Expr, rule: tuple[tuple[sp.Symbol, sp.Expr], ...]) -> sp.Expr:
+    """``expr.xreplace(dict(rule))``: a hand form in model terms.
+
+    A pure function of its arguments, kept for the next use in the same process: a
+    form's symbols stand for large model expressions, and rebuilding the form's sums
+    and products around them is most of resolving it; the same definition is resolved
+    for each line that uses it, for the line's display and isolated forms, and again in
+    every check of the same (or a slightly edited) hand file. A kept result is the
+    object handed out before, so the rules of the forms that use it hit as well.
+    """
+    return expr.xreplace(dict(rule))
+
+
+@lru_cache(maxsize=16384)
 def _has_dot(expr: sp.Expr) -> bool:
     """Whether ``expr`` holds a time derivative ``dot(...)`` (kept per expression)."""
     return bool(expr.atoms(DOT))
@@ -280,9 +301,8 @@ class HandSide:
         if _has_dot(expr):
             raise UnresolvedError(None, "a time derivative dot(...) is only allowed on the "
                                     "left-hand side")
-        replace = {s: self.symbol(s.name, section, trail)
-                   for s in sorted_symbols(expr.free_symbols)}
-        return expr.xreplace(replace)
+        rule = tuple((s, self.symbol(s.name, section, trail)) for s in _symbols_of(expr))
+        return _substituted(expr, rule)
 
     def symbol(self, name: str, section: int, trail: tuple[str, ...]) -> sp.Expr:
         """Meaning of one hand symbol (basis, hand definition, model quantity)."""
