@@ -42,13 +42,22 @@ def test_flattened_listing_equals_closed_matrices(name):
     flat = flatten(lines)
     values = ideal_intermediate_values(d)
     names = [v.name for v in d.error_states]
-    expressions = []
-    for name in names:
-        expr = flat[name]
-        while expr.free_symbols & set(values):
-            expr = expr.xreplace(values)
-        expressions.append(expr)
-    evaluate = sp.lambdify([d.x, d.u, d.p, d.xe, d.w], expressions, "numpy")
+    expressions = [flat[name] for name in names]
+    # the ideal intermediate symbols are evaluated first, each from its closed expression
+    # (those it uses before it), then the listing: numerically the same as substituting
+    # them into the listing, without printing each closed expression once per use
+    order: list[sp.Symbol] = []
+
+    def visit(expr: sp.Expr) -> None:
+        for symbol in sorted(expr.free_symbols & values.keys(), key=sp.default_sort_key):
+            if symbol not in order:
+                visit(values[symbol])
+                order.append(symbol)
+
+    for expr in expressions:
+        visit(expr)
+    evaluate = sp.lambdify([d.x, d.u, d.p, d.xe, d.w], expressions, "numpy",
+                           cse=lambda exprs: ([(s, values[s]) for s in order], exprs))
     rng = np.random.default_rng(2)
     for x, u, p in _generic_points(model, 5, seed=77):
         xe = rng.normal(size=len(names))
