@@ -9,13 +9,16 @@ import ins_errors
 QUIET_DASK = {"DASK_DISTRIBUTED__WORKER__PROFILE__ENABLED": "False",
               "DASK_DISTRIBUTED__ADMIN__TICK__INTERVAL": "1s",
               "DASK_DISTRIBUTED__ADMIN__SYSTEM_MONITOR__INTERVAL": "5s",
-              "DASK_DISTRIBUTED__WORKER__MEMORY__MONITOR_INTERVAL": "2s"}
+              "DASK_DISTRIBUTED__WORKER__MEMORY__MONITOR_INTERVAL": "2s",
+              "DASK_DISTRIBUTED__WORKER__MULTIPROCESSING_METHOD": "forkserver"}
 """Dask settings of every cluster the suite starts (environment variables, read when Dask
 is imported: tests/conftest.py sets them for this process and the processes it starts).
 Dask's statistical profiler (every 10 ms in each worker and nanny) and its 20-ms /
 500-ms / 100-ms health, system and memory monitors cost about 0.1 s CPU per second of an
 idle cluster; none is what the tests look at (dashboards and diagnostics), and none
-changes a result."""
+changes a result. Worker processes are forked from one fork server that imported Dask
+once (Dask's own test suite does the same) instead of each starting a fresh interpreter
+and importing Dask (~0.7 s CPU per worker; the cluster tests start three)."""
 
 
 def static_inputs(model: ins_errors.Model, x: np.ndarray, p: np.ndarray, h: float = 0.0,
