@@ -111,6 +111,53 @@ def test_checks_run_with_one_blas_thread_and_restore_the_pools():
     assert blas_threads() == before
 
 
+_PROPAGATE_IN_A_CHECK = """
+import sys
+
+import numpy as np
+from threadpoolctl import threadpool_info
+
+from ins_errors.checker import effect
+from ins_errors.numeric.blas_threads import one_blas_thread
+
+assert "scipy.linalg" not in sys.modules  # as in a check: SciPy comes in add_effects
+seen = []
+
+
+@one_blas_thread  # the check's own limit, set before SciPy (and its BLAS) is loaded
+def check():
+    import scipy.linalg  # what add_effects does first
+
+    expm = scipy.linalg.expm
+
+    def recording(a):
+        seen.extend(p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas")
+        return expm(a)
+
+    scipy.linalg.expm = recording
+    effect._propagate(np.eye(3) * 1e-4, np.ones(3), np.ones(3))
+
+
+check()
+print(sorted(set(seen)), len([p for p in threadpool_info() if p["user_api"] == "blas"]))
+"""
+
+
+def test_effect_exponentials_run_with_one_blas_thread_of_every_library():
+    """SciPy brings its own BLAS, loaded after the check limited BLAS to one thread; the
+    exponentials of the effect estimate must run single-threaded in that one too (with
+    two threads each 12 x 12 exponential cost ~7 ms of CPU instead of ~0.1 ms)."""
+    import os
+    import subprocess
+    import sys
+
+    done = subprocess.run([sys.executable, "-c", _PROPAGATE_IN_A_CHECK], capture_output=True,
+                          text=True, check=True, env={**os.environ, "OPENBLAS_NUM_THREADS": "2"})
+    threads, libraries = done.stdout.split("]")
+    assert threads + "]" == "[1]"
+    assert int(libraries) >= 2  # numpy's and SciPy's: both were limited
+
+
 def _forget_kept_values() -> None:
     """Empty the evaluated coefficients (and reference points) the checker keeps: the one
     kept result that could depend on what was checked before (a value compiled in a
