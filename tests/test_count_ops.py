@@ -27,6 +27,9 @@ CASES = [
     sp.atan2(y, -x), sp.Abs(-x + y), sp.Max(x, y, z), sp.Min(x, -y), f(x, y) - 1,
     sp.Derivative(f(x), x), sp.Piecewise((x, x < 0), (-y, True)),
     -(x + y) / (2 * z - x) ** 3 + sp.sin(-x * y) ** 2,
+    # products whose factors all stay in the numerator, and ones where one may not
+    x**y * z, x ** (-y) * z, 2 * x ** (y * z), sp.exp(-x * y) / z, sp.sqrt(2) * x / 3,
+    -sp.sqrt(3) * x * y**2, x ** sp.Symbol('n', positive=True) * y,
 ]
 
 

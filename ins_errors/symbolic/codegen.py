@@ -187,6 +187,8 @@ def _walk(a: sp.Basic) -> int:
         if _coeff_isneg(a):
             ops += 1  # NEG
             a = a.as_two_terms()[1] if a.args[0] is sp.S.NegativeOne else -a
+        if _whole_numerator(a):  # fraction(a) is (a, 1): no DIV
+            return ops + _own_and_operands(a)
         n, d = fraction(a)
         if n.is_Integer:  # DIV (and NEG); d is no -Mul, but may be an Add
             return ops + 1 + (1 if n < 0 else 0) + _walk(d)
@@ -204,6 +206,25 @@ def _walk(a: sp.Basic) -> int:
         # all negative: -x - y = NEG + SUB; a negative first term: SUB - ADD, no change
         return ops + (negative == len(a.args))
     return _own_and_operands(a)
+
+
+def _whole_numerator(a: sp.Basic) -> bool:
+    """True if ``fraction(a)`` keeps every factor of ``a`` in the numerator as it is, so
+    that it is ``(a, 1)``; False where it may move or rewrite one (then ask it).
+
+    The same tests as ``fraction`` (not ``exact``), factor by factor, without building
+    the two products: a power (or ``exp``) with a negative exponent, or with an
+    exponent of unknown sign that is a product, and a non-integer rational go (or may
+    go) to the denominator; every other factor stays in the numerator unchanged.
+    """
+    for term in sp.Mul.make_args(a):
+        if term.is_commutative and (term.is_Pow or isinstance(term, sp.exp)):
+            ex = term.as_base_exp()[1]
+            if ex.is_negative or (not ex.is_positive and ex.is_Mul):
+                return False
+        elif term.is_Rational and not term.is_integer:
+            return False
+    return True
 
 
 def _own_and_operands(a: sp.Basic) -> int:
