@@ -1,8 +1,9 @@
 """The SymPy shortcuts of `make derive` answer as SymPy does (SymPy itself is the reference).
 
-ins_errors/symbolic/term_order.py (the printers' order of a sum's terms),
-ins_errors/symbolic/quick_sympy.py (``Mul.could_extract_minus_sign``, ``complex`` of
-a rational) and ins_errors/symbolic/symbol_order.py (the canonical order of symbols).
+ins_errors/symbolic/term_order.py (the printers' order of a sum's terms; a sum's
+``could_extract_minus_sign``), ins_errors/symbolic/quick_sympy.py
+(``Mul.could_extract_minus_sign``, ``complex`` of a rational) and
+ins_errors/symbolic/symbol_order.py (the canonical order of symbols).
 """
 
 from __future__ import annotations
@@ -87,6 +88,29 @@ def test_quick_minus_sign_answers_as_sympy():
             pass
         assert sp.Mul.could_extract_minus_sign is quick_sympy.could_extract_minus_sign
     assert sp.Mul.could_extract_minus_sign is quick_sympy._SYMPYS_MINUS_SIGN
+
+
+def test_quick_minus_sign_of_a_sum_answers_as_sympy():
+    from ins_errors.models import definition
+
+    x, y, z = sp.symbols("x y z", real=True)
+    ties = [x - y, y - x, 1 - x, x - 1, 2 - 3 * x, -2 + 3 * x, sp.sqrt(2) - 3, sp.pi - x,
+            sp.sqrt(2) * x - x, x - sp.sqrt(2) * x, x * y - z + x**2 - y, -x**2 + x - 2 * y + 1,
+            sp.Rational(1, 3) * x - sp.Float(0.5) * y, sp.I * x - y, x + sp.O(x**2) - 1,
+            sp.sqrt(3) * x * y / 2 - x / 2 + z**2 - sp.sqrt(3) * z]
+    sums = ties + [e for expr in _expressions() for e in sp.preorder_traversal(expr)
+                   if isinstance(e, sp.Add)]
+    for name in ("north_pointing", "strapdown_ned"):  # a model's closed equations
+        sums += [e for expr in definition(name).real_rhs_expanded()
+                 for e in sp.preorder_traversal(expr) if isinstance(e, sp.Add)]
+    sums += [-e for e in sums]
+    assert len(sums) > 500
+    sympys = [quick_sympy._SYMPYS_SUM_MINUS_SIGN(e) for e in sums]
+    assert [term_order.sum_could_extract_minus_sign(e) for e in sums] == sympys
+    assert sum(sympys) > 100 and not all(sympys)
+    with quick_sympy.quick_sympy():
+        assert [e.could_extract_minus_sign() for e in sums] == sympys
+    assert sp.Add.could_extract_minus_sign is quick_sympy._SYMPYS_SUM_MINUS_SIGN
 
 
 def test_quick_complex_of_a_rational_is_sympys():

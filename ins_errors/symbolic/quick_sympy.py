@@ -11,7 +11,11 @@
   form), ``-self`` has the opposite coefficient and never equals ``self``, so the
   answer is the coefficient's sign; a product whose first factor is not a number never
   answers yes. Every other product (zero, infinite or float factors, unevaluated
-  products with several numbers) is left to SymPy.
+  products with several numbers) is left to SymPy. The same question of a sum
+  (:func:`~ins_errors.symbolic.term_order.sum_could_extract_minus_sign`): on a tie of
+  negative and positive terms SymPy builds the negated sum and sorts the terms of both;
+  where no two terms share a monomial the answer is the sign of the first term's
+  coefficient in that order.
 * ``complex(rational)``: the sort keys of sums (printing order, canonical signs) hold
   their coefficients as Python complex numbers, and SymPy converts a rational through
   a full ``evalf`` each time (to 57 bits rounded down, then to 53 bits to nearest: not
@@ -35,7 +39,7 @@
   answers depending on the order); the answers are the same in every order, so the
   block keeps the order as found instead of drawing a random permutation each time.
 
-:func:`quick_sympy` installs the five for the duration of a block.
+:func:`quick_sympy` installs them for the duration of a block.
 """
 
 from __future__ import annotations
@@ -54,6 +58,7 @@ _SYMPYS_SHUFFLE = _ASSUMPTIONS.shuffle
 _SYMPYS_FACTORS_INIT = Factors.__init__
 
 _SYMPYS_MINUS_SIGN = sp.Mul.could_extract_minus_sign
+_SYMPYS_SUM_MINUS_SIGN = sp.Add.could_extract_minus_sign
 _SYMPYS_COMPLEX = sp.Rational.__complex__  # (Expr's: through evalf)
 
 
@@ -175,7 +180,8 @@ def _keep_order(facts: list) -> None:
 def quick_sympy() -> Iterator[None]:
     """SymPy products and rationals answer with the functions above inside the block.
 
-    Not thread-safe: the block sets ``sympy.Mul.could_extract_minus_sign``,
+    Not thread-safe: the block sets ``could_extract_minus_sign`` of ``sympy.Mul`` and
+    ``sympy.Add``,
     ``sympy.Rational.__complex__``, ``OrderedSet`` of ``sympy.simplify.cse_main``,
     ``Factors.__init__`` and the shuffle of ``sympy.core.assumptions`` and restores
     SymPy's on exit.
@@ -183,8 +189,11 @@ def quick_sympy() -> Iterator[None]:
     if sp.Mul.could_extract_minus_sign is could_extract_minus_sign:  # nested
         yield
         return
+    from ins_errors.symbolic.term_order import sum_could_extract_minus_sign
+
     own_complex = sp.Rational.__dict__.get("__complex__")  # (None: Expr's)
     sp.Mul.could_extract_minus_sign = could_extract_minus_sign
+    sp.Add.could_extract_minus_sign = sum_could_extract_minus_sign
     sp.Rational.__complex__ = rational_complex
     _CSE.OrderedSet = FastOrderedSet
     Factors.__init__ = factors_init
@@ -196,6 +205,7 @@ def quick_sympy() -> Iterator[None]:
         Factors.__init__ = _SYMPYS_FACTORS_INIT
         _CSE.OrderedSet = OrderedSet
         sp.Mul.could_extract_minus_sign = _SYMPYS_MINUS_SIGN
+        sp.Add.could_extract_minus_sign = _SYMPYS_SUM_MINUS_SIGN
         if own_complex is None:
             del sp.Rational.__complex__
         else:

@@ -80,6 +80,37 @@ def ordered_terms(expr: sp.Expr) -> list[sp.Expr]:
     return [term for term, _ in sorted(terms, key=sort_key, reverse=reverse)]
 
 
+_SYMPYS_SUM_MINUS_SIGN = sp.Add.could_extract_minus_sign
+
+
+def sum_could_extract_minus_sign(total: sp.Add) -> bool:
+    """``total.could_extract_minus_sign()`` as SymPy answers it, for a sum.
+
+    SymPy counts the terms that could give up a minus sign; on a tie it compares the
+    sort keys of ``total`` and ``-total``, which builds the negated sum and orders the
+    terms of both (common subexpression elimination asks this of every sum it visits).
+    The sort key of a sum lists its terms' keys in :func:`ordered_terms` order, and a
+    term's key ends with its numeric coefficient. When no two terms share a monomial
+    (and SymPy's special two-term order does not apply), ``-total`` orders its terms
+    as ``total`` does, so the two keys first differ at the first term's coefficient
+    c, against -c: the answer is c < -c. Any other sum is left to SymPy.
+    """
+    args = total.args
+    negative = sum(1 for term in args if term.could_extract_minus_sign())
+    if 2 * negative != len(args):
+        return 2 * negative > len(args)
+    if len(args) == 2 and any(isinstance(a, (Number, NumberSymbol)) for a in args):
+        return _SYMPYS_SUM_MINUS_SIGN(total)  # (as_ordered_terms' special case)
+    terms = _as_terms(total)
+    monomials = {(monom, ncpart) for _, (_, monom, ncpart) in terms}
+    if len(monomials) != len(terms) or any(term.is_Order for term, _ in terms):
+        return _SYMPYS_SUM_MINUS_SIGN(total)
+    sort_key, reverse = total._parse_order(None)
+    first = (max if reverse else min)(terms, key=sort_key)[0]
+    coefficient = first.as_coeff_Mul()[0]
+    return bool(coefficient < -coefficient)
+
+
 class FastTermOrder:
     """Printer mix-in: sums ordered by :func:`ordered_terms` (the default order only)."""
 
