@@ -7,6 +7,7 @@ on the model's own variations.
 
 from __future__ import annotations
 
+import pytest
 import sympy as sp
 
 from ins_errors.checker.compare import _split_by_substitution
@@ -111,48 +112,72 @@ def test_checks_run_with_one_blas_thread_and_restore_the_pools():
     assert blas_threads() == before
 
 
-_PROPAGATE_IN_A_CHECK = """
+_EXPONENTIALS_IN_A_FRESH_PROCESS = """
 import sys
 
 import numpy as np
 from threadpoolctl import threadpool_info
 
-from ins_errors.checker import effect
 from ins_errors.numeric.blas_threads import one_blas_thread
 
-assert "scipy.linalg" not in sys.modules  # as in a check: SciPy comes in add_effects
+assert "scipy.linalg" not in sys.modules  # loaded only on first use, as in a check or budget
 seen = []
 
 
-@one_blas_thread  # the check's own limit, set before SciPy (and its BLAS) is loaded
-def check():
-    import scipy.linalg  # what add_effects does first
-
-    expm = scipy.linalg.expm
-
-    def recording(a):
+def recording(function):  # the BLAS pools' threads just after a call inside the limit
+    def recorded(*args):
+        result = function(*args)
         seen.extend(p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas")
-        return expm(a)
+        return result
+    return recorded
 
-    scipy.linalg.expm = recording
+
+def schuler_system():  # 2 states (tilt rad, velocity error m/s), accelerometer bias
+    from ins_errors.numeric.linear_system import LinearSystem
+
+    times = np.arange(0.0, 3601.0, 600.0)
+    F = np.array([[0.0, 1.0 / 6.371e6], [-9.81, 0.0]])
+    G, E, H = np.array([[0.0], [1.0]]), np.zeros((2, 1)), np.eye(2)
+    return LinearSystem(times, F, G, E, H, ("accel_bias",), ("constant",),
+                        np.zeros((1, 7)), np.zeros((1, 7)), np.zeros(1))
+
+
+def covariance():
+    from ins_errors.analysis import covariance as cv
+
+    cv._expm = recording(cv._expm)  # the first call imports SciPy
+    system = schuler_system()
+    functionals = cv.Functionals(("tilt", "dv"), ("rad", "m/s"), np.eye(2), np.zeros((2, 1)))
+    cv.propagate(system, [cv.SourceStatistics("accel_bias", "constant", 1e-3)], functionals)
+
+
+@one_blas_thread  # the check's own limit, set before SciPy (and its BLAS) is loaded
+def effect():
+    from ins_errors.checker import effect
+
+    np.linalg.matrix_power = recording(np.linalg.matrix_power)  # called after SciPy's expm
     effect._propagate(np.eye(3) * 1e-4, np.ones(3), np.ones(3))
 
 
-check()
+{"covariance": covariance, "effect": effect}[sys.argv[1]]()
+assert "scipy.linalg" in sys.modules
 print(sorted(set(seen)), len([p for p in threadpool_info() if p["user_api"] == "blas"]))
 """
 
 
-def test_effect_exponentials_run_with_one_blas_thread_of_every_library():
-    """SciPy brings its own BLAS, loaded after the check limited BLAS to one thread; the
-    exponentials of the effect estimate must run single-threaded in that one too (with
-    two threads each 12 x 12 exponential cost ~7 ms of CPU instead of ~0.1 ms)."""
+@pytest.mark.parametrize("where", ["effect", "covariance"])
+def test_exponentials_run_with_one_blas_thread_of_every_library(where):
+    """SciPy brings its own BLAS, loaded on first use of its exponential, after numpy's BLAS
+    was limited to one thread (by a check, or by covariance propagation): the exponentials
+    must run single-threaded in that one too (with two threads each 12 x 12 exponential
+    cost ~7 ms of CPU instead of ~0.1 ms)."""
     import os
     import subprocess
     import sys
 
-    done = subprocess.run([sys.executable, "-c", _PROPAGATE_IN_A_CHECK], capture_output=True,
-                          text=True, check=True, env={**os.environ, "OPENBLAS_NUM_THREADS": "2"})
+    done = subprocess.run([sys.executable, "-c", _EXPONENTIALS_IN_A_FRESH_PROCESS, where],
+                          capture_output=True, text=True, check=True,
+                          env={**os.environ, "OPENBLAS_NUM_THREADS": "2"})
     threads, libraries = done.stdout.split("]")
     assert threads + "]" == "[1]"
     assert int(libraries) >= 2  # numpy's and SciPy's: both were limited

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
-from ins_errors.numeric.blas_threads import one_blas_thread
+from ins_errors.numeric.blas_threads import one_blas_thread_after_importing
 from ins_errors.numeric.linear_system import (
     LinearSystem,
     static_system,
@@ -410,7 +410,7 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
     return columns
 
 
-@one_blas_thread
+@one_blas_thread_after_importing("scipy.linalg")  # (its exponential: see _expm)
 def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
               functionals: Functionals, output_every: int = 1,
               by_source: bool = True) -> Covariance:

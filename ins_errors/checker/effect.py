@@ -27,20 +27,16 @@ import sympy as sp
 from ins_errors.checker import classify as cl
 from ins_errors.checker.reference import _earth
 from ins_errors.checker.sides import identified
-from ins_errors.numeric.blas_threads import one_blas_thread
+from ins_errors.numeric.blas_threads import one_blas_thread_after_importing
 
 HOURS = (1.0, 24.0)
 """Propagation times, h."""
 
 
-@one_blas_thread
+@one_blas_thread_after_importing("scipy.linalg")
 def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray) -> list[np.ndarray]:
     """x(t) of x' = F x + drive (constant) at each of :data:`HOURS`, by the exponential
     of the augmented matrix over the first time and its integer powers for the others.
-
-    SciPy is imported before the call (by :func:`add_effects`): SciPy brings its own
-    BLAS, which a one-thread limit set before it was loaded does not reach (its threads
-    then made each 12 × 12 exponential cost ~7 ms of CPU instead of ~0.1 ms).
     """
     from scipy.linalg import expm
 
@@ -55,8 +51,6 @@ def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray) -> list[np.ndar
 
 def add_effects(report, d, side, comparison, identify, prepared, resolver) -> None:
     """Attach ``effect`` dicts to the report's root mistakes (see module docstring)."""
-    import scipy.linalg  # noqa: F401 (loaded before _propagate limits BLAS: see there)
-
     from ins_errors.checker.sides import UnresolvedError as _UnresolvedError
 
     states = [v.name for v in d.error_states]
