@@ -113,6 +113,7 @@ def test_checks_run_with_one_blas_thread_and_restore_the_pools():
 
 
 _EXPONENTIALS_IN_A_FRESH_PROCESS = """
+import json
 import sys
 
 import numpy as np
@@ -161,7 +162,9 @@ def effect():
 
 {"covariance": covariance, "effect": effect}[sys.argv[1]]()
 assert "scipy.linalg" in sys.modules
-print(sorted(set(seen)), len([p for p in threadpool_info() if p["user_api"] == "blas"]))
+after = [p["num_threads"] for p in threadpool_info() if p["user_api"] == "blas"]
+print(json.dumps({"inside": sorted(set(seen)), "libraries": len(after),
+                  "after": sorted(set(after))}))
 """
 
 
@@ -171,6 +174,7 @@ def test_exponentials_run_with_one_blas_thread_of_every_library(where):
     was limited to one thread (by a check, or by covariance propagation): the exponentials
     must run single-threaded in that one too (with two threads each 12 x 12 exponential
     cost ~7 ms of CPU instead of ~0.1 ms)."""
+    import json
     import os
     import subprocess
     import sys
@@ -178,9 +182,10 @@ def test_exponentials_run_with_one_blas_thread_of_every_library(where):
     done = subprocess.run([sys.executable, "-c", _EXPONENTIALS_IN_A_FRESH_PROCESS, where],
                           capture_output=True, text=True, check=True,
                           env={**os.environ, "OPENBLAS_NUM_THREADS": "2"})
-    threads, libraries = done.stdout.split("]")
-    assert threads + "]" == "[1]"
-    assert int(libraries) >= 2  # numpy's and SciPy's: both were limited
+    pools = json.loads(done.stdout)
+    assert pools["inside"] == [1]
+    assert pools["libraries"] >= 2  # numpy's and SciPy's: both were limited
+    assert pools["after"] == [2]  # and both given back their threads when the call ended
 
 
 def _forget_kept_values() -> None:

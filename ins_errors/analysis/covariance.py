@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
-from ins_errors.numeric.blas_threads import one_blas_thread_after_importing
+from ins_errors.numeric.blas_threads import import_limited, one_blas_thread
 from ins_errors.numeric.linear_system import (
     LinearSystem,
     static_system,
@@ -122,11 +122,10 @@ def _expm(matrix: np.ndarray) -> np.ndarray:
 
     Importing SciPy's linear algebra costs about 0.2-0.3 s CPU, and the processes that
     import this module for its types (Monte Carlo, sweep and validity tasks on every Dask
-    worker, the Dask scheduler unpickling those tasks) never call it.
+    worker, the Dask scheduler unpickling those tasks) never call it. Imported within
+    :func:`propagate`'s one-thread limit, which then reaches SciPy's own BLAS too.
     """
-    from scipy.linalg import expm
-
-    return expm(matrix)
+    return import_limited("scipy.linalg").expm(matrix)
 
 
 def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float,
@@ -410,7 +409,7 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
     return columns
 
 
-@one_blas_thread_after_importing("scipy.linalg")  # (its exponential: see _expm)
+@one_blas_thread
 def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
               functionals: Functionals, output_every: int = 1,
               by_source: bool = True) -> Covariance:

@@ -27,18 +27,17 @@ import sympy as sp
 from ins_errors.checker import classify as cl
 from ins_errors.checker.reference import _earth
 from ins_errors.checker.sides import identified
-from ins_errors.numeric.blas_threads import one_blas_thread_after_importing
+from ins_errors.numeric.blas_threads import import_limited, one_blas_thread
 
 HOURS = (1.0, 24.0)
 """Propagation times, h."""
 
 
-@one_blas_thread_after_importing("scipy.linalg")
+@one_blas_thread
 def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray) -> list[np.ndarray]:
     """x(t) of x' = F x + drive (constant) at each of :data:`HOURS`, by the exponential
-    of the augmented matrix over the first time and its integer powers for the others.
-    """
-    from scipy.linalg import expm
+    of the augmented matrix over the first time and its integer powers for the others."""
+    expm = import_limited("scipy.linalg").expm  # (SciPy's BLAS limited as well)
 
     n = f.shape[0]
     m = np.zeros((n + 1, n + 1))

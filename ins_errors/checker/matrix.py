@@ -64,7 +64,7 @@ from ins_errors.checker.matrix_input import (
 from ins_errors.checker.navigation import navigation_arrays
 from ins_errors.checker.typical import magnitude_override, schuler_magnitudes, typical_magnitude
 from ins_errors.errors import InsErrorsError, unknown_name
-from ins_errors.numeric.blas_threads import one_blas_thread, one_blas_thread_after_importing
+from ins_errors.numeric.blas_threads import import_limited, one_blas_thread
 
 DEFAULT_THRESHOLD = 1e-3
 """Relative size separating a dropped small term from a mistake."""
@@ -667,10 +667,10 @@ def _digest(array: np.ndarray) -> bytes:
     return hashlib.sha1(np.ascontiguousarray(array).data, usedforsecurity=False).digest()
 
 
-@one_blas_thread_after_importing("scipy.linalg")  # (a check's own limit came before it)
 def _transition_of(A: np.ndarray, times: np.ndarray, at: list[float]) -> list[np.ndarray]:
-    """:func:`_transition`, computed."""
-    from scipy.linalg import expm
+    """:func:`_transition`, computed (within :func:`check_matrices`' one-thread limit,
+    which the import extends to SciPy's own BLAS)."""
+    expm = import_limited("scipy.linalg").expm
 
     if np.all(A[:1] == A):
         return [expm(A[0] * t) for t in at]

@@ -10,9 +10,12 @@ by the hand checker, covariance propagation and the linear Monte Carlo.
 from __future__ import annotations
 
 import sys
+import threading
 from collections.abc import Callable
+from contextlib import ExitStack
 from functools import wraps
 from importlib import import_module
+from types import ModuleType
 from typing import ParamSpec, TypeVar
 
 P = ParamSpec("P")
@@ -39,35 +42,48 @@ def _controller():
 def one_blas_thread(function: Callable[P, R]) -> Callable[P, R]:
     """Run ``function`` with BLAS limited to one thread (restored afterwards).
 
-    Only the BLAS libraries loaded when the call starts are limited: a module imported
-    during the call may bring its own (SciPy bundles a second OpenBLAS), which then runs
-    threaded. Use :func:`one_blas_thread_after_importing` for functions that import such a
-    module lazily.
-    """
-    return _limited(function, None)
-
-
-def one_blas_thread_after_importing(module: str) -> Callable[[Callable[P, R]], Callable[P, R]]:
-    """:func:`one_blas_thread`, with ``module`` (e.g. ``"scipy.linalg"``) imported first.
-
-    For functions that import a BLAS-bundling module on first use, so that processes which
-    never call them do not pay for the import, and the limit still reaches that module's
-    BLAS. With SciPy's OpenBLAS left threaded, each exponential of a 12 × 12 matrix cost
-    about 7 ms of CPU instead of about 0.1 ms.
+    The limit reaches the BLAS libraries loaded when the call starts; a module that
+    brings its own (SciPy bundles a second OpenBLAS) and is imported during the call
+    must be imported with :func:`import_limited` for the limit to reach it too.
     """
 
-    def decorate(function: Callable[P, R]) -> Callable[P, R]:
-        return _limited(function, module)
-
-    return decorate
-
-
-def _limited(function: Callable[P, R], module: str | None) -> Callable[P, R]:
     @wraps(function)
     def limited(*args: P.args, **kwargs: P.kwargs) -> R:
-        if module is not None:
-            import_module(module)
-        with _controller().limit(limits=1, user_api="blas"):
-            return function(*args, **kwargs)
+        with ExitStack() as limits:
+            limits.enter_context(_controller().limit(limits=1, user_api="blas"))
+            calls = _open_limits()
+            calls.append([limits, len(sys.modules)])
+            try:
+                return function(*args, **kwargs)
+            finally:
+                calls.pop()
 
     return limited
+
+
+def import_limited(module: str) -> ModuleType:
+    """``importlib.import_module(module)``; inside a :func:`one_blas_thread` call, the BLAS
+    libraries loaded since that call's limit was set are limited to one thread as well,
+    until the call ends.
+
+    For modules imported on first use (so that processes which never use them do not
+    pay for the import) that bring their own BLAS: with SciPy's OpenBLAS left threaded,
+    each exponential of a 12 × 12 matrix cost about 7 ms of CPU instead of about 0.1 ms.
+    """
+    loaded = import_module(module)
+    calls = _open_limits()
+    if calls and calls[-1][1] != len(sys.modules):
+        calls[-1][0].enter_context(_controller().limit(limits=1, user_api="blas"))
+        calls[-1][1] = len(sys.modules)
+    return loaded
+
+
+_THREAD_STATE = threading.local()
+
+
+def _open_limits() -> list[list]:
+    """This thread's running :func:`one_blas_thread` calls, innermost last: each its
+    exit stack of limits and the number of imported modules when the last was set."""
+    if not hasattr(_THREAD_STATE, "calls"):
+        _THREAD_STATE.calls = []
+    return _THREAD_STATE.calls
