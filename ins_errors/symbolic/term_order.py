@@ -16,7 +16,7 @@ from sympy.core.exprtools import decompose_power
 from sympy.core.numbers import Number, NumberSymbol
 from sympy.core.sorting import default_sort_key
 
-from ins_errors.symbolic.quick_sympy import rational_complex
+from ins_errors.symbolic.quick_sympy import _SYMPYS_SUM_MINUS_SIGN, rational_complex
 
 
 def _complex(number: sp.Expr) -> complex:
@@ -78,9 +78,6 @@ def ordered_terms(expr: sp.Expr) -> list[sp.Expr]:
         return expr.as_ordered_terms()
     sort_key, reverse = expr._parse_order(None)
     return [term for term, _ in sorted(terms, key=sort_key, reverse=reverse)]
-
-
-_SYMPYS_SUM_MINUS_SIGN = sp.Add.could_extract_minus_sign
 
 
 def sum_could_extract_minus_sign(total: sp.Add) -> bool:
