@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from math import factorial
+
 import mpmath
 import numpy as np
 import pytest
@@ -139,3 +141,67 @@ def test_van_loan_noise_covariance_equals_a_40_digit_reference(orthodromic, one_
     assert np.abs(Qd - Qd_exact).max() <= 1e-14 * np.abs(Qd_exact).max()
     assert np.abs(X[k, N:, N:] - np.array(exact[N:, N:].tolist(), dtype=float)).max() \
         <= 1e-14
+
+
+def _noise_column(orthodromic, steps: tuple[np.ndarray, np.ndarray], kind: str):
+    """(A, b, BQBᵀ) of one unit noise source along the steps (white gyro or Markov accel)."""
+    F, traj_G = steps
+    names = [s.name for s in orthodromic.sources]
+    name = "gyro_drift_x" if kind == "white" else "accel_bias_x"
+    source = cv.SourceStatistics(name, kind, 1.0, None if kind == "white" else 300.0)
+    g = traj_G[..., names.index(name)]
+    A, b = cv._noise_column(F, g, source)
+    A_full, BQBt, _ = cv._noise_system(F, g, source, np.zeros((1, F.shape[-1])), np.zeros(1))
+    assert np.array_equal(A, A_full)   # b bᵀ is BQBᵀ (to the rounding of √(2/τ)²)
+    np.testing.assert_allclose(b[..., :, None] * b[..., None, :], BQBt, rtol=1e-15, atol=0)
+    return A, b, BQBt
+
+
+@pytest.mark.parametrize("kind, step, duration, k", [
+    ("white", 1.0, 600.0, 0), ("markov", 1.0, 600.0, 599),
+    ("white", 600.0, 36000.0, 59), ("markov", 600.0, 36000.0, 0)])
+def test_rank_one_noise_step_equals_the_40_digit_van_loan_blocks(orthodromic, one_second_steps,
+                                                                 kind, step, duration, k):
+    """Φ and Qd of one noise column from the series of e^{Fσ} b, against the exponential
+    of the whole Van Loan block [[-A, b bᵀ], [0, Aᵀ]] h at 40 digits: at 1 s (no scaling)
+    and at 600 s (squarings and doublings of Qd), to 1e-14 of Qd's largest entry and of
+    Φ's largest entry. At every step it agrees with the block's batched series (which is
+    itself up to ~2e-13 off the 40 digits at 600 s, SciPy's expm ~3e-11) to 1e-12."""
+    if step == 1.0:
+        steps = one_second_steps
+    else:
+        system = _step_system(orthodromic, step, duration)
+        steps = cv._step_matrix(system.F), cv._step_matrix(system.G)
+    A, b, BQBt = _noise_column(orthodromic, steps, kind)
+    Phi, Qd = se.rank_one_noise_step(A, b, step)
+    N = A.shape[-1]
+    M = np.zeros((2 * N, 2 * N))
+    M[:N, :N] = -A[k]
+    M[:N, N:] = BQBt[k]
+    M[N:, N:] = A[k].T
+    with mpmath.workdps(40):
+        exact = mpmath.expm(mpmath.matrix(M * step))
+        phi = exact[N:, N:].T
+        Qd_exact = np.array((phi * exact[:N, N:]).tolist(), dtype=float)
+        Phi_exact = np.array(phi.tolist(), dtype=float)
+    assert np.abs(Qd[k] - Qd_exact).max() <= 1e-14 * np.abs(Qd_exact).max()
+    assert np.abs(Phi[k] - Phi_exact).max() <= 1e-14 * np.abs(Phi_exact).max()
+    assert np.array_equal(Qd, np.swapaxes(Qd, -1, -2))
+    assert np.all(np.linalg.eigvalsh(Qd[k]) >= -1e-14 * np.abs(Qd_exact).max())
+    _, Qd_block = cv.van_loan(A, BQBt, step, batched=True)
+    scale = np.abs(Qd_block).max(axis=(-2, -1), keepdims=True)
+    assert np.all(np.abs(Qd - Qd_block) <= 1e-12 * scale)
+
+
+def test_moment_degree_meets_its_bound():
+    """The chosen degree's neglected terms are below the target, one degree less is not;
+    larger norms need more terms; a non-finite noise column is one line."""
+    for a1, a2, n in ((9.8, 1.1e-3, 11), (300.0, 0.9, 12), (2.0**10, 1.0, 12)):
+        d = se._moment_degree(a1, a2, n)
+        beta = [a2 ** (k // 2) * a1 ** (k % 2) / factorial(k) for k in range(120)]
+        total = sum(beta)
+        assert 2 * sum(beta[d + 1:]) * total <= se.UNIT_ROUNDOFF / n**2
+        assert 2 * sum(beta[d:]) * total > se.UNIT_ROUNDOFF / n**2
+    assert se._moment_degree(9.8, 1.1e-3, 11) < se._moment_degree(300.0, 0.9, 12)
+    with pytest.raises(InsErrorsError, match="noise column is not finite"):
+        se.rank_one_noise_step(np.zeros((1, 2, 2)), np.array([[np.nan, 0.0]]), 1.0)

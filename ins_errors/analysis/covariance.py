@@ -24,9 +24,10 @@ Discretisation is exact for a system held constant over each step (Van Loan 1978
 ``expm([[F, G_b], [0, D]] dt)`` gives the transition of the augmented state
 ``z = (x_e, b)``, and ``expm([[-A, B Q Bᵀ], [0, Aᵀ]] dt)`` the noise covariance added in
 a step. Along a moving trajectory F and G are held at the mean of the two ends of each
-step, and these exponentials (Van Loan blocks, augmented transitions) are evaluated a few
-thousand steps at a time with the batched series of
-:mod:`ins_errors.numeric.step_exponential` instead of SciPy's ``expm`` step by step.
+step, and these are evaluated a few thousand steps at a time with the batched series of
+:mod:`ins_errors.numeric.step_exponential` instead of SciPy's ``expm`` step by step: the
+augmented transitions, and for a noise (one column b, ``BQBᵀ = b bᵀ``) the same Van Loan
+pair from the series of ``e^{Fσ} b`` without the double-size block.
 On a time-invariant system (static base) the step transition Φ is computed once and the
 powers ``C Φᵏ Z₀`` are formed in blocks with a few matrix products, which is what
 makes 24 h at 1 s output take milliseconds.
@@ -48,7 +49,11 @@ from ins_errors.numeric.linear_system import (
     trajectory_system,
     uniform_grid,
 )
-from ins_errors.numeric.step_exponential import exp_and_integral, exponential
+from ins_errors.numeric.step_exponential import (
+    exp_and_integral,
+    exponential,
+    rank_one_noise_step,
+)
 
 KINDS = ("constant", "white", "markov")
 """The statistical kinds a source may have."""
@@ -524,10 +529,12 @@ def _moving_noise_variance(F: np.ndarray, g: np.ndarray, source: SourceStatistic
                            keep: np.ndarray) -> np.ndarray:
     """Variance of the functionals from one unit noise source along a time-varying system.
 
-    The covariance of the noise system (:func:`_noise_system`) is carried step by step,
-    ``P_{k+1} = Φ_k P_k Φ_kᵀ + Qd_k``, from ``P_0 = 0``; Φ and Qd come from the Van Loan
-    blocks of :data:`_CHUNK` steps at a time through the batched series, so the working
-    memory stays a few MB whatever the duration.
+    The covariance of the noise system (:func:`_noise_column`) is carried step by step,
+    ``P_{k+1} = Φ_k P_k Φ_kᵀ + Qd_k``, from ``P_0 = 0``; Φ and Qd of :data:`_CHUNK` steps
+    at a time come from the batched series of the noise's one column
+    (:func:`~ins_errors.numeric.step_exponential.rank_one_noise_step`, the Van Loan pair
+    without its double-size block), so the working memory stays a few MB whatever the
+    duration.
 
     Parameters
     ----------
@@ -556,9 +563,9 @@ def _moving_noise_variance(F: np.ndarray, g: np.ndarray, source: SourceStatistic
         k1 = min(K + 1, k0 + _CHUNK)      # covariances P_k0 .. P_{k1-1} in this piece
         s1 = min(K, k1)                   # steps k0 .. s1-1 taken here
         if s1 > k0:
-            A, BQBt, _ = _noise_system(_step_matrix(F[k0:s1 + 1]),
-                                       _step_matrix(g[k0:s1 + 1]), source, C_x[0], c_b)
-            Phi, Qd = van_loan(A, BQBt, dt, batched=True)
+            A, b = _noise_column(_step_matrix(F[k0:s1 + 1]), _step_matrix(g[k0:s1 + 1]),
+                                 source)
+            Phi, Qd = rank_one_noise_step(A, b, dt)
         Ps = np.empty((k1 - k0, m, m))
         for k in range(k0, k1):
             Ps[k - k0] = P
@@ -570,7 +577,7 @@ def _moving_noise_variance(F: np.ndarray, g: np.ndarray, source: SourceStatistic
         if m > n:
             Ck = np.concatenate([Ck, np.broadcast_to(c_b[:, None], (len(ks), len(c_b), 1))],
                                 axis=-1)
-        var[i0:i1] = np.einsum("kqa,kab,kqb->kq", Ck, Ps[ks - k0], Ck)
+        var[i0:i1] = np.einsum("kqb,kqb->kq", Ck @ Ps[ks - k0], Ck)   # C P Cᵀ, diagonal
     return var
 
 
@@ -615,7 +622,9 @@ def _sensitivity_chunks(F: np.ndarray, G: np.ndarray, cols_b: list[int],
     augmented matrix. Φ and W come from a batched series
     (:func:`~ins_errors.numeric.step_exponential.exp_and_integral`) a few thousand steps
     at a time, and the pieces are yielded as they are done, so the working memory is a
-    few MB whatever the duration.
+    few MB whatever the duration. With a Markov source the augmented transitions
+    (:func:`~ins_errors.numeric.step_exponential.exponential`) are also formed a few
+    thousand steps at a time, and the sensitivities at ``keep`` yielded at the end.
     """
     K, n, m = F.shape[0] - 1, F.shape[-1], len(cols_b)
     if m == 0:
@@ -641,18 +650,23 @@ def _sensitivity_chunks(F: np.ndarray, G: np.ndarray, cols_b: list[int],
             yield i0, i1, C_x[ks] @ Xs[shifted] + C_b
             X = Xs[-1]
         return
+    # Markov sources: the augmented transitions, a piece of steps at a time
     Ys = np.zeros((len(keep), C_b.shape[0], m))
     keep_set = set(keep.tolist())
     out = 0
-    Phis = exponential(augmented_dynamics(_step_matrix(F), _step_matrix(G)[..., cols_b],
-                                          decay), dt)
     Z = Z0.copy()
-    for k in range(K + 1):
-        if k in keep_set:
-            Ys[out] = np.hstack([C_x[k], C_b]) @ Z
-            out += 1
-        if k < K:
-            Z = Phis[k] @ Z
+    for k0 in range(0, K + 1, _CHUNK):
+        k1 = min(K, k0 + _CHUNK)          # steps k0 .. k1-1 taken here
+        if k1 > k0:
+            Phis = exponential(augmented_dynamics(_step_matrix(F[k0:k1 + 1]),
+                                                  _step_matrix(G[k0:k1 + 1])[..., cols_b],
+                                                  decay), dt)
+        for k in range(k0, min(K + 1, k0 + _CHUNK)):
+            if k in keep_set:
+                Ys[out] = np.hstack([C_x[k], C_b]) @ Z
+                out += 1
+            if k < K:
+                Z = Phis[k - k0] @ Z
     yield 0, len(keep), Ys
 
 
@@ -702,6 +716,20 @@ def _constants_total(Phi: np.ndarray, n: int, E: np.ndarray, C_b: np.ndarray,
     C[rows, 2 * n + np.arange(r)] = 1.0
     V = Z0 * np.sqrt(sigma2)  # exact factor of the initial covariance, one column a source
     return power_sequence(Psi, V, C, steps, reduce="square-sum")
+
+
+def _noise_column(F: np.ndarray, g: np.ndarray, source: SourceStatistics
+                  ) -> tuple[np.ndarray, np.ndarray]:
+    """The system of :func:`_noise_system` as ``(A, b)``: its noise enters through the one
+    column ``b`` (``BQBᵀ = b bᵀ``), g itself for a white source, ``√(2/τ)`` on the Markov
+    state for a Markov one (shapes (K, N, N) and (K, N))."""
+    if source.kind == "white":
+        return np.asarray(F), np.asarray(g)
+    n = F.shape[-1]
+    A = augmented_dynamics(F, g[..., None], np.array([-1.0 / source.tau]))
+    b = np.zeros(A.shape[:-1])
+    b[..., n] = np.sqrt(2.0 / source.tau)
+    return A, b
 
 
 def _noise_system(F: np.ndarray, g: np.ndarray, source: SourceStatistics,

@@ -87,8 +87,10 @@ def choose_scaling(a1: float, a2: float) -> tuple[int, int]:
         s += 1
 
 
-def _scaled_series(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, int]:
-    """``(Φ, φ₁, s)`` of the scaled step ``F h 2^{-s}``: the series part, before squaring."""
+def _scaled_series(F: np.ndarray, h: float
+                   ) -> tuple[np.ndarray, np.ndarray, int, float, float]:
+    """``(Φ, φ₁, s, a₁, a₂)`` of the scaled step ``A = F h 2^{-s}``: the series part, before
+    squaring, and the largest 1-norms of that ``A`` and ``A²`` over the batch."""
     n = F.shape[-1]
     A = F * h
     A2 = A @ A
@@ -109,7 +111,7 @@ def _scaled_series(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, int
         S += eye * (1.0 / factorial(2 * j + 1))
     Phi = A @ S
     Phi += eye
-    return Phi, S, s
+    return Phi, S, s, a1 / 2.0**s, a2 / 4.0**s
 
 
 def exp_and_integral(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
@@ -131,7 +133,7 @@ def exp_and_integral(F: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray]:
     F = np.asarray(F, dtype=float)
     if F.shape[0] == 0:
         return np.empty_like(F), np.empty_like(F)
-    Phi, S, s = _scaled_series(F, h)
+    Phi, S, s, _, _ = _scaled_series(F, h)
     W = S * (h * 2.0**-s)
     for _ in range(s):
         W += Phi @ W
@@ -158,7 +160,87 @@ def exponential(F: np.ndarray, h: float) -> np.ndarray:
     F = np.asarray(F, dtype=float)
     if F.shape[0] == 0:
         return np.empty_like(F)
-    Phi, _, s = _scaled_series(F, h)
+    Phi, _, s, _, _ = _scaled_series(F, h)
     for _ in range(s):
         Phi = Phi @ Phi
     return Phi
+
+
+MAX_MOMENTS = 60
+"""Highest degree of the series of ``e^{Aσ} b`` (:func:`rank_one_noise_step`); about 30
+suffice at the largest scaled norms :func:`choose_scaling` leaves (``‖A‖ = 2**10``)."""
+
+
+def _moment_degree(a1: float, a2: float, n: int) -> int:
+    """Degree ``d`` of the series of ``e^{Aσ} b`` that :func:`rank_one_noise_step` needs.
+
+    With ``‖A^k‖ ≤ a₂^⌊k/2⌋ a₁^(k mod 2) =: β_k`` (``a₂ <= 1``, ``a₁ <= 2**10`` after
+    :func:`choose_scaling`), the terms left out of the double sum for ``Qd`` are bounded in
+    the 1-norm by ``h ‖b‖₁² · 2 T_d S`` with ``T_d = Σ_{k>d} β_k/k!`` and
+    ``S = Σ_k β_k/k!``; ``d`` is the least degree with ``2 T_d S <= u / n²`` (``u`` the
+    unit round-off; ``n²`` covers ``‖b‖₁² <= n² max b_i²``, so the bound holds relative to
+    the largest entry of ``h b bᵀ``).
+    """
+    terms = [a2 ** (k // 2) * a1 ** (k % 2) / factorial(k) for k in range(MAX_MOMENTS + 45)]
+    total = sum(terms)
+    for degree in range(1, MAX_MOMENTS + 1):
+        if 2.0 * sum(terms[degree + 1:]) * total <= UNIT_ROUNDOFF / n**2:
+            return degree
+    raise DomainError("step exponential: the noise-covariance series does not converge "
+                      "(scaled norms out of range)")   # unreachable after choose_scaling
+
+
+def rank_one_noise_step(F: np.ndarray, b: np.ndarray, h: float
+                        ) -> tuple[np.ndarray, np.ndarray]:
+    r"""Transition and added covariance of ``ẋ = F x + b n`` (unit white ``n``) per step.
+
+    The Van Loan pair of a noise entering through one column ``b``: ``Φ = e^{F h}`` and
+    :math:`Q_d = ∫_0^h y(σ) y(σ)^T dσ` with :math:`y(σ) = e^{Fσ} b`. Instead of the
+    exponential of the 2n-square block ``[[-F, b bᵀ], [0, Fᵀ]] h``, ``y`` is expanded as
+    :math:`Σ_k (σ/h)^k v_k` with :math:`v_k = (F h)^k b / k!` (``d`` matrix-vector
+    products), which gives :math:`Q_d = h\, V H V^T` with the Hilbert-type weights
+    ``H_jk = 1/(j + k + 1)``; ``Φ`` is the series of :func:`exponential`. With the scaling
+    ``s`` of :func:`choose_scaling` both are formed for ``h 2^{-s}`` and doubled ``s``
+    times: ``Qd ← Φ Qd Φᵀ + Qd``, ``Φ ← Φ²``. The truncation bound is that of
+    :func:`_moment_degree`.
+
+    Parameters
+    ----------
+    F : numpy.ndarray, shape (K, n, n)
+        Continuous-time matrices, 1/s.
+    b : numpy.ndarray, shape (K, n)
+        The noise's column per step (state units per unit noise, per √s).
+    h : float
+        Step, s.
+
+    Returns
+    -------
+    Phi, Qd : numpy.ndarray, shape (K, n, n)
+        Transitions and added covariances (``Qd`` symmetric).
+    """
+    F = np.asarray(F, dtype=float)
+    b = np.asarray(b, dtype=float)
+    if F.shape[0] == 0:
+        return np.empty_like(F), np.empty_like(F)
+    if not np.all(np.isfinite(b)):
+        raise DomainError("noise step: the noise column is not finite (NaN or infinite "
+                          "entries)")
+    n = F.shape[-1]
+    Phi, _, s, a1, a2 = _scaled_series(F, h)
+    step = h * 2.0**-s
+    degree = _moment_degree(a1, a2, n)
+    A = F * step
+    v = b
+    moments = [v]
+    for k in range(1, degree + 1):
+        v = np.einsum("kij,kj->ki", A, v) * (1.0 / k)
+        moments.append(v)
+    V = np.stack(moments, axis=-1)                     # (K, n, d + 1)
+    j = np.arange(degree + 1)
+    weights = 1.0 / (j[:, None] + j[None, :] + 1.0)
+    Qd = (V @ weights) @ np.swapaxes(V, -1, -2)
+    Qd *= step
+    for _ in range(s):
+        Qd = Phi @ Qd @ np.swapaxes(Phi, -1, -2) + Qd
+        Phi = Phi @ Phi
+    return Phi, 0.5 * (Qd + np.swapaxes(Qd, -1, -2))
