@@ -190,12 +190,21 @@ def _covariance(moving: bool, hours: float, noise: bool = False) -> dict:
     return {"cpu": best[0], "wall": best[1]}
 
 
+DERIVE_RUNS = 3
+"""Cold derives measured: one run's CPU varies by 10-20 % on a shared machine, about the
+distance to the goal, so the verdict is on the median and every run is printed."""
+
+
 def _derive() -> dict:
-    with tempfile.TemporaryDirectory() as out:
-        wall, cpu = time.perf_counter(), _cpu()
-        subprocess.run([sys.executable, "-m", "derive", "--out", out], cwd=ROOT, check=True,
-                       capture_output=True)
-        return {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall}
+    runs = []
+    for _ in range(DERIVE_RUNS):
+        with tempfile.TemporaryDirectory() as out:
+            wall, cpu = time.perf_counter(), _cpu()
+            subprocess.run([sys.executable, "-m", "derive", "--out", out], cwd=ROOT,
+                           check=True, capture_output=True)
+            runs.append((_cpu() - cpu, time.perf_counter() - wall))
+    cpu, wall = sorted(runs)[len(runs) // 2]
+    return {"cpu": cpu, "wall": wall, "runs": [r[0] for r in runs]}
 
 
 def _tests() -> dict:
@@ -327,8 +336,11 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
              "", None)
     if not failed("derive"):
         x = r["derive"]
-        _row("python -m derive, all models, cold", f"{x['cpu']:.1f} s CPU ({x['wall']:.0f} s "
-             "wall)", "<= 12 s CPU", x["cpu"] <= 12)
+        _row("python -m derive, all models, cold",
+             f"{x['cpu']:.1f} s CPU median ({x['wall']:.0f} s wall)", "<= 12 s CPU",
+             x["cpu"] <= 12)
+        _row(f"  each of the {len(x['runs'])} runs", ", ".join(f"{c:.1f}" for c in x["runs"])
+             + " s CPU", "", None)
     if not failed("tests"):
         x = r["tests"]
         _row("make test, warm cache", f"{x['cpu']:.0f} s CPU ({x['summary'][:30]})",
