@@ -314,6 +314,38 @@ def test_output_contributions_at_chosen_times(orthodromic, spec_802m):
         bd.output_contributions(orthodromic, allocation, [9 * HOUR])
 
 
+def test_rankings_do_not_turn_on_rounding():
+    """Shares equal to 9 digits are ties and keep the given order; real differences rank."""
+    from ins_errors.analysis.budget_report import largest_first
+
+    shares = np.array([1.0, 1.0 + 3e-14, 0.5, 1.0 - 2e-14, 2e-10, 1.0 + 1e-6])
+    assert largest_first(shares).tolist() == [5, 0, 1, 3, 2, 4]
+    assert largest_first(np.zeros(3)).tolist() == [0, 1, 2]
+    assert largest_first(np.array([])).tolist() == []
+
+
+def test_equal_shares_are_listed_in_the_models_order(orthodromic, spec_802m, monkeypatch):
+    """An equal-share allocation gives most free sources the same share of their binding
+    item; the contribution table lists them in the model's order (not in the order of
+    their rounding errors), and the same table comes back from contributions perturbed
+    in the 13th digit."""
+    from ins_errors.analysis.budget_report import contribution_table
+
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec_802m))
+    table = contribution_table(allocation, top=30)
+    rows = [line.split() for line in table.splitlines()[3:-1]]
+    top = max(max(float(v) for v in row[1:]) for row in rows)
+    tied = [row[0] for row in rows if max(float(v) for v in row[1:]) == top]
+    names = [s.name for s in allocation.budget.sources]
+    assert len(tied) >= 10
+    assert tied == sorted(tied, key=names.index)
+    before = contribution_table(allocation, top=12)
+    exact = allocation.contributions()
+    noise = 1 + 1e-13 * np.random.default_rng(1).standard_normal(exact.shape)
+    monkeypatch.setattr(type(allocation), "contributions", lambda self: exact * noise)
+    assert contribution_table(allocation, top=12) == before
+
+
 def test_cli_contributions_table(tmp_path, capsys):
     png = tmp_path / "outputs.png"
     assert main(["budget", "orthodromic", "--at", "1 h, 2 h", "--plot-at", str(png)]) == 0

@@ -19,6 +19,25 @@ from ins_errors.analysis.budget import (
 from ins_errors.figure_layout import fixed_margins, text_height, text_width, wrap_to_width
 from ins_errors.output import require_matplotlib, save_figure
 
+TIE_DIGITS = 9
+"""Sizes that agree to this many significant digits of the largest rank as equal."""
+
+
+def largest_first(sizes: np.ndarray) -> np.ndarray:
+    """Indices of ``sizes`` (1-D) from the largest down; equal sizes keep their order.
+
+    "Equal" is to :data:`TIE_DIGITS` significant digits of the largest size: an
+    equal-share allocation gives many sources exactly the same share in exact
+    arithmetic, and their computed shares differ only by rounding, which would otherwise
+    decide the order of the rows (and which sources a table lumps into "others") and
+    change it with the last bit of any computation. Ties are listed in the model's order
+    of its sources.
+    """
+    sizes = np.asarray(sizes, dtype=float)
+    largest = float(np.max(np.abs(sizes))) if sizes.size else 0.0
+    key = np.round(sizes / largest, TIE_DIGITS) if largest > 0 else sizes
+    return np.argsort(-key, kind="stable")
+
 
 def report(allocation: Allocation) -> dict:
     """A JSON-ready summary: rule, sources with magnitudes and binding rows, spec rows."""
@@ -99,7 +118,7 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
     header = f"{'source':<36}" + "".join(f"{it.name[:16]:>17}" for it in items)
     lines = ["Share of each item's allowed variance (%), at its worst time:", header,
              "-" * len(header)]
-    order = np.argsort(-contributions[worst].max(0))
+    order = largest_first(contributions[worst].max(0))
     for j in order[:top]:
         lines.append(f"{budget.sources[j].name:<36}" + "".join(
             f"{100 * contributions[r, j]:>17.2f}" for r in worst))
@@ -141,9 +160,11 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     k = f"{spec.sigma_level:g}σ"
     items = [item.name for item in spec.items]
     limited = [s for s in data["sources"] if s["binding_item"] is not None]
-    limited = sorted(limited, key=lambda s: -s["share_at_binding"])[:top]
+    limited = [limited[i] for i in
+               largest_first(np.array([s["share_at_binding"] for s in limited]))[:top]]
+    rank = {s["name"]: r for r, s in enumerate(limited)}
     limited.sort(key=lambda s: (items.index(s["binding_item"]), s["binding_time_h"],
-                                -s["share_at_binding"], s["name"]))
+                                rank[s["name"]]))
     free = [s["name"] for s in data["sources"]
             if s["binding_item"] is None and not s["fixed"]]
     colours = {name: plt.get_cmap("tab10")(n % 10) for n, name in enumerate(items)}
@@ -220,7 +241,7 @@ def output_table(data: dict, top: int = 10) -> str:
             for q, u in zip(data["quantities"], data["units"], strict=True))
         lines += [f"Contributions to the navigation errors at {t:g} h:", header,
                   "-" * len(header)]
-        order = np.argsort(-(std[:, :-1] / np.maximum(std[:, -1:], 1e-300)).max(0))
+        order = largest_first((std[:, :-1] / np.maximum(std[:, -1:], 1e-300)).max(0))
         for j in order[:top]:
             lines.append(f"{data['sources'][j]:<34}" + "".join(f"{v:>16.4g}"
                                                                for v in std[:, j]))
@@ -244,7 +265,7 @@ def plot_outputs(data: dict, path: str, top: int = 14) -> None:
     std = data["std"]                                   # (t, q, s + 1)
     variance = std[..., :-1] ** 2
     shares = variance / np.maximum(variance.sum(-1, keepdims=True), 1e-300)
-    order = np.argsort(-shares.max(axis=(0, 1)))
+    order = largest_first(shares.max(axis=(0, 1)))
     shown, rest = order[:top], order[top:]
     colours = plt.get_cmap("tab20")
     times = data["times_h"]
