@@ -152,7 +152,17 @@ def _batch(hours: float, threads: int, repeats: int) -> dict:
     return {"cpu": best[1], "wall": best[0], "cases": len(cases)}
 
 
-def _covariance(moving: bool, hours: float, noise: bool = False) -> dict:
+NOISES = {
+    "one": [("gyro_drift_x", "white", 1e-6, None), ("accel_bias_x", "markov", 1e-4, 300.0)],
+    "many": [*[(f"gyro_drift_{a}", "white", 1e-6, None) for a in "xyz"],
+             *[(f"accel_bias_{a}", "white", 1e-5, None) for a in "xy"],
+             *[(f"velocity_integrator_offset_{a}", "markov", 1e-4, 300.0)
+               for a in ("xi", "eta")]],
+}
+"""Noise sources of the covariance figures: (name, kind, sigma, tau)."""
+
+
+def _covariance(moving: bool, hours: float, noise: str | None = None) -> dict:
     from ins_errors.analysis import covariance as cv
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.linear_system import system_from_trajectory
@@ -160,9 +170,8 @@ def _covariance(moving: bool, hours: float, noise: bool = False) -> dict:
 
     model = load_model("orthodromic")
     sources = [cv.SourceStatistics(s.name, "constant", 1e-6) for s in model.sources]
-    if noise:   # a white gyro noise and a Markov accelerometer noise
-        sources = [cv.SourceStatistics("gyro_drift_x", "white", 1e-6),
-                   cv.SourceStatistics("accel_bias_x", "markov", 1e-4, 300.0)]
+    if noise:
+        sources = [cv.SourceStatistics(*source) for source in NOISES[noise]]
     if moving:
         profile = tr.great_circle_profile(50 * DEG, 30 * DEG, 90 * DEG, 250.0, 5000.0)
         traj = tr.trajectory(model, profile, hours * 3600.0, 1.0)
@@ -231,7 +240,9 @@ FIGURES = {
     "batch-threads": lambda q: _batch(1.0 if q else 24.0, 2, 3 if q else 2),
     "covariance-static": lambda q: _covariance(False, 24.0),
     "covariance-moving": lambda q: _covariance(True, 1.0 if q else 24.0),
-    "covariance-moving-noise": lambda q: _covariance(True, 1.0 if q else 24.0, noise=True),
+    "covariance-moving-noise": lambda q: _covariance(True, 1.0 if q else 24.0, noise="one"),
+    "covariance-moving-noises": lambda q: _covariance(True, 1.0 if q else 24.0,
+                                                      noise="many"),
     "derive": lambda q: _derive(),
     "tests": lambda q: _tests(),
 }
@@ -334,6 +345,10 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
         x = r["covariance-moving-noise"]
         _row("  the same, a white gyro noise and a Markov source", f"{x['cpu']:.2f} s CPU",
              "", None)
+    if not failed("covariance-moving-noises"):
+        x = r["covariance-moving-noises"]
+        _row("  five white noises and two Markov sources",
+             f"{x['cpu']:.2f} s CPU", "", None)
     if not failed("derive"):
         x = r["derive"]
         _row("python -m derive, all models, cold",

@@ -402,8 +402,9 @@ def test_moving_base_constants_match_the_per_step_scipy_exponential(orthodromic,
 
 
 def test_moving_base_noise_matches_the_per_step_scipy_exponential(orthodromic, monkeypatch):
-    """White gyro noise and a Markov accelerometer noise along a great circle at 1 s: the
-    batched series (each noise's column series, augmented Markov transitions) against
+    """White gyro and accelerometer noises (one shared transition, carried side by side)
+    and a Markov accelerometer noise along a great circle at 1 s: the batched series
+    (each noise's column series, augmented Markov transitions) against
     SciPy's expm of the whole Van Loan blocks and augmented matrices one step at a time.
     Per step the two agree to ~1e-15 of the blocks' norm (the series are the closer to
     a 40-digit reference, see test_step_exponential); the variances are sums of large
@@ -415,18 +416,23 @@ def test_moving_base_noise_matches_the_per_step_scipy_exponential(orthodromic, m
     fn = cv.state_and_output_functionals(orthodromic, system)
     sources = [cv.SourceStatistics("gyro_drift_x", "white", 1e-6),
                cv.SourceStatistics("accel_bias_x", "markov", 1e-4, 300.0),
-               cv.SourceStatistics("gyro_drift_y", "constant", 1e-7)]
+               cv.SourceStatistics("gyro_drift_y", "constant", 1e-7),
+               cv.SourceStatistics("accel_bias_y", "white", 1e-5)]
     batched = cv.propagate(system, sources, fn)
     total = cv.propagate(system, sources, fn, by_source=False)
     monkeypatch.setattr(cv, "exponential", lambda M, h: scipy_expm(M * h))  # one BLAS thread
 
-    def scipy_van_loan(A, b, h):
-        return cv.van_loan(A, b[..., :, None] * b[..., None, :], h)  # SciPy, one by one
+    def scipy_van_loan(A, b, h):       # SciPy, one step and one noise column at a time
+        columns = b if b.ndim == 3 else b[..., None]
+        pairs = [cv.van_loan(A, c[..., :, None] * c[..., None, :], h)
+                 for c in np.moveaxis(columns, -1, 0)]
+        Qd = np.stack([Qd for _, Qd in pairs], axis=1)
+        return pairs[0][0], (Qd if b.ndim == 3 else Qd[:, 0])
 
     monkeypatch.setattr(cv, "rank_one_noise_step", scipy_van_loan)
     previous = cv.propagate(system, sources, fn)
     scale = np.abs(previous.unit_variances).max(axis=0, keepdims=True)
-    assert np.all(scale[0, :, :2] > 0)      # every quantity sees both noises
+    assert np.all(scale[0, :, [0, 1, 3]] > 0)      # every quantity sees the three noises
     scale[scale == 0] = 1.0
     np.testing.assert_allclose(batched.unit_variances / scale,
                                previous.unit_variances / scale, rtol=0, atol=1e-9)

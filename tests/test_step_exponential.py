@@ -191,6 +191,14 @@ def test_rank_one_noise_step_equals_the_40_digit_van_loan_blocks(orthodromic, on
     _, Qd_block = cv.van_loan(A, BQBt, step, batched=True)
     scale = np.abs(Qd_block).max(axis=(-2, -1), keepdims=True)
     assert np.all(np.abs(Qd - Qd_block) <= 1e-12 * scale)
+    # several noise columns at once: the same transition, one Qd per column
+    e = np.zeros_like(b)
+    e[:, 0] = 1e-3                                     # a second, different noise
+    Phi2, Qd2 = se.rank_one_noise_step(A, np.stack([b, e], axis=-1), step)
+    assert Qd2.shape == (len(A), 2, N, N) and np.array_equal(Phi2, Phi)
+    assert np.all(np.abs(Qd2[:, 0] - Qd) <= 1e-15 * scale)
+    np.testing.assert_allclose(Qd2[:, 1], se.rank_one_noise_step(A, e, step)[1],
+                               rtol=0, atol=1e-15 * np.abs(Qd2[:, 1]).max())
 
 
 def test_moment_degree_meets_its_bound():

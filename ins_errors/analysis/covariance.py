@@ -513,10 +513,14 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
                               total, total_only=True)
         for i0, i1, Y in chunks:
             unit[i0:i1, :, valued] = Y**2
-        for i, s in enumerate(sources):
-            if s.kind != "constant":
-                unit[:, :, i] += _moving_noise_variance(F, G[..., columns[i]], s, dt, C_x,
-                                                        functionals.C_b[:, columns[i]], keep)
+        white = [i for i, s in enumerate(sources) if s.kind == "white"]
+        groups = ([white] if white else []) + [[i] for i, s in enumerate(sources)
+                                               if s.kind == "markov"]
+        for group in groups:   # the white sources together, each Markov source alone
+            cols = [columns[i] for i in group]
+            unit[:, :, group] += _moving_noise_variance(
+                F, G[..., cols], [sources[i] for i in group], dt, C_x,
+                functionals.C_b[:, cols], keep)
         if not by_source:
             unit = (unit * sigma2).sum(-1, keepdims=True)
     used = tuple(sources) if by_source else ()
@@ -524,60 +528,69 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
                       total_only=not by_source)
 
 
-def _moving_noise_variance(F: np.ndarray, g: np.ndarray, source: SourceStatistics,
-                           dt: float, C_x: np.ndarray, c_b: np.ndarray,
-                           keep: np.ndarray) -> np.ndarray:
-    """Variance of the functionals from one unit noise source along a time-varying system.
+def _moving_noise_variance(F: np.ndarray, g: np.ndarray,
+                           sources: Sequence[SourceStatistics], dt: float, C_x: np.ndarray,
+                           c_b: np.ndarray, keep: np.ndarray) -> np.ndarray:
+    """Variances of the functionals from unit noise sources along a time-varying system.
 
-    The covariance of the noise system (:func:`_noise_column`) is carried step by step,
-    ``P_{k+1} = Φ_k P_k Φ_kᵀ + Qd_k``, from ``P_0 = 0``; Φ and Qd of :data:`_CHUNK` steps
-    at a time come from the batched series of the noise's one column
+    The covariance of each source's noise system (:func:`_noise_column`) is carried step
+    by step, ``P_{k+1} = Φ_k P_k Φ_kᵀ + Qd_k``, from ``P_0 = 0``; Φ and Qd of
+    :data:`_CHUNK` steps at a time come from the batched series of the noise's column
     (:func:`~ins_errors.numeric.step_exponential.rank_one_noise_step`, the Van Loan pair
     without its double-size block), so the working memory stays a few MB whatever the
-    duration.
+    duration. Several white sources share their system matrix: its transition is
+    formed once and their covariances are carried side by side.
 
     Parameters
     ----------
     F : numpy.ndarray, shape (K + 1, n, n)
-    g : numpy.ndarray, shape (K + 1, n)
-        The source's column of G at the grid times.
-    source : SourceStatistics
-        A white or Markov source (its sigma is not used: unit statistics).
+    g : numpy.ndarray, shape (K + 1, n, r)
+        The sources' columns of G at the grid times.
+    sources : sequence of SourceStatistics
+        ``r`` white sources, or one Markov source (sigma not used: unit statistics).
     dt : float
         Step, s.
     C_x : numpy.ndarray, shape (K + 1, q, n)
-    c_b : numpy.ndarray, shape (q,)
-        The functionals' direct dependence on the source's value (Markov sources).
+    c_b : numpy.ndarray, shape (q, r)
+        The functionals' direct dependence on the sources' values (Markov sources).
     keep : numpy.ndarray of int
         Output grid indices, increasing.
 
     Returns
     -------
-    numpy.ndarray, shape (len(keep), q)
+    numpy.ndarray, shape (len(keep), q, r)
     """
-    K, n = F.shape[0] - 1, F.shape[-1]
-    var = np.zeros((len(keep), C_x.shape[1]))
-    m = n if source.kind == "white" else n + 1
-    P = np.zeros((m, m))
+    K, n, r = F.shape[0] - 1, F.shape[-1], g.shape[-1]
+    markov = sources[0].kind == "markov"
+    var = np.zeros((len(keep), C_x.shape[1], r))
+    m = n + 1 if markov else n
+    P = np.zeros((r, m, m))
     for k0 in range(0, K + 1, _CHUNK):
         k1 = min(K + 1, k0 + _CHUNK)      # covariances P_k0 .. P_{k1-1} in this piece
         s1 = min(K, k1)                   # steps k0 .. s1-1 taken here
         if s1 > k0:
-            A, b = _noise_column(_step_matrix(F[k0:s1 + 1]), _step_matrix(g[k0:s1 + 1]),
-                                 source)
-            Phi, Qd = rank_one_noise_step(A, b, dt)
-        Ps = np.empty((k1 - k0, m, m))
+            F_k, g_k = _step_matrix(F[k0:s1 + 1]), _step_matrix(g[k0:s1 + 1])
+            if markov:
+                A, b = _noise_column(F_k, g_k[..., 0], sources[0])
+                Phi, Qd = rank_one_noise_step(A, b, dt)
+                Qd = Qd[:, None]
+            else:
+                Phi, Qd = rank_one_noise_step(F_k, g_k, dt)    # Qd: (steps, r, n, n)
+            Phi_t = np.swapaxes(Phi, -1, -2)
+        Ps = np.empty((k1 - k0, r, m, m))
         for k in range(k0, k1):
             Ps[k - k0] = P
             if k < K:
-                P = Phi[k - k0] @ P @ Phi[k - k0].T + Qd[k - k0]
+                P = Phi[k - k0] @ P @ Phi_t[k - k0] + Qd[k - k0]
         i0, i1 = (int(i) for i in np.searchsorted(keep, [k0, k1]))
         ks = keep[i0:i1]
         Ck = C_x[ks]
-        if m > n:
-            Ck = np.concatenate([Ck, np.broadcast_to(c_b[:, None], (len(ks), len(c_b), 1))],
+        if markov:
+            Ck = np.concatenate([Ck, np.broadcast_to(c_b[:, :1], (len(ks), len(c_b), 1))],
                                 axis=-1)
-        var[i0:i1] = np.einsum("kqb,kqb->kq", Ck @ Ps[ks - k0], Ck)   # C P Cᵀ, diagonal
+        # diagonal of C P Cᵀ for each source: (kept steps, r, q)
+        Ck = Ck[:, None]
+        var[i0:i1] = np.swapaxes(np.einsum("krqb,krqb->krq", Ck @ Ps[ks - k0], Ck), 1, 2)
     return var
 
 

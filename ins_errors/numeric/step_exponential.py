@@ -202,45 +202,52 @@ def rank_one_noise_step(F: np.ndarray, b: np.ndarray, h: float
     ``H_jk = 1/(j + k + 1)``; ``Φ`` is the series of :func:`exponential`. With the scaling
     ``s`` of :func:`choose_scaling` both are formed for ``h 2^{-s}`` and doubled ``s``
     times: ``Qd ← Φ Qd Φᵀ + Qd``, ``Φ ← Φ²``. The truncation bound is that of
-    :func:`_moment_degree`.
+    :func:`_moment_degree`. Several independent noises through the same F (columns of
+    ``b``) share Φ and get one ``Qd`` each.
 
     Parameters
     ----------
     F : numpy.ndarray, shape (K, n, n)
         Continuous-time matrices, 1/s.
-    b : numpy.ndarray, shape (K, n)
-        The noise's column per step (state units per unit noise, per √s).
+    b : numpy.ndarray, shape (K, n) or (K, n, r)
+        The noise's column per step (state units per unit noise, per √s), or the columns
+        of ``r`` independent noises.
     h : float
         Step, s.
 
     Returns
     -------
-    Phi, Qd : numpy.ndarray, shape (K, n, n)
-        Transitions and added covariances (``Qd`` symmetric).
+    Phi : numpy.ndarray, shape (K, n, n)
+        Transitions.
+    Qd : numpy.ndarray, shape (K, n, n) or (K, r, n, n)
+        Added covariances (symmetric), one per noise.
     """
     F = np.asarray(F, dtype=float)
     b = np.asarray(b, dtype=float)
+    columns = b if b.ndim == 3 else b[..., None]
+    n = F.shape[-1]
     if F.shape[0] == 0:
-        return np.empty_like(F), np.empty_like(F)
+        return np.empty_like(F), np.empty((0, columns.shape[-1], n, n) if b.ndim == 3
+                                          else (0, n, n))
     if not np.all(np.isfinite(b)):
         raise DomainError("noise step: the noise column is not finite (NaN or infinite "
                           "entries)")
-    n = F.shape[-1]
     Phi, _, s, a1, a2 = _scaled_series(F, h)
     step = h * 2.0**-s
     degree = _moment_degree(a1, a2, n)
     A = F * step
-    v = b
+    v = columns
     moments = [v]
     for k in range(1, degree + 1):
-        v = np.einsum("kij,kj->ki", A, v) * (1.0 / k)
+        v = (A @ v) * (1.0 / k)                            # (K, n, r)
         moments.append(v)
-    V = np.stack(moments, axis=-1)                     # (K, n, d + 1)
+    V = np.moveaxis(np.stack(moments, axis=-1), 2, 1)  # (K, r, n, d + 1)
     j = np.arange(degree + 1)
     weights = 1.0 / (j[:, None] + j[None, :] + 1.0)
-    Qd = (V @ weights) @ np.swapaxes(V, -1, -2)
+    Qd = (V @ weights) @ np.swapaxes(V, -1, -2)        # (K, r, n, n)
     Qd *= step
     for _ in range(s):
-        Qd = Phi @ Qd @ np.swapaxes(Phi, -1, -2) + Qd
+        Qd = Phi[:, None] @ Qd @ np.swapaxes(Phi, -1, -2)[:, None] + Qd
         Phi = Phi @ Phi
-    return Phi, 0.5 * (Qd + np.swapaxes(Qd, -1, -2))
+    Qd = 0.5 * (Qd + np.swapaxes(Qd, -1, -2))
+    return Phi, (Qd if b.ndim == 3 else Qd[:, 0])
