@@ -105,21 +105,32 @@ def test_truncation_bound_and_choice():
         se.exp_and_integral(np.full((1, 2, 2), np.nan), 1.0)
 
 
-def _van_loan_blocks(orthodromic, steps: tuple[np.ndarray, np.ndarray], kind: str
-                     ) -> tuple[np.ndarray, int]:
-    """Van Loan matrices [[-A, BQBᵀ], [0, Aᵀ]] of one unit noise source at 1 s steps."""
+def _unit_noise(orthodromic, steps: tuple[np.ndarray, np.ndarray], kind: str
+                ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A, b, BQBᵀ) of one unit noise source along the steps: a white gyro noise or a
+    Markov accelerometer noise (τ = 300 s)."""
     F, traj_G = steps
     names = [s.name for s in orthodromic.sources]
     name = "gyro_drift_x" if kind == "white" else "accel_bias_x"
     source = cv.SourceStatistics(name, kind, 1.0, None if kind == "white" else 300.0)
-    A, BQBt, _ = cv._noise_system(F, traj_G[..., names.index(name)], source,
-                                  np.zeros((1, F.shape[-1])), np.zeros(1))
+    g = traj_G[..., names.index(name)]
+    A, BQBt, _ = cv._noise_system(F, g, source, np.zeros((1, F.shape[-1])), np.zeros(1))
+    return A, cv._noise_column(F, g, source)[1], BQBt
+
+
+def _van_loan_blocks(A: np.ndarray, BQBt: np.ndarray) -> np.ndarray:
+    """Van Loan matrices [[-A, BQBᵀ], [0, Aᵀ]] of each step, shape (K, 2N, 2N)."""
     N = A.shape[-1]
     M = np.zeros((len(A), 2 * N, 2 * N))
     M[:, :N, :N] = -A
     M[:, :N, N:] = BQBt
     M[:, N:, N:] = np.swapaxes(A, -1, -2)
-    return M, N
+    return M
+
+
+def _block_noise(X: np.ndarray, N: int) -> np.ndarray:
+    """The added covariance Qd = Φ X₁₂ read off exponentials X of Van Loan blocks."""
+    return np.swapaxes(X[..., N:, N:], -1, -2) @ X[..., :N, N:]
 
 
 @pytest.mark.parametrize("kind, k", [("white", 0), ("markov", 599)])
@@ -130,31 +141,18 @@ def test_van_loan_noise_covariance_equals_a_40_digit_reference(orthodromic, one_
     step and a Markov accelerometer noise at the last, the added covariance Qd = Φ X₁₂
     matches 40 digits to 1e-14 of its largest entry (SciPy's expm of the same blocks is
     ~1e-15 .. 1e-14 off too)."""
-    M, N = _van_loan_blocks(orthodromic, one_second_steps, kind)
+    A, _, BQBt = _unit_noise(orthodromic, one_second_steps, kind)
+    M, N = _van_loan_blocks(A, BQBt), A.shape[-1]
     X = se.exponential(M, 1.0)
     assert np.array_equal(X, se.exp_and_integral(M, 1.0)[0])
     with mpmath.workdps(40):
         exact = mpmath.expm(mpmath.matrix(M[k]))
         phi_t = exact[N:, N:].T
         Qd_exact = np.array((phi_t * exact[:N, N:]).tolist(), dtype=float)
-    Qd = X[k, N:, N:].T @ X[k, :N, N:]
+    Qd = _block_noise(X[k], N)
     assert np.abs(Qd - Qd_exact).max() <= 1e-14 * np.abs(Qd_exact).max()
     assert np.abs(X[k, N:, N:] - np.array(exact[N:, N:].tolist(), dtype=float)).max() \
         <= 1e-14
-
-
-def _noise_column(orthodromic, steps: tuple[np.ndarray, np.ndarray], kind: str):
-    """(A, b, BQBᵀ) of one unit noise source along the steps (white gyro or Markov accel)."""
-    F, traj_G = steps
-    names = [s.name for s in orthodromic.sources]
-    name = "gyro_drift_x" if kind == "white" else "accel_bias_x"
-    source = cv.SourceStatistics(name, kind, 1.0, None if kind == "white" else 300.0)
-    g = traj_G[..., names.index(name)]
-    A, b = cv._noise_column(F, g, source)
-    A_full, BQBt, _ = cv._noise_system(F, g, source, np.zeros((1, F.shape[-1])), np.zeros(1))
-    assert np.array_equal(A, A_full)   # b bᵀ is BQBᵀ (to the rounding of √(2/τ)²)
-    np.testing.assert_allclose(b[..., :, None] * b[..., None, :], BQBt, rtol=1e-15, atol=0)
-    return A, b, BQBt
 
 
 @pytest.mark.parametrize("kind, step, duration, k", [
@@ -172,15 +170,13 @@ def test_rank_one_noise_step_equals_the_40_digit_van_loan_blocks(orthodromic, on
     else:
         system = _step_system(orthodromic, step, duration)
         steps = cv._step_matrix(system.F), cv._step_matrix(system.G)
-    A, b, BQBt = _noise_column(orthodromic, steps, kind)
+    A, b, BQBt = _unit_noise(orthodromic, steps, kind)
+    # b bᵀ is BQBᵀ (to the rounding of √(2/τ)²)
+    np.testing.assert_allclose(b[..., :, None] * b[..., None, :], BQBt, rtol=1e-15, atol=0)
     Phi, Qd = se.rank_one_noise_step(A, b, step)
-    N = A.shape[-1]
-    M = np.zeros((2 * N, 2 * N))
-    M[:N, :N] = -A[k]
-    M[:N, N:] = BQBt[k]
-    M[N:, N:] = A[k].T
+    M, N = _van_loan_blocks(A, BQBt), A.shape[-1]
     with mpmath.workdps(40):
-        exact = mpmath.expm(mpmath.matrix(M * step))
+        exact = mpmath.expm(mpmath.matrix(M[k] * step))
         phi = exact[N:, N:].T
         Qd_exact = np.array((phi * exact[:N, N:]).tolist(), dtype=float)
         Phi_exact = np.array(phi.tolist(), dtype=float)
@@ -188,7 +184,7 @@ def test_rank_one_noise_step_equals_the_40_digit_van_loan_blocks(orthodromic, on
     assert np.abs(Phi[k] - Phi_exact).max() <= 1e-14 * np.abs(Phi_exact).max()
     assert np.array_equal(Qd, np.swapaxes(Qd, -1, -2))
     assert np.all(np.linalg.eigvalsh(Qd[k]) >= -1e-14 * np.abs(Qd_exact).max())
-    _, Qd_block = cv.van_loan(A, BQBt, step, batched=True)
+    Qd_block = _block_noise(se.exponential(M, step), N)
     scale = np.abs(Qd_block).max(axis=(-2, -1), keepdims=True)
     assert np.all(np.abs(Qd - Qd_block) <= 1e-12 * scale)
     # several noise columns at once: the same transition, one Qd per column

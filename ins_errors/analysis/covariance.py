@@ -133,8 +133,7 @@ def _expm(matrix: np.ndarray) -> np.ndarray:
     return import_limited("scipy.linalg").expm(matrix)
 
 
-def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float,
-             batched: bool = False) -> tuple[np.ndarray, np.ndarray]:
+def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
     """Exact discretisation of ``ż = A z + noise`` (noise covariance rate ``B Q Bᵀ``).
 
     Parameters
@@ -143,10 +142,6 @@ def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float,
     BQBt : numpy.ndarray, shape (..., N, N)
     dt : float
         Step, s.
-    batched : bool
-        If True (A of shape (K, N, N)), the block exponential of all K steps comes from
-        the batched series of :func:`~ins_errors.numeric.step_exponential.exponential`
-        instead of SciPy's ``expm`` one matrix at a time.
 
     Returns
     -------
@@ -159,7 +154,7 @@ def van_loan(A: np.ndarray, BQBt: np.ndarray, dt: float,
     M[..., :N, :N] = -A
     M[..., :N, N:] = BQBt
     M[..., N:, N:] = np.swapaxes(A, -1, -2)
-    X = exponential(M, dt) if batched else _expm(M * dt)
+    X = _expm(M * dt)
     Phi = np.swapaxes(X[..., N:, N:], -1, -2)
     Qd = Phi @ X[..., :N, N:]
     return Phi, 0.5 * (Qd + np.swapaxes(Qd, -1, -2))
@@ -569,13 +564,11 @@ def _moving_noise_variance(F: np.ndarray, g: np.ndarray,
         k1 = min(K + 1, k0 + _CHUNK)      # covariances P_k0 .. P_{k1-1} in this piece
         s1 = min(K, k1)                   # steps k0 .. s1-1 taken here
         if s1 > k0:
-            F_k, g_k = _step_matrix(F[k0:s1 + 1]), _step_matrix(g[k0:s1 + 1])
+            A, b = _step_matrix(F[k0:s1 + 1]), _step_matrix(g[k0:s1 + 1])
             if markov:
-                A, b = _noise_column(F_k, g_k[..., 0], sources[0])
-                Phi, Qd = rank_one_noise_step(A, b, dt)
-                Qd = Qd[:, None]
-            else:
-                Phi, Qd = rank_one_noise_step(F_k, g_k, dt)    # Qd: (steps, r, n, n)
+                A, b = _noise_column(A, b[..., 0], sources[0])
+                b = b[..., None]
+            Phi, Qd = rank_one_noise_step(A, b, dt)              # Qd: (steps, r, m, m)
             Phi_t = np.swapaxes(Phi, -1, -2)
         Ps = np.empty((k1 - k0, r, m, m))
         for k in range(k0, k1):
@@ -753,13 +746,11 @@ def _noise_system(F: np.ndarray, g: np.ndarray, source: SourceStatistics,
     ḃ = −b/τ + n with PSD 2/τ and b(0) = 0 (its stationary start is handled with the
     constants). Returns (A, BQBᵀ, C) with C the functionals on that state.
     """
-    n = F.shape[-1]
+    A, b = _noise_column(F, g, source)
     if source.kind == "white":
-        A = np.array(F)
-        BQBt = g[..., :, None] * g[..., None, :]
-        return A, BQBt, C_x
-    A = augmented_dynamics(F, g[..., None], np.array([-1.0 / source.tau]))
+        return A, b[..., :, None] * b[..., None, :], C_x
+    n = F.shape[-1]
     BQBt = np.zeros(A.shape)
-    BQBt[..., n, n] = 2.0 / source.tau
+    BQBt[..., n, n] = 2.0 / source.tau   # (b bᵀ, without rounding √(2/τ)²)
     C = np.hstack([C_x, c_b[:, None]]) if C_x.ndim == 2 else None
     return A, BQBt, C
