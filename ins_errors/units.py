@@ -40,7 +40,7 @@ def registry() -> pint.UnitRegistry:
         # pint keeps its parsed definition files in a cache folder (keyed by their
         # contents and pint's version): 0.33 -> 0.02 s CPU per process once it is there
         ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True,
-                                 cache_folder=units_cache_directory())
+                                 cache_folder=installation_folder(units_cache_directory()))
     except Exception:  # an unwritable or half-written cache folder: parse afresh
         ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
     # 'g' means standard gravity in INS work (pint's 'g' is the gram).
@@ -52,11 +52,58 @@ def registry() -> pint.UnitRegistry:
 
 
 def units_cache_directory() -> Path:
-    """Where pint's parsed unit definitions are kept (``$INS_ERRORS_CACHE/units`` or the
-    user cache folder next to the compiled loops)."""
+    """The store of pint's parsed unit definitions (``$INS_ERRORS_CACHE/units`` or the
+    user cache folder next to the compiled loops), one subfolder per pint installation
+    (:func:`installation_folder`)."""
     from ins_errors.numeric.cache import store_directory
 
     return store_directory("units")
+
+
+INSTALLATION_FILE = "installation.txt"
+"""The file of an installation's subfolder that names the pint folder it was made from."""
+
+
+def installation_folder(store: Path) -> Path:
+    """This pint installation's subfolder of the units store, made if missing.
+
+    pint finds a parsed file in its cache by the file's contents, but the parsed file
+    names the definition files it includes by the folder it was first read from. Every
+    virtual environment has its own copy of pint, so a set parsed by another checkout's
+    environment is found by the contents and then read from that environment's folder;
+    once the environment is deleted, every registry fails to load (and is parsed
+    afresh, twice the time of no cache at all). Each installation therefore keeps its
+    own set, in a subfolder named by the hash of pint's folder; sets whose installation
+    no longer exists, and the loose files of the earlier one-set layout, are deleted
+    here.
+
+    Raises
+    ------
+    OSError
+        If the folder cannot be made or written.
+    """
+    import hashlib
+    import shutil
+
+    import pint
+
+    location = str(Path(pint.__file__).resolve().parent)
+    folder = store / hashlib.sha256(location.encode()).hexdigest()[:16]
+    if (folder / INSTALLATION_FILE).is_file():
+        return folder
+    for entry in store.iterdir() if store.is_dir() else ():
+        if entry.is_dir() and not entry.is_symlink():
+            try:
+                gone = not Path((entry / INSTALLATION_FILE).read_text("utf-8")).is_dir()
+            except (OSError, UnicodeDecodeError):
+                gone = False   # no note yet (being made by another process): kept
+            if gone:
+                shutil.rmtree(entry, ignore_errors=True)
+        else:
+            entry.unlink(missing_ok=True)
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / INSTALLATION_FILE).write_text(location, encoding="utf-8")
+    return folder
 
 
 _ALIASES = {"deg/hr": "deg/h", "°/h": "deg/h", "″": "arcsec", "′": "arcmin", "°": "deg"}

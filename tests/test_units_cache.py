@@ -4,6 +4,7 @@ unit the product accepts to the same SI numbers as a registry parsed afresh."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 from ins_errors import units
 
@@ -59,3 +60,52 @@ def test_kept_conversions_equal_pints_and_do_not_mix():
             units.parse_quantity("3", "rad", what)
         with pytest.raises(units.UnitError, match=f"^{what}: cannot read '3 florps'"):
             units.parse_quantity("3 florps", "rad", what)
+
+
+def _stale_set(folder, tmp_path) -> None:
+    """Parse pint's definitions from a copy of its files into ``folder``, then delete
+    the copy: what a deleted checkout's virtual environment leaves in the shared cache."""
+    import shutil
+
+    import pint
+
+    other = tmp_path / "deleted environment"
+    other.mkdir(exist_ok=True)
+    for name in ("default_en.txt", "constants_en.txt"):
+        shutil.copy(Path(pint.__file__).parent / name, other / name)
+    pint.UnitRegistry(str(other / "default_en.txt"), cache_folder=folder)
+    shutil.rmtree(other)
+
+
+def test_sets_of_deleted_installations_are_not_read_and_are_removed(tmp_path, monkeypatch):
+    """pint finds a cached set by the files' contents but reads the files it includes
+    from the folder the set was parsed from: a set left by a deleted virtual environment
+    made every registry fail and be parsed afresh. Each installation now has its own set;
+    the deleted one's is removed, a living one's kept."""
+    import pint
+
+    store = tmp_path / "units"
+    _stale_set(store, tmp_path)                       # the earlier one-set layout
+    _stale_set(store / "0123456789abcdef", tmp_path)  # another installation's set
+    (store / "0123456789abcdef" / units.INSTALLATION_FILE).write_text(
+        str(tmp_path / "deleted environment"), encoding="utf-8")
+    alive = store / "fedcba9876543210"
+    alive.mkdir()
+    (alive / units.INSTALLATION_FILE).write_text(str(tmp_path), encoding="utf-8")
+    fresh = _converted()
+    made, original = [], pint.UnitRegistry
+
+    def recorded(*args, **kwargs):
+        registry = original(*args, **kwargs)
+        made.append(kwargs.get("cache_folder"))       # only registries that loaded
+        return registry
+
+    monkeypatch.setattr(pint, "UnitRegistry", recorded)
+    monkeypatch.setattr(units, "units_cache_directory", lambda: store)
+    assert _converted() == fresh
+    own = units.installation_folder(store)
+    assert made == [own]                              # from the cache, not parsed afresh
+    assert sorted(p.name for p in store.iterdir()) == sorted([own.name, alive.name])
+    assert (own / units.INSTALLATION_FILE).read_text("utf-8") == str(
+        Path(pint.__file__).resolve().parent)
+    assert _converted() == fresh and made == [own, own]
