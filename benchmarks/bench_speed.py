@@ -77,8 +77,10 @@ def _moving(kind: str, hours: float, record: float) -> dict:
     return result
 
 
-def _strapdown(kind: str, hours: float, record: float) -> dict:
-    """strapdown_ned flown ``hours`` at 100 Hz: true IMU signals + direct + linear runs."""
+def _strapdown(kind: str, hours: float, record: float,
+               parts: tuple[str, ...] = ("real", "linear")) -> dict:
+    """strapdown_ned flown ``hours`` at 100 Hz: true IMU signals + the runs ``parts``
+    (direct and linear by default; ``("real",)``: the direct run alone)."""
     from ins_errors.numeric import strapdown_truth as st
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.simulate import simulate
@@ -91,16 +93,14 @@ def _strapdown(kind: str, hours: float, record: float) -> dict:
               "manoeuvre": st.standard_manoeuvre()}[kind]
     sources = {"gyro_bias_x": 0.01 * DEG / 3600, "accel_bias_y": 5e-5}
     warm = st.trajectory(model, flight, 600.0, 0.01, p=p)  # compile everything
-    simulate(model, warm, sources, method="rk4", record_interval=record,
-             parts=("real", "linear"))
+    simulate(model, warm, sources, method="rk4", record_interval=record, parts=parts)
     del warm
     base = _peak_mb()
     wall, cpu = time.perf_counter(), _cpu()
     traj = st.trajectory(model, flight, hours * 3600.0, 0.01, p=p)
     truth = _cpu() - cpu
-    sim = simulate(model, traj, sources, method="rk4", record_interval=record,
-                   parts=("real", "linear"))
-    recorded = sum(a.nbytes for a in (sim.ideal, sim.real, sim.linear)) / 1e6
+    sim = simulate(model, traj, sources, method="rk4", record_interval=record, parts=parts)
+    recorded = sum(getattr(sim, k).nbytes for k in ("ideal", *parts)) / 1e6
     result = {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall, "peak": _peak_mb(),
               "base": base, "recorded": recorded}
     # the true IMU signals alone: building the trajectory, then the inputs the runs read
@@ -233,6 +233,8 @@ FIGURES = {
     "strapdown-static": lambda q: _strapdown("static", 1.0 if q else 24.0, 1.0),
     "strapdown-great-circle": lambda q: _strapdown("great circle", 1.0 if q else 24.0, 1.0),
     "strapdown-manoeuvre": lambda q: _strapdown("manoeuvre", 1.0 if q else 24.0, 1.0),
+    "strapdown-direct": lambda q: _strapdown("great circle", 1.0 if q else 24.0, 1.0,
+                                             ("real",)),
     "strapdown-week": lambda q: _strapdown("great circle", 6.0 if q else 7 * 24.0, 10.0),
     "static-direct": lambda q: _static_direct(1.0 if q else 24.0),
     "static-small-angle": lambda q: _static_direct(1.0 if q else 24.0, "small_angle"),
@@ -311,6 +313,12 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
         if failed(name):
             continue
         _moving_rows(f"strapdown {hours:g} h {label},", r[name], scale, "the true IMU signals")
+        if name == "strapdown-great-circle" and not failed("strapdown-direct"):
+            # the floor of the row above whatever the linear run costs: the truth and
+            # the direct run (ideal and real work, RK4 at 100 Hz) without it
+            x = r["strapdown-direct"]
+            _row("  truth+direct alone (no linear run)",
+                 f"{x['cpu']:.2f} s CPU", "", None)
     if not failed("strapdown-week"):
         _week_rows("strapdown ", r["strapdown-week"], quick)
     if not failed("week"):
