@@ -38,7 +38,7 @@ class _Table(BaseModel):
 class SpecMotion(_Table):
     """``[motion]``: the motion the spec is checked along."""
 
-    kind: Literal["static", "great_circle"] = "static"
+    kind: Literal["static", "great_circle", "great-circle"] = "static"  # as scenario files
     latitude: Quantity = Field("0 deg", json_schema_extra=_UNIT)
     longitude: Quantity = Field("0 deg", json_schema_extra=_UNIT)
     heading: Quantity = Field("0 deg", json_schema_extra=_UNIT)

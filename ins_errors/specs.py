@@ -24,7 +24,7 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
     sigma_level = 2                  # the values are 2σ
     operating_time = "8 h"
     step = "60 s"                    # analysis grid
-    [motion]                         # kind = "static" or "great_circle"
+    [motion]                         # kind = "static" or "great_circle" ("great-circle")
     latitude = "50 deg"
     [items.position_error]
     value = "3.7 km/h"
@@ -305,14 +305,14 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
 
     m = checked.motion
     motion = Motion(
-        kind=m.kind,
+        kind=m.kind.replace("-", "_"),
         latitude=_angle(m.latitude, "motion.latitude"),
         longitude=_angle(m.longitude, "motion.longitude"),
         heading=_angle(m.heading, "motion.heading"),
         height=_positive(m.height, "m", "motion.height", "0 m", allow_zero=True),
         speed=_positive(m.speed, "m/s", "motion.speed", "250 m/s", allow_zero=True),
     )
-    if m.kind == "great_circle" and motion.speed <= 0:
+    if motion.kind == "great_circle" and motion.speed <= 0:
         raise SpecError("motion.speed must be > 0 for a great_circle motion")
 
     items = []

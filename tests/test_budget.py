@@ -377,6 +377,9 @@ def test_great_circle_budget(orthodromic, tmp_path):
                                               strict=True) if np.isfinite(v)}
     assert bd.evaluate(orthodromic, fine, sigma).values == pytest.approx(evaluation.values,
                                                                           rel=2e-3)
+    # spelt as in scenario files: the same motion
+    hyphen = load_spec(write(tmp_path, text.replace("great_circle", "great-circle"), "h.toml"))
+    assert hyphen.motion == spec.motion
 
 
 @pytest.mark.parametrize("name", ["north_pointing", "free_azimuth"])
