@@ -438,3 +438,38 @@ def test_noise_sources_in_a_budget(orthodromic, tmp_path):
         r = allocation.binding[j]
         assert evaluation.contributions[r, j] == pytest.approx(remaining[r] / len(free),
                                                                rel=1e-9)
+
+
+def test_a_moving_grid_too_large_for_the_memory_is_refused_before_the_flight(
+        orthodromic, tmp_path, capsys, monkeypatch):
+    """F, G, H at every grid time of a moving base: beyond the machine's memory the
+    budget says so in one line, with a step that fits, before flying the motion."""
+    from ins_errors.numeric import linear_system, trajectories
+
+    text = SHORT.replace("[motion]", "[motion]\n    kind = 'great-circle'\n    speed = "
+                                     "'250 m/s'\n    heading = '60 deg'")
+    spec = write(tmp_path, text.replace('step = "60 s"', 'step = "1 s"'))
+    # bytes per grid time, from the arrays of a short moving system itself
+    flight = trajectories.great_circle_profile(0.8, 0.5, 1.0, 250.0)
+    system = linear_system.system_from_trajectory(
+        orthodromic, trajectories.trajectory(orthodromic, flight, 600.0, 1.0))
+    per_time = sum(a.nbytes for a in (system.F, system.G, system.H, system.x, system.u)) \
+        / len(system.times)
+    times = 2 * 3600 + 1
+    # a machine where the 2-h grid at 1 s takes twice the share it may have
+    memory = times * per_time / linear_system.MEMORY_SHARE / 2
+    monkeypatch.setattr(linear_system, "physical_memory", lambda: memory)
+    monkeypatch.setattr(trajectories, "trajectory", lambda *a, **k: pytest.fail("flown"))
+    assert main(["budget", "orthodromic", "--spec", str(spec)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    assert f"at {times:,} grid times need about" in err
+    assert "choose a step of at least 2 s" in err
+    # the estimate is the arrays' size: a grid fits in 0.01 % more memory, not in 0.1 % less
+    monkeypatch.setattr(linear_system, "physical_memory",
+                        lambda: 1.0001 * times * per_time / linear_system.MEMORY_SHARE)
+    linear_system.check_grid_memory(orthodromic, times, 1.0)
+    monkeypatch.setattr(linear_system, "physical_memory",
+                        lambda: 0.999 * times * per_time / linear_system.MEMORY_SHARE)
+    with pytest.raises(linear_system.LinearSystemError, match="at least 2 s"):
+        linear_system.check_grid_memory(orthodromic, times, 1.0)

@@ -52,6 +52,7 @@ from ins_errors.analysis.covariance import (
     system_from_trajectory,
 )
 from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.numeric.linear_system import check_grid_memory
 from ins_errors.specs import HOUR, SOURCE_UNIT_SUFFIX, Spec, SpecError
 from ins_errors.units import UnitError, format_quantity, parse_quantity
 
@@ -247,6 +248,8 @@ def spec_system(model, spec: Spec, trajectory=None,
     """
     if trajectory is not None:
         return system_from_trajectory(model, trajectory, spec.step)
+    if spec.motion.kind != "static":   # before the motion is flown
+        check_grid_memory(model, round(spec.operating_time / spec.step) + 1, spec.step)
     try:
         trajectory = spec_trajectory(model, spec, p=p)
     except InsErrorsError as error:

@@ -8,6 +8,8 @@ linear Monte Carlo (:mod:`ins_errors.analysis.monte_carlo`) run on it.
 
 from __future__ import annotations
 
+import math
+import os
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -77,6 +79,56 @@ class LinearSystem:
     def at(self, matrix: np.ndarray, k: int) -> np.ndarray:
         """The matrix at grid index ``k`` (the same for a time-invariant system)."""
         return matrix if matrix.ndim == 2 else matrix[k]
+
+
+MEMORY_SHARE = 0.6
+"""The largest share of the machine's physical memory that the equations sampled along a
+moving base (F, G, H, state and inputs at every grid time) may take: beyond it the
+covariance would swap or be killed by the system, so it is refused beforehand."""
+
+
+def physical_memory() -> int | None:
+    """The machine's physical memory, bytes, or None where the system does not say."""
+    try:
+        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def check_grid_memory(model, times: int, step: float) -> None:
+    """Refuse a moving-base grid whose sampled equations would not fit in memory.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        The model whose F (ne, ne), G (ne, nw), H (ny, ne), state and inputs are kept at
+        every grid time.
+    times : int
+        Grid times (steps + 1).
+    step : float
+        Grid step, s (for the suggested step).
+
+    Raises
+    ------
+    LinearSystemError
+        If they need more than :data:`MEMORY_SHARE` of the physical memory; the message
+        gives the size and the shortest step that fits.
+    """
+    memory = physical_memory()
+    if not memory:
+        return
+    ne = len(model.error_states)
+    per_time = 8 * (ne * (ne + len(model.sources) + len(model.outputs))
+                    + len(model.states) + len(model.inputs))
+    limit = MEMORY_SHARE * memory
+    if times * per_time <= limit:
+        return
+    longer = step * math.ceil(times * per_time / limit)
+    raise LinearSystemError(
+        f"the error equations at {times:,} grid times need about "
+        f"{times * per_time / 1e9:.1f} GB, more than {MEMORY_SHARE:.0%} of this machine's "
+        f"{memory / 1e9:.1f} GB; choose a step of at least {longer:g} s "
+        f"(or a shorter operating time)")
 
 
 def uniform_grid(duration: float, step: float) -> np.ndarray:
@@ -214,6 +266,8 @@ def system_from_trajectory(model, trajectory, step: float | None = None) -> Line
         raise LinearSystemError(f"covariance step {step!r} s must be a whole multiple of the "
                               f"trajectory step {tau} s that divides its duration")
     times = np.arange(count // stride + 1) * stride * tau
+    if not trajectory.constant:
+        check_grid_memory(model, len(times), stride * tau)
     p, c = trajectory.parameters, trajectory.initial_conditions
     names = (tuple(i.name for i in model.sources), tuple(i.kind for i in model.sources))
     if trajectory.constant:
