@@ -24,8 +24,8 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
     sigma_level = 2                  # the values are 2σ
     operating_time = "8 h"
     step = "60 s"                    # analysis grid (a great circle keeps F, G, H at
-                                     # every grid time: ~3 kB each for orthodromic, so
-                                     # 0.3 GB a day at 1 s; beyond 60 % of the machine's
+                                     # every grid time: 4 kB each for orthodromic, so
+                                     # 0.34 GB a day at 1 s; beyond 60 % of the machine's
                                      # memory it is refused with a step that fits)
     [motion]                         # kind = "static" or "great_circle" ("great-circle")
     latitude = "50 deg"

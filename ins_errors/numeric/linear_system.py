@@ -128,7 +128,7 @@ def check_grid_memory(model, times: int, step: float) -> None:
         f"the error equations at {times:,} grid times need about "
         f"{times * per_time / 1e9:.1f} GB, more than {MEMORY_SHARE:.0%} of this machine's "
         f"{memory / 1e9:.1f} GB; choose a step of at least {longer:g} s "
-        f"(or a shorter operating time)")
+        f"(or a shorter duration)")
 
 
 def uniform_grid(duration: float, step: float) -> np.ndarray:
