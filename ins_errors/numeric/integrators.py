@@ -435,9 +435,9 @@ def generated_source(functions: list[ca.Function]) -> str:
 DEFAULT_FLAGS: tuple[str, ...] = ("-O3", "-march=native", "-shared", "-fPIC")
 """C compiler flags of :func:`compile_source`."""
 
-IEEE_FLAGS: tuple[str, ...] = ("-O1", *DEFAULT_FLAGS[1:], "-ffp-contract=off",
-                               "-fno-math-errno", "-fno-semantic-interposition",
-                               "-fno-tree-vectorize")
+IEEE_FLAGS: tuple[str, ...] = ("-O1", "-march=native", "-shared", "-fPIC",
+                               "-ffp-contract=off", "-fno-math-errno",
+                               "-fno-semantic-interposition", "-fno-tree-vectorize")
 """Flags of the simulation loops: every operation rounded on its own as IEEE 754 says
 (no fused multiply-add contraction), so a compiled loop gives the bits of the CasADi
 virtual machine whatever the compiler inlines; ``errno`` is not set by ``sqrt`` (no
