@@ -61,7 +61,8 @@ def units_cache_directory() -> Path:
 
 
 INSTALLATION_FILE = "installation.txt"
-"""The file of an installation's subfolder that names the pint folder it was made from."""
+"""The file of an installation's subfolder that names the pint folder it was made from
+(first line) and the machine (second line)."""
 
 
 def installation_folder(store: Path) -> Path:
@@ -73,9 +74,10 @@ def installation_folder(store: Path) -> Path:
     environment is found by the contents and then read from that environment's folder;
     once the environment is deleted, every registry fails to load (and is parsed
     afresh, twice the time of no cache at all). Each installation therefore keeps its
-    own set, in a subfolder named by the hash of pint's folder; sets whose installation
-    no longer exists, and the loose files of the earlier one-set layout, are deleted
-    here.
+    own set, in a subfolder named by the hash of pint's folder. Sets whose installation
+    no longer exists on this machine, and the loose files of the earlier one-set layout,
+    are deleted here (a set made on another machine sharing the cache folder is kept:
+    its folder need not exist here).
 
     Raises
     ------
@@ -83,26 +85,29 @@ def installation_folder(store: Path) -> Path:
         If the folder cannot be made or written.
     """
     import hashlib
+    import platform
     import shutil
 
     import pint
 
     location = str(Path(pint.__file__).resolve().parent)
+    host = platform.node()
     folder = store / hashlib.sha256(location.encode()).hexdigest()[:16]
     if (folder / INSTALLATION_FILE).is_file():
         return folder
     for entry in store.iterdir() if store.is_dir() else ():
         if entry.is_dir() and not entry.is_symlink():
             try:
-                gone = not Path((entry / INSTALLATION_FILE).read_text("utf-8")).is_dir()
+                made_at, _, made_on = (entry / INSTALLATION_FILE).read_text(
+                    "utf-8").partition("\n")
             except (OSError, UnicodeDecodeError):
-                gone = False   # no note yet (being made by another process): kept
-            if gone:
+                continue   # no note yet (being made by another process): kept
+            if made_on.strip() == host and not Path(made_at).is_dir():
                 shutil.rmtree(entry, ignore_errors=True)
         else:
             entry.unlink(missing_ok=True)
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / INSTALLATION_FILE).write_text(location, encoding="utf-8")
+    (folder / INSTALLATION_FILE).write_text(f"{location}\n{host}\n", encoding="utf-8")
     return folder
 
 

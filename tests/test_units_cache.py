@@ -81,17 +81,22 @@ def test_sets_of_deleted_installations_are_not_read_and_are_removed(tmp_path, mo
     """pint finds a cached set by the files' contents but reads the files it includes
     from the folder the set was parsed from: a set left by a deleted virtual environment
     made every registry fail and be parsed afresh. Each installation now has its own set;
-    the deleted one's is removed, a living one's kept."""
+    the deleted one's is removed, a living one's kept, and so is one made on another
+    machine sharing the folder (its installation need not exist here)."""
+    import platform
+
     import pint
 
+    host = platform.node()
     store = tmp_path / "units"
     _stale_set(store, tmp_path)                       # the earlier one-set layout
-    _stale_set(store / "0123456789abcdef", tmp_path)  # another installation's set
-    (store / "0123456789abcdef" / units.INSTALLATION_FILE).write_text(
-        str(tmp_path / "deleted environment"), encoding="utf-8")
-    alive = store / "fedcba9876543210"
-    alive.mkdir()
-    (alive / units.INSTALLATION_FILE).write_text(str(tmp_path), encoding="utf-8")
+    notes = {"0123456789abcdef": f"{tmp_path / 'deleted environment'}\n{host}\n",
+             "fedcba9876543210": f"{tmp_path}\n{host}\n",
+             "00000000ffffffff": f"{tmp_path / 'deleted environment'}\n{host}-other\n"}
+    for name, note in notes.items():
+        _stale_set(store / name, tmp_path)
+        (store / name / units.INSTALLATION_FILE).write_text(note, encoding="utf-8")
+    kept = ["fedcba9876543210", "00000000ffffffff"]
     fresh = _converted()
     made, original = [], pint.UnitRegistry
 
@@ -105,7 +110,7 @@ def test_sets_of_deleted_installations_are_not_read_and_are_removed(tmp_path, mo
     assert _converted() == fresh
     own = units.installation_folder(store)
     assert made == [own]                              # from the cache, not parsed afresh
-    assert sorted(p.name for p in store.iterdir()) == sorted([own.name, alive.name])
-    assert (own / units.INSTALLATION_FILE).read_text("utf-8") == str(
-        Path(pint.__file__).resolve().parent)
+    assert sorted(p.name for p in store.iterdir()) == sorted([own.name, *kept])
+    assert (own / units.INSTALLATION_FILE).read_text("utf-8") == (
+        f"{Path(pint.__file__).resolve().parent}\n{host}\n")
     assert _converted() == fresh and made == [own, own]
