@@ -63,9 +63,9 @@ class NotingPool(ProcessPoolExecutor):
     def __init__(self, *args, **kwargs):
         super().__init__(*args, initializer=in_worker, **kwargs)
 
+from derive.__main__ import main  # first, as `python -m derive` (it sets up SymPy)
 import derive.pipeline
 derive.pipeline.ProcessPoolExecutor = NotingPool
-from derive.__main__ import main
 code = main(["--out", out])
 note()
 sys.exit(code)
