@@ -401,6 +401,39 @@ def test_moving_base_constants_match_the_per_step_scipy_exponential(orthodromic,
     assert np.array_equal(Ys**2, pieces.unit_variances[uneven])
 
 
+@pytest.mark.parametrize("chunk", [7, 4096])
+def test_markov_sensitivities_in_pieces_equal_the_step_by_step_products(orthodromic,
+                                                                       monkeypatch, chunk):
+    """Augmented sensitivities with a Markov source, carried a piece of steps at a time
+    and read at the kept steps in one product per piece, against one step and one read
+    at a time with the same transitions: the same products, so the same bits. 70 steps
+    in pieces of 7 end a piece exactly at the last step."""
+    profile = tr.great_circle_profile(np.radians(50), np.radians(30), np.radians(90), 250.0)
+    system = cv.system_from_trajectory(orthodromic, tr.trajectory(orthodromic, profile,
+                                                                  70.0, 1.0))
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    cols = [system.source_index(name) for name in ("gyro_drift_x", "accel_bias_x")]
+    decay = np.array([0.0, -1.0 / 300.0])
+    n = system.E.shape[0]
+    Z0 = np.vstack([system.E[:, cols], np.eye(2)])
+    C_b = fn.C_b[:, cols]
+    monkeypatch.setattr(cv, "_CHUNK", chunk)
+    Phis = cv.exponential(cv.augmented_dynamics(cv._step_matrix(system.F),
+                                                cv._step_matrix(system.G)[..., cols],
+                                                decay), system.step)
+    Z, expected = Z0, []
+    for k in range(len(system.times)):
+        expected.append(np.hstack([fn.C_x[k], C_b]) @ Z)
+        if k < len(Phis):
+            Z = Phis[k] @ Z
+    expected = np.array(expected)
+    assert Z.shape == (n + 2, 2) and np.abs(expected).max() > 1.0
+    for keep in (np.arange(len(system.times)), np.array([0, 6, 7, 8, 69, 70])):
+        Ys = cv._moving_sensitivities(system.F, system.G, cols, decay, system.step, Z0,
+                                      fn.C_x, C_b, keep)
+        assert np.array_equal(Ys, expected[keep])
+
+
 def test_moving_base_noise_matches_the_per_step_scipy_exponential(orthodromic, monkeypatch):
     """White gyro and accelerometer noises (one shared transition, carried side by side)
     and a Markov accelerometer noise along a great circle at 1 s: the batched series

@@ -658,21 +658,24 @@ def _sensitivity_chunks(F: np.ndarray, G: np.ndarray, cols_b: list[int],
         return
     # Markov sources: the augmented transitions, a piece of steps at a time
     Ys = np.zeros((len(keep), C_b.shape[0], m))
-    keep_set = set(keep.tolist())
-    out = 0
     Z = Z0.copy()
     for k0 in range(0, K + 1, _CHUNK):
         k1 = min(K, k0 + _CHUNK)          # steps k0 .. k1-1 taken here
+        last = min(K + 1, k0 + _CHUNK)    # sensitivities k0 .. last-1 kept here
+        Zs = np.empty((last - k0, *Z.shape))
+        Zs[0] = Z
         if k1 > k0:
             Phis = exponential(augmented_dynamics(_step_matrix(F[k0:k1 + 1]),
                                                   _step_matrix(G[k0:k1 + 1])[..., cols_b],
                                                   decay), dt)
-        for k in range(k0, min(K + 1, k0 + _CHUNK)):
-            if k in keep_set:
-                Ys[out] = np.hstack([C_x[k], C_b]) @ Z
-                out += 1
-            if k < K:
-                Z = Phis[k - k0] @ Z
+            for j in range(1, last - k0):
+                np.matmul(Phis[j - 1], Zs[j - 1], out=Zs[j])
+            if k1 == last:                # the next piece starts from z_k1
+                Z = Phis[-1] @ Zs[-1]
+        i0, i1 = (int(i) for i in np.searchsorted(keep, [k0, last]))
+        ks = keep[i0:i1]
+        C = np.concatenate([C_x[ks], np.broadcast_to(C_b, (len(ks), *C_b.shape))], axis=-1)
+        Ys[i0:i1] = C @ Zs[ks - k0]
     yield 0, len(keep), Ys
 
 
