@@ -32,7 +32,8 @@ from __future__ import annotations
 import asyncio
 import json
 import shutil
-from collections.abc import Mapping, Sequence
+from collections.abc import Coroutine, Mapping, Sequence
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -153,8 +154,6 @@ class SweepStore:
         The point's chunks are stored concurrently (one round trip to Zarr's I/O thread
         instead of one per array); ``done`` is stored after all of them.
         """
-        from zarr.core.sync import sync
-
         arrays = self._arrays
         nt = len(self.layout.times)
         chunks = []
@@ -169,7 +168,7 @@ class SweepStore:
         async def data() -> None:
             await asyncio.gather(*chunks)
 
-        sync(data())
+        _run_together(data())
         arrays["done"][index] = 1
         self.done[index] = True
 
@@ -201,6 +200,24 @@ class SweepStore:
         shutil.rmtree(self.work, ignore_errors=True)
 
 
+def _run_together(work: Coroutine) -> None:
+    """Run ``work``, a coroutine of Zarr's asynchronous API, to its end from plain code.
+
+    Zarr's own ``zarr.core.sync.sync`` runs it on the event-loop thread that Zarr's
+    synchronous calls use (one round trip for many arrays). That function is not public
+    API; if a Zarr release moves it, a private event loop on a helper thread does the
+    same job (a fresh thread, so it also works where the caller's thread already runs a
+    loop, as in a notebook).
+    """
+    try:
+        from zarr.core.sync import sync
+    except ImportError:
+        with ThreadPoolExecutor(max_workers=1) as thread:
+            thread.submit(asyncio.run, work).result()
+        return
+    sync(work)
+
+
 def _check_fingerprint(attributes: Mapping, layout: Layout, where: Path) -> None:
     found = attributes.get("fingerprint")
     if found != layout.fingerprint:
@@ -220,7 +237,6 @@ def _create(work: Path, layout: Layout) -> None:
     """
     _libraries()  # the clear error when xarray or zarr is missing
     from zarr.api import asynchronous as zarr_async
-    from zarr.core.sync import sync
 
     if work.parent != Path("") and not work.parent.exists():
         work.parent.mkdir(parents=True, exist_ok=True)
@@ -298,5 +314,5 @@ def _create(work: Path, layout: Layout) -> None:
         # without a warning
         await zarr_async.consolidate_metadata(str(scratch), zarr_format=2)
 
-    sync(build())
+    _run_together(build())
     scratch.rename(work)
