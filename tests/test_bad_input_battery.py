@@ -57,6 +57,8 @@ FILES: dict[str, str | bytes] = {
     "spec_bare.toml": 'title = "x"\noperating_time = 8\n',
     "a_file": "not a folder\n",
     "good.toml": SCENARIO,
+    "backwards.toml": SCENARIO.replace('kind = "static"',
+                                       'kind = "great-circle"\nspeed = "-250 m/s"'),
     "hand.txt": "dot(alpha_x) = \n",
     "empty.txt": "",
 }
@@ -87,6 +89,7 @@ CLI_CASES: dict[str, list[str]] = {
     "run-case-not-array": ["run", "case_not_table.toml"],
     "run-bad-motion": ["run", "bad_motion.toml"],
     "run-out-is-a-file": ["run", "good.toml", "--out", "a_file"],
+    "run-negative-speed": ["run", "backwards.toml"],
     "run-out-foreign-folder": ["run", "good.toml", "--out", "."],
     # compare
     "compare-no-source": ["compare", "orthodromic"],
@@ -113,6 +116,8 @@ CLI_CASES: dict[str, list[str]] = {
                               "--motion-file", "binary.toml"],
     "compare-bad-motion-kind": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
                                 "orbit"],
+    "compare-negative-speed": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
+                               "great-circle", "--speed", "-250m/s", "--hours", "1"],
     "compare-pole-flight": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
                             "great-circle", "--heading", "0deg", "--hours", "6",
                             "--step", "10s"],
@@ -189,6 +194,24 @@ def test_bad_command_line(argv, scratch, capsys):
     _assert_one_line(status, err, argv)
     print(err.strip())
     assert sorted(p.name for p in scratch.iterdir()) == before, "a failed run left files"
+
+
+@pytest.mark.parametrize("case", ["compare-negative-speed", "run-negative-speed"])
+def test_a_negative_ground_speed_is_named(case, scratch, capsys):
+    """A negative speed is refused as accuracy specs refuse it, not flown backwards under
+    a header that reads "track 90°, -250 m/s"."""
+    _status, _out, err = _run(CLI_CASES[case], capsys)
+    assert "great-circle speed must be >= 0 m/s, got -250 m/s" in err
+
+
+def test_a_manoeuvre_leg_with_a_negative_speed_is_refused():
+    from ins_errors.numeric import trajectories as tr
+
+    legs = [tr.Leg(600.0, 200.0, 0.0, 0.0), tr.Leg(600.0, -50.0, 0.0, 0.0)]
+    with pytest.raises(tr.MotionError, match="manoeuvre leg speed must be >= 0 m/s"):
+        tr.manoeuvre_profile(0.8, 0.5, 0.0, 250.0, legs)
+    with pytest.raises(tr.MotionError, match="manoeuvre speed must be >= 0 m/s"):
+        tr.manoeuvre_profile(0.8, 0.5, 0.0, -250.0, legs[:1])
 
 
 def _subcommands() -> dict[str, object]:

@@ -137,8 +137,7 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
     h : float
         Height, m.
     """
-    if not np.isfinite(speed):
-        raise MotionError(f"speed must be finite, got {speed}")
+    _check_speed(speed, "great-circle speed")
 
     def commands(t: np.ndarray):
         values = np.zeros((4, t.size))
@@ -149,6 +148,15 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
                    f"great circle from φ={np.degrees(latitude):.4g}°, "
                    f"λ={np.degrees(longitude):.4g}°, track {np.degrees(track):.4g}°, "
                    f"{speed:g} m/s, h={h:g} m", breaks=())
+
+
+def _check_speed(speed: float, what: str) -> None:
+    """Refuse a ground speed that is not a finite number >= 0 m/s (one line, naming it)."""
+    if not np.isfinite(speed):
+        raise MotionError(f"{what} must be finite, got {speed}")
+    if speed < 0:
+        raise MotionError(f"{what} must be >= 0 m/s, got {speed:g} m/s (to fly the other "
+                          "way, turn the track by 180°)")
 
 
 @dataclass(frozen=True)
@@ -204,11 +212,13 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
     h : float
         Initial height, m.
     """
+    _check_speed(speed, "manoeuvre speed")
     starts, t0 = [], 0.0
     v0, psi0, h0 = float(speed), 0.0, float(h)
     for leg in legs:
         if not leg.duration > 0:
             raise MotionError(f"manoeuvre leg duration must be positive, got {leg.duration}")
+        _check_speed(leg.speed, "manoeuvre leg speed")
         starts.append((t0, leg.duration, v0, psi0, h0, leg))
         t0, v0, psi0, h0 = t0 + leg.duration, leg.speed, psi0 + leg.turn, leg.height
 
