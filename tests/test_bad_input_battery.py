@@ -118,6 +118,9 @@ CLI_CASES: dict[str, list[str]] = {
                                 "orbit"],
     "compare-negative-speed": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
                                "great-circle", "--speed", "-250m/s", "--hours", "1"],
+    "compare-flight-without-heading": ["compare", "north_pointing", "-s",
+                                       "accel_bias_east=100ug", "--motion", "great-circle",
+                                       "--hours", "1"],
     "compare-pole-flight": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
                             "great-circle", "--heading", "0deg", "--hours", "6",
                             "--step", "10s"],
@@ -196,12 +199,21 @@ def test_bad_command_line(argv, scratch, capsys):
     assert sorted(p.name for p in scratch.iterdir()) == before, "a failed run left files"
 
 
-@pytest.mark.parametrize("case", ["compare-negative-speed", "run-negative-speed"])
-def test_a_negative_ground_speed_is_named(case, scratch, capsys):
-    """A negative speed is refused as accuracy specs refuse it, not flown backwards under
-    a header that reads "track 90°, -250 m/s"."""
+NAMED = {
+    # a negative speed is refused as accuracy specs refuse it, not flown backwards under
+    # a header that reads "track 90°, -250 m/s"
+    "compare-negative-speed": "great-circle speed must be >= 0 m/s, got -250 m/s",
+    "run-negative-speed": "great-circle speed must be >= 0 m/s, got -250 m/s",
+    # a model without a heading output flies static bases and north/east motion files
+    "compare-flight-without-heading": "use a static base or a motion file of north and east",
+}
+"""Cases whose one line must say this (what to do, not only what failed)."""
+
+
+@pytest.mark.parametrize("case", NAMED)
+def test_the_line_names_the_problem_and_the_way_out(case, scratch, capsys):
     _status, _out, err = _run(CLI_CASES[case], capsys)
-    assert "great-circle speed must be >= 0 m/s, got -250 m/s" in err
+    assert NAMED[case] in err
 
 
 def test_a_manoeuvre_leg_with_a_negative_speed_is_refused():
