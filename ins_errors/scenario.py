@@ -28,6 +28,7 @@ Every value with a unit is read by :mod:`ins_errors.units`. Example::
 
     [outputs]
     quantities = ["alpha_y", "delta_latitude", "delta_v_N"]   # default: every excited one
+                             # (the summary's worst ratios and the warnings judge these)
 
     [parameters]             # optional: model parameters with units (ins-errors models MODEL)
     k_h1 = "0.0047 1/s"      # e.g. strapdown_ned's vertical damping gains (default 0)
@@ -241,10 +242,8 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
                           method=scenario.method, record_interval=scenario.record,
                           refined=scenario.refined, progress=progress,
                           platform=scenario.platform,
-                          validity_threshold=scenario.validity_threshold)
+                          validity_threshold=scenario.validity_threshold,
+                          quantities=scenario.quantities)
     for comparison, case in zip(comparisons, scenario.cases, strict=True):
         comparison.label = case.label
-        if scenario.quantities is not None:
-            for q in scenario.quantities:
-                comparison.metric(q)  # unknown quantity -> one-line error with suggestions
     return ScenarioResult(scenario, profile.description, comparisons)

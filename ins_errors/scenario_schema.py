@@ -84,7 +84,8 @@ class Run(_Table):
 
 
 class Outputs(_Table):
-    """``[outputs]``: the quantities the report shows (default: every excited one)."""
+    """``[outputs]``: the quantities the report shows and judges (its worst ratios and
+    warnings); default: every excited one."""
 
     quantities: list[str] | None = None
 

@@ -95,3 +95,25 @@ def test_cli_run_writes_the_report(tmp_path, capsys):
 def test_malformed_scenarios_are_caught_before_running(tmp_path, text, message):
     with pytest.raises(InsErrorsError, match=message):
         load_scenario(_write(tmp_path, text))
+
+
+def test_summary_and_warnings_judge_only_the_quantities_asked_for(tmp_path):
+    """With ``[outputs] quantities`` the worst ratios and the integration warning are
+    taken over those quantities: a summary or a warning naming a quantity the report
+    does not show (found by a new user) is a defect."""
+    text = GOOD.replace('duration = "10 min"', 'duration = "2 h"').replace(
+        'step = "1 s"', 'step = "10 s"\nmethod = "euler"')
+    everything = run_scenario(load_scenario(_write(tmp_path, text))).comparisons[0]
+    # unrestricted, the worst quantities and the warned one are these three
+    left_out = {everything.worst_linear.quantity, everything.worst_refined.quantity,
+                everything.warnings[0].split()[3]}
+    shown = [m.quantity for m in everything.excited if m.quantity not in left_out]
+    assert len(left_out) == 3 and len(shown) >= 4
+    text += "[outputs]\nquantities = [" + ", ".join(f'"{q}"' for q in shown) + "]\n"
+    chosen = run_scenario(load_scenario(_write(tmp_path, text))).comparisons[0]
+    metrics = [chosen.metric(q) for q in shown]
+    assert chosen.worst_linear.quantity == max(metrics, key=lambda m: m.linear_ratio).quantity
+    assert chosen.worst_refined.quantity == max(metrics,
+                                                key=lambda m: m.refined_ratio).quantity
+    assert chosen.warnings and all(q not in w for w in chosen.warnings for q in left_out)
+    assert chosen.warnings[0].split()[3] in shown

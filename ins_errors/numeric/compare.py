@@ -100,6 +100,9 @@ class Comparison:
     one_percent_scale : float or None
         Factor on every source magnitude at which the worst linear/direct ratio would be
         1 % (from the measured scaling), when the validity warning was given.
+    shown : tuple of str or None
+        The quantities the reader asked for (a scenario's ``[outputs] quantities``): the
+        worst ratios and the warnings judge only these. None: every quantity.
     """
 
     label: str
@@ -112,6 +115,7 @@ class Comparison:
     warnings: list[str] = field(default_factory=list)
     suggested_step: float | None = None
     one_percent_scale: float | None = None
+    shown: tuple[str, ...] | None = None
 
     def metric(self, quantity: str) -> Metric:
         """The metric of one quantity."""
@@ -124,8 +128,9 @@ class Comparison:
 
     @property
     def excited(self) -> list[Metric]:
-        """Metrics of the excited quantities."""
-        return [m for m in self.metrics if m.excited]
+        """Metrics of the excited quantities (among the shown ones, if chosen)."""
+        return [m for m in self.metrics
+                if m.excited and (self.shown is None or m.quantity in self.shown)]
 
     @property
     def worst_linear(self) -> Metric | None:
@@ -226,7 +231,8 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
             refined: bool = True, jit: bool = True, progress: bool = False,
             platform: str = "exact", integration_error: bool = True,
             validity_threshold: float | None = VALIDITY_THRESHOLD,
-            labels: Sequence[str] | None = None) -> list[Comparison]:
+            labels: Sequence[str] | None = None,
+            quantities: Sequence[str] | None = None) -> list[Comparison]:
     """Run direct, linear (and refined) for several cases in one batch and compare.
 
     Parameters
@@ -254,6 +260,9 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
         Label of each case; default: :func:`case_label` (which converts each source to
         its display unit through pint, a 0.15-0.5 s import in a process that has no
         other use for it, such as a sweep's worker).
+    quantities : sequence of str, optional
+        The quantities the reader wants (:attr:`Comparison.shown`): the worst ratios and
+        the warnings consider only these. Default: every quantity.
 
     Returns
     -------
@@ -265,6 +274,11 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
     comparisons = comparisons_of(sim, labels)
+    if quantities is not None:
+        for comparison in comparisons:
+            for q in quantities:
+                comparison.metric(q)  # unknown quantity -> one line, with suggestions
+            comparison.shown = tuple(quantities)
     if integration_error:
         add_integration_errors(comparisons, sim, jit=jit)
     if validity_threshold is not None:
