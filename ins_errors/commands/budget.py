@@ -5,6 +5,10 @@ from __future__ import annotations
 import argparse
 import json
 
+NO_RATIO = ("the covariance is 0 at this row (no source of the budget reaches "
+            "it), so Monte Carlo / covariance is undefined")
+"""Said of a Monte Carlo row whose covariance value is zero."""
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
@@ -128,8 +132,11 @@ def run(args: argparse.Namespace) -> int:
         print(f"{'row':<40} {'covariance':>16} {'Monte Carlo':>16} {'ratio':>7}")
         for r in mc["rows"]:
             unit, shown = bd.ITEM_SI[r["item"]], bd.ITEM_DISPLAY[r["item"]]
+            ratio = "–" if r["ratio"] is None else f"{r['ratio']:.3f}"
             print(f"{r['row']:<40} {bd.display(r['covariance'], unit, shown):>16} "
-                  f"{bd.display(r['monte_carlo'], unit, shown):>16} {r['ratio']:>7.3f}")
+                  f"{bd.display(r['monte_carlo'], unit, shown):>16} {ratio:>7}")
+        if any(r["ratio"] is None for r in mc["rows"]):
+            print(f"–: {NO_RATIO}")
         print(f"({mc['seconds']:.1f} s)")
     return 0
 
@@ -183,6 +190,8 @@ def _monte_carlo(model, spec, allocation, args, p) -> dict:
         out.append({"row": row.label, "item": row.item, "time_h": row.time / 3600,
                     "covariance": float(cov), "monte_carlo": float(value),
                     "ratio": float(value / cov) if cov > 0 else None})
+        if cov <= 0:
+            out[-1]["note"] = NO_RATIO
     return {"runs": args.monte_carlo, "duration_h": duration / 3600, "step_s": step,
             "method": "euler", "relative_sampling_error": sampling_error(args.monte_carlo),
             "seconds": seconds, "rows": out}

@@ -1,0 +1,52 @@
+"""The budget command's edge cases: undefined ratios, option checks, messages."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+from pathlib import Path
+
+from ins_errors.cli import main
+
+NO_TILT = """
+    sigma_level = 1
+    operating_time = "1 h"
+    [motion]
+    kind = "static"
+    latitude = "45 deg"
+    [items.vertical_error]
+    value = "30 arcsec"
+    every = "10 min"
+    from = "0 h"
+    [sources.initial_tilt_x]
+    include = false
+    [sources.initial_tilt_y]
+    include = false
+"""
+
+
+def write(tmp_path: Path, text: str, name: str = "spec.toml") -> Path:
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text))
+    return path
+
+
+def test_monte_carlo_row_with_zero_covariance(tmp_path, capsys):
+    """Without initial tilts nothing tilts the platform at t = 0: the covariance and the
+    runs both give 0 there, the ratio is undefined and said to be, not a crash."""
+    spec = str(write(tmp_path, NO_TILT))
+    argv = ["budget", "orthodromic", "--spec", spec, "--monte-carlo", "2", "--mc-step",
+            "1 s", "--mc-duration", "10 min", "--engine", "serial"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    row = next(line for line in out.splitlines() if line.startswith("vertical_error at 0 h"))
+    assert row.split()[-1] == "–"
+    assert "Monte Carlo / covariance is undefined" in out
+    later = next(line for line in out.splitlines()
+                 if line.startswith("vertical_error at 10 min"))
+    assert 0.2 < float(later.split()[-1]) < 5    # 2 runs: a sampling error of 50 %
+    assert main([*argv, "--json"]) == 0
+    rows = json.loads(capsys.readouterr().out)["monte_carlo"]["rows"]
+    assert rows[0]["covariance"] == 0.0 and rows[0]["monte_carlo"] == 0.0
+    assert rows[0]["ratio"] is None and "undefined" in rows[0]["note"]
+    assert rows[1]["ratio"] > 0 and "note" not in rows[1]
