@@ -37,6 +37,7 @@ def test_json_plot_and_markdown(capsys, tmp_path):
     assert {"alpha_x", "delta_latitude", "delta_longitude", "delta_heading", "delta_v_N",
             "delta_v_E"} <= set(names)
     assert plot.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert err.strip() == f"plot written to {plot}"  # beside the JSON, not in it
     text = table.read_text()
     assert "gyro_drift_x = 0.01 deg/h" in text
     # people read display units (arcmin), the JSON stays SI with its unit stated
@@ -56,6 +57,8 @@ def test_separate_cases_and_moving_motions(capsys, tmp_path):
                            "--plot", str(plot), "--no-refined")
     assert status == 0, err
     assert (tmp_path / "cases_1.svg").exists() and (tmp_path / "cases_2.svg").exists()
+    assert out.strip().endswith(f"plots written to {tmp_path / 'cases_1.svg'} … cases_2.svg "
+                                "(one per case)")
     assert "accel_bias_y = 10 ug" in out and "initial_tilt_x = 10 arcsec" in out
     assert "great circle" in out
     status, out, err = run(capsys, "-s", "accel_scale_error_x=100ppm", "--motion", "manoeuvre",

@@ -75,7 +75,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "enough steps, else fine)")
     parser.add_argument("--no-refined", action="store_true",
                         help="skip the second-order (refined) run")
-    parser.add_argument("--plot", metavar="FILE", help="write overlaid curves (png/pdf/svg)")
+    parser.add_argument("--plot", metavar="FILE",
+                        help="write overlaid curves (png/pdf/svg); with several cases "
+                             "(--separately) one file per case: FILE_1, FILE_2, ...")
     parser.add_argument("--markdown", metavar="FILE", help="write the Markdown tables")
     parser.add_argument("--out", "-o", metavar="DIR",
                         help="folder for every curve of every case as curves.csv and MATLAB "
@@ -198,6 +200,8 @@ def run(args: argparse.Namespace) -> int:
         plot_comparisons(comparisons, targets,
                          quantities=shared_quantities(comparisons),  # one layout for all
                          titles=[f"{c.label}\n{title}" for c in comparisons])
+        written = f"plot written to {targets[0]}" if len(targets) == 1 else \
+            f"plots written to {targets[0]} … {targets[-1].name} (one per case)"
     if args.json:
         json.dump({"model": model.name, "motion": profile.description, "duration_s": duration,
                    "step_s": tau, "record_s": record, "method": args.method,
@@ -206,4 +210,6 @@ def run(args: argparse.Namespace) -> int:
         print()
     else:
         print(text)
+    if args.plot:  # beside the JSON, not inside it
+        print(written, file=sys.stderr if args.json else sys.stdout)
     return 0
