@@ -54,6 +54,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         f"| recorded every | {s.record:g} s |",
         f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |",
         f"| Earth model | {s.ellipsoid or 'model default'} |",
+        f"| parameters | {_parameters_text(model, s.parameters)} |",
         f"| truth | {s.truth} |",
         "",
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
@@ -70,6 +71,15 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
                   markdown_table(_selected(comparison, s.quantities))]
     lines += ["## Equations used", "", _equations_document(model)]
     return "\n".join(lines) + "\n"
+
+
+def _parameters_text(model, parameters) -> str:
+    """The parameters the scenario set (SI), or that every one keeps the model's default."""
+    if not parameters:
+        return "model defaults"
+    shown = [f"`{name}` = {entry['value']:.6g} {entry['unit']}"
+             for name, entry in parameters_record(model, parameters).items()]
+    return ", ".join(shown) + " (the others: model defaults)"
 
 
 def _selected(comparison, quantities):

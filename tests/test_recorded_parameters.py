@@ -72,6 +72,10 @@ def test_run_results_record_the_parameters(capsys, tmp_path):
     written = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert printed["parameters"] == written["parameters"] == {
         "k_h1": {"value": pytest.approx(0.0047, rel=1e-12), "unit": "1/s"}}
+    # and the reader of the report sees it (it changes every curve)
+    for name in ("report.md", "report.html"):
+        text = (out / name).read_text(encoding="utf-8")
+        assert "k_h1</code> = 0.0047 1/s" in text or "`k_h1` = 0.0047 1/s" in text, name
 
 
 # --------------------------------------------------------------------------------------
