@@ -300,8 +300,9 @@ def test_output_contributions_at_chosen_times(orthodromic, spec_802m):
     data = bd.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
     assert data["times_h"] == [1.0, 8.0]
     std = data["std"]
+    assert std.shape == (2, len(data["quantities"]), len(data["sources"]))
     # the total is the root sum of squares of the independent contributions
-    assert np.allclose(std[..., -1], np.sqrt((std[..., :-1] ** 2).sum(-1)), rtol=1e-12)
+    assert np.allclose(data["total"], np.sqrt((std**2).sum(-1)), rtol=1e-12)
     # the azimuth gyro alone turns the platform by drift × t (arcmin), couplings < 1 %
     j = data["sources"].index("gyro_drift_z")
     q = data["quantities"].index("alpha_z")

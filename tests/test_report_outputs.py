@@ -323,7 +323,7 @@ def test_budget_and_sweep_figures_fit_their_fixed_margins(tmp_path, monkeypatch)
         std = np.random.default_rng(1).uniform(0.5, 1, (len(times), quantities, 31))
         std[..., -1] = 12345.6789
         budget_report.plot_outputs({
-            "std": std, "times_h": times, "sources": sources,
+            "std": std[..., :-1], "total": std[..., -1], "times_h": times, "sources": sources,
             "quantities": ["delta_longitude", "delta_v_N", "alpha_z"] * (quantities // 3),
             "units": ["arcmin", "m/s²", "deg/h"] * (quantities // 3)},
             tmp_path / f"outputs_{len(times)}.png")

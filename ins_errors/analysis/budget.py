@@ -638,8 +638,10 @@ def output_contributions(model, allocation: Allocation, times: list[float]) -> d
     Returns
     -------
     dict
-        ``{"times_h", "quantities", "units", "sources", "std"}``, with ``std`` of shape
-        (len(times), quantities, sources + 1) in the display units (last column: total).
+        ``{"times_h", "quantities", "units", "sources", "std", "total"}``: ``std`` of
+        shape (len(times), quantities, sources), each source's 1σ contribution, and
+        ``total`` of shape (len(times), quantities), their root sum of squares, in the
+        display units.
     """
     from ins_errors.analysis.covariance import state_and_output_functionals
 
@@ -660,15 +662,16 @@ def output_contributions(model, allocation: Allocation, times: list[float]) -> d
                             f"grid within the operating time")
         index.append(k)
     contributions = covariance.contributions[np.ix_(index, chosen)]      # (t, q, s)
-    std = np.concatenate([np.sqrt(contributions),
-                          np.sqrt(contributions.sum(-1, keepdims=True))], axis=-1)
+    std = np.sqrt(contributions)
+    total = np.sqrt(contributions.sum(-1))
     units = [functionals.units[i] for i in chosen]
     shown = []
     for q, unit in enumerate(units):
         target = OUTPUT_DISPLAY.get(unit, unit)
         factor = parse_quantity(f"1 {unit}", target, "unit") if unit != "1" else 1e6
         std[:, q] *= factor
+        total[:, q] *= factor
         shown.append(target)
     return {"times_h": [t / HOUR for t in times],
             "quantities": [functionals.names[i] for i in chosen], "units": shown,
-            "sources": [budget.sources[j].name for j in keep], "std": std}
+            "sources": [budget.sources[j].name for j in keep], "std": std, "total": total}

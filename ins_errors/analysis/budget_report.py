@@ -39,6 +39,55 @@ def largest_first(sizes: np.ndarray) -> np.ndarray:
     return np.argsort(-key, kind="stable")
 
 
+def select_sources(shares: np.ndarray, top: int) -> tuple[np.ndarray, np.ndarray]:
+    """The sources a table or plot names, and the rest it lumps into "(N others)".
+
+    One rule for every table and plot of a budget, by rank within each column (a spec
+    item, or an error at a time): name every column's largest source, then every
+    column's second largest, and so on, until ``top`` are named; in the round that
+    reaches ``top`` the larger shares go first. So each column's k largest sources are
+    named for the largest k the room allows, whichever column they are large in.
+    Shares that agree to :data:`TIE_DIGITS` significant digits are ties, ranked in the
+    order of the sources; sources with no share anywhere are never named.
+
+    Parameters
+    ----------
+    shares : numpy.ndarray, shape (columns, sources)
+        Share of each column's variance from each source (fractions of the column's
+        total, or of its allowed variance).
+    top : int
+        Most sources named; all are named when at most one would be left over.
+
+    Returns
+    -------
+    named : numpy.ndarray of int
+        Named sources, largest share in any column first.
+    others : numpy.ndarray of int
+        The rest, in the given order (empty when all are named).
+    """
+    shares = np.atleast_2d(np.asarray(shares, dtype=float))
+    count = shares.shape[1]
+    largest = shares.max(0) if shares.size else np.zeros(count)
+    if count <= top + 1:
+        return largest_first(largest), np.array([], dtype=int)
+    ranked = [largest_first(column) for column in shares]
+    named: list[int] = []
+    for k in range(count):
+        nominated: dict[int, float] = {}
+        for column, order in zip(shares, ranked, strict=True):
+            j = int(order[k])
+            if column[j] > 0 and j not in named:
+                nominated[j] = max(nominated.get(j, 0.0), float(column[j]))
+        if nominated:
+            keys = list(nominated)
+            named += [keys[i] for i in largest_first(np.array(list(nominated.values())))]
+        if len(named) >= top:
+            break
+    chosen = np.array(named[:top], dtype=int)
+    others = np.setdiff1d(np.arange(count), chosen)
+    return chosen[largest_first(largest[chosen])], others
+
+
 def report(allocation: Allocation) -> dict:
     """A JSON-ready summary: rule, sources with magnitudes and binding rows, spec rows."""
     budget = allocation.budget
@@ -118,12 +167,11 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
     header = f"{'source':<36}" + "".join(f"{it.name[:16]:>17}" for it in items)
     lines = ["Share of each item's allowed variance (%), at its worst time:", header,
              "-" * len(header)]
-    order = largest_first(contributions[worst].max(0))
-    for j in order[:top]:
+    named, rest = select_sources(contributions[worst], top)
+    for j in named:
         lines.append(f"{budget.sources[j].name:<36}" + "".join(
             f"{100 * contributions[r, j]:>17.2f}" for r in worst))
-    if len(order) > top:
-        rest = order[top:]
+    if rest.size:
         lines.append(f"{'(' + str(len(rest)) + ' others)':<36}" + "".join(
             f"{100 * contributions[r, rest].sum():>17.2f}" for r in worst))
     lines.append(f"{'total':<36}" + "".join(f"{100 * contributions[r].sum():>17.2f}"
@@ -231,30 +279,51 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     save_figure(fig, path, dpi=110)
 
 
+def output_rows(data: dict, it: int, top: int = 10) -> list[tuple[str, np.ndarray]]:
+    """Rows of the table of :func:`output_contributions` at its ``it``-th time.
+
+    The named sources (:func:`select_sources` on the shares of each error's variance),
+    then ``"(N others)"`` with the root sum of squares of the rest, then ``"total
+    (rss)"``: the rows before the total combine in rss to it.
+
+    Returns
+    -------
+    list of (str, numpy.ndarray of shape (quantities,))
+        Label and 1σ values in the display units.
+    """
+    std, total = np.asarray(data["std"][it]), np.asarray(data["total"][it])  # (q, s), (q,)
+    variance = std**2
+    named, rest = select_sources((variance / np.maximum(total**2, 1e-300)[:, None]), top)
+    rows = [(data["sources"][j], std[:, j]) for j in named]
+    if rest.size:
+        rows.append((f"({rest.size} others)", np.sqrt(variance[:, rest].sum(1))))
+    rows.append(("total (rss)", total))
+    return rows
+
+
 def output_table(data: dict, top: int = 10) -> str:
     """Text table of :func:`output_contributions` (1σ per source, largest first)."""
     lines = []
     for it, t in enumerate(data["times_h"]):
-        std = data["std"][it]
         header = f"{'source (1σ)':<34}" + "".join(
             f"{(q.replace('delta_', 'Δ') + ' ' + u)[:15]:>16}"
             for q, u in zip(data["quantities"], data["units"], strict=True))
         lines += [f"Contributions to the navigation errors at {t:g} h:", header,
                   "-" * len(header)]
-        order = largest_first((std[:, :-1] / np.maximum(std[:, -1:], 1e-300)).max(0))
-        for j in order[:top]:
-            lines.append(f"{data['sources'][j]:<34}" + "".join(f"{v:>16.4g}"
-                                                               for v in std[:, j]))
-        lines.append(f"{'total (rss)':<34}" + "".join(f"{v:>16.4g}" for v in std[:, -1]))
+        for label, values in output_rows(data, it, top):
+            lines.append(f"{label:<34}" + "".join(f"{v:>16.4g}" for v in values))
         lines.append("")
     return "\n".join(lines).rstrip()
 
 
-def plot_outputs(data: dict, path: str, top: int = 14) -> None:
+def plot_outputs(data: dict, path: str, top: int = 19) -> None:
     """Stacked bars of :func:`output_contributions`: share of each error's variance.
 
     One panel per chosen time; each bar is one platform angle or output error, split
-    into the sources' shares of its variance (the bar's label gives its 1σ total).
+    into the sources' shares of its variance (the bar's label gives its 1σ total), so
+    every bar adds up to 1. The named sources are chosen by :func:`select_sources`
+    over every bar of every panel, at most ``top`` of them (19: the distinct colours of
+    the palette); the rest make one grey "others" block.
     """
     require_matplotlib()
     import matplotlib
@@ -262,11 +331,10 @@ def plot_outputs(data: dict, path: str, top: int = 14) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    std = data["std"]                                   # (t, q, s + 1)
-    variance = std[..., :-1] ** 2
+    std, total = np.asarray(data["std"]), np.asarray(data["total"])   # (t, q, s), (t, q)
+    variance = std**2
     shares = variance / np.maximum(variance.sum(-1, keepdims=True), 1e-300)
-    order = largest_first(shares.max(axis=(0, 1)))
-    shown, rest = order[:top], order[top:]
+    shown, rest = select_sources(shares.reshape(-1, shares.shape[-1]), top)
     colours = plt.get_cmap("tab20")
     times = data["times_h"]
     width, height = 12.0, 3.2 * len(times) + 1.2
@@ -283,7 +351,7 @@ def plot_outputs(data: dict, path: str, top: int = 14) -> None:
             ax.bar(x, shares[it][:, rest].sum(-1), bottom=bottom, color="0.75",
                    label="others")
         labels = [f"{q.replace('delta_', 'Δ')}\n{v:.3g} {u}" for q, u, v in
-                  zip(data["quantities"], data["units"], std[it, :, -1], strict=True)]
+                  zip(data["quantities"], data["units"], total[it], strict=True)]
         ax.set_xticks(x, labels, fontsize=7)
         ax.set_ylabel("share of variance")
         ax.set_title(f"t = {t:g} h (1σ totals under the bars)", fontsize=10)

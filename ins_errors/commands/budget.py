@@ -112,7 +112,8 @@ def run(args: argparse.Namespace) -> int:
         outputs = bd.output_contributions(model, allocation, times)
         if args.plot_at:
             rep.plot_outputs(outputs, args.plot_at)
-        data["contributions"] = {**outputs, "std": outputs["std"].tolist()}
+        data["contributions"] = {**outputs, "std": outputs["std"].tolist(),
+                                 "total": outputs["total"].tolist()}
     if args.json:
         print(json.dumps(data, indent=2, ensure_ascii=False))
         return 0
