@@ -93,7 +93,8 @@ def run(args: argparse.Namespace) -> int:
     latitude = parse_quantity(args.latitude, "rad", "--latitude")
     hours = 24.0 if args.hours is None else args.hours
     scenarios = ("static", "flight") if args.scenario == "both" else (args.scenario,)
-    record = 600.0 if step <= 600.0 and 600.0 % step == 0 else step
+    # every minute (about 84 samples per Schuler period, so plotted peaks are smooth)
+    record = 60.0 if step <= 60.0 and 60.0 % step == 0 else step
     report = []
     for scenario in scenarios:
         with stage(f"{args.name}: {scenario} runs"):

@@ -37,7 +37,12 @@ import numpy as np
 
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric import accuracy
-from ins_errors.numeric.compare import Comparison, estimate_integration_errors, metrics_of
+from ins_errors.numeric.compare import (
+    EXCITED_FRACTION,
+    Comparison,
+    estimate_integration_errors,
+    metrics_of,
+)
 from ins_errors.numeric.integrators import CompiledLoop, input_stream
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.numeric.simulate import ErrorCurves, chunk_size, error_curves
@@ -301,14 +306,20 @@ class StudyResult:
                  "delta_longitude": ("km at cos φ = 1", radius / 1000),
                  "delta_heading": ("arcmin", 180 / np.pi * 60),
                  "delta_v_N": ("m/s", 1.0), "delta_v_E": ("m/s", 1.0)}
+        excited = {m.quantity: m.excited for m in metrics_of(self.direct, self.linear, None)}
         for name, (unit, scale) in units.items():
             if name not in self.direct.names:
                 continue
             largest = np.abs(self.direct[name][:, 0]).max()
             d, lin = largest * scale, np.abs(self.linear[name][:, 0]).max() * scale
             floor = MISMATCH_FLOOR["m/s" if name.startswith("delta_v") else "rad"]
-            mismatch = (f"{100 * self.agreement(name):.3g} %" if largest > floor else
-                        "– (error at rounding level)")
+            if largest <= floor:
+                mismatch = "– (error at rounding level)"
+            elif not excited[name]:  # compare's rule: a ratio here would only alarm
+                mismatch = (f"– (not excited: < {EXCITED_FRACTION:.1%} of the largest "
+                            "same-unit error)")
+            else:
+                mismatch = f"{100 * self.agreement(name):.3g} %"
             error = self.integration_error(name)
             integration = "" if error is None else f"  integration error {error * scale:.2g}"
             lines.append(f"  {name:<16} direct {d:11.4g}  linear {lin:11.4g} {unit:<16}"
