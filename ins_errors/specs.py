@@ -315,6 +315,9 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         height=_positive(m.height, "m", "motion.height", "0 m", allow_zero=True),
         speed=_positive(m.speed, "m/s", "motion.speed", "250 m/s", allow_zero=True),
     )
+    if abs(motion.latitude) >= np.pi / 2:
+        raise SpecError(f"motion.latitude {m.latitude!r} is at or beyond a pole (|φ| >= "
+                        f"90 deg): the models divide by cos φ")
     if motion.kind == "great_circle" and motion.speed <= 0:
         raise SpecError("motion.speed must be > 0 for a great_circle motion")
 

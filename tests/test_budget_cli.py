@@ -50,3 +50,17 @@ def test_monte_carlo_row_with_zero_covariance(tmp_path, capsys):
     assert rows[0]["covariance"] == 0.0 and rows[0]["monte_carlo"] == 0.0
     assert rows[0]["ratio"] is None and "undefined" in rows[0]["note"]
     assert rows[1]["ratio"] > 0 and "note" not in rows[1]
+
+
+def test_spec_latitude_at_or_beyond_a_pole_is_refused(tmp_path, capsys):
+    """As the motions of scenarios and compare refuse them: |φ| >= 90 deg, one line."""
+    for latitude in ("100 deg", "-95 deg", "90 deg", "1.6 rad"):
+        spec = write(tmp_path, NO_TILT.replace('"45 deg"', f'"{latitude}"'))
+        assert main(["budget", "orthodromic", "--spec", str(spec)]) == 2
+        captured = capsys.readouterr()
+        assert not captured.out
+        assert captured.err.count("\n") == 1
+        assert f"motion.latitude '{latitude}' is at or beyond a pole" in captured.err
+    spec = write(tmp_path, NO_TILT.replace('"45 deg"', '"89.9 deg"'))
+    assert main(["budget", "orthodromic", "--spec", str(spec), "--json"]) == 0
+    capsys.readouterr()
