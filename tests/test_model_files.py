@@ -380,3 +380,38 @@ def test_the_cache_keeps_a_few_versions_of_an_edited_model(tmp_path, private_cac
     versions = sorted(private_cache.glob("schuler_loop-*"))
     assert len(versions) == KEEP_VERSIONS
     assert load_model(str(path)).folder in versions  # the newest is among them
+
+
+# --------------------------------------------------------------------------------------
+# the matrix check: a model file is taken like a name, and says what it lacks
+# --------------------------------------------------------------------------------------
+def test_matrix_check_of_a_model_file_names_what_it_lacks(tmp_path, capsys, monkeypatch):
+    from ins_errors.checker.matrix import check_matrices
+    from ins_errors.errors import InsErrorsError, UnknownNameError
+
+    monkeypatch.chdir(tmp_path)
+    hand = tmp_path / "hand.py"
+    hand.write_text("import numpy as np\nSTATES = ['delta_V', 'delta_phi', 'psi']\n"
+                    "def f(nav, imu):\n    return np.zeros((3, 3))\n", encoding="utf-8")
+    lines = []
+    for flags in (["--matrix", f"{hand}:f"], ["--write-samples", "s.npz"]):
+        assert main(["check", str(SCHULER), *flags]) == 2
+        err = [line for line in capsys.readouterr().err.splitlines()
+               if line.startswith("ins-errors: error:")]
+        assert len(err) == 1, err
+        lines.append(err[0])
+    assert lines[0] == lines[1]
+    for word in ("'schuler_loop'", "cannot be checked with --matrix", "navigation description",
+                 "north_pointing and strapdown_ned", "docs/matrix_check.md"):
+        assert word in lines[0], (word, lines[0])
+    assert not (tmp_path / "s.npz").exists()
+    # the docs the message points at say so
+    assert "## Which models" in (ROOT / "docs" / "matrix_check.md").read_text(encoding="utf-8")
+    # from Python: the same line, not a failed lookup of the model's name
+    with pytest.raises(InsErrorsError) as raised:
+        check_matrices(str(SCHULER), f"{hand}:f", "model")
+    assert not isinstance(raised.value, UnknownNameError)
+    assert f"ins-errors: error: {raised.value}" == lines[0]
+    # the conventions of a model file are listed like those of a built-in model
+    assert main(["check", str(SCHULER), "--list-conventions"]) == 0
+    assert "psi (rad): platform tilt about the west axis" in capsys.readouterr().out

@@ -61,7 +61,7 @@ from ins_errors.checker.matrix_input import (
     read_matrix_file,
     split_spec,
 )
-from ins_errors.checker.navigation import navigation_arrays
+from ins_errors.checker.navigation import navigation_arrays, require_description
 from ins_errors.checker.typical import magnitude_override, schuler_magnitudes, typical_magnitude
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.blas_threads import import_limited, one_blas_thread
@@ -191,18 +191,19 @@ def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | No
     a manoeuvre with turns, speed changes, climbs and descents. ``ellipsoid`` (e.g.
     ``"wgs84"``) replaces the model's default Earth shape.
     """
-    return list(_motions(model.name, float(hours), float(step), ellipsoid))
+    require_description(model)
+    return list(_motions(model.key, float(hours), float(step), ellipsoid))
 
 
 @lru_cache(maxsize=8)
 @one_blas_thread
-def _motions(model_name: str, hours: float, step: float, ellipsoid: str | None
+def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None
              ) -> tuple[Motion, ...]:
     """Motions of :func:`motions`, kept for the next check in the same process (and on
     disk for the next process: :mod:`~ins_errors.checker.motion_store`)."""
     from ins_errors.numeric.model import load_model
 
-    model = load_model(model_name)
+    model = load_model(model_key)
     p = model.parameter_vector(ellipsoid=ellipsoid)
     name = motion_store.key(model, hours, step, ellipsoid, p)
     flown = motion_store.load(name)
@@ -943,7 +944,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     Parameters
     ----------
     model_name : str
-        Model name.
+        Model name, model file or entry-point name (as :func:`~ins_errors.load_model`).
     hand : HandMatrices, or str / Path
         Already sampled matrices, or ``FILE.py:FUNCTION`` / ``FILE.npz`` / ``FILE.mat``.
     convention_name : str
@@ -966,13 +967,15 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     Raises
     ------
     InsErrorsError
-        For unknown names, unreadable hand models, wrong shapes.
+        For unknown names, unreadable hand models, wrong shapes, a model without a
+        navigation description (:func:`~ins_errors.checker.navigation.require_description`).
     """
     from ins_errors.numeric.model import load_model
 
     if not 0 < threshold < 1:
         raise InsErrorsError(f"threshold must be between 0 and 1, got {threshold}")
     model = load_model(model_name)
+    require_description(model)
     conv = convention(model, convention_name)
     motion_list = (motions(model, hours, step, ellipsoid) if motion_list is None
                    else motion_list)

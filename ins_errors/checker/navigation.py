@@ -215,6 +215,26 @@ ADAPTERS: dict[str, Callable] = {"north_pointing": _north_pointing,
 """Navigation adapter of each model that supports hand-coded matrices."""
 
 
+def require_description(model) -> None:
+    """Raise one line if ``model`` has no navigation adapter (it cannot be matrix-checked).
+
+    Raises
+    ------
+    InsErrorsError
+        Saying what the model lacks, which models have it and where the docs say so.
+    """
+    if model.name in ADAPTERS:
+        return
+    raise InsErrorsError(
+        f"model {model.name!r} cannot be checked with --matrix or --write-samples: a "
+        "hand-coded F and G is evaluated on a navigation description (latitude, NED "
+        "velocity, attitude, Earth and transport rates, IMU outputs) made from the "
+        f"model's states, which only the built-in models {' and '.join(sorted(ADAPTERS))} "
+        "have (see "
+        "docs/matrix_check.md, 'Which models'); check a hand linearisation of this model "
+        "as an equation file instead (ins-errors check MODEL FILE.tex)")
+
+
 def navigation_arrays(model, x: np.ndarray, u: np.ndarray, p: np.ndarray
                       ) -> dict[str, np.ndarray]:
     """The navigation description (:data:`FIELDS`) along states ``x`` (n, K), inputs ``u``.
@@ -224,9 +244,6 @@ def navigation_arrays(model, x: np.ndarray, u: np.ndarray, p: np.ndarray
     InsErrorsError
         If the model has no navigation adapter.
     """
-    adapter = ADAPTERS.get(model.name)
-    if adapter is None:
-        raise InsErrorsError(f"model {model.name!r} has no navigation description for "
-                             f"hand-coded matrices (supported: {', '.join(sorted(ADAPTERS))})")
-    return adapter(model, np.asarray(x, dtype=float), np.asarray(u, dtype=float),
+    require_description(model)
+    return ADAPTERS[model.name](model, np.asarray(x, dtype=float), np.asarray(u, dtype=float),
                    np.asarray(p, dtype=float))
