@@ -6,6 +6,8 @@ import json
 import textwrap
 from pathlib import Path
 
+import pytest
+
 from ins_errors.cli import main
 
 NO_TILT = """
@@ -64,3 +66,31 @@ def test_spec_latitude_at_or_beyond_a_pole_is_refused(tmp_path, capsys):
     spec = write(tmp_path, NO_TILT.replace('"45 deg"', '"89.9 deg"'))
     assert main(["budget", "orthodromic", "--spec", str(spec), "--json"]) == 0
     capsys.readouterr()
+
+
+@pytest.mark.parametrize("options, words", [
+    (["--monte-carlo", "0"], "--monte-carlo needs at least 2 runs, got 0"),
+    (["--monte-carlo", "-3"], "--monte-carlo needs at least 2 runs, got -3"),
+    (["--at", ","], "--at needs times with units"),
+    (["--at", " "], "--at needs times with units"),
+    (["--mc-step", "1s"], "--mc-step applies to the Monte Carlo runs: add --monte-carlo N"),
+    (["--mc-duration", "10 min"], "--mc-duration applies to the Monte Carlo runs"),
+    (["--seed", "3"], "--seed applies to the Monte Carlo runs"),
+    (["--engine", "serial"], "--engine applies to the Monte Carlo runs"),
+    (["--workers", "2"], "--workers applies to the Monte Carlo runs"),
+    (["--monte-carlo", "2", "--workers", "0"], "--workers must be at least 1, got 0"),
+])
+def test_options_that_do_nothing_are_refused(options, words, capsys, monkeypatch):
+    """One line, exit 2, before any propagation."""
+    from ins_errors.analysis import budget as bd
+
+    monkeypatch.setattr(bd, "unit_budget", lambda *a, **k: pytest.fail("computed"))
+    assert main(["budget", "orthodromic", *options]) == 2
+    captured = capsys.readouterr()
+    assert not captured.out and captured.err.count("\n") == 1
+    assert words in captured.err
+
+
+def test_at_ignores_a_trailing_comma(capsys):
+    assert main(["budget", "orthodromic", "--at", "1 h,", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["contributions"]["times_h"] == [1.0]

@@ -34,18 +34,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--fill", action="store_true",
                         help="scale the free sources until the tightest item is met exactly")
-    parser.add_argument("--monte-carlo", type=int, metavar="N", default=0,
+    parser.add_argument("--monte-carlo", type=int, metavar="N",
                         help="also run N direct simulations at the allocated magnitudes")
-    parser.add_argument("--mc-duration", default="1 h", help="length of each run (default 1 h)")
-    parser.add_argument("--mc-step", default="0.01 s",
-                        help="integration step of the runs (default 0.01 s, 100 Hz)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed of the runs")
+    parser.add_argument("--mc-duration", help="with --monte-carlo: length of each run "
+                                              "(default 1 h)")
+    parser.add_argument("--mc-step",
+                        help="with --monte-carlo: integration step of the runs (default "
+                             "0.01 s, 100 Hz)")
+    parser.add_argument("--seed", type=int, help="with --monte-carlo: random seed of the "
+                                                 "runs (default 0)")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="run the Monte Carlo tasks on a running Dask scheduler, e.g. "
                              "tcp://HOST:8786 (default: a local cluster of this machine's "
                              "cores, or a process pool without Dask)")
     parser.add_argument("--engine", choices=("auto", "dask", "pool", "serial"),
-                        default="auto", help="where the Monte Carlo tasks run (default: "
+                        help="where the Monte Carlo tasks run (default: "
                                              "dask when installed, else a process pool)")
     parser.add_argument("--workers", type=int, metavar="N",
                         help="workers of the local cluster or pool (default: CPU cores)")
@@ -79,6 +82,8 @@ def run(args: argparse.Namespace) -> int:
         require_matplotlib("--plot")
     if args.plot_at and not args.at:
         raise SpecError("--plot-at needs --at TIMES")
+    _check_monte_carlo_options(args)
+    times = _at_times(args.at) if args.at is not None else None
     from ins_errors.output import check_file
 
     for target in (args.plot, args.plot_at):
@@ -102,13 +107,10 @@ def run(args: argparse.Namespace) -> int:
     data["parameters"] = parameters_record(model, parameters)
     if args.plot:
         rep.plot(allocation, args.plot)
-    if args.monte_carlo:
+    if args.monte_carlo is not None:
         data["monte_carlo"] = _monte_carlo(model, spec, allocation, args, p)
     outputs = None
-    if args.at:
-        from ins_errors.units import parse_quantity
-
-        times = [parse_quantity(t, "s", "--at") for t in args.at.split(",") if t.strip()]
+    if times is not None:
         outputs = bd.output_contributions(model, allocation, times)
         if args.plot_at:
             rep.plot_outputs(outputs, args.plot_at)
@@ -125,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
         print(rep.output_table(outputs))
     if args.plot:
         print(f"\nplot written to {args.plot}")
-    if args.monte_carlo:
+    if args.monte_carlo is not None:
         mc = data["monte_carlo"]
         print(f"\nDirect Monte Carlo: {mc['runs']} runs of {mc['duration_h']:g} h at "
               f"{mc['step_s']:g} s ({mc['method']}), sample {spec.sigma_level:g}σ vs "
@@ -142,6 +144,42 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
+MC_DEFAULTS = {"mc_duration": "1 h", "mc_step": "0.01 s", "seed": 0, "engine": "auto",
+               "scheduler": None, "workers": None}
+"""The Monte Carlo options and their values when --monte-carlo is given without them."""
+
+
+def _check_monte_carlo_options(args: argparse.Namespace) -> None:
+    """Refuse Monte Carlo options without --monte-carlo, and a count below 2; fill in
+    the defaults of the ones not given."""
+    from ins_errors.specs import SpecError
+
+    given = [name for name in MC_DEFAULTS if getattr(args, name) is not None]
+    if args.monte_carlo is None:
+        if given:
+            option = "--" + given[0].replace("_", "-")
+            raise SpecError(f"{option} applies to the Monte Carlo runs: add --monte-carlo N")
+        return
+    if args.monte_carlo < 2:
+        raise SpecError(f"--monte-carlo needs at least 2 runs, got {args.monte_carlo}")
+    if args.workers is not None and args.workers < 1:
+        raise SpecError(f"--workers must be at least 1, got {args.workers}")
+    for name, value in MC_DEFAULTS.items():
+        if getattr(args, name) is None:
+            setattr(args, name, value)
+
+
+def _at_times(text: str) -> list[float]:
+    """The times of --at, s (comma-separated, each with a unit)."""
+    from ins_errors.specs import SpecError
+    from ins_errors.units import parse_quantity
+
+    parts = [t.strip() for t in text.split(",")]
+    if not any(parts):
+        raise SpecError(f"--at needs times with units, e.g. '1 h, 8 h'; got {text!r}")
+    return [parse_quantity(t, "s", "--at") for t in parts if t]
+
+
 def _monte_carlo(model, spec, allocation, args, p) -> dict:
     import time
 
@@ -152,8 +190,6 @@ def _monte_carlo(model, spec, allocation, args, p) -> dict:
     from ins_errors.specs import SpecError
     from ins_errors.units import parse_quantity
 
-    if args.monte_carlo < 2:
-        raise SpecError(f"--monte-carlo needs at least 2 runs, got {args.monte_carlo}")
     duration = parse_quantity(args.mc_duration, "s", "--mc-duration")
     step = parse_quantity(args.mc_step, "s", "--mc-step")
     if duration <= 0 or step <= 0:
@@ -174,8 +210,6 @@ def _monte_carlo(model, spec, allocation, args, p) -> dict:
                   if st.sigma > 0]
     trajectory = bd.spec_trajectory(model, spec, tau=step, duration=duration, p=p)
     start = time.perf_counter()
-    if args.workers is not None and args.workers < 1:
-        raise SpecError(f"--workers must be at least 1, got {args.workers}")
     errors = direct_monte_carlo(model, trajectory, statistics, args.monte_carlo,
                                 seed=args.seed, record_interval=spec.step,
                                 engine=args.engine, scheduler=args.scheduler,
