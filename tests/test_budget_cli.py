@@ -6,6 +6,7 @@ import json
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from ins_errors.cli import main
@@ -94,3 +95,51 @@ def test_options_that_do_nothing_are_refused(options, words, capsys, monkeypatch
 def test_at_ignores_a_trailing_comma(capsys):
     assert main(["budget", "orthodromic", "--at", "1 h,", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["contributions"]["times_h"] == [1.0]
+
+
+STRAPDOWN = """
+    sigma_level = 1
+    operating_time = "1 h"
+    [motion]
+    kind = "static"
+    latitude = "45 deg"
+    [items.position_error]
+    value = "1 nmi/h"
+    [items.ground_speed_error]
+    value = "0.8 m/s"
+    every = "10 min"
+    [parameters]
+    k_h1 = "0.0047 1/s"
+    k_h2 = "5.5e-6 1/s**2"
+"""
+
+
+def test_sources_no_row_depends_on_take_no_share(tmp_path, capsys):
+    """On a level static base a gyro misalignment x→y sees no rate about y: nothing in
+    the spec depends on it, so it is "not limited" like the sources the motion barely
+    excites, and takes no share: every limited source uses exactly its 1/n of its
+    binding row (n = the limited sources), recomputed by a fresh propagation."""
+    from ins_errors.analysis import budget as bd
+    from ins_errors.numeric.model import load_model
+    from ins_errors.specs import load_spec, spec_parameters
+
+    path = write(tmp_path, STRAPDOWN)
+    assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines()
+                if x.startswith("gyro_misalignment_xy "))
+    assert line.split()[1:] == ["unconstrained", "not", "limited", "on", "this", "motion"]
+    model, spec = load_model("strapdown_ned"), load_spec(path)
+    p = model.parameter_vector(**spec_parameters(spec, model))
+    allocation = bd.allocate(bd.unit_budget(model, spec, p=p))
+    names = [s.name for s in allocation.budget.sources]
+    j = names.index("gyro_misalignment_xy")
+    assert not np.any(allocation.budget.unit_variances[:, j])
+    assert allocation.binding_row(j) is None
+    limited = np.flatnonzero(np.isfinite(allocation.sigma))
+    sigma = {names[i]: float(allocation.sigma[i]) for i in limited}
+    evaluation = bd.evaluate(model, spec, sigma, p=p)
+    allowed = allocation.budget.allowed_variances
+    for i in limited:
+        r = allocation.binding[i]
+        assert evaluation.contributions[r, i] == pytest.approx(allowed[r] / limited.size,
+                                                               rel=1e-9)

@@ -32,7 +32,8 @@ happens *binds* the source. Since no source exceeds its share, every item is met
 item is met exactly.
 
 Sources whose allocation would exceed :data:`UNCONSTRAINED_ABOVE` (the motion hardly
-excites them) take no share and are reported as not limited. Tables and plots of a
+excites them), or that no spec row depends on at all, take no share and are reported as
+not limited. Tables and plots of a
 budget are in :mod:`ins_errors.analysis.budget_report`.
 """
 
@@ -480,7 +481,7 @@ def allocate(budget: UnitBudget) -> Allocation:
         best = np.argmin(ratio, axis=0)
         sigma[free] = np.sqrt(ratio[best, np.arange(free.size)])
         binding[free] = best
-        loose = free[sigma[free] > ceiling[free]]
+        loose = free[~np.isfinite(sigma[free]) | (sigma[free] > ceiling[free])]
         if not loose.size:
             break
         # not limited by this motion: no share, reported as unconstrained
