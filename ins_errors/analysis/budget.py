@@ -300,6 +300,48 @@ def platform_angles(model) -> tuple[str, str, str]:
                       f"{', '.join(PLATFORM_ANGLE_NAMES[0])}")
 
 
+ITEM_NEEDS = {"position_error": ("outputs", ("latitude", "longitude")),
+              "ground_speed_error": ("outputs", ("v_N", "v_E"))}
+"""Outputs each item is read from; ``vertical_error`` and ``heading_drift`` need the
+platform error angles (:data:`PLATFORM_ANGLE_NAMES`)."""
+
+
+def check_items(model, spec: Spec) -> None:
+    """Refuse, in one line, a spec with items the model has nothing to check them by.
+
+    Raises
+    ------
+    BudgetError
+        Naming every such item, what the model lacks, and how to leave the items out.
+    """
+    outputs = {o.name for o in model.outputs}
+    states = {s.name for s in model.error_states}
+    angles = any(set(names) <= states for names in PLATFORM_ANGLE_NAMES)
+    missing: dict[str, str] = {}
+    for item in spec.items:
+        if item.name in ITEM_NEEDS:
+            lacking = [n for n in ITEM_NEEDS[item.name][1] if n not in outputs]
+            if lacking:
+                missing[item.name] = f"it has no output {', '.join(lacking)}"
+        elif not angles:
+            missing[item.name] = ("it has no platform error angles (" + " or ".join(
+                ", ".join(names) for names in PLATFORM_ANGLE_NAMES) + ")")
+    if not missing:
+        return
+    by_reason: dict[str, list[str]] = {}
+    for name, why in missing.items():
+        by_reason.setdefault(why, []).append(name)
+    reasons = "; ".join(why if len(by_reason) == 1 else f"{', '.join(names)}: {why}"
+                        for why, names in by_reason.items())
+    tables = ", ".join(f"[items.{name}]" for name in missing)
+    source = f"{spec.path}" if spec.path else "the spec"
+    plural = "s" if len(missing) > 1 else ""
+    raise BudgetError(f"model {model.name} cannot check the spec item{plural} "
+                      f"{', '.join(missing)} ({reasons}); leave {'them' if plural else 'it'} "
+                      f"out: copy {source} without its {tables} table{plural} and pass the "
+                      f"copy with --spec")
+
+
 def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functionals,
                                                                          dict[str, list[int]]]:
     """The error quantities every spec item needs, and which ones belong to each item."""
@@ -364,6 +406,7 @@ def unit_budget(model, spec: Spec, trajectory=None,
     p : numpy.ndarray, optional
         Model parameters, SI (``Model.parameter_vector``; default: the model's defaults).
     """
+    check_items(model, spec)
     sources = resolve_sources(model, spec)
     system = spec_system(model, spec, trajectory, p)
     covariance = _propagate(model, system, spec,
@@ -538,6 +581,7 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None,
     Monte Carlo runs (:mod:`ins_errors.analysis.monte_carlo`). ``p``: model
     parameters, SI, as in :func:`unit_budget`.
     """
+    check_items(model, spec)
     sources = resolve_sources(model, spec)
     known = {s.name for s in sources}
     for name in sigma:
