@@ -1,9 +1,10 @@
 """Does it matter? The effect of each finding on the 1 h and 24 h error.
 
 The model's linear error equations ``x' = F x + G w`` are frozen at each reference point
-(their coefficients evaluated there) and propagated from a typical error state (every
-error state at its typical magnitude) with the file's error sources at theirs, once with
-the model's coefficients and once with the mistake put in:
+(their coefficients evaluated there) and propagated from each error state alone at its
+typical magnitude and from each of the file's error sources alone at its typical
+magnitude (the cases), once with the model's coefficients and once with the mistake put
+in:
 
 * a finding in an error-state line changes that row of F (and G) by the hand's minus the
   model's coefficient of its quantity (its own part: with the definitions it uses
@@ -12,11 +13,19 @@ the model's coefficients and once with the mistake put in:
   there (hand minus isolated hand of those lines);
 * a mistake in a latitude/longitude line changes the position read out, not the states.
 
-The effect is the change of the position error (latitude and longitude errors, m, on a
-sphere of the model's radius) and of the platform attitude error (the error states that
-are platform angles, rad) after 1 h and 24 h, at the reference point where the finding
-is largest (for a finding without one, the largest over the points). The 24 h state
-is the 1 h transition matrix to the 24th power (exact for frozen coefficients).
+The effect is the largest change over the cases (the worst single error, as the matrix
+check reports) of the position error (latitude and longitude errors, m, on a sphere of
+the model's radius) and of the platform attitude error (the error states that are
+platform angles, rad) after 1 h and 24 h, at the reference point where the finding is
+largest (for a finding without one, the largest over the points). The 24 h state is the
+1 h transition matrix to the 24th power (exact for frozen coefficients).
+
+Each change is compared with the rounding floor of the two propagations
+(:func:`ins_errors.checker.matrix.rounding_floor`, the matrix check's): at or below it the
+change is rounding, not an effect. When the mistake gives the frozen equations a growing
+mode the model lacks (an eigenvalue with a larger positive real part), the effect is
+said to grow exponentially, with the e-folding time of that mode, once the growth over
+the time compared exceeds :data:`GROWTH_SHOWN` e-foldings.
 """
 
 from __future__ import annotations
@@ -25,6 +34,7 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import classify as cl
+from ins_errors.checker.matrix import rounding_floor
 from ins_errors.checker.reference import _earth
 from ins_errors.checker.sides import identified
 from ins_errors.numeric.blas_threads import import_limited, one_blas_thread
@@ -32,20 +42,60 @@ from ins_errors.numeric.blas_threads import import_limited, one_blas_thread
 HOURS = (1.0, 24.0)
 """Propagation times, h."""
 
+STEP = 60.0
+"""Sample step (s) the rounding floor counts steps in (the matrix check's, whose static
+base is one exponential as well)."""
+
+GROWTH_SHOWN = 10.0
+"""E-foldings of a growing mode the model lacks (its rate times the time compared) from
+which the effect is given as exponential growth instead of a figure (a factor of 2e4
+over the model)."""
+
 
 @one_blas_thread
 def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray) -> list[np.ndarray]:
-    """x(t) of x' = F x + drive (constant) at each of :data:`HOURS`, by the exponential
-    of the augmented matrix over the first time and its integer powers for the others."""
+    """Response of ``x' = F x + D w`` (w constant) to each case alone at each of
+    :data:`HOURS`, by the exponential of the augmented matrix over the first time and
+    its integer powers for the others.
+
+    Parameters
+    ----------
+    f : ndarray, shape (n, n)
+        Frozen F, 1/s (SI units of the error states).
+    drive : ndarray, shape (n, m)
+        Drive of each source at its typical magnitude (G column times magnitude), SI/s.
+    x0 : ndarray, shape (n,)
+        Typical magnitude of each error state, SI.
+
+    Returns
+    -------
+    list of ndarray, shape (n, n + m)
+        At each time: column j < n the states after error state j started at ``x0[j]``
+        alone; column n + b after source b alone (from zero states).
+    """
     expm = import_limited("scipy.linalg").expm  # (SciPy's BLAS limited as well)
 
-    n = f.shape[0]
-    m = np.zeros((n + 1, n + 1))
-    m[:n, :n] = f
-    m[:n, n] = drive
-    step = expm(m * HOURS[0] * 3600.0)
-    start = np.append(x0, 1.0)
+    drive = np.asarray(drive, dtype=float).reshape(f.shape[0], -1)
+    n, m = drive.shape
+    a = np.zeros((n + m, n + m))
+    a[:n, :n] = f
+    a[:n, n:] = drive
+    step = expm(a * HOURS[0] * 3600.0)
+    start = np.diag(np.append(x0, np.ones(m)))
     return [(np.linalg.matrix_power(step, round(h / HOURS[0])) @ start)[:n] for h in HOURS]
+
+
+def _growth(f: np.ndarray) -> float:
+    """Largest real part of the eigenvalues of F (1/s); 0 when F is not finite."""
+    if not np.all(np.isfinite(f)) or not f.size:
+        return 0.0
+    return float(np.linalg.eigvals(f).real.max())
+
+
+def _worst(diffs: np.ndarray) -> tuple[float, int]:
+    """Largest of per-case differences and its case (first of equal ones)."""
+    j = int(np.argmax(diffs))
+    return float(diffs[j]), j
 
 
 def add_effects(report, d, side, comparison, identify, prepared, resolver) -> None:
@@ -72,13 +122,13 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                 entries.append((name, 0, b, c))
         values = comparison.evaluate([c for *_, c in entries]) if entries else []
         f = np.zeros((k, n, n))
-        drive = np.zeros((k, n))
+        drive = np.zeros((k, n, len(sources)))
         readout = {name: np.zeros((k, n)) for name in outputs}
         for (kind, i, b, _), value in zip(entries, values, strict=True):
             if kind == "f" and b in symbols:
                 f[:, i, symbols.index(b)] = value
             elif kind == "f" and b in sources:
-                drive[:, i] += value * magnitude[b]
+                drive[:, i, sources.index(b)] += value * magnitude[b]
             elif kind != "f" and b in symbols:
                 readout[kind][:, symbols.index(b)] = value
         cos_lat = (np.cos(comparison.evaluate([side.outputs["latitude"]])[0])
@@ -92,15 +142,21 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
         for it in its:
             items[(id(eq), it.form)] = it
 
-    def position(x: np.ndarray, point: int, extra: dict | None = None) -> np.ndarray:
-        lat = readout["latitude"][point] @ x if "latitude" in readout else 0.0
-        lon = readout["longitude"][point] @ x if "longitude" in readout else 0.0
-        if extra:
-            lat += extra.get("latitude", 0.0)
-            lon += extra.get("longitude", 0.0)
-        return radius * np.array([lat, cos_lat[point] * lon])
+    cases = [f"initial {s}" for s in states] + [f"source {b}" for b in sources]
+    scale = np.where(x0 > 0, x0, 1.0)[:, None]  # scaled responses for the floor
 
-    baseline: dict[int, list[np.ndarray]] = {}
+    def position_rows(point: int, extra: dict | None = None) -> np.ndarray:
+        """Readout (2, n): north and east position error, m per SI unit of each state."""
+        rows = np.zeros((2, n))
+        for i, name in enumerate(("latitude", "longitude")):
+            if name in readout:
+                rows[i] += readout[name][point]
+            if extra and name in extra:
+                rows[i] += extra[name][point]
+        rows[1] *= cos_lat[point]
+        return radius * rows
+
+    baseline: dict[int, tuple[list[np.ndarray], float]] = {}
     labels = [point.label for point in comparison.points]
 
     def run(delta_f: np.ndarray, delta_drive: np.ndarray, out_delta: dict,
@@ -109,16 +165,32 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
         best = None
         for p in ([labels.index(where)] if where in labels else range(k)):
             if p not in baseline:
-                baseline[p] = _propagate(f[p], drive[p], x0)
-            effect = {}
-            changed = _propagate(f[p] + delta_f[p], drive[p] + delta_drive[p], x0)
-            for hours, base, x in zip(HOURS, baseline[p], changed, strict=True):
-                extra = {name: float(row[p] @ x) for name, row in out_delta.items()}
-                dpos = np.linalg.norm(position(x, p, extra) - position(base, p))
-                datt = np.linalg.norm((x - base)[platform]) if platform else 0.0
+                baseline[p] = (_propagate(f[p], drive[p], x0), _growth(f[p]))
+            base_x, base_growth = baseline[p]
+            changed_f = f[p] + delta_f[p]
+            changed = _propagate(changed_f, drive[p] + delta_drive[p], x0)
+            rows_base, rows_changed = position_rows(p), position_rows(p, out_delta)
+            units = (max(float(np.linalg.norm(np.abs(r) @ x0))
+                         for r in (rows_base, rows_changed)),
+                     float(np.linalg.norm(x0[platform])) if platform else 0.0)
+            effect: dict = {}
+            for hours, base, x in zip(HOURS, base_x, changed, strict=True):
                 tag = f"{int(hours)}h"
-                effect[f"position_{tag}"] = float(dpos)
-                effect[f"attitude_{tag}"] = float(datt)
+                dpos = np.linalg.norm(rows_changed @ x - rows_base @ base, axis=0)
+                datt = (np.linalg.norm((x - base)[platform], axis=0) if platform
+                        else np.zeros(x.shape[1]))
+                largest = max(float(np.abs(r / scale).max(initial=0.0)) for r in (base, x))
+                steps = round(hours * 3600.0 / STEP)
+                for what, diffs, unit in (("position", dpos, units[0]),
+                                          ("attitude", datt, units[1])):
+                    value, j = _worst(diffs)
+                    floor = rounding_floor(largest, n + len(sources), steps, unit)
+                    effect[f"{what}_{tag}"] = value
+                    effect[f"{what}_floor_{tag}"] = floor
+                    effect[f"{what}_case_{tag}"] = cases[j] if value > floor else None
+            extra_growth = _growth(changed_f) - max(base_growth, 0.0)
+            if extra_growth * HOURS[-1] * 3600.0 > GROWTH_SHOWN:
+                effect["e_folding_s"] = 1.0 / extra_growth
             if best is None or effect["position_24h"] > best["position_24h"]:
                 best = {"point": comparison.points[p].label, **effect}
         return best
@@ -134,7 +206,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
             for g in result.findings:
                 if g.role != cl.ROOT or not np.isfinite(g.size):
                     continue
-                delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n))
+                delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n, len(sources)))
                 # the line's own part (definitions it uses corrected); a declared drop
                 # is measured against the full model, whose term it leaves out
                 hand, model = ((item.hand_isolated, item.model_full)
@@ -154,7 +226,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                  and np.isfinite(g.size)]
         if not roots:
             continue
-        delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n))
+        delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n, len(sources)))
         out_delta: dict[str, np.ndarray] = {}
         try:
             if result.target.startswith("output latitude") or result.target in (
@@ -216,7 +288,7 @@ def _add_row(delta_f, delta_drive, row, hand, model, comparison, symbols, source
         if b in symbols:
             delta_f[:, row, symbols.index(b)] += value
         elif b in sources:
-            delta_drive[:, row] += value * magnitude[b]
+            delta_drive[:, row, sources.index(b)] += value * magnitude[b]
 
 
 __all__ = ["HOURS", "add_effects"]

@@ -12,6 +12,8 @@ from typing import Any
 from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.compare import CheckReport, EquationResult
+from ins_errors.checker.effect import GROWTH_SHOWN, HOURS
+from ins_errors.checker.matrix_report import below
 
 
 def _size(value: float) -> str:
@@ -60,15 +62,35 @@ def summary_line(report: CheckReport) -> str:
 
 
 def _effect(f: Finding) -> str:
-    """``"24 h: 1.2 km, 3.4″ (cruise 0 km)"`` or empty."""
+    """``"1 h: 28.3 km, 918″ (initial psi); 24 h: 1.2 km, 3.4″ (static base)"`` or empty:
+    the worst single case at each time (named when above rounding), a figure at or
+    below its rounding floor as ``< floor``, exponential growth as such."""
     e = f.effect
     if not e:
         return ""
     if "note" in e:
         return e["note"]
-    return (f"1 h: {_length(e['position_1h'])}, {_angle(e['attitude_1h'])}; "
-            f"24 h: {_length(e['position_24h'])}, {_angle(e['attitude_24h'])} "
-            f"({e['point']})")
+    parts = []
+    for hours in HOURS:
+        tag = f"{int(hours)}h"
+        folding = e.get("e_folding_s")
+        if folding and hours * 3600.0 / folding > GROWTH_SHOWN:
+            parts.append(f"{int(hours)} h: grows exponentially, ×e every "
+                         f"{folding / 60:.3g} min")
+            continue
+        position, attitude = e[f"position_{tag}"], e[f"attitude_{tag}"]
+        floor_p = e.get(f"position_floor_{tag}", 0.0)
+        floor_a = e.get(f"attitude_floor_{tag}", 0.0)
+        text = (f"{int(hours)} h: "
+                + (_length(position) if position > floor_p else below(floor_p, "m")) + ", "
+                + (_angle(attitude) if attitude > floor_a
+                   else below(math.degrees(floor_a) * 3600, "″")))
+        cases = [c for c in (e.get(f"position_case_{tag}"), e.get(f"attitude_case_{tag}"))
+                 if c]
+        if cases:
+            text += f" ({'; '.join(dict.fromkeys(cases))})"
+        parts.append(text)
+    return "; ".join(parts) + f" ({e['point']})"
 
 
 def _length(metres: float) -> str:

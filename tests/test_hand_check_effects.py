@@ -1,0 +1,98 @@
+"""The hand check's "effect after 1 h / 24 h" of a mistake, against an independent
+propagation: the tutorial's Schuler loop (δV' = −g ψ + ∇, δφ' = δV/R, ψ' = δV/R + ε)
+and a hand version with one mistake, each initial error and source taken alone at its
+typical (Schuler-consistent) size, propagated by mpmath's matrix exponential at 40
+digits. The effect is the worst single case; a difference that is rounding is given as
+below its floor; a mistake that makes the loop unstable is said to grow exponentially.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import mpmath
+import pytest
+
+from ins_errors.cli import main
+
+ROOT = Path(__file__).resolve().parent.parent
+SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
+R, G, THETA = 6_371_000.0, 9.80665, 1e-4
+OMEGA_S = math.sqrt(G / R)
+# typical sizes from the Schuler relations (the tutorial's declared θ): δV, δφ, ψ; ε, ∇
+MAGNITUDES = [math.sqrt(G * R) * THETA, THETA, THETA, OMEGA_S * THETA, G * THETA]
+CORRECT = ("dot(delta_V) = -g*psi + accel_bias\ndot(delta_phi) = delta_V/R\n"
+           "dot(psi) = delta_V/R + gyro_drift\n")
+
+
+def _matrix(signs: dict) -> list[list[float]]:
+    """Augmented 5 × 5 matrix of (δV, δφ, ψ, ε, ∇) with the given coefficients."""
+    a = [[0.0] * 5 for _ in range(5)]
+    a[0][2], a[0][4] = signs.get("V_psi", -G), 1.0
+    a[1][0] = signs.get("phi_V", 1 / R)
+    a[2][0], a[2][3] = signs.get("psi_V", 1 / R), 1.0
+    return a
+
+
+def _worst(hand: dict, hours: float) -> tuple[float, float]:
+    """Largest |R Δδφ| (m) and |Δψ| (rad), hand minus model, over the five cases."""
+    mpmath.mp.dps = 40
+    t = hours * 3600.0
+    phis = [mpmath.expm(mpmath.matrix(_matrix(s)) * t) for s in (hand, {})]
+    position = attitude = mpmath.mpf(0)
+    for j, size in enumerate(MAGNITUDES):
+        d_phi = (phis[0][1, j] - phis[1][1, j]) * size
+        d_psi = (phis[0][2, j] - phis[1][2, j]) * size
+        position, attitude = max(position, abs(R * d_phi)), max(attitude, abs(d_psi))
+    return float(position), float(attitude)
+
+
+def _effect(tmp_path, capsys, text: str) -> tuple[dict, str]:
+    hand = tmp_path / "hand.txt"
+    hand.write_text(text, encoding="utf-8")
+    assert main(["check", str(SCHULER), str(hand), "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    (effect,) = [f["effect"] for e in data["equations"] for f in e["findings"]
+                 if f.get("effect")]
+    assert main(["check", str(SCHULER), str(hand)]) == 1
+    return effect, capsys.readouterr().out
+
+
+def test_worst_single_error_and_exponential_growth(tmp_path, capsys):
+    """ψ' = −δV/R (the tutorial's wrong file): the loop turns unstable with rate ω_s. All
+    errors started together cancel the growing mode (Schuler-consistent sizes), so the
+    old combined case said 6.93 km after 1 h; each alone gives 28.3 km and 918″."""
+    effect, out = _effect(tmp_path, capsys, CORRECT.replace("= delta_V/R + gyro",
+                                                            "= -delta_V/R + gyro"))
+    position, attitude = _worst({"psi_V": -1 / R}, 1.0)
+    assert position == pytest.approx(28.3e3, rel=2e-3)  # the probe's figures
+    assert effect["position_1h"] == pytest.approx(position, rel=1e-5)
+    assert effect["attitude_1h"] == pytest.approx(attitude, rel=1e-5)
+    assert effect["position_case_1h"] == "initial delta_V"
+    # the hand's loop grows as e^{ω_s t}: 107 e-foldings in a day
+    assert effect["e_folding_s"] == pytest.approx(1 / OMEGA_S, rel=1e-6)
+    position_24, _ = _worst({"psi_V": -1 / R}, 24.0)
+    assert effect["position_24h"] == pytest.approx(position_24, rel=1e-5)
+    line = next(s for s in out.splitlines() if "effect:" in s)
+    assert "1 h: 28.3 km, 918″" in line
+    assert f"24 h: grows exponentially, ×e every {1 / OMEGA_S / 60:.3g} min" in line
+
+
+def test_rounding_floor_instead_of_noise(tmp_path, capsys):
+    """δφ' = δV (R dropped) changes the position only: the tilt is exactly the model's,
+    so the attitude effect is below its rounding floor, not a figure like 7e-13″."""
+    effect, out = _effect(tmp_path, capsys, CORRECT.replace("dot(delta_phi) = delta_V/R",
+                                                            "dot(delta_phi) = delta_V"))
+    position, attitude = _worst({"phi_V": 1.0}, 1.0)
+    assert attitude == 0.0
+    assert effect["position_1h"] == pytest.approx(position, rel=1e-6)
+    assert "e_folding_s" not in effect
+    for tag in ("1h", "24h"):
+        assert 0 <= effect[f"attitude_{tag}"] <= effect[f"attitude_floor_{tag}"]
+        assert effect[f"attitude_case_{tag}"] is None
+        # the floor is far below any position figure that matters
+        assert effect[f"position_floor_{tag}"] < 1e-9 * effect[f"position_{tag}"]
+    line = next(s for s in out.splitlines() if "effect:" in s)
+    assert "1 h: 2.21e+07 km, < " in line and "(source gyro_drift)" in line
