@@ -9,6 +9,7 @@ source's correlation time...).
 
 from __future__ import annotations
 
+import re
 from typing import Annotated, Literal
 
 from pydantic import (
@@ -129,7 +130,30 @@ def validate(data: dict) -> SpecFile:
             tables[str(loc[1])] = SpecItem
         if len(loc) >= 3 and loc[0] == "sources":
             tables[str(loc[1])] = SourceTable
+        plain = _union_message(first)
+        if plain:
+            raise InsErrorsError(plain) from None
         raise one_line(error, "", tables) from None
+
+
+_MEMBER = re.compile(r"^(constrained-)?(str|float|int|bool)$")
+"""How pydantic names the member of a union type in an error's location."""
+
+
+def _union_message(first: dict) -> str | None:
+    """One line for a value of a union type (a positive number, a quantity) that none of
+    the members takes, in the file's own key names (no pydantic member names)."""
+    loc = tuple(first["loc"])
+    members = [p for p in loc if isinstance(p, str) and _MEMBER.match(p)]
+    if not members:
+        return None
+    keys = [p for p in loc if p not in members]
+    path = "".join(f"[{p}]" if isinstance(p, int) else f".{p}" for p in keys).lstrip(".")
+    value = repr(first.get("input"))[:60]
+    if members[0].startswith("constrained-"):      # a Positive
+        hint = " (include = false leaves a source out)" if keys[-1] == "weight" else ""
+        return f"{path} must be a number > 0, got {value}{hint}"
+    return f"{path} must be a value with its unit (e.g. '8 h', '0.1 deg'), got {value}"
 
 
 def json_schema() -> str:

@@ -336,6 +336,9 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
                      _positive(table.start, "s", f"items.{name}.from", "0 h", allow_zero=True))
             stop = (operating_time if table.until is None else
                     _positive(table.until, "s", f"items.{name}.until", "1 h"))
+            if stop > operating_time * (1 + 1e-12):
+                raise SpecError(f"items.{name}.until = {table.until!r} is after the "
+                                f"operating time {checked.operating_time!r}")
             count = int(np.floor((stop - start) / every + 1e-9))
             if count < 0:
                 raise SpecError(f"items.{name}: from is after until")

@@ -169,3 +169,23 @@ def test_items_a_model_cannot_check_are_named_with_the_way_out(tmp_path, capsys)
                  "-p", "k_h2=5.5e-6/s**2", "--json"]) == 0
     rows = json.loads(capsys.readouterr().out)["rows"]
     assert {r["item"] for r in rows} == {"position_error", "ground_speed_error"}
+
+
+@pytest.mark.parametrize("change, words", [
+    (("sigma_level = 1", "sigma_level = 0"), "sigma_level must be a number > 0, got 0"),
+    (("sigma_level = 1", 'sigma_level = "2"'), "sigma_level must be a number > 0, got '2'"),
+    (("include = false\n", "include = false\n    weight = 0\n", 1),
+     "sources.initial_tilt_x.weight must be a number > 0, got 0 (include = false"),
+    (('latitude = "45 deg"', "latitude = [45]"),
+     "motion.latitude must be a value with its unit (e.g. '8 h', '0.1 deg'), got [45]"),
+    (('every = "10 min"', 'every = "10 min"\n    until = "65 min"'),
+     "items.vertical_error.until = '65 min' is after the operating time '1 h'"),
+])
+def test_spec_messages_use_the_files_words(tmp_path, capsys, change, words):
+    """One line in the spec's own key names: no pydantic member names, and the key
+    that is wrong (until), not a check time derived from it."""
+    spec = write(tmp_path, NO_TILT.replace(*change))
+    assert main(["budget", "orthodromic", "--spec", str(spec)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and words in err
+    assert "constrained" not in err and ".str" not in err and "check time" not in err
