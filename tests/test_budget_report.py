@@ -106,3 +106,26 @@ def test_json_contributions_are_labelled(capsys):
     assert std.shape == (1, len(data["quantities"]), len(data["sources"]))
     assert total.shape == (1, len(data["quantities"]))
     assert total == pytest.approx(np.sqrt((std**2).sum(-1)), rel=1e-12)
+
+
+def test_tables_keep_whole_names_and_times():
+    """No header cut short; a time that went through hours and back reads as hours."""
+    assert bd.format_time(7800.000000000001) == "2 h 10 min"
+    assert bd.format_time(2.1666666666666665 * HOUR) == "2 h 10 min"
+    assert bd.format_time(90.0) == "90 s" and bd.format_time(90.5) == "90.5 s"
+    data = {"times_h": [1.0], "quantities": ["delta_latitude", "delta_v_N"],
+            "units": ["arcmin", "m/s"], "sources": ["a", "b"],
+            "std": np.array([[[3.0, 4.0], [1.0, 0.0]]]), "total": np.array([[5.0, 1.0]])}
+    header = rep.output_table(data).splitlines()[1]
+    assert header.split() == ["source", "(1σ)", "Δlatitude", "arcmin", "Δv_N", "m/s"]
+
+
+def test_share_table_keeps_whole_item_names(orthodromic, tmp_path):
+    spec = tmp_path / "spec.toml"
+    spec.write_text('operating_time = "1 h"\n[motion]\nlatitude = "45 deg"\n'
+                    '[items.ground_speed_error]\nvalue = "4 m/s"\n'
+                    '[items.heading_drift]\nvalue = "0.1 deg/h"\n')
+    allocation = bd.allocate(bd.unit_budget(orthodromic, load_spec(spec)))
+    lines = rep.contribution_table(allocation).splitlines()
+    assert lines[1].split() == ["source", "ground_speed_error", "heading_drift"]
+    assert lines[-1].split()[0] == "total" and len(lines[-1]) == len(lines[1])

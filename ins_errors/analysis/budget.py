@@ -69,7 +69,12 @@ this motion (e.g. accelerometer scale factors on a static base)."""
 
 
 def format_time(seconds: float) -> str:
-    """``"1 h"``, ``"40 min"``, ``"2 h 35 min"``, ``"90 s"``."""
+    """``"1 h"``, ``"40 min"``, ``"2 h 35 min"``, ``"90 s"``.
+
+    Rounded to the microsecond first, so a time that went through hours and back
+    (7800.000000000001 s) still reads ``"2 h 10 min"``.
+    """
+    seconds = round(float(seconds), 6)
     if seconds % 60:
         return f"{seconds:g} s"
     hours, minutes = divmod(round(seconds / 60), 60)

@@ -83,7 +83,7 @@ def select_sources(shares: np.ndarray, top: int) -> tuple[np.ndarray, np.ndarray
             named += [keys[i] for i in largest_first(np.array(list(nominated.values())))]
         if len(named) >= top:
             break
-    chosen = np.array(named[:top], dtype=int)
+    chosen = np.sort(np.array(named[:top], dtype=int))
     others = np.setdiff1d(np.arange(count), chosen)
     return chosen[largest_first(largest[chosen])], others
 
@@ -164,18 +164,22 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
     for item in items:
         idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
         worst.append(idx[int(np.argmax(contributions[idx].sum(1)))])
-    header = f"{'source':<36}" + "".join(f"{it.name[:16]:>17}" for it in items)
+    widths = [max(17, len(it.name) + 2) for it in items]
+    header = f"{'source':<36}" + "".join(f"{it.name:>{w}}" for it, w in zip(items, widths,
+                                                                             strict=True))
     lines = ["Share of each item's allowed variance (%), at its worst time:", header,
              "-" * len(header)]
     named, rest = select_sources(contributions[worst], top)
+    def line(label: str, values) -> str:
+        return f"{label:<36}" + "".join(f"{100 * v:>{w}.2f}"
+                                        for v, w in zip(values, widths, strict=True))
+
     for j in named:
-        lines.append(f"{budget.sources[j].name:<36}" + "".join(
-            f"{100 * contributions[r, j]:>17.2f}" for r in worst))
+        lines.append(line(budget.sources[j].name, [contributions[r, j] for r in worst]))
     if rest.size:
-        lines.append(f"{'(' + str(len(rest)) + ' others)':<36}" + "".join(
-            f"{100 * contributions[r, rest].sum():>17.2f}" for r in worst))
-    lines.append(f"{'total':<36}" + "".join(f"{100 * contributions[r].sum():>17.2f}"
-                                            for r in worst))
+        lines.append(line(f"({rest.size} others)",
+                          [contributions[r, rest].sum() for r in worst]))
+    lines.append(line("total", [contributions[r].sum() for r in worst]))
     return "\n".join(lines)
 
 
@@ -305,13 +309,16 @@ def output_table(data: dict, top: int = 10) -> str:
     """Text table of :func:`output_contributions` (1σ per source, largest first)."""
     lines = []
     for it, t in enumerate(data["times_h"]):
-        header = f"{'source (1σ)':<34}" + "".join(
-            f"{(q.replace('delta_', 'Δ') + ' ' + u)[:15]:>16}"
-            for q, u in zip(data["quantities"], data["units"], strict=True))
+        names = [f"{q.replace('delta_', 'Δ')} {u}"
+                 for q, u in zip(data["quantities"], data["units"], strict=True)]
+        widths = [max(12, len(n) + 2) for n in names]
+        header = f"{'source (1σ)':<34}" + "".join(f"{n:>{w}}"
+                                                  for n, w in zip(names, widths, strict=True))
         lines += [f"Contributions to the navigation errors at {t:g} h:", header,
                   "-" * len(header)]
         for label, values in output_rows(data, it, top):
-            lines.append(f"{label:<34}" + "".join(f"{v:>16.4g}" for v in values))
+            lines.append(f"{label:<34}" + "".join(f"{v:>{w}.4g}"
+                                                  for v, w in zip(values, widths, strict=True)))
         lines.append("")
     return "\n".join(lines).rstrip()
 
