@@ -40,6 +40,7 @@ FILES: dict[str, str | bytes] = {
     "empty.csv": "",
     "header_only.csv": "t,v_N,v_E\n",
     "no_t.csv": "time,v_N,v_E\n0,1,2\n10,1,2\n",
+    "nan_row.csv": "t,v_N,v_E\n0,0,100\n1200,nan,100\n2400,0,100\n3600,0,100\n",
     "bare_duration.toml": SCENARIO.replace('duration = "1 h"', "duration = 24"),
     "bare_source.toml": SCENARIO.replace('"0.01 deg/h"', '"0.01"'),
     "unknown_key.toml": SCENARIO.replace("[run]", "[run]\nduraton = \"1 h\""),
@@ -121,6 +122,14 @@ CLI_CASES: dict[str, list[str]] = {
     "compare-flight-without-heading": ["compare", "north_pointing", "-s",
                                        "accel_bias_east=100ug", "--motion", "great-circle",
                                        "--hours", "1"],
+    "compare-strapdown-over-the-pole": ["compare", "strapdown_ned", "-s", "accel_bias_x=100ug",
+                                        "--motion", "great-circle", "--heading", "0deg",
+                                        "--hours", "6", "--step", "10s", "--no-refined"],
+    "compare-below-the-centre": ["compare", "strapdown_ned", "-s", "accel_bias_x=100ug",
+                                 "--motion", "great-circle", "--height", "-7000km",
+                                 "--hours", "1"],
+    "compare-nan-in-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
+                                   "1", "--motion-file", "nan_row.csv"],
     "compare-pole-flight": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
                             "great-circle", "--heading", "0deg", "--hours", "6",
                             "--step", "10s"],
@@ -206,6 +215,11 @@ NAMED = {
     "run-negative-speed": "great-circle speed must be >= 0 m/s, got -250 m/s",
     # a model without a heading output flies static bases and north/east motion files
     "compare-flight-without-heading": "use a static base or a motion file of north and east",
+    # due north from 50° at 250 m/s: over the pole after about 4.9 h (the steps jump past
+    # it; the numbers after it meant nothing, with exit status 0)
+    "compare-strapdown-over-the-pole": "the true flight reaches a pole",
+    "compare-below-the-centre": "motion height -7000 km is at or below the Earth's centre",
+    "compare-nan-in-motion-file": "v_N is NaN or infinite in sample 2 of 4",
 }
 """Cases whose one line must say this (what to do, not only what failed)."""
 

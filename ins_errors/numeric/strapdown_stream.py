@@ -68,7 +68,9 @@ def integration_matrix() -> np.ndarray:
 def _check_signals(state: np.ndarray, inputs: np.ndarray, times: np.ndarray) -> None:
     """Raise at the first time where the flight is not finite or reaches a pole."""
     bad = ~(np.all(np.isfinite(state), axis=0) & np.all(np.isfinite(inputs), axis=0))
-    bad |= np.cos(state[7]) ** 2 <= 1e-12
+    # at a pole, or past it: a geodesic through a pole carries φ beyond ±90° (its course
+    # is undefined there), so the steps may jump over the pole without coming near it
+    bad |= (np.cos(state[7]) ** 2 <= 1e-12) | (np.abs(state[7]) >= np.pi / 2)
     if bad.any():
         raise DomainError(f"the true flight reaches a pole or is not finite at "
                           f"t = {times[int(np.argmax(bad))]:.6g} s")

@@ -114,6 +114,8 @@ def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0
                    h: float = 0.0) -> Profile:
     """A vehicle at rest at (φ, λ, h) with its trihedron at track angle ``heading`` (rad)."""
 
+    _check_height(h, "motion height")
+
     def commands(t: np.ndarray):
         values = np.zeros((4, t.size))
         values[2] = h
@@ -138,6 +140,7 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
         Height, m.
     """
     _check_speed(speed, "great-circle speed")
+    _check_height(h, "motion height")
 
     def commands(t: np.ndarray):
         values = np.zeros((4, t.size))
@@ -148,6 +151,21 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
                    f"great circle from φ={np.degrees(latitude):.4g}°, "
                    f"λ={np.degrees(longitude):.4g}°, track {np.degrees(track):.4g}°, "
                    f"{speed:g} m/s, h={h:g} m", breaks=())
+
+
+LOWEST_HEIGHT = -6_356_752.0
+"""m: the Earth's centre below the poles (WGS-84 polar radius). The models divide by
+R + h, so a height at or below it is refused before anything runs (a model file of a
+smaller planet still has its run-time domain check)."""
+
+
+def _check_height(h: float, what: str) -> None:
+    """Refuse a height that is not finite or is at or below the Earth's centre."""
+    if not np.isfinite(h):
+        raise MotionError(f"{what} must be finite, got {h}")
+    if h <= LOWEST_HEIGHT:
+        raise MotionError(f"{what} {h / 1000:g} km is at or below the Earth's centre "
+                          "(R + h must be positive)")
 
 
 def _check_speed(speed: float, what: str) -> None:
@@ -213,12 +231,14 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
         Initial height, m.
     """
     _check_speed(speed, "manoeuvre speed")
+    _check_height(h, "motion height")
     starts, t0 = [], 0.0
     v0, psi0, h0 = float(speed), 0.0, float(h)
     for leg in legs:
         if not leg.duration > 0:
             raise MotionError(f"manoeuvre leg duration must be positive, got {leg.duration}")
         _check_speed(leg.speed, "manoeuvre leg speed")
+        _check_height(leg.height, "manoeuvre leg height")
         starts.append((t0, leg.duration, v0, psi0, h0, leg))
         t0, v0, psi0, h0 = t0 + leg.duration, leg.speed, psi0 + leg.turn, leg.height
 
@@ -285,9 +305,13 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
                          f"of the times {t.shape}")
     if not np.all(np.diff(t) > 0):
         raise MotionError("sampled motion: times must be strictly increasing")
-    for name, a in zip(("t", "v1", "v2", "h"), (t, *arrays), strict=True):
+    names = ("t", "v_N", "v_E", "h") if frame == "geographic" else ("t", "v_xi", "v_eta", "h")
+    for name, a in zip(names, (t, *arrays), strict=True):
         if not np.all(np.isfinite(a)):
-            raise DomainError(f"sampled motion: {name} contains NaN or infinite values")
+            row = int(np.argmin(np.isfinite(a)))
+            raise DomainError(f"sampled motion: {name} is NaN or infinite in sample {row + 1}"
+                              f" of {a.size}")
+    _check_height(float(np.min(arrays[2])), "sampled motion height")
     splines = [CubicSpline(t, a) for a in arrays]
     t_end = t[-1]
 
