@@ -211,6 +211,21 @@ def test_store_of_another_sweep_is_refused(tmp_path, capsys):
     assert "no [sweep] table" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("store, message", [
+    ("a_file/x.zarr", "cannot write the sweep store"),        # a parent that is a file
+    ("not_netcdf.nc", "is not a readable NetCDF sweep store"),  # a .nc that is not one
+])
+def test_a_store_that_cannot_be_made_or_read_is_one_line(tmp_path, capsys, store, message):
+    (tmp_path / "a_file").write_text("x")
+    (tmp_path / "not_netcdf.nc").write_text("garbage")
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '20 deg']\n",
+                         BASE.replace('"1 h"', '"2 min"'))
+    status = main(["sweep", str(path), "--store", str(tmp_path / store), "--engine",
+                   "serial"])
+    err = capsys.readouterr().err
+    assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
+
+
 def test_sweep_summary_reports_each_points_integration_error(tmp_path, capsys):
     """Every point keeps compare's step-doubling estimate: negligible with RK4 at 10 s;
     with the rectangle method at 10 s about the growth of its Schuler swing,

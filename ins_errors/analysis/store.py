@@ -129,7 +129,13 @@ class SweepStore:
         netcdf = path.suffix == ".nc"
         work = path.with_name(path.name + ".partial.zarr") if netcdf else path
         if netcdf and path.exists():
-            with xr.open_dataset(path) as existing:
+            try:
+                existing = xr.open_dataset(path)
+            except Exception as error:  # any unreadable file (xarray raises several types)
+                raise StoreError(f"{str(path)!r} exists and is not a readable NetCDF sweep "
+                                 f"store ({type(error).__name__}); remove it or choose "
+                                 "another store") from None
+            with existing:
                 _check_fingerprint(existing.attrs, layout, path)
             return cls(path, work, layout, np.ones(layout.points, dtype=bool))
         if work.exists():
@@ -144,7 +150,11 @@ class SweepStore:
             done = np.asarray(existing["done"].values, dtype=bool)
             existing.close()
             return cls(path, work, layout, done)
-        _create(work, layout)
+        try:
+            _create(work, layout)
+        except OSError as error:  # a parent that is a file, a read-only or missing place
+            raise StoreError(f"cannot write the sweep store {str(path)!r}: "
+                             f"{error.strerror or type(error).__name__}") from None
         return cls(path, work, layout, np.zeros(layout.points, dtype=bool))
 
     # ----------------------------------------------------------------------------------
