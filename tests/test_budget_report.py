@@ -129,3 +129,33 @@ def test_share_table_keeps_whole_item_names(orthodromic, tmp_path):
     lines = rep.contribution_table(allocation).splitlines()
     assert lines[1].split() == ["source", "ground_speed_error", "heading_drift"]
     assert lines[-1].split()[0] == "total" and len(lines[-1]) == len(lines[1])
+
+
+def test_allocation_plot_shows_each_sources_share_of_every_item(orthodromic, tmp_path,
+                                                                  monkeypatch, capsys):
+    """The left panel's bars are each source's largest share of each item's allowed
+    variance, recomputed here by a fresh propagation at the allocated magnitudes: the
+    binding item's bar is the equal share 1/n, the others show where else it is used."""
+    allocation = bd.allocate(bd.unit_budget(orthodromic, load_spec(default_spec_path())))
+    budget = allocation.budget
+    names = [s.name for s in budget.sources]
+    limited = np.flatnonzero(np.isfinite(allocation.sigma))
+    evaluation = bd.evaluate(orthodromic, budget.spec,
+                             {names[j]: float(allocation.sigma[j]) for j in limited})
+    shares = evaluation.contributions / budget.allowed_variances[:, None]
+    captured = {}
+    monkeypatch.setattr(rep, "save_figure", lambda fig, path, dpi: captured.update(fig=fig))
+    rep.plot(allocation, str(tmp_path / "b.png"))
+    left = captured["fig"].axes[0]
+    labels = [t.get_text().split()[0] for t in left.get_yticklabels()]
+    items = [item.name for item in budget.spec.items]
+    assert [c.get_label() for c in left.containers] == items
+    for i, item in enumerate(items):
+        rows = [r for r, row in enumerate(budget.rows) if row.item == item]
+        bars = [bar.get_width() for bar in left.containers[i]]
+        expected = [100 * shares[rows, names.index(n)].max() for n in labels]
+        assert bars == pytest.approx(expected, rel=1e-9, abs=1e-12)
+        for n, width in zip(labels, bars, strict=True):
+            if budget.rows[allocation.binding[names.index(n)]].item == item:
+                assert width == pytest.approx(100 / limited.size, rel=1e-9)
+    assert sorted(labels) == sorted(names[j] for j in limited)

@@ -88,6 +88,18 @@ def select_sources(shares: np.ndarray, top: int) -> tuple[np.ndarray, np.ndarray
     return chosen[largest_first(largest[chosen])], others
 
 
+def worst_rows(allocation: Allocation) -> list[int]:
+    """Each spec item's row (index into the budget's rows) with the largest total share
+    of its allowed variance: the item's worst time (and component)."""
+    budget = allocation.budget
+    used = allocation.contributions().sum(1) / budget.allowed_variances
+    worst = []
+    for item in budget.spec.items:
+        idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
+        worst.append(idx[int(np.argmax(used[idx]))])
+    return worst
+
+
 def report(allocation: Allocation) -> dict:
     """A JSON-ready summary: rule, sources with magnitudes and binding rows, spec rows."""
     budget = allocation.budget
@@ -95,6 +107,8 @@ def report(allocation: Allocation) -> dict:
     contributions = allocation.contributions()
     allowed = budget.allowed_variances
     values = spec.sigma_level * np.sqrt(contributions.sum(1))
+    rows_of = {item.name: [i for i, r in enumerate(budget.rows) if r.item == item.name]
+               for item in spec.items}
     sources = []
     for j, s in enumerate(budget.sources):
         row = allocation.binding_row(j)
@@ -112,6 +126,9 @@ def report(allocation: Allocation) -> dict:
             "binding_component": None if row is None else row.component,
             "share_at_binding": None if row is None else float(
                 contributions[allocation.binding[j], j] / allowed[allocation.binding[j]]),
+            "largest_share": {item.name: float(max(contributions[r, j] / allowed[r]
+                                                   for r in rows_of[item.name]))
+                              for item in spec.items},
         })
     rows = [{"item": r.item, "time_h": r.time / HOUR, "component": r.component,
              "limit": r.limit, "value": float(v), "ratio": float(v / r.limit),
@@ -160,10 +177,7 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
     budget = allocation.budget
     contributions = allocation.contributions() / budget.allowed_variances[:, None]
     items = budget.spec.items
-    worst = []
-    for item in items:
-        idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
-        worst.append(idx[int(np.argmax(contributions[idx].sum(1)))])
+    worst = worst_rows(allocation)
     widths = [max(17, len(it.name) + 2) for it in items]
     header = f"{'source':<36}" + "".join(f"{it.name:>{w}}" for it, w in zip(items, widths,
                                                                              strict=True))
@@ -186,11 +200,15 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
 def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     """Save the budget as two readable bar charts.
 
-    Left: one bar per limited source, labelled with its name and its allowed magnitude
-    in display units (``gyro_drift_x ≤ 0.0063 deg/h``), grouped (and coloured) by the
-    item that binds it, then sorted by binding time and share of that item's variance.
-    Right: each spec item's worst value at the allocated magnitudes as a fraction of its
-    limit. Sources the motion does not limit are named under the chart.
+    Left: one group of bars per limited source, labelled with its name and its allowed
+    magnitude in display units (``gyro_drift_x ≤ 0.0063 deg/h``): one bar per spec item
+    (coloured as the item on the right), the largest share of that item's allowed
+    variance the source takes at any of its check times, so it shows where each source
+    is used, not only the item that binds it (named after the bars; by the equal-share
+    rule every source takes the same share of its binding item). Sources are grouped by binding
+    item, then sorted by binding time and share. Right: each spec item's worst value at
+    the allocated magnitudes as a fraction of its limit. Sources the motion does not
+    limit are named under the chart.
 
     Parameters
     ----------
@@ -224,19 +242,26 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     fig, (left, right) = plt.subplots(1, 2, figsize=(width, height),
                                       gridspec_kw={"width_ratios": [2.2, 1]})
     y = np.arange(len(limited))[::-1]
-    left.barh(y, [100 * s["share_at_binding"] for s in limited],
-              color=[colours[s["binding_item"]] for s in limited])
+    # largest percent of each item's allowed variance over its times, (sources, items)
+    used = np.array([[100 * s.get("largest_share", {s["binding_item"]:
+                                                       s["share_at_binding"]}).get(n, 0.0)
+                      for n in items] for s in limited]).reshape(len(limited), len(items))
+    thick = 0.8 / len(items)
+    for i, name in enumerate(items):
+        left.barh(y + (len(items) - 1) / 2 * thick - i * thick, used[:, i], height=thick,
+                  color=colours[name], label=name)
     sources = [f"{s['name']}  ≤ {s['display'].strip()}" for s in limited]
     left.set_yticks(y, sources, fontsize=8)
-    largest = max((100 * s["share_at_binding"] for s in limited), default=1.0)
+    longest = used.max(1) if used.size else np.zeros(0)
+    largest = max(float(longest.max()) if longest.size else 0.0, 1e-9)
     notes = []
-    for yy, s in zip(y, limited, strict=True):
+    for yy, s, end in zip(y, limited, longest, strict=True):
         when = format_time(s["binding_time_h"] * HOUR)
-        text = f"  {s['binding_item']} at {when}"
-        left.text(100 * s["share_at_binding"], yy, text, va="center", fontsize=7)
-        notes.append((100 * s["share_at_binding"] / (largest * 1.6), text_width([text], 7)))
+        text = f"  bound by {s['binding_item']} at {when}"
+        left.text(end, yy, text, va="center", fontsize=7)
+        notes.append((end / (largest * 1.6), text_width([text], 7)))
     left.set_xlim(0, largest * 1.6)
-    left.set_title("allowed magnitude of each source", fontsize=10)
+    left.set_title("allowed magnitude of each source, and where it is used", fontsize=10)
     left.grid(True, axis="x", alpha=0.3)
     worst = []
     for name in items:
@@ -271,8 +296,8 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
         panel = (width - left_margin - 0.3 - gap) * share
         over = max((f * panel + w - panel for f, w in notes), default=0.0)
         gap = margin + 0.2 + text_width(checks, 8) + ticks + max(0.0, over)
-    xlabel = (f"share of the binding item's allowed variance, % ({k} magnitudes as "
-              "labelled)")
+    xlabel = (f"largest share of each item's allowed variance over its check times, % "
+              f"({k} magnitudes as labelled; colours: the items on the right)")
     if text_width([xlabel], 10) > panel:
         xlabel = xlabel.replace(" (", "\n(")
     left.set_xlabel(xlabel)

@@ -30,7 +30,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "strapdown_ned's k_h1=0.0047/s (repeatable; used by the "
                              "covariance and the Monte Carlo runs; overrides the spec's "
                              "[parameters])")
-    parser.add_argument("--plot", metavar="PNG", help="write a stacked contribution plot")
+    parser.add_argument("--plot", metavar="PNG",
+                        help="write a chart of the allocation: each source's allowed "
+                             "magnitude with its largest share of every item (the binding "
+                             "one named), and every item's worst value against its limit")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--fill", action="store_true",
                         help="scale the free sources until the tightest item is met exactly")
