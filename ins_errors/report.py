@@ -55,7 +55,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |",
         f"| Earth model | {s.ellipsoid or 'model default'} |",
         f"| parameters | {_parameters_text(model, s.parameters)} |",
-        f"| truth | {s.truth} |",
+        f"| truth | {truth_text(s.truth, result.truth_used)} |",
         "",
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
         "equations along the same motion; refined = with the second-order terms. A ratio is "
@@ -71,6 +71,14 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
                   markdown_table(_selected(comparison, s.quantities))]
     lines += ["## Equations used", "", _equations_document(model)]
     return "\n".join(lines) + "\n"
+
+
+def truth_text(setting: str, used: str) -> str:
+    """The truth setting and, where the library chose, the truth it chose (``auto
+    (interpolated)``; a static base is exact whatever the setting)."""
+    if not used or used == setting:
+        return setting
+    return f"{setting} ({'static base: exact' if used == 'static' else used})"
 
 
 def _parameters_text(model, parameters) -> str:
@@ -189,6 +197,7 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
                "motion": result.motion_description, "duration_s": result.scenario.duration,
                "step_s": result.scenario.step, "record_s": result.scenario.record,
                "method": result.scenario.method, "truth": result.scenario.truth,
+               "truth_used": result.truth_used,
                "parameters": parameters_record(model, result.scenario.parameters),
                "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
                "curves": {"csv": "curves.csv", "mat": "curves.mat"},

@@ -224,6 +224,8 @@ class ScenarioResult:
     scenario: Scenario
     motion_description: str
     comparisons: list  # list[Comparison]
+    truth_used: str = ""
+    """:attr:`~ins_errors.numeric.trajectories.Trajectory.truth_kind` of the run."""
 
 
 def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
@@ -246,4 +248,4 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
                           quantities=scenario.quantities)
     for comparison, case in zip(comparisons, scenario.cases, strict=True):
         comparison.label = case.label
-    return ScenarioResult(scenario, profile.description, comparisons)
+    return ScenarioResult(scenario, profile.description, comparisons, trajectory.truth_kind)

@@ -29,6 +29,7 @@ def test_json_plot_and_markdown(capsys, tmp_path):
     assert status == 0, err
     report = json.loads(out)
     assert report["record_s"] == 60.0 and report["step_s"] == 10.0
+    assert report["truth"] == "auto" and report["truth_used"] == "static"  # at rest: exact
     (case,) = report["cases"]
     assert case["sources"]["gyro_drift_x"] == pytest.approx(0.01 * DEG_PER_HOUR, rel=1e-12)
     assert case["worst_linear_ratio"] <= 0.01
@@ -117,8 +118,11 @@ def test_truth_option_fine_and_interpolated_agree(capsys):
     assert (change / size).max() < 1e-7
     assert (change[:, 1] / fine[:, 1]).max() < 1e-2  # far below linear-vs-direct
     assert not np.array_equal(fast, fine)  # the option reached the truth: two computations
-    # at 1 s an interval of about 10 s holds fewer than MIN_STEPS steps: auto is fine
+    # at 1 s an interval of about 10 s holds fewer than MIN_STEPS steps: auto is fine,
+    # and the JSON says which truth it used
     assert np.array_equal(np.array(auto), fine)
+    assert [reports[t]["truth_used"] for t in TRUTHS] == [
+        "fine" if t == "auto" else t for t in TRUTHS]
 
 
 def test_unknown_truth_is_a_one_line_usage_error(capsys):

@@ -65,11 +65,16 @@ def test_run_truth_from_the_command_line_and_the_file(tmp_path, capsys):
         reports[truth] = json.loads(capsys.readouterr().out)
         assert reports[truth]["truth"] == (truth or "auto")
         assert json.loads((out / "results.json").read_text())["truth"] == (truth or "auto")
-        assert f"| truth | {truth or 'auto'} |" in (out / "report.md").read_text()
+        used = reports[truth]["truth_used"]
+        assert used == truth or truth in ("auto", None)
+        shown = truth or "auto"
+        shown = shown if used == shown else f"{shown} ({used})"
+        assert f"| truth | {shown} |" in (out / "report.md").read_text()
     values = {t: np.array([(m["max_direct"], m["linear_difference"])
                            for m in r["cases"][0]["metrics"]]) for t, r in reports.items()}
     _agree(values["fine"], values["interpolated"], values["fine"][:, :1])
     assert np.array_equal(values["auto"], values["fine"])  # auto at 1 s is fine
+    assert reports["auto"]["truth_used"] == reports[None]["truth_used"] == "fine"  # and says so
     assert np.array_equal(values[None], values["auto"])  # no option: today's result
     # the file's key, and the command line over it
     fine_file = _scenario(tmp_path, 'truth = "fine"',

@@ -205,7 +205,8 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         json.dump({"model": model.name, "motion": profile.description, "duration_s": duration,
                    "step_s": tau, "record_s": record, "method": args.method,
-                   "truth": args.truth, "parameters": parameters_record(model, parameters),
+                   "truth": args.truth, "truth_used": trajectory.truth_kind,
+                   "parameters": parameters_record(model, parameters),
                    "cases": [c.to_dict() for c in comparisons]}, sys.stdout, indent=2)
         print()
     else:

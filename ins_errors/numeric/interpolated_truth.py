@@ -456,6 +456,9 @@ class InterpolatedTruth:
         over a block of intervals.
     """
 
+    kind = "interpolated"
+    """How this source computes the truth (:attr:`Trajectory.truth_kind`)."""
+
     def __init__(self, model: Model, profile, frame: str, tau: float, n_steps: int,
                  p: np.ndarray, x0: np.ndarray):
         self.model_name, self.profile, self.frame = model.key, profile, frame

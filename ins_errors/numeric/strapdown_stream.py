@@ -92,6 +92,9 @@ class FullRateTruth:
         Dense output of (latitude, longitude, height, course) over ``[0, N τ]``.
     """
 
+    kind = "fine"
+    """How this source computes the truth (:attr:`Trajectory.truth_kind`)."""
+
     def __init__(self, flight: Flight, earth: _Earth, tau: float, n_steps: int, solution):
         self.flight, self.earth, self.tau, self.n_steps = flight, earth, float(tau), n_steps
         self.solution = solution

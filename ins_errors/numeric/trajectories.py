@@ -604,6 +604,15 @@ class Trajectory:
         return not self._stored
 
     @property
+    def truth_kind(self) -> str:
+        """How the truth was computed: ``"static"`` (at rest: exact, nothing integrated),
+        ``"fine"`` or ``"interpolated"`` (see :func:`trajectory`), or ``"given"`` (a
+        source or arrays of the caller's own)."""
+        if self.constant:
+            return "static"
+        return getattr(self.source, "kind", "given")
+
+    @property
     def start_state(self) -> np.ndarray:
         """True state at t = 0, shape (n,)."""
         return self._truth[:, 0]
@@ -699,6 +708,9 @@ class ProfileTruth:
     quarter steps) and the inputs are evaluated at every half step; a chunk's numbers do
     not depend on the chunk size.
     """
+
+    kind = "fine"
+    """How this source computes the truth (:attr:`Trajectory.truth_kind`)."""
 
     def __init__(self, model: Model, profile: Profile, frame: str, tau: float, n_steps: int,
                  p: np.ndarray, x0: np.ndarray):
