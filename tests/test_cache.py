@@ -82,3 +82,22 @@ def test_a_bad_size_limit_is_one_line(monkeypatch, capsys):
     monkeypatch.setenv("INS_ERRORS_CACHE_LIMIT", "lots")
     assert main(["cache", "info"]) == 2
     assert "INS_ERRORS_CACHE_LIMIT must be a size in MB" in capsys.readouterr().err
+
+
+def test_a_cache_folder_the_user_named_is_never_silently_replaced(tmp_path, monkeypatch):
+    """$INS_ERRORS_CACHE naming a file is refused in one line (as `cache info` refuses
+    it); the default folder, when it cannot be written, falls back to a temporary one
+    and says where, once."""
+    from ins_errors.errors import InsErrorsError
+
+    not_a_folder = tmp_path / "cachefile"
+    not_a_folder.write_text("x")
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(not_a_folder))
+    with pytest.raises(InsErrorsError, match=r"INS_ERRORS_CACHE=.*cachefile.* cannot be the "
+                                             r"cache folder .*point it at a folder"):
+        integ._writable(cache.directory())
+    monkeypatch.delenv("INS_ERRORS_CACHE")
+    monkeypatch.setattr(integ, "_FALLBACK_NOTICE_GIVEN", False)
+    with pytest.warns(RuntimeWarning, match="cannot be written; compiled loops are kept in"):
+        used = integ._writable(not_a_folder / "casadi")
+    assert used.is_dir() and used != not_a_folder / "casadi"

@@ -363,16 +363,40 @@ def cache_directory() -> Path:
 
 
 def _writable(directory: Path) -> Path:
-    """``directory`` if it can be created and written, else a per-user temporary folder."""
+    """``directory`` if it can be created and written, else a per-user temporary folder
+    (with a warning, once: ``ins-errors cache`` does not see that folder).
+
+    Raises
+    ------
+    InsErrorsError
+        If ``$INS_ERRORS_CACHE`` names the folder and it cannot be used: a folder the
+        user chose is not silently replaced.
+    """
+    global _FALLBACK_NOTICE_GIVEN
     user = os.getuid() if hasattr(os, "getuid") else "user"
-    for candidate in (directory, Path(tempfile.gettempdir()) / f"ins-errors-{user}"):
+    fallback = Path(tempfile.gettempdir()) / f"ins-errors-{user}"
+    for k, candidate in enumerate((directory, fallback)):
+        why = "not writable"
         try:
             candidate.mkdir(parents=True, exist_ok=True)
             if os.access(candidate, os.W_OK):
-                return candidate
-        except OSError:
-            continue
-    return Path(tempfile.mkdtemp(prefix="ins-errors-"))
+                break
+        except OSError as error:
+            why = error.strerror or type(error).__name__
+        if k == 0 and os.environ.get("INS_ERRORS_CACHE"):
+            raise InsErrorsError(f"INS_ERRORS_CACHE={str(directory)!r} cannot be the cache "
+                                 f"folder ({why}): point it at a folder, or unset it")
+    else:
+        candidate = Path(tempfile.mkdtemp(prefix="ins-errors-"))
+    if candidate != directory and not _FALLBACK_NOTICE_GIVEN:
+        _FALLBACK_NOTICE_GIVEN = True
+        warnings.warn(f"ins-errors: the cache folder {str(directory)!r} cannot be written; "
+                      f"compiled loops are kept in {str(candidate)!r} instead",
+                      RuntimeWarning, stacklevel=2)
+    return candidate
+
+
+_FALLBACK_NOTICE_GIVEN = False
 
 
 def _cpu_identity() -> str:
