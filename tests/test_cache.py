@@ -94,7 +94,7 @@ def test_a_cache_folder_the_user_named_is_never_silently_replaced(tmp_path, monk
     not_a_folder.write_text("x")
     monkeypatch.setenv("INS_ERRORS_CACHE", str(not_a_folder))
     with pytest.raises(InsErrorsError, match=r"INS_ERRORS_CACHE=.*cachefile.* cannot be the "
-                                             r"cache folder .*point it at a folder"):
+                                             r"cache folder \(it is a file\): point it"):
         integ._writable(cache.directory())
     monkeypatch.delenv("INS_ERRORS_CACHE")
     monkeypatch.setattr(integ, "_FALLBACK_NOTICE_GIVEN", False)

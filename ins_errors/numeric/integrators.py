@@ -382,7 +382,8 @@ def _writable(directory: Path) -> Path:
             if os.access(candidate, os.W_OK):
                 break
         except OSError as error:
-            why = error.strerror or type(error).__name__
+            why = ("it is a file" if candidate.is_file()
+                   else error.strerror or type(error).__name__)
         if k == 0 and os.environ.get("INS_ERRORS_CACHE"):
             raise InsErrorsError(f"INS_ERRORS_CACHE={str(directory)!r} cannot be the cache "
                                  f"folder ({why}): point it at a folder, or unset it")
