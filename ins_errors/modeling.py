@@ -48,9 +48,11 @@ Rules a definition must follow (checked, with a one-line error naming the quanti
 symbols come from the declared names (``Variable.symbol``, real-valued; a bare
 ``sp.Symbol("g")`` is a different symbol); every right-hand side has one row per state;
 every symbol an equation uses is declared (or recorded with ``let``); functions are
-SymPy's; and with the computed state on the true one and every error source zero, the
-real work gives the ideal derivatives and zero for the extra states (else the error
-equations would have a forcing that no error source explains).
+SymPy's; an error source's kind is ``"constant"`` or ``"initial"`` and its display unit
+converts to its SI unit; parameter defaults are finite; and with the computed state on
+the true one and every error source zero, the real work gives the ideal derivatives and
+zero for the extra states (else the error equations would have a forcing that no error
+source explains).
 
 A complete small model, written step by step, is the tutorial
 ``examples/own_model/schuler_loop.py`` (a single-axis Schuler loop); the built-in

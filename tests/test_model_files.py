@@ -256,6 +256,25 @@ MISTAKES = {
                         "def outputs("),
         ('f = real.let("f", a_N * sp.cos(psi)', 'f = real.let("f", a_N * table(psi)'),
         ["schuler_loop", "state matrix F", "derivative", "step: variation"]),
+    "display unit of another dimension": (
+        ('"m/s**2", "ug"', '"m/s**2", "deg/h"'),
+        ["my_ins.py", "error source 'accel_bias'", "display unit 'deg/h' does not convert",
+         "'m/s**2'", "checking the definition"]),
+    "unit the units library cannot read": (
+        ('Variable("V", "m/s",', 'Variable("V", "m/sec2",'),
+        ["state 'V'", "unit 'm/sec2'", "checking the definition"]),
+    "non-finite parameter default": (
+        ('"g", 9.80665)', '"g", float("nan"))'),
+        ["parameter 'g'", "default nan is not a finite number", "checking the definition"]),
+    "undefined function in an intermediate": (
+        ('omega_c = real.let("omega", V_c / R,',
+         'omega_c = real.let("omega", V_c / R * sp.Function("k")(psi),'),
+        ["my_ins.py", "intermediate omega_c of the real mechanisation",
+         "undefined function(s) k:", "checking the definition"]),
+    "unknown kind of error source": (
+        ('"constant", None, r"\\nabla"', '"const", None, r"\\nabla"'),
+        ["error source 'accel_bias'", "kind 'const' is not one of 'constant', 'initial'",
+         "did you mean 'constant'?", "checking the definition"]),
     "exception while importing": (
         ("V, phi = (v.symbol for v in STATES)", "V, phi = (v.symbol for v in STATES[:1])"),
         ["my_ins.py", "line", "ValueError", "importing the file"]),
@@ -415,3 +434,12 @@ def test_matrix_check_of_a_model_file_names_what_it_lacks(tmp_path, capsys, monk
     # the conventions of a model file are listed like those of a built-in model
     assert main(["check", str(SCHULER), "--list-conventions"]) == 0
     assert "psi (rad): platform tilt about the west axis" in capsys.readouterr().out
+
+
+def test_built_in_models_pass_the_unit_check():
+    from ins_errors.model_lookup import builtin_names
+    from ins_errors.models import definition
+    from ins_errors.symbolic.consistency import check_units
+
+    for name in builtin_names():
+        check_units(definition(name))

@@ -11,6 +11,7 @@ step ("checking the definition").
 
 from __future__ import annotations
 
+import difflib
 import math
 import random
 from collections.abc import Iterable, Sequence
@@ -22,6 +23,8 @@ from ins_errors.errors import ModelDefinitionError
 from ins_errors.modeling import Mechanisation, ModelDefinition, Variable
 
 STEP = "checking the definition"
+SOURCE_KINDS = ("constant", "initial")
+"""The kinds of error source (:class:`~ins_errors.modeling.ErrorSource`)."""
 
 
 def _fail(label: str, quantity: str, problem: str) -> ModelDefinitionError:
@@ -30,6 +33,18 @@ def _fail(label: str, quantity: str, problem: str) -> ModelDefinitionError:
 
 def _names(symbols: Iterable[sp.Basic]) -> str:
     return ", ".join(sorted(str(s) for s in symbols))
+
+
+def _function_names(applied: Iterable[sp.Basic]) -> str:
+    return ", ".join(sorted({str(f.func) for f in applied}))
+
+
+def _undefined_functions(label: str, quantity: str, expression: sp.Basic) -> None:
+    undefined = expression.atoms(AppliedUndef)
+    if undefined:
+        raise _fail(label, quantity,
+                    f"uses undefined function(s) {_function_names(undefined)}: write the "
+                    "formula with SymPy functions (sp.sin, sp.sqrt, ...)")
 
 
 def _check_names(label: str, d: ModelDefinition) -> None:
@@ -50,6 +65,24 @@ def _check_names(label: str, d: ModelDefinition) -> None:
             seen.add(v.name)
     if not d.states:
         raise _fail(label, "states", "the model has no state")
+    for source in d.sources:
+        if source.kind not in SOURCE_KINDS:
+            close = difflib.get_close_matches(str(source.kind).lower(), SOURCE_KINDS, n=1,
+                                              cutoff=0.3)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise _fail(label, f"error source {source.name!r}",
+                        f"kind {source.kind!r} is not one of {', '.join(map(repr, SOURCE_KINDS))}"
+                        f" ('constant' enters the right-hand side, 'initial' only the "
+                        f"initial state){hint}")
+    for parameter in d.parameters:
+        try:
+            value = float(parameter.default)
+        except (TypeError, ValueError):
+            raise _fail(label, f"parameter {parameter.name!r}",
+                        f"default {parameter.default!r:.40} is not a number") from None
+        if not math.isfinite(value):
+            raise _fail(label, f"parameter {parameter.name!r}",
+                        f"default {value} is not a finite number")
     # names that become arguments of the same generated function must differ
     for together in (("states", "inputs", "parameters", "sources"),
                      ("initial_conditions", "inputs", "parameters", "sources")):
@@ -89,11 +122,7 @@ def _check_symbols(label: str, quantity: str, matrix: sp.Matrix, row_names: list
         if not isinstance(entry, sp.Expr):
             raise _fail(label, f"{quantity} for {row_names[i]!r}",
                         f"{entry!r:.60} is not a SymPy expression")
-        undefined_functions = entry.atoms(AppliedUndef)
-        if undefined_functions:
-            raise _fail(label, f"{quantity} for {row_names[i]!r}",
-                        f"uses undefined function(s) {_names(undefined_functions)}: write "
-                        "the formula with SymPy functions (sp.sin, sp.sqrt, ...)")
+        _undefined_functions(label, f"{quantity} for {row_names[i]!r}", entry)
         unknown = {s for s in entry.free_symbols if s not in allowed}
         if unknown:
             plain = {s for s in unknown if isinstance(s, sp.Symbol)}
@@ -145,9 +174,11 @@ def check_definition(d: ModelDefinition, label: str | None = None) -> None:
     inconsistent.
 
     Checks, in order: names (identifiers, unique, no clash between arguments of one
-    generated function); shapes of every right-hand side, output and initial state (one
+    generated function); the kind of each error source (:data:`SOURCE_KINDS`); finite
+    parameter defaults; shapes of every right-hand side, output and initial state (one
     row per state, no missing equation); that every symbol used is a declared state,
-    input, parameter, error source, initial condition or recorded intermediate; that
+    input, parameter, error source, initial condition or recorded intermediate, and every
+    function a SymPy one (in the equations, intermediates and domain conditions); that
     the document groups name error states; and that the real work reduces to the ideal
     work when the computed state is the true one and every error is off.
 
@@ -192,6 +223,8 @@ def check_definition(d: ModelDefinition, label: str | None = None) -> None:
                                  "real")):
         defined: set[sp.Symbol] = set()
         for definition in mech.definitions:
+            _undefined_functions(label, f"intermediate {definition.symbol} of the {what} "
+                                        "mechanisation", definition.expression)
             extra = definition.expression.free_symbols - allowed - defined
             if extra:
                 raise _fail(label, f"intermediate {definition.symbol} of the {what} "
@@ -219,6 +252,7 @@ def check_definition(d: ModelDefinition, label: str | None = None) -> None:
         for k, item in enumerate(conditions):
             if not (isinstance(item, tuple) and len(item) == 2 and isinstance(item[1], str)):
                 raise _fail(label, f"{what}[{k}]", "must be a pair (expression, message)")
+            _undefined_functions(label, f"{what} condition {item[1]!r}", sp.sympify(item[0]))
             extra = sp.sympify(item[0]).free_symbols - allowed
             if extra:
                 raise _fail(label, f"{what} condition {item[1]!r}",
@@ -229,3 +263,49 @@ def check_definition(d: ModelDefinition, label: str | None = None) -> None:
             raise _fail(label, f"group {title!r}",
                         f"names {', '.join(map(repr, unknown_members))}, not error states")
     _check_reduces_to_ideal(label, d, d.ideal.expand(ideal), d.expand(real))
+
+
+def check_units(d: ModelDefinition, label: str | None = None) -> None:
+    """Raise one line if a unit of ``d`` does not parse, or if an error source's display
+    unit does not convert to its SI unit (``"deg/h"`` for an accelerometer bias).
+
+    Kept apart from :func:`check_definition` because it needs the units library (about
+    1 s CPU to import), which ``make derive`` of the built-in models does not; model
+    files and entry points get it when they are built
+    (:func:`~ins_errors.model_files.build_definition`).
+
+    Parameters
+    ----------
+    d : ModelDefinition
+        The definition to check.
+    label : str, optional
+        How messages name the model (default ``model '<name>'``).
+    """
+    from ins_errors.units import parse_quantity
+
+    label = label or f"model {d.name!r}"
+    groups: dict[str, Sequence[Variable]] = {
+        "state": d.states, "error state": d.error_states, "input": d.inputs,
+        "parameter": d.parameters, "error source": d.sources, "output": d.outputs,
+        "initial condition": d.initial_conditions,
+    }
+    for group, variables in groups.items():
+        for v in variables:
+            if v.unit == "1":
+                continue
+            try:
+                parse_quantity(f"1 {v.unit}", v.unit, v.name)
+            except Exception:  # the units library raises several types
+                raise _fail(label, f"{group} {v.name!r}",
+                            f"unit {v.unit!r} is not a unit the units library reads (SI, "
+                            "e.g. 'rad', 'm/s', 'm/s**2', 'rad/s', '1')") from None
+    for source in d.sources:
+        shown = source.display_unit
+        if not shown or shown == source.unit:
+            continue
+        try:
+            parse_quantity(f"1 {shown}", source.unit, source.name)
+        except Exception:  # unreadable, or another dimension
+            raise _fail(label, f"error source {source.name!r}",
+                        f"display unit {shown!r} does not convert to its SI unit "
+                        f"{source.unit!r}") from None
