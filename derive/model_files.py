@@ -5,6 +5,7 @@ No numerics happen here: the symbolic machinery derives, this module prints.
 
 from __future__ import annotations
 
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +20,7 @@ from ins_errors.symbolic.codegen import (
     emit_numpy_function,
     prepare,
 )
+from ins_errors.symbolic.consistency import unseen_sources
 from ins_errors.symbolic.documents import error_equations_markdown
 from ins_errors.symbolic.shared_trees import SharedTrees
 from ins_errors.symbolic.variation import ErrorModel, second_order_of, vary
@@ -199,6 +201,8 @@ def write_model(d: ModelDefinition, root: Path, origin: tuple[str, str] | None =
     start = time.perf_counter()
     with step(d.name, "vary (first- and second-order error equations)"):
         em = vary(d)
+    for line in unseen_sources(d, em.source_matrix, em.initial_error_matrix):
+        print(f"ins-errors: warning: {line}", file=sys.stderr)
     prepared = []
     trees = SharedTrees()  # the functions share subtrees (and their free symbols)
     for spec in function_specs(em):

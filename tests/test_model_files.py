@@ -436,6 +436,25 @@ def test_matrix_check_of_a_model_file_names_what_it_lacks(tmp_path, capsys, monk
     assert "psi (rad): platform tilt about the west axis" in capsys.readouterr().out
 
 
+def test_derive_warns_of_a_source_the_linear_model_does_not_see(tmp_path, capsys):
+    # a bias squared (a slip) has a zero column in G: d(b²)/db = 0 at b = 0
+    path = copy_model(tmp_path, ("g * sp.sin(psi) + bias,", "g * sp.sin(psi) + bias**2,"))
+    assert main(["derive", str(path), "--out", str(tmp_path / "out")]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warnings) == 1, warnings
+    for word in ("error source 'accel_bias'", "second order or higher", "does not see it"):
+        assert word in warnings[0], (word, warnings[0])
+    # a declared source that no equation uses
+    path = copy_model(tmp_path, ("omega_c - omega + drift]", "omega_c - omega]"),
+                      name="unused.py")
+    assert main(["derive", str(path), "--out", str(tmp_path / "out2")]) == 0
+    warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
+    assert len(warnings) == 1 and "'gyro_drift' is used in no equation" in warnings[0]
+    # the tutorial model sees all its sources
+    assert main(["derive", str(SCHULER), "--out", str(tmp_path / "out3")]) == 0
+    assert "warning" not in capsys.readouterr().err
+
+
 def test_built_in_models_pass_the_unit_check():
     from ins_errors.model_lookup import builtin_names
     from ins_errors.models import definition
@@ -443,3 +462,21 @@ def test_built_in_models_pass_the_unit_check():
 
     for name in builtin_names():
         check_units(definition(name))
+
+
+def test_validity_advice_when_the_linear_model_does_not_see_a_source(tmp_path, capsys):
+    # with b² in the equation the linear error is exactly zero at any b: the ratio is 1
+    # at every magnitude, and no scale of the magnitudes makes the linear model valid
+    path = copy_model(tmp_path, ("g * sp.sin(psi) + bias,", "g * sp.sin(psi) + bias**2,"))
+    assert main(["compare", str(path), "--source", "accel_bias=100ug", "--hours", "1",
+                 "--step", "60s", "--json"]) == 0
+    [case] = json.loads(capsys.readouterr().out)["cases"]
+    assert case["one_percent_scale"] is None
+    assert len(case["warnings"]) == 1, case["warnings"]
+    assert "does not see accel_bias" in case["warnings"][0]
+    assert "× the magnitudes" not in case["warnings"][0]
+    assert main(["validity", str(path), "--motion", "static", "--source", "accel_bias",
+                 "--hours", "1", "--step", "60s", "--json", "--no-progress"]) == 0
+    [row] = json.loads(capsys.readouterr().out)["sources"]
+    assert row["status"] == "not seen by the linear model"
+    assert row["magnitude_1pct"] is None and "zero columns in G" in row["note"]

@@ -114,8 +114,9 @@ class SourceValidity:
     magnitude_1pct, magnitude_10pct : float or None
         Magnitudes (SI) at which the linear residual is 1 % and 10 % of the error.
     status : str
-        ``"ok"``, ``"exactly linear"`` (residual at the rounding floor everywhere) or
-        ``"not excited"`` (no error at all).
+        ``"ok"``, ``"exactly linear"`` (residual at the rounding floor everywhere),
+        ``"not fitted"``, ``"not excited"`` (no error at all) or ``"not seen by the linear
+        model"`` (direct errors, but linear errors exactly zero at every magnitude).
     note : str
         Why a slope is missing (e.g. the refined residual never rises above the direct
         run's rounding).
@@ -258,6 +259,12 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
     linear = np.array([c.metric(worst.quantity).linear_ratio for c in comparisons])
     refined = np.array([c.metric(worst.quantity).refined_ratio for c in comparisons])
     result.linear_ratio, result.refined_ratio = linear.tolist(), refined.tolist()
+    if not any(np.any(curve) for c in comparisons for curve in c.linear.values()):
+        result.status = "not seen by the linear model"
+        result.note = (f"the linear errors stay exactly zero at every magnitude: "
+                       f"{task.source} has zero columns in G and in the initial errors (no "
+                       "equation uses it, or it enters only at second order)")
+        return result
     fit = _fit(magnitudes, linear)
     if fit is None:
         result.status = ("exactly linear" if np.all(linear <= LINEAR_FLOOR) else

@@ -84,7 +84,9 @@ def table(results, model) -> str:
                      f"{_fmt(r.linear_slope)} | {_fmt(r.refined_slope)} | "
                      f"{shown(r, r.magnitude_1pct)} | {shown(r, r.magnitude_10pct)} | "
                      f"{r.status} |")
-    return "\n".join(lines) + "\n"
+    notes = [f"* `{r.source}` ({r.motion}): {r.note}" for r in results
+             if r.status == "not seen by the linear model"]
+    return "\n".join(lines) + "\n" + ("\n" + "\n".join(notes) + "\n" if notes else "")
 
 
 def run(args: argparse.Namespace) -> int:

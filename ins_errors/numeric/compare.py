@@ -411,6 +411,14 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
     for (_, comparison), halved in zip(flagged, halves, strict=True):
         worst = comparison.worst_linear
         ratio = worst.linear_ratio
+        if not any(np.any(curve) for curve in comparison.linear.values()):
+            # zero columns of G and of the initial errors: no magnitude makes it valid
+            comparison.warnings.append(
+                f"the linear model does not see {', '.join(comparison.sources)}: its "
+                "errors stay exactly zero while the direct run's do not, at any magnitude "
+                "(the source has zero columns in G and in the initial errors: no equation "
+                "uses it, or it enters only at second order); check how the model uses it")
+            continue
         slope = math.nan
         if halved is not None:
             small = halved.metric(worst.quantity).linear_ratio

@@ -309,3 +309,43 @@ def check_units(d: ModelDefinition, label: str | None = None) -> None:
             raise _fail(label, f"error source {source.name!r}",
                         f"display unit {shown!r} does not convert to its SI unit "
                         f"{source.unit!r}") from None
+
+
+def unseen_sources(d: ModelDefinition, source_matrix: sp.Matrix,
+                   initial_error_matrix: sp.Matrix) -> list[str]:
+    """One warning line per error source the first-order error model does not see.
+
+    A source whose column is zero in both G (``source_matrix``) and the initial-error
+    matrix E has no first-order effect: either no equation uses it, or it enters only
+    at second order or higher (``bias**2``, a model mistake more often than not). The
+    linear model then reports no error for it at any magnitude.
+
+    Parameters
+    ----------
+    d : ModelDefinition
+        The model.
+    source_matrix, initial_error_matrix : sympy.Matrix, shape (ne, nw)
+        Its derived G and E.
+
+    Returns
+    -------
+    list of str
+        ``model 'NAME': error source 'S' ...`` lines (empty when every source is seen).
+    """
+    unseen = [source for j, source in enumerate(d.sources)
+              if all(e == 0 for e in source_matrix[:, j])
+              and all(e == 0 for e in initial_error_matrix[:, j])]
+    if not unseen:
+        return []
+    used = set(sp.Matrix(d.real_rhs).free_symbols | sp.Matrix(d.initial_real_state).free_symbols)
+    for mech in (d.ideal, d.real):
+        for definition in mech.definitions:
+            used |= definition.expression.free_symbols
+    lines = []
+    for source in unseen:
+        how = ("enters the equations only at second order or higher"
+               if source.symbol in used else "is used in no equation")
+        lines.append(f"model {d.name!r}: error source {source.name!r} {how}: its columns of "
+                     "G and of the initial errors are zero, so the linear model does not "
+                     "see it")
+    return lines
