@@ -480,3 +480,18 @@ def test_validity_advice_when_the_linear_model_does_not_see_a_source(tmp_path, c
     [row] = json.loads(capsys.readouterr().out)["sources"]
     assert row["status"] == "not seen by the linear model"
     assert row["magnitude_1pct"] is None and "zero columns in G" in row["note"]
+
+
+def test_validity_of_a_static_only_model_maps_the_static_base(capsys):
+    # no east velocity: the default motions drop the great circle, in one line
+    assert main(["validity", str(SCHULER), "--source", "accel_bias", "--hours", "1",
+                 "--step", "60s", "--json", "--no-progress"]) == 0
+    captured = capsys.readouterr()
+    assert [r["motion"] for r in json.loads(captured.out)["sources"]] == ["static"]
+    [line] = [x for x in captured.err.splitlines() if "validity" in x]
+    assert "mapping static only" in line and "great-circle" in line and "v_E" in line
+    # asked for explicitly, the great circle is refused with the way out
+    assert main(["validity", str(SCHULER), "--motion", "great-circle", "--hours", "1",
+                 "--step", "60s", "--no-progress"]) == 2
+    [line] = capsys.readouterr().err.strip().splitlines()
+    assert "no east velocity" in line and line.endswith("--motion static")

@@ -196,6 +196,37 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
             for motion in motions for name in names]
 
 
+def motion_problems(model, motions, step: float,
+                    parameters: Mapping[str, float] | None = None,
+                    truth: str = "auto") -> dict[str, str]:
+    """The motions of ``motions`` that ``model`` cannot follow, each with the reason.
+
+    Each moving motion is tried for one step of ``step`` s (what the sweep would build
+    first), so the answer is the trajectory code's own: e.g. a north-channel model
+    without an east velocity follows a static base only, a model without a heading
+    output no great circle.
+
+    Returns
+    -------
+    dict of str to str
+        Motion kind -> one-line reason (empty when the model follows them all).
+    """
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.motion_spec import in_si, motion_profile
+
+    p = model.parameter_vector(**dict(parameters or {}))
+    problems = {}
+    for motion in motions:
+        profile = motion_profile(in_si({"kind": motion}))
+        if profile.static:
+            continue
+        try:
+            tr.trajectory(model, profile, step, step, p=p, truth=truth)
+        except tr.MotionError as error:
+            problems[motion] = str(error)
+    return problems
+
+
 def _fit(magnitudes: np.ndarray, ratios: np.ndarray) -> tuple[float, float] | None:
     """Slope and intercept of log(ratio) against log(magnitude).
 

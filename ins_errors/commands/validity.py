@@ -32,7 +32,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "reaches 1 % and 10 % of the error; one log-log plot per source.")
     parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--motion", action="append", choices=MOTIONS,
-                        help="true motion (repeatable; default: static and great-circle)")
+                        help="true motion (repeatable; default: static and great-circle, or "
+                             "static only for a model that cannot fly a great circle)")
     parser.add_argument("--source", "-s", action="append", metavar="NAME",
                         help="error source (repeatable; default: every source)")
     parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
@@ -91,7 +92,7 @@ def table(results, model) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.validity import MOTIONS as DEFAULT_MOTIONS
-    from ins_errors.analysis.validity import validity_map, validity_tasks
+    from ins_errors.analysis.validity import motion_problems, validity_map, validity_tasks
     from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import parameters_record, parse_parameter_options
     from ins_errors.numeric.model import load_model
@@ -104,6 +105,15 @@ def run(args: argparse.Namespace) -> int:
         raise InsErrorsError(f"--hours must be positive, got {args.hours:g}")
     step = parse_quantity(args.step, "s", "--step")
     motions = args.motion or list(DEFAULT_MOTIONS)
+    problems = motion_problems(model, motions, step, parameters, args.truth)
+    if problems and args.motion:
+        motion, why = next(iter(problems.items()))
+        raise InsErrorsError(f"--motion {motion}: {why}; map the static base with "
+                             "--motion static")
+    if problems:  # the default set: keep what the model can follow, and say so
+        motions = [m for m in motions if m not in problems]
+        print(f"ins-errors: validity: mapping {', '.join(motions)} only; left out: "
+              + "; ".join(f"{m} ({why})" for m, why in problems.items()), file=sys.stderr)
     tasks = validity_tasks(model, motions, args.source, hours=args.hours, step=step,
                            parameters=parameters, truth=args.truth)
     out_dir = args.out or (f"validity_{model.name}" if args.plot else None)
