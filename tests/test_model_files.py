@@ -495,3 +495,44 @@ def test_validity_of_a_static_only_model_maps_the_static_base(capsys):
                  "--step", "60s", "--no-progress"]) == 2
     [line] = capsys.readouterr().err.strip().splitlines()
     assert "no east velocity" in line and line.endswith("--motion static")
+
+
+POSITION_SPEC = """title = "position only"
+sigma_level = 2
+operating_time = "2 h"
+step = "60 s"
+[motion]
+kind = "static"
+latitude = "50 deg"
+longitude = "30 deg"
+heading = "0 deg"
+height = "0 m"
+[items.position_error]
+value = "3.7 km/h"
+times = ["1 h", "2 h"]
+"""
+
+
+def test_budget_names_everything_a_model_file_lacks_in_one_line(tmp_path, capsys):
+    spec = tmp_path / "position.toml"
+    spec.write_text(POSITION_SPEC, encoding="utf-8")
+    # no longitude output and no Earth radius: both named in the one line
+    path = copy_model(tmp_path, ('Parameter("R", "m",', 'Parameter("R_s", "m",'))
+    assert main(["budget", str(path), "--spec", str(spec)]) == 2
+    [line] = [x for x in capsys.readouterr().err.splitlines() if "error:" in x]
+    assert "position_error (it has no output longitude and no Earth radius parameter" in line
+    # with a longitude output the position item runs: the Earth rate U is not needed
+    path = copy_model(tmp_path, ('    Variable("v_N", "m/s", "north velocity", "v_N"),\n)',
+                                 '    Variable("v_N", "m/s", "north velocity", "v_N"),\n'
+                                 '    Variable("longitude", "rad", "longitude", "L"),\n)'),
+                      ("sp.Matrix([latitude, velocity])", "sp.Matrix([latitude, velocity, 0])"),
+                      name="with_longitude.py")
+    assert main(["budget", str(path), "--spec", str(spec), "--json"]) == 0
+    capsys.readouterr()
+    assert "U" not in {p.name for p in load_model(str(path)).parameters}
+    # the default spec: every item listed with what is missing, in one line
+    assert main(["budget", str(SCHULER)]) == 2
+    [line] = [x for x in capsys.readouterr().err.splitlines() if "error:" in x]
+    for word in ("position_error", "ground_speed_error", "vertical_error", "heading_drift",
+                 "no output longitude", "no output v_E", "no platform error angles"):
+        assert word in line, (word, line)

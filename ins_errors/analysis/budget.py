@@ -274,11 +274,11 @@ def spec_system(model, spec: Spec, trajectory=None,
 
 def _radii(model, system: LinearSystem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Latitude (rad), R_N and R_E cos φ (m) along the grid, shape (K+1,) each."""
-    from ins_errors.models.earth import earth_shape, radii_of_curvature
+    from ins_errors.models.earth import earth_ellipsoid, radii_of_curvature
 
     names = [i.name for i in model.parameters]
     try:
-        a, e2, _ = earth_shape(names, system.p, f"model {model.name}")
+        a, e2 = earth_ellipsoid(names, system.p, f"model {model.name}")
     except InsErrorsError as error:
         raise BudgetError(str(error)) from None
     outputs = [o.name for o in model.outputs]
@@ -322,12 +322,17 @@ def check_items(model, spec: Spec) -> None:
     outputs = {o.name for o in model.outputs}
     states = {s.name for s in model.error_states}
     angles = any(set(names) <= states for names in PLATFORM_ANGLE_NAMES)
+    parameters = {p.name for p in model.parameters}
+    radius = {"a", "e2"} <= parameters or "R" in parameters
     missing: dict[str, str] = {}
     for item in spec.items:
         if item.name in ITEM_NEEDS:
             lacking = [n for n in ITEM_NEEDS[item.name][1] if n not in outputs]
             if lacking:
                 missing[item.name] = f"it has no output {', '.join(lacking)}"
+            if item.name == "position_error" and not radius:  # R_N, R_E of the metres
+                missing[item.name] = (f"{missing[item.name]} and" if lacking else "it has"
+                                      ) + " no Earth radius parameter ('a' with 'e2', or 'R')"
         elif not angles:
             missing[item.name] = ("it has no platform error angles (" + " or ".join(
                 ", ".join(names) for names in PLATFORM_ANGLE_NAMES) + ")")

@@ -170,6 +170,24 @@ def earth_shape(names, values, model: str = "the model") -> tuple[float, float, 
     """
     from ins_errors.errors import InsErrorsError
 
+    a, e2 = earth_ellipsoid(names, values, model)
+    p = dict(zip(names, values, strict=True))
+    if "U" not in p:
+        raise InsErrorsError(f"{model} has no Earth rate parameter 'U'")
+    return a, e2, p["U"]
+
+
+def earth_ellipsoid(names, values, model: str = "the model") -> tuple[float, float]:
+    """The Earth shape a model's parameter vector describes: (a, e²), as
+    :func:`earth_shape` without the Earth rate.
+
+    Raises
+    ------
+    InsErrorsError
+        When the model has no radius parameter (``a`` with ``e2``, or ``R``).
+    """
+    from ins_errors.errors import InsErrorsError
+
     p = dict(zip(names, values, strict=True))
     if "a" in p:
         a = p["a"]
@@ -182,9 +200,7 @@ def earth_shape(names, values, model: str = "the model") -> tuple[float, float, 
     else:
         raise InsErrorsError(f"{model} has no Earth radius parameter ('a' with 'e2', or "
                              "'R'): cannot compute its Earth")
-    if "U" not in p:
-        raise InsErrorsError(f"{model} has no Earth rate parameter 'U'")
-    return a, e2, p["U"]
+    return a, e2
 
 
 def _numpy():
