@@ -168,3 +168,24 @@ def test_bad_directives_are_one_line_input_errors(tmp_path, capsys, directive, m
     captured = capsys.readouterr()
     assert message in captured.out + captured.err
     assert "Traceback" not in captured.out + captured.err
+
+
+def test_a_wrong_term_in_an_input_that_is_zero_at_every_point_is_a_mistake(tmp_path, capsys):
+    """The Schuler loop flies only level, unaccelerated points (a_N = 0 at each), so a
+    wrong term 5 a_N ψ agrees there. Physics: f~ = a_N cos ψ − g sin ψ + ∇ has
+    ∂/∂ψ = −a_N sin ψ − g cos ψ = −g at ψ = 0, with no a_N: the term is extra."""
+    model = str(ROOT / "examples" / "own_model" / "schuler_loop.py")
+    hand = tmp_path / "aN.txt"
+    correct = ("dot(delta_V) = -g*psi + accel_bias\ndot(delta_phi) = delta_V/R\n"
+               "dot(psi) = delta_V/R + gyro_drift\n")
+    hand.write_text(correct.replace("+ accel_bias", "+ accel_bias + 5*a_N*psi"))
+    assert main(["check", model, str(hand), "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    (finding,) = [f for e in data["equations"] for f in e["findings"]]
+    assert (finding["quantity"], finding["kind"], finding["class"]) == (
+        "psi", "extra term", "mistake")
+    assert "a_N is 0 at every reference point" in finding["detail"]
+    assert data["equations"][0]["line"] == 1 and finding["size"] is None
+    hand.write_text(correct.replace("= delta_V/R + gyro_drift",
+                                    "= delta_V/R + gyro_drift + 0*a_N*psi"))
+    assert main(["check", model, str(hand)]) == 0  # a zero coefficient is no term

@@ -30,6 +30,7 @@ how much it matters: :mod:`~ins_errors.checker.classify`.
 from __future__ import annotations
 
 import difflib
+import math
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -68,6 +69,8 @@ DEFAULT_THRESHOLD = 1e-3
 """Relative size separating small effects from mistakes."""
 AGREEMENT = 1e-9
 """Relative size below which two coefficients are taken as equal (rounding)."""
+ZERO_NOTE = "{z} is 0 at every reference point, so the values there cannot show it"
+"""Why a difference found through a derivative has no size."""
 
 __all__ = ["AGREEMENT", "DEFAULT_THRESHOLD", "BasisQuantity", "CheckReport", "EquationResult",
            "Finding", "check_hand", "check_hand_file"]
@@ -386,6 +389,12 @@ class Comparison:
         self.display_model: dict[sp.Symbol, sp.Expr] = {}
         self._values = values
         self._tree = TreeValues(self.arguments, self.arrays) if tree is None else tree
+        self.zero_checked = True
+        self.fixed: frozenset[str] = frozenset()
+        """Names of the model's parameters (a parameter that is 0 is the model's choice,
+        not a motion that hides a term)."""
+        """Look for differences hidden by quantities that are 0 at every point
+        (:meth:`hidden_by_zero`); off for a file that declares a scope."""
 
     def linear_parts(self, expr: sp.Expr, trusted: bool = True
                      ) -> tuple[dict[sp.Symbol, sp.Expr], sp.Expr]:
@@ -520,6 +529,8 @@ class Comparison:
         findings = self.pair_wrong_variables(raw)
         for b, info in raw.items():
             findings.append(self.finding(b, info, diagnose))
+        findings += self.hidden_by_zero(hand, model, shown, rule, set(raw) | {
+            s for f in findings for s in self.symbols if s.name in f.quantity.split(" -> ")})
         safe = np.where(largest > 0, largest, np.inf)
         ratios = np.where(largest > 0, np.abs(constant) / safe,
                           np.where(constant == 0, 0.0, np.inf))
@@ -530,6 +541,59 @@ class Comparison:
                                     self.points[j].label, _display(hc), "0",
                                     "a term that contains no error quantity (an ideal value "
                                     "where a variation belongs?)"))
+        return findings
+
+    def zero_everywhere(self) -> frozenset[sp.Symbol]:
+        """Point quantities other than parameters that are 0 at every reference point
+        (inputs of motions the model cannot fly, a vertical velocity on level points, ...)."""
+        if not hasattr(self, "_zero"):
+            self._zero = frozenset(s for s, a in zip(self.arguments, self.arrays, strict=True)
+                                   if np.all(a == 0) and s.name not in self.fixed)
+        return self._zero
+
+    def hidden_by_zero(self, hand: sp.Expr, model: sp.Expr, shown: dict, rule: tuple,
+                       skip: set) -> list[Finding]:
+        """Coefficients that agree at every point only because a quantity they depend on
+        is 0 there: their first derivatives in that quantity differ (a wrong term times
+        ``a_N`` when every point has a_N = 0). Each is a mistake without a size (its value
+        at the points is right; :data:`ZERO_NOTE`)."""
+        zero = self.zero_everywhere() if self.zero_checked else frozenset()
+        if not zero:
+            return []
+        h, _ = self.linear_parts(hand)
+        m, _ = self.linear_parts(model, trusted=True)
+        findings = []
+        for b in self.symbols:
+            if b in skip or (b not in h and b not in m):
+                continue
+            hb, mb = h.get(b, sp.S.Zero), m.get(b, sp.S.Zero)
+            for z in sorted((hb.free_symbols | mb.free_symbols) & zero, key=sp.default_sort_key):
+                dh, dm = sp.diff(hb, z), sp.diff(mb, z)
+                if dh == dm:
+                    continue
+                values = self.try_evaluate([dh, dm])
+                if values is None or not np.all(np.isfinite(values)):
+                    continue
+                vh, vm = values
+                scale = np.maximum(np.abs(vh), np.abs(vm))
+                if not np.any(np.abs(vh - vm) > 1e-9 * scale):
+                    continue
+                j = first_largest(np.abs(vh - vm) / np.where(scale > 0, scale, 1.0))
+                if np.all(np.abs(vm) <= 1e-12 * scale):
+                    kind, what = cl.EXTRA, "a term the model does not have"
+                elif np.all(np.abs(vh) <= 1e-12 * scale):
+                    kind, what = cl.OMITTED, "the model's term is left out"
+                elif np.all(np.abs(vh + vm) <= 1e-9 * scale):
+                    kind, what = cl.SIGN, "the term has the wrong sign"
+                else:
+                    kind, what = cl.COEFFICIENT, "the term's coefficient differs"
+                findings.append(Finding(
+                    str(b), kind, cl.MISTAKE, math.inf, self.points[j].label,
+                    _display(_shown(shown.get(b, sp.S.Zero), rule)),
+                    _display(_shown(mb, rule)),
+                    f"in {z}: {what} (d/d{z} hand {_display(dh, 60)}, model "
+                    f"{_display(dm, 60)}); {ZERO_NOTE.format(z=z)}"))
+                break
         return findings
 
     def finding(self, b: sp.Symbol, info: dict, diagnose: bool = True) -> Finding:
@@ -749,6 +813,8 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     symbols = {b.name: (side.error_states.get(b.name) or side.source_symbols.get(b.name)
                         or sp.Symbol(b.name, real=True)) for b in basis}
     comparison = Comparison(motions.points, basis, symbols, threshold, values, tree)
+    comparison.zero_checked = hand.scope is None  # a scope limits the claim to its points
+    comparison.fixed = frozenset(p.name for p in d.parameters)  # 0 by the model's choice
     comparison.display_model = _reciprocal_aliases(side, notation)
     declared.finish(comparison, identify)
 
