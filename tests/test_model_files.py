@@ -536,3 +536,9 @@ def test_budget_names_everything_a_model_file_lacks_in_one_line(tmp_path, capsys
     for word in ("position_error", "ground_speed_error", "vertical_error", "heading_drift",
                  "no output longitude", "no output v_E", "no platform error angles"):
         assert word in line, (word, line)
+
+
+def test_compare_without_a_source_names_one_of_the_models_own(capsys):
+    assert main(["compare", str(SCHULER), "--hours", "1", "--step", "60s"]) == 2
+    [line] = [x for x in capsys.readouterr().err.splitlines() if "error:" in x]
+    assert line.endswith("e.g. --source gyro_drift=0.01deg/h"), line

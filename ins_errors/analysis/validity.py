@@ -157,6 +157,14 @@ def typical_magnitude(model, source: str) -> float:
     return parse_quantity(f"{TYPICAL[shown]} {shown}", info.unit, source)
 
 
+def source_example(model) -> str:
+    """``NAME=VALUE`` of one of the model's own sources at its typical size, for messages
+    (a constant source first, e.g. ``gyro_drift_x=0.01deg/h``)."""
+    info = next((s for s in model.sources if s.kind == "constant"), model.sources[0])
+    shown = info.display_unit or info.unit
+    return f"{info.name}={TYPICAL.get(shown, 1):g}{shown}"
+
+
 def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
                    step: float = 2.0, method: str = "rk4",
                    factors: tuple[float, ...] = FACTORS,

@@ -91,14 +91,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def _sources(model, items: list[str]) -> list[tuple[str, float]]:
+    from ins_errors.analysis.validity import source_example
     from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import name_value_pairs
     from ins_errors.units import parse_quantity
 
+    example = source_example(model)
     if not items:
-        raise InsErrorsError("give at least one --source NAME=VALUE, e.g. "
-                             "--source gyro_drift_x=0.01deg/h")
-    pairs = name_value_pairs(items, "--source", "gyro_drift_x=0.01deg/h")
+        raise InsErrorsError(f"give at least one --source NAME=VALUE, e.g. --source {example}")
+    pairs = name_value_pairs(items, "--source", example)
     return [(name, parse_quantity(text, model.sources[model.index("sources", name)].unit, name))
             for name, text in pairs.items()]
 
