@@ -68,10 +68,10 @@ def bench_direct_and_linear(hours: float) -> None:
     steps = traj.n_steps
     print(f"static base, {hours:g} h at 100 Hz ({steps:,} steps), record every 1 s:")
     wall = time.perf_counter()
-    simulate(model, traj, sources, record_interval=1.0, parts=("real",))
+    simulate(model, traj, sources, record_interval=1.0, parts=("real",), method="euler")
     _line("direct (ideal + real), first call incl. build/compile", time.perf_counter() - wall)
     wall, cpu, _ = _timed(lambda: simulate(model, traj, sources, record_interval=1.0,
-                                           parts=("real",)))
+                                           parts=("real",), method="euler"))
     _line("direct (ideal + real), compiled, best of 3", wall, cpu,
           GOAL_DIRECT * hours / 24)
     per_step = python_loop_seconds_per_step(model, traj, w, 20_000)
@@ -82,17 +82,17 @@ def bench_direct_and_linear(hours: float) -> None:
     print(f"  {'speed-up compiled vs pure Python':<58} {ratio:8.0f} x  goal {GOAL_RATIO:g} x: "
           f"{'met' if ratio >= GOAL_RATIO else 'NOT met'}")
     wall_l, cpu_l, _ = _timed(lambda: simulate(model, traj, sources, record_interval=1.0,
-                                               parts=("linear",)))
+                                               parts=("linear",), method="euler"))
     _line("linear error equations (ideal + F e + G w), best of 3", wall_l, cpu_l,
           GOAL_LINEAR * hours / 24)
-    wall_a, cpu_a, _ = _timed(lambda: simulate(model, traj, sources, record_interval=1.0),
-                              repeats=1)
+    wall_a, cpu_a, _ = _timed(lambda: simulate(model, traj, sources, record_interval=1.0,
+                                               method="euler"), repeats=1)
     _line("direct + linear + refined in one loop", wall_a, cpu_a)
     short = tr.trajectory(model, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG), 600.0, tau)
     wall_c, _, _ = _timed(lambda: simulate(model, short, sources, record_interval=1.0,
-                                           parts=("real",)))
+                                           parts=("real",), method="euler"))
     wall_v, _, _ = _timed(lambda: simulate(model, short, sources, record_interval=1.0,
-                                           parts=("real",), jit=False), repeats=1)
+                                           parts=("real",), jit=False, method="euler"), repeats=1)
     print(f"  {'CasADi VM fallback vs compiled (10 min at 100 Hz)':<58} "
           f"{wall_v / wall_c:8.1f} x slower ({wall_v:.2f} s vs {wall_c:.3f} s)")
 

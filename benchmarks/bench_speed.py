@@ -76,11 +76,13 @@ def _moving(kind: str, hours: float, record: float) -> dict:
         profile = tr.manoeuvre_profile(40 * DEG, -20 * DEG, 70 * DEG, 200.0, _legs(hours), 1000.0)
     sources = {"gyro_drift_x": 0.01 * DEG / 3600, "accel_bias_y": 1e-4}
     warm = tr.trajectory(model, profile, 600.0, 0.01, stream=True)  # compile everything
-    simulate(model, warm, sources, record_interval=record, parts=("real", "linear"))
+    simulate(model, warm, sources, record_interval=record, parts=("real", "linear"),
+             method="euler")
     base = _peak_mb()
     wall, cpu = time.perf_counter(), _cpu()
     traj = tr.trajectory(model, profile, hours * 3600.0, 0.01)
-    sim = simulate(model, traj, sources, record_interval=record, parts=("real", "linear"))
+    sim = simulate(model, traj, sources, record_interval=record, parts=("real", "linear"),
+                   method="euler")
     recorded = sum(a.nbytes for a in (sim.ideal, sim.real, sim.linear)) / 1e6
     result = {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall, "peak": _peak_mb(),
               "base": base, "recorded": recorded}
@@ -135,11 +137,13 @@ def _static_direct(hours: float, platform: str = "exact") -> dict:
     traj = tr.trajectory(model, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
                          hours * 3600.0, 0.01)
     sources = {"gyro_drift_x": 0.01 * DEG / 3600}
-    simulate(model, traj, sources, record_interval=1.0, parts=("real",), platform=platform)
+    simulate(model, traj, sources, record_interval=1.0, parts=("real",), platform=platform,
+             method="euler")
     best = (np.inf, np.inf)
     for _ in range(3):
         wall, cpu = time.perf_counter(), _cpu()
-        simulate(model, traj, sources, record_interval=1.0, parts=("real",), platform=platform)
+        simulate(model, traj, sources, record_interval=1.0, parts=("real",), platform=platform,
+             method="euler")
         best = min(best, (_cpu() - cpu, time.perf_counter() - wall))
     return {"cpu": best[0], "wall": best[1]}
 
@@ -157,12 +161,12 @@ def _batch(hours: float, threads: int, repeats: int) -> dict:
     cases = [{s.name: parse_quantity(small[s.unit], s.unit)} for s in model.sources]
     traj = tr.trajectory(model, tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG),
                          hours * 3600.0, 0.01)
-    simulate(model, traj, cases, record_interval=60.0, parts=("real",))
+    simulate(model, traj, cases, record_interval=60.0, parts=("real",), method="euler")
     # the best of a few runs: the wall time depends on what else the machine runs
     best = (np.inf, np.inf)
     for _ in range(repeats):
         wall, cpu = time.perf_counter(), _cpu()
-        simulate(model, traj, cases, record_interval=60.0, parts=("real",))
+        simulate(model, traj, cases, record_interval=60.0, parts=("real",), method="euler")
         best = min(best, (time.perf_counter() - wall, _cpu() - cpu))
     return {"cpu": best[1], "wall": best[0], "cases": len(cases)}
 

@@ -39,7 +39,7 @@ def _compare(kind: str, hours: float) -> None:
         start = time.process_time()
         traj = tr.trajectory(model, profile, hours * 3600.0, 0.01, stream=True, truth=truth)
         runs.append(simulate(model, traj, cases, record_interval=10.0,
-                             parts=("real", "linear")))
+                             parts=("real", "linear"), method="euler"))
         cpu.append(time.process_time() - start)
     fine, fast = (r.direct_errors() for r in runs)
     linear = runs[0].linear_errors()

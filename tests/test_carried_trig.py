@@ -175,7 +175,7 @@ def test_exact_platform_tilt_settles_at_bias_over_g_with_the_schuler_period(orth
     traj = tr.trajectory(orthodromic, tr.static_profile(45 * DEG), 2 * 5064.0, 1.0)
     bias = 2e-4 * g
     sim = simulate(orthodromic, traj, {"accel_bias_y": bias}, record_interval=4.0,
-                   parts=("real",))
+                   parts=("real",), method="euler")
     tilt = sim.direct_errors()["alpha_x"][:, 0]
     times = sim.direct_errors().times
     # the tilt swings between 0 and twice its mean: the mean over the run is b/g
@@ -190,8 +190,8 @@ def test_carrying_the_trig_leaves_the_other_runs_bit_for_bit(orthodromic):
     motion = tr.great_circle_profile(50 * DEG, 30 * DEG, 40 * DEG, 250.0)
     traj = tr.trajectory(orthodromic, motion, 1800.0, 1.0)
     sources = {"initial_azimuth_error": 1 * DEG, "gyro_drift_x": 0.01 * DEG / 3600}
-    together = simulate(orthodromic, traj, sources, record_interval=60.0)
+    together = simulate(orthodromic, traj, sources, record_interval=60.0, method="euler")
     alone = simulate(orthodromic, traj, sources, record_interval=60.0,
-                     parts=("linear", "refined"))
+                     parts=("linear", "refined"), method="euler")
     for part in ("ideal", "linear", "refined"):
         assert np.array_equal(getattr(together, part), getattr(alone, part)), part

@@ -72,8 +72,8 @@ def test_a_user_motion_source_feeds_the_runs(orthodromic, motions):
     own = tr.Trajectory.streamed(orthodromic.name, stored.tau, stored.n_steps, source,
                                  stored.truth[:, 0], stored.inputs[:, 0], stored.parameters,
                                  stored.initial_conditions, "my motion")
-    a = simulate(orthodromic, own, CASES, record_interval=5.0)
-    b = simulate(orthodromic, stored, CASES, record_interval=5.0)
+    a = simulate(orthodromic, own, CASES, record_interval=5.0, method="euler")
+    b = simulate(orthodromic, stored, CASES, record_interval=5.0, method="euler")
     assert np.array_equal(a.real, b.real) and np.array_equal(a.linear, b.linear)
 
 
@@ -84,7 +84,7 @@ def test_a_long_streamed_run_keeps_memory_bounded(orthodromic):
     try:
         traj = tr.trajectory(orthodromic, profile, 6 * 3600.0, 0.1)
         sim = simulate(orthodromic, traj, {"gyro_drift_x": 1e-7}, record_interval=60.0,
-                       parts=("real", "linear"))
+                       parts=("real", "linear"), method="euler")
         _, peak = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()

@@ -40,7 +40,7 @@ def test_static_base_stays_put_to_rounding(orthodromic):
                          86400.0, 1.0)
     assert traj.constant
     # the ideal run (manual's rectangle scheme) fed the inputs keeps every state constant
-    sim = simulate(orthodromic, traj, {}, parts=(), record_interval=3600.0)
+    sim = simulate(orthodromic, traj, {}, parts=(), record_interval=3600.0, method="euler")
     drift = np.abs(sim.ideal[:, :, 0] - traj.truth[:, :1])
     assert drift[:6].max() < 1e-13  # direction cosines
     assert drift[6:].max() < 1e-9  # absolute velocities (~300 m/s), m/s
@@ -155,7 +155,7 @@ def test_bad_motions_raise_one_line_errors(orthodromic):
     # ... and a streamed one says the same when it is run
     streamed = tr.trajectory(orthodromic, polar, 600.0, 1.0, stream=True)
     with pytest.raises(DomainError, match=r"true motion leaves the model's domain at t = \d"):
-        simulate(orthodromic, streamed, {"gyro_drift_x": 1e-7})
+        simulate(orthodromic, streamed, {"gyro_drift_x": 1e-7}, method="euler")
 
 
 def test_rest_with_a_moving_state_is_integrated():

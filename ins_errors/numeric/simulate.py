@@ -362,7 +362,7 @@ def source_cases(model: Model, sources: dict[str, float] | np.ndarray
     return np.stack([model.source_vector(**case) for case in sources], axis=1)
 
 
-def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "euler",
+def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk4",
              record_interval: float | None = None,
              parts: Sequence[str] = PARTS, jit: bool = True,
              progress: bool = False, platform: str = "exact") -> Simulation:
@@ -376,8 +376,9 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "eu
         True motion and inputs on the step grid.
     sources : dict, list of dict or numpy.ndarray
         Error sources, SI (see :func:`source_cases`); several cases run as one batch.
-    method : {"euler", "rk4"}
-        Scheme; ``"euler"`` is the manual's rectangle method.
+    method : {"rk4", "euler"}
+        Scheme: RK4 (default, as ``compare`` and the command line) or ``"euler"``, the
+        manual's rectangle method.
     record_interval : float, optional
         Seconds between recorded samples (a multiple of the step that divides the run);
         default: every step.
