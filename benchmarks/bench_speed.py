@@ -64,7 +64,10 @@ def _legs(hours: float):
 # --------------------------------------------------------------------------------------
 # Figures (each runs in a child process and returns a dict)
 # --------------------------------------------------------------------------------------
-def _moving(kind: str, hours: float, record: float) -> dict:
+def _moving(kind: str, hours: float, record: float, method: str = "euler") -> dict:
+    """orthodromic flown ``hours`` at 100 Hz: the true motion + direct + linear runs by
+    ``method`` (the rectangle method by default: one evaluation per step, as the issue's
+    figures were taken)."""
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.simulate import simulate
@@ -77,12 +80,12 @@ def _moving(kind: str, hours: float, record: float) -> dict:
     sources = {"gyro_drift_x": 0.01 * DEG / 3600, "accel_bias_y": 1e-4}
     warm = tr.trajectory(model, profile, 600.0, 0.01, stream=True)  # compile everything
     simulate(model, warm, sources, record_interval=record, parts=("real", "linear"),
-             method="euler")
+             method=method)
     base = _peak_mb()
     wall, cpu = time.perf_counter(), _cpu()
     traj = tr.trajectory(model, profile, hours * 3600.0, 0.01)
     sim = simulate(model, traj, sources, record_interval=record, parts=("real", "linear"),
-                   method="euler")
+                   method=method)
     recorded = sum(a.nbytes for a in (sim.ideal, sim.real, sim.linear)) / 1e6
     result = {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall, "peak": _peak_mb(),
               "base": base, "recorded": recorded}
@@ -95,9 +98,10 @@ def _moving(kind: str, hours: float, record: float) -> dict:
 
 
 def _strapdown(kind: str, hours: float, record: float,
-               parts: tuple[str, ...] = ("real", "linear")) -> dict:
+               parts: tuple[str, ...] = ("real", "linear"), method: str = "rk4") -> dict:
     """strapdown_ned flown ``hours`` at 100 Hz: true IMU signals + the runs ``parts``
-    (direct and linear by default; ``("real",)``: the direct run alone)."""
+    (direct and linear by default; ``("real",)``: the direct run alone) by ``method``
+    (RK4 by default: four evaluations per step)."""
     from ins_errors.numeric import strapdown_truth as st
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.simulate import simulate
@@ -110,13 +114,13 @@ def _strapdown(kind: str, hours: float, record: float,
               "manoeuvre": st.standard_manoeuvre()}[kind]
     sources = {"gyro_bias_x": 0.01 * DEG / 3600, "accel_bias_y": 5e-5}
     warm = st.trajectory(model, flight, 600.0, 0.01, p=p)  # compile everything
-    simulate(model, warm, sources, method="rk4", record_interval=record, parts=parts)
+    simulate(model, warm, sources, method=method, record_interval=record, parts=parts)
     del warm
     base = _peak_mb()
     wall, cpu = time.perf_counter(), _cpu()
     traj = st.trajectory(model, flight, hours * 3600.0, 0.01, p=p)
     truth = _cpu() - cpu
-    sim = simulate(model, traj, sources, method="rk4", record_interval=record, parts=parts)
+    sim = simulate(model, traj, sources, method=method, record_interval=record, parts=parts)
     recorded = sum(getattr(sim, k).nbytes for k in ("ideal", *parts)) / 1e6
     result = {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall, "peak": _peak_mb(),
               "base": base, "recorded": recorded}
@@ -248,10 +252,13 @@ def _tests() -> dict:
 FIGURES = {
     "great-circle": lambda q: _moving("great circle", 1.0 if q else 24.0, 1.0),
     "manoeuvre": lambda q: _moving("manoeuvre", 1.0 if q else 24.0, 1.0),
+    "great-circle-rk4": lambda q: _moving("great circle", 1.0 if q else 24.0, 1.0, "rk4"),
     "week": lambda q: _moving("great circle", 6.0 if q else 7 * 24.0, 10.0),
     "strapdown-static": lambda q: _strapdown("static", 1.0 if q else 24.0, 1.0),
     "strapdown-great-circle": lambda q: _strapdown("great circle", 1.0 if q else 24.0, 1.0),
     "strapdown-manoeuvre": lambda q: _strapdown("manoeuvre", 1.0 if q else 24.0, 1.0),
+    "strapdown-great-circle-euler": lambda q: _strapdown("great circle", 1.0 if q else 24.0,
+                                                         1.0, method="euler"),
     "strapdown-direct": lambda q: _strapdown("great circle", 1.0 if q else 24.0, 1.0,
                                              ("real",)),
     "strapdown-week": lambda q: _strapdown("great circle", 6.0 if q else 7 * 24.0, 10.0),
@@ -322,13 +329,18 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
             return True
         return name not in r
 
-    for name, label in (("great-circle", "great-circle"), ("manoeuvre", "manoeuvre")):
+    # the scheme is part of each figure: RK4 evaluates the equations four times a step,
+    # the rectangle method once (the issue's figures were taken with the latter)
+    for name, label in (("great-circle", "great-circle, rect."), ("manoeuvre", "manoeuvre, rect."),
+                        ("great-circle-rk4", "great-circle, RK4")):
         if failed(name):
             continue
         _moving_rows(f"{hours:g} h {label} at 100 Hz,", r[name], scale,
                      "the true motion (its inputs alone)")
-    for name, label in (("strapdown-great-circle", "great circle"),
-                        ("strapdown-manoeuvre", "manoeuvre"), ("strapdown-static", "static")):
+    for name, label in (("strapdown-great-circle", "great circle, RK4"),
+                        ("strapdown-manoeuvre", "manoeuvre, RK4"),
+                        ("strapdown-static", "static, RK4"),
+                        ("strapdown-great-circle-euler", "great circle, rect.")):
         if failed(name):
             continue
         _moving_rows(f"strapdown {hours:g} h {label},", r[name], scale, "the true IMU signals")
@@ -336,7 +348,7 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
             # the floor of the row above whatever the linear run costs: the truth and
             # the direct run (ideal and real work, RK4 at 100 Hz) without it
             x = r["strapdown-direct"]
-            _row("  truth+direct alone (no linear run)",
+            _row("  truth+direct alone (no linear run), RK4",
                  f"{x['cpu']:.2f} s CPU", "", None)
     if not failed("strapdown-week"):
         _week_rows("strapdown ", r["strapdown-week"], quick)
