@@ -189,3 +189,22 @@ def test_a_wrong_term_in_an_input_that_is_zero_at_every_point_is_a_mistake(tmp_p
     hand.write_text(correct.replace("= delta_V/R + gyro_drift",
                                     "= delta_V/R + gyro_drift + 0*a_N*psi"))
     assert main(["check", model, str(hand)]) == 0  # a zero coefficient is no term
+
+
+def test_sources_the_file_leaves_out_are_named_on_the_terminal(tmp_path, capsys):
+    """δV' = −g ψ + ∇ and ψ' = δV/R + ε written without ∇ and ε agree (both sides take
+    the sources as zero) but the terminal says so; the initial tilt, which only sets
+    the initial state, and sources of lines the file does not write are not named."""
+    model = str(ROOT / "examples" / "own_model" / "schuler_loop.py")
+    hand = tmp_path / "nosrc.txt"
+    hand.write_text("dot(delta_V) = -g*psi\ndot(delta_phi) = delta_V/R\n"
+                    "dot(psi) = delta_V/R\n")
+    assert main(["check", model, str(hand)]) == 0
+    out = capsys.readouterr().out
+    (line,) = [s for s in out.splitlines() if "never mentions" in s]
+    assert line.endswith("not checked): gyro_drift, accel_bias")
+    hand.write_text("dot(delta_V) = -g*psi\ndot(delta_phi) = delta_V/R\n")
+    assert main(["check", model, str(hand), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["unchecked_sources"] == ["accel_bias"]
+    assert data["out_of_scope"] == ["gyro_drift", "accel_bias", "initial_tilt"]

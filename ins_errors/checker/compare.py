@@ -162,6 +162,9 @@ class CheckReport:
         Input problems (parse errors, unknown symbols, duplicates, ...), sorted by line.
     out_of_scope : list of str
         Model error sources the hand file never mentions (set to zero on both sides).
+    unchecked_sources : list of str
+        Those of them that the model's side of a compared line contains: terms the
+        file leaves out without the check seeing them.
     from_model : dict
         Variation symbol -> lines where the hand file uses it without defining it (the
         model's variation was used on the hand side).
@@ -196,6 +199,7 @@ class CheckReport:
     scope: str | None = None
     declarations: list[str] = field(default_factory=list)
     idle_declarations: list[str] = field(default_factory=list)
+    unchecked_sources: list[str] = field(default_factory=list)
 
     @property
     def findings(self) -> list[tuple[EquationResult, Finding]]:
@@ -853,12 +857,31 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         from_model={k: sorted(v) for k, v in sorted(resolver.from_model.items())},
         unused=unused, magnitudes=sizes.origin, skipped_motions=list(motions.skipped),
         scope=hand.scope, declarations=declared.texts(),
-        idle_declarations=declared.idle())
+        idle_declarations=declared.idle(),
+        unchecked_sources=_unchecked_sources(side, prepared, out_of_scope))
     if effects and report.findings:
         from ins_errors.checker.effect import add_effects
 
         add_effects(report, d, side, comparison, identify, prepared, resolver)
     return report
+
+
+def _unchecked_sources(side: ModelSide, prepared: list[list[Item]], out: list[str]
+                       ) -> list[str]:
+    """The sources of ``out`` (never mentioned by the file) that the model's side of a
+    compared line contains, in the model's order."""
+    wanted = {side.source_symbols[name]: name for name in out}
+    reached: set[str] = set()
+    for items in prepared:
+        for item in items:
+            if item.key is None or item.ideal or item.status or item.hand is None:
+                continue
+            try:
+                symbols = model_expr(side, item.key).free_symbols
+            except (KeyError, UnresolvedError):
+                continue
+            reached.update(wanted[s] for s in symbols if s in wanted)
+    return [name for name in out if name in reached]
 
 
 def _reciprocal_aliases(side: ModelSide, notation: Notation) -> dict[sp.Symbol, sp.Expr]:

@@ -16,6 +16,11 @@ from ins_errors.checker.effect import GROWTH_SHOWN, HOURS
 from ins_errors.checker.matrix_report import below
 
 
+UNCHECKED = ("error sources the model's side of these lines has and the file never "
+             "mentions (taken as zero on both sides, not checked): ")
+"""Terminal line naming :attr:`CheckReport.unchecked_sources`."""
+
+
 def _size(value: float) -> str:
     if math.isinf(value):
         return "—"
@@ -296,6 +301,8 @@ def to_terminal(report: CheckReport, width: int = 100) -> str:
         rows.append("  (no discrepancies)")
     for text in report.idle_declarations:
         rows.append(f"declaration explains nothing: {text}")
+    if report.unchecked_sources:
+        rows.append(UNCHECKED + ", ".join(report.unchecked_sources))
     for problem in report.problems:
         rows.append(f"input: {problem}")
     rows.append(summary_line(report))
@@ -332,6 +339,7 @@ def to_json(report: CheckReport) -> dict[str, Any]:
         "basis": [{"name": b.name, "unit": b.unit, "magnitude": b.magnitude,
                    "stands_for": list(b.stands_for)} for b in report.basis],
         "out_of_scope": report.out_of_scope,
+        "unchecked_sources": report.unchecked_sources,
         "from_model": report.from_model,
         "magnitudes": report.magnitudes,
         "scope": report.scope,
