@@ -15,7 +15,6 @@ from ins_errors.checker.compare import CheckReport, EquationResult
 from ins_errors.checker.effect import GROWTH_SHOWN, HOURS
 from ins_errors.checker.matrix_report import below
 
-
 UNCHECKED = ("error sources the model's side of these lines has and the file never "
              "mentions (taken as zero on both sides, not checked): ")
 """Terminal line naming :attr:`CheckReport.unchecked_sources`."""
