@@ -572,3 +572,29 @@ def test_stored_propagations_are_the_computed_ones_to_the_bit(tmp_path, monkeypa
     assert len(list((tmp_path / "transitions").glob("*.npy"))) == 2
     propagation_store.prune(tmp_path / "transitions", 1)
     assert len(list((tmp_path / "transitions").glob("*.npy"))) == 1
+
+
+def test_a_model_file_shaped_like_north_pointing_gives_the_same_findings(tmp_path,
+                                                                          monkeypatch):
+    # a researcher's modified copy of the built-in model, under its own name: the same
+    # states, inputs and parameters, so the same navigation description and findings
+    from ins_errors.numeric.model import _file_model
+
+    monkeypatch.setattr("ins_errors.model_lookup.models_cache_directory",
+                        lambda: tmp_path / "cache")
+    _file_model.cache_clear()
+    source = Path(mc.__file__).resolve().parent.parent / "models" / "north_pointing.py"
+    text = source.read_text(encoding="utf-8")
+    assert text.count('name="north_pointing",') == 1
+    copy = tmp_path / "my_platform.py"
+    copy.write_text(text.replace('name="north_pointing",', 'name="my_platform",'),
+                    encoding="utf-8")
+    hand = _copy(tmp_path, "F[1, 4] = f_u", "F[1, 4] = -f_u")
+    reports = [mc.check_matrices(name, hand, "model", hours=1.0, step=600.0, effects=False)
+               for name in (str(copy), MODEL)]
+    by_file, by_name = ([(f.matrix, f.row, f.column, f.kind, f.severity, f.size)
+                         for f in r.findings] for r in reports)
+    assert by_file == by_name and [f[:4] for f in by_file] == [
+        ("F", "delta_v_N", "alpha_E", "wrong sign")]
+    assert reports[0].exit_status == reports[1].exit_status == 1
+    assert reports[0].compared == reports[1].compared == 7 * 7 + 7 * 5

@@ -134,24 +134,25 @@ def samples(arrays: dict[str, np.ndarray], times: np.ndarray, motion: str
 # Adapters: model states and inputs -> navigation arrays
 # --------------------------------------------------------------------------------------
 @cache
-def _intermediates(model_name: str) -> tuple[list[str], Callable]:
+def _intermediates(model_key: str) -> tuple[list[str], Callable]:
     """Names and a numpy function (x, u, p) -> values of a model's ideal intermediates."""
     import sympy as sp
 
-    from ins_errors.models import definition
+    from ins_errors.numeric.model import load_model
     from ins_errors.symbolic.variation import ideal_intermediate_values
 
-    d = definition(model_name)
+    d = load_model(model_key).symbolic
     closed = ideal_intermediate_values(d)
     names = [s.name for s in closed]
     fn = sp.lambdify([d.x, d.u, d.p], list(closed.values()), "numpy", docstring_limit=0)
     return names, fn
 
 
-def intermediate_values(model_name: str, x: np.ndarray, u: np.ndarray, p: np.ndarray
+def intermediate_values(model_key: str, x: np.ndarray, u: np.ndarray, p: np.ndarray
                         ) -> dict[str, np.ndarray]:
-    """Ideal intermediate quantities of a model (by name) at states ``x`` (n, K)."""
-    names, fn = _intermediates(model_name)
+    """Ideal intermediate quantities of a model (by :attr:`~ins_errors.Model.key`) at
+    states ``x`` (n, K)."""
+    names, fn = _intermediates(model_key)
     k = x.shape[-1]
     values = fn(list(x), list(u), list(p[:, None] * np.ones(k)))
     return {n: np.broadcast_to(np.asarray(v, dtype=float), (k,)) for n, v in
@@ -164,7 +165,12 @@ def _north_pointing(model, x, u, p) -> dict[str, np.ndarray]:
     par = dict(zip((i.name for i in model.parameters), p, strict=True))
     v_e, v_n, lat, lon = x
     h = u[2]
-    mid = intermediate_values(model.name, x, u, p)
+    mid = intermediate_values(model.key, x, u, p)
+    missing = {"omega_E", "omega_N", "omega_U", "r_N", "r_E", "f_U"} - set(mid)
+    if missing:
+        raise InsErrorsError(f"model {model.name!r} has the states of north_pointing but not "
+                             f"its ideal intermediates {', '.join(sorted(missing))}: the "
+                             "navigation description of the matrix check reads them")
     w_e, w_n, w_u = mid["omega_E"], mid["omega_N"], mid["omega_U"]
     U = par["U"]
     zeros = np.zeros(k)
@@ -215,6 +221,32 @@ ADAPTERS: dict[str, Callable] = {"north_pointing": _north_pointing,
 """Navigation adapter of each model that supports hand-coded matrices."""
 
 
+SHAPED_LIKE = ("north_pointing",)
+"""Built-in models whose navigation adapter also serves a model file (or entry point)
+with the same states, inputs and parameters, by name and unit (a modified copy)."""
+
+
+def _names_units(model) -> tuple:
+    return tuple(tuple((i.name, i.unit) for i in group)
+                 for group in (model.states, model.inputs, model.parameters))
+
+
+def adapter_name(model) -> str | None:
+    """The built-in model whose navigation adapter describes ``model``, or None.
+
+    A built-in model has its own (:data:`ADAPTERS`); a model file has the adapter of a
+    model in :data:`SHAPED_LIKE` whose states, inputs and parameters it shares.
+    """
+    if model.name in ADAPTERS:
+        return model.name
+    from ins_errors.numeric.model import load_model
+
+    for name in SHAPED_LIKE:
+        if _names_units(model) == _names_units(load_model(name)):
+            return name
+    return None
+
+
 def require_description(model) -> None:
     """Raise one line if ``model`` has no navigation adapter (it cannot be matrix-checked).
 
@@ -223,16 +255,17 @@ def require_description(model) -> None:
     InsErrorsError
         Saying what the model lacks, which models have it and where the docs say so.
     """
-    if model.name in ADAPTERS:
+    if adapter_name(model) is not None:
         return
     raise InsErrorsError(
         f"model {model.name!r} cannot be checked with --matrix or --write-samples: a "
         "hand-coded F and G is evaluated on a navigation description (latitude, NED "
         "velocity, attitude, Earth and transport rates, IMU outputs) made from the "
         f"model's states, which only the built-in models {' and '.join(sorted(ADAPTERS))} "
-        "have (see "
-        "docs/matrix_check.md, 'Which models'); check a hand linearisation of this model "
-        "as an equation file instead (ins-errors check MODEL FILE.tex)")
+        f"have, and a model file with the states, inputs and parameters of "
+        f"{' or '.join(SHAPED_LIKE)} (see docs/matrix_check.md, 'Which models'); check a "
+        "hand linearisation of this model as an equation file instead (ins-errors check "
+        "MODEL FILE.tex)")
 
 
 def navigation_arrays(model, x: np.ndarray, u: np.ndarray, p: np.ndarray
@@ -245,5 +278,6 @@ def navigation_arrays(model, x: np.ndarray, u: np.ndarray, p: np.ndarray
         If the model has no navigation adapter.
     """
     require_description(model)
-    return ADAPTERS[model.name](model, np.asarray(x, dtype=float), np.asarray(u, dtype=float),
+    adapter = ADAPTERS[adapter_name(model)]
+    return adapter(model, np.asarray(x, dtype=float), np.asarray(u, dtype=float),
                    np.asarray(p, dtype=float))
