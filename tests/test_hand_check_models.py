@@ -208,3 +208,24 @@ def test_sources_the_file_leaves_out_are_named_on_the_terminal(tmp_path, capsys)
     data = json.loads(capsys.readouterr().out)
     assert data["unchecked_sources"] == ["accel_bias"]
     assert data["out_of_scope"] == ["gyro_drift", "accel_bias", "initial_tilt"]
+
+
+@pytest.mark.parametrize(("line", "kind", "detail"), [
+    ("dot(delta_phi) = delta_V/R**2", "wrong exponent", "exponent -2 of R where -1 belongs"),
+    ("dot(delta_phi) = delta_V/sqrt(R)", "wrong exponent",
+     "exponent -1/2 of R where -1 belongs"),
+    ("dot(delta_V) = -g**2*psi + accel_bias", "wrong exponent",
+     "exponent 2 of g where 1 belongs"),
+    # a plain factor stays a coefficient (2 is no power of R or g)
+    ("dot(delta_phi) = 2*delta_V/R", "wrong coefficient", "hand/model = 2 at every point"),
+])
+def test_exponent_slips_on_model_parameters(tmp_path, capsys, line, kind, detail):
+    """δφ' = δV/R and δV' = −g ψ + ∇ (the tutorial's loop) with one exponent changed: the
+    constant ratio (1/R, R^-1/2, g) is an exponent slip, not an opaque factor."""
+    model = str(ROOT / "examples" / "own_model" / "schuler_loop.py")
+    hand = tmp_path / "exp.txt"
+    hand.write_text(line + "\n")
+    assert main(["check", model, str(hand), "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    (finding,) = [f for e in data["equations"] for f in e["findings"]]
+    assert (finding["kind"], finding["detail"]) == (kind, detail)

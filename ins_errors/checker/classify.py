@@ -217,6 +217,9 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
     usable = np.abs(ms) > tiny
     ratios = hs[usable] / ms[usable]
     if ratios.size and np.all(np.abs(ratios - ratios[0]) <= TOLERANCE * abs(ratios[0])):
+        exponent = exponent_that_fits(hand_expr, ms, tiny, evaluate)
+        if exponent is not None:
+            return EXPONENT, exponent
         return COEFFICIENT, f"hand/model = {ratios[0]:.6g} at every point"
     split = term_split(hand_expr, model_expr) if term_split else None
     if split is not None and split[1] == 0:
@@ -231,6 +234,34 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
         return COEFFICIENT, (f"model has {_short(split[0])} where the hand has "
                              f"{_short(split[1])}")
     return COEFFICIENT, ""
+
+
+def exponent_that_fits(hand_expr: sp.Expr, target: np.ndarray, tiny: float,
+                       evaluate: Callable[[list[sp.Expr]], np.ndarray | None]
+                       ) -> str | None:
+    """The one-place exponent change of a symbol in ``hand_expr`` (``R**2`` for ``R``,
+    ``sqrt(R)``, or a bare ``R``) that makes it equal ``target`` (values), as its detail;
+    None if none does. A constant ratio of two coefficients that an exponent of a
+    parameter explains (hand/model = 1/R) is that slip, not a factor."""
+    powers = sorted((p for p in hand_expr.atoms(sp.Pow)
+                     if p.base.is_Symbol and p.exp.is_Rational), key=sp.default_sort_key)
+    bases = {p.base for p in powers}
+    options = [(f"exponent {p.exp} of {p.base} where {e} belongs",
+                hand_expr.xreplace({p: p.base ** e}))
+               for p in powers for e in _exponent_changes(p.exp)]
+    options += [(f"exponent 1 of {x} where {e} belongs", hand_expr.xreplace({x: x ** e}))
+                for x in sorted_symbols(hand_expr.free_symbols - bases)
+                for e in _exponent_changes(sp.S.One)]
+    if not options:
+        return None
+    values = evaluate([expr for _, expr in options])
+    if values is None:
+        return None
+    scale = np.maximum(np.abs(target), tiny)
+    for (text, _), v in zip(options, values, strict=True):
+        if np.all(np.isfinite(v)) and np.all(np.abs(v - target) <= TOLERANCE * scale):
+            return text
+    return None
 
 
 def change_that_fits(hand_expr: sp.Expr, target: np.ndarray, tiny: float,
