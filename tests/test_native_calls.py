@@ -276,3 +276,44 @@ def test_a_cached_loop_is_found_by_its_description_and_only_by_it(tmp_path, monk
     monkeypatch.setattr(integ, "_writer_version", lambda: "another version of the writer")
     assert np.array_equal(run(), first)
     assert len(list(tmp_path.glob("loop_*.so"))) == len(changes) + 2
+
+
+def test_a_compile_stopped_by_ctrl_c_is_an_interrupt_not_a_missing_compiler(tmp_path,
+                                                                          monkeypatch):
+    """Ctrl-C reaches the compiler too: its death by SIGINT must stop the run, not switch
+    to the virtual machine with a warning that the compiler does not work."""
+    import signal
+    import subprocess
+    import warnings
+
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))
+    monkeypatch.setattr(integ, "_NOTICE_GIVEN", False)
+
+    def interrupted(argv, **kwargs):
+        raise subprocess.CalledProcessError(-signal.SIGINT, argv)
+
+    monkeypatch.setattr(integ.subprocess, "run", interrupted)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # any warning (the compiler notice) fails
+        with pytest.raises(KeyboardInterrupt):
+            integ.compile_library([_function()])
+    assert not integ._NOTICE_GIVEN
+
+
+def test_local_cluster_processes_start_with_ctrl_c_ignored():
+    """Processes started inside the block inherit SIGINT ignored (Ctrl-C then stops the
+    sweep's own process only, which closes the cluster); the handler is restored."""
+    import signal
+    import subprocess
+    import sys
+
+    from ins_errors.analysis import engine
+
+    before = signal.getsignal(signal.SIGINT)
+    probe = [sys.executable, "-c",
+             "import signal; print(signal.getsignal(signal.SIGINT) == signal.SIG_IGN)"]
+    with engine._workers_ignore_ctrl_c():
+        inside = subprocess.run(probe, capture_output=True, text=True, check=True).stdout
+    outside = subprocess.run(probe, capture_output=True, text=True, check=True).stdout
+    assert (inside.strip(), outside.strip()) == ("True", "False")
+    assert signal.getsignal(signal.SIGINT) is before

@@ -22,8 +22,11 @@ install it.
 from __future__ import annotations
 
 import os
+import signal
 import sys
-from collections.abc import Callable, Sequence
+import threading
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from typing import Any
 
@@ -190,6 +193,23 @@ def _run_pool(function, tasks, shared, workers, done) -> None:
             raise
 
 
+@contextmanager
+def _workers_ignore_ctrl_c() -> Iterator[None]:
+    """Start a local cluster's processes with SIGINT ignored (they inherit it, and so do
+    the compilers they run): Ctrl-C in the terminal reaches the whole process group, and
+    the workers' own KeyboardInterrupt tracebacks (and a compile killed mid-way, which
+    looked like a broken compiler) buried the one line the sweep prints. The sweep's
+    process still stops on Ctrl-C and closes the cluster, which ends the workers."""
+    if threading.current_thread() is not threading.main_thread():
+        yield  # signal handlers can be set from the main thread only
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def _run_dask(function, tasks, shared, scheduler, workers, stats, done) -> None:
     import logging
 
@@ -199,9 +219,11 @@ def _run_dask(function, tasks, shared, scheduler, workers, stats, done) -> None:
     cluster = None
     try:
         if scheduler is None:
-            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                                   host="127.0.0.1", dashboard_address="127.0.0.1:0",
-                                   silence_logs=logging.CRITICAL)
+            with _workers_ignore_ctrl_c():
+                cluster = LocalCluster(n_workers=workers, threads_per_worker=1,
+                                       processes=True, host="127.0.0.1",
+                                       dashboard_address="127.0.0.1:0",
+                                       silence_logs=logging.CRITICAL)
             client = Client(cluster)
             stats.where = f"local Dask cluster of {workers} worker(s)"
         else:

@@ -43,6 +43,7 @@ import os
 import platform
 import re
 import shutil
+import signal
 import subprocess
 import tempfile
 import threading
@@ -532,6 +533,8 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
                            check=True, capture_output=True, timeout=600)
             os.replace(target, library)
     except (OSError, subprocess.SubprocessError) as error:
+        if getattr(error, "returncode", 0) == -signal.SIGINT:
+            raise KeyboardInterrupt from None  # Ctrl-C stopped it: the compiler works
         _vm_notice(f"{compiler} failed: {str(error).splitlines()[0][:120]}")
         return None
     cache.register(library)
