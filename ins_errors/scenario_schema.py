@@ -14,6 +14,7 @@ check and complete scenario files as they are typed (a test keeps it fresh).
 from __future__ import annotations
 
 import json
+import re
 from typing import Any, Literal
 
 from pydantic import (
@@ -164,11 +165,21 @@ def one_line(error: ValidationError, name: str,
                               f"{first['input']!r}")
     if kind in ("model_type", "dict_type") and isinstance(loc[-1], str):
         return InsErrorsError(f"{prefix}'{key}' must be a table, [{key}]")
+    members = [p for p in loc if isinstance(p, str) and _UNION_MEMBER.match(p)]
+    loc = tuple(p for p in loc if p not in members)  # pydantic's names, not the file's
     path = ".".join(str(p) for p in loc)
     value = repr(first.get("input"))[:60]
     if kind == "missing":
         return InsErrorsError(f"{prefix}missing {path!r}")
+    if members:  # a quantity (text with a unit, or a number) that is neither
+        return InsErrorsError(f"{prefix}{path} must be one value with its unit (e.g. "
+                              f"'50 deg', '24 h'), got {value}")
     return InsErrorsError(f"{prefix}{path} = {value}: {first['msg'].lower()}")
+
+
+_UNION_MEMBER = re.compile(r"^(constrained-)?(str|float|int|bool)$")
+"""How pydantic names the member of a union type (a quantity: text or a number) in an
+error's location."""
 
 
 def _one_line(error: ValidationError, name: str) -> InsErrorsError:

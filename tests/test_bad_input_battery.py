@@ -40,6 +40,7 @@ FILES: dict[str, str | bytes] = {
     "empty.csv": "",
     "header_only.csv": "t,v_N,v_E\n",
     "no_t.csv": "time,v_N,v_E\n0,1,2\n10,1,2\n",
+    "latitude_list.toml": SCENARIO.replace('"50 deg"', '["30 deg", "60 deg"]'),
     "nan_row.csv": "t,v_N,v_E\n0,0,100\n1200,nan,100\n2400,0,100\n3600,0,100\n",
     "bare_duration.toml": SCENARIO.replace('duration = "1 h"', "duration = 24"),
     "bare_source.toml": SCENARIO.replace('"0.01 deg/h"', '"0.01"'),
@@ -91,6 +92,7 @@ CLI_CASES: dict[str, list[str]] = {
     "run-bad-motion": ["run", "bad_motion.toml"],
     "run-out-is-a-file": ["run", "good.toml", "--out", "a_file"],
     "run-negative-speed": ["run", "backwards.toml"],
+    "run-latitude-list": ["run", "latitude_list.toml"],
     "run-out-foreign-folder": ["run", "good.toml", "--out", "."],
     # compare
     "compare-no-source": ["compare", "orthodromic"],
@@ -220,6 +222,8 @@ NAMED = {
     "compare-strapdown-over-the-pole": "the true flight reaches a pole",
     "compare-below-the-centre": "motion height -7000 km is at or below the Earth's centre",
     "compare-nan-in-motion-file": "v_N is NaN or infinite in sample 2 of 4",
+    # the file's own key names, not pydantic's (it said motion.latitude.str = [...])
+    "run-latitude-list": "motion.latitude must be one value with its unit (e.g. '50 deg'",
 }
 """Cases whose one line must say this (what to do, not only what failed)."""
 
