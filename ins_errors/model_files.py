@@ -108,10 +108,15 @@ def build_definition(module: ModuleType, label: str, path: Path | None = None) -
     if not definition.name.isidentifier():
         raise ModelDefinitionError(f"{label}: model name {definition.name!r} is not a Python "
                                    "identifier (step: building the definition)")
-    from ins_errors.symbolic.consistency import check_definition, check_units
+    from ins_errors.symbolic.consistency import (
+        check_definition,
+        check_dimensions,
+        check_units,
+    )
 
     check_definition(definition, f"{label} (model {definition.name!r})")
     check_units(definition, f"{label} (model {definition.name!r})")
+    check_dimensions(definition, f"{label} (model {definition.name!r})")
     return definition
 
 

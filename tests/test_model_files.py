@@ -275,6 +275,17 @@ MISTAKES = {
         ('"constant", None, r"\\nabla"', '"const", None, r"\\nabla"'),
         ["error source 'accel_bias'", "kind 'const' is not one of 'constant', 'initial'",
          "did you mean 'constant'?", "checking the definition"]),
+    "equation of the wrong unit": (  # dφ/dt = V: m/s for a latitude in rad
+        ("ideal_rhs = sp.Matrix([a_N, omega])", "ideal_rhs = sp.Matrix([a_N, V])"),
+        ("real_rhs = sp.Matrix([f, omega_c,", "real_rhs = sp.Matrix([f, V_c,"),
+        ["ideal-work equation for 'phi'", "is in m/s but must be in 1/s",
+         "the unit of phi, rad, per second", "checking the definition"]),
+    "cosine of a length": (
+        ('omega = ideal.let("omega", V / R,', 'omega = ideal.let("omega", V / R * sp.cos(R),'),
+        ('omega_c = real.let("omega", V_c / R,',
+         'omega_c = real.let("omega", V_c / R * sp.cos(R),'),
+        ["intermediate omega of the ideal mechanisation", "cos of R, a quantity in m",
+         "checking the definition"]),
     "exception while importing": (
         ("V, phi = (v.symbol for v in STATES)", "V, phi = (v.symbol for v in STATES[:1])"),
         ["my_ins.py", "line", "ValueError", "importing the file"]),
@@ -437,8 +448,8 @@ def test_matrix_check_of_a_model_file_names_what_it_lacks(tmp_path, capsys, monk
 
 
 def test_derive_warns_of_a_source_the_linear_model_does_not_see(tmp_path, capsys):
-    # a bias squared (a slip) has a zero column in G: d(b²)/db = 0 at b = 0
-    path = copy_model(tmp_path, ("g * sp.sin(psi) + bias,", "g * sp.sin(psi) + bias**2,"))
+    # a bias squared (b²/g, a slip) has a zero column in G: d(b²)/db = 0 at b = 0
+    path = copy_model(tmp_path, ("g * sp.sin(psi) + bias,", "g * sp.sin(psi) + bias**2 / g,"))
     assert main(["derive", str(path), "--out", str(tmp_path / "out")]) == 0
     warnings = [line for line in capsys.readouterr().err.splitlines() if "warning" in line]
     assert len(warnings) == 1, warnings
@@ -455,19 +466,20 @@ def test_derive_warns_of_a_source_the_linear_model_does_not_see(tmp_path, capsys
     assert "warning" not in capsys.readouterr().err
 
 
-def test_built_in_models_pass_the_unit_check():
+def test_built_in_models_pass_the_unit_and_dimension_checks():
     from ins_errors.model_lookup import builtin_names
     from ins_errors.models import definition
-    from ins_errors.symbolic.consistency import check_units
+    from ins_errors.symbolic.consistency import check_dimensions, check_units
 
     for name in builtin_names():
         check_units(definition(name))
+        check_dimensions(definition(name))
 
 
 def test_validity_advice_when_the_linear_model_does_not_see_a_source(tmp_path, capsys):
-    # with b² in the equation the linear error is exactly zero at any b: the ratio is 1
+    # with b²/g in the equation the linear error is exactly zero at any b: the ratio is 1
     # at every magnitude, and no scale of the magnitudes makes the linear model valid
-    path = copy_model(tmp_path, ("g * sp.sin(psi) + bias,", "g * sp.sin(psi) + bias**2,"))
+    path = copy_model(tmp_path, ("g * sp.sin(psi) + bias,", "g * sp.sin(psi) + bias**2 / g,"))
     assert main(["compare", str(path), "--source", "accel_bias=100ug", "--hours", "1",
                  "--step", "60s", "--json"]) == 0
     [case] = json.loads(capsys.readouterr().out)["cases"]

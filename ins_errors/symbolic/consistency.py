@@ -6,7 +6,10 @@ reduce to the ideal work when every error is off) would otherwise surface as a S
 traceback deep in the variation, or worse, as generated code that runs and is wrong.
 :func:`check_definition` finds these and raises one
 :class:`~ins_errors.errors.ModelDefinitionError` naming the model, the quantity and the
-step ("checking the definition").
+step ("checking the definition"). :func:`check_units` and :func:`check_dimensions` (units
+that parse, display units that convert, equations in the right units) need the units
+library and run for model files and entry points; a test runs them on every built-in
+model.
 """
 
 from __future__ import annotations
@@ -349,3 +352,193 @@ def unseen_sources(d: ModelDefinition, source_matrix: sp.Matrix,
                      "G and of the initial errors are zero, so the linear model does not "
                      "see it")
     return lines
+
+
+# --------------------------------------------------------------------------------------
+# Dimensions
+# --------------------------------------------------------------------------------------
+_BASE = {"[length]": "m", "[time]": "s", "[mass]": "kg", "[current]": "A",
+         "[temperature]": "K", "[substance]": "mol", "[luminosity]": "cd"}
+_ANY = "any"  # the dimension of zero: it fits every sum
+_SAME = (sp.Abs, sp.Max, sp.Min, sp.re, sp.im)  # result has the dimension of the arguments
+_PURE = (sp.sign, sp.floor, sp.ceiling, sp.Heaviside)  # any argument, a pure number out
+
+
+def _si_text(dims) -> str:
+    """A dimension as SI base units: ``m/s**2``, ``1/s``, ``1``."""
+    def part(items):
+        return "*".join(f"{_BASE.get(k, k)}" + (f"**{v:g}" if v != 1 else "")
+                        for k, v in items)
+    up = [(k, v) for k, v in sorted(dims.items()) if v > 0]
+    down = [(k, -v) for k, v in sorted(dims.items()) if v < 0]
+    if not down:
+        return part(up) or "1"
+    bottom = part(down)
+    return f"{part(up) or '1'}/{bottom if len(down) == 1 else f'({bottom})'}"
+
+
+class _MismatchError(Exception):
+    """Terms of one sum (or a function argument) with incompatible dimensions."""
+
+
+class _Dimensions:
+    """Dimension of SymPy expressions from the SI units of their symbols (pint's).
+
+    ``of(expr)`` is a pint dimensionality, :data:`_ANY` for zero, or None when it cannot
+    be told (a function it does not know): no verdict then.
+    """
+
+    def __init__(self, units: dict[sp.Symbol, str]):
+        from ins_errors.units import _units, registry
+
+        self.ureg = registry()
+        self.none = self.ureg.dimensionless.dimensionality
+        self.symbols = {s: _units(self.ureg, u).dimensionality for s, u in units.items()}
+        self.memo: dict[sp.Basic, object] = {}
+
+    def define(self, symbol: sp.Symbol, expression: sp.Basic) -> None:
+        dims = self.of(expression)
+        if dims is not None and dims is not _ANY:
+            self.symbols[symbol] = dims
+
+    def unit(self, text: str):
+        from ins_errors.units import _units
+
+        return _units(self.ureg, text).dimensionality
+
+    def _pure(self, args, what: str) -> None:
+        for a in args:
+            dims = self.of(a)
+            if dims is not None and dims is not _ANY and dims != self.none:
+                raise _MismatchError(f"{what} of {a}, a quantity in {_si_text(dims)} (the "
+                                "argument must be a pure number)")
+
+    def of(self, e: sp.Basic):
+        if e in self.memo:
+            return self.memo[e]
+        dims = self._of(e)
+        self.memo[e] = dims
+        return dims
+
+    def _of(self, e: sp.Basic):
+        if e.is_Number:
+            return _ANY if e == 0 else self.none
+        if isinstance(e, sp.Symbol):
+            return self.symbols.get(e)
+        if isinstance(e, sp.NumberSymbol):
+            return self.none
+        if isinstance(e, sp.Add):
+            seen = None
+            for term in e.args:
+                dims = self.of(term)
+                if dims is None:
+                    return None
+                if dims is _ANY or (term.is_Number and seen is not None):
+                    continue
+                if seen is None:
+                    seen = (dims, term)
+                elif dims != seen[0]:
+                    raise _MismatchError(f"a sum of {seen[1]} ({_si_text(seen[0])}) and {term} "
+                                    f"({_si_text(dims)})")
+            return seen[0] if seen else _ANY
+        if isinstance(e, sp.Mul):
+            out = self.none
+            for factor in e.args:
+                dims = self.of(factor)
+                if dims is None or dims is _ANY:
+                    return dims
+                out = out * dims
+            return out
+        if isinstance(e, sp.Pow):
+            base, exponent = e.args
+            dims = self.of(base)
+            if exponent.is_Number:
+                return dims if dims is None or dims is _ANY else dims ** float(exponent)
+            self._pure([exponent], "an exponent")
+            self._pure([base], "the base of a symbolic power")
+            return self.none
+        if isinstance(e, sp.atan2):
+            y, x = (self.of(a) for a in e.args)
+            if None not in (y, x) and _ANY not in (y, x) and y != x:
+                raise _MismatchError(f"atan2 of {_si_text(y)} and {_si_text(x)}")
+            return self.none
+        if isinstance(e, _SAME):
+            known = [d for d in map(self.of, e.args) if d is not None and d is not _ANY]
+            if any(d != known[0] for d in known):
+                raise _MismatchError(f"{e.func} of quantities in different units")
+            return known[0] if known else _ANY
+        if isinstance(e, _PURE):
+            return self.none
+        if isinstance(e, sp.Function) and e.func.__module__.startswith("sympy.functions"):
+            self._pure(e.args, str(e.func))  # sin, exp, log, asin, ...
+            return self.none
+        return None  # Piecewise, a function of the author's: no verdict
+
+
+def check_dimensions(d: ModelDefinition, label: str | None = None) -> None:
+    """Raise one line if an equation of ``d`` is dimensionally wrong.
+
+    Every declared name carries an SI unit; from them each intermediate (``let``) gets
+    its dimension, and then: each row of the ideal and real work must have the unit of
+    its state per second (``dφ/dt = V`` in m/s for a latitude in rad is refused), each
+    output and initial state the unit of its name, every sum terms of one dimension, and
+    the argument of sin, exp, log, ... a pure number. Radians are pure numbers (as in
+    SI), so an angle and a ratio are not told apart. Expressions with functions of the
+    author's own (or ``Piecewise``) get no verdict.
+
+    Parameters
+    ----------
+    d : ModelDefinition
+        The definition (already through :func:`check_definition`).
+    label : str, optional
+        How messages name the model (default ``model '<name>'``).
+    """
+    label = label or f"model {d.name!r}"
+    n = len(d.states)
+    units: dict[sp.Symbol, str] = {}
+    for group in (d.inputs, d.parameters, d.sources, d.initial_conditions,
+                  d.error_states[n:], d.states):
+        units.update({v.symbol: v.unit for v in group})
+    units.update({s: v.unit for s, v in zip(d.real_states[:n], d.states, strict=True)})
+    dims = _Dimensions(units)
+    per_second = dims.unit("1/s")
+
+    def judge(quantity: str, expression: sp.Basic, expected, shown: str) -> None:
+        try:
+            found = dims.of(sp.sympify(expression))
+        except _MismatchError as error:
+            raise _fail(label, quantity, f"has {error}") from None
+        if found is None or found is _ANY or found == expected:
+            return
+        what = "a pure number (or in rad)" if found == dims.none else f"in {_si_text(found)}"
+        raise _fail(label, quantity, f"is {what} but must be in {_si_text(expected)} "
+                                     f"({shown})")
+
+    for mech, what in ((d.ideal, "ideal"), (d.real, "real")):
+        for definition in mech.definitions:
+            try:
+                dims.define(definition.symbol, definition.expression)
+            except _MismatchError as error:
+                raise _fail(label, f"intermediate {definition.symbol} of the {what} "
+                                   "mechanisation", f"has {error}") from None
+    for rows, variables, quantity in ((d.ideal_rhs, d.states, "ideal-work equation"),
+                                      (d.real_rhs, d.error_states, "real-work equation")):
+        for expression, v in zip(sp.Matrix(rows), variables, strict=True):
+            judge(f"{quantity} for {v.name!r}", expression,
+                  dims.unit(v.unit) * per_second, f"the unit of {v.name}, {v.unit}, per second")
+    if d.small_angle_rhs is not None:
+        for expression, v in zip(sp.Matrix(d.small_angle_rhs), d.error_states, strict=True):
+            judge(f"small-angle real-work equation for {v.name!r}", expression,
+                  dims.unit(v.unit) * per_second, f"the unit of {v.name}, {v.unit}, per second")
+    scratch = Mechanisation()
+    outputs = d.output_map(scratch, d.x, d.u)
+    for definition in scratch.definitions:
+        dims.define(definition.symbol, definition.expression)
+    for expression, v in zip(sp.Matrix(outputs), d.outputs, strict=True):
+        judge(f"output {v.name!r}", expression, dims.unit(v.unit), f"its unit {v.unit}")
+    for rows, variables, quantity in ((d.initial_state, d.states, "initial_state"),
+                                      (d.initial_real_state, d.error_states,
+                                       "initial_real_state")):
+        for expression, v in zip(sp.Matrix(rows), variables, strict=True):
+            judge(f"{quantity} for {v.name!r}", expression, dims.unit(v.unit),
+                  f"the unit of {v.name}, {v.unit}")
