@@ -292,7 +292,7 @@ def _verdict(ok: bool) -> str:
 
 def _row(figure: str, measured: str, goal: str, ok: bool | None) -> None:
     mark = "" if ok is None else _verdict(ok)
-    print(f"  {figure:<50} {measured:<36} {goal:<28} {mark}".rstrip())
+    print(f"  {figure:<58} {measured:<36} {goal:<28} {mark}".rstrip())
 
 
 def _moving_rows(label: str, x: dict, scale: float, truth: str) -> None:
