@@ -554,3 +554,11 @@ def test_compare_without_a_source_names_one_of_the_models_own(capsys):
     assert main(["compare", str(SCHULER), "--hours", "1", "--step", "60s"]) == 2
     [line] = [x for x in capsys.readouterr().err.splitlines() if "error:" in x]
     assert line.endswith("e.g. --source gyro_drift=0.01deg/h"), line
+
+
+def test_a_pole_is_refused_for_what_is_undefined_there(capsys):
+    # the Schuler loop divides by nothing, but north and longitude are undefined at a pole
+    assert main(["compare", str(SCHULER), "--source", "accel_bias=100ug", "--latitude",
+                 "90deg", "--hours", "1", "--step", "60s"]) == 2
+    [line] = [x for x in capsys.readouterr().err.splitlines() if "error:" in x]
+    assert "pole, where north, east and longitude are undefined" in line

@@ -107,7 +107,8 @@ class Profile:
                 raise MotionError(f"motion {name} must be finite, got {value}")
         if abs(self.latitude) >= np.pi / 2:
             raise MotionError(f"motion latitude {np.degrees(self.latitude):g}° is at or beyond "
-                              "a pole: the models divide by cos φ")
+                              "a pole, where north, east and longitude are undefined (and "
+                              "the built-in models divide by cos φ)")
 
 
 def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0,
