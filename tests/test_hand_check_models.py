@@ -229,3 +229,30 @@ def test_exponent_slips_on_model_parameters(tmp_path, capsys, line, kind, detail
     data = json.loads(capsys.readouterr().out)
     (finding,) = [f for e in data["equations"] for f in e["findings"]]
     assert (finding["kind"], finding["detail"]) == (kind, detail)
+
+
+@pytest.mark.parametrize(("name", "text"), [
+    ("fd.txt", "Delta_f = accel_bias + g*psi\ndot(delta_V) = Delta_f\n"
+               "dot(delta_phi) = delta_V/R\ndot(psi) = delta_V/R + gyro_drift\n"),
+    # as the generated equations print the real-work specific force: \Delta \tilde{f}
+    ("ft.tex", "\\Delta \\tilde{f} = \\nabla + g \\psi\n\\Delta\\dot{V} = \\Delta\\tilde{f}\n"
+               "\\Delta\\dot{\\varphi} = \\frac{\\Delta V}{R}\n"
+               "\\dot{\\psi} = \\frac{\\Delta V}{R} + \\varepsilon\n"),
+])
+def test_a_real_work_intermediate_is_checked_and_blamed(tmp_path, capsys, name, text):
+    """f~ = a_N cos ψ − g sin ψ + ∇ exists only in the real work; to first order
+    Δf = ∇ − g ψ. A file that writes +g ψ has its mistake in that line (the root), and
+    δV' = Δf carries it as a knock-on; written with −g ψ everything agrees."""
+    model = str(ROOT / "examples" / "own_model" / "schuler_loop.py")
+    hand = tmp_path / name
+    hand.write_text(text)
+    assert main(["check", model, str(hand), "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    assert not data["problems"]
+    found = {(e["line"], f["quantity"], f["kind"], f["role"])
+             for e in data["equations"] for f in e["findings"]}
+    assert found == {(1, "psi", "wrong sign", "root"), (2, "psi", "wrong sign", "knock-on")}
+    assert data["equations"][0]["compared_with"] == "intermediate f"
+    hand.write_text(text.replace("+ g*psi", "- g*psi").replace("+ g \\psi", "- g \\psi"))
+    assert main(["check", model, str(hand)]) == 0
+    assert "4 agree" in capsys.readouterr().out

@@ -948,6 +948,8 @@ def _target(eq: HandEquation, resolver: HandSide, side: ModelSide
     if key.startswith("Delta_"):
         base = key[6:]
         meaning = resolver.model_meaning(base)
+        if meaning is None and base in side.delta_of:  # a real-work-only intermediate
+            return f"intermediate {base}", ("delta", base), False, [], []
         if meaning is None:
             if resolver.visible(base, eq.section) is not None:
                 return "hand-only definition", None, False, [], []

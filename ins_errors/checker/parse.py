@@ -493,6 +493,9 @@ class _LatexConverter:
             name = joined
         if delta:
             name = "Delta_" + name
+            # Δ of a computed value (\Delta\tilde{f}, as the generated equations print a
+            # real-work intermediate) is the variation of that quantity: Δf
+            accents = [a for a in accents if a != "tilde"]
         result: sp.Expr = canonical_name(name, self.notation)
         for accent in accents:
             result = DOT(result) if accent == "dot" else TILDE(result)

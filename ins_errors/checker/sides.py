@@ -378,6 +378,11 @@ class HandSide:
         if base in self.model.error_of_state:
             return self.model.error_of_state[base]
         meaning = self.model_meaning(base)
+        if meaning is None and base in self.model.delta_of and self.visible(
+                base, section) is None:  # a real-work-only intermediate (f~ = ...)
+            if self.isolate is None:
+                self.from_model.setdefault(key, set()).add(self.current_line)
+            return (self.isolate or self.model).delta_of[base]
         if meaning is None:
             aux = self.visible(base, section)
             if aux is None:
@@ -397,8 +402,8 @@ class HandSide:
         if base in side.error_of_state:
             return side.error_of_state[base]
         meaning = self.model_meaning(base)
-        if meaning is None:
-            return None
+        if meaning is None:  # a real-work-only intermediate has only its variation
+            return side.delta_of.get(base)
         if base in side.delta_of and base not in self.notation.aliases:
             return side.delta_of[base]
         return side.vary(meaning)
@@ -408,7 +413,7 @@ class HandSide:
         names |= set(self.model.symbols) | set(self.model.outputs)
         names |= set(self.model.error_states) | set(self.model.sources)
         names |= {f"Delta_{n}" for n in (*self.model.symbols, *self.model.outputs,
-                                        *self.notation.aliases)}
+                                        *self.notation.aliases, *self.model.delta_of)}
         for table in self.definitions:
             names |= set(table)
         return sorted(names)
