@@ -562,3 +562,11 @@ def test_a_pole_is_refused_for_what_is_undefined_there(capsys):
                  "90deg", "--hours", "1", "--step", "60s"]) == 2
     [line] = [x for x in capsys.readouterr().err.splitlines() if "error:" in x]
     assert "pole, where north, east and longitude are undefined" in line
+
+
+def test_a_heading_is_refused_where_it_changes_nothing(capsys):
+    # no heading output: at rest the model runs in the geographic frame, heading unused
+    assert main(["compare", str(SCHULER), "--source", "accel_bias=100ug", "--heading",
+                 "45deg", "--hours", "1", "--step", "60s"]) == 2
+    [line] = [x for x in capsys.readouterr().err.splitlines() if "error:" in x]
+    assert "--heading: model 'schuler_loop' has no heading output" in line

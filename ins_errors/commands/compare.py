@@ -166,6 +166,11 @@ def run(args: argparse.Namespace) -> int:
     if args.motion_file:
         motion["file"] = args.motion_file
     profile = motion_profile(motion)
+    if (args.heading is not None and profile.static
+            and not any(o.name == "heading" for o in model.outputs)):
+        raise InsErrorsError(f"--heading: model {model.name!r} has no heading output, and at "
+                             "rest its errors do not depend on the heading; leave --heading "
+                             "out")
     progress = not args.no_progress and n_steps >= 100_000
     trajectory = tr.trajectory(model, profile, duration, tau,
                                p=model.parameter_vector(**parameters), progress=progress,
