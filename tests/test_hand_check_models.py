@@ -256,3 +256,52 @@ def test_a_real_work_intermediate_is_checked_and_blamed(tmp_path, capsys, name, 
     hand.write_text(text.replace("+ g*psi", "- g*psi").replace("+ g \\psi", "- g \\psi"))
     assert main(["check", model, str(hand)]) == 0
     assert "4 agree" in capsys.readouterr().out
+
+
+def test_cruise_points_are_labelled_on_the_models_sphere():
+    """The cruise points sit at fixed arcs of the great circle (2000 km and 4000 km on a
+    6371 km sphere); on a Mars-sized loop (R = 3389.5 km) the label gives that arc on the
+    model's sphere, and the latitude there follows the spherical-triangle formula
+    sin φ = sin φ0 cos s + cos φ0 sin s cos χ0 (φ0 50°, track χ0 60°)."""
+    import dataclasses
+    import importlib.util
+    import math
+
+    from ins_errors.checker.reference import reference_points
+    from ins_errors.modeling import Parameter
+
+    spec = importlib.util.spec_from_file_location(
+        "schuler_loop_mars", ROOT / "examples" / "own_model" / "schuler_loop.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    earth = module.build()
+    mars = dataclasses.replace(earth, name="schuler_mars", parameters=(
+        Parameter("R", "m", "Mars radius", "R", 3_389_500.0),
+        Parameter("g", "m/s**2", "gravity", "g", 3.721)))
+    assert [p.label for p in reference_points(earth).points] == [
+        "static base", "cruise 0 km", "cruise 2000 km", "cruise 4000 km"]
+    points = reference_points(mars).points
+    labels = [p.label for p in points]
+    arcs = [2000 / 6371, 4000 / 6371]
+    assert labels == ["static base", "cruise 0 km"] + [
+        f"cruise {round(s * 3389.5 / 10) * 10} km" for s in arcs]
+    assert labels[2:] == ["cruise 1060 km", "cruise 2130 km"]
+    phi = next(v for v in mars.states if v.name == "phi").symbol
+    lat0, track0 = math.radians(50.0), math.radians(60.0)
+    for point, s in zip(points[2:], arcs, strict=True):
+        expected = math.asin(math.sin(lat0) * math.cos(s)
+                             + math.cos(lat0) * math.sin(s) * math.cos(track0))
+        assert point.values[phi] == pytest.approx(expected, abs=1e-12)
+        assert "radius 3390 km" in point.description
+
+
+def test_an_indexed_latex_letter_the_model_has_without_index_is_named(tmp_path, capsys):
+    """\\nabla is the loop's one accelerometer bias: \\nabla_N is no model name, and the
+    message points at \\nabla, not at the similar-looking a_N."""
+    model = str(ROOT / "examples" / "own_model" / "schuler_loop.py")
+    hand = tmp_path / "nabla.tex"
+    hand.write_text("\\Delta\\dot{V} = -g \\psi + \\nabla_N\n")
+    assert main(["check", model, str(hand)]) == 2
+    out = capsys.readouterr().out
+    assert "unknown symbol 'nabla_N'; did you mean 'nabla' (accel_bias" in out
+    assert "'a_N'" not in out

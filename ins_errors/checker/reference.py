@@ -85,8 +85,12 @@ class ReferenceMotions:
     skipped: list[str] = field(default_factory=list)
 
 
+POINT_RADIUS = 6_371_000.0
+"""Sphere (m) the cruise points' distances are laid out on (their angles are fixed)."""
+
+
 def _great_circle(lat0: float, lon0: float, track0: float, distance: float,
-                  radius: float = 6_371_000.0) -> tuple[float, float, float]:
+                  radius: float = POINT_RADIUS) -> tuple[float, float, float]:
     """Latitude, longitude, track (rad) after ``distance`` m along a great circle."""
     r0 = np.array([np.cos(lat0) * np.cos(lon0), np.cos(lat0) * np.sin(lon0), np.sin(lat0)])
     east = np.array([-np.sin(lon0), np.cos(lon0), 0.0])
@@ -99,6 +103,21 @@ def _great_circle(lat0: float, lon0: float, track0: float, distance: float,
     east = np.array([-np.sin(lon), np.cos(lon), 0.0])
     north = np.cross(r, east)
     return float(lat), float(lon), float(np.arctan2(t @ east, t @ north))
+
+
+def _on_sphere(m: _Motion, radius: float) -> tuple[str, str]:
+    """Label and description of a cruise point on a sphere of the model's ``radius`` (m).
+
+    The points sit at fixed angles along the great circle (``m.distance`` on a sphere of
+    :data:`POINT_RADIUS`); on the model's sphere that arc is ``angle × radius``, given to
+    10 km. For the Earth's radii (6371-6378 km) this is the nominal distance.
+    """
+    angle = m.distance / POINT_RADIUS
+    km = round(angle * radius / 1e4) * 10
+    if km == round(m.distance / 1e3):
+        return m.label, m.description
+    return (f"cruise {km} km", f"same great circle, {km} km on along the model's sphere "
+            f"of radius {radius / 1e3:.0f} km ({np.degrees(angle):.1f}° of arc)")
 
 
 @dataclass(frozen=True)
@@ -209,6 +228,7 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
                              f"the initial condition {strange[0]!r} (they set "
                              f"{', '.join(sorted(settable))})")
     initial, rhs, jacobian, intermediates, symbols = _evaluators(d)
+    radius, _ = _earth(d)
     p = [float(v.default) for v in d.parameters]
     names_c = [v.name for v in d.initial_conditions]
     names_u = [v.name for v in d.inputs]
@@ -224,8 +244,10 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
                 result.skipped.append(f"{m.motion}: {why}")
             continue
         lat, lon, track = np.radians([m.latitude, m.longitude, m.heading])
+        label, description = m.label, m.description
         if m.distance is not None:
             lat, lon, track = _great_circle(lat, lon, track, m.distance)
+            label, description = _on_sphere(m, radius)
         v_n, v_e = m.speed * np.cos(track), m.speed * np.sin(track)
         fix = {"latitude": lat, "longitude": lon, "heading": track, "yaw": track,
                "v_N": v_n, "v_E": v_e, "v_N0": v_n, "v_E0": v_e, "v_D0": -m.climb,
@@ -257,6 +279,6 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
         values.update({s: float(v) for s, v in zip(symbols, intermediates(x, u, p),
                                                      strict=True)})
         height = "" if "h" in names_u else " (the model has no height input)"
-        result.points.append(ReferencePoint(m.label, m.description + height, values,
+        result.points.append(ReferencePoint(label, description + height, values,
                                             m.motion))
     return result

@@ -419,6 +419,10 @@ class HandSide:
         return sorted(names)
 
     def unknown_message(self, name: str) -> str:
+        stem, _, index = name.rpartition("_")
+        if stem in self.notation.spellings:  # \nabla_N where the model has one \nabla
+            return (f"unknown symbol {name!r}; did you mean {stem!r} "
+                    f"({self.notation.spellings[stem]}, which has no index {index!r})?")
         close = difflib.get_close_matches(name, self.known_names(), n=3, cutoff=0.6)
         hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
         return f"unknown symbol {name!r}{hint}"
