@@ -101,8 +101,11 @@ class Finding:
         For a knock-on: the definitions it comes from (``"line 49 Delta_R_E"``).
     effect : dict
         Effect on the error trajectory (see :mod:`ins_errors.checker.effect`), if
-        computed: ``{"point", "position_1h", "position_24h", "attitude_1h",
-        "attitude_24h"}`` in m and rad.
+        computed: ``point``; for each time (``1h``, ``24h``) the worst single case's
+        ``position_…`` (m) and ``attitude_…`` (rad), their rounding floors
+        ``position_floor_…``, ``attitude_floor_…`` and the cases ``position_case_…``,
+        ``attitude_case_…`` (None at or below the floor); ``e_folding_s`` (s) when the
+        mistake adds a growing mode.
     """
 
     quantity: str
