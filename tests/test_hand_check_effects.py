@@ -96,3 +96,27 @@ def test_rounding_floor_instead_of_noise(tmp_path, capsys):
         assert effect[f"position_floor_{tag}"] < 1e-9 * effect[f"position_{tag}"]
     line = next(s for s in out.splitlines() if "effect:" in s)
     assert "1 h: 2.21e+07 km, < " in line and "(source gyro_drift)" in line
+
+
+def test_the_models_own_growing_mode_is_named():
+    """strapdown_ned's undamped vertical channel grows as e^{t/τ}, τ = √(R/2g) ≈ 9.5 min
+    (textbook). A wrong sign in δh' = −δv_D changes a difference that grows with it:
+    after 24 h that is said, not printed as a figure of 1e65 km; after 1 h (6 e-foldings)
+    the figure stays."""
+    from ins_errors.checker.compare import check_hand
+    from ins_errors.checker.notation import default_notation
+    from ins_errors.checker.parse import parse_hand_text
+    from ins_errors.checker.report import to_terminal
+
+    text = "dot(Delta_h) = Delta_v_D\n"
+    report = check_hand(parse_hand_text(text, default_notation("strapdown_ned")),
+                        model="strapdown_ned")
+    ((_, finding),) = report.mistakes
+    effect = finding.effect
+    tau = math.sqrt(6_378_137.0 / (2 * 9.81))
+    assert effect["growing_mode"] == "model"
+    assert effect["e_folding_s"] == pytest.approx(tau, rel=3e-3)
+    assert (effect["exponential_1h"], effect["exponential_24h"]) == (False, True)
+    assert 0 < effect["position_1h"] < 1e5
+    assert f"24 h: grows exponentially, ×e every {effect['e_folding_s'] / 60:.3g} min " \
+           "(the model's own mode)" in to_terminal(report)

@@ -25,7 +25,9 @@ Each change is compared with the rounding floor of the two propagations
 change is rounding, not an effect. When the mistake gives the frozen equations a growing
 mode the model lacks (an eigenvalue with a larger positive real part), the effect is
 said to grow exponentially, with the e-folding time of that mode, once the growth over
-the time compared exceeds :data:`GROWTH_SHOWN` e-foldings.
+the time compared exceeds :data:`GROWTH_SHOWN` e-foldings; likewise for a growing mode
+of the model itself (an undamped vertical channel) where the difference did grow that
+much since 1 h (:func:`_mark_growth`).
 """
 
 from __future__ import annotations
@@ -90,6 +92,34 @@ def _growth(f: np.ndarray) -> float:
     if not np.all(np.isfinite(f)) or not f.size:
         return 0.0
     return float(np.linalg.eigvals(f).real.max())
+
+
+def _mark_growth(effect: dict, hand: float, model: float) -> None:
+    """Mark the times at which the effect grows exponentially (see module docstring).
+
+    ``hand``, ``model``: largest real parts of the eigenvalues (1/s) of the frozen F with
+    and without the mistake. A growing mode the mistake adds (``hand`` above the model's
+    and past :data:`GROWTH_SHOWN` e-foldings) makes the difference grow at its rate; a
+    growing mode of the model itself (an undamped vertical channel) only where the
+    difference did grow by that much since the first time (a mistake the mode does not
+    see keeps its figure).
+    """
+    if hand > max(model, 0.0) and (hand - max(model, 0.0)) * HOURS[-1] * 3600.0 > GROWTH_SHOWN:
+        rate, whose = hand, "hand"
+    elif model * HOURS[-1] * 3600.0 > GROWTH_SHOWN:
+        rate, whose = model, "model"
+    else:
+        return
+    effect["e_folding_s"] = 1.0 / rate
+    effect["growing_mode"] = whose
+    first = effect[f"position_{int(HOURS[0])}h"]
+    for hours in HOURS:
+        tag = f"{int(hours)}h"
+        grows = rate * hours * 3600.0 > GROWTH_SHOWN
+        if whose == "model":
+            grows = grows and effect[f"position_{tag}"] > np.exp(GROWTH_SHOWN) * max(
+                first, effect[f"position_floor_{tag}"])
+        effect[f"exponential_{tag}"] = bool(grows)
 
 
 def _worst(diffs: np.ndarray) -> tuple[float, int]:
@@ -188,9 +218,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                     effect[f"{what}_{tag}"] = value
                     effect[f"{what}_floor_{tag}"] = floor
                     effect[f"{what}_case_{tag}"] = cases[j] if value > floor else None
-            extra_growth = _growth(changed_f) - max(base_growth, 0.0)
-            if extra_growth * HOURS[-1] * 3600.0 > GROWTH_SHOWN:
-                effect["e_folding_s"] = 1.0 / extra_growth
+            _mark_growth(effect, _growth(changed_f), base_growth)
             if best is None or effect["position_24h"] > best["position_24h"]:
                 best = {"point": comparison.points[p].label, **effect}
         return best

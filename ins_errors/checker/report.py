@@ -12,7 +12,7 @@ from typing import Any
 from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.compare import CheckReport, EquationResult
-from ins_errors.checker.effect import GROWTH_SHOWN, HOURS
+from ins_errors.checker.effect import HOURS
 from ins_errors.checker.matrix_report import below
 
 UNCHECKED = ("error sources the model's side of these lines has and the file never "
@@ -77,10 +77,10 @@ def _effect(f: Finding) -> str:
     parts = []
     for hours in HOURS:
         tag = f"{int(hours)}h"
-        folding = e.get("e_folding_s")
-        if folding and hours * 3600.0 / folding > GROWTH_SHOWN:
+        if e.get(f"exponential_{tag}"):
+            own = " (the model's own mode)" if e.get("growing_mode") == "model" else ""
             parts.append(f"{int(hours)} h: grows exponentially, ×e every "
-                         f"{folding / 60:.3g} min")
+                         f"{e['e_folding_s'] / 60:.3g} min{own}")
             continue
         position, attitude = e[f"position_{tag}"], e[f"attitude_{tag}"]
         floor_p = e.get(f"position_floor_{tag}", 0.0)
