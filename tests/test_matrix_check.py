@@ -16,9 +16,10 @@ import pytest
 
 from ins_errors.checker import matrix as mc
 from ins_errors.checker.conventions import convention
-from ins_errors.checker.matrix_input import load_function
+from ins_errors.checker.matrix_input import load_function, write_samples
 from ins_errors.checker.navigation import samples
 from ins_errors.cli import main
+from ins_errors.errors import InsErrorsError
 from ins_errors.numeric.model import load_model
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -158,6 +159,11 @@ def test_sampled_matrices_from_npz_and_mat(tmp_path, model):
                               effects=False)
     [f] = report.findings
     assert (f.row, f.column, f.kind) == ("delta_latitude", "delta_v_N", "wrong coefficient")
+    arrays["G_static"] = arrays["G_static"] + 0j
+    np.savez(tmp_path / "complex.npz", **arrays)
+    with pytest.raises(InsErrorsError, match=r"^complex.npz: G_static is complex"):
+        mc.check_matrices(MODEL, tmp_path / "complex.npz", "model", motion_list=ms,
+                          effects=False)
     assert f.per_motion["static"] == 0 and f.motion == "cruise"
 
 
@@ -168,6 +174,11 @@ def test_sampled_matrices_from_npz_and_mat(tmp_path, model):
     (("w = 1 - e2 * s**2", "w = 1 - e2 * s**2 + undefined_name"), "NameError"),
     (("import numpy as np", "import numpy as np\nraise RuntimeError('broken')"),
      "cannot import"),
+    # numpy would drop the imaginary part with a warning only, and read digit strings
+    (("return F, G", "return F + 1e-3j, G"), "F is complex (dtype complex128)"),
+    (("return F, G", "return F.astype(object) + 1e-3j, G"), "F is complex (dtype object)"),
+    (("return F, G", 'return np.full(F.shape, "x"), G'), "F must be a numeric array, got strings"),
+    (("return F, G", "return F.astype(str), G"), "F must be a numeric array, got strings"),
 ])
 def test_bad_hand_model_is_a_one_line_error(tmp_path, capsys, edit, message):
     spec = _copy(tmp_path, *edit)
@@ -199,6 +210,35 @@ def test_cli_lists_conventions_and_writes_samples(tmp_path, capsys):
         # the cruise flies east at 250 m/s at 10 km
         assert np.allclose(data["v_ned_cruise"][:, 1], 250.0)
         assert np.allclose(data["height_cruise"], 10_000.0)
+
+
+def test_written_samples_hold_every_documented_attribute(tmp_path):
+    """--write-samples writes every attribute a hand function sees (docs/matrix_check.md),
+    omega_in_n and f_n included, with the values the function is called with; on the
+    static base f_n is the reaction to gravity and omega_in_n the Earth rate."""
+    ms = mc.motions(load_model(MODEL), hours=1.0, step=600.0)
+    path = tmp_path / "s.npz"
+    write_samples(path, ms)
+    doc = (DATA.parent.parent / "docs" / "matrix_check.md").read_text(encoding="utf-8")
+    section = doc.split("## The researcher's function")[1].split("## Conventions")[0]
+    table = [line.split("|")[1] for line in section.splitlines() if line.startswith("| `")]
+    imu = section.split("* `imu` (an `Imu`):")[1].split("\n* ")[0]  # `f_n = C_bn @ f_b`
+    documented = set(re.findall(r"`(\w+)(?:`| =)", " ".join([*table, imu]))) - {"motion"}
+    assert {"omega_in_n", "f_n", "f_b", "gravity"} <= documented
+    with np.load(path) as data:
+        for motion in ms:
+            keys = {k[: -len(motion.label) - 1] for k in data.files
+                    if k.endswith("_" + motion.label)}
+            assert documented <= keys, documented - keys
+            for k, (nav, imu) in enumerate(samples(motion.navigation, motion.times,
+                                                   motion.label)):
+                assert np.array_equal(data[f"omega_in_n_{motion.label}"][k], nav.omega_in_n)
+                assert np.array_equal(data[f"f_n_{motion.label}"][k], imu.f_n)
+        g, f_n = data["gravity_static"], data["f_n_static"]
+        assert np.allclose(f_n[:, :2], 0.0, atol=1e-9 * g[0])
+        assert np.allclose(f_n[:, 2], -g, rtol=1e-12)
+        rate = np.linalg.norm(data["omega_in_n_static"], axis=1)
+        assert np.allclose(rate, 7.292115e-5, rtol=1e-6)
 
 
 # --------------------------------------------------------------------------------------

@@ -56,7 +56,7 @@ class HandMatrices:
 
 def _names(value, what: str, where: str) -> list[str]:
     if isinstance(value, str) or not hasattr(value, "__iter__"):
-        raise InsErrorsError(f"{where}: {what} must be a list of names, got {value!r:.60}")
+        raise InsErrorsError(f"{where}: {what} must be a list of names, got {_short(value)}")
     names = [str(v).strip() for v in np.asarray(value, dtype=object).ravel()]
     if not names:
         raise InsErrorsError(f"{where}: {what} is empty")
@@ -136,11 +136,48 @@ def load_function(path: Path, function: str):
         [] if sources is None else _names(sources, "SOURCES", where))
 
 
-def _check_matrix(value, shape: tuple[int, int], what: str, where: str) -> np.ndarray:
+def _short(value) -> str:
+    """At most 60 characters of ``repr(value)`` on one line (an array's repr has many)."""
+    text = " ".join(repr(value).split())
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def real_array(value, what: str, where: str) -> np.ndarray:
+    """``value`` as a float array; one-line error for anything that is not real numbers.
+
+    A complex array is refused rather than cast (numpy would drop the imaginary part
+    with a warning only), and so are strings, even strings of digits.
+
+    Raises
+    ------
+    ShapeError
+        For strings, complex numbers or anything numpy cannot read as real numbers.
+    """
+    raw = value if isinstance(value, np.ndarray) else None
+    if raw is None:
+        try:
+            raw = np.asarray(value)
+        except (TypeError, ValueError):  # ragged nested lists
+            raise ShapeError(f"{where}: {what} must be a numeric array, "
+                             f"got {_short(value)}") from None
+    kind = raw.dtype.kind
+    if kind == "c" or (kind == "O" and any(isinstance(v, complex | np.complexfloating)
+                                           for v in raw.ravel())):
+        raise ShapeError(f"{where}: {what} is complex (dtype {raw.dtype}); "
+                         "it must be a real array")
+    if kind in "USO" and (kind != "O" or any(isinstance(v, str | bytes)
+                                             for v in raw.ravel())):
+        raise ShapeError(f"{where}: {what} must be a numeric array, got strings "
+                         f"({_short(value)})")
     try:
-        array = np.asarray(value, dtype=float)
+        return np.asarray(raw, dtype=float)
     except (TypeError, ValueError):
-        raise ShapeError(f"{where}: {what} must be a numeric array, got {value!r:.60}") from None
+        raise ShapeError(f"{where}: {what} must be a numeric array, "
+                         f"got {_short(value)}") from None
+
+
+def _check_matrix(value, shape: tuple[int, int], what: str, where: str) -> np.ndarray:
+    array = real_array(value, what, where)
     if array.shape != shape:
         raise ShapeError(f"{where}: {what} must have shape {shape}, got {array.shape}")
     if not np.all(np.isfinite(array)):
@@ -273,7 +310,7 @@ def read_matrix_file(path: Path, motions) -> HandMatrices:
             raise InsErrorsError(f"{where}: no array {key!r} (F at the {motion.times.size} "
                                  f"sample times of motion {motion.label!r})")
         shape = (motion.times.size, n, n)
-        f = np.asarray(data[key], dtype=float)
+        f = real_array(data[key], key, where)
         if f.shape != shape:
             raise ShapeError(f"{where}: {key} must have shape {shape}, got {f.shape}")
         if not np.all(np.isfinite(f)):
@@ -283,7 +320,7 @@ def read_matrix_file(path: Path, motions) -> HandMatrices:
         if m:
             if gkey not in data:
                 raise InsErrorsError(f"{where}: 'sources' is given but {gkey!r} is missing")
-            g = np.asarray(data[gkey], dtype=float)
+            g = real_array(data[gkey], gkey, where)
             if g.shape != (motion.times.size, n, m):
                 raise ShapeError(f"{where}: {gkey} must have shape "
                                  f"{(motion.times.size, n, m)}, got {g.shape}")
@@ -297,15 +334,22 @@ def write_samples(path: Path, motions) -> None:
     """Write every motion's sample times and navigation description (.npz or .mat).
 
     Keys: ``t_<motion>`` (K,), and ``<field>_<motion>`` for every field of
-    :data:`~ins_errors.checker.navigation.FIELDS` with the sample axis first: (K,),
-    (K, 3) or (K, 3, 3).
+    :data:`~ins_errors.checker.navigation.FIELDS` and the two derived attributes a
+    hand function also sees, ``omega_in_n`` (``omega_ie_n + omega_en_n``) and ``f_n``
+    (``C_bn @ f_b``), with the sample axis first: (K,), (K, 3) or (K, 3, 3).
     """
     arrays: dict[str, np.ndarray] = {}
     for motion in motions:
-        arrays[f"t_{motion.label}"] = motion.times
+        label = motion.label
+        arrays[f"t_{label}"] = motion.times
         for field in FIELDS:
-            arrays[f"{field}_{motion.label}"] = np.moveaxis(
+            arrays[f"{field}_{label}"] = np.moveaxis(
                 np.asarray(motion.navigation[field], dtype=float), -1, 0)
+        # the same arithmetic as Navigation.omega_in_n and Imu.f_n, sample by sample
+        arrays[f"omega_in_n_{label}"] = (arrays[f"omega_ie_n_{label}"]
+                                         + arrays[f"omega_en_n_{label}"])
+        arrays[f"f_n_{label}"] = np.array([np.array(c) @ f for c, f in zip(
+            arrays[f"C_bn_{label}"], arrays[f"f_b_{label}"], strict=True)]).reshape(-1, 3)
     try:
         if path.suffix.lower() == ".mat":
             from scipy.io import savemat
