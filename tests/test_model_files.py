@@ -313,6 +313,22 @@ def test_model_file_mistake_is_one_line(mistake, tmp_path, capsys, private_cache
     assert not private_cache.exists() or not any(private_cache.iterdir())
 
 
+def test_literal_constants_are_not_refused_by_the_dimension_check(tmp_path, capsys,
+                                                                   private_cache):
+    """A file may write a constant as a number (g as 9.80665, R as 6371000.0): its unit
+    is not written, so the dimension check gives no verdict on those terms instead of
+    refusing a right model ("a sum of m/s**2 and 1"), while the wrong-unit equation
+    stays refused (MISTAKES)."""
+    path = copy_model(
+        tmp_path,
+        ('f = real.let("f", a_N * sp.cos(psi) - g * sp.sin(psi)',
+         'f = real.let("f", a_N * sp.cos(psi) - 9.80665 * sp.sin(psi)'),
+        ('omega = ideal.let("omega", V / R,', 'omega = ideal.let("omega", V / 6371000.0,'),
+        ('omega_c = real.let("omega", V_c / R,', 'omega_c = real.let("omega", V_c / 6371000,'))
+    assert main(["models", str(path)]) == 0, capsys.readouterr().err
+    assert "accel_bias" in capsys.readouterr().out
+
+
 def test_failed_derive_keeps_the_previous_package(tmp_path, capsys):
     path = copy_model(tmp_path)
     out = tmp_path / "pkg"

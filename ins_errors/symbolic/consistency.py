@@ -422,7 +422,13 @@ class _Dimensions:
 
     def _of(self, e: sp.Basic):
         if e.is_Number:
-            return _ANY if e == 0 else self.none
+            if e == 0:
+                return _ANY
+            # a decimal or large literal may stand for a quantity whose unit the file does
+            # not say (g written 9.80665, a radius 6371000): no verdict rather than a
+            # false refusal; small exact numbers (2, 1/2) are pure numbers
+            simple = e.is_Rational and abs(e.p) <= 100 and e.q <= 100
+            return self.none if simple else None
         if isinstance(e, sp.Symbol):
             return self.symbols.get(e)
         if isinstance(e, sp.NumberSymbol):
@@ -430,10 +436,12 @@ class _Dimensions:
         if isinstance(e, sp.Add):
             seen = None
             for term in e.args:
+                if term.is_Number:  # a bare number takes the unit of the sum it is in
+                    continue
                 dims = self.of(term)
                 if dims is None:
                     return None
-                if dims is _ANY or (term.is_Number and seen is not None):
+                if dims is _ANY:
                     continue
                 if seen is None:
                     seen = (dims, term)
