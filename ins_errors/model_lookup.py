@@ -274,14 +274,14 @@ def generated_folder(ref: ModelRef) -> Path:
     cached = _cached_package(ref)
     if cached is not None:
         if recorded is not None:
-            _say(f"{beside.name}/ is stale ({ref.path.name} changed since it was derived); "
-                 "using the up-to-date code in the cache")
+            _say(f"{beside.name}/ is stale ({ref.path.name} or a file it imports changed since "
+                 "it was derived); using the up-to-date code in the cache")
         return cached
     d = definition_of(ref)
     cached = models_cache_directory() / f"{d.name}-{ref.sha256[:16]}"
     if recorded is not None:
-        _say(f"{beside.name}/ is stale ({ref.path.name} changed since it was derived); "
-             "deriving again into the cache")
+        _say(f"{beside.name}/ is stale ({ref.path.name} or a file it imports changed since "
+             "it was derived); deriving again into the cache")
     else:
         _say(f"deriving {ref.label} (first use of this version; cached for next time)")
     from ins_errors.derive.package import write_package
