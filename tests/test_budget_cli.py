@@ -55,6 +55,20 @@ def test_monte_carlo_row_with_zero_covariance(tmp_path, capsys):
     assert rows[1]["ratio"] > 0 and "note" not in rows[1]
 
 
+def test_monte_carlo_runs_default_to_a_spec_shorter_than_an_hour(tmp_path, capsys):
+    """The runs' default length (1 h) was refused for a 20-min spec ('at most the
+    operating time (0.333333 h)'): they now last the operating time, and say so."""
+    spec = str(write(tmp_path, NO_TILT.replace('"1 h"', '"20 min"')))
+    assert main(["budget", "orthodromic", "--spec", spec, "--monte-carlo", "2", "--mc-step",
+                 "1 s", "--engine", "serial"]) == 0
+    out = capsys.readouterr().out
+    assert "Direct Monte Carlo: 2 runs of 20 min at 1 s" in out
+    assert any(line.startswith("vertical_error at 20 min") for line in out.splitlines())
+    assert main(["budget", "orthodromic", "--spec", spec, "--monte-carlo", "2",
+                 "--mc-duration", "1 h"]) == 2  # asked for explicitly: still refused
+    assert "at most the operating time (20 min)" in capsys.readouterr().err
+
+
 def test_spec_latitude_at_or_beyond_a_pole_is_refused(tmp_path, capsys):
     """As the motions of scenarios and compare refuse them: |φ| >= 90 deg, one line."""
     for latitude in ("100 deg", "-95 deg", "90 deg", "1.6 rad"):

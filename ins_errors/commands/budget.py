@@ -40,7 +40,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--monte-carlo", type=int, metavar="N",
                         help="also run N direct simulations at the allocated magnitudes")
     parser.add_argument("--mc-duration", help="with --monte-carlo: length of each run "
-                                              "(default 1 h)")
+                                              "(default 1 h, or the spec's operating time "
+                                              "if shorter)")
     parser.add_argument("--mc-step",
                         help="with --monte-carlo: integration step of the runs (default "
                              "0.01 s, 100 Hz)")
@@ -132,7 +133,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"\nplot written to {args.plot}")
     if args.monte_carlo is not None:
         mc = data["monte_carlo"]
-        print(f"\nDirect Monte Carlo: {mc['runs']} runs of {mc['duration_h']:g} h at "
+        print(f"\nDirect Monte Carlo: {mc['runs']} runs of "
+              f"{bd.format_time(mc['duration_h'] * 3600.0)} at "
               f"{mc['step_s']:g} s ({mc['method']}), sample {spec.sigma_level:g}σ vs "
               f"covariance; sampling error ±{100 * mc['relative_sampling_error']:.1f} % (1σ)")
         print(f"{'row':<40} {'covariance':>16} {'Monte Carlo':>16} {'ratio':>7}")
@@ -167,6 +169,7 @@ def _check_monte_carlo_options(args: argparse.Namespace) -> None:
         raise SpecError(f"--monte-carlo needs at least 2 runs, got {args.monte_carlo}")
     if args.workers is not None and args.workers < 1:
         raise SpecError(f"--workers must be at least 1, got {args.workers}")
+    args.mc_defaulted = [name for name in MC_DEFAULTS if name not in given]
     for name, value in MC_DEFAULTS.items():
         if getattr(args, name) is None:
             setattr(args, name, value)
@@ -194,6 +197,8 @@ def _monte_carlo(model, spec, allocation, args, p) -> dict:
     from ins_errors.units import parse_quantity
 
     duration = parse_quantity(args.mc_duration, "s", "--mc-duration")
+    if "mc_duration" in getattr(args, "mc_defaulted", ()):
+        duration = min(duration, spec.operating_time)  # a spec shorter than the default
     step = parse_quantity(args.mc_step, "s", "--mc-step")
     if duration <= 0 or step <= 0:
         raise SpecError("--mc-duration and --mc-step must be > 0")
@@ -201,7 +206,7 @@ def _monte_carlo(model, spec, allocation, args, p) -> dict:
     if abs(duration / grid - round(duration / grid)) > 1e-9 or duration > spec.operating_time:
         raise SpecError(f"--mc-duration must be a whole number of the spec's {grid:g} s "
                         f"analysis steps, at most the operating time "
-                        f"({spec.operating_time / 3600:g} h); got {args.mc_duration!r}")
+                        f"({bd.format_time(spec.operating_time)}); got {args.mc_duration!r}")
     if abs(grid / step - round(grid / step)) > 1e-9:
         raise SpecError(f"--mc-step must divide the spec's {grid:g} s analysis step; got "
                         f"{args.mc_step!r}")
