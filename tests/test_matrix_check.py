@@ -16,7 +16,8 @@ import pytest
 
 from ins_errors.checker import matrix as mc
 from ins_errors.checker.conventions import convention
-from ins_errors.checker.matrix_input import load_function, write_samples
+from ins_errors.checker.matrix_input import HandMatrices, load_function, write_samples
+from ins_errors.checker.matrix_report import to_terminal
 from ins_errors.checker.navigation import samples
 from ins_errors.cli import main
 from ins_errors.errors import InsErrorsError
@@ -638,3 +639,130 @@ def test_a_model_file_shaped_like_north_pointing_gives_the_same_findings(tmp_pat
         ("F", "delta_v_N", "alpha_E", "wrong sign")]
     assert reports[0].exit_status == reports[1].exit_status == 1
     assert reports[0].compared == reports[1].compared == 7 * 7 + 7 * 5
+
+
+# --------------------------------------------------------------------------------------
+# Ellipsoid terms left out: judged by the difference; sizes alike in every convention
+# --------------------------------------------------------------------------------------
+def _derived_hand(model, conv_name: str, motion_list, edit) -> HandMatrices:
+    """The derived F in ``conv_name`` with ``edit(F, nav)`` applied on each motion."""
+    conv = convention(model, conv_name)
+    F = {}
+    for motion in motion_list:
+        f = np.array(mc.derived_in_convention(model, conv, motion)[0])
+        edit(f, conv.names, motion.navigation)
+        F[motion.label] = f
+    return HandMatrices("edited", list(conv.names), [], F, {})
+
+
+def _dre_dlat(nav):
+    """∂R_E/∂φ of the prime-vertical radius R_E = a / √(1 − e² sin² φ), m/rad."""
+    s, c = np.sin(nav["latitude"]), np.cos(nav["latitude"])
+    return nav["a"] * nav["e2"] * s * c / (1 - nav["e2"] * s**2) ** 1.5
+
+
+@pytest.fixture(scope="module")
+def strapdown_day():
+    """The documented day-long motions (every 60 s): on the weave some samples fall
+    close to the zero crossings of the transport-rate entries."""
+    return mc.motions(load_model("strapdown_ned"))
+
+
+def test_transport_rate_without_the_radius_derivative_is_an_approximation(strapdown_day):
+    """A φ-angle model that leaves ∂R_E/∂φ out of ω_en's latitude partials misses the
+    same ellipsoid term in F[phi_N, dlat] (−v_E ∂R_E/∂φ / (R_E+h)²) and F[phi_D, dlat]
+    (+v_E tan φ ∂R_E/∂φ / (R_E+h)²). On the weave v_E changes sign, so F[phi_D, dlat] =
+    −U cos φ − v_E / ((R_E+h) cos² φ) + … crosses zero and hand/model is far from 1 there;
+    the difference is still the small omitted term: an approximation, not a mistake."""
+    model = load_model("strapdown_ned")
+    down, crosses = {}, {}
+
+    def drop(F, names, nav):
+        r_e = nav["R_E"] + nav["height"]
+        v_e = nav["v_ned"][1]
+        i, d = names.index("dlat"), names.index("phi_D")
+        F[:, names.index("phi_N"), i] += v_e * _dre_dlat(nav) / r_e**2
+        label = "manoeuvre" if v_e.min() < 0 < v_e.max() else "cruise/static"
+        crosses[label] = bool(F[:, d, i].min() < 0 < F[:, d, i].max())
+        down[len(down)] = v_e * np.tan(nav["latitude"]) * _dre_dlat(nav) / r_e**2
+        F[:, d, i] -= down[len(down) - 1]
+
+    hand = _derived_hand(model, "phi_geodetic", strapdown_day, drop)
+    assert crosses["manoeuvre"]  # the entry crosses zero on the weave
+    report = mc.check_matrices("strapdown_ned", hand, "phi_geodetic",
+                               motion_list=strapdown_day, effects=False)
+    assert report.exit_status == 0
+    assert sorted(f.entry for f in report.findings) == ["F[phi_D, dlat]", "F[phi_N, dlat]"]
+    for f in report.findings:
+        assert (f.kind, f.severity) == ("approximated", "dropped small term")
+    # the difference reported is the omitted term computed here, at its sample
+    f = report.finding("phi_D", "dlat")
+    k = [m.label for m in strapdown_day].index(f.motion)
+    sample = round(f.time / mc.STEP)
+    assert f.model - f.hand == pytest.approx(down[k][sample], rel=1e-6)
+    # a coefficient that is wrong where it crosses zero is still a wrong coefficient:
+    # an offset of a fifth of the entry's largest value, or the entry's opposite
+    def offset(F, names, nav):
+        entry = F[:, names.index("phi_D"), names.index("dlat")]
+        entry -= 0.2 * np.abs(entry).max()
+
+    def flipped(F, names, nav):
+        entry = F[:, names.index("phi_D"), names.index("dlat")]
+        entry *= -1.0
+        drop(F, names, nav)
+
+    for edit, kind in ((offset, "wrong coefficient"), (flipped, "wrong sign")):
+        report = mc.check_matrices("strapdown_ned",
+                                   _derived_hand(model, "phi_geodetic", strapdown_day, edit),
+                                   "phi_geodetic", motion_list=strapdown_day, effects=False)
+        [mistake] = report.mistakes
+        assert (mistake.entry, mistake.kind) == ("F[phi_D, dlat]", kind)
+
+
+def _gravity_gradient(nav):
+    """∂γ/∂φ of the international gravity formula γ = γ_e (1 + β sin² φ), m/s² per rad."""
+    return 9.780327 * 0.0053024 * np.sin(2 * nav["latitude"])
+
+
+def test_a_position_error_has_the_same_size_as_latitude_or_as_metres(strapdown_motions):
+    """Leaving out the change of gravity with latitude is one physical omission whether
+    position is written as dr_N (m) or dlat (rad): its size must not depend on that. The
+    typical latitude error is the typical position error over the Earth radius (10 m / a),
+    and the terminal report lists the sizes used."""
+    model = load_model("strapdown_ned")
+
+    def psi_edit(F, names, nav):
+        F[:, names.index("dvc_D"), names.index("dr_N")] -= (
+            _gravity_gradient(nav) / (nav["R_N"] + nav["height"]))
+
+    def phi_edit(F, names, nav):
+        F[:, names.index("dv_D"), names.index("dlat")] -= _gravity_gradient(nav)
+
+    sizes = {}
+    for name, edit, entry in (("psi", psi_edit, ("dvc_D", "dr_N")),
+                              ("phi_geodetic", phi_edit, ("dv_D", "dlat"))):
+        report = mc.check_matrices("strapdown_ned",
+                                   _derived_hand(model, name, strapdown_motions, edit), name,
+                                   motion_list=strapdown_motions, effects=False)
+        f = report.finding(*entry)
+        assert f.size_class == "small"
+        sizes[name] = f.size
+    assert sizes["phi_geodetic"] == pytest.approx(sizes["psi"], rel=0.01)
+    assert report.magnitudes["dlat"][0] == pytest.approx(10.0 / 6_378_137.0, rel=1e-12)
+    assert report.magnitudes["dh"][0] == 10.0 and report.magnitudes["phi_N"][0] == 1e-4
+    text = to_terminal(report)
+    assert "typical sizes: " in text and "dlat, dlon 1.57e-06 rad" in text
+    # tied by the Schuler relations, a latitude error is the declared angle (R θ / R)
+    schuler = mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi",
+                                motion_list=strapdown_motions, effects=False,
+                                magnitudes={"attitude": "1e-4 rad"})
+    geodetic = mc.check_matrices("strapdown_ned", _agreeing_hand(model, strapdown_motions),
+                                 "phi_geodetic", motion_list=strapdown_motions,
+                                 effects=False, magnitudes={"attitude": "1e-4 rad"})
+    assert geodetic.magnitudes["dlat"][0] == pytest.approx(1e-4, rel=1e-12)
+    assert schuler.magnitudes["dr_N"][0] == pytest.approx(637.8137, rel=1e-9)
+
+
+def _agreeing_hand(model, motion_list) -> HandMatrices:
+    """The derived model itself in phi_geodetic (agrees everywhere)."""
+    return _derived_hand(model, "phi_geodetic", motion_list, lambda F, names, nav: None)

@@ -7,7 +7,9 @@ restricted to the researcher's states, in their order. Each entry of F and G is 
 compared with the hand's at every sample.
 
 Sizes follow the hand checker: a term's size is ``|coefficient| × typical magnitude`` of
-the state or source it multiplies (:func:`~ins_errors.checker.typical.typical_magnitude`);
+the state or source it multiplies (:func:`~ins_errors.checker.typical.typical_magnitude`;
+a latitude or longitude error is weighed as the position error it is, the typical
+position error over the Earth radius: :func:`position_angle_magnitude`);
 a discrepancy is measured relative to the largest term of its row (over the hand's and
 the model's terms, including every model error source) at the same sample; the largest
 ratio over all samples is its *size*, and the sample where it is reached says where along
@@ -19,8 +21,10 @@ Classes (the vocabulary of :mod:`~ins_errors.checker.classify`):
 * kinds: ``omitted term`` (the hand has nothing), ``extra term`` (the model has nothing),
   ``wrong sign`` (hand/model within :data:`PARTIAL` of −1), ``approximated`` (hand/model
   within :data:`PARTIAL` of 1: part of the coefficient left out, e.g. a constant Earth
-  radius for R_N + h, a constant g), ``wrong coefficient`` (anything else; a constant
-  ratio is named), ``state left out`` (coupling to a state the hand model does not have);
+  radius for R_N + h, a constant g; where the entry crosses zero, |hand ∓ model| within
+  :data:`PARTIAL` of the entry's largest value on each motion), ``wrong coefficient``
+  (anything else; a constant ratio is named), ``state left out`` (coupling to a state
+  the hand model does not have);
 * severity: at or above the threshold every kind is a ``mistake``; below it the
   omissions (``omitted term``, ``approximated``, ``state left out``) are a ``dropped small
   term`` and a term that is present but wrong is a ``mistake, small effect``.
@@ -62,7 +66,12 @@ from ins_errors.checker.matrix_input import (
     split_spec,
 )
 from ins_errors.checker.navigation import navigation_arrays, require_description
-from ins_errors.checker.typical import magnitude_override, schuler_magnitudes, typical_magnitude
+from ins_errors.checker.typical import (
+    _earth,
+    magnitude_override,
+    schuler_magnitudes,
+    typical_magnitude,
+)
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.blas_threads import import_limited, one_blas_thread
 
@@ -493,9 +502,39 @@ def _rate_unit(unit: str) -> str:
     return {"1": "1/s", "rad": "rad/s", "m": "m/s", "m/s": "m/s**2"}.get(unit, f"({unit})/s")
 
 
+def _within(h: np.ndarray, m: np.ndarray, sign: float, mag: float, scale: np.ndarray,
+            motion_of: np.ndarray) -> float | None:
+    """Largest |h − sign·m| over the largest |m| on each motion, when it is at most
+    :data:`PARTIAL` on every motion (None otherwise).
+
+    A part of a coefficient left out is small against the coefficient where the
+    coefficient matters, also where the coefficient itself crosses zero (a transport
+    rate −U cos φ − v_E/(R cos² φ) as v_E changes sign) and the sample-by-sample ratio
+    means nothing. A motion where both entries are at most the agreement level of
+    their row is skipped; one where only the hand has a term is not within.
+    """
+    worst = 0.0
+    for k in np.unique(motion_of):
+        on = motion_of == k
+        diff = np.abs(h[on] - sign * m[on])
+        if np.all(diff * mag <= AGREEMENT * scale[on]):
+            continue
+        largest = float(np.max(np.abs(m[on])))
+        if not float(diff.max()) <= PARTIAL * largest:
+            return None
+        worst = max(worst, float(diff.max()) / largest)
+    return worst
+
+
 def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, threshold: float,
-              left_out: bool) -> tuple[str, str, str] | None:
-    """(kind, severity, detail) of one entry's samples, or None when they agree."""
+              left_out: bool, motion_of: np.ndarray | None = None
+              ) -> tuple[str, str, str] | None:
+    """(kind, severity, detail) of one entry's samples, or None when they agree.
+
+    ``motion_of`` (S,) gives the motion of each sample (default: one motion).
+    """
+    if motion_of is None:
+        motion_of = np.zeros(h.shape, dtype=int)
     ratio = np.abs(h - m) * mag / scale
     size = float(ratio.max())
     if size <= AGREEMENT:
@@ -524,6 +563,15 @@ def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, thres
         elif (not only_hand.any() and q.size
               and np.ptp(q) <= 1e-6 * np.abs(np.median(q))):
             kind, detail = COEFFICIENT, f"hand/model = {np.median(q):.6g} at every sample"
+        elif (part := _within(h, m, 1.0, mag, scale, motion_of)) is not None:
+            kind, detail = APPROXIMATED, (
+                f"hand − model at most {part:.2g} of the entry's largest value on each "
+                f"motion (the entry crosses zero: hand/model between {q.min():.3g} and "
+                f"{q.max():.3g})")
+        elif (part := _within(h, m, -1.0, mag, scale, motion_of)) is not None:
+            kind, detail = SIGN, (
+                f"hand + model at most {part:.2g} of the entry's largest value on each "
+                f"motion (the entry crosses zero)")
         else:
             kind = COEFFICIENT
     # omissions (a whole term, part of a coefficient, a state left out) are drops when
@@ -581,7 +629,8 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
             if left_out and np.all(m == 0):
                 continue
             compared += 1
-            verdict = _classify(h, m, mag, scale, report.threshold, left_out)
+            verdict = _classify(h, m, mag, scale, report.threshold, left_out,
+                                sample_motion)
             if verdict is None:
                 continue
             kind, severity, detail = verdict
@@ -991,8 +1040,10 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     _check_names(hand.states, hand.sources, conv, model)
     size_of = _magnitudes(model, magnitudes)
     magnitudes = {}
+    angles = position_angles(conv, motion_list[0])
     for s in conv.states:
-        magnitudes[s.name] = size_of(s.unit)
+        magnitudes[s.name] = (position_angle_magnitude(model, size_of("m"))
+                              if s.name in angles else size_of(s.unit))
     for s in model.sources:
         magnitudes[s.name] = size_of(s.unit)
     sampled = _Sampled(hand.F, hand.G, {}, {})
@@ -1017,6 +1068,24 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         report.finding_effects = finding_effects(report, sampled, conv, model, motion_list,
                                                  responses=responses)
     return report
+
+
+def position_angles(conv: Convention, motion: Motion) -> list[str]:
+    """States of ``conv`` that are a position error written as an angle (latitude and
+    longitude errors, rad): those with a position readout in metres per radian."""
+    readout = np.abs(conv.position(motion.navigation)).max(axis=(0, 2))
+    return [s.name for s, r in zip(conv.states, readout, strict=True)
+            if s.unit == "rad" and r > 1e3]
+
+
+def position_angle_magnitude(model, position: tuple[float, str]) -> tuple[float, str]:
+    """Typical size of a latitude or longitude error: the typical position error over the
+    model's Earth radius a (10 m / a = 1.57e-6 rad on the WGS-84 ellipsoid), the same
+    position error as a north or east error in metres (for a longitude error, a
+    position error of that size times cos φ)."""
+    radius, _ = _earth(model)  # the parameter a (or R) of the model
+    value = position[0] / radius
+    return value, f"{value:.3g} rad ({position[1]} / {radius:.0f} m)"
 
 
 def _magnitudes(model, overrides: dict[str, str] | None):

@@ -107,6 +107,15 @@ EFFECT_HEADER = ["motion", "after", "position Δ", "of derived", "worst case",
                  "attitude Δ", "worst case"]
 
 
+def typical_sizes(r: MatrixReport) -> str:
+    """The typical magnitudes on one line, names of the same size together
+    (``phi_N, phi_E, phi_D 1e-4 rad; dv_N, dv_E, dv_D 0.1 m/s; ...``)."""
+    groups: dict[str, list[str]] = {}
+    for name, (_, text) in r.magnitudes.items():
+        groups.setdefault(text, []).append(name)
+    return "; ".join(f"{', '.join(names)} {text}" for text, names in groups.items())
+
+
 def to_terminal(r: MatrixReport) -> str:
     """Plain-text report."""
     lines = [f"Matrix check of {r.hand_name} against {r.model} (convention {r.convention})",
@@ -118,6 +127,7 @@ def to_terminal(r: MatrixReport) -> str:
     if r.left_out:
         lines.append(f"convention states the hand model leaves out: {', '.join(r.left_out)}")
     lines.append("motions: " + "; ".join(f"{k}: {d}" for k, d in r.motions))
+    lines.append("typical sizes: " + typical_sizes(r))
     lines.append(_summary(r))
     for title, group in (("Mistakes", r.mistakes),
                          ("Dropped small terms",
