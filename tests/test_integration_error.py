@@ -77,6 +77,25 @@ def test_cli_prints_the_integration_warning(capsys):
     assert "warning" in out and "integration error" in out and "would do" in out
 
 
+def test_validity_magnitude_is_where_a_run_measures_one_percent():
+    """A 25° azimuth error over 1 h: the residual's slope at half size is about 0.5, far
+    from its slope near 1 % (about 1), so extrapolating it gave 0.2 arcmin where a run
+    measures 0.02 % (found by a new user; 1 % lies near 10 arcmin). The magnitude the
+    warning names is checked by a run of its own at that magnitude."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("orthodromic")
+    traj = tr.trajectory(model, tr.static_profile(np.radians(50.0)), 3600.0, 10.0)
+    big = np.radians(25.0)
+    (case,) = compare(model, traj, [{"initial_azimuth_error": big}])
+    (warning,) = [w for w in case.warnings if "validity" in w]
+    assert "the ratio measured there" in warning
+    (check,) = compare(model, traj, [{"initial_azimuth_error": big * case.one_percent_scale}],
+                       validity_threshold=None, integration_error=False, refined=False)
+    assert 0.008 <= check.worst_linear.linear_ratio <= 0.0125
+    assert f"{check.worst_linear.linear_ratio:.2%}" in warning
+
+
 def test_validity_warning_on_exact_platform_and_old_numbers_in_small_angles(capsys):
     status = main(["compare", "orthodromic", "--source", "initial_azimuth_error=25deg",
                    "--hours", "4", "--json"])
