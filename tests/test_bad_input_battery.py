@@ -370,6 +370,21 @@ def _api_trajectory(duration, tau):
     return tr.trajectory(model, tr.static_profile(0.8, 0.5, 0.0), duration, tau)
 
 
+def _api_simulate(sources, run=None):
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.simulate import simulate
+
+    model = _orthodromic()
+    static = tr.trajectory(model, tr.static_profile(0.8), 600.0, 10.0)
+    return (run or simulate)(model, static, sources)
+
+
+def _api_compare(sources):
+    from ins_errors.numeric.compare import compare
+
+    return _api_simulate(sources, compare)
+
+
 def _api_write_into_file():
     from ins_errors.output import OutputFolder
 
@@ -408,6 +423,11 @@ API_CASES = {
     "quantity-garbage": lambda: _api_quantity("ten deg", "rad"),
     "trajectory-absurd": lambda: _api_trajectory(3600.0, 1e-9),
     "trajectory-grid": lambda: _api_trajectory(3600.0, 7.0),
+    "simulate-no-cases": lambda: _api_simulate([]),
+    "compare-no-cases": lambda: _api_compare([]),
+    "simulate-sources-too-short": lambda: _api_simulate(np.zeros(5)),
+    "simulate-sources-as-rows": lambda: _api_simulate([[0.0] * 26]),
+    "simulate-sources-text": lambda: _api_simulate("gyro_drift_x"),
     "output-folder-is-file": _api_write_into_file,
     "output-file-is-folder": _api_write_text_into_folder,
     "hand-file-binary": lambda: _api_hand_file("binary.toml"),
@@ -443,3 +463,17 @@ def test_help_names_only_files_that_exist(name, capsys):
     assert status == 0
     for path in re.findall(r"examples/[\w./-]+\w", out):
         assert (ROOT / path).exists(), f"{name} --help names {path}"
+
+
+def test_one_mapping_is_one_case_in_compare_as_in_simulate():
+    """``compare`` takes a single ``{name: value}`` mapping as one case (it iterated over
+    the names); the linear run of a drift on a static base follows the direct one."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare
+
+    model = _orthodromic()
+    static = tr.trajectory(model, tr.static_profile(0.8), 600.0, 10.0)
+    one = compare(model, static, {"gyro_drift_x": 1e-8}, refined=False,
+                  integration_error=False, validity_threshold=None)
+    assert [c.sources for c in one] == [{"gyro_drift_x": 1e-8}]
+    assert one[0].worst_linear.linear_ratio < 1e-3

@@ -240,8 +240,9 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     model : Model
     trajectory : Trajectory
         The true motion.
-    cases : sequence of dict
-        Error sources per case, ``{name: SI value}``.
+    cases : sequence of dict, dict or numpy.ndarray
+        Error sources per case, ``{name: SI value}`` (one mapping is one case; see
+        :func:`~ins_errors.numeric.simulate.source_cases`).
     method : {"rk4", "euler"}
         Scheme; ``"euler"`` is the manual's rectangle method.
     record_interval : float, optional
@@ -270,7 +271,7 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
         One per case.
     """
     parts = ("real", "linear", "refined") if refined else ("real", "linear")
-    sim = simulate(model, trajectory, list(cases), method=method,
+    sim = simulate(model, trajectory, cases, method=method,
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
     comparisons = comparisons_of(sim, labels)

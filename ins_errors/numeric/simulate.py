@@ -44,7 +44,7 @@ Example
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import cache, lru_cache
 
@@ -348,18 +348,39 @@ def source_cases(model: Model, sources: dict[str, float] | np.ndarray
 
     Accepts one ``{name: SI value}`` mapping, a list of them (one per case), or an array
     of shape (nw,) or (nw, B).
+
+    Raises
+    ------
+    ShapeError
+        For no case at all, an array of another shape, or something else.
     """
-    if isinstance(sources, dict):
+    nw = len(model.sources)
+    if isinstance(sources, Mapping):
         return model.source_vector(**sources)[:, None]
-    if isinstance(sources, np.ndarray):
-        w = sources.reshape(len(model.sources), -1) if sources.ndim == 1 else sources
-        if w.shape[0] != len(model.sources):
-            raise ShapeError(f"error sources must have shape ({len(model.sources)}, B), "
-                             f"got {sources.shape}")
-        if not np.all(np.isfinite(w)):
-            raise DomainError("error sources contain NaN or infinite values")
-        return w.astype(float)
-    return np.stack([model.source_vector(**case) for case in sources], axis=1)
+    cases = sources if isinstance(sources, np.ndarray) else (
+        list(sources) if isinstance(sources, Iterable) and not isinstance(sources, str | bytes)
+        else None)
+    if cases is None:
+        raise ShapeError("error sources must be a {name: SI value} mapping, a list of them "
+                         f"or an array of shape ({nw}, B), got {type(sources).__name__}")
+    if (cases.size if isinstance(cases, np.ndarray) else len(cases)) == 0:
+        raise ShapeError("give at least one case of error sources")
+    if not isinstance(cases, np.ndarray) and all(isinstance(c, Mapping) for c in cases):
+        return np.stack([model.source_vector(**case) for case in cases], axis=1)
+    try:
+        array = np.array(cases, dtype=float)
+    except (TypeError, ValueError):
+        raise ShapeError(f"error sources must be {{name: SI value}} mappings or numbers "
+                         f"(an array of shape ({nw}, B)), got {sources!r:.60}") from None
+    w = array[:, None] if array.ndim == 1 and array.shape[0] == nw else array
+    if w.ndim != 2 or w.shape[0] != nw or w.shape[1] == 0:
+        columns = " (one case per column: transpose it)" if (
+            w.ndim == 2 and w.shape[1] == nw) else ""
+        raise ShapeError(f"error sources must have shape ({nw}, B) or ({nw},), "
+                         f"got {array.shape}{columns}")
+    if not np.all(np.isfinite(w)):
+        raise DomainError("error sources contain NaN or infinite values")
+    return w
 
 
 def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk4",
