@@ -385,6 +385,20 @@ def _api_compare(sources):
     return _api_simulate(sources, compare)
 
 
+def _api_static_trajectory(model=None, duration=600.0, p=None):
+    from ins_errors.numeric import trajectories as tr
+
+    return tr.trajectory(model or _orthodromic(), tr.static_profile(0.8), duration, 10.0, p=p)
+
+
+def _api_strapdown_latitude(degrees):
+    model = ins_errors.load_model("strapdown_ned")
+    u = model.input_vector(f_z=-9.8)
+    x = model.initial_state(model.initial_condition_vector(latitude=0.8), u)
+    x[model.index("states", "lat")] = np.radians(degrees)
+    return model.state_matrix(x, u)
+
+
 def _api_write_into_file():
     from ins_errors.output import OutputFolder
 
@@ -428,6 +442,28 @@ API_CASES = {
     "simulate-sources-too-short": lambda: _api_simulate(np.zeros(5)),
     "simulate-sources-as-rows": lambda: _api_simulate([[0.0] * 26]),
     "simulate-sources-text": lambda: _api_simulate("gyro_drift_x"),
+    "simulate-not-a-trajectory": lambda: _api_simulate(None, lambda m, _t, w: __import__(
+        "ins_errors.numeric.simulate", fromlist=["simulate"]).simulate(m, "traj", w)),
+    "trajectory-p-too-short": lambda: _api_static_trajectory(p=np.ones(2)),
+    "trajectory-p-batch": lambda: _api_static_trajectory(p=np.ones((3, 2))),
+    "trajectory-p-nan": lambda: _api_static_trajectory(p=np.full(3, np.nan)),
+    "trajectory-e2-above-1": lambda: _api_static_trajectory(
+        p=_orthodromic().parameter_vector(e2=1.5)),
+    "trajectory-zero-duration": lambda: _api_static_trajectory(duration=0.0),
+    "trajectory-not-a-model": lambda: _api_static_trajectory(model=3),
+    "state_matrix-batch-axes": lambda: _orthodromic().state_matrix(
+        np.repeat(_state(_orthodromic())[0][:, None], 4, axis=1),
+        np.repeat(_state(_orthodromic())[1][:, None], 3, axis=1)),
+    "initial_state-beyond-pole": lambda: _orthodromic().initial_state(
+        _orthodromic().initial_condition_vector(latitude=np.radians(100)),
+        _orthodromic().input_vector()),
+    "state_matrix-latitude-beyond-pole": lambda: _api_strapdown_latitude(100.0),
+    "ideal_rhs-complex": lambda: _orthodromic().ideal_rhs(_state(_orthodromic())[0] + 0j,
+                                                          _state(_orthodromic())[1]),
+    "source_vector-text": lambda: _orthodromic().source_vector(gyro_drift_x="0.01 deg/h"),
+    "parameter_vector-text": lambda: _orthodromic().parameter_vector(a="abc"),
+    "source_vector-array": lambda: _orthodromic().source_vector(gyro_drift_x=np.ones(2)),
+    "index-unknown-kind": lambda: _orthodromic().index("nope", "x"),
     "output-folder-is-file": _api_write_into_file,
     "output-file-is-folder": _api_write_text_into_folder,
     "hand-file-binary": lambda: _api_hand_file("binary.toml"),
@@ -477,3 +513,45 @@ def test_one_mapping_is_one_case_in_compare_as_in_simulate():
                   integration_error=False, validity_threshold=None)
     assert [c.sources for c in one] == [{"gyro_drift_x": 1e-8}]
     assert one[0].worst_linear.linear_ratio < 1e-3
+
+
+NAMED_API = {
+    "simulate-no-cases": "give at least one case of error sources",
+    "trajectory-p-batch": "parameters p must have shape (3,) [a, e2, U], got (3, 2)",
+    # the parameters are the problem, not the "static-base inputs" they made NaN
+    "trajectory-p-nan": "trajectory: parameters p contain NaN",
+    "trajectory-e2-above-1": "parameters p: eccentricity squared must be below 1",
+    # as the scenario files refuse it (compare() returned worst_linear None)
+    "trajectory-zero-duration": "run duration must be positive, got 0 s",
+    "initial_state-beyond-pole": "latitude must be within ±90°",
+    "state_matrix-latitude-beyond-pole": "lat must be within ±90°",
+    "source_vector-text": "ins_errors.units.parse_quantity('0.01 deg/h', 'rad/s')",
+    "state_matrix-batch-axes": "batch axes",
+}
+"""API cases whose one line must say this."""
+
+
+@pytest.mark.parametrize("case", NAMED_API)
+def test_the_api_line_names_the_problem(case, scratch):
+    with pytest.raises(ins_errors.InsErrorsError, match=re.escape(NAMED_API[case])):
+        API_CASES[case]()
+
+
+def test_latitude_just_inside_the_pole_is_accepted():
+    """The ±90° refusal does not cut into the domain: 89.9° gives the true state."""
+    model = _orthodromic()
+    x = model.initial_state(model.initial_condition_vector(latitude=np.radians(89.9)),
+                            model.input_vector())
+    assert x[model.index("states", "u31")] == pytest.approx(np.sin(np.radians(89.9)))
+
+
+def test_trajectory_takes_a_model_name():
+    by_name = _api_static_trajectory(model="orthodromic")
+    assert np.array_equal(by_name.start_state, _api_static_trajectory().start_state)
+
+
+def test_the_real_state_is_listed_by_its_own_names():
+    model = _orthodromic()
+    x, u = _state(model)
+    with pytest.raises(ins_errors.ShapeError, match=r"\[u11, u21, .*, alpha_z\]"):
+        model.real_rhs(np.zeros(3), x, u, model.source_vector())

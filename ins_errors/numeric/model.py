@@ -59,6 +59,33 @@ def _infos(rows: tuple[dict[str, Any], ...]) -> tuple[Info, ...]:
     return tuple(Info(**row) for row in rows)
 
 
+KINDS = ("states", "error_states", "inputs", "parameters", "sources", "outputs",
+         "initial_conditions")
+"""The kinds of named quantities of a model (:meth:`Model.index`)."""
+
+
+def as_model(model: Any, function: str) -> Model:
+    """``model`` itself if it is a :class:`Model`, else the model of that name loaded.
+
+    Raises
+    ------
+    InsErrorsError
+        If ``model`` is neither a Model nor a name (or the name is unknown).
+    """
+    if isinstance(model, Model):
+        return model
+    if isinstance(model, str | Path):
+        return load_model(str(model))
+    raise InsErrorsError(f"{function}: model must be a Model (ins_errors.load_model(name)) "
+                         f"or a model name, got {type(model).__name__}")
+
+
+def _latitude_rows(infos: tuple[Info, ...]) -> tuple[int, ...]:
+    """Positions of the quantities described as a latitude (in rad)."""
+    return tuple(k for k, i in enumerate(infos)
+                 if i.unit == "rad" and "latitude" in i.description.lower())
+
+
 def available_models() -> tuple[str, ...]:
     """Names of every built-in model and every model installed packages register
     (entry-point group ``ins_errors.models``)."""
@@ -163,6 +190,20 @@ class Model:
 
         return definition(self.name)
 
+    @cached_property
+    def _real_states(self) -> tuple[Info, ...]:
+        """The real work's state: the computed states, then the platform angles."""
+        n = len(self.states)
+        return self.states + self.error_states[n:]
+
+    @cached_property
+    def _state_latitudes(self) -> tuple[int, ...]:
+        return _latitude_rows(self.states)
+
+    @cached_property
+    def _initial_latitudes(self) -> tuple[int, ...]:
+        return _latitude_rows(self.initial_conditions)
+
     # -- names --------------------------------------------------------------------------
     @staticmethod
     def _names(infos: tuple[Info, ...]) -> list[str]:
@@ -170,6 +211,8 @@ class Model:
 
     def index(self, kind: str, name: str) -> int:
         """Position of ``name`` among the model's ``kind`` (``"sources"``, ``"outputs"``...)."""
+        if kind not in KINDS:
+            raise unknown_name("kind of quantity", str(kind), KINDS)
         infos = getattr(self, kind)
         names = self._names(infos)
         if name not in names:
@@ -213,8 +256,8 @@ class Model:
                 raise InsErrorsError(f"model {self.name!r} has no Earth-shape parameters to "
                                      f"set from ellipsoid {ellipsoid!r}")
         for key, value in overrides.items():
-            self.index("parameters", key)
-            values[key] = float(value)
+            values[key] = self._number(value, self.parameters[self.index("parameters", key)],
+                                       "parameter_vector")
         p = np.array([values[i.name] for i in self.parameters])
         self._check_finite(p, "parameters")
         return p
@@ -223,7 +266,8 @@ class Model:
         """Error-source vector ``w`` (SI), zero except the named sources."""
         w = np.zeros(len(self.sources))
         for key, value in magnitudes.items():
-            w[self.index("sources", key)] = float(value)
+            k = self.index("sources", key)
+            w[k] = self._number(value, self.sources[k], "source_vector")
         self._check_finite(w, "error sources")
         return w
 
@@ -231,7 +275,8 @@ class Model:
         """Input vector ``u`` (SI), zero except the named inputs."""
         u = np.zeros(len(self.inputs))
         for key, value in values.items():
-            u[self.index("inputs", key)] = float(value)
+            k = self.index("inputs", key)
+            u[k] = self._number(value, self.inputs[k], "input_vector")
         self._check_finite(u, "inputs")
         return u
 
@@ -239,11 +284,28 @@ class Model:
         """Initial-condition vector ``c`` (SI: radians, m/s), zero except those named."""
         c = np.zeros(len(self.initial_conditions))
         for key, value in values.items():
-            c[self.index("initial_conditions", key)] = float(value)
+            k = self.index("initial_conditions", key)
+            c[k] = self._number(value, self.initial_conditions[k], "initial_condition_vector")
         self._check_finite(c, "initial conditions")
         return c
 
     # -- validation ---------------------------------------------------------------------
+    @staticmethod
+    def _number(value: Any, info: Info, function: str) -> float:
+        """One real number in SI units, or a one-line error naming the quantity."""
+        if isinstance(value, str):
+            raise InsErrorsError(f"{function}: {info.name} takes a number in SI units "
+                             f"({info.unit}), got {value!r:.40}; convert text with "
+                             f"ins_errors.units.parse_quantity({value!r:.40}, {info.unit!r})")
+        if np.ndim(value) != 0 or np.iscomplexobj(value):
+            raise ShapeError(f"{function}: {info.name} must be one real number "
+                             f"({info.unit}), got {value!r:.60}")
+        try:
+            return float(value)
+        except (TypeError, ValueError):
+            raise InsErrorsError(f"{function}: {info.name} must be a number ({info.unit}), "
+                             f"got {value!r:.60}") from None
+
     @staticmethod
     def _check_finite(array: np.ndarray, what: str) -> None:
         bad = ~np.isfinite(array)
@@ -253,6 +315,8 @@ class Model:
                               f"{position if len(position) > 1 else position[0]})")
 
     def _vector(self, value: Any, infos: tuple[Info, ...], what: str, function: str) -> np.ndarray:
+        if np.iscomplexobj(value):
+            raise ShapeError(f"{function}: {what} must be real, got complex values")
         try:
             array = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
@@ -263,6 +327,29 @@ class Model:
                              f"[{', '.join(i.name for i in infos)}], got {array.shape}")
         self._check_finite(array, f"{function}: {what}")
         return array
+
+    @staticmethod
+    def _batch(function: str, **arrays: np.ndarray) -> None:
+        """Refuse arguments whose trailing batch axes do not broadcast together."""
+        shapes = [a.shape[1:] for a in arrays.values()]
+        try:
+            np.broadcast_shapes(*shapes)
+        except ValueError:
+            listing = ", ".join(f"{name} {shape}" for name, shape in zip(arrays, shapes,
+                                                                         strict=True))
+            raise ShapeError(f"{function}: the batch axes (after the first) of the arguments "
+                             f"do not match: {listing}") from None
+
+    @staticmethod
+    def _latitudes(array: np.ndarray, rows: tuple[int, ...], infos: tuple[Info, ...],
+                   function: str) -> None:
+        """Refuse a latitude beyond ±90° (the model's own check refuses ±90° itself)."""
+        for k in rows:
+            if np.any(np.abs(array[k]) > np.pi / 2):
+                worst = float(np.max(np.abs(array[k])))
+                raise DomainError(f"{function}: {infos[k].name} must be within ±90° "
+                                  f"(±π/2 rad), got |{infos[k].name}| = "
+                                  f"{np.degrees(worst):.6g}°")
 
     def _domain(self, margins: np.ndarray, messages: tuple[str, ...], function: str) -> None:
         margins = np.asarray(margins)
@@ -275,6 +362,8 @@ class Model:
         u = self._vector(u, self.inputs, "inputs u", function)
         p = self.parameter_vector() if p is None else self._vector(
             p, self.parameters, "parameters p", function)
+        self._batch(function, x=x, u=u, p=p)
+        self._latitudes(x, self._state_latitudes, self.states, function)
         self._domain(self.numpy.domain_margins(x, u, p), self.meta.DOMAIN, function)
         return x, u, p
 
@@ -286,8 +375,9 @@ class Model:
     def real_rhs(self, xr, x, u, w, p=None) -> np.ndarray:
         """Real-work ``dxr/dt``, shape ``(ne, ...)``."""
         x, u, p = self._check_state(x, u, p, "real_rhs")
-        xr = self._vector(xr, self.error_states, "real state xr", "real_rhs")
+        xr = self._vector(xr, self._real_states, "real state xr", "real_rhs")
         w = self._vector(w, self.sources, "error sources w", "real_rhs")
+        self._batch("real_rhs", xr=xr, x=x, u=u, w=w, p=p)
         self._domain(self.numpy.domain_margins(xr[: len(self.states)], u, p),
                      self.meta.DOMAIN, "real_rhs (computed state)")
         return self.numpy.real_rhs(xr, x, u, w, p)
@@ -313,13 +403,51 @@ class Model:
         x, u, p = self._check_state(x, u, p, "second_order")
         xe = self._vector(xe, self.error_states, "error state xe", "second_order")
         w = self._vector(w, self.sources, "error sources w", "second_order")
+        self._batch("second_order", x=x, u=u, xe=xe, w=w, p=p)
         return self.numpy.second_order(x, u, p, xe, w)
+
+    def run_parameters(self, p: Any, function: str) -> np.ndarray:
+        """Check the parameter vector of a whole run (one value each, no batch axes).
+
+        Parameters
+        ----------
+        p : array_like of shape (np,) or None
+            Parameters, SI; None: the model's defaults.
+        function : str
+            Name of the calling function, for the messages.
+
+        Returns
+        -------
+        numpy.ndarray, shape (np,)
+
+        Raises
+        ------
+        ShapeError, DomainError
+            Another shape, NaN or infinite values, or a value outside the model's own
+            parameter domain (e.g. an eccentricity squared of 1 or more).
+        """
+        if p is None:
+            return self.parameter_vector()
+        p = self._vector(p, self.parameters, "parameters p", function)
+        if p.ndim != 1:
+            raise ShapeError(f"{function}: parameters p must have shape ({len(self.parameters)},)"
+                             f" [{', '.join(i.name for i in self.parameters)}], got {p.shape}")
+        # the initial conditions and inputs at zero (equator, at rest, level) are inside
+        # every domain: a margin that fails there is the parameters' own
+        margins = self.numpy.initial_domain_margins(
+            np.zeros(len(self.initial_conditions)), np.zeros(len(self.inputs)), p)
+        for margin, message in zip(np.asarray(margins), self.meta.INITIAL_DOMAIN, strict=True):
+            if not margin > 0:
+                raise DomainError(f"{function}: parameters p: {message}")
+        return p
 
     def _check_initial(self, c, u, p, function: str):
         c = self._vector(c, self.initial_conditions, "initial conditions c", function)
         u = self._vector(u, self.inputs, "inputs u", function)
         p = self.parameter_vector() if p is None else self._vector(
             p, self.parameters, "parameters p", function)
+        self._batch(function, c=c, u=u, p=p)
+        self._latitudes(c, self._initial_latitudes, self.initial_conditions, function)
         self._domain(self.numpy.initial_domain_margins(c, u, p), self.meta.INITIAL_DOMAIN,
                      function)
         return c, u, p
@@ -332,6 +460,7 @@ class Model:
         """Real-work initial state (initial-error sources applied), shape ``(ne, ...)``."""
         c, u, p = self._check_initial(c, u, p, "initial_real_state")
         w = self._vector(w, self.sources, "error sources w", "initial_real_state")
+        self._batch("initial_real_state", c=c, u=u, w=w, p=p)
         return self.numpy.initial_real_state(c, u, w, p)
 
     def initial_error_matrix(self, c, u, p=None) -> np.ndarray:

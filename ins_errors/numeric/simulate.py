@@ -51,7 +51,7 @@ from functools import cache, lru_cache
 import casadi as ca
 import numpy as np
 
-from ins_errors.errors import DomainError, ShapeError, unknown_name
+from ins_errors.errors import DomainError, InsErrorsError, ShapeError, unknown_name
 from ins_errors.numeric.integrators import (
     CompiledLoop,
     InputRows,
@@ -64,7 +64,7 @@ from ins_errors.numeric.integrators import (
     record_stride,
     worker_count,
 )
-from ins_errors.numeric.model import Model
+from ins_errors.numeric.model import Model, as_model
 from ins_errors.numeric.trajectories import Trajectory
 
 PARTS: tuple[str, ...] = ("real", "linear", "refined")
@@ -423,6 +423,10 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
         Bad grid, bad arrays or unknown names.
     """
     check_method(method)
+    model = as_model(model, "simulate")
+    if not isinstance(trajectory, Trajectory):
+        raise InsErrorsError("simulate: trajectory must be a Trajectory (ins_errors.numeric."
+                             f"trajectories.trajectory(...)), got {type(trajectory).__name__}")
     real_rhs_name(model, platform)
     if trajectory.model != model.key:
         raise ShapeError(f"trajectory was computed for model {trajectory.model!r}, "

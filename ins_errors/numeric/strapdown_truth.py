@@ -48,7 +48,14 @@ from ins_errors.errors import DomainError
 from ins_errors.models.earth import normal_gravity, radii_of_curvature
 from ins_errors.numeric.integrators import step_count
 from ins_errors.numeric.model import Model
-from ins_errors.numeric.trajectories import Leg, MotionError, Profile, Trajectory, smoothstep
+from ins_errors.numeric.trajectories import (
+    Leg,
+    MotionError,
+    Profile,
+    Trajectory,
+    run_arguments,
+    smoothstep,
+)
 
 MODEL = "strapdown_ned"
 """The model whose inputs this module generates."""
@@ -506,6 +513,7 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
     from ins_errors.numeric import strapdown_stream as ss
     from ins_errors.numeric.trajectories import STREAM_BYTES, TRUTHS
 
+    model, p = run_arguments(model, flight, Flight, duration, p)
     if model.name != MODEL:
         raise MotionError(f"strapdown flights feed the model {MODEL!r}, not {model.name!r}")
     if truth not in TRUTHS:
@@ -513,7 +521,6 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
 
         raise unknown_name("truth", truth, TRUTHS)
     n_steps = step_count(duration, tau)
-    p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
     earth = _earth(model, p)
     y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
     if flight.static:

@@ -755,6 +755,35 @@ class ProfileTruth:
             x_first = states[:, -1].copy()
 
 
+def run_arguments(model: Model | str, motion, kind: type, duration: float,
+                  p: np.ndarray | None) -> tuple[Model, np.ndarray]:
+    """Check the arguments of a true motion's run once, before anything is computed.
+
+    Returns the model (loaded if given by name) and the parameter vector, shape (np,).
+
+    Raises
+    ------
+    InsErrorsError, StepError, ShapeError, DomainError
+        A model or motion of another type, a duration that is not positive (as the
+        scenario files refuse it), or parameters of another shape, not finite or outside
+        the model's parameter domain.
+    """
+    from ins_errors.numeric.model import as_model
+
+    model = as_model(model, "trajectory")
+    if not isinstance(motion, kind):
+        raise InsErrorsError(f"trajectory: the motion must be a {kind.__name__} of "
+                             f"{kind.__module__}, got {type(motion).__name__}")
+    try:
+        seconds = float(duration)
+    except (TypeError, ValueError):
+        raise StepError(f"run duration must be a number of seconds, got {duration!r:.40}"
+                        ) from None
+    if not seconds > 0:
+        raise StepError(f"run duration must be positive, got {seconds:g} s")
+    return model, model.run_parameters(p, "trajectory")
+
+
 def trajectory(model: Model, profile: Profile, duration: float, tau: float,
                p: np.ndarray | None = None, progress: bool = False,
                stream: bool | None = None, truth: str = "auto") -> Trajectory:
@@ -798,13 +827,13 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         from ins_errors.errors import unknown_name
 
         raise unknown_name("truth", truth, TRUTHS)
+    model, p = run_arguments(model, profile, Profile, duration, p)
     if model.name == "strapdown_ned":  # body rates and specific force, not a_* inputs
         from ins_errors.numeric import strapdown_truth
 
         return strapdown_truth.trajectory(model, strapdown_truth.flight_from_profile(profile),
                                           duration, tau, p, truth=truth, stream=stream)
     n_steps = step_count(duration, tau)
-    p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
     frame = profile.frame
     if profile.static and not any(o.name == "heading" for o in model.outputs):
         frame = "geographic"  # at rest the commands are zero in any frame
