@@ -464,6 +464,16 @@ API_CASES = {
     "parameter_vector-text": lambda: _orthodromic().parameter_vector(a="abc"),
     "source_vector-array": lambda: _orthodromic().source_vector(gyro_drift_x=np.ones(2)),
     "index-unknown-kind": lambda: _orthodromic().index("nope", "x"),
+    "static_profile-text": lambda: __import__(
+        "ins_errors.numeric.trajectories", fromlist=["x"]).static_profile("50"),
+    "strapdown-static-text": lambda: __import__(
+        "ins_errors.numeric.strapdown_truth", fromlist=["x"]).static(0.8, "0"),
+    "strapdown-negative-speed": lambda: __import__(
+        "ins_errors.numeric.strapdown_truth", fromlist=["x"]).great_circle(0.8, 0, 0, -250.0),
+    "resolvent-numpy": lambda: __import__(
+        "ins_errors.symbolic.analytic", fromlist=["x"]).resolvent(np.eye(2)),
+    "static_analyses-unknown": lambda: __import__(
+        "ins_errors.symbolic.static_base", fromlist=["x"]).static_analyses("nope"),
     "output-folder-is-file": _api_write_into_file,
     "output-file-is-folder": _api_write_text_into_folder,
     "hand-file-binary": lambda: _api_hand_file("binary.toml"),
@@ -527,6 +537,9 @@ NAMED_API = {
     "state_matrix-latitude-beyond-pole": "lat must be within ±90°",
     "source_vector-text": "ins_errors.units.parse_quantity('0.01 deg/h', 'rad/s')",
     "state_matrix-batch-axes": "batch axes",
+    "static_profile-text": "motion latitude takes a number in SI units (rad), got '50'",
+    # worded as the orthodromic models' "great-circle speed must be >= 0 m/s, got ..."
+    "strapdown-negative-speed": "great-circle speed must be > 0 m/s, got -250 m/s",
 }
 """API cases whose one line must say this."""
 

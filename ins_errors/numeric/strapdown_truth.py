@@ -53,6 +53,7 @@ from ins_errors.numeric.trajectories import (
     MotionError,
     Profile,
     Trajectory,
+    motion_number,
     run_arguments,
     smoothstep,
 )
@@ -118,6 +119,11 @@ class Flight:
 def static(latitude: float, longitude: float = 0.0, height: float = 0.0, roll: float = 0.0,
            pitch: float = 0.0, heading: float = 0.0) -> Flight:
     """A vehicle at rest at (φ, λ, h) with the given attitude (rad)."""
+    latitude, longitude, roll, pitch, heading = (
+        motion_number(v, f"flight {k}", "rad") for k, v in (
+            ("latitude", latitude), ("longitude", longitude), ("roll", roll),
+            ("pitch", pitch), ("heading", heading)))
+    height = motion_number(height, "flight height", "m")
 
     def commands(t: np.ndarray):
         zero = np.zeros(t.shape)
@@ -133,8 +139,13 @@ def static(latitude: float, longitude: float = 0.0, height: float = 0.0, roll: f
 def great_circle(latitude: float, longitude: float, course: float, speed: float,
                  height: float = 0.0) -> Flight:
     """Level flight along a geodesic at constant ground speed (m/s) and height (m)."""
+    latitude, longitude, course = (
+        motion_number(v, f"flight {k}", "rad") for k, v in (
+            ("latitude", latitude), ("longitude", longitude), ("course", course)))
+    height = motion_number(height, "flight height", "m")
+    speed = motion_number(speed, "great-circle speed", "m/s")
     if not np.isfinite(speed) or speed <= 0:
-        raise MotionError(f"great-circle speed must be a positive number of m/s, got {speed}")
+        raise MotionError(f"great-circle speed must be > 0 m/s, got {speed:g} m/s")
 
     def commands(t: np.ndarray):
         zero = np.zeros(t.shape)
@@ -155,14 +166,19 @@ def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
     their end values along a C² ramp, so velocities, attitude and their rates are
     continuous. After the last leg the flight continues along the geodesic.
     """
+    latitude, longitude, course = (
+        motion_number(v, f"flight {k}", "rad") for k, v in (
+            ("latitude", latitude), ("longitude", longitude), ("course", course)))
+    height = motion_number(height, "flight height", "m")
+    speed = motion_number(speed, "manoeuvre speed", "m/s")
     if not np.isfinite(speed) or speed <= 0:
-        raise MotionError(f"manoeuvre speed must be a positive number of m/s, got {speed}")
+        raise MotionError(f"manoeuvre speed must be > 0 m/s, got {speed:g} m/s")
     starts, t0, v0, h0 = [], 0.0, float(speed), float(height)
     for leg in legs:
         if not leg.duration > 0:
             raise MotionError(f"manoeuvre leg duration must be positive, got {leg.duration}")
         if not leg.speed > 0:
-            raise MotionError(f"manoeuvre leg speed must be positive, got {leg.speed}")
+            raise MotionError(f"manoeuvre leg speed must be > 0 m/s, got {leg.speed:g} m/s")
         starts.append((t0, float(leg.duration), v0, h0, leg))
         t0, v0, h0 = t0 + leg.duration, float(leg.speed), float(leg.height)
 

@@ -114,7 +114,9 @@ class Profile:
 def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0,
                    h: float = 0.0) -> Profile:
     """A vehicle at rest at (φ, λ, h) with its trihedron at track angle ``heading`` (rad)."""
-
+    latitude, longitude, heading = _angles(latitude=latitude, longitude=longitude,
+                                           heading=heading)
+    h = motion_number(h, "motion height", "m")
     _check_height(h, "motion height")
 
     def commands(t: np.ndarray):
@@ -140,6 +142,9 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
     h : float
         Height, m.
     """
+    latitude, longitude, track = _angles(latitude=latitude, longitude=longitude, track=track)
+    speed = motion_number(speed, "great-circle speed", "m/s")
+    h = motion_number(h, "motion height", "m")
     _check_speed(speed, "great-circle speed")
     _check_height(h, "motion height")
 
@@ -158,6 +163,24 @@ LOWEST_HEIGHT = -6_356_752.0
 """m: the Earth's centre below the poles (WGS-84 polar radius). The models divide by
 R + h, so a height at or below it is refused before anything runs (a model file of a
 smaller planet still has its run-time domain check)."""
+
+
+def motion_number(value: object, what: str, unit: str) -> float:
+    """One real number in SI ``unit``, or a :class:`MotionError` line naming ``what``."""
+    if isinstance(value, str):
+        raise MotionError(f"{what} takes a number in SI units ({unit}), got {value!r:.40}; "
+                          f"convert text with ins_errors.units.parse_quantity({value!r:.40}, "
+                          f"{unit!r})")
+    if np.ndim(value) != 0 or np.iscomplexobj(value):
+        raise MotionError(f"{what} must be one real number ({unit}), got {value!r:.60}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise MotionError(f"{what} must be a number ({unit}), got {value!r:.60}") from None
+
+
+def _angles(**angles: object) -> list[float]:
+    return [motion_number(value, f"motion {name}", "rad") for name, value in angles.items()]
 
 
 def _check_height(h: float, what: str) -> None:
@@ -231,6 +254,9 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
     h : float
         Initial height, m.
     """
+    latitude, longitude, track = _angles(latitude=latitude, longitude=longitude, track=track)
+    speed = motion_number(speed, "manoeuvre speed", "m/s")
+    h = motion_number(h, "motion height", "m")
     _check_speed(speed, "manoeuvre speed")
     _check_height(h, "motion height")
     starts, t0 = [], 0.0

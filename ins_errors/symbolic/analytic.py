@@ -172,6 +172,9 @@ def characteristic_polynomial(F: sp.Matrix, s: sp.Symbol = S) -> sp.Expr:
 
 
 def _check_square(F: sp.Matrix) -> None:
+    if not isinstance(F, sp.MatrixBase):
+        raise AnalysisError(f"state matrix must be a SymPy Matrix (sympy.Matrix(F) converts a "
+                            f"numpy array), got {type(F).__name__}")
     if F.rows != F.cols:
         raise AnalysisError(f"state matrix must be square, got {F.rows}x{F.cols}")
 

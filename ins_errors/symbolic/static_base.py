@@ -25,6 +25,7 @@ from functools import cache
 
 import sympy as sp
 
+from ins_errors.errors import unknown_name
 from ins_errors.modeling import ModelDefinition
 from ins_errors.models import definition
 from ins_errors.symbolic.analytic import (
@@ -286,7 +287,15 @@ def source_columns(d: ModelDefinition, G: sp.Matrix, E: sp.Matrix
 
 @cache
 def static_analyses(name: str) -> list[VariantResult]:
-    """Analyse every variant of model ``name`` at its static base (cached)."""
+    """Analyse every variant of model ``name`` at its static base (cached).
+
+    Raises
+    ------
+    UnknownNameError
+        If ``name`` has no static-base setup.
+    """
+    if name not in SETUPS:
+        raise unknown_name("model with a static-base analysis", str(name), SETUPS)
     setup = SETUPS[name]()
     d = definition(name)
     F, G, E = static_matrices(name, setup.point, setup.initial_point)
@@ -311,4 +320,6 @@ def static_analyses(name: str) -> list[VariantResult]:
 
 def setup(name: str) -> StaticSetup:
     """The static-base setup of model ``name``."""
+    if name not in SETUPS:
+        raise unknown_name("model with a static-base analysis", str(name), SETUPS)
     return SETUPS[name]()
