@@ -163,6 +163,10 @@ CLI_CASES: dict[str, list[str]] = {
     "propagation-negative-hours": ["propagation", "--hours", "-1"],
     "propagation-absurd-steps": ["propagation", "--step", "1e-9s", "--hours", "1"],
     "propagation-foreign-folder": ["propagation", "--hours", "1", "--out", "."],
+    "propagation-orthodromic-euler": ["propagation", "--orthodromic", "--hours", "1",
+                                      "--method", "euler"],
+    "propagation-orthodromic-drift": ["propagation", "--orthodromic", "--hours", "1",
+                                      "--drift", "1 deg/h"],
 }
 
 
@@ -220,6 +224,10 @@ NAMED = {
     # due north from 50° at 250 m/s: over the pole after about 4.9 h (the steps jump past
     # it; the numbers after it meant nothing, with exit status 0)
     "compare-strapdown-over-the-pole": "the true flight reaches a pole",
+    # --orthodromic ran RK4 and its own magnitudes whatever these said (the README said
+    # --method euler selected the rectangle method there too)
+    "propagation-orthodromic-euler": "--method applies to the 001 experiment",
+    "propagation-orthodromic-drift": "--drift applies to the 001 experiment",
     "compare-below-the-centre": "motion height -7000 km is at or below the Earth's centre",
     "compare-nan-in-motion-file": "v_N is NaN or infinite in sample 2 of 4",
     # the file's own key names, not pydantic's (it said motion.latitude.str = [...])

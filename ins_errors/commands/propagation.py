@@ -16,6 +16,14 @@ from pathlib import Path
 
 import numpy as np
 
+_EXPERIMENT_OPTIONS = (("--drift", "0.1 deg/h", "gyro drift"),
+                       ("--bias", "1e-4 g", "accelerometer bias"),
+                       ("--velocity", "0.1 m/s", "initial velocity error"),
+                       ("--position", "0.0005 deg", "initial position error"),
+                       ("--level", "20 arcsec", "initial level error"),
+                       ("--azimuth", "5 arcmin", "initial azimuth error"))
+"""Options of the 001 experiment: (option, default, what it sets)."""
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
@@ -29,18 +37,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--latitude", default="39deg", help="latitude (default 39deg)")
     parser.add_argument("--hours", type=float, default=24.0, help="duration, h (default 24)")
     parser.add_argument("--step", default="10 s", help="integration step of the numeric runs")
-    parser.add_argument("--method", choices=("rk4", "euler"), default="rk4",
+    parser.add_argument("--method", choices=("rk4", "euler"), default=None,
                         help="rk4 (default) or euler = the manual's rectangle method; the "
-                             "integration error is estimated either way (--orthodromic: "
-                             "RK4 always)")
-    parser.add_argument("--drift", default="0.1 deg/h", help="gyro drift")
-    parser.add_argument("--bias", default="1e-4 g", help="accelerometer bias")
-    parser.add_argument("--velocity", default="0.1 m/s", help="initial velocity error")
-    parser.add_argument("--position", default="0.0005 deg", help="initial position error")
-    parser.add_argument("--level", default="20 arcsec", help="initial level error")
-    parser.add_argument("--azimuth", default="5 arcmin", help="initial azimuth error")
+                             "integration error is estimated either way (not with "
+                             "--orthodromic, which runs RK4)")
+    for option, default, what in _EXPERIMENT_OPTIONS:
+        parser.add_argument(option, default=None,
+                            help=f"{what} (default {default}; not with --orthodromic)")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR",
-                        help="write summary.md and the plots into this folder")
+                        help="write summary.md and the plots into this folder "
+                             "(--orthodromic: orthodromic_day.md)")
     parser.add_argument("--force", action="store_true",
                         help="write into a non-empty --out folder that ins-errors did not "
                              "write (only the experiment's own files are replaced)")
@@ -52,7 +58,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ins_errors.errors import DomainError
+    from ins_errors.errors import DomainError, InsErrorsError
     from ins_errors.progress import stage
     from ins_errors.studies import propagation
     from ins_errors.units import parse_quantity
@@ -65,6 +71,15 @@ def run(args: argparse.Namespace) -> int:
     if not step > 0:
         raise DomainError(f"--step must be positive, got {args.step!r}")
     record = 300.0 if 300.0 % step == 0 else step
+    given = [o for o, _, _ in _EXPERIMENT_OPTIONS if getattr(args, o[2:]) is not None]
+    if args.orthodromic and (given or args.method is not None):
+        raise InsErrorsError(f"{(given or ['--method'])[0]} applies to the 001 experiment; "
+                             "--orthodromic runs every factor of the orthodromic INS at "
+                             "its own size, by RK4")
+    args.method = args.method or "rk4"
+    for option, default, _ in _EXPERIMENT_OPTIONS:
+        if getattr(args, option[2:]) is None:
+            setattr(args, option[2:], default)
     if args.out is not None:
         from ins_errors.output import OutputFolder, require_matplotlib
 
@@ -77,7 +92,7 @@ def run(args: argparse.Namespace) -> int:
         text = day.summary_markdown()
         if args.out is not None:
             out = OutputFolder(args.out, force=args.force)
-            out.write_text("orthodromic_day.md", text)
+            written = out.write_text("orthodromic_day.md", text)
             out.finish()
         if args.json:
             analytic, direct = day.agreement("analytic", "linear"), day.agreement("direct",
@@ -92,6 +107,8 @@ def run(args: argparse.Namespace) -> int:
                                      for j, s in enumerate(day.sources)]})
         else:
             print(text, end="")
+            if args.out is not None:
+                print(f"wrote {written}")
         return 0
     experiment = propagation.Experiment(
         latitude=latitude,
