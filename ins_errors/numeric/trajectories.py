@@ -823,7 +823,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         The motion (see :func:`static_profile`, :func:`great_circle_profile`,
         :func:`manoeuvre_profile`, :func:`sampled_profile`).
     duration, tau : float
-        Length of the run and step, s; the duration must be a whole number of steps.
+        Length of the run (> 0) and step, s; the duration must be a whole number of steps.
     p : numpy.ndarray, optional
         Parameters (default: the model's defaults, Krasovsky ellipsoid).
     progress : bool
