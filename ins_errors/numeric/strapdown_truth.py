@@ -557,7 +557,7 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
                                flight.description)
     if stream is None:
         stream = 8 * (n_steps + 1) * (len(x0) + 2 * len(u0)) > STREAM_BYTES
-    if not stream or not n_steps:  # (a run of no steps is its start, stored)
+    if not stream:  # (n_steps >= 1: a zero duration was refused above)
         traj._store()
     return traj
 

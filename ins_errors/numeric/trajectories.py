@@ -884,7 +884,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
                                                           + len(model.inputs))
     if stream is None:
         stream = 8 * n_values > STREAM_BYTES
-    if stream and n_steps:  # (a run of no steps is its start, stored)
+    if stream:  # (n_steps >= 1: a zero duration was refused above)
         if isinstance(source, ProfileTruth):
             first = next(source.chunks(1))  # checks the start of the motion now
             x_first, u_first = first.truth[:, 0], first.inputs[:, 0]
