@@ -134,6 +134,22 @@ def _file_model(ref) -> Model:
                  definition_loader=lambda: definition_of(ref), key=ref.key, folder=folder)
 
 
+def si_number(value: Any, what: str, unit: str, error: type[InsErrorsError] = InsErrorsError,
+              shape_error: type[InsErrorsError] = ShapeError) -> float:
+    """One real number in SI ``unit`` (the Python API takes no text with units), or a
+    one-line ``error`` naming ``what`` (``shape_error`` for an array or a complex value)."""
+    if isinstance(value, str):
+        raise error(f"{what} takes a number in SI units ({unit}), got {value!r:.40}; "
+                    f"convert text with ins_errors.units.parse_quantity({value!r:.40}, "
+                    f"{unit!r})")
+    if np.ndim(value) != 0 or np.iscomplexobj(value):
+        raise shape_error(f"{what} must be one real number ({unit}), got {value!r:.60}")
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        raise error(f"{what} must be a number ({unit}), got {value!r:.60}") from None
+
+
 class Model:
     """A model's names, generated numeric functions and validated evaluators.
 
@@ -293,18 +309,7 @@ class Model:
     @staticmethod
     def _number(value: Any, info: Info, function: str) -> float:
         """One real number in SI units, or a one-line error naming the quantity."""
-        if isinstance(value, str):
-            raise InsErrorsError(f"{function}: {info.name} takes a number in SI units "
-                             f"({info.unit}), got {value!r:.40}; convert text with "
-                             f"ins_errors.units.parse_quantity({value!r:.40}, {info.unit!r})")
-        if np.ndim(value) != 0 or np.iscomplexobj(value):
-            raise ShapeError(f"{function}: {info.name} must be one real number "
-                             f"({info.unit}), got {value!r:.60}")
-        try:
-            return float(value)
-        except (TypeError, ValueError):
-            raise InsErrorsError(f"{function}: {info.name} must be a number ({info.unit}), "
-                             f"got {value!r:.60}") from None
+        return si_number(value, f"{function}: {info.name}", info.unit)
 
     @staticmethod
     def _check_finite(array: np.ndarray, what: str) -> None:

@@ -46,7 +46,7 @@ from ins_errors.numeric.integrators import (
     native_functions,
     step_count,
 )
-from ins_errors.numeric.model import Model
+from ins_errors.numeric.model import Model, si_number
 
 COMMANDS = ("v1", "v2", "h", "V_zeta")
 """Order of a command vector: two horizontal relative velocities, height, vertical speed."""
@@ -167,16 +167,7 @@ smaller planet still has its run-time domain check)."""
 
 def motion_number(value: object, what: str, unit: str) -> float:
     """One real number in SI ``unit``, or a :class:`MotionError` line naming ``what``."""
-    if isinstance(value, str):
-        raise MotionError(f"{what} takes a number in SI units ({unit}), got {value!r:.40}; "
-                          f"convert text with ins_errors.units.parse_quantity({value!r:.40}, "
-                          f"{unit!r})")
-    if np.ndim(value) != 0 or np.iscomplexobj(value):
-        raise MotionError(f"{what} must be one real number ({unit}), got {value!r:.60}")
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        raise MotionError(f"{what} must be a number ({unit}), got {value!r:.60}") from None
+    return si_number(value, what, unit, MotionError, MotionError)
 
 
 def _angles(**angles: object) -> list[float]:
