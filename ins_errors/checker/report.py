@@ -57,12 +57,19 @@ def summary_line(report: CheckReport) -> str:
         "mistake"))
     agree_small = (c.get("agrees up to dropped small terms", 0)
                    + c.get("agrees up to declared drops", 0))
-    return (f"{report.hand_name}: {compared} equation forms compared with model "
+    return (f"{report.hand_name}: {_count(compared, 'equation form')} compared with model "
             f"{report.model!r}: {c.get('agrees', 0)} agree, {agree_small} agree up to "
-            f"dropped terms, {c.get('mistake', 0)} with mistakes ({c['root mistakes']} root "
-            f"mistakes, {c['knock-on mistakes']} knock-on findings, {c['declared drops']} "
-            f"declared drops, {c['dropped small terms']} dropped small terms); "
-            f"{c['input problems']} input problems")
+            f"dropped terms, {c.get('mistake', 0)} with mistakes "
+            f"({_count(c['root mistakes'], 'root mistake')}, "
+            f"{_count(c['knock-on mistakes'], 'knock-on finding')}, "
+            f"{_count(c['declared drops'], 'declared drop')}, "
+            f"{_count(c['dropped small terms'], 'dropped small term')}); "
+            f"{_count(c['input problems'], 'input problem')}")
+
+
+def _count(n: int, thing: str) -> str:
+    """``"1 root mistake"``, ``"3 root mistakes"``."""
+    return f"{n} {thing}{'s' * (n != 1)}"
 
 
 def _effect(f: Finding) -> str:
