@@ -96,6 +96,21 @@ def test_validity_magnitude_is_where_a_run_measures_one_percent():
     assert f"{check.worst_linear.linear_ratio:.2%}" in warning
 
 
+def test_validity_warnings_of_identical_cases_are_each_their_own():
+    """Two identical cases beyond validity: each gets its warning (the cases are found by
+    their place in the batch; comparing two equal comparisons compares their arrays)."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("orthodromic")
+    traj = tr.trajectory(model, tr.static_profile(np.radians(50.0)), 3600.0, 10.0)
+    case = {"initial_azimuth_error": np.radians(25.0)}
+    first, second = compare(model, traj, [case, dict(case)], labels=["same", "same"],
+                            integration_error=False, refined=False)
+    for c in (first, second):
+        assert [w for w in c.warnings if "validity" in w], c.warnings
+    assert first.one_percent_scale == second.one_percent_scale
+
+
 def test_validity_warning_on_exact_platform_and_old_numbers_in_small_angles(capsys):
     status = main(["compare", "orthodromic", "--source", "initial_azimuth_error=25deg",
                    "--hours", "4", "--json"])

@@ -403,20 +403,20 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
     measured there is within a factor 1.25 of 1 %; the warning gives the ratio measured
     at the factor it names.
     """
-    flagged = [c for c in comparisons
-               if c.worst_linear is not None and c.worst_linear.linear_ratio > threshold]
-    unseen = [c for c in flagged if not any(np.any(v) for v in c.linear.values())]
-    for comparison in unseen:
+    over = [b for b, c in enumerate(comparisons)
+            if c.worst_linear is not None and c.worst_linear.linear_ratio > threshold]
+    # by position in the batch (comparisons compare their arrays: no `in` or index())
+    columns = [b for b in over if any(np.any(v) for v in comparisons[b].linear.values())]
+    for comparison in (comparisons[b] for b in over if b not in columns):
         # zero columns of G and of the initial errors: no magnitude makes it valid
         comparison.warnings.append(
             f"the linear model does not see {', '.join(comparison.sources)}: its "
             "errors stay exactly zero while the direct run's do not, at any magnitude "
             "(the source has zero columns in G and in the initial errors: no equation "
             "uses it, or it enters only at second order); check how the model uses it")
-    flagged = [c for c in flagged if c not in unseen]
-    if not flagged:
+    if not columns:
         return
-    columns = [comparisons.index(c) for c in flagged]
+    flagged = [comparisons[b] for b in columns]
     # per case: points (factor, ratio) measured so far, the first at the full magnitudes
     points = [[(1.0, c.worst_linear.linear_ratio)] for c in flagged]
     first_slope: list[float] = [math.nan] * len(flagged)
