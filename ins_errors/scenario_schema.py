@@ -165,7 +165,7 @@ def one_line(error: ValidationError, name: str,
                               f"{first['input']!r}")
     if kind in ("model_type", "dict_type") and isinstance(loc[-1], str):
         return InsErrorsError(f"{prefix}'{key}' must be a table, [{key}]")
-    members = [p for p in loc if isinstance(p, str) and _UNION_MEMBER.match(p)]
+    members = [p for p in loc if isinstance(p, str) and UNION_MEMBER.match(p)]
     loc = tuple(p for p in loc if p not in members)  # pydantic's names, not the file's
     path = ".".join(str(p) for p in loc)
     value = repr(first.get("input"))[:60]
@@ -177,7 +177,7 @@ def one_line(error: ValidationError, name: str,
     return InsErrorsError(f"{prefix}{path} = {value}: {first['msg'].lower()}")
 
 
-_UNION_MEMBER = re.compile(r"^(constrained-)?(str|float|int|bool)$")
+UNION_MEMBER = re.compile(r"^(constrained-)?(str|float|int|bool)$")
 """How pydantic names the member of a union type (a quantity: text or a number) in an
 error's location."""
 

@@ -9,7 +9,6 @@ source's correlation time...).
 
 from __future__ import annotations
 
-import re
 from typing import Annotated, Literal
 
 from pydantic import (
@@ -24,7 +23,7 @@ from pydantic import (
 )
 
 from ins_errors.errors import InsErrorsError
-from ins_errors.scenario_schema import Quantity, one_line
+from ins_errors.scenario_schema import UNION_MEMBER, Quantity, one_line
 
 Number = StrictFloat | StrictInt
 Positive = Annotated[StrictFloat, Field(gt=0)] | Annotated[StrictInt, Field(gt=0)]
@@ -136,15 +135,11 @@ def validate(data: dict) -> SpecFile:
         raise one_line(error, "", tables) from None
 
 
-_MEMBER = re.compile(r"^(constrained-)?(str|float|int|bool)$")
-"""How pydantic names the member of a union type in an error's location."""
-
-
 def _union_message(first: dict) -> str | None:
     """One line for a value of a union type (a positive number, a quantity) that none of
     the members takes, in the file's own key names (no pydantic member names)."""
     loc = tuple(first["loc"])
-    members = [p for p in loc if isinstance(p, str) and _MEMBER.match(p)]
+    members = [p for p in loc if isinstance(p, str) and UNION_MEMBER.match(p)]
     if not members:
         return None
     keys = [p for p in loc if p not in members]

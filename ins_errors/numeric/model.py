@@ -441,9 +441,7 @@ class Model:
         # every domain: a margin that fails there is the parameters' own
         margins = self.numpy.initial_domain_margins(
             np.zeros(len(self.initial_conditions)), np.zeros(len(self.inputs)), p)
-        for margin, message in zip(np.asarray(margins), self.meta.INITIAL_DOMAIN, strict=True):
-            if not margin > 0:
-                raise DomainError(f"{function}: parameters p: {message}")
+        self._domain(margins, self.meta.INITIAL_DOMAIN, f"{function}: parameters p")
         return p
 
     def _check_initial(self, c, u, p, function: str):

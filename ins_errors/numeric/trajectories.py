@@ -385,14 +385,13 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
     # a north-channel model (no v_E) follows a static base only: checked in trajectory()
     i_ve = ic_names.index("v_E") if "v_E" in ic_names else None
     i_lat_out = _require(model, "outputs", ["latitude"])[0]
-    i_heading = None
-    if frame == "track":
-        if "heading" not in [i.name for i in model.outputs]:
-            raise MotionError(f"model {model.name!r} cannot fly a great circle, a manoeuvre "
-                              "or another track-frame motion (they are steered by the "
-                              "heading, which is not among its outputs); use a static base "
-                              "or a motion file of north and east velocities")
-        i_heading = _require(model, "outputs", ["heading"])[0]
+    output_names = [i.name for i in model.outputs]
+    if frame == "track" and "heading" not in output_names:
+        raise MotionError(f"model {model.name!r} cannot fly a great circle, a manoeuvre "
+                          "or another track-frame motion (they are steered by the heading, "
+                          "which is not among its outputs); use a static base or a motion "
+                          "file of north and east velocities")
+    i_heading = output_names.index("heading") if frame == "track" else None
     par = {name: k for k, name in enumerate(i.name for i in model.parameters)}
 
     x = ca.SX.sym("x", n)
