@@ -88,16 +88,19 @@ def select_sources(shares: np.ndarray, top: int) -> tuple[np.ndarray, np.ndarray
     return chosen[largest_first(largest[chosen])], others
 
 
+def item_rows(budget) -> dict[str, list[int]]:
+    """Spec item name -> the indices of its rows in ``budget.rows`` (its check times and
+    components), in the spec's order."""
+    return {item.name: [i for i, r in enumerate(budget.rows) if r.item == item.name]
+            for item in budget.spec.items}
+
+
 def worst_rows(allocation: Allocation) -> list[int]:
     """Each spec item's row (index into the budget's rows) with the largest total share
     of its allowed variance: the item's worst time (and component)."""
     budget = allocation.budget
     used = allocation.contributions().sum(1) / budget.allowed_variances
-    worst = []
-    for item in budget.spec.items:
-        idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
-        worst.append(idx[int(np.argmax(used[idx]))])
-    return worst
+    return [idx[int(np.argmax(used[idx]))] for idx in item_rows(budget).values()]
 
 
 def report(allocation: Allocation) -> dict:
@@ -107,8 +110,7 @@ def report(allocation: Allocation) -> dict:
     contributions = allocation.contributions()
     allowed = budget.allowed_variances
     values = spec.sigma_level * np.sqrt(contributions.sum(1))
-    rows_of = {item.name: [i for i, r in enumerate(budget.rows) if r.item == item.name]
-               for item in spec.items}
+    rows_of = item_rows(budget)
     sources = []
     for j, s in enumerate(budget.sources):
         row = allocation.binding_row(j)
