@@ -7,6 +7,7 @@ tests/test_distributed.py.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import json
 import textwrap
 import warnings
@@ -224,6 +225,46 @@ def test_a_store_that_cannot_be_made_or_read_is_one_line(tmp_path, capsys, store
                    "serial"])
     err = capsys.readouterr().err
     assert status == 2 and message in err and len(err.strip().splitlines()) == 1, err
+    if "suffix" in message:  # refused before anything was made
+        assert "*.nc (a NetCDF file" in err and not (tmp_path / store).exists()
+
+
+def test_colour_map_axes_span_the_swept_values_only(tmp_path, monkeypatch):
+    """A two-parameter map draws its cells between the grid's first and last values: the
+    axis limits are those values, every inner cell edge lies halfway between neighbours,
+    each value inside its own cell, and a tick stands at every value run."""
+    from ins_errors import output
+
+    figures = []
+    saved = output.save_figure
+    monkeypatch.setattr(output, "save_figure",
+                        lambda figure, path, **kw: figures.append(figure) or saved(
+                            figure, path, close=False, **kw))
+    latitudes, biases = [10.0, 30.0, 80.0], [50.0, 200.0]  # deg, ug (uneven on purpose)
+    path = scenario_file(tmp_path, f"""
+        [sweep]
+        latitude = {[f"{v:g} deg" for v in latitudes]}
+        accel_bias_x = {[f"{v:g} ug" for v in biases]}
+    """, BASE.replace('"1 h"', '"2 min"').replace('"60 s"', '"1 min"'))
+    data = sw.run_sweep(load_scenario(path), tmp_path / "map.zarr", engine="serial").dataset
+    sw.plot(data, "worst_linear_ratio", ["latitude", "accel_bias_x"], tmp_path / "map.png")
+    [figure] = figures
+    ax = figure.axes[0]
+    [mesh] = ax.collections
+    corners = mesh.get_coordinates()  # (rows + 1, columns + 1, 2) cell corners
+    for values, limits, edges, ticks in (
+            (latitudes, ax.get_xlim(), corners[0, :, 0], ax.get_xticks()),
+            (biases, ax.get_ylim(), corners[:, 0, 1], ax.get_yticks())):
+        assert limits == pytest.approx((values[0], values[-1]), rel=1e-12)
+        assert edges[0] == pytest.approx(values[0]) and edges[-1] == pytest.approx(values[-1])
+        assert list(edges[1:-1]) == pytest.approx([(a + b) / 2
+                                                   for a, b in itertools.pairwise(values)])
+        assert all(lo <= v <= hi for (lo, hi), v in zip(itertools.pairwise(edges), values,
+                                                        strict=True))
+        assert list(ticks) == pytest.approx(values)
+    import matplotlib.pyplot as plt
+
+    plt.close(figure)
 
 
 def test_sweep_summary_reports_each_points_integration_error(tmp_path, capsys):

@@ -851,11 +851,39 @@ def _fixed_margins(figure_, ax, bar, heading: str) -> None:
                          (height - top - bottom) / height))
 
 
+MAX_GRID_TICKS = 12
+"""A colour map's axis with at most this many grid values has a tick at each of them."""
+
+
+def cell_edges(values: Sequence[float]) -> np.ndarray:
+    """Cell edges of a colour map over sorted grid values.
+
+    Inner edges lie halfway between neighbouring values; the outer edges are the first
+    and last values themselves (the outer cells are half as wide), so the axis spans
+    exactly the swept range. A single value gets a cell of ±5 % of its size (±0.5 at 0).
+
+    Parameters
+    ----------
+    values : sequence of float, shape (n,)
+        Increasing grid values, in the axis's unit.
+
+    Returns
+    -------
+    numpy.ndarray, shape (n + 1,)
+    """
+    v = np.asarray(values, dtype=float)
+    if v.size == 1:
+        half = 0.05 * abs(v[0]) or 0.5
+        return np.array([v[0] - half, v[0] + half])
+    return np.concatenate([v[:1], (v[1:] + v[:-1]) / 2, v[-1:]])
+
+
 def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path:
     """Plot a figure against one (line) or two (colour map) swept parameters.
 
     Points that differ in the other swept labels are reduced to their maximum (the worst
-    case over them), which the title says.
+    case over them), which the title says. A colour map's cells end at the first and
+    last grid values (:func:`cell_edges`); dots mark the grid points.
     """
     import matplotlib
 
@@ -895,7 +923,14 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
         grid_ = np.full((len(ys), len(xs)), np.nan)
         for (x, y), v in reduced.items():
             grid_[ys.index(y), xs.index(x)] = v
-        mesh = ax.pcolormesh(xs, ys, grid_, shading="nearest")
+        # cells end at the grid's first and last values: the axes span the swept range
+        # and no more; ticks (when few) and dots mark the values that were run
+        mesh = ax.pcolormesh(cell_edges(xs), cell_edges(ys), grid_, shading="flat")
+        ax.plot([x for x, _ in reduced], [y for _, y in reduced], "k.", markersize=4,
+                clip_on=False, zorder=3)  # the edge points drawn whole
+        for values_, axis in ((xs, ax.xaxis), (ys, ax.yaxis)):
+            if len(values_) <= MAX_GRID_TICKS:
+                axis.set_ticks(values_)
         # on an axes of its own, placed by _fixed_margins
         bar = figure_.colorbar(mesh, cax=figure_.add_axes((0.9, 0.1, 0.02, 0.8)),
                                label=title)
