@@ -215,6 +215,8 @@ def test_store_of_another_sweep_is_refused(tmp_path, capsys):
 @pytest.mark.parametrize("store, message", [
     ("a_file/x.zarr", "cannot write the sweep store"),        # a parent that is a file
     ("not_netcdf.nc", "is not a readable NetCDF sweep store"),  # a .nc that is not one
+    ("x.txt", "has suffix '.txt': name it *.zarr (a Zarr folder"),  # no such format
+    ("results", "has no suffix: name it *.zarr (a Zarr folder"),
 ])
 def test_a_store_that_cannot_be_made_or_read_is_one_line(tmp_path, capsys, store, message):
     (tmp_path / "a_file").write_text("x")

@@ -49,6 +49,27 @@ class StoreError(InsErrorsError):
     """A store that cannot be used for this sweep."""
 
 
+STORE_KINDS = {".zarr": "a Zarr folder, filled as points finish",
+               ".nc": "a NetCDF file, written once every point is done"}
+"""The store's format by the suffix of its name."""
+
+
+def store_path(path: str | Path) -> Path:
+    """The store's path, refused unless its suffix names a format (:data:`STORE_KINDS`).
+
+    Raises
+    ------
+    StoreError
+        Another suffix or none (``x.txt`` would otherwise become a Zarr folder).
+    """
+    path = Path(path)
+    if path.suffix not in STORE_KINDS:
+        kinds = " or ".join(f"*{suffix} ({kind})" for suffix, kind in STORE_KINDS.items())
+        found = f"suffix {path.suffix!r}" if path.suffix else "no suffix"
+        raise StoreError(f"sweep store {str(path)!r} has {found}: name it {kinds}")
+    return path
+
+
 def _libraries():
     try:
         import xarray
@@ -122,10 +143,11 @@ class SweepStore:
         Raises
         ------
         StoreError
-            If the path holds a store of another sweep, or something that is not a store.
+            If the path holds a store of another sweep, or something that is not a store,
+            or its name ends in neither ``.zarr`` nor ``.nc``.
         """
+        path = store_path(path)
         xr, _ = _libraries()
-        path = Path(path)
         netcdf = path.suffix == ".nc"
         work = path.with_name(path.name + ".partial.zarr") if netcdf else path
         if netcdf and path.exists():

@@ -563,8 +563,9 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     SweepResult
     """
     from ins_errors.analysis.engine import choose_engine, run_tasks
-    from ins_errors.analysis.store import SweepStore
+    from ins_errors.analysis.store import SweepStore, store_path
 
+    store = store_path(store)  # a name of no known format, before anything is made
     scheduler = scheduler or scenario.sweep.scheduler
     engine = choose_engine(engine, scheduler)  # before any store is made
     points = grid(scenario)
