@@ -216,3 +216,32 @@ def test_bad_parameters_of_budget_and_validity(capsys, command, option):
     assert main([*command, "--parameter", option]) == 2
     captured = capsys.readouterr()
     assert captured.err.strip() == expected and not captured.out
+
+
+
+@pytest.mark.parametrize(("model_name", "name", "outside", "inside"), [
+    ("orthodromic", "e2", 1.5, 0.99),          # an ellipse's e² is below 1
+    ("orthodromic", "a", -6.4e6, 6.4e6),
+    ("north_pointing", "ecc2", -0.1, 0.0),     # ... and not negative
+    ("geodetic_vertical", "e2", 1.0, 0.5),
+])
+def test_parameter_vector_checks_the_domain_where_it_is_made(model_name, name, outside,
+                                                             inside):
+    """``parameter_vector`` refuses a value outside the model's own domain at once, with
+    the line a run gives later for the same numbers (before, it was accepted and only
+    the trajectory refused it); a value inside is set as given."""
+    import ins_errors
+    from ins_errors.errors import DomainError
+    from ins_errors.numeric import trajectories as tr
+
+    model = ins_errors.load_model(model_name)
+    k = model.index("parameters", name)
+    p = model.parameter_vector().copy()
+    p[k] = outside
+    with pytest.raises(DomainError) as later:  # the run's own check of the same p
+        tr.trajectory(model, tr.static_profile(0.8), 60.0, 10.0, p=p)
+    reason = str(later.value).split("parameters p: ", 1)[1]
+    with pytest.raises(DomainError) as made:
+        model.parameter_vector(**{name: outside})
+    assert str(made.value) == f"parameter_vector: parameters p: {reason}"
+    assert model.parameter_vector(**{name: inside})[k] == inside

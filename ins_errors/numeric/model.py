@@ -256,7 +256,8 @@ class Model:
         ------
         InsErrorsError
             For an unknown ellipsoid or parameter, a model without Earth-shape parameters,
-            or a non-finite value.
+            a non-finite value, or a value outside the model's own parameter domain (e.g.
+            an eccentricity squared of 1 or more; the same check and message as a run's).
         """
         from ins_errors.models.earth import ellipsoid as lookup
 
@@ -276,6 +277,7 @@ class Model:
                                        "parameter_vector")
         p = np.array([values[i.name] for i in self.parameters])
         self._check_finite(p, "parameters")
+        self._parameter_domain(p, "parameter_vector")
         return p
 
     def source_vector(self, **magnitudes: float) -> np.ndarray:
@@ -437,12 +439,16 @@ class Model:
         if p.ndim != 1:
             raise ShapeError(f"{function}: parameters p must have shape ({len(self.parameters)},)"
                              f" [{', '.join(i.name for i in self.parameters)}], got {p.shape}")
+        self._parameter_domain(p, function)
+        return p
+
+    def _parameter_domain(self, p: np.ndarray, function: str) -> None:
+        """Refuse parameters (shape (np,)) outside the model's own domain, one line."""
         # the initial conditions and inputs at zero (equator, at rest, level) are inside
         # every domain: a margin that fails there is the parameters' own
         margins = self.numpy.initial_domain_margins(
             np.zeros(len(self.initial_conditions)), np.zeros(len(self.inputs)), p)
         self._domain(margins, self.meta.INITIAL_DOMAIN, f"{function}: parameters p")
-        return p
 
     def _check_initial(self, c, u, p, function: str):
         c = self._vector(c, self.initial_conditions, "initial conditions c", function)
