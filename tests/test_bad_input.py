@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -18,7 +20,7 @@ def point(orthodromic):
 def test_latitude_at_the_pole(orthodromic, point):
     x, u, p = point
     pole = orthodromic.initial_condition_vector(latitude=np.pi / 2)
-    with pytest.raises(ins_errors.DomainError, match="latitude at ±90°"):
+    with pytest.raises(ins_errors.DomainError, match="latitude 90° is refused"):
         orthodromic.initial_state(pole, u, p)
     polar_state = x.copy()
     polar_state[:3] = [0.0, 0.0, 1.0]
@@ -63,6 +65,35 @@ def test_negative_radius_is_rejected(orthodromic, point):
         orthodromic.state_matrix(x, u, orthodromic.parameter_vector(a=-1.0))
     with pytest.raises(ins_errors.DomainError, match="a \\+ h <= 0"):
         orthodromic.state_matrix(x, orthodromic.input_vector(h=-7e6), None)
+
+
+@pytest.mark.parametrize(("model_name", "source"), [
+    ("orthodromic", "gyro_drift_x=0.01deg/h"), ("free_azimuth", "gyro_drift_x=0.01deg/h"),
+    ("strapdown_ned", "gyro_bias_x=0.01deg/h")])
+@pytest.mark.parametrize("motion", ["static", "great-circle"])
+def test_latitude_near_a_pole_names_the_models_tolerance(capsys, model_name, source, motion):
+    """89.99999° (0.036″ from the pole) is refused in one line quoting the latitude given
+    and how close to a pole the model's formulas are singular; that distance is the
+    model's actual rule: a latitude 1 % farther from the pole is taken, 1 % nearer is
+    not. These models need cos²φ > 1e-12, i.e. |φ| below 90° − asin(1e-6) rad."""
+    assert main(["compare", model_name, "--source", source, "--latitude", "89.99999deg",
+                 "--motion", motion, "--duration", "60s", "--step", "10s"]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "latitude 89.99999° is refused" in line and "at ±90°" not in line, line
+    within = re.search(r"singular within ([\d.]+)″ \(([\d.e+-]+) rad\) of a pole", line)
+    assert within, line
+    arcsec, rad = (float(v) for v in within.groups())
+    assert arcsec == pytest.approx(np.degrees(np.arcsin(1e-6)) * 3600, rel=3e-3)  # 3 digits
+    assert rad == pytest.approx(arcsec / 3600 * np.pi / 180, rel=1e-2)
+    model = ins_errors.load_model(model_name)
+    u = model.input_vector()
+    for factor, taken in ((1.01, True), (0.99, False)):
+        c = model.initial_condition_vector(latitude=np.pi / 2 - factor * np.arcsin(1e-6))
+        if taken:
+            model.initial_state(c, u)
+        else:
+            with pytest.raises(ins_errors.DomainError, match=r"singular within 0\.206″"):
+                model.initial_state(c, u)
 
 
 def test_cli_prints_one_line_not_a_traceback(capsys):

@@ -155,8 +155,7 @@ def closed_forms(model: Model | str, latitude: float, p: np.ndarray | None = Non
                               f"got {gravity}")
         u[inputs.index("a_zeta")] = gravity
     c = model.initial_condition_vector(latitude=latitude)
-    model._domain(model.numpy.initial_domain_margins(c, u, p), model.meta.INITIAL_DOMAIN,
-                  "closed forms")
+    model._initial_domain(c, u, p, "closed forms")
     x = model.initial_state(c, u, p)
     x, u, p = model._check_state(x, u, p, "closed forms")
     for name, value in baked.items():

@@ -457,9 +457,86 @@ class Model:
             p, self.parameters, "parameters p", function)
         self._batch(function, c=c, u=u, p=p)
         self._latitudes(c, self._initial_latitudes, self.initial_conditions, function)
-        self._domain(self.numpy.initial_domain_margins(c, u, p), self.meta.INITIAL_DOMAIN,
-                     function)
+        self._initial_domain(c, u, p, function)
         return c, u, p
+
+    def _initial_domain(self, c: np.ndarray, u: np.ndarray, p: np.ndarray,
+                        function: str) -> None:
+        """The initial-condition domain check; a latitude too close to a pole is named
+        with its value and the model's distance of singularity (:meth:`_pole_line`)."""
+        margins = np.asarray(self.numpy.initial_domain_margins(c, u, p))
+        for k, message in enumerate(self.meta.INITIAL_DOMAIN):
+            failed = ~(margins[k] > 0)
+            if failed.any():
+                batch = np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+                at = (slice(None), *np.argwhere(np.broadcast_to(failed, batch))[0])
+                first = [np.broadcast_to(a, (a.shape[0], *batch))[at] for a in (c, u, p)]
+                line = self._pole_line(k, message, *first)
+                raise DomainError(f"{function}: {line or message}")
+
+    def _pole_line(self, k: int, message: str, c: np.ndarray, u: np.ndarray,
+                   p: np.ndarray) -> str | None:
+        """The line for initial-domain condition ``k`` failing at one point (c, u, p of
+        shape (nc,), (nu,), (np,)) because a latitude is too close to a pole, else None.
+
+        The condition is a pole's when it holds with that latitude moved to the equator;
+        the latitude where it stops holding is then found by bisection (the model's own
+        margin, at the point's other values), so the line quotes the model's actual
+        tolerance: e.g. ``cos²φ > 1e-12`` is singular within 1e-6 rad (0.206″) of a pole.
+        """
+        def holds(row: int, latitude: float) -> bool:
+            moved = c.copy()
+            moved[row] = latitude
+            return bool(np.asarray(self.numpy.initial_domain_margins(moved, u, p))[k] > 0)
+
+        for row in self._initial_latitudes:
+            given = float(c[row])
+            if not holds(row, 0.0) or holds(row, given):
+                continue
+            inside, outside = 0.0, abs(given)  # |latitude| where it holds / fails
+            for _ in range(200):
+                middle = 0.5 * (inside + outside)
+                if middle in (inside, outside):
+                    break
+                if holds(row, np.copysign(middle, given)):
+                    inside = middle
+                else:
+                    outside = middle
+            tolerance = np.pi / 2 - inside
+            if tolerance >= np.radians(1.0):
+                within = f"{np.degrees(tolerance):.3g}°"
+            else:
+                within = f"{np.degrees(tolerance) * 3600:.3g}″ ({tolerance:.3g} rad)"
+            reason = message.split(": ", 1)[-1]
+            return (f"{self.initial_conditions[row].name} {np.degrees(given):.10g}° is "
+                    f"refused: the {self.name} model's formulas are singular within "
+                    f"{within} of a pole; {reason}")
+        return None
+
+    def check_start_latitude(self, latitude: float, p: np.ndarray, function: str) -> None:
+        """Refuse a motion's start latitude where the model's initial conditions do not
+        hold (near a pole), before anything is computed from it.
+
+        Parameters
+        ----------
+        latitude : float
+            Start latitude, rad.
+        p : numpy.ndarray, shape (np,)
+            Parameters, SI (already checked).
+        function : str
+            Name of the calling function, for the message.
+
+        Raises
+        ------
+        DomainError
+            One line with the latitude and the model's distance of singularity from the
+            pole (e.g. 0.206″ for a model that needs cos²φ > 1e-12).
+        """
+        c = np.zeros(len(self.initial_conditions))
+        c[list(self._initial_latitudes)] = latitude
+        # the other initial conditions and the inputs at zero lie inside every domain
+        self._initial_domain(c, np.zeros(len(self.inputs)), np.asarray(p, dtype=float),
+                             function)
 
     def initial_state(self, c, u, p=None) -> np.ndarray:
         """True initial state from initial conditions, shape ``(n, ...)``."""

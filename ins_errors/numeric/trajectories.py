@@ -844,6 +844,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
 
         raise unknown_name("truth", truth, TRUTHS)
     model, p = run_arguments(model, profile, Profile, duration, p)
+    model.check_start_latitude(profile.latitude, p, "trajectory")
     if model.name == "strapdown_ned":  # body rates and specific force, not a_* inputs
         from ins_errors.numeric import strapdown_truth
 
