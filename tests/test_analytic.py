@@ -220,7 +220,7 @@ def test_double_integrator_gives_polynomials():
 
 def test_bad_input_gives_one_line_errors(model):
     for latitude in (np.pi / 2, -np.pi / 2, np.radians(90.0)):
-        with pytest.raises(DomainError, match="singular within .* of a pole"):
+        with pytest.raises(DomainError, match=r"singular within .* of a pole"):
             closed_forms(model, latitude)
     with pytest.raises(DomainError, match="R must be positive"):
         closed_forms(model, LAT, R=-6.4e6)
