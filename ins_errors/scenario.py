@@ -248,4 +248,4 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
                           quantities=scenario.quantities)
     for comparison, case in zip(comparisons, scenario.cases, strict=True):
         comparison.label = case.label
-    return ScenarioResult(scenario, profile.description, comparisons, trajectory.truth_kind)
+    return ScenarioResult(scenario, trajectory.description, comparisons, trajectory.truth_kind)

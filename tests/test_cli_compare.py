@@ -6,6 +6,7 @@ import json
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -232,3 +233,47 @@ def test_out_writes_the_curves_as_csv_and_mat(capsys, tmp_path):
     assert status == 2 and "--force" in err and len(err.strip().splitlines()) == 1
     status, _out, err = run(capsys, *args, "--out", str(stranger), "--force")
     assert status == 0 and (stranger / "curves.csv").exists() and (stranger / "data.txt").exists()
+
+
+SCHULER_LOOP = str(Path(__file__).resolve().parents[1] / "examples" / "own_model"
+                   / "schuler_loop.py")
+
+
+def _compare_json(capsys, model, *args):
+    assert main(["compare", model, *args, "--hours", "1", "--step", "10s", "--json"]) == 0
+    report = json.loads(capsys.readouterr().out)
+    return report["motion"], [{k: v for k, v in c.items() if k != "label"}
+                              for c in report["cases"]]
+
+
+def test_the_header_states_only_the_references_the_run_depends_on(capsys, tmp_path):
+    """The tutorial's single-axis Schuler loop has no longitude, heading or height
+    anywhere (its inputs: a_N; initial conditions: latitude, v_N): its results are the
+    same bits at another longitude and height, and the header (compare's, and run's
+    report.md) names the latitude only. The free-azimuth model has no height input, but
+    its truth's vertical specific force is gravity at that height: its results change
+    with h and the header keeps it; the north-pointing model at rest has no heading."""
+    source = ["--source", "accel_bias=100ug"]
+    motion, cases = _compare_json(capsys, SCHULER_LOOP, *source)
+    other_motion, other = _compare_json(capsys, SCHULER_LOOP, *source, "--longitude",
+                                        "-70deg", "--height", "3000m")
+    assert other == cases  # nothing of the run depended on them
+    assert motion == other_motion and "φ=50°" in motion
+    assert not any(part in motion for part in ("λ", "χ", "h=")), motion
+    source = ["--source", "accel_bias_x=100ug"]
+    low, cases = _compare_json(capsys, "free_azimuth", *source)
+    high, other = _compare_json(capsys, "free_azimuth", *source, "--height", "3000m")
+    assert other != cases and "h=0 m" in low and "h=3000 m" in high
+    assert "χ=" in low and "λ=" in low
+    north, _ = _compare_json(capsys, "north_pointing", "--source", "accel_bias_east=100ug")
+    assert "χ=" not in north and "λ=" in north and "h=0 m" in north
+    # the run header of a scenario, in report.md
+    scenario = tmp_path / "loop.toml"
+    scenario.write_text(f'title = "loop"\nmodel = {json.dumps(SCHULER_LOOP)}\n'
+                        '[motion]\nkind = "static"\nlatitude = "40 deg"\nlongitude = "10 deg"\n'
+                        'height = "500 m"\n[run]\nduration = "1 h"\nstep = "10 s"\n'
+                        '[[case]]\naccel_bias = "100 ug"\n', encoding="utf-8")
+    assert main(["run", str(scenario), "--out", str(tmp_path / "out")]) == 0
+    capsys.readouterr()
+    report = (tmp_path / "out" / "report.md").read_text(encoding="utf-8")
+    assert "| motion | static base at φ=40° |" in report

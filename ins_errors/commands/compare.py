@@ -181,7 +181,7 @@ def run(args: argparse.Namespace) -> int:
                           refined=not args.no_refined, progress=progress,
                           platform=args.platform.replace("-", "_"),
                           validity_threshold=threshold)
-    title = (f"{model.name}: {profile.description}; {duration / 3600:g} h, τ = {tau:g} s, "
+    title = (f"{model.name}: {trajectory.description}; {duration / 3600:g} h, τ = {tau:g} s, "
              f"{args.method}")
     text = markdown_summary(comparisons, title) + "\n" + "\n".join(
         markdown_table(c) for c in comparisons)
@@ -209,7 +209,7 @@ def run(args: argparse.Namespace) -> int:
         written = f"plot written to {targets[0]}" if len(targets) == 1 else \
             f"plots written to {targets[0]} … {targets[-1].name} (one per case)"
     if args.json:
-        json.dump({"model": model.name, "motion": profile.description, "duration_s": duration,
+        json.dump({"model": model.name, "motion": trajectory.description, "duration_s": duration,
                    "step_s": tau, "record_s": record, "method": args.method,
                    "truth": args.truth, "truth_used": trajectory.truth_kind,
                    "parameters": parameters_record(model, parameters),

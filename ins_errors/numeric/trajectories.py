@@ -29,7 +29,7 @@ left), so ``v_N = v_ξ cos χ + v_η sin χ`` and ``v_E = v_ξ sin χ − v_η c
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Sequence
 from dataclasses import dataclass, field
 from functools import cache, lru_cache
 from typing import Protocol, runtime_checkable
@@ -61,6 +61,16 @@ class MotionError(InsErrorsError):
     """A motion the model cannot follow or a badly specified motion."""
 
 
+REFERENCES = ("latitude", "longitude", "heading", "height")
+"""The reference values of a motion's start that a description may state (the heading
+being the track angle of the model's trihedron)."""
+
+
+def _description(*parts: tuple[str | None, str]) -> dict:
+    """``description`` and ``parts`` of a :class:`Profile` from its pieces."""
+    return {"description": "".join(text for _, text in parts), "parts": parts}
+
+
 # --------------------------------------------------------------------------------------
 # Motion profiles (commands as functions of time)
 # --------------------------------------------------------------------------------------
@@ -87,6 +97,10 @@ class Profile:
         knots); between them the commands are smooth (analytic). ``()`` for a motion
         smooth throughout, None when unknown: only a profile with known breaks gets the
         fast interpolated truth (:mod:`ins_errors.numeric.interpolated_truth`).
+    parts : tuple of (str or None, str)
+        The description in pieces that join to it: each piece's text and the reference
+        value it states (one of :data:`REFERENCES`, or None for the other words), so
+        :meth:`describe` can leave out the values a model does not depend on.
     """
 
     frame: str
@@ -97,6 +111,15 @@ class Profile:
     description: str
     static: bool = False
     breaks: Sequence[float] | np.ndarray | None = None
+    parts: tuple[tuple[str | None, str], ...] = ()
+
+    def describe(self, references: Collection[str] | None = None) -> str:
+        """The description with only the reference values in ``references`` (names of
+        :data:`REFERENCES`; None: all of them, i.e. :attr:`description`)."""
+        if references is None or not self.parts:
+            return self.description
+        return "".join(text for reference, text in self.parts
+                       if reference is None or reference in references)
 
     def __post_init__(self) -> None:
         if self.frame not in ("track", "geographic"):
@@ -124,9 +147,12 @@ def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0
         values[2] = h
         return values, np.zeros((4, t.size))
 
-    return Profile("track", commands, latitude, longitude, heading,
-                   f"static base at φ={np.degrees(latitude):.4g}°, λ={np.degrees(longitude):.4g}°,"
-                   f" χ={np.degrees(heading):.4g}°, h={h:g} m", static=True, breaks=())
+    return Profile("track", commands, latitude, longitude, heading, static=True, breaks=(),
+                   **_description((None, "static base at "),
+                                  ("latitude", f"φ={np.degrees(latitude):.4g}°"),
+                                  ("longitude", f", λ={np.degrees(longitude):.4g}°"),
+                                  ("heading", f", χ={np.degrees(heading):.4g}°"),
+                                  ("height", f", h={h:g} m")))
 
 
 def great_circle_profile(latitude: float, longitude: float, track: float, speed: float,
@@ -153,10 +179,12 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
         values[0], values[2] = speed, h
         return values, np.zeros((4, t.size))
 
-    return Profile("track", commands, latitude, longitude, track,
-                   f"great circle from φ={np.degrees(latitude):.4g}°, "
-                   f"λ={np.degrees(longitude):.4g}°, track {np.degrees(track):.4g}°, "
-                   f"{speed:g} m/s, h={h:g} m", breaks=())
+    return Profile("track", commands, latitude, longitude, track, breaks=(),
+                   **_description((None, "great circle from "),
+                                  ("latitude", f"φ={np.degrees(latitude):.4g}°"),
+                                  ("longitude", f", λ={np.degrees(longitude):.4g}°"),
+                                  ("heading", f", track {np.degrees(track):.4g}°"),
+                                  (None, f", {speed:g} m/s"), ("height", f", h={h:g} m")))
 
 
 LOWEST_HEIGHT = -6_356_752.0
@@ -287,9 +315,10 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
         return values, rates
 
     return Profile("track", commands, latitude, longitude, track,
-                   f"manoeuvring flight of {len(legs)} legs from φ={np.degrees(latitude):.4g}°,"
-                   f" λ={np.degrees(longitude):.4g}°",
-                   breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])))
+                   breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])),
+                   **_description((None, f"manoeuvring flight of {len(legs)} legs from "),
+                                  ("latitude", f"φ={np.degrees(latitude):.4g}°"),
+                                  ("longitude", f", λ={np.degrees(longitude):.4g}°")))
 
 
 def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: float,
@@ -488,6 +517,50 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
     initial_fn = ca.Function("motion_initial_state", [c0, cmd, p],
                              [initial(ca.vertcat(*c_entries), u_kin, p), ca.vertcat(*c_entries)])
     return _Kinematics(consistent, inputs, truth_rhs, initial_fn, frame == "track")
+
+
+@cache
+def references_used(model_key: str, frame: str) -> frozenset[str]:
+    """The reference values of a motion's start (:data:`REFERENCES`) that a run of the
+    model along a motion in ``frame`` depends on.
+
+    Decided from the generated functions themselves, not from names: a reference is used
+    when it reaches, in the CasADi expressions, the true initial state, the true inputs
+    (e.g. the height through normal gravity in ``a_zeta``, for a model with no height
+    input), the real work's initial state or the initial-error matrix. These are the only
+    ways it enters a run: the truth evolves from that state under the commands (the
+    height among them) through the same input function, and the direct and linear runs
+    see it only through the truth and those initial values. The test is structural, so
+    an expression that cancels symbolically still counts as using the reference.
+    (``"latitude"`` is in it for every model that follows a motion.)
+
+    Parameters
+    ----------
+    model_key : str
+        :attr:`Model.key` of the model.
+    frame : {"track", "geographic"}
+        Frame of the motion's commands as :func:`trajectory` uses it.
+
+    Returns
+    -------
+    frozenset of str
+    """
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(model_key)
+    kin = _kinematics(model_key, frame)
+    start = ca.SX.sym("start", 3)  # latitude, longitude, heading
+    cmd, rates = ca.SX.sym("cmd", 4), ca.SX.sym("rates", 4)  # cmd[2]: the height
+    p = ca.SX.sym("p", len(model.parameters))
+    w = ca.SX.sym("w", len(model.sources))
+    x0, c0 = kin.initial_state(start, cmd, p)
+    u0 = kin.inputs(x0, cmd, rates, p)
+    function = model.casadi.function
+    reached = ca.vertcat(x0, u0, function("initial_real_state")(c0, u0, w, p),
+                         ca.vec(function("initial_error_matrix")(c0, u0, p)))
+    symbols = dict(zip(REFERENCES, (start[0], start[1], start[2], cmd[2]), strict=True))
+    return frozenset(name for name, symbol in symbols.items()
+                     if ca.depends_on(reached, symbol))
 
 
 # --------------------------------------------------------------------------------------
@@ -858,6 +931,8 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         raise MotionError(f"model {model.name!r} has no east velocity (initial condition "
                           "v_E): it follows a static base only")
     kin = _kinematics(model.key, frame)
+    # the description states only the reference values the run depends on
+    description = profile.describe(references_used(model.key, frame))
     start = np.array([profile.latitude, profile.longitude, profile.heading])
     values0, rates0 = profile.commands(np.zeros(1))
     x0, c0 = (np.asarray(v).ravel() for v in kin.initial_state(start, values0[:, 0], p))
@@ -868,7 +943,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         # follows the Earth's rotation): only a state at equilibrium is held constant
         if np.abs(model.numpy.ideal_rhs(x0, u0, p)).max() <= STATIC_TOLERANCE:
             return Trajectory(model.key, float(tau), n_steps, x0[:, None], u0[:, None],
-                              u0[:, None], p, c0, True, profile.description)
+                              u0[:, None], p, c0, True, description)
     source = _truth_source(model, profile, frame, float(tau), n_steps, p, x0, truth)
     # about 74 numbers per step for the orthodromic model while it is built
     n_values = (4 * n_steps + 1) * 8 + (2 * n_steps + 1) * (2 * len(model.states)
@@ -882,9 +957,8 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         else:
             x_first, u_first = source.start()
         return Trajectory.streamed(model.key, tau, n_steps, source, x_first, u_first, p, c0,
-                                   profile.description)
-    traj = Trajectory.streamed(model.key, tau, n_steps, source, x0, u0, p, c0,
-                               profile.description)
+                                   description)
+    traj = Trajectory.streamed(model.key, tau, n_steps, source, x0, u0, p, c0, description)
     traj._store()
     return traj
 
