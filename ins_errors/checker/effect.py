@@ -27,7 +27,7 @@ mode the model lacks (an eigenvalue with a larger positive real part), the effec
 said to grow exponentially, with the e-folding time of that mode, once the growth over
 the time compared exceeds :data:`GROWTH_SHOWN` e-foldings; likewise for a growing mode
 of the model itself (an undamped vertical channel) where the difference did grow that
-much since 1 h (:func:`_mark_growth`).
+much since 1 h (:func:`~ins_errors.checker.growth.mark_growth`).
 """
 
 from __future__ import annotations
@@ -36,6 +36,7 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import classify as cl
+from ins_errors.checker.growth import GROWTH_SHOWN, growth_rate, mark_growth
 from ins_errors.checker.matrix import rounding_floor
 from ins_errors.checker.reference import _earth
 from ins_errors.checker.sides import identified
@@ -47,11 +48,6 @@ HOURS = (1.0, 24.0)
 STEP = 60.0
 """Sample step (s) the rounding floor counts steps in (the matrix check's, whose static
 base is one exponential as well)."""
-
-GROWTH_SHOWN = 10.0
-"""E-foldings of a growing mode the model lacks (its rate times the time compared) from
-which the effect is given as exponential growth instead of a figure (a factor of 2e4
-over the model)."""
 
 
 @one_blas_thread
@@ -85,41 +81,6 @@ def _propagate(f: np.ndarray, drive: np.ndarray, x0: np.ndarray) -> list[np.ndar
     step = expm(a * HOURS[0] * 3600.0)
     start = np.diag(np.append(x0, np.ones(m)))
     return [(np.linalg.matrix_power(step, round(h / HOURS[0])) @ start)[:n] for h in HOURS]
-
-
-def _growth(f: np.ndarray) -> float:
-    """Largest real part of the eigenvalues of F (1/s); 0 when F is not finite."""
-    if not np.all(np.isfinite(f)) or not f.size:
-        return 0.0
-    return float(np.linalg.eigvals(f).real.max())
-
-
-def _mark_growth(effect: dict, hand: float, model: float) -> None:
-    """Mark the times at which the effect grows exponentially (see module docstring).
-
-    ``hand``, ``model``: largest real parts of the eigenvalues (1/s) of the frozen F with
-    and without the mistake. A growing mode the mistake adds (``hand`` above the model's
-    and past :data:`GROWTH_SHOWN` e-foldings) makes the difference grow at its rate; a
-    growing mode of the model itself (an undamped vertical channel) only where the
-    difference did grow by that much since the first time (a mistake the mode does not
-    see keeps its figure).
-    """
-    if hand > max(model, 0.0) and (hand - max(model, 0.0)) * HOURS[-1] * 3600.0 > GROWTH_SHOWN:
-        rate, whose = hand, "hand"
-    elif model * HOURS[-1] * 3600.0 > GROWTH_SHOWN:
-        rate, whose = model, "model"
-    else:
-        return
-    effect["e_folding_s"] = 1.0 / rate
-    effect["growing_mode"] = whose
-    first = effect[f"position_{int(HOURS[0])}h"]
-    for hours in HOURS:
-        tag = f"{int(hours)}h"
-        grows = rate * hours * 3600.0 > GROWTH_SHOWN
-        if whose == "model":
-            grows = grows and effect[f"position_{tag}"] > np.exp(GROWTH_SHOWN) * max(
-                first, effect[f"position_floor_{tag}"])
-        effect[f"exponential_{tag}"] = bool(grows)
 
 
 def _worst(diffs: np.ndarray) -> tuple[float, int]:
@@ -195,7 +156,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
         best = None
         for p in ([labels.index(where)] if where in labels else range(k)):
             if p not in baseline:
-                baseline[p] = (_propagate(f[p], drive[p], x0), _growth(f[p]))
+                baseline[p] = (_propagate(f[p], drive[p], x0), growth_rate(f[p]))
             base_x, base_growth = baseline[p]
             changed_f = f[p] + delta_f[p]
             changed = _propagate(changed_f, drive[p] + delta_drive[p], x0)
@@ -218,7 +179,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                     effect[f"{what}_{tag}"] = value
                     effect[f"{what}_floor_{tag}"] = floor
                     effect[f"{what}_case_{tag}"] = cases[j] if value > floor else None
-            _mark_growth(effect, _growth(changed_f), base_growth)
+            mark_growth(effect, growth_rate(changed_f), base_growth, HOURS)
             if best is None or effect["position_24h"] > best["position_24h"]:
                 best = {"point": comparison.points[p].label, **effect}
         return best
@@ -319,4 +280,4 @@ def _add_row(delta_f, delta_drive, row, hand, model, comparison, symbols, source
             delta_drive[:, row, sources.index(b)] += value * magnitude[b]
 
 
-__all__ = ["HOURS", "add_effects"]
+__all__ = ["GROWTH_SHOWN", "HOURS", "add_effects"]

@@ -13,6 +13,7 @@ from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.compare import CheckReport, EquationResult
 from ins_errors.checker.effect import HOURS
+from ins_errors.checker.growth import growth_text
 from ins_errors.checker.matrix_report import below
 
 UNCHECKED = ("error sources the model's side of these lines has and the file never "
@@ -85,9 +86,8 @@ def _effect(f: Finding) -> str:
     for hours in HOURS:
         tag = f"{int(hours)}h"
         if e.get(f"exponential_{tag}"):
-            own = " (the model's own mode)" if e.get("growing_mode") == "model" else ""
-            parts.append(f"{int(hours)} h: grows exponentially, ×e every "
-                         f"{e['e_folding_s'] / 60:.3g} min{own}")
+            parts.append(f"{int(hours)} h: "
+                         + growth_text(e["e_folding_s"], e.get("growing_mode")))
             continue
         position, attitude = e[f"position_{tag}"], e[f"attitude_{tag}"]
         floor_p = e.get(f"position_floor_{tag}", 0.0)

@@ -1,0 +1,86 @@
+"""Exponential growth of an error difference: found from eigenvalues, said in words.
+
+Shared by the equation checker's effects (:mod:`~ins_errors.checker.effect`) and the
+matrix check's (:mod:`~ins_errors.checker.matrix`): when a mistake gives the linear error
+equations a growing mode the model lacks (an eigenvalue with a larger positive real part,
+a sign-flipped Schuler loop), the difference it makes after a day is a figure like
+1e48 m, which says nothing but "it grows". Past :data:`GROWTH_SHOWN` e-foldings over the
+time compared the effect is given as exponential growth with the e-folding time of that
+mode (:func:`growth_text`) instead. No SymPy here (the matrix check does not load it).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+GROWTH_SHOWN = 10.0
+"""E-foldings of a growing mode the model lacks (its rate times the time compared) from
+which the effect is given as exponential growth instead of a figure (a factor of 2e4
+over the model)."""
+
+HOURS = (1.0, 24.0)
+"""Times compared by default, h."""
+
+
+def growth_rate(f: np.ndarray) -> float:
+    """Largest real part of the eigenvalues of F (1/s); 0 when F is not finite.
+
+    Parameters
+    ----------
+    f : ndarray, shape (n, n)
+        A (frozen) system matrix, 1/s.
+    """
+    if not np.all(np.isfinite(f)) or not f.size:
+        return 0.0
+    return float(np.linalg.eigvals(f).real.max())
+
+
+def mark_growth(effect: dict, hand: float, model: float,
+                hours: tuple[float, ...] = HOURS) -> None:
+    """Mark the times at which an effect grows exponentially.
+
+    ``hand``, ``model``: largest real parts of the eigenvalues (1/s, :func:`growth_rate`)
+    of F with and without the mistake. A growing mode the mistake adds (``hand`` above the
+    model's and past :data:`GROWTH_SHOWN` e-foldings over the last of ``hours``) makes the
+    difference grow at its rate; a growing mode of the model itself (an undamped vertical
+    channel) only where the difference did grow by that much since the first time (a
+    mistake the mode does not see keeps its figure).
+
+    Parameters
+    ----------
+    effect : dict
+        Holds ``position_<h>h`` and ``position_floor_<h>h`` (m) for each time of ``hours``
+        (``<h>`` the whole hours); receives ``e_folding_s`` (s), ``growing_mode``
+        (``"hand"`` or ``"model"``) and ``exponential_<h>h`` (bool) when a mode grows.
+    hand, model : float
+        Growth rates, 1/s.
+    hours : tuple of float
+        The times compared, h, increasing.
+    """
+    span = hours[-1] * 3600.0
+    if hand > max(model, 0.0) and (hand - max(model, 0.0)) * span > GROWTH_SHOWN:
+        rate, whose = hand, "hand"
+    elif model * span > GROWTH_SHOWN:
+        rate, whose = model, "model"
+    else:
+        return
+    effect["e_folding_s"] = 1.0 / rate
+    effect["growing_mode"] = whose
+    first = effect[f"position_{int(hours[0])}h"]
+    for h in hours:
+        tag = f"{int(h)}h"
+        grows = rate * h * 3600.0 > GROWTH_SHOWN
+        if whose == "model":
+            grows = grows and effect[f"position_{tag}"] > np.exp(GROWTH_SHOWN) * max(
+                first, effect[f"position_floor_{tag}"])
+        effect[f"exponential_{tag}"] = bool(grows)
+
+
+def growth_text(e_folding_s: float, whose: str | None = "hand") -> str:
+    """``grows exponentially, ×e every 13.4 min`` (with ``(the model's own mode)`` for a
+    mode of the model itself)."""
+    own = " (the model's own mode)" if whose == "model" else ""
+    return f"grows exponentially, ×e every {e_folding_s / 60:.3g} min{own}"
+
+
+__all__ = ["GROWTH_SHOWN", "growth_rate", "growth_text", "mark_growth"]
