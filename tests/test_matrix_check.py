@@ -766,3 +766,68 @@ def test_a_position_error_has_the_same_size_as_latitude_or_as_metres(strapdown_m
 def _agreeing_hand(model, motion_list) -> HandMatrices:
     """The derived model itself in phi_geodetic (agrees everywhere)."""
     return _derived_hand(model, "phi_geodetic", motion_list, lambda F, names, nav: None)
+
+
+# --------------------------------------------------------------------------------------
+# Runaway growth is said, not printed as 1e48 m
+# --------------------------------------------------------------------------------------
+def test_a_sign_flipped_schuler_loop_is_reported_as_exponential_growth(strapdown_day):
+    """+g/R for −g/R in the east channel (examples/strapdown/psi_model_sign_error.py)
+    turns δr̈_E = −(g/R) δr_E into δr̈_E = +(g/R) δr_E: a mode growing as e^{λt},
+    λ = √(g/R) (the 2-state closed form). After 24 h (~100 e-foldings) the difference is
+    said to grow exponentially with that e-folding time, as the equation checker says it;
+    after 1 h (4.5 e-foldings) the figure stays. The rate is also what the day-long
+    propagation itself shows between 1 h and 24 h."""
+    import json
+
+    from ins_errors.checker.matrix_report import to_json
+
+    spec = f"{PSI.parent / 'psi_model_sign_error.py'}:psi_model_sign_error"
+    report = mc.check_matrices("strapdown_ned", spec, "psi", motion_list=strapdown_day)
+    [mistake] = report.mistakes
+    # the closed form from the hand's own entry +g/R on the static base
+    fn, states, _ = load_function(PSI.parent / "psi_model_sign_error.py",
+                                  "psi_model_sign_error")
+    static = strapdown_day[0]
+    nav, imu = next(iter(samples(static.navigation, static.times, static.label)))
+    F, _ = fn(nav, imu)
+    g_over_r = F[states.index("dvc_E"), states.index("dr_E")]
+    assert g_over_r == pytest.approx(nav.gravity / nav.R_E, rel=0.01)
+    rate = np.sqrt(g_over_r)  # 1/s
+    # numpy's eigenvalues of the hand F with the held vertical channel taken out
+    keep = [i for i, s in enumerate(states) if s not in ("dvc_D", "dr_D")]
+    eig = np.linalg.eigvals(F[np.ix_(keep, keep)]).real.max()
+    effects = {(e.motion, e.hours): e for e in report.effects
+               if e.case == "initial psi_N"}
+    day, hour = effects[("static", 24.0)], effects[("static", 1.0)]
+    assert day.exponential and not hour.exponential and day.growing_mode == "hand"
+    assert 1 / day.e_folding == pytest.approx(eig, rel=1e-9)
+    assert 1 / day.e_folding == pytest.approx(rate, rel=0.01)
+    # the propagation's own growth from 1 h to 24 h (the worst case grows with the mode)
+    seen = np.log(day.position_difference / hour.position_difference) / (23 * 3600.0)
+    assert 1 / day.e_folding == pytest.approx(seen, rel=0.01)
+    for motion in ("cruise", "manoeuvre"):
+        assert 1 / effects[(motion, 24.0)].e_folding == pytest.approx(rate, rel=0.02)
+        assert not effects[(motion, 1.0)].exponential
+    # the entry alone gives the same mode
+    alone = report.finding_effects[mistake.entry]
+    assert alone.exponential and 1 / alone.e_folding == pytest.approx(rate, rel=0.02)
+    text = to_terminal(report)
+    assert (f"alone after 24 h: grows exponentially, ×e every {alone.e_folding / 60:.3g} "
+            "min (fastest on static)") in text
+    rows = [line.split() for line in text.splitlines() if line.startswith("  static ")]
+    assert rows[1][:6] == ["static", "24", "h", "grows", "exponentially,", "×e"]
+    assert rows[1][7:9] == [f"{day.e_folding / 60:.3g}", "min"]
+    assert float(rows[0][3]) > 1e4 and rows[0][4] == "m"  # the 1-h figure (26 km) stays
+    assert not re.search(r"e\+[1-9]\d", text)  # no figure like 8.84e+48 m anywhere
+    data = json.loads(json.dumps(to_json(report)))
+    [row] = [e for e in data["effects"] if (e["motion"], e["hours"], e["case"])
+             == ("static", 24.0, "initial psi_N")]
+    assert row["exponential"] and row["growth_rate_per_s"] == pytest.approx(eig, rel=1e-9)
+    assert row["e_folding_s"] == pytest.approx(1 / eig, rel=1e-9)
+    [finding] = [f for f in data["findings"] if f["severity"] == "mistake"]
+    assert finding["effect_alone_24h"]["exponential"]
+    assert finding["effect_alone_24h"]["growth_rate_per_s"] == pytest.approx(rate, rel=0.02)
+    # a mistake without a growing mode keeps its figures
+    assert not any(e.exponential for f, e in report.finding_effects.items()
+                   if f != mistake.entry)

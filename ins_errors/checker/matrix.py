@@ -40,7 +40,7 @@ from __future__ import annotations
 
 import hashlib
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -49,6 +49,7 @@ import numpy as np
 from ins_errors.checker import motion_store, propagation_store
 from ins_errors.checker.conventions import Convention, convention
 from ins_errors.checker.extreme import first_largest
+from ins_errors.checker.growth import growth_rate, mark_growth
 from ins_errors.checker.kinds import (
     COEFFICIENT,
     EXTRA,
@@ -365,6 +366,16 @@ class Effect:
     position_floor, attitude_floor : float
         Rounding floor of the differences on this motion at this time (the same for every
         case; :func:`rounding_floor`), m and rad: a difference at or below it is no effect.
+    e_folding : float or None
+        E-folding time (s) of a growing mode of this motion's propagation that the
+        differences follow (:func:`~ins_errors.checker.growth.mark_growth`; the same for
+        every case and time of the motion), None without one.
+    growing_mode : str or None
+        Whose mode it is: ``"hand"`` (a mode the hand model adds) or ``"model"``.
+    exponential : bool
+        At this time the difference has grown past
+        :data:`~ins_errors.checker.growth.GROWTH_SHOWN` e-foldings: it is said to grow
+        exponentially instead of being given as a figure.
     """
 
     motion: str
@@ -377,6 +388,9 @@ class Effect:
     attitude_model: float
     position_floor: float = 0.0
     attitude_floor: float = 0.0
+    e_folding: float | None = None
+    growing_mode: str | None = None
+    exponential: bool = False
 
     @property
     def position_above_rounding(self) -> bool:
@@ -407,6 +421,13 @@ class AloneEffect:
     position_floor, attitude_floor : float
         Rounding floors (:func:`rounding_floor`): of the motion named, or the largest over
         the motions when the change is below them everywhere; m and rad.
+    e_folding : float or None
+        When the entry alone gives a growing mode the derived model lacks, past
+        :data:`~ins_errors.checker.growth.GROWTH_SHOWN` e-foldings after 24 h: its
+        e-folding time, s (the fastest over the motions; ``motion`` is that motion).
+        The change is then said to grow exponentially instead of being given as a figure.
+    growing_mode : str or None
+        ``"hand"`` (a mode the entry adds) or ``"model"``, with ``e_folding``.
     """
 
     position: float
@@ -414,6 +435,13 @@ class AloneEffect:
     motion: str | None
     position_floor: float
     attitude_floor: float
+    e_folding: float | None = None
+    growing_mode: str | None = None
+
+    @property
+    def exponential(self) -> bool:
+        """The change grows exponentially (``e_folding`` is set)."""
+        return self.e_folding is not None
 
     @property
     def position_above_rounding(self) -> bool:
@@ -890,6 +918,8 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
             responses.update({(motion.label, t): r for t, r in zip(at, derived, strict=True)})
         position = conv.position(motion.navigation)  # (3, nz, K)
         attitude = conv.attitude(motion.navigation)
+        rows: list[Effect] = []
+        growth: dict = {}  # worst position difference and floor at each time
         for t, scaled_h, scaled_z in zip(at, hand, derived, strict=True):
             k = _steps(motion, t)
             P = position[:2, prop.rows, k]
@@ -899,11 +929,50 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
             floor_a = prop.floors([scaled_h, scaled_z], k, A)
             for c, case, text in prop.cases:
                 diff = resp_h[:, c] - resp_z[:, c]
-                effects.append(Effect(
+                rows.append(Effect(
                     motion.label, t / 3600.0, case, text, float(np.linalg.norm(P @ diff)),
                     float(np.linalg.norm(P @ resp_z[:, c])), float(np.linalg.norm(A @ diff)),
                     float(np.linalg.norm(A @ resp_z[:, c])), floor_p, floor_a))
+            tag = _tag(t)
+            growth[f"position_{tag}"] = max((e.position_difference for e in rows
+                                             if e.hours == t / 3600.0), default=0.0)
+            growth[f"position_floor_{tag}"] = floor_p
+        last = _steps(motion, at[-1])
+        mark_growth(growth, _motion_growth(sampled.Fh[motion.label], prop.held_h, last),
+                    _motion_growth(sampled.Fz[motion.label], prop.held_z, last),
+                    tuple(t / 3600.0 for t in at))
+        effects += [replace(e, e_folding=growth.get("e_folding_s"),
+                            growing_mode=growth.get("growing_mode"),
+                            exponential=growth.get(f"exponential_{_tag(e.hours * 3600.0)}",
+                                                   False))
+                    for e in rows]
     return effects
+
+
+def _tag(t: float) -> str:
+    """Key of a time (s) in :func:`~ins_errors.checker.growth.mark_growth`'s dict: ``24h``."""
+    return f"{int(t / 3600.0)}h"
+
+
+def _motion_growth(F: np.ndarray, held: list[int], last: int) -> float:
+    """Growth rate (1/s, :func:`~ins_errors.checker.growth.growth_rate`) of a propagation
+    along a motion: the largest real part of the eigenvalues of the mean of F over the
+    samples up to ``last``, the ``held`` states' rows and columns zeroed as in the
+    propagation (on the static base F itself, exact; along a motion its average).
+
+    Parameters
+    ----------
+    F : ndarray, shape (K, n, n)
+        F at the samples, 1/s.
+    held : list of int
+        Held states (vertical channel).
+    last : int
+        Last sample propagated.
+    """
+    mean = F[:last + 1].mean(axis=0)
+    mean[held, :] = 0.0
+    mean[:, held] = 0.0
+    return growth_rate(mean)
 
 
 def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
@@ -928,8 +997,8 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
     prop = _Propagation.of(report, conv, model)
     names = conv.names
     src_names = [s.name for s in model.sources]
-    # entry -> [(motion, position, attitude, position floor, attitude floor)]
-    per_motion: dict[str, list[tuple[str, float, float, float, float]]] = {}
+    # entry -> [(motion, position, attitude, position floor, attitude floor, growth)]
+    per_motion: dict[str, list[tuple[str, float, float, float, float, dict]]] = {}
     for motion in motion_list:
         at = _times(motion, (hours,))
         if not at:
@@ -942,6 +1011,7 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
         A = conv.attitude(motion.navigation)[:, prop.rows, k]
         columns = [c for c, _, _ in prop.cases]
         base_si = prop.si(base)
+        base_growth = _motion_growth(Fz, prop.held_z, k)
         for f in report.findings:
             if f.row in conv.vertical or f.column in conv.vertical:
                 continue  # held in the propagation: no effect to show
@@ -957,21 +1027,35 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
                     sampled.Gh[motion.label][:, a, report.sources.index(f.column)])
             [changed] = prop.derived(F2, G2, motion, at)
             diff = (prop.si(changed) - base_si)[:, columns]
+            position = float(np.linalg.norm(P @ diff, axis=0).max(initial=0.0))
+            floor_p = prop.floors([base, changed], k, P)
+            growth = {f"position_{_tag(at[0])}": position,
+                      f"position_floor_{_tag(at[0])}": floor_p}
+            mark_growth(growth, _motion_growth(F2, prop.held_z, k), base_growth,
+                        (at[0] / 3600.0,))
             per_motion.setdefault(f.entry, []).append((
-                motion.label, float(np.linalg.norm(P @ diff, axis=0).max(initial=0.0)),
+                motion.label, position,
                 float(np.linalg.norm(A @ diff, axis=0).max(initial=0.0)),
-                prop.floors([base, changed], k, P), prop.floors([base, changed], k, A)))
+                floor_p, prop.floors([base, changed], k, A), growth))
     return {entry: _alone(rows) for entry, rows in per_motion.items()}
 
 
-def _alone(rows: list[tuple[str, float, float, float, float]]) -> AloneEffect:
-    """One finding's :class:`AloneEffect` from its (motion, position, attitude, floors)."""
+def _alone(rows: list[tuple[str, float, float, float, float, dict]]) -> AloneEffect:
+    """One finding's :class:`AloneEffect` from its (motion, position, attitude, floors,
+    growth) on each motion (growth: :func:`~ins_errors.checker.growth.mark_growth`'s
+    dict; a change that grows exponentially names the motion of the fastest growth)."""
     position = max(r[1] for r in rows)
     real = [r for r in rows if r[1] > r[3]]
     real_a = [r for r in rows if r[2] > r[4]]
     attitude = max(r[2] for r in (real_a or rows))
     floor_a = (max(r[4] for r in real_a if r[2] == attitude) if real_a
                else max(r[4] for r in rows))
+    growing = [r for r in rows if any(v is True for k, v in r[5].items()
+                                      if k.startswith("exponential_"))]
+    if growing:
+        fastest = min(growing, key=lambda r: r[5]["e_folding_s"])  # (the first on ties)
+        return AloneEffect(fastest[1], attitude, fastest[0], fastest[3], floor_a,
+                           fastest[5]["e_folding_s"], fastest[5]["growing_mode"])
     if not real:
         return AloneEffect(position, attitude, None, max(r[3] for r in rows), floor_a)
     best = max(real, key=lambda r: r[1])  # (the first motion on ties)

@@ -3,7 +3,11 @@
 A propagated difference at or below its rounding floor
 (:func:`~ins_errors.checker.matrix.rounding_floor`) is written as ``< floor`` and "no
 effect above rounding", naming no initial error, source or motion: which one reaches the
-largest rounding difference changes with the last bits of the arithmetic.
+largest rounding difference changes with the last bits of the arithmetic. A difference
+that follows a growing mode past :data:`~ins_errors.checker.growth.GROWTH_SHOWN`
+e-foldings is said to grow exponentially, with the mode's e-folding time, instead of a
+figure like 1e48 m (:func:`~ins_errors.checker.growth.growth_text`, the equation
+checker's words).
 """
 
 from __future__ import annotations
@@ -11,6 +15,7 @@ from __future__ import annotations
 import math
 
 from ins_errors.checker.extreme import first_largest_item
+from ins_errors.checker.growth import growth_text
 from ins_errors.checker.matrix import ARCSEC, Effect, EntryFinding, MatrixReport
 
 NO_EFFECT = "no effect above rounding"
@@ -40,6 +45,9 @@ def _alone(r: MatrixReport, f: EntryFinding) -> str:
     if f.entry not in r.finding_effects:
         return ""
     e = r.finding_effects[f.entry]
+    if e.exponential:
+        return (f"alone after 24 h: {growth_text(e.e_folding, e.growing_mode)} "
+                f"(fastest on {e.motion})")
     attitude = (f"{e.attitude / ARCSEC:.3g}″" if e.attitude_above_rounding
                 else below(e.attitude_floor / ARCSEC, "″"))
     if not e.position_above_rounding:
@@ -89,6 +97,10 @@ def _share(ratio: float) -> str:
 def _effect_rows(r: MatrixReport) -> list[list[str]]:
     rows = []
     for motion, hours, p, a in worst_effects(r):
+        if p.exponential:  # a figure like 1e48 m says only this
+            rows.append([motion, f"{hours:g} h", growth_text(p.e_folding, p.growing_mode),
+                         "–", "–", "grows exponentially", "–"])
+            continue
         if p.position_above_rounding:
             share = p.position_difference / p.position_model if p.position_model else 0.0
             position = [f"{p.position_difference:.3g} m",
@@ -206,15 +218,25 @@ def to_json(r: MatrixReport) -> dict:
                      "position_floor_m": e.position_floor,
                      "position_below_rounding": not e.position_above_rounding,
                      "attitude_floor_rad": e.attitude_floor,
-                     "attitude_below_rounding": not e.attitude_above_rounding}
+                     "attitude_below_rounding": not e.attitude_above_rounding,
+                     "exponential": e.exponential, **_growth_json(e)}
                     for e in r.effects],
     }
 
 
+def _growth_json(e) -> dict:
+    """The growing mode of an effect: e-folding time (s), its rate (1/s), whose mode."""
+    return {"e_folding_s": e.e_folding,
+            "growth_rate_per_s": 1.0 / e.e_folding if e.e_folding else None,
+            "growing_mode": e.growing_mode}
+
+
 def _alone_json(e) -> dict:
-    """``effect_alone_24h`` of a finding: the numbers, their floors, whether below."""
+    """``effect_alone_24h`` of a finding: the numbers, their floors, whether below, and
+    whether it grows exponentially (with the mode's e-folding time and rate)."""
     return {"position_m": e.position, "attitude_rad": e.attitude, "motion": e.motion,
             "position_floor_m": e.position_floor,
             "position_below_rounding": not e.position_above_rounding,
             "attitude_floor_rad": e.attitude_floor,
-            "attitude_below_rounding": not e.attitude_above_rounding}
+            "attitude_below_rounding": not e.attitude_above_rounding,
+            "exponential": e.exponential, **_growth_json(e)}
