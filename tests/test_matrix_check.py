@@ -831,3 +831,107 @@ def test_a_sign_flipped_schuler_loop_is_reported_as_exponential_growth(strapdown
     # a mistake without a growing mode keeps its figures
     assert not any(e.exponential for f, e in report.finding_effects.items()
                    if f != mistake.entry)
+
+
+# --------------------------------------------------------------------------------------
+# A term left out of an entry that holds several
+# --------------------------------------------------------------------------------------
+def _gravity_term(model):
+    """∂γ/∂φ of the model's own gravity formula (SymPy, differentiated here), as a
+    function of the samples of a motion: (K,) m/s² per rad."""
+    import sympy as sp
+
+    from ins_errors.symbolic.variation import ideal_intermediate_values
+
+    d = model.symbolic
+    closed = ideal_intermediate_values(d)
+    [gamma] = [s for s in closed if s.name == "gamma"]
+    [lat] = [s for s in d.x if s.name == "lat"]
+    function = sp.lambdify([*d.x, *d.u, *d.p], sp.diff(closed[gamma], lat), "numpy")
+    return lambda motion: np.broadcast_to(function(*motion.x, *motion.u, *motion.p),
+                                          motion.times.shape)
+
+
+def test_gravity_gradient_left_out_of_a_sum_is_an_omitted_term(strapdown_motions):
+    """F[dv_D, dlat] of the φ-geodetic model holds ∂γ/∂φ and Coriolis and transport-rate
+    terms. A hand F without ∂γ/∂φ (the model's own F less that term, differentiated here
+    from the model's gravity formula) is the same omission as the ψ model's F[dvc_D,
+    dr_N] = 0: an omitted term and a dropped small term, named, not a wrong coefficient.
+    With a threshold below its size it is a mistake, still an omitted term (the equation
+    checker's classes); half of the term left out, or the term twice, is a wrong
+    coefficient."""
+    model = load_model("strapdown_ned")
+    gradient = _gravity_term(model)
+    conv = convention(model, "phi_geodetic")
+    row, column = conv.names.index("dv_D"), conv.names.index("dlat")
+
+    def hand(factor, two=False):
+        """The derived F less factor × ∂γ/∂φ in F[dv_D, dlat]; with ``two`` also less
+        the Coriolis and one transport term of F[dv_D, dv_E] = −2U cos φ − 2 v_E/(R_E + h),
+        which keeps the other transport term."""
+        F = {}
+        for motion in strapdown_motions:
+            nav = motion.navigation
+            F[motion.label] = np.array(mc.derived_in_convention(model, conv, motion)[0])
+            F[motion.label][:, row, column] -= factor * gradient(motion)
+            if two:
+                F[motion.label][:, row, conv.names.index("dv_E")] += (
+                    2 * nav["earth_rate"] * np.cos(nav["latitude"])
+                    + nav["v_ned"][1] / (nav["R_E"] + nav["height"]))
+        return HandMatrices("edited", list(conv.names), [], F, {})
+
+    def check(hand_matrices, threshold=mc.DEFAULT_THRESHOLD):
+        return mc.check_matrices("strapdown_ned", hand_matrices, "phi_geodetic",
+                                 motion_list=strapdown_motions, effects=False,
+                                 threshold=threshold)
+
+    report = check(hand(1.0))
+    [f] = report.findings
+    assert (f.entry, f.kind, f.severity) == ("F[dv_D, dlat]", "omitted term",
+                                             "dropped small term")
+    assert report.exit_status == 0
+    assert f.detail.startswith("term left out: ") and "Delta_gamma" in f.detail
+    # its size against the entry: on the static base ∂γ/∂φ is the whole entry
+    share = float(re.search(r"up to ([\d.e+-]+) of the entry", f.detail).group(1))
+    entry = np.concatenate([np.abs(mc.derived_in_convention(model, conv, m)[0][:, row, column])
+                            for m in strapdown_motions])
+    gradients = np.concatenate([gradient(m) for m in strapdown_motions])
+    assert share == pytest.approx(np.abs(gradients).max() / entry.max(), rel=0.01)
+    assert np.abs(gradients).max() == pytest.approx(9.780327 * 0.0053024, rel=0.01)
+    # the ψ convention's spelling of the same omission has the same class
+    psi = mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi",
+                            motion_list=strapdown_motions, effects=False)
+    same = psi.finding("dvc_D", "dr_N")
+    assert (same.kind, same.severity) == (f.kind, f.severity)
+    # by its size: a mistake below its size, still an omitted term
+    strict = check(hand(1.0), threshold=f.size / 2)
+    assert [(g.entry, g.kind, g.severity) for g in strict.findings] == [
+        ("F[dv_D, dlat]", "omitted term", "mistake")] and strict.exit_status == 1
+    # two terms left out together: both named
+    both = check(hand(0.0, two=True)).finding("dv_D", "dv_E")
+    assert (both.kind, both.severity) == ("omitted term", "mistake")  # 1 % of its row
+    assert both.detail.startswith("term left out: -2*Omega_N (") and " and -" in both.detail
+    # a genuinely wrong coefficient stays one
+    for factor in (0.5, -1.0):
+        report = check(hand(factor))
+        [wrong] = report.mistakes
+        assert (wrong.entry, wrong.kind) == ("F[dv_D, dlat]", "wrong coefficient")
+        assert "term left out" not in wrong.detail
+
+
+def test_coriolis_part_of_the_turn_rate_left_out(tmp_path, wgs84):
+    """north_pointing writes F[δv_E, δv_N] as one quantity, turn_rate = 2U sin φ +
+    v_E tan φ / r_E. The textbook hand model without its Coriolis part 2U sin φ leaves out
+    a term of that sum: named as such (as the equation checker names a missing part of a
+    coefficient), and a mistake by its size (~1 % of the row)."""
+    report = mc.check_matrices(MODEL, _copy(tmp_path, "    F[0, 1] = turn",
+                                            "    F[0, 1] = turn - 2 * U * s"),
+                               "model", motion_list=wgs84, effects=False)
+    [f] = report.findings
+    assert (f.entry, f.kind, f.severity) == ("F[delta_v_E, delta_v_N]", "omitted term",
+                                             "mistake")
+    assert f.detail.startswith("term left out: 2*U*sin(phi) (from turn_rate = ")
+    motion = next(m for m in wgs84 if m.label == f.motion)
+    k = round(f.time / (motion.times[1] - motion.times[0]))
+    coriolis = 2 * 7.292115e-5 * np.sin(motion.navigation["latitude"][k])
+    assert f.model - f.hand == pytest.approx(coriolis, rel=1e-6)

@@ -640,6 +640,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     Fh_full[:, :, rows] = Fh
     findings = []
     compared = 0
+    entry_terms = None  # the derived entries' terms (SymPy), built for the first that needs them
     for a, i in enumerate(rows):
         terms = [np.abs(Fz[:, i, :]) * state_mag, np.abs(Fh_full[:, a, :]) * state_mag,
                  np.abs(Gz[:, i, :]) * source_mag]
@@ -653,7 +654,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
         if Gh is not None:
             columns += [("G", c, src_names[c], Gh[:, a, b], Gz[:, i, c], source_mag[c], False)
                         for b, c in enumerate(src_cols)]
-        for matrix, _, col_name, h, m, mag, left_out in columns:
+        for matrix, j, col_name, h, m, mag, left_out in columns:
             if left_out and np.all(m == 0):
                 continue
             compared += 1
@@ -663,6 +664,16 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                 continue
             kind, severity, detail = verdict
             ratio = np.abs(h - m) * mag / scale
+            if kind == COEFFICIENT and matrix == "F":  # a term of a sum left out?
+                if entry_terms is None:
+                    from ins_errors.checker.matrix_terms import EntryTerms
+
+                    entry_terms = EntryTerms(model, conv, motion_list)
+                found = _term_left_out(entry_terms, i, j, h, m, mag, scale)
+                if found is not None:
+                    kind, detail = OMITTED, found
+                    severity = classify_severity(OMITTED, float(ratio.max()),
+                                                 report.threshold)
             s = first_largest(ratio)
             per_motion = {lab: float(ratio[sample_motion == k].max())
                           for k, lab in enumerate(labels)}
@@ -674,6 +685,35 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     findings.sort(key=lambda f: (f.severity not in (MISTAKE, SMALL_MISTAKE), -f.size))
     report.findings = findings
     report.compared = compared
+
+
+def _term_left_out(terms, i: int, j: int, h: np.ndarray, m: np.ndarray, mag: float,
+                   scale: np.ndarray) -> str | None:
+    """The detail of an entry that is the derived one minus one or two of its terms
+    (:mod:`~ins_errors.checker.matrix_terms`), or None.
+
+    Parameters
+    ----------
+    terms : EntryTerms
+        The derived entries' terms on the stacked samples.
+    i, j : int
+        Row and column of the entry among the convention's states.
+    h, m : ndarray, shape (S,)
+        Hand and derived entry at the samples.
+    mag : float
+        Typical magnitude of the column's state.
+    scale : ndarray, shape (S,)
+        The row's largest term at each sample.
+    """
+    from ins_errors.checker.matrix_terms import left_out
+
+    found = left_out(terms.terms(i, j), h, m, mag, scale, AGREEMENT)
+    if found is None:
+        return None
+    missing = sum(t.values for t in found)
+    share = float(np.abs(missing).max() / np.abs(m).max())
+    return (f"term left out: {' and '.join(t.describe() for t in found)}, up to "
+            f"{share:.2g} of the entry's largest value")
 
 
 # --------------------------------------------------------------------------------------
