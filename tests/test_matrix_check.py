@@ -828,6 +828,9 @@ def test_a_sign_flipped_schuler_loop_is_reported_as_exponential_growth(strapdown
     [finding] = [f for f in data["findings"] if f["severity"] == "mistake"]
     assert finding["effect_alone_24h"]["exponential"]
     assert finding["effect_alone_24h"]["growth_rate_per_s"] == pytest.approx(rate, rel=0.02)
+    # what docs/matrix_check.md shows is the report's
+    lines = [line.strip() for line in text.splitlines()]
+    assert all(line in lines for line in _doc_block("**Exponential growth.**").splitlines())
     # a mistake without a growing mode keeps its figures
     assert not any(e.exponential for f, e in report.finding_effects.items()
                    if f != mistake.entry)
@@ -935,3 +938,14 @@ def test_coriolis_part_of_the_turn_rate_left_out(tmp_path, wgs84):
     k = round(f.time / (motion.times[1] - motion.times[0]))
     coriolis = 2 * 7.292115e-5 * np.sin(motion.navigation["latitude"][k])
     assert f.model - f.hand == pytest.approx(coriolis, rel=1e-6)
+    # the line docs/matrix_check.md shows is the report's (its elisions aside)
+    shown = _doc_block("**A term left out of a sum.**")
+    text = to_terminal(report)
+    assert all(piece.strip(" ;") in text for piece in shown.split("…"))
+
+
+def _doc_block(after: str) -> str:
+    """The first code block of docs/matrix_check.md after the text ``after``."""
+    doc = (DATA.parent.parent / "docs" / "matrix_check.md").read_text(encoding="utf-8")
+    block = doc.split(after, 1)[1].split("```\n", 1)[1].split("```", 1)[0]
+    return "\n".join(line.strip() for line in block.strip("\n").splitlines())

@@ -24,7 +24,9 @@ Classes (the vocabulary of :mod:`~ins_errors.checker.classify`):
   radius for R_N + h, a constant g; where the entry crosses zero, |hand ∓ model| within
   :data:`PARTIAL` of the entry's largest value on each motion), ``wrong coefficient``
   (anything else; a constant ratio is named), ``state left out`` (coupling to a state
-  the hand model does not have);
+  the hand model does not have); an F entry that would be a wrong coefficient but is the
+  derived entry less one or two of its terms (:mod:`~ins_errors.checker.matrix_terms`,
+  which loads SymPy) is an ``omitted term``, the term named;
 * severity: at or above the threshold every kind is a ``mistake``; below it the
   omissions (``omitted term``, ``approximated``, ``state left out``) are a ``dropped small
   term`` and a term that is present but wrong is a ``mistake, small effect``.
@@ -33,7 +35,10 @@ Then both linear models are propagated on each motion for 1 h and 24 h from each
 error (and each error source of G) at its typical magnitude, and the position and
 attitude error differences are reported (:func:`propagate_effects`), each against its
 rounding floor (:func:`rounding_floor`): a difference below it is no effect, and no
-initial error or source is named for it.
+initial error or source is named for it. A difference that follows a growing mode of the
+hand model past :data:`~ins_errors.checker.growth.GROWTH_SHOWN` e-foldings is marked as
+exponential growth with the mode's e-folding time (:func:`_motion_growth`,
+:func:`~ins_errors.checker.growth.mark_growth`, the equation checker's rule).
 """
 
 from __future__ import annotations
