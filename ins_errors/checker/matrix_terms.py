@@ -98,9 +98,8 @@ class EntryTerms:
     def __init__(self, model, conv, motion_list) -> None:
         from ins_errors.symbolic.variation import ideal_intermediate_values, structured_variation
 
-        self.model, self.conv, self.motion_list = model, conv, motion_list
+        self.motion_list = motion_list
         d = model.symbolic
-        self._d = d
         lines = structured_variation(d)
         known: dict[sp.Symbol, sp.Expr] = {}
         self._lines: dict[str, sp.Expr] = {}
@@ -148,7 +147,10 @@ class EntryTerms:
         Each term of the error-state line ``a`` (as the structured variation writes it,
         ``Delta_gamma``, ``-2*Delta_Omega_N*v_E``, ``delta_v_E*(-2*Omega_N - rho_N)``)
         gives its coefficient of error state ``b`` (the variations it names substituted):
-        that whole is one term, and when it is a sum, each of its parts is one too.
+        that whole is one term, and when it is a sum, each of its parts is one too; a
+        part that is a multiple of an ideal quantity the model defines as a sum is taken
+        apart once more (:meth:`_split`). ``grouped``: a term whose parts are terms as
+        well (the parts, not it, add up to the entry).
         """
         if (a, b) in self._cache:
             return self._cache[(a, b)]
@@ -231,7 +233,10 @@ def left_out(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
     usable.sort(key=lambda t: -float(np.abs(t.values).max()))
     usable = usable[:MAX_CANDIDATES]
     for count in range(1, MAX_LEFT_OUT + 1):
-        for subset in combinations(usable, count):
+        # a term whose parts are terms too is left out alone (with another, it could
+        # count one of its own parts twice)
+        for subset in combinations(usable if count == 1 else
+                                   [t for t in usable if not t.grouped], count):
             total = subset[0].values if count == 1 else sum(t.values for t in subset)
             if np.all(np.abs(missing - total) <= tolerance):
                 return list(subset)
