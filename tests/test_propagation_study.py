@@ -314,3 +314,211 @@ def test_compiled_runs_give_the_bits_of_the_virtual_machine(monkeypatch):
     for a, b in zip(compiled, virtual, strict=True):
         assert _same_bits(a, b)
         assert a.summary_markdown() == b.summary_markdown()
+
+
+# --------------------------------------------------------------------------------------
+# A new user's probe: labels, the reduced-vs-full measure, hemispheres, zero magnitudes,
+# the gravity behind the orthodromic periods. References computed here, independently of
+# the closed forms: matrix exponentials of the static-base error equations written out.
+# --------------------------------------------------------------------------------------
+G0, R0 = 9.80665, 6_371_000.0
+_ROWS = {  # error source -> (kind, state row) of the 7 error states of QUANTITIES
+    "gyro_drift_east": ("input", 4), "gyro_drift_north": ("input", 5),
+    "gyro_drift_up": ("input", 6), "accel_bias_east": ("input", 0),
+    "accel_bias_north": ("input", 1), "initial_velocity_error_east": ("initial", 0),
+    "initial_velocity_error_north": ("initial", 1), "initial_latitude_error": ("initial", 2),
+    "initial_longitude_error": ("initial", 3), "initial_tilt_east": ("initial", 4),
+    "initial_tilt_north": ("initial", 5), "initial_azimuth_error": ("initial", 6)}
+
+
+def _static_base_matrix(latitude: float, foucault: bool) -> np.ndarray:
+    """Textbook north-pointing static-base error equations (δv_E, δv_N, δφ, δλ, α_E, α_N,
+    α_U); ``foucault=False`` drops the two ±2Ω sin φ δv terms as the report does."""
+    s, c = U * np.sin(latitude), U * np.cos(latitude)
+    k = 2 * s if foucault else 0.0
+    return np.array([
+        [0, k, 0, 0, 0, -G0, 0],
+        [-k, 0, 0, 0, G0, 0, 0],
+        [0, 1 / R0, 0, 0, 0, 0, 0],
+        [1 / (R0 * np.cos(latitude)), 0, 0, 0, 0, 0, 0],
+        [0, -1 / R0, 0, 0, 0, s, -c],
+        [1 / R0, 0, -s, 0, -s, 0, 0],
+        [np.tan(latitude) / R0, 0, c, 0, c, 0, 0]])
+
+
+def _expm_curves(latitude: float, source: str, magnitude: float, times, foucault: bool):
+    """Error states over ``times`` for one source alone, by scipy's expm; shape (7, T).
+    (The sign of an input does not matter to the comparisons below.)"""
+    from scipy.linalg import expm
+
+    kind, row = _ROWS[source]
+    m = np.zeros((8, 8))
+    m[:7, :7] = _static_base_matrix(latitude, foucault)
+    start = np.zeros(8)
+    start[7] = 1.0
+    if kind == "input":
+        m[row, 7] = magnitude
+    else:
+        start[row] = magnitude
+    return np.stack([(expm(m * t) @ start)[:7] for t in times], axis=1)
+
+
+@functools.cache
+def _two_hours(latitude_deg: float):
+    return run(Experiment(latitude=float(np.radians(latitude_deg)), duration=7200.0))
+
+
+def test_end_of_run_table_is_labelled_with_the_duration(tmp_path, capsys):
+    """`--hours 2 --out D`: D/summary.md labels the end values 2 h, and they are the
+    values at 2 h (the last sample, t = 7200 s)."""
+    from ins_errors.cli import main
+
+    assert main(["propagation", "--hours", "2", "--out", str(tmp_path / "D")]) == 0
+    capsys.readouterr()
+    text = (tmp_path / "D" / "summary.md").read_text()
+    assert "Values at the end of the run, 2 h (direct numeric):" in text
+    assert "24-hour" not in text
+    result = _two_hours(39.0)
+    assert result.times[-1] == 7200.0
+    table = text.split("Values at the end of the run, 2 h (direct numeric):")[1]
+    row = next(line for line in table.splitlines() if line.startswith("| `gyro_drift_up`"))
+    dlon = float(row.split("|")[5])  # dN, arcmin
+    assert dlon == pytest.approx(np.degrees(result.curve("gyro_drift_up").direct[
+        _q("delta_longitude"), -1]) * 60, rel=1e-3)
+
+
+@pytest.mark.parametrize("latitude_deg", [0.0, 39.0, -45.0])
+def test_reduced_vs_full_against_matrix_exponentials(latitude_deg):
+    """Per quantity, |reduced − full| / max|full| against the same figure from expm of the
+    two F matrices; quantities the reduced model leaves at zero are named, not counted.
+    At the equator the two matrices are one: every figure is 0, nothing is missing."""
+    result = _two_hours(latitude_deg)
+    latitude = float(np.radians(latitude_deg))
+    weight = np.array([1 / np.sqrt(G0 * R0)] * 2 + [1.0] * 5)
+    for c in result.curves:
+        full = _expm_curves(latitude, c.source, c.magnitude, result.times, True)
+        reduced = _expm_curves(latitude, c.source, c.magnitude, result.times, False)
+        size_f, size_r = np.max(np.abs(full), axis=1), np.max(np.abs(reduced), axis=1)
+        gap = np.max(np.abs(reduced - full), axis=1)
+        source_size = np.max(np.concatenate([size_f, size_r]) * np.tile(weight, 2))
+        present_f = size_f * weight > 1e-9 * source_size  # a looser floor of our own
+        present_r = size_r * weight > 1e-9 * source_size
+        names = [q[1] for q in QUANTITIES]
+        got = c.reduced_vs_full()
+        assert got.lacking == tuple(n for n, f, r in zip(names, present_f, present_r,
+                                                         strict=True) if f and not r)
+        assert got.extra == ()
+        shared = present_f & present_r
+        assert np.array_equal(np.isfinite(got.relative), shared), c.source
+        if latitude_deg == 0.0:
+            assert np.all(gap == 0.0)  # the two matrices are equal
+            assert np.all(got.relative[shared] == 0.0), c.source
+            assert got.worst() == 0.0 and got.worst_quantity() is None
+            continue
+        expected = gap[shared] / size_f[shared]
+        assert got.relative[shared] == pytest.approx(expected, rel=1e-5, abs=1e-9), c.source
+    text = result.summary_markdown()
+    if latitude_deg == 0.0:
+        assert "1.00e+00" not in text and "inf h" not in text
+        assert text.count("| 0 (same to rounding) | – |") == 12
+        assert "No Foucault rotation at 0°" in text and "Schuler split vanishes" in text
+        assert "Foucault period (" not in text
+    else:
+        theta = np.degrees(U * abs(np.sin(latitude)) * 7200.0)
+        assert f"turned by θ = {theta:.3g}°" in text
+        assert "shorter than half a Foucault period" in text
+        assert "reaches about 2" not in text
+        row = next(line for line in text.splitlines()
+                   if line.startswith("| `accel_bias_east` |"))
+        assert row.endswith("| dVy, dL, Qx |")
+
+
+def test_reduced_vs_full_reaches_two_after_half_a_foucault_period(result):
+    """24 h at 39° (> half the 38-h Foucault period): the swing of the full model is in
+    opposite phase to the reduced one's, the along-swing quantity differs by about 2."""
+    c = result.curve("accel_bias_east")
+    got = c.reduced_vs_full()
+    assert got.relative[_q("delta_v_E")] == pytest.approx(2.0, abs=0.05)
+    assert got.lacking == ("dVy", "dL", "Qx")
+    assert "reaches about 2 on this run" in result.summary_markdown()
+
+
+def _split_periods(latitude: float, g: float, radius: float) -> tuple[float, float]:
+    """Longer and shorter Foucault-split Schuler periods, s, from g and R."""
+    w_u = U * abs(np.sin(latitude))
+    w_bar = np.sqrt(g / radius + w_u**2)
+    return 2 * np.pi / (w_bar - w_u), 2 * np.pi / (w_bar + w_u)
+
+
+def test_foucault_split_labels_do_not_swap_south_of_the_equator(capsys):
+    """'Schuler − Foucault' is the longer period at +45° and at −45° (same values), in
+    the table, the JSON keys and the orthodromic day run."""
+    import json
+
+    from ins_errors.cli import main
+    from ins_errors.studies.propagation import orthodromic_day
+
+    longer, shorter = _split_periods(np.radians(45.0), G0, R0)
+    assert longer / 60 == pytest.approx(87.99, abs=0.01)
+    for latitude in ("45deg", "-45deg"):
+        assert main(["propagation", "--hours", "0.5", f"--latitude={latitude}",
+                     "--json"]) == 0
+        periods = json.loads(capsys.readouterr().out)["periods_s"]["full"]
+        assert periods["Schuler − Foucault"] == pytest.approx(longer, rel=1e-9), latitude
+        assert periods["Schuler + Foucault"] == pytest.approx(shorter, rel=1e-9), latitude
+        assert main(["propagation", "--hours", "0.5", f"--latitude={latitude}"]) == 0
+        text = capsys.readouterr().out
+        assert f"| full | Schuler − Foucault | {longer / 60:.2f} |" in text, latitude
+        assert f"| full | Schuler + Foucault | {shorter / 60:.2f} |" in text, latitude
+    south = orthodromic_day(latitude=float(np.radians(-45.0)), duration=600.0)
+    assert south.periods["Schuler − Foucault"] > south.periods["Schuler + Foucault"]
+    assert (south.periods["Schuler − Foucault"], south.periods["Schuler + Foucault"]) == \
+        pytest.approx(_split_periods(np.radians(-45.0), south.gravity, south.radius),
+                      rel=1e-9)
+
+
+def test_zero_magnitude_is_refused_in_one_line(capsys):
+    """A zero source has no ratio to study: one line, exit 2, no warning, no nan rows."""
+    from ins_errors.cli import main
+
+    assert main(["propagation", "--hours", "0.5", "--drift", "0deg/h"]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    assert captured.err.count("\n") == 1 and "--drift is zero" in captured.err
+    assert "Warning" not in captured.err and "nan" not in captured.err
+    assert main(["propagation", "--hours", "0.5", "--level", "0 arcsec"]) == 2
+    assert "--level is zero" in capsys.readouterr().err
+    with pytest.raises(DomainError, match="gyro_drift is zero"):
+        run(Experiment(gyro_drift=0.0, duration=600.0))
+
+
+def test_orthodromic_output_states_the_gravity_and_radius_of_its_periods(capsys):
+    """The orthodromic static base uses a_ζ = normal gravity by the WGS-84 Somigliana
+    formula on the model's sphere (e² = 0), 9.7878 m/s² at 39°, and the Krasovsky a:
+    the output says so, and its periods follow by hand from the stated values."""
+    import json
+    import re
+
+    from ins_errors.cli import main
+
+    latitude = np.radians(39.0)
+    gamma = 9.7803253359 * (1 + 0.00193185265241 * np.sin(latitude) ** 2)  # WGS-84, e²=0
+    assert main(["propagation", "--orthodromic", "--hours", "0.5"]) == 0
+    text = capsys.readouterr().out
+    stated = re.search(r"from a_ζ = ([0-9.]+) m/s², R = ([0-9.]+) m and Ω = [0-9.e-]+ "
+                       r"rad/s\. a_ζ is ([^;]*); R is ([^.]*)\.", text)
+    assert stated, text[:600]
+    g, radius = float(stated.group(1)), float(stated.group(2))
+    assert g == pytest.approx(gamma, rel=1e-6) and radius == 6_378_245.0
+    assert "Somigliana" in stated.group(3) and "e² = 0" in stated.group(3)
+    assert "Krasovsky" in stated.group(4)
+    longer, shorter = _split_periods(latitude, g, radius)
+    assert f"Schuler − Foucault {longer / 60:.2f} min" in text
+    assert f"Schuler + Foucault {shorter / 60:.2f} min" in text
+    assert f"{longer / 60:.2f}" == "87.72"  # not 87.64: that is g = 9.80665
+    assert f"{_split_periods(latitude, G0, radius)[0] / 60:.2f}" == "87.64"
+    assert "over 0.5 h" in text and "over a day" not in text
+    assert main(["propagation", "--orthodromic", "--hours", "0.5", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["gravity_m_s2"] == pytest.approx(gamma, rel=1e-12)
+    assert data["radius_m"] == 6_378_245.0

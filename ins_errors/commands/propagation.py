@@ -5,6 +5,14 @@ Examples::
     ins-errors propagation --out out/propagation
     ins-errors propagation --latitude 49deg --drift "0.05 deg/h" --hours 48 --out out/p49
     ins-errors propagation --orthodromic --latitude 50deg
+
+JSON (``--json``): ``periods_s`` maps mode name -> period, s, with the Foucault-split
+pair named by size in either hemisphere: ``"Schuler − Foucault"`` is always the longer
+period 2π/(ω̄ − Ω|sin φ|), ``"Schuler + Foucault"`` the shorter; ``gravity_m_s2`` and
+``radius_m`` are the g (a_ζ with --orthodromic) and R those periods come from. Per source,
+``reduced_vs_full`` is the worst relative difference of the reduced closed forms over the
+quantities both models have (0: same to rounding), ``reduced_vs_full_quantity`` its
+quantity and ``not_in_reduced`` the quantities the reduced model leaves at zero.
 """
 
 from __future__ import annotations
@@ -98,7 +106,8 @@ def run(args: argparse.Namespace) -> int:
             analytic, direct = day.agreement("analytic", "linear"), day.agreement("direct",
                                                                                  "linear")
             _print_json({"latitude_rad": day.latitude, "duration_s": day.duration,
-                         "periods_s": day.periods,
+                         "periods_s": day.periods, "gravity_m_s2": day.gravity,
+                         "radius_m": day.radius,
                          "sources": [{"source": s, "excited": bool(day.excited()[j]),
                                       "analytic_vs_linear": _finite(analytic[j]),
                                       "direct_vs_linear": _finite(direct[j]),
@@ -110,14 +119,18 @@ def run(args: argparse.Namespace) -> int:
             if args.out is not None:
                 print(f"wrote {written}")
         return 0
+    magnitudes = {field: parse_quantity(getattr(args, option[2:]), unit, option)
+                  for (option, _, _), field, unit in zip(
+                      _EXPERIMENT_OPTIONS, propagation.MAGNITUDES,
+                      ("rad/s", "m/s**2", "m/s", "rad", "rad", "rad"), strict=True)}
+    for (option, _, what), value in zip(_EXPERIMENT_OPTIONS, magnitudes.values(),
+                                        strict=True):
+        if value == 0:
+            raise DomainError(f"{option} is zero: every {what} source runs alone at that "
+                              "size and is judged by ratios, which a zero source leaves "
+                              "0/0; give a non-zero size")
     experiment = propagation.Experiment(
-        latitude=latitude,
-        gyro_drift=parse_quantity(args.drift, "rad/s", "--drift"),
-        accel_bias=parse_quantity(args.bias, "m/s**2", "--bias"),
-        velocity_error=parse_quantity(args.velocity, "m/s", "--velocity"),
-        position_error=parse_quantity(args.position, "rad", "--position"),
-        level_error=parse_quantity(args.level, "rad", "--level"),
-        azimuth_error=parse_quantity(args.azimuth, "rad", "--azimuth"),
+        latitude=latitude, **magnitudes,
         duration=duration, step=step, record_interval=record, method=args.method)
     with stage("closed forms, linear and direct runs of every source"):
         result = propagation.run(experiment)
@@ -128,9 +141,11 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         _print_json({"latitude_rad": experiment.latitude, "duration_s": duration,
                      "step_s": step, "method": args.method, "periods_s": result.periods,
+                     "gravity_m_s2": result.gravity, "radius_m": result.radius,
                      "sources": [{"source": c.source, "magnitude_si": c.magnitude,
-                                  **{key: _finite(np.nanmax(c.agreement(a, b)))
+                                  **{key: _finite(propagation.finite_max(c.agreement(a, b)))
                                      for key, (a, b) in _AGREEMENTS.items()},
+                                  **_reduced(c.reduced_vs_full()),
                                   "integration_error": _finite(c.integration_share()),
                                   "integration_error_si": _per_quantity(c.integration_error),
                                   "warnings": c.warnings}
@@ -141,8 +156,15 @@ def run(args: argparse.Namespace) -> int:
 
 
 _AGREEMENTS = {"analytic_vs_linear": ("analytic", "linear"),
-               "direct_vs_linear": ("direct", "linear"),
-               "reduced_vs_full": ("reduced", "analytic")}
+               "direct_vs_linear": ("direct", "linear")}
+
+
+def _reduced(comparison) -> dict:
+    """JSON entries of the reduced-vs-full comparison of one source."""
+    return {"reduced_vs_full": _finite(comparison.worst()),
+            "reduced_vs_full_quantity": comparison.worst_quantity(),
+            "not_in_reduced": list(comparison.lacking),
+            "only_in_reduced": list(comparison.extra)}
 
 
 def _per_quantity(errors) -> dict[str, float] | None:

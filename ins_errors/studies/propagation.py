@@ -19,6 +19,16 @@ warning naming a step that would do.
 The agreement figures (largest difference over the run relative to the largest value
 of the linear curve, per error quantity) go into a Markdown summary, and every source
 gets a PNG of its seven error quantities (the report's dVx, dVy, dL, dN, Qx, Qy, Qz).
+
+The reduced model is judged against the full one quantity by quantity
+(:meth:`SourceCurves.reduced_vs_full`): the difference relative to the quantity's size
+in the full model, a difference at rounding level counting as zero, and the quantities
+the reduced model does not have at all (it leaves them at zero) named apart instead of
+counted as 100 % differences.
+
+The Foucault-split Schuler periods are labelled by size in either hemisphere
+(:func:`label_split_by_size`): "Schuler − Foucault" is always the longer period
+2π/(ω̄ − Ω|sin φ|), "Schuler + Foucault" the shorter 2π/(ω̄ + Ω|sin φ|).
 """
 
 from __future__ import annotations
@@ -30,7 +40,12 @@ from pathlib import Path
 import numpy as np
 
 from ins_errors.errors import DomainError
-from ins_errors.models.earth import EARTH_RATE
+from ins_errors.models.earth import (
+    EARTH_RATE,
+    MEAN_RADIUS,
+    WGS84_EQUATORIAL_GRAVITY,
+    WGS84_SOMIGLIANA_K,
+)
 from ins_errors.numeric.accuracy import ORDERS
 from ins_errors.numeric.closed_forms import closed_forms
 from ins_errors.numeric.compare import Comparison, add_integration_errors, comparisons_of
@@ -57,6 +72,86 @@ QUANTITIES: tuple[tuple[str, str, str, str], ...] = (
     ("alpha_U", "Qz", "arcmin", "platform azimuth error"),
 )
 """Error quantities in the report's order, with the units they are plotted in."""
+
+ROUNDING_FLOOR = 1e-12
+"""Rounding level of the closed forms, as a fraction of a source's largest error quantity
+(velocities taken as the equivalent angle δv/√(gR), angles in rad): a value or a
+difference below it is zero. Closed-form round-off is ~1e-17 of that size; the smallest
+real quantity of the experiment ~1e-3 of it."""
+
+SPLIT_MODES = ("Schuler − Foucault", "Schuler + Foucault")
+"""Names of the Foucault-split Schuler periods: the longer period (frequency
+ω̄ − Ω|sin φ|), then the shorter (ω̄ + Ω|sin φ|), ω̄ = √(g/R + Ω² sin² φ)."""
+
+
+def label_split_by_size(periods: dict[str, float]) -> dict[str, float]:
+    """The periods with the Foucault-split pair named by size, in either hemisphere.
+
+    The closed forms name the pair after ω± = ω̄ ± Ω sin φ with the *signed* Ω sin φ,
+    so south of the equator their "Schuler + Foucault" is the longer period. Here the
+    longer period is always "Schuler − Foucault" (the Schuler frequency lowered by the
+    Foucault rate Ω|sin φ|) and the shorter "Schuler + Foucault".
+
+    Parameters
+    ----------
+    periods : dict
+        Mode name -> period, s (other modes are passed through unchanged).
+
+    Returns
+    -------
+    dict
+        Same keys in the same order.
+    """
+    if not all(name in periods for name in SPLIT_MODES):
+        return dict(periods)
+    longer, shorter = sorted((periods[name] for name in SPLIT_MODES), reverse=True)
+    by_size = dict(zip(SPLIT_MODES, (longer, shorter), strict=True))
+    return {name: by_size.get(name, value) for name, value in periods.items()}
+
+
+@dataclass(frozen=True)
+class ReducedComparison:
+    """The report's reduced closed forms against the full ones, for one source.
+
+    Attributes
+    ----------
+    relative : numpy.ndarray, shape (7,)
+        Per quantity of :data:`QUANTITIES` that both models have: max over the run of
+        |reduced − full| / max |full|, exactly 0 where the difference is at rounding
+        level (:data:`ROUNDING_FLOOR`); NaN for a quantity one of them does not have.
+    lacking : tuple of str
+        Report names (dVx, …) of the quantities the full model has and the reduced model
+        leaves at zero: the dropped Foucault terms are their only path from the source.
+    extra : tuple of str
+        Report names of quantities only the reduced model has (none for the report's
+        reduced model; listed rather than divided by zero).
+    """
+
+    relative: np.ndarray
+    lacking: tuple[str, ...]
+    extra: tuple[str, ...]
+
+    def worst(self) -> float:
+        """Largest :attr:`relative` (NaN when the models share no quantity)."""
+        return finite_max(self.relative)
+
+    def worst_quantity(self) -> str | None:
+        """Report name of the quantity of :meth:`worst` (None with no difference)."""
+        if not np.any(self.relative > 0):
+            return None
+        return QUANTITIES[int(np.nanargmax(self.relative))][1]
+
+
+def finite_max(values: np.ndarray) -> float:
+    """Largest finite value, NaN when there is none (no all-NaN warning)."""
+    values = np.asarray(values, dtype=float)
+    finite = values[np.isfinite(values)]
+    return float(finite.max()) if finite.size else float("nan")
+
+
+MAGNITUDES = ("gyro_drift", "accel_bias", "velocity_error", "position_error", "level_error",
+              "azimuth_error")
+"""The magnitude fields of :class:`Experiment` (each must be non-zero)."""
 
 
 @dataclass(frozen=True)
@@ -119,6 +214,11 @@ class Experiment:
         for name in ("duration", "step", "record_interval"):
             if getattr(self, name) <= 0:
                 raise DomainError(f"experiment: {name} must be positive")
+        for name in MAGNITUDES:
+            if getattr(self, name) == 0:
+                raise DomainError(f"experiment: {name} is zero: every source runs alone at "
+                                  "its magnitude and is compared by ratios, which a zero "
+                                  "source leaves 0/0")
         if self.method not in ORDERS:
             from ins_errors.errors import unknown_name
 
@@ -141,6 +241,10 @@ class SourceCurves:
         the direct and the linear run's estimates; None when not estimated.
     warnings : list of str
         One line each, e.g. an integration error too large, with a step that would do.
+    schuler_speed : float
+        √(gR) of the model, m/s: a velocity error δv weighs as the angle δv/√(gR) when
+        the quantities of a source are put on one scale (the Schuler loop turns a tilt
+        α into a velocity-error swing α√(gR)).
     """
 
     source: str
@@ -151,6 +255,7 @@ class SourceCurves:
     direct: np.ndarray
     integration_error: np.ndarray | None = None
     warnings: list[str] = field(default_factory=list)
+    schuler_speed: float = float(np.sqrt(STANDARD_GRAVITY * MEAN_RADIUS))
 
     def integration_share(self) -> float:
         """Worst over quantities of integration error / max |linear numeric|: on the same
@@ -171,15 +276,50 @@ class SourceCurves:
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(scale > 0, gap / scale, np.nan)
 
+    def reduced_vs_full(self) -> ReducedComparison:
+        """The report's reduced closed forms against the full ones, quantity by quantity.
+
+        Each quantity's difference is judged against its size in the full model. The
+        rounding floor is :data:`ROUNDING_FLOOR` times the source's largest quantity on
+        one scale (velocities as δv/√(gR), angles in rad): a difference below it is 0
+        (at the equator the two models are the same one), and a quantity below it in one
+        model is one that model does not have (named in ``lacking`` or ``extra``, not
+        counted as a 100 % difference).
+        """
+        weight = np.array([1 / self.schuler_speed if q[2] == "m/s" else 1.0
+                           for q in QUANTITIES])
+        full = np.max(np.abs(self.analytic), axis=1)
+        reduced = np.max(np.abs(self.reduced), axis=1)
+        gap = np.max(np.abs(self.reduced - self.analytic), axis=1)
+        size = max(float(np.max(full * weight)), float(np.max(reduced * weight)))
+        floor = ROUNDING_FLOOR * size / weight
+        has_full, has_reduced = full > floor, reduced > floor
+        relative = np.full(len(QUANTITIES), np.nan)
+        for k in np.nonzero(has_full & has_reduced)[0]:
+            relative[k] = gap[k] / full[k] if gap[k] > floor[k] else 0.0
+        names = [q[1] for q in QUANTITIES]
+        return ReducedComparison(
+            relative,
+            tuple(n for n, f, r in zip(names, has_full, has_reduced, strict=True) if f and not r),
+            tuple(n for n, f, r in zip(names, has_full, has_reduced, strict=True) if r and not f))
+
 
 @dataclass
 class PropagationResult:
-    """Everything the experiment produced."""
+    """Everything the experiment produced.
+
+    ``periods`` maps variant -> mode -> period (s), the Foucault-split pair named by size
+    (:func:`label_split_by_size`); ``gravity`` (m/s²), ``radius`` (m) and ``earth_rate``
+    (rad/s) are the model's g, R and Ω those periods come from.
+    """
 
     experiment: Experiment
     times: np.ndarray
     curves: list[SourceCurves] = field(default_factory=list)
     periods: dict[str, dict[str, float]] = field(default_factory=dict)
+    gravity: float = STANDARD_GRAVITY
+    radius: float = MEAN_RADIUS
+    earth_rate: float = EARTH_RATE
 
     def curve(self, source: str) -> SourceCurves:
         """Curves of one source."""
@@ -209,20 +349,26 @@ class PropagationResult:
             "error quantity of each source (quantities that stay exactly zero skipped). "
             "Integration error = the larger estimated integration error (step doubling) "
             "of the direct and linear runs on the same scale, worst quantity: to be read "
-            "beside 'direct vs linear'.", "",
+            "beside 'direct vs linear'. Reduced vs full = max over the run of "
+            "|reduced − full| / max |full|, per quantity both closed forms have, the worst "
+            "one named; a difference below "
+            f"{ROUNDING_FLOOR:.0e} of the source's largest quantity (velocities as the angle "
+            "δv/√(gR)) is rounding and counts as 0. Quantities the full model has and the "
+            "reduced model leaves at zero (the dropped Foucault terms are their only path "
+            "from that source) are named in the last column instead.", "",
             "| source | analytic (full) vs linear numeric | direct vs linear numeric | "
-            "integration error | reduced vs full analytic | worst quantity (direct) |",
-            "|---|---|---|---|---|---|",
+            "integration error | worst quantity (direct) | reduced vs full analytic | "
+            "not in the reduced model |",
+            "|---|---|---|---|---|---|---|",
         ]
         for c in self.curves:
             a = c.agreement("analytic", "linear")
             d = c.agreement("direct", "linear")
-            r = c.agreement("reduced", "analytic")
+            r = c.reduced_vs_full()
             worst = QUANTITIES[int(np.nanargmax(d))][1] if np.any(np.isfinite(d)) else "–"
-            share = c.integration_share()
-            shown = f"{share:.2e}" if np.isfinite(share) else "–"
-            lines.append(f"| `{c.source}` | {np.nanmax(a):.2e} | {np.nanmax(d):.2e} | "
-                         f"{shown} | {np.nanmax(r):.2e} | {worst} |")
+            lines.append(f"| `{c.source}` | {_figure(finite_max(a))} | {_figure(finite_max(d))} | "
+                         f"{_figure(c.integration_share())} | {worst} | "
+                         f"{_reduced_cell(r)} | {_lacking_cell(r)} |")
         warned = [(c.source, w) for c in self.curves for w in c.warnings]
         if warned:
             lines += ["", "Warnings:", ""] + [f"- `{name}`: {w}" for name, w in warned]
@@ -231,15 +377,16 @@ class PropagationResult:
         for variant, periods in self.periods.items():
             for mode, value in periods.items():
                 lines.append(f"| {variant} | {mode} | {value / 60:.2f} |")
-        foucault = foucault_period(e.latitude)
-        lines += ["", f"Foucault period 2π/(U sin φ) at {np.degrees(e.latitude):.4g}°: "
-                  f"{foucault / 3600:.1f} h. The report's reduced model leaves out the "
-                  "Foucault coupling, so its Schuler oscillation keeps its plane while the "
-                  "full one turns it round; after half a Foucault period "
-                  f"({foucault / 7200:.1f} h) the two oscillate in opposite phase, and "
-                  "'reduced vs full' reaches about 2 on a run that long: the size of the "
-                  "Foucault modulation, not an error of either."]
-        lines += ["", "24-hour values (direct numeric):", "",
+        lines += ["", _period_note(e.latitude, self.gravity, self.radius, self.earth_rate,
+                                   "g", "the model's parameter g" + (
+                                       ", standard gravity"
+                                       if self.gravity == STANDARD_GRAVITY else ""),
+                                   "the model's parameter R" + (
+                                       ", the mean Earth radius"
+                                       if self.radius == MEAN_RADIUS else "")),
+                  "", foucault_note(e.latitude, e.duration, self.earth_rate)]
+        lines += ["", f"Values at the end of the run, {_hours(e.duration)} (direct numeric):",
+                  "",
                   "| source | " + " | ".join(f"{q[1]}, {q[2]}" for q in QUANTITIES) + " |",
                   "|---|" + "---|" * len(QUANTITIES)]
         for c in self.curves:
@@ -252,6 +399,76 @@ def foucault_period(latitude: float, earth_rate: float = EARTH_RATE) -> float:
     """The Foucault period 2π / (U sin φ), s (infinite at the equator)."""
     rate = earth_rate * abs(np.sin(latitude))
     return 2 * np.pi / rate if rate > 0 else float("inf")
+
+
+def foucault_note(latitude: float, duration: float, earth_rate: float = EARTH_RATE) -> str:
+    """What the Foucault rotation does to 'reduced vs full' on this run, one paragraph.
+
+    Three cases: the equator (no Foucault rotation: the reduced model is the full one),
+    a run shorter than half a Foucault period (the Schuler plane has turned by
+    Ω|sin φ|·t only) and a longer run (the two models oscillate in opposite phase).
+    """
+    at = f"at {np.degrees(latitude):.4g}°"
+    period = foucault_period(latitude, earth_rate)
+    if not np.isfinite(period):
+        return (f"No Foucault rotation {at}: Ω sin φ = 0, so the Foucault period "
+                "2π/(Ω sin φ) is infinite, the Schuler split vanishes (both split periods "
+                "are the Schuler period) and the report's reduced model, which drops only "
+                "the ±2Ω sin φ Foucault terms, is the full model: 'reduced vs full' is 0.")
+    head = (f"Foucault period 2π/(Ω |sin φ|) {at}: {period / 3600:.1f} h. The report's "
+            "reduced model leaves out the Foucault coupling, so its Schuler oscillation "
+            "keeps its plane while the full one turns it round at Ω |sin φ|; ")
+    if duration < period / 2:
+        turned = 2 * np.pi * duration / period
+        return head + (f"this run ({_hours(duration)}) is shorter than half a Foucault "
+                       f"period ({period / 7200:.1f} h): by its end the plane has turned by "
+                       f"θ = {np.degrees(turned):.3g}°. A quantity along the swing differs "
+                       f"by up to about 1 − cos θ = {1 - np.cos(turned):.2g} of its size; "
+                       "one across the swing comes from the turning in the full model only "
+                       f"(up to sin θ = {np.sin(turned):.2g} of the swing): it is not in the "
+                       "reduced model at all, or, where the reduced model reaches it by "
+                       "another path (e.g. gyro drifts, tilts), differs by about its own size. "
+                       "The opposite phase of half a Foucault period is not reached.")
+    return head + (f"after half a Foucault period ({period / 7200:.1f} h) the two oscillate "
+                   "in opposite phase, and 'reduced vs full' reaches about 2 on this run: "
+                   "the size of the Foucault modulation, not an error of either.")
+
+
+def _period_note(latitude: float, gravity: float, radius: float, earth_rate: float,
+                 gravity_name: str, gravity_source: str, radius_source: str) -> str:
+    """How the Foucault-split periods are named and what they were computed from."""
+    w_u = earth_rate * abs(np.sin(latitude))
+    w_bar = np.sqrt(gravity / radius + w_u**2)
+    return (f"{SPLIT_MODES[0]} = 2π/(ω̄ − Ω|sin φ|), the longer period, and {SPLIT_MODES[1]} "
+            "= 2π/(ω̄ + Ω|sin φ|), the shorter, in either hemisphere; ω̄ = "
+            f"√({gravity_name}/R + Ω² sin² φ) = {w_bar:.6e} rad/s from {gravity_name} = "
+            f"{gravity:.6g} m/s², R = {radius:.7g} m and Ω = {earth_rate:.7g} rad/s. "
+            f"{gravity_name} is {gravity_source}; R is {radius_source}.")
+
+
+def _hours(duration: float) -> str:
+    return f"{duration / 3600:.4g} h"
+
+
+def _figure(value: float) -> str:
+    return f"{value:.2e}" if np.isfinite(value) else "–"
+
+
+def _reduced_cell(r: ReducedComparison) -> str:
+    """'reduced vs full' of one source: worst relative difference and its quantity."""
+    worst = r.worst()
+    if not np.isfinite(worst):
+        return "–"
+    if worst == 0:
+        return "0 (same to rounding)"
+    return f"{worst:.2e} ({r.worst_quantity()})"
+
+
+def _lacking_cell(r: ReducedComparison) -> str:
+    cell = ", ".join(r.lacking) or "–"
+    if r.extra:
+        cell += "; only in the reduced model: " + ", ".join(r.extra)
+    return cell
 
 
 def _display(value_si, unit: str):
@@ -297,7 +514,10 @@ def run(experiment: Experiment | None = None, progress: bool = False) -> Propaga
             (("full", "full"), ("reduced", "report_reduced"))}
     states = [s.name for s in model.error_states]
     rows = [states.index(q[0]) for q in QUANTITIES]
-    result = PropagationResult(e, times)
+    names = [q.name for q in model.parameters]
+    gravity, radius = float(p[names.index("g")]), float(p[names.index("R")])
+    result = PropagationResult(e, times, gravity=gravity, radius=radius,
+                               earth_rate=float(p[names.index("U")]))
     for b, (name, magnitude) in enumerate(sources.items()):
         j = [s.name for s in model.sources].index(name)
         result.curves.append(SourceCurves(
@@ -308,8 +528,10 @@ def run(experiment: Experiment | None = None, progress: bool = False) -> Propaga
             direct=np.stack([direct[q[0]][:, b] for q in QUANTITIES]),
             integration_error=_integration_errors(comparisons[b]),
             warnings=list(comparisons[b].warnings),
+            schuler_speed=float(np.sqrt(gravity * radius)),
         ))
-    result.periods = {"full": cf.periods("full"), "report_reduced": cf.periods("report_reduced")}
+    result.periods = {variant: label_split_by_size(cf.periods(variant))
+                      for variant in ("full", "report_reduced")}
     return result
 
 
@@ -438,7 +660,7 @@ def write_report(result: PropagationResult, folder: str | Path,
 
 
 # --------------------------------------------------------------------------------------
-# Source 000, task 4: the orthodromic INS over a day, numeric vs analytic
+# Source 000, task 4: the orthodromic INS over a day (or --hours), numeric vs analytic
 # --------------------------------------------------------------------------------------
 ORTHODROMIC_MAGNITUDES: dict[str, float] = {
     "initial_tilt_x": float(np.radians(20 / 3600)),
@@ -492,6 +714,14 @@ class DayResult:
         (step doubling, as ``compare``) / max |direct error|; NaN where not excited.
     warnings : list of list of str
         Per source: integration-error warnings, one line each.
+    gravity : float
+        a_ζ of the static base, m/s²: the vertical specific force the closed forms and
+        the runs use, normal gravity by the WGS-84 Somigliana formula on the model's
+        sphere (e² = 0), γ_e (1 + k sin² φ).
+    radius : float
+        Sphere radius a of the closed forms, m (the Krasovsky semi-major axis).
+    earth_rate : float
+        U of the closed forms, rad/s.
     """
 
     latitude: float
@@ -505,6 +735,9 @@ class DayResult:
     periods: dict[str, float]
     integration: np.ndarray | None = None
     warnings: list[list[str]] = field(default_factory=list)
+    gravity: float = float("nan")
+    radius: float = float("nan")
+    earth_rate: float = EARTH_RATE
 
     def excited(self) -> np.ndarray:
         """Per source: True unless the closed form is identically zero (a factor whose
@@ -528,11 +761,19 @@ class DayResult:
     def summary_markdown(self) -> str:
         """Agreement table (source 000, task 4) as Markdown."""
         lines = [
-            "# Orthodromic INS over a day (source 000, task 4): numeric vs analytic", "",
+            f"# Orthodromic INS over {_hours(self.duration)} (source 000, task 4): numeric "
+            "vs analytic", "",
             f"Static base at latitude {np.degrees(self.latitude):.4g}°, ξ north, sphere of "
-            f"the Krasovsky radius, {self.duration / 3600:.4g} h. Periods from the closed "
+            f"the Krasovsky radius, {_hours(self.duration)}. Periods from the closed "
             "forms: " + ", ".join(f"{k} {v / 60:.2f} min" for k, v in self.periods.items())
             + ".", "",
+            _period_note(self.latitude, self.gravity, self.radius, self.earth_rate, "a_ζ",
+                         "the vertical specific force at rest: normal gravity by the WGS-84 "
+                         "Somigliana formula γ_e·(1 + k sin² φ)/√(1 − e² sin² φ) with γ_e = "
+                         f"{WGS84_EQUATORIAL_GRAVITY} m/s² and k = {WGS84_SOMIGLIANA_K} on "
+                         "the model's sphere, e² = 0: γ_e·(1 + k sin² φ), not the standard "
+                         "9.80665 m/s²",
+                         "the sphere's radius a, the Krasovsky semi-major axis"), "",
             "Agreement = worst error state of max |difference| / max |linear numeric|.", "",
             "Integration error = estimated integration error (step doubling) / max |direct|,"
             " worst excited quantity.", "",
@@ -604,7 +845,10 @@ def orthodromic_day(latitude: float = float(np.radians(50.0)), duration: float =
     shares = np.array([max((m.integration_error / m.max_direct for m in c.excited
                             if m.integration_error is not None), default=np.nan)
                        for c in comparisons])
+    names = [q.name for q in model.parameters]
     return DayResult(latitude, duration, sim.times, analytic,
                      np.transpose(sim.linear, (0, 2, 1)), np.transpose(direct, (0, 2, 1)),
-                     sources, [s.name for s in model.error_states], cf.periods(),
-                     shares, [list(c.warnings) for c in comparisons])
+                     sources, [s.name for s in model.error_states],
+                     label_split_by_size(cf.periods()), shares,
+                     [list(c.warnings) for c in comparisons], gravity,
+                     float(cf.p[names.index("a")]), float(cf.p[names.index("U")]))
