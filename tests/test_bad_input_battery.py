@@ -167,6 +167,7 @@ CLI_CASES: dict[str, list[str]] = {
                                       "--method", "euler"],
     "propagation-orthodromic-drift": ["propagation", "--orthodromic", "--hours", "1",
                                       "--drift", "1 deg/h"],
+    "propagation-zero-drift": ["propagation", "--hours", "1", "--drift", "0deg/h"],
 }
 
 
@@ -228,6 +229,8 @@ NAMED = {
     # --method euler selected the rectangle method there too)
     "propagation-orthodromic-euler": "--method applies to the 001 experiment",
     "propagation-orthodromic-drift": "--drift applies to the 001 experiment",
+    # printed "RuntimeWarning: All-NaN slice" with source paths and rows of nan
+    "propagation-zero-drift": "--drift is zero",
     "compare-below-the-centre": "motion height -7000 km is at or below the Earth's centre",
     "compare-nan-in-motion-file": "v_N is NaN or infinite in sample 2 of 4",
     # the file's own key names, not pydantic's (it said motion.latitude.str = [...])
