@@ -3,7 +3,11 @@
 Inside the library everything is SI with radians. This module converts user text such
 as ``"0.01 deg/h"``, ``"10 ug"``, ``"20 arcsec"``, ``"5 arcmin"``, ``"100 ppm"``,
 ``"0.1 m/s"`` or ``"1e-4 g"`` to SI numbers, checking that the dimension matches what
-the quantity needs (an angle given in m/s is an error, not a silent number).
+the quantity needs (an angle given in m/s is an error, not a silent number) and that
+the power of the angle matches (pint counts radians as dimensionless, so ``deg**2``
+would otherwise convert to ``rad``). A quantity is one number followed by one unit
+expression: ``"45 deg 30 arcmin"`` (which pint reads as a product) is refused with a
+suggestion (``'45.5 deg'``), never added up silently.
 
 ``g`` is standard gravity, 9.80665 m/s² (pint's ``g_0``); ``ug`` is a micro-g.
 """
@@ -114,10 +118,35 @@ def installation_folder(store: Path) -> Path:
 _ALIASES = {"deg/hr": "deg/h", "°/h": "deg/h", "″": "arcsec", "′": "arcmin", "°": "deg"}
 
 
+def _square_roots(text: str) -> str:
+    """``sqrt(X)`` and ``√X`` (X a name or a bracket) written as ``(X)**0.5``: pint has
+    no square-root function, and a random walk is quoted per √h or √Hz."""
+    while (start := text.find("sqrt(")) >= 0 or (start := text.find("√")) >= 0:
+        opening = start + (4 if text.startswith("sqrt(", start) else 1)
+        if text.startswith("(", opening):
+            depth, end = 0, opening
+            while end < len(text):
+                depth += {"(": 1, ")": -1}.get(text[end], 0)
+                end += 1
+                if depth == 0:
+                    break
+            else:
+                return text  # an unclosed bracket: pint words the error
+            inner = text[opening + 1:end - 1]
+        else:
+            name = re.match(r"\s*([^\W\d]\w*)", text[opening:])
+            if name is None:
+                return text  # '√' before nothing to take the root of: pint's error
+            inner, end = name.group(1), opening + name.end()
+        text = f"{text[:start]}({inner})**0.5{text[end:]}"
+    return text
+
+
 def _normalise(text: str) -> str:
     text = text.strip()
     for old, new in _ALIASES.items():
         text = text.replace(old, new)
+    text = _square_roots(text)
     # a bare 'g' (or 'mg') means gravity, not grams; 'ppm' a plain ratio
     text = re.sub(r"(?<![A-Za-z_])g(?![A-Za-z_])", "gee", text)
     text = re.sub(r"(?<![A-Za-z_])mg(?![A-Za-z_])", "milli_gee", text)
@@ -132,13 +161,116 @@ UNIT_FAMILIES: dict[str, str] = {
     "m/s": "a velocity, e.g. '{v} m/s' or '{v} km/h'",
     "m": "a length, e.g. '{v} m' or '{v} km'",
     "s": "a time, e.g. '{v} s', '{v} min' or '{v} h'",
+    "1": "a plain number or ratio, e.g. '{v}', '{v} ppm' or '{v} %'",
 }
-"""What a bare number lacks, by SI unit: the family of units expected, with examples."""
+"""The family of units expected by SI unit, with examples (what a bare number lacks)."""
 
 
 def _needs_unit(text: object, unit: str, what: str) -> UnitError:
+    return UnitError(f"{what}: {text!r} has no unit; give {_example(unit, str(text))}")
+
+
+_TOKEN = re.compile(r"""\s*(?:(?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+                       |(?P<name>[^\W\d]\w*)|(?P<op>\*\*|[-+*/^()])|(?P<other>\S))""",
+                    re.VERBOSE)
+"""One token of a quantity's text: a number, a name (a unit), an operator or else."""
+
+_NOT_FINITE = frozenset({"nan", "inf", "infinity"})
+"""Names pint reads as a number (refused later as not finite)."""
+
+
+def _second_number(text: str) -> tuple[int, str] | None:
+    """Where ``text`` (normalised) breaks the rule *one number, then one unit
+    expression*: (position, number) of a number after the leading one, else None.
+
+    pint multiplies things written side by side, so ``"45 deg 30 arcmin"`` would be
+    45·30 deg·arcmin, which converts to radians (an angle is dimensionless to pint). A
+    number is allowed after the leading one only as an exponent (``h**0.5``,
+    ``s^-1``, ``Hz**(1/2)``), as the 1 of a reciprocal (``1/s``), or as the
+    denominator of a leading fraction (``1/3600 Hz``). A text with no number at all
+    (``"deg"``, ``""``) or a unit before its number is refused too (position -1, '').
+    """
+    tokens = [(m.lastgroup, m.group(m.lastgroup), m.start(m.lastgroup))
+              for m in _TOKEN.finditer(text)]
+    i = 1 if tokens and tokens[0][1] in ("+", "-") else 0
+    if i < len(tokens) and (tokens[i][0] == "number"
+                            or tokens[i][1].lower() in _NOT_FINITE):
+        i += 1
+        if [kind for kind, *_ in tokens[i:i + 2]] == ["op", "number"] and tokens[i][1] == "/":
+            i += 2   # a leading fraction, 1/3600
+    else:
+        return -1, ""   # a unit before the number, no number at all, or nothing
+    exponent_brackets: list[bool] = []   # per open bracket: whether it is an exponent's
+    after_power = False
+    for k in range(i, len(tokens)):
+        kind, value, start = tokens[k]
+        in_exponent = after_power or any(exponent_brackets)
+        if kind == "op" and value in ("**", "^"):
+            after_power = True
+            continue
+        if kind == "op" and value in ("+", "-") and after_power:
+            continue   # the sign of an exponent
+        if kind == "op" and value == "(":
+            exponent_brackets.append(after_power)
+        elif kind == "op" and value == ")" and exponent_brackets:
+            exponent_brackets.pop()
+        elif kind == "number" and not in_exponent:
+            reciprocal = (float(value) == 1 and k + 1 < len(tokens)
+                          and tokens[k + 1][1] == "/")
+            if not reciprocal:
+                return start, value
+        after_power = False
+    return None
+
+
+def _angle_power(quantity: pint.Quantity) -> float:
+    """The power of radian in a quantity's units reduced to base units (``deg/h`` -> 1,
+    ``deg*arcmin`` -> 2, ``Hz`` -> 0): pint counts an angle as dimensionless, so the
+    dimension check alone cannot tell an angle from an angle squared or a plain ratio."""
+    return float(dict(quantity.to_root_units().unit_items()).get("radian", 0))
+
+
+def _power_words(power: float) -> str:
+    return {0: "no angle", 1: "an angle", 2: "an angle squared"}.get(
+        power, f"an angle to the power {power:g}")
+
+
+def _example(unit: str, number: str) -> str:
+    """How :data:`UNIT_FAMILIES` suggests giving a value in ``unit`` (``number``: the
+    magnitude to show)."""
     family = UNIT_FAMILIES.get(unit, f"a quantity in units of {unit}, e.g. '{{v}} {unit}'")
-    return UnitError(f"{what}: {text!r} has no unit; give {family.format(v=text)}")
+    return family.format(v=number)
+
+
+def _sum_of_parts(text: str, unit: str) -> str | None:
+    """``"45.5 deg"`` for ``"45 deg 30 arcmin"``: the parts written side by side added up,
+    in the first part's unit, as a suggestion only (None when a part is not a magnitude
+    with a unit of the same kind; a leading sign applies to the whole, as in -45° 30′)."""
+    ureg = registry()
+    normal = _normalise(text)
+    sign = -1.0 if normal.startswith("-") else 1.0
+    normal = normal.lstrip("+-")
+    cuts = [0]
+    while (found := _second_number(normal[cuts[-1]:])) is not None and found[0] > 0:
+        cuts.append(cuts[-1] + found[0])
+    parts = [normal[a:b].strip() for a, b in
+             zip(cuts, [*cuts[1:], len(normal)], strict=True)]
+    first = _TOKEN.match(parts[0])
+    if len(parts) < 2 or first is None or first.lastgroup != "number":
+        return None
+    shown = parts[0][first.end():].strip()
+    try:
+        target = _units(ureg, unit)
+        total = 0.0
+        for part in parts:
+            quantity = ureg.parse_expression(part)
+            if (not isinstance(quantity, ureg.Quantity) or quantity.magnitude <= 0
+                    or _angle_power(quantity) != _angle_power(1 * target)):
+                return None
+            total += float(quantity.to(ureg.parse_units(shown)).magnitude)
+    except Exception:  # pint raises several unrelated types
+        return None
+    return f"{sign * total:.10g} {shown}"
 
 
 _IN_TARGET_UNIT = re.compile(
@@ -157,9 +289,15 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
     Parameters
     ----------
     text : str or float
-        ``"0.01 deg/h"``, ``"10ug"``, ``"5 arcmin"``. Text must carry its unit when
-        ``unit`` has one: ``"0.01"`` for a gyro drift is refused (it would silently mean
-        0.01 rad/s); zero and plain ratios (``unit == "1"``) need none.
+        ``"0.01 deg/h"``, ``"10ug"``, ``"5 arcmin"``, ``"0.05 deg/sqrt(h)"``: one number
+        followed by one unit expression (numbers after the first only in exponents,
+        ``h**0.5``, or as the 1 of ``1/s``; ``"1/3600 Hz"`` is one number). Text must
+        carry its unit when ``unit`` has one: ``"0.01"`` for a gyro drift is refused (it
+        would silently mean 0.01 rad/s); zero and plain ratios (``unit == "1"``) need
+        none. Two quantities side by side (``"45 deg 30 arcmin"``, which pint would
+        multiply) and a unit with another power of the angle than ``unit`` has
+        (``"45 deg**2"`` for ``rad``, ``"10 Hz"`` for ``rad/s``: pint counts radians as
+        dimensionless, so these would convert) are refused.
     unit : str
         Target SI unit as the model states it (``"rad/s"``, ``"m/s**2"``, ``"rad"``,
         ``"m/s"``, ``"1"``).
@@ -177,8 +315,8 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
     Raises
     ------
     UnitError
-        If the text does not parse, is not finite, lacks a unit, or has another
-        dimension.
+        If the text does not parse, is not one number and one unit, is not finite,
+        lacks a unit, or has another dimension or power of the angle.
     """
     if isinstance(text, str):
         plain = _IN_TARGET_UNIT.fullmatch(text)
@@ -202,6 +340,15 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
         except _OtherDimensionError as problem:
             raise UnitError(f"{what}: {text!r} has units of {problem}, which do not convert "
                             f"to {unit}") from None
+        except _SecondNumberError as problem:
+            raise _second_number_error(str(text), unit, what, *problem.args) from None
+        except _AnglePowerError as problem:
+            shown, got, wanted = problem.args
+            number = _TOKEN.match(_normalise(str(text)))
+            raise UnitError(
+                f"{what}: {text!r} has units of {shown}, {_power_words(got)}, where {unit} "
+                f"needs {_power_words(wanted)}; give "
+                f"{_example(unit, number.group().strip() if number else '1')}") from None
     if value != value or value in (float("inf"), float("-inf")):
         raise UnitError(f"{what}: {text!r} is not a finite number")
     return value
@@ -219,6 +366,31 @@ class _OtherDimensionError(Exception):
     """A quantity whose units (the message) do not convert to the target unit."""
 
 
+class _SecondNumberError(Exception):
+    """Text that is not one number and one unit (args: position, number; see
+    :func:`_second_number`)."""
+
+
+class _AnglePowerError(Exception):
+    """A quantity whose angle power differs from the target unit's (args: its units,
+    its power, the target's power)."""
+
+
+def _second_number_error(text: str, unit: str, what: str, position: int,
+                         number: str) -> UnitError:
+    """The one line for a text that is not one number followed by one unit."""
+    lead = _TOKEN.match(_normalise(text).lstrip("+-"))
+    magnitude = lead.group().strip() if lead and lead.lastgroup == "number" else "1"
+    examples = _example(unit, magnitude).split("e.g. ", 1)[-1]
+    if position < 0:
+        return UnitError(f"{what}: {text!r} does not start with a number; give one number "
+                         f"followed by one unit, e.g. {examples}")
+    total = _sum_of_parts(text, unit)
+    return UnitError(f"{what}: {text!r} has a second number ({number}) after the first, "
+                     "and numbers side by side would be multiplied; give one number "
+                     f"followed by one unit, e.g. {f'{total!r}' if total else examples}")
+
+
 @lru_cache(maxsize=4096)
 def _text_value(ureg: pint.UnitRegistry, text: str, unit: str) -> float:
     """``text`` in the SI ``unit`` through ``ureg`` (raises the problems above).
@@ -228,10 +400,16 @@ def _text_value(ureg: pint.UnitRegistry, text: str, unit: str) -> float:
     on nothing but the registry, the text and the unit, which form the key; failures
     are not kept (they raise) and are worded by the caller.
     """
+    normal = _normalise(text)
+    second = _second_number(normal)
+    if second is not None and second[0] >= 0:
+        raise _SecondNumberError(*second)
     try:
-        quantity = ureg.parse_expression(_normalise(text))
+        quantity = ureg.parse_expression(normal)
     except Exception as error:  # pint raises several unrelated types
-        raise _UnreadableError(str(error)) from None
+        raise _UnreadableError(str(error)) from None   # e.g. 'four': pint names it
+    if second is not None:   # no leading number, e.g. 'deg'
+        raise _SecondNumberError(*second)
     if not isinstance(quantity, ureg.Quantity) or quantity.units == ureg.dimensionless:
         value = float(getattr(quantity, "magnitude", quantity))
         if unit != "1" and value != 0 and value == value:
@@ -239,10 +417,14 @@ def _text_value(ureg: pint.UnitRegistry, text: str, unit: str) -> float:
         return value
     import pint  # imported by registry()
 
+    target = _units(ureg, unit)
     try:
-        return float(quantity.to(_units(ureg, unit)).magnitude)
+        value = float(quantity.to(target).magnitude)
     except pint.DimensionalityError:
         raise _OtherDimensionError(f"{quantity.units:~}") from None
+    if (power := _angle_power(quantity)) != (wanted := _angle_power(1 * target)):
+        raise _AnglePowerError(f"{quantity.units:~}", power, wanted)
+    return value
 
 
 @lru_cache(maxsize=256)
