@@ -69,15 +69,24 @@ def test_negative_radius_is_rejected(orthodromic, point):
 
 @pytest.mark.parametrize(("model_name", "source"), [
     ("orthodromic", "gyro_drift_x=0.01deg/h"), ("free_azimuth", "gyro_drift_x=0.01deg/h"),
-    ("strapdown_ned", "gyro_bias_x=0.01deg/h")])
+    ("strapdown_ned", "gyro_bias_x=0.01deg/h"),
+    ("north_pointing", "gyro_drift_north=0.01deg/h")])
 @pytest.mark.parametrize("motion", ["static", "great-circle"])
-def test_latitude_near_a_pole_names_the_models_tolerance(capsys, model_name, source, motion):
+def test_latitude_near_a_pole_names_the_models_tolerance(capsys, tmp_path, model_name, source,
+                                                        motion):
     """89.99999° (0.036″ from the pole) is refused in one line quoting the latitude given
     and how close to a pole the model's formulas are singular; that distance is the
     model's actual rule: a latitude 1 % farther from the pole is taken, 1 % nearer is
-    not. These models need cos²φ > 1e-12, i.e. |φ| below 90° − asin(1e-6) rad."""
+    not. These models need cos²φ > 1e-12, i.e. |φ| below 90° − asin(1e-6) rad (the
+    north-pointing model asked cos φ > 1e-12 only, 2e-7″, and took 89.99995°, then
+    stopped mid-run on an infinite velocity error)."""
+    flight = ["--motion", motion]
+    if model_name == "north_pointing" and motion != "static":  # no heading: a motion file
+        (tmp_path / "east.csv").write_text("t,v_N,v_E\n0,0,100\n20,0,100\n40,0,100\n"
+                                           "60,0,100\n")
+        flight = ["--motion-file", str(tmp_path / "east.csv")]
     assert main(["compare", model_name, "--source", source, "--latitude", "89.99999deg",
-                 "--motion", motion, "--duration", "60s", "--step", "10s"]) == 2
+                 *flight, "--duration", "60s", "--step", "10s"]) == 2
     (line,) = capsys.readouterr().err.strip().splitlines()
     assert "latitude 89.99999° is refused" in line and "at ±90°" not in line, line
     within = re.search(r"singular within ([\d.]+)″ \(([\d.e+-]+) rad\) of a pole", line)

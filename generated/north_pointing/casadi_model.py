@@ -553,7 +553,7 @@ def _build_domain_margins():
     ecc2_ = p[1]
     g_ = p[3]
     _out = _m.SX(6, 1)
-    _out[0, 0] = _m.cos(phi_) - 1e-12
+    _out[0, 0] = _m.cos(phi_)**2 - 1e-12
     _out[1, 0] = R_
     _out[2, 0] = g_
     _out[3, 0] = 1 - ecc2_
@@ -572,7 +572,7 @@ def _build_initial_domain_margins():
     ecc2_ = p[1]
     g_ = p[3]
     _out = _m.SX(6, 1)
-    _out[0, 0] = _m.cos(latitude_) - 1e-12
+    _out[0, 0] = _m.cos(latitude_)**2 - 1e-12
     _out[1, 0] = R_
     _out[2, 0] = g_
     _out[3, 0] = 1 - ecc2_

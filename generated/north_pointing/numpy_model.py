@@ -805,7 +805,7 @@ def domain_margins(x, u, p):
     ecc2_ = p[1]
     g_ = p[3]
     _out = _np.zeros((6,) + _batch)
-    _out[0] = _m.cos(phi_) - 1e-12
+    _out[0] = _m.cos(phi_)**2 - 1e-12
     _out[1] = R_
     _out[2] = g_
     _out[3] = 1 - ecc2_
@@ -841,7 +841,7 @@ def initial_domain_margins(c, u, p):
     ecc2_ = p[1]
     g_ = p[3]
     _out = _np.zeros((6,) + _batch)
-    _out[0] = _m.cos(latitude_) - 1e-12
+    _out[0] = _m.cos(latitude_)**2 - 1e-12
     _out[1] = R_
     _out[2] = g_
     _out[3] = 1 - ecc2_

@@ -308,12 +308,12 @@ def build(platform: str = "exact") -> ModelDefinition:
             ("Platform error angles", ["alpha_E", "alpha_N", "alpha_U"]),
         ),
         domain=(
-            (sp.cos(lat) - 1e-12, pole),
+            (sp.cos(lat) ** 2 - 1e-12, pole),   # 1e-6 rad (0.206″), as the other models
             *common,
             (R + h, "R + h must be positive: height below the Earth's centre"),
         ),
         initial_domain=(
-            (sp.cos(lat0) - 1e-12, "initial " + pole),
+            (sp.cos(lat0) ** 2 - 1e-12, "initial " + pole),
             *common,
             (R + h, "R + h must be positive: height below the Earth's centre"),
         ),
