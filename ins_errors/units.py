@@ -186,8 +186,9 @@ def _second_number(text: str) -> tuple[int, str] | None:
     pint multiplies things written side by side, so ``"45 deg 30 arcmin"`` would be
     45·30 deg·arcmin, which converts to radians (an angle is dimensionless to pint). A
     number is allowed after the leading one only as an exponent (``h**0.5``,
-    ``s^-1``, ``Hz**(1/2)``), as the 1 of a reciprocal (``1/s``), or as the
-    denominator of a leading fraction (``1/3600 Hz``). A text with no number at all
+    ``s^-1``, ``Hz**(1/2)``), as the unit one (``1/s``; ``"0 1"`` for a plain ratio),
+    which multiplies by nothing, or as the denominator of a leading fraction
+    (``1/3600 Hz``). A text with no number at all
     (``"deg"``, ``""``) or a unit before its number is refused too (position -1, '').
     """
     tokens = [(m.lastgroup, m.group(m.lastgroup), m.start(m.lastgroup))
@@ -215,10 +216,9 @@ def _second_number(text: str) -> tuple[int, str] | None:
         elif kind == "op" and value == ")" and exponent_brackets:
             exponent_brackets.pop()
         elif kind == "number" and not in_exponent:
-            reciprocal = (float(value) == 1 and k + 1 < len(tokens)
-                          and tokens[k + 1][1] == "/")
-            if not reciprocal:
-                return start, value
+            following = tokens[k + 1][1] if k + 1 < len(tokens) else ""
+            if float(value) != 1 or following not in ("", "/", "*", ")"):
+                return start, value   # not the unit one (as '45 deg 1 arcmin')
         after_power = False
     return None
 
@@ -291,7 +291,7 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
     text : str or float
         ``"0.01 deg/h"``, ``"10ug"``, ``"5 arcmin"``, ``"0.05 deg/sqrt(h)"``: one number
         followed by one unit expression (numbers after the first only in exponents,
-        ``h**0.5``, or as the 1 of ``1/s``; ``"1/3600 Hz"`` is one number). Text must
+        ``h**0.5``, or as the unit one, ``1/s``; ``"1/3600 Hz"`` is one number). Text must
         carry its unit when ``unit`` has one: ``"0.01"`` for a gyro drift is refused (it
         would silently mean 0.01 rad/s); zero and plain ratios (``unit == "1"``) need
         none. Two quantities side by side (``"45 deg 30 arcmin"``, which pint would

@@ -48,6 +48,7 @@ LEGITIMATE = [
     ("1/3600 Hz", "1/s", 1 / HOUR),
     ("0.0293 1/s", "1/s", 0.0293),
     ("100 ppm", "1", 1e-4),
+    ("0.5 1", "1", 0.5),          # the unit one, as a parameter record writes it
     ("3", "1", 3.0),
     ("0", "rad", 0.0),
     ("6 rpm", "rad/s", 6 * 2 * math.pi / 60),   # a revolution is an angle, 2π rad
@@ -68,6 +69,7 @@ SIDE_BY_SIDE = [
     ("45 deg 30 arcmin 36 arcsec", "'45.51 deg'"),
     ("45deg 0.5", "'45 deg'"),                    # no second unit: the family's example
     ("2*3 deg", "'2 deg'"),
+    ("45 deg 1 arcmin", "'45.01666667 deg'"),
     ("1/3600 Hz 2", None),
 ]
 
