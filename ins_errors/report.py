@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import base64
 import html
-import json
 import mimetypes
 import re
 from functools import lru_cache
 from importlib import resources
 from pathlib import Path
 
+from ins_errors.json_output import dumps
 from ins_errors.model_parameters import parameters_record
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.output import OutputFolder
@@ -202,7 +202,7 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
                "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
                "curves": {"csv": "curves.csv", "mat": "curves.mat"},
                "cases": [c.to_dict() for c in result.comparisons]}
-    out.write_text("results.json", json.dumps(summary, indent=2) + "\n")
+    out.write_text("results.json", dumps(summary) + "\n")
     write_curves(out, result.comparisons)
     out.finish()
     return out.path / "report.md"

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import pytest
@@ -23,12 +24,62 @@ COMMANDS = {
 }
 
 
+def strict_json(text: str):
+    """``text`` parsed as strict JSON: NaN / Infinity / -Infinity refused (JavaScript's
+    JSON.parse and jq refuse them; Python's json.loads takes them by default)."""
+    def refuse(constant):
+        raise ValueError(f"not JSON: {constant}")
+
+    return json.loads(text, parse_constant=refuse)
+
+
 @pytest.mark.parametrize("name", COMMANDS)
 def test_json_output_parses(name, capsys):
     status = main(COMMANDS[name])
     assert status in (0, 1)  # check exits 1: the manual's printed equations have mistakes
-    data = json.loads(capsys.readouterr().out)
+    data = strict_json(capsys.readouterr().out)
     assert data
+
+
+def test_strict_parser_refuses_nan():
+    with pytest.raises(ValueError, match="NaN"):
+        strict_json('{"a": NaN}')
+
+
+def test_overflowing_matrix_check_writes_strict_json(tmp_path, monkeypatch, capsys):
+    """g instead of g/R in F[4, 7] of the ψ model: a mode growing with an e-folding time
+    under a second overflows the 24 h propagation. The JSON says null (and exponential),
+    never NaN, and no floating-point warning reaches the user."""
+    source = (ROOT / "examples/strapdown/psi_model.py").read_text(encoding="utf-8")
+    marker = "    G = np.zeros((9, 6))\n"
+    assert marker in source
+    (tmp_path / "hm.py").write_text(source.replace(marker, "    F[4, 7] = 9.81\n" + marker),
+                                    encoding="utf-8")
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # propagate afresh
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        status = main(["check", "strapdown_ned", "--matrix", f"{tmp_path / 'hm.py'}:psi_model",
+                       "--convention", "psi", "--json"])
+    captured = capsys.readouterr()
+    assert status == 1
+    assert "Warning" not in captured.err
+    data = strict_json(captured.out)
+    [wrong] = [f for f in data["findings"] if (f["row"], f["column"]) == ("dvc_E", "dr_E")]
+    alone = wrong["effect_alone_24h"]
+    assert alone["exponential"] and alone["position_m"] is None
+    # 9.81 /s² coupling of a position into a velocity: e-folding 1/sqrt(9.81) s
+    assert alone["e_folding_s"] == pytest.approx(9.81 ** -0.5, rel=0.05)
+
+
+def test_json_writer_turns_non_finite_numbers_into_null():
+    import numpy as np
+
+    from ins_errors.json_output import dumps
+
+    text = dumps({"a": float("nan"), "b": [np.float64(np.inf), np.array([1.0, -np.inf])],
+                  "c": np.int64(3), "d": (np.bool_(True), None)})
+    assert strict_json(text) == {"a": None, "b": [None, [1.0, None]], "c": 3,
+                                 "d": [True, None]}
 
 
 def test_every_subcommand_has_help(capsys):

@@ -795,8 +795,19 @@ def _transition_of(A: np.ndarray, times: np.ndarray, at: list[float]) -> list[np
     which the import extends to SciPy's own BLAS)."""
     expm = import_limited("scipy.linalg").expm
 
-    if np.all(A[:1] == A):
-        return [expm(A[0] * t) for t in at]
+    # a model with an exponentially growing mode overflows to inf / nan: the report says
+    # it grows exponentially and writes no number, so the floating-point warnings of
+    # that overflow (numpy's and SciPy's matrix products) tell nothing more
+    with np.errstate(over="ignore", invalid="ignore"):
+        if np.all(A[:1] == A):
+            return [expm(A[0] * t) for t in at]
+        return _stepped_transition(A, times, at)
+
+
+def _stepped_transition(A: np.ndarray, times: np.ndarray, at: list[float]
+                        ) -> list[np.ndarray]:
+    """:func:`_transition_of` of a time-varying A: each step the exponential of the mean
+    of A at its two ends."""
     dt = float(times[1] - times[0])
     mean = A[1:] + A[:-1]
     mean *= 0.5

@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import json
+
+from ins_errors.json_output import emit
 
 NO_RATIO = ("the covariance is 0 at this row (no source of the budget reaches "
             "it), so Monte Carlo / covariance is undefined")
@@ -121,7 +122,7 @@ def run(args: argparse.Namespace) -> int:
         data["contributions"] = {**outputs, "std": outputs["std"].tolist(),
                                  "total": outputs["total"].tolist()}
     if args.json:
-        print(json.dumps(data, indent=2, ensure_ascii=False))
+        emit(data, ensure_ascii=False)
         return 0
     print(rep.table(allocation))
     print()

@@ -5,9 +5,10 @@ F and G entry by entry (:mod:`ins_errors.checker.matrix`)."""
 from __future__ import annotations
 
 import argparse
-import json
 from collections.abc import Callable
 from pathlib import Path
+
+from ins_errors.json_output import emit
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -123,7 +124,10 @@ def emit_report(args: argparse.Namespace, markdown: Callable[[], str],
 
     if args.report is not None:
         write_text(args.report, markdown())
-    print(json.dumps(as_json(), indent=2) if args.json else terminal())
+    if args.json:
+        emit(as_json())
+    else:
+        print(terminal())
 
 
 def _declares_convention(path: Path) -> bool:

@@ -12,10 +12,10 @@ Every quantity is read with its unit by the units library (``0.01deg/h``, ``10ug
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from ins_errors.commands.run import TRUTHS
+from ins_errors.json_output import emit
 
 MOTIONS = ("static", "great-circle", "manoeuvre")  # motion_spec.MOTION_KINDS less "file"
 
@@ -209,12 +209,11 @@ def run(args: argparse.Namespace) -> int:
         written = f"plot written to {targets[0]}" if len(targets) == 1 else \
             f"plots written to {targets[0]} … {targets[-1].name} (one per case)"
     if args.json:
-        json.dump({"model": model.name, "motion": trajectory.description, "duration_s": duration,
+        emit({"model": model.name, "motion": trajectory.description, "duration_s": duration,
                    "step_s": tau, "record_s": record, "method": args.method,
                    "truth": args.truth, "truth_used": trajectory.truth_kind,
                    "parameters": parameters_record(model, parameters),
-                   "cases": [c.to_dict() for c in comparisons]}, sys.stdout, indent=2)
-        print()
+                   "cases": [c.to_dict() for c in comparisons]})
     else:
         print(text)
     if args.plot:  # beside the JSON, not inside it

@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from dataclasses import asdict
 from pathlib import Path
+
+from ins_errors.json_output import emit
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -44,8 +45,8 @@ def run(args: argparse.Namespace) -> int:
     summary = write_package(d, out, origin, record)
     files = sorted(p.name for p in out.iterdir())
     if args.json:
-        print(json.dumps({**asdict(summary), "out": str(out), "files": files,
-                          "model_file_sha256": ref.sha256}, indent=2))
+        emit({**asdict(summary), "out": str(out), "files": files,
+              "model_file_sha256": ref.sha256})
         return 0
     print(f"{'model':<20}{'states':>7}{'errors':>7}{'sources':>8}{'outputs':>8}"
           f"{'ops':>8}{'seconds':>9}")

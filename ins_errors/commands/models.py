@@ -3,7 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import json
+
+from ins_errors.json_output import emit
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -32,7 +33,7 @@ def run(args: argparse.Namespace) -> int:
             except InsErrorsError as error:
                 rows.append({"name": name, "error": str(error)})
         if args.json:
-            print(json.dumps(rows, indent=2))
+            emit(rows)
         else:
             for row in rows:
                 print(f"{row['name']:<20} " + (f"{row['title']}  [{row['source']}]"
@@ -44,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
               "outputs": model.outputs, "inputs": model.inputs,
               "parameters": model.parameters, "initial_conditions": model.initial_conditions}
     if args.json:
-        print(json.dumps({k: [vars(i) for i in v] for k, v in groups.items()}, indent=2))
+        emit({k: [vars(i) for i in v] for k, v in groups.items()})
         return 0
     print(f"{model.name}: {model.title}\nsource: {model.source_document}")
     for title, infos in groups.items():

@@ -18,11 +18,11 @@ quantity and ``not_in_reduced`` the quantities the reduced model leaves at zero.
 from __future__ import annotations
 
 import argparse
-import json
-import sys
 from pathlib import Path
 
 import numpy as np
+
+from ins_errors.json_output import emit
 
 _EXPERIMENT_OPTIONS = (("--drift", "0.1 deg/h", "gyro drift"),
                        ("--bias", "1e-4 g", "accelerometer bias"),
@@ -182,5 +182,4 @@ def _finite(value) -> float | None:
 
 
 def _print_json(data) -> None:
-    json.dump(data, sys.stdout, indent=2)
-    print()
+    emit(data)

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
 from pathlib import Path
+
+from ins_errors.json_output import emit
 
 TRUTHS = ("auto", "interpolated", "fine")  # trajectories.TRUTHS, without importing numpy
 SCENARIO_TRUTH_HELP = ("how the true motion of a moving run is built, as for 'ins-errors "
@@ -62,9 +63,7 @@ def run(args: argparse.Namespace) -> int:
     result = run_scenario(scenario, progress=not args.no_progress and steps >= 100_000)
     report = write_report(result, out, force=args.force)
     if args.json:
-        json.dump(json.loads((out / "results.json").read_text(encoding="utf-8")), sys.stdout,
-                  indent=2)
-        print()
+        emit(json.loads((out / "results.json").read_text(encoding="utf-8")))
     else:
         print(markdown_summary(result.comparisons, scenario.title))
         print(f"report: {report} (and report.html, plots, results.json in {out})")

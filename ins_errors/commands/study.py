@@ -19,8 +19,9 @@ Examples::
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
+
+from ins_errors.json_output import emit
 
 SPHEROID = "spheroid"
 
@@ -115,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
     if folder is not None:
         folder.finish()
     if args.json:
-        print(json.dumps({"study": args.name, "runs": report}, indent=2))
+        emit({"study": args.name, "runs": report})
     return 0
 
 
@@ -132,11 +133,11 @@ def _spheroid(args: argparse.Namespace, speed: float, step: float, folder) -> in
         lines.append(f"plot: {path}")
     if args.json:
         error = result.integration_error
-        print(json.dumps({"study": SPHEROID, "lines": lines,
+        emit({"study": SPHEROID, "lines": lines,
                           "integration_error_km": None if error is None else
                           float(error.max() * result.a / 1000),
                           "warnings": result.warnings,
-                          "formula_10_maximum": spheroid_error.formula_10_maximum()}, indent=2))
+                          "formula_10_maximum": spheroid_error.formula_10_maximum()})
     else:
         print("\n".join(lines))
     return 0

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ins_errors.commands.run import SCENARIO_TRUTH_HELP, TRUTHS
+from ins_errors.json_output import emit
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     where = result.engine.where if result.engine is not None else "nothing to run"
     if args.json:
         model = load_model(scenario.model)
-        print(json.dumps({"store": str(result.store), "points": result.points,
+        emit({"store": str(result.store), "points": result.points,
                           "computed": result.computed, "reused": result.reused,
                           "engine": where, "plot": None if plotted is None else str(plotted),
                           "truth": scenario.truth,
@@ -81,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
                           "swept": {name: data[name].attrs.get("units", "1")
                                     for name in sw.swept_names(data)},
                           "summary": sw.summary(data),
-                          "over_draws": sw.over_draws(data)}, indent=2, ensure_ascii=False))
+                          "over_draws": sw.over_draws(data)}, ensure_ascii=False)
         return 0
     print(f"{scenario.title}: {result.points} points, {result.computed} computed "
           f"({where}), {result.reused} read back from the store")

@@ -14,10 +14,10 @@ the linear residual reaches 1 % and 10 % of the error.
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 
 from ins_errors.commands.run import TRUTHS
+from ins_errors.json_output import dumps, emit
 
 MOTIONS = ("static", "great-circle", "manoeuvre")
 
@@ -131,7 +131,7 @@ def run(args: argparse.Namespace) -> int:
                "sources": [r.to_dict() for r in results]}
     if out_dir is not None:
         out = OutputFolder(out_dir, force=args.force)
-        out.write_text("results.json", json.dumps(payload, indent=2) + "\n")
+        out.write_text("results.json", dumps(payload) + "\n")
         if args.plot:
             from ins_errors.analysis.validity_plot import plot_validity
 
@@ -140,8 +140,7 @@ def run(args: argparse.Namespace) -> int:
                               title=f"{model.name}: {name}")
         out.finish()
     if args.json:
-        json.dump(payload, sys.stdout, indent=2)
-        print()
+        emit(payload)
     else:
         print(f"### {model.name}: validity of the linear error equations "
               f"({args.hours:g} h runs, τ = {step:g} s, RK4"
