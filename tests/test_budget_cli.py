@@ -49,7 +49,12 @@ def test_monte_carlo_row_with_zero_covariance(tmp_path, capsys):
                  if line.startswith("vertical_error at 10 min"))
     assert 0.2 < float(later.split()[-1]) < 5    # 2 runs: a sampling error of 50 %
     assert main([*argv, "--json"]) == 0
-    rows = json.loads(capsys.readouterr().out)["monte_carlo"]["rows"]
+    text = capsys.readouterr().out
+    rows = json.loads(text)["monte_carlo"]["rows"]
+    # the same seeded runs give the same JSON, byte for byte: no wall-clock time in it
+    assert "seconds" not in json.loads(text)["monte_carlo"]
+    assert main([*argv, "--json"]) == 0
+    assert capsys.readouterr().out == text
     assert rows[0]["covariance"] == 0.0 and rows[0]["monte_carlo"] == 0.0
     assert rows[0]["ratio"] is None and "undefined" in rows[0]["note"]
     assert rows[1]["ratio"] > 0 and "note" not in rows[1]
@@ -203,3 +208,52 @@ def test_spec_messages_use_the_files_words(tmp_path, capsys, change, words):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and words in err
     assert "constrained" not in err and ".str" not in err and "check time" not in err
+
+
+ROOT = Path(__file__).resolve().parent.parent
+FIXED_GYRO = ROOT / "examples" / "specs" / "gyro_drift_fixed.toml"
+
+
+def test_spec_exceeded_by_fixed_sources_exits_1_with_the_rows(tmp_path, capsys):
+    """A fixed gyro drift that alone breaks the spec is an answer ("exceeded", exit 1,
+    the rows with their ratios), not bad input (exit 2, nothing on standard output)."""
+    assert main(["budget", "orthodromic", "--spec", str(FIXED_GYRO), "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    assert data["exceeded"] is True
+    assert [s["name"] for s in data["sources"]] == ["gyro_drift_x"]
+    assert "gyro_drift_y" in data["free_sources"]
+    for row in data["rows"]:
+        assert row["ratio"] == pytest.approx(row["value"] / row["limit"])
+        assert row["exceeded"] == (row["ratio"] >= 1)
+    position = [r for r in data["rows"] if r["item"] == "position_error"]
+    assert all(r["exceeded"] for r in position)
+    # the covariance of one constant source is linear in its σ: twice the drift, twice
+    # every row's value
+    doubled = write(tmp_path, FIXED_GYRO.read_text().replace('"0.5 deg/h"', '"1.0 deg/h"'))
+    assert main(["budget", "orthodromic", "--spec", str(doubled), "--json"]) == 1
+    again = json.loads(capsys.readouterr().out)
+    for one, two in zip(data["rows"], again["rows"], strict=True):
+        assert two["value"] == pytest.approx(2 * one["value"], rel=1e-9)
+    # the text says which items are exceeded and by how much (the worst ratio)
+    assert main(["budget", "orthodromic", "--spec", str(FIXED_GYRO)]) == 1
+    text = capsys.readouterr().out
+    assert "SPEC EXCEEDED" in text
+    for item in ("position_error", "ground_speed_error"):
+        worst = max(r["ratio"] for r in data["rows"] if r["item"] == item)
+        [line] = [t for t in text.splitlines() if t.startswith(item)]
+        assert f"{worst:.3f}" in line and " of " in line
+
+
+def test_allocated_budget_reports_not_exceeded(capsys):
+    assert main(["budget", "orthodromic", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["exceeded"] is False
+    assert not any(r["exceeded"] for r in data["rows"])
+    assert max(r["ratio"] for r in data["rows"]) <= 1 + 1e-9
+
+
+def test_malformed_spec_still_exits_2_without_output(capsys):
+    spec = ROOT / "examples" / "specs" / "malformed.toml"
+    assert main(["budget", "orthodromic", "--spec", str(spec), "--json"]) == 2
+    captured = capsys.readouterr()
+    assert not captured.out and captured.err.count("\n") == 1

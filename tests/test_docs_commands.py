@@ -3,7 +3,8 @@
 The commands are extracted from the ```sh blocks of README.md, examples/README.md and
 every examples/**/README.md (pages added later are picked up), so the pages cannot
 drift from the program. A command may end with a comment saying ``exit N``; otherwise it
-must exit 0 and print something.
+must exit 0. It must print something, except a command shown with exit 2 (bad input),
+which must print one error line on standard error and nothing on standard output.
 
 How each kind of line runs, after the set-up the README describes (``make test`` made
 ``.venv`` and installed the package: the suite itself runs there):
@@ -105,7 +106,11 @@ def test_documented_command(command, status, tmp_path, monkeypatch, capsys, exam
         result = stop.code
     captured = capsys.readouterr()
     assert result == status, captured.err
-    assert captured.out.strip(), "the command printed nothing"
+    if status == 2:  # bad input: one line on standard error, nothing else
+        assert captured.err.startswith("ins-errors: error: ") and captured.err.count("\n") == 1
+        assert not captured.out
+    else:
+        assert captured.out.strip(), "the command printed nothing"
     if argv[0] == "run" and argv[1].startswith("examples/") and "--out" in argv:
         example_reports[Path(argv[1]).name] = tmp_path / argv[argv.index("--out") + 1]
 

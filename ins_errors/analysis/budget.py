@@ -87,6 +87,26 @@ class BudgetError(InsErrorsError):
     """A budget that cannot be formed (e.g. fixed sources alone break the spec)."""
 
 
+class SpecExceededError(BudgetError):
+    """The fixed sources alone use up (or exceed) at least one spec row: no magnitude is
+    left for the free sources. Not a bad input: the spec is well formed and the answer is
+    "exceeded" (the command line exits 1 with the rows, not 2).
+
+    Attributes
+    ----------
+    budget : UnitBudget
+    values : numpy.ndarray, shape (nr,)
+        Each row's error from the fixed sources alone at the spec's σ level, SI.
+    used_up : numpy.ndarray of bool, shape (nr,)
+        Rows whose allowed variance the fixed sources use up.
+    """
+
+    def __init__(self, message: str, budget: UnitBudget, values: np.ndarray,
+                 used_up: np.ndarray) -> None:
+        super().__init__(message)
+        self.budget, self.values, self.used_up = budget, values, used_up
+
+
 @dataclass(frozen=True)
 class BudgetSource:
     """One source in a budget.
@@ -501,8 +521,8 @@ def allocate(budget: UnitBudget) -> Allocation:
 
     Raises
     ------
-    BudgetError
-        If the fixed sources alone exceed a spec row.
+    SpecExceededError
+        If the fixed sources alone use up a spec row.
     """
     V, allowed = budget.unit_variances, budget.allowed_variances
     fixed = np.array([s.fixed is not None for s in budget.sources])
@@ -514,9 +534,10 @@ def allocate(budget: UnitBudget) -> Allocation:
         row = budget.rows[bad[0]]
         value = np.sqrt(used[bad[0]]) * budget.spec.sigma_level
         si, shown = ITEM_SI[row.item], ITEM_DISPLAY[row.item]
-        raise BudgetError(f"the fixed sources alone use up {row.label} "
-                          f"({display(value, si, shown)} against the limit "
-                          f"{display(row.limit, si, shown)})")
+        raise SpecExceededError(f"the fixed sources alone use up {row.label} "
+                           f"({display(value, si, shown)} against the limit "
+                           f"{display(row.limit, si, shown)})", budget,
+                           np.sqrt(used) * budget.spec.sigma_level, remaining <= 0)
     binding = np.full(len(budget.sources), -1)
     fill_factor = 1.0
     excluded = np.zeros(len(budget.sources), dtype=bool)

@@ -13,6 +13,7 @@ from ins_errors.analysis.budget import (
     ITEM_DISPLAY,
     ITEM_SI,
     Allocation,
+    SpecExceededError,
     display,
     format_time,
 )
@@ -132,19 +133,76 @@ def report(allocation: Allocation) -> dict:
                                                    for r in rows_of[item.name]))
                               for item in spec.items},
         })
-    rows = [{"item": r.item, "time_h": r.time / HOUR, "component": r.component,
-             "limit": r.limit, "value": float(v), "ratio": float(v / r.limit),
-             "display": f"{display(v, ITEM_SI[r.item], ITEM_DISPLAY[r.item])} of "
-                        f"{display(r.limit, ITEM_SI[r.item], ITEM_DISPLAY[r.item])}"}
-            for r, v in zip(budget.rows, values, strict=True)]
+    # met by construction: a ratio above 1 by more than rounding would be a fault
+    rows = _rows_json(budget, values, values > np.array([r.limit for r in budget.rows])
+                      * (1 + 1e-9))
     return {
         "spec": spec.title, "sigma_level": spec.sigma_level,
         "motion": budget.system.labels.get("trajectory", ""),
-        "rule": ("equal share of each item's variance per free source (weighted), fixed "
-                 "sources first" + (f"; then scaled by {allocation.fill_factor:.6g} in "
-                                    "variance (fill)" if spec.fill else "")),
+        "exceeded": any(r["exceeded"] for r in rows),
+        "rule": _RULE + (f"; then scaled by {allocation.fill_factor:.6g} in variance (fill)"
+                         if spec.fill else ""),
         "sources": sources, "rows": rows,
     }
+
+
+_RULE = "equal share of each item's variance per free source (weighted), fixed sources first"
+
+
+def _rows_json(budget, values: np.ndarray, exceeded: np.ndarray) -> list[dict]:
+    """The spec rows of a report: value (SI, at the spec's σ level) against the limit."""
+    return [{"item": r.item, "time_h": r.time / HOUR, "component": r.component,
+             "limit": r.limit, "value": float(v), "ratio": float(v / r.limit),
+             "exceeded": bool(over),
+             "display": f"{display(v, ITEM_SI[r.item], ITEM_DISPLAY[r.item])} of "
+                        f"{display(r.limit, ITEM_SI[r.item], ITEM_DISPLAY[r.item])}"}
+            for r, v, over in zip(budget.rows, values, exceeded, strict=True)]
+
+
+def exceeded_report(error: SpecExceededError) -> dict:
+    """JSON-ready report of a spec the fixed sources alone use up: ``exceeded`` true, the
+    fixed sources, every row with the fixed sources' value and its ratio to the limit
+    (``exceeded`` on the rows used up), and the free sources, which get no magnitude."""
+    budget = error.budget
+    spec = budget.spec
+    fixed = [s for s in budget.sources if s.fixed is not None]
+    return {
+        "spec": spec.title, "sigma_level": spec.sigma_level,
+        "motion": budget.system.labels.get("trajectory", ""),
+        "exceeded": True,
+        "rule": _RULE + "; the fixed sources alone use up the spec, so nothing is allocated",
+        "sources": [{"name": s.name, "statistics": s.statistics,
+                     "magnitude": float(s.fixed * spec.sigma_level), "unit": s.unit,
+                     "display": display(s.fixed * spec.sigma_level, s.unit, s.display_unit),
+                     "fixed": True} for s in fixed],
+        "free_sources": [s.name for s in budget.sources if s.fixed is None],
+        "rows": _rows_json(budget, error.values, error.used_up),
+    }
+
+
+def exceeded_table(data: dict) -> str:
+    """Plain text of :func:`exceeded_report`: each item the fixed sources use up, at its
+    worst time, by how much, and the fixed sources."""
+    k = f"{data['sigma_level']:g}σ"
+    over = [r for r in data["rows"] if r["exceeded"]]
+    items = list(dict.fromkeys(r["item"] for r in data["rows"]))
+    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}",
+             f"SPEC EXCEEDED: the fixed sources alone use up {len(over)} of "
+             f"{len(data['rows'])} spec rows, in "
+             f"{len({r['item'] for r in over})} of {len(items)} items; nothing is left "
+             "for the free sources.", "",
+             f"{'item':<22} {'worst time':>10}  {'value of limit':<34} {'ratio':>6}  "
+             "times exceeded", "-" * 92]
+    for item in items:
+        rows = [r for r in data["rows"] if r["item"] == item]
+        worst = max(rows, key=lambda r: r["ratio"])
+        count = sum(r["exceeded"] for r in rows)
+        mark = f"{count} of {len(rows)}" if count else "met"
+        lines.append(f"{item:<22} {format_time(worst['time_h'] * HOUR):>10}  "
+                     f"{worst['display']:<34} {worst['ratio']:>6.3f}  {mark}")
+    lines += ["", "Fixed sources (" + k + "): "
+              + ", ".join(f"{s['name']} {s['display']}" for s in data["sources"])]
+    return "\n".join(lines)
 
 
 def table(allocation: Allocation) -> str:

@@ -107,13 +107,16 @@ def run(args: argparse.Namespace) -> int:
 
     with stage(f"propagating the covariance of {len(model.sources)} sources"):
         unit = bd.unit_budget(model, spec, p=p)
-        allocation = bd.allocate(unit)
+        try:
+            allocation = bd.allocate(unit)
+        except bd.SpecExceededError as exceeded:
+            return _report_exceeded(args, exceeded, parameters_record(model, parameters))
     data = rep.report(allocation)
     data["parameters"] = parameters_record(model, parameters)
     if args.plot:
         rep.plot(allocation, args.plot)
     if args.monte_carlo is not None:
-        data["monte_carlo"] = _monte_carlo(model, spec, allocation, args, p)
+        data["monte_carlo"], mc_seconds = _monte_carlo(model, spec, allocation, args, p)
     outputs = None
     if times is not None:
         outputs = bd.output_contributions(model, allocation, times)
@@ -146,8 +149,21 @@ def run(args: argparse.Namespace) -> int:
                   f"{bd.display(r['monte_carlo'], unit, shown):>16} {ratio:>7}")
         if any(r["ratio"] is None for r in mc["rows"]):
             print(f"–: {NO_RATIO}")
-        print(f"({mc['seconds']:.1f} s)")
+        print(f"({mc_seconds:.1f} s)")  # on the terminal only: the JSON is reproducible
     return 0
+
+
+def _report_exceeded(args: argparse.Namespace, exceeded, parameters: dict) -> int:
+    """A spec the fixed sources alone use up: the rows with their ratios (JSON or
+    text), exit status 1 (the answer is "exceeded"; 2 stays for bad input)."""
+    from ins_errors.analysis import budget_report as rep
+
+    data = {**rep.exceeded_report(exceeded), "parameters": parameters}
+    if args.json:
+        emit(data, ensure_ascii=False)
+    else:
+        print(rep.exceeded_table(data))
+    return 1
 
 
 MC_DEFAULTS = {"mc_duration": "1 h", "mc_step": "0.01 s", "seed": 0, "engine": "auto",
@@ -187,7 +203,9 @@ def _at_times(text: str) -> list[float]:
     return [parse_quantity(t, "s", "--at") for t in parts if t]
 
 
-def _monte_carlo(model, spec, allocation, args, p) -> dict:
+def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
+    """The Monte Carlo check of an allocation (JSON-ready; no wall-clock time in it, so
+    identical runs give identical JSON) and the seconds its runs took."""
     import time
 
     import numpy as np
@@ -238,5 +256,5 @@ def _monte_carlo(model, spec, allocation, args, p) -> dict:
             out[-1]["note"] = NO_RATIO
     return {"runs": args.monte_carlo, "duration_h": duration / 3600, "step_s": step,
             "method": "euler", "relative_sampling_error": sampling_error(args.monte_carlo),
-            "seconds": seconds, "rows": out}
+            "rows": out}, seconds
 
