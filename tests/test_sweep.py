@@ -162,6 +162,16 @@ def test_interrupted_sweep_resumes_with_only_the_unfinished_points(tmp_path, mon
 @pytest.mark.parametrize("sweep, message", [
     ("[sweep]\nlatitud = ['10 deg']\n", "did you mean 'latitude'"),
     ("[sweep]\nlatitude = ['10']\n", "needs a unit"),
+    # TOML numbers without a unit are refused as in [run], [motion], [[case]], specs
+    ("[sweep]\nlatitude = [0.5, 0.8]\n",
+     "s.toml [sweep] latitude: 0.5 has no unit; give an angle"),
+    ("[sweep]\nheading = { start = 0, stop = 1, count = 2 }\n",
+     "s.toml [sweep] heading: 1 has no unit; give an angle"),
+    ("[sweep]\naccel_bias_x = [0.0001]\n",
+     "s.toml [sweep] accel_bias_x: 0.0001 has no unit; give an acceleration"),
+    ("[sweep]\nduration = [3600]\n", "s.toml [sweep] duration: 3600 has no unit; give a time"),
+    ("[sweep]\ndraws = 2\n[sweep.random]\ngyro_drift_y = 0.01\n",
+     "s.toml [sweep.random] gyro_drift_y: 0.01 has no unit; give an angular rate"),
     ("[sweep]\nlatitude = []\n", "non-empty list"),
     ("[sweep]\nheading = { start = '0 deg', stop = '9 deg' }\n", "count = N"),
     ("[sweep]\ndraws = 5\n", "go together"),

@@ -136,6 +136,9 @@ def _display_unit(text: Any, unit: str) -> str:
 
 
 def _value(text: Any, unit: str, what: str) -> float:
+    """A grid value or 1σ of the user's file, in SI ``unit``: it must carry its unit
+    (a bare number, text or TOML number, is refused as everywhere else; zero and plain
+    ratios need none)."""
     if isinstance(text, str) and unit != "1":
         try:
             float(text)
@@ -143,7 +146,7 @@ def _value(text: Any, unit: str, what: str) -> float:
             pass
         else:
             raise SweepError(f"{what} value {text!r} needs a unit, e.g. '{text} {unit}'")
-    return parse_quantity(text, unit, what)
+    return parse_quantity(text, unit, what, numbers_are_si=False)
 
 
 def _grid(name: str, raw: Any, unit: str, where: str) -> tuple[tuple[float, ...], str]:
