@@ -92,3 +92,43 @@ def test_every_subcommand_has_help(capsys):
         text = sub.format_help()
         assert len(sub.description or "") > 40, name
         assert "--json" in text, name
+
+
+def test_check_summary_has_one_schema_whatever_is_found(tmp_path, capsys):
+    """Every status key is always there (0 when none), keys are snake_case, and the
+    equations counted by status are kept apart from the findings counted by class."""
+    from tests.test_hand_check import CORRECT
+
+    good = tmp_path / "good.txt"
+    good.write_text(CORRECT)
+    assert main(["check", "orthodromic", str(good), "--json"]) == 0
+    clean = strict_json(capsys.readouterr().out)
+    assert main(COMMANDS["check"]) == 1
+    manual = strict_json(capsys.readouterr().out)
+
+    def keys(tree, prefix=""):
+        return {prefix + k for k in tree} | {
+            key for k, v in tree.items() if isinstance(v, dict) for key in keys(v, k + ".")}
+
+    assert keys(clean["summary"]) == keys(manual["summary"])
+    assert all(k.replace(".", "_").replace("_", "").isalnum() and k == k.lower()
+               for k in keys(manual["summary"]))
+    statuses = {"agrees", "agrees_up_to_dropped_small_terms", "agrees_up_to_declared_drops",
+                "mistake", "hand_only_definition", "tautology", "input_error"}
+    for data in (clean, manual):
+        summary = data["summary"]
+        by_status = summary["equations_by_status"]
+        assert set(by_status) == statuses
+        # counted from the equations and their findings, independently of the summary
+        for status in statuses:
+            assert by_status[status] == sum(
+                1 for e in data["equations"]
+                if e["status"].replace("-", "_").replace(" ", "_") == status), status
+        # classes "mistake" and "mistake, small effect" are both mistakes
+        mistakes = [f for e in data["equations"] for f in e["findings"]
+                    if f["class"].startswith("mistake")]
+        assert summary["findings"]["mistakes"] == len(mistakes)
+        assert summary["findings"]["root_mistakes"] == sum(f["role"] == "root" for f in mistakes)
+        assert summary["input_problems"] == len(data["problems"])
+    assert clean["summary"]["equations_by_status"]["mistake"] == 0
+    assert manual["summary"]["equations_by_status"]["mistake"] > 0

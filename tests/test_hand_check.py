@@ -405,7 +405,7 @@ def test_cli_exit_status_report_and_json(tmp_path, capsys):
     assert "— wrong sign on `alpha_y` (mistake)" in out.read_text()
     assert main(["check", "orthodromic", str(bad), "--json"]) == 1
     data = json.loads(capsys.readouterr().out)
-    assert data["exit_status"] == 1 and data["summary"]["mistakes"] == 1
+    assert data["exit_status"] == 1 and data["summary"]["findings"]["mistakes"] == 1
     latex = tmp_path / "eq.tex"
     latex.write_text(r"\dot{\alpha}_z = -\omega_\xi \alpha_y + \omega_\eta \alpha_x "
                      r"+ U \Delta u_{31} + \omega_{dp}" "\n")

@@ -35,37 +35,67 @@ def _code(text: str) -> str:
     return f"`{_cell(text)}`" if text else ""
 
 
-def summary_counts(report: CheckReport) -> dict[str, int]:
-    """Numbers of checked forms by status, findings by class, and input problems."""
-    counts: dict[str, int] = {}
+STATUSES = ("agrees", "agrees up to dropped small terms", "agrees up to declared drops",
+            "mistake", "hand-only definition", "tautology", "input error")
+"""Every status an equation form can have (:class:`~ins_errors.checker.compare.EquationResult`)."""
+
+COMPARED = STATUSES[:4]
+"""The statuses of forms compared with the model."""
+
+
+def status_key(status: str) -> str:
+    """The JSON key of a status: ``"agrees up to declared drops"`` ->
+    ``"agrees_up_to_declared_drops"``, ``"hand-only definition"`` ->
+    ``"hand_only_definition"``."""
+    return status.replace("-", "_").replace(" ", "_")
+
+
+def summary_counts(report: CheckReport) -> dict[str, Any]:
+    """The summary of ``check --json``, the same keys whatever was found.
+
+    Returns
+    -------
+    dict
+        ``equations_by_status``: number of checked equation forms with each status of
+        :data:`STATUSES` (snake_case keys, 0 when none); ``findings``: number of findings
+        by class (``mistakes``, of them ``root_mistakes`` and ``knock_on_mistakes``;
+        ``declared_drops``, ``dropped_small_terms``); ``input_problems``: number of
+        lines that could not be read.
+    """
+    by_status = dict.fromkeys(map(status_key, STATUSES), 0)
     for result in report.results:
-        counts[result.status] = counts.get(result.status, 0) + 1
-    counts["mistakes"] = len(report.mistakes)
-    counts["root mistakes"] = len(report.root_mistakes)
-    counts["knock-on mistakes"] = counts["mistakes"] - counts["root mistakes"]
-    counts["declared drops"] = sum(1 for _, f in report.findings if f.severity == cl.DECLARED)
-    counts["dropped small terms"] = sum(1 for _, f in report.findings
-                                        if f.severity == cl.DROPPED)
-    counts["input problems"] = len(report.problems)
-    return counts
+        key = status_key(result.status)
+        by_status[key] = by_status.get(key, 0) + 1  # a status added later still counts
+    mistakes, roots = len(report.mistakes), len(report.root_mistakes)
+    return {
+        "equations_by_status": by_status,
+        "findings": {
+            "mistakes": mistakes,
+            "root_mistakes": roots,
+            "knock_on_mistakes": mistakes - roots,
+            "declared_drops": sum(1 for _, f in report.findings if f.severity == cl.DECLARED),
+            "dropped_small_terms": sum(1 for _, f in report.findings
+                                       if f.severity == cl.DROPPED),
+        },
+        "input_problems": len(report.problems),
+    }
 
 
 def summary_line(report: CheckReport) -> str:
     """One line: what was checked and what was found."""
     c = summary_counts(report)
-    compared = sum(v for k, v in c.items() if k in (
-        "agrees", "agrees up to dropped small terms", "agrees up to declared drops",
-        "mistake"))
-    agree_small = (c.get("agrees up to dropped small terms", 0)
-                   + c.get("agrees up to declared drops", 0))
+    by_status, found = c["equations_by_status"], c["findings"]
+    compared = sum(by_status[status_key(s)] for s in COMPARED)
+    agree_small = (by_status["agrees_up_to_dropped_small_terms"]
+                   + by_status["agrees_up_to_declared_drops"])
     return (f"{report.hand_name}: {_count(compared, 'equation form')} compared with model "
-            f"{report.model!r}: {c.get('agrees', 0)} agree, {agree_small} agree up to "
-            f"dropped terms, {c.get('mistake', 0)} with mistakes "
-            f"({_count(c['root mistakes'], 'root mistake')}, "
-            f"{_count(c['knock-on mistakes'], 'knock-on finding')}, "
-            f"{_count(c['declared drops'], 'declared drop')}, "
-            f"{_count(c['dropped small terms'], 'dropped small term')}); "
-            f"{_count(c['input problems'], 'input problem')}")
+            f"{report.model!r}: {by_status['agrees']} agree, {agree_small} agree up to "
+            f"dropped terms, {by_status['mistake']} with mistakes "
+            f"({_count(found['root_mistakes'], 'root mistake')}, "
+            f"{_count(found['knock_on_mistakes'], 'knock-on finding')}, "
+            f"{_count(found['declared_drops'], 'declared drop')}, "
+            f"{_count(found['dropped_small_terms'], 'dropped small term')}); "
+            f"{_count(c['input_problems'], 'input problem')}")
 
 
 def _count(n: int, thing: str) -> str:
