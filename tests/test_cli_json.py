@@ -132,3 +132,40 @@ def test_check_summary_has_one_schema_whatever_is_found(tmp_path, capsys):
         assert summary["input_problems"] == len(data["problems"])
     assert clean["summary"]["equations_by_status"]["mistake"] == 0
     assert manual["summary"]["equations_by_status"]["mistake"] > 0
+
+
+def test_list_conventions_json_matches_the_text(capsys):
+    assert main(["check", "strapdown_ned", "--list-conventions"]) == 0
+    text = capsys.readouterr().out
+    assert main(["check", "strapdown_ned", "--list-conventions", "--json"]) == 0
+    data = strict_json(capsys.readouterr().out)
+    assert data["model"] == "strapdown_ned"
+    headers = [line.split(":")[0] for line in text.splitlines() if not line.startswith(" ")]
+    assert [c["name"] for c in data["conventions"]] == headers
+    psi = next(c for c in data["conventions"] if c["name"] == "psi")
+    assert len(psi["states"]) == 9  # ψ, δv, δr in NED, as examples/strapdown/psi_model.py
+    for state in psi["states"]:
+        assert f"  {state['name']} ({state['unit']}): " in text
+
+
+def test_study_list_json(capsys):
+    from ins_errors.commands.study import study_names
+
+    assert main(["study", "list", "--json"]) == 0
+    rows = strict_json(capsys.readouterr().out)
+    assert [r["name"] for r in rows] == study_names()
+    assert all(r["description"] for r in rows)
+
+
+def test_write_samples_json_describes_the_file(tmp_path, monkeypatch, capsys):
+    import numpy as np
+
+    monkeypatch.chdir(tmp_path)
+    assert main(["check", "strapdown_ned", "--write-samples", "x.npz", "--json"]) == 0
+    data = strict_json(capsys.readouterr().out)
+    stored = np.load(tmp_path / "x.npz")
+    assert data["samples"] == "x.npz" and data["motions"]
+    for motion in data["motions"]:
+        t = stored[f"t_{motion['label']}"]
+        assert motion["samples"] == t.size
+        assert (motion["start_s"], motion["stop_s"]) == (t[0], t[-1])

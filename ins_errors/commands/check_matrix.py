@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import sys
+
+from ins_errors.json_output import emit
 
 
 def run_matrix(args: argparse.Namespace) -> int:
@@ -24,7 +27,14 @@ def run_matrix(args: argparse.Namespace) -> int:
             raise InsErrorsError(f"{flag} applies to equation files, not to --matrix")
     model = load_model(args.model)
     if args.list_conventions:
-        for conv in conventions(model).values():
+        found = list(conventions(model).values())
+        if args.json:
+            emit({"model": model.name, "conventions": [
+                {"name": conv.name, "description": conv.description,
+                 "states": [{"name": s.name, "unit": s.unit, "description": s.description}
+                            for s in conv.states]} for conv in found]})
+            return 0
+        for conv in found:
             print(f"{conv.name}: {conv.description}")
             for s in conv.states:
                 print(f"  {s.name} ({s.unit}): {s.description}")
@@ -32,10 +42,21 @@ def run_matrix(args: argparse.Namespace) -> int:
     motion_list = motions(model)
     if args.write_samples is not None:
         write_samples(args.write_samples, motion_list)
-        print(f"wrote {args.write_samples}: {', '.join(m.label for m in motion_list)}, "
-              f"{motion_list[0].times.size} samples each")
-        if not args.matrix:
+        written = {"model": model.name, "samples": str(args.write_samples),
+                   "motions": [{"label": m.label, "samples": int(m.times.size),
+                                "start_s": float(m.times[0]), "stop_s": float(m.times[-1])}
+                               for m in motion_list]}
+        if not args.matrix:  # with --matrix the check's report is the output
+            if args.json:
+                emit(written)
+            else:
+                print(f"wrote {args.write_samples}: "
+                      f"{', '.join(m.label for m in motion_list)}, "
+                      f"{motion_list[0].times.size} samples each")
             return 0
+        print(f"wrote {args.write_samples}: {', '.join(m.label for m in motion_list)}, "
+              f"{motion_list[0].times.size} samples each",
+              file=sys.stderr if args.json else sys.stdout)
     if args.report is not None:
         check_file(args.report)
     report = check_matrices(args.model, args.matrix, args.convention,

@@ -69,9 +69,15 @@ def run(args: argparse.Namespace) -> int:
     if args.name == "list":
         from ins_errors.studies.methodological import STUDIES
 
-        for s in STUDIES.values():
-            print(f"{s.name:<22} 000 task {s.task}: {s.description}")
-        print(f"{SPHEROID:<22} 004 formula (10) vs direct simulation over the spheroid")
+        rows = [{"name": s.name, "source": f"000 task {s.task}", "description": s.description}
+                for s in STUDIES.values()]
+        rows.append({"name": SPHEROID, "source": "004 formula (10)",
+                     "description": "formula (10) vs direct simulation over the spheroid"})
+        if args.json:
+            emit(rows)
+        else:
+            for row in rows:
+                print(f"{row['name']:<22} {row['source']}: {row['description']}")
         return 0
     if args.name not in names:
         raise unknown_name("study", args.name, names)
