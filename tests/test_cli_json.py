@@ -169,3 +169,57 @@ def test_write_samples_json_describes_the_file(tmp_path, monkeypatch, capsys):
         t = stored[f"t_{motion['label']}"]
         assert motion["samples"] == t.size
         assert (motion["start_s"], motion["stop_s"]) == (t[0], t[-1])
+
+
+def test_study_json_has_the_maxima_as_numbers(capsys):
+    """The direct and linear maxima of the text are in the JSON as SI numbers, with the
+    mismatch ratio under its own name and compare's excited flag; a quantity the text
+    calls "not excited" is flagged so, whatever its ratio."""
+    import math
+
+    assert main(["study", "coriolis", "--hours", "2", "--scenario", "static", "--json"]) == 0
+    (run,) = strict_json(capsys.readouterr().out)["runs"]
+    assert "agreement" not in run
+    arcsec = 180 / math.pi * 3600
+    for line in run["lines"][2:]:
+        words = line.split()
+        if words[0] not in ("alpha_x", "alpha_y"):
+            continue
+        q = run["quantities"][words[0]]
+        assert q["unit"] == "rad"
+        assert float(words[2]) == pytest.approx(q["direct_max_rad"] * arcsec, rel=1e-3)
+        assert float(words[4]) == pytest.approx(q["linear_max_rad"] * arcsec, rel=1e-3)
+    for name, q in run["quantities"].items():
+        suffix = "m_per_s" if q["unit"] == "m/s" else q["unit"].replace("/", "_per_")
+        direct, difference = q[f"direct_max_{suffix}"], q[f"difference_max_{suffix}"]
+        if direct > 0:
+            assert q["mismatch_ratio"] == pytest.approx(difference / direct), name
+        shown = [line for line in run["lines"] if line.split()[:1] == [name]]
+        if shown:
+            assert ("not excited" in shown[0]) == (not q["excited"]
+                                                   and not q["at_rounding_level"]), name
+    # on a static base nothing turns the platform about the vertical: α_z is not excited
+    assert run["quantities"]["alpha_z"]["excited"] is False
+
+
+def test_spheroid_study_json_has_the_table(capsys):
+    assert main(["study", "spheroid", "--hours", "1", "--json"]) == 0
+    data = strict_json(capsys.readouterr().out)
+    flights = data["flights"]
+    table = [line.split() for line in data["lines"]
+             if len(line.split()) == 6 and line.split()[0].replace(".", "").isdigit()]
+    assert len(flights) == len(table) == 16
+    for row, flight in zip(table, flights, strict=True):
+        assert float(row[0]) == pytest.approx(math_degrees(flight["start_latitude_rad"]),
+                                              abs=0.05)
+        assert float(row[2]) == pytest.approx(flight["geometric_max_m"] / 1000, abs=5e-4)
+        assert float(row[3]) == pytest.approx(flight["mismatch_completed_max_m"] / 1000,
+                                              abs=5e-4)
+        # over an hour at 250 m/s the displacement cannot exceed the distance flown
+        assert 0 < flight["geometric_max_m"] < 250 * 3600
+
+
+def math_degrees(radians: float) -> float:
+    import math
+
+    return math.degrees(radians)

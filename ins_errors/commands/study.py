@@ -112,11 +112,11 @@ def run(args: argparse.Namespace) -> int:
         if folder is not None:
             path = methodological.plot(result, folder.file(f"{args.name}_{scenario}.png"))
             lines.append(f"  plot: {path}")
-        report.append({"scenario": scenario, "lines": lines,
-                       "agreement": {q: result.agreement(q) for q in result.direct.names},
-                       "integration_error_si": {q: result.integration_error(q)
-                                                for q in result.direct.names},
-                       "warnings": result.warnings})
+        report.append({"scenario": scenario, "motion": result.motion,
+                       "duration_s": float(result.times[-1]),
+                       "equivalent_sources": result.equivalent_sources(),
+                       "quantities": result.quantities(),
+                       "warnings": result.warnings, "lines": lines})
         if not args.json:
             print("\n".join(lines))
     if folder is not None:
@@ -139,11 +139,12 @@ def _spheroid(args: argparse.Namespace, speed: float, step: float, folder) -> in
         lines.append(f"plot: {path}")
     if args.json:
         error = result.integration_error
-        emit({"study": SPHEROID, "lines": lines,
-                          "integration_error_km": None if error is None else
-                          float(error.max() * result.a / 1000),
-                          "warnings": result.warnings,
-                          "formula_10_maximum": spheroid_error.formula_10_maximum()})
+        emit({"study": SPHEROID, "duration_s": hours * 3600.0, "speed_m_per_s": speed,
+              "step_s": step, "flights": result.flights,
+              "integration_error_km": None if error is None else
+              float(error.max() * result.a / 1000),
+              "warnings": result.warnings,
+              "formula_10_maximum": spheroid_error.formula_10_maximum(), "lines": lines})
     else:
         print("\n".join(lines))
     return 0

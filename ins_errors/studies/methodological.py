@@ -31,6 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -287,18 +288,61 @@ class StudyResult:
         scale = np.abs(d).max()
         return float(np.abs(d - lin).max() / scale) if scale > 0 else float(np.abs(lin).max())
 
+    def quantities(self) -> dict[str, dict[str, Any]]:
+        """Each error quantity's direct and linear maxima, SI, for JSON.
+
+        Returns
+        -------
+        dict
+            Quantity name -> ``unit`` (SI), ``direct_max_<unit>``, ``linear_max_<unit>``
+            and ``difference_max_<unit>`` (max |direct|, max |linear|, max |direct −
+            linear| over the run), ``mismatch_ratio`` (difference over direct maximum,
+            :meth:`agreement`), ``excited`` (compare's rule: at least
+            :data:`EXCITED_FRACTION` of the largest error of the same unit; a ratio of an
+            error not excited means nothing), ``at_rounding_level`` (direct maximum at or
+            below :data:`MISMATCH_FLOOR`) and ``integration_error_<unit>`` (or None).
+            ``<unit>`` is the unit in words: ``rad``, ``rad_per_s``, ``m_per_s``.
+        """
+        excited = {m.quantity: m.excited for m in metrics_of(self.direct, self.linear, None)}
+        out = {}
+        for name, unit in zip(self.direct.names, self.direct.units, strict=True):
+            d, lin = self.direct[name][:, 0], self.linear[name][:, 0]
+            largest = float(np.abs(d).max())
+            suffix = unit_suffix(unit)
+            out[name] = {
+                "unit": unit,
+                f"direct_max_{suffix}": largest,
+                f"linear_max_{suffix}": float(np.abs(lin).max()),
+                f"difference_max_{suffix}": float(np.abs(d - lin).max()),
+                "mismatch_ratio": self.agreement(name),
+                "excited": bool(excited[name]),
+                "at_rounding_level": largest <= MISMATCH_FLOOR.get(
+                    "m/s" if unit == "m/s" else "rad", 0.0),
+                f"integration_error_{suffix}": self.integration_error(name),
+            }
+        return out
+
+    def equivalent_sources(self) -> dict[str, float]:
+        """Largest equivalent sources along the motion, SI: accelerometer (m/s², the
+        velocity rows), gyro drift (rad/s, the platform rows), direction-cosine rate (1/s,
+        the direction-cosine rows; 0 when none)."""
+        f = np.abs(self.forcing).max(axis=1)
+        return {"accelerometer_max_m_per_s2": float(max(f[6], f[7])),
+                "gyro_drift_max_rad_per_s": float(max(f[8], f[9], f[10])),
+                "direction_cosine_rate_max_per_s": float(max(f[:6].max(), 0.0))}
+
     def summary(self, radius: float = 6_371_000.0) -> list[str]:
         """Report lines: equivalent sources and the largest errors, engineering units."""
         deg_h, ug = np.pi / 180 / 3600, 9.80665e-6
         hours = self.times[-1] / 3600
         lines = [f"{self.study.name} ({self.study.description}); {self.motion}; "
                  f"{hours:g} h, direct vs linear"]
-        f = np.abs(self.forcing).max(axis=1)
-        acc = max(f[6], f[7]) / ug
-        drift = max(f[8], f[9], f[10]) / deg_h
-        rate = max(f[:6].max(), 0.0) / deg_h
-        lines.append(f"  equivalent sources (max along the motion): accelerometer {acc:.4g} µg, "
-                     f"gyro drift {drift:.4g} °/h, direction-cosine rate {rate:.4g} °/h")
+        sources = self.equivalent_sources()
+        lines.append(f"  equivalent sources (max along the motion): accelerometer "
+                     f"{sources['accelerometer_max_m_per_s2'] / ug:.4g} µg, "
+                     f"gyro drift {sources['gyro_drift_max_rad_per_s'] / deg_h:.4g} °/h, "
+                     f"direction-cosine rate "
+                     f"{sources['direction_cosine_rate_max_per_s'] / deg_h:.4g} °/h")
         units = {"alpha_x": ("arcsec", 180 / np.pi * 3600),
                  "alpha_y": ("arcsec", 180 / np.pi * 3600),
                  "alpha_z": ("arcmin", 180 / np.pi * 60),
@@ -306,26 +350,34 @@ class StudyResult:
                  "delta_longitude": ("km at cos φ = 1", radius / 1000),
                  "delta_heading": ("arcmin", 180 / np.pi * 60),
                  "delta_v_N": ("m/s", 1.0), "delta_v_E": ("m/s", 1.0)}
-        excited = {m.quantity: m.excited for m in metrics_of(self.direct, self.linear, None)}
+        numbers = self.quantities()
         for name, (unit, scale) in units.items():
-            if name not in self.direct.names:
+            if name not in numbers:
                 continue
-            largest = np.abs(self.direct[name][:, 0]).max()
-            d, lin = largest * scale, np.abs(self.linear[name][:, 0]).max() * scale
-            floor = MISMATCH_FLOOR["m/s" if name.startswith("delta_v") else "rad"]
-            if largest <= floor:
+            q = numbers[name]
+            suffix = unit_suffix(q["unit"])
+            d, lin = q[f"direct_max_{suffix}"] * scale, q[f"linear_max_{suffix}"] * scale
+            if q["at_rounding_level"]:
                 mismatch = "– (error at rounding level)"
-            elif not excited[name]:  # compare's rule: a ratio here would only alarm
+            elif not q["excited"]:  # compare's rule: a ratio here would only alarm
                 mismatch = (f"– (not excited: < {EXCITED_FRACTION:.1%} of the largest "
                             "same-unit error)")
             else:
-                mismatch = f"{100 * self.agreement(name):.3g} %"
-            error = self.integration_error(name)
+                mismatch = f"{100 * q['mismatch_ratio']:.3g} %"
+            error = q[f"integration_error_{suffix}"]
             integration = "" if error is None else f"  integration error {error * scale:.2g}"
             lines.append(f"  {name:<16} direct {d:11.4g}  linear {lin:11.4g} {unit:<16}"
                          f" mismatch {mismatch}{integration}")
         lines += [f"  warning: {w}" for w in self.warnings]
         return lines
+
+
+def unit_suffix(unit: str) -> str:
+    """A SI unit as a JSON key suffix: ``"m/s"`` -> ``"m_per_s"``, ``"m/s**2"`` ->
+    ``"m_per_s2"``, ``"rad"`` -> ``"rad"``, ``"1"`` -> ``"ratio"``."""
+    if unit == "1":
+        return "ratio"
+    return unit.replace("**", "").replace("/", "_per_").replace(" ", "_")
 
 
 MISMATCH_FLOOR = {"rad": 1e-10, "m/s": 1e-6}

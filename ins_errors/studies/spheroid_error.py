@@ -263,6 +263,8 @@ class FlightErrors:
         :func:`integration_errors`); None when not estimated.
     warnings : list of str
         Integration-error warnings, one line each.
+    flights : list of dict
+        Set by :func:`survey`: one row per flight of its table, SI (see there).
     """
 
     times: np.ndarray
@@ -276,6 +278,7 @@ class FlightErrors:
     a: float
     integration_error: np.ndarray | None = None
     warnings: list[str] = field(default_factory=list)
+    flights: list[dict] = field(default_factory=list)
 
     def km(self, errors: np.ndarray) -> np.ndarray:
         """(ΔΦ a, ΔΛ a cos Φ) in km, shape (2, T, F)."""
@@ -516,7 +519,15 @@ def survey_stride(n_steps: int) -> int:
 def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0, 225.0),
            duration: float = 6 * 3600.0, speed: float = 250.0, step: float = 10.0
            ) -> tuple[FlightErrors, list[str]]:
-    """Flights from several latitudes along several orthodrome angles; report lines."""
+    """Flights from several latitudes along several orthodrome angles; report lines.
+
+    The table's rows are also kept as numbers in the result's ``flights``, one dict per
+    flight: ``start_latitude_rad``, ``orthodrome_angle_rad`` (start), ``geometric_max_m``
+    (largest direct displacement), ``mismatch_completed_max_m`` and
+    ``mismatch_printed_max_m`` (largest |direct − (10)| completed / as printed, either
+    coordinate), ``closed_loop_max_m`` (largest displacement with the coefficients at the
+    computed position), ``integration_error_rad`` ([ΔΦ, ΔΛ], or None).
+    """
     la, an = np.meshgrid(np.radians(latitudes_deg), np.radians(angles_deg), indexing="ij")
     stride = survey_stride(step_count(duration, step))
     result = simulate_flights(la.ravel(), np.zeros(la.size), an.ravel(), duration, speed, step,
@@ -544,6 +555,15 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
         "   closed loop",
     ]
     for k in range(la.size):
+        result.flights.append({
+            "start_latitude_rad": float(result.start[0, k]),
+            "orthodrome_angle_rad": float(result.start[2, k]),
+            "geometric_max_m": float(largest[k] * 1000),
+            "mismatch_completed_max_m": float(worst[k] * 1000),
+            "mismatch_printed_max_m": float(worst_printed[k] * 1000),
+            "closed_loop_max_m": float(closed_largest[k] * 1000),
+            "integration_error_rad": (None if result.integration_error is None else
+                                      [float(e) for e in result.integration_error[:, k]])})
         lines.append(f"  {np.degrees(result.start[0, k]):5.1f}  "
                      f"{np.degrees(result.start[2, k]):6.1f}   {largest[k]:9.3f}   "
                      f"{worst[k]:24.3f}   {worst_printed[k]:23.3f}   {closed_largest[k]:11.3f}")
