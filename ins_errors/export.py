@@ -5,10 +5,11 @@ quantity of every run (direct, linear, refined) of every case, in SI units, so a
 can re-plot them in a spreadsheet, MATLAB/Octave, or pandas.
 
 CSV columns: ``case`` (1-based), ``t [s]``, then ``<quantity>.<run> [<unit>]`` for each
-quantity and run. The ``.mat`` file (via :func:`scipy.io.savemat`) holds ``t_s`` (the
-common time axis, s), ``labels`` (the case labels), ``units`` (a struct: SI unit of
-each quantity) and one struct ``case_<k>`` per case with fields ``direct``, ``linear``
-and ``refined`` (omitted when not run), each a struct of row vectors by quantity.
+quantity and run. The ``.mat`` file (via :func:`scipy.io.savemat`, with a fixed header
+so the same curves give the same bytes: :func:`mat_bytes`) holds ``t_s`` (the common time
+axis, s), ``labels`` (the case labels), ``units`` (a struct: SI unit of each quantity) and
+one struct ``case_<k>`` per case with fields ``direct``, ``linear`` and ``refined``
+(omitted when not run), each a struct of row vectors by quantity.
 """
 
 from __future__ import annotations
@@ -55,6 +56,48 @@ def curves_csv(comparisons: Sequence) -> str:
     return buffer.getvalue()
 
 
+MAT_DESCRIPTION = 116
+"""Bytes of a MAT-file's text header (level 5): the description, padded with spaces."""
+
+
+def mat_bytes(content: dict[str, object], **options: object) -> bytes:
+    """A MATLAB (level 5) ``.mat`` file's bytes, the same for the same content.
+
+    :func:`scipy.io.savemat` writes ``Created on: <date and time>`` into the file's text
+    header, so two writes of the same data differ. Here the header says ``MATLAB 5.0
+    MAT-file, written by ins-errors <version>`` instead; the rest (version, byte-order
+    mark, the variables, zlib-compressed when asked) is SciPy's, byte for byte.
+
+    Parameters
+    ----------
+    content : dict
+        Variable name -> value, as for :func:`scipy.io.savemat`.
+    **options
+        Passed on to :func:`scipy.io.savemat` (``do_compression``, ``oned_as``).
+
+    Returns
+    -------
+    bytes
+        The file, readable by :func:`scipy.io.loadmat` and MATLAB.
+    """
+    from scipy.io import savemat
+
+    from ins_errors.cli import version
+
+    buffer = io.BytesIO()
+    savemat(buffer, content, **options)
+    data = bytearray(buffer.getvalue())
+    text = f"MATLAB 5.0 MAT-file, written by ins-errors {version()}".encode("ascii")
+    data[:MAT_DESCRIPTION] = text[:MAT_DESCRIPTION].ljust(MAT_DESCRIPTION, b" ")
+    return bytes(data)
+
+
+def save_mat(path: str | Path, content: dict[str, object], **options: object) -> None:
+    """Write :func:`mat_bytes` of ``content`` to ``path`` (as given: callers use
+    :mod:`ins_errors.output` for atomicity); ``OSError`` propagates."""
+    Path(path).write_bytes(mat_bytes(content, **options))
+
+
 def save_curves_mat(comparisons: Sequence, path: str | Path) -> None:
     """Write every curve of every case as a MATLAB ``.mat`` file (see the module notes).
 
@@ -65,8 +108,6 @@ def save_curves_mat(comparisons: Sequence, path: str | Path) -> None:
     path : str or Path
         Target file (written as given: callers use :mod:`ins_errors.output` for atomicity).
     """
-    from scipy.io import savemat
-
     content: dict[str, object] = {
         "t_s": np.asarray(comparisons[0].times, float) if comparisons else np.zeros(0),
         "labels": np.array([c.label for c in comparisons], dtype=object),
@@ -77,7 +118,7 @@ def save_curves_mat(comparisons: Sequence, path: str | Path) -> None:
             "t_s": np.asarray(comparison.times, float),
             **{run: {q: np.asarray(v, float) for q, v in getattr(comparison, run).items()}
                for run in RUNS if getattr(comparison, run)}}
-    savemat(str(path), content, do_compression=True, oned_as="row")
+    save_mat(path, content, do_compression=True, oned_as="row")
 
 
 def write_curves(folder, comparisons: Sequence) -> list[Path]:

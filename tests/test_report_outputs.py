@@ -577,3 +577,47 @@ def test_kept_text_layouts_write_the_bytes_of_a_plain_savefig(tmp_path):
     if hasattr(ft2font.FT2Font, "_layout"):
         assert text_layouts._glyphs
     assert methods() == before
+
+
+def _ticking_clock(monkeypatch):
+    """Make every reading of the wall clock a different time (a write one second later)."""
+    import itertools
+    import time
+
+    ticks = itertools.count()
+    monkeypatch.setattr(time, "asctime", lambda *a: f"Tue Dec  1 08:00:{next(ticks):02d} 2026")
+
+
+def test_curves_mat_is_the_same_bytes_for_the_same_curves(report, tmp_path, monkeypatch):
+    """No write time in the file: the same run gives the same curves.mat, byte for byte
+    (scipy's header says "Created on: <now>"), and it still loads."""
+    from scipy.io import loadmat
+
+    from ins_errors.export import save_curves_mat
+
+    result, folder = report
+    _ticking_clock(monkeypatch)
+    save_curves_mat(result.comparisons, tmp_path / "a.mat")
+    save_curves_mat(result.comparisons, tmp_path / "b.mat")
+    first = (tmp_path / "a.mat").read_bytes()
+    assert first == (tmp_path / "b.mat").read_bytes() == (folder / "curves.mat").read_bytes()
+    assert first.startswith(b"MATLAB 5.0 MAT-file, written by ins-errors ")
+    data = loadmat(tmp_path / "a.mat", squeeze_me=True, struct_as_record=False)
+    np.testing.assert_array_equal(data["case_1"].direct.alpha_y,
+                                  result.comparisons[0].direct["alpha_y"])
+
+
+def test_written_mat_samples_are_the_same_bytes_each_time(tmp_path, monkeypatch):
+    from scipy.io import loadmat
+
+    from ins_errors.checker.matrix import motions
+    from ins_errors.checker.matrix_input import write_samples
+    from ins_errors.numeric.model import load_model
+
+    ms = motions(load_model("strapdown_ned"), hours=1.0, step=600.0)
+    _ticking_clock(monkeypatch)
+    write_samples(tmp_path / "a.mat", ms)
+    write_samples(tmp_path / "b.mat", ms)
+    assert (tmp_path / "a.mat").read_bytes() == (tmp_path / "b.mat").read_bytes()
+    data = loadmat(tmp_path / "a.mat")
+    np.testing.assert_array_equal(data["t_static"].ravel(), ms[0].times)

@@ -352,9 +352,9 @@ def write_samples(path: Path, motions) -> None:
             arrays[f"C_bn_{label}"], arrays[f"f_b_{label}"], strict=True)]).reshape(-1, 3)
     try:
         if path.suffix.lower() == ".mat":
-            from scipy.io import savemat
+            from ins_errors.export import save_mat
 
-            savemat(path, arrays)
+            save_mat(path, arrays)  # no date in the header: same samples, same bytes
         elif path.suffix.lower() == ".npz":
             np.savez(path, **arrays)
         else:
