@@ -253,7 +253,8 @@ def _positive(text: Any, unit: str, what: str, example: str = "",
     try:
         value = parse_quantity(text, unit, what, numbers_are_si=False)
     except UnitError as error:
-        hint = f" (e.g. {example!r})" if example else ""
+        # the unit parser's line may already end in its own examples
+        hint = f" (e.g. {example!r})" if example and "e.g." not in str(error) else ""
         raise SpecError(f"{error}{hint}") from None
     if value < 0 or (value == 0 and not allow_zero):
         raise SpecError(f"{what}: must be {'>= 0' if allow_zero else '> 0'}, got {text!r}")

@@ -74,3 +74,13 @@ def test_what_the_loader_refuses_the_schema_refuses(text, message, tmp_path, val
         load_spec(path)
     assert message in str(raised.value) and "\n" not in str(raised.value)
     assert list(validator.iter_errors(tomllib.loads(text)))
+
+
+def test_a_limit_without_its_unit_is_refused_with_one_set_of_examples(tmp_path):
+    path = tmp_path / "s.toml"
+    path.write_text('[items.position_error]\nvalue = "3.7"\n', encoding="utf-8")
+    with pytest.raises(InsErrorsError) as raised:
+        load_spec(path)
+    message = str(raised.value)
+    assert "position_error" in message and "\n" not in message
+    assert message.count("e.g.") == 1, message
