@@ -310,3 +310,29 @@ def test_orthodromic_closed_forms_check_their_parameters():
         closed_forms("orthodromic", 0.5, gravity=0.0)
     with pytest.raises(DomainError, match="90"):
         closed_forms("orthodromic", np.pi / 2)
+
+
+def test_a_growing_mode_is_refused_with_its_time_constant():
+    """The vertical channel δḧ = (2g/R) δh has real roots ±√(2g/R): no sin/cos response.
+
+    The time constant in the message is checked against the largest real eigenvalue of
+    the numeric F (numpy), and against the growth of scipy's expm over one τ.
+    """
+    g, R = sp.symbols("g R", positive=True)
+    F = sp.Matrix([[0, 1], [2 * g / R, 0]])
+    with pytest.raises(an.AnalysisError, match=r"real roots .*unstable.*τ = ") as caught:
+        an.analyse(F, {"h0": (sp.Matrix([1, 0]), False)})
+    message = str(caught.value)
+    assert "\n" not in message
+    tau = sp.sympify(message.split("τ = ")[1].split(" s;")[0], locals={"g": g, "R": R})
+    values = {g: 9.81, R: 6.371e6}
+    Fn = np.array(F.subs(values), dtype=float)
+    rate = np.max(np.linalg.eigvals(Fn).real)
+    assert float(tau.subs(values)) == pytest.approx(1 / rate, rel=1e-12)
+    # the mode the closed forms would have called cos(ω t) grows: cosh(t/τ) after τ
+    assert expm(Fn / rate)[0, 0] == pytest.approx(np.cosh(1.0), rel=1e-10)
+    with pytest.raises(an.AnalysisError, match=r"τ = 0\.57735 s"):  # numeric F: τ = 1/√3
+        an.analyse(sp.Matrix([[0, 1], [3, 0]]), {"x": (sp.Matrix([1, 0]), False)})
+    k = sp.Symbol("k")  # sign unknown: neither table applies for sure
+    with pytest.raises(an.AnalysisError, match="not decided"):
+        an.analyse(sp.Matrix([[0, 1], [k, 0]]), {"x": (sp.Matrix([1, 0]), False)})

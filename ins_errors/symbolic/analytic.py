@@ -179,6 +179,28 @@ def _check_square(F: sp.Matrix) -> None:
         raise AnalysisError(f"state matrix must be square, got {F.rows}x{F.cols}")
 
 
+def _check_oscillating(factor: sp.Expr, squared: sp.Expr) -> None:
+    """Refuse a factor s² + ω² unless ω² > 0 follows from the symbols' assumptions.
+
+    ω² < 0 gives real roots ±σ (σ² = −ω²), one growing as exp(σ t); an undecided sign
+    may be either, and the sin/cos table would be wrong for one of them.
+    """
+    if squared.is_positive or sp.factor(squared).is_positive:
+        return
+    if squared.is_negative or sp.factor(squared).is_negative:
+        rate = sp.sqrt(-squared)
+        tau = sp.simplify(1 / rate)
+        tau_text = f"{float(tau):.6g}" if tau.is_number else str(tau)
+        raise AnalysisError(
+            f"characteristic factor {factor} has real roots s = ±{rate}: an unstable mode "
+            f"growing as exp(t/τ), τ = {tau_text} s; the closed-form table needs roots "
+            "0 or ±iω")
+    raise AnalysisError(
+        f"characteristic factor {factor}: the sign of {squared} is not decided by the "
+        "symbols' assumptions (roots ±iω if positive, real and growing if negative): "
+        "declare the symbols positive=True")
+
+
 def split_modes(polynomial: sp.Expr, frequencies: Sequence[Frequency] = (),
                 s: sp.Symbol = S) -> list[Mode]:
     """Factor ``polynomial`` into integrators and oscillators ``s² + ω²``.
@@ -194,7 +216,10 @@ def split_modes(polynomial: sp.Expr, frequencies: Sequence[Frequency] = (),
     ------
     AnalysisError
         If a factor is not ``s`` or ``α s² + β`` (the roots are not 0 or ±iω in the
-        given parametrisation).
+        given parametrisation), if it is ``s² − σ²`` with σ² > 0 (real roots ±σ: a mode
+        growing with time constant 1/σ, named in the message), or if the sign of β in
+        ``s² + β`` does not follow from the symbols' assumptions (declare them
+        ``positive=True``) and β is not the square of a named frequency.
     """
     _, factors = sp.factor_list(sp.expand(polynomial), s)
     modes: list[Mode] = []
@@ -213,7 +238,8 @@ def split_modes(polynomial: sp.Expr, frequencies: Sequence[Frequency] = (),
         squared = sp.cancel(coeffs[2] / coeffs[0])
         match = next((f for f in frequencies
                       if sp.cancel(sp.expand(squared - f.squared)) == 0), None)
-        if match is None:
+        if match is None:  # (a named frequency is a positive symbol: ω² > 0)
+            _check_oscillating(factor, squared)
             unnamed += 1
             match = Frequency(sp.Symbol(f"omega_{unnamed}", positive=True), squared,
                               f"mode {unnamed}")
@@ -858,6 +884,12 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     tidy : callable or None
         Applied to each partial-fraction coefficient (``sp.factor`` reads best; None is
         fastest and gives expanded rational coefficients).
+
+    Raises
+    ------
+    AnalysisError
+        If a root of det(sI − F) is not 0 or ±iω (:func:`split_modes`): e.g. the real
+        roots ±√(2g/R) of the vertical channel, named with their growth time constant.
     """
     rewrite = parametrisation.rewrite
     Fp = F.applyfunc(lambda e: sp.cancel(rewrite(e)))
