@@ -167,23 +167,77 @@ def markdown(model: str, results: list[VariantResult]) -> str:
     return "\n".join(out) + "\n"
 
 
+_CHECKS = '''
+def _check_arguments(function, x, u, p, t=None):
+    """Refuse what the closed forms were not derived for: ValueError, one line."""
+    if t is not None and not _np.all(_np.isfinite(t) & (t >= 0)):
+        bad = float(t[~(_np.isfinite(t) & (t >= 0))].flat[0])
+        raise ValueError(f"{function}: the closed forms hold for finite times t >= 0, "
+                         f"got t = {bad!r}")
+    for name, value in BAKED.items():
+        given = p[_BAKED_INDEX[name]]
+        wrong = ~(_np.abs(given - value) <= 1e-12 * abs(value))
+        if _np.any(wrong):
+            bad = float(_np.broadcast_to(given, wrong.shape)[wrong].flat[0])
+            raise ValueError(f"{function}: derived for {name} = {value!r} only "
+                             f"({_BAKED_MEANING[name]}), got {name} = {bad!r}")
+    margins = _domain_margins(x, u, p)
+    for k, message in enumerate(_DOMAIN):
+        if not _np.all(margins[k] > 0):
+            raise ValueError(f"{function}: {message}")
+'''
+
+
+def _baked_meaning(name: str, value: float) -> str:
+    if name in ("e2", "ecc2") and value == 0:
+        return "a spherical Earth"
+    return "the value fixed before the analysis"
+
+
 def closed_form_module(model: str, results: list[VariantResult]) -> str:
-    """Source of ``generated/<model>/closed_forms.py``."""
+    """Source of ``generated/<model>/closed_forms.py``.
+
+    Every function refuses (ValueError, one line naming the value) times t < 0 or not
+    finite, parameters other than the ``BAKED`` values the closed forms were derived
+    for, and points outside the model's domain (a latitude at a pole, R <= 0, ...) or
+    the static base's (:attr:`StaticSetup.conditions`).
+    """
     d = definition(model)
-    t_arg = Argument("t", [T], "time since the start, s (shape (1, ...))")
+    t_arg = Argument("t", [T], "time since the start, s (shape (1, ...)), finite, >= 0")
     x_arg = Argument("x", d.x, "static-base state (only the position matters), SI units")
     u_arg = Argument("u", d.u, "static-base inputs (only the vertical specific force "
                                "matters, where it is an input), SI units")
-    p_arg = Argument("p", d.p, "model parameters, SI units (see BAKED)")
+    p_arg = Argument("p", d.p, "model parameters, SI units; those in BAKED must have "
+                               "their BAKED values")
     setup = SETUPS[model]()
+    checked = ("Raises ValueError (one line) for parameters other than BAKED and outside\n"
+               "    the model's domain (e.g. a latitude at a pole){}.")
     src = [_header(model, markdown=False),
            f'"""Closed-form static-base responses of the model {model!r} (numpy, broadcasting).'
            '\n\nresponses_<variant>(t, x, u, p)[i, j, ...] is error state i at time t for a '
            'unit error source j\n(SI), every other source zero. frequencies_<variant>(x, u, p)'
            ' are the mode frequencies,\nrad/s, in the order of MODES[<variant>]. BAKED: '
-           'parameter values the closed forms\nwere derived for."""', NUMPY_PRELUDE]
+           'parameter values the closed forms\nwere derived for; every function refuses '
+           '(ValueError) other values, times t < 0\nand points outside the model\'s domain '
+           '(a latitude at a pole, ...).\n\nThe checked way in, which builds the static-base '
+           'x, u and p from a latitude:\nins_errors.numeric.closed_forms.closed_forms(model, '
+           'latitude).responses(t)."""', NUMPY_PRELUDE]
     variants, modes = [], {}
     trees = SharedTrees()
+    conditions = [*d.domain, *setup.conditions]
+    margins = FunctionSpec("_domain_margins", [x_arg, u_arg, p_arg],
+                           sp.Matrix([expr for expr, _ in conditions] or [1]),
+                           "Margins of the model's domain and the static base's "
+                           "conditions (> 0: inside).", "one margin per entry of _DOMAIN")
+    src.append("\n" + emit_numpy_function(prepare(margins, trees)) + "\n")
+    src.append(_CHECKS)
+
+    def checked_function(spec: FunctionSpec) -> str:
+        text = emit_numpy_function(prepare(spec, trees))
+        t = "t" if spec.arguments[0] is t_arg else "None"
+        return text.replace("    _batch = ", f"    _check_arguments({spec.name!r}, x, u, p, "
+                            f"{t})\n    _batch = ", 1)
+
     for result in results:
         a = result.analysis
         name = result.variant.name
@@ -192,20 +246,27 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
         matrix = matrix.applyfunc(lambda e, a=a: a.in_model_symbols(e, trees))
         spec = FunctionSpec(f"responses_{name}", [t_arg, x_arg, u_arg, p_arg], matrix,
                             f"Closed-form responses of variant {name!r}: unit source -> "
-                            "error state.", "error state i for unit source j")
-        src.append("\n" + emit_numpy_function(prepare(spec, trees)) + "\n")
+                            f"error state.\n\n    {checked.format(', and for times t < 0')}",
+                            "error state i for unit source j")
+        src.append("\n" + checked_function(spec) + "\n")
         oscillators = [m for m in a.modes if m.symbol is not None]
         modes[name] = tuple(m.name for m in oscillators)
         freq = sp.Matrix([a.in_model_symbols(a.parametrisation.to_model(m.symbol, trees), trees)
                           for m in oscillators])
         spec = FunctionSpec(f"frequencies_{name}", [x_arg, u_arg, p_arg], freq,
-                            f"Mode frequencies of variant {name!r}, rad/s.",
+                            f"Mode frequencies of variant {name!r}, rad/s.\n\n    "
+                            f"{checked.format('')}",
                             "one frequency per entry of MODES")
-        src.append("\n" + emit_numpy_function(prepare(spec, trees)) + "\n")
+        src.append("\n" + checked_function(spec) + "\n")
+    parameters = [q.name for q in d.parameters]
+    baked_index = {k: parameters.index(k) for k in setup.baked}
+    meaning = {k: _baked_meaning(k, v) for k, v in setup.baked.items()}
     src.append(f"\nVARIANTS = {tuple(variants)!r}\nMODES = {modes!r}\n"
                f"SOURCES = {tuple(s.name for s in d.sources)!r}\n"
                f"BAKED = {setup.baked!r}\n"
-               f"ERROR_STATES = {tuple(s.name for s in d.error_states)!r}\n")
+               f"ERROR_STATES = {tuple(s.name for s in d.error_states)!r}\n"
+               f"_BAKED_INDEX = {baked_index!r}\n_BAKED_MEANING = {meaning!r}\n"
+               f"_DOMAIN = {tuple(message for _, message in conditions)!r}\n")
     return "\n".join(src)
 
 

@@ -336,3 +336,47 @@ def test_a_growing_mode_is_refused_with_its_time_constant():
     k = sp.Symbol("k")  # sign unknown: neither table applies for sure
     with pytest.raises(an.AnalysisError, match="not decided"):
         an.analyse(sp.Matrix([[0, 1], [k, 0]]), {"x": (sp.Matrix([1, 0]), False)})
+
+
+def test_generated_closed_forms_refuse_what_they_were_not_derived_for():
+    """The raw generated functions (not only the checked wrapper) refuse parameters
+    other than those the closed forms were derived for, t < 0 and a pole, one line each;
+    at the derived values they give the wrapper's numbers."""
+    from ins_errors.numeric.closed_forms import closed_form_module
+
+    for name, latitude_row in (("orthodromic", None), ("north_pointing", 2)):
+        model = load_model(name)
+        module = closed_form_module(model)
+        cf = closed_forms(model, LAT)
+        x, u, p = cf.x, cf.u, cf.p
+        t = np.array([[0.0, 3600.0]])
+        assert np.array_equal(module.responses_full(t, x, u, p), cf.responses(t[0]))
+        names = [q.name for q in model.parameters]
+        for parameter, value in module.BAKED.items():
+            other = p.copy()
+            other[names.index(parameter)] = value * 1.001 if value else 0.0066943799901
+            for call in (lambda q: module.responses_full(t, x, u, q),
+                         lambda q: module.frequencies_full(x, u, q)):
+                with pytest.raises(ValueError, match=rf"derived for {parameter} = ") as caught:
+                    call(other)
+                assert "\n" not in str(caught.value) and repr(value) in str(caught.value)
+        with pytest.raises(ValueError, match=r"t >= 0, got t = -1\.0"):
+            module.responses_full(np.array([[0.0, -1.0]]), x, u, p)
+        with pytest.raises(ValueError, match="t >= 0"):
+            module.responses_full(np.array([[np.nan]]), x, u, p)
+        at_pole = x.copy()
+        if latitude_row is None:  # direction cosines of ξ north at the pole
+            at_pole = closed_forms(model, 1.0).x.copy()
+            at_pole[[0, 2]] = 0.0, 1.0  # u11 = cos φ, u31 = sin φ
+        else:
+            at_pole[latitude_row] = np.pi / 2
+        with pytest.raises(ValueError, match="90°"):
+            module.responses_full(t, at_pole, u, p)
+    # the model's default parameters (Krasovsky ellipsoid) are not a sphere
+    model = load_model("orthodromic")
+    module = closed_form_module(model)
+    cf = closed_forms(model, LAT)
+    with pytest.raises(ValueError, match=r"e2 = 0\.0 only \(a spherical Earth\)"):
+        module.responses_full(np.array([[1.0]]), cf.x, cf.u, model.parameter_vector())
+    with pytest.raises(ValueError, match="a_zeta"):
+        module.responses_full(np.array([[1.0]]), cf.x, np.zeros(len(model.inputs)), cf.p)

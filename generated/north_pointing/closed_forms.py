@@ -8,7 +8,11 @@
 responses_<variant>(t, x, u, p)[i, j, ...] is error state i at time t for a unit error source j
 (SI), every other source zero. frequencies_<variant>(x, u, p) are the mode frequencies,
 rad/s, in the order of MODES[<variant>]. BAKED: parameter values the closed forms
-were derived for."""
+were derived for; every function refuses (ValueError) other values, times t < 0
+and points outside the model's domain (a latitude at a pole, ...).
+
+The checked way in, which builds the static-base x, u and p from a latitude:
+ins_errors.numeric.closed_forms.closed_forms(model, latitude).responses(t)."""
 
 import numpy as _np
 
@@ -23,19 +27,77 @@ def _as_vector(value, length, name, function):
     return array
 
 
-def responses_full(t, x, u, p):
-    """Closed-form responses of variant 'full': unit source -> error state.
+def _domain_margins(x, u, p):
+    """Margins of the model's domain and the static base's conditions (> 0: inside).
 
     Parameters
     ----------
-    t : array_like, shape (1, ...)
-        time since the start, s (shape (1, ...))
     x : array_like, shape (4, ...)
         static-base state (only the position matters), SI units
     u : array_like, shape (3, ...)
         static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (4, ...)
-        model parameters, SI units (see BAKED)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, ...)
+        one margin per entry of _DOMAIN
+    """
+    x = _as_vector(x, 4, 'x', '_domain_margins')
+    u = _as_vector(u, 3, 'u', '_domain_margins')
+    p = _as_vector(p, 4, 'p', '_domain_margins')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    phi_ = x[2]
+    h_ = u[2]
+    R_ = p[0]
+    ecc2_ = p[1]
+    g_ = p[3]
+    _out = _np.zeros((6,) + _batch)
+    _out[0] = _m.cos(phi_) - 1e-12
+    _out[1] = R_
+    _out[2] = g_
+    _out[3] = 1 - ecc2_
+    _out[4] = ecc2_ + 1e-300
+    _out[5] = R_ + h_
+    return _out
+
+
+def _check_arguments(function, x, u, p, t=None):
+    """Refuse what the closed forms were not derived for: ValueError, one line."""
+    if t is not None and not _np.all(_np.isfinite(t) & (t >= 0)):
+        bad = float(t[~(_np.isfinite(t) & (t >= 0))].flat[0])
+        raise ValueError(f"{function}: the closed forms hold for finite times t >= 0, "
+                         f"got t = {bad!r}")
+    for name, value in BAKED.items():
+        given = p[_BAKED_INDEX[name]]
+        wrong = ~(_np.abs(given - value) <= 1e-12 * abs(value))
+        if _np.any(wrong):
+            bad = float(_np.broadcast_to(given, wrong.shape)[wrong].flat[0])
+            raise ValueError(f"{function}: derived for {name} = {value!r} only "
+                             f"({_BAKED_MEANING[name]}), got {name} = {bad!r}")
+    margins = _domain_margins(x, u, p)
+    for k, message in enumerate(_DOMAIN):
+        if not _np.all(margins[k] > 0):
+            raise ValueError(f"{function}: {message}")
+
+
+def responses_full(t, x, u, p):
+    """Closed-form responses of variant 'full': unit source -> error state.
+
+    Raises ValueError (one line) for parameters other than BAKED and outside
+    the model's domain (e.g. a latitude at a pole), and for times t < 0.
+
+    Parameters
+    ----------
+    t : array_like, shape (1, ...)
+        time since the start, s (shape (1, ...)), finite, >= 0
+    x : array_like, shape (4, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
 
     Returns
     -------
@@ -46,6 +108,7 @@ def responses_full(t, x, u, p):
     x = _as_vector(x, 4, 'x', 'responses_full')
     u = _as_vector(u, 3, 'u', 'responses_full')
     p = _as_vector(p, 4, 'p', 'responses_full')
+    _check_arguments('responses_full', x, u, p, t)
     _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
     t_ = t[0]
     phi_ = x[2]
@@ -319,6 +382,9 @@ def responses_full(t, x, u, p):
 def frequencies_full(x, u, p):
     """Mode frequencies of variant 'full', rad/s.
 
+    Raises ValueError (one line) for parameters other than BAKED and outside
+    the model's domain (e.g. a latitude at a pole).
+
     Parameters
     ----------
     x : array_like, shape (4, ...)
@@ -326,7 +392,7 @@ def frequencies_full(x, u, p):
     u : array_like, shape (3, ...)
         static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (4, ...)
-        model parameters, SI units (see BAKED)
+        model parameters, SI units; those in BAKED must have their BAKED values
 
     Returns
     -------
@@ -336,6 +402,7 @@ def frequencies_full(x, u, p):
     x = _as_vector(x, 4, 'x', 'frequencies_full')
     u = _as_vector(u, 3, 'u', 'frequencies_full')
     p = _as_vector(p, 4, 'p', 'frequencies_full')
+    _check_arguments('frequencies_full', x, u, p, None)
     _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
     phi_ = x[2]
     R_ = p[0]
@@ -354,16 +421,19 @@ def frequencies_full(x, u, p):
 def responses_report_reduced(t, x, u, p):
     """Closed-form responses of variant 'report_reduced': unit source -> error state.
 
+    Raises ValueError (one line) for parameters other than BAKED and outside
+    the model's domain (e.g. a latitude at a pole), and for times t < 0.
+
     Parameters
     ----------
     t : array_like, shape (1, ...)
-        time since the start, s (shape (1, ...))
+        time since the start, s (shape (1, ...)), finite, >= 0
     x : array_like, shape (4, ...)
         static-base state (only the position matters), SI units
     u : array_like, shape (3, ...)
         static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (4, ...)
-        model parameters, SI units (see BAKED)
+        model parameters, SI units; those in BAKED must have their BAKED values
 
     Returns
     -------
@@ -374,6 +444,7 @@ def responses_report_reduced(t, x, u, p):
     x = _as_vector(x, 4, 'x', 'responses_report_reduced')
     u = _as_vector(u, 3, 'u', 'responses_report_reduced')
     p = _as_vector(p, 4, 'p', 'responses_report_reduced')
+    _check_arguments('responses_report_reduced', x, u, p, t)
     _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
     t_ = t[0]
     phi_ = x[2]
@@ -534,6 +605,9 @@ def responses_report_reduced(t, x, u, p):
 def frequencies_report_reduced(x, u, p):
     """Mode frequencies of variant 'report_reduced', rad/s.
 
+    Raises ValueError (one line) for parameters other than BAKED and outside
+    the model's domain (e.g. a latitude at a pole).
+
     Parameters
     ----------
     x : array_like, shape (4, ...)
@@ -541,7 +615,7 @@ def frequencies_report_reduced(x, u, p):
     u : array_like, shape (3, ...)
         static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (4, ...)
-        model parameters, SI units (see BAKED)
+        model parameters, SI units; those in BAKED must have their BAKED values
 
     Returns
     -------
@@ -551,6 +625,7 @@ def frequencies_report_reduced(x, u, p):
     x = _as_vector(x, 4, 'x', 'frequencies_report_reduced')
     u = _as_vector(u, 3, 'u', 'frequencies_report_reduced')
     p = _as_vector(p, 4, 'p', 'frequencies_report_reduced')
+    _check_arguments('frequencies_report_reduced', x, u, p, None)
     _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
     R_ = p[0]
     U_ = p[2]
@@ -566,3 +641,6 @@ MODES = {'full': ('Earth', 'Schuler − Foucault', 'Schuler + Foucault'), 'repor
 SOURCES = ('gyro_drift_east', 'gyro_drift_north', 'gyro_drift_up', 'accel_bias_east', 'accel_bias_north', 'initial_velocity_error_east', 'initial_velocity_error_north', 'initial_latitude_error', 'initial_longitude_error', 'initial_tilt_east', 'initial_tilt_north', 'initial_azimuth_error')
 BAKED = {'ecc2': 0.0}
 ERROR_STATES = ('delta_v_E', 'delta_v_N', 'delta_latitude', 'delta_longitude', 'alpha_E', 'alpha_N', 'alpha_U')
+_BAKED_INDEX = {'ecc2': 1}
+_BAKED_MEANING = {'ecc2': 'a spherical Earth'}
+_DOMAIN = ('latitude at or beyond ±90°: the formulas divide by cos φ (tan φ, sec φ)', 'Earth radius R must be positive', 'gravity g must be positive', 'eccentricity squared ecc2 must be below 1', 'eccentricity squared ecc2 must not be negative', "R + h must be positive: height below the Earth's centre")

@@ -8,7 +8,11 @@
 responses_<variant>(t, x, u, p)[i, j, ...] is error state i at time t for a unit error source j
 (SI), every other source zero. frequencies_<variant>(x, u, p) are the mode frequencies,
 rad/s, in the order of MODES[<variant>]. BAKED: parameter values the closed forms
-were derived for."""
+were derived for; every function refuses (ValueError) other values, times t < 0
+and points outside the model's domain (a latitude at a pole, ...).
+
+The checked way in, which builds the static-base x, u and p from a latitude:
+ins_errors.numeric.closed_forms.closed_forms(model, latitude).responses(t)."""
 
 import numpy as _np
 
@@ -23,19 +27,76 @@ def _as_vector(value, length, name, function):
     return array
 
 
-def responses_full(t, x, u, p):
-    """Closed-form responses of variant 'full': unit source -> error state.
+def _domain_margins(x, u, p):
+    """Margins of the model's domain and the static base's conditions (> 0: inside).
 
     Parameters
     ----------
-    t : array_like, shape (1, ...)
-        time since the start, s (shape (1, ...))
     x : array_like, shape (8, ...)
         static-base state (only the position matters), SI units
     u : array_like, shape (5, ...)
         static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (3, ...)
-        model parameters, SI units (see BAKED)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (5, ...)
+        one margin per entry of _DOMAIN
+    """
+    x = _as_vector(x, 8, 'x', '_domain_margins')
+    u = _as_vector(u, 5, 'u', '_domain_margins')
+    p = _as_vector(p, 3, 'p', '_domain_margins')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u31_ = x[2]
+    a_zeta_ = u[2]
+    h_ = u[4]
+    a_ = p[0]
+    e2_ = p[1]
+    _out = _np.zeros((5,) + _batch)
+    _out[0] = 0.999999999999 - u31_**2
+    _out[1] = a_
+    _out[2] = a_ + h_
+    _out[3] = 1 - e2_
+    _out[4] = a_zeta_
+    return _out
+
+
+def _check_arguments(function, x, u, p, t=None):
+    """Refuse what the closed forms were not derived for: ValueError, one line."""
+    if t is not None and not _np.all(_np.isfinite(t) & (t >= 0)):
+        bad = float(t[~(_np.isfinite(t) & (t >= 0))].flat[0])
+        raise ValueError(f"{function}: the closed forms hold for finite times t >= 0, "
+                         f"got t = {bad!r}")
+    for name, value in BAKED.items():
+        given = p[_BAKED_INDEX[name]]
+        wrong = ~(_np.abs(given - value) <= 1e-12 * abs(value))
+        if _np.any(wrong):
+            bad = float(_np.broadcast_to(given, wrong.shape)[wrong].flat[0])
+            raise ValueError(f"{function}: derived for {name} = {value!r} only "
+                             f"({_BAKED_MEANING[name]}), got {name} = {bad!r}")
+    margins = _domain_margins(x, u, p)
+    for k, message in enumerate(_DOMAIN):
+        if not _np.all(margins[k] > 0):
+            raise ValueError(f"{function}: {message}")
+
+
+def responses_full(t, x, u, p):
+    """Closed-form responses of variant 'full': unit source -> error state.
+
+    Raises ValueError (one line) for parameters other than BAKED and outside
+    the model's domain (e.g. a latitude at a pole), and for times t < 0.
+
+    Parameters
+    ----------
+    t : array_like, shape (1, ...)
+        time since the start, s (shape (1, ...)), finite, >= 0
+    x : array_like, shape (8, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (5, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
 
     Returns
     -------
@@ -46,6 +107,7 @@ def responses_full(t, x, u, p):
     x = _as_vector(x, 8, 'x', 'responses_full')
     u = _as_vector(u, 5, 'u', 'responses_full')
     p = _as_vector(p, 3, 'p', 'responses_full')
+    _check_arguments('responses_full', x, u, p, t)
     _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
     t_ = t[0]
     u11_ = x[0]
@@ -899,6 +961,9 @@ def responses_full(t, x, u, p):
 def frequencies_full(x, u, p):
     """Mode frequencies of variant 'full', rad/s.
 
+    Raises ValueError (one line) for parameters other than BAKED and outside
+    the model's domain (e.g. a latitude at a pole).
+
     Parameters
     ----------
     x : array_like, shape (8, ...)
@@ -906,7 +971,7 @@ def frequencies_full(x, u, p):
     u : array_like, shape (5, ...)
         static-base inputs (only the vertical specific force matters, where it is an input), SI units
     p : array_like, shape (3, ...)
-        model parameters, SI units (see BAKED)
+        model parameters, SI units; those in BAKED must have their BAKED values
 
     Returns
     -------
@@ -916,6 +981,7 @@ def frequencies_full(x, u, p):
     x = _as_vector(x, 8, 'x', 'frequencies_full')
     u = _as_vector(u, 5, 'u', 'frequencies_full')
     p = _as_vector(p, 3, 'p', 'frequencies_full')
+    _check_arguments('frequencies_full', x, u, p, None)
     _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
     u31_ = x[2]
     a_zeta_ = u[2]
@@ -933,3 +999,6 @@ MODES = {'full': ('Earth', 'Schuler − Foucault', 'Schuler + Foucault')}
 SOURCES = ('initial_tilt_x', 'initial_tilt_y', 'initial_azimuth_error', 'initial_velocity_error_xi', 'initial_velocity_error_eta', 'initial_latitude_error', 'initial_longitude_error', 'initial_heading_error', 'gyro_drift_x', 'gyro_drift_y', 'gyro_drift_z', 'accel_bias_x', 'accel_bias_y', 'velocity_integrator_offset_xi', 'velocity_integrator_offset_eta', 'position_integrator_offset_xi', 'position_integrator_offset_eta', 'accel_scale_error_x', 'accel_scale_error_y', 'velocity_integrator_gain_error_xi', 'velocity_integrator_gain_error_eta', 'position_integrator_gain_error_xi', 'position_integrator_gain_error_eta', 'correction_gain_error_x', 'correction_gain_error_y', 'correction_gain_error_z')
 BAKED = {'a': 6378245.0, 'U': 7.292115e-05, 'e2': 0.0}
 ERROR_STATES = ('delta_u11', 'delta_u21', 'delta_u31', 'delta_u12', 'delta_u22', 'delta_u32', 'delta_V_xi', 'delta_V_eta', 'alpha_x', 'alpha_y', 'alpha_z')
+_BAKED_INDEX = {'a': 0, 'U': 2, 'e2': 1}
+_BAKED_MEANING = {'a': 'the value fixed before the analysis', 'U': 'the value fixed before the analysis', 'e2': 'a spherical Earth'}
+_DOMAIN = ('latitude at ±90° (|u31| = 1): the formulas divide by cos φ', 'semi-major axis a must be positive', 'a + h <= 0: the Earth radius plus height must be positive', 'eccentricity squared must be below 1', 'the vertical specific force a_zeta (gravity at rest) must be positive')

@@ -101,7 +101,11 @@ class StaticSetup:
     baked : dict
         Parameter name -> value substituted before the analysis (numeric-parameter
         substitution where a fully symbolic analysis is too slow); the closed forms hold
-        only for these values, and the numeric loader checks them.
+        only for these values, and the generated functions refuse others.
+    conditions : list of (sympy.Expr, str)
+        Static-base conditions beyond the model's domain, as the model's ``domain``:
+        a margin in the state, input and parameter symbols (> 0 where it holds) and the
+        message the generated closed forms raise when it does not.
     """
 
     model: str
@@ -111,6 +115,7 @@ class StaticSetup:
     initial_point: dict[sp.Symbol, sp.Expr] = field(default_factory=dict)
     baked: dict[str, float] = field(default_factory=dict)
     print_resolvent: bool = True
+    conditions: list[tuple[sp.Expr, str]] = field(default_factory=list)
 
 
 @dataclass
@@ -230,7 +235,9 @@ def _orthodromic() -> StaticSetup:
         [Variant("full", "Orthodromic INS, static base", full, factored=False)],
         initial_point={c["latitude"]: phi, c["longitude"]: 0, c["heading"]: 0,
                        c["v_N"]: 0, c["v_E"]: 0},
-        baked={"a": float(a_num), "U": float(U_num), "e2": 0.0}, print_resolvent=False)
+        baked={"a": float(a_num), "U": float(U_num), "e2": 0.0}, print_resolvent=False,
+        conditions=[(a_zeta, "the vertical specific force a_zeta (gravity at rest) must "
+                     "be positive")])
 
 
 SETUPS: dict[str, Callable[[], StaticSetup]] = {
