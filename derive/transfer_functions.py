@@ -12,16 +12,32 @@ writes
 
 from __future__ import annotations
 
+import functools
+from dataclasses import dataclass
 from pathlib import Path
 
 import sympy as sp
 
 from ins_errors.models import definition
-from ins_errors.symbolic.analytic import S, T
+from ins_errors.symbolic.analytic import S, T, factor_lists_remembered, factor_product
 from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_numpy_function, prepare
 from ins_errors.symbolic.documents import to_latex
 from ins_errors.symbolic.shared_trees import SharedTrees
-from ins_errors.symbolic.static_base import LATEX, SETUPS, VariantResult, static_analyses
+from ins_errors.symbolic.simplifications import simplification
+from ins_errors.symbolic.static_base import (
+    LATEX,
+    OMEGA_BAR,
+    OMEGA_MINUS,
+    OMEGA_N,
+    OMEGA_PLUS,
+    OMEGA_S,
+    OMEGA_U,
+    SETUPS,
+    StaticSetup,
+    VariantResult,
+    static_analyses,
+    static_matrices,
+)
 
 from .model_files import NUMPY_PRELUDE
 
@@ -37,11 +53,18 @@ def _header(model: str, markdown: bool) -> str:
     return "".join(f"# {line}\n" for line in lines)
 
 
+@functools.cache
+def _setup(model: str) -> StaticSetup:
+    """The model's static setup, built once per process."""
+    return SETUPS[model]()
+
+
 def _names(model: str) -> dict[sp.Symbol, str]:
     d = definition(model)
     names = d.latex_names()
     names.update(LATEX)
     names.update({S: "s", T: "t"})
+    names.setdefault(sp.Symbol("phi", real=True), r"\varphi")  # a static base's latitude
     return names
 
 
@@ -52,18 +75,15 @@ def _matrix_latex(M: sp.Matrix, names: dict[sp.Symbol, str]) -> str:
 
 def _period_text(result: VariantResult, model: str) -> list[str]:
     names = _names(model)
-    par = result.analysis.parametrisation
     rows = []
     for mode in result.analysis.modes:
         if mode.symbol is None:
-            rows.append(f"| integrator | $s^{{{mode.multiplicity}}}$ | – | – |")
+            rows.append(f"| integrator | $s^{{{mode.multiplicity}}}$ | – |")
             continue
         w = to_latex(mode.symbol, names)
-        value = (f"${w} = {to_latex(par.to_model(mode.symbol), names)}$"
-                 if mode.symbol in par.definitions else f"${w}$ (model parameter)")
-        rows.append(f"| {mode.name} | $(s^2 + {w}^2)^{{{mode.multiplicity}}}$ | {value} | "
+        rows.append(f"| {mode.name} | $(s^2 + {w}^2)^{{{mode.multiplicity}}}$ | "
                     f"$2\\pi/{w}$ |")
-    return ["| mode | factor | frequency | period |", "|---|---|---|---|", *rows]
+    return ["| mode | factor | period |", "|---|---|---|", *rows]
 
 
 def _mode_product(result: VariantResult) -> sp.Expr:
@@ -77,24 +97,236 @@ def _mode_product(result: VariantResult) -> sp.Expr:
     return product
 
 
-def _shorten(expr: sp.Expr, modes, trees: SharedTrees) -> sp.Expr:
-    """Write each mode's ω² (e.g. Ω_N² + Ω_U²) as its symbol squared (Ω²), for reading.
+class _Readable:
+    """Rewrite printed forms of one variant in its shortest named quantities.
 
-    ``expr.subs`` (through ``trees``: the same result, each subtree once).
+    Each factor of a product (a partial-fraction coefficient, a coefficient of s in an
+    adjugate entry) is tried as written and with Ω_N² = Ω² − Ω_U² (Ω the Earth mode's
+    symbol) and, where the parametrisation has the Foucault pair, ω̄ = (ω₊ + ω₋)/2,
+    Ω_U = (ω₊ − ω₋)/2, each expanded and factored; the form with the fewest operations
+    is kept (so Ω_U − ω̄ reads −ω₋ and Ω_N² − 2Ω_U ω̄ − ω̄² reads Ω² − ω₊²). Then
+    ω₊ ω₋ = ω_s², and a product divided by Ω_N has Ω_N, Ω_U written Ω cos φ, Ω sin φ and
+    trigsimp'd (Ω/Ω_N reads 1/cos φ). Every rule is an identity of the parametrisation,
+    so the printed forms equal the analysed ones (tests/test_analytic_documents.py
+    evaluates them against numpy's inverse and scipy's expm).
     """
-    for mode in modes:
-        if mode.symbol is not None and mode.squared.is_Add:
-            expr = trees.subs(expr, mode.squared, mode.symbol**2)
-    return expr
+
+    def __init__(self, analysis) -> None:
+        par = analysis.parametrisation
+        self.definitions = par.definitions
+        earth = [m for m in analysis.modes if m.symbol is not None and m.name == "Earth"]
+        self.earth = earth[0].symbol if earth else None
+        self.split = {OMEGA_PLUS, OMEGA_MINUS, OMEGA_BAR} <= set(par.definitions)
+        self._factors: dict[sp.Expr, sp.Expr] = {}
+        self._monomials: dict[sp.Expr, sp.Expr] = {}
+        self._factored: dict[sp.Expr, sp.Expr] = {}
+
+    def definitions_shown(self) -> dict[sp.Symbol, sp.Expr]:
+        """Every symbol the printed forms use -> its definition (ω_s included, in the
+        model's symbols: ω_s² = ω̄² − Ω_U² = ω₊ω₋)."""
+        out = dict(self.definitions)
+        if self.split:
+            out[OMEGA_S] = self.to_model(sp.sqrt(OMEGA_BAR**2 - OMEGA_U**2))
+        return out
+
+    def to_model(self, expr: sp.Expr) -> sp.Expr:
+        """``expr`` with the parametrisation's symbols replaced by their definitions."""
+        for _ in range(len(self.definitions) + 1):
+            if not expr.free_symbols & self.definitions.keys():
+                break
+            expr = expr.xreplace(self.definitions)
+        return expr
+
+    def factor(self, f: sp.Expr) -> sp.Expr:
+        """The shortest identical form of one sum (see the class)."""
+        if f in self._factors:
+            return self._factors[f]
+        candidates = [f]
+        g = f
+        if self.earth is not None and f.has(OMEGA_N):
+            g = sp.expand(f.subs(OMEGA_N**2, self.earth**2 - OMEGA_U**2))
+            candidates += [g, factor_product(g)]
+        if self.split and f.has(OMEGA_BAR):
+            h = sp.expand(g.xreplace({OMEGA_BAR: (OMEGA_PLUS + OMEGA_MINUS) / 2,
+                                      OMEGA_U: (OMEGA_PLUS - OMEGA_MINUS) / 2}))
+            k = sp.expand(h.subs(OMEGA_PLUS * OMEGA_MINUS, OMEGA_S**2))
+            candidates += [h, factor_product(h), k, factor_product(k)]
+        # the first of the shortest, then of those with the fewest symbols
+        best = min(candidates, key=lambda e: (sp.count_ops(e), len(e.free_symbols)))
+        self._factors[f] = best
+        return best
+
+    def product(self, term: sp.Expr) -> sp.Expr:
+        """One product with its sums rewritten, ω₊ω₋ = ω_s², 1/Ω_N as trigonometry."""
+        factors = []
+        for arg in sp.Mul.make_args(term):
+            base, exponent = arg.as_base_exp()
+            if base.is_Add and not base.has(T) and exponent.is_Integer:
+                factors.append(self.factor(base) ** exponent)
+            else:
+                factors.append(arg)
+        term = sp.Mul(*factors)
+        if self.split:
+            powers = term.as_powers_dict()
+            pair = min(powers.get(OMEGA_PLUS, 0), powers.get(OMEGA_MINUS, 0))
+            if pair > 0:
+                term = term / (OMEGA_PLUS * OMEGA_MINUS) ** pair * OMEGA_S ** (2 * pair)
+        if term.as_powers_dict().get(OMEGA_N, 0) < 0 and OMEGA_N in self.definitions:
+            monomial, rest = sp.S.One, sp.S.One
+            for arg in sp.Mul.make_args(term):
+                if arg.as_base_exp()[0] in (OMEGA_N, OMEGA_U):
+                    monomial *= arg
+                else:
+                    rest *= arg
+            if monomial not in self._monomials:
+                self._monomials[monomial] = sp.trigsimp(monomial.xreplace(
+                    {q: self.definitions[q] for q in (OMEGA_N, OMEGA_U)}))
+            term = rest * self._monomials[monomial]
+        return term
+
+    def response(self, expr: sp.Expr) -> sp.Expr:
+        """A time response: a sum of products, each rewritten."""
+        return sp.Add(*[self.product(t) for t in sp.Add.make_args(expr)])
+
+    def polynomial(self, expr: sp.Expr) -> list[tuple[int, sp.Expr]]:
+        """A polynomial in s: (power, coefficient factored and rewritten), highest first."""
+        terms = []
+        for monomial, c in sp.collect(sp.expand(expr), S, evaluate=False).items():
+            base, k = monomial.as_base_exp()
+            terms.append((0 if base == 1 else int(k), c))
+        out = []
+        for k, c in sorted(terms, key=lambda term: -term[0]):
+            if c not in self._factored:
+                self._factored[c] = self.product(factor_product(c))
+            out.append((k, self._factored[c]))
+        return out
+
+
+@dataclass
+class ShownForms:
+    """What ``transfer_functions.md`` prints for one variant, as SymPy objects.
+
+    Attributes
+    ----------
+    state_matrix : sympy.Matrix
+        F in the model's symbols (parameters the analysis fixed to numbers kept as
+        symbols: their values are in the document's constants table).
+    characteristic : sympy.Expr
+        Δ(s) = det(sI − F) as the product of its modes.
+    definitions : dict
+        Every parametrisation symbol the forms use -> its definition (in the model's
+        symbols or in other such symbols).
+    adjugate : dict
+        (i, j) -> adj_ij(s) as its terms (power of s, coefficient), highest power
+        first: the printed nonzero entries (empty when not printed).
+    zero_adjugate : list of (i, j)
+        The entries left out because they are identically zero.
+    responses : dict or None
+        Source name -> {error-state index: x_i(t) for a unit source}, the nonzero
+        entries (None when the variant's responses are not printed).
+    """
+
+    state_matrix: sp.Matrix
+    characteristic: sp.Expr
+    definitions: dict[sp.Symbol, sp.Expr]
+    adjugate: dict[tuple[int, int], list[tuple[int, sp.Expr]]]
+    zero_adjugate: list[tuple[int, int]]
+    responses: dict[str, dict[int, sp.Expr]] | None
+
+
+def shown_forms(model: str, result: VariantResult) -> ShownForms:
+    """The forms the document prints for one variant of ``model``."""
+    setup = _setup(model)
+    trees = SharedTrees()
+    readable = _Readable(result.analysis)
+    with factor_lists_remembered():
+        return _shown_forms(model, result, setup, trees, readable)
+
+
+def _shown_forms(model: str, result: VariantResult, setup, trees: SharedTrees,
+                 readable: _Readable) -> ShownForms:
+    a = result.analysis
+    par = a.parametrisation
+    if setup.display_point is not None:
+        F = static_matrices(model, setup.display_point, setup.initial_point)[0]
+        if result.variant.simplification:
+            F = simplification(result.variant.simplification).apply(
+                F, [v.name for v in definition(model).error_states])[0]
+        shown_F = F
+    else:
+        shown_F = a.state_matrix.applyfunc(lambda e: sp.expand(par.to_model(e, trees)))
+    adjugate, zero = {}, []
+    if setup.print_resolvent:
+        for i in range(a.adjugate.rows):
+            for j in range(a.adjugate.cols):
+                if a.adjugate[i, j] == 0:
+                    zero.append((i, j))
+                else:
+                    adjugate[i, j] = readable.polynomial(a.adjugate[i, j])
+    responses = None
+    if result.variant.factored:
+        responses = {name: {i: readable.response(e) for i, e in enumerate(a.responses[name])
+                            if e != 0}
+                     for name in result.sources}
+    return ShownForms(shown_F, _mode_product(result), readable.definitions_shown(),
+                      adjugate, zero, responses)
+
+
+def _polynomial_latex(terms: list[tuple[int, sp.Expr]], names) -> str:
+    """c_n s^n + ... + c_0, highest power first (each coefficient in parentheses if a sum)."""
+    text = ""
+    for power, coefficient in terms:
+        monomial = {0: "", 1: " s"}.get(power, f" s^{{{power}}}")
+        c = to_latex(coefficient, names)
+        if coefficient.is_Add:
+            c = f"\\left({c}\\right)"
+        elif coefficient == 1 and power:
+            c = ""
+        elif coefficient == -1 and power:
+            c = "-"
+        if text and not c.startswith("-"):
+            text += " + "
+        elif text:
+            text += " "
+        text += (c + monomial).strip()
+    return text
+
+
+def _constants(model: str) -> list[str]:
+    """The table of the model's parameters: fixed before the analysis, or symbolic."""
+    d = definition(model)
+    setup = _setup(model)
+    names = _names(model)
+    rows = ["| symbol | meaning | value in this document |", "|---|---|---|"]
+    for q in d.parameters:
+        unit = "" if q.unit == "1" else f" {q.unit}"
+        if q.name in setup.baked:
+            value = (f"{setup.baked[q.name]:.10g}{unit}: the analysis is derived for this "
+                     "value only")
+        else:
+            value = f"symbolic (default {q.default:.10g}{unit})"
+        rows.append(f"| ${names[q.symbol]}$ | {q.description} | {value} |")
+    return rows
+
+
+def _definitions_text(forms: ShownForms, model: str) -> list[str]:
+    names = _names(model)
+    rows = ["| symbol | definition |", "|---|---|"]
+    for symbol, value in forms.definitions.items():
+        rows.append(f"| ${to_latex(symbol, names)}$ | ${to_latex(value, names)}$ |")
+    return rows
+
+
+def _entry_names(indices, states: list[str], names) -> str:
+    return ", ".join(f"$\\operatorname{{adj}}_{{{i + 1}{j + 1}}}$" for i, j in indices)
 
 
 def markdown(model: str, results: list[VariantResult]) -> str:
     """The ``transfer_functions.md`` document of one model."""
     d = definition(model)
-    setup = SETUPS[model]()
+    setup = _setup(model)
     names = _names(model)
     states = [v.name for v in d.error_states]
-    trees = SharedTrees()
     out = [f"# Transfer functions and closed-form responses of `{model}` (static base)", "",
            f"{d.title}. Source: {d.source}.", "",
            setup.description, "",
@@ -104,10 +336,15 @@ def markdown(model: str, results: list[VariantResult]) -> str:
            "coefficients; the time responses come from partial fractions in z = s² and the "
            "table 1/(s²+ω²) → sin ωt/ω, s/(s²+ω²) → cos ωt, 1/s^n → t^(n−1)/(n−1)!. Every "
            "response is to a *unit* source (1 in SI units) with every other source zero; "
-           "constant sources start at t = 0 (step), initial errors are x(0).", ""]
+           "constant sources start at t = 0 (step), initial errors are x(0). The printed "
+           "forms are rewritten with identities of the parametrisation (e.g. ω₊ω₋ = ω_s², "
+           "Ω_N² + Ω_U² = Ω²) and checked numerically against the model's own F "
+           "(tests/test_analytic_documents.py).", "",
+           "Constants (the model's parameters):", "", *_constants(model), ""]
     for result in results:
         a = result.analysis
         par = a.parametrisation
+        forms = shown_forms(model, result)
         out += [f"## {result.variant.title}", "",
                 f"Variant `{result.variant.name}`. Parametrisation: {par.description}.", ""]
         if result.variant.simplification:
@@ -121,29 +358,31 @@ def markdown(model: str, results: list[VariantResult]) -> str:
                 out.append(f"| $\\dot{{{eq}}}$ | ${to_latex(value, names)}\\,{var}$ | "
                            f"${to_latex(value, names)}$ | {term.reason} |")
             out.append("")
-        shown_F = a.state_matrix.applyfunc(lambda e, par=par: sp.expand(par.to_model(e, trees)))
-        delta = _mode_product(result)
         out += ["State matrix at the static base (rows and columns: "
                 + ", ".join(f"`{n}`" for n in states) + "):", "",
-                f"$$ F = {_matrix_latex(shown_F, names)} $$", "",
+                f"$$ F = {_matrix_latex(forms.state_matrix, names)} $$", "",
                 "Characteristic polynomial and its modes:", "",
-                f"$$ \\Delta(s) = \\det(sI - F) = {to_latex(delta, names)} $$", "",
-                *_period_text(result, model), ""]
+                f"$$ \\Delta(s) = \\det(sI - F) = {to_latex(forms.characteristic, names)} $$",
+                "", *_period_text(result, model), "",
+                "Symbols of the parametrisation:", "", *_definitions_text(forms, model), ""]
         if setup.print_resolvent:
             out += ["### Resolvent (sI − F)⁻¹ = adj(sI − F) / Δ(s)", "",
                     "Entry C_ij is the Laplace transform of error state i for a unit "
                     "initial value of error state j; its numerator adj_ij(s) is listed "
-                    "(Δ(s) above).", ""]
-        for i, row_name in enumerate(states if setup.print_resolvent else ()):
-            for j, col_name in enumerate(states):
-                entry = a.adjugate[i, j]
-                if entry != 0:
-                    numerator = sp.collect(_shorten(entry, a.modes, trees), S)
-                    out += [f"$$ \\operatorname{{adj}}_{{{i + 1}{j + 1}}} = "
-                            f"[{names[sp.Symbol(row_name, real=True)]} \\leftarrow "
-                            f"{names[sp.Symbol(col_name, real=True)]}(0)] = "
-                            f"{to_latex(numerator, names)} $$", ""]
-        if not result.variant.factored:
+                    "(Δ(s) above). Entries not listed are identically zero: "
+                    + (_entry_names(forms.zero_adjugate, states, names) or "none") + ".", ""]
+            for (i, j), terms in forms.adjugate.items():
+                out += [f"$$ \\operatorname{{adj}}_{{{i + 1}{j + 1}}} = "
+                        f"[{names[sp.Symbol(states[i], real=True)]} \\leftarrow "
+                        f"{names[sp.Symbol(states[j], real=True)]}(0)] = "
+                        f"{_polynomial_latex(terms, names)} $$", ""]
+        else:
+            out += ["(sI − F)⁻¹ is not printed for this model: its parameters are fixed to "
+                    "numbers before the analysis, and its "
+                    f"{len(states)}×{len(states)} entries would print as long rational "
+                    "numbers. `ins_errors.symbolic.static_base.static_analyses"
+                    f"({model!r})[0].analysis.resolvent` holds it exactly.", ""]
+        if forms.responses is None:
             out += ["### Time responses", "",
                     "The closed-form time responses of this variant are emitted to "
                     f"`closed_forms.py` (`responses_{result.variant.name}`) with their "
@@ -151,19 +390,23 @@ def markdown(model: str, results: list[VariantResult]) -> str:
                     "factoring and printing them would slow `make derive` for little "
                     "reading value. Each response is a combination of "
                     + ", ".join(f"sin/cos({m.name})" for m in a.modes if m.symbol is not None)
-                    + " and polynomials in t (integrators); the Laplace-domain forms above "
-                    "are exact.", ""]
+                    + " and polynomials in t (integrators). Evaluate them with "
+                    f"`ins_errors.numeric.closed_forms.closed_forms({model!r}, latitude)"
+                    ".responses(t)`.", ""]
             continue
-        out += ["### Time responses to each error source", ""]
+        out += ["### Time responses to each error source", "",
+                "For each source, the error states not listed stay identically zero.", ""]
         for source in d.sources:
-            column = a.responses[source.name]
+            shown = forms.responses[source.name]
             kind = "constant (step at t = 0)" if source.kind == "constant" else "initial error"
             out += [f"#### `{source.name}` (${source.latex}$, {kind})", ""]
-            for i, state in enumerate(d.error_states):
-                if column[i] != 0:
-                    out += [f"$$ {state.latex}(t) = {source.latex}\\,\\left("
-                            f"{to_latex(_shorten(column[i], a.modes, trees), names)}\\right) $$",
-                            ""]
+            silent = [d.error_states[i].latex for i in range(len(states)) if i not in shown]
+            for i, expr in shown.items():
+                out += [f"$$ {d.error_states[i].latex}(t) = {source.latex}\\,\\left("
+                        f"{to_latex(expr, names)}\\right) $$", ""]
+            if silent:
+                out += ["Identically zero: " + ", ".join(f"${x}(t)$" for x in silent) + ".",
+                        ""]
     return "\n".join(out) + "\n"
 
 
@@ -209,7 +452,7 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
                                "matters, where it is an input), SI units")
     p_arg = Argument("p", d.p, "model parameters, SI units; those in BAKED must have "
                                "their BAKED values")
-    setup = SETUPS[model]()
+    setup = _setup(model)
     checked = ("Raises ValueError (one line) for parameters other than BAKED and outside\n"
                "    the model's domain (e.g. a latitude at a pole){}.")
     src = [_header(model, markdown=False),

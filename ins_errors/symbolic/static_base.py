@@ -106,6 +106,9 @@ class StaticSetup:
         Static-base conditions beyond the model's domain, as the model's ``domain``:
         a margin in the state, input and parameter symbols (> 0 where it holds) and the
         message the generated closed forms raise when it does not.
+    display_point : dict or None
+        The static point with the ``baked`` parameters left as symbols, for the F the
+        documents print (None: ``point``, which then has no numbers in their place).
     """
 
     model: str
@@ -116,6 +119,7 @@ class StaticSetup:
     baked: dict[str, float] = field(default_factory=dict)
     print_resolvent: bool = True
     conditions: list[tuple[sp.Expr, str]] = field(default_factory=list)
+    display_point: dict[sp.Symbol, sp.Expr] | None = None
 
 
 @dataclass
@@ -183,16 +187,11 @@ OMEGA_E = sp.Symbol("Omega_E", positive=True)
 """Earth-rate mode frequency of the orthodromic analysis (= the baked U), rad/s."""
 
 
-def _orthodromic() -> StaticSetup:
+def _orthodromic_point(d: ModelDefinition, phi: sp.Symbol, numbers: dict) -> dict:
+    """The static point of the orthodromic model with ``numbers`` substituted too."""
     from ins_errors.models.orthodromic import absolute_velocity, direction_cosines
 
-    d = definition("orthodromic")
     sym = {v.name: v.symbol for v in (*d.states, *d.inputs, *d.parameters)}
-    c = {v.name: v.symbol for v in d.initial_conditions}
-    phi = sp.Symbol("phi", real=True)
-    a_num, U_num = sp.Integer(ORTHODROMIC_RADIUS), ORTHODROMIC_EARTH_RATE
-    numbers = {sym["a"]: a_num, sym["U"]: U_num, sym["e2"]: 0, sym["h"]: 0,
-               sym["V_zeta"]: 0}
     dc = direction_cosines(phi, 0, 0)
     point = dict(zip((sym[n] for n in ("u11", "u21", "u31", "u12", "u22", "u32")), dc,
                      strict=True))
@@ -205,7 +204,18 @@ def _orthodromic() -> StaticSetup:
     d_ideal = d_ideal.xreplace(point)
     point[sym["a_xi"]] = sp.simplify(-d_ideal[6])
     point[sym["a_eta"]] = sp.simplify(-d_ideal[7])
-    a_zeta = sym["a_zeta"]
+    return point
+
+
+def _orthodromic() -> StaticSetup:
+    d = definition("orthodromic")
+    sym = {v.name: v.symbol for v in (*d.states, *d.inputs, *d.parameters)}
+    c = {v.name: v.symbol for v in d.initial_conditions}
+    phi = sp.Symbol("phi", real=True)
+    a_num, U_num = sp.Integer(ORTHODROMIC_RADIUS), ORTHODROMIC_EARTH_RATE
+    fixed = {sym["e2"]: 0, sym["h"]: 0, sym["V_zeta"]: 0}
+    point = _orthodromic_point(d, phi, {sym["a"]: a_num, sym["U"]: U_num, **fixed})
+    a_zeta, a, U = sym["a_zeta"], sym["a"], sym["U"]
 
     def rewrite(e: sp.Expr) -> sp.Expr:
         e = e.subs(sp.tan(phi), sp.sin(phi) / sp.cos(phi))
@@ -213,16 +223,16 @@ def _orthodromic() -> StaticSetup:
         return e.subs(a_zeta, a_num * (OMEGA_BAR**2 - OMEGA_U**2))
 
     u11, u31 = sym["u11"], sym["u31"]
-    full = Parametrisation(
+    full = Parametrisation(  # definitions in a and U: the closed forms refuse other values
         rewrite,
         {OMEGA_PLUS: OMEGA_BAR + OMEGA_U, OMEGA_MINUS: OMEGA_BAR - OMEGA_U,
-         OMEGA_BAR: sp.sqrt(a_zeta / a_num + OMEGA_U**2), OMEGA_N: U_num * u11,
-         OMEGA_U: U_num * u31, OMEGA_E: U_num},
+         OMEGA_BAR: sp.sqrt(a_zeta / a + OMEGA_U**2), OMEGA_N: U * u11,
+         OMEGA_U: U * u31, OMEGA_E: U},
         (Frequency(OMEGA_PLUS, (OMEGA_BAR + OMEGA_U) ** 2, "Schuler + Foucault"),
          Frequency(OMEGA_MINUS, (OMEGA_BAR - OMEGA_U) ** 2, "Schuler − Foucault"),
          Frequency(OMEGA_E, OMEGA_N**2 + OMEGA_U**2, "Earth")),
         "Ω_N = U cos φ = U u₁₁, Ω_U = U sin φ = U u₃₁ (ξ north), ω̄ = √(a_ζ/a + Ω_U²), "
-        "ω± = ω̄ ± Ω_U; a and U numeric")
+        "ω± = ω̄ ± Ω_U; a and U fixed to numbers before the analysis")
     return StaticSetup(
         "orthodromic", point,
         "Static base with the ξ axis north (χ = 0) at longitude 0, height 0, on the "
@@ -230,12 +240,14 @@ def _orthodromic() -> StaticSetup:
         "V_ξ, V_η are the absolute velocities of the Earth's rotation there and a_ξ, a_η "
         "the consistent apparent accelerations (V̇ = 0); a_ζ ≈ g stays symbolic, as does "
         "the latitude φ. Numeric-parameter substitution: with a and U symbolic the 11×11 "
-        "analysis of all 26 sources takes about twice as long, so they are fixed (the "
-        "closed forms check them when evaluated).",
+        "analysis of all 26 sources takes about twice as long, so they are fixed to the "
+        "numbers above before the analysis (the documents print them as the symbols a "
+        "and U; the generated closed forms refuse other values).",
         [Variant("full", "Orthodromic INS, static base", full, factored=False)],
         initial_point={c["latitude"]: phi, c["longitude"]: 0, c["heading"]: 0,
                        c["v_N"]: 0, c["v_E"]: 0},
         baked={"a": float(a_num), "U": float(U_num), "e2": 0.0}, print_resolvent=False,
+        display_point=_orthodromic_point(d, phi, fixed),
         conditions=[(a_zeta, "the vertical specific force a_zeta (gravity at rest) must "
                      "be positive")])
 
