@@ -355,10 +355,10 @@ def test_generated_closed_forms_refuse_what_they_were_not_derived_for():
         for parameter, value in module.BAKED.items():
             other = p.copy()
             other[names.index(parameter)] = value * 1.001 if value else 0.0066943799901
-            for call in (lambda q: module.responses_full(t, x, u, q),
-                         lambda q: module.frequencies_full(x, u, q)):
+            for function, arguments in ((module.responses_full, (t, x, u)),
+                                        (module.frequencies_full, (x, u))):
                 with pytest.raises(ValueError, match=rf"derived for {parameter} = ") as caught:
-                    call(other)
+                    function(*arguments, other)
                 assert "\n" not in str(caught.value) and repr(value) in str(caught.value)
         with pytest.raises(ValueError, match=r"t >= 0, got t = -1\.0"):
             module.responses_full(np.array([[0.0, -1.0]]), x, u, p)
