@@ -32,3 +32,15 @@ def test_readme_starts_with_the_two_setup_commands():
 def test_api_snippet_runs():
     snippet = README.split("## The API at a glance", 1)[1].split("```python", 1)[1]
     exec(compile(snippet.split("```", 1)[0], "README.md", "exec"), {})
+
+
+def test_closed_forms_snippet_runs_and_says_which_models_have_them():
+    section = README.split("### Transfer functions and closed forms (static base)", 1)[1]
+    section = section.split("\n## ", 1)[0]
+    exec(compile(section.split("```python", 1)[1].split("```", 1)[0], "README.md", "exec"),
+         {})
+    from ins_errors.symbolic.static_base import SETUPS
+
+    named = [name for name in ins_errors.available_models() if f"`{name}`" in
+             section.split("```python", 1)[0]]
+    assert sorted(named) == sorted(SETUPS)
