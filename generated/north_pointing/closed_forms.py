@@ -54,7 +54,7 @@ def _domain_margins(x, u, p):
     ecc2_ = p[1]
     g_ = p[3]
     _out = _np.zeros((6,) + _batch)
-    _out[0] = _m.cos(phi_) - 1e-12
+    _out[0] = _m.cos(phi_)**2 - 1e-12
     _out[1] = R_
     _out[2] = g_
     _out[3] = 1 - ecc2_
