@@ -2,8 +2,11 @@
 
 ``generated/<model>/closed_forms.py`` holds, for each analysed variant (``"full"``, and
 named simplifications such as ``"report_reduced"``), the response of every error state
-to a unit error source and the mode frequencies. This module checks the arguments
-(latitude away from the poles, R > 0, g > 0, finite times) and evaluates them.
+to a unit error source and the mode frequencies. This module builds the static-base
+state, inputs and parameters from a latitude, checks the arguments (latitude away from
+the poles, R > 0, g > 0, finite times >= 0, the parameters the closed forms were derived
+for) with :class:`~ins_errors.errors.DomainError`, and evaluates them. The generated
+functions refuse the same with a one-line ``ValueError`` when called directly.
 """
 
 from __future__ import annotations
