@@ -109,6 +109,23 @@ def test_periods_from_theory(model):
     assert full["Earth"] == pytest.approx(2 * np.pi / U, rel=1e-12)
 
 
+@pytest.mark.parametrize("degrees", [45.0, -45.0])
+def test_split_pair_is_named_by_size_in_either_hemisphere(model, degrees):
+    """'Schuler − Foucault' is the lower frequency ω̄ − Ω|sin φ| north and south of the
+    equator (the generated modules name ω± by the signed Ω sin φ)."""
+    R, g, U = 6_371_000.0, 9.80665, 7.292115e-5
+    latitude = np.radians(degrees)
+    cf = closed_forms(model, latitude, R=R, g=g)
+    omega_bar = np.sqrt(g / R + (U * np.sin(latitude)) ** 2)
+    foucault = U * abs(np.sin(latitude))
+    frequencies = cf.frequencies("full")
+    assert frequencies["Schuler − Foucault"] == pytest.approx(omega_bar - foucault, rel=1e-9)
+    assert frequencies["Schuler + Foucault"] == pytest.approx(omega_bar + foucault, rel=1e-9)
+    periods = cf.periods("full")
+    assert periods["Schuler − Foucault"] / 60 == pytest.approx(87.99, abs=0.01)
+    assert periods["Schuler + Foucault"] / 60 == pytest.approx(80.97, abs=0.01)
+
+
 def test_periods_agree_with_eigenvalues_of_F(model):
     """Mode frequencies = |imaginary parts| of the eigenvalues of the generated F."""
     for variant in ("full", "report_reduced"):

@@ -7,6 +7,12 @@ state, inputs and parameters from a latitude, checks the arguments (latitude awa
 the poles, R > 0, g > 0, finite times >= 0, the parameters the closed forms were derived
 for) with :class:`~ins_errors.errors.DomainError`, and evaluates them. The generated
 functions refuse the same with a one-line ``ValueError`` when called directly.
+
+The generated modules name the Foucault-split Schuler pair after ω± = ω̄ ± Ω sin φ with
+the *signed* Ω sin φ, so south of the equator their "Schuler + Foucault" is the slower
+mode. :meth:`ClosedForms.frequencies` and :meth:`ClosedForms.periods` name the pair by
+size in either hemisphere (:data:`SPLIT_MODES`): "Schuler − Foucault" is always the
+lower frequency ω̄ − Ω|sin φ| (the longer period), "Schuler + Foucault" the higher.
 """
 
 from __future__ import annotations
@@ -20,6 +26,20 @@ import numpy as np
 from ins_errors.errors import DomainError, ShapeError, UnknownNameError, unknown_name
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.units import STANDARD_GRAVITY
+
+SPLIT_MODES = ("Schuler − Foucault", "Schuler + Foucault")
+"""Names of the Foucault-split Schuler modes: the lower frequency ω̄ − Ω|sin φ| (the
+longer period), then the higher ω̄ + Ω|sin φ|, ω̄ = √(g/R + Ω² sin² φ)."""
+
+
+def _split_pair_by_size(frequencies: dict[str, float]) -> dict[str, float]:
+    """``frequencies`` (mode name -> rad/s) with the :data:`SPLIT_MODES` pair named by
+    size, same keys in the same order (other modes unchanged)."""
+    if not all(name in frequencies for name in SPLIT_MODES):
+        return frequencies
+    by_size = dict(zip(SPLIT_MODES, sorted(frequencies[name] for name in SPLIT_MODES),
+                       strict=True))
+    return {name: by_size.get(name, value) for name, value in frequencies.items()}
 
 
 def closed_form_module(model: Model | str) -> ModuleType:
@@ -99,14 +119,16 @@ class ClosedForms:
         return np.einsum("ij...,j->i...", self.responses(t, variant), w)
 
     def frequencies(self, variant: str = "full") -> dict[str, float]:
-        """Mode name -> angular frequency, rad/s."""
+        """Mode name -> angular frequency, rad/s; the Foucault-split pair named by size
+        (:data:`SPLIT_MODES`: "Schuler − Foucault" the lower) in either hemisphere."""
         variant = self._variant(variant)
         values = getattr(self.module, f"frequencies_{variant}")(self.x, self.u, self.p)
-        return dict(zip(self.module.MODES[variant], np.asarray(values, dtype=float),
-                        strict=True))
+        return _split_pair_by_size(dict(zip(
+            self.module.MODES[variant], np.asarray(values, dtype=float).tolist(),
+            strict=True)))
 
     def periods(self, variant: str = "full") -> dict[str, float]:
-        """Mode name -> period 2π/ω, s."""
+        """Mode name -> period 2π/ω, s ("Schuler − Foucault" the longer of the pair)."""
         return {k: 2 * np.pi / w for k, w in self.frequencies(variant).items()}
 
 

@@ -27,8 +27,9 @@ the reduced model does not have at all (it leaves them at zero) named apart inst
 counted as 100 % differences.
 
 The Foucault-split Schuler periods are labelled by size in either hemisphere
-(:func:`label_split_by_size`): "Schuler − Foucault" is always the longer period
-2π/(ω̄ − Ω|sin φ|), "Schuler + Foucault" the shorter 2π/(ω̄ + Ω|sin φ|).
+(:meth:`~ins_errors.numeric.closed_forms.ClosedForms.periods`): "Schuler − Foucault" is
+always the longer period 2π/(ω̄ − Ω|sin φ|), "Schuler + Foucault" the shorter
+2π/(ω̄ + Ω|sin φ|).
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ from ins_errors.models.earth import (
     WGS84_SOMIGLIANA_K,
 )
 from ins_errors.numeric.accuracy import ORDERS
-from ins_errors.numeric.closed_forms import closed_forms
+from ins_errors.numeric.closed_forms import SPLIT_MODES, closed_forms
 from ins_errors.numeric.compare import Comparison, add_integration_errors, comparisons_of
 from ins_errors.numeric.envelope import column_envelopes
 from ins_errors.numeric.integrators import step_count
@@ -78,35 +79,6 @@ ROUNDING_FLOOR = 1e-12
 (velocities taken as the equivalent angle δv/√(gR), angles in rad): a value or a
 difference below it is zero. Closed-form round-off is ~1e-17 of that size; the smallest
 real quantity of the experiment ~1e-3 of it."""
-
-SPLIT_MODES = ("Schuler − Foucault", "Schuler + Foucault")
-"""Names of the Foucault-split Schuler periods: the longer period (frequency
-ω̄ − Ω|sin φ|), then the shorter (ω̄ + Ω|sin φ|), ω̄ = √(g/R + Ω² sin² φ)."""
-
-
-def label_split_by_size(periods: dict[str, float]) -> dict[str, float]:
-    """The periods with the Foucault-split pair named by size, in either hemisphere.
-
-    The closed forms name the pair after ω± = ω̄ ± Ω sin φ with the *signed* Ω sin φ,
-    so south of the equator their "Schuler + Foucault" is the longer period. Here the
-    longer period is always "Schuler − Foucault" (the Schuler frequency lowered by the
-    Foucault rate Ω|sin φ|) and the shorter "Schuler + Foucault".
-
-    Parameters
-    ----------
-    periods : dict
-        Mode name -> period, s (other modes are passed through unchanged).
-
-    Returns
-    -------
-    dict
-        Same keys in the same order.
-    """
-    if not all(name in periods for name in SPLIT_MODES):
-        return dict(periods)
-    longer, shorter = sorted((periods[name] for name in SPLIT_MODES), reverse=True)
-    by_size = dict(zip(SPLIT_MODES, (longer, shorter), strict=True))
-    return {name: by_size.get(name, value) for name, value in periods.items()}
 
 
 @dataclass(frozen=True)
@@ -309,8 +281,9 @@ class PropagationResult:
     """Everything the experiment produced.
 
     ``periods`` maps variant -> mode -> period (s), the Foucault-split pair named by size
-    (:func:`label_split_by_size`); ``gravity`` (m/s²), ``radius`` (m) and ``earth_rate``
-    (rad/s) are the model's g, R and Ω those periods come from.
+    (:meth:`~ins_errors.numeric.closed_forms.ClosedForms.periods`); ``gravity`` (m/s²),
+    ``radius`` (m) and ``earth_rate`` (rad/s) are the model's g, R and Ω those periods
+    come from.
     """
 
     experiment: Experiment
@@ -530,7 +503,7 @@ def run(experiment: Experiment | None = None, progress: bool = False) -> Propaga
             warnings=list(comparisons[b].warnings),
             schuler_speed=float(np.sqrt(gravity * radius)),
         ))
-    result.periods = {variant: label_split_by_size(cf.periods(variant))
+    result.periods = {variant: cf.periods(variant)
                       for variant in ("full", "report_reduced")}
     return result
 
@@ -849,6 +822,6 @@ def orthodromic_day(latitude: float = float(np.radians(50.0)), duration: float =
     return DayResult(latitude, duration, sim.times, analytic,
                      np.transpose(sim.linear, (0, 2, 1)), np.transpose(direct, (0, 2, 1)),
                      sources, [s.name for s in model.error_states],
-                     label_split_by_size(cf.periods()), shares,
+                     cf.periods(), shares,
                      [list(c.warnings) for c in comparisons], gravity,
                      float(cf.p[names.index("a")]), float(cf.p[names.index("U")]))

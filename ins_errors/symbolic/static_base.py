@@ -165,7 +165,8 @@ def _north_pointing() -> StaticSetup:
         (Frequency(OMEGA_PLUS, (OMEGA_BAR + OMEGA_U) ** 2, "Schuler + Foucault"),
          Frequency(OMEGA_MINUS, (OMEGA_BAR - OMEGA_U) ** 2, "Schuler − Foucault"),
          earth),
-        "Ω_N = Ω cos φ, Ω_U = Ω sin φ, ω̄ = √(g/R + Ω_U²), ω± = ω̄ ± Ω_U")
+        "Ω_N = Ω cos φ, Ω_U = Ω sin φ, ω̄ = √(g/R + Ω_U²), ω± = ω̄ ± Ω_U (Ω_U < 0 south of the "
+        "equator, where ω₊ is the lower)")
     return StaticSetup(
         "north_pointing", point,
         "Static base: V_E = V_N = 0, a_E = a_N = 0 (so f_U = g), h = 0, sphere "
@@ -232,7 +233,8 @@ def _orthodromic() -> StaticSetup:
          Frequency(OMEGA_MINUS, (OMEGA_BAR - OMEGA_U) ** 2, "Schuler − Foucault"),
          Frequency(OMEGA_E, OMEGA_N**2 + OMEGA_U**2, "Earth")),
         "Ω_N = U cos φ = U u₁₁, Ω_U = U sin φ = U u₃₁ (ξ north), ω̄ = √(a_ζ/a + Ω_U²), "
-        "ω± = ω̄ ± Ω_U; a and U fixed to numbers before the analysis")
+        "ω± = ω̄ ± Ω_U (Ω_U < 0 south of the equator, where ω₊ is the lower); a and U "
+        "fixed to numbers before the analysis")
     return StaticSetup(
         "orthodromic", point,
         "Static base with the ξ axis north (χ = 0) at longitude 0, height 0, on the "
