@@ -140,6 +140,27 @@ def test_small_omissions_are_drops_but_small_wrong_terms_are_mistakes():
     assert report.exit_status == 1
 
 
+def test_knock_on_of_a_definition_dropping_small_terms_is_a_dropped_small_term():
+    """A definition that leaves out only small terms (Delta_W_xi without the V_ζ parts
+    below 1e-3) is a drop, and so is what it does to the line using it: the knock-ons
+    in ΔV̇_ξ (which, isolated, look like wrong coefficients of ΔV_η, ΔR_ξ, ...) are
+    dropped small terms rooted in that definition, not small-effect mistakes."""
+    text = (ROOT / "tests" / "data" / "hand_small_drop_in_definition_orthodromic.txt"
+            ).read_text()
+    report = check(text)
+    (definition,) = results_at(report, line_of(text, "Delta_W_xi"))
+    assert definition.status == "agrees up to dropped small terms"
+    assert {(f.severity, f.role) for f in definition.findings} == {
+        ("dropped small term", "root")}
+    (use,) = results_at(report, line_of(text, "dot(Delta_V_xi)"))
+    assert len(use.findings) >= 3
+    root = f"line {line_of(text, 'Delta_W_xi')} Delta_W_xi"
+    assert {(f.kind, f.severity, f.role, f.roots) for f in use.findings} == {
+        ("omitted term", "dropped small term", "knock-on", (root,))}
+    assert use.status == "agrees up to dropped small terms"
+    assert report.exit_status == 0
+
+
 def test_magnitudes_follow_the_schuler_loop():
     """δV = R ω_s δθ with ω_s = √(g/R): the Schuler period is the textbook 84.4 min."""
     from ins_errors.checker.reference import schuler_magnitudes
