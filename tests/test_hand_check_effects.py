@@ -120,3 +120,39 @@ def test_the_models_own_growing_mode_is_named():
     assert 0 < effect["position_1h"] < 1e5
     assert f"24 h: grows exponentially, ×e every {effect['e_folding_s'] / 60:.3g} min " \
            "(the model's own mode)" in to_terminal(report)
+
+
+def test_a_difference_the_models_own_mode_does_not_reach_keeps_its_figure():
+    """The rule behind the model's own mode: strapdown_ned's frozen F at rest grows as
+    e^{t/τ}, τ = √(R/2g) ≈ 9.5 min (textbook), 145 e-foldings in 23 h. A difference that
+    did not grow with it (a horizontal, Schuler-bounded one: 1.35 km after 1 h, 2.7 km
+    after 24 h) keeps its 24-h figure; one that did grow by more than e^10 since 1 h is
+    said to grow exponentially. (Through the Coriolis term 2U cos φ δv_D every state of
+    the undamped model is reached by its vertical mode, so no single hand line gives the
+    first case: the rule is driven directly with the model's own rate.)"""
+    import ins_errors
+    from ins_errors.checker.growth import growth_rate, mark_growth
+    from ins_errors.numeric import strapdown_truth as st
+
+    model = ins_errors.load_model("strapdown_ned")
+    p = model.parameter_vector()
+    traj = st.trajectory(model, st.static(math.radians(45.0)), 1.0, 1.0)
+    F = model.numpy.state_matrix(traj.truth[:, 0], traj.inputs[:, 0], p)
+    rate = growth_rate(F)
+    tau = math.sqrt(6_378_137.0 / (2 * 9.81))
+    assert 1 / rate == pytest.approx(tau, rel=3e-3)
+    floors = {"position_floor_1h": 4e-8, "position_floor_24h": 1e-6}
+    bounded = {"position_1h": 1354.0, "position_24h": 2708.0, **floors}
+    mark_growth(bounded, rate, rate)
+    assert bounded["growing_mode"] == "model"
+    assert (bounded["exponential_1h"], bounded["exponential_24h"]) == (False, False)
+    assert bounded["position_24h"] == 2708.0  # the figure stays
+    # grown with the mode since 1 h (e^{23 h/τ} ≈ e^145): said to grow
+    grown = {"position_1h": 1354.0, "position_24h": 1354.0 * math.exp(23 * 3600 / tau),
+             **floors}
+    mark_growth(grown, rate, rate)
+    assert (grown["exponential_1h"], grown["exponential_24h"]) == (False, True)
+    # nothing at all (below the floor both times) is not growth either
+    nothing = {"position_1h": 1e-9, "position_24h": 5e-7, **floors}
+    mark_growth(nothing, rate, rate)
+    assert nothing["exponential_24h"] is False
