@@ -6,8 +6,10 @@ runs left beside the loops."""
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -54,6 +56,9 @@ def filled(tmp_path, monkeypatch):
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_bytes(b"x" * size)
     (root / "keep.txt").write_text("not the cache's")  # no store's: never counted nor removed
+    interrupted = root / "tmpk2j4"  # a compile interrupted an hour ago (a younger folder
+    hour_ago = time.time() - 3600  # may be one that is only starting: left alone)
+    os.utime(interrupted, (hour_ago, hour_ago))
     return root
 
 

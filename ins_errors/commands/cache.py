@@ -73,10 +73,18 @@ class Store:
     limit: dict
     patterns: tuple[str, ...] = ()
 
-    def _parts(self) -> list[Path]:
+    def _parts(self, removing: bool = False) -> list[Path]:
+        """The store's entries; when ``removing``, without the scratch folders of
+        compiles running now (another process would find its files gone)."""
+        from ins_errors.numeric import cache
+
         if not self.folder.is_dir():
             return []
-        return sorted({p for pattern in self.patterns for p in self.folder.glob(pattern)})
+        parts = sorted({p for pattern in self.patterns for p in self.folder.glob(pattern)})
+        if removing:
+            parts = [p for p in parts if not (p.name.startswith(cache.SCRATCH_PREFIX)
+                                              and p.is_dir() and cache.scratch_in_use(p))]
+        return parts
 
     def usage(self) -> tuple[int, int]:
         """Number of files and bytes in the store (0, 0 if its folder is missing)."""
@@ -96,7 +104,7 @@ class Store:
         if not self.patterns:
             return folder_tally(self.folder)
         files = size = 0
-        for path in self._parts():
+        for path in self._parts(removing=remove):
             if path.is_dir() and not path.is_symlink():
                 more, extra = folder_tally(path)
                 if remove:

@@ -20,7 +20,9 @@ import hashlib
 import os
 import shutil
 import tempfile
-from collections.abc import Iterable
+import time
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -40,13 +42,116 @@ NOTE_LIMIT = 4096
 """Most notes kept; writing one beyond it deletes the older half."""
 
 
+def root() -> Path | None:
+    """The folder ``$INS_ERRORS_CACHE`` names, absolute; None when it is unset or empty.
+
+    ``~`` and ``$VARIABLES`` in the value are expanded (a value quoted in a shell or set
+    in a CI file arrives unexpanded), and a relative value is taken against the working
+    folder of its first use. The absolute folder is written back to the variable, so the
+    process keeps that folder if it changes its working folder, and the processes it
+    starts (pool and Dask workers) use the same one.
+    """
+    text = os.environ.get("INS_ERRORS_CACHE")
+    if not text:
+        return None
+    folder = os.path.abspath(os.path.expanduser(os.path.expandvars(text)))
+    if folder != text:
+        os.environ["INS_ERRORS_CACHE"] = folder
+    return Path(folder)
+
+
 def directory() -> Path:
     """The cache folder (``$INS_ERRORS_CACHE`` or the user cache folder); may not exist."""
-    root = os.environ.get("INS_ERRORS_CACHE")
-    if root:
-        return Path(root)
+    chosen = root()
+    if chosen is not None:
+        return chosen
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
     return Path(base) / "ins-errors" / "casadi"
+
+
+SCRATCH_PREFIX = "tmp"
+"""Names of the compiles' scratch folders in the cache folder (``tmp`` + random)."""
+
+SCRATCH_LOCK = ".compiling"
+"""File in a scratch folder that the compiling process holds locked while it works."""
+
+SCRATCH_GRACE = 60.0
+"""Seconds after its creation during which a scratch folder without a held lock is
+still taken as in use (the compile may not have locked it yet); where the system has no
+file locks, a compile's whole time limit plus this."""
+
+COMPILE_TIMEOUT = 600.0
+"""Longest a compile may take, s."""
+
+
+@contextmanager
+def scratch_folder(folder: Path) -> Iterator[Path]:
+    """A scratch folder inside ``folder`` for one compile, locked while in use.
+
+    The folder holds :data:`SCRATCH_LOCK`, locked (``flock``) by this process until the
+    block ends, so that ``ins-errors cache clear`` run meanwhile by another process
+    leaves it alone (:func:`scratch_in_use`); it is deleted afterwards. A process that
+    dies releases its lock: its folder is then a leftover that ``clear`` removes.
+
+    Raises
+    ------
+    OSError
+        When the folder cannot be made.
+    """
+    path = Path(tempfile.mkdtemp(prefix=SCRATCH_PREFIX, dir=folder))
+    handle = None
+    try:
+        handle = open(path / SCRATCH_LOCK, "w")  # noqa: SIM115 (held until the end)
+        try:
+            import fcntl
+
+            fcntl.flock(handle.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except (ImportError, OSError):
+            pass  # no file locks here: scratch_in_use goes by age
+        yield path
+    finally:
+        if handle is not None:
+            handle.close()
+        shutil.rmtree(path, ignore_errors=True)
+
+
+def scratch_in_use(path: Path, now: float | None = None) -> bool:
+    """Whether a compile is working in the scratch folder ``path`` now.
+
+    In use: its :data:`SCRATCH_LOCK` is locked by a live process, or it is younger than
+    :data:`SCRATCH_GRACE` seconds (just made, maybe not locked yet). Where the system has
+    no file locks, any folder younger than a compile may take.
+
+    Parameters
+    ----------
+    path : Path
+        A folder of the cache named ``tmp*``.
+    now : float, optional
+        The current time (``time.time()``), s.
+    """
+    now = time.time() if now is None else now
+    try:
+        age = now - path.stat().st_mtime
+    except OSError:
+        return False  # gone
+    try:
+        import fcntl
+    except ImportError:
+        return age < COMPILE_TIMEOUT + SCRATCH_GRACE
+    if age < SCRATCH_GRACE:
+        return True
+    try:
+        with open(path / SCRATCH_LOCK) as handle:
+            try:
+                fcntl.flock(handle.fileno(), fcntl.LOCK_SH | fcntl.LOCK_NB)
+            except BlockingIOError:
+                return True  # held by the compiling process
+            except OSError:
+                return False  # a file system without locks: an old folder is a leftover
+            fcntl.flock(handle.fileno(), fcntl.LOCK_UN)
+    except OSError:
+        return False  # no lock file: an older version's or an interrupted compile's
+    return False
 
 
 def limit_bytes() -> int:
@@ -93,8 +198,8 @@ def store_directory(name: str) -> Path:
     """The folder of the on-disk store ``name`` beside the compiled loops:
     ``$INS_ERRORS_CACHE/<name>``, else ``<name>`` next to the loops' folder in the user
     cache (e.g. ``~/.cache/ins-errors/motions``); may not exist."""
-    root = os.environ.get("INS_ERRORS_CACHE")
-    return (Path(root) if root else directory().parent) / name
+    chosen = root()
+    return (chosen if chosen is not None else directory().parent) / name
 
 
 def code_digest(files: Iterable[tuple[str, Path]], versions: Iterable[str]) -> str:

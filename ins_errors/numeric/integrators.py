@@ -481,6 +481,16 @@ processor schedules itself, so the higher levels' extra passes gain little at ru
 changes no result: with these flags every level rounds every operation the same way."""
 
 
+COMPILE_ATTEMPTS = 3
+"""Compiles tried when the scratch folder is deleted under one (``cache clear`` by
+another process); a compiler that fails otherwise is not tried again."""
+
+
+def _compile_step(step: str, scratch: Path) -> None:
+    """Called between the steps of a compile (``step`` names the next one): nothing.
+    A seam where the tests run another process's work at an exact point."""
+
+
 def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAULT_FLAGS,
                    key: str | None = None) -> Path | None:
     """Compile C source to a shared library in the cache (once) and return its path.
@@ -523,20 +533,34 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
         return library
     from ins_errors.progress import stage
 
-    try:
-        with stage("compiling a simulation loop (once, then cached)"), \
-                tempfile.TemporaryDirectory(dir=directory) as scratch:
-            c_file = Path(scratch) / "loop.c"
-            c_file.write_text(source if isinstance(source, str) else source())
-            target = Path(scratch) / "loop.so"
-            subprocess.run([compiler, *flags, "-o", str(target), str(c_file), "-lm"],
-                           check=True, capture_output=True, timeout=600)
-            os.replace(target, library)
-    except (OSError, subprocess.SubprocessError) as error:
-        if getattr(error, "returncode", 0) == -signal.SIGINT:
-            raise KeyboardInterrupt from None  # Ctrl-C stopped it: the compiler works
-        _vm_notice(f"{compiler} failed: {str(error).splitlines()[0][:120]}")
-        return None
+    for attempt in range(COMPILE_ATTEMPTS):
+        vanished = False  # the scratch folder was deleted under the compile
+        try:
+            with stage("compiling a simulation loop (once, then cached)"), \
+                    cache.scratch_folder(directory) as scratch:
+                try:
+                    c_file = scratch / "loop.c"
+                    c_file.write_text(source if isinstance(source, str) else source())
+                    target = scratch / "loop.so"
+                    _compile_step("compile", scratch)
+                    subprocess.run([compiler, *flags, "-o", str(target), str(c_file), "-lm"],
+                                   check=True, capture_output=True,
+                                   timeout=cache.COMPILE_TIMEOUT)
+                    _compile_step("store", scratch)
+                    os.replace(target, library)
+                except (OSError, subprocess.SubprocessError):
+                    vanished = not scratch.is_dir()
+                    raise
+        except (OSError, subprocess.SubprocessError) as error:
+            if getattr(error, "returncode", 0) == -signal.SIGINT:
+                raise KeyboardInterrupt from None  # Ctrl-C stopped it: the compiler works
+            if library.exists():  # another process finished the same loop meanwhile
+                break
+            if vanished and attempt + 1 < COMPILE_ATTEMPTS:
+                continue  # its scratch folder was deleted (cache clear): not the compiler
+            _vm_notice(f"{compiler} failed: {str(error).splitlines()[0][:120]}")
+            return None
+        break
     cache.register(library)
     return library
 
