@@ -101,17 +101,88 @@ def _shared_parser() -> argparse.ArgumentParser:
     return build_parser()
 
 
+EXIT_BROKEN_PIPE = 128 + 13
+"""Exit status when the reader of standard output went away (``| head``): 128 + SIGPIPE,
+what a POSIX tool killed by SIGPIPE reports, so ``set -o pipefail`` never reads it as 1
+(a mistake found)."""
+
+
+class StdoutError(Exception):
+    """Standard output could not be written (a full disk, a closed file, ...)."""
+
+
+class _GuardedStdout:
+    """``sys.stdout`` while a command runs: a failed write says so in one line.
+
+    Writes and flushes that fail with anything but a broken pipe raise
+    :class:`StdoutError`; everything else is the wrapped stream's.
+    """
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+    def _guard(self, call, *args):
+        try:
+            return call(*args)
+        except BrokenPipeError:
+            raise
+        except OSError as error:
+            raise StdoutError(error.strerror or str(error)) from None
+
+    def write(self, text):
+        return self._guard(self._stream.write, text)
+
+    def writelines(self, lines):
+        return self._guard(self._stream.writelines, lines)
+
+    def flush(self):
+        return self._guard(self._stream.flush)
+
+
+def _silence_stdout() -> None:
+    """Point the stdout file descriptor at ``/dev/null`` so that the interpreter's final
+    flush of what is still buffered neither fails nor prints."""
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
+    except (OSError, ValueError, AttributeError):  # no real file behind sys.stdout
+        pass
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Run the command line; returns the exit status."""
+    """Run the command line; returns the exit status.
+
+    Returns
+    -------
+    int
+        0 done (a check found no mistake), 1 a check found at least one mistake, 2 bad
+        input or an output that cannot be written (one line on stderr), 130 interrupted,
+        141 (128 + SIGPIPE) the reader of standard output stopped reading, as a POSIX
+        tool killed by SIGPIPE reports.
+    """
     from ins_errors.errors import InsErrorsError
+    from ins_errors.output import os_error_line
 
     parser = _shared_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
-        parser.print_help()
-        return 0
+        usage = " ".join(parser.format_usage().split()).removeprefix("usage: ")
+        print(f"{parser.prog}: error: give a command, e.g. '{parser.prog} models' (usage: "
+              f"{usage}; see '{parser.prog} --help')", file=sys.stderr)
+        return 2
+    from ins_errors.numeric.cache import root
+
+    root()  # a relative $INS_ERRORS_CACHE is taken against the folder the command starts in
+    real_stdout = sys.stdout
+    sys.stdout = _GuardedStdout(real_stdout)
     try:
-        return int(args.func(args) or 0)
+        status = int(args.func(args) or 0)
+        sys.stdout.flush()
+        return status
     except InsErrorsError as error:
         print(f"ins-errors: error: {error}", file=sys.stderr)
         return 2
@@ -119,8 +190,19 @@ def main(argv: list[str] | None = None) -> int:
         print("ins-errors: interrupted", file=sys.stderr)
         return 130
     except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 1
+        _silence_stdout()
+        return EXIT_BROKEN_PIPE
+    except StdoutError as error:
+        _silence_stdout()
+        print(f"ins-errors: error: cannot write to standard output: {error}",
+              file=sys.stderr)
+        return 2
+    except OSError as error:  # a file or folder the system refused (named by the error)
+        print(f"ins-errors: error: {os_error_line(error)}", file=sys.stderr)
+        return 2
+    finally:
+        if sys.stdout is not real_stdout and isinstance(sys.stdout, _GuardedStdout):
+            sys.stdout = real_stdout
 
 
 if __name__ == "__main__":

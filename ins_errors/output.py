@@ -60,6 +60,45 @@ def _reason(error: OSError) -> str:
     return error.strerror or str(error)
 
 
+SHOWN_LENGTH = 80
+"""Longest path quoted whole in a message; a longer one is shortened in the middle."""
+
+
+def shown(path: str | Path) -> str:
+    """``path`` quoted for a one-line message, shortened in the middle when huge.
+
+    Parameters
+    ----------
+    path : str or Path
+        Any path (possibly thousands of characters, e.g. a name the system refused).
+
+    Returns
+    -------
+    str
+        ``'out/report.md'``, or ``'aaaa…aaaa.md' (304 characters)`` for a long one.
+    """
+    text = str(path)
+    if len(text) <= SHOWN_LENGTH:
+        return repr(text)
+    head, tail = text[:SHOWN_LENGTH // 2], text[-SHOWN_LENGTH // 4:]
+    return f"{head + '…' + tail!r} ({len(text)} characters)"
+
+
+def os_error_line(error: OSError, doing: str = "cannot use") -> str:
+    """One line for an :class:`OSError`: what was done, the path(s) and the system's reason.
+
+    Parameters
+    ----------
+    error : OSError
+        The error (``filename`` and ``strerror`` are used when set).
+    doing : str
+        What failed, e.g. ``"cannot write"``.
+    """
+    where = " ".join(shown(name) for name in (error.filename, error.filename2)
+                     if name is not None)
+    return f"{doing} {where}: {_reason(error)}" if where else f"{doing}: {_reason(error)}"
+
+
 def check_file(path: str | Path) -> Path:
     """Check, before any computing, that ``path`` can be written; create nothing.
 
@@ -70,16 +109,53 @@ def check_file(path: str | Path) -> Path:
         parent folder is not writable.
     """
     path = Path(path)
-    if path.is_dir():
-        raise OutputError(f"cannot write {str(path)!r}: it is a folder; give a file name")
-    parent = path.parent
-    while not parent.exists() and parent != parent.parent:
-        parent = parent.parent
-    if not parent.is_dir():
-        raise OutputError(f"cannot write {str(path)!r}: {str(parent)!r} is a file, not a folder")
-    if not os.access(parent, os.W_OK | os.X_OK):
-        raise OutputError(f"cannot write {str(path)!r}: folder {str(parent)!r} is not writable")
+    try:
+        if path.is_dir():
+            raise OutputError(f"cannot write {shown(path)}: it is a folder; give a file name")
+        parent = path.parent
+        while not parent.exists() and parent != parent.parent:
+            parent = parent.parent
+        if not parent.is_dir():
+            raise OutputError(f"cannot write {shown(path)}: {shown(parent)} is a file, "
+                              "not a folder")
+        if not os.access(parent, os.W_OK | os.X_OK):
+            raise OutputError(f"cannot write {shown(path)}: folder {shown(parent)} is not "
+                              "writable")
+    except OSError as error:  # e.g. a name longer than the file system allows
+        raise OutputError(f"cannot write {shown(path)}: {_reason(error)}") from None
     return path
+
+
+def figure_format(path: str | Path) -> str:
+    """The image format a plot file's suffix names (``png`` for ``out/drift.png``).
+
+    Raises
+    ------
+    OutputError
+        When the name has no suffix, or one matplotlib cannot write (the message lists
+        the usual ones).
+    """
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    suffix = Path(path).suffix.lstrip(".").lower()
+    known = FigureCanvasBase.get_supported_filetypes()
+    if suffix in known:
+        return suffix
+    what = f"its suffix .{suffix} is not an image format" if suffix else "it has no suffix"
+    raise OutputError(f"cannot write the plot {shown(path)}: {what}; end the name with the "
+                      "format, such as .png, .pdf or .svg")
+
+
+def check_figure(path: str | Path) -> Path:
+    """:func:`check_file` for a plot: also refuses a name without a known image suffix.
+
+    Raises
+    ------
+    OutputError
+        See :func:`check_file` and :func:`figure_format`.
+    """
+    figure_format(path)
+    return check_file(path)
 
 
 def _prepare_parent(path: Path) -> None:
@@ -87,10 +163,10 @@ def _prepare_parent(path: Path) -> None:
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as error:
-        raise OutputError(f"cannot create folder {str(path.parent)!r}: "
+        raise OutputError(f"cannot create folder {shown(path.parent)}: "
                           f"{_reason(error)}") from None
     if not path.parent.is_dir():
-        raise OutputError(f"cannot write {str(path)!r}: {str(path.parent)!r} is not a folder")
+        raise OutputError(f"cannot write {shown(path)}: {shown(path.parent)} is not a folder")
 
 
 def write_with(path: str | Path, writer: Callable[[Path], object]) -> Path:
@@ -122,12 +198,12 @@ def write_with(path: str | Path, writer: Callable[[Path], object]) -> Path:
     """
     path = Path(path)
     _prepare_parent(path)
-    existed = path.exists()
     try:
+        existed = path.exists()
         handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix,
                                              dir=path.parent)
     except OSError as error:
-        raise OutputError(f"cannot write {str(path)!r}: {_reason(error)}") from None
+        raise OutputError(f"cannot write {shown(path)}: {_reason(error)}") from None
     os.close(handle)
     temporary = Path(temporary)
     try:
@@ -135,9 +211,9 @@ def write_with(path: str | Path, writer: Callable[[Path], object]) -> Path:
         os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes it private: as open() would
         os.replace(temporary, path)
     except OSError as error:
-        raise OutputError(f"cannot write {str(path)!r}: {_reason(error)}") from None
+        raise OutputError(f"cannot write {shown(path)}: {_reason(error)}") from None
     except ValueError as error:  # e.g. matplotlib: unknown image format
-        raise OutputError(f"cannot write {str(path)!r}: {error}") from None
+        raise OutputError(f"cannot write {shown(path)}: {error}") from None
     finally:
         temporary.unlink(missing_ok=True)
     if existed and not (path.parent / MANIFEST).exists():
@@ -167,7 +243,12 @@ def save_figure(figure, path: str | Path, close: bool = True, **options) -> Path
     import matplotlib.pyplot as plt
 
     path = Path(path)
-    fmt = path.suffix.lstrip(".").lower() or None
+    try:
+        fmt = figure_format(path)
+    except OutputError:
+        if close:
+            plt.close(figure)
+        raise
     if fmt == "png":
         # zlib's run-length strategy: the same pixels in about half the encoding time of
         # the default, for a file about 10 % larger (plots are mostly flat runs of colour)
@@ -243,13 +324,20 @@ class OutputFolder:
                  create: bool = True):
         self.path = Path(folder)
         self.written: list[str] = []
+        try:
+            self._open(force, option, create)
+        except OSError as error:  # e.g. a name longer than the file system allows
+            raise OutputError(f"cannot write folder {shown(self.path)}: "
+                              f"{_reason(error)}") from None
+
+    def _open(self, force: bool, option: str, create: bool) -> None:
         if self.path.exists() and not self.path.is_dir():
-            raise OutputError(f"{option} {str(self.path)!r} is a file, not a folder")
+            raise OutputError(f"{option} {shown(self.path)} is a file, not a folder")
         manifest = self.path / MANIFEST
         self.previous = self._read_manifest(manifest)
         foreign = self.path.is_dir() and self.previous is None and any(self.path.iterdir())
         if foreign and not force:
-            raise OutputError(f"{option} {str(self.path)!r} is not empty and was not "
+            raise OutputError(f"{option} {shown(self.path)} is not empty and was not "
                               "written by ins-errors: choose another folder or add "
                               "--force (replaces only the files ins-errors writes)")
         if not create:
@@ -257,7 +345,7 @@ class OutputFolder:
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as error:
-            raise OutputError(f"cannot create folder {str(self.path)!r}: "
+            raise OutputError(f"cannot create folder {shown(self.path)}: "
                               f"{_reason(error)}") from None
 
     @staticmethod
@@ -298,7 +386,11 @@ class OutputFolder:
         """
         for name in self.previous or ():
             if name not in self.written:
-                (self.path / name).unlink(missing_ok=True)
+                try:
+                    (self.path / name).unlink(missing_ok=True)
+                except OSError as error:
+                    raise OutputError(f"cannot remove {shown(self.path / name)} (written "
+                                      f"by an earlier run): {_reason(error)}") from None
         write_text(self.path / MANIFEST, json.dumps({"written_by": "ins-errors",
                                                     "files": self.written}, indent=1) + "\n")
         return [self.path / n for n in self.written]

@@ -63,11 +63,24 @@ FILES: dict[str, str | bytes] = {
                                        'kind = "great-circle"\nspeed = "-250 m/s"'),
     "hand.txt": "dot(alpha_x) = \n",
     "empty.txt": "",
+    "empty.mat": "",
+    "garbage.mat": bytes(range(7, 200)),
+    "garbage.npz": "not an archive\n",
+    "text_in_motion.csv": "t,v_N,v_E\n0,0,100\n1200,fast,100\n2400,0,100\n3600,0,100\n",
+    "short_row.csv": "t,v_N,v_E\n0,0,100\n1200,100\n2400,0,100\n3600,0,100\n",
 }
+
+LONG = "a" * 300
+"""A file name longer than any file system allows (255 bytes)."""
+
+MANUAL = str(ROOT / "examples" / "manual_000" / "equations.tex")
+SWEEP = str(ROOT / "examples" / "sweep_latitude_heading.toml")
+MATRIX = ["check", "strapdown_ned", "--convention", "psi", "--matrix"]
 
 CLI_CASES: dict[str, list[str]] = {
     # front door
     "no-such-command": ["frobnicate"],
+    "no-command": [],
     "unknown-option": ["models", "--colour"],
     # models
     "models-unknown": ["models", "orthodromik"],
@@ -150,6 +163,31 @@ CLI_CASES: dict[str, list[str]] = {
     "check-report-is-a-folder": ["check", "orthodromic",
                                  str(ROOT / "examples" / "manual_000" / "equations.txt"),
                                  "--report", "."],
+    "check-empty-mat": [*MATRIX, "empty.mat"],
+    "check-garbage-mat": [*MATRIX, "garbage.mat"],
+    "check-garbage-npz": [*MATRIX, "garbage.npz"],
+    "check-report-name-too-long": ["check", "orthodromic", MANUAL, "--report", LONG + ".md"],
+    # output names longer than the file system allows
+    "run-out-name-too-long": ["run", "good.toml", "--out", LONG],
+    "compare-out-name-too-long": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours", "1",
+                                  "--out", LONG],
+    "compare-plot-name-too-long": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
+                                   "1", "--plot", LONG + ".png"],
+    "compare-markdown-name-too-long": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                                       "--hours", "1", "--markdown", LONG + ".md"],
+    "sweep-store-name-too-long": ["sweep", SWEEP, "--store", LONG + ".zarr"],
+    "propagation-out-name-too-long": ["propagation", "--hours", "1", "--out", LONG],
+    "compare-plot-without-suffix": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
+                                    "1", "--plot", "noext"],
+    "compare-speed-at-rest": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours", "1",
+                              "--speed", "250m/s"],
+    "compare-speed-with-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                                       "--motion-file", "text_in_motion.csv", "--speed",
+                                       "100m/s"],
+    "compare-text-in-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
+                                    "1", "--motion-file", "text_in_motion.csv"],
+    "compare-short-row-in-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                                         "--hours", "1", "--motion-file", "short_row.csv"],
     # study
     "study-unknown": ["study", "coriolisis"],
     "study-bare-latitude": ["study", "coriolis", "--latitude", "50"],
@@ -202,7 +240,7 @@ def scratch(tmp_path, monkeypatch):
 
 def test_the_battery_is_large():
     assert len(CLI_CASES) + len(API_CASES) >= 40
-    commands = {argv[0] for argv in CLI_CASES.values()}
+    commands = {argv[0] for argv in CLI_CASES.values() if argv}
     assert {"models", "run", "compare", "budget", "check", "study", "propagation"} <= commands
 
 
@@ -235,6 +273,31 @@ NAMED = {
     "compare-nan-in-motion-file": "v_N is NaN or infinite in sample 2 of 4",
     # the file's own key names, not pydantic's (it said motion.latitude.str = [...])
     "run-latitude-list": "motion.latitude must be one value with its unit (e.g. '50 deg'",
+    # a traceback of scipy's MatReadError, exit 1 (a "mistake found" to CI)
+    "check-empty-mat": "matrix file 'empty.mat' is not a readable .mat file",
+    "check-garbage-mat": "matrix file 'garbage.mat' is not a readable .mat file",
+    # said the file held "pickled data"
+    "check-garbage-npz": "matrix file 'garbage.npz' is not a readable .npz file",
+    # tracebacks of OSError: [Errno 36], exit 1; the name shortened, its length said
+    "check-report-name-too-long": "(303 characters): File name too long",
+    "run-out-name-too-long": "(300 characters): File name too long",
+    "compare-out-name-too-long": "(300 characters): File name too long",
+    "compare-plot-name-too-long": "(304 characters): File name too long",
+    "compare-markdown-name-too-long": "(303 characters): File name too long",
+    "sweep-store-name-too-long": "(305 characters): File name too long",
+    "propagation-out-name-too-long": "(300 characters): File name too long",
+    # matplotlib read the temporary file's random suffix: "Format 'cthilzch' is not ..."
+    "compare-plot-without-suffix": "'noext': it has no suffix; end the name with the "
+                                   "format, such as .png, .pdf or .svg",
+    # silently ignored
+    "compare-speed-at-rest": "--speed applies to --motion great-circle or manoeuvre, and "
+                             "the base is static",
+    "compare-speed-with-motion-file": "and --motion-file gives the motion",
+    # said "v_N is NaN or infinite in sample 2 of 4"
+    "compare-text-in-motion-file": "column v_N, sample 2 (line 3): 'fast' is not a number",
+    "compare-short-row-in-motion-file": "line 3 has 2 values, the header 3 columns",
+    # printed the whole help with exit status 0
+    "no-command": "give a command, e.g. 'ins-errors models' (usage: ins-errors",
 }
 """Cases whose one line must say this (what to do, not only what failed)."""
 

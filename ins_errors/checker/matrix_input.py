@@ -261,19 +261,58 @@ def _read_arrays(path: Path) -> dict[str, np.ndarray]:
     if not path.is_file():
         raise InsErrorsError(f"matrix file {str(path)!r} does not exist")
     suffix = path.suffix.lower()
-    try:
-        if suffix == ".npz":
-            with np.load(path, allow_pickle=False) as data:
-                return {k: data[k] for k in data.files}
-        if suffix == ".mat":
-            from scipy.io import loadmat
-
-            data = loadmat(path, squeeze_me=False, chars_as_strings=True)
-            return {k: v for k, v in data.items() if not k.startswith("__")}
-    except (OSError, ValueError) as error:
-        raise InsErrorsError(f"cannot read matrix file {str(path)!r}: {error}") from None
+    if suffix == ".npz":
+        return _read_npz(path)
+    if suffix == ".mat":
+        return _read_mat(path)
     raise InsErrorsError(f"matrix file {str(path)!r}: expected FILE.py:FUNCTION, FILE.npz or "
                          "FILE.mat")
+
+
+def _read_npz(path: Path) -> dict[str, np.ndarray]:
+    """The arrays of a NumPy ``.npz`` archive (``numpy.savez``); one-line errors."""
+    import zipfile
+
+    unreadable = InsErrorsError(f"matrix file {str(path)!r} is not a readable .npz file "
+                                "(a zip archive written by numpy.savez)")
+    try:
+        if not zipfile.is_zipfile(path):  # np.load would take it for a pickle
+            raise unreadable
+        with np.load(path, allow_pickle=False) as data:
+            return {k: data[k] for k in data.files}
+    except InsErrorsError:
+        raise
+    except ValueError as error:
+        if "pickle" in str(error):  # an array of Python objects inside the archive
+            raise InsErrorsError(f"matrix file {str(path)!r} holds Python objects, not "
+                                 "numeric arrays: save plain number and string arrays"
+                                 ) from None
+        raise unreadable from None
+    except OSError as error:
+        raise InsErrorsError(f"cannot read matrix file {str(path)!r}: "
+                             f"{error.strerror or error}") from None
+    except Exception:  # zipfile.BadZipFile, zlib.error, EOFError of a truncated member
+        raise unreadable from None
+
+
+def _read_mat(path: Path) -> dict[str, np.ndarray]:
+    """The variables of a MATLAB ``.mat`` file (v4 to v7; v7.3 is HDF5); one-line errors."""
+    from scipy.io import loadmat
+
+    try:
+        data = loadmat(path, squeeze_me=False, chars_as_strings=True)
+    except OSError as error:
+        raise InsErrorsError(f"cannot read matrix file {str(path)!r}: "
+                             f"{error.strerror or error}") from None
+    except NotImplementedError:  # scipy's word for a v7.3 (HDF5) file
+        raise InsErrorsError(f"matrix file {str(path)!r} is a MATLAB v7.3 (HDF5) file, "
+                             "which is not read: save it with save(..., '-v7')") from None
+    except Exception as error:  # scipy: MatReadError, ValueError, IndexError, ... of a
+        # truncated, empty or foreign file
+        reason = str(error).splitlines()[0] if str(error) else type(error).__name__
+        raise InsErrorsError(f"matrix file {str(path)!r} is not a readable .mat file "
+                             f"({reason})") from None
+    return {k: v for k, v in data.items() if not k.startswith("__")}
 
 
 def _strings(value: np.ndarray) -> list[str]:

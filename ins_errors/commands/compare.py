@@ -48,7 +48,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="initial track angle of the trihedron (default 0deg at rest, "
                              "90deg, due east, when moving: a day's flight then stays clear "
                              "of the poles)")
-    parser.add_argument("--speed", default="250m/s", help="ground speed when moving")
+    parser.add_argument("--speed", default=None,
+                        help="ground speed of --motion great-circle or manoeuvre "
+                             "(default 250m/s)")
     parser.add_argument("--height", default="0m", help="height (default 0m)")
     parser.add_argument("--hours", type=float, default=None,
                         help="duration in hours (default 24)")
@@ -127,16 +129,21 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.integrators import step_count
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.motion_spec import motion_profile
-    from ins_errors.output import OutputFolder, check_file
+    from ins_errors.output import OutputFolder, check_figure, check_file
     from ins_errors.units import parse_quantity
 
     if args.plot:
         from ins_errors.output import require_matplotlib
 
         require_matplotlib("--plot")
-    for target in (args.plot, args.markdown):
-        if target:
-            check_file(target)
+    if args.plot:
+        check_figure(args.plot)
+    if args.markdown:
+        check_file(args.markdown)
+    if args.speed is not None and (args.motion_file or args.motion == "static"):
+        where = "--motion-file gives the motion" if args.motion_file else "the base is static"
+        raise InsErrorsError(f"--speed applies to --motion great-circle or manoeuvre, and "
+                             f"{where}: leave --speed out or choose a moving --motion")
     if args.out:  # refuse a stranger's folder before computing
         OutputFolder(args.out, force=args.force, create=False)
     model = load_model(args.model)
@@ -162,7 +169,8 @@ def run(args: argparse.Namespace) -> int:
         record = stride * tau
     motion = {"kind": "file" if args.motion_file else args.motion,
               "latitude": args.latitude, "longitude": args.longitude,
-              "heading": args.heading, "speed": args.speed, "height": args.height}
+              "heading": args.heading, "speed": args.speed or "250m/s",
+              "height": args.height}
     if args.motion_file:
         motion["file"] = args.motion_file
     profile = motion_profile(motion)

@@ -53,28 +53,63 @@ def default_legs(speed: float, height: float, hours: int = 24) -> list[tr.Leg]:
 
 def read_motion_file(path: str | Path, latitude: float, longitude: float, heading: float,
                      height: float) -> tr.Profile:
-    """A sampled motion from a CSV file with a header and columns t, v_N, v_E [, h] (SI)."""
-    import warnings
+    """A sampled motion from a CSV file with a header and columns t, v_N, v_E [, h] (SI).
 
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("error")  # an empty file is only a warning to numpy
-            table = np.genfromtxt(path, delimiter=",", names=True, dtype=float,
-                                  encoding="utf-8")
-    except (OSError, ValueError, UnicodeDecodeError, UserWarning) as error:
-        reason = str(error).strip().splitlines()[0] if str(error).strip() else "unreadable"
-        raise InsErrorsError(f"cannot read motion file {str(path)!r}: {reason}") from None
-    names = table.dtype.names or ()
+    The file is UTF-8 (a byte-order mark, as spreadsheet programs write, is skipped);
+    ``#`` starts a comment and blank lines are skipped.
+
+    Raises
+    ------
+    InsErrorsError
+        One line naming the file and, for a cell that is not a number, its column and
+        row.
+    """
+    names, table = _read_columns(Path(path))
     missing = [c for c in ("t", "v_N", "v_E") if c not in names]
     if missing:
         raise InsErrorsError(f"motion file {str(path)!r} lacks column(s) {', '.join(missing)} "
                              f"(has {', '.join(names) or 'none'})")
-    if table.size < 2 or table.ndim != 1:
+    if len(table["t"]) < 2:
         raise InsErrorsError(f"motion file {str(path)!r} needs a header row and at least two "
                              "rows of samples (t, v_N, v_E)")
     h = table["h"] if "h" in names else height
-    return tr.sampled_profile(np.atleast_1d(table["t"]), np.atleast_1d(table["v_N"]),
-                              np.atleast_1d(table["v_E"]), latitude, longitude, heading, h)
+    return tr.sampled_profile(table["t"], table["v_N"], table["v_E"], latitude, longitude,
+                              heading, h)
+
+
+def _read_columns(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
+    """Header names and numeric columns of a motion CSV file (one-line errors)."""
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except (OSError, UnicodeDecodeError) as error:
+        reason = (getattr(error, "strerror", None) or str(error).splitlines()[0]
+                  if str(error).strip() else "unreadable")
+        raise InsErrorsError(f"cannot read motion file {str(path)!r}: {reason}") from None
+    rows = []  # (line number, cells)
+    for number, line in enumerate(text.splitlines(), start=1):
+        body = line.split("#", 1)[0].strip()
+        if body:
+            rows.append((number, [cell.strip() for cell in body.split(",")]))
+    if not rows:
+        raise InsErrorsError(f"cannot read motion file {str(path)!r}: it is empty (expected "
+                             "a header row t,v_N,v_E and rows of samples)")
+    (_, names), samples = rows[0], rows[1:]
+    values = np.empty((len(samples), len(names)))
+    for k, (number, cells) in enumerate(samples):
+        if len(cells) != len(names):
+            raise InsErrorsError(f"motion file {str(path)!r}: line {number} has {len(cells)} "
+                                 f"values, the header {len(names)} columns")
+        for j, cell in enumerate(cells):
+            try:
+                values[k, j] = float(cell)
+            except ValueError:
+                shown = repr(cell if len(cell) <= 20 else cell[:20] + "…")
+                raise InsErrorsError(
+                    f"motion file {str(path)!r}: column {names[j]}, sample {k + 1} (line "
+                    f"{number}): {shown} is not a number" if cell else
+                    f"motion file {str(path)!r}: column {names[j]}, sample {k + 1} (line "
+                    f"{number}) is empty") from None
+    return names, {name: values[:, j] for j, name in enumerate(names)}
 
 
 def _angle(value: Any, what: str) -> float:
