@@ -9,10 +9,12 @@ arguments, returning an exit status). Errors a user can cause are printed as one
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import re
 import sys
+import warnings
 from functools import cache
 
 COMMAND_MODULES = (
@@ -142,6 +144,21 @@ class _GuardedStdout:
         return self._guard(self._stream.flush)
 
 
+def _one_line_notices(show):
+    """``warnings.showwarning`` for a command: ins-errors's own notices (messages that
+    start with ``ins-errors:``) as their one line on stderr, without the source path and
+    code line of Python's warning format; other warnings as ``show`` prints them."""
+
+    def showwarning(message, category, filename, lineno, file=None, line=None):
+        text = str(message)
+        if not text.startswith("ins-errors:"):
+            return show(message, category, filename, lineno, file, line)
+        with contextlib.suppress(OSError, ValueError):  # no stderr to say it on
+            print(" ".join(text.split()), file=sys.stderr if file is None else file)
+
+    return showwarning
+
+
 def _silence_stdout() -> None:
     """Point the stdout file descriptor at ``/dev/null`` so that the interpreter's final
     flush of what is still buffered neither fails nor prints."""
@@ -179,6 +196,8 @@ def main(argv: list[str] | None = None) -> int:
     root()  # a relative $INS_ERRORS_CACHE is taken against the folder the command starts in
     real_stdout = sys.stdout
     sys.stdout = _GuardedStdout(real_stdout)
+    shown_warning = warnings.showwarning
+    warnings.showwarning = _one_line_notices(shown_warning)
     try:
         status = int(args.func(args) or 0)
         sys.stdout.flush()
@@ -201,6 +220,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"ins-errors: error: {os_error_line(error)}", file=sys.stderr)
         return 2
     finally:
+        warnings.showwarning = shown_warning
         if sys.stdout is not real_stdout and isinstance(sys.stdout, _GuardedStdout):
             sys.stdout = real_stdout
 

@@ -119,3 +119,42 @@ def test_a_matrix_archive_of_python_objects_is_named_so(tmp_path, monkeypatch, c
     err = capsys.readouterr().err
     assert status == 2 and err.count("\n") == 1
     assert "holds Python objects, not numeric arrays" in err and "pickle" not in err
+
+
+SMALL_SWEEP = """title = "two latitudes"
+model = "orthodromic"
+[motion]
+kind = "static"
+latitude = "50 deg"
+[run]
+duration = "10 min"
+step = "10 s"
+[[case]]
+gyro_drift_x = "0.01 deg/h"
+[sweep]
+latitude = ["20 deg", "60 deg"]
+"""
+
+
+@pytest.mark.parametrize("engine", ["pool", "dask"])
+def test_no_compiler_is_said_once_per_command_in_one_line(engine, tmp_path):
+    """A compiler that fails (``CC=/bin/false``): the notice was printed by every worker
+    of the pool and Dask engines, each in Python's warning format (source path, code
+    line)."""
+    if engine == "dask":
+        pytest.importorskip("distributed")
+    fails = tmp_path / "cc"
+    fails.write_text("#!/bin/sh\nexit 1\n")
+    fails.chmod(0o755)
+    (tmp_path / "sweep.toml").write_text(SMALL_SWEEP, encoding="utf-8")
+    env = _environment(tmp_path)
+    env.update(CC=str(fails), INS_ERRORS_CACHE=str(tmp_path / "empty_cache"))
+    env.pop("INS_ERRORS_NO_JIT", None)
+    done = subprocess.run(_command("sweep", "sweep.toml", "--engine", engine, "--workers",
+                                   "2", "--store", "s.zarr", "--no-progress"),
+                          capture_output=True, cwd=tmp_path, env=env, timeout=600)
+    assert done.returncode == 0, done.stderr.decode()
+    lines = done.stderr.decode().splitlines()
+    assert lines == [f"ins-errors: no working C compiler ({fails} failed with exit status "
+                     "1); compiled loops run in the CasADi virtual machine instead (slower, "
+                     "same results)"]

@@ -156,6 +156,8 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
         if bar is not None:
             bar.update(1)
 
+    from ins_errors.numeric.integrators import compiler_checked
+
     try:
         if engine == "serial" or not tasks:
             stats = EngineStats("serial", 1, where="this process")
@@ -164,11 +166,13 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
         elif engine == "pool":
             stats = EngineStats("pool", min(workers, len(tasks)),
                                 where=f"local process pool of {min(workers, len(tasks))}")
-            _run_pool(function, tasks, shared, stats.workers, done)
+            with compiler_checked():  # a missing compiler said once, not by each worker
+                _run_pool(function, tasks, shared, stats.workers, done)
         else:
             stats = EngineStats("dask", 0)
-            _run_dask(function, tasks, shared, scheduler, min(workers, len(tasks)), stats,
-                      done)
+            with compiler_checked():
+                _run_dask(function, tasks, shared, scheduler, min(workers, len(tasks)),
+                          stats, done)
     finally:
         if bar is not None:
             bar.close()

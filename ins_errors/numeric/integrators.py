@@ -48,7 +48,8 @@ import subprocess
 import tempfile
 import threading
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import cache as cache_function
 from pathlib import Path
@@ -419,13 +420,70 @@ def _compiler() -> str | None:
     return shutil.which(name) or shutil.which("gcc") or shutil.which("clang")
 
 
+NOTICE_GIVEN_VARIABLE = "INS_ERRORS_VM_NOTICE_GIVEN"
+"""Set (to ``1``) for worker processes whose parent has already said that loops run in
+the virtual machine: they do not say it again (see :func:`compiler_checked`)."""
+
+PROBE_SOURCE = "int ins_errors_compiler_probe(void) { return 0; }\n"
+"""The C source :func:`compiler_checked` compiles (once, then cached) to learn whether
+loops compile here."""
+
+
 def _vm_notice(reason: str) -> None:
+    """Say once per process, and not in the workers of a process that said it, that
+    compiled loops run in the CasADi virtual machine (a :class:`RuntimeWarning`; the
+    command line prints it as one line)."""
     global _NOTICE_GIVEN
+    if _NOTICE_GIVEN:
+        return
+    _NOTICE_GIVEN = True
+    import multiprocessing
+
+    if os.environ.get(NOTICE_GIVEN_VARIABLE) and multiprocessing.parent_process() is not None:
+        return  # a worker: the process that started it has said so
+    warnings.warn(f"ins-errors: no working C compiler ({reason}); compiled loops run in "
+                  "the CasADi virtual machine instead (slower, same results)",
+                  RuntimeWarning, stacklevel=3)
+
+
+@contextmanager
+def compiler_checked() -> Iterator[None]:
+    """Around starting worker processes: learn here whether loops compile, so that a
+    missing compiler is said once, by this process, not once by every worker.
+
+    A tiny probe is compiled (once, then found in the cache); when it fails, this
+    process gives the notice and the workers started inside the block are told so
+    through :data:`NOTICE_GIVEN_VARIABLE`. Nothing is probed when compiling is switched
+    off (``$INS_ERRORS_NO_JIT``).
+    """
+    if not os.environ.get("INS_ERRORS_NO_JIT"):
+        compile_source(PROBE_SOURCE, IEEE_FLAGS)
     if not _NOTICE_GIVEN:
-        _NOTICE_GIVEN = True
-        warnings.warn(f"ins-errors: no working C compiler ({reason}); compiled loops run in "
-                      "the CasADi virtual machine instead (slower, same results)",
-                      RuntimeWarning, stacklevel=3)
+        yield
+        return
+    previous = os.environ.get(NOTICE_GIVEN_VARIABLE)
+    os.environ[NOTICE_GIVEN_VARIABLE] = "1"
+    try:
+        yield
+    finally:
+        if previous is None:
+            os.environ.pop(NOTICE_GIVEN_VARIABLE, None)
+        else:
+            os.environ[NOTICE_GIVEN_VARIABLE] = previous
+
+
+def _failure(compiler: str, error: Exception) -> str:
+    """Why a compile failed, in a few words: the compiler's first message line."""
+    stderr = getattr(error, "stderr", None)
+    if isinstance(stderr, bytes):
+        stderr = stderr.decode(errors="replace")
+    lines = [line.strip() for line in (stderr or "").splitlines() if line.strip()]
+    if lines:
+        return f"{compiler} failed: {lines[0][:120]}"
+    if isinstance(error, subprocess.CalledProcessError):
+        return f"{compiler} failed with exit status {error.returncode}"
+    text = str(error).splitlines()[0] if str(error) else type(error).__name__
+    return f"{compiler} failed: {text[:120]}"
 
 
 def compile_library(functions: list[ca.Function], jit: bool = True) -> Path | None:
@@ -558,7 +616,7 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
                 break
             if vanished and attempt + 1 < COMPILE_ATTEMPTS:
                 continue  # its scratch folder was deleted (cache clear): not the compiler
-            _vm_notice(f"{compiler} failed: {str(error).splitlines()[0][:120]}")
+            _vm_notice(_failure(compiler, error))
             return None
         break
     cache.register(library)
