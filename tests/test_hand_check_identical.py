@@ -94,7 +94,7 @@ def test_a_check_after_other_checks_equals_one_with_nothing_kept():
     _forget_kept_results()
     cold = report(wrong), report(manual)
     assert warm == cold
-    assert warm[0]["summary"]["mistakes"] >= 1
+    assert warm[0]["summary"]["findings"]["mistakes"] >= 1
     assert any(e["compared_with"].startswith("real work") for e in warm[1]["equations"])
 
 
@@ -379,4 +379,4 @@ def test_reports_from_node_values_equal_reports_from_compiled_functions(monkeypa
     compiled = report()
     _forget_kept_values()
     assert by_nodes == compiled
-    assert by_nodes[0]["summary"]["mistakes"] >= 1
+    assert by_nodes[0]["summary"]["findings"]["mistakes"] >= 1

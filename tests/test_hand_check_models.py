@@ -106,7 +106,7 @@ def test_report_001_printed_f_on_a_static_base(capsys):
         ("dot(delta_v_E)", "omitted term"), ("dot(delta_v_N)", "omitted term")}
     assert main(["check", "north_pointing", str(F_001), "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
-    assert data["scope"] == "static base" and data["summary"]["declared drops"] == 2
+    assert data["scope"] == "static base" and data["summary"]["findings"]["declared_drops"] == 2
 
 
 @pytest.mark.parametrize("model", ["north_pointing", "free_azimuth", "geodetic_vertical",
