@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 from dataclasses import dataclass
 from pathlib import Path
 
 from ins_errors.errors import InsErrorsError
+from ins_errors.json_output import emit
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -204,11 +204,11 @@ def run(args: argparse.Namespace) -> int:
               "bytes": used[s.name][1], "holds": s.holds, "bound": s.bound,
               "limit": s.limit} for s in others]
     if args.json:
-        print(json.dumps({"folder": str(folder), "libraries": len(entries), "bytes": total,
-                          "limit_bytes": limit, "checkout_libraries": len(mine),
-                          "checkout_bytes": sum(e.size for e in mine), "stores": rows,
-                          "total_files": sum(r["files"] for r in rows),
-                          "total_bytes": sum(r["bytes"] for r in rows)}))
+        emit({"folder": str(folder), "libraries": len(entries), "bytes": total,
+              "limit_bytes": limit, "checkout_libraries": len(mine),
+              "checkout_bytes": sum(e.size for e in mine), "stores": rows,
+              "total_files": sum(r["files"] for r in rows),
+              "total_bytes": sum(r["bytes"] for r in rows)}, indent=None)
         return 0
     print(f"folder: {folder}")
     print(f"libraries: {len(entries)}, {total / 1e6:.1f} MB "
@@ -240,8 +240,8 @@ def _clear(args: argparse.Namespace, folder: Path, others: list[Store]) -> int:
     rows.insert(0, {"name": "loops", "folder": str(folder), "removed": count,
                     "bytes_freed": freed})
     if args.json:
-        print(json.dumps({"folder": str(folder), "removed": count, "bytes_freed": freed,
-                          "checkout_only": args.checkout, "stores": rows}))
+        emit({"folder": str(folder), "removed": count, "bytes_freed": freed,
+              "checkout_only": args.checkout, "stores": rows}, indent=None)
         return 0
     which = "of this checkout " if args.checkout else ""
     print(f"removed {count} compiled libraries {which}({freed / 1e6:.1f} MB) from {folder}")
