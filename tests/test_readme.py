@@ -30,8 +30,21 @@ def test_readme_starts_with_the_two_setup_commands():
 
 
 def test_api_snippet_runs():
+    """The snippet runs, and the shapes its comments state are the arrays' shapes."""
+    import re
+
     snippet = README.split("## The API at a glance", 1)[1].split("```python", 1)[1]
-    exec(compile(snippet.split("```", 1)[0], "README.md", "exec"), {})
+    snippet = snippet.split("```", 1)[0]
+    namespace: dict = {}
+    exec(compile(snippet, "README.md", "exec"), namespace)
+    stated = {m.group(1): tuple(int(k) for k in m.group(2).split(","))
+              for m in re.finditer(r"^(\w+) = .*# \((\d+, \d+)\)", snippet, re.M)}
+    assert stated == {"F": (11, 11), "G": (11, 26), "H": (7, 11)}
+    for name, shape in stated.items():
+        assert namespace[name].shape == shape, name
+    model = namespace["model"]
+    assert (len(model.error_states), len(model.sources), len(model.outputs)) == (11, 26, 7)
+    assert namespace["x"].shape == (8,)  # six direction cosines, V_ξ, V_η
 
 
 def test_closed_forms_snippet_runs_and_says_which_models_have_them():
