@@ -31,12 +31,26 @@ def test_analytic_equals_linear_numeric_for_every_source(result):
 
 
 def test_direct_follows_linear_to_second_order(result):
-    for c in result.curves:
+    """The direct − linear gap is second order: relative to the error it is first order
+    in the magnitude, so every source at half its magnitude halves it (measured: 0.5
+    within 5e-4). The largest, 2.6 % (azimuth drift: its angles reach a few arcminutes
+    in a day)."""
+    e = result.experiment
+    half = run(dataclasses.replace(
+        e, gyro_drift=e.gyro_drift / 2, accel_bias=e.accel_bias / 2,
+        velocity_error=e.velocity_error / 2, position_error=e.position_error / 2,
+        level_error=e.level_error / 2, azimuth_error=e.azimuth_error / 2))
+    checked = 0
+    for c, h in zip(result.curves, half.curves, strict=True):
+        assert c.source == h.source
         gap = c.agreement("direct", "linear")
-        if np.all(np.isnan(gap)):
+        if np.all(np.isnan(gap)) or np.nanmax(gap) == 0.0:
             continue
-        # the largest angles are a few arcminutes: second-order gaps of a few percent
-        assert np.nanmax(gap) < 5e-2, c.source
+        assert np.nanmax(gap) < 3e-2, c.source
+        ratio = np.nanmax(h.agreement("direct", "linear")) / np.nanmax(gap)
+        assert ratio == pytest.approx(0.5, abs=5e-3), c.source
+        checked += 1
+    assert checked >= 10
 
 
 def test_polar_gyro_drift_gives_the_textbook_longitude_drift(result):
@@ -195,7 +209,8 @@ def test_orthodromic_day_numeric_vs_analytic():
     excited = day.excited()
     assert excited.sum() >= 19  # gains on zero static-base rates are not excited
     assert np.nanmax(day.agreement("analytic", "linear")) < 1e-6
-    assert np.nanmax(day.agreement("direct", "linear")) < 0.1
+    # second order: largest 6.7 % (a day of 0.1 °/h second-integrator offset), measured
+    assert np.nanmax(day.agreement("direct", "linear")) < 0.08
     for j in np.nonzero(~excited)[0]:  # numerics of an unexcited factor: round-off
         assert np.max(np.abs(day.linear[:, j])) < 1e-15, day.sources[j]
     text = day.summary_markdown()

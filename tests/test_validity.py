@@ -50,7 +50,8 @@ def test_one_percent_magnitude_agrees_with_a_direct_run(orthodromic, azimuth_swe
     (c,) = compare(orthodromic, trajectory, [{task.source: result.magnitude_1pct}],
                    record_interval=300.0, refined=False, integration_error=False,
                    validity_threshold=None)
-    assert c.metric(result.quantity).linear_ratio == pytest.approx(0.01, rel=0.3)
+    # the fitted line (slope 0.993 over the decades) puts it within 1.2 % (measured)
+    assert c.metric(result.quantity).linear_ratio == pytest.approx(0.01, rel=0.05)
 
 
 def test_a_source_with_no_effect_is_reported_not_excited(orthodromic):
