@@ -124,6 +124,20 @@ def test_validity_warning_on_exact_platform_and_old_numbers_in_small_angles(caps
     ratio = case["worst_linear_ratio"]
     assert ratio > 0.1
     assert 0.3 < case["one_percent_scale"] * ratio / 0.01 < 3
+    # checked independently of the warning's own search: a run at the magnitude it names
+    # has its worst residual within the documented factor 1.25 of 1 %, and it is the
+    # ratio the warning quotes (measured: 0.86 %)
+    import ins_errors
+
+    model = ins_errors.load_model("orthodromic")
+    scale = case["one_percent_scale"]
+    traj = tr.trajectory(model, tr.static_profile(np.radians(50), np.radians(30), 0.0),
+                         4 * 3600.0, 1.0)
+    (check,) = compare(model, traj, [{"initial_azimuth_error": np.radians(25) * scale}],
+                       refined=False, integration_error=False, validity_threshold=None)
+    quoted = float(warning[0].rsplit("measured there: ", 1)[1].split("%")[0]) / 100
+    assert check.worst_linear.linear_ratio == pytest.approx(quoted, rel=0.01)
+    assert 0.01 / 1.25 <= check.worst_linear.linear_ratio <= 0.01 * 1.25
     # the manual's small-angle platform with its rectangle method reproduces the numbers
     # of the version before the exact platform (recorded from that version)
     status = main(["compare", "orthodromic", "--source", "initial_azimuth_error=25deg",
