@@ -80,6 +80,58 @@ def test_correct_hand_file_agrees_and_injected_mistakes_are_found(model):
     assert {r.equation.line for r, _ in report.findings} == set(where)
 
 
+def _foucault_drop_effect(east: bool) -> dict[int, float]:
+    """Largest position change (m) after 1 h and 24 h when the Foucault term of the east
+    (or north) velocity equation is dropped from the report's static-base F, over the
+    checker's cases (each state alone at its typical size: velocities √(gR)θ, angles θ;
+    each of the file's sources: accelerations gθ, rates ω_s θ), θ = 1e-4, φ = 50°."""
+    import math
+
+    import numpy as np
+    from scipy.linalg import expm
+
+    g, R, w, theta = 9.80665, 6_371_000.0, 7.292115e-5, 1e-4
+    L = math.radians(50.0)
+    s, c = math.sin(L), math.cos(L)
+    # states dVx (east), dVy (north), dL, dlam, Qx, Qy, Qz; sources Dx, Dy, Ex, Ey, Ez
+    F = np.zeros((7, 7))
+    F[0, 5], F[0, 1] = -g, 2 * w * s
+    F[1, 4], F[1, 0] = g, -2 * w * s
+    F[2, 1] = 1 / R
+    F[3, 0] = 1 / (R * c)
+    F[4, 1], F[4, 5], F[4, 6] = -1 / R, w * s, -w * c
+    F[5, 0], F[5, 2], F[5, 4] = 1 / R, -w * s, -w * s
+    F[6, 0], F[6, 2], F[6, 4] = math.tan(L) / R, w * c, w * c
+    G = np.zeros((7, 5))
+    G[0, 0] = G[1, 1] = G[4, 2] = G[5, 3] = G[6, 4] = 1.0
+    dropped = F.copy()
+    dropped[(0, 1) if east else (1, 0)] = 0.0
+    omega_s = math.sqrt(g / R)
+    sizes = [math.sqrt(g * R) * theta] * 2 + [theta] * 5
+    cases = [np.eye(7)[k] * sizes[k] for k in range(7)]
+    forcing = [G[:, k] * (g * theta if k < 2 else omega_s * theta) for k in range(5)]
+    effect = {}
+    for hours in (1, 24):
+        t = hours * 3600.0
+
+        def response(A, x0=None, b=None):
+            # augmented exponential: the state and a constant source together
+            M = np.zeros((8, 8))
+            M[:7, :7] = A
+            if b is not None:
+                M[:7, 7] = b
+            z = expm(M * t) @ np.r_[x0 if x0 is not None else np.zeros(7), 1.0]
+            return z[:7]
+
+        worst = 0.0
+        runs = [(x0, None) for x0 in cases] + [(None, b) for b in forcing]
+        for x0, b in runs:
+            d = response(F, x0, b) - response(dropped, x0, b)
+            worst = max(worst, math.hypot(R * d[2], R * c * d[3]))
+        effect[hours] = worst
+    return effect
+
+
 def test_report_001_printed_f_on_a_static_base(capsys):
     report = check_hand_file(F_001, model="north_pointing")
     assert report.scope == "static base" and [p.label for p in report.points] == [
@@ -96,7 +148,13 @@ def test_report_001_printed_f_on_a_static_base(capsys):
     expected = 2 * u * math.sin(math.radians(50)) * math.sqrt(g * radius) / g
     for f in drops.values():
         assert f.size == pytest.approx(expected, rel=1e-6)
-        assert f.effect["position_24h"] > 0
+    # their effect, against the report's own F (the equations of F.txt, with the δλ row
+    # and the Foucault terms added) propagated by SciPy's matrix exponential, with and
+    # without the dropped term, each case alone at its typical size
+    for (label, _), f in drops.items():
+        want = _foucault_drop_effect(label == "dot(delta_v_E)")
+        for hours in (1, 24):
+            assert f.effect[f"position_{hours}h"] == pytest.approx(want[hours], rel=1e-3)
     # without the declaration and the scope the same rows are mistakes
     bare = "\n".join(s for s in F_001.read_text().splitlines()
                      if not s.startswith(("@neglect", "@scope")))
