@@ -114,7 +114,7 @@ def _foucault_drop_effect(east: bool) -> dict[int, float]:
     for hours in (1, 24):
         t = hours * 3600.0
 
-        def response(A, x0=None, b=None):
+        def response(A, x0=None, b=None, t=t):
             # augmented exponential: the state and a constant source together
             M = np.zeros((8, 8))
             M[:7, :7] = A
