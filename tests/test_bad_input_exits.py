@@ -76,7 +76,8 @@ def test_python_dash_m_runs_the_command(tmp_path):
 
 def test_the_readme_lists_the_exit_statuses():
     section = README.split("## Five-minute tour", 1)[1].split("\n## ", 1)[0]
-    line = " ".join(section.split("Exit status", 1)[1].split("\n\n", 1)[0].split())
+    line = " ".join(section.split("Exit status", 1)[1].split("python -m ins_errors", 1)[0]
+                    .split())
     for status, meaning in (("0", "done"), ("1", "mistake"), ("2", "bad input"),
                             ("141", "SIGPIPE")):
         assert f"**{status}**" in line and meaning in line, (status, line)
