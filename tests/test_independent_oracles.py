@@ -67,19 +67,19 @@ def _flight(model, p, heading, minutes=20.0, tau=1.0, height=3000.0):
     return traj, {n: y[k] for k, n in enumerate(names)}
 
 
-def test_east_west_flight_specific_force_matches_ecef(wgs84_orthodromic):
-    model, p = wgs84_orthodromic
-    traj, y = _flight(model, p, 90 * DEG)
+def _motion_inputs_and_ecef(model, p, traj, lat, lon, chi, h):
+    """Sample times, the model's motion inputs (a_ξ, a_η, a_ζ less those of a static
+    base at the same place) and the ECEF computation's, in the track axes, shape (3, n).
+
+    The ECEF terms come from the truth's latitude, longitude and height by central
+    differences (one step lost at each end, hence ``samples - 1``)."""
     tau = traj.tau
-    lat, lon, chi = y["latitude"], y["longitude"], y["heading"]
-    h = traj.inputs[[i.name for i in model.inputs].index("h")]
     expected = motion_terms(lat, lon, h, tau, WGS84_A, WGS84_E2)
     east, north, up = (axis[:, 1:-1] for axis in local_axes(lat, lon))
     c, s = np.cos(chi[1:-1]), np.sin(chi[1:-1])
     xi = c * north + s * east
     eta = np.cross(up.T, xi.T).T  # η = ζ × ξ, to the left of the track
     oracle = np.array([np.sum(axis * expected, axis=0) for axis in (xi, eta, up)])
-    # the model's inputs minus those of a static base at each sampled point
     samples = np.arange(60, traj.n_steps - 60, 120)
     names = [i.name for i in model.inputs]
     got = []
@@ -88,8 +88,15 @@ def test_east_west_flight_specific_force_matches_ecef(wgs84_orthodromic):
                                tau, tau, p=p)
         got.append([traj.inputs[names.index(n), k] - static.inputs[names.index(n), 0]
                     for n in ("a_xi", "a_eta", "a_zeta")])
-    got = np.array(got).T
-    want = oracle[:, samples - 1]
+    return samples, np.array(got).T, oracle[:, samples - 1]
+
+
+def test_east_west_flight_specific_force_matches_ecef(wgs84_orthodromic):
+    model, p = wgs84_orthodromic
+    traj, y = _flight(model, p, 90 * DEG)
+    lat, lon, chi = y["latitude"], y["longitude"], y["heading"]
+    h = traj.inputs[[i.name for i in model.inputs].index("h")]
+    _, got, want = _motion_inputs_and_ecef(model, p, traj, lat, lon, chi, h)
     # the vertical terms are about 0.04 m/s² (v²/R ≈ 0.01, 2U cos φ v_E ≈ 0.023)
     assert np.abs(want[2]).min() > 0.03
     assert np.allclose(got, want, atol=2e-5 * 0.04 + 1e-6), (got - want)
@@ -203,21 +210,7 @@ def test_climbing_flight_specific_force_matches_ecef(wgs84_orthodromic):
     lat, lon, chi = y["latitude"], y["longitude"], y["heading"]
     h, v_zeta = traj.inputs[inputs.index("h")], traj.inputs[inputs.index("V_zeta")]
     assert np.abs(v_zeta).max() > 14.0  # it does climb
-    expected = motion_terms(lat, lon, h, tau, WGS84_A, WGS84_E2)
-    east, north, up = (axis[:, 1:-1] for axis in local_axes(lat, lon))
-    c, s = np.cos(chi[1:-1]), np.sin(chi[1:-1])
-    xi = c * north + s * east
-    eta = np.cross(up.T, xi.T).T
-    oracle = np.array([np.sum(axis * expected, axis=0) for axis in (xi, eta, up)])
-    samples = np.arange(60, traj.n_steps - 60, 120)
-    got = []
-    for k in samples:
-        static = tr.trajectory(model, tr.static_profile(lat[k], lon[k], chi[k], h=h[k]),
-                               tau, tau, p=p)
-        got.append([traj.inputs[inputs.index(n), k] - static.inputs[inputs.index(n), 0]
-                    for n in ("a_xi", "a_eta", "a_zeta")])
-    got = np.array(got).T
-    want = oracle[:, samples - 1]
+    samples, got, want = _motion_inputs_and_ecef(model, p, traj, lat, lon, chi, h)
     climbing = np.abs(v_zeta[samples]) > 5.0
     assert climbing.sum() >= 5
     # central differences of a C² ramp at τ = 1 s: ~1e-6 m/s²
