@@ -169,7 +169,7 @@ def run(args: argparse.Namespace) -> int:
         record = stride * tau
     motion = {"kind": "file" if args.motion_file else args.motion,
               "latitude": args.latitude, "longitude": args.longitude,
-              "heading": args.heading, "speed": args.speed or "250m/s",
+              "heading": args.heading, "speed": args.speed,
               "height": args.height}
     if args.motion_file:
         motion["file"] = args.motion_file

@@ -37,6 +37,19 @@ latitude φ never goes beyond ±φ, so a day's flight stays clear of the poles (
 
 _KEYS = {*DEFAULTS, "file", "legs"}
 
+APPLIES_TO: dict[str, tuple[str, ...]] = {
+    "speed": ("great-circle", "manoeuvre"),
+    "legs": ("manoeuvre",),
+    "file": ("file",),
+}
+"""The motion settings that only some kinds use: a description of another kind that
+states one is refused (it was silently dropped). The heading stays meaningful for every
+kind: it is the trihedron's track angle at the start, on which the errors of a model with
+a heading output depend even at rest or along a motion file."""
+
+_WHY_NOT = {"static": "the base is static", "file": "the file gives the motion",
+            "great-circle": "the kind is great-circle", "manoeuvre": "the kind is manoeuvre"}
+
 
 def default_legs(speed: float, height: float, hours: int = 24) -> list[tr.Leg]:
     """The standard manoeuvre: a turn, a speed change with a climb, a turn back and a
@@ -151,6 +164,12 @@ def _read(description: Mapping[str, Any]) -> tuple[str, dict[str, float], Any,
     kind = str(spec["kind"]).replace("_", "-")  # spec files spell it great_circle
     if kind not in MOTION_KINDS:
         raise unknown_name("motion kind", kind, MOTION_KINDS)
+    for key, kinds in APPLIES_TO.items():
+        if description.get(key) is not None and kind not in kinds:
+            verb = "apply" if key == "legs" else "applies"
+            raise InsErrorsError(f"motion {key} {verb} to kind {' or '.join(kinds)}, and "
+                                 f"{_WHY_NOT[kind]}: leave {key} out or choose kind "
+                                 f"{' or '.join(repr(k) for k in kinds)}")
     if kind != "static" and description.get("heading") is None:
         spec["heading"] = MOVING_HEADING
     values = {key: _angle(spec[key], f"motion {key}")
@@ -193,7 +212,9 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
     Raises
     ------
     InsErrorsError
-        For unknown keys or kinds, values with wrong units, unreadable files.
+        For unknown keys or kinds, a setting the kind does not use (see
+        :data:`APPLIES_TO`), values with wrong units, headings beyond ±360°, unreadable
+        files.
     """
     kind, values, file, legs = _read(description)
     lat, lon, heading = values["latitude"], values["longitude"], values["heading"]
@@ -231,7 +252,8 @@ def in_si(description: Mapping[str, Any]) -> dict[str, Any]:
     """
     kind, values, file, legs = _read(description)
     out: dict[str, Any] = {"kind": kind}
-    out.update({key: f"{value!r} {_SI_UNITS[key]}" for key, value in values.items()})
+    out.update({key: f"{value!r} {_SI_UNITS[key]}" for key, value in values.items()
+                if kind in APPLIES_TO.get(key, (kind,))})
     if file is not None:
         out["file"] = file
     if legs is not None:
