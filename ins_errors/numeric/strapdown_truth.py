@@ -53,6 +53,7 @@ from ins_errors.numeric.trajectories import (
     MotionError,
     Profile,
     Trajectory,
+    check_track_angle,
     motion_number,
     run_arguments,
     smoothstep,
@@ -108,6 +109,7 @@ class Flight:
             value = getattr(self, name)
             if not np.isfinite(value):
                 raise MotionError(f"flight {name} must be finite, got {value}")
+        check_track_angle(self.course, "flight course")
         if abs(self.latitude) >= np.pi / 2:
             raise MotionError(f"flight latitude {np.degrees(self.latitude):g}° is at or beyond "
                               "a pole: longitude is undefined there")

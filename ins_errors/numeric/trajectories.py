@@ -128,6 +128,7 @@ class Profile:
             value = getattr(self, name)
             if not np.isfinite(value):
                 raise MotionError(f"motion {name} must be finite, got {value}")
+        check_track_angle(self.heading, "motion heading")
         if abs(self.latitude) >= np.pi / 2:
             raise MotionError(f"motion latitude {np.degrees(self.latitude):g}° is at or beyond "
                               "a pole, where north, east and longitude are undefined (and "
@@ -199,7 +200,32 @@ def motion_number(value: object, what: str, unit: str) -> float:
 
 
 def _angles(**angles: object) -> list[float]:
-    return [motion_number(value, f"motion {name}", "rad") for name, value in angles.items()]
+    values = [motion_number(value, f"motion {name}", "rad") for name, value in angles.items()]
+    for name, value in zip(angles, values, strict=True):
+        if name in ("heading", "track"):
+            check_track_angle(value, f"motion {name}")
+    return values
+
+
+MAX_TRACK_ANGLE = 2.0 * np.pi
+"""rad: the largest |heading| or |track angle| a motion may start with (one turn either
+way). Any direction is within it; a larger value is a mistake (a unit or an exponent),
+and its sine and cosine lose every digit (cos 1e300 is rounding noise)."""
+
+
+def check_track_angle(value: float, what: str) -> None:
+    """Refuse a heading or track angle (rad) outside [−360°, 360°], naming ``what``.
+
+    Raises
+    ------
+    MotionError
+        One line giving the value in degrees and the accepted range.
+    """
+    if not np.isfinite(value):
+        raise MotionError(f"{what} must be finite, got {value}")
+    if abs(value) > MAX_TRACK_ANGLE:
+        raise MotionError(f"{what} {np.degrees(value):g}° is outside [-360°, 360°]: give "
+                          "the direction within one turn (e.g. 90° for due east)")
 
 
 def _check_height(h: float, what: str) -> None:
