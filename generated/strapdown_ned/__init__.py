@@ -106,5 +106,5 @@ INITIAL_CONDITIONS = (
     {'name': 'pitch', 'unit': 'rad', 'description': 'initial pitch', 'latex': '\\theta_0'},
     {'name': 'heading', 'unit': 'rad', 'description': 'initial heading', 'latex': '\\psi_0'},
 )
-DOMAIN = ('latitude at ±90°: λ̇ divides by cos φ', 'pitch at ±90°: roll and heading are undefined', 'attitude quaternion of zero length', 'a <= 0: the semi-major axis must be positive', 'eccentricity squared must be below 1')
-INITIAL_DOMAIN = ('initial latitude at ±90°: longitude is undefined', 'initial pitch at ±90°: roll and heading are undefined', 'a <= 0: the semi-major axis must be positive', 'eccentricity squared must be below 1')
+DOMAIN = ('latitude at ±90°: λ̇ divides by cos φ', 'pitch at ±90°: roll and heading are undefined', 'attitude quaternion of zero length', 'a <= 0: the semi-major axis must be positive', 'eccentricity squared must be below 1', 'normal gravity on the equator gamma_e must be positive')
+INITIAL_DOMAIN = ('initial latitude at ±90°: longitude is undefined', 'initial pitch at ±90°: roll and heading are undefined', 'a <= 0: the semi-major axis must be positive', 'eccentricity squared must be below 1', 'normal gravity on the equator gamma_e must be positive')

@@ -1460,16 +1460,18 @@ def _build_domain_margins():
     lat_ = x[7]
     a_ = p[0]
     e2_ = p[1]
+    gamma_e_ = p[3]
     _t0 = q1_**2
     _t1 = q2_**2
     _t2 = q0_**2 + q3_**2
     _t3 = _t0 + _t1 + _t2
-    _out = _m.SX(5, 1)
+    _out = _m.SX(6, 1)
     _out[0, 0] = _m.cos(lat_)**2 - 1e-12
     _out[1, 0] = -1e-12*_t3**2 + (2*q0_*q1_ + 2*q2_*q3_)**2 + (-_t0 - _t1 + _t2)**2
     _out[2, 0] = _t3 - 1e-06
     _out[3, 0] = a_
     _out[4, 0] = 1 - e2_
+    _out[5, 0] = gamma_e_
     return _m.Function('domain_margins', [x, u, p], [_out], ['x', 'u', 'p'], ['out'])
 
 
@@ -1481,11 +1483,13 @@ def _build_initial_domain_margins():
     pitch_ = c[7]
     a_ = p[0]
     e2_ = p[1]
-    _out = _m.SX(4, 1)
+    gamma_e_ = p[3]
+    _out = _m.SX(5, 1)
     _out[0, 0] = _m.cos(latitude_)**2 - 1e-12
     _out[1, 0] = _m.cos(pitch_)**2 - 1e-12
     _out[2, 0] = a_
     _out[3, 0] = 1 - e2_
+    _out[4, 0] = gamma_e_
     return _m.Function('initial_domain_margins', [c, u, p], [_out], ['c', 'u', 'p'], ['out'])
 
 

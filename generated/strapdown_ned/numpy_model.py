@@ -1656,7 +1656,7 @@ def domain_margins(x, u, p):
 
     Returns
     -------
-    numpy.ndarray, shape (5, ...)
+    numpy.ndarray, shape (6, ...)
         one margin per condition of DOMAIN
     """
     x = _as_vector(x, 10, 'x', 'domain_margins')
@@ -1670,16 +1670,18 @@ def domain_margins(x, u, p):
     lat_ = x[7]
     a_ = p[0]
     e2_ = p[1]
+    gamma_e_ = p[3]
     _t0 = q1_**2
     _t1 = q2_**2
     _t2 = q0_**2 + q3_**2
     _t3 = _t0 + _t1 + _t2
-    _out = _np.zeros((5,) + _batch)
+    _out = _np.zeros((6,) + _batch)
     _out[0] = _m.cos(lat_)**2 - 1e-12
     _out[1] = -1e-12*_t3**2 + (2*q0_*q1_ + 2*q2_*q3_)**2 + (-_t0 - _t1 + _t2)**2
     _out[2] = _t3 - 1e-06
     _out[3] = a_
     _out[4] = 1 - e2_
+    _out[5] = gamma_e_
     return _out
 
 
@@ -1697,7 +1699,7 @@ def initial_domain_margins(c, u, p):
 
     Returns
     -------
-    numpy.ndarray, shape (4, ...)
+    numpy.ndarray, shape (5, ...)
         one margin per condition of INITIAL_DOMAIN
     """
     c = _as_vector(c, 9, 'c', 'initial_domain_margins')
@@ -1708,11 +1710,13 @@ def initial_domain_margins(c, u, p):
     pitch_ = c[7]
     a_ = p[0]
     e2_ = p[1]
-    _out = _np.zeros((4,) + _batch)
+    gamma_e_ = p[3]
+    _out = _np.zeros((5,) + _batch)
     _out[0] = _m.cos(latitude_)**2 - 1e-12
     _out[1] = _m.cos(pitch_)**2 - 1e-12
     _out[2] = a_
     _out[3] = 1 - e2_
+    _out[4] = gamma_e_
     return _out
 
 

@@ -376,6 +376,7 @@ def build() -> ModelDefinition:
             (q_norm - 1e-6, "attitude quaternion of zero length"),
             (a, "a <= 0: the semi-major axis must be positive"),
             (1 - e2, "eccentricity squared must be below 1"),
+            (_sym["gamma_e"], "normal gravity on the equator gamma_e must be positive"),
         ),
         initial_domain=(
             (sp.cos(lat0) ** 2 - 1e-12, "initial latitude at ±90°: longitude is undefined"),
@@ -383,6 +384,7 @@ def build() -> ModelDefinition:
                                           "undefined"),
             (a, "a <= 0: the semi-major axis must be positive"),
             (1 - e2, "eccentricity squared must be below 1"),
+            (_sym["gamma_e"], "normal gravity on the equator gamma_e must be positive"),
         ),
         notes=__doc__.split("Modelling choices", 1)[1].split(":", 1)[1].strip(),
     )
