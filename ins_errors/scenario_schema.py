@@ -29,6 +29,7 @@ from pydantic import (
 )
 
 from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.units import VALIDITY_RATIO_CEILING, ratio_outside
 
 Quantity = StrictStr | StrictFloat | StrictInt
 """A value with its unit as text (``"0.01 deg/h"``, ``"24 h"``); a bare number is
@@ -76,7 +77,7 @@ class Run(_Table):
     ellipsoid: str | None = Field(None, description="Earth model, e.g. 'wgs84', "
                                                     "'krasovsky' (default: the model's)")
     platform: Literal["exact", "small_angle"] = "exact"
-    validity_threshold: float = Field(0.05, gt=0, lt=10,
+    validity_threshold: float = Field(0.05, gt=0, lt=VALIDITY_RATIO_CEILING,
                                       description="linear/direct ratio that warns")
     truth: Literal["auto", "interpolated", "fine"] = Field(
         "auto", description="true motion of a moving run: 'fine' integrated at every step, "
@@ -195,6 +196,9 @@ def _one_line(error: ValidationError, name: str) -> InsErrorsError:
 
         return InsErrorsError(f"{name}: unknown run truth {first['input']!r}; allowed: "
                               f"{', '.join(TRUTHS)}")
+    if loc == ("run", "validity_threshold") and kind in ("greater_than", "less_than"):
+        return InsErrorsError(f"{name}: [run] validity_threshold = {first['input']!r}: "
+                              f"{ratio_outside(float(first['input']), '0.05')}")
     if loc == ("model",) and kind == "missing":
         return InsErrorsError(f"{name}: missing 'model' (e.g. model = \"orthodromic\")")
     return one_line(error, name, _TABLES)

@@ -14,6 +14,7 @@ suggestion (``'45.5 deg'``), never added up silently.
 
 from __future__ import annotations
 
+import math
 import re
 from functools import cache, lru_cache
 from pathlib import Path
@@ -455,3 +456,18 @@ def format_quantity(value_si: float, unit: str, display_unit: str, digits: int =
     ureg = registry()
     value = ureg.Quantity(value_si, _units(ureg, unit)).to(_units(ureg, display_unit)).magnitude
     return f"{value:.{digits}g} {display_unit}"
+
+
+VALIDITY_RATIO_CEILING: float = 10  # an int: the published schema writes 10
+"""A validity threshold (the linear/direct ratio that warns) must be below this ratio,
+1000 % of the error: a linear run off by ten times the error it estimates tells
+nothing, so a larger threshold could only hide that."""
+
+
+def ratio_outside(value: float, example: str = "0.05 or 5%") -> str:
+    """Why a validity threshold ``value`` is refused, naming the accepted range and
+    ``example`` (how the threshold is written where it was given)."""
+    shown = f"{value:g} ({100 * value:g} %)" if math.isfinite(value) else f"{value:g}"
+    return (f"the ratio {shown} is outside the accepted range, above 0 and below "
+            f"{VALIDITY_RATIO_CEILING:g} ({100 * VALIDITY_RATIO_CEILING:g} % of the error; "
+            f"a bare number is a ratio, e.g. {example})")

@@ -107,8 +107,10 @@ def _sources(model, items: list[str]) -> list[tuple[str, float]]:
 
 
 def parse_ratio(text: str, what: str) -> float:
-    """A positive ratio given as ``0.05`` or ``5%``."""
+    """A ratio above 0 and below
+    :data:`~ins_errors.units.VALIDITY_RATIO_CEILING`, given as ``0.05`` or ``5%``."""
     from ins_errors.errors import InsErrorsError
+    from ins_errors.units import VALIDITY_RATIO_CEILING, ratio_outside
 
     body = text.strip()
     scale = 0.01 if body.endswith("%") else 1.0
@@ -116,8 +118,8 @@ def parse_ratio(text: str, what: str) -> float:
         value = float(body.rstrip("%")) * scale
     except ValueError:
         raise InsErrorsError(f"{what} {text!r}: expected a ratio such as 0.05 or 5%") from None
-    if not 0 < value < 10:
-        raise InsErrorsError(f"{what} {text!r}: must be a positive ratio (e.g. 5%)")
+    if not 0 < value < VALIDITY_RATIO_CEILING:
+        raise InsErrorsError(f"{what} {text!r}: {ratio_outside(value)}")
     return value
 
 
