@@ -450,6 +450,8 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
     if {"real", "refined"} & set(parts):
         xr0 = model.initial_real_state(c[:, None], u0[:, None], w, p)
         _check_initial(model, xr0)
+        if "real" in parts:
+            _check_initial_platform(model, xr0, platform)
         exact0 = xr0 - np.vstack([x0, np.zeros((xr0.shape[0] - n, B))])
     if "real" in parts:
         blocks.append(xr0)
@@ -581,29 +583,56 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                 k = int(np.argmax((~np.isfinite(states[:, r])).any(axis=1)))
                 first, detail = r, f"{label} {names[k]} became NaN or infinite"
     if sim.real is not None:  # platform angles beyond where the platform form holds
-        n = len(model.states)
-        angles = [k for k in range(n, len(model.error_states))
-                  if model.error_states[k].unit == "rad"]
-        if sim.platform == "small_angle":
-            limit, why = SMALL_ANGLE_LIMIT, ("beyond the small-angle platform matrix (the "
-                                             "exact platform, the default, has no such limit)")
-        else:  # z-y-x angles: only alpha_y has a singular value
-            angles, limit = angles[1:2], EULER_LIMIT
-            why = "near the singular ±90° of the exact platform's z-y-x angles"
+        angles, limit, why = _platform_limit(model, sim.platform)
         if angles:
             large = np.abs(sim.real[angles]) > limit
             if large.any():
                 r = int(np.argmax(large.any(axis=(0, 2))))
                 if first is None or r < first:
-                    k = angles[int(np.argmax(large[:, r].any(axis=1)))]
-                    first, detail = r, (
-                        f"platform angle {model.error_states[k].name} exceeds "
-                        f"{limit:.4g} rad ({np.degrees(limit):.4g}°), {why}")
+                    first, detail = r, _platform_detail(model, sim.real[:, r], angles, limit,
+                                                        why)
     if first is not None:
         t0, t1 = (first - 1) * dt, first * dt
+        if first == 0:  # the recorded start: the initial errors themselves
+            raise DomainError(f"the system starts outside its domain (t = 0 s, the initial "
+                              f"errors): {detail}")
         when = f"at t = {t1:.6g} s" if sim.stride == 1 else (
             f"between t = {t0:.6g} s and {t1:.6g} s")
         raise DomainError(f"the system left its domain {when} ({t1 / 3600:.4g} h): {detail}")
+
+
+def _platform_limit(model: Model, platform: str) -> tuple[list[int], float, str]:
+    """The platform angles (indices into the error states) that have a limit on this
+    platform, the limit (rad) and why it holds."""
+    n = len(model.states)
+    angles = [k for k in range(n, len(model.error_states))
+              if model.error_states[k].unit == "rad"]
+    if platform == "small_angle":
+        return angles, SMALL_ANGLE_LIMIT, ("beyond the small-angle platform matrix (the "
+                                           "exact platform, the default, has no such limit)")
+    # z-y-x angles: only alpha_y has a singular value
+    return angles[1:2], EULER_LIMIT, "near the singular ±90° of the exact platform's z-y-x angles"
+
+
+def _platform_detail(model: Model, real: np.ndarray, angles: list[int], limit: float,
+                     why: str) -> str:
+    """The first platform angle of ``real`` (shape (ne, B), one record) beyond ``limit``,
+    with its largest size over the cases."""
+    large = np.abs(real[angles]) > limit
+    row = int(np.argmax(large.any(axis=1)))
+    k = angles[row]
+    size = float(np.max(np.abs(real[k])))
+    return (f"platform angle {model.error_states[k].name} = {np.degrees(size):.4g}° exceeds "
+            f"{limit:.4g} rad ({np.degrees(limit):.4g}°), {why}")
+
+
+def _check_initial_platform(model: Model, xr0: np.ndarray, platform: str) -> None:
+    """Refuse initial platform angles (``xr0`` shape (ne, B)) beyond the platform's limit
+    before anything runs."""
+    angles, limit, why = _platform_limit(model, platform)
+    if angles and np.any(np.abs(xr0[angles]) > limit):
+        raise DomainError("the system starts outside its domain (t = 0 s, the initial "
+                          f"errors): {_platform_detail(model, xr0, angles, limit, why)}")
 
 
 def _margin_detail(sim: Simulation, record: int, case: int) -> str:
