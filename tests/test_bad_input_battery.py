@@ -68,6 +68,17 @@ FILES: dict[str, str | bytes] = {
     "garbage.npz": "not an archive\n",
     "text_in_motion.csv": "t,v_N,v_E\n0,0,100\n1200,fast,100\n2400,0,100\n3600,0,100\n",
     "short_row.csv": "t,v_N,v_E\n0,0,100\n1200,100\n2400,0,100\n3600,0,100\n",
+    "speed_at_rest.toml": SCENARIO.replace('kind = "static"',
+                                           'kind = "static"\nspeed = "250 m/s"'),
+    "file_at_rest.toml": SCENARIO.replace('kind = "static"',
+                                          'kind = "static"\nfile = "short_row.csv"'),
+    "speed_with_file.toml": SCENARIO.replace(
+        'kind = "static"', 'kind = "file"\nfile = "nan_row.csv"\nspeed = "100 m/s"'),
+    "legs_on_great_circle.toml": SCENARIO.replace('kind = "static"', 'kind = "great-circle"')
+    + '[[motion.legs]]\nduration = "10 min"\nturn = "90 deg"\n',
+    "heading_beyond_a_turn.toml": SCENARIO.replace('kind = "static"', 'kind = "great-circle"'
+                                                   '\nheading = "1e300 deg"'),
+    "threshold_1000.toml": SCENARIO.replace("[run]", "[run]\nvalidity_threshold = 1000"),
 }
 
 LONG = "a" * 300
@@ -188,6 +199,32 @@ CLI_CASES: dict[str, list[str]] = {
                                     "1", "--motion-file", "text_in_motion.csv"],
     "compare-short-row-in-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE,
                                          "--hours", "1", "--motion-file", "short_row.csv"],
+    # motion settings the kind does not use (dropped silently by the scenario files)
+    "run-speed-at-rest": ["run", "speed_at_rest.toml"],
+    "run-file-at-rest": ["run", "file_at_rest.toml"],
+    "run-speed-with-motion-file": ["run", "speed_with_file.toml"],
+    "run-legs-on-a-great-circle": ["run", "legs_on_great_circle.toml"],
+    # headings beyond a turn (the header printed χ=1e+300°)
+    "compare-heading-beyond-a-turn": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
+                                      "1", "--heading", "1e300deg"],
+    "compare-track-beyond-a-turn": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
+                                    "1", "--motion", "great-circle", "--heading", "-400deg"],
+    "run-heading-beyond-a-turn": ["run", "heading_beyond_a_turn.toml"],
+    # zero gravity on the equator: normal gravity and the bank rule divide by it
+    "compare-zero-gravity": ["compare", "strapdown_ned", "-s", "accel_bias_x=100ug",
+                             "--parameter", "gamma_e=0m/s^2", "--hours", "1"],
+    "compare-negative-gravity": ["compare", "strapdown_ned", "-s", "accel_bias_x=100ug",
+                                 "--parameter", "gamma_e=-9.78m/s^2", "--hours", "1"],
+    # a ratio of 1000 (100000 %): said "must be a positive ratio"
+    "compare-threshold-1000": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours", "1",
+                               "--validity-threshold", "1000"],
+    "run-threshold-1000": ["run", "threshold_1000.toml"],
+    # a 30° initial tilt on the small-angle platform: said "between t = -60 s and 0 s"
+    "compare-small-angle-tilt": ["compare", "orthodromic", "-s", "initial_tilt_x=30deg",
+                                 "--platform", "small-angle", "--hours", "1"],
+    "compare-small-angle-tilt-north-pointing": ["compare", "north_pointing", "-s",
+                                                "initial_tilt_east=30deg", "--platform",
+                                                "small-angle", "--hours", "1"],
     # study
     "study-unknown": ["study", "coriolisis"],
     "study-bare-latitude": ["study", "coriolis", "--latitude", "50"],
@@ -298,6 +335,31 @@ NAMED = {
     "compare-short-row-in-motion-file": "line 3 has 2 values, the header 3 columns",
     # printed the whole help with exit status 0
     "no-command": "give a command, e.g. 'ins-errors models' (usage: ins-errors",
+    # worded as the command line's --speed
+    "run-speed-at-rest": "motion speed applies to kind great-circle or manoeuvre, and the "
+                         "base is static: leave speed out or choose kind 'great-circle' or "
+                         "'manoeuvre'",
+    "run-file-at-rest": "motion file applies to kind file, and the base is static: leave "
+                        "file out",
+    "run-speed-with-motion-file": "motion speed applies to kind great-circle or manoeuvre, "
+                                  "and the file gives the motion",
+    "run-legs-on-a-great-circle": "motion legs apply to kind manoeuvre, and the kind is "
+                                  "great-circle",
+    "compare-heading-beyond-a-turn": "motion heading 1e+300° is outside [-360°, 360°]",
+    "compare-track-beyond-a-turn": "motion track -400° is outside [-360°, 360°]",
+    "run-heading-beyond-a-turn": "motion track 1e+300° is outside [-360°, 360°]",
+    "compare-zero-gravity": "normal gravity on the equator gamma_e must be positive",
+    "compare-negative-gravity": "normal gravity on the equator gamma_e must be positive",
+    "compare-threshold-1000": "--validity-threshold '1000': the ratio 1000 (100000 %) is "
+                              "outside the accepted range, above 0 and below 10 (1000 % of "
+                              "the error",
+    "run-threshold-1000": "validity_threshold = 1000: the ratio 1000 (100000 %) is outside "
+                          "the accepted range, above 0 and below 10 (1000 % of the error",
+    "compare-small-angle-tilt": "starts outside its domain (t = 0 s, the initial errors): "
+                                "platform angle alpha_x = 30° exceeds 0.5 rad (28.65°), "
+                                "beyond the small-angle platform matrix",
+    "compare-small-angle-tilt-north-pointing": "(t = 0 s, the initial errors): platform "
+                                               "angle alpha_E = 30° exceeds 0.5 rad",
 }
 """Cases whose one line must say this (what to do, not only what failed)."""
 
@@ -551,6 +613,22 @@ API_CASES = {
     "output-folder-is-file": _api_write_into_file,
     "output-file-is-folder": _api_write_text_into_folder,
     "hand-file-binary": lambda: _api_hand_file("binary.toml"),
+    "static_profile-heading-beyond-a-turn": lambda: __import__(
+        "ins_errors.numeric.trajectories", fromlist=["x"]).static_profile(0.8, 0.0, 7.0),
+    "great_circle-track-beyond-a-turn": lambda: __import__(
+        "ins_errors.numeric.trajectories", fromlist=["x"]).great_circle_profile(
+        0.8, 0.0, 1e300, 250.0),
+    "manoeuvre-track-beyond-a-turn": lambda: __import__(
+        "ins_errors.numeric.trajectories", fromlist=["x"]).manoeuvre_profile(
+        0.8, 0.0, -20.0, 250.0, []),
+    "sampled-heading-beyond-a-turn": lambda: __import__(
+        "ins_errors.numeric.trajectories", fromlist=["x"]).sampled_profile(
+        np.arange(4.0), np.zeros(4), np.zeros(4), 0.8, 0.0, 1e3),
+    "strapdown-course-beyond-a-turn": lambda: __import__(
+        "ins_errors.numeric.strapdown_truth", fromlist=["x"]).great_circle(0.8, 0, 1e3, 250.0),
+    "motion-speed-at-rest": lambda: _api_motion({"kind": "static", "speed": "250 m/s"}),
+    "parameter_vector-zero-gravity": lambda: ins_errors.load_model(
+        "strapdown_ned").parameter_vector(gamma_e=0.0),
 }
 
 
@@ -614,6 +692,13 @@ NAMED_API = {
     "static_profile-text": "motion latitude takes a number in SI units (rad), got '50'",
     # worded as the orthodromic models' "great-circle speed must be >= 0 m/s, got ..."
     "strapdown-negative-speed": "great-circle speed must be > 0 m/s, got -250 m/s",
+    "static_profile-heading-beyond-a-turn": "motion heading 401.07° is outside [-360°, 360°]",
+    "great_circle-track-beyond-a-turn": "motion track 5.72958e+301° is outside [-360°, 360°]",
+    "manoeuvre-track-beyond-a-turn": "motion track -1145.92° is outside [-360°, 360°]",
+    "sampled-heading-beyond-a-turn": "motion heading 57295.8° is outside [-360°, 360°]",
+    "strapdown-course-beyond-a-turn": "flight course 57295.8° is outside [-360°, 360°]",
+    "motion-speed-at-rest": "motion speed applies to kind great-circle or manoeuvre",
+    "parameter_vector-zero-gravity": "gamma_e must be positive",
 }
 """API cases whose one line must say this."""
 
@@ -642,3 +727,63 @@ def test_the_real_state_is_listed_by_its_own_names():
     x, u = _state(model)
     with pytest.raises(ins_errors.ShapeError, match=r"\[u11, u21, .*, alpha_z\]"):
         model.real_rhs(np.zeros(3), x, u, model.source_vector())
+
+
+def test_headings_of_a_whole_turn_are_accepted_and_mean_due_north():
+    """The ±360° refusal does not cut into the accepted range: a great circle started at
+    track ±360° flies the track-0° one (the same start state, the same description but its
+    angle)."""
+    from ins_errors.numeric import trajectories as tr
+
+    model = _orthodromic()
+    runs = [tr.trajectory(model, tr.great_circle_profile(0.8, 0.5, np.radians(angle), 250.0),
+                          60.0, 10.0) for angle in (0.0, 360.0, -360.0)]
+    for run in runs[1:]:
+        assert np.allclose(run.truth, runs[0].truth, rtol=0, atol=1e-9)
+    assert tr.static_profile(0.8, 0.0, -2 * np.pi).heading == -2 * np.pi
+
+
+def test_only_the_settings_a_kind_uses_are_written_in_si():
+    """Sweep and validity tasks carry a motion as :func:`in_si` writes it: a static base's
+    is read back without the speed it does not use (which is refused)."""
+    from ins_errors.numeric.motion_spec import in_si, motion_profile
+
+    static = in_si({"kind": "static"})
+    assert "speed" not in static and motion_profile(static).static
+    assert "speed" in in_si({"kind": "great-circle"})
+
+
+def test_a_heading_is_meaningful_for_a_motion_file(scratch):
+    """A motion file's heading is the trihedron's start track angle, which the orthodromic
+    model's errors depend on: it is not refused as the speed is."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.motion_spec import motion_profile
+
+    Path("m.csv").write_text("t,v_N,v_E\n0,100,50\n300,100,50\n600,100,50\n900,100,50\n",
+                             encoding="utf-8")
+    model = _orthodromic()
+    chi = model.index("outputs", "heading") if any(
+        o.name == "heading" for o in model.outputs) else None
+    runs = [tr.trajectory(model, motion_profile({"kind": "file", "file": "m.csv",
+                                                 "heading": heading}), 600.0, 10.0)
+            for heading in ("0 deg", "45 deg")]
+    assert not np.allclose(runs[0].start_state, runs[1].start_state)
+    if chi is not None:
+        outputs = [model.outputs_of(r.start_state, r.start_inputs) for r in runs]
+        assert np.degrees(outputs[1][chi] - outputs[0][chi]) == pytest.approx(45.0)
+
+
+def test_the_small_angle_refusal_comes_before_the_run():
+    """A 30° initial tilt is refused by :func:`simulate` itself (no negative time)."""
+    from ins_errors.errors import DomainError
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.simulate import SMALL_ANGLE_LIMIT, simulate
+
+    model = _orthodromic()
+    static = tr.trajectory(model, tr.static_profile(0.8), 600.0, 10.0)
+    with pytest.raises(DomainError, match=r"t = 0 s, the initial errors\): platform angle "
+                                          r"alpha_x = 30° exceeds 0\.5 rad"):
+        simulate(model, static, {"initial_tilt_x": np.radians(30.0)}, platform="small_angle")
+    just_inside = simulate(model, static, {"initial_tilt_x": 0.99 * SMALL_ANGLE_LIMIT},
+                           platform="small_angle")
+    assert just_inside.real is not None

@@ -184,6 +184,6 @@ def test_platform_beyond_small_angles_is_an_error(orthodromic):
     """An 80° tilt is far outside the manual's small-angle platform matrix: refuse it
     there (the exact platform runs it: tests/test_platform_exact.py)."""
     traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG), 600.0, 1.0)
-    with pytest.raises(DomainError, match=r"platform angle alpha_x exceeds 0\.5 rad"):
+    with pytest.raises(DomainError, match=r"platform angle alpha_x = 80° exceeds 0\.5 rad"):
         simulate(orthodromic, traj, {"initial_tilt_x": 80 * DEG}, record_interval=60.0,
                  platform="small_angle", method="euler")

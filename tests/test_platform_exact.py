@@ -110,7 +110,7 @@ def test_both_platform_forms_have_the_same_first_order(name):
 
 def test_large_tilt_runs_on_the_exact_platform_and_is_refused_in_small_angles(orthodromic):
     traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG), 600.0, 1.0)
-    with pytest.raises(DomainError, match=r"platform angle alpha_x exceeds 0\.5 rad"):
+    with pytest.raises(DomainError, match=r"platform angle alpha_x = 80° exceeds 0\.5 rad"):
         simulate(orthodromic, traj, {"initial_tilt_x": 80 * DEG}, record_interval=60.0,
                  platform="small_angle", method="euler")
     sim = simulate(orthodromic, traj, {"initial_tilt_x": 80 * DEG}, record_interval=60.0,
