@@ -210,6 +210,8 @@ CLI_CASES: dict[str, list[str]] = {
     "compare-track-beyond-a-turn": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
                                     "1", "--motion", "great-circle", "--heading", "-400deg"],
     "run-heading-beyond-a-turn": ["run", "heading_beyond_a_turn.toml"],
+    "compare-longitude-beyond-a-turn": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                                        "--hours", "1", "--longitude", "1e300deg"],
     # zero gravity on the equator: normal gravity and the bank rule divide by it
     "compare-zero-gravity": ["compare", "strapdown_ned", "-s", "accel_bias_x=100ug",
                              "--parameter", "gamma_e=0m/s^2", "--hours", "1"],
@@ -348,6 +350,7 @@ NAMED = {
     "compare-heading-beyond-a-turn": "motion heading 1e+300° is outside [-360°, 360°]",
     "compare-track-beyond-a-turn": "motion track -400° is outside [-360°, 360°]",
     "run-heading-beyond-a-turn": "motion track 1e+300° is outside [-360°, 360°]",
+    "compare-longitude-beyond-a-turn": "motion longitude 1e+300° is outside [-360°, 360°]",
     "compare-zero-gravity": "normal gravity on the equator gamma_e must be positive",
     "compare-negative-gravity": "normal gravity on the equator gamma_e must be positive",
     "compare-threshold-1000": "--validity-threshold '1000': the ratio 1000 (100000 %) is "
@@ -615,6 +618,9 @@ API_CASES = {
     "hand-file-binary": lambda: _api_hand_file("binary.toml"),
     "static_profile-heading-beyond-a-turn": lambda: __import__(
         "ins_errors.numeric.trajectories", fromlist=["x"]).static_profile(0.8, 0.0, 7.0),
+    "great_circle-longitude-beyond-a-turn": lambda: __import__(
+        "ins_errors.numeric.trajectories", fromlist=["x"]).great_circle_profile(
+        0.8, -1e3, 0.5, 250.0),
     "great_circle-track-beyond-a-turn": lambda: __import__(
         "ins_errors.numeric.trajectories", fromlist=["x"]).great_circle_profile(
         0.8, 0.0, 1e300, 250.0),
@@ -626,6 +632,8 @@ API_CASES = {
         np.arange(4.0), np.zeros(4), np.zeros(4), 0.8, 0.0, 1e3),
     "strapdown-course-beyond-a-turn": lambda: __import__(
         "ins_errors.numeric.strapdown_truth", fromlist=["x"]).great_circle(0.8, 0, 1e3, 250.0),
+    "strapdown-longitude-beyond-a-turn": lambda: __import__(
+        "ins_errors.numeric.strapdown_truth", fromlist=["x"]).static(0.8, 1e3),
     "motion-speed-at-rest": lambda: _api_motion({"kind": "static", "speed": "250 m/s"}),
     "parameter_vector-zero-gravity": lambda: ins_errors.load_model(
         "strapdown_ned").parameter_vector(gamma_e=0.0),
@@ -693,10 +701,12 @@ NAMED_API = {
     # worded as the orthodromic models' "great-circle speed must be >= 0 m/s, got ..."
     "strapdown-negative-speed": "great-circle speed must be > 0 m/s, got -250 m/s",
     "static_profile-heading-beyond-a-turn": "motion heading 401.07° is outside [-360°, 360°]",
+    "great_circle-longitude-beyond-a-turn": "motion longitude -57295.8° is outside [-360°, 360°]",
     "great_circle-track-beyond-a-turn": "motion track 5.72958e+301° is outside [-360°, 360°]",
     "manoeuvre-track-beyond-a-turn": "motion track -1145.92° is outside [-360°, 360°]",
     "sampled-heading-beyond-a-turn": "motion heading 57295.8° is outside [-360°, 360°]",
     "strapdown-course-beyond-a-turn": "flight course 57295.8° is outside [-360°, 360°]",
+    "strapdown-longitude-beyond-a-turn": "flight longitude 57295.8° is outside [-360°, 360°]",
     "motion-speed-at-rest": "motion speed applies to kind great-circle or manoeuvre",
     "parameter_vector-zero-gravity": "gamma_e must be positive",
 }

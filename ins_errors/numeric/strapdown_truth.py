@@ -110,6 +110,7 @@ class Flight:
             if not np.isfinite(value):
                 raise MotionError(f"flight {name} must be finite, got {value}")
         check_track_angle(self.course, "flight course")
+        check_track_angle(self.longitude, "flight longitude", "30° east, -30° west")
         if abs(self.latitude) >= np.pi / 2:
             raise MotionError(f"flight latitude {np.degrees(self.latitude):g}° is at or beyond "
                               "a pole: longitude is undefined there")

@@ -129,6 +129,7 @@ class Profile:
             if not np.isfinite(value):
                 raise MotionError(f"motion {name} must be finite, got {value}")
         check_track_angle(self.heading, "motion heading")
+        check_track_angle(self.longitude, "motion longitude", "30° east, -30° west")
         if abs(self.latitude) >= np.pi / 2:
             raise MotionError(f"motion latitude {np.degrees(self.latitude):g}° is at or beyond "
                               "a pole, where north, east and longitude are undefined (and "
@@ -204,17 +205,21 @@ def _angles(**angles: object) -> list[float]:
     for name, value in zip(angles, values, strict=True):
         if name in ("heading", "track"):
             check_track_angle(value, f"motion {name}")
+        elif name == "longitude":
+            check_track_angle(value, f"motion {name}", "30° east, -30° west")
     return values
 
 
 MAX_TRACK_ANGLE = 2.0 * np.pi
-"""rad: the largest |heading| or |track angle| a motion may start with (one turn either
-way). Any direction is within it; a larger value is a mistake (a unit or an exponent),
-and its sine and cosine lose every digit (cos 1e300 is rounding noise)."""
+"""rad: the largest |heading|, |track angle| or |longitude| a motion may start with (one
+turn either way). Any direction or meridian is within it; a larger value is a mistake (a
+unit or an exponent), and its sine and cosine lose every digit (cos 1e300 is rounding
+noise)."""
 
 
-def check_track_angle(value: float, what: str) -> None:
-    """Refuse a heading or track angle (rad) outside [−360°, 360°], naming ``what``.
+def check_track_angle(value: float, what: str, example: str = "90° for due east") -> None:
+    """Refuse a heading, track angle or longitude (rad) outside [−360°, 360°], naming
+    ``what`` (``example``: a sensible value, for the message).
 
     Raises
     ------
@@ -225,7 +230,7 @@ def check_track_angle(value: float, what: str) -> None:
         raise MotionError(f"{what} must be finite, got {value}")
     if abs(value) > MAX_TRACK_ANGLE:
         raise MotionError(f"{what} {np.degrees(value):g}° is outside [-360°, 360°]: give "
-                          "the direction within one turn (e.g. 90° for due east)")
+                          f"it within one turn (e.g. {example})")
 
 
 def _check_height(h: float, what: str) -> None:
