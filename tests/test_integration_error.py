@@ -43,7 +43,8 @@ def test_rectangle_method_error_is_estimated_and_warned(orthodromic, static_day)
     assert true > 0.4  # the manual's scheme at τ = 10 s: tens of per cent wrong
     assert 0.3 < estimate < 2 * true
     assert any("integration error" in w and "would do" in w for w in c.warnings)
-    assert c.suggested_step < 10.0
+    # far too many steps for the rectangle method: RK4 with a step of its own
+    assert c.suggested_method == "rk4" and c.suggested_step <= 10.0
     # the linear-vs-direct agreement hides it: both runs share the scheme
     assert c.worst_linear.linear_ratio < 1e-3
 
@@ -146,3 +147,126 @@ def test_validity_warning_on_exact_platform_and_old_numbers_in_small_angles(caps
     (old,) = json.loads(out)["cases"]
     assert old["worst_linear_ratio"] == pytest.approx(0.6495813636707888, rel=1e-9)
     assert old["worst_refined_ratio"] == pytest.approx(0.0704419194339276, rel=1e-9)
+
+
+# --------------------------------------------------------------------------------------
+# Found by a probe against reference runs at much finer steps
+# --------------------------------------------------------------------------------------
+def _exact_error(model, trajectory, case, comparison, quantity, interval):
+    """True integration error of the linear curve: the matrix exponential of the static
+    base's time-invariant linear equations (no step at all)."""
+    exact = linear_exact(model, trajectory, [case], record_interval=interval)[quantity][:, 0]
+    return np.max(np.abs(comparison.linear[quantity] - exact))
+
+
+@pytest.mark.parametrize(("duration", "tau", "interval", "quantity"), [
+    (86401.0, 1.0, 86401.0, "alpha_N"),  # odd number of steps: the 2τ run misses t = N τ
+    (3600.0, 16.0, 720.0, "alpha_E"),  # odd stride: only every other sample on 2τ
+])
+def test_estimate_covers_every_sample_with_an_odd_stride(duration, tau, interval, quantity):
+    """An odd recording stride: the run at 2τ does not reach the samples at odd steps
+    (with 86401 steps, none but t = 0: the estimate was exactly 0, no warning, where the
+    true error is 6 % of alpha_N). The estimate must be within a factor 2 of the truth."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("north_pointing")
+    case = {"gyro_drift_east": np.radians(0.01) / 3600}
+    traj = tr.trajectory(model, tr.static_profile(50 * DEG, 30 * DEG), duration, tau)
+    (c,) = compare(model, traj, [case], method="euler", record_interval=interval,
+                   refined=False, validity_threshold=None)
+    true = _exact_error(model, traj, case, c, quantity, interval)
+    estimate = c.metric(quantity).linear_integration_error
+    assert true > 1e-3 * c.metric(quantity).max_direct
+    assert true / 2 < estimate < 2 * true
+    assert any("integration error" in w for w in c.warnings)
+
+
+def test_no_shared_sample_is_not_estimated_rather_than_zero():
+    """A caller's own doubled-step run that shares only t = 0 with the run: no estimate
+    (an error of 0 would read as a perfect run)."""
+    from ins_errors.numeric.compare import Comparison, estimate_integration_errors, metrics_of
+    from ins_errors.numeric.simulate import ErrorCurves
+
+    times = np.array([0.0, 3.0])
+    curves = ErrorCurves(["a"], ["rad"], times, np.array([[[0.0], [1.0]]]))
+    (c,) = [Comparison("x", {}, metrics_of(curves, curves, None, 0), times, {}, {}, {})]
+    estimate_integration_errors([c], (curves, curves), (curves, curves), 3, 3, 3, 1.0,
+                                "euler")
+    assert c.metric("a").direct_integration_error is None
+    assert any("not estimated" in w for w in c.warnings)
+
+
+def _reference(model, traj_fine, case, method, interval):
+    from ins_errors.numeric.simulate import simulate
+
+    sources = np.array([[case.get(s.name, 0.0) for s in model.sources]]).T
+    sim = simulate(model, traj_fine, sources, method=method, record_interval=interval,
+                   parts=("real", "linear"))
+    return sim.direct_errors()
+
+
+def test_coarse_rk4_step_says_the_estimate_is_not_reliable_and_its_step_passes(capsys):
+    """RK4 at 600 s on a great circle: the step-doubling estimate (5.8 % of alpha_y) is
+    3-4.5 times below the truth (a reference at 10 s), and the step it named (85.7 s)
+    warned again and could not be typed back. The warning now says the estimate is not
+    reliable, and the step it names, typed back, runs and passes the check."""
+    import ins_errors
+
+    model = ins_errors.load_model("orthodromic")
+    case = {"gyro_drift_x": np.radians(0.01) / 3600}
+    profile = tr.great_circle_profile(50 * DEG, 30 * DEG, 90 * DEG, 250.0)
+    coarse = tr.trajectory(model, profile, 86400.0, 600.0)
+    (c,) = compare(model, coarse, [case], record_interval=1200.0, refined=False,
+                   validity_threshold=None)
+    reference = _reference(model, tr.trajectory(model, profile, 86400.0, 10.0), case, "rk4",
+                           1200.0)
+    m = c.metric("alpha_y")
+    true = np.max(np.abs(c.direct["alpha_y"] - reference["alpha_y"][:, 0]))
+    assert true > 2 * m.direct_integration_error  # the bare estimate is too small
+    (warning,) = [w for w in c.warnings if "integration error" in w]
+    assert "not reliable" in warning
+    text = warning.split("τ = ")[-1].split(" s would do")[0]
+    assert float(text) == c.suggested_step and c.suggested_step < 600.0
+    status = main(["compare", "orthodromic", "--source", "gyro_drift_x=0.01deg/h",
+                   "--motion", "great-circle", "--hours", "24", "--step", f"{text}s",
+                   "--record", "1200s", "--no-refined", "--json"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    (again,) = json.loads(out)["cases"]
+    assert not [w for w in again["warnings"] if "integration error" in w], again["warnings"]
+
+
+def test_unstable_rectangle_method_is_not_reliable_and_names_rk4(capsys):
+    """Rectangle method at 60 s over 24 h: the Schuler mode grows under the scheme and the
+    estimate (5611 % of alpha_x) is far from the truth; the warning says it is not
+    reliable and, the rectangle method needing more steps than a run may take, names
+    RK4 with a step of its own, which typed back runs and passes the check."""
+    status = main(["compare", "orthodromic", "--source", "accel_bias_x=100ug", "--hours",
+                   "24", "--step", "60s", "--method", "euler", "--record", "1200s",
+                   "--no-refined", "--json", "--validity-threshold", "1"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    (case,) = json.loads(out)["cases"]
+    (warning,) = [w for w in case["warnings"] if "integration error" in w]
+    assert "not reliable" in warning and "--method rk4" in warning
+    assert case["suggested_method"] == "rk4"
+    text = warning.split("τ = ")[-1].split(" s would do")[0]
+    status = main(["compare", "orthodromic", "--source", "accel_bias_x=100ug", "--hours",
+                   "24", "--step", f"{text}s", "--record", "1200s", "--no-refined",
+                   "--json", "--validity-threshold", "1"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    (again,) = json.loads(out)["cases"]
+    assert not [w for w in again["warnings"] if "integration error" in w]
+
+
+def test_typable_step_divides_the_interval_and_reads_back():
+    from ins_errors.numeric.accuracy import typable_step
+    from ins_errors.numeric.integrators import step_count
+
+    for needed, interval in ((600 / 7, 1200.0), (0.000195, 60.0), (0.9, 86401.0)):
+        step, text = typable_step(needed, interval)
+        assert float(text) == step <= needed
+        assert step > needed / 10
+        step_count(interval, float(text))  # a whole number of steps
+        assert len(text.replace("0.", "").lstrip("0").replace(".", "").rstrip("0")) <= 3

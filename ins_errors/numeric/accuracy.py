@@ -68,18 +68,84 @@ def coarsened(trajectory: Trajectory) -> Trajectory | None:
                                t.initial_conditions, t.description)
 
 
+def halved(trajectory: Trajectory, method: str) -> Trajectory | None:
+    """The same motion on the grid of step τ/2 (``2N`` steps), or None when it cannot be
+    built from what the trajectory holds.
+
+    A static base is the same column at any step; a profile's truth (fine or
+    interpolated) is generated again at τ/2; for the rectangle method, which reads the
+    inputs at the steps only, the inputs and midpoints of the run at τ interleave into the
+    steps of the run at τ/2 (its own midpoints, never read, repeat the inputs).
+    """
+    from ins_errors.numeric.interpolated_truth import InterpolatedTruth
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.trajectories import ProfileTruth
+
+    t = trajectory
+    if t.constant:
+        return Trajectory(t.model, t.tau / 2, 2 * t.n_steps, t.truth[:, :1], t.inputs[:, :1],
+                          t.midpoints[:, :1], t.parameters, t.initial_conditions, True,
+                          t.description)
+    source = t.source
+    if isinstance(source, ProfileTruth | InterpolatedTruth):
+        model = load_model(source.model_name)
+        again = type(source)(model, source.profile, source.frame, t.tau / 2, 2 * t.n_steps,
+                             np.asarray(source.p, dtype=float), source.x0)
+        return Trajectory.streamed(t.model, t.tau / 2, 2 * t.n_steps, again, t.start_state,
+                                   t.start_inputs, t.parameters, t.initial_conditions,
+                                   t.description)
+    if method == "euler":
+        return Trajectory.streamed(t.model, t.tau / 2, 2 * t.n_steps, Interleaved(t),
+                                   t.start_state, t.start_inputs, t.parameters,
+                                   t.initial_conditions, t.description)
+    return None
+
+
+class Interleaved:
+    """A :class:`~ins_errors.numeric.trajectories.MotionSource` on the grid of step τ/2
+    made of the inputs and midpoints of a trajectory of step τ (for the rectangle method,
+    which never reads midpoints: those repeat the inputs, the states are held)."""
+
+    def __init__(self, coarse: Trajectory):
+        self.coarse = coarse
+
+    def chunks(self, size: int) -> Iterator[TruthChunk]:
+        """Chunks of at most ``size`` steps of τ/2 (from chunks of ``size // 2`` steps)."""
+        for chunk in self.coarse.chunks(max(1, size // 2)):
+            m = chunk.size
+            inputs = np.empty((chunk.inputs.shape[0], 2 * m + 1))
+            inputs[:, ::2], inputs[:, 1::2] = chunk.inputs, chunk.midpoints
+            truth = np.repeat(chunk.truth, 2, axis=1)[:, :2 * m + 1]
+            yield TruthChunk(2 * chunk.start, truth, inputs, inputs[:, :-1].copy())
+
+
 def coarse_stride(stride: int, n_steps: int) -> int:
     """Recording stride of the doubled-step run that shares the most samples with the
     fine run recorded every ``stride`` steps of ``n_steps``."""
-    half = n_steps // 2
-    if stride % 2 == 0 and half % (stride // 2) == 0:
-        return stride // 2
-    if half % stride == 0:
-        return stride
-    return 1
+    return sampling(stride, 2, n_steps)[0]
 
 
-def common_samples(stride: int, coarse: int, n_steps: int) -> tuple[np.ndarray, np.ndarray]:
+def sampling(stride: int, factor: int, n_steps: int) -> tuple[int, np.ndarray, np.ndarray]:
+    """How a run at ``factor`` τ (over the first ``factor ⌊N/factor⌋`` steps) records to
+    share samples with the run at τ recorded every ``stride`` steps of ``n_steps``.
+
+    Returns
+    -------
+    coarse : int
+        Recording stride of the coarse run, in its own steps.
+    fine_i, coarse_i : numpy.ndarray of int
+        Indices of the fine and of the coarse recorded samples taken at the same times
+        (all the fine ones when every fine sample lies on the coarse grid).
+    """
+    m = n_steps // factor
+    want = math.lcm(stride, factor) // factor
+    coarse = want if m >= 1 and m % want == 0 else 1
+    fine_i, coarse_i = common_samples(stride, coarse, n_steps, factor)
+    return coarse, fine_i, coarse_i
+
+
+def common_samples(stride: int, coarse: int, n_steps: int,
+                   factor: int = 2) -> tuple[np.ndarray, np.ndarray]:
     """Indices of the fine and of the coarse recorded samples taken at the same times.
 
     Parameters
@@ -87,18 +153,75 @@ def common_samples(stride: int, coarse: int, n_steps: int) -> tuple[np.ndarray, 
     stride : int
         Fine steps between fine samples.
     coarse : int
-        Coarse steps (of two fine steps) between coarse samples.
+        Coarse steps (of ``factor`` fine steps) between coarse samples.
     n_steps : int
         Fine steps of the run.
+    factor : int
+        Coarse step over fine step.
     """
-    every = math.lcm(stride, 2 * coarse)
-    steps = np.arange(0, 2 * (n_steps // 2) + 1, every)
-    return steps // stride, steps // (2 * coarse)
+    every = math.lcm(stride, factor * coarse)
+    steps = np.arange(0, factor * (n_steps // factor) + 1, every)
+    return steps // stride, steps // (factor * coarse)
 
 
 def richardson(fine: np.ndarray, coarse: np.ndarray, method: str) -> np.ndarray:
     """Estimated error of ``fine`` from the same run at twice the step."""
     return (fine - coarse) / (2 ** ORDERS[method] - 1)
+
+
+def order_observed(fine_gap: float, coarse_gap: float) -> float | None:
+    """Order of convergence shown by three runs at h, 2h and 4h: ``log2`` of the gap
+    between the two coarser over the gap between the two finer (None if either is 0)."""
+    if not (fine_gap > 0 and coarse_gap > 0):
+        return None
+    return math.log2(coarse_gap / fine_gap)
+
+
+ORDER_TOLERANCE = 0.5
+"""The estimate counts as asymptotic while the observed order is within this of the
+scheme's order."""
+
+RELEVANT = 1e-6
+"""Integration errors below this share of the error are not judged by their observed
+order (rounding and cancellations make it meaningless there)."""
+
+
+def typable_step(needed: float, interval: float) -> tuple[float, str]:
+    """The largest step of at most three significant digits, at or below ``needed``, that
+    divides ``interval`` (the recording interval, so also the run) to the accuracy the
+    command line checks, with its text (typing the text back gives the same step).
+
+    Parameters
+    ----------
+    needed : float
+        Largest acceptable step, s (> 0).
+    interval : float
+        Recording interval, s (a whole number of steps of the run).
+    """
+    top = math.floor(math.log10(needed))
+    for decade in range(top, top - 16, -1):
+        best = None
+        for digits in (1, 2, 3):
+            unit = 10.0 ** (decade - digits + 1)
+            for mantissa in range(min(int(needed / unit * (1 + 1e-12)), 10 ** digits - 1),
+                                  0, -1):
+                value = float(f"{mantissa * unit:.{digits}g}")
+                if value < 10.0 ** decade * (1 - 1e-12):
+                    break
+                text = np.format_float_positional(value, unique=True, trim="-")
+                value = float(text)
+                if value > needed * (1 + 1e-12):
+                    continue
+                steps = interval / value  # as step_count checks it
+                if abs(steps - round(steps)) > 1e-9 * max(1.0, steps):
+                    continue
+                if best is None or value > best[0]:
+                    best = (value, text)
+                break
+        if best is not None:
+            return best
+    text = repr(needed)
+    return needed, text
 
 
 def step_that_would_do(tau: float, error: float, target: float, method: str) -> float:

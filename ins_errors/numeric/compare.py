@@ -25,7 +25,7 @@ difference is meaningless: the linear model rightly predicts ~0).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
@@ -100,6 +100,13 @@ class Comparison:
     one_percent_scale : float or None
         Factor on every source magnitude at which the worst linear/direct ratio would be
         1 % (from the measured scaling), when the validity warning was given.
+    suggested_method : str or None
+        ``"rk4"`` when the rectangle method would need more steps than a run may take and
+        ``suggested_step`` is RK4's own step.
+    integration_order : float or None
+        Order of convergence the runs at three steps show (see
+        :func:`add_integration_errors`), None when not measured or the errors are at
+        rounding level.
     shown : tuple of str or None
         The quantities the reader asked for (a scenario's ``[outputs] quantities``): the
         worst ratios and the warnings judge only these. None: every quantity.
@@ -116,6 +123,8 @@ class Comparison:
     suggested_step: float | None = None
     one_percent_scale: float | None = None
     shown: tuple[str, ...] | None = None
+    integration_order: float | None = None
+    suggested_method: str | None = None
 
     def metric(self, quantity: str) -> Metric:
         """The metric of one quantity."""
@@ -152,6 +161,8 @@ class Comparison:
                 "warnings": list(self.warnings),
                 "suggested_step_s": self.suggested_step,
                 "one_percent_scale": self.one_percent_scale,
+                "suggested_method": self.suggested_method,
+                "integration_order_observed": self.integration_order,
                 "metrics": [_clean(asdict(m)) for m in self.metrics]}
 
     @property
@@ -296,32 +307,115 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
                            jit: bool = True) -> None:
     """Estimate each quantity's integration error by step doubling; warn where too large.
 
-    Runs the direct and linear error runs of ``sim`` again at twice its step and fills
-    ``direct_integration_error`` / ``linear_integration_error`` of every metric. A case
-    gets a warning (and ``suggested_step``) when, for an excited quantity, the larger
-    estimate exceeds 1 % of the error or 10 % of the linear-vs-direct difference (the
-    latter only when that difference is above :data:`AGREEMENT_FLOOR` of the error).
+    Runs the direct and linear error runs of ``sim`` again at twice its step when every
+    recorded sample lies on that grid (an even recording stride), else at half its step
+    (a static base, a profile's motion, or any motion under the rectangle method), so
+    that the estimate covers every recorded sample, the last one included; it fills
+    ``direct_integration_error`` / ``linear_integration_error`` of every metric. One more
+    run at four times the finest step of the pair gives the observed order of the
+    scheme: far from the scheme's order, the estimate is outside its asymptotic range and
+    the case says so. A case gets a warning (and ``suggested_step``) when, for an excited
+    quantity, the larger estimate exceeds 1 % of the error or 10 % of the
+    linear-vs-direct difference (the latter only when that difference is above
+    :data:`AGREEMENT_FLOOR` of the error).
     """
-    trajectory, method, n_steps = sim.trajectory, sim.method, sim.trajectory.n_steps
-    coarse = accuracy.coarsened(trajectory)
-    why = None
-    if coarse is None:
-        why = "the run has a single step"
-    else:
-        stride = accuracy.coarse_stride(sim.stride, n_steps)
-        try:
-            csim = simulate(sim.model, coarse, sim.sources, method=method,
-                            record_interval=stride * coarse.tau, parts=("real", "linear"),
-                            jit=jit, platform=sim.platform)
-        except InsErrorsError as error:
-            why = f"the run at twice the step failed ({error})"
-    if why is not None:
+    trajectory, method, stride = sim.trajectory, sim.method, sim.stride
+    n_steps, tau = trajectory.n_steps, trajectory.tau
+    fine = (sim.direct_errors(), sim.linear_errors())
+
+    def rerun(traj: Trajectory | None, every: int) -> tuple[ErrorCurves, ErrorCurves]:
+        run = simulate(sim.model, traj, sim.sources, method=method,
+                       record_interval=every * traj.tau, parts=("real", "linear"),
+                       jit=jit, platform=sim.platform)
+        return run.direct_errors(), run.linear_errors()
+
+    def not_estimated(why: str) -> None:
         for c in comparisons:
             c.warnings.append(f"integration error not estimated: {why}")
+
+    if n_steps < 2:
+        return not_estimated("the run has a single step")
+    try:
+        if stride % 2 == 0:  # every sample on the grid of 2τ: runs at τ, 2τ, 4τ
+            runs = [fine, rerun(accuracy.coarsened(trajectory), stride // 2)]
+            scale = 1.0 / (2 ** accuracy.ORDERS[method] - 1)
+            third = accuracy.coarsened(accuracy.coarsened(trajectory) or trajectory)
+            factor = 4
+        else:
+            half = accuracy.halved(trajectory, method)
+            if half is None:
+                return _pairs_on_common_samples(comparisons, sim, rerun)
+            runs = [rerun(half, 2 * stride), fine]  # at τ/2 and τ
+            scale = 2 ** accuracy.ORDERS[method] / (2 ** accuracy.ORDERS[method] - 1)
+            third, factor = accuracy.coarsened(trajectory), 2
+    except InsErrorsError as error:
+        return not_estimated(f"the run at another step failed ({error})")
+    # the third run, on the samples it shares with the others: the observed order
+    every, fine_i, coarse_i = accuracy.sampling(stride, factor, n_steps)
+    orders, failed = None, None
+    if third is not None and len(fine_i) > 1 and n_steps // factor >= 1:
+        try:
+            orders = (rerun(third, every), fine_i, coarse_i)
+        except InsErrorsError as error:  # e.g. leaves the domain: far from asymptotic
+            failed = f"the run at τ = {third.tau:g} s fails: {error}"
+    for b, comparison in enumerate(comparisons):
+        observed = []
+        for part, attribute in ((0, "direct_integration_error"),
+                                (1, "linear_integration_error")):
+            finer, coarser = runs[0][part], runs[1][part]
+            for k, metric in enumerate(comparison.metrics):
+                gap = np.abs(_difference(finer.values[k, :, b], coarser.values[k, :, b],
+                                         metric.unit))
+                setattr(metric, attribute, float(np.max(gap)) * scale)
+                if orders is None or not metric.excited or metric.max_direct <= 0:
+                    continue
+                third_curves, fi, ci = orders  # near: the finer pair; far: the coarser
+                far = float(np.max(np.abs(_difference(
+                    coarser.values[k, fi, b], third_curves[part].values[k, ci, b],
+                    metric.unit))))
+                q = accuracy.order_observed(float(np.max(gap[fi])), far)
+                if q is not None:
+                    observed.append((getattr(metric, attribute) / metric.max_direct, q,
+                                     metric))
+        relevant = [o for o in observed if o[0] > accuracy.RELEVANT
+                    and o[2].integration_error > NOISE_FLOOR.get(o[2].unit, 0.0)]
+        comparison.integration_order = (max(relevant, key=lambda o: o[0])[1]
+                                        if relevant else None)
+        worst = comparison.worst_integration_ratio
+        _integration_warning(comparison, tau, method, stride * tau,
+                             lambda: _rk4_step(sim, jit),
+                             failed if worst is not None and worst > accuracy.RELEVANT
+                             else None)
+
+
+def _pairs_on_common_samples(comparisons: Sequence[Comparison], sim: Simulation,
+                             rerun) -> None:
+    """Step doubling on the samples a run at 2τ shares with the run (odd recording
+    stride, a motion that cannot be generated at τ/2); says so when that leaves out the
+    last sample, and gives no estimate when only the start is shared."""
+    n_steps, stride = sim.trajectory.n_steps, sim.stride
+    every, fine_i, _ = accuracy.sampling(stride, 2, n_steps)
+    if len(fine_i) < 2:
+        for c in comparisons:
+            c.warnings.append("integration error not estimated: the run at twice the step "
+                              "shares no recorded sample with this run but the start "
+                              "(choose an even number of steps between samples)")
         return
+    try:
+        coarse = rerun(accuracy.coarsened(sim.trajectory), every)
+    except InsErrorsError as error:
+        for c in comparisons:
+            c.warnings.append(f"integration error not estimated: the run at twice the step "
+                              f"failed ({error})")
+        return
+    times = sim.trajectory.tau * stride * fine_i
     estimate_integration_errors(comparisons, (sim.direct_errors(), sim.linear_errors()),
-                                (csim.direct_errors(), csim.linear_errors()), sim.stride,
-                                stride, n_steps, trajectory.tau, method)
+                                coarse, stride, every, n_steps, sim.trajectory.tau,
+                                sim.method)
+    if fine_i[-1] * stride != n_steps:
+        for c in comparisons:
+            c.warnings.append(f"integration error estimated only up to t = {times[-1]:g} s "
+                              f"({len(fine_i)} of {n_steps // stride + 1} samples)")
 
 
 def estimate_integration_errors(comparisons: Sequence[Comparison],
@@ -332,7 +426,9 @@ def estimate_integration_errors(comparisons: Sequence[Comparison],
     """Fill the integration errors of ``comparisons`` from runs at τ and 2τ; warn.
 
     The step-doubling estimate of :func:`add_integration_errors`, for callers that run
-    the doubled-step case themselves (studies with their own compiled loops).
+    the doubled-step case themselves (studies with their own compiled loops). When the
+    two runs share no recorded sample but the start, nothing is estimated (a warning
+    says so): a comparison at t = 0 alone would report an error of 0.
 
     Parameters
     ----------
@@ -350,6 +446,11 @@ def estimate_integration_errors(comparisons: Sequence[Comparison],
         Scheme of both runs.
     """
     fine_i, coarse_i = accuracy.common_samples(stride, coarse_stride, n_steps)
+    if len(fine_i) < 2:
+        for c in comparisons:
+            c.warnings.append("integration error not estimated: the run at twice the step "
+                              "shares no recorded sample with this run but the start")
+        return
     curves = [(fine[0], coarse[0], "direct_integration_error"),
               (fine[1], coarse[1], "linear_integration_error")]
     for b, comparison in enumerate(comparisons):
@@ -359,10 +460,37 @@ def estimate_integration_errors(comparisons: Sequence[Comparison],
                                   rough.values[k, coarse_i, b], metric.unit)
                 error = float(np.max(np.abs(gap))) / (2 ** accuracy.ORDERS[method] - 1)
                 setattr(metric, attribute, error)
-        _integration_warning(comparison, tau, method)
+        _integration_warning(comparison, tau, method, stride * tau)
 
 
-def _integration_warning(comparison: Comparison, tau: float, method: str) -> None:
+def _rk4_step(sim: Simulation, jit: bool) -> float | None:
+    """The step RK4 needs for the cases of ``sim`` (its own estimate, at the same step and
+    recording), or None when that run fails."""
+    try:
+        run = simulate(sim.model, sim.trajectory, sim.sources, method="rk4",
+                       record_interval=sim.stride * sim.trajectory.tau,
+                       parts=("real", "linear"), jit=jit, platform=sim.platform)
+        cases = comparisons_of(run)
+        add_integration_errors(cases, run, jit=jit)
+    except InsErrorsError:
+        return None
+    steps = [c.suggested_step for c in cases if c.suggested_step is not None]
+    return min(steps) if steps else sim.trajectory.tau
+
+
+def _integration_warning(comparison: Comparison, tau: float, method: str, interval: float,
+                         rk4_step: Callable[[], float | None] | None = None,
+                         failed: str | None = None) -> None:
+    """Warn when the integration error is too large, or its estimate not asymptotic
+    (:attr:`Comparison.integration_order` far from the scheme's order, or ``failed``: why
+    the run that measures the order failed), naming a step the command line accepts
+    (:func:`~ins_errors.numeric.accuracy.typable_step`); ``rk4_step`` gives RK4's own
+    step when the rectangle method would need more steps than a run may take."""
+    from ins_errors.numeric.integrators import MAX_STEPS
+
+    p, q = accuracy.ORDERS[method], comparison.integration_order
+    unreliable = failed is not None or (q is not None
+                                        and abs(q - p) > accuracy.ORDER_TOLERANCE)
     worst, worst_need = None, 1.0
     for m in comparison.excited:
         error = m.integration_error
@@ -375,18 +503,46 @@ def _integration_warning(comparison: Comparison, tau: float, method: str) -> Non
         target, what = min(limits)
         if error > target and error / target > worst_need:
             worst, worst_need = (m, target, what), error / target
-    if worst is None:
+    if worst is None and not unreliable:
+        return
+    k = (1.25 * worst_need) ** (1.0 / p) if worst is not None else 1.0
+    if unreliable:  # the estimate may be off by a factor 2^p: at least halve the step
+        k = 2.0 * k
+        if worst is not None and q is not None and 0 < q < p:
+            k = max(k, (1.25 * worst_need) ** (1.0 / q))  # errors fall slower than p
+    step, text = accuracy.typable_step(tau / k, interval)
+    scheme = "rectangle method" if method == "euler" else method.upper()
+    duration = comparison.times[-1] if len(comparison.times) else interval
+    if method == "euler" and duration / step > MAX_STEPS:
+        alternative = rk4_step() if rk4_step is not None else None
+        comparison.suggested_step = None
+        if alternative is not None:
+            step, text = accuracy.typable_step(alternative, interval)
+            comparison.suggested_step, comparison.suggested_method = step, "rk4"
+        advice = (f"the rectangle method would need τ ≤ {tau / k:.3g} s, more than the "
+                  f"{MAX_STEPS:.0e} steps one run may take; use RK4 (--method rk4)"
+                  + (f", where τ = {text} s would do" if alternative is not None else ""))
+    else:
+        comparison.suggested_step = step
+        hint = "; RK4 (--method rk4) needs far fewer steps" if method == "euler" else ""
+        advice = f"the {scheme} with τ = {tau:g} s is too coarse; τ = {text} s would do{hint}"
+    if unreliable:
+        size = "; the estimate is outside its asymptotic range"
+        if worst is not None:
+            m = worst[0]
+            size = (f"; its estimate for {m.quantity}, {m.integration_error:.3g} {m.unit} "
+                    f"({m.integration_error / m.max_direct:.2%} of the error), is outside "
+                    "its asymptotic range")
+        how = (f"observed order {q:.2g}, scheme order {p}" if failed is None
+               else f"{failed}")
+        comparison.warnings.append(
+            f"integration error not reliable at this step ({how}){size}: {advice}")
         return
     m, target, what = worst
-    step = accuracy.step_that_would_do(tau, m.integration_error, target, method)
-    comparison.suggested_step = step
-    scheme = "rectangle method" if method == "euler" else method.upper()
-    hint = "; RK4 (--method rk4) needs far fewer steps" if method == "euler" else ""
     comparison.warnings.append(
         f"integration error of {m.quantity} ≈ {m.integration_error:.3g} {m.unit} "
         f"({m.integration_error / m.max_direct:.2%} of the error) exceeds {what} "
-        f"({target:.3g} {m.unit}): the {scheme} with τ = {tau:g} s is too coarse; "
-        f"τ = {step:.3g} s would do{hint}")
+        f"({target:.3g} {m.unit}): {advice}")
 
 
 def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
