@@ -270,3 +270,22 @@ def test_typable_step_divides_the_interval_and_reads_back():
         assert step > needed / 10
         step_count(interval, float(text))  # a whole number of steps
         assert len(text.replace("0.", "").lstrip("0").replace(".", "").rstrip("0")) <= 3
+
+
+def test_validity_is_not_judged_on_two_samples(capsys):
+    """Recorded at t = 0 and 24 h only, alpha_U sits near a zero crossing and the ratio
+    read 9.4 %, a validity warning; recorded every minute the same run stays below 5 %."""
+    argv = ["compare", "north_pointing", "--source", "gyro_drift_east=0.01deg/h",
+            "--no-refined", "--json"]
+    status = main(argv + ["--duration", "86400s", "--record", "86400s"])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    (sparse,) = json.loads(out)["cases"]
+    assert sparse["worst_linear_ratio"] > 0.05
+    assert not [w for w in sparse["warnings"] if "beyond its validity" in w]
+    assert [w for w in sparse["warnings"] if "validity not judged" in w]
+    status = main(argv + ["--duration", "86400s", "--record", "60s"])
+    out, err = capsys.readouterr()
+    (dense,) = json.loads(out)["cases"]
+    assert dense["worst_linear_ratio"] < 0.05
+    assert not [w for w in dense["warnings"] if "validity" in w]

@@ -561,6 +561,16 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
     """
     over = [b for b, c in enumerate(comparisons)
             if c.worst_linear is not None and c.worst_linear.linear_ratio > threshold]
+    samples = len(comparisons[0].times) if comparisons else 0
+    if over and samples < VALIDITY_SAMPLES:
+        # the largest direct error over a handful of instants may be near a zero crossing
+        for b in over:
+            comparisons[b].warnings.append(
+                f"validity not judged: linear − direct reaches "
+                f"{comparisons[b].worst_linear.linear_ratio:.1%} of "
+                f"{comparisons[b].worst_linear.quantity} over only {samples} recorded "
+                f"samples, too few to judge (record at least {VALIDITY_SAMPLES})")
+        return
     # by position in the batch (comparisons compare their arrays: no `in` or index())
     columns = [b for b in over if any(np.any(v) for v in comparisons[b].linear.values())]
     for comparison in (comparisons[b] for b in over if b not in columns):
@@ -626,6 +636,9 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
 
 VALIDITY_REFINEMENTS = 3
 """Runs after the half-size one that correct the 1 % factor of a validity warning."""
+
+VALIDITY_SAMPLES = 10
+"""Fewest recorded samples on which the validity of the linear model is judged."""
 
 
 def _ratios_at(sim: Simulation, columns: list[int], factors: list[float],
