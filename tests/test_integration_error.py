@@ -277,14 +277,14 @@ def test_validity_is_not_judged_on_two_samples(capsys):
     read 9.4 %, a validity warning; recorded every minute the same run stays below 5 %."""
     argv = ["compare", "north_pointing", "--source", "gyro_drift_east=0.01deg/h",
             "--no-refined", "--json"]
-    status = main(argv + ["--duration", "86400s", "--record", "86400s"])
+    status = main([*argv, "--duration", "86400s", "--record", "86400s"])
     out, err = capsys.readouterr()
     assert status == 0, err
     (sparse,) = json.loads(out)["cases"]
     assert sparse["worst_linear_ratio"] > 0.05
     assert not [w for w in sparse["warnings"] if "beyond its validity" in w]
     assert [w for w in sparse["warnings"] if "validity not judged" in w]
-    status = main(argv + ["--duration", "86400s", "--record", "60s"])
+    status = main([*argv, "--duration", "86400s", "--record", "60s"])
     out, err = capsys.readouterr()
     (dense,) = json.loads(out)["cases"]
     assert dense["worst_linear_ratio"] < 0.05
