@@ -72,10 +72,11 @@ def halved(trajectory: Trajectory, method: str) -> Trajectory | None:
     """The same motion on the grid of step τ/2 (``2N`` steps), or None when it cannot be
     built from what the trajectory holds.
 
-    A static base is the same column at any step; a profile's truth (fine or
-    interpolated) is generated again at τ/2; for the rectangle method, which reads the
-    inputs at the steps only, the inputs and midpoints of the run at τ interleave into the
-    steps of the run at τ/2 (its own midpoints, never read, repeat the inputs).
+    A static base is the same column at any step; a profile's or a strapdown flight's
+    truth (fine or interpolated) is generated again at τ/2; for the rectangle method,
+    which reads the inputs at the steps only, the inputs and midpoints of the run at τ
+    interleave into the steps of the run at τ/2 (its own midpoints, never read, repeat
+    the inputs).
     """
     from ins_errors.numeric.interpolated_truth import InterpolatedTruth
     from ins_errors.numeric.model import load_model
@@ -87,7 +88,13 @@ def halved(trajectory: Trajectory, method: str) -> Trajectory | None:
                           t.midpoints[:, :1], t.parameters, t.initial_conditions, True,
                           t.description)
     source = t.source
-    if isinstance(source, ProfileTruth | InterpolatedTruth):
+    flight = getattr(source, "flight", None)
+    if flight is not None:  # a strapdown flight (fine or interpolated): generated again
+        from ins_errors.numeric import strapdown_truth
+
+        return strapdown_truth.trajectory(load_model(t.model), flight, t.duration, t.tau / 2,
+                                          t.parameters, truth=source.kind, stream=True)
+    if type(source) in (ProfileTruth, InterpolatedTruth):
         model = load_model(source.model_name)
         again = type(source)(model, source.profile, source.frame, t.tau / 2, 2 * t.n_steps,
                              np.asarray(source.p, dtype=float), source.x0)
