@@ -329,18 +329,14 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
                        jit=jit, platform=sim.platform)
         return run.direct_errors(), run.linear_errors()
 
-    def not_estimated(why: str) -> None:
-        for c in comparisons:
-            c.warnings.append(f"integration error not estimated: {why}")
-
     if n_steps < 2:
-        return not_estimated("the run has a single step")
+        return _not_estimated(comparisons, "the run has a single step")
     try:
         if stride % 2 == 0:  # every sample on the grid of 2τ: runs at τ, 2τ, 4τ
-            runs = [fine, rerun(accuracy.coarsened(trajectory), stride // 2)]
+            doubled = accuracy.coarsened(trajectory)
+            runs = [fine, rerun(doubled, stride // 2)]
             scale = 1.0 / (2 ** accuracy.ORDERS[method] - 1)
-            third = accuracy.coarsened(accuracy.coarsened(trajectory) or trajectory)
-            factor = 4
+            third, factor = accuracy.coarsened(doubled), 4
         else:
             half = accuracy.halved(trajectory, method)
             if half is None:
@@ -349,7 +345,7 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
             scale = 2 ** accuracy.ORDERS[method] / (2 ** accuracy.ORDERS[method] - 1)
             third, factor = accuracy.coarsened(trajectory), 2
     except InsErrorsError as error:
-        return not_estimated(f"the run at another step failed ({error})")
+        return _not_estimated(comparisons, f"the run at another step failed ({error})")
     # the third run, on the samples it shares with the others: the observed order
     every, fine_i, coarse_i = accuracy.sampling(stride, factor, n_steps)
     orders, failed = None, None
@@ -388,6 +384,17 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
                              else None)
 
 
+NOTHING_SHARED = "the run at twice the step shares no recorded sample with this run but the start"
+"""Why a step-doubling estimate is not made: a comparison at t = 0 alone would read 0."""
+
+
+def _not_estimated(comparisons: Sequence[Comparison], why: str) -> None:
+    """Say in every case of ``comparisons`` that its integration error is not estimated,
+    and ``why``."""
+    for c in comparisons:
+        c.warnings.append(f"integration error not estimated: {why}")
+
+
 def _pairs_on_common_samples(comparisons: Sequence[Comparison], sim: Simulation,
                              rerun) -> None:
     """Step doubling on the samples a run at 2τ shares with the run (odd recording
@@ -396,18 +403,12 @@ def _pairs_on_common_samples(comparisons: Sequence[Comparison], sim: Simulation,
     n_steps, stride = sim.trajectory.n_steps, sim.stride
     every, fine_i, _ = accuracy.sampling(stride, 2, n_steps)
     if len(fine_i) < 2:
-        for c in comparisons:
-            c.warnings.append("integration error not estimated: the run at twice the step "
-                              "shares no recorded sample with this run but the start "
-                              "(choose an even number of steps between samples)")
-        return
+        return _not_estimated(comparisons, f"{NOTHING_SHARED} (choose an even number of "
+                              "steps between samples)")
     try:
         coarse = rerun(accuracy.coarsened(sim.trajectory), every)
     except InsErrorsError as error:
-        for c in comparisons:
-            c.warnings.append(f"integration error not estimated: the run at twice the step "
-                              f"failed ({error})")
-        return
+        return _not_estimated(comparisons, f"the run at twice the step failed ({error})")
     times = sim.trajectory.tau * stride * fine_i
     estimate_integration_errors(comparisons, (sim.direct_errors(), sim.linear_errors()),
                                 coarse, stride, every, n_steps, sim.trajectory.tau,
@@ -447,10 +448,7 @@ def estimate_integration_errors(comparisons: Sequence[Comparison],
     """
     fine_i, coarse_i = accuracy.common_samples(stride, coarse_stride, n_steps)
     if len(fine_i) < 2:
-        for c in comparisons:
-            c.warnings.append("integration error not estimated: the run at twice the step "
-                              "shares no recorded sample with this run but the start")
-        return
+        return _not_estimated(comparisons, NOTHING_SHARED)
     curves = [(fine[0], coarse[0], "direct_integration_error"),
               (fine[1], coarse[1], "linear_integration_error")]
     for b, comparison in enumerate(comparisons):
