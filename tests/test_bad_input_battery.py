@@ -190,6 +190,8 @@ CLI_CASES: dict[str, list[str]] = {
     "propagation-out-name-too-long": ["propagation", "--hours", "1", "--out", LONG],
     "compare-plot-without-suffix": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
                                     "1", "--plot", "noext"],
+    "budget-plot-without-suffix": ["budget", "orthodromic", "--plot", "noext"],
+    "sweep-plot-without-suffix": ["sweep", SWEEP, "--store", "s.zarr", "--plot", "noext"],
     "compare-speed-at-rest": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours", "1",
                               "--speed", "250m/s"],
     "compare-speed-with-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE,
@@ -328,6 +330,9 @@ NAMED = {
     # matplotlib read the temporary file's random suffix: "Format 'cthilzch' is not ..."
     "compare-plot-without-suffix": "'noext': it has no suffix; end the name with the "
                                    "format, such as .png, .pdf or .svg",
+    # refused before the allocation and before any sweep point runs (was: after them)
+    "budget-plot-without-suffix": "'noext': it has no suffix; end the name with the format",
+    "sweep-plot-without-suffix": "'noext': it has no suffix; end the name with the format",
     # silently ignored
     "compare-speed-at-rest": "--speed applies to --motion great-circle or manoeuvre, and "
                              "the base is static",

@@ -89,11 +89,11 @@ def run(args: argparse.Namespace) -> int:
         raise SpecError("--plot-at needs --at TIMES")
     _check_monte_carlo_options(args)
     times = _at_times(args.at) if args.at is not None else None
-    from ins_errors.output import check_file
+    from ins_errors.output import check_figure
 
     for target in (args.plot, args.plot_at):
         if target:
-            check_file(target)
+            check_figure(target)
     model = load_model(args.model)
     path = args.spec or default_spec_path()
     if args.spec is None and not path.exists():

@@ -61,6 +61,10 @@ def run(args: argparse.Namespace) -> int:
         scenario.truth = args.truth
     if args.workers is not None and args.workers < 1:
         raise sw.SweepError(f"--workers must be at least 1, got {args.workers}")
+    if args.plot:
+        from ins_errors.output import check_figure
+
+        check_figure(args.plot)  # before any point runs
     store = args.store or sw.default_store(args.scenario)
     result = sw.run_sweep(scenario, store, engine=args.engine, scheduler=args.scheduler,
                           workers=args.workers, progress=not args.no_progress)
@@ -74,14 +78,14 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         model = load_model(scenario.model)
         emit({"store": str(result.store), "points": result.points,
-                          "computed": result.computed, "reused": result.reused,
-                          "engine": where, "plot": None if plotted is None else str(plotted),
-                          "truth": scenario.truth,
-                          "parameters": parameters_record(model, scenario.parameters),
-                          "swept": {name: data[name].attrs.get("units", "1")
-                                    for name in sw.swept_names(data)},
-                          "summary": sw.summary(data),
-                          "over_draws": sw.over_draws(data)}, ensure_ascii=False)
+              "computed": result.computed, "reused": result.reused,
+              "engine": where, "plot": None if plotted is None else str(plotted),
+              "truth": scenario.truth,
+              "parameters": parameters_record(model, scenario.parameters),
+              "swept": {name: data[name].attrs.get("units", "1")
+                        for name in sw.swept_names(data)},
+              "summary": sw.summary(data),
+              "over_draws": sw.over_draws(data)}, ensure_ascii=False)
         return 0
     print(f"{scenario.title}: {result.points} points, {result.computed} computed "
           f"({where}), {result.reused} read back from the store")
