@@ -36,7 +36,7 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import classify as cl
-from ins_errors.checker.growth import GROWTH_SHOWN, growth_rate, mark_growth
+from ins_errors.checker.growth import GROWTH_SHOWN, growth_rate, hours_tag, mark_growth
 from ins_errors.checker.matrix import rounding_floor
 from ins_errors.checker.reference import _earth
 from ins_errors.checker.sides import identified
@@ -166,7 +166,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                      float(np.linalg.norm(x0[platform])) if platform else 0.0)
             effect: dict = {}
             for hours, base, x in zip(HOURS, base_x, changed, strict=True):
-                tag = f"{int(hours)}h"
+                tag = hours_tag(hours)
                 dpos = np.linalg.norm(rows_changed @ x - rows_base @ base, axis=0)
                 datt = (np.linalg.norm((x - base)[platform], axis=0) if platform
                         else np.zeros(x.shape[1]))

@@ -66,14 +66,20 @@ def mark_growth(effect: dict, hand: float, model: float,
         return
     effect["e_folding_s"] = 1.0 / rate
     effect["growing_mode"] = whose
-    first = effect[f"position_{int(hours[0])}h"]
+    first = effect[f"position_{hours_tag(hours[0])}"]
     for h in hours:
-        tag = f"{int(h)}h"
+        tag = hours_tag(h)
         grows = rate * h * 3600.0 > GROWTH_SHOWN
         if whose == "model":
             grows = grows and effect[f"position_{tag}"] > np.exp(GROWTH_SHOWN) * max(
                 first, effect[f"position_floor_{tag}"])
         effect[f"exponential_{tag}"] = bool(grows)
+
+
+def hours_tag(hours: float) -> str:
+    """The suffix of a time's keys in :func:`mark_growth`'s dict: ``24h`` for 24 h (whole
+    hours)."""
+    return f"{int(hours)}h"
 
 
 def growth_text(e_folding_s: float, whose: str | None = "hand") -> str:
@@ -83,4 +89,4 @@ def growth_text(e_folding_s: float, whose: str | None = "hand") -> str:
     return f"grows exponentially, ×e every {e_folding_s / 60:.3g} min{own}"
 
 
-__all__ = ["GROWTH_SHOWN", "growth_rate", "growth_text", "mark_growth"]
+__all__ = ["GROWTH_SHOWN", "growth_rate", "growth_text", "hours_tag", "mark_growth"]

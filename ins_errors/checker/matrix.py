@@ -54,7 +54,7 @@ import numpy as np
 from ins_errors.checker import motion_store, propagation_store
 from ins_errors.checker.conventions import Convention, convention
 from ins_errors.checker.extreme import first_largest
-from ins_errors.checker.growth import growth_rate, mark_growth
+from ins_errors.checker.growth import growth_rate, hours_tag, mark_growth
 from ins_errors.checker.kinds import (
     COEFFICIENT,
     EXTRA,
@@ -989,7 +989,7 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
                     motion.label, t / 3600.0, case, text, float(np.linalg.norm(P @ diff)),
                     float(np.linalg.norm(P @ resp_z[:, c])), float(np.linalg.norm(A @ diff)),
                     float(np.linalg.norm(A @ resp_z[:, c])), floor_p, floor_a))
-            tag = _tag(t)
+            tag = hours_tag(t / 3600.0)
             growth[f"position_{tag}"] = max((e.position_difference for e in rows
                                              if e.hours == t / 3600.0), default=0.0)
             growth[f"position_floor_{tag}"] = floor_p
@@ -999,15 +999,10 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
                     tuple(t / 3600.0 for t in at))
         effects += [replace(e, e_folding=growth.get("e_folding_s"),
                             growing_mode=growth.get("growing_mode"),
-                            exponential=growth.get(f"exponential_{_tag(e.hours * 3600.0)}",
+                            exponential=growth.get(f"exponential_{hours_tag(e.hours)}",
                                                    False))
                     for e in rows]
     return effects
-
-
-def _tag(t: float) -> str:
-    """Key of a time (s) in :func:`~ins_errors.checker.growth.mark_growth`'s dict: ``24h``."""
-    return f"{int(t / 3600.0)}h"
 
 
 def _motion_growth(F: np.ndarray, held: list[int], last: int) -> float:
@@ -1085,8 +1080,8 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
             diff = (prop.si(changed) - base_si)[:, columns]
             position = float(np.linalg.norm(P @ diff, axis=0).max(initial=0.0))
             floor_p = prop.floors([base, changed], k, P)
-            growth = {f"position_{_tag(at[0])}": position,
-                      f"position_floor_{_tag(at[0])}": floor_p}
+            growth = {f"position_{hours_tag(at[0] / 3600.0)}": position,
+                      f"position_floor_{hours_tag(at[0] / 3600.0)}": floor_p}
             mark_growth(growth, _motion_growth(F2, prop.held_z, k), base_growth,
                         (at[0] / 3600.0,))
             per_motion.setdefault(f.entry, []).append((
