@@ -358,11 +358,16 @@ class Model:
                                   f"(±π/2 rad), got |{infos[k].name}| = "
                                   f"{np.degrees(worst):.6g}°")
 
-    def _domain(self, margins: np.ndarray, messages: tuple[str, ...], function: str) -> None:
+    def _domain(self, margins: np.ndarray, messages: tuple[str, ...], function: str,
+                explain: Callable[[int, str, np.ndarray], str | None] | None = None) -> None:
+        """Refuse the first condition whose margins are not all > 0, one line; ``explain``
+        (condition index, message, mask of the failing points) may give a better line."""
         margins = np.asarray(margins)
         for k, message in enumerate(messages):
-            if not np.all(margins[k] > 0):
-                raise DomainError(f"{function}: {message}")
+            failed = ~(margins[k] > 0)
+            if failed.any():
+                line = explain(k, message, failed) if explain is not None else None
+                raise DomainError(f"{function}: {line or message}")
 
     def _check_state(self, x, u, p, function: str):
         x = self._vector(x, self.states, "state x", function)
@@ -464,15 +469,14 @@ class Model:
                         function: str) -> None:
         """The initial-condition domain check; a latitude too close to a pole is named
         with its value and the model's distance of singularity (:meth:`_pole_line`)."""
-        margins = np.asarray(self.numpy.initial_domain_margins(c, u, p))
-        for k, message in enumerate(self.meta.INITIAL_DOMAIN):
-            failed = ~(margins[k] > 0)
-            if failed.any():
-                batch = np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
-                at = (slice(None), *np.argwhere(np.broadcast_to(failed, batch))[0])
-                first = [np.broadcast_to(a, (a.shape[0], *batch))[at] for a in (c, u, p)]
-                line = self._pole_line(k, message, *first)
-                raise DomainError(f"{function}: {line or message}")
+        def at_the_first_failure(k: int, message: str, failed: np.ndarray) -> str | None:
+            batch = np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
+            at = (slice(None), *np.argwhere(np.broadcast_to(failed, batch))[0])
+            first = [np.broadcast_to(a, (a.shape[0], *batch))[at] for a in (c, u, p)]
+            return self._pole_line(k, message, *first)
+
+        self._domain(self.numpy.initial_domain_margins(c, u, p), self.meta.INITIAL_DOMAIN,
+                     function, at_the_first_failure)
 
     def _pole_line(self, k: int, message: str, c: np.ndarray, u: np.ndarray,
                    p: np.ndarray) -> str | None:
