@@ -1,5 +1,5 @@
 """The compiled-loop cache: size limit with least-recently-used eviction, per-checkout
-clearing, and the ``ins-errors cache`` commands of the README."""
+clearing, and the ``ins-errors cache`` commands of docs/cache.md."""
 
 from __future__ import annotations
 
@@ -15,7 +15,8 @@ from ins_errors.cli import main
 from ins_errors.numeric import cache
 from ins_errors.numeric import integrators as integ
 
-README = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+CACHE_PAGE = (Path(__file__).resolve().parent.parent / "docs" / "cache.md").read_text(
+    encoding="utf-8")
 
 
 def _library(folder: Path, name: str, size: int, age: float) -> Path:
@@ -65,8 +66,8 @@ def test_clear_checkout_keeps_loops_another_checkout_uses(tmp_path):
     assert not list(tmp_path.glob(cache.PATTERN))
 
 
-def test_readme_cache_commands_run(tmp_path, monkeypatch, capsys):
-    section = README.split("## Compiled loops and their cache", 1)[1].split("\n## ", 1)[0]
+def test_documented_cache_commands_run(tmp_path, monkeypatch, capsys):
+    section = CACHE_PAGE.split("# Compiled loops and their cache", 1)[1].split("\n## ", 1)[0]
     lines = re.findall(r"^ins-errors (cache[^#\n]*?)\s*(?:#.*)?$", section, re.M)
     assert len(lines) == 3
     monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))

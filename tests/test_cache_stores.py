@@ -176,9 +176,9 @@ def test_after_clearing_the_stores_are_rebuilt_and_results_unchanged(tmp_path, m
     assert {"notes", "models", "units"} <= filled_stores()
 
 
-def test_readme_table_states_the_bounds_the_code_keeps():
-    section = (ROOT / "README.md").read_text(encoding="utf-8").split(
-        "## Compiled loops and their cache", 1)[1].split("\n## ", 1)[0]
+def test_documented_table_states_the_bounds_the_code_keeps():
+    section = (ROOT / "docs" / "cache.md").read_text(encoding="utf-8").split(
+        "# Compiled loops and their cache", 1)[1].split("\n## ", 1)[0]
     rows = {line.split("|")[1].strip(): line.split("|")[4] for line in section.splitlines()
             if line.startswith("| ") and not line.startswith("| store")}
     assert list(rows) == ["loops", *STORES]

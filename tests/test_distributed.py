@@ -1,7 +1,7 @@
 """Runs on a local Dask cluster of 2 workers give the single-process results bit for bit,
 also when a worker is killed in the middle of a sweep.
 
-The cluster is started with the README's own commands (``dask scheduler``, ``dask
+The cluster is started with docs/cluster.md's own commands (``dask scheduler``, ``dask
 worker``) on 127.0.0.1 only and is shut down at the end of the module.
 """
 
@@ -60,12 +60,12 @@ accel_bias_y = "100 ug"
 
 
 ROOT = Path(__file__).resolve().parent.parent
-README = (ROOT / "README.md").read_text(encoding="utf-8")
+CLUSTER_PAGE = (ROOT / "docs" / "cluster.md").read_text(encoding="utf-8")
 
 
 def cluster_commands() -> list[str]:
-    """The README's cluster recipe: scheduler, worker and sweep lines."""
-    section = README.split("On a cluster, with Dask's own commands", 1)[1]
+    """docs/cluster.md's cluster recipe: scheduler, worker and sweep lines."""
+    section = CLUSTER_PAGE.split("On a cluster, with Dask's own commands", 1)[1]
     block = section.split("```text\n", 1)[1].split("```", 1)[0]
     return [line.split(" #")[0].strip() for line in block.splitlines() if line.strip()]
 
@@ -98,7 +98,7 @@ def listening_addresses(started) -> set[str]:
 
 @pytest.fixture(scope="module")
 def cluster():
-    """A scheduler and a worker of 2 processes, started with the README's commands (on
+    """A scheduler and a worker of 2 processes, started with docs/cluster.md's commands (on
     127.0.0.1 and a free port) and stopped at the end of the module."""
     from distributed import Client
 
@@ -238,7 +238,7 @@ def test_killed_worker_still_gives_the_complete_identical_sweep(cluster, scenari
 
 
 def test_readme_sweep_on_the_cluster(cluster, tmp_path, monkeypatch, capsys):
-    """The README's sweep line, run against the scheduler started from the README."""
+    """docs/cluster.md's sweep line, run against the scheduler started from that page."""
     from ins_errors.cli import main
 
     os.symlink(ROOT / "examples", tmp_path / "examples")

@@ -1,8 +1,8 @@
 """Every shell command shown in the README and the examples' pages runs, as written.
 
-The commands are extracted from the ```sh blocks of README.md, examples/README.md and
-every examples/**/README.md (pages added later are picked up), so the pages cannot
-drift from the program. A command may end with a comment saying ``exit N``; otherwise it
+The commands are extracted from the ```sh blocks of README.md, docs/*.md,
+examples/README.md and every examples/**/README.md (pages added later are picked up), so
+the pages cannot drift from the program. A command may end with a comment saying ``exit N``; otherwise it
 must exit 0. It must print something, except a command shown with exit 2 (bad input),
 which must print one error line on standard error and nothing on standard output.
 
@@ -34,8 +34,8 @@ import pytest
 from ins_errors.cli import main
 
 ROOT = Path(__file__).resolve().parent.parent
-PAGES = [ROOT / "README.md", ROOT / "examples" / "README.md",
-         *sorted((ROOT / "examples").glob("*/**/README.md"))]
+PAGES = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md")),
+         ROOT / "examples" / "README.md", *sorted((ROOT / "examples").glob("*/**/README.md"))]
 BLOCK = re.compile(r"^```(?:sh|bash|shell|console)\n(.*?)^```", re.M | re.S)
 EXIT = re.compile(r"\bexit (?:status )?(\d+)\b")
 

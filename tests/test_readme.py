@@ -10,13 +10,16 @@ import pytest
 
 import ins_errors
 
-README = (Path(__file__).resolve().parent.parent / "README.md").read_text(encoding="utf-8")
+ROOT = Path(__file__).resolve().parent.parent
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+MODELS_PAGE = (ROOT / "docs" / "models.md").read_text(encoding="utf-8")
 
 
 @pytest.mark.parametrize("name", ins_errors.available_models())
 def test_readme_lists_every_source_and_output_with_units(name):
     model = ins_errors.load_model(name)
-    section = README.split(f"### `{name}`", 1)[1].split("### ", 1)[0]
+    assert f"| `{name}` |" in README.split("## Models", 1)[1], "README's model table"
+    section = MODELS_PAGE.split(f"\n## `{name}`", 1)[1].split("\n## ", 1)[0]
     for source in model.sources:
         assert re.search(rf"\| `{source.name}` \| {re.escape(source.unit)} \| "
                          rf"{re.escape(source.display_unit)} \|", section), source.name
