@@ -1,10 +1,11 @@
-"""Every shell command shown in the README and the examples' pages runs, as written.
+"""Every shell command shown in the README, docs and the examples' pages runs, as written.
 
 The commands are extracted from the ```sh blocks of README.md, docs/*.md,
 examples/README.md and every examples/**/README.md (pages added later are picked up), so
-the pages cannot drift from the program. A command may end with a comment saying ``exit N``; otherwise it
-must exit 0. It must print something, except a command shown with exit 2 (bad input),
-which must print one error line on standard error and nothing on standard output.
+the pages cannot drift from the program. A command may end with a comment saying
+``exit N``; otherwise it must exit 0. It must print something, except a command shown
+with exit 2 (bad input), which must print one error line on standard error and nothing on
+standard output.
 
 How each kind of line runs, after the set-up the README describes (``make test`` made
 ``.venv`` and installed the package: the suite itself runs there):
