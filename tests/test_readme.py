@@ -60,3 +60,19 @@ def test_closed_forms_snippet_runs_and_says_which_models_have_them():
     named = [name for name in ins_errors.available_models() if f"`{name}`" in
              section.split("```python", 1)[0]]
     assert sorted(named) == sorted(SETUPS)
+
+
+LINK = re.compile(r"\]\(([^)\s]+)\)")
+
+
+@pytest.mark.parametrize("page", [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md")),
+                                  *sorted((ROOT / "examples").glob("**/README.md"))],
+                         ids=lambda p: str(p.relative_to(ROOT)))
+def test_relative_links_reach_files(page):
+    """Every relative link of the README, docs/ and the examples' pages names a file or
+    folder that exists, taken from the page's own folder (the pages moved between folders)."""
+    text = page.read_text(encoding="utf-8")
+    targets = [t.split("#", 1)[0] for t in LINK.findall(text)
+               if not t.startswith(("http://", "https://", "#", "mailto:"))]
+    missing = [t for t in targets if t and not (page.parent / t).exists()]
+    assert not missing, f"{page.name}: {missing}"
