@@ -26,7 +26,8 @@ EARTH_RATE = 7.292115e-5
 """Earth rotation rate U, rad/s."""
 
 MEAN_RADIUS = 6_371_000.0
-"""IUGG mean Earth radius, m (the default sphere of the spherical models)."""
+"""Mean Earth radius rounded to the kilometre, m (the IUGG mean radius is 6 371 008.8 m);
+the default sphere of the spherical models."""
 
 STANDARD_GRAVITY = 9.80665
 """Standard gravity g₀, m/s² (the g of '1e-4 g' and a constant-gravity model's default)."""

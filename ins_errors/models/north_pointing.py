@@ -59,7 +59,8 @@ from ins_errors.modeling import STANDARD_GRAVITY as EARTH_STANDARD_GRAVITY
 # Names (public API: keep stable)
 # --------------------------------------------------------------------------------------
 MEAN_EARTH_RADIUS = MEAN_RADIUS
-"""Default sphere radius R, m (IUGG mean radius, :mod:`ins_errors.models.earth`)."""
+"""Default sphere radius R, m (the mean radius rounded to the kilometre,
+:mod:`ins_errors.models.earth`)."""
 
 STANDARD_GRAVITY = EARTH_STANDARD_GRAVITY
 """Default gravity g, m/s² (standard gravity, also the g of '1e-4 g')."""
