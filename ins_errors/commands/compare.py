@@ -130,7 +130,7 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.compare import compare, markdown_summary, markdown_table
     from ins_errors.numeric.integrators import step_count
     from ins_errors.numeric.model import load_model
-    from ins_errors.numeric.motion_spec import motion_profile
+    from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
     from ins_errors.output import OutputFolder, check_figure, check_file
     from ins_errors.units import parse_quantity
 
@@ -176,11 +176,8 @@ def run(args: argparse.Namespace) -> int:
     if args.motion_file:
         motion["file"] = args.motion_file
     profile = motion_profile(motion)
-    if (args.heading is not None and profile.static
-            and not any(o.name == "heading" for o in model.outputs)):
-        raise InsErrorsError(f"--heading: model {model.name!r} has no heading output, and at "
-                             "rest its errors do not depend on the heading; leave --heading "
-                             "out")
+    if args.heading is not None:
+        refuse_unused_heading(model, profile)
     progress = not args.no_progress and n_steps >= 100_000
     trajectory = tr.trajectory(model, profile, duration, tau,
                                p=model.parameter_vector(**parameters), progress=progress,

@@ -235,6 +235,23 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
                                 height)
 
 
+def refuse_unused_heading(model, profile: tr.Profile, option: str = "--heading") -> None:
+    """Refuse a heading given for a static base of a model without a heading output.
+
+    At rest such a model's errors do not depend on its trihedron's track angle, so a
+    heading given there was meant for something else.
+
+    Raises
+    ------
+    InsErrorsError
+        One line naming ``option`` and the model.
+    """
+    if profile.static and not any(o.name == "heading" for o in model.outputs):
+        raise InsErrorsError(f"{option}: model {model.name!r} has no heading output, and at "
+                             f"rest its errors do not depend on the heading; leave {option} "
+                             "out")
+
+
 def in_si(description: Mapping[str, Any]) -> dict[str, Any]:
     """The same motion with its defaults filled in and every quantity written as its exact
     SI value in its SI unit (``"0.8726646259971648 rad"``).
