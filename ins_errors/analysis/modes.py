@@ -1,0 +1,443 @@
+"""Static-base modes of any model's error equations: the eigenvalues of F, named.
+
+At rest the linear error equations ``ẋe = F xe + G w`` have constant coefficients, and
+their free motions are the modes of F: each eigenvalue λ (a conjugate pair counted once)
+is an integrator (λ = 0), a damped or growing exponential (real λ), an undamped
+oscillation (λ = ±iω) or a damped or growing one. :func:`static_modes` builds the static
+base exactly as ``ins-errors compare MODEL --motion static`` does
+(:func:`ins_errors.numeric.trajectories.trajectory`, which hands ``strapdown_ned`` to
+:mod:`ins_errors.numeric.strapdown_truth`), evaluates F from the generated numpy
+functions at t = 0 and names its modes in the field's terms against the textbook values
+of the model's own g, R and Ω (:mod:`ins_errors.analysis.mode_references`):
+
+* undamped (or lightly damped, :data:`LIGHT_DAMPING`) pairs near ω_s = √(g/R):
+  "Schuler"; two of them split by Ω|sin φ| (within 10 %) are the Foucault pair, named by
+  size as :data:`~ins_errors.numeric.closed_forms.SPLIT_MODES` names them ("Schuler −
+  Foucault" the lower frequency, the longer period);
+* undamped (or lightly damped) pairs near Ω: "Earth";
+* real λ near ±√(2g/R): "vertical channel (growing)" / "(decaying)";
+* the rest by kind: "integrator", "damped", "growing", "oscillation", "damped
+  oscillation", "growing oscillation".
+
+"Near" is within a factor :data:`BAND`. Each mode lists the error states that take part:
+the row norms of an orthonormal basis of its invariant subspace (ordered real Schur
+form), relative to the largest, with the states measured as equivalent angles in the
+units of the Schuler loop (lengths over R, velocities over √(gR); see :func:`_scales`),
+or in their display units when the model lacks g or R.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ins_errors.analysis.mode_references import References, references
+from ins_errors.errors import DomainError, unknown_name
+from ins_errors.numeric.closed_forms import SPLIT_MODES
+from ins_errors.numeric.model import Model, as_model
+
+ZERO = 1e-6
+"""Eigenvalues (and real or imaginary parts) below this share of the largest |λ| are
+zero: rounding splits a repeated zero eigenvalue of a Jordan chain into ±1e-12 1/s."""
+
+BAND = 1.25
+"""A mode is named after a reference rate when it lies within this factor of it."""
+
+FOUCAULT_MATCH = 0.1
+"""Two Schuler pairs are the Foucault split when half their difference is Ω|sin φ|
+within this share."""
+
+LIGHT_DAMPING = 0.05
+"""An oscillation is named after a reference frequency only when its damping ratio is
+below this in size: coupling to a damped vertical loop leaves the Schuler and Earth
+pairs damped by ζ ~ 1e-4, and they keep their names."""
+
+SHOWN_SHARE = 0.1
+"""Error states below this share of the largest are left out of the short listing."""
+
+
+@dataclass(frozen=True)
+class Reference:
+    """A mode's textbook value and how far the mode is from it.
+
+    Attributes
+    ----------
+    formula : str
+        E.g. ``"2π√(R/g)"``.
+    seconds : float
+        The textbook period (oscillations) or time constant (real modes), s.
+    relative_difference : float
+        (mode's value − textbook value) / textbook value.
+    """
+
+    formula: str
+    seconds: float
+    relative_difference: float
+
+    def to_dict(self) -> dict:
+        return {"formula": self.formula, "seconds": self.seconds,
+                "relative_difference": self.relative_difference}
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One mode of F at the static base.
+
+    Attributes
+    ----------
+    name : str
+        Field name ("Schuler − Foucault", "Earth", "vertical channel (growing)") or kind.
+    kind : str
+        "integrator", "damped", "growing", "oscillation", "damped oscillation" or
+        "growing oscillation".
+    eigenvalue : complex
+        λ, 1/s (of a pair, the one with positive imaginary part).
+    multiplicity : int
+        How many times λ (a pair: the pair) is an eigenvalue.
+    period_s : float or None
+        2π/Im λ, s (oscillations).
+    time_constant_s : float or None
+        1/|Re λ|, s: decay time of a damped mode, e-folding time of a growing one.
+    damping_ratio : float or None
+        −Re λ / |λ| (oscillations; negative when growing).
+    reference : Reference or None
+        The textbook value of a named mode.
+    participation : dict of str to float
+        Error state -> its size in the mode relative to the largest (1), every state.
+    independent_directions : int or None
+        For the integrators: the number of independent zero-eigenvalue directions
+        (fewer than ``multiplicity`` when F has a Jordan chain, an error growing as t^k).
+    """
+
+    name: str
+    kind: str
+    eigenvalue: complex
+    multiplicity: int
+    period_s: float | None
+    time_constant_s: float | None
+    damping_ratio: float | None
+    reference: Reference | None
+    participation: dict[str, float]
+    independent_directions: int | None = None
+
+    @property
+    def doubling_time_s(self) -> float | None:
+        """ln 2 · e-folding time of a growing mode, s (None otherwise)."""
+        if self.eigenvalue.real > 0 and self.time_constant_s is not None:
+            return float(np.log(2.0) * self.time_constant_s)
+        return None
+
+    def states(self, share: float = SHOWN_SHARE) -> list[tuple[str, float]]:
+        """(error state, share) of the states at or above ``share``, largest first."""
+        return sorted(((k, v) for k, v in self.participation.items() if v >= share),
+                      key=lambda item: -item[1])
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "kind": self.kind,
+                "eigenvalue": {"real": self.eigenvalue.real, "imag": self.eigenvalue.imag},
+                "multiplicity": self.multiplicity, "period_s": self.period_s,
+                "time_constant_s": self.time_constant_s,
+                "doubling_time_s": self.doubling_time_s,
+                "damping_ratio": self.damping_ratio,
+                "independent_directions": self.independent_directions,
+                "reference": None if self.reference is None else self.reference.to_dict(),
+                "participation": self.participation}
+
+
+@dataclass(frozen=True)
+class StaticModes:
+    """The modes of one model's F at one static base.
+
+    Attributes
+    ----------
+    model : str
+        Model name.
+    base : str
+        The base as the other commands describe it (values the model does not use
+        left out).
+    latitude, height : float
+        Of the base, rad and m.
+    state_matrix : numpy.ndarray, shape (ne, ne)
+        F at the base, SI.
+    eigenvalues : numpy.ndarray, shape (ne,)
+        Every eigenvalue of F, 1/s.
+    references : References
+        g, R, Ω read from the model (None where it lacks one).
+    scales : dict of str to str
+        Error state -> the unit its participation is measured in.
+    modes : tuple of Mode
+        By increasing |λ|.
+    """
+
+    model: str
+    base: str
+    latitude: float
+    height: float
+    state_matrix: np.ndarray
+    eigenvalues: np.ndarray
+    references: References
+    scales: dict[str, str]
+    modes: tuple[Mode, ...] = field(default_factory=tuple)
+
+    def mode(self, name: str) -> Mode:
+        """The first mode called ``name``.
+
+        Raises
+        ------
+        UnknownNameError
+            If no mode has that name (the names are listed).
+        """
+        for mode in self.modes:
+            if mode.name == name:
+                return mode
+        raise unknown_name(f"mode of {self.model}", name,
+                           list(dict.fromkeys(m.name for m in self.modes)))
+
+    def to_dict(self) -> dict:
+        return {"model": self.model, "base": self.base, "latitude_rad": self.latitude,
+                "height_m": self.height, "references": self.references.to_dict(),
+                "participation_units": self.scales,
+                "eigenvalues": [{"real": v.real, "imag": v.imag} for v in self.eigenvalues],
+                "modes": [m.to_dict() for m in self.modes]}
+
+
+def static_modes(model: Model | str, latitude: float = np.radians(50.0),
+                 longitude: float = np.radians(30.0), heading: float = 0.0,
+                 height: float = 0.0, parameters: Mapping[str, float] | None = None,
+                 ) -> StaticModes:
+    """The modes of ``model``'s error equations on a static base.
+
+    Parameters
+    ----------
+    model : Model or str
+        A loaded model, a model name or a model file.
+    latitude, longitude : float
+        Position of the base, rad (defaults: 50°, 30°, as ``--motion static``).
+    heading : float
+        Track angle of the model's trihedron (a strapdown body's heading), rad.
+    height : float
+        Height of the base, m.
+    parameters : mapping of str to float, optional
+        Model parameters to set, SI (e.g. ``{"k_h1": 0.0293, "k_h2": 4.42e-4}``); the
+        others keep the model's defaults.
+
+    Returns
+    -------
+    StaticModes
+        F, its eigenvalues and the named modes.
+
+    Raises
+    ------
+    InsErrorsError
+        An unknown model or parameter, a latitude at a pole or not finite, F not finite.
+
+    Examples
+    --------
+    >>> from ins_errors.analysis.modes import static_modes
+    >>> modes = static_modes("north_pointing")
+    >>> round(modes.mode("Earth").period_s / 3600, 2)
+    23.93
+    """
+    from ins_errors.numeric import trajectories as tr
+
+    return modes_at_rest(model, tr.static_profile(latitude, longitude, heading, height),
+                         parameters)
+
+
+def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] | None = None
+                  ) -> StaticModes:
+    """The modes of ``model``'s error equations on the static base ``profile``.
+
+    Parameters
+    ----------
+    model : Model or str
+        A loaded model, a model name or a model file.
+    profile : ins_errors.numeric.trajectories.Profile
+        A static profile (:func:`~ins_errors.numeric.trajectories.static_profile`, or
+        :func:`~ins_errors.numeric.motion_spec.motion_profile` of kind ``"static"``).
+    parameters : mapping of str to float, optional
+        Model parameters to set, SI.
+
+    Returns
+    -------
+    StaticModes
+
+    Raises
+    ------
+    InsErrorsError
+        A moving profile, an unknown model or parameter, a latitude at a pole, F not
+        finite.
+    """
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric import trajectories as tr
+
+    model = as_model(model, "static_modes")
+    if not getattr(profile, "static", False):
+        raise InsErrorsError("static_modes: the profile must be a static base "
+                             "(trajectories.static_profile)")
+    p = model.parameter_vector(**dict(parameters or {}))
+    motion = tr.trajectory(model, profile, 1.0, 1.0, p=p, stream=True)
+    x, u = motion.start_state, motion.start_inputs
+    F = np.asarray(model.state_matrix(x, u, p), dtype=float)
+    if not np.all(np.isfinite(F)):
+        raise DomainError(f"F of {model.name} is not finite at the {motion.description}")
+    height = float(profile.commands(np.zeros(1))[0][2, 0])
+    refs = references(model, u, p, profile.latitude, height)
+    factors, units = _scales(model, refs)
+    names = [s.name for s in model.error_states]
+    return StaticModes(model.name, motion.description, profile.latitude, height, F,
+                       np.linalg.eigvals(F), refs, dict(zip(names, units, strict=True)),
+                       _modes(F, factors, names, refs))
+
+
+def _scales(model: Model, refs: References) -> tuple[np.ndarray, list[str]]:
+    """Per error state: the factor that makes it an equivalent angle, and how it reads.
+
+    With g and R known, every state is measured in the units of the Schuler loop, in
+    which a tilt ε comes with a velocity error ε √(gR) and a position error ε R: angles
+    and dimensionless states (direction cosines, quaternion components) as they are,
+    lengths over R, velocities over √(gR), accelerations over g, rates over ω_s. Without
+    g or R, each state in its display unit (angles in arcmin, m/s, m).
+    """
+    from ins_errors.units import display_scale
+
+    natural: dict[str, tuple[float, str]] = {}
+    if refs.g is not None and refs.R is not None:
+        g, R = refs.g.value, refs.R.value
+        natural = {"rad": (1.0, "rad"), "1": (1.0, "1 (as an angle)"),
+                   "m": (1.0 / R, "m / R"), "m/s": (1.0 / np.sqrt(g * R), "(m/s) / √(gR)"),
+                   "m/s**2": (1.0 / g, "(m/s²) / g"), "rad/s": (np.sqrt(R / g), "(rad/s) / ω_s")}
+    factors, units = [], []
+    for state in model.error_states:
+        factor, unit = natural.get(state.unit) or display_scale(
+            "rad" if state.unit == "1" else state.unit)
+        factors.append(factor)
+        units.append(unit)
+    return np.array(factors), units
+
+
+# --------------------------------------------------------------------------------------
+# Eigenvalues grouped into modes, their subspaces, their names
+# --------------------------------------------------------------------------------------
+def _groups(eigenvalues: np.ndarray, tol: float) -> list[tuple[complex, int]]:
+    """(λ with Im λ >= 0, multiplicity) of each distinct eigenvalue, by increasing |λ|;
+    parts below ``tol`` set to zero."""
+    groups: list[list] = []
+    for value in sorted(eigenvalues, key=lambda v: (abs(v), v.imag)):
+        if value.imag < -tol:
+            continue  # counted with its conjugate
+        value = complex(0.0 if abs(value.real) <= tol else value.real,
+                        0.0 if abs(value.imag) <= tol else value.imag)
+        for group in groups:
+            if abs(group[0] - value) <= tol:
+                group[1] += 1
+                break
+        else:
+            groups.append([value, 1])
+    return [(complex(v), int(k)) for v, k in groups]
+
+
+def _subspace(A: np.ndarray, value: complex, count: int, tol: float
+              ) -> tuple[np.ndarray, np.ndarray]:
+    """Orthonormal basis (n, k) of the invariant subspace of the eigenvalues near
+    ``value`` (and its conjugate), and the k × k block of the real Schur form on it."""
+    from scipy.linalg import schur
+
+    def near(re, im):
+        return abs(complex(re, abs(im)) - value) <= tol
+
+    T, Q, k = schur(A, output="real", sort=near)
+    expected = count * (2 if value.imag else 1)
+    if k != expected:  # reordering failed to separate them: the eigenvectors instead
+        w, V = np.linalg.eig(A)
+        chosen = V[:, [j for j, v in enumerate(w) if near(v.real, v.imag)]]
+        basis = np.linalg.svd(np.hstack([chosen.real, chosen.imag]))[0][:, :expected]
+        return basis, basis.T @ A @ basis
+    return Q[:, :k], T[:k, :k]
+
+
+def _participation(basis: np.ndarray, names: list[str]) -> dict[str, float]:
+    size = np.linalg.norm(basis, axis=1)
+    size = size / size.max()
+    return {name: float(s) for name, s in zip(names, size, strict=True)}
+
+
+def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: References
+           ) -> tuple[Mode, ...]:
+    A = factors[:, None] * F / factors[None, :]  # F in display units: same eigenvalues
+    eigenvalues = np.linalg.eigvals(A)
+    radius = float(np.abs(eigenvalues).max())
+    tol = ZERO * radius if radius > 0 else np.finfo(float).tiny
+    raw = []
+    for value, count in _groups(eigenvalues, tol):
+        basis, block = _subspace(A, value, count, tol)
+        directions = None
+        if value == 0:
+            singular = np.linalg.svd(block, compute_uv=False)
+            directions = int(count - np.sum(singular > 1e-8 * np.linalg.norm(A)))
+        raw.append((value, count, _participation(basis, names), directions))
+    named = _names([(v, k) for v, k, _, _ in raw], refs)
+    return tuple(_mode(value, count, name, reference, participation, directions)
+                 for (value, count, participation, directions), (name, reference)
+                 in zip(raw, named, strict=True))
+
+
+def _kind(value: complex) -> str:
+    if value == 0:
+        return "integrator"
+    if not value.imag:
+        return "damped" if value.real < 0 else "growing"
+    if not value.real:
+        return "oscillation"
+    return "damped oscillation" if value.real < 0 else "growing oscillation"
+
+
+def _mode(value: complex, count: int, name: str, reference: Reference | None,
+          participation: dict[str, float], directions: int | None) -> Mode:
+    period = 2 * np.pi / value.imag if value.imag else None
+    time_constant = 1.0 / abs(value.real) if value.real else None
+    damping = -value.real / abs(value) if value.imag else None
+    return Mode(name, _kind(value), value, count, period, time_constant, damping, reference,
+                participation, directions)
+
+
+def _near(rate: float, reference: float | None) -> bool:
+    return reference is not None and reference / BAND <= rate <= reference * BAND
+
+
+def _reference(formula: str, seconds: float, reference_seconds: float) -> Reference:
+    return Reference(formula, reference_seconds, seconds / reference_seconds - 1.0)
+
+
+def _names(groups: list[tuple[complex, int]], refs: References
+           ) -> list[tuple[str, Reference | None]]:
+    """(name, reference) of each group."""
+    out: list[tuple[str, Reference | None]] = [(_kind(v), None) for v, _ in groups]
+    light = [bool(v.imag) and abs(v.real) < LIGHT_DAMPING * abs(v) for v, _ in groups]
+    schuler = [j for j, (v, _) in enumerate(groups) if light[j] and _near(v.imag, refs.schuler)]
+    split = refs.split()
+    rates = sorted(groups[j][0].imag for j in schuler for _ in range(groups[j][1]))
+    foucault = (split is not None and refs.foucault and len(rates) == 2
+                and abs((rates[1] - rates[0]) / 2 - refs.foucault)
+                <= FOUCAULT_MATCH * refs.foucault)
+    for j in schuler:
+        rate = groups[j][0].imag
+        if foucault:
+            lower = rate == rates[0]
+            name, reference = SPLIT_MODES[0 if lower else 1], split[0 if lower else 1]
+            formula = f"2π/(ω̄ {'−' if lower else '+'} Ω|sin φ|)"
+        else:
+            name, reference, formula = "Schuler", refs.schuler, "2π√(R/g)"
+        out[j] = (name, _reference(formula, 2 * np.pi / rate, 2 * np.pi / reference))
+    for j, (value, _) in enumerate(groups):
+        if light[j] and refs.Omega is not None and _near(
+                value.imag, refs.Omega.value) and j not in schuler:
+            out[j] = ("Earth", _reference("2π/Ω", 2 * np.pi / value.imag,
+                                          2 * np.pi / refs.Omega.value))
+        elif not value.imag and value.real and _near(abs(value.real), refs.vertical):
+            which = "growing" if value.real > 0 else "decaying"
+            out[j] = (f"vertical channel ({which})",
+                      _reference("√(R/2g)", 1 / abs(value.real), 1 / refs.vertical))
+    return out
