@@ -1,0 +1,159 @@
+"""``ins-errors modes MODEL``: the static-base modes of a model's error equations.
+
+Example::
+
+    ins-errors modes strapdown_ned --latitude 45deg
+    ins-errors modes strapdown_ned -p k_h1=0.0293/s -p k_h2=4.42e-4/s^2 --json
+
+The static base is built as ``ins-errors compare MODEL --motion static`` builds it (same
+options, same defaults); F is evaluated there and its eigenvalues named (Schuler,
+Foucault split, Earth, vertical channel, integrators, ...) against the textbook values
+of the model's own g, R and Ω (:mod:`ins_errors.analysis.modes`).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from ins_errors.json_output import emit
+
+FORMULAS = {
+    "Schuler − Foucault": "2π/(ω̄ − Ω|sin φ|), ω̄ = √(g/R + Ω² sin² φ)",
+    "Schuler + Foucault": "2π/(ω̄ + Ω|sin φ|)",
+    "Schuler": "2π√(R/g)",
+    "Earth": "2π/Ω",
+    "vertical channel (growing)": "e-folding time √(R/2g)",
+    "vertical channel (decaying)": "time constant √(R/2g)",
+}
+"""The textbook formula of each named mode, for the notes under the table."""
+
+
+def register(subparsers: argparse._SubParsersAction) -> None:
+    parser = subparsers.add_parser(
+        "modes", help="static-base modes of the error equations: Schuler, Earth, vertical",
+        description="Build the static base as 'compare --motion static' does, evaluate F "
+                    "there and list its eigenvalues as modes: Schuler (split by the "
+                    "Foucault coupling), Earth rate, vertical channel, integrators, damped "
+                    "and growing modes, each with its period or time constant, the "
+                    "textbook value from the model's own g, R and Ω, and the error states "
+                    "that take part.")
+    parser.add_argument("model", help="model name (e.g. strapdown_ned) or model file (my_ins.py)")
+    parser.add_argument("--latitude", default="50deg", help="latitude of the base (default 50deg)")
+    parser.add_argument("--longitude", default="30deg",
+                        help="longitude of the base (default 30deg)")
+    parser.add_argument("--heading", default=None,
+                        help="track angle of the model's trihedron (a strapdown body's "
+                             "heading; default 0deg), for models with a heading output")
+    parser.add_argument("--height", default="0m", help="height of the base (default 0m)")
+    parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
+                        help="model parameter with unit, as for 'ins-errors compare', e.g. "
+                             "strapdown_ned's k_h1=0.0293/s (repeatable)")
+    parser.add_argument("--json", action="store_true", help="machine-readable output (SI)")
+    parser.set_defaults(func=run)
+
+
+def duration_text(seconds: float) -> str:
+    """A time in s, min, h or days, four significant digits."""
+    for limit, unit, size in ((120.0, "s", 1.0), (7200.0, "min", 60.0),
+                              (172800.0, "h", 3600.0)):
+        if seconds < limit:
+            return f"{seconds / size:.4g} {unit}"
+    return f"{seconds / 86400.0:.4g} days"
+
+
+def _eigenvalue(value: complex) -> str:
+    if value == 0:
+        return "0"
+    if not value.imag:
+        return f"{value.real:+.4e}"
+    real = f"{value.real:.3e} " if value.real else ""
+    return f"{real}±{value.imag:.4e}i"
+
+
+def _times(mode) -> str:
+    if mode.kind == "integrator":
+        return "–"
+    if mode.period_s is None:
+        word = "e-folding" if mode.eigenvalue.real > 0 else "time constant"
+        doubling = (f" (doubling {duration_text(mode.doubling_time_s)})"
+                    if mode.doubling_time_s else "")
+        return f"{word} {duration_text(mode.time_constant_s)}{doubling}"
+    text = f"period {duration_text(mode.period_s)}"
+    if mode.time_constant_s is not None:
+        word = "e-folding" if mode.eigenvalue.real > 0 else "decay"
+        text += f", ζ = {mode.damping_ratio:.3g}, {word} {duration_text(mode.time_constant_s)}"
+    return text
+
+
+def _percent(ratio: float) -> str:
+    """A relative difference in %, three decimals; rounding noise shown as 0."""
+    return "0.000 %" if abs(ratio) < 5e-6 else f"{100 * ratio:+.3f} %"
+
+
+def _count(mode) -> str:
+    if mode.independent_directions is not None and (mode.independent_directions
+                                                     < mode.multiplicity):
+        return f"{mode.multiplicity} ({mode.independent_directions} directions)"
+    return str(mode.multiplicity)
+
+
+def table(result) -> str:
+    """The modes as a Markdown table with its notes."""
+    lines = ["| mode | λ (1/s) | × | period or time | textbook | off by | error states |",
+             "|---|---|---:|---|---:|---:|---|"]
+    for mode in result.modes:
+        ref = mode.reference
+        textbook = "–" if ref is None else duration_text(ref.seconds)
+        off = "–" if ref is None else _percent(ref.relative_difference)
+        states = ", ".join(f"{name} {share:.2f}" for name, share in mode.states())
+        lines.append(f"| {mode.name} | {_eigenvalue(mode.eigenvalue)} | {_count(mode)} | "
+                     f"{_times(mode)} | {textbook} | {off} | {states} |")
+    refs = result.references
+    known = [f"{label} = {value} ({c.source})" for label, c, value in (
+        ("g", refs.g, refs.g and f"{refs.g.value:.6g} m/s²"),
+        ("R", refs.R, refs.R and f"{refs.R.value / 1000:.6g} km"),
+        ("Ω", refs.Omega, refs.Omega and f"{refs.Omega.value:.7g} rad/s")) if c is not None]
+    missing = [label for label, c in (("g", refs.g), ("R", refs.R), ("Ω", refs.Omega))
+               if c is None]
+    notes = ["", "textbook values from " + ("; ".join(known) if known else "nothing")
+             + (f"; the model has no {', '.join(missing)}, so the modes that need "
+                f"{'it' if len(missing) == 1 else 'them'} are named by kind only"
+                if missing else "")]
+    used = [name for name in FORMULAS if any(m.name == name for m in result.modes)]
+    if used:
+        notes.append("formulas: " + "; ".join(f"{name}: {FORMULAS[name]}" for name in used))
+    if any(m.independent_directions is not None and m.independent_directions < m.multiplicity
+           for m in result.modes):
+        notes.append("integrators: fewer independent directions than zero eigenvalues is a "
+                     "Jordan chain of F (an error that grows in proportion to time)")
+    if refs.g is not None and refs.R is not None:
+        measure = (f"in the units of the Schuler loop (angles in rad, dimensionless states "
+                   f"as angles, lengths over R, velocities over √(gR) = "
+                   f"{(refs.g.value * refs.R.value) ** 0.5 / 1000:.3g} km/s)")
+    else:
+        measure = "in " + ", ".join(sorted(set(result.scales.values())))
+    notes.append("error states: each state's size in the mode relative to the largest, "
+                 f"{measure}; below 10 % left out (--json lists all)")
+    return "\n".join(lines + notes)
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.analysis.modes import modes_at_rest
+    from ins_errors.model_parameters import parameters_record, parse_parameter_options
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
+
+    model = load_model(args.model)
+    parameters = parse_parameter_options(model, args.parameter)
+    profile = motion_profile({"kind": "static", "latitude": args.latitude,
+                              "longitude": args.longitude, "heading": args.heading,
+                              "height": args.height})
+    if args.heading is not None:
+        refuse_unused_heading(model, profile)
+    result = modes_at_rest(model, profile, parameters)
+    if args.json:
+        emit({**result.to_dict(), "parameters": parameters_record(model, parameters)})
+        return 0
+    print(f"### {model.name}: modes of the error equations, {result.base}\n")
+    print(table(result))
+    return 0
