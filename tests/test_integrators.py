@@ -226,3 +226,48 @@ def test_grid_errors():
         integ.record_stride(7.0, 1.0, 100)
     with pytest.raises(Exception, match="did you mean 'rk4'"):
         integ.check_method("rk5")
+
+
+@pytest.mark.parametrize(("duration", "step", "count"), [
+    ("86400 s", "0.01 s", 8_640_000), ("7 day", "0.01 s", 60_480_000),
+    ("3 h", "0.1 s", 108_000), ("0.1 h", "0.1 s", 3_600), ("1e6 s", "0.01 s", 10**8),
+    ("24 h", "0.003 s", 28_800_000), ("1 day", "1/3 s", 259_200)])
+def test_decimal_durations_are_whole_numbers_of_steps(duration, step, count):
+    """Durations and steps typed in decimal are whole numbers of steps, whatever the
+    rounding of their quotient in binary."""
+    from ins_errors.units import parse_quantity
+
+    d = parse_quantity(duration, "s", "d", numbers_are_si=False)
+    tau = parse_quantity(step, "s", "s", numbers_are_si=False) if "/" not in step else 1 / 3
+    assert step_count(d, tau) == count
+    assert integ.record_stride(d, tau, count) == count
+
+
+def test_a_fraction_of_a_step_is_refused_at_tens_of_millions_of_steps():
+    """Seven days at 100 Hz with a duration 0.05 step too long: a relative 1e-9 of the
+    count (0.06 step) accepted it and rounded it away; the tolerance is in steps."""
+    week = 7 * 86400.0
+    for off in (0.0005, -0.0005, 0.00002):  # 0.05, -0.05 and 0.002 of a step of 0.01 s
+        with pytest.raises(StepError, match="not a whole number of steps"):
+            step_count(week + off, 0.01)
+    with pytest.raises(StepError, match="recording interval"):
+        integ.record_stride(week + 0.0005, 0.01, 60_480_000)
+
+
+def test_refused_duration_names_the_nearest_valid_ones(capsys):
+    """86400.005 s at 0.01 s is half a step off: one line naming 86400 s and 86400.01 s,
+    each of which the command line then accepts."""
+    from ins_errors.cli import main
+
+    with pytest.raises(StepError) as refused:
+        step_count(86400.005, 0.01)
+    message = str(refused.value)
+    assert "86400.005 s is not a whole number of steps of 0.01 s" in message
+    assert "86400 s or 86400.01 s" in message and "\n" not in message
+    for text in ("86400", "86400.01"):
+        assert step_count(float(text), 0.01) in (8_640_000, 8_640_001)
+    status = main(["compare", "orthodromic", "-s", "gyro_drift_x=0.01deg/h",
+                   "--duration", "86400.005s", "--step", "0.01s"])
+    assert status == 2
+    lines = capsys.readouterr().err.strip().splitlines()
+    assert len(lines) == 1 and "86400 s or 86400.01 s" in lines[0]

@@ -20,6 +20,7 @@ from collections.abc import Iterator
 
 import numpy as np
 
+from ins_errors.numeric.integrators import whole_steps
 from ins_errors.numeric.trajectories import Trajectory, TruthChunk
 
 ORDERS: dict[str, int] = {"euler": 1, "rk4": 4}
@@ -219,8 +220,7 @@ def typable_step(needed: float, interval: float) -> tuple[float, str]:
                 value = float(text)
                 if value > needed * (1 + 1e-12):
                     continue
-                steps = interval / value  # as step_count checks it
-                if abs(steps - round(steps)) > 1e-9 * max(1.0, steps):
+                if whole_steps(interval, value) is None:  # as step_count checks it
                     continue
                 if best is None or value > best[0]:
                     best = (value, text)

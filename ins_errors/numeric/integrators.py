@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import ctypes
 import hashlib
+import math
 import os
 import platform
 import re
@@ -87,11 +88,55 @@ MAX_STEPS = 100_000_000
 taken, since the records and input streams of a run grow with its step count."""
 
 
+STEP_TOLERANCE = 1e-6
+"""How far, in steps, a duration may be from a whole number of steps and still count as
+one (it is then taken as exactly that many). Absolute in steps, so a run of tens of
+millions of steps is not rounded by a sizeable fraction of a step; far above the rounding
+error of ``duration / τ`` for durations and steps typed in decimal (a few units in the
+last place of the quotient: at most about 1e-7 step at :data:`MAX_STEPS`, which
+:func:`whole_steps` allows for as well)."""
+
+
+def whole_steps(duration: float, tau: float) -> int | None:
+    """``duration / tau`` when it is a whole number of steps to :data:`STEP_TOLERANCE`
+    (plus the rounding error of the quotient), else None.
+
+    Parameters
+    ----------
+    duration : float
+        Length, s (>= 0, finite).
+    tau : float
+        Step, s (> 0, finite).
+    """
+    steps = duration / tau
+    n = round(steps)
+    # duration and τ are each within half an ulp of what was typed, the quotient adds
+    # another: 8 ulp of the quotient bounds that rounding with room
+    if abs(steps - n) > STEP_TOLERANCE + 8 * np.spacing(abs(steps)):
+        return None
+    return int(n)
+
+
+def _duration_text(n: int, tau: float) -> str:
+    """``n τ`` as the shortest decimal text that reads back as ``n`` whole steps of τ."""
+    value = n * tau
+    for digits in range(6, 18):
+        text = f"{value:.{digits}g}"
+        if whole_steps(float(text), tau) == n:
+            return text
+    return repr(value)
+
+
+def _exact_text(value: float) -> str:
+    """The shortest decimal text of ``value`` that reads back as the same float."""
+    return np.format_float_positional(value, unique=True, trim="-")
+
+
 def step_count(duration: float, tau: float, what: str = "duration") -> int:
     """Number of steps of size ``tau`` in ``duration``.
 
-    The duration must be a whole number of steps (to a relative 1e-9): a run never ends
-    between two steps of the difference scheme.
+    The duration must be a whole number of steps, to :data:`STEP_TOLERANCE` of a step
+    (:func:`whole_steps`): a run never ends between two steps of the difference scheme.
 
     Parameters
     ----------
@@ -106,7 +151,8 @@ def step_count(duration: float, tau: float, what: str = "duration") -> int:
     ------
     StepError
         Zero, negative or non-finite step; negative duration; duration not a multiple
-        of the step; more than :data:`MAX_STEPS` steps.
+        of the step (the message names the nearest durations that are); more than
+        :data:`MAX_STEPS` steps.
     """
     tau, duration = float(tau), float(duration)
     if not np.isfinite(tau) or tau <= 0.0:
@@ -118,11 +164,14 @@ def step_count(duration: float, tau: float, what: str = "duration") -> int:
         raise StepError(f"{what} {duration:g} s in steps of {tau:g} s is {steps:.3g} steps, "
                         f"more than the {MAX_STEPS:.0e} one run may take: use a longer step "
                         "or a shorter run")
-    n = round(steps)
-    if abs(steps - n) > 1e-9 * max(1.0, steps):
-        raise StepError(f"{what} {duration:g} s is not a whole number of steps of "
-                        f"{tau:g} s ({steps:.6g} steps); choose a step that divides it")
-    return int(n)
+    n = whole_steps(duration, tau)
+    if n is None:
+        below, above = math.floor(steps), math.ceil(steps)
+        nearest = " or ".join(f"{_duration_text(k, tau)} s" for k in (below, above) if k > 0)
+        raise StepError(f"{what} {_exact_text(duration)} s is not a whole number of steps "
+                        f"of {_exact_text(tau)} s ({steps:.10g} steps); the nearest that "
+                        f"are: {nearest}; or choose a step that divides it")
+    return n
 
 
 def record_stride(record_interval: float | None, tau: float, n_steps: int) -> int:
