@@ -187,9 +187,12 @@ def load_scenario(path: str | Path) -> Scenario:
         for q in quantities:
             if q not in known:
                 raise unknown_name(f"quantity in {path.name} [outputs]", str(q), known)
-    from ins_errors.numeric.motion_spec import motion_profile
+    from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
 
-    motion_profile(dict(data.get("motion", {})), base=path.parent)  # checked before any run
+    motion = dict(data.get("motion", {}))
+    profile = motion_profile(motion, base=path.parent)  # checked before any run
+    if motion.get("heading") is not None:
+        refuse_unused_heading(model, profile, f"{path.name} [motion] heading")
     sweep = None
     if "sweep" in data:
         from ins_errors.analysis.sweep import parse_sweep

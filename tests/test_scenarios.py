@@ -117,3 +117,33 @@ def test_summary_and_warnings_judge_only_the_quantities_asked_for(tmp_path):
                                                 key=lambda m: m.refined_ratio).quantity
     assert chosen.warnings and all(q not in w for w in chosen.warnings for q in left_out)
     assert chosen.warnings[0].split()[3] in shown
+
+
+@pytest.mark.parametrize("model", ["north_pointing", "geodetic_vertical"])
+def test_heading_at_rest_is_refused_by_a_scenario_as_by_the_command_line(tmp_path, capsys,
+                                                                        model):
+    """A model without a heading output on a static base: its errors do not depend on
+    the heading, so a heading is refused; a scenario file accepted it silently where
+    ``--heading`` was refused. Both give the same line (bar the setting's name), exit 2,
+    and a moving base or a model with a heading output still takes it."""
+    source = {"north_pointing": 'gyro_drift_east = "0.01 deg/h"',
+              "geodetic_vertical": 'accel_bias_x = "10 ug"'}[model]
+    text = (f'model = "{model}"\n[motion]\nkind = "static"\nheading = "30 deg"\n'
+            f'[run]\nduration = "10 min"\nstep = "10 s"\n[[case]]\n{source}\n')
+    path = _write(tmp_path, text)
+    with pytest.raises(InsErrorsError) as info:
+        load_scenario(path)
+    from_file = str(info.value)
+    assert "\n" not in from_file
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
+    assert capsys.readouterr().err.strip().splitlines()[-1].endswith(from_file)
+    name, value = source.split(" = ")
+    status = main(["compare", model, "-s", f"{name}={value.strip(chr(34)).replace(' ', '')}",
+                   "--heading", "30deg", "--hours", "1"])
+    assert status == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    from_cli = line.split("error: ", 1)[1]
+    assert from_file.replace("s.toml [motion] heading", "--heading") == from_cli
+    # what stays accepted: no heading at rest, a heading in motion
+    load_scenario(_write(tmp_path, text.replace('heading = "30 deg"\n', "")))
+    load_scenario(_write(tmp_path, text.replace('kind = "static"', 'kind = "great-circle"')))
