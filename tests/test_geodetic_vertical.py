@@ -430,6 +430,24 @@ def test_spheroid_flights_estimate_their_integration_error(capsys):
                for line in data["lines"])
 
 
+def test_spheroid_estimate_with_the_end_alone_recorded():
+    """25 steps of 300 s recorded at the start and the end only: the run at 600 s shared
+    t = 0 alone and nothing was estimated; the run at 150 s (as compare makes it) gives
+    the estimate at the end, at rounding level like the true error against 60 s, with
+    the observed order left unjudged there (no warning)."""
+    la, an = np.radians([20.0, 60.0]), np.radians([30.0, 225.0])
+    ref = se.simulate_flights(la, np.zeros(2), an, 7500.0, 250.0, 60.0, record_interval=7500.0)
+    run = se.simulate_flights(la, np.zeros(2), an, 7500.0, 250.0, 300.0,
+                              record_interval=7500.0)
+    flights = se.integration_errors(run, 7500.0, 250.0, 300.0, 25)
+    true = np.max(np.abs(run.direct - ref.direct), axis=1)
+    for k, c in enumerate(flights):
+        assert not c.warnings, c.warnings
+        estimate = np.array([m.integration_error for m in c.metrics])
+        assert np.all(estimate >= 0) and np.all(estimate < 1e-12)
+        assert np.all(true[:, k] < 1e-12)
+
+
 def test_spheroid_study_records_at_a_coarse_step(capsys):
     """``study spheroid --step 300s --hours 2`` runs (the recording interval follows the
     step: 24 steps, recorded every 4 = 1200 s, the default 20-s run's recording times),

@@ -112,7 +112,8 @@ def test_unknown_study_suggests_close_names():
 @pytest.mark.parametrize("kwargs, match", [
     ({"scenario": "hover"}, "scenario"),
     ({"tau": -1.0}, "positive"),
-    ({"tau": 7.0, "record_interval": 600.0}, "multiple"),
+    ({"tau": 7.0, "record_interval": 600.0}, "not a whole number of steps of 7 s"),
+    ({"tau": 10.0, "record_interval": 25.0}, "recording interval 25 s is not a whole"),
     ({"latitude": np.pi / 2}, "pole"),
 ])
 def test_bad_arguments_get_one_line_errors(kwargs, match):
@@ -143,7 +144,8 @@ def test_cli_runs_a_short_study_with_plot(capsys, tmp_path):
 def test_coarse_study_estimates_its_true_integration_error_and_warns():
     """RK4 at τ = 300 s over a 4-h great-circle flight: the step-doubling estimate of each
     quantity (the machinery of ``compare``) is within a factor 2 of its true error against
-    an RK4 run at 60 s (error (60/300)^4 = 1/625 as large), and a warning names a step."""
+    an RK4 run at 60 s (error (60/300)^4 = 1/625 as large), and a warning names a step
+    (the order observed from a third run at 1200 s is 2.9: "not reliable at this step")."""
     kwargs = dict(duration=4 * 3600.0, record_interval=1200.0)
     reference = meth.run("coriolis", "flight", tau=60.0, integration_error=False, **kwargs)
     coarse = meth.run("coriolis", "flight", tau=300.0, **kwargs)
@@ -153,7 +155,97 @@ def test_coarse_study_estimates_its_true_integration_error_and_warns():
         assert 0.5 < coarse.integration_error(name) / true < 2.0, name
     assert any("τ = 300 s is too coarse" in w and "would do" in w for w in coarse.warnings)
     text = "\n".join(coarse.summary())
-    assert "integration error" in text and "warning: integration error of" in text
+    # the runs at 300, 600 and 1200 s show order 2.9, not RK4's 4 (as compare would say)
+    assert "integration error" in text and "warning: integration error not reliable" in text
+
+
+@pytest.mark.parametrize(("duration", "record"), [
+    (3 * 3600.0, 720.0),  # 45 steps of 16 s between samples: odd, off the grid of 32 s
+    (3600.0, 3600.0),  # 225 steps, the start and the end only: the 32-s run shared t = 0
+])
+def test_rectangle_method_study_against_a_fine_rk4_run(duration, record):
+    """The rectangle method at a coarse 16 s along a great circle, recorded every odd
+    number of steps: the estimate (a run at 8 s, as compare makes it) covers every sample
+    and is within a factor 2 of the true error, measured against RK4 at 1 s (its own
+    error some 1e-9 of the rectangle method's). The run at 32 s missed the odd samples
+    and, with the end alone recorded, estimated nothing."""
+    kwargs = dict(duration=duration, record_interval=record)
+    reference = meth.run("coriolis", "flight", tau=1.0, integration_error=False, **kwargs)
+    coarse = meth.run("coriolis", "flight", tau=16.0, method="euler", **kwargs)
+    assert not [w for w in coarse.warnings if "not estimated" in w or "only up to" in w]
+    for name in coarse.direct.names:
+        true = np.max(np.abs(coarse.direct[name][:, 0] - reference.direct[name][:, 0]))
+        assert true > 1e-4 * np.max(np.abs(reference.direct[name][:, 0])), name
+        assert 0.5 < coarse.integration_error(name) / true < 2.0, name
+    (warning,) = [w for w in coarse.warnings if "integration error" in w]
+    assert "the rectangle method with τ = 16 s is too coarse" in warning
+    step = coarse.comparison.suggested_step
+    text = warning.split("τ = ")[-1].split(" s would do")[0]
+    assert float(text) == step < 16.0
+    from ins_errors.numeric.integrators import step_count
+
+    step_count(record, step)  # typed back, a whole number of steps of the record
+
+
+@pytest.mark.parametrize(("hours", "tau", "method"), [
+    (6, 60.0, "euler"), (6, 10.0, "euler"), (24, 300.0, "rk4"), (24, 60.0, "rk4")])
+def test_study_order_check_says_what_compare_says(hours, tau, method):
+    """A third run gives the observed order of the scheme in a study as in compare: at
+    the same base, step and scheme, the study (coriolis, static base at 50°) says "not
+    reliable at this step" exactly where compare does for an accelerometer bias (the
+    rectangle method at 60 s over 6 h: orders 2.9 and 3.6 against 1; RK4 at 300 s over
+    24 h: 2.2 and 1.8 against 4), and neither does at 10 s (rectangle) or 60 s (RK4)."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("orthodromic")
+    traj = tr.trajectory(model, tr.static_profile(LATITUDE, 0.0), hours * 3600.0, tau)
+    (case,) = compare(model, traj, [{"accel_bias_x": 1e-4 * 9.80665}], method=method,
+                      record_interval=1200.0, refined=False, validity_threshold=None)
+    study = meth.run("coriolis", "static", LATITUDE, hours * 3600.0, tau, 1200.0,
+                     method=method)
+
+    def unreliable(warnings):
+        return any("integration error not reliable at this step" in w for w in warnings)
+
+    assert unreliable(study.warnings) == unreliable(case.warnings)
+    assert unreliable(study.warnings) == (tau == {"euler": 60.0, "rk4": 300.0}[method])
+    order = study.comparison.integration_order
+    p = {"euler": 1, "rk4": 4}[method]
+    assert order is not None and (abs(order - p) > 0.5) == unreliable(study.warnings)
+
+
+def test_study_outside_the_asymptotic_range_is_off_by_more_than_its_order_allows():
+    """Why the warning: the rectangle method at 60 s over 6 h (observed order 2.9) gives
+    an estimate 2.4-2.6 times the true error (RK4 at 10 s), which is growing faster than
+    the step (the run at 120 s is more than twice as far from the truth)."""
+    kwargs = dict(duration=6 * 3600.0, record_interval=1200.0)
+    reference = meth.run("coriolis", "static", tau=10.0, integration_error=False, **kwargs)
+    coarse = meth.run("coriolis", "static", tau=60.0, method="euler", **kwargs)
+    doubled = meth.run("coriolis", "static", tau=120.0, method="euler",
+                       integration_error=False, **kwargs)
+    m = max(coarse.comparison.excited, key=lambda m: m.integration_error / m.max_direct)
+    true = np.max(np.abs(coarse.direct[m.quantity][:, 0] - reference.direct[m.quantity][:, 0]))
+    far = np.max(np.abs(doubled.direct[m.quantity][:, 0] - reference.direct[m.quantity][:, 0]))
+    assert m.integration_error > 2 * true and far > 2.5 * true
+    assert any("not reliable at this step" in w for w in coarse.warnings)
+
+
+def test_cli_study_takes_the_rectangle_method(capsys):
+    import json
+
+    from ins_errors.cli import main
+
+    argv = ["study", "coriolis", "--scenario", "static", "--hours", "6", "--step", "60s",
+            "--method", "euler", "--json"]
+    assert main(argv) == 0
+    (run,) = json.loads(capsys.readouterr().out)["runs"]
+    assert any("not reliable at this step" in w and "scheme order 1" in w
+               for w in run["warnings"])
+    assert main(["study", "spheroid", "--method", "euler"]) == 2
+    (line,) = capsys.readouterr().err.strip().splitlines()
+    assert "RK4 only" in line
 
 
 def test_cli_study_json_reports_the_integration_error(capsys):

@@ -48,6 +48,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--step", default=None,
                         help="integration step (default 20 s); it must divide the duration, "
                              "and the spheroid study's recording interval follows it")
+    parser.add_argument("--method", choices=("rk4", "euler"), default="rk4",
+                        help="methodological studies: integration scheme, RK4 (default) or "
+                             "the manual's rectangle method ('euler')")
     parser.add_argument("--latitude", default="50deg",
                         help="methodological studies: start latitude (default 50deg)")
     parser.add_argument("--speed", default="250m/s", help="ground speed in flight")
@@ -62,6 +65,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import unknown_name
+    from ins_errors.numeric.integrators import whole_steps
     from ins_errors.progress import stage
     from ins_errors.units import parse_quantity
 
@@ -94,6 +98,11 @@ def run(args: argparse.Namespace) -> int:
 
         raise InsErrorsError(f"--step must be positive, got {args.step!r}")
     if args.name == SPHEROID:
+        if args.method != "rk4":
+            from ins_errors.errors import InsErrorsError
+
+            raise InsErrorsError("--method: the spheroid study integrates by RK4 only; "
+                                 "leave --method out")
         return _spheroid(args, speed, step, folder)
     from ins_errors.studies import methodological
 
@@ -101,13 +110,17 @@ def run(args: argparse.Namespace) -> int:
     hours = 24.0 if args.hours is None else args.hours
     scenarios = ("static", "flight") if args.scenario == "both" else (args.scenario,)
     # every minute (about 84 samples per Schuler period, so plotted peaks are smooth)
-    record = 60.0 if step <= 60.0 and 60.0 % step == 0 else step
+    # when a minute is whole steps and the run whole minutes, else every step
+    duration = hours * 3600.0
+    record = (60.0 if whole_steps(60.0, step) and whole_steps(duration, 60.0) is not None
+              else step)
     report = []
     for scenario in scenarios:
         with stage(f"{args.name}: {scenario} runs"):
             result = methodological.run(args.name, scenario, latitude,
-                                        duration=hours * 3600.0, tau=step,
-                                        record_interval=record, speed=speed)
+                                        duration=duration, tau=step,
+                                        record_interval=record, speed=speed,
+                                        method=args.method)
         lines = result.summary()
         if folder is not None:
             path = methodological.plot(result, folder.file(f"{args.name}_{scenario}.png"))

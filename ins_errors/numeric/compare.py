@@ -317,43 +317,100 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
     the case says so. A case gets a warning (and ``suggested_step``) when, for an excited
     quantity, the larger estimate exceeds 1 % of the error or 10 % of the
     linear-vs-direct difference (the latter only when that difference is above
-    :data:`AGREEMENT_FLOOR` of the error).
+    :data:`AGREEMENT_FLOOR` of the error). The estimate itself is
+    :func:`integration_errors_by_reruns`, which callers with runs of their own (the
+    studies) use as well.
     """
-    trajectory, method, stride = sim.trajectory, sim.method, sim.stride
-    n_steps, tau = trajectory.n_steps, trajectory.tau
-    fine = (sim.direct_errors(), sim.linear_errors())
+    trajectory, method = sim.trajectory, sim.method
+    grids: dict[float, Trajectory | None] = {}
 
-    def rerun(traj: Trajectory | None, every: int) -> tuple[ErrorCurves, ErrorCurves]:
+    def grid(factor: float) -> Trajectory | None:
+        if factor not in grids:  # the doubled-step trajectory is built once for 2τ and 4τ
+            grids[factor] = (accuracy.halved(trajectory, method) if factor == 0.5
+                             else accuracy.coarsened(trajectory) if factor == 2
+                             else accuracy.coarsened(grid(factor / 2)))
+        return grids[factor]
+
+    def rerun(factor: float, every: int) -> tuple[ErrorCurves, ErrorCurves] | None:
+        traj = grid(factor)
+        if traj is None:
+            return None
         run = simulate(sim.model, traj, sim.sources, method=method,
                        record_interval=every * traj.tau, parts=("real", "linear"),
                        jit=jit, platform=sim.platform)
         return run.direct_errors(), run.linear_errors()
 
+    integration_errors_by_reruns(comparisons, (sim.direct_errors(), sim.linear_errors()),
+                                 trajectory.n_steps, trajectory.tau, sim.stride, method,
+                                 rerun, lambda: _rk4_step(sim, jit))
+
+
+Rerun = Callable[[float, int], "tuple[ErrorCurves, ErrorCurves] | None"]
+"""``rerun(factor, every)``: the (direct, linear) error curves of the same cases run again
+at step ``factor`` τ (``factor`` 2 or 4: over the first ``⌊N/factor⌋`` of its steps, the
+same motion on the coarser grid; ``factor`` 1/2: over ``2N`` steps), recorded every
+``every`` of its own steps; None when the run at τ/2 cannot be made (a motion that cannot
+be generated again at τ/2). A run that fails raises :class:`InsErrorsError`."""
+
+
+def integration_errors_by_reruns(comparisons: Sequence[Comparison],
+                                 fine: tuple[ErrorCurves, ErrorCurves], n_steps: int,
+                                 tau: float, stride: int, method: str, rerun: Rerun,
+                                 rk4_step: Callable[[], float | None] | None = None) -> None:
+    """The integration-error estimate of :func:`add_integration_errors`, from any runs.
+
+    A run at 2τ when the recording stride is even (every sample on its grid), else at
+    τ/2 (every sample on its grid too), gives the Richardson estimate over every recorded
+    sample; a third run (4τ, or 2τ beside τ/2) gives the observed order of the scheme
+    (:attr:`Comparison.integration_order`), and the warnings of
+    :func:`_integration_warning` follow (too large, or not reliable at this step, with a
+    step the command line accepts). Where the run at τ/2 cannot be made, the run at 2τ
+    is compared on the samples the two share (or nothing is estimated, and the cases say
+    why).
+
+    Parameters
+    ----------
+    comparisons : sequence of Comparison
+        One per batch member of the curves; their metrics get the estimates.
+    fine : tuple of ErrorCurves
+        (direct, linear) error curves of the run, shape (Q, N / stride + 1, B).
+    n_steps, stride : int
+        Steps of the run and steps between two recorded samples.
+    tau : float
+        Step of the run, s.
+    method : {"rk4", "euler"}
+        Scheme of every run.
+    rerun : callable
+        ``rerun(factor, every)``, see :data:`Rerun`.
+    rk4_step : callable, optional
+        RK4's own suggested step for these cases (or None), asked for when the rectangle
+        method would need more steps than a run may take.
+    """
     if n_steps < 2:
         return _not_estimated(comparisons, "the run has a single step")
     try:
         if stride % 2 == 0:  # every sample on the grid of 2τ: runs at τ, 2τ, 4τ
-            doubled = accuracy.coarsened(trajectory)
-            runs = [fine, rerun(doubled, stride // 2)]
+            runs = [fine, rerun(2, stride // 2)]
             scale = 1.0 / (2 ** accuracy.ORDERS[method] - 1)
-            third, factor = accuracy.coarsened(doubled), 4
+            factor = 4
         else:
-            half = accuracy.halved(trajectory, method)
+            half = rerun(0.5, 2 * stride)
             if half is None:
-                return _pairs_on_common_samples(comparisons, sim, rerun)
-            runs = [rerun(half, 2 * stride), fine]  # at τ/2 and τ
+                return _pairs_on_common_samples(comparisons, fine, n_steps, tau, stride,
+                                                method, rerun)
+            runs = [half, fine]  # at τ/2 and τ
             scale = 2 ** accuracy.ORDERS[method] / (2 ** accuracy.ORDERS[method] - 1)
-            third, factor = accuracy.coarsened(trajectory), 2
+            factor = 2
     except InsErrorsError as error:
         return _not_estimated(comparisons, f"the run at another step failed ({error})")
     # the third run, on the samples it shares with the others: the observed order
     every, fine_i, coarse_i = accuracy.sampling(stride, factor, n_steps)
     orders, failed = None, None
-    if third is not None and len(fine_i) > 1 and n_steps // factor >= 1:
+    if len(fine_i) > 1 and n_steps // factor >= 1:
         try:
-            orders = (rerun(third, every), fine_i, coarse_i)
+            orders = (rerun(factor, every), fine_i, coarse_i)
         except InsErrorsError as error:  # e.g. leaves the domain: far from asymptotic
-            failed = f"the run at τ = {third.tau:g} s fails: {error}"
+            failed = f"the run at τ = {factor * tau:g} s fails: {error}"
     for b, comparison in enumerate(comparisons):
         observed = []
         for part, attribute in ((0, "direct_integration_error"),
@@ -378,8 +435,7 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
         comparison.integration_order = (max(relevant, key=lambda o: o[0])[1]
                                         if relevant else None)
         worst = comparison.worst_integration_ratio
-        _integration_warning(comparison, tau, method, stride * tau,
-                             lambda: _rk4_step(sim, jit),
+        _integration_warning(comparison, tau, method, stride * tau, rk4_step,
                              failed if worst is not None and worst > accuracy.RELEVANT
                              else None)
 
@@ -395,24 +451,23 @@ def _not_estimated(comparisons: Sequence[Comparison], why: str) -> None:
         c.warnings.append(f"integration error not estimated: {why}")
 
 
-def _pairs_on_common_samples(comparisons: Sequence[Comparison], sim: Simulation,
-                             rerun) -> None:
+def _pairs_on_common_samples(comparisons: Sequence[Comparison],
+                             fine: tuple[ErrorCurves, ErrorCurves], n_steps: int, tau: float,
+                             stride: int, method: str, rerun: Rerun) -> None:
     """Step doubling on the samples a run at 2τ shares with the run (odd recording
     stride, a motion that cannot be generated at τ/2); says so when that leaves out the
     last sample, and gives no estimate when only the start is shared."""
-    n_steps, stride = sim.trajectory.n_steps, sim.stride
     every, fine_i, _ = accuracy.sampling(stride, 2, n_steps)
     if len(fine_i) < 2:
         return _not_estimated(comparisons, f"{NOTHING_SHARED} (choose an even number of "
                               "steps between samples)")
     try:
-        coarse = rerun(accuracy.coarsened(sim.trajectory), every)
+        coarse = rerun(2, every)
     except InsErrorsError as error:
         return _not_estimated(comparisons, f"the run at twice the step failed ({error})")
-    times = sim.trajectory.tau * stride * fine_i
-    estimate_integration_errors(comparisons, (sim.direct_errors(), sim.linear_errors()),
-                                coarse, stride, every, n_steps, sim.trajectory.tau,
-                                sim.method)
+    times = tau * stride * fine_i
+    estimate_integration_errors(comparisons, fine, coarse, stride, every, n_steps, tau,
+                                method)
     if fine_i[-1] * stride != n_steps:
         for c in comparisons:
             c.warnings.append(f"integration error estimated only up to t = {times[-1]:g} s "
@@ -426,10 +481,10 @@ def estimate_integration_errors(comparisons: Sequence[Comparison],
                                 method: str) -> None:
     """Fill the integration errors of ``comparisons`` from runs at τ and 2τ; warn.
 
-    The step-doubling estimate of :func:`add_integration_errors`, for callers that run
-    the doubled-step case themselves (studies with their own compiled loops). When the
-    two runs share no recorded sample but the start, nothing is estimated (a warning
-    says so): a comparison at t = 0 alone would report an error of 0.
+    The plain step-doubling estimate on the samples two runs share, without the order
+    check (:func:`integration_errors_by_reruns` makes that where it can). When the two
+    runs share no recorded sample but the start, nothing is estimated (a warning says
+    so): a comparison at t = 0 alone would report an error of 0.
 
     Parameters
     ----------

@@ -20,10 +20,10 @@ second integrators, and its platform rows equivalent gyro drifts. The linear est
 integrates ``ė = F̃ e + d(t)``, F̃ being the Jacobian of the simplified real work at the
 ideal point (equal to the exact model's F when the simplification does not change the
 error dynamics; dropping the Coriolis terms does, e.g. it removes the Foucault
-coupling); the direct run
-integrates the real work with the simplified computer next to the ideal work and
-subtracts. Both run in one RK4 loop along the same true motion (static base or a
-great-circle flight), so their difference is the linearisation error alone.
+coupling); the direct run integrates the real work with the simplified computer next to
+the ideal work and subtracts. Both run in one loop (RK4, or the rectangle method) along
+the same true motion (static base or a great-circle flight), so their difference is the
+linearisation error alone.
 """
 
 from __future__ import annotations
@@ -37,14 +37,13 @@ import casadi as ca
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, unknown_name
-from ins_errors.numeric import accuracy
 from ins_errors.numeric.compare import (
     EXCITED_FRACTION,
     Comparison,
-    estimate_integration_errors,
+    integration_errors_by_reruns,
     metrics_of,
 )
-from ins_errors.numeric.integrators import CompiledLoop, input_stream
+from ins_errors.numeric.integrators import CompiledLoop, check_method, input_stream, record_stride
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.numeric.simulate import ErrorCurves, chunk_size, error_curves
 from ins_errors.numeric.trajectories import (
@@ -214,9 +213,10 @@ def _forcing_function(flag: str):
 
 @cache
 def _study_loop(flag: str, tau: float, stride: int, p: tuple[float, ...],
-                constant_inputs: tuple[float, ...] | None, chunk: int) -> CompiledLoop:
-    """Compiled RK4 loop of ``z = [x, x~, e]``: ideal work, simplified real work, and the
-    linear estimate ``ė = F~ e + d``."""
+                constant_inputs: tuple[float, ...] | None, chunk: int,
+                method: str = "rk4") -> CompiledLoop:
+    """Compiled loop (RK4, or the rectangle method) of ``z = [x, x~, e]``: ideal work,
+    simplified real work, and the linear estimate ``ė = F~ e + d``."""
     direct, linear_terms, _forcing = _study_functions(flag)
     model = load_model("orthodromic")
     ideal = model.casadi.function("ideal_rhs")
@@ -228,7 +228,7 @@ def _study_loop(flag: str, tau: float, stride: int, p: tuple[float, ...],
     rhs = ca.Function("study_rhs", [z, u, none, par],
                       [ca.vertcat(ideal(x, u, par), direct(xr, x, u, par),
                                   linear_terms(x, u, par, e))])
-    return CompiledLoop(rhs, None, "rk4", stride, tau, np.array(p),
+    return CompiledLoop(rhs, None, method, stride, tau, np.array(p),
                         None if constant_inputs is None else np.array(constant_inputs),
                         chunk=chunk)
 
@@ -403,8 +403,9 @@ def motion(scenario: str, latitude: float, duration: float, tau: float,
 def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
         duration: float = 24 * 3600.0, tau: float = 20.0, record_interval: float = 600.0,
         speed: float = 250.0, track: float = np.radians(60.0),
-        integration_error: bool = True) -> StudyResult:
-    """Run one methodological study: direct and linear, RK4 with step ``tau``.
+        integration_error: bool = True, method: str = "rk4") -> StudyResult:
+    """Run one methodological study: direct and linear, RK4 (or the rectangle method)
+    with step ``tau``.
 
     Parameters
     ----------
@@ -418,18 +419,19 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     duration, tau, record_interval : float
         Run length, integration step and recording interval, s.
     integration_error : bool
-        Estimate the integration error by running again at twice the step (as
-        ``compare`` does) and warn when it is too large.
+        Estimate the integration error as ``compare`` does (runs at another step and at a
+        third one for the observed order, :func:`_integration_errors`) and warn when it
+        is too large or not reliable at this step.
+    method : {"rk4", "euler"}
+        Scheme: RK4, or the manual's rectangle method.
     """
     st = study(name)
+    method = check_method(method)
     if not (np.isfinite(tau) and tau > 0 and np.isfinite(duration) and duration > 0):
         raise StudyError(f"duration and step must be positive, got {duration} s and {tau} s")
-    stride = round(record_interval / tau)
-    if stride < 1 or abs(stride * tau - record_interval) > 1e-9 * record_interval:
-        raise StudyError(f"record interval {record_interval} s must be a multiple of the step "
-                         f"{tau} s")
     model = load_model("orthodromic")
     traj = motion(scenario, latitude, duration, tau, speed, track, model)
+    stride = record_stride(record_interval, tau, traj.n_steps)
     forcing_fn = _forcing_function(st.flag)
     np_ = model.numpy
     p = traj.parameters
@@ -440,8 +442,8 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     records = traj.n_steps // stride + 1
     constant = tuple(traj.inputs[:, 0]) if traj.constant else None
     loop = _study_loop(st.flag, float(tau), stride, tuple(p), constant,
-                       chunk_size(records - 1))
-    stream = None if traj.constant else input_stream(traj.inputs, traj.midpoints, "rk4")
+                       chunk_size(records - 1), method)
+    stream = None if traj.constant else input_stream(traj.inputs, traj.midpoints, method)
     history = loop.run(z0, np.zeros(0), traj.n_steps, stream).states[:, :, 0]
     if not np.all(np.isfinite(history)):
         raise StudyError(f"study {name!r} ({scenario}) diverged: NaN or infinite errors")
@@ -449,8 +451,12 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     x, xr, e = history[:n], history[n:n + ne], history[n + ne:]
     u = u_steps[:, steps]
     times = steps * tau
-    direct = error_curves(model, times, xr[n:, :, None],
-                          (np_.outputs(xr[:n], u, p) - np_.outputs(x, u, p))[:, :, None])
+    with np.errstate(invalid="ignore"):  # beyond the domain (|u31| > 1): checked below
+        outputs = np_.outputs(xr[:n], u, p) - np_.outputs(x, u, p)
+    if not np.all(np.isfinite(outputs)):
+        raise StudyError(f"study {name!r} ({scenario}) diverged: NaN or infinite errors "
+                         "(the real work left the model's domain)")
+    direct = error_curves(model, times, xr[n:, :, None], outputs[:, :, None])
     H = np_.output_matrix(x, u, p)
     linear = error_curves(model, times, e[n:, :, None],
                           np.einsum("ijt,jt->it", H, e)[:, :, None])
@@ -459,28 +465,38 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
                          np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy())
     if integration_error:
         result.comparison = _integration_errors(result, traj.n_steps, stride, tau, latitude,
-                                                speed, track)
+                                                speed, track, method)
     return result
 
 
 def _integration_errors(result: StudyResult, n_steps: int, stride: int, tau: float,
-                        latitude: float, speed: float, track: float) -> Comparison:
-    """The study's direct-vs-linear comparison with the step-doubling estimate of its
-    integration error (:func:`ins_errors.numeric.compare.estimate_integration_errors`)."""
+                        latitude: float, speed: float, track: float,
+                        method: str) -> Comparison:
+    """The study's direct-vs-linear comparison with the integration-error estimate of
+    ``compare`` (:func:`ins_errors.numeric.compare.integration_errors_by_reruns`): the
+    study runs again at τ/2 or 2τ, and at a third step for the observed order."""
     comparison = Comparison(result.study.name, {},
                             metrics_of(result.direct, result.linear, None, 0), result.times,
                             {}, {}, {})
-    half = n_steps // 2
-    if half < 1:
-        comparison.warnings.append("integration error not estimated: the run has a single "
-                                   "step")
-        return comparison
-    coarse_stride = accuracy.coarse_stride(stride, n_steps)
-    coarse = run(result.study.name, result.scenario, latitude, 2 * half * tau, 2 * tau,
-                 coarse_stride * 2 * tau, speed, track, integration_error=False)
-    estimate_integration_errors([comparison], (result.direct, result.linear),
-                                (coarse.direct, coarse.linear), stride, coarse_stride,
-                                n_steps, tau, "rk4")
+
+    def rerun(factor: float, every: int) -> tuple[ErrorCurves, ErrorCurves]:
+        steps = 2 * n_steps if factor < 1 else n_steps // factor
+        again = run(result.study.name, result.scenario, latitude, steps * factor * tau,
+                    factor * tau, every * factor * tau, speed, track,
+                    integration_error=False, method=method)
+        return again.direct, again.linear
+
+    def rk4_step() -> float | None:
+        try:
+            again = run(result.study.name, result.scenario, latitude, n_steps * tau, tau,
+                        stride * tau, speed, track, method="rk4")
+        except InsErrorsError:
+            return None
+        step = again.comparison.suggested_step
+        return tau if step is None else step
+
+    integration_errors_by_reruns([comparison], (result.direct, result.linear), n_steps, tau,
+                                 stride, method, rerun, rk4_step)
     return comparison
 
 

@@ -38,8 +38,7 @@ import numpy as np
 
 from ins_errors.errors import DomainError, InsErrorsError
 from ins_errors.models.earth import EARTH_RATE, ELLIPSOIDS
-from ins_errors.numeric import accuracy
-from ins_errors.numeric.compare import Comparison, estimate_integration_errors, metrics_of
+from ins_errors.numeric.compare import Comparison, integration_errors_by_reruns, metrics_of
 from ins_errors.numeric.integrators import record_stride, step_count
 from ins_errors.numeric.model import load_model
 from ins_errors.numeric.simulate import ErrorCurves
@@ -585,13 +584,15 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
 def integration_errors(result: FlightErrors, duration: float, speed: float, step: float,
                        stride: int, a: float | None = None,
                        b: float | None = None) -> list[Comparison]:
-    """Step-doubling estimate of the direct flights' integration error, per flight.
+    """The direct flights' integration error, per flight, estimated as ``compare`` does.
 
-    The flights are flown again at twice the step and the estimate is made by
-    :func:`ins_errors.numeric.compare.estimate_integration_errors` (the machinery of
+    The flights are flown again at τ/2 or 2τ (every recorded sample on the other grid)
+    and at a third step for the observed order of RK4, by
+    :func:`ins_errors.numeric.compare.integration_errors_by_reruns` (the machinery of
     ``compare``), formula (10) completed playing the part of the linear model: each
     flight's comparison gets the integration error of ΔΦ and ΔΛ (rad) and a warning
-    when it exceeds 10 % of |direct − (10)| or 1 % of the error.
+    when it exceeds 10 % of |direct − (10)| or 1 % of the error, or when the estimate
+    is not reliable at this step (observed order far from 4), with a step that would do.
 
     Parameters
     ----------
@@ -605,23 +606,19 @@ def integration_errors(result: FlightErrors, duration: float, speed: float, step
         Semi-axes of the flights, m (default Krasovsky).
     """
     n_steps = step_count(duration, step)
-    half = n_steps // 2
-    comparisons = [Comparison(f"flight {k}", {}, [], result.times, {}, {}, {})
-                   for k in range(result.start.shape[1])]
-    if half < 1:
-        for c in comparisons:
-            c.warnings.append("integration error not estimated: the run has a single step")
-        return comparisons
-    coarse_stride = accuracy.coarse_stride(stride, n_steps)
-    coarse = simulate_flights(result.start[0], result.start[1], result.start[2],
-                              2 * half * step, speed, 2 * step,
-                              record_interval=coarse_stride * 2 * step, a=a, b=b)
     fine = (_curves(result, result.direct), _curves(result, result.completed))
-    rough = (_curves(coarse, coarse.direct), _curves(coarse, coarse.completed))
-    for k, c in enumerate(comparisons):
-        c.metrics = metrics_of(fine[0], fine[1], None, k)
-    estimate_integration_errors(comparisons, fine, rough, stride, coarse_stride, n_steps,
-                                step, "rk4")
+    comparisons = [Comparison(f"flight {k}", {}, metrics_of(fine[0], fine[1], None, k),
+                              result.times, {}, {}, {})
+                   for k in range(result.start.shape[1])]
+
+    def rerun(factor: float, every: int) -> tuple[ErrorCurves, ErrorCurves]:
+        steps = 2 * n_steps if factor < 1 else n_steps // factor
+        again = simulate_flights(result.start[0], result.start[1], result.start[2],
+                                 steps * factor * step, speed, factor * step,
+                                 record_interval=every * factor * step, a=a, b=b)
+        return _curves(again, again.direct), _curves(again, again.completed)
+
+    integration_errors_by_reruns(comparisons, fine, n_steps, step, stride, "rk4", rerun)
     return comparisons
 
 
