@@ -139,14 +139,60 @@ def test_validity_warning_on_exact_platform_and_old_numbers_in_small_angles(caps
     quoted = float(warning[0].rsplit("measured there: ", 1)[1].split("%")[0]) / 100
     assert check.worst_linear.linear_ratio == pytest.approx(quoted, rel=0.01)
     assert 0.01 / 1.25 <= check.worst_linear.linear_ratio <= 0.01 * 1.25
-    # the manual's small-angle platform with its rectangle method reproduces the numbers
-    # of the version before the exact platform (recorded from that version)
+    # the manual's small-angle platform with its rectangle method: the worst ratios (of
+    # the heading error) against the manual's printed difference scheme written out
+    # independently (tests/test_integrators.py) and its heading χ = atan2(u21, u11)
     status = main(["compare", "orthodromic", "--source", "initial_azimuth_error=25deg",
                    "--hours", "4", "--json", "--platform", "small-angle", "--method", "euler"])
     out, err = capsys.readouterr()
+    assert status == 0, err
     (old,) = json.loads(out)["cases"]
-    assert old["worst_linear_ratio"] == pytest.approx(0.6495813636707888, rel=1e-9)
-    assert old["worst_refined_ratio"] == pytest.approx(0.0704419194339276, rel=1e-9)
+    static = tr.trajectory(model, tr.static_profile(np.radians(50), np.radians(30), 0.0),
+                           4 * 3600.0, 1.0)
+    case = {"initial_azimuth_error": np.radians(25)}
+    (small,) = compare(model, static, [case], method="euler", record_interval=60.0,
+                       platform="small_angle", validity_threshold=None,
+                       integration_error=False)
+    direct = _manual_heading_error(static, np.radians(25), 60)
+    # the linear run against its exact solution (matrix exponential), to its scheme's error
+    exact = linear_exact(model, static, [case], record_interval=60.0)["delta_heading"][:, 0]
+    linear, refined = small.linear["delta_heading"], small.refined["delta_heading"]
+    assert np.max(np.abs(linear - exact)) < 0.01 * np.max(np.abs(exact))  # measured 0.1 %
+    size = np.max(np.abs(direct))
+    assert old["worst_linear_ratio"] == pytest.approx(np.max(np.abs(linear - direct)) / size,
+                                                      rel=1e-6)
+    assert old["worst_refined_ratio"] == pytest.approx(
+        np.max(np.abs(refined - direct)) / size, rel=1e-6)
+    assert 0.3 < old["worst_linear_ratio"] < 1.0  # far outside the linear model
+
+
+def _manual_heading_error(trajectory, azimuth: float, every: int) -> np.ndarray:
+    """Heading error of the manual's small-angle platform under the rectangle method: its
+    printed ideal- and real-work difference equations stepped from the true state (the
+    platform turned by ``azimuth``), χ = atan2(u21, u11) of each, every ``every`` steps."""
+    from tests.test_integrators import manual_computer_step, manual_rates
+
+    a, e2, U = trajectory.parameters
+    a_xi, a_eta, a_zeta, Vz, h = trajectory.inputs[:, 0]
+    tau = trajectory.tau
+    x = list(trajectory.truth[:, 0])
+    xr, alpha = list(x), [0.0, 0.0, azimuth]
+    out = [0.0]
+    for k in range(1, trajectory.n_steps + 1):
+        ax, ay, az = alpha
+        w, _ = manual_rates(x, h, a, e2, U)
+        wc, _ = manual_rates(xr, h, a, e2, U)
+        dw = [wc[i] - w[i] for i in range(3)]
+        alpha = [ax + tau * (-w[1] * az + w[2] * ay + dw[0]),
+                 ay + tau * (w[0] * az - w[2] * ax + dw[1]),
+                 az + tau * (-w[0] * ay + w[1] * ax + dw[2])]
+        xr = manual_computer_step(xr, a_xi + a_eta * az - a_zeta * ay,
+                                  a_eta - a_xi * az + a_zeta * ax, Vz, h, tau, a, e2, U)
+        x = manual_computer_step(x, a_xi, a_eta, Vz, h, tau, a, e2, U)
+        if k % every == 0:
+            d = np.arctan2(xr[1], xr[0]) - np.arctan2(x[1], x[0])
+            out.append((d + np.pi) % (2 * np.pi) - np.pi)
+    return np.array(out)
 
 
 # --------------------------------------------------------------------------------------
