@@ -293,6 +293,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
     SpecError, UnknownNameError
         Unknown keys or items, values that are not positive, wrong units.
     """
+    from ins_errors.numeric.integrators import whole_steps
     from ins_errors.spec_schema import validate
 
     try:
@@ -355,7 +356,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             if t > operating_time * (1 + 1e-12):
                 raise SpecError(f"items.{name}: check time {t / HOUR:g} h is after the "
                                 f"operating time {operating_time / HOUR:g} h")
-            if abs(t / step - round(t / step)) > 1e-9:
+            if whole_steps(t, step) is None:
                 raise SpecError(f"items.{name}: check time {t:g} s is not on the "
                                 f"{step:g} s analysis grid")
         if name in ("position_error", "heading_drift") and any(t <= 0 for t in times):

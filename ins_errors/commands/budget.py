@@ -212,6 +212,7 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
 
     from ins_errors.analysis import budget as bd
     from ins_errors.analysis.monte_carlo import direct_monte_carlo, sampling_error
+    from ins_errors.numeric.integrators import whole_steps
     from ins_errors.specs import SpecError
     from ins_errors.units import parse_quantity
 
@@ -222,11 +223,11 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
     if duration <= 0 or step <= 0:
         raise SpecError("--mc-duration and --mc-step must be > 0")
     grid = spec.step
-    if abs(duration / grid - round(duration / grid)) > 1e-9 or duration > spec.operating_time:
+    if whole_steps(duration, grid) is None or duration > spec.operating_time:
         raise SpecError(f"--mc-duration must be a whole number of the spec's {grid:g} s "
                         f"analysis steps, at most the operating time "
                         f"({bd.format_time(spec.operating_time)}); got {args.mc_duration!r}")
-    if abs(grid / step - round(grid / step)) > 1e-9:
+    if whole_steps(grid, step) is None:
         raise SpecError(f"--mc-step must divide the spec's {grid:g} s analysis step; got "
                         f"{args.mc_step!r}")
     budget = allocation.budget
