@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ins_errors.numeric.linear_system import growth_rate
+
 GROWTH_SHOWN = 10.0
 """E-foldings of a growing mode the model lacks (its rate times the time compared) from
 which the effect is given as exponential growth instead of a figure (a factor of 2e4
@@ -20,19 +22,6 @@ over the model)."""
 
 HOURS = (1.0, 24.0)
 """Times compared by default, h."""
-
-
-def growth_rate(f: np.ndarray) -> float:
-    """Largest real part of the eigenvalues of F (1/s); 0 when F is not finite.
-
-    Parameters
-    ----------
-    f : ndarray, shape (n, n)
-        A (frozen) system matrix, 1/s.
-    """
-    if not np.all(np.isfinite(f)) or not f.size:
-        return 0.0
-    return float(np.linalg.eigvals(f).real.max())
 
 
 def mark_growth(effect: dict, hand: float, model: float,

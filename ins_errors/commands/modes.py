@@ -16,6 +16,7 @@ from __future__ import annotations
 import argparse
 
 from ins_errors.json_output import emit
+from ins_errors.time_text import duration_text
 
 FORMULAS = {
     "Schuler − Foucault": "2π/(ω̄ − Ω|sin φ|), ω̄ = √(g/R + Ω² sin² φ)",
@@ -50,15 +51,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "strapdown_ned's k_h1=0.0293/s (repeatable)")
     parser.add_argument("--json", action="store_true", help="machine-readable output (SI)")
     parser.set_defaults(func=run)
-
-
-def duration_text(seconds: float) -> str:
-    """A time in s, min, h or days, four significant digits."""
-    for limit, unit, size in ((120.0, "s", 1.0), (7200.0, "min", 60.0),
-                              (172800.0, "h", 3600.0)):
-        if seconds < limit:
-            return f"{seconds / size:.4g} {unit}"
-    return f"{seconds / 86400.0:.4g} days"
 
 
 def _eigenvalue(value: complex) -> str:

@@ -87,6 +87,19 @@ moving base (F, G, H, state and inputs at every grid time) may take: beyond it t
 covariance would swap or be killed by the system, so it is refused beforehand."""
 
 
+def growth_rate(f: np.ndarray) -> float:
+    """Largest real part of the eigenvalues of F (1/s); 0 when F is not finite.
+
+    Parameters
+    ----------
+    f : ndarray, shape (n, n)
+        A (frozen) system matrix, 1/s.
+    """
+    if not np.all(np.isfinite(f)) or not f.size:
+        return 0.0
+    return float(np.linalg.eigvals(f).real.max())
+
+
 def physical_memory() -> int | None:
     """The machine's physical memory, bytes, or None where the system does not say."""
     try:

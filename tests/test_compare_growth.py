@@ -1,0 +1,56 @@
+"""A comparison warns when the linear error equations grow exponentially over the run.
+
+A probe's model file with a sign slip in the transport rate ran to 1.7e4 m/s of velocity
+error with only a validity warning ("the ratio does not scale steadily"); the growing
+mode was named by ``check`` but not by ``compare``. The reference here is the textbook
+e-folding time of an undamped vertical channel, √(R/2g), not the code's own figure.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from ins_errors import load_model
+from ins_errors.numeric import strapdown_truth as st
+from ins_errors.numeric import trajectories as tr
+from ins_errors.numeric.compare import compare
+
+GROWS = "grow exponentially"
+
+
+def _strapdown(hours: float, damped: bool):
+    model = load_model("strapdown_ned")
+    w0 = 2 * np.pi / 300.0
+    gains = {"k_h1": 2 * 0.7 * w0, "k_h2": w0**2 + 2 * 9.80665 / 6_371_000.0} if damped else {}
+    p = model.parameter_vector(**gains)
+    motion = st.trajectory(model, st.static(np.radians(50.0)), hours * 3600.0, 10.0, p=p)
+    return compare(model, motion, [{"accel_bias_y": 1e-4}], record_interval=60.0,
+                   refined=False, validity_threshold=None, integration_error=False)[0]
+
+
+def test_an_undamped_vertical_channel_is_named_with_its_textbook_e_folding_time():
+    [warning] = [w for w in _strapdown(2.0, damped=False).warnings if GROWS in w]
+    minutes = float(re.search(r"×e every ([\d.]+) min", warning).group(1))
+    # √(R/2g) at 50°: WGS-84 normal gravity (Somigliana) and the Gaussian mean radius
+    a, e2, s2 = 6_378_137.0, 0.00669437999014, math.sin(math.radians(50.0)) ** 2
+    g = 9.7803253359 * (1 + 0.00193185265241 * s2) / math.sqrt(1 - e2 * s2)
+    radius = math.sqrt(a * (1 - e2) / (1 - e2 * s2) ** 1.5 * a / math.sqrt(1 - e2 * s2))
+    assert minutes == pytest.approx(math.sqrt(radius / (2 * g)) / 60.0, rel=2e-3)
+    assert "ins-errors modes strapdown_ned" in warning
+
+
+@pytest.mark.parametrize("hours, damped", [(2.0, True), (0.25, False)])
+def test_no_warning_for_a_damped_channel_or_a_run_shorter_than_three_e_foldings(hours, damped):
+    assert not [w for w in _strapdown(hours, damped).warnings if GROWS in w]
+
+
+def test_the_schuler_loop_of_a_platform_model_does_not_warn():
+    model = load_model("orthodromic")
+    motion = tr.trajectory(model, tr.static_profile(np.radians(50.0)), 24 * 3600.0, 60.0)
+    [result] = compare(model, motion, [{"accel_bias_y": 1e-4}], record_interval=600.0,
+                       refined=False, validity_threshold=None, integration_error=False)
+    assert not [w for w in result.warnings if GROWS in w]
