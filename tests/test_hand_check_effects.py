@@ -156,3 +156,89 @@ def test_a_difference_the_models_own_mode_does_not_reach_keeps_its_figure():
     nothing = {"position_1h": 1e-9, "position_24h": 5e-7, **floors}
     mark_growth(nothing, rate, rate)
     assert nothing["exponential_24h"] is False
+
+
+STRAPDOWN_LOOP = '''"""The Schuler loop of a strapdown computer: the tilt is the
+computer's pitch θ, a state of its own (no platform angle), read out as ``pitch``."""
+import sympy as sp
+
+from ins_errors.modeling import (Mechanisation, ModelDefinition, Parameter, Variable,
+                                 computed_symbols, error_source, error_states_of)
+
+STATES = (Variable("V", "m/s", "north velocity", "V"),
+          Variable("phi", "rad", "latitude", r"\\\\varphi"),
+          Variable("theta", "rad", "computed pitch of the body", r"\\\\theta"))
+INPUTS = (Variable("a_N", "m/s**2", "true north specific force", "a_N"),)
+PARAMETERS = (Parameter("R", "m", "Earth radius", "R", 6_371_000.0),
+              Parameter("g", "m/s**2", "gravity", "g", 9.80665))
+SOURCES = (error_source("gyro_drift", "rad/s", "deg/h", "constant", None, r"\\\\varepsilon",
+                        "pitch gyro drift"),
+           error_source("accel_bias", "m/s**2", "ug", "constant", None, r"\\\\nabla",
+                        "accelerometer bias"),
+           error_source("initial_tilt", "rad", "arcsec", "initial", None, r"\\\\theta_0",
+                        "initial pitch error"))
+OUTPUTS = (Variable("latitude", "rad", "latitude", r"\\\\varphi"),
+           Variable("v_N", "m/s", "north velocity", "v_N"),
+           Variable("pitch", "rad", "pitch", r"\\\\theta"))
+INITIAL_CONDITIONS = (Variable("latitude", "rad", "initial latitude", r"\\\\varphi_0"),
+                      Variable("v_N", "m/s", "initial north velocity", "v_{N0}"))
+V, phi, theta = (v.symbol for v in STATES)
+V_c, phi_c, theta_c = computed_symbols(STATES)
+(a_N,) = (v.symbol for v in INPUTS)
+R, g = (v.symbol for v in PARAMETERS)
+drift, bias, tilt0 = (v.symbol for v in SOURCES)
+
+
+def outputs(eq, state, inputs):
+    velocity, latitude, pitch = state
+    return sp.Matrix([latitude, velocity, pitch])
+
+
+def build():
+    ideal = Mechanisation()
+    ideal_rhs = sp.Matrix([a_N * sp.cos(theta) + g * sp.sin(theta), V / R, V / R - V / R])
+    real = Mechanisation(computed=True)
+    real_rhs = sp.Matrix([(a_N + bias) * sp.cos(theta_c) + g * sp.sin(theta_c), V_c / R,
+                          V / R + drift - V_c / R])
+    lat0, v0 = (v.symbol for v in INITIAL_CONDITIONS)
+    return ModelDefinition(
+        name="strapdown_loop", title="Strapdown Schuler loop", source="a test",
+        states=STATES, error_states=error_states_of(STATES, []),
+        real_states=[V_c, phi_c, theta_c], inputs=INPUTS, parameters=PARAMETERS,
+        sources=SOURCES, outputs=OUTPUTS, initial_conditions=INITIAL_CONDITIONS,
+        ideal=ideal, real=real, ideal_rhs=ideal_rhs, real_rhs=real_rhs,
+        output_map=outputs, initial_state=sp.Matrix([v0, lat0, 0]),
+        initial_real_state=sp.Matrix([v0, lat0, tilt0]))
+'''
+
+
+def test_a_model_without_platform_angles_reads_its_attitude_outputs(tmp_path, capsys,
+                                                                     monkeypatch):
+    """A strapdown computer's tilt is a state of its own, not a platform angle: the
+    attitude effect was printed as 0″ for every mistake. It is read from the pitch output
+    now; with ψ = −θ the loop is the tutorial's, so the figures are _worst's."""
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))
+    model = tmp_path / "strapdown_loop.py"
+    model.write_text(STRAPDOWN_LOOP, encoding="utf-8")
+    hand = tmp_path / "hand.txt"
+    hand.write_text("dot(delta_V) = g*delta_theta + accel_bias\ndot(delta_phi) = delta_V/R\n"
+                    "dot(delta_theta) = delta_V/R + gyro_drift\n", encoding="utf-8")
+    assert main(["check", str(model), str(hand), "--json"]) == 1
+    data = json.loads(capsys.readouterr().out)
+    (effect,) = [f["effect"] for e in data["equations"] for f in e["findings"]
+                 if f.get("effect")]
+    position, attitude = _worst({"psi_V": -1 / R}, 1.0)
+    assert effect["attitude_1h"] == pytest.approx(attitude, rel=1e-5)
+    assert effect["position_1h"] == pytest.approx(position, rel=1e-5)
+
+
+def test_an_effect_without_any_attitude_reading_says_so():
+    from ins_errors.checker.classify import Finding
+    from ins_errors.checker.report import _effect as effect_text
+
+    effect = {"point": "static", "position_1h": 12.0, "position_24h": 340.0,
+              "attitude_1h": None, "attitude_24h": None}
+    finding = Finding.__new__(Finding)
+    object.__setattr__(finding, "effect", effect)
+    text = effect_text(finding)
+    assert "attitude n/a" in text and "0″" not in text

@@ -15,9 +15,11 @@ in:
 
 The effect is the largest change over the cases (the worst single error, as the matrix
 check reports) of the position error (latitude and longitude errors, m, on a sphere of
-the model's radius) and of the platform attitude error (the error states that are
-platform angles, rad) after 1 h and 24 h, at the reference point where the finding is
-largest (for a finding without one, the largest over the points). The 24 h state is the
+the model's radius) and of the attitude error (the error states that are platform
+angles, rad; for a model without them, a strapdown INS, the changes of its roll, pitch
+and heading outputs; neither: no attitude figure, None) after 1 h and 24 h, at the
+reference point where the finding is largest (for a finding without one, the largest
+over the points). The 24 h state is the
 1 h transition matrix to the 24th power (exact for frozen coefficients).
 
 Each change is compared with the rounding floor of the two propagations
@@ -44,6 +46,9 @@ from ins_errors.numeric.blas_threads import import_limited, one_blas_thread
 
 HOURS = (1.0, 24.0)
 """Propagation times, h."""
+
+ATTITUDE_OUTPUTS = ("roll", "pitch", "heading")
+"""Outputs whose changes make the attitude effect of a model without platform angles."""
 
 STEP = 60.0
 """Sample step (s) the rounding floor counts steps in (the matrix check's, whose static
@@ -100,10 +105,12 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
     magnitude = comparison.magnitude
     n, k = len(states), len(comparison.points)
     radius, _ = _earth(d)
+    platform = [i for i, v in enumerate(d.error_states) if i >= len(d.states) and v.unit == "rad"]
+    read = ("latitude", "longitude") + (() if platform else ATTITUDE_OUTPUTS)
     try:
         rows = [identified(side.state_rhs[s], identify) for s in states]
         outputs = {name: identified(side.delta(name), identify)
-                   for name in ("latitude", "longitude") if name in side.outputs}
+                   for name in read if name in side.outputs}
         entries = []  # (kind, row, quantity, coefficient): evaluated in one call
         for i, row in enumerate(rows):
             for b, c in comparison.linear_parts(row)[0].items():
@@ -126,7 +133,14 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
                    if "latitude" in side.outputs else np.ones(k))
     except (_UnresolvedError, KeyError):
         return
-    platform = [i for i, v in enumerate(d.error_states) if i >= len(d.states) and v.unit == "rad"]
+    angles = [name for name in ATTITUDE_OUTPUTS if name in readout]
+
+    def attitude(point: int, x: np.ndarray) -> np.ndarray:
+        """Attitude error (rad) of the states x (n, m): the platform angles, or the
+        changes of the roll, pitch and heading outputs."""
+        if platform:
+            return x[platform]
+        return np.array([readout[name][point] @ x for name in angles])
     x0 = np.array([magnitude[s] for s in symbols])
     items = {}
     for eq, its in zip(resolver.hand.equations, prepared, strict=True):
@@ -163,17 +177,22 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
             rows_base, rows_changed = position_rows(p), position_rows(p, out_delta)
             units = (max(float(np.linalg.norm(np.abs(r) @ x0))
                          for r in (rows_base, rows_changed)),
-                     float(np.linalg.norm(x0[platform])) if platform else 0.0)
+                     float(np.linalg.norm(np.abs(attitude(p, np.eye(n))) @ x0))
+                     if platform or angles else 0.0)
             effect: dict = {}
             for hours, base, x in zip(HOURS, base_x, changed, strict=True):
                 tag = hours_tag(hours)
                 dpos = np.linalg.norm(rows_changed @ x - rows_base @ base, axis=0)
-                datt = (np.linalg.norm((x - base)[platform], axis=0) if platform
-                        else np.zeros(x.shape[1]))
+                datt = (np.linalg.norm(attitude(p, x - base), axis=0) if platform or angles
+                        else None)
                 largest = max(float(np.abs(r / scale).max(initial=0.0)) for r in (base, x))
                 steps = round(hours * 3600.0 / STEP)
                 for what, diffs, unit in (("position", dpos, units[0]),
                                           ("attitude", datt, units[1])):
+                    if diffs is None:  # no attitude error to read: no figure, not 0
+                        effect.update({f"{what}_{tag}": None, f"{what}_floor_{tag}": None,
+                                       f"{what}_case_{tag}": None})
+                        continue
                     value, j = _worst(diffs)
                     floor = rounding_floor(largest, n + len(sources), steps, unit)
                     effect[f"{what}_{tag}"] = value

@@ -124,7 +124,8 @@ def _effect(f: Finding) -> str:
         floor_a = e.get(f"attitude_floor_{tag}", 0.0)
         text = (f"{int(hours)} h: "
                 + (_length(position) if position > floor_p else below(floor_p, "m")) + ", "
-                + (_angle(attitude) if attitude > floor_a
+                + ("attitude n/a" if attitude is None
+                   else _angle(attitude) if attitude > floor_a
                    else below(math.degrees(floor_a) * 3600, "″")))
         cases = [c for c in (e.get(f"position_case_{tag}"), e.get(f"attitude_case_{tag}"))
                  if c]
