@@ -363,3 +363,72 @@ def test_an_indexed_latex_letter_the_model_has_without_index_is_named(tmp_path, 
     out = capsys.readouterr().out
     assert "unknown symbol 'nabla_N'; did you mean 'nabla' (accel_bias" in out
     assert "'a_N'" not in out
+
+
+def _ground_velocity_after(d, values, seconds):
+    """(v_N, v_E) of the model's outputs after an ideal run of ``seconds`` (RK4, 0.5 s
+    steps; negative: backwards) from the point ``values``, its inputs held but the
+    height following the vertical velocity."""
+    import numpy as np
+    import sympy as sp
+
+    names = [o.name for o in d.outputs]
+    rhs = sp.lambdify([d.x, d.u, d.p], list(d.ideal_rhs_expanded()), "numpy")
+    out = sp.lambdify([d.x, d.u, d.p], list(d.outputs_expanded()), "numpy")
+    inputs = {v.name: k for k, v in enumerate(d.inputs)}
+    x = np.array([values[s] for s in d.x])
+    u0 = np.array([values[s] for s in d.u])
+    p = [values[s] for s in d.p]
+
+    def inputs_at(t):
+        u = u0.copy()
+        if "h" in inputs:
+            u[inputs["h"]] += u0[inputs["V_zeta"]] * t
+        return u
+
+    def f(t, x):
+        return np.asarray(rhs(x, inputs_at(t), p), dtype=float)
+
+    n = 4
+    dt = seconds / n
+    t = 0.0
+    for _ in range(n):
+        k1 = f(t, x)
+        k2 = f(t + dt / 2, x + dt / 2 * k1)
+        k3 = f(t + dt / 2, x + dt / 2 * k2)
+        k4 = f(t + dt, x + dt * k3)
+        x, t = x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4), t + dt
+    y = out(x, inputs_at(t), p)
+    return np.array([float(y[names.index("v_N")]), float(y[names.index("v_E")])])
+
+
+@pytest.mark.parametrize("model", ["orthodromic", "free_azimuth"])
+def test_the_climb_point_accelerates_along_the_ground_track(model):
+    """At the climb point the ground velocity (the model's own v_N, v_E outputs) grows by
+    1 m/s² along the track and does not turn off it: the rate is measured by a central
+    difference of two 2 s ideal runs from the point with its solved inputs, not from how
+    the point was built. The old point accelerated the absolute velocity states (they
+    carry the Earth's rotation, ~20° off the track at 150 m/s): 0.94 m/s² along and
+    0.36 m/s² across. A great circle turns in azimuth at v_E tan φ / R, so its ground
+    velocity has an across-track rate V v_E tan φ / R ≈ 0.004 m/s² here; the orthodromic
+    climb follows its orthodrome and shows that, the free-azimuth climb (whose velocity
+    axes keep a fixed absolute azimuth) turns by the Earth rate's vertical part besides."""
+    import numpy as np
+
+    from ins_errors.checker.reference import reference_points
+    from ins_errors.model_lookup import definition_of, resolve
+
+    d = definition_of(resolve(model))
+    point = next(p for p in reference_points(d).points if p.motion == "climb")
+    v = _ground_velocity_after(d, point.values, 0.0)
+    rate = (_ground_velocity_after(d, point.values, 2.0)
+            - _ground_velocity_after(d, point.values, -2.0)) / 4.0
+    speed = np.hypot(*v)
+    along, across = (v @ rate) / speed, (v[0] * rate[1] - v[1] * rate[0]) / speed
+    assert speed == pytest.approx(150.0, rel=1e-9)
+    assert along == pytest.approx(1.0, abs=1e-4)
+    assert abs(across) < 0.015
+    if model == "orthodromic":
+        latitude, radius = np.radians(50.0), 6_378_137.0 + 3_000.0
+        great_circle = speed * v[1] * np.tan(latitude) / radius
+        assert across == pytest.approx(great_circle, rel=0.01)

@@ -8,14 +8,21 @@ multiplies. Both come from the model's own SymPy definition (no generated code):
   longitude, heading where the model has one, north and east velocity) into its state;
   the horizontal apparent accelerations (inputs ``a_*``) are solved from its
   ``ideal_rhs`` so that the velocity states stay constant (or change along the track
-  at a stated rate); the vertical apparent acceleration (``a_zeta``) is 9.81 m/s²,
-  ``h`` and ``V_zeta`` are set where the model has them. The motions are
+  at a stated rate: the ground velocity in the axes of the velocity states, i.e. the
+  states less the Earth's rotation they carry, grows along itself, while that
+  rotation part follows the position and height); the vertical apparent acceleration
+  (``a_zeta``) is 9.81 m/s², ``h`` and ``V_zeta`` are set where the model has them.
+  The motions are
 
   - static base at φ = 50°, λ = 30°, heading 30°, h = 0 (every model);
   - a great-circle cruise at 250 m/s, h = 10 km: three points 0, 2000 and 4000 km along
     the great circle that leaves (50°, 30°) at track 60° (every model);
   - a climbing, accelerating leg of the same circle: 150 m/s, h = 3 km, vertical
-    velocity 10 m/s, 1 m/s² along track (models with a ``V_zeta`` input only).
+    velocity 10 m/s, ground speed growing by 1 m/s² along track (models with a
+    ``V_zeta`` input only). For ``orthodromic`` the leg keeps to its orthodrome (the
+    ground velocity turns with the great circle, 0.004 m/s² across); ``free_azimuth``'s
+    velocity axes keep a fixed absolute azimuth, so its leg turns by the Earth rate's
+    vertical part besides (0.012 m/s² across in all).
 
   A model that cannot fly a motion is checked on the others; :func:`reference_points`
   says which were left out and why. A ``@scope static base`` directive keeps only the
@@ -170,8 +177,49 @@ def _evaluators(d: ModelDefinition):
     symbols = list(closed)
     intermediates = sp.lambdify([x, u, p], [closed[s] for s in symbols], "numpy",
                                 docstring_limit=0)
-    _EVALUATORS[id(d)] = (d, initial, rhs, jacobian, intermediates, symbols)
-    return initial, rhs, jacobian, intermediates, symbols
+    earth = _earth_part(d)
+    _EVALUATORS[id(d)] = (d, initial, rhs, jacobian, intermediates, symbols, earth)
+    return initial, rhs, jacobian, intermediates, symbols, earth
+
+
+_GROUND_VELOCITY = ("v_N", "v_E", "v_N0", "v_E0", "v_D0", "v_D", "v_U")
+"""Initial conditions that are the relative (ground) velocity."""
+
+
+def _earth_part(d: ModelDefinition):
+    """The Earth's rotation carried by the model's velocity states, as a function of x.
+
+    The model's ``initial_state`` evaluated at the state's own position and heading (its
+    outputs named like the initial conditions) with zero ground velocity: the consistent
+    state of a vehicle at rest there (what :func:`ins_errors.numeric.trajectories.\
+consistent_state` builds from the generated functions, here from the definition). For
+    a model whose velocity states are absolute (``orthodromic``'s V_ξ, V_η,
+    ``free_azimuth``'s V_x, V_y) this is U × r in the states' axes; for one whose
+    velocity states are already relative it is identically zero.
+
+    Returns
+    -------
+    tuple or None
+        ``(rows, e, e_x, e_u)``: the velocity-state indices and three functions of
+        ``(x, u, p, c)`` giving that part (shape (len(rows),)) and its Jacobians in the
+        state (len(rows), n) and the inputs (len(rows), m); None when the part is zero.
+    """
+    rows = [k for k, v in enumerate(d.states) if v.unit == "m/s"]
+    outputs = {v.name: expr for v, expr in zip(d.outputs, d.outputs_expanded(),
+                                                strict=True)}
+    at_rest = {}
+    for v in d.initial_conditions:
+        if v.name in _GROUND_VELOCITY:
+            at_rest[v.symbol] = sp.S.Zero
+        elif v.name in outputs:
+            at_rest[v.symbol] = outputs[v.name]
+    part = sp.Matrix([d.initial_state[k] for k in rows]).xreplace(at_rest)
+    if not rows or all(sp.simplify(e) == 0 for e in part):
+        return None
+    args = [d.x, d.u, d.p, d.c]
+    return (rows,
+            *(sp.lambdify(args, expr, "numpy", docstring_limit=0)
+              for expr in (part, part.jacobian(d.x), part.jacobian(d.u))))
 
 
 _HEIGHTS = ("h", "h_ref", "height")
@@ -227,7 +275,7 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
         raise InsErrorsError(f"model {d.name!r}: the checker's reference motions cannot set "
                              f"the initial condition {strange[0]!r} (they set "
                              f"{', '.join(sorted(settable))})")
-    initial, rhs, jacobian, intermediates, symbols = _evaluators(d)
+    initial, rhs, jacobian, intermediates, symbols, earth = _evaluators(d)
     radius, _ = _earth(d)
     p = [float(v.default) for v in d.parameters]
     names_c = [v.name for v in d.initial_conditions]
@@ -262,11 +310,27 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
         if accel:
             rates = np.asarray(rhs(x, u, p), dtype=float).ravel()
             target = np.zeros_like(rates)
-            speed = np.linalg.norm([x[k] for k in velocity]) if velocity else 0.0
+            b = np.asarray(jacobian(x, u, p), dtype=float).reshape(len(x), len(accel))
+            # the ground velocity in the velocity states' axes: the states less the
+            # Earth's rotation they carry (zero for relative-velocity states)
+            relative = {k: x[k] for k in velocity}
+            if earth is not None and m.acceleration:
+                rows_e, e, e_x, e_u = earth
+                e_now = np.asarray(e(x, u, p, c), dtype=float).ravel()
+                j_x = np.asarray(e_x(x, u, p, c), dtype=float).reshape(len(rows_e), len(x))
+                j_u = np.asarray(e_u(x, u, p, c), dtype=float).reshape(len(rows_e), len(u))
+                u_rate = np.array([m.climb if n in _HEIGHTS else 0.0 for n in names_u])
+                moved = j_x @ b
+                for i, k in enumerate(rows_e):
+                    relative[k] = x[k] - e_now[i]
+                    # the Earth part follows the position: d/dt e(x(t), u(t)), with
+                    # ẋ = rates + b a (the a-dependent part moves to the left side)
+                    target[k] = j_x[i] @ rates + j_u[i] @ u_rate
+                    b[k] = b[k] - moved[i]
+            speed = np.linalg.norm([relative[k] for k in velocity]) if velocity else 0.0
             if speed > 0 and m.acceleration:
                 for k in velocity:
-                    target[k] = m.acceleration * x[k] / speed
-            b = np.asarray(jacobian(x, u, p), dtype=float).reshape(len(x), len(accel))
+                    target[k] += m.acceleration * relative[k] / speed
             # every state the solved inputs drive: velocities follow the motion's
             # along-track acceleration, the others (attitude) stay as they are
             rows = [i for i in range(len(x)) if np.any(b[i] != 0)]
