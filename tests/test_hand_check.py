@@ -161,6 +161,37 @@ def test_knock_on_of_a_definition_dropping_small_terms_is_a_dropped_small_term()
     assert report.exit_status == 0
 
 
+def test_a_line_wrong_on_its_own_still_carries_the_knock_on_of_a_wrong_definition():
+    """ΔV̇_ξ uses Δg'_ξ; with Δg'_ξ's Δu31 term doubled and ΔV̇_ξ adding a Δu31 term of
+    its own, the Δu31 coefficient of ΔV̇_ξ is wrong twice over: the line's own finding
+    (what stays with the right Δg'_ξ: its extra U² R_E Δu31) and a knock-on of Δg'_ξ (the
+    doubled U² R_E u11 Δu31), sized by that part alone. Each alone is one finding."""
+    g_line, v_line = line_of(CORRECT, "Delta_g_xi"), line_of(CORRECT, "dot(Delta_V_xi)")
+    wrong_g = CORRECT.replace("+ U**2*R_E*u11*Delta_u31", "+ 2*U**2*R_E*u11*Delta_u31")
+    own = "+ Delta_g_xi + Delta_a"
+    both = wrong_g.replace(own, "+ Delta_g_xi + U**2*R_E*Delta_u31 + Delta_a")
+    assert wrong_g != CORRECT and both != wrong_g
+    root = f"line {g_line} Delta_g_xi"
+    report = check(both)
+    found = [(f.role, f.roots) for f in results_at(report, v_line)[0].findings
+             if f.quantity == "delta_u31"]
+    assert found == [("root", ()), ("knock-on", (root,))]
+    part, _ = _finding(report, v_line, "delta_u31", role="knock-on")
+    alone, _ = _finding(check(wrong_g), v_line, "delta_u31")
+    assert (alone.role, alone.roots) == ("knock-on", (root,))
+    # the knock-on part is what the doubled term adds, as when the line has nothing else
+    assert part.size == pytest.approx(alone.size, rel=1e-9)
+    assert part.kind == alone.kind and part.severity == alone.severity
+    # the line's own part is what it has with the right Δg'_ξ
+    mine, _ = _finding(report, v_line, "delta_u31", role="root")
+    only, _ = _finding(check(CORRECT.replace(own, "+ Delta_g_xi + U**2*R_E*Delta_u31 "
+                                                  "+ Delta_a")), v_line, "delta_u31")
+    assert (mine.kind, mine.size) == (only.kind, pytest.approx(only.size, rel=1e-9))
+    # the definition's own report lists the line among its knock-ons
+    (g_result,) = results_at(report, g_line)
+    assert [r.equation.line for r, _ in report.knock_ons(g_result)] == [v_line]
+
+
 def test_magnitudes_follow_the_schuler_loop():
     """δV = R ω_s δθ with ω_s = √(g/R): the Schuler period is the textbook 84.4 min."""
     from ins_errors.checker.reference import schuler_magnitudes
@@ -202,10 +233,14 @@ def test_latex_and_text_forms_give_the_same_report(manual_reports):
     assert len(differing) <= 2  # the title and the summary line name the file
 
 
-def _finding(report, line, quantity, form=0, label=None):
+def _finding(report, line, quantity, form=0, label=None, role=None):
+    """The finding of ``quantity`` at ``line`` (the line's own one first, unless ``role``
+    asks for the knock-on part that may come with it)."""
     (result,) = [r for r in results_at(report, line) if r.form == form
                  and (label is None or r.equation.label == label)]
-    return {f.quantity: f for f in result.findings}.get(quantity), result
+    found = [f for f in result.findings if f.quantity == quantity
+             and (role is None or f.role == role)]
+    return (found[0] if found else None), result
 
 
 def _manual_line(start, after=0):
@@ -270,11 +305,32 @@ def test_manual_findings(manual_reports):
     assert (f.kind, f.severity, f.role) == ("wrong symbol or index", "mistake, small effect",
                                             "root")
     assert f.detail == "u21 written where u11 belongs" and f.size < 1e-3
-    # ΔR_N = ΔR_E (1 − e²) is wrong even with the right ΔR_E: a root of its own
+    # ... and its D (the final one) is wrong too: a knock-on part of that coefficient,
+    # the same as in ΔV̇_η, whose D term is printed identically (u21 in both)
+    final_d = f"line {_manual_line('D =', expanded)} D"
+    part, _ = _finding(text, _manual_line("dot(Delta_V_xi)", expanded), "delta_u31",
+                       role="knock-on")
+    eta, _ = _finding(text, _manual_line("dot(Delta_V_eta)", expanded), "delta_u31")
+    assert part.roots == eta.roots == (final_d,) and eta.role == "knock-on"
+    # ΔR_N = ΔR_E (1 − e²) is wrong even with the right ΔR_E: a root of its own, and it
+    # carries D's factor 2 through ΔR_E besides
     ref = _radius_derivatives()
     assert abs(ref["1-e2"] * ref["dR_E"] / ref["dR_N"] - 1) > 0.5  # independent: ≈ 1/3
     f, _ = _finding(text, _manual_line("Delta_R_N"), "delta_u31")
     assert (f.severity, f.role) == ("mistake", "root")
+    f, _ = _finding(text, _manual_line("Delta_R_N"), "delta_u31", role="knock-on")
+    assert f.roots == (f"line {_manual_line('D =')} D",)
+    # the expanded Δv_N writes that ΔR_N inline, D (1 − e²)/cos φ Δu31 with the final D:
+    # its own mistake stays with the right D (the ≈ 1/3 above), D's part is a knock-on
+    v_n = _manual_line("Delta_v_N", expanded)
+    mine, _ = _finding(text, v_n, "delta_u31")
+    part, _ = _finding(text, v_n, "delta_u31", role="knock-on")
+    assert (mine.role, part.roots) == ("root", (final_d,))
+    (d_result,) = [r for r in results_at(text, _manual_line("D =", expanded))
+                   if r.equation.label == "D"]
+    assert {r.equation.line for r, _ in text.knock_ons(d_result)} == {
+        _manual_line(s, expanded) for s in ("dot(Delta_V_xi)", "dot(Delta_V_eta)",
+                                            "Delta_v_N", "v_E =")}
     # Δλ = ... / (cos²φ cos 2λ): the second printed form is wrong, the first right
     lam = _manual_line("Delta_lam", expanded)
     assert _finding(text, lam, "delta_u32", form=0)[1].status == "agrees"

@@ -99,6 +99,12 @@ class Finding:
         ``"root"`` (the line's own) or ``"knock-on"`` (from definitions it uses).
     roots : tuple of str
         For a knock-on: the definitions it comes from (``"line 49 Delta_R_E"``).
+    part : bool
+        A knock-on that is only part of its coefficient's difference: the line gets the
+        same coefficient wrong on its own as well (a root finding for the same quantity
+        comes with it). Its size and kind are those of the difference the definitions
+        make (as written against isolated); ``hand``/``model`` are the whole
+        coefficients.
     effect : dict
         Effect on the error trajectory (see :mod:`ins_errors.checker.effect`), if
         computed: ``point``; for each time (``1h``, ``24h``) the worst single case's
@@ -118,6 +124,7 @@ class Finding:
     detail: str = ""
     role: str = ROOT
     roots: tuple[str, ...] = ()
+    part: bool = False
     effect: dict = field(default_factory=dict, compare=False)
 
     @property
@@ -486,6 +493,10 @@ def line_findings(eq: HandEquation, item: Item, comparison: Comparison, identify
     Only differences from the exact model count; the declared and isolated comparisons
     say what each one is: a declared drop (gone once the declaration is applied), a
     knock-on (gone once the definitions the line uses are correct) or the line's own.
+    A difference that isolation changes without removing is both: the line's own
+    finding (what remains) and a knock-on *part* (what the definitions add, from the
+    line as written against the line isolated), so a definition's mistake reaches every
+    line that uses it, whatever else the line gets wrong.
     """
     full = comparison.compare(item.hand, item.model_full, item.hand_display, diagnose=False)
     if not full:
@@ -500,6 +511,7 @@ def line_findings(eq: HandEquation, item: Item, comparison: Comparison, identify
         trusted=item.hand_isolated is not item.hand)}
     names = {b.name: s for b, s in zip(comparison.basis, comparison.symbols, strict=True)}
     raw = None
+    parts: dict[str, Finding] | None = None
     findings = []
     for f in full:
         if f.quantity not in declared_quantities:
@@ -522,6 +534,19 @@ def line_findings(eq: HandEquation, item: Item, comparison: Comparison, identify
                                         detail="a term the file declares it leaves out"))
                 continue
         findings.append(mine)
+        if item.hand_isolated is item.hand:
+            continue
+        if parts is None:  # what the definitions the line uses change, term by term
+            parts = {g.quantity: g for g in comparison.compare(
+                item.hand, item.hand_isolated, item.hand_display, diagnose=False,
+                trusted=True)}
+        part = parts.get(f.quantity)
+        if part is not None and part.severity != DROPPED:
+            shown = next(g for g in with_declared if g.quantity == f.quantity)
+            findings.append(replace(
+                part, role=KNOCK_ON, part=True, hand=shown.hand, model=shown.model,
+                detail="the part of this coefficient's difference that the definitions "
+                       "used bring (the line's own part is listed as its own)"))
     return findings
 
 
@@ -551,6 +576,8 @@ def assign_roots(results: list[EquationResult], prepared: list[list[Item]],
             if f.role != KNOCK_ON:
                 updated.append(f)
                 continue
+            if f.part and not wrong:
+                continue  # the line's own finding for this quantity says it all
             if wrong:
                 updated.append(replace(f, roots=tuple(s.reference for s in wrong)))
             elif dropping:
