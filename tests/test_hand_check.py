@@ -407,6 +407,13 @@ def test_report_reads_roots_then_knock_ons_then_drops(manual_reports):
     md = to_markdown(text)
     assert md.index("## Root mistakes") < md.index("## Declared drops")
     assert "Knock-on findings:" in md and "Schuler" in md
+    # the equation-by-equation table names a knock-on's roots, so a line with its own
+    # slip and a knock-on part in one term reads as two different findings
+    row = next(r for r in md.splitlines()
+               if r.startswith(f"| {_manual_line('dot(Delta_V_xi)', 55)} | `dot(delta_V_xi)` "
+                               "| error state"))
+    assert "(mistake, small effect, 1.1e-05)" in row
+    assert f"8.9e-06, from line {_manual_line('D =', 55)} D)" in row
 
 
 def test_unmagnified_velocities_turn_the_declared_drops_into_mistakes():

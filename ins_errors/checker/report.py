@@ -260,8 +260,10 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
             notes = "; ".join(r.notes)
             if r.findings:
                 kinds = ", ".join(
-                    f"{f.kind} ({f.severity}, {_size(f.size)})" if f.quantity.startswith("(")
-                    else f"{f.kind} on {f.quantity} ({f.severity}, {_size(f.size)})"
+                    (f"{f.kind} ({f.severity}, {_size(f.size)}" if f.quantity.startswith("(")
+                     else f"{f.kind} on {f.quantity} ({f.severity}, {_size(f.size)}")
+                    + (f", from {' and '.join(f.roots)})" if f.role == cl.KNOCK_ON and f.roots
+                       else ")")
                     for f in r.findings)
                 notes = f"{kinds}" + (f"; {notes}" if notes else "")
             lines.append(f"| {r.equation.line} | {_code(r.label)} | {_cell(r.target)} | "
