@@ -441,9 +441,12 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
     input_names = [i.name for i in model.inputs]
     output_names = [o.name for o in model.outputs]
     ic_names = [c.name for c in model.initial_conditions]
-    i_vn = _require(model, "initial_conditions", ["v_N"])[0]
+    i_vn = _velocity_index(model, NORTH)
+    if i_vn is None:
+        raise MotionError(f"model {model.name!r} has no initial condition v_N (or v_N0): "
+                          "the trajectory generators need the north velocity")
     # a north-channel model (no v_E) follows a static base only: checked in trajectory()
-    i_ve = ic_names.index("v_E") if "v_E" in ic_names else None
+    i_ve = _velocity_index(model, EAST)
     i_lat_out = _require(model, "outputs", ["latitude"])[0]
     output_names = [i.name for i in model.outputs]
     if frame == "track" and "heading" not in output_names:
@@ -955,13 +958,29 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         return strapdown_truth.trajectory(model, strapdown_truth.flight_from_profile(profile),
                                           duration, tau, p, truth=truth, stream=stream)
     n_steps = step_count(duration, tau)
+    unknown = unset_inputs(model)
+    if unknown:  # inputs the kinematics cannot set (body rates, specific forces)
+        if not profile.static:
+            raise MotionError(
+                f"model {model.name!r} cannot follow a moving motion: the motion "
+                f"generators cannot set its input(s) {', '.join(unknown)} (only "
+                "strapdown_ned has a flight generator for body rates and specific forces); "
+                "a static base works, and the Python API feeds any true motion through "
+                "Trajectory or a MotionSource (docs/cache.md)")
+        return _static_from_equations(model, profile, float(tau), n_steps, p)
     frame = profile.frame
     if profile.static and not any(o.name == "heading" for o in model.outputs):
         frame = "geographic"  # at rest the commands are zero in any frame
-    if not profile.static and not any(c.name == "v_E" for c in model.initial_conditions):
+    if not profile.static and _velocity_index(model, EAST) is None:
         raise MotionError(f"model {model.name!r} has no east velocity (initial condition "
-                          "v_E): it follows a static base only")
-    kin = _kinematics(model.key, frame)
+                          "v_E or v_E0): it follows a static base only")
+    try:
+        kin = _kinematics(model.key, frame)
+    except MotionError:
+        if not profile.static:
+            raise
+        # a model the kinematics cannot serve (e.g. without v_N) may still rest
+        return _static_from_equations(model, profile, float(tau), n_steps, p)
     # the description states only the reference values the run depends on
     description = profile.describe(references_used(model.key, frame))
     start = np.array([profile.latitude, profile.longitude, profile.heading])
@@ -992,6 +1011,42 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     traj = Trajectory.streamed(model.key, tau, n_steps, source, x0, u0, p, c0, description)
     traj._store()
     return traj
+
+
+KINEMATIC_INPUTS = ("h", "V_zeta", "a_zeta")
+"""Inputs the kinematic motion generators set by name, besides the apparent
+accelerations ``a_*``."""
+
+NORTH, EAST = ("v_N", "v_N0"), ("v_E", "v_E0")
+"""Names of the initial conditions a moving motion sets to the north and east velocity
+(``v_N0``, ``v_E0``: a model whose states are named ``v_N``, ``v_E``)."""
+
+
+def unset_inputs(model: Model) -> list[str]:
+    """Inputs of ``model`` the kinematic motion generators cannot set (any name but
+    :data:`KINEMATIC_INPUTS` and ``a_*``): such a model follows a static base only
+    (:mod:`ins_errors.numeric.static_rest`), except ``strapdown_ned``."""
+    return [i.name for i in model.inputs
+            if i.name not in KINEMATIC_INPUTS and not i.name.startswith("a_")]
+
+
+def _velocity_index(model: Model, names: tuple[str, ...]) -> int | None:
+    """Index of the first initial condition named one of ``names``, or None."""
+    conditions = [c.name for c in model.initial_conditions]
+    return next((conditions.index(n) for n in names if n in conditions), None)
+
+
+def _static_from_equations(model: Model, profile: Profile, tau: float, n_steps: int,
+                           p: np.ndarray) -> Trajectory:
+    """A static base solved from the model's equations (see
+    :mod:`ins_errors.numeric.static_rest`), one constant column."""
+    from ins_errors.numeric.static_rest import static_rest
+
+    values, _ = profile.commands(np.zeros(1))
+    x0, u0, c0, references = static_rest(model, profile.latitude, profile.longitude,
+                                         profile.heading, float(values[2, 0]), p)
+    return Trajectory(model.key, tau, n_steps, x0[:, None], u0[:, None], u0[:, None], p, c0,
+                      True, profile.describe(references))
 
 
 STATIC_TOLERANCE = 1e-12
