@@ -46,14 +46,17 @@ The vocabulary the machinery relies on:
 Rules a definition must follow (checked, with a one-line error naming the quantity, by
 :func:`ins_errors.symbolic.consistency.check_definition` before a model file is derived):
 symbols come from the declared names (``Variable.symbol``, real-valued; a bare
-``sp.Symbol("g")`` is a different symbol); every right-hand side has one row per state;
-every symbol an equation uses is declared (or recorded with ``let``); functions are
-SymPy's; an error source's kind is ``"constant"`` or ``"initial"`` and its display unit
-converts to its SI unit; parameter defaults are finite; each right-hand side has the unit
-of its state per second (:func:`~ins_errors.symbolic.consistency.check_dimensions`); and
-with the computed state on the true one and every error source zero, the real work gives
-the ideal derivatives and zero for the extra states (else the error equations would have
-a forcing that no error source explains).
+``sp.Symbol("g")`` is a different symbol), and no two states, error states, inputs,
+parameters, error sources or initial conditions share a name (one name is one symbol: name
+the initial east velocity ``v_E0`` when a state is ``v_E``; outputs may share); every
+right-hand side has one row per state; every symbol an equation uses is declared (or
+recorded with ``let``); functions are SymPy's; an error source's kind is ``"constant"`` or
+``"initial"`` and its display unit converts to its SI unit; parameter defaults are finite;
+each right-hand side has the unit of its state per second
+(:func:`~ins_errors.symbolic.consistency.check_dimensions`); and with the computed state on
+the true one and every error source zero, the real work gives the ideal derivatives and zero
+for the extra states (else the error equations would have a forcing that no error source
+explains).
 
 A complete small model, written step by step, is the tutorial
 ``examples/own_model/schuler_loop.py`` (a single-axis Schuler loop); the built-in

@@ -86,16 +86,41 @@ def _check_names(label: str, d: ModelDefinition) -> None:
         if not math.isfinite(value):
             raise _fail(label, f"parameter {parameter.name!r}",
                         f"default {value} is not a finite number")
-    # names that become arguments of the same generated function must differ
-    for together in (("states", "inputs", "parameters", "sources"),
-                     ("initial_conditions", "inputs", "parameters", "sources")):
-        owner: dict[str, str] = {}
-        for group in together:
-            for v in groups[group]:
-                if v.name in owner:
-                    raise _fail(label, f"{group} {v.name!r}",
-                                f"the same name is also one of the {owner[v.name]}")
+    _check_shared_names(label, groups)
+
+
+RENAMED = {"initial_conditions": "0", "inputs": "_in", "parameters": "_par",
+           "sources": "_err", "error_states": "_err_state", "states": "_state"}
+"""Groups whose names become SymPy symbols (not the outputs, which are expressions: an
+output may share its name with a state or an initial condition), in the order a clash
+suggests renaming them, with the suffix suggested (``v_E`` -> ``v_E0``)."""
+
+
+def _check_shared_names(label: str, groups: dict[str, Sequence[Variable]]) -> None:
+    """Refuse a name used by two groups of :data:`RENAMED`: both would be one symbol (a
+    state ``v_E`` and an initial condition ``v_E`` make the current velocity print as
+    ``v_{E0}`` and the equations mix the two)."""
+    owner: dict[str, str] = {}
+    taken = {v.name for group in RENAMED for v in groups[group]}
+    for group in reversed(RENAMED):
+        for v in groups[group]:
+            if v.name not in owner:
                 owner[v.name] = group
+                continue
+            other = owner[v.name]
+            renamed = group if list(RENAMED).index(group) < list(RENAMED).index(other) \
+                else other
+            suggestion = v.name + RENAMED[renamed]
+            while suggestion in taken:
+                suggestion += "_"
+            raise _fail(label, f"{_one(other)} {v.name!r} and {_one(group)} {v.name!r}",
+                        "one name for two quantities makes them one SymPy symbol; rename "
+                        f"one of them, e.g. the {_one(renamed)} to {suggestion!r}")
+
+
+def _one(group: str) -> str:
+    """One member of a group, in words: ``initial_conditions`` -> ``initial condition``."""
+    return "error source" if group == "sources" else group.replace("_", " ")[:-1]
 
 
 def _column(label: str, quantity: str, value: object, rows: int, row_names: list[str],
@@ -176,14 +201,15 @@ def check_definition(d: ModelDefinition, label: str | None = None) -> None:
     """Raise a one-line :class:`~ins_errors.errors.ModelDefinitionError` if ``d`` is
     inconsistent.
 
-    Checks, in order: names (identifiers, unique, no clash between arguments of one
-    generated function); the kind of each error source (:data:`SOURCE_KINDS`); finite
-    parameter defaults; shapes of every right-hand side, output and initial state (one
-    row per state, no missing equation); that every symbol used is a declared state,
-    input, parameter, error source, initial condition or recorded intermediate, and every
-    function a SymPy one (in the equations, intermediates and domain conditions); that
-    the document groups name error states; and that the real work reduces to the ideal
-    work when the computed state is the true one and every error is off.
+    Checks, in order: names (identifiers, unique, and no name shared by two of the states,
+    error states, inputs, parameters, error sources and initial conditions, which would be
+    one SymPy symbol; outputs may share names); the kind of each error source
+    (:data:`SOURCE_KINDS`); finite parameter defaults; shapes of every right-hand side,
+    output and initial state (one row per state, no missing equation); that every symbol
+    used is a declared state, input, parameter, error source, initial condition or recorded
+    intermediate, and every function a SymPy one (in the equations, intermediates and domain
+    conditions); that the document groups name error states; and that the real work reduces
+    to the ideal work when the computed state is the true one and every error is off.
 
     Parameters
     ----------
