@@ -90,6 +90,25 @@ def parameters_record(model, parameters: Mapping[str, float]) -> dict[str, dict[
             for name, value in parameters.items()}
 
 
+def parameters_used(model, p) -> dict[str, dict[str, object]]:
+    """Every parameter's value in a run, for its record (report, JSON).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    p : array_like, shape (np,)
+        The parameter vector the run used (defaults, Earth model and the values set).
+
+    Returns
+    -------
+    dict of str to dict
+        Name -> ``{"value": SI value, "unit": SI unit}`` for every parameter, in the
+        model's order.
+    """
+    return {info.name: {"value": float(value), "unit": info.unit}
+            for info, value in zip(model.parameters, p, strict=True)}
+
+
 def name_value_pairs(items: Iterable[str], option: str, example: str) -> dict[str, str]:
     """Split repeated ``OPTION NAME=VALUE`` items into names and value texts, in order.
 

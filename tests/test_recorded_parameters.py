@@ -29,9 +29,17 @@ def json_out(capsys, argv) -> dict:
     return json.loads(capsys.readouterr().out)
 
 
+WGS84_A = 6378137.0  # m, the WGS-84 semi-major axis (strapdown_ned's default)
+
+
 def test_compare_json_records_the_parameters(capsys):
     assert json_out(capsys, COMPARE)["parameters"] == {}
-    recorded = json_out(capsys, [*COMPARE, *SET])["parameters"]
+    printed = json_out(capsys, [*COMPARE, *SET])
+    recorded = printed["parameters"]
+    # and every value the run used, the defaults among them
+    used = printed["parameters_used"]
+    assert used["a"] == {"value": WGS84_A, "unit": "m"}
+    assert used["k_h1"]["value"] == pytest.approx(0.0047, rel=1e-12)
     assert recorded.keys() == RECORDED.keys()
     for name, entry in RECORDED.items():
         assert recorded[name]["unit"] == entry["unit"]
@@ -72,10 +80,18 @@ def test_run_results_record_the_parameters(capsys, tmp_path):
     written = json.loads((out / "results.json").read_text(encoding="utf-8"))
     assert printed["parameters"] == written["parameters"] == {
         "k_h1": {"value": pytest.approx(0.0047, rel=1e-12), "unit": "1/s"}}
+    # every value the run used: the defaults too (a model file's are shown nowhere else)
+    used = written["parameters_used"]
+    assert used["a"] == {"value": WGS84_A, "unit": "m"}
+    assert used["k_h1"]["value"] == pytest.approx(0.0047, rel=1e-12)
+    assert used["k_h2"] == {"value": 0.0, "unit": "1/s**2"}
     # and the reader of the report sees it (it changes every curve)
     for name in ("report.md", "report.html"):
         text = (out / name).read_text(encoding="utf-8")
         assert "k_h1</code> = 0.0047 1/s" in text or "`k_h1` = 0.0047 1/s" in text, name
+        assert "a</code> = 6378137 m" in text or "`a` = 6378137 m" in text, name
+    # a strapdown INS has no platform whose kinematics a run would choose
+    assert "| platform |" not in (out / "report.md").read_text(encoding="utf-8")
 
 
 # --------------------------------------------------------------------------------------

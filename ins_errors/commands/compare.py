@@ -125,7 +125,11 @@ def parse_ratio(text: str, what: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import InsErrorsError
-    from ins_errors.model_parameters import parameters_record, parse_parameter_options
+    from ins_errors.model_parameters import (
+        parameters_record,
+        parameters_used,
+        parse_parameter_options,
+    )
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.compare import compare, markdown_summary, markdown_table
     from ins_errors.numeric.integrators import step_count
@@ -220,6 +224,7 @@ def run(args: argparse.Namespace) -> int:
                    "step_s": tau, "record_s": record, "method": args.method,
                    "truth": args.truth, "truth_used": trajectory.truth_kind,
                    "parameters": parameters_record(model, parameters),
+                   "parameters_used": parameters_used(model, trajectory.parameters),
                    "cases": [c.to_dict() for c in comparisons]})
     else:
         print(text)

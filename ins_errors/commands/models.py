@@ -11,12 +11,22 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
         "models", help="list the models, or show one model's states, sources and outputs",
         description="Without NAME, list the models. With NAME, list its error states, "
-                    "error sources (with units and the lab manual's factor numbers) and "
-                    "outputs.")
+                    "error sources (with units and the lab manual's factor numbers), "
+                    "outputs, inputs, parameters (with their default values) and initial "
+                    "conditions.")
     parser.add_argument("name", nargs="?",
                         help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.set_defaults(func=run)
+
+
+def default_text(value: float, unit: str) -> str:
+    """A parameter's default as the listing shows it: ``6378137 m``, ``0.00335281``
+    (every digit a float needs to come back unchanged; no unit for ``"1"``)."""
+    number = repr(float(value))
+    if number.endswith(".0"):
+        number = number[:-2]
+    return number if unit == "1" else f"{number} {unit}"
 
 
 def run(args: argparse.Namespace) -> int:
@@ -53,5 +63,7 @@ def run(args: argparse.Namespace) -> int:
         for i in infos:
             extra = f" (quoted in {i.display_unit}, {i.kind}" + (
                 f", manual factor {i.factor})" if i.factor else ")") if i.kind else ""
+            if title == "parameters":
+                extra = f" (default {default_text(i.default, i.unit)})"
             print(f"  {i.name:<36} [{i.unit}] {i.description}{extra}")
     return 0

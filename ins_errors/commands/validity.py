@@ -94,7 +94,11 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.validity import MOTIONS as DEFAULT_MOTIONS
     from ins_errors.analysis.validity import motion_problems, validity_map, validity_tasks
     from ins_errors.errors import InsErrorsError
-    from ins_errors.model_parameters import parameters_record, parse_parameter_options
+    from ins_errors.model_parameters import (
+        parameters_record,
+        parameters_used,
+        parse_parameter_options,
+    )
     from ins_errors.numeric.model import load_model
     from ins_errors.output import OutputFolder, require_matplotlib
     from ins_errors.units import parse_quantity
@@ -128,6 +132,7 @@ def run(args: argparse.Namespace) -> int:
                            scheduler=args.scheduler, workers=args.workers)
     payload = {"model": model.name, "hours": args.hours, "step_s": step, "method": "rk4",
                "truth": args.truth, "parameters": parameters_record(model, parameters),
+               "parameters_used": parameters_used(model, model.parameter_vector(**parameters)),
                "sources": [r.to_dict() for r in results]}
     if out_dir is not None:
         out = OutputFolder(out_dir, force=args.force)
