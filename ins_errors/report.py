@@ -18,7 +18,7 @@ from importlib import resources
 from pathlib import Path
 
 from ins_errors.json_output import dumps
-from ins_errors.model_parameters import parameters_record
+from ins_errors.model_parameters import parameters_record, parameters_used
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.output import OutputFolder
 from ins_errors.scenario import ScenarioResult
@@ -52,9 +52,10 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         f"| duration | {s.duration / 3600:g} h |",
         f"| step τ | {s.step:g} s ({'rectangle method' if s.method == 'euler' else 'RK4'}) |",
         f"| recorded every | {s.record:g} s |",
-        f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |",
+        *([f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |"]
+          if has_platform_variants(model) else []),
         f"| Earth model | {s.ellipsoid or 'model default'} |",
-        f"| parameters | {_parameters_text(model, s.parameters)} |",
+        f"| parameters | {_parameters_text(model, s)} |",
         f"| truth | {truth_text(s.truth, result.truth_used)} |",
         "",
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
@@ -81,13 +82,28 @@ def truth_text(setting: str, used: str) -> str:
     return f"{setting} ({'static base: exact' if used == 'static' else used})"
 
 
-def _parameters_text(model, parameters) -> str:
-    """The parameters the scenario set (SI), or that every one keeps the model's default."""
-    if not parameters:
-        return "model defaults"
-    shown = [f"`{name}` = {entry['value']:.6g} {entry['unit']}"
-             for name, entry in parameters_record(model, parameters).items()]
-    return ", ".join(shown) + " (the others: model defaults)"
+def has_platform_variants(model: Model) -> bool:
+    """True for a model with a platform whose kinematics a run chooses (exact rotation or
+    the source documents' small-angle matrix); a strapdown model has none."""
+    return "real_rhs_small_angle" in model.numpy.FUNCTIONS
+
+
+def _used(model: Model, scenario) -> dict[str, dict[str, object]]:
+    """Every parameter's value in the scenario's runs (SI, with unit)."""
+    p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **scenario.parameters)
+    return parameters_used(model, p)
+
+
+def _parameters_text(model: Model, scenario) -> str:
+    """Every parameter's value in the run (SI), the ones the scenario set marked."""
+    shown = []
+    for name, entry in _used(model, scenario).items():
+        unit = "" if entry["unit"] == "1" else f" {entry['unit']}"
+        mark = " (set)" if name in scenario.parameters else ""
+        shown.append(f"`{name}` = {entry['value']:.10g}{unit}{mark}")
+    given = "the Earth model and model defaults" if scenario.ellipsoid else "model defaults"
+    return ", ".join(shown) + (f" (the others: {given})" if scenario.parameters
+                               else f" ({given})")
 
 
 def _selected(comparison, quantities):
@@ -199,6 +215,7 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
                "method": result.scenario.method, "truth": result.scenario.truth,
                "truth_used": result.truth_used,
                "parameters": parameters_record(model, result.scenario.parameters),
+               "parameters_used": _used(model, result.scenario),
                "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
                "curves": {"csv": "curves.csv", "mat": "curves.mat"},
                "cases": [c.to_dict() for c in result.comparisons]}

@@ -51,8 +51,8 @@ def error_equations_markdown(d: ModelDefinition) -> str:
            f"{d.title}. Source: {d.source}.", "",
            "Derived mechanically by varying the real-work equations around the ideal work "
            "(first order). Each line varies one formula of the mechanisation with respect to "
-           "its direct arguments; Δ marks the difference computed − true, α the platform "
-           "misalignment. Coefficients are ideal-work quantities.", ""]
+           f"its direct arguments; Δ marks the difference computed − true{_extra_states(d)}. "
+           "Coefficients are ideal-work quantities.", ""]
     if d.notes:
         out += ["## Modelling choices", "", d.notes, ""]
     out += ["## Names", "", "Error states:", ""]
@@ -60,9 +60,12 @@ def error_equations_markdown(d: ModelDefinition) -> str:
                   [[f"`{v.name}`", f"${v.latex}$", v.unit, v.description]
                    for v in d.error_states])
     out += ["", "Error sources:", ""]
-    out += _table(["name", "symbol", "kind", "unit (SI / quoted in)", "manual factor", "meaning"],
+    factors = any(s.factor for s in d.sources)  # numbers of the source document's list
+    out += _table(["name", "symbol", "kind", "unit (SI / quoted in)",
+                   *(["manual factor"] if factors else []), "meaning"],
                   [[f"`{s.name}`", f"${s.latex}$", s.kind, f"{s.unit} / {s.display_unit}",
-                    str(s.factor or "–"), s.description] for s in d.sources])
+                    *([str(s.factor or "–")] if factors else []), s.description]
+                   for s in d.sources])
     out += ["", "## Variations of the intermediate quantities", ""]
     out += _equations([line for line in lines if line.kind == "intermediate"
                        and not _is_output_intermediate(line, d)], names)
@@ -81,6 +84,18 @@ def error_equations_markdown(d: ModelDefinition) -> str:
         out += ["", "## Output errors", ""]
         out += _equations(output_lines, names)
     return "\n".join(out) + "\n"
+
+
+def _extra_states(d: ModelDefinition) -> str:
+    """How the introduction names the error states beyond ``Δ<state>``: ", α the platform
+    misalignment" for platform angles (``alpha_*``), each one's symbol and meaning for
+    other extra states, nothing for a model without (a strapdown INS)."""
+    extra = d.error_states[len(d.states):]
+    if not extra:
+        return ""
+    if all(v.name.startswith("alpha_") for v in extra):
+        return ", α the platform misalignment"
+    return "".join(f", ${v.latex}$ the {v.description}" for v in extra)
 
 
 def _is_output_intermediate(line: VariedEquation, d: ModelDefinition) -> bool:
