@@ -11,17 +11,21 @@ Every command, scenario file and :func:`ins_errors.load_model` goes through
   "my_package.my_ins"``), pointing at a module with ``build()`` (or at ``build`` itself).
 
 The generated code of a model file (or entry-point module) is identified by the SHA-256
-of the file. It is taken from ``<file folder>/<file stem>_generated/`` (what
-``ins-errors derive FILE`` writes by default) when that package records the same hash,
-else from the user cache (``$INS_ERRORS_CACHE/models`` or ``~/.cache/ins-errors/models``),
-where it is derived on first use (the :data:`KEEP_VERSIONS` newest versions of each model
-are kept there). A stale package (the model file was edited since) is
-never used: one line on stderr says so and the code is regenerated in the cache.
+of the file and by the fingerprint of the code that derives it
+(:func:`~ins_errors.model_identity.derivation_code_sha256`). It is taken from
+``<file folder>/<file stem>_generated/`` (what ``ins-errors derive FILE`` writes by
+default) when that package records both, else from the user cache
+(``$INS_ERRORS_CACHE/models`` or ``~/.cache/ins-errors/models``, folders
+``<model>-<first 16 hex of the SHA-256 of both>``), where it is derived on first use (the
+:data:`KEEP_VERSIONS` newest versions of each model are kept there). A stale package (the
+model file was edited since, or another version of ins-errors derived it) is never used:
+one line on stderr says so and the code is regenerated in the cache.
 """
 
 from __future__ import annotations
 
 import glob
+import hashlib
 import importlib
 import importlib.metadata
 import importlib.util
@@ -53,6 +57,7 @@ NEXT_TO_SUFFIX = "_generated"
 
 _KEY = re.compile(r"(?P<spec>.+)@sha256:(?P<sha>[0-9a-f]{16})")
 _RECORD = re.compile(r"^MODEL_FILE_SHA256 = '(?P<sha>[0-9a-f]{64})'$", re.M)
+_CODE_RECORD = re.compile(r"^DERIVATION_CODE_SHA256 = '(?P<sha>[0-9a-f]{64})'$", re.M)
 
 
 @dataclass(frozen=True)
@@ -238,21 +243,45 @@ def next_to(path: Path) -> Path:
     return path.with_name(path.stem + NEXT_TO_SUFFIX)
 
 
-def recorded_sha256(folder: Path) -> str | None:
-    """The model-file hash a generated package records, or None (no such package)."""
+def recorded_hashes(folder: Path) -> tuple[str | None, str | None]:
+    """``(model-file hash, derivation-code fingerprint)`` a generated package records;
+    None for what it does not record (no such package, or one written before
+    ins-errors recorded the fingerprint)."""
     try:
         text = (folder / "__init__.py").read_text(encoding="utf-8")
     except OSError:
-        return None
-    match = _RECORD.search(text)
-    return match["sha"] if match else None
+        return None, None
+    match, code = _RECORD.search(text), _CODE_RECORD.search(text)
+    return (match["sha"] if match else None), (code["sha"] if code else None)
+
+
+def recorded_sha256(folder: Path) -> str | None:
+    """The model-file hash a generated package records, or None (no such package)."""
+    return recorded_hashes(folder)[0]
+
+
+def current_hashes(ref: ModelRef) -> tuple[str, str]:
+    """What an up-to-date package of ``ref`` records: the model file's hash and the
+    fingerprint of this installation's derivation code."""
+    from ins_errors.model_identity import derivation_code_sha256
+
+    return ref.sha256, derivation_code_sha256()
+
+
+def cache_key(ref: ModelRef) -> str:
+    """The end of the cache folder name of ``ref``'s package: 16 hex digits of the
+    SHA-256 of the model file's hash and the derivation code's fingerprint."""
+    both = "\n".join(current_hashes(ref))
+    return hashlib.sha256(both.encode()).hexdigest()[:16]
 
 
 def package_record(ref: ModelRef) -> tuple[tuple[str, str], dict[str, str]]:
     """Banner lines and metadata record of the generated package of a model file."""
     origin = (f"`ins-errors derive` from the model file {ref.path.name}",
               f"Edit {ref.path.name} and run `ins-errors derive` again.")
-    return origin, {"MODEL_FILE": ref.path.name, "MODEL_FILE_SHA256": ref.sha256}
+    sha, code = current_hashes(ref)
+    return origin, {"MODEL_FILE": ref.path.name, "MODEL_FILE_SHA256": sha,
+                    "DERIVATION_CODE_SHA256": code}
 
 
 def _say(message: str) -> None:
@@ -268,20 +297,27 @@ def generated_folder(ref: ModelRef) -> Path:
         If the model file has a mistake (nothing is written then).
     """
     beside = next_to(ref.path)
-    recorded = recorded_sha256(beside)
-    if recorded == ref.sha256:
+    current = current_hashes(ref)
+    recorded = recorded_hashes(beside)
+    if recorded == current:
         return beside
+    stale = None
+    if recorded[0] is not None:
+        stale = (f"{beside.name}/ is stale ({ref.path.name} or a file it imports changed "
+                 "since it was derived)" if recorded[0] != current[0] else
+                 f"{beside.name}/ was derived by another version of ins-errors")
     cached = _cached_package(ref)
     if cached is not None:
-        if recorded is not None:
-            _say(f"{beside.name}/ is stale ({ref.path.name} or a file it imports changed since "
-                 "it was derived); using the up-to-date code in the cache")
+        if stale:
+            _say(f"{stale}; using the up-to-date code in the cache")
         return cached
     d = definition_of(ref)
-    cached = models_cache_directory() / f"{d.name}-{ref.sha256[:16]}"
-    if recorded is not None:
-        _say(f"{beside.name}/ is stale ({ref.path.name} or a file it imports changed since "
-             "it was derived); deriving again into the cache")
+    cached = models_cache_directory() / f"{d.name}-{cache_key(ref)}"
+    if stale:
+        _say(f"{stale}; deriving again into the cache")
+    elif _derived_by_other_code(ref):
+        _say(f"deriving {ref.label} again: its cached code was derived by another version "
+             "of ins-errors (cached for next time)")
     else:
         _say(f"deriving {ref.label} (first use of this version; cached for next time)")
     from ins_errors.derive.package import write_package
@@ -290,7 +326,7 @@ def generated_folder(ref: ModelRef) -> Path:
     try:
         write_package(d, cached, origin, record)
     except (InsErrorsError, OSError) as error:
-        if recorded_sha256(cached) == ref.sha256:
+        if recorded_hashes(cached) == current:
             return cached  # another process wrote the same package meanwhile
         if isinstance(error, InsErrorsError):
             raise
@@ -301,9 +337,10 @@ def generated_folder(ref: ModelRef) -> Path:
 
 
 def _cached_package(ref: ModelRef) -> Path | None:
-    """The cached package of this version of a model file, if there is one.
+    """The cached package of this version of a model file, derived by this version of
+    the derivation code, if there is one.
 
-    Found by the hash its folder name ends with and its record, not by the model's name:
+    Found by the key its folder name ends with and its record, not by the model's name:
     the name is known only once the file is imported and its ``build()`` has run (with
     SymPy, about 0.5 s CPU), which a process that only runs the generated code does not
     need. An entry point's package must bear the entry point's name (the model's own
@@ -311,13 +348,24 @@ def _cached_package(ref: ModelRef) -> Path | None:
     """
     name = glob.escape(ref.spec) if ref.kind == "entry_point" else "*"
     try:
-        candidates = sorted(models_cache_directory().glob(f"{name}-{ref.sha256[:16]}"))
+        candidates = sorted(models_cache_directory().glob(f"{name}-{cache_key(ref)}"))
     except OSError:
         return None
+    current = current_hashes(ref)
     for folder in candidates:
-        if recorded_sha256(folder) == ref.sha256:
+        if recorded_hashes(folder) == current:
             return folder
     return None
+
+
+def _derived_by_other_code(ref: ModelRef) -> bool:
+    """True if the cache holds a package of this version of the model file derived by
+    other derivation code (read only when deriving, to say why)."""
+    try:
+        folders = list(models_cache_directory().glob("*-*"))
+    except OSError:
+        return False
+    return any(recorded_sha256(folder) == ref.sha256 for folder in folders)
 
 
 def _prune(current: Path) -> None:

@@ -209,6 +209,14 @@ def test_wheel_derives_a_model_file(outside):
     assert status == 0, err
     assert "initial_tilt" in out and err == ""  # found next to the file
     assert (folder / "schuler_loop_generated" / "casadi_model.py").is_file()
+    # the installed code writer (ins_errors/derive/ in the wheel) is in the fingerprint of
+    # the derivation code the package records, the same as this source tree's
+    from ins_errors.model_identity import derivation_digest
+
+    init = (folder / "schuler_loop_generated" / "__init__.py").read_text(encoding="utf-8")
+    tree = derivation_digest({"ins_errors": ROOT / "ins_errors",
+                              "ins_errors.derive": ROOT / "derive"})
+    assert f"DERIVATION_CODE_SHA256 = {tree!r}" in init
 
 
 def test_wheel_without_plots_extra_says_so_before_computing(outside):

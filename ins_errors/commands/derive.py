@@ -16,7 +16,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Vary the model defined in MODEL (a Python file written with "
                     "ins_errors.modeling, or an installed model) and write the same "
                     "generated package `make derive` writes for a built-in model: metadata "
-                    "(__init__.py, with the hash of the model file), numpy_model.py, "
+                    "(__init__.py, with the hash of the model file and a fingerprint of "
+                    "the code that derives it), numpy_model.py, "
                     "casadi_model.py (first- and second-order error equations) and "
                     "error_equations.md (the equations as Markdown/LaTeX). All or nothing: "
                     "on any error DIR is left as it was.")
@@ -46,7 +47,8 @@ def run(args: argparse.Namespace) -> int:
     files = sorted(p.name for p in out.iterdir())
     if args.json:
         emit({**asdict(summary), "out": str(out), "files": files,
-              "model_file_sha256": ref.sha256})
+              "model_file_sha256": ref.sha256,
+              "derivation_code_sha256": (record or {}).get("DERIVATION_CODE_SHA256")})
         return 0
     print(f"{'model':<20}{'states':>7}{'errors':>7}{'sources':>8}{'outputs':>8}"
           f"{'ops':>8}{'seconds':>9}")
