@@ -328,6 +328,58 @@ def _coefficients(row: str, line: int, name: str, rhs: sp.Expr, variables: list[
     return out
 
 
+_NO_VARIATIONS = ("under @convention an item of @neglect is a term left out of a right-hand "
+                  "side, a coefficient times a state or error source (e.g. "
+                  "'(2*omega_ie_D + omega_en_D)*dv_E'); the derived side is the model's "
+                  "matrix in the convention's states, which has no intermediate quantity "
+                  "whose variation could be dropped")
+
+
+def _declared_items(hand, states: list[str], sources: list[str]
+                    ) -> list[tuple[int, int, str, dict[str, sp.Expr]]]:
+    """The ``@neglect`` items of a ``@convention`` file as terms: (declaration index,
+    line, item text, {column: coefficient}) with a column for each state or source the
+    item multiplies (the equation checker's declared terms,
+    :class:`~ins_errors.checker.classify.Declarations`).
+
+    Raises
+    ------
+    InsErrorsError
+        An item with an unknown name, without a state or source (a dropped variation has
+        no meaning here: :data:`_NO_VARIATIONS`), not linear in them, or with a part
+        free of them; one line naming the ``@neglect`` line and the item.
+    """
+    known = set(states) | set(sources) | set(QUANTITIES)
+    variables = [sp.Symbol(v) for v in (*states, *sources)]
+    out = []
+    for k, declaration in enumerate(hand.declarations):
+        for item, text in zip(declaration.items, declaration.texts, strict=True):
+            where = f"{hand.name}, line {declaration.line}: @neglect {text}"
+            unknown = sorted(s.name for s in item.free_symbols if s.name not in known)
+            if unknown:
+                raise InsErrorsError(f"{where}: {unknown[0]!r} is not a state, error source "
+                                     f"or named quantity; {_NO_VARIATIONS}")
+            if not item.free_symbols & set(variables):
+                raise InsErrorsError(f"{where}: no state or error source in it; "
+                                     f"{_NO_VARIATIONS}")
+            expanded = sp.expand(item)
+            columns = {}
+            for v in variables:
+                c = sp.diff(expanded, v)
+                if c == 0:
+                    continue
+                if c.free_symbols & set(variables):
+                    raise InsErrorsError(f"{where}: not linear in the states and error "
+                                         f"sources (coefficient of {v} is {c})")
+                columns[v.name] = c
+            rest = sp.simplify(expanded.subs({v: 0 for v in variables}))
+            if rest != 0:
+                raise InsErrorsError(f"{where}: a part without a state or error source "
+                                     f"({rest}); {_NO_VARIATIONS}")
+            out.append((k, declaration.line, text, columns))
+    return out
+
+
 @lru_cache(maxsize=1024)
 def _row_function(coefficients: tuple[sp.Expr, ...]):
     """The coefficients of one row as a numpy function of :data:`QUANTITIES`, kept per
@@ -392,6 +444,10 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     for row, (line, _, rhs) in rows.items():
         coefficients = _coefficients(row, line, hand.name, rhs, variables)
         functions[row] = _row_function(tuple(coefficients))
+    items = _declared_items(hand, states, src_names)
+    item_functions = [(list(cols), _row_function(tuple(cols.values())))
+                      for _, _, _, cols in items]
+    item_values: list[dict[str, dict[str, np.ndarray]]] = [{} for _ in items]
     motion_list = mx.motions(model, mx.HOURS if hours is None else hours,
                              mx.STEP if step is None else step)
     if hand.scope is not None:
@@ -413,14 +469,32 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
             if used:
                 Gh[:, i, :] = np.stack(coefficients[len(states):], axis=-1)
         F[motion.label], G[motion.label] = Fh, (Gh if used else {})
+        for values_of, (columns, fn) in zip(item_values, item_functions, strict=True):
+            for column, c in zip(columns, fn(*args), strict=True):
+                values_of.setdefault(column, {})[motion.label] = np.broadcast_to(
+                    np.asarray(c, dtype=float), (k,))
     if not used:
         G = {}
     sampled = HandMatrices(Path(path).name, list(states), used, F, G)
     overrides = {**hand.magnitudes, **(magnitudes or {})}
+    declared: dict[tuple[str, str, str], list[mx.DeclaredTerm]] = {}
+    for row, (line, _, _) in rows.items():  # a declaration holds from its line on
+        for (k, at, text, _), values_of in zip(items, item_values, strict=True):
+            for column, values in values_of.items():
+                matrix = "F" if column in states else "G"
+                if at < line and (matrix == "F" or column in used):
+                    declared.setdefault((matrix, row, column), []).append(
+                        mx.DeclaredTerm(k, at, text, values))
+    found: set[int] = set()
     report = mx.check_matrices(model_name, sampled, conv.name,
                                threshold=1e-3 if threshold is None else threshold,
                                effects=effects, motion_list=motion_list,
-                               magnitudes=overrides)
+                               magnitudes=overrides, declared=declared, declared_used=found)
+    report.declarations = [f"line {d.line}: {', '.join(d.texts)}"
+                           + (f" ({d.reason})" if d.reason else "")
+                           for d in hand.declarations]
+    report.idle_declarations = [f"line {d.line}: {', '.join(d.texts)}"
+                                for k, d in enumerate(hand.declarations) if k not in found]
     # rows taken from the derived model agree by construction: count the file's rows only
     report.findings = [f for f in report.findings if f.row in rows]
     report.compared = len(rows) * (len(states) + len(used))
@@ -435,7 +509,7 @@ def to_terminal(check: ConventionCheck) -> str:
     out = [matrix_terminal(check.report), "", "Findings by line of the hand file:"]
     if not check.report.findings:
         out.append("  (none: every term agrees)")
-    for f in check.report.findings:
+    for f in sorted(check.report.findings, key=check.line_of):  # (stable: worst first)
         line, text = check.lines[f.row]
         out.append(f"  line {line}: {f.severity}: {f.kind} {f.entry} (size {f.size:.2g}"
                    f"{', ' + f.detail if f.detail else ''})  [{text}]")
@@ -443,3 +517,57 @@ def to_terminal(check: ConventionCheck) -> str:
         out.append(f"Rows not in the file (taken from the derived model, not compared): "
                    f"{', '.join(check.from_model)}")
     return "\n".join(out)
+
+
+def row_status(check: ConventionCheck, row: str) -> str:
+    """Status of one row's equation, in the equation checker's words
+    (:func:`~ins_errors.checker.classify.set_status`): ``mistake``, ``agrees up to
+    dropped small terms``, ``agrees up to declared drops`` or ``agrees``."""
+    from ins_errors.checker.kinds import DROPPED, MISTAKE, SMALL_MISTAKE
+
+    severities = {f.severity for f in check.report.findings if f.row == row}
+    if severities & {MISTAKE, SMALL_MISTAKE}:
+        return "mistake"
+    if DROPPED in severities:
+        return "agrees up to dropped small terms"
+    return "agrees up to declared drops" if severities else "agrees"
+
+
+def summary_counts(check: ConventionCheck) -> dict:
+    """The ``summary`` of ``check --json`` for a ``@convention`` file: the keys of the
+    equation checker's (:func:`~ins_errors.checker.report.summary_counts`).
+
+    Each row is one equation (a vector line gives three); ``hand_only_definition``,
+    ``tautology`` and ``input_error`` are 0 (a file under ``@convention`` has no
+    definitions, and a line that cannot be read stops the check before any report), as
+    are ``knock_on_mistakes`` (no definition to carry a mistake: every mistake is a
+    root mistake) and ``input_problems``.
+    """
+    from ins_errors.checker.kinds import DECLARED, DROPPED
+    from ins_errors.checker.report import STATUSES, status_key
+
+    by_status = dict.fromkeys(map(status_key, STATUSES), 0)
+    for row in check.lines:
+        by_status[status_key(row_status(check, row))] += 1
+    findings = check.report.findings
+    mistakes = len(check.report.mistakes)
+    return {
+        "equations_by_status": by_status,
+        "findings": {
+            "mistakes": mistakes, "root_mistakes": mistakes, "knock_on_mistakes": 0,
+            "declared_drops": sum(1 for f in findings if f.severity == DECLARED),
+            "dropped_small_terms": sum(1 for f in findings if f.severity == DROPPED),
+        },
+        "input_problems": 0,
+    }
+
+
+def to_json(check: ConventionCheck) -> dict:
+    """The matrix report's JSON (:func:`~ins_errors.checker.matrix_report.to_json`) with
+    the ``summary`` of ``check --json`` (:func:`summary_counts`) and ``lines`` (row ->
+    line of the hand file)."""
+    from ins_errors.checker.matrix_report import to_json as matrix_json
+
+    out = {"summary": summary_counts(check), **matrix_json(check.report)}
+    out["lines"] = {row: line for row, (line, _) in check.lines.items()}
+    return out

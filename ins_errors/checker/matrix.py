@@ -57,6 +57,7 @@ from ins_errors.checker.extreme import first_largest
 from ins_errors.checker.growth import growth_rate, hours_tag, mark_growth
 from ins_errors.checker.kinds import (
     COEFFICIENT,
+    DECLARED,
     EXTRA,
     MISTAKE,
     OMITTED,
@@ -488,6 +489,10 @@ class MatrixReport:
     finding_effects : dict
         ``entry`` -> :class:`AloneEffect`: the derived model with only that entry replaced
         by the hand's, after 24 h, worst case (:func:`finding_effects`).
+    declarations, idle_declarations : list of str
+        The hand's declared simplifications (``@neglect`` of a ``@convention`` file, see
+        :class:`DeclaredTerm`), as ``line N: ITEMS (reason)``, and those that explain no
+        finding.
     """
 
     model: str
@@ -505,6 +510,8 @@ class MatrixReport:
     effects: list[Effect] = field(default_factory=list)
     held: list[str] = field(default_factory=list)
     finding_effects: dict[str, AloneEffect] = field(default_factory=dict)
+    declarations: list[str] = field(default_factory=list)
+    idle_declarations: list[str] = field(default_factory=list)
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -614,6 +621,54 @@ def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, thres
     return kind, severity, detail
 
 
+@dataclass(frozen=True)
+class DeclaredTerm:
+    """A term the hand declares it leaves out (``@neglect`` of a ``@convention`` file),
+    sampled: the same meaning as the equation checker's declared terms
+    (:class:`~ins_errors.checker.classify.Declarations`).
+
+    An entry whose difference from the derived one is this term (either sign, as the
+    file may write it with or without the equation's sign) to the agreement level of
+    its row is a ``declared drop``, not a mistake; when what remains is an omission
+    below the threshold, it is still a declared drop, and the detail says what remains.
+
+    Attributes
+    ----------
+    declaration : int
+        Index of the ``@neglect`` line among the file's declarations.
+    line : int
+        Its line.
+    text : str
+        The item as written.
+    values : dict
+        Motion label -> coefficient at the samples, shape (K,), SI.
+    """
+
+    declaration: int
+    line: int
+    text: str
+    values: dict[str, np.ndarray]
+
+
+def _declared_drop(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray,
+                   threshold: float, motion_of: np.ndarray, labels: list[str],
+                   candidates: list[DeclaredTerm]) -> tuple[DeclaredTerm, str] | None:
+    """The declared term that explains an entry's difference, and what remains of it
+    (``""`` when nothing does), or None (see :class:`DeclaredTerm`)."""
+    fallback = None
+    for term in candidates:
+        c = np.concatenate([term.values[k] for k in labels])
+        for sign in (1.0, -1.0):
+            rest = _classify(h, m - sign * c, mag, scale, threshold, False, motion_of)
+            if rest is None:
+                return term, ""
+            kind, severity, _ = rest
+            if fallback is None and severity not in (MISTAKE, SMALL_MISTAKE):
+                size = float((np.abs(h - (m - sign * c)) * mag / scale).max())
+                fallback = (term, f"what remains is a {severity} ({kind}), size {size:.2g}")
+    return fallback
+
+
 @dataclass
 class _Sampled:
     """Hand and derived matrices on every motion, restricted to the hand's states."""
@@ -625,7 +680,14 @@ class _Sampled:
 
 
 def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
-             motion_list: list[Motion]) -> None:
+             motion_list: list[Motion],
+             declared: dict[tuple[str, str, str], list[DeclaredTerm]] | None = None,
+             used: set[int] | None = None) -> None:
+    """Classify every entry of the hand's rows into ``report.findings``.
+
+    ``declared``: (matrix, row, column) -> the declared terms in force for that entry
+    (:class:`DeclaredTerm`); ``used`` receives the declarations that explain a finding.
+    """
     names = conv.names
     rows = [names.index(s) for s in report.states]
     src_names = [s.name for s in model.sources]
@@ -669,7 +731,17 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                 continue
             kind, severity, detail = verdict
             ratio = np.abs(h - m) * mag / scale
-            if kind == COEFFICIENT and matrix == "F":  # a term of a sum left out?
+            candidates = (declared or {}).get((matrix, report.states[a], col_name))
+            explained = (_declared_drop(h, m, mag, scale, report.threshold, sample_motion,
+                                        labels, candidates) if candidates else None)
+            if explained is not None:
+                term, rest = explained
+                kind, severity = OMITTED, DECLARED
+                detail = (f"a term the file declares it leaves out (line {term.line}: "
+                          f"{term.text})" + (f"; {rest}" if rest else ""))
+                if used is not None:
+                    used.add(term.declaration)
+            elif kind == COEFFICIENT and matrix == "F":  # a term of a sum left out?
                 if entry_terms is None:
                     from ins_errors.checker.matrix_terms import EntryTerms
 
@@ -1122,7 +1194,9 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                    step: float = STEP, effects: bool = True,
                    motion_list: list[Motion] | None = None,
                    ellipsoid: str | None = None,
-                   magnitudes: dict[str, str] | None = None) -> MatrixReport:
+                   magnitudes: dict[str, str] | None = None,
+                   declared: dict[tuple[str, str, str], list[DeclaredTerm]] | None = None,
+                   declared_used: set[int] | None = None) -> MatrixReport:
     """Check a hand-coded F (and G) against the derived model of ``model_name``.
 
     Parameters
@@ -1147,6 +1221,11 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         Typical sizes by SI unit (``{"m": "600 m"}``) replacing the fixed ones; with
         ``"attitude"`` (``{"attitude": "20 arcsec"}``) every size follows from it by the
         Schuler relations (:func:`~ins_errors.checker.reference.schuler_magnitudes`).
+    declared : dict, optional
+        (matrix, row, column) -> terms the hand declares it leaves out there
+        (:class:`DeclaredTerm`): a difference they explain is a declared drop.
+    declared_used : set, optional
+        Receives the indices of the declarations that explain a finding.
 
     Raises
     ------
@@ -1195,7 +1274,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         findings=[], compared=0,
         left_out=[n for n in conv.names if n not in hand.states],
         out_of_scope=[s.name for s in model.sources if s.name not in used_sources])
-    _compare(report, sampled, conv, model, motion_list)
+    _compare(report, sampled, conv, model, motion_list, declared, declared_used)
     if effects:
         responses: dict = {}  # the derived model's, shared by both
         report.effects = propagate_effects(report, sampled, conv, model, motion_list,

@@ -16,6 +16,7 @@ import math
 
 from ins_errors.checker.extreme import first_largest_item
 from ins_errors.checker.growth import growth_text
+from ins_errors.checker.kinds import DECLARED
 from ins_errors.checker.matrix import ARCSEC, Effect, EntryFinding, MatrixReport
 
 NO_EFFECT = "no effect above rounding"
@@ -63,16 +64,24 @@ def _finding_line(r: MatrixReport, f: EntryFinding) -> str:
     detail = f"; {f.detail}" if f.detail else ""
     alone = _alone(r, f)
     return (f"{f.entry}: {f.kind}, size {f.size:.2g} of the row's largest term "
-            f"({f.size_class}); hand {f.hand:.6g}, model {f.model:.6g} "
+            f"({f.size_class}); hand {f.hand + 0.0:.6g}, model {f.model + 0.0:.6g} "
             f"(Δ term {f.absolute:.2g} {f.unit}){detail}; {_where(f)}"
             + (f"; {alone}" if alone else ""))
 
 
 def _summary(r: MatrixReport) -> str:
-    dropped = len(r.findings) - len(r.mistakes)
+    declared = len(declared_drops(r))
+    dropped = len(r.findings) - len(r.mistakes) - declared
     return (f"{r.compared} entries compared: {r.compared - len(r.findings)} agree, "
-            f"{dropped} dropped small term{'s' * (dropped != 1)}, "
+            + (f"{declared} declared drop{'s' * (declared != 1)}, " if declared
+               or r.declarations else "")
+            + f"{dropped} dropped small term{'s' * (dropped != 1)}, "
             f"{len(r.mistakes)} mistake{'s' * (len(r.mistakes) != 1)}")
+
+
+def declared_drops(r: MatrixReport) -> list[EntryFinding]:
+    """Findings the hand's ``@neglect`` lines explain (declared drops)."""
+    return [f for f in r.findings if f.severity == DECLARED]
 
 
 def worst_effects(r: MatrixReport) -> list[tuple[str, float, Effect, Effect]]:
@@ -141,11 +150,13 @@ def to_terminal(r: MatrixReport) -> str:
     lines.append("motions: " + "; ".join(f"{k}: {d}" for k, d in r.motions))
     lines.append("typical sizes: " + typical_sizes(r))
     lines.append(_summary(r))
-    for title, group in (("Mistakes", r.mistakes),
+    for title, group in (("Mistakes", r.mistakes), ("Declared drops", declared_drops(r)),
                          ("Dropped small terms",
-                          [f for f in r.findings if f not in r.mistakes])):
+                          [f for f in r.findings
+                           if f not in r.mistakes and f.severity != DECLARED])):
         if group:
             lines += ["", f"{title}:"] + [f"  {_finding_line(r, f)}" for f in group]
+    lines += [f"declaration explains nothing: {text}" for text in r.idle_declarations]
     if r.effects:
         held = (f"; vertical channel held: {', '.join(r.held)}" if r.held else "")
         lines += ["", "Effect of the differences (hand − derived, propagated from each initial "
@@ -168,6 +179,11 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
     if r.left_out:
         out.append(f"Convention states left out: {', '.join(f'`{s}`' for s in r.left_out)}.")
     out += ["", "Motions:", ""] + [f"* `{k}`: {d}" for k, d in r.motions]
+    if r.declarations:
+        out.append("Declared simplifications: " + "; ".join(r.declarations) + ".")
+    if r.idle_declarations:
+        out.append("Declarations that explain nothing: " + "; ".join(r.idle_declarations)
+                   + ".")
     out += ["", "Typical magnitudes: " + ", ".join(
         f"`{k}` {v[1]}" for k, v in r.magnitudes.items()) + ".", "", _summary(r) + ".", ""]
     if r.findings:
@@ -176,8 +192,8 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
                 "|---|---|---|---|---|---|---|---|---|"]
         for f in r.findings:
             out.append(f"| `{f.entry}` | {f.severity} ({f.size_class}) | {f.kind} | "
-                       f"{f.size:.2g} | {f.motion}, {_hours(f.time)} | {f.hand:.6g} | "
-                       f"{f.model:.6g} | {f.detail} | {_alone(r, f)} |")
+                       f"{f.size:.2g} | {f.motion}, {_hours(f.time)} | {f.hand + 0.0:.6g} | "
+                       f"{f.model + 0.0:.6g} | {f.detail} | {_alone(r, f)} |")
         out.append("")
     if r.effects:
         out += ["## Effect of the differences", "",
@@ -201,6 +217,7 @@ def to_json(r: MatrixReport) -> dict:
         "motions": [{"label": k, "description": d} for k, d in r.motions],
         "magnitudes": {k: {"si": v[0], "text": v[1]} for k, v in r.magnitudes.items()},
         "compared": r.compared, "exit_status": r.exit_status, "held": r.held,
+        "declarations": r.declarations, "idle_declarations": r.idle_declarations,
         "findings": [{"matrix": f.matrix, "row": f.row, "column": f.column, "kind": f.kind,
                       "severity": f.severity, "size": f.size, "size_class": f.size_class,
                       "motion": f.motion, "time_s": f.time, "hand": f.hand, "model": f.model,

@@ -143,8 +143,12 @@ def _declares_convention(path: Path) -> bool:
 def _run_convention(args: argparse.Namespace, model_name: str,
                     magnitudes: dict[str, str]) -> int:
     """Check a hand file written in a convention's states (``@convention NAME``)."""
-    from ins_errors.checker.convention_equations import check_convention_file, to_terminal
-    from ins_errors.checker.matrix_report import to_json, to_markdown
+    from ins_errors.checker.convention_equations import (
+        check_convention_file,
+        to_json,
+        to_terminal,
+    )
+    from ins_errors.checker.matrix_report import to_markdown
     from ins_errors.errors import InsErrorsError
     from ins_errors.progress import stage
 
@@ -155,12 +159,7 @@ def _run_convention(args: argparse.Namespace, model_name: str,
                                       magnitudes=magnitudes,
                                       latex=True if args.latex else None)
 
-    def as_json() -> dict:
-        out = to_json(check.report)
-        out["lines"] = {row: line for row, (line, _) in check.lines.items()}
-        return out
-
     emit_report(args,
                 lambda: to_markdown(check.report, f"`ins-errors check` from `{args.file.name}`"),
-                as_json, lambda: to_terminal(check))
+                lambda: to_json(check), lambda: to_terminal(check))
     return check.exit_status
