@@ -460,6 +460,49 @@ class AloneEffect:
         return self.attitude > self.attitude_floor
 
 
+@dataclass(frozen=True)
+class VerticalEffect:
+    """Effect of a finding in a vertical-channel row (``dv_D``, ``dr_D``, ``dh``) on the
+    height error, with the vertical channel *not* held (:func:`vertical_effects`).
+
+    The horizontal comparison holds the vertical channel (:attr:`MatrixReport.held`):
+    undamped, it grows as e^{t √(2g/R)}, ×e every 9.5 min, in the derived model itself.
+    A term of it that the hand writes differently is seen here only: both propagations
+    are given their own vertical channel, and the change of the height error is read.
+
+    Attributes
+    ----------
+    hours : tuple of float
+        Times compared, h.
+    height : tuple of float
+        Largest height-error change at each time over every case and motion, m.
+    floor : tuple of float
+        Its rounding floor (:func:`rounding_floor`), m.
+    case, motion : tuple of (str or None)
+        The case (``initial dr_D``, ``source ...``) and motion of the largest change
+        above its floor at each time (None at or below the floor, or when it grows
+        exponentially).
+    exponential : tuple of bool
+        At that time the change grows exponentially (past
+        :data:`~ins_errors.checker.growth.GROWTH_SHOWN` e-foldings, the rule of
+        :func:`~ins_errors.checker.growth.mark_growth`): it is given as growth, not a
+        figure.
+    e_folding : float or None
+        E-folding time of that growing mode, s; ``growing_mode`` says whose it is
+        (``"model"``: the undamped vertical channel of the model itself; ``"hand"``: a
+        faster one the hand's entry gives).
+    """
+
+    hours: tuple[float, ...]
+    height: tuple[float, ...]
+    floor: tuple[float, ...]
+    case: tuple[str | None, ...]
+    motion: tuple[str | None, ...]
+    exponential: tuple[bool, ...]
+    e_folding: float | None = None
+    growing_mode: str | None = None
+
+
 @dataclass
 class MatrixReport:
     """Everything the matrix check found.
@@ -489,6 +532,13 @@ class MatrixReport:
     finding_effects : dict
         ``entry`` -> :class:`AloneEffect`: the derived model with only that entry replaced
         by the hand's, after 24 h, worst case (:func:`finding_effects`).
+    vertical : list of str
+        The convention's vertical-channel states (held in ``effects`` and
+        ``finding_effects``).
+    vertical_effects : dict
+        ``entry`` -> :class:`VerticalEffect` of each finding in a vertical-channel row
+        (:func:`vertical_effects`); a finding of a horizontal row in a vertical column
+        has neither effect (not assessed: the vertical channel is held).
     declarations, idle_declarations : list of str
         The hand's declared simplifications (``@neglect`` of a ``@convention`` file, see
         :class:`DeclaredTerm`), as ``line N: ITEMS (reason)``, and those that explain no
@@ -512,6 +562,8 @@ class MatrixReport:
     finding_effects: dict[str, AloneEffect] = field(default_factory=dict)
     declarations: list[str] = field(default_factory=list)
     idle_declarations: list[str] = field(default_factory=list)
+    vertical: list[str] = field(default_factory=list)
+    vertical_effects: dict[str, VerticalEffect] = field(default_factory=dict)
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -1185,6 +1237,112 @@ def _alone(rows: list[tuple[str, float, float, float, float, dict]]) -> AloneEff
     return AloneEffect(best[1], attitude, best[0], best[3], floor_a)
 
 
+def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
+                     motion_list: list[Motion], hours: tuple[float, ...] = EFFECT_HOURS
+                     ) -> dict[str, VerticalEffect]:
+    """Effect on the height error of each finding in a vertical-channel row, the
+    vertical channel not held (:class:`VerticalEffect`).
+
+    The derived model, and the derived model with only that entry replaced by the
+    hand's, are propagated with nothing held from each state (the vertical ones
+    included) and each source of the hand at its typical size; the largest change of
+    the height error over the cases is compared with its rounding floor, and growth
+    past :data:`~ins_errors.checker.growth.GROWTH_SHOWN` e-foldings is named with its
+    mode (:func:`~ins_errors.checker.growth.mark_growth`: the model's own undamped
+    vertical channel, or a faster one of the hand's).
+    """
+    found = [f for f in report.findings if f.row in conv.vertical]
+    if not found:
+        return {}
+    prop = _Propagation.of(report, conv, model)
+    n_h = len(report.states)
+    free = replace(prop, held_h=[], held_z=[], cases=(
+        [(j, f"initial {s}", report.magnitudes[s][1]) for j, s in enumerate(report.states)]
+        + [(n_h + b, f"source {s}", report.magnitudes[s][1])
+           for b, s in enumerate(report.sources)]))
+    columns = [c for c, _, _ in free.cases]
+    names = conv.names
+    src_names = [s.name for s in model.sources]
+    rows: dict[str, list] = {}  # entry -> [(motion, heights, floors, cases, growth)]
+    for motion in motion_list:
+        at = _times(motion, hours)
+        if not at:
+            continue
+        Fz, Gz = sampled.Fz[motion.label], sampled.Gz[motion.label]
+        base = free.derived(Fz, Gz, motion, at)
+        base_growth = _motion_growth(Fz, [], _steps(motion, at[-1]))
+        readout = conv.position(motion.navigation)[2:, free.rows, :]  # down, m per unit
+        for f in found:
+            a, i = report.states.index(f.row), names.index(f.row)
+            F2, G2 = Fz.copy(), Gz
+            if f.matrix == "F":
+                F2[:, i, names.index(f.column)] = (
+                    sampled.Fh[motion.label][:, a, report.states.index(f.column)]
+                    if f.column in report.states else 0.0)
+            else:
+                G2 = Gz.copy()
+                G2[:, i, src_names.index(f.column)] = (
+                    sampled.Gh[motion.label][:, a, report.sources.index(f.column)])
+            changed = free.derived(F2, G2, motion, at)
+            heights, floors, cases, growth = [], [], [], {}
+            for t, b, c in zip(at, base, changed, strict=True):
+                k = _steps(motion, t)
+                H = readout[:, :, k]
+                with np.errstate(over="ignore", invalid="ignore"):
+                    change = np.abs(H @ (free.si(c) - free.si(b))[:, columns])[0]
+                change = np.where(np.isfinite(change), change, np.inf)
+                j = first_largest(change)
+                heights.append(float(change[j]))
+                floors.append(free.floors([b, c], k, H))
+                cases.append(free.cases[j][1])
+                tag = hours_tag(t / 3600.0)
+                growth[f"position_{tag}"] = heights[-1]
+                growth[f"position_floor_{tag}"] = floors[-1]
+            mark_growth(growth, _motion_growth(F2, [], _steps(motion, at[-1])), base_growth,
+                        tuple(t / 3600.0 for t in at))
+            rows.setdefault(f.entry, []).append(
+                (motion.label, tuple(t / 3600.0 for t in at), heights, floors, cases, growth))
+    return {entry: _vertical(found_rows) for entry, found_rows in rows.items()}
+
+
+def _vertical(rows: list) -> VerticalEffect:
+    """One finding's :class:`VerticalEffect` from its rows on each motion (the times of
+    the longest motion; the fastest growing mode where one is named)."""
+    times = max((r[1] for r in rows), key=len)
+    growing = [r for r in rows if "e_folding_s" in r[5]]
+    fastest = min(growing, key=lambda r: r[5]["e_folding_s"]) if growing else None
+    height, floor, case, motion, exponential = [], [], [], [], []
+    for n, h in enumerate(times):
+        tag = hours_tag(h)
+        here = [r for r in rows if len(r[1]) > n]
+        grows = [r for r in here if r[5].get(f"exponential_{tag}")]
+        above = [r for r in here if r[2][n] > r[3][n]]
+        if grows:
+            best = min(grows, key=lambda r: r[5]["e_folding_s"])
+            height.append(best[2][n])
+            floor.append(best[3][n])
+            case.append(None)
+            motion.append(best[0])
+            exponential.append(True)
+        elif above:
+            best = max(above, key=lambda r: r[2][n])  # (the first motion on ties)
+            height.append(best[2][n])
+            floor.append(best[3][n])
+            case.append(best[4][n])
+            motion.append(best[0])
+            exponential.append(False)
+        else:
+            height.append(max(r[2][n] for r in here))
+            floor.append(max(r[3][n] for r in here))
+            case.append(None)
+            motion.append(None)
+            exponential.append(False)
+    return VerticalEffect(tuple(times), tuple(height), tuple(floor), tuple(case),
+                          tuple(motion), tuple(exponential),
+                          fastest[5]["e_folding_s"] if fastest else None,
+                          fastest[5]["growing_mode"] if fastest else None)
+
+
 # --------------------------------------------------------------------------------------
 # Driver
 # --------------------------------------------------------------------------------------
@@ -1273,6 +1431,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                     if k in conv.names or k in used_sources},
         findings=[], compared=0,
         left_out=[n for n in conv.names if n not in hand.states],
+        vertical=list(conv.vertical),
         out_of_scope=[s.name for s in model.sources if s.name not in used_sources])
     _compare(report, sampled, conv, model, motion_list, declared, declared_used)
     if effects:
@@ -1281,6 +1440,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                                            responses=responses)
         report.finding_effects = finding_effects(report, sampled, conv, model, motion_list,
                                                  responses=responses)
+        report.vertical_effects = vertical_effects(report, sampled, conv, model, motion_list)
     return report
 
 

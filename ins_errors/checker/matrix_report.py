@@ -41,8 +41,37 @@ def below(floor: float, unit: str) -> str:
     return f"< {math.ceil(floor / digit * (1 - 1e-9)) * digit:.0e}{sep}{unit}"
 
 
+NOT_ASSESSED = "effect not assessed: the vertical channel is held"
+"""What the report says for a finding of a horizontal row in a vertical-channel column."""
+
+
+def _length(metres: float) -> str:
+    return f"{metres / 1000:.3g} km" if metres >= 1000 else f"{metres:.3g} m"
+
+
+def vertical_text(r: MatrixReport, f: EntryFinding) -> str:
+    """The effect of a vertical-channel finding on the height error
+    (:class:`~ins_errors.checker.matrix.VerticalEffect`), ``NOT_ASSESSED`` for a
+    horizontal row's vertical column, '' otherwise."""
+    e = r.vertical_effects.get(f.entry)
+    if e is None:
+        return NOT_ASSESSED if r.effects and f.column in r.vertical else ""
+    parts = []
+    for n, hours in enumerate(e.hours):
+        if e.exponential[n]:
+            parts.append(f"{hours:g} h: {growth_text(e.e_folding, e.growing_mode)}")
+        elif e.motion[n] is None:
+            parts.append(f"{hours:g} h: {NO_EFFECT} ({below(e.floor[n], 'm')})")
+        else:
+            parts.append(f"{hours:g} h: {_length(e.height[n])} ({e.case[n]}, {e.motion[n]})")
+    return "height error, vertical channel not held: " + "; ".join(parts)
+
+
 def _alone(r: MatrixReport, f: EntryFinding) -> str:
     """The effect of this difference alone after 24 h, or ''."""
+    vertical = vertical_text(r, f)
+    if vertical:
+        return vertical
     if f.entry not in r.finding_effects:
         return ""
     e = r.finding_effects[f.entry]
@@ -159,6 +188,8 @@ def to_terminal(r: MatrixReport) -> str:
     lines += [f"declaration explains nothing: {text}" for text in r.idle_declarations]
     if r.effects:
         held = (f"; vertical channel held: {', '.join(r.held)}" if r.held else "")
+        if r.vertical_effects:
+            held += " (its findings' effects on the height error are on their lines)"
         lines += ["", "Effect of the differences (hand − derived, propagated from each initial "
                   f"error and source at its typical size; the worst case{held}):"]
         rows = [EFFECT_HEADER, *_effect_rows(r)]
@@ -224,7 +255,11 @@ def to_json(r: MatrixReport) -> dict:
                       "absolute": f.absolute, "unit": f.unit, "per_motion": f.per_motion,
                       "detail": f.detail,
                       "effect_alone_24h": (_alone_json(r.finding_effects[f.entry])
-                                           if f.entry in r.finding_effects else None)}
+                                           if f.entry in r.finding_effects else None),
+                      "effect_vertical": (_vertical_json(r.vertical_effects[f.entry])
+                                          if f.entry in r.vertical_effects else None),
+                      "effect_not_assessed": (NOT_ASSESSED if vertical_text(r, f)
+                                              == NOT_ASSESSED else None)}
                      for f in r.findings],
         "effects": [{"motion": e.motion, "hours": e.hours, "case": e.case,
                      "magnitude": e.magnitude,
@@ -246,6 +281,14 @@ def _growth_json(e) -> dict:
     return {"e_folding_s": e.e_folding,
             "growth_rate_per_s": 1.0 / e.e_folding if e.e_folding else None,
             "growing_mode": e.growing_mode}
+
+
+def _vertical_json(e) -> dict:
+    """``effect_vertical`` of a finding: the height-error change (m) at each time, its
+    floor, case and motion, whether it grows exponentially, and the growing mode."""
+    return {"hours": list(e.hours), "height_m": list(e.height), "height_floor_m": list(e.floor),
+            "case": list(e.case), "motion": list(e.motion), "exponential": list(e.exponential),
+            "e_folding_s": e.e_folding, "growing_mode": e.growing_mode}
 
 
 def _alone_json(e) -> dict:
