@@ -919,6 +919,20 @@ class Item:
     hand_isolated: sp.Expr | None = None
 
 
+def _convention_hint(model: str, name: str) -> str:
+    """``; phi_N is a state of convention 'phi' ...: add the line '@convention phi'`` when
+    ``name`` is a state of one of ``model``'s conventions, else ''."""
+    from ins_errors.checker.conventions import REGISTRY
+
+    builder = REGISTRY.get(model)
+    found = [c for c, conv in (builder() if builder else {}).items() if name in conv.names]
+    if not found:
+        return ""
+    return (f"; {name} is a state of convention{'s' * (len(found) > 1)} "
+            f"{', '.join(repr(c) for c in found)}: add the line '@convention {found[0]}'"
+            + (" (or another of them)" if len(found) > 1 else ""))
+
+
 def _target(eq: HandEquation, resolver: HandSide, side: ModelSide
             ) -> tuple[str, tuple | None, bool, list[Finding], list[str]]:
     """(description, model key or None, ideal?, findings, notes) of a left side."""
@@ -937,7 +951,8 @@ def _target(eq: HandEquation, resolver: HandSide, side: ModelSide
             hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
             raise UnresolvedError(inner, f"equation for dot({inner}), but {shown} is not a state "
                                      f"of the model {side.d.name!r}{hint} (error states: "
-                                     f"{', '.join(side.error_states)})")
+                                     f"{', '.join(side.error_states)})"
+                                     + _convention_hint(side.d.name, inner))
         return f"error state {name}", ("state", name), False, [], []
     key = resolver.definition_key(eq)
     name = lhs.name

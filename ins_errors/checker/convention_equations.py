@@ -239,10 +239,14 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
 
     prefixes = _triples(states, ("N", "E", "D"))
     space = _vector_namespace(states, sources)
+    vectors = {k for k, v in space.items() if isinstance(v, sp.MatrixBase)}
     kept, rows = [], {}
     for number, raw in enumerate(text.splitlines(), start=1):
         body = raw.split("#", 1)[0].replace("×", "@")  # same width: a × b is cross(a, b)
         match = _VECTOR_LINE.match(body)
+        if match and match.group(1) not in prefixes:
+            _not_a_vector_line(match.group(1), match.group(2), states, prefixes, vectors,
+                               f"{name}, line {number}")
         if not match or match.group(1) not in prefixes:
             kept.append(raw)
             continue
@@ -270,6 +274,36 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
                 raise InsErrorsError(f"{where}: second equation for dot({row})")
             rows[row] = (number, shown, sp.expand(expr))
     return "\n".join(kept) + "\n", rows
+
+
+_VECTOR_WORDS = re.compile(r"\b(cross|skew|vec)\s*\(|@")
+
+
+def _not_a_vector_line(lhs: str, rhs: str, states: list[str], prefixes: dict, vectors: set,
+                       where: str) -> None:
+    """Refuse, in one line naming the real problem, a line ``dot(X) = ...`` that is not a
+    vector line but uses vector notation on its right: a row of one component
+    (``dot(phi_N) = cross(...)``) or a left side that is no state or state triple
+    (``dot(dw) = -cross(...)``). Other lines are left to the equation reader."""
+    import difflib
+
+    found = _VECTOR_WORDS.search(rhs)
+    named = sorted(set(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", rhs)) & vectors)
+    if not found and not named:
+        return
+    what = (f"{found.group(1)}()" if found and found.group(1) else "×" if found
+            else f"the vector {named[0]!r}")
+    if lhs in states:
+        prefix = lhs.rpartition("_")[0]
+        raise InsErrorsError(
+            f"{where}: dot({lhs}) is one component, but its right-hand side uses {what}, "
+            f"a vector: write the component's terms, or the vector line "
+            f"'dot({prefix}) = ...' for all three rows")
+    close = difflib.get_close_matches(lhs, [*prefixes, *states], n=3, cutoff=0.5)
+    hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
+    raise InsErrorsError(
+        f"{where}: dot({lhs}): {lhs!r} is neither a state of the convention nor a "
+        f"vector of its states (vectors: {', '.join(prefixes)}){hint}")
 
 
 def _rows(hand, states: list[str], sources: list[str],
