@@ -306,6 +306,43 @@ def _not_a_vector_line(lhs: str, rhs: str, states: list[str], prefixes: dict, ve
         f"vector of its states (vectors: {', '.join(prefixes)}){hint}")
 
 
+def convention_notation(model_name: str, states: list[str], sources: list[str]):
+    r"""Spellings of a ``@convention`` file: the convention's states as they are printed
+    and read from LaTeX, the model's own spellings of its error sources, and the named
+    quantities' LaTeX forms (:data:`QUANTITIES`).
+
+    * ``\delta v_N`` (read as ``Delta_v_N``) is ``dv_N``; likewise ``\delta r_N`` ->
+      ``dr_N``, ``\delta u_N`` -> ``du_N``, and in a ``_geodetic`` convention
+      ``\deltaarphi`` -> ``dlat``, ``\delta\lambda`` -> ``dlon``, ``\delta h`` -> ``dh``
+      (the text spellings ``Delta_v_N`` ... too); ``\delta\dot{v}_N`` is ``dot(dv_N)``;
+    * the model's LaTeX of its sources: ``b_{gx}`` -> ``gyro_bias_x``, ``b_{ax}``, ...;
+      ``\Omega`` -> ``U``;
+    * ``\omega_{in,D}`` (read as ``omega_inD``) -> ``omega_in_D``, and so for ``ie``,
+      ``en``, ``ib``; ``L`` (latitude, as Titterton and Weston write it) -> ``lat``.
+
+    A spelling never hides a name a file may use as it is (states, sources, quantities).
+    """
+    from ins_errors.checker.notation import Notation, default_notation
+
+    known = set(states) | set(sources) | set(QUANTITIES)
+    spellings: dict[str, str] = {}
+    for name in states:
+        base, _, axis = name.rpartition("_")
+        if base in ("dv", "dr", "du"):
+            spellings[f"Delta_{base[1:]}_{axis}"] = name
+    spellings.update({k: v for k, v in (("Delta_phi", "dlat"), ("Delta_lam", "dlon"),
+                                        ("Delta_h", "dh")) if v in states})
+    model_spellings = default_notation(model_name).spellings
+    spellings.update({k: v for k, v in model_spellings.items()
+                      if v in sources or (v == "U" and k == "Omega")})
+    for q in QUANTITIES:
+        if q.startswith("omega_") and q.count("_") == 2:
+            _, frame, axis = q.split("_")
+            spellings[f"omega_{frame}{axis}"] = q
+    spellings["L"] = "lat"
+    return Notation(spellings={k: v for k, v in spellings.items() if k not in known})
+
+
 def _rows(hand, states: list[str], sources: list[str],
           vector_rows: dict[str, tuple[int, str, sp.Expr]]):
     """{row: (line, text, expression)} of the hand file's equations; one-line errors."""
@@ -466,10 +503,13 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     states = conv.names
     src_names = [s.name for s in model.sources]
     vector_rows: dict[str, tuple[int, str, sp.Expr]] = {}
+    notation = convention_notation(model_name, states, src_names)
     if hand.format == "text":
         text, vector_rows = split_vector_lines(Path(path).read_text(encoding="utf-8"),
                                                states, src_names, hand.name)
-        hand = parse_hand_text(text, Notation(), name=hand.name)
+        hand = parse_hand_text(text, notation, name=hand.name)
+    else:  # read again with the convention's spellings (\delta v_N is dv_N)
+        hand = read_hand_file(path, notation, latex=True)
     rows = _rows(hand, states, src_names, vector_rows)
     held = set().union(*(r[2].free_symbols for r in rows.values()))  # (one walk a row)
     used = [s for s in src_names if sp.Symbol(s) in held]

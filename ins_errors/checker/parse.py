@@ -437,7 +437,12 @@ class _LatexConverter:
             accents.append(_ACCENTS[token[1:]])
             self.i += 1
             self.expect("{")
-            inner = self.symbol(delta=False)
+            # \dot{\delta v}_N, as the generated equations print a variation's rate
+            inner_delta = self.peek() in (r"\delta", r"\Delta") and self.peek(1) is not None \
+                and (self.peek(1).isalpha() or self.peek(1)[1:] in _GREEK)
+            if inner_delta:
+                self.i += 1
+            inner = self.symbol(delta=inner_delta)
             self.expect("}")
             return self.finish(inner, accents, delta, start)
         if token is None:
