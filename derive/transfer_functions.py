@@ -321,8 +321,25 @@ def _entry_names(indices, states: list[str], names) -> str:
     return ", ".join(f"$\\operatorname{{adj}}_{{{i + 1}{j + 1}}}$" for i, j in indices)
 
 
-def markdown(model: str, results: list[VariantResult]) -> str:
-    """The ``transfer_functions.md`` document of one model."""
+def markdown(model: str, results: list[VariantResult],
+             shown: list[ShownForms] | None = None) -> str:
+    """The ``transfer_functions.md`` document of one model.
+
+    Parameters
+    ----------
+    model : str
+        The model's name.
+    results : list of VariantResult
+        The analysed variants, in document order.
+    shown : list of ShownForms, optional
+        ``shown_forms(model, result)`` of each result, when the caller has them already
+        (computed here otherwise; the text is the same).
+
+    Returns
+    -------
+    str
+        The document.
+    """
     d = definition(model)
     setup = _setup(model)
     names = _names(model)
@@ -341,10 +358,11 @@ def markdown(model: str, results: list[VariantResult]) -> str:
            "Ω_N² + Ω_U² = Ω²) and checked numerically against the model's own F "
            "(tests/test_analytic_documents.py).", "",
            "Constants (the model's parameters):", "", *_constants(model), ""]
-    for result in results:
+    if shown is None:
+        shown = [shown_forms(model, result) for result in results]
+    for result, forms in zip(results, shown, strict=True):
         a = result.analysis
         par = a.parametrisation
-        forms = shown_forms(model, result)
         out += [f"## {result.variant.title}", "",
                 f"Variant `{result.variant.name}`. Parametrisation: {par.description}.", ""]
         if result.variant.simplification:
