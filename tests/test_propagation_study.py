@@ -385,12 +385,19 @@ def _two_hours(latitude_deg: float):
     return run(Experiment(latitude=float(np.radians(latitude_deg)), duration=7200.0))
 
 
-def test_end_of_run_table_is_labelled_with_the_duration(tmp_path, capsys):
+def test_end_of_run_table_is_labelled_with_the_duration(tmp_path, capsys, monkeypatch):
     """`--hours 2 --out D`: D/summary.md labels the end values 2 h, and they are the
-    values at 2 h (the last sample, t = 7200 s)."""
+    values at 2 h (the last sample, t = 7200 s). (The plots are not drawn: this test
+    reads the table only; the README's `propagation --hours 24 --out` and the plot tests
+    above draw them.)"""
     from ins_errors.cli import main
+    from ins_errors.studies import propagation
 
+    drawn = []
+    monkeypatch.setattr(propagation, "plot", lambda result, folder, sources=None: (
+        drawn.append(sources) or []))
     assert main(["propagation", "--hours", "2", "--out", str(tmp_path / "D")]) == 0
+    assert drawn == [None]  # every source's plot asked for
     capsys.readouterr()
     text = (tmp_path / "D" / "summary.md").read_text()
     assert "Values at the end of the run, 2 h (direct numeric):" in text
