@@ -62,9 +62,11 @@ def test_kept_conversions_equal_pints_and_do_not_mix():
             units.parse_quantity("3 florps", "rad", what)
 
 
-def _stale_set(folder, tmp_path) -> None:
-    """Parse pint's definitions from a copy of its files into ``folder``, then delete
-    the copy: what a deleted checkout's virtual environment leaves in the shared cache."""
+def _stale_sets(folders, tmp_path) -> None:
+    """Parse pint's definitions from a copy of its files into each of ``folders``, then
+    delete the copy: what a deleted checkout's virtual environment leaves in the shared
+    cache. (Parsed once, into the first folder; the others get copies of its files,
+    which a parse from the same copy would write again.)"""
     import shutil
 
     import pint
@@ -73,7 +75,10 @@ def _stale_set(folder, tmp_path) -> None:
     other.mkdir(exist_ok=True)
     for name in ("default_en.txt", "constants_en.txt"):
         shutil.copy(Path(pint.__file__).parent / name, other / name)
-    pint.UnitRegistry(str(other / "default_en.txt"), cache_folder=folder)
+    first, *more = folders
+    pint.UnitRegistry(str(other / "default_en.txt"), cache_folder=first)
+    for folder in more:
+        shutil.copytree(first, folder, dirs_exist_ok=True)
     shutil.rmtree(other)
 
 
@@ -89,12 +94,12 @@ def test_sets_of_deleted_installations_are_not_read_and_are_removed(tmp_path, mo
 
     host = platform.node()
     store = tmp_path / "units"
-    _stale_set(store, tmp_path)                       # the earlier one-set layout
     notes = {"0123456789abcdef": f"{tmp_path / 'deleted environment'}\n{host}\n",
              "fedcba9876543210": f"{tmp_path}\n{host}\n",
              "00000000ffffffff": f"{tmp_path / 'deleted environment'}\n{host}-other\n"}
+    # the earlier one-set layout (in the store itself), and one set per installation
+    _stale_sets([store / name for name in notes] + [store], tmp_path)
     for name, note in notes.items():
-        _stale_set(store / name, tmp_path)
         (store / name / units.INSTALLATION_FILE).write_text(note, encoding="utf-8")
     kept = ["fedcba9876543210", "00000000ffffffff"]
     fresh = _converted()
