@@ -133,6 +133,19 @@ def _block_noise(X: np.ndarray, N: int) -> np.ndarray:
     return np.swapaxes(X[..., N:, N:], -1, -2) @ X[..., :N, N:]
 
 
+_EXACT: dict[bytes, object] = {}
+
+
+def _exact_exponential(M: np.ndarray):
+    """e^M of one matrix at 40 digits (an mpmath matrix), computed once per matrix in this
+    module: the two Van Loan tests below share the blocks of their first two cases."""
+    key = np.ascontiguousarray(M).tobytes()
+    if key not in _EXACT:
+        with mpmath.workdps(40):
+            _EXACT[key] = mpmath.expm(mpmath.matrix(M))
+    return _EXACT[key]
+
+
 @pytest.mark.parametrize("kind, k", [("white", 0), ("markov", 599)])
 def test_van_loan_noise_covariance_equals_a_40_digit_reference(orthodromic, one_second_steps,
                                                                kind, k):
@@ -145,8 +158,8 @@ def test_van_loan_noise_covariance_equals_a_40_digit_reference(orthodromic, one_
     M, N = _van_loan_blocks(A, BQBt), A.shape[-1]
     X = se.exponential(M, 1.0)
     assert np.array_equal(X, se.exp_and_integral(M, 1.0)[0])
+    exact = _exact_exponential(M[k])
     with mpmath.workdps(40):
-        exact = mpmath.expm(mpmath.matrix(M[k]))
         phi_t = exact[N:, N:].T
         Qd_exact = np.array((phi_t * exact[:N, N:]).tolist(), dtype=float)
     Qd = _block_noise(X[k], N)
@@ -175,8 +188,8 @@ def test_rank_one_noise_step_equals_the_40_digit_van_loan_blocks(orthodromic, on
     np.testing.assert_allclose(b[..., :, None] * b[..., None, :], BQBt, rtol=1e-15, atol=0)
     Phi, Qd = se.rank_one_noise_step(A, b, step)
     M, N = _van_loan_blocks(A, BQBt), A.shape[-1]
+    exact = _exact_exponential(M[k] * step)
     with mpmath.workdps(40):
-        exact = mpmath.expm(mpmath.matrix(M[k] * step))
         phi = exact[N:, N:].T
         Qd_exact = np.array((phi * exact[:N, N:]).tolist(), dtype=float)
         Phi_exact = np.array(phi.tolist(), dtype=float)
