@@ -10,7 +10,9 @@ one-line message.
 
 from __future__ import annotations
 
+import os
 import re
+import shutil
 import sys
 from pathlib import Path
 
@@ -267,16 +269,48 @@ def _assert_one_line(status: int, err: str, argv: list[str]) -> None:
     assert "Traceback" not in err
 
 
-@pytest.fixture
-def scratch(tmp_path, monkeypatch):
+def _write_files(folder: Path) -> None:
     for name, content in FILES.items():
-        target = tmp_path / name
+        target = folder / name
         if isinstance(content, bytes):
             target.write_bytes(content)
         else:
             target.write_text(content, encoding="utf-8")
+
+
+def _state_of(folder: Path) -> dict[str, tuple[int, int]]:
+    """Name -> (size, modification time) of each entry of ``folder``."""
+    return {e.name: (e.stat().st_size, e.stat().st_mtime_ns) for e in os.scandir(folder)}
+
+
+@pytest.fixture
+def scratch(tmp_path, monkeypatch):
+    """A fresh folder holding :data:`FILES`, the current folder during the test."""
+    _write_files(tmp_path)
     monkeypatch.chdir(tmp_path)
     return tmp_path
+
+
+@pytest.fixture(scope="module")
+def _shared_files(tmp_path_factory) -> Path:
+    folder = tmp_path_factory.mktemp("files")
+    _write_files(folder)
+    return folder
+
+
+@pytest.fixture
+def inputs(_shared_files, monkeypatch):
+    """The current folder during a test whose calls must write nothing: :data:`FILES`,
+    written once for the module (a folder per test made most of these tests' cost). An
+    entry the test added, removed or changed fails it, and the folder is made afresh."""
+    before = _state_of(_shared_files)
+    monkeypatch.chdir(_shared_files)
+    yield _shared_files
+    if _state_of(_shared_files) != before:
+        for entry in _shared_files.iterdir():
+            shutil.rmtree(entry) if entry.is_dir() else entry.unlink()
+        _write_files(_shared_files)
+        pytest.fail("the call added, removed or changed files in the current folder")
 
 
 def test_the_battery_is_large():
@@ -286,12 +320,12 @@ def test_the_battery_is_large():
 
 
 @pytest.mark.parametrize("argv", CLI_CASES.values(), ids=CLI_CASES.keys())
-def test_bad_command_line(argv, scratch, capsys):
-    before = sorted(p.name for p in scratch.iterdir())
+def test_bad_command_line(argv, inputs, capsys):
+    before = sorted(p.name for p in inputs.iterdir())
     status, _out, err = _run(argv, capsys)
     _assert_one_line(status, err, argv)
     print(err.strip())
-    assert sorted(p.name for p in scratch.iterdir()) == before, "a failed run left files"
+    assert sorted(p.name for p in inputs.iterdir()) == before, "a failed run left files"
 
 
 NAMED = {
@@ -373,7 +407,7 @@ NAMED = {
 
 
 @pytest.mark.parametrize("case", NAMED)
-def test_the_line_names_the_problem_and_the_way_out(case, scratch, capsys):
+def test_the_line_names_the_problem_and_the_way_out(case, inputs, capsys):
     _status, _out, err = _run(CLI_CASES[case], capsys)
     assert NAMED[case] in err
 
@@ -395,7 +429,7 @@ def _subcommands() -> dict[str, object]:
 
 
 @pytest.mark.parametrize("name", sorted(_subcommands()))
-def test_every_subcommand_refuses_an_unknown_option(name, scratch, capsys):
+def test_every_subcommand_refuses_an_unknown_option(name, inputs, capsys):
     status, _out, err = _run([name, "--no-such-option"], capsys)
     _assert_one_line(status, err, [name])
 
@@ -403,7 +437,7 @@ def test_every_subcommand_refuses_an_unknown_option(name, scratch, capsys):
 @pytest.mark.parametrize("name", sorted(n for n, p in _subcommands().items()
                                         if any(a.dest == "model" and not a.option_strings
                                                for a in p._actions)))
-def test_every_model_taking_subcommand_names_close_models(name, scratch, capsys):
+def test_every_model_taking_subcommand_names_close_models(name, inputs, capsys):
     sub = _subcommands()[name]
     positionals = [a for a in sub._actions if not a.option_strings and a.dest != "help"]
     argv = [name] + ["orthodromik" if a.dest == "model" else "hand.txt"
@@ -420,7 +454,7 @@ def test_every_model_taking_subcommand_names_close_models(name, scratch, capsys)
     ["study", "coriolis", "--plot", "plots"],
     ["propagation", "--out", "p001"],
 ], ids=lambda argv: argv[0])
-def test_missing_matplotlib_is_one_line_before_computing(argv, scratch, capsys, monkeypatch):
+def test_missing_matplotlib_is_one_line_before_computing(argv, inputs, capsys, monkeypatch):
     monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib -> ImportError
     status, out, err = _run(argv, capsys)
     _assert_one_line(status, err, argv)
@@ -646,7 +680,7 @@ API_CASES = {
 
 
 @pytest.mark.parametrize("call", API_CASES.values(), ids=API_CASES.keys())
-def test_bad_api_call(call, scratch):
+def test_bad_api_call(call, inputs):
     with pytest.raises(ins_errors.InsErrorsError) as raised:
         call()
     message = str(raised.value)
@@ -719,7 +753,7 @@ NAMED_API = {
 
 
 @pytest.mark.parametrize("case", NAMED_API)
-def test_the_api_line_names_the_problem(case, scratch):
+def test_the_api_line_names_the_problem(case, inputs):
     with pytest.raises(ins_errors.InsErrorsError, match=re.escape(NAMED_API[case])):
         API_CASES[case]()
 
