@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
+
 import numpy as np
 
 import ins_errors
@@ -161,3 +164,18 @@ def assert_pictures_alike(reduced, full, most: int = 20) -> None:
     strokes = int((np.abs(ours - every) > 64).sum())
     assert strokes <= most, strokes
     assert reduced.read_bytes() != full.read_bytes()  # (the envelope is in use)
+
+
+@contextmanager
+def one_blas_thread_for_references() -> Iterator[None]:
+    """A test's own reference computations (SciPy's expm of matrices of tens of rows) with
+    BLAS on one thread, SciPy's bundled OpenBLAS included (imported first, so that the
+    limit reaches it). On matrices this small BLAS threads only burn CPU waiting for
+    each other: about 7 ms of CPU per 12 × 12 exponential on a loaded 2-core machine
+    instead of about 0.1 ms. The product's own calls limit themselves
+    (:mod:`ins_errors.numeric.blas_threads`); this is for the tests' references."""
+    import scipy.linalg  # noqa: F401  (loads SciPy's OpenBLAS before the limit is set)
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield

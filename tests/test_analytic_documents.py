@@ -20,6 +20,7 @@ from ins_errors.numeric.closed_forms import closed_forms
 from ins_errors.numeric.model import load_model
 from ins_errors.symbolic.simplifications import simplification
 from ins_errors.symbolic.static_base import static_analyses
+from tests.helpers import one_blas_thread_for_references
 
 LATITUDE = 0.7
 S_POINTS = (4e-4 + 1.3e-3j, 5e-5 + 2e-4j, 2e-3 + 1e-5j)
@@ -116,14 +117,19 @@ def test_printed_responses_are_scipys_expm(documented):
             continue
         F = _numeric_F(model, result, x, u, p)
         n = F.shape[0]
+        references = {}
+        with one_blas_thread_for_references():
+            for j, source in enumerate(model.sources):
+                for t in TIMES:
+                    if source.kind == "constant":
+                        augmented = np.zeros((n + 1, n + 1))
+                        augmented[:n, :n], augmented[:n, n] = F, G[:, j]
+                        references[j, t] = expm(augmented * t)[:n, n]
+                    else:
+                        references[j, t] = expm(F * t) @ E[:, j]
         for j, source in enumerate(model.sources):
             for t in TIMES:
-                if source.kind == "constant":
-                    augmented = np.zeros((n + 1, n + 1))
-                    augmented[:n, :n], augmented[:n, n] = F, G[:, j]
-                    expected = expm(augmented * t)[:n, n]
-                else:
-                    expected = expm(F * t) @ E[:, j]
+                expected = references[j, t]
                 scale = max(np.max(np.abs(expected)), 1e-300)
                 shown = forms.responses[source.name]
                 for i in range(n):
