@@ -54,3 +54,16 @@ def test_the_schuler_loop_of_a_platform_model_does_not_warn():
     [result] = compare(model, motion, [{"accel_bias_y": 1e-4}], record_interval=600.0,
                        refined=False, validity_threshold=None, integration_error=False)
     assert not [w for w in result.warnings if GROWS in w]
+
+
+def test_the_growth_check_leaves_a_streamed_motion_streamed():
+    """It read F's inputs at t = 0 through inputs_at, which stores a streamed motion whole:
+    a moving week at 100 Hz then ran to its end and was refused (8.7 GB), and a moving
+    day's memory no longer followed the recording interval."""
+    model = load_model("orthodromic")
+    profile = tr.great_circle_profile(np.radians(50.0), 0.5, np.radians(90.0), 250.0)
+    motion = tr.trajectory(model, profile, 600.0, 0.01, stream=True)
+    assert motion.is_streamed
+    compare(model, motion, [{"accel_bias_y": 1e-4}], record_interval=60.0, refined=False,
+            validity_threshold=None, integration_error=False)
+    assert motion.is_streamed

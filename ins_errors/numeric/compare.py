@@ -328,7 +328,7 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     if not comparisons or duration <= 0:
         return
     x0 = sim.ideal[:, 0, 0]
-    u0 = sim.trajectory.inputs_at(np.zeros(1, dtype=int))[:, 0]
+    u0 = sim.trajectory.start_inputs  # (inputs_at would store a streamed motion whole)
     rate = growth_rate(np.asarray(sim.model.state_matrix(x0, u0, sim.trajectory.parameters), float))
     if rate * duration < GROWTH_WARNED:
         return
