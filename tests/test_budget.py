@@ -474,3 +474,65 @@ def test_a_moving_grid_too_large_for_the_memory_is_refused_before_the_flight(
                         lambda: 0.999 * times * per_time / linear_system.MEMORY_SHARE)
     with pytest.raises(linear_system.LinearSystemError, match="at least 2 s"):
         linear_system.check_grid_memory(orthodromic, times, 1.0)
+
+
+VERTICAL_ONLY = """
+    title = "vertical only"
+    sigma_level = 2
+    operating_time = "8 h"
+    step = "60 s"
+    [motion]
+    kind = "static"
+    latitude = "50 deg"
+    [items.vertical_error]
+    value = "0.1 deg"
+    every = "5 min"
+    from = "0 h"
+"""
+
+
+def test_a_source_seen_only_through_round_off_takes_no_share(orthodromic, tmp_path):
+    """The tilts do not depend on the initial longitude error (nothing in the static
+    orthodromic equations feeds it back), but entries of F that are zero but for their
+    last bits made the computed dependence 1e-96: the source was allowed 7e47 arcmin and
+    took 1/18 of the vertical, so every other source came out √(17/18) too small. Now it
+    is not limited and takes no share: the others are allocated exactly as in a budget
+    without it (an independent propagation of the spec that excludes it)."""
+    with_it = bd.allocate(bd.unit_budget(orthodromic, load_spec(write(tmp_path,
+                                                                      VERTICAL_ONLY))))
+    without = bd.allocate(bd.unit_budget(orthodromic, load_spec(write(
+        tmp_path, VERTICAL_ONLY + "[sources.initial_longitude_error]\ninclude = false\n",
+        "without.toml"))))
+    names = [s.name for s in with_it.budget.sources]
+    j = names.index("initial_longitude_error")
+    assert not np.isfinite(with_it.sigma[j]) and with_it.binding_row(j) is None
+    # its computed dependence is not an exact zero: the round-off floor decides
+    assert np.any(with_it.budget.unit_variances[:, j] > 0)
+    others = [s.name for s in without.budget.sources]
+    assert names[:j] + names[j + 1:] == others
+    mine = np.delete(with_it.sigma, j)
+    limited = np.isfinite(without.sigma)
+    assert limited.sum() >= 12
+    np.testing.assert_array_equal(np.isfinite(mine), limited)
+    np.testing.assert_allclose(mine[limited], without.sigma[limited], rtol=1e-12)
+    assert [r.label for r in np.array(with_it.budget.rows)[np.delete(with_it.binding, j)[
+        limited]]] == [r.label for r in np.array(without.budget.rows)[without.binding[
+            limited]]]
+
+
+def test_contributions_at_round_off_are_shown_as_zero(orthodromic, tmp_path):
+    """A fixed initial longitude error on a static base stays a constant longitude error
+    (Δλ(t) = Δλ(0)) and moves nothing else; its rows in the --at table read exactly its
+    magnitude under Δlongitude and 0 elsewhere, not round-off such as 7e-35 arcmin."""
+    spec = load_spec(write(tmp_path, VERTICAL_ONLY + '[sources.initial_longitude_error]\n'
+                                                     'fixed = "3 arcmin"\n'))
+    allocation = bd.allocate(bd.unit_budget(orthodromic, spec))
+    data = bd.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
+    j = data["sources"].index("initial_longitude_error")
+    q = data["quantities"].index("delta_longitude")
+    assert data["units"][q] == "arcmin"
+    np.testing.assert_allclose(data["std"][:, q, j], 3.0 / 2, rtol=1e-12)   # 2σ spec
+    rest = np.delete(data["std"][:, :, j], q, axis=1)
+    assert rest.size and not np.any(rest)
+    # real contributions of the other sources stay
+    assert np.all(data["total"][:, data["quantities"].index("alpha_x")] > 0)

@@ -32,9 +32,14 @@ happens *binds* the source. Since no source exceeds its share, every item is met
 item is met exactly.
 
 Sources whose allocation would exceed :data:`UNCONSTRAINED_ABOVE` (the motion hardly
-excites them), or that no spec row depends on at all, take no share and are reported as
-not limited. Tables and plots of a
-budget are in :mod:`ins_errors.analysis.budget_report`.
+excites them), or that no spec row depends on, take no share and are reported as not
+limited. "Depends on" is judged against the rounding floor of the propagation
+(:func:`rounding_floors`), not against an exact zero: a row whose computed dependence on
+a source is at or below its floor depends on it only through round-off (e.g. the tilts
+on the initial longitude error, through entries of F that are zero but for the last
+bits), and such a dependence would otherwise allow an absurd magnitude (1e47 arcmin) and
+still take a share from every other source. Tables and plots of a budget are in
+:mod:`ins_errors.analysis.budget_report`.
 """
 
 from __future__ import annotations
@@ -56,6 +61,8 @@ from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.linear_system import check_grid_memory
 from ins_errors.specs import HOUR, SOURCE_UNIT_SUFFIX, Spec, SpecError
 from ins_errors.units import UnitError, format_quantity, parse_quantity
+
+EPS = float(np.finfo(float).eps)
 
 RATE_ITEMS = ("position_error", "heading_drift")
 """Items whose quantity is an error divided by the operating time."""
@@ -173,6 +180,10 @@ class UnitBudget:
     unit_variances : numpy.ndarray, shape (nr, ns)
         SI units² of the row per (source unit)².
     system : LinearSystem
+    floors : numpy.ndarray, shape (nr, ns), optional
+        Rounding floor of each unit variance (:func:`rounding_floors`), same units: a
+        unit variance at or below it is round-off, no dependence. None: only exact
+        zeros are taken as no dependence.
     """
 
     spec: Spec
@@ -180,6 +191,13 @@ class UnitBudget:
     rows: tuple[Row, ...]
     unit_variances: np.ndarray
     system: LinearSystem
+    floors: np.ndarray | None = None
+
+    @property
+    def depends(self) -> np.ndarray:
+        """Whether each row depends on each source above round-off, (nr, ns) of bool."""
+        floors = np.zeros_like(self.unit_variances) if self.floors is None else self.floors
+        return self.unit_variances > floors
 
     @property
     def allowed_variances(self) -> np.ndarray:
@@ -439,16 +457,99 @@ def unit_budget(model, spec: Spec, trajectory=None,
     check_items(model, spec)
     sources = resolve_sources(model, spec)
     system = spec_system(model, spec, trajectory, p)
-    covariance = _propagate(model, system, spec,
-                            [SourceStatistics(s.name, s.statistics, 1.0, s.tau)
-                             for s in sources])
+    statistics = [SourceStatistics(s.name, s.statistics, 1.0, s.tau) for s in sources]
+    functionals, _ = item_functionals(model, system, spec)
+    covariance = propagate(system, statistics, functionals)
     rows, unit = _rows(spec, system, covariance, covariance.unit_variances)
-    return UnitBudget(spec, sources, tuple(rows), unit, system)
+    # the error states on their own (a separate propagation, so that the rows' numbers
+    # are those of the items alone, to the bit): the scale of the rows' rounding floors
+    states = propagate(system, statistics, _state_functionals(model, system))
+    floors = rounding_floors(states.unit_variances, functionals.C_x,
+                             typical_state_sizes(model), len(model.error_states)
+                             + len(sources))
+    _, floor = _rows(spec, system, covariance, floors)
+    return UnitBudget(spec, sources, tuple(rows), unit, system, floor)
 
 
 def _propagate(model, system, spec, statistics) -> Covariance:
     functionals, _ = item_functionals(model, system, spec)
     return propagate(system, statistics, functionals)
+
+
+def _state_functionals(model, system: LinearSystem) -> Functionals:
+    """Every error state, in SI units."""
+    n, nw = system.E.shape
+    return Functionals(tuple(s.name for s in model.error_states),
+                       tuple(s.unit for s in model.error_states), np.eye(n),
+                       np.zeros((n, nw)))
+
+
+def typical_state_sizes(model) -> np.ndarray:
+    """Typical size of every error state (SI), shape (n,): the matrix check's fixed sizes
+    by unit (:func:`ins_errors.checker.typical.typical_magnitude`: 1e-4 rad, 0.1 m/s,
+    10 m, ...), 1 for a unit it has none for. They only scale the states for
+    :func:`rounding_floors`."""
+    from ins_errors.checker.typical import typical_magnitude
+
+    sizes = []
+    for state in model.error_states:
+        try:
+            sizes.append(typical_magnitude(state.unit)[0])
+        except InsErrorsError:
+            sizes.append(1.0)
+    return np.array(sizes)
+
+
+def rounding_floors(state_variances: np.ndarray, readout: np.ndarray, typical: np.ndarray,
+                    size: int, steps: np.ndarray | None = None) -> np.ndarray:
+    r"""Rounding floor of the variances of linear functionals of the error state, per source.
+
+    The propagation is a product of k step transitions of the ``size``-square augmented
+    system (or, on a static base, powers of one), so the forward error of a propagated
+    response is bounded by :math:`\gamma_k = \mathrm{size}\cdot k\cdot\varepsilon` times
+    the largest response of the same source in scaled variables (each state over its
+    typical size :math:`m_i`), whatever path it takes: entries of F that are zero but
+    for their last bits, the exponential's own rounding, the products. A functional
+    :math:`y = C x` reads that error as at most :math:`\gamma_k \max_i(\sigma_{ij}/m_i)
+    \sum_l |C_l| m_l`, with :math:`\sigma_{ij}` the 1σ of state i from source j. This
+    is the matrix check's floor (:func:`ins_errors.checker.matrix.rounding_floor`) with
+    the source's own response as the largest one; the typical sizes only set the scale
+    of the states against each other (a dependence through round-off lies tens of
+    decades below it, a real one many decades above). A variance at or below the
+    square of this floor is round-off: the functional does not depend on the source.
+
+    Parameters
+    ----------
+    state_variances : numpy.ndarray, shape (nt, n, ns)
+        Variance of every error state from every source at nt times (unit or actual
+        statistics; the floors follow the same ones).
+    readout : numpy.ndarray, shape (q, n) or (nt, q, n)
+        The functionals' weights on the error state (``C_x``; the weights ``C_b`` on the
+        sources' own values are exact and add no propagated rounding).
+    typical : numpy.ndarray, shape (n,)
+        Typical size of every state, in its SI unit.
+    size : int
+        Dimension of the propagated system (error states plus sources).
+    steps : numpy.ndarray of int, shape (nt,), optional
+        Grid steps propagated to each time (default: 0, 1, ..., nt-1, every grid time);
+        at least 1 is counted.
+
+    Returns
+    -------
+    numpy.ndarray, shape (nt, q, ns)
+        Floor of each functional's variance from each source, same units as the
+        variances of the functionals.
+    """
+    if steps is None:
+        steps = np.arange(state_variances.shape[0])
+    steps = np.maximum(np.asarray(steps), 1)
+    gamma = size * steps * EPS                                            # (K+1,)
+    scaled = np.maximum(state_variances, 0.0) / typical[None, :, None] ** 2
+    response = np.sqrt(scaled.max(axis=1))                                # (K+1, ns)
+    unit = np.abs(readout) @ typical                                      # (.., q)
+    if unit.ndim == 1:
+        unit = np.broadcast_to(unit, (len(steps), unit.size))
+    return (gamma[:, None, None] * response[:, None, :] * unit[:, :, None]) ** 2
 
 
 def _rows(spec: Spec, system: LinearSystem, covariance: Covariance,
@@ -525,6 +626,7 @@ def allocate(budget: UnitBudget) -> Allocation:
         If the fixed sources alone use up a spec row.
     """
     V, allowed = budget.unit_variances, budget.allowed_variances
+    depends = budget.depends
     fixed = np.array([s.fixed is not None for s in budget.sources])
     sigma = np.array([s.fixed if s.fixed is not None else np.nan for s in budget.sources])
     used = (V[:, fixed] * sigma[fixed] ** 2).sum(1) if fixed.any() else np.zeros(len(allowed))
@@ -551,7 +653,7 @@ def allocate(budget: UnitBudget) -> Allocation:
         share = weights / weights.sum()
         with np.errstate(divide="ignore"):
             ratio = share[None, :] * remaining[:, None] / V[:, free]          # (nr, nf)
-        ratio[V[:, free] <= 0] = np.inf
+        ratio[~depends[:, free]] = np.inf   # no dependence, or only through round-off
         best = np.argmin(ratio, axis=0)
         sigma[free] = np.sqrt(ratio[best, np.arange(free.size)])
         binding[free] = best
@@ -738,6 +840,14 @@ def output_contributions(model, allocation: Allocation, times: list[float]) -> d
                             f"grid within the operating time")
         index.append(k)
     contributions = covariance.contributions[np.ix_(index, chosen)]      # (t, q, s)
+    # a contribution at or below the rounding floor of the propagation is round-off
+    # (e.g. 7e-35 arcmin): shown as 0
+    readout = functionals.C_x if functionals.C_x.ndim == 2 else functionals.C_x[index]
+    ne = len(model.error_states)
+    floors = rounding_floors(covariance.contributions[index][:, :ne], readout,
+                             typical_state_sizes(model), ne + len(keep),
+                             np.array(index))[:, chosen]
+    contributions = np.where(contributions > floors, contributions, 0.0)
     std = np.sqrt(contributions)
     total = np.sqrt(contributions.sum(-1))
     units = [functionals.units[i] for i in chosen]
