@@ -257,3 +257,41 @@ def test_malformed_spec_still_exits_2_without_output(capsys):
     assert main(["budget", "orthodromic", "--spec", str(spec), "--json"]) == 2
     captured = capsys.readouterr()
     assert not captured.out and captured.err.count("\n") == 1
+
+
+GREAT_CIRCLE = """
+    sigma_level = 2
+    operating_time = "1 h"
+    step = "60 s"
+    [motion]
+    kind = "great_circle"
+    speed = "250 m/s"
+    latitude = "50 deg"
+    longitude = "30 deg"
+    heading = "60 deg"
+    [items.ground_speed_error]
+    value = "4.0 m/s"
+    every = "5 min"
+    until = "1 h"
+    [items.vertical_error]
+    value = "0.1 deg"
+    every = "5 min"
+    from = "0 h"
+"""
+
+
+def test_moving_base_monte_carlo_in_a_process_pool_equals_one_process(tmp_path, capsys):
+    """A great-circle trajectory carried its profile's commands as a closure, which the
+    process pool (the engine without Dask) cannot send to a worker: more runs than one
+    task (50) gave a 44-line traceback and exit 1, the "spec exceeded" status. The
+    pool's runs now give the JSON of the same runs in this process, byte for byte."""
+    spec = str(write(tmp_path, GREAT_CIRCLE))
+    argv = ["budget", "orthodromic", "--spec", spec, "--monte-carlo", "60", "--mc-duration",
+            "10 min", "--mc-step", "1 s", "--json", "--workers", "2"]
+    assert main([*argv, "--engine", "serial"]) == 0
+    serial = capsys.readouterr().out
+    assert main([*argv, "--engine", "pool"]) == 0
+    pool = capsys.readouterr().out
+    assert pool == serial
+    rows = json.loads(pool)["monte_carlo"]["rows"]
+    assert json.loads(pool)["monte_carlo"]["runs"] == 60 and len(rows) == 5

@@ -48,3 +48,34 @@ def test_impossible_requests_are_one_line_errors(tmp_path, capsys):
     assert main(["sweep", str(path), "--workers", "0"]) == 2
     err = capsys.readouterr().err
     assert "needs the dask engine" in err and "--workers must be at least 1" in err
+
+
+def fails(offset: int, x: int) -> int:
+    if x == 3:
+        raise ZeroDivisionError("a fault in task 3\nwith a second line")
+    return offset + x
+
+
+@pytest.mark.parametrize("kind", ["pool", "dask"])
+def test_a_task_that_fails_in_a_worker_is_one_line(kind):
+    """Anything a task raises in a worker process (a fault, an argument that cannot be
+    sent to it) is an EngineError of one line naming the exception, which the command
+    line reports with exit status 2, never a traceback from the other process."""
+    if kind == "dask":
+        pytest.importorskip("distributed")
+    with pytest.raises(engine.EngineError) as raised:
+        engine.run_tasks(fails, [(k,) for k in range(5)], engine=kind, workers=2,
+                         shared=(100,), label="test")
+    assert str(raised.value) == ("a test task failed in a worker process: "
+                                 "ZeroDivisionError: a fault in task 3")
+    if kind == "pool":   # Dask's cloudpickle sends a local function; the pool cannot
+        with pytest.raises(engine.EngineError, match=r"failed in a worker process: .*pickle"):
+            engine.run_tasks(square, [(k,) for k in range(2)], engine=kind, workers=2,
+                             shared=(lambda: 0,))
+
+
+def test_an_error_of_the_tools_own_passes_unchanged():
+    from ins_errors.errors import InsErrorsError
+
+    error = InsErrorsError("bad input")
+    assert engine.task_failure(error, "x") is error

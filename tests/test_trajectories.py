@@ -181,3 +181,28 @@ def test_rest_with_a_moving_state_is_integrated():
     y = model.numpy.outputs(x, traj.inputs[:, -1], p)
     assert y[names.index("latitude")] == pytest.approx(np.radians(50), abs=1e-9)
     assert y[names.index("longitude")] == pytest.approx(0.3, abs=1e-9)
+
+
+def test_every_motion_survives_pickling_with_the_same_commands():
+    """The process pool of a Monte Carlo run pickles the trajectory, and with it the
+    profile (and a strapdown flight) whose commands were closures, which pickle refuses.
+    Every profile and flight now goes through pickle and commands the same bits."""
+    import pickle
+
+    from ins_errors.numeric import strapdown_truth as sd
+
+    legs = [tr.Leg(120.0, 200.0, 0.0, 3000.0), tr.Leg(90.0, 220.0, np.radians(90.0), 2000.0)]
+    samples = np.arange(0.0, 1000.0, 10.0)
+    profiles = [tr.static_profile(0.8, 0.1, 0.2, 10.0),
+                tr.great_circle_profile(0.8, 0.5, 0.1, 250.0, 100.0),
+                tr.manoeuvre_profile(0.8, 0.5, 0.1, 150.0, legs),
+                tr.sampled_profile(samples, np.sin(samples / 99), np.cos(samples / 77), 0.8,
+                                   0.5, 0.1, h=samples)]
+    flights = [sd.static(0.8, 0.1, 5.0), sd.great_circle(0.8, 0.1, 0.3, 200.0),
+               sd.manoeuvre(0.8, 0.5, 0.1, 150.0, legs), sd.standard_manoeuvre(),
+               sd.flight_from_profile(profiles[2])]
+    t = np.linspace(0.0, 900.0, 901)
+    for motion in profiles + flights:
+        copy = pickle.loads(pickle.dumps(motion))
+        for mine, theirs in zip(motion.commands(t), copy.commands(t), strict=True):
+            assert mine.tobytes() == theirs.tobytes()

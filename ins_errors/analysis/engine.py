@@ -167,19 +167,35 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
             stats = EngineStats("pool", min(workers, len(tasks)),
                                 where=f"local process pool of {min(workers, len(tasks))}")
             with compiler_checked():  # a missing compiler said once, not by each worker
-                _run_pool(function, tasks, shared, stats.workers, done)
+                _run_pool(function, tasks, shared, stats.workers, done, label)
         else:
             stats = EngineStats("dask", 0)
             with compiler_checked():
                 _run_dask(function, tasks, shared, scheduler, min(workers, len(tasks)),
-                          stats, done)
+                          stats, done, label)
     finally:
         if bar is not None:
             bar.close()
     return stats
 
 
-def _run_pool(function, tasks, shared, workers, done) -> None:
+def task_failure(error: Exception, label: str) -> InsErrorsError:
+    """The one-line error of a task that failed in a worker process.
+
+    An error of the tool's own (:class:`~ins_errors.errors.InsErrorsError`: bad input
+    found by the task) is passed on as it is; any other exception (a task that cannot be
+    sent to the worker, a worker that died, a fault) becomes an :class:`EngineError`
+    naming its type and first line, so that the command line reports it like any other
+    error (exit status 2, one line) and never as a traceback from another process.
+    """
+    if isinstance(error, InsErrorsError):
+        return error
+    text = str(error).strip().splitlines()
+    return EngineError(f"a {label} task failed in a worker process: "
+                       f"{type(error).__name__}{': ' + text[0] if text else ''}")
+
+
+def _run_pool(function, tasks, shared, workers, done, label: str = "tasks") -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -190,7 +206,11 @@ def _run_pool(function, tasks, shared, workers, done) -> None:
         futures = {pool.submit(function, *shared, *task): k for k, task in enumerate(tasks)}
         try:
             for future in as_completed(futures):
-                done(futures[future], future.result())
+                try:
+                    result = future.result()
+                except Exception as error:  # any fault: one line
+                    raise task_failure(error, label) from None
+                done(futures[future], result)
         except BaseException:
             for future in futures:
                 future.cancel()
@@ -214,7 +234,8 @@ def _workers_ignore_ctrl_c() -> Iterator[None]:
         signal.signal(signal.SIGINT, previous)
 
 
-def _run_dask(function, tasks, shared, scheduler, workers, stats, done) -> None:
+def _run_dask(function, tasks, shared, scheduler, workers, stats, done,
+              label: str = "tasks") -> None:
     import logging
 
     from distributed import Client, LocalCluster, as_completed
@@ -240,9 +261,12 @@ def _run_dask(function, tasks, shared, scheduler, workers, stats, done) -> None:
             stats.where = f"Dask scheduler {scheduler}"
         try:
             stats.workers = len(client.scheduler_info().get("workers", {}))
-            common = [client.scatter(item, broadcast=True) for item in shared]
-            futures = [client.submit(function, *common, *task, pure=False)
-                       for task in tasks]
+            try:
+                common = [client.scatter(item, broadcast=True) for item in shared]
+                futures = [client.submit(function, *common, *task, pure=False)
+                           for task in tasks]
+            except Exception as error:  # e.g. not serialisable
+                raise task_failure(error, label) from None
             index = {future.key: k for k, future in enumerate(futures)}
             try:
                 for future in as_completed(futures):
@@ -251,6 +275,8 @@ def _run_dask(function, tasks, shared, scheduler, workers, stats, done) -> None:
                     except KilledWorker as error:
                         raise EngineError(f"a task kept killing its Dask workers: {error}"
                                           ) from None
+                    except Exception as error:  # any fault: one line
+                        raise task_failure(error, label) from None
                     done(index[future.key], result)
                     future.release()
             except BaseException:

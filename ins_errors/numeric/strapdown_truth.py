@@ -119,6 +119,112 @@ class Flight:
                               "and heading are undefined there")
 
 
+# --------------------------------------------------------------------------------------
+# Commands of the flights: module-level callables (a closure cannot be pickled, and a
+# trajectory carries its flight to the worker processes of a Monte Carlo run)
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class GeodesicCommands:
+    """Level flight along the geodesic at a constant ground speed (0 m/s: at rest).
+
+    Attributes
+    ----------
+    speed : float
+        m/s.
+    """
+
+    speed: float
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, ...]:
+        zero = np.zeros(t.shape)
+        if not self.speed:
+            return zero, zero, zero, zero, zero, zero
+        return np.full(t.shape, self.speed), zero, zero, zero, zero, zero
+
+
+@dataclass(frozen=True)
+class FlightLegCommands:
+    """The commands of :func:`manoeuvre`.
+
+    Attributes
+    ----------
+    starts : tuple of (float, float, float, float, Leg)
+        Per leg: start (s), length (s), ground speed (m/s) and height (m) at its start,
+        and the leg.
+    speed : float
+        Ground speed before the first leg, m/s.
+    """
+
+    starts: tuple
+    speed: float
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, ...]:
+        starts = self.starts
+        V, dV = np.full(t.shape, self.speed), np.zeros(t.shape)
+        r, dr = np.zeros(t.shape), np.zeros(t.shape)
+        vD, dvD = np.zeros(t.shape), np.zeros(t.shape)
+        for j, (start, length, vs, hs, leg) in enumerate(starts):
+            # a leg sets every value from its start on and the next leg overwrites them
+            # from its own start: a leg with no time before the next start changes nothing
+            following = starts[j + 1][0] if j + 1 < len(starts) else np.inf
+            if not np.any((t >= start) & (t < following)):
+                continue
+            s, ds, dds = smoothstep((t - start) / length)
+            active = t >= start
+            V = np.where(active, vs + (leg.speed - vs) * s, V)
+            dV = np.where(active, (leg.speed - vs) * ds / length, dV)
+            inside = active & (t < start + length)
+            r = np.where(inside, -leg.turn * ds / length, np.where(active, 0.0, r))
+            dr = np.where(inside, -leg.turn * dds / length**2, np.where(active, 0.0, dr))
+            vD = np.where(inside, -(leg.height - hs) * ds / length, np.where(active, 0.0, vD))
+            dvD = np.where(inside, -(leg.height - hs) * dds / length**2,
+                           np.where(active, 0.0, dvD))
+        return V, dV, r, dr, vD, dvD
+
+
+@dataclass(frozen=True, eq=False)
+class ProfileFlightCommands:
+    """The commands of :func:`flight_from_profile`: ground speed, turn rate and down
+    velocity of a track-frame profile's commands, and their rates.
+
+    Attributes
+    ----------
+    profile_commands : callable
+        The profile's ``commands`` (:class:`~ins_errors.numeric.trajectories.Profile`).
+    known : numpy.ndarray, shape (m,)
+        The start and the profile's breaks, s, increasing.
+    step : float
+        Step of the differences of the turn rate, s.
+    """
+
+    profile_commands: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
+    known: np.ndarray
+    step: float = 1e-3
+
+    def turn(self, t: np.ndarray) -> tuple[np.ndarray, ...]:
+        """The profile's values and rates, the ground speed and the turn rate at ``t``."""
+        values, rates = self.profile_commands(t)
+        v1, v2, dv1, dv2 = values[0], values[1], rates[0], rates[1]
+        speed = np.hypot(v1, v2)
+        return values, rates, speed, -(v1 * dv2 - v2 * dv1) / speed**2
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, ...]:
+        known, step, turn = self.known, self.step, self.turn
+        values, rates, speed, r = turn(t)
+        last = np.searchsorted(known, t, side="right") - 1
+        forward = (last < 0) | (t - known[np.maximum(last, 0)] < 2 * step)
+        after = np.minimum(last + 1, known.size - 1)
+        backward = ~forward & (last + 1 < known.size) & (known[after] - t < 2 * step)
+        rows = np.where(forward[:, None], _FORWARD,
+                        np.where(backward[:, None], -_FORWARD, _CENTRAL))
+        offsets = np.where(forward[:, None], _AHEAD,
+                           np.where(backward[:, None], -_AHEAD, _AROUND))
+        r_near = turn((t[:, None] + step * offsets).ravel())[3].reshape(offsets.shape)
+        dr = (rows[:, 0] * r + np.einsum("ij,ij->i", rows[:, 1:], r_near)) / (12 * step)
+        dspeed = (values[0] * rates[0] + values[1] * rates[1]) / speed
+        return speed, dspeed, r, dr, -values[3], -rates[3]
+
+
 def static(latitude: float, longitude: float = 0.0, height: float = 0.0, roll: float = 0.0,
            pitch: float = 0.0, heading: float = 0.0) -> Flight:
     """A vehicle at rest at (φ, λ, h) with the given attitude (rad)."""
@@ -128,11 +234,7 @@ def static(latitude: float, longitude: float = 0.0, height: float = 0.0, roll: f
             ("pitch", pitch), ("heading", heading)))
     height = motion_number(height, "flight height", "m")
 
-    def commands(t: np.ndarray):
-        zero = np.zeros(t.shape)
-        return zero, zero, zero, zero, zero, zero
-
-    return Flight(latitude, longitude, height, heading, commands,
+    return Flight(latitude, longitude, height, heading, GeodesicCommands(0.0),
                   f"static base at φ={np.degrees(latitude):.4g}°, λ={np.degrees(longitude):.4g}°,"
                   f" h={height:g} m, roll/pitch/heading = {np.degrees(roll):.3g}°/"
                   f"{np.degrees(pitch):.3g}°/{np.degrees(heading):.4g}°",
@@ -150,11 +252,7 @@ def great_circle(latitude: float, longitude: float, course: float, speed: float,
     if not np.isfinite(speed) or speed <= 0:
         raise MotionError(f"great-circle speed must be > 0 m/s, got {speed:g} m/s")
 
-    def commands(t: np.ndarray):
-        zero = np.zeros(t.shape)
-        return np.full(t.shape, float(speed)), zero, zero, zero, zero, zero
-
-    return Flight(latitude, longitude, height, course, commands,
+    return Flight(latitude, longitude, height, course, GeodesicCommands(float(speed)),
                   f"great circle from φ={np.degrees(latitude):.4g}°, "
                   f"λ={np.degrees(longitude):.4g}°, course {np.degrees(course):.4g}°, "
                   f"{speed:g} m/s, h={height:g} m", breaks=())
@@ -185,29 +283,8 @@ def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
         starts.append((t0, float(leg.duration), v0, h0, leg))
         t0, v0, h0 = t0 + leg.duration, float(leg.speed), float(leg.height)
 
-    def commands(t: np.ndarray):
-        V, dV = np.full(t.shape, float(speed)), np.zeros(t.shape)
-        r, dr = np.zeros(t.shape), np.zeros(t.shape)
-        vD, dvD = np.zeros(t.shape), np.zeros(t.shape)
-        for j, (start, length, vs, hs, leg) in enumerate(starts):
-            # a leg sets every value from its start on and the next leg overwrites them
-            # from its own start: a leg with no time before the next start changes nothing
-            following = starts[j + 1][0] if j + 1 < len(starts) else np.inf
-            if not np.any((t >= start) & (t < following)):
-                continue
-            s, ds, dds = smoothstep((t - start) / length)
-            active = t >= start
-            V = np.where(active, vs + (leg.speed - vs) * s, V)
-            dV = np.where(active, (leg.speed - vs) * ds / length, dV)
-            inside = active & (t < start + length)
-            r = np.where(inside, -leg.turn * ds / length, np.where(active, 0.0, r))
-            dr = np.where(inside, -leg.turn * dds / length**2, np.where(active, 0.0, dr))
-            vD = np.where(inside, -(leg.height - hs) * ds / length, np.where(active, 0.0, vD))
-            dvD = np.where(inside, -(leg.height - hs) * dds / length**2,
-                           np.where(active, 0.0, dvD))
-        return V, dV, r, dr, vD, dvD
-
-    return Flight(latitude, longitude, height, course, commands,
+    return Flight(latitude, longitude, height, course,
+                  FlightLegCommands(tuple(starts), float(speed)),
                   f"manoeuvring flight of {len(legs)} legs from φ={np.degrees(latitude):.4g}°,"
                   f" λ={np.degrees(longitude):.4g}°",
                   breaks=tuple(float(start + length) for start, length, *_ in starts))
@@ -261,33 +338,11 @@ def flight_from_profile(profile: Profile) -> Flight:
         raise MotionError("sampled (file) motions are not available for strapdown_ned; use "
                           "static, great-circle or manoeuvre")
 
-    def turn(t: np.ndarray):
-        values, rates = profile.commands(t)
-        v1, v2, dv1, dv2 = values[0], values[1], rates[0], rates[1]
-        speed = np.hypot(v1, v2)
-        return values, rates, speed, -(v1 * dv2 - v2 * dv1) / speed**2
-
     # the rate of r: five-point differences over 1-ms steps (exact for the legs' quartic
     # turn rates up to rounding), one-sided within two steps after the start or a break
     # and before a break, so that they never straddle a join where r's higher rates jump
     known = np.unique(np.concatenate([[0.0], np.asarray(profile.breaks or (), dtype=float)]))
-    step = 1e-3
-
-    def commands(t: np.ndarray):
-        values, rates, speed, r = turn(t)
-        last = np.searchsorted(known, t, side="right") - 1
-        forward = (last < 0) | (t - known[np.maximum(last, 0)] < 2 * step)
-        after = np.minimum(last + 1, known.size - 1)
-        backward = ~forward & (last + 1 < known.size) & (known[after] - t < 2 * step)
-        rows = np.where(forward[:, None], _FORWARD,
-                        np.where(backward[:, None], -_FORWARD, _CENTRAL))
-        offsets = np.where(forward[:, None], _AHEAD,
-                           np.where(backward[:, None], -_AHEAD, _AROUND))
-        r_near = turn((t[:, None] + step * offsets).ravel())[3].reshape(offsets.shape)
-        dr = (rows[:, 0] * r + np.einsum("ij,ij->i", rows[:, 1:], r_near)) / (12 * step)
-        dspeed = (values[0] * rates[0] + values[1] * rates[1]) / speed
-        return speed, dspeed, r, dr, -values[3], -rates[3]
-
+    commands = ProfileFlightCommands(profile.commands, known)
     values0, _ = profile.commands(np.zeros(1))
     if not np.hypot(values0[0, 0], values0[1, 0]) > 0:
         raise MotionError("a moving strapdown flight must start with a positive speed")

@@ -144,12 +144,8 @@ def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0
     h = motion_number(h, "motion height", "m")
     _check_height(h, "motion height")
 
-    def commands(t: np.ndarray):
-        values = np.zeros((4, t.size))
-        values[2] = h
-        return values, np.zeros((4, t.size))
-
-    return Profile("track", commands, latitude, longitude, heading, static=True, breaks=(),
+    return Profile("track", SteadyCommands(0.0, h), latitude, longitude, heading,
+                   static=True, breaks=(),
                    **_description((None, "static base at "),
                                   ("latitude", f"φ={np.degrees(latitude):.4g}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°"),
@@ -176,12 +172,7 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
     _check_speed(speed, "great-circle speed")
     _check_height(h, "motion height")
 
-    def commands(t: np.ndarray):
-        values = np.zeros((4, t.size))
-        values[0], values[2] = speed, h
-        return values, np.zeros((4, t.size))
-
-    return Profile("track", commands, latitude, longitude, track, breaks=(),
+    return Profile("track", SteadyCommands(speed, h), latitude, longitude, track, breaks=(),
                    **_description((None, "great circle from "),
                                   ("latitude", f"φ={np.degrees(latitude):.4g}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°"),
@@ -321,32 +312,9 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
 
     table = np.array([(start, length, vs, leg.speed - vs, ps, leg.turn, hs, leg.height - hs)
                       for start, length, vs, ps, hs, leg in starts]).reshape(-1, 8).T
-    begins = table[0]
 
-    def commands(t: np.ndarray):
-        # only the last leg begun by t shapes the motion at t: evaluate that leg alone
-        leg = np.searchsorted(begins, t, side="right") - 1
-        before = leg < 0
-        rows = table[:, np.maximum(leg, 0)]  # one gather of every leg parameter
-        if before.any():  # before the first leg: the initial values, unchanged
-            rows[:, before] = 0.0
-            rows[1, before], rows[2, before], rows[6, before] = 1.0, float(speed), float(h)
-        start, length, vs, dv_leg, ps, turn, hs, dh_leg = rows
-        s, ds, dds = smoothstep((t - start) / length)
-        v = vs + dv_leg * s
-        dv = dv_leg * ds / length
-        psi = ps + turn * s
-        dpsi = turn * ds / length
-        hh = hs + dh_leg * s
-        dh = dh_leg * ds / length
-        ddh = dh_leg * dds / length**2
-        cos, sin = np.cos(psi), np.sin(psi)
-        values = np.vstack([v * cos, v * sin, hh, dh])
-        rates = np.vstack([dv * cos - v * sin * dpsi, dv * sin + v * cos * dpsi, dh, ddh])
-        return values, rates
-
-    return Profile("track", commands, latitude, longitude, track,
-                   breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])),
+    return Profile("track", LegCommands(table, float(speed), float(h)), latitude, longitude,
+                   track, breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])),
                    **_description((None, f"manoeuvring flight of {len(legs)} legs from "),
                                   ("latitude", f"φ={np.degrees(latitude):.4g}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°")))
@@ -390,21 +358,102 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
             raise DomainError(f"sampled motion: {name} is NaN or infinite in sample {row + 1}"
                               f" of {a.size}")
     _check_height(float(np.min(arrays[2])), "sampled motion height")
-    splines = [CubicSpline(t, a) for a in arrays]
-    t_end = t[-1]
+    splines = tuple(CubicSpline(t, a) for a in arrays)
+    return Profile(frame, SplineCommands(splines, float(t[0]), float(t[-1])), latitude,
+                   longitude, heading,
+                   f"sampled motion ({t.size} samples, {frame} frame)", breaks=t.copy())
 
-    def commands(times: np.ndarray):
-        if times.size and (times.min() < t[0] - 1e-9 or times.max() > t_end + 1e-9):
-            raise MotionError(f"the run ({times.min():g}–{times.max():g} s) leaves the "
-                              f"sampled motion ({t[0]:g}–{t_end:g} s)")
-        values = np.vstack([splines[0](times), splines[1](times), splines[2](times),
-                            splines[2](times, 1)])
-        rates = np.vstack([splines[0](times, 1), splines[1](times, 1), splines[2](times, 1),
-                           splines[2](times, 2)])
+
+# --------------------------------------------------------------------------------------
+# Commands of the profiles: module-level callables (a closure cannot be pickled, and a
+# trajectory carries its profile to the worker processes of a Monte Carlo run)
+# --------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class SteadyCommands:
+    """Constant speed along the trihedron's ξ axis at a constant height (0 m/s: at rest).
+
+    Attributes
+    ----------
+    speed : float
+        m/s.
+    height : float
+        m.
+    """
+
+    speed: float
+    height: float
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        values = np.zeros((4, t.size))
+        values[0], values[2] = self.speed, self.height
+        return values, np.zeros((4, t.size))
+
+
+@dataclass(frozen=True, eq=False)
+class LegCommands:
+    """The commands of :func:`manoeuvre_profile`.
+
+    Attributes
+    ----------
+    table : numpy.ndarray, shape (8, legs)
+        Per leg: start (s), length (s), start speed and its change (m/s), start course
+        and its change (rad), start height and its change (m).
+    speed, height : float
+        Speed (m/s) and height (m) before the first leg.
+    """
+
+    table: np.ndarray
+    speed: float
+    height: float
+
+    def __call__(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+
+        # only the last leg begun by t shapes the motion at t: evaluate that leg alone
+        leg = np.searchsorted(self.table[0], t, side="right") - 1
+        before = leg < 0
+        rows = self.table[:, np.maximum(leg, 0)]  # one gather of every leg parameter
+        if before.any():  # before the first leg: the initial values, unchanged
+            rows[:, before] = 0.0
+            rows[1, before], rows[2, before], rows[6, before] = 1.0, self.speed, self.height
+        start, length, vs, dv_leg, ps, turn, hs, dh_leg = rows
+        s, ds, dds = smoothstep((t - start) / length)
+        v = vs + dv_leg * s
+        dv = dv_leg * ds / length
+        psi = ps + turn * s
+        dpsi = turn * ds / length
+        hh = hs + dh_leg * s
+        dh = dh_leg * ds / length
+        ddh = dh_leg * dds / length**2
+        cos, sin = np.cos(psi), np.sin(psi)
+        values = np.vstack([v * cos, v * sin, hh, dh])
+        rates = np.vstack([dv * cos - v * sin * dpsi, dv * sin + v * cos * dpsi, dh, ddh])
         return values, rates
 
-    return Profile(frame, commands, latitude, longitude, heading,
-                   f"sampled motion ({t.size} samples, {frame} frame)", breaks=t.copy())
+
+@dataclass(frozen=True, eq=False)
+class SplineCommands:
+    """The commands of :func:`sampled_profile`: cubic splines of v1, v2 and h.
+
+    Attributes
+    ----------
+    splines : tuple of scipy.interpolate.CubicSpline
+        v1, v2 (m/s) and h (m) against time (s).
+    start, end : float
+        First and last sample time, s.
+    """
+
+    splines: tuple
+    start: float
+    end: float
+
+    def __call__(self, times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        if times.size and (times.min() < self.start - 1e-9 or times.max() > self.end + 1e-9):
+            raise MotionError(f"the run ({times.min():g}–{times.max():g} s) leaves the "
+                              f"sampled motion ({self.start:g}–{self.end:g} s)")
+        v1, v2, h = self.splines
+        values = np.vstack([v1(times), v2(times), h(times), h(times, 1)])
+        rates = np.vstack([v1(times, 1), v2(times, 1), h(times, 1), h(times, 2)])
+        return values, rates
 
 
 # --------------------------------------------------------------------------------------
