@@ -295,3 +295,35 @@ def test_moving_base_monte_carlo_in_a_process_pool_equals_one_process(tmp_path, 
     assert pool == serial
     rows = json.loads(pool)["monte_carlo"]["rows"]
     assert json.loads(pool)["monte_carlo"]["runs"] == 60 and len(rows) == 5
+
+
+def test_an_undamped_vertical_channel_is_warned_of_with_its_textbook_e_folding_time(
+        tmp_path, capsys):
+    """strapdown_ned's default (k_h1 = k_h2 = 0) leaves the vertical channel undamped: it
+    grows as e^(t/√(R/2g)), e^50 over 8 h, and the allocation silently allowed gyro
+    biases of 1e-19 deg/h. The budget now says so in one line (stderr, and in --json),
+    with the textbook e-folding time √(R/2g), the command that names the mode and the
+    damping gains; with those gains, and on a platform model, it says nothing."""
+    import math
+    import re
+
+    spec = str(write(tmp_path, STRAPDOWN.replace('"1 h"', '"8 h"').split("[parameters]")[0]))
+    assert main(["budget", "strapdown_ned", "--spec", spec, "--json"]) == 0
+    captured = capsys.readouterr()
+    [line] = [x for x in captured.err.splitlines() if "grow exponentially" in x]
+    assert line.startswith("ins-errors: warning: ") and captured.err.count("\n") == 1
+    assert json.loads(captured.out)["warnings"] == [line.removeprefix("ins-errors: warning: ")]
+    minutes = float(re.search(r"×e every ([\d.]+) min", line).group(1))
+    # √(R/2g) at 45°: WGS-84 normal gravity (Somigliana) and the Gaussian mean radius
+    a, e2, s2 = 6_378_137.0, 0.00669437999014, math.sin(math.radians(45.0)) ** 2
+    g = 9.7803253359 * (1 + 0.00193185265241 * s2) / math.sqrt(1 - e2 * s2)
+    radius = math.sqrt(a * (1 - e2) / (1 - e2 * s2) ** 1.5 * a / math.sqrt(1 - e2 * s2))
+    assert minutes == pytest.approx(math.sqrt(radius / (2 * g)) / 60.0, rel=2e-3)
+    assert "over the 8 h operating time" in line
+    assert "`ins-errors modes strapdown_ned`" in line
+    gains = re.search(r"`(-p k_h1=\S+ -p k_h2=\S+)`", line).group(1).split()
+    assert main(["budget", "strapdown_ned", "--spec", spec, *gains, "--json"]) == 0
+    captured = capsys.readouterr()
+    assert "grow" not in captured.err and json.loads(captured.out)["warnings"] == []
+    assert main(["budget", "orthodromic"]) == 0
+    assert "grow" not in capsys.readouterr().err

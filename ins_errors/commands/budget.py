@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from ins_errors.json_output import emit
 
@@ -107,12 +108,18 @@ def run(args: argparse.Namespace) -> int:
 
     with stage(f"propagating the covariance of {len(model.sources)} sources"):
         unit = bd.unit_budget(model, spec, p=p)
+        growth = bd.growth_warning(model, unit)
+        if growth is not None:
+            print(f"ins-errors: warning: {growth}", file=sys.stderr)
+        warnings = [] if growth is None else [growth]
         try:
             allocation = bd.allocate(unit)
         except bd.SpecExceededError as exceeded:
-            return _report_exceeded(args, exceeded, parameters_record(model, parameters))
+            return _report_exceeded(args, exceeded, parameters_record(model, parameters),
+                                    warnings)
     data = rep.report(allocation)
     data["parameters"] = parameters_record(model, parameters)
+    data["warnings"] = warnings
     if args.plot:
         rep.plot(allocation, args.plot)
     if args.monte_carlo is not None:
@@ -153,12 +160,13 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _report_exceeded(args: argparse.Namespace, exceeded, parameters: dict) -> int:
+def _report_exceeded(args: argparse.Namespace, exceeded, parameters: dict,
+                     warnings: list[str]) -> int:
     """A spec the fixed sources alone use up: the rows with their ratios (JSON or
     text), exit status 1 (the answer is "exceeded"; 2 stays for bad input)."""
     from ins_errors.analysis import budget_report as rep
 
-    data = {**rep.exceeded_report(exceeded), "parameters": parameters}
+    data = {**rep.exceeded_report(exceeded), "parameters": parameters, "warnings": warnings}
     if args.json:
         emit(data, ensure_ascii=False)
     else:

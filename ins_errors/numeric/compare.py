@@ -32,6 +32,7 @@ import numpy as np
 
 from ins_errors.errors import InsErrorsError
 from ins_errors.numeric import accuracy
+from ins_errors.numeric.linear_system import GROWTH_WARNED  # noqa: F401 (documented here)
 from ins_errors.numeric.model import Model
 from ins_errors.numeric.simulate import ErrorCurves, Simulation, simulate
 from ins_errors.numeric.trajectories import Trajectory
@@ -299,44 +300,35 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     return comparisons
 
 
-GROWTH_WARNED = 3.0
-"""E-foldings over the run (growth rate times duration) of a growing mode of F at the
-start from which a comparison warns: a factor of 20."""
-
-
 def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> None:
     """Warn when the linear error equations at the start grow exponentially over the run.
 
     A growing mode (an undamped vertical channel, a sign slip that turns the Schuler loop
     into an exponential) makes every error of the run grow by e^(rate t), whatever the
-    sources; the comparison's ratios then say little by themselves. The warning gives the
-    e-folding time of F's fastest growing mode at t = 0 (on a moving base F changes along
-    the motion) and the factor over the run, and names the command that names the mode.
+    sources; the comparison's ratios then say little by themselves. The warning
+    (:func:`~ins_errors.numeric.linear_system.growth_warning`) gives the e-folding time
+    of F's fastest growing mode at t = 0 (on a moving base F changes along the motion)
+    and the factor over the run, and names the command that names the mode.
 
     Parameters
     ----------
     comparisons : sequence of Comparison
-        Gets one warning each when the mode grows by :data:`GROWTH_WARNED` e-foldings
+        Gets one warning each when the mode grows by :data:`GROWTH_WARNED` (3) e-foldings
         or more over the run.
     sim : Simulation
         The runs (their ideal state and inputs at t = 0 give F).
     """
-    from ins_errors.numeric.linear_system import growth_rate
-    from ins_errors.time_text import duration_text
+    from ins_errors.numeric.linear_system import growth_warning
 
     duration = float(sim.times[-1])
     if not comparisons or duration <= 0:
         return
     x0 = sim.ideal[:, 0, 0]
     u0 = sim.trajectory.start_inputs  # (inputs_at would store a streamed motion whole)
-    rate = growth_rate(np.asarray(sim.model.state_matrix(x0, u0, sim.trajectory.parameters), float))
-    if rate * duration < GROWTH_WARNED:
+    text = growth_warning(sim.model.state_matrix(x0, u0, sim.trajectory.parameters),
+                          duration, sim.model.name, "the ratios say little by themselves")
+    if text is None:
         return
-    text = (f"the error equations grow exponentially: F at the start has a mode that grows "
-            f"×e every {duration_text(1.0 / rate)} (×{math.exp(min(rate * duration, 700.0)):.3g}"
-            f" over the {duration_text(duration)} run), so every error grows with it and the "
-            f"ratios say little by themselves; `ins-errors modes {sim.model.name}` names "
-            "the mode")
     for comparison in comparisons:
         comparison.warnings.append(text)
 

@@ -100,6 +100,52 @@ def growth_rate(f: np.ndarray) -> float:
     return float(np.linalg.eigvals(f).real.max())
 
 
+GROWTH_WARNED = 3.0
+"""E-foldings over a run (growth rate times duration) of a growing mode of F at the start
+from which the commands warn (a factor of 20)."""
+
+
+def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence: str,
+                   span: str = "run", remedy: str = "") -> str | None:
+    """The one-line warning of errors that grow exponentially, or None.
+
+    A growing mode of F (an undamped vertical channel, a sign slip that turns the Schuler
+    loop into an exponential) makes every error grow by e^(rate t), whatever the sources.
+    The sentence gives the e-folding time of F's fastest growing mode (:func:`growth_rate`)
+    and the factor over the duration, says what that means for the command's numbers,
+    and names the command that names the mode.
+
+    Parameters
+    ----------
+    f : numpy.ndarray, shape (n, n)
+        F at the start, 1/s (on a moving base F changes along the motion).
+    duration : float
+        Length of the run, s.
+    model_name : str
+        For ``ins-errors modes MODEL``.
+    consequence : str
+        What the growth does to the numbers, after "so every error grows with it and".
+    span : str
+        What ``duration`` is ("run": "over the 8 h run").
+    remedy : str
+        Added at the end (e.g. "; ..." naming damping gains).
+
+    Returns
+    -------
+    str or None
+        None when the mode grows by fewer than :data:`GROWTH_WARNED` e-foldings.
+    """
+    from ins_errors.time_text import duration_text
+
+    rate = growth_rate(np.asarray(f, dtype=float))
+    if duration <= 0 or rate * duration < GROWTH_WARNED:
+        return None
+    return (f"the error equations grow exponentially: F at the start has a mode that grows "
+            f"×e every {duration_text(1.0 / rate)} (×{math.exp(min(rate * duration, 700.0)):.3g}"
+            f" over the {duration_text(duration)} {span}), so every error grows with it and "
+            f"{consequence}; `ins-errors modes {model_name}` names the mode{remedy}")
+
+
 def physical_memory() -> int | None:
     """The machine's physical memory, bytes, or None where the system does not say."""
     try:
