@@ -824,6 +824,58 @@ def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarra
     return rows, np.array(values)
 
 
+def integration_errors(model, budget: UnitBudget, runs, other, factor: float,
+                       method: str = "euler") -> tuple[list[Row], np.ndarray]:
+    """Relative integration error of the sample values of the spec rows (Richardson).
+
+    The same draws run at the step τ of the Monte Carlo and at ``factor`` τ (2, or ½
+    when 2τ does not divide the recording interval) give, per draw and recorded sample,
+    the extrapolated error ``y* = y_h + (y_h − y_2h) / (2^p − 1)`` (h the finer step, p
+    the scheme's order: 1 for the rectangle method), as compare's estimate by step
+    doubling does. Each row's sample value (:func:`direct_rows`) from the runs at τ is
+    compared with the same value from ``y*``: their relative difference is the bias the
+    scheme adds to that row, with the sampling noise of the draws cancelling (the same
+    draws on both sides).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    budget : UnitBudget
+    runs : ins_errors.analysis.monte_carlo.DirectErrors
+        The draws at the Monte Carlo's step τ.
+    other : ins_errors.analysis.monte_carlo.DirectErrors
+        The same draws at ``factor`` τ, recorded at the same times.
+    factor : {2, 0.5}
+    method : {"euler", "rk4"}
+
+    Returns
+    -------
+    rows : list of Row
+        The rows within the runs.
+    relative : numpy.ndarray, shape (len(rows),)
+        (value at τ − extrapolated value) / extrapolated value; NaN where the
+        extrapolated value is 0 (a row nothing reaches, e.g. the tilts at t = 0 without
+        initial tilts).
+    """
+    from dataclasses import replace as copy
+
+    from ins_errors.numeric.accuracy import ORDERS
+
+    if factor not in (2, 0.5):
+        raise BudgetError(f"the second runs must be at 2 or 0.5 times the step, got {factor}")
+    if runs.values.shape != other.values.shape or not np.allclose(runs.times, other.times):
+        raise BudgetError("the runs at the two steps must record the same draws at the "
+                          "same times")
+    finer, coarser = (runs, other) if factor == 2 else (other, runs)
+    gain = 2 ** ORDERS[method] - 1
+    extrapolated = copy(runs, values=finer.values + (finer.values - coarser.values) / gain)
+    rows, values = direct_rows(model, budget, runs)
+    _, best = direct_rows(model, budget, extrapolated)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = np.where(best > 0, (values - best) / best, np.nan)
+    return rows, relative
+
+
 # --------------------------------------------------------------------------------------
 # Contributions to the navigation outputs at chosen times
 # --------------------------------------------------------------------------------------

@@ -123,7 +123,20 @@ def run(args: argparse.Namespace) -> int:
     if args.plot:
         rep.plot(allocation, args.plot)
     if args.monte_carlo is not None:
-        data["monte_carlo"], mc_seconds = _monte_carlo(model, spec, allocation, args, p)
+        data["monte_carlo"], mc_seconds, estimate_seconds = _monte_carlo(
+            model, spec, allocation, args, p)
+        mc = data["monte_carlo"]
+        estimate = mc.get("integration_error")
+        if estimate and estimate["largest"] > mc["relative_sampling_error"]:
+            better = smaller_step(mc["step_s"], spec.step, estimate["largest"],
+                                  mc["relative_sampling_error"])
+            text = (f"the Monte Carlo runs' integration error (up to "
+                    f"{100 * estimate['largest']:.2g} % on a row) exceeds their sampling "
+                    f"error (±{100 * mc['relative_sampling_error']:.2g} %): the ratios "
+                    f"measure the rectangle method as much as the covariance; run them "
+                    f"with a smaller step, e.g. --mc-step \"{better:g} s\"")
+            print(f"ins-errors: warning: {text}", file=sys.stderr)
+            data["warnings"].append(text)
     outputs = None
     if times is not None:
         outputs = bd.output_contributions(model, allocation, times)
@@ -148,15 +161,29 @@ def run(args: argparse.Namespace) -> int:
               f"{bd.format_time(mc['duration_h'] * 3600.0)} at "
               f"{mc['step_s']:g} s ({mc['method']}), sample {spec.sigma_level:g}σ vs "
               f"covariance; sampling error ±{100 * mc['relative_sampling_error']:.1f} % (1σ)")
-        print(f"{'row':<40} {'covariance':>16} {'Monte Carlo':>16} {'ratio':>7}")
+        estimate = mc.get("integration_error")
+        if estimate:
+            print(f"integration error of the rectangle method: up to "
+                  f"{100 * estimate['largest']:.2g} % on a row (Richardson: the first "
+                  f"{estimate['runs']} runs again at {estimate['step_s']:g} s, "
+                  f"{100 * estimate['extra_steps']:.2g} % more steps)")
+        integration = f" {'integration':>11}" if estimate else ""
+        print(f"{'row':<40} {'covariance':>16} {'Monte Carlo':>16}{integration} "
+              f"{'ratio':>7}")
         for r in mc["rows"]:
             unit, shown = bd.ITEM_SI[r["item"]], bd.ITEM_DISPLAY[r["item"]]
             ratio = "–" if r["ratio"] is None else f"{r['ratio']:.3f}"
+            if estimate:   # the scheme's bias of the Monte Carlo value
+                error = r.get("integration_error")
+                integration = f" {'–' if error is None else f'{100 * error:+.2g}%':>11}"
             print(f"{r['row']:<40} {bd.display(r['covariance'], unit, shown):>16} "
-                  f"{bd.display(r['monte_carlo'], unit, shown):>16} {ratio:>7}")
+                  f"{bd.display(r['monte_carlo'], unit, shown):>16}{integration} "
+                  f"{ratio:>7}")
         if any(r["ratio"] is None for r in mc["rows"]):
             print(f"–: {NO_RATIO}")
-        print(f"({mc_seconds:.1f} s)")  # on the terminal only: the JSON is reproducible
+        # on the terminal only: the JSON is reproducible
+        print(f"({mc_seconds:.1f} s, and {estimate_seconds:.1f} s for the integration "
+              "error)" if estimate else f"({mc_seconds:.1f} s)")
     return 0
 
 
@@ -251,6 +278,10 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
                                 engine=args.engine, scheduler=args.scheduler,
                                 workers=args.workers)
     seconds = time.perf_counter() - start
+    start = time.perf_counter()
+    integration = _integration_error(model, spec, budget, errors, statistics, args, p, step,
+                                     duration)
+    extra = time.perf_counter() - start
     rows, values = bd.direct_rows(model, budget, errors)
     predicted = bd.evaluate(model, spec, sigma, p=p)
     lookup = {(r.item, r.time, r.component): v for r, v in zip(predicted.rows,
@@ -263,7 +294,70 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
                     "ratio": float(value / cov) if cov > 0 else None})
         if cov <= 0:
             out[-1]["note"] = NO_RATIO
-    return {"runs": args.monte_carlo, "duration_h": duration / 3600, "step_s": step,
-            "method": "euler", "relative_sampling_error": sampling_error(args.monte_carlo),
-            "rows": out}, seconds
+        if integration is not None:
+            error = integration["rows"].get((row.item, row.time, row.component))
+            out[-1]["integration_error"] = error
+    result = {"runs": args.monte_carlo, "duration_h": duration / 3600, "step_s": step,
+              "method": "euler", "relative_sampling_error": sampling_error(args.monte_carlo),
+              "rows": out}
+    if integration is not None:
+        result["integration_error"] = {k: v for k, v in integration.items() if k != "rows"}
+    return result, seconds, extra
+
+
+MC_ESTIMATE_RUNS = 16
+"""Runs (the first ones) repeated at another step to estimate the integration error."""
+
+
+def _integration_error(model, spec, budget, errors, statistics, args, p, step: float,
+                       duration: float) -> dict | None:
+    """Integration error of the direct runs' spec rows by step doubling.
+
+    The first :data:`MC_ESTIMATE_RUNS` draws (all when fewer) run again at 2τ (at τ/2
+    when 2τ does not divide the recording interval) and the Richardson estimate
+    (:func:`ins_errors.analysis.budget.integration_errors`) gives each row's relative
+    bias from the scheme. Returns None for a run of one recorded step.
+    """
+    import numpy as np
+
+    from ins_errors.analysis import budget as bd
+    from ins_errors.analysis.monte_carlo import DirectErrors, direct_monte_carlo
+    from ins_errors.numeric.integrators import whole_steps
+
+    stride = whole_steps(spec.step, step)
+    if duration < 2 * spec.step or stride is None:
+        return None
+    factor = 2 if stride % 2 == 0 else 0.5
+    count = min(args.monte_carlo, MC_ESTIMATE_RUNS)
+    trajectory = bd.spec_trajectory(model, spec, tau=factor * step, duration=duration, p=p)
+    other = direct_monte_carlo(model, trajectory, statistics, count, seed=args.seed,
+                               record_interval=spec.step, engine="serial", progress=False)
+    first = DirectErrors(errors.times, errors.names, errors.values[..., :count],
+                         errors.sources[:, :count])
+    rows, relative = bd.integration_errors(model, budget, first, other, factor)
+    known = relative[np.isfinite(relative)]
+    largest = float(np.max(np.abs(known))) if known.size else 0.0
+    return {"runs": count, "step_s": factor * step,
+            "extra_steps": count / args.monte_carlo / factor,
+            "largest": largest,
+            "rows": {(r.item, r.time, r.component): (float(v) if np.isfinite(v) else None)
+                     for r, v in zip(rows, relative, strict=True)}}
+
+
+def smaller_step(step: float, grid: float, integration: float, sampling: float) -> float:
+    """A step (1, 2 or 5 times a power of ten, dividing the analysis step ``grid``) whose
+    rectangle-method error, proportional to the step, is at most half the sampling
+    error: ``step · sampling / (2 · integration)`` or below."""
+    import math
+
+    from ins_errors.numeric.integrators import whole_steps
+
+    target = step * sampling / (2.0 * integration)
+    power = math.floor(math.log10(target))
+    for exponent in range(power, power - 12, -1):
+        for mantissa in (5, 2, 1):
+            candidate = float(f"{mantissa}e{exponent}")
+            if candidate <= target and whole_steps(grid, candidate) is not None:
+                return candidate
+    return target
 
