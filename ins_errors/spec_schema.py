@@ -26,8 +26,10 @@ from ins_errors.errors import InsErrorsError
 from ins_errors.scenario_schema import UNION_MEMBER, Quantity, one_line
 
 Number = StrictFloat | StrictInt
-Positive = Annotated[StrictFloat, Field(gt=0)] | Annotated[StrictInt, Field(gt=0)]
-"""A plain number above zero (the bound on each member, so the JSON Schema carries it)."""
+Positive = (Annotated[StrictFloat, Field(gt=0, allow_inf_nan=False)]
+            | Annotated[StrictInt, Field(gt=0)])
+"""A plain finite number above zero (the bound on each member, so the JSON Schema carries
+it; TOML's inf and nan are refused)."""
 _UNIT = {"description": "a value with its unit, e.g. '8 h', '3.7 km/h', '0.01 deg/h'"}
 
 

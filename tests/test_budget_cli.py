@@ -195,6 +195,10 @@ def test_items_a_model_cannot_check_are_named_with_the_way_out(tmp_path, capsys)
     (("sigma_level = 1", 'sigma_level = "2"'), "sigma_level must be a number > 0, got '2'"),
     (("include = false\n", "include = false\n    weight = 0\n", 1),
      "sources.initial_tilt_x.weight must be a number > 0, got 0 (include = false"),
+    # inf was taken: NaN shares, two numpy warnings, and the source called unconstrained
+    (("include = false\n", "include = false\n    weight = inf\n", 1),
+     "sources.initial_tilt_x.weight must be a number > 0, got inf (include = false"),
+    (("sigma_level = 1", "sigma_level = inf"), "sigma_level must be a number > 0, got inf"),
     (('latitude = "45 deg"', "latitude = [45]"),
      "motion.latitude must be a value with its unit (e.g. '8 h', '0.1 deg'), got [45]"),
     (('every = "10 min"', 'every = "10 min"\n    until = "65 min"'),
