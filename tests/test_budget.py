@@ -428,7 +428,7 @@ def test_noise_sources_in_a_budget(orthodromic, tmp_path):
     budget = allocation.budget
     names = [s.name for s in budget.sources]
     white = names.index("gyro_drift_x")
-    assert budget.sources[white].display_unit == "deg/h**0.5"
+    assert budget.sources[white].display_unit == "deg/√h"
     assert allocation.magnitudes[white] == pytest.approx(0.002 * DEG / 60, rel=1e-12)
     evaluation = recomputed(orthodromic, allocation)
     assert np.all(evaluation.ratios <= 1 + 1e-9)

@@ -400,3 +400,59 @@ def test_an_integration_error_above_the_sampling_error_names_a_smaller_step(tmp_
     mc = data["monte_carlo"]
     assert mc["integration_error"]["largest"] < mc["relative_sampling_error"]
     assert "integration error" not in err and data["warnings"] == []
+
+
+def test_densities_are_shown_as_they_are_written(tmp_path, capsys):
+    """Noise densities read "0.002 deg/h**0.5" and "2 ug*s**0.5"; they are now quoted per
+    √h and per √Hz, values unchanged (0.002 deg/√h = 0.002° per 60 √s, 2 µg/√Hz = 2 µg·√s)."""
+    text = NO_TILT + """
+    [sources.gyro_drift_x]
+    kind = "white"
+    fixed = "0.002 deg/sqrt(h)"
+    [sources.accel_bias_x]
+    kind = "white"
+    fixed = "2 ug*s**0.5"
+    """
+    assert main(["budget", "orthodromic", "--spec", str(write(tmp_path, text)), "--json"]) == 0
+    sources = {s["name"]: s for s in json.loads(capsys.readouterr().out)["sources"]}
+    assert sources["gyro_drift_x"]["display"] == "0.002 deg/√h"
+    assert sources["accel_bias_x"]["display"] == "2 ug/√Hz"
+    assert sources["gyro_drift_x"]["magnitude"] == pytest.approx(0.002 * np.pi / 180 / 60,
+                                                                 rel=1e-12)
+    assert sources["accel_bias_x"]["magnitude"] == pytest.approx(2e-6 * 9.80665, rel=1e-12)
+
+
+def test_monte_carlo_of_noise_sources_is_refused_before_the_covariance(tmp_path, capsys,
+                                                                        monkeypatch):
+    """Direct runs take random constants only: a spec with a white or Gauss-Markov
+    source was refused only after the whole covariance had been computed. Now before,
+    in one line naming the sources, and --help says so."""
+    from ins_errors.analysis import budget as bd
+
+    text = NO_TILT + """
+    [sources.gyro_drift_z]
+    kind = "white"
+    [sources.accel_bias_x]
+    kind = "markov"
+    tau = "30 min"
+    """
+    monkeypatch.setattr(bd, "unit_budget", lambda *a, **k: pytest.fail("computed"))
+    assert main(["budget", "orthodromic", "--spec", str(write(tmp_path, text)),
+                 "--monte-carlo", "10"]) == 2
+    captured = capsys.readouterr()
+    assert not captured.out and captured.err.count("\n") == 1
+    assert "random constants only" in captured.err
+    assert "gyro_drift_z, accel_bias_x" in captured.err
+    with pytest.raises(SystemExit):
+        main(["budget", "--help"])
+    assert "random constants only" in " ".join(capsys.readouterr().out.split())
+
+
+def test_times_of_the_contribution_tables_read_as_times(capsys):
+    """'at 0.0166667 h' and 'time 0.00833333 h' were hours with six digits."""
+    assert main(["budget", "orthodromic", "--at", "1 min, 90 min"]) == 0
+    out = capsys.readouterr().out
+    assert "Contributions to the navigation errors at 1 min:" in out
+    assert "Contributions to the navigation errors at 1 h 30 min:" in out
+    assert main(["budget", "orthodromic", "--at", "30 s"]) == 2
+    assert "time 30 s is not on the 60 s analysis grid" in capsys.readouterr().err

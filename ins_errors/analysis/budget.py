@@ -230,9 +230,8 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
         suffix = SOURCE_UNIT_SUFFIX[option.kind]
         unit = f"({info.unit})*s**0.5" if suffix else info.unit
         display = info.display_unit or info.unit
-        if suffix:   # a density: deg/h -> deg/h**0.5 (= deg/h·√h), ug -> ug*s**0.5 (ug/√Hz)
-            display = (display[:-2] + "/h**0.5" if display.endswith("/h")
-                       else f"{display}*s**0.5")
+        if suffix:
+            display = density_display(display, unit)
         fixed = None
         if option.fixed is not None:
             try:
@@ -249,6 +248,32 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
     if not result:
         raise SpecError("every error source is excluded from the budget")
     return tuple(result)
+
+
+def density_display(display: str, unit: str) -> str:
+    """The unit a noise density is quoted in, as one writes it: a rate per hour per √h
+    (``deg/h`` -> ``deg/√h``, an angle random walk), anything else per √Hz (``ug`` ->
+    ``ug/√Hz``). Where the unit parser would not read that back, the plain product
+    (``X*s**0.5``) is kept.
+
+    Parameters
+    ----------
+    display : str
+        The source's own display unit (of its bias).
+    unit : str
+        SI unit of the density (``(unit)*s**0.5``).
+    """
+    if display.endswith("/h") and "/" not in display[:-2]:
+        shown = display[:-2] + "/√h"
+    elif "/" in display or "*" in display:
+        shown = f"({display})/√Hz"
+    else:
+        shown = f"{display}/√Hz"
+    try:
+        format_quantity(1.0, unit, shown)
+    except Exception:  # any unit the parser cannot take back: the plain product
+        return f"({display})*s**0.5"
+    return shown
 
 
 def spec_trajectory(model, spec: Spec, tau: float | None = None,
@@ -917,8 +942,8 @@ def output_contributions(model, allocation: Allocation, times: list[float]) -> d
     for t in times:
         k = round(t / system.step)
         if not 0 <= k < len(covariance.times) or abs(covariance.times[k] - t) > 1e-6:
-            raise SpecError(f"time {t / HOUR:g} h is not on the {system.step:g} s analysis "
-                            f"grid within the operating time")
+            raise SpecError(f"time {format_time(t)} is not on the {system.step:g} s "
+                            f"analysis grid within the operating time")
         index.append(k)
     contributions = covariance.contributions[np.ix_(index, chosen)]      # (t, q, s)
     # a contribution at or below the rounding floor of the propagation is round-off

@@ -399,7 +399,8 @@ def output_table(data: dict, top: int = 10) -> str:
         widths = [max(12, len(n) + 2) for n in names]
         header = f"{'source (1σ)':<34}" + "".join(f"{n:>{w}}"
                                                   for n, w in zip(names, widths, strict=True))
-        lines += [f"Contributions to the navigation errors at {t:g} h:", header,
+        lines += [f"Contributions to the navigation errors at {format_time(t * HOUR)}:",
+                  header,
                   "-" * len(header)]
         for label, values in output_rows(data, it, top):
             lines.append(f"{label:<34}" + "".join(f"{v:>{w}.4g}"
@@ -446,7 +447,7 @@ def plot_outputs(data: dict, path: str, top: int = 19) -> None:
                   zip(data["quantities"], data["units"], total[it], strict=True)]
         ax.set_xticks(x, labels, fontsize=7)
         ax.set_ylabel("share of variance")
-        ax.set_title(f"t = {t:g} h (1σ totals under the bars)", fontsize=10)
+        ax.set_title(f"t = {format_time(t * HOUR)} (1σ totals under the bars)", fontsize=10)
         ax.set_ylim(0, 1.0)
     handles, names = axes[0][0].get_legend_handles_labels()
     # fixed margins (no tight_layout, which draws the figure once more to measure it):

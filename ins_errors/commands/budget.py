@@ -40,7 +40,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--fill", action="store_true",
                         help="scale the free sources until the tightest item is met exactly")
     parser.add_argument("--monte-carlo", type=int, metavar="N",
-                        help="also run N direct simulations at the allocated magnitudes")
+                        help="also run N direct simulations at the allocated magnitudes "
+                             "(random constants only: not with a spec that makes a source "
+                             "white or Gauss-Markov noise)")
     parser.add_argument("--mc-duration", help="with --monte-carlo: length of each run "
                                               "(default 1 h, or the spec's operating time "
                                               "if shorter)")
@@ -104,6 +106,12 @@ def run(args: argparse.Namespace) -> int:
     p = model.parameter_vector(**parameters)
     if args.fill:
         spec = replace(spec, fill=True)
+    if args.monte_carlo is not None:   # before the covariance is computed
+        noisy = [s.name for s in bd.resolve_sources(model, spec) if s.statistics != "constant"]
+        if noisy:
+            raise SpecError(f"--monte-carlo: direct runs take random constants only; the "
+                            f"spec makes {', '.join(noisy)} noise (kind = 'white' or "
+                            f"'markov')")
     from ins_errors.progress import stage
 
     with stage(f"propagating the covariance of {len(model.sources)} sources"):
