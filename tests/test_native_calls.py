@@ -309,11 +309,17 @@ def test_local_cluster_processes_start_with_ctrl_c_ignored():
 
     from ins_errors.analysis import engine
 
-    before = signal.getsignal(signal.SIGINT)
-    probe = [sys.executable, "-c",
-             "import signal; print(signal.getsignal(signal.SIGINT) == signal.SIG_IGN)"]
-    with engine._workers_ignore_ctrl_c():
-        inside = subprocess.run(probe, capture_output=True, text=True, check=True).stdout
-    outside = subprocess.run(probe, capture_output=True, text=True, check=True).stdout
-    assert (inside.strip(), outside.strip()) == ("True", "False")
-    assert signal.getsignal(signal.SIGINT) is before
+    # the suite itself may run with SIGINT ignored (started in the background by a
+    # script): take Python's own handler first, as an interactive command has it
+    started_with = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        before = signal.getsignal(signal.SIGINT)
+        probe = [sys.executable, "-c",
+                 "import signal; print(signal.getsignal(signal.SIGINT) == signal.SIG_IGN)"]
+        with engine._workers_ignore_ctrl_c():
+            inside = subprocess.run(probe, capture_output=True, text=True, check=True).stdout
+        outside = subprocess.run(probe, capture_output=True, text=True, check=True).stdout
+        assert (inside.strip(), outside.strip()) == ("True", "False")
+        assert signal.getsignal(signal.SIGINT) is before
+    finally:
+        signal.signal(signal.SIGINT, started_with)
