@@ -9,7 +9,10 @@ Three rules, one place:
   (:data:`MANIFEST`) listing the files it wrote. Writing into that folder again replaces
   those files and removes the ones the new run does not write (no stale ``case_3.png``
   beside a two-case report); files that someone else put there are left alone. A folder
-  that is not empty and has no manifest is refused, pointing to ``--force``.
+  that is not empty and has no manifest is refused, pointing to ``--force``. The
+  manifest never lags behind the folder: a file's name is recorded in it before the
+  file is written, so a run interrupted between two files (Ctrl-C while ``curves.mat``
+  is written) leaves a folder the next run writes into again without ``--force``.
 * **One-line errors.** A missing or read-only folder, a target that is a directory, a
   full disk: an :class:`~ins_errors.errors.InsErrorsError` naming the path.
 
@@ -317,7 +320,9 @@ class OutputFolder:
     -----
     Use :meth:`write_text`, :meth:`save_figure` or :meth:`write_with` for every file,
     then :meth:`finish`, which removes the files of an earlier run that this run did not
-    write and records the new list.
+    write and records the new list. Until then the manifest lists the earlier run's
+    files and this run's so far (each recorded before it is written), so an interrupted
+    run leaves a folder that is still ins-errors' own.
     """
 
     def __init__(self, folder: str | Path, force: bool = False, option: str = "--out",
@@ -335,6 +340,7 @@ class OutputFolder:
             raise OutputError(f"{option} {shown(self.path)} is a file, not a folder")
         manifest = self.path / MANIFEST
         self.previous = self._read_manifest(manifest)
+        self._listed = list(self.previous or ())  # what the manifest on disk lists
         foreign = self.path.is_dir() and self.previous is None and any(self.path.iterdir())
         if foreign and not force:
             raise OutputError(f"{option} {shown(self.path)} is not empty and was not "
@@ -359,9 +365,17 @@ class OutputFolder:
         return [n for n in names if isinstance(n, str) and "/" not in n and "\\" not in n]
 
     def file(self, name: str) -> Path:
-        """The path of ``name`` inside the folder, recorded as written by this run."""
+        """The path of ``name`` inside the folder, recorded as written by this run.
+
+        A name new to the manifest is added to it (on disk) before the file is written:
+        an interruption before :meth:`finish` leaves a manifest that lists every file
+        ins-errors put in the folder (the earlier run's and this run's so far).
+        """
         if name not in self.written:
             self.written.append(name)
+            if name not in self._listed:
+                self._listed.append(name)
+                self._write_manifest(self._listed)
         return self.path / name
 
     def write_text(self, name: str, text: str) -> Path:
@@ -391,9 +405,13 @@ class OutputFolder:
                 except OSError as error:
                     raise OutputError(f"cannot remove {shown(self.path / name)} (written "
                                       f"by an earlier run): {_reason(error)}") from None
-        write_text(self.path / MANIFEST, json.dumps({"written_by": "ins-errors",
-                                                    "files": self.written}, indent=1) + "\n")
+        self._write_manifest(self.written)
+        self._listed = list(self.written)
         return [self.path / n for n in self.written]
+
+    def _write_manifest(self, names: list[str]) -> None:
+        write_text(self.path / MANIFEST, json.dumps({"written_by": "ins-errors",
+                                                    "files": names}, indent=1) + "\n")
 
 
 def require_matplotlib(what: str = "plots") -> None:

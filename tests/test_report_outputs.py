@@ -105,6 +105,31 @@ def test_files_get_the_usual_permissions(report):
         assert (folder / name).stat().st_mode & 0o777 == 0o666 & ~mask, name
 
 
+def test_report_interrupted_while_curves_mat_is_written_is_rewritten_without_force(
+        report, tmp_path, monkeypatch):
+    """Ctrl-C while curves.mat is written: the same report folder is written again
+    without --force, and holds exactly the new report's files afterwards."""
+    from ins_errors import export
+    from ins_errors.output import MANIFEST
+
+    result, _ = report
+    out = tmp_path / "out"
+
+    def interrupted(comparisons, path):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(export, "save_curves_mat", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        write_report(result, out)
+    assert (out / "curves.csv").exists() and (out / "case_2.png").exists()
+    monkeypatch.undo()
+    one_case = replace(result, comparisons=result.comparisons[:1])
+    write_report(one_case, out)  # not refused; the second case's plot is removed
+    assert sorted(p.name for p in out.iterdir()) == sorted([
+        MANIFEST, "case_1.png", "curves.csv", "curves.mat", "report.html", "report.md",
+        "results.json"])
+
+
 def test_case_plots_equal_fresh_plain_matplotlib_figures(report, tmp_path, monkeypatch):
     """The report draws its cases in one reused figure (curves, limits, title replaced)
     whose panels share their time range by construction (not matplotlib's sharex, which
