@@ -32,15 +32,56 @@ def _strapdown(hours: float, damped: bool):
                    refined=False, validity_threshold=None, integration_error=False)[0]
 
 
+def _vertical_e_folding_minutes(latitude_deg: float) -> float:
+    """√(R/2g): WGS-84 normal gravity (Somigliana) and the Gaussian mean radius."""
+    a, e2, s2 = 6_378_137.0, 0.00669437999014, math.sin(math.radians(latitude_deg)) ** 2
+    g = 9.7803253359 * (1 + 0.00193185265241 * s2) / math.sqrt(1 - e2 * s2)
+    radius = math.sqrt(a * (1 - e2) / (1 - e2 * s2) ** 1.5 * a / math.sqrt(1 - e2 * s2))
+    return math.sqrt(radius / (2 * g)) / 60.0
+
+
 def test_an_undamped_vertical_channel_is_named_with_its_textbook_e_folding_time():
     [warning] = [w for w in _strapdown(2.0, damped=False).warnings if GROWS in w]
     minutes = float(re.search(r"×e every ([\d.]+) min", warning).group(1))
-    # √(R/2g) at 50°: WGS-84 normal gravity (Somigliana) and the Gaussian mean radius
-    a, e2, s2 = 6_378_137.0, 0.00669437999014, math.sin(math.radians(50.0)) ** 2
-    g = 9.7803253359 * (1 + 0.00193185265241 * s2) / math.sqrt(1 - e2 * s2)
-    radius = math.sqrt(a * (1 - e2) / (1 - e2 * s2) ** 1.5 * a / math.sqrt(1 - e2 * s2))
-    assert minutes == pytest.approx(math.sqrt(radius / (2 * g)) / 60.0, rel=2e-3)
+    assert minutes == pytest.approx(_vertical_e_folding_minutes(50.0), rel=2e-3)
     assert "ins-errors modes strapdown_ned" in warning
+    assert "k_h1, k_h2 are 0" in warning
+
+
+def test_a_run_that_leaves_its_domain_names_the_growing_mode_and_the_zero_gains():
+    """strapdown_ned's default (undamped) vertical channel runs to NaN after some hours;
+    the one-line error said only "became NaN"."""
+    from ins_errors.errors import DomainError
+    from ins_errors.numeric.simulate import simulate
+
+    model = load_model("strapdown_ned")
+    motion = st.trajectory(model, st.static(np.radians(50.0)), 8 * 3600.0, 10.0)
+    with pytest.raises(DomainError) as caught:
+        simulate(model, motion, [{"accel_bias_x": 50 * 9.80665e-6}], record_interval=60.0,
+                 parts=("real", "linear"))
+    message = str(caught.value)
+    assert "left its domain" in message and "\n" not in message
+    minutes = float(re.search(r"×e every ([\d.]+) min", message).group(1))
+    assert minutes == pytest.approx(_vertical_e_folding_minutes(50.0), rel=2e-3)
+    assert "ins-errors modes strapdown_ned" in message
+    assert "k_h1, k_h2 are 0" in message and "-p k_h1=" in message
+    # one gain set: only the other one is named
+    from ins_errors.numeric.linear_system import undamped_remedy
+
+    assert "gain k_h1 is 0" in undamped_remedy(model, model.parameter_vector(k_h2=1e-3))
+    assert undamped_remedy(model, model.parameter_vector(k_h1=0.03, k_h2=1e-3)) == ""
+
+
+def test_a_domain_error_without_a_growing_mode_has_no_hint():
+    from ins_errors.errors import DomainError
+    from ins_errors.numeric.simulate import simulate
+
+    model = load_model("orthodromic")
+    motion = tr.trajectory(model, tr.static_profile(np.radians(50.0)), 6 * 3600.0, 10.0)
+    with pytest.raises(DomainError) as caught:  # a platform tilted past 90° in minutes
+        simulate(model, motion, [{"gyro_drift_y": 1e-3}], record_interval=60.0,
+                 parts=("real", "linear"), platform="small_angle")
+    assert "left its domain" in str(caught.value) and "grows" not in str(caught.value)
 
 
 @pytest.mark.parametrize("hours, damped", [(2.0, True), (0.25, False)])

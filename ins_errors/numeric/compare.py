@@ -308,7 +308,8 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     sources; the comparison's ratios then say little by themselves. The warning
     (:func:`~ins_errors.numeric.linear_system.growth_warning`) gives the e-folding time
     of F's fastest growing mode at t = 0 (on a moving base F changes along the motion)
-    and the factor over the run, and names the command that names the mode.
+    and the factor over the run, names the command that names the mode and any damping
+    gain left at 0 (:func:`~ins_errors.numeric.linear_system.undamped_remedy`).
 
     Parameters
     ----------
@@ -318,15 +319,17 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     sim : Simulation
         The runs (their ideal state and inputs at t = 0 give F).
     """
-    from ins_errors.numeric.linear_system import growth_warning
+    from ins_errors.numeric.linear_system import growth_warning, undamped_remedy
 
     duration = float(sim.times[-1])
     if not comparisons or duration <= 0:
         return
     x0 = sim.ideal[:, 0, 0]
     u0 = sim.trajectory.start_inputs  # (inputs_at would store a streamed motion whole)
-    text = growth_warning(sim.model.state_matrix(x0, u0, sim.trajectory.parameters),
-                          duration, sim.model.name, "the ratios say little by themselves")
+    p = sim.trajectory.parameters
+    text = growth_warning(sim.model.state_matrix(x0, u0, p), duration, sim.model.name,
+                          "the ratios say little by themselves",
+                          remedy=undamped_remedy(sim.model, p))
     if text is None:
         return
     for comparison in comparisons:

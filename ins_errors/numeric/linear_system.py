@@ -140,10 +140,59 @@ def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence:
     rate = growth_rate(np.asarray(f, dtype=float))
     if duration <= 0 or rate * duration < GROWTH_WARNED:
         return None
-    return (f"the error equations grow exponentially: F at the start has a mode that grows "
-            f"×e every {duration_text(1.0 / rate)} (×{math.exp(min(rate * duration, 700.0)):.3g}"
-            f" over the {duration_text(duration)} {span}), so every error grows with it and "
+    return (f"the error equations grow exponentially: {growing_mode_text(rate)} "
+            f"(×{math.exp(min(rate * duration, 700.0)):.3g} over the "
+            f"{duration_text(duration)} {span}), so every error grows with it and "
             f"{consequence}; `ins-errors modes {model_name}` names the mode{remedy}")
+
+
+def start_growth_rate(model, trajectory) -> float:
+    """Growth rate of F at t = 0 of a trajectory (1/s; :func:`growth_rate`).
+
+    F is evaluated at the start state, the inputs at the start and the parameters:
+    ``trajectory.start_inputs``, never ``inputs_at``, which stores a streamed motion
+    whole. On a moving base F changes along the motion; this is its start.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        The model the trajectory was computed for.
+    trajectory : ins_errors.numeric.trajectories.Trajectory
+        The true motion.
+    """
+    x0, u0, p = trajectory.start_state, trajectory.start_inputs, trajectory.parameters
+    return growth_rate(np.asarray(model.state_matrix(x0, u0, p), dtype=float))
+
+
+def growing_mode_text(rate: float) -> str:
+    """``"F at the start has a mode that grows ×e every 9.498 min"`` (``rate`` in 1/s,
+    positive): the clause :func:`growth_warning` and a run that left its domain share."""
+    from ins_errors.time_text import duration_text
+
+    return f"F at the start has a mode that grows ×e every {duration_text(1.0 / rate)}"
+
+
+def undamped_gains(model, p: np.ndarray) -> list[str]:
+    """The model's damping gains that are 0 in the parameter vector ``p``.
+
+    A damping gain is a parameter whose description names a damping loop (strapdown_ned's
+    ``k_h1``, ``k_h2``: 0 leaves its vertical channel undamped).
+    """
+    return [info.name for info, value in zip(model.parameters, p, strict=True)
+            if "damping" in info.description.lower() and value == 0]
+
+
+def undamped_remedy(model, p: np.ndarray) -> str:
+    """``"; the damping gains k_h1, k_h2 are 0 (undamped): set them (-p k_h1=… -p
+    k_h2=…)"`` for the gains of :func:`undamped_gains`, or ``""`` (a ``remedy`` of
+    :func:`growth_warning`)."""
+    gains = undamped_gains(model, p)
+    if not gains:
+        return ""
+    several = len(gains) > 1
+    return (f"; the damping gain{'s' if several else ''} {', '.join(gains)} "
+            f"{'are' if several else 'is'} 0 (undamped): set {'them' if several else 'it'} "
+            f"({' '.join(f'-p {g}=…' for g in gains)})")
 
 
 def physical_memory() -> int | None:

@@ -598,7 +598,32 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                               f"errors): {detail}")
         when = f"at t = {t1:.6g} s" if sim.stride == 1 else (
             f"between t = {t0:.6g} s and {t1:.6g} s")
-        raise DomainError(f"the system left its domain {when} ({t1 / 3600:.4g} h): {detail}")
+        raise DomainError(f"the system left its domain {when} ({t1 / 3600:.4g} h): "
+                          f"{detail}{_growth_hint(sim, t1)}")
+
+
+def _growth_hint(sim: Simulation, t_left: float) -> str:
+    """``"; F at the start has a mode that grows ×e every …, the likely cause; `ins-errors
+    modes M` names the mode; …"`` when F at t = 0 has a mode that grew by
+    :data:`~ins_errors.numeric.linear_system.GROWTH_WARNED` e-foldings or more before
+    the run left its domain at ``t_left`` (s), naming any damping gain left at 0; else
+    ``""``."""
+    from ins_errors.numeric.linear_system import (
+        GROWTH_WARNED,
+        growing_mode_text,
+        start_growth_rate,
+        undamped_remedy,
+    )
+
+    try:
+        rate = start_growth_rate(sim.model, sim.trajectory)
+    except (InsErrorsError, ArithmeticError, ValueError):  # no F to read: no hint
+        return ""
+    if not rate * t_left >= GROWTH_WARNED:
+        return ""
+    p = sim.trajectory.parameters
+    return (f"; {growing_mode_text(rate)}, the likely cause; `ins-errors modes "
+            f"{sim.model.name}` names the mode{undamped_remedy(sim.model, p)}")
 
 
 def _platform_limit(model: Model, platform: str) -> tuple[list[int], float, str]:
