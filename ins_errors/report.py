@@ -177,7 +177,8 @@ def markdown_to_html(text: str, title: str, images: Path | None = None) -> str:
     )
 
 
-def write_report(result: ScenarioResult, folder: str | Path, force: bool = False) -> Path:
+def write_report(result: ScenarioResult, folder: str | Path, force: bool = False,
+                 progress: bool = True) -> Path:
     """Write the report folder and return the path of ``report.md``.
 
     Parameters
@@ -190,6 +191,10 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
         files is refused unless ``force``).
     force : bool
         Write into a non-empty folder that ins-errors did not write.
+    progress : bool
+        Show a one-line status (what is being written, elapsed time) while the plots,
+        the pages and the curve files are written; on a terminal only, and only for a
+        part that takes more than half a second (a week's curves: over a minute).
 
     Raises
     ------
@@ -198,28 +203,35 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
     """
     from ins_errors.export import write_curves
     from ins_errors.numeric.plots import plot_comparisons, shared_quantities
+    from ins_errors.progress import stage
 
     out = OutputFolder(folder, force=force)
     plots = [f"case_{k}.png" for k in range(1, len(result.comparisons) + 1)]
-    plot_comparisons(result.comparisons, [out.file(name) for name in plots],
-                     quantities=result.scenario.quantities
-                     or shared_quantities(result.comparisons),
-                     titles=[f"{result.scenario.title}\n{c.label}" for c in result.comparisons])
-    text = report_markdown(result, plots)
-    out.write_text("report.md", text)
-    out.write_text("report.html", markdown_to_html(text, result.scenario.title, out.path))
-    model = load_model(result.scenario.model)
-    summary = {"title": result.scenario.title, "model": model.name,
-               "motion": result.motion_description, "duration_s": result.scenario.duration,
-               "step_s": result.scenario.step, "record_s": result.scenario.record,
-               "method": result.scenario.method, "truth": result.scenario.truth,
-               "truth_used": result.truth_used,
-               "parameters": parameters_record(model, result.scenario.parameters),
-               "parameters_used": _used(model, result.scenario),
-               "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
-               "curves": {"csv": "curves.csv", "mat": "curves.mat"},
-               "cases": [c.to_dict() for c in result.comparisons]}
-    out.write_text("results.json", dumps(summary) + "\n")
-    write_curves(out, result.comparisons)
+    with stage(f"drawing {plots[0] if len(plots) == 1 else f'{len(plots)} plots'} in "
+               f"{out.path}", enabled=progress):
+        plot_comparisons(result.comparisons, [out.file(name) for name in plots],
+                         quantities=result.scenario.quantities
+                         or shared_quantities(result.comparisons),
+                         titles=[f"{result.scenario.title}\n{c.label}"
+                                 for c in result.comparisons])
+    with stage(f"writing report.md, report.html and results.json in {out.path}",
+               enabled=progress):
+        text = report_markdown(result, plots)
+        out.write_text("report.md", text)
+        out.write_text("report.html", markdown_to_html(text, result.scenario.title, out.path))
+        model = load_model(result.scenario.model)
+        summary = {"title": result.scenario.title, "model": model.name,
+                   "motion": result.motion_description, "duration_s": result.scenario.duration,
+                   "step_s": result.scenario.step, "record_s": result.scenario.record,
+                   "method": result.scenario.method, "truth": result.scenario.truth,
+                   "truth_used": result.truth_used,
+                   "parameters": parameters_record(model, result.scenario.parameters),
+                   "parameters_used": _used(model, result.scenario),
+                   "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
+                   "curves": {"csv": "curves.csv", "mat": "curves.mat"},
+                   "cases": [c.to_dict() for c in result.comparisons]}
+        out.write_text("results.json", dumps(summary) + "\n")
+    with stage(f"writing curves.csv and curves.mat in {out.path}", enabled=progress):
+        write_curves(out, result.comparisons)
     out.finish()
     return out.path / "report.md"

@@ -42,3 +42,106 @@ def test_counted_bars_follow_the_same_rule(monkeypatch):
     bar.update(100)
     bar.close()
     assert stream.getvalue() == ""
+
+
+def _slow_stages(monkeypatch) -> list[tuple[str, bool]]:
+    """Record every stage (label, enabled) and hold each open long enough to be drawn."""
+    from contextlib import contextmanager
+
+    real, seen = progress.stage, []
+
+    @contextmanager
+    def held(label, enabled=True):
+        seen.append((label, enabled))
+        with real(label, enabled):
+            yield
+            time.sleep(0.05)
+
+    monkeypatch.setattr(progress, "stage", held)
+    monkeypatch.setattr(progress, "SHOW_AFTER", 0.0)
+    return seen
+
+
+@pytest.mark.parametrize("terminal", [True, False])
+def test_the_reruns_after_the_bar_show_a_status_on_a_terminal_only(terminal, monkeypatch):
+    """After the run's bar, the integration-error and validity runs were silent."""
+    import numpy as np
+
+    from ins_errors import load_model
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare
+
+    stream = _Terminal() if terminal else io.StringIO()
+    monkeypatch.setattr("sys.stderr", stream)
+    seen = _slow_stages(monkeypatch)
+    model = load_model("orthodromic")
+    motion = tr.trajectory(model, tr.static_profile(np.radians(50.0)), 3600.0, 10.0)
+    compare(model, motion, [{"accel_bias_y": 1e-4}], record_interval=60.0, refined=False,
+            progress=True)
+    labels = [label for label, enabled in seen if enabled]
+    assert any("integration error" in label for label in labels)
+    assert any("validity" in label for label in labels)
+    drawn = stream.getvalue()
+    assert ("integration error" in drawn and "validity" in drawn) is terminal
+    assert drawn == "" or terminal
+
+
+@pytest.mark.parametrize("terminal", [True, False])
+def test_writing_a_report_shows_a_status_on_a_terminal_only(terminal, monkeypatch, tmp_path):
+    """Plots, pages and curve files: over a minute of silence for a week's report."""
+    from ins_errors.report import write_report
+    from ins_errors.scenario import load_scenario, run_scenario
+
+    scenario = tmp_path / "s.toml"
+    scenario.write_text('title = "t"\nmodel = "orthodromic"\n[run]\nduration = "10 min"\n'
+                        'step = "10 s"\nrecord = "60 s"\nrefined = false\n[[case]]\n'
+                        'accel_bias_y = "50 ug"\n', encoding="utf-8")
+    result = run_scenario(load_scenario(scenario))
+    stream = _Terminal() if terminal else io.StringIO()
+    monkeypatch.setattr("sys.stderr", stream)
+    _slow_stages(monkeypatch)
+    write_report(result, tmp_path / "out")
+    drawn = stream.getvalue()
+    assert all((name in drawn) is terminal for name in ("case_1.png", "report.md",
+                                                        "curves.csv"))
+    assert drawn == "" or terminal
+
+
+def test_the_runs_bar_is_timed_from_after_the_first_compile(monkeypatch):
+    """A moving run's bar started before its loop was compiled: "554 step/s, ETA 10:44"
+    for a one-hour run. It now starts once the first piece (and its compile) is done,
+    counts that piece as done, and still ends at the run's length."""
+    import numpy as np
+
+    from ins_errors import load_model
+    from ins_errors.numeric import simulate as simulation
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.integrators import CompiledLoop
+
+    monkeypatch.setattr("sys.stderr", _Terminal())
+    events, bars = [], []
+    real_advance, real_bar = CompiledLoop.advance, simulation.progress_bar
+
+    def advance(self, *args, **kwargs):
+        if not events:
+            time.sleep(0.3)  # a compile
+        real_advance(self, *args, **kwargs)
+        events.append(("advanced", time.perf_counter()))
+
+    def bar(total, label, initial=0):
+        events.append(("bar", time.perf_counter()))
+        made = real_bar(total, label, initial=initial) if initial else real_bar(total, label)
+        bars.append(made)
+        return made
+
+    monkeypatch.setattr(CompiledLoop, "advance", advance)
+    monkeypatch.setattr(simulation, "progress_bar", bar)
+    model = load_model("orthodromic")
+    profile = tr.great_circle_profile(np.radians(50.0), 0.5, np.radians(90.0), 250.0)
+    motion = tr.trajectory(model, profile, 600.0, 0.01, stream=True)
+    simulation.simulate(model, motion, [{"accel_bias_y": 1e-4}], record_interval=60.0,
+                        parts=("real", "linear"), progress=True)
+    kinds = [kind for kind, _ in events]
+    assert kinds.count("advanced") >= 2 and kinds[0] == "advanced" and "bar" in kinds
+    [made] = bars
+    assert made.n == motion.n_steps

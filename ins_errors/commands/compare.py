@@ -136,6 +136,7 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
     from ins_errors.output import OutputFolder, check_figure, check_file
+    from ins_errors.progress import stage
     from ins_errors.units import parse_quantity
 
     if args.plot:
@@ -204,7 +205,9 @@ def run(args: argparse.Namespace) -> int:
         from ins_errors.export import write_curves
 
         folder = OutputFolder(args.out, force=args.force)
-        write_curves(folder, comparisons)
+        with stage(f"writing curves.csv and curves.mat in {folder.path}",
+                   enabled=not args.no_progress):
+            write_curves(folder, comparisons)
         folder.finish()
     if args.plot:
         from pathlib import Path
@@ -214,9 +217,11 @@ def run(args: argparse.Namespace) -> int:
         path = Path(args.plot)
         targets = [path] if len(comparisons) == 1 else [
             path.with_name(f"{path.stem}_{k + 1}{path.suffix}") for k in range(len(comparisons))]
-        plot_comparisons(comparisons, targets,
-                         quantities=shared_quantities(comparisons),  # one layout for all
-                         titles=[f"{c.label}\n{title}" for c in comparisons])
+        with stage(f"drawing {targets[0] if len(targets) == 1 else f'{len(targets)} plots'}",
+                   enabled=not args.no_progress):
+            plot_comparisons(comparisons, targets,
+                             quantities=shared_quantities(comparisons),  # one layout for all
+                             titles=[f"{c.label}\n{title}" for c in comparisons])
         written = f"plot written to {targets[0]}" if len(targets) == 1 else \
             f"plots written to {targets[0]} … {targets[-1].name} (one per case)"
     if args.json:

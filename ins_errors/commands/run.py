@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     OutputFolder(out, force=args.force, create=False)  # refuse a stranger's, before computing
     steps = scenario.duration / scenario.step
     result = run_scenario(scenario, progress=not args.no_progress and steps >= 100_000)
-    report = write_report(result, out, force=args.force)
+    report = write_report(result, out, force=args.force, progress=not args.no_progress)
     if args.json:
         emit(json.loads((out / "results.json").read_text(encoding="utf-8")))
     else:

@@ -261,6 +261,9 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
         Seconds between recorded samples.
     refined : bool
         Also run the second-order model.
+    progress : bool
+        Show a progress bar over the run and, after it, a one-line status while the
+        integration-error and validity runs are made (on a terminal only).
     platform : {"exact", "small_angle"}
         Platform kinematics of the direct run (see :func:`~ins_errors.numeric.simulate.simulate`).
     integration_error : bool
@@ -292,10 +295,14 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
             for q in quantities:
                 comparison.metric(q)  # unknown quantity -> one line, with suggestions
             comparison.shown = tuple(quantities)
-    if integration_error:
-        add_integration_errors(comparisons, sim, jit=jit)
+    from ins_errors.progress import stage
+
+    if integration_error:  # reruns at other steps (as long as the run itself, or longer)
+        with stage("integration error: the runs again at other steps", enabled=progress):
+            add_integration_errors(comparisons, sim, jit=jit)
     if validity_threshold is not None:
-        add_validity_warnings(comparisons, sim, validity_threshold, jit=jit)
+        with stage("validity: the runs again at other magnitudes", enabled=progress):
+            add_validity_warnings(comparisons, sim, validity_threshold, jit=jit)
     add_growth_warnings(comparisons, sim)
     return comparisons
 

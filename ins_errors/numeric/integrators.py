@@ -1599,14 +1599,19 @@ def _driver_source(loop: CompiledLoop, chunk: int, margin: bool,
                           sz_iw=most("sz_iw"), sz_w=most("sz_w"))
 
 
-def progress_bar(total: int, progress: bool | str):
-    """A tqdm bar over ``total`` steps when ``progress`` is set (a string labels it)."""
+def progress_bar(total: int, progress: bool | str, initial: int = 0):
+    """A tqdm bar over ``total`` steps when ``progress`` is set (a string labels it).
+
+    ``initial`` steps are shown as done already and left out of the rate and the ETA
+    (e.g. a first piece that also compiled the loop). Nothing is drawn when stderr is
+    not a terminal.
+    """
     if not progress:
         return None
     from tqdm import tqdm
 
-    return tqdm(total=total, unit="step", unit_scale=True, leave=False, disable=None,
-                desc=progress if isinstance(progress, str) else "integrating")
+    return tqdm(total=total, initial=initial, unit="step", unit_scale=True, leave=False,
+                disable=None, desc=progress if isinstance(progress, str) else "integrating")
 
 
 def _rename(function: ca.Function, name: str) -> ca.Function:

@@ -473,12 +473,13 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
         chunk_size(records), _power_of_two_below(max(1, STREAM_STEPS // stride)))
     loop = _loop(model.key, parts, method, stride, float(tau), tuple(p), u_const,
                  tuple(bool(a) for a in active), B, jit, chunk, platform, worker_count())
+    label = _bar_label(parts) if progress else ""
     if trajectory.constant:
-        result = loop.run(z0, w[active], N, None, progress=progress)
+        result = loop.run(z0, w[active], N, None, progress=label)
         recorded = None
     else:
         result, recorded = _run_streamed(loop, trajectory, z0, w[active], stride, method,
-                                         chunk * stride, progress)
+                                         chunk * stride, label)
     states = result.states
     sim = Simulation(model, trajectory, method, stride, w, states[:n], platform=platform,
                      recorded_inputs=recorded)
@@ -501,9 +502,11 @@ def _power_of_two_below(n: int) -> int:
 
 def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w: np.ndarray,
                   stride: int, method: str, piece: int,
-                  progress: bool) -> tuple[LoopResult, np.ndarray]:
+                  progress: str) -> tuple[LoopResult, np.ndarray]:
     """Run ``loop`` along a moving trajectory fed chunk by chunk (never stored whole).
 
+    ``progress`` labels a bar over the steps (empty: none), shown from the end of the
+    first piece, which compiles the loop, so the rate and the ETA leave the compile out.
     Returns the loop's result and the inputs at the recorded steps, shape (nu, R + 1).
     """
     N = trajectory.n_steps
@@ -515,7 +518,7 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
     states[:, 0] = carry[:B, :loop.nz].T
     recorded = np.empty((len(trajectory.start_inputs), records + 1))
     recorded[:, 0] = trajectory.start_inputs
-    bar = progress_bar(N, "direct and linear runs" if progress else False)
+    bar = None
     try:
         for part in trajectory.chunks(piece):
             k, m = part.start, part.size
@@ -525,10 +528,18 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
             recorded[:, r0 + 1:r1 + 1] = part.inputs[:, stride::stride]
             if bar is not None:
                 bar.update(m)
+            elif progress:  # timed from the end of the first piece, which compiles the loop
+                bar = progress_bar(N, progress, initial=k + m)
     finally:
         if bar is not None:
             bar.close()
     return LoopResult(states, margins), recorded
+
+
+def _bar_label(parts: Sequence[str]) -> str:
+    """``"direct, linear and refined runs"``: the runs of a progress bar."""
+    names = ["direct" if part == "real" else part for part in parts] or ["ideal"]
+    return (", ".join(names[:-1]) + " and " if len(names) > 1 else "") + names[-1] + " runs"
 
 
 def _piece_rows(part, method: str) -> InputRows:
