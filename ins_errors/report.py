@@ -61,8 +61,8 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
         "equations along the same motion; refined = with the second-order terms. A ratio is "
         "the largest difference from the direct run divided by the largest direct error. "
-        "The integration error of the direct and linear curves is estimated by a second "
-        "run at twice the step (Richardson) and shown beside the differences.",
+        f"The integration error of the direct and linear curves is estimated by "
+        f"{integration_runs_text(s)} (Richardson) and shown beside the differences.",
         "",
         "## Summary", "",
         markdown_summary(result.comparisons),
@@ -72,6 +72,27 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
                   markdown_table(_selected(comparison, s.quantities))]
     lines += ["## Equations used", "", _equations_document(model)]
     return "\n".join(lines) + "\n"
+
+
+def integration_runs_text(scenario) -> str:
+    """The runs the integration-error estimate of a scenario makes, for the report
+    (:func:`~ins_errors.numeric.compare.integration_errors_by_reruns`): the same runs at
+    twice the step when an even number of steps separates two recorded samples, else
+    at half the step (or, for a motion read from a file under RK4, which cannot be
+    generated again at half the step, at twice the step on the samples the two share).
+    """
+    stride = max(1, round(scenario.record / scenario.step))
+    if stride % 2 == 0:
+        return (f"the same runs at twice the step ({2 * scenario.step:g} s; a third at "
+                f"{4 * scenario.step:g} s gives the scheme's observed order)")
+    if str(scenario.motion.get("kind", "static")) == "file" and scenario.method != "euler":
+        return (f"the same runs at twice the step ({2 * scenario.step:g} s), on the "
+                f"samples the two runs share ({stride} steps, an odd number, separate "
+                "two recorded samples, and a motion file cannot be run at half the step)")
+    return (f"the same runs at half the step ({scenario.step / 2:g} s, since {stride} "
+            f"step{'s' if stride > 1 else ''}, an odd number, separate two recorded "
+            f"samples; a third at {2 * scenario.step:g} s gives the scheme's observed "
+            "order)")
 
 
 def truth_text(setting: str, used: str) -> str:

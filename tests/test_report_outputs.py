@@ -646,3 +646,30 @@ def test_written_mat_samples_are_the_same_bytes_each_time(tmp_path, monkeypatch)
     assert (tmp_path / "a.mat").read_bytes() == (tmp_path / "b.mat").read_bytes()
     data = loadmat(tmp_path / "a.mat")
     np.testing.assert_array_equal(data["t_static"].ravel(), ms[0].times)
+
+
+@pytest.mark.parametrize("step, halved", [("20 s", True), ("10 s", False)])
+def test_report_names_the_step_of_the_integration_error_runs_it_made(step, halved, tmp_path,
+                                                                     monkeypatch):
+    """report.md said "a second run at twice the step" also where the runs at half the
+    step were made (an odd number of steps between two recorded samples)."""
+    from ins_errors.numeric import accuracy
+    from ins_errors.report import report_markdown
+
+    made = []
+    real_halved, real_coarsened = accuracy.halved, accuracy.coarsened
+    monkeypatch.setattr(accuracy, "halved",
+                        lambda t, m: made.append(t.tau / 2) or real_halved(t, m))
+    monkeypatch.setattr(accuracy, "coarsened",
+                        lambda t: made.append(2 * t.tau) or real_coarsened(t))
+    scenario_file = tmp_path / "s.toml"
+    scenario_file.write_text(SCENARIO.replace('step = "1 s"', f'step = "{step}"'),
+                             encoding="utf-8")
+    result = run_scenario(load_scenario(scenario_file))
+    text = report_markdown(result, ["a.png", "b.png"])
+    sentence = text[text.index("The integration error"):].split("\n")[0]
+    tau = float(step.split()[0])
+    assert made[0] == (tau / 2 if halved else 2 * tau)  # the pair's other run
+    assert ("half the step" in sentence) is halved
+    assert ("twice the step" in sentence) is not halved
+    assert f"{made[0]:g} s" in sentence
