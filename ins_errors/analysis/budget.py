@@ -496,30 +496,21 @@ def unit_budget(model, spec: Spec, trajectory=None,
     return UnitBudget(spec, sources, tuple(rows), unit, system, floor)
 
 
-DAMPING_EXAMPLE = "-p k_h1=0.0293/s -p k_h2=4.42e-4/s^2"
-"""Vertical damping gains of a 300-s loop with damping 0.7 (docs/models.md), for a model
-with the parameters ``k_h1`` and ``k_h2`` (strapdown_ned)."""
-
-
 def growth_warning(model, budget: UnitBudget) -> str | None:
     """One line when the error equations at the start grow by e-foldings over the
     operating time (:func:`ins_errors.numeric.linear_system.growth_warning`), or None.
 
     The allocation then only divides what the growth leaves: an undamped vertical
     channel (strapdown_ned's default) grows as e^(t/570 s), e^50 in 8 h, and the
-    allowances come out absurdly small (1e-19 deg/h). For a model with the damping gains
-    ``k_h1`` and ``k_h2`` (both zero) the line names them with an example.
+    allowances come out absurdly small (1e-19 deg/h). Damping gains left at zero are
+    named (:func:`~ins_errors.numeric.linear_system.undamped_remedy`).
     """
     from ins_errors.numeric.linear_system import growth_warning as warning
+    from ins_errors.numeric.linear_system import undamped_remedy
 
     system = budget.system
     F = system.F if system.F.ndim == 2 else system.F[0]
-    names = [i.name for i in model.parameters]
-    remedy = ""
-    if {"k_h1", "k_h2"} <= set(names) and not any(
-            system.p[names.index(k)] for k in ("k_h1", "k_h2")):
-        remedy = (f"; its vertical channel is undamped: add damping gains, e.g. "
-                  f"`{DAMPING_EXAMPLE}` (a 300-s loop)")
+    remedy = undamped_remedy(model, system.p)
     return warning(F, budget.spec.operating_time, model.name,
                    "the allowed magnitudes are only what that growth leaves, far below what "
                    "the sources do on a stable system", "operating time", remedy)

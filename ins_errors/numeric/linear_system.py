@@ -182,17 +182,26 @@ def undamped_gains(model, p: np.ndarray) -> list[str]:
             if "damping" in info.description.lower() and value == 0]
 
 
+DAMPING_EXAMPLES: dict[str, str] = {"k_h1": "0.0293/s", "k_h2": "4.42e-4/s^2"}
+"""Example values of strapdown_ned's vertical damping gains: a 300-s loop with damping
+0.7 (k_h1 = 2ζω₀, k_h2 = ω₀² + 2g/R; docs/models.md)."""
+
+
 def undamped_remedy(model, p: np.ndarray) -> str:
-    """``"; the damping gains k_h1, k_h2 are 0 (undamped): set them (-p k_h1=… -p
-    k_h2=…)"`` for the gains of :func:`undamped_gains`, or ``""`` (a ``remedy`` of
-    :func:`growth_warning`)."""
+    """``"; the damping gains k_h1, k_h2 are 0 (undamped): set them, e.g. `-p
+    k_h1=0.0293/s -p k_h2=4.42e-4/s^2` (a 300-s loop, damping 0.7)"`` for the gains of
+    :func:`undamped_gains` (``-p NAME=…`` for a gain without an example value), or ``""``
+    (a ``remedy`` of :func:`growth_warning`)."""
     gains = undamped_gains(model, p)
     if not gains:
         return ""
     several = len(gains) > 1
+    options = " ".join(f"-p {g}={DAMPING_EXAMPLES.get(g, '…')}" for g in gains)
+    example = (f", e.g. `{options}` (a 300-s loop, damping 0.7)"
+               if set(gains) <= set(DAMPING_EXAMPLES) else f" (`{options}`)")
     return (f"; the damping gain{'s' if several else ''} {', '.join(gains)} "
-            f"{'are' if several else 'is'} 0 (undamped): set {'them' if several else 'it'} "
-            f"({' '.join(f'-p {g}=…' for g in gains)})")
+            f"{'are' if several else 'is'} 0 (undamped): set {'them' if several else 'it'}"
+            + example)
 
 
 def physical_memory() -> int | None:
