@@ -370,11 +370,20 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
     grids: dict[float, Trajectory | None] = {}
 
     def grid(factor: float) -> Trajectory | None:
-        if factor not in grids:  # the doubled-step trajectory is built once for 2τ and 4τ
-            grids[factor] = (accuracy.halved(trajectory, method) if factor == 0.5
-                             else accuracy.coarsened(trajectory) if factor == 2
-                             else accuracy.coarsened(grid(factor / 2)))
-        return grids[factor]
+        # the doubled-step trajectory is built once for 2τ and 4τ; no recursion: a
+        # closure that calls itself is a reference cycle, which kept this trajectory
+        # (and its coarser ones) alive after the call until the next full collection
+        if factor == 0.5:
+            if factor not in grids:
+                grids[factor] = accuracy.halved(trajectory, method)
+            return grids[factor]
+        coarse, step = trajectory, 1.0
+        while step < factor:
+            step *= 2
+            if step not in grids:
+                grids[step] = accuracy.coarsened(coarse)
+            coarse = grids[step]
+        return coarse
 
     def rerun(factor: float, every: int) -> tuple[ErrorCurves, ErrorCurves] | None:
         traj = grid(factor)
