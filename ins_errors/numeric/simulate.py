@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cache, lru_cache
 
 import casadi as ca
@@ -254,6 +254,9 @@ class Simulation:
     real, linear, refined : numpy.ndarray, shape (ne, R + 1, B), or None if not run
     platform : str
         Platform kinematics of the real run (``"exact"`` or ``"small_angle"``).
+
+    The error curves (:meth:`direct_errors` ...) are computed once and kept: later calls
+    return the same, read-only, curves.
     """
 
     model: Model
@@ -267,6 +270,8 @@ class Simulation:
     refined: np.ndarray | None = None
     platform: str = "exact"
     recorded_inputs: np.ndarray | None = None
+    _kept: dict[str, ErrorCurves] = field(default_factory=dict, init=False, repr=False,
+                                          compare=False)
 
     @property
     def times(self) -> np.ndarray:
@@ -303,23 +308,30 @@ class Simulation:
             dy = outputs(rows, self._recorded_inputs(rows))
             dy[angles] = (dy[angles] + np.pi) % (2 * np.pi) - np.pi
             values[first:, rows] = dy
-        return ErrorCurves(names, units, self.times, values)
+        values.flags.writeable = False  # kept and shared by every caller
+        kept = next(iter(self._kept.values()), None)  # one array of times for all
+        return ErrorCurves(names, units, self.times if kept is None else kept.times, values)
 
     def direct_errors(self) -> ErrorCurves:
         """Errors of the direct run: real − ideal."""
         if self.real is None:
             raise ShapeError("this simulation did not run the real-work equations")
+        if "direct" in self._kept:
+            return self._kept["direct"]
         n, p = len(self.model.states), self.trajectory.parameters
         outputs = self.model.numpy.outputs
 
         def difference(rows: slice, u: np.ndarray) -> np.ndarray:
             return outputs(self.real[:n, rows], u, p) - outputs(self.ideal[:, rows], u, p)
 
-        return self._collect(self.real[n:], difference)
+        self._kept["direct"] = self._collect(self.real[n:], difference)
+        return self._kept["direct"]
 
     def _error_curves(self, e: np.ndarray | None, second_order: bool, label: str) -> ErrorCurves:
         if e is None:
             raise ShapeError(f"this simulation did not run the {label} error equations")
+        if label in self._kept:
+            return self._kept[label]
         n, p = len(self.model.states), self.trajectory.parameters
         numpy = self.model.numpy
 
@@ -330,7 +342,8 @@ class Simulation:
                 dy = dy + numpy.output_second_order(x, u, p, de)
             return dy
 
-        return self._collect(e[n:], difference)
+        self._kept[label] = self._collect(e[n:], difference)
+        return self._kept[label]
 
     def linear_errors(self) -> ErrorCurves:
         """Errors of the first-order error equations (outputs to first order, ``H e``)."""
