@@ -83,3 +83,25 @@ def test_collecting_the_curves_of_a_long_static_run_needs_about_one_record(ortho
     assert kept < curves + 2e6
     assert peak < 0.9 * record, f"peak {peak / 1e6:.0f} MB for a {record / 1e6:.0f}-MB record"
     assert peak - curves < 0.15 * record
+
+
+def test_curves_are_computed_once_and_shared_read_only(orthodromic):
+    """compare's integration-error step asks for the direct and linear curves again: it
+    gets the same, read-only, arrays, and nothing is computed or allocated a second
+    time."""
+    traj = tr.trajectory(orthodromic, tr.static_profile(50 * DEG), 6 * 3600.0, 1.0)
+    sim = simulate(orthodromic, traj, CASES, record_interval=1.0)
+    first = [sim.direct_errors(), sim.linear_errors(), sim.refined_errors()]
+    tracemalloc.start()
+    try:
+        again = [sim.direct_errors(), sim.linear_errors(), sim.refined_errors()]
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert all(a is b for a, b in zip(first, again, strict=True)) and peak < 10_000
+    assert first[1].times is first[0].times
+    for curves in first:
+        with pytest.raises(ValueError, match="read-only"):
+            curves.values[0, 0, 0] = 1.0
+        with pytest.raises(ValueError, match="read-only"):
+            curves["delta_latitude"][:] = 0.0
