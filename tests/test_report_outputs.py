@@ -79,6 +79,10 @@ def test_curves_csv_holds_every_curve_of_every_case(report):
         column = header.index("delta_v_N.linear [m/s]")
         np.testing.assert_array_equal(mine[:, column], comparison.linear["delta_v_N"])
     assert np.abs(first.direct["alpha_y"]).max() > 0  # a drift about x tilts about y
+    # written row by row to the file, the bytes of the text curves_csv returns
+    from ins_errors.export import curves_csv
+
+    assert (folder / "curves.csv").read_bytes() == curves_csv(result.comparisons).encode()
 
 
 def test_curves_mat_reads_back(report):
