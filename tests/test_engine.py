@@ -79,3 +79,40 @@ def test_an_error_of_the_tools_own_passes_unchanged():
 
     error = InsErrorsError("bad input")
     assert engine.task_failure(error, "x") is error
+
+
+def refuses_three(offset: int, x: int) -> int:
+    if x == 3:
+        from ins_errors.errors import DomainError
+
+        raise DomainError(f"task {x} is outside the domain")
+    return offset + x
+
+
+@pytest.mark.parametrize("kind", ["serial", "pool"])
+def test_a_task_that_refuses_its_input_is_its_outcome_when_asked(kind):
+    """With on_failure, a task's own one-line error is reported for its index and every
+    other task runs; without it the error stops the call, as any other fault always
+    does."""
+    from ins_errors.errors import DomainError
+
+    seen, failed = {}, {}
+    stats = engine.run_tasks(refuses_three, [(k,) for k in range(6)], engine=kind,
+                             workers=2, shared=(100,), on_result=seen.__setitem__,
+                             on_failure=failed.__setitem__)
+    assert seen == {k: 100 + k for k in range(6) if k != 3}
+    assert list(failed) == [3] and isinstance(failed[3], DomainError)
+    assert str(failed[3]) == "task 3 is outside the domain"
+    assert (stats.computed, stats.failed) == (5, 1)
+    with pytest.raises(DomainError, match="task 3 is outside the domain"):
+        engine.run_tasks(refuses_three, [(k,) for k in range(6)], engine=kind, workers=2,
+                         shared=(100,))
+    if kind == "pool":
+        with pytest.raises(engine.EngineError, match="ZeroDivisionError: a fault in task 3"):
+            engine.run_tasks(fails, [(k,) for k in range(5)], engine=kind, workers=2,
+                             shared=(100,), on_failure=failed.__setitem__, label="test")
+    else:  # in this process a fault is a programming error: its own traceback
+        with pytest.raises(ZeroDivisionError):
+            engine.run_tasks(fails, [(k,) for k in range(5)], engine=kind,
+                             shared=(100,), on_failure=failed.__setitem__)
+    assert list(failed) == [3]

@@ -15,6 +15,13 @@ the same bits wherever it runs. :func:`run_tasks` hands them to
 and calls ``on_result(index, result)`` in the calling process as each task finishes (in
 completion order), which is where results are streamed to a store.
 
+A task that raises one of the tool's own errors (:class:`~ins_errors.errors.InsErrorsError`:
+bad input found by that task, such as a motion that reaches a pole) stops the whole call
+with that error, unless the caller passes ``on_failure``: then the error is that task's
+outcome, ``on_failure(index, error)`` is called for it and the other tasks run on. Any
+other exception (a fault, a worker that cannot be reached) and Ctrl-C stop the call
+either way.
+
 Dask is the optional extra ``ins-errors[distributed]``; :data:`INSTALL_HINT` says how to
 install it.
 """
@@ -57,12 +64,15 @@ class EngineStats:
         Tasks that ran to completion and were reported.
     where : str
         Human description (scheduler address, pool size).
+    failed : int
+        Tasks whose error was reported to ``on_failure`` (see :func:`run_tasks`).
     """
 
     engine: str
     workers: int
     computed: int = 0
     where: str = ""
+    failed: int = 0
 
 
 def dask_available() -> bool:
@@ -105,6 +115,7 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
               engine: str = "auto", scheduler: str | None = None,
               workers: int | None = None, shared: tuple = (),
               on_result: Callable[[int, Any], None] | None = None,
+              on_failure: Callable[[int, InsErrorsError], None] | None = None,
               progress: bool = False, label: str = "tasks") -> EngineStats:
     """Run ``function(*shared, *task)`` for every task and report results as they finish.
 
@@ -124,6 +135,10 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
         Leading arguments common to every task (sent to each Dask worker once).
     on_result : callable, optional
         ``on_result(k, result)``, called in this process as each task finishes.
+    on_failure : callable, optional
+        ``on_failure(k, error)``, called in this process for a task that raised an
+        :class:`~ins_errors.errors.InsErrorsError` (its own bad input); the other tasks
+        run on. Default: such an error stops the call and is raised.
     progress : bool
         Show a progress bar over tasks.
     label : str
@@ -136,8 +151,10 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
     Raises
     ------
     EngineError
-        See :func:`choose_engine`; also when the scheduler cannot be reached or a task
-        killed its workers repeatedly.
+        See :func:`choose_engine`; also when the scheduler cannot be reached, a task
+        killed its workers repeatedly or a task failed with another exception.
+    InsErrorsError
+        The error of a task, when ``on_failure`` is not given.
     """
     engine = choose_engine(engine, scheduler)
     cores = os.cpu_count() or 1
@@ -156,23 +173,38 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
         if bar is not None:
             bar.update(1)
 
+    def failed(k: int, error: BaseException) -> None:
+        """A task raised ``error``: its outcome (``on_failure``) or the end of the call."""
+        if on_failure is None or not isinstance(error, InsErrorsError) or isinstance(
+                error, EngineError):
+            raise task_failure(error, label) from None
+        on_failure(k, error)
+        stats.failed += 1
+        if bar is not None:
+            bar.update(1)
+
     from ins_errors.numeric.integrators import compiler_checked
 
     try:
         if engine == "serial" or not tasks:
             stats = EngineStats("serial", 1, where="this process")
             for k, task in enumerate(tasks):
-                done(k, function(*shared, *task))
+                try:
+                    result = function(*shared, *task)
+                except InsErrorsError as error:
+                    failed(k, error)
+                    continue
+                done(k, result)
         elif engine == "pool":
             stats = EngineStats("pool", min(workers, len(tasks)),
                                 where=f"local process pool of {min(workers, len(tasks))}")
             with compiler_checked():  # a missing compiler said once, not by each worker
-                _run_pool(function, tasks, shared, stats.workers, done, label)
+                _run_pool(function, tasks, shared, stats.workers, done, failed)
         else:
             stats = EngineStats("dask", 0)
             with compiler_checked():
                 _run_dask(function, tasks, shared, scheduler, min(workers, len(tasks)),
-                          stats, done, label)
+                          stats, done, failed, label)
     finally:
         if bar is not None:
             bar.close()
@@ -195,7 +227,7 @@ def task_failure(error: Exception, label: str) -> InsErrorsError:
                        f"{type(error).__name__}{': ' + text[0] if text else ''}")
 
 
-def _run_pool(function, tasks, shared, workers, done, label: str = "tasks") -> None:
+def _run_pool(function, tasks, shared, workers, done, failed) -> None:
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
@@ -208,8 +240,9 @@ def _run_pool(function, tasks, shared, workers, done, label: str = "tasks") -> N
             for future in as_completed(futures):
                 try:
                     result = future.result()
-                except Exception as error:  # any fault: one line
-                    raise task_failure(error, label) from None
+                except Exception as error:  # the task's outcome, or any fault in one line
+                    failed(futures[future], error)
+                    continue
                 done(futures[future], result)
         except BaseException:
             for future in futures:
@@ -234,7 +267,7 @@ def _workers_ignore_ctrl_c() -> Iterator[None]:
         signal.signal(signal.SIGINT, previous)
 
 
-def _run_dask(function, tasks, shared, scheduler, workers, stats, done,
+def _run_dask(function, tasks, shared, scheduler, workers, stats, done, failed,
               label: str = "tasks") -> None:
     import logging
 
@@ -275,9 +308,10 @@ def _run_dask(function, tasks, shared, scheduler, workers, stats, done,
                     except KilledWorker as error:
                         raise EngineError(f"a task kept killing its Dask workers: {error}"
                                           ) from None
-                    except Exception as error:  # any fault: one line
-                        raise task_failure(error, label) from None
-                    done(index[future.key], result)
+                    except Exception as error:  # the task's outcome, or any fault
+                        failed(index[future.key], error)
+                    else:
+                        done(index[future.key], result)
                     future.release()
             except BaseException:
                 client.cancel(futures)
