@@ -40,6 +40,17 @@ accel_bias_x = "100 ug"
 """
 
 
+def same_values(a, b) -> bool:
+    """Equal arrays, NaN equal to NaN; text (the failure reasons, read as another string
+    type from NetCDF than from Zarr) compared as text."""
+    a, b = np.asarray(a), np.asarray(b)
+    if a.dtype.kind in "fc" or b.dtype.kind in "fc":
+        return np.array_equal(a, b, equal_nan=True)
+    if a.dtype.kind in "iub" and b.dtype.kind in "iub":
+        return np.array_equal(a, b)
+    return a.shape == b.shape and [str(v) for v in a.ravel()] == [str(v) for v in b.ravel()]
+
+
 def scenario_file(tmp_path, sweep: str, base: str = BASE, name: str = "s.toml"):
     path = tmp_path / name
     path.write_text(textwrap.dedent(base) + textwrap.dedent(sweep))
@@ -190,19 +201,122 @@ def test_bad_sweep_tables_are_one_line_errors(tmp_path, capsys, sweep, message):
     assert message in err and err.count("\n") == 1
 
 
-def test_a_failing_point_is_named_and_the_points_before_it_are_kept(tmp_path, capsys):
-    """A flight north at 250 m/s from 75° N reaches the pole within two hours."""
-    base = (BASE.replace('kind = "static"', 'kind = "great-circle"\nheading = "0 deg"')
-            .replace('"1 h"', '"2 h"').replace('"60 s"', '"600 s"'))
-    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '75 deg']\n", base)
-    store = tmp_path / "pole.zarr"
+POLE = (BASE.replace('kind = "static"', 'kind = "great-circle"\nheading = "0 deg"')
+        .replace('"1 h"', '"10 min"'))
+"""A flight north at 250 m/s (the default speed): from 89.5° N it reaches the pole after
+about 56 km, 220 s, inside the 10-min run; from 10°, 30° or 60° it does not."""
+
+
+@pytest.mark.parametrize("engine", ["serial", "pool"])
+def test_a_point_over_the_pole_is_stored_as_failed_and_the_others_run(tmp_path, capsys,
+                                                                      monkeypatch, engine):
+    """One point whose motion reaches the pole does not stop the sweep: the other three
+    run and are stored bit-identical to a sweep without the bad point, the failed point
+    keeps its reason and NaN data, the command lists it and exits 2, and running the same
+    command again runs nothing (the same input fails the same way)."""
+    bad = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '89.5 deg', '30 deg', "
+                                  "'60 deg']\n", POLE, name="bad.toml")
+    good = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '30 deg', '60 deg']\n",
+                         POLE, name="good.toml")
+    store = tmp_path / "bad.zarr"
+    assert main(["sweep", str(bad), "--engine", engine, "--workers", "2", "--store",
+                 str(store), "--no-progress"]) == 2
+    out, err = capsys.readouterr()
+    assert err.splitlines()[0] == ("ins-errors: 1 of 4 points failed (stored without "
+                                   "results; --retry-failed runs them again):")
+    assert err.splitlines()[1].startswith("  point 1 (latitude = 89.5 deg): the true "
+                                          "motion leaves the model's domain at t = ")
+    assert len(err.splitlines()) == 2
+    assert "4 points, 4 computed" in out and "failed" in out   # the table's row says so
+    reference = sw.run_sweep(load_scenario(good), tmp_path / "good.zarr",
+                             engine="serial").dataset
+    import xarray as xr
+
+    data = xr.open_zarr(store, chunks=None)
+    assert list(data["done"].values) == [1, 1, 1, 1]
+    reasons = [str(v) for v in data["failure"].values]
+    assert reasons[0] == reasons[2] == reasons[3] == ""
+    assert reasons[1].startswith("the true motion leaves the model's domain")
+    assert "\n" not in reasons[1]
+    for name in reference.data_vars:
+        kept = data[name].values[[0, 2, 3]]
+        assert same_values(kept, reference[name].values), name
+        if name != "failure" and data[name].dtype.kind == "f":
+            assert np.all(np.isnan(data[name].values[1])), name
+    assert not np.any(data["excited"].values[1])
+    # --json: the failed point with its parameters and reason; the same command again
+    # runs nothing
+    runs: list = []
+    real = sw.run_point
+    monkeypatch.setattr(sw, "run_point", lambda job: runs.append(job) or real(job))
+    assert main(["sweep", str(bad), "--engine", "serial", "--store", str(store),
+                 "--json"]) == 2
+    report = json.loads(capsys.readouterr().out)
+    assert runs == [] and (report["computed"], report["reused"]) == (0, 4)
+    [failed] = report["failed"]
+    assert failed["point"] == 1 and failed["latitude"] == pytest.approx(np.radians(89.5))
+    assert failed["label"] == "latitude = 89.5 deg" and failed["reason"] == reasons[1]
+    assert [r["failure"] for r in report["summary"]] == [None, reasons[1], None, None]
+    assert report["summary"][1]["worst_linear_ratio"] is None
+    # asked to, it runs the failed point again (only it), which fails the same way
+    assert main(["sweep", str(bad), "--engine", "serial", "--store", str(store),
+                 "--retry-failed", "--json"]) == 2
+    assert json.loads(capsys.readouterr().out)["failed"] == [failed]
+    assert [job.label for job in runs] == ["latitude = 89.5 deg"]
+
+
+def test_a_failed_point_that_runs_again_is_stored_like_the_others(tmp_path, monkeypatch,
+                                                                  capsys):
+    """A point recorded as failed and run again with --retry-failed gets its results and
+    loses its failure; a NetCDF store keeps its partial Zarr folder while a point has
+    failed and is rewritten without the failure."""
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '30 deg']\n",
+                         BASE.replace('"1 h"', '"2 min"'))
+    clean = sw.run_sweep(load_scenario(path), tmp_path / "clean.zarr",
+                         engine="serial").dataset
+    real = sw.run_point
+
+    def flaky(job):
+        if job.label == "latitude = 30 deg":
+            raise sw.PointError(job.label, "a made-up failure")
+        return real(job)
+
+    monkeypatch.setattr(sw, "run_point", flaky)
+    store = tmp_path / "s.nc"
+    result = sw.run_sweep(load_scenario(path), store, engine="serial")
+    assert result.failed == [1] and store.exists()
+    assert (tmp_path / "s.nc.partial.zarr").exists()
+    assert list(result.dataset["failure"].values) == ["", "a made-up failure"]
     assert main(["sweep", str(path), "--engine", "serial", "--store", str(store)]) == 2
-    err = capsys.readouterr().err
-    assert "at the point latitude = 75 deg: the true motion leaves" in err
-    assert err.count("\n") == 1
+    assert "point 1 (latitude = 30 deg): a made-up failure" in capsys.readouterr().err
+    monkeypatch.setattr(sw, "run_point", real)
+    again = sw.run_sweep(load_scenario(path), store, engine="serial", retry_failed=True)
+    assert (again.computed, again.reused, again.failed) == (1, 1, [])
+    assert not (tmp_path / "s.nc.partial.zarr").exists()
+    for name in clean.data_vars:
+        assert same_values(clean[name].values, again.dataset[name].values), name
+
+
+def test_a_store_made_before_failures_were_recorded_resumes(tmp_path):
+    """A store without the failure variable (as made before it existed) is read as no
+    point failed, gains the variable on resuming and records a failure in it."""
     import zarr
 
-    assert list(zarr.open_group(str(store), mode="r")["done"][:]) == [1, 0]
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '89.5 deg']\n", POLE)
+    store = tmp_path / "old.zarr"
+
+    def stop(index: int) -> None:
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sw.run_sweep(load_scenario(path), store, engine="serial", on_result=stop)
+    group = zarr.open_group(str(store), mode="r+", zarr_format=2)
+    del group["failure"]
+    zarr.consolidate_metadata(str(store), zarr_format=2)
+    assert "failure" not in zarr.open_group(str(store), mode="r").array_keys()
+    result = sw.run_sweep(load_scenario(path), store, engine="serial")
+    assert (result.computed, result.reused, result.failed) == (1, 1, [1])
+    assert sw.failures(result.dataset)[0]["label"] == "latitude = 89.5 deg"
 
 
 def test_store_of_another_sweep_is_refused(tmp_path, capsys):
@@ -353,3 +467,35 @@ def test_points_run_without_pint_and_give_the_bits_of_the_motion_as_written(tmp_
     assert sorted(got) == sorted(expected)
     for name, values in expected.items():
         assert np.array_equal(got[name], values, equal_nan=True), name
+
+
+def test_the_list_of_failed_points_is_capped_for_large_sweeps():
+    """25 points of which 13 failed: the first 10 are listed, then how many more."""
+    import xarray as xr
+
+    reasons = ["" if k % 2 else f"reason {k}" for k in range(25)]
+    data = xr.Dataset({"failure": ("point", np.array(reasons, dtype=object))},
+                      coords={"point": np.arange(25),
+                              "latitude": ("point", np.radians(np.arange(25.0)),
+                                           {"units": "rad", "display_unit": "deg"})},
+                      attrs={"swept": json.dumps(["latitude"])})
+    lines = sw.failures_text(data).splitlines()
+    assert lines[0].startswith("13 of 25 points failed")
+    assert lines[1] == "  point 0 (latitude = 0 deg): reason 0"
+    assert lines[10] == "  point 18 (latitude = 18 deg): reason 18"
+    assert lines[11] == "  ... and 3 more (--json lists them all)" and len(lines) == 12
+    assert [r["point"] for r in sw.failures(data)] == list(range(0, 25, 2))
+
+
+def test_failed_draws_are_not_left_out_of_the_statistics(tmp_path):
+    """Over the draws of a grid point, a draw that failed makes the statistics unknown
+    (None) and is named, rather than being dropped from the RMS and the largest value."""
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '89.5 deg']\ndraws = 2\n"
+                                   "seed = 3\n[sweep.random]\naccel_bias_y = '50 ug'\n", POLE)
+    result = sw.run_sweep(load_scenario(path), tmp_path / "d.zarr", engine="serial")
+    assert result.failed == [2, 3]
+    ok, bad = sw.over_draws(result.dataset)
+    assert ok["failed_draws"] == [] and ok["rms_max_direct"]["delta_latitude"] > 0
+    assert bad["failed_draws"] == [0, 1] and bad["largest_worst_linear_ratio"] is None
+    assert bad["rms_max_direct"]["delta_latitude"] is None
+    assert "failed" in sw.draws_table(result.dataset).splitlines()[0]

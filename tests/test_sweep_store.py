@@ -103,7 +103,12 @@ def _reference_store(path, layout: Layout) -> None:
                 {"long_name": "error sources of the point", "units":
                  "SI, the unit of each source is in coordinate source_unit"}),
                ("done", ("point",), (P,), "i1", None,
-                {"long_name": "1 once the point's results are written", "units": "1"})]
+                {"long_name": "1 once the point's results (or its failure) are written",
+                 "units": "1"}),
+               # text of any length, no fill value: unwritten points read as ""
+               ("failure", ("point",), (P,), str, None,
+                {"long_name": "why the point failed (empty: it did not); its data are NaN",
+                 "units": "1"})]
     for name, dims, shape, dtype, fill, extra in arrays:
         group.create_array(name, shape=shape, chunks=(1, *shape[1:]), dtype=dtype,
                            fill_value=fill,

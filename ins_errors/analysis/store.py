@@ -11,6 +11,8 @@ attributes)::
                                                          (step doubling, as compare)
     source_value                (point, source)          error sources the point ran with
     done                        (point)                  1 once the point is written
+    failure                     (point)                  why the point failed (text;
+                                                         empty: it did not)
     coordinates                 time (s), quantity and its unit, source and its unit,
                                 every swept parameter per point (with its unit), case, draw
     attributes                  title, model, settings, the swept names, and
@@ -19,12 +21,19 @@ attributes)::
 
 Each point is its own chunk, written by the calling process only (one writer), data
 first and ``done`` last: a point whose write was interrupted is not marked done and runs
-again. Opening an existing store checks that it was made by the same sweep (a
-fingerprint of everything that determines the numbers) and returns which points are
-done, so a restarted sweep computes only the rest. A store named ``*.nc`` is filled as
+again. A point that failed on its own bad input (a motion that reaches a pole) is
+written as its one-line reason in ``failure`` and then ``done``; its data stay NaN (0 in
+``excited``). A store written before ``failure`` existed gains the variable when it is
+reopened (its points read as not failed).
+
+Opening an existing store checks that it was made by the same sweep (a fingerprint of
+everything that determines the numbers) and returns which points are done, so a
+restarted sweep computes only the rest. A store named ``*.nc`` is filled as
 ``*.nc.partial.zarr`` and converted to NetCDF (xarray's default writer; scipy's when no
-netCDF library is installed) once complete: NetCDF suits sweeps whose curves fit in
-memory, Zarr any size.
+netCDF library is installed) once every point is done: NetCDF suits sweeps whose curves
+fit in memory, Zarr any size. When points failed, the partial Zarr folder is kept beside
+the NetCDF file, so that they can be run again (``--retry-failed``) and the file
+rewritten.
 """
 
 from __future__ import annotations
@@ -123,17 +132,25 @@ class SweepStore:
     :meth:`dataset` to read everything back and :meth:`finish` when all points are done.
     """
 
-    def __init__(self, path: Path, work: Path, layout: Layout, done: np.ndarray):
+    def __init__(self, path: Path, work: Path, layout: Layout, done: np.ndarray,
+                 failure: Sequence[str] | None = None):
         self.path = path
         self.work = work
         self.layout = layout
         self.done = done
+        self.failure: list[str] = (list(failure) if failure is not None
+                                   else [""] * layout.points)
+        self._written = False
         _, zarr = _libraries()
         group = None if done.all() and not work.exists() else zarr.open_group(
             str(work), mode="r+", zarr_format=2)
         # opened once (the consolidated metadata lists them): a point's write then only
         # stores chunks instead of reading each array's metadata again
         self._arrays = {} if group is None else dict(group.arrays())
+        if group is not None and "failure" not in self._arrays:  # a store made before it
+            _add_failure(work)
+            self._arrays = dict(zarr.open_group(str(work), mode="r+",
+                                                zarr_format=2).arrays())
 
     # ----------------------------------------------------------------------------------
     @classmethod
@@ -159,7 +176,9 @@ class SweepStore:
                                  "another store") from None
             with existing:
                 _check_fingerprint(existing.attrs, layout, path)
-            return cls(path, work, layout, np.ones(layout.points, dtype=bool))
+                failure = _failures(existing, layout.points)
+            if not work.exists():  # kept only when points failed (to run them again)
+                return cls(path, work, layout, np.ones(layout.points, dtype=bool), failure)
         if work.exists():
             try:
                 existing = xr.open_zarr(str(work), chunks=None, consolidated=False,
@@ -170,8 +189,9 @@ class SweepStore:
                                  "store") from None
             _check_fingerprint(existing.attrs, layout, work)
             done = np.asarray(existing["done"].values, dtype=bool)
+            failure = _failures(existing, layout.points)
             existing.close()
-            return cls(path, work, layout, done)
+            return cls(path, work, layout, done, failure)
         try:
             _create(work, layout)
         except OSError as error:  # a parent that is a file, a read-only or missing place
@@ -201,8 +221,27 @@ class SweepStore:
             await asyncio.gather(*chunks)
 
         _run_together(data())
+        if self.failure[index]:  # a failed point run again: no longer failed
+            arrays["failure"][index] = ""
+            self.failure[index] = ""
         arrays["done"][index] = 1
         self.done[index] = True
+        self._written = True
+
+    def fail(self, index: int, reason: str) -> None:
+        """Record that a point failed (its one-line ``reason``, then its ``done`` flag);
+        its data stay empty (NaN)."""
+        reason = " ".join(str(reason).split()) or "failed"
+        self._arrays["failure"][index] = reason
+        self._arrays["done"][index] = 1
+        self.failure[index] = reason
+        self.done[index] = True
+        self._written = True
+
+    @property
+    def failed(self) -> list[int]:
+        """Indices of the points that failed, in order."""
+        return [k for k, reason in enumerate(self.failure) if reason]
 
     @property
     def complete(self) -> bool:
@@ -222,14 +261,21 @@ class SweepStore:
                             mask_and_scale=False)
 
     def finish(self) -> None:
-        """Once every point is done: write the NetCDF file of a ``*.nc`` store."""
-        if not self.complete or self.path.suffix != ".nc" or self.path.exists():
+        """Once every point is done: write the NetCDF file of a ``*.nc`` store (again
+        when points were written since it was). Its partial Zarr folder is removed unless
+        points failed."""
+        if not self.complete or self.path.suffix != ".nc":
             return
-        data = self.dataset().load()  # NetCDF stores are for sweeps that fit in memory
+        if self.path.exists() and not self._written:
+            return
+        xr, _ = _libraries()
+        data = xr.open_zarr(str(self.work), chunks=None, consolidated=False,
+                            mask_and_scale=False).load()  # sweeps that fit in memory
         scratch = self.path.with_name(self.path.name + ".tmp")
         data.to_netcdf(scratch)
         scratch.replace(self.path)
-        shutil.rmtree(self.work, ignore_errors=True)
+        if not self.failed:
+            shutil.rmtree(self.work, ignore_errors=True)
 
 
 def _run_together(work: Coroutine) -> None:
@@ -248,6 +294,38 @@ def _run_together(work: Coroutine) -> None:
             thread.submit(asyncio.run, work).result()
         return
     sync(work)
+
+
+def _failures(dataset, points: int) -> list[str]:
+    """Each point's failure reason in a stored dataset ("" where none; all "" in a store
+    written before the ``failure`` variable existed)."""
+    if "failure" not in dataset:
+        return [""] * points
+    return ["" if not isinstance(v, str) else v for v in dataset["failure"].values.tolist()]
+
+
+FAILURE_ATTRIBUTES = {"long_name": "why the point failed (empty: it did not); its data "
+                                   "are NaN", "units": "1"}
+"""Attributes of the ``failure`` variable."""
+
+
+def _failure_array(points: int) -> dict:
+    """Keyword arguments of the ``failure`` array: text, one chunk per point, no fill
+    value (unwritten points read as empty text, which NetCDF can also hold)."""
+    return {"name": "failure", "shape": (points,), "chunks": (1,), "dtype": str,
+            "fill_value": None,
+            "attributes": {"_ARRAY_DIMENSIONS": ["point"], **FAILURE_ATTRIBUTES}}
+
+
+def _add_failure(work: Path) -> None:
+    """Give a store made before the ``failure`` variable existed an empty one (and its
+    consolidated metadata the new array)."""
+    import zarr
+
+    group = zarr.open_group(str(work), mode="r+", zarr_format=2)
+    points = group["done"].shape[0]
+    group.create_array(**_failure_array(points))
+    zarr.consolidate_metadata(str(work), zarr_format=2)
 
 
 def _check_fingerprint(attributes: Mapping, layout: Layout, where: Path) -> None:
@@ -320,7 +398,9 @@ def _create(work: Path, layout: Layout) -> None:
           {"long_name": "error sources of the point", "units":
            "SI, the unit of each source is in coordinate source_unit"})
     array("done", ("point",), (P,), "i1", None,
-          {"long_name": "1 once the point's results are written", "units": "1"})
+          {"long_name": "1 once the point's results (or its failure) are written",
+           "units": "1"})
+    failure = _failure_array(P)
 
     async def build() -> None:
         group = await zarr_async.open_group(str(scratch), mode="w", zarr_format=2,
@@ -340,7 +420,8 @@ def _create(work: Path, layout: Layout) -> None:
                                      attributes={"_ARRAY_DIMENSIONS": list(dims), **extra})
 
         await asyncio.gather(*(coordinate(name, *spec) for name, spec in coords.items()),
-                             *(data(*spec) for spec in empty))
+                             *(data(*spec) for spec in empty),
+                             group.create_array(**failure))
         # the metadata never changes after this (points only fill chunks), so a
         # consolidated copy stays valid: plain xr.open_zarr(path) reads the store
         # without a warning

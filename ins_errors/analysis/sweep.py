@@ -26,7 +26,10 @@ Each grid point runs the direct, linear (and refined) runs of
 :class:`PointJob`); :func:`run_sweep` spreads the points over
 :mod:`ins_errors.analysis.engine` and streams them into a
 :class:`~ins_errors.analysis.store.SweepStore`, skipping points a previous, interrupted
-run of the same sweep already stored.
+run of the same sweep already stored. A point that fails on its own bad input
+(:class:`PointError`) is stored with its reason and no data while the others run on; a
+resumed sweep runs it again only when asked (``retry_failed``): its failure is as
+deterministic as its numbers.
 """
 
 from __future__ import annotations
@@ -64,6 +67,27 @@ FIGURES = ("worst_linear_ratio", "worst_refined_ratio", "max_direct:QUANTITY",
 
 class SweepError(InsErrorsError):
     """A ``[sweep]`` table or sweep request that cannot be run."""
+
+
+class PointError(SweepError):
+    """A grid point that failed on its own bad input (a motion that reaches a pole, a
+    step that does not fit its duration...): its outcome, recorded in the store.
+
+    Parameters
+    ----------
+    label : str
+        The point's swept values as written.
+    reason : str
+        The one-line error the point raised.
+    """
+
+    def __init__(self, label: str, reason: str):
+        super().__init__(f"at the point {label}: {reason}")
+        self.label = label
+        self.reason = reason
+
+    def __reduce__(self):  # sent back from worker processes with both parts
+        return (type(self), (self.label, self.reason))
 
 
 @dataclass(frozen=True)
@@ -414,11 +438,17 @@ def run_point(job: PointJob) -> dict[str, np.ndarray]:
         ``linear_ratio`` (``refined_ratio``), ``excited`` of shape (nq,), and
         ``source_value`` (nw,), all SI, quantities in the order of
         :func:`ins_errors.numeric.simulate.error_quantities`.
+
+    Raises
+    ------
+    PointError
+        The point's bad input (any :class:`~ins_errors.errors.InsErrorsError`), with
+        the point's label.
     """
     try:
         return _run_point(job)
     except InsErrorsError as error:
-        raise SweepError(f"at the point {job.label}: {error}") from None
+        raise PointError(job.label or "the point", str(error)) from None
 
 
 def _run_point(job: PointJob) -> dict[str, np.ndarray]:
@@ -472,9 +502,13 @@ class SweepResult:
         Everything the store holds (see :mod:`ins_errors.analysis.store`).
     store : Path
     points, computed, reused : int
-        Grid points, points computed by this call, points read back from the store.
+        Grid points, points run by this call (including those that failed), points read
+        back from the store.
     engine : EngineStats or None
         None when every point was already stored.
+    failed : list of int
+        Points that failed (run by this call or read back), in order; their reasons
+        are in :func:`failures`.
     """
 
     dataset: Any
@@ -483,6 +517,7 @@ class SweepResult:
     computed: int
     reused: int
     engine: Any = None
+    failed: list[int] = field(default_factory=list)
 
 
 def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
@@ -544,7 +579,8 @@ def default_store(scenario_path: str | Path) -> Path:
 def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
               scheduler: str | None = None, workers: int | None = None,
               progress: bool = False,
-              on_result: Callable[[int], None] | None = None) -> SweepResult:
+              on_result: Callable[[int], None] | None = None,
+              retry_failed: bool = False) -> SweepResult:
     """Run (or finish) a sweep into a store.
 
     Parameters
@@ -559,11 +595,15 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     progress : bool
         Progress bar over points.
     on_result : callable, optional
-        Called with the point index after each point is stored.
+        Called with the point index after each point is stored (results or failure).
+    retry_failed : bool
+        Run again the points the store records as failed (by default they are kept:
+        the same input fails the same way).
 
     Returns
     -------
     SweepResult
+        Points that failed (:class:`PointError`) are in ``failed``; the others ran.
     """
     from ins_errors.analysis.engine import choose_engine, run_tasks
     from ins_errors.analysis.store import SweepStore, store_path
@@ -574,7 +614,8 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     points = grid(scenario)
     shape = layout(scenario, points)
     box = SweepStore.open(store, shape)
-    todo = [k for k in range(len(points.jobs)) if not box.done[k]]
+    todo = [k for k in range(len(points.jobs))
+            if not box.done[k] or (retry_failed and box.failure[k])]
     reused = len(points.jobs) - len(todo)
     stats = None
     if todo:
@@ -583,12 +624,19 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
             if on_result is not None:
                 on_result(todo[k])
 
+        def failed(k: int, error: InsErrorsError) -> None:
+            if not isinstance(error, PointError):  # not a point's own outcome
+                raise error
+            box.fail(todo[k], error.reason)
+            if on_result is not None:
+                on_result(todo[k])
+
         stats = run_tasks(run_point, [(points.jobs[k],) for k in todo], engine=engine,
                           scheduler=scheduler, workers=workers, on_result=keep,
-                          progress=progress, label="sweep")
+                          on_failure=failed, progress=progress, label="sweep")
     box.finish()
     return SweepResult(box.dataset(), Path(store), len(points.jobs),
-                       len(todo), reused, stats)
+                       len(todo), reused, stats, box.failed)
 
 
 # --------------------------------------------------------------------------------------
@@ -614,6 +662,66 @@ def model_parameters(dataset) -> dict[str, dict[str, object]]:
     return json.loads(dataset.attrs.get("parameters", "{}"))
 
 
+def failure_reasons(dataset) -> list[str]:
+    """Each point's failure reason as stored ("" where the point did not fail, and for
+    every point of a store written before failures were recorded), shape (P,)."""
+    if "failure" not in dataset:
+        return [""] * dataset.sizes["point"]
+    return [v if isinstance(v, str) else "" for v in dataset["failure"].values.tolist()]
+
+
+def point_label(dataset, k: int) -> str:
+    """Point ``k``'s swept values as the scenario wrote them, e.g.
+    ``latitude = 70 deg, case 2, draw 5``."""
+    parts = []
+    for name in swept_names(dataset):
+        value = dataset[name].values[k]
+        if name == "case":
+            parts.append(f"case {int(value) + 1}")
+        elif name == "draw":
+            parts.append(f"draw {int(value)}")
+        else:
+            attrs = dataset[name].attrs
+            parameter = Parameter(name, "", attrs.get("units", "1"), (),
+                                  attrs.get("display_unit", attrs.get("units", "1")))
+            parts.append(f"{name} = {parameter.shown(float(value)):.6g} "
+                         f"{parameter.display_unit}")
+    return ", ".join(parts)
+
+
+def failures(dataset) -> list[dict]:
+    """The points that failed: index, swept values (SI, as :func:`summary`), their label
+    as written (``"label"``) and the one-line reason (``"reason"``), in point order."""
+    rows = []
+    for k, reason in enumerate(failure_reasons(dataset)):
+        if not reason:
+            continue
+        row: dict[str, Any] = {"point": k}
+        for name in swept_names(dataset):
+            value = dataset[name].values[k]
+            row[name] = int(value) if name in ("case", "draw") else float(value)
+        row["label"] = point_label(dataset, k)
+        row["reason"] = reason
+        rows.append(row)
+    return rows
+
+
+def failures_text(dataset, limit: int = 10) -> str:
+    """One line per failed point (the first ``limit``, then how many more), or empty
+    text when none failed."""
+    rows = failures(dataset)
+    if not rows:
+        return ""
+    points = dataset.sizes["point"]
+    lines = [f"{len(rows)} of {points} point{'s' if points != 1 else ''} failed "
+             "(stored without results; --retry-failed runs them again):"]
+    lines += [f"  point {r['point']} ({r['label'] or 'the point'}): {r['reason']}"
+              for r in rows[:limit]]
+    if len(rows) > limit:
+        lines.append(f"  ... and {len(rows) - limit} more (--json lists them all)")
+    return "\n".join(lines)
+
+
 def _worst(dataset, curve: str) -> tuple[np.ndarray, list[str | None]]:
     ratio = np.where(dataset["excited"].values == 1, dataset[f"{curve}_ratio"].values, -np.inf)
     k = np.argmax(ratio, axis=1)
@@ -636,7 +744,8 @@ def worst_integration_ratio(dataset) -> np.ndarray:
 
 
 def summary(dataset) -> list[dict]:
-    """Per grid point: its labels, worst linear (refined) ratio and max errors, SI."""
+    """Per grid point: its labels, its failure reason (``None`` unless it failed; its
+    numbers are then ``None``), worst linear (refined) ratio and max errors, SI."""
     rows = []
     labels = swept_names(dataset)
     quantities = [str(q) for q in dataset["quantity"].values]
@@ -645,11 +754,13 @@ def summary(dataset) -> list[dict]:
     refined = "refined_ratio" in dataset
     if refined:
         worst_refined, refined_names = _worst(dataset, "refined")
+    reasons = failure_reasons(dataset)
     for k in range(dataset.sizes["point"]):
         row: dict[str, Any] = {"point": k}
         for name in labels:
             value = dataset[name].values[k]
             row[name] = int(value) if name in ("case", "draw") else float(value)
+        row["failure"] = reasons[k] or None
         row["worst_linear_ratio"] = _number(worst_linear[k])
         row["worst_linear_quantity"] = linear_names[k]
         if refined:
@@ -670,7 +781,8 @@ def over_draws(dataset) -> list[dict]:
     """Monte Carlo statistics per grid point: over its draws, the RMS and the largest of
     each quantity's max |direct error| (SI) and the largest worst linear/direct ratio.
 
-    Empty when the sweep has no draws.
+    Empty when the sweep has no draws. A draw that failed is not left out: the statistics
+    of its grid point are ``None`` (unknown) and ``failed_draws`` counts and names it.
     """
     labels = [n for n in swept_names(dataset) if n != "draw"]
     if "draw" not in swept_names(dataset):
@@ -678,6 +790,8 @@ def over_draws(dataset) -> list[dict]:
     quantities = [str(q) for q in dataset["quantity"].values]
     peaks = dataset["max_direct"].values
     worst = _worst(dataset, "linear")[0]
+    reasons = failure_reasons(dataset)
+    draw = dataset["draw"].values
     groups: dict[tuple, list[int]] = {}
     for k in range(dataset.sizes["point"]):
         key = tuple(float(dataset[n].values[k]) for n in labels)
@@ -687,12 +801,14 @@ def over_draws(dataset) -> list[dict]:
         block = peaks[members]
         row: dict[str, Any] = dict(zip(labels, key, strict=True))
         row["draws"] = len(members)
+        row["failed_draws"] = [int(draw[k]) for k in members if reasons[k]]
         row["rms_max_direct"] = {q: _number(v) for q, v in
                                  zip(quantities, np.sqrt(np.mean(block**2, axis=0)),
                                      strict=True)}
         row["largest_max_direct"] = {q: _number(v) for q, v in
                                      zip(quantities, np.max(block, axis=0), strict=True)}
-        row["largest_worst_linear_ratio"] = _number(np.nanmax(worst[members]))
+        row["largest_worst_linear_ratio"] = (
+            None if row["failed_draws"] else _number(np.nanmax(worst[members])))
         rows.append(row)
     return rows
 
@@ -723,6 +839,7 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
     rows = []
     worst, names = _worst(dataset, "linear")
     integration = worst_integration_ratio(dataset)
+    reasons = failure_reasons(dataset)
     for k in range(min(dataset.sizes["point"], limit)):
         cells = []
         for name in labels:
@@ -730,6 +847,9 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
             attrs = dataset[name].attrs
             unit, display = attrs.get("units", "1"), attrs.get("display_unit", "1")
             cells.append(f"{Parameter(name, '', unit, (), display).shown(value):.6g}")
+        if reasons[k]:
+            rows.append([*cells, "failed", *(["–"] * (len(head) - len(cells) - 1))])
+            continue
         cells += [f"{worst[k]:.3e}" if np.isfinite(worst[k]) else "–", names[k] or "–",
                   f"{integration[k]:.1e}" if np.isfinite(integration[k]) else "–"]
         for q in quantities:
@@ -762,7 +882,8 @@ def draws_table(dataset, quantities: Sequence[str] | None = None) -> str:
     for name in labels:
         unit = dataset[name].attrs.get("display_unit", "1")
         shown.append(f"{name} [{unit}]" if unit != "1" else name)
-    head = [*shown, "draws", "largest lin/dir",
+    any_failed = any(row["failed_draws"] for row in rows)
+    head = [*shown, "draws", *(["failed"] if any_failed else []), "largest lin/dir",
             *(f"RMS max {q} [{display_scale(units[q])[1]}]" for q in quantities)]
     body = []
     for row in rows:
@@ -773,7 +894,8 @@ def draws_table(dataset, quantities: Sequence[str] | None = None) -> str:
                                   attrs.get("display_unit", "1"))
             cells.append(f"{parameter.shown(row[name]):.6g}")
         ratio = row["largest_worst_linear_ratio"]
-        cells += [str(row["draws"]), "–" if ratio is None else f"{ratio:.3e}"]
+        cells += [str(row["draws"]), *([str(len(row["failed_draws"]))] if any_failed else []),
+                  "–" if ratio is None else f"{ratio:.3e}"]
         for q in quantities:
             value = row["rms_max_direct"][q]
             cells.append("–" if value is None else f"{value * display_scale(units[q])[0]:.4g}")

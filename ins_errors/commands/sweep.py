@@ -16,7 +16,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "Carlo draws), one task per point, on Dask (a local cluster of this "
                     "machine's cores, or --scheduler), streaming results into a store. "
                     "Running the same command again after an interruption computes only "
-                    "the points the store lacks.")
+                    "the points the store lacks. A point that fails on its own bad input "
+                    "(e.g. a motion that reaches a pole) is stored with its reason and "
+                    "no data, the others run on, and the command lists the failed points "
+                    "and exits with status 2.")
     parser.add_argument("scenario", help="scenario file with a [sweep] table")
     parser.add_argument("--store", metavar="PATH",
                         help="result store: *.zarr (filled as points finish) or *.nc "
@@ -43,11 +46,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="swept parameter(s) on the plot's axes (default: the first "
                              "one or two)")
     parser.add_argument("--truth", choices=TRUTHS, default=None, help=SCENARIO_TRUTH_HELP)
+    parser.add_argument("--retry-failed", action="store_true",
+                        help="run again the points the store records as failed (by "
+                             "default a resumed sweep keeps them: the same input fails "
+                             "the same way)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    """Run the sweep; 0 when every point ran, 2 when a point failed (listed on stderr,
+    and in the JSON under ``"failed"``)."""
     from ins_errors.analysis import sweep as sw
     from ins_errors.model_parameters import parameters_record
     from ins_errors.numeric.model import load_model
@@ -67,7 +76,8 @@ def run(args: argparse.Namespace) -> int:
         check_figure(args.plot)  # before any point runs
     store = args.store or sw.default_store(args.scenario)
     result = sw.run_sweep(scenario, store, engine=args.engine, scheduler=args.scheduler,
-                          workers=args.workers, progress=not args.no_progress)
+                          workers=args.workers, progress=not args.no_progress,
+                          retry_failed=args.retry_failed)
     data = result.dataset
     plotted = None
     if args.plot:
@@ -85,8 +95,9 @@ def run(args: argparse.Namespace) -> int:
               "swept": {name: data[name].attrs.get("units", "1")
                         for name in sw.swept_names(data)},
               "summary": sw.summary(data),
-              "over_draws": sw.over_draws(data)}, ensure_ascii=False)
-        return 0
+              "over_draws": sw.over_draws(data),
+              "failed": sw.failures(data)}, ensure_ascii=False)
+        return _failed(data)
     print(f"{scenario.title}: {result.points} points, {result.computed} computed "
           f"({where}), {result.reused} read back from the store")
     print(sw.table(data, scenario.quantities))
@@ -97,4 +108,18 @@ def run(args: argparse.Namespace) -> int:
     print(f"store: {result.store}")
     if plotted is not None:
         print(f"plot written to {plotted}")
-    return 0
+    return _failed(data)
+
+
+def _failed(data) -> int:
+    """Say which points failed (one line each, on stderr) and give the exit status: 2
+    (bad input) when any did, else 0."""
+    import sys
+
+    from ins_errors.analysis import sweep as sw
+
+    text = sw.failures_text(data)
+    if not text:
+        return 0
+    print(f"ins-errors: {text}", file=sys.stderr)
+    return 2
