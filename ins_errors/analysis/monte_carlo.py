@@ -251,13 +251,36 @@ def sample_draws(sources: Sequence[SourceStatistics], source_names: Sequence[str
 def _direct_block(model_name: str, trajectory, sources: tuple, seed: int, start: int,
                   stop: int, method: str, record_interval: float
                   ) -> tuple[np.ndarray, np.ndarray, tuple[str, ...], np.ndarray]:
-    """One task: draws ``start..stop-1`` sampled and run directly."""
+    """One task: draws ``start..stop-1`` sampled and run directly.
+
+    Raises
+    ------
+    MonteCarloError
+        A draw whose run fails (e.g. leaves the model's domain): its number, seed and
+        reason, found by running the block's draws one by one once the block failed.
+        The statistics are never computed without it.
+    """
+    from ins_errors.errors import InsErrorsError
     from ins_errors.numeric.model import load_model
 
     names = [i.name for i in load_model(model_name).sources]
     w = sample_draws(sources, names, seed, range(start, stop))
-    times, values, quantities = _direct_batch(model_name, trajectory, w, method,
-                                              record_interval)
+    try:
+        times, values, quantities = _direct_batch(model_name, trajectory, w, method,
+                                                  record_interval)
+    except InsErrorsError as error:
+        reason, which = error, f"one of the draws {start}..{stop - 1}"
+        for j in range(stop - start) if stop - start > 1 else ():
+            try:
+                _direct_batch(model_name, trajectory, w[:, j:j + 1], method,
+                              record_interval)
+            except InsErrorsError as alone:
+                reason, which = alone, f"draw {start + j}"
+                break
+        if stop - start == 1:
+            which = f"draw {start}"
+        raise MonteCarloError(f"Monte Carlo {which} (seed {seed}) failed: {reason}"
+                              ) from None
     return times, values, quantities, w
 
 
