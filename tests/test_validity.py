@@ -118,3 +118,19 @@ def test_validity_of_a_source_without_typical_size_is_one_line(capsys, monkeypat
     assert main(["validity", "strapdown_ned", "-s", "initial_position_error_D"]) == 2
     (line,) = capsys.readouterr().err.strip().splitlines()
     assert "no typical size for initial_position_error_D, quoted in 'm'" in line
+
+
+def test_a_sweep_that_leaves_the_domain_names_its_source(orthodromic):
+    """An accelerometer bias 10⁹ times its typical size (4.9e5 m/s²) makes the direct run
+    leave the model's domain: the map stops with one line naming that source's sweep (the
+    first one run, in this process), not a bare domain error of an unnamed run."""
+    from ins_errors.analysis.validity import validity_map, validity_tasks
+    from ins_errors.errors import DomainError
+
+    tasks = validity_tasks(orthodromic, ["static"], ["accel_bias_y", "gyro_drift_x"],
+                           hours=0.2, step=10.0, factors=(1.0, 1e9))
+    with pytest.raises(DomainError) as raised:
+        validity_map(tasks, engine="serial")
+    message = str(raised.value)
+    assert message.startswith("validity of accel_bias_y on the static motion (")
+    assert "the system left its domain" in message and "\n" not in message

@@ -264,7 +264,35 @@ def _fit(magnitudes: np.ndarray, ratios: np.ndarray) -> tuple[float, float] | No
 
 
 def run_validity_task(task: ValidityTask) -> SourceValidity:
-    """Run one sweep: direct, linear and refined at every magnitude, in one batch."""
+    """Run one sweep: direct, linear and refined at every magnitude, in one batch.
+
+    Raises
+    ------
+    InsErrorsError
+        A run that fails (e.g. the direct run leaves the model's domain at the largest
+        magnitudes): the same class, its message prefixed with the source, the motion
+        and the magnitudes, so that the map's one line says which sweep failed.
+    """
+    from ins_errors.errors import InsErrorsError
+
+    try:
+        return _run_validity_task(task)
+    except InsErrorsError as error:
+        if type(error).__init__ is not InsErrorsError.__init__:
+            raise  # a class built otherwise than from its message
+        unit = _unit_of(task)
+        raise type(error)(f"validity of {task.source} on the {task.motion} motion "
+                          f"({min(task.magnitudes):.3g} to {max(task.magnitudes):.3g} "
+                          f"{unit}): {error}") from None
+
+
+def _unit_of(task: ValidityTask) -> str:
+    from ins_errors.numeric.model import load_model
+
+    return load_model(task.model).source(task.source).unit
+
+
+def _run_validity_task(task: ValidityTask) -> SourceValidity:
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.compare import compare
     from ins_errors.numeric.model import load_model
