@@ -109,6 +109,8 @@ CLI_CASES: dict[str, list[str]] = {
     "run-unknown-model": ["run", "unknown_model.toml"],
     "run-pole": ["run", "pole.toml"],
     "run-nan": ["run", "nan.toml"],
+    "compare-bare-nan-latitude": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--latitude",
+                                  "nan"],
     "run-wrong-unit": ["run", "wrong_unit.toml"],
     "run-no-case": ["run", "no_case.toml"],
     "run-bad-method": ["run", "bad_method.toml"],
@@ -346,6 +348,8 @@ NAMED = {
     "propagation-zero-drift": "--drift is zero",
     "compare-below-the-centre": "motion height -7000 km is at or below the Earth's centre",
     "compare-nan-in-motion-file": "v_N is NaN or infinite in sample 2 of 4",
+    # it asked for a unit, suggesting 'nan deg'
+    "compare-bare-nan-latitude": "'nan' is not a finite number",
     # the file's own key names, not pydantic's (it said motion.latitude.str = [...])
     "run-latitude-list": "motion.latitude must be one value with its unit (e.g. '50 deg'",
     # a traceback of scipy's MatReadError, exit 1 (a "mistake found" to CI)

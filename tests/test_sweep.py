@@ -173,6 +173,7 @@ def test_interrupted_sweep_resumes_with_only_the_unfinished_points(tmp_path, mon
 @pytest.mark.parametrize("sweep, message", [
     ("[sweep]\nlatitud = ['10 deg']\n", "did you mean 'latitude'"),
     ("[sweep]\nlatitude = ['10']\n", "needs a unit"),
+    ("[sweep]\nlatitude = ['nan']\n", "'nan' is not a finite number"),
     # TOML numbers without a unit are refused as in [run], [motion], [[case]], specs
     ("[sweep]\nlatitude = [0.5, 0.8]\n",
      "s.toml [sweep] latitude: 0.5 has no unit; give an angle"),

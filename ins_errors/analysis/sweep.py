@@ -165,10 +165,12 @@ def _value(text: Any, unit: str, what: str) -> float:
     ratios need none)."""
     if isinstance(text, str) and unit != "1":
         try:
-            float(text)
+            number = float(text)
         except ValueError:
             pass
         else:
+            if not np.isfinite(number):
+                raise SweepError(f"{what} value {text!r} is not a finite number")
             raise SweepError(f"{what} value {text!r} needs a unit, e.g. '{text} {unit}'")
     return parse_quantity(text, unit, what, numbers_are_si=False)
 

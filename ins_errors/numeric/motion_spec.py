@@ -129,10 +129,12 @@ def _angle(value: Any, what: str) -> float:
     """An angle; text must carry its unit (``"50"`` would silently mean 50 rad)."""
     if isinstance(value, str):
         try:
-            float(value)
+            number = float(value)
         except ValueError:
             pass
         else:
+            if not np.isfinite(number):
+                raise InsErrorsError(f"{what}: {value!r} is not a finite number")
             raise InsErrorsError(f"{what} {value!r} needs a unit, e.g. '{value} deg' or "
                                  f"'{value} rad'")
     return parse_quantity(value, "rad", what, numbers_are_si=False)
