@@ -875,7 +875,7 @@ def integration_errors(model, budget: UnitBudget, runs, other, factor: float,
     """
     from dataclasses import replace as copy
 
-    from ins_errors.numeric.accuracy import ORDERS
+    from ins_errors.numeric.accuracy import richardson
 
     if factor not in (2, 0.5):
         raise BudgetError(f"the second runs must be at 2 or 0.5 times the step, got {factor}")
@@ -883,8 +883,8 @@ def integration_errors(model, budget: UnitBudget, runs, other, factor: float,
         raise BudgetError("the runs at the two steps must record the same draws at the "
                           "same times")
     finer, coarser = (runs, other) if factor == 2 else (other, runs)
-    gain = 2 ** ORDERS[method] - 1
-    extrapolated = copy(runs, values=finer.values + (finer.values - coarser.values) / gain)
+    extrapolated = copy(runs, values=finer.values + richardson(finer.values, coarser.values,
+                                                               method))
     rows, values = direct_rows(model, budget, runs)
     _, best = direct_rows(model, budget, extrapolated)
     with np.errstate(divide="ignore", invalid="ignore"):

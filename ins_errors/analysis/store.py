@@ -176,7 +176,7 @@ class SweepStore:
                                  "another store") from None
             with existing:
                 _check_fingerprint(existing.attrs, layout, path)
-                failure = _failures(existing, layout.points)
+                failure = failure_reasons(existing)
             if not work.exists():  # kept only when points failed (to run them again)
                 return cls(path, work, layout, np.ones(layout.points, dtype=bool), failure)
         if work.exists():
@@ -189,7 +189,7 @@ class SweepStore:
                                  "store") from None
             _check_fingerprint(existing.attrs, layout, work)
             done = np.asarray(existing["done"].values, dtype=bool)
-            failure = _failures(existing, layout.points)
+            failure = failure_reasons(existing)
             existing.close()
             return cls(path, work, layout, done, failure)
         try:
@@ -296,12 +296,12 @@ def _run_together(work: Coroutine) -> None:
     sync(work)
 
 
-def _failures(dataset, points: int) -> list[str]:
-    """Each point's failure reason in a stored dataset ("" where none; all "" in a store
-    written before the ``failure`` variable existed)."""
+def failure_reasons(dataset) -> list[str]:
+    """Each point's failure reason as stored ("" where the point did not fail, and for
+    every point of a store written before failures were recorded), shape (P,)."""
     if "failure" not in dataset:
-        return [""] * points
-    return ["" if not isinstance(v, str) else v for v in dataset["failure"].values.tolist()]
+        return [""] * dataset.sizes["point"]
+    return [v if isinstance(v, str) else "" for v in dataset["failure"].values.tolist()]
 
 
 FAILURE_ATTRIBUTES = {"long_name": "why the point failed (empty: it did not); its data "

@@ -46,6 +46,7 @@ from typing import Any
 
 import numpy as np
 
+from ins_errors.analysis.store import failure_reasons
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.figure_layout import text_width, wrap_to_width
 from ins_errors.units import parse_quantity
@@ -662,14 +663,6 @@ def model_parameters(dataset) -> dict[str, dict[str, object]]:
         then says none was set).
     """
     return json.loads(dataset.attrs.get("parameters", "{}"))
-
-
-def failure_reasons(dataset) -> list[str]:
-    """Each point's failure reason as stored ("" where the point did not fail, and for
-    every point of a store written before failures were recorded), shape (P,)."""
-    if "failure" not in dataset:
-        return [""] * dataset.sizes["point"]
-    return [v if isinstance(v, str) else "" for v in dataset["failure"].values.tolist()]
 
 
 def point_label(dataset, k: int) -> str:

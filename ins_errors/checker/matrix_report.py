@@ -45,8 +45,9 @@ NOT_ASSESSED = "effect not assessed: the vertical channel is held"
 """What the report says for a finding of a horizontal row in a vertical-channel column."""
 
 
-def _length(metres: float) -> str:
-    return f"{metres / 1000:.3g} km" if metres >= 1000 else f"{metres:.3g} m"
+def length_text(metres: float) -> str:
+    """``"28.3 km"``, ``"354 m"``: a length in m or km, three significant digits."""
+    return f"{metres / 1000:.3g} km" if abs(metres) >= 1000 else f"{metres:.3g} m"
 
 
 def vertical_text(r: MatrixReport, f: EntryFinding) -> str:
@@ -63,7 +64,7 @@ def vertical_text(r: MatrixReport, f: EntryFinding) -> str:
         elif e.motion[n] is None:
             parts.append(f"{hours:g} h: {NO_EFFECT} ({below(e.floor[n], 'm')})")
         else:
-            parts.append(f"{hours:g} h: {_length(e.height[n])} ({e.case[n]}, {e.motion[n]})")
+            parts.append(f"{hours:g} h: {length_text(e.height[n])} ({e.case[n]}, {e.motion[n]})")
     return "height error, vertical channel not held: " + "; ".join(parts)
 
 

@@ -14,7 +14,7 @@ from ins_errors.checker.classify import Finding
 from ins_errors.checker.compare import CheckReport, EquationResult
 from ins_errors.checker.effect import HOURS
 from ins_errors.checker.growth import growth_text
-from ins_errors.checker.matrix_report import below
+from ins_errors.checker.matrix_report import below, length_text
 
 UNCHECKED = ("error sources the model's side of these lines has and the file never "
              "mentions (taken as zero on both sides, not checked): ")
@@ -123,7 +123,7 @@ def _effect(f: Finding) -> str:
         floor_p = e.get(f"position_floor_{tag}", 0.0)
         floor_a = e.get(f"attitude_floor_{tag}", 0.0)
         text = (f"{int(hours)} h: "
-                + (_length(position) if position > floor_p else below(floor_p, "m")) + ", "
+                + (length_text(position) if position > floor_p else below(floor_p, "m")) + ", "
                 + ("attitude n/a" if attitude is None
                    else _angle(attitude) if attitude > floor_a
                    else below(math.degrees(floor_a) * 3600, "″")))
@@ -133,10 +133,6 @@ def _effect(f: Finding) -> str:
             text += f" ({'; '.join(dict.fromkeys(cases))})"
         parts.append(text)
     return "; ".join(parts) + f" ({e['point']})"
-
-
-def _length(metres: float) -> str:
-    return f"{metres / 1000:.3g} km" if abs(metres) >= 1000 else f"{metres:.3g} m"
 
 
 def _angle(radians: float) -> str:

@@ -136,13 +136,17 @@ def run(args: argparse.Namespace) -> int:
         mc = data["monte_carlo"]
         estimate = mc.get("integration_error")
         if estimate and estimate["largest"] > mc["relative_sampling_error"]:
-            better = smaller_step(mc["step_s"], spec.step, estimate["largest"],
-                                  mc["relative_sampling_error"])
+            from ins_errors.numeric.accuracy import typable_step
+
+            # the rectangle method's error is proportional to the step: half the sampling
+            # error at most, with a step that divides the analysis step
+            _, better = typable_step(mc["step_s"] * mc["relative_sampling_error"]
+                                     / (2.0 * estimate["largest"]), spec.step)
             text = (f"the Monte Carlo runs' integration error (up to "
                     f"{100 * estimate['largest']:.2g} % on a row) exceeds their sampling "
                     f"error (±{100 * mc['relative_sampling_error']:.2g} %): the ratios "
                     f"measure the rectangle method as much as the covariance; run them "
-                    f"with a smaller step, e.g. --mc-step \"{better:g} s\"")
+                    f"with a smaller step, e.g. --mc-step \"{better} s\"")
             print(f"ins-errors: warning: {text}", file=sys.stderr)
             data["warnings"].append(text)
     outputs = None
@@ -350,22 +354,3 @@ def _integration_error(model, spec, budget, errors, statistics, args, p, step: f
             "largest": largest,
             "rows": {(r.item, r.time, r.component): (float(v) if np.isfinite(v) else None)
                      for r, v in zip(rows, relative, strict=True)}}
-
-
-def smaller_step(step: float, grid: float, integration: float, sampling: float) -> float:
-    """A step (1, 2 or 5 times a power of ten, dividing the analysis step ``grid``) whose
-    rectangle-method error, proportional to the step, is at most half the sampling
-    error: ``step · sampling / (2 · integration)`` or below."""
-    import math
-
-    from ins_errors.numeric.integrators import whole_steps
-
-    target = step * sampling / (2.0 * integration)
-    power = math.floor(math.log10(target))
-    for exponent in range(power, power - 12, -1):
-        for mantissa in (5, 2, 1):
-            candidate = float(f"{mantissa}e{exponent}")
-            if candidate <= target and whole_steps(grid, candidate) is not None:
-                return candidate
-    return target
-
