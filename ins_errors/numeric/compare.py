@@ -32,7 +32,6 @@ import numpy as np
 
 from ins_errors.errors import InsErrorsError
 from ins_errors.numeric import accuracy
-from ins_errors.numeric.linear_system import GROWTH_WARNED  # noqa: F401 (documented here)
 from ins_errors.numeric.model import Model
 from ins_errors.numeric.simulate import ErrorCurves, Simulation, simulate
 from ins_errors.numeric.trajectories import Trajectory
@@ -321,8 +320,9 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     Parameters
     ----------
     comparisons : sequence of Comparison
-        Gets one warning each when the mode grows by :data:`GROWTH_WARNED` (3) e-foldings
-        or more over the run.
+        Gets one warning each when the mode grows by
+        :data:`~ins_errors.numeric.linear_system.GROWTH_WARNED` (3) e-foldings or more
+        over the run.
     sim : Simulation
         The runs (their ideal state and inputs at t = 0 give F).
     """

@@ -140,8 +140,10 @@ def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence:
     rate = growth_rate(np.asarray(f, dtype=float))
     if duration <= 0 or rate * duration < GROWTH_WARNED:
         return None
+    folds = rate * duration
+    factor = f"{math.exp(folds):.3g}" if folds < 700.0 else f"e^{folds:.0f}"  # no overflow
     return (f"the error equations grow exponentially: {growing_mode_text(rate)} "
-            f"(×{math.exp(min(rate * duration, 700.0)):.3g} over the "
+            f"(×{factor} over the "
             f"{duration_text(duration)} {span}), so every error grows with it and "
             f"{consequence}; `ins-errors modes {model_name}` names the mode{remedy}")
 
@@ -190,15 +192,17 @@ DAMPING_EXAMPLES: dict[str, str] = {"k_h1": "0.0293/s", "k_h2": "4.42e-4/s^2"}
 def undamped_remedy(model, p: np.ndarray) -> str:
     """``"; the damping gains k_h1, k_h2 are 0 (undamped): set them, e.g. `-p
     k_h1=0.0293/s -p k_h2=4.42e-4/s^2` (a 300-s loop, damping 0.7)"`` for the gains of
-    :func:`undamped_gains` (``-p NAME=…`` for a gain without an example value), or ``""``
+    :func:`undamped_gains` (``-p NAME=…`` for other models' gains), or ``""``
     (a ``remedy`` of :func:`growth_warning`)."""
     gains = undamped_gains(model, p)
     if not gains:
         return ""
     several = len(gains) > 1
-    options = " ".join(f"-p {g}={DAMPING_EXAMPLES.get(g, '…')}" for g in gains)
-    example = (f", e.g. `{options}` (a 300-s loop, damping 0.7)"
-               if set(gains) <= set(DAMPING_EXAMPLES) else f" (`{options}`)")
+    # the example values are strapdown_ned's loop; a model file's gains of the same name
+    # may mean something else
+    known = model.name == "strapdown_ned" and set(gains) <= set(DAMPING_EXAMPLES)
+    options = " ".join(f"-p {g}={DAMPING_EXAMPLES[g] if known else '…'}" for g in gains)
+    example = f", e.g. `{options}` (a 300-s loop, damping 0.7)" if known else f" (`{options}`)"
     return (f"; the damping gain{'s' if several else ''} {', '.join(gains)} "
             f"{'are' if several else 'is'} 0 (undamped): set {'them' if several else 'it'}"
             + example)
