@@ -436,6 +436,23 @@ class ModelDefinition:
     domain: Sequence[tuple[sp.Expr, str]] = ()
     initial_domain: Sequence[tuple[sp.Expr, str]] = ()
 
+    # -- platform -------------------------------------------------------------------
+    @property
+    def platform_angles(self) -> tuple[Variable, ...]:
+        """The error states beyond ``delta_<state>`` of the computed states: the real-work
+        states that are zero in ideal work, the platform misalignment angles (rad); empty
+        for a strapdown INS. The one rule of which error states are platform angles."""
+        return tuple(self.error_states[len(self.states):])
+
+    @property
+    def has_small_angle_platform(self) -> bool:
+        """True for a model whose platform kinematics a direct run chooses (the exact
+        rotation or the source documents' small-angle matrix, ``small_angle_rhs``): the
+        three-axis platforms of the source documents, whose angles they call α. Derive
+        generates ``real_rhs_small_angle`` exactly for these
+        (:attr:`ins_errors.numeric.model.Model.has_small_angle_platform`)."""
+        return self.small_angle_rhs is not None
+
     # -- symbol vectors -------------------------------------------------------------
     @property
     def x(self) -> list[sp.Symbol]:

@@ -106,7 +106,7 @@ def truth_text(setting: str, used: str) -> str:
 def has_platform_variants(model: Model) -> bool:
     """True for a model with a platform whose kinematics a run chooses (exact rotation or
     the source documents' small-angle matrix); a strapdown model has none."""
-    return "real_rhs_small_angle" in model.numpy.FUNCTIONS
+    return model.has_small_angle_platform
 
 
 def _used(model: Model, scenario) -> dict[str, dict[str, object]]:

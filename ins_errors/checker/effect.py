@@ -15,10 +15,11 @@ in:
 
 The effect is the largest change over the cases (the worst single error, as the matrix
 check reports) of the position error (latitude and longitude errors, m, on a sphere of
-the model's radius) and of the attitude error (the error states that are platform
-angles, rad; for a model without them, a strapdown INS, the changes of its roll, pitch
-and heading outputs; neither: no attitude figure, None) after 1 h and 24 h, at the
-reference point where the finding is largest (for a finding without one, the largest
+the model's radius) and of the attitude error (the platform angles,
+:attr:`~ins_errors.modeling.ModelDefinition.platform_angles`, rad; for a model without
+them, a strapdown INS, the changes of its roll, pitch and heading outputs; neither: no
+attitude figure, None) after 1 h and 24 h, at the reference point where the finding is
+largest (for a finding without one, the largest
 over the points). The 24 h state is the
 1 h transition matrix to the 24th power (exact for frozen coefficients).
 
@@ -105,7 +106,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
     magnitude = comparison.magnitude
     n, k = len(states), len(comparison.points)
     radius, _ = _earth(d)
-    platform = [i for i, v in enumerate(d.error_states) if i >= len(d.states) and v.unit == "rad"]
+    platform = [states.index(v.name) for v in d.platform_angles]
     read = ("latitude", "longitude") + (() if platform else ATTITUDE_OUTPUTS)
     try:
         rows = [identified(side.state_rhs[s], identify) for s in states]

@@ -206,6 +206,14 @@ class Model:
 
         return definition(self.name)
 
+    @property
+    def has_small_angle_platform(self) -> bool:
+        """True for a model whose platform kinematics a direct run chooses (``platform=
+        "exact"`` or ``"small_angle"``, the source documents' matrix): derive generates
+        ``real_rhs_small_angle`` exactly for a definition with ``small_angle_rhs``
+        (:attr:`ins_errors.modeling.ModelDefinition.has_small_angle_platform`)."""
+        return "real_rhs_small_angle" in self.numpy.FUNCTIONS
+
     @cached_property
     def _real_states(self) -> tuple[Info, ...]:
         """The real work's state: the computed states, then the platform angles."""

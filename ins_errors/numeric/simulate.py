@@ -106,7 +106,7 @@ def real_rhs_name(model: Model, platform: str) -> str:
         raise unknown_name("platform", platform, PLATFORMS)
     if platform == "exact":
         return "real_rhs"
-    if "real_rhs_small_angle" not in model.numpy.FUNCTIONS:
+    if not model.has_small_angle_platform:
         raise ShapeError(f"model {model.name!r} has no small-angle platform variant")
     return "real_rhs_small_angle"
 

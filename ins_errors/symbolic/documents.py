@@ -87,13 +87,15 @@ def error_equations_markdown(d: ModelDefinition) -> str:
 
 
 def _extra_states(d: ModelDefinition) -> str:
-    """How the introduction names the error states beyond ``Δ<state>``: ", α the platform
-    misalignment" for platform angles (``alpha_*``), each one's symbol and meaning for
-    other extra states, nothing for a model without (a strapdown INS)."""
-    extra = d.error_states[len(d.states):]
+    """How the introduction names the platform angles (the error states beyond
+    ``Δ<state>``, :attr:`~ins_errors.modeling.ModelDefinition.platform_angles`): ", α the
+    platform misalignment" for a model with the source documents' small-angle platform
+    variant, each one's symbol and meaning for other models, nothing for a model without
+    (a strapdown INS)."""
+    extra = d.platform_angles
     if not extra:
         return ""
-    if all(v.name.startswith("alpha_") for v in extra):
+    if d.has_small_angle_platform:
         return ", α the platform misalignment"
     return "".join(f", ${v.latex}$ the {v.description}" for v in extra)
 
