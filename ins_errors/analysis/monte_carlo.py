@@ -82,6 +82,28 @@ def sample_constants(sources: Sequence[SourceStatistics], source_names: Sequence
     return w
 
 
+def refuse_noise_sources(kinds: Sequence[tuple[str, str]], option: str | None = None) -> None:
+    """Refuse noise sources for direct runs, whose real-work equations take constants.
+
+    Parameters
+    ----------
+    kinds : sequence of (str, str)
+        Each source's name and kind (``"constant"``, ``"white"`` or ``"markov"``).
+    option : str, optional
+        The option that asked for the runs, put in front of the message.
+
+    Raises
+    ------
+    MonteCarloError
+        One line naming every noise source.
+    """
+    noisy = [name for name, kind in kinds if kind != "constant"]
+    if noisy:
+        lead = f"{option}: " if option else ""
+        raise MonteCarloError(f"{lead}direct runs take random constants only; noise "
+                              f"sources: {', '.join(noisy)} (kind 'white' or 'markov')")
+
+
 def _check_runs(runs: int) -> None:
     if isinstance(runs, bool) or not isinstance(runs, (int, np.integer)) or runs < 2:
         raise MonteCarloError(f"runs must be an integer >= 2, got {runs!r}")
@@ -328,10 +350,7 @@ def direct_monte_carlo(model, trajectory, sources: Sequence[SourceStatistics], r
     from ins_errors.analysis.engine import run_tasks
 
     _check_runs(runs)
-    noisy = [s.name for s in sources if s.kind != "constant"]
-    if noisy:
-        raise MonteCarloError(f"direct runs take random constants only; noise sources: "
-                              f"{', '.join(noisy)}")
+    refuse_noise_sources([(s.name, s.kind) for s in sources])
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise MonteCarloError(f"seed must be a whole number >= 0, got {seed!r}")
     if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) or batch < 1:

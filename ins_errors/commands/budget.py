@@ -107,11 +107,10 @@ def run(args: argparse.Namespace) -> int:
     if args.fill:
         spec = replace(spec, fill=True)
     if args.monte_carlo is not None:   # before the covariance is computed
-        noisy = [s.name for s in bd.resolve_sources(model, spec) if s.statistics != "constant"]
-        if noisy:
-            raise SpecError(f"--monte-carlo: direct runs take random constants only; the "
-                            f"spec makes {', '.join(noisy)} noise (kind = 'white' or "
-                            f"'markov')")
+        from ins_errors.analysis.monte_carlo import refuse_noise_sources
+
+        refuse_noise_sources([(s.name, s.statistics) for s in bd.resolve_sources(model, spec)],
+                             "--monte-carlo")
     from ins_errors.progress import stage
 
     with stage(f"propagating the covariance of {len(model.sources)} sources"):
