@@ -182,6 +182,9 @@ class Motion:
         m.
     speed : float
         Ground speed of a great-circle flight, m/s.
+    heading_given : bool
+        Whether the spec set ``heading`` (refused at rest for a model without a heading
+        output, :func:`ins_errors.analysis.budget.spec_trajectory`).
     """
 
     kind: str = "static"
@@ -190,6 +193,7 @@ class Motion:
     heading: float = 0.0
     height: float = 0.0
     speed: float = 0.0
+    heading_given: bool = False
 
 
 @dataclass(frozen=True)
@@ -316,6 +320,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         heading=_angle(m.heading, "motion.heading"),
         height=_positive(m.height, "m", "motion.height", "0 m", allow_zero=True),
         speed=_positive(m.speed, "m/s", "motion.speed", "250 m/s", allow_zero=True),
+        heading_given="heading" in m.model_fields_set,
     )
     if abs(motion.latitude) >= np.pi / 2:
         raise SpecError(f"motion.latitude {m.latitude!r} is at or beyond a pole (|φ| >= "

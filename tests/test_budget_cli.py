@@ -456,3 +456,35 @@ def test_times_of_the_contribution_tables_read_as_times(capsys):
     assert "Contributions to the navigation errors at 1 h 30 min:" in out
     assert main(["budget", "orthodromic", "--at", "30 s"]) == 2
     assert "time 30 s is not on the 60 s analysis grid" in capsys.readouterr().err
+
+
+def test_heading_at_rest_is_refused_by_a_spec_as_by_a_scenario(tmp_path, capsys):
+    """A spec's motion.heading at rest for a model without a heading output was taken
+    silently where a scenario file refuses it: now the same line, exit 2, before any
+    covariance; a heading in motion, or none at rest, is still taken."""
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.scenario import load_scenario
+
+    at_rest = NO_TILT.split("    [sources")[0]  # no source options: any model
+    heading = at_rest.replace('kind = "static"', 'kind = "static"\n    heading = "30 deg"')
+    spec = write(tmp_path, heading, "s.toml")
+    scenario = tmp_path / "scenario" / "s.toml"
+    scenario.parent.mkdir()
+    scenario.write_text('model = "north_pointing"\n[motion]\nkind = "static"\n'
+                        'heading = "30 deg"\n[run]\nduration = "10 min"\nstep = "10 s"\n'
+                        '[[case]]\ngyro_drift_east = "0.01 deg/h"\n')
+    with pytest.raises(InsErrorsError) as info:
+        load_scenario(scenario)
+    assert main(["budget", "north_pointing", "--spec", str(spec)]) == 2
+    captured = capsys.readouterr()
+    assert not captured.out
+    (line,) = captured.err.strip().splitlines()
+    assert line.split("error: ", 1)[1] == str(info.value)
+    from ins_errors.analysis import budget as bd
+    from ins_errors.numeric.model import load_model
+    from ins_errors.specs import load_spec
+
+    model = load_model("north_pointing")
+    bd.spec_profile(model, load_spec(write(tmp_path, at_rest, "none.toml")))
+    moving = heading.replace('kind = "static"', 'kind = "great_circle"\n    speed = "200 m/s"')
+    bd.spec_profile(model, load_spec(write(tmp_path, moving, "moving.toml")))

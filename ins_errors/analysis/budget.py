@@ -45,6 +45,7 @@ still take a share from every other source. Tables and plots of a budget are in
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -276,6 +277,30 @@ def density_display(display: str, unit: str) -> str:
     return shown
 
 
+def spec_profile(model, spec: Spec):
+    """The spec's motion as a :class:`~ins_errors.numeric.trajectories.Profile`.
+
+    Raises
+    ------
+    InsErrorsError
+        For a heading set at rest for a model without a heading output, as a scenario
+        file (:func:`~ins_errors.numeric.motion_spec.refuse_unused_heading`).
+    """
+    from ins_errors.numeric import trajectories
+    from ins_errors.numeric.motion_spec import refuse_unused_heading
+
+    m = spec.motion
+    if m.kind == "static":
+        profile = trajectories.static_profile(m.latitude, m.longitude, m.heading, m.height)
+    else:
+        profile = trajectories.great_circle_profile(m.latitude, m.longitude, m.heading,
+                                                    m.speed, m.height)
+    if m.heading_given:
+        where = Path(spec.path).name if spec.path else "spec"
+        refuse_unused_heading(model, profile, f"{where} [motion] heading")
+    return profile
+
+
 def spec_trajectory(model, spec: Spec, tau: float | None = None,
                     duration: float | None = None, p: np.ndarray | None = None):
     """The true motion of the spec (trajectories module).
@@ -293,12 +318,7 @@ def spec_trajectory(model, spec: Spec, tau: float | None = None,
     """
     from ins_errors.numeric import trajectories
 
-    m = spec.motion
-    if m.kind == "static":
-        profile = trajectories.static_profile(m.latitude, m.longitude, m.heading, m.height)
-    else:
-        profile = trajectories.great_circle_profile(m.latitude, m.longitude, m.heading,
-                                                    m.speed, m.height)
+    profile = spec_profile(model, spec)
     step = spec.step if tau is None else tau
     length = spec.operating_time if duration is None else duration
     return trajectories.trajectory(model, profile, step * max(1, round(length / step)), step,
@@ -317,6 +337,7 @@ def spec_system(model, spec: Spec, trajectory=None,
     """
     if trajectory is not None:
         return system_from_trajectory(model, trajectory, spec.step)
+    spec_profile(model, spec)  # a refused heading is not the static fallback's case
     if spec.motion.kind != "static":   # before the motion is flown
         check_grid_memory(model, round(spec.operating_time / spec.step) + 1, spec.step)
     try:
