@@ -61,8 +61,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
         "equations along the same motion; refined = with the second-order terms. A ratio is "
         "the largest difference from the direct run divided by the largest direct error. "
-        f"The integration error of the direct and linear curves is estimated by "
-        f"{integration_runs_text(s)} (Richardson) and shown beside the differences.",
+        + integration_runs_text(result.comparisons, s.step),
         "",
         "## Summary", "",
         markdown_summary(result.comparisons),
@@ -74,25 +73,32 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def integration_runs_text(scenario) -> str:
-    """The runs the integration-error estimate of a scenario makes, for the report
-    (:func:`~ins_errors.numeric.compare.integration_errors_by_reruns`): the same runs at
-    twice the step when an even number of steps separates two recorded samples, else
-    at half the step (or, for a motion read from a file under RK4, which cannot be
-    generated again at half the step, at twice the step on the samples the two share).
+def integration_runs_text(comparisons, step: float) -> str:
+    """The sentence of the report on the runs the integration-error estimate made: the
+    steps compare recorded as completed
+    (:attr:`~ins_errors.numeric.compare.Comparison.integration_steps`), the pair's other
+    run first, then the one that gives the scheme's observed order.
+
+    Parameters
+    ----------
+    comparisons : sequence of Comparison
+        The scenario's cases (one batch: the same reruns for each).
+    step : float
+        Step τ of the scenario's runs, s.
     """
-    stride = max(1, round(scenario.record / scenario.step))
-    if stride % 2 == 0:
-        return (f"the same runs at twice the step ({2 * scenario.step:g} s; a third at "
-                f"{4 * scenario.step:g} s gives the scheme's observed order)")
-    if str(scenario.motion.get("kind", "static")) == "file" and scenario.method != "euler":
-        return (f"the same runs at twice the step ({2 * scenario.step:g} s), on the "
-                f"samples the two runs share ({stride} steps, an odd number, separate "
-                "two recorded samples, and a motion file cannot be run at half the step)")
-    return (f"the same runs at half the step ({scenario.step / 2:g} s, since {stride} "
-            f"step{'s' if stride > 1 else ''}, an odd number, separate two recorded "
-            f"samples; a third at {2 * scenario.step:g} s gives the scheme's observed "
-            "order)")
+    made: list[float] = []
+    for comparison in comparisons:
+        made += [s for s in comparison.integration_steps if s not in made]
+    start = "The integration error of the direct and linear curves"
+    if not made:
+        return (f"{start} is not estimated: no run at another step was made or completed "
+                "(the cases' warnings say why).")
+    names = {0.5: "half the step", 2.0: "twice the step", 4.0: "four times the step"}
+    other = made[0]
+    runs = f"the same runs at {names.get(other / step, 'another step')} ({other:g} s"
+    runs += (f"; a third at {made[1]:g} s gives the scheme's observed order)"
+             if len(made) > 1 else "; no third run gave the scheme's observed order)")
+    return f"{start} is estimated by {runs} (Richardson) and shown beside the differences."
 
 
 def truth_text(setting: str, used: str) -> str:

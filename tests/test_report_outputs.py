@@ -677,3 +677,44 @@ def test_report_names_the_step_of_the_integration_error_runs_it_made(step, halve
     assert ("half the step" in sentence) is halved
     assert ("twice the step" in sentence) is not halved
     assert f"{made[0]:g} s" in sentence
+
+
+@pytest.mark.parametrize("run, fail_at, made", [
+    (("1 s", "1 s", "1 s"), None, []),       # a single step: no rerun at all
+    (("2 s", "1 s", "2 s"), None, [2.0]),    # too short for a third run at 4τ
+    (("20 min", "10 s", "60 s"), 40.0, [20.0]),  # the third run (at 4τ) fails
+])
+def test_report_names_only_the_integration_error_runs_that_were_completed(
+        run, fail_at, made, tmp_path, monkeypatch):
+    """report.md rebuilt compare's choice of reruns from the step and the recording
+    interval, and named runs at half or twice the step (and a third for the order) also
+    where the run has a single step, is too short for the third run, or a rerun failed."""
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric import accuracy
+    from ins_errors.report import report_markdown
+
+    real_coarsened = accuracy.coarsened
+
+    def coarsened(t):
+        if fail_at is not None and 2 * t.tau == fail_at:
+            raise InsErrorsError(f"the run at {fail_at:g} s leaves the domain")
+        return real_coarsened(t)
+
+    monkeypatch.setattr(accuracy, "coarsened", coarsened)
+    duration, step, record = run
+    text = (SCENARIO.replace('duration = "20 min"', f'duration = "{duration}"')
+            .replace('step = "1 s"', f'step = "{step}"')
+            .replace('record = "60 s"', f'record = "{record}"'))
+    scenario_file = tmp_path / "s.toml"
+    scenario_file.write_text(text, encoding="utf-8")
+    result = run_scenario(load_scenario(scenario_file))
+    text = report_markdown(result, ["a.png", "b.png"])
+    sentence = text[text.index("The integration error"):].split("\n")[0]
+    assert all(list(c.integration_steps) == made for c in result.comparisons)
+    assert all(c.to_dict()["integration_rerun_steps_s"] == made for c in result.comparisons)
+    if not made:
+        assert "not estimated" in sentence and "the step" not in sentence
+        assert any("single step" in w for w in result.comparisons[0].warnings)
+    else:
+        assert f"twice the step ({made[0]:g} s" in sentence
+        assert "a third" not in sentence and "half the step" not in sentence

@@ -110,6 +110,11 @@ class Comparison:
     shown : tuple of str or None
         The quantities the reader asked for (a scenario's ``[outputs] quantities``): the
         worst ratios and the warnings judge only these. None: every quantity.
+    integration_steps : tuple of float
+        Steps (s) of the runs made again for the integration-error estimate
+        (:func:`integration_errors_by_reruns`) that completed, in the order made: first
+        the pair's other run, then the one for the observed order. Empty when none was
+        made (the warnings say why).
     """
 
     label: str
@@ -125,6 +130,7 @@ class Comparison:
     shown: tuple[str, ...] | None = None
     integration_order: float | None = None
     suggested_method: str | None = None
+    integration_steps: tuple[float, ...] = ()
 
     def metric(self, quantity: str) -> Metric:
         """The metric of one quantity."""
@@ -163,6 +169,7 @@ class Comparison:
                 "one_percent_scale": self.one_percent_scale,
                 "suggested_method": self.suggested_method,
                 "integration_order_observed": self.integration_order,
+                "integration_rerun_steps_s": list(self.integration_steps),
                 "metrics": [_clean(asdict(m)) for m in self.metrics]}
 
     @property
@@ -439,7 +446,29 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
     rk4_step : callable, optional
         RK4's own suggested step for these cases (or None), asked for when the rectangle
         method would need more steps than a run may take.
+
+    Every comparison's :attr:`Comparison.integration_steps` gets the steps of the reruns
+    that completed.
     """
+    made: list[float] = []
+
+    def recorded(factor: float, every: int) -> tuple[ErrorCurves, ErrorCurves] | None:
+        curves = rerun(factor, every)
+        if curves is not None:
+            made.append(factor * tau)
+        return curves
+
+    try:
+        _by_reruns(comparisons, fine, n_steps, tau, stride, method, recorded, rk4_step)
+    finally:
+        for comparison in comparisons:
+            comparison.integration_steps = tuple(made)
+
+
+def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, ErrorCurves],
+               n_steps: int, tau: float, stride: int, method: str, rerun: Rerun,
+               rk4_step: Callable[[], float | None] | None) -> None:
+    """The body of :func:`integration_errors_by_reruns` (same parameters)."""
     if n_steps < 2:
         return _not_estimated(comparisons, "the run has a single step")
     try:
