@@ -237,3 +237,28 @@ def test_the_example_table_of_docs_modes_is_the_commands_output(capsys):
     assert len(rows) >= 6
     for row in rows:
         assert row in printed, row
+
+
+def test_model_file_with_a_radius_named_r_earth_gets_its_schuler_period(tmp_path):
+    """``check`` read a radius parameter named R_earth, ``modes`` did not (two lists of
+    names): such a model had no Schuler reference. The loop of the tutorial with its
+    radius renamed R_earth and set to 6000 km oscillates at 2π√(R/g) of those values."""
+    from ins_errors.checker.typical import schuler_magnitudes
+    from ins_errors.numeric.model import load_model
+
+    text = Path(OWN_MODEL).read_text(encoding="utf-8")
+    text = text.replace('Parameter("R", "m", "Earth radius (sphere)", "R", 6_371_000.0)',
+                        'Parameter("R_earth", "m", "Earth radius (sphere)", "R", 6.0e6)')
+    text = text.replace('name="schuler_loop"', 'name="schuler_r_earth"')
+    assert "R_earth" in text and "schuler_r_earth" in text
+    path = tmp_path / "schuler_r_earth.py"
+    path.write_text(text, encoding="utf-8")
+    period = 2 * np.pi * np.sqrt(6.0e6 / 9.80665)
+    result = static_modes(str(path), np.radians(30.0))
+    assert result.references.R.value == 6.0e6
+    assert result.references.R.source == "parameter R_earth"
+    schuler = result.mode("Schuler")
+    assert schuler.period_s == pytest.approx(period, rel=1e-9)
+    assert schuler.reference.relative_difference == pytest.approx(0.0, abs=1e-9)
+    # the checker's typical magnitudes read the same radius
+    assert "R = 6000000 m" in schuler_magnitudes(load_model(str(path))).origin

@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 from functools import cache
 
+from ins_errors.earth_constants import earth_constants
 from ins_errors.errors import InsErrorsError
 from ins_errors.models.earth import STANDARD_GRAVITY
 from ins_errors.units import parse_quantity
@@ -119,22 +120,18 @@ class Magnitudes:
 
 
 def _earth(d) -> tuple[float, float]:
-    """(Earth radius R in m, gravity g in m/s²) of a model, from its parameters.
+    """(Earth radius R in m, gravity g in m/s²) of a model, from its parameters' defaults
+    (:func:`ins_errors.earth_constants.earth_constants`: the radius or semi-major axis
+    itself, no curvature at a latitude); 6 371 km and :data:`GRAVITY` where it has none.
 
     ``d``: anything with ``parameters`` that have ``name``, ``unit`` and ``default``: a
     :class:`~ins_errors.modeling.ModelDefinition` or a loaded
     :class:`~ins_errors.numeric.model.Model` (whose metadata records the same defaults).
     """
-    radius, gravity = 6_371_000.0, GRAVITY
-    for p in d.parameters:
-        if p.unit == "m" and p.name in ("a", "R", "R_earth", "semi_major_axis"):
-            radius = float(p.default)
-            break
-    for p in d.parameters:
-        if p.unit == "m/s**2" and p.name in ("g", "gravity", "g0"):
-            gravity = float(p.default)
-            break
-    return radius, gravity
+    earth = earth_constants({p.name: float(p.default) for p in d.parameters},
+                            {p.name: p.unit for p in d.parameters})
+    return (6_371_000.0 if earth.radius is None else earth.radius.value,
+            GRAVITY if earth.gravity is None else earth.gravity.value)
 
 
 def _text(value: float, unit: str) -> str:
@@ -149,7 +146,8 @@ def schuler_magnitudes(d, attitude: str | float = DEFAULT_ATTITUDE,
     Parameters
     ----------
     d : ModelDefinition or Model
-        Supplies the Earth radius (parameter ``a`` or ``R``) and gravity (``g``, else
+        Supplies the Earth radius and gravity (the parameters
+        :func:`ins_errors.earth_constants.earth_constants` knows; else 6371 km and
         9.81 m/s²).
     attitude : str or float
         Declared attitude error θ (``"20 arcsec"``, or radians).
