@@ -533,7 +533,6 @@ step = "60 s"
 kind = "static"
 latitude = "50 deg"
 longitude = "30 deg"
-heading = "0 deg"
 height = "0 m"
 [items.position_error]
 value = "3.7 km/h"
