@@ -331,19 +331,20 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
         :data:`~ins_errors.numeric.linear_system.GROWTH_WARNED` (3) e-foldings or more
         over the run.
     sim : Simulation
-        The runs (their ideal state and inputs at t = 0 give F).
+        The runs (their trajectory's state and inputs at t = 0 give F).
     """
-    from ins_errors.numeric.linear_system import growth_warning, undamped_remedy
+    from ins_errors.numeric.linear_system import (
+        growth_warning,
+        start_state_matrix,
+        undamped_remedy,
+    )
 
     duration = float(sim.times[-1])
     if not comparisons or duration <= 0:
         return
-    x0 = sim.ideal[:, 0, 0]
-    u0 = sim.trajectory.start_inputs  # (inputs_at would store a streamed motion whole)
-    p = sim.trajectory.parameters
-    text = growth_warning(sim.model.state_matrix(x0, u0, p), duration, sim.model.name,
-                          "the ratios say little by themselves",
-                          remedy=undamped_remedy(sim.model, p))
+    text = growth_warning(start_state_matrix(sim.model, sim.trajectory), duration,
+                          sim.model.name, "the ratios say little by themselves",
+                          remedy=undamped_remedy(sim.model, sim.trajectory.parameters))
     if text is None:
         return
     for comparison in comparisons:

@@ -148,8 +148,8 @@ def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence:
             f"{consequence}; `ins-errors modes {model_name}` names the mode{remedy}")
 
 
-def start_growth_rate(model, trajectory) -> float:
-    """Growth rate of F at t = 0 of a trajectory (1/s; :func:`growth_rate`).
+def start_state_matrix(model, trajectory) -> np.ndarray:
+    """F at t = 0 of a trajectory, shape (ne, ne), 1/s.
 
     F is evaluated at the start state, the inputs at the start and the parameters:
     ``trajectory.start_inputs``, never ``inputs_at``, which stores a streamed motion
@@ -163,7 +163,13 @@ def start_growth_rate(model, trajectory) -> float:
         The true motion.
     """
     x0, u0, p = trajectory.start_state, trajectory.start_inputs, trajectory.parameters
-    return growth_rate(np.asarray(model.state_matrix(x0, u0, p), dtype=float))
+    return np.asarray(model.state_matrix(x0, u0, p), dtype=float)
+
+
+def start_growth_rate(model, trajectory) -> float:
+    """Growth rate of F at t = 0 of a trajectory (1/s; :func:`growth_rate` of
+    :func:`start_state_matrix`)."""
+    return growth_rate(start_state_matrix(model, trajectory))
 
 
 def growing_mode_text(rate: float) -> str:
