@@ -434,6 +434,16 @@ def _units(ureg: pint.UnitRegistry, unit: str) -> pint.Unit:
     return ureg.parse_units(_normalise(unit) if unit != "1" else "dimensionless")
 
 
+def same_dimension(unit: str, other: str) -> bool:
+    """True when two unit texts (as a model states them) have the same dimension; False
+    also when either is not a unit pint reads."""
+    ureg = registry()
+    try:
+        return _units(ureg, unit).dimensionality == _units(ureg, other).dimensionality
+    except Exception:  # pint raises several types for text it cannot read
+        return False
+
+
 DISPLAY_UNITS: dict[str, str] = {"rad": "arcmin", "rad/s": "deg/h", "m/s**2": "ug",
                                  "m/s": "m/s", "m": "m", "1": "1"}
 """Unit each SI unit is shown in by tables and plots meant for people (JSON stays SI)."""

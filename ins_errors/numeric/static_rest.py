@@ -55,13 +55,9 @@ MAX_ITERATIONS = 30
 
 def _is_velocity(unit: str) -> bool:
     """True when ``unit`` (as a model states it) is a velocity (length per time)."""
-    from ins_errors.units import _units, registry
+    from ins_errors.units import same_dimension
 
-    ureg = registry()
-    try:
-        return _units(ureg, unit).dimensionality == _units(ureg, "m/s").dimensionality
-    except Exception:  # a unit the model check accepted but pint reads otherwise
-        return False
+    return same_dimension(unit, "m/s")
 
 
 def static_conditions(model: Model, latitude: float, longitude: float, heading: float,
