@@ -106,12 +106,13 @@ def function_specs(em: ErrorModel) -> list[FunctionSpec]:
 
 
 def _metadata(d: ModelDefinition, record: dict[str, str] | None = None) -> str:
-    def rows(variables, extra=()):
+    def rows(variables, extra=(), when_set=()):
         out = []
         for v in variables:
             fields = {"name": v.name, "unit": v.unit, "description": v.description,
                       "latex": v.latex}
             fields.update({k: getattr(v, k) for k in extra})
+            fields.update({k: getattr(v, k) for k in when_set if getattr(v, k)})
             out.append("    " + repr(fields) + ",")
         return "\n".join(out)
 
@@ -124,7 +125,9 @@ def _metadata(d: ModelDefinition, record: dict[str, str] | None = None) -> str:
         "STATES = (", rows(d.states), ")",
         "ERROR_STATES = (", rows(d.error_states), ")",
         "INPUTS = (", rows(d.inputs), ")",
-        "PARAMETERS = (", rows(d.parameters, ("default",)), ")",
+        # a damping gain's flag and example only where set (Info's defaults elsewhere)
+        "PARAMETERS = (", rows(d.parameters, ("default",),
+                               ("damping_gain", "example", "example_gives")), ")",
         "SOURCES = (", rows(d.sources, ("kind", "display_unit", "factor")), ")",
         "OUTPUTS = (", rows(d.outputs), ")",
         "INITIAL_CONDITIONS = (", rows(d.initial_conditions), ")",

@@ -9,7 +9,8 @@ API at a glance
 Names (public, stable, with SI units and LaTeX):
 
 * :class:`Variable`: a state, input, output or initial condition;
-* :class:`Parameter`: a model constant with its default value;
+* :class:`Parameter`: a model constant with its default value (a damping-loop gain is
+  flagged ``damping_gain=True``, with an ``example`` value to suggest);
 * :class:`ErrorSource` / :func:`error_source`: an instrument or initial error (``kind``
   ``"constant"`` enters the right-hand side, ``"initial"`` only the initial state);
 * :func:`error_states_of`: the error-state names ``delta_<state>`` plus extra ones
@@ -150,15 +151,34 @@ class Variable:
 
 @dataclass(frozen=True)
 class Parameter(Variable):
-    """A model constant (Earth shape, Earth rate, tuning radius) with its default value.
+    """A model constant (Earth shape, Earth rate, tuning radius, loop gain) with its
+    default value.
 
     Attributes
     ----------
     default : float
         Value used when a run does not override it, in ``unit`` (SI).
+    damping_gain : bool
+        True for a gain of a damping loop, whose 0 leaves the loop open (``strapdown_ned``'s
+        vertical-channel gains ``k_h1``, ``k_h2``): when the error equations grow
+        exponentially, the warning names the flagged gains that are 0 and how to set them.
+    example : str
+        A value to suggest, with its unit as typed after ``-p NAME=`` (``"0.0293/s"``);
+        empty: none. Read by the units library when a model file is checked.
+    example_gives : str
+        What the example values give, a short phrase (``"a 300-s loop, damping 0.7"``);
+        empty: nothing said. Only with an ``example``.
+
+    Examples
+    --------
+    >>> gain = Parameter("k_1", "1/s", "height loop gain", "k_1", 0.0, damping_gain=True,
+    ...                  example="0.0293/s", example_gives="a 300-s loop, damping 0.7")
     """
 
     default: float = 0.0
+    damping_gain: bool = False
+    example: str = ""
+    example_gives: str = ""
 
 
 @dataclass(frozen=True)

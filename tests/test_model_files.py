@@ -263,6 +263,18 @@ MISTAKES = {
     "unit the units library cannot read": (
         ('Variable("V", "m/s",', 'Variable("V", "m/sec2",'),
         ["state 'V'", "unit 'm/sec2'", "checking the definition"]),
+    "parameter example without its unit": (
+        ('"g", 9.80665)', '"g", 9.80665, example="9.8")'),
+        ["parameter 'g'", "example '9.8' is not a value in 'm/s**2' with its unit",
+         "checking the definition"]),
+    "parameter example of another dimension": (
+        ('"g", 9.80665)', '"g", 9.80665, example="9.8 m/s")'),
+        ["parameter 'g'", "example '9.8 m/s' is not a value in 'm/s**2'",
+         "checking the definition"]),
+    "what a missing example gives": (
+        ('"g", 9.80665)', '"g", 9.80665, example_gives="standard gravity")'),
+        ["parameter 'g'", "example_gives 'standard gravity' without an example value",
+         "checking the definition"]),
     "non-finite parameter default": (
         ('"g", 9.80665)', '"g", float("nan"))'),
         ["parameter 'g'", "default nan is not a finite number", "checking the definition"]),
@@ -585,3 +597,109 @@ def test_a_heading_is_refused_where_it_changes_nothing(capsys):
                  "45deg", "--hours", "1", "--step", "60s"]) == 2
     [line] = [x for x in capsys.readouterr().err.splitlines() if "error:" in x]
     assert "--heading: model 'schuler_loop' has no heading output" in line
+
+
+# --------------------------------------------------------------------------------------
+# damping gains flagged in the modelling API
+# --------------------------------------------------------------------------------------
+VERTICAL = '''"""A barometer-aided vertical channel: the height loop of an INS, alone."""
+
+import sympy as sp
+
+from ins_errors.modeling import (Mechanisation, ModelDefinition, Parameter, Variable,
+                                 computed_symbols, error_source, error_states_of)
+
+STATES = (Variable("h", "m", "height", "h"), Variable("v", "m/s", "up velocity", "v"))
+INPUTS = (Variable("a_zeta", "m/s**2", "true up specific force", "f"),)
+{parameters}
+SOURCES = (
+    error_source("accel_bias", "m/s**2", "ug", "constant", None, "b", "up accelerometer bias"),
+    error_source("initial_height_error", "m", "m", "initial", None, "e", "height error at 0"))
+OUTPUTS = (Variable("height", "m", "height", "h"), Variable("v_U", "m/s", "up velocity", "v"))
+INITIAL_CONDITIONS = (Variable("height", "m", "initial height", "h_0"),
+                      Variable("v_U", "m/s", "initial up velocity", "v_0"))
+h, v = (s.symbol for s in STATES)
+h_c, v_c = computed_symbols(STATES)
+f, (R, g, c_1, c_2), (b, e) = INPUTS[0].symbol, (s.symbol for s in PARAMETERS), (
+    s.symbol for s in SOURCES)
+
+
+def build():
+    h0, v0 = (s.symbol for s in INITIAL_CONDITIONS)
+    return ModelDefinition(
+        name="baro_vertical", title="Baro-aided vertical channel", source="tests",
+        states=STATES, error_states=error_states_of(STATES, ()), real_states=[h_c, v_c],
+        inputs=INPUTS, parameters=PARAMETERS, sources=SOURCES, outputs=OUTPUTS,
+        initial_conditions=INITIAL_CONDITIONS, ideal=Mechanisation(),
+        real=Mechanisation(computed=True),
+        ideal_rhs=sp.Matrix([v, f - g * (1 - 2 * h / R)]),
+        # the barometer reads the true height h
+        real_rhs=sp.Matrix([v_c - c_1 * (h_c - h),
+                            f + b - g * (1 - 2 * h_c / R) - c_2 * (h_c - h)]),
+        output_map=lambda eq, state, inputs: sp.Matrix(list(state)),
+        initial_state=sp.Matrix([h0, v0]), initial_real_state=sp.Matrix([h0 + e, v0]))
+'''
+
+
+def _docs_damping_snippet() -> str:
+    """The model-file snippet of docs/models.md's section on damping gains."""
+    page = (ROOT / "docs" / "models.md").read_text(encoding="utf-8")
+    section = page.split("\n## Damping gains of any model", 1)[1].split("\n## ", 1)[0]
+    return section.split("```python\n", 1)[1].split("```", 1)[0]
+
+
+def _growth_warning(capsys, path: Path, *options: str, hours: str = "2") -> str | None:
+    """The growth warning of a compare at rest (2 h, 10-s steps), or None."""
+    assert main(["compare", str(path), "--source", "accel_bias=10ug", "--hours", hours,
+                 "--step", "10s", "--no-refined", "--no-progress", *options]) == 0
+    found = [x for x in capsys.readouterr().out.splitlines() if "grow exponentially" in x]
+    return found[0] if found else None
+
+
+def test_a_flagged_damping_gain_of_a_model_file_is_named_with_its_own_example(
+        tmp_path, capsys):
+    """The warning's remedy came from the word "damping" in a description and gave
+    values only for strapdown_ned's k_h1, k_h2. The docs' gains c_1, c_2 (no "damping" in
+    their descriptions) are flagged: the warning names them with their own examples, and
+    those examples damp the channel. Reference: the undamped channel δh'' = (2g/R) δh
+    grows ×e every √(R/2g); with c_1, c_2 its modes are s² + c_1 s + c_2 − 2g/R = 0."""
+    snippet = _docs_damping_snippet()
+    assert "damping" not in re.sub(r"damping_gain=True", "", snippet)
+    path = tmp_path / "baro_vertical.py"
+    path.write_text(VERTICAL.format(parameters=snippet), encoding="utf-8")
+    warning = _growth_warning(capsys, path)
+    minutes = float(re.search(r"×e every ([\d.]+) min", warning).group(1))
+    assert minutes == pytest.approx(math.sqrt(R / (2 * G)) / 60.0, rel=1e-3)
+    assert warning.endswith("; the damping gains c_1, c_2 are 0 (undamped): set them, e.g. "
+                            "`-p c_1=0.03/s -p c_2=4.4e-4/s^2` (a 300-s loop)"), warning
+    gains = re.search(r"`(-p c_1=\S+ -p c_2=\S+)`", warning).group(1).split()
+    c_1, c_2 = 0.03, 4.4e-4  # the example's loop: period 2π/√(c_2 − 2g/R) ≈ 300 s
+    assert 2 * math.pi / math.sqrt(c_2 - 2 * G / R) == pytest.approx(300.0, abs=1.0)
+    assert c_1 / (2 * math.sqrt(c_2 - 2 * G / R)) == pytest.approx(0.7, abs=0.03)
+    assert _growth_warning(capsys, path, *gains) is None
+    # c_1 alone leaves a slow growing root s = (−c_1 + √(c_1² + 8g/R))/2 (×e every
+    # 2.7 h): over 12 h the warning names only the gain still at 0
+    warning = _growth_warning(capsys, path, "-p", "c_1=0.03/s", hours="12")
+    rate = (-c_1 + math.sqrt(c_1**2 + 8 * G / R)) / 2
+    assert float(re.search(r"×e every ([\d.]+) h", warning).group(1)) == pytest.approx(
+        1 / rate / 3600, rel=1e-3)
+    assert warning.endswith("; the damping gain c_2 is 0 (undamped): set it, e.g. "
+                            "`-p c_2=4.4e-4/s^2` (a 300-s loop)"), warning
+    # flagged without an example: named, no value made up
+    bare = tmp_path / "bare" / "baro_vertical.py"
+    bare.parent.mkdir()
+    bare.write_text(VERTICAL.format(parameters=snippet.replace(
+        ', example="4.4e-4/s^2", example_gives="a 300-s loop"', "")), encoding="utf-8")
+    assert _growth_warning(capsys, bare).endswith(
+        "; the damping gains c_1, c_2 are 0 (undamped): set them (`-p c_1=… -p c_2=…`)")
+
+
+def test_a_gain_without_the_flag_is_never_named_whatever_its_description(tmp_path, capsys):
+    """Unflagged, even a description that says "damping" (the old criterion) and the
+    strapdown_ned name k_h1 get no remedy: only the flag marks a damping gain."""
+    snippet = (_docs_damping_snippet().replace("damping_gain=True, ", "")
+               .replace("baro loop:", "damping loop:").replace('"c_1", "1/s"', '"k_h1", "1/s"'))
+    path = tmp_path / "baro_vertical.py"
+    path.write_text(VERTICAL.format(parameters=snippet), encoding="utf-8")
+    warning = _growth_warning(capsys, path)
+    assert warning.endswith("`ins-errors modes baro_vertical` names the mode"), warning

@@ -46,8 +46,8 @@ PARAMETERS = (
     {'name': 'gamma_e', 'unit': 'm/s**2', 'description': 'normal gravity on the equator', 'latex': '\\gamma_e', 'default': 9.7803253359},
     {'name': 'gravity_k', 'unit': '1', 'description': 'Somigliana constant k of normal gravity', 'latex': 'k', 'default': 0.00193185265241},
     {'name': 'gravity_m', 'unit': '1', 'description': 'ω²a²b/GM (height dependence of normal gravity)', 'latex': 'm', 'default': 0.00344978650684},
-    {'name': 'k_h1', 'unit': '1/s', 'description': 'vertical damping loop: gain on ḣ (0: undamped)', 'latex': 'k_1', 'default': 0.0},
-    {'name': 'k_h2', 'unit': '1/s**2', 'description': 'vertical damping loop: gain on v̇_D (0: undamped)', 'latex': 'k_2', 'default': 0.0},
+    {'name': 'k_h1', 'unit': '1/s', 'description': 'vertical damping loop: gain on ḣ (0: undamped)', 'latex': 'k_1', 'default': 0.0, 'damping_gain': True, 'example': '0.0293/s', 'example_gives': 'a 300-s loop, damping 0.7'},
+    {'name': 'k_h2', 'unit': '1/s**2', 'description': 'vertical damping loop: gain on v̇_D (0: undamped)', 'latex': 'k_2', 'default': 0.0, 'damping_gain': True, 'example': '4.42e-4/s^2', 'example_gives': 'a 300-s loop, damping 0.7'},
 )
 SOURCES = (
     {'name': 'gyro_bias_x', 'unit': 'rad/s', 'description': 'constant bias of the x gyro', 'latex': 'b_{gx}', 'kind': 'constant', 'display_unit': 'deg/h', 'factor': None},

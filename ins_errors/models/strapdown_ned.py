@@ -99,6 +99,9 @@ INPUTS = (
              r"h_{\mathrm{ref}}"),
 )
 _WGS84 = ELLIPSOIDS["wgs84"]
+LOOP_EXAMPLE = "a 300-s loop, damping 0.7"
+"""What the damping gains' example values give (``ins-errors`` suggests them when the
+undamped vertical channel grows)."""
 PARAMETERS = (
     Parameter("a", "m", "semi-major axis of the ellipsoid", "a", _WGS84.semi_major_axis),
     Parameter("e2", "1", "first eccentricity squared", "e^{2}", _WGS84.eccentricity_squared),
@@ -109,8 +112,11 @@ PARAMETERS = (
               WGS84_SOMIGLIANA_K),
     Parameter("gravity_m", "1", "ω²a²b/GM (height dependence of normal gravity)", "m",
               WGS84_GRAVITY_M),
-    Parameter("k_h1", "1/s", "vertical damping loop: gain on ḣ (0: undamped)", "k_1", 0.0),
-    Parameter("k_h2", "1/s**2", "vertical damping loop: gain on v̇_D (0: undamped)", "k_2", 0.0),
+    # the examples: a 300-s loop (ω₀ = 2π/300 s) with ζ = 0.7, k₁ = 2ζω₀, k₂ = ω₀² + 2g/R
+    Parameter("k_h1", "1/s", "vertical damping loop: gain on ḣ (0: undamped)", "k_1", 0.0,
+              damping_gain=True, example="0.0293/s", example_gives=LOOP_EXAMPLE),
+    Parameter("k_h2", "1/s**2", "vertical damping loop: gain on v̇_D (0: undamped)", "k_2", 0.0,
+              damping_gain=True, example="4.42e-4/s^2", example_gives=LOOP_EXAMPLE),
 )
 OUTPUTS = (
     Variable("latitude", "rad", "geodetic latitude", r"\varphi"),

@@ -180,36 +180,45 @@ def growing_mode_text(rate: float) -> str:
     return f"F at the start has a mode that grows ×e every {duration_text(1.0 / rate)}"
 
 
+def _undamped(model, p: np.ndarray) -> list:
+    """The parameter descriptions (:class:`~ins_errors.numeric.model.Info`) of the
+    model's damping gains that are 0 in ``p``."""
+    return [info for info, value in zip(model.parameters, p, strict=True)
+            if info.damping_gain and value == 0]
+
+
 def undamped_gains(model, p: np.ndarray) -> list[str]:
     """The model's damping gains that are 0 in the parameter vector ``p``.
 
-    A damping gain is a parameter whose description names a damping loop (strapdown_ned's
-    ``k_h1``, ``k_h2``: 0 leaves its vertical channel undamped).
+    A damping gain is a parameter its model flags ``damping_gain=True``
+    (:class:`ins_errors.modeling.Parameter`; strapdown_ned's ``k_h1``, ``k_h2``: 0 leaves
+    its vertical channel undamped).
     """
-    return [info.name for info, value in zip(model.parameters, p, strict=True)
-            if "damping" in info.description.lower() and value == 0]
-
-
-DAMPING_EXAMPLES: dict[str, str] = {"k_h1": "0.0293/s", "k_h2": "4.42e-4/s^2"}
-"""Example values of strapdown_ned's vertical damping gains: a 300-s loop with damping
-0.7 (k_h1 = 2ζω₀, k_h2 = ω₀² + 2g/R; docs/models.md)."""
+    return [info.name for info in _undamped(model, p)]
 
 
 def undamped_remedy(model, p: np.ndarray) -> str:
     """``"; the damping gains k_h1, k_h2 are 0 (undamped): set them, e.g. `-p
     k_h1=0.0293/s -p k_h2=4.42e-4/s^2` (a 300-s loop, damping 0.7)"`` for the gains of
-    :func:`undamped_gains` (``-p NAME=…`` for other models' gains), or ``""``
-    (a ``remedy`` of :func:`growth_warning`)."""
-    gains = undamped_gains(model, p)
+    :func:`undamped_gains`, or ``""`` (a ``remedy`` of :func:`growth_warning`).
+
+    The values and the phrase in parentheses are the gains' own ``example`` and
+    ``example_gives`` (:class:`ins_errors.modeling.Parameter`); where a gain has no
+    example, every gain is shown as ``-p NAME=…``.
+    """
+    gains = _undamped(model, p)
     if not gains:
         return ""
+    names = ", ".join(g.name for g in gains)
     several = len(gains) > 1
-    # the example values are strapdown_ned's loop; a model file's gains of the same name
-    # may mean something else
-    known = model.name == "strapdown_ned" and set(gains) <= set(DAMPING_EXAMPLES)
-    options = " ".join(f"-p {g}={DAMPING_EXAMPLES[g] if known else '…'}" for g in gains)
-    example = f", e.g. `{options}` (a 300-s loop, damping 0.7)" if known else f" (`{options}`)"
-    return (f"; the damping gain{'s' if several else ''} {', '.join(gains)} "
+    known = all(g.example for g in gains)
+    options = " ".join(f"-p {g.name}={g.example if known else '…'}" for g in gains)
+    if known:
+        gives = "; ".join(dict.fromkeys(g.example_gives for g in gains if g.example_gives))
+        example = f", e.g. `{options}`" + (f" ({gives})" if gives else "")
+    else:
+        example = f" (`{options}`)"
+    return (f"; the damping gain{'s' if several else ''} {names} "
             f"{'are' if several else 'is'} 0 (undamped): set {'them' if several else 'it'}"
             + example)
 

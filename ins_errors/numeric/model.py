@@ -43,6 +43,14 @@ class Info:
         Unit the quantity is usually quoted in (error sources only).
     factor : int or None
         Lab-manual factor number (error sources only).
+    damping_gain : bool
+        A gain of a damping loop, 0 leaving the loop open (parameters only;
+        :attr:`ins_errors.modeling.Parameter.damping_gain`).
+    example : str
+        A value to suggest with its unit, as typed after ``-p NAME=``; empty: none
+        (parameters only).
+    example_gives : str
+        What the example gives (``"a 300-s loop, damping 0.7"``); empty: nothing said.
     """
 
     name: str
@@ -53,6 +61,9 @@ class Info:
     kind: str | None = None
     display_unit: str | None = None
     factor: int | None = None
+    damping_gain: bool = False
+    example: str = ""
+    example_gives: str = ""
 
 
 def _infos(rows: tuple[dict[str, Any], ...]) -> tuple[Info, ...]:

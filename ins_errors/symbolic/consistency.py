@@ -295,7 +295,8 @@ def check_definition(d: ModelDefinition, label: str | None = None) -> None:
 
 
 def check_units(d: ModelDefinition, label: str | None = None) -> None:
-    """Raise one line if a unit of ``d`` does not parse, or if an error source's display
+    """Raise one line if a unit of ``d`` does not parse, if a parameter's ``example`` is
+    not a finite value in its unit (with the unit written), or if an error source's display
     unit does not convert to its SI unit (``"deg/h"`` for an accelerometer bias).
 
     Kept apart from :func:`check_definition` because it needs the units library (about
@@ -328,6 +329,21 @@ def check_units(d: ModelDefinition, label: str | None = None) -> None:
                 raise _fail(label, f"{group} {v.name!r}",
                             f"unit {v.unit!r} is not a unit the units library reads (SI, "
                             "e.g. 'rad', 'm/s', 'm/s**2', 'rad/s', '1')") from None
+    for parameter in d.parameters:
+        if parameter.example_gives and not parameter.example:
+            raise _fail(label, f"parameter {parameter.name!r}",
+                        f"example_gives {parameter.example_gives!r} without an example value")
+        if not parameter.example:
+            continue
+        try:
+            value = parse_quantity(parameter.example, parameter.unit, parameter.name,
+                                   numbers_are_si=False)
+        except Exception:  # unreadable, without its unit, or another dimension
+            value = math.nan
+        if not math.isfinite(value):
+            raise _fail(label, f"parameter {parameter.name!r}",
+                        f"example {parameter.example!r} is not a value in {parameter.unit!r} "
+                        "with its unit, as typed after -p (e.g. '0.03/s')")
     for source in d.sources:
         shown = source.display_unit
         if not shown or shown == source.unit:
