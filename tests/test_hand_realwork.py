@@ -114,3 +114,57 @@ def test_real_work_line_errors_are_input_problems():
     hand = parse_hand_text("@realwork x\na_x + a_y = a_xi\na_x = a_xi = a_eta\n",
                            default_notation("orthodromic"))
     assert [p.line for p in hand.problems] == [2, 3] and not hand.real_work
+
+
+def _theta_orthodromic(tmp_path):
+    """The orthodromic model as a model file whose platform angles are named theta_x,
+    theta_y, theta_z (LaTeX \\theta): nothing else changed."""
+    from pathlib import Path
+
+    from ins_errors.model_files import load_model_file
+
+    source = Path(__file__).resolve().parent.parent / "ins_errors" / "models" / "orthodromic.py"
+    text = source.read_text(encoding="utf-8")
+    assert text.count("alpha_") >= 6 and "theta" not in text
+    path = tmp_path / "orthodromic_theta.py"
+    path.write_text(text.replace("alpha_", "theta_"), encoding="utf-8")
+    d = load_model_file(path)
+    assert [v.name for v in d.platform_angles] == ["theta_x", "theta_y", "theta_z"]
+    return d
+
+
+@pytest.mark.parametrize("attitude", ["1e-4 rad", "1e-3 rad"])
+def test_platform_angles_are_the_models_whatever_their_names(tmp_path, attitude):
+    """The real-work check took the platform angles by the prefix ``alpha``: with the
+    angles named theta_*, correct accelerometer rows were "mistakes" (their θ terms read
+    as part of the zero-order value), the velocity update's variation lost its tilt
+    terms, and the typical platform angle stayed 1e-4 rad whatever the declared attitude.
+    The same file in the model's names gives the same report, names aside."""
+    from ins_errors.checker.report import to_json
+
+    hand_text = CORRECT.replace(CORRECT.splitlines()[4], PRINTED_AZ)
+    reports = []
+    for model, text in (("orthodromic", hand_text),
+                        (_theta_orthodromic(tmp_path), hand_text.replace("alpha_", "theta_"))):
+        hand = parse_hand_text(text, default_notation(model))
+        reports.append(check_hand(hand, model, magnitudes={"attitude": attitude},
+                                  effects=False))
+    alpha, theta = reports
+    assert [r.status for r in theta.results] == ["agrees"] * 4 + ["mistake"]
+    (a_z,) = [r for r in theta.results if r.equation.label == "a_z"]
+    found = {f.quantity: f for f in a_z.findings}
+    # the x-angle term: (a_zeta + a_eta) θ_x too much, g θ at rest against the row's g:
+    # its size is the declared attitude θ (to the small terms of the row's largest part)
+    assert found["theta_x"].size == pytest.approx(float(attitude.split()[0]), rel=1e-2)
+    same = str(to_json(theta)).replace("theta_", "alpha_").replace(r"\\theta", r"\\alpha")
+    assert same == str(to_json(alpha))
+
+
+def test_accelerometer_rows_are_not_compared_for_a_model_without_platform_angles():
+    """strapdown_ned has no platform: an ``a_x`` row "agreed" with a platform rotation in
+    angles alpha_* the model does not have."""
+    hand = parse_hand_text("@realwork x\na_x = a_xi + a_eta*alpha_z - a_zeta*alpha_y\n",
+                           default_notation("strapdown_ned"))
+    (result,) = check_hand(hand, "strapdown_ned", effects=False).results
+    assert result.status == "not compared"
+    assert "no three platform angles" in result.notes[0]

@@ -786,13 +786,14 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         raise InsErrorsError(f"{hand.name}: a file with '@convention {hand.convention}' is "
                              "checked by ins_errors.checker.convention_equations "
                              "(`ins-errors check MODEL FILE` does this)")
+    d = resolve_model(model)
     if hand.real_work:  # the real-work updates' variations are error-state lines too
         from dataclasses import replace
 
-        from ins_errors.checker.realwork import update_variations
+        from ins_errors.checker.realwork import platform_angles, update_variations
 
-        hand = replace(hand, equations=[*hand.equations, *update_variations(hand)])
-    d = resolve_model(model)
+        hand = replace(hand, equations=[*hand.equations,
+                                        *update_variations(hand, platform_angles(d))])
     side = model_side(d)
     motions, values, tree = _points(d, hand.scope)
     if not motions.points:
@@ -835,12 +836,12 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
                                      declared, needed))
     cl.assign_roots(results, prepared, hand)
     if hand.real_work:
-        from ins_errors.checker.realwork import check_real_work
+        from ins_errors.checker.realwork import check_real_work, platform_angles
 
-        angle = next((b.magnitude for b in basis if b.name in side.error_states
-                      and b.unit == "rad" and b.name.startswith("alpha")), 1e-4)
+        angles = platform_angles(d)  # the model's, whatever their names
+        angle = next((b.magnitude for b in basis if b.name in angles), sizes.of("rad")[0])
         results = sorted(results + check_real_work(hand, comparison.points, angle,
-                                                   threshold),
+                                                   threshold, angles),
                          key=lambda r: r.equation.line)
     unused = [f"{r.equation.label} (line {r.equation.line})" for r in results
               if r.status in ("hand-only definition", "mistake", "agrees") and r.form == 0

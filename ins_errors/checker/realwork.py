@@ -7,11 +7,13 @@ accelerometer outputs ``a_x``, ``a_y``, ``a_z``
     compared with the platform rotation applied to the true apparent acceleration
     ``(a_ξ, a_η, a_ζ)``: the model's exact rotation
     (:func:`ins_errors.models.platform.on_platform`) expanded to first order in the
-    platform angles α. Each coefficient (the zero-order part and the coefficient of each
-    α) is compared as a polynomial in the accelerations; a wrong coefficient is classed
-    like an error-equation finding (omitted, extra, wrong sign, wrong symbol or index,
-    wrong coefficient) and sized at the checker's reference points with the typical
-    platform angle.
+    platform angles α, the three the model declares
+    (:attr:`~ins_errors.modeling.ModelDefinition.platform_angles`, in the order x, y, z,
+    whatever their names; a model without three is not compared). Each coefficient (the
+    zero-order part and the coefficient of each α) is compared as a polynomial in the
+    accelerations; a wrong coefficient is classed like an error-equation finding
+    (omitted, extra, wrong sign, wrong symbol or index, wrong coefficient) and sized at
+    the checker's reference points with the typical platform angle.
 difference-scheme updates ``X_{k+1} = X_k + τ(...)``
     the increment ``X_{k+1} − X_k`` of an integrated quantity must be proportional to
     the step τ; a term added outside τ (the manual's ``+ g̃' + Δa``) is a rate added to a
@@ -39,29 +41,43 @@ STEP = "outside the time step"
 OUTPUTS = ("a_x", "a_y", "a_z")
 """Accelerometer outputs on the platform axes x, y, z."""
 
-ANGLES = tuple(sp.Symbol(n) for n in ("alpha_x", "alpha_y", "alpha_z"))
 ACCELERATIONS = tuple(sp.Symbol(n) for n in ("a_xi", "a_eta", "a_zeta"))
 TAU = sp.Symbol("tau")
 
 
-def first_order_outputs() -> list[sp.Expr]:
+def platform_angles(d) -> tuple[str, ...]:
+    """The names of the platform angles a model declares, x, y, z (rad; empty for a
+    strapdown INS): :attr:`~ins_errors.modeling.ModelDefinition.platform_angles`, the
+    symbols a hand file's real-work lines use for them (``alpha_x`` or ``alpha_E``, or
+    any other name a model gives them)."""
+    return tuple(v.name for v in d.platform_angles)
+
+
+def first_order_outputs(angles: tuple[str, ...]) -> list[sp.Expr]:
     """Platform-axis outputs of the true apparent acceleration, to first order in α.
+
+    Parameters
+    ----------
+    angles : tuple of 3 str
+        Names of the platform angles about x, y, z (rad), e.g. ``("alpha_x", "alpha_y",
+        "alpha_z")`` (:func:`platform_angles`).
 
     Returns
     -------
     list of 3 sympy.Expr
-        ``a_x, a_y, a_z`` in terms of ``a_xi, a_eta, a_zeta`` (m/s²) and
-        ``alpha_x, alpha_y, alpha_z`` (rad): the exact rotation's Taylor expansion.
+        ``a_x, a_y, a_z`` in terms of ``a_xi, a_eta, a_zeta`` (m/s²) and the angles:
+        the exact rotation's Taylor expansion.
     """
-    return list(_first_order_outputs())
+    return list(_first_order_outputs(tuple(angles)))
 
 
 @cache
-def _first_order_outputs() -> tuple[sp.Expr, ...]:
-    """:func:`first_order_outputs`, expanded once per process (it has no arguments)."""
-    exact = on_platform(ANGLES, ACCELERATIONS, "exact")
-    zero = dict.fromkeys(ANGLES, 0)
-    return tuple(sp.expand(e.subs(zero) + sum(sp.diff(e, a).subs(zero) * a for a in ANGLES))
+def _first_order_outputs(angles: tuple[str, ...]) -> tuple[sp.Expr, ...]:
+    """:func:`first_order_outputs`, expanded once per process and set of names."""
+    symbols = [sp.Symbol(n) for n in angles]
+    exact = on_platform(symbols, ACCELERATIONS, "exact")
+    zero = dict.fromkeys(symbols, 0)
+    return tuple(sp.expand(e.subs(zero) + sum(sp.diff(e, a).subs(zero) * a for a in symbols))
                  for e in exact)
 
 
@@ -71,12 +87,14 @@ def _by_name(expr: sp.Expr) -> sp.Expr:
 
 
 @lru_cache(maxsize=1024)
-def _split(expr: sp.Expr) -> dict[str, sp.Expr]:
-    """``{"(value)": zero-order part, "alpha_x": its coefficient, ...}`` (a pure function,
-    kept for the next line and check: read only)."""
-    zero = dict.fromkeys(ANGLES, 0)
+def _split(expr: sp.Expr, angles: tuple[str, ...]) -> dict[str, sp.Expr]:
+    """``{"(value)": zero-order part, "alpha_x": its coefficient, ...}`` for the platform
+    angles named ``angles`` (a pure function, kept for the next line and check: read
+    only)."""
+    symbols = [sp.Symbol(n) for n in angles]
+    zero = dict.fromkeys(symbols, 0)
     parts = {"(value)": sp.expand(expr.subs(zero))}
-    for a in ANGLES:
+    for a in symbols:
         parts[a.name] = sp.expand(sp.diff(expr, a).subs(zero))
     return parts
 
@@ -118,7 +136,8 @@ def _values(points: list, expr: sp.Expr) -> np.ndarray:
     return np.array(out)
 
 
-def check_output(eq: HandEquation, points: list, angle: float, threshold: float):
+def check_output(eq: HandEquation, points: list, angle: float, threshold: float,
+                 angles: tuple[str, ...]):
     """Findings of one accelerometer-output line.
 
     Parameters
@@ -131,6 +150,8 @@ def check_output(eq: HandEquation, points: list, angle: float, threshold: float)
         Typical platform angle, rad (the size of an α term).
     threshold : float
         Size separating small effects from mistakes.
+    angles : tuple of 3 str
+        The model's platform angles about x, y, z (:func:`platform_angles`).
 
     Returns
     -------
@@ -138,12 +159,12 @@ def check_output(eq: HandEquation, points: list, angle: float, threshold: float)
     findings : list of Finding
     """
     row = OUTPUTS.index(str(eq.lhs))
-    model = first_order_outputs()[row]
+    model = first_order_outputs(angles)[row]
     hand = sp.expand(_by_name(eq.forms[0]))
     target = (f"real work: accelerometer output {eq.lhs} (row {row + 1} of the platform "
               "rotation, first order in alpha)")
-    h, m = _split(hand), _split(model)
-    scale = {"(value)": 1.0, **{a.name: angle for a in ANGLES}}
+    h, m = _split(hand, angles), _split(model, angles)
+    scale = {"(value)": 1.0, **dict.fromkeys(angles, angle)}
     largest = np.zeros(len(points))
     for key in m:
         for side in (h, m):
@@ -188,12 +209,13 @@ def check_step(eq: HandEquation, threshold: float):
                                "0", detail)]
 
 
-def update_variations(hand: HandFile) -> list[HandEquation]:
+def update_variations(hand: HandFile, angles: tuple[str, ...]) -> list[HandEquation]:
     """First-order variations of the real-work updates, as error-equation lines.
 
     The rate of each update ``X_{k+1} = X_k + τ(...)`` (terms printed outside τ read
-    inside) is varied to first order: ``tilde(Y) → Y + ε ΔY``, platform angles and
-    ``Delta_*`` error sources scaled by ε, the accelerometer outputs replaced by the
+    inside) is varied to first order: ``tilde(Y) → Y + ε ΔY``, the model's platform
+    angles (``angles``) and ``Delta_*`` error sources scaled by ε, the accelerometer
+    outputs replaced by the
     file's own ``a_x``/``a_y`` lines. The ε-coefficient is a line ``dot(Delta_X) = ...``
     that the error-equation comparison checks against the model's variation (with the
     file's definitions of ΔW, Δg', Δω, ... and its declared simplifications).
@@ -201,6 +223,9 @@ def update_variations(hand: HandFile) -> list[HandEquation]:
     Parameters
     ----------
     hand : HandFile
+    angles : tuple of str
+        Names of the model's platform angles (:func:`platform_angles`; empty for a
+        strapdown INS).
 
     Returns
     -------
@@ -213,7 +238,7 @@ def update_variations(hand: HandFile) -> list[HandEquation]:
     for eq in hand.real_work:
         if not (eq.step and eq.lhs.func == TILDE and TAU in eq.forms[0].free_symbols):
             continue
-        variation = _varied_rate(eq.forms[0], eq.lhs, tuple(outputs.items()))
+        variation = _varied_rate(eq.forms[0], eq.lhs, tuple(outputs.items()), tuple(angles))
         lines.append(HandEquation(
             line=eq.line, column=eq.column, section=eq.section,
             lhs=DOT(sp.Symbol(f"Delta_{eq.lhs.args[0]}")), forms=[variation],
@@ -223,22 +248,22 @@ def update_variations(hand: HandFile) -> list[HandEquation]:
 
 
 @lru_cache(maxsize=1024)
-def _varied_rate(form: sp.Expr, lhs: sp.Expr, outputs: tuple[tuple[sp.Expr, sp.Expr], ...]
-                 ) -> sp.Expr:
+def _varied_rate(form: sp.Expr, lhs: sp.Expr, outputs: tuple[tuple[sp.Expr, sp.Expr], ...],
+                 angles: tuple[str, ...]) -> sp.Expr:
     """The ε-coefficient of one update's rate (see :func:`update_variations`): a pure
-    function of the update, its left side and the file's output lines, kept for the next
-    check in the same process."""
+    function of the update, its left side, the file's output lines and the names of the
+    platform angles, kept for the next check in the same process."""
     eps = sp.Dummy("epsilon")
     rate = sp.expand(form - lhs).subs(TAU, 1).xreplace(dict(outputs))
     rate = rate.xreplace({s: eps * s for s in rate.free_symbols
-                          if s.name.startswith(("alpha_", "Delta_"))})
+                          if s.name in angles or s.name.startswith("Delta_")})
     rate = rate.xreplace({f: f.args[0] + eps * sp.Symbol(f"Delta_{f.args[0]}")
                           for f in rate.atoms(TILDE)})
     return sp.expand(sp.diff(rate, eps).subs(eps, 0))
 
 
-def check_real_work(hand: HandFile, points: list, angle: float, threshold: float
-                    ) -> list:
+def check_real_work(hand: HandFile, points: list, angle: float, threshold: float,
+                    angles: tuple[str, ...]) -> list:
     """Results of every real-work line of ``hand`` (see the module docstring).
 
     Parameters
@@ -248,6 +273,9 @@ def check_real_work(hand: HandFile, points: list, angle: float, threshold: float
     angle : float
         Typical platform angle, rad.
     threshold : float
+    angles : tuple of str
+        Names of the model's platform angles, x, y, z (:func:`platform_angles`): the
+        accelerometer outputs are compared only for a model with three.
 
     Returns
     -------
@@ -260,8 +288,13 @@ def check_real_work(hand: HandFile, points: list, angle: float, threshold: float
         name = str(eq.lhs.args[0] if eq.lhs.func == TILDE else eq.lhs)
         if eq.step:
             target, findings = check_step(eq, threshold)
+        elif name in OUTPUTS and eq.lhs.func != TILDE and len(angles) != 3:
+            results.append(EquationResult(eq, 0, "real work: not compared", "not compared",
+                                          notes=["the model declares no three platform "
+                                                 "angles to turn the accelerations by"]))
+            continue
         elif name in OUTPUTS and eq.lhs.func != TILDE:
-            target, findings = check_output(eq, points, angle, threshold)
+            target, findings = check_output(eq, points, angle, threshold, angles)
         else:
             results.append(EquationResult(eq, 0, "real work: not compared", "not compared",
                                           notes=["only accelerometer outputs and "
