@@ -23,7 +23,8 @@ from ins_errors.numeric import trajectories as tr
 
 ROOT = Path(__file__).resolve().parent.parent
 MODELS = Path(__file__).resolve().parent / "models"
-STRAPDOWN = (MODELS / "strapdown_sphere.py").read_text(encoding="utf-8")
+STRAPDOWN_FILE = ROOT / "examples" / "strapdown" / "strapdown_sphere.py"
+STRAPDOWN = STRAPDOWN_FILE.read_text(encoding="utf-8")
 
 
 @pytest.fixture(autouse=True)
@@ -65,13 +66,13 @@ def test_initial_velocities_named_v_N0_v_E0_follow_a_moving_motion():
 
 def test_models_lists_parameter_defaults(capsys):
     """The defaults stated in the fixture file (R = 6 371 000 m, g = 9.81 m/s²)."""
-    assert main(["models", str(MODELS / "strapdown_sphere.py")]) == 0
+    assert main(["models", str(STRAPDOWN_FILE)]) == 0
     text = capsys.readouterr().out
     rows = {line.split()[0]: line for line in text.split("parameters:")[1].split("\n\n")[0]
             .strip().splitlines()}
     assert rows["R"].endswith("(default 6371000 m)")
     assert rows["g"].endswith("(default 9.81 m/s**2)")
-    assert main(["models", str(MODELS / "strapdown_sphere.py"), "--json"]) == 0
+    assert main(["models", str(STRAPDOWN_FILE), "--json"]) == 0
     listed = {p["name"]: p for p in json.loads(capsys.readouterr().out)["parameters"]}
     assert (listed["g"]["default"], listed["g"]["unit"]) == (9.81, "m/s**2")
 

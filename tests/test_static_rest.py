@@ -26,7 +26,7 @@ from ins_errors.numeric import trajectories as tr
 from ins_errors.numeric.compare import compare
 from ins_errors.numeric.static_rest import static_rest
 
-FIXTURE = Path(__file__).resolve().parent / "models" / "strapdown_sphere.py"
+FIXTURE = Path(__file__).resolve().parents[1] / "examples" / "strapdown" / "strapdown_sphere.py"
 MICRO_G = 9.80665e-6  # m/s² (the ug of the tables)
 DEG_PER_H = np.radians(1.0) / 3600.0  # rad/s
 
@@ -102,16 +102,6 @@ def test_vertical_gyro_bias_turns_the_heading(sphere):
     t = case.times[1:]
     heading = case.direct["delta_heading"][1:]
     assert np.abs(heading / (eps * t) - 1).max() < 0.02
-
-
-def test_moving_motion_is_refused_in_one_line(capsys):
-    status = main(["compare", str(FIXTURE), "--source", "gyro_bias_x=0.01deg/h", "--hours",
-                   "1", "--step", "10s", "--motion", "great-circle"])
-    err = capsys.readouterr().err.strip()
-    assert status == 2 and "\n" not in err
-    for said in ("omega_x", "strapdown_ned", "static base", "MotionSource", "docs/cache.md"):
-        assert said in err, said
-    assert "do not know how to set input" not in err
 
 
 RESTLESS = '''

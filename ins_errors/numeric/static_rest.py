@@ -1,10 +1,10 @@
 """A static base for any model: the constant ideal state and the inputs that hold it.
 
 The kinematic motion generators (:mod:`ins_errors.numeric.trajectories`) set inputs by
-name (apparent accelerations ``a_*``, ``a_zeta``, the height ``h``, ``V_zeta``), and the
-strapdown truth (:mod:`ins_errors.numeric.strapdown_truth`) serves ``strapdown_ned``
-only. A model with other inputs (a researcher's strapdown INS fed body rates and
-specific forces) still has a static base, found from its own equations:
+name (apparent accelerations ``a_*``, ``a_zeta``, the height ``h``, ``V_zeta``). A model
+with other inputs (a researcher's strapdown INS fed body rates and specific forces) has
+a static base found from its own equations (its moving flights: the same idea along a
+planned flight, :mod:`ins_errors.numeric.model_flight`):
 
 1. the initial conditions ``c`` come from the static description by name: ``latitude``,
    ``longitude``, ``height`` (or ``h``), ``heading``, ``roll`` and ``pitch`` (zero: a

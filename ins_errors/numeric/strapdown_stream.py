@@ -76,6 +76,21 @@ def _check_signals(state: np.ndarray, inputs: np.ndarray, times: np.ndarray) -> 
                           f"t = {times[int(np.argmax(bad))]:.6g} s")
 
 
+def flight_signals(flight: Flight, earth: _Earth, t: np.ndarray, y: np.ndarray,
+                   adapter=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """True states, inputs and Euler angles (3, T) at times ``t`` (T,) of position and
+    course ``y`` (4, T), checked: ``strapdown_ned``'s (10, T) and (7, T), or with an
+    ``adapter`` (:class:`~ins_errors.numeric.model_flight.FlightAdapter`) its model's."""
+    if adapter is None:
+        state, inputs, euler = _signals(flight, earth, t, y)
+        _check_signals(state, inputs, t)
+        return state, inputs, euler
+    state, inputs, euler, nav, rates = _signals(flight, earth, t, y, navigation=True)
+    _check_signals(state, inputs, t)
+    x, u = adapter(nav, rates, t)
+    return x, u, euler
+
+
 class FullRateTruth:
     """The kinematics at every step and midpoint of a flight integrated by DOP853.
 
@@ -90,14 +105,19 @@ class FullRateTruth:
         Steps N.
     solution : scipy.integrate.OdeSolution
         Dense output of (latitude, longitude, height, course) over ``[0, N τ]``.
+    adapter : FlightAdapter, optional
+        Turns the flight into another model's states and inputs
+        (:mod:`ins_errors.numeric.model_flight`); None: ``strapdown_ned``'s.
     """
 
     kind = "fine"
     """How this source computes the truth (:attr:`Trajectory.truth_kind`)."""
 
-    def __init__(self, flight: Flight, earth: _Earth, tau: float, n_steps: int, solution):
+    def __init__(self, flight: Flight, earth: _Earth, tau: float, n_steps: int, solution,
+                 adapter=None):
         self.flight, self.earth, self.tau, self.n_steps = flight, earth, float(tau), n_steps
         self.solution = solution
+        self.adapter = adapter
 
     def start(self) -> tuple[np.ndarray, np.ndarray]:
         """True state (10,) and inputs (7,) at t = 0."""
@@ -107,8 +127,8 @@ class FullRateTruth:
     def start_with_euler(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """True state (10,), inputs (7,) and Euler angles (3,) at t = 0."""
         t = np.zeros(1)
-        state, inputs, euler = _signals(self.flight, self.earth, t, self.solution(t))
-        _check_signals(state, inputs, t)
+        state, inputs, euler = flight_signals(self.flight, self.earth, t, self.solution(t),
+                                              self.adapter)
         return state[:, 0], inputs[:, 0], euler[:, 0]
 
     def chunks(self, size: int) -> Iterator[TruthChunk]:
@@ -117,10 +137,14 @@ class FullRateTruth:
         for start in range(0, self.n_steps, size):
             stop = min(start + size, self.n_steps)
             t = np.arange(start, stop + 1) * self.tau
-            state, inputs, _ = _signals(self.flight, self.earth, t, self.solution(t))
-            _check_signals(state, inputs, t)
+            state, inputs, _ = flight_signals(self.flight, self.earth, t, self.solution(t),
+                                              self.adapter)
             tm = (np.arange(start, stop) + 0.5) * self.tau
-            _, midpoints, _ = _signals(self.flight, self.earth, tm, self.solution(tm))
+            if self.adapter is None:
+                _, midpoints, _ = _signals(self.flight, self.earth, tm, self.solution(tm))
+            else:
+                _, midpoints, _ = flight_signals(self.flight, self.earth, tm,
+                                                 self.solution(tm), self.adapter)
             yield TruthChunk(start, state, inputs, midpoints)
 
 
@@ -167,7 +191,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
     Parameters
     ----------
     model : Model
-        The ``strapdown_ned`` model (for the names and units of its states and inputs).
+        The model fed (for the names and units of its states and inputs):
+        ``strapdown_ned``, or the model of ``adapter``.
     flight : Flight
         A moving flight whose :attr:`Flight.breaks` are known.
     earth : _Earth
@@ -177,6 +202,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
         Steps N.
     p : numpy.ndarray
         Model parameters.
+    adapter : FlightAdapter, optional
+        As for :class:`FullRateTruth`.
 
     Attributes
     ----------
@@ -185,8 +212,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
     """
 
     def __init__(self, model: Model, flight: Flight, earth: _Earth, tau: float, n_steps: int,
-                 p: np.ndarray):
-        self.flight, self.earth = flight, earth
+                 p: np.ndarray, adapter=None):
+        self.flight, self.earth, self.adapter = flight, earth, adapter
         self.tau, self.n_steps, self.p = float(tau), int(n_steps), tuple(float(v) for v in p)
         self.y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
         self.n, self.nu = len(model.states), len(model.inputs)
@@ -204,8 +231,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
     def start_with_euler(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """True state (10,), inputs (7,) and Euler angles (3,) at t = 0."""
         t = np.zeros(1)
-        state, inputs, euler = _signals(self.flight, self.earth, t, self.y0[:, None])
-        _check_signals(state, inputs, t)
+        state, inputs, euler = flight_signals(self.flight, self.earth, t, self.y0[:, None],
+                                              self.adapter)
         return state[:, 0], inputs[:, 0], euler[:, 0]
 
     def _rows(self, start: np.ndarray, length: np.ndarray) -> np.ndarray:
@@ -252,8 +279,7 @@ class InterpolatedFlight(it.InterpolatedTruth):
             ys, change = self._integrate(fn, y, self._rows(start, length))
             ys = ys.reshape(-1, 4)
             at = (start[:, None] + length[:, None] * it._NODES[1:]).ravel()
-            state, inputs, _ = _signals(self.flight, self.earth, at, ys.T)
-            _check_signals(state, inputs, at)
+            state, inputs, _ = flight_signals(self.flight, self.earth, at, ys.T, self.adapter)
             nodes = np.empty((len(start), d + 1, n + nu))
             nodes[:, 1:, :n] = state.T.reshape(len(start), d, n)
             nodes[:, 1:, n:] = inputs.T.reshape(len(start), d, nu)

@@ -328,14 +328,16 @@ def flight_from_profile(profile: Profile) -> Flight:
     Raises
     ------
     MotionError
-        For a ``"geographic"`` (sampled file) profile, not supported by this model.
+        For a ``"geographic"`` (sampled file) profile: a strapdown flight needs the
+        attitude and rates a planned flight has.
     """
     if profile.static:
         values, _ = profile.commands(np.zeros(1))
         return static(profile.latitude, profile.longitude, float(values[2, 0]),
                       heading=profile.heading)
     if profile.frame != "track":
-        raise MotionError("sampled (file) motions are not available for strapdown_ned; use "
+        raise MotionError("sampled (file) motions are not available for a strapdown INS "
+                          "(a model fed body rates and specific forces): its flights are "
                           "static, great-circle or manoeuvre")
 
     # the rate of r: five-point differences over 1-ms steps (exact for the legs' quartic
@@ -504,8 +506,15 @@ def _position_rhs(flight: Flight, earth: _Earth, t_end: float = np.inf):
     return rhs
 
 
-def _signals(flight: Flight, earth: _Earth, t: np.ndarray, y: np.ndarray):
-    """True state (10, T), inputs (7, T) and Euler angles (3, T) at times t."""
+def _signals(flight: Flight, earth: _Earth, t: np.ndarray, y: np.ndarray,
+             navigation: bool = False):
+    """True state (10, T), inputs (7, T) and Euler angles (3, T) at times t.
+
+    With ``navigation``, also the navigation quantities (9, T) latitude, longitude,
+    height, v_N, v_E, v_D, roll, pitch, heading and their time rates (9, T), the exact
+    kinematics the signals are made of (for the flights of other models:
+    :mod:`ins_errors.numeric.model_flight`).
+    """
     lat, lon, h, psi = y
     V, dV, r, dr, vD, dvD = flight.commands(t)
     vN, vE = V * np.cos(psi), V * np.sin(psi)
@@ -538,7 +547,13 @@ def _signals(flight: Flight, earth: _Earth, t: np.ndarray, y: np.ndarray):
     f_b = np.einsum("ji...,j...->i...", C, f_n)
     state = np.vstack([euler_quaternion(roll, pitch, heading), v, lat, lon, h])
     inputs = np.vstack([w_ib, f_b, h])
-    return state, inputs, np.array([roll, pitch, heading])
+    euler = np.array([roll, pitch, heading])
+    if not navigation:
+        return state, inputs, euler
+    nav = np.vstack([lat, lon, h, v, euler])
+    rates = np.vstack([vN / (R_N + h), vE / ((R_E + h) * np.cos(lat)), -vD, dv, droll, dpitch,
+                       dpsi])
+    return state, inputs, euler, nav, rates
 
 
 def trajectory(model: Model, flight: Flight, duration: float, tau: float,
@@ -549,7 +564,10 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
     Parameters
     ----------
     model : Model
-        The loaded ``strapdown_ned`` model.
+        The loaded ``strapdown_ned`` model, or any model fed body rates and specific
+        forces (inputs the kinematic motions cannot set, e.g. a strapdown model file):
+        its states and inputs follow the flight by its own equations
+        (:mod:`ins_errors.numeric.model_flight`), the flight planned on its own Earth.
     flight : Flight
         See :func:`static`, :func:`great_circle`, :func:`manoeuvre`.
     duration, tau : float
@@ -575,8 +593,8 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
     Returns
     -------
     Trajectory
-        Truth (10, N + 1), inputs at the steps (7, N + 1) and midpoints (7, N), stored or
-        streamed; a static base gives one constant column.
+        Truth (n, N + 1), inputs at the steps (nu, N + 1) and midpoints (nu, N), stored or
+        streamed (strapdown_ned: n = 10, nu = 7); a static base gives one constant column.
 
     Raises
     ------
@@ -588,30 +606,45 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
     from ins_errors.numeric.trajectories import STREAM_BYTES, TRUTHS
 
     model, p = run_arguments(model, flight, Flight, duration, p)
-    if model.name != MODEL:
-        raise MotionError(f"strapdown flights feed the model {MODEL!r}, not {model.name!r}")
     if truth not in TRUTHS:
         from ins_errors.errors import unknown_name
 
         raise unknown_name("truth", truth, TRUTHS)
     n_steps = step_count(duration, tau)
-    earth = _earth(model, p)
     y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
+    adapter = None
+    if model.name == MODEL:
+        earth = _earth(model, p)
+    else:
+        from ins_errors.numeric.model_flight import FlightAdapter, flight_earth
+        from ins_errors.numeric.trajectories import unset_inputs
+
+        if not unset_inputs(model):
+            raise MotionError(f"strapdown flights feed models fed body rates and specific "
+                              f"forces; {model.name!r} follows the kinematic motions "
+                              "(ins_errors.numeric.trajectories.trajectory)")
+        earth = flight_earth(model, p)
+        *_, nav0, rate0 = _signals(flight, earth, np.zeros(1), y0[:, None], navigation=True)
+        adapter = FlightAdapter(model, p, (nav0[:, 0], rate0[:, 0]))
     if flight.static:
-        state, inputs, euler = _signals(flight, earth, np.zeros(1), y0[:, None])
-        c0 = _initial_conditions(state[:, 0], euler[:, 0])
-        return Trajectory(MODEL, float(tau), n_steps, state, inputs, inputs.copy(), p, c0,
-                          True, flight.description)
+        state, inputs, euler = ss.flight_signals(flight, earth, np.zeros(1), y0[:, None],
+                                                 adapter)
+        c0 = (_initial_conditions(state[:, 0], euler[:, 0]) if adapter is None
+              else adapter.conditions(nav0[:, 0]))
+        return Trajectory(model.key, float(tau), n_steps, state, inputs, inputs.copy(), p,
+                          c0, True, flight.description)
     truth = it.chosen_truth(truth, flight.breaks, n_steps, float(tau),
                             "a flight (a great circle or a manoeuvre)")
     if truth == "interpolated":
-        source = ss.InterpolatedFlight(model, flight, earth, float(tau), n_steps, p)
+        source = ss.InterpolatedFlight(model, flight, earth, float(tau), n_steps, p, adapter)
     else:
         source = ss.FullRateTruth(flight, earth, float(tau), n_steps,
-                                  _position_solution(flight, earth, n_steps * tau, tau).sol)
+                                  _position_solution(flight, earth, n_steps * tau, tau).sol,
+                                  adapter)
     x0, u0, euler0 = source.start_with_euler()
-    c0 = _initial_conditions(x0, euler0)
-    traj = Trajectory.streamed(MODEL, tau, n_steps, source, x0, u0, p, c0,
+    c0 = (_initial_conditions(x0, euler0) if adapter is None
+          else adapter.conditions(nav0[:, 0]))
+    traj = Trajectory.streamed(model.key, tau, n_steps, source, x0, u0, p, c0,
                                flight.description)
     if stream is None:
         stream = 8 * (n_steps + 1) * (len(x0) + 2 * len(u0)) > STREAM_BYTES

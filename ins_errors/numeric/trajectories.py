@@ -1009,14 +1009,13 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
     n_steps = step_count(duration, tau)
     unknown = unset_inputs(model)
     if unknown:  # inputs the kinematics cannot set (body rates, specific forces)
-        if not profile.static:
-            raise MotionError(
-                f"model {model.name!r} cannot follow a moving motion: the motion "
-                f"generators cannot set its input(s) {', '.join(unknown)} (only "
-                "strapdown_ned has a flight generator for body rates and specific forces); "
-                "a static base works, and the Python API feeds any true motion through "
-                "Trajectory or a MotionSource (docs/cache.md)")
-        return _static_from_equations(model, profile, float(tau), n_steps, p)
+        if profile.static:
+            return _static_from_equations(model, profile, float(tau), n_steps, p)
+        # a strapdown flight, followed by the model's own equations (model_flight)
+        from ins_errors.numeric import strapdown_truth
+
+        return strapdown_truth.trajectory(model, strapdown_truth.flight_from_profile(profile),
+                                          duration, tau, p, truth=truth, stream=stream)
     frame = profile.frame
     if profile.static and not any(o.name == "heading" for o in model.outputs):
         frame = "geographic"  # at rest the commands are zero in any frame
@@ -1073,8 +1072,10 @@ NORTH, EAST = ("v_N", "v_N0"), ("v_E", "v_E0")
 
 def unset_inputs(model: Model) -> list[str]:
     """Inputs of ``model`` the kinematic motion generators cannot set (any name but
-    :data:`KINEMATIC_INPUTS` and ``a_*``): such a model follows a static base only
-    (:mod:`ins_errors.numeric.static_rest`), except ``strapdown_ned``."""
+    :data:`KINEMATIC_INPUTS` and ``a_*``): such a model (a strapdown INS fed body rates
+    and specific forces) rests on a static base solved from its own equations
+    (:mod:`ins_errors.numeric.static_rest`) and flies the strapdown flights
+    (:mod:`ins_errors.numeric.strapdown_truth`, :mod:`ins_errors.numeric.model_flight`)."""
     return [i.name for i in model.inputs
             if i.name not in KINEMATIC_INPUTS and not i.name.startswith("a_")]
 

@@ -1,4 +1,4 @@
-r"""Test fixture: a strapdown INS written as a model file, fed body rates and specific force.
+r"""A strapdown INS of one's own, written as a model file: NED navigation on a sphere.
 
 Local-level NED navigation on a sphere of radius R with constant gravity g; attitude as
 the direction-cosine matrix T (body → NED, rows north, east, down), no damping of the
@@ -9,11 +9,17 @@ vertical channel (with a constant g it is neutral, not unstable).
     v̇ = T f − (2Ω + ρ) × v + (0, 0, g)
     φ̇ = v_N / (R + h),  λ̇ = v_E / ((R + h) cos φ),  ḣ = −v_D
 
-The inputs are the true body rate ω (omega_x..z) and specific force f (f_x..z), names
-the kinematic motion generators do not know: the model follows a static base only,
-solved from these equations (ins_errors.numeric.static_rest). The real work is the same
-computer fed the gyros ω + b_g and accelerometers f + b_a. The initial velocities are
-named v_N0, v_E0, v_D0 (v_N, v_E, v_D are states).
+The inputs are the true body rate ω (omega_x..z) and specific force f (f_x..z). On the
+static base they are solved from these equations (ins_errors.numeric.static_rest); on a
+moving flight (great circle, manoeuvre) the flight is planned on this model's sphere and
+its states come from the flight's latitude, longitude, height, velocity and attitude
+through the initial-state map below, the inputs again solved from the equations
+(ins_errors.numeric.model_flight). The real work is the same computer fed the gyros
+ω + b_g and accelerometers f + b_a. The initial velocities are named v_N0, v_E0, v_D0
+(v_N, v_E, v_D are states).
+
+    ins-errors compare examples/strapdown/strapdown_sphere.py --motion great-circle \
+        --hours 1 --source accel_bias_x=100ug
 """
 
 from __future__ import annotations
@@ -136,8 +142,9 @@ def build() -> ModelDefinition:
     start = sp.Matrix([*T0, c["v_N0"], c["v_E0"], c["v_D0"], c["latitude"], c["longitude"],
                        c["height"]])
     return ModelDefinition(
-        name="strapdown_sphere", title="Strapdown NED on a sphere (test fixture)",
-        source="tests", states=STATES, error_states=error_states_of(STATES, ()),
+        name="strapdown_sphere", title="Strapdown NED on a sphere (a model file)",
+        source="textbook NED strapdown mechanisation on a sphere (an example model file)",
+        states=STATES, error_states=error_states_of(STATES, ()),
         real_states=x_c, inputs=INPUTS, parameters=PARAMETERS, sources=SOURCES,
         outputs=OUTPUTS, initial_conditions=INITIAL_CONDITIONS, ideal=ideal, real=real,
         ideal_rhs=ideal_rhs, real_rhs=real_rhs, output_map=output_map,
