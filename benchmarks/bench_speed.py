@@ -152,6 +152,36 @@ def _static_direct(hours: float, platform: str = "exact") -> dict:
     return {"cpu": best[0], "wall": best[1]}
 
 
+def _refusal(hours: float, whole: bool) -> dict:
+    """Time to the refusal of a static strapdown_ned run at 100 Hz whose altitude damping
+    has a sign slip (k_h1 < 0: ×e every ~97 s, the real run overflows after ~0.6 h);
+    ``whole``: the run in one piece, checked at its end only (as before runs stopped
+    early)."""
+    from ins_errors.errors import DomainError
+    from ins_errors.numeric import integrators
+    from ins_errors.numeric import strapdown_truth as st
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.simulate import simulate
+
+    if whole:
+        integrators.RUN_PIECES = 1
+    model = load_model("strapdown_ned")
+    p = model.parameter_vector(k_h1=-0.01)
+    flight = st.static(50 * DEG)
+    kwargs = {"record_interval": 60.0, "parts": ("real", "linear")}
+    simulate(model, st.trajectory(model, flight, 300.0, 0.01, p=p), [{"accel_bias_z": 1e-4}],
+             **kwargs)   # compile the loop
+    traj = st.trajectory(model, flight, hours * 3600.0, 0.01, p=p)
+    wall, cpu = time.perf_counter(), _cpu()
+    try:
+        simulate(model, traj, [{"accel_bias_z": 1e-4}], **kwargs)
+        message = "not refused"
+    except DomainError as refusal:
+        message = str(refusal)
+    return {"cpu": _cpu() - cpu, "wall": time.perf_counter() - wall,
+            "left": message.split(" (")[0].split("domain ")[-1]}
+
+
 def _batch(hours: float, threads: int, repeats: int) -> dict:
     os.environ["INS_ERRORS_THREADS"] = str(threads)
     from ins_errors.numeric import trajectories as tr
@@ -264,6 +294,8 @@ FIGURES = {
     "strapdown-week": lambda q: _strapdown("great circle", 6.0 if q else 7 * 24.0, 10.0),
     "static-direct": lambda q: _static_direct(1.0 if q else 24.0),
     "static-small-angle": lambda q: _static_direct(1.0 if q else 24.0, "small_angle"),
+    "refusal": lambda q: _refusal(24.0, False),   # ~6 s in one piece: not shortened
+    "refusal-whole": lambda q: _refusal(24.0, True),
     "batch-serial": lambda q: _batch(1.0 if q else 24.0, 1, 3 if q else 2),
     "batch-threads": lambda q: _batch(1.0 if q else 24.0, 2, 3 if q else 2),
     "covariance-static": lambda q: _covariance(False, 24.0),
@@ -362,6 +394,12 @@ def main(quick: bool = False, wanted: list[str] | None = None) -> None:
         x = r["static-small-angle"]
         _row("  the same, small-angle platform (no rotation matrix)",
              f"{x['cpu']:.3f} s CPU", "", None)
+    if not failed("refusal") and not failed("refusal-whole"):
+        x, y = r["refusal"], r["refusal-whole"]
+        _row("refusal, 24 h static at 100 Hz overflowing at 0.6 h",
+             f"{x['cpu']:.2f} s CPU (one piece: {y['cpu']:.2f} s)",
+             "<= 0.1 x one piece (before)", x["cpu"] <= 0.1 * y["cpu"])
+        _row(f"  left its domain {x['left']}", "", "", None)
     if not failed("batch-serial") and not failed("batch-threads"):
         s, t = r["batch-serial"], r["batch-threads"]
         ratio = t["wall"] / s["wall"]

@@ -28,8 +28,10 @@ and calls it on numpy buffers in place through :mod:`ctypes` (:class:`NativeFunc
 Where no compiler works it falls back to the CasADi virtual machine and says so once
 (a :class:`RuntimeWarning`); ``jit=False`` or the environment variable
 ``INS_ERRORS_NO_JIT`` choose the VM on purpose. A long run is a Python loop over chunks,
-which is where progress is shown (tqdm, on a terminal). The domain (a margin function,
-e.g. 1 − u31², and finiteness) is checked at every recorded sample.
+which is where progress is shown (tqdm, on a terminal) and where a caller may look at
+the samples recorded so far and stop the run (``run(check=...)``: a run that left its
+domain stops within a piece instead of running to its end). The domain margin (e.g.
+1 − u31²) is computed at every recorded sample.
 
 Time-invariant linear systems (a static base) can instead be stepped exactly with the
 matrix exponential: :func:`exact_discretisation`.
@@ -900,10 +902,26 @@ class LoopResult:
     margins : numpy.ndarray, shape (R, B)
         Domain margin at the end of each recording interval (a running minimum within a
         compiled chunk); ``> 0``: inside the domain.
+    stopped : bool
+        The run's ``check`` stopped it early: ``R`` is then the number of samples
+        recorded up to the end of the piece where it stopped, not the run's.
     """
 
     states: np.ndarray
     margins: np.ndarray
+    stopped: bool = False
+
+
+RUN_PIECES = 100
+"""A run without an input stream is cut into about this many pieces of whole chunks
+(:meth:`CompiledLoop.run`): the progress bar moves and the run's ``check`` looks at the
+records between two pieces, so a run that leaves its domain stops within about
+1/RUN_PIECES of its length after it left."""
+
+PieceCheck = Callable[[np.ndarray, np.ndarray], bool]
+"""``check(states, margins) -> stop``: the states recorded over one piece of a run, shape
+(nz, r + 1, b) (the sample before the piece first), and their margins, shape (r, b), of
+the ``b`` batch members just run; True stops the run after that piece."""
 
 
 class CompiledLoop:
@@ -1305,8 +1323,9 @@ class CompiledLoop:
         carry[first:first + size_g] = own
 
     def run(self, z0: np.ndarray, w: np.ndarray, n_steps: int,
-            inputs: np.ndarray | None = None, progress: bool | str = False) -> LoopResult:
-        """Run the loop.
+            inputs: np.ndarray | None = None, progress: bool | str = False,
+            check: PieceCheck | None = None) -> LoopResult:
+        """Run the loop, in pieces of whole chunks (about :data:`RUN_PIECES` of them).
 
         Parameters
         ----------
@@ -1321,6 +1340,12 @@ class CompiledLoop:
             (omit for constant inputs).
         progress : bool or str
             Show a tqdm progress bar (a string is used as its label).
+        check : callable, optional
+            Called after every piece with what it recorded (:data:`PieceCheck`): once it
+            returns True, every group of the batch runs to the end of that piece (no
+            further) and the result holds the samples up to there (``stopped``). Each
+            group's numbers are the same whatever the pieces: only where the run ends
+            changes.
         """
         k, B = self.record_every, self.batch
         if n_steps % k:
@@ -1340,16 +1365,25 @@ class CompiledLoop:
         margins = np.empty((n_rec, B))
         states[:, 0] = carry[:B, :self.nz].T
         bar = progress_bar(n_steps, progress)
-        # progress is shown between pieces of about 1/100 of the run (whole chunks)
-        piece = max(self.chunk, -(-n_rec // 100 // self.chunk) * self.chunk)
+        # progress is shown, and the check made, between pieces of about 1/RUN_PIECES of
+        # the run (whole chunks)
+        piece = max(self.chunk, -(-n_rec // RUN_PIECES // self.chunk) * self.chunk)
 
         stop = threading.Event()
+        end = [n_rec]   # where every group stops: lowered to a piece's end by the check
+        stopped = threading.Event()
+        lock = threading.Lock()
 
         def pieces(g: int | None) -> None:
-            """Run the whole recording in pieces: every group (g None) or group g."""
+            """Run the recording in pieces: every group (g None) or group g."""
+            members = slice(None) if g is None else slice(
+                g * self.group, min((g + 1) * self.group, B))
             done = 0
-            while done < n_rec and not stop.is_set():
-                size = min(piece, n_rec - done)
+            while not stop.is_set():
+                limit = end[0]
+                if done >= limit:
+                    break
+                size = min(piece, limit - done)
                 recorded = states[:, done + 1:done + 1 + size], margins[done:done + size]
                 if g is None:
                     self._advance(functions, carry, size,
@@ -1357,6 +1391,11 @@ class CompiledLoop:
                                   *recorded)
                 else:
                     self._advance_group(functions, carry, size, None, *recorded, g)
+                if check is not None and check(states[:, done:done + 1 + size, members],
+                                               margins[done:done + size, members]):
+                    with lock:   # the other groups run up to here, not beyond
+                        end[0] = min(end[0], done + size)
+                        stopped.set()
                 done += size
                 if bar is not None and not g:
                     bar.update(size * k)
@@ -1380,6 +1419,8 @@ class CompiledLoop:
         finally:
             if bar is not None:
                 bar.close()
+        if stopped.is_set():
+            return LoopResult(states[:, :end[0] + 1], margins[:end[0]], stopped=True)
         return LoopResult(states, margins)
 
 

@@ -57,6 +57,7 @@ from ins_errors.numeric.integrators import (
     InputRows,
     LoopResult,
     Method,
+    PieceCheck,
     StepError,
     check_method,
     exact_discretisation,
@@ -471,7 +472,10 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
     ------
     DomainError
         If the real system leaves its domain (|u31| ≥ 1, NaN or infinite values): the
-        message names the time and the quantity.
+        message names the time and the quantity. The records are checked piece by piece
+        as the run goes (:data:`~ins_errors.numeric.integrators.RUN_PIECES` pieces on a
+        static base, :data:`STREAM_STEPS` steps along a moving one), so a long run that
+        leaves its domain early is refused soon after, not at its end.
     StepError, ShapeError, UnknownNameError
         Bad grid, bad arrays or unknown names.
     """
@@ -527,12 +531,13 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
     loop = _loop(model.key, parts, method, stride, float(tau), tuple(p), u_const,
                  tuple(bool(a) for a in active), B, jit, chunk, platform, worker_count())
     label = _bar_label(parts) if progress else ""
+    check = _domain_check(model, parts, platform)
     if trajectory.constant:
-        result = loop.run(z0, w[active], N, None, progress=label)
+        result = loop.run(z0, w[active], N, None, progress=label, check=check)
         recorded = None
     else:
         result, recorded = _run_streamed(loop, trajectory, z0, w[active], stride, method,
-                                         chunk * stride, label)
+                                         chunk * stride, label, check)
     states = result.states
     sim = Simulation(model, trajectory, method, stride, w, states[:n], platform=platform,
                      recorded_inputs=recorded)
@@ -541,7 +546,11 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
     for part in parts:
         setattr(sim, part, states[offset:offset + ne])
         offset += ne
-    _check_domain(sim, result.margins)
+    if result.stopped or not records:  # else every record passed the pieces' checks
+        _check_domain(sim, result.margins)
+    if result.stopped:
+        raise InsErrorsError("simulate: a piece's domain check stopped the run but the "
+                             "records show no departure (an internal inconsistency)")
     return sim
 
 
@@ -554,13 +563,17 @@ def _power_of_two_below(n: int) -> int:
 
 
 def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w: np.ndarray,
-                  stride: int, method: str, piece: int,
-                  progress: str) -> tuple[LoopResult, np.ndarray]:
+                  stride: int, method: str, piece: int, progress: str,
+                  check: PieceCheck | None = None) -> tuple[LoopResult, np.ndarray]:
     """Run ``loop`` along a moving trajectory fed chunk by chunk (never stored whole).
 
     ``progress`` labels a bar over the steps (empty: none), shown from the end of the
     first piece, which compiles the loop, so the rate and the ETA leave the compile out.
-    Returns the loop's result and the inputs at the recorded steps, shape (nu, R + 1).
+    ``check`` looks at each piece's records (the sample before the piece first) as
+    :meth:`CompiledLoop.run` does; once it returns True the run ends there (the result
+    is ``stopped``, its records cut at that piece's end) and the rest of the true motion
+    is never made. Returns the loop's result and the inputs at the recorded steps, shape
+    (nu, R + 1).
     """
     N = trajectory.n_steps
     records = N // stride
@@ -579,6 +592,9 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
             r0, r1 = k // stride, (k + m) // stride
             loop.advance(carry, m, stream, states[:, r0 + 1:r1 + 1], margins[r0:r1])
             recorded[:, r0 + 1:r1 + 1] = part.inputs[:, stride::stride]
+            if check is not None and check(states[:, r0:r1 + 1], margins[r0:r1]):
+                return (LoopResult(states[:, :r1 + 1], margins[:r1], stopped=True),
+                        recorded[:, :r1 + 1])
             if bar is not None:
                 bar.update(m)
             elif progress:  # timed from the end of the first piece, which compiles the loop
@@ -619,8 +635,29 @@ def _check_initial(model: Model, xr0: np.ndarray) -> None:
                           "infinite: initial errors too large")
 
 
+def _domain_check(model: Model, parts: Sequence[str], platform: str) -> PieceCheck:
+    """``check(states, margins)``: True when a piece of a run's records (the loop's
+    states ``[x, x̃?, e?, e₂?, ...]``, shape (nz, r + 1, b), and margins, shape (r, b))
+    holds something :func:`_check_domain` refuses: a margin not above 0 (NaN included),
+    a NaN or infinite state of the runs (the carried sines and cosines are not looked
+    at) or, with the real run, a platform angle beyond its limit."""
+    n, ne = len(model.states), len(model.error_states)
+    runs = n + len(parts) * ne
+    angles, limit, _ = _platform_limit(model, platform)
+    angles = [n + k for k in angles] if "real" in parts else []
+
+    def check(states: np.ndarray, margins: np.ndarray) -> bool:
+        return bool(not np.all(margins > 0) or not np.all(np.isfinite(states[:runs]))
+                    or (angles and np.any(np.abs(states[angles]) > limit)))
+
+    return check
+
+
 def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
-    """Raise if any recorded run left the domain or became NaN (first time, quantity)."""
+    """Raise if any recorded run left the domain or became NaN (first time, quantity).
+
+    :func:`_domain_check` tells whether a piece of records holds anything refused here;
+    the two must agree."""
     model = sim.model
     dt = sim.stride * sim.trajectory.tau
     first, detail = None, ""
