@@ -557,6 +557,11 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
 STREAM_STEPS = 32768
 """Steps of a moving trajectory fed to a compiled loop at a time (about 1–4 MB of inputs)."""
 
+TRUTH_AHEAD = STREAM_STEPS
+"""Steps of a streamed true motion made beyond the piece where the runs left their
+domain (:func:`_run_streamed`), so that a motion leaving its own domain just after
+(a flight through a pole) is refused as such."""
+
 
 def _power_of_two_below(n: int) -> int:
     return 1 << (max(1, n).bit_length() - 1)
@@ -571,9 +576,12 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
     first piece, which compiles the loop, so the rate and the ETA leave the compile out.
     ``check`` looks at each piece's records (the sample before the piece first) as
     :meth:`CompiledLoop.run` does; once it returns True the run ends there (the result
-    is ``stopped``, its records cut at that piece's end) and the rest of the true motion
-    is never made. Returns the loop's result and the inputs at the recorded steps, shape
-    (nu, R + 1).
+    is ``stopped``, its records cut at that piece's end). The true motion is then made
+    :data:`TRUTH_AHEAD` steps further, without the runs, and no more: a motion that
+    leaves its own domain there raises its own error, which names the cause (a flight
+    through a pole, which the runs following it leave a few steps before it does, as
+    a stored trajectory names it before anything runs). Returns the loop's result and
+    the inputs at the recorded steps, shape (nu, R + 1).
     """
     N = trajectory.n_steps
     records = N // stride
@@ -585,14 +593,18 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
     recorded = np.empty((len(trajectory.start_inputs), records + 1))
     recorded[:, 0] = trajectory.start_inputs
     bar = None
+    chunks = trajectory.chunks(piece)
     try:
-        for part in trajectory.chunks(piece):
+        for part in chunks:
             k, m = part.start, part.size
             stream = _piece_rows(part, method)
             r0, r1 = k // stride, (k + m) // stride
             loop.advance(carry, m, stream, states[:, r0 + 1:r1 + 1], margins[r0:r1])
             recorded[:, r0 + 1:r1 + 1] = part.inputs[:, stride::stride]
             if check is not None and check(states[:, r0:r1 + 1], margins[r0:r1]):
+                for ahead in chunks:   # the true motion alone, a little further
+                    if ahead.start + ahead.size >= k + m + TRUTH_AHEAD:
+                        break
                 return (LoopResult(states[:, :r1 + 1], margins[:r1], stopped=True),
                         recorded[:, :r1 + 1])
             if bar is not None:
