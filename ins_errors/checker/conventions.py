@@ -70,6 +70,12 @@ class Convention:
     vertical : tuple of str
         States of the vertical channel (held in the effect propagation: undamped, it
         diverges with a time constant of about 9.5 min).
+    lift : callable or None
+        ``(x, p) -> L``, shape (ne, nz, K), with ``T L = I``: the model error state of a
+        convention state, on the model's own state manifold. Given, it replaces ``T⁺``
+        (a direction-cosine matrix has six directions the convention does not see, and
+        the model's equations keep its errors off them: see
+        :mod:`ins_errors.checker.strapdown_description`).
     """
 
     name: str
@@ -78,6 +84,7 @@ class Convention:
     transform: Callable[[np.ndarray, np.ndarray], np.ndarray] | None
     rate: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None
     vertical: tuple[str, ...] = ()
+    lift: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
 
     @property
     def names(self) -> list[str]:
@@ -239,13 +246,25 @@ def _north_pointing() -> dict[str, Convention]:
 
 
 def _strapdown() -> dict[str, Convention]:
+    """``strapdown_ned``'s conventions (:func:`strapdown_conventions`), T from
+    :mod:`ins_errors.models.strapdown_conventions` and ``T⁺`` for the quaternion."""
+    from ins_errors.models import strapdown_conventions as sc
+
+    def functions(conv):
+        # (n, K) states -> (nz, ne, K), in one CasADi call each
+        return (lambda x, p, c=conv: sc.transform_matrix(c, x, p),
+                lambda x, f, p, c=conv: sc.transform_rate(c, x, f, p), None)
+
+    return strapdown_conventions(functions)
+
+
+def strapdown_conventions(functions: Callable) -> dict[str, Convention]:
     """The φ/ψ/modified-velocity conventions of :mod:`ins_errors.models.strapdown_conventions`,
     each with the position in NED metres (``NAME``) or as latitude/longitude/height
-    (``NAME_geodetic``)."""
-    try:
-        from ins_errors.models import strapdown_conventions as sc
-    except ImportError:  # pragma: no cover - the module lands with the strapdown model
-        return {}
+    (``NAME_geodetic``), for a model whose maps ``functions(convention) -> (transform,
+    rate, lift)`` gives (``lift`` None: ``T⁺``)."""
+    from ins_errors.models import strapdown_conventions as sc
+
     descriptions = {
         "phi": "φ-angle (attitude error in the true NED frame), δv in NED",
         "psi": "ψ-angle (attitude error relative to the computed frame), velocity error in "
@@ -261,13 +280,13 @@ def _strapdown() -> dict[str, Convention]:
                                          "position as latitude, longitude, height")):
             conv = sc.convention(name, position)
             states = tuple(State(n, sc.UNITS[n], _state_text(n)) for n in conv.names)
+            transform, rate, lift = functions(conv)
             out[name + suffix] = Convention(
                 name + suffix, f"{descriptions.get(name, name)}; {where}", states,
-                # (n, K) states -> (nz, ne, K), in one CasADi call each
-                lambda x, p, c=conv: sc.transform_matrix(c, x, p),
-                lambda x, f, p, c=conv: sc.transform_rate(c, x, f, p),
+                transform, rate,
                 vertical=tuple(n for n in conv.names
-                               if n in ("dv_D", "dvc_D", "du_D", "dr_D", "dh")))
+                               if n in ("dv_D", "dvc_D", "du_D", "dr_D", "dh")),
+                lift=lift)
     return out
 
 
@@ -302,9 +321,17 @@ def own_convention(model) -> Convention:
 
 
 def conventions(model) -> dict[str, Convention]:
-    """Every convention of ``model``, by name (``model`` first)."""
+    """Every convention of ``model``, by name (``model`` first): its own, and those of
+    :data:`REGISTRY`, or for a strapdown model that describes itself by its outputs (a
+    model file), ``strapdown_ned``'s (:mod:`ins_errors.checker.strapdown_description`)."""
     builder = REGISTRY.get(model.name)
-    return {"model": own_convention(model), **(builder() if builder else {})}
+    if builder is not None:
+        return {"model": own_convention(model), **builder()}
+    from ins_errors.checker import strapdown_description
+
+    if strapdown_description.describes(model):
+        return {"model": own_convention(model), **strapdown_description.conventions(model)}
+    return {"model": own_convention(model)}
 
 
 def convention(model, name: str) -> Convention:

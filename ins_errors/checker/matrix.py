@@ -234,9 +234,10 @@ def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None
 def _fly(model, hours: float, step: float, p: np.ndarray
          ) -> list[tuple[str, str, dict[str, np.ndarray]]]:
     """(label, description, {times, x, u, p}) of each motion, flown."""
+    from ins_errors.checker import strapdown_description
     from ins_errors.numeric import trajectories as tr
 
-    if model.name == "strapdown_ned":
+    if model.name == "strapdown_ned" or strapdown_description.describes(model):
         runs = _strapdown_runs(model, hours, step, p)
     else:
         runs = [(label, profile.description,
@@ -281,7 +282,9 @@ def _derived_in_convention(model, conv: Convention, motion: Motion
     if conv.transform is None:
         return F, G
     T, T_dot = conv.matrices(model, motion.x, motion.p, motion.u)
-    if T.shape[1] == T.shape[2]:
+    if conv.lift is not None:  # onto the model's own state manifold (T L = I)
+        Fz = (T_dot + T @ F) @ np.moveaxis(conv.lift(motion.x, motion.p), -1, 0)
+    elif T.shape[1] == T.shape[2]:
         Fz = np.swapaxes(np.linalg.solve(np.swapaxes(T, 1, 2),
                                          np.swapaxes(T_dot + T @ F, 1, 2)), 1, 2)
     else:  # a direction of x_e the convention does not see (quaternion norm): T⁺

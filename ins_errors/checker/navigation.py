@@ -216,9 +216,22 @@ def _strapdown_ned(model, x, u, p) -> dict[str, np.ndarray]:
     }
 
 
+def _strapdown_outputs(model, x, u, p) -> dict[str, np.ndarray]:
+    """Any strapdown model, from its navigation outputs and IMU inputs
+    (:mod:`ins_errors.checker.strapdown_description`)."""
+    from ins_errors.checker import strapdown_description
+
+    return strapdown_description.navigation(model, x, u, p)
+
+
+STRAPDOWN_OUTPUTS = "strapdown outputs"
+"""The adapter of a strapdown model file that describes itself by its outputs."""
+
 ADAPTERS: dict[str, Callable] = {"north_pointing": _north_pointing,
-                                 "strapdown_ned": _strapdown_ned}
-"""Navigation adapter of each model that supports hand-coded matrices."""
+                                 "strapdown_ned": _strapdown_ned,
+                                 STRAPDOWN_OUTPUTS: _strapdown_outputs}
+"""Navigation adapter of each model that supports hand-coded matrices (by model name),
+and of the strapdown models that describe themselves (:data:`STRAPDOWN_OUTPUTS`)."""
 
 
 SHAPED_LIKE = ("north_pointing",)
@@ -239,11 +252,14 @@ def adapter_name(model) -> str | None:
     """
     if model.name in ADAPTERS:
         return model.name
+    from ins_errors.checker import strapdown_description
     from ins_errors.numeric.model import load_model
 
     for name in SHAPED_LIKE:
         if _names_units(model) == _names_units(load_model(name)):
             return name
+    if strapdown_description.describes(model):
+        return STRAPDOWN_OUTPUTS
     return None
 
 
@@ -257,15 +273,19 @@ def require_description(model) -> None:
     """
     if adapter_name(model) is not None:
         return
+    from ins_errors.checker import strapdown_description
+
+    built_in = sorted(name for name in ADAPTERS if name != STRAPDOWN_OUTPUTS)
     raise InsErrorsError(
         f"model {model.name!r} cannot be checked with --matrix or --write-samples: a "
         "hand-coded F and G is evaluated on a navigation description (latitude, NED "
         "velocity, attitude, Earth and transport rates, IMU outputs) made from the "
-        f"model's states, which only the built-in models {' and '.join(sorted(ADAPTERS))} "
-        f"have, and a model file with the states, inputs and parameters of "
-        f"{' or '.join(SHAPED_LIKE)} (see docs/matrix_check.md, 'Which models'); check a "
-        "hand linearisation of this model as an equation file instead (ins-errors check "
-        "MODEL FILE.tex)")
+        f"model's states, which the built-in models {' and '.join(built_in)} have, a "
+        f"model file with the states, inputs and parameters of {' or '.join(SHAPED_LIKE)}, "
+        "and a strapdown model file with navigation outputs, IMU inputs and an Earth radius "
+        f"(this model lacks {'; '.join(strapdown_description.missing(model))}; see "
+        "docs/matrix_check.md, 'Which models'); check a hand linearisation of this model "
+        "as an equation file instead (ins-errors check MODEL FILE.tex)")
 
 
 def navigation_arrays(model, x: np.ndarray, u: np.ndarray, p: np.ndarray

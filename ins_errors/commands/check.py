@@ -101,9 +101,9 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.model_lookup import definition_of, resolve
     from ins_errors.progress import stage
 
-    definition = definition_of(resolve(args.model))  # a name, a model file or an entry point
+    definition = definition_of(resolve(args.model))  # a name, a file or an entry point
     if _declares_convention(args.file):
-        return _run_convention(args, definition.name, magnitudes)
+        return _run_convention(args, magnitudes)
     with stage(f"checking {args.file.name} against {definition.name}"):
         report = check_hand_file(args.file, model=definition, threshold=args.threshold,
                                  latex=True if args.latex else None,
@@ -140,9 +140,9 @@ def _declares_convention(path: Path) -> bool:
                for line in text.splitlines())
 
 
-def _run_convention(args: argparse.Namespace, model_name: str,
-                    magnitudes: dict[str, str]) -> int:
-    """Check a hand file written in a convention's states (``@convention NAME``)."""
+def _run_convention(args: argparse.Namespace, magnitudes: dict[str, str]) -> int:
+    """Check a hand file written in a convention's states (``@convention NAME``) against
+    the model as given (a name, a model file or an entry point)."""
     from ins_errors.checker.convention_equations import (
         check_convention_file,
         to_json,
@@ -154,8 +154,8 @@ def _run_convention(args: argparse.Namespace, model_name: str,
 
     if args.mapping is not None:
         raise InsErrorsError("--mapping does not apply to a file with @convention")
-    with stage(f"checking {args.file.name} against {model_name} in its convention"):
-        check = check_convention_file(args.file, model_name, threshold=args.threshold,
+    with stage(f"checking {args.file.name} against {args.model} in its convention"):
+        check = check_convention_file(args.file, args.model, threshold=args.threshold,
                                       magnitudes=magnitudes,
                                       latex=True if args.latex else None)
 

@@ -1,0 +1,149 @@
+"""A strapdown model file describes itself by its outputs: its navigation description
+and the φ/ψ conventions come from them (ins_errors.checker.strapdown_description), so a
+hand-coded F is checked against one's own strapdown INS.
+
+References, independent of that module:
+
+* ``strapdown_ned`` on the file's sphere (another attitude representation, a quaternion,
+  carried into the conventions by its own hand-written maps and T⁺): the same flight
+  gives the same F in every convention, except the gravity gradient of the height that
+  only ``strapdown_ned`` has (its normal gravity falls off as 2g/R per metre; the file's
+  g is constant);
+* the textbook ψ-angle model of examples/strapdown/psi_model.py (Benson 1975), which has
+  that gradient (Γ = (g/R) diag(−1, −1, 2)) and the radius R where the file has R + h.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from ins_errors import load_model
+from ins_errors.checker.conventions import conventions
+from ins_errors.cli import main
+from ins_errors.models import strapdown_conventions as sc
+from ins_errors.numeric import trajectories as tr
+
+ROOT = Path(__file__).resolve().parents[1]
+SPHERE_FILE = ROOT / "examples" / "strapdown" / "strapdown_sphere.py"
+PSI_MODEL = ROOT / "examples" / "strapdown" / "psi_model.py"
+
+
+@pytest.fixture(scope="module", autouse=True)
+def private_cache(tmp_path_factory):
+    """The model files' generated code and flown motions go to this module's own cache."""
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv("INS_ERRORS_CACHE", str(tmp_path_factory.mktemp("cache")))
+        yield
+
+
+@pytest.fixture(scope="module")
+def sphere():
+    return load_model(str(SPHERE_FILE))
+
+
+def _flight(model, p=None) -> tr.Trajectory:
+    # level at h = 0 (where strapdown_ned's gravity is the file's g): turns and a speed
+    # change, so that the attitude and the specific force move
+    legs = [tr.Leg(600.0, 250.0, np.radians(90.0), 0.0), tr.Leg(600.0, 300.0, 0.0, 0.0)]
+    profile = tr.manoeuvre_profile(np.radians(50), np.radians(30), np.radians(60), 250.0,
+                                   legs)
+    return tr.trajectory(model, profile, 1800.0, 60.0, p=p, stream=False)
+
+
+@pytest.mark.parametrize("name", ["phi", "psi", "phi_modified", "psi_geodetic"])
+def test_a_dcm_model_file_in_a_convention_is_strapdown_ned_on_its_sphere(sphere, name):
+    ned = load_model("strapdown_ned")
+    p_ned = ned.parameter_vector(a=6_371_000.0, e2=0.0, gamma_e=9.81, gravity_k=0.0,
+                                 gravity_m=0.0)
+    mine, theirs = _flight(sphere), _flight(ned, p_ned)
+    conv = conventions(sphere)[name]
+    T, T_dot = conv.matrices(sphere, mine.truth, mine.parameters, mine.inputs)
+    L = np.moveaxis(conv.lift(mine.truth, mine.parameters), -1, 0)
+    assert np.abs(T @ L - np.eye(9)).max() < 1e-9
+    F = np.moveaxis(sphere.state_matrix(mine.truth, mine.inputs, mine.parameters), -1, 0)
+    G = np.moveaxis(sphere.source_matrix(mine.truth, mine.inputs, mine.parameters), -1, 0)
+    F_mine, G_mine = (T_dot + T @ F) @ L, T @ G
+    F_ned, G_ned = sc.convention_matrices(ned, name.removesuffix("_geodetic"), theirs.truth,
+                                          theirs.inputs, p_ned,
+                                          "geodetic" if "geodetic" in name else "ned")
+    F_ned, G_ned = np.moveaxis(F_ned, -1, 0), np.moveaxis(G_ned, -1, 0)
+    names = sc.state_names(name.removesuffix("_geodetic"),
+                           "geodetic" if "geodetic" in name else "ned")
+    vertical_velocity = next(i for i, n in enumerate(names) if n.endswith("_D") and
+                             not n.startswith(("phi", "psi", "dr")))
+    height = len(names) - 1
+    # the only difference: ∂(gravity)/∂h, 2g/R in strapdown_ned, none in the file
+    gradient = F_ned[:, vertical_velocity, height] - F_mine[:, vertical_velocity, height]
+    sign = 1.0 if names[height] == "dr_D" else -1.0  # dr_D = −δh; g falls off upwards
+    np.testing.assert_allclose(gradient, sign * 2 * 9.81 / 6_371_000.0, rtol=1e-3)
+    F_ned[:, vertical_velocity, height] = F_mine[:, vertical_velocity, height]
+    # (with T⁺ instead of the lift the DCM's F would be off by 100 % of its largest
+    # entry: the pseudo-inverse leaves the manifold of orthonormal matrices)
+    scale = np.abs(F_ned).max(axis=2, keepdims=True) + 1e-300  # per row
+    assert (np.abs(F_mine - F_ned) / scale).max() < 1e-9  # (rows of mixed units)
+    gyro_accel = [ned.index("sources", s.name) for s in sphere.sources]
+    np.testing.assert_allclose(G_mine, G_ned[:, :, gyro_accel], rtol=0,
+                               atol=1e-9 * np.abs(G_ned).max())
+
+
+def test_the_textbook_psi_model_checked_against_a_dcm_model_file(sphere, capsys):
+    import json
+
+    status = main(["check", str(SPHERE_FILE), "--matrix", f"{PSI_MODEL}:psi_model",
+                   "--convention", "psi", "--json"])
+    report = json.loads(capsys.readouterr().out)
+    assert status == 1
+    entries = {(f["row"], f["column"]): f for f in report["findings"]}
+    assert report["compared"] == 135
+    # every entry agrees but three (findings list only the others)
+    assert set(entries) == {("dvc_D", "dr_D"), ("dvc_N", "dr_N"), ("dvc_E", "dr_E")}
+    # the textbook's vertical gravity gradient 2g/R, which the file's constant g lacks
+    vertical = entries["dvc_D", "dr_D"]
+    assert (vertical["kind"], vertical["severity"]) == ("extra term", "mistake")
+    assert vertical["hand"] == pytest.approx(2 * 9.81 / 6_371_000, rel=1e-9)
+    # R for R + h in the horizontal gravity terms: on the cruise at 10 km the hand's
+    # coefficient is the model's times (R + h)/R
+    for key in (("dvc_N", "dr_N"), ("dvc_E", "dr_E")):
+        finding = entries[key]
+        assert (finding["kind"], finding["severity"]) == ("approximated",
+                                                         "dropped small term")
+        assert (finding["motion"], finding["time_s"]) == ("cruise", 0.0)
+        assert finding["hand"] / finding["model"] == pytest.approx(
+            1 + 10_000 / 6_371_000, rel=1e-9)
+
+
+def test_a_model_file_without_the_navigation_outputs_is_refused_in_one_line(tmp_path,
+                                                                           capsys):
+    text = SPHERE_FILE.read_text(encoding="utf-8")
+    text = text.replace('ANGLES = (("roll", r"\\gamma"), ', 'ANGLES = (("bank", r"\\gamma"), ')
+    text = text.replace('c["roll"]', 'c["bank"]')
+    path = tmp_path / "no_roll.py"
+    path.write_text(text, encoding="utf-8")
+    status = main(["check", str(path), "--matrix", f"{PSI_MODEL}:psi_model", "--convention",
+                   "psi"])
+    err = [line for line in capsys.readouterr().err.strip().splitlines()
+           if not line.startswith("ins-errors: deriving")]
+    assert status == 2 and len(err) == 1, err
+    assert "lacks the outputs roll" in err[0]
+
+
+@pytest.mark.parametrize("file, status, mistakes", [
+    ("phi_attitude.txt", 0, []),
+    ("phi_attitude_sign_error.txt", 1, [("phi_E", "phi_N", "wrong sign")]),
+])
+def test_textbook_phi_attitude_equations_checked_against_a_dcm_model_file(file, status,
+                                                                          mistakes, capsys):
+    # the φ-angle attitude equation φ̇ = −ω_in × φ + δω_in − C_b^n δω holds for any
+    # strapdown mechanisation: written for strapdown_ned's conventions, it holds for the
+    # file's direction-cosine matrix, and a flipped sign is found there too
+    import json
+
+    assert main(["check", str(SPHERE_FILE), str(PSI_MODEL.parent / file), "--json"]) == status
+    report = json.loads(capsys.readouterr().out)
+    found = [(f["row"], f["column"], f["kind"]) for f in report["findings"]
+             if f["severity"] == "mistake"]
+    assert found == mistakes
+    assert report["compared"] == 36
