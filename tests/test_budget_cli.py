@@ -164,32 +164,6 @@ def test_sources_no_row_depends_on_take_no_share(tmp_path, capsys):
                                                                rel=1e-9)
 
 
-def test_items_a_model_cannot_check_are_named_with_the_way_out(tmp_path, capsys):
-    """strapdown_ned (the --parameter example of budget --help) has no platform angles:
-    the default spec's tilt and azimuth items are named in one line, and the advice,
-    the same spec without those tables, gives a budget."""
-    import re
-
-    from ins_errors.specs import default_spec_path
-
-    assert main(["budget", "strapdown_ned", "-p", "k_h1=0.0047/s"]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1
-    assert "cannot check the spec items vertical_error, heading_drift" in err
-    assert "position_error" not in err and "ground_speed_error" not in err
-    assert "without its [items.vertical_error], [items.heading_drift] tables" in err
-    assert str(default_spec_path()) in err and "--spec" in err
-    text = default_spec_path().read_text()
-    for name in ("vertical_error", "heading_drift"):   # each table up to the next one
-        text = re.sub(rf"\[items\.{name}\]\n(?:[^\[\n].*\n)*", "", text)
-    spec = tmp_path / "802m_strapdown.toml"
-    spec.write_text(text)
-    assert main(["budget", "strapdown_ned", "--spec", str(spec), "-p", "k_h1=0.0047/s",
-                 "-p", "k_h2=5.5e-6/s**2", "--json"]) == 0
-    rows = json.loads(capsys.readouterr().out)["rows"]
-    assert {r["item"] for r in rows} == {"position_error", "ground_speed_error"}
-
-
 @pytest.mark.parametrize("change, words", [
     (("sigma_level = 1", "sigma_level = 0"), "sigma_level must be a number > 0, got 0"),
     (("sigma_level = 1", 'sigma_level = "2"'), "sigma_level must be a number > 0, got '2'"),

@@ -12,11 +12,15 @@ What each spec item measures (error quantities of the linear error model, in SI)
 ``ground_speed_error``
     north and east velocity errors :math:`\Delta v_N, \Delta v_E` (outputs through H);
 ``vertical_error``
-    platform tilts :math:`\alpha_x, \alpha_y`;
+    platform tilts :math:`\alpha_x, \alpha_y`; for a strapdown INS (``strapdown_ned``,
+    or a strapdown model file that describes itself by its outputs:
+    :mod:`ins_errors.checker.strapdown_description`) the level components
+    :math:`\phi_N, \phi_E` of the φ-angle (the attitude error in the true NED frame);
 ``heading_drift``
     :math:`(\alpha_z(t) - \alpha_z(0))/t`, the mean drift rate of the platform azimuth
     (the gyroscopic heading) since the start; :math:`\alpha_z(0)` is the initial
-    azimuth error, a linear function of the sources (``E``), so it is excluded exactly.
+    azimuth error, a linear function of the sources (``E``), so it is excluded exactly;
+    for a strapdown INS the same with the azimuth component :math:`\phi_D`.
 
 With ``combine = "rss"`` (default) an item's components are combined as the root sum of
 squares, so a 2σ limit on the position is a limit on 2DRMS = 2·sqrt(σ_N² + σ_E²); with
@@ -389,10 +393,47 @@ def platform_angles(model) -> tuple[str, str, str]:
                       f"{', '.join(PLATFORM_ANGLE_NAMES[0])}")
 
 
+def _strapdown(model) -> bool:
+    """True for a strapdown INS whose φ-angle convention exists (strapdown_ned, or a
+    model file that describes itself by its outputs)."""
+    from ins_errors.checker import strapdown_description
+
+    return model.name == "strapdown_ned" or strapdown_description.describes(model)
+
+
+def has_attitude(model) -> bool:
+    """True when the model's attitude error can be read: platform error angles
+    (:data:`PLATFORM_ANGLE_NAMES`), or a strapdown INS's φ-angle."""
+    states = {s.name for s in model.error_states}
+    return any(set(names) <= states for names in PLATFORM_ANGLE_NAMES) or _strapdown(model)
+
+
+def attitude_rows(model, system: LinearSystem) -> list[tuple[str, np.ndarray]]:
+    """(label, row) of the level, level and azimuth attitude errors, rad: rows (K+1, n)
+    of the error state, the platform angles' unit rows, or a strapdown INS's φ-angle
+    rows ``T_φ(x)`` along the ideal states (exact to first order)."""
+    K1, n = len(system.times), system.F.shape[-1]
+    states = [s.name for s in model.error_states]
+    if not _strapdown(model) or any(set(names) <= set(states)
+                                    for names in PLATFORM_ANGLE_NAMES):
+        rows = []
+        for name in platform_angles(model):
+            row = np.zeros((K1, n))
+            row[:, states.index(name)] = 1.0
+            rows.append((f"about {name[6:]}", row))
+        return rows
+    from ins_errors.checker.conventions import conventions
+
+    x = np.broadcast_to(system.x, (system.x.shape[0], K1))
+    T = conventions(model)["phi"].transform(np.ascontiguousarray(x), system.p)
+    return [(f"about {axis}", np.asarray(T[k]).T) for k, axis in
+            enumerate(("north", "east", "down"))]
+
+
 ITEM_NEEDS = {"position_error": ("outputs", ("latitude", "longitude")),
               "ground_speed_error": ("outputs", ("v_N", "v_E"))}
 """Outputs each item is read from; ``vertical_error`` and ``heading_drift`` need the
-platform error angles (:data:`PLATFORM_ANGLE_NAMES`)."""
+attitude error (:func:`has_attitude`)."""
 
 
 def check_items(model, spec: Spec) -> None:
@@ -404,8 +445,7 @@ def check_items(model, spec: Spec) -> None:
         Naming every such item, what the model lacks, and how to leave the items out.
     """
     outputs = {o.name for o in model.outputs}
-    states = {s.name for s in model.error_states}
-    angles = any(set(names) <= states for names in PLATFORM_ANGLE_NAMES)
+    angles = has_attitude(model)
     parameters = {p.name for p in model.parameters}
     radius = {"a", "e2"} <= parameters or "R" in parameters
     missing: dict[str, str] = {}
@@ -419,7 +459,8 @@ def check_items(model, spec: Spec) -> None:
                                       ) + " no Earth radius parameter ('a' with 'e2', or 'R')"
         elif not angles:
             missing[item.name] = ("it has no platform error angles (" + " or ".join(
-                ", ".join(names) for names in PLATFORM_ANGLE_NAMES) + ")")
+                ", ".join(names) for names in PLATFORM_ANGLE_NAMES) + ") and is not a "
+                "strapdown INS with navigation outputs (docs/matrix_check.md)")
     if not missing:
         return
     by_reason: dict[str, list[str]] = {}
@@ -439,10 +480,9 @@ def check_items(model, spec: Spec) -> None:
 def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functionals,
                                                                          dict[str, list[int]]]:
     """The error quantities every spec item needs, and which ones belong to each item."""
-    n, nw = system.E.shape
+    nw = system.E.shape[1]
     K1 = len(system.times)
     outs = [o.name for o in model.outputs]
-    states = [s.name for s in model.error_states]
 
     def output_row(name: str) -> np.ndarray:
         if name not in outs:
@@ -450,12 +490,12 @@ def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functiona
         H = system.H if system.H.ndim == 3 else np.broadcast_to(system.H, (K1, *system.H.shape))
         return H[:, outs.index(name), :]
 
-    def state_row(name: str) -> np.ndarray:
-        if name not in states:
-            raise BudgetError(f"model {model.name} has no error state {name!r}")
-        row = np.zeros((K1, n))
-        row[:, states.index(name)] = 1.0
-        return row
+    kept: list = []
+
+    def attitude(model, system) -> list[tuple[str, np.ndarray]]:
+        if not kept:  # the φ-angle rows of a strapdown INS once for both items
+            kept.append(attitude_rows(model, system))
+        return kept[0]
 
     rows: list[tuple[str, str, np.ndarray, np.ndarray]] = []
     groups: dict[str, list[int]] = {}
@@ -468,13 +508,10 @@ def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functiona
         elif item.name == "ground_speed_error":
             parts = [("north", output_row("v_N"), zero_b), ("east", output_row("v_E"), zero_b)]
         elif item.name == "vertical_error":
-            tilt = platform_angles(model)[:2]
-            parts = [(f"about {tilt[0][6:]}", state_row(tilt[0]), zero_b),
-                     (f"about {tilt[1][6:]}", state_row(tilt[1]), zero_b)]
-        else:  # heading_drift: alpha_z(t) - alpha_z(0), alpha_z(0) = E[alpha_z] w
-            azimuth = platform_angles(model)[2]
-            row = state_row(azimuth)
-            parts = [("azimuth", row, -system.E[states.index(azimuth)])]
+            parts = [(label, row, zero_b) for label, row in attitude(model, system)[:2]]
+        else:  # heading_drift: azimuth(t) - azimuth(0), azimuth(0) = row(0) E w
+            _, row = attitude(model, system)[2]
+            parts = [("azimuth", row, -(row[0] @ system.E))]
         groups[item.name] = []
         for label, C_x, C_b in parts:
             groups[item.name].append(len(rows))
