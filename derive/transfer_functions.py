@@ -508,7 +508,7 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
         spec = FunctionSpec(f"responses_{name}", [t_arg, x_arg, u_arg, p_arg], matrix,
                             f"Closed-form responses of variant {name!r}: unit source -> "
                             f"error state.\n\n    {checked.format(', and for times t < 0')}",
-                            "error state i for unit source j")
+                            "error state i for unit source j", matrix=True)
         src.append("\n" + checked_function(spec) + "\n")
         oscillators = [m for m in a.modes if m.symbol is not None]
         modes[name] = tuple(m.name for m in oscillators)

@@ -144,7 +144,7 @@ def _casadi_function(name: str, arguments: list, result) -> ca.Function:
     from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_casadi_builder, prepare
 
     spec = FunctionSpec(name, [Argument(label, symbols, label) for label, symbols in arguments],
-                        result, name, name)
+                        result, name, name, matrix=True)  # CasADi: always 2-D
     namespace = {"_m": ca}
     exec(emit_casadi_builder(prepare(spec)), namespace)  # generated from our own SymPy
     return namespace[f"_build_{name}"]()

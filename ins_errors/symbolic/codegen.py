@@ -3,8 +3,9 @@
 Each emitted function takes flat argument vectors (``x``, ``u``, ``p``, ...), unpacks
 them into named locals, evaluates common subexpressions once (SymPy ``cse``) and returns
 the matrix. The numpy functions broadcast: every argument may carry trailing batch axes
-(shape ``(n, ...)``), and the result has shape ``(rows, cols, ...)`` (or ``(rows, ...)``
-for column vectors), so a whole trajectory is evaluated in one call. The CasADi module
+(shape ``(n, ...)``), and the result has shape ``(rows, cols, ...)`` for a matrix (also
+when a dimension is 1) or ``(rows, ...)`` for a vector (:class:`FunctionSpec`), so a
+whole trajectory is evaluated in one call. The CasADi module
 builds the same expressions as ``casadi.Function`` objects over ``SX`` symbols.
 
 Both backends are printed from the same CSE'd assignment list, so they cannot drift
@@ -121,13 +122,32 @@ class Argument:
 
 @dataclass(frozen=True)
 class FunctionSpec:
-    """What to emit: ``name(arguments...) -> matrix``."""
+    """What to emit: ``name(arguments...) -> matrix``.
+
+    ``matrix`` says what the result is, not its SymPy shape: True for a matrix (F, G,
+    H, E, Jacobians: the numpy function returns shape ``(rows, cols, ...)`` even when
+    ``cols`` is 1, a model with one error source or one error state), False for a column
+    vector (right-hand sides, outputs, initial states: shape ``(rows, ...)``; the result
+    must have one column).
+    """
 
     name: str
     arguments: Sequence[Argument]
     result: sp.Matrix
     summary: str
     result_description: str
+    matrix: bool = False
+
+    def __post_init__(self) -> None:
+        if not self.matrix and self.result.cols != 1:
+            raise ValueError(f"{self.name}: a vector result must have one column, got shape "
+                             f"{self.result.shape} (a matrix result needs matrix=True)")
+
+    @property
+    def numpy_shape(self) -> tuple[int, ...]:
+        """Leading shape of the numpy result (before the batch axes)."""
+        rows, cols = self.result.shape
+        return (rows, cols) if self.matrix else (rows,)
 
 
 @dataclass(frozen=True)
@@ -282,8 +302,7 @@ def _docstring(spec: FunctionSpec, indent: str) -> list[str]:
     for argument in spec.arguments:
         lines.append(f"{indent}{argument.name} : array_like, shape ({len(argument.symbols)}, ...)")
         lines.append(f"{indent}    {argument.description}")
-    rows, cols = spec.result.shape
-    shape = f"({rows}, ...)" if cols == 1 else f"({rows}, {cols}, ...)"
+    shape = f"({', '.join(map(str, spec.numpy_shape))}, ...)"
     lines += ["", f"{indent}Returns", f"{indent}-------", f"{indent}numpy.ndarray, shape {shape}",
               f"{indent}    {spec.result_description}", f'{indent}"""']
     return [line.rstrip() for line in lines]
@@ -305,11 +324,10 @@ def emit_numpy_function(prepared: _Prepared) -> str:
     assignments, entries = prepared.printed
     for name, text in assignments:
         out.append(f"    {name} = {_in_backend(text, _NUMPY_NAMES)}")
-    rows, cols = spec.result.shape
-    shape = f"({rows},)" if cols == 1 else f"({rows}, {cols})"
-    out.append(f"    _out = _np.zeros({shape} + _batch)")
+    shape = spec.numpy_shape
+    out.append(f"    _out = _np.zeros({shape!r} + _batch)")
     for i, j, text in entries:
-        target = f"_out[{i}]" if cols == 1 else f"_out[{i}, {j}]"
+        target = f"_out[{i}, {j}]" if spec.matrix else f"_out[{i}]"
         out.append(f"    {target} = {_in_backend(text, _NUMPY_NAMES)}")
     out.append("    return _out")
     return "\n".join(out)
