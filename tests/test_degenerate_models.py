@@ -313,3 +313,23 @@ def test_check_a_hand_file_of_the_small_models(tmp_path, capsys):
     one_state = tmp_path / "one_state.txt"
     one_state.write_text("dot(delta_V) = -k*delta_V + accel_bias\n", encoding="utf-8")
     assert main(["check", str(damped(tmp_path)), str(one_state)]) == 0
+
+
+# --------------------------------------------------------------------------------------
+# descriptions of a run of a model without latitude
+# --------------------------------------------------------------------------------------
+def test_static_base_of_a_model_without_latitude_reads_well(tmp_path, capsys):
+    from ins_errors.numeric import trajectories as tr
+
+    for path, expected in ((velocity_loop(tmp_path), "static base"),
+                           (velocity_loop(tmp_path, height=True), "static base, h=0 m")):
+        model = load_model(str(path))
+        trajectory = tr.trajectory(model, tr.static_profile(0.5), 60.0, 10.0)
+        assert trajectory.description == expected
+        assert main(["compare", str(path), "--source", "accel_bias=100ug", "--hours", "0.1",
+                     "--step", "10s"]) == 0
+        assert f"### velocity_loop: {expected}; " in capsys.readouterr().out
+    # a model that uses every reference keeps the full description
+    orthodromic = load_model("orthodromic")
+    trajectory = tr.trajectory(orthodromic, tr.static_profile(0.5, 0.25, 0.0, 10.0), 60.0, 10.0)
+    assert trajectory.description == "static base at φ=28.65°, λ=14.32°, χ=0°, h=10 m"

@@ -100,7 +100,10 @@ class Profile:
     parts : tuple of (str or None, str)
         The description in pieces that join to it: each piece's text and the reference
         value it states (one of :data:`REFERENCES`, or None for the other words), so
-        :meth:`describe` can leave out the values a model does not depend on.
+        :meth:`describe` can leave out the values a model does not depend on. A value's
+        piece carries the words that lead to it (" at φ=50°", ", λ=30°"), so that any
+        subset reads as a phrase ("static base, h=0 m", or "static base" for a model
+        that depends on none of them).
     """
 
     frame: str
@@ -146,8 +149,8 @@ def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0
 
     return Profile("track", SteadyCommands(0.0, h), latitude, longitude, heading,
                    static=True, breaks=(),
-                   **_description((None, "static base at "),
-                                  ("latitude", f"φ={np.degrees(latitude):.4g}°"),
+                   **_description((None, "static base"),
+                                  ("latitude", f" at φ={np.degrees(latitude):.4g}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°"),
                                   ("heading", f", χ={np.degrees(heading):.4g}°"),
                                   ("height", f", h={h:g} m")))
@@ -173,8 +176,8 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
     _check_height(h, "motion height")
 
     return Profile("track", SteadyCommands(speed, h), latitude, longitude, track, breaks=(),
-                   **_description((None, "great circle from "),
-                                  ("latitude", f"φ={np.degrees(latitude):.4g}°"),
+                   **_description((None, "great circle"),
+                                  ("latitude", f" from φ={np.degrees(latitude):.4g}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°"),
                                   ("heading", f", track {np.degrees(track):.4g}°"),
                                   (None, f", {speed:g} m/s"), ("height", f", h={h:g} m")))
@@ -315,8 +318,8 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
 
     return Profile("track", LegCommands(table, float(speed), float(h)), latitude, longitude,
                    track, breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])),
-                   **_description((None, f"manoeuvring flight of {len(legs)} legs from "),
-                                  ("latitude", f"φ={np.degrees(latitude):.4g}°"),
+                   **_description((None, f"manoeuvring flight of {len(legs)} legs"),
+                                  ("latitude", f" from φ={np.degrees(latitude):.4g}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°")))
 
 
