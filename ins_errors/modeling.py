@@ -520,7 +520,8 @@ class ModelDefinition:
     def outputs_expanded(self) -> sp.Matrix:
         """Outputs of the ideal state, in states, inputs and parameters only."""
         scratch = Mechanisation()
-        return scratch.expand(self.output_map(scratch, self.x, self.u))
+        outputs = scratch.expand(self.output_map(scratch, self.x, self.u))
+        return outputs if outputs.rows else sp.zeros(0, 1)  # no outputs: sp.Matrix([])
 
     def at_ideal(self) -> dict[sp.Symbol, sp.Expr]:
         """Substitution taking the real state to the ideal point ``x~ = (x, 0)``."""

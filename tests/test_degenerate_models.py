@@ -333,3 +333,38 @@ def test_static_base_of_a_model_without_latitude_reads_well(tmp_path, capsys):
     orthodromic = load_model("orthodromic")
     trajectory = tr.trajectory(orthodromic, tr.static_profile(0.5, 0.25, 0.0, 10.0), 60.0, 10.0)
     assert trajectory.description == "static base at φ=28.65°, λ=14.32°, χ=0°, h=10 m"
+
+
+# --------------------------------------------------------------------------------------
+# no outputs, no error sources
+# --------------------------------------------------------------------------------------
+@pytest.mark.parametrize("empty", ["sp.zeros(0, 1)", "sp.Matrix([])"])
+def test_a_model_without_outputs(empty, tmp_path, capsys):
+    path = damped(tmp_path, outputs=False, empty=empty)
+    assert main(["models", str(path)]) == 0
+    assert "outputs:\n  (none)\n" in capsys.readouterr().out
+    assert main(["modes", str(path), "--json"]) == 0
+    (mode,) = json.loads(capsys.readouterr().out)["modes"]
+    assert mode["eigenvalue"]["real"] == pytest.approx(-K, rel=1e-12)
+    # nothing a run could report: one line, exit 2
+    assert main(["compare", str(path), "--source", "accel_bias=100ug", "--hours", "1",
+                 "--step", "10s"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "has no outputs and no platform angles" in err and len(err.splitlines()) == 1
+
+
+def test_a_model_without_inputs_parameters_and_initial_conditions(tmp_path, capsys):
+    path = tmp_path / "bare.py"
+    path.write_text(BARE, encoding="utf-8")
+    assert main(["compare", str(path), "--source", "accel_bias=100ug", "--hours", "1",
+                 "--step", "10s", "--json"]) == 0
+    (row,) = json.loads(capsys.readouterr().out)["cases"][0]["metrics"]
+    assert row["quantity"] == "delta_v_N"
+    assert row["max_direct"] == pytest.approx(100e-6 * G * 3600.0, rel=1e-12)  # b t
+
+
+def test_a_model_without_error_sources_is_refused_in_one_line(tmp_path, capsys):
+    path = damped(tmp_path, sources=False)
+    assert main(["models", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "sources: the model has no error source" in err and len(err.splitlines()) == 1

@@ -60,6 +60,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"{model.name}: {model.title}\nsource: {model.source_document}")
     for title, infos in groups.items():
         print(f"\n{title.replace('_', ' ')}:")
+        if not infos:
+            print("  (none)")
         for i in infos:
             extra = f" (quoted in {i.display_unit}, {i.kind}" + (
                 f", manual factor {i.factor})" if i.factor else ")") if i.kind else ""

@@ -488,6 +488,10 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
     if trajectory.model != model.key:
         raise ShapeError(f"trajectory was computed for model {trajectory.model!r}, "
                          f"not {model.key!r}")
+    if not error_quantities(model)[0]:
+        raise ShapeError(f"model {model.name!r} has no outputs and no platform angles (error "
+                         "states after the computed states): a run has no error to report; "
+                         "add an output")
     for part in parts:
         if part not in PARTS:
             raise unknown_name("simulation part", part, PARTS)

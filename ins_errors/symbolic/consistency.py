@@ -68,6 +68,9 @@ def _check_names(label: str, d: ModelDefinition) -> None:
             seen.add(v.name)
     if not d.states:
         raise _fail(label, "states", "the model has no state")
+    if not d.sources:
+        raise _fail(label, "sources", "the model has no error source: an error model needs "
+                                      "at least one (kind 'constant' or 'initial')")
     for source in d.sources:
         if source.kind not in SOURCE_KINDS:
             close = difflib.get_close_matches(str(source.kind).lower(), SOURCE_KINDS, n=1,
@@ -130,6 +133,8 @@ def _column(label: str, quantity: str, value: object, rows: int, row_names: list
         matrix = sp.Matrix(value)
     except (TypeError, ValueError, sp.SympifyError) as error:
         raise _fail(label, quantity, f"not a column of SymPy expressions ({error})") from None
+    if rows == 0 and matrix.rows == 0:
+        return sp.zeros(0, 1)  # sp.Matrix([]) is 0 x 0: the empty column of no outputs
     if matrix.cols != 1:
         raise _fail(label, quantity, f"must be a column ({rows} x 1), got shape "
                                      f"{matrix.rows} x {matrix.cols}")

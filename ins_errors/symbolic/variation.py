@@ -105,7 +105,7 @@ def _second_order_term(jacobian: sp.Matrix, variables: list[sp.Symbol],
         # one sum of all terms: the same Add as adding them one by one, without
         # flattening the growing sum again at every term
         rows.append(sp.Add(*terms) / 2)
-    return sp.Matrix(rows)
+    return sp.Matrix(len(rows), 1, rows)  # a column also with no rows (no outputs)
 
 
 def second_order_of(definition: ModelDefinition, real_rhs: sp.Matrix) -> sp.Matrix:
