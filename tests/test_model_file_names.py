@@ -27,11 +27,15 @@ STRAPDOWN_FILE = ROOT / "examples" / "strapdown" / "strapdown_sphere.py"
 STRAPDOWN = STRAPDOWN_FILE.read_text(encoding="utf-8")
 
 
-@pytest.fixture(autouse=True)
+@pytest.fixture
 def private_cache(tmp_path, monkeypatch):
+    """A cache of the test's own for its throw-away model files (the fixture and example
+    files' code stays in the user's cache, derived once, as the documented commands keep
+    it)."""
     monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))
 
 
+@pytest.mark.usefixtures("private_cache")
 def test_a_state_and_an_initial_condition_of_one_name_are_refused(tmp_path, capsys):
     """The researcher's file named the initial east velocity v_E, like the state: the
     listing then printed the state as v_{E0}."""
@@ -43,6 +47,7 @@ def test_a_state_and_an_initial_condition_of_one_name_are_refused(tmp_path, caps
     assert "state 'v_E' and initial condition 'v_E'" in err and "'v_E0'" in err, err
 
 
+@pytest.mark.usefixtures("private_cache")
 def test_an_input_named_like_a_parameter_is_refused(tmp_path, capsys):
     path = tmp_path / "clash.py"
     path.write_text(STRAPDOWN.replace('"g"', '"f_z"'), encoding="utf-8")
