@@ -95,7 +95,9 @@ def test_writing_a_report_shows_a_status_on_a_terminal_only(terminal, monkeypatc
     scenario = tmp_path / "s.toml"
     scenario.write_text('title = "t"\nmodel = "orthodromic"\n[run]\nduration = "10 min"\n'
                         'step = "10 s"\nrecord = "60 s"\nrefined = false\n[[case]]\n'
-                        'accel_bias_y = "50 ug"\n', encoding="utf-8")
+                        'accel_bias_y = "50 ug"\n'
+                        # one plotted quantity: the figure is not what this is about
+                        '[outputs]\nquantities = ["alpha_x"]\n', encoding="utf-8")
     result = run_scenario(load_scenario(scenario))
     stream = _Terminal() if terminal else io.StringIO()
     monkeypatch.setattr("sys.stderr", stream)
