@@ -42,6 +42,22 @@ def example_reports() -> dict:
     return {}
 
 
+@pytest.fixture(scope="session")
+def spheroid_study_hour() -> tuple[int, str]:
+    """Exit status and standard output of ``ins-errors study spheroid --hours 1 --json``,
+    run once for the tests that read it (tests/test_cli_json.py checks its table,
+    tests/test_geodetic_vertical.py its integration-error estimate)."""
+    import contextlib
+    import io
+
+    from ins_errors.cli import main
+
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        status = main(["study", "spheroid", "--hours", "1", "--json"])
+    return status, out.getvalue()
+
+
 def compiled_temporary_files() -> Path | None:
     """Where byte-code of the files in pytest's temporary folders goes, or None.
 

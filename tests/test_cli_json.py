@@ -203,9 +203,10 @@ def test_study_json_has_the_maxima_as_numbers(capsys):
     assert run["quantities"]["alpha_z"]["excited"] is False
 
 
-def test_spheroid_study_json_has_the_table(capsys):
-    assert main(["study", "spheroid", "--hours", "1", "--json"]) == 0
-    data = strict_json(capsys.readouterr().out)
+def test_spheroid_study_json_has_the_table(spheroid_study_hour):
+    status, out = spheroid_study_hour  # study spheroid --hours 1 --json
+    assert status == 0
+    data = strict_json(out)
     flights = data["flights"]
     table = [line.split() for line in data["lines"]
              if len(line.split()) == 6 and line.split()[0].replace(".", "").isdigit()]

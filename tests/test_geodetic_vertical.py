@@ -405,14 +405,12 @@ def test_correction_rates_9_miss_the_radius_of_curvature():
     assert np.abs(along).max() > 0.2 * expected
 
 
-def test_spheroid_flights_estimate_their_integration_error(capsys):
+def test_spheroid_flights_estimate_their_integration_error(spheroid_study_hour):
     """The direct flights' integration error (step doubling, compare's machinery) is
     reported beside the mismatch with (10): at 300 s it is at rounding level, like the
     true error against a 60-s reference (which equals a 10-s one to 1e-16 rad), far
     below the 1 % / 10 % warning limits."""
     import json
-
-    from ins_errors.cli import main
 
     la, an = np.radians([20.0, 60.0]), np.radians([30.0, 225.0])
     ref = se.simulate_flights(la, np.zeros(2), an, 7200.0, 250.0, 60.0, record_interval=600.0)
@@ -423,8 +421,9 @@ def test_spheroid_flights_estimate_their_integration_error(capsys):
         estimate = np.array([m.integration_error for m in c.metrics])
         assert np.all(estimate < 1e-12) and np.all(true[:, k] < 1e-12)
         assert not c.warnings
-    assert main(["study", "spheroid", "--hours", "1", "--json"]) == 0
-    data = json.loads(capsys.readouterr().out)
+    status, out = spheroid_study_hour  # study spheroid --hours 1 --json
+    assert status == 0
+    data = json.loads(out)
     assert 0 <= data["integration_error_km"] < 1e-9 and data["warnings"] == []
     assert any(line.startswith("integration error of the direct flights")
                for line in data["lines"])
