@@ -25,13 +25,6 @@ SPHERE_FILE = Path(__file__).resolve().parents[1] / "examples" / "strapdown" / \
     "strapdown_sphere.py"
 
 
-@pytest.fixture(scope="module", autouse=True)
-def private_cache(tmp_path_factory):
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setenv("INS_ERRORS_CACHE", str(tmp_path_factory.mktemp("cache")))
-        yield
-
-
 def _unit(model, **parameters):
     spec = load_spec(default_spec_path())
     budget = unit_budget(model, spec, p=model.parameter_vector(**parameters))
@@ -65,7 +58,8 @@ def test_strapdown_attitude_items_read_the_phi_angle(which):
     assert tilt * g == pytest.approx(2.0, rel=0.05)
 
 
-def test_items_a_model_cannot_check_are_named_with_the_way_out(tmp_path, capsys):
+def test_items_a_model_cannot_check_are_named_with_the_way_out(tmp_path, capsys,
+                                                              monkeypatch):
     """A strapdown model file without the navigation outputs (no roll output) has
     neither platform angles nor a φ-angle: the default spec's tilt and azimuth items are
     named in one line, and the advice, the same spec without those tables, gives a
@@ -73,6 +67,7 @@ def test_items_a_model_cannot_check_are_named_with_the_way_out(tmp_path, capsys)
     import json
     import re
 
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # a throw-away model
     text = SPHERE_FILE.read_text(encoding="utf-8")
     old = '    *(Variable(name, "rad", name, latex) for name, latex in ANGLES),\n)'
     assert text.count(old) == 1  # the outputs' attitude (the initial conditions keep it)

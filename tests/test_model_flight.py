@@ -32,14 +32,6 @@ MICRO_G = 9.80665e-6  # m/s²
 LEGS = default_legs(250.0, 1000.0, hours=1)
 
 
-@pytest.fixture(scope="module", autouse=True)
-def private_cache(tmp_path_factory):
-    """The model files' generated code goes to a cache of this module's own."""
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setenv("INS_ERRORS_CACHE", str(tmp_path_factory.mktemp("cache")))
-        yield
-
-
 @pytest.fixture(scope="module")
 def sphere():
     return load_model(str(SPHERE_FILE))
@@ -126,7 +118,8 @@ def test_a_model_files_imu_signals_are_strapdown_neds_on_its_sphere(sphere):
 
 def test_a_cli_compare_of_a_model_file_flies_a_great_circle(capsys):
     status = main(["compare", str(SPHERE_FILE), "--source", "gyro_bias_x=0.01deg/h",
-                   "--hours", "1", "--step", "1s", "--motion", "great-circle", "--json"])
+                   "--hours", "0.2", "--step", "2s", "--motion", "great-circle", "--json",
+                   "--no-refined"])
     out = capsys.readouterr().out
     assert status == 0
     import json
@@ -146,7 +139,9 @@ WRONG_EARTH = "r = eq.let(\"r\", R + h, \"r\")"
     # no Earth radius among the parameters
     (('Parameter("R", "m"', 'Parameter("R_sphere", "m"'), ["Earth radius"]),
 ])
-def test_a_flight_the_model_cannot_follow_is_one_line(edit, said, tmp_path, capsys):
+def test_a_flight_the_model_cannot_follow_is_one_line(edit, said, tmp_path, capsys,
+                                                     monkeypatch):
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # a throw-away model
     text = SPHERE_FILE.read_text(encoding="utf-8")
     old, new = edit
     assert old in text

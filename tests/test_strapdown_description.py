@@ -31,14 +31,6 @@ SPHERE_FILE = ROOT / "examples" / "strapdown" / "strapdown_sphere.py"
 PSI_MODEL = ROOT / "examples" / "strapdown" / "psi_model.py"
 
 
-@pytest.fixture(scope="module", autouse=True)
-def private_cache(tmp_path_factory):
-    """The model files' generated code and flown motions go to this module's own cache."""
-    with pytest.MonkeyPatch.context() as patch:
-        patch.setenv("INS_ERRORS_CACHE", str(tmp_path_factory.mktemp("cache")))
-        yield
-
-
 @pytest.fixture(scope="module")
 def sphere():
     return load_model(str(SPHERE_FILE))
@@ -116,7 +108,9 @@ def test_the_textbook_psi_model_checked_against_a_dcm_model_file(sphere, capsys)
 
 
 def test_a_model_file_without_the_navigation_outputs_is_refused_in_one_line(tmp_path,
-                                                                           capsys):
+                                                                           capsys,
+                                                                           monkeypatch):
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # a throw-away model
     text = SPHERE_FILE.read_text(encoding="utf-8")
     text = text.replace('ANGLES = (("roll", r"\\gamma"), ', 'ANGLES = (("bank", r"\\gamma"), ')
     text = text.replace('c["roll"]', 'c["bank"]')
