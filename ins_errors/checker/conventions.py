@@ -20,7 +20,7 @@ hand-coded model lists its states (any subset, any order) from it.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -44,6 +44,45 @@ class State:
     name: str
     unit: str
     description: str
+
+
+@dataclass(frozen=True)
+class BiasState:
+    """A model error source carried as a state of the hand model (a *bias state*).
+
+    A filter's 15-state F has the gyro and accelerometer biases as states: their columns
+    hold what the model's G holds for those sources, their rows the bias's own dynamics,
+    ``ḃ = D b``: zero for a random constant, ``−1/τ`` for a first-order Gauss–Markov
+    bias of correlation time τ.
+
+    Attributes
+    ----------
+    name : str
+        The model's error-source name (``gyro_bias_x``).
+    unit : str
+        Its SI unit.
+    description : str
+        Its meaning.
+    tau : float or None
+        Correlation time of a first-order Gauss–Markov bias, s; None for a random
+        constant.
+    """
+
+    name: str
+    unit: str
+    description: str
+    tau: float | None = None
+
+    @property
+    def rate(self) -> float:
+        """D, the bias's own rate: 0 (constant) or −1/τ (Gauss–Markov), 1/s."""
+        return 0.0 if self.tau is None else -1.0 / self.tau
+
+    @property
+    def statistics(self) -> str:
+        """``random constant`` or ``Gauss–Markov, τ = 3600 s``."""
+        return ("random constant" if self.tau is None
+                else f"Gauss–Markov, τ = {self.tau:.6g} s")
 
 
 @dataclass(frozen=True)
@@ -76,6 +115,11 @@ class Convention:
         (a direction-cosine matrix has six directions the convention does not see, and
         the model's equations keep its errors off them: see
         :mod:`ins_errors.checker.strapdown_description`).
+    biases : tuple of BiasState
+        Error sources carried as states after the convention's own (:meth:`with_biases`):
+        the last ``len(biases)`` entries of ``states``. The derived model in the
+        augmented states is ``[[F_c, G_c[:, b]], [0, D]]``, and those sources have no
+        column of G (:func:`ins_errors.checker.matrix.derived_in_convention`).
     """
 
     name: str
@@ -85,11 +129,27 @@ class Convention:
     rate: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None
     vertical: tuple[str, ...] = ()
     lift: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+    biases: tuple[BiasState, ...] = ()
 
     @property
     def names(self) -> list[str]:
         """State names, in order."""
         return [s.name for s in self.states]
+
+    def with_biases(self, biases: tuple[BiasState, ...]) -> Convention:
+        """This convention with ``biases`` as further states (after its own)."""
+        base = self.base
+        return replace(base, states=base.states + tuple(State(b.name, b.unit, b.description)
+                                                        for b in biases),
+                       biases=tuple(biases))
+
+    @property
+    def base(self) -> Convention:
+        """The convention without bias states."""
+        if not self.biases:
+            return self
+        return replace(self, states=self.states[:len(self.states) - len(self.biases)],
+                       biases=())
 
     def matrices(self, model, x: np.ndarray, p: np.ndarray, u: np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:

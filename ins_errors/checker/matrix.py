@@ -52,7 +52,7 @@ from pathlib import Path
 import numpy as np
 
 from ins_errors.checker import motion_store, propagation_store
-from ins_errors.checker.conventions import Convention, convention
+from ins_errors.checker.conventions import BiasState, Convention, convention
 from ins_errors.checker.extreme import first_largest
 from ins_errors.checker.growth import growth_rate, hours_tag, mark_growth
 from ins_errors.checker.kinds import (
@@ -68,7 +68,7 @@ from ins_errors.checker.kinds import severity as classify_severity
 from ins_errors.checker.matrix_input import (
     HandMatrices,
     evaluate_function,
-    load_function,
+    load_hand,
     read_matrix_file,
     split_spec,
 )
@@ -266,13 +266,46 @@ def derived_in_convention(model, conv: Convention, motion: Motion
     Kept on the motion for the next check of the same model in the same convention
     (read-only arrays).
     """
-    key = ("derived", model.key, conv.name)
+    key = ("derived", model.key, conv.name, conv.biases)
     if key not in motion.kept:
-        F, G = _derived_in_convention(model, conv, motion)
+        F, G = (_with_bias_states(model, conv, *derived_in_convention(model, conv.base, motion))
+                if conv.biases else _derived_in_convention(model, conv, motion))
         F.setflags(write=False)
         G.setflags(write=False)
         motion.kept[key] = (F, G)
     return motion.kept[key]
+
+
+def _with_bias_states(model, conv: Convention, F: np.ndarray, G: np.ndarray
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """The derived model with ``conv.biases`` as states: ``[[F, G[:, b]], [0, D]]``.
+
+    Parameters
+    ----------
+    conv : Convention
+        With bias states (:meth:`~ins_errors.checker.conventions.Convention.with_biases`).
+    F, G : ndarray, shapes (K, nz, nz) and (K, nz, nw)
+        The derived model in ``conv.base``.
+
+    Returns
+    -------
+    F, G : ndarray, shapes (K, nz + nb, nz + nb) and (K, nz + nb, nw)
+        A bias state's column of F is its source's column of G, its row is ``ḃ = D b``
+        (D = 0 for a random constant, −1/τ for a Gauss–Markov bias); its source's column
+        of G is zero (the source enters through the state, not as an input).
+    """
+    src_names = [s.name for s in model.sources]
+    columns = [src_names.index(b.name) for b in conv.biases]
+    k, nz, nw = G.shape
+    nb = len(columns)
+    Fa = np.zeros((k, nz + nb, nz + nb))
+    Fa[:, :nz, :nz] = F
+    Fa[:, :nz, nz:] = G[:, :, columns]
+    Fa[:, np.arange(nz, nz + nb), np.arange(nz, nz + nb)] = [b.rate for b in conv.biases]
+    Ga = np.zeros((k, nz + nb, nw))
+    Ga[:, :nz, :] = G
+    Ga[:, :, columns] = 0.0
+    return Fa, Ga
 
 
 def _derived_in_convention(model, conv: Convention, motion: Motion
@@ -542,6 +575,10 @@ class MatrixReport:
         ``entry`` -> :class:`VerticalEffect` of each finding in a vertical-channel row
         (:func:`vertical_effects`); a finding of a horizontal row in a vertical column
         has neither effect (not assessed: the vertical channel is held).
+    bias_states : list of BiasState
+        Model error sources the hand carries as states (in ``states``; their statistics:
+        random constant, or Gauss–Markov with its τ); they are neither in ``sources``
+        nor out of scope.
     declarations, idle_declarations : list of str
         The hand's declared simplifications (``@neglect`` of a ``@convention`` file, see
         :class:`DeclaredTerm`), as ``line N: ITEMS (reason)``, and those that explain no
@@ -567,6 +604,7 @@ class MatrixReport:
     idle_declarations: list[str] = field(default_factory=list)
     vertical: list[str] = field(default_factory=list)
     vertical_effects: dict[str, VerticalEffect] = field(default_factory=dict)
+    bias_states: list[BiasState] = field(default_factory=list)
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -744,6 +782,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     (:class:`DeclaredTerm`); ``used`` receives the declarations that explain a finding.
     """
     names = conv.names
+    n_own = len(names) - len(conv.biases)
     rows = [names.index(s) for s in report.states]
     src_names = [s.name for s in model.sources]
     src_cols = [src_names.index(s) for s in report.sources]
@@ -785,6 +824,8 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
             if verdict is None:
                 continue
             kind, severity, detail = verdict
+            if matrix == "F" and i >= n_own and i == j:  # a bias state's own rate
+                detail = _bias_rate_detail(conv.biases[i - n_own], h, detail)
             ratio = np.abs(h - m) * mag / scale
             candidates = (declared or {}).get((matrix, report.states[a], col_name))
             explained = (_declared_drop(h, m, mag, scale, report.threshold, sample_motion,
@@ -796,11 +837,12 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                           f"{term.text})" + (f"; {rest}" if rest else ""))
                 if used is not None:
                     used.add(term.declaration)
-            elif kind == COEFFICIENT and matrix == "F":  # a term of a sum left out?
+            elif (kind == COEFFICIENT and matrix == "F"  # a term of a sum left out?
+                  and i < n_own and j < n_own):  # (not in a bias state's row or column)
                 if entry_terms is None:
                     from ins_errors.checker.matrix_terms import EntryTerms
 
-                    entry_terms = EntryTerms(model, conv, motion_list)
+                    entry_terms = EntryTerms(model, conv.base, motion_list)
                 found = _term_left_out(entry_terms, i, j, h, m, mag, scale)
                 if found is not None:
                     kind, detail = OMITTED, found
@@ -817,6 +859,22 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     findings.sort(key=lambda f: (f.severity not in (MISTAKE, SMALL_MISTAKE), -f.size))
     report.findings = findings
     report.compared = compared
+
+
+def _bias_rate_detail(bias: BiasState, h: np.ndarray, detail: str) -> str:
+    """What a bias state's own rate F[b, b] means when the hand's differs from D (0 for
+    a random constant, −1/τ for a declared Gauss–Markov bias)."""
+    said = [detail] if detail else []
+    if np.ptp(h) == 0 and h[0] < 0:
+        said.append(f"the hand's rate is −1/τ with τ = {-1.0 / h[0]:.6g} s")
+    if bias.tau is None:
+        said.append("the derived bias is a random constant (rate 0); a Gauss–Markov bias "
+                    "is declared by its correlation time (MARKOV in a Python file, @markov "
+                    "in an equation file)")
+    else:
+        said.append(f"the derived bias is {bias.statistics} as declared (rate "
+                    f"{bias.rate:.6g} 1/s)")
+    return "; ".join(said)
 
 
 def _term_left_out(terms, i: int, j: int, h: np.ndarray, m: np.ndarray, mag: float,
@@ -1406,13 +1464,14 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     if not isinstance(hand, HandMatrices):
         path, function = split_spec(str(hand))
         if function is not None:
-            fn, states, sources = load_function(path, function)
-            _check_names(states, sources, conv, model)
+            fn, states, sources, markov = load_hand(path, function)
+            bias_states(states, sources, markov, conv, model, f"{path.name}:{function}")
             hand = evaluate_function(fn, f"{path.name}:{function}", path, states, sources,
-                                     motion_list)
+                                     motion_list, markov)
         else:
             hand = read_matrix_file(path, motion_list)
-    _check_names(hand.states, hand.sources, conv, model)
+    conv = conv.with_biases(bias_states(hand.states, hand.sources, hand.markov, conv, model,
+                                        hand.name))
     size_of = _magnitudes(model, magnitudes)
     magnitudes = {}
     angles = position_angles(conv, motion_list[0])
@@ -1435,7 +1494,9 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         findings=[], compared=0,
         left_out=[n for n in conv.names if n not in hand.states],
         vertical=list(conv.vertical),
-        out_of_scope=[s.name for s in model.sources if s.name not in used_sources])
+        out_of_scope=[s.name for s in model.sources
+                      if s.name not in used_sources and s.name not in hand.states],
+        bias_states=list(conv.biases))
     _compare(report, sampled, conv, model, motion_list, declared, declared_used)
     if effects:
         responses: dict = {}  # the derived model's, shared by both
@@ -1477,11 +1538,63 @@ def _magnitudes(model, overrides: dict[str, str] | None):
     return lambda unit: fixed[unit] if unit in fixed else typical_magnitude(unit)
 
 
-def _check_names(states: list[str], sources: list[str], conv: Convention, model) -> None:
+def bias_states(states: list[str], sources: list[str], markov: dict[str, float],
+                conv: Convention, model, where: str, label: str = "MARKOV"
+                ) -> tuple[BiasState, ...]:
+    """The hand's bias states: the model error sources among its ``states``, in the
+    model's order of its sources, each with its statistics.
+
+    A state name is one of the convention's vocabulary or a model error source that
+    enters the equations (kind ``constant``); that source is then a state, not a column
+    of G, and it is a random constant unless ``markov`` gives its correlation time.
+
+    Parameters
+    ----------
+    states, sources : list of str
+        The hand's STATES and SOURCES.
+    markov : dict
+        Bias state -> correlation time of a first-order Gauss–Markov bias, s (``MARKOV``).
+    conv : Convention
+        The convention of the hand's other states.
+    model : Model
+    where : str
+        The hand model's name, for messages.
+    label : str
+        How the correlation times are declared (``MARKOV``, ``@markov``), for messages.
+
+    Raises
+    ------
+    InsErrorsError
+        One line for an unknown name, an initial-error source as a state, a source both
+        a state and a column of G, or a correlation time of something that is no bias
+        state.
+    """
+    base = conv.base
+    by_name = {s.name: s for s in model.sources}
+    rate_sources = [n for n, s in by_name.items() if s.kind == "constant"]
     for s in states:
-        if s not in conv.names:
-            raise unknown_name(f"state of convention {conv.name!r}", s, conv.names)
-    known = [s.name for s in model.sources]
+        if s in base.names:
+            continue
+        if s not in by_name:
+            raise unknown_name(f"state of convention {base.name!r}", s,
+                               base.names + rate_sources)  # (bias states too)
+        if by_name[s].kind != "constant":
+            raise InsErrorsError(
+                f"{where}: {s!r} is an initial error of {model.name} (kind "
+                f"{by_name[s].kind!r}): it only sets the initial state, so it cannot be a "
+                "bias state")
+        if s in sources:
+            raise InsErrorsError(
+                f"{where}: {s!r} is both a state (STATES) and a column of G (SOURCES): a "
+                "bias state's column is in F; remove it from SOURCES")
     for s in sources:
-        if s not in known:
-            raise unknown_name(f"error source of {model.name}", s, known)
+        if s not in by_name:
+            raise unknown_name(f"error source of {model.name}", s, list(by_name))
+    for s in markov:
+        if s not in states or s in base.names:
+            raise InsErrorsError(
+                f"{where}: {label} gives a correlation time for {s!r}, which is not a "
+                "bias state (a model error source "
+                + ("listed in STATES)" if label == "MARKOV" else "with a line dot(SOURCE))"))
+    return tuple(BiasState(s.name, s.unit, s.description, markov.get(s.name))
+                 for s in model.sources if s.name in states)

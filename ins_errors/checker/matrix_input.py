@@ -8,15 +8,22 @@ Two ways in (the layout is documented in ``docs/matrix_check.md``):
   when G is returned, ``SOURCES`` (m model error-source names, G's columns). ``nav`` and
   ``imu`` are :class:`~ins_errors.checker.navigation.Navigation` and
   :class:`~ins_errors.checker.navigation.Imu`. A function attribute ``FUNCTION.states``
-  / ``FUNCTION.sources`` overrides the module lists.
+  / ``FUNCTION.sources`` overrides the module lists. ``STATES`` may also name model error
+  sources (*bias states*: their column of F is the source's column of G); a dictionary
+  ``MARKOV`` (or ``FUNCTION.markov``) gives the correlation time of those that are
+  first-order Gauss–Markov biases (s, or a quantity such as ``"1 h"``); the others are
+  random constants.
 * ``FILE.npz`` or ``FILE.mat``: arrays ``states`` (n strings), optional ``sources`` (m
   strings), ``F_<motion>`` of shape (K, n, n) and optional ``G_<motion>`` of shape
   (K, n, m) for every motion, at the sample times ``t = 0, step, 2 step, …`` of that
-  motion (the navigation state at those times is written by ``--write-samples``).
+  motion (the navigation state at those times is written by ``--write-samples``);
+  optional ``markov_states`` (names of bias states) and ``markov_tau`` (their correlation
+  times, s).
 """
 
 from __future__ import annotations
 
+import dataclasses
 import importlib.util
 import sys
 import traceback
@@ -45,6 +52,9 @@ class HandMatrices:
         Motion label -> array (K, n, n).
     G : dict
         Motion label -> array (K, n, m); empty without G.
+    markov : dict
+        Bias state (a model error source among ``states``) -> correlation time of a
+        first-order Gauss–Markov bias, s; bias states not in it are random constants.
     """
 
     name: str
@@ -52,6 +62,7 @@ class HandMatrices:
     sources: list[str]
     F: dict[str, np.ndarray]
     G: dict[str, np.ndarray]
+    markov: dict[str, float] = dataclasses.field(default_factory=dict)
 
 
 def _names(value, what: str, where: str) -> list[str]:
@@ -119,6 +130,19 @@ def load_function(path: Path, function: str):
     InsErrorsError
         For a missing file or function, an import error, missing or bad state lists.
     """
+    return load_hand(path, function)[:3]
+
+
+def load_hand(path: Path, function: str):
+    """The researcher's function, its ``STATES`` / ``SOURCES`` lists and the correlation
+    times of its Gauss–Markov bias states (``MARKOV``, s; empty without it).
+
+    Raises
+    ------
+    InsErrorsError
+        For a missing file or function, an import error, missing or bad state lists, a
+        ``MARKOV`` that is not a dictionary of positive correlation times.
+    """
     module = _import_file(path)
     fn = getattr(module, function, None)
     if not callable(fn):
@@ -132,8 +156,46 @@ def load_function(path: Path, function: str):
         raise InsErrorsError(f"{where}: define STATES, the list of the model's error states "
                              "in F's row order (names from the convention's vocabulary)")
     sources = getattr(fn, "sources", getattr(module, "SOURCES", None))
+    markov = getattr(fn, "markov", getattr(module, "MARKOV", None))
     return fn, _names(states, "STATES", where), (
-        [] if sources is None else _names(sources, "SOURCES", where))
+        [] if sources is None else _names(sources, "SOURCES", where)), (
+        {} if markov is None else correlation_times(markov, where))
+
+
+def correlation_times(value, where: str, label: str = "MARKOV") -> dict[str, float]:
+    """``MARKOV``: bias state -> correlation time, s (a number of seconds, or a quantity
+    with its unit such as ``"1 h"``). ``label`` names the declaration in messages
+    (``@markov`` in an equation file).
+
+    Raises
+    ------
+    InsErrorsError
+        For anything but a dictionary of names to positive finite times; a time of zero
+        (white noise, which is no state) is refused with that reason.
+    """
+    from ins_errors.units import parse_quantity
+
+    if not isinstance(value, dict):
+        raise InsErrorsError(f"{where}: {label} must be a dictionary bias state -> "
+                             f"correlation time (e.g. {{'accel_bias_x': '1 h'}}), got "
+                             f"{_short(value)}")
+    out = {}
+    for name, text in value.items():
+        what = (f"{where}: MARKOV[{name!r}]" if label == "MARKOV"
+                else f"{where}: {label} {name}")
+        if isinstance(text, bool) or not isinstance(text, (str, int, float, np.number)):
+            raise InsErrorsError(f"{what}: expected a correlation time such as 3600 (s) or "
+                                 f"'1 h', got {_short(text)}")
+        tau = parse_quantity(text if isinstance(text, str) else float(text), "s", what)
+        if tau == 0:
+            raise InsErrorsError(f"{what}: a correlation time of 0 is white noise, which "
+                                 "cannot be a state: give the source as a column of G "
+                                 "(SOURCES) instead")
+        if not 0 < tau < np.inf:
+            raise InsErrorsError(f"{what}: the correlation time must be positive and "
+                                 f"finite, got {_short(text)}")
+        out[str(name)] = tau
+    return out
 
 
 def _short(value) -> str:
@@ -205,7 +267,7 @@ def _kept_samples(motion) -> list:
 
 
 def evaluate_function(fn, name: str, path: Path, states: list[str], sources: list[str],
-                      motions) -> HandMatrices:
+                      motions, markov: dict[str, float] | None = None) -> HandMatrices:
     """Call the researcher's function at every sample of every motion.
 
     The function's arguments are read-only (they are kept for the next check).
@@ -222,6 +284,8 @@ def evaluate_function(fn, name: str, path: Path, states: list[str], sources: lis
         Row names and G's column names.
     motions : list of Motion
         From :func:`ins_errors.checker.matrix.motions`.
+    markov : dict, optional
+        Correlation times of Gauss–Markov bias states, s (:func:`correlation_times`).
     """
     n, m = len(states), len(sources)
     F: dict[str, np.ndarray] = {}
@@ -254,7 +318,7 @@ def evaluate_function(fn, name: str, path: Path, states: list[str], sources: lis
     if m and not G:
         raise InsErrorsError(f"{name}: SOURCES is defined but the function returns F only "
                              "(return (F, G))")
-    return HandMatrices(name, states, sources if G else [], F, G)
+    return HandMatrices(name, states, sources if G else [], F, G, dict(markov or {}))
 
 
 def _read_arrays(path: Path) -> dict[str, np.ndarray]:
@@ -342,6 +406,17 @@ def read_matrix_file(path: Path, motions) -> HandMatrices:
     sources = (_names(_strings(data["sources"]), "sources", where)
                if "sources" in data else [])
     n, m = len(states), len(sources)
+    markov = {}
+    if "markov_states" in data or "markov_tau" in data:
+        if "markov_states" not in data or "markov_tau" not in data:
+            raise InsErrorsError(f"{where}: give both 'markov_states' (bias states) and "
+                                 "'markov_tau' (their correlation times, s)")
+        names = _names(_strings(data["markov_states"]), "markov_states", where)
+        taus = real_array(data["markov_tau"], "markov_tau", where).ravel()
+        if taus.size != len(names):
+            raise ShapeError(f"{where}: markov_tau must have {len(names)} values (one per "
+                             f"name of markov_states), got {taus.size}")
+        markov = correlation_times(dict(zip(names, taus.tolist(), strict=True)), where)
     F, G = {}, {}
     for motion in motions:
         key = f"F_{motion.label}"
@@ -366,7 +441,7 @@ def read_matrix_file(path: Path, motions) -> HandMatrices:
             if not np.all(np.isfinite(g)):
                 raise InsErrorsError(f"{where}: {gkey} contains NaN or infinite values")
             G[motion.label] = g
-    return HandMatrices(where, states, sources, F, G)
+    return HandMatrices(where, states, sources, F, G, markov)
 
 
 def write_samples(path: Path, motions) -> None:
