@@ -142,7 +142,13 @@ def test_list_conventions_json_matches_the_text(capsys):
     data = strict_json(capsys.readouterr().out)
     assert data["model"] == "strapdown_ned"
     headers = [line.split(":")[0] for line in text.splitlines() if not line.startswith(" ")]
-    assert [c["name"] for c in data["conventions"]] == headers
+    assert [c["name"] for c in data["conventions"]] + ["bias states"] == headers
+    # the error sources that may be bias states: the constant ones, listed alike
+    assert [b["name"] for b in data["bias_states"]][:3] == ["gyro_bias_x", "gyro_bias_y",
+                                                           "gyro_bias_z"]
+    assert "initial_roll_error" not in {b["name"] for b in data["bias_states"]}
+    for bias in data["bias_states"]:
+        assert f"  {bias['name']} ({bias['unit']}): " in text
     psi = next(c for c in data["conventions"] if c["name"] == "psi")
     assert len(psi["states"]) == 9  # ψ, δv, δr in NED, as examples/strapdown/psi_model.py
     for state in psi["states"]:

@@ -167,14 +167,33 @@ def typical_sizes(r: MatrixReport) -> str:
     return "; ".join(f"{', '.join(names)} {text}" for text, names in groups.items())
 
 
+def bias_text(r: MatrixReport, code: bool = False) -> str:
+    """The bias states by their statistics, '' without any (``gyro_bias_x, gyro_bias_y
+    (random constants); accel_bias_z (Gauss–Markov, τ = 3600 s)``); ``code``: names in
+    Markdown backticks."""
+    groups: dict[str, list[str]] = {}
+    for b in r.bias_states:
+        key = "random constants" if b.tau is None else b.statistics
+        groups.setdefault(key, []).append(f"`{b.name}`" if code else b.name)
+    return "; ".join(f"{', '.join(names)} ({key})" for key, names in groups.items())
+
+
+def _no_g(r: MatrixReport) -> str:
+    return ("no G: the other error sources' columns not compared" if r.bias_states
+            else "no G: error-source columns not compared")
+
+
 def to_terminal(r: MatrixReport) -> str:
     """Plain-text report."""
     lines = [f"Matrix check of {r.hand_name} against {r.model} (convention {r.convention})",
              f"states ({len(r.states)}): {', '.join(r.states)}"]
+    if r.bias_states:
+        lines.append(f"bias states ({len(r.bias_states)}, error sources as states: their "
+                     f"columns hold G's): {bias_text(r)}")
     if r.sources:
         lines.append(f"sources in G ({len(r.sources)}): {', '.join(r.sources)}")
     else:
-        lines.append("no G: error-source columns not compared")
+        lines.append(_no_g(r))
     if r.left_out:
         lines.append(f"convention states the hand model leaves out: {', '.join(r.left_out)}")
     lines.append("motions: " + "; ".join(f"{k}: {d}" for k, d in r.motions))
@@ -206,8 +225,13 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
            f"Hand model `{r.hand_name}` against the derived model `{r.model}`, convention "
            f"`{r.convention}`, threshold {r.threshold:g}.", "",
            f"States: {', '.join(f'`{s}`' for s in r.states)}."]
+    if r.bias_states:
+        out.append(f"Bias states (error sources as states: their columns hold G's): "
+                   f"{bias_text(r, code=True)}.")
     if r.sources:
         out.append(f"Sources in G: {', '.join(f'`{s}`' for s in r.sources)}.")
+    else:
+        out.append(_no_g(r)[0].upper() + _no_g(r)[1:] + ".")
     if r.left_out:
         out.append(f"Convention states left out: {', '.join(f'`{s}`' for s in r.left_out)}.")
     out += ["", "Motions:", ""] + [f"* `{k}`: {d}" for k, d in r.motions]
@@ -245,6 +269,9 @@ def to_json(r: MatrixReport) -> dict:
     return {
         "model": r.model, "convention": r.convention, "hand": r.hand_name,
         "states": r.states, "sources": r.sources, "threshold": r.threshold,
+        "bias_states": [{"name": b.name, "statistics": "constant" if b.tau is None
+                         else "markov", "tau_s": b.tau, "rate_per_s": b.rate}
+                        for b in r.bias_states],
         "left_out": r.left_out, "out_of_scope": r.out_of_scope,
         "motions": [{"label": k, "description": d} for k, d in r.motions],
         "magnitudes": {k: {"si": v[0], "text": v[1]} for k, v in r.magnitudes.items()},

@@ -7,6 +7,9 @@ import sys
 
 from ins_errors.json_output import emit
 
+BIAS_HEADER = "bias states"
+"""Heading of the error sources a hand model may carry as states (``--list-conventions``)."""
+
 
 def run_matrix(args: argparse.Namespace) -> int:
     """Run the matrix check (or list conventions, or write the samples); exit status."""
@@ -28,15 +31,24 @@ def run_matrix(args: argparse.Namespace) -> int:
     model = load_model(args.model)
     if args.list_conventions:
         found = list(conventions(model).values())
+        # error sources that enter the equations may be bias states in any convention
+        biases = [s for s in model.sources if s.kind == "constant"]
         if args.json:
             emit({"model": model.name, "conventions": [
                 {"name": conv.name, "description": conv.description,
                  "states": [{"name": s.name, "unit": s.unit, "description": s.description}
-                            for s in conv.states]} for conv in found]})
+                            for s in conv.states]} for conv in found],
+                "bias_states": [{"name": s.name, "unit": s.unit,
+                                 "description": s.description} for s in biases]})
             return 0
         for conv in found:
             print(f"{conv.name}: {conv.description}")
             for s in conv.states:
+                print(f"  {s.name} ({s.unit}): {s.description}")
+        if biases:
+            print(f"{BIAS_HEADER}: error sources a hand model may carry as states, in any "
+                  "convention")
+            for s in biases:
                 print(f"  {s.name} ({s.unit}): {s.description}")
         return 0
     motion_list = motions(model)
