@@ -786,6 +786,10 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         raise InsErrorsError(f"{hand.name}: a file with '@convention {hand.convention}' is "
                              "checked by ins_errors.checker.convention_equations "
                              "(`ins-errors check MODEL FILE` does this)")
+    if hand.markov:
+        raise InsErrorsError(f"{hand.name}: @markov {next(iter(hand.markov))} applies to "
+                             "a bias state of a file with '@convention NAME' (equations in "
+                             "a convention's states)")
     d = resolve_model(model)
     if hand.real_work:  # the real-work updates' variations are error-state lines too
         from dataclasses import replace

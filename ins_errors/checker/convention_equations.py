@@ -221,12 +221,15 @@ def _parse_vector_rhs(text: str, space: dict[str, object]):
                       transformations=(_only_known_names, auto_number))
 
 
-def split_vector_lines(text: str, states: list[str], sources: list[str], name: str
+def split_vector_lines(text: str, states: list[str], sources: list[str], name: str,
+                       bias_sources: list[str] | tuple[str, ...] = ()
                        ) -> tuple[str, dict[str, tuple[int, str, sp.Expr]]]:
     """Take the vector lines ``dot(phi) = ...`` out of a hand file's text.
 
     Returns the text with those lines blanked (line numbers kept) and their rows
-    {state: (line, text, expression)}; a vector line gives the three rows of its prefix.
+    {state: (line, text, expression)}; a vector line gives the three rows of its prefix
+    (``dot(gyro_bias) = ...``: the three bias states of ``bias_sources``, error sources
+    that may be states).
     The right-hand side is read by SymPy's parser (:func:`_parse_vector_rhs`) over the
     names of :func:`_vector_namespace` alone: no Python is run.
 
@@ -237,7 +240,8 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
     """
     from tokenize import TokenError
 
-    prefixes = _triples(states, ("N", "E", "D"))
+    prefixes = {**_triples(states, ("N", "E", "D")),
+                **_triples(list(bias_sources), ("x", "y", "z"))}
     space = _vector_namespace(states, sources)
     vectors = {k for k, v in space.items() if isinstance(v, sp.MatrixBase)}
     kept, rows = [], {}
@@ -344,8 +348,12 @@ def convention_notation(model_name: str, states: list[str], sources: list[str]):
 
 
 def _rows(hand, states: list[str], sources: list[str],
-          vector_rows: dict[str, tuple[int, str, sp.Expr]]):
-    """{row: (line, text, expression)} of the hand file's equations; one-line errors."""
+          vector_rows: dict[str, tuple[int, str, sp.Expr]],
+          bias_sources: list[str] | tuple[str, ...] = ()):
+    """{row: (line, text, expression)} of the hand file's equations; one-line errors.
+
+    A row is a state of the convention or a bias state: one of ``bias_sources`` (the
+    model's error sources that enter its equations) with its own line."""
     from ins_errors.checker.parse import DOT
 
     if hand.problems:
@@ -356,10 +364,12 @@ def _rows(hand, states: list[str], sources: list[str],
     for eq in hand.equations:
         lhs = eq.lhs
         if not (isinstance(lhs, sp.Function) and lhs.func == DOT
-                and isinstance(lhs.args[0], sp.Symbol) and lhs.args[0].name in states):
+                and isinstance(lhs.args[0], sp.Symbol)
+                and (lhs.args[0].name in states or lhs.args[0].name in bias_sources)):
             raise InsErrorsError(f"{hand.name}, line {eq.line}: left-hand side {str(lhs)!r} "
                                  f"must be dot(STATE) of a state of the convention "
-                                 f"({', '.join(states)})")
+                                 f"({', '.join(states)}) or of an error source carried as a "
+                                 "bias state (dot(gyro_bias_x))")
         row = lhs.args[0].name
         if row in rows:
             raise InsErrorsError(f"{hand.name}, line {eq.line}: second equation for "
@@ -489,6 +499,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
         Unreadable file, unknown names, non-linear equations, no ``@convention``.
     """
     from ins_errors.checker import matrix as mx
+    from ins_errors.checker import matrix_input as mx_input
     from ins_errors.checker.conventions import convention
     from ins_errors.checker.matrix_input import HandMatrices
     from ins_errors.checker.notation import Notation
@@ -502,17 +513,23 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     conv = convention(model, hand.convention)
     states = conv.names
     src_names = [s.name for s in model.sources]
+    rate_sources = [s.name for s in model.sources if s.kind == "constant"]
     vector_rows: dict[str, tuple[int, str, sp.Expr]] = {}
     notation = convention_notation(model_name, states, src_names)
     if hand.format == "text":
         text, vector_rows = split_vector_lines(Path(path).read_text(encoding="utf-8"),
-                                               states, src_names, hand.name)
+                                               states, src_names, hand.name, rate_sources)
         hand = parse_hand_text(text, notation, name=hand.name)
     else:  # read again with the convention's spellings (\delta v_N is dv_N)
         hand = read_hand_file(path, notation, latex=True)
-    rows = _rows(hand, states, src_names, vector_rows)
+    rows = _rows(hand, states, src_names, vector_rows, rate_sources)
+    # error sources with a line of their own are bias states (after the convention's)
+    markov = mx_input.correlation_times(hand.markov, hand.name, "@markov")
+    conv = conv.with_biases(mx.bias_states([*states, *(s for s in src_names if s in rows)],
+                                           [], markov, conv, model, hand.name, "@markov"))
+    states = conv.names
     held = set().union(*(r[2].free_symbols for r in rows.values()))  # (one walk a row)
-    used = [s for s in src_names if sp.Symbol(s) in held]
+    used = [s for s in src_names if sp.Symbol(s) in held and s not in states]
     variables = states + used
     functions = {}
     for row, (line, _, rhs) in rows.items():
@@ -549,7 +566,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                     np.asarray(c, dtype=float), (k,))
     if not used:
         G = {}
-    sampled = HandMatrices(Path(path).name, list(states), used, F, G)
+    sampled = HandMatrices(Path(path).name, list(states), used, F, G, markov)
     overrides = {**hand.magnitudes, **(magnitudes or {})}
     declared: dict[tuple[str, str, str], list[mx.DeclaredTerm]] = {}
     for row, (line, _, _) in rows.items():  # a declaration holds from its line on

@@ -37,6 +37,10 @@ with ``@`` are directives, in both formats:
 ``@convention NAME``
     the equations are written in a convention's states (``strapdown_ned``: ``phi``,
     ``psi``, ...): checked by :mod:`ins_errors.checker.convention_equations`.
+``@markov SOURCE = QUANTITY``
+    under ``@convention``: the bias state ``SOURCE`` (a model error source with its own
+    line ``dot(SOURCE) = ...``) is a first-order Gauss–Markov bias of correlation time
+    QUANTITY (``1 h``); without it a bias state is a random constant.
 
 Comments start with ``#`` (text) or ``%`` (LaTeX). Symbol spellings are documented in
 ``docs/hand_check.md``. The parser only reads and spells; what each symbol means in the
@@ -164,8 +168,9 @@ class Declaration:
 class HandFile:
     """A parsed hand file: sections, equations, its own notation entries, problems.
 
-    ``declarations``, ``magnitudes`` (SI unit or ``"attitude"`` -> quantity text) and
-    ``scope`` come from the ``@neglect``, ``@magnitude`` and ``@scope`` directives.
+    ``declarations``, ``magnitudes`` (SI unit or ``"attitude"`` -> quantity text),
+    ``scope`` and ``markov`` (bias state -> correlation time text) come from the
+    ``@neglect``, ``@magnitude``, ``@scope`` and ``@markov`` directives.
     """
 
     name: str
@@ -179,6 +184,7 @@ class HandFile:
     scope: str | None = None
     real_work: list[HandEquation] = field(default_factory=list)
     convention: str | None = None
+    markov: dict[str, str] = field(default_factory=dict)
 
 
 class _LineError(Exception):
@@ -917,7 +923,7 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
                     hand.sections.append(title)
                     real = keyword == "@realwork"
                     continue
-                if keyword in ("@alias", "@source", "@name", "@magnitude"):
+                if keyword in ("@alias", "@source", "@name", "@magnitude", "@markov"):
                     _directive(hand, keyword, stripped, body.index("@") + 1, notation)
                     continue
                 if keyword == "@neglect":
@@ -940,7 +946,8 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
                 if keyword != "@alt":
                     raise _LineError(body.index("@") + 1, f"unknown directive {keyword!r} "
                                      "(known: @section, @realwork, @alt, @alias, @source, "
-                                     "@name, @neglect, @magnitude, @scope, @convention)")
+                                     "@name, @neglect, @magnitude, @scope, @convention, "
+                                     "@markov)")
                 alternative = True
                 cut = body.index("@alt") + 4
                 body = " " * cut + body[cut:]
@@ -1042,6 +1049,12 @@ def _directive(hand: HandFile, keyword: str, text: str, column: int,
         if not value:
             raise _LineError(column, "@magnitude needs 'UNIT = QUANTITY'")
         hand.magnitudes[name] = value
+        return
+    if keyword == "@markov":
+        if not name.isidentifier() or not value:
+            raise _LineError(column, "@markov needs 'SOURCE = CORRELATION TIME' "
+                             "(e.g. '@markov accel_bias_x = 1 h')")
+        hand.markov[name] = value
         return
     if not name.isidentifier():
         raise _LineError(column, f"{keyword}: {name!r} is not a valid name")
