@@ -107,6 +107,30 @@ def test_the_textbook_psi_model_checked_against_a_dcm_model_file(sphere, capsys)
             1 + 10_000 / 6_371_000, rel=1e-9)
 
 
+def test_the_15_state_psi_model_checked_against_a_dcm_model_file(sphere, capsys):
+    """The biases as states (examples/strapdown/psi_model_15.py, [[F, G], [0, 0]]): the
+    same three entries as the 9-state form with G, the bias columns and rows agree."""
+    import json
+
+    status = main(["check", str(SPHERE_FILE), "--matrix",
+                   f"{PSI_MODEL.parent / 'psi_model_15.py'}:psi_model_15",
+                   "--convention", "psi", "--json"])
+    report = json.loads(capsys.readouterr().out)
+    assert status == 1
+    assert report["compared"] == 15 * 15
+    assert [b["name"] for b in report["bias_states"]] == [
+        f"{kind}_bias_{axis}" for kind in ("gyro", "accel") for axis in "xyz"]
+    entries = {(f["row"], f["column"]): f for f in report["findings"]}
+    assert set(entries) == {("dvc_D", "dr_D"), ("dvc_N", "dr_N"), ("dvc_E", "dr_E")}
+    vertical = entries["dvc_D", "dr_D"]
+    assert (vertical["kind"], vertical["severity"]) == ("extra term", "mistake")
+    assert vertical["hand"] == pytest.approx(2 * 9.81 / 6_371_000, rel=1e-9)
+    assert [f for f in report["findings"] if f["severity"] == "mistake"] == [vertical]
+    for key in (("dvc_N", "dr_N"), ("dvc_E", "dr_E")):
+        assert entries[key]["hand"] / entries[key]["model"] == pytest.approx(
+            1 + 10_000 / 6_371_000, rel=1e-9)
+
+
 def test_a_model_file_without_the_navigation_outputs_is_refused_in_one_line(tmp_path,
                                                                            capsys,
                                                                            monkeypatch):
