@@ -279,3 +279,26 @@ def test_sampled_matrices_carry_bias_states_and_their_correlation_times(tmp_path
                                motion_list=motion_list, effects=False)
     assert [b.tau for b in report.bias_states] == [None, None, None, 1800.0, None, None]
     assert sorted(map(_key, report.findings)) == sorted(map(_key, fifteen.findings))
+
+
+def test_declared_sizes_weigh_bias_states_and_g_columns_alike():
+    # under --magnitude attitude=... the gyro bias is ω_s·θ (0.0256 °/h for 1e-4 rad),
+    # listed in the report: a G column and a bias state's column are weighed by it alike,
+    # so the ψ rows' largest term, and every size, is the same in both forms
+    sizes = {"attitude": "1e-4rad"}
+    nine = mc.check_matrices("strapdown_ned", PSI_9, "psi", effects=False, magnitudes=sizes)
+    fifteen = mc.check_matrices("strapdown_ned", PSI_15, "psi", effects=False,
+                                magnitudes=sizes)
+    assert nine.magnitudes["gyro_bias_x"][1] == fifteen.magnitudes["gyro_bias_x"][1]
+    assert "0.0256 deg/h" in nine.magnitudes["gyro_bias_x"][1]
+    assert sorted(map(_key, fifteen.findings)) == sorted(map(_key, nine.findings))
+    assert len(nine.mistakes) == 4
+    for f in fifteen.findings:
+        assert f.size == pytest.approx(nine.finding(f.row, f.column).size, rel=1e-12)
+    # a ψ row's largest term is its gyro term, |C_b^n entry| × ω_s θ: the largest entry of
+    # a row of a rotation matrix is between 1/√3 and 1, so the row's largest term is
+    # 7.2e-8 to 1.24e-7 rad/s (the fixed 0.01 °/h would make it at most 4.85e-8)
+    f = nine.finding("psi_N", "psi_D")
+    largest = abs(f.hand - f.model) * 1e-4 / f.size
+    omega_s_theta = np.sqrt(9.80665 / 6.378e6) * 1e-4
+    assert omega_s_theta / np.sqrt(3) * 0.99 < largest < omega_s_theta * 1.01

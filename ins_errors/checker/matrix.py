@@ -775,11 +775,14 @@ class _Sampled:
 def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
              motion_list: list[Motion],
              declared: dict[tuple[str, str, str], list[DeclaredTerm]] | None = None,
-             used: set[int] | None = None) -> None:
+             used: set[int] | None = None, source_sizes: np.ndarray | None = None) -> None:
     """Classify every entry of the hand's rows into ``report.findings``.
 
     ``declared``: (matrix, row, column) -> the declared terms in force for that entry
     (:class:`DeclaredTerm`); ``used`` receives the declarations that explain a finding.
+    ``source_sizes``: typical size of every model error source, SI, in the model's
+    order (default: the fixed ones of
+    :func:`~ins_errors.checker.typical.typical_magnitude`).
     """
     names = conv.names
     n_own = len(names) - len(conv.biases)
@@ -787,7 +790,8 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     src_names = [s.name for s in model.sources]
     src_cols = [src_names.index(s) for s in report.sources]
     state_mag = np.array([report.magnitudes[n][0] for n in names])
-    source_mag = np.array([typical_magnitude(s.unit)[0] for s in model.sources])
+    source_mag = (np.array([typical_magnitude(s.unit)[0] for s in model.sources])
+                  if source_sizes is None else source_sizes)
     labels = [m.label for m in motion_list]
     # stacked over motions: (S, ...)
     Fz = np.concatenate([sampled.Fz[k] for k in labels])
@@ -1497,7 +1501,9 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         out_of_scope=[s.name for s in model.sources
                       if s.name not in used_sources and s.name not in hand.states],
         bias_states=list(conv.biases))
-    _compare(report, sampled, conv, model, motion_list, declared, declared_used)
+    # G's columns weighed by the sizes the report lists (--magnitude), as the states are
+    _compare(report, sampled, conv, model, motion_list, declared, declared_used,
+             np.array([magnitudes[s.name][0] for s in model.sources]))
     if effects:
         responses: dict = {}  # the derived model's, shared by both
         report.effects = propagate_effects(report, sampled, conv, model, motion_list,
