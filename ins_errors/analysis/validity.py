@@ -12,6 +12,12 @@ The work is a list of independent :class:`ValidityTask` (one per source and moti
 :func:`run_validity_task`, a pure module-level function of one task, so the tasks can be
 run in this process, a process pool or on a Dask cluster
 (:func:`ins_errors.analysis.engine.run_tasks`).
+
+A sweep whose runs fail (the direct run leaves the model's domain at the largest
+magnitudes, a motion through a pole) is a result, not the end of the map: it is run again
+one magnitude at a time from the smallest, up to the first that fails, and its
+:class:`SourceValidity` keeps the magnitudes below that one and the one-line reason
+(status ``"failed"`` when none ran). The other sweeps are not touched.
 """
 
 from __future__ import annotations
@@ -104,7 +110,8 @@ class SourceValidity:
     unit, display_unit : str
         SI unit of the magnitudes and the unit they are quoted in.
     magnitudes : list of float
-        SI.
+        The magnitudes that ran, SI (all of the task's unless it failed; see
+        ``failure``).
     quantity : str or None
         The error quantity followed (largest linear residual at the typical size).
     linear_ratio, refined_ratio : list of float
@@ -115,11 +122,23 @@ class SourceValidity:
         Magnitudes (SI) at which the linear residual is 1 % and 10 % of the error.
     status : str
         ``"ok"``, ``"exactly linear"`` (residual at the rounding floor everywhere),
-        ``"not fitted"``, ``"not excited"`` (no error at all) or ``"not seen by the linear
-        model"`` (direct errors, but linear errors exactly zero at every magnitude).
+        ``"not fitted"``, ``"not excited"`` (no error at all), ``"not seen by the linear
+        model"`` (direct errors, but linear errors exactly zero at every magnitude) or
+        ``"failed"`` (no magnitude ran: see ``failure``). A sweep that failed from some
+        magnitude on has the status of the magnitudes below it.
     note : str
         Why a slope is missing (e.g. the refined residual never rises above the direct
         run's rounding).
+    failure : str
+        One-line reason why the sweep failed (the error of its first failing run); empty
+        when every magnitude ran.
+    failed_magnitudes : list of float
+        The task's magnitudes without a result, SI, ascending: the first that failed
+        and every larger one (empty when every magnitude ran).
+    failed_at : float or None
+        The magnitude (SI) whose run, alone, failed with ``failure``; None when the
+        failure is not one magnitude's (the true motion itself failed, or the batch
+        failed otherwise than by leaving the model's domain) or nothing failed.
     """
 
     source: str
@@ -136,6 +155,14 @@ class SourceValidity:
     magnitude_10pct: float | None = None
     status: str = "ok"
     note: str = ""
+    failure: str = ""
+    failed_magnitudes: list[float] = field(default_factory=list)
+    failed_at: float | None = None
+
+    @property
+    def failed(self) -> bool:
+        """True when some magnitude of the sweep has no result (see ``failure``)."""
+        return bool(self.failure)
 
     def to_dict(self) -> dict[str, Any]:
         """JSON-ready form."""
@@ -193,6 +220,7 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
     """
     from ins_errors.numeric.motion_spec import in_si
 
+    check_run(hours, step)
     names = list(sources) if sources else [s.name for s in model.sources]
     for name in names:
         model.index("sources", name)
@@ -202,6 +230,30 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
                          tuple((parameters or {}).items()), truth,
                          tuple(sorted(in_si({"kind": motion}).items())), typical[name])
             for motion in motions for name in names]
+
+
+def check_run(hours: float, step: float) -> None:
+    """Refuse a run length or step that no sweep could use, before any work.
+
+    Parameters
+    ----------
+    hours : float
+        Length of each run, h (> 0).
+    step : float
+        Integration step, s (> 0, a whole number of them in the run).
+
+    Raises
+    ------
+    InsErrorsError
+        Not positive or not finite (``--hours``), or a step the run cannot be cut into
+        (:class:`~ins_errors.errors.StepError`, naming the nearest run lengths that can).
+    """
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric.integrators import step_count
+
+    if not (math.isfinite(hours) and hours > 0):
+        raise InsErrorsError(f"--hours must be positive, got {hours:g}")
+    step_count(hours * 3600.0, step)
 
 
 def motion_problems(model, motions, step: float,
@@ -266,33 +318,16 @@ def _fit(magnitudes: np.ndarray, ratios: np.ndarray) -> tuple[float, float] | No
 def run_validity_task(task: ValidityTask) -> SourceValidity:
     """Run one sweep: direct, linear and refined at every magnitude, in one batch.
 
-    Raises
-    ------
-    InsErrorsError
-        A run that fails (e.g. the direct run leaves the model's domain at the largest
-        magnitudes): the same class, its message prefixed with the source, the motion
-        and the magnitudes, so that the map's one line says which sweep failed.
+    A sweep whose runs fail with one of the tool's own errors
+    (:class:`~ins_errors.errors.InsErrorsError`) is returned as such, never raised: when
+    the batch leaves the model's domain (:class:`~ins_errors.errors.DomainError`), the
+    magnitudes are run again one at a time from the smallest, up to the first that fails
+    (each case's arithmetic is the same alone as in a batch, so those that ran give the
+    numbers they would in a batch of their own), and the result is that of the
+    magnitudes below it, with ``failure`` and ``failed_magnitudes`` set; any other error
+    (e.g. the true motion reaches a pole) fails the whole sweep (status ``"failed"``).
     """
-    from ins_errors.errors import InsErrorsError
-
-    try:
-        return _run_validity_task(task)
-    except InsErrorsError as error:
-        if type(error).__init__ is not InsErrorsError.__init__:
-            raise  # a class built otherwise than from its message
-        unit = _unit_of(task)
-        raise type(error)(f"validity of {task.source} on the {task.motion} motion "
-                          f"({min(task.magnitudes):.3g} to {max(task.magnitudes):.3g} "
-                          f"{unit}): {error}") from None
-
-
-def _unit_of(task: ValidityTask) -> str:
-    from ins_errors.numeric.model import load_model
-
-    return load_model(task.model).source(task.source).unit
-
-
-def _run_validity_task(task: ValidityTask) -> SourceValidity:
+    from ins_errors.errors import DomainError, InsErrorsError
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.compare import compare
     from ins_errors.numeric.model import load_model
@@ -300,23 +335,67 @@ def _run_validity_task(task: ValidityTask) -> SourceValidity:
 
     model = load_model(task.model)
     info = model.source(task.source)
-    profile = motion_profile(dict(task.motion_si) or {"kind": task.motion})
-    trajectory = tr.trajectory(model, profile, task.hours * 3600.0, task.step,
-                               p=model.parameter_vector(**dict(task.parameters)),
-                               truth=task.truth)
+    result = SourceValidity(task.source, task.motion, info.unit,
+                            info.display_unit or info.unit, list(task.magnitudes), None)
+    ascending = sorted(task.magnitudes)
+    try:
+        profile = motion_profile(dict(task.motion_si) or {"kind": task.motion})
+        trajectory = tr.trajectory(model, profile, task.hours * 3600.0, task.step,
+                                   p=model.parameter_vector(**dict(task.parameters)),
+                                   truth=task.truth)
+    except InsErrorsError as error:
+        return _failed(result, [], [], ascending, error, None)
     stride = max(1, min(trajectory.n_steps, round(300.0 / task.step)))
     while trajectory.n_steps % stride:  # the largest stride up to 5 min that divides the run
         stride -= 1
-    record = stride * task.step
-    cases = [{task.source: m} for m in task.magnitudes]
-    comparisons = compare(model, trajectory, cases, method=task.method,
-                          record_interval=record, integration_error=False,
-                          validity_threshold=None,
-                          labels=[f"{task.source} = {m!r} {info.unit}" for m in task.magnitudes])
-    magnitudes = np.array(task.magnitudes)
-    result = SourceValidity(task.source, task.motion, info.unit,
-                            info.display_unit or info.unit, list(task.magnitudes), None)
+
+    def run(magnitudes):
+        return compare(model, trajectory, [{task.source: m} for m in magnitudes],
+                       method=task.method, record_interval=stride * task.step,
+                       integration_error=False, validity_threshold=None,
+                       labels=[f"{task.source} = {m!r} {info.unit}" for m in magnitudes])
+
     size = typical_magnitude(model, task.source) if task.typical is None else task.typical
+    try:
+        return _analyse(result, task.magnitudes, run(task.magnitudes), size)
+    except DomainError:
+        pass  # one magnitude at a time, below
+    except InsErrorsError as error:
+        return _failed(result, [], [], ascending, error, None)
+    ran: list = []
+    for k, magnitude in enumerate(ascending):
+        try:
+            (comparison,) = run([magnitude])
+        except InsErrorsError as error:
+            return _failed(result, ascending[:k], ran, ascending[k:], error, magnitude,
+                           size)
+        ran.append(comparison)
+    return _analyse(result, ascending, ran, size)  # (each ran alone: nothing to report)
+
+
+def _failed(result: SourceValidity, magnitudes: list[float], comparisons: list,
+            failed: list[float], error: Exception, failed_at: float | None,
+            size: float = 1.0) -> SourceValidity:
+    """``result`` of the ``magnitudes`` that ran (with their comparisons; ``size`` the
+    typical one, :func:`_analyse`) and of the ``failed`` ones, failed with ``error``
+    (its first line)."""
+    text = str(error).strip().splitlines()
+    if magnitudes:
+        _analyse(result, magnitudes, comparisons, size)
+    else:
+        result.magnitudes, result.status = [], "failed"
+    result.failure = text[0] if text else type(error).__name__
+    result.failed_magnitudes = [float(m) for m in failed]
+    result.failed_at = None if failed_at is None else float(failed_at)
+    return result
+
+
+def _analyse(result: SourceValidity, magnitudes, comparisons, size: float
+             ) -> SourceValidity:
+    """Fill ``result`` from the comparisons of ``magnitudes`` (SI), the error quantity
+    being the one worst followed at the magnitude closest to the typical ``size``."""
+    magnitudes = np.array(magnitudes, dtype=float)
+    result.magnitudes = magnitudes.tolist()
     typical = int(np.argmin(np.abs(np.log(magnitudes / size))))
     worst = comparisons[typical].worst_linear
     if worst is None:
@@ -329,8 +408,8 @@ def _run_validity_task(task: ValidityTask) -> SourceValidity:
     if not any(np.any(curve) for c in comparisons for curve in c.linear.values()):
         result.status = "not seen by the linear model"
         result.note = (f"the linear errors stay exactly zero at every magnitude: "
-                       f"{task.source} has zero columns in G and in the initial errors (no "
-                       "equation uses it, or it enters only at second order)")
+                       f"{result.source} has zero columns in G and in the initial errors "
+                       "(no equation uses it, or it enters only at second order)")
         return result
     fit = _fit(magnitudes, linear)
     if fit is None:
@@ -350,11 +429,37 @@ def _run_validity_task(task: ValidityTask) -> SourceValidity:
     return result
 
 
+def failed_task(task: ValidityTask, error: Exception) -> SourceValidity:
+    """The result of a task that raised ``error`` outside its runs (e.g. in a worker
+    that could not load the model): failed, no magnitude ran."""
+    from ins_errors.numeric.model import load_model
+
+    info = load_model(task.model).source(task.source)
+    result = SourceValidity(task.source, task.motion, info.unit,
+                            info.display_unit or info.unit, [], None)
+    return _failed(result, [], [], sorted(task.magnitudes), error, None)
+
+
+def failures(results: list[SourceValidity]) -> list[dict[str, Any]]:
+    """The sweeps that failed, in map order: source, motion, the magnitudes that ran and
+    those without a result (SI), the magnitude whose run failed (or None) and the
+    one-line reason (``"reason"``)."""
+    return [{"source": r.source, "motion": r.motion, "unit": r.unit,
+             "magnitudes_run": r.magnitudes, "magnitudes_failed": r.failed_magnitudes,
+             "failed_at": r.failed_at, "reason": r.failure}
+            for r in results if r.failed]
+
+
 def validity_map(tasks: list[ValidityTask], engine: str = "serial",
                  progress: bool = False, scheduler: str | None = None,
                  workers: int | None = None) -> list[SourceValidity]:
     """Run every task (see :func:`ins_errors.analysis.engine.run_tasks`: ``engine``,
-    ``scheduler`` of a running Dask cluster, ``workers`` of a local one), in task order."""
+    ``scheduler`` of a running Dask cluster, ``workers`` of a local one), in task order.
+
+    A task that fails is a result too (:func:`run_validity_task`; a task that raises one
+    of the tool's own errors outside its runs: :func:`failed_task`), and the others run
+    on; :func:`failures` lists them. A fault that is not the task's own (a worker that
+    dies repeatedly, a bug) and Ctrl-C stop the map."""
     from ins_errors.analysis.engine import run_tasks
 
     results: list[SourceValidity | None] = [None] * len(tasks)
@@ -362,7 +467,11 @@ def validity_map(tasks: list[ValidityTask], engine: str = "serial",
     def keep(k: int, result: SourceValidity) -> None:
         results[k] = result
 
+    def failed(k: int, error: Exception) -> None:
+        results[k] = failed_task(tasks[k], error)
+
     run_tasks(run_validity_task, [(t,) for t in tasks],
               engine="dask" if scheduler else engine, scheduler=scheduler,
-              workers=workers, on_result=keep, progress=progress, label="validity sweeps")
+              workers=workers, on_result=keep, on_failure=failed, progress=progress,
+              label="validity sweeps")
     return [r for r in results if r is not None]

@@ -17,6 +17,10 @@ _MARKERS = {"static": "o", "great-circle": "^", "manoeuvre": "D"}
 def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: str = "") -> Path:
     """Relative linear and refined residuals against the source's magnitude.
 
+    A sweep that failed marks the magnitudes without a result with crosses along the top
+    of the axes (its legend entry says from which magnitude), and its reason is written
+    in the axes.
+
     Parameters
     ----------
     results : sequence of SourceValidity
@@ -40,13 +44,25 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
     from ins_errors.units import parse_quantity
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
+    ax.set_xscale("log")
+    ax.set_yscale("log")
     unit = results[0].display_unit if results else ""
+    reasons = []
     for r in results:
+        scale = 1.0 / parse_quantity(f"1 {r.display_unit}", r.unit)
+        colour = _COLOURS.get(r.motion, "black")
+        if r.failed:
+            # crosses at the top of the axes (x in data, y in axes units)
+            failed = np.array(r.failed_magnitudes) * scale
+            where = (f"from {failed[0]:.3g} {r.display_unit}" if r.magnitudes
+                     else "no magnitude ran")
+            ax.plot(failed, np.full(failed.size, 0.96), ls="none", marker="x", ms=8,
+                    mew=1.5, color=colour, transform=ax.get_xaxis_transform(),
+                    label=f"{r.motion}: failed, {where}")
+            reasons.append(f"{r.motion}: {r.failure.split(';')[0]}")
         if not r.linear_ratio:
             continue
-        scale = 1.0 / parse_quantity(f"1 {r.display_unit}", r.unit)
         m = np.array(r.magnitudes) * scale
-        colour = _COLOURS.get(r.motion, "black")
         lin = np.array(r.linear_ratio)
         ref = np.array(r.refined_ratio)
         marker = _MARKERS.get(r.motion, "o")
@@ -57,13 +73,24 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
         for level, value in ((0.01, r.magnitude_1pct), (0.1, r.magnitude_10pct)):
             if value is not None:
                 ax.plot([value * scale], [level], marker="v", color=colour, ms=8)
+    if not any(r.linear_ratio for r in results):
+        ax.set_ylim(1e-3, 1.0)  # (no residual to show: the 1 % and 10 % lines only)
+    if reasons:
+        import textwrap
+
+        ax.text(0.02, 0.04, "\n".join(textwrap.fill(t, 80) for t in reasons),
+                transform=ax.transAxes, fontsize=6, va="bottom", color="tab:red",
+                bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8})
     for level in (0.01, 0.1):
         ax.axhline(level, color="grey", lw=0.8, ls=":")
         ax.text(ax.get_xlim()[0], level, f" {level:.0%}", va="bottom", fontsize=7,
                 color="grey")
     quantity = ", ".join(dict.fromkeys(r.quantity for r in results if r.quantity))
     ax.set_xlabel(f"magnitude [{unit}]")
-    ax.set_ylabel(f"|model − direct| / max |direct|  ({quantity or 'no error'})", fontsize=8)
+    if not quantity:
+        quantity = ("no magnitude ran" if results and all(r.status == "failed" for r in results)
+                    else "no error")
+    ax.set_ylabel(f"|model − direct| / max |direct|  ({quantity})", fontsize=8)
     ax.grid(True, which="both", alpha=0.25)
     ax.legend(fontsize=7, loc="best")
     ax.set_title(title, fontsize=9)

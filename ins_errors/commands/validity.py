@@ -9,6 +9,11 @@ For each error source (and motion), sweeps its magnitude over decades around a t
 size, runs direct, linear and refined, and reports the log–log slopes of the linear and
 refined residuals (1 and 2 for a clean first-order model) and the magnitudes at which
 the linear residual reaches 1 % and 10 % of the error.
+
+A sweep that fails (e.g. the direct run leaves the model's domain at the largest
+magnitudes) is in the map with its reason and the magnitudes below the first failing one;
+the others run on, and the command lists the failed sweeps on stderr, one line each, and
+exits with status 2, as ``ins-errors sweep`` does for failed points.
 """
 
 from __future__ import annotations
@@ -29,7 +34,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "size, run direct, linear and refined, and report the slopes of the "
                     "linear (1 = clean second-order residual) and refined (2) residuals "
                     "against magnitude and the magnitudes where the linear residual "
-                    "reaches 1 % and 10 % of the error; one log-log plot per source.")
+                    "reaches 1 % and 10 % of the error; one log-log plot per source. A "
+                    "sweep that fails (e.g. its largest magnitudes leave the model's "
+                    "domain) keeps the magnitudes below the first failing one and its "
+                    "reason, the others run on, and the command lists the failed sweeps "
+                    "and exits with status 2.")
     parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--motion", action="append", choices=MOTIONS,
                         help="true motion (repeatable; default: static and great-circle, or "
@@ -81,18 +90,66 @@ def table(results, model) -> str:
     lines = ["| source | motion | quantity | linear slope | refined slope | 1 % at "
              "| 10 % at | status |", "|---|---|---|---:|---:|---:|---:|---|"]
     for r in results:
+        status = r.status
+        if r.failed and r.magnitudes:
+            status += f"; failed from {shown(r, r.failed_magnitudes[0])}¹"
+        elif r.failed:
+            status += "¹"
         lines.append(f"| `{r.source}` | {r.motion} | {r.quantity or '–'} | "
                      f"{_fmt(r.linear_slope)} | {_fmt(r.refined_slope)} | "
                      f"{shown(r, r.magnitude_1pct)} | {shown(r, r.magnitude_10pct)} | "
-                     f"{r.status} |")
+                     f"{status} |")
     notes = [f"* `{r.source}` ({r.motion}): {r.note}" for r in results
              if r.status == "not seen by the linear model"]
+    failed = [f"* `{r.source}` ({r.motion}): {failure_text(r)}" for r in results if r.failed]
+    if failed:
+        notes += ["", "¹ failed sweeps (the slopes and magnitudes are those of the "
+                  "magnitudes that ran; every magnitude from the first failing one on has "
+                  "no result):", *failed]
     return "\n".join(lines) + "\n" + ("\n" + "\n".join(notes) + "\n" if notes else "")
+
+
+def failure_text(r) -> str:
+    """What failed in the sweep ``r`` and why, in one line: which magnitudes ran, the
+    one whose run failed, the reason."""
+    from ins_errors.units import format_quantity
+
+    total = len(r.magnitudes) + len(r.failed_magnitudes)
+    ran = (f"{len(r.magnitudes)} of {total} magnitudes ran (up to "
+           f"{format_quantity(r.magnitudes[-1], r.unit, r.display_unit, 3)})"
+           if r.magnitudes else f"none of its {total} magnitudes ran")
+    at = ("" if r.failed_at is None else
+          f"; the run at {format_quantity(r.failed_at, r.unit, r.display_unit, 3)} failed")
+    return f"{ran}{at}: {r.failure}"
+
+
+def _failed(results) -> int:
+    """List the failed sweeps on stderr (one line each, the first 10, then how many
+    more) and give the exit status: 2 when any failed, else 0."""
+    failed = [r for r in results if r.failed]
+    if not failed:
+        return 0
+    limit = 10
+    count = len(results)
+    lines = [f"ins-errors: {len(failed)} of {count} validity sweep{'s' if count != 1 else ''} "
+             "failed (each keeps the magnitudes below its first failing one):"]
+    lines += [f"  {r.source} on the {r.motion} motion: {failure_text(r)}"
+              for r in failed[:limit]]
+    if len(failed) > limit:
+        lines.append(f"  ... and {len(failed) - limit} more (--json lists them all)")
+    print("\n".join(lines), file=sys.stderr)
+    return 2
 
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.validity import MOTIONS as DEFAULT_MOTIONS
-    from ins_errors.analysis.validity import motion_problems, validity_map, validity_tasks
+    from ins_errors.analysis.validity import (
+        check_run,
+        failures,
+        motion_problems,
+        validity_map,
+        validity_tasks,
+    )
     from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import (
         parameters_record,
@@ -105,9 +162,8 @@ def run(args: argparse.Namespace) -> int:
 
     model = load_model(args.model)
     parameters = parse_parameter_options(model, args.parameter)
-    if not args.hours > 0:
-        raise InsErrorsError(f"--hours must be positive, got {args.hours:g}")
     step = parse_quantity(args.step, "s", "--step")
+    check_run(args.hours, step)  # (a step no run can use: refused once, not per sweep)
     motions = args.motion or list(DEFAULT_MOTIONS)
     problems = motion_problems(model, motions, step, parameters, args.truth)
     if problems and args.motion:
@@ -133,7 +189,7 @@ def run(args: argparse.Namespace) -> int:
     payload = {"model": model.name, "hours": args.hours, "step_s": step, "method": "rk4",
                "truth": args.truth, "parameters": parameters_record(model, parameters),
                "parameters_used": parameters_used(model, model.parameter_vector(**parameters)),
-               "sources": [r.to_dict() for r in results]}
+               "sources": [r.to_dict() for r in results], "failed": failures(results)}
     if out_dir is not None:
         out = OutputFolder(out_dir, force=args.force)
         out.write_text("results.json", dumps(payload) + "\n")
@@ -154,4 +210,4 @@ def run(args: argparse.Namespace) -> int:
         if out_dir is not None:
             print(f"written: {out_dir}/results.json" + (" and one plot per source"
                                                          if args.plot else ""))
-    return 0
+    return _failed(results)
