@@ -183,3 +183,17 @@ def test_a_streamed_flight_of_a_model_file_survives_pickling(sphere):
     for a, b in zip(traj.source.chunks(500), again.source.chunks(500), strict=True):
         np.testing.assert_array_equal(a.truth, b.truth)
         np.testing.assert_array_equal(a.midpoints, b.midpoints)
+
+
+def test_a_state_the_initial_state_map_sets_to_a_constant_flies(tmp_path, monkeypatch):
+    # a literal 0 in the initial-state map (a state that starts at rest, e.g. an
+    # integrator of a loop) is a structural zero of the compiled solution
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # a throw-away model
+    text = SPHERE_FILE.read_text(encoding="utf-8")
+    assert text.count('c["v_D0"]') == 1
+    path = tmp_path / "level_start.py"
+    path.write_text(text.replace('c["v_D0"]', "0"), encoding="utf-8")
+    model = load_model(str(path))
+    traj = tr.trajectory(model, tr.great_circle_profile(np.radians(50), 0.0, 0.5, 250.0),
+                         600.0, 60.0, stream=False)
+    assert np.all(np.isfinite(traj.truth)) and np.abs(traj.truth[[11]]).max() < 1e-12

@@ -165,3 +165,80 @@ def test_textbook_phi_attitude_equations_checked_against_a_dcm_model_file(file, 
              if f["severity"] == "mistake"]
     assert found == mistakes
     assert report["compared"] == 36
+
+
+ENU_FILE = ROOT / "tests" / "models" / "enu_strapdown.py"
+
+
+@pytest.fixture
+def psi_check(capsys):
+    """The ψ-model check against a model: {(row, column): (kind, severity)}, compared."""
+    import json
+
+    def run(model: str) -> tuple[dict, int]:
+        main(["check", model, "--matrix", f"{PSI_MODEL}:psi_model", "--convention", "psi",
+              "--json"])
+        report = json.loads(capsys.readouterr().out)
+        return ({(f["row"], f["column"]): (f["kind"], f["severity"])
+                 for f in report["findings"]}, report["compared"])
+
+    return run
+
+
+def test_strapdown_ned_as_a_model_file_is_checked_as_the_built_in(psi_check, tmp_path):
+    # a quaternion model file: its initial-state map gives −q once the manoeuvre's heading
+    # has wrapped past ±180° (4.7 h), where its flight keeps q (the lift absorbs it)
+    source = (ROOT / "ins_errors" / "models" / "strapdown_ned.py").read_text(encoding="utf-8")
+    assert source.count('name="strapdown_ned"') == 1
+    path = tmp_path / "my_strapdown.py"
+    path.write_text(source.replace('name="strapdown_ned"', 'name="my_strapdown"'),
+                    encoding="utf-8")
+    built_in = psi_check("strapdown_ned")
+    assert psi_check(str(path)) == built_in
+    assert built_in[1] == 135 and all(s != "mistake" for _, s in built_in[0].values())
+
+
+def test_an_enu_model_with_right_forward_up_axes_is_checked_in_ned(psi_check):
+    # ENU navigation, body axes right-forward-up, v_U output: its C_bn comes from its
+    # own equations, so the textbook model (NED) finds what it finds on strapdown_ned
+    # (the same WGS-84 Earth and normal gravity, up to the fall-off with height)
+    mine, compared = psi_check(str(ENU_FILE))
+    theirs, _ = psi_check("strapdown_ned")
+    assert compared == 135
+    assert all(severity != "mistake" for _, severity in mine.values())
+    assert set(mine) == set(theirs)
+
+
+def test_the_attitude_of_an_enu_model_is_read_from_its_equations():
+    from ins_errors.checker.navigation import navigation_arrays
+    from ins_errors.numeric.strapdown_truth import euler_matrix
+
+    profile = tr.great_circle_profile(np.radians(40), 0.0, np.radians(120), 200.0)
+    navs = []
+    for model in (load_model(str(ENU_FILE)), load_model("strapdown_ned")):
+        traj = tr.trajectory(model, profile, 600.0, 60.0, stream=False)
+        navs.append(navigation_arrays(model, traj.truth, traj.inputs, traj.parameters))
+    mine, ned = navs
+    C = np.moveaxis(mine["C_bn"], -1, 0)
+    np.testing.assert_allclose(C @ np.swapaxes(C, 1, 2), np.broadcast_to(np.eye(3), C.shape),
+                               atol=1e-12)
+    # the IMU signals in NED (f_n = C_bn f_b, ω_ib in NED) are the flight's, whatever the
+    # body axes: those of strapdown_ned (the same WGS-84 Earth and gravity at h = 0)
+    for field in ("f_b", "omega_ib_b"):
+        a = np.einsum("ijk,jk->ik", mine["C_bn"], mine[field])
+        b = np.einsum("ijk,jk->ik", ned["C_bn"], ned[field])
+        np.testing.assert_allclose(a, b, rtol=0, atol=1e-9 * np.abs(b).max())
+    # right-forward-up body axes: C_bn is the forward-right-down attitude of the flight
+    # (heading 120°, level) with its columns permuted: body x = right, y = forward, z = up
+    frd = euler_matrix(0.0, 0.0, np.radians(120.0))
+    np.testing.assert_allclose(C[0], frd @ np.array([[0, 1, 0], [1, 0, 0], [0, 0, -1.0]]),
+                               atol=1e-9)
+
+
+@pytest.mark.parametrize("option, said", [("a=-6378137m", "Earth radius a = -6.37814e+06 m"),
+                                          ("e2=1.5", "eccentricity² e2 = 1.5")])
+def test_an_impossible_earth_is_refused_for_a_flight(option, said, capsys):
+    status = main(["compare", str(ENU_FILE), "--motion", "great-circle", "--hours", "0.1",
+                   "--source", "gyro_bias_x=0.01deg/h", "-p", option])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1 and said in err[0], err

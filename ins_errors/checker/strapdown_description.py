@@ -1,38 +1,39 @@
 """The navigation description and the φ/ψ conventions of any strapdown model, from its
-outputs (a researcher's strapdown INS written as a model file).
+own equations (a researcher's strapdown INS written as a model file).
 
 A hand-coded F and G (``check MODEL --matrix``) is a function of the navigation solution,
 and a textbook F is written in φ- or ψ-angle states, not in a model's own states (a
-direction-cosine matrix, a quaternion, …). A model *describes itself* when it has
+direction-cosine matrix, a quaternion, …, in NED or ENU, with any body axes). A model
+*describes itself* when it has
 
 * the outputs ``latitude``, ``longitude``, ``height`` (or ``h``), ``v_N``, ``v_E``,
-  ``v_D``, ``roll``, ``pitch``, ``heading`` (:data:`NAVIGATION_OUTPUTS`), functions of
-  its state;
+  ``v_D`` (or ``v_U``), ``roll``, ``pitch``, ``heading`` (:data:`NAVIGATION_OUTPUTS`),
+  functions of its state;
 * the inputs ``omega_x``, ``omega_y``, ``omega_z`` (body rate, rad/s) and ``f_x``,
-  ``f_y``, ``f_z`` (specific force, m/s²) (:data:`IMU_INPUTS`);
+  ``f_y``, ``f_z`` (specific force, m/s²) (:data:`IMU_INPUTS`), along its own body axes;
 * an Earth radius parameter (``a`` or ``R``, with ``e2`` for an ellipsoid; the names of
   :mod:`ins_errors.earth_constants`) and an initial-state map from the navigation
   quantities (:mod:`ins_errors.numeric.model_flight`: its moving flights need it too).
 
-Then:
+Everything else is read from its equations, so no axis convention is assumed:
 
-* the navigation description (:mod:`ins_errors.checker.navigation`) is read from the
-  outputs, ``C_bn`` from roll, pitch and heading (z-y-x), the Earth and transport rates
-  and radii from the model's Earth, the gravity from its parameter ``g`` (else WGS-84
-  normal gravity on its ellipsoid), ``f_b`` and ``omega_ib_b`` from the inputs;
-* every convention of ``strapdown_ned`` (:mod:`ins_errors.models.strapdown_conventions`)
-  exists for the model: with ν = the navigation outputs and ``x_ned(ν)`` the
-  ``strapdown_ned`` state of the same navigation solution,
-
-      T(x) = T_ned(x_ned(ν(x))) ∂x_ned/∂ν ∂ν/∂x,
-
-  exact to first order, with ``Ṫ`` by exact differentiation along the ideal flow. A
-  model's error state may have directions the convention does not see (the six of a
-  direction-cosine matrix beyond its three angles). The derived F in the convention is
-  ``(Ṫ + T F) L`` with the *lift* ``L = ∂x0/∂ν (T_ned ∂x_ned/∂ν)⁻¹`` (``x0`` the model's
-  initial-state map), the error state of a convention state on the model's own state
-  manifold (orthonormal matrices, unit quaternions), which the model's equations keep:
-  ``T L = I`` because the outputs read back what the initial-state map sets.
+* its attitude ``C_bn`` (body → NED) is the matrix through which its accelerometers
+  drive its NED velocity, ``C(x) = ∂(v̇_NED)/∂f_b = H_v ∂f/∂f_b`` (``H_v`` the Jacobian
+  of the velocity outputs), so ``f_n = C_bn f_b`` holds in the navigation description
+  whatever its body axes (forward-right-down, right-forward-up, …);
+* the φ-angle rows of its error state are the skew part of ``−δC Cᵀ``, the velocity
+  rows ``H_v``, the position rows the Jacobian of latitude, longitude and height; every
+  convention of ``strapdown_ned`` follows from them as for ``strapdown_ned``
+  (:func:`ins_errors.models.strapdown_conventions.convention_blocks`), with ``Ṫ`` by
+  exact differentiation along the ideal flow;
+* a model's error state may have directions a convention does not see (the six of a
+  direction-cosine matrix beyond its three angles, the norm of a quaternion). The
+  derived F in the convention is ``(Ṫ + T F) L`` with the *lift* ``L = K (T K)⁻¹``, ``K``
+  the tangent of the model's initial-state map at the current navigation solution: the
+  error state of a convention state on the model's own state manifold (orthonormal
+  matrices, unit quaternions), which its equations keep. (``(T K)⁻¹`` also absorbs the
+  sign of a quaternion that the initial-state map gives as −q once the heading has
+  wrapped.)
 """
 
 from __future__ import annotations
@@ -44,20 +45,25 @@ import numpy as np
 
 NAVIGATION_OUTPUTS = ("latitude", "longitude", "height", "v_N", "v_E", "v_D", "roll",
                       "pitch", "heading")
-"""The outputs a strapdown model describes itself with (``h`` may stand for ``height``),
-in the order of the navigation quantities ν of :mod:`ins_errors.numeric.model_flight`."""
+"""The outputs a strapdown model describes itself with, in the order of the navigation
+quantities ν of :mod:`ins_errors.numeric.model_flight`; :data:`ALTERNATIVES` may stand
+for some of them."""
+
+ALTERNATIVES = {"height": (("h", 1.0),), "v_D": (("v_U", -1.0),)}
+"""Other outputs that give a navigation quantity: (name, sign)."""
 
 IMU_INPUTS = ("omega_x", "omega_y", "omega_z", "f_x", "f_y", "f_z")
 """Body rate (rad/s) and specific force (m/s²) inputs, body axes x, y, z."""
 
 
-def _output_indices(model) -> list[int] | None:
+def _outputs(model) -> list[tuple[int, float]] | None:
+    """(index, sign) of the output giving each navigation quantity, or None."""
     names = [o.name for o in model.outputs]
     out = []
     for name in NAVIGATION_OUTPUTS:
-        for candidate in (name, "h") if name == "height" else (name,):
+        for candidate, sign in ((name, 1.0), *ALTERNATIVES.get(name, ())):
             if candidate in names:
-                out.append(names.index(candidate))
+                out.append((names.index(candidate), sign))
                 break
         else:
             return None
@@ -70,8 +76,9 @@ def missing(model) -> list[str]:
 
     lacks = []
     outputs = {o.name for o in model.outputs}
-    absent = [n for n in NAVIGATION_OUTPUTS
-              if n not in outputs and not (n == "height" and "h" in outputs)]
+    absent = [n + "".join(f" (or {a})" for a, _ in ALTERNATIVES.get(n, ()))
+              for n in NAVIGATION_OUTPUTS
+              if n not in outputs and not any(a in outputs for a, _ in ALTERNATIVES.get(n, ()))]
     if absent:
         lacks.append(f"the outputs {', '.join(absent)}")
     inputs = {i.name for i in model.inputs}
@@ -113,12 +120,10 @@ def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, 
     """The navigation description (:data:`~ins_errors.checker.navigation.FIELDS`) of a
     strapdown model along states ``x`` (n, K) and inputs ``u`` (nu, K)."""
     from ins_errors.models.earth import EARTH_RATE, normal_gravity, radii_of_curvature
-    from ins_errors.numeric.strapdown_truth import euler_matrix
 
     k = x.shape[-1]
-    outputs = np.asarray(model.casadi.function("outputs")(x, u, p), dtype=float)
-    outputs = outputs.reshape(-1, k)
-    lat, lon, h, vN, vE, vD, roll, pitch, heading = outputs[_output_indices(model)]
+    nav, C = _along(_navigation_function(model.key), x, np.asarray(p, dtype=float))
+    lat, lon, h, vN, vE, vD = nav[:6, 0]
     value = dict(zip((q.name for q in model.parameters), np.asarray(p, dtype=float),
                      strict=True))
     radius, eccentricity, rate, gravity = _earth_parameters(model)
@@ -130,7 +135,7 @@ def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, 
     index = {i.name: j for j, i in enumerate(model.inputs)}
     return {
         "latitude": lat, "longitude": lon, "height": h, "v_ned": np.array([vN, vE, vD]),
-        "C_bn": euler_matrix(roll, pitch, heading),
+        "C_bn": C,
         "omega_ie_n": np.array([U * np.cos(lat), zeros, -U * np.sin(lat)]),
         "omega_en_n": np.array([vE / (r_e + h), -vN / (r_n + h),
                                 -vE * np.tan(lat) / (r_e + h)]),
@@ -142,51 +147,67 @@ def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, 
     }
 
 
-def _ned_state(nu):
-    """``strapdown_ned``'s state (10) of navigation quantities ν (9), CasADi."""
-    lat, lon, h, v, roll, pitch, heading = nu[0], nu[1], nu[2], nu[3:6], nu[6], nu[7], nu[8]
-    cr, sr = ca.cos(roll / 2), ca.sin(roll / 2)
-    cp, sp_ = ca.cos(pitch / 2), ca.sin(pitch / 2)
-    cy, sy = ca.cos(heading / 2), ca.sin(heading / 2)
-    q = ca.vertcat(cr * cp * cy + sr * sp_ * sy, sr * cp * cy - cr * sp_ * sy,
-                   cr * sp_ * cy + sr * cp * sy, cr * cp * sy - sr * sp_ * cy)
-    return ca.vertcat(q, v, lat, lon, h)
+def _symbols(model):
+    """CasADi symbols and expressions of a model's navigation: ``x``, ``p``, the
+    navigation quantities ν(x) (9,), the NED velocity rows ``H_v`` (3, n) and the
+    attitude ``C(x) = H_v ∂f/∂f_b`` (3, 3)."""
+    n, n_u, n_p = len(model.states), len(model.inputs), len(model.parameters)
+    x, p = ca.SX.sym("x", n), ca.SX.sym("p", n_p)
+    outputs = model.casadi.function("outputs")(x, ca.DM.zeros(n_u), p)
+    nu = ca.vertcat(*[sign * outputs[i] for i, sign in _outputs(model)])
+    H_v = ca.jacobian(nu[3:6], x)
+    u = ca.SX.sym("u", n_u)
+    names = [i.name for i in model.inputs]
+    forces = [names.index(name) for name in IMU_INPUTS[3:]]
+    J = ca.jacobian(model.casadi.function("ideal_rhs")(x, u, p), u)[:, forces]
+    C = H_v @ ca.substitute(J, u, ca.DM.zeros(n_u))  # affine in u: J does not depend on it
+    return x, p, nu, H_v, C
+
+
+@cache
+def _navigation_function(model_key: str) -> ca.Function:
+    """``(x, p) -> (ν (9, 1), C_bn (3, 3))``."""
+    from ins_errors.numeric.model import load_model
+
+    x, p, nu, _, C = _symbols(load_model(model_key))
+    return ca.Function("strapdown_navigation", [x, p], [ca.densify(nu), ca.densify(C)])
 
 
 @cache
 def _functions(model_key: str, attitude: str, velocity: str, position: str
                ) -> tuple[ca.Function, ca.Function, ca.Function]:
-    """``T(x, p)``, ``Ṫ(x, ẋ, p)`` and ``(K(x, p), A(x, p))`` of a convention, with the
-    lift ``L = K A⁻¹``."""
+    """``T(x, p)``, ``Ṫ(x, ẋ, p)`` and ``K(x, p)`` of a convention (the lift is
+    ``K (T K)⁻¹``)."""
     from ins_errors.models import strapdown_conventions as sc
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.model_flight import condition_matrix
 
     model = load_model(model_key)
-    n, nu_, n_par = len(model.states), len(model.inputs), len(model.parameters)
-    x, xdot, p = ca.SX.sym("x", n), ca.SX.sym("xdot", n), ca.SX.sym("p", n_par)
+    x, p, nu, H_v, C = _symbols(model)
+    n = x.numel()
     radius, eccentricity, _, _ = _earth_parameters(model)
     names = [q.name for q in model.parameters]
-    ae2 = ca.vertcat(p[names.index(radius)],
-                     p[names.index(eccentricity)] if eccentricity else 0.0)
-    nu = model.casadi.function("outputs")(x, ca.DM.zeros(nu_), p)[_output_indices(model)]
-    nu_sym = ca.SX.sym("nu", 9)
-    x_ned = _ned_state(nu_sym)
-    x10, ae2_sym = ca.SX.sym("x_ned", 10), ca.SX.sym("ae2", 2)
-    blocks = sc._blocks(x10, ae2_sym)
-    T_ned = ca.Function("T_ned", [x10, ae2_sym], [ca.vertcat(
-        blocks[attitude], blocks[velocity], blocks[position])])(x_ned, ae2_sym)
-    A_sym = T_ned @ ca.jacobian(x_ned, nu_sym)  # (9, 9): convention per navigation error
-    A = ca.Function("A", [nu_sym, ae2_sym], [A_sym])(nu, ae2)
-    T = A @ ca.jacobian(nu, x)
+    a = p[names.index(radius)]
+    e2 = p[names.index(eccentricity)] if eccentricity else 0.0
+    # φ: [φ×] = −δC Cᵀ (skew part), per error state
+    dC = ca.jacobian(ca.vec(C), x)
+    columns = []
+    for k in range(n):
+        A = -dC[:, k].reshape((3, 3)) @ C.T
+        S = (A - A.T) / 2
+        columns.append(ca.vertcat(S[2, 1], S[0, 2], S[1, 0]))
+    blocks = sc.convention_blocks(ca.horzcat(*columns), H_v, ca.jacobian(nu[0:3], x),
+                                  nu[0], nu[2], nu[3:6], a, e2)
+    T = ca.vertcat(blocks[attitude], blocks[velocity], blocks[position])
+    xdot = ca.SX.sym("xdot", n)
     T_dot = (ca.jacobian(ca.vec(T), x) @ xdot).reshape(T.shape)
     S = condition_matrix(model)
     c = ca.SX.sym("c", S.shape[0])
-    x0 = model.casadi.function("initial_state")(c, ca.DM.zeros(nu_), p)
+    x0 = model.casadi.function("initial_state")(c, ca.DM.zeros(len(model.inputs)), p)
     K = ca.Function("K", [c, p], [ca.jacobian(x0, c)])(ca.DM(S) @ nu, p) @ ca.DM(S)
-    return (ca.Function("transform", [x, p], [T]),
-            ca.Function("transform_rate", [x, xdot, p], [T_dot]),
-            ca.Function("lift_parts", [x, p], [K, A]))
+    return (ca.Function("transform", [x, p], [ca.densify(T)]),
+            ca.Function("transform_rate", [x, xdot, p], [ca.densify(T_dot)]),
+            ca.Function("tangent", [x, p], [ca.densify(K)]))
 
 
 def _along(fn: ca.Function, *args: np.ndarray) -> list[np.ndarray]:
@@ -220,10 +241,12 @@ def conventions(model) -> dict:
             return _along(_functions(*parts)[1], x, xdot, np.asarray(p, dtype=float))[0]
 
         def lift(x, p):
-            K, A = _along(_functions(*parts)[2], x, np.asarray(p, dtype=float))
-            K, A = np.moveaxis(K, -1, 0), np.moveaxis(A, -1, 0)
-            return np.moveaxis(np.linalg.solve(np.swapaxes(A, 1, 2),
-                                               np.swapaxes(K, 1, 2)).swapaxes(1, 2), 0, -1)
+            p = np.asarray(p, dtype=float)
+            K = np.moveaxis(_along(_functions(*parts)[2], x, p)[0], -1, 0)  # (K, n, 9)
+            T = np.moveaxis(transform(x, p), -1, 0)                       # (K, 9, n)
+            # L = K (T K)⁻¹, as solve((T K)ᵀ, Kᵀ)ᵀ
+            L = np.linalg.solve(np.swapaxes(T @ K, 1, 2), np.swapaxes(K, 1, 2))
+            return np.moveaxis(np.swapaxes(L, 1, 2), 0, -1)
 
         return transform, rate, lift
 

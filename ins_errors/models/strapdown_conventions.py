@@ -141,10 +141,6 @@ def _skew(v):
 def _blocks(x, p):
     """Rows of T for every vocabulary triple, as CasADi (3, 10) blocks."""
     q, v, lat, h = x[0:4], x[4:7], x[7], x[9]
-    a, e2 = p[0], p[1]
-    w2 = 1 - e2 * ca.sin(lat) ** 2
-    R_N = a * (1 - e2) / (w2 * ca.sqrt(w2))
-    R_E = a / ca.sqrt(w2)
     C = _dcm(q)
     # φ: [φ×] = −δC Cᵀ (skew part), linear in δq
     cols = []
@@ -156,12 +152,33 @@ def _blocks(x, p):
     phi_q = ca.horzcat(*cols)  # (3, 4)
     Z33, Z34 = ca.SX.zeros(3, 3), ca.SX.zeros(3, 4)
     I3 = ca.SX.eye(3)
+    return convention_blocks(ca.horzcat(phi_q, Z33, Z33), ca.horzcat(Z34, I3, Z33),
+                             ca.horzcat(Z34, Z33, I3), lat, h, v, p[0], p[1])
+
+
+def convention_blocks(phi, dv, position, lat, h, v, a, e2) -> dict:
+    """Rows of T for every vocabulary triple from the rows of three error quantities.
+
+    Parameters
+    ----------
+    phi, dv, position : casadi.SX, shape (3, ne)
+        The φ-angle (N, E, D), the NED velocity error and the position error (δφ, δλ,
+        δh) per model error state.
+    lat, h, v, a, e2 : casadi.SX
+        True latitude, height and NED velocity (3,), semi-major axis and eccentricity².
+
+    Returns
+    -------
+    dict of str to casadi.SX
+        (3, ne) rows of every name of :data:`ATTITUDE`, :data:`VELOCITY`, :data:`POSITION`.
+    """
+    w2 = 1 - e2 * ca.sin(lat) ** 2
+    R_N = a * (1 - e2) / (w2 * ca.sqrt(w2))
+    R_E = a / ca.sqrt(w2)
     # δθ = (δλ cos φ, −δφ, −δλ sin φ), in (δφ, δλ, δh)
     theta_pos = ca.vertcat(ca.horzcat(0, ca.cos(lat), 0), ca.horzcat(-1, 0, 0),
                            ca.horzcat(0, -ca.sin(lat), 0))
-    phi = ca.horzcat(phi_q, Z33, Z33)
-    theta = ca.horzcat(Z34, Z33, theta_pos)
-    dv = ca.horzcat(Z34, I3, Z33)
+    theta = theta_pos @ position
     cross_v = -_skew(v)  # a × v = −[v×] a
     return {
         "phi": phi,
@@ -169,8 +186,8 @@ def _blocks(x, p):
         "dv": dv,
         "dvc": dv + cross_v @ theta,
         "du": dv + cross_v @ phi,
-        "ned": ca.horzcat(Z34, Z33, ca.diag(ca.vertcat(R_N + h, (R_E + h) * ca.cos(lat), -1))),
-        "geodetic": ca.horzcat(Z34, Z33, I3),
+        "ned": ca.diag(ca.vertcat(R_N + h, (R_E + h) * ca.cos(lat), -1)) @ position,
+        "geodetic": position,
     }
 
 

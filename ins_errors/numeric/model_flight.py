@@ -134,6 +134,12 @@ def flight_earth(model: Model, p: np.ndarray):
                           "model's own Earth")
     eccentricity = first(ECCENTRICITY_NAMES, "1")
     rate = first(EARTH_RATE_NAMES, "rad/s")
+    if not (np.isfinite(value[radius]) and value[radius] > 0):
+        raise MotionError(f"model {model.name!r}: the Earth radius {radius} = "
+                          f"{value[radius]:g} m must be positive for a flight")
+    if eccentricity and not (0.0 <= value[eccentricity] < 1.0):
+        raise MotionError(f"model {model.name!r}: the eccentricity² {eccentricity} = "
+                          f"{value[eccentricity]:g} must be in [0, 1) for a flight")
     return _Earth(value[radius],
                   value[eccentricity] if eccentricity else DEFAULT_EARTH["e2"],
                   value[rate] if rate else EARTH_RATE,
@@ -168,7 +174,9 @@ def _adapter(model_key: str, determined: tuple[bool, ...]):
     f, J = rhs(x, u, p)
     at_zero, _ = rhs(x, ca.DM.zeros(nu), p)
     terms = ca.fabs(at_zero) + ca.mtimes(ca.fabs(J), ca.fabs(u)) + ca.fabs(x_rate)
-    one = ca.Function("model_flight", [c, c_rate, prior, p], [x, u, f - x_rate, terms])
+    # dense: a state the initial-state map sets to a constant (0) has a structural zero
+    one = ca.Function("model_flight", [c, c_rate, prior, p],
+                      [ca.densify(v) for v in (x, u, f - x_rate, terms)])
     mapped = one.map("model_flight_chunk", "serial", CHUNK, [3], [])
     return native_functions([mapped])[0]
 
