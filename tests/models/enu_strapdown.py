@@ -166,8 +166,10 @@ def build():
     xc = computed_symbols(STATES)
     om = [S[f"omega_{a}"] for a in AXES]
     fb = [S[f"f_{a}"] for a in AXES]
-    gyr = [(1 + S[f"gyro_scale_{a}"]) * w + S[f"gyro_bias_{a}"] for w, a in zip(om, AXES, strict=True)]
-    acc = [(1 + S[f"accel_scale_{a}"]) * v + S[f"accel_bias_{a}"] for v, a in zip(fb, AXES, strict=True)]
+    gyr = [(1 + S[f"gyro_scale_{a}"]) * w + S[f"gyro_bias_{a}"]
+           for w, a in zip(om, AXES, strict=True)]
+    acc = [(1 + S[f"accel_scale_{a}"]) * v + S[f"accel_bias_{a}"]
+           for v, a in zip(fb, AXES, strict=True)]
     ideal, real = Mechanisation(), Mechanisation(computed=True)
     ideal_rhs = sp.Matrix(computer(ideal, x, om, fb, S["h_ref"]))
     real_rhs = sp.Matrix(computer(real, xc, gyr, acc, S["h_ref"] + S["baro_bias"]))
