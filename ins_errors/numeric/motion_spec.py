@@ -51,6 +51,12 @@ _WHY_NOT = {"static": "the base is static", "file": "the file gives the motion",
             "great-circle": "the kind is great-circle", "manoeuvre": "the kind is manoeuvre"}
 
 
+STANDARD_MANOEUVRE = ("standard manoeuvre (every hour a 90° turn, a 20 % speed-up with a "
+                      "2-km climb, then two 45° turns back, the second slowing down and "
+                      "descending)")
+"""How the flight of :func:`default_legs` is described."""
+
+
 def default_legs(speed: float, height: float, hours: int = 24) -> list[tr.Leg]:
     """The standard manoeuvre: a turn, a speed change with a climb, a turn back and a
     descent, repeated every hour."""
@@ -232,9 +238,10 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
         if base is not None and not path.is_absolute():
             path = base / path
         return read_motion_file(path, lat, lon, heading, height)
-    return tr.manoeuvre_profile(lat, lon, heading, speed,
-                                default_legs(speed, height) if legs is None else legs,
-                                height)
+    if legs is None:  # the standard manoeuvre: described by its pattern, not its count
+        return tr.manoeuvre_profile(lat, lon, heading, speed, default_legs(speed, height),
+                                    height, name=STANDARD_MANOEUVRE)
+    return tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)
 
 
 def refuse_unused_heading(model, profile: tr.Profile, option: str = "--heading") -> None:

@@ -279,7 +279,8 @@ def smoothstep(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: float,
-                      legs: Sequence[Leg], h: float = 0.0) -> Profile:
+                      legs: Sequence[Leg], h: float = 0.0, name: str | None = None
+                      ) -> Profile:
     """A flight of smooth legs: turns, speed changes, climbs and descents.
 
     Within each leg the speed, the course ψ (relative to the trihedron's ξ axis) and the
@@ -297,6 +298,9 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
         The legs, in order.
     h : float
         Initial height, m.
+    name : str, optional
+        What the flight is, for its description (default: "manoeuvring flight of N
+        legs").
     """
     latitude, longitude, track = _angles(latitude=latitude, longitude=longitude, track=track)
     speed = motion_number(speed, "manoeuvre speed", "m/s")
@@ -318,7 +322,7 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
 
     return Profile("track", LegCommands(table, float(speed), float(h)), latitude, longitude,
                    track, breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])),
-                   **_description((None, f"manoeuvring flight of {len(legs)} legs"),
+                   **_description((None, name or f"manoeuvring flight of {len(legs)} legs"),
                                   ("latitude", f" from φ={np.degrees(latitude):.4g}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°")))
 
