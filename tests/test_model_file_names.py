@@ -82,6 +82,20 @@ def test_models_lists_parameter_defaults(capsys):
     assert (listed["g"]["default"], listed["g"]["unit"]) == (9.81, "m/s**2")
 
 
+def test_models_names_the_damping_gains_with_their_examples(capsys):
+    """strapdown_ned flags k_h1, k_h2 as damping gains with example values: the listing
+    says so (what the growth warning would suggest), and only for them."""
+    assert main(["models", "strapdown_ned"]) == 0
+    text = capsys.readouterr().out
+    rows = {line.split()[0]: line for line in text.split("parameters:")[1].split("\n\n")[0]
+            .strip().splitlines()}
+    assert rows["k_h1"].endswith("(default 0 1/s; a damping gain, e.g. -p k_h1=0.0293/s (a "
+                                 "300-s loop, damping 0.7))")
+    assert "damping gain" in rows["k_h2"]
+    assert not any("damping gain" in row for name, row in rows.items()
+                   if name not in ("k_h1", "k_h2"))
+
+
 def test_platform_words_only_for_platform_models():
     generated = ROOT / "generated"
     text = {name: (generated / name / "error_equations.md").read_text(encoding="utf-8")

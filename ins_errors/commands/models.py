@@ -66,6 +66,11 @@ def run(args: argparse.Namespace) -> int:
             extra = f" (quoted in {i.display_unit}, {i.kind}" + (
                 f", manual factor {i.factor})" if i.factor else ")") if i.kind else ""
             if title == "parameters":
-                extra = f" (default {default_text(i.default, i.unit)})"
+                extra = f" (default {default_text(i.default, i.unit)}"
+                if getattr(i, "damping_gain", False):  # the growth warning's remedy names it
+                    extra += "; a damping gain" + (
+                        f", e.g. -p {i.name}={i.example}" if i.example else "") + (
+                        f" ({i.example_gives})" if i.example_gives else "")
+                extra += ")"
             print(f"  {i.name:<36} [{i.unit}] {i.description}{extra}")
     return 0
