@@ -197,3 +197,20 @@ def test_a_state_the_initial_state_map_sets_to_a_constant_flies(tmp_path, monkey
     traj = tr.trajectory(model, tr.great_circle_profile(np.radians(50), 0.0, 0.5, 250.0),
                          600.0, 60.0, stream=False)
     assert np.all(np.isfinite(traj.truth)) and np.abs(traj.truth[[11]]).max() < 1e-12
+
+
+def test_a_model_without_a_heading_condition_is_refused_a_flight(tmp_path, monkeypatch,
+                                                                 capsys):
+    # its body would keep heading 0 while the flight follows its course (sideways)
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # a throw-away model
+    text = SPHERE_FILE.read_text(encoding="utf-8")
+    old = 'f"initial {name}", f"{latex}_0") for name, latex in ANGLES)'
+    assert text.count(old) == 1 and text.count('c["heading"]') == 1
+    text = text.replace(old, old.replace("in ANGLES", "in ANGLES[:2]"))
+    path = tmp_path / "no_heading.py"
+    path.write_text(text.replace('c["heading"]', "0"), encoding="utf-8")
+    status = main(["compare", str(path), "--motion", "great-circle", "--hours", "0.1",
+                   "--source", "gyro_bias_x=0.01deg/h"])
+    err = [line for line in capsys.readouterr().err.strip().splitlines()
+           if not line.startswith("ins-errors: deriving")]
+    assert status == 2 and len(err) == 1 and "no initial condition 'heading'" in err[0]

@@ -220,6 +220,12 @@ class FlightAdapter:
         self.n_inputs = len(model.inputs)
         self.p = np.ascontiguousarray(p, dtype=float)
         self.S = condition_matrix(model)
+        conditions = {c.name for c in model.initial_conditions}
+        if "heading" not in conditions and any(o.name == "heading" for o in model.outputs):
+            raise MotionError(f"model {model.name!r} has a heading output but no initial "
+                              "condition 'heading': a flight could not turn its body along "
+                              "the course (it would fly sideways at heading 0); add the "
+                              "initial condition 'heading' to its initial-state map")
         if _uses_inputs(model):
             raise MotionError(f"model {model.name!r}: its initial state depends on its "
                               "inputs, so a moving flight cannot set it (a static base can)")
