@@ -432,3 +432,12 @@ def require_matplotlib(what: str = "plots") -> None:
                              ) from None
 
 
+
+
+def failure_list(header: str, lines: list[str], limit: int = 10) -> str:
+    """``header`` and the first ``limit`` of ``lines`` (indented), then how many more:
+    the failed points or sweeps a command lists on stderr before exiting 2."""
+    shown_lines = [header, *(f"  {line}" for line in lines[:limit])]
+    if len(lines) > limit:
+        shown_lines.append(f"  ... and {len(lines) - limit} more (--json lists them all)")
+    return "\n".join(shown_lines)

@@ -179,3 +179,14 @@ def one_blas_thread_for_references() -> Iterator[None]:
 
     with threadpool_limits(limits=1, user_api="blas"):
         yield
+
+
+def fresh_model_cache(tmp_path, monkeypatch):
+    """Point the model files' code cache at a fresh folder below ``tmp_path`` and forget
+    the models loaded so far (they remember their folder); returns the folder."""
+    from ins_errors.numeric.model import _file_model
+
+    cache = tmp_path / "cache"
+    monkeypatch.setattr("ins_errors.model_lookup.models_cache_directory", lambda: cache)
+    _file_model.cache_clear()
+    return cache

@@ -28,6 +28,7 @@ import sympy as sp
 
 from ins_errors import load_model
 from ins_errors.cli import main
+from tests.helpers import fresh_model_cache
 
 R, G = 6_371_000.0, 9.80665
 OMEGA = math.sqrt(G / R)
@@ -39,12 +40,7 @@ SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
 @pytest.fixture(autouse=True)
 def private_cache(tmp_path, monkeypatch):
     """Generated code of model files goes to a fresh cache per test."""
-    from ins_errors.numeric.model import _file_model
-
-    cache = tmp_path / "cache"
-    monkeypatch.setattr("ins_errors.model_lookup.models_cache_directory", lambda: cache)
-    _file_model.cache_clear()
-    return cache
+    return fresh_model_cache(tmp_path, monkeypatch)
 
 
 HEADER = '''

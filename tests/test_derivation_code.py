@@ -32,6 +32,7 @@ from ins_errors.model_identity import (
     derivation_sources,
 )
 from ins_errors.numeric.model import _file_model
+from tests.helpers import fresh_model_cache
 
 ROOT = Path(__file__).resolve().parent.parent
 SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
@@ -41,10 +42,7 @@ OTHER_CODE = hashlib.sha256(b"another version of ins-errors").hexdigest()
 @pytest.fixture(autouse=True)
 def private_cache(tmp_path, monkeypatch):
     """Generated code of model files goes to a fresh cache per test."""
-    cache = tmp_path / "cache"
-    monkeypatch.setattr("ins_errors.model_lookup.models_cache_directory", lambda: cache)
-    _file_model.cache_clear()
-    yield cache
+    yield fresh_model_cache(tmp_path, monkeypatch)
     _file_model.cache_clear()
 
 

@@ -23,6 +23,7 @@ import pytest
 
 from ins_errors import load_model
 from ins_errors.cli import main
+from tests.helpers import fresh_model_cache
 
 ROOT = Path(__file__).resolve().parent.parent
 SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
@@ -33,12 +34,7 @@ OMEGA = math.sqrt(G / R)
 @pytest.fixture(autouse=True)
 def private_cache(tmp_path, monkeypatch):
     """Generated code of model files goes to a fresh cache per test."""
-    from ins_errors.numeric.model import _file_model
-
-    cache = tmp_path / "cache"
-    monkeypatch.setattr("ins_errors.model_lookup.models_cache_directory", lambda: cache)
-    _file_model.cache_clear()  # loaded models remember their folder
-    return cache
+    return fresh_model_cache(tmp_path, monkeypatch)
 
 
 def copy_model(tmp_path: Path, *replacements: tuple[str, str],

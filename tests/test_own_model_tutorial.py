@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from ins_errors.cli import main
+from tests.helpers import fresh_model_cache
 
 ROOT = Path(__file__).resolve().parent.parent
 FOLDER = ROOT / "examples" / "own_model"
@@ -31,14 +32,11 @@ DESCRIBED = [c for c in COMMANDS
 @pytest.fixture
 def workspace(tmp_path, monkeypatch):
     """A fresh folder with examples/ linked in, and a private model cache."""
-    from ins_errors.numeric.model import _file_model
 
     (tmp_path / "out").mkdir()
     os.symlink(ROOT / "examples", tmp_path / "examples")
     monkeypatch.chdir(tmp_path)
-    cache = tmp_path / "cache"
-    monkeypatch.setattr("ins_errors.model_lookup.models_cache_directory", lambda: cache)
-    _file_model.cache_clear()
+    fresh_model_cache(tmp_path, monkeypatch)
     return tmp_path
 
 

@@ -707,14 +707,13 @@ def failures_text(dataset, limit: int = 10) -> str:
     rows = failures(dataset)
     if not rows:
         return ""
+    from ins_errors.output import failure_list
+
     points = dataset.sizes["point"]
-    lines = [f"{len(rows)} of {points} point{'s' if points != 1 else ''} failed "
-             "(stored without results; --retry-failed runs them again):"]
-    lines += [f"  point {r['point']} ({r['label'] or 'the point'}): {r['reason']}"
-              for r in rows[:limit]]
-    if len(rows) > limit:
-        lines.append(f"  ... and {len(rows) - limit} more (--json lists them all)")
-    return "\n".join(lines)
+    return failure_list(f"{len(rows)} of {points} point{'s' if points != 1 else ''} failed "
+                        "(stored without results; --retry-failed runs them again):",
+                        [f"point {r['point']} ({r['label'] or 'the point'}): {r['reason']}"
+                         for r in rows], limit)
 
 
 def _worst(dataset, curve: str) -> tuple[np.ndarray, list[str | None]]:

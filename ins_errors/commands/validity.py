@@ -129,15 +129,14 @@ def _failed(results) -> int:
     failed = [r for r in results if r.failed]
     if not failed:
         return 0
-    limit = 10
+    from ins_errors.output import failure_list
+
     count = len(results)
-    lines = [f"ins-errors: {len(failed)} of {count} validity sweep{'s' if count != 1 else ''} "
-             "failed (each keeps the magnitudes below its first failing one):"]
-    lines += [f"  {r.source} on the {r.motion} motion: {failure_text(r)}"
-              for r in failed[:limit]]
-    if len(failed) > limit:
-        lines.append(f"  ... and {len(failed) - limit} more (--json lists them all)")
-    print("\n".join(lines), file=sys.stderr)
+    print(failure_list(f"ins-errors: {len(failed)} of {count} validity sweep"
+                       f"{'s' if count != 1 else ''} failed (each keeps the magnitudes below "
+                       "its first failing one):",
+                       [f"{r.source} on the {r.motion} motion: {failure_text(r)}"
+                        for r in failed]), file=sys.stderr)
     return 2
 
 
