@@ -10,6 +10,11 @@ quantities of the reference motion (:data:`QUANTITIES`: ``omega_ie_N``, ``f_E``,
 one vector line ``dot(phi) = -cross(omega_in, phi) + vec(...) - C_bn*gyro_bias``
 (:func:`split_vector_lines`; ``omega_in × phi`` is read as ``cross(omega_in, phi)``).
 
+Lines ``NAME = expression`` before the rows define intermediate quantities (``rho_N =
+v_E/(R_E + h)``, ``dlat = dr_N/(R_N + h)``), substituted into the rows in file order; a
+finding names the definitions its entry comes through
+(:mod:`~ins_errors.checker.convention_definitions`).
+
 Each equation's coefficients are evaluated along the matrix checker's motions and placed
 in that row of F and G; rows the file does not give are taken from the derived model. The
 comparison is then exactly :func:`~ins_errors.checker.matrix.check_matrices` against the
@@ -27,6 +32,7 @@ from pathlib import Path
 import numpy as np
 import sympy as sp
 
+from ins_errors.checker import convention_definitions as cd
 from ins_errors.errors import InsErrorsError
 
 QUANTITIES: dict[str, str] = {
@@ -90,11 +96,19 @@ class ConventionCheck:
         Row (state name) -> (line number, equation text) of the hand file.
     from_model : list of str
         Rows the file does not give (taken from the derived model, not compared).
+    definitions : dict
+        Name -> :class:`~ins_errors.checker.convention_definitions.Definition` of the
+        file's ``NAME = expression`` lines, in file order.
+    via : dict
+        Row -> {column: names of the definitions the entry's coefficient comes through}
+        (entries through none left out).
     """
 
     report: object
     lines: dict[str, tuple[int, str]] = field(default_factory=dict)
     from_model: list[str] = field(default_factory=list)
+    definitions: dict = field(default_factory=dict)
+    via: dict[str, dict[str, tuple[str, ...]]] = field(default_factory=dict)
 
     @property
     def exit_status(self) -> int:
@@ -104,6 +118,12 @@ class ConventionCheck:
     def line_of(self, finding) -> int:
         """Line number of a finding's row."""
         return self.lines[finding.row][0]
+
+    def via_of(self, finding) -> list:
+        """The definitions (:class:`~ins_errors.checker.convention_definitions.
+        Definition`) a finding's entry comes through, in file order."""
+        return [self.definitions[d]
+                for d in self.via.get(finding.row, {}).get(finding.column, ())]
 
 
 VECTORS: dict[str, tuple[str, ...]] = {
@@ -148,9 +168,12 @@ class _Vector(sp.MutableDenseMatrix):
         raise ValueError("a × b needs two 3-vectors")
 
 
-def _vector_namespace(states: list[str], sources: list[str]) -> dict[str, object]:
-    """Names a vector line may use: vectors (3 × 1), ``C_bn``, scalars, functions."""
+def _vector_namespace(states: list[str], sources: list[str],
+                      defined: dict[str, str] | None = None) -> dict[str, object]:
+    """Names a vector line may use: vectors (3 × 1), ``C_bn``, scalars, functions, and
+    the file's definitions (name as written -> the name the rows use)."""
     space: dict[str, object] = {q: sp.Symbol(q) for q in QUANTITIES}
+    space.update({k: sp.Symbol(v) for k, v in (defined or {}).items()})
     space.update({n: sp.Symbol(n) for n in (*states, *sources)})
     vectors = {**VECTORS, **_triples(states, ("N", "E", "D")),
                **_triples(sources, ("x", "y", "z"))}
@@ -162,6 +185,16 @@ def _vector_namespace(states: list[str], sources: list[str]) -> dict[str, object
                   "vec": lambda *c: _Vector(c), "sin": sp.sin, "cos": sp.cos,
                   "tan": sp.tan, "sqrt": sp.sqrt, "pi": sp.pi})
     return space
+
+
+def _reserved_names(states: list[str], sources: list[str]) -> dict[str, str]:
+    """Names a definition may not take, with what they are (for messages)."""
+    out = {n: "a vector or function of vector lines"
+           for n in _vector_namespace(states, sources)}
+    out.update({q: f"a named quantity ({meaning})" for q, meaning in QUANTITIES.items()})
+    out.update({s: "an error source of the model" for s in sources})
+    out.update({s: "a state of the convention" for s in states})
+    return out
 
 
 class _RefusedError(Exception):
@@ -222,7 +255,8 @@ def _parse_vector_rhs(text: str, space: dict[str, object]):
 
 
 def split_vector_lines(text: str, states: list[str], sources: list[str], name: str,
-                       bias_sources: list[str] | tuple[str, ...] = ()
+                       bias_sources: list[str] | tuple[str, ...] = (),
+                       defined: dict[str, str] | None = None
                        ) -> tuple[str, dict[str, tuple[int, str, sp.Expr]]]:
     """Take the vector lines ``dot(phi) = ...`` out of a hand file's text.
 
@@ -231,22 +265,26 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
     (``dot(gyro_bias) = ...``: the three bias states of ``bias_sources``, error sources
     that may be states).
     The right-hand side is read by SymPy's parser (:func:`_parse_vector_rhs`) over the
-    names of :func:`_vector_namespace` alone: no Python is run.
+    names of :func:`_vector_namespace` alone: no Python is run. ``defined``: the file's
+    definitions (:mod:`~ins_errors.checker.convention_definitions`), name as written ->
+    name of the rows; they are scalars, substituted later like those of component rows.
 
     Raises
     ------
     InsErrorsError
-        A right-hand side that cannot be read or is not a 3-vector (one line, naming it).
+        A right-hand side that cannot be read or is not a 3-vector, or a definition in
+        vector notation (one line, naming it).
     """
     from tokenize import TokenError
 
     prefixes = {**_triples(states, ("N", "E", "D")),
                 **_triples(list(bias_sources), ("x", "y", "z"))}
-    space = _vector_namespace(states, sources)
+    space = _vector_namespace(states, sources, defined)
     vectors = {k for k, v in space.items() if isinstance(v, sp.MatrixBase)}
     kept, rows = [], {}
     for number, raw in enumerate(text.splitlines(), start=1):
         body = raw.split("#", 1)[0].replace("×", "@")  # same width: a × b is cross(a, b)
+        _not_a_vector_definition(body, vectors, f"{name}, line {number}")
         match = _VECTOR_LINE.match(body)
         if match and match.group(1) not in prefixes:
             _not_a_vector_line(match.group(1), match.group(2), states, prefixes, vectors,
@@ -281,6 +319,24 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
 
 
 _VECTOR_WORDS = re.compile(r"\b(cross|skew|vec)\s*\(|@")
+_DEFINITION_LINE = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*=(?!=)(.*)$")
+
+
+def _not_a_vector_definition(body: str, vectors: set, where: str) -> None:
+    """Refuse a definition ``NAME = ...`` in vector notation: definitions are scalars."""
+    match = _DEFINITION_LINE.match(body)
+    if not match:
+        return
+    rhs = match.group(2)
+    found = _VECTOR_WORDS.search(rhs)
+    named = sorted(set(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", rhs)) & vectors)
+    if found or named:
+        what = (f"{found.group(1)}()" if found and found.group(1) else "×" if found
+                else f"the vector {named[0]!r}")
+        raise InsErrorsError(
+            f"{where}: the definition of {match.group(1)} uses {what}, but a definition is "
+            f"one scalar: define its components ({match.group(1)}_N = ..., ...) and use "
+            "them in vec(...)")
 
 
 def _not_a_vector_line(lhs: str, rhs: str, states: list[str], prefixes: dict, vectors: set,
@@ -349,20 +405,23 @@ def convention_notation(model_name: str, states: list[str], sources: list[str]):
 
 def _rows(hand, states: list[str], sources: list[str],
           vector_rows: dict[str, tuple[int, str, sp.Expr]],
-          bias_sources: list[str] | tuple[str, ...] = ()):
+          bias_sources: list[str] | tuple[str, ...] = (),
+          defined: set[str] | frozenset[str] = frozenset()):
     """{row: (line, text, expression)} of the hand file's equations; one-line errors.
 
     A row is a state of the convention or a bias state: one of ``bias_sources`` (the
-    model's error sources that enter its equations) with its own line."""
+    model's error sources that enter its equations) with its own line. Equations with a
+    name on the left are definitions (``defined``, read by
+    :func:`~ins_errors.checker.convention_definitions.read_definitions`); a row's
+    expression still holds them by name."""
     from ins_errors.checker.parse import DOT
 
-    if hand.problems:
-        first = hand.problems[0]
-        raise InsErrorsError(f"{hand.name}: {first}")
-    known = set(states) | set(sources) | set(QUANTITIES)
+    known = set(states) | set(sources) | set(QUANTITIES) | set(defined)
     rows: dict[str, tuple[int, str, sp.Expr]] = dict(vector_rows)
     for eq in hand.equations:
         lhs = eq.lhs
+        if isinstance(lhs, sp.Symbol) and lhs.name in defined:
+            continue
         if not (isinstance(lhs, sp.Function) and lhs.func == DOT
                 and isinstance(lhs.args[0], sp.Symbol)
                 and (lhs.args[0].name in states or lhs.args[0].name in bias_sources)):
@@ -382,8 +441,8 @@ def _rows(hand, states: list[str], sources: list[str],
             if s.name not in known:
                 raise InsErrorsError(
                     f"{hand.name}, line {eq.line}: unknown name {s.name!r} (states: "
-                    f"{', '.join(states)}; error sources of the model; named quantities: "
-                    "docs/hand_check.md)")
+                    f"{', '.join(states)}; error sources of the model; named quantities "
+                    "and definitions NAME = expression: docs/hand_check.md)")
         rows[row] = (eq.line, eq.text, rhs)
     if not rows:
         raise InsErrorsError(f"{hand.name}: no equation under @convention")
@@ -416,7 +475,8 @@ _NO_VARIATIONS = ("under @convention an item of @neglect is a term left out of a
                   "whose variation could be dropped")
 
 
-def _declared_items(hand, states: list[str], sources: list[str]
+def _declared_items(hand, states: list[str], sources: list[str],
+                    definitions: dict | None = None
                     ) -> list[tuple[int, int, str, dict[str, sp.Expr]]]:
     """The ``@neglect`` items of a ``@convention`` file as terms: (declaration index,
     line, item text, {column: coefficient}) with a column for each state or source the
@@ -428,14 +488,18 @@ def _declared_items(hand, states: list[str], sources: list[str]
     InsErrorsError
         An item with an unknown name, without a state or source (a dropped variation has
         no meaning here: :data:`_NO_VARIATIONS`), not linear in them, or with a part
-        free of them; one line naming the ``@neglect`` line and the item.
+        free of them; one line naming the ``@neglect`` line and the item. Definitions of
+        earlier lines are substituted (a later one is refused).
     """
+    definitions = definitions or {}
     known = set(states) | set(sources) | set(QUANTITIES)
     variables = [sp.Symbol(v) for v in (*states, *sources)]
     out = []
     for k, declaration in enumerate(hand.declarations):
         for item, text in zip(declaration.items, declaration.texts, strict=True):
             where = f"{hand.name}, line {declaration.line}: @neglect {text}"
+            item = cd.expand(item, declaration.line, f"@neglect {text}", definitions,
+                             hand.name)
             unknown = sorted(s.name for s in item.free_symbols if s.name not in known)
             if unknown:
                 raise InsErrorsError(f"{where}: {unknown[0]!r} is not a state, error source "
@@ -515,14 +579,25 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     src_names = [s.name for s in model.sources]
     rate_sources = [s.name for s in model.sources if s.kind == "constant"]
     vector_rows: dict[str, tuple[int, str, sp.Expr]] = {}
-    notation = convention_notation(model_name, states, src_names)
+    # the file's own definitions (NAME = ...) keep their names (Omega is not U there)
+    reserved = _reserved_names(states, src_names)
+    notation, defined = cd.defined_names(
+        hand, convention_notation(model_name, states, src_names), reserved,
+        {k: v for k, v in reserved.items() if k in states or k in src_names}, hand.name)
     if hand.format == "text":
         text, vector_rows = split_vector_lines(Path(path).read_text(encoding="utf-8"),
-                                               states, src_names, hand.name, rate_sources)
+                                               states, src_names, hand.name, rate_sources,
+                                               defined)
         hand = parse_hand_text(text, notation, name=hand.name)
     else:  # read again with the convention's spellings (\delta v_N is dv_N)
         hand = read_hand_file(path, notation, latex=True)
-    rows = _rows(hand, states, src_names, vector_rows, rate_sources)
+    if hand.problems:
+        raise InsErrorsError(f"{hand.name}: {hand.problems[0]}")
+    known = set(states) | set(src_names) | set(QUANTITIES)
+    definitions = cd.read_definitions(hand, known, [*states, *src_names])
+    written = _rows(hand, states, src_names, vector_rows, rate_sources, set(definitions))
+    rows = {row: (line, text, cd.expand(rhs, line, f"dot({row})", definitions, hand.name))
+            for row, (line, text, rhs) in written.items()}
     # error sources with a line of their own are bias states (after the convention's)
     markov = mx_input.correlation_times(hand.markov, hand.name, "@markov")
     conv = conv.with_biases(mx.bias_states([*states, *(s for s in src_names if s in rows)],
@@ -535,7 +610,9 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     for row, (line, _, rhs) in rows.items():
         coefficients = _coefficients(row, line, hand.name, rhs, variables)
         functions[row] = _row_function(tuple(coefficients))
-    items = _declared_items(hand, states, src_names)
+    via = {row: cd.provenance(rhs, definitions, variables)
+           for row, (_, _, rhs) in written.items()}
+    items = _declared_items(hand, states, src_names, definitions)
     item_functions = [(list(cols), _row_function(tuple(cols.values())))
                       for _, _, _, cols in items]
     item_values: list[dict[str, dict[str, np.ndarray]]] = [{} for _ in items]
@@ -590,11 +667,13 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     report.findings = [f for f in report.findings if f.row in rows]
     report.compared = len(rows) * (len(states) + len(used))
     return ConventionCheck(report, {r: (v[0], v[1]) for r, v in rows.items()},
-                           [s for s in states if s not in rows])
+                           [s for s in states if s not in rows], definitions,
+                           {r: v for r, v in via.items() if v})
 
 
 def to_terminal(check: ConventionCheck) -> str:
-    """The matrix report, then every finding with the hand file's line."""
+    """The matrix report, then every finding with the hand file's line (and the lines of
+    the definitions its entry comes through: ``via rho_N, line 7``)."""
     from ins_errors.checker.matrix_report import to_terminal as matrix_terminal
 
     out = [matrix_terminal(check.report), "", "Findings by line of the hand file:"]
@@ -602,8 +681,10 @@ def to_terminal(check: ConventionCheck) -> str:
         out.append("  (none: every term agrees)")
     for f in sorted(check.report.findings, key=check.line_of):  # (stable: worst first)
         line, text = check.lines[f.row]
+        through = "; ".join(d.label for d in check.via_of(f))
         out.append(f"  line {line}: {f.severity}: {f.kind} {f.entry} (size {f.size:.2g}"
-                   f"{', ' + f.detail if f.detail else ''})  [{text}]")
+                   f"{', ' + f.detail if f.detail else ''})"
+                   f"{' via ' + through if through else ''}  [{text}]")
     if check.from_model:
         out.append(f"Rows not in the file (taken from the derived model, not compared): "
                    f"{', '.join(check.from_model)}")
@@ -629,10 +710,11 @@ def summary_counts(check: ConventionCheck) -> dict:
     equation checker's (:func:`~ins_errors.checker.report.summary_counts`).
 
     Each row is one equation (a vector line gives three); ``hand_only_definition``,
-    ``tautology`` and ``input_error`` are 0 (a file under ``@convention`` has no
-    definitions, and a line that cannot be read stops the check before any report), as
-    are ``knock_on_mistakes`` (no definition to carry a mistake: every mistake is a
-    root mistake) and ``input_problems``.
+    ``tautology`` and ``input_error`` are 0 (definitions are substituted into the rows,
+    not counted as equations, and a line that cannot be read stops the check before any
+    report), as are ``knock_on_mistakes`` (a mistake in a definition is found in the
+    entries of the rows, each a root mistake naming the definition by ``via``) and
+    ``input_problems``.
     """
     from ins_errors.checker.kinds import DECLARED, DROPPED
     from ins_errors.checker.report import STATUSES, status_key
@@ -655,10 +737,15 @@ def summary_counts(check: ConventionCheck) -> dict:
 
 def to_json(check: ConventionCheck) -> dict:
     """The matrix report's JSON (:func:`~ins_errors.checker.matrix_report.to_json`) with
-    the ``summary`` of ``check --json`` (:func:`summary_counts`) and ``lines`` (row ->
-    line of the hand file)."""
+    the ``summary`` of ``check --json`` (:func:`summary_counts`), ``lines`` (row -> line
+    of the hand file), ``definitions`` (name -> line) and, in each finding, ``via``: the
+    definitions its entry comes through, ``[{"name": ..., "line": ...}]`` (empty when
+    none)."""
     from ins_errors.checker.matrix_report import to_json as matrix_json
 
     out = {"summary": summary_counts(check), **matrix_json(check.report)}
+    for shown, f in zip(out["findings"], check.report.findings, strict=True):
+        shown["via"] = [{"name": d.name, "line": d.line} for d in check.via_of(f)]
     out["lines"] = {row: line for row, (line, _) in check.lines.items()}
+    out["definitions"] = {d.name: d.line for d in check.definitions.values()}
     return out
