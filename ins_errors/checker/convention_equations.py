@@ -406,7 +406,8 @@ def convention_notation(model_name: str, states: list[str], sources: list[str]):
 def _rows(hand, states: list[str], sources: list[str],
           vector_rows: dict[str, tuple[int, str, sp.Expr]],
           bias_sources: list[str] | tuple[str, ...] = (),
-          defined: set[str] | frozenset[str] = frozenset()):
+          defined: set[str] | frozenset[str] = frozenset(),
+          bias_example: str = "dot(gyro_bias_x)"):
     """{row: (line, text, expression)} of the hand file's equations; one-line errors.
 
     A row is a state of the convention or a bias state: one of ``bias_sources`` (the
@@ -428,7 +429,7 @@ def _rows(hand, states: list[str], sources: list[str],
             raise InsErrorsError(f"{hand.name}, line {eq.line}: left-hand side {str(lhs)!r} "
                                  f"must be dot(STATE) of a state of the convention "
                                  f"({', '.join(states)}) or of an error source carried as a "
-                                 "bias state (dot(gyro_bias_x))")
+                                 f"bias state ({bias_example})")
         row = lhs.args[0].name
         if row in rows:
             raise InsErrorsError(f"{hand.name}, line {eq.line}: second equation for "
@@ -450,6 +451,32 @@ def _rows(hand, states: list[str], sources: list[str],
         if s.name not in known:
             raise InsErrorsError(f"{hand.name}: unknown name {s.name!r}")
     return rows
+
+
+def _latex_rate(latex: str) -> str:
+    r"""How a LaTeX file writes a source's rate: ``b_{gx}`` -> ``\dot{b}_{gx}``."""
+    base, underscore, rest = latex.partition("_")
+    return f"\\dot{{{base}}}{underscore}{rest}"
+
+
+def _source_named(written: str, notation, form: str, sources: list[str]) -> str:
+    r"""The error source an ``@markov`` line names, in the file's spelling: the model's
+    name, or its LaTeX (``b_{gz}``, ``\varepsilon_z``) or text (``b_gz``) spelling; what
+    names no source is returned as written (refused with the other bias-state checks)."""
+    from ins_errors.checker.parse import (
+        _LineError,
+        parse_latex_expression,
+        parse_text_expression,
+    )
+
+    if written in sources:
+        return written
+    read = parse_latex_expression if form == "latex" else parse_text_expression
+    try:
+        expr, _ = read(written, notation)
+    except (_LineError, InsErrorsError):
+        return written
+    return expr.name if isinstance(expr, sp.Symbol) and expr.name in sources else written
 
 
 def _coefficients(row: str, line: int, name: str, rhs: sp.Expr, variables: list[str]
@@ -595,11 +622,18 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
         raise InsErrorsError(f"{hand.name}: {hand.problems[0]}")
     known = set(states) | set(src_names) | set(QUANTITIES)
     definitions = cd.read_definitions(hand, known, [*states, *src_names])
-    written = _rows(hand, states, src_names, vector_rows, rate_sources, set(definitions))
+    example = "dot(gyro_bias_x)"
+    if hand.format == "latex" and rate_sources:
+        first = next(s for s in model.sources if s.name == rate_sources[0])
+        example = f"dot({first.name}), in LaTeX {_latex_rate(first.latex)}"
+    written = _rows(hand, states, src_names, vector_rows, rate_sources, set(definitions),
+                    example)
     rows = {row: (line, text, cd.expand(rhs, line, f"dot({row})", definitions, hand.name))
             for row, (line, text, rhs) in written.items()}
     # error sources with a line of their own are bias states (after the convention's)
-    markov = mx_input.correlation_times(hand.markov, hand.name, "@markov")
+    markov = mx_input.correlation_times(
+        {_source_named(k, notation, hand.format, src_names): v
+         for k, v in hand.markov.items()}, hand.name, "@markov")
     conv = conv.with_biases(mx.bias_states([*states, *(s for s in src_names if s in rows)],
                                            [], markov, conv, model, hand.name, "@markov"))
     states = conv.names

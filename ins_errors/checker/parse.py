@@ -39,7 +39,8 @@ with ``@`` are directives, in both formats:
     ``psi``, ...): checked by :mod:`ins_errors.checker.convention_equations`.
 ``@markov SOURCE = QUANTITY``
     under ``@convention``: the bias state ``SOURCE`` (a model error source with its own
-    line ``dot(SOURCE) = ...``) is a first-order Gauss–Markov bias of correlation time
+    line ``dot(SOURCE) = ...``, named as the model does or as the file spells it:
+    ``b_gz``, in LaTeX ``b_{gz}``) is a first-order Gauss–Markov bias of correlation time
     QUANTITY (``1 h``); without it a bias state is a random constant.
 
 Comments start with ``#`` (text) or ``%`` (LaTeX). Symbol spellings are documented in
@@ -442,6 +443,14 @@ class _LatexConverter:
         while token is not None and token.startswith("\\") and token[1:] in _ACCENTS:
             accents.append(_ACCENTS[token[1:]])
             self.i += 1
+            argument = self.peek()
+            if argument is not None and argument != "{" and (
+                    (len(argument) == 1 and argument.isalpha())
+                    or (argument.startswith("\\") and argument[1:] in _GREEK)):
+                # TeX's one-token argument: \dot b_{gx} is \dot{b}_{gx}
+                self.i += 1
+                base = _GREEK[argument[1:]] if argument.startswith("\\") else argument
+                return self.finish(sp.Symbol(base), accents, delta, start)
             self.expect("{")
             # \dot{\delta v}_N, as the generated equations print a variation's rate
             inner_delta = self.peek() in (r"\delta", r"\Delta") and self.peek(1) is not None \
@@ -1050,8 +1059,8 @@ def _directive(hand: HandFile, keyword: str, text: str, column: int,
             raise _LineError(column, "@magnitude needs 'UNIT = QUANTITY'")
         hand.magnitudes[name] = value
         return
-    if keyword == "@markov":
-        if not name.isidentifier() or not value:
+    if keyword == "@markov":  # SOURCE as the file spells it (b_{gz} in LaTeX)
+        if not name or not value or any(c.isspace() for c in name):
             raise _LineError(column, "@markov needs 'SOURCE = CORRELATION TIME' "
                              "(e.g. '@markov accel_bias_x = 1 h')")
         hand.markov[name] = value
