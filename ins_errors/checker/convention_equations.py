@@ -640,10 +640,10 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     held = set().union(*(r[2].free_symbols for r in rows.values()))  # (one walk a row)
     used = [s for s in src_names if sp.Symbol(s) in held and s not in states]
     variables = states + used
-    functions = {}
+    functions, coefficient_of = {}, {}
     for row, (line, _, rhs) in rows.items():
-        coefficients = _coefficients(row, line, hand.name, rhs, variables)
-        functions[row] = _row_function(tuple(coefficients))
+        coefficient_of[row] = _coefficients(row, line, hand.name, rhs, variables)
+        functions[row] = _row_function(tuple(coefficient_of[row]))
     via = {row: cd.provenance(rhs, definitions, variables)
            for row, (_, _, rhs) in written.items()}
     items = _declared_items(hand, states, src_names, definitions)
@@ -657,11 +657,13 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
         motion_list = [m for m in motion_list if m.label == label]
     F, G = {}, {}
     src_cols = [src_names.index(s) for s in used]
+    samples = []  # (quantities, derived F, derived G) of each motion, for symbol slips
     for motion in motion_list:
         Fz, Gz = mx.derived_in_convention(model, conv, motion)
         Fh, Gh = Fz.copy(), Gz[:, :, src_cols].copy()
         values = quantity_values(motion.navigation)
         args = [values[q] for q in QUANTITIES]
+        samples.append((args, Fz, Gz[:, :, src_cols]))
         k = Fz.shape[0]
         for row, fn in functions.items():
             i = states.index(row)
@@ -699,10 +701,60 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                                 for k, d in enumerate(hand.declarations) if k not in found]
     # rows taken from the derived model agree by construction: count the file's rows only
     report.findings = [f for f in report.findings if f.row in rows]
+    report.findings = _symbol_slips(report.findings, coefficient_of, states, used, samples)
     report.compared = len(rows) * (len(states) + len(used))
     return ConventionCheck(report, {r: (v[0], v[1]) for r, v in rows.items()},
                            [s for s in states if s not in rows], definitions,
                            {r: v for r, v in via.items() if v})
+
+
+def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
+                  states: list[str], used: list[str], samples: list) -> list:
+    """The findings with each ``wrong coefficient`` that one index of a named quantity
+    explains made a ``wrong symbol or index``: the hand's coefficient with one quantity
+    replaced by a sibling (``f_E`` by ``f_D``, ``C12`` by ``C13``, ``R_N`` by ``R_E``:
+    :func:`~ins_errors.checker.classify.candidates`) equals the derived entry at every
+    sample of every motion, to 1e-6 of its largest value (the equation checker's rule
+    for a symbol slip; slips of a whole term to another column are found by the matrix
+    check, :mod:`~ins_errors.checker.matrix_slips`).
+
+    ``samples``: (quantities in :data:`QUANTITIES` order, derived F, derived G of the
+    file's sources) of each motion.
+    """
+    from dataclasses import replace
+
+    from ins_errors.checker.classify import candidates
+    from ins_errors.checker.kinds import COEFFICIENT, SYMBOL
+
+    known = [sp.Symbol(q) for q in QUANTITIES]
+    out = []
+    for f in findings:
+        if f.kind != COEFFICIENT:
+            out.append(f)
+            continue
+        i = states.index(f.row)
+        if f.matrix == "F":
+            j = states.index(f.column)
+            derived = np.concatenate([Fz[:, i, j] for _, Fz, _ in samples])
+        else:
+            c = used.index(f.column)
+            j = len(states) + c
+            derived = np.concatenate([Gz[:, i, c] for _, _, Gz in samples])
+        top = float(np.max(np.abs(derived)))
+        for kind, text, changed in candidates(coefficient_of[f.row][j], known):
+            if kind != SYMBOL:
+                continue
+            fn = _row_function((changed,))
+            values = np.concatenate([np.broadcast_to(np.asarray(fn(*args)[0], dtype=float),
+                                                     (Fz.shape[0],))
+                                     for args, Fz, _ in samples])
+            if np.all(np.isfinite(values)) and np.all(np.abs(values - derived)
+                                                      <= 1e-6 * top):
+                f = replace(f, kind=SYMBOL, detail=f"{text} (with it the entry is the "
+                            "derived one at every sample)")
+                break
+        out.append(f)
+    return out
 
 
 def to_terminal(check: ConventionCheck) -> str:

@@ -63,6 +63,7 @@ from ins_errors.checker.kinds import (
     OMITTED,
     SIGN,
     SMALL_MISTAKE,
+    SYMBOL,
 )
 from ins_errors.checker.kinds import severity as classify_severity
 from ins_errors.checker.matrix_input import (
@@ -72,6 +73,7 @@ from ins_errors.checker.matrix_input import (
     read_matrix_file,
     split_spec,
 )
+from ins_errors.checker.matrix_slips import Entry, index_slips
 from ins_errors.checker.navigation import navigation_arrays, require_description
 from ins_errors.checker.typical import (
     _earth,
@@ -342,7 +344,8 @@ class EntryFinding:
     kind : str
         ``omitted term``, ``extra term``, ``wrong sign``, ``wrong coefficient`` (with
         ``hand/model = r at every sample`` in ``detail`` for a constant factor),
-        ``approximated``, ``state left out``.
+        ``approximated``, ``state left out``, ``wrong symbol or index`` (a term written on
+        the wrong column of its row: :mod:`~ins_errors.checker.matrix_slips`).
     severity : str
         ``mistake``, ``mistake, small effect`` (a wrong term below the threshold) or
         ``dropped small term`` (the severities of :mod:`~ins_errors.checker.classify`).
@@ -819,6 +822,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
         if Gh is not None:
             columns += [("G", c, src_names[c], Gh[:, a, b], Gz[:, i, c], source_mag[c], False)
                         for b, c in enumerate(src_cols)]
+        differing: list[Entry] = []  # this row's findings, for its index slips
         for matrix, j, col_name, h, m, mag, left_out in columns:
             if left_out and np.all(m == 0):
                 continue
@@ -855,11 +859,18 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
             s = first_largest(ratio)
             per_motion = {lab: float(ratio[sample_motion == k].max())
                           for k, lab in enumerate(labels)}
+            if severity != DECLARED and not (matrix == "F" and i >= n_own and i == j):
+                differing.append(Entry(len(findings), matrix, col_name, (
+                    conv.states[j] if matrix == "F" else model.sources[j]).unit, kind, h, m,
+                    mag))
             findings.append(EntryFinding(
                 matrix, report.states[a], col_name, kind, severity, float(ratio[s]),
                 size_class(float(ratio[s]), report.threshold), where[s][0], float(where[s][1]),
                 float(h[s]), float(m[s]), float(abs(h[s] - m[s]) * mag), unit, per_motion,
                 detail))
+        for n, detail in index_slips(differing, scale, AGREEMENT, report.states[a]).items():
+            findings[n] = replace(findings[n], kind=SYMBOL, detail=detail, severity=(
+                classify_severity(SYMBOL, findings[n].size, report.threshold)))
     findings.sort(key=lambda f: (f.severity not in (MISTAKE, SMALL_MISTAKE), -f.size))
     report.findings = findings
     report.compared = compared
