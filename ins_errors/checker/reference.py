@@ -182,7 +182,7 @@ def _evaluators(d: ModelDefinition):
     return initial, rhs, jacobian, intermediates, symbols, earth
 
 
-_GROUND_VELOCITY = ("v_N", "v_E", "v_N0", "v_E0", "v_D0", "v_D", "v_U")
+_GROUND_VELOCITY = ("v_N", "v_E", "v_N0", "v_E0", "v_D0", "v_U0", "v_D", "v_U")
 """Initial conditions that are the relative (ground) velocity."""
 
 
@@ -274,15 +274,16 @@ def _unusable(d: ModelDefinition, motion: _Motion) -> str | None:
     """Why ``d`` cannot fly ``motion`` (None if it can)."""
     inputs = {v.name for v in d.inputs}
     conditions = {v.name for v in d.initial_conditions}
-    if motion.climb and "V_zeta" not in inputs and not conditions & {"v_D0", "v_D", "v_U"}:
+    vertical = {"v_D0", "v_U0", "v_D", "v_U"}  # a vertical velocity the fix sets
+    if motion.climb and "V_zeta" not in inputs and not conditions & vertical:
         return "the model has no vertical-velocity input V_zeta"
     if motion.acceleration and not any(_is_solved_input(n) for n in inputs):
         return "the model has no horizontal acceleration input"
     return None
 
 
-_FIX = ("latitude", "longitude", "heading", "v_N", "v_E", "v_N0", "v_E0", "v_D0", "v_D",
-        "v_U", "height", "roll", "pitch", "yaw")
+_FIX = ("latitude", "longitude", "heading", "v_N", "v_E", "v_N0", "v_E0", "v_D0", "v_U0",
+        "v_D", "v_U", "height", "roll", "pitch", "yaw")
 """Initial conditions a navigation fix and a motion set."""
 
 
@@ -333,8 +334,8 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
         v_n, v_e = m.speed * np.cos(track), m.speed * np.sin(track)
         fix = {"latitude": lat, "longitude": lon, "heading": track, "yaw": track,
                "v_N": v_n, "v_E": v_e, "v_N0": v_n, "v_E0": v_e, "v_D0": -m.climb,
-               "v_D": -m.climb, "v_U": m.climb, "height": m.height, "roll": 0.0,
-               "pitch": 0.0}
+               "v_U0": m.climb, "v_D": -m.climb, "v_U": m.climb, "height": m.height,
+               "roll": 0.0, "pitch": 0.0}
         c = [fix[n] for n in names_c]
         u = []
         for n in names_u:
