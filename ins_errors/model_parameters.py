@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
-from ins_errors.errors import InsErrorsError
+from ins_errors.errors import InsErrorsError, unknown_name
 
 NON_NEGATIVE = {"k_h1": "vertical damping gain", "k_h2": "vertical damping gain"}
 """Parameters (of any model that has them) that must be zero or positive, with what they are."""
@@ -27,8 +27,9 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
 
     Parameters
     ----------
-    model : ins_errors.numeric.model.Model
-        The model whose parameters are set.
+    model : ins_errors.numeric.model.Model or ins_errors.modeling.ModelDefinition
+        The model whose parameters are set (a definition for the equation checker,
+        which needs no generated code).
     values : mapping of str to str or float
         Parameter name -> value with unit (``"0.0047 1/s"``); a bare number is SI when
         ``numbers_are_si``, refused otherwise (scenario files).
@@ -54,7 +55,7 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
     prefix = f"{where}: " if where else ""
     for name, text in values.items():
         try:
-            info = model.parameters[model.index("parameters", name)]
+            info = parameter_info(model, name)
         except InsErrorsError as error:
             raise type(error)(f"{prefix}{error}") from None
         try:
@@ -68,12 +69,27 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
     return out
 
 
+def parameter_info(model, name: str):
+    """The description of parameter ``name`` of ``model`` (a loaded model or a
+    definition: anything with ``name`` and ``parameters`` that have ``name`` and ``unit``).
+
+    Raises
+    ------
+    UnknownNameError
+        For a name the model does not have (close names suggested).
+    """
+    names = [info.name for info in model.parameters]
+    if name not in names:
+        raise unknown_name(f"parameter of {model.name}", name, names)
+    return model.parameters[names.index(name)]
+
+
 def parameters_record(model, parameters: Mapping[str, float]) -> dict[str, dict[str, object]]:
     """The parameters a run set, for its machine-readable output (JSON).
 
     Parameters
     ----------
-    model : ins_errors.numeric.model.Model
+    model : ins_errors.numeric.model.Model or ins_errors.modeling.ModelDefinition
         The model whose parameters were set.
     parameters : mapping of str to float
         Parameter name -> SI value, as :func:`parse_parameters` returned (the others kept
@@ -85,8 +101,7 @@ def parameters_record(model, parameters: Mapping[str, float]) -> dict[str, dict[
         Name -> ``{"value": SI value, "unit": SI unit}``, in the order given; empty when
         every parameter kept its default.
     """
-    return {name: {"value": float(value),
-                   "unit": model.parameters[model.index("parameters", name)].unit}
+    return {name: {"value": float(value), "unit": parameter_info(model, name).unit}
             for name, value in parameters.items()}
 
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import difflib
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -165,6 +165,10 @@ class CheckReport:
     unchecked_sources : list of str
         Those of them that the model's side of a compared line contains: terms the
         file leaves out without the check seeing them.
+    unchecked_gains : list of str
+        The model's damping gains at 0 that a compared line holds (on either side):
+        the terms they multiply are not checked (``ins-errors check`` warns, naming how
+        to set them).
     from_model : dict
         Variation symbol -> lines where the hand file uses it without defining it (the
         model's variation was used on the hand side).
@@ -200,6 +204,7 @@ class CheckReport:
     declarations: list[str] = field(default_factory=list)
     idle_declarations: list[str] = field(default_factory=list)
     unchecked_sources: list[str] = field(default_factory=list)
+    unchecked_gains: list[str] = field(default_factory=list)
 
     @property
     def findings(self) -> list[tuple[EquationResult, Finding]]:
@@ -716,13 +721,15 @@ def _basis(model: ModelSide, notation: Notation, sources_used: Iterable[str],
 _SHARED: dict[tuple, tuple] = {}
 
 
-def _points(d: ModelDefinition, scope: str | None):
+def _points(d: ModelDefinition, scope: str | None,
+            parameters: Mapping[str, float] | None = None):
     """Reference motions, the evaluated-coefficient cache and the node values
-    (:class:`~ins_errors.checker.tree_values.TreeValues`), kept per definition."""
-    key = ("points", id(d), scope)
+    (:class:`~ins_errors.checker.tree_values.TreeValues`), kept per definition, scope and
+    parameter values set."""
+    key = ("points", id(d), scope, tuple(sorted((parameters or {}).items())))
     entry = _SHARED.get(key)
     if entry is None or entry[0] is not d:
-        motions = reference_points(d, scope)
+        motions = reference_points(d, scope, parameters)
         tree = None
         if motions.points:
             arguments = sorted_symbols(motions.points[0].values)
@@ -746,8 +753,8 @@ def resolve_model(model: str | ModelDefinition) -> ModelDefinition:
 @one_blas_thread
 def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
                threshold: float = DEFAULT_THRESHOLD, mapping: Notation | None = None,
-               magnitudes: dict[str, str] | None = None, effects: bool = True
-               ) -> CheckReport:
+               magnitudes: dict[str, str] | None = None, effects: bool = True,
+               parameters: Mapping[str, float] | None = None) -> CheckReport:
     """Check every equation of a parsed hand file against the model's variation.
 
     Parameters
@@ -767,6 +774,14 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     effects : bool
         Compute each mistake's effect on the 1 h / 24 h error (see
         :mod:`~ins_errors.checker.effect`).
+    parameters : mapping of str to float, optional
+        Model parameter values (SI; ``-p NAME=VALUE``,
+        :func:`ins_errors.model_parameters.parse_parameters`) replacing the defaults
+        wherever the check evaluates the model and the file: the reference points, the
+        typical sizes (Earth radius, gravity) and the effects. A term multiplied by a
+        parameter at 0 (an open damping loop's gain) is 0 at every point and so never
+        checked: :attr:`CheckReport.unchecked_gains` names the damping gains left at 0
+        that a compared line holds.
 
     Returns
     -------
@@ -799,13 +814,13 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         hand = replace(hand, equations=[*hand.equations,
                                         *update_variations(hand, platform_angles(d))])
     side = model_side(d)
-    motions, values, tree = _points(d, hand.scope)
+    motions, values, tree = _points(d, hand.scope, parameters)
     if not motions.points:
         raise InsErrorsError(f"model {d.name!r} cannot fly any reference motion of scope "
                              f"{hand.scope!r}: {'; '.join(motions.skipped)}")
     wanted = {**hand.magnitudes, **(magnitudes or {})}
     attitude = wanted.pop("attitude", DEFAULT_ATTITUDE)
-    sizes = schuler_magnitudes(d, attitude, wanted)
+    sizes = schuler_magnitudes(d, attitude, wanted, parameters)
     notation = default_notation(d)
     if mapping is not None:
         notation = notation.merged(mapping)
@@ -863,12 +878,39 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         unused=unused, magnitudes=sizes.origin, skipped_motions=list(motions.skipped),
         scope=hand.scope, declarations=declared.texts(),
         idle_declarations=declared.idle(),
-        unchecked_sources=_unchecked_sources(side, prepared, out_of_scope))
+        unchecked_sources=_unchecked_sources(side, prepared, out_of_scope),
+        unchecked_gains=_unchecked_gains(d, prepared, resolver, parameters))
     if effects and report.findings:
         from ins_errors.checker.effect import add_effects
 
-        add_effects(report, d, side, comparison, identify, prepared, resolver)
+        # a mistake that makes a fast growing mode (a damping gain's sign slip) overflows
+        # the 24 h propagation to inf / nan: the effect says it grows exponentially and
+        # writes no number, so the floating-point warnings of that overflow tell nothing
+        with np.errstate(over="ignore", invalid="ignore"):
+            add_effects(report, d, side, comparison, identify, prepared, resolver,
+                        parameters)
     return report
+
+
+def _unchecked_gains(d: ModelDefinition, prepared: list[list[Item]], resolver: HandSide,
+                     parameters: Mapping[str, float] | None) -> list[str]:
+    """The model's damping gains (``Parameter(..., damping_gain=True)``) left at 0 that
+    the hand's or the model's side of a compared line holds, in the model's order: the
+    terms they multiply are 0 at every reference point, whatever their sign or factor."""
+    values = dict(parameters or {})
+    zero = {v.symbol: v.name for v in d.parameters
+            if v.damping_gain and float(values.get(v.name, v.default)) == 0}
+    if not zero:
+        return []
+    held: set[sp.Symbol] = set()
+    for items in prepared:
+        for item in items:
+            if item.hand is None or item.key is None or item.status:
+                continue
+            held |= item.hand.free_symbols
+            held |= (item.key[1] if item.ideal
+                     else model_expr(resolver.model, item.key)).free_symbols
+    return [name for symbol, name in zero.items() if symbol in held]
 
 
 def _unchecked_sources(side: ModelSide, prepared: list[list[Item]], out: list[str]
@@ -1204,8 +1246,8 @@ def _complete(hand: HandFile, prepared: list[list[Item]], resolver: HandSide,
 def check_hand_file(path, model: str | ModelDefinition = "orthodromic",
                     threshold: float = DEFAULT_THRESHOLD, latex: bool | None = None,
                     mapping_path=None, latex_backend: str = "lalr",
-                    magnitudes: dict[str, str] | None = None, effects: bool = True
-                    ) -> CheckReport:
+                    magnitudes: dict[str, str] | None = None, effects: bool = True,
+                    parameters: Mapping[str, float] | None = None) -> CheckReport:
     """Read a hand file (and optional mapping file) and check it.
 
     Parameters
@@ -1226,6 +1268,8 @@ def check_hand_file(path, model: str | ModelDefinition = "orthodromic",
         Typical-magnitude overrides (see :func:`check_hand`).
     effects : bool
         Compute each mistake's effect on the 1 h / 24 h error.
+    parameters : mapping of str to float, optional
+        Model parameter values set (SI; see :func:`check_hand`).
     """
     from ins_errors.checker.parse import read_hand_file, read_mapping_file
 
@@ -1236,4 +1280,4 @@ def check_hand_file(path, model: str | ModelDefinition = "orthodromic",
         notation = notation.merged(mapping)
     hand = read_hand_file(path, notation, latex=latex, latex_backend=latex_backend)
     return check_hand(hand, model=d, threshold=threshold, mapping=mapping,
-                      magnitudes=magnitudes, effects=effects)
+                      magnitudes=magnitudes, effects=effects, parameters=parameters)

@@ -95,8 +95,11 @@ def _worst(diffs: np.ndarray) -> tuple[float, int]:
     return float(diffs[j]), j
 
 
-def add_effects(report, d, side, comparison, identify, prepared, resolver) -> None:
-    """Attach ``effect`` dicts to the report's root mistakes (see module docstring)."""
+def add_effects(report, d, side, comparison, identify, prepared, resolver,
+                parameters=None) -> None:
+    """Attach ``effect`` dicts to the report's root mistakes (see module docstring);
+    ``parameters`` (name -> SI value, optional) are the model parameters the check set,
+    the Earth radius among them."""
     from ins_errors.checker.sides import UnresolvedError as _UnresolvedError
 
     states = [v.name for v in d.error_states]
@@ -105,7 +108,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver) -> No
     sources = [b for b in basis_symbols if b not in symbols]
     magnitude = comparison.magnitude
     n, k = len(states), len(comparison.points)
-    radius, _ = _earth(d)
+    radius, _ = _earth(d, parameters)
     platform = [states.index(v.name) for v in d.platform_angles]
     read = ("latitude", "longitude") + (() if platform else ATTITUDE_OUTPUTS)
     try:

@@ -45,6 +45,9 @@ from __future__ import annotations
 
 import hashlib
 from collections import OrderedDict
+from collections.abc import Iterable, Mapping
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
@@ -200,29 +203,62 @@ def _strapdown_runs(model, hours: float, step: float, p: np.ndarray):
             for label, flight in flights]
 
 
-def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | None = None
-            ) -> list[Motion]:
+_PARAMETERS: ContextVar[tuple[tuple[str, float], ...]] = ContextVar(
+    "matrix_check_parameters", default=())
+"""Parameter values in force for :func:`motions` and :func:`check_matrices` when a caller
+passes none (:func:`parameters_in_force`)."""
+
+
+@contextmanager
+def parameters_in_force(parameters: Mapping[str, float] | None):
+    """Within the block, :func:`motions` and :func:`check_matrices` called without
+    ``parameters`` use these (name -> SI value): for a check whose code calls them
+    without passing parameters on (a ``@convention`` file's)."""
+    token = _PARAMETERS.set(_parameter_items(parameters))
+    try:
+        yield
+    finally:
+        _PARAMETERS.reset(token)
+
+
+def _parameter_items(parameters: Mapping[str, float] | None) -> tuple[tuple[str, float], ...]:
+    """``parameters`` as sorted (name, float) pairs (hashable; () for none)."""
+    return tuple(sorted((str(k), float(v)) for k, v in (parameters or {}).items()))
+
+
+def _in_force(parameters: Mapping[str, float] | None) -> tuple[tuple[str, float], ...]:
+    """The parameters given, else those of :func:`parameters_in_force` (or none)."""
+    return _PARAMETERS.get() if parameters is None else _parameter_items(parameters)
+
+
+def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | None = None,
+            parameters: Mapping[str, float] | None = None) -> list[Motion]:
     """The checker's motions for ``model``, sampled every ``step`` s for ``hours`` h.
 
     Static base at φ 50°, λ 30°; a cruise at 250 m/s and 10 km (a great circle leaving at
     track 60° for models with a heading, an eastward cruise along the parallel otherwise);
     a manoeuvre with turns, speed changes, climbs and descents. ``ellipsoid`` (e.g.
-    ``"wgs84"``) replaces the model's default Earth shape.
+    ``"wgs84"``) replaces the model's default Earth shape; ``parameters`` (name -> SI
+    value, e.g. damping gains; default: those of :func:`parameters_in_force`, else none)
+    replace the model's defaults in every sample's parameter vector, where the derived
+    model is evaluated.
     """
     require_description(model)
-    return list(_motions(model.key, float(hours), float(step), ellipsoid))
+    return list(_motions(model.key, float(hours), float(step), ellipsoid,
+                         _in_force(parameters)))
 
 
 @lru_cache(maxsize=8)
 @one_blas_thread
-def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None
-             ) -> tuple[Motion, ...]:
+def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None,
+             parameters: tuple[tuple[str, float], ...] = ()) -> tuple[Motion, ...]:
     """Motions of :func:`motions`, kept for the next check in the same process (and on
-    disk for the next process: :mod:`~ins_errors.checker.motion_store`)."""
+    disk for the next process: :mod:`~ins_errors.checker.motion_store`, whose key holds
+    the parameter vector)."""
     from ins_errors.numeric.model import load_model
 
     model = load_model(model_key)
-    p = model.parameter_vector(ellipsoid=ellipsoid)
+    p = model.parameter_vector(ellipsoid=ellipsoid, **dict(parameters))
     name = motion_store.key(model, hours, step, ellipsoid, p)
     flown = motion_store.load(name)
     if flown is None:
@@ -256,6 +292,52 @@ def _fly(model, hours: float, step: float, p: np.ndarray
         out.append((label, description, {f: np.ascontiguousarray(a, dtype=float)
                                           for f, a in arrays.items()}))
     return out
+
+
+def unchecked_gains(model, convention_name: str, rows: Iterable[str], motion: Motion
+                    ) -> list[str]:
+    """The model's damping gains (``Parameter(..., damping_gain=True)``) at 0 in
+    ``motion.p`` that enter the given rows of the derived model in the convention: the
+    terms they multiply are 0 there, so a check of those rows does not see them.
+
+    A gain enters a row when setting it to 1 (SI) alone changes the row of F or G at the
+    motion's first sample (the ideal motion is the same: a damping loop closes on a
+    difference that is 0 in ideal work).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    convention_name : str
+        The convention of the rows (``model``: the model's own error states).
+    rows : iterable of str
+        State names of the convention the check compares (others are ignored).
+    motion : Motion
+        A motion of :func:`motions`, with the parameters the check used.
+
+    Returns
+    -------
+    list of str
+        The gains' names, in the model's order.
+    """
+    p = np.asarray(motion.p, dtype=float)
+    zero = [k for k, info in enumerate(model.parameters)
+            if info.damping_gain and p[..., k].flat[0] == 0]
+    conv = convention(model, convention_name)
+    wanted = [conv.names.index(r) for r in rows if r in conv.names]
+    if not zero or not wanted:
+        return []
+    first = replace(motion, times=motion.times[:1], x=motion.x[:, :1], u=motion.u[:, :1],
+                    navigation={}, kept={})
+    base_f, base_g = _derived_in_convention(model, conv, first)
+    found = []
+    for k in zero:
+        probe = p.copy()
+        probe[..., k] = 1.0
+        f, g = _derived_in_convention(model, conv, replace(first, p=probe, kept={}))
+        if (np.any(f[:, wanted] != base_f[:, wanted])
+                or np.any(g[:, wanted] != base_g[:, wanted])):
+            found.append(model.parameters[k].name)
+    return found
 
 
 # --------------------------------------------------------------------------------------
@@ -1430,7 +1512,8 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                    ellipsoid: str | None = None,
                    magnitudes: dict[str, str] | None = None,
                    declared: dict[tuple[str, str, str], list[DeclaredTerm]] | None = None,
-                   declared_used: set[int] | None = None) -> MatrixReport:
+                   declared_used: set[int] | None = None,
+                   parameters: Mapping[str, float] | None = None) -> MatrixReport:
     """Check a hand-coded F (and G) against the derived model of ``model_name``.
 
     Parameters
@@ -1460,6 +1543,10 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         (:class:`DeclaredTerm`): a difference they explain is a declared drop.
     declared_used : set, optional
         Receives the indices of the declarations that explain a finding.
+    parameters : mapping of str to float, optional
+        Model parameter values (SI) replacing the defaults: in the motions flown here
+        (``motion_list`` carries its own) and in the Earth radius and gravity of the
+        typical sizes (default: those of :func:`parameters_in_force`, else none).
 
     Raises
     ------
@@ -1474,7 +1561,8 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     model = load_model(model_name)
     require_description(model)
     conv = convention(model, convention_name)
-    motion_list = (motions(model, hours, step, ellipsoid) if motion_list is None
+    values_set = dict(_in_force(parameters))
+    motion_list = (motions(model, hours, step, ellipsoid, values_set) if motion_list is None
                    else motion_list)
     if not isinstance(hand, HandMatrices):
         path, function = split_spec(str(hand))
@@ -1487,11 +1575,11 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
             hand = read_matrix_file(path, motion_list)
     conv = conv.with_biases(bias_states(hand.states, hand.sources, hand.markov, conv, model,
                                         hand.name))
-    size_of = _magnitudes(model, magnitudes)
+    size_of = _magnitudes(model, magnitudes, values_set)
     magnitudes = {}
     angles = position_angles(conv, motion_list[0])
     for s in conv.states:
-        magnitudes[s.name] = (position_angle_magnitude(model, size_of("m"))
+        magnitudes[s.name] = (position_angle_magnitude(model, size_of("m"), values_set)
                               if s.name in angles else size_of(s.unit))
     for s in model.sources:
         magnitudes[s.name] = size_of(s.unit)
@@ -1533,22 +1621,25 @@ def position_angles(conv: Convention, motion: Motion) -> list[str]:
             if s.unit == "rad" and r > 1e3]
 
 
-def position_angle_magnitude(model, position: tuple[float, str]) -> tuple[float, str]:
+def position_angle_magnitude(model, position: tuple[float, str],
+                             parameters: Mapping[str, float] | None = None
+                             ) -> tuple[float, str]:
     """Typical size of a latitude or longitude error: the typical position error over the
     model's Earth radius a (10 m / a = 1.57e-6 rad on the WGS-84 ellipsoid), the same
     position error as a north or east error in metres (for a longitude error, a
-    position error of that size times cos φ)."""
-    radius, _ = _earth(model)  # the parameter a (or R) of the model
+    position error of that size times cos φ). ``parameters``: values set (SI)."""
+    radius, _ = _earth(model, parameters)  # the parameter a (or R) of the model
     value = position[0] / radius
     return value, f"{value:.3g} rad ({position[1]} / {radius:.0f} m)"
 
 
-def _magnitudes(model, overrides: dict[str, str] | None):
+def _magnitudes(model, overrides: dict[str, str] | None,
+                parameters: Mapping[str, float] | None = None):
     """Typical size (SI, text) by SI unit: fixed, overridden, or Schuler-consistent."""
     overrides = dict(overrides or {})
     if "attitude" in overrides:  # R and g from the model's parameters (no SymPy)
         attitude = overrides.pop("attitude")
-        return schuler_magnitudes(model, attitude, overrides).of
+        return schuler_magnitudes(model, attitude, overrides, parameters).of
     fixed: dict[str, tuple[float, str]] = {}
     for unit, text in overrides.items():
         fixed[unit] = (magnitude_override(unit, text), text)

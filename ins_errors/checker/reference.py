@@ -37,6 +37,7 @@ multiplies. Both come from the model's own SymPy definition (no generated code):
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -287,7 +288,8 @@ _FIX = ("latitude", "longitude", "heading", "v_N", "v_E", "v_N0", "v_E0", "v_D0"
 """Initial conditions a navigation fix and a motion set."""
 
 
-def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceMotions:
+def reference_points(d: ModelDefinition, scope: str | None = None,
+                     parameters: Mapping[str, float] | None = None) -> ReferenceMotions:
     """The reference-motion points of model ``d`` (see module docstring).
 
     Parameters
@@ -295,6 +297,9 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
     d : ModelDefinition
     scope : str, optional
         Keep only this motion class (``"static base"``, ``"cruise"``, ``"climb"``).
+    parameters : mapping of str to float, optional
+        Parameter values (SI) replacing the model's defaults at every point (``-p
+        k_h1=0.0293/s``: a damping gain at 0 hides every term it multiplies).
 
     Raises
     ------
@@ -311,8 +316,9 @@ def reference_points(d: ModelDefinition, scope: str | None = None) -> ReferenceM
                              f"the initial condition {strange[0]!r} (they set "
                              f"{', '.join(sorted(settable))})")
     initial, rhs, jacobian, intermediates, symbols, earth = _evaluators(d)
-    radius, _ = _earth(d)
-    p = [float(v.default) for v in d.parameters]
+    radius, _ = _earth(d, parameters)
+    values_set = dict(parameters or {})
+    p = [float(values_set.get(v.name, v.default)) for v in d.parameters]
     names_c = [v.name for v in d.initial_conditions]
     names_u = [v.name for v in d.inputs]
     accel = [k for k, n in enumerate(names_u) if _is_solved_input(n)]

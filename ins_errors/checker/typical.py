@@ -10,6 +10,7 @@ from the generated package's metadata alike.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cache
 
@@ -119,17 +120,20 @@ class Magnitudes:
         return self.by_unit[unit]
 
 
-def _earth(d) -> tuple[float, float]:
+def _earth(d, parameters: Mapping[str, float] | None = None) -> tuple[float, float]:
     """(Earth radius R in m, gravity g in m/s²) of a model, from its parameters' defaults
-    (:func:`ins_errors.earth_constants.earth_constants`: the radius or semi-major axis
-    itself, no curvature at a latitude); 6 371 km and :data:`GRAVITY` where it has none.
+    and the values set (:func:`ins_errors.earth_constants.earth_constants`: the radius or
+    semi-major axis itself, no curvature at a latitude); 6 371 km and :data:`GRAVITY`
+    where it has none.
 
     ``d``: anything with ``parameters`` that have ``name``, ``unit`` and ``default``: a
     :class:`~ins_errors.modeling.ModelDefinition` or a loaded
     :class:`~ins_errors.numeric.model.Model` (whose metadata records the same defaults).
+    ``parameters``: name -> SI value of those set (``-p NAME=VALUE``), replacing defaults.
     """
-    earth = earth_constants({p.name: float(p.default) for p in d.parameters},
-                            {p.name: p.unit for p in d.parameters})
+    values = {p.name: float(p.default) for p in d.parameters}
+    values.update(parameters or {})
+    earth = earth_constants(values, {p.name: p.unit for p in d.parameters})
     return (6_371_000.0 if earth.radius is None else earth.radius.value,
             GRAVITY if earth.gravity is None else earth.gravity.value)
 
@@ -140,7 +144,8 @@ def _text(value: float, unit: str) -> str:
 
 
 def schuler_magnitudes(d, attitude: str | float = DEFAULT_ATTITUDE,
-                       overrides: dict[str, str] | None = None) -> Magnitudes:
+                       overrides: dict[str, str] | None = None,
+                       parameters: Mapping[str, float] | None = None) -> Magnitudes:
     """Typical error sizes tied together by the Schuler loop of model ``d``.
 
     Parameters
@@ -154,6 +159,9 @@ def schuler_magnitudes(d, attitude: str | float = DEFAULT_ATTITUDE,
     overrides : dict, optional
         SI unit (``"m/s"``, ``"rad/s"``...) -> quantity text (``"0.1 m/s"``) replacing
         the Schuler value.
+    parameters : mapping of str to float, optional
+        Parameter values set (SI), replacing the defaults the radius and gravity are
+        read from.
 
     Returns
     -------
@@ -163,7 +171,7 @@ def schuler_magnitudes(d, attitude: str | float = DEFAULT_ATTITUDE,
              else parse_quantity(attitude, "rad", "attitude error"))
     if not theta > 0:
         raise InsErrorsError(f"the attitude error must be positive, got {attitude!r}")
-    radius, gravity = _earth(d)
+    radius, gravity = _earth(d, parameters)
     omega_s = math.sqrt(gravity / radius)
     values = {"rad": theta, "1": theta, "m/s": math.sqrt(gravity * radius) * theta,
               "m": radius * theta, "rad/s": omega_s * theta, "m/s**2": gravity * theta}

@@ -57,6 +57,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="typical error size for one SI unit, e.g. 'm/s=0.1 m/s', or "
                              "'attitude=20 arcsec' for the declared attitude error the "
                              "Schuler-consistent sizes follow from (repeatable)")
+    parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
+                        help="model parameter with unit, as for 'ins-errors compare', e.g. "
+                             "strapdown_ned's vertical damping gains k_h1=0.0293/s and "
+                             "k_h2=4.42e-4/s^2 (repeatable): the reference motions, term "
+                             "sizes and effects use it; a term multiplied by a damping gain "
+                             "left at 0 is not checked (a warning says so)")
     parser.add_argument("--mapping", type=Path,
                         help="mapping file (@alias / @source lines) added to the default "
                              "notation")
@@ -104,14 +110,62 @@ def run(args: argparse.Namespace) -> int:
     definition = definition_of(resolve(args.model))  # a name, a file or an entry point
     if _declares_convention(args.file):
         return _run_convention(args, magnitudes)
+    from ins_errors.model_parameters import parse_parameter_options
+
+    parameters = parse_parameter_options(definition, args.parameter)
     with stage(f"checking {args.file.name} against {definition.name}"):
         report = check_hand_file(args.file, model=definition, threshold=args.threshold,
                                  latex=True if args.latex else None,
                                  mapping_path=args.mapping, latex_backend=args.latex_parser,
-                                 magnitudes=magnitudes)
+                                 magnitudes=magnitudes, parameters=parameters)
+    if report.unchecked_gains:
+        warn_unchecked_gains(definition, parameters, report.unchecked_gains)
     emit_report(args, lambda: to_markdown(report, f"`ins-errors check` from `{args.file.name}`"),
-                lambda: to_json(report), lambda: to_terminal(report))
+                lambda: with_parameters(to_json(report), definition, parameters),
+                lambda: to_terminal(report))
     return report.exit_status
+
+
+def unchecked_gains_warning(model, parameters: dict[str, float],
+                            names: list[str] | None = None) -> str | None:
+    """The warning that terms multiplied by a damping gain at 0 are not checked, with how
+    to set the gains (their own examples), or None when no gain (of ``names``, if given)
+    is 0.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model or ins_errors.modeling.ModelDefinition
+        Its ``parameters`` say which are damping gains (``damping_gain=True``).
+    parameters : dict of str to float
+        The values set (SI); the others keep their defaults.
+    names : list of str, optional
+        Only these gains (e.g. those a compared line holds).
+    """
+    from ins_errors.numeric.linear_system import undamped_remedy
+
+    p = [float(parameters.get(info.name, info.default)) for info in model.parameters]
+    remedy = undamped_remedy(model, p, names)
+    return f"terms multiplied by a damping gain at 0 are not checked{remedy}" if remedy else None
+
+
+def warn_unchecked_gains(model, parameters: dict[str, float],
+                         names: list[str] | None = None) -> None:
+    """Print :func:`unchecked_gains_warning` on stderr, one line, if there is one."""
+    import sys
+
+    text = unchecked_gains_warning(model, parameters, names)
+    if text is not None:
+        print(f"ins-errors: warning: {text}", file=sys.stderr)
+
+
+def with_parameters(data: dict, model, parameters: dict[str, float]) -> dict:
+    """A check's JSON, with the parameters set under ``"parameters"`` when any was
+    (:func:`ins_errors.model_parameters.parameters_record`); unchanged otherwise."""
+    if not parameters:
+        return data
+    from ins_errors.model_parameters import parameters_record
+
+    return {**data, "parameters": parameters_record(model, parameters)}
 
 
 def emit_report(args: argparse.Namespace, markdown: Callable[[], str],
@@ -148,18 +202,27 @@ def _run_convention(args: argparse.Namespace, magnitudes: dict[str, str]) -> int
         to_json,
         to_terminal,
     )
+    from ins_errors.checker.matrix import motions, parameters_in_force, unchecked_gains
     from ins_errors.checker.matrix_report import to_markdown
     from ins_errors.errors import InsErrorsError
+    from ins_errors.model_parameters import parse_parameter_options
+    from ins_errors.numeric.model import load_model
     from ins_errors.progress import stage
 
     if args.mapping is not None:
         raise InsErrorsError("--mapping does not apply to a file with @convention")
-    with stage(f"checking {args.file.name} against {args.model} in its convention"):
+    model = load_model(args.model)
+    parameters = parse_parameter_options(model, args.parameter)
+    # the derived model is evaluated along the matrix checker's motions, flown with them
+    with stage(f"checking {args.file.name} against {args.model} in its convention"), \
+            parameters_in_force(parameters):
         check = check_convention_file(args.file, args.model, threshold=args.threshold,
                                       magnitudes=magnitudes,
                                       latex=True if args.latex else None)
-
+    warn_unchecked_gains(model, parameters, unchecked_gains(
+        model, check.report.convention, check.lines, motions(model, parameters=parameters)[0]))
     emit_report(args,
                 lambda: to_markdown(check.report, f"`ins-errors check` from `{args.file.name}`"),
-                lambda: to_json(check), lambda: to_terminal(check))
+                lambda: with_parameters(to_json(check), model, parameters),
+                lambda: to_terminal(check))
     return check.exit_status

@@ -14,11 +14,17 @@ BIAS_HEADER = "bias states"
 def run_matrix(args: argparse.Namespace) -> int:
     """Run the matrix check (or list conventions, or write the samples); exit status."""
     from ins_errors.checker.conventions import conventions
-    from ins_errors.checker.matrix import check_matrices, motions
+    from ins_errors.checker.matrix import check_matrices, motions, unchecked_gains
     from ins_errors.checker.matrix_input import write_samples
     from ins_errors.checker.matrix_report import to_json, to_markdown, to_terminal
-    from ins_errors.commands.check import emit_report, parse_magnitudes
+    from ins_errors.commands.check import (
+        emit_report,
+        parse_magnitudes,
+        warn_unchecked_gains,
+        with_parameters,
+    )
     from ins_errors.errors import InsErrorsError
+    from ins_errors.model_parameters import parse_parameter_options
     from ins_errors.numeric.model import load_model
     from ins_errors.output import check_file
 
@@ -29,6 +35,7 @@ def run_matrix(args: argparse.Namespace) -> int:
         if given:
             raise InsErrorsError(f"{flag} applies to equation files, not to --matrix")
     model = load_model(args.model)
+    parameters = parse_parameter_options(model, args.parameter)
     if args.list_conventions:
         found = list(conventions(model).values())
         # error sources that enter the equations may be bias states in any convention
@@ -51,7 +58,7 @@ def run_matrix(args: argparse.Namespace) -> int:
             for s in biases:
                 print(f"  {s.name} ({s.unit}): {s.description}")
         return 0
-    motion_list = motions(model)
+    motion_list = motions(model, parameters=parameters)  # the derived model's values
     if args.write_samples is not None:
         write_samples(args.write_samples, motion_list)
         written = {"model": model.name, "samples": str(args.write_samples),
@@ -73,8 +80,12 @@ def run_matrix(args: argparse.Namespace) -> int:
         check_file(args.report)
     report = check_matrices(args.model, args.matrix, args.convention,
                             threshold=args.threshold, motion_list=motion_list,
-                            magnitudes=parse_magnitudes(args.magnitude))
+                            magnitudes=parse_magnitudes(args.magnitude),
+                            parameters=parameters)
+    warn_unchecked_gains(model, parameters, unchecked_gains(model, args.convention,
+                                                            report.states, motion_list[0]))
     emit_report(args,
                 lambda: to_markdown(report, f"`ins-errors check --matrix` of `{report.hand_name}`"),
-                lambda: to_json(report), lambda: to_terminal(report))
+                lambda: with_parameters(to_json(report), model, parameters),
+                lambda: to_terminal(report))
     return report.exit_status

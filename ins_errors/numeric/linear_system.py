@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import os
+from collections.abc import Collection
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -180,11 +181,11 @@ def growing_mode_text(rate: float) -> str:
     return f"F at the start has a mode that grows ×e every {duration_text(1.0 / rate)}"
 
 
-def _undamped(model, p: np.ndarray) -> list:
+def _undamped(model, p: np.ndarray, names: Collection[str] | None = None) -> list:
     """The parameter descriptions (:class:`~ins_errors.numeric.model.Info`) of the
-    model's damping gains that are 0 in ``p``."""
+    model's damping gains that are 0 in ``p`` (only those of ``names`` if given)."""
     return [info for info, value in zip(model.parameters, p, strict=True)
-            if info.damping_gain and value == 0]
+            if info.damping_gain and value == 0 and (names is None or info.name in names)]
 
 
 def undamped_gains(model, p: np.ndarray) -> list[str]:
@@ -197,16 +198,21 @@ def undamped_gains(model, p: np.ndarray) -> list[str]:
     return [info.name for info in _undamped(model, p)]
 
 
-def undamped_remedy(model, p: np.ndarray) -> str:
+def undamped_remedy(model, p: np.ndarray, names: Collection[str] | None = None) -> str:
     """``"; the damping gains k_h1, k_h2 are 0 (undamped): set them, e.g. `-p
     k_h1=0.0293/s -p k_h2=4.42e-4/s^2` (a 300-s loop, damping 0.7)"`` for the gains of
     :func:`undamped_gains`, or ``""`` (a ``remedy`` of :func:`growth_warning`).
 
     The values and the phrase in parentheses are the gains' own ``example`` and
     ``example_gives`` (:class:`ins_errors.modeling.Parameter`); where a gain has no
-    example, every gain is shown as ``-p NAME=…``.
+    example, every gain is shown as ``-p NAME=…``. ``names`` limits the gains to those
+    named (e.g. the gains a checked equation holds).
+
+    ``model`` is anything whose ``parameters`` have ``name``, ``damping_gain``,
+    ``example`` and ``example_gives``: a loaded model or a
+    :class:`~ins_errors.modeling.ModelDefinition`.
     """
-    gains = _undamped(model, p)
+    gains = _undamped(model, p, names)
     if not gains:
         return ""
     names = ", ".join(g.name for g in gains)
