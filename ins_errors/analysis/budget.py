@@ -22,6 +22,10 @@ What each spec item measures (error quantities of the linear error model, in SI)
     azimuth error, a linear function of the sources (``E``), so it is excluded exactly;
     for a strapdown INS the same with the azimuth component :math:`\phi_D`.
 
+The direct runs of a Monte Carlo check read the same quantities: a strapdown INS's
+φ-angle is the covariance's rows ``T_φ(x)`` along each run's own ideal states at its
+record times, applied to the run's real − ideal states (:func:`direct_attitude`).
+
 With ``combine = "rss"`` (default) an item's components are combined as the root sum of
 squares, so a 2σ limit on the position is a limit on 2DRMS = 2·sqrt(σ_N² + σ_E²); with
 ``"each"`` every component must meet the limit on its own.
@@ -408,26 +412,109 @@ def has_attitude(model) -> bool:
     return any(set(names) <= states for names in PLATFORM_ANGLE_NAMES) or _strapdown(model)
 
 
+def _reads_phi(model) -> bool:
+    """True when the attitude error is a strapdown INS's φ-angle (no platform angles)."""
+    states = {s.name for s in model.error_states}
+    return _strapdown(model) and not any(set(names) <= states
+                                         for names in PLATFORM_ANGLE_NAMES)
+
+
+PHI_AXES = ("north", "east", "down")
+"""Components of a strapdown INS's φ-angle, in the order of its rows."""
+
+
+def phi_rows(model, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """A strapdown INS's φ-angle rows ``T_φ(x)`` along ideal states ``x``.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        A strapdown INS with the φ-angle convention (``strapdown_ned``, or a model file
+        that describes itself by its outputs).
+    x : numpy.ndarray, shape (n, K)
+        Ideal states.
+    p : numpy.ndarray, shape (np,)
+        Parameters.
+
+    Returns
+    -------
+    numpy.ndarray, shape (3, K, ne)
+        North, east and down φ (rad) per SI unit of each error state at each of the K
+        states: φ = T_φ(x) δx, exact to first order.
+    """
+    from ins_errors.checker.conventions import conventions
+
+    T = conventions(model)["phi"].transform(np.ascontiguousarray(x), p)
+    return np.stack([np.asarray(T[k]).T for k in range(len(PHI_AXES))])
+
+
 def attitude_rows(model, system: LinearSystem) -> list[tuple[str, np.ndarray]]:
     """(label, row) of the level, level and azimuth attitude errors, rad: rows (K+1, n)
     of the error state, the platform angles' unit rows, or a strapdown INS's φ-angle
-    rows ``T_φ(x)`` along the ideal states (exact to first order)."""
+    rows ``T_φ(x)`` along the ideal states (exact to first order, :func:`phi_rows`)."""
     K1, n = len(system.times), system.F.shape[-1]
     states = [s.name for s in model.error_states]
-    if not _strapdown(model) or any(set(names) <= set(states)
-                                    for names in PLATFORM_ANGLE_NAMES):
+    if not _reads_phi(model):
         rows = []
         for name in platform_angles(model):
             row = np.zeros((K1, n))
             row[:, states.index(name)] = 1.0
             rows.append((f"about {name[6:]}", row))
         return rows
-    from ins_errors.checker.conventions import conventions
-
     x = np.broadcast_to(system.x, (system.x.shape[0], K1))
-    T = conventions(model)["phi"].transform(np.ascontiguousarray(x), system.p)
-    return [(f"about {axis}", np.asarray(T[k]).T) for k, axis in
-            enumerate(("north", "east", "down"))]
+    T = phi_rows(model, x, system.p)
+    return [(f"about {axis}", T[k]) for k, axis in enumerate(PHI_AXES)]
+
+
+PHI_QUANTITIES = tuple(f"phi_{axis}" for axis in "NED")
+"""Names of a strapdown INS's φ-angle among the error quantities of its direct runs
+(:func:`direct_attitude`)."""
+
+
+def direct_attitude(model, ideal: np.ndarray, real: np.ndarray, p: np.ndarray
+                    ) -> tuple[tuple[str, ...], np.ndarray]:
+    """The attitude error of direct runs for the budget's attitude items, beyond the
+    quantities every run reports: a strapdown INS's φ-angle (:data:`PHI_QUANTITIES`),
+    the same rows as the covariance's (:func:`attitude_rows`) applied to the runs'
+    error state ``δx = x_real − x_ideal`` along their own ideal states; nothing for a
+    model with platform angles (reported by every run already).
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    ideal : numpy.ndarray, shape (n, R + 1, B)
+        Ideal states at the recorded samples (the same motion for every draw).
+    real : numpy.ndarray, shape (ne, R + 1, B)
+        Real-work states (computed states, then the platform angles if any).
+    p : numpy.ndarray, shape (np,)
+        Parameters of the runs.
+
+    Returns
+    -------
+    names : tuple of str
+    values : numpy.ndarray, shape (len(names), R + 1, B)
+        rad.
+    """
+    if not _reads_phi(model):
+        return (), np.zeros((0, *ideal.shape[1:]))
+    n = ideal.shape[0]
+    error = np.concatenate([real[:n] - ideal, real[n:]])   # (ne, R + 1, B)
+    T = phi_rows(model, ideal[:, :, 0], p)                 # (3, R + 1, ne)
+    return PHI_QUANTITIES, np.einsum("kte,etb->ktb", T, error)
+
+
+def attitude_quantities(model) -> tuple[str, str, str]:
+    """The direct runs' error quantities of the level, level and azimuth attitude
+    errors, in the order of :func:`attitude_rows` (whose labels are ``about`` and each
+    name's axis): the platform angles, or a strapdown INS's φ-angle."""
+    return PHI_QUANTITIES if _reads_phi(model) else platform_angles(model)
+
+
+def _about(model, name: str) -> str:
+    """The row label (``"about x"``, ``"about north"``) of attitude quantity ``name``."""
+    if name in PHI_QUANTITIES:
+        return f"about {PHI_AXES[PHI_QUANTITIES.index(name)]}"
+    return f"about {name[6:]}"
 
 
 ITEM_NEEDS = {"position_error": ("outputs", ("latitude", "longitude")),
@@ -885,11 +972,11 @@ def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarra
         elif row.item == "ground_speed_error":
             parts = {"north": errors["delta_v_N"][k], "east": errors["delta_v_E"][k]}
         elif row.item == "vertical_error":
-            first, second, _ = platform_angles(model)
-            parts = {f"about {first[6:]}": errors[first][k],
-                     f"about {second[6:]}": errors[second][k]}
+            first, second, _ = attitude_quantities(model)
+            parts = {_about(model, first): errors[first][k],
+                     _about(model, second): errors[second][k]}
         else:
-            azimuth = platform_angles(model)[2]
+            azimuth = attitude_quantities(model)[2]
             parts = {"azimuth": (errors[azimuth][k] - errors[azimuth][0]) / row.time}
         chosen = [parts[row.component]] if row.component else list(parts.values())
         mean_square = np.mean(sum(c**2 for c in chosen))

@@ -212,7 +212,8 @@ class DirectErrors:
     ----------
     times : numpy.ndarray, shape (nt,)
     names : tuple of str
-        ``alpha_x, ...`` then ``delta_<output>``.
+        ``alpha_x, ...`` then ``delta_<output>``; for a strapdown INS then its φ-angle
+        ``phi_N, phi_E, phi_D`` (:data:`ins_errors.analysis.budget.PHI_QUANTITIES`).
     values : numpy.ndarray, shape (nq, nt, N)
     sources : numpy.ndarray, shape (nw, N)
         The sampled source vectors.
@@ -233,6 +234,11 @@ class DirectErrors:
 
 def _direct_batch(model_name: str, trajectory, w: np.ndarray, method: str,
                   record_interval: float) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
+    """Direct runs of the draws ``w`` (nw, B): times, values (nq, R + 1, B) and names of
+    the error quantities; for a strapdown INS its φ-angle besides
+    (:func:`ins_errors.analysis.budget.direct_attitude`, the covariance's rows along the
+    runs' own ideal states)."""
+    from ins_errors.analysis.budget import direct_attitude
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.simulate import simulate
 
@@ -240,7 +246,11 @@ def _direct_batch(model_name: str, trajectory, w: np.ndarray, method: str,
     run = simulate(model, trajectory, w, method=method, record_interval=record_interval,
                    parts=("real",))
     errors = run.direct_errors()
-    return errors.times, errors.values, tuple(errors.names)
+    names, values = direct_attitude(model, run.ideal, run.real, trajectory.parameters)
+    if not names:
+        return errors.times, errors.values, tuple(errors.names)
+    return (errors.times, np.concatenate([errors.values, values]),
+            (*errors.names, *names))
 
 
 def draw_generator(seed: int, draw: int) -> np.random.Generator:
