@@ -7,8 +7,9 @@ vertical damping gains of ``strapdown_ned`` are the reason this exists: ``k_h1``
 the height difference in ``ḣ`` and ``k_h2`` (1/s²) in ``v̇_D``; ``k_h1 = 2ζω₀``,
 ``k_h2 = ω₀² + 2γ/R`` give a loop of natural frequency ω₀ and damping ζ (0: undamped).
 
-Gains (:data:`NON_NEGATIVE`) must not be negative: a negative gain turns the damping
-loop into a second source of divergence, which no one means to ask for.
+Gains (:data:`NON_NEGATIVE`, and any parameter a model flags as a damping gain) must not
+be negative: a negative gain turns the damping loop into a second source of divergence,
+which no one means to ask for.
 """
 
 from __future__ import annotations
@@ -62,8 +63,10 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
             value = parse_quantity(text, info.unit, name, numbers_are_si=numbers_are_si)
         except InsErrorsError as error:
             raise type(error)(f"{prefix}{error}") from None
-        if name in NON_NEGATIVE and value < 0:
-            raise InsErrorsError(f"{prefix}{name} = {text!r}: a {NON_NEGATIVE[name]} must be "
+        gain = NON_NEGATIVE.get(name) or (
+            "damping gain" if getattr(info, "damping_gain", False) else None)
+        if gain is not None and value < 0:
+            raise InsErrorsError(f"{prefix}{name} = {text!r}: a {gain} must be "
                                  f"zero (undamped) or positive, in {info.unit}")
         out[name] = value
     return out

@@ -173,3 +173,18 @@ def test_bad_parameters_are_refused_in_one_line(tmp_path, capsys):
         captured = capsys.readouterr()
         assert captured.out == "" and len(captured.err.splitlines()) == 1
         assert message in captured.err
+
+
+def test_a_flagged_damping_gain_of_a_model_file_must_not_be_negative(capsys):
+    # any parameter the model flags as a damping gain, not only strapdown_ned's k_h1/k_h2
+    enu = Path(__file__).resolve().parent / "models" / "enu_baro_strapdown.py"
+    text = enu.read_text(encoding="utf-8")
+    assert "damping_gain=True" in text and '"c_1"' in text
+    status = main(["models", str(enu)])  # loads (derives) the model once
+    capsys.readouterr()
+    assert status == 0
+    status = main(["compare", str(enu), "--source", "gyro_bias_x=0.01deg/h", "--hours", "0.1",
+                   "-p", "c_1=-0.01/s"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert status == 2 and len(err) == 1
+    assert "c_1 = '-0.01/s': a damping gain must be zero (undamped) or positive" in err[0]
