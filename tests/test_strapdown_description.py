@@ -242,3 +242,51 @@ def test_an_impossible_earth_is_refused_for_a_flight(option, said, capsys):
                    "--source", "gyro_bias_x=0.01deg/h", "-p", option])
     err = capsys.readouterr().err.strip().splitlines()
     assert status == 2 and len(err) == 1 and said in err[0], err
+
+
+BARO_LOOP = [  # a third-order barometer loop: its integrator z no navigation quantity sets
+    ('    Variable("h", "m", "height", "h"),\n)',
+     '    Variable("h", "m", "height", "h"),\n'
+     '    Variable("z", "m/s**2", "baro loop integrator", "z"),\n)'),
+    ('    Parameter("U", "rad/s", "Earth rate", "U", EARTH_RATE),\n',
+     '    Parameter("U", "rad/s", "Earth rate", "U", EARTH_RATE),\n'
+     '    Parameter("k3", "1/s**3", "third gain", "k_3", 1e-6),\n'),
+    ("    lat, h = state[12], state[14]\n",
+     "    lat, h = state[12], state[14]\n    z = state[15]\n"),
+    ("+ sp.Matrix([0, 0, g])\n", "+ sp.Matrix([0, 0, g - z])\n"),
+    ("v[1] / (r * sp.cos(lat)), -v[2]]",
+     "v[1] / (r * sp.cos(lat)), -v[2], -SYMBOL['k3'] * (h - SYMBOL['h_ref'])]"),
+    ('f"specific force along {a}", f"f_{a}") for a in AXES),\n)',
+     'f"specific force along {a}", f"f_{a}") for a in AXES),\n'
+     '    Variable("h_ref", "m", "barometric height", "h_b"),\n)'),
+    ("    v_n, v_e, v_d, lat, lon, h = state[9:]", "    v_n, v_e, v_d, lat, lon, h = state[9:15]"),
+    ('                       c["height"]])', '                       c["height"], 0])'),
+]
+
+
+@pytest.mark.parametrize("edits, said", [
+    (BARO_LOOP, "'z' changes with the navigation errors"),
+    ([("sp.asin(-T[2, 0]), sp.atan2(T[1, 0], T[0, 0])",  # heading from east, anticlockwise
+       "sp.asin(-T[2, 0]), sp.pi / 2 - sp.atan2(T[1, 0], T[0, 0])")],
+     "its output 'heading' does not read back what its initial-state map was given"),
+    ([('Variable(f"f_{a}", "m/s**2"', 'Variable(f"f_{a}", "1"'),  # specific force in g
+      ("v_dot = T * sp.Matrix(force)", "v_dot = g * T * sp.Matrix(force)"),
+      ('f + SYMBOL[f"accel_bias_{a}"]', 'f + SYMBOL[f"accel_bias_{a}"] / SYMBOL["g"]')],
+     "is not a rotation"),
+])
+def test_a_model_the_conventions_cannot_carry_is_refused_in_one_line(edits, said, tmp_path,
+                                                                     capsys, monkeypatch):
+    # each was accepted before and gave a report with false findings (or, for the loop,
+    # the same report whatever its gain: the integrator was dropped)
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # a throw-away model
+    text = SPHERE_FILE.read_text(encoding="utf-8")
+    for old, new in edits:
+        assert text.count(old) == 1, old
+        text = text.replace(old, new)
+    path = tmp_path / "variant.py"
+    path.write_text(text, encoding="utf-8")
+    status = main(["check", str(path), "--matrix", f"{PSI_MODEL}:psi_model", "--convention",
+                   "psi"])
+    err = [line for line in capsys.readouterr().err.strip().splitlines()
+           if not line.startswith("ins-errors: deriving")]
+    assert status == 2 and len(err) == 1 and said in err[0], err

@@ -461,7 +461,13 @@ def attitude_rows(model, system: LinearSystem) -> list[tuple[str, np.ndarray]]:
             row[:, states.index(name)] = 1.0
             rows.append((f"about {name[6:]}", row))
         return rows
+    from ins_errors.checker.conventions import conventions
+
     x = np.broadcast_to(system.x, (system.x.shape[0], K1))
+    phi = conventions(model)["phi"]
+    if phi.validate is not None:  # a strapdown model file the φ-angle can carry
+        phi.validate(model, np.ascontiguousarray(x), np.ascontiguousarray(
+            np.broadcast_to(system.u, (system.u.shape[0], K1))), system.p)
     T = phi_rows(model, x, system.p)
     return [(f"about {axis}", T[k]) for k, axis in enumerate(PHI_AXES)]
 

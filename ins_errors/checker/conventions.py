@@ -115,6 +115,9 @@ class Convention:
         (a direction-cosine matrix has six directions the convention does not see, and
         the model's equations keep its errors off them: see
         :mod:`ins_errors.checker.strapdown_description`).
+    validate : callable or None
+        ``(model, x, u, p) -> None``: raises one line when the convention cannot carry
+        the model along states ``x`` (n, K) (called by :meth:`matrices`).
     biases : tuple of BiasState
         Error sources carried as states after the convention's own (:meth:`with_biases`):
         the last ``len(biases)`` entries of ``states``. The derived model in the
@@ -129,6 +132,7 @@ class Convention:
     rate: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] | None = None
     vertical: tuple[str, ...] = ()
     lift: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
+    validate: Callable | None = None
     biases: tuple[BiasState, ...] = ()
 
     @property
@@ -164,6 +168,8 @@ class Convention:
         if self.transform is None:
             eye = np.broadcast_to(np.eye(ne), (k, ne, ne))
             return eye, np.zeros((k, ne, ne))
+        if self.validate is not None:
+            self.validate(model, x, u, p)
         flow = model.numpy.ideal_rhs(x, u, p)
         if self.rate is not None:
             return (np.moveaxis(self.transform(x, p), -1, 0),
@@ -322,7 +328,7 @@ def strapdown_conventions(functions: Callable) -> dict[str, Convention]:
     """The φ/ψ/modified-velocity conventions of :mod:`ins_errors.models.strapdown_conventions`,
     each with the position in NED metres (``NAME``) or as latitude/longitude/height
     (``NAME_geodetic``), for a model whose maps ``functions(convention) -> (transform,
-    rate, lift)`` gives (``lift`` None: ``T⁺``)."""
+    rate, lift[, validate])`` gives (``lift`` None: ``T⁺``)."""
     from ins_errors.models import strapdown_conventions as sc
 
     descriptions = {
@@ -340,13 +346,13 @@ def strapdown_conventions(functions: Callable) -> dict[str, Convention]:
                                          "position as latitude, longitude, height")):
             conv = sc.convention(name, position)
             states = tuple(State(n, sc.UNITS[n], _state_text(n)) for n in conv.names)
-            transform, rate, lift = functions(conv)
+            transform, rate, lift, *validate = functions(conv)
             out[name + suffix] = Convention(
                 name + suffix, f"{descriptions.get(name, name)}; {where}", states,
                 transform, rate,
                 vertical=tuple(n for n in conv.names
                                if n in ("dv_D", "dvc_D", "du_D", "dr_D", "dh")),
-                lift=lift)
+                lift=lift, validate=validate[0] if validate else None)
     return out
 
 

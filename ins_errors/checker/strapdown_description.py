@@ -89,7 +89,109 @@ def missing(model) -> list[str]:
         lacks.append(f"an Earth radius parameter ({' or '.join(RADIUS_NAMES)}, m)")
     if len(model.error_states) != len(model.states):
         lacks.append("one error state per state (no extra real-work states)")
+    if not lacks and _outputs_use_inputs(model):
+        lacks.append("navigation outputs that are functions of the state alone (its "
+                     "outputs depend on its inputs)")
     return lacks
+
+
+def _outputs_use_inputs(model) -> bool:
+    """True when the model's navigation outputs depend on its inputs."""
+    outputs = model.casadi.function("outputs")
+    x = ca.SX.sym("x", outputs.size1_in(0))
+    u = ca.SX.sym("u", outputs.size1_in(1))
+    p = ca.SX.sym("p", outputs.size1_in(2))
+    values = outputs(x, u, p)
+    return any(ca.depends_on(values[i], u) for i, _ in _outputs(model))
+
+
+ORTHONORMAL_TOLERANCE = 1e-6
+"""Largest |C Cᵀ − I| of the attitude read from a model's equations."""
+
+ROUND_TRIP_TOLERANCE = 1e-7
+"""Largest change of a navigation quantity (rad, m, m/s; relative to 1 + its size) when
+the model's initial-state map is given what its outputs read."""
+
+INVARIANCE_TOLERANCE = 1e-8
+"""Largest part of an error state's rate, relative to the row's terms, that leaves the
+span of the initial-state map (:func:`validate`)."""
+
+
+def validate(model, parts: tuple[str, str, str, str], x: np.ndarray, u: np.ndarray,
+             p: np.ndarray) -> None:
+    """Refuse, in one line, a strapdown model the conventions cannot carry along ``x``.
+
+    Three properties the construction of the module docstring rests on, checked at every
+    sample:
+
+    1. the attitude read from its equations is a rotation: ``C Cᵀ = I`` and ``det C = 1``
+       (its accelerometer inputs in m/s² along right-handed body axes);
+    2. its outputs read back what its initial-state map sets: ν(x0(S ν(x))) = ν(x)
+       (the same angle conventions in both);
+    3. its error state stays in the span of the initial-state map's tangent K: the part
+       of ``F K − K̇`` off that span, ``(I − L T)(F K − K̇)``, vanishes (a state no
+       navigation quantity sets, e.g. the integrator of a third-order height loop,
+       would be driven and dropped).
+
+    Parameters
+    ----------
+    model : Model
+    parts : tuple of str
+        (model key, attitude, velocity, position) of the convention.
+    x, u : numpy.ndarray, shape (n, K), (nu, K)
+        True states and inputs.
+    p : numpy.ndarray, shape (np,)
+
+    Raises
+    ------
+    InsErrorsError
+        Naming the property, the worst state or quantity and its size.
+    """
+    from ins_errors.errors import InsErrorsError
+
+    p = np.asarray(p, dtype=float)
+    nu, C = _along(_navigation_function(model.key), x, p)
+    C = np.moveaxis(C, -1, 0)
+    gram = np.abs(C @ np.swapaxes(C, 1, 2) - np.eye(3)).max()
+    if not gram <= ORTHONORMAL_TOLERANCE or not np.all(np.linalg.det(C) > 0):
+        raise InsErrorsError(
+            f"model {model.name!r}: the attitude through which its accelerometers drive its "
+            f"NED velocity is not a rotation (|C Cᵀ − I| up to {gram:.3g}, det C "
+            f"{np.linalg.det(C).min():.3g}): the φ/ψ conventions need specific-force inputs "
+            "f_x..z in m/s² along right-handed body axes")
+    nu = nu[:, 0]
+    back = _along(_round_trip_function(model.key), x, p)[0][:, 0]
+    change = back - nu
+    angles = [0, 1, 6, 7, 8]  # latitude, longitude, roll, pitch, heading
+    change[angles] = (change[angles] + np.pi) % (2 * np.pi) - np.pi
+    relative = np.abs(change) / (1.0 + np.abs(nu))
+    if not relative.max() <= ROUND_TRIP_TOLERANCE:
+        k, j = np.unravel_index(int(np.nanargmax(np.where(np.isfinite(relative), relative,
+                                                          np.inf))), relative.shape)
+        raise InsErrorsError(
+            f"model {model.name!r}: its output {NAVIGATION_OUTPUTS[k]!r} does not read back "
+            f"what its initial-state map was given ({nu[k, j]:.6g} read, {back[k, j]:.6g} "
+            "after the map): the outputs and the initial conditions must use the same "
+            "conventions (heading from north, clockwise; roll, pitch, heading z-y-x)")
+    functions = _functions(*parts)
+    K = np.moveaxis(_along(functions[2], x, p)[0], -1, 0)
+    xdot = np.asarray(model.numpy.ideal_rhs(x, u, p), dtype=float)
+    K_dot = np.moveaxis(_along(functions[3], x, xdot, p)[0], -1, 0)
+    T = np.moveaxis(_along(functions[0], x, p)[0], -1, 0)
+    L = np.swapaxes(np.linalg.solve(np.swapaxes(T @ K, 1, 2), np.swapaxes(K, 1, 2)), 1, 2)
+    F = np.moveaxis(np.asarray(model.state_matrix(x, u, p), dtype=float), -1, 0)
+    moved = F @ K - K_dot
+    off = moved - L @ (T @ moved)
+    scale = (np.abs(F) @ np.abs(K) + np.abs(K_dot)).max(axis=(0, 2)) + 1e-300
+    defect = np.abs(off).max(axis=(0, 2)) / scale
+    if not defect.max() <= INVARIANCE_TOLERANCE:
+        k = int(np.nanargmax(np.where(np.isfinite(defect), defect, np.inf)))
+        raise InsErrorsError(
+            f"model {model.name!r}: its error state leaves what its initial-state map "
+            f"spans: {model.states[k].name!r} changes with the navigation errors "
+            f"({defect[k]:.3g} of its rate) but no navigation quantity sets it, so a φ/ψ "
+            "convention would drop it; check the hand model in the model's own states "
+            "(--convention model)")
 
 
 def describes(model) -> bool:
@@ -205,9 +307,27 @@ def _functions(model_key: str, attitude: str, velocity: str, position: str
     c = ca.SX.sym("c", S.shape[0])
     x0 = model.casadi.function("initial_state")(c, ca.DM.zeros(len(model.inputs)), p)
     K = ca.Function("K", [c, p], [ca.jacobian(x0, c)])(ca.DM(S) @ nu, p) @ ca.DM(S)
+    K_dot = (ca.jacobian(ca.vec(K), x) @ xdot).reshape(K.shape)
     return (ca.Function("transform", [x, p], [ca.densify(T)]),
             ca.Function("transform_rate", [x, xdot, p], [ca.densify(T_dot)]),
-            ca.Function("tangent", [x, p], [ca.densify(K)]))
+            ca.Function("tangent", [x, p], [ca.densify(K)]),
+            ca.Function("tangent_rate", [x, xdot, p], [ca.densify(K_dot)]))
+
+
+@cache
+def _round_trip_function(model_key: str) -> ca.Function:
+    """``(x, p) -> ν(x0(S ν(x)))`` (9, 1): the navigation quantities read back after the
+    initial-state map is given what the outputs read."""
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.model_flight import condition_matrix
+
+    model = load_model(model_key)
+    x, p, nu, _, _ = _symbols(model)
+    zeros = ca.DM.zeros(len(model.inputs))
+    x0 = model.casadi.function("initial_state")(ca.DM(condition_matrix(model)) @ nu, zeros, p)
+    outputs = model.casadi.function("outputs")(x0, zeros, p)
+    back = ca.vertcat(*[sign * outputs[i] for i, sign in _outputs(model)])
+    return ca.Function("round_trip", [x, p], [ca.densify(back)])
 
 
 def _along(fn: ca.Function, *args: np.ndarray) -> list[np.ndarray]:
@@ -248,6 +368,9 @@ def conventions(model) -> dict:
             L = np.linalg.solve(np.swapaxes(T @ K, 1, 2), np.swapaxes(K, 1, 2))
             return np.moveaxis(np.swapaxes(L, 1, 2), 0, -1)
 
-        return transform, rate, lift
+        def check(model, x, u, p):
+            validate(model, parts, x, u, p)
+
+        return transform, rate, lift, check
 
     return strapdown_conventions(make)
