@@ -273,6 +273,10 @@ BARO_LOOP = [  # a third-order barometer loop: its integrator z no navigation qu
       ("v_dot = T * sp.Matrix(force)", "v_dot = g * T * sp.Matrix(force)"),
       ('f + SYMBOL[f"accel_bias_{a}"]', 'f + SYMBOL[f"accel_bias_{a}"] / SYMBOL["g"]')],
      "is not a rotation"),
+    # a velocity output at a lever arm (ω_z × r): no longer a function of the state alone
+    ([("return sp.Matrix([lat, lon, h, v_n, v_e, v_d,",
+       "return sp.Matrix([lat, lon, h, v_n - 2.0 * inputs[2], v_e, v_d,")],
+     "lacks navigation outputs that are functions of the state alone"),
 ])
 def test_a_model_the_conventions_cannot_carry_is_refused_in_one_line(edits, said, tmp_path,
                                                                      capsys, monkeypatch):
