@@ -179,6 +179,24 @@ def test_case_plots_equal_fresh_plain_matplotlib_figures(report, tmp_path, monke
         assert ours[k].read_bytes() == plain.read_bytes(), k
 
 
+def test_a_long_title_is_wrapped_within_the_comparison_figure(report):
+    # the standard manoeuvre's description ran off both edges of the figure
+    from ins_errors.numeric import plots
+    from ins_errors.numeric.motion_spec import STANDARD_MANOEUVRE
+
+    result, _ = report
+    comparison = result.comparisons[0]
+    figure = plots._ComparisonFigure(comparison, ["alpha_y", "delta_v_N"])
+    title = f"{comparison.label}\nmodel: {STANDARD_MANOEUVRE} from φ=50°, λ=30°; 2 h, τ = 1 s"
+    figure.show(comparison, title)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    FigureCanvasAgg(figure.fig)  # (a kept figure has no canvas until it is saved)
+    with _as_saved(figure.fig, plots.DPI) as fig:
+        assert fig._suptitle.get_text().count("\n") >= 2  # the long line was wrapped
+        assert _sticking_out(fig) == (False, False, False, False)
+
+
 def _sticking_out(fig) -> tuple[bool, bool, bool, bool]:
     """Whether anything drawn passes the left, bottom, right or top edge of the figure."""
     box = fig.get_tightbbox(fig.canvas.get_renderer())  # inches

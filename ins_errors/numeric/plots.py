@@ -7,6 +7,7 @@ hours; the conversion goes through the units library.
 from __future__ import annotations
 
 import math
+import textwrap
 import threading
 from collections.abc import Sequence
 from pathlib import Path
@@ -216,6 +217,8 @@ class _ComparisonFigure:
         # fixed margins in inches (tight_layout measured every tick label: seconds a figure)
         width, height = fig.get_size_inches()
         self.title = fig.suptitle("", fontsize=9, y=1 - 0.1 / height, va="top")
+        # characters of a title line that fit the width (9-pt text, ~0.55 em a character)
+        self.title_characters = int((width - 0.3) * 72 / (0.55 * 9))
         fig.subplots_adjust(left=1.0 / width, right=1 - 0.15 / width, bottom=0.55 / height,
                             top=1 - 1.0 / height, wspace=0.95 / (width / 2),
                             hspace=0.4 / 1.75)
@@ -252,4 +255,6 @@ class _ComparisonFigure:
         # one time range for all panels, as a shared axis would give (a panel whose curve
         # is cut short by NaNs still spans the whole run)
         common_time_range(self.axes.flat)
-        self.title.set_text(title)
+        # a long motion description is wrapped, not cut at the figure's edges
+        self.title.set_text("\n".join(textwrap.fill(line, self.title_characters)
+                                       for line in title.split("\n")))
