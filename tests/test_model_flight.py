@@ -214,3 +214,36 @@ def test_a_model_without_a_heading_condition_is_refused_a_flight(tmp_path, monke
     err = [line for line in capsys.readouterr().err.strip().splitlines()
            if not line.startswith("ins-errors: deriving")]
     assert status == 2 and len(err) == 1 and "no initial condition 'heading'" in err[0]
+
+
+@pytest.mark.parametrize("radius", ["1m", "10m", "50km"])
+def test_a_flight_on_an_earth_of_metres_is_refused_in_one_line(radius, capsys):
+    # on a sphere of 1 m a 250 m/s flight turns 250 rad/s: its integration never ended
+    status = main(["compare", str(SPHERE_FILE), "--motion", "great-circle", "--hours", "0.1",
+                   "--source", "gyro_bias_x=0.01deg/h", "-p", f"R={radius}"])
+    err = [line for line in capsys.readouterr().err.strip().splitlines()
+           if not line.startswith("ins-errors: deriving")]
+    assert status == 2 and len(err) == 1, err
+    assert "parameter R" in err[0] and "planet-sized" in err[0]
+
+
+def test_a_position_integration_whose_steps_explode_is_refused(sphere):
+    # a path past the radius check (strapdown_ned's own Earth, or a flight near a pole)
+    # must stop when DOP853's steps shrink without end, not run for hours
+    import dataclasses
+    import time
+
+    from ins_errors.errors import DomainError
+
+    flight = st.flight_from_profile(tr.great_circle_profile(np.radians(50), 0.0, 0.5, 250.0))
+    earth = dataclasses.replace(st._earth(load_model("strapdown_ned"),
+                                          load_model("strapdown_ned").parameter_vector()),
+                                a=1.0)
+    start = time.perf_counter()
+    with pytest.raises(DomainError, match="shrink without end"):
+        st._position_solution(flight, earth, 360.0, 0.01)
+    assert time.perf_counter() - start < 30.0
+    # a planet-sized Earth of 100 km flies 24 h well inside the bound
+    earth = dataclasses.replace(earth, a=100e3)
+    solution = st._position_solution(flight, earth, 86400.0, 0.01)
+    assert solution.success and solution.t[-1] == 86400.0

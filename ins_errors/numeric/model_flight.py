@@ -62,6 +62,10 @@ ABSOLUTE_TOLERANCE = 1e-12
 CHUNK = 1024
 """Columns of one compiled call."""
 
+MIN_FLIGHT_RADIUS = 100e3
+"""Smallest Earth radius a flight is planned on, m: on a sphere of metres the flight's
+course turns hundreds of radians a second and its integration never ends."""
+
 DEFAULT_EARTH = {"e2": 0.0}
 """Eccentricity of a flight when the model has no such parameter (a sphere); without an
 Earth-rate parameter the flight takes WGS-84's (its kinematics do not use it)."""
@@ -106,6 +110,8 @@ def flight_earth(model: Model, p: np.ndarray):
     MotionError
         The model has no Earth radius parameter (m) named as
         :data:`~ins_errors.earth_constants.RADIUS_NAMES`.
+    EarthParameterError
+        Its radius is below :data:`MIN_FLIGHT_RADIUS` or its eccentricity² outside [0, 1).
     """
     from ins_errors.earth_constants import (
         EARTH_RATE_NAMES,
@@ -119,7 +125,7 @@ def flight_earth(model: Model, p: np.ndarray):
         WGS84_SOMIGLIANA_K,
     )
     from ins_errors.numeric.strapdown_truth import _Earth
-    from ins_errors.numeric.trajectories import MotionError
+    from ins_errors.numeric.trajectories import EarthParameterError, MotionError
 
     value = {i.name: float(v) for i, v in zip(model.parameters, p, strict=True)}
     unit = {i.name: i.unit for i in model.parameters}
@@ -134,11 +140,12 @@ def flight_earth(model: Model, p: np.ndarray):
                           "model's own Earth")
     eccentricity = first(ECCENTRICITY_NAMES, "1")
     rate = first(EARTH_RATE_NAMES, "rad/s")
-    if not (np.isfinite(value[radius]) and value[radius] > 0):
-        raise MotionError(f"model {model.name!r}: the Earth radius {radius} = "
-                          f"{value[radius]:g} m must be positive for a flight")
+    if not (np.isfinite(value[radius]) and value[radius] >= MIN_FLIGHT_RADIUS):
+        raise EarthParameterError(f"parameter {radius} = {value[radius]:g} m of model "
+                          f"{model.name!r}: a flight needs a planet-sized Earth (radius at "
+                          f"least {MIN_FLIGHT_RADIUS / 1e3:g} km)")
     if eccentricity and not (0.0 <= value[eccentricity] < 1.0):
-        raise MotionError(f"model {model.name!r}: the eccentricity² {eccentricity} = "
+        raise EarthParameterError(f"model {model.name!r}: the eccentricity² {eccentricity} = "
                           f"{value[eccentricity]:g} must be in [0, 1) for a flight")
     return _Earth(value[radius],
                   value[eccentricity] if eccentricity else DEFAULT_EARTH["e2"],

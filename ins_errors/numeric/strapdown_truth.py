@@ -653,15 +653,50 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
     return traj
 
 
+POSITION_STEP_FACTOR = 50
+"""The position integration is refused once its right-hand side has been evaluated this
+many times the count of a flight its maximum step limits (12 per DOP853 step, one step
+per ``max_step`` plus 10): a flight of any planet-sized Earth needs about 1 to 2 times
+that count; a sphere of metres or a flight that nears a pole would make the adaptive
+steps shrink without end."""
+
+
+class _TooManyStepsError(Exception):
+    """Raised inside the position integration's right-hand side to stop it."""
+
+
 def _position_solution(flight: Flight, earth: _Earth, t_end: float, tau: float):
     """Latitude, longitude, height and course over ``[0, t_end]`` by DOP853 (rtol 1e-13)
-    with dense output (``.sol``)."""
+    with dense output (``.sol``).
+
+    Raises
+    ------
+    DomainError
+        The integration fails, or its step count explodes (more than
+        :data:`POSITION_STEP_FACTOR` times the steps the maximum step sets).
+    """
     from scipy.integrate import solve_ivp
 
     y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
-    solution = solve_ivp(_position_rhs(flight, earth, t_end), (0.0, t_end), y0,
-                         method="DOP853", rtol=1e-13, atol=1e-15 * np.array([1, 1, 1e7, 1]),
-                         dense_output=True, max_step=max(tau, min(60.0, t_end / 4 or tau)))
+    max_step = max(tau, min(60.0, t_end / 4 or tau))
+    limit = int(POSITION_STEP_FACTOR * 12 * (t_end / max_step + 10))
+    inner, calls = _position_rhs(flight, earth, t_end), [0]
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        calls[0] += 1
+        if calls[0] > limit:
+            raise _TooManyStepsError(t)
+        return inner(t, y)
+
+    try:
+        solution = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=1e-13,
+                             atol=1e-15 * np.array([1, 1, 1e7, 1]), dense_output=True,
+                             max_step=max_step)
+    except _TooManyStepsError as stop:
+        raise DomainError(
+            f"the true flight could not be integrated: its steps shrink without end near "
+            f"t = {stop.args[0]:.6g} s (over {limit} evaluations; an Earth radius of "
+            f"{earth.a:g} m is not planet-sized, or the flight nears a pole)") from None
     if not solution.success:
         raise DomainError(f"the true flight could not be integrated: {solution.message}")
     return solution

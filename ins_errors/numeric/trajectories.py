@@ -61,6 +61,11 @@ class MotionError(InsErrorsError):
     """A motion the model cannot follow or a badly specified motion."""
 
 
+class EarthParameterError(MotionError):
+    """A flight the model's Earth parameters make impossible (an Earth radius of metres,
+    an eccentricity of 1 or more): the parameters are wrong, not the motion."""
+
+
 REFERENCES = ("latitude", "longitude", "heading", "height")
 """The reference values of a motion's start that a description may state (the heading
 being the track angle of the model's trihedron)."""
