@@ -270,6 +270,11 @@ def motion_problems(model, motions, step: float,
     -------
     dict of str to str
         Motion kind -> one-line reason (empty when the model follows them all).
+
+    Raises
+    ------
+    EarthParameterError
+        The model's Earth parameters make any flight impossible.
     """
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.motion_spec import in_si, motion_profile
@@ -282,6 +287,8 @@ def motion_problems(model, motions, step: float,
             continue
         try:
             tr.trajectory(model, profile, step, step, p=p, truth=truth)
+        except tr.EarthParameterError:
+            raise  # the parameters are wrong, not the motion: no other motion helps
         except tr.MotionError as error:
             problems[motion] = str(error)
     return problems
