@@ -247,3 +247,28 @@ def test_a_position_integration_whose_steps_explode_is_refused(sphere):
     earth = dataclasses.replace(earth, a=100e3)
     solution = st._position_solution(flight, earth, 86400.0, 0.01)
     assert solution.success and solution.t[-1] == 86400.0
+
+
+def test_a_model_whose_inputs_enter_non_linearly_flies(sphere, tmp_path, monkeypatch):
+    # an accelerometer compensation f + k f²: two Gauss–Newton steps left a residual of
+    # 1e-5 m/s² (refused as "cannot follow"); iterated, its specific force is the root
+    # of k f² + f = f_sphere, the sphere model's own along the same flight
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # a throw-away model
+    k = 1e-3  # s²/m
+    text = SPHERE_FILE.read_text(encoding="utf-8")
+    old = "T * sp.Matrix(force)"
+    assert text.count(old) == 1
+    text = text.replace(old, f"T * sp.Matrix([fi + {k!r} * fi**2 for fi in force])")
+    path = tmp_path / "compensated.py"
+    path.write_text(text.replace('name="strapdown_sphere"', 'name="compensated"'),
+                    encoding="utf-8")
+    model = load_model(str(path))
+    profile = manoeuvre()
+    mine = tr.trajectory(model, profile, 600.0, 1.0, stream=False)
+    plain = tr.trajectory(sphere, profile, 600.0, 1.0, stream=False)
+    np.testing.assert_allclose(mine.truth, plain.truth, rtol=0, atol=1e-9)
+    f_sphere = plain.inputs[3:6]
+    expected = (np.sqrt(1 + 4 * k * f_sphere) - 1) / (2 * k)
+    assert np.abs(mine.inputs[3:6] - expected).max() <= 1e-10 * np.abs(expected).max()
+    assert np.abs(mine.inputs[3:6] - f_sphere).max() > 0.05  # k f² of g: about 0.1 m/s²
+    np.testing.assert_allclose(mine.inputs[:3], plain.inputs[:3], rtol=0, atol=1e-15)

@@ -16,8 +16,10 @@ model's own equations:
    state's rate ``ẋ = ∂x0/∂c ċ`` (exact, by automatic differentiation);
 3. its inputs solve its own ideal work ``f(x, u) = ẋ`` in the least-squares sense (two
    Gauss–Newton steps from the prior of :mod:`ins_errors.numeric.static_rest`: exact for
-   the affine ``f`` of an INS, whose instruments' signals enter linearly); inputs the
-   equations do not determine keep their prior.
+   the affine ``f`` of an INS, whose instruments' signals enter linearly; where the
+   residual is still too large, e.g. a compensation ``f + k f²``, the steps go on from
+   the inputs found until it converges, :data:`REFINE_ROUNDS`); inputs the equations do
+   not determine keep their prior.
 
 The residual ``f(x, u) − ẋ`` is checked against :data:`FLIGHT_TOLERANCE` of the terms it
 sums: a model whose position equations use another Earth than the flight's, or whose
@@ -61,6 +63,12 @@ ABSOLUTE_TOLERANCE = 1e-12
 
 CHUNK = 1024
 """Columns of one compiled call."""
+
+REFINE_ROUNDS = 10
+"""Further calls (two Gauss–Newton steps each) from the inputs found, at the times whose
+residual is still too large (inputs that enter the equations non-linearly, e.g.
+``f + k f²``); they stop as soon as the largest excess no longer halves. An affine model
+needs none."""
 
 MIN_FLIGHT_RADIUS = 100e3
 """Smallest Earth radius a flight is planned on, m: on a sphere of metres the flight's
@@ -276,6 +284,30 @@ class FlightAdapter:
         """Initial conditions c (nc,) of navigation quantities ν (9,)."""
         return self.S @ nav
 
+    def _evaluate(self, c: np.ndarray, c_rate: np.ndarray,
+                  prior: np.ndarray) -> np.ndarray:
+        """Columns (T, 3n + nu) of x, u, residual and terms: two Gauss–Newton steps from
+        ``prior`` (nu, T) at conditions ``c`` and rates ``c_rate`` (nc, T)."""
+        total = c.shape[1]
+        n, nu = len(self.states), self.n_inputs
+        outputs = np.empty((total, 2 * n + nu + n))  # x, u, residual, terms per column
+        for first in range(0, total, CHUNK):
+            last = min(first + CHUNK, total)
+            columns = [np.zeros((CHUNK, a.shape[0])) for a in (c, c_rate, prior)]
+            for array, source in zip(columns, (c, c_rate, prior), strict=True):
+                array[:last - first] = source[:, first:last].T
+                array[last - first:] = source[:, last - 1]
+            out = [np.empty((CHUNK, k)) for k in (n, nu, n, n)]
+            self.function([*columns, self.p], out)
+            outputs[first:last] = np.hstack(out)[:last - first]
+        return outputs
+
+    def _excess(self, outputs: np.ndarray) -> np.ndarray:
+        """|residual| over its allowance, (T, n) (≤ 1 where the model follows)."""
+        n, nu = len(self.states), self.n_inputs
+        residual, terms = outputs[:, n + nu:2 * n + nu], outputs[:, 2 * n + nu:]
+        return np.abs(residual) / np.maximum(FLIGHT_TOLERANCE * terms, ABSOLUTE_TOLERANCE)
+
     def __call__(self, nav: np.ndarray, rate: np.ndarray,
                  times: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """True states (n, T) and inputs (nu, T) at navigation quantities ``nav`` and
@@ -292,28 +324,27 @@ class FlightAdapter:
 
         c = self.S @ nav
         c_rate = self.S @ rate
-        prior = self._prior(c)
-        total = c.shape[1]
+        outputs = self._evaluate(c, c_rate, self._prior(c))
         n, nu = len(self.states), self.n_inputs
-        outputs = np.empty((total, 2 * n + nu + n))  # x, u, residual, terms per column
-        for first in range(0, total, CHUNK):
-            last = min(first + CHUNK, total)
-            columns = [np.zeros((CHUNK, a.shape[0])) for a in (c, c_rate, prior)]
-            for array, source in zip(columns, (c, c_rate, prior), strict=True):
-                array[:last - first] = source[:, first:last].T
-                array[last - first:] = source[:, last - 1]
-            out = [np.empty((CHUNK, k)) for k in (n, nu, n, n)]
-            self.function([*columns, self.p], out)
-            outputs[first:last] = np.hstack(out)[:last - first]
+        excess = self._excess(outputs)
+        worst = np.inf
+        for _ in range(REFINE_ROUNDS):  # inputs that enter the equations non-linearly
+            bad = ~np.all(excess <= 1.0, axis=1)
+            now = float(np.nanmax(np.where(np.isnan(excess[bad]), np.inf, excess[bad]),
+                                  initial=0.0))
+            if not bad.any() or not now < 0.5 * worst:  # done, or no longer converging
+                break
+            worst = now
+            again = self._evaluate(c[:, bad], c_rate[:, bad], outputs[bad, n:n + nu].T)
+            outputs[bad], excess[bad] = again, self._excess(again)
         x, u = outputs[:, :n].T, outputs[:, n:n + nu].T
-        residual, terms = outputs[:, n + nu:2 * n + nu].T, outputs[:, 2 * n + nu:].T
+        residual = outputs[:, n + nu:2 * n + nu].T
         if not (np.all(np.isfinite(x)) and np.all(np.isfinite(u))):
             bad = ~(np.all(np.isfinite(x), axis=0) & np.all(np.isfinite(u), axis=0))
             raise DomainError(f"model {self.model_name!r}: its state or inputs along the "
                               f"flight are NaN or infinite at t = "
                               f"{times[int(np.argmax(bad))]:.6g} s")
-        allowed = np.maximum(FLIGHT_TOLERANCE * terms, ABSOLUTE_TOLERANCE)
-        excess = np.abs(residual) / allowed
+        excess = excess.T
         if not np.all(excess <= 1.0):
             k, j = np.unravel_index(int(np.argmax(np.where(np.isfinite(excess), excess,
                                                            np.inf))), excess.shape)
@@ -323,5 +354,7 @@ class FlightAdapter:
                 f"{name!r} move as the flight does at t = {times[j]:.6g} s (d"
                 f"{name}/dt off by {residual[k, j]:.3g} {unit}/s); its states "
                 "must be functions of latitude, longitude, height, velocity and attitude "
-                "through its initial-state map, on an Earth with its parameters' radius")
+                "through its initial-state map, on an Earth with its parameters' radius, "
+                "and the solve for its inputs must converge (it did not: inputs that "
+                "enter its equations too non-linearly, or none that can)")
         return x, u
