@@ -949,3 +949,28 @@ def _doc_block(after: str) -> str:
     doc = (DATA.parent.parent / "docs" / "matrix_check.md").read_text(encoding="utf-8")
     block = doc.split(after, 1)[1].split("```\n", 1)[1].split("```", 1)[0]
     return "\n".join(line.strip() for line in block.strip("\n").splitlines())
+
+
+def test_a_vertical_channel_that_overflows_is_reported_without_a_numpy_warning(capsys):
+    # on a sphere of 100 km the hand's ψ model's 2g/R vertical term grows e-fold every
+    # sqrt(R / 2g) = 71.4 s: its 24-h height effect overflows; numpy's "invalid value in
+    # matmul" (a machine path) was printed before the report
+    import json
+    import warnings
+
+    sphere = PSI.parent / "strapdown_sphere.py"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        status = main(["check", str(sphere), "--matrix", f"{PSI}:psi_model", "--convention",
+                       "psi", "-p", "R=100km", "--json"])
+    captured = capsys.readouterr()
+    assert status == 1 and "Warning" not in captured.err, captured.err
+    report = json.loads(captured.out)
+    (vertical,) = [f["effect_vertical"] for f in report["findings"]
+                   if (f["row"], f["column"]) == ("dvc_D", "dr_D")]
+    assert vertical["exponential"] == [True, True] and vertical["growing_mode"] == "hand"
+    assert vertical["e_folding_s"] == pytest.approx(np.sqrt(100e3 / (2 * 9.81)), rel=1e-3)
+    for finding in report["findings"]:  # the horizontal effects stay finite numbers
+        effect = finding["effect_alone_24h"]
+        assert effect is None or all(np.isfinite(v) for v in effect.values()
+                                     if isinstance(v, float))

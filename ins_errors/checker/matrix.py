@@ -1164,7 +1164,10 @@ class _Propagation:
         embed = np.zeros((n_z + m, n_h + m))
         embed[self.rows, np.arange(n_h)] = 1.0
         embed[n_z:, n_h:] = np.eye(m)
-        return [phi @ embed for phi in phis]
+        # an overflowed transition (inf) times embed's zeros is nan: the exponential
+        # growth is reported as such (mark_growth), as in _transition
+        with np.errstate(over="ignore", invalid="ignore"):
+            return [phi @ embed for phi in phis]
 
     def si(self, scaled: np.ndarray) -> np.ndarray:
         """The hand's states (SI) of a scaled derived response: (n_h, n_h + m)."""
