@@ -302,3 +302,60 @@ def test_declared_sizes_weigh_bias_states_and_g_columns_alike():
     largest = abs(f.hand - f.model) * 1e-4 / f.size
     omega_s_theta = np.sqrt(9.80665 / 6.378e6) * 1e-4
     assert omega_s_theta / np.sqrt(3) * 0.99 < largest < omega_s_theta * 1.01
+
+
+@pytest.mark.parametrize("tau", ["1e-100", "0.5"])
+def test_a_correlation_time_the_check_cannot_represent_is_refused(tmp_path, capsys, tau):
+    # τ = 1e-100 s overflowed the propagation into "no effect above rounding"
+    spec = _hand(tmp_path, f"""
+        import psi_model_15 as m15
+
+        STATES = m15.STATES
+        MARKOV = {{"accel_bias_z": {tau}}}
+
+
+        def hand(nav, imu):
+            F = m15.psi_model_15(nav, imu)
+            F[14, 14] = -1 / {tau}
+            return F
+        """)
+    assert main(["check", "strapdown_ned", "--matrix", spec, "--convention", "psi"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and f"MARKOV['accel_bias_z']: a correlation time of {float(tau):g} s" \
+        in err and "too short" in err and "(SOURCES)" in err, err
+
+
+def test_a_short_valid_correlation_time_propagates_finite_and_exact(tmp_path, fifteen):
+    # τ = 10 s, six e-foldings a sampling step: the derived bias state alone decays as
+    # e^(−t/τ) through the check's stepped propagation, and a hand row of 2τ is a finding
+    # whose effects are finite numbers
+    tau = 10.0
+    body = """
+        import psi_model_15 as m15
+
+        STATES = m15.STATES
+        MARKOV = {{"accel_bias_z": 10.0}}
+
+
+        def hand(nav, imu):
+            F = m15.psi_model_15(nav, imu)
+            F[14, 14] = {rate}
+            return F
+        """
+    agrees = mc.check_matrices("strapdown_ned", _hand(tmp_path, body.format(rate=-1 / tau)),
+                               "psi")
+    assert sorted(map(_key, agrees.findings)) == sorted(map(_key, fifteen.findings))
+    model = load_model("strapdown_ned")
+    conv = convention(model, "psi").with_biases(tuple(agrees.bias_states))
+    cruise = mc.motions(model)[1]
+    F, _ = mc.derived_in_convention(model, conv, cruise)
+    [phi] = mc._stepped_transition(F, cruise.times, [120.0])
+    assert phi[14, 14] == pytest.approx(np.exp(-120.0 / tau), rel=1e-9)
+    slow = mc.check_matrices("strapdown_ned",
+                             _hand(tmp_path, body.format(rate=-1 / (2 * tau)), name="slow"),
+                             "psi")
+    f = slow.finding("accel_bias_z", "accel_bias_z")
+    assert f.kind == "wrong coefficient" and f.hand / f.model == pytest.approx(0.5)
+    rows = to_json(slow)["effects"]
+    assert rows and all(np.isfinite(v) for row in rows for v in row.values()
+                        if isinstance(v, float))

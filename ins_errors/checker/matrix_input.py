@@ -162,6 +162,13 @@ def load_hand(path: Path, function: str):
         {} if markov is None else correlation_times(markov, where))
 
 
+MIN_CORRELATION_TIME = 1.0
+"""Shortest correlation time of a Gauss–Markov bias state, s: the check's propagation
+steps a minute (its −1/τ row makes each step's exponential e^(−60 s/τ)); a bias
+decorrelating within a second is white noise at that sampling (a column of G), and a τ of
+1e-100 s overflowed the propagation into "no effect above rounding"."""
+
+
 def correlation_times(value, where: str, label: str = "MARKOV") -> dict[str, float]:
     """``MARKOV``: bias state -> correlation time, s (a number of seconds, or a quantity
     with its unit such as ``"1 h"``). ``label`` names the declaration in messages
@@ -171,7 +178,8 @@ def correlation_times(value, where: str, label: str = "MARKOV") -> dict[str, flo
     ------
     InsErrorsError
         For anything but a dictionary of names to positive finite times; a time of zero
-        (white noise, which is no state) is refused with that reason.
+        (white noise, which is no state) is refused with that reason, and so is one
+        below :data:`MIN_CORRELATION_TIME`.
     """
     from ins_errors.units import parse_quantity
 
@@ -179,6 +187,7 @@ def correlation_times(value, where: str, label: str = "MARKOV") -> dict[str, flo
         raise InsErrorsError(f"{where}: {label} must be a dictionary bias state -> "
                              f"correlation time (e.g. {{'accel_bias_x': '1 h'}}), got "
                              f"{_short(value)}")
+    white = "give the source as a column of G (SOURCES) instead"
     out = {}
     for name, text in value.items():
         what = (f"{where}: MARKOV[{name!r}]" if label == "MARKOV"
@@ -189,11 +198,15 @@ def correlation_times(value, where: str, label: str = "MARKOV") -> dict[str, flo
         tau = parse_quantity(text if isinstance(text, str) else float(text), "s", what)
         if tau == 0:
             raise InsErrorsError(f"{what}: a correlation time of 0 is white noise, which "
-                                 "cannot be a state: give the source as a column of G "
-                                 "(SOURCES) instead")
+                                 f"cannot be a state: {white}")
         if not 0 < tau < np.inf:
             raise InsErrorsError(f"{what}: the correlation time must be positive and "
                                  f"finite, got {_short(text)}")
+        if tau < MIN_CORRELATION_TIME:
+            raise InsErrorsError(f"{what}: a correlation time of {tau:g} s is too short for "
+                                 f"the check (at least {MIN_CORRELATION_TIME:g} s; its "
+                                 f"motions are sampled every minute): noise that fast is "
+                                 f"white, {white}")
         out[str(name)] = tau
     return out
 
