@@ -87,12 +87,37 @@ def test_a_declared_markov_bias_agrees_with_its_row(tmp_path):
     ("@markov gyro_bias_x = 0 s\ndot(gyro_bias_x) = 0\n",
      "a correlation time of 0 is white noise, which cannot be a state"),
     ("dot(initial_roll_error) = 0\n", "or of an error source carried as a bias state"),
+    # a duplicate is refused as a duplicate definition is (the last one silently won)
+    ("@markov gyro_bias_x = 1 h\n@markov gyro_bias_x = 2 h\ndot(gyro_bias_x) = 0\n",
+     "line {second}, column 1: second @markov of gyro_bias_x (first on line {first})"),
+    ("@markov gyro_bias_x = 1 h\n@markov b_gx = 2 h\ndot(gyro_bias_x) = 0\n",
+     "hand.txt, line {second}: second @markov of gyro_bias_x (first on line {first})"),
+    # its errors name their line; white noise says what an @convention file does
+    ("dot(gyro_bias_x) = 0\n@markov gyro_bias_x = 0 s\n",
+     "hand.txt, line {second}: @markov gyro_bias_x: a correlation time of 0 is white noise, which "
+     "cannot be a state: write the source in the rows without a line dot(SOURCE)"),
+    ("@markov gyro_bias_x = 3 m\ndot(gyro_bias_x) = 0\n", "hand.txt, line {first}: @markov"),
+    ("@markov gyro_bias_y = 1 h\ndot(gyro_bias_x) = 0\n", "hand.txt, line {first}: @markov gives"),
 ])
 def test_bad_bias_lines_are_one_line_errors(tmp_path, capsys, extra, message):
     path = _file(tmp_path, extra)
+    first = len((EXAMPLES / "phi_attitude.txt").read_text(encoding="utf-8").splitlines()) + 1
+    message = message.format(first=first, second=first + 1)
     assert main(["check", "strapdown_ned", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert message in err and "\n" not in err and "Traceback" not in err, err
+
+
+def test_a_markov_line_after_its_row_declares_it_as_before(tmp_path):
+    # docs/hand_check.md: the place of the @markov line in the file does not matter
+    before = check_convention_file(_file(tmp_path, "@markov gyro_bias_z = 1 h\n"
+                                         "dot(gyro_bias) = vec(0, 0, -gyro_bias_z/3600)\n"),
+                                   **FAST)
+    after = check_convention_file(_file(tmp_path, "dot(gyro_bias) = vec(0, 0, "
+                                        "-gyro_bias_z/3600)\n@markov gyro_bias_z = 1 h\n"),
+                                  **FAST)
+    assert after.report.findings == before.report.findings == []
+    assert [b.tau for b in after.report.bias_states] == [None, None, 3600.0]
 
 
 def test_markov_outside_a_convention_file_is_refused(tmp_path, capsys):

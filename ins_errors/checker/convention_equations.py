@@ -479,6 +479,36 @@ def _source_named(written: str, notation, form: str, sources: list[str]) -> str:
     return expr.name if isinstance(expr, sp.Symbol) and expr.name in sources else written
 
 
+def _markov_sources(hand, notation, sources: list[str], rows, states: list[str]
+                    ) -> tuple[dict[str, str], dict[str, int]]:
+    """The ``@markov`` lines by the model's source names: (source -> time text,
+    source -> line), for :func:`~ins_errors.checker.matrix_input.
+    correlation_times`.
+
+    Raises
+    ------
+    InsErrorsError
+        Two lines for one source in different spellings (``gyro_bias_z`` and ``b_gz``),
+        or one for a source that is no bias state (no line ``dot(SOURCE)``), naming the
+        line.
+    """
+    out: dict[str, str] = {}
+    lines: dict[str, int] = {}
+    for written, value in hand.markov.items():
+        line = hand.markov_lines.get(written, 0)
+        name = _source_named(written, notation, hand.format, sources)
+        if name in out:
+            raise InsErrorsError(f"{hand.name}, line {line}: second @markov of {name} "
+                                 f"(first on line {lines[name]}): give one correlation "
+                                 "time")
+        if name not in rows or name in states:
+            raise InsErrorsError(f"{hand.name}, line {line}: @markov gives a correlation "
+                                 f"time for {written!r}, which is not a bias state (a model "
+                                 "error source with a line dot(SOURCE))")
+        out[name], lines[name] = value, line
+    return out, lines
+
+
 def _coefficients(row: str, line: int, name: str, rhs: sp.Expr, variables: list[str]
                   ) -> list[sp.Expr]:
     """Coefficient of each variable in ``rhs``; error if not linear in them."""
@@ -631,9 +661,8 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     rows = {row: (line, text, cd.expand(rhs, line, f"dot({row})", definitions, hand.name))
             for row, (line, text, rhs) in written.items()}
     # error sources with a line of their own are bias states (after the convention's)
-    markov = mx_input.correlation_times(
-        {_source_named(k, notation, hand.format, src_names): v
-         for k, v in hand.markov.items()}, hand.name, "@markov")
+    times, lines = _markov_sources(hand, notation, src_names, rows, conv.names)
+    markov = mx_input.correlation_times(times, hand.name, "@markov", lines)
     conv = conv.with_biases(mx.bias_states([*states, *(s for s in src_names if s in rows)],
                                            [], markov, conv, model, hand.name, "@markov"))
     states = conv.names

@@ -169,10 +169,12 @@ decorrelating within a second is white noise at that sampling (a column of G), a
 1e-100 s overflowed the propagation into "no effect above rounding"."""
 
 
-def correlation_times(value, where: str, label: str = "MARKOV") -> dict[str, float]:
+def correlation_times(value, where: str, label: str = "MARKOV",
+                      lines: dict[str, int] | None = None) -> dict[str, float]:
     """``MARKOV``: bias state -> correlation time, s (a number of seconds, or a quantity
     with its unit such as ``"1 h"``). ``label`` names the declaration in messages
-    (``@markov`` in an equation file).
+    (``@markov`` in an equation file), ``lines`` the line of each name's declaration
+    there.
 
     Raises
     ------
@@ -187,11 +189,14 @@ def correlation_times(value, where: str, label: str = "MARKOV") -> dict[str, flo
         raise InsErrorsError(f"{where}: {label} must be a dictionary bias state -> "
                              f"correlation time (e.g. {{'accel_bias_x': '1 h'}}), got "
                              f"{_short(value)}")
-    white = "give the source as a column of G (SOURCES) instead"
+    white = ("give the source as a column of G (SOURCES) instead" if label == "MARKOV"
+             else "write the source in the rows without a line dot(SOURCE) of its own (a "
+             "column of G) instead")
     out = {}
     for name, text in value.items():
-        what = (f"{where}: MARKOV[{name!r}]" if label == "MARKOV"
-                else f"{where}: {label} {name}")
+        line = f", line {lines[name]}" if lines and name in lines else ""
+        what = (f"{where}{line}: MARKOV[{name!r}]" if label == "MARKOV"
+                else f"{where}{line}: {label} {name}")
         if isinstance(text, bool) or not isinstance(text, (str, int, float, np.number)):
             raise InsErrorsError(f"{what}: expected a correlation time such as 3600 (s) or "
                                  f"'1 h', got {_short(text)}")

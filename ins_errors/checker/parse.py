@@ -186,6 +186,7 @@ class HandFile:
     real_work: list[HandEquation] = field(default_factory=list)
     convention: str | None = None
     markov: dict[str, str] = field(default_factory=dict)
+    markov_lines: dict[str, int] = field(default_factory=dict)
 
 
 class _LineError(Exception):
@@ -933,7 +934,8 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
                     real = keyword == "@realwork"
                     continue
                 if keyword in ("@alias", "@source", "@name", "@magnitude", "@markov"):
-                    _directive(hand, keyword, stripped, body.index("@") + 1, notation)
+                    _directive(hand, keyword, stripped, body.index("@") + 1, notation,
+                               number)
                     continue
                 if keyword == "@neglect":
                     _declaration(hand, number, stripped, body.index("@") + 1, notation)
@@ -1049,7 +1051,7 @@ def _real_work_equation(hand: HandFile, number: int, segment: str, column: int, 
 
 
 def _directive(hand: HandFile, keyword: str, text: str, column: int,
-               notation: Notation) -> None:
+               notation: Notation, number: int = 0) -> None:
     body = text[len(keyword):]
     if "=" not in body:
         raise _LineError(column, f"{keyword} needs 'NAME = ...'")
@@ -1063,7 +1065,11 @@ def _directive(hand: HandFile, keyword: str, text: str, column: int,
         if not name or not value or any(c.isspace() for c in name):
             raise _LineError(column, "@markov needs 'SOURCE = CORRELATION TIME' "
                              "(e.g. '@markov accel_bias_x = 1 h')")
+        if name in hand.markov:
+            raise _LineError(column, f"second @markov of {name} (first on line "
+                             f"{hand.markov_lines[name]}): give one correlation time")
         hand.markov[name] = value
+        hand.markov_lines[name] = number
         return
     if not name.isidentifier():
         raise _LineError(column, f"{keyword}: {name!r} is not a valid name")
