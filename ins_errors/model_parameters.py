@@ -48,7 +48,8 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
     ------
     InsErrorsError
         One line: an unknown name (close names suggested), a value without unit or in
-        the wrong unit, NaN or infinity, a negative gain.
+        the wrong unit, NaN or infinity, a negative gain, an Earth radius that is not
+        positive or an eccentricity squared outside [0, 1).
     """
     from ins_errors.units import parse_quantity
 
@@ -68,8 +69,30 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
         if gain is not None and value < 0:
             raise InsErrorsError(f"{prefix}{name} = {text!r}: a {gain} must be "
                                  f"zero (undamped) or positive, in {info.unit}")
+        earth = _earth_problem(model, name, value)
+        if earth is not None:
+            raise InsErrorsError(f"{prefix}{name} = {text!r}: {earth}")
         out[name] = value
     return out
+
+
+def _earth_problem(model, name: str, value: float) -> str | None:
+    """Why ``value`` (SI) cannot be the Earth radius or eccentricity² that parameter
+    ``name`` of ``model`` is read as (:mod:`ins_errors.earth_constants`: the first
+    radius name in m, the first eccentricity name of unit 1), else None."""
+    from ins_errors.earth_constants import ECCENTRICITY_NAMES, RADIUS_NAMES
+
+    units = {i.name: i.unit for i in model.parameters}
+
+    def first(names: tuple[str, ...], unit: str) -> str | None:
+        return next((n for n in names if units.get(n) == unit), None)
+
+    if name == first(RADIUS_NAMES, "m") and not value > 0:
+        return "the Earth's radius (semi-major axis) must be positive, in m"
+    if name == first(ECCENTRICITY_NAMES, "1") and not 0 <= value < 1:
+        return ("the Earth's eccentricity squared must be at least 0 (a sphere) and below "
+                "1 (0.00669 for WGS-84)")
+    return None
 
 
 def parameter_info(model, name: str):

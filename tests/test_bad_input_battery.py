@@ -733,7 +733,7 @@ NAMED_API = {
     "trajectory-p-batch": "parameters p must have shape (3,) [a, e2, U], got (3, 2)",
     # the parameters are the problem, not the "static-base inputs" they made NaN
     "trajectory-p-nan": "trajectory: parameters p contain NaN",
-    "trajectory-e2-above-1": "parameters p: eccentricity squared must be below 1",
+    "trajectory-e2-above-1": "parameters of orthodromic: eccentricity squared must be below 1",
     # as the scenario files refuse it (compare() returned worst_linear None)
     "trajectory-zero-duration": "run duration must be positive, got 0 s",
     "initial_state-beyond-pole": "latitude must be within ±90°",

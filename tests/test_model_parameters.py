@@ -9,6 +9,7 @@ value and is nearly gone after 20 min.
 from __future__ import annotations
 
 import csv
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -243,5 +244,27 @@ def test_parameter_vector_checks_the_domain_where_it_is_made(model_name, name, o
     reason = str(later.value).split("parameters p: ", 1)[1]
     with pytest.raises(DomainError) as made:
         model.parameter_vector(**{name: outside})
-    assert str(made.value) == f"parameter_vector: parameters p: {reason}"
+    assert str(made.value) == f"parameters of {model_name}: {reason}"
     assert model.parameter_vector(**{name: inside})[k] == inside
+
+
+@pytest.mark.parametrize("setting, said", [
+    ("e2=-0.5", "e2 = '-0.5': the Earth's eccentricity squared must be at least 0"),
+    ("e2=1", "e2 = '1': the Earth's eccentricity squared must be at least 0"),
+    ("a=-1m", "a = '-1m': the Earth's radius (semi-major axis) must be positive"),
+    ("a=0m", "a = '0m': the Earth's radius (semi-major axis) must be positive"),
+])
+def test_an_impossible_earth_is_refused_in_one_plain_line(setting, said, capsys):
+    """e2 = -0.5 gave a report (exit 0); a = -1 m read 'parameter_vector: parameters p:'."""
+    phi = Path(__file__).resolve().parents[1] / "examples" / "strapdown" / "phi_attitude.txt"
+    assert main(["check", "strapdown_ned", str(phi), "-p", setting]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and said in err and "parameters p" not in err, err
+
+
+def test_a_domain_refusal_of_parameter_values_names_the_model_not_the_argument(capsys):
+    phi = Path(__file__).resolve().parents[1] / "examples" / "strapdown" / "phi_attitude.txt"
+    assert main(["check", "strapdown_ned", str(phi), "-p", "gamma_e=-1m/s**2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == ("ins-errors: error: parameters of strapdown_ned: normal gravity on the "
+                   "equator gamma_e must be positive"), err

@@ -307,11 +307,13 @@ def test_a_step_no_run_can_use_is_refused_before_any_sweep(capsys, monkeypatch, 
     assert status == 2 and err.count("\n") == 1 and message in err, err
 
 
+@pytest.mark.parametrize("radius, said", [("-5m", "R = '-5m': the Earth's radius"),
+                                           ("50km", "parameter R = 50000 m")])
 @pytest.mark.parametrize("motion", [["--motion", "great-circle"], []])
 def test_an_impossible_earth_radius_names_the_parameter_not_the_motion(capsys, monkeypatch,
-                                                                       motion):
-    """R = -5 m is wrong for every flight: no advice to map the static base instead, and
-    the default set does not quietly drop the flights."""
+                                                                       motion, radius, said):
+    """R = -5 m (or 50 km) is wrong for every flight: no advice to map the static base
+    instead, and the default set does not quietly drop the flights."""
     from pathlib import Path
 
     from ins_errors.analysis import validity as module
@@ -321,9 +323,9 @@ def test_an_impossible_earth_radius_names_the_parameter_not_the_motion(capsys, m
 
     monkeypatch.setattr(module, "validity_map", refuse)
     sphere = Path(__file__).resolve().parents[1] / "examples" / "strapdown" / "strapdown_sphere.py"
-    status = main(["validity", str(sphere), "-s", "gyro_bias_x", *motion, "-p", "R=-5m",
+    status = main(["validity", str(sphere), "-s", "gyro_bias_x", *motion, "-p", f"R={radius}",
                    "--no-progress"])
     err = [line for line in capsys.readouterr().err.strip().splitlines()
            if not line.startswith("ins-errors: deriving")]
     assert status == 2 and len(err) == 1, err
-    assert "parameter R = -5 m" in err[0] and "static" not in err[0], err[0]
+    assert said in err[0] and "static" not in err[0], err[0]

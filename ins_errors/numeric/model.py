@@ -296,7 +296,7 @@ class Model:
                                        "parameter_vector")
         p = np.array([values[i.name] for i in self.parameters])
         self._check_finite(p, "parameters")
-        self._parameter_domain(p, "parameter_vector")
+        self._parameter_domain(p, f"parameters of {self.name}")
         return p
 
     def source_vector(self, **magnitudes: float) -> np.ndarray:
@@ -463,16 +463,17 @@ class Model:
         if p.ndim != 1:
             raise ShapeError(f"{function}: parameters p must have shape ({len(self.parameters)},)"
                              f" [{', '.join(i.name for i in self.parameters)}], got {p.shape}")
-        self._parameter_domain(p, function)
+        self._parameter_domain(p, f"{function}: parameters p")
         return p
 
-    def _parameter_domain(self, p: np.ndarray, function: str) -> None:
-        """Refuse parameters (shape (np,)) outside the model's own domain, one line."""
+    def _parameter_domain(self, p: np.ndarray, where: str) -> None:
+        """Refuse parameters (shape (np,)) outside the model's own domain, one line
+        starting with ``where``."""
         # the initial conditions and inputs at zero (equator, at rest, level) are inside
         # every domain: a margin that fails there is the parameters' own
         margins = self.numpy.initial_domain_margins(
             np.zeros(len(self.initial_conditions)), np.zeros(len(self.inputs)), p)
-        self._domain(margins, self.meta.INITIAL_DOMAIN, f"{function}: parameters p")
+        self._domain(margins, self.meta.INITIAL_DOMAIN, where)
 
     def _check_initial(self, c, u, p, function: str):
         c = self._vector(c, self.initial_conditions, "initial conditions c", function)
