@@ -18,7 +18,7 @@ from ins_errors.checker.reference import reference_points
 from ins_errors.cli import main
 from ins_errors.model_lookup import definition_of, resolve
 
-MODEL = Path(__file__).resolve().parent / "models" / "enu_baro_strapdown.py"
+MODEL = Path(__file__).resolve().parent / "models" / "enu_strapdown.py"
 
 
 @pytest.fixture(scope="module")

@@ -25,7 +25,7 @@ from ins_errors.model_lookup import definition_of, resolve
 
 ROOT = Path(__file__).resolve().parents[1]
 PSI_MODEL = f"{ROOT / 'examples' / 'strapdown' / 'psi_model.py'}:psi_model"
-ENU_MODEL = Path(__file__).resolve().parent / "models" / "enu_baro_strapdown.py"
+ENU_MODEL = Path(__file__).resolve().parent / "models" / "enu_strapdown.py"
 DAMPED = ["-p", "k_h1=0.0293/s", "-p", "k_h2=4.42e-4/s^2"]
 
 
@@ -177,7 +177,7 @@ def test_bad_parameters_are_refused_in_one_line(tmp_path, capsys):
 
 def test_a_flagged_damping_gain_of_a_model_file_must_not_be_negative(capsys):
     # any parameter the model flags as a damping gain, not only strapdown_ned's k_h1/k_h2
-    enu = Path(__file__).resolve().parent / "models" / "enu_baro_strapdown.py"
+    enu = Path(__file__).resolve().parent / "models" / "enu_strapdown.py"
     text = enu.read_text(encoding="utf-8")
     assert "damping_gain=True" in text and '"c_1"' in text
     status = main(["models", str(enu)])  # loads (derives) the model once
