@@ -17,8 +17,9 @@ more than numpy.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -81,6 +82,32 @@ class EarthConstants:
 def _first(names: tuple[str, ...], values: Mapping[str, float], units: Mapping[str, str],
            unit: str) -> str | None:
     return next((n for n in names if n in values and units.get(n) == unit), None)
+
+
+class EarthParameterNames(NamedTuple):
+    """Names of the parameters a model's Earth is read from (None where it has none)."""
+
+    radius: str | None
+    eccentricity: str | None
+    earth_rate: str | None
+    gravity: str | None
+
+
+def earth_parameter_names(parameters: Iterable) -> EarthParameterNames:
+    """The parameters read as the Earth radius (m), eccentricity² (1), Earth rate (rad/s)
+    and gravity (m/s²): the first of :data:`RADIUS_NAMES`, :data:`ECCENTRICITY_NAMES`,
+    :data:`EARTH_RATE_NAMES`, :data:`GRAVITY_NAMES` with that SI unit.
+
+    Parameters
+    ----------
+    parameters : iterable
+        A model's parameters (anything with ``name`` and ``unit``).
+    """
+    units = {q.name: q.unit for q in parameters}
+    return EarthParameterNames(_first(RADIUS_NAMES, units, units, "m"),
+                               _first(ECCENTRICITY_NAMES, units, units, "1"),
+                               _first(EARTH_RATE_NAMES, units, units, "rad/s"),
+                               _first(GRAVITY_NAMES, units, units, "m/s**2"))
 
 
 def _radius(p: Mapping[str, float], units: Mapping[str, str], latitude: float | None,

@@ -80,16 +80,12 @@ def _earth_problem(model, name: str, value: float) -> str | None:
     """Why ``value`` (SI) cannot be the Earth radius or eccentricity² that parameter
     ``name`` of ``model`` is read as (:mod:`ins_errors.earth_constants`: the first
     radius name in m, the first eccentricity name of unit 1), else None."""
-    from ins_errors.earth_constants import ECCENTRICITY_NAMES, RADIUS_NAMES
+    from ins_errors.earth_constants import earth_parameter_names
 
-    units = {i.name: i.unit for i in model.parameters}
-
-    def first(names: tuple[str, ...], unit: str) -> str | None:
-        return next((n for n in names if units.get(n) == unit), None)
-
-    if name == first(RADIUS_NAMES, "m") and not value > 0:
+    earth = earth_parameter_names(model.parameters)
+    if name == earth.radius and not value > 0:
         return "the Earth's radius (semi-major axis) must be positive, in m"
-    if name == first(ECCENTRICITY_NAMES, "1") and not 0 <= value < 1:
+    if name == earth.eccentricity and not 0 <= value < 1:
         return ("the Earth's eccentricity squared must be at least 0 (a sphere) and below "
                 "1 (0.00669 for WGS-84)")
     return None

@@ -43,6 +43,8 @@ from functools import cache
 import casadi as ca
 import numpy as np
 
+from ins_errors.earth_constants import earth_parameter_names
+
 NAVIGATION_OUTPUTS = ("latitude", "longitude", "height", "v_N", "v_E", "v_D", "roll",
                       "pitch", "heading")
 """The outputs a strapdown model describes itself with, in the order of the navigation
@@ -85,7 +87,7 @@ def missing(model) -> list[str]:
     absent = [n for n in IMU_INPUTS if n not in inputs]
     if absent:
         lacks.append(f"the inputs {', '.join(absent)}")
-    if not any(p.name in RADIUS_NAMES and p.unit == "m" for p in model.parameters):
+    if earth_parameter_names(model.parameters).radius is None:
         lacks.append(f"an Earth radius parameter ({' or '.join(RADIUS_NAMES)}, m)")
     if len(model.error_states) != len(model.states):
         lacks.append("one error state per state (no extra real-work states)")
@@ -200,24 +202,6 @@ def describes(model) -> bool:
     return not missing(model)
 
 
-def _earth_parameters(model) -> tuple[str, str | None, str | None, str | None]:
-    """Names of the radius, eccentricity, Earth-rate and gravity parameters (or None)."""
-    from ins_errors.earth_constants import (
-        EARTH_RATE_NAMES,
-        ECCENTRICITY_NAMES,
-        GRAVITY_NAMES,
-        RADIUS_NAMES,
-    )
-
-    units = {p.name: p.unit for p in model.parameters}
-
-    def first(names, unit):
-        return next((n for n in names if units.get(n) == unit), None)
-
-    return (first(RADIUS_NAMES, "m"), first(ECCENTRICITY_NAMES, "1"),
-            first(EARTH_RATE_NAMES, "rad/s"), first(GRAVITY_NAMES, "m/s**2"))
-
-
 def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
     """The navigation description (:data:`~ins_errors.checker.navigation.FIELDS`) of a
     strapdown model along states ``x`` (n, K) and inputs ``u`` (nu, K)."""
@@ -228,7 +212,7 @@ def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, 
     lat, lon, h, vN, vE, vD = nav[:6, 0]
     value = dict(zip((q.name for q in model.parameters), np.asarray(p, dtype=float),
                      strict=True))
-    radius, eccentricity, rate, gravity = _earth_parameters(model)
+    radius, eccentricity, rate, gravity = earth_parameter_names(model.parameters)
     a = value[radius]
     e2 = value[eccentricity] if eccentricity else 0.0
     U = value[rate] if rate else EARTH_RATE
@@ -287,7 +271,7 @@ def _functions(model_key: str, attitude: str, velocity: str, position: str
     model = load_model(model_key)
     x, p, nu, H_v, C = _symbols(model)
     n = x.numel()
-    radius, eccentricity, _, _ = _earth_parameters(model)
+    radius, eccentricity, _, _ = earth_parameter_names(model.parameters)
     names = [q.name for q in model.parameters]
     a = p[names.index(radius)]
     e2 = p[names.index(eccentricity)] if eccentricity else 0.0

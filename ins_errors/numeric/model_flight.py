@@ -121,11 +121,7 @@ def flight_earth(model: Model, p: np.ndarray):
     EarthParameterError
         Its radius is below :data:`MIN_FLIGHT_RADIUS` or its eccentricity² outside [0, 1).
     """
-    from ins_errors.earth_constants import (
-        EARTH_RATE_NAMES,
-        ECCENTRICITY_NAMES,
-        RADIUS_NAMES,
-    )
+    from ins_errors.earth_constants import RADIUS_NAMES, earth_parameter_names
     from ins_errors.models.earth import (
         EARTH_RATE,
         WGS84_EQUATORIAL_GRAVITY,
@@ -136,18 +132,11 @@ def flight_earth(model: Model, p: np.ndarray):
     from ins_errors.numeric.trajectories import EarthParameterError, MotionError
 
     value = {i.name: float(v) for i, v in zip(model.parameters, p, strict=True)}
-    unit = {i.name: i.unit for i in model.parameters}
-
-    def first(names: tuple[str, ...], si: str) -> str | None:
-        return next((n for n in names if n in value and unit[n] == si), None)
-
-    radius = first(RADIUS_NAMES, "m")
+    radius, eccentricity, rate, _ = earth_parameter_names(model.parameters)
     if radius is None:
         raise MotionError(f"model {model.name!r} has no Earth radius parameter (m) named "
                           f"{', '.join(RADIUS_NAMES)}: a moving flight is planned on the "
                           "model's own Earth")
-    eccentricity = first(ECCENTRICITY_NAMES, "1")
-    rate = first(EARTH_RATE_NAMES, "rad/s")
     if not (np.isfinite(value[radius]) and value[radius] >= MIN_FLIGHT_RADIUS):
         raise EarthParameterError(f"parameter {radius} = {value[radius]:g} m of model "
                           f"{model.name!r}: a flight needs a planet-sized Earth (radius at "
