@@ -38,6 +38,7 @@ Everything else is read from its equations, so no axis convention is assumed:
 
 from __future__ import annotations
 
+import hashlib
 from functools import cache
 
 import casadi as ca
@@ -175,12 +176,10 @@ def validate(model, parts: tuple[str, str, str, str], x: np.ndarray, u: np.ndarr
             f"what its initial-state map was given ({nu[k, j]:.6g} read, {back[k, j]:.6g} "
             "after the map): the outputs and the initial conditions must use the same "
             "conventions (heading from north, clockwise; roll, pitch, heading z-y-x)")
-    functions = _functions(*parts)
-    K = np.moveaxis(_along(functions[2], x, p)[0], -1, 0)
+    K, T = _evaluated(parts, TANGENT, x, p), _evaluated(parts, TRANSFORM, x, p)
     xdot = np.asarray(model.numpy.ideal_rhs(x, u, p), dtype=float)
-    K_dot = np.moveaxis(_along(functions[3], x, xdot, p)[0], -1, 0)
-    T = np.moveaxis(_along(functions[0], x, p)[0], -1, 0)
-    L = np.swapaxes(np.linalg.solve(np.swapaxes(T @ K, 1, 2), np.swapaxes(K, 1, 2)), 1, 2)
+    K_dot = np.moveaxis(_along(_functions(*parts)[3], x, xdot, p)[0], -1, 0)
+    L = _lift(K, T)
     F = np.moveaxis(np.asarray(model.state_matrix(x, u, p), dtype=float), -1, 0)
     moved = F @ K - K_dot
     off = moved - L @ (T @ moved)
@@ -328,6 +327,36 @@ def _along(fn: ca.Function, *args: np.ndarray) -> list[np.ndarray]:
     return results
 
 
+TRANSFORM, TANGENT = 0, 2
+"""Indices of ``T(x, p)`` and ``K(x, p)`` among a convention's :func:`_functions`."""
+
+_EVALUATED: dict = {}
+"""The last evaluations of :func:`_evaluated` (a check validates, transforms and lifts
+along the same states one after the other)."""
+
+
+def _evaluated(parts: tuple[str, str, str, str], index: int, x: np.ndarray,
+               p: np.ndarray) -> np.ndarray:
+    """Function ``index`` of a convention's :func:`_functions` at states ``x`` (n, K),
+    shape (K, rows, cols), read-only, kept for the next call at the same states."""
+    x = np.ascontiguousarray(x, dtype=float)
+    p = np.ascontiguousarray(p, dtype=float)
+    key = (parts, index, x.shape, hashlib.blake2b(x.tobytes(), digest_size=16).digest(),
+           p.tobytes())
+    if key not in _EVALUATED:
+        if len(_EVALUATED) >= 8:
+            del _EVALUATED[next(iter(_EVALUATED))]
+        value = np.moveaxis(_along(_functions(*parts)[index], x, p)[0], -1, 0)
+        value.setflags(write=False)
+        _EVALUATED[key] = value
+    return _EVALUATED[key]
+
+
+def _lift(K: np.ndarray, T: np.ndarray) -> np.ndarray:
+    """``L = K (T K)⁻¹`` at every sample (K (K, n, 9), T (K, 9, n)), shape (K, n, 9)."""
+    return np.swapaxes(np.linalg.solve(np.swapaxes(T @ K, 1, 2), np.swapaxes(K, 1, 2)), 1, 2)
+
+
 def conventions(model) -> dict:
     """The φ/ψ conventions of ``strapdown_ned`` for a model that describes itself, by
     name (see :func:`ins_errors.checker.conventions.conventions`)."""
@@ -339,18 +368,14 @@ def conventions(model) -> dict:
         parts = (key, conv.attitude, conv.velocity, conv.position)
 
         def transform(x, p):
-            return _along(_functions(*parts)[0], x, np.asarray(p, dtype=float))[0]
+            return np.moveaxis(_evaluated(parts, TRANSFORM, x, p), 0, -1)
 
         def rate(x, xdot, p):
             return _along(_functions(*parts)[1], x, xdot, np.asarray(p, dtype=float))[0]
 
         def lift(x, p):
-            p = np.asarray(p, dtype=float)
-            K = np.moveaxis(_along(_functions(*parts)[2], x, p)[0], -1, 0)  # (K, n, 9)
-            T = np.moveaxis(transform(x, p), -1, 0)                       # (K, 9, n)
-            # L = K (T K)⁻¹, as solve((T K)ᵀ, Kᵀ)ᵀ
-            L = np.linalg.solve(np.swapaxes(T @ K, 1, 2), np.swapaxes(K, 1, 2))
-            return np.moveaxis(np.swapaxes(L, 1, 2), 0, -1)
+            return np.moveaxis(_lift(_evaluated(parts, TANGENT, x, p),
+                                     _evaluated(parts, TRANSFORM, x, p)), 0, -1)
 
         def check(model, x, u, p):
             validate(model, parts, x, u, p)
