@@ -25,6 +25,7 @@ finding is traced back to the line of its row.
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -595,7 +596,8 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                           threshold: float | None = None,
                           magnitudes: dict[str, str] | None = None,
                           latex: bool | None = None, hours: float | None = None,
-                          step: float | None = None, effects: bool = True
+                          step: float | None = None, effects: bool = True,
+                          parameters: Mapping[str, float] | None = None
                           ) -> ConventionCheck:
     """Check a hand file with ``@convention NAME`` against the derived model.
 
@@ -613,6 +615,9 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
         Length (h) and sample step (s) of the motions (default: the matrix checker's).
     effects : bool
         Also propagate both linear models (1 h and 24 h).
+    parameters : mapping of str to float, optional
+        Parameter values (SI) the motions are flown and the derived model is evaluated
+        with (e.g. damping gains); default: the model's.
 
     Raises
     ------
@@ -680,7 +685,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                       for _, _, _, cols in items]
     item_values: list[dict[str, dict[str, np.ndarray]]] = [{} for _ in items]
     motion_list = mx.motions(model, mx.HOURS if hours is None else hours,
-                             mx.STEP if step is None else step)
+                             mx.STEP if step is None else step, parameters=parameters)
     if hand.scope is not None:
         label = {"static base": "static", "cruise": "cruise", "climb": "manoeuvre"}[hand.scope]
         motion_list = [m for m in motion_list if m.label == label]
@@ -722,7 +727,8 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     report = mx.check_matrices(model_name, sampled, conv.name,
                                threshold=1e-3 if threshold is None else threshold,
                                effects=effects, motion_list=motion_list,
-                               magnitudes=overrides, declared=declared, declared_used=found)
+                               magnitudes=overrides, declared=declared, declared_used=found,
+                               parameters=parameters)
     report.declarations = [f"line {d.line}: {', '.join(d.texts)}"
                            + (f" ({d.reason})" if d.reason else "")
                            for d in hand.declarations]

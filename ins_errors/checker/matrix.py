@@ -46,8 +46,6 @@ from __future__ import annotations
 import hashlib
 from collections import OrderedDict
 from collections.abc import Iterable, Mapping
-from contextlib import contextmanager
-from contextvars import ContextVar
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
 from pathlib import Path
@@ -203,32 +201,9 @@ def _strapdown_runs(model, hours: float, step: float, p: np.ndarray):
             for label, flight in flights]
 
 
-_PARAMETERS: ContextVar[tuple[tuple[str, float], ...]] = ContextVar(
-    "matrix_check_parameters", default=())
-"""Parameter values in force for :func:`motions` and :func:`check_matrices` when a caller
-passes none (:func:`parameters_in_force`)."""
-
-
-@contextmanager
-def parameters_in_force(parameters: Mapping[str, float] | None):
-    """Within the block, :func:`motions` and :func:`check_matrices` called without
-    ``parameters`` use these (name -> SI value): for a check whose code calls them
-    without passing parameters on (a ``@convention`` file's)."""
-    token = _PARAMETERS.set(_parameter_items(parameters))
-    try:
-        yield
-    finally:
-        _PARAMETERS.reset(token)
-
-
 def _parameter_items(parameters: Mapping[str, float] | None) -> tuple[tuple[str, float], ...]:
     """``parameters`` as sorted (name, float) pairs (hashable; () for none)."""
     return tuple(sorted((str(k), float(v)) for k, v in (parameters or {}).items()))
-
-
-def _in_force(parameters: Mapping[str, float] | None) -> tuple[tuple[str, float], ...]:
-    """The parameters given, else those of :func:`parameters_in_force` (or none)."""
-    return _PARAMETERS.get() if parameters is None else _parameter_items(parameters)
 
 
 def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | None = None,
@@ -239,13 +214,13 @@ def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | No
     track 60° for models with a heading, an eastward cruise along the parallel otherwise);
     a manoeuvre with turns, speed changes, climbs and descents. ``ellipsoid`` (e.g.
     ``"wgs84"``) replaces the model's default Earth shape; ``parameters`` (name -> SI
-    value, e.g. damping gains; default: those of :func:`parameters_in_force`, else none)
+    value, e.g. damping gains; default: none)
     replace the model's defaults in every sample's parameter vector, where the derived
     model is evaluated.
     """
     require_description(model)
     return list(_motions(model.key, float(hours), float(step), ellipsoid,
-                         _in_force(parameters)))
+                         _parameter_items(parameters)))
 
 
 @lru_cache(maxsize=8)
@@ -1549,7 +1524,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     parameters : mapping of str to float, optional
         Model parameter values (SI) replacing the defaults: in the motions flown here
         (``motion_list`` carries its own) and in the Earth radius and gravity of the
-        typical sizes (default: those of :func:`parameters_in_force`, else none).
+        typical sizes (default: none).
 
     Raises
     ------
@@ -1564,7 +1539,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     model = load_model(model_name)
     require_description(model)
     conv = convention(model, convention_name)
-    values_set = dict(_in_force(parameters))
+    values_set = dict(_parameter_items(parameters))
     motion_list = (motions(model, hours, step, ellipsoid, values_set) if motion_list is None
                    else motion_list)
     if not isinstance(hand, HandMatrices):

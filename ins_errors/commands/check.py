@@ -202,7 +202,7 @@ def _run_convention(args: argparse.Namespace, magnitudes: dict[str, str]) -> int
         to_json,
         to_terminal,
     )
-    from ins_errors.checker.matrix import motions, parameters_in_force, unchecked_gains
+    from ins_errors.checker.matrix import motions, unchecked_gains
     from ins_errors.checker.matrix_report import to_markdown
     from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import parse_parameter_options
@@ -214,11 +214,11 @@ def _run_convention(args: argparse.Namespace, magnitudes: dict[str, str]) -> int
     model = load_model(args.model)
     parameters = parse_parameter_options(model, args.parameter)
     # the derived model is evaluated along the matrix checker's motions, flown with them
-    with stage(f"checking {args.file.name} against {args.model} in its convention"), \
-            parameters_in_force(parameters):
+    with stage(f"checking {args.file.name} against {args.model} in its convention"):
         check = check_convention_file(args.file, args.model, threshold=args.threshold,
                                       magnitudes=magnitudes,
-                                      latex=True if args.latex else None)
+                                      latex=True if args.latex else None,
+                                      parameters=parameters)
     warn_unchecked_gains(model, parameters, unchecked_gains(
         model, check.report.convention, check.lines, motions(model, parameters=parameters)[0]))
     emit_report(args,
