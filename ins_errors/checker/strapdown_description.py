@@ -100,12 +100,9 @@ def missing(model) -> list[str]:
 
 def _outputs_use_inputs(model) -> bool:
     """True when the model's navigation outputs depend on its inputs."""
-    outputs = model.casadi.function("outputs")
-    x = ca.SX.sym("x", outputs.size1_in(0))
-    u = ca.SX.sym("u", outputs.size1_in(1))
-    p = ca.SX.sym("p", outputs.size1_in(2))
-    values = outputs(x, u, p)
-    return any(ca.depends_on(values[i], u) for i, _ in _outputs(model))
+    from ins_errors.numeric.model_flight import uses_inputs
+
+    return uses_inputs(model.casadi.function("outputs"), [i for i, _ in _outputs(model)])
 
 
 ORTHONORMAL_TOLERANCE = 1e-6

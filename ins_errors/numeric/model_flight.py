@@ -185,13 +185,13 @@ def _adapter(model_key: str, determined: tuple[bool, ...]):
     return native_functions([mapped])[0]
 
 
-def _uses_inputs(model: Model) -> bool:
-    """True when the model's initial-state map depends on its inputs."""
-    x0 = model.casadi.function("initial_state")
-    c = ca.SX.sym("c", x0.size1_in(0))
-    u = ca.SX.sym("u", x0.size1_in(1))
-    p = ca.SX.sym("p", x0.size1_in(2))
-    return bool(ca.depends_on(x0(c, u, p), u))
+def uses_inputs(function: ca.Function, rows: list[int] | None = None) -> bool:
+    """True when rows ``rows`` (default: all) of a model function of (state or initial
+    conditions, inputs, parameters) depend on the inputs, e.g. ``initial_state``."""
+    first, u, p = (ca.SX.sym(name, function.size1_in(k)) for k, name in enumerate("xup"))
+    values = function(first, u, p)
+    return any(ca.depends_on(values[i], u) for i in
+               (range(values.numel()) if rows is None else rows))
 
 
 class FlightAdapter:
@@ -230,7 +230,7 @@ class FlightAdapter:
                               "condition 'heading': a flight could not turn its body along "
                               "the course (it would fly sideways at heading 0); add the "
                               "initial condition 'heading' to its initial-state map")
-        if _uses_inputs(model):
+        if uses_inputs(model.casadi.function("initial_state")):
             raise MotionError(f"model {model.name!r}: its initial state depends on its "
                               "inputs, so a moving flight cannot set it (a static base can)")
         self.height_prior = np.array([i.name in HEIGHT_INPUTS for i in model.inputs])
