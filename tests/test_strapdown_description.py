@@ -72,8 +72,9 @@ def test_a_dcm_model_file_in_a_convention_is_strapdown_ned_on_its_sphere(sphere,
     sign = 1.0 if names[height] == "dr_D" else -1.0  # dr_D = −δh; g falls off upwards
     np.testing.assert_allclose(gradient, sign * 2 * 9.81 / 6_371_000.0, rtol=1e-3)
     F_ned[:, vertical_velocity, height] = F_mine[:, vertical_velocity, height]
-    # (with T⁺ instead of the lift the DCM's F would be off by 100 % of its largest
-    # entry: the pseudo-inverse leaves the manifold of orthonormal matrices)
+    # (the lift puts the convention's states on the orthonormal matrices; with the
+    # φ-rows read as the skew part of −δC Cᵀ, T⁺ happens to land there too for a DCM,
+    # but not for a map whose tangent is not orthogonal to T's null space)
     scale = np.abs(F_ned).max(axis=2, keepdims=True) + 1e-300  # per row
     assert (np.abs(F_mine - F_ned) / scale).max() < 1e-9  # (rows of mixed units)
     gyro_accel = [ned.index("sources", s.name) for s in sphere.sources]
