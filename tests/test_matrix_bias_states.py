@@ -24,6 +24,7 @@ import numpy as np
 import pytest
 
 from ins_errors.checker import matrix as mc
+from ins_errors.checker import transition
 from ins_errors.checker.conventions import convention
 from ins_errors.checker.matrix_report import to_json, to_markdown, to_terminal
 from ins_errors.cli import main
@@ -349,7 +350,7 @@ def test_a_short_valid_correlation_time_propagates_finite_and_exact(tmp_path, fi
     conv = convention(model, "psi").with_biases(tuple(agrees.bias_states))
     cruise = mc.motions(model)[1]
     F, _ = mc.derived_in_convention(model, conv, cruise)
-    [phi] = mc._stepped_transition(F, cruise.times, [120.0])
+    [phi] = transition._stepped(F, cruise.times, [120.0])
     assert phi[14, 14] == pytest.approx(np.exp(-120.0 / tau), rel=1e-9)
     slow = mc.check_matrices("strapdown_ned",
                              _hand(tmp_path, body.format(rate=-1 / (2 * tau)), name="slow"),

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from ins_errors.checker import check_motions, derived_convention, matrix_effects, transition
 from ins_errors.checker import matrix as mc
 from ins_errors.checker.conventions import convention
 from ins_errors.checker.matrix_input import HandMatrices, load_function, write_samples
@@ -415,8 +416,8 @@ def test_stepped_transition_matches_the_matrix_exponential(wgs84):
     model = load_model(MODEL)
     F, G = mc.derived_in_convention(model, convention(model, "model"), wgs84[0])
     scale = np.array([0.1, 0.1, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4] + [1e-7] * G.shape[2])
-    A = mc._augmented(F, G, scale, [])
-    steps = mc._taylor_steps(0.5 * (A[1:] + A[:-1]), 120.0)
+    A = matrix_effects._augmented(F, G, scale, [])
+    steps = transition.step_exponentials(0.5 * (A[1:] + A[:-1]), 120.0)
     phi = np.eye(A.shape[1])
     for step in steps[:30]:  # one hour
         phi = step @ phi
@@ -433,7 +434,7 @@ def test_derived_model_kept_on_a_motion_is_per_model_and_convention(strapdown_mo
                                     (north, wgs84[2], "model")):
             conv = convention(model, name)
             F, G = mc.derived_in_convention(model, conv, motion)
-            fresh_F, fresh_G = mc._derived_in_convention(model, conv, motion)
+            fresh_F, fresh_G = derived_convention._derived_in_convention(model, conv, motion)
             assert np.array_equal(F, fresh_F) and np.array_equal(G, fresh_G)
             assert F.shape[1] == len(conv.names) and not F.flags.writeable
     psi, own = (mc.derived_in_convention(strapdown, convention(strapdown, n),
@@ -449,7 +450,7 @@ def test_in_place_propagation_is_the_plain_formula_to_the_bit(wgs84):
     motion = wgs84[2]  # the manoeuvre: A varies
     F, G = mc.derived_in_convention(model, convention(model, "model"), motion)
     scale = np.array([0.1, 0.1, 1e-4, 1e-4, 1e-4, 1e-4, 1e-4] + [1e-7] * G.shape[2])
-    A = mc._augmented(F, G, scale, [2])
+    A = matrix_effects._augmented(F, G, scale, [2])
     plain = np.zeros_like(A)
     plain[:, :7, :7], plain[:, :7, 7:] = F, G
     plain[:, 2, :], plain[:, :, 2] = 0.0, 0.0
@@ -468,7 +469,7 @@ def test_in_place_propagation_is_the_plain_formula_to_the_bit(wgs84):
         result = result + term
     for _ in range(squarings):
         result = result @ result
-    steps = mc._taylor_steps(mean, dt)
+    steps = transition.step_exponentials(mean, dt)
     assert np.array_equal(steps, result)
     phi = np.eye(A.shape[-1])
     wanted = {}
@@ -477,7 +478,7 @@ def test_in_place_propagation_is_the_plain_formula_to_the_bit(wgs84):
         if k + 1 in (30, steps.shape[0]):
             wanted[k + 1] = phi
     at = [30 * dt, steps.shape[0] * dt]
-    got = mc._transition(A, motion.times, at)
+    got = transition.transitions(A, motion.times, at)
     assert np.array_equal(got[0], wanted[30]) and np.array_equal(got[1], wanted[len(steps)])
 
 
@@ -519,27 +520,27 @@ def test_kept_propagations_equal_fresh_ones_and_change_no_report(strapdown_motio
         r = mc.check_matrices("strapdown_ned", spec, "psi", motion_list=strapdown_motions)
         return r.findings, r.effects, r.finding_effects
 
-    mc._KEPT_TRANSITIONS.clear()
+    transition._KEPT.clear()
     cold = report()
-    assert len(mc._KEPT_TRANSITIONS) > 3
+    assert len(transition._KEPT) > 3
     mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi",
                       motion_list=strapdown_motions)
     assert report() == cold
-    assert all(not phi.flags.writeable for kept in mc._KEPT_TRANSITIONS.values()
+    assert all(not phi.flags.writeable for kept in transition._KEPT.values()
                for phi in kept)
     motion = strapdown_motions[2]
     model = load_model("strapdown_ned")
     F, G = mc.derived_in_convention(model, convention(model, "psi"), motion)
-    A = mc._augmented(F, G, np.ones(F.shape[1] + G.shape[2]), [])
+    A = matrix_effects._augmented(F, G, np.ones(F.shape[1] + G.shape[2]), [])
     at = [3600.0, 7200.0]
-    first = mc._transition(A, motion.times, at)
-    again = mc._transition(A.copy(), motion.times.copy(), at)  # equal content, new arrays
-    fresh = mc._transition_of(A, motion.times, at)
+    first = transition.transitions(A, motion.times, at)
+    again = transition.transitions(A.copy(), motion.times.copy(), at)  # equal content, new arrays
+    fresh = transition._computed(A, motion.times, at)
     assert all(a is b for a, b in zip(first, again, strict=True))
     assert all(np.array_equal(a, b) for a, b in zip(first, fresh, strict=True))
     changed = A.copy()
     changed[5, 0, 1] += 1e-9
-    assert not np.array_equal(mc._transition(changed, motion.times, at)[1], first[1])
+    assert not np.array_equal(transition.transitions(changed, motion.times, at)[1], first[1])
 
 
 def test_stored_motions_are_the_flown_ones_to_the_bit(tmp_path, monkeypatch):
@@ -551,7 +552,7 @@ def test_stored_motions_are_the_flown_ones_to_the_bit(tmp_path, monkeypatch):
 
     # an empty motion store; the compiled loops that fly them stay where they are
     monkeypatch.setattr(motion_store, "folder", lambda: tmp_path / "motions")
-    fly = mc._motions.__wrapped__  # past the per-process cache
+    fly = check_motions._motions.__wrapped__  # past the per-process cache
     flown = fly(MODEL, 2.0, 600.0, None)
     (stored,) = (tmp_path / "motions").glob("*.npz")
     read = fly(MODEL, 2.0, 600.0, None)
@@ -594,11 +595,11 @@ def test_stored_propagations_are_the_computed_ones_to_the_bit(tmp_path, monkeypa
     rng = np.random.default_rng(5)
     times = np.arange(0.0, 3601.0, 60.0)
     A = 1e-3 * rng.standard_normal((times.size, 6, 6))
-    expected = mc._transition_of(A, times, [1800.0, 3600.0])
+    expected = transition._computed(A, times, [1800.0, 3600.0])
 
     def fresh(at):
-        monkeypatch.setattr(mc, "_KEPT_TRANSITIONS", OrderedDict())  # a new process
-        return mc._transition(A, times, at)
+        monkeypatch.setattr(transition, "_KEPT", OrderedDict())  # a new process
+        return transition.transitions(A, times, at)
 
     first = fresh([1800.0, 3600.0])
     (stored,) = (tmp_path / "transitions").glob("*.npy")

@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from ins_errors.checker import matrix as mc
+from ins_errors.checker import matrix_effects
 from ins_errors.checker.conventions import convention
 from ins_errors.checker.matrix_input import HandMatrices
 from ins_errors.checker.matrix_report import NO_EFFECT, to_json, to_markdown, to_terminal
@@ -130,8 +131,9 @@ def test_a_real_effect_names_its_case_and_value(tmp_path, motions):
 def test_rounding_floor_is_the_product_error_bound():
     """γ = size·steps·ε times the largest scaled response and the readout's unit."""
     eps = np.finfo(float).eps
-    assert mc.rounding_floor(2.0, 15, 1440, 10.0) == pytest.approx(15 * 1440 * eps * 20.0)
-    assert mc.rounding_floor(1.0, 3, 0, 1.0) == pytest.approx(3 * eps)  # at least one step
+    floor = matrix_effects.rounding_floor
+    assert floor(2.0, 15, 1440, 10.0) == pytest.approx(15 * 1440 * eps * 20.0)
+    assert floor(1.0, 3, 0, 1.0) == pytest.approx(3 * eps)  # at least one step
 
 
 def test_phi_attitude_example_has_no_effect_above_rounding():

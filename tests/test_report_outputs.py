@@ -657,7 +657,7 @@ def test_curves_mat_is_the_same_bytes_for_the_same_curves(report, tmp_path, monk
 def test_written_mat_samples_are_the_same_bytes_each_time(tmp_path, monkeypatch):
     from scipy.io import loadmat
 
-    from ins_errors.checker.matrix import motions
+    from ins_errors.checker.check_motions import motions
     from ins_errors.checker.matrix_input import write_samples
     from ins_errors.numeric.model import load_model
 

@@ -24,7 +24,7 @@ over the points). The 24 h state is the
 1 h transition matrix to the 24th power (exact for frozen coefficients).
 
 Each change is compared with the rounding floor of the two propagations
-(:func:`ins_errors.checker.matrix.rounding_floor`, the matrix check's): at or below it the
+(:func:`ins_errors.checker.matrix_effects.rounding_floor`, the matrix check's): at or below it the
 change is rounding, not an effect. When the mistake gives the frozen equations a growing
 mode the model lacks (an eigenvalue with a larger positive real part), the effect is
 said to grow exponentially, with the e-folding time of that mode, once the growth over
@@ -40,7 +40,7 @@ import sympy as sp
 
 from ins_errors.checker import classify as cl
 from ins_errors.checker.growth import GROWTH_SHOWN, growth_rate, hours_tag, mark_growth
-from ins_errors.checker.matrix import rounding_floor
+from ins_errors.checker.matrix_effects import rounding_floor
 from ins_errors.checker.reference import _earth
 from ins_errors.checker.sides import identified
 from ins_errors.numeric.blas_threads import import_limited, one_blas_thread

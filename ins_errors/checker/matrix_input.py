@@ -301,7 +301,7 @@ def evaluate_function(fn, name: str, path: Path, states: list[str], sources: lis
     states, sources : list of str
         Row names and G's column names.
     motions : list of Motion
-        From :func:`ins_errors.checker.matrix.motions`.
+        From :func:`ins_errors.checker.check_motions.motions`.
     markov : dict, optional
         Correlation times of Gauss–Markov bias states, s (:func:`correlation_times`).
     """

@@ -31,7 +31,7 @@ import numpy as np
 KEEP = 16
 """Stored motion sets kept (the most recently used)."""
 FIELDS = ("times", "x", "u", "p")
-"""Arrays stored per motion (see :class:`ins_errors.checker.matrix.Motion`)."""
+"""Arrays stored per motion (see :class:`ins_errors.checker.check_motions.Motion`)."""
 
 
 def folder() -> Path:
@@ -44,13 +44,16 @@ def folder() -> Path:
 @cache
 def code_version() -> str:
     """Hash of the source files and library versions the flown samples follow from (read
-    once per process): checker/matrix.py, numeric/*.py, models/earth.py, units.py."""
+    once per process): checker/check_motions.py, numeric/*.py, models/earth.py, units.py,
+    and checker/transition.py, whose propagations the same version keys
+    (:mod:`~ins_errors.checker.propagation_store`)."""
     from importlib.metadata import PackageNotFoundError, version
 
     from ins_errors.numeric.cache import code_digest
 
     package = Path(__file__).resolve().parent.parent
-    files = [package / "checker" / "matrix.py", *sorted((package / "numeric").glob("*.py")),
+    files = [package / "checker" / "check_motions.py", package / "checker" / "transition.py",
+             *sorted((package / "numeric").glob("*.py")),
              package / "models" / "earth.py", package / "units.py"]
     versions = [sys.version, np.__version__]
     for name in ("scipy", "casadi"):

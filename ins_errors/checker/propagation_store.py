@@ -2,7 +2,7 @@
 
 A matrix check propagates the derived model, the hand model and the derived model with
 each finding's entry replaced, over a day of samples (a product of ~1,440 step
-exponentials each, :func:`ins_errors.checker.matrix._transition`). The next check of
+exponentials each, :func:`ins_errors.checker.transition.transitions`). The next check of
 the same model along the same motions propagates mostly the same matrices again (the
 derived model always; the hand's entries until the researcher changes them). Each
 result is stored under the content of its inputs (the digests of the sampled matrix

@@ -197,12 +197,13 @@ def _declares_convention(path: Path) -> bool:
 def _run_convention(args: argparse.Namespace, magnitudes: dict[str, str]) -> int:
     """Check a hand file written in a convention's states (``@convention NAME``) against
     the model as given (a name, a model file or an entry point)."""
+    from ins_errors.checker.check_motions import motions
     from ins_errors.checker.convention_equations import (
         check_convention_file,
         to_json,
         to_terminal,
     )
-    from ins_errors.checker.matrix import motions, unchecked_gains
+    from ins_errors.checker.derived_convention import unchecked_gains
     from ins_errors.checker.matrix_report import to_markdown
     from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import parse_parameter_options

@@ -13,8 +13,10 @@ BIAS_HEADER = "bias states"
 
 def run_matrix(args: argparse.Namespace) -> int:
     """Run the matrix check (or list conventions, or write the samples); exit status."""
+    from ins_errors.checker.check_motions import motions
     from ins_errors.checker.conventions import conventions
-    from ins_errors.checker.matrix import check_matrices, motions, unchecked_gains
+    from ins_errors.checker.derived_convention import unchecked_gains
+    from ins_errors.checker.matrix import check_matrices
     from ins_errors.checker.matrix_input import write_samples
     from ins_errors.checker.matrix_report import to_json, to_markdown, to_terminal
     from ins_errors.commands.check import (

@@ -1,0 +1,185 @@
+"""The matrix check's motions: a static base, a cruise and a manoeuvre, sampled.
+
+Each motion is flown once per model, length and step (:func:`motions`), kept for the next
+check in the same process and on disk for the next process
+(:mod:`~ins_errors.checker.motion_store`). Platform models fly the trajectories of
+:mod:`~ins_errors.numeric.trajectories`; strapdown models (``strapdown_ned`` and model
+files that describe themselves, :mod:`~ins_errors.checker.strapdown_description`) fly the
+exact rigid-body flights of :mod:`~ins_errors.numeric.strapdown_truth`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from ins_errors.checker import motion_store
+from ins_errors.checker.navigation import navigation_arrays, require_description
+from ins_errors.numeric.blas_threads import one_blas_thread
+
+HOURS = 24.0
+"""Length of every motion, h."""
+STEP = 60.0
+"""Sample step of every motion, s: samples at t = 0, 60, …, 86 400 s."""
+
+
+@dataclass
+class Motion:
+    """A motion sampled for the matrix check.
+
+    Attributes
+    ----------
+    label : str
+        ``static``, ``cruise`` or ``manoeuvre``.
+    description : str
+        One line.
+    times : numpy.ndarray, shape (K,)
+        Sample times, s.
+    x, u : numpy.ndarray
+        Ideal states (n, K) and inputs (nu, K).
+    p : numpy.ndarray
+        Parameters.
+    navigation : dict
+        Navigation arrays (:data:`~ins_errors.checker.navigation.FIELDS`), trailing axis K.
+    kept : dict
+        What checks along this motion computed from it and may reuse (the derived model
+        in a convention, :func:`derived_in_convention`); read-only arrays.
+    """
+
+    label: str
+    description: str
+    times: np.ndarray
+    x: np.ndarray
+    u: np.ndarray
+    p: np.ndarray
+    navigation: dict[str, np.ndarray]
+    kept: dict = field(default_factory=dict, repr=False, compare=False)
+
+
+def _profiles(model, hours: float):
+    """(label, profile) of the three motions for ``model``."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.motion_spec import default_legs
+
+    lat, lon = np.radians(50.0), np.radians(30.0)
+    static = ("static", tr.static_profile(lat, lon, np.radians(30.0), 0.0))
+    if any(o.name == "heading" for o in model.outputs):
+        return [static,
+                ("cruise", tr.great_circle_profile(lat, lon, np.radians(60.0), 250.0, 10_000.0)),
+                ("manoeuvre", tr.manoeuvre_profile(lat, lon, np.radians(60.0), 200.0,
+                                                   default_legs(200.0, 3000.0,
+                                                                int(np.ceil(hours))),
+                                                   3000.0))]
+    # models without a heading output follow geographic velocities: an eastward cruise
+    # along the parallel, and a manoeuvre that weaves north and south, speeds up and
+    # slows down, climbs and descends (it stays within a few degrees of latitude)
+    t = np.arange(0.0, hours * 3600.0 + 1201.0, 600.0)
+    cruise = tr.sampled_profile(t, 0 * t, 250.0 + 0 * t, lat, lon, 0.0, 10_000.0 + 0 * t)
+    cruise.description = "eastward cruise along the parallel φ 50°, 250 m/s, h 10 km"
+    weave = tr.sampled_profile(t, 100.0 * np.sin(2 * np.pi * t / 7200.0),
+                               200.0 + 50.0 * np.cos(2 * np.pi * t / 3600.0), lat, lon, 0.0,
+                               6000.0 + 3000.0 * np.sin(2 * np.pi * t / 5400.0))
+    weave.description = ("manoeuvre from φ 50°: v_N 100 sin(2πt/2 h), v_E 200 + 50 cos(2πt/1 h)"
+                         " m/s, h 6 ± 3 km")
+    return [static, ("cruise", cruise), ("manoeuvre", weave)]
+
+
+def _weave(t: np.ndarray) -> tuple[np.ndarray, ...]:
+    """Commands of the strapdown manoeuvre: S-turns, speed and height changes, all day.
+
+    Returns (V, dV, r, dr, v_D, dv_D): ground speed, turn rate (rad/s, to the right), down
+    velocity and their rates (see :class:`ins_errors.numeric.strapdown_truth.Flight`).
+    """
+    w_turn, w_speed, w_climb = 2 * np.pi / 1200.0, 2 * np.pi / 3600.0, 2 * np.pi / 4800.0
+    r0, dv, climb = 0.01, 30.0, 5.0
+    return (220.0 + dv * np.sin(w_speed * t), dv * w_speed * np.cos(w_speed * t),
+            r0 * np.cos(w_turn * t), -r0 * w_turn * np.sin(w_turn * t),
+            -climb * np.cos(w_climb * t), climb * w_climb * np.sin(w_climb * t))
+
+
+def _strapdown_runs(model, hours: float, step: float, p: np.ndarray):
+    """(label, Trajectory) of the three flights of a strapdown model."""
+    from ins_errors.numeric import strapdown_truth as st
+
+    lat, lon = np.radians(50.0), np.radians(30.0)
+    flights = [
+        ("static", st.static(lat, lon, 0.0, heading=np.radians(30.0))),
+        ("cruise", st.great_circle(lat, lon, np.radians(60.0), 250.0, 10_000.0)),
+        ("manoeuvre", st.Flight(lat, lon, 5000.0, np.radians(60.0), _weave,
+                                "weaving flight from φ 50°, λ 30°, course 60°: turn rate "
+                                "0.57 cos(2πt/20 min) °/s (bank up to 13°), speed 220 ± 30 m/s "
+                                "(period 1 h), height 5 ± 3.8 km (period 80 min)")),
+    ]
+    return [(label, flight.description, st.trajectory(model, flight, hours * 3600.0, step, p=p))
+            for label, flight in flights]
+
+
+def parameter_items(parameters: Mapping[str, float] | None) -> tuple[tuple[str, float], ...]:
+    """``parameters`` as sorted (name, float) pairs (hashable; () for none)."""
+    return tuple(sorted((str(k), float(v)) for k, v in (parameters or {}).items()))
+
+
+def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | None = None,
+            parameters: Mapping[str, float] | None = None) -> list[Motion]:
+    """The checker's motions for ``model``, sampled every ``step`` s for ``hours`` h.
+
+    Static base at φ 50°, λ 30°; a cruise at 250 m/s and 10 km (a great circle leaving at
+    track 60° for models with a heading, an eastward cruise along the parallel otherwise);
+    a manoeuvre with turns, speed changes, climbs and descents. ``ellipsoid`` (e.g.
+    ``"wgs84"``) replaces the model's default Earth shape; ``parameters`` (name -> SI
+    value, e.g. damping gains; default: none)
+    replace the model's defaults in every sample's parameter vector, where the derived
+    model is evaluated.
+    """
+    require_description(model)
+    return list(_motions(model.key, float(hours), float(step), ellipsoid,
+                         parameter_items(parameters)))
+
+
+@lru_cache(maxsize=8)
+@one_blas_thread
+def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None,
+             parameters: tuple[tuple[str, float], ...] = ()) -> tuple[Motion, ...]:
+    """Motions of :func:`motions`, kept for the next check in the same process (and on
+    disk for the next process: :mod:`~ins_errors.checker.motion_store`, whose key holds
+    the parameter vector)."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(model_key)
+    p = model.parameter_vector(ellipsoid=ellipsoid, **dict(parameters))
+    name = motion_store.key(model, hours, step, ellipsoid, p)
+    flown = motion_store.load(name)
+    if flown is None:
+        flown = _fly(model, hours, step, p)
+        motion_store.store(name, flown)
+    return tuple(Motion(label, description, a["times"], a["x"], a["u"], a["p"],
+                        navigation_arrays(model, a["x"], a["u"], a["p"]))
+                 for label, description, a in flown)
+
+
+def _fly(model, hours: float, step: float, p: np.ndarray
+         ) -> list[tuple[str, str, dict[str, np.ndarray]]]:
+    """(label, description, {times, x, u, p}) of each motion, flown."""
+    from ins_errors.checker import strapdown_description
+    from ins_errors.numeric import trajectories as tr
+
+    if model.name == "strapdown_ned" or strapdown_description.describes(model):
+        runs = _strapdown_runs(model, hours, step, p)
+    else:
+        runs = [(label, profile.description,
+                 tr.trajectory(model, profile, hours * 3600.0, step, p=p))
+                for label, profile in _profiles(model, hours)]
+    out = []
+    for label, description, run in runs:
+        steps = np.arange(run.n_steps + 1)
+        x = (np.repeat(run.truth[:, :1], steps.size, axis=1) if run.constant
+             else run.truth)
+        arrays = {"times": run.times, "x": x, "u": run.inputs_at(steps), "p": run.parameters}
+        # C order, as read back from the store: a check on flown motions and one on
+        # stored motions do the same arithmetic
+        out.append((label, description, {f: np.ascontiguousarray(a, dtype=float)
+                                          for f, a in arrays.items()}))
+    return out
