@@ -49,7 +49,7 @@ def test_strapdown_neds_own_equations_give_its_truths_imu_signals():
     earth = st._earth(model, p)
     t = np.linspace(0.0, 3600.0, 3601)  # turns, a climb, a speed change, a descent
     y = st._position_solution(flight, earth, 3600.0, 1.0).sol(t)
-    state, inputs, _, nav, rates = st._signals(flight, earth, t, y, navigation=True)
+    state, inputs, _, nav, rates = st.rigid_body_signals(flight, earth, t, y, navigation=True)
     adapter = FlightAdapter(model, p, (nav[:, 0], rates[:, 0]))
     x, u = adapter(nav, rates, t)
     np.testing.assert_allclose(x, state, rtol=0, atol=1e-15)

@@ -96,9 +96,9 @@ def test_fine_truth_streamed_is_the_stored_truth_bit_for_bit(model):
     earth = st._earth(model, p)
     solution = st._position_solution(flight, earth, duration, tau)
     t = np.arange(0, n + 1) * tau
-    truth, inputs, _ = st._signals(flight, earth, t, solution.sol(t))
+    truth, inputs, _ = st.rigid_body_signals(flight, earth, t, solution.sol(t))
     tm = (np.arange(0, n) + 0.5) * tau
-    _, midpoints, _ = st._signals(flight, earth, tm, solution.sol(tm))
+    _, midpoints, _ = st.rigid_body_signals(flight, earth, tm, solution.sol(tm))
     stored = st.trajectory(model, flight, duration, tau, truth="fine", stream=False)
     assert isinstance(stored.source, ss.FullRateTruth)
     for got, want in ((stored.truth, truth), (stored.inputs, inputs),

@@ -109,7 +109,7 @@ def flight_earth(model: Model, p: np.ndarray):
 
     Returns
     -------
-    strapdown_truth._Earth
+    strapdown_truth.FlightEarth
         Semi-major axis (or sphere radius), eccentricity and Earth rate of the model; the
         normal gravity of WGS-84 (the flight's kinematics do not use it).
 
@@ -128,7 +128,7 @@ def flight_earth(model: Model, p: np.ndarray):
         WGS84_GRAVITY_M,
         WGS84_SOMIGLIANA_K,
     )
-    from ins_errors.numeric.strapdown_truth import _Earth
+    from ins_errors.numeric.strapdown_truth import FlightEarth
     from ins_errors.numeric.trajectories import EarthParameterError, MotionError
 
     value = {i.name: float(v) for i, v in zip(model.parameters, p, strict=True)}
@@ -144,7 +144,7 @@ def flight_earth(model: Model, p: np.ndarray):
     if eccentricity and not (0.0 <= value[eccentricity] < 1.0):
         raise EarthParameterError(f"model {model.name!r}: the eccentricity² {eccentricity} = "
                           f"{value[eccentricity]:g} must be in [0, 1) for a flight")
-    return _Earth(value[radius],
+    return FlightEarth(value[radius],
                   value[eccentricity] if eccentricity else DEFAULT_EARTH["e2"],
                   value[rate] if rate else EARTH_RATE,
                   WGS84_EQUATORIAL_GRAVITY, WGS84_SOMIGLIANA_K, WGS84_GRAVITY_M)
@@ -251,9 +251,9 @@ class FlightAdapter:
     def _determined(self, nav: np.ndarray, rate: np.ndarray) -> tuple[bool, ...]:
         """Which inputs the ideal work determines (a non-zero column of ∂f/∂u at the
         start)."""
-        from ins_errors.numeric.static_rest import _functions
+        from ins_errors.numeric.static_rest import rest_functions
 
-        rest, start = _functions(self.model_key)
+        rest, start = rest_functions(self.model_key)
         c = self.S @ nav
         u = self._prior(c[None, :].T)[:, 0]
         x = np.asarray(start(c, u, self.p), dtype=float).ravel()

@@ -107,7 +107,7 @@ def static_conditions(model: Model, latitude: float, longitude: float, heading: 
 
 
 @cache
-def _functions(model_key: str) -> tuple[Callable, Callable]:
+def rest_functions(model_key: str) -> tuple[Callable, Callable]:
     """``rest(x, u, p) -> (f, df/du, |terms|)`` and ``start(c, u, p) -> x0``, compiled
     from the model's generated CasADi functions."""
     from ins_errors.numeric.model import load_model
@@ -167,7 +167,7 @@ def static_rest(model: Model, latitude: float, longitude: float, heading: float,
     from ins_errors.numeric.trajectories import MotionError
 
     c, references = static_conditions(model, latitude, longitude, heading, height)
-    rest, start = _functions(model.key)
+    rest, start = rest_functions(model.key)
     names = [i.name for i in model.inputs]
     u = np.array([height if name in HEIGHT_INPUTS else 0.0 for name in names])
     if any(name in HEIGHT_INPUTS for name in names):

@@ -32,7 +32,7 @@ from ins_errors.models.earth import radii_of_curvature
 from ins_errors.numeric import interpolated_truth as it
 from ins_errors.numeric.integrators import DenseCall, native_functions
 from ins_errors.numeric.model import Model
-from ins_errors.numeric.strapdown_truth import Flight, _Earth, _signals
+from ins_errors.numeric.strapdown_truth import Flight, FlightEarth, rigid_body_signals
 from ins_errors.numeric.trajectories import TruthChunk
 
 PICARD = 6
@@ -76,16 +76,16 @@ def _check_signals(state: np.ndarray, inputs: np.ndarray, times: np.ndarray) -> 
                           f"t = {times[int(np.argmax(bad))]:.6g} s")
 
 
-def flight_signals(flight: Flight, earth: _Earth, t: np.ndarray, y: np.ndarray,
+def flight_signals(flight: Flight, earth: FlightEarth, t: np.ndarray, y: np.ndarray,
                    adapter=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """True states, inputs and Euler angles (3, T) at times ``t`` (T,) of position and
     course ``y`` (4, T), checked: ``strapdown_ned``'s (10, T) and (7, T), or with an
     ``adapter`` (:class:`~ins_errors.numeric.model_flight.FlightAdapter`) its model's."""
     if adapter is None:
-        state, inputs, euler = _signals(flight, earth, t, y)
+        state, inputs, euler = rigid_body_signals(flight, earth, t, y)
         _check_signals(state, inputs, t)
         return state, inputs, euler
-    state, inputs, euler, nav, rates = _signals(flight, earth, t, y, navigation=True)
+    state, inputs, euler, nav, rates = rigid_body_signals(flight, earth, t, y, navigation=True)
     _check_signals(state, inputs, t)
     x, u = adapter(nav, rates, t)
     return x, u, euler
@@ -97,7 +97,7 @@ class FullRateTruth:
     Parameters
     ----------
     flight : Flight
-    earth : _Earth
+    earth : FlightEarth
         Ellipsoid, Earth rate and normal gravity of the model's parameters.
     tau : float
         Step, s.
@@ -113,7 +113,7 @@ class FullRateTruth:
     kind = "fine"
     """How this source computes the truth (:attr:`Trajectory.truth_kind`)."""
 
-    def __init__(self, flight: Flight, earth: _Earth, tau: float, n_steps: int, solution,
+    def __init__(self, flight: Flight, earth: FlightEarth, tau: float, n_steps: int, solution,
                  adapter=None):
         self.flight, self.earth, self.tau, self.n_steps = flight, earth, float(tau), n_steps
         self.solution = solution
@@ -141,7 +141,7 @@ class FullRateTruth:
                                               self.adapter)
             tm = (np.arange(start, stop) + 0.5) * self.tau
             if self.adapter is None:
-                _, midpoints, _ = _signals(self.flight, self.earth, tm, self.solution(tm))
+                _, midpoints, _ = rigid_body_signals(self.flight, self.earth, tm, self.solution(tm))
             else:
                 _, midpoints, _ = flight_signals(self.flight, self.earth, tm,
                                                  self.solution(tm), self.adapter)
@@ -195,7 +195,7 @@ class InterpolatedFlight(it.InterpolatedTruth):
         ``strapdown_ned``, or the model of ``adapter``.
     flight : Flight
         A moving flight whose :attr:`Flight.breaks` are known.
-    earth : _Earth
+    earth : FlightEarth
     tau : float
         Step, s.
     n_steps : int
@@ -211,7 +211,7 @@ class InterpolatedFlight(it.InterpolatedTruth):
         As for :class:`~ins_errors.numeric.interpolated_truth.InterpolatedTruth`.
     """
 
-    def __init__(self, model: Model, flight: Flight, earth: _Earth, tau: float, n_steps: int,
+    def __init__(self, model: Model, flight: Flight, earth: FlightEarth, tau: float, n_steps: int,
                  p: np.ndarray, adapter=None):
         self.flight, self.earth, self.adapter = flight, earth, adapter
         self.tau, self.n_steps, self.p = float(tau), int(n_steps), tuple(float(v) for v in p)

@@ -358,7 +358,22 @@ def flight_from_profile(profile: Profile) -> Flight:
 # Kinematics
 # --------------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class _Earth:
+class FlightEarth:
+    """The Earth a flight is planned on: its ellipsoid, rotation and normal gravity.
+
+    Attributes
+    ----------
+    a : float
+        Equatorial radius, m (a sphere's radius where ``e2`` is 0).
+    e2 : float
+        First eccentricity squared.
+    U : float
+        Earth rate, rad/s.
+    gamma_e, k, m : float
+        Normal gravity (:func:`~ins_errors.models.earth.normal_gravity`): equatorial
+        gravity (m/s²), Somigliana's constant and ω²a²b/GM.
+    """
+
     a: float
     e2: float
     U: float
@@ -367,9 +382,9 @@ class _Earth:
     m: float
 
 
-def _earth(model: Model, p: np.ndarray) -> _Earth:
+def _earth(model: Model, p: np.ndarray) -> FlightEarth:
     value = {i.name: float(v) for i, v in zip(model.parameters, p, strict=True)}
-    return _Earth(value["a"], value["e2"], value["U"], value["gamma_e"], value["gravity_k"],
+    return FlightEarth(value["a"], value["e2"], value["U"], value["gamma_e"], value["gravity_k"],
                   value["gravity_m"])
 
 
@@ -398,7 +413,7 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
                      a[0] * b[1] - a[1] * b[0]])
 
 
-def _course_rate(earth: _Earth, lat, h, vE, r):
+def _course_rate(earth: FlightEarth, lat, h, vE, r):
     _, R_E = radii_of_curvature(lat, earth.a, earth.e2)
     return vE * np.tan(lat) / (R_E + h) + r
 
@@ -482,7 +497,7 @@ class _SampledCommands:
         return V, r, v0 + dv0 * s + ((slope - dv0) / h - c) * s2 + c / h * s3
 
 
-def _position_rhs(flight: Flight, earth: _Earth, t_end: float = np.inf):
+def _position_rhs(flight: Flight, earth: FlightEarth, t_end: float = np.inf):
     """``rhs(t, y)`` of latitude, longitude, height and course on Python floats (the
     arithmetic of :func:`_course_rate` and
     :func:`~ins_errors.models.earth.radii_of_curvature`, with the C library's sin, cos,
@@ -506,7 +521,7 @@ def _position_rhs(flight: Flight, earth: _Earth, t_end: float = np.inf):
     return rhs
 
 
-def _signals(flight: Flight, earth: _Earth, t: np.ndarray, y: np.ndarray,
+def rigid_body_signals(flight: Flight, earth: FlightEarth, t: np.ndarray, y: np.ndarray,
              navigation: bool = False):
     """True state (10, T), inputs (7, T) and Euler angles (3, T) at times t.
 
@@ -624,7 +639,8 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
                               f"forces; {model.name!r} follows the kinematic motions "
                               "(ins_errors.numeric.trajectories.trajectory)")
         earth = flight_earth(model, p)
-        *_, nav0, rate0 = _signals(flight, earth, np.zeros(1), y0[:, None], navigation=True)
+        *_, nav0, rate0 = rigid_body_signals(flight, earth, np.zeros(1), y0[:, None],
+                                             navigation=True)
         adapter = FlightAdapter(model, p, (nav0[:, 0], rate0[:, 0]))
     if flight.static:
         state, inputs, euler = ss.flight_signals(flight, earth, np.zeros(1), y0[:, None],
@@ -665,7 +681,7 @@ class _TooManyStepsError(Exception):
     """Raised inside the position integration's right-hand side to stop it."""
 
 
-def _position_solution(flight: Flight, earth: _Earth, t_end: float, tau: float):
+def _position_solution(flight: Flight, earth: FlightEarth, t_end: float, tau: float):
     """Latitude, longitude, height and course over ``[0, t_end]`` by DOP853 (rtol 1e-13)
     with dense output (``.sol``).
 
