@@ -468,6 +468,25 @@ def format_quantity(value_si: float, unit: str, display_unit: str, digits: int =
     return f"{value:.{digits}g} {display_unit}"
 
 
+_ANGLE_STEPS = ("arcsec", "arcmin", "deg")
+"""Angle units from small to large, each 60 of the one before."""
+
+
+def format_readable(value_si: float, unit: str, display_unit: str, digits: int = 4) -> str:
+    """:func:`format_quantity` of one value for a label: an angle shown in arcsec or arcmin
+    moves up to arcmin or deg when it is at least 60 of its display unit (an initial
+    heading error of 30° reads ``30 deg``, not ``1800 arcmin``); anything else as
+    :func:`format_quantity` gives it.
+    """
+    if display_unit in _ANGLE_STEPS and math.isfinite(value_si):
+        step = _ANGLE_STEPS.index(display_unit)
+        size = abs(value_si) * 180 / math.pi * 3600 / 60**step  # in the display unit
+        while step < len(_ANGLE_STEPS) - 1 and size >= 60:
+            step, size = step + 1, size / 60
+        display_unit = _ANGLE_STEPS[step]
+    return format_quantity(value_si, unit, display_unit, digits)
+
+
 VALIDITY_RATIO_CEILING: float = 10  # an int: the published schema writes 10
 """A validity threshold (the linear/direct ratio that warns) must be below this ratio,
 1000 % of the error: a linear run off by ten times the error it estimates tells

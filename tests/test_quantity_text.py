@@ -189,3 +189,27 @@ def test_a_spec_latitude_near_a_pole_is_refused_as_compare_refuses_it(tmp_path, 
     assert budget_line == compare_line
     assert "latitude 89.99999° is refused" in budget_line
     assert "singular within 0.206″ (1e-06 rad) of a pole" in budget_line
+
+
+@pytest.mark.parametrize(("value", "display", "shown"), [
+    (30 * DEG, "arcmin", "30 deg"),       # not 1800 arcmin
+    (-2 * DEG, "arcsec", "-2 deg"),       # up two steps
+    (90 * ARCSEC, "arcsec", "1.5 arcmin"),
+    (30 * ARCMIN, "arcmin", "30 arcmin"),  # below 60 of its unit: as displayed
+    (0.5 * ARCMIN, "arcmin", "0.5 arcmin"),
+    (0.01 * DEG / HOUR, "deg/h", "0.01 deg/h"),  # not an angle: unchanged
+])
+def test_a_label_shows_an_angle_in_the_unit_its_size_reads_in(value, display, shown):
+    from ins_errors.units import format_readable
+
+    unit = "rad/s" if display == "deg/h" else "rad"
+    assert format_readable(value, unit, display) == shown
+
+
+def test_a_comparison_names_a_large_initial_heading_error_in_degrees(capsys):
+    """The case label of an initial azimuth error given as 30 deg (displayed in arcmin)."""
+    assert main(["compare", "geodetic_vertical", "--source", "initial_azimuth_error=30 deg",
+                 "--hours", "0.1", "--step", "10 s"]) == 0
+    out = capsys.readouterr().out
+    assert "initial_azimuth_error = 30 deg" in out
+    assert "1800 arcmin" not in out

@@ -215,13 +215,14 @@ def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | 
 
 
 def case_label(model: Model, sources: dict[str, float]) -> str:
-    """``name = value display_unit`` for each non-zero source."""
-    from ins_errors.units import format_quantity
+    """``name = value display_unit`` for each non-zero source (an angle of a degree or
+    more in degrees: :func:`~ins_errors.units.format_readable`)."""
+    from ins_errors.units import format_readable
 
     parts = []
     for name, value in sources.items():
         info = model.sources[model.index("sources", name)]
-        shown = format_quantity(value, info.unit, info.display_unit or info.unit)
+        shown = format_readable(value, info.unit, info.display_unit or info.unit)
         parts.append(f"{name} = {shown}")
     return ", ".join(parts) or "no errors"
 
@@ -799,10 +800,10 @@ def _ratios_at(sim: Simulation, columns: list[int], factors: list[float],
 
 
 def _shown(model: Model, name: str, value: float) -> str:
-    from ins_errors.units import format_quantity
+    from ins_errors.units import format_readable
 
     info = model.sources[model.index("sources", name)]
-    return format_quantity(value, info.unit, info.display_unit or info.unit, digits=3)
+    return format_readable(value, info.unit, info.display_unit or info.unit, digits=3)
 
 
 def _fmt(value: float | None) -> str:
