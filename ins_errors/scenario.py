@@ -190,7 +190,7 @@ def load_scenario(path: str | Path) -> Scenario:
     from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
 
     motion = dict(data.get("motion", {}))
-    profile = motion_profile(motion, base=path.parent)  # checked before any run
+    profile = motion_profile(motion, base=path.parent, model=model)  # checked before any run
     if motion.get("heading") is not None:
         refuse_unused_heading(model, profile, f"{path.name} [motion] heading")
     sweep = None
@@ -239,7 +239,7 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
     from ins_errors.numeric.motion_spec import motion_profile
 
     model = load_model(scenario.model)
-    profile = motion_profile(scenario.motion, base=scenario.base)
+    profile = motion_profile(scenario.motion, base=scenario.base, model=model)
     p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **scenario.parameters)
     trajectory = tr.trajectory(model, profile, scenario.duration, scenario.step, p=p,
                                progress=progress, truth=scenario.truth)

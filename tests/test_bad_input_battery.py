@@ -41,6 +41,8 @@ FILES: dict[str, str | bytes] = {
     "invalid.toml": "model = \n[run\n",
     "empty.csv": "",
     "header_only.csv": "t,v_N,v_E\n",
+    "two_samples.csv": "t,v_N,v_E\n0,0,100\n100,0,100\n",
+    "one_sample.csv": "t,v_N,v_E\n0,0,100\n",
     "no_t.csv": "time,v_N,v_E\n0,1,2\n10,1,2\n",
     "latitude_list.toml": SCENARIO.replace('"50 deg"', '["30 deg", "60 deg"]'),
     "nan_row.csv": "t,v_N,v_E\n0,0,100\n1200,nan,100\n2400,0,100\n3600,0,100\n",
@@ -158,6 +160,11 @@ CLI_CASES: dict[str, list[str]] = {
     "compare-below-the-centre": ["compare", "strapdown_ned", "-s", "accel_bias_x=100ug",
                                  "--motion", "great-circle", "--height", "-7000km",
                                  "--hours", "1"],
+    "compare-two-sample-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE,
+                                       "--motion-file", "two_samples.csv"],
+    "compare-motion-file-for-strapdown": ["compare", "strapdown_ned", "-s",
+                                          "gyro_bias_x=0.01deg/h", "--motion-file",
+                                          "one_sample.csv"],
     "compare-nan-in-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
                                    "1", "--motion-file", "nan_row.csv"],
     "compare-pole-flight": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
@@ -406,6 +413,12 @@ NAMED = {
                                 "beyond the small-angle platform matrix",
     "compare-small-angle-tilt-north-pointing": "(t = 0 s, the initial errors): platform "
                                                "angle alpha_E = 30° exceeds 0.5 rad",
+    # a cubic spline needs four samples: said before the profile's internal shape check
+    "compare-two-sample-motion-file": "has 2 row(s) of samples; a sampled motion needs at "
+                                      "least 4",
+    # the model cannot fly any motion file: said before the file's own faults
+    "compare-motion-file-for-strapdown": "sampled (file) motions are not available for a "
+                                         "strapdown INS",
 }
 """Cases whose one line must say this (what to do, not only what failed)."""
 

@@ -180,7 +180,7 @@ def run(args: argparse.Namespace) -> int:
               "height": args.height}
     if args.motion_file:
         motion["file"] = args.motion_file
-    profile = motion_profile(motion)
+    profile = motion_profile(motion, model=model)
     if args.heading is not None:
         refuse_unused_heading(model, profile)
     progress = not args.no_progress and n_steps >= 100_000

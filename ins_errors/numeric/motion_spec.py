@@ -70,6 +70,10 @@ def default_legs(speed: float, height: float, hours: int = 24) -> list[tr.Leg]:
     return legs
 
 
+SAMPLES_NEEDED = 4
+"""Rows of samples a motion file needs (a cubic spline through each column)."""
+
+
 def read_motion_file(path: str | Path, latitude: float, longitude: float, heading: float,
                      height: float) -> tr.Profile:
     """A sampled motion from a CSV file with a header and columns t, v_N, v_E [, h] (SI).
@@ -88,9 +92,10 @@ def read_motion_file(path: str | Path, latitude: float, longitude: float, headin
     if missing:
         raise InsErrorsError(f"motion file {str(path)!r} lacks column(s) {', '.join(missing)} "
                              f"(has {', '.join(names) or 'none'})")
-    if len(table["t"]) < 2:
-        raise InsErrorsError(f"motion file {str(path)!r} needs a header row and at least two "
-                             "rows of samples (t, v_N, v_E)")
+    if len(table["t"]) < SAMPLES_NEEDED:
+        raise InsErrorsError(f"motion file {str(path)!r} has {len(table['t'])} row(s) of "
+                             f"samples; a sampled motion needs at least {SAMPLES_NEEDED} (t, "
+                             "v_N, v_E: cubic splines run through them)")
     h = table["h"] if "h" in names else height
     return tr.sampled_profile(table["t"], table["v_N"], table["v_E"], latitude, longitude,
                               heading, h)
@@ -203,7 +208,8 @@ def _read(description: Mapping[str, Any]) -> tuple[str, dict[str, float], Any,
     return kind, values, spec.get("file"), legs
 
 
-def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> tr.Profile:
+def motion_profile(description: Mapping[str, Any], base: Path | None = None,
+                   model=None) -> tr.Profile:
     """Build a Profile from a motion description.
 
     Parameters
@@ -216,6 +222,9 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
         ``duration``, ``speed``, ``turn``, ``height``; default: :func:`default_legs`).
     base : Path, optional
         Folder that a relative ``file`` is taken from.
+    model : ins_errors.numeric.model.Model, optional
+        The model to fly: a motion file for a strapdown INS (a model fed body rates and
+        specific forces) is refused before the file is read.
 
     Raises
     ------
@@ -234,6 +243,10 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
     if kind == "file":
         if file is None:
             raise InsErrorsError("motion kind 'file' needs file = 'path/to/motion.csv'")
+        if model is not None and flies_strapdown(model):
+            from ins_errors.numeric.strapdown_truth import FILE_MOTION_REFUSED
+
+            raise tr.MotionError(FILE_MOTION_REFUSED)
         path = Path(file)
         if base is not None and not path.is_absolute():
             path = base / path
@@ -242,6 +255,12 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None) -> 
         return tr.manoeuvre_profile(lat, lon, heading, speed, default_legs(speed, height),
                                     height, name=STANDARD_MANOEUVRE)
     return tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)
+
+
+def flies_strapdown(model) -> bool:
+    """True for a model the strapdown flights carry: ``strapdown_ned`` and models fed
+    body rates and specific forces (:func:`~ins_errors.numeric.trajectories.unset_inputs`)."""
+    return model.name == "strapdown_ned" or bool(tr.unset_inputs(model))
 
 
 def refuse_unused_heading(model, profile: tr.Profile, option: str = "--heading") -> None:

@@ -336,9 +336,7 @@ def flight_from_profile(profile: Profile) -> Flight:
         return static(profile.latitude, profile.longitude, float(values[2, 0]),
                       heading=profile.heading)
     if profile.frame != "track":
-        raise MotionError("sampled (file) motions are not available for a strapdown INS "
-                          "(a model fed body rates and specific forces): its flights are "
-                          "static, great-circle or manoeuvre")
+        raise MotionError(FILE_MOTION_REFUSED)
 
     # the rate of r: five-point differences over 1-ms steps (exact for the legs' quartic
     # turn rates up to rounding), one-sided within two steps after the start or a break
@@ -357,6 +355,13 @@ def flight_from_profile(profile: Profile) -> Flight:
 # --------------------------------------------------------------------------------------
 # Kinematics
 # --------------------------------------------------------------------------------------
+FILE_MOTION_REFUSED = ("sampled (file) motions are not available for a strapdown INS (a model "
+                       "fed body rates and specific forces): its flights are static, "
+                       "great-circle or manoeuvre")
+"""Why a motion file cannot fly a strapdown INS (its flights need planned attitude and
+rates)."""
+
+
 @dataclass(frozen=True)
 class FlightEarth:
     """The Earth a flight is planned on: its ellipsoid, rotation and normal gravity.
