@@ -126,6 +126,31 @@ def test_weights_and_fixed_sources(orthodromic, tmp_path):
             weight / total_weight * remaining[r], rel=1e-9)
 
 
+@pytest.mark.parametrize("source", ["initial_velocity_error_xi", "accel_bias_x",
+                                    "gyro_drift_x", "initial_tilt_x"])
+def test_a_source_the_spec_barely_sees_takes_no_share(orthodromic, tmp_path, source):
+    """A source whose equal share would allow an error far outside the small-error model
+    (its dependence scaled down 1e12 times, as behind a damping gain of 1e-9/s) is not
+    limited, and the others are allocated exactly as if no row depended on it."""
+    import dataclasses
+
+    budget = bd.unit_budget(orthodromic, load_spec(write(tmp_path, SHORT)))
+    j = [s.name for s in budget.sources].index(source)
+    faint, none = budget.unit_variances.copy(), budget.unit_variances.copy()
+    faint[:, j] *= 1e-12
+    none[:, j] = 0.0
+    barely = bd.allocate(dataclasses.replace(budget, unit_variances=faint, floors=None))
+    unseen = bd.allocate(dataclasses.replace(budget, unit_variances=none, floors=None))
+    # its equal share would have been a million times its normal allowance: beyond the
+    # small-error ceiling of its unit (0.1 rad of tilt through the Schuler loop)
+    normal = bd.allocate(budget).sigma[j]
+    ceiling = bd.UNCONSTRAINED_ABOVE[budget.sources[j].unit] / budget.spec.sigma_level
+    assert 1e6 * normal > ceiling > normal
+    assert np.isinf(barely.sigma[j]) and barely.binding[j] == -1
+    others = [k for k in range(len(budget.sources)) if k != j]
+    np.testing.assert_allclose(barely.sigma[others], unseen.sigma[others], rtol=1e-12)
+
+
 # ------------------------------------------------------------------------------------
 # Bindings with textbook answers
 # ------------------------------------------------------------------------------------
