@@ -472,19 +472,33 @@ _ANGLE_STEPS = ("arcsec", "arcmin", "deg")
 """Angle units from small to large, each 60 of the one before."""
 
 
+def readable_angle_unit(value_si: float, display_unit: str, down: bool = False) -> str:
+    """The angle unit a value in rad reads best in, starting from ``display_unit``.
+
+    Up to arcmin or deg while the value is at least 60 of the unit; with ``down``, also
+    down to arcmin or arcsec while it is below 0.1 of the unit (a limit of 1 arcmin reads
+    ``1 arcmin``, not ``0.01667 deg``; one of 0.1 deg stays ``0.1 deg``).
+    A unit that is not arcsec, arcmin or deg is returned as it is.
+    """
+    if display_unit not in _ANGLE_STEPS or not math.isfinite(value_si) or value_si == 0:
+        return display_unit
+    step = _ANGLE_STEPS.index(display_unit)
+    size = abs(value_si) * 180 / math.pi * 3600 / 60**step  # in the display unit
+    while step < len(_ANGLE_STEPS) - 1 and size >= 60:
+        step, size = step + 1, size / 60
+    while down and step > 0 and size < 0.1:
+        step, size = step - 1, size * 60
+    return _ANGLE_STEPS[step]
+
+
 def format_readable(value_si: float, unit: str, display_unit: str, digits: int = 4) -> str:
     """:func:`format_quantity` of one value for a label: an angle shown in arcsec or arcmin
     moves up to arcmin or deg when it is at least 60 of its display unit (an initial
     heading error of 30° reads ``30 deg``, not ``1800 arcmin``); anything else as
     :func:`format_quantity` gives it.
     """
-    if display_unit in _ANGLE_STEPS and math.isfinite(value_si):
-        step = _ANGLE_STEPS.index(display_unit)
-        size = abs(value_si) * 180 / math.pi * 3600 / 60**step  # in the display unit
-        while step < len(_ANGLE_STEPS) - 1 and size >= 60:
-            step, size = step + 1, size / 60
-        display_unit = _ANGLE_STEPS[step]
-    return format_quantity(value_si, unit, display_unit, digits)
+    return format_quantity(value_si, unit, readable_angle_unit(value_si, display_unit),
+                           digits)
 
 
 VALIDITY_RATIO_CEILING: float = 10  # an int: the published schema writes 10

@@ -151,6 +151,21 @@ def test_a_source_the_spec_barely_sees_takes_no_share(orthodromic, tmp_path, sou
     np.testing.assert_allclose(barely.sigma[others], unseen.sigma[others], rtol=1e-12)
 
 
+def test_an_angle_limit_is_shown_in_the_unit_it_was_written_in(orthodromic, tmp_path):
+    """A vertical-error limit of 1 arcmin reads '1 arcmin' (was '0.01667 deg'), its value in
+    the same unit; the numbers are the SI row values converted."""
+    from ins_errors.analysis.budget_report import report
+
+    text = SHORT.replace('value = "0.1 deg"', 'value = "1 arcmin"')
+    allocation = bd.allocate(bd.unit_budget(orthodromic, load_spec(write(tmp_path, text))))
+    rows = [r for r in report(allocation)["rows"] if r["item"] == "vertical_error"]
+    assert rows
+    for r in rows:
+        value, unit, of, limit, limit_unit = r["display"].split()
+        assert (unit, of, limit, limit_unit) == ("arcmin", "of", "1", "arcmin")
+        assert float(value) == pytest.approx(r["value"] / (DEG / 60), rel=1e-3)
+
+
 # ------------------------------------------------------------------------------------
 # Bindings with textbook answers
 # ------------------------------------------------------------------------------------

@@ -213,3 +213,15 @@ def test_a_comparison_names_a_large_initial_heading_error_in_degrees(capsys):
     out = capsys.readouterr().out
     assert "initial_azimuth_error = 30 deg" in out
     assert "1800 arcmin" not in out
+
+
+@pytest.mark.parametrize(("value", "display", "shown"), [
+    (ARCMIN, "deg", "arcmin"),            # a limit of 1 arcmin, not 0.01667 deg
+    (2 * ARCSEC, "deg", "arcsec"),        # down two steps
+    (0.1 * DEG, "deg", "deg"),            # 0.1 of the unit still reads in it
+    (120 * DEG, "arcsec", "deg"),
+])
+def test_a_limit_reads_in_the_angle_unit_of_its_size(value, display, shown):
+    from ins_errors.units import readable_angle_unit
+
+    assert readable_angle_unit(value, display, down=True) == shown

@@ -19,6 +19,7 @@ from ins_errors.analysis.budget import (
 )
 from ins_errors.figure_layout import fixed_margins, text_height, text_width, wrap_to_width
 from ins_errors.output import require_matplotlib, save_figure
+from ins_errors.units import readable_angle_unit
 
 TIE_DIGITS = 9
 """Sizes that agree to this many significant digits of the largest rank as equal."""
@@ -150,12 +151,16 @@ _RULE = "equal share of each item's variance per free source (weighted), fixed s
 
 
 def _rows_json(budget, values: np.ndarray, exceeded: np.ndarray) -> list[dict]:
-    """The spec rows of a report: value (SI, at the spec's σ level) against the limit."""
+    """The spec rows of a report: value (SI, at the spec's σ level) against the limit,
+    both shown in the unit the limit reads best in (a vertical error of 1 arcmin in
+    arcmin, not 0.01667 deg)."""
+    def shown(r, value: float) -> str:
+        unit = readable_angle_unit(r.limit, ITEM_DISPLAY[r.item], down=True)
+        return display(value, ITEM_SI[r.item], unit)
+
     return [{"item": r.item, "time_h": r.time / HOUR, "component": r.component,
              "limit": r.limit, "value": float(v), "ratio": float(v / r.limit),
-             "exceeded": bool(over),
-             "display": f"{display(v, ITEM_SI[r.item], ITEM_DISPLAY[r.item])} of "
-                        f"{display(r.limit, ITEM_SI[r.item], ITEM_DISPLAY[r.item])}"}
+             "exceeded": bool(over), "display": f"{shown(r, v)} of {shown(r, r.limit)}"}
             for r, v, over in zip(budget.rows, values, exceeded, strict=True)]
 
 
