@@ -65,8 +65,12 @@ def test_selection_names_each_columns_largest_sources():
     assert named.tolist() == [3, 0, 1] and others.tolist() == [2, 4, 5]
     named, others = rep.select_sources(shares, 5)      # one left over: all named
     assert sorted(named.tolist()) == list(range(6)) and not others.size
-    named, _ = rep.select_sources(np.array([[0.5, 0.0, 0.5, 0.0]]), 1)
-    assert named.tolist() == [0]
+    # sources with no share anywhere (not limited) are neither named nor among the
+    # others: a "(N others)" row of zeros said nothing
+    named, others = rep.select_sources(np.array([[0.5, 0.0, 0.3, 0.0, 0.2]]), 1)
+    assert named.tolist() == [0] and others.tolist() == [2, 4]
+    named, others = rep.select_sources(np.array([[0.5, 0.0, 0.5, 0.0]]), 1)
+    assert named.tolist() == [0, 2] and not others.size   # one left over: named
 
 
 def test_plot_bars_add_up_and_name_the_largest(outputs_802m, tmp_path, monkeypatch):

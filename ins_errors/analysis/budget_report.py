@@ -50,7 +50,8 @@ def select_sources(shares: np.ndarray, top: int) -> tuple[np.ndarray, np.ndarray
     reaches ``top`` the larger shares go first. So each column's k largest sources are
     named for the largest k the room allows, whichever column they are large in.
     Shares that agree to :data:`TIE_DIGITS` significant digits are ties, ranked in the
-    order of the sources; sources with no share anywhere are never named.
+    order of the sources; sources with no share anywhere (not limited, or fixed at 0)
+    are neither named nor counted among the others.
 
     Parameters
     ----------
@@ -65,13 +66,14 @@ def select_sources(shares: np.ndarray, top: int) -> tuple[np.ndarray, np.ndarray
     named : numpy.ndarray of int
         Named sources, largest share in any column first.
     others : numpy.ndarray of int
-        The rest, in the given order (empty when all are named).
+        The rest with a share somewhere, in the given order (empty when all are named).
     """
     shares = np.atleast_2d(np.asarray(shares, dtype=float))
     count = shares.shape[1]
     largest = shares.max(0) if shares.size else np.zeros(count)
-    if count <= top + 1:
-        return largest_first(largest), np.array([], dtype=int)
+    active = np.flatnonzero(largest > 0)
+    if active.size <= top + 1:
+        return active[largest_first(largest[active])], np.array([], dtype=int)
     ranked = [largest_first(column) for column in shares]
     named: list[int] = []
     for k in range(count):
@@ -86,7 +88,7 @@ def select_sources(shares: np.ndarray, top: int) -> tuple[np.ndarray, np.ndarray
         if len(named) >= top:
             break
     chosen = np.sort(np.array(named[:top], dtype=int))
-    others = np.setdiff1d(np.arange(count), chosen)
+    others = np.setdiff1d(active, chosen)
     return chosen[largest_first(largest[chosen])], others
 
 
