@@ -458,11 +458,18 @@ class ModelDefinition:
 
     # -- platform -------------------------------------------------------------------
     @property
-    def platform_angles(self) -> tuple[Variable, ...]:
+    def extra_error_states(self) -> tuple[Variable, ...]:
         """The error states beyond ``delta_<state>`` of the computed states: the real-work
-        states that are zero in ideal work, the platform misalignment angles (rad); empty
-        for a strapdown INS. The one rule of which error states are platform angles."""
+        states that are zero in ideal work (platform angles, and any other such state, e.g.
+        a damping loop's integrator in m/s²); empty for a strapdown INS."""
         return tuple(self.error_states[len(self.states):])
+
+    @property
+    def platform_angles(self) -> tuple[Variable, ...]:
+        """The platform misalignment angles: the :attr:`extra_error_states` in rad (a
+        real-work state of another unit, such as an integrator, is no attitude); empty for
+        a strapdown INS. The one rule of which error states are platform angles."""
+        return tuple(v for v in self.extra_error_states if v.unit == "rad")
 
     @property
     def has_small_angle_platform(self) -> bool:

@@ -14,13 +14,15 @@ in:
 * a mistake in a latitude/longitude line changes the position read out, not the states.
 
 The effect is the largest change over the cases (the worst single error, as the matrix
-check reports) of the position error (latitude and longitude errors, m, on a sphere of
-the model's radius) and of the attitude error (the platform angles,
+check reports) of the horizontal position error (latitude and longitude errors, m, on a
+sphere of the model's radius; for a model without them, its north and east position
+outputs in metres where its equations identify them, :func:`metre_position`; neither:
+no position figure, None) and of the attitude error (the platform angles,
 :attr:`~ins_errors.modeling.ModelDefinition.platform_angles`, rad; for a model without
 them, a strapdown INS, the changes of its roll, pitch and heading outputs; neither: no
 attitude figure, None) after 1 h and 24 h, at the reference point where the finding is
-largest (for a finding without one, the largest
-over the points). The 24 h state is the
+largest (for a finding without one, the largest over the points; by the attitude for a
+model without a position figure). The 24 h state is the
 1 h transition matrix to the 24th power (exact for frozen coefficients).
 
 Each change is compared with the rounding floor of the two propagations
@@ -110,7 +112,11 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
     n, k = len(states), len(comparison.points)
     radius, _ = _earth(d, parameters)
     platform = [states.index(v.name) for v in d.platform_angles]
-    read = ("latitude", "longitude") + (() if platform else ATTITUDE_OUTPUTS)
+    geographic = [name for name in ("latitude", "longitude") if name in side.outputs]
+    metres = {} if geographic else metre_position(d, _moving_points(d, comparison.points,
+                                                                   parameters))
+    has_position = bool(geographic or metres)
+    read = (*geographic, *metres) + (() if platform else ATTITUDE_OUTPUTS)
     try:
         rows = [identified(side.state_rhs[s], identify) for s in states]
         outputs = {name: identified(side.delta(name), identify)
@@ -155,8 +161,16 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
     scale = np.where(x0 > 0, x0, 1.0)[:, None]  # scaled responses for the floor
 
     def position_rows(point: int, extra: dict | None = None) -> np.ndarray:
-        """Readout (2, n): north and east position error, m per SI unit of each state."""
+        """Readout (2, n): north and east position error, m per SI unit of each state
+        (latitude and longitude errors on the sphere of the model's radius, or the
+        model's own outputs in metres, :func:`metre_position`)."""
         rows = np.zeros((2, n))
+        if metres:
+            for name, (axis, sign) in metres.items():
+                rows[axis] += sign * readout[name][point]
+                if extra and name in extra:
+                    rows[axis] += sign * extra[name][point]
+            return rows
         for i, name in enumerate(("latitude", "longitude")):
             if name in readout:
                 rows[i] += readout[name][point]
@@ -165,6 +179,8 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
         rows[1] *= cos_lat[point]
         return radius * rows
 
+    # the figure the largest effect over the points and a model's own growth are read in
+    shown = "position" if has_position else "attitude"
     baseline: dict[int, tuple[list[np.ndarray], float]] = {}
     labels = [point.label for point in comparison.points]
 
@@ -180,20 +196,21 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
             changed = _propagate(changed_f, drive[p] + delta_drive[p], x0)
             rows_base, rows_changed = position_rows(p), position_rows(p, out_delta)
             units = (max(float(np.linalg.norm(np.abs(r) @ x0))
-                         for r in (rows_base, rows_changed)),
+                         for r in (rows_base, rows_changed)) if has_position else 0.0,
                      float(np.linalg.norm(np.abs(attitude(p, np.eye(n))) @ x0))
                      if platform or angles else 0.0)
             effect: dict = {}
             for hours, base, x in zip(HOURS, base_x, changed, strict=True):
                 tag = hours_tag(hours)
-                dpos = np.linalg.norm(rows_changed @ x - rows_base @ base, axis=0)
+                dpos = (np.linalg.norm(rows_changed @ x - rows_base @ base, axis=0)
+                        if has_position else None)
                 datt = (np.linalg.norm(attitude(p, x - base), axis=0) if platform or angles
                         else None)
                 largest = max(float(np.abs(r / scale).max(initial=0.0)) for r in (base, x))
                 steps = round(hours * 3600.0 / STEP)
                 for what, diffs, unit in (("position", dpos, units[0]),
                                           ("attitude", datt, units[1])):
-                    if diffs is None:  # no attitude error to read: no figure, not 0
+                    if diffs is None:  # no position or attitude to read: no figure, not 0
                         effect.update({f"{what}_{tag}": None, f"{what}_floor_{tag}": None,
                                        f"{what}_case_{tag}": None})
                         continue
@@ -202,8 +219,8 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
                     effect[f"{what}_{tag}"] = value
                     effect[f"{what}_floor_{tag}"] = floor
                     effect[f"{what}_case_{tag}"] = cases[j] if value > floor else None
-            mark_growth(effect, growth_rate(changed_f), base_growth, HOURS)
-            if best is None or effect["position_24h"] > best["position_24h"]:
+            mark_growth(effect, growth_rate(changed_f), base_growth, HOURS, shown)
+            if best is None or (effect[f"{shown}_24h"] or 0.0) > (best[f"{shown}_24h"] or 0.0):
                 best = {"point": comparison.points[p].label, **effect}
         return best
 
@@ -241,11 +258,14 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
         delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n, len(sources)))
         out_delta: dict[str, np.ndarray] = {}
         try:
+            output = result.target.removeprefix("output ")
             if result.target.startswith("output latitude") or result.target in (
                     "intermediate phi",) or result.target.startswith("output longitude") \
-                    or result.target == "intermediate lam":
-                name = "latitude" if ("latitude" in result.target
-                                      or result.target.endswith("phi")) else "longitude"
+                    or result.target == "intermediate lam" or output in metres:
+                name = (output if output in metres
+                        else "latitude" if ("latitude" in result.target
+                                            or result.target.endswith("phi"))
+                        else "longitude")
                 diff = comparison.linear_parts(item.hand_isolated)[0]
                 model = comparison.linear_parts(item.model_declared)[0]
                 row = np.zeros((k, n))
@@ -279,6 +299,65 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
         result.findings = [g if g not in roots else _with(g, effect) for g in result.findings]
 
 
+def _moving_points(d, points, parameters=None) -> list:
+    """The points flown, or when none of them moves (``@scope static base``) every
+    reference point of the model: what its outputs are does not depend on the scope."""
+    if any(np.hypot(*p.ground_velocity) > 0 for p in points):
+        return list(points)
+    from ins_errors.checker.reference import reference_points
+
+    return reference_points(d, None, parameters).points
+
+
+def metre_position(d, points) -> dict[str, tuple[int, float]]:
+    """The model's horizontal position outputs in metres, where its equations identify them.
+
+    An output in m is the north (east) position when its ideal rate,
+    ``∂y/∂x · ẋ`` of the model's ``ideal_rhs``, equals plus or minus the motion's north
+    (east) ground velocity at every moving reference point (to 1e-6 of the speed): the
+    cruises fly several tracks, so only a horizontal position in metres along those axes
+    does (a height, an along-track distance or a rotated axis does not). Names play no
+    part.
+
+    Parameters
+    ----------
+    d : ModelDefinition
+    points : sequence of ReferencePoint
+        Their ``values`` (ideal states, inputs, parameters) and ``ground_velocity``.
+
+    Returns
+    -------
+    dict of str to (int, float)
+        Output name -> (axis: 0 north, 1 east; sign ±1), both axes or nothing (empty also
+        when no point moves).
+    """
+    moving = [p for p in points if np.hypot(*p.ground_velocity) > 0]
+    candidates = [k for k, v in enumerate(d.outputs) if v.unit == "m"]
+    if not moving or not candidates:
+        return {}
+    outputs = d.outputs_expanded()
+    rhs = d.ideal_rhs_expanded()
+    rates = [sum((outputs[k].diff(x) * f for x, f in zip(d.x, rhs, strict=True)),
+                 sp.S.Zero) for k in candidates]
+    evaluate = sp.lambdify([d.x, d.u, d.p], rates, "numpy", docstring_limit=0)
+    found: dict[int, list[tuple[str, float]]] = {0: [], 1: []}
+    with np.errstate(all="ignore"):
+        values = np.array([np.broadcast_to(np.asarray(
+            evaluate([p.values[s] for s in d.x], [p.values[s] for s in d.u],
+                     [p.values[s] for s in d.p]), dtype=float), (len(candidates),))
+            for p in moving])  # (points, candidates)
+    velocity = np.array([p.ground_velocity for p in moving])  # (points, 2)
+    tolerance = 1e-6 * np.hypot(velocity[:, 0], velocity[:, 1])
+    for j, k in enumerate(candidates):
+        for axis in (0, 1):
+            for sign in (1.0, -1.0):
+                if np.all(np.abs(values[:, j] - sign * velocity[:, axis]) <= tolerance):
+                    found[axis].append((d.outputs[k].name, sign))
+    if len(found[0]) != 1 or len(found[1]) != 1 or found[0][0][0] == found[1][0][0]:
+        return {}
+    return {name: (axis, sign) for axis in (0, 1) for name, sign in found[axis]}
+
+
 def _with(finding, effect):
     from dataclasses import replace
 
@@ -303,4 +382,4 @@ def _add_row(delta_f, delta_drive, row, hand, model, comparison, symbols, source
             delta_drive[:, row, sources.index(b)] += value * magnitude[b]
 
 
-__all__ = ["GROWTH_SHOWN", "HOURS", "add_effects"]
+__all__ = ["GROWTH_SHOWN", "HOURS", "add_effects", "metre_position"]

@@ -25,7 +25,7 @@ HOURS = (1.0, 24.0)
 
 
 def mark_growth(effect: dict, hand: float, model: float,
-                hours: tuple[float, ...] = HOURS) -> None:
+                hours: tuple[float, ...] = HOURS, quantity: str = "position") -> None:
     """Mark the times at which an effect grows exponentially.
 
     ``hand``, ``model``: largest real parts of the eigenvalues (1/s, :func:`growth_rate`)
@@ -38,13 +38,18 @@ def mark_growth(effect: dict, hand: float, model: float,
     Parameters
     ----------
     effect : dict
-        Holds ``position_<h>h`` and ``position_floor_<h>h`` (m) for each time of ``hours``
-        (``<h>`` the whole hours); receives ``e_folding_s`` (s), ``growing_mode``
-        (``"hand"`` or ``"model"``) and ``exponential_<h>h`` (bool) when a mode grows.
+        Holds ``<quantity>_<h>h`` and ``<quantity>_floor_<h>h`` for each time of ``hours``
+        (``<h>`` the whole hours; None where the model has no such figure); receives
+        ``e_folding_s`` (s), ``growing_mode`` (``"hand"`` or ``"model"``) and
+        ``exponential_<h>h`` (bool) when a mode grows.
     hand, model : float
         Growth rates, 1/s.
     hours : tuple of float
         The times compared, h, increasing.
+    quantity : str
+        The figure a growing mode of the model itself is judged by (``"position"``, or
+        ``"attitude"`` for a model without a position); without that figure only a mode
+        the mistake adds is marked.
     """
     span = hours[-1] * 3600.0
     if hand > max(model, 0.0) and (hand - max(model, 0.0)) * span > GROWTH_SHOWN:
@@ -55,13 +60,14 @@ def mark_growth(effect: dict, hand: float, model: float,
         return
     effect["e_folding_s"] = 1.0 / rate
     effect["growing_mode"] = whose
-    first = effect[f"position_{hours_tag(hours[0])}"]
+    first = effect.get(f"{quantity}_{hours_tag(hours[0])}")
     for h in hours:
         tag = hours_tag(h)
         grows = rate * h * 3600.0 > GROWTH_SHOWN
         if whose == "model":
-            grows = grows and effect[f"position_{tag}"] > np.exp(GROWTH_SHOWN) * max(
-                first, effect[f"position_floor_{tag}"])
+            value = effect.get(f"{quantity}_{tag}")
+            grows = grows and first is not None and value is not None and value > np.exp(
+                GROWTH_SHOWN) * max(first, effect[f"{quantity}_floor_{tag}"])
         effect[f"exponential_{tag}"] = bool(grows)
 
 

@@ -26,7 +26,11 @@ multiplies. Both come from the model's own SymPy definition (no generated code):
 
   A model that cannot fly a motion is checked on the others; :func:`reference_points`
   says which were left out and why. A ``@scope static base`` directive keeps only the
-  static base.
+  static base. Each point's description names only what of the fix the model takes: a
+  model without a latitude initial condition (a tangent-plane INS, say) sits at its own
+  initial position, so its points are "static base, at rest" and cruises that differ
+  only in velocity and track, said so; one without a height (initial condition or
+  input) is said to have none.
 * **Magnitudes.** Tied together by the Schuler loop, from one declared attitude error θ
   (default 1e-4 rad): with the model's Earth radius R and gravity g,
   ω_s = √(g/R), angles and direction-cosine errors θ, velocity errors √(gR)·θ (≈ 0.8 m/s
@@ -54,7 +58,7 @@ from ins_errors.checker.typical import (  # noqa: F401 (also names of this modul
     schuler_magnitudes,
     typical_magnitude,
 )
-from ins_errors.errors import InsErrorsError
+from ins_errors.errors import DomainError, InsErrorsError
 from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.variation import ideal_intermediate_values
 
@@ -77,12 +81,16 @@ class ReferencePoint:
         intermediates), SI units.
     motion : str
         Motion class (``"static base"``, ``"cruise"``, ``"climb"``).
+    ground_velocity : tuple of float
+        North and east ground velocity of the motion at the point, m/s (what the fix
+        sets the model's velocity initial conditions to; (0, 0) on the static base).
     """
 
     label: str
     description: str
     values: dict[sp.Symbol, float]
     motion: str = ""
+    ground_velocity: tuple[float, float] = (0.0, 0.0)
 
 
 @dataclass
@@ -283,6 +291,93 @@ def _unusable(d: ModelDefinition, motion: _Motion) -> str | None:
     return None
 
 
+def check_parameter_domain(d: ModelDefinition, p: list[float]) -> None:
+    """Refuse parameter values outside the model's own domain, as every run does.
+
+    The model's ``initial_domain`` conditions are evaluated with the initial conditions
+    and inputs at zero (equator, at rest: inside every domain), so a condition that
+    fails there fails for the parameters themselves (e.g. a tangent-plane origin
+    latitude at a pole), the check of :meth:`ins_errors.numeric.model.Model.\
+parameter_vector` on the definition.
+
+    Parameters
+    ----------
+    d : ModelDefinition
+    p : list of float
+        Parameter values, SI, in the order of ``d.parameters``.
+
+    Raises
+    ------
+    DomainError
+        ``parameters of MODEL: MESSAGE`` with the model's own message of the first
+        condition that fails (not > 0, or not a real number).
+    """
+    if not d.initial_domain:
+        return
+    margins = sp.lambdify([d.c, d.u, d.p], [expr for expr, _ in d.initial_domain], "numpy",
+                          docstring_limit=0)
+    with np.errstate(all="ignore"):
+        values = margins([0.0] * len(d.c), [0.0] * len(d.u), list(p))
+    for value, (_, message) in zip(values, d.initial_domain, strict=True):
+        try:
+            holds = float(value) > 0
+        except (TypeError, ValueError):  # complex or not a number
+            holds = False
+        if not holds:
+            raise DomainError(f"parameters of {d.name}: {message}")
+
+
+_VELOCITY_FIX = ("v_N", "v_E", "v_N0", "v_E0")
+"""Initial conditions that carry the horizontal ground velocity of a fix."""
+
+
+def _takes(d: ModelDefinition) -> frozenset[str]:
+    """What of a reference fix the model takes: ``latitude``, ``longitude``, ``heading``,
+    ``velocity`` (horizontal), ``height`` (an initial condition or an input)."""
+    names_c = {v.name for v in d.initial_conditions}
+    names_u = {v.name for v in d.inputs}
+    takes = {name for name in ("latitude", "longitude") if name in names_c}
+    if names_c & {"heading", "yaw"}:
+        takes.add("heading")
+    if names_c & set(_VELOCITY_FIX):
+        takes.add("velocity")
+    if "height" in names_c or names_u & set(_HEIGHTS):
+        takes.add("height")
+    return frozenset(takes)
+
+
+def _height_text(height: float) -> str:
+    return "h 0" if height == 0 else f"h {height / 1e3:g} km"
+
+
+def _without_position(m: _Motion, track: float, takes: frozenset[str]) -> str:
+    """Description of a point for a model that takes no latitude: only what it does take
+    (velocity, heading, height), and what it does not."""
+    parts = ["static base, at rest" if m.distance is None and m.motion == STATIC_BASE
+             else m.motion]
+    if m.speed and "velocity" in takes:
+        parts.append(f"{m.speed:g} m/s, track {np.degrees(track):.4g}°")
+    elif "heading" in takes:
+        parts.append(f"heading {np.degrees(track):.4g}°")
+    if "height" in takes:
+        parts.append(_height_text(m.height))
+    if m.climb:
+        parts.append(f"climbing {m.climb:g} m/s")
+    if m.acceleration:
+        parts.append(f"accelerating {m.acceleration:g} m/s² along track")
+    notes = []
+    if m.distance and "velocity" in takes:
+        notes.append(f"the track {m.distance / 1e3:g} km along the great circle of the "
+                     "cruise points")
+    absent = [name for name in ("latitude", "longitude", "heading", "velocity", "height")
+              if name not in takes and not (name == "heading" and "velocity" in takes)]
+    if absent:
+        listed = (absent[0] if len(absent) == 1
+                  else ", ".join(absent[:-1]) + " or " + absent[-1])
+        notes.append(f"the model takes no {listed}")
+    return ", ".join(parts) + (f" ({'; '.join(notes)})" if notes else "")
+
+
 _FIX = ("latitude", "longitude", "heading", "v_N", "v_E", "v_N0", "v_E0", "v_D0", "v_U0",
         "v_D", "v_U", "height", "roll", "pitch", "yaw")
 """Initial conditions a navigation fix and a motion set."""
@@ -305,7 +400,8 @@ def reference_points(d: ModelDefinition, scope: str | None = None,
     ------
     InsErrorsError
         If the model's initial conditions or inputs are not ones a navigation fix and a
-        motion can set.
+        motion can set; a :class:`~ins_errors.errors.DomainError` for parameters outside
+        the model's domain (:func:`check_parameter_domain`).
     """
     if scope is not None and scope not in MOTION_CLASSES:
         raise InsErrorsError(f"unknown scope {scope!r} (known: {', '.join(MOTION_CLASSES)})")
@@ -319,6 +415,8 @@ def reference_points(d: ModelDefinition, scope: str | None = None,
     radius, _ = _earth(d, parameters)
     values_set = dict(parameters or {})
     p = [float(values_set.get(v.name, v.default)) for v in d.parameters]
+    check_parameter_domain(d, p)
+    takes = _takes(d)
     names_c = [v.name for v in d.initial_conditions]
     names_u = [v.name for v in d.inputs]
     accel = [k for k, n in enumerate(names_u) if _is_solved_input(n)]
@@ -383,7 +481,10 @@ def reference_points(d: ModelDefinition, scope: str | None = None,
         values.update(zip(d.p, p, strict=True))
         values.update({s: float(v) for s, v in zip(symbols, intermediates(x, u, p),
                                                      strict=True)})
-        height = "" if "h" in names_u else " (the model has no height input)"
-        result.points.append(ReferencePoint(label, description + height, values,
-                                            m.motion))
+        if "latitude" not in takes:
+            description = _without_position(m, track, takes)
+        elif "height" not in takes:
+            description += " (the model has no height input)"
+        result.points.append(ReferencePoint(label, description, values, m.motion,
+                                            (float(v_n), float(v_e))))
     return result

@@ -123,7 +123,9 @@ def _effect(f: Finding) -> str:
         floor_p = e.get(f"position_floor_{tag}", 0.0)
         floor_a = e.get(f"attitude_floor_{tag}", 0.0)
         text = (f"{int(hours)} h: "
-                + (length_text(position) if position > floor_p else below(floor_p, "m")) + ", "
+                + ("position n/a" if position is None
+                   else length_text(position) if position > floor_p else below(floor_p, "m"))
+                + ", "
                 + ("attitude n/a" if attitude is None
                    else _angle(attitude) if attitude > floor_a
                    else below(math.degrees(floor_a) * 3600, "″")))
