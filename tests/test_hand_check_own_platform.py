@@ -277,3 +277,36 @@ def test_no_height_note_for_a_model_with_a_height_initial_condition(capsys, tmp_
         assert all(("(the model has no height input)" in p.description) == note
                    for p in points), name
 
+
+def test_a_matrix_check_of_a_platform_model_says_what_works(capsys, tmp_path):
+    """--matrix was refused with ~900 characters of strapdown requirements (roll, pitch,
+    omega_x, f_x, ...); --list-conventions offered "bias states ... in any convention" to
+    a model no convention works for."""
+    matrix = tmp_path / "my_F.py"
+    matrix.write_text("import numpy as np\nSTATES = ['delta_V_E']\n"
+                      "def F(nav, imu):\n    return np.zeros((1, 1))\n", encoding="utf-8")
+    assert main(["check", str(MODEL), "--matrix", f"{matrix}:F"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and len(err[0]) < 450, err
+    for word in ("'tangent_plane_ins'", "platform model", "north_pointing",
+                 "as an equation file", "docs/matrix_check.md"):
+        assert word in err[0], (word, err[0])
+    for word in ("strapdown", "roll", "omega_x", "f_x", "IMU inputs"):
+        assert word not in err[0], (word, err[0])
+    # the way out it names works: an equation file in the model's own error states
+    assert main(["check", str(MODEL), str(EQUATIONS)]) == 1
+    capsys.readouterr()
+    assert main(["check", str(MODEL), "--list-conventions"]) == 0
+    out = capsys.readouterr().out
+    assert "bias states" not in out and "any convention" not in out
+    assert "no convention" in out and "equation file" in out
+    assert "  q_E (m/s**2): damping integrator, east" in out
+    assert main(["check", str(MODEL), "--list-conventions", "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert data["conventions"] == [] and data["bias_states"] == []
+    assert [s["name"] for s in data["equation_file_states"]] == [
+        "delta_V_E", "delta_V_N", "delta_x_E", "delta_x_N", "alpha_E", "alpha_N", "alpha_U",
+        "q_E", "q_N"]
+    # a model with a navigation description keeps its conventions and bias states
+    assert main(["check", "north_pointing", "--list-conventions"]) == 0
+    assert "bias states" in capsys.readouterr().out

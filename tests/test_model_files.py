@@ -456,8 +456,13 @@ def test_matrix_check_of_a_model_file_names_what_it_lacks(tmp_path, capsys, monk
         lines.append(err[0])
     assert lines[0] == lines[1]
     for word in ("'schuler_loop'", "cannot be checked with --matrix", "navigation description",
-                 "north_pointing and strapdown_ned", "docs/matrix_check.md"):
+                 "platform model", "north_pointing", "as an equation file",
+                 "docs/matrix_check.md"):
         assert word in lines[0], (word, lines[0])
+    # a platform model is not told the strapdown requirements (outputs roll, pitch, ...,
+    # inputs omega_x, f_x, ...): they are beside the point for it
+    for word in ("strapdown", "roll", "omega_x", "f_x"):
+        assert word not in lines[0], (word, lines[0])
     assert not (tmp_path / "s.npz").exists()
     # the docs the message points at say so
     assert "## Which models" in (ROOT / "docs" / "matrix_check.md").read_text(encoding="utf-8")

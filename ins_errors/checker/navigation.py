@@ -273,6 +273,16 @@ def require_description(model) -> None:
     """
     if adapter_name(model) is not None:
         return
+    if len(model.error_states) > len(model.states):
+        # a platform model (real-work states beyond its own): the strapdown description's
+        # outputs and IMU inputs are beside the point
+        raise InsErrorsError(
+            f"model {model.name!r} cannot be checked with --matrix or --write-samples: a "
+            "platform model has the navigation description a hand-coded F and G is "
+            "evaluated on only as north_pointing (or a model file with its states, inputs "
+            "and parameters); check its F and G rows as an equation file instead, one line "
+            "dot(STATE) = ... per row in its own error states (ins-errors check MODEL "
+            "FILE.txt; docs/matrix_check.md, 'Which models')")
     from ins_errors.checker import strapdown_description
 
     built_in = sorted(name for name in ADAPTERS if name != STRAPDOWN_OUTPUTS)

@@ -39,6 +39,10 @@ def run_matrix(args: argparse.Namespace) -> int:
     model = load_model(args.model)
     parameters = parse_parameter_options(model, args.parameter)
     if args.list_conventions:
+        from ins_errors.checker.navigation import adapter_name
+
+        if adapter_name(model) is None:
+            return _list_equation_states(model, args.json)
         found = list(conventions(model).values())
         # error sources that enter the equations may be bias states in any convention
         biases = [s for s in model.sources if s.kind == "constant"]
@@ -91,3 +95,26 @@ def run_matrix(args: argparse.Namespace) -> int:
                 lambda: with_parameters(to_json(report), model, parameters),
                 lambda: to_terminal(report))
     return report.exit_status
+
+
+NO_CONVENTION = ("no convention: --matrix, --write-samples and files with @convention need a "
+                 "navigation description this model lacks (docs/matrix_check.md, 'Which "
+                 "models'); an equation file (ins-errors check MODEL FILE.txt) is written "
+                 "in its own error states")
+"""What ``--list-conventions`` says of a model without a navigation description."""
+
+
+def _list_equation_states(model, as_json: bool) -> int:
+    """``--list-conventions`` of a model no convention works for: say so, and list the
+    error states an equation file of it is written in (no bias states: they belong to a
+    convention)."""
+    states = [{"name": s.name, "unit": s.unit, "description": s.description}
+              for s in model.error_states]
+    if as_json:
+        emit({"model": model.name, "conventions": [], "bias_states": [],
+              "note": NO_CONVENTION, "equation_file_states": states})
+        return 0
+    print(f"{model.name}: {NO_CONVENTION}:")
+    for s in states:
+        print(f"  {s['name']} ({s['unit']}): {s['description']}")
+    return 0
