@@ -123,3 +123,16 @@ def test_report_platform_row_only_with_a_choice_of_platform():
 
     assert has_platform_variants(load_model("orthodromic"))
     assert not has_platform_variants(load_model("strapdown_ned"))
+
+
+def test_a_damping_loops_integrators_are_named_with_the_extra_states():
+    """The tangent-plane INS's integrators q_E, q_N (m/s², no platform angles) are named
+    in the introduction of its error equations beside its platform angles."""
+    from ins_errors.model_lookup import definition_of, resolve
+    from ins_errors.symbolic.documents import _extra_states
+
+    definition = definition_of(resolve(str(ROOT / "tests/models/tangent_plane_ins.py")))
+    text = _extra_states(definition)
+    named = [v.name for v in definition.extra_error_states]
+    assert {"q_E", "q_N"} <= set(named)
+    assert all(f"${v.latex}$" in text for v in definition.extra_error_states)

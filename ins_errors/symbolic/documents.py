@@ -87,12 +87,12 @@ def error_equations_markdown(d: ModelDefinition) -> str:
 
 
 def _extra_states(d: ModelDefinition) -> str:
-    """How the introduction names the platform angles (the error states beyond
-    ``Δ<state>``, :attr:`~ins_errors.modeling.ModelDefinition.platform_angles`): ", α the
-    platform misalignment" for a model with the source documents' small-angle platform
-    variant, each one's symbol and meaning for other models, nothing for a model without
-    (a strapdown INS)."""
-    extra = d.platform_angles
+    """How the introduction names the error states beyond ``Δ<state>``
+    (:attr:`~ins_errors.modeling.ModelDefinition.extra_error_states`: platform angles,
+    a damping loop's integrators): ", α the platform misalignment" for a model with the
+    source documents' small-angle platform variant, each one's symbol and meaning for
+    other models, nothing for a model without (a strapdown INS)."""
+    extra = d.extra_error_states
     if not extra:
         return ""
     if d.has_small_angle_platform:
