@@ -26,9 +26,11 @@ venv: $(STAMP)
 derive: $(STAMP)
 	$(PY) -m derive
 
-## Install into .venv (first time) and run the test suite.
+## Install into .venv (first time) and run the test suite, its files spread over up to
+## four cores (pytest-xdist; each file's tests stay in one process, which shares their
+## fixtures and compiled loops).
 test: $(STAMP)
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q -n auto --maxprocesses 4 --dist loadfile
 
 ## Speed figures (printed, never asserted).
 bench: $(STAMP)

@@ -80,7 +80,11 @@ def compiled_temporary_files() -> Path | None:
 
 def pytest_sessionstart(session) -> None:
     """Byte-code of earlier sessions' temporary files is removed (see
-    :func:`compiled_temporary_files`); the package's own byte-code is kept."""
+    :func:`compiled_temporary_files`); the package's own byte-code is kept. Done once, by
+    the main process (not by pytest-xdist's workers, which start while another may
+    already be writing there)."""
+    if hasattr(getattr(session, "config", None), "workerinput"):
+        return
     mirror = compiled_temporary_files()
     if mirror is not None:
         shutil.rmtree(mirror, ignore_errors=True)

@@ -32,6 +32,24 @@ def test_byte_code_of_temporary_files_is_removed_and_the_packages_kept(tmp_path,
     assert package.read_bytes() == checkout.read_bytes() == b"compiled"
 
 
+def test_a_test_worker_leaves_the_byte_code_to_the_main_process(tmp_path, monkeypatch):
+    """pytest-xdist's workers start while another may be writing there: only the main
+    process (no ``workerinput``) removes."""
+    from types import SimpleNamespace
+
+    monkeypatch.setattr(sys, "pycache_prefix", str(tmp_path / "pycache"))
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "scratch"))
+    monkeypatch.delenv("PYTEST_DEBUG_TEMPROOT", raising=False)
+    written = conftest.compiled_temporary_files() / "pytest-3" / "model.cpython-311.pyc"
+    written.parent.mkdir(parents=True)
+    written.write_bytes(b"compiled")
+    worker = SimpleNamespace(config=SimpleNamespace(workerinput={"workerid": "gw1"}))
+    conftest.pytest_sessionstart(worker)
+    assert written.exists()
+    conftest.pytest_sessionstart(SimpleNamespace(config=SimpleNamespace()))
+    assert not written.exists()
+
+
 def test_nothing_is_removed_without_a_prefix(tmp_path, monkeypatch):
     monkeypatch.setattr(sys, "pycache_prefix", None)
     assert conftest.compiled_temporary_files() is None
