@@ -248,17 +248,20 @@ def _compare_json(capsys, model, *args):
 
 def test_the_header_states_only_the_references_the_run_depends_on(capsys, tmp_path):
     """The tutorial's single-axis Schuler loop has no longitude, heading or height
-    anywhere (its inputs: a_N; initial conditions: latitude, v_N): its results are the
-    same bits at another longitude and height, and the header (compare's, and run's
-    report.md) names the latitude only. The free-azimuth model has no height input, but
-    its truth's vertical specific force is gravity at that height: its results change
-    with h and the header keeps it; the north-pointing model at rest has no heading."""
+    anywhere (its inputs: a_N; initial conditions: latitude, v_N): the header (compare's,
+    and run's report.md) names the latitude only, and a longitude or height given to
+    compare, which nothing of the run would use, is refused (one line, exit 2). The
+    free-azimuth model has no height input, but its truth's vertical specific force is
+    gravity at that height: its results change with h and the header keeps it; the
+    north-pointing model at rest has no heading."""
     source = ["--source", "accel_bias=100ug"]
     motion, cases = _compare_json(capsys, SCHULER_LOOP, *source)
-    other_motion, other = _compare_json(capsys, SCHULER_LOOP, *source, "--longitude",
-                                        "-70deg", "--height", "3000m")
-    assert other == cases  # nothing of the run depended on them
-    assert motion == other_motion and "φ=50°" in motion
+    for option, value in (("--longitude", "-70deg"), ("--height", "3000m")):
+        assert main(["compare", SCHULER_LOOP, *source, "--hours", "1", "--step", "10s",
+                     option, value]) == 2
+        err = capsys.readouterr().err
+        assert f"has no {option[2:]}" in err and f"leave {option} out" in err
+    assert "φ=50°" in motion
     assert not any(part in motion for part in ("λ", "χ", "h=")), motion
     source = ["--source", "accel_bias_x=100ug"]
     low, cases = _compare_json(capsys, "free_azimuth", *source)

@@ -39,14 +39,15 @@ class References:
         Earth radius of the Schuler loop at the base, m.
     Omega : Constant or None
         Earth rotation rate, rad/s.
-    latitude : float
-        Latitude of the base, rad (for the Foucault split Ω|sin φ|).
+    latitude : float or None
+        Latitude of the base, rad (for the Foucault split Ω|sin φ|); None for a model
+        without one (no Foucault split is named).
     """
 
     g: Constant | None
     R: Constant | None
     Omega: Constant | None
-    latitude: float
+    latitude: float | None
 
     @property
     def schuler(self) -> float | None:
@@ -62,8 +63,8 @@ class References:
 
     @property
     def foucault(self) -> float | None:
-        """Ω|sin φ|, rad/s (None without Ω)."""
-        if self.Omega is None:
+        """Ω|sin φ|, rad/s (None without Ω or φ)."""
+        if self.Omega is None or self.latitude is None:
             return None
         return float(self.Omega.value * abs(np.sin(self.latitude)))
 
@@ -84,7 +85,7 @@ def _named(model: Model, kind: str, values: np.ndarray) -> dict[str, float]:
     return {info.name: float(v) for info, v in zip(getattr(model, kind), values, strict=True)}
 
 
-def references(model: Model, u: np.ndarray, p: np.ndarray, latitude: float,
+def references(model: Model, u: np.ndarray, p: np.ndarray, latitude: float | None,
                height: float) -> References:
     """The reference constants of ``model`` at a static base.
 
@@ -96,8 +97,8 @@ def references(model: Model, u: np.ndarray, p: np.ndarray, latitude: float,
         Inputs at rest.
     p : numpy.ndarray, shape (np,)
         Parameters, SI.
-    latitude : float
-        Latitude of the base, rad.
+    latitude : float or None
+        Latitude of the base, rad (None: the model has none).
     height : float
         Height of the base, m.
 
@@ -107,5 +108,7 @@ def references(model: Model, u: np.ndarray, p: np.ndarray, latitude: float,
     """
     earth = earth_constants(_named(model, "parameters", p),
                             {info.name: info.unit for info in model.parameters},
-                            _named(model, "inputs", u), float(latitude), height)
-    return References(earth.gravity, earth.radius, earth.earth_rate, float(latitude))
+                            _named(model, "inputs", u),
+                            None if latitude is None else float(latitude), height)
+    return References(earth.gravity, earth.radius, earth.earth_rate,
+                      None if latitude is None else float(latitude))

@@ -157,8 +157,9 @@ class StaticModes:
     base : str
         The base as the other commands describe it (values the model does not use
         left out).
-    latitude, height : float
-        Of the base, rad and m.
+    latitude, height : float or None
+        Of the base, rad and m; None for a model without one (its runs do not depend on
+        it: a tangent-plane INS whose origin latitude is a parameter).
     state_matrix : numpy.ndarray, shape (ne, ne)
         F at the base, SI.
     eigenvalues : numpy.ndarray, shape (ne,)
@@ -169,17 +170,22 @@ class StaticModes:
         Error state -> the unit its participation is measured in.
     modes : tuple of Mode
         By increasing |λ|.
+    latitude_source : str or None
+        Where the latitude of the Foucault split Ω|sin φ| came from: ``"base"``, a
+        parameter (``"parameter phi0"``) for a model without a latitude, or None (no
+        latitude: no Foucault split is named).
     """
 
     model: str
     base: str
-    latitude: float
-    height: float
+    latitude: float | None
+    height: float | None
     state_matrix: np.ndarray
     eigenvalues: np.ndarray
     references: References
     scales: dict[str, str]
     modes: tuple[Mode, ...] = field(default_factory=tuple)
+    latitude_source: str | None = "base"
 
     def mode(self, name: str) -> Mode:
         """The first mode called ``name``.
@@ -196,8 +202,12 @@ class StaticModes:
                            list(dict.fromkeys(m.name for m in self.modes)))
 
     def to_dict(self) -> dict:
+        refs = self.references
+        latitude = None if refs.latitude is None else {
+            "value": refs.latitude, "unit": "rad", "source": self.latitude_source}
         return {"model": self.model, "base": self.base, "latitude_rad": self.latitude,
-                "height_m": self.height, "references": self.references.to_dict(),
+                "height_m": self.height,
+                "references": {**refs.to_dict(), "latitude": latitude},
                 "participation_units": self.scales,
                 "eigenvalues": [{"real": v.real, "imag": v.imag} for v in self.eigenvalues],
                 "modes": [m.to_dict() for m in self.modes]}
@@ -246,8 +256,8 @@ def static_modes(model: Model | str, latitude: float = np.radians(50.0),
                          parameters)
 
 
-def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] | None = None
-                  ) -> StaticModes:
+def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] | None = None,
+                  given: Mapping[str, tuple[str, str]] | None = None) -> StaticModes:
     """The modes of ``model``'s error equations on the static base ``profile``.
 
     Parameters
@@ -259,16 +269,23 @@ def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] |
         :func:`~ins_errors.numeric.motion_spec.motion_profile` of kind ``"static"``).
     parameters : mapping of str to float, optional
         Model parameters to set, SI.
+    given : mapping of str to (str, str), optional
+        The base's reference values given explicitly (reference name -> (option, text),
+        e.g. ``{"latitude": ("--latitude", "10deg")}``): those the model has none of are
+        refused (:func:`~ins_errors.numeric.trajectories.refuse_unused_references`).
 
     Returns
     -------
     StaticModes
+        For a model without a latitude (or height) :attr:`StaticModes.latitude`
+        (``height``) is None; the Foucault split then uses the model's latitude
+        parameter if it has one (:func:`~ins_errors.numeric.trajectories.reference_parameter`).
 
     Raises
     ------
     InsErrorsError
         A moving profile, an unknown model or parameter, a latitude at a pole, F not
-        finite.
+        finite, a reference value given for a model without it.
     """
     from ins_errors.errors import InsErrorsError
     from ins_errors.numeric import trajectories as tr
@@ -279,17 +296,36 @@ def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] |
                              "(trajectories.static_profile)")
     p = model.parameter_vector(**dict(parameters or {}))
     motion = tr.trajectory(model, profile, 1.0, 1.0, p=p, stream=True)
+    tr.refuse_unused_references(model, motion, given or {})
     x, u = motion.start_state, motion.start_inputs
     F = np.asarray(model.state_matrix(x, u, p), dtype=float)
     if not np.all(np.isfinite(F)):
         raise DomainError(f"F of {model.name} is not finite at the {motion.description}")
-    height = float(profile.commands(np.zeros(1))[0][2, 0])
-    refs = references(model, u, p, profile.latitude, height)
+    used = tr.REFERENCES if motion.references is None else motion.references
+    height = float(profile.commands(np.zeros(1))[0][2, 0]) if "height" in used else None
+    latitude, source = _latitude(model, p, profile.latitude, "latitude" in used)
+    refs = references(model, u, p, latitude, height or 0.0)
     factors, units = _scales(model, refs)
     names = [s.name for s in model.error_states]
-    return StaticModes(model.name, motion.description, profile.latitude, height, F,
+    return StaticModes(model.name, motion.description,
+                       profile.latitude if "latitude" in used else None, height, F,
                        np.linalg.eigvals(F), refs, dict(zip(names, units, strict=True)),
-                       _modes(F, factors, names, refs))
+                       _modes(F, factors, names, refs), source)
+
+
+def _latitude(model: Model, p: np.ndarray, base: float, used: bool
+              ) -> tuple[float | None, str | None]:
+    """The latitude of the Foucault split and where it came from: the base's, or, for a
+    model without a latitude, its latitude parameter's (None, None without one)."""
+    from ins_errors.numeric import trajectories as tr
+
+    if used:
+        return float(base), "base"
+    parameter = tr.reference_parameter(model, "latitude")
+    if parameter is None:
+        return None, None
+    value = p[[q.name for q in model.parameters].index(parameter.name)]
+    return float(value), f"parameter {parameter.name}"
 
 
 def _scales(model: Model, refs: References) -> tuple[np.ndarray, list[str]]:

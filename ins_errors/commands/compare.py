@@ -42,8 +42,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--motion-file", metavar="CSV",
                         help="own motion: CSV with a header row and columns t (s), v_N, v_E "
                              "(m/s) and optionally h (m); overrides --motion")
-    parser.add_argument("--latitude", default="50deg", help="start latitude (default 50deg)")
-    parser.add_argument("--longitude", default="30deg", help="start longitude (default 30deg)")
+    parser.add_argument("--latitude", default=None,
+                        help="start latitude (default 50deg; refused for a model without "
+                             "a latitude, naming its own setting, e.g. -p phi0=...)")
+    parser.add_argument("--longitude", default=None,
+                        help="start longitude (default 30deg; for a model with one)")
     parser.add_argument("--heading", default=None,
                         help="initial track angle of the trihedron (default 0deg at rest, "
                              "90deg, due east, when moving: a day's flight then stays clear "
@@ -51,7 +54,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--speed", default=None,
                         help="ground speed of --motion great-circle or manoeuvre "
                              "(default 250m/s)")
-    parser.add_argument("--height", default="0m", help="height (default 0m)")
+    parser.add_argument("--height", default=None,
+                        help="height (default 0m; for a model with one)")
     parser.add_argument("--hours", type=float, default=None,
                         help="duration in hours (default 24)")
     parser.add_argument("--duration", default=None, help="duration with unit, e.g. '90 min'")
@@ -104,6 +108,15 @@ def _sources(model, items: list[str]) -> list[tuple[str, float]]:
     pairs = name_value_pairs(items, "--source", example)
     return [(name, parse_quantity(text, model.sources[model.index("sources", name)].unit, name))
             for name, text in pairs.items()]
+
+
+def given_references(args: argparse.Namespace) -> dict[str, tuple[str, str]]:
+    """The reference values of the motion's start given explicitly on the command line:
+    reference name -> (option, text), for
+    :func:`~ins_errors.numeric.trajectories.refuse_unused_references`."""
+    return {name: (f"--{name}", getattr(args, name)) for name in ("latitude", "longitude",
+                                                                   "height", "heading")
+            if getattr(args, name, None) is not None}
 
 
 def parse_ratio(text: str, what: str) -> float:
@@ -187,6 +200,7 @@ def run(args: argparse.Namespace) -> int:
     trajectory = tr.trajectory(model, profile, duration, tau,
                                p=model.parameter_vector(**parameters), progress=progress,
                                truth=args.truth)
+    tr.refuse_unused_references(model, trajectory, given_references(args))
     cases = ([{name: value} for name, value in sources] if args.separately
              else [dict(sources)])
     comparisons = compare(model, trajectory, cases, method=args.method, record_interval=record,

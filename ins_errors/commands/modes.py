@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import argparse
 
+import numpy as np
+
 from ins_errors.json_output import emit
 from ins_errors.time_text import duration_text
 
@@ -39,13 +41,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "textbook value from the model's own g, R and Ω, and the error states "
                     "that take part.")
     parser.add_argument("model", help="model name (e.g. strapdown_ned) or model file (my_ins.py)")
-    parser.add_argument("--latitude", default="50deg", help="latitude of the base (default 50deg)")
-    parser.add_argument("--longitude", default="30deg",
-                        help="longitude of the base (default 30deg)")
+    parser.add_argument("--latitude", default=None,
+                        help="latitude of the base (default 50deg; refused for a model "
+                             "without a latitude, naming its own setting, e.g. -p phi0=...)")
+    parser.add_argument("--longitude", default=None,
+                        help="longitude of the base (default 30deg; for a model with one)")
     parser.add_argument("--heading", default=None,
                         help="track angle of the model's trihedron (a strapdown body's "
                              "heading; default 0deg), for models with a heading output")
-    parser.add_argument("--height", default="0m", help="height of the base (default 0m)")
+    parser.add_argument("--height", default=None,
+                        help="height of the base (default 0m; for a model with one)")
     parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
                         help="model parameter with unit, as for 'ins-errors compare', e.g. "
                              "strapdown_ned's k_h1=0.0293/s (repeatable)")
@@ -111,6 +116,12 @@ def table(result) -> str:
              + (f"; the model has no {', '.join(missing)}, so the modes that need "
                 f"{'it' if len(missing) == 1 else 'them'} are named by kind only"
                 if missing else "")]
+    if result.latitude_source not in (None, "base"):
+        notes.append(f"the model has no latitude: the Foucault split Ω|sin φ| is taken at "
+                     f"φ = {np.degrees(refs.latitude):.4g}° ({result.latitude_source})")
+    elif refs.latitude is None and refs.Omega is not None:
+        notes.append("the model has no latitude (and no latitude parameter): no Foucault "
+                     "split is named")
     used = [name for name in FORMULAS if any(m.name == name for m in result.modes)]
     if used:
         notes.append("formulas: " + "; ".join(f"{name}: {FORMULAS[name]}" for name in used))
@@ -131,6 +142,7 @@ def table(result) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.modes import modes_at_rest
+    from ins_errors.commands.compare import given_references
     from ins_errors.model_parameters import parameters_record, parse_parameter_options
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
@@ -142,7 +154,7 @@ def run(args: argparse.Namespace) -> int:
                               "height": args.height})
     if args.heading is not None:
         refuse_unused_heading(model, profile)
-    result = modes_at_rest(model, profile, parameters)
+    result = modes_at_rest(model, profile, parameters, given=given_references(args))
     if args.json:
         emit({**result.to_dict(), "parameters": parameters_record(model, parameters)})
         return 0

@@ -13,7 +13,12 @@ apparent accelerations the ideal-work equations need:
   exactly what the model's own output equations turn back into ``cmd``;
 * the apparent accelerations (inputs named ``a_*`` that enter the ideal equations) solve
   ``f(x, u) = dX/dt`` in the least-squares sense, ``dX/dt`` being the exact (automatic)
-  time derivative of ``X`` along the flow and the commanded rates: ``a = V̇ + W − g'``;
+  time derivative of ``X`` along the flow and the commanded rates: ``a = V̇ + W − g'``.
+  They are the specific forces *the model's own* ideal work needs, on its own Earth:
+  for a tangent-plane INS (x/y in metres, no latitude output) the commanded v_N, v_E
+  are velocities in its plane and ``a_*`` hold its own Coriolis and centrifugal terms
+  (the truth is the model's ideal work; its flat Earth's error against the ellipsoid is
+  not an error source of its own);
 * the vertical apparent acceleration ``a_zeta`` (not used by the ideal horizontal
   channels) is ``dV_zeta/dt − v_E²/(R_E + h) − v_N²/(R_N + h) − 2 U cos φ v_E + γ(φ, h)``
   with the normal gravity γ(φ, h) of the model's ellipsoid
@@ -29,7 +34,7 @@ left), so ``v_N = v_ξ cos χ + v_η sin χ`` and ``v_E = v_ξ sin χ − v_η c
 
 from __future__ import annotations
 
-from collections.abc import Callable, Collection, Iterator, Sequence
+from collections.abc import Callable, Collection, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache, lru_cache
 from typing import Protocol, runtime_checkable
@@ -482,15 +487,6 @@ class _Kinematics:
     track: bool = field(default=True)
 
 
-def _require(model: Model, kind: str, names: Sequence[str]) -> list[int]:
-    known = [i.name for i in getattr(model, kind)]
-    missing = [n for n in names if n not in known]
-    if missing:
-        raise MotionError(f"model {model.name!r} has no {kind.replace('_', ' ')} "
-                          f"{', '.join(missing)}: the trajectory generators need them")
-    return [known.index(n) for n in names]
-
-
 @cache
 def _kinematics(model_name: str, frame: str) -> _Kinematics:
     from ins_errors.numeric.model import load_model
@@ -508,8 +504,17 @@ def _kinematics(model_name: str, frame: str) -> _Kinematics:
                           "the trajectory generators need the north velocity")
     # a north-channel model (no v_E) follows a static base only: checked in trajectory()
     i_ve = _velocity_index(model, EAST)
-    i_lat_out = _require(model, "outputs", ["latitude"])[0]
-    output_names = [i.name for i in model.outputs]
+    # the latitude output serves only the vertical apparent acceleration a_zeta (normal
+    # gravity, transport and Coriolis terms at the latitude); the horizontal a_* come
+    # from the model's own ideal work, whatever its Earth (a flat tangent plane too)
+    i_lat_out = None
+    if "a_zeta" in input_names:
+        if "latitude" not in output_names:
+            raise MotionError(f"model {model.name!r} has an input a_zeta but no output "
+                              "latitude: the vertical apparent acceleration is normal "
+                              "gravity at the latitude, so a motion needs the latitude "
+                              "among the outputs")
+        i_lat_out = output_names.index("latitude")
     if frame == "track" and "heading" not in output_names:
         raise MotionError(f"model {model.name!r} cannot fly a great circle, a manoeuvre "
                           "or another track-frame motion (they are steered by the heading, "
@@ -627,7 +632,8 @@ def references_used(model_key: str, frame: str) -> frozenset[str]:
     height among them) through the same input function, and the direct and linear runs
     see it only through the truth and those initial values. The test is structural, so
     an expression that cancels symbolically still counts as using the reference.
-    (``"latitude"`` is in it for every model that follows a motion.)
+    (A model without a latitude, a tangent-plane INS whose origin latitude is a
+    parameter, has no ``"latitude"`` in it.)
 
     Parameters
     ----------
@@ -656,6 +662,78 @@ def references_used(model_key: str, frame: str) -> frozenset[str]:
     symbols = dict(zip(REFERENCES, (start[0], start[1], start[2], cmd[2]), strict=True))
     return frozenset(name for name, symbol in symbols.items()
                      if ca.depends_on(reached, symbol))
+
+
+REFERENCE_WORDS = {"latitude": ("rad", ("latitude",)), "longitude": ("rad", ("longitude",)),
+                   "heading": ("rad", ("heading",)), "height": ("m", ("height", "altitude"))}
+"""Per reference value of a motion's start: the SI unit and the words of a model
+parameter's description that make it the model's own setting of that value (a
+tangent-plane INS's "latitude of the tangent-plane origin" phi0)."""
+
+
+def reference_parameter(model: Model, reference: str):
+    """The model parameter that sets ``reference`` (one of :data:`REFERENCES`) in a model
+    whose runs do not take it from the motion, or None.
+
+    A parameter counts when its unit is the reference's (``rad`` for the latitude,
+    longitude and heading, a length for the height) and its name or description names
+    the reference (:data:`REFERENCE_WORDS`).
+
+    Returns
+    -------
+    ins_errors.numeric.model.Info or None
+    """
+    from ins_errors.units import same_dimension
+
+    unit, words = REFERENCE_WORDS[reference]
+    for parameter in model.parameters:
+        text = f"{parameter.name} {parameter.description}".lower()
+        # an angle's unit as a model states it ("rad": pint holds radians dimensionless,
+        # so a dimension test would take any pure number)
+        fits = (parameter.unit == unit if unit == "rad"
+                else same_dimension(parameter.unit, unit))
+        if fits and any(word in text for word in words):
+            return parameter
+    return None
+
+
+def refuse_unused_references(model: Model, motion: Trajectory,
+                             given: Mapping[str, tuple[str, str]]) -> None:
+    """Refuse reference values given for a run that does not depend on them.
+
+    A model without a latitude (a tangent-plane INS whose origin latitude is a parameter)
+    runs the same whatever ``--latitude`` says; a value given there was meant for
+    something the run does not do, so it is refused rather than reported as used.
+
+    Parameters
+    ----------
+    model : Model
+    motion : Trajectory
+        The run's true motion, from :func:`trajectory` (its :attr:`Trajectory.references`;
+        None, unknown, refuses nothing).
+    given : mapping of str to (str, str)
+        Reference name (:data:`REFERENCES`) -> (the option or key it was given as, e.g.
+        ``"--latitude"``, and the text given, e.g. ``"10deg"``): only the values a user
+        gave explicitly, not defaults.
+
+    Raises
+    ------
+    MotionError
+        One line naming the option, that the model has no such value, and the model's
+        parameter that sets it (``-p phi0=10deg``) or that the option is to be left out.
+    """
+    used = motion.references
+    if used is None:
+        return
+    for reference, (option, text) in given.items():
+        if reference in used:
+            continue
+        parameter = reference_parameter(model, reference)
+        way = (f"its parameter {parameter.name} ({parameter.description}) sets it: "
+               f"-p {parameter.name}={text.replace(' ', '')}" if parameter is not None
+               else f"leave {option} out")
+        raise MotionError(f"{option}: model {model.name!r} has no {reference} (its runs do "
+                          f"not depend on one), so {option} {text} would be ignored; {way}")
 
 
 # --------------------------------------------------------------------------------------
@@ -748,7 +826,23 @@ class Trajectory:
         One line.
     source : MotionSource, optional
         Makes the trajectory streamed.
+
+    Attributes
+    ----------
+    references : frozenset of str or None
+        The reference values of the motion's start (:data:`REFERENCES`: latitude,
+        longitude, heading, height) the run depends on, as :func:`trajectory` found them
+        (:func:`references_used`, or the initial conditions a static base fills); None
+        when not known (arrays or a source of the caller's own, a strapdown flight).
+        :func:`refuse_unused_references` reads it.
     """
+
+    references: frozenset[str] | None = None
+
+    def depending_on(self, references: Collection[str]) -> Trajectory:
+        """This trajectory with :attr:`references` set (returns ``self``)."""
+        self.references = frozenset(references)
+        return self
 
     def __init__(self, model: str, tau: float, n_steps: int, truth: np.ndarray,
                  inputs: np.ndarray, midpoints: np.ndarray, parameters: np.ndarray,
@@ -1042,7 +1136,8 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         # a model the kinematics cannot serve (e.g. without v_N) may still rest
         return _static_from_equations(model, profile, float(tau), n_steps, p)
     # the description states only the reference values the run depends on
-    description = profile.describe(references_used(model.key, frame))
+    used = references_used(model.key, frame)
+    description = profile.describe(used)
     start = np.array([profile.latitude, profile.longitude, profile.heading])
     values0, rates0 = profile.commands(np.zeros(1))
     x0, c0 = (np.asarray(v).ravel() for v in kin.initial_state(start, values0[:, 0], p))
@@ -1053,7 +1148,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         # follows the Earth's rotation): only a state at equilibrium is held constant
         if np.abs(model.numpy.ideal_rhs(x0, u0, p)).max() <= STATIC_TOLERANCE:
             return Trajectory(model.key, float(tau), n_steps, x0[:, None], u0[:, None],
-                              u0[:, None], p, c0, True, description)
+                              u0[:, None], p, c0, True, description).depending_on(used)
     source = _truth_source(model, profile, frame, float(tau), n_steps, p, x0, truth)
     # about 74 numbers per step for the orthodromic model while it is built
     n_values = (4 * n_steps + 1) * 8 + (2 * n_steps + 1) * (2 * len(model.states)
@@ -1067,10 +1162,10 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         else:
             x_first, u_first = source.start()
         return Trajectory.streamed(model.key, tau, n_steps, source, x_first, u_first, p, c0,
-                                   description)
+                                   description).depending_on(used)
     traj = Trajectory.streamed(model.key, tau, n_steps, source, x0, u0, p, c0, description)
     traj._store()
-    return traj
+    return traj.depending_on(used)
 
 
 KINEMATIC_INPUTS = ("h", "V_zeta", "a_zeta")
@@ -1108,7 +1203,7 @@ def _static_from_equations(model: Model, profile: Profile, tau: float, n_steps: 
     x0, u0, c0, references = static_rest(model, profile.latitude, profile.longitude,
                                          profile.heading, float(values[2, 0]), p)
     return Trajectory(model.key, tau, n_steps, x0[:, None], u0[:, None], u0[:, None], p, c0,
-                      True, profile.describe(references))
+                      True, profile.describe(references)).depending_on(references)
 
 
 STATIC_TOLERANCE = 1e-12

@@ -1,0 +1,137 @@
+"""A model without latitude, longitude or height: a researcher's tangent-plane INS.
+
+``tests/models/tangent_plane_ins.py`` (a probe's own file) is a platform INS on a
+rotating flat Earth: x/y position in metres, the origin latitude ``phi0`` a parameter,
+velocity damping gains ``c_v``, ``c_i`` (0 by default) and inputs ``a_E``, ``a_N``.
+
+References (independent of the code under test): the model file's own ideal work,
+typed here from its docstring (dV_E/dt = a_E + 2 U sin φ0 V_N + U² x_E, dV_N/dt = a_N −
+2 U sin φ0 V_E + U² sin² φ0 x_N, dx/dt = V), a motion file's velocities as the cubic
+splines through its samples (scipy), degrees and half a turn.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.interpolate import CubicSpline
+
+from ins_errors.cli import main
+from ins_errors.numeric import trajectories as tr
+from ins_errors.numeric.model import load_model
+from ins_errors.numeric.motion_spec import motion_profile
+from tests.test_cli_json import strict_json
+
+ROOT = Path(__file__).resolve().parent.parent
+MODEL = str(ROOT / "tests/models/tangent_plane_ins.py")
+PHI0 = np.radians(50.0)  # the file's default origin latitude
+U = 7.292115e-5
+SCHULER_LOOP = str(ROOT / "examples/own_model/schuler_loop.py")
+
+
+@pytest.fixture(scope="module", autouse=True)
+def model():
+    """The model, derived (first use: one line on stderr) before any output is read."""
+    return load_model(MODEL)
+
+
+def _one_line_error(capsys, argv) -> str:
+    assert main(argv) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and err.startswith("ins-errors: error: ")
+    return err
+
+
+# -- 1. a latitude, longitude or height the model does not have is refused -------------
+@pytest.mark.parametrize("command", [["modes", MODEL], ["compare", MODEL, "-s",
+                                                        "gyro_drift_E=0.01deg/h",
+                                                        "--hours", "1", "--step", "10s"]])
+def test_a_latitude_for_a_model_without_one_is_refused_naming_its_parameter(capsys,
+                                                                             command):
+    err = _one_line_error(capsys, [*command, "--latitude", "10deg"])
+    assert "no latitude" in err and "-p phi0=10deg" in err
+    err = _one_line_error(capsys, [*command, "--height", "100m"])
+    assert "no height" in err and "leave --height out" in err
+
+
+def test_the_parameter_the_refusal_names_is_the_models_latitude(capsys):
+    """-p phi0=10deg, the way the refusal names, moves the model's latitude: the
+    Foucault split Ω sin φ0 of its Coriolis terms 2 U sin φ0 changes with it."""
+    split = {}
+    for phi in ("10deg", "50deg"):
+        assert main(["modes", MODEL, "-p", f"phi0={phi}", "--json"]) == 0
+        data = strict_json(capsys.readouterr().out)
+        assert data["latitude_rad"] is None and data["height_m"] is None
+        latitude = data["references"]["latitude"]
+        assert latitude["source"] == "parameter phi0"
+        assert latitude["value"] == pytest.approx(np.radians(float(phi[:2])))
+        rates = sorted(m["eigenvalue"]["imag"] for m in data["modes"]
+                       if m["eigenvalue"]["imag"] > 1e-4)
+        split[phi] = rates[-1] - rates[0]
+    assert split["10deg"] < split["50deg"]
+
+
+def test_a_model_with_a_latitude_reports_it_and_takes_the_option(capsys):
+    assert main(["modes", "north_pointing", "--latitude", "10deg", "--json"]) == 0
+    data = strict_json(capsys.readouterr().out)
+    assert data["latitude_rad"] == pytest.approx(np.radians(10.0))
+    assert data["references"]["latitude"]["source"] == "base"
+
+
+def test_a_longitude_or_height_the_schuler_loop_has_not_is_refused(capsys):
+    """The tutorial's single-axis loop depends on its latitude only."""
+    args = ["compare", SCHULER_LOOP, "-s", "accel_bias=100ug", "--hours", "1", "--step",
+            "10s"]
+    # (first: a first use derives the file, one line on stderr that is not the error's)
+    assert main([*args, "--latitude", "40deg", "--json"]) == 0
+    assert "φ=40°" in json.loads(capsys.readouterr().out)["motion"]
+    assert "no longitude" in _one_line_error(capsys, [*args, "--longitude", "-70deg"])
+    assert "no height" in _one_line_error(capsys, [*args, "--height", "3000m"])
+
+
+# -- 2. moving motions of a model without latitude -------------------------------------
+def test_a_motion_file_is_flown_on_the_models_own_flat_earth(model, tmp_path):
+    """The true state and inputs of a motion file: velocities the splines of the file,
+    positions their integrals, and a_* what the file's ideal work needs to follow them."""
+    t = np.array([0.0, 1200.0, 2400.0, 3600.0, 4800.0])
+    v_n = np.array([0.0, 50.0, 50.0, 0.0, -20.0])
+    v_e = np.array([100.0, 100.0, 120.0, 120.0, 90.0])
+    path = tmp_path / "motion.csv"
+    path.write_text("t,v_N,v_E\n" + "".join(f"{a:g},{b:g},{c:g}\n"
+                                            for a, b, c in zip(t, v_n, v_e, strict=True)))
+    profile = motion_profile({"kind": "file", "file": str(path)}, model=model)
+    motion = tr.trajectory(model, profile, 3600.0, 10.0, truth="fine")
+    assert "latitude" not in motion.references
+    times = motion.times
+    spline_n, spline_e = CubicSpline(t, v_n), CubicSpline(t, v_e)
+    names = [s.name for s in model.states]
+    x = dict(zip(names, motion.truth, strict=True))
+    np.testing.assert_allclose(x["V_N"], spline_n(times), atol=1e-9)
+    np.testing.assert_allclose(x["V_E"], spline_e(times), atol=1e-9)
+    # the file's dx/dt = V, integrated exactly from the splines (RK4 at 5 s: 1e-6 m)
+    np.testing.assert_allclose(x["x_N"], spline_n.antiderivative()(times), atol=1e-4)
+    np.testing.assert_allclose(x["x_E"], spline_e.antiderivative()(times), atol=1e-4)
+    u = dict(zip([i.name for i in model.inputs], motion.inputs, strict=True))
+    s = np.sin(PHI0)
+    a_e = spline_e(times, 1) - 2 * U * s * x["V_N"] - U**2 * x["x_E"]
+    a_n = spline_n(times, 1) + 2 * U * s * x["V_E"] - U**2 * s**2 * x["x_N"]
+    np.testing.assert_allclose(u["a_E"], a_e, atol=1e-12)
+    np.testing.assert_allclose(u["a_N"], a_n, atol=1e-12)
+
+
+def test_compare_flies_a_motion_file_and_refuses_a_great_circle_for_its_heading(
+        capsys, tmp_path):
+    path = tmp_path / "motion.csv"
+    path.write_text("t,v_N,v_E\n0,0,100\n1200,50,100\n2400,50,120\n3600,0,120\n")
+    assert main(["compare", MODEL, "--motion-file", str(path), "--hours", "1", "--step",
+                 "10s", "-s", "accel_bias_N=50ug", "--json"]) == 0
+    cases = json.loads(capsys.readouterr().out)["cases"]
+    assert cases[0]["worst_linear_ratio"] < 1e-5
+    for motion in ("great-circle", "manoeuvre"):
+        err = _one_line_error(capsys, ["compare", MODEL, "--motion", motion, "--hours",
+                                       "1", "-s", "accel_bias_N=50ug"])
+        assert "steered by the heading" in err and "motion file" in err
+        assert "latitude" not in err
