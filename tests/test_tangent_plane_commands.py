@@ -13,6 +13,7 @@ splines through its samples (scipy), degrees and half a turn.
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -135,3 +136,75 @@ def test_compare_flies_a_motion_file_and_refuses_a_great_circle_for_its_heading(
                                        "1", "-s", "accel_bias_N=50ug"])
         assert "steered by the heading" in err and "motion file" in err
         assert "latitude" not in err
+
+
+# -- 3. a source a damping gain at 0 switches off --------------------------------------
+@pytest.fixture(scope="module")
+def sweep(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("validity") / "out"
+    argv = ["validity", MODEL, "--source", "vref_bias_E", "--source", "accel_scale_E",
+            "--source", "initial_azimuth_error", "--motion", "static", "--hours", "6",
+            "--step", "10s", "--plot", "--out", str(folder), "--engine", "serial",
+            "--no-progress"]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # a matplotlib warning fails the sweep
+        status = main(argv)
+    return status, folder
+
+
+def test_a_source_behind_a_damping_gain_at_0_is_said_to_be(sweep, capsys):
+    status, folder = sweep
+    assert status == 0
+    rows = {r["source"]: r for r in
+            json.loads((folder / "results.json").read_text())["sources"]}
+    assert rows["vref_bias_E"]["status"] == "not excited"
+    note = rows["vref_bias_E"]["note"]
+    assert "damping gain" in note and "c_v" in note and "-p c_v=2e-3/s" in note
+    # a scale factor at rest: no specific force along its axis, no gain to blame
+    assert rows["accel_scale_E"]["status"] == "not excited"
+    assert "damping" not in rows["accel_scale_E"]["note"]
+    assert (folder / "vref_bias_E.png").stat().st_size > 0
+
+
+def test_the_plot_of_a_source_not_excited_draws_without_a_warning(tmp_path):
+    from ins_errors.analysis.validity import SourceValidity
+    from ins_errors.analysis.validity_plot import plot_validity
+
+    result = SourceValidity("vref_bias_E", "static", "m/s", "m/s", [0.05, 0.5, 5.0], None,
+                            status="not excited", note="not excited: a damping gain at 0")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        plot_validity([result], tmp_path / "flat.png", "title")
+    assert (tmp_path / "flat.png").stat().st_size > 0
+
+
+# -- 4. magnitudes of an angle past half a turn ----------------------------------------
+def test_an_angle_magnitude_past_half_a_turn_is_marked(sweep, capsys):
+    _, folder = sweep
+    rows = {r["source"]: r for r in
+            json.loads((folder / "results.json").read_text())["sources"]}
+    azimuth = rows["initial_azimuth_error"]
+    largest = max(azimuth["magnitudes"])
+    for key in ("magnitude_1pct", "magnitude_10pct"):
+        value = azimuth[key]
+        expected = ("past half a turn" if value > np.pi else
+                    "extrapolated" if value > largest else None)
+        assert azimuth["extrapolated"].get(key) == expected
+    assert azimuth["magnitude_10pct"] > np.pi  # this model: the fit passes 180°
+    from ins_errors.analysis.validity import SourceValidity
+    from ins_errors.commands.validity import table
+
+    result = SourceValidity(**{k: v for k, v in azimuth.items()})
+    text = table([result], None)
+    row = next(line for line in text.splitlines() if "initial_azimuth_error" in line)
+    one = np.degrees(azimuth["magnitude_1pct"])
+    assert f"{one:.3g} deg" in row and "past 180 deg" in row and "arcmin" not in row
+    assert "past half a turn" in text
+
+
+def test_compares_one_percent_magnitude_past_half_a_turn_says_so():
+    from ins_errors.numeric.compare import _shown
+
+    model = load_model("orthodromic")
+    assert _shown(model, "initial_azimuth_error", np.radians(30.0)) == "30 deg"
+    assert "past half a turn" in _shown(model, "initial_azimuth_error", np.radians(462.0))

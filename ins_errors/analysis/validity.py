@@ -139,6 +139,11 @@ class SourceValidity:
         The magnitude (SI) whose run, alone, failed with ``failure``; None when the
         failure is not one magnitude's (the true motion itself failed, or the batch
         failed otherwise than by leaving the model's domain) or nothing failed.
+    extrapolated : dict of str to str
+        ``"magnitude_1pct"`` / ``"magnitude_10pct"`` -> how that magnitude lies beyond
+        what ran: ``"extrapolated"`` (the fitted line outside the magnitudes swept) or
+        ``"past half a turn"`` (an angle source's magnitude beyond π rad, 180°, which no
+        angle error has: 200° is −160°). The magnitude itself stays the fit's, SI.
     """
 
     source: str
@@ -158,6 +163,7 @@ class SourceValidity:
     failure: str = ""
     failed_magnitudes: list[float] = field(default_factory=list)
     failed_at: float | None = None
+    extrapolated: dict[str, str] = field(default_factory=dict)
 
     @property
     def failed(self) -> bool:
@@ -363,8 +369,14 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
                        labels=[f"{task.source} = {m!r} {info.unit}" for m in magnitudes])
 
     size = typical_magnitude(model, task.source) if task.typical is None else task.typical
+
+    def explained(result: SourceValidity) -> SourceValidity:
+        if result.status == "not excited":
+            result.note = unexcited_note(model, trajectory, task.source)
+        return result
+
     try:
-        return _analyse(result, task.magnitudes, run(task.magnitudes), size)
+        return explained(_analyse(result, task.magnitudes, run(task.magnitudes), size))
     except DomainError:
         pass  # one magnitude at a time, below
     except InsErrorsError as error:
@@ -374,10 +386,74 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
         try:
             (comparison,) = run([magnitude])
         except InsErrorsError as error:
-            return _failed(result, ascending[:k], ran, ascending[k:], error, magnitude,
-                           size)
+            return explained(_failed(result, ascending[:k], ran, ascending[k:], error,
+                                     magnitude, size))
         ran.append(comparison)
-    return _analyse(result, ascending, ran, size)  # (each ran alone: nothing to report)
+    return explained(_analyse(result, ascending, ran, size))  # (each ran alone)
+
+
+def unexcited_note(model, trajectory, source: str) -> str:
+    """Why ``source`` produces no error on ``trajectory``, in one clause.
+
+    A source whose column of G (a constant source) or of the initial-error matrix (an
+    initial one) is zero at the start of the motion with the run's parameters, and not
+    zero when a damping gain at 0 (``Parameter(..., damping_gain=True)``) is set, acts
+    only through that gain: the note names it and how to set it
+    (:func:`~ins_errors.numeric.linear_system.undamped_remedy`). Otherwise the terms the
+    source enters vanish on this motion (a scale-factor error where the specific force
+    along its axis is zero).
+
+    Parameters
+    ----------
+    model : Model
+    trajectory : Trajectory
+        The motion of the sweep (its start state, inputs, initial conditions and
+        parameters).
+    source : str
+        The error source.
+
+    Returns
+    -------
+    str
+    """
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric.linear_system import undamped_gains, undamped_remedy
+
+    k = model.index("sources", source)
+    p = np.asarray(trajectory.parameters, dtype=float)
+    constant = model.sources[k].kind == "constant"
+
+    def column(values: np.ndarray) -> np.ndarray:
+        if constant:
+            matrix = model.source_matrix(trajectory.start_state, trajectory.start_inputs,
+                                         values)
+        else:
+            matrix = model.initial_error_matrix(trajectory.initial_conditions,
+                                                trajectory.start_inputs, values)
+        return np.asarray(matrix, dtype=float)[:, k]
+
+    names = [q.name for q in model.parameters]
+    gains = undamped_gains(model, p)
+
+    def excites(trial: list[str]) -> bool:
+        changed = p.copy()
+        changed[[names.index(g) for g in trial]] = 1.0  # (any value but 0)
+        return bool(np.any(column(changed)))
+
+    reasons: list[str] = []
+    try:
+        if gains and not np.any(column(p)):
+            reasons = [g for g in gains if excites([g])] or (
+                gains if len(gains) > 1 and excites(gains) else [])
+    except InsErrorsError:
+        reasons = []
+    where = "G" if constant else "the initial errors"
+    if reasons:
+        return (f"not excited: {source} enters only through damping gains, at 0 here (its "
+                f"column of {where} is zero){undamped_remedy(model, p, reasons)}")
+    return (f"not excited: no magnitude of {source} gives any error on this motion (the "
+            "terms it enters vanish here, e.g. a scale-factor error where the specific "
+            "force along its axis is zero)")
 
 
 def _failed(result: SourceValidity, magnitudes: list[float], comparisons: list,
@@ -433,7 +509,30 @@ def _analyse(result: SourceValidity, magnitudes, comparisons, size: float
     if slope > 0.2:
         result.magnitude_1pct = float(np.exp((math.log(0.01) - intercept) / slope))
         result.magnitude_10pct = float(np.exp((math.log(0.1) - intercept) / slope))
+        result.extrapolated = {
+            key: how for key, how in (
+                (key, beyond_sweep(value, result.unit, magnitudes))
+                for key, value in (("magnitude_1pct", result.magnitude_1pct),
+                                   ("magnitude_10pct", result.magnitude_10pct)))
+            if how}
     return result
+
+
+HALF_TURN = math.pi
+"""rad: no angle error is larger in size (an error of 200° is one of −160°), so a
+validity magnitude of an angle source beyond it is not a size the source can have."""
+
+
+def beyond_sweep(value: float, unit: str, magnitudes) -> str:
+    """How a fitted magnitude lies beyond the sweep: ``"past half a turn"`` for an angle
+    (SI unit ``rad``) larger than :data:`HALF_TURN`, ``"extrapolated"`` outside the
+    magnitudes that ran (SI), else ``""``."""
+    if unit == "rad" and abs(value) > HALF_TURN:
+        return "past half a turn"
+    ran = np.asarray(magnitudes, dtype=float)
+    if ran.size and not ran.min() * (1 - 1e-9) <= value <= ran.max() * (1 + 1e-9):
+        return "extrapolated"
+    return ""
 
 
 def failed_task(task: ValidityTask, error: Exception) -> SourceValidity:

@@ -19,7 +19,10 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
 
     A sweep that failed marks the magnitudes without a result with crosses along the top
     of the axes (its legend entry says from which magnitude), and its reason is written
-    in the axes.
+    in the axes; so is the note of a sweep whose source is not excited (no error at any
+    magnitude, e.g. through a damping gain at 0). The 1 % and 10 % magnitudes are
+    triangles, hollow where read off the fitted line outside the sweep, and left out
+    for an angle past half a turn (a size no angle error has).
 
     Parameters
     ----------
@@ -41,7 +44,7 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
     import matplotlib.pyplot as plt
 
     from ins_errors.figure_layout import fixed_margins
-    from ins_errors.units import parse_quantity
+    from ins_errors.units import format_readable, parse_quantity
 
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.set_xscale("log")
@@ -54,12 +57,14 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
         if r.failed:
             # crosses at the top of the axes (x in data, y in axes units)
             failed = np.array(r.failed_magnitudes) * scale
-            where = (f"from {failed[0]:.3g} {r.display_unit}" if r.magnitudes
-                     else "no magnitude ran")
+            where = (f"from {format_readable(r.failed_magnitudes[0], r.unit, r.display_unit, 3)}"
+                     if r.magnitudes else "no magnitude ran")
             ax.plot(failed, np.full(failed.size, 0.96), ls="none", marker="x", ms=8,
                     mew=1.5, color=colour, transform=ax.get_xaxis_transform(),
                     label=f"{r.motion}: failed, {where}")
             reasons.append(f"{r.motion}: {r.failure.split(';')[0]}")
+        if r.status == "not excited":
+            reasons.append(f"{r.motion}: {r.note or 'not excited'}")
         if not r.linear_ratio:
             continue
         m = np.array(r.magnitudes) * scale
@@ -70,16 +75,24 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
                   mfc="none", ms=7, label=f"{r.motion}: linear (slope {_slope(r.linear_slope)})")
         ax.loglog(m[ref > 0], ref[ref > 0], "s--", color=colour, alpha=0.6, ms=4,
                   label=f"{r.motion}: refined (slope {_slope(r.refined_slope)})")
-        for level, value in ((0.01, r.magnitude_1pct), (0.1, r.magnitude_10pct)):
-            if value is not None:
-                ax.plot([value * scale], [level], marker="v", color=colour, ms=8)
+        for level, key in ((0.01, "magnitude_1pct"), (0.1, "magnitude_10pct")):
+            value, how = getattr(r, key), r.extrapolated.get(key, "")
+            if value is not None and how != "past half a turn":
+                ax.plot([value * scale], [level], marker="v", color=colour, ms=8,
+                        mfc="none" if how else colour)
+            elif value is not None:
+                reasons.append(f"{r.motion}: {level:.0%} only past half a turn, at "
+                               f"{format_readable(value, r.unit, r.display_unit, 3)} on the "
+                               "fitted line (no angle error is that large)")
     if not any(r.linear_ratio for r in results):
         ax.set_ylim(1e-3, 1.0)  # (no residual to show: the 1 % and 10 % lines only)
     if reasons:
         import textwrap
 
+        failing = any(r.failed for r in results)
         ax.text(0.02, 0.04, "\n".join(textwrap.fill(t, 80) for t in reasons),
-                transform=ax.transAxes, fontsize=6, va="bottom", color="tab:red",
+                transform=ax.transAxes, fontsize=6, va="bottom",
+                color="tab:red" if failing else "black",
                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8})
     for level in (0.01, 0.1):
         ax.axhline(level, color="grey", lw=0.8, ls=":")
@@ -89,10 +102,12 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
     ax.set_xlabel(f"magnitude [{unit}]")
     if not quantity:
         quantity = ("no magnitude ran" if results and all(r.status == "failed" for r in results)
-                    else "no error")
+                    else "not excited: no error" if any(r.status == "not excited"
+                                                        for r in results) else "no error")
     ax.set_ylabel(f"|model − direct| / max |direct|  ({quantity})", fontsize=8)
     ax.grid(True, which="both", alpha=0.25)
-    ax.legend(fontsize=7, loc="best")
+    if ax.get_legend_handles_labels()[0]:  # (nothing drawn: no legend, no warning)
+        ax.legend(fontsize=7, loc="best")
     ax.set_title(title, fontsize=9)
     # fixed margins fit the powers of ten and the labels (tight_layout measured every
     # tick label first: about one more drawing of the figure)

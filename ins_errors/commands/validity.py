@@ -80,12 +80,36 @@ def _fmt(value, digits: str = ".3g") -> str:
     return "–" if value is None else format(value, digits)
 
 
+EXTRAPOLATED_MARK = "†"
+"""Marks a 1 % or 10 % magnitude read off the fitted line outside the magnitudes swept."""
+
+HALF_TURN_TEXT = "past 180 deg"
+"""The cell of an angle source's 1 % or 10 % magnitude past half a turn."""
+
+
+def magnitude_cell(r, key: str) -> str:
+    """The 1 % (``key`` ``"magnitude_1pct"``) or 10 % magnitude of the sweep ``r`` for
+    the table: readable (an angle in arcsec, arcmin or deg by its size,
+    :func:`~ins_errors.units.format_readable`), marked when extrapolated, and
+    :data:`HALF_TURN_TEXT` for an angle past half a turn (the fit's value is in a note)."""
+    from ins_errors.units import format_readable
+
+    value = getattr(r, key)
+    if value is None:
+        return "–"
+    how = r.extrapolated.get(key, "")
+    if how == "past half a turn":
+        return f"{HALF_TURN_TEXT}{EXTRAPOLATED_MARK}"
+    text = format_readable(value, r.unit, r.display_unit, 3)
+    return text + (EXTRAPOLATED_MARK if how else "")
+
+
 def table(results, model) -> str:
     """Markdown table of a validity map."""
-    from ins_errors.units import format_quantity
+    from ins_errors.units import format_readable
 
     def shown(r, value):
-        return "–" if value is None else format_quantity(value, r.unit, r.display_unit, 3)
+        return "–" if value is None else format_readable(value, r.unit, r.display_unit, 3)
 
     lines = ["| source | motion | quantity | linear slope | refined slope | 1 % at "
              "| 10 % at | status |", "|---|---|---|---:|---:|---:|---:|---|"]
@@ -97,10 +121,26 @@ def table(results, model) -> str:
             status += "¹"
         lines.append(f"| `{r.source}` | {r.motion} | {r.quantity or '–'} | "
                      f"{_fmt(r.linear_slope)} | {_fmt(r.refined_slope)} | "
-                     f"{shown(r, r.magnitude_1pct)} | {shown(r, r.magnitude_10pct)} | "
-                     f"{status} |")
+                     f"{magnitude_cell(r, 'magnitude_1pct')} | "
+                     f"{magnitude_cell(r, 'magnitude_10pct')} | {status} |")
     notes = [f"* `{r.source}` ({r.motion}): {r.note}" for r in results
-             if r.status == "not seen by the linear model"]
+             if r.status in ("not seen by the linear model", "not excited") and r.note]
+    marked = [r for r in results if r.extrapolated]
+    if marked:
+        notes += ["", f"{EXTRAPOLATED_MARK} extrapolated: read off the fitted line outside "
+                  "the magnitudes swept (the run at the largest is the last measured)"]
+        for r in marked:
+            for key, how in r.extrapolated.items():
+                if how != "past half a turn":
+                    continue
+                level = "1 %" if key == "magnitude_1pct" else "10 %"
+                value = getattr(r, key)
+                notes.append(
+                    f"* `{r.source}` ({r.motion}): the line reaches {level} only at "
+                    f"{format_readable(value, r.unit, r.display_unit, 3)} "
+                    f"({value:.3g} rad), past half a turn, a size no angle error has "
+                    f"(an error of 200° is one of −160°); up to "
+                    f"{shown(r, max(r.magnitudes))}, the largest swept, it stays below")
     failed = [f"* `{r.source}` ({r.motion}): {failure_text(r)}" for r in results if r.failed]
     if failed:
         notes += ["", "¹ failed sweeps (the slopes and magnitudes are those of the "
@@ -112,14 +152,14 @@ def table(results, model) -> str:
 def failure_text(r) -> str:
     """What failed in the sweep ``r`` and why, in one line: which magnitudes ran, the
     one whose run failed, the reason."""
-    from ins_errors.units import format_quantity
+    from ins_errors.units import format_readable
 
     total = len(r.magnitudes) + len(r.failed_magnitudes)
     ran = (f"{len(r.magnitudes)} of {total} magnitudes ran (up to "
-           f"{format_quantity(r.magnitudes[-1], r.unit, r.display_unit, 3)})"
+           f"{format_readable(r.magnitudes[-1], r.unit, r.display_unit, 3)})"
            if r.magnitudes else f"none of its {total} magnitudes ran")
     at = ("" if r.failed_at is None else
-          f"; the run at {format_quantity(r.failed_at, r.unit, r.display_unit, 3)} failed")
+          f"; the run at {format_readable(r.failed_at, r.unit, r.display_unit, 3)} failed")
     return f"{ran}{at}: {r.failure}"
 
 

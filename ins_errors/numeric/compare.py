@@ -800,10 +800,15 @@ def _ratios_at(sim: Simulation, columns: list[int], factors: list[float],
 
 
 def _shown(model: Model, name: str, value: float) -> str:
+    """A source's magnitude for a warning, readable; an angle past half a turn (π rad,
+    a size no angle error has: 200° is −160°) says so."""
     from ins_errors.units import format_readable
 
     info = model.sources[model.index("sources", name)]
-    return format_readable(value, info.unit, info.display_unit or info.unit, digits=3)
+    text = format_readable(value, info.unit, info.display_unit or info.unit, digits=3)
+    if info.unit == "rad" and abs(value) > math.pi:
+        text += " (past half a turn: no angle error is that large)"
+    return text
 
 
 def _fmt(value: float | None) -> str:
