@@ -122,12 +122,14 @@ def _used(model: Model, scenario) -> dict[str, dict[str, object]]:
 
 
 def _parameters_text(model: Model, scenario) -> str:
-    """Every parameter's value in the run (SI), the ones the scenario set marked."""
+    """Every parameter's value in the run (SI; an angle in degrees), the ones the scenario
+    set marked."""
+    from ins_errors.commands.models import parameter_text
+
     shown = []
     for name, entry in _used(model, scenario).items():
-        unit = "" if entry["unit"] == "1" else f" {entry['unit']}"
         mark = " (set)" if name in scenario.parameters else ""
-        shown.append(f"`{name}` = {entry['value']:.10g}{unit}{mark}")
+        shown.append(f"`{name}` = {parameter_text(entry['value'], entry['unit'])}{mark}")
     given = "the Earth model and model defaults" if scenario.ellipsoid else "model defaults"
     return ", ".join(shown) + (f" (the others: {given})" if scenario.parameters
                                else f" ({given})")

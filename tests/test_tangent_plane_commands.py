@@ -208,3 +208,25 @@ def test_compares_one_percent_magnitude_past_half_a_turn_says_so():
     model = load_model("orthodromic")
     assert _shown(model, "initial_azimuth_error", np.radians(30.0)) == "30 deg"
     assert "past half a turn" in _shown(model, "initial_azimuth_error", np.radians(462.0))
+
+
+# -- 5. angle parameters in degrees ----------------------------------------------------
+def test_models_and_report_show_an_angle_parameter_in_degrees(capsys, tmp_path):
+    assert main(["models", MODEL]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if x.strip().startswith("phi0"))
+    assert line.endswith("(default 50 deg)")
+    assert main(["models", MODEL, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    phi0 = next(p for p in data["parameters"] if p["name"] == "phi0")
+    assert phi0["default"] == PHI0 and phi0["unit"] == "rad"  # JSON stays SI
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(f'title = "tangent"\nmodel = {json.dumps(MODEL)}\n'
+                        '[motion]\nkind = "static"\n[parameters]\nphi0 = "45.5 deg"\n'
+                        '[run]\nduration = "1 h"\nstep = "10 s"\n'
+                        '[[case]]\naccel_bias_N = "50 ug"\n', encoding="utf-8")
+    assert main(["run", str(scenario), "--out", str(tmp_path / "out")]) == 0
+    capsys.readouterr()
+    report = (tmp_path / "out" / "report.md").read_text()
+    assert "`phi0` = 45.5 deg (set)" in report and "0.79" not in report
+    results = json.loads((tmp_path / "out" / "results.json").read_text())
+    assert results["parameters_used"]["phi0"]["value"] == pytest.approx(np.radians(45.5))

@@ -22,10 +22,26 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def default_text(value: float, unit: str) -> str:
     """A parameter's default as the listing shows it: ``6378137 m``, ``0.00335281``
-    (every digit a float needs to come back unchanged; no unit for ``"1"``)."""
+    (every digit a float needs to come back unchanged; no unit for ``"1"``); an angle
+    (SI unit ``rad``) in degrees, as people set it: ``50 deg``
+    (:func:`parameter_text`)."""
+    if unit == "rad":
+        return parameter_text(value, unit)
     number = repr(float(value))
     if number.endswith(".0"):
         number = number[:-2]
+    return number if unit == "1" else f"{number} {unit}"
+
+
+def parameter_text(value: float, unit: str, digits: int = 10) -> str:
+    """A parameter's value (SI) for people: ``digits`` significant digits and its unit
+    (none for ``"1"``), an angle (``rad``) in degrees: ``0.8726646259971648 rad`` reads
+    ``50 deg``, as ``-p phi0=50deg`` sets it (JSON keeps SI)."""
+    import math
+
+    if unit == "rad":
+        return f"{math.degrees(float(value)):.{digits}g} deg"
+    number = f"{float(value):.{digits}g}"
     return number if unit == "1" else f"{number} {unit}"
 
 
