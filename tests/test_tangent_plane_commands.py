@@ -58,6 +58,20 @@ def test_a_latitude_for_a_model_without_one_is_refused_naming_its_parameter(caps
     assert "no height" in err and "leave --height out" in err
 
 
+def test_a_scenarios_latitude_for_a_model_without_one_is_refused(capsys, tmp_path):
+    """A scenario file's [motion] latitude is refused as --latitude is, the way out
+    written as the file sets a parameter; without it the same file runs."""
+    text = (f'title = "tangent plane"\nmodel = "{MODEL}"\n[motion]\nkind = "static"\n'
+            'latitude = "10 deg"\n[run]\nduration = "10 min"\nstep = "10 s"\n'
+            '[[case]]\ngyro_drift_E = "0.01 deg/h"\n')
+    path = tmp_path / "tangent.toml"
+    path.write_text(text)
+    err = _one_line_error(capsys, ["run", str(path), "--out", str(tmp_path / "out")])
+    assert "[motion] latitude" in err and 'phi0 = "10 deg"' in err
+    path.write_text(text.replace('latitude = "10 deg"\n', ""))
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
+
+
 def test_the_parameter_the_refusal_names_is_the_models_latitude(capsys):
     """-p phi0=10deg, the way the refusal names, moves the model's latitude: the
     Foucault split Ω sin φ0 of its Coriolis terms 2 U sin φ0 changes with it."""

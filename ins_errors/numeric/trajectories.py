@@ -698,7 +698,8 @@ def reference_parameter(model: Model, reference: str):
 
 
 def refuse_unused_references(model: Model, motion: Trajectory,
-                             given: Mapping[str, tuple[str, str]]) -> None:
+                             given: Mapping[str, tuple[str, str]],
+                             setting: str = "-p {name}={value}") -> None:
     """Refuse reference values given for a run that does not depend on them.
 
     A model without a latitude (a tangent-plane INS whose origin latitude is a parameter)
@@ -715,6 +716,9 @@ def refuse_unused_references(model: Model, motion: Trajectory,
         Reference name (:data:`REFERENCES`) -> (the option or key it was given as, e.g.
         ``"--latitude"``, and the text given, e.g. ``"10deg"``): only the values a user
         gave explicitly, not defaults.
+    setting : str
+        How the way out sets a parameter, with ``{name}`` and ``{value}``: an option by
+        default, ``'[parameters] {name} = "{value}"'`` for a scenario file.
 
     Raises
     ------
@@ -729,8 +733,9 @@ def refuse_unused_references(model: Model, motion: Trajectory,
         if reference in used:
             continue
         parameter = reference_parameter(model, reference)
+        value = text.replace(" ", "") if setting.startswith("-p") else text
         way = (f"its parameter {parameter.name} ({parameter.description}) sets it: "
-               f"-p {parameter.name}={text.replace(' ', '')}" if parameter is not None
+               + setting.format(name=parameter.name, value=value) if parameter is not None
                else f"leave {option} out")
         raise MotionError(f"{option}: model {model.name!r} has no {reference} (its runs do "
                           f"not depend on one), so {option} {text} would be ignored; {way}")
