@@ -276,6 +276,11 @@ def test_the_header_states_only_the_references_the_run_depends_on(capsys, tmp_pa
                         '[motion]\nkind = "static"\nlatitude = "40 deg"\nlongitude = "10 deg"\n'
                         'height = "500 m"\n[run]\nduration = "1 h"\nstep = "10 s"\n'
                         '[[case]]\naccel_bias = "100 ug"\n', encoding="utf-8")
+    # a longitude or height the model has not is refused in the file as on the command line
+    assert main(["run", str(scenario), "--out", str(tmp_path / "out")]) == 2
+    assert "[motion] longitude: model 'schuler_loop' has no longitude" in capsys.readouterr().err
+    scenario.write_text(scenario.read_text(encoding="utf-8").replace(
+        'longitude = "10 deg"\nheight = "500 m"\n', ""), encoding="utf-8")
     assert main(["run", str(scenario), "--out", str(tmp_path / "out")]) == 0
     capsys.readouterr()
     report = (tmp_path / "out" / "report.md").read_text(encoding="utf-8")

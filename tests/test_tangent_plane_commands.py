@@ -180,6 +180,23 @@ def test_a_source_behind_a_damping_gain_at_0_is_said_to_be(sweep, capsys):
     assert (folder / "vref_bias_E.png").stat().st_size > 0
 
 
+def test_compare_says_why_a_case_gives_no_error(capsys):
+    """A case whose sources excite nothing gets a warning with each source's reason (a
+    damping gain at 0; a scale factor at rest) instead of a bare table of 'no'; a case
+    that excites something gets none."""
+    assert main(["compare", MODEL, "-s", "vref_bias_E=1m/s", "--hours", "0.1",
+                 "--json"]) == 0
+    [case] = strict_json(capsys.readouterr().out)["cases"]
+    assert not any(m["excited"] for m in case["metrics"])
+    assert any("enters only through damping gains" in w and "c_v" in w
+               for w in case["warnings"])
+    assert main(["compare", "orthodromic", "-s", "accel_scale_error_x=100ppm", "-s",
+                 "gyro_drift_x=0.01deg/h", "--separately", "--hours", "0.1", "--json"]) == 0
+    scale, drift = strict_json(capsys.readouterr().out)["cases"]
+    assert any("accel_scale_error_x gives any error" in w for w in scale["warnings"])
+    assert not any("not excited" in w for w in drift["warnings"])
+
+
 def test_the_plot_of_a_source_not_excited_draws_without_a_warning(tmp_path):
     from ins_errors.analysis.validity import SourceValidity
     from ins_errors.analysis.validity_plot import plot_validity

@@ -311,7 +311,24 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
         with stage("validity: the runs again at other magnitudes", enabled=progress):
             add_validity_warnings(comparisons, sim, validity_threshold, jit=jit)
     add_growth_warnings(comparisons, sim)
+    add_unexcited_warnings(comparisons, sim, trajectory)
     return comparisons
+
+
+def add_unexcited_warnings(comparisons: Sequence[Comparison], sim: Simulation,
+                           trajectory: Trajectory) -> None:
+    """Say why a case gives no error at all: each of its sources' reason
+    (:func:`~ins_errors.analysis.validity.unexcited_note`: a damping gain at 0 that the
+    source enters through, or terms that vanish on this motion), instead of a table of
+    "no" with no word on it."""
+    from ins_errors.analysis.validity import unexcited_note
+
+    names = [s.name for s in sim.model.sources]
+    for b, comparison in enumerate(comparisons):
+        if comparison.excited or not comparison.metrics:
+            continue
+        for k in np.flatnonzero(sim.sources[:, b]):
+            comparison.warnings.append(unexcited_note(sim.model, trajectory, names[k]))
 
 
 def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> None:
