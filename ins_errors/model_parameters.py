@@ -64,16 +64,26 @@ def parse_parameters(model, values: Mapping[str, object], where: str = "",
             value = parse_quantity(text, info.unit, name, numbers_are_si=numbers_are_si)
         except InsErrorsError as error:
             raise type(error)(f"{prefix}{error}") from None
-        gain = NON_NEGATIVE.get(name) or (
-            "damping gain" if getattr(info, "damping_gain", False) else None)
-        if gain is not None and value < 0:
-            raise InsErrorsError(f"{prefix}{name} = {text!r}: a {gain} must be "
-                                 f"zero (undamped) or positive, in {info.unit}")
-        earth = _earth_problem(model, name, value)
-        if earth is not None:
-            raise InsErrorsError(f"{prefix}{name} = {text!r}: {earth}")
+        problem = parameter_problem(model, info, value)
+        if problem is not None:
+            raise InsErrorsError(f"{prefix}{name} = {text!r}: {problem}")
         out[name] = value
     return out
+
+
+def parameter_problem(model, info, value: float) -> str | None:
+    """Why ``value`` (SI) cannot be parameter ``info`` of ``model``, or None: a negative
+    gain (:data:`NON_NEGATIVE`, or a parameter the model flags as a damping gain), an
+    Earth radius that is not positive, an eccentricity squared outside [0, 1).
+
+    The one rule for values read from text (:func:`parse_parameters`) and for values
+    given in SI (:meth:`~ins_errors.numeric.model.Model.parameter_vector`).
+    """
+    gain = NON_NEGATIVE.get(info.name) or (
+        "damping gain" if getattr(info, "damping_gain", False) else None)
+    if gain is not None and value < 0:
+        return f"a {gain} must be zero (undamped) or positive, in {info.unit}"
+    return _earth_problem(model, info.name, value)
 
 
 def _earth_problem(model, name: str, value: float) -> str | None:

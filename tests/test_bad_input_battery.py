@@ -618,6 +618,11 @@ API_CASES = {
     "source_vector-unknown": lambda: _orthodromic().source_vector(gyro_drift_q=1.0),
     "source_vector-nan": lambda: _orthodromic().source_vector(gyro_drift_x=np.nan),
     "parameter_vector-ellipsoid": lambda: _orthodromic().parameter_vector(ellipsoid="wgs-84"),
+    # values in SI get the rule values read from text get (parse_parameters)
+    "parameter_vector-negative-e2": lambda: ins_errors.load_model(
+        "strapdown_ned").parameter_vector(e2=-0.1),
+    "parameter_vector-negative-gain": lambda: ins_errors.load_model(
+        "strapdown_ned").parameter_vector(k_h1=-0.01),
     "state_matrix-shape": lambda: _orthodromic().state_matrix(_state(_orthodromic())[0][:5],
                                                               _state(_orthodromic())[1]),
     "initial_state-pole": lambda: _orthodromic().initial_state(
@@ -765,6 +770,10 @@ NAMED_API = {
     "strapdown-longitude-beyond-a-turn": "flight longitude 57295.8° is outside [-360°, 360°]",
     "motion-speed-at-rest": "motion speed applies to kind great-circle or manoeuvre",
     "parameter_vector-zero-gravity": "gamma_e must be positive",
+    "parameter_vector-negative-e2": "e2 = -0.1: the Earth's eccentricity squared must be at "
+                                    "least 0",
+    "parameter_vector-negative-gain": "k_h1 = -0.01: a vertical damping gain must be zero "
+                                      "(undamped) or positive",
 }
 """API cases whose one line must say this."""
 

@@ -275,8 +275,11 @@ class Model:
         ------
         InsErrorsError
             For an unknown ellipsoid or parameter, a model without Earth-shape parameters,
-            a non-finite value, or a value outside the model's own parameter domain (e.g.
-            an eccentricity squared of 1 or more; the same check and message as a run's).
+            a non-finite value, a value given that no model could take (a negative
+            damping gain, an Earth radius that is not positive, an eccentricity squared
+            outside [0, 1): :func:`~ins_errors.model_parameters.parameter_problem`, as
+            for values read from text), or a value outside the model's own parameter
+            domain (the same check and message as a run's).
         """
         from ins_errors.models.earth import ellipsoid as lookup
 
@@ -291,12 +294,20 @@ class Model:
             else:
                 raise InsErrorsError(f"model {self.name!r} has no Earth-shape parameters to "
                                      f"set from ellipsoid {ellipsoid!r}")
+        from ins_errors.model_parameters import parameter_problem
+
+        problems = []
         for key, value in overrides.items():
-            values[key] = self._number(value, self.parameters[self.index("parameters", key)],
-                                       "parameter_vector")
+            info = self.parameters[self.index("parameters", key)]
+            values[key] = self._number(value, info, "parameter_vector")
+            problem = parameter_problem(self, info, values[key])
+            if problem is not None:
+                problems.append(f"parameter_vector: {key} = {values[key]:g}: {problem}")
         p = np.array([values[i.name] for i in self.parameters])
         self._check_finite(p, "parameters")
-        self._parameter_domain(p, f"parameters of {self.name}")
+        self._parameter_domain(p, f"parameters of {self.name}")  # the model's own words first
+        if problems:
+            raise InsErrorsError(problems[0])
         return p
 
     def source_vector(self, **magnitudes: float) -> np.ndarray:
