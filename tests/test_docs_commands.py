@@ -15,6 +15,9 @@ How each kind of line runs, after the set-up the README describes (``make test``
   (:func:`ins_errors.cli.main`) in a fresh scratch folder holding a link to examples/,
   without a pre-made ``out/`` (commands create the folders they write into).
   ``ins-errors cache ...`` runs against a scratch compile cache, never the user's.
+  A command that reads what an earlier line of its block wrote (a word equal to that
+  line's ``--store`` or ``--out`` path, e.g. the shard stores a merge joins) runs after
+  that line, in the same scratch folder; the earlier line then runs only there.
   The report folder of an ``ins-errors run examples/NAME.toml --out DIR`` line is handed
   to tests/test_scenarios.py (fixture ``example_reports``), which checks its contents
   instead of running the example a second time.
@@ -67,13 +70,39 @@ def _blocks() -> list[tuple[str, list[tuple[str, int]]]]:
     return found
 
 
+WRITES = ("--store", "--out")
+"""Options whose value is a path the command writes."""
+
+
+def _written(words: list[str]) -> set[str]:
+    return {words[k + 1] for k, word in enumerate(words[:-1]) if word in WRITES}
+
+
+def _chains(lines: list[tuple[str, int]]) -> list[tuple[tuple[str, int], ...]]:
+    """The commands of a block, each with the earlier lines it reads from in front (in
+    block order); a line another one reads from is not listed on its own."""
+    words = [shlex.split(command) for command, _ in lines]
+    needs: list[list[int]] = []
+    for k, own in enumerate(words):
+        reads = set(own) - _written(own)
+        direct = [j for j in range(k) if _written(words[j]) & reads]
+        closure = set(direct)
+        for j in direct:
+            closure.update(needs[j])
+        needs.append(sorted(closure))
+    used = {j for need in needs for j in need}
+    return [tuple(lines[j] for j in [*need, k]) for k, need in enumerate(needs)
+            if k not in used]
+
+
 BLOCKS = _blocks()
-# one run per distinct command: the same words spaced differently (a README line
-# continued with a backslash) are the same command
-INS_ERRORS = sorted({(tuple(shlex.split(command)), status): (command, status)
-                     for _, lines in BLOCKS for command, status in lines
-                     if command.split()[0] == "ins-errors"
-                     and all(c.split()[0] in ("ins-errors", "make") for c, _ in lines)
+# one run per distinct command (with the lines it reads from): the same words spaced
+# differently (a README line continued with a backslash) are the same command
+INS_ERRORS = sorted({tuple((tuple(shlex.split(c)), s) for c, s in chain): chain
+                     for _, lines in BLOCKS
+                     if all(c.split()[0] in ("ins-errors", "make") for c, _ in lines)
+                     for chain in _chains([line for line in lines
+                                           if line[0].split()[0] == "ins-errors"])
                      }.values())
 MAKE = sorted({command for _, lines in BLOCKS for command, _ in lines
                if command.split()[0] == "make"})
@@ -83,6 +112,8 @@ SHELL = [(page, lines) for page, lines in BLOCKS
 
 def test_the_pages_have_commands():
     assert len(INS_ERRORS) >= 20
+    merges = [chain for chain in INS_ERRORS if "--merge" in chain[-1][0]]
+    assert merges and all(len(chain) > 1 for chain in merges)  # after the shards
     assert "make derive" in MAKE and "make test" in MAKE
     assert SHELL, "the README says how to put ins-errors on the PATH"
 
@@ -94,10 +125,15 @@ def test_make_targets_exist(command):
         assert re.search(rf"^{re.escape(target)}:", makefile, re.M), target
 
 
-@pytest.mark.parametrize("command, status", INS_ERRORS, ids=[c[:60] for c, _ in INS_ERRORS])
-def test_documented_command(command, status, tmp_path, monkeypatch, capsys, example_reports):
+@pytest.mark.parametrize("chain", INS_ERRORS, ids=[c[-1][0][:60] for c in INS_ERRORS])
+def test_documented_command(chain, tmp_path, monkeypatch, capsys, example_reports):
     os.symlink(ROOT / "examples", tmp_path / "examples")
     monkeypatch.chdir(tmp_path)
+    for command, status in chain:
+        _run_documented(command, status, tmp_path, monkeypatch, capsys, example_reports)
+
+
+def _run_documented(command, status, tmp_path, monkeypatch, capsys, example_reports):
     argv = shlex.split(command)[1:]
     if argv[:1] == ["cache"]:
         monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))
@@ -106,7 +142,7 @@ def test_documented_command(command, status, tmp_path, monkeypatch, capsys, exam
     except SystemExit as stop:  # --help, --version
         result = stop.code
     captured = capsys.readouterr()
-    assert result == status, captured.err
+    assert result == status, f"{command}: {captured.err}"
     if status == 2:  # bad input: one line on standard error, nothing else
         assert captured.err.startswith("ins-errors: error: ") and captured.err.count("\n") == 1
         assert not captured.out

@@ -223,11 +223,14 @@ def test_a_point_over_the_pole_is_stored_as_failed_and_the_others_run(tmp_path, 
     assert main(["sweep", str(bad), "--engine", engine, "--workers", "2", "--store",
                  str(store), "--no-progress"]) == 2
     out, err = capsys.readouterr()
-    assert err.splitlines()[0] == ("ins-errors: 1 of 4 points failed (stored without "
-                                   "results; --retry-failed runs them again):")
-    assert err.splitlines()[1].startswith("  point 1 (latitude = 89.5 deg): the true "
-                                          "motion leaves the model's domain at t = ")
-    assert len(err.splitlines()) == 2
+    lines = err.splitlines()
+    assert lines[0] == ("ins-errors: sweep 'bias tilt', 4 points, 4 to compute, 0 already "
+                        f"in {store}")
+    assert lines[1] == ("ins-errors: 1 of 4 points failed (stored without "
+                        "results; --retry-failed runs them again):")
+    assert lines[2].startswith("  point 1 (latitude = 89.5 deg): the true "
+                               "motion leaves the model's domain at t = ")
+    assert len(lines) == 3
     assert "4 points, 4 computed" in out and "failed" in out   # the table's row says so
     reference = sw.run_sweep(load_scenario(good), tmp_path / "good.zarr",
                              engine="serial").dataset

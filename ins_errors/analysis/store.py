@@ -17,7 +17,11 @@ attributes)::
                                 every swept parameter per point (with its unit), case, draw
     attributes                  title, model, settings, the swept names, and
                                 ``parameters``: the model parameters the scenario set
-                                (JSON text, name -> SI value and unit; ``{}``: none)
+                                (JSON text, name -> SI value and unit; ``{}``: none);
+                                ``judged_quantities``: the ``[outputs] quantities``
+                                the worst ratios judge (JSON list, ``null``: all);
+                                ``settings`` (JSON, readable name -> text); of a
+                                shard store ``shard`` (``"I/N"``)
 
 Each point is its own chunk, written by the calling process only (one writer), data
 first and ``done`` last: a point whose write was interrupted is not marked done and runs
@@ -34,15 +38,31 @@ netCDF library is installed) once every point is done: NetCDF suits sweeps whose
 fit in memory, Zarr any size. When points failed, the partial Zarr folder is kept beside
 the NetCDF file, so that they can be run again (``--retry-failed``) and the file
 rewritten.
+
+One process writes a store at a time: :func:`store_lock` holds an exclusive lock on a
+file beside it (``<store>.lock``, removed at the end) while a sweep fills it, so that a
+second process started on the same store stops with a one-line error instead of
+writing into it too. A store is created under that lock in a scratch folder
+(``<store>.creating``) renamed into place once whole, so that a process that dies while
+creating it leaves no half-made store.
+
+A *shard* store (``ins-errors sweep --shard I/N``) has the layout of the whole sweep
+but fills only the points of its share; its attribute ``shard`` says which
+(``"I/N"``). The attribute ``settings`` records the sweep's settings as text, so that
+a store of another sweep is refused with the settings that differ.
 """
 
 from __future__ import annotations
 
 import asyncio
 import json
+import os
 import shutil
-from collections.abc import Coroutine, Mapping, Sequence
+import socket
+import warnings
+from collections.abc import Coroutine, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -108,9 +128,13 @@ class Layout:
     curves : tuple of str
         ``("direct", "linear")`` or with ``"refined"``.
     attributes : dict
-        Dataset attributes (title, model, settings as JSON text...).
+        Dataset attributes (title, model, ``settings``: the sweep's settings as a dict
+        of readable name to text, compared to say which differs...).
     fingerprint : str
         Identity of the sweep; a store with another fingerprint is refused.
+    shard : tuple of (int, int) or None
+        ``(I, N)``: the store holds shard I of N (the points ``I - 1, I - 1 + N, ...``);
+        None: every point.
     """
 
     points: int
@@ -123,6 +147,20 @@ class Layout:
     curves: tuple[str, ...]
     attributes: Mapping[str, object]
     fingerprint: str
+    shard: tuple[int, int] | None = None
+
+    @property
+    def share(self) -> np.ndarray:
+        """Indices of the points this store fills, in order, shape (n,)."""
+        if self.shard is None:
+            return np.arange(self.points)
+        index, count = self.shard
+        return np.arange(index - 1, self.points, count)
+
+    @property
+    def shard_text(self) -> str:
+        """``"I/N"``, or empty text for a store of every point."""
+        return "" if self.shard is None else f"{self.shard[0]}/{self.shard[1]}"
 
 
 class SweepStore:
@@ -142,7 +180,8 @@ class SweepStore:
                                    else [""] * layout.points)
         self._written = False
         _, zarr = _libraries()
-        group = None if done.all() and not work.exists() else zarr.open_group(
+        complete = bool(done[layout.share].all())
+        group = None if complete and not work.exists() else zarr.open_group(
             str(work), mode="r+", zarr_format=2)
         # opened once (the consolidated metadata lists them): a point's write then only
         # stores chunks instead of reading each array's metadata again
@@ -157,36 +196,28 @@ class SweepStore:
     def open(cls, path: str | Path, layout: Layout) -> SweepStore:
         """Create the store, or reopen it and find the points already done.
 
+        The caller holds :func:`store_lock` of ``path`` (one writer at a time).
+
         Raises
         ------
         StoreError
-            If the path holds a store of another sweep, or something that is not a store,
-            or its name ends in neither ``.zarr`` nor ``.nc``.
+            If the path holds a store of another sweep (naming the settings that differ)
+            or of another share of it, or something that is not a store, or its name
+            ends in neither ``.zarr`` nor ``.nc``.
         """
         path = store_path(path)
-        xr, _ = _libraries()
         netcdf = path.suffix == ".nc"
         work = path.with_name(path.name + ".partial.zarr") if netcdf else path
         if netcdf and path.exists():
-            try:
-                existing = xr.open_dataset(path)
-            except Exception as error:  # any unreadable file (xarray raises several types)
-                raise StoreError(f"{str(path)!r} exists and is not a readable NetCDF sweep "
-                                 f"store ({type(error).__name__}); remove it or choose "
-                                 "another store") from None
+            existing = read_store(path)
             with existing:
                 _check_fingerprint(existing.attrs, layout, path)
+                done = np.asarray(existing["done"].values, dtype=bool)
                 failure = failure_reasons(existing)
             if not work.exists():  # kept only when points failed (to run them again)
-                return cls(path, work, layout, np.ones(layout.points, dtype=bool), failure)
+                return cls(path, work, layout, done, failure)
         if work.exists():
-            try:
-                existing = xr.open_zarr(str(work), chunks=None, consolidated=False,
-                                       mask_and_scale=False)
-            except Exception as error:  # any unreadable folder
-                raise StoreError(f"{str(work)!r} exists and is not a readable sweep store "
-                                 f"({type(error).__name__}); remove it or choose another "
-                                 "store") from None
+            existing = read_store(work)
             _check_fingerprint(existing.attrs, layout, work)
             done = np.asarray(existing["done"].values, dtype=bool)
             failure = failure_reasons(existing)
@@ -245,7 +276,8 @@ class SweepStore:
 
     @property
     def complete(self) -> bool:
-        return bool(self.done.all())
+        """Whether every point of the store's share is done."""
+        return bool(self.done[self.layout.share].all())
 
     def dataset(self):
         """The store as an :class:`xarray.Dataset`.
@@ -328,11 +360,196 @@ def _add_failure(work: Path) -> None:
     zarr.consolidate_metadata(str(work), zarr_format=2)
 
 
-def _check_fingerprint(attributes: Mapping, layout: Layout, where: Path) -> None:
+def read_store(path: Path):
+    """Open a store (a Zarr folder lazily, a NetCDF file loaded) for reading.
+
+    Raises
+    ------
+    StoreError
+        ``path`` is not a readable store (one line naming it).
+    """
+    xr, _ = _libraries()
+    netcdf = path.suffix == ".nc" and not path.is_dir()
+    try:
+        with warnings.catch_warnings():  # a folder that is no store: said below, once
+            warnings.simplefilter("ignore")
+            if netcdf:
+                with xr.open_dataset(path, mask_and_scale=False) as data:
+                    return data.load()
+            return xr.open_zarr(str(path), chunks=None, consolidated=False,
+                                mask_and_scale=False)
+    except Exception as error:  # any unreadable file (xarray raises several types)
+        kind = "NetCDF sweep store" if netcdf else "sweep store"
+        raise StoreError(f"{str(path)!r} exists and is not a readable {kind} "
+                         f"({type(error).__name__}); remove it or choose another "
+                         "store") from None
+
+
+SHOWN_DIFFERENCES = 3
+"""Settings a refusal names at most (then how many more differ)."""
+
+
+def _brief(text: object, width: int = 60) -> str:
+    text = "absent" if text is None else str(text)
+    return text if len(text) <= width else text[:width - 1] + "…"
+
+
+def setting_differences(found: Mapping, wanted: Mapping) -> list[str]:
+    """The settings two sweeps differ in, one phrase each (``"[sweep] seed is 5 there,
+    6 here"``), in the order of ``wanted``.
+
+    Parameters
+    ----------
+    found : dict of str to str
+        A store's ``settings`` attribute (readable name -> value as text).
+    wanted : dict of str to str
+        The sweep's.
+    """
+    names = [*wanted, *(n for n in found if n not in wanted)]
+    return [f"{name} is {_brief(found.get(name))} there, {_brief(wanted.get(name))} here"
+            for name in names if found.get(name) != wanted.get(name)]
+
+
+def _recorded_settings(attributes: Mapping) -> dict | None:
+    """A store's ``settings`` attribute as a dict (None: a store made before it)."""
+    text = attributes.get("settings")
+    if not isinstance(text, str):
+        return None
+    try:
+        settings = json.loads(text)
+    except ValueError:
+        return None
+    return settings if isinstance(settings, dict) else None
+
+
+def mismatch(attributes: Mapping, layout: Layout) -> str:
+    """Why a store (its attributes) is not one of ``layout``'s sweep and share: empty
+    text when it is; else the settings that differ (or the shard), as a phrase."""
     found = attributes.get("fingerprint")
+    if not found:
+        return "no sweep"
     if found != layout.fingerprint:
-        raise StoreError(f"{str(where)!r} holds {'another sweep' if found else 'no sweep'} "
-                         "(other settings, grid or seed); remove it or choose another store")
+        wanted = layout.attributes.get("settings")
+        recorded = _recorded_settings(attributes)
+        differences = (setting_differences(recorded, wanted)
+                       if recorded is not None and isinstance(wanted, Mapping) else [])
+        if not differences:  # a store made before settings were recorded, or a change
+            return "another sweep (other settings, grid or seed)"  # they do not show
+        more = len(differences) - SHOWN_DIFFERENCES
+        return ("another sweep: " + ", ".join(differences[:SHOWN_DIFFERENCES])
+                + (f" and {more} more setting{'s' if more > 1 else ''} differ"
+                   if more > 0 else ""))
+    shard = str(attributes.get("shard", ""))
+    if shard != layout.shard_text:
+        have = f"shard {shard} of this sweep" if shard else "the whole sweep"
+        want = (f"shard {layout.shard_text} (--shard {layout.shard_text} needs a store of "
+                "its own)" if layout.shard_text else "the whole sweep (run without --shard)")
+        return f"{have}, not {want}"
+    return ""
+
+
+def _check_fingerprint(attributes: Mapping, layout: Layout, where: Path) -> None:
+    why = mismatch(attributes, layout)
+    if why:
+        raise StoreError(f"{str(where)!r} holds {why}; remove it or choose another store")
+
+
+LOCK_SUFFIX = ".lock"
+"""Suffix of the lock file beside a store (``all.zarr.lock``)."""
+
+
+class StoreBusyError(StoreError):
+    """Another process is writing the store."""
+
+
+@contextmanager
+def store_lock(path: str | Path, reading: bool = False) -> Iterator[None]:
+    """Hold the store's lock (``<store>.lock`` beside it) while the block runs.
+
+    The lock is an exclusive ``flock`` on that file, released by the system when the
+    process ends in any way; the file is removed at the end of the block. Where the
+    file system has no locks (or, when ``reading``, the folder cannot be written), the
+    block runs unlocked.
+
+    Parameters
+    ----------
+    path : str or Path
+        The store.
+    reading : bool
+        Only read the store (a shard store being merged).
+
+    Raises
+    ------
+    StoreBusyError
+        Another process holds the lock (one line naming it, with its host and process
+        id).
+    StoreError
+        The folder of the store cannot be made or written.
+    """
+    path = Path(path)
+    lock = path.with_name(path.name + LOCK_SUFFIX)
+    try:
+        import fcntl
+    except ImportError:  # no POSIX file locks on this system
+        yield
+        return
+    while True:
+        try:
+            if not reading:
+                lock.parent.mkdir(parents=True, exist_ok=True)
+            handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as error:
+            if reading:
+                yield
+                return
+            from ins_errors.output import shown
+
+            raise StoreError(f"cannot write the sweep store {shown(path)}: "
+                             f"{error.strerror or type(error).__name__}") from None
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            holder = _lock_holder(handle)
+            os.close(handle)
+            advice = ("wait for its sweep to finish" if reading else
+                      "wait for it to finish, or give each job its own store (--shard "
+                      "I/N splits a sweep between jobs)")
+            raise StoreBusyError(f"sweep store {str(path)!r} is being written by another "
+                                 f"process ({holder}holding {lock.name}); {advice}"
+                                 ) from None
+        except OSError:  # a file system without locks
+            os.close(handle)
+            yield
+            return
+        # the lock file may have been removed by a holder that finished meanwhile: a
+        # lock on the removed file would not exclude a process that makes a new one
+        try:
+            current = os.stat(lock).st_ino == os.fstat(handle).st_ino
+        except OSError:
+            current = False
+        if current:
+            break
+        os.close(handle)
+    try:
+        with suppress(OSError):
+            os.ftruncate(handle, 0)
+            os.write(handle, f"{socket.gethostname()} {os.getpid()}\n".encode())
+        yield
+    finally:
+        with suppress(OSError):
+            lock.unlink()
+        os.close(handle)
+
+
+def _lock_holder(handle: int) -> str:
+    """``process N on host H, `` from a lock file's text, or empty text."""
+    try:
+        text = os.pread(handle, 200, 0).decode(errors="replace").split()
+    except OSError:
+        return ""
+    if len(text) == 2 and text[1].isdigit():
+        return f"process {text[1]} on host {text[0]}, "
+    return ""
 
 
 def _create(work: Path, layout: Layout) -> None:
@@ -369,6 +586,8 @@ def _create(work: Path, layout: Layout) -> None:
     attrs = {k: (v if isinstance(v, (str, int, float)) else json.dumps(v))
              for k, v in layout.attributes.items()}
     attrs["fingerprint"] = layout.fingerprint
+    if layout.shard is not None:
+        attrs["shard"] = layout.shard_text
     attrs["coordinates"] = " ".join(sorted(name for name, (dims, _, _) in coords.items()
                                            if dims != (name,)))
     P, T, Q, W = layout.points, len(layout.times), len(layout.quantities), len(layout.sources)
@@ -427,5 +646,9 @@ def _create(work: Path, layout: Layout) -> None:
         # without a warning
         await zarr_async.consolidate_metadata(str(scratch), zarr_format=2)
 
-    _run_together(build())
-    scratch.rename(work)
+    try:
+        _run_together(build())
+        scratch.rename(work)
+    except BaseException:  # nothing half-made is left (Ctrl-C included)
+        shutil.rmtree(scratch, ignore_errors=True)
+        raise

@@ -30,16 +30,29 @@ run of the same sweep already stored. A point that fails on its own bad input
 (:class:`PointError`) is stored with its reason and no data while the others run on; a
 resumed sweep runs it again only when asked (``retry_failed``): its failure is as
 deterministic as its numbers.
+
+A sweep may be split into *shards* (:class:`Shard`, ``--shard I/N``) run by separate
+jobs, each into its own store: shard ``I`` of ``N`` runs the points ``I - 1, I - 1 + N,
+I - 1 + 2N, ...`` of the fixed point order above (Monte Carlo draws included), whatever
+engine runs them. :func:`merge_shards` checks that a set of shard stores holds every
+point of one sweep exactly once and writes them into one store, bit-identical to the
+store of the same sweep run whole. A sweep has at most :data:`MAX_POINTS` points
+(:func:`point_count` counts them before any is built).
+
+The worst ratios of a point (:func:`summary`, the tables and plots) judge the quantities
+of the scenario's ``[outputs] quantities`` (all of them when it has none), as ``run``
+does; the store records that list in its ``judged_quantities`` attribute.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import itertools
 import json
 import re
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import dataclass, field, fields
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
@@ -60,6 +73,13 @@ RUN_PARAMETERS: dict[str, str] = {"duration": "s", "step": "s"}
 
 CONTROL_KEYS = ("draws", "seed", "random", "scheduler")
 """Keys of ``[sweep]`` that are not grids."""
+
+MAX_POINTS = 100_000
+"""Most points a sweep may have. Every process of a sweep (each shard's too) holds the
+list of all its points and their identity (about 2 KB and 0.1 ms each: a process of a
+100 000-point sweep takes some 300 MB and 10 s before the first point runs), and the
+store has a few files per point and variable; a larger study is split into several
+sweep files."""
 
 FIGURES = ("worst_linear_ratio", "worst_refined_ratio", "max_direct:QUANTITY",
            "linear_ratio:QUANTITY", "refined_ratio:QUANTITY")
@@ -147,6 +167,68 @@ class SweepSpec:
     seed: int = 0
     random: tuple[tuple[str, float], ...] = ()
     scheduler: str | None = None
+
+
+@dataclass(frozen=True)
+class Shard:
+    """Shard ``index`` of ``count`` of a sweep: the points ``index - 1``,
+    ``index - 1 + count``, ``index - 1 + 2 count``, ... of its fixed point order.
+
+    Attributes
+    ----------
+    index : int
+        1 to ``count``.
+    count : int
+        Number of shards (jobs) the sweep is split into.
+    """
+
+    index: int
+    count: int
+
+    def __str__(self) -> str:
+        return f"{self.index}/{self.count}"
+
+    def points(self, total: int) -> range:
+        """Indices of this shard's points among ``total``."""
+        return range(self.index - 1, total, self.count)
+
+
+_SHARD = re.compile(r"^\s*(\d+)\s*/\s*(\d+)\s*$")
+
+
+def parse_shard(text: str) -> Shard:
+    """Read ``--shard I/N``.
+
+    Raises
+    ------
+    SweepError
+        Not two whole numbers ``I/N`` with ``1 <= I <= N`` (one line).
+    """
+    match = _SHARD.match(str(text))
+    if not match:
+        raise SweepError(f"--shard {text!r}: give I/N, shard I of N with whole numbers "
+                         "1 <= I <= N (e.g. --shard 2/8; in a SLURM array job "
+                         "--shard $SLURM_ARRAY_TASK_ID/8 with --array=1-8)")
+    index, count = int(match.group(1)), int(match.group(2))
+    if count < 1:
+        raise SweepError(f"--shard {text}: N, the number of shards, must be at least 1")
+    if not 1 <= index <= count:
+        raise SweepError(f"--shard {text}: I must be 1 to {count} (shards are numbered "
+                         f"from 1; a SLURM array for them is --array=1-{count})")
+    return Shard(index, count)
+
+
+def check_shard(shard: Shard, points: int) -> None:
+    """Refuse a split into more shards than the sweep has points (a shard without any).
+
+    Raises
+    ------
+    SweepError
+    """
+    if shard.count > points:
+        raise SweepError(f"--shard {shard}: the sweep has {points} point"
+                         f"{'s' if points != 1 else ''}, so it splits into at most {points} "
+                         "shards")
 
 
 def _display_unit(text: Any, unit: str) -> str:
@@ -352,6 +434,7 @@ def grid(scenario) -> Grid:
     spec: SweepSpec = scenario.sweep
     if spec is None:
         raise SweepError(f"scenario {scenario.title!r} has no [sweep] table")
+    point_count(scenario)  # refused beyond MAX_POINTS before any point is built
     axes = [p.values for p in spec.parameters]
     cases = list(range(len(scenario.cases)))
     draws: list[int | None] = list(range(spec.draws)) if spec.draws else [None]
@@ -402,6 +485,32 @@ def grid(scenario) -> Grid:
         coordinates["draw"] = (np.array(draw_index), {
             "long_name": "Monte Carlo draw", "units": "1", "swept": 1})
     return Grid(jobs, coordinates, spec.parameters)
+
+
+def point_count(scenario) -> int:
+    """The number of points of a scenario's sweep (grid values × cases × draws), counted
+    without building them.
+
+    Raises
+    ------
+    SweepError
+        More than :data:`MAX_POINTS` points (one line with the factors).
+    """
+    spec: SweepSpec = scenario.sweep
+    factors = [(len(p.values), p.name) for p in spec.parameters]
+    if len(scenario.cases) > 1:
+        factors.append((len(scenario.cases), "cases"))
+    if spec.draws:
+        factors.append((spec.draws, "draws"))
+    count = 1
+    for size, _ in factors:
+        count *= size
+    if count > MAX_POINTS:
+        product = " × ".join(f"{size:,} {name}" for size, name in factors)
+        raise SweepError(f"the sweep has {count:,} points ({product}), more than the "
+                         f"{MAX_POINTS:,} a sweep may have (every process holds the list "
+                         "of its points); split it into several sweep files")
+    return count
 
 
 def _check_grids(scenario, jobs: Sequence[PointJob]) -> None:
@@ -502,16 +611,23 @@ class SweepResult:
     Attributes
     ----------
     dataset : xarray.Dataset
-        Everything the store holds (see :mod:`ins_errors.analysis.store`).
+        Everything the store holds (see :mod:`ins_errors.analysis.store`); of a shard,
+        its points only (their ``point`` coordinate numbers them in the whole sweep).
     store : Path
     points, computed, reused : int
-        Grid points, points run by this call (including those that failed), points read
-        back from the store.
+        Points of this run (of a shard: its share), points run by this call (including
+        those that failed), points read back from the store.
     engine : EngineStats or None
         None when every point was already stored.
     failed : list of int
         Points that failed (run by this call or read back), in order; their reasons
         are in :func:`failures`.
+    total : int
+        Points of the whole sweep.
+    shard : Shard or None
+        The share this run computed (None: every point).
+    merged : int
+        Points copied from shard stores (:func:`merge_shards`).
     """
 
     dataset: Any
@@ -521,13 +637,19 @@ class SweepResult:
     reused: int
     engine: Any = None
     failed: list[int] = field(default_factory=list)
+    total: int = 0
+    shard: Shard | None = None
+    merged: int = 0
 
 
 def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
     """Identity of a sweep: a hash of every point's job and the store layout."""
     rows = []
+    names = [f.name for f in fields(PointJob)]
     for job in jobs:
-        row = asdict(job)
+        # (a shallow copy: the JSON text is that of dataclasses.asdict, at a tenth of
+        # its time)
+        row = {name: getattr(job, name) for name in names}
         del row["motion_si"]  # the same motion as job.motion
         if "file" not in dict(job.motion):
             del row["base"]  # the folder matters to motion files only
@@ -540,8 +662,48 @@ def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:32]
 
 
-def layout(scenario, points: Grid):
-    """The store layout of a sweep."""
+def settings(scenario, quantities: Sequence[str]) -> dict[str, str]:
+    """Everything a sweep's numbers depend on, readable name -> value as text (floats
+    exactly, ``repr``; SI with their units), in the order of the scenario file.
+
+    Stored with the sweep (attribute ``settings``) to say which setting differs when a
+    store of another sweep is refused (:func:`ins_errors.analysis.store.mismatch`).
+    """
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(scenario.model)
+    units = {s.name: s.unit for s in model.sources}
+    spec: SweepSpec = scenario.sweep
+    out = {"model": str(scenario.model), "error quantities": ", ".join(quantities)}
+    for name, value in scenario.motion.items():
+        out[f"[motion] {name}"] = json.dumps(value) if not isinstance(value, str) else value
+    if "file" in scenario.motion:
+        out["motion file folder"] = str(scenario.base)
+    out.update({"[run] duration": f"{scenario.duration!r} s",
+                "[run] step": f"{scenario.step!r} s", "[run] record": f"{scenario.record!r} s",
+                "[run] method": str(scenario.method), "[run] refined": str(scenario.refined),
+                "[run] platform": str(scenario.platform), "[run] truth": str(scenario.truth),
+                "[run] ellipsoid": str(scenario.ellipsoid or "the model's own")})
+    for name, value in scenario.parameters.items():
+        out[f"[parameters] {name}"] = repr(value)
+    for k, case in enumerate(scenario.cases):
+        for name, value in case.sources.items():
+            out[f"[[case]] {k + 1} {name}"] = f"{value!r} {units.get(name, '')}".strip()
+    for parameter in spec.parameters:  # as written (12 digits: finer changes are
+        values = parameter.values         # named only by the fingerprint)
+        out[f"[sweep] {parameter.name}"] = (
+            f"{len(values)} value{'s' if len(values) != 1 else ''} "
+            + ", ".join(f"{parameter.shown(v):.12g}" for v in values)
+            + f" {parameter.display_unit}")
+    out["[sweep] draws"] = str(spec.draws)
+    out["[sweep] seed"] = str(spec.seed)
+    for name, sigma in spec.random:
+        out[f"[sweep.random] {name}"] = f"{sigma!r} {units.get(name, '')}".strip()
+    return out
+
+
+def layout(scenario, points: Grid, shard: Shard | None = None):
+    """The store layout of a sweep (of one of its shards: ``shard``)."""
     from ins_errors.analysis.store import Layout
     from ins_errors.model_parameters import parameters_record
     from ins_errors.numeric.model import load_model
@@ -554,7 +716,7 @@ def layout(scenario, points: Grid):
     times = np.arange(count + 1) * record
     names, units = error_quantities(model)
     curves = ("direct", "linear", "refined") if scenario.refined else ("direct", "linear")
-    settings = {"model": scenario.model, "curves": curves, "quantities": names,
+    identity = {"model": scenario.model, "curves": curves, "quantities": names,
                 "times": times.tolist(), "store": 2}
     spec = scenario.sweep
     attributes = {
@@ -566,25 +728,33 @@ def layout(scenario, points: Grid):
                   if attrs.get("swept")],
         "motion": {k: str(v) for k, v in scenario.motion.items()},
         "parameters": parameters_record(model, scenario.parameters),
+        "judged_quantities": scenario.quantities,
+        "settings": settings(scenario, names),
         "Conventions": "ins-errors sweep store 2",
     }
     return Layout(len(points.jobs), times, tuple(names), tuple(units),
                   tuple(s.name for s in model.sources), tuple(s.unit for s in model.sources),
                   points.coordinates, curves, attributes,
-                  fingerprint(points.jobs, settings))
+                  fingerprint(points.jobs, identity),
+                  None if shard is None else (shard.index, shard.count))
 
 
-def default_store(scenario_path: str | Path) -> Path:
-    """``<scenario name>.zarr`` in the current folder."""
-    return Path(f"{Path(scenario_path).stem}.zarr")
+def default_store(scenario_path: str | Path, shard: Shard | None = None) -> Path:
+    """``<scenario name>.zarr`` in the current folder (of a shard:
+    ``<scenario name>.shard-I-of-N.zarr``)."""
+    stem = Path(scenario_path).stem
+    if shard is not None:
+        return Path(f"{stem}.shard-{shard.index}-of-{shard.count}.zarr")
+    return Path(f"{stem}.zarr")
 
 
 def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
               scheduler: str | None = None, workers: int | None = None,
               progress: bool = False,
               on_result: Callable[[int], None] | None = None,
-              retry_failed: bool = False) -> SweepResult:
-    """Run (or finish) a sweep into a store.
+              retry_failed: bool = False, shard: Shard | None = None,
+              on_start: Callable[[int, int, int], None] | None = None) -> SweepResult:
+    """Run (or finish) a sweep, or one shard of it, into a store.
 
     Parameters
     ----------
@@ -602,44 +772,252 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     retry_failed : bool
         Run again the points the store records as failed (by default they are kept:
         the same input fails the same way).
+    shard : Shard, optional
+        Run only this share of the points, into a store of its own (one made for the
+        same shard, or a new one).
+    on_start : callable, optional
+        Called as ``on_start(points, to_compute, total)`` once the store is open, before
+        any point runs (``points``: of this run, ``total``: of the whole sweep).
 
     Returns
     -------
     SweepResult
         Points that failed (:class:`PointError`) are in ``failed``; the others ran.
+
+    Raises
+    ------
+    StoreBusyError
+        Another process is writing the store (:func:`~ins_errors.analysis.store.store_lock`).
     """
     from ins_errors.analysis.engine import choose_engine, run_tasks
-    from ins_errors.analysis.store import SweepStore, store_path
+    from ins_errors.analysis.store import SweepStore, store_lock, store_path
 
     store = store_path(store)  # a name of no known format, before anything is made
     scheduler = scheduler or scenario.sweep.scheduler
     engine = choose_engine(engine, scheduler)  # before any store is made
     points = grid(scenario)
+    if shard is not None:
+        check_shard(shard, len(points.jobs))
+    shape = layout(scenario, points, shard)
+    share = [int(k) for k in shape.share]
+    with store_lock(store):
+        box = SweepStore.open(store, shape)
+        todo = [k for k in share if not box.done[k] or (retry_failed and box.failure[k])]
+        reused = len(share) - len(todo)
+        if on_start is not None:
+            on_start(len(share), len(todo), len(points.jobs))
+        stats = None
+        if todo:
+            def keep(k: int, result: dict) -> None:
+                box.write(todo[k], result)
+                if on_result is not None:
+                    on_result(todo[k])
+
+            def failed(k: int, error: InsErrorsError) -> None:
+                if not isinstance(error, PointError):  # not a point's own outcome
+                    raise error
+                box.fail(todo[k], error.reason)
+                if on_result is not None:
+                    on_result(todo[k])
+
+            stats = run_tasks(run_point, [(points.jobs[k],) for k in todo], engine=engine,
+                              scheduler=scheduler, workers=workers, on_result=keep,
+                              on_failure=failed, progress=progress, label="sweep")
+        box.finish()
+        data = _judged_by(box.dataset(), scenario)
+    if shard is not None:
+        data = data.isel(point=share)
+    return SweepResult(data, Path(store), len(share), len(todo), reused, stats,
+                       box.failed, len(points.jobs), shard)
+
+
+def _judged_by(dataset, scenario):
+    """``dataset`` whose worst ratios judge the scenario's ``[outputs] quantities`` as it
+    is now (a store made before the list was recorded, or with another list, too)."""
+    dataset.attrs["judged_quantities"] = json.dumps(scenario.quantities)
+    return dataset
+
+
+def merge_shards(scenario, parts: Sequence[str | Path], store: str | Path,
+                 on_start: Callable[[int, int, int], None] | None = None) -> SweepResult:
+    """Join the shard stores of a sweep into one store, computing nothing.
+
+    Every part must be a store made by ``ins-errors sweep --shard I/N`` of this very
+    sweep (the same settings, grid and seed), all with the same N and each I once, and
+    finished. Each point is copied (its data, or its failure reason) from the shard that
+    ran it; the result is bit for bit the store the sweep run whole would have written.
+    A store of the sweep already at ``store`` keeps the points it holds (an interrupted
+    merge resumes).
+
+    Parameters
+    ----------
+    scenario : ins_errors.scenario.Scenario
+        With a ``[sweep]`` table.
+    parts : sequence of str or Path
+        The shard stores (``*.zarr`` or ``*.nc``), in any order.
+    store : str or Path
+        The merged store.
+    on_start : callable, optional
+        As for :func:`run_sweep`, before any point is copied.
+
+    Raises
+    ------
+    SweepError, StoreError
+        One line: a part of another sweep (naming the settings that differ), of another
+        shard count, a shard given twice, shards missing or unfinished (naming them and
+        their points), a part still being written.
+    """
+    from contextlib import ExitStack
+
+    from ins_errors.analysis.store import (
+        SweepStore,
+        mismatch,
+        read_store,
+        store_lock,
+        store_path,
+    )
+
+    store = store_path(store)
+    paths = [store_path(part) for part in parts]
+    if not paths:
+        raise SweepError("--merge needs the shard stores to join")
+    seen: dict[Path, Path] = {}
+    for path in paths:
+        key = path.resolve()
+        if key == store.resolve():
+            raise SweepError(f"--merge {str(path)!r}: the merged store cannot be one of the "
+                             "shard stores; give --store another name")
+        if key in seen:
+            raise SweepError(f"--merge names {str(path)!r} twice")
+        seen[key] = path
+    points = grid(scenario)
     shape = layout(scenario, points)
-    box = SweepStore.open(store, shape)
-    todo = [k for k in range(len(points.jobs))
-            if not box.done[k] or (retry_failed and box.failure[k])]
-    reused = len(points.jobs) - len(todo)
-    stats = None
-    if todo:
-        def keep(k: int, result: dict) -> None:
-            box.write(todo[k], result)
-            if on_result is not None:
-                on_result(todo[k])
+    total = len(points.jobs)
+    with ExitStack() as stack:
+        owners: dict[int, tuple[Path, Path, Any]] = {}  # shard -> (path, read, dataset)
+        count = None
+        problems: list[str] = []
+        for path in paths:
+            source = path
+            partial = path.with_name(path.name + ".partial.zarr")
+            if path.suffix == ".nc" and not path.exists() and partial.exists():
+                source = partial  # a NetCDF shard that has not finished
+            if not source.exists():
+                raise SweepError(f"--merge {str(path)!r}: no such shard store")
+            stack.enter_context(store_lock(path, reading=True))
+            data = read_store(source)
+            stack.callback(data.close)
+            text = str(data.attrs.get("shard", ""))
+            match = _SHARD.match(text)
+            if not match:
+                why = mismatch(data.attrs, shape)  # empty: the whole of this sweep
+                raise SweepError(f"--merge {str(path)!r} holds "
+                                 + (why if why else "a whole sweep, not a shard of it (a "
+                                    "store of 'ins-errors sweep --shard I/N')"))
+            part = Shard(int(match.group(1)), int(match.group(2)))
+            why = mismatch(data.attrs, dataclasses.replace(shape, shard=(part.index,
+                                                                         part.count)))
+            if why:
+                raise SweepError(f"--merge {str(path)!r} (shard {part}) holds {why}")
+            if count is None:
+                count = part.count
+            elif part.count != count:
+                first = next(iter(owners.values()))[0]
+                raise SweepError(f"--merge {str(path)!r} is shard {part} but "
+                                 f"{str(first)!r} is shard "
+                                 f"{next(iter(owners))}/{count}: the parts of a merge are "
+                                 "the shards of one split (the same N)")
+            if part.index in owners:
+                raise SweepError(f"--merge: shard {part} is given twice: "
+                                 f"{str(owners[part.index][0])!r} and {str(path)!r}")
+            owners[part.index] = (path, source, data)
+            done = np.asarray(data["done"].values, dtype=bool)
+            lacking = [k for k in part.points(total) if not done[k]]
+            if lacking:
+                problems.append(f"{str(path)!r} (shard {part}) lacks {len(lacking)} of its "
+                                f"{len(part.points(total))} points "
+                                f"({_some(lacking)}): run its sweep command again to "
+                                "finish it")
+        missing = [index for index in range(1, count + 1) if index not in owners]
+        if missing:
+            lost = sorted(k for index in missing for k in Shard(index, count).points(total))
+            shards = ", ".join(f"{index}/{count}" for index in missing)
+            problems.insert(0, f"shard{'s' if len(missing) > 1 else ''} {shards} "
+                               f"{'are' if len(missing) > 1 else 'is'} missing ("
+                               f"{len(lost)} of the {total} points: {_some(lost)}); give "
+                               f"{'their stores' if len(missing) > 1 else 'its store'}")
+        if problems:
+            raise SweepError("cannot merge: " + "; ".join(problems))
+        readers = {index: _PartReader(path, source, data, shape)
+                   for index, (path, source, data) in owners.items()}
+        with store_lock(store):
+            box = SweepStore.open(store, shape)
+            plan = []
+            for k in range(total):
+                reader = readers[k % count + 1]
+                reason = reader.failure[k]
+                if box.done[k] and box.failure[k] == reason:
+                    continue  # already merged
+                if box.done[k] and reason and not box.failure[k]:
+                    raise SweepError(f"{str(store)!r} holds results at point {k} that its "
+                                     f"shard store {str(reader.path)!r} records as failed; "
+                                     "remove it to merge again")
+                plan.append(k)
+            if on_start is not None:
+                on_start(total, len(plan), total)
+            for k in plan:
+                reader = readers[k % count + 1]
+                if reader.failure[k]:
+                    box.fail(k, reader.failure[k])
+                else:
+                    box.write(k, reader.values(k))
+            box.finish()
+            data = _judged_by(box.dataset(), scenario)
+    return SweepResult(data, Path(store), total, 0, total - len(plan), None, box.failed,
+                       total, None, len(plan))
 
-        def failed(k: int, error: InsErrorsError) -> None:
-            if not isinstance(error, PointError):  # not a point's own outcome
-                raise error
-            box.fail(todo[k], error.reason)
-            if on_result is not None:
-                on_result(todo[k])
 
-        stats = run_tasks(run_point, [(points.jobs[k],) for k in todo], engine=engine,
-                          scheduler=scheduler, workers=workers, on_result=keep,
-                          on_failure=failed, progress=progress, label="sweep")
-    box.finish()
-    return SweepResult(box.dataset(), Path(store), len(points.jobs),
-                       len(todo), reused, stats, box.failed)
+def _some(indices: Sequence[int], limit: int = 8) -> str:
+    """``"1, 4, 7"``, or the first ``limit`` then ``"…"``."""
+    shown = ", ".join(str(k) for k in indices[:limit])
+    return shown + (", …" if len(indices) > limit else "")
+
+
+class _PartReader:
+    """One point at a time from a shard store: its data variables, as stored (a Zarr
+    folder's chunk of the point, a NetCDF file's row), and its failure reason.
+
+    Parameters
+    ----------
+    path : Path
+        The shard store as named.
+    source : Path
+        What is read: ``path``, or the Zarr folder of an unfinished ``*.nc`` store.
+    dataset : xarray.Dataset
+        ``source`` opened by :func:`ins_errors.analysis.store.read_store`.
+    shape : Layout
+        The sweep's store layout (which variables a point has).
+    """
+
+    def __init__(self, path: Path, source: Path, dataset, shape) -> None:
+        from ins_errors.analysis.store import failure_reasons
+
+        self.path = path
+        self.failure = failure_reasons(dataset)
+        names = [*shape.curves, "max_direct",
+                 *(f"{curve}_ratio" for curve in shape.curves[1:]), "excited",
+                 "integration_error", "source_value"]
+        if source.is_dir():  # Zarr: the point's chunks only
+            import zarr
+
+            group = zarr.open_group(str(source), mode="r", zarr_format=2)
+            self._arrays = {name: group[name] for name in names}
+        else:  # NetCDF, loaded whole
+            self._arrays = {name: dataset[name].values for name in names}
+
+    def values(self, k: int) -> dict[str, np.ndarray]:
+        """Point ``k``'s data variables (curves over the whole time axis)."""
+        return {name: np.asarray(array[k]) for name, array in self._arrays.items()}
 
 
 # --------------------------------------------------------------------------------------
@@ -688,10 +1066,11 @@ def failures(dataset) -> list[dict]:
     """The points that failed: index, swept values (SI, as :func:`summary`), their label
     as written (``"label"``) and the one-line reason (``"reason"``), in point order."""
     rows = []
+    numbers = point_numbers(dataset)
     for k, reason in enumerate(failure_reasons(dataset)):
         if not reason:
             continue
-        row: dict[str, Any] = {"point": k}
+        row: dict[str, Any] = {"point": numbers[k]}
         for name in swept_names(dataset):
             value = dataset[name].values[k]
             row[name] = int(value) if name in ("case", "draw") else float(value)
@@ -716,8 +1095,39 @@ def failures_text(dataset, limit: int = 10) -> str:
                          for r in rows], limit)
 
 
+def judged_quantities(dataset) -> list[str] | None:
+    """The quantities a sweep's worst ratios judge (its scenario's ``[outputs]
+    quantities``), or None: every quantity (also for a store made before the list was
+    recorded)."""
+    text = dataset.attrs.get("judged_quantities")
+    try:
+        judged = json.loads(text) if isinstance(text, str) else None
+    except ValueError:
+        return None
+    return [str(q) for q in judged] if isinstance(judged, list) else None
+
+
+def _judged(dataset) -> np.ndarray:
+    """Per point and quantity: 1 where the quantity is excited and judged, shape (P, Q)."""
+    excited = dataset["excited"].values == 1
+    judged = judged_quantities(dataset)
+    if judged is None:
+        return excited
+    names = [str(q) for q in dataset["quantity"].values]
+    return excited & np.array([q in judged for q in names])
+
+
+def point_numbers(dataset) -> list[int]:
+    """Each point's number in the whole sweep (of a shard's points too), shape (P,)."""
+    if "point" in dataset.coords:
+        return [int(k) for k in dataset["point"].values]
+    return list(range(dataset.sizes["point"]))
+
+
 def _worst(dataset, curve: str) -> tuple[np.ndarray, list[str | None]]:
-    ratio = np.where(dataset["excited"].values == 1, dataset[f"{curve}_ratio"].values, -np.inf)
+    """Per point: the largest ratio of a curve to the direct run over the judged,
+    excited quantities (NaN when none is), and that quantity's name."""
+    ratio = np.where(_judged(dataset), dataset[f"{curve}_ratio"].values, -np.inf)
     k = np.argmax(ratio, axis=1)
     best = ratio[np.arange(len(k)), k]
     names = [str(dataset["quantity"].values[j]) if np.isfinite(b) else None
@@ -726,9 +1136,9 @@ def _worst(dataset, curve: str) -> tuple[np.ndarray, list[str | None]]:
 
 
 def worst_integration_ratio(dataset) -> np.ndarray:
-    """Per point: worst over excited quantities of integration error / max |direct|
-    (NaN where nothing is excited), shape (P,)."""
-    excited = dataset["excited"].values == 1
+    """Per point: worst over the judged, excited quantities of integration error /
+    max |direct| (NaN where nothing is excited), shape (P,)."""
+    excited = _judged(dataset)
     peak = dataset["max_direct"].values
     with np.errstate(invalid="ignore", divide="ignore"):
         ratio = np.where(excited & (peak > 0), dataset["integration_error"].values / peak,
@@ -749,8 +1159,9 @@ def summary(dataset) -> list[dict]:
     if refined:
         worst_refined, refined_names = _worst(dataset, "refined")
     reasons = failure_reasons(dataset)
+    numbers = point_numbers(dataset)
     for k in range(dataset.sizes["point"]):
-        row: dict[str, Any] = {"point": k}
+        row: dict[str, Any] = {"point": numbers[k]}
         for name in labels:
             value = dataset[name].values[k]
             row[name] = int(value) if name in ("case", "draw") else float(value)
@@ -900,22 +1311,69 @@ def draws_table(dataset, quantities: Sequence[str] | None = None) -> str:
     return "\n".join(lines)
 
 
+def check_figure(figure: str, quantities: Sequence[str], refined: bool) -> None:
+    """Refuse a figure name (:data:`FIGURES`) a sweep cannot plot.
+
+    Parameters
+    ----------
+    figure : str
+    quantities : sequence of str
+        The sweep's error quantities.
+    refined : bool
+        Whether it runs the refined model.
+
+    Raises
+    ------
+    SweepError, UnknownNameError
+        One line naming the figure and the problem.
+    """
+    kind, _, quantity = figure.partition(":")
+    if figure not in ("worst_linear_ratio", "worst_refined_ratio") and (
+            kind not in ("max_direct", "linear_ratio", "refined_ratio") or not quantity):
+        raise unknown_name("figure", figure, FIGURES)
+    if "refined" in kind and not refined:
+        raise SweepError(f"figure {figure!r}: the sweep runs without the refined model "
+                         "([run] refined = false)")
+    if quantity and quantity not in quantities:
+        raise unknown_name("error quantity", quantity, quantities)
+
+
+def check_against(against: Sequence[str], swept: Sequence[str]) -> list[str]:
+    """The swept parameters a plot is drawn against (one or two of ``swept``).
+
+    Raises
+    ------
+    SweepError, UnknownNameError
+    """
+    names = [name.strip() for name in against]
+    if not 1 <= len(names) <= 2:
+        raise SweepError("--against takes one or two swept parameters, e.g. latitude,heading")
+    for name in names:
+        if name not in swept:
+            raise unknown_name("swept parameter", name, swept)
+    if len(set(names)) != len(names):
+        raise SweepError(f"--against names {names[0]} twice")
+    return names
+
+
+def scenario_swept_names(scenario) -> list[str]:
+    """The names that will label a scenario's sweep points (as :func:`swept_names` reads
+    them from its store): the parameters in file order, then ``case`` and ``draw``."""
+    spec: SweepSpec = scenario.sweep
+    return ([p.name for p in spec.parameters]
+            + (["case"] if len(scenario.cases) > 1 else [])
+            + (["draw"] if spec.draws else []))
+
+
 def figure_values(dataset, figure: str) -> tuple[np.ndarray, str]:
     """Per-point values of a figure (see :data:`FIGURES`) and its axis label (errors in
     the display units of :data:`ins_errors.units.DISPLAY_UNITS`)."""
+    names = [str(q) for q in dataset["quantity"].values]
+    check_figure(figure, names, "refined_ratio" in dataset)
     if figure in ("worst_linear_ratio", "worst_refined_ratio"):
         curve = figure.split("_")[1]
-        if f"{curve}_ratio" not in dataset:
-            raise SweepError(f"figure {figure!r}: the sweep ran without the {curve} model")
         return _worst(dataset, curve)[0], f"worst {curve}/direct ratio"
     kind, _, quantity = figure.partition(":")
-    if kind not in ("max_direct", "linear_ratio", "refined_ratio") or not quantity:
-        raise unknown_name("figure", figure, FIGURES)
-    if kind not in dataset:
-        raise SweepError(f"figure {figure!r}: the sweep ran without the refined model")
-    names = [str(q) for q in dataset["quantity"].values]
-    if quantity not in names:
-        raise unknown_name("error quantity", quantity, names)
     from ins_errors.units import display_scale
 
     j = names.index(quantity)
@@ -1011,11 +1469,7 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
     import matplotlib.pyplot as plt
 
     labels = swept_names(dataset)
-    if not 1 <= len(against) <= 2:
-        raise SweepError("--against takes one or two swept parameters, e.g. latitude,heading")
-    for name in against:
-        if name not in labels:
-            raise unknown_name("swept parameter", name, labels)
+    against = check_against(against, labels)
     values, title = figure_values(dataset, figure)
     axes = []
     for name in against:

@@ -19,12 +19,26 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "the points the store lacks. A point that fails on its own bad input "
                     "(e.g. a motion that reaches a pole) is stored with its reason and "
                     "no data, the others run on, and the command lists the failed points "
-                    "and exits with status 2.")
+                    "and exits with status 2. A sweep can be split between N jobs (a "
+                    "SLURM array): each runs --shard I/N into a store of its own, then "
+                    "'ins-errors sweep FILE --merge PART... --store ALL' joins their "
+                    "stores into the one the whole sweep would have written. It says "
+                    "how many points it will compute on stderr first.")
     parser.add_argument("scenario", help="scenario file with a [sweep] table")
     parser.add_argument("--store", metavar="PATH",
                         help="result store: *.zarr (filled as points finish) or *.nc "
                              "(NetCDF, written when complete); default "
-                             "<scenario name>.zarr here")
+                             "<scenario name>.zarr here (of a shard: "
+                             "<scenario name>.shard-I-of-N.zarr)")
+    parser.add_argument("--shard", metavar="I/N",
+                        help="run only shard I of N of the points (1 <= I <= N: the points "
+                             "I-1, I-1+N, I-1+2N, ... of the sweep, Monte Carlo draws "
+                             "included, on any engine), into a store of its own; e.g. "
+                             "--shard $SLURM_ARRAY_TASK_ID/8 in a job array --array=1-8")
+    parser.add_argument("--merge", nargs="+", metavar="PART",
+                        help="compute nothing: join the stores of the N shards of this "
+                             "sweep (each --shard I/N run) into --store, after checking "
+                             "that they belong to this sweep and hold every point once")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="address of a running Dask scheduler, e.g. tcp://HOST:8786 "
                              "(default: [sweep] scheduler, else a local cluster)")
@@ -38,12 +52,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="print every point's summary as JSON")
     parser.add_argument("--plot", metavar="PNG",
                         help="plot a figure against one or two swept parameters")
-    parser.add_argument("--figure", default="worst_linear_ratio",
-                        help="figure to plot: worst_linear_ratio, worst_refined_ratio, "
+    parser.add_argument("--figure",
+                        help="figure --plot draws: worst_linear_ratio, worst_refined_ratio, "
                              "max_direct:QUANTITY, linear_ratio:QUANTITY, "
                              "refined_ratio:QUANTITY (default worst_linear_ratio)")
     parser.add_argument("--against", metavar="P[,Q]",
-                        help="swept parameter(s) on the plot's axes (default: the first "
+                        help="swept parameter(s) on the axes of --plot (default: the first "
                              "one or two)")
     parser.add_argument("--truth", choices=TRUTHS, default=None, help=SCENARIO_TRUTH_HELP)
     parser.add_argument("--retry-failed", action="store_true",
@@ -70,25 +84,53 @@ def run(args: argparse.Namespace) -> int:
         scenario.truth = args.truth
     if args.workers is not None and args.workers < 1:
         raise sw.SweepError(f"--workers must be at least 1, got {args.workers}")
-    if args.plot:
-        from ins_errors.output import check_figure
+    shard = sw.parse_shard(args.shard) if args.shard is not None else None
+    if args.merge is not None and shard is not None:
+        raise sw.SweepError("--merge joins the stores of the shards; --shard runs one of "
+                            "them: give one of the two")
+    if args.merge is not None and args.retry_failed:
+        raise sw.SweepError("--merge computes nothing: give --retry-failed to the sweep "
+                            "command of the shard whose failed points should run again, "
+                            "then merge")
+    figure, against = _plot_request(args, scenario)  # all before any point runs
+    count = sw.point_count(scenario)  # refused beyond sw.MAX_POINTS before they are built
+    if shard is not None:
+        sw.check_shard(shard, count)
+    store = args.store or sw.default_store(args.scenario, shard)
+    title = scenario.title
 
-        check_figure(args.plot)  # before any point runs
-    store = args.store or sw.default_store(args.scenario)
-    result = sw.run_sweep(scenario, store, engine=args.engine, scheduler=args.scheduler,
-                          workers=args.workers, progress=not args.no_progress,
-                          retry_failed=args.retry_failed)
+    def say(points: int, todo: int, total: int) -> None:
+        import sys
+
+        plural = "s" if total != 1 else ""
+        how_many = (f"shard {shard}: {points} of the {total} point{plural}" if shard
+                    else f"{total} point{plural}")
+        doing = (f"{todo} to copy from {len(args.merge)} shard stores" if args.merge
+                 else f"{todo} to compute")
+        print(f"ins-errors: sweep {title!r}, {how_many}, {doing}, {points - todo} already "
+              f"in {store}", file=sys.stderr, flush=True)
+
+    if args.merge is not None:
+        result = sw.merge_shards(scenario, args.merge, store, on_start=say)
+    else:
+        result = sw.run_sweep(scenario, store, engine=args.engine,
+                              scheduler=args.scheduler, workers=args.workers,
+                              progress=not args.no_progress,
+                              retry_failed=args.retry_failed, shard=shard, on_start=say)
     data = result.dataset
     plotted = None
     if args.plot:
-        swept = sw.swept_names(data)
-        against = (args.against.split(",") if args.against else swept[:2])
-        plotted = sw.plot(data, args.figure, [a.strip() for a in against], args.plot)
-    where = result.engine.where if result.engine is not None else "nothing to run"
+        plotted = sw.plot(data, figure, against or sw.swept_names(data)[:2], args.plot)
+    if args.merge is not None:
+        where = f"merged from {len(args.merge)} shard stores"
+    else:
+        where = result.engine.where if result.engine is not None else "nothing to run"
     if args.json:
         model = load_model(scenario.model)
         emit({"store": str(result.store), "points": result.points,
               "computed": result.computed, "reused": result.reused,
+              "sweep_points": result.total, "shard": None if shard is None else str(shard),
+              "merged": result.merged,
               "engine": where, "plot": None if plotted is None else str(plotted),
               "truth": scenario.truth,
               "parameters": parameters_record(model, scenario.parameters),
@@ -98,8 +140,13 @@ def run(args: argparse.Namespace) -> int:
               "over_draws": sw.over_draws(data),
               "failed": sw.failures(data)}, ensure_ascii=False)
         return _failed(data)
-    print(f"{scenario.title}: {result.points} points, {result.computed} computed "
-          f"({where}), {result.reused} read back from the store")
+    if args.merge is not None:
+        print(f"{scenario.title}: {result.points} points, {result.merged} copied ({where}), "
+              f"{result.reused} already in the store")
+    else:
+        whose = f" (shard {shard} of {result.total})" if shard is not None else ""
+        print(f"{scenario.title}: {result.points} points{whose}, {result.computed} computed "
+              f"({where}), {result.reused} read back from the store")
     print(sw.table(data, scenario.quantities))
     over = sw.draws_table(data, scenario.quantities)
     if over:
@@ -109,6 +156,65 @@ def run(args: argparse.Namespace) -> int:
     if plotted is not None:
         print(f"plot written to {plotted}")
     return _failed(data)
+
+
+def _plot_request(args: argparse.Namespace, scenario) -> tuple[str, list[str] | None]:
+    """The figure and axes of ``--plot``, checked before any point runs (the file can be
+    written, the figure and the swept parameters exist in this sweep).
+
+    Raises
+    ------
+    SweepError
+        ``--figure`` or ``--against`` without ``--plot``, or a figure or parameter the
+        sweep does not have (one line).
+    """
+    from ins_errors.analysis import sweep as sw
+
+    if not args.plot:
+        given = [option for option, value in (("--figure", args.figure),
+                                              ("--against", args.against)) if value]
+        if given:
+            raise sw.SweepError(f"{' and '.join(given)} choose{'s' if len(given) == 1 else ''}"
+                                " what --plot draws: give --plot PNG too")
+        return "", None
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.simulate import error_quantities
+    from ins_errors.output import check_figure
+
+    check_figure(args.plot)
+    _try_writing_beside(args.plot)
+    figure = args.figure or "worst_linear_ratio"
+    sw.check_figure(figure, error_quantities(load_model(scenario.model))[0],
+                    scenario.refined)
+    swept = sw.scenario_swept_names(scenario)
+    against = sw.check_against(args.against.split(",") if args.against else swept[:2],
+                               swept)
+    return figure, against
+
+
+def _try_writing_beside(path: str) -> None:
+    """Make and remove a scratch file in the plot's nearest existing folder: a place
+    that takes no files (``/proc``, a read-only mount, where the superuser's permission
+    bits say yes) is refused before the sweep runs, not after.
+
+    Raises
+    ------
+    OutputError
+    """
+    import tempfile
+    from pathlib import Path
+
+    from ins_errors.output import OutputError, shown
+
+    folder = Path(path).absolute().parent
+    while not folder.exists() and folder != folder.parent:
+        folder = folder.parent
+    try:
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as error:
+        raise OutputError(f"cannot write {shown(path)}: folder {shown(folder)} takes no new "
+                          f"files ({error.strerror or type(error).__name__})") from None
 
 
 def _failed(data) -> int:
