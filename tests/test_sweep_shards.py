@@ -265,6 +265,11 @@ def test_merges_that_cannot_be_made_say_why(tmp_path, capsys):
                      "--store", "all.zarr"]) == 2
     err = capsys.readouterr().err
     assert "'a2.zarr' is being written by another process" in err
+    # options of a run mean nothing to a merge
+    assert main(["sweep", str(path), "--merge", "a1.zarr", "a2.zarr", "--store", "all.zarr",
+                 "--engine", "pool", "--workers", "2"]) == 2
+    err = capsys.readouterr().err
+    assert "--engine, --workers would be ignored" in err and err.count("\n") == 1
 
 
 def test_a_store_of_another_sweep_is_refused_naming_the_setting(tmp_path, capsys):

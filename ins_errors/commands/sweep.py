@@ -88,6 +88,13 @@ def run(args: argparse.Namespace) -> int:
     if args.merge is not None and shard is not None:
         raise sw.SweepError("--merge joins the stores of the shards; --shard runs one of "
                             "them: give one of the two")
+    if args.merge is not None:
+        running = [option for option, given in (
+            ("--engine", args.engine != "auto"), ("--workers", args.workers is not None),
+            ("--scheduler", args.scheduler is not None)) if given]
+        if running:
+            raise sw.SweepError(f"--merge computes nothing, so {', '.join(running)} would "
+                                "be ignored: give them to the sweep commands of the shards")
     if args.merge is not None and args.retry_failed:
         raise sw.SweepError("--merge computes nothing: give --retry-failed to the sweep "
                             "command of the shard whose failed points should run again, "
