@@ -360,12 +360,16 @@ def spec_system(model, spec: Spec, trajectory=None,
     if trajectory is not None:
         return system_from_trajectory(model, trajectory, spec.step)
     spec_profile(model, spec)  # a refused heading is not the static fallback's case
-    if spec.motion.kind != "static":   # before the motion is flown
-        check_grid_memory(model, round(spec.operating_time / spec.step) + 1, spec.step)
+    # before the motion is flown, at rest too: a static base keeps its true state, its
+    # radii and the covariance of every row at every grid time as well (a month at
+    # 0.01 s died in numpy after 33 s and 8 GB)
+    check_grid_memory(model, round(spec.operating_time / spec.step) + 1, spec.step)
     try:
         trajectory = spec_trajectory(model, spec, p=p)
     except InsErrorsError as error:
         if spec.motion.kind != "static":
+            if "heading" not in {o.name for o in model.outputs}:
+                raise BudgetError(_unsteered(model, spec)) from None
             raise
         m = spec.motion
         try:
@@ -376,6 +380,20 @@ def spec_system(model, spec: Spec, trajectory=None,
         except InsErrorsError:
             raise error from None
     return system_from_trajectory(model, trajectory, spec.step)
+
+
+def _unsteered(model, spec: Spec) -> str:
+    """Why a model without a heading output cannot be budgeted on the spec's moving
+    base, and the way out a spec has (a spec has no motion file, unlike a scenario)."""
+    where = Path(spec.path).name if spec.path else "the spec"
+    kind = spec.motion.kind.replace("_", " ")
+    unused = [name for name, given in (("heading", spec.motion.heading_given),
+                                       ("speed", spec.motion.speed > 0)) if given]
+    out = f" and leave out its {' and '.join(unused)}" if unused else ""
+    return (f"model {model.name!r} cannot fly the spec's {kind} motion (a moving base is "
+            f"steered by the heading, which is not among its outputs); a budget spec has no "
+            f"motion file, so budget this model on a static base: set kind = \"static\" "
+            f"in {where}'s [motion]{out}")
 
 
 def _radii(model, system: LinearSystem) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -543,31 +561,42 @@ ITEM_NEEDS = {"position_error": ("outputs", ("latitude", "longitude")),
 attitude error (:func:`has_attitude`)."""
 
 
+def _unmet_items(model, names) -> dict[str, str]:
+    """Item name -> what the model lacks to check it, for those of ``names`` it cannot
+    check (the others are left out)."""
+    outputs = {o.name for o in model.outputs}
+    angles = has_attitude(model)
+    parameters = {p.name for p in model.parameters}
+    radius = {"a", "e2"} <= parameters or "R" in parameters
+    missing: dict[str, str] = {}
+    for name in names:
+        if name in ITEM_NEEDS:
+            lacking = [n for n in ITEM_NEEDS[name][1] if n not in outputs]
+            if lacking:
+                missing[name] = f"it has no output {', '.join(lacking)}"
+            if name == "position_error" and not radius:  # R_N, R_E of the metres
+                missing[name] = (f"{missing[name]} and" if lacking else "it has"
+                                 ) + " no Earth radius parameter ('a' with 'e2', or 'R')"
+        elif not angles:
+            missing[name] = ("it has no platform error angles (" + " or ".join(
+                ", ".join(names) for names in PLATFORM_ANGLE_NAMES) + ") and is not a "
+                "strapdown INS with navigation outputs (docs/matrix_check.md)")
+    return missing
+
+
 def check_items(model, spec: Spec) -> None:
     """Refuse, in one line, a spec with items the model has nothing to check them by.
 
     Raises
     ------
     BudgetError
-        Naming every such item, what the model lacks, and how to leave the items out.
+        Naming every such item, what the model lacks, and how to leave the items out;
+        when the model can check none of the spec's items, what a spec for it needs
+        instead (the items it can check, or that no item of the budget fits it).
     """
-    outputs = {o.name for o in model.outputs}
-    angles = has_attitude(model)
-    parameters = {p.name for p in model.parameters}
-    radius = {"a", "e2"} <= parameters or "R" in parameters
-    missing: dict[str, str] = {}
-    for item in spec.items:
-        if item.name in ITEM_NEEDS:
-            lacking = [n for n in ITEM_NEEDS[item.name][1] if n not in outputs]
-            if lacking:
-                missing[item.name] = f"it has no output {', '.join(lacking)}"
-            if item.name == "position_error" and not radius:  # R_N, R_E of the metres
-                missing[item.name] = (f"{missing[item.name]} and" if lacking else "it has"
-                                      ) + " no Earth radius parameter ('a' with 'e2', or 'R')"
-        elif not angles:
-            missing[item.name] = ("it has no platform error angles (" + " or ".join(
-                ", ".join(names) for names in PLATFORM_ANGLE_NAMES) + ") and is not a "
-                "strapdown INS with navigation outputs (docs/matrix_check.md)")
+    from ins_errors.specs import ITEM_KINDS
+
+    missing = _unmet_items(model, [item.name for item in spec.items])
     if not missing:
         return
     by_reason: dict[str, list[str]] = {}
@@ -575,9 +604,27 @@ def check_items(model, spec: Spec) -> None:
         by_reason.setdefault(why, []).append(name)
     reasons = "; ".join(why if len(by_reason) == 1 else f"{', '.join(names)}: {why}"
                         for why, names in by_reason.items())
-    tables = ", ".join(f"[items.{name}]" for name in missing)
     source = f"{spec.path}" if spec.path else "the spec"
     plural = "s" if len(missing) > 1 else ""
+    if len(missing) == len(spec.items):   # leaving them out would leave no item
+        from ins_errors.specs import default_spec_path
+
+        if spec.path and Path(spec.path).resolve() == default_spec_path():
+            source = "the built-in 802m spec"
+        checkable = [name for name in ITEM_KINDS if name not in _unmet_items(model,
+                                                                             ITEM_KINDS)]
+        if checkable:
+            need = (f"a spec for it needs items it can check: write one with "
+                    f"{', '.join(f'[items.{name}]' for name in checkable)} (docs/"
+                    f"scenarios.md; 'ins-errors budget --schema' lists every key)")
+        else:
+            need = (f"a spec needs at least one item its model can check, and none of the "
+                    f"budget's items ({', '.join(ITEM_KINDS)}) fits this model, so it "
+                    f"cannot be budgeted as it is")
+        every = "all the items" if plural else "the only item"
+        raise BudgetError(f"model {model.name} cannot check the spec item{plural} "
+                          f"{', '.join(missing)} ({reasons}), {every} of {source}; {need}")
+    tables = ", ".join(f"[items.{name}]" for name in missing)
     raise BudgetError(f"model {model.name} cannot check the spec item{plural} "
                       f"{', '.join(missing)} ({reasons}); leave {'them' if plural else 'it'} "
                       f"out: copy {source} without its {tables} table{plural} and pass the "
