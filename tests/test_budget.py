@@ -560,18 +560,29 @@ def test_a_source_seen_only_through_round_off_takes_no_share(orthodromic, tmp_pa
             limited]]]
 
 
+KRASOVSKY_A, KRASOVSKY_F = 6_378_245.0, 1 / 298.3
+"""The Krasovsky ellipsoid (semi-major axis, m; flattening): the built-in models' Earth."""
+
+
 def test_contributions_at_round_off_are_shown_as_zero(orthodromic, tmp_path):
     """A fixed initial longitude error on a static base stays a constant longitude error
     (Δλ(t) = Δλ(0)) and moves nothing else; its rows in the --at table read exactly its
-    magnitude under Δlongitude and 0 elsewhere, not round-off such as 7e-35 arcmin."""
+    magnitude under the east position error and 0 elsewhere, not round-off such as
+    7e-35 arcmin. The east error is in metres (was arcmin of longitude): R_E cos φ Δλ,
+    the prime-vertical radius of the Krasovsky ellipsoid at 50° worked out here."""
     spec = load_spec(write(tmp_path, VERTICAL_ONLY + '[sources.initial_longitude_error]\n'
                                                      'fixed = "3 arcmin"\n'))
     allocation = bd.allocate(bd.unit_budget(orthodromic, spec))
     data = bd.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
     j = data["sources"].index("initial_longitude_error")
-    q = data["quantities"].index("delta_longitude")
-    assert data["units"][q] == "arcmin"
-    np.testing.assert_allclose(data["std"][:, q, j], 3.0 / 2, rtol=1e-12)   # 2σ spec
+    assert "delta_longitude" not in data["quantities"]
+    q = data["quantities"].index("delta_r_E")
+    assert data["units"][q] == "m"
+    e2 = KRASOVSKY_F * (2 - KRASOVSKY_F)
+    phi = np.radians(50.0)
+    east = KRASOVSKY_A / np.sqrt(1 - e2 * np.sin(phi) ** 2) * np.cos(phi)   # m per rad
+    np.testing.assert_allclose(data["std"][:, q, j], east * np.radians(3 / 60) / 2,
+                               rtol=1e-9)   # 2σ spec: 1σ is half of 3 arcmin
     rest = np.delete(data["std"][:, :, j], q, axis=1)
     assert rest.size and not np.any(rest)
     # real contributions of the other sources stay

@@ -426,10 +426,10 @@ def test_times_of_the_contribution_tables_read_as_times(capsys):
     """'at 0.0166667 h' and 'time 0.00833333 h' were hours with six digits."""
     assert main(["budget", "orthodromic", "--at", "1 min, 90 min"]) == 0
     out = capsys.readouterr().out
-    assert "Contributions to the navigation errors at 1 min:" in out
-    assert "Contributions to the navigation errors at 1 h 30 min:" in out
+    assert "Contributions to the navigation errors at 1 min (" in out
+    assert "Contributions to the navigation errors at 1 h 30 min (" in out
     assert main(["budget", "orthodromic", "--at", "30 s"]) == 2
-    assert "time 30 s is not on the 60 s analysis grid" in capsys.readouterr().err
+    assert "time 30 s is not on the spec's 60 s analysis grid" in capsys.readouterr().err
 
 
 def test_heading_at_rest_is_refused_by_a_spec_as_by_a_scenario(tmp_path, capsys):

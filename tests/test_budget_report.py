@@ -43,13 +43,13 @@ def test_output_rows_add_up_to_the_total(outputs_802m, top):
 
 
 def test_output_table_prints_the_others_row(outputs_802m):
-    """At 1 h the Δlatitude column's printed rows (4 digits) add up to its total."""
+    """At 1 h the north position column's printed rows (4 digits) add up to its total."""
     lines = rep.output_table(outputs_802m).splitlines()
     start = next(i for i, line in enumerate(lines) if line.startswith("---")) + 1
     end = next(i for i, line in enumerate(lines) if line.startswith("total (rss)")) + 1
     assert end - start == 12 and lines[end - 2].startswith("(9 others) ")
     quantities = outputs_802m["quantities"]
-    column = quantities.index("delta_latitude") - len(quantities)
+    column = quantities.index("delta_r_N") - len(quantities)
     values = [float(line.split()[column]) for line in lines[start:end]]
     assert np.sqrt(np.sum(np.square(values[:-1]))) == pytest.approx(values[-1], rel=2e-3)
 

@@ -353,6 +353,11 @@ def test_budget_and_sweep_figures_fit_their_fixed_margins(tmp_path, monkeypatch)
                     "share_at_binding": 0.02 + 0.3 * (j == 1), "fixed": False}
                    for j in range(count)]
         sources += [{"name": n, "binding_item": None, "fixed": False} for n in free]
+        # sources the spec fixes are drawn too, first, labelled "(fixed)"
+        sources += [{"name": f"{names[j % len(names)]}_f{j}"[:36], "display": display,
+                     "binding_item": None, "fixed": True,
+                     "largest_share": {n: 0.05 * (i + 1) for i, n in enumerate(items)}}
+                    for j in range(count // 20)]
         rows = [{"item": n, "ratio": 0.1 + 0.3 * i, "time_h": when,
                  "display": f"{display} of {display}"} for i, n in enumerate(items)]
         monkeypatch.setattr(budget_report, "report", lambda allocation: {
@@ -371,9 +376,11 @@ def test_budget_and_sweep_figures_fit_their_fixed_margins(tmp_path, monkeypatch)
         std[..., -1] = 12345.6789
         budget_report.plot_outputs({
             "std": std[..., :-1], "total": std[..., -1], "times_h": times, "sources": sources,
-            "quantities": ["delta_longitude", "delta_v_N", "alpha_z"] * (quantities // 3),
-            "units": ["arcmin", "m/s²", "deg/h"] * (quantities // 3)},
-            tmp_path / f"outputs_{len(times)}.png")
+            "quantities": ["delta_r_E", "delta_v_N", "alpha_z"] * (quantities // 3),
+            "units": ["m", "m/s²", "deg/h"] * (quantities // 3)},
+            tmp_path / f"outputs_{len(times)}.png",
+            title=f"Contributions to the navigation errors: {long_title}\n{long_motion}\n"
+                  "1σ (the spec's items are 2σ), at the allocated magnitudes")
 
     wide = "velocity_integrator_gain_error_eta"
 

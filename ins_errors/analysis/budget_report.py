@@ -6,12 +6,13 @@ The numbers come from :mod:`ins_errors.analysis.budget`; this module only presen
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from ins_errors.analysis.budget import (
     HOUR,
     ITEM_DISPLAY,
-    ITEM_SI,
     Allocation,
     SpecExceededError,
     display,
@@ -19,7 +20,7 @@ from ins_errors.analysis.budget import (
 )
 from ins_errors.figure_layout import fixed_margins, text_height, text_width, wrap_to_width
 from ins_errors.output import require_matplotlib, save_figure
-from ins_errors.units import readable_angle_unit
+from ins_errors.units import format_quantity, readable_angle_unit
 
 TIE_DIGITS = 9
 """Sizes that agree to this many significant digits of the largest rank as equal."""
@@ -107,22 +108,104 @@ def worst_rows(allocation: Allocation) -> list[int]:
     return [idx[int(np.argmax(used[idx]))] for idx in item_rows(budget).values()]
 
 
+_NUMBER = re.compile(r"\s*[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?\s*")
+
+
+def written_unit(item) -> str:
+    """The unit a spec item's limit was written in (``"30 arcsec"`` -> ``"arcsec"``), in
+    which the tables show its limit and its values; where the text has no unit that
+    converts back, the unit the limit's size reads best in.
+
+    Parameters
+    ----------
+    item : ins_errors.specs.SpecItem
+    """
+    si = item.kind.unit
+    text = str(item.text)
+    number = _NUMBER.match(text)
+    unit = text[number.end():].strip() if number else ""
+    if unit:
+        try:
+            format_quantity(item.value, si, unit)
+            return unit
+        except Exception:  # any text the unit library cannot take back
+            pass
+    return readable_angle_unit(item.value, ITEM_DISPLAY.get(item.name, si), down=True)
+
+
+def motion_values(spec) -> dict:
+    """The spec's motion as numbers (SI: rad, m, m/s), with its kind."""
+    m = spec.motion
+    values = {"kind": m.kind, "latitude_rad": m.latitude, "longitude_rad": m.longitude,
+              "heading_rad": m.heading, "height_m": m.height}
+    if m.kind != "static":
+        values["speed_m_s"] = m.speed
+    return values
+
+
+def _header(budget, fill_factor: float) -> dict:
+    """The keys every budget JSON starts with: the spec, its σ level, operating time,
+    step, fill factor and motion (as text and as values)."""
+    spec = budget.spec
+    return {"spec": spec.title, "sigma_level": spec.sigma_level,
+            "operating_time_h": spec.operating_time / HOUR, "step_s": spec.step,
+            "fill": spec.fill, "fill_factor": fill_factor,
+            "motion": budget.system.labels.get("trajectory", ""),
+            "motion_values": motion_values(spec)}
+
+
+def _items_json(budget, rows: list[dict], shares: np.ndarray) -> list[dict]:
+    """Each spec item at its worst row (the spec-rows table's line): limit as written
+    and in SI, worst time and component, value and ratio at the spec's σ level, and the
+    share of the allowed variance used there (``shares``: (rows, sources) fractions of
+    each row's allowed variance)."""
+    out = []
+    for item in budget.spec.items:
+        idx = [i for i, r in enumerate(budget.rows) if r.item == item.name]
+        i = max(idx, key=lambda r: rows[r]["ratio"])
+        out.append({"name": item.name, "limit": item.value, "limit_text": str(item.text),
+                    "unit": item.kind.unit, "sigma_level": budget.spec.sigma_level,
+                    "combine": item.combine, "check_times_h": [t / HOUR for t in item.times],
+                    "worst_time_h": rows[i]["time_h"],
+                    "worst_component": rows[i]["component"],
+                    "value": rows[i]["value"], "ratio": rows[i]["ratio"],
+                    "exceeded": any(rows[r]["exceeded"] for r in idx),
+                    "share_used": float(shares[i].sum())})
+    return out
+
+
 def report(allocation: Allocation) -> dict:
-    """A JSON-ready summary: rule, sources with magnitudes and binding rows, spec rows."""
+    """A JSON-ready summary of an allocation (every number in SI, with its σ level
+    beside it; see docs/scenarios.md, "The budget's JSON").
+
+    Top level: the spec, ``sigma_level`` k, ``operating_time_h``, ``step_s``, ``fill``
+    and ``fill_factor`` (the common variance factor of ``fill``, 1 without it), the
+    motion as text and as ``motion_values``, the rule; ``sources`` (magnitude at kσ and
+    at 1σ, the binding row, each item's share of its allowed variance at the item's
+    worst time, ``share_at_worst_time``, and over all its check times,
+    ``largest_share``); ``items`` (each item's worst row: the spec-rows table) and
+    ``rows`` (every item at every check time and component).
+    """
     budget = allocation.budget
     spec = budget.spec
+    k = spec.sigma_level
     contributions = allocation.contributions()
     allowed = budget.allowed_variances
-    values = spec.sigma_level * np.sqrt(contributions.sum(1))
+    shares = contributions / allowed[:, None]                            # (rows, sources)
+    values = k * np.sqrt(contributions.sum(1))
     rows_of = item_rows(budget)
+    worst = dict(zip(rows_of, worst_rows(allocation), strict=True))
     sources = []
     for j, s in enumerate(budget.sources):
         row = allocation.binding_row(j)
         magnitude = allocation.magnitudes[j]
+        finite = bool(np.isfinite(magnitude))
         sources.append({
             "name": s.name,
             "statistics": s.statistics,
-            "magnitude": None if not np.isfinite(magnitude) else float(magnitude),
+            "magnitude": float(magnitude) if finite else None,
+            "magnitude_sigma_level": k,
+            "magnitude_1sigma": float(allocation.sigma[j]) if finite else None,
             "unit": s.unit,
             "display": display(magnitude, s.unit, s.display_unit),
             "fixed": s.fixed is not None,
@@ -131,21 +214,20 @@ def report(allocation: Allocation) -> dict:
             "binding_time_h": None if row is None else row.time / HOUR,
             "binding_component": None if row is None else row.component,
             "share_at_binding": None if row is None else float(
-                contributions[allocation.binding[j], j] / allowed[allocation.binding[j]]),
-            "largest_share": {item.name: float(max(contributions[r, j] / allowed[r]
-                                                   for r in rows_of[item.name]))
-                              for item in spec.items},
+                shares[allocation.binding[j], j]),
+            "share_at_worst_time": {name: float(shares[r, j]) for name, r in worst.items()},
+            "largest_share": {name: float(max(shares[r, j] for r in idx))
+                              for name, idx in rows_of.items()},
         })
     # met by construction: a ratio above 1 by more than rounding would be a fault
     rows = _rows_json(budget, values, values > np.array([r.limit for r in budget.rows])
                       * (1 + 1e-9))
     return {
-        "spec": spec.title, "sigma_level": spec.sigma_level,
-        "motion": budget.system.labels.get("trajectory", ""),
+        **_header(budget, allocation.fill_factor),
         "exceeded": any(r["exceeded"] for r in rows),
         "rule": _RULE + (f"; then scaled by {allocation.fill_factor:.6g} in variance (fill)"
                          if spec.fill else ""),
-        "sources": sources, "rows": rows,
+        "sources": sources, "items": _items_json(budget, rows, shares), "rows": rows,
     }
 
 
@@ -154,58 +236,84 @@ _RULE = "equal share of each item's variance per free source (weighted), fixed s
 
 def _rows_json(budget, values: np.ndarray, exceeded: np.ndarray) -> list[dict]:
     """The spec rows of a report: value (SI, at the spec's σ level) against the limit,
-    both shown in the unit the limit reads best in (a vertical error of 1 arcmin in
-    arcmin, not 0.01667 deg)."""
+    both shown in the unit the spec wrote the limit in (:func:`written_unit`)."""
+    spec = budget.spec
+    units = {item.name: written_unit(item) for item in spec.items}
+
     def shown(r, value: float) -> str:
-        unit = readable_angle_unit(r.limit, ITEM_DISPLAY[r.item], down=True)
-        return display(value, ITEM_SI[r.item], unit)
+        return display(value, spec.item(r.item).kind.unit, units[r.item])
 
     return [{"item": r.item, "time_h": r.time / HOUR, "component": r.component,
-             "limit": r.limit, "value": float(v), "ratio": float(v / r.limit),
+             "limit": r.limit, "value": float(v), "unit": spec.item(r.item).kind.unit,
+             "sigma_level": spec.sigma_level, "ratio": float(v / r.limit),
              "exceeded": bool(over), "display": f"{shown(r, v)} of {shown(r, r.limit)}"}
             for r, v, over in zip(budget.rows, values, exceeded, strict=True)]
+
+
+def fixed_allocation(error: SpecExceededError) -> Allocation:
+    """The fixed sources alone, as an allocation (the free ones get nothing: σ = inf,
+    left out of contributions): what the --at breakdown and the plot of a spec the
+    fixed sources exceed are drawn from."""
+    budget = error.budget
+    sigma = np.array([np.inf if s.fixed is None else s.fixed for s in budget.sources])
+    return Allocation(budget, sigma, np.full(len(budget.sources), -1), 1.0)
 
 
 def exceeded_report(error: SpecExceededError) -> dict:
     """JSON-ready report of a spec the fixed sources alone use up: ``exceeded`` true, the
     fixed sources, every row with the fixed sources' value and its ratio to the limit
-    (``exceeded`` on the rows used up), and the free sources, which get no magnitude."""
+    (``exceeded`` on the rows used up), each item's worst row, and the free sources,
+    which get no magnitude."""
     budget = error.budget
     spec = budget.spec
+    k = spec.sigma_level
     fixed = [s for s in budget.sources if s.fixed is not None]
+    rows = _rows_json(budget, error.values, error.used_up)
+    shares = fixed_allocation(error).contributions() / budget.allowed_variances[:, None]
     return {
-        "spec": spec.title, "sigma_level": spec.sigma_level,
-        "motion": budget.system.labels.get("trajectory", ""),
+        **_header(budget, 1.0),
         "exceeded": True,
         "rule": _RULE + "; the fixed sources alone use up the spec, so nothing is allocated",
         "sources": [{"name": s.name, "statistics": s.statistics,
-                     "magnitude": float(s.fixed * spec.sigma_level), "unit": s.unit,
-                     "display": display(s.fixed * spec.sigma_level, s.unit, s.display_unit),
+                     "magnitude": float(s.fixed * k), "magnitude_sigma_level": k,
+                     "magnitude_1sigma": float(s.fixed), "unit": s.unit,
+                     "display": display(s.fixed * k, s.unit, s.display_unit),
                      "fixed": True} for s in fixed],
         "free_sources": [s.name for s in budget.sources if s.fixed is None],
-        "rows": _rows_json(budget, error.values, error.used_up),
+        "items": _items_json(budget, rows, shares), "rows": rows,
     }
+
+
+def _item_label(item: str, component: str) -> str:
+    """An item with the component of its worst row (``position_error [east]``)."""
+    return f"{item} [{component}]" if component else item
+
+
+def _time_line(data: dict) -> str:
+    """The operating time and the analysis step, one line."""
+    return (f"Operating time {format_time(data['operating_time_h'] * HOUR)}, analysis "
+            f"step {data['step_s']:g} s.")
 
 
 def exceeded_table(data: dict) -> str:
     """Plain text of :func:`exceeded_report`: each item the fixed sources use up, at its
-    worst time, by how much, and the fixed sources."""
+    worst time (and component), by how much, and the fixed sources."""
     k = f"{data['sigma_level']:g}σ"
     over = [r for r in data["rows"] if r["exceeded"]]
-    items = list(dict.fromkeys(r["item"] for r in data["rows"]))
-    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}",
+    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}", _time_line(data),
              f"SPEC EXCEEDED: the fixed sources alone use up {len(over)} of "
              f"{len(data['rows'])} spec rows, in "
-             f"{len({r['item'] for r in over})} of {len(items)} items; nothing is left "
-             "for the free sources.", "",
-             f"{'item':<22} {'worst time':>10}  {'value of limit':<34} {'ratio':>6}  "
-             "times exceeded", "-" * 92]
-    for item in items:
-        rows = [r for r in data["rows"] if r["item"] == item]
+             f"{len({r['item'] for r in over})} of {len(data['items'])} items; nothing is "
+             "left for the free sources.", "",
+             f"{'item':<28} {'worst time':>10}  {'value of limit':<34} {'ratio':>6}  "
+             "times exceeded", "-" * 98]
+    for item in data["items"]:
+        rows = [r for r in data["rows"] if r["item"] == item["name"]]
         worst = max(rows, key=lambda r: r["ratio"])
         count = sum(r["exceeded"] for r in rows)
         mark = f"{count} of {len(rows)}" if count else "met"
-        lines.append(f"{item:<22} {format_time(worst['time_h'] * HOUR):>10}  "
+        lines.append(f"{_item_label(item['name'], worst['component']):<28} "
+                     f"{format_time(worst['time_h'] * HOUR):>10}  "
                      f"{worst['display']:<34} {worst['ratio']:>6.3f}  {mark}")
     lines += ["", "Fixed sources (" + k + "): "
               + ", ".join(f"{s['name']} {s['display']}" for s in data["sources"])]
@@ -213,11 +321,11 @@ def exceeded_table(data: dict) -> str:
 
 
 def table(allocation: Allocation) -> str:
-    """Plain-text report: allocated magnitudes, binding items, worst row of each item."""
+    """Plain-text report: allocated magnitudes, binding items, worst row of each item
+    (with its component when the item's components are checked each on its own)."""
     data = report(allocation)
-    spec = allocation.budget.spec
-    k = f"{spec.sigma_level:g}σ"
-    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}",
+    k = f"{data['sigma_level']:g}σ"
+    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}", _time_line(data),
              f"Rule: {data['rule']}.", "",
              f"{'source':<36} {'allowed (' + k + ')':>22}  binding item",
              "-" * 86]
@@ -228,14 +336,15 @@ def table(allocation: Allocation) -> str:
             comp = f" [{s['binding_component']}]" if s["binding_component"] else ""
             bind = f"{s['binding_item']}{comp} at {format_time(s['binding_time_h'] * HOUR)}"
         lines.append(f"{s['name']:<36} {s['display']:>22}  {bind}")
-    lines += ["", f"Spec rows at the allocated magnitudes (worst time of each item, {k}):",
-              f"{'item':<22} {'time':>10}  {'value of limit':<34} {'ratio':>6}", "-" * 78]
-    for item in spec.items:
-        rows = [r for r in data["rows"] if r["item"] == item.name]
+    lines += ["", f"Spec rows at the allocated magnitudes (worst time of each item, {k}; "
+              "limits as the spec writes them):",
+              f"{'item':<28} {'time':>10}  {'value of limit':<34} {'ratio':>6}", "-" * 84]
+    for item in data["items"]:
+        rows = [r for r in data["rows"] if r["item"] == item["name"]]
         worst = max(rows, key=lambda r: r["ratio"])
-        lines.append(f"{item.name:<22} {format_time(worst['time_h'] * HOUR):>10}  "
-                     f"{worst['display']:<34} "
-                     f"{worst['ratio']:>6.3f}")
+        lines.append(f"{_item_label(item['name'], worst['component']):<28} "
+                     f"{format_time(worst['time_h'] * HOUR):>10}  "
+                     f"{worst['display']:<34} {worst['ratio']:>6.3f}")
     return "\n".join(lines)
 
 
@@ -264,18 +373,26 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
     return "\n".join(lines)
 
 
+FIXED_HATCH = "////"
+"""Hatching of a fixed source's bars in :func:`plot` (the instrument already bought)."""
+
+
 def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     """Save the budget as two readable bar charts.
 
-    Left: one group of bars per limited source, labelled with its name and its allowed
-    magnitude in display units (``gyro_drift_x ≤ 0.0063 deg/h``): one bar per spec item
-    (coloured as the item on the right), the largest share of that item's allowed
-    variance the source takes at any of its check times, so it shows where each source
-    is used, not only the item that binds it (named after the bars; by the equal-share
-    rule every source takes the same share of its binding item). Sources are grouped by binding
+    Left: one group of bars per fixed or limited source, labelled with its name and its
+    magnitude in display units (``gyro_drift_x ≤ 0.0063 deg/h`` allowed,
+    ``gyro_drift_z = 0.008 deg/h (fixed)``): one bar per spec item (coloured as the item
+    on the right), the largest share of that item's allowed variance the source takes
+    at any of its check times, so it shows where each source is used, not only the item
+    that binds it (named after the bars; by the equal-share rule every source takes the
+    same share of its binding item). The fixed sources come first, hatched
+    (:data:`FIXED_HATCH`), above a line; the allocated ones are grouped by binding
     item, then sorted by binding time and share. Right: each spec item's worst value at
-    the allocated magnitudes as a fraction of its limit. Sources the motion does not
-    limit are named under the chart.
+    these magnitudes as a fraction of its limit. Sources the motion does not limit are
+    named under the chart. An allocation of the fixed sources alone (a spec they exceed,
+    :func:`fixed_allocation`) draws them against the spec, with a line at 100 % of the
+    allowed variance, and names the free sources as not allocated.
 
     Parameters
     ----------
@@ -284,7 +401,7 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     path : str
         Image file to write (format from the suffix, e.g. ``budget.png``).
     top : int
-        Most sources drawn (the largest shares).
+        Most allocated sources drawn (the largest shares); every fixed source is drawn.
     """
     require_matplotlib()
     import matplotlib
@@ -294,6 +411,7 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
 
     data = report(allocation)
     spec = allocation.budget.spec
+    exceeded = bool(data.get("exceeded"))
     k = f"{spec.sigma_level:g}σ"
     items = [item.name for item in spec.items]
     limited = [s for s in data["sources"] if s["binding_item"] is not None]
@@ -302,33 +420,50 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     rank = {s["name"]: r for r, s in enumerate(limited)}
     limited.sort(key=lambda s: (items.index(s["binding_item"]), s["binding_time_h"],
                                 rank[s["name"]]))
+    fixed = [s for s in data["sources"] if s["fixed"]]
+    drawn = fixed + limited
     free = [s["name"] for s in data["sources"]
             if s["binding_item"] is None and not s["fixed"]]
     colours = {name: plt.get_cmap("tab10")(n % 10) for n, name in enumerate(items)}
-    width, height = 13.0, 0.32 * max(len(limited), len(items)) + 2.2
+    width, height = 13.0, 0.32 * max(len(drawn), len(items)) + 2.2
     fig, (left, right) = plt.subplots(1, 2, figsize=(width, height),
                                       gridspec_kw={"width_ratios": [2.2, 1]})
-    y = np.arange(len(limited))[::-1]
+    y = np.arange(len(drawn))[::-1]
     # largest percent of each item's allowed variance over its times, (sources, items)
-    used = np.array([[100 * s.get("largest_share", {s["binding_item"]:
-                                                       s["share_at_binding"]}).get(n, 0.0)
-                      for n in items] for s in limited]).reshape(len(limited), len(items))
+    used = np.array([[100 * (s.get("largest_share") or {s["binding_item"]:
+                                                        s["share_at_binding"]}).get(n, 0.0)
+                      for n in items] for s in drawn]).reshape(len(drawn), len(items))
     thick = 0.8 / len(items)
     for i, name in enumerate(items):
-        left.barh(y + (len(items) - 1) / 2 * thick - i * thick, used[:, i], height=thick,
-                  color=colours[name], label=name)
-    sources = [f"{s['name']}  ≤ {s['display'].strip()}" for s in limited]
+        bars = left.barh(y + (len(items) - 1) / 2 * thick - i * thick, used[:, i],
+                         height=thick, color=colours[name], label=name)
+        for bar in bars[:len(fixed)]:
+            bar.set_hatch(FIXED_HATCH)
+            bar.set_edgecolor("white")
+            bar.set_linewidth(0)
+    sources = ([f"{s['name']}  = {s['display'].strip()} (fixed)" for s in fixed]
+               + [f"{s['name']}  ≤ {s['display'].strip()}" for s in limited])
     left.set_yticks(y, sources, fontsize=8)
+    if fixed and limited:
+        left.axhline(y[len(fixed) - 1] - 0.5, color="k", lw=0.8, ls=":")
     longest = used.max(1) if used.size else np.zeros(0)
     largest = max(float(longest.max()) if longest.size else 0.0, 1e-9)
     notes = []
-    for yy, s, end in zip(y, limited, longest, strict=True):
-        when = format_time(s["binding_time_h"] * HOUR)
-        text = f"  bound by {s['binding_item']} at {when}"
+    for n, (yy, s, end) in enumerate(zip(y, drawn, longest, strict=True)):
+        if n < len(fixed):
+            text = "  fixed (bought)"
+        else:
+            when = format_time(s["binding_time_h"] * HOUR)
+            text = f"  bound by {s['binding_item']} at {when}"
         left.text(end, yy, text, va="center", fontsize=7)
         notes.append((end / (largest * 1.6), text_width([text], 7)))
     left.set_xlim(0, largest * 1.6)
-    left.set_title("allowed magnitude of each source, and where it is used", fontsize=10)
+    if exceeded and largest >= 100:
+        left.axvline(100.0, color="k", lw=1, ls="--")
+    left.set_title("the fixed sources alone, and where they use the spec" if exceeded else
+                   "allowed (or fixed) magnitude of each source, and where it is used"
+                   if fixed else "allowed magnitude of each source, and where it is used",
+                   fontsize=10)
     left.grid(True, axis="x", alpha=0.3)
     worst = []
     for name in items:
@@ -337,12 +472,13 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     yi = np.arange(len(items))[::-1]
     right.barh(yi, [r["ratio"] for r in worst], color=[colours[n] for n in items])
     right.axvline(1.0, color="k", lw=1, ls="--")
-    checks = [f"{n}\n{r['display']} at {format_time(r['time_h'] * HOUR)}"
-              for n, r in zip(items, worst, strict=True)]
+    checks = [f"{_item_label(n, r.get('component', ''))}\n{r['display']} at "
+              f"{format_time(r['time_h'] * HOUR)}" for n, r in zip(items, worst, strict=True)]
     right.set_yticks(yi, checks, fontsize=8)
-    right.set_xlim(0, 1.15)
+    right.set_xlim(0, max(1.15, 1.1 * max(r["ratio"] for r in worst)))
     right.set_xlabel(f"worst value / limit ({k})")
-    right.set_title("spec items at these magnitudes", fontsize=10)
+    right_title = ("spec items at the fixed sources alone" if exceeded else
+                   "spec items at these magnitudes")
     right.grid(True, axis="x", alpha=0.3)
     # fixed margins from the labels' measured widths (no tight_layout: it draws the
     # figure once more only to measure it); all sizes in inches
@@ -350,10 +486,13 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     if free:
         import textwrap
 
-        note = wrap_to_width(textwrap.fill(
-            f"not limited on this motion: {', '.join(free)}", 170), 7, width - 0.3)
+        why = ("not allocated (the fixed sources alone exceed the spec)" if exceeded
+               else "not limited on this motion")
+        note = wrap_to_width(textwrap.fill(f"{why}: {', '.join(free)}", 170), 7,
+                             width - 0.3)
         fig.text(0.1 / width, 0.1 / height, note, fontsize=7, va="bottom")
-    heading = wrap_to_width(f"Error budget: {spec.title}\n{data['motion']}", 10, width - 0.4)
+    heading = wrap_to_width(f"Error budget: {spec.title}{' — SPEC EXCEEDED' if exceeded else ''}"
+                            f"\n{data['motion']}", 10, width - 0.4)
     fig.suptitle(heading, fontsize=10, y=1 - 0.1 / height, va="top")
     margin, ticks = 0.12, 7 / 72  # edge clearance; tick length + pad
     left_margin = margin + text_width(sources, 8) + ticks
@@ -364,11 +503,17 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
         over = max((f * panel + w - panel for f, w in notes), default=0.0)
         gap = margin + 0.2 + text_width(checks, 8) + ticks + max(0.0, over)
     xlabel = (f"largest share of each item's allowed variance over its check times, % "
+              f"({k} magnitudes as labelled; hatched: fixed; colours: the items on the "
+              f"right)" if fixed else
+              f"largest share of each item's allowed variance over its check times, % "
               f"({k} magnitudes as labelled; colours: the items on the right)")
     if text_width([xlabel], 10) > panel:
         xlabel = xlabel.replace(" (", "\n(")
     left.set_xlabel(xlabel)
-    top = 0.1 + text_height(heading, 10) + 0.12 + text_height("title", 10) + 6 / 72
+    # the right panel's title on two lines when the labels leave the panel narrow
+    right_title = wrap_to_width(right_title, 10, panel / share - panel)
+    right.set_title(right_title, fontsize=10)
+    top = 0.1 + text_height(heading, 10) + 0.12 + text_height(right_title, 10) + 6 / 72
     bottom = (margin + ticks + text_height("0", 10) + 4 / 72
               + text_height(xlabel, 10) + (text_height(note, 7) + 0.1 if note else 0))
     fixed_margins(fig, left=left_margin, right=0.3, bottom=bottom, top=top, wspace=gap)
@@ -397,33 +542,63 @@ def output_rows(data: dict, it: int, top: int = 10) -> list[tuple[str, np.ndarra
     return rows
 
 
+def magnitudes_note(allocation: Allocation, fixed_only: bool = False) -> str:
+    """Which magnitudes a breakdown of the navigation errors uses, for its title and the
+    JSON: the allocated ones (after ``fill``'s factor), or (``fixed_only``: a spec the
+    fixed sources exceed, :func:`fixed_allocation`) the fixed sources alone."""
+    if fixed_only:
+        return "the fixed sources alone, as nothing is allocated"
+    if allocation.budget.spec.fill:
+        return (f"the allocated magnitudes, filled (×{allocation.fill_factor:.4g} in "
+                "variance)")
+    return "the allocated magnitudes"
+
+
 def output_table(data: dict, top: int = 10) -> str:
-    """Text table of :func:`output_contributions` (1σ per source, largest first)."""
+    """Text table of :func:`output_contributions` (1σ per source, largest first); its
+    titles name the magnitudes (``data["magnitudes"]``, :func:`magnitudes_note`) when
+    given."""
     lines = []
+    note = data.get("magnitudes")
     for it, t in enumerate(data["times_h"]):
         names = [f"{q.replace('delta_', 'Δ')} {u}"
                  for q, u in zip(data["quantities"], data["units"], strict=True)]
         widths = [max(12, len(n) + 2) for n in names]
         header = f"{'source (1σ)':<34}" + "".join(f"{n:>{w}}"
                                                   for n, w in zip(names, widths, strict=True))
-        lines += [f"Contributions to the navigation errors at {format_time(t * HOUR)}:",
+        at = f" (1σ, at {note})" if note else ""
+        lines += [f"Contributions to the navigation errors at {format_time(t * HOUR)}{at}:",
                   header,
                   "-" * len(header)]
         for label, values in output_rows(data, it, top):
-            lines.append(f"{label:<34}" + "".join(f"{v:>{w}.4g}"
+            lines.append(f"{label:<34}" + "".join(f"{_number(v, 4):>{w}}"
                                                   for v, w in zip(values, widths, strict=True)))
         lines.append("")
     return "\n".join(lines).rstrip()
 
 
-def plot_outputs(data: dict, path: str, top: int = 19) -> None:
+def _number(value: float, digits: int) -> str:
+    """``value`` to ``digits`` significant digits, whole numbers up to 1e7 without an
+    exponent (a position error of 33560 m, not 3.356e+04 m)."""
+    if 10**digits <= abs(value) < 1e7:
+        return f"{value:.0f}"
+    return f"{value:.{digits}g}"
+
+
+OTHERS_STYLE = {"color": "white", "edgecolor": "black", "hatch": "////", "linewidth": 0.6}
+"""How the "others" block of :func:`plot_outputs` is drawn: white, hatched and outlined,
+unlike any source's colour (tab20 has two greys; a grey block read as one of them)."""
+
+
+def plot_outputs(data: dict, path: str, top: int = 19, title: str | None = None) -> None:
     """Stacked bars of :func:`output_contributions`: share of each error's variance.
 
     One panel per chosen time; each bar is one platform angle or output error, split
     into the sources' shares of its variance (the bar's label gives its 1σ total), so
     every bar adds up to 1. The named sources are chosen by :func:`select_sources`
     over every bar of every panel, at most ``top`` of them (19: the distinct colours of
-    the palette); the rest make one grey "others" block.
+    the palette); the rest make one hatched "others" block (:data:`OTHERS_STYLE`).
+    ``title``: the figure's heading (spec, motion, σ and magnitudes), over the panels.
     """
     require_matplotlib()
     import matplotlib
@@ -437,8 +612,13 @@ def plot_outputs(data: dict, path: str, top: int = 19) -> None:
     shown, rest = select_sources(shares.reshape(-1, shares.shape[-1]), top)
     colours = plt.get_cmap("tab20")
     times = data["times_h"]
-    width, height = 12.0, 3.2 * len(times) + 1.2
+    width = 12.0
+    heading_text = wrap_to_width(title, 11, width - 0.4) if title else ""
+    heading = text_height(heading_text, 11) + 0.12 if title else 0.0
+    height = 3.2 * len(times) + 1.2 + heading
     fig, axes = plt.subplots(len(times), 1, figsize=(width, height), squeeze=False)
+    if heading_text:
+        fig.suptitle(heading_text, fontsize=11, y=1 - 0.1 / height, va="top")
     x = np.arange(len(data["quantities"]))
     labels = []
     for it, (ax, t) in enumerate(zip(axes[:, 0], times, strict=True)):
@@ -448,9 +628,9 @@ def plot_outputs(data: dict, path: str, top: int = 19) -> None:
                    label=data["sources"][j])
             bottom += shares[it, :, j]
         if rest.size:
-            ax.bar(x, shares[it][:, rest].sum(-1), bottom=bottom, color="0.75",
-                   label="others")
-        labels = [f"{q.replace('delta_', 'Δ')}\n{v:.3g} {u}" for q, u, v in
+            ax.bar(x, shares[it][:, rest].sum(-1), bottom=bottom, label="others",
+                   **OTHERS_STYLE)
+        labels = [f"{q.replace('delta_', 'Δ')}\n{_number(v, 3)} {u}" for q, u, v in
                   zip(data["quantities"], data["units"], total[it], strict=True)]
         ax.set_xticks(x, labels, fontsize=7)
         ax.set_ylabel("share of variance")
@@ -470,7 +650,7 @@ def plot_outputs(data: dict, path: str, top: int = 19) -> None:
     title = text_height("t", 10) + 6 / 72
     fixed_margins(fig, left=0.12 + text_height("share", 10) + 4 / 72
                   + text_width(["0.0", "1.0"], 10) + 7 / 72,
-                  right=0.2, top=0.12 + title, bottom=legend + 0.15 + ticks,
+                  right=0.2, top=0.12 + heading + title, bottom=legend + 0.15 + ticks,
                   hspace=ticks + 0.2 + title)
     save_figure(fig, path, dpi=120)
 

@@ -34,8 +34,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "[parameters])")
     parser.add_argument("--plot", metavar="PNG",
                         help="write a chart of the allocation: each source's allowed "
-                             "magnitude with its largest share of every item (the binding "
-                             "one named), and every item's worst value against its limit")
+                             "magnitude (or the spec's fixed one, hatched) with its largest "
+                             "share of every item (the binding one named), and every item's "
+                             "worst value against its limit")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--fill", action="store_true",
                         help="scale the free sources until the tightest item is met exactly")
@@ -62,7 +63,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="workers of the local cluster or pool (default: CPU cores)")
     parser.add_argument("--at", metavar="TIMES",
                         help="comma-separated times (e.g. '1 h, 8 h'): per-source 1σ "
-                             "contributions to every navigation error at those times")
+                             "contributions, at the allocated magnitudes, to every "
+                             "navigation error at those times (positions in metres north "
+                             "and east)")
     parser.add_argument("--plot-at", metavar="PNG",
                         help="with --at: write a stacked plot of those contributions")
     parser.set_defaults(func=run)
@@ -102,6 +105,8 @@ def run(args: argparse.Namespace) -> int:
     if args.spec is None and not path.exists():
         raise SpecError("no --spec given and the built-in 802m spec is missing")
     spec = load_spec(path)
+    if times is not None:   # before any work
+        bd.check_times(spec, times)
     parameters = spec_parameters(spec, model, args.parameter)
     p = model.parameter_vector(**parameters)
     if args.fill:
@@ -122,8 +127,8 @@ def run(args: argparse.Namespace) -> int:
         try:
             allocation = bd.allocate(unit)
         except bd.SpecExceededError as exceeded:
-            return _report_exceeded(args, exceeded, parameters_record(model, parameters),
-                                    warnings)
+            return _report_exceeded(args, model, exceeded,
+                                    parameters_record(model, parameters), warnings, times)
     data = rep.report(allocation)
     data["parameters"] = parameters_record(model, parameters)
     data["warnings"] = warnings
@@ -150,11 +155,7 @@ def run(args: argparse.Namespace) -> int:
             data["warnings"].append(text)
     outputs = None
     if times is not None:
-        outputs = bd.output_contributions(model, allocation, times)
-        if args.plot_at:
-            rep.plot_outputs(outputs, args.plot_at)
-        data["contributions"] = {**outputs, "std": outputs["std"].tolist(),
-                                 "total": outputs["total"].tolist()}
+        outputs = _contributions(model, allocation, times, args.plot_at, data)
     if args.json:
         emit(data, ensure_ascii=False)
         return 0
@@ -164,8 +165,7 @@ def run(args: argparse.Namespace) -> int:
     if outputs is not None:
         print()
         print(rep.output_table(outputs))
-    if args.plot:
-        print(f"\nplot written to {args.plot}")
+    _announce(args)
     if args.monte_carlo is not None:
         mc = data["monte_carlo"]
         print(f"\nDirect Monte Carlo: {mc['runs']} runs of "
@@ -182,7 +182,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"{'row':<40} {'covariance':>16} {'Monte Carlo':>16}{integration} "
               f"{'ratio':>7}")
         for r in mc["rows"]:
-            unit, shown = bd.ITEM_SI[r["item"]], bd.ITEM_DISPLAY[r["item"]]
+            item = spec.item(r["item"])   # as the spec rows above: the limit's own unit
+            unit, shown = item.kind.unit, rep.written_unit(item)
             ratio = "–" if r["ratio"] is None else f"{r['ratio']:.3f}"
             if estimate:   # the scheme's bias of the Monte Carlo value
                 error = r.get("integration_error")
@@ -198,18 +199,73 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _report_exceeded(args: argparse.Namespace, exceeded, parameters: dict,
-                     warnings: list[str]) -> int:
+def _report_exceeded(args: argparse.Namespace, model, exceeded, parameters: dict,
+                     warnings: list[str], times: list[float] | None) -> int:
     """A spec the fixed sources alone use up: the rows with their ratios (JSON or
-    text), exit status 1 (the answer is "exceeded"; 2 stays for bad input)."""
+    text), exit status 1 (the answer is "exceeded"; 2 stays for bad input).
+
+    What still makes sense is made from the fixed sources alone: the --at breakdown
+    (which bought part breaks the spec) and its --plot-at, the --plot chart against the
+    spec; --monte-carlo, which checks an allocation, is skipped with one line saying so.
+    """
     from ins_errors.analysis import budget_report as rep
 
     data = {**rep.exceeded_report(exceeded), "parameters": parameters, "warnings": warnings}
+    fixed = rep.fixed_allocation(exceeded)
+    if args.monte_carlo is not None:
+        text = ("--monte-carlo skipped: the fixed sources alone exceed the spec, so there "
+                "is no allocation for direct runs to check")
+        print(f"ins-errors: warning: {text}", file=sys.stderr)
+        data["warnings"].append(text)
+    if args.plot:
+        rep.plot(fixed, args.plot)
+    outputs = None
+    if times is not None:
+        outputs = _contributions(model, fixed, times, args.plot_at, data, fixed_only=True)
     if args.json:
         emit(data, ensure_ascii=False)
-    else:
-        print(rep.exceeded_table(data))
+        return 1
+    print(rep.exceeded_table(data))
+    if outputs is not None:
+        print()
+        print(rep.output_table(outputs))
+    _announce(args)
     return 1
+
+
+def _contributions(model, allocation, times: list[float], plot_at: str | None,
+                   data: dict, fixed_only: bool = False) -> dict:
+    """The --at breakdown (:func:`~ins_errors.analysis.budget.output_contributions`),
+    labelled with the magnitudes it uses, its σ level and its arrays' axes; drawn to
+    ``plot_at`` if given; put in ``data["contributions"]`` as JSON."""
+    from ins_errors.analysis import budget as bd
+    from ins_errors.analysis import budget_report as rep
+
+    budget = allocation.budget
+    outputs = bd.output_contributions(model, allocation, times)
+    outputs["magnitudes"] = rep.magnitudes_note(allocation, fixed_only)
+    if plot_at:
+        k = budget.spec.sigma_level
+        level = "1σ" if k == 1 else f"1σ (the spec's items are {k:g}σ)"
+        rep.plot_outputs(outputs, plot_at, title=(
+            f"Contributions to the navigation errors: {budget.spec.title}\n"
+            f"{budget.system.labels.get('trajectory', '')}\n"
+            f"{level}, at {outputs['magnitudes']}"))
+    data["contributions"] = {
+        **outputs, "sigma_level": 1.0,
+        "axes": {"std": ["times_h", "quantities", "sources"],
+                 "total": ["times_h", "quantities"]},
+        "std": outputs["std"].tolist(), "total": outputs["total"].tolist()}
+    return outputs
+
+
+def _announce(args: argparse.Namespace) -> None:
+    """Name the image files written (text output only)."""
+    written = [target for target in (args.plot, args.plot_at) if target]
+    if written:
+        print()
+    for target in written:
+        print(f"plot written to {target}")
 
 
 MC_DEFAULTS = {"mc_duration": "1 h", "mc_step": "0.01 s", "seed": 0, "engine": "auto",
@@ -301,6 +357,7 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
     for row, value in zip(rows, values, strict=True):
         cov = lookup[(row.item, row.time, row.component)]
         out.append({"row": row.label, "item": row.item, "time_h": row.time / 3600,
+                    "unit": spec.item(row.item).kind.unit, "sigma_level": spec.sigma_level,
                     "covariance": float(cov), "monte_carlo": float(value),
                     "ratio": float(value / cov) if cov > 0 else None})
         if cov <= 0:
@@ -308,7 +365,8 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
         if integration is not None:
             error = integration["rows"].get((row.item, row.time, row.component))
             out[-1]["integration_error"] = error
-    result = {"runs": args.monte_carlo, "duration_h": duration / 3600, "step_s": step,
+    result = {"runs": args.monte_carlo, "sigma_level": spec.sigma_level,
+              "duration_h": duration / 3600, "step_s": step,
               "method": "euler", "relative_sampling_error": sampling_error(args.monte_carlo),
               "rows": out}
     if integration is not None:
