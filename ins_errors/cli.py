@@ -192,14 +192,16 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{parser.prog}: error: give a command, e.g. '{parser.prog} models' (usage: "
               f"{usage}; see '{parser.prog} --help')", file=sys.stderr)
         return 2
-    from ins_errors.numeric.cache import root
+    from ins_errors.numeric.cache import check_settings
 
-    root()  # a relative $INS_ERRORS_CACHE is taken against the folder the command starts in
     real_stdout = sys.stdout
     sys.stdout = _GuardedStdout(real_stdout)
     shown_warning = warnings.showwarning
     warnings.showwarning = _one_line_notices(shown_warning)
     try:
+        # before any work, whatever the cache holds: the cache's variables (a relative
+        # $INS_ERRORS_CACHE is taken against the folder the command starts in)
+        check_settings()
         status = int(args.func(args) or 0)
         sys.stdout.flush()
         return status

@@ -19,7 +19,9 @@ default) when that package records both, else from the user cache
 ``<model>-<first 16 hex of the SHA-256 of both>``), where it is derived on first use (the
 :data:`KEEP_VERSIONS` newest versions of each model are kept there). A stale package (the
 model file was edited since, or another version of ins-errors derived it) is never used:
-one line on stderr says so and the code is regenerated in the cache.
+one line on stderr says so and the code is regenerated in the cache. A cache folder that
+cannot be written (mounted read-only) is still read; code it lacks is derived into this
+user's private folder (:func:`ins_errors.numeric.cache.writable_store`), said in one line.
 """
 
 from __future__ import annotations
@@ -311,8 +313,12 @@ def generated_folder(ref: ModelRef) -> Path:
         if stale:
             _say(f"{stale}; using the up-to-date code in the cache")
         return cached
+    from ins_errors.numeric.cache import writable_store
+
+    # a read-only cache's private place, found before the SymPy work
+    folder = writable_store(models_cache_directory())
     d = definition_of(ref)
-    cached = models_cache_directory() / f"{d.name}-{cache_key(ref)}"
+    cached = folder / f"{d.name}-{cache_key(ref)}"
     if stale:
         _say(f"{stale}; deriving again into the cache")
     elif _derived_by_other_code(ref):
@@ -346,15 +352,18 @@ def _cached_package(ref: ModelRef) -> Path | None:
     need. An entry point's package must bear the entry point's name (the model's own
     name, else :func:`definition_of` refuses it).
     """
+    from ins_errors.numeric.cache import store_folders
+
     name = glob.escape(ref.spec) if ref.kind == "entry_point" else "*"
-    try:
-        candidates = sorted(models_cache_directory().glob(f"{name}-{cache_key(ref)}"))
-    except OSError:
-        return None
     current = current_hashes(ref)
-    for folder in candidates:
-        if recorded_hashes(folder) == current:
-            return folder
+    for store in store_folders(models_cache_directory()):  # read-only: + private place
+        try:
+            candidates = sorted(store.glob(f"{name}-{cache_key(ref)}"))
+        except OSError:
+            continue
+        for folder in candidates:
+            if recorded_hashes(folder) == current:
+                return folder
     return None
 
 

@@ -12,6 +12,11 @@ used as empty marker files under ``owners/<checkout id>/`` (the id is a hash of 
 checkout's folder, so no path is written), which lets ``ins-errors cache clear
 --checkout`` (``make clean``) remove one checkout's libraries and leave those another
 checkout also uses.
+
+A cache folder this process cannot write (a shared cache mounted read-only on a cluster)
+is still read: its loops and model packages are used, and what is missing is made in a
+private folder of this user in the temporary folder (:func:`private_directory`), said
+once in one line (:func:`loops_directory`, :func:`writable_store`).
 """
 
 from __future__ import annotations
@@ -19,8 +24,10 @@ from __future__ import annotations
 import hashlib
 import os
 import shutil
+import stat
 import tempfile
 import time
+import warnings
 from collections.abc import Iterable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass
@@ -175,6 +182,191 @@ def limit_bytes() -> int:
     return int(value * 1e6)
 
 
+def check_settings() -> None:
+    """Check the cache's environment variables, as a command starts, before any work:
+    ``$INS_ERRORS_CACHE_LIMIT`` is a size (:func:`limit_bytes`) and ``$INS_ERRORS_CACHE``,
+    when set, names a folder or a path one can be made at (it is made absolute,
+    :func:`root`; a missing folder is made when first written).
+
+    Raises
+    ------
+    InsErrorsError
+        One line naming the variable and what is wrong with it.
+    """
+    limit_bytes()
+    chosen = root()
+    if chosen is not None and (chosen.exists() or chosen.is_symlink()) \
+            and not chosen.is_dir():
+        raise unusable_cache(chosen, "it is not a folder")
+
+
+def unusable_cache(folder: Path, why: str) -> InsErrorsError:
+    """The one-line error of a ``$INS_ERRORS_CACHE`` that cannot be the cache folder."""
+    return InsErrorsError(f"INS_ERRORS_CACHE={str(folder)!r} cannot be the cache folder "
+                          f"({why}): point it at a folder, or unset it")
+
+
+def can_write(folder: Path) -> bool:
+    """Whether ``folder`` is (made if missing) a folder this process can write in."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError:
+        return False
+    return folder.is_dir() and os.access(folder, os.W_OK | os.X_OK)
+
+
+def _why_not_a_folder(folder: Path) -> str:
+    """Why ``folder`` cannot be made (for a path :func:`can_write` refused, not a folder)."""
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        return "it is a file" if folder.is_file() else (error.strerror
+                                                         or type(error).__name__)
+    return "not writable"
+
+
+PRIVATE_NOTICE_VARIABLE = "INS_ERRORS_PRIVATE_CACHE_NOTICE_GIVEN"
+"""Set (to ``1``) once a process has said that new work goes to the private folder; its
+worker processes do not say it again."""
+
+_PRIVATE: Path | None = None
+_LINKED: set[tuple[Path, Path]] = set()
+_PRIVATE_NOTICE_GIVEN = False
+_PRIVATE_FOR: dict[Path, Path] = {}
+
+
+def private_directory() -> Path:
+    """This user's own folder for what the cache folder cannot take (made if missing).
+
+    ``ins-errors-<uid>`` in the temporary folder, laid out as a ``$INS_ERRORS_CACHE``
+    folder (loops in it, the other stores in subfolders) and kept between runs; when
+    that path is not a folder of this user that others cannot write (another user may
+    have made it), a new temporary folder for this process instead.
+    """
+    global _PRIVATE
+    if _PRIVATE is not None and _PRIVATE.is_dir():
+        return _PRIVATE
+    user = os.getuid() if hasattr(os, "getuid") else None
+    shared = Path(tempfile.gettempdir()) / f"ins-errors-{'user' if user is None else user}"
+    try:
+        shared.mkdir(mode=0o700, exist_ok=True)
+        info = shared.lstat()
+        if (stat.S_ISDIR(info.st_mode) and (user is None or info.st_uid == user)
+                and not info.st_mode & 0o022 and os.access(shared, os.W_OK | os.X_OK)):
+            _PRIVATE = shared
+            return shared
+    except OSError:
+        pass
+    _PRIVATE = Path(tempfile.mkdtemp(prefix="ins-errors-"))
+    return _PRIVATE
+
+
+def _private_notice(folder: Path, private: Path) -> None:
+    """Say once per process (and not again in its workers) where new work goes."""
+    global _PRIVATE_NOTICE_GIVEN
+    if _PRIVATE_NOTICE_GIVEN:
+        return
+    _PRIVATE_NOTICE_GIVEN = True
+    import multiprocessing
+
+    if (os.environ.get(PRIVATE_NOTICE_VARIABLE)
+            and multiprocessing.parent_process() is not None):
+        return  # a worker: the process that started it has said so
+    os.environ[PRIVATE_NOTICE_VARIABLE] = "1"
+    if folder.is_dir():
+        text = (f"ins-errors: the cache folder {str(folder)!r} is read-only: what it holds "
+                f"is used, what it lacks is made and kept in {str(private)!r}")
+    else:
+        text = (f"ins-errors: the cache folder {str(folder)!r} cannot be written; compiled "
+                f"loops and other new work are kept in {str(private)!r} instead")
+    warnings.warn(text, RuntimeWarning, stacklevel=3)
+
+
+def _link_loops(source: Path, target: Path) -> None:
+    """Link ``target/loop_*.so`` to each library of the read-only folder ``source``
+    (once per process), so that a loop found there is not compiled again; links whose
+    library has gone are removed."""
+    if (source, target) in _LINKED:
+        return
+    _LINKED.add((source, target))
+    try:
+        for link in target.glob(PATTERN):
+            if link.is_symlink() and not link.exists():
+                link.unlink(missing_ok=True)
+        names = [path.name for path in source.glob(PATTERN)]
+    except OSError:
+        return
+    for name in names:
+        link = target / name
+        try:
+            if not link.exists() and not link.is_symlink():
+                link.symlink_to(source / name)
+        except OSError:
+            continue  # made meanwhile by another process, or no links here
+
+
+def loops_directory(folder: Path | None = None) -> Path:
+    """Where compiled loops are looked up and written: the loops' folder ``folder``
+    (default :func:`directory`, made if missing) when it can be written.
+
+    Otherwise this user's :func:`private_directory`: when ``folder`` is a folder (a
+    read-only cache), the private folder links to every library it holds, which are used
+    as they are; only missing loops are compiled, into the private folder, and the first
+    one compiled there is said in one line (:func:`register`). The size limit is checked
+    first, whether or not a loop is compiled.
+
+    Raises
+    ------
+    InsErrorsError
+        If ``$INS_ERRORS_CACHE_LIMIT`` is not a size, or ``$INS_ERRORS_CACHE`` names
+        something that is not a folder and cannot be made one (a folder the user chose
+        is not silently replaced).
+    """
+    folder = directory() if folder is None else folder
+    limit_bytes()
+    if can_write(folder):
+        return folder
+    if not folder.is_dir() and os.environ.get("INS_ERRORS_CACHE"):
+        raise unusable_cache(folder, _why_not_a_folder(folder))
+    private = private_directory()
+    if folder.is_dir():
+        _link_loops(folder, private)
+    _PRIVATE_FOR[private] = folder
+    return private
+
+
+def store_folders(folder: Path) -> list[Path]:
+    """Where entries of the store kept in ``folder`` (:func:`store_directory`) are looked
+    up: ``folder``, then the same store in this user's :func:`private_directory` when
+    ``folder`` cannot be written (a read-only cache)."""
+    if can_write(folder):
+        return [folder]
+    return [folder, private_directory() / folder.name]
+
+
+def writable_store(folder: Path) -> Path:
+    """Where new entries of the store kept in ``folder`` (:func:`store_directory`) are
+    written: ``folder`` when it can be written (made if missing), else the same store in
+    this user's :func:`private_directory`, said in one line (once). Call it before the
+    costly work whose result it keeps.
+
+    Raises
+    ------
+    InsErrorsError
+        If ``$INS_ERRORS_CACHE`` names something that is not a folder and cannot be made
+        one.
+    """
+    if can_write(folder):
+        return folder
+    chosen = root()
+    if chosen is not None and not chosen.is_dir():
+        raise unusable_cache(chosen, _why_not_a_folder(chosen))
+    private = private_directory() / folder.name
+    private.mkdir(exist_ok=True)
+    _private_notice(chosen if chosen is not None else folder.parent, private.parent)
+    return private
+
+
 def checkout_id() -> str:
     """A short id of the installed project folder (the checkout this code runs from)."""
     root = Path(__file__).resolve().parents[2]
@@ -279,7 +471,11 @@ def write_note(name: str, text: str) -> None:
 
 def register(library: Path) -> None:
     """Record a newly compiled ``library`` and evict the least recently used beyond the
-    limit (never ``library`` itself)."""
+    limit (never ``library`` itself); a library compiled into the private folder
+    (:func:`loops_directory`) is said, once."""
+    refused = _PRIVATE_FOR.get(library.parent)
+    if refused is not None:  # the loops' folder cannot be written: say where it went
+        _private_notice(refused, library.parent)
     try:
         _mark(library)
         evict(library.parent, limit_bytes(), keep=library)
@@ -310,6 +506,8 @@ def entries(folder: Path | None = None) -> list[Entry]:
     mine_dir = _owners(folder) / checkout_id()
     found = []
     for path in folder.glob(PATTERN):
+        if path.is_symlink():
+            continue  # a link to a read-only cache's library (loops_directory)
         try:
             info = path.stat()
         except OSError:

@@ -21,8 +21,9 @@ per recorded sample and ``chunk`` samples per call, keeping the state in two buf
 It is compiled once with the machine's C compiler, without fused multiply-add
 contraction (:data:`IEEE_FLAGS`: every operation rounded as IEEE 754 says, so the
 compiled loop gives the bits of the CasADi virtual machine), into a shared library cached
-on disk (``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``; a temporary folder if
-that is not writable; size-limited, least recently used first out:
+on disk (``$INS_ERRORS_CACHE`` or ``~/.cache/ins-errors/casadi``; read only, with new
+loops in a private temporary folder, if that is not writable; size-limited, least
+recently used first out:
 :mod:`ins_errors.numeric.cache`)
 and calls it on numpy buffers in place through :mod:`ctypes` (:class:`NativeFunction`).
 Where no compiler works it falls back to the CasADi virtual machine and says so once
@@ -48,7 +49,6 @@ import re
 import shutil
 import signal
 import subprocess
-import tempfile
 import threading
 import warnings
 from collections.abc import Callable, Iterator, Sequence
@@ -416,41 +416,18 @@ def cache_directory() -> Path:
 
 
 def _writable(directory: Path) -> Path:
-    """``directory`` if it can be created and written, else a per-user temporary folder
-    (with a warning, once: ``ins-errors cache`` does not see that folder).
+    """Where compiled loops are looked up and written: ``directory`` if it can be made
+    and written, else this user's private folder (which links to the loops a read-only
+    ``directory`` holds), said once: :func:`ins_errors.numeric.cache.loops_directory`.
 
     Raises
     ------
     InsErrorsError
-        If ``$INS_ERRORS_CACHE`` names the folder and it cannot be used: a folder the
-        user chose is not silently replaced.
+        If ``$INS_ERRORS_CACHE_LIMIT`` is not a size, or ``$INS_ERRORS_CACHE`` names
+        something that cannot be a folder: a folder the user chose is not silently
+        replaced.
     """
-    global _FALLBACK_NOTICE_GIVEN
-    user = os.getuid() if hasattr(os, "getuid") else "user"
-    fallback = Path(tempfile.gettempdir()) / f"ins-errors-{user}"
-    for k, candidate in enumerate((directory, fallback)):
-        why = "not writable"
-        try:
-            candidate.mkdir(parents=True, exist_ok=True)
-            if os.access(candidate, os.W_OK):
-                break
-        except OSError as error:
-            why = ("it is a file" if candidate.is_file()
-                   else error.strerror or type(error).__name__)
-        if k == 0 and os.environ.get("INS_ERRORS_CACHE"):
-            raise InsErrorsError(f"INS_ERRORS_CACHE={str(directory)!r} cannot be the cache "
-                                 f"folder ({why}): point it at a folder, or unset it")
-    else:
-        candidate = Path(tempfile.mkdtemp(prefix="ins-errors-"))
-    if candidate != directory and not _FALLBACK_NOTICE_GIVEN:
-        _FALLBACK_NOTICE_GIVEN = True
-        warnings.warn(f"ins-errors: the cache folder {str(directory)!r} cannot be written; "
-                      f"compiled loops are kept in {str(candidate)!r} instead",
-                      RuntimeWarning, stacklevel=2)
-    return candidate
-
-
-_FALLBACK_NOTICE_GIVEN = False
+    return cache.loops_directory(directory)
 
 
 def _cpu_identity() -> str:
