@@ -178,7 +178,8 @@ def main(argv: list[str] | None = None) -> int:
     -------
     int
         0 done (a check found no mistake), 1 a check found at least one mistake, 2 bad
-        input or an output that cannot be written (one line on stderr), 130 interrupted,
+        input or an output that cannot be written (one line on stderr), 130 interrupted
+        (143 when SIGTERM stopped a run of tasks, after the clean-up Ctrl-C gets),
         141 (128 + SIGPIPE) the reader of standard output stopped reading, as a POSIX
         tool killed by SIGPIPE reports.
     """
@@ -208,9 +209,11 @@ def main(argv: list[str] | None = None) -> int:
     except InsErrorsError as error:
         print(f"ins-errors: error: {error}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        print("ins-errors: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM while tasks ran (engine)
+        signum = getattr(error, "signum", 2)
+        print("ins-errors: interrupted" if signum == 2 else
+              f"ins-errors: terminated (signal {signum})", file=sys.stderr)
+        return 128 + signum
     except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
         _silence_stdout()
         return EXIT_BROKEN_PIPE

@@ -3,6 +3,14 @@ to install Dask), clear one-line errors for impossible requests."""
 
 from __future__ import annotations
 
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
 import pytest
 
 from ins_errors.analysis import engine
@@ -116,3 +124,74 @@ def test_a_task_that_refuses_its_input_is_its_outcome_when_asked(kind):
             engine.run_tasks(fails, [(k,) for k in range(5)], engine=kind,
                              shared=(100,), on_failure=failed.__setitem__)
     assert list(failed) == [3]
+
+
+SLOW_SWEEP = """model = "orthodromic"
+[motion]
+kind = "great-circle"
+latitude = "50 deg"
+longitude = "30 deg"
+heading = "0 deg"
+speed = "250 m/s"
+[run]
+duration = "4 h"
+step = "2 s"
+record = "60 s"
+[[case]]
+accel_bias_x = "100 ug"
+[outputs]
+quantities = ["delta_latitude"]
+[sweep]
+latitude = ["10 deg", "20 deg", "30 deg", "40 deg", "50 deg"]
+heading = { start = "0 deg", stop = "90 deg", count = 4 }
+"""
+
+
+@pytest.mark.parametrize("stop", ["SIGTERM", "SIGKILL"])
+def test_a_stopped_pool_sweep_leaves_no_worker_and_resumes(stop, tmp_path):
+    """SIGTERM is what a batch system (SLURM) sends at its time limit, SIGKILL what
+    follows if the process has not ended. Was: exit 143 in silence, both pool workers
+    orphaned (reparented to PID 1, alive long after, ~110 MB each), and a process
+    reading the command's output never saw it end."""
+    psutil = pytest.importorskip("psutil")
+    if stop == "SIGKILL" and not sys.platform.startswith("linux"):
+        pytest.skip("a worker ends with the process that started it on Linux only")
+    root = Path(__file__).resolve().parent.parent
+    (tmp_path / "sweep.toml").write_text(SLOW_SWEEP, encoding="utf-8")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        filter(None, [str(root), os.environ.get("PYTHONPATH")])))
+    command = [sys.executable, "-m", "ins_errors", "sweep", "sweep.toml", "--engine", "pool",
+               "--workers", "2", "--store", "s.zarr", "--no-progress", "--json"]
+    done = tmp_path / "s.zarr" / "done"
+    with open(tmp_path / "out", "w") as out, open(tmp_path / "err", "w") as err:
+        process = subprocess.Popen(command, cwd=tmp_path, env=env, stdout=out, stderr=err)
+    workers: list = []
+    stored: list = []
+    try:
+        deadline = time.monotonic() + 300
+        while time.monotonic() < deadline and process.poll() is None:
+            workers = psutil.Process(process.pid).children(recursive=True)
+            stored = [p for p in done.glob("[0-9]*")] if done.is_dir() else []
+            if stored and len(workers) >= 2:
+                break
+            time.sleep(0.05)
+        assert process.poll() is None, "the sweep ended before it could be stopped"
+        process.send_signal(getattr(signal, stop))
+        status = process.wait(timeout=60)
+        _, alive = psutil.wait_procs(workers, timeout=15)
+        assert alive == [], [p.cmdline() for p in alive]
+    finally:
+        for survivor in [p for p in workers if p.is_running()]:
+            survivor.kill()
+        if process.poll() is None:
+            process.kill()
+    err = (tmp_path / "err").read_text()
+    if stop == "SIGTERM":
+        assert status == 128 + signal.SIGTERM and err.endswith("terminated (signal 15)\n")
+        assert err.count("\n") == 1, err
+    rerun = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True,
+                           timeout=600)
+    assert rerun.returncode == 0, rerun.stderr
+    summary = json.loads(rerun.stdout)
+    assert summary["reused"] >= len(stored) >= 1
+    assert summary["computed"] + summary["reused"] == summary["points"] == 20

@@ -20,7 +20,10 @@ bad input found by that task, such as a motion that reaches a pole) stops the wh
 with that error, unless the caller passes ``on_failure``: then the error is that task's
 outcome, ``on_failure(index, error)`` is called for it and the other tasks run on. Any
 other exception (a fault, a worker that cannot be reached) and Ctrl-C stop the call
-either way.
+either way. So does SIGTERM (a batch system's time limit): it raises :class:`Terminated`
+(a :class:`KeyboardInterrupt`) in the calling process, which stops the workers (a process
+pool's at once, abandoning their running tasks) and keeps what was reported, as Ctrl-C
+does; a pool worker also ends when the calling process dies (Linux).
 
 Dask is the optional extra ``ins-errors[distributed]``; :data:`INSTALL_HINT` says how to
 install it.
@@ -48,6 +51,18 @@ INSTALL_HINT = "pip install 'ins-errors[distributed]'"
 
 class EngineError(InsErrorsError):
     """Tasks that cannot be run: no Dask, an unreachable scheduler, a task lost for good."""
+
+
+class Terminated(KeyboardInterrupt):
+    """``SIGTERM`` (a batch system's time limit, ``kill``) received while tasks ran.
+
+    Raised in the calling process as Ctrl-C raises :class:`KeyboardInterrupt` (it is
+    one), so that the same clean-up runs: the workers are stopped, the results reported
+    so far are kept (a sweep's store stays resumable). The command line exits with
+    128 + :attr:`signum` (143).
+    """
+
+    signum = int(signal.SIGTERM)
 
 
 @dataclass
@@ -185,29 +200,30 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
 
     from ins_errors.numeric.integrators import compiler_checked
 
-    try:
-        if engine == "serial" or not tasks:
-            stats = EngineStats("serial", 1, where="this process")
-            for k, task in enumerate(tasks):
-                try:
-                    result = function(*shared, *task)
-                except InsErrorsError as error:
-                    failed(k, error)
-                    continue
-                done(k, result)
-        elif engine == "pool":
-            stats = EngineStats("pool", min(workers, len(tasks)),
-                                where=f"local process pool of {min(workers, len(tasks))}")
-            with compiler_checked():  # a missing compiler said once, not by each worker
-                _run_pool(function, tasks, shared, stats.workers, done, failed)
-        else:
-            stats = EngineStats("dask", 0)
-            with compiler_checked():
-                _run_dask(function, tasks, shared, scheduler, min(workers, len(tasks)),
-                          stats, done, failed, label)
-    finally:
-        if bar is not None:
-            bar.close()
+    with _terminate_interrupts():  # SIGTERM: the clean-up of Ctrl-C, then exit 143
+        try:
+            if engine == "serial" or not tasks:
+                stats = EngineStats("serial", 1, where="this process")
+                for k, task in enumerate(tasks):
+                    try:
+                        result = function(*shared, *task)
+                    except InsErrorsError as error:
+                        failed(k, error)
+                        continue
+                    done(k, result)
+            elif engine == "pool":
+                count = min(workers, len(tasks))
+                stats = EngineStats("pool", count, where=f"local process pool of {count}")
+                with compiler_checked():  # no compiler: said once, not by each worker
+                    _run_pool(function, tasks, shared, stats.workers, done, failed)
+            else:
+                stats = EngineStats("dask", 0)
+                with compiler_checked():
+                    _run_dask(function, tasks, shared, scheduler,
+                              min(workers, len(tasks)), stats, done, failed, label)
+        finally:
+            if bar is not None:
+                bar.close()
     return stats
 
 
@@ -234,9 +250,12 @@ def _run_pool(function, tasks, shared, workers, done, failed) -> None:
     # fork: no re-import of the caller's __main__, loaded models and compiled code shared
     methods = multiprocessing.get_all_start_methods()
     context = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
-    with ProcessPoolExecutor(workers, mp_context=context) as pool:
-        futures = {pool.submit(function, *shared, *task): k for k, task in enumerate(tasks)}
+    with ProcessPoolExecutor(workers, mp_context=context, initializer=_pool_worker_starts,
+                             initargs=(os.getpid(),)) as pool:
+        futures = {}
         try:
+            for k, task in enumerate(tasks):
+                futures[pool.submit(function, *shared, *task)] = k
             for future in as_completed(futures):
                 try:
                     result = future.result()
@@ -244,10 +263,75 @@ def _run_pool(function, tasks, shared, workers, done, failed) -> None:
                     failed(futures[future], error)
                     continue
                 done(futures[future], result)
-        except BaseException:
+        except BaseException as error:
             for future in futures:
                 future.cancel()
+            if isinstance(error, KeyboardInterrupt):  # Ctrl-C, SIGTERM: not their ends
+                _stop_workers(pool)
             raise
+
+
+WORKER_GRACE = 5.0
+"""Seconds a stopped pool worker has to end on SIGTERM before it is killed."""
+
+
+def _pool_worker_starts(parent: int) -> None:
+    """Run in each pool worker as it starts (``parent``: the process id of the pool's
+    owner). Ctrl-C is left to the owner, which stops the workers itself (their
+    KeyboardInterrupt tracebacks buried its one line); SIGTERM ends the worker (not the
+    owner's handler, inherited through ``fork``, which would make it a task's error);
+    on Linux the owner's end, even by SIGKILL (a batch system's last word after its
+    SIGTERM), ends the worker too: no worker is left orphaned, waiting forever."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            set_parent_death_signal = 1  # PR_SET_PDEATHSIG of prctl(2)
+            ctypes.CDLL(None).prctl(set_parent_death_signal, int(signal.SIGTERM), 0, 0, 0)
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:  # the owner ended before the above
+        os._exit(1)
+
+
+def _stop_workers(pool) -> None:
+    """End a process pool's workers now, their running tasks abandoned: no new task is
+    started, each worker gets SIGTERM, and SIGKILL after :data:`WORKER_GRACE` s."""
+    processes = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for process in processes:
+        if process.is_alive():
+            process.terminate()
+    for process in processes:
+        process.join(WORKER_GRACE)
+        if process.is_alive():
+            process.kill()
+            process.join(WORKER_GRACE)
+
+
+@contextmanager
+def _terminate_interrupts() -> Iterator[None]:
+    """While tasks run, SIGTERM raises :class:`Terminated` in this process instead of
+    ending it at once: its default action left a process pool's workers running,
+    orphaned (and skipped the clean-up Ctrl-C gets). Only in the main thread (the only
+    one that may set handlers) and where SIGTERM has its default action (a handler the
+    program set is kept); a second SIGTERM during the clean-up ends the process."""
+    if (threading.current_thread() is not threading.main_thread()
+            or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL):
+        yield
+        return
+
+    def stop(signum, frame) -> None:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        raise Terminated
+
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
 
 
 @contextmanager
