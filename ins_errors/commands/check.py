@@ -108,16 +108,20 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.progress import stage
 
     definition = definition_of(resolve(args.model))  # a name, a file or an entry point
-    if _declares_convention(args.file):
-        return _run_convention(args, magnitudes)
-    from ins_errors.model_parameters import parse_parameter_options
+    try:
+        if _declares_convention(args.file):
+            return _run_convention(args, magnitudes)
+        from ins_errors.model_parameters import parse_parameter_options
 
-    parameters = parse_parameter_options(definition, args.parameter)
-    with stage(f"checking {args.file.name} against {definition.name}"):
-        report = check_hand_file(args.file, model=definition, threshold=args.threshold,
-                                 latex=True if args.latex else None,
-                                 mapping_path=args.mapping, latex_backend=args.latex_parser,
-                                 magnitudes=magnitudes, parameters=parameters)
+        parameters = parse_parameter_options(definition, args.parameter)
+        with stage(f"checking {args.file.name} against {definition.name}"):
+            report = check_hand_file(args.file, model=definition, threshold=args.threshold,
+                                     latex=True if args.latex else None,
+                                     mapping_path=args.mapping,
+                                     latex_backend=args.latex_parser,
+                                     magnitudes=magnitudes, parameters=parameters)
+    except InsErrorsError as error:
+        raise named_as_given(error, args.file, args.mapping) from None
     if report.unchecked_gains:
         warn_unchecked_gains(definition, parameters, report.unchecked_gains)
     emit_report(args, lambda: to_markdown(report, f"`ins-errors check` from `{args.file.name}`"),
@@ -182,6 +186,20 @@ def emit_report(args: argparse.Namespace, markdown: Callable[[], str],
         emit(as_json())
     else:
         print(terminal())
+
+
+def named_as_given(error: Exception, *paths: Path | None) -> Exception:
+    """``error``, its message naming a file as the user gave it (``/dev/null``,
+    ``sub/eq.txt``) where it begins with the file's bare name, as the checker's messages
+    name a hand or mapping file (``null: ...``, ``eq.txt, line 3: ...``)."""
+    text = str(error)
+    for path in paths:
+        if path is None or str(path) == path.name:
+            continue
+        if text.startswith((f"{path.name}:", f"{path.name},")):
+            error.args = (str(path) + text[len(path.name):],)
+            break
+    return error
 
 
 def _declares_convention(path: Path) -> bool:
