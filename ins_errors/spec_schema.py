@@ -23,7 +23,7 @@ from pydantic import (
 )
 
 from ins_errors.errors import InsErrorsError
-from ins_errors.scenario_schema import UNION_MEMBER, Quantity, one_line
+from ins_errors.scenario_schema import UNION_MEMBER, Leg, Quantity, one_line
 
 Number = StrictFloat | StrictInt
 Positive = (Annotated[StrictFloat, Field(gt=0, allow_inf_nan=False)]
@@ -40,12 +40,18 @@ class _Table(BaseModel):
 class SpecMotion(_Table):
     """``[motion]``: the motion the spec is checked along."""
 
-    kind: Literal["static", "great_circle", "great-circle"] = "static"  # as scenario files
+    kind: Literal["static", "great_circle", "great-circle", "manoeuvre"] = Field(
+        "static", description="'manoeuvre': the scenario files' standard manoeuvre (every "
+        "hour a 90° turn, a 20 % speed-up with a 2-km climb, two 45° turns back), or the "
+        "[[motion.legs]] given")  # spelled as in scenario files
     latitude: Quantity = Field("0 deg", json_schema_extra=_UNIT)
     longitude: Quantity = Field("0 deg", json_schema_extra=_UNIT)
     heading: Quantity = Field("0 deg", json_schema_extra=_UNIT)
     height: Quantity = Field(0, json_schema_extra=_UNIT)
-    speed: Quantity = Field(0, json_schema_extra=_UNIT)
+    speed: Quantity = Field(0, description="ground speed of a great circle, start speed "
+                            "of a manoeuvre (required > 0 for both), e.g. '250 m/s'")
+    legs: list[Leg] | None = Field(None, min_length=1, description="kind 'manoeuvre': "
+                                   "the legs flown instead of the standard manoeuvre")
 
 
 class SpecItem(_Table):
@@ -105,7 +111,7 @@ class SpecFile(_Table):
 
 
 _TABLES: dict[str, type[BaseModel]] = {"": SpecFile, "motion": SpecMotion, "items": Items,
-                                       "allocation": Allocation}
+                                       "allocation": Allocation, "legs": Leg}
 
 
 def validate(data: dict) -> SpecFile:

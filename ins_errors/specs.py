@@ -11,10 +11,18 @@ Items (what each one measures is defined in :mod:`ins_errors.analysis.budget`):
 ``position_error``
     horizontal position error *per hour of operation* (a length per time, e.g.
     ``"3.7 km/h"``): at each check time t the error must not exceed value × t;
+``position_error_absolute``
+    horizontal position error itself, a length (``"2 km"``): at each check time the
+    error must not exceed the value (a limit that does not grow with time);
+``height_error``
+    error of the computed height, a length (models with a ``height`` output);
 ``ground_speed_error``
     horizontal (north, east) velocity error, m/s;
 ``vertical_error``
     error of holding the vertical: platform tilt, an angle;
+``heading_error``
+    azimuth error of the platform (the gyroscopic heading), an angle, including the
+    initial alignment error;
 ``heading_drift``
     drift rate of the gyroscopic heading (platform azimuth), angle per time.
 
@@ -27,8 +35,9 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
                                      # every grid time: 4 kB each for orthodromic, so
                                      # 0.34 GB a day at 1 s; beyond 60 % of the machine's
                                      # memory it is refused with a step that fits)
-    [motion]                         # kind = "static" or "great_circle" ("great-circle")
-    latitude = "50 deg"
+    [motion]                         # kind = "static", "great_circle" ("great-circle") or
+    latitude = "50 deg"              # "manoeuvre" (the standard manoeuvre of the
+                                     # scenario files, or [[motion.legs]] of your own)
     [items.position_error]
     value = "3.7 km/h"
     times = ["1 h", "2 h"]           # optional, check times, or a regular grid:
@@ -38,7 +47,8 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
     [allocation]
     fill = false                     # scale the free sources up until an item is met exactly
     [sources.gyro_drift_z]
-    weight = 2                       # or fixed = "0.01 deg/h", kind = "markov", tau = "1 h"
+    weight = 2                       # or fixed = "0.01 deg/h" (not both), kind = "markov",
+                                     # tau = "1 h"
     [parameters]                     # optional: model parameters with units, as in a
     k_h1 = "0.0047 1/s"              # scenario (--parameter overrides them)
 """
@@ -82,7 +92,8 @@ class ItemKind:
         One line.
     default_times : str
         ``"hourly"`` (every hour up to the operating time), ``"quarter-hourly"`` (every
-        15 min from 0) or ``"first-hour"`` (1 h only).
+        15 min from 0), ``"quarter-hourly-to-end"`` (every 15 min from 15 min, and the
+        last grid time of the operating time) or ``"first-hour"`` (1 h only).
     """
 
     unit: str
@@ -95,15 +106,28 @@ ITEM_KINDS: dict[str, ItemKind] = {
     "position_error": ItemKind(
         "m/s", "3.7 km/h", "horizontal position error per hour of operation (φ, λ)",
         "hourly"),
+    "position_error_absolute": ItemKind(
+        "m", "2 km", "horizontal position error (φ, λ), a distance not divided by time",
+        "quarter-hourly-to-end"),
+    "height_error": ItemKind(
+        "m", "30 m", "error of the computed height (a model with a height output)",
+        "quarter-hourly-to-end"),
     "ground_speed_error": ItemKind(
         "m/s", "4 m/s", "horizontal velocity (ground-speed) error", "first-hour"),
     "vertical_error": ItemKind(
         "rad", "0.1 deg", "error of holding the vertical (platform tilt)", "quarter-hourly"),
+    "heading_error": ItemKind(
+        "rad", "0.5 deg", "azimuth error of the platform (gyroscopic heading), initial "
+        "alignment error included", "quarter-hourly-to-end"),
     "heading_drift": ItemKind(
         "rad/s", "0.1 deg/h", "drift rate of the gyroscopic heading (platform azimuth)",
         "first-hour"),
 }
 """Spec items the budget knows."""
+
+ABSOLUTE_OF = {"position_error": "position_error_absolute", "heading_drift": "heading_error"}
+"""The item that takes an absolute limit for each rate item (a value in the wrong
+dimension names it)."""
 
 COMBINE = ("rss", "each")
 STATISTICS = ("constant", "white", "markov")
@@ -175,16 +199,21 @@ class Motion:
 
     Attributes
     ----------
-    kind : {"static", "great_circle"}
+    kind : {"static", "great_circle", "manoeuvre"}
     latitude, longitude, heading : float
         Start, rad (heading: track angle from north).
     height : float
         m.
     speed : float
-        Ground speed of a great-circle flight, m/s.
+        Ground speed of a great-circle flight, or the start speed of a manoeuvre, m/s.
     heading_given : bool
         Whether the spec set ``heading`` (refused at rest for a model without a heading
         output, :func:`ins_errors.analysis.budget.spec_trajectory`).
+    legs : tuple of dict or None
+        The legs of a manoeuvre that lists its own, each as
+        :func:`~ins_errors.numeric.motion_spec.in_si` writes it (``duration``, ``speed``,
+        ``turn``, ``height`` as SI text); None: the standard manoeuvre
+        (:func:`~ins_errors.numeric.motion_spec.default_legs`).
     """
 
     kind: str = "static"
@@ -194,6 +223,21 @@ class Motion:
     height: float = 0.0
     speed: float = 0.0
     heading_given: bool = False
+    legs: tuple[dict, ...] | None = None
+
+    def description(self) -> dict[str, Any]:
+        """The motion as :func:`~ins_errors.numeric.motion_spec.motion_profile` reads it
+        (every value as exact SI text)."""
+        out: dict[str, Any] = {"kind": self.kind.replace("_", "-"),
+                               "latitude": f"{self.latitude!r} rad",
+                               "longitude": f"{self.longitude!r} rad",
+                               "heading": f"{self.heading!r} rad",
+                               "height": f"{self.height!r} m"}
+        if self.kind != "static":
+            out["speed"] = f"{self.speed!r} m/s"
+        if self.legs is not None:
+            out["legs"] = [dict(leg) for leg in self.legs]
+        return out
 
 
 @dataclass(frozen=True)
@@ -274,7 +318,7 @@ def _angle(text: Any, what: str) -> float:
         raise SpecError(str(error)) from None
 
 
-def _default_times(rule: str, operating_time: float) -> tuple[float, ...]:
+def _default_times(rule: str, operating_time: float, step: float) -> tuple[float, ...]:
     if rule == "first-hour":
         return (HOUR,)
     if rule == "hourly":
@@ -282,7 +326,58 @@ def _default_times(rule: str, operating_time: float) -> tuple[float, ...]:
         return tuple(HOUR * k for k in range(1, count + 1))
     quarter = 900.0
     count = int(operating_time // quarter + 1e-9)
-    return tuple(quarter * k for k in range(count + 1))
+    if rule == "quarter-hourly":
+        return tuple(quarter * k for k in range(count + 1))
+    # every 15 min that is on the grid, and the operating time's last grid time
+    from ins_errors.numeric.integrators import whole_steps
+
+    end = step * int(operating_time / step + 1e-9)
+    times = [quarter * k for k in range(1, count + 1)
+             if quarter * k < end * (1 - 1e-12) and whole_steps(quarter * k, step)]
+    return (*times, end)
+
+
+def _item_value(name: str, text: Any) -> float:
+    """An item's limit in the item's unit; a value in the dimension of the item's
+    absolute or rate counterpart (``position_error = "3.7 km"``) names that item."""
+    kind = ITEM_KINDS[name]
+    try:
+        return _positive(text, kind.unit, f"items.{name}", kind.example)
+    except SpecError as error:
+        other = ABSOLUTE_OF.get(name) or next(
+            (rate for rate, absolute in ABSOLUTE_OF.items() if absolute == name), None)
+        if other is None or not isinstance(text, str):
+            raise
+        try:
+            parse_quantity(text, ITEM_KINDS[other].unit, name, numbers_are_si=False)
+        except UnitError:
+            raise error from None
+        what = ("a rate per hour of operation" if name in ABSOLUTE_OF else
+                "an absolute limit, not a rate")
+        raise SpecError(f"items.{name} is {what} (e.g. {kind.example!r}); {text!r} is a "
+                        f"limit for [items.{other}] (e.g. {ITEM_KINDS[other].example!r}): "
+                        f"rename the table or change the value") from None
+
+
+def _manoeuvre(motion: Motion, legs: list | None) -> Motion:
+    """A manoeuvre motion with its legs checked and written in SI (one-line errors)."""
+    from dataclasses import replace
+
+    from ins_errors.numeric.motion_spec import in_si
+
+    description = motion.description()
+    if legs is None:
+        return motion
+    description["legs"] = [leg.model_dump(exclude_unset=True) for leg in legs]
+    try:
+        si = in_si(description)
+    except InsErrorsError as error:
+        raise SpecError(f"motion.legs: {error}") from None
+    for number, (leg, given) in enumerate(zip(si["legs"], legs, strict=True), start=1):
+        if not float(leg["duration"].split()[0]) > 0:
+            raise SpecError(f"motion.legs: leg {number}'s duration must be > 0, got "
+                            f"{given.duration!r}")
+    return replace(motion, legs=tuple(si["legs"]))
 
 
 def parse_spec(data: dict, path: str = "<spec>") -> Spec:
@@ -325,15 +420,22 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
     if abs(motion.latitude) >= np.pi / 2:
         raise SpecError(f"motion.latitude {m.latitude!r} is at or beyond a pole (|φ| >= "
                         f"90 deg): the models divide by cos φ")
-    if motion.kind == "great_circle" and motion.speed <= 0:
-        raise SpecError("motion.speed must be > 0 for a great_circle motion")
+    if motion.kind != "static" and motion.speed <= 0:
+        raise SpecError(f"motion.speed must be > 0 for a {motion.kind} motion (e.g. "
+                        f"'250 m/s')")
+    if m.legs is not None and motion.kind != "manoeuvre":
+        raise SpecError(f"motion.legs apply to kind = 'manoeuvre', and the kind is "
+                        f"{motion.kind!r}: leave [[motion.legs]] out or choose kind = "
+                        f"'manoeuvre'")
+    if motion.kind == "manoeuvre":
+        motion = _manoeuvre(motion, m.legs)
 
     items = []
     for name, table in checked.items:
         if table is None:
             continue
         kind_info = ITEM_KINDS[name]
-        value = _positive(table.value, kind_info.unit, f"items.{name}", kind_info.example)
+        value = _item_value(name, table.value)
         timed = {"every", "start", "until"} & table.model_fields_set
         if table.times is not None and timed:
             raise SpecError(f"items.{name}: give either times or every/from/until")
@@ -356,7 +458,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             times = tuple(_positive(t, "s", f"items.{name}.times", "1 h", allow_zero=True)
                           for t in table.times)
         else:
-            times = _default_times(kind_info.default_times, operating_time)
+            times = _default_times(kind_info.default_times, operating_time, step)
         for t in times:
             if t > operating_time * (1 + 1e-12):
                 raise SpecError(f"items.{name}: check time {t / HOUR:g} h is after the "
@@ -380,6 +482,9 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             tau = _positive(table.tau, "s", f"sources.{name}.tau", "1 h")
         elif table.tau is not None:
             raise SpecError(f"sources.{name}: tau applies only to kind = 'markov'")
+        if table.fixed is not None and "weight" in table.model_fields_set:
+            raise SpecError(f"sources.{name}: a fixed source takes no share, so its weight "
+                            f"would be ignored: give either fixed or weight")
         sources[name] = SourceOption(name, float(table.weight), table.fixed, table.kind, tau,
                                      table.include)
     return Spec(title, float(checked.sigma_level), operating_time, step, motion, tuple(items),

@@ -272,7 +272,8 @@ def test_position_per_hour_needs_a_rate(tmp_path):
 
 
 @pytest.mark.parametrize("text, words", [
-    (SHORT + "    [items.heading_error]\n    value = '1 deg'\n", "unknown key in \\[items\\]"),
+    (SHORT + "    [items.heading_eror]\n    value = '1 deg'\n",
+     "unknown key in \\[items\\].*heading_error"),
     (SHORT.replace("sigma_level = 2", "sigma_level = 0"), "sigma_level"),
     (SHORT.replace("[motion]", "[motion]\n    speed = '-1 m/s'"), "must be >= 0"),
     (SHORT + "    [sources.gyro_drift_q]\n    weight = 1\n", "gyro_drift"),

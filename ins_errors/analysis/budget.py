@@ -9,6 +9,11 @@ What each spec item measures (error quantities of the linear error model, in SI)
     the model's ellipsoid at the current latitude (Krasovsky by default); the item is a
     rate over the operating time: at a check time t the quantity is error / t, compared
     with the value (e.g. 3.7 km/h: 3.7 km after 1 h, 7.4 km after 2 h, ...);
+``position_error_absolute``
+    the same north and east errors in metres, not divided by time;
+``height_error``
+    the error of the model's ``height`` output (through H; strapdown_ned's
+    :math:`\delta h`);
 ``ground_speed_error``
     north and east velocity errors :math:`\Delta v_N, \Delta v_E` (outputs through H);
 ``vertical_error``
@@ -16,6 +21,9 @@ What each spec item measures (error quantities of the linear error model, in SI)
     or a strapdown model file that describes itself by its outputs:
     :mod:`ins_errors.checker.strapdown_description`) the level components
     :math:`\phi_N, \phi_E` of the φ-angle (the attitude error in the true NED frame);
+``heading_error``
+    :math:`\alpha_z(t)`, the azimuth error of the platform (the gyroscopic heading)
+    itself, its initial alignment error included (a strapdown INS: :math:`\phi_D`);
 ``heading_drift``
     :math:`(\alpha_z(t) - \alpha_z(0))/t`, the mean drift rate of the platform azimuth
     (the gyroscopic heading) since the start; :math:`\alpha_z(0)` is the initial
@@ -302,6 +310,10 @@ def density_display(display: str, unit: str) -> str:
 def spec_profile(model, spec: Spec):
     """The spec's motion as a :class:`~ins_errors.numeric.trajectories.Profile`.
 
+    A manoeuvre is built as a scenario file's (:func:`~ins_errors.numeric.motion_spec.
+    motion_profile`: the standard manoeuvre, :func:`~ins_errors.numeric.motion_spec.
+    default_legs`, unless the spec lists its legs).
+
     Raises
     ------
     InsErrorsError
@@ -314,9 +326,13 @@ def spec_profile(model, spec: Spec):
     m = spec.motion
     if m.kind == "static":
         profile = trajectories.static_profile(m.latitude, m.longitude, m.heading, m.height)
-    else:
+    elif m.kind == "great_circle":
         profile = trajectories.great_circle_profile(m.latitude, m.longitude, m.heading,
                                                     m.speed, m.height)
+    else:  # a manoeuvre: the scenario files' standard one, or the spec's legs
+        from ins_errors.numeric.motion_spec import motion_profile
+
+        profile = motion_profile(m.description(), model=model)
     if m.heading_given:
         where = Path(spec.path).name if spec.path else "spec"
         refuse_unused_heading(model, profile, f"{where} [motion] heading")
@@ -556,9 +572,14 @@ def _about(model, name: str) -> str:
 
 
 ITEM_NEEDS = {"position_error": ("outputs", ("latitude", "longitude")),
+              "position_error_absolute": ("outputs", ("latitude", "longitude")),
+              "height_error": ("outputs", ("height",)),
               "ground_speed_error": ("outputs", ("v_N", "v_E"))}
-"""Outputs each item is read from; ``vertical_error`` and ``heading_drift`` need the
-attitude error (:func:`has_attitude`)."""
+"""Outputs each item is read from; ``vertical_error``, ``heading_error`` and
+``heading_drift`` need the attitude error (:func:`has_attitude`)."""
+
+POSITION_ITEMS = ("position_error", "position_error_absolute")
+"""Items read in metres from the latitude and longitude errors (need the Earth's radii)."""
 
 
 def _unmet_items(model, names) -> dict[str, str]:
@@ -574,7 +595,7 @@ def _unmet_items(model, names) -> dict[str, str]:
             lacking = [n for n in ITEM_NEEDS[name][1] if n not in outputs]
             if lacking:
                 missing[name] = f"it has no output {', '.join(lacking)}"
-            if name == "position_error" and not radius:  # R_N, R_E of the metres
+            if name in POSITION_ITEMS and not radius:  # R_N, R_E of the metres
                 missing[name] = (f"{missing[name]} and" if lacking else "it has"
                                  ) + " no Earth radius parameter ('a' with 'e2', or 'R')"
         elif not angles:
@@ -655,14 +676,18 @@ def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functiona
     groups: dict[str, list[int]] = {}
     zero_b = np.zeros(nw)
     for item in spec.items:
-        if item.name == "position_error":
+        if item.name in POSITION_ITEMS:   # the rate item is divided by t in _rows
             _, R_N, R_E_cos = _radii(model, system)
             parts = [("north", output_row("latitude") * R_N[:, None], zero_b),
                      ("east", output_row("longitude") * R_E_cos[:, None], zero_b)]
+        elif item.name == "height_error":
+            parts = [("height", output_row("height"), zero_b)]
         elif item.name == "ground_speed_error":
             parts = [("north", output_row("v_N"), zero_b), ("east", output_row("v_E"), zero_b)]
         elif item.name == "vertical_error":
             parts = [(label, row, zero_b) for label, row in attitude(model, system)[:2]]
+        elif item.name == "heading_error":  # the azimuth itself, its start included
+            parts = [("azimuth", attitude(model, system)[2][1], zero_b)]
         else:  # heading_drift: azimuth(t) - azimuth(0), azimuth(0) = row(0) E w
             _, row = attitude(model, system)[2]
             parts = [("azimuth", row, -(row[0] @ system.E))]
@@ -989,10 +1014,12 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None,
 # --------------------------------------------------------------------------------------
 # Units of the items in reports
 # --------------------------------------------------------------------------------------
-ITEM_DISPLAY = {"position_error": "km/h", "ground_speed_error": "m/s",
-                "vertical_error": "deg", "heading_drift": "deg/h"}
-ITEM_SI = {"position_error": "m/s", "ground_speed_error": "m/s", "vertical_error": "rad",
-            "heading_drift": "rad/s"}
+ITEM_DISPLAY = {"position_error": "km/h", "position_error_absolute": "m",
+                "height_error": "m", "ground_speed_error": "m/s", "vertical_error": "deg",
+                "heading_error": "deg", "heading_drift": "deg/h"}
+ITEM_SI = {"position_error": "m/s", "position_error_absolute": "m", "height_error": "m",
+           "ground_speed_error": "m/s", "vertical_error": "rad", "heading_error": "rad",
+           "heading_drift": "rad/s"}
 
 
 def display(value: float, unit: str, display_unit: str) -> str:
@@ -1033,15 +1060,20 @@ def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarra
         if abs(errors.times[k] - row.time) > 1e-6:
             raise BudgetError(f"direct runs were not recorded at {row.label}")
         ks = round(row.time / system.step)
-        if row.item == "position_error":
-            parts = {"north": R_N[ks] * errors["delta_latitude"][k] / row.time,
-                     "east": R_E_cos[ks] * errors["delta_longitude"][k] / row.time}
+        if row.item in POSITION_ITEMS:
+            per = row.time if row.item in RATE_ITEMS else 1.0
+            parts = {"north": R_N[ks] * errors["delta_latitude"][k] / per,
+                     "east": R_E_cos[ks] * errors["delta_longitude"][k] / per}
+        elif row.item == "height_error":
+            parts = {"height": errors["delta_height"][k]}
         elif row.item == "ground_speed_error":
             parts = {"north": errors["delta_v_N"][k], "east": errors["delta_v_E"][k]}
         elif row.item == "vertical_error":
             first, second, _ = attitude_quantities(model)
             parts = {_about(model, first): errors[first][k],
                      _about(model, second): errors[second][k]}
+        elif row.item == "heading_error":
+            parts = {"azimuth": errors[attitude_quantities(model)[2]][k]}
         else:
             azimuth = attitude_quantities(model)[2]
             parts = {"azimuth": (errors[azimuth][k] - errors[azimuth][0]) / row.time}
