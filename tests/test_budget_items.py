@@ -1,6 +1,7 @@
 """Budget items a design review needs beside the 802m ones: an absolute horizontal
 position limit, the height error, the absolute heading error; the standard manoeuvre as
-a spec's motion; a source both fixed and weighted.
+a spec's motion; vertical-channel sources a spec without a height item bounds only
+through the horizontal items; a source both fixed and weighted.
 
 References (independent of the code under test):
 
@@ -377,7 +378,7 @@ def test_bad_manoeuvres_are_one_line(tmp_path, capsys, change, words):
 
 
 # ------------------------------------------------------------------------------------
-# Direct runs
+# Vertical-channel sources without a height item
 # ------------------------------------------------------------------------------------
 UAV = """
     sigma_level = 1
@@ -396,6 +397,57 @@ UAV = """
     value = "5 m/s"
     every = "1 min"
 """
+VERTICAL = ["accel_bias_z", "accel_scale_error_z", "initial_velocity_error_D",
+            "initial_position_error_D"]
+
+
+def test_vertical_sources_bound_only_horizontally_are_named(strapdown, tmp_path, capsys):
+    path = write(tmp_path, UAV)
+    assert main(["budget", "strapdown_ned", "--spec", str(path), "--fill", "--json"]) == 0
+    captured = capsys.readouterr()
+    [note] = [w for w in json.loads(captured.out)["warnings"] if "height_error" in w]
+    assert f"ins-errors: warning: {note}\n" in captured.err
+    assert note.startswith("the spec has no height_error item: " + ", ".join(VERTICAL[:-1])
+                           + f" and {VERTICAL[-1]} act mainly on the height")
+    # the height error their allowances give together, read by a height item
+    data = json.loads(captured.out)
+    sigma = {s["name"]: s["magnitude"] for s in data["sources"] if s["name"] in VERTICAL}
+    spec = load_spec(write(tmp_path, UAV + '[items.height_error]\nvalue = "1 m"\n'
+                           'every = "1 s"\n', "height.toml"))
+    height = max(v for _, v in rows_of(bd.evaluate(strapdown, spec, sigma), "height_error"))
+    assert height > 10e3    # kilometres: the spec says nothing about the height
+    shown = float(re.search(r"height error of ([\d.]+) km", note).group(1))
+    assert shown * 1e3 == pytest.approx(height, rel=1e-3)
+
+
+def test_a_vertical_accelerometer_alone_is_named_with_its_cosh_height(strapdown, tmp_path):
+    """Only accel_bias_z and a level gyro allocated: the line names the accelerometer
+    alone, with its undamped height (b/ω_v²)(cosh ω_v t − 1) at its allowance."""
+    keep = {"accel_bias_z", "gyro_bias_x"}
+    others = "".join(f"[sources.{s.name}]\ninclude = false\n" for s in strapdown.sources
+                     if s.name not in keep)
+    spec = load_spec(write(tmp_path, textwrap.dedent(UAV) + others))
+    allocation = bd.allocate(bd.unit_budget(strapdown, spec))
+    note = bd.vertical_channel_note(strapdown, allocation)
+    assert "no height_error item: accel_bias_z acts mainly on the height" in note
+    assert "gyro_bias_x" not in note
+    b = allocation.magnitudes[[s.name for s in allocation.budget.sources].index("accel_bias_z")]
+    w2 = wgs84_vertical(45 * DEG)
+    reference = b / w2 * (math.cosh(math.sqrt(w2) * 600.0) - 1)
+    shown = float(re.search(r"height error of ([\d.]+) (k?m)", note).group(1))
+    unit = 1e3 if " km at" in note else 1.0
+    assert shown * unit == pytest.approx(reference, rel=2e-3)
+    assert note.endswith("at 10 min); add [items.height_error] to bound it")
+
+
+def test_no_line_with_a_height_item_or_without_a_vertical_channel(strapdown, orthodromic,
+                                                                  tmp_path):
+    spec = load_spec(write(tmp_path, UAV + '[items.height_error]\nvalue = "100 m"\n'))
+    assert bd.vertical_channel_note(strapdown, bd.allocate(bd.unit_budget(strapdown, spec))
+                                    ) is None
+    spec = load_spec(write(tmp_path, UAV.replace("1 s", "60 s"), "platform.toml"))
+    assert bd.vertical_channel_note(orthodromic, bd.allocate(
+        bd.unit_budget(orthodromic, spec))) is None
 
 
 def test_direct_runs_read_the_absolute_items_as_the_covariance(tmp_path, capsys):

@@ -56,6 +56,12 @@ on the initial longitude error, through entries of F that are zero but for the l
 bits), and such a dependence would otherwise allow an absurd magnitude (1e47 arcmin) and
 still take a share from every other source. Tables and plots of a budget are in
 :mod:`ins_errors.analysis.budget_report`.
+
+A spec without a ``height_error`` item on a model with a height output still allocates
+the sources that act mainly on the height (a vertical accelerometer's bias, the initial
+vertical errors) through the weak coupling of the height into the other items: true
+allowances, but they bound nothing about the height, and :func:`vertical_channel_note`
+says so in one line.
 """
 
 from __future__ import annotations
@@ -751,6 +757,86 @@ def growth_warning(model, budget: UnitBudget) -> str | None:
     return warning(F, budget.spec.operating_time, model.name,
                    "the allowed magnitudes are only what that growth leaves, far below what "
                    "the sources do on a stable system", "operating time", remedy)
+
+
+VERTICAL_DOMINANCE = 10.0
+"""A source whose largest height error over the operating time is at least this many
+times its largest horizontal position error acts mainly on the vertical channel."""
+
+
+def vertical_channel_note(model, allocation: Allocation) -> str | None:
+    """One line naming the vertical-channel sources a spec without a ``height_error``
+    item allocates only through its other items, or None.
+
+    For a model with a height output, a source that acts mainly on the height (its
+    largest 1σ height error over the operating time is at least
+    :data:`VERTICAL_DOMINANCE` times its largest horizontal position error: a vertical
+    accelerometer's bias or scale factor, an initial vertical velocity or height error)
+    is bound, when no item reads the height, only by the weak coupling of the height into
+    the horizontal channels (the radii and gravity in the transport rates, Coriolis). Its
+    allowance is then what those items allow, and true: it is left in the allocation (it
+    does disturb them), but it says nothing about the height, which can grow to
+    kilometres. The line names those sources, the height error their allowances give
+    (at the spec's σ level, its largest over the operating time) and the item that bounds
+    it.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    allocation : Allocation
+
+    Returns
+    -------
+    str or None
+        None when the spec has a ``height_error`` item, the model has no height output
+        (or no latitude/longitude output and Earth radius to read the horizontal
+        position by), or no allocated source acts mainly on the height.
+    """
+    from dataclasses import replace
+
+    from ins_errors.specs import SpecItem
+
+    budget = allocation.budget
+    spec, system = budget.spec, budget.system
+    if any(item.name == "height_error" for item in spec.items):
+        return None
+    outputs = {o.name for o in model.outputs}
+    if not {"height", "latitude", "longitude"} <= outputs:
+        return None
+    free = [j for j, s in enumerate(budget.sources)
+            if s.fixed is None and np.isfinite(allocation.sigma[j])]
+    if not free:
+        return None
+    probe = replace(spec, items=(SpecItem("height_error", 1.0, "", ()),
+                                 SpecItem("position_error_absolute", 1.0, "", ())))
+    try:
+        functionals, groups = item_functionals(model, system, probe)
+    except BudgetError:   # no Earth radius to read the position in metres by
+        return None
+    statistics = [SourceStatistics(budget.sources[j].name, budget.sources[j].statistics,
+                                   1.0, budget.sources[j].tau) for j in free]
+    unit = propagate(system, statistics, functionals).unit_variances    # (nt, 3, nf)
+    height = np.sqrt(unit[:, groups["height_error"]].sum(1))            # (nt, nf)
+    horizontal = np.sqrt(unit[:, groups["position_error_absolute"]].sum(1))
+    vertical = height.max(0) >= VERTICAL_DOMINANCE * horizontal.max(0)
+    vertical &= height.max(0) > 0
+    if not vertical.any():
+        return None
+    chosen = [j for j, v in zip(free, vertical, strict=True) if v]
+    # their height error together at their allowances, at its largest
+    total = spec.sigma_level * np.sqrt((height[:, vertical] ** 2
+                                        * allocation.sigma[chosen] ** 2).sum(1))
+    k = int(np.argmax(total))
+    names = [budget.sources[j].name for j in chosen]
+    one = len(names) == 1
+    listed = names[0] if one else f"{', '.join(names[:-1])} and {names[-1]}"
+    size = format_quantity(float(total[k]), "m", "km" if total[k] >= 1e3 else "m")
+    give = "its allowance gives" if one else "together their allowances give"
+    return (f"the spec has no height_error item: {listed} act{'s' if one else ''} mainly "
+            f"on the height and {'is' if one else 'are'} allocated only through the other "
+            f"items' weak coupling to it ({give} a {spec.sigma_level:g}σ height error of "
+            f"{size} at {format_time(float(system.times[k]))}); add [items.height_error] "
+            f"to bound {'it' if one else 'them'}")
 
 
 def _propagate(model, system, spec, statistics) -> Covariance:

@@ -129,6 +129,10 @@ def run(args: argparse.Namespace) -> int:
         except bd.SpecExceededError as exceeded:
             return _report_exceeded(args, model, exceeded,
                                     parameters_record(model, parameters), warnings, times)
+        vertical = bd.vertical_channel_note(model, allocation)
+        if vertical is not None:
+            print(f"ins-errors: warning: {vertical}", file=sys.stderr)
+            warnings.append(vertical)
     data = rep.report(allocation)
     data["parameters"] = parameters_record(model, parameters)
     data["warnings"] = warnings
