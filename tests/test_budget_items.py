@@ -450,6 +450,30 @@ def test_no_line_with_a_height_item_or_without_a_vertical_channel(strapdown, ort
         bd.unit_budget(orthodromic, spec))) is None
 
 
+def test_an_exponentially_growing_channel_is_left_to_the_growth_warning(strapdown,
+                                                                          tmp_path,
+                                                                          monkeypatch):
+    """Undamped over 8 h (50 e-foldings of √(R/2g) = 9.5 min) the growing mode swamps
+    every source's height error, so nearly every source would be named: the growth
+    warning alone speaks, naming the damping gains."""
+    spec = load_spec(write(tmp_path, """
+        operating_time = "8 h"
+        [motion]
+        latitude = "50 deg"
+        [items.position_error]
+        value = "3.7 km/h"
+        [items.ground_speed_error]
+        value = "4 m/s"
+    """))
+    budget = bd.unit_budget(strapdown, spec)
+    allocation = bd.allocate(budget)
+    assert "grow exponentially" in bd.growth_warning(strapdown, budget)
+    assert bd.vertical_channel_note(strapdown, allocation) is None
+    monkeypatch.setattr(bd, "growth_warning", lambda *args: None)
+    named = bd.vertical_channel_note(strapdown, allocation).split(": ", 1)[1]
+    assert named.count(", ") >= 15 and "gyro_bias_x" in named
+
+
 def test_direct_runs_read_the_absolute_items_as_the_covariance(tmp_path, capsys):
     """200 direct (nonlinear) runs at the allocated magnitudes give each absolute item's
     1σ within three sampling errors (5 % each) of the covariance's."""

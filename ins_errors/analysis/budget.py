@@ -790,7 +790,10 @@ def vertical_channel_note(model, allocation: Allocation) -> str | None:
     str or None
         None when the spec has a ``height_error`` item, the model has no height output
         (or no latitude/longitude output and Earth radius to read the horizontal
-        position by), or no allocated source acts mainly on the height.
+        position by), no allocated source acts mainly on the height, or the error
+        equations grow exponentially over the operating time (:func:`growth_warning`
+        says so: the growing mode swamps every source's height error, so the line
+        would name nearly all of them, and the damping gains it names are the remedy).
     """
     from dataclasses import replace
 
@@ -802,6 +805,8 @@ def vertical_channel_note(model, allocation: Allocation) -> str | None:
         return None
     outputs = {o.name for o in model.outputs}
     if not {"height", "latitude", "longitude"} <= outputs:
+        return None
+    if growth_warning(model, budget) is not None:
         return None
     free = [j for j, s in enumerate(budget.sources)
             if s.fixed is None and np.isfinite(allocation.sigma[j])]
