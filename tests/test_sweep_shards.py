@@ -310,6 +310,25 @@ def test_a_second_process_on_a_store_being_written_stops_in_one_line(tmp_path, c
         assert not list(tmp_path.glob("busy*"))  # nor its lock: removed by its holder
 
 
+def test_a_store_is_locked_through_a_link_and_its_lock_never_through_one(tmp_path):
+    """A link to a store locks the store itself (the lock was named after the path as
+    given, so a second process on 'link.zarr' ran beside one on 'store.zarr'); a link
+    planted as the lock file is refused, and its target is left untouched (it was
+    truncated and given the holder's name)."""
+    store, link = tmp_path / "store.zarr", tmp_path / "link.zarr"
+    store.mkdir()
+    link.symlink_to(store)
+    with st.store_lock(store), pytest.raises(st.StoreBusyError), st.store_lock(link):
+        pass
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me\n")
+    (tmp_path / "other.zarr.lock").symlink_to(victim)
+    planted = r"other\.zarr\.lock is a symbolic link"
+    with pytest.raises(st.StoreError, match=planted), st.store_lock(tmp_path / "other.zarr"):
+        pass
+    assert victim.read_text() == "keep me\n"
+
+
 def test_a_store_whose_making_is_interrupted_leaves_nothing(tmp_path, monkeypatch):
     path = write(tmp_path, FLIGHT + GRID)
 

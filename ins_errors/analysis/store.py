@@ -59,6 +59,7 @@ import json
 import os
 import shutil
 import socket
+import stat
 import warnings
 from collections.abc import Coroutine, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -487,7 +488,9 @@ def store_lock(path: str | Path, reading: bool = False) -> Iterator[None]:
         The folder of the store cannot be made or written.
     """
     path = Path(path)
-    lock = path.with_name(path.name + LOCK_SUFFIX)
+    # beside the store itself: a link to a store and the store lock the same file
+    real = path.resolve()
+    lock = real.with_name(real.name + LOCK_SUFFIX)
     try:
         import fcntl
     except ImportError:  # no POSIX file locks on this system
@@ -497,15 +500,22 @@ def store_lock(path: str | Path, reading: bool = False) -> Iterator[None]:
         try:
             if not reading:
                 lock.parent.mkdir(parents=True, exist_ok=True)
-            handle = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+            # never through a link planted in its place (it would write the holder's
+            # name into the link's target), and only a regular file
+            handle = os.open(lock, os.O_RDWR | os.O_CREAT | getattr(os, "O_NOFOLLOW", 0),
+                             0o644)
+            if not stat.S_ISREG(os.fstat(handle).st_mode):
+                os.close(handle)
+                raise OSError(0, f"{lock.name} is not a regular file")
         except OSError as error:
             if reading:
                 yield
                 return
             from ins_errors.output import shown
 
-            raise StoreError(f"cannot write the sweep store {shown(path)}: "
-                             f"{error.strerror or type(error).__name__}") from None
+            why = (f"{lock.name} is a symbolic link (remove it)" if lock.is_symlink()
+                   else error.strerror or str(error) or type(error).__name__)
+            raise StoreError(f"cannot write the sweep store {shown(path)}: {why}") from None
         try:
             fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -517,8 +527,12 @@ def store_lock(path: str | Path, reading: bool = False) -> Iterator[None]:
             raise StoreBusyError(f"sweep store {str(path)!r} is being written by another "
                                  f"process ({holder}holding {lock.name}); {advice}"
                                  ) from None
-        except OSError:  # a file system without locks
+        except OSError:  # a file system without locks (Lustre without -o flock, ...)
             os.close(handle)
+            if not reading:
+                warnings.warn(f"ins-errors: the file system of {str(path)!r} has no file "
+                              "locks: this store is written unlocked (give each job its own "
+                              "store: --shard I/N)", RuntimeWarning, stacklevel=3)
             yield
             return
         # the lock file may have been removed by a holder that finished meanwhile: a
