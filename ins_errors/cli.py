@@ -179,7 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     int
         0 done (a check found no mistake), 1 a check found at least one mistake, 2 bad
         input or an output that cannot be written (one line on stderr), 130 interrupted
-        (143 when SIGTERM stopped a run of tasks, after the clean-up Ctrl-C gets),
+        (143 when SIGTERM stopped it, after the clean-up Ctrl-C gets),
         141 (128 + SIGPIPE) the reader of standard output stopped reading, as a POSIX
         tool killed by SIGPIPE reports.
     """
@@ -203,13 +203,16 @@ def main(argv: list[str] | None = None) -> int:
         # before any work, whatever the cache holds: the cache's variables (a relative
         # $INS_ERRORS_CACHE is taken against the folder the command starts in)
         check_settings()
-        status = int(args.func(args) or 0)
+        from ins_errors.analysis.engine import terminate_interrupts
+
+        with terminate_interrupts():  # SIGTERM at any moment: Ctrl-C's clean-up, exit 143
+            status = int(args.func(args) or 0)
         sys.stdout.flush()
         return status
     except InsErrorsError as error:
         print(f"ins-errors: error: {error}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM while tasks ran (engine)
+    except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM (engine.Terminated)
         signum = getattr(error, "signum", 2)
         print("ins-errors: interrupted" if signum == 2 else
               f"ins-errors: terminated (signal {signum})", file=sys.stderr)

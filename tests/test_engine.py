@@ -197,3 +197,26 @@ def test_a_stopped_pool_sweep_leaves_no_worker_and_resumes(stop, tmp_path):
     summary = json.loads(rerun.stdout)
     assert summary["reused"] >= len(stored) >= 1
     assert summary["computed"] + summary["reused"] == summary["points"] == 20
+
+
+def test_sigterm_before_any_task_runs_is_one_line_and_143(tmp_path):
+    """SIGTERM while a sweep still lays out its points (before the engine starts tasks):
+    was the default action, a silent exit and a store lock left behind."""
+    root = Path(__file__).resolve().parent.parent
+    (tmp_path / "sweep.toml").write_text(SLOW_SWEEP, encoding="utf-8")
+    code = ("import os, signal, sys, time\n"
+            "from ins_errors.analysis import sweep\n"
+            "def counting(scenario):\n"
+            "    os.kill(os.getpid(), signal.SIGTERM)\n"
+            "    time.sleep(30)\n"
+            "sweep.point_count = counting\n"
+            "from ins_errors.cli import main\n"
+            "sys.exit(main(['sweep', 'sweep.toml', '--engine', 'serial', '--store',"
+            " 's.zarr', '--no-progress']))\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        filter(None, [str(root), os.environ.get("PYTHONPATH")])))
+    done = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 128 + signal.SIGTERM
+    assert done.stderr == "ins-errors: terminated (signal 15)\n"
+    assert not list(tmp_path.glob("s.zarr*"))

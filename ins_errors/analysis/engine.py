@@ -200,7 +200,7 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
 
     from ins_errors.numeric.integrators import compiler_checked
 
-    with _terminate_interrupts():  # SIGTERM: the clean-up of Ctrl-C, then exit 143
+    with terminate_interrupts():  # SIGTERM: the clean-up of Ctrl-C, then exit 143
         try:
             if engine == "serial" or not tasks:
                 stats = EngineStats("serial", 1, where="this process")
@@ -312,12 +312,14 @@ def _stop_workers(pool) -> None:
 
 
 @contextmanager
-def _terminate_interrupts() -> Iterator[None]:
-    """While tasks run, SIGTERM raises :class:`Terminated` in this process instead of
-    ending it at once: its default action left a process pool's workers running,
-    orphaned (and skipped the clean-up Ctrl-C gets). Only in the main thread (the only
-    one that may set handlers) and where SIGTERM has its default action (a handler the
-    program set is kept); a second SIGTERM during the clean-up ends the process."""
+def terminate_interrupts() -> Iterator[None]:
+    """While tasks run (and, from the command line, while any command runs: ``cli.main``),
+    SIGTERM raises :class:`Terminated` in this process instead of ending it at once: its
+    default action left a process pool's workers running, orphaned, and skipped the
+    clean-up Ctrl-C gets (a store's lock, a scratch folder, the one line saying why).
+    Only in the main thread (the only one that may set handlers) and where SIGTERM has
+    its default action (a handler the program set is kept); a second SIGTERM during the
+    clean-up ends the process."""
     if (threading.current_thread() is not threading.main_thread()
             or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL):
         yield
