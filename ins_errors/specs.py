@@ -64,7 +64,7 @@ from typing import Any
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, UnknownNameError, unknown_name
-from ins_errors.units import UnitError, parse_quantity
+from ins_errors.units import UnitError, format_duration, parse_quantity
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -93,7 +93,8 @@ class ItemKind:
     default_times : str
         ``"hourly"`` (every hour up to the operating time), ``"quarter-hourly"`` (every
         15 min from 0), ``"quarter-hourly-to-end"`` (every 15 min from 15 min, and the
-        last grid time of the operating time) or ``"first-hour"`` (1 h only).
+        last grid time of the operating time) or ``"first-hour"`` (1 h only); the hourly
+        rules check an operating time shorter than an hour at its end.
     """
 
     unit: str
@@ -319,11 +320,14 @@ def _angle(text: Any, what: str) -> float:
 
 
 def _default_times(rule: str, operating_time: float, step: float) -> tuple[float, ...]:
+    """An item's check times by its :attr:`ItemKind.default_times` rule; an operating
+    time shorter than an hour is checked at its end by the hourly rules."""
+    end = step * int(operating_time / step + 1e-9)  # the last grid time
     if rule == "first-hour":
-        return (HOUR,)
+        return (min(HOUR, end),)
     if rule == "hourly":
-        count = max(1, int(operating_time // HOUR + 1e-9))
-        return tuple(HOUR * k for k in range(1, count + 1))
+        count = int(operating_time // HOUR + 1e-9)
+        return tuple(HOUR * k for k in range(1, count + 1)) or (end,)
     quarter = 900.0
     count = int(operating_time // quarter + 1e-9)
     if rule == "quarter-hourly":
@@ -331,7 +335,6 @@ def _default_times(rule: str, operating_time: float, step: float) -> tuple[float
     # every 15 min that is on the grid, and the operating time's last grid time
     from ins_errors.numeric.integrators import whole_steps
 
-    end = step * int(operating_time / step + 1e-9)
     times = [quarter * k for k in range(1, count + 1)
              if quarter * k < end * (1 - 1e-12) and whole_steps(quarter * k, step)]
     return (*times, end)
@@ -461,8 +464,8 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             times = _default_times(kind_info.default_times, operating_time, step)
         for t in times:
             if t > operating_time * (1 + 1e-12):
-                raise SpecError(f"items.{name}: check time {t / HOUR:g} h is after the "
-                                f"operating time {operating_time / HOUR:g} h")
+                raise SpecError(f"items.{name}: check time {format_duration(t)} is after "
+                                f"the operating time {format_duration(operating_time)}")
             if whole_steps(t, step) is None:
                 raise SpecError(f"items.{name}: check time {t:g} s is not on the "
                                 f"{step:g} s analysis grid")

@@ -501,6 +501,23 @@ def format_readable(value_si: float, unit: str, display_unit: str, digits: int =
                            digits)
 
 
+def format_duration(seconds: float) -> str:
+    """``"1 h"``, ``"40 min"``, ``"2 h 35 min"``, ``"90 s"``, ``"-1 min"``.
+
+    Rounded to the microsecond first, so a time that went through hours and back
+    (7800.000000000001 s) still reads ``"2 h 10 min"``.
+    """
+    seconds = round(float(seconds), 6)
+    if seconds < 0:
+        return "-" + format_duration(-seconds)
+    if seconds % 60:
+        return f"{seconds:g} s"
+    hours, minutes = divmod(round(seconds / 60), 60)
+    if not minutes:
+        return f"{hours} h"
+    return f"{hours} h {minutes} min" if hours else f"{minutes} min"
+
+
 VALIDITY_RATIO_CEILING: float = 10  # an int: the published schema writes 10
 """A validity threshold (the linear/direct ratio that warns) must be below this ratio,
 1000 % of the error: a linear run off by ten times the error it estimates tells

@@ -592,3 +592,26 @@ def test_contributions_at_round_off_are_shown_as_zero(orthodromic, tmp_path):
     assert rest.size and not np.any(rest)
     # real contributions of the other sources stay
     assert np.all(data["total"][:, data["quantities"].index("alpha_x")] > 0)
+
+
+def test_a_spec_shorter_than_an_hour_checks_its_hourly_items_at_its_end(tmp_path):
+    """heading_drift's default (the first hour) on a 10-min spec was refused: 'check time
+    1 h is after the operating time 0.166667 h'; it is checked at 10 min, and a time
+    given past the end is said in minutes."""
+    text = """
+        operating_time = "10 min"
+        step = "10 s"
+        [motion]
+        kind = "static"
+        [items.heading_drift]
+        value = "1 deg/h"
+        [items.position_error]
+        value = "3.7 km/h"
+    """
+    spec = load_spec(write(tmp_path, text))
+    assert spec.item("heading_drift").times == (600.0,)
+    assert spec.item("position_error").times == (600.0,)
+    with pytest.raises(InsErrorsError, match="check time 20 min is after the operating "
+                                             "time 10 min"):
+        load_spec(write(tmp_path, text + '        times = ["20 min"]\n', "late.toml"))
+    assert bd.format_time(-60.0) == "-1 min"   # was '-1 h 59 min'

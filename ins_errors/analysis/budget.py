@@ -84,6 +84,7 @@ from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.linear_system import check_grid_memory
 from ins_errors.specs import HOUR, SOURCE_UNIT_SUFFIX, Spec, SpecError
 from ins_errors.units import UnitError, format_quantity, parse_quantity
+from ins_errors.units import format_duration as format_time
 
 EPS = float(np.finfo(float).eps)
 
@@ -101,21 +102,6 @@ size that is large in itself: a gyro drift, an accelerometer bias or an initial 
 or position error is large or small only through what it does over the operating time
 (an azimuth drift of 40 °/h is what a 5-minute spec of 40 °/h heading drift allows), so
 their units set no ceiling. White-noise densities have no ceiling."""
-
-
-def format_time(seconds: float) -> str:
-    """``"1 h"``, ``"40 min"``, ``"2 h 35 min"``, ``"90 s"``.
-
-    Rounded to the microsecond first, so a time that went through hours and back
-    (7800.000000000001 s) still reads ``"2 h 10 min"``.
-    """
-    seconds = round(float(seconds), 6)
-    if seconds % 60:
-        return f"{seconds:g} s"
-    hours, minutes = divmod(round(seconds / 60), 60)
-    if not minutes:
-        return f"{hours} h"
-    return f"{hours} h {minutes} min" if hours else f"{minutes} min"
 
 
 class BudgetError(InsErrorsError):
