@@ -44,15 +44,18 @@ def folder() -> Path:
 @cache
 def code_version() -> str:
     """Hash of the source files and library versions the flown samples follow from (read
-    once per process): checker/check_motions.py, numeric/*.py, models/earth.py, units.py,
-    and checker/transition.py, whose propagations the same version keys
-    (:mod:`~ins_errors.checker.propagation_store`)."""
+    once per process): checker/check_motions.py and what it flies and reads with
+    (checker/navigation.py, checker/strapdown_description.py, numeric/*.py,
+    models/earth.py, units.py), and checker/transition.py, whose propagations the same
+    version keys (:mod:`~ins_errors.checker.propagation_store`)."""
     from importlib.metadata import PackageNotFoundError, version
 
     from ins_errors.numeric.cache import code_digest
 
     package = Path(__file__).resolve().parent.parent
-    files = [package / "checker" / "check_motions.py", package / "checker" / "transition.py",
+    checker = package / "checker"
+    files = [*(checker / f"{name}.py" for name in ("check_motions", "navigation",
+                                                    "strapdown_description", "transition")),
              *sorted((package / "numeric").glob("*.py")),
              package / "models" / "earth.py", package / "units.py"]
     versions = [sys.version, np.__version__]
