@@ -202,6 +202,15 @@ def test_the_private_folder_is_never_one_another_user_can_write(private_place):
     chosen = cache.private_directory()
     assert chosen != private_place and chosen.is_dir()
     assert not chosen.stat().st_mode & 0o077
+    # such a folder of one process is removed when it ends (one was left by every run)
+    import sys
+
+    code = "from ins_errors.numeric import cache\nprint(cache.private_directory())"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=True, env=dict(os.environ))
+    made = Path(done.stdout.strip())
+    assert made.parent == private_place.parent and made != private_place
+    assert not made.exists()
 
 
 def test_a_default_cache_that_cannot_be_made_sends_loops_to_the_private_folder(

@@ -235,19 +235,26 @@ _PRIVATE_NOTICE_GIVEN = False
 _PRIVATE_FOR: dict[Path, Path] = {}
 
 
+def _shared_private() -> Path:
+    """``ins-errors-<uid>`` in the temporary folder: the private folder kept between runs."""
+    user = os.getuid() if hasattr(os, "getuid") else None
+    return Path(tempfile.gettempdir()) / f"ins-errors-{'user' if user is None else user}"
+
+
 def private_directory() -> Path:
     """This user's own folder for what the cache folder cannot take (made if missing).
 
     ``ins-errors-<uid>`` in the temporary folder, laid out as a ``$INS_ERRORS_CACHE``
     folder (loops in it, the other stores in subfolders) and kept between runs; when
     that path is not a folder of this user that others cannot write (another user may
-    have made it), a new temporary folder for this process instead.
+    have made it), a new temporary folder for this process instead, removed when the
+    process ends (it would otherwise be left behind by every run).
     """
     global _PRIVATE
     if _PRIVATE is not None and _PRIVATE.is_dir():
         return _PRIVATE
     user = os.getuid() if hasattr(os, "getuid") else None
-    shared = Path(tempfile.gettempdir()) / f"ins-errors-{'user' if user is None else user}"
+    shared = _shared_private()
     try:
         shared.mkdir(mode=0o700, exist_ok=True)
         info = shared.lstat()
@@ -258,6 +265,10 @@ def private_directory() -> Path:
     except OSError:
         pass
     _PRIVATE = Path(tempfile.mkdtemp(prefix="ins-errors-"))
+    import atexit
+    import shutil
+
+    atexit.register(shutil.rmtree, _PRIVATE, ignore_errors=True)
     return _PRIVATE
 
 
@@ -273,12 +284,13 @@ def _private_notice(folder: Path, private: Path) -> None:
             and multiprocessing.parent_process() is not None):
         return  # a worker: the process that started it has said so
     os.environ[PRIVATE_NOTICE_VARIABLE] = "1"
+    kept = "kept in" if private == _shared_private() else "made (for this run only) in"
     if folder.is_dir():
         text = (f"ins-errors: the cache folder {str(folder)!r} is read-only: what it holds "
-                f"is used, what it lacks is made and kept in {str(private)!r}")
+                f"is used, what it lacks is {kept} {str(private)!r}")
     else:
         text = (f"ins-errors: the cache folder {str(folder)!r} cannot be written; compiled "
-                f"loops and other new work are kept in {str(private)!r} instead")
+                f"loops and other new work are {kept} {str(private)!r} instead")
     warnings.warn(text, RuntimeWarning, stacklevel=3)
 
 
