@@ -488,8 +488,9 @@ def store_lock(path: str | Path, reading: bool = False) -> Iterator[None]:
         The folder of the store cannot be made or written.
     """
     path = Path(path)
-    # beside the store itself: a link to a store and the store lock the same file
-    real = path.resolve()
+    # beside the store itself: a link to a store and the store lock the same file (a
+    # link in a folder above leads to the same file anyway)
+    real = path.resolve() if path.is_symlink() else path
     lock = real.with_name(real.name + LOCK_SUFFIX)
     try:
         import fcntl
