@@ -210,6 +210,10 @@ class Motion:
     heading_given : bool
         Whether the spec set ``heading`` (refused at rest for a model without a heading
         output, :func:`ins_errors.analysis.budget.spec_trajectory`).
+    given : tuple of (str, str)
+        ``(name, text as written)`` of the start values the spec set among latitude,
+        longitude, height and heading (a model without such a value refuses it:
+        :func:`ins_errors.analysis.budget.spec_system`).
     legs : tuple of dict or None
         The legs of a manoeuvre that lists its own, each as
         :func:`~ins_errors.numeric.motion_spec.in_si` writes it (``duration``, ``speed``,
@@ -224,6 +228,7 @@ class Motion:
     height: float = 0.0
     speed: float = 0.0
     heading_given: bool = False
+    given: tuple[tuple[str, str], ...] = ()
     legs: tuple[dict, ...] | None = None
 
     def description(self) -> dict[str, Any]:
@@ -419,6 +424,9 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         height=_positive(m.height, "m", "motion.height", "0 m", allow_zero=True),
         speed=_positive(m.speed, "m/s", "motion.speed", "250 m/s", allow_zero=True),
         heading_given="heading" in m.model_fields_set,
+        given=tuple((name, str(getattr(m, name))) for name in ("latitude", "longitude",
+                                                               "height", "heading")
+                    if name in m.model_fields_set),
     )
     if abs(motion.latitude) >= np.pi / 2:
         raise SpecError(f"motion.latitude {m.latitude!r} is at or beyond a pole (|φ| >= "

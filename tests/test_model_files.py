@@ -545,12 +545,12 @@ step = "60 s"
 [motion]
 kind = "static"
 latitude = "50 deg"
-longitude = "30 deg"
-height = "0 m"
 [items.position_error]
 value = "3.7 km/h"
 times = ["1 h", "2 h"]
 """
+# (no longitude or height: the Schuler loop has neither, and a value given for one is
+# refused as one it would ignore)
 
 
 def test_budget_names_everything_a_model_file_lacks_in_one_line(tmp_path, capsys):

@@ -72,6 +72,21 @@ def test_a_scenarios_latitude_for_a_model_without_one_is_refused(capsys, tmp_pat
     assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
 
 
+def test_a_budget_specs_latitude_for_a_model_without_one_is_refused(capsys, tmp_path):
+    """A spec's [motion] latitude was silently ignored by the budget of a model without
+    one (it sat at phi0 = 50° whatever the spec said); without it the spec is budgeted."""
+    text = ('sigma_level = 1\noperating_time = "1 h"\nstep = "60 s"\n[motion]\n'
+            'kind = "static"\nlatitude = "10 deg"\n[items.ground_speed_error]\n'
+            'value = "1 m/s"\n')
+    spec = tmp_path / "own.toml"
+    spec.write_text(text)
+    err = _one_line_error(capsys, ["budget", MODEL, "--spec", str(spec)])
+    assert "own.toml [motion] latitude: model 'tangent_plane_ins' has no latitude" in err
+    assert "-p phi0=10deg" in err
+    spec.write_text(text.replace('latitude = "10 deg"\n', ""))
+    assert main(["budget", MODEL, "--spec", str(spec)]) == 0
+
+
 def test_the_parameter_the_refusal_names_is_the_models_latitude(capsys):
     """-p phi0=10deg, the way the refusal names, moves the model's latitude: the
     Foucault split Ω sin φ0 of its Coriolis terms 2 U sin φ0 changes with it."""

@@ -378,6 +378,11 @@ def spec_system(model, spec: Spec, trajectory=None,
                                  step=spec.step, p=p)
         except InsErrorsError:
             raise error from None
+    from ins_errors.numeric.trajectories import refuse_unused_references
+
+    where = Path(spec.path).name if spec.path else "spec"
+    refuse_unused_references(model, trajectory, {   # a latitude the model has not
+        name: (f"{where} [motion] {name}", text) for name, text in spec.motion.given})
     return system_from_trajectory(model, trajectory, spec.step)
 
 
