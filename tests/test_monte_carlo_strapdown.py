@@ -20,6 +20,7 @@ import pytest
 
 from ins_errors import load_model
 from ins_errors.analysis import budget as bd
+from ins_errors.analysis import budget_attitude as ba
 from ins_errors.analysis.monte_carlo import direct_monte_carlo
 from ins_errors.cli import main
 
@@ -109,9 +110,9 @@ def test_strapdown_direct_runs_carry_the_phi_angle(tmp_path):
     roll = SourceStatistics("initial_roll_error", "constant", 1e-4)
     errors = direct_monte_carlo(model, trajectory, [roll], 3, engine="serial",
                                 record_interval=60.0, progress=False)
-    assert errors.names[-3:] == bd.PHI_QUANTITIES
+    assert errors.names[-3:] == ba.PHI_QUANTITIES
     drawn = errors.sources[[s.name for s in model.sources].index("initial_roll_error")]
-    phi_n, phi_e, phi_d = (errors[n][0] for n in bd.PHI_QUANTITIES)
+    phi_n, phi_e, phi_d = (errors[n][0] for n in ba.PHI_QUANTITIES)
     # the spec's great circle leaves level at track 60°: u = (cos 60°, sin 60°, 0)
     axis = np.radians(60.0)
     assert phi_n == pytest.approx(-drawn * np.cos(axis), rel=1e-6)
@@ -125,7 +126,7 @@ def test_platform_direct_runs_are_read_as_before(tmp_path):
 
     model = load_model("orthodromic")
     spec = load_spec(_spec(tmp_path, model, PLATFORM_FIXED))
-    assert bd.attitude_quantities(model) == bd.platform_angles(model)
+    assert ba.attitude_quantities(model) == ba.platform_angles(model)
     sigma = {name: 1.0 for name in PLATFORM_FIXED}
     budget = bd.unit_budget(model, spec)
     trajectory = bd.spec_trajectory(model, spec, tau=1.0, duration=600.0)
@@ -133,7 +134,7 @@ def test_platform_direct_runs_are_read_as_before(tmp_path):
         [sigma.get(s.name, 0.0) * 1e-5 for s in budget.sources])) if s.sigma > 0]
     errors = direct_monte_carlo(model, trajectory, stats, 4, engine="serial",
                                 record_interval=60.0, progress=False)
-    assert not set(bd.PHI_QUANTITIES) & set(errors.names)
+    assert not set(ba.PHI_QUANTITIES) & set(errors.names)
     rows, values = bd.direct_rows(model, budget, errors)
     for row, value in zip(rows, values, strict=True):
         k = int(np.argmin(np.abs(errors.times - row.time)))

@@ -213,7 +213,7 @@ class DirectErrors:
     times : numpy.ndarray, shape (nt,)
     names : tuple of str
         ``alpha_x, ...`` then ``delta_<output>``; for a strapdown INS then its φ-angle
-        ``phi_N, phi_E, phi_D`` (:data:`ins_errors.analysis.budget.PHI_QUANTITIES`).
+        ``phi_N, phi_E, phi_D`` (:data:`ins_errors.analysis.budget_attitude.PHI_QUANTITIES`).
     values : numpy.ndarray, shape (nq, nt, N)
     sources : numpy.ndarray, shape (nw, N)
         The sampled source vectors.
@@ -236,9 +236,9 @@ def _direct_batch(model_name: str, trajectory, w: np.ndarray, method: str,
                   record_interval: float) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
     """Direct runs of the draws ``w`` (nw, B): times, values (nq, R + 1, B) and names of
     the error quantities; for a strapdown INS its φ-angle besides
-    (:func:`ins_errors.analysis.budget.direct_attitude`, the covariance's rows along the
+    (:func:`ins_errors.analysis.budget_attitude.direct_attitude`, the covariance's rows along the
     runs' own ideal states)."""
-    from ins_errors.analysis.budget import direct_attitude
+    from ins_errors.analysis.budget_attitude import direct_attitude
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.simulate import simulate
 
