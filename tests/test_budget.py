@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from ins_errors.analysis import budget as bd
+from ins_errors.analysis import budget_contributions as bc
 from ins_errors.cli import main
 from ins_errors.errors import InsErrorsError
 from ins_errors.specs import HOUR, default_spec_path, load_spec, parse_spec
@@ -341,7 +342,7 @@ def test_cli_bad_spec_is_one_line(tmp_path, capsys):
 
 def test_output_contributions_at_chosen_times(orthodromic, spec_802m):
     allocation = bd.allocate(bd.unit_budget(orthodromic, spec_802m))
-    data = bd.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
+    data = bc.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
     assert data["times_h"] == [1.0, 8.0]
     std = data["std"]
     assert std.shape == (2, len(data["quantities"]), len(data["sources"]))
@@ -353,10 +354,10 @@ def test_output_contributions_at_chosen_times(orthodromic, spec_802m):
     drift = allocation.sigma[[s.name for s in allocation.budget.sources].index("gyro_drift_z")]
     assert data["units"][q] == "arcmin"
     assert std[0, q, j] == pytest.approx(drift * HOUR / DEG * 60, rel=0.01)
-    with pytest.raises(InsErrorsError, match="not on the 60 s analysis grid"):
-        bd.output_contributions(orthodromic, allocation, [90.0])
-    with pytest.raises(InsErrorsError, match="not on the"):
-        bd.output_contributions(orthodromic, allocation, [9 * HOUR])
+    with pytest.raises(InsErrorsError, match="not on the spec's 60 s analysis grid"):
+        bc.output_contributions(orthodromic, allocation, [90.0])
+    with pytest.raises(InsErrorsError, match="outside the spec's operating time, 0 to 8 h"):
+        bc.output_contributions(orthodromic, allocation, [9 * HOUR])
 
 
 def test_rankings_do_not_turn_on_rounding():
@@ -578,7 +579,7 @@ def test_contributions_at_round_off_are_shown_as_zero(orthodromic, tmp_path):
     spec = load_spec(write(tmp_path, VERTICAL_ONLY + '[sources.initial_longitude_error]\n'
                                                      'fixed = "3 arcmin"\n'))
     allocation = bd.allocate(bd.unit_budget(orthodromic, spec))
-    data = bd.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
+    data = bc.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
     j = data["sources"].index("initial_longitude_error")
     assert "delta_longitude" not in data["quantities"]
     q = data["quantities"].index("delta_r_E")

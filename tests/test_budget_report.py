@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from ins_errors.analysis import budget as bd
+from ins_errors.analysis import budget_contributions as bc
 from ins_errors.analysis import budget_report as rep
 from ins_errors.cli import main
 from ins_errors.specs import HOUR, default_spec_path, load_spec
@@ -16,7 +17,7 @@ from ins_errors.specs import HOUR, default_spec_path, load_spec
 @pytest.fixture(scope="module")
 def outputs_802m(orthodromic):
     allocation = bd.allocate(bd.unit_budget(orthodromic, load_spec(default_spec_path())))
-    return bd.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
+    return bc.output_contributions(orthodromic, allocation, [HOUR, 8 * HOUR])
 
 
 @pytest.mark.parametrize("top", [3, 10])

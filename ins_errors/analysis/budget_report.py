@@ -11,7 +11,6 @@ import re
 import numpy as np
 
 from ins_errors.analysis.budget import (
-    HOUR,
     ITEM_DISPLAY,
     Allocation,
     SpecExceededError,
@@ -20,6 +19,7 @@ from ins_errors.analysis.budget import (
 )
 from ins_errors.figure_layout import fixed_margins, text_height, text_width, wrap_to_width
 from ins_errors.output import require_matplotlib, save_figure
+from ins_errors.specs import HOUR
 from ins_errors.units import format_quantity, readable_angle_unit
 
 TIE_DIGITS = 9
@@ -521,7 +521,7 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
 
 
 def output_rows(data: dict, it: int, top: int = 10) -> list[tuple[str, np.ndarray]]:
-    """Rows of the table of :func:`output_contributions` at its ``it``-th time.
+    """Rows of the table of :mod:`~ins_errors.analysis.budget_contributions` at its ``it``-th time.
 
     The named sources (:func:`select_sources` on the shares of each error's variance),
     then ``"(N others)"`` with the root sum of squares of the rest, then ``"total
@@ -555,7 +555,8 @@ def magnitudes_note(allocation: Allocation, fixed_only: bool = False) -> str:
 
 
 def output_table(data: dict, top: int = 10) -> str:
-    """Text table of :func:`output_contributions` (1σ per source, largest first); its
+    """Text table of the contributions at chosen times
+    (:mod:`~ins_errors.analysis.budget_contributions`; 1σ per source, largest first); its
     titles name the magnitudes (``data["magnitudes"]``, :func:`magnitudes_note`) when
     given."""
     lines = []
@@ -591,7 +592,8 @@ unlike any source's colour (tab20 has two greys; a grey block read as one of the
 
 
 def plot_outputs(data: dict, path: str, top: int = 19, title: str | None = None) -> None:
-    """Stacked bars of :func:`output_contributions`: share of each error's variance.
+    """Stacked bars of the contributions at chosen times
+    (:mod:`~ins_errors.analysis.budget_contributions`): share of each error's variance.
 
     One panel per chosen time; each bar is one platform angle or output error, split
     into the sources' shares of its variance (the bar's label gives its 1σ total), so

@@ -106,7 +106,9 @@ def run(args: argparse.Namespace) -> int:
         raise SpecError("no --spec given and the built-in 802m spec is missing")
     spec = load_spec(path)
     if times is not None:   # before any work
-        bd.check_times(spec, times)
+        from ins_errors.analysis.budget_contributions import check_times
+
+        check_times(spec, times)
     parameters = spec_parameters(spec, model, args.parameter)
     p = model.parameter_vector(**parameters)
     if args.fill:
@@ -239,14 +241,15 @@ def _report_exceeded(args: argparse.Namespace, model, exceeded, parameters: dict
 
 def _contributions(model, allocation, times: list[float], plot_at: str | None,
                    data: dict, fixed_only: bool = False) -> dict:
-    """The --at breakdown (:func:`~ins_errors.analysis.budget.output_contributions`),
+    """The --at breakdown (:mod:`~ins_errors.analysis.budget_contributions`),
     labelled with the magnitudes it uses, its σ level and its arrays' axes; drawn to
     ``plot_at`` if given; put in ``data["contributions"]`` as JSON."""
-    from ins_errors.analysis import budget as bd
     from ins_errors.analysis import budget_report as rep
 
     budget = allocation.budget
-    outputs = bd.output_contributions(model, allocation, times)
+    from ins_errors.analysis.budget_contributions import output_contributions
+
+    outputs = output_contributions(model, allocation, times)
     outputs["magnitudes"] = rep.magnitudes_note(allocation, fixed_only)
     if plot_at:
         k = budget.spec.sigma_level

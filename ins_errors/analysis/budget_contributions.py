@@ -1,0 +1,133 @@
+"""Each source's contribution to every navigation error at chosen times (``--at``).
+
+The allocated (or fixed) magnitudes are propagated once more with every error state and
+output as a readout: each source's 1σ share of each platform angle and output error at
+the times asked for, latitude and longitude errors as metres north and east.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ins_errors.analysis.budget import (
+    Allocation,
+    BudgetError,
+    _radii,
+    format_time,
+    rounding_floors,
+    typical_state_sizes,
+)
+from ins_errors.analysis.covariance import SourceStatistics, propagate
+from ins_errors.specs import HOUR, Spec, SpecError
+from ins_errors.units import parse_quantity
+
+OUTPUT_DISPLAY = {"rad": "arcmin", "m/s": "m/s", "rad/s": "deg/h", "m": "m", "1": "ppm"}
+"""Units the output table quotes SI quantities in."""
+
+POSITION_METRES = {"delta_latitude": ("delta_r_N", 1), "delta_longitude": ("delta_r_E", 2)}
+"""Latitude and longitude errors shown as north and east position errors, m: the name of
+the distance and the index of its radius among the results of
+:func:`~ins_errors.analysis.budget._radii` (R_N, R_E cos φ)."""
+
+
+def check_times(spec: Spec, times, what: str = "--at") -> None:
+    """Refuse, before any work, times outside the spec's operating time or off its
+    analysis grid (one line naming the operating time and the step).
+
+    Parameters
+    ----------
+    spec : Spec
+    times : iterable of float
+        s.
+    what : str
+        Where the times were given, for the message.
+
+    Raises
+    ------
+    SpecError
+    """
+    from ins_errors.numeric.integrators import whole_steps
+
+    end = spec.step * max(1, round(spec.operating_time / spec.step))
+    for t in times:
+        if not np.isfinite(t) or t < 0 or t > end * (1 + 1e-12):
+            raise SpecError(f"{what}: time {format_time(t)} is outside the spec's operating "
+                            f"time, 0 to {format_time(end)}")
+        if whole_steps(t, spec.step) is None:
+            raise SpecError(f"{what}: time {format_time(t)} is not on the spec's "
+                            f"{spec.step:g} s analysis grid (its operating time: 0 to "
+                            f"{format_time(end)} in steps of {spec.step:g} s)")
+
+
+def output_contributions(model, allocation: Allocation, times: list[float]) -> dict:
+    """Each source's 1σ contribution to every platform angle and output error.
+
+    A latitude and a longitude error are given as the north and east position errors
+    ``delta_r_N`` = R_N Δφ and ``delta_r_E`` = R_E cos φ Δλ, m (the radii of the
+    position item, :func:`~ins_errors.analysis.budget._radii`, along the motion at each
+    time) when the model has an Earth radius; in arcmin otherwise.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+    allocation : Allocation
+        Magnitudes to use (unconstrained sources are left out).
+    times : list of float
+        s, on the spec's analysis grid and within its operating time.
+
+    Returns
+    -------
+    dict
+        ``{"times_h", "quantities", "units", "sources", "std", "total"}``: ``std`` of
+        shape (len(times), quantities, sources), each source's 1σ contribution, and
+        ``total`` of shape (len(times), quantities), their root sum of squares, in the
+        display units ``units`` (one per quantity).
+    """
+    from ins_errors.analysis.covariance import state_and_output_functionals
+
+    budget = allocation.budget
+    system = budget.system
+    keep = [j for j in range(len(budget.sources)) if np.isfinite(allocation.sigma[j])]
+    stats = [SourceStatistics(budget.sources[j].name, budget.sources[j].statistics,
+                              float(allocation.sigma[j]), budget.sources[j].tau) for j in keep]
+    functionals = state_and_output_functionals(model, system)
+    n = len(model.states)
+    chosen = list(range(n, len(functionals.names)))
+    check_times(budget.spec, times)
+    index = [round(t / system.step) for t in times]
+    covariance = propagate(system, stats, functionals)
+    contributions = covariance.contributions[np.ix_(index, chosen)]      # (t, q, s)
+    # a contribution at or below the rounding floor of the propagation is round-off
+    # (e.g. 7e-35 arcmin): shown as 0
+    readout = functionals.C_x if functionals.C_x.ndim == 2 else functionals.C_x[index]
+    ne = len(model.error_states)
+    floors = rounding_floors(covariance.contributions[index][:, :ne], readout,
+                             typical_state_sizes(model), ne + len(keep),
+                             np.array(index))[:, chosen]
+    contributions = np.where(contributions > floors, contributions, 0.0)
+    std = np.sqrt(contributions)
+    total = np.sqrt(contributions.sum(-1))
+    names = [functionals.names[i] for i in chosen]
+    units = [functionals.units[i] for i in chosen]
+    radii = None
+    if any(name in POSITION_METRES for name in names):
+        try:
+            radii = _radii(model, system)
+        except BudgetError:   # no Earth radius: the angles stay
+            radii = None
+    shown = []
+    for q, unit in enumerate(units):
+        if radii is not None and names[q] in POSITION_METRES and unit == "rad":
+            names[q], which = POSITION_METRES[names[q]]
+            factor = radii[which][index]                     # m per rad at each time
+            std[:, q] *= factor[:, None]
+            total[:, q] *= factor
+            shown.append("m")
+            continue
+        target = OUTPUT_DISPLAY.get(unit, unit)
+        factor = parse_quantity(f"1 {unit}", target, "unit") if unit != "1" else 1e6
+        std[:, q] *= factor
+        total[:, q] *= factor
+        shown.append(target)
+    return {"times_h": [t / HOUR for t in times], "quantities": names, "units": shown,
+            "sources": [budget.sources[j].name for j in keep], "std": std, "total": total}
