@@ -29,6 +29,7 @@ pytest.importorskip("zarr")
 from ins_errors.analysis import covariance as cv
 from ins_errors.analysis import monte_carlo as mc
 from ins_errors.analysis import sweep as sw
+from ins_errors.analysis import sweep_report as sr
 from ins_errors.numeric import trajectories as tr
 from ins_errors.scenario import load_scenario
 from tests.helpers import QUIET_DASK
@@ -277,7 +278,7 @@ def test_a_point_over_the_pole_fails_alone_on_the_cluster(cluster, tmp_path):
                          scheduler=cluster.scheduler_address)
     assert here.failed == there.failed == [0] and there.engine.failed == 1
     assert there.engine.computed == 1
-    [failed] = sw.failures(there.dataset)
+    [failed] = sr.failures(there.dataset)
     assert failed["reason"].startswith("the true motion leaves the model's domain")
-    assert sw.failures(here.dataset) == [failed]
+    assert sr.failures(here.dataset) == [failed]
     same(here.dataset, there.dataset)

@@ -327,7 +327,7 @@ def test_budget_and_sweep_figures_fit_their_fixed_margins(tmp_path, monkeypatch)
     from types import SimpleNamespace
 
     from ins_errors import output
-    from ins_errors.analysis import budget_report, sweep
+    from ins_errors.analysis import budget_report, sweep_report
 
     seen = []
 
@@ -396,9 +396,10 @@ def test_budget_and_sweep_figures_fit_their_fixed_margins(tmp_path, monkeypatch)
     dataset.attrs = {"title": long_title, "swept": f'["{wide}", "heading", "latitude"]'}
     label = f"max |{wide}| [m/s²]"
     for values in (np.linspace(1e-9, 3e-9, 1600), np.linspace(-123456.7, 1e6, 1600)):
-        monkeypatch.setattr(sweep, "figure_values", lambda data, figure, v=values: (v, label))
-        sweep.plot(dataset, "max_direct:x", [wide], tmp_path / "sweep_line.png")
-        sweep.plot(dataset, "max_direct:x", [wide, "heading"], tmp_path / "sweep_map.png")
+        monkeypatch.setattr(sweep_report, "figure_values",
+                            lambda data, figure, v=values: (v, label))
+        sweep_report.plot(dataset, "max_direct:x", [wide], tmp_path / "sweep_line.png")
+        sweep_report.plot(dataset, "max_direct:x", [wide, "heading"], tmp_path / "sweep_map.png")
     assert [s for s in seen if s[1:] != ((False,) * 4, [])] == []
     assert len(seen) == 8
 

@@ -19,6 +19,7 @@ pytest.importorskip("zarr")  # the store needs the 'distributed' extra (in 'dev'
 
 from ins_errors import units
 from ins_errors.analysis import sweep as sw
+from ins_errors.analysis import sweep_report as sr
 from ins_errors.cli import main
 from ins_errors.scenario import load_scenario
 
@@ -117,7 +118,7 @@ def test_monte_carlo_draws_are_seeded_per_draw(tmp_path):
     alpha_x = ds["max_direct"].sel(quantity="alpha_x").values
     assert alpha_x == pytest.approx(2 * np.abs(bias) / G, rel=0.015)
     # over the draws of each latitude: RMS of the tilt = 2 RMS(b)/g
-    stats = sw.over_draws(ds)
+    stats = sr.over_draws(ds)
     assert [row["draws"] for row in stats] == [3, 3]
     assert [row["latitude"] for row in stats] == pytest.approx(np.radians([30, 60]))
     for row in stats:
@@ -320,7 +321,7 @@ def test_a_store_made_before_failures_were_recorded_resumes(tmp_path):
     assert "failure" not in zarr.open_group(str(store), mode="r").array_keys()
     result = sw.run_sweep(load_scenario(path), store, engine="serial")
     assert (result.computed, result.reused, result.failed) == (1, 1, [1])
-    assert sw.failures(result.dataset)[0]["label"] == "latitude = 89.5 deg"
+    assert sr.failures(result.dataset)[0]["label"] == "latitude = 89.5 deg"
 
 
 def test_store_of_another_sweep_is_refused(tmp_path, capsys):
@@ -377,7 +378,7 @@ def test_colour_map_axes_span_the_swept_values_only(tmp_path, monkeypatch):
         accel_bias_x = {[f"{v:g} ug" for v in biases]}
     """, BASE.replace('"1 h"', '"2 min"').replace('"60 s"', '"1 min"'))
     data = sw.run_sweep(load_scenario(path), tmp_path / "map.zarr", engine="serial").dataset
-    sw.plot(data, "worst_linear_ratio", ["latitude", "accel_bias_x"], tmp_path / "map.png")
+    sr.plot(data, "worst_linear_ratio", ["latitude", "accel_bias_x"], tmp_path / "map.png")
     [figure] = figures
     ax = figure.axes[0]
     [mesh] = ax.collections
@@ -442,7 +443,7 @@ def test_sweep_records_the_model_parameters_it_set(tmp_path, capsys):
         assert data["parameters"] == expected, name
         assert data["swept"] == {"latitude": "rad"}
         with xr.open_dataset(store) as ds:
-            assert sw.model_parameters(ds) == expected, name
+            assert sr.model_parameters(ds) == expected, name
 
 
 def test_points_run_without_pint_and_give_the_bits_of_the_motion_as_written(tmp_path,
@@ -483,12 +484,12 @@ def test_the_list_of_failed_points_is_capped_for_large_sweeps():
                               "latitude": ("point", np.radians(np.arange(25.0)),
                                            {"units": "rad", "display_unit": "deg"})},
                       attrs={"swept": json.dumps(["latitude"])})
-    lines = sw.failures_text(data).splitlines()
+    lines = sr.failures_text(data).splitlines()
     assert lines[0].startswith("13 of 25 points failed")
     assert lines[1] == "  point 0 (latitude = 0 deg): reason 0"
     assert lines[10] == "  point 18 (latitude = 18 deg): reason 18"
     assert lines[11] == "  ... and 3 more (--json lists them all)" and len(lines) == 12
-    assert [r["point"] for r in sw.failures(data)] == list(range(0, 25, 2))
+    assert [r["point"] for r in sr.failures(data)] == list(range(0, 25, 2))
 
 
 def test_failed_draws_are_not_left_out_of_the_statistics(tmp_path):
@@ -498,8 +499,8 @@ def test_failed_draws_are_not_left_out_of_the_statistics(tmp_path):
                                    "seed = 3\n[sweep.random]\naccel_bias_y = '50 ug'\n", POLE)
     result = sw.run_sweep(load_scenario(path), tmp_path / "d.zarr", engine="serial")
     assert result.failed == [2, 3]
-    ok, bad = sw.over_draws(result.dataset)
+    ok, bad = sr.over_draws(result.dataset)
     assert ok["failed_draws"] == [] and ok["rms_max_direct"]["delta_latitude"] > 0
     assert bad["failed_draws"] == [0, 1] and bad["largest_worst_linear_ratio"] is None
     assert bad["rms_max_direct"]["delta_latitude"] is None
-    assert "failed" in sw.draws_table(result.dataset).splitlines()[0]
+    assert "failed" in sr.draws_table(result.dataset).splitlines()[0]

@@ -72,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the sweep; 0 when every point ran, 2 when a point failed (listed on stderr,
     and in the JSON under ``"failed"``)."""
     from ins_errors.analysis import sweep as sw
+    from ins_errors.analysis import sweep_report as sr
     from ins_errors.model_parameters import parameters_record
     from ins_errors.numeric.model import load_model
     from ins_errors.scenario import load_scenario
@@ -127,7 +128,7 @@ def run(args: argparse.Namespace) -> int:
     data = result.dataset
     plotted = None
     if args.plot:
-        plotted = sw.plot(data, figure, against or sw.swept_names(data)[:2], args.plot)
+        plotted = sr.plot(data, figure, against or sr.swept_names(data)[:2], args.plot)
     if args.merge is not None:
         where = f"merged from {len(args.merge)} shard stores"
     else:
@@ -142,10 +143,10 @@ def run(args: argparse.Namespace) -> int:
               "truth": scenario.truth,
               "parameters": parameters_record(model, scenario.parameters),
               "swept": {name: data[name].attrs.get("units", "1")
-                        for name in sw.swept_names(data)},
-              "summary": sw.summary(data),
-              "over_draws": sw.over_draws(data),
-              "failed": sw.failures(data)}, ensure_ascii=False)
+                        for name in sr.swept_names(data)},
+              "summary": sr.summary(data),
+              "over_draws": sr.over_draws(data),
+              "failed": sr.failures(data)}, ensure_ascii=False)
         return _failed(data)
     if args.merge is not None:
         print(f"{scenario.title}: {result.points} points, {result.merged} copied ({where}), "
@@ -154,8 +155,8 @@ def run(args: argparse.Namespace) -> int:
         whose = f" (shard {shard} of {result.total})" if shard is not None else ""
         print(f"{scenario.title}: {result.points} points{whose}, {result.computed} computed "
               f"({where}), {result.reused} read back from the store")
-    print(sw.table(data, scenario.quantities))
-    over = sw.draws_table(data, scenario.quantities)
+    print(sr.table(data, scenario.quantities))
+    over = sr.draws_table(data, scenario.quantities)
     if over:
         print(f"\nover the {scenario.sweep.draws} draws of each point:")
         print(over)
@@ -176,6 +177,7 @@ def _plot_request(args: argparse.Namespace, scenario) -> tuple[str, list[str] | 
         sweep does not have (one line).
     """
     from ins_errors.analysis import sweep as sw
+    from ins_errors.analysis import sweep_report as sr
 
     if not args.plot:
         given = [option for option, value in (("--figure", args.figure),
@@ -191,10 +193,10 @@ def _plot_request(args: argparse.Namespace, scenario) -> tuple[str, list[str] | 
     check_figure(args.plot)
     _try_writing_beside(args.plot)
     figure = args.figure or "worst_linear_ratio"
-    sw.check_figure(figure, error_quantities(load_model(scenario.model))[0],
+    sr.check_figure(figure, error_quantities(load_model(scenario.model))[0],
                     scenario.refined)
-    swept = sw.scenario_swept_names(scenario)
-    against = sw.check_against(args.against.split(",") if args.against else swept[:2],
+    swept = sr.scenario_swept_names(scenario)
+    against = sr.check_against(args.against.split(",") if args.against else swept[:2],
                                swept)
     return figure, against
 
@@ -229,9 +231,9 @@ def _failed(data) -> int:
     (bad input) when any did, else 0."""
     import sys
 
-    from ins_errors.analysis import sweep as sw
+    from ins_errors.analysis import sweep_report as sr
 
-    text = sw.failures_text(data)
+    text = sr.failures_text(data)
     if not text:
         return 0
     print(f"ins-errors: {text}", file=sys.stderr)
