@@ -404,3 +404,18 @@ def test_rectangle_method_on_arrays_of_its_own_interleaves_the_midpoints():
     true = np.max(np.abs(a.direct[worst.quantity] - reference[worst.quantity][:, 0]))
     true *= 64 / 63  # the reference's own error, first order
     assert true / 2 < worst.direct_integration_error < 2 * true, (worst.quantity, true)
+
+
+def test_the_rk4_advice_says_how_a_scenario_file_asks_for_it(tmp_path, capsys):
+    """`run` has no --method option: the advice of a rectangle-method scenario (as the
+    README's first tour command gets) told its reader to type one that is refused."""
+    from ins_errors.cli import main
+
+    path = tmp_path / "coarse.toml"
+    path.write_text('title = "coarse"\nmodel = "orthodromic"\n[motion]\nkind = "static"\n'
+                    '[run]\nduration = "6 h"\nstep = "20 s"\nmethod = "euler"\n'
+                    '[[case]]\ngyro_drift_x = "0.1 deg/h"\n', encoding="utf-8")
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
+    capsys.readouterr()
+    report = (tmp_path / "out" / "report.md").read_text(encoding="utf-8")
+    assert 'RK4 (--method rk4, or method = "rk4" in a scenario\'s [run])' in report

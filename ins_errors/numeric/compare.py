@@ -331,6 +331,10 @@ def add_unexcited_warnings(comparisons: Sequence[Comparison], sim: Simulation,
             comparison.warnings.append(unexcited_note(sim.model, trajectory, names[k]))
 
 
+RK4_HOW = '--method rk4, or method = "rk4" in a scenario\'s [run]'
+"""How a warning tells both a command line and a scenario file to use RK4."""
+
+
 def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> None:
     """Warn when the linear error equations at the start grow exponentially over the run.
 
@@ -675,11 +679,11 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
             step, text = accuracy.typable_step(alternative, interval)
             comparison.suggested_step, comparison.suggested_method = step, "rk4"
         advice = (f"the rectangle method would need τ ≤ {tau / k:.3g} s, more than the "
-                  f"{MAX_STEPS:.0e} steps one run may take; use RK4 (--method rk4)"
+                  f"{MAX_STEPS:.0e} steps one run may take; use RK4 ({RK4_HOW})"
                   + (f", where τ = {text} s would do" if alternative is not None else ""))
     else:
         comparison.suggested_step = step
-        hint = "; RK4 (--method rk4) needs far fewer steps" if method == "euler" else ""
+        hint = f"; RK4 ({RK4_HOW}) needs far fewer steps" if method == "euler" else ""
         advice = f"the {scheme} with τ = {tau:g} s is too coarse; τ = {text} s would do{hint}"
     if unreliable:
         size = "; the estimate is outside its asymptotic range"
