@@ -66,6 +66,42 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str):  # type: ignore[override]
         self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
+    def parse_args(self, args=None, namespace=None):  # type: ignore[override]
+        """As argparse's, but arguments no option takes are reported by the subcommand
+        they were given to (its --help lists its options, the top level's does not), with
+        a hint where one is a unit split from its value (``--source x=0.01 deg/h``)."""
+        parsed, extra = self.parse_known_args(args, namespace)
+        if extra:
+            command = getattr(parsed, "command", None)
+            sub = _subparser(self, command) if command else None
+            hint = ""
+            if any(_is_unit(word) for word in extra):
+                hint = ("; a value and its unit go together: write 0.01deg/h, or quote "
+                        "'0.01 deg/h'")
+            (sub or self).error(f"unrecognized arguments: {' '.join(extra)}{hint}")
+        return parsed
+
+
+def _subparser(parser: argparse.ArgumentParser, name: str) -> argparse.ArgumentParser | None:
+    """The subcommand parser ``name`` of ``parser``, or None."""
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            return action.choices.get(name)
+    return None
+
+
+def _is_unit(word: str) -> bool:
+    """True for a word that is a unit alone (``deg/h``, ``ug``, ``m/s``), not an option."""
+    if word.startswith("-") or "=" in word:
+        return False
+    from ins_errors.units import registry
+
+    try:
+        registry().parse_units(word.replace("°", "deg"))
+    except Exception:  # pint raises several types for text that is no unit
+        return False
+    return True
+
 
 def _accept_negative_quantities(parser: argparse.ArgumentParser) -> None:
     """Let ``--latitude -45deg`` through: argparse only knows bare negative numbers."""

@@ -451,6 +451,18 @@ def test_every_subcommand_refuses_an_unknown_option(name, inputs, capsys):
     _assert_one_line(status, err, [name])
 
 
+def test_an_unknown_option_points_to_its_commands_help_and_a_split_unit_is_named(capsys):
+    """Unknown arguments were reported by the top level ('see ins-errors --help', which
+    lists no options); a unit split from its value by a space was just 'deg/h'."""
+    status, _out, err = _run(["compare", "orthodromic", "-s", "gyro_drift_x=0.01", "deg/h"],
+                             capsys)
+    assert status == 2 and err.startswith("ins-errors compare: error: unrecognized "
+                                          "arguments: deg/h; a value and its unit go")
+    assert err.rstrip().endswith("(see 'ins-errors compare --help')")
+    status, _out, err = _run(["run", "x.toml", "--hours", "2"], capsys)
+    assert status == 2 and "(see 'ins-errors run --help')" in err and "unit" not in err
+
+
 @pytest.mark.parametrize("name", sorted(n for n, p in _subcommands().items()
                                         if any(a.dest == "model" and not a.option_strings
                                                for a in p._actions)))
