@@ -243,7 +243,10 @@ def test_command_line(tmp_path, capsys):
     assert "±90" in capsys.readouterr().err
     assert main(["propagation", "--drift", "0.1 m/s"]) == 2
     assert "--drift" in capsys.readouterr().err
-    assert main(["propagation", "--hours", "0"]) == 2
+    with pytest.raises(SystemExit) as usage:   # refused by its option type, as argparse does
+        main(["propagation", "--hours", "0"])
+    assert usage.value.code == 2
+    assert "--hours: must be a positive number of hours, got 0" in capsys.readouterr().err
 
 
 def test_default_run_estimates_a_small_integration_error(result):

@@ -288,7 +288,7 @@ def test_plot_of_a_failed_sweep_marks_the_magnitudes_without_result(tmp_path, mo
 @pytest.mark.parametrize("step, hours, message", [
     ("-2s", "1", "integration step must be a positive number of seconds, got -2"),
     ("7s", "1", "duration 3600 s is not a whole number of steps of 7 s"),
-    ("10s", "-1", "--hours must be positive, got -1"),
+    ("10s", "-1", "--hours: must be a positive number of hours, got -1"),
 ])
 def test_a_step_no_run_can_use_is_refused_before_any_sweep(capsys, monkeypatch, step,
                                                            hours, message):
@@ -300,9 +300,12 @@ def test_a_step_no_run_can_use_is_refused_before_any_sweep(capsys, monkeypatch, 
         raise AssertionError("a sweep ran")
 
     monkeypatch.setattr(module, "validity_map", refuse)
-    status = main(["validity", "orthodromic", "-s", "gyro_drift_x", "-s", "accel_bias_x",
-                   "--motion", "static", f"--step={step}", f"--hours={hours}",
-                   "--no-progress"])
+    try:
+        status = main(["validity", "orthodromic", "-s", "gyro_drift_x", "-s",
+                       "accel_bias_x", "--motion", "static", f"--step={step}",
+                       f"--hours={hours}", "--no-progress"])
+    except SystemExit as usage:   # an option's own type refused it (argparse)
+        status = usage.code
     err = capsys.readouterr().err
     assert status == 2 and err.count("\n") == 1 and message in err, err
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ins_errors.commands import hours
 from ins_errors.commands.run import TRUTHS
 from ins_errors.json_output import emit
 
@@ -56,7 +57,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "(default 250m/s)")
     parser.add_argument("--height", default=None,
                         help="height (default 0m; for a model with one)")
-    parser.add_argument("--hours", type=float, default=None,
+    parser.add_argument("--hours", type=hours, default=None,
                         help="duration in hours (default 24)")
     parser.add_argument("--duration", default=None, help="duration with unit, e.g. '90 min'")
     parser.add_argument("--step", default="1s", help="integration step τ (default 1s)")

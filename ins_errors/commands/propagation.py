@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ins_errors.commands import hours
 from ins_errors.json_output import emit
 
 _EXPERIMENT_OPTIONS = (("--drift", "0.1 deg/h", "gyro drift"),
@@ -43,7 +44,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "prints the agreement table and writes summary.md and one PNG per "
                     "source with --out. --orthodromic runs source 000, task 4 instead.")
     parser.add_argument("--latitude", default="39deg", help="latitude (default 39deg)")
-    parser.add_argument("--hours", type=float, default=24.0, help="duration, h (default 24)")
+    parser.add_argument("--hours", type=hours, default=24.0, help="duration, h (default 24)")
     parser.add_argument("--step", default="10 s", help="integration step of the numeric runs")
     parser.add_argument("--method", choices=("rk4", "euler"), default=None,
                         help="rk4 (default) or euler = the manual's rectangle method; the "
@@ -73,9 +74,7 @@ def run(args: argparse.Namespace) -> int:
 
     latitude = parse_quantity(args.latitude, "rad", "--latitude")
     step = parse_quantity(args.step, "s", "--step")
-    if not args.hours > 0:
-        raise DomainError(f"--hours must be positive, got {args.hours}")
-    duration = args.hours * 3600.0
+    duration = args.hours * 3600.0   # positive: its option type (commands.hours)
     if not step > 0:
         raise DomainError(f"--step must be positive, got {args.step!r}")
     record = 300.0 if 300.0 % step == 0 else step

@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from ins_errors.commands import hours
 from ins_errors.json_output import emit
 
 SPHEROID = "spheroid"
@@ -43,7 +44,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("name", help="study name, or 'list'")
     parser.add_argument("--scenario", choices=("static", "flight", "both"), default="both",
                         help="methodological studies: motion (default both)")
-    parser.add_argument("--hours", type=float, default=None,
+    parser.add_argument("--hours", type=hours, default=None,
                         help="duration, h (default 24; spheroid: 6)")
     parser.add_argument("--step", default=None,
                         help="integration step (default 20 s); it must divide the duration, "

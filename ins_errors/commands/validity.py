@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import sys
 
+from ins_errors.commands import hours
 from ins_errors.commands.run import TRUTHS
 from ins_errors.json_output import dumps, emit
 
@@ -48,7 +49,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
                         help="model parameter with unit, as for 'ins-errors compare', e.g. "
                              "strapdown_ned's k_h1=0.0047/s (repeatable; used by every run)")
-    parser.add_argument("--hours", type=float, default=24.0,
+    parser.add_argument("--hours", type=hours, default=24.0,
                         help="length of each run in hours (default 24)")
     parser.add_argument("--step", default="2s", help="integration step (default 2s, RK4)")
     parser.add_argument("--truth", choices=TRUTHS, default="auto",
