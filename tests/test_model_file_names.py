@@ -12,6 +12,7 @@
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -136,3 +137,17 @@ def test_a_damping_loops_integrators_are_named_with_the_extra_states():
     named = [v.name for v in definition.extra_error_states]
     assert {"q_E", "q_N"} <= set(named)
     assert all(f"${v.latex}$" in text for v in definition.extra_error_states)
+
+
+def test_modelling_choices_read_as_markdown_without_docstring_roles():
+    """A model's notes are its docstring (reStructuredText): a cross-reference role was
+    shown literally in error_equations.md and every report ('... rotation,
+    :mod:`ins_errors.models.platform`)'); it is the code span of its target."""
+    from ins_errors.symbolic.documents import markdown_text
+
+    assert markdown_text("exact rotation, :mod:`ins_errors.models.platform`); "
+                         ":func:`~x.levelling_offsets` ``R_N``") == (
+        "exact rotation, `ins_errors.models.platform`); `x.levelling_offsets` ``R_N``")
+    for document in sorted((ROOT / "generated").glob("*/error_equations.md")):
+        text = document.read_text(encoding="utf-8")
+        assert not re.search(r":(mod|func|class|data|meth|attr):`", text), document

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import re
+
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
@@ -42,6 +44,16 @@ def _table(header: list[str], rows: list[list[str]]) -> list[str]:
     return out
 
 
+_ROLE = re.compile(r":(?:mod|func|class|data|meth|attr):`~?([^`]+)`")
+
+
+def markdown_text(text: str) -> str:
+    """Docstring prose (reStructuredText, where a model's notes are written) for a Markdown
+    document: a cross-reference role (``:mod:`ins_errors.models.platform```) becomes the
+    code span of its target, which Markdown shows (the role's text was shown literally)."""
+    return _ROLE.sub(r"`\1`", text)
+
+
 def error_equations_markdown(d: ModelDefinition) -> str:
     """The ``error_equations.md`` document of one model."""
     lines = structured_variation(d)
@@ -54,7 +66,7 @@ def error_equations_markdown(d: ModelDefinition) -> str:
            f"its direct arguments; Δ marks the difference computed − true{_extra_states(d)}. "
            "Coefficients are ideal-work quantities.", ""]
     if d.notes:
-        out += ["## Modelling choices", "", d.notes, ""]
+        out += ["## Modelling choices", "", markdown_text(d.notes), ""]
     out += ["## Names", "", "Error states:", ""]
     out += _table(["name", "symbol", "unit", "meaning"],
                   [[f"`{v.name}`", f"${v.latex}$", v.unit, v.description]
