@@ -686,7 +686,7 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
     title = wrap_to_width(f"004: spherical-formula reckoning over the Krasovsky spheroid, every "
                   f"flight ({direct.shape[1]}): direct simulation vs formula (10)", 10,
                   width - 0.3)
-    names = ["direct simulation", "(10) with start term", "(10) as printed"]
+    names = ["direct simulation", "(10) completed (start term of ΔΛ)", "(10) as printed"]
     ncol = 3 if text_width(names, 8) * 3 + 3 * 3.8 * 8 / 72 < width - 0.3 else 1
     fixed_margins(fig, left=0.7, right=0.15, bottom=0.9 + (0.3 if ncol == 1 else 0.0),
                   top=max(0.9, 0.6 + 1.2 * 10 / 72 * (title.count("\n") + 1)),
