@@ -79,7 +79,17 @@ def test_a_task_runs_without_pint_and_gives_the_bits_of_the_motion_kind(orthodro
     assert run_validity_task(task).to_dict() == expected.to_dict()
 
 
-def test_cli_json_and_plot(capsys, tmp_path):
+def test_cli_json_and_plot(capsys, tmp_path, monkeypatch):
+    from ins_errors.analysis import validity_plot
+
+    legends = []
+    saved = validity_plot.save_figure
+
+    def keep(fig, path, dpi):
+        legends.append([t.get_text() for t in fig.axes[0].get_legend().get_texts()])
+        return saved(fig, path, dpi)
+
+    monkeypatch.setattr(validity_plot, "save_figure", keep)
     out = tmp_path / "map"
     status = main(["validity", "orthodromic", "--source", "gyro_drift_x", "--motion",
                    "static", "--hours", "4", "--step", "10s", "--json", "--plot", "--out",
@@ -92,6 +102,8 @@ def test_cli_json_and_plot(capsys, tmp_path):
     assert np.all(np.diff(row["linear_ratio"][:5]) > 0)
     assert (out / "gyro_drift_x.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     assert json.loads((out / "results.json").read_text())["model"] == "orthodromic"
+    # the triangles at the 1 % and 10 % magnitudes are named in the legend (they were not)
+    assert any(label.startswith("static: 1 %, 10 % magnitudes") for label in legends[0])
 
 
 def test_cli_unknown_source_is_one_line(capsys):

@@ -75,12 +75,18 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
                   mfc="none", ms=7, label=f"{r.motion}: linear (slope {_slope(r.linear_slope)})")
         ax.loglog(m[ref > 0], ref[ref > 0], "s--", color=colour, alpha=0.6, ms=4,
                   label=f"{r.motion}: refined (slope {_slope(r.refined_slope)})")
+        shown = [(level, getattr(r, key), r.extrapolated.get(key, ""))
+                 for level, key in ((0.01, "magnitude_1pct"), (0.1, "magnitude_10pct"))
+                 if getattr(r, key) is not None
+                 and r.extrapolated.get(key, "") != "past half a turn"]
+        open_ = " (open: extrapolated)" if any(how for *_, how in shown) else ""
+        for k, (level, value, how) in enumerate(shown):
+            ax.plot([value * scale], [level], marker="v", color=colour, ms=8,
+                    mfc="none" if how else colour, ls="none",
+                    label=f"{r.motion}: 1 %, 10 % magnitudes{open_}" if k == 0 else None)
         for level, key in ((0.01, "magnitude_1pct"), (0.1, "magnitude_10pct")):
             value, how = getattr(r, key), r.extrapolated.get(key, "")
-            if value is not None and how != "past half a turn":
-                ax.plot([value * scale], [level], marker="v", color=colour, ms=8,
-                        mfc="none" if how else colour)
-            elif value is not None:
+            if value is not None and how == "past half a turn":
                 reasons.append(f"{r.motion}: {level:.0%} only past half a turn, at "
                                f"{format_readable(value, r.unit, r.display_unit, 3)} on the "
                                "fitted line (no angle error is that large)")
