@@ -149,7 +149,10 @@ def load_scenario(path: str | Path) -> Scenario:
 
     checked = validate(data, path.name)  # the shape: tables, keys, types, names of choices
     # a model file is taken relative to the scenario file
-    model = load_model(checked.model, relative_to=path.parent)
+    try:
+        model = load_model(checked.model, relative_to=path.parent)
+    except InsErrorsError as error:   # named with the file the reader is to fix
+        raise type(error)(f"{path.name}: {error}") from None
     run = checked.run
     duration = parse_quantity(run.duration, "s", "run duration", numbers_are_si=False)
     step = parse_quantity(run.step, "s", "run step", numbers_are_si=False)
@@ -168,8 +171,11 @@ def load_scenario(path: str | Path) -> Scenario:
         for name, value in raw.items():
             if name == "label":
                 continue
-            info = model.sources[model.index("sources", name)]
-            sources[name] = parse_quantity(value, info.unit, name, numbers_are_si=False)
+            try:
+                info = model.sources[model.index("sources", name)]
+                sources[name] = parse_quantity(value, info.unit, name, numbers_are_si=False)
+            except InsErrorsError as error:
+                raise type(error)(f"{path.name} [[case]] {k}: {error}") from None
         if not sources:
             raise ScenarioError(f"{path.name}: case {k} names no error source")
         label = label or ", ".join(f"{n} = {raw[n]}" for n in sources)
@@ -190,7 +196,10 @@ def load_scenario(path: str | Path) -> Scenario:
     from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
 
     motion = dict(data.get("motion", {}))
-    profile = motion_profile(motion, base=path.parent, model=model)  # checked before any run
+    try:
+        profile = motion_profile(motion, base=path.parent, model=model)  # before any run
+    except InsErrorsError as error:
+        raise type(error)(f"{path.name} [motion]: {error}") from None
     if motion.get("heading") is not None:
         refuse_unused_heading(model, profile, f"{path.name} [motion] heading")
     sweep = None

@@ -416,6 +416,11 @@ NAMED = {
     # a cubic spline needs four samples: said before the profile's internal shape check
     "compare-two-sample-motion-file": "has 2 row(s) of samples; a sampled motion needs at "
                                       "least 4",
+    # a scenario's model, case and motion errors name the file (a student could not tell
+    # which of their files held the typo)
+    "run-unknown-model": "unknown_model.toml: unknown model",
+    "run-unknown-source": "unknown_source.toml [[case]] 1: unknown source of orthodromic",
+    "run-pole": "pole.toml [motion]: motion latitude",
     # the model cannot fly any motion file: said before the file's own faults
     "compare-motion-file-for-strapdown": "sampled (file) motions are not available for a "
                                          "strapdown INS",
