@@ -31,26 +31,22 @@ def platform_angles(model) -> tuple[str, str, str]:
                       f"{', '.join(PLATFORM_ANGLE_NAMES[0])}")
 
 
-def _strapdown(model) -> bool:
-    """True for a strapdown INS whose φ-angle convention exists (strapdown_ned, or a
-    model file that describes itself by its outputs)."""
-    from ins_errors.checker import strapdown_description
-
-    return model.name == "strapdown_ned" or strapdown_description.describes(model)
-
-
 def has_attitude(model) -> bool:
     """True when the model's attitude error can be read: platform error angles
     (:data:`PLATFORM_ANGLE_NAMES`), or a strapdown INS's φ-angle."""
+    from ins_errors.checker.strapdown_description import is_strapdown
+
     states = {s.name for s in model.error_states}
-    return any(set(names) <= states for names in PLATFORM_ANGLE_NAMES) or _strapdown(model)
+    return any(set(names) <= states for names in PLATFORM_ANGLE_NAMES) or is_strapdown(model)
 
 
 def _reads_phi(model) -> bool:
     """True when the attitude error is a strapdown INS's φ-angle (no platform angles)."""
+    from ins_errors.checker.strapdown_description import is_strapdown
+
     states = {s.name for s in model.error_states}
-    return _strapdown(model) and not any(set(names) <= states
-                                         for names in PLATFORM_ANGLE_NAMES)
+    return is_strapdown(model) and not any(set(names) <= states
+                                           for names in PLATFORM_ANGLE_NAMES)
 
 
 PHI_AXES = ("north", "east", "down")

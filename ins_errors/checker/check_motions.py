@@ -166,7 +166,7 @@ def _fly(model, hours: float, step: float, p: np.ndarray
     from ins_errors.checker import strapdown_description
     from ins_errors.numeric import trajectories as tr
 
-    if model.name == "strapdown_ned" or strapdown_description.describes(model):
+    if strapdown_description.is_strapdown(model):
         runs = _strapdown_runs(model, hours, step, p)
     else:
         runs = [(label, profile.description,

@@ -198,6 +198,12 @@ def describes(model) -> bool:
     return not missing(model)
 
 
+def is_strapdown(model) -> bool:
+    """True for a strapdown INS the φ-angle conventions and strapdown flights carry: the
+    built-in ``strapdown_ned``, or a model file that describes itself (:func:`describes`)."""
+    return model.name == "strapdown_ned" or describes(model)
+
+
 def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
     """The navigation description (:data:`~ins_errors.checker.navigation.FIELDS`) of a
     strapdown model along states ``x`` (n, K) and inputs ``u`` (nu, K)."""
