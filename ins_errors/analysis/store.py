@@ -286,12 +286,8 @@ class SweepStore:
         A Zarr store is opened lazily (a variable is read when its values are used, so
         summaries of a large sweep do not load its curves); a NetCDF file is loaded.
         """
-        xr, _ = _libraries()
-        if self.path.suffix == ".nc" and self.path.exists():
-            with xr.open_dataset(self.path, mask_and_scale=False) as data:
-                return data.load()
-        return xr.open_zarr(str(self.work), chunks=None, consolidated=False,
-                            mask_and_scale=False)
+        written = self.path.suffix == ".nc" and self.path.exists()
+        return read_store(self.path if written else self.work)
 
     def finish(self) -> None:
         """Once every point is done: write the NetCDF file of a ``*.nc`` store (again
