@@ -90,7 +90,7 @@ from ins_errors.analysis.covariance import (
 )
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.linear_system import check_grid_memory
-from ins_errors.specs import SOURCE_UNIT_SUFFIX, Spec, SpecError
+from ins_errors.specs import ITEM_KINDS, SOURCE_UNIT_SUFFIX, Spec, SpecError
 from ins_errors.units import UnitError, format_quantity, parse_quantity
 from ins_errors.units import format_duration as format_time
 
@@ -471,7 +471,6 @@ def check_items(model, spec: Spec) -> None:
         when the model can check none of the spec's items, what a spec for it needs
         instead (the items it can check, or that no item of the budget fits it).
     """
-    from ins_errors.specs import ITEM_KINDS
 
     missing = _unmet_items(model, [item.name for item in spec.items])
     if not missing:
@@ -958,9 +957,8 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None,
 ITEM_DISPLAY = {"position_error": "km/h", "position_error_absolute": "m",
                 "height_error": "m", "ground_speed_error": "m/s", "vertical_error": "deg",
                 "heading_error": "deg", "heading_drift": "deg/h"}
-ITEM_SI = {"position_error": "m/s", "position_error_absolute": "m", "height_error": "m",
-           "ground_speed_error": "m/s", "vertical_error": "rad", "heading_error": "rad",
-           "heading_drift": "rad/s"}
+ITEM_SI = {name: kind.unit for name, kind in ITEM_KINDS.items()}
+"""SI unit of each item's value (the spec's own table, :data:`ins_errors.specs.ITEM_KINDS`)."""
 
 
 def display(value: float, unit: str, display_unit: str) -> str:
