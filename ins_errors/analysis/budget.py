@@ -471,7 +471,6 @@ def check_items(model, spec: Spec) -> None:
         when the model can check none of the spec's items, what a spec for it needs
         instead (the items it can check, or that no item of the budget fits it).
     """
-
     missing = _unmet_items(model, [item.name for item in spec.items])
     if not missing:
         return
