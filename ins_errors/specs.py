@@ -207,9 +207,6 @@ class Motion:
         m.
     speed : float
         Ground speed of a great-circle flight, or the start speed of a manoeuvre, m/s.
-    heading_given : bool
-        Whether the spec set ``heading`` (refused at rest for a model without a heading
-        output, :func:`ins_errors.analysis.budget.spec_trajectory`).
     given : tuple of (str, str)
         ``(name, text as written)`` of the start values the spec set among latitude,
         longitude, height and heading (a model without such a value refuses it:
@@ -227,9 +224,14 @@ class Motion:
     heading: float = 0.0
     height: float = 0.0
     speed: float = 0.0
-    heading_given: bool = False
     given: tuple[tuple[str, str], ...] = ()
     legs: tuple[dict, ...] | None = None
+
+    @property
+    def heading_given(self) -> bool:
+        """Whether the spec set ``heading`` (refused at rest for a model without a
+        heading output, :func:`ins_errors.analysis.budget.spec_profile`)."""
+        return any(name == "heading" for name, _ in self.given)
 
     def description(self) -> dict[str, Any]:
         """The motion as :func:`~ins_errors.numeric.motion_spec.motion_profile` reads it
@@ -423,7 +425,6 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         heading=_angle(m.heading, "motion.heading"),
         height=_positive(m.height, "m", "motion.height", "0 m", allow_zero=True),
         speed=_positive(m.speed, "m/s", "motion.speed", "250 m/s", allow_zero=True),
-        heading_given="heading" in m.model_fields_set,
         given=tuple((name, str(getattr(m, name))) for name in ("latitude", "longitude",
                                                                "height", "heading")
                     if name in m.model_fields_set),
