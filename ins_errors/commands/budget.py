@@ -245,10 +245,9 @@ def _contributions(model, allocation, times: list[float], plot_at: str | None,
     labelled with the magnitudes it uses, its σ level and its arrays' axes; drawn to
     ``plot_at`` if given; put in ``data["contributions"]`` as JSON."""
     from ins_errors.analysis import budget_report as rep
-
-    budget = allocation.budget
     from ins_errors.analysis.budget_contributions import output_contributions
 
+    budget = allocation.budget
     outputs = output_contributions(model, allocation, times)
     outputs["magnitudes"] = rep.magnitudes_note(allocation, fixed_only)
     if plot_at:
