@@ -163,6 +163,14 @@ class Layout:
         """``"I/N"``, or empty text for a store of every point."""
         return "" if self.shard is None else f"{self.shard[0]}/{self.shard[1]}"
 
+    @property
+    def point_variables(self) -> list[str]:
+        """The data variables a point writes (:meth:`SweepStore.write`), as
+        :func:`_create` lays them out: the curves, ``max_direct``, each model curve's
+        ``*_ratio``, ``excited``, ``integration_error`` and ``source_value``."""
+        return [*self.curves, "max_direct", *(f"{curve}_ratio" for curve in self.curves[1:]),
+                "excited", "integration_error", "source_value"]
+
 
 class SweepStore:
     """A Zarr store of one sweep, opened for filling.

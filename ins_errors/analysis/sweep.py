@@ -999,12 +999,9 @@ class _PartReader:
     """
 
     def __init__(self, path: Path, source: Path, dataset, shape) -> None:
-
         self.path = path
         self.failure = failure_reasons(dataset)
-        names = [*shape.curves, "max_direct",
-                 *(f"{curve}_ratio" for curve in shape.curves[1:]), "excited",
-                 "integration_error", "source_value"]
+        names = shape.point_variables
         if source.is_dir():  # Zarr: the point's chunks only
             import zarr
 
