@@ -41,8 +41,8 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
     [items.position_error]
     value = "3.7 km/h"
     times = ["1 h", "2 h"]           # optional, check times, or a regular grid:
-    # every = "5 min"; from = "5 min" (default: every); until = "1 h" (default: the
-    # operating time)
+    # every = "5 min"; from = "5 min" (default: 0; every for the rate items
+    # position_error and heading_drift); until = "1 h" (default: the operating time)
     combine = "rss"                  # optional: "rss" of the components or "each"
     [allocation]
     fill = false                     # scale the free sources up until an item is met exactly
@@ -92,9 +92,14 @@ class ItemKind:
         One line.
     default_times : str
         ``"hourly"`` (every hour up to the operating time), ``"quarter-hourly"`` (every
-        15 min from 0), ``"quarter-hourly-to-end"`` (every 15 min from 15 min, and the
-        last grid time of the operating time) or ``"first-hour"`` (1 h only); the hourly
-        rules check an operating time shorter than an hour at its end.
+        15 min from 0), ``"quarter-hourly-to-end"`` (every 15 min from 0, and the last
+        grid time of the operating time) or ``"first-hour"`` (1 h only); the hourly rules
+        check an operating time shorter than an hour at its end.
+
+    An item that limits an error itself, not its rate (every item but the keys of
+    :data:`ABSOLUTE_OF`), holds from the start: its ``every`` grid starts at 0 unless
+    ``from`` says otherwise (at 0 the error is the initial error, which a damped loop
+    may have removed by the first check time after it).
     """
 
     unit: str
@@ -339,10 +344,11 @@ def _default_times(rule: str, operating_time: float, step: float) -> tuple[float
     count = int(operating_time // quarter + 1e-9)
     if rule == "quarter-hourly":
         return tuple(quarter * k for k in range(count + 1))
-    # every 15 min that is on the grid, and the operating time's last grid time
+    # from the start every 15 min that is on the grid, and the operating time's last
+    # grid time
     from ins_errors.numeric.integrators import whole_steps
 
-    times = [quarter * k for k in range(1, count + 1)
+    times = [quarter * k for k in range(count + 1)
              if quarter * k < end * (1 - 1e-12) and whole_steps(quarter * k, step)]
     return (*times, end)
 
@@ -453,7 +459,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             raise SpecError(f"items.{name}: give either times or every/from/until")
         if table.every is not None:
             every = _positive(table.every, "s", f"items.{name}.every", "15 min")
-            start = (every if table.start is None else
+            start = ((every if name in ABSOLUTE_OF else 0.0) if table.start is None else
                      _positive(table.start, "s", f"items.{name}.from", "0 h", allow_zero=True))
             stop = (operating_time if table.until is None else
                     _positive(table.until, "s", f"items.{name}.until", "1 h"))

@@ -445,7 +445,12 @@ def test_budget_of_other_models(name, spec_802m):
 
 
 def test_regular_check_grids(tmp_path, spec_802m):
-    assert spec_802m.item("ground_speed_error").times == tuple(300.0 * k for k in range(1, 13))
+    # an item limiting an error itself holds from the start (at 0 h the error is the
+    # initial error); a rate item's grid starts at its first step
+    assert spec_802m.item("ground_speed_error").times == tuple(300.0 * k for k in range(13))
+    rate = SHORT.replace('value = "3.7 km/h"\n', 'value = "3.7 km/h"\n    every = "30 min"\n')
+    assert load_spec(write(tmp_path, rate)).item("position_error").times == (1800.0, 3600.0,
+                                                                              5400.0, 7200.0)
     assert spec_802m.item("vertical_error").times == tuple(300.0 * k for k in range(97))
     bad = SHORT.replace('times = ["0 h", "30 min", "1 h", "2 h"]',
                         'times = ["1 h"]\n    every = "5 min"')

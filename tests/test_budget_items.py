@@ -97,7 +97,7 @@ def test_absolute_position_of_a_level_gyro_drift_is_the_schuler_ramp(north_point
     R, g = 6_371_000.0, 9.80665
     w = math.sqrt(g / R)
     rows = rows_of(evaluation, "position_error_absolute")
-    assert [t for t, _ in rows] == [600.0 * k for k in range(1, 13)]
+    assert [t for t, _ in rows] == [600.0 * k for k in range(13)]   # from the start
     for t, value in rows:   # 2σ of the distance itself, not divided by t
         assert value == pytest.approx(2 * R * eps * (t - math.sin(w * t) / w), rel=1e-9)
 
@@ -205,6 +205,27 @@ def test_damped_height_error_follows_the_second_order_loop(strapdown, tmp_path):
         # within 2e-4 of the largest (the Coriolis coupling with the level channels)
         assert [v for _, v in rows] == pytest.approx(reference, abs=2e-4 * max(reference))
         assert rows[-1][1] < 1e-3 * max(reference)   # the loop has settled after 20 min
+
+
+def test_an_error_limit_holds_from_the_start_where_the_error_is_the_initial_error(
+        strapdown, tmp_path):
+    """At t = 0 the height error is the initial height error itself. A limit on the
+    height (a distance, not a rate) checked every 5 min from 5 min let a damped loop
+    remove the initial error before the first check: the example spec's 30-m height
+    item allowed an initial height error of 610 m. Its grid now starts at 0, where the
+    allowance cannot exceed the limit, and the allocated 1σ height error is within it at
+    every check time including the start."""
+    text = HEIGHT.replace('value = "100 m"', 'value = "30 m"').replace(
+        'every = "2 min"\n    from = "0 min"', 'every = "5 min"')
+    spec = load_spec(write(tmp_path, text))
+    assert spec.item("height_error").times[0] == 0.0
+    p = strapdown.parameter_vector(k_h1=0.0293, k_h2=4.42e-4)
+    allocation = bd.allocate(bd.unit_budget(strapdown, spec, p=p))
+    names = [s.name for s in allocation.budget.sources]
+    allowed = float(allocation.sigma[names.index("initial_position_error_D")])
+    assert 0.0 < allowed <= 30.0
+    evaluation = bd.evaluate(strapdown, spec, {"initial_position_error_D": allowed}, p=p)
+    assert rows_of(evaluation, "height_error")[0] == (0.0, pytest.approx(allowed, rel=1e-12))
 
 
 def test_height_needs_a_height_output(orthodromic, tmp_path, capsys):
