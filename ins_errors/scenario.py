@@ -39,6 +39,7 @@ report folder (Markdown, HTML, plots, JSON).
 
 from __future__ import annotations
 
+import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -100,6 +101,9 @@ class Scenario:
         Quantities to show; ``None`` for every excited one.
     base : Path
         Folder of the scenario file (relative paths are taken from here).
+    file : str
+        The scenario file as the user gave it (the path typed on the command line), the
+        name messages give it.
     sweep : SweepSpec or None
         The ``[sweep]`` table (:mod:`ins_errors.analysis.sweep`), run by
         ``ins-errors sweep``; ``ins-errors run`` runs the scenario without it.
@@ -122,6 +126,7 @@ class Scenario:
     quantities: list[str] | None = None
     description: str = ""
     base: Path = Path(".")
+    file: str = ""
     sweep: Any = None  # ins_errors.analysis.sweep.SweepSpec of a [sweep] table
 
 
@@ -131,39 +136,44 @@ def load_scenario(path: str | Path) -> Scenario:
     Raises
     ------
     ScenarioError, UnknownNameError, UnitError
-        One line naming the file, the key and what is wrong.
+        One line naming the file as given (``path``, its folder included), the key and
+        what is wrong.
     """
     from ins_errors.numeric.model import load_model
 
+    where = os.fspath(path)  # as the user typed it, for messages
     path = Path(path)
     try:
         data = tomllib.loads(path.read_text(encoding="utf-8"))
     except OSError as error:
-        raise ScenarioError(f"cannot read scenario {str(path)!r}: {error.strerror}") from None
+        raise ScenarioError(f"cannot read scenario {where!r}: {error.strerror}") from None
     except UnicodeDecodeError:
-        raise ScenarioError(f"{path.name}: not a text file (not UTF-8): expected a TOML "
+        raise ScenarioError(f"{where}: not a text file (not UTF-8): expected a TOML "
                             "scenario") from None
     except tomllib.TOMLDecodeError as error:
-        raise ScenarioError(f"{path.name}: not valid TOML: {error}") from None
+        raise ScenarioError(f"{where}: not valid TOML: {error}") from None
     from ins_errors.scenario_schema import validate
 
-    checked = validate(data, path.name)  # the shape: tables, keys, types, names of choices
+    checked = validate(data, where)  # the shape: tables, keys, types, names of choices
     # a model file is taken relative to the scenario file
     try:
         model = load_model(checked.model, relative_to=path.parent)
     except InsErrorsError as error:   # named with the file the reader is to fix
-        raise type(error)(f"{path.name}: {error}") from None
+        raise type(error)(f"{where}: {error}") from None
     run = checked.run
-    duration = parse_quantity(run.duration, "s", "run duration", numbers_are_si=False)
-    step = parse_quantity(run.step, "s", "run step", numbers_are_si=False)
-    record = parse_quantity(run.record, "s", "run record", numbers_are_si=False)
-    for name, value in (("duration", duration), ("step", step), ("record", record)):
-        if not value > 0:
-            raise ScenarioError(f"{path.name}: run {name} must be positive, got {value:g} s")
     from ins_errors.numeric.integrators import record_stride, step_count
 
-    # refuse a grid the run cannot take (absurd step counts included) before any run
-    record_stride(record, step, step_count(duration, step, "run duration"))
+    try:
+        duration = parse_quantity(run.duration, "s", "duration", numbers_are_si=False)
+        step = parse_quantity(run.step, "s", "step", numbers_are_si=False)
+        record = parse_quantity(run.record, "s", "record", numbers_are_si=False)
+        for name, value in (("duration", duration), ("step", step), ("record", record)):
+            if not value > 0:
+                raise ScenarioError(f"{name} must be positive, got {value:g} s")
+        # refuse a grid the run cannot take (absurd step counts included) before any run
+        record_stride(record, step, step_count(duration, step, "duration"))
+    except InsErrorsError as error:
+        raise type(error)(f"{where} [run] {error}") from None
     cases = []
     for k, raw in enumerate(data["case"], start=1):
         label = str(raw.get("label", ""))
@@ -175,16 +185,19 @@ def load_scenario(path: str | Path) -> Scenario:
                 info = model.sources[model.index("sources", name)]
                 sources[name] = parse_quantity(value, info.unit, name, numbers_are_si=False)
             except InsErrorsError as error:
-                raise type(error)(f"{path.name} [[case]] {k}: {error}") from None
+                raise type(error)(f"{where} [[case]] {k}: {error}") from None
         if not sources:
-            raise ScenarioError(f"{path.name}: case {k} names no error source")
+            raise ScenarioError(f"{where}: case {k} names no error source")
         label = label or ", ".join(f"{n} = {raw[n]}" for n in sources)
         cases.append(Case(label, sources))
     from ins_errors.model_parameters import parse_parameters
 
     parameters = parse_parameters(model, checked.parameters or {},
-                                  f"{path.name} [parameters]", numbers_are_si=False)
-    model.parameter_vector(ellipsoid=run.ellipsoid, **parameters)  # checked before any run
+                                  f"{where} [parameters]", numbers_are_si=False)
+    try:
+        model.parameter_vector(ellipsoid=run.ellipsoid, **parameters)  # before any run
+    except InsErrorsError as error:
+        raise type(error)(f"{where}: {error}") from None
     quantities = checked.outputs.quantities
     if quantities is not None:
         from ins_errors.numeric.simulate import error_quantities
@@ -192,21 +205,21 @@ def load_scenario(path: str | Path) -> Scenario:
         known = error_quantities(model)[0]
         for q in quantities:
             if q not in known:
-                raise unknown_name(f"quantity in {path.name} [outputs]", str(q), known)
+                raise unknown_name(f"quantity in {where} [outputs]", str(q), known)
     from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
 
     motion = dict(data.get("motion", {}))
     try:
         profile = motion_profile(motion, base=path.parent, model=model)  # before any run
     except InsErrorsError as error:
-        raise type(error)(f"{path.name} [motion]: {error}") from None
+        raise type(error)(f"{where} [motion]: {error}") from None
     if motion.get("heading") is not None:
-        refuse_unused_heading(model, profile, f"{path.name} [motion] heading")
+        refuse_unused_heading(model, profile, f"{where} [motion] heading")
     sweep = None
     if "sweep" in data:
         from ins_errors.analysis.sweep import parse_sweep
 
-        sweep = parse_sweep(data["sweep"], model, path.name)
+        sweep = parse_sweep(data["sweep"], model, where)
     return Scenario(
         title=str(data.get("title", path.stem)),
         description=str(data.get("description", "")),
@@ -225,6 +238,7 @@ def load_scenario(path: str | Path) -> Scenario:
         cases=cases,
         quantities=list(quantities) if quantities is not None else None,
         base=path.parent,
+        file=where,
         sweep=sweep,
     )
 

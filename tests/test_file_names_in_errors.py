@@ -34,3 +34,64 @@ def test_a_bad_mapping_file_is_named_by_its_path(tmp_path, monkeypatch, capsys):
     err = capsys.readouterr().err
     assert err.startswith("ins-errors: error: sub/map.txt:"), err
     assert err.count("\n") == 1
+
+
+SCENARIO = """title = "named"
+model = "orthodromic"
+[motion]
+kind = "static"
+latitude = "50 deg"
+[run]
+duration = "1 h"
+step = "10 s"
+record = "60 s"
+[[case]]
+gyro_drift_x = "0.01 deg/h"
+"""
+
+
+@pytest.mark.parametrize("command", ["run", "sweep"])
+@pytest.mark.parametrize("change, problem", [
+    (("[[case]]\ngyro_drift_x = \"0.01 deg/h\"\n", ""), "no [[case]]"),
+    (('duration = "1 h"', 'duration = "1 furlong"'), "[run] duration"),
+    (('step = "10 s"', 'step = "-10 s"'), "[run] step must be positive"),
+    (('record = "60 s"', 'record = "70 s"'), "[run]"),
+    (('[run]\n', '[run]\nellipsoid = "wgs85"\n'), "ellipsoid 'wgs85'"),
+    (('gyro_drift_x = "0.01 deg/h"', 'gyro_drift_x = "0.01 m"'), "[[case]] 1"),
+    (('latitude = "50 deg"', 'latitude = "95 deg"'), "[motion]"),
+])
+def test_a_scenario_file_is_named_by_its_path(tmp_path, monkeypatch, capsys, command,
+                                              change, problem):
+    """Every refusal of a scenario file names it as typed (folder and ./ included), not
+    by its bare name (the sweep's own refusals already did)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    text = SCENARIO.replace(*change) + ("" if command == "run" else
+                                        '[sweep]\ngyro_drift_x = ["0.01 deg/h"]\n')
+    assert text != SCENARIO
+    (tmp_path / "sub" / "s.toml").write_text(text)
+    argv = [command, "./sub/s.toml", "--out" if command == "run" else "--store",
+            str(tmp_path / ("out" if command == "run" else "s.zarr"))]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ins-errors: error: ./sub/s.toml"), err
+    assert problem in err and err.count("\n") == 1, err
+    assert not (tmp_path / "s.zarr").exists()
+
+
+@pytest.mark.parametrize("swept, point", [
+    ('latitude = ["30 deg", "90 deg"]', "latitude = 90 deg"),
+    ('step = ["10 s", "7 s"]', "step = 7 s"),
+])
+def test_a_swept_value_a_point_cannot_take_names_the_file_and_point(
+        tmp_path, monkeypatch, capsys, swept, point):
+    """A pole in a [sweep] latitude list (or a step that does not divide the run) is
+    refused before any point runs, naming the file, the table and the point."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "s.toml").write_text(SCENARIO + f"[sweep]\n{swept}\n")
+    assert main(["sweep", "sub/s.toml", "--store", "s.zarr", "--engine", "serial"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"ins-errors: error: sub/s.toml [sweep] at the point {point}:"), err
+    assert err.count("\n") == 1
+    assert not (tmp_path / "s.zarr").exists()

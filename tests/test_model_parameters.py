@@ -91,7 +91,7 @@ def test_bad_scenario_parameters_give_one_line(tmp_path, capsys, table, message)
                     'initial_position_error_D = "-1 m"\n', encoding="utf-8")
     assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 2
     (line,) = capsys.readouterr().err.strip().splitlines()
-    assert line.startswith("ins-errors: error: bad.toml")
+    assert line.startswith(f"ins-errors: error: {path}")  # as given on the command line
     assert __import__("re").search(message, line), line
 
 

@@ -513,15 +513,39 @@ def point_count(scenario) -> int:
 
 
 def _check_grids(scenario, jobs: Sequence[PointJob]) -> None:
-    """Every point's duration, step and recording interval fit together; motions are valid."""
+    """Every point's duration, step and recording interval fit together; motions are
+    valid; the swept reference values are ones the model's runs depend on.
+
+    Raises
+    ------
+    InsErrorsError
+        One line naming the scenario file as given, ``[sweep]`` and the first point that
+        cannot run.
+    """
     from ins_errors.numeric.integrators import record_stride, step_count
     from ins_errors.numeric.motion_spec import motion_profile
 
-    for duration, step in sorted({(j.duration, j.step) for j in jobs}):
-        steps = step_count(duration, step, "sweep duration")
-        record_stride(scenario.record, step, steps)
-    for motion in {json.dumps(dict(j.motion), sort_keys=True) for j in jobs}:
-        motion_profile(json.loads(motion), base=scenario.base)
+    where = f"{scenario.file or 'scenario'} [sweep]"
+    seen: set = set()
+    for job in jobs:
+        if (job.duration, job.step) in seen:
+            continue
+        seen.add((job.duration, job.step))
+        try:
+            steps = step_count(job.duration, job.step, "duration")
+            record_stride(scenario.record, job.step, steps)
+        except InsErrorsError as error:
+            raise type(error)(f"{where} at the point {job.label}: {error}") from None
+    seen = set()
+    for job in jobs:
+        motion = json.dumps(dict(job.motion), sort_keys=True)
+        if motion in seen:
+            continue
+        seen.add(motion)
+        try:
+            motion_profile(json.loads(motion), base=scenario.base)
+        except InsErrorsError as error:
+            raise type(error)(f"{where} at the point {job.label}: {error}") from None
 
 
 @lru_cache(maxsize=4)
