@@ -266,7 +266,8 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
     p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **scenario.parameters)
     trajectory = tr.trajectory(model, profile, scenario.duration, scenario.step, p=p,
                                progress=progress, truth=scenario.truth)
-    given = {name: (f"[motion] {name}", str(scenario.motion[name]))
+    where = f"{scenario.file} " if scenario.file else ""
+    given = {name: (f"{where}[motion] {name}", str(scenario.motion[name]))
              for name in ("latitude", "longitude", "height", "heading")
              if scenario.motion.get(name) is not None}
     tr.refuse_unused_references(model, trajectory, given,

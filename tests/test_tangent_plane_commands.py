@@ -72,6 +72,35 @@ def test_a_scenarios_latitude_for_a_model_without_one_is_refused(capsys, tmp_pat
     assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
 
 
+@pytest.mark.parametrize("sweep, motion, message", [
+    ('latitude = ["10 deg", "20 deg"]', "", ('[sweep] latitude: model \'tangent_plane_ins\' '
+                                             'has no latitude', '[parameters] phi0 = "10 deg"')),
+    ('height = ["10 m", "20 m"]', "", ("[sweep] height: model", "leave height out of [sweep]")),
+    ('gyro_drift_E = ["0.01 deg/h", "0.02 deg/h"]', 'latitude = "10 deg"\n',
+     ("[motion] latitude: model", '[parameters] phi0 = "10 deg"')),
+])
+def test_a_sweeps_latitude_for_a_model_without_one_is_refused(capsys, tmp_path, monkeypatch,
+                                                              sweep, motion, message):
+    """A sweep over the latitude of a model without one ran every point alike (the
+    latitude is its parameter phi0); it is refused before any point runs, as run refuses
+    a [motion] latitude, naming the file and the model's own setting."""
+    monkeypatch.chdir(tmp_path)
+    text = (f'title = "tangent plane"\nmodel = "{MODEL}"\n[motion]\nkind = "static"\n'
+            f'{motion}[run]\nduration = "10 min"\nstep = "10 s"\n'
+            f'[[case]]\ngyro_drift_E = "0.01 deg/h"\n[sweep]\n{sweep}\n')
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "tangent.toml").write_text(text)
+    argv = ["sweep", "sub/tangent.toml", "--store", "t.zarr", "--engine", "serial",
+            "--no-progress"]
+    err = _one_line_error(capsys, argv)
+    assert err.startswith("ins-errors: error: sub/tangent.toml [")
+    assert all(part in err for part in message), err
+    assert not (tmp_path / "t.zarr").exists()
+    if motion:  # run refuses the same [motion] latitude, naming the file too
+        err = _one_line_error(capsys, ["run", "sub/tangent.toml", "--out", "out"])
+        assert err.startswith("ins-errors: error: sub/tangent.toml [motion] latitude:")
+
+
 def test_a_budget_specs_latitude_for_a_model_without_one_is_refused(capsys, tmp_path):
     """A spec's [motion] latitude was silently ignored by the budget of a model without
     one (it sat at phi0 = 50° whatever the spec said); without it the spec is budgeted."""

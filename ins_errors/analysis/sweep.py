@@ -473,6 +473,7 @@ def grid(scenario) -> Grid:
                     tuple(sorted(scenario.parameters.items())), scenario.truth,
                     in_si_text[written]))
     _check_grids(scenario, jobs)
+    _check_references(scenario, jobs)
     coordinates = {p.name: (np.array(labels[p.name]), {"units": p.unit, "display_unit":
                                                        p.display_unit, "swept": 1})
                    for p in spec.parameters}
@@ -546,6 +547,60 @@ def _check_grids(scenario, jobs: Sequence[PointJob]) -> None:
             motion_profile(json.loads(motion), base=scenario.base)
         except InsErrorsError as error:
             raise type(error)(f"{where} at the point {job.label}: {error}") from None
+
+
+def _check_references(scenario, jobs: Sequence[PointJob]) -> None:
+    """Refuse a reference value of the motion's start (latitude, longitude, heading,
+    height) that the sweep sets, in ``[motion]`` or as a grid, for a model whose runs do
+    not depend on it (a tangent-plane INS whose origin latitude is its parameter
+    ``phi0``): every point would run the same, whatever the file says.
+
+    Decided, as ``run`` and ``compare`` decide it, from the true motion of the first
+    point (one step of it, streamed: no run is made); a first point that cannot start
+    is left to fail as a point.
+
+    Raises
+    ------
+    MotionError
+        One line naming the file, the table and key, and the model's own setting of the
+        value (its parameter) or that the key is to be left out.
+    """
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.motion_spec import motion_profile
+
+    where = scenario.file or "scenario"
+    swept = {p.name: p for p in scenario.sweep.parameters if p.name in tr.REFERENCES}
+    given = {name: (f"{where} [motion] {name}", str(scenario.motion[name]))
+             for name in tr.REFERENCES
+             if name not in swept and scenario.motion.get(name) is not None}
+    if not swept and not given:
+        return
+    first = jobs[0]
+    model = load_model(scenario.model)
+    try:
+        profile = motion_profile(dict(first.motion), base=scenario.base, model=model)
+        p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **scenario.parameters)
+        start = tr.trajectory(model, profile, first.step, first.step, p=p, stream=True,
+                              truth=scenario.truth)
+    except InsErrorsError:
+        return  # the point fails with its own reason
+    tr.refuse_unused_references(model, start, given,
+                                setting='[parameters] {name} = "{value}"')
+    used = start.references
+    for name, parameter in swept.items():
+        if used is None or name in used:
+            continue
+        own = tr.reference_parameter(model, name)
+        shown = ", ".join(f"{parameter.shown(v):g} {parameter.display_unit}"
+                          for v in parameter.values)
+        way = (f"its parameter {own.name} ({own.description}) sets it, one value per "
+               f'scenario file: [parameters] {own.name} = "'
+               f'{parameter.shown(parameter.values[0]):g} {parameter.display_unit}"'
+               if own is not None else f"leave {name} out of [sweep]")
+        raise tr.MotionError(f"{where} [sweep] {name}: model {model.name!r} has no {name} "
+                             f"(its runs do not depend on one), so its values {shown} would "
+                             f"all run alike; {way}")
 
 
 @lru_cache(maxsize=4)
