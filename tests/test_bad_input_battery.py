@@ -340,7 +340,7 @@ def test_bad_command_line(argv, inputs, capsys):
 NAMED = {
     # a negative speed is refused as accuracy specs refuse it, not flown backwards under
     # a header that reads "track 90°, -250 m/s"
-    "compare-negative-speed": "great-circle speed must be >= 0 m/s, got -250 m/s",
+    "compare-negative-speed": "--speed must be >= 0 m/s, got -250 m/s",
     "run-negative-speed": "great-circle speed must be >= 0 m/s, got -250 m/s",
     # a model without a heading output flies static bases and north/east motion files
     "compare-flight-without-heading": "use a static base or a motion file of north and east",
@@ -353,7 +353,7 @@ NAMED = {
     "propagation-orthodromic-drift": "--drift applies to the 001 experiment",
     # printed "RuntimeWarning: All-NaN slice" with source paths and rows of nan
     "propagation-zero-drift": "--drift is zero",
-    "compare-below-the-centre": "motion height -7000 km is at or below the Earth's centre",
+    "compare-below-the-centre": "--height -7000 km is at or below the Earth's centre",
     "compare-nan-in-motion-file": "v_N is NaN or infinite in sample 2 of 4",
     # it asked for a unit, suggesting 'nan deg'
     "compare-bare-nan-latitude": "'nan' is not a finite number",
@@ -397,10 +397,10 @@ NAMED = {
                                   "and the file gives the motion",
     "run-legs-on-a-great-circle": "motion legs apply to kind manoeuvre, and the kind is "
                                   "great-circle",
-    "compare-heading-beyond-a-turn": "motion heading 1e+300° is outside [-360°, 360°]",
-    "compare-track-beyond-a-turn": "motion track -400° is outside [-360°, 360°]",
+    "compare-heading-beyond-a-turn": "--heading 1e+300° is outside [-360°, 360°]",
+    "compare-track-beyond-a-turn": "--heading -400° is outside [-360°, 360°]",
     "run-heading-beyond-a-turn": "motion track 1e+300° is outside [-360°, 360°]",
-    "compare-longitude-beyond-a-turn": "motion longitude 1e+300° is outside [-360°, 360°]",
+    "compare-longitude-beyond-a-turn": "--longitude 1e+300° is outside [-360°, 360°]",
     "compare-zero-gravity": "normal gravity on the equator gamma_e must be positive",
     "compare-negative-gravity": "normal gravity on the equator gamma_e must be positive",
     "compare-threshold-1000": "--validity-threshold '1000': the ratio 1000 (100000 %) is "

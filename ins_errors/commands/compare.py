@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ins_errors.commands import hours
+from ins_errors.commands import hours, motion_from_options
 from ins_errors.commands.run import TRUTHS
 from ins_errors.json_output import emit
 
@@ -148,7 +148,7 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.compare import compare, markdown_summary, markdown_table
     from ins_errors.numeric.integrators import step_count
     from ins_errors.numeric.model import load_model
-    from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
+    from ins_errors.numeric.motion_spec import refuse_unused_heading
     from ins_errors.output import OutputFolder, check_figure, check_file
     from ins_errors.progress import stage
     from ins_errors.units import parse_quantity
@@ -194,7 +194,7 @@ def run(args: argparse.Namespace) -> int:
               "height": args.height}
     if args.motion_file:
         motion["file"] = args.motion_file
-    profile = motion_profile(motion, model=model)
+    profile = motion_from_options(motion, model=model)
     if args.heading is not None:
         refuse_unused_heading(model, profile)
     progress = not args.no_progress and n_steps >= 100_000

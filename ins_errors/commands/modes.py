@@ -142,16 +142,17 @@ def table(result) -> str:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.modes import modes_at_rest
+    from ins_errors.commands import motion_from_options
     from ins_errors.commands.compare import given_references
     from ins_errors.model_parameters import parameters_record, parse_parameter_options
     from ins_errors.numeric.model import load_model
-    from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
+    from ins_errors.numeric.motion_spec import refuse_unused_heading
 
     model = load_model(args.model)
     parameters = parse_parameter_options(model, args.parameter)
-    profile = motion_profile({"kind": "static", "latitude": args.latitude,
-                              "longitude": args.longitude, "heading": args.heading,
-                              "height": args.height})
+    profile = motion_from_options({"kind": "static", "latitude": args.latitude,
+                                   "longitude": args.longitude, "heading": args.heading,
+                                   "height": args.height})
     if args.heading is not None:
         refuse_unused_heading(model, profile)
     result = modes_at_rest(model, profile, parameters, given=given_references(args))

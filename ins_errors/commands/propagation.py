@@ -67,12 +67,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ins_errors.commands import motion_from_options
     from ins_errors.errors import DomainError, InsErrorsError
     from ins_errors.progress import stage
     from ins_errors.studies import propagation
     from ins_errors.units import parse_quantity
 
-    latitude = parse_quantity(args.latitude, "rad", "--latitude")
+    # the start latitude, its errors (a pole) naming --latitude, before anything runs
+    latitude = motion_from_options({"kind": "static", "latitude": args.latitude}).latitude
     step = parse_quantity(args.step, "s", "--step")
     duration = args.hours * 3600.0   # positive: its option type (commands.hours)
     if not step > 0:

@@ -21,7 +21,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from ins_errors.commands import hours
+from ins_errors.commands import hours, motion_from_options
 from ins_errors.json_output import emit
 
 SPHEROID = "spheroid"
@@ -52,8 +52,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--method", choices=("rk4", "euler"), default="rk4",
                         help="methodological studies: integration scheme, RK4 (default) or "
                              "the manual's rectangle method ('euler')")
-    parser.add_argument("--latitude", default="50deg",
-                        help="methodological studies: start latitude (default 50deg)")
+    parser.add_argument("--latitude", default=None,
+                        help="methodological studies: start latitude (default 50deg; the "
+                             "spheroid study flies its own latitudes)")
     parser.add_argument("--speed", default="250m/s", help="ground speed in flight")
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR",
                         help="write PNG plots into this folder")
@@ -99,6 +100,11 @@ def run(args: argparse.Namespace) -> int:
 
         raise InsErrorsError(f"--step must be positive, got {args.step!r}")
     if args.name == SPHEROID:
+        if args.latitude is not None:
+            from ins_errors.errors import InsErrorsError
+
+            raise InsErrorsError("--latitude: the spheroid study flies from a grid of "
+                                 "latitudes of its own; leave --latitude out")
         if args.method != "rk4":
             from ins_errors.errors import InsErrorsError
 
@@ -107,9 +113,14 @@ def run(args: argparse.Namespace) -> int:
         return _spheroid(args, speed, step, folder)
     from ins_errors.studies import methodological
 
-    latitude = parse_quantity(args.latitude, "rad", "--latitude")
     hours = 24.0 if args.hours is None else args.hours
     scenarios = ("static", "flight") if args.scenario == "both" else (args.scenario,)
+    # the start, checked before any run, its errors naming the options
+    flight = "flight" in scenarios
+    latitude = motion_from_options({
+        "kind": "great-circle" if flight else "static",
+        "latitude": args.latitude or "50deg", "speed": args.speed if flight else None}
+    ).latitude
     # every minute (about 84 samples per Schuler period, so plotted peaks are smooth)
     # when a minute is whole steps and the run whole minutes, else every step
     duration = hours * 3600.0
