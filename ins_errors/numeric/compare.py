@@ -19,7 +19,11 @@ A quantity counts as *excited* when its direct error is above the rounding floor
 unit (:data:`NOISE_FLOOR`) and at least :data:`EXCITED_FRACTION` of the largest direct
 error of the same unit in that case; quantities a source moves only at second order (or
 not at all) are reported but do not enter the worst-case ratios (their relative
-difference is meaningless: the linear model rightly predicts ~0).
+difference is meaningless: the linear model rightly predicts ~0). A quantity whose
+linear error is exactly 0 at every record while other quantities of the case move (a
+coupling that vanishes on the motion, e.g. tan φ at the equator) is such a quantity
+however large its direct error: it is marked ``second_order_only`` and named in a
+warning, instead of a "validity" ratio of 100 % at any magnitude.
 """
 
 from __future__ import annotations
@@ -67,6 +71,7 @@ class Metric:
     excited: bool
     direct_integration_error: float | None = None
     linear_integration_error: float | None = None
+    second_order_only: bool = False
 
     @property
     def integration_error(self) -> float | None:
@@ -202,15 +207,19 @@ def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | 
     largest: dict[str, float] = {}
     for name, unit in zip(direct.names, direct.units, strict=True):
         largest[unit] = max(largest.get(unit, 0.0), peaks[name])
+    # where nothing is linear at all, the source is unseen (add_validity_warnings says so)
+    linear_moves = bool(np.any(linear.values[:, :, case]))
     for k, (name, unit) in enumerate(zip(direct.names, direct.units, strict=True)):
         d = direct.values[k, :, case]
         peak = peaks[name]
         lin = float(np.max(np.abs(linear.values[k, :, case] - d)))
         ref = None if refined is None else float(np.max(np.abs(refined.values[k, :, case] - d)))
-        excited = bool(peak > NOISE_FLOOR.get(unit, 0.0)
-                       and peak >= EXCITED_FRACTION * largest[unit])
+        large = bool(peak > NOISE_FLOOR.get(unit, 0.0)
+                     and peak >= EXCITED_FRACTION * largest[unit])
+        second = large and linear_moves and not np.any(linear.values[k, :, case])
         rows.append(Metric(name, unit, peak, lin, _ratio(lin, peak), ref,
-                           None if ref is None else _ratio(ref, peak), excited))
+                           None if ref is None else _ratio(ref, peak), large and not second,
+                           second_order_only=second))
     return rows
 
 
@@ -312,7 +321,34 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
             add_validity_warnings(comparisons, sim, validity_threshold, jit=jit)
     add_growth_warnings(comparisons, sim)
     add_unexcited_warnings(comparisons, sim, trajectory)
+    add_second_order_warnings(comparisons)
     return comparisons
+
+
+def add_second_order_warnings(comparisons: Sequence[Comparison]) -> None:
+    """Name the (shown) quantities the case moves only at second order
+    (:attr:`Metric.second_order_only`): the linear model gives exactly 0 for them, so
+    their linear/direct ratio is 100 % at any magnitude and is not judged."""
+    for comparison in comparisons:
+        second = [m for m in comparison.metrics if m.second_order_only
+                  and (comparison.shown is None or m.quantity in comparison.shown)]
+        if second:
+            sizes = ", ".join(f"{m.quantity} {_shown_size(m.max_direct, m.unit)}"
+                              for m in second)
+            comparison.warnings.append(
+                f"moved only at second order on this motion (the linear model gives exactly "
+                f"0; the direct run reaches {sizes}): a linear/direct ratio of 100 % at any "
+                "magnitude, not judged" + ("; the refined model's ratio shows how well the "
+                                            "second-order terms account for it"
+                                            if comparison.refined else ""))
+
+
+def _shown_size(value: float, unit: str) -> str:
+    """A size in the display unit of its SI unit (``"0.12 arcsec"``)."""
+    from ins_errors.units import display_scale
+
+    factor, shown = display_scale(unit)
+    return f"{value * factor:.3g} {shown}"
 
 
 def add_unexcited_warnings(comparisons: Sequence[Comparison], sim: Simulation,
@@ -860,7 +896,7 @@ def markdown_table(comparison: Comparison) -> str:
                      f"{_fmt(_times(m.refined_difference, k))} | {_fmt(m.refined_ratio)} | "
                      f"{_fmt(_times(m.direct_integration_error, k))} | "
                      f"{_fmt(_times(m.linear_integration_error, k))} | "
-                     f"{'yes' if m.excited else 'no'} |")
+                     f"{'yes' if m.excited else '2nd order' if m.second_order_only else 'no'} |")
     return "\n".join(lines) + "\n"
 
 
