@@ -51,6 +51,21 @@ def test_html_is_self_contained(report):
 
 
 
+def test_report_md_prose_has_no_tex_left(report):
+    """The model's modelling choices the report shows were written with TeX exponents
+    (``(1 − e² sin²φ)^{3/2}``), shown raw by Markdown: outside code spans and $...$
+    formulas no caret or braced subscript is left."""
+    import re
+
+    from tests.test_notes_markdown import _prose
+
+    _, folder = report
+    text = (folder / "report.md").read_text(encoding="utf-8")
+    assert "R_N = (a + h)(1 − e²)/√(1 − e² sin²φ)³" in text  # the model's notes are in it
+    leftovers = re.findall(r".{0,20}(?:\^|_\{).{0,12}", _prose(text))
+    assert not leftovers, leftovers
+
+
 def test_kept_mathml_is_the_converters_text_and_keeps_display_apart():
     """The MathML of a formula is kept per process: the text the converter gives for the
     same LaTeX and display mode, and a display formula is not an inline one."""

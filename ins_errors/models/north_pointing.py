@@ -18,7 +18,7 @@ Modelling choices (also printed at the top of ``generated/north_pointing/error_e
 * Earth: a sphere of radius ``R`` by default (``ecc2 = 0``); an ellipsoid is selected by
   setting ``R`` to its semi-major axis and ``ecc2`` to its eccentricity squared
   (:func:`ellipsoid_parameters`). Meridian and prime-vertical radii
-  R_N = R(1 − e²)/(1 − e² sin²φ)^{3/2}, R_E = R/√(1 − e² sin²φ).
+  R_N = R(1 − e²)/√(1 − e² sin²φ)³, R_E = R/√(1 − e² sin²φ).
 * Gravity ``g`` (plumb line, centrifugal part included) is a parameter and is normal to
   the local level, so it has no horizontal component; the true vertical specific force of
   level flight is f_U = g − v_E²/(R_E + h) − v_N²/(R_N + h) − 2U cos φ v_E (the vertical
@@ -27,7 +27,7 @@ Modelling choices (also printed at the top of ``generated/north_pointing/error_e
   horizontal channels only through platform tilt.
 * Platform kinematics are exact (z-y-x angles of p relative to t, specific force
   resolved through the exact rotation, :mod:`ins_errors.models.platform`); the report's
-  small-angle form α̇ = α × ω + (ω_cmd − ω) + drift, f^p = f − α × f (ω the absolute rate
+  small-angle form α̇ = α × ω + (ω_cmd − ω) + drift, fᵖ = f − α × f (ω the absolute rate
   of the true trihedron t, ω_cmd the same formula evaluated by the computer) is the
   selectable ``small_angle`` platform. The vertical accelerometer is not used.
 * The report (static base) drops the two Foucault cross-coupling terms ±2U sin φ δv;

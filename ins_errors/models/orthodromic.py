@@ -16,13 +16,13 @@ Modelling choices where the manual is silent or inconsistent (also printed at th
 ``generated/orthodromic/error_equations.md``):
 
 * ``R_N`` is used but never defined; we take the meridian radius in the manual's own
-  style, R_N = (a + h)(1 − e²)/(1 − e² sin²φ)^{3/2}, next to its R_E = (a + h)/√(1 − e² sin²φ).
+  style, R_N = (a + h)(1 − e²)/√(1 − e² sin²φ)³, next to its R_E = (a + h)/√(1 − e² sin²φ).
 * the velocity difference equations print ``+ g̃' + Δa`` outside the factor τ; in
   continuous time the only consistent reading is inside (accelerations are integrated).
 * the third accelerometer row ``a_z`` is misprinted and unused (two accelerometers).
 * platform kinematics are exact (z-y-x angles of the platform relative to the trihedron,
   specific force resolved through the exact rotation, :mod:`ins_errors.models.platform`);
-  the manual's small-angle form α̇ = α × ω + (ω_cmd − ω) + drift, f^p = f − α × f (ω the
+  the manual's small-angle form α̇ = α × ω + (ω_cmd − ω) + drift, fᵖ = f − α × f (ω the
   true trihedron's absolute rate) is kept as the selectable ``small_angle`` platform.
   Both give the same error equations; the refined terms include the rotation's own.
 * λ and χ use the four-quadrant arctangent of the manual's ratios; sin φ ≡ u31.
@@ -201,7 +201,7 @@ def prime_vertical_radius(u31: sp.Expr, h: sp.Expr, ecc2: sp.Expr = e2) -> sp.Ex
 
 
 def meridian_radius(u31: sp.Expr, h: sp.Expr, ecc2: sp.Expr = e2) -> sp.Expr:
-    """R_N = (a + h)(1 − e²)/(1 − e² sin²φ)^{3/2} (undefined in the manual; our choice)."""
+    """R_N = (a + h)(1 − e²)/√(1 − e² sin²φ)³ (undefined in the manual; our choice)."""
     return (a + h) * (1 - ecc2) / (1 - ecc2 * u31**2) ** sp.Rational(3, 2)
 
 

@@ -32,7 +32,7 @@ velocity-error conventions, and to position errors in NED metres, are in
 Modelling choices (also printed at the top of ``generated/strapdown_ned/error_equations.md``):
 
 * attitude as the quaternion q = (q0, q1, q2, q3) of body → NED, scalar first; the
-  specific force is resolved with C_b^n = C(q) / |q|², C(q) the quadratic form of q: the
+  specific force is resolved with C_bⁿ = C(q) / |q|², C(q) the quadratic form of q: the
   exact direction cosines of a quaternion of any length, so a drift of |q| (a rectangle
   step grows it by (ωτ)²/4) does not leak into the velocities. |q| is a first integral of
   the continuous equations, so the error δq stays orthogonal to q (to first order) and
@@ -40,7 +40,7 @@ Modelling choices (also printed at the top of ``generated/strapdown_ned/error_eq
 * gravity is normal gravity along the ellipsoid normal (no deflection of the vertical),
   Somigliana's formula continued to height h by the second-order series of NIMA
   TR8350.2 (4-3); the radii of curvature are those of the same ellipsoid.
-* IMU errors: ω̃_i = (1 + s_i) ω_i + Σ_{j≠i} m_ij ω_j + b_i for the gyros (and alike for the
+* IMU errors: ω̃_i = (1 + s_i) ω_i + Σ_j m_ij ω_j (j ≠ i) + b_i for the gyros (and alike for the
   accelerometers), s the scale-factor error, m_ij the misalignment of sensor axis i
   towards body axis j, b the bias; all constant.
 * initial errors: the computed start attitude is the quaternion of (roll + δroll,
@@ -48,7 +48,7 @@ Modelling choices (also printed at the top of ``generated/strapdown_ned/error_eq
   metres along north, east, down at the true start point (δφ = δN / (R_N + h),
   δλ = δE / ((R_E + h) cos φ), δh = −δD).
 * outputs: latitude, longitude, height, v_N, v_E, v_D and roll = atan2(C32, C33),
-  pitch = atan2(−C31, (C32² + C33²)^{1/2}), heading = atan2(C21, C11).
+  pitch = atan2(−C31, √(C32² + C33²)), heading = atan2(C21, C11).
 """
 
 from __future__ import annotations
