@@ -104,6 +104,33 @@ def test_linear_estimate_matches_direct_run(name, scenario):
     assert lines[0].startswith(name) and any("delta_latitude" in line for line in lines)
 
 
+def test_summary_gives_the_integration_error_in_the_lines_unit():
+    """A summary line printed "integration error 6e-07" with no unit: it is the estimate
+    in the unit of the line's direct and linear values (not a ratio)."""
+    import re
+
+    from ins_errors.units import parse_quantity
+
+    result = meth.run("coriolis", "static", LATITUDE, duration=3600, tau=30.0,
+                      record_interval=600.0)
+    numbers = result.quantities()
+    checked = 0
+    for line in result.summary():
+        found = re.match(r"\s*(\w+)\s+direct\s+\S+\s+linear\s+\S+ (\w+)\s.*"
+                         r"integration error (\S+) (\S+)$", line)
+        if found is None or found.group(1) not in numbers:
+            continue
+        name, unit, value, written = found.groups()
+        assert written == unit, line
+        q = numbers[name]
+        if q["unit"] in ("rad", "m/s") and unit != "km":  # (km: an angle times R)
+            si = q[f"integration_error_{meth.unit_suffix(q['unit'])}"]
+            assert parse_quantity(f"{value} {unit}", q["unit"]) == pytest.approx(si,
+                                                                                rel=0.06)
+            checked += 1
+    assert checked >= 4
+
+
 def test_unknown_study_suggests_close_names():
     with pytest.raises(UnknownNameError, match="nonsphericity"):
         meth.run("nonspherity")

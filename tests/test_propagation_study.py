@@ -192,6 +192,21 @@ def test_long_record_drawn_from_its_envelope_covers_the_same_pixels(tmp_path, re
     assert_pictures_alike(reduced, full)
 
 
+def test_summary_says_the_integration_error_is_relative_and_to_what(result):
+    """The table's integration error is a ratio (the estimate over max |linear numeric|,
+    as the agreement): the summary printed it bare, as if it were in some unit."""
+    text = result.summary_markdown()
+    header = next(line for line in text.splitlines() if line.startswith("| source |"))
+    columns = [c.strip() for c in header.strip("|").split("|")]
+    k = columns.index("integration error (relative)")
+    assert "divided by the same max |linear numeric|" in text
+    curve = result.curve("gyro_drift_east")
+    row = next(line for line in text.splitlines() if line.startswith("| `gyro_drift_east`"))
+    shown = float(row.strip("|").split("|")[k])
+    ratio = np.nanmax(curve.integration_error / np.max(np.abs(curve.linear), axis=1))
+    assert shown == pytest.approx(ratio, rel=0.01)
+
+
 def test_bad_experiments_give_one_line_errors():
     with pytest.raises(DomainError, match="±90"):
         run(Experiment(latitude=np.pi / 2))
@@ -225,7 +240,8 @@ def test_orthodromic_day_numeric_vs_analytic():
         close += bool(day.integration[j] / true[j] > 0.5)
         assert not day.warnings[j], day.sources[j]
     assert close >= 12
-    assert "integration error |" in text and "Warnings:" not in text
+    assert "integration error (relative) |" in text and "Warnings:" not in text
+    assert "/ max |direct|" in text  # what it is relative to
     with pytest.raises(DomainError, match="90"):
         orthodromic_day(latitude=np.pi / 2)
 
@@ -298,7 +314,7 @@ def test_command_line_reports_the_integration_error(capsys):
     assert any("too coarse" in w for w in row["warnings"])
     assert main(["propagation", "--hours", "1"]) == 0
     out = capsys.readouterr().out
-    assert "integration error |" in out and "Warnings:" not in out
+    assert "integration error (relative) |" in out and "Warnings:" not in out
 
 
 def _same_bits(a, b) -> bool:

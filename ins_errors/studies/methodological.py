@@ -365,7 +365,8 @@ class StudyResult:
             else:
                 mismatch = f"{100 * q['mismatch_ratio']:.3g} %"
             error = q[f"integration_error_{suffix}"]
-            integration = "" if error is None else f"  integration error {error * scale:.2g}"
+            integration = ("" if error is None else  # in the line's unit, not relative
+                           f"  integration error {error * scale:.2g} {unit.split(' at ')[0]}")
             lines.append(f"  {name:<16} direct {d:11.4g}  linear {lin:11.4g} {unit:<16}"
                          f" mismatch {mismatch}{integration}")
         lines += [f"  warning: {w}" for w in self.warnings]

@@ -321,8 +321,9 @@ class PropagationResult:
             "Agreement = max over the run of |difference| / max |linear numeric|, the worst "
             "error quantity of each source (quantities that stay exactly zero skipped). "
             "Integration error = the larger estimated integration error (step doubling) "
-            "of the direct and linear runs on the same scale, worst quantity: to be read "
-            "beside 'direct vs linear'. Reduced vs full = max over the run of "
+            "of the direct and linear runs, a relative figure as the agreement is: divided "
+            "by the same max |linear numeric|, worst quantity; to be read beside 'direct "
+            "vs linear'. Reduced vs full = max over the run of "
             "|reduced − full| / max |full|, per quantity both closed forms have, the worst "
             "one named; a difference below "
             f"{ROUNDING_FLOOR:.0e} of the source's largest quantity (velocities as the angle "
@@ -330,7 +331,8 @@ class PropagationResult:
             "reduced model leaves at zero (the dropped Foucault terms are their only path "
             "from that source) are named in the last column instead.", "",
             "| source | analytic (full) vs linear numeric | direct vs linear numeric | "
-            "integration error | worst quantity (direct) | reduced vs full analytic | "
+            "integration error (relative) | worst quantity (direct) | "
+            "reduced vs full analytic | "
             "not in the reduced model |",
             "|---|---|---|---|---|---|---|",
         ]
@@ -749,9 +751,9 @@ class DayResult:
                          "the sphere's radius a, the Krasovsky semi-major axis"), "",
             "Agreement = worst error state of max |difference| / max |linear numeric|.", "",
             "Integration error = estimated integration error (step doubling) / max |direct|,"
-            " worst excited quantity.", "",
+            " worst excited quantity: a relative figure, like the agreement.", "",
             "| source | magnitude | analytic vs linear numeric | direct vs linear | "
-            "integration error |",
+            "integration error (relative) |",
             "|---|---|---|---|---|"]
         from ins_errors.units import format_quantity
 
