@@ -305,3 +305,15 @@ def test_models_and_report_show_an_angle_parameter_in_degrees(capsys, tmp_path):
     assert "`phi0` = 45.5 deg (set)" in report and "0.79" not in report
     results = json.loads((tmp_path / "out" / "results.json").read_text())
     assert results["parameters_used"]["phi0"]["value"] == pytest.approx(np.radians(45.5))
+
+
+def test_a_platform_angle_past_a_quarter_turn_is_refused_without_claiming_the_exact_platform(
+        capsys):
+    """A model file writes its platform's kinematics itself; the quarter-turn limit of
+    the built-in platforms still holds its second platform angle, but the line said
+    "the exact platform's z-y-x angles", which the researcher's model does not have."""
+    assert main(["compare", MODEL, "--source", "initial_tilt_N=100deg", "--hours", "1"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1, err
+    assert "alpha_N = 100° exceeds" in err and "quarter turn" in err
+    assert "exact platform" not in err

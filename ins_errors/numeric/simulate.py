@@ -753,6 +753,11 @@ def _platform_limit(model: Model, platform: str) -> tuple[list[int], float, str]
         return angles, SMALL_ANGLE_LIMIT, ("beyond the small-angle platform matrix (the "
                                            "exact platform, the default, has no such limit)")
     # z-y-x angles: only alpha_y has a singular value
+    if not model.has_small_angle_platform:  # a model file writes its own kinematics
+        return angles[1:2], EULER_LIMIT, (
+            "a quarter turn, where a platform's z-y-x angles are singular and no error "
+            "analysis holds (the limit of the built-in platforms, applied to the model's "
+            "second platform angle)")
     return angles[1:2], EULER_LIMIT, "near the singular ±90° of the exact platform's z-y-x angles"
 
 
