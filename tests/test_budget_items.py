@@ -514,3 +514,25 @@ def test_direct_runs_read_the_absolute_items_as_the_covariance(tmp_path, capsys)
     assert set(rows) == {"position_error_absolute", "height_error", "heading_error"}
     for item, ratio in rows.items():
         assert abs(ratio - 1) < 3 * mc["relative_sampling_error"], item
+
+
+def test_sea_units_read_as_nautical_miles_and_knots(tmp_path):
+    """docs/scenarios.md names `nmi` and `kn`/`knot` for a marine INS's spec: 1 nmi =
+    1852 m and 1 kn = 1852 m/h exactly (international definitions)."""
+    spec = load_spec(write(tmp_path, """
+        sigma_level = 1
+        operating_time = "2 h"
+        step = "60 s"
+        [motion]
+        latitude = "50 deg"
+        [items.position_error_absolute]
+        value = "1 nmi"
+        [items.position_error]
+        value = "2 nmi/h"
+        [items.ground_speed_error]
+        value = "0.5 knot"
+    """))
+    assert spec.item("position_error_absolute").value == 1852.0
+    assert spec.item("position_error").value == pytest.approx(2 * 1852.0 / 3600, rel=1e-15)
+    assert spec.item("ground_speed_error").value == pytest.approx(0.5 * 1852.0 / 3600,
+                                                                  rel=1e-15)
