@@ -297,6 +297,34 @@ def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
     assert seen[-1] == ((False,) * 4, [True])
 
 
+def test_spheroid_figure_defines_the_names_of_its_panel_titles(tmp_path, monkeypatch):
+    """The panels are titled "φ0 = 20°, N0 = 90°": the figure itself says what φ0 and
+    N0 are (N0 was defined nowhere on it)."""
+    from types import SimpleNamespace
+
+    from ins_errors.studies import spheroid_error
+
+    texts = []
+
+    def keep(fig, path, dpi):
+        texts.append([t.get_text() for t in fig.texts]
+                     + [ax.get_title() for ax in fig.axes if ax.get_visible()])
+        return path
+
+    monkeypatch.setattr(spheroid_error, "save_figure", keep)
+    times = np.linspace(0.0, 3600.0, 13)
+    errors = np.stack([np.ones((13, 2)), np.ones((13, 2))]) * 1e-4
+    flights = SimpleNamespace(times=times, start=np.radians([[20, 20], [0, 0], [30, 90]]),
+                              direct=errors, printed=errors, completed=errors,
+                              km=lambda e: e * 6378.245)
+    spheroid_error.plot(flights, tmp_path / "f.png")
+    [shown] = texts
+    assert "φ0 = 20°, N0 = 90°" in shown
+    words = " ".join(t.replace("\n", " ") for t in shown)
+    assert "N0: orthodrome angle at the start" in words
+    assert "φ0: geocentric start latitude" in words
+
+
 def _overlapping(fig) -> list[tuple[str, str]]:
     """Texts of a drawn figure that overlap another text, or a panel not their own.
 

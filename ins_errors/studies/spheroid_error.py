@@ -650,6 +650,11 @@ PLOT_FLOOR_KM = 0.05
 where a coordinate is not excited) are drawn flat, not blown up into a diverging curve."""
 
 
+ANGLE_CAPTION = ("N0: orthodrome angle at the start, between the geographic meridian and "
+                 "the orthodromic one (source 004's N)")
+"""How :func:`plot` defines the N0 of its panel titles."""
+
+
 def plot(result: FlightErrors, path: str | Path) -> Path:
     """Save every flight's displacement: direct simulation against formula (10).
 
@@ -684,8 +689,8 @@ def plot(result: FlightErrors, path: str | Path) -> Path:
     share_time_axis(axes)
     # a narrow figure (few angles) breaks the title into lines and stacks the legend
     title = wrap_to_width(f"004: spherical-formula reckoning over the Krasovsky spheroid, every "
-                  f"flight ({direct.shape[1]}): direct simulation vs formula (10)", 10,
-                  width - 0.3)
+                  f"flight ({direct.shape[1]}): direct simulation vs formula (10)\n"
+                  f"φ0: geocentric start latitude; {ANGLE_CAPTION}", 10, width - 0.3)
     names = ["direct simulation", "(10) completed (start term of ΔΛ)", "(10) as printed"]
     ncol = 3 if text_width(names, 8) * 3 + 3 * 3.8 * 8 / 72 < width - 0.3 else 1
     fixed_margins(fig, left=0.7, right=0.15, bottom=0.9 + (0.3 if ncol == 1 else 0.0),
