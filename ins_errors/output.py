@@ -103,13 +103,20 @@ def os_error_line(error: OSError, doing: str = "cannot use") -> str:
 
 
 def check_file(path: str | Path) -> Path:
-    """Check, before any computing, that ``path`` can be written; create nothing.
+    """Check, before any computing, that ``path`` can be written; leave nothing behind.
+
+    Writability is tried, not read from permission bits (which root, a read-only mount or
+    a virtual file system such as ``/proc`` make meaningless): the folder takes a
+    temporary file named as :func:`write_with` names its own, removed again (of a folder
+    still to be made, its nearest existing parent takes a temporary folder), and an
+    existing ``path`` is opened for appending, without writing (its contents and
+    modification time are unchanged).
 
     Raises
     ------
     OutputError
-        When ``path`` is a folder, one of its parents is a file, or the nearest existing
-        parent folder is not writable.
+        When ``path`` is a folder, one of its parents is a file, or the file or its
+        folder cannot be written (one line with the system's reason).
     """
     path = Path(path)
     try:
@@ -121,11 +128,30 @@ def check_file(path: str | Path) -> Path:
         if not parent.is_dir():
             raise OutputError(f"cannot write {shown(path)}: {shown(parent)} is a file, "
                               "not a folder")
-        if not os.access(parent, os.W_OK | os.X_OK):
-            raise OutputError(f"cannot write {shown(path)}: folder {shown(parent)} is not "
-                              "writable")
     except OSError as error:  # e.g. a name longer than the file system allows
         raise OutputError(f"cannot write {shown(path)}: {_reason(error)}") from None
+    if parent != path.parent:  # missing folders, to be made in parent
+        try:
+            os.rmdir(tempfile.mkdtemp(prefix=".ins-errors-", dir=parent))
+        except OSError as error:
+            raise OutputError(f"cannot write {shown(path)}: no folder can be made in "
+                              f"{shown(parent)} ({_reason(error)})") from None
+        return path
+    try:
+        handle, probe = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix,
+                                         dir=parent)
+    except OSError as error:
+        raise OutputError(f"cannot write {shown(path)}: folder {shown(parent)} takes no "
+                          f"new files ({_reason(error)})") from None
+    os.close(handle)
+    os.unlink(probe)
+    if path.exists():
+        try:
+            with open(path, "ab"):
+                pass
+        except OSError as error:
+            raise OutputError(f"cannot write {shown(path)}: it cannot be opened for "
+                              f"writing ({_reason(error)})") from None
     return path
 
 

@@ -190,8 +190,7 @@ def _plot_request(args: argparse.Namespace, scenario) -> tuple[str, list[str] | 
     from ins_errors.numeric.simulate import error_quantities
     from ins_errors.output import check_figure
 
-    check_figure(args.plot)
-    _try_writing_beside(args.plot)
+    check_figure(args.plot)  # (tried: a place that takes no files is refused now)
     figure = args.figure or "worst_linear_ratio"
     sr.check_figure(figure, error_quantities(load_model(scenario.model))[0],
                     scenario.refined)
@@ -199,31 +198,6 @@ def _plot_request(args: argparse.Namespace, scenario) -> tuple[str, list[str] | 
     against = sr.check_against(args.against.split(",") if args.against else swept[:2],
                                swept)
     return figure, against
-
-
-def _try_writing_beside(path: str) -> None:
-    """Make and remove a scratch file in the plot's nearest existing folder: a place
-    that takes no files (``/proc``, a read-only mount, where the superuser's permission
-    bits say yes) is refused before the sweep runs, not after.
-
-    Raises
-    ------
-    OutputError
-    """
-    import tempfile
-    from pathlib import Path
-
-    from ins_errors.output import OutputError, shown
-
-    folder = Path(path).absolute().parent
-    while not folder.exists() and folder != folder.parent:
-        folder = folder.parent
-    try:
-        with tempfile.TemporaryFile(dir=folder):
-            pass
-    except OSError as error:
-        raise OutputError(f"cannot write {shown(path)}: folder {shown(folder)} takes no new "
-                          f"files ({error.strerror or type(error).__name__})") from None
 
 
 def _failed(data) -> int:
