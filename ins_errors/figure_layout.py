@@ -39,6 +39,40 @@ def fixed_margins(fig, left: float, right: float, bottom: float, top: float,
                         hspace=hspace / panel_height)
 
 
+LEGEND_ROW = 0.3
+"""Inches a one-row legend under the panels (:func:`legend_below`) adds to the bottom
+margin."""
+
+
+def legend_below(ax, fontsize: float, handles=None, above: float = 0.04):
+    """A one-row legend centred under the panel column of ``ax``, in the figure's bottom
+    margin (:data:`LEGEND_ROW` inches of it), where it hides no curve.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        A panel of the column (its x extent centres the legend).
+    fontsize : float
+        Points.
+    handles : list of matplotlib.artist.Artist, optional
+        The entries (default: the labelled artists of ``ax``).
+    above : float
+        Height of the legend's lower edge over the figure's bottom edge, inches.
+
+    Returns
+    -------
+    matplotlib.legend.Legend
+    """
+    from matplotlib.transforms import blended_transform_factory
+
+    if handles is None:
+        handles = ax.get_legend_handles_labels()[0]
+    where = blended_transform_factory(ax.transAxes, ax.figure.dpi_scale_trans)
+    return ax.legend(handles=handles, fontsize=fontsize, ncol=len(handles),
+                     loc="lower center", bbox_to_anchor=(0.5, above),
+                     bbox_transform=where, frameon=False)
+
+
 def _grid_shape(fig) -> tuple[int, int]:
     for ax in fig.axes:
         spec = ax.get_subplotspec()

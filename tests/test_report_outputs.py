@@ -325,6 +325,54 @@ def test_spheroid_figure_defines_the_names_of_its_panel_titles(tmp_path, monkeyp
     assert "φ0: geocentric start latitude" in words
 
 
+def _legends_on_panels(fig) -> list[str]:
+    """The legends that lie on a panel (where they hide curves), by their first entry;
+    an empty list also when there is no legend is refused by the callers."""
+    renderer = fig.canvas.get_renderer()
+    legends = [ax.get_legend() for ax in fig.axes if ax.get_legend()] + fig.legends
+    assert legends
+    width, height = fig.get_size_inches() * fig.dpi
+    found = []
+    for legend in legends:
+        box = legend.get_window_extent(renderer)
+        assert box.x0 >= 0 and box.y0 >= 0 and box.x1 <= width and box.y1 <= height
+        if any(box.overlaps(ax.bbox) for ax in fig.axes if ax.get_visible()):
+            found.append(legend.get_texts()[0].get_text())
+    return found
+
+
+def test_legends_of_the_report_and_propagation_figures_hide_no_curve(report, tmp_path,
+                                                                      monkeypatch):
+    """The legends sat inside the top panels, over dense Schuler oscillations: they
+    are under the panels now, clear of every panel, inside the figure."""
+    from ins_errors.numeric import plots
+    from ins_errors.output import OutputFolder
+    from ins_errors.studies import propagation
+
+    seen = []
+
+    def check(fig, path, dpi, **options):
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+        FigureCanvasAgg(fig)  # (a kept figure has no canvas until it is saved)
+        with _as_saved(fig, dpi):
+            fig.draw_without_rendering()
+            seen.append(_legends_on_panels(fig))
+            assert _sticking_out(fig) == (False, False, False, False)
+        return path
+
+    monkeypatch.setattr(plots, "save_figure", check)
+    result, _ = report
+    for case in (result.comparisons[0], replace(result.comparisons[0], refined={})):
+        plots._SPARE_FIGURES.figures.clear()
+        plots.plot_comparison(case, tmp_path / "case.png", quantities=["alpha_y"])
+    experiment = propagation.run(propagation.Experiment(duration=2 * 3600.0))
+    monkeypatch.setattr(OutputFolder, "save_figure",
+                        lambda self, fig, name, dpi, close: check(fig, name, dpi))
+    propagation.plot(experiment, OutputFolder(tmp_path / "p"), ["gyro_drift_east"])
+    assert seen == [[], [], []]
+
+
 def _overlapping(fig) -> list[tuple[str, str]]:
     """Texts of a drawn figure that overlap another text, or a panel not their own.
 

@@ -12,7 +12,13 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
-from ins_errors.figure_layout import common_time_range, fixed_title, share_time_axis
+from ins_errors.figure_layout import (
+    LEGEND_ROW,
+    common_time_range,
+    fixed_title,
+    legend_below,
+    share_time_axis,
+)
 from ins_errors.numeric.compare import Comparison
 from ins_errors.numeric.envelope import column_envelopes
 from ins_errors.output import save_figure
@@ -183,7 +189,8 @@ class _ComparisonFigure:
         # sharex (sharing makes each axis visit all its siblings on every limit update
         # and draw: ~20 % of the figure's time with 20 panels); as sharex would, only the
         # bottom row labels the time ticks
-        fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.5), squeeze=False)
+        fig, axes = plt.subplots(n, 2, figsize=(11.0, 1.75 * n + 1.5 + LEGEND_ROW),
+                                 squeeze=False)
         plt.close(fig)  # (pyplot forgets it; the figure is still drawn and saved)
         share_time_axis(axes)
         self.fig, self.axes, self.lines = fig, axes, []
@@ -212,14 +219,17 @@ class _ComparisonFigure:
                     fontsize=9, pad=14)
         for ax in axes[-1]:
             ax.set_xlabel("time [h]", fontsize=8)
-        axes[0, 0].legend(fontsize=7, loc="best")
-        axes[0, 1].legend(fontsize=7, loc="best")
+        # under each column: inside the top panels they hid dense curves
+        for column in (0, 1):
+            legend_below(axes[-1, column], 7, handles=[
+                line for line in self.lines[0][2] if line.axes is axes[0, column]])
         # fixed margins in inches (tight_layout measured every tick label: seconds a figure)
         width, height = fig.get_size_inches()
         self.title = fig.suptitle("", fontsize=9, y=1 - 0.1 / height, va="top")
         # characters of a title line that fit the width (9-pt text, ~0.55 em a character)
         self.title_characters = int((width - 0.3) * 72 / (0.55 * 9))
-        fig.subplots_adjust(left=1.0 / width, right=1 - 0.15 / width, bottom=0.55 / height,
+        fig.subplots_adjust(left=1.0 / width, right=1 - 0.15 / width,
+                            bottom=(0.55 + LEGEND_ROW) / height,
                             top=1 - 1.0 / height, wspace=0.95 / (width / 2),
                             hspace=0.4 / 1.75)
         self.columns = 2 * math.ceil(axes[0, 0].get_position().width * width * DPI)

@@ -560,9 +560,10 @@ def plot(result: PropagationResult, folder: OutputFolder,
     # no sharex and no tight_layout: both redo every panel's ticks several times a
     # draw (see figure_layout); the same times give the same range, fixed margins fit
     # the labels
-    fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13))
+    fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13 + layout.LEGEND_ROW))
     layout.share_time_axis(axes)
-    layout.fixed_margins(fig, left=1.0, right=0.2, bottom=0.6, top=0.62, hspace=0.38)
+    layout.fixed_margins(fig, left=1.0, right=0.2, bottom=0.6 + layout.LEGEND_ROW,
+                         top=0.62, hspace=0.38)
     columns = 2 * math.ceil(axes[0].get_position().width * fig.get_figwidth() * PLOT_DPI)
     try:
         lines = []
@@ -576,7 +577,8 @@ def plot(result: PropagationResult, folder: OutputFolder,
             ax.yaxis.set_offset_position("right")
             ax.ticklabel_format(axis="y", useOffset=False)
             ax.grid(True, alpha=0.3)
-        axes[0].legend(fontsize=7, ncol=2)
+        # under the panels: over the top one it hid the dense Schuler curves
+        layout.legend_below(axes[-1], 7, handles=lines[0])
         axes[-1].set_xlabel("time, h")
         title = fig.suptitle("", fontsize=9)
         for c in chosen:
