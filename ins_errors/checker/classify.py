@@ -224,6 +224,13 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
     scale = np.maximum(np.abs(hs), np.abs(ms))
     if np.all(np.abs(hs + ms) <= TOLERANCE * scale):
         return SIGN, ""
+    # a part of the model's coefficient left out (K₂ written for 1 + K₂) is an omitted
+    # term even where the two keep a constant ratio (the gain is a constant)
+    split = term_split(hand_expr, model_expr) if term_split else None
+    if split is not None and split[1] == 0:
+        return OMITTED, f"part of the coefficient is missing: {_short(split[0])}"
+    if split is not None and split[0] == 0:
+        return EXTRA, f"extra part of the coefficient: {_short(split[1])}"
     usable = np.abs(ms) > tiny
     ratios = hs[usable] / ms[usable]
     if ratios.size and np.all(np.abs(ratios - ratios[0]) <= TOLERANCE * abs(ratios[0])):
@@ -231,11 +238,6 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
         if exponent is not None:
             return EXPONENT, exponent
         return COEFFICIENT, f"hand/model = {ratios[0]:.6g} at every point"
-    split = term_split(hand_expr, model_expr) if term_split else None
-    if split is not None and split[1] == 0:
-        return OMITTED, f"part of the coefficient is missing: {_short(split[0])}"
-    if split is not None and split[0] == 0:
-        return EXTRA, f"extra part of the coefficient: {_short(split[1])}"
     changed = change_that_fits(hand_expr, ms, tiny, evaluate, known,
                                proportional=proportional)
     if changed is not None:

@@ -396,6 +396,10 @@ class Comparison:
         self.threshold = threshold
         self._parts: dict[sp.Expr, tuple[dict[sp.Symbol, sp.Expr], sp.Expr]] = {}
         self.display_model: dict[sp.Symbol, sp.Expr] = {}
+        self.expand_model: dict[sp.Symbol, sp.Expr] = {}
+        """The model's named intermediate quantities as expressions of its states,
+        inputs and parameters (:func:`_expanded_intermediates`), for telling which terms
+        of a coefficient differ."""
         self._values = values
         self._tree = TreeValues(self.arguments, self.arrays) if tree is None else tree
         self.zero_checked = True
@@ -620,7 +624,19 @@ class Comparison:
                        _display(info["model_shown"]), detail)
 
     def _split(self, hand: sp.Expr, model: sp.Expr):
+        """(terms only the model has, terms only the hand has), shown in the notation.
+
+        As written first: a part cleanly left out or added (one side 0) is told in the
+        model's own names. Otherwise with the model's named quantities written out
+        (:attr:`expand_model`): ``−ρ − V_E tan φ/R`` against a hand's ``−(2U sin φ +
+        V_E tan φ/R)`` differs in ``V_E tan φ/R``, not in "−ρ where the hand has
+        −2U sin φ"."""
         split = _term_difference(hand, model)
+        clean = split is not None and (split[0] == 0 or split[1] == 0)
+        if not clean and self.expand_model:
+            expanded = _term_difference(hand.xreplace(self.expand_model),
+                                        model.xreplace(self.expand_model))
+            split = expanded if expanded is not None else split
         if split is None:
             return None
         return tuple(part.xreplace(self.display_model) for part in split)
@@ -840,6 +856,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
     comparison.zero_checked = hand.scope is None  # a scope limits the claim to its points
     comparison.fixed = frozenset(p.name for p in d.parameters)  # 0 by the model's choice
     comparison.display_model = _reciprocal_aliases(side, notation)
+    comparison.expand_model = _expanded_intermediates(d)
     declared.finish(comparison, identify)
 
     comparison.prefetch([(item.hand, identified(model_expr(side, item.key), identify))
@@ -929,6 +946,20 @@ def _unchecked_sources(side: ModelSide, prepared: list[list[Item]], out: list[st
                 continue
             reached.update(wanted[s] for s in symbols if s in wanted)
     return [name for name in out if name in reached]
+
+
+def _expanded_intermediates(d) -> dict[sp.Symbol, sp.Expr]:
+    """Each named intermediate quantity of the ideal work (``ρ``), as the expression of
+    states, inputs and parameters it stands for (earlier ones substituted in later ones).
+
+    A hand coefficient written out (``−(2U sin φ + V_E tan φ/R)``) and the model's with
+    a name in it (``−ρ − V_E tan φ/R``) then split into the terms that really differ
+    (``−V_E tan φ/R`` left out), not "the model has −ρ where the hand has −2U sin φ".
+    """
+    expanded: dict[sp.Symbol, sp.Expr] = {}
+    for definition in d.ideal.definitions:
+        expanded[definition.symbol] = definition.expression.xreplace(expanded)
+    return expanded
 
 
 def _reciprocal_aliases(side: ModelSide, notation: Notation) -> dict[sp.Symbol, sp.Expr]:

@@ -1,0 +1,53 @@
+"""What a coefficient slip is, told in the terms the researcher wrote.
+
+``tests/models/marine_ins.py`` (a marine probe's own file) writes its north channel with
+a named quantity, ``dV_N/dt = a_N − ρ V_E`` with ρ = 2U sin φ + V_E tan φ/R, and damps
+the loops through constant gains, ``α̇_N = ... + K2 δV_E/R + δV_E/R ...`` (1 + K2). Two
+slips a hand derivation makes there:
+
+* the coefficient of δV_E in δV̇_N written out as −(2U sin φ + V_E tan φ/R): the
+  variation of ρ V_E gives −ρ − V_E tan φ/R = −2U sin φ − 2 V_E tan φ/R, so one
+  V_E tan φ/R is missing. It was told as "model has −ρ where the hand has −2U sin φ"
+  (ρ is the model's name, and the hand's 2U sin φ is right);
+* K2/R written for (1 + K2)/R: the part 1/R is left out. With the gain a constant the
+  two keep the ratio K2/(1 + K2) at every point, and it was told as a "wrong
+  coefficient, hand/model = 0.75".
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from ins_errors.checker.compare import check_hand, resolve_model
+from ins_errors.checker.notation import default_notation
+from ins_errors.checker.parse import parse_hand_text
+
+MODEL = str(Path(__file__).resolve().parent / "models" / "marine_ins.py")
+
+LINES = """\
+dot(delta_V_N) = g*alpha_E - a_E*alpha_U + accel_bias_north - (2*U*sin(phi) + V_E*tan(phi)/R)*delta_V_E - (2*U*V_E*cos(phi) + V_E**2/(R*cos(phi)**2))*delta_phi - K1*delta_V_N + K1*log_bias_north
+dot(alpha_N) = -U*sin(phi)*delta_phi + K2*delta_V_E/R - K2*log_bias_east/R + gyro_drift_north - (U*sin(phi) + V_E*tan(phi)/R)*alpha_E - V_N/R*alpha_U
+"""  # noqa: E501 (two lines of a hand file, as typed)
+
+
+@pytest.fixture(scope="module")
+def findings():
+    definition = resolve_model(MODEL)
+    hand = parse_hand_text(LINES, default_notation(definition))
+    report = check_hand(hand, definition, effects=False)
+    return {(r.equation.line, f.quantity): f for r in report.results for f in r.findings}
+
+
+def test_a_term_left_out_beside_a_named_quantity_is_told_in_written_out_terms(findings):
+    found = findings[(1, "delta_V_E")]
+    assert "rho" not in found.detail
+    assert found.detail == "model has -2*V_E*tan(phi)/R where the hand has -V_E*tan(phi)/R"
+    assert found.severity.startswith("mistake")
+
+
+def test_a_part_of_a_gain_coefficient_left_out_is_an_omitted_term(findings):
+    found = findings[(2, "delta_V_E")]
+    assert found.kind == "omitted term" and found.severity == "mistake"
+    assert found.detail == "part of the coefficient is missing: 1/R"
