@@ -45,7 +45,8 @@ APPLIES_TO: dict[str, tuple[str, ...]] = {
 """The motion settings that only some kinds use: a description of another kind that
 states one is refused (it was silently dropped). The heading stays meaningful for every
 kind: it is the trihedron's track angle at the start, on which the errors of a model with
-a heading output depend even at rest or along a motion file."""
+a heading output depend even at rest or along a motion file (a strapdown INS along a motion
+file heads along the file's course: there a heading given is refused)."""
 
 _WHY_NOT = {"static": "the base is static", "file": "the file gives the motion",
             "great-circle": "the kind is great-circle", "manoeuvre": "the kind is manoeuvre"}
@@ -223,8 +224,9 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None,
     base : Path, optional
         Folder that a relative ``file`` is taken from.
     model : ins_errors.numeric.model.Model, optional
-        The model to fly: a motion file for a strapdown INS (a model fed body rates and
-        specific forces) is refused before the file is read.
+        The model to fly: a heading given beside a motion file for a strapdown INS (a
+        model fed body rates and specific forces, whose heading is the file's course) is
+        refused before the file is read.
 
     Raises
     ------
@@ -243,10 +245,11 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None,
     if kind == "file":
         if file is None:
             raise InsErrorsError("motion kind 'file' needs file = 'path/to/motion.csv'")
-        if model is not None and flies_strapdown(model):
-            from ins_errors.numeric.strapdown_truth import FILE_MOTION_REFUSED
-
-            raise tr.MotionError(FILE_MOTION_REFUSED)
+        if (model is not None and description.get("heading") is not None
+                and flies_strapdown(model)):
+            raise InsErrorsError("motion heading: a strapdown INS along a motion file heads "
+                                 "along the file's course atan2(v_E, v_N); leave the heading "
+                                 "out")
         path = Path(file)
         if base is not None and not path.is_absolute():
             path = base / path

@@ -7,7 +7,10 @@ for what a run records.
 * :class:`FullRateTruth` (``truth="fine"``): the position and course integrated once by
   DOP853 at a relative tolerance of 1e-13 (dense output), the exact kinematics evaluated
   at every step time and midpoint (about 1 µs per sample). The numbers are those the
-  trajectory stored whole before it was streamed, bit for bit.
+  trajectory stored whole before it was streamed, bit for bit. A motion file's flight is
+  integrated in segments of 10 min when they are reached
+  (:class:`~ins_errors.numeric.strapdown_truth.SegmentedPosition`), so a long file holds
+  the dense output of two segments, not of the whole run.
 * :class:`InterpolatedFlight` (``truth="interpolated"``, the default at small steps): the
   coarse intervals of :mod:`ins_errors.numeric.interpolated_truth` (about 10 s, ending at
   every leg join of the flight, halved where the states or inputs change faster). In
@@ -48,8 +51,12 @@ or course by more than this (rad): near a pole, where the iteration converges sl
 _COMMANDS = (0, 2, 4)
 """The commands the position and course equations read: V, r, v_D (of the six)."""
 
+_FILE_COMMANDS = (0, 1, 2)
+"""… and of a geographic flight (a motion file): v_N, v_E, v_D (of the eight)."""
+
 ROW_COLUMNS = 1 + 3 * (it.DEGREE + 1)
-"""One interval row: its length, then (V, r, v_D) at its nodes."""
+"""One interval row: its length, then (V, r, v_D) (a geographic flight: (v_N, v_E, v_D))
+at its nodes."""
 
 
 def integration_matrix() -> np.ndarray:
@@ -149,12 +156,14 @@ class FullRateTruth:
 
 
 @lru_cache(maxsize=16)
-def _interval_function(a: float, e2: float) -> DenseCall:
+def _interval_function(a: float, e2: float, geographic: bool = False) -> DenseCall:
     """Compiled ``(y, rows (J, ROW_COLUMNS)) -> (y at the end of each interval (J, 4),
     [y at its nodes 1..DEGREE, change] (J, 4 DEGREE + 1))`` for y = (latitude, longitude,
     height, course), the intervals chained: :data:`PICARD` iterations of
     ``y(x_i) = y(0) + T Σ_j S_ij f(x_j, y(x_j))`` (:func:`integration_matrix`); ``change``
-    is the largest change of the last iteration (rad; the height divided by ``a``)."""
+    is the largest change of the last iteration (rad; the height divided by ``a``).
+    ``geographic``: the rows hold the velocity (v_N, v_E, v_D) of a motion file and the
+    course stays constant (a geographic flight's course is read from its velocity)."""
     d = it.DEGREE
     y, row = ca.SX.sym("y", 4), ca.SX.sym("row", ROW_COLUMNS)
     S = integration_matrix()
@@ -162,8 +171,11 @@ def _interval_function(a: float, e2: float) -> DenseCall:
 
     def rhs(z, j):
         lat, h, psi = z[0], z[2], z[3]
-        V, r, vD = row[1 + 3 * j], row[2 + 3 * j], row[3 + 3 * j]
         R_N, R_E = radii_of_curvature(lat, a, e2, xp=ca)
+        if geographic:
+            vN, vE, vD = row[1 + 3 * j], row[2 + 3 * j], row[3 + 3 * j]
+            return ca.vertcat(vN / (R_N + h), vE / ((R_E + h) * ca.cos(lat)), -vD, 0.0)
+        V, r, vD = row[1 + 3 * j], row[2 + 3 * j], row[3 + 3 * j]
         vN, vE = V * ca.cos(psi), V * ca.sin(psi)
         return ca.vertcat(vN / (R_N + h), vE / ((R_E + h) * ca.cos(lat)), -vD,
                           vE * ca.tan(lat) / (R_E + h) + r)
@@ -245,7 +257,8 @@ class InterpolatedFlight(it.InterpolatedTruth):
                               f"t = {t[int(np.argmax(bad))]:.6g} s")
         rows = np.empty((len(start), ROW_COLUMNS))
         rows[:, 0] = length
-        rows[:, 1:] = commands[list(_COMMANDS)].T.reshape(len(start), -1)
+        read = _FILE_COMMANDS if self.flight.geographic else _COMMANDS
+        rows[:, 1:] = commands[list(read)].T.reshape(len(start), -1)
         return rows
 
     def _integrate(self, fn: DenseCall, y: np.ndarray, rows: np.ndarray) -> np.ndarray:
@@ -299,7 +312,7 @@ class InterpolatedFlight(it.InterpolatedTruth):
         return plan_, nodes, tail, ys[-1].copy()
 
     def _blocks(self) -> Iterator[it._Block]:
-        fn = _interval_function(self.earth.a, self.earth.e2)
+        fn = _interval_function(self.earth.a, self.earth.e2, self.flight.geographic)
         plan_, d = self.plan, it.DEGREE
         J = len(plan_.start)
         y = self.y0.copy()
