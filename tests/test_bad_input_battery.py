@@ -43,6 +43,7 @@ FILES: dict[str, str | bytes] = {
     "header_only.csv": "t,v_N,v_E\n",
     "two_samples.csv": "t,v_N,v_E\n0,0,100\n100,0,100\n",
     "one_sample.csv": "t,v_N,v_E\n0,0,100\n",
+    "stops.csv": "t,v_N,v_E\n0,0,100\n600,0,100\n1200,0,0\n1800,0,100\n3600,0,100\n",
     "no_t.csv": "time,v_N,v_E\n0,1,2\n10,1,2\n",
     "latitude_list.toml": SCENARIO.replace('"50 deg"', '["30 deg", "60 deg"]'),
     "nan_row.csv": "t,v_N,v_E\n0,0,100\n1200,nan,100\n2400,0,100\n3600,0,100\n",
@@ -162,9 +163,9 @@ CLI_CASES: dict[str, list[str]] = {
                                  "--hours", "1"],
     "compare-two-sample-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE,
                                        "--motion-file", "two_samples.csv"],
-    "compare-motion-file-for-strapdown": ["compare", "strapdown_ned", "-s",
-                                          "gyro_bias_x=0.01deg/h", "--motion-file",
-                                          "one_sample.csv"],
+    "compare-motion-file-for-strapdown-stops": ["compare", "strapdown_ned", "-s",
+                                                "gyro_bias_x=0.01deg/h", "--hours", "1",
+                                                "--motion-file", "stops.csv"],
     "compare-nan-in-motion-file": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--hours",
                                    "1", "--motion-file", "nan_row.csv"],
     "compare-pole-flight": ["compare", "orthodromic", "-s", GOOD_SOURCE, "--motion",
@@ -421,9 +422,9 @@ NAMED = {
     "run-unknown-model": "unknown_model.toml: unknown model",
     "run-unknown-source": "unknown_source.toml [[case]] 1: unknown source of orthodromic",
     "run-pole": "pole.toml [motion]: motion latitude",
-    # the model cannot fly any motion file: said before the file's own faults
-    "compare-motion-file-for-strapdown": "sampled (file) motions are not available for a "
-                                         "strapdown INS",
+    # a strapdown INS heads along the file's course: undefined where the vehicle stops
+    "compare-motion-file-for-strapdown-stops": "ground speed is 0 m/s at t = 1200 s: a "
+                                               "strapdown INS heads along the course",
 }
 """Cases whose one line must say this (what to do, not only what failed)."""
 

@@ -7,10 +7,11 @@ for what a run records.
 * :class:`FullRateTruth` (``truth="fine"``): the position and course integrated once by
   DOP853 at a relative tolerance of 1e-13 (dense output), the exact kinematics evaluated
   at every step time and midpoint (about 1 µs per sample). The numbers are those the
-  trajectory stored whole before it was streamed, bit for bit. A motion file's flight is
-  integrated in segments of 10 min when they are reached
-  (:class:`~ins_errors.numeric.strapdown_truth.SegmentedPosition`), so a long file holds
-  the dense output of two segments, not of the whole run.
+  trajectory stored whole before it was streamed, bit for bit. A motion file's flight
+  (whose velocity's third derivative jumps at every sample, which adaptive steps would
+  cross) takes its position from :class:`FilePosition` instead: the compiled node
+  integration below on intervals ending at the samples, computed block by block as the
+  run reaches them.
 * :class:`InterpolatedFlight` (``truth="interpolated"``, the default at small steps): the
   coarse intervals of :mod:`ins_errors.numeric.interpolated_truth` (about 10 s, ending at
   every leg join of the flight, halved where the states or inputs change faster). In
@@ -153,6 +154,94 @@ class FullRateTruth:
                 _, midpoints, _ = flight_signals(self.flight, self.earth, tm,
                                                  self.solution(tm), self.adapter)
             yield TruthChunk(start, state, inputs, midpoints)
+
+
+class FilePosition:
+    """Latitude, longitude, height and course of a geographic flight (a motion file) at
+    any times, for :class:`FullRateTruth`.
+
+    The run is cut into intervals ending at the file's samples (and at most
+    :data:`~ins_errors.numeric.interpolated_truth.INTERVAL` long); on each the position
+    is the degree-7 polynomial through the Chebyshev–Lobatto nodes solved by the compiled
+    Picard integration of :class:`InterpolatedFlight` (between two samples the velocity
+    is a cubic, so the polynomials resolve the position to rounding: 1e-8 m over 10 min
+    of a file sampled every second, where DOP853's steps across the samples lost 1e-7 m,
+    and a noisy file's shrank without end), evaluated at the asked times by barycentric
+    interpolation. The height is the file's spline itself. The nodes are computed
+    :attr:`BLOCK` intervals at a time when the run reaches them; two blocks are held,
+    and the start of every block reached is kept (4 numbers each), so a rerun (a Monte
+    Carlo draw) gets the same bits and a long file needs memory for two blocks only.
+
+    Parameters
+    ----------
+    flight : Flight
+        A geographic flight.
+    earth : FlightEarth
+    t_end : float
+        End of the run, s.
+    """
+
+    BLOCK = 4096
+    """Intervals of one block."""
+
+    def __init__(self, flight: Flight, earth: FlightEarth, t_end: float):
+        self.flight, self.earth = flight, earth
+        x = np.asarray(flight.commands.splines[0].x)
+        edges = np.concatenate([[0.0], x[(x > 0.0) & (x < t_end)], [float(t_end)]])
+        lengths = np.diff(edges)
+        parts = np.maximum(np.ceil(lengths / it.INTERVAL - 1e-9), 1).astype(int)
+        first = np.repeat(np.cumsum(parts) - parts, parts)
+        self.knots = np.append(np.repeat(edges[:-1], parts) + np.repeat(lengths / parts, parts)
+                               * (np.arange(parts.sum()) - first), float(t_end))
+        self.count = self.knots.size - 1
+        self.starts = [np.array([flight.latitude, flight.longitude, flight.height,
+                                 flight.course])]
+        self.held: dict[int, np.ndarray] = {}
+
+    def __getstate__(self) -> dict:
+        """Pickled without the held blocks (a Monte Carlo worker computes its own)."""
+        return {**self.__dict__, "held": {}}
+
+    def _block(self, b: int) -> np.ndarray:
+        """Node values of block ``b``'s intervals, shape (J, DEGREE + 1, 4)."""
+        if b in self.held:
+            return self.held[b]
+        while len(self.starts) <= b:  # the blocks before b, in order
+            self.starts.append(self._block(len(self.starts) - 1)[-1, -1].copy())
+        j0, j1 = b * self.BLOCK, min((b + 1) * self.BLOCK, self.count)
+        start, length = self.knots[j0:j1], np.diff(self.knots[j0:j1 + 1])
+        t = (start[:, None] + length[:, None] * it._NODES[None, :]).ravel()
+        commands = np.vstack(self.flight.commands(t)[:3])
+        rows = np.empty((j1 - j0, ROW_COLUMNS))
+        rows[:, 0] = length
+        rows[:, 1:] = commands.T.reshape(j1 - j0, -1)
+        function = _interval_function(self.earth.a, self.earth.e2, True)
+        _, out = it.carried_batches(function, self.starts[b], rows, it.BATCH, 4,
+                                    4 * it.DEGREE + 1)
+        nodes = np.empty((j1 - j0, it.DEGREE + 1, 4))
+        nodes[:, 1:] = out[:, :-1].reshape(j1 - j0, it.DEGREE, 4)
+        nodes[0, 0] = self.starts[b]
+        nodes[1:, 0] = nodes[:-1, -1]
+        nodes[:, :, 2] = self.flight.commands.splines[2](t).reshape(j1 - j0, -1)
+        if len(self.held) >= 2:
+            del self.held[next(iter(self.held))]
+        self.held[b] = nodes
+        return nodes
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        """Latitude, longitude, height and course (4, T) at times ``t`` (T,)."""
+        t = np.asarray(t, dtype=float)
+        j = np.clip(np.searchsorted(self.knots, t, side="right") - 1, 0, self.count - 1)
+        theta = (t - self.knots[j]) / (self.knots[j + 1] - self.knots[j])
+        weights = it.lagrange_matrix(theta)  # (T, DEGREE + 1)
+        out = np.empty((4, t.size))
+        blocks = j // self.BLOCK
+        for b in np.unique(blocks):
+            at = blocks == b
+            nodes = self._block(int(b))[j[at] - b * self.BLOCK]  # (m, DEGREE + 1, 4)
+            out[:, at] = np.einsum("mi,mic->cm", weights[at], nodes)
+        out[2] = self.flight.commands.splines[2](t)  # the file's height, exact
+        return out
 
 
 @lru_cache(maxsize=16)

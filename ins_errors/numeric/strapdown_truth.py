@@ -97,8 +97,7 @@ class Flight:
         speed (m/s) and its rate, commanded turn rate (rad/s, positive to the right)
         and its rate, down velocity (m/s) and its rate. For a ``geographic`` flight
         ``commands(t) -> (v_N, v_E, v_D, dv_N, dv_E, dv_D, ddv_N, ddv_E)`` (m/s, m/s²,
-        m/s³) and ``commands.velocity(t: float) -> (v_N, v_E, v_D)`` for the position
-        integrator (:class:`FileFlightCommands`).
+        m/s³; :class:`FileFlightCommands`).
     description : str
         One line for reports.
     static : bool
@@ -287,19 +286,6 @@ class FileFlightCommands:
         self._check(t)
         vN, vE, h = self.splines
         return (vN(t), vE(t), -h(t, 1), vN(t, 1), vE(t, 1), -h(t, 2), vN(t, 2), vE(t, 2))
-
-    def velocity(self, t: float) -> tuple[float, float, float, float]:
-        """(v_N, v_E, v_D, h) at one time (s), on Python floats: the splines' pieces
-        evaluated directly (the scalar calls of the adaptive position integrator)."""
-        x = self.splines[0].x  # the three splines share the sample times
-        i = min(max(int(np.searchsorted(x, t, side="right")) - 1, 0), x.size - 2)
-        s = t - float(x[i])
-        out = []
-        for spline in self.splines:
-            c3, c2, c1, c0 = spline.c[:, i].tolist()
-            out.append(((c3 * s + c2) * s + c1) * s + c0)
-        c3, c2, c1, _ = self.splines[2].c[:, i].tolist()  # v_D = −dh/dt
-        return out[0], out[1], -((3.0 * c3 * s + 2.0 * c2) * s + c1), out[2]
 
     def check_run(self, t_end: float) -> None:
         """Refuse a run over ``[0, t_end]`` (s) that leaves the file or along which the
@@ -533,13 +519,14 @@ def _course_rate(earth: FlightEarth, lat, h, vE, r):
     return vE * np.tan(lat) / (R_E + h) + r
 
 
-def _file_course(flight: Flight, earth: FlightEarth, t: np.ndarray, lat: np.ndarray,
+def _file_course(earth: FlightEarth, commands: tuple[np.ndarray, ...], lat: np.ndarray,
                  h: np.ndarray) -> tuple[np.ndarray, ...]:
     """Ground speed V, its rate, course ψ = atan2(v_E, v_N), its rate, and the turn rate
     on top of the geodesic ``r = ψ̇ − v_E tan φ / (R_E + h)`` and its rate (rad/s²) of a
-    geographic flight at times ``t`` and its latitude (rad) and height (m) there, all
-    analytic from the velocity and its first and second rates."""
-    vN, vE, vD, dvN, dvE, _dvD, ddvN, ddvE = flight.commands(t)
+    geographic flight from its ``commands`` at some times (:class:`FileFlightCommands`)
+    and its latitude (rad) and height (m) there, all analytic from the velocity and its
+    first and second rates."""
+    vN, vE, vD, dvN, dvE, _dvD, ddvN, ddvE = commands
     V2 = vN**2 + vE**2
     V = np.sqrt(V2)
     dV = (vN * dvN + vE * dvE) / V
@@ -641,23 +628,10 @@ def _position_rhs(flight: Flight, earth: FlightEarth, t_end: float = np.inf):
     arithmetic of :func:`_course_rate` and
     :func:`~ins_errors.models.earth.radii_of_curvature`, with the C library's sin, cos,
     tan and sqrt)."""
+    commands = _SampledCommands(flight, t_end)
     a, e2 = earth.a, earth.e2
     sin, cos, tan, sqrt = math.sin, math.cos, math.tan, math.sqrt
     array = np.array
-    if flight.geographic:  # the file's velocity, the splines' pieces (the course unused)
-        velocity = flight.commands.velocity
-
-        def geographic_rhs(t: float, y: np.ndarray) -> np.ndarray:
-            lat = float(y[0])
-            vN, vE, vD, h = velocity(t)  # the file's height, not its integral
-            s = sin(lat)
-            w2 = 1 - e2 * (s * s)
-            w = sqrt(w2)
-            R_N, R_E = a * (1 - e2) / (w2 * w), a / w
-            return array([vN / (R_N + h), vE / ((R_E + h) * cos(lat)), -vD, 0.0])
-
-        return geographic_rhs
-    commands = _SampledCommands(flight, t_end)
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         lat, _lon, h, psi = y.tolist()
@@ -685,8 +659,9 @@ def rigid_body_signals(flight: Flight, earth: FlightEarth, t: np.ndarray, y: np.
     lat, lon, h, psi = y
     if flight.geographic:
         lat, lon, h = y[:3]
-        V, dV, psi, dpsi, r, dr = _file_course(flight, earth, t, lat, h)
-        vN, vE, vD, dvN, dvE, dvD, *_ = flight.commands(t)
+        commands = flight.commands(t)
+        V, dV, psi, dpsi, r, dr = _file_course(earth, commands, lat, h)
+        vN, vE, vD, dvN, dvE, dvD, *_ = commands
         dv = np.array([dvN, dvE, dvD])
     else:
         V, dV, r, dr, vD, dvD = flight.commands(t)
@@ -742,7 +717,9 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
         its states and inputs follow the flight by its own equations
         (:mod:`ins_errors.numeric.model_flight`), the flight planned on its own Earth.
     flight : Flight
-        See :func:`static`, :func:`great_circle`, :func:`manoeuvre`.
+        See :func:`static`, :func:`great_circle`, :func:`manoeuvre`, and
+        :func:`flight_from_profile` (a motion file: refused here if the run leaves the
+        file or its ground speed falls below :data:`MIN_FILE_SPEED`).
     duration, tau : float
         Length of the run and step, s (100 Hz: ``tau=0.01``); the duration must be a
         whole number of steps.
@@ -751,8 +728,10 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
     truth : {"auto", "interpolated", "fine"}
         How a moving flight's signals are computed (:mod:`ins_errors.numeric.strapdown_stream`).
         ``"fine"``: the exact kinematics at every step and midpoint of the position
-        integrated by DOP853; ``"interpolated"``: at the nodes of coarse intervals of
-        about 10 s ending at the flight's leg joins, interpolated to the steps by
+        integrated by DOP853 (a motion file's by
+        :class:`~ins_errors.numeric.strapdown_stream.FilePosition`); ``"interpolated"``:
+        at the nodes of coarse intervals of about 10 s ending at the flight's leg joins
+        (a file's samples), interpolated to the steps by
         polynomials of degree 7 (hundreds of times cheaper per step); ``"auto"``
         (default): interpolated when the flight's breaks are known and the intervals
         hold at least :data:`~ins_errors.numeric.interpolated_truth.MIN_STEPS` steps
@@ -810,12 +789,12 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
         return Trajectory(model.key, float(tau), n_steps, state, inputs, inputs.copy(), p,
                           c0, True, flight.description)
     truth = it.chosen_truth(truth, flight.breaks, n_steps, float(tau),
-                            "a flight (a great circle or a manoeuvre)")
+                            "a flight (a great circle, a manoeuvre or a motion file)")
     if truth == "interpolated":
         source = ss.InterpolatedFlight(model, flight, earth, float(tau), n_steps, p, adapter)
     elif flight.geographic:
         source = ss.FullRateTruth(flight, earth, float(tau), n_steps,
-                                  SegmentedPosition(flight, earth, n_steps * tau, tau), adapter)
+                                  ss.FilePosition(flight, earth, n_steps * tau), adapter)
     else:
         source = ss.FullRateTruth(flight, earth, float(tau), n_steps,
                                   _position_solution(flight, earth, n_steps * tau, tau).sol,
@@ -844,11 +823,9 @@ class _TooManyStepsError(Exception):
     """Raised inside the position integration's right-hand side to stop it."""
 
 
-def _position_solution(flight: Flight, earth: FlightEarth, t_end: float, tau: float,
-                       t_start: float = 0.0, y_start: np.ndarray | None = None):
-    """Latitude, longitude, height and course over ``[t_start, t_end]`` (from the flight's
-    start point, or from ``y_start`` (4,)) by DOP853 (rtol 1e-13) with dense output
-    (``.sol``).
+def _position_solution(flight: Flight, earth: FlightEarth, t_end: float, tau: float):
+    """Latitude, longitude, height and course over ``[0, t_end]`` by DOP853 (rtol 1e-13)
+    with dense output (``.sol``).
 
     Raises
     ------
@@ -858,11 +835,9 @@ def _position_solution(flight: Flight, earth: FlightEarth, t_end: float, tau: fl
     """
     from scipy.integrate import solve_ivp
 
-    y0 = (np.array([flight.latitude, flight.longitude, flight.height, flight.course])
-          if y_start is None else y_start)
-    length = t_end - t_start
-    max_step = max(tau, min(60.0, length / 4 or tau))
-    limit = int(POSITION_STEP_FACTOR * 12 * (length / max_step + 10))
+    y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
+    max_step = max(tau, min(60.0, t_end / 4 or tau))
+    limit = int(POSITION_STEP_FACTOR * 12 * (t_end / max_step + 10))
     inner, calls = _position_rhs(flight, earth, t_end), [0]
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
@@ -872,7 +847,7 @@ def _position_solution(flight: Flight, earth: FlightEarth, t_end: float, tau: fl
         return inner(t, y)
 
     try:
-        solution = solve_ivp(rhs, (t_start, t_end), y0, method="DOP853", rtol=1e-13,
+        solution = solve_ivp(rhs, (0.0, t_end), y0, method="DOP853", rtol=1e-13,
                              atol=1e-15 * np.array([1, 1, 1e7, 1]), dense_output=True,
                              max_step=max_step)
     except _TooManyStepsError as stop:
@@ -883,66 +858,6 @@ def _position_solution(flight: Flight, earth: FlightEarth, t_end: float, tau: fl
     if not solution.success:
         raise DomainError(f"the true flight could not be integrated: {solution.message}")
     return solution
-
-
-class SegmentedPosition:
-    """The position of a geographic flight (a motion file) integrated by DOP853 segment by
-    segment when asked, so that a long file's dense output is held for two segments only.
-
-    Segment ``k`` covers ``[k L, (k + 1) L]`` (the last one ends at the run's end) and
-    starts from the end of segment ``k − 1``; the start values of every segment reached
-    are kept (4 numbers each), so a rerun (a Monte Carlo draw) gets the same bits.
-    The height is the file's spline (exact); latitude and longitude are integrated with
-    it. The velocity's third derivative jumps at every sample, which the adaptive steps
-    cross: about 1e-7 m of position error over 10 min of a file sampled every second
-    (the interpolated truth, whose intervals end at the samples, about 1e-8 m).
-
-    Parameters
-    ----------
-    flight : Flight
-        A geographic flight.
-    earth : FlightEarth
-    t_end, tau : float
-        End of the run and its step, s.
-    """
-
-    SEGMENT = 600.0
-    """Length L of a segment, s."""
-
-    def __init__(self, flight: Flight, earth: FlightEarth, t_end: float, tau: float):
-        self.flight, self.earth, self.t_end, self.tau = flight, earth, float(t_end), float(tau)
-        self.count = max(1, int(np.ceil(self.t_end / self.SEGMENT - 1e-9)))
-        self.starts = [np.array([flight.latitude, flight.longitude, flight.height,
-                                 flight.course])]
-        self.held: dict[int, object] = {}
-
-    def _segment(self, k: int):
-        if k in self.held:
-            return self.held[k]
-        while len(self.starts) <= k:  # the segments before k, in order
-            j = len(self.starts) - 1
-            self.starts.append(self._segment(j)(min((j + 1) * self.SEGMENT, self.t_end)))
-        solution = _position_solution(self.flight, self.earth,
-                                      min((k + 1) * self.SEGMENT, self.t_end), self.tau,
-                                      k * self.SEGMENT, self.starts[k]).sol
-        if len(self.held) >= 2:
-            del self.held[next(iter(self.held))]
-        self.held[k] = solution
-        return solution
-
-    def __call__(self, t: np.ndarray) -> np.ndarray:
-        """Latitude, longitude, height and course (4, T) at times ``t`` (T,) or (4,) at a
-        scalar time."""
-        t = np.asarray(t, dtype=float)
-        if t.ndim == 0:
-            return self(t[None])[:, 0]
-        k = np.clip(np.floor(t / self.SEGMENT).astype(int), 0, self.count - 1)
-        out = np.empty((4, t.size))
-        for j in np.unique(k):
-            at = k == j
-            out[:, at] = self._segment(int(j))(t[at])
-        out[2] = self.flight.commands.splines[2](t)  # the file's height, exact
-        return out
 
 
 def _initial_conditions(state: np.ndarray, euler: np.ndarray) -> np.ndarray:
