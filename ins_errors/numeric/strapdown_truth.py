@@ -301,15 +301,18 @@ class FileFlightCommands:
         x = self.splines[0].x
         knots = np.concatenate([x[x < t_end], [t_end]])
         fractions = np.arange(SPEED_CHECKS + 1) / (SPEED_CHECKS + 1)
-        t = np.concatenate([(knots[:-1, None] + np.diff(knots)[:, None] * fractions).ravel(),
-                            [t_end]])
-        speed = np.hypot(self.splines[0](t), self.splines[1](t))
-        slow = speed < MIN_FILE_SPEED
-        if slow.any():
-            k = int(np.argmax(slow))
-            raise MotionError(f"the motion file's ground speed is {speed[k]:.3g} m/s at "
-                              f"t = {t[k]:.6g} s: a strapdown INS heads along the course "
-                              f"atan2(v_E, v_N), undefined below {MIN_FILE_SPEED:g} m/s")
+        for first in range(0, knots.size - 1, 65536):  # in pieces: bounded memory
+            part = knots[first:first + 65537]
+            t = (part[:-1, None] + np.diff(part)[:, None] * fractions).ravel()
+            if first + 65536 >= knots.size - 1:
+                t = np.append(t, t_end)
+            speed = np.hypot(self.splines[0](t), self.splines[1](t))
+            slow = speed < MIN_FILE_SPEED
+            if slow.any():
+                k = int(np.argmax(slow))
+                raise MotionError(f"the motion file's ground speed is {speed[k]:.3g} m/s at "
+                                  f"t = {t[k]:.6g} s: a strapdown INS heads along the course "
+                                  f"atan2(v_E, v_N), undefined below {MIN_FILE_SPEED:g} m/s")
 
 
 def static(latitude: float, longitude: float = 0.0, height: float = 0.0, roll: float = 0.0,
