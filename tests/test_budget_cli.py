@@ -436,7 +436,8 @@ def test_times_of_the_contribution_tables_read_as_times(capsys):
     assert "time 30 s is not on the spec's 60 s analysis grid" in capsys.readouterr().err
 
 
-def test_heading_at_rest_is_refused_by_a_spec_as_by_a_scenario(tmp_path, capsys):
+def test_heading_at_rest_is_refused_by_a_spec_as_by_a_scenario(tmp_path, capsys,
+                                                               monkeypatch):
     """A spec's motion.heading at rest for a model without a heading output was taken
     silently where a scenario file refuses it: now the same line, exit 2, before any
     covariance; a heading in motion, or none at rest, is still taken."""
@@ -451,8 +452,9 @@ def test_heading_at_rest_is_refused_by_a_spec_as_by_a_scenario(tmp_path, capsys)
     scenario.write_text('model = "north_pointing"\n[motion]\nkind = "static"\n'
                         'heading = "30 deg"\n[run]\nduration = "10 min"\nstep = "10 s"\n'
                         '[[case]]\ngyro_drift_east = "0.01 deg/h"\n')
+    monkeypatch.chdir(scenario.parent)  # the scenario named as a spec is: s.toml
     with pytest.raises(InsErrorsError) as info:
-        load_scenario(scenario)
+        load_scenario("s.toml")
     assert main(["budget", "north_pointing", "--spec", str(spec)]) == 2
     captured = capsys.readouterr()
     assert not captured.out
