@@ -115,7 +115,9 @@ def test_cli_monte_carlo(tmp_path, capsys):
     assert data["runs"] == 1300
     assert data["relative_sampling_error"] == pytest.approx(1 / np.sqrt(2 * 1300), rel=1e-9)
     ratios = np.array([r["ratio"] for r in data["rows"]])
-    assert len(ratios) == 1 + 12 + 13 + 1     # rows within the first hour
+    # rows within the first hour: position at 1 h, ground speed and vertical every 5 min
+    # from 0 (13 each), heading drift at 1 h
+    assert len(ratios) == 1 + 13 + 13 + 1
     assert np.all(np.abs(ratios - 1) < 5 * data["relative_sampling_error"])
     assert main(["budget", "orthodromic", "--monte-carlo", "1"]) == 2
     assert "at least 2 runs" in capsys.readouterr().err
