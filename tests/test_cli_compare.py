@@ -81,8 +81,14 @@ def test_own_motion_from_a_csv_file(capsys, tmp_path):
                            "--hours", "1", "--json")
     assert status == 0, err
     report = json.loads(out)
-    assert "sampled motion" in report["motion"]
+    # the motion names the file and the start values the run depends on (two runs of
+    # one file from different latitudes read differently)
+    assert report["motion"].startswith(f"motion file {table} (370 samples, geographic frame)")
+    assert "from φ=50°" in report["motion"]
     assert report["cases"][0]["worst_linear_ratio"] <= 0.01
+    status, out, err = run(capsys, "-s", "gyro_drift_y=0.01deg/h", "--motion-file", str(table),
+                           "--hours", "1", "--json", "--latitude", "30deg")
+    assert status == 0 and "from φ=30°" in json.loads(out)["motion"], err
     bad = tmp_path / "bad.csv"
     bad.write_text("time,v_N,v_E\n0,1,2\n")
     status, _out, err = run(capsys, "-s", "gyro_drift_y=0.01deg/h", "--motion-file", str(bad))

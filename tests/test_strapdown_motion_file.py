@@ -196,7 +196,9 @@ def test_the_cli_and_a_scenario_fly_the_example_file(capsys, tmp_path):
                             "--json")
     assert status == 0, err
     (case,) = json.loads(out)["cases"]
-    assert "sampled motion" in json.loads(out)["motion"]
+    # the file and its start; no track angle (the file's own course is flown)
+    assert json.loads(out)["motion"] == (f"motion file {EXAMPLE} (601 samples, geographic "
+                                         "frame) from φ=50°, λ=30°")
     assert case["worst_linear_ratio"] < 1e-3
     scenario = tmp_path / "file.toml"
     scenario.write_text(f'model = "strapdown_ned"\n[motion]\nkind = "file"\nfile = '

@@ -99,7 +99,7 @@ def read_motion_file(path: str | Path, latitude: float, longitude: float, headin
                              "v_N, v_E: cubic splines run through them)")
     h = table["h"] if "h" in names else height
     return tr.sampled_profile(table["t"], table["v_N"], table["v_E"], latitude, longitude,
-                              heading, h)
+                              heading, h, source=str(path))
 
 
 def _read_columns(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:

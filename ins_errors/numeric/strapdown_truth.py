@@ -440,8 +440,10 @@ def flight_from_profile(profile: Profile) -> Flight:
         spline = profile.commands
         commands = FileFlightCommands(spline.splines, spline.start, spline.end)
         vN, vE, *_ = commands(np.zeros(1))
+        # the file's own course is flown: the profile's track angle is not stated
         return Flight(profile.latitude, profile.longitude, float(spline.splines[2](0.0)),
-                      float(np.arctan2(vE[0], vN[0])), commands, profile.description,
+                      float(np.arctan2(vE[0], vN[0])), commands,
+                      profile.describe({"latitude", "longitude", "height"}),
                       breaks=tuple(float(b) for b in profile.breaks), geographic=True)
 
     # the rate of r: five-point differences over 1-ms steps (exact for the legs' quartic

@@ -339,7 +339,7 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
 
 def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: float,
                     longitude: float, heading: float, h: np.ndarray | float = 0.0,
-                    frame: str = "geographic") -> Profile:
+                    frame: str = "geographic", source: str | None = None) -> Profile:
     """A user motion given as samples, interpolated with cubic splines.
 
     Parameters
@@ -355,6 +355,8 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
         Height samples (or a constant), m; V_zeta is its spline derivative.
     frame : {"geographic", "track"}
         Frame of (v1, v2).
+    source : str, optional
+        Where the samples come from (a motion file's path as given), for the description.
     """
     from scipy.interpolate import CubicSpline
 
@@ -376,9 +378,18 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
                               f" of {a.size}")
     _check_height(float(np.min(arrays[2])), "sampled motion height")
     splines = tuple(CubicSpline(t, a) for a in arrays)
+    # the start values a sampled motion depends on besides its samples, as the planned
+    # motions state theirs (a constant height is not in the samples)
+    origin = f"motion file {source}" if source else "sampled motion"
+    constant_height = np.ndim(h) == 0
     return Profile(frame, SplineCommands(splines, float(t[0]), float(t[-1])), latitude,
-                   longitude, heading,
-                   f"sampled motion ({t.size} samples, {frame} frame)", breaks=t.copy())
+                   longitude, heading, breaks=t.copy(),
+                   **_description((None, f"{origin} ({t.size} samples, {frame} frame)"),
+                                  ("latitude", f" from φ={np.degrees(latitude):.4g}°"),
+                                  ("longitude", f", λ={np.degrees(longitude):.4g}°"),
+                                  ("heading", f", track {np.degrees(heading):.4g}°"),
+                                  *((("height", f", h={float(h):g} m"),)
+                                    if constant_height else ())))
 
 
 # --------------------------------------------------------------------------------------
