@@ -55,6 +55,7 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Iterable
 from dataclasses import dataclass, field
@@ -551,18 +552,22 @@ def load_spec(path: str | Path) -> Spec:
     SpecError
         Missing or unreadable file, bad TOML, or any bad entry (see :func:`parse_spec`).
     """
+    where = os.fspath(path)  # as the user typed it, for messages
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
     except OSError as error:
-        raise SpecError(f"cannot read spec file {str(path)!r}: {error.strerror}") from None
+        raise SpecError(f"cannot read spec file {where!r}: {error.strerror}") from None
     except UnicodeDecodeError:
-        raise SpecError(f"{path}: not a text file (not UTF-8): expected a TOML spec") from None
+        raise SpecError(f"{where}: not a text file (not UTF-8): expected a TOML spec") from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as error:
-        raise SpecError(f"{path}: not valid TOML ({error})") from None
-    return parse_spec(data, str(path))
+        raise SpecError(f"{where}: not valid TOML ({error})") from None
+    try:
+        return parse_spec(data, str(path))
+    except InsErrorsError as error:  # named with the file the reader is to fix
+        raise type(error)(f"{where}: {error}") from None
 
 
 def default_spec_path() -> Path:

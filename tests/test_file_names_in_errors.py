@@ -95,3 +95,16 @@ def test_a_swept_value_a_point_cannot_take_names_the_file_and_point(
     assert err.startswith(f"ins-errors: error: sub/s.toml [sweep] at the point {point}:"), err
     assert err.count("\n") == 1
     assert not (tmp_path / "s.zarr").exists()
+
+
+def test_a_bad_spec_entry_is_named_with_the_spec_file(monkeypatch, capsys):
+    """A spec's bad value named the key alone ("items.position_error: 3.7 has no unit"),
+    not which spec file holds it."""
+    from pathlib import Path
+
+    monkeypatch.chdir(Path(__file__).resolve().parent.parent)
+    assert main(["budget", "orthodromic", "--spec", "examples/specs/malformed.toml"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ins-errors: error: examples/specs/malformed.toml: "
+                          "items.position_error: 3.7 has no unit"), err
+    assert err.count("\n") == 1
