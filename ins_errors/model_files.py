@@ -111,12 +111,17 @@ def build_definition(module: ModuleType, label: str, path: Path | None = None) -
     from ins_errors.symbolic.consistency import (
         check_definition,
         check_dimensions,
+        check_reduces_to_ideal,
         check_units,
     )
 
-    check_definition(definition, f"{label} (model {definition.name!r})")
-    check_units(definition, f"{label} (model {definition.name!r})")
-    check_dimensions(definition, f"{label} (model {definition.name!r})")
+    named = f"{label} (model {definition.name!r})"
+    # units before the reduction: a term in the wrong unit in the real work alone is
+    # named as that, not as a residual of the reduction
+    check_definition(definition, named, reduction=False)
+    check_units(definition, named)
+    check_dimensions(definition, named)
+    check_reduces_to_ideal(definition, named)
     return definition
 
 

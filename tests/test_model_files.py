@@ -288,6 +288,11 @@ MISTAKES = {
         ("real_rhs = sp.Matrix([f, omega_c,", "real_rhs = sp.Matrix([f, V_c,"),
         ["ideal-work equation for 'phi'", "is in m/s but must be in 1/s",
          "the unit of phi, rad, per second", "checking the definition"]),
+    "equation of the wrong unit in the real work alone": (  # told as the unit slip it is,
+        # not as a residual of the reduction to the ideal work (a marine probe's dλ/dt)
+        ("real_rhs = sp.Matrix([f, omega_c,", "real_rhs = sp.Matrix([f, V_c,"),
+        ["real-work equation for 'delta_phi'", "is in m/s but must be in 1/s",
+         "the unit of delta_phi, rad, per second", "checking the definition"]),
     "cosine of a length": (
         ('omega = ideal.let("omega", V / R,', 'omega = ideal.let("omega", V / R * sp.cos(R),'),
         ('omega_c = real.let("omega", V_c / R,',

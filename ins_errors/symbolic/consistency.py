@@ -202,7 +202,8 @@ def _check_reduces_to_ideal(label: str, d: ModelDefinition, ideal: sp.Matrix,
                             "source or an error state")
 
 
-def check_definition(d: ModelDefinition, label: str | None = None) -> None:
+def check_definition(d: ModelDefinition, label: str | None = None,
+                     reduction: bool = True) -> None:
     """Raise a one-line :class:`~ins_errors.errors.ModelDefinitionError` if ``d`` is
     inconsistent.
 
@@ -222,6 +223,11 @@ def check_definition(d: ModelDefinition, label: str | None = None) -> None:
         The definition to check.
     label : str, optional
         How messages name the model (default ``model '<name>'``).
+    reduction : bool
+        Also check that the real work reduces to the ideal work (False: the caller does
+        it later with :func:`check_reduces_to_ideal`, e.g. after
+        :func:`check_dimensions`, whose verdict on a wrong unit names the cause where a
+        residual would not).
     """
     label = label or f"model {d.name!r}"
     _check_names(label, d)
@@ -296,7 +302,27 @@ def check_definition(d: ModelDefinition, label: str | None = None) -> None:
         if unknown_members:
             raise _fail(label, f"group {title!r}",
                         f"names {', '.join(map(repr, unknown_members))}, not error states")
-    _check_reduces_to_ideal(label, d, d.ideal.expand(ideal), d.expand(real))
+    if reduction:
+        check_reduces_to_ideal(d, label)
+
+
+def check_reduces_to_ideal(d: ModelDefinition, label: str | None = None) -> None:
+    """Raise one line if the real work of ``d`` (already through
+    :func:`check_definition`) does not reduce to its ideal work when the computed state is
+    the true one and every error is off.
+
+    Parameters
+    ----------
+    d : ModelDefinition
+        The definition to check.
+    label : str, optional
+        How messages name the model (default ``model '<name>'``).
+    """
+    n, ne = len(d.states), len(d.error_states)
+    ideal = sp.Matrix(d.ideal_rhs) if n else sp.zeros(0, 1)
+    real = sp.Matrix(d.real_rhs) if ne else sp.zeros(0, 1)
+    _check_reduces_to_ideal(label or f"model {d.name!r}", d, d.ideal.expand(ideal),
+                            d.expand(real))
 
 
 def check_units(d: ModelDefinition, label: str | None = None) -> None:
