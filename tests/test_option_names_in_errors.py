@@ -57,3 +57,12 @@ def test_the_spheroid_study_refuses_a_latitude_it_would_ignore(capsys):
     err = _one_line_error(capsys, ["study", "spheroid", "--hours", "0.1", "--latitude",
                                    "10deg"])
     assert err.startswith("--latitude:") and "leave --latitude out" in err
+
+
+@pytest.mark.parametrize("scenario", ["static", "flight", "both"])
+def test_the_spheroid_study_refuses_a_scenario_it_would_ignore(capsys, scenario):
+    """The methodological studies' --scenario was taken and ignored by the spheroid
+    study, which flies its own grid of flights."""
+    err = _one_line_error(capsys, ["study", "spheroid", "--hours", "0.1", "--scenario",
+                                   scenario])
+    assert err.startswith("--scenario:") and "leave --scenario out" in err

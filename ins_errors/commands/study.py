@@ -42,7 +42,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "static base and flight) or 'spheroid' (004, formula (10) vs a direct "
                     "simulation over the spheroid). 'list' shows them.")
     parser.add_argument("name", help="study name, or 'list'")
-    parser.add_argument("--scenario", choices=("static", "flight", "both"), default="both",
+    parser.add_argument("--scenario", choices=("static", "flight", "both"), default=None,
                         help="methodological studies: motion (default both)")
     parser.add_argument("--hours", type=hours, default=None,
                         help="duration, h (default 24; spheroid: 6)")
@@ -110,11 +110,17 @@ def run(args: argparse.Namespace) -> int:
 
             raise InsErrorsError("--method: the spheroid study integrates by RK4 only; "
                                  "leave --method out")
+        if args.scenario is not None:
+            from ins_errors.errors import InsErrorsError
+
+            raise InsErrorsError("--scenario: the spheroid study flies its own flights (a "
+                                 "grid of start latitudes and courses); leave --scenario out")
         return _spheroid(args, speed, step, folder)
     from ins_errors.studies import methodological
 
     hours = 24.0 if args.hours is None else args.hours
-    scenarios = ("static", "flight") if args.scenario == "both" else (args.scenario,)
+    scenarios = (("static", "flight") if args.scenario in (None, "both")
+                 else (args.scenario,))
     # the start, checked before any run, its errors naming the options
     flight = "flight" in scenarios
     latitude = motion_from_options({
