@@ -142,6 +142,11 @@ def test_strapdown_damped_vertical_loop_of_300_s_and_zeta_0_7():
     assert loop.eigenvalue == pytest.approx(root, rel=1e-4)
     assert loop.damping_ratio == pytest.approx(0.7, rel=1e-3)
     assert abs(loop.eigenvalue) == pytest.approx(omega0, rel=1e-3)
+    # the loop's natural period, 2π/ω₀ = 300 s, beside its damped one 300 s/√(1 − ζ²)
+    assert loop.natural_period_s == pytest.approx(300.0, rel=1e-3)
+    assert loop.period_s == pytest.approx(300.0 / np.sqrt(1 - 0.7**2), rel=1e-3)
+    assert result.mode("Earth").natural_period_s is None or abs(
+        result.mode("Earth").natural_period_s - result.mode("Earth").period_s) < 1.0
     # the horizontal modes keep their names though the loop damps them slightly
     for name in (*SPLIT_MODES, "Earth"):
         assert abs(result.mode(name).damping_ratio) < 1e-3

@@ -129,6 +129,16 @@ class Mode:
             return float(np.log(2.0) * self.time_constant_s)
         return None
 
+    @property
+    def natural_period_s(self) -> float | None:
+        """2π/|λ|, s: the period the oscillation would have without its damping (or
+        growth), the loop's natural frequency ω_n = |λ| (a damped Schuler loop
+        s² + k s + ω_s² has ω_n = ω_s: its 84.4 min); None for a mode that does not
+        oscillate or is neither damped nor growing."""
+        if self.period_s is None or self.time_constant_s is None:
+            return None
+        return float(2 * np.pi / abs(self.eigenvalue))
+
     def states(self, share: float = SHOWN_SHARE) -> list[tuple[str, float]]:
         """(error state, share) of the states at or above ``share``, largest first."""
         return sorted(((k, v) for k, v in self.participation.items() if v >= share),
@@ -140,6 +150,7 @@ class Mode:
                 "multiplicity": self.multiplicity, "period_s": self.period_s,
                 "time_constant_s": self.time_constant_s,
                 "doubling_time_s": self.doubling_time_s,
+                "natural_period_s": self.natural_period_s,
                 "damping_ratio": self.damping_ratio,
                 "independent_directions": self.independent_directions,
                 "reference": None if self.reference is None else self.reference.to_dict(),

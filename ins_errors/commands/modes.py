@@ -76,6 +76,8 @@ def _times(mode) -> str:
                     if mode.doubling_time_s else "")
         return f"{word} {duration_text(mode.time_constant_s)}{doubling}"
     text = f"period {duration_text(mode.period_s)}"
+    if mode.natural_period_s is not None:
+        text += f" (natural {duration_text(mode.natural_period_s)})"
     if mode.time_constant_s is not None:
         word = "e-folding" if mode.eigenvalue.real > 0 else "decay"
         text += f", ζ = {mode.damping_ratio:.3g}, {word} {duration_text(mode.time_constant_s)}"
