@@ -105,14 +105,15 @@ def available_models() -> tuple[str, ...]:
     return (*builtin_names(), *entry_point_names())
 
 
-def load_model(name: str, relative_to: str | Path | None = None) -> Model:
+def load_model(name: str | Model, relative_to: str | Path | None = None) -> Model:
     """Load a model's generated code and metadata.
 
     Parameters
     ----------
-    name : str
+    name : str or Model
         Model name (``"orthodromic"``), model file (``"./my_ins.py"``), installed
-        entry-point name, or a :attr:`Model.key`.
+        entry-point name, or a :attr:`Model.key`; a loaded :class:`Model` is returned as
+        it is.
     relative_to : path, optional
         Folder a relative model file is taken from (default: the current folder).
 
@@ -123,6 +124,8 @@ def load_model(name: str, relative_to: str | Path | None = None) -> Model:
     ModelDefinitionError
         If a model file has a mistake (one line naming the quantity and the step).
     """
+    if isinstance(name, Model):  # already loaded: the same object
+        return name
     from ins_errors.model_lookup import resolve
 
     ref = resolve(name, relative_to)
@@ -197,6 +200,12 @@ class Model:
         self.sources = _infos(self.meta.SOURCES)
         self.outputs = _infos(self.meta.OUTPUTS)
         self.initial_conditions = _infos(self.meta.INITIAL_CONDITIONS)
+
+    def __reduce__(self):
+        """Pickled as its :attr:`key`, loaded again (the generated modules it holds are
+        not picklable): a process pool's worker gets the same model, a model file's
+        exact version included."""
+        return load_model, (self.key,)
 
     def __repr__(self) -> str:
         return (f"<Model {self.name!r}: {len(self.states)} states, {len(self.error_states)} "

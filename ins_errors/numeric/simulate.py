@@ -211,7 +211,9 @@ def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau
 # --------------------------------------------------------------------------------------
 @dataclass
 class ErrorCurves:
-    """Error quantities over time.
+    """Error quantities over time, read like a mapping from quantity name to its curves
+    (``curves["delta_latitude"]``, ``"alpha_y" in curves``, ``list(curves)``,
+    ``curves.items()``).
 
     Attributes
     ----------
@@ -231,10 +233,36 @@ class ErrorCurves:
     values: np.ndarray
 
     def __getitem__(self, name: str) -> np.ndarray:
-        """Curves of one quantity, shape (R + 1, B)."""
-        if name not in self.names:
-            raise unknown_name("error quantity", name, self.names)
+        """Curves of one quantity, shape (R + 1, B).
+
+        Raises
+        ------
+        UnknownNameError
+            For a name that is not a quantity (close names suggested); also for an
+            integer or any other key, which names the quantities (rows of
+            :attr:`values` are ``values[k]``).
+        """
+        if not isinstance(name, str) or name not in self.names:
+            raise unknown_name("error quantity", str(name), self.names)
         return self.values[self.names.index(name)]
+
+    def __contains__(self, name: object) -> bool:
+        return name in self.names
+
+    def __iter__(self) -> Iterator[str]:
+        """The quantity names, in the order of :attr:`values`."""
+        return iter(self.names)
+
+    def __len__(self) -> int:
+        return len(self.names)
+
+    def keys(self) -> list[str]:
+        """The quantity names."""
+        return list(self.names)
+
+    def items(self) -> list[tuple[str, np.ndarray]]:
+        """(name, curves of shape (R + 1, B)) of every quantity."""
+        return [(name, self.values[k]) for k, name in enumerate(self.names)]
 
 
 @dataclass
