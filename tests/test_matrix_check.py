@@ -55,6 +55,39 @@ def test_correct_hand_model_agrees_in_full(wgs84):
     assert report.compared == 7 * 7 + 7 * 5 and report.exit_status == 0
 
 
+def test_a_function_object_is_checked_as_its_file_spec(wgs84, tmp_path):
+    """A notebook user holds the function itself: passed as an object it was read as a
+    file name ("matrix file '<function error_model at 0x...>' does not exist"). Its
+    STATES/SOURCES are the globals beside it (here its module's), or its attributes."""
+    import importlib.util
+
+    def imported(name: str, path: Path):
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+        return module
+
+    module = imported("hand_in_memory", HAND)
+    spec_text = _copy(tmp_path, "F[1, 4] = f_u", "F[1, 4] = -f_u")
+    by_file = mc.check_matrices(MODEL, spec_text, "model", motion_list=wgs84, effects=False)
+    wrong = imported("hand_wrong", Path(spec_text.rpartition(":")[0]))
+    by_object = mc.check_matrices(MODEL, wrong.error_model, "model", motion_list=wgs84,
+                                  effects=False)
+    assert [(f.matrix, f.row, f.column, f.kind) for f in by_object.findings] == [
+        (f.matrix, f.row, f.column, f.kind) for f in by_file.findings] != []
+    assert mc.check_matrices(MODEL, module.error_model, "model", motion_list=wgs84,
+                             effects=False).findings == []
+
+    def bare(nav, imu):  # no STATES anywhere: one line saying how to give them
+        return np.zeros((7, 7))
+
+    with pytest.raises(InsErrorsError, match=r"bare\.states = \[\.\.\.\]"):
+        mc.check_matrices(MODEL, bare, "model", motion_list=wgs84, effects=False)
+    bare.states = list(module.STATES)
+    report = mc.check_matrices(MODEL, bare, "model", motion_list=wgs84, effects=False)
+    assert report.findings and all(f.kind == "omitted term" for f in report.findings)
+
+
 @pytest.mark.parametrize("old, new, row, column, kind", [
     ("F[1, 4] = f_u", "F[1, 4] = -f_u", "delta_v_N", "alpha_E", "wrong sign"),
     ("F[2, 1] = 1 / r_n", "F[2, 1] = 2 / r_n", "delta_latitude", "delta_v_N",

@@ -74,6 +74,7 @@ from ins_errors.checker.matrix_effects import (
 )
 from ins_errors.checker.matrix_input import (
     HandMatrices,
+    callable_hand,
     evaluate_function,
     load_hand,
     read_matrix_file,
@@ -567,8 +568,11 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     ----------
     model_name : str
         Model name, model file or entry-point name (as :func:`~ins_errors.load_model`).
-    hand : HandMatrices, or str / Path
-        Already sampled matrices, or ``FILE.py:FUNCTION`` / ``FILE.npz`` / ``FILE.mat``.
+    hand : HandMatrices, str / Path, or callable
+        Already sampled matrices, ``FILE.py:FUNCTION`` / ``FILE.npz`` / ``FILE.mat``, or
+        the function itself (``fn(nav, imu) -> F`` or ``(F, G)``, e.g. defined in a
+        notebook; its ``STATES``/``SOURCES``/``MARKOV`` are its attributes ``fn.states``
+        ... or the globals beside it, as in a file).
     convention_name : str
         The convention the hand model's states are in (``model``: the model's own).
     threshold : float
@@ -611,7 +615,11 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     values_set = dict(parameter_items(parameters))
     motion_list = (motions(model, hours, step, ellipsoid, values_set) if motion_list is None
                    else motion_list)
-    if not isinstance(hand, HandMatrices):
+    if callable(hand) and not isinstance(hand, HandMatrices):
+        name, path, states, sources, markov = callable_hand(hand)
+        bias_states(states, sources, markov, conv, model, name)
+        hand = evaluate_function(hand, name, path, states, sources, motion_list, markov)
+    elif not isinstance(hand, HandMatrices):
         path, function = split_spec(str(hand))
         if function is not None:
             fn, states, sources, markov = load_hand(path, function)

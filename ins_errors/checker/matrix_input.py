@@ -162,6 +162,34 @@ def load_hand(path: Path, function: str):
         {} if markov is None else correlation_times(markov, where))
 
 
+def callable_hand(fn) -> tuple[str, Path | None, list[str], list[str], dict[str, float]]:
+    """A function given as an object (defined in a notebook, or imported): its name, its
+    file (for the failing line, when it has one), and the ``STATES`` / ``SOURCES`` /
+    ``MARKOV`` of :func:`load_hand`, read from the function's attributes or else from the
+    globals of the module (or notebook) it was defined in.
+
+    Raises
+    ------
+    InsErrorsError
+        For missing or bad state lists, as :func:`load_hand`.
+    """
+    where = getattr(fn, "__qualname__", None) or getattr(fn, "__name__", None) or repr(fn)
+    code = getattr(fn, "__code__", None)
+    path = Path(code.co_filename) if code is not None and Path(code.co_filename).is_file() \
+        else None
+    scope = getattr(fn, "__globals__", {})
+    states = getattr(fn, "states", scope.get("STATES"))
+    if states is None:
+        raise InsErrorsError(f"{where}: give the list of the model's error states in F's row "
+                             f"order as STATES beside the function or as {where}.states = "
+                             "[...] (names from the convention's vocabulary)")
+    sources = getattr(fn, "sources", scope.get("SOURCES"))
+    markov = getattr(fn, "markov", scope.get("MARKOV"))
+    return where, path, _names(states, "STATES", where), (
+        [] if sources is None else _names(sources, "SOURCES", where)), (
+        {} if markov is None else correlation_times(markov, where))
+
+
 MIN_CORRELATION_TIME = 1.0
 """Shortest correlation time of a Gauss–Markov bias state, s: the check's propagation
 steps a minute (its −1/τ row makes each step's exponential e^(−60 s/τ)); a bias
