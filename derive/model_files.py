@@ -165,7 +165,8 @@ def function(name):
     try:
         builder = _BUILDERS[name]
     except KeyError:
-        raise KeyError(f"no generated CasADi function {name!r}") from None
+        raise KeyError(f"no generated CasADi function {name!r}; known: "
+                       f"{', '.join(_BUILDERS)}") from None
     return _cached(builder)
 
 

@@ -61,3 +61,32 @@ def test_a_simulation_pickles_with_its_model_and_the_same_curves(run):
     assert copy.model.key == run.model.key
     assert np.array_equal(copy.direct_errors().values, run.direct_errors().values)
     assert np.array_equal(copy.linear_errors().values, run.linear_errors().values)
+
+
+def test_text_where_a_number_is_needed_is_one_typed_line():
+    """A notebook user types "0.01 deg/h" where the API takes SI numbers: a numpy
+    TypeError (SourceStatistics) and a bare float() ValueError (budget.evaluate) became
+    the library's own one-line error saying how to convert the text."""
+    from ins_errors.analysis import budget as bd
+    from ins_errors.analysis.covariance import CovarianceError, SourceStatistics
+    from ins_errors.specs import default_spec_path, load_spec
+
+    with pytest.raises(CovarianceError,
+                       match=r"sigma takes one real number .*parse_quantity\(text, unit\)"):
+        SourceStatistics("gyro_drift_x", "constant", "0.01 deg/h")
+    with pytest.raises(CovarianceError, match="tau takes one real number"):
+        SourceStatistics("gyro_drift_x", "markov", 1e-7, [3600.0, 7200.0])
+    spec = load_spec(default_spec_path())
+    with pytest.raises(CovarianceError, match="'gyro_drift_x': sigma takes one real number"):
+        bd.evaluate("orthodromic", spec, {"gyro_drift_x": "0.01 deg/h"})
+    # a model name is taken where a Model is (as simulate and static_modes take it)
+    by_name = bd.evaluate("orthodromic", spec, {"gyro_drift_x": 4.8e-8})
+    by_model = bd.evaluate(ins_errors.load_model("orthodromic"), spec,
+                           {"gyro_drift_x": 4.8e-8})
+    assert np.array_equal(by_name.values, by_model.values)
+
+
+def test_an_unknown_casadi_function_names_the_known_ones():
+    model = ins_errors.load_model("orthodromic")
+    with pytest.raises(KeyError, match=r"'state_matrx'; known: .*state_matrix"):
+        model.casadi.function("state_matrx")

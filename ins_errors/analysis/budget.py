@@ -90,6 +90,7 @@ from ins_errors.analysis.covariance import (
 )
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.linear_system import check_grid_memory
+from ins_errors.numeric.model import load_model
 from ins_errors.specs import ITEM_KINDS, SOURCE_UNIT_SUFFIX, Spec, SpecError
 from ins_errors.units import UnitError, format_quantity, parse_quantity
 from ins_errors.units import format_duration as format_time
@@ -563,13 +564,15 @@ def unit_budget(model, spec: Spec, trajectory=None,
 
     Parameters
     ----------
-    model : ins_errors.numeric.model.Model
+    model : ins_errors.numeric.model.Model or str
+        The model, or a name :func:`~ins_errors.load_model` takes.
     spec : Spec
     trajectory : Trajectory, optional
         True motion (default: the spec's motion over its operating time, on its step).
     p : numpy.ndarray, optional
         Model parameters, SI (``Model.parameter_vector``; default: the model's defaults).
     """
+    model = load_model(model)
     check_items(model, spec)
     sources = resolve_sources(model, spec)
     system = spec_system(model, spec, trajectory, p)
@@ -932,9 +935,12 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None,
     The covariance is propagated again at the actual magnitudes, so this checks the
     allocation arithmetic (shares, binding items, fill). It uses the same propagation as
     the allocation: for an independent check of the covariance itself compare with the
-    Monte Carlo runs (:mod:`ins_errors.analysis.monte_carlo`). ``p``: model
-    parameters, SI, as in :func:`unit_budget`.
+    Monte Carlo runs (:mod:`ins_errors.analysis.monte_carlo`). ``model`` and ``p``
+    (model parameters, SI) as in :func:`unit_budget`; ``sigma`` numbers in each source's
+    SI unit (text such as ``"0.01 deg/h"`` is refused: convert it with
+    :func:`ins_errors.units.parse_quantity`).
     """
+    model = load_model(model)
     check_items(model, spec)
     sources = resolve_sources(model, spec)
     known = {s.name for s in sources}
@@ -942,7 +948,7 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None,
         if name not in known:
             raise unknown_name("budget source", name, sorted(known))
     system = spec_system(model, spec, trajectory, p)
-    stats = [SourceStatistics(s.name, s.statistics, float(sigma.get(s.name, 0.0)), s.tau)
+    stats = [SourceStatistics(s.name, s.statistics, sigma.get(s.name, 0.0), s.tau)
              for s in sources]
     covariance = _propagate(model, system, spec, stats)
     rows, contributions = _rows(spec, system, covariance, covariance.contributions)

@@ -95,6 +95,16 @@ class SourceStatistics:
         if self.kind not in KINDS:
             raise CovarianceError(f"source {self.name!r}: kind must be one of "
                                   f"{', '.join(KINDS)}, got {self.kind!r}")
+        for name in ("sigma", "tau"):  # text such as "0.01 deg/h": one line, not numpy's
+            value = getattr(self, name)
+            if value is None:
+                continue
+            if isinstance(value, str) or np.ndim(value) != 0 or np.iscomplexobj(value):
+                raise CovarianceError(
+                    f"source {self.name!r}: {name} takes one real number in SI units (the "
+                    f"source's SI unit{', s' if name == 'tau' else ''}), got {value!r:.40}"
+                    + ("; convert text with ins_errors.units.parse_quantity(text, unit)"
+                       if isinstance(value, str) else ""))
         if not np.isfinite(self.sigma) or self.sigma < 0:
             raise CovarianceError(f"source {self.name!r}: sigma must be a finite number "
                                   f">= 0, got {self.sigma!r}")
