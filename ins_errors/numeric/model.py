@@ -170,7 +170,22 @@ class Model:
     The evaluators (``state_matrix``, ``ideal_rhs``, ...) check argument shapes, finite
     values and the model's domain (e.g. latitude at a pole) and raise a one-line
     :class:`~ins_errors.errors.InsErrorsError`; then they call the generated numpy code.
-    Arguments may carry trailing batch axes (shape ``(n, ...)``).
+    Arguments may carry trailing batch axes (shape ``(n, ...)``). Everything is SI
+    (angles in rad).
+
+    Attributes
+    ----------
+    name, title, source_document : str
+        The model's name, title and the document it follows.
+    states, error_states, inputs, parameters, sources, outputs, initial_conditions : tuple
+        The named quantities (``.name``, ``.unit`` (SI), ``.description``, ...), in the
+        order of the vectors and matrix rows the evaluators take and return: ``x``
+        (n), ``xe`` (ne: the errors of the states, then the platform angles or other
+        extra error states), ``u``, ``p``, ``w`` (the error sources, G's columns), ``y``
+        and ``c``; :meth:`index` finds a name's position.
+    key : str
+        What :func:`load_model` maps back to this exact model (also what it is pickled
+        as).
     """
 
     def __init__(self, name: str, *, meta: ModuleType | None = None,
@@ -438,15 +453,20 @@ class Model:
         return self.numpy.outputs(*self._check_state(x, u, p, "outputs"))
 
     def state_matrix(self, x, u, p=None) -> np.ndarray:
-        """F, shape ``(ne, ne, ...)``."""
+        """F of ``ẋe = F xe + G w`` at the ideal state ``x`` (shape ``(n, ...)``), inputs
+        ``u`` ``(nu, ...)`` and parameters ``p`` ``(np,)``, all SI; shape ``(ne, ne,
+        ...)``: rows and columns follow :attr:`error_states` (entry (i, j) in the SI
+        unit of state i per second per unit of state j), batch axes last."""
         return self.numpy.state_matrix(*self._check_state(x, u, p, "state_matrix"))
 
     def source_matrix(self, x, u, p=None) -> np.ndarray:
-        """G, shape ``(ne, nw, ...)``."""
+        """G, shape ``(ne, nw, ...)``: rows follow :attr:`error_states`, columns
+        :attr:`sources` (each in its SI unit); arguments as :meth:`state_matrix`."""
         return self.numpy.source_matrix(*self._check_state(x, u, p, "source_matrix"))
 
     def output_matrix(self, x, u, p=None) -> np.ndarray:
-        """H, shape ``(ny, ne, ...)``."""
+        """H of ``ye = H xe``, shape ``(ny, ne, ...)``: rows follow :attr:`outputs`,
+        columns :attr:`error_states`; arguments as :meth:`state_matrix`."""
         return self.numpy.output_matrix(*self._check_state(x, u, p, "output_matrix"))
 
     def second_order(self, x, u, xe, w, p=None) -> np.ndarray:
