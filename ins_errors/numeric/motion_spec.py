@@ -7,6 +7,7 @@ scenario files accept exactly the same motions with the same defaults.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -74,36 +75,128 @@ def default_legs(speed: float, height: float, hours: int = 24) -> list[tr.Leg]:
 SAMPLES_NEEDED = 4
 """Rows of samples a motion file needs (a cubic spline through each column)."""
 
+FILE_COLUMNS = ("t", "v_N", "v_E", "h")
+"""The columns a motion file may have (``h`` is optional), in SI: s, m/s, m/s, m."""
+
+GAP_FACTOR = 10.0
+"""A motion file's sample spacing beyond this many times its median spacing is a gap in
+the samples, which the cubic splines bridge with a motion the file does not record: it
+is noted on stderr (``ins-errors: note: ...``)."""
+
 
 def read_motion_file(path: str | Path, latitude: float, longitude: float, heading: float,
                      height: float) -> tr.Profile:
     """A sampled motion from a CSV file with a header and columns t, v_N, v_E [, h] (SI).
 
     The file is UTF-8 (a byte-order mark, as spreadsheet programs write, is skipped);
-    ``#`` starts a comment and blank lines are skipped.
+    ``#`` starts a comment and blank lines are skipped. The columns may come in any
+    order; a column of another name (``lat``, ``alt``, ``v_N [m/s]``) is refused, as
+    are times that do not increase strictly or start after 0 (a run starts at t = 0).
+    A gap in the samples (a spacing above :data:`GAP_FACTOR` times the median) is noted
+    on stderr as a warning ``ins-errors: note: ...``.
+
+    Parameters
+    ----------
+    path : str or Path
+        The CSV file.
+    latitude, longitude, heading : float
+        Start point and the trihedron's initial track angle, rad.
+    height : float
+        Height, m, of a file without an ``h`` column.
 
     Raises
     ------
     InsErrorsError
-        One line naming the file and, for a cell that is not a number, its column and
-        row.
+        One line naming the file and, for a cell that is not a number or a time out of
+        order, its column and line.
     """
-    names, table = _read_columns(Path(path))
-    missing = [c for c in ("t", "v_N", "v_E") if c not in names]
-    if missing:
-        raise InsErrorsError(f"motion file {str(path)!r} lacks column(s) {', '.join(missing)} "
-                             f"(has {', '.join(names) or 'none'})")
+    where = f"motion file {str(path)!r}"
+    names, table, lines = _read_columns(Path(path))
+    _check_names(where, names)
     if len(table["t"]) < SAMPLES_NEEDED:
-        raise InsErrorsError(f"motion file {str(path)!r} has {len(table['t'])} row(s) of "
+        raise InsErrorsError(f"{where} has {len(table['t'])} row(s) of "
                              f"samples; a sampled motion needs at least {SAMPLES_NEEDED} (t, "
                              "v_N, v_E: cubic splines run through them)")
+    _check_times(where, table["t"], lines)
     h = table["h"] if "h" in names else height
-    return tr.sampled_profile(table["t"], table["v_N"], table["v_E"], latitude, longitude,
-                              heading, h, source=str(path))
+    profile = tr.sampled_profile(table["t"], table["v_N"], table["v_E"], latitude,
+                                 longitude, heading, h, source=str(path))
+    _note_gaps(where, table["t"])
+    return profile
 
 
-def _read_columns(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
-    """Header names and numeric columns of a motion CSV file (one-line errors)."""
+def _check_names(where: str, names: list[str]) -> None:
+    """Refuse a header that lacks a column the reader needs, has one it does not read,
+    or has one twice (one line)."""
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        raise InsErrorsError(f"{where}: column(s) {', '.join(twice)} appear more than once "
+                             "in the header")
+    missing = [c for c in ("t", "v_N", "v_E") if c not in names]
+    unknown = [n for n in names if n not in FILE_COLUMNS]
+    if not missing and not unknown:
+        return
+    text = (f"{where} lacks column(s) {', '.join(missing)} (has {', '.join(names) or 'none'})"
+            if missing else where)
+    if not unknown:
+        raise InsErrorsError(text)
+    for name in unknown:  # a known name with a unit written beside it
+        match = re.match(r"(t|v_N|v_E|h)(?:\s*[\[(]|_|\s+)(.+)$", name)
+        if match:
+            raise InsErrorsError(f"{text}: headers are bare names with the values in SI (s, "
+                                 f"m/s, m), {match.group(1)!r}, not {name!r}")
+    raise InsErrorsError(
+        f"{text}{';' if missing else ':'} column(s) {', '.join(unknown)} are not read: a "
+        "motion file has the columns t (s), v_N, v_E (m/s) and optionally h (m), no others "
+        "(the start latitude and longitude come from --latitude/--longitude or the "
+        "scenario's [motion]; a height column must be named h)")
+
+
+def _check_times(where: str, t: np.ndarray, lines: list[int]) -> None:
+    """Refuse times that are not finite, do not increase strictly, or start after 0,
+    naming the line of the file."""
+    bad = ~np.isfinite(t)
+    if bad.any():
+        k = int(np.argmax(bad))
+        raise InsErrorsError(f"{where}: t is NaN or infinite in sample {k + 1} of {t.size} "
+                             f"(line {lines[k]})")
+    step = np.diff(t)
+    wrong = np.flatnonzero(step <= 0)
+    if wrong.size:
+        k = int(wrong[0])
+        more = (f" (and at {wrong.size - 1} more line(s))" if wrong.size > 1 else "")
+        what = (f"t = {t[k]:.10g} s repeats at line {lines[k + 1]} (line {lines[k]} has it)"
+                if step[k] == 0 else
+                f"t goes back from {t[k]:.10g} s (line {lines[k]}) to {t[k + 1]:.10g} s at "
+                f"line {lines[k + 1]}")
+        raise InsErrorsError(f"{where}: {what}{more}; the times must increase strictly "
+                             "(one sample per time, in time order)")
+    if t[0] > 1e-9:
+        raise InsErrorsError(f"{where}: its times start at {t[0]:.10g} s, and a run starts "
+                             "at t = 0 from the file's first sample: shift the column t to "
+                             f"start at 0 (subtract {t[0]:.10g} s from every time)")
+
+
+def _note_gaps(where: str, t: np.ndarray) -> None:
+    """Note the largest gap in the samples (spacing > :data:`GAP_FACTOR` × median)."""
+    import warnings
+
+    step = np.diff(t)
+    usual = float(np.median(step))
+    gaps = np.flatnonzero(step > GAP_FACTOR * usual)
+    if not gaps.size:
+        return
+    k = int(gaps[np.argmax(step[gaps])])
+    more = f"; {gaps.size - 1} more gap(s) above {GAP_FACTOR:g}× that" if gaps.size > 1 else ""
+    warnings.warn(f"ins-errors: note: {where} has no samples for {step[k]:.4g} s, from "
+                  f"t = {t[k]:.10g} s to {t[k + 1]:.10g} s (its samples are usually "
+                  f"{usual:.4g} s apart{more}): the cubic splines bridge the gap with a "
+                  "motion the file does not record", RuntimeWarning, stacklevel=3)
+
+
+def _read_columns(path: Path) -> tuple[list[str], dict[str, np.ndarray], list[int]]:
+    """Header names, numeric columns and the line number of each sample of a motion CSV
+    file (one-line errors)."""
     try:
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as error:
@@ -134,7 +227,8 @@ def _read_columns(path: Path) -> tuple[list[str], dict[str, np.ndarray]]:
                     f"{number}): {shown} is not a number" if cell else
                     f"motion file {str(path)!r}: column {names[j]}, sample {k + 1} (line "
                     f"{number}) is empty") from None
-    return names, {name: values[:, j] for j, name in enumerate(names)}
+    return (names, {name: values[:, j] for j, name in enumerate(names)},
+            [number for number, _ in samples])
 
 
 def _angle(value: Any, what: str) -> float:

@@ -1,0 +1,122 @@
+"""Motion files as flight-test logs come: columns the reader does not read, units in the
+header, gaps, repeated or unordered times, a clock that does not start at 0."""
+
+from __future__ import annotations
+
+import json
+import warnings
+
+import numpy as np
+import pytest
+
+from ins_errors.cli import main
+from ins_errors.errors import InsErrorsError
+from ins_errors.numeric.motion_spec import read_motion_file
+
+LAT, LON = np.radians(50.0), np.radians(30.0)
+
+
+def _log(path, t, columns, header):
+    """A CSV log: a header row and one row per time."""
+    np.savetxt(path, np.column_stack([t, *columns]), delimiter=",", header=header,
+               comments="", fmt="%.6f")
+    return path
+
+
+def _circling(t):
+    """A slow circle at 200 m/s: (v_N, v_E), m/s."""
+    return 200.0 * np.cos(t / 900.0), 200.0 * np.sin(t / 900.0)
+
+
+def _compare(capsys, *args):
+    status = main(["compare", "orthodromic", "-s", "gyro_drift_y=0.01deg/h", *args])
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+def test_columns_the_reader_does_not_read_are_refused(capsys, tmp_path):
+    t = np.arange(0.0, 400.0, 10.0)
+    v_n, v_e = _circling(t)
+    # a log with its position: it ran from the default 50°, 30°, not from 35°, -120°
+    latlon = _log(tmp_path / "latlon.csv", t, [35 + 0 * t, -120 + 0 * t, v_n, v_e],
+                  "t,lat,lon,v_N,v_E")
+    status, _out, err = _compare(capsys, "--motion-file", str(latlon), "--hours", "0.1")
+    assert status == 2 and len(err.strip().splitlines()) == 1
+    assert "column(s) lat, lon are not read" in err
+    assert "t (s), v_N, v_E (m/s) and optionally h (m)" in err and "--latitude" in err
+    # a height named alt was dropped: the flight stayed at h = 0
+    alt = _log(tmp_path / "alt.csv", t, [v_n, v_e, 1500 + 0 * t], "t,v_N,v_E,alt")
+    with pytest.raises(InsErrorsError, match=r"column\(s\) alt are not read.*must be named h"):
+        read_motion_file(alt, LAT, LON, 0.0, 0.0)
+    # units in the header: bare names, SI values
+    units = _log(tmp_path / "units.csv", t, [v_n, v_e], "t [s],v_N [m/s],v_E [m/s]")
+    with pytest.raises(InsErrorsError, match=r"bare names with the values in SI.*'t', not "
+                                             r"'t \[s\]'"):
+        read_motion_file(units, LAT, LON, 0.0, 0.0)
+    knots = _log(tmp_path / "knots.csv", t, [v_n, v_e], "t,v_N_kn,v_E_kn")
+    with pytest.raises(InsErrorsError, match=r"lacks column.*SI.*'v_N', not 'v_N_kn'"):
+        read_motion_file(knots, LAT, LON, 0.0, 0.0)
+    twice = _log(tmp_path / "twice.csv", t, [v_n, v_e, v_e], "t,v_N,v_E,v_E")
+    with pytest.raises(InsErrorsError, match="v_E appear more than once"):
+        read_motion_file(twice, LAT, LON, 0.0, 0.0)
+    # the columns in another order read as named
+    reordered = _log(tmp_path / "reordered.csv", t, [1000 + 0 * t, v_e, v_n], "t,h,v_E,v_N")
+    plain = _log(tmp_path / "plain.csv", t, [v_n, v_e, 1000 + 0 * t], "t,v_N,v_E,h")
+    a = read_motion_file(reordered, LAT, LON, 0.0, 0.0).commands(np.array([123.4]))
+    b = read_motion_file(plain, LAT, LON, 0.0, 0.0).commands(np.array([123.4]))
+    assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+
+
+def test_a_gap_in_the_samples_is_noted(capsys, tmp_path):
+    t = np.round(np.arange(0.0, 1200.0, 0.1), 1)
+    kept = (t < 700.0) | (t > 720.0)  # a 20-s GPS dropout in a 10-Hz log
+    v_n, v_e = _circling(t[kept])
+    gap = _log(tmp_path / "gap.csv", t[kept], [v_n, v_e], "t,v_N,v_E")
+    with pytest.warns(RuntimeWarning, match=r"ins-errors: note: motion file '.*gap.csv' has "
+                                            r"no samples for 20.2 s, from t = 699.9 s to "
+                                            r"720.1 s \(its samples are usually 0.1 s apart"):
+        read_motion_file(gap, LAT, LON, 0.0, 0.0)
+    status, out, err = _compare(capsys, "--motion-file", str(gap), "--duration", "600s",
+                                "--step", "10s", "--json")
+    assert status == 0 and json.loads(out)["duration_s"] == 600.0
+    (line,) = err.strip().splitlines()  # one line, without Python's warning format
+    assert line.startswith("ins-errors: note: motion file") and "20.2 s" in line
+    v_n, v_e = _circling(t)
+    whole = _log(tmp_path / "whole.csv", t, [v_n, v_e], "t,v_N,v_E")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        read_motion_file(whole, LAT, LON, 0.0, 0.0)  # no gap: no note
+
+
+def test_repeated_and_unordered_times_name_their_line(tmp_path):
+    t = np.arange(0.0, 100.0, 1.0)
+    v_n, v_e = _circling(t)
+    rows = np.column_stack([t, v_n, v_e])
+    dup = np.insert(rows, 50, rows[49], axis=0)  # sample 50 (t = 49 s) twice
+    path = tmp_path / "dup.csv"
+    np.savetxt(path, dup, delimiter=",", header="# a log\nt,v_N,v_E", comments="", fmt="%g")
+    # line 1 the comment, 2 the header, sample k on line k + 2
+    with pytest.raises(InsErrorsError, match=r"dup.csv': t = 49 s repeats at line 53 \(line "
+                                             r"52 has it\); the times must increase"):
+        read_motion_file(path, LAT, LON, 0.0, 0.0)
+    swapped = rows.copy()
+    swapped[[60, 61]] = swapped[[61, 60]]
+    path = tmp_path / "swapped.csv"
+    np.savetxt(path, swapped, delimiter=",", header="t,v_N,v_E", comments="", fmt="%g")
+    with pytest.raises(InsErrorsError, match=r"t goes back from 61 s \(line 62\) to 60 s at "
+                                             "line 63"):
+        read_motion_file(path, LAT, LON, 0.0, 0.0)
+
+
+def test_times_must_start_at_zero(capsys, tmp_path):
+    t = np.arange(0.0, 400.0, 10.0)
+    v_n, v_e = _circling(t)
+    late = _log(tmp_path / "late.csv", t + 1000.0, [v_n, v_e], "t,v_N,v_E")
+    status, _out, err = _compare(capsys, "--motion-file", str(late), "--duration", "300s",
+                                 "--step", "10s")
+    assert status == 2 and len(err.strip().splitlines()) == 1
+    assert "its times start at 1000 s" in err and "subtract 1000 s" in err
+    early = _log(tmp_path / "early.csv", t - 5.0, [v_n, v_e], "t,v_N,v_E")  # still flies
+    status, _out, err = _compare(capsys, "--motion-file", str(early), "--duration", "300s",
+                                 "--step", "10s")
+    assert status == 0, err
