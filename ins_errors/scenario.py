@@ -163,6 +163,9 @@ def load_scenario(path: str | Path) -> Scenario:
     run = checked.run
     from ins_errors.numeric.integrators import record_stride, step_count
 
+    # a motion file's run lasts the file's length unless [run] duration says otherwise
+    file_length = ("duration" not in run.model_fields_set
+                   and str(dict(data.get("motion", {})).get("kind")) == "file")
     try:
         duration = parse_quantity(run.duration, "s", "duration", numbers_are_si=False)
         step = parse_quantity(run.step, "s", "step", numbers_are_si=False)
@@ -171,7 +174,8 @@ def load_scenario(path: str | Path) -> Scenario:
             if not value > 0:
                 raise ScenarioError(f"{name} must be positive, got {value:g} s")
         # refuse a grid the run cannot take (absurd step counts included) before any run
-        record_stride(record, step, step_count(duration, step, "duration"))
+        if not file_length:  # checked below, once the file is read
+            record_stride(record, step, step_count(duration, step, "duration"))
     except InsErrorsError as error:
         raise type(error)(f"{where} [run] {error}") from None
     cases = []
@@ -215,6 +219,21 @@ def load_scenario(path: str | Path) -> Scenario:
         raise type(error)(f"{where} [motion]: {error}") from None
     if motion.get("heading") is not None:
         refuse_unused_heading(model, profile, f"{where} [motion] heading")
+    if file_length:
+        from ins_errors.numeric.motion_spec import file_duration
+
+        duration = file_duration(profile, step)
+        if "record" not in run.model_fields_set:  # as compare's: divides the run
+            n_steps = step_count(duration, step, "duration")
+            stride = max(1, min(n_steps, int(record / step + 1e-9)))
+            while n_steps % stride:
+                stride -= 1
+            record = stride * step
+        try:
+            record_stride(record, step, step_count(duration, step, "duration"))
+        except InsErrorsError as error:
+            raise type(error)(f"{where} [run] {error} (the duration is the motion file's "
+                              f"length, {duration:g} s, as [run] gives none)") from None
     sweep = None
     if "sweep" in data:
         from ins_errors.analysis.sweep import parse_sweep

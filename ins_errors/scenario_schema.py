@@ -68,7 +68,9 @@ class Motion(_Table):
 class Run(_Table):
     """``[run]``: duration, grid and scheme of the runs."""
 
-    duration: Quantity = Field("24 h", json_schema_extra=_QUANTITY)
+    duration: Quantity = Field("24 h", json_schema_extra={
+        "description": "a value with its unit, e.g. '24 h', '90 min'; default 24 h, along a "
+                       "motion file the file's length"})
     step: Quantity = Field("1 s", json_schema_extra=_QUANTITY)
     record: Quantity = Field("60 s", json_schema_extra=_QUANTITY)
     method: Literal["euler", "rk4"] = Field(

@@ -1,5 +1,6 @@
 """Motion files as flight-test logs come: columns the reader does not read, units in the
-header, gaps, repeated or unordered times, a clock that does not start at 0."""
+header, gaps, repeated or unordered times, a clock that does not start at 0, no duration
+given."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import pytest
 from ins_errors.cli import main
 from ins_errors.errors import InsErrorsError
 from ins_errors.numeric.motion_spec import read_motion_file
+from ins_errors.scenario import load_scenario
 
 LAT, LON = np.radians(50.0), np.radians(30.0)
 
@@ -120,3 +122,25 @@ def test_times_must_start_at_zero(capsys, tmp_path):
     status, _out, err = _compare(capsys, "--motion-file", str(early), "--duration", "300s",
                                  "--step", "10s")
     assert status == 0, err
+
+
+def test_the_run_lasts_the_file_without_a_duration(capsys, tmp_path):
+    t = np.arange(0.0, 2395.0, 5.0)  # 2390 s: not a whole number of 60-s records
+    v_n, v_e = _circling(t)
+    path = _log(tmp_path / "m.csv", t, [v_n, v_e], "t,v_N,v_E")
+    status, out, err = _compare(capsys, "--motion-file", str(path), "--step", "10s", "--json")
+    assert status == 0, err
+    report = json.loads(out)
+    assert report["duration_s"] == 2390.0 and 2390.0 % report["record_s"] == 0
+    assert report["cases"][0]["worst_linear_ratio"] <= 0.01
+    # the last sample between two steps: the whole steps within the file
+    status, out, err = _compare(capsys, "--motion-file", str(path), "--step", "60s", "--json")
+    assert status == 0 and json.loads(out)["duration_s"] == 2340.0, err
+    # a scenario without [run] duration likewise
+    scenario = tmp_path / "s.toml"
+    scenario.write_text('model = "orthodromic"\n[motion]\nkind = "file"\nfile = "m.csv"\n'
+                        '[run]\nstep = "10 s"\n[[case]]\ngyro_drift_y = "0.01 deg/h"\n')
+    parsed = load_scenario(scenario)
+    assert parsed.duration == 2390.0 and 2390.0 % parsed.record == 0
+    scenario.write_text(scenario.read_text().replace('[run]\n', '[run]\nduration = "1 h"\n'))
+    assert load_scenario(scenario).duration == 3600.0  # given: kept (and refused later)

@@ -41,8 +41,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--motion", choices=MOTIONS, default="static",
                         help="true motion (default: static)")
     parser.add_argument("--motion-file", metavar="CSV",
-                        help="own motion: CSV with a header row and columns t (s), v_N, v_E "
-                             "(m/s) and optionally h (m); overrides --motion")
+                        help="own motion: CSV with a header row and columns t (s, from 0), "
+                             "v_N, v_E (m/s) and optionally h (m), no others; overrides "
+                             "--motion; the run lasts the file's length unless --hours or "
+                             "--duration says otherwise")
     parser.add_argument("--latitude", default=None,
                         help="start latitude (default 50deg; refused for a model without "
                              "a latitude, naming its own setting, e.g. -p phi0=...)")
@@ -58,8 +60,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--height", default=None,
                         help="height (default 0m; for a model with one)")
     parser.add_argument("--hours", type=hours, default=None,
-                        help="duration in hours (default 24)")
-    parser.add_argument("--duration", default=None, help="duration with unit, e.g. '90 min'")
+                        help="duration in hours (default 24; with --motion-file the "
+                             "file's length, from t = 0 to its last sample)")
+    parser.add_argument("--duration", default=None,
+                        help="duration with unit, e.g. '90 min' (default as --hours)")
     parser.add_argument("--step", default="1s", help="integration step τ (default 1s)")
     parser.add_argument("--record", default=None,
                         help="recording interval (default: 60 s or the step if longer)")
@@ -148,7 +152,7 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.compare import compare, markdown_summary, markdown_table
     from ins_errors.numeric.integrators import step_count
     from ins_errors.numeric.model import load_model
-    from ins_errors.numeric.motion_spec import refuse_unused_heading
+    from ins_errors.numeric.motion_spec import file_duration, refuse_unused_heading
     from ins_errors.output import OutputFolder, check_figure, check_file
     from ins_errors.progress import stage
     from ins_errors.units import parse_quantity
@@ -172,11 +176,20 @@ def run(args: argparse.Namespace) -> int:
     parameters = parse_parameter_options(model, args.parameter)
     if args.hours is not None and args.duration is not None:
         raise InsErrorsError("give either --hours or --duration, not both")
+    tau = parse_quantity(args.step, "s", "--step")
+    motion = {"kind": "file" if args.motion_file else args.motion,
+              "latitude": args.latitude, "longitude": args.longitude,
+              "heading": args.heading, "speed": args.speed,
+              "height": args.height}
+    if args.motion_file:
+        motion["file"] = args.motion_file
+    profile = motion_from_options(motion, model=model)
     if args.duration is not None:
         duration = parse_quantity(args.duration, "s", "--duration")
+    elif args.hours is None and args.motion_file:  # the file's length
+        duration = file_duration(profile, tau) if tau > 0 else 0.0
     else:
         duration = 3600.0 * (24.0 if args.hours is None else args.hours)
-    tau = parse_quantity(args.step, "s", "--step")
     threshold = parse_ratio(args.validity_threshold, "--validity-threshold")
     n_steps = step_count(duration, tau)
     if n_steps == 0:
@@ -188,13 +201,6 @@ def run(args: argparse.Namespace) -> int:
         while n_steps % stride:
             stride -= 1
         record = stride * tau
-    motion = {"kind": "file" if args.motion_file else args.motion,
-              "latitude": args.latitude, "longitude": args.longitude,
-              "heading": args.heading, "speed": args.speed,
-              "height": args.height}
-    if args.motion_file:
-        motion["file"] = args.motion_file
-    profile = motion_from_options(motion, model=model)
     if args.heading is not None:
         refuse_unused_heading(model, profile)
     progress = not args.no_progress and n_steps >= 100_000

@@ -194,6 +194,25 @@ def _note_gaps(where: str, t: np.ndarray) -> None:
                   "motion the file does not record", RuntimeWarning, stacklevel=3)
 
 
+def file_duration(profile: tr.Profile, step: float) -> float:
+    """The length of a motion file's run: from t = 0 to its last sample, rounded down to
+    a whole number of steps, s.
+
+    Parameters
+    ----------
+    profile : ins_errors.numeric.trajectories.Profile
+        The profile of :func:`read_motion_file`.
+    step : float
+        Integration step, s (> 0).
+    """
+    from ins_errors.numeric.integrators import whole_steps
+
+    end = float(profile.breaks[-1])
+    if whole_steps(end, step) is not None:
+        return end
+    return float(np.floor(end / step)) * step
+
+
 def _read_columns(path: Path) -> tuple[list[str], dict[str, np.ndarray], list[int]]:
     """Header names, numeric columns and the line number of each sample of a motion CSV
     file (one-line errors)."""
