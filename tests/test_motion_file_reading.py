@@ -1,6 +1,6 @@
 """Motion files as flight-test logs come: columns the reader does not read, units in the
 header, gaps, repeated or unordered times, a clock that does not start at 0, no duration
-given."""
+given, a height beside a file's own h column."""
 
 from __future__ import annotations
 
@@ -12,7 +12,7 @@ import pytest
 
 from ins_errors.cli import main
 from ins_errors.errors import InsErrorsError
-from ins_errors.numeric.motion_spec import read_motion_file
+from ins_errors.numeric.motion_spec import in_si, motion_profile, read_motion_file
 from ins_errors.scenario import load_scenario
 
 LAT, LON = np.radians(50.0), np.radians(30.0)
@@ -144,3 +144,29 @@ def test_the_run_lasts_the_file_without_a_duration(capsys, tmp_path):
     assert parsed.duration == 2390.0 and 2390.0 % parsed.record == 0
     scenario.write_text(scenario.read_text().replace('[run]\n', '[run]\nduration = "1 h"\n'))
     assert load_scenario(scenario).duration == 3600.0  # given: kept (and refused later)
+
+
+def test_a_height_beside_the_files_own_h_is_refused(capsys, tmp_path):
+    t = np.arange(0.0, 400.0, 10.0)
+    v_n, v_e = _circling(t)
+    with_h = _log(tmp_path / "h.csv", t, [v_n, v_e, 1000 + 0 * t], "t,v_N,v_E,h")
+    status, _out, err = _compare(capsys, "--motion-file", str(with_h), "--height", "500m",
+                                 "--duration", "300s", "--step", "10s")
+    assert status == 2 and err.startswith("ins-errors: error: --height: motion file")
+    assert "own column h" in err and len(err.strip().splitlines()) == 1
+    scenario = tmp_path / "s.toml"
+    scenario.write_text('model = "orthodromic"\n[motion]\nkind = "file"\nfile = "h.csv"\n'
+                        'height = "500 m"\n[run]\nduration = "300 s"\nstep = "10 s"\n'
+                        '[[case]]\ngyro_drift_y = "0.01 deg/h"\n')
+    with pytest.raises(InsErrorsError, match=r"s.toml \[motion\]: motion height: .*own "
+                                             "column h"):
+        load_scenario(scenario)
+    # a file without h takes the height given
+    no_h = _log(tmp_path / "no_h.csv", t, [v_n, v_e], "t,v_N,v_E")
+    profile = motion_profile({"kind": "file", "file": str(no_h), "height": "500 m"})
+    assert profile.commands(np.array([100.0]))[0][2, 0] == 500.0
+    # the SI form a sweep's workers read states no height it was not given
+    description = {"kind": "file", "file": str(with_h)}
+    assert "height" not in in_si(description)
+    a, b = motion_profile(in_si(description)), motion_profile(description)
+    assert np.array_equal(a.commands(t)[0], b.commands(t)[0])

@@ -58,7 +58,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="ground speed of --motion great-circle or manoeuvre "
                              "(default 250m/s)")
     parser.add_argument("--height", default=None,
-                        help="height (default 0m; for a model with one)")
+                        help="height (default 0m; for a model with one; refused beside a "
+                             "--motion-file with its own column h)")
     parser.add_argument("--hours", type=hours, default=None,
                         help="duration in hours (default 24; with --motion-file the "
                              "file's length, from t = 0 to its last sample)")

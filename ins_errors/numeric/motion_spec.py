@@ -85,7 +85,7 @@ is noted on stderr (``ins-errors: note: ...``)."""
 
 
 def read_motion_file(path: str | Path, latitude: float, longitude: float, heading: float,
-                     height: float) -> tr.Profile:
+                     height: float, *, height_given: bool = False) -> tr.Profile:
     """A sampled motion from a CSV file with a header and columns t, v_N, v_E [, h] (SI).
 
     The file is UTF-8 (a byte-order mark, as spreadsheet programs write, is skipped);
@@ -103,6 +103,9 @@ def read_motion_file(path: str | Path, latitude: float, longitude: float, headin
         Start point and the trihedron's initial track angle, rad.
     height : float
         Height, m, of a file without an ``h`` column.
+    height_given : bool
+        True when the user stated ``height``: refused for a file with an ``h`` column,
+        whose heights the flight follows.
 
     Raises
     ------
@@ -117,6 +120,9 @@ def read_motion_file(path: str | Path, latitude: float, longitude: float, headin
         raise InsErrorsError(f"{where} has {len(table['t'])} row(s) of "
                              f"samples; a sampled motion needs at least {SAMPLES_NEEDED} (t, "
                              "v_N, v_E: cubic splines run through them)")
+    if height_given and "h" in names:
+        raise InsErrorsError(f"motion height: {where} has its own column h, which the "
+                             "flight follows; leave the height out")
     _check_times(where, table["t"], lines)
     h = table["h"] if "h" in names else height
     profile = tr.sampled_profile(table["t"], table["v_N"], table["v_E"], latitude,
@@ -366,7 +372,8 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None,
         path = Path(file)
         if base is not None and not path.is_absolute():
             path = base / path
-        return read_motion_file(path, lat, lon, heading, height)
+        return read_motion_file(path, lat, lon, heading, height,
+                                height_given=description.get("height") is not None)
     if legs is None:  # the standard manoeuvre: described by its pattern, not its count
         return tr.manoeuvre_profile(lat, lon, heading, speed, default_legs(speed, height),
                                     height, name=STANDARD_MANOEUVRE)
@@ -414,7 +421,10 @@ def in_si(description: Mapping[str, Any]) -> dict[str, Any]:
     kind, values, file, legs = _read(description)
     out: dict[str, Any] = {"kind": kind}
     out.update({key: f"{value!r} {_SI_UNITS[key]}" for key, value in values.items()
-                if kind in APPLIES_TO.get(key, (kind,))})
+                if kind in APPLIES_TO.get(key, (kind,))
+                # a motion file's height only as given: beside an h column it is refused
+                and not (kind == "file" and key == "height"
+                         and description.get("height") is None)})
     if file is not None:
         out["file"] = file
     if legs is not None:
