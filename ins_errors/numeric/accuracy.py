@@ -127,6 +127,76 @@ class Interleaved:
             yield TruthChunk(2 * chunk.start, truth, inputs, inputs[:, :-1].copy())
 
 
+def motion_breaks(trajectory: Trajectory) -> np.ndarray | None:
+    """Times (s) where the motion of ``trajectory`` is less smooth than elsewhere, or None.
+
+    A motion file's cubic splines have a third derivative that jumps at every sample, a
+    manoeuvre's commands change law at every leg join: RK4 keeps its order there only
+    when a step ends on the break. These are the :attr:`Profile.breaks` of the
+    trajectory's profile (or :attr:`Flight.breaks` of a strapdown flight); None when the
+    trajectory does not say (arrays of its own, a static base), an empty array when the
+    motion is smooth throughout.
+    """
+    source = trajectory.source
+    owner = getattr(source, "flight", None) or getattr(source, "profile", None)
+    breaks = getattr(owner, "breaks", None)
+    return None if breaks is None else np.asarray(breaks, dtype=float)
+
+
+BREAK_TOLERANCE = 1e-6
+"""A break within this share of a step of a grid point counts as on that point."""
+
+
+def breaks_on_grid(breaks: np.ndarray | None, tau: float,
+                   n_steps: int) -> tuple[np.ndarray, np.ndarray]:
+    """The breaks strictly inside a run of ``n_steps`` steps of ``tau``, split by where
+    they fall on its grid.
+
+    Parameters
+    ----------
+    breaks : numpy.ndarray or None
+        Break times, s (:func:`motion_breaks`); None or empty: none.
+    tau : float
+        Step, s.
+    n_steps : int
+        Steps of the run.
+
+    Returns
+    -------
+    on_grid : numpy.ndarray of int
+        Step indices ``j`` (``0 < j < n_steps``) of the breaks at ``j τ``.
+    straddled : numpy.ndarray of float
+        Times, s, of the breaks strictly inside a step.
+    """
+    if breaks is None or len(breaks) == 0:
+        return np.zeros(0, dtype=int), np.zeros(0)
+    steps = np.unique(np.asarray(breaks, dtype=float)) / tau
+    nearest = np.round(steps)
+    on = np.abs(steps - nearest) <= BREAK_TOLERANCE
+    inside = (steps > BREAK_TOLERANCE) & (steps < n_steps - BREAK_TOLERANCE)
+    return nearest[on & inside].astype(int), steps[~on & inside] * tau
+
+
+def grid_keeps(on_grid: np.ndarray, factor: int, n_steps: int) -> bool:
+    """Whether the grid of ``factor`` τ (over its first ``factor ⌊N/factor⌋`` steps)
+    holds every break of ``on_grid`` (step indices on the grid of τ) it spans."""
+    spanned = on_grid[on_grid < factor * (n_steps // factor)]
+    return bool(np.all(spanned % factor == 0))
+
+
+def spacing(breaks: np.ndarray) -> float | None:
+    """The spacing ``d`` (s) that every break is a whole multiple of, taken as the
+    smallest gap between two breaks; None when the breaks are not all on such a grid."""
+    points = np.unique(np.asarray(breaks, dtype=float))
+    if points.size < 2:
+        return None
+    d = float(np.min(np.diff(points)))
+    k = points / d
+    if d <= 0 or np.any(np.abs(k - np.round(k)) > BREAK_TOLERANCE):
+        return None
+    return d
+
+
 def coarse_stride(stride: int, n_steps: int) -> int:
     """Recording stride of the doubled-step run that shares the most samples with the
     fine run recorded every ``stride`` steps of ``n_steps``."""
@@ -194,7 +264,8 @@ RELEVANT = 1e-6
 order (rounding and cancellations make it meaningless there)."""
 
 
-def typable_step(needed: float, interval: float) -> tuple[float, str]:
+def typable_step(needed: float, interval: float,
+                 spacing: float | None = None) -> tuple[float, str]:
     """The largest step of at most three significant digits, at or below ``needed``, that
     divides ``interval`` (the recording interval, so also the run) to the accuracy the
     command line checks, with its text (typing the text back gives the same step).
@@ -205,6 +276,9 @@ def typable_step(needed: float, interval: float) -> tuple[float, str]:
         Largest acceptable step, s (> 0).
     interval : float
         Recording interval, s (a whole number of steps of the run).
+    spacing : float, optional
+        A length, s, the step must divide as well: the spacing of the motion's breaks
+        (:func:`spacing`), so that the step keeps them.
     """
     top = math.floor(math.log10(needed))
     for decade in range(top, top - 16, -1):
@@ -221,6 +295,8 @@ def typable_step(needed: float, interval: float) -> tuple[float, str]:
                 if value > needed * (1 + 1e-12):
                     continue
                 if whole_steps(interval, value) is None:  # as step_count checks it
+                    continue
+                if spacing is not None and whole_steps(spacing, value) is None:
                     continue
                 if best is None or value > best[0]:
                     best = (value, text)

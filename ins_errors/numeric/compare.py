@@ -36,6 +36,7 @@ import numpy as np
 
 from ins_errors.errors import InsErrorsError
 from ins_errors.numeric import accuracy
+from ins_errors.numeric.integrators import whole_steps
 from ins_errors.numeric.model import Model
 from ins_errors.numeric.simulate import ErrorCurves, Simulation, simulate
 from ins_errors.numeric.trajectories import Trajectory
@@ -439,10 +440,14 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
         # the doubled-step trajectory is built once for 2τ and 4τ; no recursion: a
         # closure that calls itself is a reference cycle, which kept this trajectory
         # (and its coarser ones) alive after the call until the next full collection
-        if factor == 0.5:
-            if factor not in grids:
-                grids[factor] = accuracy.halved(trajectory, method)
-            return grids[factor]
+        if factor < 1:  # τ/2, and τ/4 from τ/2
+            finer, step = trajectory, 1.0
+            while step > factor:
+                step /= 2
+                if step not in grids:
+                    grids[step] = None if finer is None else accuracy.halved(finer, method)
+                finer = grids[step]
+            return finer
         coarse, step = trajectory, 1.0
         while step < factor:
             step *= 2
@@ -462,21 +467,24 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
 
     integration_errors_by_reruns(comparisons, (sim.direct_errors(), sim.linear_errors()),
                                  trajectory.n_steps, trajectory.tau, sim.stride, method,
-                                 rerun, lambda: _rk4_step(sim, jit))
+                                 rerun, lambda: _rk4_step(sim, jit),
+                                 breaks=accuracy.motion_breaks(trajectory))
 
 
 Rerun = Callable[[float, int], "tuple[ErrorCurves, ErrorCurves] | None"]
 """``rerun(factor, every)``: the (direct, linear) error curves of the same cases run again
 at step ``factor`` τ (``factor`` 2 or 4: over the first ``⌊N/factor⌋`` of its steps, the
-same motion on the coarser grid; ``factor`` 1/2: over ``2N`` steps), recorded every
-``every`` of its own steps; None when the run at τ/2 cannot be made (a motion that cannot
-be generated again at τ/2). A run that fails raises :class:`InsErrorsError`."""
+same motion on the coarser grid; ``factor`` 1/2 or 1/4: over ``2N`` or ``4N`` steps, only
+asked for when ``breaks`` are given), recorded every ``every`` of its own steps; None when
+the run at τ/2 (τ/4) cannot be made (a motion that cannot be generated again at τ/2). A run
+that fails raises :class:`InsErrorsError`."""
 
 
 def integration_errors_by_reruns(comparisons: Sequence[Comparison],
                                  fine: tuple[ErrorCurves, ErrorCurves], n_steps: int,
                                  tau: float, stride: int, method: str, rerun: Rerun,
-                                 rk4_step: Callable[[], float | None] | None = None) -> None:
+                                 rk4_step: Callable[[], float | None] | None = None,
+                                 breaks: np.ndarray | None = None) -> None:
     """The integration-error estimate of :func:`add_integration_errors`, from any runs.
 
     A run at 2τ when the recording stride is even (every sample on its grid), else at
@@ -487,6 +495,16 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
     step the command line accepts). Where the run at τ/2 cannot be made, the run at 2τ
     is compared on the samples the two share (or nothing is estimated, and the cases say
     why).
+
+    RK4 keeps its order over a step only where the motion is smooth: on a motion with
+    ``breaks`` (a motion file's sample times, where its splines' third derivative jumps)
+    a rerun whose steps straddle breaks that the run's steps end on is less accurate than
+    the run by far more than the step ratio says, and the estimate would be orders of
+    magnitude too large. When the coarse grids of the plan above do not keep every break
+    the run's grid holds, the reruns are at τ/2 (the estimate) and τ/4 (the observed
+    order) instead, whose grids hold every point of the run's. When the run's own steps
+    straddle breaks, its error is not of the scheme's order and nothing is estimated: the
+    cases say so and name a step that keeps the breaks.
 
     Parameters
     ----------
@@ -505,6 +523,9 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
     rk4_step : callable, optional
         RK4's own suggested step for these cases (or None), asked for when the rectangle
         method would need more steps than a run may take.
+    breaks : numpy.ndarray, optional
+        Times (s) where the motion is less smooth
+        (:func:`~ins_errors.numeric.accuracy.motion_breaks`); None: smooth or unknown.
 
     Every comparison's :attr:`Comparison.integration_steps` gets the steps of the reruns
     that completed.
@@ -518,7 +539,8 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
         return curves
 
     try:
-        _by_reruns(comparisons, fine, n_steps, tau, stride, method, recorded, rk4_step)
+        _by_reruns(comparisons, fine, n_steps, tau, stride, method, recorded, rk4_step,
+                   breaks)
     finally:
         for comparison in comparisons:
             comparison.integration_steps = tuple(made)
@@ -526,10 +548,19 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
 
 def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, ErrorCurves],
                n_steps: int, tau: float, stride: int, method: str, rerun: Rerun,
-               rk4_step: Callable[[], float | None] | None) -> None:
+               rk4_step: Callable[[], float | None] | None,
+               breaks: np.ndarray | None = None) -> None:
     """The body of :func:`integration_errors_by_reruns` (same parameters)."""
     if n_steps < 2:
         return _not_estimated(comparisons, "the run has a single step")
+    on_grid, straddled = accuracy.breaks_on_grid(
+        breaks if accuracy.ORDERS[method] > 1 else None, tau, n_steps)
+    if straddled.size:
+        return _not_estimated(comparisons, _straddling(breaks, straddled, tau, stride))
+    if on_grid.size and not all(accuracy.grid_keeps(on_grid, f, n_steps)
+                                for f in ((2, 4) if stride % 2 == 0 else (2,))):
+        return _finer_reruns(comparisons, fine, tau, stride, method, rerun, rk4_step,
+                             _kept(breaks, tau))
     try:
         if stride % 2 == 0:  # every sample on the grid of 2τ: runs at τ, 2τ, 4τ
             runs = [fine, rerun(2, stride // 2)]
@@ -553,6 +584,18 @@ def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, Error
             orders = (rerun(factor, every), fine_i, coarse_i)
         except InsErrorsError as error:  # e.g. leaves the domain: far from asymptotic
             failed = f"the run at τ = {factor * tau:g} s fails: {error}"
+    _fill(comparisons, runs, scale, orders, False, tau, method, stride, rk4_step, failed,
+          _kept(breaks, tau) if on_grid.size else None)
+
+
+def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, ErrorCurves]],
+          scale: float, orders: tuple | None, finest: bool, tau: float, method: str,
+          stride: int, rk4_step: Callable[[], float | None] | None,
+          failed: str | None, spacing: float | None = None) -> None:
+    """Set the estimates ``scale |y_finer − y_coarser|`` of the pair ``runs`` (finer
+    first), the observed order from the third run of ``orders`` = (curves, indices of
+    the pair's samples, indices of its own) — finer than the pair when ``finest``, else
+    coarser — and warn (:func:`_integration_warning`, whose step divides ``spacing``)."""
     for b, comparison in enumerate(comparisons):
         observed = []
         for part, attribute in ((0, "direct_integration_error"),
@@ -565,10 +608,11 @@ def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, Error
                 if orders is None or not metric.excited or metric.max_direct <= 0:
                     continue
                 third_curves, fi, ci = orders  # near: the finer pair; far: the coarser
-                far = float(np.max(np.abs(_difference(
-                    coarser.values[k, fi, b], third_curves[part].values[k, ci, b],
-                    metric.unit))))
-                q = accuracy.order_observed(float(np.max(gap[fi])), far)
+                other = np.abs(_difference(
+                    (finer if finest else coarser).values[k, fi, b],
+                    third_curves[part].values[k, ci, b], metric.unit))
+                near, far = float(np.max(gap[fi])), float(np.max(other))
+                q = accuracy.order_observed(*((far, near) if finest else (near, far)))
                 if q is not None:
                     observed.append((getattr(metric, attribute) / metric.max_direct, q,
                                      metric))
@@ -579,7 +623,62 @@ def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, Error
         worst = comparison.worst_integration_ratio
         _integration_warning(comparison, tau, method, stride * tau, rk4_step,
                              failed if worst is not None and worst > accuracy.RELEVANT
-                             else None)
+                             else None, spacing)
+
+
+def _finer_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, ErrorCurves],
+                  tau: float, stride: int, method: str, rerun: Rerun,
+                  rk4_step: Callable[[], float | None] | None,
+                  spacing: float | None = None) -> None:
+    """The estimate from runs at τ/2 and τ/4, whose grids hold every point of the run's
+    (a motion with breaks that coarser grids would straddle): Richardson's rule on τ/2
+    and τ, the observed order from τ/4, τ/2 and τ."""
+    try:
+        half = rerun(0.5, 2 * stride)
+        if half is None:
+            return _not_estimated(comparisons, "the motion has breaks (e.g. the samples of "
+                                  "a motion file) that runs at 2τ would straddle, and it "
+                                  "cannot be generated again at τ/2")
+    except InsErrorsError as error:
+        return _not_estimated(comparisons, f"the run at τ/2 failed ({error})")
+    p = accuracy.ORDERS[method]
+    orders, failed = None, None
+    try:
+        quarter = rerun(0.25, 4 * stride)
+        if quarter is not None:
+            every = np.arange(half[0].values.shape[1])
+            orders = (quarter, every, every)
+    except InsErrorsError as error:
+        failed = f"the run at τ = {tau / 4:g} s fails: {error}"
+    _fill(comparisons, [half, fine], 2 ** p / (2 ** p - 1), orders, True, tau, method,
+          stride, rk4_step, failed, spacing)
+
+
+def _kept(breaks: np.ndarray, tau: float) -> float:
+    """A length a suggested step must divide to keep the breaks that the run's steps
+    keep: the breaks' spacing when they are evenly spaced, else the run's step."""
+    d = accuracy.spacing(breaks)
+    return tau if d is None else d
+
+
+def _straddling(breaks: np.ndarray, straddled: np.ndarray, tau: float, stride: int) -> str:
+    """Why nothing is estimated when the run's steps straddle the motion's breaks, with
+    a step that keeps them when the breaks are evenly spaced."""
+    d = accuracy.spacing(breaks)
+    text = (f"the steps of τ = {tau:g} s straddle {straddled.size} of the motion's breaks "
+            f"(the first at t = {straddled[0]:g} s; a motion file's sample times, where its "
+            "splines' third derivative jumps): RK4 loses its order there, and step "
+            "doubling would not measure the error")
+    if d is None:
+        return text + "; choose a step that every break is a whole number of"
+    interval = stride * tau
+    for k in range(max(1, math.ceil(d / tau - accuracy.BREAK_TOLERANCE)), 1025):
+        step = float(np.format_float_positional(d / k, precision=12, trim="-"))
+        if (whole_steps(d, step) is not None and whole_steps(interval, step) is not None):
+            text_step = np.format_float_positional(step, unique=True, trim="-")
+            return text + (f"; a step that divides the breaks' spacing of {d:g} s keeps "
+                           f"them: τ = {text_step} s")
+    return text + f"; choose a step that divides the breaks' spacing of {d:g} s"
 
 
 NOTHING_SHARED = "the run at twice the step shares no recorded sample with this run but the start"
@@ -675,12 +774,13 @@ def _rk4_step(sim: Simulation, jit: bool) -> float | None:
 
 def _integration_warning(comparison: Comparison, tau: float, method: str, interval: float,
                          rk4_step: Callable[[], float | None] | None = None,
-                         failed: str | None = None) -> None:
+                         failed: str | None = None, spacing: float | None = None) -> None:
     """Warn when the integration error is too large, or its estimate not asymptotic
     (:attr:`Comparison.integration_order` far from the scheme's order, or ``failed``: why
     the run that measures the order failed), naming a step the command line accepts
     (:func:`~ins_errors.numeric.accuracy.typable_step`); ``rk4_step`` gives RK4's own
-    step when the rectangle method would need more steps than a run may take."""
+    step when the rectangle method would need more steps than a run may take; the step
+    named divides ``spacing`` (s) too, when given (it keeps the motion's breaks)."""
     from ins_errors.numeric.integrators import MAX_STEPS
 
     p, q = accuracy.ORDERS[method], comparison.integration_order
@@ -705,7 +805,7 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
         k = 2.0 * k
         if worst is not None and q is not None and 0 < q < p:
             k = max(k, (1.25 * worst_need) ** (1.0 / q))  # errors fall slower than p
-    step, text = accuracy.typable_step(tau / k, interval)
+    step, text = accuracy.typable_step(tau / k, interval, spacing)
     scheme = "rectangle method" if method == "euler" else method.upper()
     duration = comparison.times[-1] if len(comparison.times) else interval
     if method == "euler" and duration / step > MAX_STEPS:
@@ -721,13 +821,23 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
         comparison.suggested_step = step
         hint = f"; RK4 ({RK4_HOW}) needs far fewer steps" if method == "euler" else ""
         advice = f"the {scheme} with τ = {tau:g} s is too coarse; τ = {text} s would do{hint}"
+    # the quantity named is the one furthest past its limit; the summary's
+    # "integration error / error" is the largest share of the error, maybe another's
+    shares = [(m.integration_error / m.max_direct, m) for m in comparison.excited
+              if m.integration_error is not None and m.max_direct > 0]
+    largest = max(shares, key=lambda s: s[0]) if shares else None
+    also = ""
+    if worst is not None and largest is not None and largest[1] is not worst[0]:
+        also = (f"; the largest share of the error is {largest[1].quantity}'s, "
+                f"{largest[0]:.2%}")
     if unreliable:
         size = "; the estimate is outside its asymptotic range"
         if worst is not None:
-            m = worst[0]
+            m, target, what = worst
             size = (f"; its estimate for {m.quantity}, {m.integration_error:.3g} {m.unit} "
-                    f"({m.integration_error / m.max_direct:.2%} of the error), is outside "
-                    "its asymptotic range")
+                    f"({m.integration_error / m.max_direct:.2%} of the error), exceeds "
+                    f"{what} ({target:.3g} {m.unit}) and is outside its asymptotic range"
+                    f"{also}")
         how = (f"observed order {q:.2g}, scheme order {p}" if failed is None
                else f"{failed}")
         comparison.warnings.append(
@@ -737,7 +847,7 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
     comparison.warnings.append(
         f"integration error of {m.quantity} ≈ {m.integration_error:.3g} {m.unit} "
         f"({m.integration_error / m.max_direct:.2%} of the error) exceeds {what} "
-        f"({target:.3g} {m.unit}): {advice}")
+        f"({target:.3g} {m.unit}){also}: {advice}")
 
 
 def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
