@@ -419,3 +419,147 @@ def test_the_rk4_advice_says_how_a_scenario_file_asks_for_it(tmp_path, capsys):
     capsys.readouterr()
     report = (tmp_path / "out" / "report.md").read_text(encoding="utf-8")
     assert 'RK4 (--method rk4, or method = "rk4" in a scenario\'s [run])' in report
+
+
+# --------------------------------------------------------------------------------------
+# Sampled motions: a motion file's cubic splines have a third derivative that jumps at
+# every sample, where RK4 keeps its order only when a step ends there
+# --------------------------------------------------------------------------------------
+SAMPLE_RATE = 2.0
+"""Samples per second of the turning motion file of these tests."""
+
+
+def _turning_samples(duration: float) -> tuple[np.ndarray, ...]:
+    """(t, v_N, v_E, h) of a turning, accelerating and climbing flight sampled at
+    :data:`SAMPLE_RATE`: the course swings ±90° every minute, the speed 60 ± 5 m/s."""
+    t = np.arange(0.0, duration + 1e-9, 1.0 / SAMPLE_RATE)
+    speed = 60.0 + 5.0 * np.sin(2 * np.pi * t / 70.0)
+    course = np.radians(90.0) * np.sin(2 * np.pi * t / 60.0)
+    h = 300.0 + 20.0 * np.sin(2 * np.pi * t / 90.0)
+    return t, speed * np.cos(course), speed * np.sin(course), h
+
+
+SAMPLED_CASE = {"gyro_scale_error_z": 300e-6, "accel_scale_error_x": 300e-6}
+
+
+def _sampled_flight(model, duration, tau):
+    from ins_errors.numeric import strapdown_truth
+
+    t, v_n, v_e, h = _turning_samples(duration + 5.0)
+    profile = tr.sampled_profile(t, v_n, v_e, 47 * DEG, 8 * DEG, 0.0, h)
+    return strapdown_truth.trajectory(model, strapdown_truth.flight_from_profile(profile),
+                                      duration, tau)
+
+
+def test_sampled_motion_estimate_matches_a_run_at_an_eighth_of_the_step():
+    """τ = 0.5 s on a file sampled every 0.5 s: runs at 1 s and 2 s would straddle every
+    other sample (their estimate was 120–240 times the error); the reruns at 0.25 s and
+    0.125 s keep every sample, and the estimate is within a factor 2 of the error
+    measured against a run at τ/8 (itself 8⁴ times more accurate)."""
+    import ins_errors
+    from ins_errors.numeric.simulate import simulate
+
+    model = ins_errors.load_model("strapdown_ned")
+    duration, tau = 180.0, 0.5
+    traj = _sampled_flight(model, duration, tau)
+    (c,) = compare(model, traj, [SAMPLED_CASE], record_interval=10.0, refined=False,
+                   validity_threshold=None)
+    sources = np.array([[SAMPLED_CASE.get(s.name, 0.0) for s in model.sources]]).T
+    reference = simulate(model, _sampled_flight(model, duration, tau / 8), sources,
+                         record_interval=10.0, parts=("real",)).direct_errors()
+    checked = 0
+    for m in c.excited:
+        true = np.max(np.abs(c.direct[m.quantity] - reference[m.quantity][:, 0]))
+        if true < 1e-9 * m.max_direct:
+            continue  # rounding
+        checked += 1
+        assert true / 2 < m.direct_integration_error < 2 * true, (m.quantity, true)
+    assert checked >= 5
+    assert c.integration_steps == (tau / 2, tau / 4)
+    assert abs(c.integration_order - 4) < 0.5
+
+
+def test_steps_straddling_the_samples_give_no_estimate_and_a_step_that_keeps_them(
+        tmp_path, capsys):
+    """τ = 1 s on a file sampled every 0.5 s: every step straddles a sample, RK4 is not
+    of order 4 there and step doubling would not measure the error: no estimate, and
+    the warning names a step that divides the sample spacing."""
+    t, v_n, v_e, h = _turning_samples(70.0)
+    path = tmp_path / "turning.csv"
+    np.savetxt(path, np.column_stack([t, v_n, v_e, h]), delimiter=",",
+               header="t,v_N,v_E,h", comments="")
+    argv = ["compare", "strapdown_ned", "--motion-file", str(path), "--latitude", "47deg",
+            "--longitude", "8deg", "--duration", "60s", "-s", "gyro_scale_error_z=300ppm",
+            "--no-refined", "--json", "--step"]
+    assert main([*argv, "1s"]) == 0
+    (case,) = json.loads(capsys.readouterr().out)["cases"]
+    assert case["worst_integration_error_ratio"] is None
+    (warning,) = [w for w in case["warnings"] if "integration error" in w]
+    assert "not estimated" in warning and "straddle" in warning
+    assert warning.endswith("τ = 0.5 s")
+    # the step named keeps them: estimated, from runs that keep them too
+    assert main([*argv, "0.5s"]) == 0
+    (case,) = json.loads(capsys.readouterr().out)["cases"]
+    assert case["worst_integration_error_ratio"] is not None
+    assert case["integration_rerun_steps_s"] == [0.25, 0.125]
+
+
+@pytest.mark.parametrize("motion", ["samples kept by 2τ and 4τ", "manoeuvre"])
+def test_breaks_that_the_coarse_grids_keep_or_few_leave_the_estimate_as_it_was(
+        motion, monkeypatch):
+    """Samples every 4 steps (kept by the grids of 2τ and 4τ), or a manoeuvre's leg joins
+    at 120 s and 210 s (τ = 4 s straddles one in 80 steps, 4τ the other): the reruns at
+    2τ and 4τ, and the estimate bit for bit what it is for a motion whose breaks are
+    unknown."""
+    import ins_errors
+    from ins_errors.numeric import accuracy, strapdown_truth
+
+    model = ins_errors.load_model("strapdown_ned")
+    if motion == "manoeuvre":
+        tau = 4.0
+        traj = strapdown_truth.trajectory(model, strapdown_truth.standard_manoeuvre(),
+                                          320.0, tau)
+    else:
+        tau = 0.125
+        traj = _sampled_flight(model, 30.0, tau)
+    assert accuracy.motion_breaks(traj).size > 0
+
+    def run():
+        (c,) = compare(model, traj, [SAMPLED_CASE], record_interval=10 * tau,
+                       refined=False, validity_threshold=None)
+        return c
+
+    kept = run()
+    monkeypatch.setattr(accuracy, "motion_breaks", lambda trajectory: None)
+    unknown = run()
+    assert kept.integration_steps == unknown.integration_steps == (2 * tau, 4 * tau)
+    assert kept.integration_order == unknown.integration_order
+    assert kept.warnings == unknown.warnings
+    for m in kept.metrics:
+        other = unknown.metric(m.quantity)
+        assert (m.direct_integration_error, m.linear_integration_error) == (
+            other.direct_integration_error, other.linear_integration_error)
+
+
+def test_the_warning_names_the_largest_share_of_the_error_when_it_quotes_another():
+    """The summary's "integration error / error" is the largest share (b: 0.9 %, under
+    1 %); the warning quotes a, whose 0.5 % is five times 10 % of its linear-vs-direct
+    difference: it says b's share too, so the two read together."""
+    from ins_errors.numeric.compare import Comparison, estimate_integration_errors, metrics_of
+    from ins_errors.numeric.simulate import ErrorCurves
+
+    times = np.array([0.0, 1.0, 2.0])
+
+    def curves(a_end, b_end):
+        values = np.array([[[0.0], [0.5], [a_end]], [[0.0], [0.5], [b_end]]])
+        return ErrorCurves(["a", "b"], ["m", "m"], times, values)
+
+    direct, linear = curves(1.0, 1.0), curves(1.01, 2.0)
+    (c,) = [Comparison("x", {}, metrics_of(direct, linear, None, 0), times, {}, {}, {})]
+    # the rectangle method (order 1): the estimate is the gap to the run at 2τ
+    estimate_integration_errors([c], (direct, linear), (curves(1.005, 1.009), linear), 2, 1,
+                                4, 0.5, "euler")
+    assert c.worst_integration_ratio == pytest.approx(0.009)
+    (warning,) = c.warnings
+    assert warning.startswith("integration error of a ≈ 0.005 m (0.50% of the error)")
+    assert "the largest share of the error is b's, 0.90%" in warning

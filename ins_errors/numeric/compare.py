@@ -497,14 +497,16 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
     why).
 
     RK4 keeps its order over a step only where the motion is smooth: on a motion with
-    ``breaks`` (a motion file's sample times, where its splines' third derivative jumps)
-    a rerun whose steps straddle breaks that the run's steps end on is less accurate than
-    the run by far more than the step ratio says, and the estimate would be orders of
-    magnitude too large. When the coarse grids of the plan above do not keep every break
-    the run's grid holds, the reruns are at τ/2 (the estimate) and τ/4 (the observed
-    order) instead, whose grids hold every point of the run's. When the run's own steps
-    straddle breaks, its error is not of the scheme's order and nothing is estimated: the
-    cases say so and name a step that keeps the breaks.
+    dense ``breaks`` (a motion file's sample times, where its splines' third derivative
+    jumps) a rerun whose steps straddle breaks that the run's steps end on is less
+    accurate than the run by far more than the step ratio says, and the estimate would be
+    orders of magnitude too large. When the coarse grids of the plan above straddle
+    breaks of the run's grid in more than :data:`~ins_errors.numeric.accuracy.DENSE_BREAKS`
+    of their steps, the reruns are at τ/2 (the estimate) and τ/4 (the observed order)
+    instead, whose grids hold every point of the run's. When the run's own steps straddle
+    breaks that densely, its error is not of the scheme's order and nothing is estimated:
+    the cases say so and name a step that keeps the breaks. A few breaks (a manoeuvre's
+    leg joins) leave the plan as it is.
 
     Parameters
     ----------
@@ -553,14 +555,18 @@ def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, Error
     """The body of :func:`integration_errors_by_reruns` (same parameters)."""
     if n_steps < 2:
         return _not_estimated(comparisons, "the run has a single step")
+    # a motion whose breaks are dense (a motion file's samples): RK4 keeps its order
+    # only on grids that hold them (the rectangle method's order 1 is not affected)
     on_grid, straddled = accuracy.breaks_on_grid(
         breaks if accuracy.ORDERS[method] > 1 else None, tau, n_steps)
-    if straddled.size:
+    if accuracy.dense(straddled.size, n_steps):
         return _not_estimated(comparisons, _straddling(breaks, straddled, tau, stride))
-    if on_grid.size and not all(accuracy.grid_keeps(on_grid, f, n_steps)
-                                for f in ((2, 4) if stride % 2 == 0 else (2,))):
+    spacing = (_kept(breaks, tau) if accuracy.dense(on_grid.size + straddled.size, n_steps)
+               else None)  # suggested steps keep dense breaks
+    if any(accuracy.dense(accuracy.straddled_by(on_grid, f, n_steps), n_steps // f)
+           for f in ((2, 4) if stride % 2 == 0 else (2,))):
         return _finer_reruns(comparisons, fine, tau, stride, method, rerun, rk4_step,
-                             _kept(breaks, tau))
+                             spacing)
     try:
         if stride % 2 == 0:  # every sample on the grid of 2τ: runs at τ, 2τ, 4τ
             runs = [fine, rerun(2, stride // 2)]
@@ -585,7 +591,7 @@ def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, Error
         except InsErrorsError as error:  # e.g. leaves the domain: far from asymptotic
             failed = f"the run at τ = {factor * tau:g} s fails: {error}"
     _fill(comparisons, runs, scale, orders, False, tau, method, stride, rk4_step, failed,
-          _kept(breaks, tau) if on_grid.size else None)
+          spacing)
 
 
 def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, ErrorCurves]],
