@@ -90,3 +90,17 @@ def test_an_unknown_casadi_function_names_the_known_ones():
     model = ins_errors.load_model("orthodromic")
     with pytest.raises(KeyError, match=r"'state_matrx'; known: .*state_matrix"):
         model.casadi.function("state_matrx")
+
+
+def test_labels_are_one_per_case(run):
+    """Three labels for one case were taken without a word (the extra ones dropped)."""
+    from ins_errors.errors import ShapeError
+    from ins_errors.numeric.compare import compare
+
+    with pytest.raises(ShapeError, match=r"labels must be one per case \(1\), got 3 labels"):
+        compare(run.model, run.trajectory, [{"gyro_drift_x": 1e-7}], labels=["a", "b", "c"])
+    with pytest.raises(ShapeError, match="got a string"):
+        compare(run.model, run.trajectory, [{"gyro_drift_x": 1e-7}], labels="a")
+    (case,) = compare(run.model, run.trajectory, [{"gyro_drift_x": 1e-7}], labels=["a"],
+                      record_interval=60.0, integration_error=False, validity_threshold=None)
+    assert case.label == "a"

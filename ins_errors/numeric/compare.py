@@ -302,6 +302,14 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     list of Comparison
         One per case.
     """
+    if labels is not None:  # before any run: one label per case
+        from ins_errors.errors import ShapeError
+        from ins_errors.numeric.simulate import source_cases
+
+        count = source_cases(model, cases).shape[1]
+        if isinstance(labels, str) or len(labels) != count:
+            shown = "a string" if isinstance(labels, str) else f"{len(labels)} labels"
+            raise ShapeError(f"compare: labels must be one per case ({count}), got {shown}")
     parts = ("real", "linear", "refined") if refined else ("real", "linear")
     sim = simulate(model, trajectory, cases, method=method,
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
