@@ -299,4 +299,6 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
                           quantities=scenario.quantities)
     for comparison, case in zip(comparisons, scenario.cases, strict=True):
         comparison.label = case.label
+        # notes about the motion (a strapdown INS flying a noisy motion file)
+        comparison.warnings.extend(getattr(trajectory, "notes", ()))
     return ScenarioResult(scenario, trajectory.description, comparisons, trajectory.truth_kind)

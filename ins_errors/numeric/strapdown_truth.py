@@ -55,6 +55,7 @@ Example
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -270,11 +271,14 @@ class FileFlightCommands:
         :class:`~ins_errors.numeric.trajectories.SplineCommands` of the file.
     start, end : float
         First and last sample time, s.
+    source : str
+        The file for messages (``motion file PATH (N samples, ...)``).
     """
 
     splines: tuple
     start: float
     end: float
+    source: str = "the motion file"
 
     def _check(self, t: np.ndarray) -> None:
         if t.size and (t.min() < self.start - 1e-9 or t.max() > self.end + 1e-9):
@@ -438,7 +442,8 @@ def flight_from_profile(profile: Profile) -> Flight:
                               "(a motion file, trajectories.sampled_profile) only: its "
                               "attitude rates need the splines' second derivatives")
         spline = profile.commands
-        commands = FileFlightCommands(spline.splines, spline.start, spline.end)
+        commands = FileFlightCommands(spline.splines, spline.start, spline.end,
+                                      profile.describe(set()) or "the motion file")
         vN, vE, *_ = commands(np.zeros(1))
         # the file's own course is flown: the profile's track angle is not stated
         return Flight(profile.latitude, profile.longitude, float(spline.splines[2](0.0)),
@@ -709,6 +714,157 @@ def rigid_body_signals(flight: Flight, earth: FlightEarth, t: np.ndarray, y: np.
     return state, inputs, euler, nav, rates
 
 
+RATE_CHECKS = 4
+"""Points per interval between two samples of a motion file (the sample and three more,
+a quarter of the interval apart) where :func:`file_rates` evaluates the body rate and
+specific force."""
+
+NOISE_FLOOR = math.radians(0.1)
+"""Smallest typical (median) sample-to-sample part of a motion file's body rate, rad/s
+(0.1°/s), that :func:`file_rates` calls noise worth a note: below it the rotation the
+noise feeds the gyros is under a thirtieth of a standard-rate turn (3°/s), harmless to
+the error analysis however noisy the file."""
+
+
+def smoothed_samples(values: np.ndarray) -> np.ndarray:
+    """The samples lightly smoothed by the binomial filter ``(1, 2, 1) / 4`` (the first
+    and last kept), shape as ``values``.
+
+    On evenly spaced samples its gain at frequency ``f`` is ``cos²(π f Δ)`` (Δ the
+    sample interval): above 0.9 for motion of ten samples per period or more, zero at the
+    Nyquist frequency, where the noise of a differentiated log lives.
+    """
+    out = np.array(values, dtype=float)
+    out[1:-1] = 0.25 * (out[:-2] + 2.0 * out[1:-1] + out[2:])
+    return out
+
+
+@dataclass(frozen=True)
+class FileRates:
+    """The body rate and specific force a motion file implies along a run
+    (:func:`file_rates`).
+
+    Attributes
+    ----------
+    peak_rate, peak_rate_time : float
+        Largest body rate ``|ω_ib^b|`` (rad/s) and its time (s).
+    peak_force, peak_force_time : float
+        Largest specific force ``|f^b|`` (m/s²) and its time (s).
+    noise : float
+        Median over the run of ``|ω − ω_s|``, rad/s: the body rate's sample-to-sample
+        part, ``ω_s`` being the body rate of the file with its velocities and height
+        lightly smoothed (:func:`smoothed_samples`).
+    motion : float
+        Median over the run of ``|ω_s|``, rad/s: the part the samples resolve.
+    """
+
+    peak_rate: float
+    peak_rate_time: float
+    peak_force: float
+    peak_force_time: float
+    noise: float
+    motion: float
+
+    @property
+    def noisy(self) -> bool:
+        """True when the body rate is mostly noise: its typical sample-to-sample part
+        exceeds both its typical resolved part and :data:`NOISE_FLOOR`."""
+        return self.noise > max(self.motion, NOISE_FLOOR)
+
+
+def file_rates(flight: Flight, earth: FlightEarth, t_end: float) -> FileRates:
+    """Measure the body rate and specific force a motion file's flight implies over
+    ``[0, t_end]`` (s), and how much of the rate is noise.
+
+    The flight's attitude follows its velocity (heading = course, pitch = flight-path
+    angle, roll = coordinated bank), so the body rate comes from the velocity splines'
+    second derivatives and the specific force from their first: noise on the logged
+    velocities, which a cubic spline passes through exactly, is differentiated twice.
+    Both are evaluated by :func:`rigid_body_signals` at the samples within the run and
+    :data:`RATE_CHECKS` − 1 points between each two (and at ``t_end``), the latitude
+    integrated from v_N by the trapezoidal rule on those points (the body rate's
+    transport part, v/R, is then exact to far below 1e-9 rad/s), once for the file and
+    once for the file with its velocities and height smoothed by
+    :func:`smoothed_samples`.
+
+    Parameters
+    ----------
+    flight : Flight
+        A ``geographic`` flight (:func:`flight_from_profile` of a motion file).
+    earth : FlightEarth
+    t_end : float
+        End of the run, s.
+
+    Returns
+    -------
+    FileRates
+    """
+    from dataclasses import replace
+
+    from scipy.interpolate import CubicSpline
+
+    commands = flight.commands
+    x = np.asarray(commands.splines[0].x)
+    smooth = replace(flight, commands=FileFlightCommands(
+        tuple(CubicSpline(x, smoothed_samples(s(x))) for s in commands.splines),
+        commands.start, commands.end, commands.source))
+    knots = np.concatenate([x[x < t_end], [t_end]])
+    fractions = np.arange(RATE_CHECKS) / RATE_CHECKS
+    noise, motion = [], []
+    peak = [-1.0, 0.0, -1.0, 0.0]  # rate and time, force and time
+    lat0, lon0 = flight.latitude, flight.longitude
+    for first in range(0, knots.size - 1, 65536):  # in pieces: bounded memory
+        part = knots[first:first + 65537]
+        t = (part[:-1, None] + np.diff(part)[:, None] * fractions).ravel()
+        if first + 65536 >= knots.size - 1:
+            t = np.append(t, t_end)
+        h = commands.splines[2](t)
+        vN = commands.splines[0](t)
+        R_N, _ = radii_of_curvature(lat0, earth.a, earth.e2)
+        rate = vN / (R_N + h)
+        lat = lat0 + np.concatenate([[0.0], np.cumsum(0.5 * (rate[1:] + rate[:-1])
+                                                        * np.diff(t))])
+        y = np.array([lat, np.full(t.shape, lon0), h, np.zeros(t.shape)])
+        _, inputs, _ = rigid_body_signals(flight, earth, t, y)
+        with np.errstate(all="ignore"):  # a smoothed speed near zero: left out
+            _, smoothed, _ = rigid_body_signals(smooth, earth, t, y)
+        w, f = np.linalg.norm(inputs[:3], axis=0), np.linalg.norm(inputs[3:6], axis=0)
+        k, j = int(np.argmax(w)), int(np.argmax(f))
+        if w[k] > peak[0]:
+            peak[:2] = float(w[k]), float(t[k])
+        if f[j] > peak[2]:
+            peak[2:] = float(f[j]), float(t[j])
+        ok = np.all(np.isfinite(smoothed[:3]), axis=0)
+        noise.append(np.linalg.norm(inputs[:3, ok] - smoothed[:3, ok], axis=0)
+                     .astype(np.float32))
+        motion.append(np.linalg.norm(smoothed[:3, ok], axis=0).astype(np.float32))
+        lat0 = float(lat[-1])
+    noise_all, motion_all = np.concatenate(noise), np.concatenate(motion)
+    return FileRates(peak[0], peak[1], peak[2], peak[3],
+                     float(np.median(noise_all)) if noise_all.size else 0.0,
+                     float(np.median(motion_all)) if motion_all.size else 0.0)
+
+
+def file_note(flight: Flight, earth: FlightEarth, t_end: float) -> str | None:
+    """One line when a motion file's body rate over
+    ``[0, t_end]`` (s) is mostly noise (:attr:`FileRates.noisy`), naming the file, the
+    peak body rate and specific force with their times, and the remedy; None otherwise
+    (and for any other flight)."""
+    if not flight.geographic or flight.static:
+        return None
+    rates = file_rates(flight, earth, t_end)
+    if not rates.noisy:
+        return None
+    return (f"{flight.commands.source} implies body rates of up to "
+            f"{np.degrees(rates.peak_rate):.4g}°/s (t = {rates.peak_rate_time:.6g} s) and "
+            f"specific forces of up to {rates.peak_force:.4g} m/s² "
+            f"(t = {rates.peak_force_time:.6g} s), mostly noise (typical sample-to-sample "
+            f"part {np.degrees(rates.noise):.3g}°/s against {np.degrees(rates.motion):.3g}°/s"
+            f" resolved): the attitude is derived from the velocities' first and second "
+            f"derivatives, so smooth or decimate the log's velocities (and height) before "
+            f"giving it")
+
+
 def trajectory(model: Model, flight: Flight, duration: float, tau: float,
                p: np.ndarray | None = None, truth: str = "auto",
                stream: bool | None = None) -> Trajectory:
@@ -752,6 +908,9 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
     Trajectory
         Truth (n, N + 1), inputs at the steps (nu, N + 1) and midpoints (nu, N), stored or
         streamed (strapdown_ned: n = 10, nu = 7); a static base gives one constant column.
+        A moving flight's has ``notes``, a list of one-line notices about the motion:
+        a motion file whose body rate is mostly noise (:func:`file_note`, also given as
+        a ``RuntimeWarning`` ``ins-errors: note: ...``; the file is flown as given).
 
     Raises
     ------
@@ -793,6 +952,9 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
               else adapter.conditions(nav0[:, 0]))
         return Trajectory(model.key, float(tau), n_steps, state, inputs, inputs.copy(), p,
                           c0, True, flight.description)
+    note = file_note(flight, earth, n_steps * float(tau))
+    if note is not None:  # said, not acted on: the file is flown as given
+        warnings.warn(f"ins-errors: note: {note}", RuntimeWarning, stacklevel=2)
     truth = it.chosen_truth(truth, flight.breaks, n_steps, float(tau),
                             "a flight (a great circle, a manoeuvre or a motion file)")
     if truth == "interpolated":
@@ -809,6 +971,7 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
           else adapter.conditions(nav0[:, 0]))
     traj = Trajectory.streamed(model.key, tau, n_steps, source, x0, u0, p, c0,
                                flight.description)
+    traj.notes = [] if note is None else [note]
     if stream is None:
         stream = 8 * (n_steps + 1) * (len(x0) + 2 * len(u0)) > STREAM_BYTES
     if not stream:  # (n_steps >= 1: a zero duration was refused above)
