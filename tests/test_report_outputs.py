@@ -835,3 +835,25 @@ def test_report_names_only_the_integration_error_runs_that_were_completed(
     else:
         assert f"twice the step ({made[0]:g} s" in sentence
         assert "a third" not in sentence and "half the step" not in sentence
+
+
+def test_the_residual_panels_draw_model_minus_direct_as_labelled(report):
+    # the tables and warnings say "linear − direct"; the panels drew and named
+    # direct − linear. A linear curve above the direct one by a known ramp must show as
+    # that positive ramp, under the tables' name
+    from ins_errors.numeric import plots
+
+    result, _ = report
+    comparison = result.comparisons[0]
+    ramp = np.linspace(0.0, 1.0, comparison.times.size)
+    shifted = replace(comparison,
+                      linear={q: v + 1e-6 * ramp for q, v in comparison.direct.items()},
+                      refined={q: v - 2e-6 * ramp for q, v in comparison.direct.items()})
+    figure = plots._ComparisonFigure(shifted, ["alpha_y", "delta_v_N"])
+    figure.show(shifted, "signs")
+    for (_, panel), (_, scale, row) in zip(figure.axes, figure.lines, strict=True):
+        residuals = {line.get_label(): line.get_ydata() for line in row if line.axes is panel}
+        assert set(residuals) == {"linear − direct", "refined − direct"}
+        linear, refined = residuals["linear − direct"], residuals["refined − direct"]
+        assert linear.min() >= -1e-9 * scale and linear.max() == pytest.approx(1e-6 * scale)
+        assert refined.max() <= 1e-9 * scale and refined.min() == pytest.approx(-2e-6 * scale)

@@ -51,7 +51,8 @@ def plot_comparison(comparison: Comparison, path: str | Path,
 
     The left panel overlays the direct, linear and refined errors; at the scale of the
     errors they are usually indistinguishable, so the right panel draws what the study
-    is about: direct − linear and direct − refined, on their own scale.
+    is about: linear − direct and refined − direct (the sign of the tables and
+    warnings), on their own scale.
 
     Parameters
     ----------
@@ -200,12 +201,12 @@ class _ComparisonFigure:
                    curves.plot([], [], color="tab:orange", lw=1.0, ls="--",
                                label="linear")[0],
                    residuals.plot([], [], color="tab:orange", lw=1.0,
-                                  label="direct − linear")[0]]
+                                  label="linear − direct")[0]]
             if comparison.refined:
                 row += [curves.plot([], [], color="tab:blue", lw=1.0, ls=":",
                                     label="refined")[0],
                         residuals.plot([], [], color="tab:blue", lw=1.0,
-                                       label="direct − refined")[0]]
+                                       label="refined − direct")[0]]
             self.lines.append((q, scale, row))
             curves.set_ylabel(f"{q}\n[{unit}]", fontsize=8)
             residuals.set_ylabel(f"residual [{unit}]", fontsize=8)
@@ -246,10 +247,10 @@ class _ComparisonFigure:
         for q, scale, row in self.lines:
             direct = comparison.direct[q] * scale
             linear = comparison.linear[q] * scale
-            curves = [direct, linear, direct - linear]
+            curves = [direct, linear, linear - direct]
             if comparison.refined:
                 refined = comparison.refined[q] * scale
-                curves += [refined, direct - refined]
+                curves += [refined, refined - direct]
             # the solid lines' paths keep, per half pixel column, each curve's first,
             # last, smallest and largest sample: the same picture, cheaper for long
             # records; the dashed and dotted ones (linear, refined) are drawn whole:
