@@ -132,6 +132,12 @@ def validate(data: dict) -> SpecFile:
     except ValidationError as error:
         first = error.errors()[0]
         loc = tuple(first["loc"])
+        if loc == ("motion", "kind") and first.get("input") == "file":
+            raise InsErrorsError(
+                "[motion] kind = 'file': a budget spec takes no motion file; its motion is "
+                "'static', 'great_circle' or 'manoeuvre' (planned motions that last any "
+                "operating time); fly a motion file with compare --motion-file, or with "
+                "kind = 'file' in a run or sweep scenario") from None
         tables = dict(_TABLES)
         if len(loc) >= 3 and loc[0] == "items":
             tables[str(loc[1])] = SpecItem

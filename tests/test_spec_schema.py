@@ -84,3 +84,22 @@ def test_a_limit_without_its_unit_is_refused_with_one_set_of_examples(tmp_path):
     message = str(raised.value)
     assert "position_error" in message and "\n" not in message
     assert message.count("e.g.") == 1, message
+
+
+def test_a_motion_file_in_a_spec_is_refused_as_not_taken_by_budgets(tmp_path, capsys):
+    # the docs say what takes a motion file (compare, run, sweep) and what does not:
+    # a budget spec said only "unknown motion kind 'file'"
+    csv = tmp_path / "flight.csv"
+    csv.write_text("t,v_N,v_E\n0,0,100\n600,0,100\n1200,0,100\n1800,0,100\n")
+    path = tmp_path / "s.toml"
+    path.write_text(GOOD_ITEM + f'[motion]\nkind = "file"\nfile = "{csv.as_posix()}"\n',
+                    encoding="utf-8")
+    assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and len(err.strip().splitlines()) == 1
+    assert "a budget spec takes no motion file" in err and "compare --motion-file" in err
+    # and validity takes none either, as the docs say
+    with pytest.raises(SystemExit) as stop:  # an argparse usage error
+        main(["validity", "strapdown_ned", "--motion-file", str(csv)])
+    assert stop.value.code == 2
+    assert "unrecognized arguments: --motion-file" in capsys.readouterr().err
