@@ -56,6 +56,7 @@ from __future__ import annotations
 
 import math
 import warnings
+import weakref
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
@@ -865,6 +866,25 @@ def file_note(flight: Flight, earth: FlightEarth, t_end: float) -> str | None:
             f"giving it")
 
 
+_NOTES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+"""The :func:`file_note` of each flight's commands, per run length: a flight flown again
+(the integration error's reruns at other steps) is measured and noted once."""
+
+
+def _noted_once(flight: Flight, earth: FlightEarth, t_end: float) -> str | None:
+    """:func:`file_note`, given as a ``RuntimeWarning`` (``ins-errors: note: ...``) the
+    first time a flight of these commands is flown over ``[0, t_end]`` only."""
+    if not flight.geographic or flight.static:
+        return None
+    notes = _NOTES.setdefault(flight.commands, {})
+    key = (float(t_end), earth)
+    if key not in notes:
+        notes[key] = file_note(flight, earth, t_end)
+        if notes[key] is not None:  # said, not acted on: the file is flown as given
+            warnings.warn(f"ins-errors: note: {notes[key]}", RuntimeWarning, stacklevel=3)
+    return notes[key]
+
+
 def trajectory(model: Model, flight: Flight, duration: float, tau: float,
                p: np.ndarray | None = None, truth: str = "auto",
                stream: bool | None = None) -> Trajectory:
@@ -952,9 +972,7 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
               else adapter.conditions(nav0[:, 0]))
         return Trajectory(model.key, float(tau), n_steps, state, inputs, inputs.copy(), p,
                           c0, True, flight.description)
-    note = file_note(flight, earth, n_steps * float(tau))
-    if note is not None:  # said, not acted on: the file is flown as given
-        warnings.warn(f"ins-errors: note: {note}", RuntimeWarning, stacklevel=2)
+    note = _noted_once(flight, earth, n_steps * float(tau))
     truth = it.chosen_truth(truth, flight.breaks, n_steps, float(tau),
                             "a flight (a great circle, a manoeuvre or a motion file)")
     if truth == "interpolated":
