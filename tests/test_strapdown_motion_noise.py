@@ -147,6 +147,10 @@ def test_compare_and_run_say_it_in_one_line(twins, capsys, tmp_path):
     rates = st.file_rates(flight(noisy), st._earth(model, model.parameter_vector()), 60.0)
     assert f"{np.degrees(rates.peak_rate):.4g}°/s (t = {rates.peak_rate_time:.6g} s)" \
         in notes[0]
+    status, out, err = _cli(capsys, "compare", "strapdown_ned", "--motion-file", str(noisy),
+                            *argv, "--json")
+    assert status == 0 and any("smooth or decimate" in w for case in json.loads(out)["cases"]
+                               for w in case["warnings"])
     status, out, err = _cli(capsys, "compare", "strapdown_ned", "--motion-file", str(clean),
                             *argv)
     assert status == 0 and "note:" not in err

@@ -215,6 +215,8 @@ def run(args: argparse.Namespace) -> int:
                           refined=not args.no_refined, progress=progress,
                           platform=args.platform.replace("-", "_"),
                           validity_threshold=threshold)
+    for comparison in comparisons:  # notes about the motion (a noisy motion file), as run
+        comparison.warnings.extend(getattr(trajectory, "notes", ()))
     title = (f"{model.name}: {trajectory.description}; {duration / 3600:g} h, τ = {tau:g} s, "
              f"{args.method}")
     text = markdown_summary(comparisons, title) + "\n" + "\n".join(
