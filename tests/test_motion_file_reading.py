@@ -118,10 +118,12 @@ def test_times_must_start_at_zero(capsys, tmp_path):
                                  "--step", "10s")
     assert status == 2 and len(err.strip().splitlines()) == 1
     assert "its times start at 1000 s" in err and "subtract 1000 s" in err
-    early = _log(tmp_path / "early.csv", t - 5.0, [v_n, v_e], "t,v_N,v_E")  # still flies
+    # before 0 as well: the run started mid-file at t = 0, the first 5 s of the log
+    # dropped in silence and the start position applied there, not at the first sample
+    early = _log(tmp_path / "early.csv", t - 5.0, [v_n, v_e], "t,v_N,v_E")
     status, _out, err = _compare(capsys, "--motion-file", str(early), "--duration", "300s",
                                  "--step", "10s")
-    assert status == 0, err
+    assert status == 2 and "its times start at -5 s" in err and "add 5 s" in err, err
 
 
 def test_the_run_lasts_the_file_without_a_duration(capsys, tmp_path):

@@ -256,3 +256,22 @@ def test_a_streamed_file_flight_reruns_and_pickles_to_the_same_bits(model, truth
         np.testing.assert_array_equal(truths, whole.truth)
         np.testing.assert_array_equal(np.hstack([c.midpoints for c in chunks]),
                                       whole.midpoints)
+
+
+@pytest.mark.parametrize("table", ["[sweep]", "[motion]"])
+def test_a_sweep_refuses_a_heading_a_file_flight_ignores(capsys, tmp_path, table):
+    """A strapdown INS flies a file's own course: a swept heading gave the same numbers
+    at every point (the points dropped it), where run refuses a [motion] heading."""
+    heading = ('[sweep]\nheading = ["0 deg", "90 deg"]\n' if table == "[sweep]" else
+               '[sweep]\nlatitude = ["40 deg", "50 deg"]\n')
+    motion_heading = 'heading = "90 deg"\n' if table == "[motion]" else ""
+    scenario = tmp_path / "s.toml"
+    scenario.write_text(f'model = "strapdown_ned"\n[motion]\nkind = "file"\nfile = '
+                        f'"{EXAMPLE.as_posix()}"\n{motion_heading}[run]\nduration = "60 s"\n'
+                        f'step = "1 s"\nrecord = "10 s"\n[[case]]\ngyro_bias_x = "1 deg/h"\n'
+                        + heading, encoding="utf-8")
+    status, _out, err = _cli(capsys, "sweep", str(scenario), "--store",
+                            str(tmp_path / "s.zarr"), "--no-progress")
+    assert status == 2 and err.count("\n") == 1, err
+    assert f"{table}" in err and "heading: a strapdown INS along a motion file" in err
+    assert not (tmp_path / "s.zarr").exists()

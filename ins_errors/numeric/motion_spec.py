@@ -177,10 +177,12 @@ def _check_times(where: str, t: np.ndarray, lines: list[int]) -> None:
                 f"line {lines[k + 1]}")
         raise InsErrorsError(f"{where}: {what}{more}; the times must increase strictly "
                              "(one sample per time, in time order)")
-    if t[0] > 1e-9:
+    if abs(t[0]) > 1e-9:  # before 0 too: the run would start mid-file, in silence
+        shift = (f"subtract {t[0]:.10g} s from every time" if t[0] > 0
+                 else f"add {-t[0]:.10g} s to every time")
         raise InsErrorsError(f"{where}: its times start at {t[0]:.10g} s, and a run starts "
                              "at t = 0 from the file's first sample: shift the column t to "
-                             f"start at 0 (subtract {t[0]:.10g} s from every time)")
+                             f"start at 0 ({shift})")
 
 
 def _note_gaps(where: str, t: np.ndarray) -> None:
