@@ -504,6 +504,25 @@ def test_steps_straddling_the_samples_give_no_estimate_and_a_step_that_keeps_the
     assert case["integration_rerun_steps_s"] == [0.25, 0.125]
 
 
+def test_jittered_sample_times_are_told_to_be_resampled(tmp_path, capsys):
+    """A real log's clock jitters (±3 ms on 0.5-s samples): no step lands on every
+    sample, and the warning asked for one that does; it now says so and how to fix the
+    log."""
+    t, v_n, v_e, h = _turning_samples(70.0)
+    jitter = 0.003 * np.sin(np.arange(t.size) * 2.7)
+    jitter[0] = 0.0
+    path = tmp_path / "jittered.csv"
+    np.savetxt(path, np.column_stack([t + jitter, v_n, v_e, h]), delimiter=",",
+               header="t,v_N,v_E,h", comments="")
+    assert main(["compare", "strapdown_ned", "--motion-file", str(path), "--duration", "60s",
+                 "-s", "gyro_scale_error_z=300ppm", "--no-refined", "--json", "--step",
+                 "0.5s"]) == 0
+    (case,) = json.loads(capsys.readouterr().out)["cases"]
+    (warning,) = [w for w in case["warnings"] if "integration error" in w]
+    assert "not estimated" in warning and "not on a regular grid" in warning
+    assert "resample the log" in warning
+
+
 @pytest.mark.parametrize("motion", ["samples kept by 2τ and 4τ", "manoeuvre"])
 def test_breaks_that_the_coarse_grids_keep_or_few_leave_the_estimate_as_it_was(
         motion, monkeypatch):

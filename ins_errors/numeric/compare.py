@@ -683,8 +683,10 @@ def _straddling(breaks: np.ndarray, straddled: np.ndarray, tau: float, stride: i
             f"(the first at t = {straddled[0]:g} s; a motion file's sample times, where its "
             "splines' third derivative jumps): RK4 loses its order there, and step "
             "doubling would not measure the error")
-    if d is None:
-        return text + "; choose a step that every break is a whole number of"
+    if d is None:  # e.g. a log's jittered sample times: no step lands on all of them
+        return text + ("; the sample times are not on a regular grid, so no step keeps "
+                       "them all: resample the log to a regular clock (t = 0, d, 2d, ...) "
+                       "and run at a step that divides d")
     interval = stride * tau
     for k in range(max(1, math.ceil(d / tau - accuracy.BREAK_TOLERANCE)), 1025):
         step = float(np.format_float_positional(d / k, precision=12, trim="-"))
@@ -826,7 +828,7 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
         alternative = rk4_step() if rk4_step is not None else None
         comparison.suggested_step = None
         if alternative is not None:
-            step, text = accuracy.typable_step(alternative, interval)
+            step, text = accuracy.typable_step(alternative, interval, spacing)
             comparison.suggested_step, comparison.suggested_method = step, "rk4"
         advice = (f"the rectangle method would need τ ≤ {tau / k:.3g} s, more than the "
                   f"{MAX_STEPS:.0e} steps one run may take; use RK4 ({RK4_HOW})"
