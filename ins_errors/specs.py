@@ -534,7 +534,7 @@ def spec_parameters(spec: Spec, model, options: Iterable[str] = ()) -> dict[str,
     """
     from ins_errors.model_parameters import parse_parameter_options, parse_parameters
 
-    where = f"{Path(spec.path).name} [parameters]" if spec.path else "[parameters]"
+    where = f"{spec.path} [parameters]" if spec.path else "[parameters]"
     values = parse_parameters(model, spec.parameters, where, numbers_are_si=False)
     values.update(parse_parameter_options(model, options))
     return values

@@ -108,3 +108,16 @@ def test_a_bad_spec_entry_is_named_with_the_spec_file(monkeypatch, capsys):
     assert err.startswith("ins-errors: error: examples/specs/malformed.toml: "
                           "items.position_error: 3.7 has no unit"), err
     assert err.count("\n") == 1
+
+
+def test_a_bad_spec_parameter_is_named_with_the_spec_file_as_typed(tmp_path, monkeypatch,
+                                                                   capsys):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "badp.toml").write_text(
+        'sigma_level = 1\noperating_time = "1 h"\nstep = "60 s"\n[motion]\nlatitude = '
+        '"50 deg"\n[items.position_error_absolute]\nvalue = "1 km"\n[parameters]\n'
+        'bogus = "1 m"\n', encoding="utf-8")
+    assert main(["budget", "orthodromic", "--spec", "sub/badp.toml"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("ins-errors: error: sub/badp.toml [parameters]: unknown parameter"), err

@@ -172,3 +172,16 @@ def test_a_height_beside_the_files_own_h_is_refused(capsys, tmp_path):
     assert "height" not in in_si(description)
     a, b = motion_profile(in_si(description)), motion_profile(description)
     assert np.array_equal(a.commands(t)[0], b.commands(t)[0])
+
+
+def test_a_record_that_does_not_divide_the_files_length_says_where_the_length_came_from(
+        capsys, tmp_path):
+    """No duration was given, so 'the run of 1000 steps' named a length the user never
+    typed: the message says it is the file's."""
+    t = np.arange(0.0, 1000.6, 0.5)
+    v_n, v_e = _circling(t)
+    path = _log(tmp_path / "m.csv", t, [v_n, v_e], "t,v_N,v_E")
+    status, _out, err = _compare(capsys, "--motion-file", str(path), "--record", "60s")
+    assert status == 2 and len(err.strip().splitlines()) == 1, err
+    assert "not a whole number of recording intervals" in err
+    assert "the motion file's length, 1000 s" in err and "no --hours or --duration" in err

@@ -197,6 +197,15 @@ def run(args: argparse.Namespace) -> int:
         raise InsErrorsError("duration must be at least one step")
     if args.record is not None:
         record = parse_quantity(args.record, "s", "--record")
+        if args.duration is None and args.hours is None and args.motion_file:
+            from ins_errors.numeric.integrators import record_stride
+
+            try:  # said with where the duration came from
+                record_stride(record, tau, n_steps)
+            except InsErrorsError as error:
+                raise type(error)(f"{error} (the run is the motion file's length, "
+                                  f"{duration:g} s in whole steps, as no --hours or "
+                                  "--duration is given)") from None
     else:  # the largest multiple of the step up to 60 s that divides the run
         stride = max(1, min(n_steps, int(60.0 / tau + 1e-9)))
         while n_steps % stride:
