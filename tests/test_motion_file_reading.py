@@ -185,3 +185,18 @@ def test_a_record_that_does_not_divide_the_files_length_says_where_the_length_ca
     assert status == 2 and len(err.strip().splitlines()) == 1, err
     assert "not a whole number of recording intervals" in err
     assert "the motion file's length, 1000 s" in err and "no --hours or --duration" in err
+
+
+@pytest.mark.parametrize("header, rows, said", [
+    ("t,v_N,v_E,", ["0,1,2,", "1,1,2,", "2,1,2,", "3,1,2,"],
+     "empty column name (column 4; a comma too many?)"),
+    ("t;v_N;v_E", ["0;1;2", "1;1;2", "2;1;2", "3;1;2"],
+     "is one column: columns are separated by commas"),
+])
+def test_a_header_of_another_shape_is_named_as_that(capsys, tmp_path, header, rows, said):
+    """A trailing comma gave "column , sample 1 (line 2) is empty" and a semicolon
+    header "... is not a number"."""
+    path = tmp_path / "m.csv"
+    path.write_text("\n".join([header, *rows]) + "\n", encoding="utf-8")
+    status, _out, err = _compare(capsys, "--motion-file", str(path))
+    assert status == 2 and len(err.strip().splitlines()) == 1 and said in err, err

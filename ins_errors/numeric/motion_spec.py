@@ -239,6 +239,13 @@ def _read_columns(path: Path) -> tuple[list[str], dict[str, np.ndarray], list[in
         raise InsErrorsError(f"cannot read motion file {str(path)!r}: it is empty (expected "
                              "a header row t,v_N,v_E and rows of samples)")
     (_, names), samples = rows[0], rows[1:]
+    if len(names) == 1 and any(mark in names[0] for mark in (";", "\t", " ")):
+        raise InsErrorsError(f"motion file {str(path)!r}: its header {names[0]!r} is one "
+                             "column: columns are separated by commas (t,v_N,v_E,h)")
+    if "" in names:
+        raise InsErrorsError(f"motion file {str(path)!r}: its header has an empty column "
+                             f"name (column {names.index('') + 1}; a comma too many?): "
+                             f"{','.join(names)!r}")
     values = np.empty((len(samples), len(names)))
     for k, (number, cells) in enumerate(samples):
         if len(cells) != len(names):
