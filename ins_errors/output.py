@@ -22,6 +22,7 @@ Single files named on the command line (``--plot out/drift.png``, ``--markdown``
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import sys
@@ -141,6 +142,10 @@ def check_file(path: str | Path) -> Path:
         handle, probe = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix,
                                          dir=parent)
     except OSError as error:
+        if error.errno == errno.ENAMETOOLONG:  # the writer's scratch name is longer still
+            raise OutputError(f"cannot write {shown(path)}: its name is too long to be "
+                              "written through a scratch file beside it (the file system's "
+                              "limit); give a shorter name") from None
         raise OutputError(f"cannot write {shown(path)}: folder {shown(parent)} takes no "
                           f"new files ({_reason(error)})") from None
     os.close(handle)

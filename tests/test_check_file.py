@@ -85,3 +85,14 @@ def test_a_folder_in_the_way_of_the_name_is_still_said(tmp_path):
     (tmp_path / "dir.png").mkdir()
     with pytest.raises(OutputError, match="it is a folder"):
         check_file(tmp_path / "dir.png")
+
+
+def test_a_name_too_long_for_the_writers_scratch_file_says_so(tmp_path):
+    """A 250-character name the file system takes is written through a longer scratch
+    name it does not: the refusal blamed the folder ("takes no new files")."""
+    name = "a" * (255 - len(".png")) + ".png"
+    target = tmp_path / name
+    with pytest.raises(OutputError, match="its name is too long") as info:
+        check_file(target)
+    assert "takes no new files" not in str(info.value)
+    assert not list(tmp_path.iterdir())
