@@ -222,8 +222,14 @@ def test_an_error_limit_holds_from_the_start_where_the_error_is_the_initial_erro
     p = strapdown.parameter_vector(k_h1=0.0293, k_h2=4.42e-4)
     allocation = bd.allocate(bd.unit_budget(strapdown, spec, p=p))
     names = [s.name for s in allocation.budget.sources]
-    allowed = float(allocation.sigma[names.index("initial_position_error_D")])
-    assert 0.0 < allowed <= 30.0
+    j = names.index("initial_position_error_D")
+    allowed = float(allocation.sigma[j])
+    # at t = 0 the height error is the initial height error itself (unit sensitivity):
+    # its equal share of the 30-m limit among the N free sources is 30 m/√N, bound there
+    free = int(np.isfinite(allocation.sigma).sum())
+    assert allowed == pytest.approx(30.0 / math.sqrt(free), rel=1e-9)
+    row = allocation.budget.rows[allocation.binding[j]]
+    assert (row.item, row.time) == ("height_error", 0.0)
     evaluation = bd.evaluate(strapdown, spec, {"initial_position_error_D": allowed}, p=p)
     assert rows_of(evaluation, "height_error")[0] == (0.0, pytest.approx(allowed, rel=1e-12))
 
