@@ -349,7 +349,10 @@ def add_second_order_warnings(comparisons: Sequence[Comparison]) -> None:
                 f"0; the direct run reaches {sizes}): a linear/direct ratio of 100 % at any "
                 "magnitude, not judged" + ("; the refined model's ratio shows how well the "
                                             "second-order terms account for it"
-                                            if comparison.refined else ""))
+                                            if comparison.refined else "")
+                + " (a model whose equations are not differentiable on this motion, |x| "
+                "or sign(x) at 0, gives the same exact 0 for a first-order effect: "
+                "halving the sources then halves, not quarters, the direct error)")
 
 
 def _shown_size(value: float, unit: str) -> str:
