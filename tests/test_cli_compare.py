@@ -29,7 +29,9 @@ def test_json_plot_and_markdown(capsys, tmp_path):
                            "--markdown", str(table), "--json")
     assert status == 0, err
     report = json.loads(out)
-    assert report["record_s"] == 60.0 and report["step_s"] == 10.0
+    # the default record of a 2-h run: a 240th of it (30 s) rather than 60 s
+    assert report["record_s"] == 30.0 and report["step_s"] == 10.0
+    assert len(report["cases"][0]["metrics"]) and 7200.0 / report["record_s"] == 240
     assert report["truth"] == "auto" and report["truth_used"] == "static"  # at rest: exact
     (case,) = report["cases"]
     assert case["sources"]["gyro_drift_x"] == pytest.approx(0.01 * DEG_PER_HOUR, rel=1e-12)
@@ -204,13 +206,13 @@ def test_out_writes_the_curves_as_csv_and_mat(capsys, tmp_path):
                                                       "longitude": "30deg"}), 1800.0, 10.0)
     expected = compare(model, trajectory,
                        [{"gyro_drift_x": 0.01 * DEG_PER_HOUR}, {"accel_bias_y": 50e-6 * 9.80665}],
-                       record_interval=60.0, refined=False)
+                       record_interval=10.0, refined=False)
     with open(out / "curves.csv", encoding="utf-8", newline="") as handle:
         rows = list(csv.reader(handle))
     header, body = rows[0], np.array(rows[1:], dtype=float)
     assert header[:2] == ["case", "t [s]"]
     assert not any(".refined" in name for name in header)
-    assert body.shape == (2 * 31, len(header))
+    assert body.shape == (2 * 181, len(header))   # 30 min recorded every 10 s by default
     mat = loadmat(out / "curves.mat", squeeze_me=True, struct_as_record=False)
     for k, comparison in enumerate(expected, 1):
         mine = body[body[:, 0] == k]

@@ -20,6 +20,10 @@ from ins_errors.json_output import emit
 
 MOTIONS = ("static", "great-circle", "manoeuvre")  # motion_spec.MOTION_KINDS less "file"
 
+RECORDS_AT_LEAST = 240
+"""Records a run shorter than 4 h gets by default (its interval a 240th of the run): a
+20-min flight's curves were 21 points, its turns straight segments."""
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
@@ -67,7 +71,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="duration with unit, e.g. '90 min' (default as --hours)")
     parser.add_argument("--step", default="1s", help="integration step τ (default 1s)")
     parser.add_argument("--record", default=None,
-                        help="recording interval (default: 60 s or the step if longer)")
+                        help="recording interval (default: 60 s, or less for a run shorter "
+                             "than 4 h: about 240 records; the step if longer)")
     parser.add_argument("--method", choices=("rk4", "euler"), default="rk4",
                         help="rk4 (default) or euler = the manual's rectangle method; the "
                              "integration error is estimated either way")
@@ -206,8 +211,10 @@ def run(args: argparse.Namespace) -> int:
                 raise type(error)(f"{error} (the run is the motion file's length, "
                                   f"{duration:g} s in whole steps, as no --hours or "
                                   "--duration is given)") from None
-    else:  # the largest multiple of the step up to 60 s that divides the run
-        stride = max(1, min(n_steps, int(60.0 / tau + 1e-9)))
+    else:  # the largest multiple of the step up to 60 s, and up to a 240th of the run
+        # (a short run's curves in as many points as a 4-h one's), that divides the run
+        target = min(60.0, duration / RECORDS_AT_LEAST)
+        stride = max(1, min(n_steps, int(target / tau + 1e-9)))
         while n_steps % stride:
             stride -= 1
         record = stride * tau
