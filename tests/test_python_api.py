@@ -104,3 +104,29 @@ def test_labels_are_one_per_case(run):
     (case,) = compare(run.model, run.trajectory, [{"gyro_drift_x": 1e-7}], labels=["a"],
                       record_interval=60.0, integration_error=False, validity_threshold=None)
     assert case.label == "a"
+
+
+def test_the_static_base_is_the_same_in_every_api():
+    """static_system took a_ζ = 9.81 m/s² where compare, run and static_modes take the
+    normal gravity of the model's Earth at the site (9.8107 at 50°): the Schuler periods
+    of its F and of the modes table differed by 0.04 %. The default is now the motion
+    generators' own; an explicit gravity is still taken."""
+    from ins_errors.analysis.modes import static_modes
+    from ins_errors.numeric.linear_system import static_system
+
+    model = ins_errors.load_model("orthodromic")
+    latitude = np.radians(50.0)
+    start = tr.trajectory(model, tr.static_profile(latitude), 1.0, 1.0).start_inputs
+    system = static_system(model, latitude)
+    k = model.index("inputs", "a_zeta")
+    assert system.u[k, 0] == start[k] and abs(start[k] - 9.8107) < 1e-4
+    modes = static_modes(model, latitude)
+    F = system.F[..., 0] if system.F.ndim == 3 else system.F
+
+    def frequencies(eigenvalues):  # the oscillations' (Schuler ± Foucault, Earth)
+        imag = np.abs(np.asarray(eigenvalues).imag)
+        return np.sort(imag[imag > 1e-9])
+
+    np.testing.assert_allclose(frequencies(np.linalg.eigvals(F)),
+                               frequencies(modes.eigenvalues), rtol=1e-9)
+    assert static_system(model, latitude, gravity=9.81).u[k, 0] == 9.81

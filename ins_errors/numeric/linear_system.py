@@ -294,8 +294,9 @@ def uniform_grid(duration: float, step: float) -> np.ndarray:
 
 
 def static_system(model, latitude: float, longitude: float = 0.0, heading: float = 0.0,
-                  height: float = 0.0, gravity: float = 9.81, duration: float = 3600.0,
-                  step: float = 1.0, p: np.ndarray | None = None) -> LinearSystem:
+                  height: float = 0.0, gravity: float | None = None,
+                  duration: float = 3600.0, step: float = 1.0,
+                  p: np.ndarray | None = None) -> LinearSystem:
     """The error equations of a model at rest on the Earth (time-invariant).
 
     Works for any model: the initial conditions it has (latitude, longitude, heading;
@@ -312,8 +313,12 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
         Site and the trihedron's track angle, rad (where the model has them).
     height : float
         Height above the ellipsoid, m.
-    gravity : float
+    gravity : float, optional
         Apparent acceleration along the vertical, m/s² (a_ζ, where the model has it).
+        Default: the one the motion generators give a static base of the model (normal
+        gravity of its own Earth at the latitude and height, as ``compare``, ``run``
+        and :func:`~ins_errors.analysis.modes.static_modes` use), or 9.81 m/s² for a
+        model they do not fly.
     duration, step : float
         Length and step of the time grid, s.
     p : numpy.ndarray, optional
@@ -324,6 +329,8 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
     known = {i.name for i in model.initial_conditions}
     c = model.initial_condition_vector(**{k: v for k, v in given.items() if k in known})
     inputs = [i.name for i in model.inputs]
+    if gravity is None and "a_zeta" in inputs:
+        gravity = _static_base_gravity(model, latitude, longitude, heading, height, p)
     u = model.input_vector(**{k: v for k, v in (("a_zeta", gravity), ("h", height))
                               if k in inputs})
     x = model.initial_state(c, u, p)
@@ -338,8 +345,12 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
         u[free] = np.linalg.lstsq(J, -r0, rcond=None)[0]
     rates = model.numpy.ideal_rhs(x, u, p)
     if np.max(np.abs(rates)) > 1e-12 * max(1.0, np.max(np.abs(r0))):
-        raise LinearSystemError(f"static_system: no inputs keep the ideal state of "
-                              f"{model.name} at rest")
+        raise LinearSystemError(f"static_system: no apparent accelerations a_* keep the "
+                                f"ideal state of {model.name} at rest (its inputs are of "
+                                "another kind); build its static base as the commands do: "
+                                "system_from_trajectory(model, trajectories.trajectory("
+                                "model, trajectories.static_profile(latitude), duration, "
+                                "step))")
     times = uniform_grid(duration, step)
     return LinearSystem(
         times=times,
@@ -353,6 +364,25 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
         p=p, labels={"trajectory": f"static base at φ={np.degrees(latitude):.4g}°",
                      "latitude": latitude, "height": height},
     )
+
+
+STATIC_GRAVITY_FALLBACK = 9.81
+"""a_ζ (m/s²) of :func:`static_system` for a model the motion generators do not fly."""
+
+
+def _static_base_gravity(model, latitude: float, longitude: float, heading: float,
+                         height: float, p: np.ndarray) -> float:
+    """a_ζ of the generators' static base of ``model`` (normal gravity of its Earth at
+    the site), or :data:`STATIC_GRAVITY_FALLBACK` for a model they do not fly."""
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric import trajectories as tr
+
+    try:
+        start = tr.trajectory(model, tr.static_profile(latitude, longitude, heading, height),
+                              1.0, 1.0, p=p).start_inputs
+    except InsErrorsError:
+        return STATIC_GRAVITY_FALLBACK
+    return float(start[model.index("inputs", "a_zeta")])
 
 
 def trajectory_system(model, times: np.ndarray, x: np.ndarray, u: np.ndarray,
