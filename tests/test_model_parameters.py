@@ -21,7 +21,7 @@ R0 = 6_371_000.0  # mean Earth radius of the textbook relation, m
 W0 = 2 * np.pi / 300.0  # natural frequency of the damping loop, rad/s
 K1, K2 = 2 * 0.7 * W0, W0**2 + 2 * G0 / R0  # 1/s, 1/s²
 RUN = ["compare", "strapdown_ned", "-s", "initial_position_error_D=-1m", "--latitude",
-       "45deg", "--duration", "20 min", "--step", "10s", "--no-refined"]
+       "45deg", "--duration", "20 min", "--step", "10s", "--record", "60s", "--no-refined"]
 
 
 def height_curve(folder) -> tuple[np.ndarray, np.ndarray]:
