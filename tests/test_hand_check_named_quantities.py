@@ -51,3 +51,20 @@ def test_a_part_of_a_gain_coefficient_left_out_is_an_omitted_term(findings):
     found = findings[(2, "delta_V_E")]
     assert found.kind == "omitted term" and found.severity == "mistake"
     assert found.detail == "part of the coefficient is missing: 1/R"
+
+
+def test_a_term_written_on_the_wrong_state_is_told_from_where_it_belongs():
+    """north_pointing's azimuth row has V_N/(R+h)·α_N (the model's −ω_E α_N); a paper's
+    line writes it on α_E beside the α_E term it has. The pairing picked the quantity with
+    the larger model coefficient as the one that lost the term, and said backwards "the
+    model's term (−U cos φ − ... + omega_N)*alpha_E is written on alpha_N". The
+    quantity whose hand coefficient is 0 is the one that lost it."""
+    line = ("dot(alpha_U) = tan(phi)*Delta_v_E/(R + h) + (Omega*cos(phi) + V_E/((R + h)*"
+            "cos(phi)**2))*Delta_phi + (Omega*cos(phi) + V_E/(R + h))*alpha_E + "
+            "V_N/(R + h)*alpha_E + epsilon_U")
+    definition = resolve_model("north_pointing")
+    report = check_hand(parse_hand_text(line, default_notation(definition)), definition,
+                        effects=False)
+    (finding,) = [f for r in report.results for f in r.findings]
+    assert finding.quantity == "alpha_N -> alpha_E" and finding.kind == "wrong symbol or index"
+    assert finding.detail.endswith("*alpha_N is written on alpha_E")

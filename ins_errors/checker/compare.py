@@ -654,11 +654,13 @@ class Comparison:
                 if scale == 0 or not np.all(np.abs(da + db) <= 1e-6 * scale):
                     continue
                 # the model's term is lost on one quantity and found on the other
-                lost, got = (a, b) if at_least(float(np.sum(np.abs(raw[a]["model"]))), float(
-                    np.sum(np.abs(raw[b]["model"])))) else (b, a)
+                lost, got = self._lost_and_got(raw, a, b)
                 first = raw[a] if at_least(raw[a]["size"], raw[b]["size"]) else raw[b]
-                moved = _display((raw[lost]["model_expr"] - raw[lost]["hand_expr"]).xreplace(
-                    self.display_model))
+                term = raw[lost]["model_expr"] - raw[lost]["hand_expr"]
+                if self.expand_model:  # the model's named quantities written out, if shorter
+                    out = sp.expand(term.xreplace(self.expand_model))
+                    term = min((term, out), key=lambda e: len(sp.sstr(e)))
+                moved = _display(term.xreplace(self.display_model))
                 findings.append(Finding(
                     f"{lost} -> {got}", cl.SYMBOL,
                     cl.severity(cl.SYMBOL, first["size"], self.threshold),
@@ -667,6 +669,23 @@ class Comparison:
                     f"the model's term ({moved})*{lost} is written on {got}"))
                 del raw[a], raw[b]
         return findings
+
+    def _lost_and_got(self, raw: dict, a: sp.Symbol, b: sp.Symbol
+                      ) -> tuple[sp.Symbol, sp.Symbol]:
+        """Which of two quantities lost the model's term (the hand lacks it there) and
+        which got it. Both readings fit the numbers (one difference is minus the other),
+        so: the one whose hand coefficient is 0, else the one whose hand coefficient is
+        the model's with a part left out (the model's named quantities written out),
+        else the one with the larger model coefficient."""
+        for x, y in ((a, b), (b, a)):
+            if raw[x]["hand_expr"] == 0 and raw[y]["hand_expr"] != 0:
+                return x, y
+        for x, y in ((a, b), (b, a)):
+            split = self._split(raw[x]["hand_expr"], raw[x]["model_expr"])
+            if split is not None and split[1] == 0 and split[0] != 0:
+                return x, y
+        return ((a, b) if at_least(float(np.sum(np.abs(raw[a]["model"]))),
+                                   float(np.sum(np.abs(raw[b]["model"])))) else (b, a))
 
     def compare_values(self, hand: sp.Expr, model: sp.Expr, what: str = "the ideal value"
                        ) -> list[Finding]:
