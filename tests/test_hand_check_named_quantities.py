@@ -68,3 +68,20 @@ def test_a_term_written_on_the_wrong_state_is_told_from_where_it_belongs():
     (finding,) = [f for r in report.results for f in r.findings]
     assert finding.quantity == "alpha_N -> alpha_E" and finding.kind == "wrong symbol or index"
     assert finding.detail.endswith("*alpha_N is written on alpha_E")
+
+
+def test_a_dropped_coriolis_term_is_an_omitted_term_on_the_default_sphere():
+    """north_pointing's radii are R/√(1 − e² sin²φ) + h with e² = 0 by default: a hand's
+    R + h differed from them symbolically, so a line that dropped 2U sin φ beside a
+    right V_E tan φ/(R + h) was a "wrong coefficient" whose detail printed the
+    ellipsoid's radius. With the parameters that are 0 at every point set to 0 it is the
+    omitted Coriolis term."""
+    line = ("dot(Delta_v_E) = V_E*tan(phi)/(R + h)*Delta_v_N + V_N*(2*Omega*cos(phi) + "
+            "V_E/((R + h)*cos(phi)**2))*Delta_phi + V_N*tan(phi)/(R + h)*Delta_v_E - "
+            "f_U*alpha_N + a_N*alpha_U + nabla_E")
+    definition = resolve_model("north_pointing")
+    report = check_hand(parse_hand_text(line, default_notation(definition)), definition,
+                        effects=False)
+    (finding,) = [f for r in report.results for f in r.findings]
+    assert finding.quantity == "delta_v_N" and finding.kind == "omitted term"
+    assert finding.detail == "part of the coefficient is missing: 2*U*sin(phi)"

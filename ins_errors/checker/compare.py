@@ -396,6 +396,7 @@ class Comparison:
         self.threshold = threshold
         self._parts: dict[sp.Expr, tuple[dict[sp.Symbol, sp.Expr], sp.Expr]] = {}
         self.display_model: dict[sp.Symbol, sp.Expr] = {}
+        self._zeros: dict[sp.Symbol, sp.Expr] | None = None
         self.expand_model: dict[sp.Symbol, sp.Expr] = {}
         """The model's named intermediate quantities as expressions of its states,
         inputs and parameters (:func:`_expanded_intermediates`), for telling which terms
@@ -634,8 +635,11 @@ class Comparison:
         split = _term_difference(hand, model)
         clean = split is not None and (split[0] == 0 or split[1] == 0)
         if not clean and self.expand_model:
-            expanded = _term_difference(hand.xreplace(self.expand_model),
-                                        model.xreplace(self.expand_model))
+            # with the parameters that are 0 at every point set to 0 (a sphere's ecc2:
+            # R/√(1 − e² sin²φ) + h is the hand's R + h there)
+            zero = self._zero_parameters()
+            expanded = _term_difference(hand.xreplace(self.expand_model).xreplace(zero),
+                                        model.xreplace(self.expand_model).xreplace(zero))
             split = expanded if expanded is not None else split
         if split is None:
             return None
@@ -669,6 +673,13 @@ class Comparison:
                     f"the model's term ({moved})*{lost} is written on {got}"))
                 del raw[a], raw[b]
         return findings
+
+    def _zero_parameters(self) -> dict[sp.Symbol, sp.Expr]:
+        """The model's parameters that are 0 at every reference point, mapped to 0."""
+        if self._zeros is None:
+            self._zeros = {s: sp.S.Zero for s in self.arguments if s.name in self.fixed
+                           and all(p.values.get(s, 1.0) == 0 for p in self.points)}
+        return self._zeros
 
     def _lost_and_got(self, raw: dict, a: sp.Symbol, b: sp.Symbol
                       ) -> tuple[sp.Symbol, sp.Symbol]:
