@@ -143,6 +143,17 @@ def test_latex_errors_name_the_place():
     assert r"unsupported LaTeX command \foo" in hand.problems[1].message
 
 
+def test_a_latex_neglect_item_says_directives_are_text():
+    """In a LaTeX file `@neglect \\Delta R_N` gave Python's tokenizer message
+    ("unexpected character after line continuation character")."""
+    hand = parse_hand_text("@neglect \\Delta R_\\xi : radii held fixed\n"
+                           r"\dot{\Delta u_{11}} = 0" "\n", ORTHODROMIC, latex=True)
+    (problem,) = hand.problems
+    assert problem.line == 1
+    assert "@neglect items are written as text, also in a LaTeX file" in problem.message
+    assert "continuation" not in problem.message
+
+
 @pytest.mark.parametrize(("text", "message"), [
     ("a + b = c", "left-hand side 'a + b' must be one quantity"),
     ("x = just an expression", "cannot parse"),

@@ -1101,6 +1101,11 @@ def _declaration(hand: HandFile, number: int, text: str, column: int,
     for piece, offset in _split_top(listed, ","):
         if not piece.strip():
             continue
+        if "\\" in piece:  # a LaTeX file's habit: directives are written in text
+            raise _LineError(column + len("@neglect") + offset,
+                             "@neglect items are written as text, also in a LaTeX file: "
+                             f"'{' '.join(piece.split())}' as e.g. 'Delta_R_N' (the names "
+                             "of the equations' text form)")
         expr, _ = parse_text_expression(piece, notation, column + len("@neglect") + offset)
         items.append(expr)
         texts.append(" ".join(piece.split()))
