@@ -58,3 +58,19 @@ def test_a_zero_entry_prints_as_0_and_findings_come_in_line_order(tmp_path):
     assert numbers == sorted(numbers) and set(numbers) == {3, 4}
     # the worst finding (of line 4) comes first in the report's own order
     assert check.report.findings[0].row == "phi_E"
+
+
+def test_trial_changes_that_divide_by_zero_leave_no_numpy_warning(capsys):
+    """A journal reviewer's φ-model with slips (a probe's file): the one-place changes
+    tried for a symbol slip (v_E where R_E belongs ...) divide by zero at rest and
+    printed ten numpy RuntimeWarnings with lambdify's code on stderr."""
+    import warnings
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parent / "data" / "convention" / \
+        "phi_paper_with_slips.txt"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        check = check_convention_file(path, effects=False)
+    assert check.report.findings  # the slips are still found
+    assert "RuntimeWarning" not in capsys.readouterr().err

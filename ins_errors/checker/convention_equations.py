@@ -780,9 +780,11 @@ def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
             if kind != SYMBOL:
                 continue
             fn = _row_function((changed,))
-            values = np.concatenate([np.broadcast_to(np.asarray(fn(*args)[0], dtype=float),
-                                                     (Fz.shape[0],))
-                                     for args, Fz, _ in samples])
+            with np.errstate(all="ignore"):  # a trial change may divide by 0: not a fit
+                values = np.concatenate([np.broadcast_to(np.asarray(fn(*args)[0],
+                                                                    dtype=float),
+                                                         (Fz.shape[0],))
+                                         for args, Fz, _ in samples])
             if np.all(np.isfinite(values)) and np.all(np.abs(values - derived)
                                                       <= 1e-6 * top):
                 f = replace(f, kind=SYMBOL, detail=f"{text} (with it the entry is the "
