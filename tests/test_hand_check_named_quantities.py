@@ -62,10 +62,7 @@ def test_a_term_written_on_the_wrong_state_is_told_from_where_it_belongs():
     line = ("dot(alpha_U) = tan(phi)*Delta_v_E/(R + h) + (Omega*cos(phi) + V_E/((R + h)*"
             "cos(phi)**2))*Delta_phi + (Omega*cos(phi) + V_E/(R + h))*alpha_E + "
             "V_N/(R + h)*alpha_E + epsilon_U")
-    definition = resolve_model("north_pointing")
-    report = check_hand(parse_hand_text(line, default_notation(definition)), definition,
-                        effects=False)
-    (finding,) = [f for r in report.results for f in r.findings]
+    (finding,) = _north_pointing_findings(line)
     assert finding.quantity == "alpha_N -> alpha_E" and finding.kind == "wrong symbol or index"
     assert finding.detail.endswith("*alpha_N is written on alpha_E")
 
@@ -79,9 +76,14 @@ def test_a_dropped_coriolis_term_is_an_omitted_term_on_the_default_sphere():
     line = ("dot(Delta_v_E) = V_E*tan(phi)/(R + h)*Delta_v_N + V_N*(2*Omega*cos(phi) + "
             "V_E/((R + h)*cos(phi)**2))*Delta_phi + V_N*tan(phi)/(R + h)*Delta_v_E - "
             "f_U*alpha_N + a_N*alpha_U + nabla_E")
-    definition = resolve_model("north_pointing")
-    report = check_hand(parse_hand_text(line, default_notation(definition)), definition,
-                        effects=False)
-    (finding,) = [f for r in report.results for f in r.findings]
+    (finding,) = _north_pointing_findings(line)
     assert finding.quantity == "delta_v_N" and finding.kind == "omitted term"
     assert finding.detail == "part of the coefficient is missing: 2*U*sin(phi)"
+
+
+def _north_pointing_findings(text: str) -> list:
+    """The findings of a hand file's text checked against north_pointing."""
+    definition = resolve_model("north_pointing")
+    report = check_hand(parse_hand_text(text, default_notation(definition)), definition,
+                        effects=False)
+    return [f for r in report.results for f in r.findings]
