@@ -130,3 +130,17 @@ def test_the_static_base_is_the_same_in_every_api():
     np.testing.assert_allclose(frequencies(np.linalg.eigvals(F)),
                                frequencies(modes.eigenvalues), rtol=1e-9)
     assert static_system(model, latitude, gravity=9.81).u[k, 0] == 9.81
+
+
+def test_degrees_given_as_radians_are_shown_as_given():
+    """A notebook user passing 50 (meaning degrees) read "motion latitude 2864.79° is at
+    or beyond a pole"; the radians given are now beside it. An angle within one turn
+    (what the command line converts from degrees) is said in degrees alone."""
+    from ins_errors.numeric.trajectories import MotionError
+
+    with pytest.raises(MotionError, match=r"motion latitude 2864\.79° \(50 rad\) is at"):
+        tr.static_profile(50.0)
+    with pytest.raises(MotionError, match=r"longitude 1718\.87° \(30 rad\) is outside"):
+        tr.great_circle_profile(np.radians(50.0), 30.0, np.radians(40.0), 250.0)
+    with pytest.raises(MotionError, match=r"motion latitude 95° is at or beyond"):
+        tr.static_profile(np.radians(95.0))

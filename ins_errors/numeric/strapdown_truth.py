@@ -71,6 +71,7 @@ from ins_errors.numeric.trajectories import (
     MotionError,
     Profile,
     Trajectory,
+    angle_text,
     check_track_angle,
     motion_number,
     run_arguments,
@@ -138,7 +139,7 @@ class Flight:
         check_track_angle(self.course, "flight course")
         check_track_angle(self.longitude, "flight longitude", "30° east, -30° west")
         if abs(self.latitude) >= np.pi / 2:
-            raise MotionError(f"flight latitude {np.degrees(self.latitude):g}° is at or beyond "
+            raise MotionError(f"flight latitude {angle_text(self.latitude)} is at or beyond "
                               "a pole: longitude is undefined there")
         if abs(self.pitch) >= np.pi / 2:
             raise MotionError(f"pitch {np.degrees(self.pitch):g}° is at or beyond ±90°: roll "

@@ -144,7 +144,7 @@ class Profile:
         check_track_angle(self.heading, "motion heading")
         check_track_angle(self.longitude, "motion longitude", "30° east, -30° west")
         if abs(self.latitude) >= np.pi / 2:
-            raise MotionError(f"motion latitude {np.degrees(self.latitude):g}° is at or beyond "
+            raise MotionError(f"motion latitude {angle_text(self.latitude)} is at or beyond "
                               "a pole, where north, east and longitude are undefined (and "
                               "the built-in models divide by cos φ)")
 
@@ -221,6 +221,16 @@ unit or an exponent), and its sine and cosine lose every digit (cos 1e300 is rou
 noise)."""
 
 
+def angle_text(value: float) -> str:
+    """An angle (rad) in degrees for a message, with the radians it was given as when
+    they look like degrees passed where radians belong: a whole number of radians past
+    one turn and up to 1000 (``"2864.79° (50 rad)"``; an angle the command line
+    converted from degrees, ``400deg`` = 6.98 rad, is said in degrees alone)."""
+    shown = f"{np.degrees(value):g}°"
+    looks_like_degrees = 2 * np.pi < abs(value) <= 1000 and value == round(value)
+    return f"{shown} ({value:g} rad)" if looks_like_degrees else shown
+
+
 def check_track_angle(value: float, what: str, example: str = "90° for due east") -> None:
     """Refuse a heading, track angle or longitude (rad) outside [−360°, 360°], naming
     ``what`` (``example``: a sensible value, for the message).
@@ -233,7 +243,7 @@ def check_track_angle(value: float, what: str, example: str = "90° for due east
     if not np.isfinite(value):
         raise MotionError(f"{what} must be finite, got {value}")
     if abs(value) > MAX_TRACK_ANGLE:
-        raise MotionError(f"{what} {np.degrees(value):g}° is outside [-360°, 360°]: give "
+        raise MotionError(f"{what} {angle_text(value)} is outside [-360°, 360°]: give "
                           f"it within one turn (e.g. {example})")
 
 
