@@ -87,3 +87,19 @@ def _north_pointing_findings(text: str) -> list:
     report = check_hand(parse_hand_text(text, default_notation(definition)), definition,
                         effects=False)
     return [f for r in report.results for f in r.findings]
+
+
+def test_north_pointing_reads_a_papers_radii_without_the_height():
+    """north_pointing writes the radii with the height added (r_E = R_E + h); a paper's
+    R_E + h was an unknown name R_E, and the suggested r_E read as R_E + h gave some
+    twenty spurious mistakes. R_E and R_N now read as r_E − h and r_N − h: a right line
+    written with them agrees."""
+    line = ("dot(Delta_v_E) = (2*Omega*sin(phi) + V_E*tan(phi)/(R_E + h))*Delta_v_N + "
+            "V_N*(2*Omega*cos(phi) + V_E/((R_E + h)*cos(phi)**2))*Delta_phi + "
+            "V_N*tan(phi)/(R_E + h)*Delta_v_E - f_U*alpha_N + a_N*alpha_U + nabla_E")
+    definition = resolve_model("north_pointing")
+    hand = parse_hand_text(line, default_notation(definition))
+    assert not hand.problems and len(hand.equations) == 1
+    report = check_hand(hand, definition, effects=False)
+    assert not report.problems  # was: unknown name 'R_E' (did you mean 'r_E'?)
+    assert len(report.results) == 1 and not report.results[0].findings

@@ -107,7 +107,12 @@ ORTHODROMIC = Notation(
     latex_primes={"omega": "omega_rel", "g": "g"},
 )
 
-NOTATIONS: dict[str, Notation] = {"orthodromic": ORTHODROMIC}
+NORTH_POINTING = Notation(aliases={"R_E": "r_E - h", "R_N": "r_N - h"})
+"""north_pointing names the radii with the height added (``r_E`` = R_E + h, as its
+error_equations.md writes them); a paper's R_E and R_N are these less h."""
+
+NOTATIONS: dict[str, Notation] = {"orthodromic": ORTHODROMIC,
+                                  "north_pointing": NORTH_POINTING}
 """Notation of each model's source document, on top of the model's own names."""
 
 
