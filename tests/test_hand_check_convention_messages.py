@@ -74,3 +74,10 @@ def test_trial_changes_that_divide_by_zero_leave_no_numpy_warning(capsys):
         check = check_convention_file(path, effects=False)
     assert check.report.findings  # the slips are still found
     assert "RuntimeWarning" not in capsys.readouterr().err
+    # its `@neglect v_E*dh/((R_E + h)**2*cos(lat))` (line 22) is a term of the longitude
+    # rate: it explains F[dlon, dh], not F[dv_D, dh], whose difference (the gravity
+    # gradient written 2g/(R_E + h)) was merely as small and was called its declared drop
+    found = {(f.matrix, f.row, f.column): f for f in check.report.findings}
+    assert found[("F", "dlon", "dh")].severity == "declared drop"
+    assert found[("F", "dv_D", "dh")].severity != "declared drop"
+    assert "declares" not in found[("F", "dv_D", "dh")].detail

@@ -380,17 +380,28 @@ def _declared_drop(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray,
     """The declared term that explains an entry's difference, and what remains of it
     (``""`` when nothing does), or None (see :class:`DeclaredTerm`)."""
     fallback = None
+    before = float((np.abs(h - m) * mag / scale).max())
     for term in candidates:
         c = np.concatenate([term.values[k] for k in labels])
         for sign in (1.0, -1.0):
+            size = float((np.abs(h - (m - sign * c)) * mag / scale).max())
+            if not size <= EXPLAINED_SHARE * before:
+                # the term does not account for the difference: a term of another row
+                # (a declaration holds for every row after it) that is merely as small
+                continue
             rest = _classify(h, m - sign * c, mag, scale, threshold, False, motion_of)
             if rest is None:
                 return term, ""
             kind, severity, _ = rest
             if fallback is None and severity not in (MISTAKE, SMALL_MISTAKE):
-                size = float((np.abs(h - (m - sign * c)) * mag / scale).max())
                 fallback = (term, f"what remains is a {severity} ({kind}), size {size:.2g}")
     return fallback
+
+
+EXPLAINED_SHARE = 0.5
+"""A declared term explains an entry's difference only when taking it out leaves at most
+this share of the difference (an `@neglect` term of the longitude rate, as small as the
+gravity-gradient approximation of F[dv_D, dh], was called that entry's declared drop)."""
 
 
 @dataclass
