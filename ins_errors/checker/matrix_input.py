@@ -151,13 +151,22 @@ def load_hand(path: Path, function: str):
         raise InsErrorsError(f"{path.name} has no function {function!r} "
                              f"(functions: {', '.join(found) or 'none'})")
     where = f"{path.name}:{function}"
-    states = getattr(fn, "states", getattr(module, "STATES", None))
+    return (fn, *_hand_lists(fn, vars(module), where,
+                             "define STATES, the list of the model's error states in F's "
+                             "row order (names from the convention's vocabulary)"))
+
+
+def _hand_lists(fn, scope: dict, where: str, missing: str
+                ) -> tuple[list[str], list[str], dict[str, float]]:
+    """``STATES``, ``SOURCES`` and ``MARKOV`` of a hand function: its attributes
+    (``fn.states`` ...), else the names beside it in ``scope`` (its module's or
+    notebook's globals); ``missing`` says how to give STATES when neither has it."""
+    states = getattr(fn, "states", scope.get("STATES"))
     if states is None:
-        raise InsErrorsError(f"{where}: define STATES, the list of the model's error states "
-                             "in F's row order (names from the convention's vocabulary)")
-    sources = getattr(fn, "sources", getattr(module, "SOURCES", None))
-    markov = getattr(fn, "markov", getattr(module, "MARKOV", None))
-    return fn, _names(states, "STATES", where), (
+        raise InsErrorsError(f"{where}: {missing}")
+    sources = getattr(fn, "sources", scope.get("SOURCES"))
+    markov = getattr(fn, "markov", scope.get("MARKOV"))
+    return _names(states, "STATES", where), (
         [] if sources is None else _names(sources, "SOURCES", where)), (
         {} if markov is None else correlation_times(markov, where))
 
@@ -177,17 +186,10 @@ def callable_hand(fn) -> tuple[str, Path | None, list[str], list[str], dict[str,
     code = getattr(fn, "__code__", None)
     path = Path(code.co_filename) if code is not None and Path(code.co_filename).is_file() \
         else None
-    scope = getattr(fn, "__globals__", {})
-    states = getattr(fn, "states", scope.get("STATES"))
-    if states is None:
-        raise InsErrorsError(f"{where}: give the list of the model's error states in F's row "
-                             f"order as STATES beside the function or as {where}.states = "
-                             "[...] (names from the convention's vocabulary)")
-    sources = getattr(fn, "sources", scope.get("SOURCES"))
-    markov = getattr(fn, "markov", scope.get("MARKOV"))
-    return where, path, _names(states, "STATES", where), (
-        [] if sources is None else _names(sources, "SOURCES", where)), (
-        {} if markov is None else correlation_times(markov, where))
+    return (where, path, *_hand_lists(
+        fn, getattr(fn, "__globals__", {}), where,
+        f"give the list of the model's error states in F's row order as STATES beside the "
+        f"function or as {where}.states = [...] (names from the convention's vocabulary)"))
 
 
 MIN_CORRELATION_TIME = 1.0
