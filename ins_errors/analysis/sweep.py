@@ -578,14 +578,12 @@ def _check_references(scenario, jobs: Sequence[PointJob]) -> None:
         return
     first = jobs[0]
     model = load_model(scenario.model)
-    from ins_errors.numeric.motion_spec import flies_strapdown
+    from ins_errors.numeric.motion_spec import refuse_file_heading
 
-    if (("heading" in swept or "heading" in given) and dict(first.motion).get("kind") == "file"
-            and flies_strapdown(model)):  # every point would fly the file's own course
-        table = "[sweep]" if "heading" in swept else "[motion]"
-        raise tr.MotionError(f"{where} {table} heading: a strapdown INS along a motion file "
-                             "heads along the file's course atan2(v_E, v_N), so every "
-                             f"heading would run alike; leave heading out of {table}")
+    # every point would fly the file's own course (the points do not pass the model)
+    refuse_file_heading(model, dict(first.motion).get("kind"),
+                        "heading" in swept or "heading" in given,
+                        f"{where} {'[sweep]' if 'heading' in swept else '[motion]'} heading")
     try:
         profile = motion_profile(dict(first.motion), base=scenario.base, model=model)
         p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **scenario.parameters)

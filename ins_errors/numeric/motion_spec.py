@@ -373,11 +373,7 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None,
     if kind == "file":
         if file is None:
             raise InsErrorsError("motion kind 'file' needs file = 'path/to/motion.csv'")
-        if (model is not None and description.get("heading") is not None
-                and flies_strapdown(model)):
-            raise InsErrorsError("motion heading: a strapdown INS along a motion file heads "
-                                 "along the file's course atan2(v_E, v_N); leave the heading "
-                                 "out")
+        refuse_file_heading(model, kind, description.get("heading") is not None)
         path = Path(file)
         if base is not None and not path.is_absolute():
             path = base / path
@@ -387,6 +383,21 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None,
         return tr.manoeuvre_profile(lat, lon, heading, speed, default_legs(speed, height),
                                     height, name=STANDARD_MANOEUVRE)
     return tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)
+
+
+def refuse_file_heading(model, kind: str, heading_given: bool,
+                        where: str = "motion heading") -> None:
+    """Refuse a heading given for a strapdown INS along a motion file: it heads along the
+    file's course, whatever heading is given (``where`` names the setting).
+
+    Raises
+    ------
+    InsErrorsError
+        One line.
+    """
+    if kind == "file" and heading_given and model is not None and flies_strapdown(model):
+        raise InsErrorsError(f"{where}: a strapdown INS along a motion file heads along the "
+                             "file's course atan2(v_E, v_N); leave the heading out")
 
 
 def flies_strapdown(model) -> bool:
