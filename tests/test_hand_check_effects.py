@@ -242,3 +242,37 @@ def test_an_effect_without_any_attitude_reading_says_so():
     object.__setattr__(finding, "effect", effect)
     text = effect_text(finding)
     assert "attitude n/a" in text and "0″" not in text
+
+
+NORTH_POINTING_HAND = ROOT / "tests" / "data" / "hand_correct_north_pointing.txt"
+
+
+def test_a_larger_effect_at_another_point_is_named(tmp_path, capsys):
+    """The Coriolis part 2U sin φ left out of δv_N's coefficient in δv_E' differs most,
+    relative to the coefficient, at the 2000-km cruise (where V_E tan φ/R adds to it),
+    but its error grows most at rest: 1.39 km after a day at the cruise, 3.46 km at the
+    static base (the referee probe's finding). The static-base figure is named beside
+    the cruise's and equals the effect of the same slip checked at the static base alone."""
+    slip = NORTH_POINTING_HAND.read_text(encoding="utf-8").replace(
+        "accel_bias_east + turn_rate*Delta_v_N", "accel_bias_east + V_E*tan(phi)/r_E*Delta_v_N")
+    assert slip != NORTH_POINTING_HAND.read_text(encoding="utf-8")
+
+    def effect(text: str) -> tuple[dict, str]:
+        hand = tmp_path / "hand.txt"
+        hand.write_text(text, encoding="utf-8")
+        assert main(["check", "north_pointing", str(hand), "--json"]) == 1
+        data = json.loads(capsys.readouterr().out)
+        (found,) = [f["effect"] for e in data["equations"] for f in e["findings"]
+                    if f.get("effect")]
+        assert main(["check", "north_pointing", str(hand)]) == 1
+        return found, capsys.readouterr().out
+
+    moving, out = effect(slip)
+    at_rest, _ = effect("@scope static base\n" + slip)
+    assert at_rest["point"] == "static base" and "largest_point" not in at_rest
+    assert moving["point"] != "static base"
+    assert moving["largest_point"] == "static base"
+    assert moving["largest_24h"] == pytest.approx(at_rest["position_24h"], rel=1e-9)
+    assert moving["largest_24h"] > 1.5 * moving["position_24h"]
+    line = next(s for s in out.splitlines() if "effect:" in s)
+    assert line.endswith("larger at static base: 24 h: 3.46 km")

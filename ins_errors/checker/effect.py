@@ -53,6 +53,10 @@ HOURS = (1.0, 24.0)
 ATTITUDE_OUTPUTS = ("roll", "pitch", "heading")
 """Outputs whose changes make the attitude effect of a model without platform angles."""
 
+ELSEWHERE_SHOWN = 1.5
+"""A finding's 24-h effect at another reference point is named beside the one at its own
+point when it is more than this many times larger."""
+
 STEP = 60.0
 """Sample step (s) the rounding floor counts steps in (the matrix check's, whose static
 base is one exponential as well)."""
@@ -186,43 +190,69 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
 
     def run(delta_f: np.ndarray, delta_drive: np.ndarray, out_delta: dict,
             where: str = "") -> dict | None:
-        """Effect at the finding's point (every point if it has none; the largest kept)."""
+        """Effect at the finding's point (every point if it has none; the largest kept).
+
+        A finding with a point is also propagated at the other points: where the 24-h
+        figure is more than :data:`ELSEWHERE_SHOWN` times larger at one of them, that
+        point and figure are added (``largest_point``, ``largest_what``,
+        ``largest_24h``), since the point where a coefficient differs most in relative
+        terms need not be where the error grows most."""
+        at = labels.index(where) if where in labels else None
         best = None
-        for p in ([labels.index(where)] if where in labels else range(k)):
-            if p not in baseline:
-                baseline[p] = (_propagate(f[p], drive[p], x0), growth_rate(f[p]))
-            base_x, base_growth = baseline[p]
-            changed_f = f[p] + delta_f[p]
-            changed = _propagate(changed_f, drive[p] + delta_drive[p], x0)
-            rows_base, rows_changed = position_rows(p), position_rows(p, out_delta)
-            units = (max(float(np.linalg.norm(np.abs(r) @ x0))
-                         for r in (rows_base, rows_changed)) if has_position else 0.0,
-                     float(np.linalg.norm(np.abs(attitude(p, np.eye(n))) @ x0))
-                     if platform or angles else 0.0)
-            effect: dict = {}
-            for hours, base, x in zip(HOURS, base_x, changed, strict=True):
-                tag = hours_tag(hours)
-                dpos = (np.linalg.norm(rows_changed @ x - rows_base @ base, axis=0)
-                        if has_position else None)
-                datt = (np.linalg.norm(attitude(p, x - base), axis=0) if platform or angles
-                        else None)
-                largest = max(float(np.abs(r / scale).max(initial=0.0)) for r in (base, x))
-                steps = round(hours * 3600.0 / STEP)
-                for what, diffs, unit in (("position", dpos, units[0]),
-                                          ("attitude", datt, units[1])):
-                    if diffs is None:  # no position or attitude to read: no figure, not 0
-                        effect.update({f"{what}_{tag}": None, f"{what}_floor_{tag}": None,
-                                       f"{what}_case_{tag}": None})
-                        continue
-                    value, j = _worst(diffs)
-                    floor = rounding_floor(largest, n + len(sources), steps, unit)
-                    effect[f"{what}_{tag}"] = value
-                    effect[f"{what}_floor_{tag}"] = floor
-                    effect[f"{what}_case_{tag}"] = cases[j] if value > floor else None
-            mark_growth(effect, growth_rate(changed_f), base_growth, HOURS, shown)
+        for p in ([at] if at is not None else range(k)):
+            effect = effect_at(p, delta_f, delta_drive, out_delta)
             if best is None or (effect[f"{shown}_24h"] or 0.0) > (best[f"{shown}_24h"] or 0.0):
                 best = {"point": comparison.points[p].label, **effect}
+        if at is not None and best is not None and not best.get("exponential_24h"):
+            here = best[f"{shown}_24h"] or 0.0
+            for p in range(k):
+                if p == at:
+                    continue
+                other = effect_at(p, delta_f, delta_drive, out_delta)
+                value = other[f"{shown}_24h"] or 0.0
+                if (not other.get("exponential_24h")
+                        and value > ELSEWHERE_SHOWN * max(here, best.get("largest_24h", 0.0))
+                        and value > (other[f"{shown}_floor_24h"] or 0.0)):
+                    best.update(largest_point=comparison.points[p].label,
+                                largest_what=shown, largest_24h=value)
         return best
+
+    def effect_at(p: int, delta_f: np.ndarray, delta_drive: np.ndarray,
+                  out_delta: dict) -> dict:
+        """The effect (figures after 1 h and 24 h, their floors and cases, growth) with
+        the equations frozen at point ``p``."""
+        if p not in baseline:
+            baseline[p] = (_propagate(f[p], drive[p], x0), growth_rate(f[p]))
+        base_x, base_growth = baseline[p]
+        changed_f = f[p] + delta_f[p]
+        changed = _propagate(changed_f, drive[p] + delta_drive[p], x0)
+        rows_base, rows_changed = position_rows(p), position_rows(p, out_delta)
+        units = (max(float(np.linalg.norm(np.abs(r) @ x0))
+                     for r in (rows_base, rows_changed)) if has_position else 0.0,
+                 float(np.linalg.norm(np.abs(attitude(p, np.eye(n))) @ x0))
+                 if platform or angles else 0.0)
+        effect: dict = {}
+        for hours, base, x in zip(HOURS, base_x, changed, strict=True):
+            tag = hours_tag(hours)
+            dpos = (np.linalg.norm(rows_changed @ x - rows_base @ base, axis=0)
+                    if has_position else None)
+            datt = (np.linalg.norm(attitude(p, x - base), axis=0) if platform or angles
+                    else None)
+            largest = max(float(np.abs(r / scale).max(initial=0.0)) for r in (base, x))
+            steps = round(hours * 3600.0 / STEP)
+            for what, diffs, unit in (("position", dpos, units[0]),
+                                      ("attitude", datt, units[1])):
+                if diffs is None:  # no position or attitude to read: no figure, not 0
+                    effect.update({f"{what}_{tag}": None, f"{what}_floor_{tag}": None,
+                                   f"{what}_case_{tag}": None})
+                    continue
+                value, j = _worst(diffs)
+                floor = rounding_floor(largest, n + len(sources), steps, unit)
+                effect[f"{what}_{tag}"] = value
+                effect[f"{what}_floor_{tag}"] = floor
+                effect[f"{what}_case_{tag}"] = cases[j] if value > floor else None
+        mark_growth(effect, growth_rate(changed_f), base_growth, HOURS, shown)
+        return effect
 
     state_of = {f"error state {s}": i for i, s in enumerate(states)}
     for result in report.results:

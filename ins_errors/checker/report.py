@@ -134,7 +134,12 @@ def _effect(f: Finding) -> str:
         if cases:
             text += f" ({'; '.join(dict.fromkeys(cases))})"
         parts.append(text)
-    return "; ".join(parts) + f" ({e['point']})"
+    text = "; ".join(parts) + f" ({e['point']})"
+    if e.get("largest_point"):  # much larger where the coefficient differs less
+        figure = (length_text(e["largest_24h"]) if e["largest_what"] == "position"
+                  else _angle(e["largest_24h"]))
+        text += f"; larger at {e['largest_point']}: 24 h: {figure}"
+    return text
 
 
 def _angle(radians: float) -> str:
