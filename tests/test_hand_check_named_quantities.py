@@ -103,3 +103,20 @@ def test_north_pointing_reads_a_papers_radii_without_the_height():
     report = check_hand(hand, definition, effects=False)
     assert not report.problems  # was: unknown name 'R_E' (did you mean 'r_E'?)
     assert len(report.results) == 1 and not report.results[0].findings
+
+
+def test_a_term_the_expansion_wrote_in_two_parts_is_no_difference():
+    """A paper's azimuth-rate line writes d(V_E tan φ/R)/dφ as V_E tan φ/R (tan φ not
+    differentiated). Beside it, its right U cos φ was told as a difference: expanding
+    the model's U cos φ (R + h)/(R + h) gives R U cos φ/(R + h) + U h cos φ/(R + h), and
+    the detail read "model has R*U*cos(phi)/(R + h) + U*h*cos(phi)/(R + h) + ... where
+    the hand has U*cos(phi) + ...". Terms of one side that add up to a term of the other
+    are no difference."""
+    line = ("dot(alpha_U) = tan(phi)*Delta_v_E/(R + h) + (Omega*cos(phi) + V_E*tan(phi)/"
+            "(R + h))*Delta_phi + (Omega*cos(phi) + V_E/(R + h))*alpha_E + "
+            "V_N/(R + h)*alpha_N + epsilon_U")
+    findings = {f.quantity: f for f in _north_pointing_findings(line)}
+    found = findings["delta_latitude"]
+    assert found.kind == "wrong coefficient"
+    assert found.detail == ("model has V_E*tan(phi)**2/(R + h) + V_E/(R + h) where the hand "
+                            "has V_E*tan(phi)/(R + h)")

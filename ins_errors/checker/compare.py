@@ -34,6 +34,7 @@ import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 from functools import lru_cache
+from itertools import combinations
 
 import numpy as np
 import sympy as sp
@@ -344,7 +345,26 @@ def _term_difference(hand: sp.Expr, model: sp.Expr, limit: int = 150
     model_terms = sp.Add.make_args(sp.expand(model))
     missing = [t for t in model_terms if t not in hand_terms]
     extra = [t for t in hand_terms if t not in model_terms]
+    _drop_equal_sums(missing, extra)
+    _drop_equal_sums(extra, missing)
     return sp.Add(*missing), sp.Add(*extra)
+
+
+def _drop_equal_sums(many: list[sp.Expr], few: list[sp.Expr], largest: int = 8) -> None:
+    """Remove (in place) each term of ``few`` that two or three terms of ``many`` add up
+    to, and those terms: expanding ``U cos φ (R + h)/(R + h)`` writes one term of the
+    hand's as ``R U cos φ/(R + h) + U h cos φ/(R + h)``, which is no difference."""
+    if len(many) < 2 or len(many) > largest:
+        return
+    for term in list(few):
+        for size in (2, 3):
+            match = next((group for group in combinations(many, size)
+                          if sp.cancel(sp.Add(*group) / term) == 1), None)
+            if match is not None:
+                few.remove(term)
+                for part in match:
+                    many.remove(part)
+                break
 
 
 @lru_cache(maxsize=16384)
