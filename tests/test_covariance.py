@@ -555,3 +555,22 @@ def test_noise_columns_on_a_time_varying_system_match_closed_forms():
         np.testing.assert_allclose(var[1:, k], expected[name][1:],
                                    rtol=2e-3 if name == "x" else 1e-9, err_msg=name)
     np.testing.assert_allclose(var[60:, 0], expected["x"][60:], rtol=5e-5)
+
+
+def test_an_output_that_is_an_error_state_is_listed_once(orthodromic):
+    """north_pointing's outputs (latitude, longitude, v_N, v_E) read its error states of
+    the same names alone: each output error was listed a second time under the state's
+    name (covariance.index found the first). Now once each; orthodromic's outputs, other
+    quantities than its states, all stay."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("north_pointing")
+    system = cv.static_system(model, PHI, duration=3600.0, step=60.0)
+    fn = cv.state_and_output_functionals(model, system)
+    assert fn.names == tuple(s.name for s in model.error_states)
+    assert np.array_equal(fn.C_x, np.eye(len(fn.names)))
+    system = cv.static_system(orthodromic, PHI, duration=3600.0, step=60.0)
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    assert fn.names == (*(s.name for s in orthodromic.error_states),
+                        *(f"delta_{o.name}" for o in orthodromic.outputs))
+    assert len(set(fn.names)) == len(fn.names)

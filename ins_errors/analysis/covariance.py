@@ -327,17 +327,33 @@ class Functionals:
 
 
 def state_and_output_functionals(model, system: LinearSystem) -> Functionals:
-    """Every error state and every output error (through H), in SI units."""
+    """Every error state and every output error (through H), in SI units.
+
+    An output whose error is an error state of the same name (``north_pointing``'s
+    latitude: ``delta_latitude`` is a state, and H reads it alone) is that state, listed
+    once; an output error whose name a state has but which H reads otherwise is named
+    ``delta_<output>_output``.
+    """
     n, nw = system.E.shape
+    states = [i.name for i in model.error_states]
+    H = system.H if system.H.ndim == 3 else system.H[None]
+    rows, names, units = [], list(states), [i.unit for i in model.error_states]
+    for k, output in enumerate(model.outputs):
+        name = f"delta_{output.name}"
+        if name in states:
+            if np.array_equal(H[:, k], np.broadcast_to(np.eye(n)[states.index(name)],
+                                                       H[:, k].shape)):
+                continue   # the state itself
+            name += "_output"
+        rows.append(k)
+        names.append(name)
+        units.append(output.unit)
     if system.H.ndim == 2:
-        C_x = np.vstack([np.eye(n), system.H])
+        C_x = np.vstack([np.eye(n), system.H[rows]])
     else:
         C_x = np.concatenate([np.broadcast_to(np.eye(n), (len(system.times), n, n)),
-                              system.H], axis=1)
-    names = (*(i.name for i in model.error_states), *(f"delta_{i.name}" for i in
-                                                      model.outputs))
-    units = (*(i.unit for i in model.error_states), *(i.unit for i in model.outputs))
-    return Functionals(names, units, C_x, np.zeros((len(names), nw)))
+                              system.H[:, rows]], axis=1)
+    return Functionals(tuple(names), tuple(units), C_x, np.zeros((len(names), nw)))
 
 
 @dataclass(frozen=True)
