@@ -35,6 +35,12 @@ class ShapeError(InsErrorsError):
     """An array argument whose shape does not match what the function expects."""
 
 
+class InsErrorsWarning(UserWarning):
+    """A result that holds but needs a caveat (the integration error is large, the linear
+    model leaves its validity, a quantity moves only at second order, ...), issued by the
+    Python API; the command line prints the same words with its results instead."""
+
+
 def unknown_name(kind: str, name: str, known: Iterable[str]) -> UnknownNameError:
     """Build an :class:`UnknownNameError` that suggests the closest known names.
 

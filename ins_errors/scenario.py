@@ -296,7 +296,7 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
                           refined=scenario.refined, progress=progress,
                           platform=scenario.platform,
                           validity_threshold=scenario.validity_threshold,
-                          quantities=scenario.quantities)
+                          quantities=scenario.quantities, warn=False)
     for comparison, case in zip(comparisons, scenario.cases, strict=True):
         comparison.label = case.label
         # notes about the motion (a strapdown INS flying a noisy motion file)

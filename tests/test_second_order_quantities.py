@@ -83,3 +83,25 @@ def _curves(case):
     direct = np.stack([case.direct[n] for n in names])[:, :, None]
     return (ErrorCurves(names, units, case.times, direct),
             ErrorCurves(names, units, case.times, np.zeros_like(direct)), None)
+
+
+def test_the_python_api_issues_the_notes_as_warnings(equator):
+    """A notebook user never saw a case's notes unless they printed ``.warnings``: they
+    are now also Python warnings (InsErrorsWarning, the case's label first); warn=False,
+    as the command line passes, keeps them in ``.warnings`` alone."""
+    import warnings
+
+    from ins_errors.errors import InsErrorsWarning
+
+    model, trajectory = equator
+    with pytest.warns(InsErrorsWarning, match=r"gyro_bias_y = .*: .*second order") as seen:
+        (case,) = cmp.compare(model, trajectory, [{"gyro_bias_y": BIAS}],
+                              record_interval=300.0, integration_error=False, refined=False)
+    assert [str(w.message) for w in seen if w.category is InsErrorsWarning] == [
+        f"{case.label}: {text}" for text in case.warnings]
+    assert seen[0].filename == __file__   # pointed at the caller's line
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", InsErrorsWarning)
+        (quiet,) = cmp.compare(model, trajectory, [{"gyro_bias_y": BIAS}], record_interval=300.0,
+                               integration_error=False, refined=False, warn=False)
+    assert quiet.warnings == case.warnings

@@ -667,7 +667,7 @@ def _run_point(job: PointJob) -> dict[str, np.ndarray]:
     [comparison] = compare(model, trajectory, [sources], method=job.method,
                            record_interval=job.record, refined=job.refined,
                            platform=job.platform, labels=[job.label or "the point"],
-                           validity_threshold=None)
+                           validity_threshold=None, warn=False)
     names = error_quantities(model)[0]
     metrics = {m.quantity: m for m in comparison.metrics}
     out = {curve: np.stack([getattr(comparison, curve)[q] for q in names], axis=1)

@@ -366,7 +366,8 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
         return compare(model, trajectory, [{task.source: m} for m in magnitudes],
                        method=task.method, record_interval=stride * task.step,
                        integration_error=False, validity_threshold=None,
-                       labels=[f"{task.source} = {m!r} {info.unit}" for m in magnitudes])
+                       labels=[f"{task.source} = {m!r} {info.unit}" for m in magnitudes],
+                       warn=False)
 
     size = typical_magnitude(model, task.source) if task.typical is None else task.typical
 

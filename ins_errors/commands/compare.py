@@ -230,7 +230,7 @@ def run(args: argparse.Namespace) -> int:
     comparisons = compare(model, trajectory, cases, method=args.method, record_interval=record,
                           refined=not args.no_refined, progress=progress,
                           platform=args.platform.replace("-", "_"),
-                          validity_threshold=threshold)
+                          validity_threshold=threshold, warn=False)
     for comparison in comparisons:  # notes about the motion (a noisy motion file), as run
         comparison.warnings.extend(getattr(trajectory, "notes", ()))
     title = (f"{model.name}: {trajectory.description}; {duration / 3600:g} h, τ = {tau:g} s, "

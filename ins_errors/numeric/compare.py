@@ -261,7 +261,7 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
             platform: str = "exact", integration_error: bool = True,
             validity_threshold: float | None = VALIDITY_THRESHOLD,
             labels: Sequence[str] | None = None,
-            quantities: Sequence[str] | None = None) -> list[Comparison]:
+            quantities: Sequence[str] | None = None, warn: bool = True) -> list[Comparison]:
     """Run direct, linear (and refined) for several cases in one batch and compare.
 
     Parameters
@@ -296,6 +296,11 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     quantities : sequence of str, optional
         The quantities the reader wants (:attr:`Comparison.shown`): the worst ratios and
         the warnings consider only these. Default: every quantity.
+    warn : bool
+        Also issue each case's :attr:`Comparison.warnings` as a Python warning
+        (:class:`~ins_errors.errors.InsErrorsWarning`, starting with the case's label), so
+        a notebook shows them; the command line, which prints them with its tables,
+        passes False.
 
     Returns
     -------
@@ -331,6 +336,14 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     add_growth_warnings(comparisons, sim)
     add_unexcited_warnings(comparisons, sim, trajectory)
     add_second_order_warnings(comparisons)
+    if warn:
+        import warnings
+
+        from ins_errors.errors import InsErrorsWarning
+
+        for comparison in comparisons:
+            for text in comparison.warnings:
+                warnings.warn(f"{comparison.label}: {text}", InsErrorsWarning, stacklevel=2)
     return comparisons
 
 
