@@ -123,6 +123,16 @@ class Convention:
         the last ``len(biases)`` entries of ``states``. The derived model in the
         augmented states is ``[[F_c, G_c[:, b]], [0, D]]``, and those sources have no
         column of G (:func:`ins_errors.checker.matrix.derived_in_convention`).
+    hold : callable or None
+        For a convention whose states mix the vertical channel into every velocity and
+        position state (Earth-fixed states), so that ``vertical`` cannot name it:
+        ``(navigation) -> (Q, c)``, each (K, n, n) over the convention's own n states
+        (bias states not included). The effect propagation holds the vertical channel
+        by ``F -> Q F Q + c``, ``G -> Q G``: exactly the propagation of a local-level
+        convention with its vertical states held, read back in these states
+        (:mod:`ins_errors.checker.held_channel`). ``hold_text`` names what is held.
+    hold_text : str
+        What ``hold`` holds, for the reports.
     """
 
     name: str
@@ -134,6 +144,8 @@ class Convention:
     lift: Callable[[np.ndarray, np.ndarray], np.ndarray] | None = None
     validate: Callable | None = None
     biases: tuple[BiasState, ...] = ()
+    hold: Callable[[dict], tuple[np.ndarray, np.ndarray]] | None = None
+    hold_text: str = ""
 
     @property
     def names(self) -> list[str]:
@@ -272,6 +284,37 @@ _THETA = {
 }
 
 
+def _c_en(nav, row: int, column: int) -> np.ndarray:
+    """Entry (row, column) of C_e^n (ECEF → NED) at the navigation solution, over K."""
+    lat, lon = nav["latitude"], nav["longitude"]
+    sl, cl, so, co = np.sin(lat), np.cos(lat), np.sin(lon), np.cos(lon)
+    zero = np.zeros_like(lat)
+    rows = ((-sl * co, -sl * so, cl), (-so, co, zero), (-cl * co, -cl * so, -sl))
+    return rows[row][column]
+
+
+def _ecef_tables() -> tuple[dict, dict, dict]:
+    """Readouts of the ECEF states (:data:`_POSITION`, :data:`_ATTITUDE`, :data:`_THETA`
+    entries): δr^n = C_e^n δr^e; φ = −C_e^n ψ^e + δθ (Groves' sign of ψ^e), δθ of the NED
+    position error C_e^n δr^e."""
+    position, attitude, theta = {}, {}, {}
+    for j, axis in enumerate("XYZ"):
+        position[f"dr_{axis}"] = [(i, lambda nav, i=i, j=j: _c_en(nav, i, j))
+                                  for i in range(3)]
+        attitude[f"psi_{axis}"] = [(i, lambda nav, i=i, j=j: -_c_en(nav, i, j))
+                                   for i in range(3)]
+        theta[f"dr_{axis}"] = [
+            (axis_of, lambda nav, f=factor, i=i, j=j: f(nav) * _c_en(nav, i, j))
+            for i, ned in enumerate(("dr_N", "dr_E")) for axis_of, factor in _THETA[ned]]
+    return position, attitude, theta
+
+
+_ECEF_POSITION, _ECEF_ATTITUDE, _ECEF_THETA = _ecef_tables()
+_POSITION.update(_ECEF_POSITION)
+_ATTITUDE.update(_ECEF_ATTITUDE)
+_THETA.update(_ECEF_THETA)
+
+
 def _readout(names: list[str], nav: dict[str, np.ndarray], table: dict) -> np.ndarray:
     k = nav["latitude"].shape[-1]
     out = np.zeros((3, len(names), k))
@@ -339,21 +382,76 @@ def strapdown_conventions(functions: Callable) -> dict[str, Convention]:
                         "(Scherzinger & Reid)",
         "psi_modified": "ψ-angle with the modified velocity error δu",
     }
+    forms = [(name, position, suffix, f"{descriptions.get(name, name)}; {where}")
+             for name in sc.CONVENTIONS
+             for position, suffix, where in (("ned", "", "position in NED metres"),
+                                             ("geodetic", "_geodetic",
+                                              "position as latitude, longitude, height"))]
+    forms += [(name, "ecef", "", EARTH_FIXED_TEXT[name]) for name in sc.EARTH_FIXED]
     out = {}
-    for name in sc.CONVENTIONS:
-        for position, suffix, where in (("ned", "", "position in NED metres"),
-                                        ("geodetic", "_geodetic",
-                                         "position as latitude, longitude, height")):
-            conv = sc.convention(name, position)
-            states = tuple(State(n, sc.UNITS[n], _state_text(n)) for n in conv.names)
-            transform, rate, lift, *validate = functions(conv)
-            out[name + suffix] = Convention(
-                name + suffix, f"{descriptions.get(name, name)}; {where}", states,
-                transform, rate,
-                vertical=tuple(n for n in conv.names
-                               if n in ("dv_D", "dvc_D", "du_D", "dr_D", "dh")),
-                lift=lift, validate=validate[0] if validate else None)
+    for name, position, suffix, description in forms:
+        conv = sc.convention(name, position)
+        states = tuple(State(n, sc.UNITS[n], _state_text(n)) for n in conv.names)
+        transform, rate, lift, *validate = functions(conv)
+        earth_fixed = position == "ecef"
+        out[name + suffix] = Convention(
+            name + suffix, description, states, transform, rate,
+            vertical=tuple(n for n in conv.names
+                           if n in ("dv_D", "dvc_D", "du_D", "dr_D", "dh")),
+            lift=lift, validate=validate[0] if validate else None,
+            hold=ecef_hold if earth_fixed else None,
+            hold_text=ECEF_HOLD_TEXT if earth_fixed else "")
     return out
+
+
+ECEF_HOLD_TEXT = "the vertical (down) components of δv^e and δr^e"
+"""What the effect propagation of an Earth-fixed convention holds (:func:`ecef_hold`)."""
+
+
+def ecef_hold(nav: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """``(Q, c)`` of :attr:`Convention.hold` for the Earth-fixed states (ψ^e, δv^e, δr^e).
+
+    Their map to the ψ-angle states (ψ, dvc, dr) is ``T_l = blockdiag(−C_e^n, C_e^n,
+    C_e^n)`` with ``Ṫ_l T_l⁻¹ = W = −I ⊗ [ω_en^n×]``; that convention holds dvc_D and dr_D
+    (``P`` zeroes them). Its held propagation ``ẏ = P F_l P y``, ``F_l = W + T_l F T_l⁻¹``,
+    read back through ``z = T_l⁻¹ y``, is ``ż = (Q F Q + c) z`` with ``Q = T_l⁻¹ P T_l``
+    (identity on ψ^e; ``I − d dᵀ`` on δv^e and δr^e, ``d`` the local down in ECEF) and
+    ``c = T_l⁻¹ (P W P − W) T_l``.
+
+    Parameters
+    ----------
+    nav : dict
+        Navigation description along a motion (latitude, longitude, ``omega_en_n``; (K,)
+        and (3, K)).
+
+    Returns
+    -------
+    Q, c : numpy.ndarray, shape (K, 9, 9)
+    """
+    C = np.moveaxis(np.array([[_c_en(nav, i, j) for j in range(3)] for i in range(3)]),
+                    -1, 0)  # (K, 3, 3) C_e^n
+    k = C.shape[0]
+    w = np.asarray(nav["omega_en_n"], dtype=float).T  # (K, 3)
+    W = np.zeros((k, 3, 3))
+    W[:, 0, 1], W[:, 0, 2], W[:, 1, 2] = w[:, 2], -w[:, 1], w[:, 0]  # −[ω×]
+    W -= np.swapaxes(W, 1, 2)
+    P = np.diag([1.0, 1.0, 0.0])
+    Ct = np.swapaxes(C, 1, 2)
+    Q3 = Ct @ P @ C
+    c3 = Ct @ (P @ W @ P - W) @ C
+    Q, c = np.zeros((k, 9, 9)), np.zeros((k, 9, 9))
+    Q[:, 0:3, 0:3] = np.eye(3)
+    for b in (slice(3, 6), slice(6, 9)):
+        Q[:, b, b], c[:, b, b] = Q3, c3
+    return Q, c
+
+
+EARTH_FIXED_TEXT = {
+    "psi_ecef": "Earth-fixed (ECEF) error states of Groves (2013, ch. 14): attitude error "
+                "ψ^e with C̃_b^e = (I + [ψ^e×]) C_b^e, δv^e, δr^e",
+}
+"""Descriptions of the Earth-fixed conventions
+(:data:`ins_errors.models.strapdown_conventions.EARTH_FIXED`)."""
 
 
 _VOCABULARY_TEXT = {
@@ -365,6 +463,13 @@ _VOCABULARY_TEXT = {
     "dr": "position error in NED",
     "dlat": "latitude error", "dlon": "longitude error", "dh": "height error (up)",
 }
+_ECEF_TEXT = {
+    "psi": "attitude error in ECEF, Groves' sign C̃_b^e = (I + [ψ×]) C_b^e (= −C_n^e ψ)",
+    "dv": "ECEF velocity error δv^e (= C_n^e dvc)",
+    "dr": "ECEF position error δr^e (= C_n^e dr)",
+}
+_AXIS_TEXT = {"N": "north", "E": "east", "D": "down", "X": "X (λ = 0 on the equator)",
+              "Y": "Y (λ = 90° E on the equator)", "Z": "Z (north pole)"}
 
 
 def _state_text(name: str) -> str:
@@ -372,7 +477,8 @@ def _state_text(name: str) -> str:
     if name in _VOCABULARY_TEXT:
         return _VOCABULARY_TEXT[name]
     base, _, axis = name.rpartition("_")
-    return f"{_VOCABULARY_TEXT.get(base, base)}, {dict(N='north', E='east', D='down')[axis]}"
+    text = (_ECEF_TEXT if axis in "XYZ" else _VOCABULARY_TEXT).get(base, base)
+    return f"{text}, {_AXIS_TEXT[axis]}"
 
 REGISTRY = {"north_pointing": _north_pointing, "strapdown_ned": _strapdown}
 """Builders of each model's conventions beyond its own states (``model``)."""

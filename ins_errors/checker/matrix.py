@@ -49,6 +49,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ins_errors.checker import held_channel
 from ins_errors.checker.check_motions import HOURS, STEP, Motion, motions, parameter_items
 from ins_errors.checker.conventions import BiasState, Convention, convention
 from ins_errors.checker.derived_convention import derived_in_convention
@@ -669,7 +670,9 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     # G's columns weighed by the sizes the report lists (--magnitude), as the states are
     _compare(report, sampled, conv, model, motion_list, declared, declared_used,
              np.array([magnitudes[s.name][0] for s in model.sources]))
-    if effects:
+    if effects and conv.hold is not None:  # Earth-fixed states: no state is vertical
+        held_channel.effects(report, sampled, conv, model, motion_list)
+    elif effects:
         responses: dict = {}  # the derived model's, shared by both
         report.effects = propagate_effects(report, sampled, conv, model, motion_list,
                                            responses=responses)

@@ -285,7 +285,7 @@ def _functions(model_key: str, attitude: str, velocity: str, position: str
         S = (A - A.T) / 2
         columns.append(ca.vertcat(S[2, 1], S[0, 2], S[1, 0]))
     blocks = sc.convention_blocks(ca.horzcat(*columns), H_v, ca.jacobian(nu[0:3], x),
-                                  nu[0], nu[2], nu[3:6], a, e2)
+                                  nu[0], nu[1], nu[2], nu[3:6], a, e2)
     T = ca.vertcat(blocks[attitude], blocks[velocity], blocks[position])
     xdot = ca.SX.sym("xdot", n)
     T_dot = (ca.jacobian(ca.vec(T), x) @ xdot).reshape(T.shape)

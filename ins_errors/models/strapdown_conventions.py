@@ -32,11 +32,24 @@ position triple, always in the order attitude, velocity, position):
 ``dr_N, dr_E, dr_D``       position error in NED metres, ``((R_N + h) δφ,
                            (R_E + h) cos φ δλ, −δh)``
 ``dlat, dlon, dh``         position error as latitude (rad), longitude (rad), height (m)
+``psi_X, psi_Y, psi_Z``    attitude error resolved in ECEF (X to λ = 0 on the equator,
+                           Z to the north pole), rad, with *Groves' sign*
+                           ``C̃_b^e = (I + [ψ^e×]) C_b^e`` (Groves 2013, δψ^e_eb): the
+                           opposite sign of φ and ψ above. The ECEF frame does not move
+                           with the position error, so this one angle is the ψ-angle
+                           rotated, ``ψ^e = −C_n^e ψ``
+``dv_X, dv_Y, dv_Z``       error of the ECEF velocity ``v^e = C_n^e v``, m/s, in ECEF:
+                           ``C_n^e (δv + δθ × v) = C_n^e dvc``
+``dr_X, dr_Y, dr_Z``       error of the ECEF position vector, m: ``C_n^e dr``
 ========================  ==========================================================
 
 Named conventions (:data:`CONVENTIONS`): ``phi`` (φ, δv), ``psi`` (ψ, δv in the computed
 frame), ``phi_modified`` (φ, δu), ``psi_modified`` (ψ, δu); each with the position as
-``"ned"`` metres (default) or ``"geodetic"`` (δφ, δλ, δh).
+``"ned"`` metres (default) or ``"geodetic"`` (δφ, δλ, δh). In Earth-fixed states
+(:data:`EARTH_FIXED`): ``psi_ecef`` (ψ^e, δv^e, δr^e), the states of an ECEF-mechanised
+INS's error model (Groves 2013, ch. 14, section 14.2.3). The ECEF rows are computed
+exactly, by differentiating ``C_n^e(φ, λ)`` and the ECEF position of the geodetic
+coordinates, not from the closed forms above (which tests check them against).
 
 Example
 -------
@@ -64,14 +77,17 @@ import numpy as np
 
 from ins_errors.errors import unknown_name
 
-ATTITUDE = {"phi": ("phi_N", "phi_E", "phi_D"), "psi": ("psi_N", "psi_E", "psi_D")}
+ATTITUDE = {"phi": ("phi_N", "phi_E", "phi_D"), "psi": ("psi_N", "psi_E", "psi_D"),
+            "psi_ecef": ("psi_X", "psi_Y", "psi_Z")}
 VELOCITY = {"dv": ("dv_N", "dv_E", "dv_D"), "dvc": ("dvc_N", "dvc_E", "dvc_D"),
-            "du": ("du_N", "du_E", "du_D")}
-POSITION = {"ned": ("dr_N", "dr_E", "dr_D"), "geodetic": ("dlat", "dlon", "dh")}
+            "du": ("du_N", "du_E", "du_D"), "dv_ecef": ("dv_X", "dv_Y", "dv_Z")}
+POSITION = {"ned": ("dr_N", "dr_E", "dr_D"), "geodetic": ("dlat", "dlon", "dh"),
+            "ecef": ("dr_X", "dr_Y", "dr_Z")}
 
 UNITS = {**{n: "rad" for names in ATTITUDE.values() for n in names},
          **{n: "m/s" for names in VELOCITY.values() for n in names},
-         "dr_N": "m", "dr_E": "m", "dr_D": "m", "dlat": "rad", "dlon": "rad", "dh": "m"}
+         "dr_N": "m", "dr_E": "m", "dr_D": "m", "dlat": "rad", "dlon": "rad", "dh": "m",
+         "dr_X": "m", "dr_Y": "m", "dr_Z": "m"}
 """SI unit of every vocabulary name."""
 
 VOCABULARY: tuple[str, ...] = tuple(UNITS)
@@ -100,19 +116,29 @@ CONVENTIONS: dict[str, tuple[str, str]] = {
 }
 """Named conventions: attitude and velocity variables."""
 
+EARTH_FIXED: dict[str, tuple[str, str, str]] = {"psi_ecef": ("psi_ecef", "dv_ecef", "ecef")}
+"""Named conventions in Earth-fixed (ECEF) states: attitude, velocity and position
+variables (their position has one form, ECEF metres)."""
+
 
 def convention(name: str, position: str = "ned") -> Convention:
-    """The :class:`Convention` called ``name`` with position as ``"ned"`` or ``"geodetic"``.
+    """The :class:`Convention` called ``name`` with position as ``"ned"`` or ``"geodetic"``
+    (a name of :data:`EARTH_FIXED` has its own, ``"ecef"``; ``position`` is then
+    ``"ned"``, the default, or ``"ecef"``).
 
     Raises
     ------
     UnknownNameError
         For an unknown convention or position form (close names are suggested).
     """
+    if name in EARTH_FIXED:
+        if position not in ("ned", "ecef"):
+            raise unknown_name(f"position-error form of {name}", position, ["ecef"])
+        return Convention(*EARTH_FIXED[name])
     if name not in CONVENTIONS:
-        raise unknown_name("error-model convention", name, CONVENTIONS)
-    if position not in POSITION:
-        raise unknown_name("position-error form", position, POSITION)
+        raise unknown_name("error-model convention", name, {**CONVENTIONS, **EARTH_FIXED})
+    if position not in ("ned", "geodetic"):
+        raise unknown_name("position-error form", position, ("ned", "geodetic"))
     attitude, velocity = CONVENTIONS[name]
     return Convention(attitude, velocity, position)
 
@@ -153,10 +179,37 @@ def _blocks(x, p):
     Z33, Z34 = ca.SX.zeros(3, 3), ca.SX.zeros(3, 4)
     I3 = ca.SX.eye(3)
     return convention_blocks(ca.horzcat(phi_q, Z33, Z33), ca.horzcat(Z34, I3, Z33),
-                             ca.horzcat(Z34, Z33, I3), lat, h, v, p[0], p[1])
+                             ca.horzcat(Z34, Z33, I3), lat, x[8], h, v, p[0], p[1])
 
 
-def convention_blocks(phi, dv, position, lat, h, v, a, e2) -> dict:
+def _c_ne(lat, lon):
+    """C_n^e (NED → ECEF) at geodetic latitude and longitude (CasADi, 3 × 3)."""
+    sl, cl, so, co = ca.sin(lat), ca.cos(lat), ca.sin(lon), ca.cos(lon)
+    return ca.vertcat(ca.horzcat(-sl * co, -so, -cl * co), ca.horzcat(-sl * so, co, -cl * so),
+                      ca.horzcat(cl, 0, -sl))
+
+
+@cache
+def _earth_fixed() -> ca.Function:
+    """``(φ, λ, h, a, e2) -> (C_n^e, ε_φ, ε_λ, J_r)``: C_n^e; the rotation (ECEF
+    components, rad per rad) of the NED frame per unit change of latitude and of
+    longitude, the axial vectors of ``(∂C_n^e/∂φ) C_e^n`` and ``(∂C_n^e/∂λ) C_e^n``
+    (skew-symmetric, as C stays orthonormal); and ``J_r = ∂r^e/∂(φ, λ, h)`` (3 × 3, m per
+    rad and m/m) of the ECEF position on the ellipsoid (a, e2): exact derivatives."""
+    lat, lon, h, a, e2 = (ca.SX.sym(n) for n in ("lat", "lon", "h", "a", "e2"))
+    C = _c_ne(lat, lon)
+    axial = []
+    for angle in (lat, lon):
+        W = ca.jacobian(ca.vec(C), angle).reshape((3, 3)) @ C.T
+        axial.append(ca.vertcat(W[2, 1], W[0, 2], W[1, 0]))
+    r_e = a / ca.sqrt(1 - e2 * ca.sin(lat) ** 2)  # prime-vertical radius
+    r = ca.vertcat((r_e + h) * ca.cos(lat) * ca.cos(lon), (r_e + h) * ca.cos(lat) * ca.sin(lon),
+                   (r_e * (1 - e2) + h) * ca.sin(lat))
+    return ca.Function("earth_fixed", [lat, lon, h, a, e2],
+                       [C, *axial, ca.jacobian(r, ca.vertcat(lat, lon, h))])
+
+
+def convention_blocks(phi, dv, position, lat, lon, h, v, a, e2) -> dict:
     """Rows of T for every vocabulary triple from the rows of three error quantities.
 
     Parameters
@@ -164,8 +217,9 @@ def convention_blocks(phi, dv, position, lat, h, v, a, e2) -> dict:
     phi, dv, position : casadi.SX, shape (3, ne)
         The φ-angle (N, E, D), the NED velocity error and the position error (δφ, δλ,
         δh) per model error state.
-    lat, h, v, a, e2 : casadi.SX
-        True latitude, height and NED velocity (3,), semi-major axis and eccentricity².
+    lat, lon, h, v, a, e2 : casadi.SX
+        True geodetic latitude, longitude, height and NED velocity (3,), semi-major axis
+        and eccentricity².
 
     Returns
     -------
@@ -180,14 +234,24 @@ def convention_blocks(phi, dv, position, lat, h, v, a, e2) -> dict:
                            ca.horzcat(0, -ca.sin(lat), 0))
     theta = theta_pos @ position
     cross_v = -_skew(v)  # a × v = −[v×] a
+    ned = ca.diag(ca.vertcat(R_N + h, (R_E + h) * ca.cos(lat), -1)) @ position
+    # Earth-fixed: C_b^e = C_n^e C_b^n, v^e = C_n^e v, r^e(φ, λ, h); ε^e the rotation of
+    # the NED frame at the computed position from the true one (ECEF components)
+    C, eps_lat, eps_lon, J_r = _earth_fixed()(lat, lon, h, a, e2)
+    eps = eps_lat @ position[0, :] + eps_lon @ position[1, :]
     return {
         "phi": phi,
         "psi": phi - theta,
         "dv": dv,
         "dvc": dv + cross_v @ theta,
         "du": dv + cross_v @ phi,
-        "ned": ca.diag(ca.vertcat(R_N + h, (R_E + h) * ca.cos(lat), -1)) @ position,
+        "ned": ned,
         "geodetic": position,
+        # Groves' sign: C̃_b^e C_b^eᵀ = I + [ψ^e×] = C_n^e(r̃) (I − [φ×]) C_e^n(r)
+        "psi_ecef": eps - C @ phi,
+        # δ(C_n^e v) = C_n^e δv + ε^e × (C_n^e v)
+        "dv_ecef": C @ dv - _skew(C @ v) @ eps,
+        "ecef": J_r @ position,  # = C_n^e dr (a test checks it)
     }
 
 
