@@ -108,3 +108,54 @@ def test_the_growth_check_leaves_a_streamed_motion_streamed():
     compare(model, motion, [{"accel_bias_y": 1e-4}], record_interval=60.0, refined=False,
             validity_threshold=None, integration_error=False)
     assert motion.is_streamed
+
+
+def _orthodromic_east(hours: float):
+    model = load_model("orthodromic")
+    profile = tr.great_circle_profile(np.radians(50.0), np.radians(30.0), np.radians(90.0),
+                                      250.0, 5000.0)
+    motion = tr.trajectory(model, profile, hours * 3600.0, 10.0)
+    return model, motion, compare(model, motion, [{"initial_velocity_error_eta": 0.1}],
+                                  record_interval=60.0, refined=False,
+                                  validity_threshold=None, integration_error=False)[0]
+
+
+def test_a_mode_of_f_frozen_at_the_start_of_a_moving_base_is_checked_against_the_run():
+    """orthodromic's F at the start of an eastbound great circle has a real eigenvalue
+    of about +3e-5 /s along delta_V_eta (×e every 9 h), so every run of more than 27 h
+    said its errors grow exponentially (×8.7e7 over a week, the long-flight probe),
+    while an initial velocity error that starts exactly in that direction stays at
+    0.1 m/s all along. F changes along the motion; the warning now needs the run's own
+    errors to grow. The independent evidence: the direct (nonlinear) run's largest
+    velocity error over the second half of the run is about that over the first."""
+    from ins_errors.numeric.linear_system import growth_rate, start_state_matrix
+
+    model, motion, case = _orthodromic_east(30.0)
+    rate = growth_rate(start_state_matrix(model, motion))
+    assert rate * 30 * 3600 > 3          # the frozen mode alone would warn
+    times = case.times
+    early, late = times <= times[-1] / 2, times >= times[-1] / 2
+    velocity = np.abs(case.direct["delta_V_eta"]) if "delta_V_eta" in case.direct else None
+    if velocity is None:  # the velocity outputs of the model, whichever names them
+        velocity = np.max([np.abs(v) for k, v in case.direct.items() if k.startswith("delta_v")],
+                          axis=0)
+    # the frozen mode would multiply it by e^(rate × 15 h) ≈ 5 between the halves
+    assert velocity[late].max() < 1.25 * velocity[early].max()
+    assert not any(GROWS in w for w in case.warnings), case.warnings
+
+
+def test_a_growing_mode_the_run_follows_is_still_named_on_a_moving_base():
+    """strapdown_ned's undamped vertical channel on a great circle: F changes along the
+    motion, but the run's own height error grows (its ratio over the two halves of the
+    run is far above 1), so the warning stands, with the textbook e-folding time."""
+    model = load_model("strapdown_ned")
+    motion = st.trajectory(model, st.great_circle(np.radians(50.0), 0.0, np.radians(60.0),
+                                                  250.0, 5000.0), 2 * 3600.0, 1.0)
+    [case] = compare(model, motion, [{"accel_bias_y": 1e-4}], record_interval=60.0,
+                     refined=False, validity_threshold=None, integration_error=False)
+    height = np.abs(case.direct["delta_height"])
+    half = case.times <= case.times[-1] / 2
+    assert height[~half].max() > 20 * height[half].max()
+    [warning] = [w for w in case.warnings if GROWS in w]
+    minutes = float(re.search(r"×e every ([\d.]+) min", warning).group(1))
+    assert minutes == pytest.approx(_vertical_e_folding_minutes(50.0), rel=5e-3)

@@ -403,9 +403,12 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     into an exponential) makes every error of the run grow by e^(rate t), whatever the
     sources; the comparison's ratios then say little by themselves. The warning
     (:func:`~ins_errors.numeric.linear_system.growth_warning`) gives the e-folding time
-    of F's fastest growing mode at t = 0 (on a moving base F changes along the motion)
-    and the factor over the run, names the command that names the mode and any damping
-    gain left at 0 (:func:`~ins_errors.numeric.linear_system.undamped_remedy`).
+    of F's fastest growing mode at t = 0 and the factor over the run, names the command
+    that names the mode and any damping gain left at 0
+    (:func:`~ins_errors.numeric.linear_system.undamped_remedy`). On a moving base F
+    changes along the motion and a mode of F at the start need not grow along the run:
+    a case gets the warning there only when its own linear errors grow at
+    :data:`GROWTH_SEEN` of the mode's rate or more (:func:`observed_growth`).
 
     Parameters
     ----------
@@ -417,6 +420,7 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
         The runs (their trajectory's state and inputs at t = 0 give F).
     """
     from ins_errors.numeric.linear_system import (
+        growth_rate,
         growth_warning,
         start_state_matrix,
         undamped_remedy,
@@ -425,13 +429,43 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     duration = float(sim.times[-1])
     if not comparisons or duration <= 0:
         return
-    text = growth_warning(start_state_matrix(sim.model, sim.trajectory), duration,
-                          sim.model.name, "the ratios say little by themselves",
+    f = start_state_matrix(sim.model, sim.trajectory)
+    text = growth_warning(f, duration, sim.model.name, "the ratios say little by themselves",
                           remedy=undamped_remedy(sim.model, sim.trajectory.parameters))
     if text is None:
         return
+    rate = growth_rate(f)
     for comparison in comparisons:
-        comparison.warnings.append(text)
+        # on a moving base F changes along the motion: a mode of F frozen at the start
+        # (orthodromic's delta_V_eta on an eastbound great circle, ×e every 9 h) need
+        # not grow along the run; the warning stands where the run's own linear errors
+        # grow at a good part of that rate
+        if sim.trajectory.constant or observed_growth(comparison) >= GROWTH_SEEN * rate:
+            comparison.warnings.append(text)
+
+
+GROWTH_SEEN = 0.5
+"""On a moving base, a growing mode of F at the start is warned of only where the run's
+linear errors grow at least at this share of its rate (:func:`observed_growth`)."""
+
+
+def observed_growth(comparison: Comparison) -> float:
+    """Growth rate (1/s) of the run's linear errors: for each quantity, the log of its
+    largest |error| over the second half of the run over its largest over the first
+    half, divided by the half run; the largest over the quantities (−inf where no
+    quantity moves in both). Whole halves, so that a slow beat (the Earth period, the
+    Foucault period) does not read as growth."""
+    times = comparison.times
+    end = float(times[-1])
+    early, late = times <= end / 2, times >= end / 2
+    rates = [-math.inf]
+    if early.any() and late.any():
+        for curve in comparison.linear.values():
+            a = float(np.max(np.abs(curve[early])))
+            b = float(np.max(np.abs(curve[late])))
+            if a > 0 and b > 0 and np.isfinite(a) and np.isfinite(b):
+                rates.append(math.log(b / a) / (end / 2))
+    return max(rates)
 
 
 def _difference(a: np.ndarray, b: np.ndarray, unit: str) -> np.ndarray:
