@@ -63,8 +63,39 @@ def _write_csv(comparisons: Sequence, stream) -> None:
     for k, comparison in enumerate(comparisons, 1):
         data = np.column_stack([comparison.times] + [getattr(comparison, run)[q]
                                                      for q, run, _ in columns])
-        for row in data:
-            writer.writerow([k, *(repr(float(v)) for v in row)])
+        start = f"{k},"
+        for first in range(0, len(data), 65536):  # Python floats in C, then their reprs
+            stream.writelines(start + ",".join(map(repr, row)) + "\n"
+                              for row in data[first:first + 65536].tolist())
+
+
+CSV_BYTES_PER_VALUE = 22
+"""About the bytes one value takes in curves.csv (17 significant digits, sign, exponent,
+comma)."""
+LARGE_OUTPUT = 200e6
+"""Bytes of curves from which writing them is announced with their size (a week at a 1-s
+record is about 0.4 GB of CSV and takes several times the simulation to write)."""
+
+
+def curves_size(comparisons: Sequence) -> float:
+    """About the bytes of curves.csv for ``comparisons`` (curves.mat is compressed)."""
+    if not comparisons:
+        return 0.0
+    columns = 2 + len(_columns(comparisons[0]))
+    return float(sum(len(c.times) for c in comparisons) * columns * CSV_BYTES_PER_VALUE)
+
+
+def large_output_note(comparisons: Sequence) -> str | None:
+    """``"writing about 405 MB of curves (604801 samples × 21 columns per case) ..."``
+    when :func:`curves_size` reaches :data:`LARGE_OUTPUT`, else None."""
+    size = curves_size(comparisons)
+    if size < LARGE_OUTPUT:
+        return None
+    samples = len(comparisons[0].times)
+    columns = 2 + len(_columns(comparisons[0]))
+    return (f"writing about {size / 1e6:.3g} MB of curves.csv ({samples} samples × "
+            f"{columns} columns per case, and curves.mat), which takes longer than the "
+            f"runs; a coarser record interval writes less")
 
 
 MAT_DESCRIPTION = 116
@@ -146,6 +177,14 @@ def write_curves(folder, comparisons: Sequence) -> list[Path]:
     -------
     list of Path
         The two files.
+
+    Curves of :data:`LARGE_OUTPUT` bytes or more are announced first, with their size
+    (a warning ``ins-errors: note: ...``, one line on the command line).
     """
+    note = large_output_note(comparisons)
+    if note:
+        import warnings
+
+        warnings.warn(f"ins-errors: note: {note}", stacklevel=2)
     return [folder.write_with("curves.csv", lambda p: save_curves_csv(comparisons, p)),
             folder.write_with("curves.mat", lambda p: save_curves_mat(comparisons, p))]

@@ -857,3 +857,28 @@ def test_the_residual_panels_draw_model_minus_direct_as_labelled(report):
         linear, refined = residuals["linear − direct"], residuals["refined − direct"]
         assert linear.min() >= -1e-9 * scale and linear.max() == pytest.approx(1e-6 * scale)
         assert refined.max() <= 1e-9 * scale and refined.min() == pytest.approx(-2e-6 * scale)
+
+
+def test_large_curves_are_announced_with_their_size(report, tmp_path, monkeypatch):
+    """A week at a 1-s record wrote 0.4 GB of curves.csv in silence, taking eight times
+    the runs (the long-flight probe). From export.LARGE_OUTPUT bytes on (lowered here),
+    writing them is announced with a size near the file's own."""
+    import warnings
+
+    from ins_errors import export
+    from ins_errors.output import OutputFolder
+
+    result, _ = report
+    monkeypatch.setattr(export, "LARGE_OUTPUT", 1.0)
+    folder = OutputFolder(tmp_path / "big")
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        export.write_curves(folder, result.comparisons)
+    folder.finish()
+    (note,) = [str(w.message) for w in seen if "curves.csv" in str(w.message)]
+    assert note.startswith("ins-errors: note: writing about ")
+    announced = float(note.split("about ")[1].split(" MB")[0]) * 1e6
+    actual = (tmp_path / "big" / "curves.csv").stat().st_size
+    assert announced == pytest.approx(actual, rel=0.35)
+    monkeypatch.setattr(export, "LARGE_OUTPUT", 200e6)
+    assert export.large_output_note(result.comparisons) is None
