@@ -250,8 +250,10 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM (engine.Terminated)
         signum = getattr(error, "signum", 2)
-        print("ins-errors: interrupted" if signum == 2 else
-              f"ins-errors: terminated (signal {signum})", file=sys.stderr)
+        detail = getattr(error, "detail", "")  # e.g. what a sweep's store keeps
+        print(("ins-errors: interrupted" if signum == 2 else
+               f"ins-errors: terminated (signal {signum})")
+              + (f": {detail}" if detail else ""), file=sys.stderr)
         return 128 + signum
     except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
         _silence_stdout()

@@ -504,3 +504,32 @@ def test_failed_draws_are_not_left_out_of_the_statistics(tmp_path):
     assert bad["failed_draws"] == [0, 1] and bad["largest_worst_linear_ratio"] is None
     assert bad["rms_max_direct"]["delta_latitude"] is None
     assert "failed" in sr.draws_table(result.dataset).splitlines()[0]
+
+
+def test_an_interrupted_sweep_says_what_the_store_keeps(tmp_path, monkeypatch, capsys):
+    """Ctrl-C in a sweep printed only "ins-errors: interrupted" (the long-flight probe):
+    nothing said that the points done were kept, nor how to go on. The line now says how
+    many of the points are in the store (counted here by reading the store back) and
+    that the same command runs the others."""
+    path = scenario_file(tmp_path, """
+        [sweep]
+        latitude = ["20 deg", "40 deg", "60 deg"]
+    """, BASE.replace('"1 h"', '"5 min"')).as_posix()
+    real, runs = sw.run_point, []
+
+    def third_interrupts(job):
+        runs.append(job)
+        if len(runs) == 3:
+            raise KeyboardInterrupt
+        return real(job)
+
+    monkeypatch.setattr(sw, "run_point", third_interrupts)
+    store = tmp_path / "part.zarr"
+    assert main(["sweep", path, "--store", str(store), "--engine", "serial",
+                 "--no-progress"]) == 130
+    line = capsys.readouterr().err.strip().splitlines()[-1]
+    monkeypatch.setattr(sw, "run_point", real)
+    kept = sw.run_sweep(load_scenario(path), store, engine="serial").reused
+    assert kept == 2
+    assert line == (f"ins-errors: interrupted: {kept} of the 3 points are in {store}; "
+                    "the same command runs the others")

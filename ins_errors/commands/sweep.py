@@ -107,9 +107,12 @@ def run(args: argparse.Namespace) -> int:
     store = args.store or sw.default_store(args.scenario, shard)
     title = scenario.title
 
+    counts = {"points": 0, "before": 0, "stored": 0}
+
     def say(points: int, todo: int, total: int) -> None:
         import sys
 
+        counts.update(points=points, before=points - todo)
         plural = "s" if total != 1 else ""
         how_many = (f"shard {shard}: {points} of the {total} point{plural}" if shard
                     else f"{total} point{plural}")
@@ -121,10 +124,21 @@ def run(args: argparse.Namespace) -> int:
     if args.merge is not None:
         result = sw.merge_shards(scenario, args.merge, store, on_start=say)
     else:
-        result = sw.run_sweep(scenario, store, engine=args.engine,
-                              scheduler=args.scheduler, workers=args.workers,
-                              progress=not args.no_progress,
-                              retry_failed=args.retry_failed, shard=shard, on_start=say)
+        def stored(_: int) -> None:
+            counts["stored"] += 1
+
+        try:
+            result = sw.run_sweep(scenario, store, engine=args.engine,
+                                  scheduler=args.scheduler, workers=args.workers,
+                                  progress=not args.no_progress,
+                                  retry_failed=args.retry_failed, shard=shard, on_start=say,
+                                  on_result=stored)
+        except KeyboardInterrupt as stop:  # what is kept, and how to go on (the CLI says)
+            if counts["points"]:
+                kept = counts["before"] + counts["stored"]
+                stop.detail = (f"{kept} of the {counts['points']} points are in {store}; "
+                               "the same command runs the others")
+            raise
     data = result.dataset
     plotted = None
     if args.plot:
