@@ -882,3 +882,34 @@ def test_large_curves_are_announced_with_their_size(report, tmp_path, monkeypatc
     assert announced == pytest.approx(actual, rel=0.35)
     monkeypatch.setattr(export, "LARGE_OUTPUT", 200e6)
     assert export.large_output_note(result.comparisons) is None
+
+
+def test_a_week_long_run_is_plotted_against_days(tmp_path):
+    """A 720-h run was drawn against 0...700 h (the long-flight probe); from a week on the
+    time axis is in days, and a shorter run's stays in hours (the same figure, reused)."""
+    import matplotlib.image as mpimg
+
+    from ins_errors import load_model
+    from ins_errors.numeric import plots
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare
+
+    model = load_model("orthodromic")
+
+    def drawn(hours: float):
+        motion = tr.trajectory(model, tr.static_profile(np.radians(50.0)), hours * 3600.0,
+                               60.0)
+        (case,) = compare(model, motion, [{"gyro_drift_x": 1e-7}], record_interval=3600.0,
+                          integration_error=False, validity_threshold=None, refined=False,
+                          warn=False)
+        path = tmp_path / f"{hours:g}.png"
+        plots.plot_comparison(case, path, ["alpha_y"])
+        assert mpimg.imread(path).shape[0] > 100
+        figure = plots._SPARE_FIGURES.figures[-1]
+        axis = figure.axes[-1, 0]
+        return axis.get_xlabel(), axis.get_xlim()[1]
+
+    label, end = drawn(8 * 24.0)
+    assert label == "time [d]" and 7.5 < end < 9
+    label, end = drawn(24.0)
+    assert label == "time [h]" and 20 < end < 26

@@ -176,6 +176,10 @@ class _SpareFigures:
 _SPARE_FIGURES = _SpareFigures()
 
 
+DAYS_FROM = 7 * 86400.0
+"""Runs at least this long (s) are plotted against days, shorter ones against hours."""
+
+
 class _ComparisonFigure:
     """The panels of :func:`plot_comparison` for one layout, refilled case by case."""
 
@@ -243,7 +247,11 @@ class _ComparisonFigure:
 
     def show(self, comparison: Comparison, title: str) -> None:
         """Put one case's curves, limits and title in the figure."""
-        hours = comparison.times / 3600.0
+        # a run of a week or more reads in days
+        days = comparison.times[-1] >= DAYS_FROM if len(comparison.times) else False
+        hours = comparison.times / (86400.0 if days else 3600.0)
+        for ax in self.axes[-1]:
+            ax.set_xlabel("time [d]" if days else "time [h]", fontsize=8)
         for q, scale, row in self.lines:
             direct = comparison.direct[q] * scale
             linear = comparison.linear[q] * scale
