@@ -36,6 +36,14 @@ def _equations_document(model: Model) -> str:
     return re.sub(r"^# .*\n", "", body, count=1)
 
 
+def _run_line(result) -> str:
+    """``"orthodromic: great circle ...; 168 h, τ = 1 s, rk4"``: the model, motion and
+    run of a report's plots (as ``compare`` titles its own)."""
+    s = result.scenario
+    return (f"{load_model(s.model).name}: {result.motion_description}; "
+            f"{s.duration / 3600:g} h, τ = {s.step:g} s, {s.method}")
+
+
 def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
     """The report as Markdown."""
     from ins_errors.numeric.compare import markdown_summary, markdown_table
@@ -241,8 +249,8 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
         plot_comparisons(result.comparisons, [out.file(name) for name in plots],
                          quantities=result.scenario.quantities
                          or shared_quantities(result.comparisons),
-                         titles=[f"{result.scenario.title}\n{c.label}"
-                                 for c in result.comparisons])
+                         titles=[f"{result.scenario.title}\n{c.label}\n"
+                                 f"{_run_line(result)}" for c in result.comparisons])
     with stage(f"writing report.md, report.html and results.json in {out.path}",
                enabled=progress):
         text = report_markdown(result, plots)

@@ -913,3 +913,17 @@ def test_a_week_long_run_is_plotted_against_days(tmp_path):
     assert label == "time [d]" and 7.5 < end < 9
     label, end = drawn(24.0)
     assert label == "time [h]" and 20 < end < 26
+
+
+def test_a_reports_plots_name_the_model_motion_and_run(report, tmp_path):
+    """A run's case plots were titled with the scenario's title and the case alone; a
+    plot taken out of its folder did not say what was flown (the long-flight probe).
+    They now carry compare's line: model, motion, duration, step and scheme."""
+    from ins_errors.numeric import plots
+
+    result, _ = report
+    write_report(result, tmp_path / "again")
+    title = plots._SPARE_FIGURES.figures[-1].title.get_text().replace("\n", " ")
+    assert result.motion_description.split(" ")[0] in title
+    assert result.scenario.model in title and "τ = " in title
+    assert f"{result.scenario.duration / 3600:g} h" in title
