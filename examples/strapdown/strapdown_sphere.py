@@ -2,7 +2,10 @@ r"""A strapdown INS of one's own, written as a model file: NED navigation on a s
 
 Local-level NED navigation on a sphere of radius R with constant gravity g; attitude as
 the direction-cosine matrix T (body → NED, rows north, east, down), no damping of the
-vertical channel (with a constant g it is neutral, not unstable).
+vertical channel (with a constant g it is neutral at rest; in flight the transport-rate
+and Coriolis terms couple it to the horizontal channels and it grows slowly: on compare's
+default eastbound great circle at 250 m/s the height error of a 50-µg accelerometer bias
+is 36 m over the first 3 h and 1.4 km after a day).
 
     Ṫ = T [ω×] − [ω_in×] T,   ω_in = Ω + ρ,
     Ω = U (cos φ, 0, −sin φ),  ρ = (v_E, −v_N, −v_E tan φ) / (R + h)
