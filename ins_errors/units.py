@@ -9,7 +9,11 @@ would otherwise convert to ``rad``). A quantity is one number followed by one un
 expression: ``"45 deg 30 arcmin"`` (which pint reads as a product) is refused with a
 suggestion (``'45.5 deg'``), never added up silently.
 
-``g`` is standard gravity, 9.80665 m/s² (pint's ``g_0``); ``ug`` is a micro-g.
+``g`` is standard gravity, 9.80665 m/s² (pint's ``g_0``, also written ``g0``); ``ug`` is
+a micro-g; ``gal`` (like ``Gal``) is the galileo, 1 cm/s², never pint's US gallon. An
+angle may be written with the signs ``°``, ``′`` and ``″``, and a minute or second of arc
+with the keyboard's ``'`` and ``"`` (or ``''``) right after its number: ``5'``, ``20"``.
+A message names a unit as the user writes it (``mg``, not the registry's ``mg_n``).
 """
 
 from __future__ import annotations
@@ -116,7 +120,16 @@ def installation_folder(store: Path) -> Path:
     return folder
 
 
-_ALIASES = {"deg/hr": "deg/h", "°/h": "deg/h", "″": "arcsec", "′": "arcmin", "°": "deg"}
+_ALIASES = {"deg/hr": "deg/h", "°/h": "deg/h"}
+
+_ANGLE_MARKS = (("°", "deg"), ("″", "arcsec"), ("′", "arcmin"))
+"""The degree, second and minute signs and the unit each stands for."""
+
+_ASCII_MARKS = re.compile(r"(?<=[\d.])(?P<mark>''|'|\")")
+"""An ASCII minute (``'``) or second (``"``, also ``''``) sign right after a number: the
+keyboard's stand-ins for ′ and ″ (``5'``, ``20"``)."""
+
+_ASCII_MARK_UNITS = {"'": "arcmin", "''": "arcsec", '"': "arcsec"}
 
 
 def _square_roots(text: str) -> str:
@@ -143,16 +156,26 @@ def _square_roots(text: str) -> str:
     return text
 
 
+_GALILEO = re.compile(r"(?<![A-Za-z_])(?P<prefix>[muµμ]?)gal(?![A-Za-z_0-9])")
+"""``gal`` (also ``mgal``, ``ugal``, ``µgal``): the galileo, 1 cm/s², as gravimetry writes
+it in lower case; pint's ``gal`` is the US gallon, a volume no value here is."""
+
+
 def _normalise(text: str) -> str:
+    """The text pint is given for a user's (or a model's) unit text."""
     text = text.strip()
+    text = _ASCII_MARKS.sub(lambda m: f" {_ASCII_MARK_UNITS[m['mark']]} ", text).strip()
     for old, new in _ALIASES.items():
         text = text.replace(old, new)
+    for sign, name in _ANGLE_MARKS:   # '1°30′' is two parts, as '1 deg 30 arcmin' is
+        text = re.sub(f"{sign}(?=[\\d.])", f" {name} ", text).replace(sign, f" {name}")
     text = _square_roots(text)
-    # a bare 'g' (or 'mg') means gravity, not grams; 'ppm' a plain ratio
-    text = re.sub(r"(?<![A-Za-z_])g(?![A-Za-z_])", "gee", text)
-    text = re.sub(r"(?<![A-Za-z_])mg(?![A-Za-z_])", "milli_gee", text)
-    text = re.sub(r"(?<![A-Za-z_])ppm(?![A-Za-z_])", "ppm_ins", text)
-    return text
+    # a bare 'g' (or 'mg') means gravity, not grams; 'ppm' a plain ratio; 'gal' the galileo
+    text = re.sub(r"(?<![A-Za-z_])g(?![A-Za-z_0-9])", "gee", text)
+    text = re.sub(r"(?<![A-Za-z_])mg(?![A-Za-z_0-9])", "milli_gee", text)
+    text = re.sub(r"(?<![A-Za-z_])ppm(?![A-Za-z_0-9])", "ppm_ins", text)
+    text = _GALILEO.sub(lambda m: f"{m['prefix']}Gal", text)
+    return text.strip()
 
 
 UNIT_FAMILIES: dict[str, str] = {
@@ -167,8 +190,94 @@ UNIT_FAMILIES: dict[str, str] = {
 """The family of units expected by SI unit, with examples (what a bare number lacks)."""
 
 
-def _needs_unit(text: object, unit: str, what: str) -> UnitError:
-    return UnitError(f"{what}: {text!r} has no unit; give {_example(unit, str(text))}")
+_PLAIN_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+
+
+def _needs_unit(text: object, unit: str, what: str, value: float) -> UnitError:
+    """The one line for a number without the unit ``unit`` needs; the examples show the
+    number as it was written when it is a plain number, else its value."""
+    shown = str(text).strip()
+    number = shown if _PLAIN_NUMBER.fullmatch(shown) else f"{value:g}"
+    return UnitError(f"{what}: {text!r} has no unit; give {_example(unit, number)}")
+
+
+_INTERNAL_NAMES = ((re.compile(r"(?<!\w)([A-Za-zµμ]?)g_n(?!\w)"), r"\1g"),
+                   (re.compile(r"(?<!\w)g_0(?!\w)"), "g0"),
+                   (re.compile(r"(?<!\w)milli_gee(?!\w)"), "mg"),
+                   (re.compile(r"(?<!\w)gee(?!\w)"), "g"),
+                   (re.compile(r"(?<!\w)ppm_ins(?!\w)"), "ppm"),
+                   (re.compile(r"(?<!\w)gal(?!\w)"), "gallon"))
+"""The names this module gives pint (``gee``, ``ppm_ins``, ...) and pint's symbols of them
+(``mg_n``, ``µg_n``), each with the name a user writes; pint's symbol of the gallon,
+``gal``, written out (``gal`` is read as the galileo here)."""
+
+_GLOSSES = {"g": "standard gravity", "g0": "standard gravity", "mg": "milli-g",
+            "ug": "micro-g", "µg": "micro-g", "μg": "micro-g", "Gal": "galileo = 1 cm/s²",
+            "mGal": "milli-galileo", "µGal": "micro-galileo"}
+"""What the units a reader may take for another (mg, a milligram?) stand for here."""
+
+
+def _user_words(text: str) -> str:
+    """``text`` (pint's words) with this module's internal unit names as a user writes
+    them (``mg_n`` -> ``mg``, ``ppm_ins`` -> ``ppm``)."""
+    for pattern, name in _INTERNAL_NAMES:
+        text = pattern.sub(name, text)
+    return text
+
+
+def _shown_units(quantity: pint.Quantity, *notes: str) -> str:
+    """A quantity's units in the names a user writes, the easily misread ones explained,
+    and ``notes`` after them: ``mg (milli-g)``, ``deg ** 2``, ``mg / h (mg: milli-g)``,
+    ``mg (milli-g, an acceleration)``."""
+    shown = _user_words(f"{quantity.units:~}")
+    if shown in _GLOSSES:
+        return f"{shown} ({', '.join([_GLOSSES[shown], *notes])})"
+    named = [f"{word}: {_GLOSSES[word]}"
+             for word in dict.fromkeys(re.findall(r"[\wµμ]+", shown)) if word in _GLOSSES]
+    return f"{shown} ({'; '.join([*named, *notes])})" if named or notes else shown
+
+
+_KINDS: dict[tuple[frozenset, float], str] = {
+    (frozenset(), 1): "an angle",
+    (frozenset(), 0): "a plain number or ratio",
+    (frozenset(), 2): "an angle squared",
+    (frozenset({("[time]", -1)}), 1): "an angular rate",
+    (frozenset({("[time]", -1)}), 0): "a frequency",
+    (frozenset({("[time]", -2)}), 1): "an angular acceleration",
+    (frozenset({("[time]", -0.5)}), 1): "an angle per √time",
+    (frozenset({("[length]", 1), ("[time]", -2)}), 0): "an acceleration",
+    (frozenset({("[length]", 1), ("[time]", -1.5)}), 0): "an acceleration per √Hz",
+    (frozenset({("[length]", 1), ("[time]", -1)}), 0): "a velocity",
+    (frozenset({("[length]", 1)}), 0): "a length",
+    (frozenset({("[time]", 1)}), 0): "a time",
+    (frozenset({("[length]", 2)}), 0): "an area",
+    (frozenset({("[length]", 3)}), 0): "a volume",
+    (frozenset({("[mass]", 1)}), 0): "a mass",
+    (frozenset({("[temperature]", 1)}), 0): "a temperature",
+}
+"""What a quantity is, by its dimension and the power of the angle in it."""
+
+
+def _kind(quantity: pint.Quantity) -> str:
+    """What a quantity is in words (``an acceleration``), from its dimension and angle
+    power; else its dimension as pint writes it."""
+    dimension = frozenset((name, float(power))
+                          for name, power in quantity.dimensionality.items() if power)
+    kind = _KINDS.get((dimension, _angle_power(quantity)))
+    return kind if kind is not None else f"a quantity of dimension {quantity.dimensionality}"
+
+
+def _other_dimension(text: str, unit: str, what: str, shown: str) -> UnitError:
+    """The one line for a quantity (its units ``shown``, what it is said) that does not
+    convert to ``unit``."""
+    ureg = registry()
+    family = UNIT_FAMILIES.get(unit)
+    wanted = family.split(", e.g.")[0] if family else _kind(1 * _units(ureg, unit))
+    lead = _TOKEN.match(_normalise(text).lstrip("+-"))
+    magnitude = lead.group().strip() if lead and lead.lastgroup == "number" else "1"
+    target = f"{unit} ({wanted})" if unit != "1" else wanted
+    return UnitError(f"{what}: {text!r} has units of {shown}, which do not convert to "
+                     f"{target}; give {_example(unit, magnitude)}")
 
 
 _TOKEN = re.compile(r"""\s*(?:(?P<number>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
@@ -330,17 +439,17 @@ def parse_quantity(text: str | float | int, unit: str, what: str = "value", *,
     if isinstance(text, (int, float)):
         value = float(text)
         if not numbers_are_si and unit != "1" and value != 0 and value == value:
-            raise _needs_unit(text, unit, what)
+            raise _needs_unit(text, unit, what, value)
     else:
         try:
             value = _text_value(registry(), str(text), unit)
         except _UnreadableError as problem:
-            raise UnitError(f"{what}: cannot read {text!r} as a quantity ({problem})") from None
-        except _NoUnitError:
-            raise _needs_unit(str(text).strip(), unit, what) from None
+            raise UnitError(f"{what}: cannot read {text!r} as a quantity "
+                            f"({_user_words(str(problem))})") from None
+        except _NoUnitError as problem:
+            raise _needs_unit(str(text).strip(), unit, what, *problem.args) from None
         except _OtherDimensionError as problem:
-            raise UnitError(f"{what}: {text!r} has units of {problem}, which do not convert "
-                            f"to {unit}") from None
+            raise _other_dimension(str(text), unit, what, *problem.args) from None
         except _SecondNumberError as problem:
             raise _second_number_error(str(text), unit, what, *problem.args) from None
         except _AnglePowerError as problem:
@@ -360,11 +469,12 @@ class _UnreadableError(Exception):
 
 
 class _NoUnitError(Exception):
-    """A plain number where the target unit needs one."""
+    """A plain number where the target unit needs one (args: its value)."""
 
 
 class _OtherDimensionError(Exception):
-    """A quantity whose units (the message) do not convert to the target unit."""
+    """A quantity whose units do not convert to the target unit (args: its units as a
+    user writes them and what it is; see :func:`_shown_units`, :func:`_kind`)."""
 
 
 class _SecondNumberError(Exception):
@@ -414,7 +524,7 @@ def _text_value(ureg: pint.UnitRegistry, text: str, unit: str) -> float:
     if not isinstance(quantity, ureg.Quantity) or quantity.units == ureg.dimensionless:
         value = float(getattr(quantity, "magnitude", quantity))
         if unit != "1" and value != 0 and value == value:
-            raise _NoUnitError
+            raise _NoUnitError(value)
         return value
     import pint  # imported by registry()
 
@@ -422,9 +532,9 @@ def _text_value(ureg: pint.UnitRegistry, text: str, unit: str) -> float:
     try:
         value = float(quantity.to(target).magnitude)
     except pint.DimensionalityError:
-        raise _OtherDimensionError(f"{quantity.units:~}") from None
+        raise _OtherDimensionError(_shown_units(quantity, _kind(quantity))) from None
     if (power := _angle_power(quantity)) != (wanted := _angle_power(1 * target)):
-        raise _AnglePowerError(f"{quantity.units:~}", power, wanted)
+        raise _AnglePowerError(_shown_units(quantity), power, wanted)
     return value
 
 
