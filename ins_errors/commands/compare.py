@@ -192,6 +192,8 @@ def run(args: argparse.Namespace) -> int:
     profile = motion_from_options(motion, model=model)
     if args.duration is not None:
         duration = parse_quantity(args.duration, "s", "--duration")
+        if not duration > 0:  # zero steps run nothing
+            raise InsErrorsError(f"--duration must be positive, got {args.duration!r}")
     elif args.hours is None and args.motion_file:  # the file's length
         duration = file_duration(profile, tau) if tau > 0 else 0.0
     else:
@@ -202,6 +204,8 @@ def run(args: argparse.Namespace) -> int:
         raise InsErrorsError("duration must be at least one step")
     if args.record is not None:
         record = parse_quantity(args.record, "s", "--record")
+        if not record > 0:
+            raise InsErrorsError(f"--record must be positive, got {args.record!r}")
         if args.duration is None and args.hours is None and args.motion_file:
             from ins_errors.numeric.integrators import record_stride
 
