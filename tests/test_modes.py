@@ -267,3 +267,30 @@ def test_model_file_with_a_radius_named_r_earth_gets_its_schuler_period(tmp_path
     assert schuler.reference.relative_difference == pytest.approx(0.0, abs=1e-9)
     # the checker's typical magnitudes read the same radius
     assert "R = 6000000 m" in schuler_magnitudes(load_model(str(path))).origin
+
+
+# Krasovsky semi-major axis (the closed forms' sphere), typed from source 004
+KRASOVSKY_A = 6_378_245.0
+EARTH_RATE = 7.292115e-5
+
+def test_closed_forms_default_gravity_is_the_static_base_of_the_other_commands():
+    """closed_forms('orthodromic', 39°) took a_ζ = 9.80665 m/s² where ``modes`` and
+    ``propagation --orthodromic`` take the generators' normal gravity of the model's
+    Earth at the site (Somigliana, typed here, on the closed forms' sphere: 9.78781):
+    their periods differed by 0.1 %. An explicit gravity is still taken."""
+    latitude = np.radians(39.0)
+    gravity = GAMMA_E * (1 + SOMIGLIANA_K * np.sin(latitude) ** 2)
+    assert gravity == pytest.approx(9.78781, abs=1e-5)
+    forms = closed_forms("orthodromic", latitude)
+    a_zeta = forms.u[[i.name for i in forms.model.inputs].index("a_zeta")]
+    assert a_zeta == pytest.approx(gravity, rel=1e-12)
+    periods = forms.periods()
+    modes = static_modes("orthodromic", latitude, parameters={"e2": 0.0})
+    foucault = EARTH_RATE * np.sin(latitude)
+    mean = np.sqrt(gravity / KRASOVSKY_A + foucault**2)  # the closed forms' sphere: R = a
+    for name, sign in zip(SPLIT_MODES, (-1, 1), strict=True):
+        assert periods[name] == pytest.approx(2 * np.pi / (mean + sign * foucault), rel=1e-9)
+        assert periods[name] == pytest.approx(modes.mode(name).period_s, rel=1e-9)
+    assert periods["Earth"] == pytest.approx(modes.mode("Earth").period_s, rel=1e-9)
+    explicit = closed_forms("orthodromic", latitude, gravity=9.80665)
+    assert explicit.u[[i.name for i in explicit.model.inputs].index("a_zeta")] == 9.80665

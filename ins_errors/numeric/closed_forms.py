@@ -133,7 +133,7 @@ class ClosedForms:
 
 
 def closed_forms(model: Model | str, latitude: float, p: np.ndarray | None = None,
-                 gravity: float = STANDARD_GRAVITY, **parameters: float) -> ClosedForms:
+                 gravity: float | None = None, **parameters: float) -> ClosedForms:
     """Closed forms of ``model`` on a static base at ``latitude`` (rad).
 
     Parameters
@@ -144,9 +144,14 @@ def closed_forms(model: Model | str, latitude: float, p: np.ndarray | None = Non
     p : numpy.ndarray, optional
         Parameter vector (default: the model's defaults, then the values the closed
         forms were derived for (``BAKED``), then ``parameters``).
-    gravity : float
+    gravity : float, optional
         Vertical specific force at rest, m/s², for models where it is an input
         (``a_zeta`` of ``orthodromic``); ``north_pointing`` has ``g`` as a parameter.
+        Default: the static base's of the motion generators with these parameters (the
+        normal gravity of the model's Earth at the latitude,
+        :func:`~ins_errors.numeric.linear_system.static_base_gravity`), as
+        ``ins-errors modes`` and ``propagation --orthodromic`` take it: 9.78781 m/s² for
+        ``orthodromic`` at 39°.
     **parameters : float
         Parameter overrides by name (``R=...``, ``g=...``), SI.
 
@@ -175,12 +180,16 @@ def closed_forms(model: Model | str, latitude: float, p: np.ndarray | None = Non
     inputs = [i.name for i in model.inputs]
     u = np.zeros(len(inputs))
     if "a_zeta" in inputs:
-        if not gravity > 0:
+        if gravity is not None and not gravity > 0:
             raise DomainError(f"gravity (vertical specific force a_zeta) must be positive, "
                               f"got {gravity}")
-        u[inputs.index("a_zeta")] = gravity
+        u[inputs.index("a_zeta")] = STANDARD_GRAVITY if gravity is None else gravity
     c = model.initial_condition_vector(latitude=latitude)
     model._initial_domain(c, u, p, "closed forms")
+    if "a_zeta" in inputs and gravity is None:  # the site is valid: the generators' own
+        from ins_errors.numeric.linear_system import static_base_gravity
+
+        u[inputs.index("a_zeta")] = static_base_gravity(model, latitude, p=p)
     x = model.initial_state(c, u, p)
     x, u, p = model._check_state(x, u, p, "closed forms")
     for name, value in baked.items():

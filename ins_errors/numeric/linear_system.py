@@ -330,7 +330,7 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
     c = model.initial_condition_vector(**{k: v for k, v in given.items() if k in known})
     inputs = [i.name for i in model.inputs]
     if gravity is None and "a_zeta" in inputs:
-        gravity = _static_base_gravity(model, latitude, longitude, heading, height, p)
+        gravity = static_base_gravity(model, latitude, longitude, heading, height, p)
     u = model.input_vector(**{k: v for k, v in (("a_zeta", gravity), ("h", height))
                               if k in inputs})
     x = model.initial_state(c, u, p)
@@ -370,10 +370,26 @@ STATIC_GRAVITY_FALLBACK = 9.81
 """a_ζ (m/s²) of :func:`static_system` for a model the motion generators do not fly."""
 
 
-def _static_base_gravity(model, latitude: float, longitude: float, heading: float,
-                         height: float, p: np.ndarray) -> float:
-    """a_ζ of the generators' static base of ``model`` (normal gravity of its Earth at
-    the site), or :data:`STATIC_GRAVITY_FALLBACK` for a model they do not fly."""
+def static_base_gravity(model, latitude: float, longitude: float = 0.0,
+                        heading: float = 0.0, height: float = 0.0,
+                        p: np.ndarray | None = None) -> float:
+    """a_ζ of the motion generators' static base of ``model``, m/s².
+
+    The normal gravity of the model's own Earth at the site, as ``compare``, ``run``,
+    ``modes``, :func:`static_system` and the closed forms take it by default, or
+    :data:`STATIC_GRAVITY_FALLBACK` for a model the generators do not fly.
+
+    Parameters
+    ----------
+    model : ins_errors.numeric.model.Model
+        A loaded model with an input ``a_zeta``.
+    latitude, longitude, heading : float
+        Site and track angle, rad.
+    height : float
+        Height above the ellipsoid, m.
+    p : numpy.ndarray, optional
+        Parameter vector (default: the model's defaults).
+    """
     from ins_errors.errors import InsErrorsError
     from ins_errors.numeric import trajectories as tr
 
