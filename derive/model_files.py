@@ -135,6 +135,8 @@ def _metadata(d: ModelDefinition, record: dict[str, str] | None = None) -> str:
         "INITIAL_CONDITIONS = (", rows(d.initial_conditions), ")",
         f"DOMAIN = {tuple(message for _, message in d.domain)!r}",
         f"INITIAL_DOMAIN = {tuple(message for _, message in d.initial_domain)!r}",
+        # only where a model explains a mode (the other packages stay as they were)
+        *([f"MODE_NOTES = {dict(d.mode_notes)!r}"] if d.mode_notes else []),
         *(f"{key} = {value!r}" for key, value in (record or {}).items()),
         "",
     ])

@@ -5,7 +5,8 @@ Strict JSON has no NaN or Infinity: Python's :mod:`json` writes them as bare ``N
 refuse. Here a number that is not finite (an overflowed propagation, a ratio with no
 denominator) is written as ``null``, NumPy scalars and arrays become plain numbers and
 lists, and the encoder is told to refuse anything non-finite left over
-(``allow_nan=False``), so a new writer cannot slip one through.
+(``allow_nan=False``), so a new writer cannot slip one through. A negative zero (the
+−0/|λ| damping ratio of an undamped mode) is written as ``0.0``.
 """
 
 from __future__ import annotations
@@ -31,10 +32,10 @@ def plain(value: Any) -> Any:
     -------
     Any
         The same structure made of built-in types only (tuples and arrays as lists,
-        paths as strings), with NaN and ±inf as ``None``.
+        paths as strings), with NaN and ±inf as ``None`` and −0.0 as 0.0.
     """
-    if isinstance(value, float):
-        return value if math.isfinite(value) else None
+    if isinstance(value, float):  # + 0.0: a negative zero is written as 0.0
+        return value + 0.0 if math.isfinite(value) else None
     if isinstance(value, (str, bool, int)) or value is None:
         return value
     if isinstance(value, Mapping):

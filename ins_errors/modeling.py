@@ -69,7 +69,7 @@ the file wherever a command takes a model name (``ins-errors models ./my_ins.py`
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -96,6 +96,7 @@ __all__ = [
     "EARTH_RATE",
     "ELLIPSOIDS",
     "MEAN_RADIUS",
+    "MODE_NOTE_KEYS",
     "PLATFORM_FORMS",
     "STANDARD_GRAVITY",
     "WGS84_EQUATORIAL_GRAVITY",
@@ -370,6 +371,12 @@ def tilde(latex: str) -> str:
     return accent(latex, "tilde")
 
 
+MODE_NOTE_KEYS = ("Schuler", "Earth", "vertical channel")
+"""The named static-base modes a :attr:`ModelDefinition.mode_notes` entry may explain:
+``"Schuler"`` (also "Schuler − Foucault" and "Schuler + Foucault"), ``"Earth"``,
+``"vertical channel"`` (growing and decaying)."""
+
+
 @dataclass
 class ModelDefinition:
     """The complete symbolic definition of one INS, as the variation machinery needs it.
@@ -430,6 +437,11 @@ class ModelDefinition:
         message given when one fails (e.g. latitude at a pole).
     initial_domain : sequence of (sympy.Expr, str)
         The same for the initial conditions, in ``c, u, p``.
+    mode_notes : mapping of str to str
+        Why a static-base mode of this model is not at its textbook value, when that is
+        a property of the mechanisation (``ins-errors modes`` prints the note beside the
+        mode): keys from :data:`MODE_NOTE_KEYS` (``"Schuler"`` covers the Foucault-split
+        pair too), values one paragraph of plain text.
     """
 
     name: str
@@ -455,6 +467,14 @@ class ModelDefinition:
     notes: str = ""
     domain: Sequence[tuple[sp.Expr, str]] = ()
     initial_domain: Sequence[tuple[sp.Expr, str]] = ()
+    mode_notes: Mapping[str, str] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        unknown = sorted(set(self.mode_notes) - set(MODE_NOTE_KEYS))
+        if unknown:
+            raise ModelDefinitionError(f"model {self.name!r}: mode_notes has no mode "
+                                 f"{', '.join(map(repr, unknown))}; known: "
+                                 f"{', '.join(MODE_NOTE_KEYS)}")
 
     # -- platform -------------------------------------------------------------------
     @property

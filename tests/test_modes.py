@@ -171,7 +171,9 @@ def test_participation_schuler_in_tilt_and_velocity_earth_in_azimuth_and_latitud
         for state in ("delta_v_E", "delta_v_N", "alpha_E", "alpha_N"):
             assert share[state] > 0.3, (name, state)
     earth = result.mode("Earth").participation
-    assert {name for name, _ in result.mode("Earth").states(0.5)} == {
+    # as a distance the Earth mode's east error is sin φ times its north one (its
+    # eigenvector), and the share measures δλ as that distance, cos φ δλ
+    assert {name for name, _ in result.mode("Earth").states(0.3)} == {
         "delta_latitude", "alpha_U", "delta_longitude"}
     # at the Earth rate the velocity errors are (Ω/ω_s)² smaller than the angles
     assert max(earth["delta_v_E"], earth["delta_v_N"]) < 0.1
@@ -269,9 +271,212 @@ def test_model_file_with_a_radius_named_r_earth_gets_its_schuler_period(tmp_path
     assert "R = 6000000 m" in schuler_magnitudes(load_model(str(path))).origin
 
 
-# Krasovsky semi-major axis (the closed forms' sphere), typed from source 004
-KRASOVSKY_A = 6_378_245.0
+# --------------------------------------------------------------------------------------
+# geodetic_vertical on the ellipsoid: why its Earth and Schuler periods are off
+# --------------------------------------------------------------------------------------
+# Krasovsky, typed from the source (004) and its translator's notes: a, flattening 1/298.3
+KRASOVSKY_A, KRASOVSKY_F = 6_378_245.0, 1 / 298.3
+KRASOVSKY_E2 = 2 * KRASOVSKY_F - KRASOVSKY_F**2
 EARTH_RATE = 7.292115e-5
+
+
+def _geodetic_vertical_base(latitude: float, longitude: float, orthodrome=(0.0, 0.0, 0.0)):
+    """(Φ, N, μ, ν1, ν2, Earth rate on ξηζ) at a point of geodetic (B, L) at rest, from
+    source 004's tables written out here with numpy: the start frame n of (1) (with the
+    translator's orthonormal n11, n22), Table 2, sin B = −m32, (3) and (4)."""
+    lam0, phi0, n0 = orthodrome
+    s, c = np.sin, np.cos
+    n = np.array([
+        [c(lam0) * c(n0) + s(lam0) * s(phi0) * s(n0), c(phi0) * s(n0),
+         s(phi0) * c(lam0) * s(n0) - s(lam0) * c(n0)],
+        [s(lam0) * s(phi0) * c(n0) - c(lam0) * s(n0), c(phi0) * c(n0),
+         c(lam0) * s(phi0) * c(n0) + s(lam0) * s(n0)],
+        [s(lam0) * c(phi0), -s(phi0), c(lam0) * c(phi0)]])
+    up = n @ np.array([s(longitude) * c(latitude), -s(latitude), c(longitude) * c(latitude)])
+    big_phi, big_lam = np.arctan2(-up[1], np.hypot(up[0], up[2])), np.arctan2(up[0], up[2])
+    table2 = np.array([
+        [c(big_lam), 0.0, -s(big_lam)],
+        [s(big_lam) * s(big_phi), c(big_phi), c(big_lam) * s(big_phi)],
+        [s(big_lam) * c(big_phi), -s(big_phi), c(big_lam) * c(big_phi)]])
+    earth_axis = (table2 @ n)[:, 1]  # the Earth's rotation axis η0 on ξ, η, ζ
+    angle = np.arctan2(earth_axis[0], earth_axis[1])
+    flattening = KRASOVSKY_E2 / (2 - KRASOVSKY_E2)
+    mu = flattening * s(2 * latitude) - 0.5 * flattening**2 * s(4 * latitude)
+    return big_phi, angle, mu, mu * c(angle), -mu * s(angle), EARTH_RATE * earth_axis
+
+
+def _earth_rate_of_the_psi_equation(latitude: float, longitude: float, orthodrome) -> float:
+    """The Earth-mode frequency the correction rates (9) imply, rad/s.
+
+    The angle ψ of the platform against the trihedron of the reckoned (Φ, Λ) obeys
+    ψ̇ = −Ω × ψ + ΔΩ, where ΔΩ is what (9) torques the platform with beyond the rate at
+    which the dead reckoning Φ̇ = −W_η/R, Λ̇ = W_ξ/(R cos Φ) turns that trihedron: its
+    deflection terms ((W_ξ/R) tg Φ ν2, −(W_ξ/R) tg Φ ν1, −(W_η/R) ν2) of the velocity
+    error. At the Earth rate, far below Schuler's, the level loop keeps the platform on
+    the vertical: the trihedron's error then follows −ψ, so δW_ξ/R = −ψ̇_η and
+    δW_η/R = ψ̇_ξ, and (I + K) ψ̇ = −Ω × ψ with the K below. Its oscillation is the
+    Earth mode; the approximation leaves out (Ω/ω_s)² ≈ 0.35 % of the shift from Ω.
+    """
+    big_phi, _, _, nu1, nu2, rate = _geodetic_vertical_base(latitude, longitude, orthodrome)
+    t = np.tan(big_phi)
+    inertia = np.array([[1.0, t * nu2, 0.0], [0.0, 1.0 - t * nu1, 0.0], [nu2, 0.0, 1.0]])
+    cross = np.array([[0.0, -rate[2], rate[1]], [rate[2], 0.0, -rate[0]],
+                      [-rate[1], rate[0], 0.0]])
+    return float(np.max(np.abs(np.linalg.eigvals(np.linalg.solve(inertia, cross)).imag)))
+
+
+@pytest.mark.parametrize("latitude_deg, orthodrome", [
+    (45.0, (0.0, 0.0, 0.0)), (80.0, (0.0, 0.0, 0.0)), (-60.0, (0.0, 0.0, 0.0)),
+    (50.0, (0.3, 0.6, 0.7)), (70.0, (0.2, 0.4, 1.2))])
+def test_geodetic_vertical_earth_mode_is_off_omega_by_the_deflection_terms_of_9(
+        latitude_deg, orthodrome):
+    """The probe's −0.316 % at 80°: the model transcribes (9) faithfully, and (9) torques
+    the platform with deflection terms its dead reckoning does not turn the reckoned
+    trihedron with. The ψ-equation above (typed from the source's tables, not from the
+    model) predicts the shift on any orthodrome; with e² = 0 (ν = 0) it is exactly Ω;
+    ``modes`` says so on the row."""
+    latitude, longitude = np.radians(latitude_deg), np.radians(30.0)
+    parameters = dict(zip(("orth_longitude", "orth_latitude", "orth_angle"), orthodrome,
+                          strict=True))
+    earth = static_modes("geodetic_vertical", latitude, longitude,
+                         parameters=parameters).mode("Earth")
+    predicted = _earth_rate_of_the_psi_equation(latitude, longitude, orthodrome)
+    assert abs(predicted / EARTH_RATE - 1) > 5e-5  # a shift worth explaining
+    assert (earth.eigenvalue.imag - EARTH_RATE) / (predicted - EARTH_RATE) == pytest.approx(
+        1.0, abs=0.01)
+    sphere = static_modes("geodetic_vertical", latitude, longitude,
+                          parameters={**parameters, "e2": 0.0}).mode("Earth")
+    assert sphere.period_s == pytest.approx(SIDEREAL_DAY, rel=1e-9)
+    assert sphere.reference.relative_difference == pytest.approx(0.0, abs=1e-9)
+    assert "(9)" in earth.note and "dead reckoning" in earth.note
+    if orthodrome == (0.0, 0.0, 0.0):  # the note's figure on the meridian: −c sin⁴ B
+        flattening = KRASOVSKY_E2 / (2 - KRASOVSKY_E2)
+        assert earth.reference.relative_difference == pytest.approx(
+            -flattening * np.sin(latitude) ** 4, rel=0.01)
+        assert "c sin⁴ B" in earth.note
+
+
+@pytest.mark.parametrize("latitude_deg", [60.0, 80.0])  # at 45° √(R_M R_N) ≈ a anyway
+def test_geodetic_vertical_schuler_pair_runs_on_its_own_radii(latitude_deg):
+    """On the meridian orthodrome the north channel of (9) has R = a(1 − c sin² B) and the
+    east channel, with −(W_ξ/R) tg Φ ν1 in Ω_η, R/(1 − ν1 tg Φ): the Foucault pair of a
+    sphere of their geometric mean, not of √(R_M R_N) (the textbook column)."""
+    latitude = np.radians(latitude_deg)
+    result = static_modes("geodetic_vertical", latitude)
+    big_phi, _, _, nu1, _, _ = _geodetic_vertical_base(latitude, np.radians(30.0))
+    flattening = KRASOVSKY_E2 / (2 - KRASOVSKY_E2)
+    north = KRASOVSKY_A * (1 - flattening * np.sin(latitude) ** 2)
+    radius = north / np.sqrt(1 - nu1 * np.tan(big_phi))
+    gravity = result.references.g.value  # a_ζ at rest: the loop's own g
+    foucault = EARTH_RATE * np.sin(latitude)
+    mean = np.sqrt(gravity / radius + foucault**2)
+    for name, sign in zip(SPLIT_MODES, (-1, 1), strict=True):
+        mode = result.mode(name)
+        assert mode.period_s == pytest.approx(2 * np.pi / (mean + sign * foucault), rel=2e-4)
+        assert abs(mode.reference.relative_difference) > 4e-4
+        assert "R/(1 − ν1 tg Φ)" in mode.note
+
+
+def test_cli_shows_the_models_note_on_the_rows_it_explains(capsys):
+    assert main(["modes", "geodetic_vertical", "--latitude", "80deg"]) == 0
+    out = capsys.readouterr().out
+    [earth] = [line for line in out.splitlines() if line.startswith("| Earth |")]
+    assert "-0.316 % (see note)" in earth
+    assert "\nnote on Earth (from the model): " in out
+    assert "\nnote on Schuler − Foucault, Schuler + Foucault (from the model): " in out
+    assert main(["modes", "geodetic_vertical", "--latitude", "80deg", "--json"]) == 0
+    data = strict_json(capsys.readouterr().out)
+    notes = {m["name"]: m["note"] for m in data["modes"]}
+    assert "dead reckoning" in notes["Earth"] and notes["integrator"] is None
+    # a model without notes: no note anywhere
+    assert main(["modes", "strapdown_ned"]) == 0
+    assert "see note" not in capsys.readouterr().out
+
+
+def test_a_mode_note_must_name_a_mode():
+    from ins_errors.errors import ModelDefinitionError
+    from ins_errors.models import geodetic_vertical
+
+    definition = geodetic_vertical.build()
+    fields = {name: getattr(definition, name) for name in definition.__dataclass_fields__}
+    with pytest.raises(ModelDefinitionError, match="no mode 'Schuler period'"):
+        type(definition)(**{**fields, "mode_notes": {"Schuler period": "x"}})
+
+
+# --------------------------------------------------------------------------------------
+# Foucault period, longitude shares, negative zero
+# --------------------------------------------------------------------------------------
+@pytest.mark.parametrize("latitude_deg", [50.0, -30.0])
+def test_foucault_period_is_printed_and_equals_2_pi_over_omega_sin_phi(latitude_deg, capsys):
+    latitude = np.radians(latitude_deg)
+    expected = 2 * np.pi / (EARTH_RATE * abs(np.sin(latitude)))  # 31.24 h at 50°
+    result = static_modes("north_pointing", latitude)
+    assert result.foucault_period_s == pytest.approx(expected, rel=1e-12)
+    # the Schuler pair's half split is Ω|sin φ| exactly on north_pointing's sphere
+    assert result.foucault_period_from_modes_s == pytest.approx(expected, rel=1e-9)
+    assert main(["modes", "north_pointing", "--latitude", f"{latitude_deg}deg"]) == 0
+    out = capsys.readouterr().out
+    hours = re.search(r"^Foucault period 2π/\(Ω\|sin φ\|\) = ([\d.]+) h at φ = ", out, re.M)
+    assert float(hours.group(1)) == pytest.approx(expected / 3600, abs=0.01)
+    assert main(["modes", "north_pointing", "--latitude", f"{latitude_deg}deg", "--json"]) == 0
+    foucault = strict_json(capsys.readouterr().out)["foucault"]
+    assert foucault["period_s"] == pytest.approx(expected, rel=1e-12)
+
+
+def test_no_foucault_period_at_the_equator(capsys):
+    assert static_modes("north_pointing", 0.0).foucault_period_s is None
+    assert main(["modes", "north_pointing", "--latitude", "0deg"]) == 0
+    assert "Foucault period" not in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("model, latitude_name, longitude_name", [
+    ("north_pointing", "delta_latitude", "delta_longitude"),
+    ("strapdown_ned", "delta_lat", "delta_lon")])
+def test_a_longitude_error_takes_part_as_a_distance(model, latitude_name, longitude_name):
+    """The shares measure lengths over R; a longitude error δλ is the ground distance
+    R cos φ δλ, so it counts as cos φ δλ. The Foucault-split Schuler modes move the
+    position error round a circle (numpy's eigenvectors: |cos φ δλ| = |δφ|), and
+    δλ measured in rad (inflated by 1/cos φ = 2.9 at 70°) topped both modes. The
+    shares are the row norms of the projector on the mode's plane (span of the real
+    and imaginary parts of numpy's eigenvector) with δλ scaled by cos φ."""
+    latitude = np.radians(-70.0)
+    result = static_modes(model, latitude)
+    names = list(result.scales)
+    lat, lon = names.index(latitude_name), names.index(longitude_name)
+    eigenvalues, vectors = np.linalg.eig(result.state_matrix)
+    gravity, radius = result.references.g.value, result.references.R.value
+    units = {"rad": 1.0, "1": 1.0, "m": 1 / radius, "m/s": 1 / np.sqrt(gravity * radius)}
+    scale = np.array([units[result.scales[n].split(" ")[0].replace("(m/s)", "m/s")]
+                      if not n.startswith(longitude_name) else np.cos(latitude)
+                      for n in names])
+    for name in SPLIT_MODES:
+        mode = result.mode(name)
+        vector = vectors[:, np.argmin(np.abs(eigenvalues - mode.eigenvalue))]
+        assert abs(np.cos(latitude) * vector[lon]) == pytest.approx(abs(vector[lat]),
+                                                                    rel=0.02)
+        plane = scale[:, None] * np.column_stack([vector.real, vector.imag])
+        projector = plane @ np.linalg.pinv(plane)
+        share = np.sqrt(np.clip(np.diag(projector), 0, None))
+        share /= share.max()
+        np.testing.assert_allclose([mode.participation[n] for n in names], share,
+                                   atol=1e-6)
+        assert mode.states()[0][0] != longitude_name
+    assert "cos" in result.scales[longitude_name]
+
+
+def test_no_negative_zero_in_the_json(capsys):
+    """An undamped mode's ζ = −0/|λ| was written "damping_ratio": -0.0."""
+    from ins_errors.json_output import dumps
+
+    assert main(["modes", "north_pointing", "--json"]) == 0
+    text = capsys.readouterr().out
+    assert not re.search(r"-0\.0\b(?!\d)", text)
+    ratios = [m["damping_ratio"] for m in strict_json(text)["modes"]
+              if m["kind"] == "oscillation"]
+    assert ratios and all(r == 0.0 and np.copysign(1.0, r) == 1.0 for r in ratios)
+    assert np.copysign(1.0, static_modes("north_pointing").mode("Earth").damping_ratio) == 1.0
+    assert dumps({"x": -0.0, "y": [np.float64(-0.0)]}, indent=None) == '{"x": 0.0, "y": [0.0]}'
+
 
 def test_closed_forms_default_gravity_is_the_static_base_of_the_other_commands():
     """closed_forms('orthodromic', 39°) took a_ζ = 9.80665 m/s² where ``modes`` and

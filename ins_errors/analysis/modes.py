@@ -109,6 +109,10 @@ class Mode:
     independent_directions : int or None
         For the integrators: the number of independent zero-eigenvalue directions
         (fewer than ``multiplicity`` when F has a Jordan chain, an error growing as t^k).
+    note : str or None
+        Why the mode is off its textbook value, where the model says so (its
+        :attr:`~ins_errors.numeric.model.Model.mode_notes`: a property of the
+        mechanisation, e.g. ``geodetic_vertical``'s Earth mode on the ellipsoid).
     """
 
     name: str
@@ -121,6 +125,7 @@ class Mode:
     reference: Reference | None
     participation: dict[str, float]
     independent_directions: int | None = None
+    note: str | None = None
 
     @property
     def doubling_time_s(self) -> float | None:
@@ -154,7 +159,7 @@ class Mode:
                 "damping_ratio": self.damping_ratio,
                 "independent_directions": self.independent_directions,
                 "reference": None if self.reference is None else self.reference.to_dict(),
-                "participation": self.participation}
+                "note": self.note, "participation": self.participation}
 
 
 @dataclass(frozen=True)
@@ -212,13 +217,35 @@ class StaticModes:
         raise unknown_name(f"mode of {self.model}", name,
                            list(dict.fromkeys(m.name for m in self.modes)))
 
+    @property
+    def foucault_period_s(self) -> float | None:
+        """The Foucault period 2π/(Ω|sin φ|), s, of the model's Ω at the latitude: the
+        time in which the plane of the Schuler oscillation turns once (None without Ω
+        or a latitude, and at the equator)."""
+        rate = self.references.foucault
+        return 2 * np.pi / rate if rate else None
+
+    @property
+    def foucault_period_from_modes_s(self) -> float | None:
+        """The Foucault period from the eigenvalues, 2π/((ω₊ − ω₋)/2), s: the split
+        Schuler pair's half difference is the rate the oscillation's plane turns at
+        (None without the named split pair)."""
+        rates = [m.eigenvalue.imag for m in self.modes if m.name in SPLIT_MODES]
+        if len(rates) != 2 or rates[0] == rates[1]:
+            return None
+        return float(2 * np.pi / (abs(rates[1] - rates[0]) / 2))
+
     def to_dict(self) -> dict:
         refs = self.references
         latitude = None if refs.latitude is None else {
             "value": refs.latitude, "unit": "rad", "source": self.latitude_source}
+        foucault = None if self.foucault_period_s is None else {
+            "formula": "2π/(Ω|sin φ|)", "period_s": self.foucault_period_s,
+            "from_modes_s": self.foucault_period_from_modes_s}
         return {"model": self.model, "base": self.base, "latitude_rad": self.latitude,
                 "height_m": self.height,
                 "references": {**refs.to_dict(), "latitude": latitude},
+                "foucault": foucault,
                 "participation_units": self.scales,
                 "eigenvalues": [{"real": v.real, "imag": v.imag} for v in self.eigenvalues],
                 "modes": [m.to_dict() for m in self.modes]}
@@ -316,12 +343,12 @@ def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] |
     height = float(profile.commands(np.zeros(1))[0][2, 0]) if "height" in used else None
     latitude, source = _latitude(model, p, profile.latitude, "latitude" in used)
     refs = references(model, u, p, latitude, height or 0.0)
-    factors, units = _scales(model, refs)
+    factors, units = _scales(model, refs, np.asarray(x, dtype=float).reshape(-1))
     names = [s.name for s in model.error_states]
     return StaticModes(model.name, motion.description,
                        profile.latitude if "latitude" in used else None, height, F,
                        np.linalg.eigvals(F), refs, dict(zip(names, units, strict=True)),
-                       _modes(F, factors, names, refs), source)
+                       _modes(F, factors, names, refs, model.mode_notes), source)
 
 
 def _latitude(model: Model, p: np.ndarray, base: float, used: bool
@@ -339,14 +366,42 @@ def _latitude(model: Model, p: np.ndarray, base: float, used: bool
     return float(value), f"parameter {parameter.name}"
 
 
-def _scales(model: Model, refs: References) -> tuple[np.ndarray, list[str]]:
+def _longitude_scales(model: Model, x: np.ndarray, latitude: float | None
+                      ) -> dict[int, tuple[float, str]]:
+    """Error state index -> (cos of its latitude, that latitude's name) for the errors of
+    the model's longitude states.
+
+    A longitude error δλ is a distance R cos φ δλ on the ground: measured as the latitude
+    error is (an angle of the great circle), it is cos φ δλ, not δλ. A longitude state is
+    a state in rad whose description says "longitude"; its latitude is the model's one
+    state in rad whose description says "latitude", at the base (the orthodromic Φ of an
+    orthodromic Λ), else the base's latitude; without either, none is scaled.
+    """
+    def says(state, word: str) -> bool:
+        return state.unit == "rad" and word in state.description.lower()
+
+    longitudes = [k for k, s in enumerate(model.states) if says(s, "longitude")]
+    latitudes = [k for k, s in enumerate(model.states)
+                 if says(s, "latitude") and not says(s, "longitude")]
+    if len(latitudes) == 1:
+        value, name = float(x[latitudes[0]]), model.states[latitudes[0]].name
+    elif latitude is not None:
+        value, name = float(latitude), "φ"
+    else:
+        return {}
+    return {k: (float(np.cos(value)), name) for k in longitudes}
+
+
+def _scales(model: Model, refs: References, x: np.ndarray) -> tuple[np.ndarray, list[str]]:
     """Per error state: the factor that makes it an equivalent angle, and how it reads.
 
     With g and R known, every state is measured in the units of the Schuler loop, in
     which a tilt ε comes with a velocity error ε √(gR) and a position error ε R: angles
     and dimensionless states (direction cosines, quaternion components) as they are,
-    lengths over R, velocities over √(gR), accelerations over g, rates over ω_s. Without
-    g or R, each state in its display unit (angles in arcmin, m/s, m).
+    lengths over R, velocities over √(gR), accelerations over g, rates over ω_s, and a
+    longitude error times the cosine of its latitude (a distance over R, as the latitude
+    error is; :func:`_longitude_scales`). Without g or R, each state in its display unit
+    (angles in arcmin, m/s, m; a longitude error again times the cosine).
     """
     from ins_errors.units import display_scale
 
@@ -356,10 +411,14 @@ def _scales(model: Model, refs: References) -> tuple[np.ndarray, list[str]]:
         natural = {"rad": (1.0, "rad"), "1": (1.0, "1 (as an angle)"),
                    "m": (1.0 / R, "m / R"), "m/s": (1.0 / np.sqrt(g * R), "(m/s) / √(gR)"),
                    "m/s**2": (1.0 / g, "(m/s²) / g"), "rad/s": (np.sqrt(R / g), "(rad/s) / ω_s")}
+    longitudes = _longitude_scales(model, x, refs.latitude)
     factors, units = [], []
-    for state in model.error_states:
+    for k, state in enumerate(model.error_states):
         factor, unit = natural.get(state.unit) or display_scale(
             "rad" if state.unit == "1" else state.unit)
+        if k in longitudes:
+            cosine, name = longitudes[k]
+            factor, unit = factor * cosine, f"{unit} × cos {name} (a distance over R)"
         factors.append(factor)
         units.append(unit)
     return np.array(factors), units
@@ -411,8 +470,17 @@ def _participation(basis: np.ndarray, names: list[str]) -> dict[str, float]:
     return {name: float(s) for name, s in zip(names, size, strict=True)}
 
 
-def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: References
-           ) -> tuple[Mode, ...]:
+def _note(name: str, notes: Mapping[str, str]) -> str | None:
+    """The model's note on the mode called ``name`` (:data:`~ins_errors.modeling.
+    MODE_NOTE_KEYS`: "Schuler" for the Foucault-split pair too), or None."""
+    for key, text in notes.items():
+        if name == key or name.startswith(f"{key} "):
+            return text
+    return None
+
+
+def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: References,
+           notes: Mapping[str, str] | None = None) -> tuple[Mode, ...]:
     A = factors[:, None] * F / factors[None, :]  # F in display units: same eigenvalues
     eigenvalues = np.linalg.eigvals(A)
     radius = float(np.abs(eigenvalues).max())
@@ -426,7 +494,8 @@ def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: Reference
             directions = int(count - np.sum(singular > 1e-8 * np.linalg.norm(A)))
         raw.append((value, count, _participation(basis, names), directions))
     named = _names([(v, k) for v, k, _, _ in raw], refs)
-    return tuple(_mode(value, count, name, reference, participation, directions)
+    return tuple(_mode(value, count, name, reference, participation, directions,
+                       _note(name, notes or {}) if reference is not None else None)
                  for (value, count, participation, directions), (name, reference)
                  in zip(raw, named, strict=True))
 
@@ -442,12 +511,14 @@ def _kind(value: complex) -> str:
 
 
 def _mode(value: complex, count: int, name: str, reference: Reference | None,
-          participation: dict[str, float], directions: int | None) -> Mode:
+          participation: dict[str, float], directions: int | None,
+          note: str | None = None) -> Mode:
     period = 2 * np.pi / value.imag if value.imag else None
     time_constant = 1.0 / abs(value.real) if value.real else None
-    damping = -value.real / abs(value) if value.imag else None
+    # + 0.0: an undamped oscillation's −0/|λ| is −0.0, shown as "-0.0" in JSON
+    damping = -value.real / abs(value) + 0.0 if value.imag else None
     return Mode(name, _kind(value), value, count, period, time_constant, damping, reference,
-                participation, directions)
+                participation, directions, note)
 
 
 def _near(rate: float, reference: float | None) -> bool:

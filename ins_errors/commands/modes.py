@@ -104,6 +104,8 @@ def table(result) -> str:
         ref = mode.reference
         textbook = "–" if ref is None else duration_text(ref.seconds)
         off = "–" if ref is None else _percent(ref.relative_difference)
+        if mode.note:
+            off += " (see note)"
         states = ", ".join(f"{name} {share:.2f}" for name, share in mode.states())
         lines.append(f"| {mode.name} | {_eigenvalue(mode.eigenvalue)} | {_count(mode)} | "
                      f"{_times(mode)} | {textbook} | {off} | {states} |")
@@ -127,13 +129,28 @@ def table(result) -> str:
     used = [name for name in FORMULAS if any(m.name == name for m in result.modes)]
     if used:
         notes.append("formulas: " + "; ".join(f"{name}: {FORMULAS[name]}" for name in used))
+    if result.foucault_period_s is not None:
+        measured = result.foucault_period_from_modes_s
+        notes.append(
+            f"Foucault period 2π/(Ω|sin φ|) = {duration_text(result.foucault_period_s)} at "
+            f"φ = {np.degrees(refs.latitude):.4g}°: the plane of the Schuler oscillation "
+            "turns once in it" + ("" if measured is None else
+                                  f"; from the split pair, 2π/((ω₊ − ω₋)/2) = "
+                                  f"{duration_text(measured)}"))
+    explained: dict[str, list[str]] = {}
+    for mode in result.modes:
+        if mode.note:
+            explained.setdefault(mode.note, []).append(mode.name)
+    notes += [f"note on {', '.join(names)} (from the model): {text}"
+              for text, names in explained.items()]
     if any(m.independent_directions is not None and m.independent_directions < m.multiplicity
            for m in result.modes):
         notes.append("integrators: fewer independent directions than zero eigenvalues is a "
                      "Jordan chain of F (an error that grows in proportion to time)")
     if refs.g is not None and refs.R is not None:
         measure = (f"in the units of the Schuler loop (angles in rad, dimensionless states "
-                   f"as angles, lengths over R, velocities over √(gR) = "
+                   f"as angles, lengths over R, longitudes times the cosine of their "
+                   f"latitude (as distances over R), velocities over √(gR) = "
                    f"{(refs.g.value * refs.R.value) ** 0.5 / 1000:.3g} km/s)")
     else:
         measure = "in " + ", ".join(sorted(set(result.scales.values())))

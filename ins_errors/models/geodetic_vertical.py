@@ -109,6 +109,27 @@ INITIAL_CONDITIONS = (
 )
 
 
+MODE_NOTES = {
+    "Earth": (
+        "not 2π/Ω on the ellipsoid, and not a slip of this code: the correction rates (9) "
+        "keep the deflection terms (W_ξ/R) tg Φ ν2, −(W_ξ/R) tg Φ ν1 and −(W_η/R) ν2, "
+        "which the dead reckoning Φ̇ = −W_η/R, Λ̇ = W_ξ/(R cos Φ) lacks, so a velocity "
+        "error turns the platform and the trihedron of the reckoned (Φ, Λ) at different "
+        "rates, and the platform's error against that trihedron no longer just turns with "
+        "the Earth: ω ≈ Ω √(1 + μ (tg Φ cos N sin² B + sin² N sin B cos B)); on the "
+        "default orthodrome (the meridian: N = 0, Φ = B) the period is shorter by "
+        "≈ c sin⁴ B (0.084 % at 45°, 0.316 % at 80°); exactly 2π/Ω with e2 = 0"),
+    "Schuler": (
+        "the north channel runs on R = a(1 − c sin² B) of (9), not on a radius of "
+        "curvature, and the east channel, through −(W_ξ/R) tg Φ ν1 in Ω_η, on "
+        "R/(1 − ν1 tg Φ); on the default orthodrome (the meridian) the pair is the "
+        "textbook one for the geometric mean of the two, ≈ a, rather than √(R_M R_N) "
+        "(−0.17 % at 80°); exactly the textbook periods with e2 = 0"),
+}
+"""Why ``ins-errors modes`` finds this mechanisation's Earth and Schuler periods off the
+textbook values on the ellipsoid (see ``tests/test_modes.py`` for the independent check)."""
+
+
 def _src(name, unit, display, kind, latex, text) -> ErrorSource:
     return ErrorSource(name, unit, text, latex, kind=kind, display_unit=display)
 
@@ -325,4 +346,5 @@ def build(platform: str = "exact") -> ModelDefinition:
             (1 - e2, "eccentricity squared must be below 1"),
         ),
         notes=__doc__.split("Modelling choices", 1)[1].split(":", 1)[1].strip(),
+        mode_notes=MODE_NOTES,
     )

@@ -186,6 +186,10 @@ class Model:
     key : str
         What :func:`load_model` maps back to this exact model (also what it is pickled
         as).
+    mode_notes : dict of str to str
+        Why a static-base mode is not at its textbook value, when the mechanisation makes
+        it so (:attr:`ins_errors.modeling.ModelDefinition.mode_notes`; ``ins-errors
+        modes`` prints it); empty for most models.
     """
 
     def __init__(self, name: str, *, meta: ModuleType | None = None,
@@ -215,6 +219,7 @@ class Model:
         self.sources = _infos(self.meta.SOURCES)
         self.outputs = _infos(self.meta.OUTPUTS)
         self.initial_conditions = _infos(self.meta.INITIAL_CONDITIONS)
+        self.mode_notes: dict[str, str] = dict(getattr(self.meta, "MODE_NOTES", {}))
 
     def __reduce__(self):
         """Pickled as its :attr:`key`, loaded again (the generated modules it holds are
