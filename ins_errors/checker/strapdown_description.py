@@ -207,14 +207,14 @@ def is_strapdown(model) -> bool:
 def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, np.ndarray]:
     """The navigation description (:data:`~ins_errors.checker.navigation.FIELDS`) of a
     strapdown model along states ``x`` (n, K) and inputs ``u`` (nu, K)."""
-    from ins_errors.models.earth import EARTH_RATE, normal_gravity, radii_of_curvature
+    from ins_errors.models.earth import EARTH_RATE, radii_of_curvature
 
     k = x.shape[-1]
     nav, C = _along(_navigation_function(model.key), x, np.asarray(p, dtype=float))
     lat, lon, h, vN, vE, vD = nav[:6, 0]
     value = dict(zip((q.name for q in model.parameters), np.asarray(p, dtype=float),
                      strict=True))
-    radius, eccentricity, rate, gravity = earth_parameter_names(model.parameters)
+    radius, eccentricity, rate, _ = earth_parameter_names(model.parameters)
     a = value[radius]
     e2 = value[eccentricity] if eccentricity else 0.0
     U = value[rate] if rate else EARTH_RATE
@@ -227,7 +227,7 @@ def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, 
         "omega_ie_n": np.array([U * np.cos(lat), zeros, -U * np.sin(lat)]),
         "omega_en_n": np.array([vE / (r_e + h), -vN / (r_n + h),
                                 -vE * np.tan(lat) / (r_e + h)]),
-        "gravity": (np.full(k, value[gravity]) if gravity else normal_gravity(lat, h, a, e2)),
+        "gravity": _along(_gravity_function(model.key), x, np.asarray(p, dtype=float))[0][0, 0],
         "R_N": r_n, "R_E": r_e, "a": np.full(k, a), "e2": np.full(k, e2),
         "earth_rate": np.full(k, U),
         "f_b": u[[index[n] for n in IMU_INPUTS[3:]]],
@@ -259,6 +259,33 @@ def _navigation_function(model_key: str) -> ca.Function:
 
     x, p, nu, _, C = _symbols(load_model(model_key))
     return ca.Function("strapdown_navigation", [x, p], [ca.densify(nu), ca.densify(C)])
+
+
+@cache
+def _gravity_function(model_key: str) -> ca.Function:
+    """``(x, p) -> |g|`` (1, 1): the model's own gravity (plumb line, m/s²) at the
+    position of ``x``.
+
+    The model is put at rest there (its initial-state map given the latitude, longitude,
+    height and attitude its outputs read, and zero velocity) with no specific force and
+    no body rate: its NED velocity then changes by gravity alone, ``g = H_v ẋ`` (the
+    Coriolis and transport-rate terms vanish with the velocity). This is the gravity of
+    the model's own equations: a constant parameter ``g``, normal gravity on its
+    ellipsoid, or a point mass μ/r² less the centrifugal acceleration, whatever it
+    computes, and what its accelerometers read at rest (``ins-errors modes``).
+    """
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.model_flight import condition_matrix
+
+    model = load_model(model_key)
+    x, p, nu, H_v, _ = _symbols(model)
+    zeros = ca.DM.zeros(len(model.inputs))
+    rest = ca.vertcat(nu[0:3], ca.DM.zeros(3), nu[6:9])
+    x0 = model.casadi.function("initial_state")(ca.DM(condition_matrix(model)) @ rest,
+                                                zeros, p)
+    rate = model.casadi.function("ideal_rhs")(x0, zeros, p)
+    g = ca.Function("H_v", [x, p], [H_v])(x0, p) @ rate
+    return ca.Function("gravity", [x, p], [ca.norm_2(g)])
 
 
 @cache
