@@ -21,6 +21,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
@@ -133,6 +134,16 @@ class Convention:
         (:mod:`ins_errors.checker.held_channel`). ``hold_text`` names what is held.
     hold_text : str
         What ``hold`` holds, for the reports.
+    frame : callable or None
+        ``(x, p) -> (T, L)``, shapes (9, ne, K) and (ne, 9, K): the φ-angle, NED velocity
+        and NED position errors (``phi_N/E/D``, ``dv_N/E/D``, ``dr_N/E/D``, rad, m/s, m)
+        of each of the convention's own states, and a lift with ``T L = I``. Given for
+        states whose names say nothing of position or attitude (the own error states of a
+        strapdown INS: an ECEF position, a direction-cosine matrix, a quaternion): its
+        :meth:`position` and :meth:`attitude` are then read through ``T``, and its
+        vertical channel (``dv_D``, ``dr_D``, no state of its own) is held through it in
+        the effect propagation
+        (:func:`~ins_errors.checker.matrix_effects.vertical_projector`).
     """
 
     name: str
@@ -146,6 +157,7 @@ class Convention:
     biases: tuple[BiasState, ...] = ()
     hold: Callable[[dict], tuple[np.ndarray, np.ndarray]] | None = None
     hold_text: str = ""
+    frame: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]] | None = None
 
     @property
     def names(self) -> list[str]:
@@ -197,20 +209,43 @@ class Convention:
         rate = (4 * central(step / 2) - central(step)) / 3
         return at(0.0), rate
 
-    def position(self, nav: dict[str, np.ndarray]) -> np.ndarray:
-        """(3, nz, K): north, east, down position error (m) per unit of each state."""
+    def position(self, nav: dict[str, np.ndarray], x: np.ndarray | None = None,
+                 p: np.ndarray | None = None) -> np.ndarray:
+        """(3, nz, K): north, east, down position error (m) per unit of each state.
+
+        Read from the states' names, or through :attr:`frame` at the ideal states ``x``
+        (n, K) and parameters ``p`` where the convention has one (both must then be
+        given).
+        """
+        if self.frame is not None:
+            return self._framed(x, p)[6:9]
         return _readout(self.names, nav, _POSITION)
 
-    def attitude(self, nav: dict[str, np.ndarray]) -> np.ndarray:
+    def attitude(self, nav: dict[str, np.ndarray], x: np.ndarray | None = None,
+                 p: np.ndarray | None = None) -> np.ndarray:
         """(3, nz, K): attitude error about north, east, down (rad) per unit of each state.
 
         The attitude error is that of the computed attitude relative to the true NED
         frame (the φ-angle, or the platform angles α); for a ψ-angle convention it is
         ψ + δθ, δθ = (δλ cos φ, −δφ, −δλ sin φ) the rotation of the computed frame.
+        Through :attr:`frame` (at ``x``, ``p``) where the convention has one.
         """
+        if self.frame is not None:
+            return self._framed(x, p)[0:3]
         out = _readout(self.names, nav, _ATTITUDE)
         if any(n.startswith("psi_") for n in self.names):
             out += _readout(self.names, nav, _THETA)
+        return out
+
+
+    def _framed(self, x: np.ndarray | None, p: np.ndarray | None) -> np.ndarray:
+        """:attr:`frame`'s ``T`` (9, nz, K), zero columns for the bias states."""
+        if x is None or p is None:
+            raise ValueError(f"convention {self.name!r} reads position and attitude "
+                             "through its frame: give the ideal states and parameters")
+        T = np.asarray(self.frame(x, p)[0], dtype=float)
+        out = np.zeros((9, len(self.states), T.shape[-1]))
+        out[:, :T.shape[1]] = T
         return out
 
 
@@ -484,12 +519,25 @@ REGISTRY = {"north_pointing": _north_pointing, "strapdown_ned": _strapdown}
 """Builders of each model's conventions beyond its own states (``model``)."""
 
 
-def own_convention(model) -> Convention:
-    """The model's own error states as a convention (``T = I``)."""
+def own_convention(model, phi: Convention | None = None) -> Convention:
+    """The model's own error states as a convention (``T = I``); with ``phi`` (the
+    model's φ-angle convention, position in NED metres), position and attitude are read
+    through it and the vertical channel is held through it (:attr:`Convention.frame`)."""
     states = tuple(State(s.name, s.unit, s.description) for s in model.error_states)
     vertical = tuple(s.name for s in states if s.name in ("delta_h", "delta_v_D"))
     return Convention("model", f"the model's own error states ({model.name})", states,
-                      None, vertical=vertical)
+                      None, vertical=vertical,
+                      frame=None if phi is None else partial(_phi_frame, phi))
+
+
+def _phi_frame(phi: Convention, x: np.ndarray, p: np.ndarray
+               ) -> tuple[np.ndarray, np.ndarray]:
+    """:attr:`Convention.frame` of a model's own states: ``T`` of its φ-angle convention
+    ``phi`` and its lift (``T⁺`` where it has none)."""
+    T = phi.transform(x, p)
+    if phi.lift is not None:
+        return T, phi.lift(x, p)
+    return T, np.moveaxis(np.linalg.pinv(np.moveaxis(T, -1, 0)), 0, -1)
 
 
 def conventions(model) -> dict[str, Convention]:
@@ -497,13 +545,16 @@ def conventions(model) -> dict[str, Convention]:
     :data:`REGISTRY`, or for a strapdown model that describes itself by its outputs (a
     model file), ``strapdown_ned``'s (:mod:`ins_errors.checker.strapdown_description`)."""
     builder = REGISTRY.get(model.name)
-    if builder is not None:
-        return {"model": own_convention(model), **builder()}
-    from ins_errors.checker import strapdown_description
+    if builder is None:
+        from ins_errors.checker import strapdown_description
 
-    if strapdown_description.describes(model):
-        return {"model": own_convention(model), **strapdown_description.conventions(model)}
-    return {"model": own_convention(model)}
+        if not strapdown_description.describes(model):
+            return {"model": own_convention(model)}
+        builder = partial(strapdown_description.conventions, model)
+    others = builder()
+    # a strapdown INS's own states (a quaternion, a direction-cosine matrix, an ECEF
+    # position) read position and attitude through its φ-angle convention
+    return {"model": own_convention(model, others.get("phi")), **others}
 
 
 def convention(model, name: str) -> Convention:

@@ -139,14 +139,18 @@ def _alone_effects(report: MatrixReport, sampled: _Sampled, held: _Sampled,
                      if e.case in cases]
             if not found:
                 continue
-            growth = {f"position_{tag}": max(e.position_difference for e in found),
+            # (None: the hand's states hold no position, or no attitude)
+            position = [e.position_difference for e in found]
+            attitude = [e.attitude_difference for e in found]
+            largest = None if position[0] is None else max(position)
+            growth = {f"position_{tag}": largest,
                       f"position_floor_{tag}": found[0].position_floor}
             if found[0].e_folding is not None:
                 growth.update(e_folding_s=found[0].e_folding,
                               growing_mode=found[0].growing_mode)
                 growth[f"exponential_{tag}"] = found[0].exponential
             rows.append((label, growth[f"position_{tag}"],
-                         max(e.attitude_difference for e in found),
+                         None if attitude[0] is None else max(attitude),
                          found[0].position_floor, found[0].attitude_floor, growth))
         if rows:
             out[f.entry] = _alone(rows)

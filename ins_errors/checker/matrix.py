@@ -196,7 +196,9 @@ class MatrixReport:
     held : list of str
         Vertical-channel states held constant in the propagation (an undamped vertical
         channel diverges with a time constant of about 9.5 min: after 24 h its error
-        would swamp every other difference).
+        would swamp every other difference); for states without a vertical channel of
+        their own (a strapdown INS's own ECEF states) what is held, through the φ-angle
+        convention (:func:`~ins_errors.checker.matrix_effects.vertical_projector`).
     finding_effects : dict
         ``entry`` -> :class:`AloneEffect`: the derived model with only that entry replaced
         by the hand's, after 24 h, worst case (:func:`finding_effects`).
@@ -685,7 +687,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
 def position_angles(conv: Convention, motion: Motion) -> list[str]:
     """States of ``conv`` that are a position error written as an angle (latitude and
     longitude errors, rad): those with a position readout in metres per radian."""
-    readout = np.abs(conv.position(motion.navigation)).max(axis=(0, 2))
+    readout = np.abs(conv.position(motion.navigation, motion.x, motion.p)).max(axis=(0, 2))
     return [s.name for s, r in zip(conv.states, readout, strict=True)
             if s.unit == "rad" and r > 1e3]
 

@@ -9,7 +9,7 @@ its rounding floor (:func:`rounding_floor`).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -27,6 +27,10 @@ EFFECT_HOURS = (1.0, 24.0)
 """Times at which the propagated models are compared, h."""
 EPS = float(np.finfo(float).eps)
 """Machine epsilon of the propagation (float64)."""
+HELD_THROUGH_FRAME = ("the down velocity and position of the states (dv_D, dr_D of the phi "
+                      "convention)")
+"""What the report names as held for states without a vertical channel of their own
+(:func:`vertical_projector`)."""
 
 
 @dataclass(frozen=True)
@@ -41,13 +45,16 @@ class Effect:
         ``initial <state>`` or ``source <name>``, each at its typical magnitude.
     magnitude : str
         That magnitude, as people write it.
-    position_difference, position_model : float
-        Horizontal position error: |hand − model| and |model|, m.
-    attitude_difference, attitude_model : float
-        Attitude error (norm of the three angles): |hand − model| and |model|, rad.
-    position_floor, attitude_floor : float
+    position_difference, position_model : float or None
+        Horizontal position error: |hand − model| and |model|, m; None when the hand's
+        states hold no position (:func:`reads`: the difference is not measured).
+    attitude_difference, attitude_model : float or None
+        Attitude error (norm of the three angles): |hand − model| and |model|, rad; None
+        when the hand's states hold no attitude.
+    position_floor, attitude_floor : float or None
         Rounding floor of the differences on this motion at this time (the same for every
-        case; :func:`rounding_floor`), m and rad: a difference at or below it is no effect.
+        case; :func:`rounding_floor`), m and rad: a difference at or below it is no effect
+        (None with the difference).
     e_folding : float or None
         E-folding time (s) of a growing mode of this motion's propagation that the
         differences follow (:func:`~ins_errors.checker.growth.mark_growth`; the same for
@@ -64,25 +71,27 @@ class Effect:
     hours: float
     case: str
     magnitude: str
-    position_difference: float
-    position_model: float
-    attitude_difference: float
-    attitude_model: float
-    position_floor: float = 0.0
-    attitude_floor: float = 0.0
+    position_difference: float | None
+    position_model: float | None
+    attitude_difference: float | None
+    attitude_model: float | None
+    position_floor: float | None = 0.0
+    attitude_floor: float | None = 0.0
     e_folding: float | None = None
     growing_mode: str | None = None
     exponential: bool = False
 
     @property
     def position_above_rounding(self) -> bool:
-        """The position difference is above its rounding floor."""
-        return self.position_difference > self.position_floor
+        """The position difference is measured and above its rounding floor."""
+        return (self.position_difference is not None
+                and self.position_difference > self.position_floor)
 
     @property
     def attitude_above_rounding(self) -> bool:
-        """The attitude difference is above its rounding floor."""
-        return self.attitude_difference > self.attitude_floor
+        """The attitude difference is measured and above its rounding floor."""
+        return (self.attitude_difference is not None
+                and self.attitude_difference > self.attitude_floor)
 
 
 @dataclass(frozen=True)
@@ -92,17 +101,20 @@ class AloneEffect:
 
     Attributes
     ----------
-    position : float
+    position : float or None
         Largest horizontal position change over every case and motion, m (rounding
-        included: compare with ``position_floor``).
-    attitude : float
-        Largest attitude change, rad.
+        included: compare with ``position_floor``); None when the hand's states hold no
+        position (:func:`reads`).
+    attitude : float or None
+        Largest attitude change, rad; None when the hand's states hold no attitude.
     motion : str or None
-        Motion where the position change above its floor is largest; None when it is
-        below the floor on every motion (no motion is named for rounding).
-    position_floor, attitude_floor : float
+        Motion where the position change above its floor is largest (the attitude change
+        where no position is measured); None when it is below the floor on every motion
+        (no motion is named for rounding).
+    position_floor, attitude_floor : float or None
         Rounding floors (:func:`rounding_floor`): of the motion named, or the largest over
-        the motions when the change is below them everywhere; m and rad.
+        the motions when the change is below them everywhere; m and rad (None with the
+        change).
     e_folding : float or None
         When the entry alone gives a growing mode the derived model lacks, past
         :data:`~ins_errors.checker.growth.GROWTH_SHOWN` e-foldings after 24 h: its
@@ -110,15 +122,21 @@ class AloneEffect:
         The change is then said to grow exponentially instead of being given as a figure.
     growing_mode : str or None
         ``"hand"`` (a mode the entry adds) or ``"model"``, with ``e_folding``.
+    not_assessed : str or None
+        Why the entry's effect is not measured: its column is a state the hand leaves
+        out that no initial error or source of the hand excites (it stays 0 in every
+        propagation, so the entry acts on nothing). The figures are then 0 and say
+        nothing.
     """
 
-    position: float
-    attitude: float
+    position: float | None
+    attitude: float | None
     motion: str | None
-    position_floor: float
-    attitude_floor: float
+    position_floor: float | None
+    attitude_floor: float | None
     e_folding: float | None = None
     growing_mode: str | None = None
+    not_assessed: str | None = None
 
     @property
     def exponential(self) -> bool:
@@ -127,13 +145,13 @@ class AloneEffect:
 
     @property
     def position_above_rounding(self) -> bool:
-        """The position change is above its rounding floor on some motion."""
-        return self.motion is not None
+        """The position change is measured and above its rounding floor on some motion."""
+        return self.position is not None and self.motion is not None
 
     @property
     def attitude_above_rounding(self) -> bool:
-        """The attitude change is above its rounding floor on some motion."""
-        return self.attitude > self.attitude_floor
+        """The attitude change is measured and above its rounding floor on some motion."""
+        return self.attitude is not None and self.attitude > self.attitude_floor
 
 
 @dataclass(frozen=True)
@@ -179,20 +197,98 @@ class VerticalEffect:
     growing_mode: str | None = None
 
 
-def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray, held: list[int]
-               ) -> np.ndarray:
+def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray, held: list[int],
+               hold: _Hold | None = None) -> np.ndarray:
     """[[F, G], [0, 0]] in scaled variables (each state / source over its magnitude), with
     the rows and columns of the ``held`` states zeroed (they keep their initial value and
-    feed nothing)."""
+    feed nothing), or with the vertical channel held through ``hold``'s projector
+    (:func:`vertical_projector`)."""
     k, n, m = G.shape
     A = np.zeros((k, n + m, n + m))
     A[:, :n, :n] = F
     A[:, :n, n:] = G
     A[:, held, :] = 0.0
     A[:, :, held] = 0.0
+    if hold is not None:
+        A = hold.held(A)
     A *= (1 / scale)[:, None]
     A *= scale[None, :]
     return A
+
+
+@dataclass(frozen=True)
+class _Hold:
+    """The vertical channel held through a projector (:func:`vertical_projector`):
+    ``P`` and ``Ṗ`` (K, n, n) of the states propagated; the sources after them are not
+    touched."""
+
+    P: np.ndarray
+    P_dot: np.ndarray
+
+    def _padded(self, size: int) -> tuple[np.ndarray, np.ndarray]:
+        k, n, _ = self.P.shape
+        P, P_dot = np.zeros((k, size, size)), np.zeros((k, size, size))
+        P[:] = np.eye(size)
+        P[:, :n, :n], P_dot[:, :n, :n] = self.P, self.P_dot
+        return P, P_dot
+
+    def held(self, A: np.ndarray) -> np.ndarray:
+        """``P A P + Ṗ P`` of an augmented A (K, n + m, n + m): the error with its
+        vertical part (along the lift of dv_D, dr_D) taken out, kept off it as the
+        projector turns, and not fed by it."""
+        P, P_dot = self._padded(A.shape[-1])
+        return P @ A @ P + P_dot @ P
+
+    def start(self, scale: np.ndarray) -> np.ndarray:
+        """``P`` at the first sample in scaled variables (``scale``: every state's and
+        source's magnitude): a propagation of :meth:`held` starts from it."""
+        P, _ = self._padded(scale.size)
+        return P[0] * (1 / scale)[:, None] * scale[None, :]
+
+
+def vertical_projector(conv: Convention, motion: Motion, rows: list[int], model
+                       ) -> _Hold | None:
+    """The vertical channel of states without one of their own, held through
+    :attr:`~ins_errors.checker.conventions.Convention.frame`.
+
+    A state vector ``x`` of the convention's states ``rows`` has a down velocity and a
+    down position ``V x`` (``V`` the rows ``dv_D``, ``dr_D`` of the frame's ``T``); its
+    vertical part is ``W (V W)⁺ V x``, ``W`` the lift of those two (the model error state
+    of a unit ``dv_D`` or ``dr_D``). ``P = I − W (V W)⁺ V`` takes it out. Propagating
+    ``y' = (P A P + Ṗ P) y`` from ``P x`` is, where ``x`` spans the frame, exactly the
+    propagation of the φ-angle states with ``dv_D`` and ``dr_D`` held (their rows and
+    columns zeroed): the vertical channel neither grows (undamped, ×e every 9.5 min)
+    nor feeds the rest. ``Ṗ`` along the ideal flow by central differences (Richardson
+    extrapolated, the step of :data:`~ins_errors.checker.conventions.RATE_STEP`).
+
+    Returns
+    -------
+    _Hold or None
+        None for a convention that names its vertical states (they are held by index)
+        or has no frame.
+    """
+    from ins_errors.checker.conventions import RATE_STEP
+
+    if conv.frame is None or conv.vertical:
+        return None
+    x, p = motion.x, motion.p
+    flow = np.asarray(model.numpy.ideal_rhs(x, motion.u, p), dtype=float)
+    n_base = len(conv.base.states)
+
+    def projector(shift: float) -> np.ndarray:
+        T, L = conv.frame(x + shift * flow, p)
+        V = np.zeros((x.shape[-1], 2, len(rows)))
+        W = np.zeros((x.shape[-1], len(rows), 2))
+        for j, r in enumerate(rows):
+            if r < n_base:  # a bias state has no vertical part
+                V[:, :, j] = np.moveaxis(T[[5, 8], r], -1, 0)
+                W[:, j, :] = np.moveaxis(L[r, [5, 8]], -1, 0)
+        return np.eye(len(rows)) - W @ np.linalg.pinv(V @ W) @ V
+
+    def central(step: float) -> np.ndarray:
+        return (projector(step) - projector(-step)) / (2 * step)
+
+    return _Hold(projector(0.0), (4 * central(RATE_STEP / 2) - central(RATE_STEP)) / 3)
 
 
 @dataclass
@@ -207,6 +303,9 @@ class _Propagation:
     held_h: list[int]
     held_z: list[int]
     cases: list[tuple[int, str, str]]  # (column of the response, label, magnitude text)
+    conv: Convention | None = None  # with a frame: the vertical channel held through it
+    model: object = None
+    holds: dict = field(default_factory=dict)  # (motion, "h" / "z") -> _Hold or None
 
     @classmethod
     def of(cls, report: MatrixReport, conv: Convention, model) -> _Propagation:
@@ -223,7 +322,29 @@ class _Propagation:
                    np.array([report.magnitudes[s][0] for s in report.sources]),
                    np.array([report.magnitudes[s][0] for s in names]),
                    [report.states.index(v) for v in conv.vertical if v in report.states],
-                   [names.index(v) for v in conv.vertical], cases)
+                   [names.index(v) for v in conv.vertical], cases,
+                   conv if conv.frame is not None and not conv.vertical else None, model)
+
+    def hold(self, motion: Motion, side: str) -> _Hold | None:
+        """The projector holding the vertical channel of the hand's (``"h"``) or the
+        derived model's (``"z"``) states on ``motion`` (:func:`vertical_projector`),
+        None where the vertical states are held by index."""
+        if self.conv is None:
+            return None
+        key = (motion.label, side)
+        if key not in self.holds:
+            rows = self.rows if side == "h" else list(range(len(self.conv.names)))
+            self.holds[key] = vertical_projector(self.conv, motion, rows, self.model)
+        return self.holds[key]
+
+    def _run(self, A: np.ndarray, scale: np.ndarray, hold: _Hold | None, motion: Motion,
+             at: list[float]) -> list[np.ndarray]:
+        phis = transitions(A, motion.times, at)
+        if hold is None:
+            return phis
+        start = hold.start(scale)
+        with np.errstate(over="ignore", invalid="ignore"):
+            return [phi @ start for phi in phis]
 
     def derived(self, Fz: np.ndarray, Gz: np.ndarray, motion: Motion, at: list[float]
                 ) -> list[np.ndarray]:
@@ -231,9 +352,10 @@ class _Propagation:
         state or source over its typical magnitude): (n_z + m, n_h + m) at each time, every
         convention state included (:meth:`si` gives the hand's states in SI)."""
         n_z, n_h, m = Fz.shape[1], len(self.rows), len(self.src_cols)
-        phis = transitions(_augmented(Fz, Gz[:, :, self.src_cols],
-                                      np.concatenate([self.mags_z, self.mags_src]),
-                                      self.held_z), motion.times, at)
+        scale = np.concatenate([self.mags_z, self.mags_src])
+        hold = self.hold(motion, "z")
+        phis = self._run(_augmented(Fz, Gz[:, :, self.src_cols], scale, self.held_z, hold),
+                         scale, hold, motion, at)
         embed = np.zeros((n_z + m, n_h + m))
         embed[self.rows, np.arange(n_h)] = 1.0
         embed[n_z:, n_h:] = np.eye(m)
@@ -250,8 +372,18 @@ class _Propagation:
              ) -> list[np.ndarray]:
         """The same for the hand model, in scaled variables: (n_h + m, n_h + m)."""
         Gh = np.zeros((*Fh.shape[:2], 0)) if Gh is None else Gh
-        return transitions(_augmented(Fh, Gh, np.concatenate([self.mags_h, self.mags_src]),
-                                      self.held_h), motion.times, at)
+        scale = np.concatenate([self.mags_h, self.mags_src])
+        hold = self.hold(motion, "h")
+        return self._run(_augmented(Fh, Gh, scale, self.held_h, hold), scale, hold, motion,
+                         at)
+
+    def growth(self, F: np.ndarray, motion: Motion, side: str, last: int) -> float:
+        """:func:`_motion_growth` of F (the hand's, ``"h"``, or one of the derived
+        model's, ``"z"``) on ``motion``, its vertical channel held as in the propagation."""
+        hold = self.hold(motion, side)
+        if hold is not None:
+            F = hold.P @ F @ hold.P + hold.P_dot @ hold.P
+        return _motion_growth(F, self.held_h if side == "h" else self.held_z, last)
 
     def floors(self, scaled: list[np.ndarray], steps: int, readout: np.ndarray) -> float:
         """:func:`rounding_floor` of a readout (rows: m or rad per SI unit of the hand's
@@ -309,17 +441,44 @@ def _steps(motion: Motion, t: float) -> int:
     return round(t / (motion.times[1] - motion.times[0]))
 
 
+def reads(conv: Convention, motion_list: list[Motion], rows: list[int]
+          ) -> tuple[bool, bool]:
+    """Whether the states ``rows`` of ``conv`` hold a horizontal position and an
+    attitude: their readouts (:meth:`~ins_errors.checker.conventions.Convention.position`,
+    :meth:`~ins_errors.checker.conventions.Convention.attitude`) are not 0 on every
+    sample of every motion. A hand model without position states (a velocity and
+    attitude model) has no position difference to report: it is not measured, not 0.
+    """
+    position = any(np.any(conv.position(m.navigation, m.x, m.p)[:2, rows] != 0)
+                   for m in motion_list)
+    attitude = any(np.any(conv.attitude(m.navigation, m.x, m.p)[:, rows] != 0)
+                   for m in motion_list)
+    return position, attitude
+
+
+def _norm(R: np.ndarray, x: np.ndarray, read: bool) -> float | None:
+    """|R x| (largest over the columns of a 2-D x), None where nothing is read."""
+    if not read:
+        return None
+    return float(np.linalg.norm(R @ x, axis=0).max(initial=0.0))
+
+
 def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                       motion_list: list[Motion], hours: tuple[float, ...] = EFFECT_HOURS,
                       responses: dict | None = None) -> list[Effect]:
     """Propagate the hand and the derived model; differences per initial error/source,
-    with the rounding floor of each motion and time (:func:`rounding_floor`).
+    with the rounding floor of each motion and time (:func:`rounding_floor`); None for
+    a readout the hand's states do not hold (:func:`reads`).
 
     ``responses``, if given, receives the derived model's scaled responses by (motion,
     time) (:func:`finding_effects` starts from them).
     """
     prop = _Propagation.of(report, conv, model)
     report.held = [v for v in conv.vertical if v in report.states]
+    if prop.conv is not None:  # read from the states through the φ-angle convention
+        report.held = [HELD_THROUGH_FRAME]
+    read_p, read_a = reads(conv, motion_list, prop.rows)
+    shown = "position" if read_p else "attitude"  # the figure growth is judged by
     effects = []
     n_h = len(prop.rows)
     for motion in motion_list:
@@ -330,31 +489,32 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
         derived = prop.derived(sampled.Fz[motion.label], sampled.Gz[motion.label], motion, at)
         if responses is not None:
             responses.update({(motion.label, t): r for t, r in zip(at, derived, strict=True)})
-        position = conv.position(motion.navigation)  # (3, nz, K)
-        attitude = conv.attitude(motion.navigation)
+        position = conv.position(motion.navigation, motion.x, motion.p)  # (3, nz, K)
+        attitude = conv.attitude(motion.navigation, motion.x, motion.p)
         rows: list[Effect] = []
-        growth: dict = {}  # worst position difference and floor at each time
+        growth: dict = {}  # worst position (attitude) difference and floor at each time
         for t, scaled_h, scaled_z in zip(at, hand, derived, strict=True):
             k = _steps(motion, t)
             P = position[:2, prop.rows, k]
             A = attitude[:, prop.rows, k]
             resp_h, resp_z = scaled_h[:n_h] * prop.mags_h[:, None], prop.si(scaled_z)
-            floor_p = prop.floors([scaled_h, scaled_z], k, P)
-            floor_a = prop.floors([scaled_h, scaled_z], k, A)
+            floor_p = prop.floors([scaled_h, scaled_z], k, P) if read_p else None
+            floor_a = prop.floors([scaled_h, scaled_z], k, A) if read_a else None
             for c, case, text in prop.cases:
                 diff = resp_h[:, c] - resp_z[:, c]
                 rows.append(Effect(
-                    motion.label, t / 3600.0, case, text, float(np.linalg.norm(P @ diff)),
-                    float(np.linalg.norm(P @ resp_z[:, c])), float(np.linalg.norm(A @ diff)),
-                    float(np.linalg.norm(A @ resp_z[:, c])), floor_p, floor_a))
+                    motion.label, t / 3600.0, case, text, _norm(P, diff, read_p),
+                    _norm(P, resp_z[:, c], read_p), _norm(A, diff, read_a),
+                    _norm(A, resp_z[:, c], read_a), floor_p, floor_a))
             tag = hours_tag(t / 3600.0)
-            growth[f"position_{tag}"] = max((e.position_difference for e in rows
-                                             if e.hours == t / 3600.0), default=0.0)
-            growth[f"position_floor_{tag}"] = floor_p
+            growth[f"{shown}_{tag}"] = max((getattr(e, f"{shown}_difference") or 0.0
+                                            for e in rows if e.hours == t / 3600.0),
+                                           default=0.0)
+            growth[f"{shown}_floor_{tag}"] = (floor_p if read_p else floor_a) or 0.0
         last = _steps(motion, at[-1])
-        mark_growth(growth, _motion_growth(sampled.Fh[motion.label], prop.held_h, last),
-                    _motion_growth(sampled.Fz[motion.label], prop.held_z, last),
-                    tuple(t / 3600.0 for t in at))
+        mark_growth(growth, prop.growth(sampled.Fh[motion.label], motion, "h", last),
+                    prop.growth(sampled.Fz[motion.label], motion, "z", last),
+                    tuple(t / 3600.0 for t in at), quantity=shown)
         effects += [replace(e, e_folding=growth.get("e_folding_s"),
                             growing_mode=growth.get("growing_mode"),
                             exponential=growth.get(f"exponential_{hours_tag(e.hours)}",
@@ -395,7 +555,10 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
 
     On each motion the change is compared with its rounding floor (:func:`rounding_floor`
     of both propagations); the motion named is the one with the largest change above its
-    floor, and none when the change is below the floor on every motion.
+    floor, and none when the change is below the floor on every motion. A readout the
+    hand's states do not hold is None (:func:`reads`); an entry in the column of a state
+    the hand leaves out that stays at 0 (above rounding) in every propagation is not
+    assessed (:attr:`AloneEffect.not_assessed`).
 
     Returns
     -------
@@ -406,8 +569,12 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
     prop = _Propagation.of(report, conv, model)
     names = conv.names
     src_names = [s.name for s in model.sources]
+    read_p, read_a = reads(conv, motion_list, prop.rows)
+    shown = "position" if read_p else "attitude"
     # entry -> [(motion, position, attitude, position floor, attitude floor, growth)]
-    per_motion: dict[str, list[tuple[str, float, float, float, float, dict]]] = {}
+    per_motion: dict[str, list[tuple[str, float | None, float | None, float | None,
+                                     float | None, dict]]] = {}
+    excited: dict[str, bool] = {}  # a left-out column state: moved above rounding
     for motion in motion_list:
         at = _times(motion, (hours,))
         if not at:
@@ -416,11 +583,16 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
         known = (responses or {}).get((motion.label, at[0]))
         [base] = [known] if known is not None else prop.derived(Fz, Gz, motion, at)
         k = _steps(motion, at[0])
-        P = conv.position(motion.navigation)[:2, prop.rows, k]
-        A = conv.attitude(motion.navigation)[:, prop.rows, k]
+        P = conv.position(motion.navigation, motion.x, motion.p)[:2, prop.rows, k]
+        A = conv.attitude(motion.navigation, motion.x, motion.p)[:, prop.rows, k]
         columns = [c for c, _, _ in prop.cases]
         base_si = prop.si(base)
-        base_growth = _motion_growth(Fz, prop.held_z, k)
+        base_growth = prop.growth(Fz, motion, "z", k)
+        size = rounding_floor(float(np.abs(base[:, columns]).max(initial=0.0)),
+                              base.shape[0], k, 1.0)
+        for name in report.left_out:
+            moved = bool(np.abs(base[names.index(name), columns]).max(initial=0.0) > size)
+            excited[name] = excited.get(name, False) or moved
         for f in report.findings:
             if f.row in conv.vertical or f.column in conv.vertical:
                 continue  # held in the propagation: no effect to show
@@ -436,29 +608,40 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
                     sampled.Gh[motion.label][:, a, report.sources.index(f.column)])
             [changed] = prop.derived(F2, G2, motion, at)
             diff = (prop.si(changed) - base_si)[:, columns]
-            position = float(np.linalg.norm(P @ diff, axis=0).max(initial=0.0))
-            floor_p = prop.floors([base, changed], k, P)
-            growth = {f"position_{hours_tag(at[0] / 3600.0)}": position,
-                      f"position_floor_{hours_tag(at[0] / 3600.0)}": floor_p}
-            mark_growth(growth, _motion_growth(F2, prop.held_z, k), base_growth,
-                        (at[0] / 3600.0,))
+            position, attitude = _norm(P, diff, read_p), _norm(A, diff, read_a)
+            floor_p = prop.floors([base, changed], k, P) if read_p else None
+            floor_a = prop.floors([base, changed], k, A) if read_a else None
+            tag = hours_tag(at[0] / 3600.0)
+            growth = {f"{shown}_{tag}": (position if read_p else attitude) or 0.0,
+                      f"{shown}_floor_{tag}": (floor_p if read_p else floor_a) or 0.0}
+            mark_growth(growth, prop.growth(F2, motion, "z", k), base_growth,
+                        (at[0] / 3600.0,), quantity=shown)
             per_motion.setdefault(f.entry, []).append((
-                motion.label, position,
-                float(np.linalg.norm(A @ diff, axis=0).max(initial=0.0)),
-                floor_p, prop.floors([base, changed], k, A), growth))
-    return {entry: _alone(rows) for entry, rows in per_motion.items()}
+                motion.label, position, attitude, floor_p, floor_a, growth))
+    out = {entry: _alone(rows, read_p) for entry, rows in per_motion.items()}
+    for f in report.findings:
+        if f.entry in out and f.matrix == "F" and excited.get(f.column) is False:
+            out[f.entry] = replace(out[f.entry], not_assessed=(
+                f"effect not assessed: {f.column}, a state the hand leaves out, stays 0 "
+                "from every initial error and source of the hand"))
+    return out
 
 
-def _alone(rows: list[tuple[str, float, float, float, float, dict]]) -> AloneEffect:
+def _alone(rows: list[tuple[str, float | None, float | None, float | None, float | None,
+                            dict]], by_position: bool = True) -> AloneEffect:
     """One finding's :class:`AloneEffect` from its (motion, position, attitude, floors,
     growth) on each motion (growth: :func:`~ins_errors.checker.growth.mark_growth`'s
-    dict; a change that grows exponentially names the motion of the fastest growth)."""
-    position = max(r[1] for r in rows)
-    real = [r for r in rows if r[1] > r[3]]
-    real_a = [r for r in rows if r[2] > r[4]]
-    attitude = max(r[2] for r in (real_a or rows))
-    floor_a = (max(r[4] for r in real_a if r[2] == attitude) if real_a
-               else max(r[4] for r in rows))
+    dict; a change that grows exponentially names the motion of the fastest growth).
+    The motion is chosen by the position change, or with ``by_position`` False (no
+    position measured) by the attitude change."""
+    def most(index: int) -> float | None:
+        return None if rows[0][index] is None else max(r[index] for r in rows)
+
+    pick, floor_pick = (1, 3) if by_position else (2, 4)
+    real = [r for r in rows if r[pick] is not None and r[pick] > r[floor_pick]]
+    real_a = [r for r in rows if r[2] is not None and r[2] > r[4]]
+    attitude = most(2) if not real_a else max(r[2] for r in real_a)
+    floor_a = (most(4) if not real_a else max(r[4] for r in real_a if r[2] == attitude))
     growing = [r for r in rows if any(v is True for k, v in r[5].items()
                                       if k.startswith("exponential_"))]
     if growing:
@@ -466,8 +649,8 @@ def _alone(rows: list[tuple[str, float, float, float, float, dict]]) -> AloneEff
         return AloneEffect(fastest[1], attitude, fastest[0], fastest[3], floor_a,
                            fastest[5]["e_folding_s"], fastest[5]["growing_mode"])
     if not real:
-        return AloneEffect(position, attitude, None, max(r[3] for r in rows), floor_a)
-    best = max(real, key=lambda r: r[1])  # (the first motion on ties)
+        return AloneEffect(most(1), attitude, None, most(3), floor_a)
+    best = max(real, key=lambda r: r[pick])  # (the first motion on ties)
     return AloneEffect(best[1], attitude, best[0], best[3], floor_a)
 
 
@@ -490,7 +673,7 @@ def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, 
         return {}
     prop = _Propagation.of(report, conv, model)
     n_h = len(report.states)
-    free = replace(prop, held_h=[], held_z=[], cases=(
+    free = replace(prop, held_h=[], held_z=[], conv=None, holds={}, cases=(
         [(j, f"initial {s}", report.magnitudes[s][1]) for j, s in enumerate(report.states)]
         + [(n_h + b, f"source {s}", report.magnitudes[s][1])
            for b, s in enumerate(report.sources)]))
@@ -505,7 +688,7 @@ def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, 
         Fz, Gz = sampled.Fz[motion.label], sampled.Gz[motion.label]
         base = free.derived(Fz, Gz, motion, at)
         base_growth = _motion_growth(Fz, [], _steps(motion, at[-1]))
-        readout = conv.position(motion.navigation)[2:, free.rows, :]  # down, m per unit
+        readout = conv.position(motion.navigation, motion.x, motion.p)[2:, free.rows, :]
         for f in found:
             a, i = report.states.index(f.row), names.index(f.row)
             F2, G2 = Fz.copy(), Gz

@@ -41,6 +41,10 @@ def below(floor: float, unit: str) -> str:
     return f"< {math.ceil(floor / digit * (1 - 1e-9)) * digit:.0e}{sep}{unit}"
 
 
+NOT_READ = "{} n/a"
+"""What the report says for a figure the hand's states do not hold (a position
+difference of a model without position states: not measured, so no figure)."""
+
 NOT_ASSESSED = "effect not assessed: the vertical channel is held"
 """What the report says for a finding of a horizontal row in a vertical-channel column."""
 
@@ -76,11 +80,20 @@ def _alone(r: MatrixReport, f: EntryFinding) -> str:
     if f.entry not in r.finding_effects:
         return ""
     e = r.finding_effects[f.entry]
+    if e.not_assessed:
+        return e.not_assessed
     if e.exponential:
         return (f"alone after 24 h: {growth_text(e.e_folding, e.growing_mode)} "
                 f"(fastest on {e.motion})")
-    attitude = (f"{e.attitude / ARCSEC:.3g}″" if e.attitude_above_rounding
+    attitude = (NOT_READ.format("attitude") if e.attitude is None
+                else f"{e.attitude / ARCSEC:.3g}″" if e.attitude_above_rounding
                 else below(e.attitude_floor / ARCSEC, "″"))
+    if e.position is None:
+        if e.attitude is None or e.attitude_above_rounding:
+            where = f" (largest on {e.motion})" if e.motion else ""
+            return f"alone after 24 h: {NOT_READ.format('position')}, {attitude}{where}"
+        return (f"alone after 24 h: {NOT_READ.format('position')}, attitude {NO_EFFECT} "
+                f"({attitude})")
     if not e.position_above_rounding:
         if not e.attitude_above_rounding:
             return (f"alone after 24 h: {NO_EFFECT} "
@@ -124,8 +137,8 @@ def worst_effects(r: MatrixReport) -> list[tuple[str, float, Effect, Effect]]:
     for motion, hours in keys:
         group = [e for e in r.effects if (e.motion, e.hours) == (motion, hours)]
         out.append((motion, hours,
-                    first_largest_item(group, lambda e: e.position_difference),
-                    first_largest_item(group, lambda e: e.attitude_difference)))
+                    first_largest_item(group, lambda e: e.position_difference or 0.0),
+                    first_largest_item(group, lambda e: e.attitude_difference or 0.0)))
     return out
 
 
@@ -140,14 +153,17 @@ def _effect_rows(r: MatrixReport) -> list[list[str]]:
             rows.append([motion, f"{hours:g} h", growth_text(p.e_folding, p.growing_mode),
                          "–", "–", "grows exponentially", "–"])
             continue
-        if p.position_above_rounding:
+        if p.position_difference is None:
+            position = ["n/a", "–", "–"]
+        elif p.position_above_rounding:
             share = p.position_difference / p.position_model if p.position_model else 0.0
             position = [f"{p.position_difference:.3g} m",
                         _share(share) if p.position_model else "–",
                         f"{p.case} ({p.magnitude})"]
         else:
             position = [below(p.position_floor, "m"), "–", NO_EFFECT]
-        attitude = ([f"{a.attitude_difference / ARCSEC:.3g}″", f"{a.case} ({a.magnitude})"]
+        attitude = (["n/a", "–"] if a.attitude_difference is None
+                    else [f"{a.attitude_difference / ARCSEC:.3g}″", f"{a.case} ({a.magnitude})"]
                     if a.attitude_above_rounding
                     else [below(a.attitude_floor / ARCSEC, "″"), NO_EFFECT])
         rows.append([motion, f"{hours:g} h", *position, *attitude])
@@ -286,8 +302,10 @@ def to_json(r: MatrixReport) -> dict:
                                            if f.entry in r.finding_effects else None),
                       "effect_vertical": (_vertical_json(r.vertical_effects[f.entry])
                                           if f.entry in r.vertical_effects else None),
-                      "effect_not_assessed": (NOT_ASSESSED if vertical_text(r, f)
-                                              == NOT_ASSESSED else None)}
+                      "effect_not_assessed": (
+                          NOT_ASSESSED if vertical_text(r, f) == NOT_ASSESSED
+                          else r.finding_effects[f.entry].not_assessed
+                          if f.entry in r.finding_effects else None)}
                      for f in r.findings],
         "effects": [{"motion": e.motion, "hours": e.hours, "case": e.case,
                      "magnitude": e.magnitude,
@@ -295,10 +313,7 @@ def to_json(r: MatrixReport) -> dict:
                      "position_model_m": e.position_model,
                      "attitude_difference_rad": e.attitude_difference,
                      "attitude_model_rad": e.attitude_model,
-                     "position_floor_m": e.position_floor,
-                     "position_below_rounding": not e.position_above_rounding,
-                     "attitude_floor_rad": e.attitude_floor,
-                     "attitude_below_rounding": not e.attitude_above_rounding,
+                     **_below_json(e, e.position_difference, e.attitude_difference),
                      "exponential": e.exponential, **_growth_json(e)}
                     for e in r.effects],
     }
@@ -323,8 +338,16 @@ def _alone_json(e) -> dict:
     """``effect_alone_24h`` of a finding: the numbers, their floors, whether below, and
     whether it grows exponentially (with the mode's e-folding time and rate)."""
     return {"position_m": e.position, "attitude_rad": e.attitude, "motion": e.motion,
-            "position_floor_m": e.position_floor,
-            "position_below_rounding": not e.position_above_rounding,
-            "attitude_floor_rad": e.attitude_floor,
-            "attitude_below_rounding": not e.attitude_above_rounding,
+            **_below_json(e, e.position, e.attitude),
             "exponential": e.exponential, **_growth_json(e)}
+
+
+def _below_json(e, position: float | None, attitude: float | None) -> dict:
+    """Floors and whether each figure is below its floor (None for a figure not
+    measured: the hand's states hold no position, or no attitude)."""
+    return {"position_floor_m": e.position_floor,
+            "position_below_rounding": (None if position is None
+                                        else not e.position_above_rounding),
+            "attitude_floor_rad": e.attitude_floor,
+            "attitude_below_rounding": (None if attitude is None
+                                        else not e.attitude_above_rounding)}
