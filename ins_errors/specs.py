@@ -499,6 +499,12 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             if table.tau is None:
                 raise SpecError(f"sources.{name}: a markov source needs tau (e.g. '1 h')")
             tau = _positive(table.tau, "s", f"sources.{name}.tau", "1 h")
+            from ins_errors.analysis.covariance import (
+                SHORTEST_TAU_PER_STEP,
+                short_tau_message,
+            )
+            if tau < step * SHORTEST_TAU_PER_STEP:
+                raise SpecError(short_tau_message(f"sources.{name}.tau", tau, step))
         elif table.tau is not None:
             raise SpecError(f"sources.{name}: tau applies only to kind = 'markov'")
         if table.fixed is not None and "weight" in table.model_fields_set:

@@ -468,3 +468,58 @@ def test_heading_at_rest_is_refused_by_a_spec_as_by_a_scenario(tmp_path, capsys,
     bd.spec_profile(model, load_spec(write(tmp_path, at_rest, "none.toml")))
     moving = heading.replace('kind = "static"', 'kind = "great_circle"\n    speed = "200 m/s"')
     bd.spec_profile(model, load_spec(write(tmp_path, moving, "moving.toml")))
+
+
+MARKOV_SPEC = """
+    sigma_level = 2
+    operating_time = "1 h"
+    step = "{step}"
+    [motion]
+    kind = "static"
+    latitude = "50 deg"
+    [items.position_error]
+    value = "3.7 km/h"
+    times = ["1 h"]
+    [sources.gyro_drift_x]
+    kind = "{kind}"
+    {tau}
+"""
+
+
+def _gyro_x_allowance(tmp_path, capsys, step: str, kind: str, tau: str = "") -> float:
+    """gyro_drift_x's allowance (SI, 2σ) of the spec above, run with warnings as errors."""
+    spec = write(tmp_path, MARKOV_SPEC.format(step=step, kind=kind, tau=tau),
+                 f"{kind}_{step}_{len(tau)}.toml".replace(" ", ""))
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")        # the overflow of a short τ must not come back
+        assert main(["budget", "orthodromic", "--spec", str(spec), "--json"]) == 0
+    sources = json.loads(capsys.readouterr().out)["sources"]
+    return next(s for s in sources if s["name"] == "gyro_drift_x")["magnitude"]
+
+
+def test_markov_source_far_shorter_than_the_step_is_allocated_as_its_white_equivalent(
+        tmp_path, capsys):
+    """A Gauss–Markov gyro drift of τ = 1 s on the 60-s grid gets the allowance a 1-s grid
+    gives it (60 s at τ = 1 s was once 'not limited on this motion' after an overflow),
+    and one of τ = 1e-9 s acts as white noise of density σ·√(2τ): its allowance times
+    √(2τ) is the allowance of a white gyro_drift_x (exit 1 and a traceback once)."""
+    tau_1s = 'tau = "1 s"'
+    at_60 = _gyro_x_allowance(tmp_path, capsys, "60 s", "markov", tau_1s)
+    at_1 = _gyro_x_allowance(tmp_path, capsys, "1 s", "markov", tau_1s)
+    assert np.isfinite(at_60) and at_60 == pytest.approx(at_1, rel=1e-9)
+    tau = 1e-9
+    markov = _gyro_x_allowance(tmp_path, capsys, "60 s", "markov", f'tau = "{tau} s"')
+    white = _gyro_x_allowance(tmp_path, capsys, "60 s", "white")
+    assert markov * np.sqrt(2 * tau) == pytest.approx(white, rel=1e-6)
+
+
+def test_markov_source_white_within_rounding_is_refused_in_one_line(tmp_path, capsys):
+    spec = write(tmp_path, MARKOV_SPEC.format(step="60 s", kind="markov",
+                                              tau='tau = "1e-300 s"'))
+    assert main(["budget", "orthodromic", "--spec", str(spec)]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    err = captured.err.strip()
+    assert "\n" not in err and "sources.gyro_drift_x.tau" in err
+    assert "kind = 'white' with density σ·√(2τ)" in err

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import warnings
 
 import numpy as np
 import pytest
@@ -574,3 +575,98 @@ def test_an_output_that_is_an_error_state_is_listed_once(orthodromic):
     assert fn.names == (*(s.name for s in orthodromic.error_states),
                         *(f"delta_{o.name}" for o in orthodromic.outputs))
     assert len(set(fn.names)) == len(fn.names)
+
+
+# ------------------------------------------------------------------------------------
+# Markov sources of a correlation time far shorter than the step
+# ------------------------------------------------------------------------------------
+def _integrator_system(step: float, duration: float, time_invariant: bool):
+    """y' = m (one state) with m a source; functionals y and m."""
+    times = np.arange(0.0, duration + step / 2, step)
+    K = len(times)
+    F, G = np.zeros((1, 1)), np.ones((1, 1))
+    if not time_invariant:
+        F, G = np.zeros((K, 1, 1)), np.ones((K, 1, 1))
+    system = cv.LinearSystem(times, F, G, np.zeros((1, 1)), np.eye(1), ("m",), ("constant",),
+                             np.zeros((1, K)), np.zeros((1, K)), np.zeros(0))
+    functionals = cv.Functionals(("y", "m"), ("1", "1"), np.array([[1.0], [0.0]]),
+                                 np.array([[0.0], [1.0]]))
+    return system, functionals
+
+
+@pytest.mark.parametrize("time_invariant", [True, False])
+@pytest.mark.parametrize("tau", [1.0, 1e-2, 1e-6, 1e-9])
+def test_markov_source_far_shorter_than_the_step_matches_the_closed_form(time_invariant,
+                                                                        tau):
+    """The integral of stationary first-order Markov noise (steady 1σ σ, correlation time
+    τ) has Var y = 2σ²τ (t − τ(1 − e^{−t/τ})) (textbook closed form) at a 60-s step,
+    however short τ is: e^{Δt/τ} = e^{60} … e^{6·10¹⁰} must not enter. Far below the step
+    it is white noise of PSD 2σ²τ (Var y = 2σ²τ t, to τ/t)."""
+    sigma, step = 0.3, 60.0
+    system, functionals = _integrator_system(step, 3600.0, time_invariant)
+    assert system.time_invariant is time_invariant
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")      # the old static path overflowed here
+        cov = cv.propagate(system, [cv.SourceStatistics("m", "markov", sigma, tau)],
+                           functionals)
+    t = cov.times
+    var_y = 2 * sigma**2 * tau * (t + tau * np.expm1(-t / tau))
+    np.testing.assert_allclose(cov.variance[1:, 0], var_y[1:], rtol=1e-12)
+    np.testing.assert_allclose(cov.variance[:, 1], sigma**2, rtol=1e-12)
+    if tau <= 1e-6:
+        np.testing.assert_allclose(cov.variance[1:, 0], 2 * sigma**2 * tau * t[1:],
+                                   rtol=2 * tau / step)
+    total = cv.propagate(system, [cv.SourceStatistics("m", "markov", sigma, tau)],
+                         functionals, by_source=False)
+    np.testing.assert_allclose(total.variance[1:, 0], var_y[1:], rtol=1e-12)
+
+
+def test_markov_source_of_one_second_at_a_minute_step_matches_a_small_step_reference(
+        orthodromic):
+    """orthodromic at rest, gyro_drift_x Markov of τ = 1 s on a 60-s grid (the case a
+    budget spec reported as 'not limited' after overflowing) against the test's own Van
+    Loan (SciPy's expm of the double-size block) at a 60/512-s step, iterated step by
+    step: Δt/τ = 0.12 there, where the block's e^{Δt/τ} is harmless."""
+    sigma, tau, step = 0.1 * DEG_H, 1.0, 60.0
+    system = cv.static_system(orthodromic, PHI, duration=1800.0, step=step)
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    cov = cv.propagate(system, [cv.SourceStatistics("gyro_drift_x", "markov", sigma, tau)],
+                       fn)
+    n = system.F.shape[0]
+    A = np.zeros((n + 1, n + 1))
+    A[:n, :n] = system.F
+    A[:n, n] = system.G[:, system.source_index("gyro_drift_x")]
+    A[n, n] = -1 / tau
+    Q = np.zeros_like(A)
+    Q[n, n] = 2 * sigma**2 / tau
+    sub = 512
+    h = step / sub
+    M = np.block([[-A, Q], [np.zeros_like(A), A.T]]) * h
+    X = expm(M)
+    Phi = X[n + 1:, n + 1:].T
+    Qd = Phi @ X[:n + 1, n + 1:]
+    P = np.zeros_like(A)
+    P[n, n] = sigma**2                      # started stationary, no initial error
+    C = fn.C_x
+    expected = [np.diag(C @ P[:n, :n] @ C.T)]
+    for _ in range(len(system.times) - 1):
+        for _ in range(sub):
+            P = Phi @ P @ Phi.T + Qd
+        expected.append(np.diag(C @ P[:n, :n] @ C.T))
+    expected = np.array(expected)
+    scale = expected.max(axis=0)
+    used = scale > 0
+    assert np.all(np.isfinite(cov.variance))
+    np.testing.assert_allclose(cov.variance[:, used] / scale[used],
+                               expected[:, used] / scale[used], rtol=0, atol=1e-8)
+    assert expected[-1, cov.index("alpha_x")] > 0     # it does tilt the platform
+
+
+@pytest.mark.parametrize("time_invariant", [True, False])
+def test_markov_source_white_within_rounding_is_refused_naming_the_white_density(
+        time_invariant):
+    system, functionals = _integrator_system(60.0, 600.0, time_invariant)
+    with pytest.raises(InsErrorsError, match=r"below 2⁻⁵³ of the 60 s step.*kind = 'white' "
+                                             r"with density σ·√\(2τ\)") as info:
+        cv.propagate(system, [cv.SourceStatistics("m", "markov", 1.0, 1e-300)], functionals)
+    assert "\n" not in str(info.value) and "'m'" in str(info.value)

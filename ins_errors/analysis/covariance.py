@@ -30,7 +30,11 @@ augmented transitions, and for a noise (one column b, ``BQBᵀ = b bᵀ``) the s
 pair from the series of ``e^{Fσ} b`` without the double-size block.
 On a time-invariant system (static base) the step transition Φ is computed once and the
 powers ``C Φᵏ Z₀`` are formed in blocks with a few matrix products, which is what
-makes 24 h at 1 s output take milliseconds.
+makes 24 h at 1 s output take milliseconds; its noise pairs come from the same series as
+a moving base's (never from the double-size block, whose ``e^{Δt/τ}`` overflows, or
+cancels to nothing, once a Markov source's τ is a small fraction of the step). So a
+Markov source is exact for any τ against the step, down to :data:`SHORTEST_TAU_PER_STEP`
+of it, below which it is refused as white noise (PSD 2σ²τ) within rounding.
 """
 
 from __future__ import annotations
@@ -57,6 +61,13 @@ from ins_errors.numeric.step_exponential import (
 
 KINDS = ("constant", "white", "markov")
 """The statistical kinds a source may have."""
+
+SHORTEST_TAU_PER_STEP = 2.0**-53
+"""Least correlation time of a Markov source as a fraction of the step (the unit
+round-off): any τ above it is propagated exactly (the Van Loan pair of the noise is formed
+on a scaled step of at most about τ and doubled, so ``e^{−Δt/τ}`` never overflows);
+shorter noise is white to within the rounding of the step itself, and is refused with the
+white source of the same effect (density σ·√(2τ)) named instead."""
 
 
 __all__ = ["KINDS", "Covariance", "CovarianceError", "Functionals", "LinearSystem",
@@ -112,6 +123,14 @@ class SourceStatistics:
                                       or self.tau <= 0):
             raise CovarianceError(f"source {self.name!r}: a Markov source needs a "
                                   f"correlation time tau > 0 s, got {self.tau!r}")
+
+
+def short_tau_message(what: str, tau: float, step: float) -> str:
+    """One line refusing a Markov correlation time ``tau`` below
+    :data:`SHORTEST_TAU_PER_STEP` of the ``step`` (both s)."""
+    return (f"{what}: a correlation time of {tau:.3g} s is below 2⁻⁵³ of the {step:g} s "
+            f"step, so the noise is white within double precision: give kind = 'white' "
+            f"with density σ·√(2τ) instead (white noise of PSD 2σ²τ)")
 
 
 # --------------------------------------------------------------------------------------
@@ -428,6 +447,9 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
         if s.kind != "constant" and system.source_kinds[j] == "initial":
             raise CovarianceError(f"source {s.name!r} is an initial error: kind must be "
                                   "'constant'")
+        if s.kind == "markov" and s.tau < system.step * SHORTEST_TAU_PER_STEP:
+            raise CovarianceError(short_tau_message(f"source {s.name!r}", s.tau,
+                                                    system.step))
     n = system.E.shape[0]
     if functionals.C_x.shape[-1] != n:
         raise ShapeError(f"functionals must weigh {n} error states, got "
@@ -507,9 +529,9 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
         for i, s in enumerate(sources):
             if s.kind == "constant":
                 continue
-            A, BQBt, Cn = _noise_system(system.F, system.G[:, columns[i]], s, functionals.C_x,
-                                        functionals.C_b[:, columns[i]])
-            Phi_n, Qd = van_loan(A, BQBt, dt_out)
+            A, b = _noise_column(system.F, system.G[:, columns[i]], s)
+            Cn = _noise_functionals(functionals.C_x, functionals.C_b[:, columns[i]], s)
+            Phi_n, Qd = (m[0] for m in rank_one_noise_step(A[None], b[None], dt_out))
             y = power_sequence(Phi_n, _noise_factor(Qd), Cn, K_out, reduce="square-sum")
             var = np.concatenate([np.zeros((1, q)), np.cumsum(y, axis=0)[:-1]])
             if by_source:
@@ -781,5 +803,13 @@ def _noise_system(F: np.ndarray, g: np.ndarray, source: SourceStatistics,
     n = F.shape[-1]
     BQBt = np.zeros(A.shape)
     BQBt[..., n, n] = 2.0 / source.tau   # (b bᵀ, without rounding √(2/τ)²)
-    C = np.hstack([C_x, c_b[:, None]]) if C_x.ndim == 2 else None
-    return A, BQBt, C
+    return A, BQBt, _noise_functionals(C_x, c_b, source)
+
+
+def _noise_functionals(C_x: np.ndarray, c_b: np.ndarray, source: SourceStatistics
+                       ) -> np.ndarray | None:
+    """The functionals on the state of :func:`_noise_column`: ``C_x`` for a white source,
+    ``[C_x, c_b]`` for a Markov one (None when ``C_x`` varies in time)."""
+    if source.kind == "white":
+        return C_x
+    return np.hstack([C_x, c_b[:, None]]) if C_x.ndim == 2 else None
