@@ -323,6 +323,16 @@ def _positive(text: Any, unit: str, what: str, example: str = "",
     return value
 
 
+def _check_height(value: float, what: str) -> None:
+    """:func:`~ins_errors.numeric.trajectories.check_height` as a :class:`SpecError`."""
+    from ins_errors.numeric.trajectories import check_height
+
+    try:
+        check_height(value, what)
+    except InsErrorsError as error:
+        raise SpecError(str(error)) from None
+
+
 def _angle(text: Any, what: str) -> float:
     if isinstance(text, bool) or not isinstance(text, (str, int, float)):
         raise SpecError(f"{what}: expected an angle such as '50 deg', got {text!r:.60}")
@@ -394,6 +404,8 @@ def _manoeuvre(motion: Motion, legs: list | None) -> Motion:
         if not float(leg["duration"].split()[0]) > 0:
             raise SpecError(f"motion.legs: leg {number}'s duration must be > 0, got "
                             f"{given.duration!r}")
+        if "height" in leg:
+            _check_height(float(leg["height"].split()[0]), f"motion.legs: leg {number}'s height")
     return replace(motion, legs=tuple(si["legs"]))
 
 
@@ -436,6 +448,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
                                                                "height", "heading")
                     if name in m.model_fields_set),
     )
+    _check_height(motion.height, "motion.height")
     if abs(motion.latitude) >= np.pi / 2:
         raise SpecError(f"motion.latitude {m.latitude!r} is at or beyond a pole (|φ| >= "
                         f"90 deg): the models divide by cos φ")

@@ -324,6 +324,9 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
     p : numpy.ndarray, optional
         Parameter vector (default: the model's defaults).
     """
+    from ins_errors.numeric.trajectories import check_height
+
+    check_height(float(height), "static base height")
     p = model.parameter_vector() if p is None else np.asarray(p, dtype=float)
     given = {"latitude": latitude, "longitude": longitude, "heading": heading}
     known = {i.name for i in model.initial_conditions}

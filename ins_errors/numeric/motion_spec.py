@@ -124,6 +124,11 @@ def read_motion_file(path: str | Path, latitude: float, longitude: float, headin
         raise InsErrorsError(f"motion height: {where} has its own column h, which the "
                              "flight follows; leave the height out")
     _check_times(where, table["t"], lines)
+    if "h" in names:
+        beyond = np.flatnonzero(np.abs(table["h"]) > tr.HEIGHT_LIMIT)
+        if beyond.size:       # the first such sample, with its line (NaN: sampled_profile)
+            k = int(beyond[0])
+            tr.check_height(float(table["h"][k]), f"{where}, line {lines[k]}: h")
     h = table["h"] if "h" in names else height
     profile = tr.sampled_profile(table["t"], table["v_N"], table["v_E"], latitude,
                                  longitude, heading, h, source=str(path))

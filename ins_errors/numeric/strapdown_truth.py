@@ -72,6 +72,7 @@ from ins_errors.numeric.trajectories import (
     Profile,
     Trajectory,
     angle_text,
+    check_height,
     check_track_angle,
     motion_number,
     run_arguments,
@@ -329,6 +330,7 @@ def static(latitude: float, longitude: float = 0.0, height: float = 0.0, roll: f
             ("latitude", latitude), ("longitude", longitude), ("roll", roll),
             ("pitch", pitch), ("heading", heading)))
     height = motion_number(height, "flight height", "m")
+    check_height(height, "flight height")
 
     return Flight(latitude, longitude, height, heading, GeodesicCommands(0.0),
                   f"static base at φ={np.degrees(latitude):.4g}°, λ={np.degrees(longitude):.4g}°,"
@@ -344,6 +346,7 @@ def great_circle(latitude: float, longitude: float, course: float, speed: float,
         motion_number(v, f"flight {k}", "rad") for k, v in (
             ("latitude", latitude), ("longitude", longitude), ("course", course)))
     height = motion_number(height, "flight height", "m")
+    check_height(height, "flight height")
     speed = motion_number(speed, "great-circle speed", "m/s")
     if not np.isfinite(speed) or speed <= 0:
         raise MotionError(f"great-circle speed must be > 0 m/s, got {speed:g} m/s")
@@ -367,6 +370,7 @@ def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
         motion_number(v, f"flight {k}", "rad") for k, v in (
             ("latitude", latitude), ("longitude", longitude), ("course", course)))
     height = motion_number(height, "flight height", "m")
+    check_height(height, "flight height")
     speed = motion_number(speed, "manoeuvre speed", "m/s")
     if not np.isfinite(speed) or speed <= 0:
         raise MotionError(f"manoeuvre speed must be > 0 m/s, got {speed:g} m/s")
@@ -376,6 +380,7 @@ def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
             raise MotionError(f"manoeuvre leg duration must be positive, got {leg.duration}")
         if not leg.speed > 0:
             raise MotionError(f"manoeuvre leg speed must be > 0 m/s, got {leg.speed:g} m/s")
+        check_height(leg.height, "manoeuvre leg height")
         starts.append((t0, float(leg.duration), v0, h0, leg))
         t0, v0, h0 = t0 + leg.duration, float(leg.speed), float(leg.height)
 

@@ -155,7 +155,7 @@ def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0
     latitude, longitude, heading = _angles(latitude=latitude, longitude=longitude,
                                            heading=heading)
     h = motion_number(h, "motion height", "m")
-    _check_height(h, "motion height")
+    check_height(h, "motion height")
 
     return Profile("track", SteadyCommands(0.0, h), latitude, longitude, heading,
                    static=True, breaks=(),
@@ -183,7 +183,7 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
     speed = motion_number(speed, "great-circle speed", "m/s")
     h = motion_number(h, "motion height", "m")
     _check_speed(speed, "great-circle speed")
-    _check_height(h, "motion height")
+    check_height(h, "motion height")
 
     return Profile("track", SteadyCommands(speed, h), latitude, longitude, track, breaks=(),
                    **_description((None, "great circle"),
@@ -193,10 +193,21 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
                                   (None, f", {speed:g} m/s"), ("height", f", h={h:g} m")))
 
 
-LOWEST_HEIGHT = -6_356_752.0
-"""m: the Earth's centre below the poles (WGS-84 polar radius). The models divide by
-R + h, so a height at or below it is refused before anything runs (a model file of a
-smaller planet still has its run-time domain check)."""
+HEIGHT_LIMIT = 100_000.0
+"""m: the largest |height| of a motion (±100 km, the edge of the atmosphere: aircraft,
+balloons, sounding rockets). Gravity enters the models as normal gravity continued from
+the ellipsoid with the second-order series γ₀(1 − 2h/a + 3h²/a²)
+(:func:`~ins_errors.models.earth.normal_gravity`: the motion generators' ``a_zeta``,
+strapdown_ned's γ). Against the inverse-square law γ₀ a²/(a + h)² it is off by
+4(h/a)³ to leading order: 1.6e-5 of γ (0.15 mm/s², about 15 µg) at 100 km, where its
+vertical gradient, the vertical channel's instability, is off by 6(h/a)² = 0.15 %; at
+1000 km the series is 1.7 % off and at 10 000 km it gives 51 m/s² for 1.5 m/s². Beyond
+the limit a height is refused (:class:`HeightError`) before anything runs; a model file
+of a small planet still has its run-time domain check of R + h."""
+
+
+class HeightError(MotionError, DomainError):
+    """A height beyond :data:`HEIGHT_LIMIT`, where the models' gravity no longer holds."""
 
 
 def motion_number(value: object, what: str, unit: str) -> float:
@@ -247,13 +258,33 @@ def check_track_angle(value: float, what: str, example: str = "90° for due east
                           f"it within one turn (e.g. {example})")
 
 
-def _check_height(h: float, what: str) -> None:
-    """Refuse a height that is not finite or is at or below the Earth's centre."""
+def check_height(h: float, what: str) -> None:
+    """Refuse a height (m) that is not finite or is beyond :data:`HEIGHT_LIMIT`.
+
+    Parameters
+    ----------
+    h : float
+        Height above the ellipsoid, m.
+    what : str
+        Where it comes from, for the message (``"motion height"``, ``"spec motion.height"``).
+
+    Raises
+    ------
+    MotionError
+        For a height that is NaN or infinite.
+    HeightError
+        One line naming ``what``, the height and the limit.
+    """
     if not np.isfinite(h):
         raise MotionError(f"{what} must be finite, got {h}")
-    if h <= LOWEST_HEIGHT:
-        raise MotionError(f"{what} {h / 1000:g} km is at or below the Earth's centre "
-                          "(R + h must be positive)")
+    if abs(h) > HEIGHT_LIMIT:
+        x = h / 6_378_137.0                       # over WGS-84 a
+        why = ("below the Earth's centre" if x <= -1 else
+               f"there the height series of normal gravity is "
+               f"{100 * abs((1 - 2 * x + 3 * x * x) * (1 + x) ** 2 - 1):.2g} % off the "
+               f"inverse-square law, 0.0016 % at the limit")
+        raise HeightError(f"{what} {h / 1000:g} km is beyond ±{HEIGHT_LIMIT / 1000:g} km, "
+                          f"the heights where the models' gravity holds ({why})")
 
 
 def _check_speed(speed: float, what: str) -> None:
@@ -326,14 +357,14 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
     speed = motion_number(speed, "manoeuvre speed", "m/s")
     h = motion_number(h, "motion height", "m")
     _check_speed(speed, "manoeuvre speed")
-    _check_height(h, "motion height")
+    check_height(h, "motion height")
     starts, t0 = [], 0.0
     v0, psi0, h0 = float(speed), 0.0, float(h)
     for leg in legs:
         if not leg.duration > 0:
             raise MotionError(f"manoeuvre leg duration must be positive, got {leg.duration}")
         _check_speed(leg.speed, "manoeuvre leg speed")
-        _check_height(leg.height, "manoeuvre leg height")
+        check_height(leg.height, "manoeuvre leg height")
         starts.append((t0, leg.duration, v0, psi0, h0, leg))
         t0, v0, psi0, h0 = t0 + leg.duration, leg.speed, psi0 + leg.turn, leg.height
 
@@ -386,7 +417,8 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
             row = int(np.argmin(np.isfinite(a)))
             raise DomainError(f"sampled motion: {name} is NaN or infinite in sample {row + 1}"
                               f" of {a.size}")
-    _check_height(float(np.min(arrays[2])), "sampled motion height")
+    for h_end in (np.min(arrays[2]), np.max(arrays[2])):
+        check_height(float(h_end), "sampled motion height")
     splines = tuple(CubicSpline(t, a) for a in arrays)
     # the start values a sampled motion depends on besides its samples, as the planned
     # motions state theirs (a constant height is not in the samples)
