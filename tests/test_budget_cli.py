@@ -523,3 +523,18 @@ def test_markov_source_white_within_rounding_is_refused_in_one_line(tmp_path, ca
     err = captured.err.strip()
     assert "\n" not in err and "sources.gyro_drift_x.tau" in err
     assert "kind = 'white' with density σ·√(2τ)" in err
+
+
+def test_monte_carlo_that_ends_before_the_first_row_is_refused(tmp_path, capsys):
+    """Runs of 60 s against a spec whose only row is at 1 h checked nothing: they printed
+    an empty 'row covariance Monte Carlo ratio' table and a stray '(0.1 s)', exit 0."""
+    spec = write(tmp_path, MARKOV_SPEC.format(step="60 s", kind="constant", tau=""))
+    argv = ["budget", "orthodromic", "--spec", str(spec), "--monte-carlo", "2",
+            "--mc-step", "1 s", "--mc-duration", "60 s"]
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""
+    err = captured.err.strip()
+    assert "\n" not in err
+    assert "--mc-duration '60 s' ends before the spec's first row (position_error at 1 h)" \
+        in err and "give at least 1 h" in err

@@ -118,6 +118,7 @@ def run(args: argparse.Namespace) -> int:
 
         refuse_noise_sources([(s.name, s.statistics) for s in bd.resolve_sources(model, spec)],
                              "--monte-carlo")
+        mc_duration(spec, args)
     from ins_errors.progress import stage
 
     with stage(f"propagating the covariance of {len(model.sources)} sources"):
@@ -311,6 +312,39 @@ def _at_times(text: str) -> list[float]:
     return [parse_quantity(t, "s", "--at") for t in parts if t]
 
 
+def mc_duration(spec, args: argparse.Namespace) -> float:
+    """The length of the Monte Carlo runs, s: --mc-duration checked against the spec.
+
+    Raises
+    ------
+    SpecError
+        A duration that is not > 0, not a whole number of analysis steps, longer than the
+        operating time, or that ends before the spec's first row (the runs would check
+        nothing: an empty table once).
+    """
+    from ins_errors.analysis import budget as bd
+    from ins_errors.numeric.integrators import whole_steps
+    from ins_errors.specs import SpecError
+    from ins_errors.units import parse_quantity
+
+    duration = parse_quantity(args.mc_duration, "s", "--mc-duration")
+    if "mc_duration" in getattr(args, "mc_defaulted", ()):
+        duration = min(duration, spec.operating_time)  # a spec shorter than the default
+    if duration <= 0:
+        raise SpecError("--mc-duration and --mc-step must be > 0")
+    grid = spec.step
+    if whole_steps(duration, grid) is None or duration > spec.operating_time:
+        raise SpecError(f"--mc-duration must be a whole number of the spec's {grid:g} s "
+                        f"analysis steps, at most the operating time "
+                        f"({bd.format_time(spec.operating_time)}); got {args.mc_duration!r}")
+    first, item = min((t, i.name) for i in spec.items for t in i.times)
+    if duration < first * (1 - 1e-12):
+        raise SpecError(f"--mc-duration {args.mc_duration!r} ends before the spec's first "
+                        f"row ({item} at {bd.format_time(first)}): the runs would check no "
+                        f"row; give at least {bd.format_time(first)}")
+    return duration
+
+
 def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
     """The Monte Carlo check of an allocation (JSON-ready; no wall-clock time in it, so
     identical runs give identical JSON) and the seconds its runs took."""
@@ -324,17 +358,11 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
     from ins_errors.specs import SpecError
     from ins_errors.units import parse_quantity
 
-    duration = parse_quantity(args.mc_duration, "s", "--mc-duration")
-    if "mc_duration" in getattr(args, "mc_defaulted", ()):
-        duration = min(duration, spec.operating_time)  # a spec shorter than the default
+    duration = mc_duration(spec, args)
     step = parse_quantity(args.mc_step, "s", "--mc-step")
-    if duration <= 0 or step <= 0:
+    if step <= 0:
         raise SpecError("--mc-duration and --mc-step must be > 0")
     grid = spec.step
-    if whole_steps(duration, grid) is None or duration > spec.operating_time:
-        raise SpecError(f"--mc-duration must be a whole number of the spec's {grid:g} s "
-                        f"analysis steps, at most the operating time "
-                        f"({bd.format_time(spec.operating_time)}); got {args.mc_duration!r}")
     if whole_steps(grid, step) is None:
         raise SpecError(f"--mc-step must divide the spec's {grid:g} s analysis step; got "
                         f"{args.mc_step!r}")
