@@ -62,7 +62,8 @@ class Motion(_Table):
     speed: Quantity = Field("250 m/s", json_schema_extra=_QUANTITY)
     height: Quantity = Field("0 m", json_schema_extra=_QUANTITY)
     file: str | None = Field(None, description="kind 'file': CSV with t, v_N, v_E [, h] (SI)")
-    legs: list[Leg] | None = Field(None, description="kind 'manoeuvre': the legs flown")
+    legs: list[Leg] | None = Field(None, min_length=1,
+                                   description="kind 'manoeuvre': the legs flown")
 
 
 class Run(_Table):
@@ -91,7 +92,7 @@ class Outputs(_Table):
     """``[outputs]``: the quantities the report shows and judges (its worst ratios and
     warnings); default: every excited one."""
 
-    quantities: list[str] | None = None
+    quantities: list[str] | None = Field(None, min_length=1)
 
 
 class Case(BaseModel):
@@ -174,6 +175,12 @@ def one_line(error: ValidationError, name: str,
     value = repr(first.get("input"))[:60]
     if kind == "missing":
         return InsErrorsError(f"{prefix}missing {path!r}")
+    if kind == "too_short" and first.get("input") == []:
+        default = {"legs": " (the standard manoeuvre)",
+                   "quantities": " (every excited quantity)"}.get(key, "")
+        return InsErrorsError(f"{prefix}{path} = []: an empty list; give at least "
+                              f"{first['ctx']['min_length']}, or leave {key} out for "
+                              f"the default{default}")
     if members:  # a quantity (text with a unit, or a number) that is neither
         return InsErrorsError(f"{prefix}{path} must be one value with its unit (e.g. "
                               f"'50 deg', '24 h'), got {value}")

@@ -70,6 +70,15 @@ BAD = {
     "bad motion kind": (BASE + '[motion]\nkind = "orbit"\n', "s.toml: unknown motion kind 'orbit'"),
     "threshold range": (BASE.replace("[run]", "[run]\nvalidity_threshold = -1"),
                         "validity_threshold"),
+    # read as no quantity: the report said "not excited: no magnitude of gyro_drift_x
+    # gives any error on this motion", exit 0
+    "empty outputs": (BASE + "[outputs]\nquantities = []\n",
+                      "s.toml: outputs.quantities = []: an empty list; give at least 1, or "
+                      "leave quantities out for the default (every excited quantity)"),
+    # an IndexError traceback in the trajectory generator
+    "empty legs": (BASE + '[motion]\nkind = "manoeuvre"\nlegs = []\n',
+                   "s.toml: motion.legs = []: an empty list; give at least 1, or leave legs "
+                   "out for the default (the standard manoeuvre)"),
 }
 
 
@@ -95,6 +104,9 @@ def test_schema_errors_are_one_line_with_suggestions(text, message, tmp_path, va
     ('[items.position_error]\nvalue = "3.7 km/h"\ncombine = "max"\n',
      "unknown position_error combine 'max'"),
     ('sigma_level = true\n[items.position_error]\nvalue = "3.7 km/h"\n', "sigma_level"),
+    ('[motion]\nkind = "manoeuvre"\nspeed = "200 m/s"\nlegs = []\n[items.position_error]\n'
+     'value = "3.7 km/h"\n', "motion.legs = []: an empty list; give at least 1, or leave "
+     "legs out for the default (the standard manoeuvre)"),
 ])
 def test_spec_files_have_a_declared_shape_too(text, message, tmp_path):
     from ins_errors.specs import load_spec
@@ -104,3 +116,28 @@ def test_spec_files_have_a_declared_shape_too(text, message, tmp_path):
     with pytest.raises(InsErrorsError) as raised:
         load_spec(path)
     assert message in str(raised.value) and "\n" not in str(raised.value)
+
+
+@pytest.mark.parametrize("extra, words", [
+    ("[outputs]\nquantities = []\n", "outputs.quantities = []: an empty list"),
+    ('[motion]\nkind = "manoeuvre"\nlegs = []\n', "motion.legs = []: an empty list"),
+])
+def test_run_refuses_an_empty_list_in_one_line(extra, words, tmp_path, capsys,
+                                               monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "s.toml").write_text(BASE.replace('"1 h"', '"6 min"') + extra,
+                                     encoding="utf-8")
+    assert main(["run", "s.toml", "--no-progress", "--out", "o"]) == 2
+    out, err = capsys.readouterr()
+    assert out == "" and err.count("\n") == 1 and words in err, err
+    assert not (tmp_path / "o").exists()
+
+
+def test_the_python_api_refuses_a_manoeuvre_without_legs():
+    from ins_errors.numeric import strapdown_truth as st
+    from ins_errors.numeric import trajectories as tr
+
+    for call in (lambda: tr.manoeuvre_profile(0.8, 0.0, 0.0, 200.0, []),
+                 lambda: st.manoeuvre(0.8, 0.0, 0.0, 200.0, [])):
+        with pytest.raises(tr.MotionError, match="a manoeuvre needs at least 1 leg"):
+            call()

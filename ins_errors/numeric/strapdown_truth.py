@@ -374,6 +374,9 @@ def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
     speed = motion_number(speed, "manoeuvre speed", "m/s")
     if not np.isfinite(speed) or speed <= 0:
         raise MotionError(f"manoeuvre speed must be > 0 m/s, got {speed:g} m/s")
+    if len(legs) == 0:
+        raise MotionError("a manoeuvre needs at least 1 leg, got none (an empty list of "
+                          "legs)")
     starts, t0, v0, h0 = [], 0.0, float(speed), float(height)
     for leg in legs:
         if not leg.duration > 0:

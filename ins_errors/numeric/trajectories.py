@@ -358,6 +358,9 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
     h = motion_number(h, "motion height", "m")
     _check_speed(speed, "manoeuvre speed")
     check_height(h, "motion height")
+    if len(legs) == 0:
+        raise MotionError("a manoeuvre needs at least 1 leg, got none (an empty list of "
+                          "legs)")
     starts, t0 = [], 0.0
     v0, psi0, h0 = float(speed), 0.0, float(h)
     for leg in legs:
