@@ -18,6 +18,7 @@ from importlib import resources
 from pathlib import Path
 
 from ins_errors.json_output import dumps
+from ins_errors.markdown_cells import one_line, table_cell, with_cell_labels
 from ins_errors.model_parameters import parameters_record, parameters_used
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.output import OutputFolder
@@ -25,6 +26,19 @@ from ins_errors.scenario import ScenarioResult
 
 _MATH = re.compile(r"\$\$(.+?)\$\$", re.S)
 _INLINE_MATH = re.compile(r"(?<!\$)\$([^$\n]+?)\$(?!\$)")
+_LINK = re.compile(r'(<a [^>]*href=")([^"]*)(")')
+_SCHEME = re.compile(r"^([^:/?#]*):")
+_SAFE_SCHEMES = ("http", "https", "mailto")
+
+
+def _safe_link(match: re.Match) -> str:
+    """A link's tag, its target ``#`` if it has a scheme other than http(s) or mailto
+    (``javascript:``, also written with entities or blanks, as a browser reads it)."""
+    target = re.sub(r"[\x00-\x20]", "", html.unescape(match.group(2)))
+    scheme = _SCHEME.match(target)
+    if scheme is None or scheme.group(1).lower() in _SAFE_SCHEMES:
+        return match.group(0)
+    return f"{match.group(1)}#{match.group(3)}"
 
 
 def _equations_document(model: Model) -> str:
@@ -50,19 +64,20 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
 
     s = result.scenario
     model = load_model(s.model)
-    lines = [f"# {s.title}", ""]
+    comparisons = with_cell_labels(result.comparisons)  # each label is a table cell
+    lines = [f"# {one_line(s.title)}", ""]
     if s.description:
         lines += [s.description, ""]
     lines += [
         "| setting | value |", "|---|---|",
-        f"| model | `{model.name}` |",
-        f"| motion | {result.motion_description} |",
+        f"| model | `{table_cell(model.name)}` |",
+        f"| motion | {table_cell(result.motion_description)} |",
         f"| duration | {s.duration / 3600:g} h |",
         f"| step τ | {s.step:g} s ({'rectangle method' if s.method == 'euler' else 'RK4'}) |",
         f"| recorded every | {s.record:g} s |",
         *([f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |"]
           if has_platform_variants(model) else []),
-        f"| Earth model | {s.ellipsoid or 'model default'} |",
+        f"| Earth model | {table_cell(s.ellipsoid or 'model default')} |",
         f"| parameters | {_parameters_text(model, s)} |",
         f"| truth | {truth_text(s.truth, result.truth_used)} |",
         "",
@@ -72,9 +87,9 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         + integration_runs_text(result.comparisons, s.step),
         "",
         "## Summary", "",
-        markdown_summary(result.comparisons),
+        markdown_summary(comparisons),
     ]
-    for k, (comparison, plot) in enumerate(zip(result.comparisons, plots, strict=True), 1):
+    for k, (comparison, plot) in enumerate(zip(comparisons, plots, strict=True), 1):
         lines += [f"## Case {k}: {comparison.label}", "", f"![case {k}]({plot})", "",
                   markdown_table(_selected(comparison, s.quantities))]
     lines += ["## Equations used", "", _equations_document(model)]
@@ -188,7 +203,10 @@ def markdown_to_html(text: str, title: str, images: Path | None = None) -> str:
 
     Formulas become MathML (read by every current browser, no script, no network);
     images found in the folder ``images`` are embedded as data URIs, so the page can be
-    mailed or opened offline on its own.
+    mailed or opened offline on its own. HTML written in the Markdown (a case label
+    ``a<b & c>d`` or ``<script>...``: the reports hold no HTML of their own) is shown as
+    text, never run or read as markup, and a link other than http(s), mailto or a
+    relative one (``javascript:...``) loses its target.
     """
     import markdown
 
@@ -200,7 +218,10 @@ def markdown_to_html(text: str, title: str, images: Path | None = None) -> str:
 
     protected = _MATH.sub(lambda m: keep(m, True), text)
     protected = _INLINE_MATH.sub(lambda m: keep(m, False), protected)
-    body = markdown.markdown(protected, extensions=["tables", "fenced_code"])
+    converter = markdown.Markdown(extensions=["tables", "fenced_code"])
+    converter.preprocessors.deregister("html_block")  # raw HTML: escaped as text
+    converter.inlinePatterns.deregister("html")
+    body = _LINK.sub(_safe_link, converter.convert(protected))
     body = re.sub(r"MATHPLACEHOLDER(\d+)END", lambda m: math[int(m.group(1))], body)
     body = _embedded_images(body, images)
     return (

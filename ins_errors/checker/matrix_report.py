@@ -18,6 +18,7 @@ from ins_errors.checker.extreme import first_largest_item
 from ins_errors.checker.growth import growth_text
 from ins_errors.checker.kinds import DECLARED
 from ins_errors.checker.matrix import ARCSEC, Effect, EntryFinding, MatrixReport
+from ins_errors.markdown_cells import one_line, table_cell
 
 NO_EFFECT = "no effect above rounding"
 """What the report says for a difference at or below its rounding floor."""
@@ -237,9 +238,9 @@ def to_terminal(r: MatrixReport) -> str:
 
 def to_markdown(r: MatrixReport, title: str | None = None) -> str:
     """Markdown report (tables of findings and effects)."""
-    out = [f"# {title or 'Matrix check'}", "",
-           f"Hand model `{r.hand_name}` against the derived model `{r.model}`, convention "
-           f"`{r.convention}`, threshold {r.threshold:g}.", "",
+    out = [f"# {one_line(title or 'Matrix check')}", "",
+           f"Hand model `{one_line(r.hand_name)}` against the derived model `{r.model}`, "
+           f"convention `{r.convention}`, threshold {r.threshold:g}.", "",
            f"States: {', '.join(f'`{s}`' for s in r.states)}."]
     if r.bias_states:
         out.append(f"Bias states (error sources as states: their columns hold G's): "
@@ -264,8 +265,9 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
                 "|---|---|---|---|---|---|---|---|---|"]
         for f in r.findings:
             out.append(f"| `{f.entry}` | {f.severity} ({f.size_class}) | {f.kind} | "
-                       f"{f.size:.2g} | {f.motion}, {_hours(f.time)} | {f.hand + 0.0:.6g} | "
-                       f"{f.model + 0.0:.6g} | {f.detail} | {_alone(r, f)} |")
+                       f"{f.size:.2g} | {table_cell(f.motion)}, {_hours(f.time)} | "
+                       f"{f.hand + 0.0:.6g} | {f.model + 0.0:.6g} | {table_cell(f.detail)} | "
+                       f"{table_cell(_alone(r, f))} |")
         out.append("")
     if r.effects:
         out += ["## Effect of the differences", "",
@@ -275,7 +277,7 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
                 "",
                 "| " + " | ".join(EFFECT_HEADER) + " |",
                 "|" + "---|" * len(EFFECT_HEADER)]
-        out += ["| " + " | ".join(row) + " |" for row in _effect_rows(r)]
+        out += ["| " + " | ".join(map(table_cell, row)) + " |" for row in _effect_rows(r)]
         out.append("")
     return "\n".join(out)
 

@@ -149,6 +149,7 @@ def parse_ratio(text: str, what: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import InsErrorsError
+    from ins_errors.markdown_cells import one_line, with_cell_labels
     from ins_errors.model_parameters import (
         parameters_record,
         parameters_used,
@@ -239,8 +240,9 @@ def run(args: argparse.Namespace) -> int:
         comparison.warnings.extend(getattr(trajectory, "notes", ()))
     title = (f"{model.name}: {trajectory.description}; {duration / 3600:g} h, τ = {tau:g} s, "
              f"{args.method}")
-    text = markdown_summary(comparisons, title) + "\n" + "\n".join(
-        markdown_table(c) for c in comparisons)
+    cells = with_cell_labels(comparisons)  # a label with a | stays in its cell
+    text = markdown_summary(cells, one_line(title)) + "\n" + "\n".join(
+        markdown_table(c) for c in cells)
     if args.markdown:
         from ins_errors.output import write_text
 

@@ -107,6 +107,7 @@ def magnitude_cell(r, key: str) -> str:
 
 def table(results, model) -> str:
     """Markdown table of a validity map."""
+    from ins_errors.markdown_cells import table_cell
     from ins_errors.units import format_readable
 
     def shown(r, value):
@@ -120,7 +121,7 @@ def table(results, model) -> str:
             status += f"; failed from {shown(r, r.failed_magnitudes[0])}¹"
         elif r.failed:
             status += "¹"
-        lines.append(f"| `{r.source}` | {r.motion} | {r.quantity or '–'} | "
+        lines.append(f"| `{r.source}` | {table_cell(r.motion)} | {r.quantity or '–'} | "
                      f"{_fmt(r.linear_slope)} | {_fmt(r.refined_slope)} | "
                      f"{magnitude_cell(r, 'magnitude_1pct')} | "
                      f"{magnitude_cell(r, 'magnitude_10pct')} | {status} |")
