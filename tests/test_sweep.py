@@ -533,3 +533,37 @@ def test_an_interrupted_sweep_says_what_the_store_keeps(tmp_path, monkeypatch, c
     assert kept == 2
     assert line == (f"ins-errors: interrupted: {kept} of the 3 points are in {store}; "
                     "the same command runs the others")
+
+
+def test_swept_values_are_shown_with_the_digits_that_tell_them_apart(tmp_path, capsys):
+    """A point at 89.99999° is not named "latitude = 90 deg" (a pole, which the file
+    does not sweep), nor 45.000001° "45 deg" beside a point at 45°: the messages and the
+    table show each value with the digits that read back as the value written; a value
+    that round-trips through radians (15° of a range) keeps its short text."""
+    written = ["45", "45.000001", "89.99999"]
+    base = BASE.replace('duration = "1 h"', 'duration = "1 min"').replace(
+        'step = "1 s"', 'step = "10 s"').replace('record = "60 s"', 'record = "30 s"')
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = [" + ", ".join(
+        f'"{w} deg"' for w in written) + "]\n", base=base)
+    labels = [job.label for job in sw.grid(load_scenario(path)).jobs]
+    assert labels == [f"latitude = {w} deg" for w in written]
+    assert main(["sweep", str(path), "--engine", "serial", "--store",
+                 str(tmp_path / "s.zarr"), "--no-progress"]) == 2
+    out, err = capsys.readouterr()
+    assert "(latitude = 89.99999 deg): " in err and "= 90 deg" not in err
+    lines = out.splitlines()
+    start = next(k for k, line in enumerate(lines) if line.lstrip().startswith("latitude"))
+    column = [line.split()[0] for line in lines[start + 1:start + 4]]
+    assert [float(c) for c in column] == [float(w) for w in written]
+    ranged = scenario_file(tmp_path, '[sweep]\nlatitude = { start = "0 deg", stop = "75 deg", '
+                           "count = 6 }\n", base=base, name="r.toml")
+    assert [job.label for job in sw.grid(load_scenario(ranged)).jobs] == [
+        f"latitude = {15 * k} deg" for k in range(6)]
+
+
+@pytest.mark.parametrize("value, least, text", [
+    (89.99999, 6, "89.99999"), (90.0, 6, "90"), (15.000000000000002, 6, "15"),
+    (45.000001, 6, "45.000001"), (1e-5, 6, "1e-05"), (0.0, 6, "0"), (2 / 3, 3, "0.666666666666667"),
+    (0.1 + 0.2, 6, "0.3")])
+def test_number_text_keeps_what_tells_the_value_apart(value, least, text):
+    assert sw.number_text(value, least) == text

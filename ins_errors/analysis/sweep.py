@@ -50,6 +50,7 @@ import dataclasses
 import hashlib
 import itertools
 import json
+import math
 import re
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, fields
@@ -141,6 +142,39 @@ class Parameter:
         from ins_errors.units import format_quantity
 
         return float(format_quantity(value, self.unit, self.display_unit, 17).split()[0])
+
+    def text(self, value: float) -> str:
+        """``value`` (SI) as text in :attr:`display_unit`, ``"89.99999 deg"``: six
+        significant digits, more where six would show another value
+        (:func:`number_text`)."""
+        return f"{number_text(self.shown(value))} {self.display_unit}"
+
+
+def number_text(value: float, least: int = 6) -> str:
+    """``value`` with ``least`` significant digits, or the fewest more that still read
+    as ``value``: 89.99999 is ``"89.99999"``, not ``"90"`` (a pole), and 15 converted
+    from radians and back (15.000000000000002) is ``"15"``.
+
+    Parameters
+    ----------
+    value : float
+        The number, in the unit it is shown in.
+    least : int
+        Significant digits at least.
+
+    Returns
+    -------
+    str
+        The text with the fewest digits, from ``least`` to 17, that reads back within
+        4 units in the last place of ``value`` (the noise a unit conversion leaves).
+    """
+    if not math.isfinite(value) or value == 0.0:
+        return f"{value:g}"
+    for digits in range(least, 18):
+        text = f"{value:.{digits}g}"
+        if abs(float(text) - value) <= 4 * math.ulp(value):
+            return text
+    return repr(value)
 
 
 @dataclass(frozen=True)
@@ -458,7 +492,7 @@ def grid(scenario) -> Grid:
                         sources[p.name] = v
                 case_index.append(case)
                 draw_index.append(-1 if draw is None else draw)
-                label = [f"{p.name} = {p.shown(v):.6g} {p.display_unit}"
+                label = [f"{p.name} = {p.text(v)}"
                          for p, v in zip(spec.parameters, values, strict=True)]
                 label += [f"case {case + 1}"] if len(cases) > 1 else []
                 label += [f"draw {draw}"] if draw is not None else []
@@ -598,11 +632,10 @@ def _check_references(scenario, jobs: Sequence[PointJob]) -> None:
         if used is None or name in used:
             continue
         own = tr.reference_parameter(model, name)
-        shown = ", ".join(f"{parameter.shown(v):g} {parameter.display_unit}"
-                          for v in parameter.values)
+        shown = ", ".join(parameter.text(v) for v in parameter.values)
         way = (f"its parameter {own.name} ({own.description}) sets it, one value per "
                f'scenario file: [parameters] {own.name} = "'
-               f'{parameter.shown(parameter.values[0]):g} {parameter.display_unit}"'
+               f'{parameter.text(parameter.values[0])}"'
                if own is not None else f"leave {name} out of [sweep]")
         raise tr.MotionError(f"{where} [sweep] {name}: model {model.name!r} has no {name} "
                              f"(its runs do not depend on one), so its values {shown} would "

@@ -15,7 +15,13 @@ from typing import Any
 import numpy as np
 
 from ins_errors.analysis.store import failure_reasons
-from ins_errors.analysis.sweep import FIGURES, Parameter, SweepError, SweepSpec
+from ins_errors.analysis.sweep import (
+    FIGURES,
+    Parameter,
+    SweepError,
+    SweepSpec,
+    number_text,
+)
 from ins_errors.errors import unknown_name
 from ins_errors.figure_layout import text_width, wrap_to_width
 
@@ -54,8 +60,7 @@ def point_label(dataset, k: int) -> str:
             attrs = dataset[name].attrs
             parameter = Parameter(name, "", attrs.get("units", "1"), (),
                                   attrs.get("display_unit", attrs.get("units", "1")))
-            parts.append(f"{name} = {parameter.shown(float(value)):.6g} "
-                         f"{parameter.display_unit}")
+            parts.append(f"{name} = {parameter.text(float(value))}")
     return ", ".join(parts)
 
 
@@ -248,7 +253,7 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
             value = float(dataset[name].values[k])
             attrs = dataset[name].attrs
             unit, display = attrs.get("units", "1"), attrs.get("display_unit", "1")
-            cells.append(f"{Parameter(name, '', unit, (), display).shown(value):.6g}")
+            cells.append(number_text(Parameter(name, "", unit, (), display).shown(value)))
         if reasons[k]:
             rows.append([*cells, "failed", *(["–"] * (len(head) - len(cells) - 1))])
             continue
@@ -294,7 +299,7 @@ def draws_table(dataset, quantities: Sequence[str] | None = None) -> str:
             attrs = dataset[name].attrs
             parameter = Parameter(name, "", attrs.get("units", "1"), (),
                                   attrs.get("display_unit", "1"))
-            cells.append(f"{parameter.shown(row[name]):.6g}")
+            cells.append(number_text(parameter.shown(row[name])))
         ratio = row["largest_worst_linear_ratio"]
         cells += [str(row["draws"]), *([str(len(row["failed_draws"]))] if any_failed else []),
                   "–" if ratio is None else f"{ratio:.3e}"]
