@@ -200,3 +200,25 @@ def test_a_header_of_another_shape_is_named_as_that(capsys, tmp_path, header, ro
     path.write_text("\n".join([header, *rows]) + "\n", encoding="utf-8")
     status, _out, err = _compare(capsys, "--motion-file", str(path))
     assert status == 2 and len(err.strip().splitlines()) == 1 and said in err, err
+
+
+@pytest.mark.parametrize("column", ["t", "v_N", "v_E", "h"])
+@pytest.mark.parametrize("bad", ["nan", "inf", "-1e999"])
+def test_a_value_that_is_not_finite_names_the_file_column_and_line(tmp_path, column, bad):
+    """NaN or infinity in any column (not only t) is named by the file, the column and
+    the file's line, as the reader counts them (comments and blank lines included)."""
+    t = np.arange(0.0, 60.0, 1.0)
+    v_n, v_e = _circling(t)
+    cells = np.column_stack([t, v_n, v_e, np.full(t.size, 100.0)]).astype(str)
+    k = 37  # the sample made bad: after a comment line, the header and a blank line
+    cells[k, ["t", "v_N", "v_E", "h"].index(column)] = bad
+    path = tmp_path / "log.csv"
+    path.write_text("# a log\nt,v_N,v_E,h\n\n" + "".join(",".join(row) + "\n"
+                                                       for row in cells))
+    line = k + 4
+    with pytest.raises(InsErrorsError) as error:
+        read_motion_file(path, LAT, LON, 0.0, 0.0)
+    assert str(error.value) == (f"motion file {str(path)!r}: {column} is NaN or infinite in "
+                                f"sample {k + 1} of {t.size} (line {line})")
+    assert path.read_text().splitlines()[line - 1].split(",")[
+        ["t", "v_N", "v_E", "h"].index(column)] == bad

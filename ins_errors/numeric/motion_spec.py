@@ -123,6 +123,7 @@ def read_motion_file(path: str | Path, latitude: float, longitude: float, headin
     if height_given and "h" in names:
         raise InsErrorsError(f"motion height: {where} has its own column h, which the "
                              "flight follows; leave the height out")
+    _check_finite(where, names, table, lines)
     _check_times(where, table["t"], lines)
     if "h" in names:
         beyond = np.flatnonzero(np.abs(table["h"]) > tr.HEIGHT_LIMIT)
@@ -161,6 +162,17 @@ def _check_names(where: str, names: list[str]) -> None:
         "motion file has the columns t (s), v_N, v_E (m/s) and optionally h (m), no others "
         "(the start latitude and longitude come from --latitude/--longitude or the "
         "scenario's [motion]; a height column must be named h)")
+
+
+def _check_finite(where: str, names: list[str], table: Mapping[str, np.ndarray],
+                  lines: list[int]) -> None:
+    """Refuse a NaN or infinite value (``nan``, ``inf``, ``1e999``) in any column, naming
+    the first one in the file: its column, sample and line (one line)."""
+    bad = ~np.isfinite(np.column_stack([table[name] for name in names]))
+    if bad.any():
+        k, j = (int(i) for i in np.argwhere(bad)[0])  # the first row, then column
+        raise InsErrorsError(f"{where}: {names[j]} is NaN or infinite in sample {k + 1} of "
+                             f"{bad.shape[0]} (line {lines[k]})")
 
 
 def _check_times(where: str, t: np.ndarray, lines: list[int]) -> None:
