@@ -106,7 +106,7 @@ class Scenario:
         name messages give it.
     sweep : SweepSpec or None
         The ``[sweep]`` table (:mod:`ins_errors.analysis.sweep`), run by
-        ``ins-errors sweep``; ``ins-errors run`` runs the scenario without it.
+        ``ins-errors sweep``; ``ins-errors run`` refuses a file that has one.
     """
 
     title: str

@@ -69,3 +69,12 @@ def test_the_spheroid_study_refuses_a_scenario_it_would_ignore(capsys, scenario)
     err = _one_line_error(capsys, ["study", "spheroid", "--hours", "0.1", "--scenario",
                                    scenario])
     assert err.startswith("--scenario:") and "leave --scenario out" in err
+
+
+@pytest.mark.parametrize("name", ["coriolis", "nonsphericity"])
+def test_a_study_on_a_static_base_refuses_a_speed_it_would_ignore(capsys, name):
+    """--speed with --scenario static was taken and ignored (compare refuses a speed on a
+    static base); with a flight among the scenarios it is used."""
+    err = _one_line_error(capsys, ["study", name, "--hours", "0.1", "--scenario", "static",
+                                   "--speed", "100m/s"])
+    assert err.startswith("--speed applies to the flight") and "leave --speed out" in err

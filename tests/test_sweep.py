@@ -567,3 +567,16 @@ def test_swept_values_are_shown_with_the_digits_that_tell_them_apart(tmp_path, c
     (0.1 + 0.2, 6, "0.3")])
 def test_number_text_keeps_what_tells_the_value_apart(value, least, text):
     assert sw.number_text(value, least) == text
+
+
+def test_run_refuses_a_sweep_file_and_names_the_command_that_runs_it(tmp_path, capsys):
+    """`ins-errors run` on a file with a [sweep] table ran the scenario without its grid,
+    saying nothing: it is refused in one line naming `ins-errors sweep`, before any
+    work (no report folder is made)."""
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '30 deg']\n")
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out)]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and captured.err.count("\n") == 1
+    assert "[sweep]" in captured.err and f"ins-errors sweep {path}" in captured.err
+    assert not out.exists()

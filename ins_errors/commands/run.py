@@ -56,6 +56,12 @@ def run(args: argparse.Namespace) -> int:
         raise InsErrorsError("run needs a SCENARIO file (or --schema)")
     require_matplotlib("the report's plots")
     scenario = load_scenario(args.scenario)
+    if scenario.sweep is not None:  # its grid would be silently left out
+        from ins_errors.errors import InsErrorsError
+
+        raise InsErrorsError(f"{args.scenario}: it has a [sweep] table, and a sweep file "
+                             f"is run with 'ins-errors sweep {args.scenario} --store "
+                             "STORE' (without [sweep], 'ins-errors run' runs its scenario)")
     if args.truth is not None:  # the command line overrides the file
         scenario.truth = args.truth
     out = Path(args.out) if args.out else Path(f"report_{Path(args.scenario).stem}")

@@ -25,6 +25,8 @@ from ins_errors.commands import hours, motion_from_options
 from ins_errors.json_output import emit
 
 SPHEROID = "spheroid"
+DEFAULT_SPEED = "250 m/s"
+"""Ground speed of the flights when no --speed is given."""
 
 
 def study_names() -> list[str]:
@@ -55,7 +57,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--latitude", default=None,
                         help="methodological studies: start latitude (default 50deg; the "
                              "spheroid study flies its own latitudes)")
-    parser.add_argument("--speed", default="250m/s", help="ground speed in flight")
+    parser.add_argument("--speed", default=None,
+                        help="ground speed in flight (default 250 m/s; not with "
+                             "--scenario static)")
     parser.add_argument("--plot", type=Path, default=None, metavar="DIR",
                         help="write PNG plots into this folder")
     parser.add_argument("--force", action="store_true",
@@ -93,7 +97,8 @@ def run(args: argparse.Namespace) -> int:
 
         require_matplotlib("--plot")
         folder = OutputFolder(args.plot, force=args.force, option="--plot")
-    speed = parse_quantity(args.speed, "m/s", "--speed")
+    speed = parse_quantity(DEFAULT_SPEED if args.speed is None else args.speed, "m/s",
+                           "--speed")
     step = parse_quantity(args.step or "20 s", "s", "--step")
     if not step > 0:
         from ins_errors.errors import InsErrorsError
@@ -121,11 +126,18 @@ def run(args: argparse.Namespace) -> int:
     hours = 24.0 if args.hours is None else args.hours
     scenarios = (("static", "flight") if args.scenario in (None, "both")
                  else (args.scenario,))
+    if args.speed is not None and "flight" not in scenarios:  # as compare on a static base
+        from ins_errors.errors import InsErrorsError
+
+        raise InsErrorsError("--speed applies to the flight (--scenario flight or both), "
+                             "and --scenario static is a static base: leave --speed out or "
+                             "choose --scenario flight or both")
     # the start, checked before any run, its errors naming the options
     flight = "flight" in scenarios
     latitude = motion_from_options({
         "kind": "great-circle" if flight else "static",
-        "latitude": args.latitude or "50deg", "speed": args.speed if flight else None}
+        "latitude": args.latitude or "50deg",
+        "speed": (DEFAULT_SPEED if args.speed is None else args.speed) if flight else None}
     ).latitude
     # every minute (about 84 samples per Schuler period, so plotted peaks are smooth)
     # when a minute is whole steps and the run whole minutes, else every step
