@@ -135,6 +135,24 @@ def test_a_cache_folder_that_is_a_file_is_one_line(tmp_path, monkeypatch, capsys
         assert err.count("\n") == 1 and "is not a folder" in err, err
 
 
+def test_a_cache_folder_that_cannot_be_made_is_refused_as_by_the_other_commands(
+        tmp_path, monkeypatch, capsys):
+    """A $INS_ERRORS_CACHE that is missing and cannot be made (under a file here; under
+    /proc likewise) was shown as empty stores, exit 0, while a command that writes
+    there refuses it: info and clear give that command's line, exit 2."""
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric import integrators as integ
+
+    (tmp_path / "file").write_text("not a folder")
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "file" / "cache"))
+    with pytest.raises(InsErrorsError) as refused:  # what a run that compiles a loop says
+        integ._writable(cache.directory())
+    for action in ("info", "clear"):
+        assert main(["cache", action]) == 2
+        captured = capsys.readouterr()
+        assert captured.out == "" and captured.err == f"ins-errors: error: {refused.value}\n"
+
+
 def test_a_store_that_cannot_be_emptied_is_one_line(filled, monkeypatch, capsys):
     def refuse(folder):
         raise PermissionError(13, "Permission denied", str(folder / "x"))

@@ -170,6 +170,29 @@ def _check_folder(folder: Path) -> None:
                              "(see $INS_ERRORS_CACHE)")
 
 
+def _refuse_unmakeable() -> None:
+    """Refuse a ``$INS_ERRORS_CACHE`` folder that is missing and cannot be made, with the
+    line every other command gives when it would write there (``/proc/nonexist``); the
+    folder is made to find out and removed again (``info`` and ``clear`` leave no new
+    folder behind). A missing folder that can be made is shown as empty."""
+    from ins_errors.numeric import cache
+
+    chosen = cache.root()
+    if chosen is None or chosen.is_dir():
+        return
+    missing = [chosen, *(p for p in chosen.parents if not p.exists())]
+    try:
+        chosen.mkdir(parents=True, exist_ok=True)
+    except OSError as error:
+        why = error.strerror or type(error).__name__
+        raise cache.unusable_cache(chosen, why) from None
+    for made in missing:  # the deepest first; a folder filled meanwhile is kept
+        try:
+            made.rmdir()
+        except OSError:
+            break
+
+
 def _failed(action: str, folder: Path, error: OSError) -> InsErrorsError:
     where = error.filename or folder
     return InsErrorsError(f"cannot {action} the cache folder {str(folder)!r}: "
@@ -185,6 +208,7 @@ def run(args: argparse.Namespace) -> int:
 
     folder = cache.directory()
     _check_folder(folder)
+    _refuse_unmakeable()
     others = stores()
     if args.action == "clear":
         return _clear(args, folder, others)
