@@ -563,7 +563,7 @@ def test_swept_values_are_shown_with_the_digits_that_tell_them_apart(tmp_path, c
 
 @pytest.mark.parametrize("value, least, text", [
     (89.99999, 6, "89.99999"), (90.0, 6, "90"), (15.000000000000002, 6, "15"),
-    (45.000001, 6, "45.000001"), (1e-5, 6, "1e-05"), (0.0, 6, "0"), (2 / 3, 3, "0.666666666666667"),
+    (45.000001, 6, "45.000001"), (1e-5, 6, "1e-05"), (0.0, 6, "0"), (2 / 3, 3, "0.6666666667"),
     (0.1 + 0.2, 6, "0.3")])
 def test_number_text_keeps_what_tells_the_value_apart(value, least, text):
     assert sw.number_text(value, least) == text

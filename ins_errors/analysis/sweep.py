@@ -165,16 +165,23 @@ def number_text(value: float, least: int = 6) -> str:
     Returns
     -------
     str
-        The text with the fewest digits, from ``least`` to 17, that reads back within
-        4 units in the last place of ``value`` (the noise a unit conversion leaves).
+        The text with the fewest digits, from ``least`` to :data:`MOST_DIGITS`, that
+        reads back within 4 units in the last place of ``value`` (the noise a unit
+        conversion leaves); a value that needs more (1/6 of a degree from an uneven
+        range) is shown with :data:`MOST_DIGITS`, which tell it from its neighbours.
     """
     if not math.isfinite(value) or value == 0.0:
         return f"{value:g}"
-    for digits in range(least, 18):
+    for digits in range(least, max(least, MOST_DIGITS) + 1):
         text = f"{value:.{digits}g}"
         if abs(float(text) - value) <= 4 * math.ulp(value):
             return text
-    return repr(value)
+    return text
+
+
+MOST_DIGITS = 10
+"""Significant digits :func:`number_text` shows at most (a sweep's values differ in far
+fewer)."""
 
 
 @dataclass(frozen=True)
