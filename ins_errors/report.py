@@ -83,7 +83,10 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         "",
         "Direct = real-work minus ideal-work run; linear = the derived first-order error "
         "equations along the same motion; refined = with the second-order terms. A ratio is "
-        "the largest difference from the direct run divided by the largest direct error. "
+        "the largest difference from the direct run divided by the largest direct error; "
+        "the worst ratios are taken over the quantities marked *judged*: each one whose "
+        "direct error is above the rounding floor of its unit and which the linear model "
+        "moves at first order (*2nd order*: it gives 0 there). "
         + integration_runs_text(result.comparisons, s.step),
         "",
         "## Summary", "",

@@ -15,15 +15,15 @@ linear-vs-direct difference or 1 % of the error (naming a step that would do), a
 the linear/direct ratio exceeds the validity threshold (5 % by default, naming the
 magnitude at which it would be 1 %, from the measured scaling of a half-size run).
 
-A quantity counts as *excited* when its direct error is above the rounding floor of its
-unit (:data:`NOISE_FLOOR`) and at least :data:`EXCITED_FRACTION` of the largest direct
-error of the same unit in that case; quantities a source moves only at second order (or
-not at all) are reported but do not enter the worst-case ratios (their relative
-difference is meaningless: the linear model rightly predicts ~0). A quantity whose
-linear error is exactly 0 at every record while other quantities of the case move (a
-coupling that vanishes on the motion, e.g. tan φ at the equator) is such a quantity
-however large its direct error: it is marked ``second_order_only`` and named in a
-warning, instead of a "validity" ratio of 100 % at any magnitude.
+A quantity counts as *excited* (its ratios are judged) when its direct error is above
+the rounding floor of its unit (:data:`NOISE_FLOOR`) and the linear model moves it at
+first order. Each quantity is judged on its own: it is not compared with the other
+quantities of the case (a platform tilt of 0.01 arcmin is no less first order for sharing
+the unit rad with a latitude error of 3 arcmin). A quantity whose linear error stays at 0
+(to within :data:`SECOND_ORDER_FRACTION` of its direct error) while other quantities of
+the case move is one the source moves only at second order on this motion (e.g. a
+coupling through tan φ at the equator): it is marked ``second_order_only``, named in a
+warning and not judged, instead of a "validity" ratio of 100 % at any magnitude.
 """
 
 from __future__ import annotations
@@ -45,9 +45,17 @@ NOISE_FLOOR: dict[str, float] = {"rad": 1e-10, "rad/s": 1e-14, "m/s": 1e-6, "m":
 """Direct errors below these (SI) are at the level of accumulated double rounding of
 quantities of order one (direction cosines) or hundreds of m/s (absolute velocities)."""
 
-EXCITED_FRACTION = 1e-3
-"""A quantity is excited when its direct error reaches this fraction of the largest
-direct error of the same unit in the same case."""
+SECOND_ORDER_FRACTION = 1e-6
+"""A quantity whose largest linear error is at most this fraction of its largest direct
+error (exactly 0, or rounding of a coupling that vanishes on the motion: 1e-9 measured)
+is moved only at second order: the linear model has nothing of it to judge."""
+
+SECOND_ORDER_NAMED = 1e-3
+"""A quantity moved only at second order is named in a warning when its direct error
+reaches this fraction of the largest direct error of its kind in the case (platform
+angles with platform angles, output errors with output errors of the same unit): a
+second-order azimuth of 1e-5 arcsec beside tilts of arcseconds is only marked in the
+table."""
 
 VALIDITY_THRESHOLD = 0.05
 """Default linear/direct ratio above which a comparison warns that the linear model is
@@ -201,23 +209,24 @@ def _ratio(difference: float, reference: float) -> float:
 
 def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | None,
                case: int = 0) -> list[Metric]:
-    """Per-quantity metrics of one batch member."""
+    """Per-quantity metrics of one batch member.
+
+    Each quantity is judged on its own (see the module's notes): *excited* when its direct
+    error is above the rounding floor of its unit and the linear model moves it at first
+    order; ``second_order_only`` when it is above the floor, the linear run moves the case
+    and leaves this quantity at 0 (to :data:`SECOND_ORDER_FRACTION` of its direct error).
+    """
     rows = []
-    peaks = {name: float(np.max(np.abs(direct.values[k, :, case])))
-             for k, name in enumerate(direct.names)}
-    largest: dict[str, float] = {}
-    for name, unit in zip(direct.names, direct.units, strict=True):
-        largest[unit] = max(largest.get(unit, 0.0), peaks[name])
     # where nothing is linear at all, the source is unseen (add_validity_warnings says so)
     linear_moves = bool(np.any(linear.values[:, :, case]))
     for k, (name, unit) in enumerate(zip(direct.names, direct.units, strict=True)):
         d = direct.values[k, :, case]
-        peak = peaks[name]
+        peak = float(np.max(np.abs(d)))
         lin = float(np.max(np.abs(linear.values[k, :, case] - d)))
         ref = None if refined is None else float(np.max(np.abs(refined.values[k, :, case] - d)))
-        large = bool(peak > NOISE_FLOOR.get(unit, 0.0)
-                     and peak >= EXCITED_FRACTION * largest[unit])
-        second = large and linear_moves and not np.any(linear.values[k, :, case])
+        large = bool(peak > NOISE_FLOOR.get(unit, 0.0))
+        first = float(np.max(np.abs(linear.values[k, :, case]))) > SECOND_ORDER_FRACTION * peak
+        second = large and linear_moves and not first
         rows.append(Metric(name, unit, peak, lin, _ratio(lin, peak), ref,
                            None if ref is None else _ratio(ref, peak), large and not second,
                            second_order_only=second))
@@ -349,23 +358,35 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
 
 def add_second_order_warnings(comparisons: Sequence[Comparison]) -> None:
     """Name the (shown) quantities the case moves only at second order
-    (:attr:`Metric.second_order_only`): the linear model gives exactly 0 for them, so
-    their linear/direct ratio is 100 % at any magnitude and is not judged."""
+    (:attr:`Metric.second_order_only`): the linear model gives 0 for them (to rounding),
+    so their linear/direct ratio is 100 % at any magnitude and is not judged. Only those
+    that matter beside their own kind are named (:data:`SECOND_ORDER_NAMED`); the
+    others are marked in the table only."""
     for comparison in comparisons:
+        largest: dict[tuple[bool, str], float] = {}
+        for m in comparison.metrics:
+            largest[_kind(m)] = max(largest.get(_kind(m), 0.0), m.max_direct)
         second = [m for m in comparison.metrics if m.second_order_only
-                  and (comparison.shown is None or m.quantity in comparison.shown)]
+                  and (comparison.shown is None or m.quantity in comparison.shown)
+                  and m.max_direct >= SECOND_ORDER_NAMED * largest[_kind(m)]]
         if second:
             sizes = ", ".join(f"{m.quantity} {_shown_size(m.max_direct, m.unit)}"
                               for m in second)
             comparison.warnings.append(
-                f"moved only at second order on this motion (the linear model gives exactly "
-                f"0; the direct run reaches {sizes}): a linear/direct ratio of 100 % at any "
+                f"moved only at second order on this motion (the linear model gives 0, to "
+                f"rounding; the direct run reaches {sizes}): a linear/direct ratio of 100 % at any "
                 "magnitude, not judged" + ("; the refined model's ratio shows how well the "
                                             "second-order terms account for it"
                                             if comparison.refined else "")
                 + " (a model whose equations are not differentiable on this motion, |x| "
                 "or sign(x) at 0, gives the same exact 0 for a first-order effect: "
                 "halving the sources then halves, not quarters, the direct error)")
+
+
+def _kind(metric: Metric) -> tuple[bool, str]:
+    """A quantity's kind: a platform angle or an output error (``delta_<output>``), and
+    its unit."""
+    return metric.quantity.startswith("delta_"), metric.unit
 
 
 def _shown_size(value: float, unit: str) -> str:
@@ -857,10 +878,12 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
         error = m.integration_error
         if error is None or error <= NOISE_FLOOR.get(m.unit, 0.0):
             continue
-        limits = [(accuracy.ERROR_SHARE * m.max_direct, "1 % of the error")]
+        limits = [(accuracy.ERROR_SHARE * m.max_direct,
+                   f"{accuracy.ERROR_SHARE:.0%} of its largest error")]
         if m.linear_difference > AGREEMENT_FLOOR * m.max_direct:
             limits.append((accuracy.DIFFERENCE_SHARE * m.linear_difference,
-                           "10 % of the linear-vs-direct difference"))
+                           f"a tenth of its linear-vs-direct difference, "
+                           f"{_shown_size(m.linear_difference, m.unit)}"))
         target, what = min(limits)
         if error > target and error / target > worst_need:
             worst, worst_need = (m, target, what), error / target
@@ -873,6 +896,7 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
             k = max(k, (1.25 * worst_need) ** (1.0 / q))  # errors fall slower than p
     step, text = accuracy.typable_step(tau / k, interval, spacing)
     scheme = "rectangle method" if method == "euler" else method.upper()
+    goal = "bring it under the limit" if worst is not None else "make the estimate reliable"
     duration = comparison.times[-1] if len(comparison.times) else interval
     if method == "euler" and duration / step > MAX_STEPS:
         alternative = rk4_step() if rk4_step is not None else None
@@ -882,11 +906,11 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
             comparison.suggested_step, comparison.suggested_method = step, "rk4"
         advice = (f"the rectangle method would need τ ≤ {tau / k:.3g} s, more than the "
                   f"{MAX_STEPS:.0e} steps one run may take; use RK4 ({RK4_HOW})"
-                  + (f", where τ = {text} s would do" if alternative is not None else ""))
+                  + (f", where τ = {text} s would {goal}" if alternative is not None else ""))
     else:
         comparison.suggested_step = step
         hint = f"; RK4 ({RK4_HOW}) needs far fewer steps" if method == "euler" else ""
-        advice = f"the {scheme} with τ = {tau:g} s is too coarse; τ = {text} s would do{hint}"
+        advice = f"τ = {text} s would {goal}{hint}"
     # the quantity named is the one furthest past its limit; the summary's
     # "integration error / error" is the largest share of the error, maybe another's
     shares = [(m.integration_error / m.max_direct, m) for m in comparison.excited
@@ -894,26 +918,29 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
     largest = max(shares, key=lambda s: s[0]) if shares else None
     also = ""
     if worst is not None and largest is not None and largest[1] is not worst[0]:
-        also = (f"; the largest share of the error is {largest[1].quantity}'s, "
-                f"{largest[0]:.2%}")
+        other = largest[1]
+        also = (f". The largest integration error relative to its quantity is "
+                f"{other.quantity}'s: {_shown_size(other.integration_error, other.unit)} of "
+                f"{_shown_size(other.max_direct, other.unit)}, {largest[0]:.2%} (the "
+                "summary's integration error / error)")
+    size = ""
+    if worst is not None:
+        m, target, what = worst
+        size = (f"{m.quantity}'s integration error is {_shown_size(m.integration_error, m.unit)}"
+                f", {m.integration_error / m.max_direct:.2%} of its largest error "
+                f"({_shown_size(m.max_direct, m.unit)}), over the limit of "
+                f"{_shown_size(target, m.unit)} ({what})")
     if unreliable:
-        size = "; the estimate is outside its asymptotic range"
-        if worst is not None:
-            m, target, what = worst
-            size = (f"; its estimate for {m.quantity}, {m.integration_error:.3g} {m.unit} "
-                    f"({m.integration_error / m.max_direct:.2%} of the error), exceeds "
-                    f"{what} ({target:.3g} {m.unit}) and is outside its asymptotic range"
-                    f"{also}")
         how = (f"observed order {q:.2g}, scheme order {p}" if failed is None
                else f"{failed}")
+        size = (f"{size}, and the estimate is outside its asymptotic range" if size
+                else "the estimate is outside its asymptotic range")
         comparison.warnings.append(
-            f"integration error not reliable at this step ({how}){size}: {advice}")
+            f"integration error not reliable at τ = {tau:g} s, {scheme} ({how}): "
+            f"{size}; {advice}{also}")
         return
-    m, target, what = worst
     comparison.warnings.append(
-        f"integration error of {m.quantity} ≈ {m.integration_error:.3g} {m.unit} "
-        f"({m.integration_error / m.max_direct:.2%} of the error) exceeds {what} "
-        f"({target:.3g} {m.unit}){also}: {advice}")
+        f"integration error too large at τ = {tau:g} s, {scheme}: {size}; {advice}{also}")
 
 
 def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
@@ -1056,14 +1083,24 @@ def _times(value: float | None, factor: float) -> float | None:
     return None if value is None else value * factor
 
 
+def _judged(metric: Metric) -> str:
+    """The table's word on whether a quantity's ratios are judged, and why not."""
+    if metric.excited:
+        return "yes"
+    return "no: 2nd order" if metric.second_order_only else "no: rounding"
+
+
 def markdown_table(comparison: Comparison) -> str:
-    """Markdown table of one case: one row per quantity, sizes in display units."""
+    """Markdown table of one case: one row per quantity, sizes in display units; the last
+    column says whether its ratios are judged (``yes``), or why not: moved only at second
+    order (``no: 2nd order``), or a direct error at the rounding floor of its unit
+    (``no: rounding``)."""
     from ins_errors.units import display_scale
 
     lines = [f"**{comparison.label}**", "",
              "| quantity | unit | max abs direct | max abs (linear − direct) | ratio "
              "| max abs (refined − direct) | ratio | integration error direct | linear "
-             "| excited |",
+             "| judged |",
              "|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|"]
     for m in comparison.metrics:  # sizes in display units (arcmin, deg/h...), ratios bare
         k, unit = display_scale(m.unit)
@@ -1072,7 +1109,7 @@ def markdown_table(comparison: Comparison) -> str:
                      f"{_fmt(_times(m.refined_difference, k))} | {_fmt(m.refined_ratio)} | "
                      f"{_fmt(_times(m.direct_integration_error, k))} | "
                      f"{_fmt(_times(m.linear_integration_error, k))} | "
-                     f"{'yes' if m.excited else '2nd order' if m.second_order_only else 'no'} |")
+                     f"{_judged(m)} |")
     return "\n".join(lines) + "\n"
 
 

@@ -38,7 +38,6 @@ import numpy as np
 
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.compare import (
-    EXCITED_FRACTION,
     Comparison,
     integration_errors_by_reruns,
     metrics_of,
@@ -297,13 +296,15 @@ class StudyResult:
             Quantity name -> ``unit`` (SI), ``direct_max_<unit>``, ``linear_max_<unit>``
             and ``difference_max_<unit>`` (max |direct|, max |linear|, max |direct −
             linear| over the run), ``mismatch_ratio`` (difference over direct maximum,
-            :meth:`agreement`), ``excited`` (compare's rule: at least
-            :data:`EXCITED_FRACTION` of the largest error of the same unit; a ratio of an
-            error not excited means nothing), ``at_rounding_level`` (direct maximum at or
-            below :data:`MISMATCH_FLOOR`) and ``integration_error_<unit>`` (or None).
+            :meth:`agreement`), ``excited`` (compare's rule: above the rounding floor of
+            its unit and moved by the linear estimate at first order; a ratio of an error
+            not excited means nothing), ``second_order_only`` (the linear estimate gives 0
+            while the direct run moves it: a second-order effect), ``at_rounding_level``
+            (direct maximum at or below :data:`MISMATCH_FLOOR`) and
+            ``integration_error_<unit>`` (or None).
             ``<unit>`` is the unit in words: ``rad``, ``rad_per_s``, ``m_per_s``.
         """
-        excited = {m.quantity: m.excited for m in metrics_of(self.direct, self.linear, None)}
+        metrics = {m.quantity: m for m in metrics_of(self.direct, self.linear, None)}
         out = {}
         for name, unit in zip(self.direct.names, self.direct.units, strict=True):
             d, lin = self.direct[name][:, 0], self.linear[name][:, 0]
@@ -315,7 +316,8 @@ class StudyResult:
                 f"linear_max_{suffix}": float(np.abs(lin).max()),
                 f"difference_max_{suffix}": float(np.abs(d - lin).max()),
                 "mismatch_ratio": self.agreement(name),
-                "excited": bool(excited[name]),
+                "excited": bool(metrics[name].excited),
+                "second_order_only": bool(metrics[name].second_order_only),
                 "at_rounding_level": largest <= MISMATCH_FLOOR.get(
                     "m/s" if unit == "m/s" else "rad", 0.0),
                 f"integration_error_{suffix}": self.integration_error(name),
@@ -360,8 +362,9 @@ class StudyResult:
             if q["at_rounding_level"]:
                 mismatch = "– (error at rounding level)"
             elif not q["excited"]:  # compare's rule: a ratio here would only alarm
-                mismatch = (f"– (not excited: < {EXCITED_FRACTION:.1%} of the largest "
-                            "same-unit error)")
+                mismatch = ("– (not excited at first order: moved only at second order, "
+                            "the linear estimate gives 0)" if q["second_order_only"]
+                            else "– (not excited: at the rounding floor of its unit)")
             else:
                 mismatch = f"{100 * q['mismatch_ratio']:.3g} %"
             error = q[f"integration_error_{suffix}"]
