@@ -600,6 +600,41 @@ def test_contributions_at_round_off_are_shown_as_zero(orthodromic, tmp_path):
     assert np.all(data["total"][:, data["quantities"].index("alpha_x")] > 0)
 
 
+def test_a_round_off_dependence_reads_0_at_every_time(orthodromic, tmp_path):
+    """At rest the azimuth has no first-order dependence on a level accelerometer's bias
+    (independently: the linear error equations, run directly, leave α_z at rounding
+    while the tilts reach arcminutes, and the direct run's α_z quarters when the bias
+    halves: second order). The --at table read 0 for it after 1 h but 5.5e-12 arcmin
+    after 8 h (where F's last-bit identities, integrated over the hours, outgrew the
+    bound on the propagation's rounding): it reads 0 at every time, up to 48 h, while
+    the azimuth's real contributions stay."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.compare import compare
+
+    trajectory = tr.trajectory(orthodromic, tr.static_profile(np.radians(50), np.radians(30)),
+                               8 * HOUR, 10.0)
+    full, half = compare(orthodromic, trajectory,
+                         [{"accel_bias_y": 5e-4}, {"accel_bias_y": 2.5e-4}], method="rk4",
+                         record_interval=60.0, refined=False, integration_error=False,
+                         validity_threshold=None, warn=False)
+    tilt = np.abs(full.linear["alpha_x"]).max()
+    assert np.abs(full.linear["alpha_z"]).max() < 1e-12 * tilt
+    assert half.metric("alpha_z").max_direct / full.metric("alpha_z").max_direct == (
+        pytest.approx(0.25, rel=0.02))
+    spec = load_spec(default_spec_path())
+    long = load_spec(write(tmp_path, default_spec_path().read_text(encoding="utf-8").replace(
+        'operating_time = "8 h"', 'operating_time = "48 h"')))
+    for chosen, times in ((spec, [HOUR, 8 * HOUR]), (long, [24 * HOUR, 48 * HOUR])):
+        allocation = bd.allocate(bd.unit_budget(orthodromic, chosen))
+        data = bc.output_contributions(orthodromic, allocation, times)
+        q = data["quantities"].index("alpha_z")
+        for source in ("accel_bias_x", "accel_bias_y", "velocity_integrator_offset_xi",
+                       "velocity_integrator_offset_eta"):
+            assert not np.any(data["std"][:, q, data["sources"].index(source)]), source
+        for source in ("gyro_drift_z", "initial_azimuth_error"):  # real ones stay
+            assert np.all(data["std"][:, q, data["sources"].index(source)] > 1e-3), source
+
+
 def test_a_spec_shorter_than_an_hour_checks_its_hourly_items_at_its_end(tmp_path):
     """heading_drift's default (the first hour) on a 10-min spec was refused: 'check time
     1 h is after the operating time 0.166667 h'; it is checked at 10 min, and a time
