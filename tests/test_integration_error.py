@@ -42,7 +42,8 @@ def test_rectangle_method_error_is_estimated_and_warned(orthodromic, static_day)
     estimate = m.linear_integration_error / m.max_direct
     assert true > 0.4  # the manual's scheme at τ = 10 s: tens of per cent wrong
     assert 0.3 < estimate < 2 * true
-    assert any("integration error" in w and "would do" in w for w in c.warnings)
+    assert any("integration error" in w and "s would bring it under the limit" in w
+               for w in c.warnings)
     # far too many steps for the rectangle method: RK4 with a step of its own
     assert c.suggested_method == "rk4" and c.suggested_step <= 10.0
     # the linear-vs-direct agreement hides it: both runs share the scheme
@@ -75,7 +76,7 @@ def test_cli_prints_the_integration_warning(capsys):
                    "euler", "--step", "10s", "--hours", "24", "--no-refined"])
     out, err = capsys.readouterr()
     assert status == 0, err
-    assert "warning" in out and "integration error" in out and "would do" in out
+    assert "warning" in out and "integration error" in out and "would bring it under" in out
 
 
 def test_validity_magnitude_is_where_a_run_measures_one_percent():
@@ -271,7 +272,7 @@ def test_coarse_rk4_step_says_the_estimate_is_not_reliable_and_its_step_passes(c
     assert true > 2 * m.direct_integration_error  # the bare estimate is too small
     (warning,) = [w for w in c.warnings if "integration error" in w]
     assert "not reliable" in warning
-    text = warning.split("τ = ")[-1].split(" s would do")[0]
+    text = warning.split("τ = ")[-1].split(" s would ")[0]
     assert float(text) == c.suggested_step and c.suggested_step < 600.0
     status = main(["compare", "orthodromic", "--source", "gyro_drift_x=0.01deg/h",
                    "--motion", "great-circle", "--hours", "24", "--step", f"{text}s",
@@ -296,7 +297,7 @@ def test_unstable_rectangle_method_is_not_reliable_and_names_rk4(capsys):
     (warning,) = [w for w in case["warnings"] if "integration error" in w]
     assert "not reliable" in warning and "--method rk4" in warning
     assert case["suggested_method"] == "rk4"
-    text = warning.split("τ = ")[-1].split(" s would do")[0]
+    text = warning.split("τ = ")[-1].split(" s would ")[0]
     status = main(["compare", "orthodromic", "--source", "accel_bias_x=100ug", "--hours",
                    "24", "--step", f"{text}s", "--record", "1200s", "--no-refined",
                    "--json", "--validity-threshold", "1"])
@@ -580,5 +581,11 @@ def test_the_warning_names_the_largest_share_of_the_error_when_it_quotes_another
                                 4, 0.5, "euler")
     assert c.worst_integration_ratio == pytest.approx(0.009)
     (warning,) = c.warnings
-    assert warning.startswith("integration error of a ≈ 0.005 m (0.50% of the error)")
-    assert "the largest share of the error is b's, 0.90%" in warning
+    # what quantity, how large relative to it, its limit, and the step that would pass
+    assert warning.startswith("integration error too large at τ = 0.5 s, rectangle method: "
+                              "a's integration error is 0.005 m, 0.50% of its largest error "
+                              "(1 m), over the limit of 0.001 m (a tenth of its "
+                              "linear-vs-direct difference, 0.01 m); τ = ")
+    assert "s would bring it under the limit" in warning
+    assert warning.endswith("The largest integration error relative to its quantity is b's: "
+                            "0.009 m of 1 m, 0.90% (the summary's integration error / error)")

@@ -147,3 +147,48 @@ def test_heading_at_rest_is_refused_by_a_scenario_as_by_the_command_line(tmp_pat
     # what stays accepted: no heading at rest, a heading in motion
     load_scenario(_write(tmp_path, text.replace('heading = "30 deg"\n', "")))
     load_scenario(_write(tmp_path, text.replace('kind = "static"', 'kind = "great-circle"')))
+
+
+def test_the_gyro_drift_example_says_its_periods_and_why_it_warns(tmp_path, example_reports):
+    """The example's description gives the split Schuler periods as the eigenvalues of F
+    at its static base give them, and says the integration warnings of the manual's
+    rectangle method are expected; each warning names the quantity, the integration
+    error's share of that quantity's error, the limit it is over and a step that passes."""
+    import math
+    import re
+
+    import numpy as np
+
+    from ins_errors import load_model
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.linear_system import start_state_matrix
+
+    path = ROOT / "examples" / "lab_000_task1_gyro_drift.toml"
+    scenario = load_scenario(path)
+    model = load_model(scenario.model)
+    base = tr.trajectory(model, tr.static_profile(math.radians(50), math.radians(30)), 60.0,
+                         1.0)
+    rates = np.abs(np.linalg.eigvals(start_state_matrix(model, base)).imag)
+    periods = sorted({round(2 * math.pi / w / 60, 2) for w in rates
+                      if 70 * 60 < 2 * math.pi / max(w, 1e-30) < 100 * 60}, reverse=True)
+    assert len(periods) == 2
+    text = " ".join(scenario.description.split())
+    assert f"splits it into {periods[0]:.2f} and {periods[1]:.2f} min" in text
+    assert "warn that the integration error is too large: this is expected" in text
+    folder = example_reports.get(path.name)
+    if folder is None:
+        folder = write_report(run_scenario(scenario), tmp_path).parent
+    cases = json.loads((folder / "results.json").read_text(encoding="utf-8"))["cases"]
+    worst = max(c["worst_integration_error_ratio"] for c in cases)
+    assert f"(up to {100 * worst:.1f} %)" in text
+    for case in cases:
+        (warning,) = [w for w in case["warnings"] if "integration error" in w]
+        found = re.match(r"integration error too large at τ = 1 s, rectangle method: "
+                         r"(\w+)'s integration error is \S+ \S+, ([\d.]+)% of its largest "
+                         r"error \(\S+ \S+\), over the limit of \S+ \S+ \(.+\); "
+                         r"τ = (\S+) s would bring it under the limit", warning)
+        assert found, warning
+        metric = next(m for m in case["metrics"] if m["quantity"] == found[1])
+        error = max(metric["direct_integration_error"], metric["linear_integration_error"])
+        assert float(found[2]) == pytest.approx(100 * error / metric["max_direct"], abs=0.01)
+        assert float(found[3]) == case["suggested_step_s"] < 1.0
