@@ -96,6 +96,31 @@ def test_summary_and_plots(tmp_path, result):
         result.curve("gyro_drift_nort")
 
 
+def test_summary_has_a_key_to_the_report_symbols(tmp_path, result):
+    """dN is the longitude error (a student read it as "north"): summary.md keys every
+    symbol of its tables to the quantity, the error state and the unit, and the key
+    agrees with the model's own description of each state and with the columns' units."""
+    from ins_errors import load_model
+
+    text = write_report(result, tmp_path, sources=["gyro_drift_north"]).read_text()
+    key = {line.split("|")[1].strip(): [c.strip() for c in line.split("|")[2:5]]
+           for line in text.splitlines()
+           if line.startswith("| ") and line.count("|") == 5 and "`" in line
+           and "|" not in line.split("|")[1]}
+    model = load_model("north_pointing")
+    described = {s.name: s.description for s in model.error_states}
+    columns = text.split("Values at the end of the run")[1].splitlines()[2]
+    for symbol in ("dVx", "dVy", "dL", "dN", "Qx", "Qy", "Qz"):
+        quantity, state, unit = key[symbol]
+        state = state.strip("`")
+        assert f"{symbol}, {unit}" in columns
+        words = described[state].split("(")[0].strip()
+        assert words.split()[-1] in quantity, (symbol, quantity, described[state])
+    assert key["dN"][1] == "`delta_longitude`" and "longitude" in key["dN"][0]
+    assert key["dL"][1] == "`delta_latitude`" and "latitude" in key["dL"][0]
+    assert text.index("| symbol | quantity |") < text.index("| source | analytic")
+
+
 def test_plots_equal_fresh_shared_axis_figures_and_fit_the_figure(tmp_path, result,
                                                                    monkeypatch):
     """The sources share one reused figure (curves, ranges and title redone per source)
@@ -253,7 +278,20 @@ def test_command_line(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "latitude 49°" in out and "| `gyro_drift_up` |" in out
     assert main(["propagation", "--orthodromic", "--hours", "1", "--out", str(tmp_path)]) == 0
-    assert "not excited" in (tmp_path / "orthodromic_day.md").read_text()
+    text = (tmp_path / "orthodromic_day.md").read_text()
+    assert "not excited" in text
+    # plots as the 001 run writes them: one per source the day run excites, none (and
+    # why) for the gains whose input is zero at rest
+    from ins_errors.studies.propagation import ORTHODROMIC_MAGNITUDES
+
+    drawn = sorted(p.stem for p in tmp_path.glob("*.png"))
+    assert "accel_scale_error_x" not in drawn and len(drawn) >= 19
+    assert set(drawn) < set(ORTHODROMIC_MAGNITUDES)
+    for name in drawn:
+        assert f"![{name}]({name}.png)" in text
+        assert (tmp_path / f"{name}.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert "No plot for " in text and "`accel_scale_error_x`" in text.split("No plot for ")[1]
+    assert f"and {len(drawn)} plots" in capsys.readouterr().out
     capsys.readouterr()
     assert main(["propagation", "--latitude=-90deg"]) == 2
     assert "--latitude -90° is at or beyond a pole" in capsys.readouterr().err
@@ -311,7 +349,7 @@ def test_command_line_reports_the_integration_error(capsys):
     row = next(s for s in data["sources"] if s["source"] == "accel_bias_north")
     assert row["integration_error"] > 1e-3 and set(row["integration_error_si"]) == {
         q[0] for q in QUANTITIES}
-    assert any("too coarse" in w for w in row["warnings"])
+    assert any("integration error too large" in w for w in row["warnings"])
     assert main(["propagation", "--hours", "1"]) == 0
     out = capsys.readouterr().out
     assert "integration error (relative) |" in out and "Warnings:" not in out

@@ -55,7 +55,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                             help=f"{what} (default {default}; not with --orthodromic)")
     parser.add_argument("--out", type=Path, default=None, metavar="DIR",
                         help="write summary.md and the plots into this folder "
-                             "(--orthodromic: orthodromic_day.md)")
+                             "(--orthodromic: orthodromic_day.md and its plots)")
     parser.add_argument("--force", action="store_true",
                         help="write into a non-empty --out folder that ins-errors did not "
                              "write (only the experiment's own files are replaced)")
@@ -92,17 +92,15 @@ def run(args: argparse.Namespace) -> int:
     if args.out is not None:
         from ins_errors.output import OutputFolder, require_matplotlib
 
-        if not args.orthodromic:
-            require_matplotlib("the plots of --out")
+        require_matplotlib("the plots of --out")
         OutputFolder(args.out, force=args.force, create=False)  # refuse before computing
     if args.orthodromic:
         with stage("closed forms and numeric runs of every factor"):
             day = propagation.orthodromic_day(latitude, duration, step, record)
         text = day.summary_markdown()
         if args.out is not None:
-            out = OutputFolder(args.out, force=args.force)
-            written = out.write_text("orthodromic_day.md", text)
-            out.finish()
+            written = propagation.write_day_report(day, args.out, force=args.force)
+            plots = int(day.excited().sum())  # one each (plot_day)
         if args.json:
             analytic, direct = day.agreement("analytic", "linear"), day.agreement("direct",
                                                                                  "linear")
@@ -118,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
         else:
             print(text, end="")
             if args.out is not None:
-                print(f"wrote {written}")
+                print(f"wrote {written} and {plots} plots")
         return 0
     magnitudes = {field: parse_quantity(getattr(args, option[2:]), unit, option)
                   for (option, _, _), field, unit in zip(

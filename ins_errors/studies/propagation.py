@@ -17,8 +17,11 @@ estimate exceeds 10 % of the direct-vs-linear difference or 1 % of the error get
 warning naming a step that would do.
 
 The agreement figures (largest difference over the run relative to the largest value
-of the linear curve, per error quantity) go into a Markdown summary, and every source
-gets a PNG of its seven error quantities (the report's dVx, dVy, dL, dN, Qx, Qy, Qz).
+of the linear curve, per error quantity) go into a Markdown summary, with a key to the
+report's symbols (dVx, dVy, dL, dN, Qx, Qy, Qz: dN is the longitude error), and every
+source gets a PNG of its seven error quantities. The orthodromic day run (source 000,
+task 4) writes its summary and one PNG of the error states per excited factor likewise
+(:func:`write_day_report`).
 
 The reduced model is judged against the full one quantity by quantity
 (:meth:`SourceCurves.reduced_vs_full`): the difference relative to the quantity's size
@@ -68,9 +71,9 @@ QUANTITIES: tuple[tuple[str, str, str, str], ...] = (
     ("delta_v_N", "dVy", "m/s", "north velocity error"),
     ("delta_latitude", "dL", "arcmin", "latitude error"),
     ("delta_longitude", "dN", "arcmin", "longitude error"),
-    ("alpha_E", "Qx", "arcsec", "platform error angle east"),
-    ("alpha_N", "Qy", "arcsec", "platform error angle north"),
-    ("alpha_U", "Qz", "arcmin", "platform azimuth error"),
+    ("alpha_E", "Qx", "arcsec", "platform error angle about east"),
+    ("alpha_N", "Qy", "arcsec", "platform error angle about north"),
+    ("alpha_U", "Qz", "arcmin", "platform azimuth error (about up)"),
 )
 """Error quantities in the report's order, with the units they are plotted in."""
 
@@ -330,6 +333,7 @@ class PropagationResult:
             "δv/√(gR)) is rounding and counts as 0. Quantities the full model has and the "
             "reduced model leaves at zero (the dropped Foucault terms are their only path "
             "from that source) are named in the last column instead.", "",
+            *symbol_key(), "",
             "| source | analytic (full) vs linear numeric | direct vs linear numeric | "
             "integration error (relative) | worst quantity (direct) | "
             "reduced vs full analytic | "
@@ -368,6 +372,18 @@ class PropagationResult:
             row = [f"{_display(c.direct[k, -1], q[2]):.4g}" for k, q in enumerate(QUANTITIES)]
             lines.append(f"| `{c.source}` | " + " | ".join(row) + " |")
         return "\n".join(lines) + "\n"
+
+
+def symbol_key() -> list[str]:
+    """Markdown lines of the key to the report's symbols (dVx, …, Qz): what each is, the
+    error state it is and its unit in the tables and plots. The symbols are the source
+    document's; dN is the longitude error (not a north error: north is dVy's y)."""
+    lines = ["Symbols (the source report's): dN is the longitude error and dL the latitude "
+             "error; x is east, y north, z up.", "",
+             "| symbol | quantity | error state | unit |", "|---|---|---|---|"]
+    lines += [f"| {short} | {label} | `{state}` | {unit} |"
+              for state, short, unit, label in QUANTITIES]
+    return lines
 
 
 def foucault_period(latitude: float, earth_rate: float = EARTH_RATE) -> float:
@@ -777,6 +793,110 @@ class DayResult:
         if warned:
             lines += ["", "Warnings:", ""] + [f"- `{s}`: {w}" for s, w in warned]
         return "\n".join(lines) + "\n"
+
+
+DAY_DISPLAY = {"1": ("ppm", 1e6), "m/s": ("m/s", 1.0)}
+"""Display units of the orthodromic error states by SI unit (the platform angles by
+:data:`DAY_ANGLES`)."""
+
+DAY_ANGLES = {"alpha_z": ("arcmin", 180 * 60 / np.pi)}
+"""Display unit of a platform angle of the day run: the azimuth in arcmin, the tilts in
+arcsec (:func:`_day_unit`)."""
+
+
+def _day_unit(name: str, unit: str) -> tuple[str, float]:
+    """(display unit, factor from SI) of one error state of the day run."""
+    if unit == "rad":
+        return DAY_ANGLES.get(name, ("arcsec", 180 * 3600 / np.pi))
+    return DAY_DISPLAY.get(unit, (unit, 1.0))
+
+
+def plot_day(day: DayResult, folder: OutputFolder) -> list[Path]:
+    """One PNG per excited source of the orthodromic day run: each error state (the six
+    direction-cosine errors, the two velocity errors, the three platform angles) as the
+    direct and linear numeric runs and the closed form. A source whose closed form is
+    identically zero (no input on a static base) gets none: its runs are round-off.
+
+    Returns
+    -------
+    list of pathlib.Path
+        ``folder/<source>.png``, in the order of ``day.sources``.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ins_errors import figure_layout as layout
+    from ins_errors.units import format_quantity
+
+    model = load_model("orthodromic")
+    states = model.error_states
+    hours = day.times / 3600
+    excited = day.excited()
+    paths: list[Path] = []
+    if not np.any(excited):
+        return paths
+    runs = ("direct", "linear", "analytic")
+    styles = ({"color": "C0", "lw": 2.2, "alpha": 0.6, "label": "direct numeric"},
+              {"color": "C1", "lw": 1.2, "label": "linear numeric"},
+              {"color": "k", "lw": 0.8, "ls": "--", "label": "analytic (closed form)"})
+    fig, axes = plt.subplots(len(states), 1, figsize=(8, 18 + layout.LEGEND_ROW))
+    layout.share_time_axis(axes)
+    layout.fixed_margins(fig, left=1.0, right=0.2, bottom=0.6 + layout.LEGEND_ROW,
+                         top=0.85, hspace=0.45)
+    columns = 2 * math.ceil(axes[0].get_position().width * fig.get_figwidth() * PLOT_DPI)
+    try:
+        lines = []
+        for ax, state in zip(axes, states, strict=True):
+            lines.append([ax.plot([], [], **style)[0] for style in styles])
+            ax.set_ylabel(f"{state.name}, {_day_unit(state.name, state.unit)[0]}", fontsize=7)
+            layout.fixed_title(ax, state.description, fontsize=7, loc="left")
+            ax.yaxis.set_offset_position("right")
+            ax.ticklabel_format(axis="y", useOffset=False)
+            ax.grid(True, alpha=0.3)
+        layout.legend_below(axes[-1], 7, handles=lines[0])
+        axes[-1].set_xlabel("time, h")
+        title = fig.suptitle("", fontsize=9)
+        for j, source in enumerate(day.sources):
+            if not excited[j]:
+                continue
+            for k, (ax, row, state) in enumerate(zip(axes, lines, states, strict=True)):
+                factor = _day_unit(state.name, state.unit)[1]
+                shown = [getattr(day, run)[k, j] * factor for run in runs]
+                drawn = [*column_envelopes(hours, shown[:2], columns), (hours, shown[2])]
+                for line, (times, values) in zip(row, drawn, strict=True):
+                    line.set_data(times, values)
+                ax.set_autoscaley_on(True)
+                ax.relim()
+                ax.autoscale_view()
+                _honest_range(ax, shown)
+            layout.common_time_range(axes)
+            info = model.source(source)
+            magnitude = format_quantity(ORTHODROMIC_MAGNITUDES[source], info.unit,
+                                        info.display_unit or info.unit)
+            title.set_text(f"orthodromic, {source} = {magnitude}, static base, φ = "
+                           f"{np.degrees(day.latitude):.4g}°")
+            paths.append(folder.save_figure(fig, f"{source}.png", dpi=PLOT_DPI, close=False))
+    finally:
+        plt.close(fig)
+    return paths
+
+
+def write_day_report(day: DayResult, folder: str | Path, force: bool = False) -> Path:
+    """Write ``orthodromic_day.md`` and the plots of :func:`plot_day` into ``folder`` (an
+    :class:`~ins_errors.output.OutputFolder`, as :func:`write_report`)."""
+    out = OutputFolder(folder, force=force)
+    paths = plot_day(day, out)
+    skipped = [s for s, e in zip(day.sources, day.excited(), strict=True) if not e]
+    text = day.summary_markdown() + "\nPlots (each error state: direct and linear numeric, "
+    text += "closed form):\n\n" + "".join(f"- ![{p.stem}]({p.name})\n" for p in paths)
+    if skipped:
+        text += ("\nNo plot for " + ", ".join(f"`{s}`" for s in skipped) + ": not excited "
+                 "on a static base (the closed form is zero; the runs are round-off).\n")
+    summary = out.write_text("orthodromic_day.md", text)
+    out.finish()
+    return summary
 
 
 def orthodromic_day(latitude: float = float(np.radians(50.0)), duration: float = 86400.0,
