@@ -330,7 +330,7 @@ def test_coarse_rectangle_run_estimates_its_true_error_and_warns():
         checked += int(used.sum())
         if np.any(used):
             # a finer rectangle step, or RK4 when that step needs more than a run may take
-            assert any(("at τ = 20 s, rectangle method" in w
+            assert any(("τ = 20 s, rectangle method" in w
                         or "use RK4 (--method rk4" in w)
                        and "s would " in w for w in c.warnings), c.source
     assert checked > 50

@@ -936,7 +936,7 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
         size = (f"{size}, and the estimate is outside its asymptotic range" if size
                 else "the estimate is outside its asymptotic range")
         comparison.warnings.append(
-            f"integration error not reliable at τ = {tau:g} s, {scheme} ({how}): "
+            f"integration error not reliable at this step, τ = {tau:g} s, {scheme} ({how}): "
             f"{size}; {advice}{also}")
         return
     comparison.warnings.append(
