@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -189,13 +190,18 @@ def test_a_stopped_pool_sweep_leaves_no_worker_and_resumes(stop, tmp_path):
     if stop == "SIGTERM":
         assert status == 128 + signal.SIGTERM, err
         lines = err.splitlines()  # the sweep's own notes, then one line: no traceback
-        assert lines[-1] == "ins-errors: terminated (signal 15)", err
+        # ... saying how many points the store keeps (what the rerun reads back)
+        said = re.fullmatch(r"ins-errors: terminated \(signal 15\): (\d+) of the 20 points "
+                            r"are in s\.zarr; the same command runs the others", lines[-1])
+        assert said, err
         assert all(line.startswith("ins-errors: ") for line in lines), err
     rerun = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, text=True,
                            timeout=600)
     assert rerun.returncode == 0, rerun.stderr
     summary = json.loads(rerun.stdout)
     assert summary["reused"] >= len(stored) >= 1
+    if stop == "SIGTERM":
+        assert summary["reused"] == int(said.group(1))
     assert summary["computed"] + summary["reused"] == summary["points"] == 20
 
 
