@@ -589,3 +589,25 @@ def test_the_warning_names_the_largest_share_of_the_error_when_it_quotes_another
     assert "s would bring it under the limit" in warning
     assert warning.endswith("The largest integration error relative to its quantity is b's: "
                             "0.009 m of 1 m, 0.90% (the summary's integration error / error)")
+
+
+def test_an_estimate_at_rounding_is_said_to_be_so(orthodromic):
+    """RK4 at τ = 1 s over 2 h: the scheme's error is ~(ω_s τ)^4 ≈ 2e-12 of the error, so
+    the step-doubling difference is rounding (the long-flight probe saw the estimate grow
+    from 1.7e-11 to 3.7e-11 when the step was halved). The summary said "1.69e-11" as if
+    it were the integration error; it now says it is below 1e-6, at rounding, and the JSON
+    says so; the true error (the exact solution's) is indeed far below 1e-6."""
+    motion = tr.trajectory(orthodromic, tr.static_profile(50 * DEG, 30 * DEG), 7200.0, 1.0)
+    (c,) = compare(orthodromic, motion, [BIAS], record_interval=60.0, refined=False,
+                   validity_threshold=None, warn=False)
+    assert _true_error(orthodromic, motion, c, "delta_v_N") < 1e-6
+    assert c.worst_integration_ratio < 1e-6 and c.integration_at_rounding
+    assert c.integration_order is None
+    assert c.to_dict()["integration_error_at_rounding"] is True
+    from ins_errors.numeric.compare import markdown_summary
+
+    assert "| < 1e-06 (rounding) |" in markdown_summary([c])
+    (coarse,) = compare(orthodromic, motion, [BIAS], method="euler", record_interval=60.0,
+                        refined=False, validity_threshold=None, warn=False)
+    assert not coarse.integration_at_rounding
+    assert "(rounding)" not in markdown_summary([coarse])

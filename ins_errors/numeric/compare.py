@@ -183,8 +183,18 @@ class Comparison:
                 "one_percent_scale": self.one_percent_scale,
                 "suggested_method": self.suggested_method,
                 "integration_order_observed": self.integration_order,
+                "integration_error_at_rounding": self.integration_at_rounding,
                 "integration_rerun_steps_s": list(self.integration_steps),
                 "metrics": [_clean(asdict(m)) for m in self.metrics]}
+
+    @property
+    def integration_at_rounding(self) -> bool:
+        """True when the integration-error estimate is below
+        :data:`~ins_errors.numeric.accuracy.RELEVANT` of the error: there the step-doubling
+        difference is rounding (it grows, not shrinks, with a finer step), the estimate
+        only says it is that small, and no order is observed (``integration_order`` None)."""
+        worst = self.worst_integration_ratio
+        return worst is not None and worst < accuracy.RELEVANT
 
     @property
     def worst_integration_ratio(self) -> float | None:
@@ -1113,6 +1123,15 @@ def markdown_table(comparison: Comparison) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _integration_cell(comparison: Comparison) -> str:
+    """The summary's integration error / error: the estimate, or ``< 1e-06 (rounding)``
+    where it is below :data:`~ins_errors.numeric.accuracy.RELEVANT` (the step-doubling
+    difference is then rounding, not the scheme's error, and grows with a finer step)."""
+    if comparison.integration_at_rounding:
+        return f"< {accuracy.RELEVANT:.0e} (rounding)"
+    return _fmt(comparison.worst_integration_ratio)
+
+
 def markdown_summary(comparisons: Sequence[Comparison], title: str = "") -> str:
     """Markdown summary: one row per case with the worst excited ratios."""
     lines = [f"### {title}", ""] if title else []
@@ -1125,7 +1144,7 @@ def markdown_summary(comparisons: Sequence[Comparison], title: str = "") -> str:
                      f"{'' if wl is None else '`' + wl.quantity + '`'} | "
                      f"{_fmt(_value(wr, 'refined_ratio'))} | "
                      f"{'' if wr is None else '`' + wr.quantity + '`'} | "
-                     f"{_fmt(c.worst_integration_ratio)} |")
+                     f"{_integration_cell(c)} |")
     warned = [(c.label, w) for c in comparisons for w in c.warnings]
     if warned:
         lines += [""] + [f"> **warning** ({label}): {w}" for label, w in warned]
