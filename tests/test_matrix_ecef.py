@@ -282,3 +282,23 @@ def test_part_of_an_ecef_triple_gets_no_held_effects(tmp_path):
     report = check_matrices(ECEF_MODEL, f"{hand}:part", "psi_ecef")
     assert report.effects == [] and "part of a triple" in report.held[0]
     assert to_json(report)["held"] == report.held
+
+
+def test_a_sign_slip_hidden_in_a_sum_of_psi_entries_is_named_where_it_is_whole():
+    """The same Coriolis slip carried by hand into the NED ψ states (the probe's route
+    before psi_ecef): there −2Ω_ie shares its entries with transport-rate terms, so the
+    entries were "wrong coefficient" and nothing said sign. At rest the hand entry is
+    exactly minus the model's (the entry is the Earth-rate part alone there); that is now
+    said."""
+    report = check_matrices(ECEF_MODEL, f"{ROOT / 'data' / 'groves_ecef_in_psi.py'}:"
+                            "coriolis_slip", "psi", effects=False)
+    coriolis = {("dvc_N", "dvc_E"), ("dvc_E", "dvc_N"), ("dvc_E", "dvc_D"),
+                ("dvc_D", "dvc_E")}
+    found = {(f.row, f.column): f for f in report.findings if f.matrix == "F"}
+    assert coriolis <= set(found)
+    for key in coriolis:
+        f = found[key]
+        assert f.kind in ("wrong coefficient", "wrong sign"), f
+        if f.kind == "wrong coefficient":
+            assert "hand = −model on motion 'static'" in f.detail, f.detail
+    assert any(found[key].kind == "wrong coefficient" for key in coriolis)

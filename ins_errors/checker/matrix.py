@@ -293,6 +293,26 @@ def _within(h: np.ndarray, m: np.ndarray, sign: float, mag: float, scale: np.nda
     return worst
 
 
+def _sign_on_a_motion(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray,
+                      motion_of: np.ndarray, labels: list[str]) -> str:
+    """``"hand = −model on motion 'static': ..."`` when the hand entry is minus the
+    model's at every sample of one motion where the model's is not 0, else ``""``.
+
+    A sign slip in one term of a sum (Coriolis' 2Ω in an entry that also holds the
+    transport rate, after a change of states) is a wrong coefficient on the motions where
+    the other terms count, but on the one where that term is the whole entry (at rest)
+    the hand's entry is exactly minus the model's: said, the slip is found.
+    """
+    tiny = AGREEMENT * scale
+    for k, label in enumerate(labels):
+        on = (motion_of == k) & (np.abs(m) * mag > tiny)
+        if on.sum() >= 2 and on.sum() == (motion_of == k).sum() and np.all(
+                np.abs(h[on] / m[on] + 1) <= 1e-6):
+            return (f"hand = −model on motion {label!r}: the sign of a term that is the whole "
+                    "entry there")
+    return ""
+
+
 def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, threshold: float,
               left_out: bool, motion_of: np.ndarray | None = None
               ) -> tuple[str, str, str] | None:
@@ -474,6 +494,8 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
             if verdict is None:
                 continue
             kind, severity, detail = verdict
+            if kind == COEFFICIENT and not detail:
+                detail = _sign_on_a_motion(h, m, mag, scale, sample_motion, labels)
             if matrix == "F" and i >= n_own and i == j:  # a bias state's own rate
                 detail = _bias_rate_detail(conv.biases[i - n_own], h, detail)
             ratio = np.abs(h - m) * mag / scale
