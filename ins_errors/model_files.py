@@ -33,6 +33,8 @@ def _where(error: BaseException, path: Path) -> str:
 
 
 def _one_line(error: BaseException) -> str:
+    if isinstance(error, SystemExit):  # sys.exit(...) would end ins-errors itself
+        return f"called sys.exit({error.code!r})"
     text = str(error).strip().splitlines()
     return f"{type(error).__name__}: {text[0] if text else ''}".rstrip(": ")
 
@@ -46,6 +48,9 @@ def import_model_file(path: Path) -> ModuleType:
         If the file does not exist, is not Python, or raises while being imported.
     """
     path = Path(path)
+    if path.is_dir():
+        raise ModelDefinitionError(f"model file {str(path)!r} is a folder, not a Python "
+                                   "file (give the .py file that defines build())")
     if not path.is_file():
         raise ModelDefinitionError(f"model file {str(path)!r} not found")
     if path.suffix != ".py":
@@ -68,7 +73,8 @@ def import_model_file(path: Path) -> ModuleType:
         sys.modules.pop(module_name, None)
         raise ModelDefinitionError(f"model file {path.name}: line {error.lineno}: "
                                    f"SyntaxError: {error.msg} (step: importing the file)") from None
-    except Exception as error:  # a researcher's code: report whatever it raised
+    except (Exception, SystemExit) as error:  # a researcher's code: whatever it raised
+        # (sys.exit() in the file is its error too, not the command's exit status)
         sys.modules.pop(module_name, None)
         raise ModelDefinitionError(f"model file {path.name}: {_where(error, path)}"
                                    f"{_one_line(error)} (step: importing the file)") from None
@@ -97,14 +103,20 @@ def build_definition(module: ModuleType, label: str, path: Path | None = None) -
     try:
         definition = build()
     except InsErrorsError as error:
-        raise ModelDefinitionError(f"{label}: {error} (step: building the definition)") from None
-    except Exception as error:  # a researcher's code: report whatever it raised
+        where = _where(error, path) if path is not None else ""
+        raise ModelDefinitionError(f"{label}: {where}{error} "
+                                   "(step: building the definition)") from None
+    except (Exception, SystemExit) as error:  # a researcher's code: whatever it raised
         where = _where(error, path) if path is not None else ""
         raise ModelDefinitionError(f"{label}: {where}{_one_line(error)} "
                                    "(step: building the definition)") from None
     if not isinstance(definition, ModelDefinition):
         raise ModelDefinitionError(f"{label}: build() returned {type(definition).__name__}, "
                                    "not a ModelDefinition (step: building the definition)")
+    if not isinstance(definition.name, str):
+        raise ModelDefinitionError(f"{label}: the model's name must be a str, got "
+                                   f"{type(definition.name).__name__} {definition.name!r:.40} "
+                                   "(step: building the definition)")
     if not definition.name.isidentifier():
         raise ModelDefinitionError(f"{label}: model name {definition.name!r} is not a Python "
                                    "identifier (step: building the definition)")

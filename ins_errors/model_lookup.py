@@ -169,17 +169,22 @@ def resolve(spec: str, relative_to: str | Path | None = None) -> ModelRef:
         path = Path(spec).expanduser()
         if relative_to is not None and not path.is_absolute():
             path = Path(relative_to) / path
+        looked = (f" (looked in {str(Path(relative_to))!r})" if relative_to is not None
+                  else "")
+        if path.is_dir():
+            raise ModelDefinitionError(f"model file {spec!r} is a folder, not a Python file"
+                                       f"{looked}: give the .py file that defines build()")
         if not path.is_file():
-            raise ModelDefinitionError(f"model file {spec!r} not found"
-                                       + (f" (looked in {str(Path(relative_to))!r})"
-                                          if relative_to is not None else ""))
+            raise ModelDefinitionError(f"model file {spec!r} not found{looked}")
         ref = ModelRef("file", str(path.resolve()), path.resolve(), model_sha256(path))
     elif spec in _entry_points():
         path = _entry_point_file(spec)
         ref = ModelRef("entry_point", spec, path, model_sha256(path))
     else:
         error = unknown_name("model", spec, [*builtins, *entry_point_names()])
-        raise UnknownNameError(f"{error} (or a model file, e.g. ./my_ins.py)")
+        folder = (f"; {spec!r} is a folder, not a model file" if Path(spec).is_dir()
+                  else "")
+        raise UnknownNameError(f"{error} (or a model file, e.g. ./my_ins.py){folder}")
     if expected is not None and not ref.sha256.startswith(expected):
         raise ModelDefinitionError(f"{ref.label} changed while in use (its generated code "
                                    "was made from another version); run again")

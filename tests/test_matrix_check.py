@@ -214,6 +214,10 @@ def test_sampled_matrices_from_npz_and_mat(tmp_path, model):
     (("return F, G", "return F.astype(object) + 1e-3j, G"), "F is complex (dtype object)"),
     (("return F, G", 'return np.full(F.shape, "x"), G'), "F must be a numeric array, got strings"),
     (("return F, G", "return F.astype(str), G"), "F must be a numeric array, got strings"),
+    # sys.exit() in the researcher's code ended ins-errors with its status (3, or 0)
+    (("return F, G", "import sys\n    sys.exit(3)"), "called sys.exit(3) (line"),
+    (("import numpy as np", "import numpy as np\nimport sys\nsys.exit(0)"),
+     "cannot import hand_copy.py: called sys.exit(0) (line"),
 ])
 def test_bad_hand_model_is_a_one_line_error(tmp_path, capsys, edit, message):
     spec = _copy(tmp_path, *edit)

@@ -305,6 +305,46 @@ MISTAKES = {
     "exception in build()": (
         ("    lat0, v0 = (v.symbol", "    lat0, v0 = 1 / 0, (v.symbol"),
         ["my_ins.py", "ZeroDivisionError", "building the definition"]),
+    # sys.exit() in the file ended ins-errors with the file's status (0: a silent success)
+    "sys.exit() in build()": (
+        ("    lat0, v0 = (v.symbol", "    import sys\n    sys.exit(0)\n    lat0, v0 = (v.symbol"),
+        ["my_ins.py", "line", "called sys.exit(0)", "building the definition"]),
+    "sys.exit() while importing": (
+        ("V, phi = (v.symbol for v in STATES)",
+         "V, phi = (v.symbol for v in STATES)\nimport sys\nsys.exit(3)"),
+        ["my_ins.py", "line", "called sys.exit(3)", "importing the file"]),
+    # non-finite numbers were derived into generated code that read math.nan without
+    # importing math (a NameError in every run), with a wrong second-order warning
+    "complex infinity in an intermediate": (
+        ('omega = ideal.let("omega", V / R,', 'omega = ideal.let("omega", V / R + sp.zoo,'),
+        ["intermediate omega of the ideal mechanisation", "is not finite", "zoo",
+         "checking the definition"]),
+    "log(0) in an intermediate": (
+        ('omega = ideal.let("omega", V / R,', 'omega = ideal.let("omega", V / R + sp.log(V - V),'),
+        ["intermediate omega of the ideal mechanisation", "is not finite", "zoo",
+         "checking the definition"]),
+    "not a number in an equation": (
+        ("real_rhs = sp.Matrix([f, omega_c, omega_c - omega + drift])",
+         "real_rhs = sp.Matrix([f, omega_c, omega_c - omega + drift + 0 * sp.oo])"),
+        ["real-work equation (real_rhs) for 'psi'", "is not finite", "nan",
+         "checking the definition"]),
+    "infinite derivative at zero error": (  # finite itself, its slope at ψ = 0 is not
+        ('- g * sp.sin(psi) + bias', '- g * sp.sin(psi) + 1e-3 * g * sp.cbrt(psi) + bias'),
+        ["state matrix F", "real-work equation for 'delta_V' by psi", "not finite",
+         "zoo", "step: variation"]),
+    # a wrong type of an argument of the authoring API was a TypeError traceback
+    "a number for the list of states": (
+        ("        states=STATES,", "        states=5,"),
+        ["states: must be a list or tuple of Variable, got int 5", "checking the definition"]),
+    "a string for the list of inputs": (
+        ("        inputs=INPUTS,", '        inputs="a_N",'),
+        ["inputs: must be a list or tuple of Variable, got str 'a_N'"]),
+    "a symbol among the error sources": (
+        ("        sources=SOURCES,", "        sources=(*SOURCES[:2], bias),"),
+        ["sources[2]: must be an ErrorSource", "got Symbol accel_bias"]),
+    "a number for the model's name": (
+        ('name="schuler_loop",', "name=7,"),
+        ["my_ins.py", "the model's name must be a str, got int 7"]),
 }
 
 
@@ -369,6 +409,20 @@ def test_unknown_model_and_missing_file(capsys):
     assert "(or a model file" in capsys.readouterr().err
     assert main(["models", "no_such_dir/my_ins.py"]) == 2
     assert "model file 'no_such_dir/my_ins.py' not found" in capsys.readouterr().err
+
+
+def test_a_folder_is_named_a_folder_not_missing(tmp_path, capsys, monkeypatch):
+    """A folder given as the model file was "not found"; it is there, and a folder."""
+    (tmp_path / "my_ins").mkdir()
+    monkeypatch.chdir(tmp_path)
+    for spec in ("my_ins/", str(tmp_path / "my_ins")):
+        assert main(["models", spec]) == 2
+        err = capsys.readouterr().err.strip()
+        assert f"model file {spec!r} is a folder, not a Python file" in err
+        assert "not found" not in err and "\n" not in err
+    assert main(["models", "my_ins"]) == 2  # a bare name: still no built-in model
+    err = capsys.readouterr().err
+    assert "unknown model 'my_ins'" in err and "'my_ins' is a folder" in err
 
 
 def test_a_model_file_may_not_take_a_built_in_name(tmp_path, capsys):

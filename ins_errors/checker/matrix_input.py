@@ -92,7 +92,8 @@ def _import_file(path: Path):
     sys.path.insert(0, folder)  # the file may import helpers that sit next to it
     try:
         spec.loader.exec_module(module)
-    except Exception as error:  # the researcher's code: report it in one line
+    except (Exception, SystemExit) as error:  # the researcher's code: one line (its
+        # sys.exit() is its error, not the command's exit status)
         raise InsErrorsError(f"cannot import {path.name}: {_describe(error, path)}") from None
     finally:
         sys.path.remove(folder)
@@ -110,6 +111,8 @@ def _describe(error: BaseException, path: Path | None) -> str:
             line = f" (line {frames[-1].lineno})"
         elif isinstance(error, SyntaxError) and error.lineno:
             line = f" (line {error.lineno})"
+    if isinstance(error, SystemExit):
+        return f"called sys.exit({error.code!r}){line}"
     text = " ".join(str(error).split()) or "no message"
     return f"{type(error).__name__}: {text}{line}"
 
@@ -344,7 +347,7 @@ def evaluate_function(fn, name: str, path: Path, states: list[str], sources: lis
             where = f"{name} on {motion.label} at t = {nav.t:g} s"
             try:
                 result = fn(nav, imu)
-            except Exception as error:
+            except (Exception, SystemExit) as error:  # sys.exit() in it: its error too
                 raise InsErrorsError(f"{where}: {_describe(error, path)}") from None
             if isinstance(result, tuple):
                 if len(result) != 2:

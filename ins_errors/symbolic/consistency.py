@@ -23,7 +23,13 @@ import sympy as sp
 from sympy.core.function import AppliedUndef
 
 from ins_errors.errors import ModelDefinitionError
-from ins_errors.modeling import Mechanisation, ModelDefinition, Variable
+from ins_errors.modeling import (
+    ErrorSource,
+    Mechanisation,
+    ModelDefinition,
+    Parameter,
+    Variable,
+)
 
 STEP = "checking the definition"
 SOURCE_KINDS = ("constant", "initial")
@@ -48,6 +54,110 @@ def _undefined_functions(label: str, quantity: str, expression: sp.Basic) -> Non
         raise _fail(label, quantity,
                     f"uses undefined function(s) {_function_names(undefined)}: write the "
                     "formula with SymPy functions (sp.sin, sp.sqrt, ...)")
+
+
+NON_FINITE = {sp.zoo: "zoo (complex infinity)", sp.nan: "nan (not a number)",
+              sp.oo: "oo (infinity)", -sp.oo: "-oo (minus infinity)"}
+"""SymPy's non-finite numbers and how messages name them: ``V/R + sp.zoo``, ``log(0)``
+(zoo), ``0/0`` or ``oo - oo`` (nan), ``float("inf")`` (oo) in a formula would become
+``math.nan`` or ``math.inf`` in the generated code."""
+
+
+def non_finite(*exprs: sp.Basic) -> list[str]:
+    """The names (:data:`NON_FINITE`) of the non-finite numbers in ``exprs``, in the
+    order of that table; empty if there is none.
+
+    Each distinct subtree is visited once (closed equations repeat their subtrees many
+    times).
+    """
+    found: set[sp.Basic] = set()
+    seen: set[sp.Basic] = set()
+    stack = [e for e in exprs if isinstance(e, sp.Basic)]
+    while stack:
+        e = stack.pop()
+        if e in seen:
+            continue
+        seen.add(e)
+        if e in NON_FINITE:
+            found.add(e)
+        stack.extend(e.args)
+    return [text for number, text in NON_FINITE.items() if number in found]
+
+
+def _finite(label: str, quantity: str, expression: sp.Basic) -> None:
+    """Refuse a formula that holds a non-finite number (:func:`non_finite`)."""
+    bad = non_finite(expression)
+    if bad:
+        shown = sp.sstr(expression)
+        shown = shown if len(shown) <= 80 else shown[:77] + "..."
+        raise _fail(label, quantity, f"is not finite: it contains {', '.join(bad)} "
+                                     f"({shown}); a division by zero, log(0) or an "
+                                     "infinite number in the formula?")
+
+
+_SEQUENCES = (
+    ("states", Variable), ("error_states", Variable), ("inputs", Variable),
+    ("parameters", Parameter), ("sources", ErrorSource), ("outputs", Variable),
+    ("initial_conditions", Variable))
+"""The fields of a :class:`ModelDefinition` that are sequences of names, with the class
+of their items."""
+
+
+def _type_name(value: object) -> str:
+    text = repr(value)
+    text = text if len(text) <= 40 else text[:37] + "..."
+    return f"{type(value).__name__} {text}"
+
+
+def _check_types(label: str, d: ModelDefinition) -> None:
+    """Refuse arguments of the wrong type (``states=5``, a string for a list, a symbol
+    where a Variable belongs) in one line naming the field, before any check uses them."""
+    for name in ("name", "title", "source", "notes"):
+        if not isinstance(getattr(d, name), str):
+            raise _fail(label, name, f"must be a str, got {_type_name(getattr(d, name))}")
+    for group, kind in _SEQUENCES:
+        value = getattr(d, group)
+        if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+            raise _fail(label, group, f"must be a list or tuple of {kind.__name__}, got "
+                                      f"{_type_name(value)}")
+        for k, item in enumerate(value):
+            if not isinstance(item, kind):
+                hint = (" (made with error_source(...))" if kind is ErrorSource else
+                        " (with its default value)" if kind is Parameter else "")
+                article = "an" if kind.__name__[0] in "AEIOU" else "a"
+                raise _fail(label, f"{group}[{k}]", f"must be {article} {kind.__name__}{hint}, "
+                                                    f"got {_type_name(item)}")
+            for field_name in ("name", "unit", "description", "latex"):
+                if not isinstance(getattr(item, field_name), str):
+                    raise _fail(label, f"{group}[{k}]", f"{field_name} must be a str, got "
+                                f"{_type_name(getattr(item, field_name))}")
+    real = d.real_states
+    if isinstance(real, (str, bytes)) or not isinstance(real, Sequence):
+        raise _fail(label, "real_states", "must be a list or tuple of SymPy symbols "
+                                          f"(computed_symbols(...) and the extra error states' "
+                                          f"symbols), got {_type_name(real)}")
+    for k, item in enumerate(real):
+        if not isinstance(item, sp.Symbol):
+            raise _fail(label, f"real_states[{k}]", f"must be a SymPy symbol, got "
+                                                    f"{_type_name(item)}")
+    for name in ("ideal", "real"):
+        if not isinstance(getattr(d, name), Mechanisation):
+            raise _fail(label, name, f"must be a Mechanisation, got "
+                                     f"{_type_name(getattr(d, name))}")
+    if not callable(d.output_map):
+        raise _fail(label, "output_map", "must be a function output_map(mechanisation, "
+                                         f"state, inputs), got {_type_name(d.output_map)}")
+    for name in ("groups", "domain", "initial_domain"):
+        value = getattr(d, name)
+        if isinstance(value, (str, bytes)) or not isinstance(value, Sequence):
+            raise _fail(label, name, f"must be a list or tuple of pairs, got "
+                                     f"{_type_name(value)}")
+    for k, item in enumerate(d.groups):
+        if not (isinstance(item, Sequence) and len(item) == 2 and isinstance(item[0], str)
+                and isinstance(item[1], Sequence) and not isinstance(item[1], str)
+                and all(isinstance(m, str) for m in item[1])):
+            raise _fail(label, f"groups[{k}]", "must be a pair (title, list of error-state "
+                                               f"names), got {_type_name(item)}")
 
 
 def _check_names(label: str, d: ModelDefinition) -> None:
@@ -156,6 +266,7 @@ def _check_symbols(label: str, quantity: str, matrix: sp.Matrix, row_names: list
             raise _fail(label, f"{quantity} for {row_names[i]!r}",
                         f"{entry!r:.60} is not a SymPy expression")
         _undefined_functions(label, f"{quantity} for {row_names[i]!r}", entry)
+        _finite(label, f"{quantity} for {row_names[i]!r}", entry)
         unknown = {s for s in entry.free_symbols if s not in allowed}
         if unknown:
             plain = {s for s in unknown if isinstance(s, sp.Symbol)}
@@ -207,15 +318,18 @@ def check_definition(d: ModelDefinition, label: str | None = None,
     """Raise a one-line :class:`~ins_errors.errors.ModelDefinitionError` if ``d`` is
     inconsistent.
 
-    Checks, in order: names (identifiers, unique, and no name shared by two of the states,
-    error states, inputs, parameters, error sources and initial conditions, which would be
-    one SymPy symbol; outputs may share names); the kind of each error source
-    (:data:`SOURCE_KINDS`); finite parameter defaults; shapes of every right-hand side,
-    output and initial state (one row per state, no missing equation); that every symbol
-    used is a declared state, input, parameter, error source, initial condition or recorded
-    intermediate, and every function a SymPy one (in the equations, intermediates and domain
-    conditions); that the document groups name error states; and that the real work reduces
-    to the ideal work when the computed state is the true one and every error is off.
+    Checks, in order: the type of every field (lists of :class:`Variable`, symbols,
+    mechanisations, a callable output map); names (identifiers, unique, and no name
+    shared by two of the states, error states, inputs, parameters, error sources and
+    initial conditions, which would be one SymPy symbol; outputs may share names); the
+    kind of each error source (:data:`SOURCE_KINDS`); finite parameter defaults; shapes
+    of every right-hand side, output and initial state (one row per state, no missing
+    equation); that every symbol used is a declared state, input, parameter, error
+    source, initial condition or recorded intermediate, every function a SymPy one and
+    every number finite (no ``zoo``, ``nan`` or ``oo``; in the equations, intermediates
+    and domain conditions); that the document groups name error states; and that the
+    real work reduces to the ideal work when the computed state is the true one and
+    every error is off.
 
     Parameters
     ----------
@@ -230,6 +344,7 @@ def check_definition(d: ModelDefinition, label: str | None = None,
         residual would not).
     """
     label = label or f"model {d.name!r}"
+    _check_types(label, d)
     _check_names(label, d)
     n, ne = len(d.states), len(d.error_states)
     state_names = [v.name for v in d.states]
@@ -265,6 +380,8 @@ def check_definition(d: ModelDefinition, label: str | None = None,
         for definition in mech.definitions:
             _undefined_functions(label, f"intermediate {definition.symbol} of the {what} "
                                         "mechanisation", definition.expression)
+            _finite(label, f"intermediate {definition.symbol} of the {what} mechanisation",
+                    definition.expression)
             extra = definition.expression.free_symbols - allowed - defined
             if extra:
                 raise _fail(label, f"intermediate {definition.symbol} of the {what} "
@@ -274,7 +391,7 @@ def check_definition(d: ModelDefinition, label: str | None = None,
     try:
         scratch = Mechanisation()
         outputs_raw = d.output_map(scratch, d.x, d.u)
-    except Exception as error:  # a researcher's function: report any failure
+    except (Exception, SystemExit) as error:  # a researcher's function: any failure
         raise _fail(label, "output_map", f"raised {type(error).__name__}: {error}") from None
     out_names = [v.name for v in d.outputs]
     outputs = _column(label, "output_map", outputs_raw, len(d.outputs), out_names, "outputs")
@@ -293,6 +410,7 @@ def check_definition(d: ModelDefinition, label: str | None = None,
             if not (isinstance(item, tuple) and len(item) == 2 and isinstance(item[1], str)):
                 raise _fail(label, f"{what}[{k}]", "must be a pair (expression, message)")
             _undefined_functions(label, f"{what} condition {item[1]!r}", sp.sympify(item[0]))
+            _finite(label, f"{what} condition {item[1]!r}", sp.sympify(item[0]))
             extra = sp.sympify(item[0]).free_symbols - allowed
             if extra:
                 raise _fail(label, f"{what} condition {item[1]!r}",

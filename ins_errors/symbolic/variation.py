@@ -196,6 +196,7 @@ def _vary(d: ModelDefinition, trees: SharedTrees) -> ErrorModel:
         E = trees.xreplace_matrix(d.initial_real_state.jacobian(d.w), no_errors)
     with _step(d.name, "ideal-work equations (intermediates substituted)"):
         ideal_rhs = d.ideal_rhs_expanded()
+    _refuse_non_finite(d, F, G, H, second, output_second, E)
     return ErrorModel(
         definition=d,
         ideal_rhs=ideal_rhs,
@@ -210,6 +211,52 @@ def _vary(d: ModelDefinition, trees: SharedTrees) -> ErrorModel:
         initial_real_state=d.initial_real_state,
         initial_error_matrix=E,
     )
+
+
+def _refuse_non_finite(d: ModelDefinition, F: sp.Matrix, G: sp.Matrix, H: sp.Matrix,
+                       second: sp.Matrix, output_second: sp.Matrix, E: sp.Matrix) -> None:
+    """Refuse derivatives that are not finite where the errors are zero.
+
+    A formula that is finite itself (checked by
+    :func:`~ins_errors.symbolic.consistency.check_definition`) may have an infinite or
+    undefined derivative there (``sqrt(psi)`` at ψ = 0); generated code would compute
+    ``nan`` from it. The message names the equation and the quantity.
+    """
+    from ins_errors.symbolic.consistency import non_finite
+
+    errors = [v.name for v in d.error_states]
+    sources = [v.name for v in d.sources]
+    outputs = [v.name for v in d.outputs]
+    checks = (
+        (F, "state matrix F", "real-work equation for {row!r}", errors, errors),
+        (G, "source matrix G", "real-work equation for {row!r}", errors, sources),
+        (H, "output matrix H", "output {row!r}", outputs, errors),
+        (E, "initial error matrix E", "initial real state of {row!r}", errors, sources),
+    )
+    for matrix, what, equation, rows, columns in checks:
+        for i in range(matrix.rows):
+            for j in range(matrix.cols):
+                bad = non_finite(matrix[i, j])
+                if bad:
+                    row = rows[i]
+                    raise ModelDefinitionError(
+                        f"model {d.name!r}: {what}: the derivative of the "
+                        f"{equation.format(row=row)} by {columns[j]} is not finite where "
+                        f"the errors are zero (it contains {', '.join(bad)}): a formula "
+                        "such as sqrt(psi) or 1/psi of an error state or source; write one "
+                        "that is smooth at zero error (step: variation)")
+    for matrix, what, equation, rows in (
+            (second, "second-order terms", "real-work equation for {row!r}", errors),
+            (output_second, "second-order output terms", "output {row!r}", outputs)):
+        for i in range(matrix.rows):
+            bad = non_finite(matrix[i, 0])
+            if bad:
+                raise ModelDefinitionError(
+                    f"model {d.name!r}: {what}: the second derivatives of the "
+                    f"{equation.format(row=rows[i])} are not finite where the errors are "
+                    f"zero (they contain {', '.join(bad)}): a formula such as psi**1.5 of "
+                    "an error state or source; write one that is smooth at zero error "
+                    "(step: variation)")
 
 
 # --------------------------------------------------------------------------------------
