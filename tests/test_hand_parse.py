@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import json
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -167,6 +170,59 @@ def test_bad_lines_are_reported_not_raised(text, message):
     hand = parse_hand_text(text, ORTHODROMIC)
     assert not hand.equations
     assert len(hand.problems) == 1 and message in hand.problems[0].message
+
+
+@pytest.mark.parametrize(("text", "latex", "column", "message"), [
+    # a product of numbers beyond a double (SymPy made it, the check then said only
+    # "a coefficient is not finite")
+    ("x = -g*psi + 1e300*1e300*b", False, 14, "1e300*1e300 is about 1e+600, too large"),
+    ("x = -g*psi + " + "9" * 400 + "*b", False, 14, "is too large (numbers of a hand file"),
+    ("x = 2**(-10**6)*b", False, 5, "2**(-10**6) is about 10^(-3.01e+05), too small"),
+    ("x = 10^(10^3)*b", False, 5, "10**(10**3) is about 1e+1000, too large"),
+    # a huge power of a quantity (SymPy would expand or differentiate it)
+    ("x = (a + b)**(10**10)", False, 5, "the exponent of (a + b)**(10**10) is too large"),
+    ("x = a**-101", False, 5, "the exponent of a**-101 is too large (at most 100"),
+    (r"x = 10^{400} b", True, None, "10^400 is about 1e+400, too large to compute"),
+])
+def test_numbers_too_large_to_compute_are_refused_with_their_place(text, latex, column,
+                                                                   message):
+    hand = parse_hand_text(text, ORTHODROMIC, latex=latex)
+    assert not hand.equations
+    (problem,) = hand.problems
+    assert problem.line == 1 and message in problem.message, problem
+    if column is not None:
+        assert problem.column == column
+
+
+def test_powers_are_sized_before_sympy_computes_them():
+    """`10**(10**10)` (and LaTeX `10^{10^{10}}`, whose exponent group is computed first)
+    kept `check` busy computing an integer of ten billion digits: it never returned.
+    In a child process, so that the old behaviour fails by its time limit."""
+    code = (
+        "import json\n"
+        "from ins_errors.checker.notation import ORTHODROMIC\n"
+        "from ins_errors.checker.parse import parse_hand_text\n"
+        "text = parse_hand_text('x = 1\\ny = -g*psi + 10**(10**10)*b', ORTHODROMIC)\n"
+        "tex = parse_hand_text('y = -g \\\\psi + 10^{10^{10}} b', ORTHODROMIC, latex=True)\n"
+        "print(json.dumps([str(p) for p in text.problems + tex.problems]))\n")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=120, cwd=ROOT, check=True)
+    text, tex = json.loads(done.stdout)
+    assert text.startswith("line 2, column 14: 10**(10**10) is about 10^(1e+10), too large")
+    assert tex.startswith("line 1") and "10^10000000000 is about 10^(1e+10)" in tex
+
+
+def test_an_expression_too_long_to_read_is_a_problem_of_its_line():
+    """A sum of 5000 terms on one line was a RecursionError traceback (Python's parser);
+    a LaTeX line nested 3000 groups deep likewise (the converter)."""
+    long_sum = "x = 1\ny = " + " + ".join(["g*psi"] * 5000) + "\nz = 2\n"
+    hand = parse_hand_text(long_sum, ORTHODROMIC)
+    assert [e.lhs for e in hand.equations] == [S("x"), S("z")]
+    (problem,) = hand.problems
+    assert problem.line == 2 and "too long or too deeply nested to read" in problem.message
+    deep = "x = " + "{" * 3000 + "a" + "}" * 3000 + "\n"
+    (problem,) = parse_hand_text(deep, ORTHODROMIC, latex=True).problems
+    assert problem.line == 1 and "too long or too deeply nested to read" in problem.message
 
 
 def test_missing_file_is_one_clear_error(tmp_path):

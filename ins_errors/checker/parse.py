@@ -59,6 +59,7 @@ backend (``"sympy"``, much slower) is kept as a cross-check, see :data:`LATEX_BA
 from __future__ import annotations
 
 import ast
+import math
 import re
 from dataclasses import dataclass, field
 from functools import lru_cache, partial
@@ -232,6 +233,181 @@ _FUNCTIONS: dict[str, object] = {
 _CONSTANTS = {"pi": sp.pi}
 _TRANSFORMS = (*standard_transformations, convert_xor)
 
+LARGEST_DECADE = 308
+"""Numbers of a hand file are refused beyond 10**308 (the largest double is 1.8e308),
+and powers of numbers beyond 10**±308, before SymPy computes them: ``10**(10**10)``
+would keep it busy for hours computing an integer of ten billion digits."""
+
+LARGEST_EXPONENT = 100
+"""Largest exponent (in magnitude) of a power of a quantity: error equations have
+squares, inverse square roots and the like; ``(psi + delta_V)**(10**10)`` would keep
+SymPy busy."""
+
+
+_LIMIT = f"numbers of a hand file are at most 1e{LARGEST_DECADE} in size"
+
+
+class _TooLargeError(Exception):
+    """Internal: a number or exponent beyond :data:`LARGEST_DECADE` or
+    :data:`LARGEST_EXPONENT` (converted to a line problem)."""
+
+
+def _power_decade(base: float | None, base_decade: float, exponent: float | None,
+                  shown: object) -> float:
+    """log10 |base ** exponent| of a power of two numbers, or :class:`_TooLargeError`.
+
+    ``base`` and ``exponent`` are the values (None: beyond a double), ``base_decade`` is
+    log10 |base|.
+    """
+    if exponent is None:
+        raise _TooLargeError(f"the exponent of {shown} is too large to compute")
+    if base is not None and abs(base) in (0.0, 1.0):
+        return -math.inf if base == 0.0 and exponent > 0 else 0.0
+    decade = exponent * base_decade
+    if abs(decade) > LARGEST_DECADE:
+        what = "large" if decade > 0 else "small"
+        raise _TooLargeError(f"{shown} is about {_decade_text(decade)}, too {what} to "
+                             f"compute ({_LIMIT})")
+    return decade
+
+
+class _Shown:
+    """The source text of an AST node, made only when a message prints it."""
+
+    def __init__(self, source: str, node: ast.AST):
+        self.source, self.node = source, node
+
+    def __str__(self) -> str:
+        text = " ".join((ast.get_source_segment(self.source, self.node)
+                         or ast.unparse(self.node)).split())
+        return text if len(text) <= 40 else text[:37] + "..."
+
+    def __format__(self, spec: str) -> str:
+        return format(str(self), spec)
+
+
+def _check_numbers(text: str, column: int) -> None:
+    """Refuse, before SymPy evaluates them, numbers and powers of numbers too large to
+    compute (:data:`LARGEST_DECADE`) and powers of quantities with huge exponents
+    (:data:`LARGEST_EXPONENT`), naming the column of the offending part.
+
+    The constant parts of the expression are sized bottom-up, by their decimal
+    exponents, without computing them. ``^`` is read as ``**``, as SymPy reads it (with
+    the precedence of a power, not Python's of ``^``).
+    """
+    source = text.replace("^", "**")
+    try:
+        tree = ast.parse(source, mode="eval")
+    except (SyntaxError, RecursionError, MemoryError):  # told by the caller's parse
+        return
+    carets = [k for k, c in enumerate(text) if c == "^"]
+
+    def place(node: ast.AST) -> int:
+        """Column of ``node`` in ``text`` (each ``^`` is one character shorter)."""
+        offset = node.col_offset
+        return column + offset - sum(1 for k, c in enumerate(carets) if k + c < offset)
+
+    # (value as a float or None when beyond a double, log10 of its magnitude)
+    sizes: dict[int, tuple[float | None, float]] = {}
+
+    def value(decade: float, number: float) -> float | None:
+        return number if decade <= LARGEST_DECADE and math.isfinite(number) else None
+
+    for node in reversed(list(ast.walk(tree))):  # breadth first, reversed: children first
+        shown = _Shown(source, node)
+        try:
+            if isinstance(node, ast.Constant) and isinstance(node.value, (int, float)) \
+                    and not isinstance(node.value, bool):
+                number = node.value
+                decade = math.log10(abs(number)) if number else -math.inf
+                if decade > LARGEST_DECADE:
+                    raise _TooLargeError(f"the number {shown} is too large ({_LIMIT})")
+                sizes[id(node)] = (float(number), decade)
+            elif isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)) \
+                    and id(node.operand) in sizes:
+                number, decade = sizes[id(node.operand)]
+                sizes[id(node)] = (None if number is None else
+                                   -number if isinstance(node.op, ast.USub) else number,
+                                   decade)
+            elif isinstance(node, ast.BinOp) and isinstance(node.op, (ast.Pow, ast.BitXor)):
+                if id(node.right) not in sizes:
+                    continue
+                exponent, _ = sizes[id(node.right)]
+                if id(node.left) in sizes:
+                    base, base_decade = sizes[id(node.left)]
+                    decade = _power_decade(base, base_decade, exponent, shown)
+                    number = (None if base is None or exponent is None
+                              else _float_power(base, exponent))
+                    sizes[id(node)] = (value(decade, number) if number is not None else None,
+                                       decade)
+                elif exponent is None or abs(exponent) > LARGEST_EXPONENT:
+                    raise _TooLargeError(f"the exponent of {shown} is too large (at most "
+                                         f"{LARGEST_EXPONENT} in an error equation)")
+            elif isinstance(node, ast.BinOp) and id(node.left) in sizes \
+                    and id(node.right) in sizes:
+                (a, da), (b, db) = sizes[id(node.left)], sizes[id(node.right)]
+                if isinstance(node.op, (ast.Add, ast.Sub)):
+                    decade = max(da, db)
+                    number = (None if a is None or b is None
+                              else a + b if isinstance(node.op, ast.Add) else a - b)
+                elif isinstance(node.op, ast.Mult):
+                    decade = da + db if -math.inf not in (da, db) else -math.inf
+                    number = None if a is None or b is None else a * b
+                elif isinstance(node.op, ast.Div) and b != 0.0:
+                    decade = da - db if da != -math.inf else -math.inf
+                    number = None if a is None or b is None else a / b
+                else:
+                    continue
+                if decade > LARGEST_DECADE:
+                    raise _TooLargeError(f"{shown} is about {_decade_text(decade)}, too "
+                                         f"large ({_LIMIT})")
+                sizes[id(node)] = (None if number is None else value(decade, number), decade)
+        except _TooLargeError as error:
+            raise _LineError(place(node), str(error)) from None
+
+
+def _number_decade(number: sp.Number) -> float:
+    """log10 of the magnitude of a SymPy number, without making a float of it."""
+    if number == 0:
+        return -math.inf
+    if isinstance(number, sp.Rational):
+        return math.log10(abs(number.p)) - math.log10(number.q)
+    return math.log10(abs(float(number))) if math.isfinite(float(number)) else math.inf
+
+
+def _check_power(base: sp.Expr, exponent: sp.Expr) -> None:
+    """Refuse a power of SymPy expressions that SymPy would take hours to compute (the
+    LaTeX parser's; :func:`_check_numbers` sizes the plain text's)."""
+    if not isinstance(exponent, sp.Number):
+        return
+    big = _number_decade(exponent) > LARGEST_DECADE
+    shown = f"{sp.sstr(base):.20}^{sp.sstr(exponent):.20}"
+    if isinstance(base, sp.Number):
+        value = None if big else float(exponent)
+        _power_decade(None if abs(base) not in (0, 1) else float(base), _number_decade(base),
+                      value, shown)
+    elif big or abs(float(exponent)) > LARGEST_EXPONENT:
+        raise _TooLargeError(f"the exponent of {shown} is too large (at most "
+                             f"{LARGEST_EXPONENT} in an error equation)")
+
+
+def _decade_text(decade: float) -> str:
+    """``1e+600``, or ``10^(1e+10)`` for a decade too long to write."""
+    return f"1e{decade:+.0f}" if abs(decade) < 1e5 else f"10^({decade:.3g})"
+
+
+def _float_power(base: float, exponent: float) -> float | None:
+    """``base ** exponent`` as a float (None when not a real number)."""
+    try:
+        result = base ** exponent
+    except (OverflowError, ZeroDivisionError):
+        return None
+    return result if isinstance(result, float | int) else None
+
+
+_TOO_LONG = ("this expression ({length} characters) is too long or too deeply nested "
+             "to read (a few thousand terms or nested groups are too many)")
+
 
 def parse_text_expression(text: str, notation: Notation, column: int = 1
                           ) -> tuple[sp.Expr, dict[str, int]]:
@@ -277,6 +453,9 @@ def _parsed_text(text: str, column: int, spellings: tuple[tuple[str, str], ...]
         offset = (error.offset or 1) - 1
         raise _LineError(column + lead + offset,
                          f"cannot parse {shown!r}: {error.msg}") from None
+    except (RecursionError, MemoryError):  # a sum of thousands of terms, say
+        raise _LineError(column + lead, _TOO_LONG.format(length=len(stripped))) from None
+    _check_numbers(stripped, column + lead)
     local: dict[str, object] = {}
     columns: dict[str, int] = {}
     calls = {id(node.func) for node in ast.walk(tree) if isinstance(node, ast.Call)}
@@ -302,6 +481,8 @@ def _parsed_text(text: str, column: int, spellings: tuple[tuple[str, str], ...]
             columns.setdefault(atom.name, where)
     try:
         expr = parse_expr(stripped, local_dict=local, transformations=_TRANSFORMS)
+    except (RecursionError, MemoryError):
+        raise _LineError(column + lead, _TOO_LONG.format(length=len(stripped))) from None
     except Exception as error:  # SymPy raises many kinds here
         raise _LineError(column + lead, f"cannot parse {shown!r}: {error}") from None
     if not isinstance(expr, sp.Expr):
@@ -651,7 +832,12 @@ class _LatexConverter:
             parsed = _parse_arithmetic(converted, self.backend)
         except ImportError as error:  # pragma: no cover - lark is a declared dependency
             raise HandParseError(f"LaTeX input needs the 'lark' package: {error}") from None
+        except (RecursionError, MemoryError):
+            raise _LineError(position, _TOO_LONG.format(length=len(converted))) from None
         except Exception as error:
+            too_large = getattr(error, "orig_exc", error)  # lark wraps a callback's error
+            if isinstance(too_large, _TooLargeError):
+                raise _LineError(position, str(too_large)) from None
             offset = max(getattr(error, "column", 1) - 1, 0)
             original = pieces[0].position
             for start, spot in where:
@@ -664,6 +850,11 @@ class _LatexConverter:
         stray = [s for s in parsed.free_symbols if s not in mapping]
         if stray:
             raise _LineError(position, f"could not read symbol {stray[0]}")
+        try:  # a group put into a power, 10^{10^{10}}, is computed by the substitution
+            for power in parsed.atoms(sp.Pow):
+                _check_power(power.base.xreplace(mapping), power.exp.xreplace(mapping))
+        except _TooLargeError as error:
+            raise _LineError(position, str(error)) from None
         return parsed.xreplace(mapping)
 
     def argument(self) -> list[_Piece]:
@@ -758,6 +949,7 @@ def _arithmetic_parser():
             return -items[0]
 
         def pow(self, items):
+            _check_power(items[0], items[1])
             return items[0] ** items[1]
 
         def number(self, items):
@@ -971,6 +1163,9 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
                           notation, latex)
         except _LineError as error:
             hand.problems.append(Problem(number, error.column, error.message))
+        except (RecursionError, MemoryError):  # nested too deeply for the converter
+            hand.problems.append(Problem(number, None, _TOO_LONG.format(
+                length=len(stripped)).replace("this expression", "this line")))
     if len(hand.sections) > 1 and not any(e.section == 0 for e in hand.equations):
         hand.sections[0] = "(before the first section)"
     return hand
