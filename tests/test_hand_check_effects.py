@@ -30,7 +30,7 @@ CORRECT = ("dot(delta_V) = -g*psi + accel_bias\ndot(delta_phi) = delta_V/R\n"
 def _matrix(signs: dict) -> list[list[float]]:
     """Augmented 5 × 5 matrix of (δV, δφ, ψ, ε, ∇) with the given coefficients."""
     a = [[0.0] * 5 for _ in range(5)]
-    a[0][2], a[0][4] = signs.get("V_psi", -G), 1.0
+    a[0][2], a[0][4] = signs.get("V_psi", -G), signs.get("V_bias", 1.0)
     a[1][0] = signs.get("phi_V", 1 / R)
     a[2][0], a[2][3] = signs.get("psi_V", 1 / R), 1.0
     return a
@@ -78,6 +78,34 @@ def test_worst_single_error_and_exponential_growth(tmp_path, capsys):
     line = next(s for s in out.splitlines() if "effect:" in s)
     assert "1 h: 28.3 km, 918″" in line
     assert f"24 h: grows exponentially, ×e every {1 / OMEGA_S / 60:.3g} min" in line
+
+
+def test_a_huge_coefficient_of_a_model_term_is_a_wrong_coefficient(tmp_path, capsys):
+    """∇ written 1e15 ∇: the model has the term (coefficient 1), so this is a wrong
+    coefficient with its ratio, not an "extra term" (the model's 1 was taken for zero
+    against the hand's 1e15); its effect is the propagated one, 1e15 times the bias's."""
+    effect, out = _effect(tmp_path, capsys, CORRECT.replace("+ accel_bias",
+                                                            "+ 1e15*accel_bias"))
+    row = next(s for s in out.splitlines() if "accel_bias" in s and "mistake" in s)
+    assert "wrong coefficient" in row and "extra term" not in row
+    assert "hand/model = 1e+15 at every point" in out
+    position, _ = _worst({"V_bias": 1e15}, 1.0)
+    assert effect["position_1h"] == pytest.approx(position, rel=1e-5)
+    assert effect["position_case_1h"] == "source accel_bias"
+
+
+def test_a_propagation_that_overflows_is_no_figure_below_the_floor(tmp_path, capsys):
+    """∇ written 1e300 ∇: the mistake's propagation passes the largest double (its
+    exponential is inf and NaN); that was shown as "< 5e-11 m", a 1e300-fold error
+    called negligible. It is said to overflow (JSON: the figure null, overflow true)."""
+    effect, out = _effect(tmp_path, capsys, CORRECT.replace("+ accel_bias",
+                                                            "+ 1e300*accel_bias"))
+    assert "hand/model = 1e+300 at every point" in out
+    for tag in ("1h", "24h"):
+        assert effect[f"overflow_{tag}"] is True
+        assert effect[f"position_{tag}"] is None and effect[f"attitude_{tag}"] is None
+    line = next(s for s in out.splitlines() if "effect:" in s)
+    assert "1 h: overflows" in line and "24 h: overflows" in line and "<" not in line
 
 
 def test_rounding_floor_instead_of_noise(tmp_path, capsys):

@@ -97,6 +97,10 @@ def test_a_function_object_is_checked_as_its_file_spec(wgs84, tmp_path):
      "alpha_N", "alpha_U", "wrong coefficient"),
     ("G[0, 3] = G[1, 4] = 1.0", "G[0, 3] = G[1, 4] = 1.0\n    G[2, 3] = 1e-7",
      "delta_latitude", "accel_bias_east", "extra term"),
+    # the model's U cos φ (7e-5/s) is no zero against a hand's 1000/s: a term the model
+    # has, written with a wrong coefficient (it was called an extra term)
+    ("F[5, 4], F[5, 6] = -w_u, w_e", "F[5, 4], F[5, 6] = -w_u, 1e3",
+     "alpha_N", "alpha_U", "wrong coefficient"),
 ])
 def test_injected_mistake_is_reported_in_its_entry(tmp_path, wgs84, old, new, row, column,
                                                    kind):

@@ -111,7 +111,8 @@ class Finding:
         ``position_…`` (m) and ``attitude_…`` (rad), their rounding floors
         ``position_floor_…``, ``attitude_floor_…`` and the cases ``position_case_…``,
         ``attitude_case_…`` (None at or below the floor); ``e_folding_s`` (s) when the
-        mistake adds a growing mode.
+        mistake adds a growing mode; ``overflow_…`` (True, the figures inf) when the
+        propagation with the mistake overflows floating point.
     """
 
     quantity: str
@@ -197,7 +198,8 @@ def _candidates(expr: sp.Expr, known: tuple[sp.Symbol, ...]
 def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.ndarray,
              tiny: float, evaluate: Callable[[list[sp.Expr]], np.ndarray | None],
              known: list[sp.Symbol], term_split: Callable | None = None,
-             proportional: bool = False) -> tuple[str, str]:
+             proportional: bool = False, hand_tiny: float | None = None,
+             model_tiny: float | None = None) -> tuple[str, str]:
     """(kind, detail) of a coefficient that differs.
 
     Parameters
@@ -216,10 +218,16 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
         ``term_split(hand, model)`` -> (only in model, only in hand) or None.
     proportional : bool
         Also accept a one-place change that leaves a constant ratio (reported with it).
+    hand_tiny, model_tiny : float, optional
+        Below these the hand's (the model's) values are zero: a side has a term unless
+        it is negligible against that side's own terms (default ``tiny``). A model term of
+        1 against a hand's 1e15 is a wrong coefficient, not an extra term.
     """
-    if np.all(np.abs(hs) <= tiny):
+    hand_tiny = tiny if hand_tiny is None else hand_tiny
+    model_tiny = tiny if model_tiny is None else model_tiny
+    if np.all(np.abs(hs) <= hand_tiny):
         return OMITTED, ""
-    if np.all(np.abs(ms) <= tiny):
+    if np.all(np.abs(ms) <= model_tiny):
         return EXTRA, ""
     scale = np.maximum(np.abs(hs), np.abs(ms))
     if np.all(np.abs(hs + ms) <= TOLERANCE * scale):
@@ -231,7 +239,7 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
         return OMITTED, f"part of the coefficient is missing: {_short(split[0])}"
     if split is not None and split[0] == 0:
         return EXTRA, f"extra part of the coefficient: {_short(split[1])}"
-    usable = np.abs(ms) > tiny
+    usable = np.abs(ms) > model_tiny
     ratios = hs[usable] / ms[usable]
     if ratios.size and np.all(np.abs(ratios - ratios[0]) <= TOLERANCE * abs(ratios[0])):
         exponent = exponent_that_fits(hand_expr, ms, tiny, evaluate)

@@ -533,6 +533,10 @@ class Comparison:
         weights = np.array([self.magnitude[b] for b in quantities]).reshape(-1, 1)
         largest = np.max(np.abs(np.concatenate([hv, mv])) * np.concatenate(
             [weights, weights]), axis=0) if k else np.zeros(len(self.points))
+        # each side's own largest term: what is negligible on that side (a model term of
+        # 1 is no "extra term" of a hand that writes 1e15 for it)
+        hand_largest = np.max(np.abs(hv) * weights, axis=0) if k else largest
+        model_largest = np.max(np.abs(mv) * weights, axis=0) if k else largest
         safe = np.where(largest > 0, largest, np.inf)
         raw: dict[sp.Symbol, dict] = {}
         for i, b in enumerate(quantities):
@@ -541,6 +545,7 @@ class Comparison:
             if ratios[j] > AGREEMENT:
                 raw[b] = {"size": float(ratios[j]), "point": self.points[j].label,
                           "hand": hv[i], "model": mv[i], "largest": largest,
+                          "hand_largest": hand_largest, "model_largest": model_largest,
                           "hand_expr": h.get(b, sp.S.Zero), "model_expr": m.get(b, sp.S.Zero),
                           "ratios": ratios}
         return raw, largest, constant
@@ -633,13 +638,15 @@ class Comparison:
     def finding(self, b: sp.Symbol, info: dict, diagnose: bool = True) -> Finding:
         hs, ms, largest = info["hand"], info["model"], info["largest"]
         tiny = 1e-12 * largest / self.magnitude[b]
+        sides = {"hand_tiny": 1e-12 * info.get("hand_largest", largest) / self.magnitude[b],
+                 "model_tiny": 1e-12 * info.get("model_largest", largest) / self.magnitude[b]}
         if diagnose:
             kind, detail = cl.diagnose(
                 info["hand_expr"], info["model_expr"], hs, ms, tiny, self.try_evaluate,
-                self.arguments, self._split)
+                self.arguments, self._split, **sides)
         else:  # the cheap, numeric part only (omitted, extra, sign, constant ratio)
             kind, detail = cl.diagnose(info["hand_expr"], info["model_expr"], hs, ms, tiny,
-                                       lambda exprs: None, [])
+                                       lambda exprs: None, [], **sides)
         return Finding(str(b), kind, cl.severity(kind, info["size"], self.threshold),
                        info["size"], info["point"], _display(info["hand_shown"]),
                        _display(info["model_shown"]), detail)

@@ -25,6 +25,10 @@ largest (for a finding without one, the largest over the points; by the attitude
 model without a position figure). The 24 h state is the
 1 h transition matrix to the 24th power (exact for frozen coefficients).
 
+A change too large for floating point (a coefficient of 1e300: the propagation
+overflows to inf or NaN) is an infinite figure marked ``overflow_1h``/``overflow_24h``,
+never one below the floor.
+
 Each change is compared with the rounding floor of the two propagations
 (:func:`ins_errors.checker.matrix_effects.rounding_floor`, the matrix check's): at or below it the
 change is rounding, not an effect. When the mistake gives the frozen equations a growing
@@ -36,6 +40,8 @@ much since 1 h (:func:`~ins_errors.checker.growth.mark_growth`).
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import sympy as sp
@@ -238,7 +244,11 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
                     if has_position else None)
             datt = (np.linalg.norm(attitude(p, x - base), axis=0) if platform or angles
                     else None)
-            largest = max(float(np.abs(r / scale).max(initial=0.0)) for r in (base, x))
+            # a coefficient of 1e300 overflows the propagation: its NaN and inf are no
+            # figure below the rounding floor but an effect beyond any
+            overflow = not np.all(np.isfinite(x))
+            largest = max(float(np.abs(r / scale).max(initial=0.0))
+                          for r in ((base,) if overflow else (base, x)))
             steps = round(hours * 3600.0 / STEP)
             for what, diffs, unit in (("position", dpos, units[0]),
                                       ("attitude", datt, units[1])):
@@ -248,6 +258,11 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
                     continue
                 value, j = _worst(diffs)
                 floor = rounding_floor(largest, n + len(sources), steps, unit)
+                if overflow or not np.all(np.isfinite(diffs)):
+                    # (every case is NaN once the exponential overflows: no case named)
+                    effect.update({f"overflow_{tag}": True, f"{what}_{tag}": math.inf,
+                                   f"{what}_floor_{tag}": floor, f"{what}_case_{tag}": None})
+                    continue
                 effect[f"{what}_{tag}"] = value
                 effect[f"{what}_floor_{tag}"] = floor
                 effect[f"{what}_case_{tag}"] = cases[j] if value > floor else None

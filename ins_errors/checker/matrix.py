@@ -314,11 +314,16 @@ def _sign_on_a_motion(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarra
 
 
 def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, threshold: float,
-              left_out: bool, motion_of: np.ndarray | None = None
+              left_out: bool, motion_of: np.ndarray | None = None,
+              hand_scale: np.ndarray | None = None, model_scale: np.ndarray | None = None
               ) -> tuple[str, str, str] | None:
     """(kind, severity, detail) of one entry's samples, or None when they agree.
 
     ``motion_of`` (S,) gives the motion of each sample (default: one motion).
+    ``hand_scale``, ``model_scale`` (S,): the largest term of the hand's (the model's)
+    row alone, against which that side's entry is zero (default ``scale``, both sides'):
+    a model entry of −1.2e-4/s is a term the model has, also where the hand writes 1000
+    for it (a wrong coefficient, not an extra term).
     """
     if motion_of is None:
         motion_of = np.zeros(h.shape, dtype=int)
@@ -326,9 +331,10 @@ def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, thres
     size = float(ratio.max())
     if size <= AGREEMENT:
         return None
-    tiny = AGREEMENT * scale
-    hand_zero = np.all(np.abs(h) * mag <= tiny)
-    model_zero = np.all(np.abs(m) * mag <= tiny)
+    hand_tiny = AGREEMENT * (scale if hand_scale is None else hand_scale)
+    model_tiny = AGREEMENT * (scale if model_scale is None else model_scale)
+    hand_zero = np.all(np.abs(h) * mag <= hand_tiny)
+    model_zero = np.all(np.abs(m) * mag <= model_tiny)
     detail = ""
     if left_out:
         kind = LEFT_OUT
@@ -337,8 +343,8 @@ def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, thres
     elif model_zero:
         kind = EXTRA
     else:
-        both = (np.abs(m) * mag > tiny) & (np.abs(h) * mag > tiny)
-        only_hand = (np.abs(m) * mag <= tiny) & (np.abs(h) * mag > tiny)
+        both = (np.abs(m) * mag > model_tiny) & (np.abs(h) * mag > hand_tiny)
+        only_hand = (np.abs(m) * mag <= model_tiny) & (np.abs(h) * mag > hand_tiny)
         q = h[both] / m[both]
         if not only_hand.any() and np.all(np.abs(q + 1) <= PARTIAL):
             kind = SIGN
@@ -478,6 +484,10 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
             terms.append(np.abs(Gh[:, a, :]) * source_mag[src_cols])
         scale = np.max(np.concatenate(terms, axis=1), axis=1)
         scale = np.where(scale > 0, scale, np.inf)
+        # each side's own row: what is negligible on that side (terms[0], [2]: derived)
+        own = {side: np.max(np.concatenate(parts, axis=1), axis=1) for side, parts in (
+            ("model", [terms[0], terms[2]]), ("hand", [terms[1], *terms[3:]]))}
+        own = {side: np.where(v > 0, v, np.inf) for side, v in own.items()}
         unit = _rate_unit(conv.states[i].unit)
         columns = [("F", j, names[j], Fh_full[:, a, j], Fz[:, i, j], state_mag[j],
                     j not in rows) for j in range(len(names))]
@@ -490,7 +500,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                 continue
             compared += 1
             verdict = _classify(h, m, mag, scale, report.threshold, left_out,
-                                sample_motion)
+                                sample_motion, own["hand"], own["model"])
             if verdict is None:
                 continue
             kind, severity, detail = verdict

@@ -104,7 +104,8 @@ def _count(n: int, thing: str) -> str:
 def _effect(f: Finding) -> str:
     """``"1 h: 28.3 km, 918″ (initial psi); 24 h: 1.2 km, 3.4″ (static base)"`` or empty:
     the worst single case at each time (named when above rounding), a figure at or
-    below its rounding floor as ``< floor``, exponential growth as such."""
+    below its rounding floor as ``< floor``, exponential growth as such, a propagation
+    that overflows floating point as that."""
     e = f.effect
     if not e:
         return ""
@@ -116,6 +117,9 @@ def _effect(f: Finding) -> str:
         if e.get(f"exponential_{tag}"):
             parts.append(f"{int(hours)} h: "
                          + growth_text(e["e_folding_s"], e.get("growing_mode")))
+            continue
+        if e.get(f"overflow_{tag}"):
+            parts.append(f"{int(hours)} h: overflows (the propagation passes 1e308)")
             continue
         position, attitude = e[f"position_{tag}"], e[f"attitude_{tag}"]
         floor_p = e.get(f"position_floor_{tag}", 0.0)
