@@ -96,9 +96,11 @@ def test_a_sweeps_latitude_for_a_model_without_one_is_refused(capsys, tmp_path, 
     assert err.startswith("ins-errors: error: sub/tangent.toml [")
     assert all(part in err for part in message), err
     assert not (tmp_path / "t.zarr").exists()
-    if motion:  # run refuses the same [motion] latitude, naming the file too
-        err = _one_line_error(capsys, ["run", "sub/tangent.toml", "--out", "out"])
-        assert err.startswith("ins-errors: error: sub/tangent.toml [motion] latitude:")
+    if motion:  # run refuses the same [motion] latitude (of the file without its
+        # [sweep] table, which run refuses first), naming the file too
+        (tmp_path / "sub" / "one.toml").write_text(text.split("[sweep]")[0])
+        err = _one_line_error(capsys, ["run", "sub/one.toml", "--out", "out"])
+        assert err.startswith("ins-errors: error: sub/one.toml [motion] latitude:")
 
 
 def test_a_budget_specs_latitude_for_a_model_without_one_is_refused(capsys, tmp_path):
