@@ -198,29 +198,45 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
             where: str = "") -> dict | None:
         """Effect at the finding's point (every point if it has none; the largest kept).
 
-        A finding with a point is also propagated at the other points: where the 24-h
-        figure is more than :data:`ELSEWHERE_SHOWN` times larger at one of them, that
-        point and figure are added (``largest_point``, ``largest_what``,
-        ``largest_24h``), since the point where a coefficient differs most in relative
-        terms need not be where the error grows most."""
+        A finding with a point is also propagated at the other points: the largest
+        24-h figure among them that is more than :data:`ELSEWHERE_SHOWN` times the one at
+        the finding's point (and above its floor) is added with its point
+        (``largest_point``, ``largest_what``, ``largest_24h``), since the point where a
+        coefficient differs most in relative terms need not be where the error grows
+        most; where the effect grows exponentially at another point (and not at the
+        finding's), that point and the e-folding time are added instead
+        (``largest_24h`` None, ``largest_e_folding_s``)."""
         at = labels.index(where) if where in labels else None
         best = None
         for p in ([at] if at is not None else range(k)):
             effect = effect_at(p, delta_f, delta_drive, out_delta)
             if best is None or (effect[f"{shown}_24h"] or 0.0) > (best[f"{shown}_24h"] or 0.0):
                 best = {"point": comparison.points[p].label, **effect}
-        if at is not None and best is not None and not best.get("exponential_24h"):
-            here = best[f"{shown}_24h"] or 0.0
-            for p in range(k):
-                if p == at:
-                    continue
-                other = effect_at(p, delta_f, delta_drive, out_delta)
+        if at is None or best is None or best.get("exponential_24h"):
+            return best
+        here = best[f"{shown}_24h"] or 0.0
+        larger = None   # (growing?, size: 1/e-folding or the figure, point, effect)
+        for p in range(k):
+            if p == at:
+                continue
+            other = effect_at(p, delta_f, delta_drive, out_delta)
+            if other.get("exponential_24h"):
+                candidate = (True, 1.0 / other["e_folding_s"], p, other)
+            else:
                 value = other[f"{shown}_24h"] or 0.0
-                if (not other.get("exponential_24h")
-                        and value > ELSEWHERE_SHOWN * max(here, best.get("largest_24h", 0.0))
-                        and value > (other[f"{shown}_floor_24h"] or 0.0)):
-                    best.update(largest_point=comparison.points[p].label,
-                                largest_what=shown, largest_24h=value)
+                if (value <= ELSEWHERE_SHOWN * here
+                        or value <= (other[f"{shown}_floor_24h"] or 0.0)):
+                    continue
+                candidate = (False, value, p, other)
+            if larger is None or candidate[:2] > larger[:2]:
+                larger = candidate
+        if larger is not None:
+            growing, size, p, other = larger
+            best.update(largest_point=comparison.points[p].label, largest_what=shown,
+                        largest_24h=None if growing else size)
+            if growing:
+                best.update(largest_e_folding_s=other["e_folding_s"],
+                            largest_growing_mode=other.get("growing_mode"))
         return best
 
     def effect_at(p: int, delta_f: np.ndarray, delta_drive: np.ndarray,

@@ -138,7 +138,9 @@ def _effect(f: Finding) -> str:
         parts.append(text)
     text = "; ".join(parts) + f" ({e['point']})"
     if e.get("largest_point"):  # much larger where the coefficient differs less
-        figure = (length_text(e["largest_24h"]) if e["largest_what"] == "position"
+        figure = (growth_text(e["largest_e_folding_s"], e.get("largest_growing_mode"))
+                  if e.get("largest_24h") is None
+                  else length_text(e["largest_24h"]) if e["largest_what"] == "position"
                   else _angle(e["largest_24h"]))
         text += f"; larger at {e['largest_point']}: 24 h: {figure}"
     return text
