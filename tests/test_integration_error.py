@@ -583,12 +583,12 @@ def test_the_warning_names_the_largest_share_of_the_error_when_it_quotes_another
     (warning,) = c.warnings
     # what quantity, how large relative to it, its limit, and the step that would pass
     assert warning.startswith("integration error too large at τ = 0.5 s, rectangle method: "
-                              "a's integration error is 0.005 m, 0.50% of its largest error "
+                              "a's integration error is 0.005 m, 0.5% of its largest error "
                               "(1 m), over the limit of 0.001 m (a tenth of its "
                               "linear-vs-direct difference, 0.01 m); τ = ")
     assert "s would bring it under the limit" in warning
     assert warning.endswith("The largest integration error relative to its quantity is b's: "
-                            "0.009 m of 1 m, 0.90% (the summary's integration error / error)")
+                            "0.009 m of 1 m, 0.9% (the summary's integration error / error)")
 
 
 def test_an_estimate_at_rounding_is_said_to_be_so(orthodromic):
@@ -611,3 +611,28 @@ def test_an_estimate_at_rounding_is_said_to_be_so(orthodromic):
                         refined=False, validity_threshold=None, warn=False)
     assert not coarse.integration_at_rounding
     assert "(rounding)" not in markdown_summary([coarse])
+
+
+def test_a_tiny_share_over_its_limit_is_not_printed_as_zero():
+    """A share of 2.8e-8 over its limit (a tenth of a tinier linear-vs-direct
+    difference) read "0.00% of its largest error ... over the limit" (the reviewer's
+    week-long run); shares are given to three significant digits. Below 1e-6 of the
+    error an estimate is rounding and warns of nothing (the summary says so)."""
+    from ins_errors.numeric.compare import Comparison, estimate_integration_errors, metrics_of
+    from ins_errors.numeric.simulate import ErrorCurves
+
+    times = np.array([0.0, 1.0, 2.0])
+
+    def curves(end):
+        return ErrorCurves(["a"], ["m/s"], times, np.array([[[0.0], [0.5], [end]]]))
+
+    for gap, warned in ((3e-5, "0.003%"), (3e-7, None)):
+        direct, linear = curves(1.0), curves(1.0 + 1e-5)
+        (c,) = [Comparison("x", {}, metrics_of(direct, linear, None, 0), times, {}, {}, {})]
+        estimate_integration_errors([c], (direct, linear), (curves(1.0 + gap), linear), 2, 1,
+                                    4, 0.5, "euler")
+        if warned is None:
+            assert c.warnings == [] and c.integration_at_rounding
+        else:
+            (warning,) = c.warnings
+            assert f"a's integration error is 3e-05 m/s, {warned} of its largest error" in warning

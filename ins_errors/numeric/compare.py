@@ -484,7 +484,8 @@ def observed_growth(comparison: Comparison) -> float:
     """Growth rate (1/s) of the run's linear errors: for each quantity, the log of its
     largest |error| over the second half of the run over its largest over the first
     half, divided by the half run; the largest over the quantities (−inf where no
-    quantity moves in both). Whole halves, so that a slow beat (the Earth period, the
+    quantity moves in both; +inf where one is finite in the first half and not in the
+    second). Whole halves, so that a slow beat (the Earth period, the
     Foucault period) does not read as growth."""
     times = comparison.times
     end = float(times[-1])
@@ -494,7 +495,9 @@ def observed_growth(comparison: Comparison) -> float:
         for curve in comparison.linear.values():
             a = float(np.max(np.abs(curve[early])))
             b = float(np.max(np.abs(curve[late])))
-            if a > 0 and b > 0 and np.isfinite(a) and np.isfinite(b):
+            if np.isfinite(a) and not np.isfinite(b):
+                rates.append(math.inf)   # overflowed (or NaN) in the second half
+            elif a > 0 and b > 0 and np.isfinite(a):
                 rates.append(math.log(b / a) / (end / 2))
     return max(rates)
 
@@ -886,7 +889,8 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
     worst, worst_need = None, 1.0
     for m in comparison.excited:
         error = m.integration_error
-        if error is None or error <= NOISE_FLOOR.get(m.unit, 0.0):
+        if (error is None or error <= NOISE_FLOOR.get(m.unit, 0.0)
+                or error < accuracy.RELEVANT * m.max_direct):  # rounding: not judged
             continue
         limits = [(accuracy.ERROR_SHARE * m.max_direct,
                    f"{accuracy.ERROR_SHARE:.0%} of its largest error")]
@@ -931,13 +935,13 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
         other = largest[1]
         also = (f". The largest integration error relative to its quantity is "
                 f"{other.quantity}'s: {_shown_size(other.integration_error, other.unit)} of "
-                f"{_shown_size(other.max_direct, other.unit)}, {largest[0]:.2%} (the "
+                f"{_shown_size(other.max_direct, other.unit)}, {_percent(largest[0])} (the "
                 "summary's integration error / error)")
     size = ""
     if worst is not None:
         m, target, what = worst
         size = (f"{m.quantity}'s integration error is {_shown_size(m.integration_error, m.unit)}"
-                f", {m.integration_error / m.max_direct:.2%} of its largest error "
+                f", {_percent(m.integration_error / m.max_direct)} of its largest error "
                 f"({_shown_size(m.max_direct, m.unit)}), over the limit of "
                 f"{_shown_size(target, m.unit)} ({what})")
     if unreliable:
@@ -951,6 +955,12 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
         return
     comparison.warnings.append(
         f"integration error too large at τ = {tau:g} s, {scheme}: {size}; {advice}{also}")
+
+
+def _percent(share: float) -> str:
+    """``"4.21%"``, ``"2.83e-06%"``: a share in per cent to three significant digits (a
+    fixed two decimals read 0.00 % for a share that was still over its limit)."""
+    return f"{100.0 * share:.3g}%"
 
 
 def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
