@@ -51,7 +51,7 @@ def curves_csv(comparisons: Sequence) -> str:
 
 def save_curves_csv(comparisons: Sequence, path: str | Path) -> None:
     """Write :func:`curves_csv`'s text to ``path`` (UTF-8) row by row, never holding the
-    whole text: a week's curves at a 1-s record are about 0.8 GB of it."""
+    whole text: a week's curves at a 1-s record are about 0.4 GB of it."""
     with open(path, "w", encoding="utf-8", newline="") as stream:
         _write_csv(comparisons, stream)
 

@@ -90,7 +90,7 @@ class Run(_Table):
 
 class Outputs(_Table):
     """``[outputs]``: the quantities the report shows and judges (its worst ratios and
-    warnings); default: every excited one."""
+    warnings); default: every judged one."""
 
     quantities: list[str] | None = Field(None, min_length=1)
 
@@ -177,7 +177,7 @@ def one_line(error: ValidationError, name: str,
         return InsErrorsError(f"{prefix}missing {path!r}")
     if kind == "too_short" and first.get("input") == []:
         default = {"legs": " (the standard manoeuvre)",
-                   "quantities": " (every excited quantity)"}.get(key, "")
+                   "quantities": " (every judged quantity)"}.get(key, "")
         return InsErrorsError(f"{prefix}{path} = []: an empty list; give at least "
                               f"{first['ctx']['min_length']}, or leave {key} out for "
                               f"the default{default}")

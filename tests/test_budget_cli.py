@@ -538,3 +538,12 @@ def test_monte_carlo_that_ends_before_the_first_row_is_refused(tmp_path, capsys)
     assert "\n" not in err
     assert "--mc-duration '60 s' ends before the spec's first row (position_error at 1 h)" \
         in err and "give at least 1 h" in err
+
+
+@pytest.mark.parametrize("option, value", [("--mc-step", "0 s"), ("--mc-duration", "-1 min")])
+def test_a_monte_carlo_option_of_zero_or_less_is_named_alone(capsys, option, value):
+    """Both options were named whichever was wrong ("--mc-duration and --mc-step must
+    be > 0"); the one given is named, with its value."""
+    assert main(["budget", "orthodromic", "--monte-carlo", "2", option, value]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"ins-errors: error: {option} must be positive, got {value!r}"

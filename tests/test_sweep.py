@@ -580,3 +580,23 @@ def test_run_refuses_a_sweep_file_and_names_the_command_that_runs_it(tmp_path, c
     assert captured.out == "" and captured.err.count("\n") == 1
     assert "[sweep]" in captured.err and f"ins-errors sweep {path}" in captured.err
     assert not out.exists()
+
+
+def test_a_store_of_the_earlier_judging_rule_is_another_sweep(tmp_path):
+    """Quantities were once judged by a share of the largest error of their unit; a store
+    made under that rule mixed with points of the new one without a word. The rule is
+    part of the sweep's identity and its settings, so such a store is named as differing
+    in it."""
+    from ins_errors.analysis import store as st
+
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['20 deg', '40 deg']\n",
+                         BASE.replace('"1 h"', '"5 min"'))
+    scenario = load_scenario(path)
+    layout = sw.layout(scenario, sw.grid(scenario))
+    settings = json.loads(layout.attributes["settings"]) if isinstance(
+        layout.attributes["settings"], str) else dict(layout.attributes["settings"])
+    assert settings["quantities judged"] == sw.JUDGING
+    del settings["quantities judged"]          # what a store of the earlier rule recorded
+    older = {"fingerprint": "0" * 32, "settings": json.dumps(settings)}
+    assert st.mismatch(older, layout) == (
+        f"another sweep: quantities judged is absent there, {sw.JUDGING} here")

@@ -823,7 +823,13 @@ def settings(scenario, quantities: Sequence[str]) -> dict[str, str]:
     out["[sweep] seed"] = str(spec.seed)
     for name, sigma in spec.random:
         out[f"[sweep.random] {name}"] = f"{sigma!r} {units.get(name, '')}".strip()
+    out["quantities judged"] = JUDGING
     return out
+
+
+JUDGING = "each on its own (its unit's rounding floor, first order)"
+"""Which quantities a point's worst ratios judge (part of a sweep's identity: a store of
+the earlier rule, a share of the largest error of the same unit, is another sweep)."""
 
 
 def layout(scenario, points: Grid, shard: Shard | None = None):
@@ -841,7 +847,7 @@ def layout(scenario, points: Grid, shard: Shard | None = None):
     names, units = error_quantities(model)
     curves = ("direct", "linear", "refined") if scenario.refined else ("direct", "linear")
     identity = {"model": scenario.model, "curves": curves, "quantities": names,
-                "times": times.tolist(), "store": 2}
+                "times": times.tolist(), "store": 2, "judging": JUDGING}
     spec = scenario.sweep
     attributes = {
         "title": scenario.title, "model": scenario.model, "method": scenario.method,

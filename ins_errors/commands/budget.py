@@ -331,7 +331,7 @@ def mc_duration(spec, args: argparse.Namespace) -> float:
     if "mc_duration" in getattr(args, "mc_defaulted", ()):
         duration = min(duration, spec.operating_time)  # a spec shorter than the default
     if duration <= 0:
-        raise SpecError("--mc-duration and --mc-step must be > 0")
+        raise SpecError(f"--mc-duration must be positive, got {args.mc_duration!r}")
     grid = spec.step
     if whole_steps(duration, grid) is None or duration > spec.operating_time:
         raise SpecError(f"--mc-duration must be a whole number of the spec's {grid:g} s "
@@ -361,7 +361,7 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
     duration = mc_duration(spec, args)
     step = parse_quantity(args.mc_step, "s", "--mc-step")
     if step <= 0:
-        raise SpecError("--mc-duration and --mc-step must be > 0")
+        raise SpecError(f"--mc-step must be positive, got {args.mc_step!r}")
     grid = spec.step
     if whole_steps(grid, step) is None:
         raise SpecError(f"--mc-step must divide the spec's {grid:g} s analysis step; got "
