@@ -3,7 +3,7 @@
 For each of the lab manual's 13 error factors, on a static base (24 h), a great-circle
 flight (24 h) and a manoeuvring flight (4 h: turns, speed changes, climbs), the direct
 run (real − ideal, rectangle method, τ = 1 s) and the linear error equations agree to
-1 % of the largest direct error of every excited quantity, at small magnitudes
+1 % of the largest direct error of every judged quantity, at small magnitudes
 (0.01 °/h, 10 µg, 10″, 0.1 m/s, 1e-5). All sources of a trajectory run as one compiled
 batch. The refined (second-order) model must cut the residual at large magnitudes.
 Independent physics checks: Schuler period 2π√(R/g) and the bias-induced tilt b/g.

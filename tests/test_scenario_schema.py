@@ -74,7 +74,7 @@ BAD = {
     # gives any error on this motion", exit 0
     "empty outputs": (BASE + "[outputs]\nquantities = []\n",
                       "s.toml: outputs.quantities = []: an empty list; give at least 1, or "
-                      "leave quantities out for the default (every excited quantity)"),
+                      "leave quantities out for the default (every judged quantity)"),
     # an IndexError traceback in the trajectory generator
     "empty legs": (BASE + '[motion]\nkind = "manoeuvre"\nlegs = []\n',
                    "s.toml: motion.legs = []: an empty list; give at least 1, or leave legs "
