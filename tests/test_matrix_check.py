@@ -1016,3 +1016,31 @@ def test_a_vertical_channel_that_overflows_is_reported_without_a_numpy_warning(c
         effect = finding["effect_alone_24h"]
         assert effect is None or all(np.isfinite(v) for v in effect.values()
                                      if isinstance(v, float))
+
+
+def test_a_damped_vertical_channel_is_not_held():
+    """The vertical channel was held in every effect propagation, damped or not, so the
+    effect of every height term read "not assessed: the vertical channel is held" even
+    with the damping gains set (the PhD probe's baro-damped INS). With the gains set
+    strapdown_ned's F at rest has no growing mode, and nothing is held: a finding in the
+    vertical rows gets its figures like any other. Undamped, the channel is held as
+    before (it grows ×e every 9.5 min)."""
+    from ins_errors.numeric.linear_system import growth_rate
+
+    w0 = 2 * np.pi / 300.0
+    gains = {"k_h1": 2 * 0.7 * w0, "k_h2": w0**2 + 2 * 9.80665 / 6_371_000.0}
+    damped = mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi", parameters=gains)
+    undamped = mc.check_matrices("strapdown_ned", f"{PSI}:psi_model", "psi", effects=False)
+    assert undamped.vertical == ["dvc_D", "dr_D"]
+    assert damped.held == [] and damped.vertical == []
+    from ins_errors.numeric import strapdown_truth as st
+
+    # the independent part: the damped F at rest has no growing mode
+    model = load_model("strapdown_ned")
+    p = model.parameter_vector(**gains)
+    motion = st.trajectory(model, st.static(np.radians(50.0)), 1.0, 1.0, p=p)
+    x0, u0 = motion.start_state, motion.start_inputs
+    assert growth_rate(np.asarray(model.state_matrix(x0, u0, p))) <= 1e-7
+    # the hand leaves out the k_h1 damping of dr_D: its effect is now given
+    alone = damped.finding_effects["F[dr_D, dr_D]"]
+    assert alone.position is not None and alone.position_above_rounding

@@ -43,7 +43,7 @@ exponential growth with the mode's e-folding time
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -688,6 +688,10 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     for motion in motion_list:
         sampled.Fz[motion.label], sampled.Gz[motion.label] = derived_in_convention(
             model, conv, motion)
+    if conv.vertical and conv.hold is None and _damped(model, motion_list, sampled):
+        # a damped vertical channel (its gains set) needs no holding: the effects of the
+        # height terms are then propagated like the others
+        conv = replace(conv, vertical=())
     used_sources = [s for s in hand.sources]
     report = MatrixReport(
         model=model_name, convention=conv.name, hand_name=hand.name, states=hand.states,
@@ -714,6 +718,36 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                                                  responses=responses)
         report.vertical_effects = vertical_effects(report, sampled, conv, model, motion_list)
     return report
+
+
+STABLE_RATE = 1e-7
+"""Largest real part (1/s) of the derived F's eigenvalues on the static base for which
+its vertical channel is counted as damped: the Schuler and Earth-rate modes have 0, an
+undamped vertical channel +1.75e-3. (On a moving base F frozen at a time can have a slow
+growing mode its motion never follows, ×e in a day or so: not a test of the channel.)"""
+
+
+def _damped(model, motion_list: list[Motion], sampled: _Sampled) -> bool:
+    """Whether the model's vertical channel is damped on these motions: it has damping
+    gains (``Parameter(..., damping_gain=True)``), none of them 0, and the derived F on
+    the static base has no growing mode (:func:`_stable`). A neutral channel (a constant
+    g, no gains) is not damped: a hand term that makes it grow would swamp the rest."""
+    from ins_errors.numeric.linear_system import undamped_gains
+
+    at_rest = [sampled.Fz[m.label] for m in motion_list if m.label == "static"]
+    gains = [info for info in model.parameters if info.damping_gain]
+    p = np.asarray(motion_list[0].p, dtype=float)
+    first = p.reshape(-1, p.shape[-1])[0]   # the parameters (last axis), first sample
+    return bool(gains and at_rest and not undamped_gains(model, first) and _stable(at_rest))
+
+
+def _stable(derived: Iterable[np.ndarray]) -> bool:
+    """Whether the derived F, shape (K, n, n) per motion, has no growing mode at the
+    start, middle and end of every motion given (:data:`STABLE_RATE`)."""
+    from ins_errors.numeric.linear_system import growth_rate
+
+    return all(growth_rate(F[k]) <= STABLE_RATE
+               for F in derived for k in {0, F.shape[0] // 2, F.shape[0] - 1})
 
 
 def position_angles(conv: Convention, motion: Motion) -> list[str]:
