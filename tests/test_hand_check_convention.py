@@ -184,3 +184,27 @@ def test_a_file_checked_again_reuses_its_row_functions_and_reports_the_same():
     assert built == 3 and ce._row_function.cache_info().currsize == built
     assert first.report.findings and again.report.findings == first.report.findings
     assert again.report.effects == first.report.effects
+
+
+def test_meridian_radius_written_as_the_prime_vertical_is_a_symbol_slip(tmp_path):
+    """R_E for R_N in dv_N/(R_N + h) of φ̇_E: on the WGS-84 ellipsoid the radii differ by
+    under 0.7 %, so the entry alone looks like an approximation; R_N in its place makes
+    the line the derived one, so it is a wrong symbol, a mistake at any threshold. The
+    radii held fixed (a dropped small term) stay approximations."""
+    text = (EXAMPLES / "phi_attitude.txt").read_text()
+    written = "- dv_N/(R_N + h) - v_N*dr_D"
+    assert text.count(written) == 1
+    path = tmp_path / "radius_slip.txt"
+    path.write_text(text.replace(written, "- dv_N/(R_E + h) - v_N*dr_D"))
+    for threshold in (None, 1e-2):
+        check = check_convention_file(path, threshold=threshold, **FAST)
+        [f] = check.report.findings
+        assert (f.row, f.column, f.kind) == ("phi_E", "dv_N", "wrong symbol or index")
+        assert f.detail.startswith("R_E written where R_N belongs")
+        assert f.severity == ("mistake" if threshold is None else "mistake, small effect")
+        assert check.exit_status == 1
+        assert check.line_of(f) == _line_of(path, "dot(phi_E)")
+    # the radius a (a sphere) in the same place is an approximation, not a slip
+    path.write_text(text.replace(written, "- dv_N/(a + h) - v_N*dr_D"))
+    [f] = check_convention_file(path, threshold=1e-2, **FAST).report.findings
+    assert (f.kind, f.severity) == ("approximated", "dropped small term")

@@ -1044,3 +1044,53 @@ def test_a_damped_vertical_channel_is_not_held():
     # the hand leaves out the k_h1 damping of dr_D: its effect is now given
     alone = damped.finding_effects["F[dr_D, dr_D]"]
     assert alone.position is not None and alone.position_above_rounding
+
+
+def test_one_radius_of_curvature_written_for_the_other(strapdown_motions):
+    """The latitude rate is δv_N/(R_N + h) (meridian radius), the longitude rate
+    δv_E/((R_E + h) cos φ) (prime vertical). A hand F with the other radius in either is
+    within 0.7 % of the derived entry, yet hand/model is exactly a ratio of the radii at
+    every sample: a wrong symbol, a mistake at any threshold. The radius a of a sphere
+    in the same place, and the change of R_E with latitude left out of the longitude
+    rate's latitude column (whose ratio is also (R_E + h)/(R_N + h), as
+    ∂((R_E + h) cos φ)/∂φ = −(R_N + h) sin φ), stay approximations."""
+    model = load_model("strapdown_ned")
+
+    def entry(F, names, row, column):
+        return slice(None), names.index(row), names.index(column)
+
+    def meridian_slip(F, names, nav):
+        F[entry(F, names, "dlat", "dv_N")] = 1.0 / (nav["R_E"] + nav["height"])
+
+    def prime_vertical_slip(F, names, nav):
+        F[entry(F, names, "dlon", "dv_E")] = 1.0 / (
+            (nav["R_N"] + nav["height"]) * np.cos(nav["latitude"]))
+
+    def sphere(F, names, nav):
+        F[entry(F, names, "dlat", "dv_N")] = 1.0 / (nav["a"] + nav["height"])
+
+    def radius_derivative_left_out(F, names, nav):
+        lat = nav["latitude"]
+        F[entry(F, names, "dlon", "dlat")] = (
+            nav["v_ned"][1] * np.tan(lat) / ((nav["R_E"] + nav["height"]) * np.cos(lat)))
+
+    expected = {
+        meridian_slip: ("dlat", "dv_N", "wrong symbol or index", "(R_N + h)/(R_E + h)"),
+        prime_vertical_slip: ("dlon", "dv_E", "wrong symbol or index",
+                              "(R_E + h)/(R_N + h)"),
+        sphere: ("dlat", "dv_N", "approximated", "hand/model between"),
+        radius_derivative_left_out: ("dlon", "dlat", "approximated", "hand/model between"),
+    }
+    for edit, (row, column, kind, said) in expected.items():
+        hand = _derived_hand(model, "phi_geodetic", strapdown_motions, edit)
+        for threshold in (1e-3, 1e-2):
+            report = mc.check_matrices("strapdown_ned", hand, "phi_geodetic",
+                                       threshold=threshold, motion_list=strapdown_motions,
+                                       effects=False)
+            [f] = report.findings
+            assert (f.row, f.column, f.kind) == (row, column, kind), edit.__name__
+            assert said in f.detail
+            if kind == "approximated":
+                assert f.severity == "dropped small term" and report.exit_status == 0
+            else:
+                assert f in report.mistakes and report.exit_status == 1

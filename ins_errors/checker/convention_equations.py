@@ -736,7 +736,8 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                                 for k, d in enumerate(hand.declarations) if k not in found]
     # rows taken from the derived model agree by construction: count the file's rows only
     report.findings = [f for f in report.findings if f.row in rows]
-    report.findings = _symbol_slips(report.findings, coefficient_of, states, used, samples)
+    report.findings = _symbol_slips(report.findings, coefficient_of, states, used, samples,
+                                    report.threshold)
     report.compared = len(rows) * (len(states) + len(used))
     return ConventionCheck(report, {r: (v[0], v[1]) for r, v in rows.items()},
                            [s for s in states if s not in rows], definitions,
@@ -744,9 +745,12 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
 
 
 def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
-                  states: list[str], used: list[str], samples: list) -> list:
-    """The findings with each ``wrong coefficient`` that one index of a named quantity
-    explains made a ``wrong symbol or index``: the hand's coefficient with one quantity
+                  states: list[str], used: list[str], samples: list,
+                  threshold: float) -> list:
+    """The findings with each ``wrong coefficient`` or ``approximated`` entry that one
+    index of a named quantity explains made a ``wrong symbol or index`` (a mistake
+    whatever its size: ``R_E`` for ``R_N`` is within 0.7 % of the derived entry, which
+    alone would read as an approximation): the hand's coefficient with one quantity
     replaced by a sibling (``f_E`` by ``f_D``, ``C12`` by ``C13``, ``R_N`` by ``R_E``:
     :func:`~ins_errors.checker.classify.candidates`) equals the derived entry at every
     sample of every motion, to 1e-6 of its largest value (the equation checker's rule
@@ -754,17 +758,22 @@ def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
     check, :mod:`~ins_errors.checker.matrix_slips`).
 
     ``samples``: (quantities in :data:`QUANTITIES` order, derived F, derived G of the
-    file's sources) of each motion.
+    file's sources) of each motion; ``threshold``: the check's, for the severity. A
+    finding the matrix check already found a radius slip
+    (:data:`~ins_errors.checker.matrix.RADII_SWAP`) gets the symbol named.
     """
     from dataclasses import replace
 
     from ins_errors.checker.classify import candidates
     from ins_errors.checker.kinds import COEFFICIENT, SYMBOL
+    from ins_errors.checker.kinds import severity as classify_severity
+    from ins_errors.checker.matrix import APPROXIMATED, RADII_SWAP
 
     known = [sp.Symbol(q) for q in QUANTITIES]
     out = []
     for f in findings:
-        if f.kind != COEFFICIENT:
+        if not (f.kind in (COEFFICIENT, APPROXIMATED)
+                or (f.kind == SYMBOL and f.detail.startswith(RADII_SWAP))):
             out.append(f)
             continue
         i = states.index(f.row)
@@ -788,7 +797,8 @@ def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
             if np.all(np.isfinite(values)) and np.all(np.abs(values - derived)
                                                       <= 1e-6 * top):
                 f = replace(f, kind=SYMBOL, detail=f"{text} (with it the entry is the "
-                            "derived one at every sample)")
+                            "derived one at every sample)",
+                            severity=classify_severity(SYMBOL, f.size, threshold))
                 break
         out.append(f)
     return out

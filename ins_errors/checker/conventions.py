@@ -279,6 +279,9 @@ _POSITION = {
     "dh": [(2, _minus_one)], "delta_h": [(2, _minus_one)],
     "dr_N": [(0, _one)], "dr_E": [(1, _one)], "dr_D": [(2, _one)],
 }
+NORTH_POSITION = frozenset(name for name, axes in _POSITION.items()
+                           if [axis for axis, _ in axes] == [0])
+"""Position error states along north (latitude error, north metres)."""
 _ATTITUDE = {
     # name: [(axis, rad per unit)]; the platform angles α and north_pointing's ψ are ENU
     **{f"{a}_{axis}": [(k, _one)] for a in ("phi", "psi") for k, axis in enumerate("NED")},

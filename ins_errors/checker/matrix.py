@@ -51,7 +51,7 @@ import numpy as np
 
 from ins_errors.checker import held_channel
 from ins_errors.checker.check_motions import HOURS, STEP, Motion, motions, parameter_items
-from ins_errors.checker.conventions import BiasState, Convention, convention
+from ins_errors.checker.conventions import NORTH_POSITION, BiasState, Convention, convention
 from ins_errors.checker.derived_convention import derived_in_convention
 from ins_errors.checker.extreme import first_largest
 from ins_errors.checker.kinds import (
@@ -474,6 +474,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     # hand F embedded in the full convention columns (omitted states: zero)
     Fh_full = np.zeros((Fh.shape[0], len(rows), len(names)))
     Fh_full[:, :, rows] = Fh
+    radii_ratio = _radii_ratio(motion_list)
     findings = []
     compared = 0
     entry_terms = None  # the derived entries' terms (SymPy), built for the first that needs them
@@ -519,6 +520,11 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                           f"{term.text})" + (f"; {rest}" if rest else ""))
                 if used is not None:
                     used.add(term.declaration)
+            elif kind in (APPROXIMATED, COEFFICIENT) and (swap := _radii_swap(
+                    h, m, mag, own["hand"], own["model"], radii_ratio,
+                    matrix == "F" and col_name in NORTH_POSITION)) is not None:
+                kind, detail = SYMBOL, swap
+                severity = classify_severity(SYMBOL, float(ratio.max()), report.threshold)
             elif (kind == COEFFICIENT and matrix == "F"  # a term of a sum left out?
                   and i < n_own and j < n_own):  # (not in a bias state's row or column)
                 if entry_terms is None:
@@ -548,6 +554,85 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     findings.sort(key=lambda f: (f.severity not in (MISTAKE, SMALL_MISTAKE), -f.size))
     report.findings = findings
     report.compared = compared
+
+
+RADII_SWAP = "hand/model = (R_"
+"""How the detail of a radius of curvature written for the other begins
+(:func:`_radii_swap`)."""
+
+
+def _radii_ratio(motion_list: list[Motion]) -> np.ndarray | None:
+    """(R_N + h)/(R_E + h) at every sample of the motions (stacked, shape (S,)): the
+    meridian over the prime-vertical radius of curvature at the sample's height; None
+    when the navigation solution has no radii or they are equal everywhere (a sphere)."""
+    parts = []
+    for motion in motion_list:
+        nav = motion.navigation
+        if not all(k in nav for k in ("R_N", "R_E", "height")):
+            return None
+        k = motion.times.size
+        h = np.broadcast_to(np.asarray(nav["height"], dtype=float), (k,))
+        r_n = np.broadcast_to(np.asarray(nav["R_N"], dtype=float), (k,)) + h
+        r_e = np.broadcast_to(np.asarray(nav["R_E"], dtype=float), (k,)) + h
+        with np.errstate(all="ignore"):
+            parts.append(r_n / r_e)
+    ratio = np.concatenate(parts) if parts else np.empty(0)
+    if not ratio.size or not np.all(np.isfinite(ratio)) or np.all(
+            np.abs(ratio - 1.0) <= RADII_AGREEMENT):
+        return None
+    return ratio
+
+
+RADII_AGREEMENT = 1e-9
+"""Relative agreement of hand/model with a ratio of the radii of curvature at every
+sample for a radius written for the other."""
+
+
+def _radii_swap(h: np.ndarray, m: np.ndarray, mag: float, hand_scale: np.ndarray,
+                model_scale: np.ndarray, radii: np.ndarray | None, north: bool = False
+                ) -> str | None:
+    """The detail of an entry whose hand/model is (R_N + h)/(R_E + h) or its inverse at
+    every sample (one radius of curvature written where the other belongs), or None.
+
+    Both radii are within 0.7 % of each other on any ellipsoid, so such an entry looks
+    like an approximation; the exact ratio at every sample (to
+    :data:`RADII_AGREEMENT`, relative) says it is a slip of the radius.
+
+    Parameters
+    ----------
+    h, m : ndarray, shape (S,)
+        Hand and derived entry at the samples.
+    mag : float
+        Typical magnitude of the column's state or source.
+    hand_scale, model_scale : ndarray, shape (S,)
+        The largest term of the hand's (the model's) row at each sample.
+    radii : ndarray, shape (S,), or None
+        (R_N + h)/(R_E + h) at the samples (:func:`_radii_ratio`).
+    north : bool
+        The column is a north position error (latitude, north metres). There
+        hand/model = (R_E + h)/(R_N + h) is also what leaving the change of R_E with
+        latitude out of the latitude derivative of sec φ/(R_E + h) gives (the longitude
+        rate's: ∂((R_E + h) cos φ)/∂φ = −(R_N + h) sin φ), an approximation: only the
+        other ratio is said to be a slip.
+    """
+    if radii is None:
+        return None
+    usable = np.abs(m) * mag > AGREEMENT * model_scale
+    if usable.sum() < 2 or np.any(np.abs(h[~usable]) * mag > AGREEMENT * hand_scale[~usable]):
+        return None
+    q = h[usable] / m[usable]
+    r = radii[usable]
+    for ratio, text in (
+            (r, "hand/model = (R_N + h)/(R_E + h) at every sample: the prime-vertical "
+                "radius written where the meridian radius belongs"),
+            (None if north else 1.0 / r,
+             "hand/model = (R_E + h)/(R_N + h) at every sample: the meridian "
+             "radius written where the prime-vertical radius belongs")):
+        if ratio is None:
+            continue
+        if np.all(np.abs(q - ratio) <= RADII_AGREEMENT * np.abs(ratio)):
+            return text
+    return None
 
 
 def _bias_rate_detail(bias: BiasState, h: np.ndarray, detail: str) -> str:
