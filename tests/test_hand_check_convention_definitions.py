@@ -179,3 +179,18 @@ def test_json_lists_the_definitions(tmp_path, capsys):
     assert out["definitions"]["dh"] == _line(path, "dh =")
     assert all({"name": "dh", "line": _line(path, "dh =")} in f["via"]
                for f in out["findings"])
+
+
+def test_an_alias_in_a_convention_file_is_refused_not_ignored(tmp_path):
+    """`@alias` is read by the check of a model's own equations; in a @convention file
+    it was silently ignored (the PhD probe's `@alias e = sqrt(e2)`), so the file ran as
+    if the line were not there. It is refused, naming the definition line that does the
+    same; written that way, the file agrees as before."""
+    from ins_errors.errors import InsErrorsError
+
+    aliased = _variant(tmp_path, DEFINED, "Omega = U\n", "@alias Omega = U\n")
+    with pytest.raises(InsErrorsError, match=(r"'@alias Omega = U' is not read in a "
+                                              r"@convention file; write it as a definition "
+                                              r"line, 'Omega = U'")):
+        check_convention_file(aliased, **FAST)
+    assert check_convention_file(DEFINED, **FAST).report.findings == []

@@ -635,6 +635,11 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     hand = read_hand_file(path, Notation(), latex=latex)
     if hand.convention is None:
         raise InsErrorsError(f"{hand.name}: no '@convention NAME' line")
+    if hand.notation.aliases:  # read by the model-equation check only: never ignored
+        alias, value = next(iter(hand.notation.aliases.items()))
+        raise InsErrorsError(
+            f"{hand.name}: '@alias {alias} = {value}' is not read in a @convention file; "
+            f"write it as a definition line, '{alias} = {value}'")
     model = load_model(model_name)
     conv = convention(model, hand.convention)
     states = conv.names
