@@ -194,3 +194,16 @@ def test_an_alias_in_a_convention_file_is_refused_not_ignored(tmp_path):
                                               r"line, 'Omega = U'")):
         check_convention_file(aliased, **FAST)
     assert check_convention_file(DEFINED, **FAST).report.findings == []
+
+
+def test_an_up_component_on_the_left_is_told_how_to_write_it(tmp_path):
+    """An ENU thesis writes dot(phi_U); the refusal listed the north-east-down states and
+    left the researcher to find that phi_U is -phi_D (the PhD probe)."""
+    from ins_errors.errors import InsErrorsError
+
+    path = tmp_path / "enu.txt"
+    path.write_text("@convention phi\ndot(phi_U) = gyro_bias_z\n", encoding="utf-8")
+    with pytest.raises(InsErrorsError, match=r"left-hand side 'dot\(phi_U\)' must be .*; the "
+                                             r"convention's states are north-east-down: phi_U "
+                                             r"is -phi_D, so write dot\(phi_D\) = -\(\.\.\.\)"):
+        check_convention_file(path, **FAST)

@@ -404,6 +404,20 @@ def convention_notation(model_name: str, states: list[str], sources: list[str]):
     return Notation(spellings={k: v for k, v in spellings.items() if k not in known})
 
 
+def _up_hint(lhs: sp.Expr, states: list[str]) -> str:
+    """``"; the states are north-east-down: phi_U is -phi_D, so write dot(phi_D) =
+    -(...)"`` for an up component of a down state (an ENU file), else ``""``."""
+    from ins_errors.checker.parse import DOT
+
+    inner = lhs.args[0] if isinstance(lhs, sp.Function) and lhs.func == DOT else lhs
+    name = getattr(inner, "name", "")
+    down = name[:-1] + "D" if name.endswith("_U") else ""
+    if down not in states:
+        return ""
+    return (f"; the convention's states are north-east-down: {name} is -{down}, so write "
+            f"dot({down}) = -(...) with -{down} for {name} on the right")
+
+
 def _rows(hand, states: list[str], sources: list[str],
           vector_rows: dict[str, tuple[int, str, sp.Expr]],
           bias_sources: list[str] | tuple[str, ...] = (),
@@ -430,7 +444,7 @@ def _rows(hand, states: list[str], sources: list[str],
             raise InsErrorsError(f"{hand.name}, line {eq.line}: left-hand side {str(lhs)!r} "
                                  f"must be dot(STATE) of a state of the convention "
                                  f"({', '.join(states)}) or of an error source carried as a "
-                                 f"bias state ({bias_example})")
+                                 f"bias state ({bias_example}){_up_hint(lhs, states)}")
         row = lhs.args[0].name
         if row in rows:
             raise InsErrorsError(f"{hand.name}, line {eq.line}: second equation for "
