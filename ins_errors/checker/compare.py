@@ -356,10 +356,29 @@ def _drop_equal_sums(many: list[sp.Expr], few: list[sp.Expr], largest: int = 8) 
     hand's as ``R U cos φ/(R + h) + U h cos φ/(R + h)``, which is no difference."""
     if len(many) < 2 or len(many) > largest:
         return
+    # a numeric look first (every symbol at an arbitrary value): only a group whose sum
+    # has the term's value is simplified (cancel on every group took seconds a file)
+    symbols = sorted(set().union(*(t.free_symbols for t in (*many, *few))),
+                     key=sp.default_sort_key)
+    point = {x: sp.Float(0.37 + 0.113 * k) for k, x in enumerate(symbols)}
+
+    def value(expr: sp.Expr) -> complex | None:
+        try:
+            return complex(expr.xreplace(point))
+        except (TypeError, ValueError, ZeroDivisionError):
+            return None
+
+    values = {t: value(t) for t in many}
     for term in list(few):
+        target = value(term)
+        if target is None or target == 0:
+            continue
         for size in (2, 3):
             match = next((group for group in combinations(many, size)
-                          if sp.cancel(sp.Add(*group) / term) == 1), None)
+                          if all(values[t] is not None for t in group)
+                          and abs(sum(values[t] for t in group) - target)
+                          <= 1e-9 * abs(target)
+                          and sp.cancel(sp.Add(*group) / term) == 1), None)
             if match is not None:
                 few.remove(term)
                 for part in match:
