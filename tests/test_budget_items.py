@@ -542,3 +542,39 @@ def test_sea_units_read_as_nautical_miles_and_knots(tmp_path):
     assert spec.item("position_error").value == pytest.approx(2 * 1852.0 / 3600, rel=1e-15)
     assert spec.item("ground_speed_error").value == pytest.approx(0.5 * 1852.0 / 3600,
                                                                   rel=1e-15)
+
+
+def test_a_mode_of_f_at_the_start_of_a_moving_base_is_checked_along_it(orthodromic,
+                                                                       strapdown, tmp_path):
+    """A 30-h budget of orthodromic on an eastbound great circle warned that its errors
+    grow exponentially (×e every 9.2 h: a real eigenvalue of F at the start, along
+    delta_V_eta) although the equations never follow it along the motion (the compare
+    probe's week stayed bounded). The transition matrix over the operating time has no
+    eigenvalue growing at half that rate, so no warning; strapdown_ned's undamped
+    vertical channel on a great circle still warns, its transition growth being the
+    textbook √(2g/R)."""
+    from ins_errors.numeric.linear_system import growth_rate, transition_growth
+
+    great_circle = """
+        operating_time = "30 h"
+        step = "60 s"
+        [motion]
+        kind = "great_circle"
+        latitude = "50 deg"
+        longitude = "30 deg"
+        heading = "90 deg"
+        height = "5000 m"
+        speed = "250 m/s"
+        [items.position_error]
+        value = "3.7 km/h"
+    """
+    budget = bd.unit_budget(orthodromic, load_spec(write(tmp_path, great_circle)))
+    F0 = budget.system.F[0]
+    assert growth_rate(F0) * 30 * 3600 > 3            # the frozen mode alone would warn
+    assert transition_growth(budget.system) < 0.1 * growth_rate(F0)
+    assert bd.growth_warning(orthodromic, budget) is None
+    short = great_circle.replace('"30 h"', '"2 h"').replace('"60 s"', '"10 s"')
+    budget = bd.unit_budget(strapdown, load_spec(write(tmp_path, short, "s.toml")))
+    assert transition_growth(budget.system) == pytest.approx(
+        math.sqrt(wgs84_vertical(math.radians(50.0))), rel=0.02)
+    assert "grow exponentially" in bd.growth_warning(strapdown, budget)

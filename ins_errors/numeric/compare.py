@@ -439,7 +439,8 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     (:func:`~ins_errors.numeric.linear_system.undamped_remedy`). On a moving base F
     changes along the motion and a mode of F at the start need not grow along the run:
     a case gets the warning there only when its own linear errors grow at
-    :data:`GROWTH_SEEN` of the mode's rate or more (:func:`observed_growth`).
+    :data:`~ins_errors.numeric.linear_system.GROWTH_SEEN` of the mode's rate or more
+    (:func:`observed_growth`).
 
     Parameters
     ----------
@@ -451,6 +452,7 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
         The runs (their trajectory's state and inputs at t = 0 give F).
     """
     from ins_errors.numeric.linear_system import (
+        GROWTH_SEEN,
         growth_rate,
         growth_warning,
         start_state_matrix,
@@ -475,9 +477,6 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
             comparison.warnings.append(text)
 
 
-GROWTH_SEEN = 0.5
-"""On a moving base, a growing mode of F at the start is warned of only where the run's
-linear errors grow at least at this share of its rate (:func:`observed_growth`)."""
 
 
 def observed_growth(comparison: Comparison) -> float:

@@ -110,6 +110,43 @@ GROWTH_WARNED = 3.0
 from which the commands warn (a factor of 20)."""
 
 
+GROWTH_SEEN = 0.5
+"""On a moving base, a growing mode of F at the start is warned of only where the errors
+along the motion grow at least at this share of its rate (F changes along the motion: a
+mode of F frozen at one time need not be followed)."""
+
+
+def transition_growth(system: LinearSystem) -> float:
+    """Growth rate (1/s) of the sampled equations over their grid: the log of the largest
+    modulus of the eigenvalues of the transition matrix Φ(T, 0) (the product of the
+    steps' exponentials of F at the midpoints), over T. Eigenvalues do not depend on the
+    units of the states; a stable or oscillating system gives about 0, a mode that
+    grows as e^{rt} along the motion gives r (+inf where Φ overflows).
+
+    Parameters
+    ----------
+    system : LinearSystem
+        Sampled on a moving base (F of shape (K+1, n, n)); a time-invariant one gives the
+        growth of its F (:func:`growth_rate`).
+    """
+    from ins_errors.numeric.blas_threads import import_limited
+
+    if system.time_invariant:
+        return growth_rate(system.F)
+    expm = import_limited("scipy.linalg").expm
+    step, n = system.step, system.F.shape[-1]
+    phi = np.eye(n)
+    middle = 0.5 * (system.F[1:] + system.F[:-1])
+    with np.errstate(all="ignore"):
+        for f in middle:
+            phi = expm(f * step) @ phi
+            if not np.all(np.isfinite(phi)):
+                return math.inf
+        largest = float(np.abs(np.linalg.eigvals(phi)).max())
+    end = float(system.times[-1])
+    return math.log(largest) / end if largest > 0 and end > 0 else -math.inf
+
+
 def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence: str,
                    span: str = "run", remedy: str = "") -> str | None:
     """The one-line warning of errors that grow exponentially, or None.
