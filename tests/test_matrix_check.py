@@ -1094,3 +1094,21 @@ def test_one_radius_of_curvature_written_for_the_other(strapdown_motions):
                 assert f.severity == "dropped small term" and report.exit_status == 0
             else:
                 assert f in report.mistakes and report.exit_status == 1
+
+
+def test_a_huge_hand_entry_prints_no_numpy_warning(tmp_path):
+    """F[psi_N, psi_E] = 1000 /s in a ψ model (the adversary probe): its effects overflow,
+    and numpy's "invalid value encountered in matmul" (with a machine path) was printed
+    on stderr before the report. The report comes without it."""
+    import warnings
+
+    text = PSI.read_text(encoding="utf-8").replace(
+        "    G = np.zeros((9, 6))", "    F[0, 1] = 1e3\n    G = np.zeros((9, 6))", 1)
+    assert "F[0, 1] = 1e3" in text
+    hand = tmp_path / "huge.py"
+    hand.write_text(text, encoding="utf-8")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        report = mc.check_matrices("strapdown_ned", f"{hand}:psi_model", "psi")
+    (found,) = [f for f in report.findings if (f.row, f.column) == ("psi_N", "psi_E")]
+    assert found.kind == "wrong coefficient" and found.hand == pytest.approx(1e3)

@@ -460,7 +460,8 @@ def _norm(R: np.ndarray, x: np.ndarray, read: bool) -> float | None:
     """|R x| (largest over the columns of a 2-D x), None where nothing is read."""
     if not read:
         return None
-    return float(np.linalg.norm(R @ x, axis=0).max(initial=0.0))
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflowed x: inf or NaN out
+        return float(np.linalg.norm(R @ x, axis=0).max(initial=0.0))
 
 
 def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
