@@ -351,6 +351,48 @@ def test_wrong_entry_in_a_copy_of_the_psi_model(tmp_path, strapdown_motions):
     assert worst > 1.0
 
 
+TRANSPOSED = "is the derived one transposed at every sample: C_n^b written where C_b^n"
+
+
+@pytest.mark.parametrize("old, rows, columns", [
+    ("G[0:3, 0:3] = -nav.C_bn", ("psi_N", "psi_E", "psi_D"), "gyro_bias_"),
+    ("G[3:6, 3:6] = nav.C_bn", ("dvc_N", "dvc_E", "dvc_D"), "accel_bias_")])
+def test_transposed_direction_cosines_are_one_finding(tmp_path, strapdown_motions, old,
+                                                      rows, columns):
+    """C_n^b written where C_b^n belongs: one finding for the block, not six entries."""
+    # the motions turn the body away from NED, so C_b^n is not symmetric: the hand's
+    # block really differs from the derived one in its off-diagonal entries
+    C = strapdown_motions[-1].navigation["C_bn"]  # (3, 3, K)
+    assert np.abs(C - np.swapaxes(C, 0, 1)).max() > 0.1
+    text = PSI.read_text(encoding="utf-8")
+    assert text.count(old) == 1
+    path = tmp_path / "psi_transposed.py"
+    path.write_text(text.replace(old, old + ".T"), encoding="utf-8")
+    report = mc.check_matrices("strapdown_ned", f"{path}:psi_model", "psi",
+                               motion_list=strapdown_motions, effects=False)
+    [finding] = [f for f in report.findings if f.matrix == "G"]
+    assert finding.row in rows and finding.column.startswith(columns)
+    assert finding.kind == "wrong symbol or index" and finding.severity == "mistake"
+    assert TRANSPOSED in finding.detail
+    assert report.mistakes == [finding]
+
+
+def test_no_transposition_in_the_textbook_or_a_skew_sign_slip(psi_report, tmp_path,
+                                                              strapdown_motions):
+    """The untouched model has no transposed block (its skew-symmetric blocks agree);
+    f^n × ψ with the wrong sign is its own transpose, and stays six wrong signs."""
+    assert not [f for f in psi_report.findings if TRANSPOSED in f.detail]
+    text = PSI.read_text(encoding="utf-8")
+    old = "F[3:6, 0:3] = skew(imu.f_n)"
+    path = tmp_path / "psi_skew_sign.py"
+    path.write_text(text.replace(old, "F[3:6, 0:3] = -skew(imu.f_n)"), encoding="utf-8")
+    report = mc.check_matrices("strapdown_ned", f"{path}:psi_model", "psi",
+                               motion_list=strapdown_motions, effects=False)
+    assert report.compared == 9 * 9 + 9 * 6
+    slips = [f for f in report.mistakes if f.row.startswith("dvc")]
+    assert len(slips) == 6 and {f.kind for f in slips} == {"wrong sign"}
+
+
 def test_example_sign_error_file(strapdown_motions):
     path = PSI.parent / "psi_model_sign_error.py"
     report = mc.check_matrices("strapdown_ned", f"{path}:psi_model_sign_error", "psi",

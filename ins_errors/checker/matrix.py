@@ -81,7 +81,13 @@ from ins_errors.checker.matrix_input import (
     read_matrix_file,
     split_spec,
 )
-from ins_errors.checker.matrix_slips import Entry, index_slips
+from ins_errors.checker.matrix_slips import (
+    TRANSPOSED,
+    Entry,
+    index_slips,
+    transposed_block,
+    triples,
+)
 from ins_errors.checker.navigation import require_description
 from ins_errors.checker.typical import (
     _earth,
@@ -478,6 +484,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     findings = []
     compared = 0
     entry_terms = None  # the derived entries' terms (SymPy), built for the first that needs them
+    scales = np.empty((Fh.shape[0], len(rows)))  # each hand row's largest term
     for a, i in enumerate(rows):
         terms = [np.abs(Fz[:, i, :]) * state_mag, np.abs(Fh_full[:, a, :]) * state_mag,
                  np.abs(Gz[:, i, :]) * source_mag]
@@ -485,6 +492,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
             terms.append(np.abs(Gh[:, a, :]) * source_mag[src_cols])
         scale = np.max(np.concatenate(terms, axis=1), axis=1)
         scale = np.where(scale > 0, scale, np.inf)
+        scales[:, a] = scale
         # each side's own row: what is negligible on that side (terms[0], [2]: derived)
         own = {side: np.max(np.concatenate(parts, axis=1), axis=1) for side, parts in (
             ("model", [terms[0], terms[2]]), ("hand", [terms[1], *terms[3:]]))}
@@ -551,9 +559,50 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
         for n, detail in index_slips(differing, scale, AGREEMENT, report.states[a]).items():
             findings[n] = replace(findings[n], kind=SYMBOL, detail=detail, severity=(
                 classify_severity(SYMBOL, findings[n].size, report.threshold)))
+    # a 3×3 block written transposed (C_n^b for C_b^n): one finding, not six
+    blocks = [("F", Fh_full, Fz, state_mag, triples(report.states), names)]
+    if Gh is not None:
+        blocks.append(("G", Gh, Gz[:, :, src_cols], source_mag[src_cols],
+                       triples(report.sources), report.sources))
+    for matrix, hand_m, model_m, mags, col_triples, col_names in blocks:
+        for row_triple in triples(report.states):
+            r = [report.states.index(n) for n in row_triple]
+            for col_triple in col_triples:
+                c = [col_names.index(n) for n in col_triple]
+                findings, merged = _merge_transposed(
+                    findings, matrix, row_triple, col_triple, hand_m[:, r][:, :, c],
+                    model_m[:, [rows[k] for k in r]][:, :, c], mags[c], scales[:, r],
+                    report.threshold)
+                compared -= merged  # the block is one entry compared
     findings.sort(key=lambda f: (f.severity not in (MISTAKE, SMALL_MISTAKE), -f.size))
     report.findings = findings
     report.compared = compared
+
+
+def _merge_transposed(findings: list[EntryFinding], matrix: str, row_triple: tuple[str, ...],
+                      col_triple: tuple[str, ...], hand: np.ndarray, model: np.ndarray,
+                      mags: np.ndarray, scales: np.ndarray, threshold: float
+                      ) -> tuple[list[EntryFinding], int]:
+    """The findings with those of a transposed 3×3 block merged into one, and the
+    number of entries merged away (:func:`~ins_errors.checker.matrix_slips.transposed_block`).
+
+    The one kept is the block's largest difference, of kind ``wrong symbol or index``;
+    its detail names the block. ``hand``, ``model`` (S, 3, 3): the block; ``mags`` (3,):
+    its columns' typical sizes; ``scales`` (S, 3): its rows' largest terms. A block with
+    a declared drop is left as it is.
+    """
+    inside = [f for f in findings if f.matrix == matrix and f.row in row_triple
+              and f.column in col_triple]
+    if (not inside or any(f.severity == DECLARED for f in inside)
+            or not transposed_block(hand, model, mags, scales, AGREEMENT)):
+        return findings, 0
+    worst = max(inside, key=lambda f: f.size)
+    block = f"{matrix}[{row_triple[0]}..{row_triple[-1]}, {col_triple[0]}..{col_triple[-1]}]"
+    kept = replace(worst, kind=SYMBOL, severity=classify_severity(SYMBOL, worst.size, threshold),
+                   detail=f"the block {block} {TRANSPOSED} (one finding for its "
+                          f"{len(inside)} differing entries; this is the largest)")
+    gone = {id(f) for f in inside if f is not worst}
+    return [kept if f is worst else f for f in findings if id(f) not in gone], len(gone)
 
 
 RADII_SWAP = "hand/model = (R_"

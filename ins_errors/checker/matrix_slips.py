@@ -130,3 +130,57 @@ def _permutation(group: list[Entry], same) -> dict[Entry, Entry]:
                 if all(holds[(a.key, b.key)] for a, b in zip(subset, order, strict=True)):
                     return dict(zip(subset, order, strict=True))
     return {}
+
+
+TRIPLES = (("N", "E", "D"), ("x", "y", "z"), ("E", "N", "U"))
+"""Suffixes of a vector's components, in order (``phi_N/E/D``, ``gyro_bias_x/y/z``)."""
+TRANSPOSED = ("is the derived one transposed at every sample: C_n^b written where C_b^n "
+              "belongs?")
+"""The end of the detail of a transposed block (:func:`transposed_blocks`)."""
+
+
+def triples(names: list[str]) -> list[tuple[str, str, str]]:
+    """The vector triples among ``names``: three names with one stem and the suffixes of
+    one of :data:`TRIPLES`, in that order (``("phi_N", "phi_E", "phi_D")``)."""
+    out = []
+    for suffixes in TRIPLES:
+        stems = [n[:-len(suffixes[0])] for n in names
+                 if n.endswith("_" + suffixes[0])]
+        for stem in stems:
+            triple = tuple(stem + s for s in suffixes)
+            if all(t in names for t in triple) and triple not in out:
+                out.append(triple)
+    return out
+
+
+def transposed_block(hand: np.ndarray, model: np.ndarray, mags: np.ndarray,
+                     scales: np.ndarray, agreement: float) -> bool:
+    """Whether a 3×3 block of the hand is the derived block transposed, and not the
+    derived block itself.
+
+    Parameters
+    ----------
+    hand, model : ndarray, shape (S, 3, 3)
+        The block at the samples, SI (rows: one vector triple; columns: another).
+    mags : ndarray, shape (3,)
+        Typical size of the columns' states or sources.
+    scales : ndarray, shape (S, 3)
+        Each row's largest term at each sample (what an agreement is measured against).
+    agreement : float
+        Relative size at or below which two values agree.
+
+    Returns
+    -------
+    bool
+        True when hand = modelᵀ to the agreement level of each row at every sample while
+        hand ≠ model somewhere (a block equal to its transpose, such as the identity at
+        zero attitude, is no transposition), and from −model somewhere (a skew-symmetric
+        block such as [f^n×] written with the wrong sign is its own transpose: a sign
+        slip).
+    """
+    def close(x: np.ndarray) -> np.ndarray:
+        return np.abs(x) * mags[None, None, :] <= agreement * scales[:, :, None]
+
+    flipped = np.swapaxes(model, 1, 2)
+    return bool(np.all(close(hand - flipped)) and not np.all(close(hand - model))
+                and not np.all(close(hand + model)))
