@@ -554,42 +554,92 @@ def plot(result: PropagationResult, folder: OutputFolder,
     list of pathlib.Path
         ``folder/<source>.png``.
     """
+    from ins_errors.units import format_quantity
+
+    model = load_model("north_pointing")
+    hours = result.times / 3600
+    chosen = [result.curve(name) for name in sources] if sources else result.curves
+    if not chosen:
+        return []
+    runs = ("direct", "linear", "analytic", "reduced")
+    styles = ({"color": "C0", "lw": 2.2, "alpha": 0.6, "label": "direct numeric"},
+              {"color": "C1", "lw": 1.2, "label": "linear numeric"},
+              {"color": "k", "lw": 0.8, "ls": "--", "label": "analytic (full)"},
+              {"color": "C3", "lw": 0.8, "ls": ":", "label": "analytic (report's reduced)"})
+
+    def pages():
+        for c in chosen:
+            info = model.source(c.source)
+            magnitude = format_quantity(c.magnitude, info.unit, info.display_unit or info.unit)
+            yield (f"{c.source}.png",
+                   f"north_pointing, {c.source} = {magnitude}, φ = "
+                   f"{np.degrees(result.experiment.latitude):.4g}°",
+                   [[_display(getattr(c, run)[k], unit) for run in runs]
+                    for k, (_, _, unit, _) in enumerate(QUANTITIES)])
+
+    return _panel_pages(folder, hours, [(f"{short}, {unit}", label)
+                                        for _, short, unit, label in QUANTITIES],
+                        styles, height=13, top=0.62, hspace=0.38, size=8, pages=pages())
+
+
+def _panel_pages(folder: OutputFolder, hours: np.ndarray, panels: list[tuple[str, str]],
+                 styles: tuple[dict, ...], height: float, top: float, hspace: float,
+                 size: int, pages) -> list[Path]:
+    """Save one PNG per page of one figure of stacked panels against time, refilled
+    page by page (the same files as a fresh figure each, without building every panel
+    and tick again).
+
+    Parameters
+    ----------
+    folder : OutputFolder
+    hours : numpy.ndarray, shape (T,)
+        Times, h.
+    panels : list of (str, str)
+        Each panel's y label and title (left, above it).
+    styles : tuple of dict
+        The curves' line styles (the first two solid, drawn through their column
+        envelope, :func:`~ins_errors.numeric.envelope.column_envelopes`: per half pixel
+        column each curve's first, last, smallest and largest sample, the same picture;
+        the others whole, their dash pattern running along the drawn length).
+    height : float
+        Height of the panels, in (the legend's row is added).
+    top, hspace : float
+        Margin above the panels, in, and the space between them (fraction of a panel).
+    size : int
+        Font size of the labels and titles, pt.
+    pages : iterable of (str, str, list of list of numpy.ndarray)
+        File name, figure title and, per panel, one curve per style.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The files, in the order of ``pages``.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from ins_errors import figure_layout as layout
-    from ins_errors.units import format_quantity
 
-    model = load_model("north_pointing")
-    hours = result.times / 3600
-    paths = []
-    chosen = [result.curve(name) for name in sources] if sources else result.curves
-    if not chosen:
-        return paths
-    runs = ("direct", "linear", "analytic", "reduced")
-    styles = ({"color": "C0", "lw": 2.2, "alpha": 0.6, "label": "direct numeric"},
-              {"color": "C1", "lw": 1.2, "label": "linear numeric"},
-              {"color": "k", "lw": 0.8, "ls": "--", "label": "analytic (full)"},
-              {"color": "C3", "lw": 0.8, "ls": ":", "label": "analytic (report's reduced)"})
     # no sharex and no tight_layout: both redo every panel's ticks several times a
     # draw (see figure_layout); the same times give the same range, fixed margins fit
     # the labels
-    fig, axes = plt.subplots(len(QUANTITIES), 1, figsize=(8, 13 + layout.LEGEND_ROW))
+    fig, axes = plt.subplots(len(panels), 1, figsize=(8, height + layout.LEGEND_ROW))
     layout.share_time_axis(axes)
     layout.fixed_margins(fig, left=1.0, right=0.2, bottom=0.6 + layout.LEGEND_ROW,
-                         top=0.62, hspace=0.38)
+                         top=top, hspace=hspace)
     columns = 2 * math.ceil(axes[0].get_position().width * fig.get_figwidth() * PLOT_DPI)
+    paths: list[Path] = []
     try:
         lines = []
-        for ax, (_, short, unit, label) in zip(axes, QUANTITIES, strict=True):
+        for ax, (ylabel, label) in zip(axes, panels, strict=True):
             lines.append([ax.plot([], [], **style)[0] for style in styles])
-            ax.set_ylabel(f"{short}, {unit}", fontsize=8)
+            ax.set_ylabel(ylabel, fontsize=size)
             # the title keeps its place above the left end (matplotlib's search for an
             # offset text to clear lays out the panel's tick labels once more every
             # draw); a power-of-ten multiplier of tiny values goes to the right end
-            layout.fixed_title(ax, label, fontsize=8, loc="left")
+            layout.fixed_title(ax, label, fontsize=size, loc="left")
             ax.yaxis.set_offset_position("right")
             ax.ticklabel_format(axis="y", useOffset=False)
             ax.grid(True, alpha=0.3)
@@ -597,27 +647,19 @@ def plot(result: PropagationResult, folder: OutputFolder,
         layout.legend_below(axes[-1], 7, handles=lines[0])
         axes[-1].set_xlabel("time, h")
         title = fig.suptitle("", fontsize=9)
-        for c in chosen:
-            for k, (ax, row, (_, _, unit, _)) in enumerate(zip(axes, lines, QUANTITIES,
-                                                                strict=True)):
-                shown = [_display(getattr(c, run)[k], unit) for run in runs]
-                # the solid lines through their envelope; a dashed line's pattern runs
-                # along the drawn length, which any reduction changes: drawn whole
+        for name, text, curves in pages:
+            for ax, row, shown in zip(axes, lines, curves, strict=True):
                 drawn = column_envelopes(hours, shown[:2], columns) + [
                     (hours, values) for values in shown[2:]]
                 for line, (times, values) in zip(row, drawn, strict=True):
                     line.set_data(times, values)
-                ax.set_autoscaley_on(True)  # the previous source may have fixed it
+                ax.set_autoscaley_on(True)  # the previous page may have fixed it
                 ax.relim()
                 ax.autoscale_view()
                 _honest_range(ax, shown)
             layout.common_time_range(axes)
-            info = model.source(c.source)
-            magnitude = format_quantity(c.magnitude, info.unit, info.display_unit or info.unit)
-            title.set_text(f"north_pointing, {c.source} = {magnitude}, φ = "
-                           f"{np.degrees(result.experiment.latitude):.4g}°")
-            paths.append(folder.save_figure(fig, f"{c.source}.png", dpi=PLOT_DPI,
-                                            close=False))
+            title.set_text(text)
+            paths.append(folder.save_figure(fig, name, dpi=PLOT_DPI, close=False))
     finally:
         plt.close(fig)
     return paths
@@ -822,66 +864,36 @@ def plot_day(day: DayResult, folder: OutputFolder) -> list[Path]:
     list of pathlib.Path
         ``folder/<source>.png``, in the order of ``day.sources``.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from ins_errors import figure_layout as layout
     from ins_errors.units import format_quantity
 
     model = load_model("orthodromic")
     states = model.error_states
-    hours = day.times / 3600
     excited = day.excited()
-    paths: list[Path] = []
     if not np.any(excited):
-        return paths
+        return []
     runs = ("direct", "linear", "analytic")
     styles = ({"color": "C0", "lw": 2.2, "alpha": 0.6, "label": "direct numeric"},
               {"color": "C1", "lw": 1.2, "label": "linear numeric"},
               {"color": "k", "lw": 0.8, "ls": "--", "label": "analytic (closed form)"})
-    fig, axes = plt.subplots(len(states), 1, figsize=(8, 18 + layout.LEGEND_ROW))
-    layout.share_time_axis(axes)
-    layout.fixed_margins(fig, left=1.0, right=0.2, bottom=0.6 + layout.LEGEND_ROW,
-                         top=0.85, hspace=0.45)
-    columns = 2 * math.ceil(axes[0].get_position().width * fig.get_figwidth() * PLOT_DPI)
-    try:
-        lines = []
-        for ax, state in zip(axes, states, strict=True):
-            lines.append([ax.plot([], [], **style)[0] for style in styles])
-            ax.set_ylabel(f"{state.name}, {_day_unit(state.name, state.unit)[0]}", fontsize=7)
-            layout.fixed_title(ax, state.description, fontsize=7, loc="left")
-            ax.yaxis.set_offset_position("right")
-            ax.ticklabel_format(axis="y", useOffset=False)
-            ax.grid(True, alpha=0.3)
-        layout.legend_below(axes[-1], 7, handles=lines[0])
-        axes[-1].set_xlabel("time, h")
-        title = fig.suptitle("", fontsize=9)
+    factors = [_day_unit(state.name, state.unit) for state in states]
+
+    def pages():
         for j, source in enumerate(day.sources):
             if not excited[j]:
                 continue
-            for k, (ax, row, state) in enumerate(zip(axes, lines, states, strict=True)):
-                factor = _day_unit(state.name, state.unit)[1]
-                shown = [getattr(day, run)[k, j] * factor for run in runs]
-                drawn = [*column_envelopes(hours, shown[:2], columns), (hours, shown[2])]
-                for line, (times, values) in zip(row, drawn, strict=True):
-                    line.set_data(times, values)
-                ax.set_autoscaley_on(True)
-                ax.relim()
-                ax.autoscale_view()
-                _honest_range(ax, shown)
-            layout.common_time_range(axes)
             info = model.source(source)
             magnitude = format_quantity(ORTHODROMIC_MAGNITUDES[source], info.unit,
                                         info.display_unit or info.unit)
-            title.set_text(f"orthodromic, {source} = {magnitude}, static base, φ = "
-                           f"{np.degrees(day.latitude):.4g}°")
-            paths.append(folder.save_figure(fig, f"{source}.png", dpi=PLOT_DPI, close=False))
-    finally:
-        plt.close(fig)
-    return paths
+            yield (f"{source}.png",
+                   f"orthodromic, {source} = {magnitude}, static base, φ = "
+                   f"{np.degrees(day.latitude):.4g}°",
+                   [[getattr(day, run)[k, j] * factor for run in runs]
+                    for k, (_, factor) in enumerate(factors)])
 
+    return _panel_pages(folder, day.times / 3600,
+                        [(f"{state.name}, {unit}", state.description)
+                         for state, (unit, _) in zip(states, factors, strict=True)],
+                        styles, height=18, top=0.85, hspace=0.45, size=7, pages=pages())
 
 def write_day_report(day: DayResult, folder: str | Path, force: bool = False) -> Path:
     """Write ``orthodromic_day.md`` and the plots of :func:`plot_day` into ``folder`` (an
