@@ -13,15 +13,10 @@ HTML in user text is not escaped here: ``report.md`` keeps the text as written, 
 
 from __future__ import annotations
 
-import dataclasses
 import re
-from collections.abc import Sequence
-from typing import TypeVar
 
 _PIPE = re.compile(r"(\\*)\|")
 _BREAK = re.compile(r"\s*[\r\n]+\s*")
-
-T = TypeVar("T")
 
 
 def one_line(text: str) -> str:
@@ -42,10 +37,3 @@ def table_cell(text: str) -> str:
     """
     return _PIPE.sub(lambda m: 2 * m.group(1) + "\\|", one_line(text))
 
-
-def with_cell_labels(items: Sequence[T]) -> list[T]:
-    """Copies of dataclass instances with a ``label`` (a
-    :class:`~ins_errors.numeric.compare.Comparison`...) whose labels are
-    :func:`table_cell` text, for the Markdown writers that put each label in a table
-    row; the instances themselves are unchanged."""
-    return [dataclasses.replace(item, label=table_cell(item.label)) for item in items]

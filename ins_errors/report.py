@@ -18,7 +18,7 @@ from importlib import resources
 from pathlib import Path
 
 from ins_errors.json_output import dumps
-from ins_errors.markdown_cells import one_line, table_cell, with_cell_labels
+from ins_errors.markdown_cells import one_line, table_cell
 from ins_errors.model_parameters import parameters_record, parameters_used
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.output import OutputFolder
@@ -64,7 +64,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
 
     s = result.scenario
     model = load_model(s.model)
-    comparisons = with_cell_labels(result.comparisons)  # each label is a table cell
+    comparisons = result.comparisons
     lines = [f"# {one_line(s.title)}", ""]
     if s.description:
         lines += [s.description, ""]
@@ -93,7 +93,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         markdown_summary(comparisons),
     ]
     for k, (comparison, plot) in enumerate(zip(comparisons, plots, strict=True), 1):
-        lines += [f"## Case {k}: {comparison.label}", "", f"![case {k}]({plot})", "",
+        lines += [f"## Case {k}: {table_cell(comparison.label)}", "", f"![case {k}]({plot})", "",
                   markdown_table(_selected(comparison, s.quantities))]
     lines += ["## Equations used", "", _equations_document(model)]
     return "\n".join(lines) + "\n"

@@ -149,7 +149,6 @@ def parse_ratio(text: str, what: str) -> float:
 
 def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import InsErrorsError
-    from ins_errors.markdown_cells import one_line, with_cell_labels
     from ins_errors.model_parameters import (
         parameters_record,
         parameters_used,
@@ -240,9 +239,8 @@ def run(args: argparse.Namespace) -> int:
         comparison.warnings.extend(getattr(trajectory, "notes", ()))
     title = (f"{model.name}: {trajectory.description}; {duration / 3600:g} h, τ = {tau:g} s, "
              f"{args.method}")
-    cells = with_cell_labels(comparisons)  # a label with a | stays in its cell
-    text = markdown_summary(cells, one_line(title)) + "\n" + "\n".join(
-        markdown_table(c) for c in cells)
+    text = markdown_summary(comparisons, title) + "\n" + "\n".join(
+        markdown_table(c) for c in comparisons)
     if args.markdown:
         from ins_errors.output import write_text
 

@@ -39,7 +39,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ins_errors.markdown_cells import one_line, with_cell_labels
     from ins_errors.numeric.compare import markdown_summary
     from ins_errors.output import OutputFolder, require_matplotlib
     from ins_errors.report import write_report
@@ -72,6 +71,6 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         emit(json.loads((out / "results.json").read_text(encoding="utf-8")))
     else:
-        print(markdown_summary(with_cell_labels(result.comparisons), one_line(scenario.title)))
+        print(markdown_summary(result.comparisons, scenario.title))
         print(f"report: {report} (and report.html, plots, results.json in {out})")
     return 0

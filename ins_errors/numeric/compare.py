@@ -1114,9 +1114,10 @@ def markdown_table(comparison: Comparison) -> str:
     column says whether its ratios are judged (``yes``), or why not: moved only at second
     order (``no: 2nd order``), or a direct error at the rounding floor of its unit
     (``no: rounding``)."""
+    from ins_errors.markdown_cells import table_cell
     from ins_errors.units import display_scale
 
-    lines = [f"**{comparison.label}**", "",
+    lines = [f"**{table_cell(comparison.label)}**", "",
              "| quantity | unit | max abs direct | max abs (linear − direct) | ratio "
              "| max abs (refined − direct) | ratio | integration error direct | linear "
              "| judged |",
@@ -1142,19 +1143,22 @@ def _integration_cell(comparison: Comparison) -> str:
 
 
 def markdown_summary(comparisons: Sequence[Comparison], title: str = "") -> str:
-    """Markdown summary: one row per case with the worst excited ratios."""
-    lines = [f"### {title}", ""] if title else []
+    """Markdown summary: one row per case with the worst excited ratios (user text kept
+    in its cell and on its line: :mod:`ins_errors.markdown_cells`)."""
+    from ins_errors.markdown_cells import one_line, table_cell
+
+    lines = [f"### {one_line(title)}", ""] if title else []
     lines += ["| case | worst linear ratio | quantity | worst refined ratio | quantity "
               "| integration error / error |",
               "|---|---:|---|---:|---|---:|"]
     for c in comparisons:
         wl, wr = c.worst_linear, c.worst_refined
-        lines.append(f"| {c.label} | {_fmt(_value(wl, 'linear_ratio'))} | "
+        lines.append(f"| {table_cell(c.label)} | {_fmt(_value(wl, 'linear_ratio'))} | "
                      f"{'' if wl is None else '`' + wl.quantity + '`'} | "
                      f"{_fmt(_value(wr, 'refined_ratio'))} | "
                      f"{'' if wr is None else '`' + wr.quantity + '`'} | "
                      f"{_integration_cell(c)} |")
-    warned = [(c.label, w) for c in comparisons for w in c.warnings]
+    warned = [(table_cell(c.label), w) for c in comparisons for w in c.warnings]
     if warned:
         lines += [""] + [f"> **warning** ({label}): {w}" for label, w in warned]
     return "\n".join(lines) + "\n"
