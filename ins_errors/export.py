@@ -81,8 +81,13 @@ def curves_size(comparisons: Sequence) -> float:
     """About the bytes of curves.csv for ``comparisons`` (curves.mat is compressed)."""
     if not comparisons:
         return 0.0
-    columns = 2 + len(_columns(comparisons[0]))
-    return float(sum(len(c.times) for c in comparisons) * columns * CSV_BYTES_PER_VALUE)
+    return float(sum(len(c.times) for c in comparisons) * _width(comparisons[0])
+                 * CSV_BYTES_PER_VALUE)
+
+
+def _width(comparison) -> int:
+    """Columns of curves.csv: ``case``, ``t`` and every curve of a case."""
+    return 2 + len(_columns(comparison))
 
 
 def large_output_note(comparisons: Sequence) -> str | None:
@@ -91,11 +96,9 @@ def large_output_note(comparisons: Sequence) -> str | None:
     size = curves_size(comparisons)
     if size < LARGE_OUTPUT:
         return None
-    samples = len(comparisons[0].times)
-    columns = 2 + len(_columns(comparisons[0]))
-    return (f"writing about {size / 1e6:.3g} MB of curves.csv ({samples} samples × "
-            f"{columns} columns per case, and curves.mat), which takes longer than the "
-            f"runs; a coarser record interval writes less")
+    return (f"writing about {size / 1e6:.3g} MB of curves.csv ({len(comparisons[0].times)} "
+            f"samples × {_width(comparisons[0])} columns per case, and curves.mat), which "
+            f"takes longer than the runs; a coarser record interval writes less")
 
 
 MAT_DESCRIPTION = 116
