@@ -377,6 +377,49 @@ def test_geodetic_vertical_schuler_pair_runs_on_its_own_radii(latitude_deg):
         assert "R/(1 − ν1 tg Φ)" in mode.note
 
 
+@pytest.mark.parametrize("latitude_deg", [0.0, 30.0, 50.0, 70.0, -40.0])
+def test_strapdown_ned_modes_are_the_textbook_ones_coupled_to_the_vertical_channel(
+        latitude_deg):
+    """The lab probe's unexplained −0.05 % on strapdown_ned's Schuler rows. The textbook
+    pair leaves the vertical channel out; a 9-state NED φ-model typed from the textbook
+    (checked separately: dropping its δv_E ↔ δv_D Coriolis terms gives the textbook pair
+    to 1e-5) says the unstable vertical channel, λ_v² = ∂γ/∂h, stiffens the east channel
+    by (2Ω cos φ)² ω_s²/(ω_s² + λ_v²). With ∂γ/∂h the closed form of WGS-84 normal gravity
+    (NIMA TR8350.2 (4-3)), that predicts every Schuler and vertical-channel rate of the
+    model; the rows carry the model's note saying so."""
+    latitude = np.radians(latitude_deg)
+    s2, c2 = np.sin(latitude) ** 2, np.cos(latitude) ** 2
+    gravity, radius = _wgs84_schuler_constants(latitude)
+    flattening, m = 1 / 298.257223563, 0.00344978650684
+    gradient = 2 * gravity / WGS84_A * (1 + flattening + m - 2 * flattening * s2)
+    schuler2 = gravity / radius
+    coriolis2 = 4 * EARTH_RATE**2 * c2
+    result = static_modes("strapdown_ned", latitude)
+    growing = result.mode("vertical channel (growing)")
+    assert growing.eigenvalue.real == pytest.approx(
+        np.sqrt(gradient - coriolis2 * gradient / (gradient + schuler2)), rel=2e-6)
+    if latitude_deg == 50.0:  # the probe's case: the textbook rate is well off
+        assert abs(growing.eigenvalue.real / np.sqrt(2 * schuler2) - 1) > 5e-4
+    # the note is on every row off its textbook value by more than 0.01 %
+    assert (growing.note is not None and "∂γ/∂h" in growing.note) == (
+        abs(growing.reference.relative_difference) > 1e-4)
+    schuler = sorted((mode for mode in result.modes if mode.name.startswith("Schuler")),
+                     key=lambda mode: mode.period_s, reverse=True)
+    if latitude_deg == 0.0:  # no Foucault split: the channels part on their own radii
+        meridian = WGS84_A * (1 - WGS84_E2)
+        expected = [np.sqrt(gravity / meridian),
+                    np.sqrt(gravity / WGS84_A + coriolis2 * schuler2 / (schuler2 + gradient))]
+        expected.sort()
+    else:
+        foucault = EARTH_RATE * np.sqrt(s2)
+        mean = np.sqrt(schuler2 + foucault**2 + coriolis2 / 6)
+        expected = [mean - foucault, mean + foucault]
+    for mode, rate in zip(schuler, expected, strict=True):
+        assert 2 * np.pi / mode.period_s == pytest.approx(rate, rel=1e-5)
+        assert abs(mode.reference.relative_difference) > 1e-4
+        assert "(2Ω cos φ)²" in mode.note
+
+
 def test_cli_shows_the_models_note_on_the_rows_it_explains(capsys):
     assert main(["modes", "geodetic_vertical", "--latitude", "80deg"]) == 0
     out = capsys.readouterr().out
@@ -389,7 +432,15 @@ def test_cli_shows_the_models_note_on_the_rows_it_explains(capsys):
     notes = {m["name"]: m["note"] for m in data["modes"]}
     assert "dead reckoning" in notes["Earth"] and notes["integrator"] is None
     # a model without notes: no note anywhere
-    assert main(["modes", "strapdown_ned"]) == 0
+    assert main(["modes", "north_pointing"]) == 0
+    assert "see note" not in capsys.readouterr().out
+    # a note on a row at its textbook value is not shown: strapdown_ned's Schuler note
+    # (the undamped vertical channel's coupling) once the damping loop is set
+    assert main(["modes", "strapdown_ned", "-p", "k_h1=0.0293/s", "-p",
+                 "k_h2=4.42e-4/s^2"]) == 0
+    out = capsys.readouterr().out
+    assert "see note" not in out and "note on" not in out
+    assert main(["modes", "geodetic_vertical", "--latitude", "80deg", "-p", "e2=0"]) == 0
     assert "see note" not in capsys.readouterr().out
 
 

@@ -495,7 +495,7 @@ def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: Reference
         raw.append((value, count, _participation(basis, names), directions))
     named = _names([(v, k) for v, k, _, _ in raw], refs)
     return tuple(_mode(value, count, name, reference, participation, directions,
-                       _note(name, notes or {}) if reference is not None else None)
+                       _note(name, notes or {}) if _explained(reference) else None)
                  for (value, count, participation, directions), (name, reference)
                  in zip(raw, named, strict=True))
 
@@ -508,6 +508,17 @@ def _kind(value: complex) -> str:
     if not value.real:
         return "oscillation"
     return "damped oscillation" if value.real < 0 else "growing oscillation"
+
+
+NOTED_DIFFERENCE = 1e-4
+"""A model's note on a mode is shown where the mode is off its textbook value by more
+than this (0.01 %): a row at its textbook value needs no explanation (strapdown_ned's
+Schuler note, on the undamped vertical channel's coupling, has nothing to say once the
+damping loop is set)."""
+
+
+def _explained(reference: Reference | None) -> bool:
+    return reference is not None and abs(reference.relative_difference) > NOTED_DIFFERENCE
 
 
 def _mode(value: complex, count: int, name: str, reference: Reference | None,

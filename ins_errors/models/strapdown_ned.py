@@ -142,6 +142,29 @@ INITIAL_CONDITIONS = (
 )
 
 
+MODE_NOTES = {
+    "Schuler": (
+        "not the textbook pair, and not a slip: the textbook formula leaves out the "
+        "vertical channel, which the Coriolis terms ±2Ω cos φ (δv_E ↔ δv_D) couple to "
+        "the east channel; the unstable vertical channel (λ² = ∂γ/∂h) stiffens it by "
+        "(2Ω cos φ)² ω_s²/(ω_s² + ∂γ/∂h) ≈ (2Ω cos φ)²/3, half of which reaches each "
+        "Foucault-split mode: with the vertical channel undamped, ω̄² = g/R + Ω² sin² φ "
+        "+ (2Ω cos φ)²/6 gives this model's periods to 1e-5 (−0.050 % and −0.045 % "
+        "against the textbook at 50°); near the equator, where the Foucault split is "
+        "smaller than the difference of the radii, the channels part: north "
+        "2π√(R_N/g) on the meridian radius, east 2π/√(g/R_E + (2Ω)²/3)"),
+    "vertical channel": (
+        "not √(R/2g), and not a slip: normal gravity falls with height at "
+        "∂γ/∂h = (2γ/a)(1 + f + m − 2f sin² φ), not 2g/R (+0.35 % at 50°), and the "
+        "Coriolis coupling with the east channel takes (2Ω cos φ)² ∂γ/∂h/(∂γ/∂h + g/R) "
+        "≈ (2/3)(2Ω cos φ)² off λ²; together they give this model's λ to 1e-6 "
+        "(−0.077 % in the time constant at 50°); with the damping gains k₁, k₂ set the "
+        "channel is the loop's, not this"),
+}
+"""Why this model's static-base modes differ from the textbook formulas of ``ins-errors
+modes`` (:attr:`ins_errors.modeling.ModelDefinition.mode_notes`)."""
+
+
 def _imu_sources(sensor: str, unit: str, bias_display: str, latex: str, what: str):
     rows = [error_source(f"{sensor}_bias_{a}", unit, bias_display, "constant", None,
                          rf"b_{{{latex}{a}}}", f"constant bias of the {a} {what}")
@@ -392,5 +415,6 @@ def build() -> ModelDefinition:
             (1 - e2, "eccentricity squared must be below 1"),
             (_sym["gamma_e"], "normal gravity on the equator gamma_e must be positive"),
         ),
+        mode_notes=MODE_NOTES,
         notes=__doc__.split("Modelling choices", 1)[1].split(":", 1)[1].strip(),
     )
