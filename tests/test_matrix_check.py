@@ -393,6 +393,61 @@ def test_no_transposition_in_the_textbook_or_a_skew_sign_slip(psi_report, tmp_pa
     assert len(slips) == 6 and {f.kind for f in slips} == {"wrong sign"}
 
 
+def test_a_transposed_block_s_effect_is_the_whole_block_s():
+    """The effect of a transposed block is that of the researcher's whole block: a hand
+    model equal to the derived one but for G[ψ, gyro] = −C_n^b (−C_b^n transposed),
+    propagated against the derived model on the static base with SciPy's matrix
+    exponential (dvc_D, dr_D held: rows and columns zeroed), read as the horizontal
+    position error (dr_N, dr_E) and the attitude error ψ + δθ after 24 h, worst case over
+    the initial errors and sources at their typical sizes."""
+    from scipy.linalg import expm
+
+    model = load_model("strapdown_ned")
+    static = mc.motions(model, hours=24.0, step=60.0)[0]
+    conv = convention(model, "psi")
+    F_all, G_all = mc.derived_in_convention(model, conv, static)
+    F, G_model = F_all[0], G_all[0]
+    sources = [f"{kind}_bias_{a}" for kind in ("gyro", "accel") for a in "xyz"]
+    G_model = G_model[:, [[s.name for s in model.sources].index(n) for n in sources]]
+    G_hand = G_model.copy()
+    G_hand[0:3, 0:3] = G_model[0:3, 0:3].T
+    assert np.abs(G_hand - G_model).max() > 0.1  # heading 30°: C_b^n is no symmetric matrix
+
+    def transposed(nav, imu):
+        return F, G_hand
+
+    transposed.states = list(conv.names)
+    transposed.sources = sources
+    report = mc.check_matrices("strapdown_ned", transposed, "psi", motion_list=[static])
+    [finding] = report.findings
+    assert TRANSPOSED in finding.detail and finding.matrix == "G"
+
+    nav = static.navigation
+    lat, h = nav["latitude"][0], nav["height"][0]
+    R_N, R_E = nav["R_N"][0] + h, nav["R_E"][0] + h
+    held = [5, 8]  # dvc_D, dr_D
+    mags = np.array([1e-4] * 3 + [0.1] * 3 + [10.0] * 3
+                    + [np.radians(0.01) / 3600.0] * 3 + [1e-4 * 9.80665] * 3)
+    cases = [c for c in range(15) if c not in held]
+    responses = []
+    for G in (G_hand, G_model):
+        A = np.zeros((15, 15))
+        A[:9, :9], A[:9, 9:] = F, G
+        A[held, :], A[:, held] = 0.0, 0.0
+        responses.append(expm(A * 86400.0)[:9, cases] * mags[cases])
+    d = responses[0] - responses[1]
+    position = np.linalg.norm(d[6:8], axis=0).max()
+    theta = np.array([d[7] / R_E, -d[6] / R_N, -d[7] * np.tan(lat) / R_E])
+    attitude = np.linalg.norm(d[0:3] + theta, axis=0).max()
+    alone = report.finding_effects[finding.entry]
+    assert alone.motion == "static" and alone.position_above_rounding
+    assert alone.position == pytest.approx(position, rel=1e-6)
+    assert alone.attitude == pytest.approx(attitude, rel=1e-6)
+    # the whole propagation compares the same two models
+    worst = max(e.position_difference for e in report.effects if e.hours == 24.0)
+    assert worst == pytest.approx(position, rel=1e-6)
+
+
 def test_example_sign_error_file(strapdown_motions):
     path = PSI.parent / "psi_model_sign_error.py"
     report = mc.check_matrices("strapdown_ned", f"{path}:psi_model_sign_error", "psi",

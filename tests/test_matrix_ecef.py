@@ -302,3 +302,94 @@ def test_a_sign_slip_hidden_in_a_sum_of_psi_entries_is_named_where_it_is_whole()
         if f.kind == "wrong coefficient":
             assert "hand = −model on motion 'static'" in f.detail, f.detail
     assert any(found[key].kind == "wrong coefficient" for key in coriolis)
+
+
+def _groves_module():
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("groves_ecef_reference", GROVES)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def _static_sample():
+    """The static base of tests/models/ecef_ins.py: rest at φ 50°, λ 30°, h 0, heading
+    30°, on its sphere of 6371 km (the accelerometers read the plumb line)."""
+    from types import SimpleNamespace
+
+    h = np.radians(30.0)
+    nav = SimpleNamespace(latitude=np.radians(50.0), longitude=np.radians(30.0), height=0.0,
+                          a=6_371_000.0, earth_rate=7.292115e-5,
+                          C_bn=np.array([[np.cos(h), -np.sin(h), 0.0],
+                                         [np.sin(h), np.cos(h), 0.0], [0.0, 0.0, 1.0]]))
+    return nav, SimpleNamespace(f_b=np.array([0.0, 0.0, -9.806267]))
+
+
+@pytest.fixture(scope="module")
+def static_base():
+    return [motions(load_model(ECEF_MODEL))[0]]
+
+
+def test_a_left_out_ecef_attitude_that_nothing_excites_is_not_assessed(static_base):
+    """A velocity and position model leaves out the couplings −[f^e×] δψ^e: but in
+    Groves' equations no velocity, position or accelerometer error reaches δψ^e, so
+    from the hand's own initial errors and sources the left-out attitude stays 0 and
+    those entries act on nothing. Their effect is not assessed (not "no effect")."""
+    F, G = _groves_module().groves(*_static_sample())
+    assert not F[0:3, 3:9].any() and not G[0:3, 3:6].any()
+    report = check_matrices(ECEF_MODEL, _hand("groves_velocity_position"), "psi_ecef",
+                            motion_list=static_base)
+    left = [f for f in report.findings if f.kind == "state left out"]
+    assert {f.column for f in left} == {"psi_X", "psi_Y", "psi_Z"} and len(left) == 6
+    text, findings = to_terminal(report), to_json(report)["findings"]
+    for f in left:
+        said = (f"effect not assessed: {f.column}, a state the hand leaves out, stays 0 "
+                "from every initial error and source of the hand")
+        assert report.finding_effects[f.entry].not_assessed == said
+        assert f"{f.entry}: state left out" in text and said in text
+        [entry] = [x for x in findings if (x["row"], x["column"]) == (f.row, f.column)]
+        assert entry["effect_not_assessed"] == said
+    # the Coriolis slip, in the hand's own states, keeps its figure
+    slip = report.finding_effects["F[dv_X, dv_Y]"]
+    assert slip.not_assessed is None and slip.position_above_rounding
+
+
+def test_an_ecef_model_without_position_states_reads_no_position(static_base):
+    """An attitude and velocity model (no δr^e) has no position to read: the effect of
+    each finding alone says `position n/a`, and the attitude change is the one measured
+    and named with its motion. The Earth rate's sign slipped in F[psi_X, psi_Y] alone
+    against a SciPy propagation of Groves' attitude rows on the static base: ψ̇^e =
+    −Ω_ie^e ψ^e + C_b^e δω^b, with the slipped entry, from each initial ψ^e (1e-4 rad)
+    and gyro bias (0.01 °/h); the attitude error read is |C_e^n Δψ^e| = |Δψ^e| (no δθ
+    without position states)."""
+    from scipy.linalg import expm
+
+    report = check_matrices(ECEF_MODEL, _hand("groves_attitude_velocity"), "psi_ecef",
+                            motion_list=static_base)
+    assert report.effects and all(e.position_difference is None for e in report.effects)
+    kinds = {f.entry: f.kind for f in report.findings}
+    assert kinds["F[psi_X, psi_Y]"] == kinds["F[psi_Y, psi_X]"] == "wrong sign"
+    assert report.finding_effects and all(e.position is None and e.position_floor is None
+                                          for e in report.finding_effects.values())
+    module = _groves_module()
+    F, G = module.groves_exact(*_static_sample())
+    F_one = F.copy()
+    F_one[0, 1] = module.groves_attitude_velocity(*_static_sample())[0][0, 1]
+    mags = np.array([1e-4] * 3 + [np.radians(0.01) / 3600.0] * 3)
+    responses = []
+    for rows in (F_one, F):
+        A = np.zeros((6, 6))
+        A[:3, :3], A[:3, 3:] = rows[0:3, 0:3], G[0:3, 0:3]
+        responses.append(expm(A * 86400.0)[:3] * mags)
+    attitude = np.linalg.norm(responses[0] - responses[1], axis=0).max()
+    alone = report.finding_effects["F[psi_X, psi_Y]"]
+    assert alone.motion == "static" and alone.attitude_above_rounding
+    assert alone.attitude == pytest.approx(attitude, rel=1e-6)
+    arcsec = np.radians(1.0 / 3600.0)
+    assert (f"alone after 24 h: position n/a, {alone.attitude / arcsec:.3g}″ (largest on "
+            "static)") in to_terminal(report)
+    [entry] = [x for x in to_json(report)["findings"]
+               if (x["row"], x["column"]) == ("psi_X", "psi_Y")]
+    assert entry["effect_alone_24h"]["position_m"] is None
+    assert entry["effect_alone_24h"]["motion"] == "static"

@@ -153,6 +153,11 @@ class EntryFinding:
         Largest ratio on each motion.
     detail : str
         One line (the ratio for a factor, where the term matters).
+    block : tuple of (tuple of str) or None
+        For a 3×3 block written transposed (one finding for the block, this its largest
+        entry): the block's rows and columns (``(("psi_N", "psi_E", "psi_D"),
+        ("gyro_bias_x", "gyro_bias_y", "gyro_bias_z"))``); its effect is the whole
+        block's. None for a finding of one entry.
     """
 
     matrix: str
@@ -170,6 +175,7 @@ class EntryFinding:
     unit: str
     per_motion: dict[str, float]
     detail: str = ""
+    block: tuple[tuple[str, ...], tuple[str, ...]] | None = None
 
     @property
     def entry(self) -> str:
@@ -203,8 +209,9 @@ class MatrixReport:
         Vertical-channel states held constant in the propagation (an undamped vertical
         channel diverges with a time constant of about 9.5 min: after 24 h its error
         would swamp every other difference); for states without a vertical channel of
-        their own (a strapdown INS's own ECEF states) what is held, through the φ-angle
-        convention (:func:`~ins_errors.checker.matrix_effects.vertical_projector`).
+        their own (Earth-fixed states; a strapdown INS's own states, held through its
+        φ-angle convention) what is held (:mod:`~ins_errors.checker.held_channel`); for
+        a hand model whose vertical channel cannot be held, why it gets no effects.
     finding_effects : dict
         ``entry`` -> :class:`AloneEffect`: the derived model with only that entry replaced
         by the hand's, after 24 h, worst case (:func:`finding_effects`).
@@ -600,7 +607,8 @@ def _merge_transposed(findings: list[EntryFinding], matrix: str, row_triple: tup
     block = f"{matrix}[{row_triple[0]}..{row_triple[-1]}, {col_triple[0]}..{col_triple[-1]}]"
     kept = replace(worst, kind=SYMBOL, severity=classify_severity(SYMBOL, worst.size, threshold),
                    detail=f"the block {block} {TRANSPOSED} (one finding for its "
-                          f"{len(inside)} differing entries; this is the largest)")
+                          f"{len(inside)} differing entries; this is the largest)",
+                   block=(tuple(row_triple), tuple(col_triple)))
     gone = {id(f) for f in inside if f is not worst}
     return [kept if f is worst else f for f in findings if id(f) not in gone], len(gone)
 
@@ -842,8 +850,9 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     # G's columns weighed by the sizes the report lists (--magnitude), as the states are
     _compare(report, sampled, conv, model, motion_list, declared, declared_used,
              np.array([magnitudes[s.name][0] for s in model.sources]))
-    if effects and conv.hold is not None:  # Earth-fixed states: no state is vertical
-        held_channel.effects(report, sampled, conv, model, motion_list)
+    unholdable = held_channel.not_holdable(report.states, conv)
+    if effects and unholdable:  # part of an Earth-fixed triple: no effects
+        report.held = [unholdable]
     elif effects:
         responses: dict = {}  # the derived model's, shared by both
         report.effects = propagate_effects(report, sampled, conv, model, motion_list,

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ins_errors.checker import held_channel
 from ins_errors.checker.check_motions import Motion
 from ins_errors.checker.conventions import Convention
 from ins_errors.checker.extreme import first_largest
@@ -21,18 +22,12 @@ from ins_errors.checker.growth import growth_rate, hours_tag, mark_growth
 from ins_errors.checker.transition import transitions
 
 if TYPE_CHECKING:
-    from ins_errors.checker.matrix import MatrixReport, _Sampled
+    from ins_errors.checker.matrix import EntryFinding, MatrixReport, _Sampled
 
 EFFECT_HOURS = (1.0, 24.0)
 """Times at which the propagated models are compared, h."""
 EPS = float(np.finfo(float).eps)
 """Machine epsilon of the propagation (float64)."""
-HELD_THROUGH_FRAME = ("the down velocity and position of the states (dv_D, dr_D of the phi "
-                      "convention)")
-"""What the report names as held for states without a vertical channel of their own
-(:func:`vertical_projector`)."""
-
-
 @dataclass(frozen=True)
 class Effect:
     """Difference of the two propagated linear models for one initial error or source.
@@ -198,11 +193,11 @@ class VerticalEffect:
 
 
 def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray, held: list[int],
-               hold: _Hold | None = None) -> np.ndarray:
+               hold: held_channel.Hold | None = None) -> np.ndarray:
     """[[F, G], [0, 0]] in scaled variables (each state / source over its magnitude), with
     the rows and columns of the ``held`` states zeroed (they keep their initial value and
-    feed nothing), or with the vertical channel held through ``hold``'s projector
-    (:func:`vertical_projector`)."""
+    feed nothing), or with the vertical channel held through ``hold``
+    (:class:`~ins_errors.checker.held_channel.Hold`)."""
     k, n, m = G.shape
     A = np.zeros((k, n + m, n + m))
     A[:, :n, :n] = F
@@ -214,81 +209,6 @@ def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray, held: list[int],
     A *= (1 / scale)[:, None]
     A *= scale[None, :]
     return A
-
-
-@dataclass(frozen=True)
-class _Hold:
-    """The vertical channel held through a projector (:func:`vertical_projector`):
-    ``P`` and ``Ṗ`` (K, n, n) of the states propagated; the sources after them are not
-    touched."""
-
-    P: np.ndarray
-    P_dot: np.ndarray
-
-    def _padded(self, size: int) -> tuple[np.ndarray, np.ndarray]:
-        k, n, _ = self.P.shape
-        P, P_dot = np.zeros((k, size, size)), np.zeros((k, size, size))
-        P[:] = np.eye(size)
-        P[:, :n, :n], P_dot[:, :n, :n] = self.P, self.P_dot
-        return P, P_dot
-
-    def held(self, A: np.ndarray) -> np.ndarray:
-        """``P A P + Ṗ P`` of an augmented A (K, n + m, n + m): the error with its
-        vertical part (along the lift of dv_D, dr_D) taken out, kept off it as the
-        projector turns, and not fed by it."""
-        P, P_dot = self._padded(A.shape[-1])
-        return P @ A @ P + P_dot @ P
-
-    def start(self, scale: np.ndarray) -> np.ndarray:
-        """``P`` at the first sample in scaled variables (``scale``: every state's and
-        source's magnitude): a propagation of :meth:`held` starts from it."""
-        P, _ = self._padded(scale.size)
-        return P[0] * (1 / scale)[:, None] * scale[None, :]
-
-
-def vertical_projector(conv: Convention, motion: Motion, rows: list[int], model
-                       ) -> _Hold | None:
-    """The vertical channel of states without one of their own, held through
-    :attr:`~ins_errors.checker.conventions.Convention.frame`.
-
-    A state vector ``x`` of the convention's states ``rows`` has a down velocity and a
-    down position ``V x`` (``V`` the rows ``dv_D``, ``dr_D`` of the frame's ``T``); its
-    vertical part is ``W (V W)⁺ V x``, ``W`` the lift of those two (the model error state
-    of a unit ``dv_D`` or ``dr_D``). ``P = I − W (V W)⁺ V`` takes it out. Propagating
-    ``y' = (P A P + Ṗ P) y`` from ``P x`` is, where ``x`` spans the frame, exactly the
-    propagation of the φ-angle states with ``dv_D`` and ``dr_D`` held (their rows and
-    columns zeroed): the vertical channel neither grows (undamped, ×e every 9.5 min)
-    nor feeds the rest. ``Ṗ`` along the ideal flow by central differences (Richardson
-    extrapolated, the step of :data:`~ins_errors.checker.conventions.RATE_STEP`).
-
-    Returns
-    -------
-    _Hold or None
-        None for a convention that names its vertical states (they are held by index)
-        or has no frame.
-    """
-    from ins_errors.checker.conventions import RATE_STEP
-
-    if conv.frame is None or conv.vertical:
-        return None
-    x, p = motion.x, motion.p
-    flow = np.asarray(model.numpy.ideal_rhs(x, motion.u, p), dtype=float)
-    n_base = len(conv.base.states)
-
-    def projector(shift: float) -> np.ndarray:
-        T, L = conv.frame(x + shift * flow, p)
-        V = np.zeros((x.shape[-1], 2, len(rows)))
-        W = np.zeros((x.shape[-1], len(rows), 2))
-        for j, r in enumerate(rows):
-            if r < n_base:  # a bias state has no vertical part
-                V[:, :, j] = np.moveaxis(T[[5, 8], r], -1, 0)
-                W[:, j, :] = np.moveaxis(L[r, [5, 8]], -1, 0)
-        return np.eye(len(rows)) - W @ np.linalg.pinv(V @ W) @ V
-
-    def central(step: float) -> np.ndarray:
-        return (projector(step) - projector(-step)) / (2 * step)
-
-    return _Hold(projector(0.0), (4 * central(RATE_STEP / 2) - central(RATE_STEP)) / 3)
 
 
 @dataclass
@@ -303,9 +223,9 @@ class _Propagation:
     held_h: list[int]
     held_z: list[int]
     cases: list[tuple[int, str, str]]  # (column of the response, label, magnitude text)
-    conv: Convention | None = None  # with a frame: the vertical channel held through it
+    conv: Convention | None = None  # the vertical channel held through held_channel
     model: object = None
-    holds: dict = field(default_factory=dict)  # (motion, "h" / "z") -> _Hold or None
+    holds: dict = field(default_factory=dict)  # (motion, "h" / "z") -> Hold or None
 
     @classmethod
     def of(cls, report: MatrixReport, conv: Convention, model) -> _Propagation:
@@ -323,26 +243,27 @@ class _Propagation:
                    np.array([report.magnitudes[s][0] for s in names]),
                    [report.states.index(v) for v in conv.vertical if v in report.states],
                    [names.index(v) for v in conv.vertical], cases,
-                   conv if conv.frame is not None and not conv.vertical else None, model)
+                   conv if held_channel.holds(conv) else None, model)
 
-    def hold(self, motion: Motion, side: str) -> _Hold | None:
-        """The projector holding the vertical channel of the hand's (``"h"``) or the
-        derived model's (``"z"``) states on ``motion`` (:func:`vertical_projector`),
-        None where the vertical states are held by index."""
+    def hold(self, motion: Motion, side: str) -> held_channel.Hold | None:
+        """The operators holding the vertical channel of the hand's (``"h"``) or the
+        derived model's (``"z"``) states on ``motion``
+        (:func:`~ins_errors.checker.held_channel.hold_on`), None where the vertical
+        states are held by index."""
         if self.conv is None:
             return None
         key = (motion.label, side)
         if key not in self.holds:
             rows = self.rows if side == "h" else list(range(len(self.conv.names)))
-            self.holds[key] = vertical_projector(self.conv, motion, rows, self.model)
+            self.holds[key] = held_channel.hold_on(self.conv, motion, rows, self.model)
         return self.holds[key]
 
-    def _run(self, A: np.ndarray, scale: np.ndarray, hold: _Hold | None, motion: Motion,
-             at: list[float]) -> list[np.ndarray]:
+    def _run(self, A: np.ndarray, scale: np.ndarray, hold: held_channel.Hold | None,
+             motion: Motion, at: list[float]) -> list[np.ndarray]:
         phis = transitions(A, motion.times, at)
-        if hold is None:
+        start = None if hold is None else hold.start(scale)
+        if start is None:
             return phis
-        start = hold.start(scale)
         with np.errstate(over="ignore", invalid="ignore"):
             return [phi @ start for phi in phis]
 
@@ -382,7 +303,7 @@ class _Propagation:
         model's, ``"z"``) on ``motion``, its vertical channel held as in the propagation."""
         hold = self.hold(motion, side)
         if hold is not None:
-            F = hold.P @ F @ hold.P + hold.P_dot @ hold.P
+            F = hold.held_states(F)
         return _motion_growth(F, self.held_h if side == "h" else self.held_z, last)
 
     def floors(self, scaled: list[np.ndarray], steps: int, readout: np.ndarray) -> float:
@@ -476,8 +397,8 @@ def propagate_effects(report: MatrixReport, sampled: _Sampled, conv: Convention,
     """
     prop = _Propagation.of(report, conv, model)
     report.held = [v for v in conv.vertical if v in report.states]
-    if prop.conv is not None:  # read from the states through the φ-angle convention
-        report.held = [HELD_THROUGH_FRAME]
+    if prop.conv is not None:  # held through operators (held_channel)
+        report.held = [held_channel.held_text(conv)]
     read_p, read_a = reads(conv, motion_list, prop.rows)
     shown = "position" if read_p else "attitude"  # the figure growth is judged by
     effects = []
@@ -545,12 +466,46 @@ def _motion_growth(F: np.ndarray, held: list[int], last: int) -> float:
     return growth_rate(mean)
 
 
+def with_finding(f: EntryFinding, report: MatrixReport, sampled: _Sampled,
+                 conv: Convention, model, motion: str) -> tuple[np.ndarray, np.ndarray]:
+    """The derived F and G on ``motion`` with the finding's entries replaced by the
+    hand's: its one entry, or for a transposed block (:attr:`EntryFinding.block`) every
+    entry of the block as the hand writes it (a column the hand leaves out: 0).
+
+    Returns
+    -------
+    F, G : numpy.ndarray, shapes (K, n_z, n_z) and (K, n_z, n_w)
+        Copies where changed (every convention state, every model source), SI.
+    """
+    rows, columns = f.block if f.block is not None else ((f.row,), (f.column,))
+    names = conv.names
+    F, G = sampled.Fz[motion], sampled.Gz[motion]
+    if f.matrix == "F":
+        F = F.copy()
+        for row in rows:
+            a, i = report.states.index(row), names.index(row)
+            for column in columns:
+                F[:, i, names.index(column)] = (
+                    sampled.Fh[motion][:, a, report.states.index(column)]
+                    if column in report.states else 0.0)
+    else:
+        src_names = [s.name for s in model.sources]
+        G = G.copy()
+        for row in rows:
+            a, i = report.states.index(row), names.index(row)
+            for column in columns:
+                G[:, i, src_names.index(column)] = (
+                    sampled.Gh[motion][:, a, report.sources.index(column)])
+    return F, G
+
+
 def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                     motion_list: list[Motion], hours: float = EFFECT_HOURS[-1],
                     responses: dict | None = None) -> dict[str, AloneEffect]:
     """Effect of each finding alone: the derived model with only that entry replaced by
-    the hand's, propagated like :func:`propagate_effects` (entries of held vertical-channel
-    states are left out). ``responses``: the derived model's scaled responses by (motion,
+    the hand's (a transposed block: the whole block, :func:`with_finding`), propagated
+    like :func:`propagate_effects` (entries of held vertical-channel states are left
+    out). ``responses``: the derived model's scaled responses by (motion,
     time) from :func:`propagate_effects`, if at hand (the same numbers; not computed
     again).
 
@@ -569,7 +524,6 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
     """
     prop = _Propagation.of(report, conv, model)
     names = conv.names
-    src_names = [s.name for s in model.sources]
     read_p, read_a = reads(conv, motion_list, prop.rows)
     shown = "position" if read_p else "attitude"
     # entry -> [(motion, position, attitude, position floor, attitude floor, growth)]
@@ -595,18 +549,9 @@ def finding_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, m
             moved = bool(np.abs(base[names.index(name), columns]).max(initial=0.0) > size)
             excited[name] = excited.get(name, False) or moved
         for f in report.findings:
-            if f.row in conv.vertical or f.column in conv.vertical:
+            if f.block is None and (f.row in conv.vertical or f.column in conv.vertical):
                 continue  # held in the propagation: no effect to show
-            a, i = report.states.index(f.row), names.index(f.row)
-            F2, G2 = Fz.copy(), Gz
-            if f.matrix == "F":
-                j = names.index(f.column)
-                F2[:, i, j] = (sampled.Fh[motion.label][:, a, report.states.index(f.column)]
-                               if f.column in report.states else 0.0)
-            else:
-                G2 = Gz.copy()
-                G2[:, i, src_names.index(f.column)] = (
-                    sampled.Gh[motion.label][:, a, report.sources.index(f.column)])
+            F2, G2 = with_finding(f, report, sampled, conv, model, motion.label)
             [changed] = prop.derived(F2, G2, motion, at)
             diff = (prop.si(changed) - base_si)[:, columns]
             position, attitude = _norm(P, diff, read_p), _norm(A, diff, read_a)
@@ -669,7 +614,7 @@ def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, 
     mode (:func:`~ins_errors.checker.growth.mark_growth`: the model's own undamped
     vertical channel, or a faster one of the hand's).
     """
-    found = [f for f in report.findings if f.row in conv.vertical]
+    found = [f for f in report.findings if f.row in conv.vertical and f.block is None]
     if not found:
         return {}
     prop = _Propagation.of(report, conv, model)
@@ -679,8 +624,6 @@ def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, 
         + [(n_h + b, f"source {s}", report.magnitudes[s][1])
            for b, s in enumerate(report.sources)]))
     columns = [c for c, _, _ in free.cases]
-    names = conv.names
-    src_names = [s.name for s in model.sources]
     rows: dict[str, list] = {}  # entry -> [(motion, heights, floors, cases, growth)]
     for motion in motion_list:
         at = _times(motion, hours)
@@ -691,16 +634,7 @@ def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, 
         base_growth = _motion_growth(Fz, [], _steps(motion, at[-1]))
         readout = conv.position(motion.navigation, motion.x, motion.p)[2:, free.rows, :]
         for f in found:
-            a, i = report.states.index(f.row), names.index(f.row)
-            F2, G2 = Fz.copy(), Gz
-            if f.matrix == "F":
-                F2[:, i, names.index(f.column)] = (
-                    sampled.Fh[motion.label][:, a, report.states.index(f.column)]
-                    if f.column in report.states else 0.0)
-            else:
-                G2 = Gz.copy()
-                G2[:, i, src_names.index(f.column)] = (
-                    sampled.Gh[motion.label][:, a, report.sources.index(f.column)])
+            F2, G2 = with_finding(f, report, sampled, conv, model, motion.label)
             changed = free.derived(F2, G2, motion, at)
             heights, floors, cases, growth = [], [], [], {}
             for t, b, c in zip(at, base, changed, strict=True):

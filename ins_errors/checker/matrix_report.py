@@ -61,7 +61,8 @@ def vertical_text(r: MatrixReport, f: EntryFinding) -> str:
     horizontal row's vertical column, '' otherwise."""
     e = r.vertical_effects.get(f.entry)
     if e is None:
-        return NOT_ASSESSED if r.effects and f.column in r.vertical else ""
+        return (NOT_ASSESSED if r.effects and f.column in r.vertical and f.block is None
+                else "")
     parts = []
     for n, hours in enumerate(e.hours):
         if e.exponential[n]:

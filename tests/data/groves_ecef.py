@@ -91,3 +91,27 @@ def groves_15(nav, imu):
 
 groves_15.states = [*STATES, *SOURCES]
 groves_15.sources = None  # no G: the biases are states
+
+
+def groves_velocity_position(nav, imu):
+    """Only the velocity and position rows (no attitude states: the couplings
+    −[f^e×] δψ^e are left out), with the Coriolis slip of :func:`groves_coriolis_slip`."""
+    F, G = groves(nav, imu, coriolis=+2.0)
+    return F[3:9, 3:9], G[3:9, 3:6]
+
+
+groves_velocity_position.states = STATES[3:9]
+groves_velocity_position.sources = SOURCES[3:6]
+
+
+def groves_attitude_velocity(nav, imu):
+    """Only the attitude and velocity rows (no position states: Γ δr^e is left out),
+    with the Earth rate's sign slipped in the attitude rows: +Ω_ie^e δψ^e where the
+    model has −Ω_ie^e δψ^e."""
+    F, G = groves(nav, imu)
+    F[0:3, 0:3] *= -1.0
+    return F[0:6, 0:6], G[0:6, :]
+
+
+groves_attitude_velocity.states = STATES[0:6]
+groves_attitude_velocity.sources = SOURCES
