@@ -331,3 +331,22 @@ def step_that_would_do(tau: float, error: float, target: float, method: str) -> 
         return tau
     k = math.ceil((1.25 * error / target) ** (1.0 / ORDERS[method]))
     return tau / k
+
+
+CHECK_LABEL = "integration-error check"
+"""What the progress bars of the reruns at other steps are labelled with."""
+
+
+def rerun_label(factor: float, tau: float) -> str:
+    """The progress label of one rerun of the integration-error check, e.g.
+    ``"integration-error check: run at 2τ = 2 s"``.
+
+    Parameters
+    ----------
+    factor : float
+        The rerun's step over the run's: 2 or 4 (coarser), 1/2 or 1/4 (finer).
+    tau : float
+        The run's step τ, s.
+    """
+    ratio = f"{factor:g}τ" if factor >= 1 else f"τ/{1 / factor:g}"
+    return f"{CHECK_LABEL}: run at {ratio} = {factor * tau:g} s"

@@ -298,8 +298,10 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     refined : bool
         Also run the second-order model.
     progress : bool
-        Show a progress bar over the run and, after it, a one-line status while the
-        integration-error and validity runs are made (on a terminal only).
+        Show a progress bar over the run, then one over each rerun of the
+        integration-error check (its steps, labelled ``integration-error check: run at
+        2τ = 2 s``) and a one-line status while the validity runs are made (on a
+        terminal only).
     platform : {"exact", "small_angle"}
         Platform kinematics of the direct run (see :func:`~ins_errors.numeric.simulate.simulate`).
     integration_error : bool
@@ -347,8 +349,8 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     from ins_errors.progress import stage
 
     if integration_error:  # reruns at other steps (as long as the run itself, or longer)
-        with stage("integration error: the runs again at other steps", enabled=progress):
-            add_integration_errors(comparisons, sim, jit=jit)
+        # each rerun has a bar over its own steps, labelled as the check's
+        add_integration_errors(comparisons, sim, jit=jit, progress=progress)
     if validity_threshold is not None:
         with stage("validity: the runs again at other magnitudes", enabled=progress):
             add_validity_warnings(comparisons, sim, validity_threshold, jit=jit)
@@ -507,7 +509,7 @@ def _difference(a: np.ndarray, b: np.ndarray, unit: str) -> np.ndarray:
 
 
 def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
-                           jit: bool = True) -> None:
+                           jit: bool = True, progress: bool = False) -> None:
     """Estimate each quantity's integration error by step doubling; warn where too large.
 
     Runs the direct and linear error runs of ``sim`` again at twice its step when every
@@ -522,7 +524,9 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
     linear-vs-direct difference (the latter only when that difference is above
     :data:`AGREEMENT_FLOOR` of the error). The estimate itself is
     :func:`integration_errors_by_reruns`, which callers with runs of their own (the
-    studies) use as well.
+    studies) use as well. With ``progress``, each rerun shows a bar over its own steps
+    labelled as the check's (:func:`~ins_errors.numeric.accuracy.rerun_label`), as the
+    run itself does (on a terminal only).
     """
     trajectory, method = sim.trajectory, sim.method
     grids: dict[float, Trajectory | None] = {}
@@ -553,7 +557,9 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
             return None
         run = simulate(sim.model, traj, sim.sources, method=method,
                        record_interval=every * traj.tau, parts=("real", "linear"),
-                       jit=jit, platform=sim.platform)
+                       jit=jit, platform=sim.platform,
+                       progress=accuracy.rerun_label(factor, trajectory.tau) if progress
+                       else False)
         return run.direct_errors(), run.linear_errors()
 
     integration_errors_by_reruns(comparisons, (sim.direct_errors(), sim.linear_errors()),

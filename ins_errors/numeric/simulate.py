@@ -468,7 +468,7 @@ def source_cases(model: Model, sources: dict[str, float] | np.ndarray
 def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk4",
              record_interval: float | None = None,
              parts: Sequence[str] = PARTS, jit: bool = True,
-             progress: bool = False, platform: str = "exact") -> Simulation:
+             progress: bool | str = False, platform: str = "exact") -> Simulation:
     """Run the ideal work and the chosen error runs along ``trajectory``.
 
     Parameters
@@ -489,8 +489,9 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
         Runs to integrate next to the ideal run.
     jit : bool
         Compile the loop to C (falls back to the CasADi VM where no compiler works).
-    progress : bool
-        Show a progress bar.
+    progress : bool or str
+        Show a progress bar over the run's steps, labelled with the runs it makes
+        (``"direct and linear runs"``) or with the text given.
     platform : {"exact", "small_angle"}
         Platform kinematics of the real-work run: the exact rotation (default), or the
         source documents' small-angle matrix (platform angles above
@@ -562,7 +563,8 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
         chunk_size(records), _power_of_two_below(max(1, STREAM_STEPS // stride)))
     loop = _loop(model.key, parts, method, stride, float(tau), tuple(p), u_const,
                  tuple(bool(a) for a in active), B, jit, chunk, platform, worker_count())
-    label = _bar_label(parts) if progress else ""
+    label = ((progress if isinstance(progress, str) else _bar_label(parts)) if progress
+             else "")
     check = _domain_check(model, parts, platform)
     if trajectory.constant:
         result = loop.run(z0, w[active], N, None, progress=label, check=check)
