@@ -325,15 +325,22 @@ def test_a_store_made_before_failures_were_recorded_resumes(tmp_path):
 
 
 def test_store_of_another_sweep_is_refused(tmp_path, capsys):
+    """Other grid values extend a store; any other setting (here the case's bias, not
+    swept) is another sweep, refused in one line naming it."""
     path = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '20 deg']\n",
                          BASE.replace('"1 h"', '"2 min"'))
     store = str(tmp_path / "s.zarr")
     assert main(["sweep", str(path), "--store", store, "--engine", "serial"]) == 0
     capsys.readouterr()
     other = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '30 deg']\n",
-                          BASE.replace('"1 h"', '"2 min"'), name="o.toml")
+                          BASE.replace('"1 h"', '"2 min"').replace('"100 ug"', '"50 ug"'),
+                          name="o.toml")
     assert main(["sweep", str(other), "--store", store, "--engine", "serial"]) == 2
-    assert "another sweep" in capsys.readouterr().err
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "holds another sweep: [[case]] 1 accel_bias_x is " \
+        "0.000980665 m/s**2 there, 0.0004903325 m/s**2 here; a store takes other [sweep] " \
+        "grid values only" in err, err
+    assert "[sweep] latitude" not in err  # the grid may change
     assert main(["sweep", str(tmp_path / "s.toml").replace("s.toml", "missing.toml")]) == 2
     plain = tmp_path / "plain.toml"
     plain.write_text(BASE)
@@ -600,3 +607,156 @@ def test_a_store_of_the_earlier_judging_rule_is_another_sweep(tmp_path):
     older = {"fingerprint": "0" * 32, "settings": json.dumps(settings)}
     assert st.mismatch(older, layout) == (
         f"another sweep: quantities judged is absent there, {sw.JUDGING} here")
+
+
+EXTEND = BASE.replace('"1 h"', '"5 min"').replace('accel_bias_x = "100 ug"',
+                                                  'gyro_drift_x = "0.01 deg/h"')
+
+
+def _counted(monkeypatch) -> list[str]:
+    """The labels of the points run from now on (every point goes through run_point)."""
+    runs: list[str] = []
+    real = sw.run_point
+
+    def counted(job):
+        runs.append(job.label)
+        return real(job)
+
+    monkeypatch.setattr(sw, "run_point", counted)
+    return runs
+
+
+def _same_sweep(got, fresh) -> None:
+    """Every variable and coordinate of two sweeps' datasets equal to the last bit,
+    and their attributes equal."""
+    assert set(got.variables) == set(fresh.variables)
+    for name in fresh.variables:
+        assert got[name].dtype == fresh[name].dtype, name
+        assert same_values(got[name].values, fresh[name].values), name
+    assert got.attrs == fresh.attrs
+
+
+@pytest.mark.parametrize("suffix", ["zarr", "nc"])
+def test_a_store_extended_by_grid_values_computes_only_the_new_points(tmp_path, capsys,
+                                                                      monkeypatch, suffix):
+    """A 2-point drift sweep extended to 3 drifts runs one point; its results are those
+    of a fresh 3-point sweep to the last bit. The store keeps every point it ran: a
+    latitude grid beside the [motion] latitude reuses the points at that latitude, the
+    first grid again runs nothing, and a longer run lengthens the store's time axis."""
+    runs = _counted(monkeypatch)
+    two = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.001 deg/h', '0.01 deg/h']\n",
+                        EXTEND, name="two.toml")
+    three = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.001 deg/h', "
+                          "'0.005 deg/h', '0.01 deg/h']\n", EXTEND, name="three.toml")
+    store = str(tmp_path / f"s.{suffix}")
+    assert main(["sweep", str(two), "--store", store, "--engine", "serial",
+                 "--no-progress"]) == 0
+    assert len(runs) == 2
+    runs.clear()
+    capsys.readouterr()
+    assert main(["sweep", str(three), "--store", store, "--engine", "serial", "--json",
+                 "--no-progress"]) == 0
+    captured = capsys.readouterr()
+    assert runs == ["gyro_drift_x = 0.005 deg/h"]
+    assert (f"3 points, 1 to compute, 2 already in {store} (extended: it keeps 0 points "
+            "of other grids)") in captured.err
+    data = json.loads(captured.out)
+    assert (data["points"], data["computed"], data["reused"]) == (3, 1, 2)
+    extended = sw.run_sweep(load_scenario(three), store, engine="serial")
+    assert (extended.computed, extended.reused, len(runs)) == (0, 3, 1)
+    fresh = sw.run_sweep(load_scenario(three), tmp_path / f"fresh.{suffix}",
+                         engine="serial")
+    _same_sweep(extended.dataset.load(), fresh.dataset.load())
+    assert data["summary"] == sr.summary(fresh.dataset)
+    runs.clear()
+    # a latitude grid: the points at the [motion] latitude (50°) are the stored ones
+    wide = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.001 deg/h', '0.01 deg/h']"
+                         "\nlatitude = ['50 deg', '60 deg']\n", EXTEND, name="wide.toml")
+    result = sw.run_sweep(load_scenario(wide), store, engine="serial")
+    assert (result.computed, result.reused, result.others) == (2, 2, 1)
+    assert runs == ["gyro_drift_x = 0.001 deg/h, latitude = 60 deg",
+                    "gyro_drift_x = 0.01 deg/h, latitude = 60 deg"]
+    runs.clear()
+    longer = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.01 deg/h']\n"
+                           "duration = ['5 min', '10 min']\n", EXTEND, name="long.toml")
+    result = sw.run_sweep(load_scenario(longer), store, engine="serial")
+    assert (result.computed, result.reused, result.others) == (1, 1, 4)
+    assert result.dataset.sizes["time"] == 11  # 10 min every 60 s
+    fresh = sw.run_sweep(load_scenario(longer), tmp_path / f"long.{suffix}",
+                         engine="serial")
+    _same_sweep(result.dataset.load(), fresh.dataset.load())
+    runs.clear()
+    again = sw.run_sweep(load_scenario(two), store, engine="serial")
+    assert (again.computed, again.reused, again.others, runs) == (0, 2, 4, [])
+    assert again.dataset.sizes["time"] == 6  # its own 5 min, not the store's 10
+    kept = sorted(p.name for p in tmp_path.iterdir() if p.name.startswith("s."))
+    assert kept == [f"s.{suffix}"]  # no scratch or previous store left beside it
+
+
+def test_a_store_made_before_points_had_keys_is_extended(tmp_path, monkeypatch):
+    """A store without point keys (made before they existed) is matched by rebuilding
+    its grid from its coordinates; only the new drift runs, and the sweep is then the
+    fresh one."""
+    import zarr
+
+    runs = _counted(monkeypatch)
+    two = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.001 deg/h', '0.01 deg/h']\n",
+                        EXTEND, name="two.toml")
+    three = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.001 deg/h', "
+                          "'0.005 deg/h', '0.01 deg/h']\n", EXTEND, name="three.toml")
+    store = tmp_path / "old.zarr"
+    sw.run_sweep(load_scenario(two), store, engine="serial")
+    group = zarr.open_group(str(store), mode="r+", zarr_format=2)
+    del group["point_key"]
+    attrs = dict(group.attrs)
+    attrs["coordinates"] = " ".join(n for n in attrs["coordinates"].split()
+                                    if n != "point_key")
+    group.attrs.put(attrs)
+    zarr.consolidate_metadata(str(store), zarr_format=2)
+    runs.clear()
+    result = sw.run_sweep(load_scenario(three), store, engine="serial")
+    assert (result.computed, result.reused, runs) == (1, 2, ["gyro_drift_x = 0.005 deg/h"])
+    fresh = sw.run_sweep(load_scenario(three), tmp_path / "fresh.zarr", engine="serial")
+    _same_sweep(result.dataset.load(), fresh.dataset.load())
+
+
+def test_an_interrupted_extension_resumes_and_leaves_the_store_whole(tmp_path, monkeypatch):
+    """Stopped while its new points run, an extension keeps the store's old points and
+    the new ones already run; the same command computes only the rest. Stopped while
+    the rewritten store was being put in place, the old store is restored."""
+    from ins_errors.analysis import store as st
+
+    runs = _counted(monkeypatch)
+    two = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.001 deg/h', '0.01 deg/h']\n",
+                        EXTEND, name="two.toml")
+    four = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.001 deg/h', '0.002 deg/h',"
+                         " '0.005 deg/h', '0.01 deg/h']\n", EXTEND, name="four.toml")
+    store = tmp_path / "s.zarr"
+    sw.run_sweep(load_scenario(two), store, engine="serial")
+    # stopped between moving the old store aside and putting the new one in place
+    real_rename = type(store).rename
+
+    def stop_at_second(self, target):
+        if str(self).endswith(".extending"):
+            raise KeyboardInterrupt
+        return real_rename(self, target)
+
+    monkeypatch.setattr(type(store), "rename", stop_at_second)
+    with pytest.raises(KeyboardInterrupt):
+        sw.run_sweep(load_scenario(four), store, engine="serial")
+    monkeypatch.setattr(type(store), "rename", real_rename)
+    assert not store.exists() and st.stored_source(store) == store  # restored
+    assert sw.run_sweep(load_scenario(two), store, engine="serial").computed == 0
+    runs.clear()
+
+    def interrupt(index: int) -> None:
+        if len(runs) == 1:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        sw.run_sweep(load_scenario(four), store, engine="serial", on_result=interrupt)
+    runs.clear()
+    result = sw.run_sweep(load_scenario(four), store, engine="serial")
+    assert (result.computed, result.reused, len(runs)) == (1, 3, 1)
+    fresh = sw.run_sweep(load_scenario(four), tmp_path / "fresh.zarr", engine="serial")
+    _same_sweep(result.dataset.load(), fresh.dataset.load())

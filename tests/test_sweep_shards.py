@@ -280,8 +280,8 @@ def test_a_store_of_another_sweep_is_refused_naming_the_setting(tmp_path, capsys
     capsys.readouterr()
     for old, new, message in [
         ("seed = 7", "seed = 8", "[sweep] seed is 7 there, 8 here"),
-        ('"30 deg", "60 deg"', '"30 deg", "70 deg"',
-         "[sweep] latitude is 2 values 30, 60 deg there, 2 values 30, 70 deg here"),
+        ('"250 m/s"', '"200 m/s"', "[motion] speed is 250 m/s there, 200 m/s here"),
+        ("draws = 4", "draws = 5", "[sweep] draws is 4 there, 5 here"),
         ('accel_bias_x = "100 ug"', 'accel_bias_x = "200 ug"',
          "[[case]] 1 accel_bias_x is 0.000980665 m/s**2 there, 0.00196133 m/s**2 here"),
     ]:
@@ -289,7 +289,8 @@ def test_a_store_of_another_sweep_is_refused_naming_the_setting(tmp_path, capsys
         assert main(["sweep", str(other), "--store", store, "--engine", "serial"]) == 2
         err = capsys.readouterr().err
         assert err == (f"ins-errors: error: {store!r} holds another sweep: {message}; "
-                       "remove it or choose another store\n")
+                       "a store takes other [sweep] grid values only (every other setting "
+                       "the same): remove it or choose another store\n")
 
 
 def test_a_second_process_on_a_store_being_written_stops_in_one_line(tmp_path, capsys,

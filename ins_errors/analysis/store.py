@@ -46,6 +46,13 @@ writing into it too. A store is created under that lock in a scratch folder
 (``<store>.creating``) renamed into place once whole, so that a process that dies while
 creating it leaves no half-made store.
 
+Every point carries ``point_key``, a hash of its full definition (model, motion, run,
+sources, scheme, judging: everything its numbers depend on). A sweep of other grid values
+over a store of the same settings otherwise *extends* it (:func:`grow`): the store is
+rewritten (in a scratch folder renamed into place) with the points it held and the new
+ones, which are then computed; a sweep's points are found in it by their keys, and a
+store may so hold points of several grids.
+
 A *shard* store (``ins-errors sweep --shard I/N``) has the layout of the whole sweep
 but fills only the points of its share; its attribute ``shard`` says which
 (``"I/N"``). The attribute ``settings`` records the sweep's settings as text, so that
@@ -61,7 +68,7 @@ import shutil
 import socket
 import stat
 import warnings
-from collections.abc import Coroutine, Iterator, Mapping, Sequence
+from collections.abc import Callable, Coroutine, Iterator, Mapping, Sequence
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
@@ -170,6 +177,47 @@ class Layout:
         ``*_ratio``, ``excited``, ``integration_error`` and ``source_value``."""
         return [*self.curves, "max_direct", *(f"{curve}_ratio" for curve in self.curves[1:]),
                 "excited", "integration_error", "source_value"]
+
+
+POINT_KEY = "point_key"
+"""The per-point coordinate that identifies a point by its full definition."""
+
+
+def stored_layout(dataset) -> Layout:
+    """The layout of a store as read back (:func:`read_store`): its points, times,
+    labels, per-point coordinates, curves, attributes and fingerprint."""
+    def plain(values) -> np.ndarray:
+        values = np.asarray(values)
+        return values.astype(str) if values.dtype.kind in "OSU" else values
+
+    def python(attrs: Mapping) -> dict:  # (NetCDF gives numpy numbers and arrays)
+        return {str(k): v.tolist() if isinstance(v, (np.generic, np.ndarray)) else v
+                for k, v in attrs.items()}
+
+    coordinates = {str(name): (plain(dataset[name].values), python(dataset[name].attrs))
+                   for name in dataset.coords
+                   if name != "point" and dataset[name].dims == ("point",)}
+    attributes = {k: v for k, v in python(dataset.attrs).items()
+                  if k not in ("fingerprint", "shard")}
+    return Layout(dataset.sizes["point"], np.asarray(dataset["time"].values, dtype=float),
+                  tuple(plain(dataset["quantity"].values).tolist()),
+                  tuple(plain(dataset["quantity_unit"].values).tolist()),
+                  tuple(plain(dataset["source"].values).tolist()),
+                  tuple(plain(dataset["source_unit"].values).tolist()),
+                  coordinates, tuple(c for c in ("direct", "linear", "refined")
+                                     if c in dataset.data_vars),
+                  attributes, str(dataset.attrs.get("fingerprint", "")))
+
+
+def stored_attributes(layout: Layout) -> dict:
+    """The dataset attributes a store of ``layout`` has (as read back): its attributes,
+    those that are not text or numbers as JSON text, its fingerprint and shard."""
+    attrs = {k: (v if isinstance(v, (str, int, float)) else json.dumps(v))
+             for k, v in layout.attributes.items()}
+    attrs["fingerprint"] = layout.fingerprint
+    if layout.shard is not None:
+        attrs["shard"] = layout.shard_text
+    return attrs
 
 
 class SweepStore:
@@ -459,6 +507,155 @@ def _check_fingerprint(attributes: Mapping, layout: Layout, where: Path) -> None
         raise StoreError(f"{str(where)!r} holds {why}; remove it or choose another store")
 
 
+def _overridden(name: str, swept: set[str]) -> bool:
+    """Whether a setting (its readable name) is a grid of a sweep sweeping ``swept``, or
+    a value such a grid replaces (``[motion] latitude`` beside a latitude grid)."""
+    for grid in swept:
+        if name in (f"[sweep] {grid}", f"[motion] {grid}", f"[run] {grid}"):
+            return True
+        if name.startswith("[[case]] ") and name.endswith(f" {grid}") and \
+                name[len("[[case]] "):-len(grid) - 1].isdigit():
+            return True
+    return False
+
+
+def extension_differences(attributes: Mapping, layout: Layout) -> list[str] | None:
+    """The settings other than the grids in which a store (its attributes) and the sweep
+    of ``layout`` differ (empty: the sweep may extend the store), or None when that
+    cannot be told (a store made before settings were recorded).
+
+    A grid's values, and the value a grid replaces in the other sweep (the ``[motion]``
+    latitude of a sweep that did not sweep it), are left out; every other setting must be
+    the same, so points of incompatible sweeps never share a store.
+    """
+    recorded = _recorded_settings(attributes)
+    wanted = layout.attributes.get("settings")
+    if recorded is None or not isinstance(wanted, Mapping):
+        return None
+    try:
+        before = json.loads(str(attributes.get("swept", "[]")))
+    except ValueError:
+        before = []
+    now = layout.attributes.get("swept", [])
+    swept = {str(n) for n in [*before, *now]}
+    return setting_differences({k: v for k, v in recorded.items() if not _overridden(k, swept)},
+                               {k: v for k, v in wanted.items() if not _overridden(k, swept)})
+
+
+def _work_of(path: Path) -> Path:
+    """The Zarr folder a store is filled in (of ``x.nc``: ``x.nc.partial.zarr``)."""
+    return path.with_name(path.name + ".partial.zarr") if path.suffix == ".nc" else path
+
+
+def _aside(work: Path, what: str) -> Path:
+    return work.with_name(f"{work.name}.{what}")
+
+
+def _fingerprint_of(path: Path) -> str | None:
+    """A store's fingerprint, read without loading its data (None: unreadable)."""
+    xr, _ = _libraries()
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            if path.is_dir():
+                data = xr.open_zarr(str(path), chunks=None, consolidated=False)
+            else:
+                data = xr.open_dataset(path, mask_and_scale=False)
+            with data:
+                return str(data.attrs.get("fingerprint", ""))
+    except Exception:  # not a store: said by whoever opens it
+        return None
+
+
+def stored_source(path: str | Path) -> Path | None:
+    """What a store is read from: its Zarr folder (also the partial folder of an
+    unfinished ``*.nc`` store, or one kept for its failed points), else its NetCDF file;
+    None when there is no store yet.
+
+    An extension interrupted while its rewritten store was being put in place is
+    finished or undone first (the caller holds :func:`store_lock`).
+    """
+    path = store_path(path)
+    work = _work_of(path)
+    previous = _aside(work, "previous")
+    if previous.exists():
+        if work.exists():  # the rewritten store is in place: the old one goes
+            shutil.rmtree(previous, ignore_errors=True)
+        else:  # stopped between the two renames: the store as it was
+            previous.rename(work)
+    shutil.rmtree(_aside(work, "extending"), ignore_errors=True)
+    if work != path and work.exists() and path.exists() and \
+            _fingerprint_of(path) != _fingerprint_of(work):
+        path.unlink()  # the NetCDF file of an extended store's points, all in work now
+    if work.exists():
+        return work
+    return path if path.exists() else None
+
+
+def grow(path: str | Path, layout: Layout,
+         points: Sequence[tuple[int, str, Callable[[], Mapping[str, np.ndarray]]]]
+         ) -> SweepStore:
+    """Rewrite a store with the layout of an extended sweep, copying points into it.
+
+    The new store is made in a scratch folder (``<work>.extending``) and renamed into
+    place once every point is copied (the old one is moved to ``<work>.previous`` and
+    removed after; :func:`stored_source` finishes or undoes a rename that was
+    interrupted), so the store is never half-made. Of a ``*.nc`` store the NetCDF file
+    goes too: its points are in the Zarr folder, which is written as NetCDF once
+    complete. The caller holds :func:`store_lock`.
+
+    Parameters
+    ----------
+    path : str or Path
+        The store.
+    layout : Layout
+        Of the extended store (every point it keeps and every new one).
+    points : sequence of (int, str, callable)
+        The points to copy: their index in ``layout``, their failure reason (empty: it
+        did not fail) and a function returning their data variables as stored.
+
+    Returns
+    -------
+    SweepStore
+        The extended store, opened for filling (the copied points done).
+    """
+    path = store_path(path)
+    work = _work_of(path)
+    scratch, previous = _aside(work, "extending"), _aside(work, "previous")
+    shutil.rmtree(scratch, ignore_errors=True)
+    try:
+        _create(scratch, layout)
+    except OSError as error:
+        raise StoreError(f"cannot write the sweep store {str(path)!r}: "
+                         f"{error.strerror or type(error).__name__}") from None
+    try:
+        filling = SweepStore(path, scratch, layout, np.zeros(layout.points, dtype=bool))
+        for index, reason, values in points:
+            if reason:
+                filling.fail(index, reason)
+            else:
+                filling.write(index, values())
+    except BaseException:
+        shutil.rmtree(scratch, ignore_errors=True)
+        raise
+    if work.exists():
+        work.rename(previous)
+    scratch.rename(work)
+    if work != path and path.exists():
+        path.unlink()
+    shutil.rmtree(previous, ignore_errors=True)
+    return SweepStore(path, work, layout, filling.done.copy(), filling.failure)
+
+
+def reopen(path: str | Path, dataset) -> SweepStore:
+    """A store of points of several grids (or of another grid) opened as it is, for
+    filling, from ``dataset`` (:func:`read_store` of :func:`stored_source`)."""
+    path = store_path(path)
+    return SweepStore(path, _work_of(path), stored_layout(dataset),
+                      np.asarray(dataset["done"].values, dtype=bool),
+                      failure_reasons(dataset))
+
+
 LOCK_SUFFIX = ".lock"
 """Suffix of the lock file beside a store (``all.zarr.lock``)."""
 
@@ -602,11 +799,7 @@ def _create(work: Path, layout: Layout) -> None:
         if values.dtype.kind not in "iufU":
             raise StoreError(f"sweep coordinate {name!r} has values of type {values.dtype} "
                              "(numbers or text expected)")
-    attrs = {k: (v if isinstance(v, (str, int, float)) else json.dumps(v))
-             for k, v in layout.attributes.items()}
-    attrs["fingerprint"] = layout.fingerprint
-    if layout.shard is not None:
-        attrs["shard"] = layout.shard_text
+    attrs = stored_attributes(layout)
     attrs["coordinates"] = " ".join(sorted(name for name, (dims, _, _) in coords.items()
                                            if dims != (name,)))
     P, T, Q, W = layout.points, len(layout.times), len(layout.quantities), len(layout.sources)

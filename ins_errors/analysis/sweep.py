@@ -60,7 +60,7 @@ from typing import Any
 
 import numpy as np
 
-from ins_errors.analysis.store import failure_reasons
+from ins_errors.analysis.store import POINT_KEY, failure_reasons
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.units import parse_quantity
 
@@ -752,6 +752,8 @@ class SweepResult:
         The share this run computed (None: every point).
     merged : int
         Points copied from shard stores (:func:`merge_shards`).
+    others : int
+        Points the store holds outside this sweep (a store extended by other grids).
     """
 
     dataset: Any
@@ -764,6 +766,7 @@ class SweepResult:
     total: int = 0
     shard: Shard | None = None
     merged: int = 0
+    others: int = 0
 
 
 def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
@@ -784,6 +787,31 @@ def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
         rows.append(row)
     text = json.dumps({"jobs": rows, **extra}, sort_keys=True, default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:32]
+
+
+def point_keys(jobs: Sequence[PointJob], common: Mapping[str, Any]) -> list[str]:
+    """Each point's identity: a hash of its full definition, what its numbers depend on.
+
+    The point's job without its label (text for messages), its motion as exact SI values
+    with the defaults filled in (``motion_si``: ``[motion] latitude = "50 deg"`` and a
+    latitude grid's 50° are the same motion), the folder of its motion file (if it flies
+    one), and ``common``, what every point of the sweep shares (model, curves, error
+    quantities, the judging rule, the store's version). Two points of any two sweeps
+    with the same key have the same numbers; a sweep that extends a store reuses them.
+    """
+    from ins_errors.numeric.motion_spec import in_si
+
+    names = [f.name for f in fields(PointJob) if f.name not in ("label", "motion",
+                                                                "motion_si")]
+    keys = []
+    for job in jobs:
+        row = {name: getattr(job, name) for name in names}
+        row["motion"] = job.motion_si or tuple(sorted(in_si(dict(job.motion)).items()))
+        if "file" not in dict(job.motion):
+            del row["base"]
+        text = json.dumps({"point": row, **common}, sort_keys=True, default=str)
+        keys.append(hashlib.sha256(text.encode()).hexdigest()[:32])
+    return keys
 
 
 def settings(scenario, quantities: Sequence[str]) -> dict[str, str]:
@@ -846,8 +874,9 @@ def layout(scenario, points: Grid, shard: Shard | None = None):
     times = np.arange(count + 1) * record
     names, units = error_quantities(model)
     curves = ("direct", "linear", "refined") if scenario.refined else ("direct", "linear")
-    identity = {"model": scenario.model, "curves": curves, "quantities": names,
-                "times": times.tolist(), "store": 2, "judging": JUDGING}
+    common = {"model": scenario.model, "curves": curves, "quantities": names, "store": 2,
+              "judging": JUDGING}
+    identity = {**common, "times": times.tolist()}
     spec = scenario.sweep
     attributes = {
         "title": scenario.title, "model": scenario.model, "method": scenario.method,
@@ -862,9 +891,13 @@ def layout(scenario, points: Grid, shard: Shard | None = None):
         "settings": settings(scenario, names),
         "Conventions": "ins-errors sweep store 2",
     }
+    keys = point_keys(points.jobs, common)
+    coordinates = {**points.coordinates, POINT_KEY: (np.array(keys, dtype=str), {
+        "long_name": "identity of the point's full definition (a sweep that extends the "
+                     "store reuses the point whose identity is its own)", "units": "1"})}
     return Layout(len(points.jobs), times, tuple(names), tuple(units),
                   tuple(s.name for s in model.sources), tuple(s.unit for s in model.sources),
-                  points.coordinates, curves, attributes,
+                  coordinates, curves, attributes,
                   fingerprint(points.jobs, identity),
                   None if shard is None else (shard.index, shard.count))
 
@@ -883,8 +916,14 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
               progress: bool = False,
               on_result: Callable[[int], None] | None = None,
               retry_failed: bool = False, shard: Shard | None = None,
-              on_start: Callable[[int, int, int], None] | None = None) -> SweepResult:
+              on_start: Callable[[int, int, int], None] | None = None,
+              on_extend: Callable[[int], None] | None = None) -> SweepResult:
     """Run (or finish) a sweep, or one shard of it, into a store.
+
+    A store of a sweep with other grid values and every other setting the same is
+    extended (:func:`extend_store`): the points it holds that are points of this sweep
+    (the same full definition) are reused, the others computed; it keeps its points
+    outside this sweep, and the result covers this sweep's points only.
 
     Parameters
     ----------
@@ -908,6 +947,10 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     on_start : callable, optional
         Called as ``on_start(points, to_compute, total)`` once the store is open, before
         any point runs (``points``: of this run, ``total``: of the whole sweep).
+    on_extend : callable, optional
+        Called as ``on_extend(others)`` before ``on_start`` when the store is one of
+        other grid values, extended: ``others`` is the number of points it keeps outside
+        this sweep.
 
     Returns
     -------
@@ -920,7 +963,7 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
         Another process is writing the store (:func:`~ins_errors.analysis.store.store_lock`).
     """
     from ins_errors.analysis.engine import choose_engine, run_tasks
-    from ins_errors.analysis.store import SweepStore, store_lock, store_path
+    from ins_errors.analysis.store import store_lock, store_path
 
     store = store_path(store)  # a name of no known format, before anything is made
     scheduler = scheduler or scenario.sweep.scheduler
@@ -931,22 +974,25 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     shape = layout(scenario, points, shard)
     share = [int(k) for k in shape.share]
     with store_lock(store):
-        box = SweepStore.open(store, shape)
-        todo = [k for k in share if not box.done[k] or (retry_failed and box.failure[k])]
+        box, where, others = _open_store(scenario, store, shape, shard)
+        todo = [k for k in share
+                if not box.done[where[k]] or (retry_failed and box.failure[where[k]])]
         reused = len(share) - len(todo)
+        if on_extend is not None and others is not None:
+            on_extend(others)
         if on_start is not None:
             on_start(len(share), len(todo), len(points.jobs))
         stats = None
         if todo:
             def keep(k: int, result: dict) -> None:
-                box.write(todo[k], result)
+                box.write(where[todo[k]], result)
                 if on_result is not None:
                     on_result(todo[k])
 
             def failed(k: int, error: InsErrorsError) -> None:
                 if not isinstance(error, PointError):  # not a point's own outcome
                     raise error
-                box.fail(todo[k], error.reason)
+                box.fail(where[todo[k]], error.reason)
                 if on_result is not None:
                     on_result(todo[k])
 
@@ -954,11 +1000,239 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
                               scheduler=scheduler, workers=workers, on_result=keep,
                               on_failure=failed, progress=progress, label="sweep")
         box.finish()
-        data = _judged_by(box.dataset(), scenario)
+        data = _judged_by(_view(box.dataset(), shape, where), scenario)
     if shard is not None:
         data = data.isel(point=share)
+    failed = [k for k in share if box.failure[where[k]]]
     return SweepResult(data, Path(store), len(share), len(todo), reused, stats,
-                       box.failed, len(points.jobs), shard)
+                       failed, len(points.jobs), shard, others=others or 0)
+
+
+def _open_store(scenario, store: Path, shape, shard: Shard | None):
+    """The store opened for a sweep, where each of the sweep's points is in it, and how
+    many points of other grids it keeps (None: the store is the sweep's own).
+
+    A store of this very sweep (its fingerprint) is opened as it is. A whole sweep of
+    other grid values and the same settings otherwise (:func:`extend_store`) reuses the
+    points whose full definition is one of this sweep's, and gets the others added.
+
+    Returns
+    -------
+    tuple of (SweepStore, numpy.ndarray, int or None)
+        The store, the store index of each of the sweep's points (shape (P,)) and the
+        number of points the store holds outside this sweep.
+
+    Raises
+    ------
+    StoreError
+        A store of another sweep that cannot be extended (one line naming the settings
+        that differ).
+    """
+    from ins_errors.analysis.store import SweepStore, read_store, stored_source
+
+    source = stored_source(store)
+    if shard is None and source is not None:
+        data = read_store(source)
+        try:
+            found = data.attrs.get("fingerprint")
+            if found and found != shape.fingerprint and not data.attrs.get("shard"):
+                return extend_store(scenario, store, shape, data)
+        finally:
+            data.close()
+    return SweepStore.open(store, shape), np.arange(shape.points), None
+
+
+def extend_store(scenario, store: Path, shape, data):
+    """Open a store made by a sweep of other grid values for this one (``shape``).
+
+    Every setting but the grids must be the same (otherwise the store is refused,
+    naming the settings that differ): the store's points whose full definition
+    (:data:`~ins_errors.analysis.store.POINT_KEY`) is one of this sweep's are reused.
+    When this sweep has points the store lacks, the store is rewritten
+    (:func:`~ins_errors.analysis.store.grow`) with every finished point it held
+    followed by those, not yet run; its time axis is the longer of the two. A store made
+    before points recorded their identity is matched by rebuilding its grid
+    (:func:`_rebuilt_keys`).
+
+    Returns
+    -------
+    As :func:`_open_store`.
+    """
+    from ins_errors.analysis.store import (
+        StoreError,
+        extension_differences,
+        grow,
+        mismatch,
+        reopen,
+        stored_layout,
+    )
+
+    differences = extension_differences(data.attrs, shape)
+    where_ = str(store)
+    if differences is None:
+        raise StoreError(f"{where_!r} holds {mismatch(data.attrs, shape)}; remove it or "
+                         "choose another store")
+    if differences:
+        shown = ", ".join(differences[:3]) + (f" and {len(differences) - 3} more"
+                                              if len(differences) > 3 else "")
+        raise StoreError(f"{where_!r} holds another sweep: {shown}; a store takes other "
+                         "[sweep] grid values only (every other setting the same): remove "
+                         "it or choose another store")
+    stored = (data[POINT_KEY].values.astype(str).tolist() if POINT_KEY in data.variables
+              else _rebuilt_keys(scenario, data))
+    if stored is None:
+        raise StoreError(f"{where_!r} holds {mismatch(data.attrs, shape)}, made before "
+                         "stores recorded each point's identity, so it cannot be extended: "
+                         "remove it or choose another store")
+    wanted = shape.coordinates[POINT_KEY][0].tolist()
+    index: dict[str, int] = {}
+    for j, key in enumerate(stored):
+        index.setdefault(key, j)
+    if all(key in index for key in wanted):  # every point has its place: as it is
+        where = np.array([index[key] for key in wanted])
+        return reopen(store, data), where, len(stored) - len(set(where.tolist()))
+    old = stored_layout(data)
+    old = dataclasses.replace(old, coordinates={  # (rebuilt, for a store without them)
+        **old.coordinates, POINT_KEY: (np.array(stored, dtype=str),
+                                       shape.coordinates[POINT_KEY][1])})
+    done = np.asarray(data["done"].values, dtype=bool)
+    reasons = failure_reasons(data)
+    keep = [j for j in range(len(stored)) if done[j] and index[stored[j]] == j]
+    slot = {stored[j]: n for n, j in enumerate(keep)}
+    added: list[int] = []
+    for k, key in enumerate(wanted):
+        if key not in slot:
+            slot[key] = len(keep) + len(added)
+            added.append(k)
+    union = _union_layout(old, shape, keep, added)
+    reader = _StoredPoints(data, union.point_variables)
+    box = grow(store, union, [(n, reasons[j], lambda j=j: reader.values(j))
+                              for n, j in enumerate(keep)])
+    where = np.array([slot[key] for key in wanted])
+    return box, where, union.points - len(set(where.tolist()))
+
+
+def _union_layout(old, shape, keep: Sequence[int], added: Sequence[int]):
+    """The layout of a store extended by a sweep: its kept points (``keep``, indices in
+    the store of layout ``old``) then the sweep's points ``added`` (indices in the
+    sweep of layout ``shape``).
+
+    Attributes, labels and curves are the sweep's (the settings are the same but for
+    the grids); the time axis is the longer; each per-point coordinate is the union of
+    both (NaN, -1 or empty text where a point's sweep did not have it); ``swept`` names
+    the grids of both, this sweep's first; the fingerprint is a hash of the points'
+    keys (no sweep has it: every sweep finds its points by their keys).
+    """
+    from ins_errors.analysis.store import Layout
+
+    times = shape.times if len(shape.times) >= len(old.times) else old.times
+    names = [*shape.coordinates, *(n for n in old.coordinates if n not in shape.coordinates)]
+    coordinates = {}
+    for name in names:
+        parts = []
+        for layout, chosen in ((old, keep), (shape, added)):
+            if name in layout.coordinates:
+                parts.append(np.asarray(layout.coordinates[name][0])[list(chosen)])
+            else:
+                parts.append(None)
+        attrs = dict((shape.coordinates.get(name) or old.coordinates[name])[1])
+        kind = next(p.dtype.kind for p in parts if p is not None)
+        fill = {"i": -1, "U": ""}.get(kind, np.nan)  # (case and draw are on both sides)
+        coordinates[name] = (np.concatenate(
+            [np.full(len(chosen), fill) if p is None else p
+             for p, chosen in zip(parts, (keep, added), strict=True)]), attrs)
+    attributes = dict(shape.attributes)
+    before = old.attributes.get("swept", "[]")
+    before = json.loads(before) if isinstance(before, str) else list(before)
+    attributes["swept"] = [*shape.attributes.get("swept", []),
+                           *(n for n in before if n not in shape.attributes.get("swept", []))]
+    keys = coordinates[POINT_KEY][0].tolist()
+    mark = hashlib.sha256(json.dumps({"extended": keys}).encode()).hexdigest()[:32]
+    return Layout(len(keep) + len(added), np.asarray(times), shape.quantities,
+                  shape.quantity_units, shape.sources, shape.source_units, coordinates,
+                  shape.curves, attributes, mark)
+
+
+class _StoredPoints:
+    """One point at a time of an open store (:func:`~ins_errors.analysis.store.read_store`):
+    its data variables as stored (curves over the store's time axis)."""
+
+    def __init__(self, dataset, names: Sequence[str]) -> None:
+        self.dataset, self.names = dataset, list(names)
+
+    def values(self, k: int) -> dict[str, np.ndarray]:
+        """Point ``k``'s data variables."""
+        return {name: np.asarray(self.dataset[name].isel(point=k).values)
+                for name in self.names}
+
+
+def _rebuilt_keys(scenario, data) -> list[str] | None:
+    """The point keys of a store made before points recorded them, or None.
+
+    The store's grid is rebuilt from its per-point coordinates (each parameter's values
+    in the order they first appear: the grid is their product, the first name slowest)
+    in this scenario, whose settings but the grids are the store's; the keys stand only
+    when the rebuilt sweep has the store's fingerprint, i.e. is the sweep that made it.
+    """
+    from ins_errors.analysis.store import stored_layout
+
+    old = stored_layout(data)
+    before = old.attributes.get("swept", "[]")
+    swept = json.loads(before) if isinstance(before, str) else list(before)
+    units = {}
+    try:
+        from ins_errors.numeric.model import load_model
+
+        units = {source.name: source.unit for source in load_model(scenario.model).sources}
+    except InsErrorsError:
+        return None
+    parameters = []
+    for name in swept:
+        if name in ("case", "draw"):
+            continue
+        if name not in old.coordinates:
+            return None
+        values, attrs = old.coordinates[name]
+        kind = ("motion" if name in MOTION_PARAMETERS else "run" if name in RUN_PARAMETERS
+                else "source" if name in units else None)
+        if kind is None:
+            return None
+        unit = str(attrs.get("units", ""))
+        unique = tuple(dict.fromkeys(float(v) for v in values))
+        parameters.append(Parameter(name, kind, unit, unique,
+                                    str(attrs.get("display_unit", unit))))
+    rebuilt = dataclasses.replace(scenario, sweep=dataclasses.replace(
+        scenario.sweep, parameters=tuple(parameters)))
+    try:
+        points = grid(rebuilt)
+        shape = layout(rebuilt, points)
+    except InsErrorsError:
+        return None
+    if shape.fingerprint != old.fingerprint:
+        return None
+    return shape.coordinates[POINT_KEY][0].tolist()
+
+
+def _view(dataset, shape, where: np.ndarray):
+    """The sweep of layout ``shape`` in a store's dataset: its points (store indices
+    ``where``) and times, labelled as a store of this sweep alone would label them (its
+    coordinates, attributes and point numbers): the dataset a fresh sweep returns.
+    ``dataset`` itself when the store is the sweep's own."""
+    from ins_errors.analysis.store import stored_attributes
+
+    if dataset.attrs.get("fingerprint") == shape.fingerprint:
+        return dataset
+    view = dataset.isel(point=where, time=slice(0, len(shape.times)))
+    extra = [name for name in view.coords
+             if name != "point" and view[name].dims == ("point",)
+             and name not in shape.coordinates]
+    view = view.drop_vars(extra).assign_coords(
+        point=np.arange(len(where)).astype(view["point"].dtype),
+        **{name: ("point", np.asarray(values).astype(  # typed as the store reads them
+            view[name].dtype if name in view.coords else np.asarray(values).dtype),
+            dict(attrs)) for name, (values, attrs) in shape.coordinates.items()})
+    view.attrs = stored_attributes(shape)
+    return view
 
 
 def _judged_by(dataset, scenario):

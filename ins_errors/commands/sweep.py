@@ -16,7 +16,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "Carlo draws), one task per point, on Dask (a local cluster of this "
                     "machine's cores, or --scheduler), streaming results into a store. "
                     "Running the same command again after an interruption computes only "
-                    "the points the store lacks. A point that fails on its own bad input "
+                    "the points the store lacks; run with other [sweep] grid values "
+                    "(every other setting the same), it extends the store, computing "
+                    "only the points it lacks and reporting this grid's. A point that "
+                    "fails on its own bad input "
                     "(e.g. a motion that reaches a pole) is stored with its reason and "
                     "no data, the others run on, and the command lists the failed points "
                     "and exits with status 2. A sweep can be split between N jobs (a "
@@ -108,6 +111,7 @@ def run(args: argparse.Namespace) -> int:
     title = scenario.title
 
     counts = {"points": 0, "before": 0, "stored": 0}
+    others: list[int] = []  # of a store extended by this sweep's grid
 
     def say(points: int, todo: int, total: int) -> None:
         import sys
@@ -118,8 +122,10 @@ def run(args: argparse.Namespace) -> int:
                     else f"{total} point{plural}")
         doing = (f"{todo} to copy from {len(args.merge)} shard stores" if args.merge
                  else f"{todo} to compute")
+        kept = (f" (extended: it keeps {others[0]} point{'s' if others[0] != 1 else ''} "
+                "of other grids)" if others else "")
         print(f"ins-errors: sweep {title!r}, {how_many}, {doing}, {points - todo} already "
-              f"in {store}", file=sys.stderr, flush=True)
+              f"in {store}{kept}", file=sys.stderr, flush=True)
 
     if args.merge is not None:
         result = sw.merge_shards(scenario, args.merge, store, on_start=say)
@@ -132,7 +138,7 @@ def run(args: argparse.Namespace) -> int:
                                   scheduler=args.scheduler, workers=args.workers,
                                   progress=not args.no_progress,
                                   retry_failed=args.retry_failed, shard=shard, on_start=say,
-                                  on_result=stored)
+                                  on_result=stored, on_extend=others.append)
         except KeyboardInterrupt as stop:  # what is kept, and how to go on (the CLI says)
             if counts["points"]:
                 kept = counts["before"] + counts["stored"]
@@ -151,6 +157,7 @@ def run(args: argparse.Namespace) -> int:
         model = load_model(scenario.model)
         emit({"store": str(result.store), "points": result.points,
               "computed": result.computed, "reused": result.reused,
+              "store_others": result.others,
               "sweep_points": result.total, "shard": None if shard is None else str(shard),
               "merged": result.merged,
               "engine": where, "plot": None if plotted is None else str(plotted),
