@@ -656,3 +656,143 @@ def test_a_spec_shorter_than_an_hour_checks_its_hourly_items_at_its_end(tmp_path
                                              "time 10 min"):
         load_spec(write(tmp_path, text + '        times = ["20 min"]\n', "late.toml"))
     assert bd.format_time(-60.0) == "-1 min"   # was '-1 h 59 min'
+
+
+# ------------------------------------------------------------------------------------
+# A source the spec hardly sees: judged by its effect, not allowed an absurd size
+# ------------------------------------------------------------------------------------
+TANGENT_PLANE = str(Path(__file__).resolve().parent / "models" / "tangent_plane_ins.py")
+DAMPED_BY_A_HAIR = """
+    title = "short-range INS, a reference behind a 1e-9/s gain"
+    sigma_level = 2
+    operating_time = "2 h"
+    step = "60 s"
+    [motion]
+    kind = "static"
+    [parameters]
+    c_v = "1e-9 1/s"
+    [items.ground_speed_error]
+    value = "1.0 m/s"
+    times = [{minutes}]
+    [items.vertical_error]
+    value = "1 arcmin"
+    times = ["0 min", {minutes}]
+    [items.heading_drift]
+    value = "0.05 deg/h"
+    times = ["1 h"]
+"""
+HAIR_MINUTES = np.arange(10, 121, 10)
+
+
+def _tangent_plane_static_equations(c_v: float):
+    """The tangent-plane INS's error equations at rest, typed from its docstring.
+
+    States δV_E, δV_N, δx_E, δx_N, α_E, α_N, α_U, q_E, q_N; at rest the platform's
+    accelerometers read f = C^T (0, 0, g) with C ≈ I + [α×], so δf_E = −g α_N + ∇_E,
+    δf_N = g α_E + ∇_N (no horizontal specific force: the scale errors act on nothing);
+    the damping adds −c_v (δV − b); the platform turns at the commanded minus the
+    required level rate, (−δV_N/R, δV_E/R, δV_E tan φ0/R), plus the drift, minus
+    ω_l × α with ω_l = (0, U cos φ0, U sin φ0). Sources in the file's order.
+    """
+    R, g, U, phi0 = 6_371_000.0, 9.80665, 7.292115e-5, np.radians(50.0)
+    s, c = np.sin(phi0), np.cos(phi0)
+    F = np.zeros((9, 9))
+    VE, VN, XE, XN, AE, AN, AU, QE, QN = range(9)
+    F[VE, [VN, XE, AN, VE, QE]] = [2 * U * s, U**2, -g, -c_v, -1.0]
+    F[VN, [VE, XN, AE, VN, QN]] = [-2 * U * s, U**2 * s**2, g, -c_v, -1.0]
+    F[XE, VE] = F[XN, VN] = 1.0
+    F[AE, [VN, AU, AN]] = [-1 / R, -U * c, U * s]
+    F[AN, [VE, AE]] = [1 / R, -U * s]
+    F[AU, [VE, AE]] = [np.tan(phi0) / R, U * c]
+    G, E = np.zeros((9, 14)), np.zeros((9, 14))
+    G[[AE, AN, AU], [0, 1, 2]] = 1.0                      # gyro drifts
+    G[[VE, VN], [3, 4]] = 1.0                             # accelerometer biases
+    G[[VE, VN], [7, 8]] = c_v                             # velocity-reference biases
+    E[[AE, AN, AU, XE, XN], [9, 10, 11, 12, 13]] = 1.0    # initial errors
+    return F, G, E
+
+
+def test_a_source_the_spec_hardly_sees_takes_no_share_and_is_not_given_an_absurd_size(
+        tmp_path, capsys):
+    """A velocity-reference bias behind a 1e-9/s damping gain barely moves the velocity:
+    the equal share gave it 3.6e5 m/s, a velocity error far beyond the linear model, and
+    sized every other source as if it used a full share. Now it is "not limited by this
+    spec", its row gives the linear model's limit for a velocity error (0.1 √(gR)), and
+    the other sources get the equal shares of the sources the spec does see: computed
+    here from the model's error equations typed by hand and propagated with scipy's
+    expm of the augmented system [[F, G], [0, 0]] (sources held constant)."""
+    from scipy.linalg import expm
+
+    from ins_errors.numeric.model import load_model
+
+    minutes = ", ".join(f'"{m} min"' for m in HAIR_MINUTES)
+    path = write(tmp_path, DAMPED_BY_A_HAIR.format(minutes=minutes))
+    spec = load_spec(path)
+    model = load_model(TANGENT_PLANE)
+    names = [s.name for s in model.sources]
+    c_v, k = 1e-9, 2.0
+    F, G, E = _tangent_plane_static_equations(c_v)
+    A = np.zeros((23, 23))
+    A[:9, :9], A[:9, 9:] = F, G
+    z0 = np.vstack([E, np.eye(14)])                        # per unit source value
+    times = {0.0: z0}
+    for m in sorted({0, 60, *HAIR_MINUTES}):
+        times[60.0 * m] = expm(A * 60.0 * m) @ z0
+    t0 = times[0.0]
+    # the rows: (allowed variance, variance per unit variance of every source)
+    rows = [((1.0 / k) ** 2, times[60.0 * m][0] ** 2 + times[60.0 * m][1] ** 2)
+            for m in HAIR_MINUTES]
+    arcmin = np.radians(1 / 60)
+    rows += [((arcmin / k) ** 2, times[60.0 * m][4] ** 2 + times[60.0 * m][5] ** 2)
+             for m in (0, *HAIR_MINUTES)]
+    drift = (times[3600.0][6] - t0[6]) / 3600.0
+    rows += [((0.05 * DEG_H / k) ** 2, drift**2)]
+    allowed = np.array([r[0] for r in rows])
+    unit = np.array([r[1] for r in rows])                  # (rows, sources)
+    seen = unit.max(0) > 1e-30 * unit.max()
+
+    def equal_share(among):
+        sigma = np.full(14, np.inf)
+        for j in np.flatnonzero(among):
+            depends = unit[:, j] > 0
+            sigma[j] = np.sqrt(np.min(allowed[depends] / among.sum() / unit[depends, j]))
+        return sigma
+
+    vref = [names.index("vref_bias_E"), names.index("vref_bias_N")]
+    # every seen source sharing: the biases would be allowed some 3.6e5 m/s
+    everyone = equal_share(seen)
+    assert np.all(k * everyone[vref] > 1e5)
+    speed_limit = 0.1 * np.sqrt(9.80665 * 6_371_000.0)     # 790 m/s, docs/scenarios.md
+    assert np.all(k * everyone[vref] > speed_limit)
+    remaining = seen.copy()
+    remaining[vref] = False
+    expected = equal_share(remaining)
+
+    allocation = bd.allocate(bd.unit_budget(model, spec, p=model.parameter_vector(
+        c_v=c_v)))
+    assert [s.name for s in allocation.budget.sources] == names
+    for j in vref:
+        assert not np.isfinite(allocation.sigma[j]) and allocation.beyond_linear[j]
+    limited = np.flatnonzero(remaining)
+    assert limited.size == 10   # all but the scale errors (no specific force) and biases
+    np.testing.assert_allclose(allocation.sigma[limited], expected[limited], rtol=1e-7)
+    assert np.all(~np.isfinite(allocation.sigma[~remaining]))
+    # the others, at their shares, stay well within the linear model
+    for z in times.values():
+        angles = k * np.abs(z[4:7, limited]) * expected[limited]
+        assert angles.max() < 0.1
+
+    assert main(["budget", TANGENT_PLANE, "--spec", str(path)]) == 0
+    out = capsys.readouterr().out
+    for name in ("vref_bias_E", "vref_bias_N"):
+        line = next(x for x in out.splitlines() if x.startswith(name + " "))
+        assert line.split()[1:6] == ["unconstrained", "not", "limited", "by", "this"]
+        assert f"(linear model to {speed_limit:.4g} m/s)" in line
+    assert "e+05 m/s" not in out
+    assert main(["budget", TANGENT_PLANE, "--spec", str(path), "--json"]) == 0
+    data = {s["name"]: s for s in json.loads(capsys.readouterr().out)["sources"]}
+    assert data["vref_bias_E"]["not_limited"] == "linear"
+    assert data["vref_bias_E"]["magnitude"] is None
+    assert data["vref_bias_E"]["linear_limit"] == pytest.approx(speed_limit, rel=1e-12)
+    assert data["accel_scale_E"]["not_limited"] == "motion"
+    assert data["gyro_drift_U"]["not_limited"] is None

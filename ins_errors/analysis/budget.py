@@ -48,15 +48,27 @@ happens *binds* the source. Since no source exceeds its share, every item is met
 ``fill = true`` all free sources are then scaled by one common factor until the tightest
 item is met exactly.
 
-Sources whose allocation would exceed :data:`UNCONSTRAINED_ABOVE` (the motion hardly
-excites them), or that no spec row depends on, take no share and are reported as not
-limited. "Depends on" is judged against the rounding floor of the propagation
+Sources that no spec row depends on take no share and are reported as not limited on
+this motion. "Depends on" is judged against the rounding floor of the propagation
 (:func:`rounding_floors`), not against an exact zero: a row whose computed dependence on
 a source is at or below its floor depends on it only through round-off (e.g. the tilts
 on the initial longitude error, through entries of F that are zero but for the last
 bits), and such a dependence would otherwise allow an absurd magnitude (1e47 arcmin) and
-still take a share from every other source. Tables and plots of a budget are in
-:mod:`ins_errors.analysis.budget_report`.
+still take a share from every other source.
+
+A source the spec sees only faintly gets a share whose size lies beyond the linear
+error model (a velocity-reference bias behind a 1e-9/s damping gain: 3.6e5 m/s). Such
+a source is judged by what it does at that size, not by its unit: if, alone at its
+share, it drives an error quantity of the linear model beyond :data:`LINEAR_LIMITS`
+(an error state at any time of the operating time, or the source's own value, which is
+an error state of the augmented model too), the spec does not limit it within the
+model's range: it takes no share, the shares are divided again among the other sources,
+and it is reported as not limited by this spec with its linear limit
+(:attr:`UnitBudget.linear_limits`), the largest size at which it keeps every error
+quantity within those limits. A gyro drift or an accelerometer bias has no size limit of
+its own (no error state is a rate or a specific force): a 40 °/h azimuth drift for 5
+minutes turns the azimuth by 3.3°, well within the model, and is allocated. Tables and
+plots of a budget are in :mod:`ins_errors.analysis.budget_report`.
 
 A spec without a ``height_error`` item on a model with a height output still allocates
 the sources that act mainly on the height (a vertical accelerometer's bias, the initial
@@ -101,16 +113,44 @@ RATE_ITEMS = ("position_error", "heading_drift")
 """Items whose quantity is an error divided by the operating time."""
 
 
-UNCONSTRAINED_ABOVE = {"1": 0.1, "rad": 0.1}
-"""Allocations above these magnitudes (at the spec's σ level, by SI unit) lie outside the
-small-error model: a scale-factor or gain error over 10 %, an angle (an initial attitude
-error, a misalignment) over 0.1 rad. Such sources get no share and are reported as not
-limited by the spec on this motion (e.g. accelerometer scale factors on a static base); a
-linear budget cannot say what the spec allows beyond that size. Only these errors have a
-size that is large in itself: a gyro drift, an accelerometer bias or an initial velocity
-or position error is large or small only through what it does over the operating time
-(an azimuth drift of 40 °/h is what a 5-minute spec of 40 °/h heading drift allows), so
-their units set no ceiling. White-noise densities have no ceiling."""
+LINEAR_ANGLE = 0.1
+"""rad: the largest angle error of the small-error model (sin x = x within 0.17 %, the
+products of angles a tenth of the angles)."""
+
+EARTH_RADIUS, GRAVITY = 6_371_000.0, 9.80665
+"""m, m/s²: the scales of :data:`LINEAR_LIMITS` (orders of magnitude, the same for every
+model)."""
+
+LINEAR_LIMITS = {
+    "rad": LINEAR_ANGLE,
+    "1": LINEAR_ANGLE,
+    "m": LINEAR_ANGLE * EARTH_RADIUS,
+    "m/s": LINEAR_ANGLE * float(np.sqrt(GRAVITY * EARTH_RADIUS)),
+}
+"""The range of the linear error model, by SI unit, at the spec's σ level: an error
+quantity (an error state, or a source's own value) beyond its limit lies outside the
+small-error model, and a linear budget cannot say what the spec allows there.
+
+``rad``
+    0.1 rad: attitude and azimuth errors, latitude and longitude errors, initial
+    alignment errors, misalignments.
+``1``
+    0.1: a scale-factor or gain error over 10 %, a direction-cosine or quaternion error
+    (a rotation of about 0.1 to 0.2 rad).
+``m``
+    0.1 R = 637 km: the position error whose arc on the Earth is 0.1 rad (the radii,
+    gravity and Earth-rate components then change at second order as with a 0.1-rad
+    angle); a height error of 637 km changes gravity by a fifth.
+``m/s``
+    0.1 √(gR) = 790 m/s: the velocity error the Schuler loop trades for a 0.1-rad tilt
+    (δV = α √(gR)); its transport-rate error δV/R turns the navigation frame by 0.1 rad
+    within the loop's time constant 1/ω_s = √(R/g).
+
+Other units (a drift in rad/s, a specific force in m/s², a damping integrator) have no
+limit of their own: such errors are large or small only through what they do to the
+quantities above, and that is what is judged (an azimuth drift of 40 °/h is what a
+5-minute spec of 40 °/h heading drift allows). White-noise densities are judged by
+their effect only."""
 
 
 class BudgetError(InsErrorsError):
@@ -207,6 +247,12 @@ class UnitBudget:
         Rounding floor of each unit variance (:func:`rounding_floors`), same units: a
         unit variance at or below it is round-off, no dependence. None: only exact
         zeros are taken as no dependence.
+    state_peaks : numpy.ndarray, shape (n, ns), optional
+        Largest variance of every error state over the operating time per unit variance
+        of every source (round-off taken as 0), SI units² per (source unit)². None: the
+        error states are not judged (only the sources' own values).
+    state_units : tuple of str
+        SI unit of every error state (the rows of ``state_peaks``).
     """
 
     spec: Spec
@@ -215,6 +261,8 @@ class UnitBudget:
     unit_variances: np.ndarray
     system: LinearSystem
     floors: np.ndarray | None = None
+    state_peaks: np.ndarray | None = None
+    state_units: tuple[str, ...] = ()
 
     @property
     def depends(self) -> np.ndarray:
@@ -226,6 +274,24 @@ class UnitBudget:
     def allowed_variances(self) -> np.ndarray:
         """(limit / k)² of every row, shape (nr,)."""
         return np.array([(r.limit / self.spec.sigma_level) ** 2 for r in self.rows])
+
+    @property
+    def linear_limits(self) -> np.ndarray:
+        """Largest 1σ of every source within the linear model, SI, shape (ns,).
+
+        The largest magnitude at which the source, alone, keeps its own value (constant
+        and Markov sources) and every error state at every time of the operating time
+        within :data:`LINEAR_LIMITS` at the spec's σ level; inf where nothing limits it.
+        """
+        k = self.spec.sigma_level
+        own = np.array([np.inf if s.statistics == "white"
+                        else LINEAR_LIMITS.get(s.unit, np.inf) for s in self.sources]) / k
+        if self.state_peaks is None:
+            return own
+        limits = np.array([LINEAR_LIMITS.get(u, np.inf) for u in self.state_units]) / k
+        with np.errstate(divide="ignore"):
+            reach = limits[:, None] / np.sqrt(self.state_peaks)        # (n, ns)
+        return np.minimum(own, reach.min(axis=0, initial=np.inf))
 
     def statistics(self, sigma: np.ndarray) -> list[SourceStatistics]:
         """Source statistics with the given 1σ magnitudes (SI)."""
@@ -587,7 +653,14 @@ def unit_budget(model, spec: Spec, trajectory=None,
                              typical_state_sizes(model), len(model.error_states)
                              + len(sources))
     _, floor = _rows(spec, system, covariance, floors)
-    return UnitBudget(spec, sources, tuple(rows), unit, system, floor)
+    # the states' own round-off is no reach: a state that depends on a source only
+    # through it must not call a faintly seen source nonlinear
+    n = len(model.error_states)
+    own_floors = rounding_floors(states.unit_variances, np.eye(n), typical_state_sizes(model),
+                                 n + len(sources))
+    reached = np.where(states.unit_variances > own_floors, states.unit_variances, 0.0)
+    return UnitBudget(spec, sources, tuple(rows), unit, system, floor,
+                      reached.max(axis=0), tuple(st.unit for st in model.error_states))
 
 
 def growth_warning(model, budget: UnitBudget) -> str | None:
@@ -831,12 +904,16 @@ class Allocation:
         Row that binds each free source (-1 for fixed or unconstrained sources).
     fill_factor : float
         Common variance factor applied by ``fill`` (1 without it).
+    beyond_linear : numpy.ndarray of bool, shape (ns,), optional
+        Sources left unconstrained because their share lies beyond the linear model
+        (:data:`LINEAR_LIMITS`): not limited by this spec. None: none.
     """
 
     budget: UnitBudget
     sigma: np.ndarray
     binding: np.ndarray
     fill_factor: float
+    beyond_linear: np.ndarray | None = None
 
     @property
     def magnitudes(self) -> np.ndarray:
@@ -879,8 +956,8 @@ def allocate(budget: UnitBudget) -> Allocation:
     binding = np.full(len(budget.sources), -1)
     fill_factor = 1.0
     excluded = np.zeros(len(budget.sources), dtype=bool)
-    ceiling = np.array([UNCONSTRAINED_ABOVE.get(s.unit, np.inf) / budget.spec.sigma_level
-                        if s.statistics != "white" else np.inf for s in budget.sources])
+    beyond = np.zeros(len(budget.sources), dtype=bool)
+    linear = budget.linear_limits
     while True:
         free = np.flatnonzero(~fixed & ~excluded)
         if not free.size:
@@ -893,10 +970,14 @@ def allocate(budget: UnitBudget) -> Allocation:
         best = np.argmin(ratio, axis=0)
         sigma[free] = np.sqrt(ratio[best, np.arange(free.size)])
         binding[free] = best
-        loose = free[~np.isfinite(sigma[free]) | (sigma[free] > ceiling[free])]
-        if not loose.size:
+        unseen = ~np.isfinite(sigma[free])
+        nonlinear = ~unseen & (sigma[free] > linear[free])
+        if not (unseen.any() or nonlinear.any()):
             break
-        # not limited by this motion: no share, reported as unconstrained
+        # not limited by this spec (on this motion, or within the linear model): no
+        # share, the others' shares are divided again
+        loose = free[unseen | nonlinear]
+        beyond[free[nonlinear]] = True
         excluded[loose] = True
         sigma[loose], binding[loose] = np.inf, -1
     if budget.spec.fill and free.size:
@@ -905,7 +986,7 @@ def allocate(budget: UnitBudget) -> Allocation:
             factors = np.where(totals > 0, remaining / totals, np.inf)
         fill_factor = float(np.min(factors))
         sigma[free] *= np.sqrt(fill_factor)
-    return Allocation(budget, sigma, binding, fill_factor)
+    return Allocation(budget, sigma, binding, fill_factor, beyond)
 
 
 # --------------------------------------------------------------------------------------

@@ -20,7 +20,7 @@ from ins_errors.analysis.budget import (
 from ins_errors.figure_layout import fixed_margins, text_height, text_width, wrap_to_width
 from ins_errors.output import require_matplotlib, save_figure
 from ins_errors.specs import HOUR
-from ins_errors.units import format_quantity, readable_angle_unit
+from ins_errors.units import format_quantity, format_readable, readable_angle_unit
 
 TIE_DIGITS = 9
 """Sizes that agree to this many significant digits of the largest rank as equal."""
@@ -183,8 +183,11 @@ def report(allocation: Allocation) -> dict:
     motion as text and as ``motion_values``, the rule; ``sources`` (magnitude at kσ and
     at 1σ, the binding row, each item's share of its allowed variance at the item's
     worst time, ``share_at_worst_time``, and over all its check times,
-    ``largest_share``); ``items`` (each item's worst row: the spec-rows table) and
-    ``rows`` (every item at every check time and component).
+    ``largest_share``; ``not_limited``: ``"motion"`` when no spec row depends on the
+    source, ``"linear"`` when its share lies beyond the linear model, else null;
+    ``linear_limit``, its largest size within the linear model at kσ, SI, or null);
+    ``items`` (each item's worst row: the spec-rows table) and ``rows`` (every item at
+    every check time and component).
     """
     budget = allocation.budget
     spec = budget.spec
@@ -196,10 +199,16 @@ def report(allocation: Allocation) -> dict:
     rows_of = item_rows(budget)
     worst = dict(zip(rows_of, worst_rows(allocation), strict=True))
     sources = []
+    linear = budget.linear_limits * k
+    beyond = (np.zeros(len(budget.sources), dtype=bool) if allocation.beyond_linear is None
+              else allocation.beyond_linear)
     for j, s in enumerate(budget.sources):
         row = allocation.binding_row(j)
         magnitude = allocation.magnitudes[j]
         finite = bool(np.isfinite(magnitude))
+        bounded = bool(np.isfinite(linear[j]))
+        not_limited = (None if finite or s.fixed is not None
+                       else "linear" if beyond[j] else "motion")
         sources.append({
             "name": s.name,
             "statistics": s.statistics,
@@ -210,6 +219,11 @@ def report(allocation: Allocation) -> dict:
             "display": display(magnitude, s.unit, s.display_unit),
             "fixed": s.fixed is not None,
             "weight": s.weight,
+            "not_limited": not_limited,
+            "linear_limit": float(linear[j]) if bounded else None,
+            "linear_limit_display": (format_readable(float(linear[j]), s.unit,
+                                                     s.display_unit)
+                                     if bounded else None),
             "binding_item": None if row is None else row.item,
             "binding_time_h": None if row is None else row.time / HOUR,
             "binding_component": None if row is None else row.component,
@@ -331,7 +345,9 @@ def table(allocation: Allocation) -> str:
              "-" * 86]
     for s in data["sources"]:
         if s["binding_item"] is None:
-            bind = "fixed" if s["fixed"] else "not limited on this motion"
+            bind = ("fixed" if s["fixed"] else
+                    f"not limited by this spec (linear model to {s['linear_limit_display']})"
+                    if s.get("not_limited") == "linear" else "not limited on this motion")
         else:
             comp = f" [{s['binding_component']}]" if s["binding_component"] else ""
             bind = f"{s['binding_item']}{comp} at {format_time(s['binding_time_h'] * HOUR)}"
@@ -486,10 +502,17 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     if free:
         import textwrap
 
-        why = ("not allocated (the fixed sources alone exceed the spec)" if exceeded
-               else "not limited on this motion")
-        note = wrap_to_width(textwrap.fill(f"{why}: {', '.join(free)}", 170), 7,
-                             width - 0.3)
+        if exceeded:
+            text = f"not allocated (the fixed sources alone exceed the spec): {', '.join(free)}"
+        else:
+            kinds = {s["name"]: s.get("not_limited") for s in data["sources"]}
+            unseen = [name for name in free if kinds[name] != "linear"]
+            linear = [name for name in free if kinds[name] == "linear"]
+            text = "; ".join(
+                [f"not limited on this motion: {', '.join(unseen)}"] * bool(unseen)
+                + [f"not limited by this spec (their share lies beyond the linear model): "
+                   f"{', '.join(linear)}"] * bool(linear))
+        note = wrap_to_width(textwrap.fill(text, 170), 7, width - 0.3)
         fig.text(0.1 / width, 0.1 / height, note, fontsize=7, va="bottom")
     heading = wrap_to_width(f"Error budget: {spec.title}{' — SPEC EXCEEDED' if exceeded else ''}"
                             f"\n{data['motion']}", 10, width - 0.4)
