@@ -584,7 +584,7 @@ def load_spec(path: str | Path) -> Spec:
     except tomllib.TOMLDecodeError as error:
         raise SpecError(f"{where}: not valid TOML ({error})") from None
     try:
-        return parse_spec(data, str(path))
+        return parse_spec(data, where)
     except InsErrorsError as error:  # named with the file the reader is to fix
         raise type(error)(f"{where}: {error}") from None
 
@@ -592,3 +592,14 @@ def load_spec(path: str | Path) -> Spec:
 def default_spec_path() -> Path:
     """The built-in spec of product 802m (source 000's appendix, 2σ), shipped in the package."""
     return Path(__file__).resolve().parent / "data" / "802m.toml"
+
+
+def spec_label(spec: Spec) -> str:
+    """The spec file as its refusals name it: the path as the user gave it
+    (``sub/hs.toml``, not ``hs.toml``), ``the built-in 802m spec`` for the built-in one
+    (not to be taken for a copy of it named ``802m.toml``), ``the spec`` without a file."""
+    if not spec.path:
+        return "the spec"
+    if Path(spec.path).resolve() == default_spec_path():
+        return "the built-in 802m spec"
+    return spec.path

@@ -452,10 +452,11 @@ def test_heading_at_rest_is_refused_by_a_spec_as_by_a_scenario(tmp_path, capsys,
     scenario.write_text('model = "north_pointing"\n[motion]\nkind = "static"\n'
                         'heading = "30 deg"\n[run]\nduration = "10 min"\nstep = "10 s"\n'
                         '[[case]]\ngyro_drift_east = "0.01 deg/h"\n')
-    monkeypatch.chdir(scenario.parent)  # the scenario named as a spec is: s.toml
+    monkeypatch.chdir(scenario.parent)  # each file named as typed: s.toml
     with pytest.raises(InsErrorsError) as info:
         load_scenario("s.toml")
-    assert main(["budget", "north_pointing", "--spec", str(spec)]) == 2
+    monkeypatch.chdir(tmp_path)
+    assert main(["budget", "north_pointing", "--spec", spec.name]) == 2
     captured = capsys.readouterr()
     assert not captured.out
     (line,) = captured.err.strip().splitlines()
@@ -468,6 +469,57 @@ def test_heading_at_rest_is_refused_by_a_spec_as_by_a_scenario(tmp_path, capsys,
     bd.spec_profile(model, load_spec(write(tmp_path, at_rest, "none.toml")))
     moving = heading.replace('kind = "static"', 'kind = "great_circle"\n    speed = "200 m/s"')
     bd.spec_profile(model, load_spec(write(tmp_path, moving, "moving.toml")))
+
+
+AT_REST = NO_TILT.split("    [sources")[0]   # no source options: any model
+MOVING = (AT_REST.replace('kind = "static"\n    latitude = "45 deg"',
+                          'kind = "great_circle"\n    speed = "100 m/s"')
+          + '    [items.ground_speed_error]\n    value = "1 m/s"\n')
+
+
+@pytest.mark.parametrize("text, model, words", [
+    # a heading at rest for a model without a heading output
+    (AT_REST.replace('kind = "static"', 'kind = "static"\n    heading = "30 deg"'),
+     "north_pointing", "{path} [motion] heading: model 'north_pointing' has no heading"),
+    # a source the model does not have
+    (NO_TILT + "    [sources.no_such_gyro]\n    weight = 2\n", "orthodromic",
+     "unknown error source of orthodromic in {path} 'no_such_gyro'"),
+    # a fixed magnitude in the wrong unit
+    (NO_TILT.replace("include = false\n", 'fixed = "3 m"\n', 1), "orthodromic",
+     "{path}: sources.initial_tilt_x.fixed"),
+    # a moving base for a model that is steered by a heading it has no output for
+    (MOVING, "tests/models/tangent_plane_ins.py", "set kind = \"static\" in {path}'s [motion]"),
+])
+def test_a_specs_later_refusals_name_the_file_as_typed(tmp_path, capsys, monkeypatch,
+                                                      text, model, words):
+    """Refusals of a spec that come after it is read (bound to the model, its motion
+    flown) named it by its bare file name (802m.toml for sub/802m.toml, the built-in
+    spec's name too), unlike the refusals of its reading: now by the path the user typed,
+    as a scenario's are."""
+    if model.endswith(".py"):
+        model = str(Path(__file__).resolve().parent.parent / model)
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "sub").mkdir()
+    write(tmp_path / "sub", text, "802m.toml")
+    assert main(["budget", model, "--spec", "sub/802m.toml"]) == 2
+    captured = capsys.readouterr()
+    assert not captured.out
+    (line,) = captured.err.strip().splitlines()
+    message = line.split("error: ", 1)[1]
+    assert words.format(path="sub/802m.toml") in message, message
+    assert "802m.toml" not in message.replace("sub/802m.toml", "")
+
+
+def test_the_built_in_spec_is_named_apart_from_a_file_of_its_name(tmp_path, monkeypatch):
+    """The built-in spec reads 'the built-in 802m spec' in a refusal, a user's copy of it
+    its own path as typed (both were '802m.toml')."""
+    from ins_errors.specs import default_spec_path, load_spec, spec_label
+
+    assert spec_label(load_spec(default_spec_path())) == "the built-in 802m spec"
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "802m.toml").write_text(default_spec_path().read_text())
+    assert spec_label(load_spec("802m.toml")) == "802m.toml"
+    assert spec_label(load_spec("./802m.toml")) == "./802m.toml"
 
 
 MARKOV_SPEC = """

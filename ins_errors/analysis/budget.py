@@ -80,7 +80,6 @@ says so in one line.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -103,7 +102,7 @@ from ins_errors.analysis.covariance import (
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.linear_system import check_grid_memory
 from ins_errors.numeric.model import load_model
-from ins_errors.specs import ITEM_KINDS, SOURCE_UNIT_SUFFIX, Spec, SpecError
+from ins_errors.specs import ITEM_KINDS, SOURCE_UNIT_SUFFIX, Spec, SpecError, spec_label
 from ins_errors.units import UnitError, format_quantity, parse_quantity
 from ins_errors.units import format_duration as format_time
 
@@ -305,17 +304,18 @@ class UnitBudget:
 def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
     """The model's sources with the spec's options (units checked against the model)."""
     names = [s.name for s in model.sources]
+    where = spec_label(spec)   # the file as the user gave it
     for name in spec.sources:
         if name not in names:
-            raise unknown_name(f"error source of {model.name} in the spec", name, names)
+            raise unknown_name(f"error source of {model.name} in {where}", name, names)
     result = []
     for info in model.sources:
         option = spec.option(info.name)
         if not option.include:
             continue
         if info.kind == "initial" and option.kind != "constant":
-            raise SpecError(f"sources.{info.name}: an initial error can only be a random "
-                            f"constant, not {option.kind!r}")
+            raise SpecError(f"{where}: sources.{info.name}: an initial error can only be a "
+                            f"random constant, not {option.kind!r}")
         suffix = SOURCE_UNIT_SUFFIX[option.kind]
         unit = f"({info.unit})*s**0.5" if suffix else info.unit
         display = info.display_unit or info.unit
@@ -327,15 +327,16 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
                 value = parse_quantity(option.fixed, unit, f"sources.{info.name}.fixed",
                                        numbers_are_si=False)
             except UnitError as error:
-                raise SpecError(f"{error} (e.g. '1 {display}')") from None
+                example = "" if "e.g." in str(error) else f" (e.g. '1 {display}')"
+                raise SpecError(f"{where}: {error}{example}") from None
             if value < 0:
-                raise SpecError(f"sources.{info.name}.fixed must be >= 0, got "
+                raise SpecError(f"{where}: sources.{info.name}.fixed must be >= 0, got "
                                 f"{option.fixed!r}")
             fixed = value / spec.sigma_level
         result.append(BudgetSource(info.name, unit, display, option.kind, option.tau,
                                    option.weight, fixed))
     if not result:
-        raise SpecError("every error source is excluded from the budget")
+        raise SpecError(f"{where}: every error source is excluded from the budget")
     return tuple(result)
 
 
@@ -392,7 +393,7 @@ def spec_profile(model, spec: Spec):
 
         profile = motion_profile(m.description(), model=model)
     if m.heading_given:
-        where = Path(spec.path).name if spec.path else "spec"
+        where = spec_label(spec)
         refuse_unused_heading(model, profile, f"{where} [motion] heading")
     return profile
 
@@ -455,7 +456,7 @@ def spec_system(model, spec: Spec, trajectory=None,
             raise error from None
     from ins_errors.numeric.trajectories import refuse_unused_references
 
-    where = Path(spec.path).name if spec.path else "spec"
+    where = spec_label(spec)
     refuse_unused_references(model, trajectory, {   # a latitude the model has not
         name: (f"{where} [motion] {name}", text) for name, text in spec.motion.given})
     return system_from_trajectory(model, trajectory, spec.step)
@@ -464,7 +465,7 @@ def spec_system(model, spec: Spec, trajectory=None,
 def _unsteered(model, spec: Spec) -> str:
     """Why a model without a heading output cannot be budgeted on the spec's moving
     base, and the way out a spec has (a spec has no motion file, unlike a scenario)."""
-    where = Path(spec.path).name if spec.path else "the spec"
+    where = spec_label(spec)
     kind = spec.motion.kind.replace("_", " ")
     unused = [name for name, given in (("heading", spec.motion.heading_given),
                                        ("speed", spec.motion.speed > 0)) if given]
@@ -546,13 +547,10 @@ def check_items(model, spec: Spec) -> None:
         by_reason.setdefault(why, []).append(name)
     reasons = "; ".join(why if len(by_reason) == 1 else f"{', '.join(names)}: {why}"
                         for why, names in by_reason.items())
-    source = f"{spec.path}" if spec.path else "the spec"
+    source = f"{spec.path}" if spec.path else "the spec"   # a file to copy
     plural = "s" if len(missing) > 1 else ""
     if len(missing) == len(spec.items):   # leaving them out would leave no item
-        from ins_errors.specs import default_spec_path
-
-        if spec.path and Path(spec.path).resolve() == default_spec_path():
-            source = "the built-in 802m spec"
+        source = spec_label(spec)
         checkable = [name for name in ITEM_KINDS if name not in _unmet_items(model,
                                                                              ITEM_KINDS)]
         if checkable:
@@ -874,8 +872,8 @@ def _rows(spec: Spec, system: LinearSystem, covariance: Covariance,
         for t in item.times:
             k = round(t / system.step)
             if k >= len(covariance.times) or abs(covariance.times[k] - t) > 1e-6 * system.step:
-                raise SpecError(f"items.{item.name}: check time {t:g} s is outside the "
-                                f"analysed run")
+                raise SpecError(f"{spec_label(spec)}: items.{item.name}: check time "
+                                f"{t:g} s is outside the analysed run")
             scale = 1.0 / t**2 if item.name in RATE_ITEMS else 1.0
             block = per_source[k, columns] * scale                  # (components, ns)
             if item.combine == "rss":
