@@ -66,7 +66,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--mapping", type=Path,
                         help="mapping file (@alias / @source lines) added to the default "
                              "notation")
-    parser.add_argument("--report", type=Path, help="also write the Markdown report here")
+    parser.add_argument("--report", type=Path,
+                        help="also write the report here: LaTeX (a fragment to \\input into a "
+                             "referee report, coefficients typeset in the model's notation) "
+                             "when the name ends in .tex, Markdown otherwise")
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
     parser.add_argument("--latex-parser", choices=("lalr", "sympy"), default="lalr",
                         help="parser of LaTeX arithmetic: fast LALR grammar (default) or "
@@ -88,7 +91,19 @@ def parse_magnitudes(entries: list[str]) -> dict[str, str]:
     return magnitudes
 
 
+def latex_report(args: argparse.Namespace) -> bool:
+    """Whether ``--report`` asks for LaTeX (its name ends in ``.tex``)."""
+    return args.report is not None and args.report.suffix.lower() == ".tex"
+
+
 def run(args: argparse.Namespace) -> int:
+    if latex_report(args) and (args.matrix or args.list_conventions or args.write_samples
+                               or (args.file is not None and _declares_convention(args.file))):
+        from ins_errors.errors import InsErrorsError
+
+        raise InsErrorsError(f"--report {args.report}: a LaTeX report is written for "
+                             "equation files only; write the report of --matrix or of an "
+                             "@convention file as Markdown (e.g. --report report.md)")
     if args.matrix or args.list_conventions or args.write_samples:
         from ins_errors.commands.check_matrix import run_matrix
 
@@ -124,8 +139,14 @@ def run(args: argparse.Namespace) -> int:
         raise named_as_given(error, args.file, args.mapping) from None
     if report.unchecked_gains:
         warn_unchecked_gains(definition, parameters, report.unchecked_gains)
-    emit_report(args, lambda: to_markdown(report, f"`ins-errors check` from `{args.file.name}`"),
-                lambda: with_parameters(to_json(report), definition, parameters),
+    def written() -> str:
+        if latex_report(args):
+            from ins_errors.checker.report_latex import to_latex
+
+            return to_latex(report, definition, f"ins-errors check from {args.file.name}")
+        return to_markdown(report, f"`ins-errors check` from `{args.file.name}`")
+
+    emit_report(args, written, lambda: with_parameters(to_json(report), definition, parameters),
                 lambda: to_terminal(report))
     return report.exit_status
 
@@ -174,7 +195,8 @@ def with_parameters(data: dict, model, parameters: dict[str, float]) -> dict:
 
 def emit_report(args: argparse.Namespace, markdown: Callable[[], str],
                 as_json: Callable[[], dict], terminal: Callable[[], str]) -> None:
-    """Write ``--report`` (Markdown) if asked, then print the JSON or the terminal form.
+    """Write ``--report`` (``markdown()``'s text) if asked, then print the JSON or the
+    terminal form.
 
     Each form is built only when it is shown.
     """
