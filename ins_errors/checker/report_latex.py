@@ -27,6 +27,7 @@ import unicodedata
 from collections.abc import Iterable
 
 import sympy as sp
+from sympy.printing.latex import LatexPrinter
 
 from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
@@ -285,6 +286,15 @@ class LatexNames:
         return spelled
 
 
+class _Printer(LatexPrinter):
+    r"""SymPy's LaTeX, each function application in braces: ``{\cos{\left(x \right)}} + 1``
+    reads as one way only (to a reader, TeX shows no difference), where a parser may take
+    ``\cos{\left(x \right)} + 1`` as the cosine of ``x + 1``."""
+
+    def _print_Function(self, expr, exp=None):
+        return "{" + super()._print_Function(expr, exp) + "}"
+
+
 def coefficient_latex(text: str, names: LatexNames) -> str:
     """A coefficient as inline mathematics ``\\( ... \\)`` in the model's notation.
 
@@ -296,7 +306,7 @@ def coefficient_latex(text: str, names: LatexNames) -> str:
         return _code(text)
     symbols = sorted(expr.free_symbols, key=lambda s: s.name)
     spelled = {s: names(s.name) for s in symbols}
-    body = sp.latex(expr, symbol_names=spelled, mul_symbol="dot")
+    body = _Printer({"symbol_names": spelled, "mul_symbol": "dot"}).doprint(expr)
     tail = r" + \dots" if shortened else ""
     return rf"\({body}{tail}\)"
 
