@@ -284,3 +284,13 @@ def test_latex_report_of_matrix_check_is_refused(tmp_path):
     assert status == 2 and not out
     assert err.startswith("ins-errors: error: ") and err.count("\n") == 1
     assert "Markdown" in err and not (tmp_path / "r.tex").exists()
+
+
+def test_latex_report_of_convention_file_is_refused(tmp_path):
+    path = tmp_path / "phi.txt"
+    path.write_text("@convention phi\ndot(phi_N) = 0\n", encoding="utf-8")
+    status, out, err = _run(["check", "strapdown_ned", str(path), "--report",
+                             str(tmp_path / "r.tex")])
+    assert status == 2 and not out
+    assert err.startswith("ins-errors: error: ") and err.count("\n") == 1
+    assert "@convention" in err and not (tmp_path / "r.tex").exists()
