@@ -196,14 +196,15 @@ def test_an_alias_in_a_convention_file_is_refused_not_ignored(tmp_path):
     assert check_convention_file(DEFINED, **FAST).report.findings == []
 
 
-def test_an_up_component_on_the_left_is_told_how_to_write_it(tmp_path):
-    """An ENU thesis writes dot(phi_U); the refusal listed the north-east-down states and
-    left the researcher to find that phi_U is -phi_D (the PhD probe)."""
-    from ins_errors.errors import InsErrorsError
-
-    path = tmp_path / "enu.txt"
-    path.write_text("@convention phi\ndot(phi_U) = gyro_bias_z\n", encoding="utf-8")
-    with pytest.raises(InsErrorsError, match=r"left-hand side 'dot\(phi_U\)' must be .*; the "
-                                             r"convention's states are north-east-down: phi_U "
-                                             r"is -phi_D, so write dot\(phi_D\) = -\(\.\.\.\)"):
-        check_convention_file(path, **FAST)
+def test_an_up_component_on_the_left_is_the_down_row_negated(tmp_path):
+    """An ENU thesis writes dot(phi_U); it was refused with a hint to rewrite it by hand
+    (the PhD probe). phi_U is -phi_D exactly: the row is dot(phi_D) = -(...), with the
+    same findings as the file written that way."""
+    up, down = tmp_path / "enu.txt", tmp_path / "ned.txt"
+    up.write_text("@convention phi\ndot(phi_U) = gyro_bias_z\n", encoding="utf-8")
+    down.write_text("@convention phi\ndot(phi_D) = -gyro_bias_z\n", encoding="utf-8")
+    enu, ned = check_convention_file(up, **FAST), check_convention_file(down, **FAST)
+    assert enu.lines == {"phi_D": (2, "dot(phi_U) = gyro_bias_z")}
+    shown = [(f.row, f.column, f.kind, f.severity, f.size) for f in enu.report.findings]
+    assert shown == [(f.row, f.column, f.kind, f.severity, f.size)
+                     for f in ned.report.findings]

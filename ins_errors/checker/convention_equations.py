@@ -34,6 +34,7 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import convention_definitions as cd
+from ins_errors.checker.navigation import PARAMETERS
 from ins_errors.errors import InsErrorsError
 
 QUANTITIES: dict[str, str] = {
@@ -42,6 +43,7 @@ QUANTITIES: dict[str, str] = {
     "v_N": "north velocity, m/s", "v_E": "east velocity, m/s", "v_D": "down velocity, m/s",
     "R_N": "meridian radius of curvature (h not included), m",
     "R_E": "prime-vertical radius of curvature (h not included), m",
+    "R_M": "meridian radius of curvature (h not included), m: the same as R_N",
     "a": "semi-major axis, m", "e2": "first eccentricity squared",
     "U": "Earth rotation rate, rad/s", "g": "magnitude of gravity, m/s²",
     **{f"omega_ie_{k}": f"Earth rate in NED, {k} component (U cos φ, 0, −U sin φ), rad/s"
@@ -56,7 +58,40 @@ QUANTITIES: dict[str, str] = {
     **{f"C{i + 1}{j + 1}": f"C_b^n (body → NED) row {i + 1}, column {j + 1}"
        for i in range(3) for j in range(3)},
 }
-"""Named quantities of the reference motion a right-hand side may use, with meanings."""
+"""Named quantities of the reference motion a right-hand side may use, with meanings.
+A model's parameters are named quantities too (:func:`quantity_names`)."""
+
+RADII = ("R_N", "R_E", "R_M")
+"""The radii of curvature: a file's definition of one replaces it, and a file that uses
+``R_M`` and ``R_N`` reads ``R_N`` as the prime-vertical radius (:func:`radius_reading`)."""
+
+UP_QUANTITIES = ("v", "f", "omega_ie", "omega_en", "omega_in")
+"""Named quantities whose down component ``X_D`` has an up component ``X_U = -X_D``."""
+
+
+def quantity_names(model) -> list[str]:
+    """The named quantities of ``model``'s ``@convention`` files, in the order of the
+    coefficient functions' arguments: :data:`QUANTITIES`, then the model's parameters
+    that are not among them (``k_h1``, ``gamma_e`` of ``strapdown_ned``)."""
+    return [*QUANTITIES, *(p.name for p in model.parameters if p.name not in QUANTITIES)]
+
+
+def up_components(states: list[str]) -> dict[str, tuple[str, str]]:
+    """The up components an east-north-up file writes: name -> (down name, what it is).
+
+    ``phi_U`` is ``-phi_D`` for every state triple of the convention (``phi``, ``psi``,
+    ``dv``, ``dr``, ...), and ``v_U``, ``f_U``, ``omega_ie_U``, ... are ``-v_D``, ... of
+    the named quantities; east and north components keep their names. ``dh`` of a
+    ``_geodetic`` convention is already up.
+    """
+    out: dict[str, tuple[str, str]] = {}
+    for name in states:
+        prefix, _, axis = name.rpartition("_")
+        if prefix and axis == "D" and f"{prefix}_N" in states and f"{prefix}_E" in states:
+            out[f"{prefix}_U"] = (name, "state")
+    for prefix in UP_QUANTITIES:
+        out[f"{prefix}_U"] = (f"{prefix}_D", "quantity")
+    return out
 
 
 def quantity_values(nav: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -67,8 +102,9 @@ def quantity_values(nav: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         return np.broadcast_to(np.asarray(value, dtype=float), (k,)).copy()
 
     out = {"lat": full(nav["latitude"]), "h": full(nav["height"]),
-           "R_N": full(nav["R_N"]), "R_E": full(nav["R_E"]), "a": full(nav["a"]),
-           "e2": full(nav["e2"]), "U": full(nav["earth_rate"]), "g": full(nav["gravity"])}
+           "R_N": full(nav["R_N"]), "R_E": full(nav["R_E"]), "R_M": full(nav["R_N"]),
+           "a": full(nav["a"]), "e2": full(nav["e2"]), "U": full(nav["earth_rate"]),
+           "g": full(nav["gravity"])}
     f_n = np.einsum("ijk,jk->ik", nav["C_bn"], nav["f_b"])
     for n, axis in enumerate("NED"):
         out[f"v_{axis}"] = full(nav["v_ned"][n])
@@ -82,6 +118,8 @@ def quantity_values(nav: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     for i in range(3):
         for j in range(3):
             out[f"C{i + 1}{j + 1}"] = full(nav["C_bn"][i, j])
+    for name, value in nav.get(PARAMETERS, {}).items():  # the model's parameters
+        out.setdefault(name, full(value))
     return out
 
 
@@ -103,6 +141,8 @@ class ConventionCheck:
     via : dict
         Row -> {column: names of the definitions the entry's coefficient comes through}
         (entries through none left out).
+    notes : list of str
+        One-line notes on how a name was read (which radius ``R_N`` is).
     """
 
     report: object
@@ -110,6 +150,7 @@ class ConventionCheck:
     from_model: list[str] = field(default_factory=list)
     definitions: dict = field(default_factory=dict)
     via: dict[str, dict[str, tuple[str, ...]]] = field(default_factory=dict)
+    notes: list[str] = field(default_factory=list)
 
     @property
     def exit_status(self) -> int:
@@ -170,10 +211,13 @@ class _Vector(sp.MutableDenseMatrix):
 
 
 def _vector_namespace(states: list[str], sources: list[str],
-                      defined: dict[str, str] | None = None) -> dict[str, object]:
+                      defined: dict[str, str] | None = None,
+                      extra: dict[str, sp.Expr] | None = None) -> dict[str, object]:
     """Names a vector line may use: vectors (3 × 1), ``C_bn``, scalars, functions, and
-    the file's definitions (name as written -> the name the rows use)."""
+    the file's definitions (name as written -> the name the rows use); ``extra``: more
+    scalars (the model's parameters, the up components ``phi_U`` = ``-phi_D``, ...)."""
     space: dict[str, object] = {q: sp.Symbol(q) for q in QUANTITIES}
+    space.update(extra or {})
     space.update({k: sp.Symbol(v) for k, v in (defined or {}).items()})
     space.update({n: sp.Symbol(n) for n in (*states, *sources)})
     vectors = {**VECTORS, **_triples(states, ("N", "E", "D")),
@@ -189,10 +233,17 @@ def _vector_namespace(states: list[str], sources: list[str],
 
 
 def _reserved_names(states: list[str], sources: list[str]) -> dict[str, str]:
-    """Names a definition may not take, with what they are (for messages)."""
+    """Names a definition may not take, with what they are (for messages).
+
+    The radii of curvature (:data:`RADII`) are not reserved: a file's definition of one
+    says which radius its symbol is. Nor are the up components (:func:`up_components`):
+    a file that defines ``phi_U = -phi_D`` itself keeps its definition; nor are the
+    model's parameters (``k_1 = 0.05`` of a LaTeX file is the file's own ``k1``).
+    """
     out = {n: "a vector or function of vector lines"
-           for n in _vector_namespace(states, sources)}
-    out.update({q: f"a named quantity ({meaning})" for q, meaning in QUANTITIES.items()})
+           for n in _vector_namespace(states, sources) if n not in QUANTITIES}
+    out.update({q: f"a named quantity ({meaning})" for q, meaning in QUANTITIES.items()
+                if q not in RADII})
     out.update({s: "an error source of the model" for s in sources})
     out.update({s: "a state of the convention" for s in states})
     return out
@@ -257,7 +308,8 @@ def _parse_vector_rhs(text: str, space: dict[str, object]):
 
 def split_vector_lines(text: str, states: list[str], sources: list[str], name: str,
                        bias_sources: list[str] | tuple[str, ...] = (),
-                       defined: dict[str, str] | None = None
+                       defined: dict[str, str] | None = None,
+                       extra: dict[str, sp.Expr] | None = None
                        ) -> tuple[str, dict[str, tuple[int, str, sp.Expr]]]:
     """Take the vector lines ``dot(phi) = ...`` out of a hand file's text.
 
@@ -269,6 +321,7 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
     names of :func:`_vector_namespace` alone: no Python is run. ``defined``: the file's
     definitions (:mod:`~ins_errors.checker.convention_definitions`), name as written ->
     name of the rows; they are scalars, substituted later like those of component rows.
+    ``extra``: more scalars by name (:func:`_vector_namespace`).
 
     Raises
     ------
@@ -280,7 +333,7 @@ def split_vector_lines(text: str, states: list[str], sources: list[str], name: s
 
     prefixes = {**_triples(states, ("N", "E", "D")),
                 **_triples(list(bias_sources), ("x", "y", "z"))}
-    space = _vector_namespace(states, sources, defined)
+    space = _vector_namespace(states, sources, defined, extra)
     vectors = {k for k, v in space.items() if isinstance(v, sp.MatrixBase)}
     kept, rows = [], {}
     for number, raw in enumerate(text.splitlines(), start=1):
@@ -367,7 +420,8 @@ def _not_a_vector_line(lhs: str, rhs: str, states: list[str], prefixes: dict, ve
         f"vector of its states (vectors: {', '.join(prefixes)}){hint}")
 
 
-def convention_notation(model_name: str, states: list[str], sources: list[str]):
+def convention_notation(model_name: str, states: list[str], sources: list[str],
+                        parameters: list[str] | tuple[str, ...] = ()):
     r"""Spellings of a ``@convention`` file: the convention's states as they are printed
     and read from LaTeX, the model's own spellings of its error sources, and the named
     quantities' LaTeX forms (:data:`QUANTITIES`).
@@ -376,8 +430,11 @@ def convention_notation(model_name: str, states: list[str], sources: list[str]):
       ``dr_N``, ``\delta u_N`` -> ``du_N``, and in a ``_geodetic`` convention
       ``\deltaarphi`` -> ``dlat``, ``\delta\lambda`` -> ``dlon``, ``\delta h`` -> ``dh``
       (the text spellings ``Delta_v_N`` ... too); ``\delta\dot{v}_N`` is ``dot(dv_N)``;
-    * the model's LaTeX of its sources: ``b_{gx}`` -> ``gyro_bias_x``, ``b_{ax}``, ...;
-      ``\Omega`` -> ``U``;
+      the up components likewise (``\delta v_U`` -> ``dv_U``, read as ``-dv_D``:
+      :func:`up_components`); ``\delta L`` (``Delta_lat``) -> ``dlat`` where ``dlat``
+      is a state;
+    * the model's LaTeX of its sources and ``parameters``: ``b_{gx}`` ->
+      ``gyro_bias_x``, ``b_{ax}``, ..., ``k_1`` -> ``k_h1``; ``\Omega`` -> ``U``;
     * ``\omega_{in,D}`` (read as ``omega_inD``) -> ``omega_in_D``, and so for ``ie``,
       ``en``, ``ib``; ``L`` (latitude, as Titterton and Weston write it) -> ``lat``.
 
@@ -385,17 +442,19 @@ def convention_notation(model_name: str, states: list[str], sources: list[str]):
     """
     from ins_errors.checker.notation import Notation, default_notation
 
-    known = set(states) | set(sources) | set(QUANTITIES)
+    known = set(states) | set(sources) | set(QUANTITIES) | set(parameters)
     spellings: dict[str, str] = {}
-    for name in states:
+    for name in [*states, *(up for up, (_, kind) in up_components(states).items()
+                            if kind == "state")]:
         base, _, axis = name.rpartition("_")
         if base in ("dv", "dr", "du"):
             spellings[f"Delta_{base[1:]}_{axis}"] = name
     spellings.update({k: v for k, v in (("Delta_phi", "dlat"), ("Delta_lam", "dlon"),
-                                        ("Delta_h", "dh")) if v in states})
+                                        ("Delta_h", "dh"), ("Delta_lat", "dlat"),
+                                        ("Delta_lon", "dlon")) if v in states})
     model_spellings = default_notation(model_name).spellings
     spellings.update({k: v for k, v in model_spellings.items()
-                      if v in sources or (v == "U" and k == "Omega")})
+                      if v in sources or v in parameters or (v == "U" and k == "Omega")})
     for q in QUANTITIES:
         if q.startswith("omega_") and q.count("_") == 2:
             _, frame, axis = q.split("_")
@@ -404,25 +463,149 @@ def convention_notation(model_name: str, states: list[str], sources: list[str]):
     return Notation(spellings={k: v for k, v in spellings.items() if k not in known})
 
 
-def _up_hint(lhs: sp.Expr, states: list[str]) -> str:
-    """``"; the states are north-east-down: phi_U is -phi_D, so write dot(phi_D) =
-    -(...)"`` for an up component of a down state (an ENU file), else ``""``."""
+def _giving_way(notation, raw, states: list[str]):
+    """``notation`` without the spellings of states that a file's definition takes.
+
+    ``\\delta L`` (``Delta_lat``) is ``dlat`` and ``\\delta v_U`` is ``dv_U``
+    (``-dv_D``) only since east-north-up names are read; a file that defines one of
+    them itself (``\\delta L = \\delta\\varphi``, ``\\delta v_U = -\\delta v_D``)
+    keeps its definition, as before.
+    """
+    from ins_errors.checker.notation import Notation
+    from ins_errors.checker.parse import canonical_name
+
+    soft = {k for k, v in notation.spellings.items()
+            if k in ("Delta_lat", "Delta_lon") or v in up_components(states)}
+    written = [eq.lhs.name for eq in raw.equations if isinstance(eq.lhs, sp.Symbol)]
+    drop = set()
+    for key in soft:
+        without = Notation(spellings={k: v for k, v in notation.spellings.items()
+                                      if k != key})
+        if any(canonical_name(text, without) == sp.Symbol(key) for text in written):
+            drop.add(key)
+    if not drop:
+        return notation
+    return Notation(aliases=dict(notation.aliases), sources=dict(notation.sources),
+                    spellings={k: v for k, v in notation.spellings.items()
+                               if k not in drop},
+                    latex_primes=dict(notation.latex_primes))
+
+
+def _names_used(hand, vector_rows: dict) -> set[str]:
+    """Every name the equations, definitions and ``@neglect`` items of a file use."""
+    exprs = [*(f for eq in hand.equations for f in eq.forms),
+             *(item for d in hand.declarations for item in d.items),
+             *(rhs for _, _, rhs in vector_rows.values())]
+    return {s.name for e in exprs for s in e.free_symbols}
+
+
+def radius_reading(used: set[str], own: set[str], name: str
+                   ) -> tuple[dict[str, str], list[str]]:
+    """Which radius of curvature a file's ``R_N`` is, and the note that says so.
+
+    ``R_N`` is the meridian radius (Titterton and Weston's, with ``R_E`` the prime
+    vertical); many east-north-up texts write ``R_M`` for the meridian and ``R_N`` for
+    the prime vertical. A file that uses ``R_M`` (or defines it) and ``R_N`` has the
+    second meaning: its ``R_N`` is read as the prime-vertical radius, with a note. A file
+    that also uses ``R_E`` has no reading: it is refused. A file using ``R_N`` alone gets
+    a note that it is read as the meridian radius. ``@name R_N = ...`` or a definition
+    of ``R_N`` says which it is: no note.
+
+    Parameters
+    ----------
+    used : set of str
+        The names the file's equations use (after its spellings).
+    own : set of str
+        The names the file defines.
+    name : str
+        File name, for the note.
+
+    Returns
+    -------
+    reading : dict
+        File's radius -> the named quantity whose value it takes (``{"R_N": "R_E"}``).
+    notes : list of str
+        One line each.
+
+    Raises
+    ------
+    InsErrorsError
+        ``R_M``, ``R_N`` and ``R_E`` all used, ``R_N`` undeclared.
+    """
+    if "R_N" not in used or "R_N" in own:
+        return {}, []
+    paired = "R_M" in used or "R_M" in own
+    with_east = "R_E" in used or "R_E" in own
+    if paired and with_east:
+        raise InsErrorsError(
+            f"{name}: R_M, R_N and R_E are all used, so R_N could be either radius of "
+            "curvature: say which with '@name R_N = R_E' (prime vertical) or '@name R_N = "
+            "R_M' (meridian), or define R_N")
+    if paired:
+        return {"R_N": "R_E"}, [
+            f"{name}: R_N is read as the prime-vertical radius of curvature (R_E of "
+            "docs/hand_check.md), as the file writes R_M for the meridian radius; "
+            "'@name R_N = R_E' says so without this note, '@name R_N = R_M' reads R_N as "
+            "the meridian radius"]
+    if with_east:
+        return {}, []
+    return {}, [f"{name}: R_N is read as the meridian radius of curvature (Titterton and "
+                "Weston's R_N, with R_E the prime vertical); for the prime-vertical "
+                "radius, as east-north-up texts often write R_N, add '@name R_N = R_E'"]
+
+
+def _eccentricity_named(hand, vector_rows: dict, model, own: set[str]) -> None:
+    """Refuse ``e`` (of ``e^2``) and ``e2`` in a file of a model without an eccentricity
+    parameter (a spherical Earth), naming the line."""
+    from ins_errors.earth_constants import earth_parameter_names
+
+    if earth_parameter_names(model.parameters).eccentricity is not None:
+        return
+    names = {"e", "e2"} - own
+    lines = [(eq.line, f) for eq in hand.equations for f in eq.forms]
+    lines += [(d.line, item) for d in hand.declarations for item in d.items]
+    lines += [(line, rhs) for line, _, rhs in vector_rows.values()]
+    for line, expr in sorted(lines, key=lambda pair: pair[0]):
+        found = sorted(s.name for s in expr.free_symbols if s.name in names)
+        if found:
+            raise InsErrorsError(
+                f"{hand.name}, line {line}: {'e^2' if found[0] == 'e' else 'e2'} "
+                f"(eccentricity squared) is used, but model {model.name!r} has no "
+                "eccentricity: its Earth is a sphere (parameters "
+                f"{', '.join(p.name for p in model.parameters)}); write its equations "
+                "without it")
+
+
+def _in_convention_names(hand, substitution: dict, ups: dict[str, tuple[str, str]]):
+    """``hand`` with the up components and ``e`` in the convention's names: every
+    right-hand side and ``@neglect`` item through ``substitution`` (``phi_U`` ->
+    ``-phi_D``, ``e`` -> ``sqrt(e2)``), and a row ``dot(phi_U) = X`` made ``dot(phi_D)
+    = -X`` (exactly the same row)."""
+    from dataclasses import replace
+
     from ins_errors.checker.parse import DOT
 
-    inner = lhs.args[0] if isinstance(lhs, sp.Function) and lhs.func == DOT else lhs
-    name = getattr(inner, "name", "")
-    down = name[:-1] + "D" if name.endswith("_U") else ""
-    if down not in states:
-        return ""
-    return (f"; the convention's states are north-east-down: {name} is -{down}, so write "
-            f"dot({down}) = -(...) with -{down} for {name} on the right")
+    equations = []
+    for eq in hand.equations:
+        forms = [f.xreplace(substitution) for f in eq.forms]
+        lhs = eq.lhs
+        if (isinstance(lhs, sp.Function) and lhs.func == DOT
+                and isinstance(lhs.args[0], sp.Symbol)
+                and ups.get(lhs.args[0].name, ("", ""))[1] == "state"
+                and sp.Symbol(lhs.args[0].name) in substitution):
+            lhs = DOT(sp.Symbol(ups[lhs.args[0].name][0]))
+            forms = [-f for f in forms]
+        equations.append(replace(eq, lhs=lhs, forms=forms))
+    declarations = [replace(d, items=tuple(i.xreplace(substitution) for i in d.items))
+                    for d in hand.declarations]
+    return replace(hand, equations=equations, declarations=declarations)
 
 
 def _rows(hand, states: list[str], sources: list[str],
           vector_rows: dict[str, tuple[int, str, sp.Expr]],
           bias_sources: list[str] | tuple[str, ...] = (),
           defined: set[str] | frozenset[str] = frozenset(),
-          bias_example: str = "dot(gyro_bias_x)"):
+          bias_example: str = "dot(gyro_bias_x)", quantities=QUANTITIES):
     """{row: (line, text, expression)} of the hand file's equations; one-line errors.
 
     A row is a state of the convention or a bias state: one of ``bias_sources`` (the
@@ -432,7 +615,7 @@ def _rows(hand, states: list[str], sources: list[str],
     expression still holds them by name."""
     from ins_errors.checker.parse import DOT
 
-    known = set(states) | set(sources) | set(QUANTITIES) | set(defined)
+    known = set(states) | set(sources) | set(quantities) | set(defined)
     rows: dict[str, tuple[int, str, sp.Expr]] = dict(vector_rows)
     for eq in hand.equations:
         lhs = eq.lhs
@@ -444,7 +627,7 @@ def _rows(hand, states: list[str], sources: list[str],
             raise InsErrorsError(f"{hand.name}, line {eq.line}: left-hand side {str(lhs)!r} "
                                  f"must be dot(STATE) of a state of the convention "
                                  f"({', '.join(states)}) or of an error source carried as a "
-                                 f"bias state ({bias_example}){_up_hint(lhs, states)}")
+                                 f"bias state ({bias_example})")
         row = lhs.args[0].name
         if row in rows:
             raise InsErrorsError(f"{hand.name}, line {eq.line}: second equation for "
@@ -548,7 +731,7 @@ _NO_VARIATIONS = ("under @convention an item of @neglect is a term left out of a
 
 
 def _declared_items(hand, states: list[str], sources: list[str],
-                    definitions: dict | None = None
+                    definitions: dict | None = None, quantities=QUANTITIES
                     ) -> list[tuple[int, int, str, dict[str, sp.Expr]]]:
     """The ``@neglect`` items of a ``@convention`` file as terms: (declaration index,
     line, item text, {column: coefficient}) with a column for each state or source the
@@ -564,7 +747,7 @@ def _declared_items(hand, states: list[str], sources: list[str],
         earlier lines are substituted (a later one is refused).
     """
     definitions = definitions or {}
-    known = set(states) | set(sources) | set(QUANTITIES)
+    known = set(states) | set(sources) | set(quantities)
     variables = [sp.Symbol(v) for v in (*states, *sources)]
     out = []
     for k, declaration in enumerate(hand.declarations):
@@ -598,11 +781,13 @@ def _declared_items(hand, states: list[str], sources: list[str],
 
 
 @lru_cache(maxsize=1024)
-def _row_function(coefficients: tuple[sp.Expr, ...]):
-    """The coefficients of one row as a numpy function of :data:`QUANTITIES`, kept per
+def _row_function(coefficients: tuple[sp.Expr, ...],
+                  names: tuple[str, ...] = tuple(QUANTITIES)):
+    """The coefficients of one row as a numpy function of the named quantities ``names``
+    (:func:`quantity_names`), kept per
     process: a file checked again (or a copy with other rows changed) prints and
     compiles each row once (the same expressions give the same code)."""
-    return sp.lambdify([sp.Symbol(q) for q in QUANTITIES], list(coefficients),
+    return sp.lambdify([sp.Symbol(q) for q in names], list(coefficients),
                        modules="numpy", docstring_limit=0)
 
 
@@ -659,29 +844,45 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     states = conv.names
     src_names = [s.name for s in model.sources]
     rate_sources = [s.name for s in model.sources if s.kind == "constant"]
+    names = quantity_names(model)
+    parameters_named = names[len(QUANTITIES):]
+    ups = up_components(states)
     vector_rows: dict[str, tuple[int, str, sp.Expr]] = {}
     # the file's own definitions (NAME = ...) keep their names (Omega is not U there)
     reserved = _reserved_names(states, src_names)
     notation, defined = cd.defined_names(
-        hand, convention_notation(model_name, states, src_names), reserved,
-        {k: v for k, v in reserved.items() if k in states or k in src_names}, hand.name)
+        hand, _giving_way(convention_notation(model_name, states, src_names,
+                                              parameters_named), hand, states),
+        reserved, {k: v for k, v in reserved.items() if k in states or k in src_names},
+        hand.name)
+    own = set(defined.values())
+    # an east-north-up file's up components, and e of e^2, in the convention's names
+    substitution = {sp.Symbol(up): -sp.Symbol(down) for up, (down, _) in ups.items()
+                    if up not in own}
+    if "e" not in own:
+        substitution[sp.Symbol("e")] = sp.sqrt(sp.Symbol("e2"))
     if hand.format == "text":
+        extra = {**{p: sp.Symbol(p) for p in parameters_named},
+                 **{k.name: v for k, v in substitution.items()}}
         text, vector_rows = split_vector_lines(Path(path).read_text(encoding="utf-8"),
                                                states, src_names, hand.name, rate_sources,
-                                               defined)
+                                               defined, extra)
         hand = parse_hand_text(text, notation, name=hand.name)
     else:  # read again with the convention's spellings (\delta v_N is dv_N)
         hand = read_hand_file(path, notation, latex=True)
     if hand.problems:
         raise InsErrorsError(f"{hand.name}: {hand.problems[0]}")
-    known = set(states) | set(src_names) | set(QUANTITIES)
+    _eccentricity_named(hand, vector_rows, model, own)
+    hand = _in_convention_names(hand, substitution, ups)
+    reading, notes = radius_reading(_names_used(hand, vector_rows), own, hand.name)
+    known = set(states) | set(src_names) | set(names)
     definitions = cd.read_definitions(hand, known, [*states, *src_names])
     example = "dot(gyro_bias_x)"
     if hand.format == "latex" and rate_sources:
         first = next(s for s in model.sources if s.name == rate_sources[0])
         example = f"dot({first.name}), in LaTeX {_latex_rate(first.latex)}"
     written = _rows(hand, states, src_names, vector_rows, rate_sources, set(definitions),
-                    example)
+                    example, names)
     rows = {row: (line, text, cd.expand(rhs, line, f"dot({row})", definitions, hand.name))
             for row, (line, text, rhs) in written.items()}
     # error sources with a line of their own are bias states (after the convention's)
@@ -696,11 +897,11 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     functions, coefficient_of = {}, {}
     for row, (line, _, rhs) in rows.items():
         coefficient_of[row] = _coefficients(row, line, hand.name, rhs, variables)
-        functions[row] = _row_function(tuple(coefficient_of[row]))
+        functions[row] = _row_function(tuple(coefficient_of[row]), tuple(names))
     via = {row: cd.provenance(rhs, definitions, variables)
            for row, (_, _, rhs) in written.items()}
-    items = _declared_items(hand, states, src_names, definitions)
-    item_functions = [(list(cols), _row_function(tuple(cols.values())))
+    items = _declared_items(hand, states, src_names, definitions, names)
+    item_functions = [(list(cols), _row_function(tuple(cols.values()), tuple(names)))
                       for _, _, _, cols in items]
     item_values: list[dict[str, dict[str, np.ndarray]]] = [{} for _ in items]
     motion_list = mx.motions(model, mx.HOURS if hours is None else hours,
@@ -715,7 +916,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
         Fz, Gz = mx.derived_in_convention(model, conv, motion)
         Fh, Gh = Fz.copy(), Gz[:, :, src_cols].copy()
         values = quantity_values(motion.navigation)
-        args = [values[q] for q in QUANTITIES]
+        args = [values[reading.get(q, q)] for q in names]
         samples.append((args, Fz, Gz[:, :, src_cols]))
         k = Fz.shape[0]
         for row, fn in functions.items():
@@ -756,16 +957,17 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     # rows taken from the derived model agree by construction: count the file's rows only
     report.findings = [f for f in report.findings if f.row in rows]
     report.findings = _symbol_slips(report.findings, coefficient_of, states, used, samples,
-                                    report.threshold)
+                                    report.threshold, names, set(reading.values()))
     report.compared = len(rows) * (len(states) + len(used))
     return ConventionCheck(report, {r: (v[0], v[1]) for r, v in rows.items()},
                            [s for s in states if s not in rows], definitions,
-                           {r: v for r, v in via.items() if v})
+                           {r: v for r, v in via.items() if v}, notes)
 
 
 def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
                   states: list[str], used: list[str], samples: list,
-                  threshold: float) -> list:
+                  threshold: float, names: list[str] | None = None,
+                  untried: set[str] | frozenset[str] = frozenset()) -> list:
     """The findings with each ``wrong coefficient`` or ``approximated`` entry that one
     index of a named quantity explains made a ``wrong symbol or index`` (a mistake
     whatever its size: ``R_E`` for ``R_N`` is within 0.7 % of the derived entry, which
@@ -776,8 +978,11 @@ def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
     for a symbol slip; slips of a whole term to another column are found by the matrix
     check, :mod:`~ins_errors.checker.matrix_slips`).
 
-    ``samples``: (quantities in :data:`QUANTITIES` order, derived F, derived G of the
-    file's sources) of each motion; ``threshold``: the check's, for the severity. A
+    ``samples``: (the values of the named quantities ``names``, default
+    :data:`QUANTITIES`, in their order, derived F, derived G of the file's sources) of
+    each motion; ``untried``: quantities not tried as another index (the radius a file's
+    ``R_N`` stands for: :func:`radius_reading`); ``threshold``: the check's, for the
+    severity. A
     finding the matrix check already found a radius slip
     (:data:`~ins_errors.checker.matrix.RADII_SWAP`) gets the symbol named.
     """
@@ -788,7 +993,8 @@ def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
     from ins_errors.checker.kinds import severity as classify_severity
     from ins_errors.checker.matrix import APPROXIMATED, RADII_SWAP
 
-    known = [sp.Symbol(q) for q in QUANTITIES]
+    arguments = tuple(QUANTITIES) if names is None else tuple(names)
+    known = [sp.Symbol(q) for q in arguments if q not in untried]
     out = []
     for f in findings:
         if not (f.kind in (COEFFICIENT, APPROXIMATED)
@@ -807,7 +1013,7 @@ def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
         for kind, text, changed in candidates(coefficient_of[f.row][j], known):
             if kind != SYMBOL:
                 continue
-            fn = _row_function((changed,))
+            fn = _row_function((changed,), arguments)
             with np.errstate(all="ignore"):  # a trial change may divide by 0: not a fit
                 values = np.concatenate([np.broadcast_to(np.asarray(fn(*args)[0],
                                                                     dtype=float),
@@ -900,4 +1106,6 @@ def to_json(check: ConventionCheck) -> dict:
         shown["via"] = [{"name": d.name, "line": d.line} for d in check.via_of(f)]
     out["lines"] = {row: line for row, (line, _) in check.lines.items()}
     out["definitions"] = {d.name: d.line for d in check.definitions.values()}
+    if check.notes:
+        out["notes"] = list(check.notes)
     return out

@@ -17,9 +17,10 @@ keys of :data:`FIELDS`, trailing axis K (the samples).
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from functools import cache
+from types import MappingProxyType
 
 import numpy as np
 
@@ -74,6 +75,10 @@ class Navigation:
         rad/s.
     gravity, R_N, R_E, a, e2, earth_rate : float
         m/s², m, m, m, 1, rad/s.
+    parameters : Mapping of str to float
+        The model's parameters by name, SI, read-only: the values the motion is flown
+        with (the defaults, or those set with ``-p``), e.g. ``nav.parameters["k_h1"]``
+        for a damping gain.
     """
 
     t: float
@@ -91,6 +96,7 @@ class Navigation:
     a: float
     e2: float
     earth_rate: float
+    parameters: Mapping[str, float] = field(default_factory=lambda: MappingProxyType({}))
 
     @property
     def omega_in_n(self) -> np.ndarray:
@@ -117,15 +123,22 @@ class Imu:
     f_n: np.ndarray
 
 
+PARAMETERS = "parameters"
+"""Key of the navigation arrays holding the model's parameters (name -> SI value), beside
+the :data:`FIELDS` (:func:`navigation_arrays`)."""
+
+
 def samples(arrays: dict[str, np.ndarray], times: np.ndarray, motion: str
             ) -> list[tuple[Navigation, Imu]]:
-    """Split navigation arrays (trailing axis K) into K (Navigation, Imu) pairs."""
+    """Split navigation arrays (trailing axis K) into K (Navigation, Imu) pairs (the
+    model's parameters, :data:`PARAMETERS`, on every ``Navigation``)."""
     out = []
+    parameters = MappingProxyType(dict(arrays.get(PARAMETERS, {})))
     for k, t in enumerate(times):
         value = {name: (np.array(arrays[name][..., k]) if name in VECTOR_FIELDS
                         else float(arrays[name][k])) for name in FIELDS}
         f_b, w_b = value.pop("f_b"), value.pop("omega_ib_b")
-        nav = Navigation(t=float(t), motion=motion, **value)
+        nav = Navigation(t=float(t), motion=motion, parameters=parameters, **value)
         out.append((nav, Imu(f_b, w_b, nav.C_bn @ f_b)))
     return out
 
@@ -300,7 +313,8 @@ def require_description(model) -> None:
 
 def navigation_arrays(model, x: np.ndarray, u: np.ndarray, p: np.ndarray
                       ) -> dict[str, np.ndarray]:
-    """The navigation description (:data:`FIELDS`) along states ``x`` (n, K), inputs ``u``.
+    """The navigation description (:data:`FIELDS`) along states ``x`` (n, K), inputs
+    ``u``, with the model's parameters ``p`` by name under :data:`PARAMETERS`.
 
     Raises
     ------
@@ -309,5 +323,9 @@ def navigation_arrays(model, x: np.ndarray, u: np.ndarray, p: np.ndarray
     """
     require_description(model)
     adapter = ADAPTERS[adapter_name(model)]
-    return adapter(model, np.asarray(x, dtype=float), np.asarray(u, dtype=float),
-                   np.asarray(p, dtype=float))
+    p = np.asarray(p, dtype=float)
+    arrays = adapter(model, np.asarray(x, dtype=float), np.asarray(u, dtype=float), p)
+    values = p if p.ndim == 1 else p[:, 0]  # (constant along the samples)
+    arrays[PARAMETERS] = {info.name: float(value) for info, value in
+                          zip(model.parameters, values, strict=True)}
+    return arrays

@@ -5,6 +5,7 @@ F and G entry by entry (:mod:`ins_errors.checker.matrix`)."""
 from __future__ import annotations
 
 import argparse
+import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -260,6 +261,8 @@ def _run_convention(args: argparse.Namespace, magnitudes: dict[str, str]) -> int
                                       magnitudes=magnitudes,
                                       latex=True if args.latex else None,
                                       parameters=parameters)
+    for note in check.notes:
+        print(f"ins-errors: note: {note}", file=sys.stderr)
     warn_unchecked_gains(model, parameters, unchecked_gains(
         model, check.report.convention, check.lines, motions(model, parameters=parameters)[0]))
     emit_report(args,
