@@ -554,13 +554,17 @@ def radius_reading(used: set[str], own: set[str], name: str
                 "radius, as east-north-up texts often write R_N, add '@name R_N = R_E'"]
 
 
-def _eccentricity_named(hand, vector_rows: dict, model, own: set[str]) -> None:
-    """Refuse ``e`` (of ``e^2``) and ``e2`` in a file of a model without an eccentricity
-    parameter (a spherical Earth), naming the line."""
+def _eccentricity_named(hand, vector_rows: dict, model, own: set[str]) -> list[str]:
+    """The note that ``e`` (of ``e^2``) or ``e2`` is 0 in a file of a model without an
+    eccentricity parameter (a spherical Earth), naming the first line; empty otherwise.
+
+    Not refused: an ellipsoid's equations hold on a sphere with e² = 0
+    (``examples/strapdown/phi_attitude.txt`` against ``strapdown_sphere.py``).
+    """
     from ins_errors.earth_constants import earth_parameter_names
 
     if earth_parameter_names(model.parameters).eccentricity is not None:
-        return
+        return []
     names = {"e", "e2"} - own
     lines = [(eq.line, f) for eq in hand.equations for f in eq.forms]
     lines += [(d.line, item) for d in hand.declarations for item in d.items]
@@ -568,12 +572,11 @@ def _eccentricity_named(hand, vector_rows: dict, model, own: set[str]) -> None:
     for line, expr in sorted(lines, key=lambda pair: pair[0]):
         found = sorted(s.name for s in expr.free_symbols if s.name in names)
         if found:
-            raise InsErrorsError(
-                f"{hand.name}, line {line}: {'e^2' if found[0] == 'e' else 'e2'} "
-                f"(eccentricity squared) is used, but model {model.name!r} has no "
-                "eccentricity: its Earth is a sphere (parameters "
-                f"{', '.join(p.name for p in model.parameters)}); write its equations "
-                "without it")
+            return [f"{hand.name}, line {line}: {'e^2' if found[0] == 'e' else 'e2'} "
+                    f"(eccentricity squared) is read as 0: model {model.name!r} has no "
+                    "eccentricity, its Earth is a sphere (parameters "
+                    f"{', '.join(p.name for p in model.parameters)})"]
+    return []
 
 
 def _in_convention_names(hand, substitution: dict, ups: dict[str, tuple[str, str]]):
@@ -872,9 +875,10 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
         hand = read_hand_file(path, notation, latex=True)
     if hand.problems:
         raise InsErrorsError(f"{hand.name}: {hand.problems[0]}")
-    _eccentricity_named(hand, vector_rows, model, own)
+    sphere = _eccentricity_named(hand, vector_rows, model, own)
     hand = _in_convention_names(hand, substitution, ups)
     reading, notes = radius_reading(_names_used(hand, vector_rows), own, hand.name)
+    notes += sphere
     known = set(states) | set(src_names) | set(names)
     definitions = cd.read_definitions(hand, known, [*states, *src_names])
     example = "dot(gyro_bias_x)"
