@@ -143,7 +143,7 @@ class Convention:
         :meth:`position` and :meth:`attitude` are then read through ``T``, and its
         vertical channel (``dv_D``, ``dr_D``, no state of its own) is held through it in
         the effect propagation
-        (:func:`~ins_errors.checker.matrix_effects.vertical_projector`).
+        (:func:`~ins_errors.checker.held_channel.vertical_projector`).
     """
 
     name: str
