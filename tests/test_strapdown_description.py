@@ -298,3 +298,48 @@ def test_a_model_the_conventions_cannot_carry_is_refused_in_one_line(edits, said
     err = [line for line in capsys.readouterr().err.strip().splitlines()
            if not line.startswith("ins-errors: deriving")]
     assert status == 2 and len(err) == 1 and said in err[0], err
+
+
+BARO_FILE = ROOT / "tests" / "models" / "baro_point_mass.py"
+BARO_GAINS = ["-p", "k1=0.0293/s", "-p", "k2=4.42e-4/s^2"]
+
+
+@pytest.mark.parametrize("height", [0.0, 5_000.0, 10_000.0])
+def test_the_gravity_of_a_baro_damped_model_file_is_its_own_at_any_height(height):
+    # the file's gravity is μ/(R + h)²; its loop k₂ (h − h_ref) adds nothing with the
+    # reference at the true height (it added k₂ h, 4.4 m/s² at 10 km, with h_ref = 0)
+    from ins_errors.checker import strapdown_description as sd
+    from ins_errors.numeric.static_rest import static_rest
+
+    model = load_model(str(BARO_FILE))
+    p = model.parameter_vector(k1=0.0293, k2=4.42e-4)
+    x, u, _, _ = static_rest(model, np.radians(50), np.radians(30), np.radians(30), height, p)
+    # a moving state at that position: the gravity is the same
+    moving = x.copy()
+    moving[[model.index("states", n) for n in ("v_N", "v_E", "v_D")]] = [200.0, -100.0, 5.0]
+    gravity = sd.navigation(model, np.stack([x, moving], axis=1), np.stack([u, u], axis=1),
+                            p)["gravity"]
+    mu, R = model.parameter_vector()[[1, 0]]
+    np.testing.assert_allclose(gravity, mu / (R + height) ** 2, rtol=1e-12)
+
+
+def test_the_textbook_psi_model_on_a_baro_damped_model_file_at_altitude(capsys):
+    # the horizontal gravity terms −g/R of the textbook against the file's −g/(R + h):
+    # only R for R + h (a dropped small term), no wrong coefficient at the cruise (10 km)
+    # or in the manoeuvre (5 km)
+    import json
+
+    status = main(["check", str(BARO_FILE), "--matrix", f"{PSI_MODEL}:psi_model",
+                   "--convention", "psi", "--json", *BARO_GAINS])
+    report = json.loads(capsys.readouterr().out)
+    assert status == 1  # the textbook has no damping loop: its vertical rows differ
+    entries = {(f["row"], f["column"]): f for f in report["findings"]}
+    for key in (("dvc_N", "dr_N"), ("dvc_E", "dr_E")):
+        finding = entries[key]
+        assert (finding["kind"], finding["severity"]) == ("approximated",
+                                                         "dropped small term")
+        assert (finding["motion"], finding["time_s"]) == ("cruise", 0.0)
+        assert finding["hand"] / finding["model"] == pytest.approx(
+            1 + 10_000 / 6_371_000, rel=1e-9)
+    assert {k for k, f in entries.items() if f["severity"] == "mistake"} == {
+        ("dvc_D", "dr_D"), ("dr_D", "dr_D")}

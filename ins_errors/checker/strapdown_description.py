@@ -227,7 +227,7 @@ def navigation(model, x: np.ndarray, u: np.ndarray, p: np.ndarray) -> dict[str, 
         "omega_ie_n": np.array([U * np.cos(lat), zeros, -U * np.sin(lat)]),
         "omega_en_n": np.array([vE / (r_e + h), -vN / (r_n + h),
                                 -vE * np.tan(lat) / (r_e + h)]),
-        "gravity": _along(_gravity_function(model.key), x, np.asarray(p, dtype=float))[0][0, 0],
+        "gravity": gravity(model, x, p),
         "R_N": r_n, "R_E": r_e, "a": np.full(k, a), "e2": np.full(k, e2),
         "earth_rate": np.full(k, U),
         "f_b": u[[index[n] for n in IMU_INPUTS[3:]]],
@@ -261,31 +261,65 @@ def _navigation_function(model_key: str) -> ca.Function:
     return ca.Function("strapdown_navigation", [x, p], [ca.densify(nu), ca.densify(C)])
 
 
-@cache
-def _gravity_function(model_key: str) -> ca.Function:
-    """``(x, p) -> |g|`` (1, 1): the model's own gravity (plumb line, m/s²) at the
-    position of ``x``.
+REST_STEPS = 2
+"""Gauss–Newton steps of :func:`gravity` for the inputs at rest (the first solves the
+affine equations of an INS, the second refines it to rounding)."""
 
-    The model is put at rest there (its initial-state map given the latitude, longitude,
-    height and attitude its outputs read, and zero velocity) with no specific force and
-    no body rate: its NED velocity then changes by gravity alone, ``g = H_v ẋ`` (the
-    Coriolis and transport-rate terms vanish with the velocity). This is the gravity of
-    the model's own equations: a constant parameter ``g``, normal gravity on its
-    ellipsoid, or a point mass μ/r² less the centrifugal acceleration, whatever it
-    computes, and what its accelerometers read at rest (``ins-errors modes``).
-    """
+
+@cache
+def _rest_function(model_key: str) -> ca.Function:
+    """``(x, u, p) -> (f (n, 1), ∂f/∂u (n, nu), g (3, 1), prior (nu, 1))`` at the rest
+    state of the position of ``x``: the model's ideal right-hand side and its Jacobian,
+    the NED velocity rate with the specific-force inputs set to zero and the others at
+    ``u``, and the prior inputs of its static base
+    (:data:`~ins_errors.numeric.static_rest.HEIGHT_INPUTS` at the height, others zero)."""
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.model_flight import condition_matrix
+    from ins_errors.numeric.static_rest import HEIGHT_INPUTS
 
     model = load_model(model_key)
     x, p, nu, H_v, _ = _symbols(model)
-    zeros = ca.DM.zeros(len(model.inputs))
+    names = [i.name for i in model.inputs]
+    u = ca.SX.sym("u", len(names))
     rest = ca.vertcat(nu[0:3], ca.DM.zeros(3), nu[6:9])
-    x0 = model.casadi.function("initial_state")(ca.DM(condition_matrix(model)) @ rest,
-                                                zeros, p)
-    rate = model.casadi.function("ideal_rhs")(x0, zeros, p)
-    g = ca.Function("H_v", [x, p], [H_v])(x0, p) @ rate
-    return ca.Function("gravity", [x, p], [ca.norm_2(g)])
+    x0 = model.casadi.function("initial_state")(ca.DM(condition_matrix(model)) @ rest, u, p)
+    rhs = model.casadi.function("ideal_rhs")
+    f = rhs(x0, u, p)
+    forces = [names.index(name) for name in IMU_INPUTS[3:]]
+    no_force = ca.vertcat(*[0 if j in forces else u[j] for j in range(len(names))])
+    g = ca.Function("H_v", [x, p], [H_v])(x0, p) @ rhs(x0, no_force, p)
+    prior = ca.vertcat(*[nu[2] if name in HEIGHT_INPUTS else 0 for name in names])
+    return ca.Function("gravity_at_rest", [x, u, p],
+                       [ca.densify(v) for v in (f, ca.jacobian(f, u), g, prior)])
+
+
+def gravity(model, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """The model's own gravity (plumb line, m/s²) at the positions of ``x`` (n, K),
+    shape (K,).
+
+    The model is put at rest there, as on a static base
+    (:func:`ins_errors.numeric.static_rest.static_rest`): its initial-state map given
+    the latitude, longitude, height and attitude its outputs read and zero velocity,
+    and its inputs solving its ideal work ``f(x0, u) = 0`` in the least-squares sense
+    from the static base's prior (the height for a height input, zero for the others),
+    so that an external reference such as the height ``h_ref`` of a baro damping loop
+    takes its true value and its loop adds nothing. The gravity is then what changes
+    its NED velocity with the specific-force inputs set to zero, ``g = H_v f(x0, u)``
+    (the Coriolis and transport-rate terms vanish with the velocity): a constant
+    parameter ``g``, normal gravity on its ellipsoid, or a point mass μ/r² less the
+    centrifugal acceleration, whatever it computes, and what its accelerometers read
+    at rest (``ins-errors modes``).
+    """
+    p = np.asarray(p, dtype=float)
+    function = _rest_function(model.key)
+    u = _along(function, x, np.zeros((len(model.inputs), x.shape[-1])), p)[3][:, 0, :]
+    for _ in range(REST_STEPS):
+        f, J, _, _ = _along(function, x, u, p)
+        J = np.moveaxis(J, -1, 0)
+        rcond = np.finfo(float).eps * max(J.shape[1:])
+        u = u - np.einsum("kij,jk->ik", np.linalg.pinv(J, rcond=rcond), f[:, 0, :])
+    g = _along(function, x, u, p)[2]
+    return np.linalg.norm(g[:, 0, :], axis=0)
 
 
 @cache
