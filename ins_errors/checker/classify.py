@@ -328,9 +328,17 @@ class Declarations:
         self.terms: list[list[sp.Expr]] = []
         self.used = [False] * len(hand.declarations)
         self.side = side
+        self.zeroed: list[frozenset[sp.Symbol]] = []
+        plain = {v.name for v in (*side.d.states, *side.d.inputs, *side.d.parameters)}
         for declaration in hand.declarations:
-            names, terms = set(), []
+            names, terms, zeroed = set(), [], set()
             for item, text in zip(declaration.items, declaration.texts, strict=True):
+                if isinstance(item, sp.Symbol) and resolver.variation_base(item.name) is None \
+                        and not resolver.is_variational(item):
+                    meaning = resolver.model_meaning(item.name)
+                    if meaning is not None and meaning.is_Symbol and meaning.name in plain:
+                        zeroed.add(meaning)  # a quantity neglected: h against R (h << R)
+                        continue
                 base = (resolver.variation_base(item.name) if isinstance(item, sp.Symbol)
                         else None)
                 if base is not None:
@@ -353,6 +361,7 @@ class Declarations:
                                                  f"@neglect {text}: {error.message}"))
             self.dropped.append(frozenset(names))
             self.terms.append(terms)
+            self.zeroed.append(frozenset(zeroed))
         self.term_values: list[list[dict]] = []
 
     def finish(self, comparison: Comparison, identify: dict) -> None:
@@ -369,6 +378,22 @@ class Declarations:
 
     def dropped_for(self, eq: HandEquation) -> frozenset[str]:
         return frozenset().union(*(self.dropped[k] for k in eq.declarations))
+
+    def zeroed_for(self, eq: HandEquation, expanded: dict[sp.Symbol, sp.Expr]
+                   ) -> dict[sp.Symbol, sp.Expr]:
+        """The substitution that sets the quantities ``eq``'s declarations neglect
+        (``@neglect h : h << R``) to 0 on both sides: each such quantity, and each named
+        intermediate whose expression holds one (``r_E`` = R_E + h becomes R_E), by its
+        expression with them at 0 (``expanded``: the model's named intermediates as
+        expressions of states, inputs and parameters). Empty when none is declared."""
+        zero = frozenset().union(*(self.zeroed[k] for k in eq.declarations))
+        if not zero:
+            return {}
+        rule: dict[sp.Symbol, sp.Expr] = {s: sp.S.Zero for s in zero}
+        for symbol, expr in expanded.items():
+            if expr.free_symbols & zero:
+                rule[symbol] = expr.xreplace(rule)
+        return rule
 
     def explains_term(self, eq: HandEquation, quantity: str, difference: np.ndarray,
                       comparison: Comparison) -> bool:
@@ -387,7 +412,7 @@ class Declarations:
 
     def mark(self, eq: HandEquation) -> None:
         for k in eq.declarations:
-            if self.dropped[k]:
+            if self.dropped[k] or self.zeroed[k]:
                 self.used[k] = True
 
     def texts(self) -> list[str]:
@@ -511,9 +536,10 @@ def line_findings(eq: HandEquation, item: Item, comparison: Comparison, identify
     full = comparison.compare(item.hand, item.model_full, item.hand_display, diagnose=False)
     if not full:
         return []
-    dropped = item.model_declared is not item.model_full and item.model_declared != \
-        item.model_full
-    with_declared = (comparison.compare(item.hand, item.model_declared, item.hand_display,
+    hand_declared = item.hand if item.hand_declared is None else item.hand_declared
+    dropped = hand_declared is not item.hand or (
+        item.model_declared is not item.model_full and item.model_declared != item.model_full)
+    with_declared = (comparison.compare(hand_declared, item.model_declared, item.hand_display,
                                         diagnose=False) if dropped else full)
     declared_quantities = {f.quantity for f in with_declared}
     own = {f.quantity: f for f in comparison.compare(
@@ -536,7 +562,7 @@ def line_findings(eq: HandEquation, item: Item, comparison: Comparison, identify
             continue
         if eq.declarations and f.quantity in names:
             if raw is None:
-                raw = comparison.differences(item.hand, item.model_declared)[0]
+                raw = comparison.differences(hand_declared, item.model_declared)[0]
             info = raw.get(names[f.quantity])
             if info is not None and declared.explains_term(
                     eq, f.quantity, info["model"] - info["hand"], comparison):
@@ -544,11 +570,11 @@ def line_findings(eq: HandEquation, item: Item, comparison: Comparison, identify
                                         detail="a term the file declares it leaves out"))
                 continue
         findings.append(mine)
-        if item.hand_isolated is item.hand:
+        if item.hand_isolated is hand_declared:
             continue
         if parts is None:  # what the definitions the line uses change, term by term
             parts = {g.quantity: g for g in comparison.compare(
-                item.hand, item.hand_isolated, item.hand_display, diagnose=False,
+                hand_declared, item.hand_isolated, item.hand_display, diagnose=False,
                 trusted=True)}
         part = parts.get(f.quantity)
         if part is not None and part.severity != DROPPED:

@@ -1070,6 +1070,7 @@ class Item:
     deps: frozenset[int] = frozenset()
     model_full: sp.Expr | None = None
     model_declared: sp.Expr | None = None
+    hand_declared: sp.Expr | None = None
     hand_isolated: sp.Expr | None = None
 
 
@@ -1332,6 +1333,7 @@ def _complete(hand: HandFile, prepared: list[list[Item]], resolver: HandSide,
             side = model_side(resolver.model.d, dropped) if dropped else resolver.model
             item.model_declared = identified(model_expr(side, item.key), identify)
             item.hand_isolated = item.hand
+            item.hand_declared = item.hand
             if item.deps:
                 resolver.isolate = side
                 resolver.needed = {k: v.expr for k, v in needed.items()}
@@ -1344,7 +1346,12 @@ def _complete(hand: HandFile, prepared: list[list[Item]], resolver: HandSide,
                     pass
                 finally:
                     resolver.isolate, resolver.needed = None, {}
-            pairs += [(item.hand, item.model_declared),
+            zero = declared.zeroed_for(eq, comparison.expand_model)
+            if zero:  # quantities neglected (h << R): both sides with them at 0
+                item.model_declared = item.model_declared.xreplace(zero)
+                item.hand_declared = item.hand.xreplace(zero)
+                item.hand_isolated = item.hand_isolated.xreplace(zero)
+            pairs += [(item.hand_declared, item.model_declared),
                       (item.hand_isolated, item.model_declared,
                        item.hand_isolated is not item.hand)]
     comparison.prefetch(pairs)
