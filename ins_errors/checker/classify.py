@@ -26,6 +26,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from functools import lru_cache
+from itertools import combinations
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -630,4 +631,236 @@ def assign_roots(results: list[EquationResult], prepared: list[list[Item]],
             else:
                 updated.append(replace(f, role=ROOT))
         r.findings = updated
+        set_status(r)
+
+
+# -- one undeclared omission behind several findings ------------------------------------
+@dataclass
+class Omission:
+    """A variation of named intermediates the file drops without declaring it.
+
+    Every finding it groups disappears exactly once the model side drops these
+    variations too, as ``@neglect`` would (:func:`undeclared_variations`); the findings
+    become its knock-ons, all of its class.
+
+    Attributes
+    ----------
+    variations : tuple of str
+        The variations as the file would declare them (``"Delta_R_N"``).
+    quantities : tuple of str
+        The quantities varied, in the file's names (``"R_N"``).
+    along : tuple of str
+        What they vary with: the states (or sources) of their variations (``"phi"``).
+    lines : tuple of int
+        The lines whose findings it explains.
+    severity : str
+        Its class, by the largest of its findings: an undeclared omission is judged by
+        size (:data:`DROPPED` below the threshold, :data:`MISTAKE` above).
+    size : float
+        The largest size of its findings.
+    point : str
+        Where that size is reached.
+    """
+
+    variations: tuple[str, ...]
+    quantities: tuple[str, ...]
+    along: tuple[str, ...]
+    lines: tuple[int, ...]
+    severity: str
+    size: float
+    point: str
+
+    @property
+    def reference(self) -> str:
+        """How its knock-ons name it (their ``roots``)."""
+        return f"the undeclared drop of {', '.join(self.variations)}"
+
+    @property
+    def title(self) -> str:
+        """``the variation of R_N, R_E with phi is dropped (not declared): explains
+        lines 3, 5, 8``."""
+        return (f"the variation of {', '.join(self.quantities)} with "
+                f"{', '.join(self.along)} is dropped (not declared): explains "
+                f"line{'s' * (len(self.lines) > 1)} {', '.join(map(str, self.lines))}")
+
+    @property
+    def neglect(self) -> str:
+        """The ``@neglect`` line that would declare it."""
+        return (f"@neglect {', '.join(self.variations)} : variation of "
+                f"{', '.join(self.quantities)} with {', '.join(self.along)} neglected")
+
+    @property
+    def is_mistake(self) -> bool:
+        return self.severity in (MISTAKE, SMALL_MISTAKE)
+
+
+def undeclared_variations(results: list[EquationResult], prepared: list[list[Item]],
+                          hand: HandFile, resolver: HandSide, comparison: Comparison,
+                          identify: dict, declared: Declarations, threshold: float
+                          ) -> list[Omission]:
+    """Group the findings that one undeclared dropped variation explains.
+
+    For each line's own findings (roots, not declared drops) and each named intermediate
+    of the model whose variation the line's model side holds, the model side is rebuilt
+    with that variation dropped (as ``@neglect Delta_X`` does; two at once where one does
+    not suffice): a finding it removes, while the line gains no new one, is explained by
+    it. Each variation is taken in turn, the one explaining most findings first; the
+    variations that vary with the same error quantities (R_N and R_E with latitude) form
+    one omission, kept when it explains two findings or more. Its findings become its
+    knock-ons, all of its class (by its largest size: the file does not declare it), and
+    so do the knock-ons of a definition whose own findings it explains. ``results`` are
+    updated in place.
+    """
+    side = resolver.model
+    d = side.d
+    candidates = [name for name, delta in side.delta_of.items()
+                  if name in side.intermediates and delta != 0]
+    items = {(id(eq), it.form): it for eq, its in zip(hand.equations, prepared, strict=True)
+             for it in its}
+    explains: dict[tuple[int, str], list[frozenset[str]]] = {}  # (result, quantity) -> sets
+    owned: dict[int, EquationResult] = {}
+    for index, r in enumerate(results):
+        item = items.get((id(r.equation), r.form))
+        if item is None or item.key is None or item.ideal or item.hand_isolated is None \
+                or item.model_declared is None:
+            continue
+        own = {f.quantity for f in r.findings if f.role == ROOT and f.severity != DECLARED
+               and not f.part and not f.quantity.startswith("(")
+               and " -> " not in f.quantity and np.isfinite(f.size)}
+        if not own:
+            continue
+        owned[index] = r
+        base = declared.dropped_for(r.equation)
+        zero = declared.zeroed_for(r.equation, comparison.expand_model)
+        try:
+            before = set(comparison.differences(item.hand_isolated, item.model_declared)[0])
+        except UnresolvedError:
+            continue
+
+        def trial(names: frozenset[str], item=item, base=base, zero=zero, before=before
+                  ) -> set[str] | None:
+            model = identified(model_expr(model_side(d, base | names), item.key), identify)
+            if zero:
+                model = model.xreplace(zero)
+            if model == item.model_declared:
+                return None
+            try:
+                after = set(comparison.differences(item.hand_isolated, model)[0])
+            except UnresolvedError:
+                return None
+            if after - before:
+                return None  # the hand has the variation elsewhere in this line
+            return {str(b) for b in before - after}
+
+        touching = []
+        for name in candidates:
+            if name in base:
+                continue
+            gone = trial(frozenset((name,)))
+            if gone is None:
+                continue
+            touching.append(name)
+            for q in gone & own:
+                explains.setdefault((index, q), []).append(frozenset((name,)))
+        left = [q for q in own if (index, q) not in explains]
+        if left:
+            for a, b in combinations(touching, 2):
+                gone = trial(frozenset((a, b)))
+                for q in (gone or set()) & set(left):
+                    explains.setdefault((index, q), []).append(frozenset((a, b)))
+    if not explains:
+        return []
+    # the variation (or pair) explaining most findings first
+    chosen: dict[tuple[int, str], frozenset[str]] = {}
+    while True:
+        counts: dict[frozenset[str], int] = {}
+        for key, sets in explains.items():
+            if key in chosen:
+                continue
+            for s in sets:
+                counts[s] = counts.get(s, 0) + 1
+        if not counts:
+            break
+        best = min(counts, key=lambda s: (-counts[s], len(s), sorted(s)))
+        for key, sets in explains.items():
+            if key not in chosen and best in sets:
+                chosen[key] = best
+    # variations that vary with the same error quantities form one omission
+    basis = set(comparison.symbols)
+
+    def along(name: str) -> frozenset[sp.Symbol]:
+        return frozenset(side.delta_of[name].free_symbols & basis)
+
+    groups: dict[frozenset, set[tuple[int, str]]] = {}
+    names_of: dict[frozenset, set[str]] = {}
+    for key, names in chosen.items():
+        group = frozenset().union(*(along(n) for n in names))
+        groups.setdefault(group, set()).add(key)
+        names_of.setdefault(group, set()).update(names)
+    omissions = []
+    for group, keys in sorted(groups.items(), key=lambda g: min(
+            results[i].equation.line for i, _ in g[1])):
+        if len(keys) < 2:
+            continue
+        model_names = [n for n in candidates if n in names_of[group]]
+        shown = [_file_name(n, resolver, hand) for n in model_names]
+        state_of = {v: k for k, v in side.error_of_state.items()}
+        with_ = [state_of.get(b, str(b)) for b in sorted_symbols(group)]
+        findings = [(results[i], f) for i, q in sorted(keys) for f in results[i].findings
+                    if f.quantity == q and f.role == ROOT and f.severity != DECLARED
+                    and not f.part]
+        largest = max(findings, key=lambda p: p[1].size)[1]
+        omission = Omission(
+            tuple(f"Delta_{n}" for n in shown), tuple(shown), tuple(with_),
+            tuple(sorted({r.equation.line for r, _ in findings})),
+            severity(OMITTED, largest.size, threshold), largest.size, largest.point)
+        names = {id(f): [_file_name(n, resolver, hand) for n in model_names
+                         if n in chosen[(i, f.quantity)]]
+                 for i, q in keys for f in results[i].findings if f.quantity == q}
+        _regroup(omission, findings, results, names)
+        omissions.append(omission)
+    return omissions
+
+
+def _file_name(name: str, resolver: HandSide, hand: HandFile) -> str:
+    """The file's name for a model intermediate: an alias of the file's own that stands
+    for it (``R_E`` = ``r_E - h``), else the model's name."""
+    for alias in hand.notation.aliases:
+        try:
+            meaning = resolver.alias(alias)
+        except UnresolvedError:
+            continue
+        if {s.name for s in meaning.free_symbols} & resolver.model.intermediates == {name}:
+            return alias
+    return name
+
+
+def _regroup(omission: Omission, findings: list[tuple[EquationResult, Finding]],
+             results: list[EquationResult], names: dict[int, list[str]]) -> None:
+    """Make ``findings`` knock-ons of ``omission`` (its class and kind; ``names``: the
+    variations each one lacks), and the knock-ons of a definition left with no finding
+    of its own likewise."""
+    mine = {id(f) for _, f in findings}
+    touched = {id(r): r for r, _ in findings}
+
+    def detail(f: Finding) -> str:
+        text = (f"left out with the variation of "
+                f"{', '.join(names.get(id(f)) or omission.quantities)}")
+        return text + (f"; {f.detail}" if f.detail else "")
+
+    for r in touched.values():
+        r.findings = [replace(f, role=KNOCK_ON, roots=(omission.reference,),
+                              severity=omission.severity, kind=OMITTED, detail=detail(f))
+                      if id(f) in mine else f for f in r.findings]
+    cleared = {r.reference for r in touched.values()
+               if not any(f.role == ROOT and f.severity != DECLARED for f in r.findings)}
+    for r in results:
+        if any(f.role == KNOCK_ON and f.roots and set(f.roots) <= cleared
+               for f in r.findings):
+            r.findings = [replace(f, roots=(omission.reference,), severity=omission.severity,
+                                  kind=OMITTED)
+                          if f.role == KNOCK_ON and f.roots and set(f.roots) <= cleared
+                          else f for f in r.findings]
+            touched[id(r)] = r
+    for r in touched.values():
         set_status(r)

@@ -185,6 +185,9 @@ class CheckReport:
         The declared simplifications, as written.
     idle_declarations : list of str
         Declared simplifications that explain no finding.
+    omissions : list of Omission
+        Variations the file drops without declaring them, each the root of the findings
+        it explains (:func:`~ins_errors.checker.classify.undeclared_variations`).
     """
 
     model: str
@@ -206,6 +209,7 @@ class CheckReport:
     idle_declarations: list[str] = field(default_factory=list)
     unchecked_sources: list[str] = field(default_factory=list)
     unchecked_gains: list[str] = field(default_factory=list)
+    omissions: list[cl.Omission] = field(default_factory=list)
 
     @property
     def findings(self) -> list[tuple[EquationResult, Finding]]:
@@ -982,6 +986,10 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         with np.errstate(over="ignore", invalid="ignore"):
             add_effects(report, d, side, comparison, identify, prepared, resolver,
                         parameters)
+    if report.findings:  # after the effects: each line keeps the effect of its own part
+        report.omissions = cl.undeclared_variations(
+            report.results, prepared, hand, resolver, comparison, identify, declared,
+            threshold)
     return report
 
 

@@ -1092,6 +1092,7 @@ def summary_counts(check: ConventionCheck) -> dict:
             "mistakes": mistakes, "root_mistakes": mistakes, "knock_on_mistakes": 0,
             "declared_drops": sum(1 for f in findings if f.severity == DECLARED),
             "dropped_small_terms": sum(1 for f in findings if f.severity == DROPPED),
+            "undeclared_drops": 0,  # the rows have no named intermediates to vary
         },
         "input_problems": 0,
     }

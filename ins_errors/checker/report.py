@@ -58,13 +58,17 @@ def summary_counts(report: CheckReport) -> dict[str, Any]:
         :data:`STATUSES` (snake_case keys, 0 when none); ``findings``: number of findings
         by class (``mistakes``, of them ``root_mistakes`` and ``knock_on_mistakes``;
         ``declared_drops``, ``dropped_small_terms``); ``input_problems``: number of
-        lines that could not be read.
+        lines that could not be read. An undeclared dropped variation
+        (:attr:`~ins_errors.checker.compare.CheckReport.omissions`) of the class mistake
+        is one root mistake (its findings, knock-ons); ``undeclared_drops`` counts them
+        all.
     """
     by_status = dict.fromkeys(map(status_key, STATUSES), 0)
     for result in report.results:
         key = status_key(result.status)
         by_status[key] = by_status.get(key, 0) + 1  # a status added later still counts
-    mistakes, roots = len(report.mistakes), len(report.root_mistakes)
+    extra = sum(1 for o in report.omissions if o.is_mistake)
+    mistakes, roots = len(report.mistakes) + extra, len(report.root_mistakes) + extra
     return {
         "equations_by_status": by_status,
         "findings": {
@@ -74,6 +78,7 @@ def summary_counts(report: CheckReport) -> dict[str, Any]:
             "declared_drops": sum(1 for _, f in report.findings if f.severity == cl.DECLARED),
             "dropped_small_terms": sum(1 for _, f in report.findings
                                        if f.severity == cl.DROPPED),
+            "undeclared_drops": len(report.omissions),
         },
         "input_problems": len(report.problems),
     }
@@ -92,8 +97,10 @@ def summary_line(report: CheckReport) -> str:
             f"({_count(found['root_mistakes'], 'root mistake')}, "
             f"{_count(found['knock_on_mistakes'], 'knock-on finding')}, "
             f"{_count(found['declared_drops'], 'declared drop')}, "
-            f"{_count(found['dropped_small_terms'], 'dropped small term')}); "
-            f"{_count(c['input_problems'], 'input problem')}")
+            f"{_count(found['dropped_small_terms'], 'dropped small term')}"
+            + (f", {_count(found['undeclared_drops'], 'undeclared dropped variation')}"
+               if found["undeclared_drops"] else "")
+            + f"); {_count(c['input_problems'], 'input problem')}")
 
 
 def _count(n: int, thing: str) -> str:
@@ -165,8 +172,18 @@ def _finding_rows(pairs: list[tuple[EquationResult, Finding]], roots: bool = Fal
     return rows
 
 
+def omission_groups(report: CheckReport) -> list[tuple]:
+    """Each undeclared dropped variation with the findings it explains, in file order:
+    (:class:`~ins_errors.checker.classify.Omission`, [(result, finding), ...])."""
+    return [(o, [(r, f) for r, f in report.findings
+                 if f.role == cl.KNOCK_ON and o.reference in f.roots])
+            for o in report.omissions]
+
+
 def ordered(report: CheckReport) -> list[tuple[str, list[tuple[EquationResult, Finding]]]]:
-    """The findings top-down: each root mistake with its knock-ons, declared drops, drops."""
+    """The findings top-down: each root mistake with its knock-ons, declared drops, drops
+    (the findings of an undeclared dropped variation are under it:
+    :func:`omission_groups`)."""
     groups = []
     for result, f in report.root_mistakes:
         groups.append(("root", [(result, f)]))
@@ -178,13 +195,15 @@ def ordered(report: CheckReport) -> list[tuple[str, list[tuple[EquationResult, F
         knock = [] if key in shown else report.knock_ons(result)
         shown.add(key)
         out.append(("root", [(result, f), *knock]))
+    grouped = {o.reference for o in report.omissions}
     orphans = [(r, f) for r, f in report.findings if f.role == cl.KNOCK_ON and f.is_mistake
-               and not any(any(r2.reference in f.roots for r2, _ in report.root_mistakes)
-                           for _ in [0])]
+               and not any(r2.reference in f.roots for r2, _ in report.root_mistakes)
+               and not grouped & set(f.roots)]
     if orphans:
         out.append(("knock-on", orphans))
     out.append(("declared", [(r, f) for r, f in report.findings if f.severity == cl.DECLARED]))
-    out.append(("dropped", [(r, f) for r, f in report.findings if f.severity == cl.DROPPED]))
+    out.append(("dropped", [(r, f) for r, f in report.findings if f.severity == cl.DROPPED
+                            and not grouped & set(f.roots)]))
     return out
 
 
@@ -246,6 +265,18 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
             lines += ["Knock-on findings:", ""]
             lines += _finding_rows(pairs[1:])
             lines.append("")
+    if report.omissions:
+        lines += ["## Undeclared dropped variations", ""]
+    for omission, pairs in omission_groups(report):
+        lines += [f"### {_cell(omission.title[0].upper() + omission.title[1:])} "
+                  f"({omission.severity})", ""]
+        lines += [f"One simplification explains every finding below: the model's side "
+                  f"with these variations dropped agrees with the file on them. Largest "
+                  f"size {_size(omission.size)} at {omission.point}; an omission the file "
+                  f"does not declare is judged by its size. Declared, it would read "
+                  f"`{_cell(omission.neglect)}`.", "", "Its findings:", ""]
+        lines += _finding_rows(pairs)
+        lines.append("")
     for kind, pairs in groups:
         if kind == "root":
             continue
@@ -331,16 +362,23 @@ def to_terminal(report: CheckReport, width: int = 100) -> str:
     rows += [header, "-" * min(width, len(header) + 8)]
     titles = {"root": "root mistake", "knock-on": "knock-on findings",
               "declared": "declared drops", "dropped": "other small drops"}
-    for kind, pairs in ordered(report):
-        if not pairs:
-            continue
-        if kind == "root":
-            result, f = pairs[0]
-            rows.append(f"[{titles[kind]}]")
-            rows += _terminal_row(result, f)
-            for r, g in pairs[1:]:
-                rows += _terminal_row(r, g, indent="    ")
-        else:
+    groups = ordered(report)
+    split = sum(1 for kind, _ in groups if kind == "root")
+    for kind, pairs in groups[:split]:
+        result, f = pairs[0]
+        rows.append(f"[{titles[kind]}]")
+        rows += _terminal_row(result, f)
+        for r, g in pairs[1:]:
+            rows += _terminal_row(r, g, indent="    ")
+    for omission, pairs in omission_groups(report):  # after the roots, before the drops
+        rows.append(f"[undeclared dropped variation, {omission.severity}, size "
+                    f"{_size(omission.size)}]")
+        rows.append(f"      {omission.title}")
+        rows.append(f"      declare it with: {omission.neglect}")
+        for r, g in pairs:
+            rows += _terminal_row(r, g, indent="    ")
+    for kind, pairs in groups[split:]:
+        if pairs:
             rows.append(f"[{titles[kind]}]")
             for r, g in pairs:
                 rows += _terminal_row(r, g)
@@ -393,4 +431,10 @@ def to_json(report: CheckReport) -> dict[str, Any]:
         "skipped_motions": report.skipped_motions,
         "declarations": report.declarations,
         "idle_declarations": report.idle_declarations,
+        "omissions": [{"reference": o.reference, "variations": list(o.variations),
+                       "quantities": list(o.quantities), "along": list(o.along),
+                       "lines": list(o.lines), "class": o.severity,
+                       "size": float(f"{o.size:.9g}"), "point": o.point,
+                       "description": o.title, "neglect": o.neglect}
+                      for o in report.omissions],
     }

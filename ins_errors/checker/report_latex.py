@@ -32,7 +32,7 @@ from sympy.printing.latex import LatexPrinter
 from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.compare import CheckReport, EquationResult
-from ins_errors.checker.report import _effect, _size, ordered, summary_line
+from ins_errors.checker.report import _effect, _size, omission_groups, ordered, summary_line
 
 PACKAGES = ("amsmath", "booktabs", "longtable")
 """LaTeX packages the fragment uses (``\\operatorname`` and ``\\text``; the rules of its
@@ -455,6 +455,19 @@ def to_latex(report: CheckReport, definition=None, source: str | None = None,
             lines += ["Knock-on findings:", ""]
             lines += _items(pairs[1:], names)
             lines.append("")
+    if report.omissions:
+        lines += [r"\subsubsection*{Undeclared dropped variations}", ""]
+    for omission, pairs in omission_groups(report):
+        title = omission.title[0].upper() + omission.title[1:]
+        lines += [rf"\paragraph{{{escape(title)} ({escape(omission.severity)})}}", ""]
+        lines += [escape("One simplification explains every finding below: the model's "
+                         "side with these variations dropped agrees with the file on them. "
+                         f"Largest size {_size(omission.size)} at {omission.point}; an "
+                         "omission the file does not declare is judged by its size. "
+                         "Declared, it would read ") + f"{_code(omission.neglect)}.", "",
+                  "Its findings:", ""]
+        lines += _items(pairs, names)
+        lines.append("")
     for kind, pairs in groups:
         if kind == "root" or (kind == "knock-on" and not pairs):
             continue
