@@ -144,7 +144,7 @@ def load_scenario(path: str | Path) -> Scenario:
     where = os.fspath(path)  # as the user typed it, for messages
     path = Path(path)
     try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
+        data = tomllib.loads(path.read_text(encoding="utf-8-sig"))  # -sig: a BOM is no TOML
     except OSError as error:
         raise ScenarioError(f"cannot read scenario {where!r}: {error.strerror}") from None
     except UnicodeDecodeError:

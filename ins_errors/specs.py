@@ -574,7 +574,7 @@ def load_spec(path: str | Path) -> Spec:
     where = os.fspath(path)  # as the user typed it, for messages
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # -sig: a leading BOM is no TOML
     except OSError as error:
         raise SpecError(f"cannot read spec file {where!r}: {error.strerror}") from None
     except UnicodeDecodeError:

@@ -867,7 +867,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     if hand.format == "text":
         extra = {**{p: sp.Symbol(p) for p in parameters_named},
                  **{k.name: v for k, v in substitution.items()}}
-        text, vector_rows = split_vector_lines(Path(path).read_text(encoding="utf-8"),
+        text, vector_rows = split_vector_lines(Path(path).read_text(encoding="utf-8-sig"),
                                                states, src_names, hand.name, rate_sources,
                                                defined, extra)
         hand = parse_hand_text(text, notation, name=hand.name)

@@ -76,6 +76,9 @@ from sympy.parsing.sympy_parser import (
 from ins_errors.checker.notation import Notation
 from ins_errors.errors import InsErrorsError
 
+BOM = "\ufeff"
+"""The byte-order mark some editors (Windows Notepad) put before a UTF-8 file's text:
+dropped where a hand or mapping file's text is read."""
 DOT = sp.Function("dot")
 """Time derivative of a hand quantity (only allowed on a left-hand side)."""
 TILDE = sp.Function("tilde")
@@ -405,6 +408,12 @@ def _float_power(base: float, exponent: float) -> float | None:
     return result if isinstance(result, float | int) else None
 
 
+_UNICODE_OPERATORS = str.maketrans({"\u2212": "-", "\u00d7": "*", "\u22c5": "*",
+                                    "\u00b7": "*"})
+"""Typeset operators a word processor or a PDF copy puts in a formula: the minus sign
+U+2212, the multiplication signs × (U+00D7), ⋅ (U+22C5) and the middle dot · (U+00B7)."""
+
+
 _TOO_LONG = ("this expression ({length} characters) is too long or too deeply nested "
              "to read (a few thousand terms or nested groups are too many)")
 
@@ -442,6 +451,7 @@ def _parsed_text(text: str, column: int, spellings: tuple[tuple[str, str], ...]
     """:func:`parse_text_expression` for the given spellings (read-only result)."""
     notation = Notation(spellings=dict(spellings))
     source = re.sub(r"\blambda\b", "lam   ", text)  # same length: columns stay right
+    source = source.translate(_UNICODE_OPERATORS)  # − × · ⋅ as - and *, one character each
     stripped = source.strip()
     shown = text.strip()
     lead = len(source) - len(source.lstrip())
@@ -533,6 +543,8 @@ _SYMPY_FUNCTIONS = {
     "exp": sp.exp, "ln": sp.log, "log": sp.log, "sec": sp.sec,
 }
 _ACCENTS = {"dot": "dot", "tilde": "tilde", "widetilde": "tilde"}
+_FRACTIONS = ("frac", "dfrac", "tfrac", "cfrac")
+"""Fraction commands: amsmath's display, text and continued forms read as ``\\frac``."""
 _TOKEN = re.compile(r"\\[A-Za-z]+|\\.|[A-Za-z]|\d+(?:\.\d+)?|\s+|.")
 
 
@@ -556,6 +568,7 @@ class _LatexConverter:
         self.backend = backend
         self.column = column
         self.notation = notation
+        text = text.translate(_UNICODE_OPERATORS)  # a typeset − or × as - and *
         self.tokens = [(m.group(), m.start()) for m in _TOKEN.finditer(text)
                        if not m.group().isspace()]
         self.i = 0
@@ -768,10 +781,10 @@ class _LatexConverter:
                 self.i += 1
                 out.append(_Piece(token, position, starts=True, ends=True))
                 continue
-            if name == "frac":
+            if name in _FRACTIONS:
                 self.i += 1
-                numerator = self.braced(position)
-                denominator = self.braced(position)
+                numerator = self.fraction_argument(token, position)
+                denominator = self.fraction_argument(token, position)
                 out.append(self.place(numerator / denominator, position))
                 continue
             if name == "sqrt":
@@ -803,12 +816,49 @@ class _LatexConverter:
                 self.i += 1
                 out.append(self.place(self.symbol(delta=True, start=position), position))
                 continue
+            if name in ("mathrm", "mathit") and self.peek(1) == "{" and self.peek(3) == "}" \
+                    and len(self.peek(2) or "") == 1 and self.peek(2).isalpha():
+                self.i += 2  # \mathrm{d}: an upright letter is the letter
+                out.append(self.place(self.symbol(delta=False), position))
+                self.expect("}")
+                continue
             if name is not None and name not in _GREEK and name not in _ACCENTS:
                 raise _LineError(position, f"unsupported LaTeX command {token}")
             if name is None and not token.isalpha():
                 raise _LineError(position, f"unexpected character {token!r}")
             out.append(self.place(self.symbol(delta=False), position))
         return out
+
+    def fraction_argument(self, command: str, position: int) -> sp.Expr:
+        """One argument of ``\\frac`` (``\\dfrac``, ``\\tfrac``): a braced group or, as
+        in TeX, a single token: one digit (``\\frac12`` is 1/2), one letter or one Greek
+        letter (``\\frac1{R + h}``, ``\\frac\\pi2``)."""
+        token = self.peek()
+        if token == "{":
+            return self.braced(position)
+        spot = self.position()
+        if token is None:
+            raise _LineError(spot, f"{command} needs two arguments, e.g. "
+                                   f"{command}{{a}}{{b}} or {command}12")
+        if token[0].isdigit():
+            text, offset = self.tokens[self.i]
+            if len(text) > 1:  # \frac12: the digits 1 and 2 are two arguments
+                self.tokens[self.i] = (text[1:], offset + 1)
+            else:
+                self.i += 1
+            return sp.Integer(int(text[0]))
+        if token == r"\pi":
+            self.i += 1
+            return sp.pi
+        if (len(token) == 1 and token.isalpha()) or token[1:] in _GREEK:
+            self.i += 1
+            base = token if len(token) == 1 else _GREEK[token[1:]]
+            symbol = canonical_name(base, self.notation)
+            for atom in symbol.atoms(sp.Symbol):
+                self.columns.setdefault(atom.name, spot)
+            return symbol
+        raise _LineError(spot, f"{command}: expected an argument in braces or a single "
+                               f"digit or letter, found '{token}'")
 
     def braced(self, position: int) -> sp.Expr:
         """Parse a mandatory ``{...}`` argument (of \\frac, \\sqrt)."""
@@ -1027,7 +1077,33 @@ def _strip_comment(line: str, marker: str) -> str:
 
 
 _LATEX_WRAPPERS = re.compile(r"\$\$|\\\[|\\\]|\$|\\begin\{[a-z*]+\}|\\end\{[a-z*]+\}|\\\\")
-_TEXT_NOTE = re.compile(r"\\(?:text|mbox|mathrm)\{([^}]*)\}")
+_TEXT_NOTE = re.compile(r"\\(?:text|mbox|mathrm(?!\{\s*[A-Za-z]\s*\}))\{([^}]*)\}")
+"""A note in words (``\\text{for orthodromic orientation}``); an upright letter
+(``\\mathrm{d}`` of a derivative) is mathematics, not a note."""
+_D = r"(?:\\mathrm\s*\{\s*d\s*\}|\\operatorname\s*\{\s*d\s*\}|d)"
+_TIME_DERIVATIVE = re.compile(
+    r"^(\s*\\[dt]?frac\s*\{\s*" + _D + r"(?:\s|\\[,;:!])*)((?:[^{}]|\{[^{}]*\})+?)(\s*\}\s*\{\s*"
+    + _D + r"\s*t\s*\}\s*)$")
+_TIME_DERIVATIVE_OF = re.compile(
+    r"^(\s*\\[dt]?frac\s*\{\s*" + _D + r"\s*\}\s*\{\s*" + _D
+    + r"\s*t\s*\}(?:\s|\\[,;:!])*)(\S.*?)(\s*)$")
+
+
+_DOT_OPEN = r"\dot{"
+
+
+def _time_derivative(text: str) -> str:
+    r"""A left side written as a derivative, ``\frac{\mathrm{d}\,\delta\varphi}{\mathrm{d}t}``
+    (or ``\frac{d\,X}{dt}``, ``\frac{d}{dt} X``), as ``\dot{X}`` with X at its own
+    column; any other text unchanged."""
+    for pattern in (_TIME_DERIVATIVE, _TIME_DERIVATIVE_OF):
+        match = pattern.match(text)
+        if match and len(match.group(1)) >= len(_DOT_OPEN):
+            lead, inner, tail = match.groups()
+            indent = len(lead) - len(lead.lstrip())  # \dot at \frac, X where it is
+            return (" " * indent + _DOT_OPEN + " " * (len(lead) - indent - len(_DOT_OPEN))
+                    + inner + "}" + " " * max(len(tail) - 1, 0))
+    return text
 
 
 def _blank(text: str, pattern: re.Pattern) -> str:
@@ -1108,6 +1184,7 @@ def parse_hand_text(text: str, notation: Notation, name: str = "<hand>",
     """
     hand = HandFile(name=name, format="latex" if latex else "text")
     notation = notation.merged(Notation())  # a copy: @name lines add spellings
+    text = text.removeprefix(BOM)  # Windows Notepad's UTF-8 signature, not text
     parse = (partial(parse_latex_expression, backend=latex_backend) if latex
              else parse_text_expression)
     real = False
@@ -1177,6 +1254,9 @@ def _equation(hand: HandFile, number: int, segment: str, column: int, note: str,
     if len(parts) < 2:
         raise _LineError(column + len(segment) - len(segment.lstrip()),
                          f"no '=' in {segment.strip()!r}: expected 'lhs = rhs'")
+    written = parts[0][0]
+    if latex:  # d/dt on the left is the time derivative, as \dot
+        parts[0] = (_time_derivative(written), parts[0][1])
     columns: dict[str, int] = {}
     exprs = []
     for piece, offset in parts:
@@ -1189,7 +1269,8 @@ def _equation(hand: HandFile, number: int, segment: str, column: int, note: str,
         isinstance(lhs, sp.Function) and lhs.func == DOT and isinstance(lhs.args[0], sp.Symbol))
     if not ok:
         raise _LineError(column + len(segment) - len(segment.lstrip()),
-                         f"left-hand side {parts[0][0].strip()!r} must be one quantity "
+                         f"left-hand side '{' '.join(written.split())}' must be one "
+                         "quantity "
                          "(a symbol, a variation or the time derivative of one)")
     hand.equations.append(HandEquation(
         line=number, column=column + len(segment) - len(segment.lstrip()),
