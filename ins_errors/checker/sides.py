@@ -192,6 +192,27 @@ class HandSide:
                     "alternatives with @alt)"))
                 continue
             table[key] = eq
+        self._flag_repeated_state_equations(hand)
+
+    def _flag_repeated_state_equations(self, hand: HandFile) -> None:
+        """A second ``dot(X)`` of the same error state in one section is an input
+        problem naming both lines, as a repeated definition is (both are still checked;
+        a printed alternative form is marked ``@alt``)."""
+        first: dict[tuple[int, str], HandEquation] = {}
+        for eq in hand.equations:
+            if eq.alternative or isinstance(eq.lhs, sp.Symbol):
+                continue
+            inner = eq.lhs.args[0].name
+            base = self.variation_base(inner)
+            state = (self.model.error_of_state[base].name
+                     if base is not None and base in self.model.error_of_state else inner)
+            earlier = first.setdefault((eq.section, state), eq)
+            if earlier is not eq:
+                hand.problems.append(Problem(
+                    eq.line, eq.column,
+                    f"second equation of dot({state}) in this section (first at line "
+                    f"{earlier.line}); both are checked (mark a printed alternative form "
+                    "with @alt)"))
 
     # -- classification -----------------------------------------------------------------
     def is_source(self, name: str) -> bool:
