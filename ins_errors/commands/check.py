@@ -37,8 +37,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "Every entry is classed agrees / dropped small term / mistake, and both "
                     "models are propagated for 1 h and 24 h. Details: docs/matrix_check.md.")
     parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
-    parser.add_argument("file", type=Path, nargs="?",
-                        help="hand file (.txt SymPy syntax, .tex LaTeX); not with --matrix")
+    parser.add_argument("file", type=Path, nargs="*",
+                        help="hand file (.txt SymPy syntax, .tex LaTeX); several are "
+                             "checked one after the other, each report under a header "
+                             "naming its file (--json: one JSON array), the exit status "
+                             "the worst; not with --matrix")
     parser.add_argument("--matrix", metavar="FILE.py:FUNCTION|FILE.npz|FILE.mat",
                         help="check a hand-coded F (and G) instead of equations")
     parser.add_argument("--convention", default="model",
@@ -98,6 +101,11 @@ def latex_report(args: argparse.Namespace) -> bool:
 
 
 def run(args: argparse.Namespace) -> int:
+    files = args.file if isinstance(args.file, list) else [args.file]
+    files = [path for path in files if path is not None]
+    args.file = files[0] if files else None
+    if len(files) > 1:
+        return _run_files(args, files)
     if latex_report(args) and (args.matrix or args.list_conventions or args.write_samples
                                or (args.file is not None and _declares_convention(args.file))):
         from ins_errors.errors import InsErrorsError
@@ -137,7 +145,10 @@ def run(args: argparse.Namespace) -> int:
                                      latex_backend=args.latex_parser,
                                      magnitudes=magnitudes, parameters=parameters)
     except InsErrorsError as error:
-        raise named_as_given(error, args.file, args.mapping) from None
+        error = named_as_given(error, args.file, args.mapping)
+        if args.json:  # a grading script gets JSON whatever the file holds
+            emit_json(args, _input_problem_json(args, definition, error))
+        raise error from None
     if report.unchecked_gains:
         warn_unchecked_gains(definition, parameters, report.unchecked_gains)
     def written() -> str:
@@ -206,9 +217,84 @@ def emit_report(args: argparse.Namespace, markdown: Callable[[], str],
     if args.report is not None:
         write_text(args.report, markdown())
     if args.json:
-        emit(as_json())
+        emit_json(args, as_json())
     else:
         print(terminal())
+
+
+def emit_json(args: argparse.Namespace, data: dict) -> None:
+    """Print one file's JSON, or keep it for the array of several files
+    (:func:`_run_files` gives ``args.json_files``)."""
+    kept = getattr(args, "json_files", None)
+    if kept is None:
+        emit(data)
+    else:
+        kept.append({"path": str(args.file), **data})
+
+
+def _input_problem_json(args: argparse.Namespace, model, error: Exception) -> dict:
+    """The JSON of a hand file that could not be checked at all (not found, empty, only
+    comments): a report with no equation and the one input problem, exit status 2."""
+    from ins_errors.checker.compare import CheckReport
+    from ins_errors.checker.parse import Problem
+    from ins_errors.checker.report import to_json
+
+    message = str(error)
+    for shown in (str(args.file), args.file.name):
+        if message.startswith(f"{shown}: "):
+            message = message[len(shown) + 2:]
+            break
+    latex = args.latex or args.file.suffix.lower() in (".tex", ".latex")
+    report = CheckReport(model=model.name, hand_name=args.file.name,
+                         hand_format="latex" if latex else "text", threshold=args.threshold,
+                         points=[], basis=[], sections=[], results=[],
+                         problems=[Problem(None, None, message)], out_of_scope=[],
+                         from_model={}, unused=[])
+    return to_json(report)
+
+
+def _run_files(args: argparse.Namespace, files: list[Path]) -> int:
+    """Check several hand files against one model, in one process: each file's report
+    under a header naming it (``==> FILE <==``), or with ``--json`` one JSON array of
+    the files' objects (each with its ``path`` as given). A file that cannot be checked
+    prints its error line and the others go on. Returns the worst exit status (2 > 1 >
+    0)."""
+    from ins_errors.errors import InsErrorsError
+
+    if args.matrix or args.list_conventions or args.write_samples:
+        raise InsErrorsError("check takes one FILE with --matrix, --list-conventions or "
+                             "--write-samples; several hand files only without them")
+    if args.report is not None:
+        raise InsErrorsError(f"--report {args.report}: one report file holds one hand "
+                             "file's report: give one FILE, or leave out --report for "
+                             "several")
+    if not 0 < args.threshold < 1:
+        raise InsErrorsError(f"threshold must be between 0 and 1, got {args.threshold}")
+    from ins_errors.model_lookup import definition_of, resolve
+    from ins_errors.model_parameters import parse_parameter_options
+
+    parse_parameter_options(definition_of(resolve(args.model)), args.parameter)  # fail once
+    parse_magnitudes(args.magnitude)
+    kept: list[dict] = []
+    worst = 0
+    for path in files:
+        one = argparse.Namespace(**vars(args))
+        one.file = path
+        if args.json:
+            one.json_files = kept
+        else:
+            print(f"==> {path} <==", flush=True)
+        try:
+            status = run(one)
+        except InsErrorsError as error:
+            print(f"ins-errors: error: {error}", file=sys.stderr, flush=True)
+            status = 2
+        if not args.json:
+            print(flush=True)
+        worst = max(worst, status)
+    if args.json:
+        emit(kept)
+    return worst
 
 
 def named_as_given(error: Exception, *paths: Path | None) -> Exception:
@@ -228,7 +314,7 @@ def named_as_given(error: Exception, *paths: Path | None) -> Exception:
 def _declares_convention(path: Path) -> bool:
     """Whether the hand file has an ``@convention NAME`` line (read errors: no)."""
     try:
-        text = path.read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8-sig")  # a BOM before @convention
     except (OSError, UnicodeDecodeError):
         return False
     return any(line.strip().split(maxsplit=1)[:1] == ["@convention"]
