@@ -25,6 +25,11 @@ import numpy as np
 
 from ins_errors.models.earth import radii_of_curvature
 
+FIRST_COSMIC_VELOCITY = float(np.sqrt(9.80665 * 6_378_137.0))
+"""m/s: √(g a), standard gravity and WGS-84 a, about 7.91 km/s: the speed along the
+surface at which the centripetal acceleration v²/R equals gravity (an orbit). The largest
+ground speed of a motion and the largest initial velocity error a run takes."""
+
 RADIUS_NAMES = ("a", "R", "R_earth", "semi_major_axis")
 """Parameter names read as the Earth radius (or semi-major axis), m, in this order."""
 

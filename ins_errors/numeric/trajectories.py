@@ -42,8 +42,14 @@ from typing import Protocol, runtime_checkable
 import casadi as ca
 import numpy as np
 
+from ins_errors.earth_constants import FIRST_COSMIC_VELOCITY
 from ins_errors.errors import DomainError, InsErrorsError, ShapeError
-from ins_errors.models.earth import earth_shape, normal_gravity, radii_of_curvature
+from ins_errors.models.earth import (
+    STANDARD_GRAVITY,
+    earth_shape,
+    normal_gravity,
+    radii_of_curvature,
+)
 from ins_errors.numeric.integrators import (
     CompiledLoop,
     DenseCall,
@@ -289,13 +295,80 @@ def check_height(h: float, what: str) -> None:
                           f"the heights where the models' gravity holds ({why})")
 
 
+MAX_SPEED = FIRST_COSMIC_VELOCITY
+"""m/s: the largest ground speed of a motion, the first cosmic velocity √(g a) ≈ 7.91 km/s
+(standard gravity, WGS-84 a; :data:`~ins_errors.earth_constants.FIRST_COSMIC_VELOCITY`).
+A vehicle faster than that along the Earth's surface needs more centripetal acceleration
+v²/R than gravity gives: it would be in orbit, and nothing holds a height at such a speed
+(the motions do). A faster speed is a unit slip (km/h or km/s for m/s) or a typing
+error."""
+
+MAX_MANOEUVRE_ACCELERATION = 10.0 * STANDARD_GRAVITY
+"""m/s²: the largest lateral (v·ψ̇), along-track (v̇) or vertical (ḧ) acceleration of a
+manoeuvre leg, 10 g. Fighter aircraft sustain about 9 g; no aircraft turns, speeds up or
+pulls up harder for longer than an instant, so a leg asking for more is a mistake (a turn
+of 36000° in 10 s at 250 m/s asks for 3000 g at its peak)."""
+
+MAX_TURN_RATE = np.radians(1000.0)
+"""rad/s: the largest course rate ψ̇ of a manoeuvre leg, 1000°/s, whatever its speed
+(also at rest, where a turn has no lateral acceleration). It is beyond the measuring range
+of navigation gyros (about 400–1000°/s) and beyond any aircraft's roll rate."""
+
+
 def _check_speed(speed: float, what: str) -> None:
-    """Refuse a ground speed that is not a finite number >= 0 m/s (one line, naming it)."""
+    """Refuse a ground speed that is not a finite number in [0, :data:`MAX_SPEED`] m/s
+    (one line, naming it)."""
     if not np.isfinite(speed):
         raise MotionError(f"{what} must be finite, got {speed}")
     if speed < 0:
         raise MotionError(f"{what} must be >= 0 m/s, got {speed:g} m/s (to fly the other "
                           "way, turn the track by 180°)")
+    if speed > MAX_SPEED:
+        raise MotionError(speed_beyond(speed, what))
+
+
+def speed_beyond(speed: float, what: str) -> str:
+    """The one-line reason a ground speed (m/s) above :data:`MAX_SPEED` is refused."""
+    centripetal = speed ** 2 / 6_378_137.0
+    return (f"{what} {speed:g} m/s is beyond {MAX_SPEED:.0f} m/s, the first cosmic "
+            f"velocity √(g a): faster, the centripetal acceleration v²/R ({centripetal:.3g} "
+            f"m/s²) exceeds gravity (9.81 m/s²) and no vehicle holds a height; a unit slip "
+            f"(km/h for m/s)?")
+
+
+_RAMP = np.linspace(0.0, 1.0, 2001)
+"""Points of a leg (as fractions of its duration) its peak accelerations are taken at."""
+
+
+def _check_leg_motion(number: int, leg: Leg, v_start: float, h_start: float) -> None:
+    """Refuse a manoeuvre leg whose peak acceleration or course rate no aircraft reaches
+    (:data:`MAX_MANOEUVRE_ACCELERATION`, :data:`MAX_TURN_RATE`), naming the figure.
+
+    The leg blends speed, course and height along :func:`smoothstep` (peak rate 15/8 of
+    the mean, peak second derivative 10/√3 of the change over T²)."""
+    s, ds, dds = smoothstep(_RAMP)
+    T = leg.duration
+    v = v_start + (leg.speed - v_start) * s
+    rate = leg.turn * ds / T
+    turn_rate = float(np.max(np.abs(rate)))
+    said = f"manoeuvre leg {number} ({T:g} s"
+    if leg.turn:
+        said += (f", turn {np.degrees(leg.turn):g}°: {np.degrees(abs(leg.turn) / T):.4g}°/s "
+                 f"on average, {np.degrees(turn_rate):.4g}°/s at its peak")
+    for name, values in (("lateral (v·ψ̇)", v * rate),
+                         ("along-track (v̇)", (leg.speed - v_start) * ds / T),
+                         ("vertical (ḧ)", (leg.height - h_start) * dds / T ** 2)):
+        peak = float(np.max(np.abs(values)))
+        if not peak <= MAX_MANOEUVRE_ACCELERATION:
+            raise MotionError(
+                f"{said}): its {name} acceleration reaches {peak:.4g} m/s² = "
+                f"{peak / STANDARD_GRAVITY:.4g} g, beyond the "
+                f"{MAX_MANOEUVRE_ACCELERATION / STANDARD_GRAVITY:g} g any aircraft pulls: "
+                f"give the leg more time or a smaller change")
+    if not turn_rate <= MAX_TURN_RATE:
+        raise MotionError(f"{said}): its course rate is beyond "
+                          f"{np.degrees(MAX_TURN_RATE):g}°/s, beyond any aircraft's and any "
+                          f"navigation gyro's range: give the leg more time or a smaller turn")
 
 
 @dataclass(frozen=True)
@@ -370,6 +443,8 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
             raise MotionError(f"manoeuvre leg duration must be positive, got {leg.duration}")
         _check_speed(leg.speed, "manoeuvre leg speed")
         check_height(leg.height, "manoeuvre leg height")
+        motion_number(leg.turn, "manoeuvre leg turn", "rad")
+        _check_leg_motion(len(starts) + 1, leg, v0, h0)
         starts.append((t0, leg.duration, v0, psi0, h0, leg))
         t0, v0, psi0, h0 = t0 + leg.duration, leg.speed, psi0 + leg.turn, leg.height
 
@@ -424,6 +499,12 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
                               f" of {a.size}")
     for h_end in (np.min(arrays[2]), np.max(arrays[2])):
         check_height(float(h_end), "sampled motion height")
+    speeds = np.hypot(arrays[0], arrays[1])
+    if speeds.max() > MAX_SPEED:
+        row = int(np.argmax(speeds > MAX_SPEED))
+        raise MotionError(speed_beyond(float(speeds[row]), f"sampled motion: sample "
+                                       f"{row + 1} of {t.size} (t = {t[row]:g} s): ground "
+                                       "speed"))
     splines = tuple(CubicSpline(t, a) for a in arrays)
     # the start values a sampled motion depends on besides its samples, as the planned
     # motions state theirs (a constant height is not in the samples)
