@@ -16,7 +16,22 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 
+import numpy as np
+
 from ins_errors.errors import InsErrorsError, unknown_name
+
+MIN_EARTH_RADIUS = 100e3
+"""m: the smallest Earth radius (semi-major axis) a run takes. Below it the ±100 km heights
+of a motion reach the centre (R + h ≤ 0), the course of a flight turns hundreds of radians
+a second, and the Schuler period 2π√(R/g) shrinks from the Earth's 84 min to seconds (2 s
+at R = 1 m), below any integration step."""
+
+MAX_EARTH_RADIUS = 1e12
+"""m: the largest Earth radius a run takes. The models hold the relative velocity as the
+angular rate v/R beside the Earth rate U; float64 rounds their sum to about 1.4e-20 rad/s,
+which is 1.4e-8 m/s of velocity at 1e12 m. It grows with R: at 1e16 m a static run's
+velocity errors are 0.2 % off, at 1e30 m a 0.01 deg/h drift gives 3e8 m/s. A flat Earth is
+approached well within the limit (1e12 m is flat to 1e-7 rad over 100 km)."""
 
 NON_NEGATIVE = {"k_h1": "vertical damping gain", "k_h2": "vertical damping gain"}
 """Parameters (of any model that has them) that must be zero or positive, with what they are."""
@@ -95,10 +110,94 @@ def _earth_problem(model, name: str, value: float) -> str | None:
     earth = earth_parameter_names(model.parameters)
     if name == earth.radius and not value > 0:
         return "the Earth's radius (semi-major axis) must be positive, in m"
+    if name == earth.radius and value < MIN_EARTH_RADIUS:
+        return (f"an Earth radius of {value:g} m is below {MIN_EARTH_RADIUS / 1e3:g} km, "
+                f"the smallest planet-sized body the models hold: at ±100 km heights R + h "
+                f"reaches the centre, a flight's course turns hundreds of radians a "
+                f"second, and the Schuler period 2π√(R/g) falls to "
+                f"{2 * np.pi * np.sqrt(value / 9.80665):.3g} s (84 min for the Earth)")
+    if name == earth.radius and value > MAX_EARTH_RADIUS:
+        return (f"an Earth radius of {value:g} m is beyond {MAX_EARTH_RADIUS:g} m: the models "
+                f"hold the velocity as the angular rate v/R beside the Earth rate, whose "
+                f"rounding (1.4e-20 rad/s) is then {1.4e-20 * value:.2g} m/s of velocity "
+                f"(for a flat Earth, {MAX_EARTH_RADIUS:g} m is flat to 1e-7 rad over 100 km)")
     if name == earth.eccentricity and not 0 <= value < 1:
         return ("the Earth's eccentricity squared must be at least 0 (a sphere) and below "
                 "1 (0.00669 for WGS-84)")
     return None
+
+
+SOURCE_LIMITS: dict[str, tuple[float, str, str]] = {
+    "rad": (2.0 * np.pi, "360° (one turn)",
+            "an angle error beyond one turn is the same attitude as one within it, and the "
+            "linear error model holds only below about 0.1 rad (5.7°)"),
+    "rad/s": (1.0, "1 rad/s (57°/s, 206 265 deg/h)",
+              "such a drift turns the platform a full turn in 6 s; even a consumer MEMS "
+              "gyro's bias is about 1°/s"),
+    "m/s**2": (10.0 * 9.80665, "10 g",
+               "beyond the accelerations the instrument measures; even a consumer MEMS "
+               "accelerometer's bias is about 0.1 g"),
+    "1": (1.0, "1 (100 %)",
+          "a scale-factor or gain error of 100 % or more leaves the instrument reading zero "
+          "or twice the truth, no longer an error of it"),
+    "m/s": (7909.0, "7.91 km/s",  # earth_constants.FIRST_COSMIC_VELOCITY, rounded
+            "the first cosmic velocity √(g a): nothing faster holds a height above the "
+            "Earth"),
+    "m": (2.0e7, "20 000 km",
+          "no two points on the Earth are farther apart than half its circumference"),
+}
+"""Largest magnitude of an error source by its SI unit (SI value, the same in words, why);
+:func:`source_problem` refuses a larger one (for unit 1, that one too). Sources in other
+units (noise densities) are not limited. The limits lie far beyond any instrument or
+alignment: a larger value is a unit or exponent slip (``1e30 deg/h``), whose runs
+otherwise leave the model's domain with no word of the source, or run on with the sines
+of rounding noise."""
+
+
+def source_problem(info, value: float) -> str | None:
+    """Why ``value`` (SI) cannot be the magnitude of error source ``info``, or None: a
+    magnitude beyond :data:`SOURCE_LIMITS` for its unit. The reason reads on from the
+    value (``"is beyond 360° (one turn), ..."``).
+
+    Parameters
+    ----------
+    info : ins_errors.numeric.model.Info
+        The source's description (its ``unit`` is SI).
+    value : float
+        The magnitude, SI.
+    """
+    limit = SOURCE_LIMITS.get(info.unit)
+    if limit is None:
+        return None
+    largest, bound, why = limit
+    if (abs(value) >= largest) if info.unit == "1" else not abs(value) <= largest:
+        verb = "reaches" if info.unit == "1" else "is beyond"
+        return (f"{verb} {bound}, the largest magnitude a run can mean ({why}); a unit or "
+                f"exponent slip?")
+    return None
+
+
+def check_source(info, value: float, text: object) -> float:
+    """``value`` (SI) if :func:`source_problem` finds nothing in it.
+
+    Parameters
+    ----------
+    info : ins_errors.numeric.model.Info
+        The source.
+    value : float
+        Its magnitude, SI.
+    text : object
+        The value as the user gave it, for the message.
+
+    Raises
+    ------
+    InsErrorsError
+        One line naming the source, the value as given and why it is refused.
+    """
+    problem = source_problem(info, value)
+    if problem is not None:
+        raise InsErrorsError(f"{info.name} = {text!r} {problem}")
+    return value
 
 
 def parameter_info(model, name: str):

@@ -139,6 +139,7 @@ def load_scenario(path: str | Path) -> Scenario:
         One line naming the file as given (``path``, its folder included), the key and
         what is wrong.
     """
+    from ins_errors.model_parameters import check_source
     from ins_errors.numeric.model import load_model
 
     where = os.fspath(path)  # as the user typed it, for messages
@@ -187,7 +188,8 @@ def load_scenario(path: str | Path) -> Scenario:
                 continue
             try:
                 info = model.sources[model.index("sources", name)]
-                sources[name] = parse_quantity(value, info.unit, name, numbers_are_si=False)
+                sources[name] = check_source(info, parse_quantity(
+                    value, info.unit, name, numbers_are_si=False), value)
             except InsErrorsError as error:
                 raise type(error)(f"{where} [[case]] {k}: {error}") from None
         if not sources:

@@ -239,7 +239,7 @@ def test_the_attitude_of_an_enu_model_is_read_from_its_equations():
 @pytest.mark.parametrize("option, said", [
     ("a=-6378137m", "a = '-6378137m': the Earth's radius (semi-major axis) must be positive"),
     ("e2=1.5", "e2 = '1.5': the Earth's eccentricity squared must be at least 0"),
-    ("a=50km", "parameter a = 50000 m of model 'enu_strapdown': a flight needs a planet-sized"),
+    ("a=50km", "a = '50km': an Earth radius of 50000 m is below 100 km"),
 ])
 def test_an_impossible_earth_is_refused_for_a_flight(option, said, capsys):
     status = main(["compare", str(ENU_FILE), "--motion", "great-circle", "--hours", "0.1",

@@ -110,15 +110,16 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def _sources(model, items: list[str]) -> list[tuple[str, float]]:
     from ins_errors.analysis.validity import source_example
     from ins_errors.errors import InsErrorsError
-    from ins_errors.model_parameters import name_value_pairs
+    from ins_errors.model_parameters import check_source, name_value_pairs
     from ins_errors.units import parse_quantity
 
     example = source_example(model)
     if not items:
         raise InsErrorsError(f"give at least one --source NAME=VALUE, e.g. --source {example}")
     pairs = name_value_pairs(items, "--source", example)
-    return [(name, parse_quantity(text, model.sources[model.index("sources", name)].unit, name))
-            for name, text in pairs.items()]
+    infos = {name: model.sources[model.index("sources", name)] for name in pairs}
+    return [(name, check_source(infos[name], parse_quantity(text, infos[name].unit, name),
+                                text)) for name, text in pairs.items()]
 
 
 def given_references(args: argparse.Namespace) -> dict[str, tuple[str, str]]:

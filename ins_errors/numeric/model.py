@@ -340,12 +340,29 @@ class Model:
         return p
 
     def source_vector(self, **magnitudes: float) -> np.ndarray:
-        """Error-source vector ``w`` (SI), zero except the named sources."""
+        """Error-source vector ``w`` (SI), zero except the named sources.
+
+        Raises
+        ------
+        InsErrorsError
+            For an unknown source or a magnitude that is not a finite number;
+            :class:`~ins_errors.errors.DomainError` for one beyond what a run can mean
+            (:func:`~ins_errors.model_parameters.source_problem`: an angle beyond one
+            turn, a drift beyond 1 rad/s, ...).
+        """
+        from ins_errors.model_parameters import source_problem
+
         w = np.zeros(len(self.sources))
         for key, value in magnitudes.items():
             k = self.index("sources", key)
             w[k] = self._number(value, self.sources[k], "source_vector")
         self._check_finite(w, "error sources")
+        for key in magnitudes:
+            k = self.index("sources", key)
+            problem = source_problem(self.sources[k], w[k])
+            if problem is not None:
+                raise DomainError(f"source_vector: {key} = {w[k]:g} "
+                                     f"{self.sources[k].unit} {problem}")
         return w
 
     def input_vector(self, **values: float) -> np.ndarray:
