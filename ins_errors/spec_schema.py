@@ -96,7 +96,8 @@ class SpecFile(_Table):
     """A whole accuracy-spec file (TOML)."""
 
     title: str | None = None
-    sigma_level: Positive = Field(1, description="the spec's values are this many σ")
+    sigma_level: Positive = Field(1, description="the spec's values are this many σ, from "
+                                  "0.1 to 10")
     operating_time: Quantity = Field("1 h", json_schema_extra=_UNIT)
     step: Quantity = Field("60 s", json_schema_extra=_UNIT)
     motion: SpecMotion = Field(default_factory=SpecMotion)

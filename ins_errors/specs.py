@@ -64,6 +64,7 @@ from typing import Any
 
 import numpy as np
 
+from ins_errors.earth_constants import FIRST_COSMIC_VELOCITY
 from ins_errors.errors import InsErrorsError, UnknownNameError, unknown_name
 from ins_errors.units import UnitError, format_duration, parse_quantity
 
@@ -135,6 +136,11 @@ ITEM_KINDS: dict[str, ItemKind] = {
 ABSOLUTE_OF = {"position_error": "position_error_absolute", "heading_drift": "heading_error"}
 """The item that takes an absolute limit for each rate item (a value in the wrong
 dimension names it)."""
+
+SIGMA_LEVELS = (0.1, 10.0)
+"""The σ levels a spec may state its values at: beyond 10σ a normal error's exceedance
+probability (1.5e-23) is past any test or flight record, below 0.1σ the limit is exceeded
+92 % of the time."""
 
 COMBINE = ("rss", "each")
 STATISTICS = ("constant", "white", "markov")
@@ -369,7 +375,7 @@ def _item_value(name: str, text: Any) -> float:
     absolute or rate counterpart (``position_error = "3.7 km"``) names that item."""
     kind = ITEM_KINDS[name]
     try:
-        return _positive(text, kind.unit, f"items.{name}", kind.example)
+        value = _positive(text, kind.unit, f"items.{name}", kind.example)
     except SpecError as error:
         other = ABSOLUTE_OF.get(name) or next(
             (rate for rate, absolute in ABSOLUTE_OF.items() if absolute == name), None)
@@ -384,13 +390,19 @@ def _item_value(name: str, text: Any) -> float:
         raise SpecError(f"items.{name} is {what} (e.g. {kind.example!r}); {text!r} is a "
                         f"limit for [items.{other}] (e.g. {ITEM_KINDS[other].example!r}): "
                         f"rename the table or change the value") from None
+    from ins_errors.model_parameters import source_problem
+
+    problem = source_problem(kind, value)  # an error no run can have limits nothing
+    if problem is not None:
+        raise SpecError(f"items.{name} = {text!r} {problem}")
+    return value
 
 
 def _manoeuvre(motion: Motion, legs: list | None) -> Motion:
     """A manoeuvre motion with its legs checked and written in SI (one-line errors)."""
     from dataclasses import replace
 
-    from ins_errors.numeric.motion_spec import in_si
+    from ins_errors.numeric.motion_spec import in_si, motion_profile
 
     description = motion.description()
     if legs is None:
@@ -406,6 +418,10 @@ def _manoeuvre(motion: Motion, legs: list | None) -> Motion:
                             f"{given.duration!r}")
         if "height" in leg:
             _check_height(float(leg["height"].split()[0]), f"motion.legs: leg {number}'s height")
+    try:
+        motion_profile(si)  # a leg no aircraft flies (10 g, 1000°/s) is refused here
+    except InsErrorsError as error:
+        raise SpecError(f"motion.legs: {error}") from None
     return replace(motion, legs=tuple(si["legs"]))
 
 
@@ -431,6 +447,11 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
     except InsErrorsError as error:
         raise SpecError(str(error)) from None
     title = checked.title if checked.title is not None else Path(path).stem
+    if not SIGMA_LEVELS[0] <= checked.sigma_level <= SIGMA_LEVELS[1]:
+        raise SpecError(f"sigma_level = {checked.sigma_level:g} is outside "
+                        f"[{SIGMA_LEVELS[0]:g}, {SIGMA_LEVELS[1]:g}]: a normal error exceeds "
+                        f"10σ with probability 1.5e-23, which no test or flight can tell from "
+                        f"20σ, and stays within 0.1σ only 8 % of the time (1σ or 2σ are usual)")
     operating_time = _positive(checked.operating_time, "s", "operating_time", "8 h")
     step = _positive(checked.step, "s", "step", "60 s")
     if step > operating_time:
@@ -452,6 +473,10 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
     if abs(motion.latitude) >= np.pi / 2:
         raise SpecError(f"motion.latitude {m.latitude!r} is at or beyond a pole (|φ| >= "
                         f"90 deg): the models divide by cos φ")
+    if motion.speed > FIRST_COSMIC_VELOCITY:
+        from ins_errors.numeric.trajectories import speed_beyond
+
+        raise SpecError(speed_beyond(motion.speed, "motion.speed"))
     if motion.kind != "static" and motion.speed <= 0:
         raise SpecError(f"motion.speed must be > 0 for a {motion.kind} motion (e.g. "
                         f"'250 m/s')")
