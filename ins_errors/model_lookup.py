@@ -331,11 +331,9 @@ def generated_folder(ref: ModelRef) -> Path:
              "of ins-errors (cached for next time)")
     else:
         _say(f"deriving {ref.label} (first use of this version; cached for next time)")
-    from ins_errors.derive.package import write_package
-
     origin, record = package_record(ref)
     try:
-        write_package(d, cached, origin, record)
+        write_derived(ref, d, cached, origin, record)
     except (InsErrorsError, OSError) as error:
         if recorded_hashes(cached) == current:
             return cached  # another process wrote the same package meanwhile
@@ -345,6 +343,35 @@ def generated_folder(ref: ModelRef) -> Path:
                              f"{error.strerror}") from None
     _prune(cached)
     return cached
+
+
+def write_derived(ref: ModelRef, d, out: Path, origin, record):
+    """Derive ``d`` (the definition of ``ref``) into the package folder ``out``:
+    :func:`ins_errors.derive.package.write_package`, whose errors name the model file.
+
+    Returns
+    -------
+    The summary ``write_package`` returns.
+
+    Raises
+    ------
+    ModelDefinitionError
+        One line naming the file (for a model file): a SymPy failure in the derivation,
+        or an expression nested too deeply for SymPy's recursive walks (a RecursionError).
+    """
+    from ins_errors.derive.package import write_package
+
+    try:
+        return write_package(d, out, origin, record)
+    except RecursionError:  # SymPy's printers and simplification recurse per level
+        raise ModelDefinitionError(f"{ref.label} (model {d.name!r}): an expression is too "
+                                   "deeply nested for SymPy (RecursionError while deriving "
+                                   "its code): name its inner parts as intermediate "
+                                   "quantities with let()") from None
+    except InsErrorsError as error:
+        if ref.path is not None and ref.path.name not in str(error):  # the file to fix
+            raise type(error)(f"{ref.label}: {error}") from None
+        raise
 
 
 def _cached_package(ref: ModelRef) -> Path | None:

@@ -31,9 +31,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ins_errors.derive.package import write_package
     from ins_errors.errors import InsErrorsError
-    from ins_errors.model_lookup import definition_of, next_to, package_record, resolve
+    from ins_errors.model_lookup import (
+        definition_of,
+        next_to,
+        package_record,
+        resolve,
+        write_derived,
+    )
 
     start = time.perf_counter()
     ref = resolve(args.model)
@@ -43,7 +48,7 @@ def run(args: argparse.Namespace) -> int:
     out = args.out if args.out is not None else next_to(ref.path)
     d = definition_of(ref)
     origin, record = package_record(ref) if ref.kind != "builtin" else (None, None)
-    summary = write_package(d, out, origin, record)
+    summary = write_derived(ref, d, out, origin, record)
     files = sorted(p.name for p in out.iterdir())
     if args.json:
         emit({**asdict(summary), "out": str(out), "files": files,

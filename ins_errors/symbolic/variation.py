@@ -129,6 +129,11 @@ def _step(model: str, quantity: str) -> Iterator[None]:
         yield
     except InsErrorsError:
         raise
+    except RecursionError:  # SymPy walks an expression recursively, a level per nesting
+        raise ModelDefinitionError(f"model {model!r}: {quantity}: an expression is too "
+                                   "deeply nested for SymPy to differentiate "
+                                   "(RecursionError): name its inner parts as intermediate "
+                                   "quantities with let() (step: variation)") from None
     except Exception as error:  # SymPy on a researcher's expressions: any failure
         text = str(error).strip().splitlines()
         raise ModelDefinitionError(f"model {model!r}: {quantity}: {type(error).__name__}: "
