@@ -238,7 +238,7 @@ def test_a_flight_on_an_earth_of_metres_is_refused_in_one_line(radius, capsys):
     err = [line for line in capsys.readouterr().err.strip().splitlines()
            if not line.startswith("ins-errors: deriving")]
     assert status == 2 and len(err) == 1, err
-    assert "parameter R" in err[0] and "planet-sized" in err[0]
+    assert f"R = '{radius}'" in err[0] and "planet-sized" in err[0], err
 
 
 def test_a_position_integration_whose_steps_explode_is_refused(sphere):
