@@ -97,7 +97,9 @@ def test_injected_mistakes_are_found_and_classed(start, old, new, quantity, kind
 
 
 def test_sizes_are_relative_to_the_largest_term():
-    """Sign error on the largest term: twice its size; doubled term: half the largest."""
+    """Sizes are relative to the model's largest term: a sign error on it is twice its
+    size, and doubling it is a difference as large as the term itself (the hand's doubled
+    term does not set the scale)."""
     sign = check(CORRECT.replace("- a_zeta*alpha_y", "+ a_zeta*alpha_y"))
     (f,) = [f for r in results_at(sign, line_of(CORRECT, "dot(Delta_V_xi)"))
             for f in r.findings]
@@ -105,7 +107,7 @@ def test_sizes_are_relative_to_the_largest_term():
     double = check(CORRECT.replace("+ a_zeta*alpha_x", "+ 2*a_zeta*alpha_x"))
     (f,) = [f for r in results_at(double, line_of(CORRECT, "dot(Delta_V_eta)"))
             for f in r.findings]
-    assert f.size == pytest.approx(0.5, rel=1e-12)
+    assert f.size == pytest.approx(1.0, rel=1e-12)
     assert f.detail == "hand/model = 2 at every point"
 
 

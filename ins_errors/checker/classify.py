@@ -7,7 +7,8 @@ wrong function (``cos 2λ`` where no function belongs) or a wrong exponent. Symb
 function and exponent slips are found by trying the one-place changes that would make
 the hand coefficient equal the model's at every reference point.
 
-*How much it matters* (the size, relative to the equation's largest term) gives the
+*How much it matters* (the size, relative to the largest term of the model's side of the
+equation, so a wrong term the hand adds cannot shrink another finding) gives the
 ``severity``: a term that is present but wrong is a ``"mistake"`` whatever its size
 (``"mistake, small effect"`` below the threshold); only an omission of a small term is
 a ``"dropped small term"``; an omission the author declared (``@neglect``) is a
@@ -88,8 +89,9 @@ class Finding:
     severity : str
         How much it matters (:data:`SEVERITIES`).
     size : float
-        Largest ratio, over the reference points, of the discrepancy to the equation's
-        largest term at that point.
+        Largest ratio, over the reference points, of the discrepancy to the largest term
+        of the model's side of the equation at that point (of the hand's where the model
+        has none).
     point : str
         Reference point where that ratio is reached.
     hand, model : str
@@ -576,7 +578,7 @@ def line_findings(eq: HandEquation, item: Item, comparison: Comparison, identify
         if parts is None:  # what the definitions the line uses change, term by term
             parts = {g.quantity: g for g in comparison.compare(
                 hand_declared, item.hand_isolated, item.hand_display, diagnose=False,
-                trusted=True)}
+                trusted=True, reference=item.model_declared)}
         part = parts.get(f.quantity)
         if part is not None and part.severity != DROPPED:
             shown = next(g for g in with_declared if g.quantity == f.quantity)

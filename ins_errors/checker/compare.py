@@ -11,7 +11,8 @@ mechanical side goes through the model's varied intermediates
 The coefficient of each basis quantity is compared numerically at the reference points
 (:mod:`~ins_errors.checker.reference`); a term's size is ``|coefficient| × typical
 magnitude`` of its quantity, and a discrepancy is measured relative to the largest term
-of its equation at the same point (the largest ratio over the points is reported).
+of the model's side of its equation at the same point (the largest ratio over the points
+is reported): the truth's scale, which a wrong term of the hand's cannot change.
 
 Each line is compared three times:
 
@@ -542,9 +543,16 @@ class Comparison:
             raise UnresolvedError(None, "a coefficient is complex at a reference point")
         return values.real
 
-    def differences(self, hand: sp.Expr, model: sp.Expr, trusted: bool = False
-                    ) -> tuple[dict, np.ndarray, np.ndarray]:
-        """Per basis quantity: discrepancy data; also the largest term and constant part."""
+    def differences(self, hand: sp.Expr, model: sp.Expr, trusted: bool = False,
+                    reference: sp.Expr | None = None) -> tuple[dict, np.ndarray, np.ndarray]:
+        """Per basis quantity: discrepancy data; also the scale and the constant part.
+
+        A discrepancy's size is relative to the scale at each point: the largest term of
+        the model's side there (of ``reference`` if given, else of ``model``), the
+        truth's scale, so a large wrong term the hand adds cannot make another finding
+        look small. Where the model's side has no term at all, the largest term of
+        either side.
+        """
         h, hc = self.linear_parts(hand)
         m, mc = self.linear_parts(model, trusted=True)
         quantities = [b for b in self.symbols if b in h or b in m]
@@ -560,7 +568,9 @@ class Comparison:
         # 1 is no "extra term" of a hand that writes 1e15 for it)
         hand_largest = np.max(np.abs(hv) * weights, axis=0) if k else largest
         model_largest = np.max(np.abs(mv) * weights, axis=0) if k else largest
-        safe = np.where(largest > 0, largest, np.inf)
+        truth = model_largest if reference is None else self.largest_term(reference)
+        scale = np.where(truth > 0, truth, largest)
+        safe = np.where(scale > 0, scale, np.inf)
         raw: dict[sp.Symbol, dict] = {}
         for i, b in enumerate(quantities):
             ratios = np.abs(hv[i] - mv[i]) * weights[i] / safe
@@ -571,17 +581,31 @@ class Comparison:
                           "hand_largest": hand_largest, "model_largest": model_largest,
                           "hand_expr": h.get(b, sp.S.Zero), "model_expr": m.get(b, sp.S.Zero),
                           "ratios": ratios}
-        return raw, largest, constant
+        return raw, scale, constant
+
+    def largest_term(self, expr: sp.Expr) -> np.ndarray:
+        """Largest |coefficient| × typical magnitude of the terms of ``expr`` (a model
+        side) at each point, shape (points,)."""
+        parts, _ = self.linear_parts(expr, trusted=True)
+        quantities = [b for b in self.symbols if b in parts]
+        if not quantities:
+            return np.zeros(len(self.points))
+        values = self.evaluate([parts[b] for b in quantities])
+        weights = np.array([self.magnitude[b] for b in quantities]).reshape(-1, 1)
+        return np.max(np.abs(values) * weights, axis=0)
 
     def compare(self, hand: sp.Expr, model: sp.Expr, hand_display: sp.Expr | None = None,
-                diagnose: bool = True, trusted: bool = False) -> list[Finding]:
+                diagnose: bool = True, trusted: bool = False,
+                reference: sp.Expr | None = None) -> list[Finding]:
         """Findings of one equation (both sides already in basis + model symbols).
 
         ``hand_display`` is the hand side with its own ideal symbols kept, used only to
         show the hand coefficients in the researcher's notation. ``trusted``: the hand
         side is known to be linear (an isolated form of a line already checked).
+        ``reference``: the model side whose largest term sizes the findings, when
+        ``model`` is not it (:meth:`differences`).
         """
-        raw, largest, constant = self.differences(hand, model, trusted)
+        raw, largest, constant = self.differences(hand, model, trusted, reference)
         shown = (self.linear_parts(hand_display, trusted=True)[0] if hand_display is not None
                  else self.linear_parts(hand)[0])
         rule = tuple(self.display_model.items())
