@@ -73,6 +73,11 @@ class SourceTable(_Table):
     kind: Literal["constant", "white", "markov"] = "constant"
     tau: Quantity | None = Field(None, json_schema_extra=_UNIT)
     include: StrictBool = True
+    sigma_level: Positive | None = Field(
+        None, description="σ level of this source's magnitude (fixed, and as reported), "
+        "e.g. 1 for a datasheet's 1σ bias in a 3σ spec (default: the spec's "
+        "sigma_level); a white-noise density (kind 'white') has none: it is read as "
+        "given")
 
 
 class Allocation(_Table):

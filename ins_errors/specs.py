@@ -48,7 +48,9 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
     fill = false                     # scale the free sources up until an item is met exactly
     [sources.gyro_drift_z]
     weight = 2                       # or fixed = "0.01 deg/h" (not both), kind = "markov",
-                                     # tau = "1 h"
+                                     # tau = "1 h"; sigma_level = 1: the fixed value is
+                                     # 1σ (default: the spec's level; a white density,
+                                     # kind = "white", is always read as given)
     [parameters]                     # optional: model parameters with units, as in a
     k_h1 = "0.0047 1/s"              # scenario (--parameter overrides them)
 """
@@ -196,6 +198,11 @@ class SourceOption:
         Correlation time of a Markov source, s.
     include : bool
         False leaves the source out of the budget (taken as zero).
+    sigma_level : float or None
+        σ level of the source's magnitude as written (``fixed``) and reported, for a
+        constant or Markov source (``sigma_level = 1``: a datasheet's 1σ bias in a 3σ
+        spec); None: the spec's level. A white-noise density has none: it is read and
+        reported as the density it is (1σ), whatever the spec's level.
     """
 
     name: str
@@ -204,6 +211,7 @@ class SourceOption:
     kind: str = "constant"
     tau: float | None = None
     include: bool = True
+    sigma_level: float | None = None
 
 
 @dataclass(frozen=True)
@@ -548,8 +556,13 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         if table.fixed is not None and "weight" in table.model_fields_set:
             raise SpecError(f"sources.{name}: a fixed source takes no share, so its weight "
                             f"would be ignored: give either fixed or weight")
+        level = None if table.sigma_level is None else float(table.sigma_level)
+        if table.kind == "white" and level not in (None, 1.0):
+            raise SpecError(f"sources.{name}: a white-noise density has no σ level (it is "
+                            f"read as the density it is, 1σ, whatever the spec's "
+                            f"sigma_level): leave sigma_level out")
         sources[name] = SourceOption(name, float(table.weight), table.fixed, table.kind, tau,
-                                     table.include)
+                                     table.include, level)
     return Spec(title, float(checked.sigma_level), operating_time, step, motion, tuple(items),
                 sources, checked.allocation.fill, path, dict(checked.parameters or {}))
 

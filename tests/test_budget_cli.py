@@ -539,7 +539,9 @@ MARKOV_SPEC = """
 
 
 def _gyro_x_allowance(tmp_path, capsys, step: str, kind: str, tau: str = "") -> float:
-    """gyro_drift_x's allowance (SI, 2σ) of the spec above, run with warnings as errors."""
+    """gyro_drift_x's allowance (SI, 1σ: a Markov process's steady-state σ, or a white
+    density, which is read and reported as it is whatever the spec's level) of the spec
+    above, run with warnings as errors."""
     spec = write(tmp_path, MARKOV_SPEC.format(step=step, kind=kind, tau=tau),
                  f"{kind}_{step}_{len(tau)}.toml".replace(" ", ""))
     import warnings
@@ -547,7 +549,7 @@ def _gyro_x_allowance(tmp_path, capsys, step: str, kind: str, tau: str = "") -> 
         warnings.simplefilter("error")        # the overflow of a short τ must not come back
         assert main(["budget", "orthodromic", "--spec", str(spec), "--json"]) == 0
     sources = json.loads(capsys.readouterr().out)["sources"]
-    return next(s for s in sources if s["name"] == "gyro_drift_x")["magnitude"]
+    return next(s for s in sources if s["name"] == "gyro_drift_x")["magnitude_1sigma"]
 
 
 def test_markov_source_far_shorter_than_the_step_is_allocated_as_its_white_equivalent(

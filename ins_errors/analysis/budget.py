@@ -193,6 +193,10 @@ class BudgetSource:
         Share weight.
     fixed : float or None
         Fixed 1σ magnitude (SI), or None when allocated.
+    sigma_level : float
+        σ level of the magnitude as the spec writes it and the reports show it: the
+        source's own ``sigma_level`` or the spec's for a constant or Markov source, 1 for
+        a white-noise density (a density has no σ level: it is read as given).
     """
 
     name: str
@@ -202,6 +206,7 @@ class BudgetSource:
     tau: float | None
     weight: float
     fixed: float | None
+    sigma_level: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -321,6 +326,7 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
         display = info.display_unit or info.unit
         if suffix:
             display = density_display(display, unit)
+        level = source_level(spec, option)
         fixed = None
         if option.fixed is not None:
             try:
@@ -332,12 +338,20 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
             if value < 0:
                 raise SpecError(f"{where}: sources.{info.name}.fixed must be >= 0, got "
                                 f"{option.fixed!r}")
-            fixed = value / spec.sigma_level
+            fixed = value / level
         result.append(BudgetSource(info.name, unit, display, option.kind, option.tau,
-                                   option.weight, fixed))
+                                   option.weight, fixed, level))
     if not result:
         raise SpecError(f"{where}: every error source is excluded from the budget")
     return tuple(result)
+
+
+def source_level(spec: Spec, option) -> float:
+    """The σ level of a source's magnitude (:attr:`BudgetSource.sigma_level`): 1 for a
+    white-noise density, else the source's ``sigma_level`` or the spec's."""
+    if option.kind == "white":
+        return 1.0
+    return spec.sigma_level if option.sigma_level is None else option.sigma_level
 
 
 def density_display(display: str, unit: str) -> str:
@@ -914,9 +928,16 @@ class Allocation:
     beyond_linear: np.ndarray | None = None
 
     @property
+    def levels(self) -> np.ndarray:
+        """σ level of every source's magnitude (:attr:`BudgetSource.sigma_level`: the
+        spec's, a source's own, 1 for a white-noise density), shape (ns,)."""
+        return np.array([s.sigma_level for s in self.budget.sources])
+
+    @property
     def magnitudes(self) -> np.ndarray:
-        """Allowed magnitudes at the spec's σ level (k σ), SI."""
-        return self.sigma * self.budget.spec.sigma_level
+        """Allowed magnitudes at each source's σ level (:attr:`levels`; the spec's k σ
+        unless the source says otherwise, a white-noise density as it is), SI."""
+        return self.sigma * self.levels
 
     def contributions(self) -> np.ndarray:
         """Variance of every row from every source at the allocated σ, (nr, ns)."""

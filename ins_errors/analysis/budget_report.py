@@ -199,7 +199,8 @@ def report(allocation: Allocation) -> dict:
     rows_of = item_rows(budget)
     worst = dict(zip(rows_of, worst_rows(allocation), strict=True))
     sources = []
-    linear = budget.linear_limits * k
+    levels = allocation.levels
+    linear = budget.linear_limits * levels
     beyond = (np.zeros(len(budget.sources), dtype=bool) if allocation.beyond_linear is None
               else allocation.beyond_linear)
     for j, s in enumerate(budget.sources):
@@ -213,7 +214,7 @@ def report(allocation: Allocation) -> dict:
             "name": s.name,
             "statistics": s.statistics,
             "magnitude": float(magnitude) if finite else None,
-            "magnitude_sigma_level": k,
+            "magnitude_sigma_level": float(levels[j]),
             "magnitude_1sigma": float(allocation.sigma[j]) if finite else None,
             "unit": s.unit,
             "display": display(magnitude, s.unit, s.display_unit),
@@ -279,8 +280,6 @@ def exceeded_report(error: SpecExceededError) -> dict:
     (``exceeded`` on the rows used up), each item's worst row, and the free sources,
     which get no magnitude."""
     budget = error.budget
-    spec = budget.spec
-    k = spec.sigma_level
     fixed = [s for s in budget.sources if s.fixed is not None]
     rows = _rows_json(budget, error.values, error.used_up)
     shares = fixed_allocation(error).contributions() / budget.allowed_variances[:, None]
@@ -289,9 +288,10 @@ def exceeded_report(error: SpecExceededError) -> dict:
         "exceeded": True,
         "rule": _RULE + "; the fixed sources alone use up the spec, so nothing is allocated",
         "sources": [{"name": s.name, "statistics": s.statistics,
-                     "magnitude": float(s.fixed * k), "magnitude_sigma_level": k,
+                     "magnitude": float(s.fixed * s.sigma_level),
+                     "magnitude_sigma_level": s.sigma_level,
                      "magnitude_1sigma": float(s.fixed), "unit": s.unit,
-                     "display": display(s.fixed * k, s.unit, s.display_unit),
+                     "display": display(s.fixed * s.sigma_level, s.unit, s.display_unit),
                      "fixed": True} for s in fixed],
         "free_sources": [s.name for s in budget.sources if s.fixed is None],
         "items": _items_json(budget, rows, shares), "rows": rows,
@@ -329,9 +329,31 @@ def exceeded_table(data: dict) -> str:
         lines.append(f"{_item_label(item['name'], worst['component']):<28} "
                      f"{format_time(worst['time_h'] * HOUR):>10}  "
                      f"{worst['display']:<34} {worst['ratio']:>6.3f}  {mark}")
-    lines += ["", "Fixed sources (" + k + "): "
-              + ", ".join(f"{s['name']} {s['display']}" for s in data["sources"])]
+    lines += ["", f"Fixed sources ({levels_note(data)}): "
+              + ", ".join(f"{s['name']} {shown_magnitude(s, data['sigma_level'])}"
+                          for s in data["sources"])]
     return "\n".join(lines)
+
+
+def shown_magnitude(source: dict, k: float) -> str:
+    """A source's magnitude as a table shows it (its ``display``), with its σ level
+    after it where that is not the spec's k (a 1σ datasheet bias in a 3σ spec); a
+    white-noise density, which has no σ level, is shown as it is."""
+    text = source["display"].strip()
+    level = source.get("magnitude_sigma_level", k)
+    if source.get("statistics") == "white" or level == k or text == "unconstrained":
+        return text
+    return f"{text} ({level:g}σ)"
+
+
+def levels_note(data: dict) -> str:
+    """The σ level of the magnitudes of a source list: the spec's k, and that a
+    white-noise density is read and shown as given (it has no σ level) when the list
+    has one."""
+    k = f"{data['sigma_level']:g}σ"
+    if any(s.get("statistics") == "white" for s in data["sources"]):
+        return f"{k}; white-noise densities as given, 1σ: a density has no σ level"
+    return k
 
 
 def table(allocation: Allocation) -> str:
@@ -351,7 +373,10 @@ def table(allocation: Allocation) -> str:
         else:
             comp = f" [{s['binding_component']}]" if s["binding_component"] else ""
             bind = f"{s['binding_item']}{comp} at {format_time(s['binding_time_h'] * HOUR)}"
-        lines.append(f"{s['name']:<36} {s['display']:>22}  {bind}")
+        shown = shown_magnitude(s, data["sigma_level"])
+        lines.append(f"{s['name']:<36} {shown:>22}  {bind}")
+    if any(s["statistics"] == "white" for s in data["sources"]):
+        lines.append("(white-noise densities as given, 1σ: a density has no σ level)")
     lines += ["", f"Spec rows at the allocated magnitudes (worst time of each item, {k}; "
               "limits as the spec writes them):",
               f"{'item':<28} {'time':>10}  {'value of limit':<34} {'ratio':>6}", "-" * 84]
@@ -457,8 +482,9 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
             bar.set_hatch(FIXED_HATCH)
             bar.set_edgecolor("white")
             bar.set_linewidth(0)
-    sources = ([f"{s['name']}  = {s['display'].strip()} (fixed)" for s in fixed]
-               + [f"{s['name']}  ≤ {s['display'].strip()}" for s in limited])
+    level = spec.sigma_level
+    sources = ([f"{s['name']}  = {shown_magnitude(s, level)} (fixed)" for s in fixed]
+               + [f"{s['name']}  ≤ {shown_magnitude(s, level)}" for s in limited])
     left.set_yticks(y, sources, fontsize=8)
     if fixed and limited:
         left.axhline(y[len(fixed) - 1] - 0.5, color="k", lw=0.8, ls=":")

@@ -1,0 +1,203 @@
+"""Sizing an IMU with ``ins-errors budget``: datasheet values (1σ biases, noise
+densities) in a spec, checked against an independent 9-state NED error model at rest
+(typed here: φ-angle, velocity and position errors with a damped vertical channel,
+random constants as augmented states and white noise through Van Loan's exact
+discretisation)."""
+
+from __future__ import annotations
+
+import json
+import textwrap
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+import ins_errors
+from ins_errors.cli import main
+
+DEG = np.pi / 180
+G0 = 9.80665
+LAT, HEIGHT, K1, K2 = 45 * DEG, 3000.0, 0.0293, 4.42e-4
+ARW, VRW = 0.02 * DEG / 60, 0.02 / 60        # 0.02 deg/√h, 0.02 m/s/√h in SI
+DRIFT, BIAS = 0.5 * DEG / 3600, 100e-6 * G0  # 0.5 deg/h, 100 ug
+
+
+def ned_reference(lat: float, h: float, k1: float, k2: float):
+    """The 9-state φ-angle error model at rest: states (φ_N, φ_E, φ_D, δv_N, δv_E, δv_D,
+    δφ, δλ, δh up), WGS-84 radii and normal gravity at height h, the vertical channel
+    damped by k1 (height) and k2 (vertical speed); the gyro and accelerometer biases'
+    input columns with the body axes along north, east, down. Returns F, the inputs by
+    source name, R_N and R_E cos φ (m)."""
+    a, e2, omega = 6378137.0, 6.69437999014e-3, 7.292115e-5
+    s, c = np.sin(lat), np.cos(lat)
+    w = 1 - e2 * s * s
+    r_n = a * (1 - e2) / w**1.5 + h
+    r_e = a / np.sqrt(w) + h
+    g0 = 9.7803253359 * (1 + 0.00193185265241 * s * s) / np.sqrt(w)
+    f = 1 / 298.257223563
+    m = omega**2 * a * a * (1 - f) / 3.986004418e14
+    g = g0 * (1 - 2 * h / a * (1 + f + m - 2 * f * s * s) + 3 * h * h / (a * a))
+    earth = np.array([omega * c, 0.0, -omega * s])
+
+    def cross(v):
+        return np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+
+    F = np.zeros((9, 9))
+    F[:3, :3] = -cross(earth)
+    F[0, 4], F[1, 3], F[2, 4] = 1 / r_e, -1 / r_n, -np.tan(lat) / r_e
+    F[0, 6], F[2, 6] = -omega * s, -omega * c
+    F[3:6, :3] = cross(np.array([0.0, 0.0, -g]))     # f × φ with f = (0, 0, −g)
+    F[3:6, 3:6] = -2 * cross(earth)
+    F[5, 8] = -2 * g / np.sqrt(r_n * r_e) + k2
+    F[6, 3], F[7, 4], F[8, 5], F[8, 8] = 1 / r_n, 1 / (r_e * c), -1.0, -k1
+    inputs = {}
+    for i, axis in enumerate("xyz"):
+        inputs[f"gyro_bias_{axis}"] = -np.eye(9)[i]
+        inputs[f"accel_bias_{axis}"] = np.eye(9)[3 + i]
+    return F, inputs, r_n, r_e * c
+
+
+def reference_position(constants: dict, densities: dict, t: float, dt: float = 60.0) -> float:
+    """1σ horizontal position error (m) at t (s) from random constants (1σ, SI) and white
+    noises (densities, SI) on the reference model at the probe's site."""
+    F, inputs, r_n, r_e_cos = ned_reference(LAT, HEIGHT, K1, K2)
+    names = list(constants)
+    n = 9
+    N = n + len(names)
+    A = np.zeros((N, N))
+    A[:n, :n] = F
+    for j, name in enumerate(names):
+        A[:n, n + j] = inputs[name]
+    P = np.zeros((N, N))
+    P[n:, n:] = np.diag([constants[k] ** 2 for k in names])
+    Q = np.zeros((N, N))
+    for name, density in densities.items():
+        b = np.zeros(N)
+        b[:n] = inputs[name]
+        Q += density**2 * np.outer(b, b)
+    M = np.zeros((2 * N, 2 * N))
+    M[:N, :N], M[:N, N:], M[N:, N:] = -A, Q, A.T
+    X = expm(M * dt)
+    Phi = X[N:, N:].T
+    Qd = Phi @ X[:N, N:]
+    for _ in range(round(t / dt)):
+        P = Phi @ P @ Phi.T + Qd
+    return float(np.sqrt(r_n**2 * P[6, 6] + r_e_cos**2 * P[7, 7]))
+
+
+def noise_densities() -> dict:
+    return {**{f"gyro_bias_{a}": ARW for a in "xyz"},
+            **{f"accel_bias_{a}": VRW for a in "xyz"}}
+
+
+def bias_constants() -> dict:
+    return {**{f"gyro_bias_{a}": DRIFT for a in "xyz"},
+            **{f"accel_bias_{a}": BIAS for a in "xyz"}}
+
+
+def spec_text(sources: str, sigma_level: float = 1, limit: str = "2 km") -> str:
+    """A spec at the probe's site with one item, the horizontal position at 1 h, and
+    every strapdown_ned source left out but those ``sources`` (TOML tables) give."""
+    model = ins_errors.load_model("strapdown_ned")
+    given = {line.split(".", 1)[1].split("]")[0].split(".")[0]
+             for line in sources.splitlines() if line.startswith("[sources.")}
+    left_out = "".join(f"[sources.{s.name}]\ninclude = false\n" for s in model.sources
+                       if s.name not in given)
+    return textwrap.dedent(f"""\
+        sigma_level = {sigma_level}
+        operating_time = "1 h"
+        step = "60 s"
+        [motion]
+        kind = "static"
+        latitude = "45 deg"
+        longitude = "10 deg"
+        height = "3000 m"
+        [items.position_error_absolute]
+        value = "{limit}"
+        times = ["1 h"]
+        [parameters]
+        k_h1 = "0.0293 1/s"
+        k_h2 = "4.42e-4 1/s**2"
+        """) + textwrap.dedent(sources) + left_out
+
+
+def run_budget(tmp_path, capsys, text: str, name: str = "spec.toml") -> tuple[int, dict]:
+    path = tmp_path / name
+    path.write_text(text)
+    status = main(["budget", "strapdown_ned", "--spec", str(path), "--json"])
+    return status, json.loads(capsys.readouterr().out)
+
+
+NOISE = """\
+[sources.gyro_bias_x]
+kind = "white"
+fixed = "0.02 deg/sqrt(h)"
+[sources.gyro_bias_y]
+kind = "white"
+fixed = "0.02 deg/sqrt(h)"
+[sources.gyro_bias_z]
+kind = "white"
+fixed = "0.02 deg/sqrt(h)"
+[sources.accel_bias_x]
+kind = "white"
+fixed = "0.02 m/s/sqrt(h)"
+[sources.accel_bias_y]
+kind = "white"
+fixed = "0.02 m/s/sqrt(h)"
+[sources.accel_bias_z]
+kind = "white"
+fixed = "0.02 m/s/sqrt(h)"
+"""
+
+
+def test_a_noise_density_is_read_as_it_is_whatever_the_spec_level(tmp_path, capsys):
+    """A white-noise density has no σ level: 0.02 deg/√h in a 3σ spec is 0.02 deg/√h
+    (it was divided by 3, and the 3σ position error came out a third of the truth). The
+    3σ spec's position error is 3 times the reference's 1σ one, and the 1σ spec's is
+    the reference's."""
+    expected = reference_position({}, noise_densities(), 3600.0)
+    assert expected == pytest.approx(4400, rel=0.01)       # the probe's 1σ figure
+    for level in (1, 3):
+        status, data = run_budget(tmp_path, capsys, spec_text(NOISE, level),
+                                  f"noise_{level}.toml")
+        assert status == 1                                  # 2 km is exceeded either way
+        row = data["rows"][0]
+        assert row["sigma_level"] == level
+        assert row["value"] == pytest.approx(level * expected, rel=2e-3)
+        gyro = next(s for s in data["sources"] if s["name"] == "gyro_bias_x")
+        assert gyro["magnitude"] == pytest.approx(ARW, rel=1e-12)
+        assert gyro["magnitude_1sigma"] == pytest.approx(ARW, rel=1e-12)
+        assert gyro["magnitude_sigma_level"] == 1
+    main(["budget", "strapdown_ned", "--spec", str(tmp_path / "noise_3.toml")])
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if x.startswith("Fixed sources"))
+    assert "3σ; white-noise densities as given, 1σ" in line
+
+
+def test_a_bias_with_its_own_sigma_level(tmp_path, capsys):
+    """``sigma_level = 1`` on a fixed bias reads a datasheet's 1σ value in a 3σ spec:
+    the 3σ position error is 3 times the reference's 1σ one; without it the value is
+    read at the spec's level (a third of the bias)."""
+    biases = "".join(f'[sources.{name}]\nfixed = "{text}"\nsigma_level = 1\n'
+                     for name, text in [*((f"gyro_bias_{a}", "0.5 deg/h") for a in "xyz"),
+                                        *((f"accel_bias_{a}", "100 ug") for a in "xyz")])
+    expected = reference_position(bias_constants(), {}, 3600.0)
+    _, data = run_budget(tmp_path, capsys, spec_text(biases, 3, "1000 km"))
+    assert data["rows"][0]["value"] == pytest.approx(3 * expected, rel=2e-3)
+    gyro = next(s for s in data["sources"] if s["name"] == "gyro_bias_x")
+    assert gyro["magnitude"] == pytest.approx(DRIFT, rel=1e-12)
+    assert gyro["magnitude_sigma_level"] == 1
+    _, data = run_budget(tmp_path, capsys, spec_text(biases.replace(
+        "sigma_level = 1\n", ""), 3, "1000 km"), "spec_level.toml")
+    assert data["rows"][0]["value"] == pytest.approx(expected, rel=2e-3)
+
+
+def test_a_sigma_level_on_a_noise_density_is_refused(tmp_path, capsys):
+    text = spec_text('[sources.gyro_bias_x]\nkind = "white"\nfixed = "0.02 deg/sqrt(h)"\n'
+                     'sigma_level = 3\n', 3)
+    path = tmp_path / "spec.toml"
+    path.write_text(text)
+    assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "a white-noise density has no σ level" in err and len(err.splitlines()) == 1
