@@ -65,6 +65,20 @@ class SpecItem(_Table):
     combine: Literal["rss", "each"] = "rss"
 
 
+class NoiseTable(_Table):
+    """``[sources.NAME.noise]``: a second part of the source, noise beside its bias."""
+
+    weight: Positive = 1.0
+    fixed: Quantity | None = Field(None, json_schema_extra=_UNIT)
+    kind: Literal["white", "markov"] = Field(
+        "white", description="'white' (a density, e.g. '0.02 deg/sqrt(h)') or 'markov' "
+        "(with tau); a kind other than the source's own")
+    tau: Quantity | None = Field(None, json_schema_extra=_UNIT)
+    sigma_level: Positive | None = Field(
+        None, description="σ level of a Markov part's magnitude (default: the spec's); a "
+        "white density has none")
+
+
 class SourceTable(_Table):
     """``[sources.NAME]``: how the budget treats one error source."""
 
@@ -78,6 +92,10 @@ class SourceTable(_Table):
         "e.g. 1 for a datasheet's 1σ bias in a 3σ spec (default: the spec's "
         "sigma_level); a white-noise density (kind 'white') has none: it is read as "
         "given")
+    noise: NoiseTable | None = Field(
+        None, description="a second part of the source, propagated beside it: its noise "
+        "(e.g. [sources.gyro_bias_x] fixed = '0.5 deg/h' with [sources.gyro_bias_x.noise] "
+        "fixed = '0.02 deg/sqrt(h)')")
 
 
 class Allocation(_Table):
@@ -149,6 +167,7 @@ def validate(data: dict) -> SpecFile:
             tables[str(loc[1])] = SpecItem
         if len(loc) >= 3 and loc[0] == "sources":
             tables[str(loc[1])] = SourceTable
+            tables["noise"] = NoiseTable
         plain = _union_message(first)
         if plain:
             raise InsErrorsError(plain) from None

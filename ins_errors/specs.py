@@ -203,6 +203,10 @@ class SourceOption:
         constant or Markov source (``sigma_level = 1``: a datasheet's 1σ bias in a 3σ
         spec); None: the spec's level. A white-noise density has none: it is read and
         reported as the density it is (1σ), whatever the spec's level.
+    noise : SourceOption or None
+        A second part of the source, of another kind (``[sources.NAME.noise]``: white
+        noise or Gauss-Markov noise beside a constant bias), propagated together with
+        it and allocated or fixed as a source of its own; None: the source has one part.
     """
 
     name: str
@@ -212,6 +216,7 @@ class SourceOption:
     tau: float | None = None
     include: bool = True
     sigma_level: float | None = None
+    noise: SourceOption | None = None
 
 
 @dataclass(frozen=True)
@@ -540,31 +545,49 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
 
     sources = {}
     for name, table in checked.sources.items():
-        tau = None
-        if table.kind == "markov":
-            if table.tau is None:
-                raise SpecError(f"sources.{name}: a markov source needs tau (e.g. '1 h')")
-            tau = _positive(table.tau, "s", f"sources.{name}.tau", "1 h")
-            from ins_errors.analysis.covariance import (
-                SHORTEST_TAU_PER_STEP,
-                short_tau_message,
-            )
-            if tau < step * SHORTEST_TAU_PER_STEP:
-                raise SpecError(short_tau_message(f"sources.{name}.tau", tau, step))
-        elif table.tau is not None:
-            raise SpecError(f"sources.{name}: tau applies only to kind = 'markov'")
-        if table.fixed is not None and "weight" in table.model_fields_set:
-            raise SpecError(f"sources.{name}: a fixed source takes no share, so its weight "
-                            f"would be ignored: give either fixed or weight")
-        level = None if table.sigma_level is None else float(table.sigma_level)
-        if table.kind == "white" and level not in (None, 1.0):
-            raise SpecError(f"sources.{name}: a white-noise density has no σ level (it is "
-                            f"read as the density it is, 1σ, whatever the spec's "
-                            f"sigma_level): leave sigma_level out")
-        sources[name] = SourceOption(name, float(table.weight), table.fixed, table.kind, tau,
-                                     table.include, level)
+        noise = None
+        if table.noise is not None:
+            where = f"sources.{name}.noise"
+            if table.noise.kind == table.kind:
+                raise SpecError(f"{where}: the noise part's kind is {table.kind!r}, as the "
+                                f"source's own: a source takes at most one part of each "
+                                f"kind (give the noise kind = 'white' or 'markov', the "
+                                f"source another)")
+            if not table.include:
+                raise SpecError(f"{where}: include = false leaves the whole source out, its "
+                                f"noise too: drop the noise table or the include")
+            noise = _source_option(name, table.noise, where, step, include=True)
+        sources[name] = _source_option(name, table, f"sources.{name}", step, table.include,
+                                       noise)
     return Spec(title, float(checked.sigma_level), operating_time, step, motion, tuple(items),
                 sources, checked.allocation.fill, path, dict(checked.parameters or {}))
+
+
+def _source_option(name: str, table, where: str, step: float, include: bool,
+                   noise: SourceOption | None = None) -> SourceOption:
+    """One part of a source (``[sources.NAME]`` or its ``.noise``) with its values
+    checked: a Markov part's tau, fixed or weight, a σ level only where there is one."""
+    tau = None
+    if table.kind == "markov":
+        if table.tau is None:
+            raise SpecError(f"{where}: a markov source needs tau (e.g. '1 h')")
+        tau = _positive(table.tau, "s", f"{where}.tau", "1 h")
+        from ins_errors.analysis.covariance import SHORTEST_TAU_PER_STEP, short_tau_message
+
+        if tau < step * SHORTEST_TAU_PER_STEP:
+            raise SpecError(short_tau_message(f"{where}.tau", tau, step))
+    elif table.tau is not None:
+        raise SpecError(f"{where}: tau applies only to kind = 'markov'")
+    if table.fixed is not None and "weight" in table.model_fields_set:
+        raise SpecError(f"{where}: a fixed source takes no share, so its weight would be "
+                        f"ignored: give either fixed or weight")
+    level = None if table.sigma_level is None else float(table.sigma_level)
+    if table.kind == "white" and level not in (None, 1.0):
+        raise SpecError(f"{where}: a white-noise density has no σ level (it is read as the "
+                        f"density it is, 1σ, whatever the spec's sigma_level): leave "
+                        f"sigma_level out")
+    return SourceOption(name, float(table.weight), table.fixed, table.kind, tau, include,
+                        level, noise)
 
 
 def spec_parameters(spec: Spec, model, options: Iterable[str] = ()) -> dict[str, float]:

@@ -201,3 +201,103 @@ def test_a_sigma_level_on_a_noise_density_is_refused(tmp_path, capsys):
     assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 2
     err = capsys.readouterr().err
     assert "a white-noise density has no σ level" in err and len(err.splitlines()) == 1
+
+
+BOTH = "".join(f'[sources.{name}]\nfixed = "{bias}"\n[sources.{name}.noise]\nfixed = "{noise}"\n'
+               for name, bias, noise in [
+                   *((f"gyro_bias_{a}", "0.5 deg/h", "0.02 deg/sqrt(h)") for a in "xyz"),
+                   *((f"accel_bias_{a}", "100 ug", "0.02 m/s/sqrt(h)") for a in "xyz")])
+"""A FOG-grade IMU: each gyro and accelerometer with its bias and its white noise."""
+
+
+def test_a_source_with_a_bias_and_a_noise(tmp_path, capsys):
+    """``[sources.NAME.noise]`` gives a source a white noise beside its constant bias
+    (once refused: a source had one kind): the run with both equals the reference
+    model's 1σ position error from the biases and the noises together (95.67 km at 1 h,
+    the probe's figure), and the root sum of squares of the runs with the biases alone
+    and the noises alone; the rows name each part."""
+    expected = reference_position(bias_constants(), noise_densities(), 3600.0)
+    assert expected == pytest.approx(95670, rel=1e-3)
+    _, both = run_budget(tmp_path, capsys, spec_text(BOTH, 1, "200 km"), "both.toml")
+    value = both["rows"][0]["value"]
+    assert value == pytest.approx(expected, rel=2e-3)
+    biases = "".join(f'[sources.{name}]\nfixed = "{text}"\n' for name, text in [
+        *((f"gyro_bias_{a}", "0.5 deg/h") for a in "xyz"),
+        *((f"accel_bias_{a}", "100 ug") for a in "xyz")])
+    _, alone = run_budget(tmp_path, capsys, spec_text(biases, 1, "200 km"), "biases.toml")
+    _, noise = run_budget(tmp_path, capsys, spec_text(NOISE, 1, "200 km"), "noise.toml")
+    assert value == pytest.approx(np.hypot(alone["rows"][0]["value"],
+                                           noise["rows"][0]["value"]), rel=1e-9)
+    labels = [s["label"] for s in both["sources"]]
+    assert labels[:2] == ["gyro_bias_x (constant)", "gyro_bias_x (white)"]
+    assert [s["name"] for s in both["sources"]][:2] == ["gyro_bias_x", "gyro_bias_x"]
+    assert main(["budget", "strapdown_ned", "--spec", str(tmp_path / "both.toml")]) == 0
+    out = capsys.readouterr().out
+    assert any(line.startswith("gyro_bias_x (white)") and "0.02 deg/√h" in line
+               for line in out.splitlines())
+
+
+def test_a_noise_part_is_allocated_beside_a_fixed_bias(tmp_path, capsys):
+    """A noise part without ``fixed`` takes a share as any free source: the fixed parts
+    first, and the one free noise (gyro_bias_x's) all they leave, so that at its
+    allowance the reference model's position error is the 200-km limit."""
+    text = BOTH.replace('[sources.gyro_bias_x.noise]\nfixed = "0.02 deg/sqrt(h)"',
+                        '[sources.gyro_bias_x.noise]\nweight = 1')
+    status, data = run_budget(tmp_path, capsys, spec_text(text, 1, "200 km"))
+    assert status == 0
+    noise = next(s for s in data["sources"] if s["label"] == "gyro_bias_x (white)")
+    assert not noise["fixed"] and noise["binding_item"] == "position_error_absolute"
+    # the reference at the allowed density: the rest of the allowed variance
+    allowed = reference_position(bias_constants(), {
+        **noise_densities(), "gyro_bias_x": noise["magnitude_1sigma"]}, 3600.0)
+    assert allowed == pytest.approx(200e3, rel=2e-3)
+
+
+@pytest.mark.parametrize("table, message", [
+    ('[sources.gyro_bias_x]\nkind = "white"\n[sources.gyro_bias_x.noise]\nkind = "white"\n',
+     "a source takes at most one part of each kind"),
+    ('[sources.initial_roll_error.noise]\nfixed = "1 arcsec*h**0.5"\n',
+     "an initial error can only be a random constant"),
+    ('[sources.gyro_bias_x]\ninclude = false\n[sources.gyro_bias_x.noise]\n'
+     'fixed = "0.02 deg/sqrt(h)"\n', "include = false leaves the whole source out"),
+    ('[sources.gyro_bias_x.noise]\nkind = "markov"\n', "a markov source needs tau"),
+    ('[sources.gyro_bias_x.noise]\nfixed = "0.02 deg/sqrt(h)"\nwieght = 1\n', "weight"),
+])
+def test_bad_noise_parts_are_refused_in_one_line(tmp_path, capsys, table, message):
+    path = tmp_path / "spec.toml"
+    path.write_text(spec_text(table))
+    assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.splitlines()) == 1
+
+
+def test_covariance_of_a_source_with_two_parts():
+    """In the covariance API a source may be listed as a constant and a white noise
+    (once "an error source is listed twice"): each part's variance is what it gives
+    alone, and the reference model's total is their sum; one kind twice is refused."""
+    from ins_errors.analysis import covariance as cv
+    from ins_errors.numeric import trajectories as tr
+
+    model = ins_errors.load_model("strapdown_ned")
+    p = model.parameter_vector(k_h1=K1, k_h2=K2)
+    trajectory = tr.trajectory(model, tr.static_profile(LAT, 10 * DEG, 0.0, HEIGHT), 3600.0,
+                               60.0, p=p)
+    system = cv.system_from_trajectory(model, trajectory)
+    functionals = cv.state_and_output_functionals(model, system)
+    parts = [cv.SourceStatistics("gyro_bias_x", "constant", DRIFT),
+             cv.SourceStatistics("gyro_bias_x", "white", ARW)]
+    both = cv.propagate(system, parts, functionals)
+    assert both.source_names == ("gyro_bias_x", "gyro_bias_x")
+    for j, part in enumerate(parts):
+        alone = cv.propagate(system, [part], functionals)
+        np.testing.assert_allclose(both.contributions[..., j], alone.contributions[..., 0],
+                                   rtol=1e-12, atol=0)
+    names = list(functionals.names)
+    lat, lon = names.index("delta_lat"), names.index("delta_lon")
+    _, _, r_n, r_e_cos = ned_reference(LAT, HEIGHT, K1, K2)
+    total = both.variance[-1]
+    position = np.sqrt(r_n**2 * total[lat] + r_e_cos**2 * total[lon])
+    expected = reference_position({"gyro_bias_x": DRIFT}, {"gyro_bias_x": ARW}, 3600.0)
+    assert position == pytest.approx(expected, rel=2e-3)
+    with pytest.raises(ins_errors.InsErrorsError, match="listed twice as a 'white' part"):
+        cv.propagate(system, [parts[1], parts[1]], functionals)

@@ -193,6 +193,9 @@ class BudgetSource:
         Share weight.
     fixed : float or None
         Fixed 1σ magnitude (SI), or None when allocated.
+    paired : bool
+        The source has two parts in the budget (a bias and its noise,
+        ``[sources.NAME.noise]``), this one of them.
     sigma_level : float
         σ level of the magnitude as the spec writes it and the reports show it: the
         source's own ``sigma_level`` or the spec's for a constant or Markov source, 1 for
@@ -207,6 +210,16 @@ class BudgetSource:
     weight: float
     fixed: float | None
     sigma_level: float = 1.0
+    paired: bool = False
+
+    @property
+    def label(self) -> str:
+        """The source as the tables name it: its model name, with the part's kind after
+        it for a noise (``gyro_bias_x (white)``) and for each part of a source that has
+        two (``gyro_bias_x (constant)``)."""
+        if self.paired or self.statistics != "constant":
+            return f"{self.name} ({self.statistics})"
+        return self.name
 
 
 @dataclass(frozen=True)
@@ -318,32 +331,39 @@ def resolve_sources(model, spec: Spec) -> tuple[BudgetSource, ...]:
         option = spec.option(info.name)
         if not option.include:
             continue
-        if info.kind == "initial" and option.kind != "constant":
-            raise SpecError(f"{where}: sources.{info.name}: an initial error can only be a "
-                            f"random constant, not {option.kind!r}")
-        suffix = SOURCE_UNIT_SUFFIX[option.kind]
-        unit = f"({info.unit})*s**0.5" if suffix else info.unit
-        display = info.display_unit or info.unit
-        if suffix:
-            display = density_display(display, unit)
-        level = source_level(spec, option)
-        fixed = None
-        if option.fixed is not None:
-            try:
-                value = parse_quantity(option.fixed, unit, f"sources.{info.name}.fixed",
-                                       numbers_are_si=False)
-            except UnitError as error:
-                example = "" if "e.g." in str(error) else f" (e.g. '1 {display}')"
-                raise SpecError(f"{where}: {error}{example}") from None
-            if value < 0:
-                raise SpecError(f"{where}: sources.{info.name}.fixed must be >= 0, got "
-                                f"{option.fixed!r}")
-            fixed = value / level
-        result.append(BudgetSource(info.name, unit, display, option.kind, option.tau,
-                                   option.weight, fixed, level))
+        parts = [option] if option.noise is None else [option, option.noise]
+        for part, key in zip(parts, (f"sources.{info.name}", f"sources.{info.name}.noise"),
+                             strict=False):
+            result.append(_budget_part(info, part, spec, where, key, len(parts) > 1))
     if not result:
         raise SpecError(f"{where}: every error source is excluded from the budget")
     return tuple(result)
+
+
+def _budget_part(info, option, spec: Spec, where: str, key: str,
+                 paired: bool) -> BudgetSource:
+    """One part of a model source (its bias, or its noise) as the budget carries it."""
+    if info.kind == "initial" and option.kind != "constant":
+        raise SpecError(f"{where}: {key}: an initial error can only be a random constant, "
+                        f"not {option.kind!r}")
+    suffix = SOURCE_UNIT_SUFFIX[option.kind]
+    unit = f"({info.unit})*s**0.5" if suffix else info.unit
+    display = info.display_unit or info.unit
+    if suffix:
+        display = density_display(display, unit)
+    level = source_level(spec, option)
+    fixed = None
+    if option.fixed is not None:
+        try:
+            value = parse_quantity(option.fixed, unit, f"{key}.fixed", numbers_are_si=False)
+        except UnitError as error:
+            example = "" if "e.g." in str(error) else f" (e.g. '1 {display}')"
+            raise SpecError(f"{where}: {error}{example}") from None
+        if value < 0:
+            raise SpecError(f"{where}: {key}.fixed must be >= 0, got {option.fixed!r}")
+        fixed = value / level
+    return BudgetSource(info.name, unit, display, option.kind, option.tau, option.weight,
+                        fixed, level, paired)
 
 
 def source_level(spec: Spec, option) -> float:
@@ -780,7 +800,7 @@ def vertical_channel_note(model, allocation: Allocation) -> str | None:
     total = spec.sigma_level * np.sqrt((height[:, vertical] ** 2
                                         * allocation.sigma[chosen] ** 2).sum(1))
     k = int(np.argmax(total))
-    names = [budget.sources[j].name for j in chosen]
+    names = [budget.sources[j].label for j in chosen]
     one = len(names) == 1
     listed = names[0] if one else f"{', '.join(names[:-1])} and {names[-1]}"
     size = format_quantity(float(total[k]), "m", "km" if total[k] >= 1e3 else "m")
@@ -1050,21 +1070,24 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None,
     Monte Carlo runs (:mod:`ins_errors.analysis.monte_carlo`). ``model`` and ``p``
     (model parameters, SI) as in :func:`unit_budget`; ``sigma`` numbers in each source's
     SI unit (text such as ``"0.01 deg/h"`` is refused: convert it with
-    :func:`ins_errors.units.parse_quantity`).
+    :func:`ins_errors.units.parse_quantity`), keyed by source name, or by
+    :attr:`BudgetSource.label` (``"gyro_bias_x (white)"``) for each part of a source
+    with two.
     """
     model = load_model(model)
     check_items(model, spec)
     sources = resolve_sources(model, spec)
-    known = {s.name for s in sources}
+    known = {s.label for s in sources} | {s.name for s in sources if not s.paired}
     for name in sigma:
         if name not in known:
             raise unknown_name("budget source", name, sorted(known))
     system = spec_system(model, spec, trajectory, p)
-    stats = [SourceStatistics(s.name, s.statistics, sigma.get(s.name, 0.0), s.tau)
-             for s in sources]
+    stats = [SourceStatistics(s.name, s.statistics,
+                              sigma.get(s.label, 0.0 if s.paired else sigma.get(s.name, 0.0)),
+                              s.tau) for s in sources]
     covariance = _propagate(model, system, spec, stats)
     rows, contributions = _rows(spec, system, covariance, covariance.contributions)
-    return Evaluation(tuple(rows), tuple(s.name for s in sources), contributions,
+    return Evaluation(tuple(rows), tuple(s.label for s in sources), contributions,
                       spec.sigma_level)
 
 

@@ -192,4 +192,4 @@ def output_contributions(model, allocation: Allocation, times: list[float]) -> d
         total[:, q] *= factor
         shown.append(target)
     return {"times_h": [t / HOUR for t in times], "quantities": names, "units": shown,
-            "sources": [budget.sources[j].name for j in keep], "std": std, "total": total}
+            "sources": [budget.sources[j].label for j in keep], "std": std, "total": total}

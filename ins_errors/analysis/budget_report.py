@@ -212,6 +212,7 @@ def report(allocation: Allocation) -> dict:
                        else "linear" if beyond[j] else "motion")
         sources.append({
             "name": s.name,
+            "label": s.label,
             "statistics": s.statistics,
             "magnitude": float(magnitude) if finite else None,
             "magnitude_sigma_level": float(levels[j]),
@@ -287,13 +288,13 @@ def exceeded_report(error: SpecExceededError) -> dict:
         **_header(budget, 1.0),
         "exceeded": True,
         "rule": _RULE + "; the fixed sources alone use up the spec, so nothing is allocated",
-        "sources": [{"name": s.name, "statistics": s.statistics,
+        "sources": [{"name": s.name, "label": s.label, "statistics": s.statistics,
                      "magnitude": float(s.fixed * s.sigma_level),
                      "magnitude_sigma_level": s.sigma_level,
                      "magnitude_1sigma": float(s.fixed), "unit": s.unit,
                      "display": display(s.fixed * s.sigma_level, s.unit, s.display_unit),
                      "fixed": True} for s in fixed],
-        "free_sources": [s.name for s in budget.sources if s.fixed is None],
+        "free_sources": [s.label for s in budget.sources if s.fixed is None],
         "items": _items_json(budget, rows, shares), "rows": rows,
     }
 
@@ -330,7 +331,7 @@ def exceeded_table(data: dict) -> str:
                      f"{format_time(worst['time_h'] * HOUR):>10}  "
                      f"{worst['display']:<34} {worst['ratio']:>6.3f}  {mark}")
     lines += ["", f"Fixed sources ({levels_note(data)}): "
-              + ", ".join(f"{s['name']} {shown_magnitude(s, data['sigma_level'])}"
+              + ", ".join(f"{s['label']} {shown_magnitude(s, data['sigma_level'])}"
                           for s in data["sources"])]
     return "\n".join(lines)
 
@@ -374,7 +375,7 @@ def table(allocation: Allocation) -> str:
             comp = f" [{s['binding_component']}]" if s["binding_component"] else ""
             bind = f"{s['binding_item']}{comp} at {format_time(s['binding_time_h'] * HOUR)}"
         shown = shown_magnitude(s, data["sigma_level"])
-        lines.append(f"{s['name']:<36} {shown:>22}  {bind}")
+        lines.append(f"{s['label']:<36} {shown:>22}  {bind}")
     if any(s["statistics"] == "white" for s in data["sources"]):
         lines.append("(white-noise densities as given, 1σ: a density has no σ level)")
     lines += ["", f"Spec rows at the allocated magnitudes (worst time of each item, {k}; "
@@ -406,7 +407,7 @@ def contribution_table(allocation: Allocation, top: int = 10) -> str:
                                         for v, w in zip(values, widths, strict=True))
 
     for j in named:
-        lines.append(line(budget.sources[j].name, [contributions[r, j] for r in worst]))
+        lines.append(line(budget.sources[j].label, [contributions[r, j] for r in worst]))
     if rest.size:
         lines.append(line(f"({rest.size} others)",
                           [contributions[r, rest].sum() for r in worst]))
@@ -458,12 +459,12 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     limited = [s for s in data["sources"] if s["binding_item"] is not None]
     limited = [limited[i] for i in
                largest_first(np.array([s["share_at_binding"] for s in limited]))[:top]]
-    rank = {s["name"]: r for r, s in enumerate(limited)}
+    rank = {s["label"]: r for r, s in enumerate(limited)}
     limited.sort(key=lambda s: (items.index(s["binding_item"]), s["binding_time_h"],
-                                rank[s["name"]]))
+                                rank[s["label"]]))
     fixed = [s for s in data["sources"] if s["fixed"]]
     drawn = fixed + limited
-    free = [s["name"] for s in data["sources"]
+    free = [s["label"] for s in data["sources"]
             if s["binding_item"] is None and not s["fixed"]]
     colours = {name: plt.get_cmap("tab10")(n % 10) for n, name in enumerate(items)}
     width, height = 13.0, 0.32 * max(len(drawn), len(items)) + 2.2
@@ -483,8 +484,8 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
             bar.set_edgecolor("white")
             bar.set_linewidth(0)
     level = spec.sigma_level
-    sources = ([f"{s['name']}  = {shown_magnitude(s, level)} (fixed)" for s in fixed]
-               + [f"{s['name']}  ≤ {shown_magnitude(s, level)}" for s in limited])
+    sources = ([f"{s['label']}  = {shown_magnitude(s, level)} (fixed)" for s in fixed]
+               + [f"{s['label']}  ≤ {shown_magnitude(s, level)}" for s in limited])
     left.set_yticks(y, sources, fontsize=8)
     if fixed and limited:
         left.axhline(y[len(fixed) - 1] - 0.5, color="k", lw=0.8, ls=":")
@@ -531,7 +532,7 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
         if exceeded:
             text = f"not allocated (the fixed sources alone exceed the spec): {', '.join(free)}"
         else:
-            kinds = {s["name"]: s.get("not_limited") for s in data["sources"]}
+            kinds = {s["label"]: s.get("not_limited") for s in data["sources"]}
             unseen = [name for name in free if kinds[name] != "linear"]
             linear = [name for name in free if kinds[name] == "linear"]
             text = "; ".join(

@@ -14,6 +14,12 @@ The error state obeys :math:`\dot x_e = F x_e + G b`, :math:`x_e(0) = E w_0`, wh
     first-order Gauss-Markov noise of steady-state 1σ ``sigma`` and correlation time
     ``tau``: :math:`\dot b = -b/\tau + n`, PSD of n = 2σ²/τ, started stationary.
 
+A source may be listed with two or three parts of different kinds (a gyro's constant bias
+and its white angle random walk, or a Markov bias instability beside them): the parts are
+independent and add in the source's place, the constant as a state of the augmented
+system, the white part as process noise through the same column of ``G``, each part's
+contribution reported on its own (``Covariance.sources`` lists them in the given order).
+
 Sources are independent, so every second moment is a sum over sources of a term linear in
 that source's variance. :func:`propagate` therefore works with *unit* statistics
 (σ = 1) and returns, for each requested linear functional of the error state, the
@@ -438,8 +444,13 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
     if not sources:
         raise CovarianceError("no error sources given")
     columns = [system.source_index(s.name) for s in sources]
-    if len(set(columns)) != len(columns):
-        raise CovarianceError("an error source is listed twice")
+    parts = [(j, s.kind) for j, s in zip(columns, sources, strict=True)]
+    for part in parts:
+        if parts.count(part) > 1:
+            raise CovarianceError(
+                f"source {sources[parts.index(part)].name!r} is listed twice as a "
+                f"{part[1]!r} part: a source takes at most one part of each kind "
+                f"(e.g. a constant bias and a white noise), which add")
     for s, j in zip(sources, columns, strict=True):
         if s.kind != "constant" and np.any(system.E[:, j] != 0):
             raise CovarianceError(f"source {s.name!r} sets initial errors, so it can only be "
