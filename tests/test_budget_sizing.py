@@ -301,3 +301,27 @@ def test_covariance_of_a_source_with_two_parts():
     assert position == pytest.approx(expected, rel=2e-3)
     with pytest.raises(ins_errors.InsErrorsError, match="listed twice as a 'white' part"):
         cv.propagate(system, [parts[1], parts[1]], functionals)
+
+
+def test_a_figure_beyond_the_linear_model_is_warned_of(tmp_path, capsys):
+    """Fixed biases whose 1σ position error after 1 h is, by the reference model, just
+    above the linear model's 637 km (0.1 R) get a one-line warning naming the item and
+    the figure (a MEMS-grade IMU, 955 km, once had none); just below, none."""
+    unit = reference_position({"gyro_bias_x": DRIFT}, {}, 3600.0) / DRIFT   # m per rad/s
+    limit = 0.1 * 6_371_000.0
+    for factor, warned in ((1.03, True), (0.97, False)):
+        drift = factor * limit / unit / (DEG / 3600)                          # deg/h
+        text = spec_text(f'[sources.gyro_bias_x]\nfixed = "{drift!r} deg/h"\n', 1, "5000 km")
+        path = tmp_path / f"spec_{factor}.toml"
+        path.write_text(text)
+        assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 0
+        err = capsys.readouterr().err
+        assert ("warning: beyond the linear error model's range" in err) == warned
+        if warned:
+            assert len(err.splitlines()) == 1
+            assert "position_error_absolute at 1 h" in err and "637.1 km = 0.1 R" in err
+            figure = float(err.split("at 1 h (")[1].split(" km")[0])
+            assert figure == pytest.approx(factor * limit / 1e3, rel=2e-3)
+        assert main(["budget", "strapdown_ned", "--spec", str(path), "--json"]) == 0
+        warnings = json.loads(capsys.readouterr().out)["warnings"]
+        assert any("linear error model" in w for w in warnings) == warned

@@ -727,6 +727,54 @@ def growth_warning(model, budget: UnitBudget) -> str | None:
     return text
 
 
+LIMIT_NAMES = {"rad": "0.1 rad", "1": "0.1", "m": "0.1 R", "m/s": "0.1 √(gR)"}
+"""How :func:`linear_range_warning` names each of :data:`LINEAR_LIMITS`."""
+
+
+def linear_range_warning(budget: UnitBudget, values: np.ndarray) -> str | None:
+    """One line when a reported figure lies beyond the linear error model's range, or None.
+
+    The budget's numbers are those of the linear error equations; a spec row whose
+    error (at the spec's σ level) is beyond :data:`LINEAR_LIMITS` (a position error over
+    637 km, an angle over 0.1 rad, a velocity error over 790 m/s) is outside the
+    small-error model, where the direct equations differ (a MEMS-grade IMU at rest: 955 km
+    after 1 h). A rate item is judged by the error it is the rate of (``position_error``
+    × t, ``heading_drift`` × t). The line names each such item at its worst row, its
+    value against the limit.
+
+    Parameters
+    ----------
+    budget : UnitBudget
+    values : numpy.ndarray, shape (nr,)
+        Every row's value at the spec's σ level, SI (an allocation's, or the fixed
+        sources' of a spec they exceed).
+    """
+    worst: dict[str, tuple[float, str]] = {}
+    k = budget.spec.sigma_level
+    for row, value in zip(budget.rows, values, strict=True):
+        unit = ITEM_SI[row.item]
+        size = value * row.time if row.item in RATE_ITEMS else value
+        unit = {"m/s": "m", "rad/s": "rad"}[unit] if row.item in RATE_ITEMS else unit
+        limit = LINEAR_LIMITS.get(unit)
+        if limit is None or not size > limit:
+            continue
+        ratio = size / limit
+        if row.item in worst and worst[row.item][0] >= ratio:
+            continue
+        shown = ("deg", "deg") if unit == "rad" else ("km", "km") if unit == "m" else (
+            "m/s", "m/s")
+        error = ("its error " if row.item in RATE_ITEMS else "")
+        worst[row.item] = (ratio, f"{row.label} ({error}{format_quantity(size, unit, shown[0])}"
+                                  f" at {k:g}σ, beyond {format_quantity(limit, unit, shown[1])}"
+                                  f" = {LIMIT_NAMES[unit]})")
+    if not worst:
+        return None
+    listed = "; ".join(text for _, text in worst.values())
+    return (f"beyond the linear error model's range: {listed}; the budget's figures come "
+            f"from the linear error equations, which hold for small errors only: the real "
+            f"errors differ there (check with direct runs: 'ins-errors compare')")
+
+
 VERTICAL_DOMINANCE = 10.0
 """A source whose largest height error over the operating time is at least this many
 times its largest horizontal position error acts mainly on the vertical channel."""

@@ -74,6 +74,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
+    import numpy as np
+
     from ins_errors.analysis import budget as bd
     from ins_errors.analysis import budget_report as rep
     from ins_errors.model_parameters import parameters_record
@@ -130,8 +132,11 @@ def run(args: argparse.Namespace) -> int:
         try:
             allocation = bd.allocate(unit)
         except bd.SpecExceededError as exceeded:
+            _linear_warning(unit, exceeded.values, warnings)
             return _report_exceeded(args, model, exceeded,
                                     parameters_record(model, parameters), warnings, times)
+        _linear_warning(unit, unit.spec.sigma_level
+                        * np.sqrt(allocation.contributions().sum(1)), warnings)
         vertical = bd.vertical_channel_note(model, allocation)
         if vertical is not None:
             print(f"ins-errors: warning: {vertical}", file=sys.stderr)
@@ -204,6 +209,17 @@ def run(args: argparse.Namespace) -> int:
         print(f"({mc_seconds:.1f} s, and {estimate_seconds:.1f} s for the integration "
               "error)" if estimate else f"({mc_seconds:.1f} s)")
     return 0
+
+
+def _linear_warning(budget, values, warnings: list[str]) -> None:
+    """Warn (stderr and ``warnings``) when a reported figure lies beyond the linear
+    error model (:func:`~ins_errors.analysis.budget.linear_range_warning`)."""
+    from ins_errors.analysis import budget as bd
+
+    text = bd.linear_range_warning(budget, values)
+    if text is not None:
+        print(f"ins-errors: warning: {text}", file=sys.stderr)
+        warnings.append(text)
 
 
 def _report_exceeded(args: argparse.Namespace, model, exceeded, parameters: dict,
