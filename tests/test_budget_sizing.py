@@ -325,3 +325,21 @@ def test_a_figure_beyond_the_linear_model_is_warned_of(tmp_path, capsys):
         assert main(["budget", "strapdown_ned", "--spec", str(path), "--json"]) == 0
         warnings = json.loads(capsys.readouterr().out)["warnings"]
         assert any("linear error model" in w for w in warnings) == warned
+
+
+@pytest.mark.parametrize("value", ['"500"', "500", "5e2", '" 500 "'])
+def test_a_bare_number_on_a_scale_factor_is_refused(tmp_path, capsys, value):
+    """``fixed = "500"`` on a scale factor was read as the fraction 500 (5e8 ppm, and a
+    position error of 1e6 km): a bare number is refused, as everywhere a unit is needed,
+    with the value in ppm and in % to write instead; '500 ppm' is 5e-4."""
+    path = tmp_path / "spec.toml"
+    path.write_text(spec_text(f"[sources.gyro_scale_error_x]\nfixed = {value}\n"))
+    assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert "is a bare number" in err and "write '500 ppm' or '0.05 %'" in err
+    assert len(err.splitlines()) == 1
+    path.write_text(spec_text('[sources.gyro_scale_error_x]\nfixed = "500 ppm"\n'))
+    assert main(["budget", "strapdown_ned", "--spec", str(path), "--json"]) in (0, 1)
+    source = json.loads(capsys.readouterr().out)["sources"][0]
+    assert source["name"] == "gyro_scale_error_x"
+    assert source["magnitude"] == pytest.approx(500e-6, rel=1e-12)

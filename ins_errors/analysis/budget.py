@@ -354,6 +354,7 @@ def _budget_part(info, option, spec: Spec, where: str, key: str,
     level = source_level(spec, option)
     fixed = None
     if option.fixed is not None:
+        refuse_bare_ratio(option.fixed, info.unit, display, f"{where}: {key}.fixed")
         try:
             value = parse_quantity(option.fixed, unit, f"{key}.fixed", numbers_are_si=False)
         except UnitError as error:
@@ -364,6 +365,30 @@ def _budget_part(info, option, spec: Spec, where: str, key: str,
         fixed = value / level
     return BudgetSource(info.name, unit, display, option.kind, option.tau, option.weight,
                         fixed, level, paired)
+
+
+def refuse_bare_ratio(value, unit: str, display: str, what: str) -> None:
+    """Refuse a bare number for a dimensionless source (a scale factor or misalignment,
+    shown in ppm): ``"500"`` would be read as the fraction 500, 5e8 ppm, where the
+    writer meant 500 ppm. Such a value, too, needs its unit (docs/scenarios.md: a bare
+    number where a unit is needed is refused).
+
+    Raises
+    ------
+    SpecError
+        One line, with the value written in ppm and in %.
+    """
+    if unit != "1":
+        return
+    text = str(value).strip() if isinstance(value, (str, int, float)) else ""
+    try:
+        number = float(text)
+    except ValueError:
+        return   # with a unit: parse_quantity reads it
+    shown = display if display not in ("", "1") else "ppm"
+    raise SpecError(f"{what} = {value!r} is a bare number; a ratio needs its unit, as the "
+                    f"source is shown in {shown}: write '{number:g} ppm' or "
+                    f"'{number / 1e4:g} %'")
 
 
 def source_level(spec: Spec, option) -> float:
