@@ -477,7 +477,7 @@ def test_every_model_taking_subcommand_names_close_models(name, inputs, capsys):
     sub = _subcommands()[name]
     positionals = [a for a in sub._actions if not a.option_strings and a.dest != "help"]
     argv = [name] + ["orthodromik" if a.dest == "model" else "hand.txt"
-                     for a in positionals if a.nargs in (None, 1, "?")]
+                     for a in positionals if a.nargs in (None, 1, "?", "*", "+")]
     status, _out, err = _run(argv, capsys)
     _assert_one_line(status, err, argv)
     assert "orthodromic" in err

@@ -122,16 +122,17 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.errors import InsErrorsError
     from ins_errors.output import check_file
 
+    from ins_errors.model_lookup import definition_of, resolve
+    from ins_errors.progress import stage
+
+    # the model first: a misspelt model name is said (with the close ones) before anything
+    definition = definition_of(resolve(args.model))  # a name, a file or an entry point
     if args.file is None:
         raise InsErrorsError("check needs a hand FILE of equations or --matrix "
                              "FILE.py:FUNCTION")
     magnitudes = parse_magnitudes(args.magnitude)
     if args.report is not None:
         check_file(args.report)
-    from ins_errors.model_lookup import definition_of, resolve
-    from ins_errors.progress import stage
-
-    definition = definition_of(resolve(args.model))  # a name, a file or an entry point
     try:
         if _declares_convention(args.file):
             return _run_convention(args, magnitudes)
