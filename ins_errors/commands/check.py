@@ -120,9 +120,8 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.checker.compare import check_hand_file
     from ins_errors.checker.report import to_json, to_markdown, to_terminal
     from ins_errors.errors import InsErrorsError
-    from ins_errors.output import check_file
-
     from ins_errors.model_lookup import definition_of, resolve
+    from ins_errors.output import check_file
     from ins_errors.progress import stage
 
     # the model first: a misspelt model name is said (with the close ones) before anything
