@@ -161,6 +161,18 @@ _GALILEO = re.compile(r"(?<![A-Za-z_])(?P<prefix>[muµμ]?)gal(?![A-Za-z_0-9])")
 it in lower case; pint's ``gal`` is the US gallon, a volume no value here is."""
 
 
+_DATASHEET_ROOT = re.compile(r"(?<![A-Za-z_])rt-?(?=\s*[A-Za-z(])")
+"""``rt`` (also ``rt-``) before a unit: a datasheet's square root (``deg/rt-hr``,
+``ug/rtHz``); pint would read ``rt`` as the rontometric ton."""
+
+_GRAVITY_CAPITAL = re.compile(r"(?<![A-Za-z_])(?P<prefix>[muµμ]?)G(?![A-Za-z_0-9])")
+"""``G``, ``mG``, ``uG``, ``µG``: what accelerometer datasheets often write for g, mg, µg;
+pint's ``G`` is the gauss, a magnetic flux density no value here is."""
+
+_GRAVITY_PREFIXES = {"": "gee", "m": "milli_gee", "u": "micro_gee", "µ": "micro_gee",
+                     "μ": "micro_gee"}
+
+
 def _normalise(text: str) -> str:
     """The text pint is given for a user's (or a model's) unit text."""
     text = text.strip()
@@ -169,7 +181,9 @@ def _normalise(text: str) -> str:
         text = text.replace(old, new)
     for sign, name in _ANGLE_MARKS:   # '1°30′' is two parts, as '1 deg 30 arcmin' is
         text = re.sub(f"{sign}(?=[\\d.])", f" {name} ", text).replace(sign, f" {name}")
+    text = _DATASHEET_ROOT.sub("√", text)
     text = _square_roots(text)
+    text = _GRAVITY_CAPITAL.sub(lambda m: _GRAVITY_PREFIXES[m["prefix"]], text)
     # a bare 'g' (or 'mg') means gravity, not grams; 'ppm' a plain ratio; 'gal' the galileo
     text = re.sub(r"(?<![A-Za-z_])g(?![A-Za-z_0-9])", "gee", text)
     text = re.sub(r"(?<![A-Za-z_])mg(?![A-Za-z_0-9])", "milli_gee", text)

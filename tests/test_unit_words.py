@@ -108,6 +108,20 @@ def test_gal_is_the_galileo(text, value):
     assert parse_quantity(text, "m/s**2", "value") == pytest.approx(value, rel=1e-14)
 
 
+@pytest.mark.parametrize(("text", "unit", "value"), [
+    ("0.15 deg/rt-hr", "rad/s**0.5", math.radians(0.15) / 60),  # 1/√h = 1/60 /√s
+    ("0.15 deg/rthr", "rad/s**0.5", math.radians(0.15) / 60),
+    ("0.05 m/s/rt-h", "m/s**1.5", 0.05 / 60),
+    ("30 ug/rt-Hz", "m/s**1.5", 30e-6 * G),
+    ("1 mG", "m/s**2", 1e-3 * G), ("2 G", "m/s**2", 2 * G), ("50 uG", "m/s**2", 50e-6 * G),
+    ("50 µG", "m/s**2", 50e-6 * G),
+])
+def test_datasheet_spellings_are_read(text, unit, value):
+    """A sizing probe's datasheet units: 'deg/rt-hr' was the rontometric ton, 'mG' the
+    milligauss; an IMU datasheet means a square root and the gravity unit."""
+    assert parse_quantity(text, unit, "value") == pytest.approx(value, rel=1e-14)
+
+
 def test_a_gallon_is_refused_as_a_volume():
     line = _refusal("1 gallon", "m/s**2")
     assert "has units of gallon (a volume)" in line, line
