@@ -45,6 +45,7 @@ import casadi as ca
 import numpy as np
 
 from ins_errors.earth_constants import earth_parameter_names
+from ins_errors.errors import InsErrorsError
 
 NAVIGATION_OUTPUTS = ("latitude", "longitude", "height", "v_N", "v_E", "v_D", "roll",
                       "pitch", "heading")
@@ -117,6 +118,41 @@ INVARIANCE_TOLERANCE = 1e-8
 span of the initial-state map (:func:`validate`)."""
 
 
+class UnspannedStateError(InsErrorsError):
+    """A state of a strapdown model that the navigation errors drive but no navigation
+    quantity sets, and that feeds them back (property 3 of :func:`validate`).
+
+    Its message is the matrix check's; :meth:`budget_message` is the budget's.
+
+    Parameters
+    ----------
+    model_name, state : str
+        The model and its worst state.
+    share : float
+        The part of that state's rate off the span of the initial-state map, relative
+        to its terms.
+    """
+
+    def __init__(self, model_name: str, state: str, share: float):
+        self.model_name, self.state, self.share = model_name, state, share
+        super().__init__(self._words("so a φ/ψ convention would drop it; check the hand "
+                                     "model in the model's own states (--convention model)"))
+
+    def _words(self, remedy: str) -> str:
+        return (f"model {self.model_name!r}: its error state leaves what its initial-state "
+                f"map spans: {self.state!r} changes with the navigation errors "
+                f"({self.share:.3g} of its rate) but no navigation quantity sets it, "
+                + remedy)
+
+    def budget_message(self) -> str:
+        """The refusal in the budget's words: its attitude items (``vertical_error``,
+        ``heading_error``, ``heading_drift``) read the φ-angle, which this state
+        escapes; its other items do not."""
+        return self._words("so the φ-angle of the spec's attitude items (vertical_error, "
+                           "heading_error, heading_drift) does not follow it; budget a "
+                           "spec without them")
+
+
 def validate(model, parts: tuple[str, str, str, str], x: np.ndarray, u: np.ndarray,
              p: np.ndarray) -> None:
     """Refuse, in one line, a strapdown model the conventions cannot carry along ``x``.
@@ -131,7 +167,8 @@ def validate(model, parts: tuple[str, str, str, str], x: np.ndarray, u: np.ndarr
     3. its error state stays in the span of the initial-state map's tangent K: the part
        of ``F K − K̇`` off that span, ``(I − L T)(F K − K̇)``, vanishes (a state no
        navigation quantity sets, e.g. the integrator of a third-order height loop,
-       would be driven and dropped).
+       would be driven and dropped), or the directions it takes are unseen by the
+       convention and stay so (:func:`_unseen`: a wander angle).
 
     Parameters
     ----------
@@ -147,8 +184,6 @@ def validate(model, parts: tuple[str, str, str, str], x: np.ndarray, u: np.ndarr
     InsErrorsError
         Naming the property, the worst state or quantity and its size.
     """
-    from ins_errors.errors import InsErrorsError
-
     p = np.asarray(p, dtype=float)
     nu, C = _along(_navigation_function(model.key), x, p)
     C = np.moveaxis(C, -1, 0)
@@ -182,14 +217,41 @@ def validate(model, parts: tuple[str, str, str, str], x: np.ndarray, u: np.ndarr
     off = moved - L @ (T @ moved)
     scale = (np.abs(F) @ np.abs(K) + np.abs(K_dot)).max(axis=(0, 2)) + 1e-300
     defect = np.abs(off).max(axis=(0, 2)) / scale
-    if not defect.max() <= INVARIANCE_TOLERANCE:
+    if not defect.max() <= INVARIANCE_TOLERANCE and not _unseen(parts, x, xdot, p, T, F, K,
+                                                                 K_dot, L):
         k = int(np.nanargmax(np.where(np.isfinite(defect), defect, np.inf)))
-        raise InsErrorsError(
-            f"model {model.name!r}: its error state leaves what its initial-state map "
-            f"spans: {model.states[k].name!r} changes with the navigation errors "
-            f"({defect[k]:.3g} of its rate) but no navigation quantity sets it, so a φ/ψ "
-            "convention would drop it; check the hand model in the model's own states "
-            "(--convention model)")
+        raise UnspannedStateError(model.name, model.states[k].name, float(defect[k]))
+
+
+def _unseen(parts: tuple[str, str, str, str], x: np.ndarray, xdot: np.ndarray,
+            p: np.ndarray, T: np.ndarray, F: np.ndarray, K: np.ndarray, K_dot: np.ndarray,
+            L: np.ndarray) -> bool:
+    """True when the error-state directions that leave the span of the initial-state map
+    (:func:`validate`) stay unseen by the convention.
+
+    Those directions are the columns of ``off = (I − L T) m``, ``m = F K − K̇`` (shape
+    (K, n, 9)); they are in the null space of ``T`` by construction (``T L = I``) and
+    stay unseen when the convention's states do not change with them,
+    ``(Ṫ + T F) off = 0``: an error along them then never reaches the navigation errors
+    and the derived ``(Ṫ + T F) L`` is exact whatever part of the error lies along them.
+    The wander angle of a wander-azimuth INS is such a direction (turning its position
+    matrix about the vertical and counter-turning its attitude and velocity is a
+    symmetry of its equations that changes no navigation quantity); the integrator of a
+    third-order height loop is not (it drives the vertical velocity). Tested at every
+    sample, each entry of ``(Ṫ + T F) off`` against the magnitude of the terms it sums,
+    those of ``off`` and ``m`` included, with a floor of the tolerance times the largest
+    of its row (:data:`INVARIANCE_TOLERANCE`; rounding leaves about 1e-16 of them).
+    """
+    T_dot = np.moveaxis(_along(_functions(*parts)[1], x, xdot, p)[0], -1, 0)
+    moved = F @ K - K_dot
+    off = moved - L @ (T @ moved)
+    feed = (T_dot + T @ F) @ off
+    sizes = np.abs(F) @ np.abs(K) + np.abs(K_dot)  # of the terms of m, entry by entry
+    terms = ((np.abs(T_dot) + np.abs(T) @ np.abs(F))
+             @ (sizes + np.abs(L) @ (np.abs(T) @ sizes)))
+    terms = terms + INVARIANCE_TOLERANCE * terms.max(axis=(0, 2), keepdims=True)  # row's
+    excess = np.abs(feed) - INVARIANCE_TOLERANCE * terms
+    return bool(np.all(excess <= 0.0))
 
 
 def describes(model) -> bool:

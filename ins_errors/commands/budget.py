@@ -78,6 +78,8 @@ def run(args: argparse.Namespace) -> int:
 
     from ins_errors.analysis import budget as bd
     from ins_errors.analysis import budget_report as rep
+    from ins_errors.checker.strapdown_description import UnspannedStateError
+    from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import parameters_record
     from ins_errors.numeric.model import load_model
     from ins_errors.specs import SpecError, default_spec_path, load_spec, spec_parameters
@@ -124,7 +126,10 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.progress import stage
 
     with stage(f"propagating the covariance of {len(model.sources)} sources"):
-        unit = bd.unit_budget(model, spec, p=p)
+        try:
+            unit = bd.unit_budget(model, spec, p=p)
+        except UnspannedStateError as unspanned:  # its words are the matrix check's
+            raise InsErrorsError(unspanned.budget_message()) from None
         growth = bd.growth_warning(model, unit)
         if growth is not None:
             print(f"ins-errors: warning: {growth}", file=sys.stderr)
