@@ -185,6 +185,23 @@ def _adapter(model_key: str, determined: tuple[bool, ...]):
     return native_functions([mapped])[0]
 
 
+UNSET_SHARE = 0.5
+"""Part of a flight's residual off the tangent of the initial-state map above which it is
+put down to a state no navigation quantity sets (:meth:`FlightAdapter._unset`)."""
+
+
+@cache
+def _tangent(model_key: str) -> ca.Function:
+    """``(c, u, p) -> ∂x0/∂c`` (n, nc): the tangent of the model's initial-state map."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(model_key)
+    c = ca.SX.sym("c", len(model.initial_conditions))
+    u, p = ca.SX.sym("u", len(model.inputs)), ca.SX.sym("p", len(model.parameters))
+    x0 = model.casadi.function("initial_state")(c, u, p)
+    return ca.Function("initial_tangent", [c, u, p], [ca.densify(ca.jacobian(x0, c))])
+
+
 def uses_inputs(function: ca.Function, rows: list[int] | None = None) -> bool:
     """True when rows ``rows`` (default: all) of a model function of (state or initial
     conditions, inputs, parameters) depend on the inputs, e.g. ``initial_state``."""
@@ -291,6 +308,15 @@ class FlightAdapter:
             outputs[first:last] = np.hstack(out)[:last - first]
         return outputs
 
+    def _unset(self, c: np.ndarray, u: np.ndarray, residual: np.ndarray) -> bool:
+        """True when the residual ``f(x, u) − ẋ`` (n,) the inputs ``u`` leave at
+        conditions ``c`` lies mostly off the tangent of the initial-state map: the model
+        moves along a state that no navigation quantity sets (a wander angle), not on
+        another Earth than the flight's or with inputs too few."""
+        tangent = np.asarray(_tangent(self.model_key)(c, u, self.p), dtype=float)
+        on = tangent @ np.linalg.lstsq(tangent, residual, rcond=None)[0]
+        return bool(np.linalg.norm(residual - on) > UNSET_SHARE * np.linalg.norm(residual))
+
     def _excess(self, outputs: np.ndarray) -> np.ndarray:
         """|residual| over its allowance, (T, n) (≤ 1 where the model follows)."""
         n, nu = len(self.states), self.n_inputs
@@ -338,6 +364,14 @@ class FlightAdapter:
             k, j = np.unravel_index(int(np.argmax(np.where(np.isfinite(excess), excess,
                                                            np.inf))), excess.shape)
             name, unit = self.states[k]
+            if self._unset(c[:, j], u[:, j], residual[:, j]):
+                raise MotionError(
+                    f"model {self.model_name!r} cannot fly this flight: its {name!r} "
+                    f"(d{name}/dt off by {residual[k, j]:.3g} {unit}/s at t = "
+                    f"{times[j]:.6g} s) moves along a state that no navigation quantity "
+                    "sets (such as a wander angle), which depends on the path flown and "
+                    "is not flown: its initial-state map holds it fixed; the static base "
+                    "works (for a wander angle, flights along a meridian too)")
             raise MotionError(
                 f"model {self.model_name!r} cannot follow the flight: no inputs make its "
                 f"{name!r} move as the flight does at t = {times[j]:.6g} s (d"
