@@ -137,6 +137,17 @@ def test_unparsable_text_line_gives_line_and_column_and_other_lines_survive():
     assert str(problem).startswith("line 3, column 19: cannot parse")
 
 
+def test_a_long_unparsable_line_is_quoted_around_its_column_only():
+    # a generated sum of 200 terms with a slip at its end: the message quoted all 3300
+    # characters of it
+    body = " + ".join(f"a{i}*delta_V_xi" for i in range(200))
+    hand = parse_hand_text(f"dot(alpha_x) = {body} +* 3\n", ORTHODROMIC)
+    (problem,) = hand.problems
+    text = str(problem)
+    assert problem.column == len("dot(alpha_x) = ") + len(body) + 3
+    assert len(text) < 160 and "+* 3'" in text and "'…" in text, text
+
+
 def test_latex_errors_name_the_place():
     hand = parse_hand_text("x = 1\n" r"y = \frac{a}{b" "\n" r"z = a_\xi \foo" "\n", ORTHODROMIC,
                            latex=True)

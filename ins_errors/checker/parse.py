@@ -445,6 +445,20 @@ def parse_text_expression(text: str, notation: Notation, column: int = 1
     return expr, dict(columns)
 
 
+QUOTED = 60
+"""Characters of a line an error message quotes at most: a window around the column (a
+generated sum of thousands of terms is not echoed whole)."""
+
+
+def _around(text: str, offset: int) -> str:
+    """``text``, or the ``QUOTED`` characters around ``offset`` with ``…`` where cut."""
+    if len(text) <= QUOTED:
+        return text
+    start = min(max(0, offset - QUOTED // 2), len(text) - QUOTED)
+    end = start + QUOTED
+    return f"{'…' * (start > 0)}{text[start:end]}{'…' * (end < len(text))}"
+
+
 @lru_cache(maxsize=16384)
 def _parsed_text(text: str, column: int, spellings: tuple[tuple[str, str], ...]
                  ) -> tuple[sp.Expr, dict[str, int]]:
@@ -462,7 +476,7 @@ def _parsed_text(text: str, column: int, spellings: tuple[tuple[str, str], ...]
     except SyntaxError as error:
         offset = (error.offset or 1) - 1
         raise _LineError(column + lead + offset,
-                         f"cannot parse {shown!r}: {error.msg}") from None
+                         f"cannot parse {_around(shown, offset)!r}: {error.msg}") from None
     except (RecursionError, MemoryError):  # a sum of thousands of terms, say
         raise _LineError(column + lead, _TOO_LONG.format(length=len(stripped))) from None
     _check_numbers(stripped, column + lead)
@@ -494,7 +508,8 @@ def _parsed_text(text: str, column: int, spellings: tuple[tuple[str, str], ...]
     except (RecursionError, MemoryError):
         raise _LineError(column + lead, _TOO_LONG.format(length=len(stripped))) from None
     except Exception as error:  # SymPy raises many kinds here
-        raise _LineError(column + lead, f"cannot parse {shown!r}: {error}") from None
+        raise _LineError(column + lead,
+                         f"cannot parse {_around(shown, 0)!r}: {error}") from None
     if not isinstance(expr, sp.Expr):
         raise _LineError(column + lead, f"{shown!r} is not an expression")
     return expr, columns
