@@ -151,6 +151,14 @@ def validate(data: dict) -> SpecFile:
     if not data.get("items"):
         raise InsErrorsError(f"the spec has no [items.*]; known items: "
                              f"{', '.join(ITEM_KINDS)}")
+    items = data.get("items")
+    if isinstance(items, dict):
+        for name in items:
+            if name in ITEM_SYNONYMS and name not in ITEM_KINDS:
+                known = ITEM_SYNONYMS[name]
+                raise InsErrorsError(
+                    f"unknown item [items.{name}]: {ITEM_KINDS[known].description} is "
+                    f"[items.{known}] (items: {', '.join(ITEM_KINDS)})")
     try:
         return SpecFile.model_validate(data)
     except ValidationError as error:
@@ -172,6 +180,20 @@ def validate(data: dict) -> SpecFile:
         if plain:
             raise InsErrorsError(plain) from None
         raise one_line(error, "", tables) from None
+
+
+ITEM_SYNONYMS = {
+    "velocity_error": "ground_speed_error", "speed_error": "ground_speed_error",
+    "horizontal_velocity_error": "ground_speed_error",
+    "altitude_error": "height_error", "vertical_position_error": "height_error",
+    "azimuth_error": "heading_error", "yaw_error": "heading_error",
+    "tilt_error": "vertical_error", "level_error": "vertical_error",
+    "attitude_error": "vertical_error", "azimuth_drift": "heading_drift",
+    "drift_rate": "heading_drift", "position_drift": "position_error",
+    "horizontal_position_error": "position_error_absolute",
+}
+"""Names one might give a spec item, and the item that measures it (spelling slips are
+caught by the close-name suggestion; these are other words for the same error)."""
 
 
 def _union_message(first: dict) -> str | None:

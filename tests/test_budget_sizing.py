@@ -343,3 +343,29 @@ def test_a_bare_number_on_a_scale_factor_is_refused(tmp_path, capsys, value):
     source = json.loads(capsys.readouterr().out)["sources"][0]
     assert source["name"] == "gyro_scale_error_x"
     assert source["magnitude"] == pytest.approx(500e-6, rel=1e-12)
+
+
+def test_a_fixed_value_is_echoed_in_the_unit_it_was_written_in(tmp_path, capsys):
+    """A white accelerometer noise written in m/s/√h is shown so (it was echoed as
+    '33.99 ug/√Hz'), a bias of '1 mg' as '1 mg', and the noise part is named as such."""
+    path = tmp_path / "spec.toml"
+    path.write_text(spec_text('[sources.accel_bias_x]\nfixed = "1 mg"\n'
+                              '[sources.accel_bias_x.noise]\nfixed = "0.02 m/s/sqrt(h)"\n',
+                              1, "5000 km"))
+    assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert any(x.split() == ["accel_bias_x", "(white)", "0.02", "m/s/√h", "fixed"]
+               for x in lines)
+    assert any(x.split() == ["accel_bias_x", "(constant)", "1", "mg", "fixed"] for x in lines)
+
+
+@pytest.mark.parametrize("name, item", [("velocity_error", "ground_speed_error"),
+                                        ("altitude_error", "height_error"),
+                                        ("azimuth_error", "heading_error")])
+def test_another_word_for_an_item_names_the_item(tmp_path, capsys, name, item):
+    path = tmp_path / "spec.toml"
+    path.write_text(f'[items.{name}]\nvalue = "3 m"\n')
+    assert main(["budget", "strapdown_ned", "--spec", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert f"unknown item [items.{name}]" in err and f"is [items.{item}]" in err
+    assert len(err.splitlines()) == 1

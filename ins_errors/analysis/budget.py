@@ -363,8 +363,29 @@ def _budget_part(info, option, spec: Spec, where: str, key: str,
         if value < 0:
             raise SpecError(f"{where}: {key}.fixed must be >= 0, got {option.fixed!r}")
         fixed = value / level
+        display = _written_unit(option.fixed, value, unit) or display
     return BudgetSource(info.name, unit, display, option.kind, option.tau, option.weight,
                         fixed, level, paired)
+
+
+def _written_unit(text, value: float, unit: str) -> str | None:
+    """The unit a fixed value was written in (``"0.02 m/s/sqrt(h)"`` -> ``m/s/√h``, a
+    square root written √), so that the tables echo it as the spec gives it; None where
+    there is none that converts back, or for a density written times √s (``ug*s**0.5``),
+    which reads best per √Hz (:func:`density_display`)."""
+    import re
+
+    match = re.match(r"\s*[-+]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][-+]?\d+)?\s*", str(text))
+    written = str(text)[match.end():].strip() if match else ""
+    if not written or re.search(r"\*\s*(s\*\*0\.5|sqrt\(s\)|√s)", written):
+        return None       # "ug*s**0.5" reads best per √Hz (density_display)
+    written = re.sub(r"sqrt\((\w+)\)|(?<![\w)])(\w+)\s*(?:\*\*|\^)\s*0\.5\b",
+                     lambda m: "√" + (m.group(1) or m.group(2)), written)
+    try:
+        format_quantity(value, unit, written)
+    except Exception:  # any text the unit library cannot take back
+        return None
+    return written
 
 
 def refuse_bare_ratio(value, unit: str, display: str, what: str) -> None:
