@@ -23,6 +23,7 @@ from ins_errors.model_parameters import parameters_record, parameters_used
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.output import OutputFolder
 from ins_errors.scenario import ScenarioResult
+from ins_errors.time_text import run_length_text
 
 _MATH = re.compile(r"\$\$(.+?)\$\$", re.S)
 _INLINE_MATH = re.compile(r"(?<!\$)\$([^$\n]+?)\$(?!\$)")
@@ -55,7 +56,7 @@ def _run_line(result) -> str:
     run of a report's plots (as ``compare`` titles its own)."""
     s = result.scenario
     return (f"{load_model(s.model).name}: {result.motion_description}; "
-            f"{s.duration / 3600:g} h, τ = {s.step:g} s, {s.method}")
+            f"{run_length_text(s.duration)}, τ = {s.step:g} s, {s.method}")
 
 
 def report_markdown(result: ScenarioResult, plots: list[str]) -> str:

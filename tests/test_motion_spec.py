@@ -10,3 +10,24 @@ def test_the_standard_manoeuvre_is_described_by_its_pattern_not_its_leg_count():
     assert text.startswith(STANDARD_MANOEUVRE) and "legs" not in text
     own = manoeuvre_profile(0.8, 0.5, 0.0, 200.0, default_legs(200.0, 0.0, hours=1))
     assert own.description.startswith("manoeuvring flight of 5 legs")
+
+
+def test_a_manoeuvre_is_described_with_its_speed_height_and_track(capsys):
+    # a sizing probe's UAV at 50 m/s and 3 km read "standard manoeuvre (...) from φ=45°,
+    # λ=10°": a great circle's line gives them, a manoeuvre's gave none; and its 10 min
+    # read "0.166667 h"
+    from ins_errors.cli import main
+
+    assert main(["compare", "strapdown_ned", "--motion", "manoeuvre", "--speed", "50m/s",
+                 "--height", "3000m", "--heading", "90deg", "--latitude", "45deg",
+                 "--longitude", "10deg", "--duration", "10min", "-s",
+                 "gyro_bias_x=0.01deg/h"]) == 0
+    title = capsys.readouterr().out.splitlines()[0]
+    assert "from φ=45°, λ=10°, track 90°, 50 m/s, h=3000 m; 10 min, τ = 1 s" in title, title
+
+
+def test_a_run_length_is_in_hours_where_short_else_in_its_own_unit():
+    from ins_errors.time_text import run_length_text
+
+    assert [run_length_text(s) for s in (600.0, 5400.0, 86400.0, 604800.0, 1000.0)] == [
+        "10 min", "1.5 h", "24 h", "168 h", "16.67 min"]

@@ -449,6 +449,8 @@ def test_budget_and_sweep_figures_fit_their_fixed_margins(tmp_path, monkeypatch)
                      "binding_item": None, "fixed": True,
                      "largest_share": {n: 0.05 * (i + 1) for i, n in enumerate(items)}}
                     for j in range(count // 20)]
+        for source in sources:  # a source's row label is its name (one kind of part)
+            source["label"] = source["name"]
         rows = [{"item": n, "ratio": 0.1 + 0.3 * i, "time_h": when,
                  "display": f"{display} of {display}"} for i, n in enumerate(items)]
         monkeypatch.setattr(budget_report, "report", lambda allocation: {
@@ -926,4 +928,4 @@ def test_a_reports_plots_name_the_model_motion_and_run(report, tmp_path):
     title = plots._SPARE_FIGURES.figures[-1].title.get_text().replace("\n", " ")
     assert result.motion_description.split(" ")[0] in title
     assert result.scenario.model in title and "τ = " in title
-    assert f"{result.scenario.duration / 3600:g} h" in title
+    assert "; 20 min, τ = " in title  # the scenario's 20 min, not "0.333333 h"

@@ -455,7 +455,10 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
                    track, breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])),
                    **_description((None, name or f"manoeuvring flight of {len(legs)} legs"),
                                   ("latitude", f" from φ={np.degrees(latitude):.4g}°"),
-                                  ("longitude", f", λ={np.degrees(longitude):.4g}°")))
+                                  ("longitude", f", λ={np.degrees(longitude):.4g}°"),
+                                  ("heading", f", track {np.degrees(track):.4g}°"),
+                                  (None, f", {float(speed):g} m/s"),
+                                  ("height", f", h={float(h):g} m")))
 
 
 def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: float,
