@@ -73,7 +73,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         "| setting | value |", "|---|---|",
         f"| model | `{table_cell(model.name)}` |",
         f"| motion | {table_cell(result.motion_description)} |",
-        f"| duration | {s.duration / 3600:g} h |",
+        f"| duration | {run_length_text(s.duration)} |",
         f"| step τ | {s.step:g} s ({'rectangle method' if s.method == 'euler' else 'RK4'}) |",
         f"| recorded every | {s.record:g} s |",
         *([f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |"]
