@@ -444,3 +444,30 @@ def test_monte_carlo_table_reads_the_vertical_in_the_specs_unit(tmp_path, capsys
     first = next(r for r in mc["rows"] if r["item"] == "vertical_error")
     assert first["unit"] == "rad" and first["sigma_level"] == 2
     assert float(rows[0][4]) == pytest.approx(first["covariance"] / DEG * 3600, rel=1e-3)
+
+
+def test_an_exceeded_budget_with_shares_decades_apart_is_drawn_on_a_log_axis(
+        tmp_path, capsys, monkeypatch):
+    """A sizing probe's MEMS IMU used 1e7 % of a spec beside sources using 1e-3 %: on the
+    linear share axis every bar but the largest was invisible. Where the shares span more
+    than LOG_SHARES the axis is logarithmic and each source's bar length is its share."""
+    from ins_errors.analysis import budget_report
+
+    figures = []
+    monkeypatch.setattr(budget_report, "save_figure",
+                        lambda fig, path, dpi=None: figures.append(fig))
+    spec = write(tmp_path, EXCEEDED.replace('fixed = "2 mg"', 'fixed = "0.02 ug"'))
+    assert main(["budget", "orthodromic", "--spec", str(spec), "--plot",
+                 str(tmp_path / "b.png")]) == 1
+    capsys.readouterr()
+    left = figures[-1].axes[0]
+    assert left.get_xscale() == "log"
+    widths = sorted(p.get_width() for p in left.patches if p.get_width() > 0)
+    assert widths[-1] / widths[0] > budget_report.LOG_SHARES
+    low, high = left.get_xlim()
+    assert low <= widths[0] and widths[-1] < high
+    # within a few decades the axis stays linear
+    figures.clear()
+    assert main(["budget", "orthodromic", "--spec", str(write(tmp_path, EXCEEDED)),
+                 "--plot", str(tmp_path / "c.png")]) == 1
+    assert figures[-1].axes[0].get_xscale() == "linear"

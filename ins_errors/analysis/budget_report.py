@@ -419,6 +419,11 @@ FIXED_HATCH = "////"
 """Hatching of a fixed source's bars in :func:`plot` (the instrument already bought)."""
 
 
+LOG_SHARES = 1000.0
+"""An exceeded budget's share axis is logarithmic where its largest share is more than
+this many times its smallest (positive) one."""
+
+
 def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     """Save the budget as two readable bar charts.
 
@@ -491,6 +496,24 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
         left.axhline(y[len(fixed) - 1] - 0.5, color="k", lw=0.8, ls=":")
     longest = used.max(1) if used.size else np.zeros(0)
     largest = max(float(longest.max()) if longest.size else 0.0, 1e-9)
+    positive = used[used > 0]
+    if exceeded and positive.size and largest > LOG_SHARES * positive.min():
+        # fixed sources far beyond the spec (a MEMS IMU: 1e7 %) beside ones within it: on a
+        # linear axis every bar but the largest was invisible
+        low = 10.0 ** np.floor(np.log10(positive.min()))
+        high = largest * 16
+        left.set_xscale("log")
+        left.set_xlim(low, high)
+        start = low  # where a source with no share has its note
+
+        def place(value: float) -> float:
+            return float(np.log(max(value, low) / low) / np.log(high / low))
+    else:
+        left.set_xlim(0, largest * 1.6)
+        start = 0.0
+
+        def place(value: float) -> float:
+            return value / (largest * 1.6)
     notes = []
     for n, (yy, s, end) in enumerate(zip(y, drawn, longest, strict=True)):
         if n < len(fixed):
@@ -498,9 +521,8 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
         else:
             when = format_time(s["binding_time_h"] * HOUR)
             text = f"  bound by {s['binding_item']} at {when}"
-        left.text(end, yy, text, va="center", fontsize=7)
-        notes.append((end / (largest * 1.6), text_width([text], 7)))
-    left.set_xlim(0, largest * 1.6)
+        left.text(max(end, start), yy, text, va="center", fontsize=7)
+        notes.append((place(end), text_width([text], 7)))
     if exceeded and largest >= 100:
         left.axvline(100.0, color="k", lw=1, ls="--")
     left.set_title("the fixed sources alone, and where they use the spec" if exceeded else
