@@ -190,12 +190,26 @@ def _candidates(expr: sp.Expr, known: tuple[sp.Symbol, ...]
             options.append((f.func(arg / 2), f"{f} written where {f.func(arg / 2)} belongs"))
         for value, text in options:
             out.append((FUNCTION, text, expr.xreplace({f: value})))
+        if _bare(expr, f):  # divided instead of multiplied: cos φ/(R + h) for 1/((R + h) cos φ)
+            out.append((EXPONENT, f"{f} multiplies where it divides (exponent 1 where -1 "
+                                  "belongs)", expr.xreplace({f: 1 / f})))
     for power in sorted(expr.atoms(sp.Pow), key=sp.default_sort_key):
         if power.exp.is_Rational and not power.base.is_Symbol:
             for e in _exponent_changes(power.exp):
-                out.append((EXPONENT, f"exponent {power.exp} where {e} belongs",
-                            expr.xreplace({power: power.base ** e})))
+                text = f"exponent {power.exp} where {e} belongs"
+                if power.exp == -1 and e == 1 and isinstance(power.base, sp.Function):
+                    text = f"{power.base} divides where it multiplies ({text})"
+                out.append((EXPONENT, text, expr.xreplace({power: power.base ** e})))
     return tuple(out)
+
+
+def _bare(expr: sp.Basic, f: sp.Expr) -> bool:
+    """True if ``f`` occurs in ``expr`` as a plain factor (not as the base of a power)."""
+    if expr == f:
+        return True
+    if expr.is_Pow:
+        return (expr.base != f and _bare(expr.base, f)) or _bare(expr.exp, f)
+    return any(_bare(a, f) for a in expr.args)
 
 
 def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.ndarray,
@@ -866,3 +880,248 @@ def _regroup(omission: Omission, findings: list[tuple[EquationResult, Finding]],
             touched[id(r)] = r
     for r in touched.values():
         set_status(r)
+
+
+# -- one slip of a hand line behind several findings ------------------------------------
+LINE = "(line)"
+"""Quantity of a line's root finding that one symbol change explains (its per-quantity
+findings are its knock-ons)."""
+
+
+def _same_kind(a: str, b: str) -> bool:
+    """True if the names ``a`` and ``b`` differ in one index or axis: ``u12``/``u21``,
+    ``delta_u11``/``delta_u12``, ``V_N``/``V_E``, ``Delta_omega_rel_xi``/``..._eta`` (not
+    ``V_N``/``a_N``: the first part is what the quantity is)."""
+    pa, pb = a.split("_"), b.split("_")
+    if a == b or len(pa) != len(pb):
+        return False
+    differ = [i for i, (x, y) in enumerate(zip(pa, pb, strict=True)) if x != y]
+    if len(differ) != 1:
+        return False
+    x, y = pa[differ[0]], pb[differ[0]]
+    if any(c.isdigit() for c in x + y):  # u12 / u21: the same letters, other digits
+        return (len(x) == len(y) and any(c.isdigit() for c in x)
+                and any(c.isdigit() for c in y)
+                and all(c == d for c, d in zip(x, y, strict=True)
+                        if not (c.isdigit() and d.isdigit())))
+    return differ[0] > 0 and x.isalpha() and y.isalpha()
+
+
+def _line_changes(form: sp.Expr, pool: list[str]
+                  ) -> list[tuple[str, sp.Expr, sp.Expr, str, sp.Expr]]:
+    """One-place changes of a printed line: (kind, written, belongs, description, change
+    of the form) for each symbol of a term (or of the whole line, where it is in several
+    terms) replaced by a same-kind name of ``pool`` (:func:`_same_kind`), each sin ↔ cos
+    and each trigonometric factor left out."""
+    terms = sp.Add.make_args(form)
+    out: dict[sp.Expr, tuple[str, sp.Expr, sp.Expr, str, sp.Expr]] = {}
+    for term in terms:
+        swaps = [(SYMBOL, s, sp.Symbol(o, real=True), None)
+                 for s in sorted_symbols(term.free_symbols)
+                 for o in pool if _same_kind(s.name, o)]
+        for f in sorted(term.atoms(sp.sin, sp.cos, sp.tan, sp.cot), key=sp.default_sort_key):
+            if f.func in (sp.sin, sp.cos):
+                swaps.append((FUNCTION, f, (sp.cos if f.func == sp.sin else sp.sin)(
+                    f.args[0]), None))
+            swaps.append((FUNCTION, f, sp.S.One, f"{f} should not be there"))
+        for kind, old, new, text in swaps:
+            whole = [t for t in terms if t.has(old)]
+            for scope in ([term, form] if len(whole) > 1 else [term]):
+                change = scope.xreplace({old: new}) - scope
+                if change != 0 and change not in out:
+                    out[change] = (kind, old, new,
+                                   text or f"{old} written where {new} belongs", change)
+    return list(out.values())
+
+
+def _shown_name(name: str, eq: HandEquation, hand: HandFile, notation) -> str:
+    """The file's own spelling of a name read through the notation (``Delta_u12`` for
+    ``delta_u12``): the one the line writes, else the one the file writes elsewhere."""
+    import re
+
+    spellings = [w for w, meaning in notation.spellings.items() if meaning == name]
+    for text in (eq.text, *(e.text for e in hand.equations)):
+        for written in spellings:
+            if re.search(rf"(?<![A-Za-z0-9_]){re.escape(written)}(?![A-Za-z0-9_])", text):
+                return written
+    return name
+
+
+def line_slips(results: list[EquationResult], prepared: list[list[Item]], hand: HandFile,
+               resolver: HandSide, comparison: Comparison, declared: Declarations,
+               needed: dict[str, Needed], threshold: float) -> None:
+    """Group a line's own findings that one symbol change on the line explains.
+
+    A slip in one symbol of a printed line (``u12`` written where ``u21`` belongs, in a
+    term whose definition expands into several error quantities) shows on every quantity
+    it reaches. For each line with two or more own mistakes (or one unnamed wrong
+    coefficient), each same-kind change of one symbol of a term, each sin ↔ cos and each
+    trigonometric factor left out (:func:`_line_changes`) is tried, on the line isolated
+    (the definitions it uses corrected) and as written: a change that removes every own
+    mistake, and brings no new difference, is the line's one root finding (:data:`LINE`,
+    kind :data:`SYMBOL` or :data:`FUNCTION`, ``hand`` the name written and ``model`` the
+    one that belongs, the largest size of the findings it explains); those findings
+    become its knock-ons (their ``roots``: the line itself). A cheap numeric look (the
+    change's coefficients against the line's differences at the reference points) picks
+    the change; the full comparisons confirm it. ``results`` are updated in place.
+    """
+    items = {(id(eq), it.form): it for eq, its in zip(hand.equations, prepared, strict=True)
+             for it in its}
+    pool: list[str] | None = None
+    for r in results:
+        item = items.get((id(r.equation), r.form))
+        if item is None or item.key is None or item.ideal or item.hand_isolated is None \
+                or item.model_declared is None:
+            continue
+        own = [f for f in r.findings if f.role == ROOT and f.is_mistake and not f.part]
+        if not own or (len(own) == 1 and not (own[0].kind == COEFFICIENT and (
+                not own[0].detail or own[0].detail.startswith("model has")))):
+            continue
+        quantities = {q for f in own for q in f.quantity.split(" -> ")}
+        if not quantities <= {str(b) for b in comparison.symbols}:
+            continue  # a constant term, a left-hand side: no symbol change of a term
+        if pool is None:
+            pool = _name_pool(hand, resolver)
+        kept = {q for f in r.findings if f.role == KNOCK_ON and f.is_mistake
+                for q in f.quantity.split(" -> ")}
+        found = _fitting_change(r.equation, item, quantities, kept, pool, resolver,
+                                comparison, declared, needed)
+        if found is None:
+            continue
+        kind, old, new, text = found
+        written, belongs = (_shown_name(str(n), r.equation, hand, resolver.notation)
+                            for n in (old, new))
+        if kind == SYMBOL:
+            text = f"{written} written where {belongs} belongs"
+        largest = max(own, key=lambda f: f.size)
+        root = Finding(LINE, kind, severity(kind, largest.size, threshold), largest.size,
+                       largest.point, written, belongs,
+                       f"{text} (one change on the line; it explains "
+                       f"{len(own)} finding{'s' * (len(own) > 1)}: "
+                       f"{', '.join(f.quantity for f in own)})")
+        mine = {id(f) for f in own}
+        r.findings = [root] + [
+            replace(f, role=KNOCK_ON, roots=(r.reference,),
+                    detail=f.detail if f.detail.startswith(text)
+                    else f"through {text}" + (f"; {f.detail}" if f.detail else ""))
+            if id(f) in mine else f for f in r.findings]
+        set_status(r)
+
+
+def _name_pool(hand: HandFile, resolver: HandSide) -> list[str]:
+    """Names a slip may have put in a line's place: the file's own and the model's states,
+    inputs, parameters and error states."""
+    d = resolver.model.d
+    names = {s.name for eq in hand.equations for form in eq.forms for s in form.free_symbols}
+    names |= {v.name for v in (*d.states, *d.inputs, *d.parameters)}
+    names |= set(resolver.model.error_states)
+    return sorted(names)
+
+
+def _fitting_change(eq: HandEquation, item: Item, quantities: set[str], kept: set[str],
+                    pool: list[str], resolver: HandSide, comparison: Comparison,
+                    declared: Declarations, needed: dict[str, Needed]
+                    ) -> tuple[str, sp.Expr, sp.Expr, str] | None:
+    """(kind, written, belongs, description) of the one change of ``eq``'s printed form
+    (:func:`_line_changes`) that removes the line's own findings (on ``quantities``) and
+    brings no new one, or None.
+
+    The change is made on the line isolated (the definitions it uses corrected: what
+    remains there is the line's own) and on the line as written (a finding isolation
+    removes, with no wrong definition behind it, is the line's own too); ``kept``: the
+    quantities of the line's knock-ons from wrong definitions, which stay.
+    """
+    changes = _line_changes(eq.forms[item.form], pool)
+    if not changes:
+        return None
+    hand_declared = item.hand if item.hand_declared is None else item.hand_declared
+
+    def found(hand: sp.Expr, model: sp.Expr | None = None) -> set[str]:
+        return {q for f in comparison.compare(
+                    hand, item.model_declared if model is None else model, diagnose=False,
+                    trusted=True)
+                for q in f.quantity.split(" -> ")}
+
+    def written_found(full: sp.Expr, with_declared: sp.Expr) -> set[str]:
+        """The quantities the line as written has findings on that are not declared
+        drops (:func:`line_findings`: differences from the exact model that remain with
+        the declared simplifications)."""
+        return found(full, item.model_full) & found(with_declared)
+
+    try:
+        raw, scale, _ = comparison.differences(item.hand_isolated, item.model_declared,
+                                               trusted=True)
+        isolated = found(item.hand_isolated)
+        written = written_found(item.hand, hand_declared)
+    except UnresolvedError:
+        return None
+    zero = declared.zeroed_for(eq, comparison.expand_model)
+    trail = (resolver.definition_key(eq),) if isinstance(eq.lhs, sp.Symbol) else ()
+    dropped = declared.dropped_for(eq)
+    side = model_side(resolver.model.d, dropped) if dropped else resolver.model
+
+    def resolved(change: sp.Expr, isolate: bool, zeroed: bool = True) -> sp.Expr | None:
+        """The change in basis and model symbols (None if it does not resolve)."""
+        saved = (resolver.trace, set(resolver.used_definitions), set(resolver.sources_used),
+                 {k: set(v) for k, v in resolver.from_model.items()}, resolver.current_line)
+        if isolate:
+            resolver.isolate = side
+            resolver.needed = {k: v.expr for k, v in needed.items()}
+        resolver.current_line, resolver.trace = eq.line, set()
+        try:
+            delta = resolver.resolve(change, eq.section, trail)
+            return delta.xreplace(zero) if zero and zeroed else delta
+        except UnresolvedError:
+            return None
+        finally:
+            resolver.isolate, resolver.needed = None, {}
+            (resolver.trace, resolver.used_definitions, resolver.sources_used,
+             resolver.from_model, resolver.current_line) = saved
+
+    weights = comparison.magnitude
+    own_isolated = quantities & isolated
+    for kind, old, new, text, change in changes:
+        delta = resolved(change, isolate=True)
+        if delta is None:
+            continue
+        try:
+            parts, constant = comparison.linear_parts(delta)
+        except UnresolvedError:
+            continue
+        if constant != 0 or not parts or any(
+                parts.get(b, sp.S.Zero) == 0 for b in comparison.symbols
+                if str(b) in own_isolated):
+            continue  # it leaves an own finding's coefficient as it is
+        # a cheap look first: the change's coefficients against the differences
+        values = comparison.try_evaluate(list(parts.values()))
+        if values is None:
+            continue
+        fits = True
+        for b, v in zip(parts, values, strict=True):
+            info = raw.get(b)
+            target = (info["model"] - info["hand"]) if (
+                info is not None and str(b) in quantities) else 0.0
+            if not np.all(np.isfinite(v)) or np.any(
+                    np.abs(v - target) * weights.get(b, 1.0) > TOLERANCE * scale):
+                fits = False
+                break
+        if not fits:
+            continue
+        try:  # the full comparisons: nothing of the line's own is left, nothing new
+            after_isolated = found(item.hand_isolated + delta)
+            if after_isolated & quantities or after_isolated - isolated:
+                continue
+            as_written = resolved(change, isolate=False, zeroed=False)
+            if as_written is None:
+                continue
+            after = written_found(item.hand + as_written,
+                                  hand_declared + (as_written.xreplace(zero) if zero
+                                                   else as_written))
+        except UnresolvedError:
+            continue
+        # what stays is a knock-on of a wrong definition (kept), nothing new
+        if (after & quantities) - kept or after - written or (
+                after & after_isolated) - (written & isolated):
+            continue
+        return kind, old, new, text
+    return None

@@ -975,6 +975,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
             results.append(_evaluate(eq, item, comparison, identify, hand, resolver,
                                      declared, needed))
     cl.assign_roots(results, prepared, hand)
+    cl.line_slips(results, prepared, hand, resolver, comparison, declared, needed, threshold)
     if hand.real_work:
         from ins_errors.checker.realwork import check_real_work, platform_angles
 

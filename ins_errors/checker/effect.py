@@ -294,7 +294,10 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
         if result.target in state_of and item.model_full is not None:
             effects = {}
             for g in result.findings:
-                if g.role != cl.ROOT or not np.isfinite(g.size):
+                # the line's own findings, also those one slip of the line explains
+                # (knock-ons of the line itself, under its root cl.LINE: all its columns)
+                inline = g.role == cl.KNOCK_ON and g.roots == (result.reference,)
+                if (g.role != cl.ROOT and not inline) or not np.isfinite(g.size):
                     continue
                 delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n, len(sources)))
                 # the line's own part (definitions it uses corrected); a declared drop
@@ -305,7 +308,8 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
                 try:
                     _add_row(delta_f, delta_drive, state_of[result.target], hand, model,
                              comparison, symbols, sources, magnitude,
-                             only=set(g.quantity.split(" -> ")))
+                             only=None if g.quantity == cl.LINE
+                             else set(g.quantity.split(" -> ")))
                 except _UnresolvedError:
                     continue
                 effects[id(g)] = run(delta_f, delta_drive, {}, g.point)
