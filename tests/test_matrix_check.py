@@ -691,10 +691,11 @@ def test_stored_motions_are_the_flown_ones_to_the_bit(tmp_path, monkeypatch):
     # an empty motion store; the compiled loops that fly them stay where they are
     monkeypatch.setattr(motion_store, "folder", lambda: tmp_path / "motions")
     fly = check_motions._motions.__wrapped__  # past the per-process cache
-    flown = fly(MODEL, 2.0, 600.0, None)
+    flown, none = fly(MODEL, 2.0, 600.0, None)
     (stored,) = (tmp_path / "motions").glob("*.npz")
-    read = fly(MODEL, 2.0, 600.0, None)
+    read, none_read = fly(MODEL, 2.0, 600.0, None)
     assert [m.label for m in read] == ["static", "cruise", "manoeuvre"]
+    assert none == none_read == ()
     for a, b in zip(flown, read, strict=True):
         assert (a.label, a.description) == (b.label, b.description)
         for name in ("times", "x", "u", "p"):
@@ -711,7 +712,7 @@ def test_stored_motions_are_the_flown_ones_to_the_bit(tmp_path, monkeypatch):
             motion_store.key(model, 2.0, 600.0, None, p * (1 + 1e-15))}
     assert len(keys) == 5 and stored.stem in keys
     stored.write_bytes(b"not a store")
-    again = fly(MODEL, 2.0, 600.0, None)
+    again, _ = fly(MODEL, 2.0, 600.0, None)
     assert np.array_equal(again[2].x, flown[2].x)
     assert motion_store.load(stored.stem) is not None  # written anew
     for i in range(motion_store.KEEP + 3):

@@ -6,6 +6,11 @@ check in the same process and on disk for the next process
 :mod:`~ins_errors.numeric.trajectories`; strapdown models (``strapdown_ned`` and model
 files that describe themselves, :mod:`~ins_errors.checker.strapdown_description`) fly the
 exact rigid-body flights of :mod:`~ins_errors.numeric.strapdown_truth`.
+
+A model that cannot follow a moving motion (a wander-azimuth INS off a meridian: its
+flight is refused with a :class:`~ins_errors.numeric.trajectories.MotionError`) is
+checked on the motions it can fly; the others are listed with the one-line refusal
+(:func:`flown_motions`). A model that cannot fly the static base is refused.
 """
 
 from __future__ import annotations
@@ -100,12 +105,12 @@ def _weave(t: np.ndarray) -> tuple[np.ndarray, ...]:
             -climb * np.cos(w_climb * t), climb * w_climb * np.sin(w_climb * t))
 
 
-def _strapdown_runs(model, hours: float, step: float, p: np.ndarray):
-    """(label, Trajectory) of the three flights of a strapdown model."""
+def _strapdown_flights():
+    """(label, Flight) of the three flights of a strapdown model."""
     from ins_errors.numeric import strapdown_truth as st
 
     lat, lon = np.radians(50.0), np.radians(30.0)
-    flights = [
+    return [
         ("static", st.static(lat, lon, 0.0, heading=np.radians(30.0))),
         ("cruise", st.great_circle(lat, lon, np.radians(60.0), 250.0, 10_000.0)),
         ("manoeuvre", st.Flight(lat, lon, 5000.0, np.radians(60.0), _weave,
@@ -113,8 +118,6 @@ def _strapdown_runs(model, hours: float, step: float, p: np.ndarray):
                                 "0.57 cos(2πt/20 min) °/s (bank up to 13°), speed 220 ± 30 m/s "
                                 "(period 1 h), height 5 ± 3.8 km (period 80 min)")),
     ]
-    return [(label, flight.description, st.trajectory(model, flight, hours * 3600.0, step, p=p))
-            for label, flight in flights]
 
 
 def parameter_items(parameters: Mapping[str, float] | None) -> tuple[tuple[str, float], ...]:
@@ -124,7 +127,8 @@ def parameter_items(parameters: Mapping[str, float] | None) -> tuple[tuple[str, 
 
 def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | None = None,
             parameters: Mapping[str, float] | None = None) -> list[Motion]:
-    """The checker's motions for ``model``, sampled every ``step`` s for ``hours`` h.
+    """The checker's motions for ``model`` that it can fly, sampled every ``step`` s for
+    ``hours`` h (those it cannot: :func:`flown_motions`).
 
     Static base at φ 50°, λ 30°; a cruise at 250 m/s and 10 km (a great circle leaving at
     track 60° for models with a heading, an eastward cruise along the parallel otherwise);
@@ -134,52 +138,113 @@ def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | No
     replace the model's defaults in every sample's parameter vector, where the derived
     model is evaluated.
     """
+    return flown_motions(model, hours, step, ellipsoid, parameters)[0]
+
+
+def flown_motions(model, hours: float = HOURS, step: float = STEP,
+                  ellipsoid: str | None = None,
+                  parameters: Mapping[str, float] | None = None
+                  ) -> tuple[list[Motion], list[str]]:
+    """The motions of :func:`motions` the model can fly, and those it cannot.
+
+    Returns
+    -------
+    flown : list of Motion
+        The static base first, then the moving motions the model follows.
+    skipped : list of str
+        ``"label: reason"`` of each moving motion the model cannot follow (the one-line
+        refusal of its flight, a :class:`~ins_errors.numeric.trajectories.MotionError`),
+        in the motions' order.
+
+    Raises
+    ------
+    InsErrorsError
+        A model without a navigation description; the static base's refusal; any other
+        error of a flight (bad Earth parameters, a state that is NaN along it, ...).
+    """
     require_description(model)
-    return list(_motions(model.key, float(hours), float(step), ellipsoid,
-                         parameter_items(parameters)))
+    flown, skipped = _motions(model.key, float(hours), float(step), ellipsoid,
+                              parameter_items(parameters))
+    return list(flown), list(skipped)
 
 
 @lru_cache(maxsize=8)
 @one_blas_thread
 def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None,
-             parameters: tuple[tuple[str, float], ...] = ()) -> tuple[Motion, ...]:
-    """Motions of :func:`motions`, kept for the next check in the same process (and on
-    disk for the next process: :mod:`~ins_errors.checker.motion_store`, whose key holds
-    the parameter vector)."""
+             parameters: tuple[tuple[str, float], ...] = ()
+             ) -> tuple[tuple[Motion, ...], tuple[str, ...]]:
+    """Motions of :func:`flown_motions` (flown, skipped), kept for the next check in the
+    same process (and on disk for the next process, the skipped ones with their reasons:
+    :mod:`~ins_errors.checker.motion_store`, whose key holds the parameter vector)."""
     from ins_errors.numeric.model import load_model
 
     model = load_model(model_key)
     p = model.parameter_vector(ellipsoid=ellipsoid, **dict(parameters))
     name = motion_store.key(model, hours, step, ellipsoid, p)
-    flown = motion_store.load(name)
-    if flown is None:
-        flown = _fly(model, hours, step, p)
-        motion_store.store(name, flown)
-    return tuple(Motion(label, description, a["times"], a["x"], a["u"], a["p"],
-                        navigation_arrays(model, a["x"], a["u"], a["p"]))
-                 for label, description, a in flown)
+    stored = motion_store.load(name)
+    if stored is None:
+        stored = _fly(model, hours, step, p)
+        motion_store.store(name, *stored)
+    flown, skipped = stored
+    return (tuple(Motion(label, description, a["times"], a["x"], a["u"], a["p"],
+                         navigation_arrays(model, a["x"], a["u"], a["p"]))
+                  for label, description, a in flown),
+            tuple(skipped))
+
+
+def _cannot_follow(error: Exception) -> bool:
+    """True for a refusal that says the model cannot follow a flight (a
+    :class:`~ins_errors.numeric.trajectories.MotionError` of
+    :mod:`~ins_errors.numeric.model_flight` or of the trajectory generators), not for
+    wrong Earth parameters or a value outside the model's domain."""
+    from ins_errors.errors import DomainError
+    from ins_errors.numeric.trajectories import EarthParameterError, MotionError
+
+    return (isinstance(error, MotionError)
+            and not isinstance(error, EarthParameterError | DomainError))
 
 
 def _fly(model, hours: float, step: float, p: np.ndarray
-         ) -> list[tuple[str, str, dict[str, np.ndarray]]]:
-    """(label, description, {times, x, u, p}) of each motion, flown."""
+         ) -> tuple[list[tuple[str, str, dict[str, np.ndarray]]], list[str]]:
+    """(label, description, {times, x, u, p}) of each motion the model flies, and
+    ``"label: reason"`` of each moving motion it cannot follow (:func:`_cannot_follow`).
+
+    Raises
+    ------
+    InsErrorsError
+        The static base's refusal, or any error of a flight other than a refusal to
+        follow it.
+    """
     from ins_errors.checker import strapdown_description
+    from ins_errors.numeric import strapdown_truth as st
     from ins_errors.numeric import trajectories as tr
 
     if strapdown_description.is_strapdown(model):
-        runs = _strapdown_runs(model, hours, step, p)
+        plans = [(label, flight.description,
+                  lambda flight=flight: st.trajectory(model, flight, hours * 3600.0, step,
+                                                      p=p))
+                 for label, flight in _strapdown_flights()]
     else:
-        runs = [(label, profile.description,
-                 tr.trajectory(model, profile, hours * 3600.0, step, p=p))
-                for label, profile in _profiles(model, hours)]
-    out = []
-    for label, description, run in runs:
-        steps = np.arange(run.n_steps + 1)
-        x = (np.repeat(run.truth[:, :1], steps.size, axis=1) if run.constant
-             else run.truth)
-        arrays = {"times": run.times, "x": x, "u": run.inputs_at(steps), "p": run.parameters}
+        plans = [(label, profile.description,
+                  lambda profile=profile: tr.trajectory(model, profile, hours * 3600.0,
+                                                        step, p=p))
+                 for label, profile in _profiles(model, hours)]
+    out, skipped = [], []
+    for label, description, fly in plans:
+        try:
+            run = fly()
+            steps = np.arange(run.n_steps + 1)
+            x = (np.repeat(run.truth[:, :1], steps.size, axis=1) if run.constant
+                 else run.truth)
+            arrays = {"times": run.times, "x": x, "u": run.inputs_at(steps),
+                      "p": run.parameters}
+        except Exception as error:
+            if label == "static" or not _cannot_follow(error):
+                raise
+            skipped.append(f"{label}: {error}")
+            continue
         # C order, as read back from the store: a check on flown motions and one on
         # stored motions do the same arithmetic
         out.append((label, description, {f: np.ascontiguousarray(a, dtype=float)
                                           for f, a in arrays.items()}))
-    return out
+    return out, skipped

@@ -908,11 +908,16 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     item_functions = [(list(cols), _row_function(tuple(cols.values()), tuple(names)))
                       for _, _, _, cols in items]
     item_values: list[dict[str, dict[str, np.ndarray]]] = [{} for _ in items]
-    motion_list = mx.motions(model, mx.HOURS if hours is None else hours,
-                             mx.STEP if step is None else step, parameters=parameters)
+    motion_list, skipped = mx.flown_motions(model, mx.HOURS if hours is None else hours,
+                                            mx.STEP if step is None else step,
+                                            parameters=parameters)
     if hand.scope is not None:
         label = {"static base": "static", "cruise": "cruise", "climb": "manoeuvre"}[hand.scope]
         motion_list = [m for m in motion_list if m.label == label]
+        skipped = [s for s in skipped if s.split(":", 1)[0] == label]
+        if not motion_list:  # the model cannot fly the one motion the file is about
+            raise InsErrorsError(f"{hand.name}: '@scope {hand.scope}' is the {label} "
+                                 f"motion: {skipped[0].split(': ', 1)[1]}")
     F, G = {}, {}
     src_cols = [src_names.index(s) for s in used]
     samples = []  # (quantities, derived F, derived G) of each motion, for symbol slips
@@ -952,7 +957,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                                threshold=1e-3 if threshold is None else threshold,
                                effects=effects, motion_list=motion_list,
                                magnitudes=overrides, declared=declared, declared_used=found,
-                               parameters=parameters)
+                               parameters=parameters, skipped_motions=skipped)
     report.declarations = [f"line {d.line}: {', '.join(d.texts)}"
                            + (f" ({d.reason})" if d.reason else "")
                            for d in hand.declarations]

@@ -50,7 +50,14 @@ from pathlib import Path
 import numpy as np
 
 from ins_errors.checker import held_channel
-from ins_errors.checker.check_motions import HOURS, STEP, Motion, motions, parameter_items
+from ins_errors.checker.check_motions import (
+    HOURS,
+    STEP,
+    Motion,
+    flown_motions,
+    motions,  # noqa: F401  (the checker's motions, as matrix.motions)
+    parameter_items,
+)
 from ins_errors.checker.conventions import NORTH_POSITION, BiasState, Convention, convention
 from ins_errors.checker.derived_convention import derived_in_convention
 from ins_errors.checker.extreme import first_largest
@@ -194,6 +201,11 @@ class MatrixReport:
         The hand model's states and G's sources.
     threshold : float
     motions : list of (label, description)
+        The motions compared along.
+    skipped_motions : list of str
+        ``"label: reason"`` of each of the checker's motions the model cannot follow (not
+        flown, not compared along: a wander-azimuth INS off a meridian); empty when every
+        motion is flown or the motions were given.
     magnitudes : dict
         Name -> (typical magnitude SI, text) of every state and source compared.
     findings : list of EntryFinding
@@ -252,6 +264,7 @@ class MatrixReport:
     vertical: list[str] = field(default_factory=list)
     vertical_effects: dict[str, VerticalEffect] = field(default_factory=dict)
     bias_states: list[BiasState] = field(default_factory=list)
+    skipped_motions: list[str] = field(default_factory=list)
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -749,7 +762,8 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                    magnitudes: dict[str, str] | None = None,
                    declared: dict[tuple[str, str, str], list[DeclaredTerm]] | None = None,
                    declared_used: set[int] | None = None,
-                   parameters: Mapping[str, float] | None = None) -> MatrixReport:
+                   parameters: Mapping[str, float] | None = None,
+                   skipped_motions: list[str] | None = None) -> MatrixReport:
     """Check a hand-coded F (and G) against the derived model of ``model_name``.
 
     Parameters
@@ -770,7 +784,8 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     effects : bool
         Also propagate both models (1 h and 24 h, or ``hours`` if shorter).
     motion_list : list of Motion, optional
-        Pre-computed motions (default: :func:`motions`).
+        Pre-computed motions (default: those of :func:`motions` the model can fly; the
+        others are listed in the report's ``skipped_motions``).
     ellipsoid : str, optional
         Earth shape of the motions (default: the model's own).
     magnitudes : dict, optional
@@ -786,6 +801,10 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         Model parameter values (SI) replacing the defaults: in the motions flown here
         (``motion_list`` carries its own) and in the Earth radius and gravity of the
         typical sizes (default: none).
+    skipped_motions : list of str, optional
+        ``"label: reason"`` of the motions not flown, for the report, with a given
+        ``motion_list`` (:func:`~ins_errors.checker.check_motions.flown_motions`);
+        default: none given.
 
     Raises
     ------
@@ -801,8 +820,9 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     require_description(model)
     conv = convention(model, convention_name)
     values_set = dict(parameter_items(parameters))
-    motion_list = (motions(model, hours, step, ellipsoid, values_set) if motion_list is None
-                   else motion_list)
+    if motion_list is None:
+        motion_list, skipped_motions = flown_motions(model, hours, step, ellipsoid,
+                                                     values_set)
     if callable(hand) and not isinstance(hand, HandMatrices):
         name, path, states, sources, markov = callable_hand(hand)
         bias_states(states, sources, markov, conv, model, name)
@@ -846,7 +866,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         vertical=list(conv.vertical),
         out_of_scope=[s.name for s in model.sources
                       if s.name not in used_sources and s.name not in hand.states],
-        bias_states=list(conv.biases))
+        bias_states=list(conv.biases), skipped_motions=list(skipped_motions or []))
     # G's columns weighed by the sizes the report lists (--magnitude), as the states are
     _compare(report, sampled, conv, model, motion_list, declared, declared_used,
              np.array([magnitudes[s.name][0] for s in model.sources]))

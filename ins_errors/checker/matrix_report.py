@@ -215,6 +215,7 @@ def to_terminal(r: MatrixReport) -> str:
     if r.left_out:
         lines.append(f"convention states the hand model leaves out: {', '.join(r.left_out)}")
     lines.append("motions: " + "; ".join(f"{k}: {d}" for k, d in r.motions))
+    lines += [f"motion not flown: {text}" for text in r.skipped_motions]
     lines.append("typical sizes: " + typical_sizes(r))
     lines.append(_summary(r))
     for title, group in (("Mistakes", r.mistakes), ("Declared drops", declared_drops(r)),
@@ -253,6 +254,10 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
     if r.left_out:
         out.append(f"Convention states left out: {', '.join(f'`{s}`' for s in r.left_out)}.")
     out += ["", "Motions:", ""] + [f"* `{k}`: {d}" for k, d in r.motions]
+    if r.skipped_motions:
+        out += ["", "Motions not flown (the model cannot follow them):", ""]
+        out += [f"* `{k}`: {one_line(reason)}" for k, reason in
+                (text.split(": ", 1) for text in r.skipped_motions)]
     if r.declarations:
         out.append("Declared simplifications: " + "; ".join(r.declarations) + ".")
     if r.idle_declarations:
@@ -293,6 +298,7 @@ def to_json(r: MatrixReport) -> dict:
                         for b in r.bias_states],
         "left_out": r.left_out, "out_of_scope": r.out_of_scope,
         "motions": [{"label": k, "description": d} for k, d in r.motions],
+        "skipped_motions": list(r.skipped_motions),
         "magnitudes": {k: {"si": v[0], "text": v[1]} for k, v in r.magnitudes.items()},
         "compared": r.compared, "exit_status": r.exit_status, "held": r.held,
         "declarations": r.declarations, "idle_declarations": r.idle_declarations,

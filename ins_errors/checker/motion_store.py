@@ -6,7 +6,9 @@ about a second of CPU), and a researcher runs the check again and again on their
 file. The flown samples (times, ideal states, inputs, parameters) are stored once per
 model, length, step, Earth shape and code version in ``$INS_ERRORS_CACHE/motions``
 (or ``motions/`` next to the compiled loops in the user cache folder), as ``.npz``
-files, and read back exactly (the same bits: the reports cannot change).
+files, and read back exactly (the same bits: the reports cannot change). A motion the
+model cannot follow is stored as such, with its one-line reason (a file holds the whole
+set: the motions flown and those not flown), so the next check skips it too, saying why.
 
 The key holds everything the samples follow from: the model's generated numeric code
 (its file's bytes), the request, the parameter vector, the source of the checker's
@@ -23,6 +25,7 @@ import hashlib
 import io
 import os
 import sys
+from collections.abc import Sequence
 from functools import cache
 from pathlib import Path
 
@@ -46,8 +49,9 @@ def code_version() -> str:
     """Hash of the source files and library versions the flown samples follow from (read
     once per process): checker/check_motions.py and what it flies and reads with
     (checker/navigation.py, checker/strapdown_description.py, numeric/*.py,
-    models/earth.py, units.py), and checker/transition.py, whose propagations the same
-    version keys (:mod:`~ins_errors.checker.propagation_store`)."""
+    models/earth.py, units.py), this module (the file's layout), and
+    checker/transition.py, whose propagations the same version keys
+    (:mod:`~ins_errors.checker.propagation_store`)."""
     from importlib.metadata import PackageNotFoundError, version
 
     from ins_errors.numeric.cache import code_digest
@@ -55,7 +59,8 @@ def code_version() -> str:
     package = Path(__file__).resolve().parent.parent
     checker = package / "checker"
     files = [*(checker / f"{name}.py" for name in ("check_motions", "navigation",
-                                                    "strapdown_description", "transition")),
+                                                    "strapdown_description", "transition",
+                                                    "motion_store")),
              *sorted((package / "numeric").glob("*.py")),
              package / "models" / "earth.py", package / "units.py"]
     versions = [sys.version, np.__version__]
@@ -77,8 +82,10 @@ def key(model, hours: float, step: float, ellipsoid: str | None, p: np.ndarray) 
     return f"{model.name}_{digest.hexdigest()[:32]}"
 
 
-def load(name: str) -> list[tuple[str, str, dict[str, np.ndarray]]] | None:
-    """The stored motions ``(label, description, arrays)``, or None if not stored."""
+def load(name: str) -> tuple[list[tuple[str, str, dict[str, np.ndarray]]], list[str]] | None:
+    """The stored motions ``(label, description, arrays)`` and those not flown
+    (``"label: reason"``), or None if not stored (or stored without the motions not
+    flown: never a partial set read as the whole)."""
     path = folder() / f"{name}.npz"
     try:
         with np.load(path, allow_pickle=False) as data:
@@ -86,19 +93,23 @@ def load(name: str) -> list[tuple[str, str, dict[str, np.ndarray]]] | None:
             descriptions = [str(s) for s in data["descriptions"]]
             out = [(label, text, {f: data[f"{i}_{f}"] for f in FIELDS})
                    for i, (label, text) in enumerate(zip(labels, descriptions, strict=True))]
+            skipped = [str(s) for s in data["skipped"]]
         os.utime(path)  # most recently used
     except (OSError, KeyError, ValueError):
         return None
-    return out
+    return out, skipped
 
 
-def store(name: str, motions: list[tuple[str, str, dict[str, np.ndarray]]]) -> None:
-    """Store ``motions`` under ``name`` (atomically) and drop the oldest beyond :data:`KEEP`."""
+def store(name: str, motions: list[tuple[str, str, dict[str, np.ndarray]]],
+          skipped: Sequence[str] = ()) -> None:
+    """Store ``motions`` and the motions not flown, ``skipped`` (``"label: reason"``),
+    under ``name`` (atomically) and drop the oldest beyond :data:`KEEP`."""
     from ins_errors.numeric.cache import drop_least_recent, replace_file
 
     target = folder()
-    arrays = {"labels": np.array([m[0] for m in motions]),
-              "descriptions": np.array([m[1] for m in motions])}
+    arrays = {"labels": np.array([m[0] for m in motions], dtype=str),
+              "descriptions": np.array([m[1] for m in motions], dtype=str),
+              "skipped": np.array(list(skipped), dtype=str)}
     for i, (_, _, fields) in enumerate(motions):
         arrays.update({f"{i}_{f}": np.asarray(fields[f]) for f in FIELDS})
     data = io.BytesIO()

@@ -13,7 +13,7 @@ BIAS_HEADER = "bias states"
 
 def run_matrix(args: argparse.Namespace) -> int:
     """Run the matrix check (or list conventions, or write the samples); exit status."""
-    from ins_errors.checker.check_motions import motions
+    from ins_errors.checker.check_motions import flown_motions
     from ins_errors.checker.conventions import conventions
     from ins_errors.checker.derived_convention import unchecked_gains
     from ins_errors.checker.matrix import check_matrices
@@ -64,30 +64,31 @@ def run_matrix(args: argparse.Namespace) -> int:
             for s in biases:
                 print(f"  {s.name} ({s.unit}): {s.description}")
         return 0
-    motion_list = motions(model, parameters=parameters)  # the derived model's values
+    # the derived model's values along the motions the model can fly (and why not the others)
+    motion_list, skipped = flown_motions(model, parameters=parameters)
     if args.write_samples is not None:
         write_samples(args.write_samples, motion_list)
         written = {"model": model.name, "samples": str(args.write_samples),
                    "motions": [{"label": m.label, "samples": int(m.times.size),
                                 "start_s": float(m.times[0]), "stop_s": float(m.times[-1])}
-                               for m in motion_list]}
+                               for m in motion_list],
+                   "skipped_motions": skipped}
+        said = (f"wrote {args.write_samples}: {', '.join(m.label for m in motion_list)}, "
+                f"{motion_list[0].times.size} samples each"
+                + "".join(f"\nnot flown: {text}" for text in skipped))
         if not args.matrix:  # with --matrix the check's report is the output
             if args.json:
                 emit(written)
             else:
-                print(f"wrote {args.write_samples}: "
-                      f"{', '.join(m.label for m in motion_list)}, "
-                      f"{motion_list[0].times.size} samples each")
+                print(said)
             return 0
-        print(f"wrote {args.write_samples}: {', '.join(m.label for m in motion_list)}, "
-              f"{motion_list[0].times.size} samples each",
-              file=sys.stderr if args.json else sys.stdout)
+        print(said, file=sys.stderr if args.json else sys.stdout)
     if args.report is not None:
         check_file(args.report)
     report = check_matrices(args.model, args.matrix, args.convention,
                             threshold=args.threshold, motion_list=motion_list,
                             magnitudes=parse_magnitudes(args.magnitude),
-                            parameters=parameters)
+                            parameters=parameters, skipped_motions=skipped)
     warn_unchecked_gains(model, parameters, unchecked_gains(model, args.convention,
                                                             report.states, motion_list[0]))
     emit_report(args,
