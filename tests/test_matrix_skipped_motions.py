@@ -23,7 +23,11 @@ from ins_errors.errors import DomainError
 from ins_errors.json_output import dumps
 from ins_errors.numeric import strapdown_truth as st
 from ins_errors.numeric.model import load_model
-from ins_errors.numeric.trajectories import EarthParameterError, MotionError
+from ins_errors.numeric.trajectories import (
+    EarthParameterError,
+    MotionError,
+    PathDependentStateError,
+)
 
 ROOT = Path(__file__).resolve().parents[1]
 WANDER = ROOT / "tests" / "models" / "wander_azimuth.py"
@@ -102,7 +106,9 @@ def test_a_convention_file_on_the_wander_model_runs_on_the_static_base(tmp_path,
 
 
 @pytest.mark.parametrize("error", [DomainError("NaN along the flight"),
-                                   EarthParameterError("radius of metres")])
+                                   EarthParameterError("radius of metres"),
+                                   MotionError("no inputs make its 'lat' move as the "
+                                               "flight does")])
 def test_only_a_refusal_to_follow_a_flight_skips_it(monkeypatch, error):
     model = load_model("strapdown_ned")
     p = model.parameter_vector()
@@ -116,7 +122,8 @@ def test_only_a_refusal_to_follow_a_flight_skips_it(monkeypatch, error):
         return trajectory
 
     monkeypatch.setattr(st, "trajectory",
-                        failing("great circle", MotionError("cannot follow the cruise")))
+                        failing("great circle",
+                                PathDependentStateError("cannot follow the cruise")))
     flown, skipped = check_motions._fly(model, 0.5, 600.0, p)
     assert [label for label, _, _ in flown] == ["static", "manoeuvre"]
     assert skipped == ["cruise: cannot follow the cruise"]

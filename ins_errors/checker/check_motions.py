@@ -193,15 +193,14 @@ def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None,
 
 
 def _cannot_follow(error: Exception) -> bool:
-    """True for a refusal that says the model cannot follow a flight (a
-    :class:`~ins_errors.numeric.trajectories.MotionError` of
-    :mod:`~ins_errors.numeric.model_flight` or of the trajectory generators), not for
-    wrong Earth parameters or a value outside the model's domain."""
-    from ins_errors.errors import DomainError
-    from ins_errors.numeric.trajectories import EarthParameterError, MotionError
+    """True for the refusal of a flight that a correct model cannot fly (a
+    :class:`~ins_errors.numeric.trajectories.PathDependentStateError`: a wander angle off
+    a meridian), not for any other refusal: a model that cannot follow a flight for
+    another reason (its Earth is not the flight's, its inputs do not solve) is more
+    likely wrong than limited, and its check stops saying why."""
+    from ins_errors.numeric.trajectories import PathDependentStateError
 
-    return (isinstance(error, MotionError)
-            and not isinstance(error, EarthParameterError | DomainError))
+    return isinstance(error, PathDependentStateError)
 
 
 def _fly(model, hours: float, step: float, p: np.ndarray

@@ -335,7 +335,7 @@ class FlightAdapter:
         DomainError
             NaN or infinite states or inputs.
         """
-        from ins_errors.numeric.trajectories import MotionError
+        from ins_errors.numeric.trajectories import MotionError, PathDependentStateError
 
         c = self.S @ nav
         c_rate = self.S @ rate
@@ -365,7 +365,7 @@ class FlightAdapter:
                                                            np.inf))), excess.shape)
             name, unit = self.states[k]
             if self._unset(c[:, j], u[:, j], residual[:, j]):
-                raise MotionError(
+                raise PathDependentStateError(
                     f"model {self.model_name!r} cannot fly this flight: its {name!r} "
                     f"(d{name}/dt off by {residual[k, j]:.3g} {unit}/s at t = "
                     f"{times[j]:.6g} s) moves along a state that no navigation quantity "

@@ -72,6 +72,12 @@ class MotionError(InsErrorsError):
     """A motion the model cannot follow or a badly specified motion."""
 
 
+class PathDependentStateError(MotionError):
+    """A flight a model cannot fly because one of its states moves along a direction no
+    navigation quantity sets and depends on the path flown (a wander angle off a
+    meridian): the static base, and flights that keep that state still, work."""
+
+
 class EarthParameterError(MotionError):
     """A flight the model's Earth parameters make impossible (an Earth radius of metres,
     an eccentricity of 1 or more): the parameters are wrong, not the motion."""
