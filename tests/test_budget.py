@@ -796,3 +796,40 @@ def test_a_source_the_spec_hardly_sees_takes_no_share_and_is_not_given_an_absurd
     assert data["vref_bias_E"]["linear_limit"] == pytest.approx(speed_limit, rel=1e-12)
     assert data["accel_scale_E"]["not_limited"] == "motion"
     assert data["gyro_drift_U"]["not_limited"] is None
+
+
+UNDAMPED_HEADING = """
+    title = "heading only, undamped"
+    sigma_level = 1
+    operating_time = "4 h"
+    step = "60 s"
+    [motion]
+    latitude = "45 deg"
+    [items.heading_error]
+    value = "1 deg"
+    times = ["4 h"]
+"""
+
+
+def test_a_spec_every_source_meets_only_beyond_the_linear_model_is_refused(tmp_path, capsys):
+    """A reviewer's wrong verdict: on strapdown_ned with its vertical channel undamped,
+    over 4 h every source drives the vertical channel out of the linear range (it grows
+    ×e every √(R/2g) ≈ 9.5 min: e^25 over 4 h) long before the heading item sees it, so
+    one after another all 33 were 'not limited by this spec', the heading row read
+    '0 deg of 1 deg' and the budget exited 0, as if any IMU met the spec. A z-gyro bias
+    does turn the heading (Ω cos φ aside, ψ_D = b t: 1 deg/h for 1 deg in 1 h), so the
+    spec does limit it; the linear model cannot say where. Damped, it is allocated."""
+    spec = write(tmp_path, UNDAMPED_HEADING)
+    assert main(["budget", "strapdown_ned", "--spec", str(spec)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert err[-1].startswith("ins-errors: error: the linear error model cannot size this "
+                              "spec"), err
+    assert "delta_v_D" in err[-1] or "delta_h" in err[-1]
+    # e-folding time of the undamped channel, typed from the textbook: growth over 4 h
+    e_folding = np.sqrt(6_371_000.0 / (2 * 9.80665))
+    assert np.exp(4 * 3600 / e_folding) > 1e10
+    assert main(["budget", "strapdown_ned", "--spec", str(spec), "--json", "-p",
+                 "k_h1=0.0293/s", "-p", "k_h2=4.42e-4/s^2"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    gyro_z = next(s for s in data["sources"] if s["name"] == "gyro_bias_z")
+    assert gyro_z["binding_item"] == "heading_error" and gyro_z["not_limited"] is None

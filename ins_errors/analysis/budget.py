@@ -270,6 +270,8 @@ class UnitBudget:
         error states are not judged (only the sources' own values).
     state_units : tuple of str
         SI unit of every error state (the rows of ``state_peaks``).
+    state_names : tuple of str
+        Name of every error state (the rows of ``state_peaks``).
     """
 
     spec: Spec
@@ -280,6 +282,7 @@ class UnitBudget:
     floors: np.ndarray | None = None
     state_peaks: np.ndarray | None = None
     state_units: tuple[str, ...] = ()
+    state_names: tuple[str, ...] = ()
 
     @property
     def depends(self) -> np.ndarray:
@@ -309,6 +312,22 @@ class UnitBudget:
         with np.errstate(divide="ignore"):
             reach = limits[:, None] / np.sqrt(self.state_peaks)        # (n, ns)
         return np.minimum(own, reach.min(axis=0, initial=np.inf))
+
+    def linear_limit_cause(self, j: int) -> tuple[str, str]:
+        """What sets source ``j``'s linear limit (:attr:`linear_limits`): the name and SI
+        unit of the error state that leaves :data:`LINEAR_LIMITS` first, or ``("its own
+        value", unit)``."""
+        source = self.sources[j]
+        own = (np.inf if source.statistics == "white"
+               else LINEAR_LIMITS.get(source.unit, np.inf))
+        if self.state_peaks is not None and self.state_names:
+            limits = np.array([LINEAR_LIMITS.get(u, np.inf) for u in self.state_units])
+            with np.errstate(divide="ignore"):
+                reach = limits / np.sqrt(self.state_peaks[:, j])
+            i = int(np.argmin(reach))
+            if reach[i] < own:
+                return self.state_names[i], self.state_units[i]
+        return "its own value", source.unit
 
     def statistics(self, sigma: np.ndarray) -> list[SourceStatistics]:
         """Source statistics with the given 1σ magnitudes (SI)."""
@@ -738,7 +757,8 @@ def unit_budget(model, spec: Spec, trajectory=None,
                                  n + len(sources))
     reached = np.where(states.unit_variances > own_floors, states.unit_variances, 0.0)
     return UnitBudget(spec, sources, tuple(rows), unit, system, floor,
-                      reached.max(axis=0), tuple(st.unit for st in model.error_states))
+                      reached.max(axis=0), tuple(st.unit for st in model.error_states),
+                      tuple(st.name for st in model.error_states))
 
 
 def growth_warning(model, budget: UnitBudget) -> str | None:
@@ -1113,6 +1133,8 @@ def allocate(budget: UnitBudget) -> Allocation:
         beyond[free[nonlinear]] = True
         excluded[loose] = True
         sigma[loose], binding[loose] = np.inf, -1
+    if beyond.any() and not (binding >= 0).any():
+        raise _beyond_at_every_size(budget, beyond)
     if budget.spec.fill and free.size:
         totals = (V[:, free] * sigma[free] ** 2).sum(1)
         with np.errstate(divide="ignore"):
@@ -1120,6 +1142,29 @@ def allocate(budget: UnitBudget) -> Allocation:
         fill_factor = float(np.min(factors))
         sigma[free] *= np.sqrt(fill_factor)
     return Allocation(budget, sigma, binding, fill_factor, beyond)
+
+
+def _beyond_at_every_size(budget: UnitBudget, beyond: np.ndarray) -> BudgetError:
+    """The refusal of a spec every source it sees would meet only beyond the linear error
+    model (an undamped vertical channel over hours: any source drives the height past
+    0.1 R long before the spec's items see it): "not limited by this spec" for all of
+    them would read as a spec met by anything."""
+    causes: dict[tuple[str, str], list[int]] = {}
+    for j in np.flatnonzero(beyond):
+        causes.setdefault(budget.linear_limit_cause(int(j)), []).append(int(j))
+    (state, unit), sources = max(causes.items(), key=lambda item: len(item[1]))
+    example = budget.sources[sources[0]]
+    limit = budget.linear_limits[sources[0]] * budget.spec.sigma_level
+    where = (f"{len(sources)} of them drive {state} beyond "
+             f"{LIMIT_NAMES.get(unit, 'its linear limit')} first"
+             if state != "its own value" else f"{len(sources)} of them are themselves "
+             "beyond the linear range")
+    return BudgetError(
+        f"the linear error model cannot size this spec: every source it sees would meet it "
+        f"only at sizes beyond the model's range ({where}, e.g. {example.name} within it "
+        f"only up to {display(limit, example.unit, example.display_unit)} over the "
+        f"operating time); a growing mode (an undamped vertical channel) does this over "
+        f"hours: damp it or shorten the operating time")
 
 
 # --------------------------------------------------------------------------------------
