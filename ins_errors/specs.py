@@ -432,7 +432,7 @@ def _manoeuvre(motion: Motion, legs: list | None) -> Motion:
         if "height" in leg:
             _check_height(float(leg["height"].split()[0]), f"motion.legs: leg {number}'s height")
     try:
-        motion_profile(si)  # a leg no aircraft flies (10 g, 1000°/s) is refused here
+        motion_profile(si)  # a leg no vehicle flies (100 g, 1000°/s) is refused here
     except InsErrorsError as error:
         raise SpecError(f"motion.legs: {error}") from None
     return replace(motion, legs=tuple(si["legs"]))

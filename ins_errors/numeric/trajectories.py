@@ -309,11 +309,13 @@ v²/R than gravity gives: it would be in orbit, and nothing holds a height at su
 (the motions do). A faster speed is a unit slip (km/h or km/s for m/s) or a typing
 error."""
 
-MAX_MANOEUVRE_ACCELERATION = 10.0 * STANDARD_GRAVITY
+MAX_MANOEUVRE_ACCELERATION = 100.0 * STANDARD_GRAVITY
 """m/s²: the largest lateral (v·ψ̇), along-track (v̇) or vertical (ḧ) acceleration of a
-manoeuvre leg, 10 g. Fighter aircraft sustain about 9 g; no aircraft turns, speeds up or
-pulls up harder for longer than an instant, so a leg asking for more is a mistake (a turn
-of 36000° in 10 s at 250 m/s asks for 3000 g at its peak)."""
+manoeuvre leg, 100 g. Fighter aircraft sustain about 9 g and guided missiles turn at 30 to
+60 g (whose INS errors under g-sensitive and scale-factor errors are a research subject of
+their own); no navigated vehicle turns, speeds up or pulls up harder for the length of a
+leg, so a leg asking for more is a mistake (a turn of 36000° in 10 s at 250 m/s asks for
+3000 g at its peak)."""
 
 MAX_TURN_RATE = np.radians(1000.0)
 """rad/s: the largest course rate ψ̇ of a manoeuvre leg, 1000°/s, whatever its speed
@@ -347,7 +349,7 @@ _RAMP = np.linspace(0.0, 1.0, 2001)
 
 
 def _check_leg_motion(number: int, leg: Leg, v_start: float, h_start: float) -> None:
-    """Refuse a manoeuvre leg whose peak acceleration or course rate no aircraft reaches
+    """Refuse a manoeuvre leg whose peak acceleration or course rate no vehicle reaches
     (:data:`MAX_MANOEUVRE_ACCELERATION`, :data:`MAX_TURN_RATE`), naming the figure.
 
     The leg blends speed, course and height along :func:`smoothstep` (peak rate 15/8 of
@@ -369,11 +371,12 @@ def _check_leg_motion(number: int, leg: Leg, v_start: float, h_start: float) -> 
             raise MotionError(
                 f"{said}): its {name} acceleration reaches {peak:.4g} m/s² = "
                 f"{peak / STANDARD_GRAVITY:.4g} g, beyond the "
-                f"{MAX_MANOEUVRE_ACCELERATION / STANDARD_GRAVITY:g} g any aircraft pulls: "
+                f"{MAX_MANOEUVRE_ACCELERATION / STANDARD_GRAVITY:g} g any navigated "
+                f"vehicle pulls for a leg: "
                 f"give the leg more time or a smaller change")
     if not turn_rate <= MAX_TURN_RATE:
         raise MotionError(f"{said}): its course rate is beyond "
-                          f"{np.degrees(MAX_TURN_RATE):g}°/s, beyond any aircraft's and any "
+                          f"{np.degrees(MAX_TURN_RATE):g}°/s, beyond any vehicle's and any "
                           f"navigation gyro's range: give the leg more time or a smaller turn")
 
 
