@@ -13,10 +13,10 @@ def duration_text(seconds: float) -> str:
 
 
 def run_length_text(seconds: float) -> str:
-    """The length of a run as a title gives it: in hours where that is a short decimal
-    (``"24 h"``, ``"1.5 h"``, ``"168 h"``), else as :func:`duration_text` (``"10 min"``
-    for 600 s, not ``"0.166667 h"``)."""
+    """The length of a run as a title gives it: in hours from an hour on where that is a
+    short decimal (``"24 h"``, ``"1.5 h"``, ``"168 h"``), else as :func:`duration_text`
+    (``"10 min"`` for 600 s, not ``"0.166667 h"``; ``"90 s"``, not ``"0.025 h"``)."""
     hours = seconds / 3600.0
-    if round(hours, 3) == hours:
+    if seconds >= 3600.0 and round(hours, 3) == hours:
         return f"{hours:g} h"
     return duration_text(seconds)
