@@ -466,6 +466,10 @@ def test_an_exceeded_budget_with_shares_decades_apart_is_drawn_on_a_log_axis(
     assert widths[-1] / widths[0] > budget_report.LOG_SHARES
     low, high = left.get_xlim()
     assert low <= widths[0] and widths[-1] < high
+    right = figures[-1].axes[1]  # the one item's value / limit: far beyond 1
+    ratios = [p.get_width() for p in right.patches]
+    assert right.get_xscale() == ("log" if max(ratios) > budget_report.LOG_RATIOS
+                                  else "linear")
     # within a few decades the axis stays linear
     figures.clear()
     assert main(["budget", "orthodromic", "--spec", str(write(tmp_path, EXCEEDED)),

@@ -423,6 +423,10 @@ LOG_SHARES = 1000.0
 """An exceeded budget's share axis is logarithmic where its largest share is more than
 this many times its smallest (positive) one."""
 
+LOG_RATIOS = 100.0
+"""An exceeded budget's value/limit axis is logarithmic where its largest ratio is more
+than this many times its smallest (or than 1, the limit)."""
+
 
 def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     """Save the budget as two readable bar charts.
@@ -540,7 +544,14 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     checks = [f"{_item_label(n, r.get('component', ''))}\n{r['display']} at "
               f"{format_time(r['time_h'] * HOUR)}" for n, r in zip(items, worst, strict=True)]
     right.set_yticks(yi, checks, fontsize=8)
-    right.set_xlim(0, max(1.15, 1.1 * max(r["ratio"] for r in worst)))
+    ratios = np.array([r["ratio"] for r in worst])
+    small = ratios[ratios > 0].min(initial=np.inf)
+    if exceeded and ratios.max() > LOG_RATIOS * min(small, 1.0):
+        # an item exceeded 27× beside one exceeded 39 000×: linear, the first had no bar
+        right.set_xscale("log")
+        right.set_xlim(10.0 ** np.floor(np.log10(min(small, 1.0) / 2)), 3 * ratios.max())
+    else:
+        right.set_xlim(0, max(1.15, 1.1 * ratios.max()))
     right.set_xlabel(f"worst value / limit ({k})")
     right_title = ("spec items at the fixed sources alone" if exceeded else
                    "spec items at these magnitudes")
