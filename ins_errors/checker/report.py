@@ -207,6 +207,27 @@ def ordered(report: CheckReport) -> list[tuple[str, list[tuple[EquationResult, F
     return out
 
 
+def how_compared(threshold: float) -> str:
+    """The paragraph of a report that says how the sides were compared and what the
+    classes mean, in Markdown (``**bold**``, ``*emphasis*``, ```code```: the LaTeX report
+    converts it)."""
+    return (
+        "Each equation's two sides are brought to a linear combination of the error states "
+        "and error sources, the hand side through the file's own definitions and the model "
+        "side through the mechanical variation. A term's size is its coefficient times the "
+        "typical magnitude of its error quantity; a discrepancy is measured relative to the "
+        "largest term of the model's side of its equation at the same reference point (the "
+        "largest ratio over the points is given as *size*; a wrong term the hand adds does "
+        "not make another finding small). *What* the difference is (omitted term, wrong "
+        "coefficient, wrong symbol or index, wrong sign, wrong function, wrong exponent) "
+        "and *how much it matters* are two separate axes: a term present but wrong is a "
+        "**mistake** whatever its size (*mistake, small effect* below the threshold "
+        f"{threshold:g}); only an omitted small term is a **dropped small term**, "
+        "and an omission the file declares (`@neglect`) a **declared drop**. A *knock-on* "
+        "finding disappears once the definitions its line uses are corrected: it is listed "
+        "under its root.")
+
+
 def to_markdown(report: CheckReport, source: str | None = None) -> str:
     """The Markdown report.
 
@@ -226,20 +247,7 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
         "",
         f"**Typical magnitudes.** {report.magnitudes}.",
         "",
-        "Each equation's two sides are brought to a linear combination of the error states "
-        "and error sources, the hand side through the file's own definitions and the model "
-        "side through the mechanical variation. A term's size is its coefficient times the "
-        "typical magnitude of its error quantity; a discrepancy is measured relative to the "
-        "largest term of the model's side of its equation at the same reference point (the "
-        "largest ratio over the points is given as *size*; a wrong term the hand adds does "
-        "not make another finding small). *What* the difference is (omitted term, wrong "
-        "coefficient, wrong symbol or index, wrong sign, wrong function, wrong exponent) "
-        "and *how much it matters* are two separate axes: a term present but wrong is a "
-        "**mistake** whatever its size (*mistake, small effect* below the threshold "
-        f"{report.threshold:g}); only an omitted small term is a **dropped small term**, "
-        "and an omission the file declares (`@neglect`) a **declared drop**. A *knock-on* "
-        "finding disappears once the definitions its line uses are corrected: it is listed "
-        "under its root.",
+        how_compared(report.threshold),
         "",
     ]
     if report.scope:

@@ -32,7 +32,14 @@ from sympy.printing.latex import LatexPrinter
 from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.compare import CheckReport, EquationResult
-from ins_errors.checker.report import _effect, _size, omission_groups, ordered, summary_line
+from ins_errors.checker.report import (
+    _effect,
+    _size,
+    how_compared,
+    omission_groups,
+    ordered,
+    summary_line,
+)
 
 PACKAGES = ("amsmath", "booktabs", "longtable")
 """LaTeX packages the fragment uses (``\\operatorname`` and ``\\text``; the rules of its
@@ -370,6 +377,27 @@ def _status_notes(r: EquationResult) -> str:
     return escape(notes)
 
 
+_MARKDOWN_INLINE = re.compile(r"\*\*(?P<bold>.+?)\*\*|\*(?P<em>.+?)\*|`(?P<code>.+?)`")
+"""The inline Markdown of the reports' shared paragraphs: ``**bold**``, ``*emphasis*``,
+```code```."""
+
+
+def _from_markdown(text: str) -> str:
+    """LaTeX of a paragraph in the reports' inline Markdown (:data:`_MARKDOWN_INLINE`),
+    the text between the marks escaped."""
+    out, at = [], 0
+    for match in _MARKDOWN_INLINE.finditer(text):
+        out.append(escape(text[at:match.start()]))
+        if match["bold"] is not None:
+            out.append(rf"\textbf{{{escape(match['bold'])}}}")
+        elif match["em"] is not None:
+            out.append(rf"\emph{{{escape(match['em'])}}}")
+        else:
+            out.append(rf"\texttt{{{escape(match['code'])}}}")
+        at = match.end()
+    return "".join(out) + escape(text[at:])
+
+
 def to_latex(report: CheckReport, definition=None, source: str | None = None,
              names: LatexNames | None = None) -> str:
     """The LaTeX fragment of a check (see the module docstring).
@@ -409,22 +437,7 @@ def to_latex(report: CheckReport, definition=None, source: str | None = None,
         "",
         rf"\textbf{{Typical magnitudes.}} {escape(report.magnitudes)}.",
         "",
-        "Each equation's two sides are brought to a linear combination of the error states "
-        "and error sources, the hand side through the file's own definitions and the model "
-        "side through the mechanical variation. A term's size is its coefficient times the "
-        "typical magnitude of its error quantity; a discrepancy is measured relative to the "
-        "largest term of the model's side of its equation at the same reference point (the "
-        r"largest ratio over the points is given as \emph{size}; a wrong term the hand "
-        r"adds does not make another finding small). \emph{What} the difference is "
-        "(omitted term, wrong coefficient, wrong symbol or index, wrong sign, wrong "
-        r"function, wrong exponent) and \emph{how much it matters} are two separate "
-        r"axes: a term present but wrong is a \textbf{mistake} whatever its size "
-        r"(\emph{mistake, small effect} "
-        f"below the threshold {escape(f'{report.threshold:g}')}); only an omitted small "
-        r"term is a \textbf{dropped small term}, and an omission the file declares "
-        r"(\texttt{@neglect}) a \textbf{declared drop}. A \emph{knock-on} finding "
-        "disappears once the definitions its line uses are corrected: it is listed under "
-        "its root.",
+        _from_markdown(how_compared(report.threshold)),
         "",
     ]
     if report.scope:
