@@ -345,6 +345,17 @@ def test_a_bare_number_on_a_scale_factor_is_refused(tmp_path, capsys, value):
     assert source["magnitude"] == pytest.approx(500e-6, rel=1e-12)
 
 
+@pytest.mark.parametrize("value", ["0", '"0"', "0.0"])
+def test_a_bare_zero_on_a_scale_factor_is_taken(tmp_path, capsys, value):
+    """Zero needs no unit (a part taken as perfect): only a non-zero bare number is
+    ambiguous (a reviewer: 'fixed = 0' was refused as a bare number)."""
+    path = tmp_path / "spec.toml"
+    path.write_text(spec_text(f"[sources.gyro_scale_error_x]\nfixed = {value}\n"))
+    assert main(["budget", "strapdown_ned", "--spec", str(path), "--json"]) in (0, 1)
+    source = json.loads(capsys.readouterr().out)["sources"][0]
+    assert source["name"] == "gyro_scale_error_x" and source["magnitude"] == 0.0
+
+
 def test_a_fixed_value_is_echoed_in_the_unit_it_was_written_in(tmp_path, capsys):
     """A white accelerometer noise written in m/s/√h is shown so (it was echoed as
     '33.99 ug/√Hz'), a bias of '1 mg' as '1 mg', and the noise part is named as such."""

@@ -425,6 +425,8 @@ def refuse_bare_ratio(value, unit: str, display: str, what: str) -> None:
         number = float(text)
     except ValueError:
         return   # with a unit: parse_quantity reads it
+    if number == 0:
+        return   # zero is zero in any unit (a part bought perfect, a reference case)
     shown = display if display not in ("", "1") else "ppm"
     raise SpecError(f"{what} = {value!r} is a bare number; a ratio needs its unit, as the "
                     f"source is shown in {shown}: write '{number:g} ppm' or "
