@@ -313,3 +313,18 @@ def test_several_files_refuse_what_takes_one(class_files, capsys, extra):
     assert status == 2 and out == ""
     assert len(err.strip().splitlines()) == 1
     assert ("--report r.md" if "--report" in extra else "--matrix") in err
+
+
+def test_the_terminal_quantity_column_is_as_wide_as_its_longest_entry(tmp_path, capsys):
+    """An instructor's grade sheet read 'delta_v_N -> delta': the index slip's quantity was
+    cut at 18 characters."""
+    lines = CORRECT.read_text(encoding="utf-8").splitlines()
+    (k,) = [i for i, line in enumerate(lines) if line.startswith("dot(delta_latitude) =")]
+    assert "Delta_v_N/r_N" in lines[k]
+    lines[k] = lines[k].replace("Delta_v_N/r_N", "Delta_v_E/r_N")
+    slip = tmp_path / "index.txt"
+    slip.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    assert main(["check", MODEL, str(slip)]) == 1
+    out = capsys.readouterr().out
+    row = next(line for line in out.splitlines() if f"{k + 1:>4}  dot(" in line)
+    assert "delta_v_N -> delta_v_E wrong symbol or index" in row, row

@@ -343,9 +343,17 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _terminal_row(result: EquationResult, f: Finding, indent: str = "") -> list[str]:
-    head = (f"{indent}{result.equation.line:>4}  {result.label[:22]:<22} {f.quantity[:18]:<18} "
-            f"{f.kind[:24]:<24} {f.severity:<21} {_size(f.size)}")
+QUANTITY_COLUMN = (18, 32)
+"""Narrowest and widest quantity column of the terminal table (characters): as wide as
+its longest entry within these (``delta_v_N -> delta_v_E`` whole, not ``delta_v_N ->
+delta``)."""
+
+
+def _terminal_row(result: EquationResult, f: Finding, indent: str = "",
+                  quantity: int = QUANTITY_COLUMN[0]) -> list[str]:
+    head = (f"{indent}{result.equation.line:>4}  {result.label[:22]:<22} "
+            f"{f.quantity[:quantity]:<{quantity}} {f.kind[:24]:<24} {f.severity:<21} "
+            f"{_size(f.size)}")
     explanation = f.detail
     if f.roots and f.role == cl.KNOCK_ON:
         explanation = f"from {', '.join(f.roots)}" + (f"; {explanation}" if explanation
@@ -361,7 +369,9 @@ def _terminal_row(result: EquationResult, f: Finding, indent: str = "") -> list[
 def to_terminal(report: CheckReport, width: int = 100) -> str:
     """The findings top-down (roots with their knock-ons, declared drops, small drops),
     each with its explanation, and the summary line."""
-    header = (f"{'line':>4}  {'equation':<22} {'quantity':<18} {'what':<24} {'class':<21} "
+    narrow, wide = QUANTITY_COLUMN
+    q = min(wide, max([narrow] + [len(f.quantity) for _, f in report.findings]))
+    header = (f"{'line':>4}  {'equation':<22} {'quantity':<{q}} {'what':<24} {'class':<21} "
               "size")
     rows = [f"typical magnitudes: {report.magnitudes}"]
     if report.scope:
@@ -376,21 +386,21 @@ def to_terminal(report: CheckReport, width: int = 100) -> str:
     for kind, pairs in groups[:split]:
         result, f = pairs[0]
         rows.append(f"[{titles[kind]}]")
-        rows += _terminal_row(result, f)
+        rows += _terminal_row(result, f, quantity=q)
         for r, g in pairs[1:]:
-            rows += _terminal_row(r, g, indent="    ")
+            rows += _terminal_row(r, g, indent="    ", quantity=q)
     for omission, pairs in omission_groups(report):  # after the roots, before the drops
         rows.append(f"[undeclared dropped variation, {omission.severity}, size "
                     f"{_size(omission.size)}]")
         rows.append(f"      {omission.title}")
         rows.append(f"      declare it with: {omission.neglect}")
         for r, g in pairs:
-            rows += _terminal_row(r, g, indent="    ")
+            rows += _terminal_row(r, g, indent="    ", quantity=q)
     for kind, pairs in groups[split:]:
         if pairs:
             rows.append(f"[{titles[kind]}]")
             for r, g in pairs:
-                rows += _terminal_row(r, g)
+                rows += _terminal_row(r, g, quantity=q)
     if not report.findings:
         rows.append("  (no discrepancies)")
     for text in report.idle_declarations:
