@@ -91,3 +91,60 @@ def test_items_a_model_cannot_check_are_named_with_the_way_out(tmp_path, capsys,
     assert main(["budget", str(model), "--spec", str(spec), "--json"]) in (0, 1)
     rows = json.loads(capsys.readouterr().out)["rows"]
     assert {r["item"] for r in rows} == {"position_error", "ground_speed_error"}
+
+
+AT_ALTITUDE = """
+title = "a cruise at 10 km"
+sigma_level = 1
+operating_time = "10 min"
+step = "10 s"
+[motion]
+kind = "great_circle"
+speed = "250 m/s"
+height = "10000 m"
+latitude = "50 deg"
+longitude = "30 deg"
+heading = "60 deg"
+[items.position_error_absolute]
+value = "200 km"
+times = ["10 min"]
+[sources.gyro_bias_x]
+fixed = "1 deg/h"
+"""
+
+
+def test_a_strapdown_position_error_at_altitude_is_taken_on_r_plus_h(tmp_path, capsys):
+    """A filter designer's 0.16 %: the budget turned δφ, δλ into metres on R_N and R_E cos φ
+    alone, its height read from an input named h that a strapdown INS does not have
+    (strapdown_ned's height is a state). Reference: the φ convention's exact map to NED
+    metres, δr_N = (R_N + h) δφ (models.strapdown_conventions), propagated for the same
+    source by the covariance module."""
+    import json
+
+    from ins_errors.analysis import covariance as cv
+    from ins_errors.checker.conventions import convention
+    from ins_errors.numeric import trajectories as tr
+
+    spec = tmp_path / "cruise.toml"
+    spec.write_text(AT_ALTITUDE, encoding="utf-8")
+    gains = ["-p", "k_h1=0.0293/s", "-p", "k_h2=4.42e-4/s^2"]
+    assert main(["budget", "strapdown_ned", "--spec", str(spec), "--at", "10 min",
+                 "--json", *gains]) == 0
+    c = json.loads(capsys.readouterr().out)["contributions"]
+    j = c["sources"].index("gyro_bias_x")
+    budget_r = [c["std"][0][c["quantities"].index(q)][j] for q in ("delta_r_N", "delta_r_E")]
+
+    model = load_model("strapdown_ned")
+    p = model.parameter_vector(k_h1=0.0293, k_h2=4.42e-4)
+    flight = tr.trajectory(model, tr.great_circle_profile(
+        np.radians(50.0), np.radians(30.0), np.radians(60.0), 250.0, 10_000.0), 600.0, 10.0,
+        p=p)
+    phi = convention(model, "phi")
+    T = np.moveaxis(phi.transform(flight.truth, p), -1, 0)
+    rows = [phi.names.index(n) for n in ("dr_N", "dr_E")]
+    functionals = cv.Functionals(("dr_N", "dr_E"), ("m", "m"), T[:, rows],
+                                 np.zeros((2, len(model.sources))))
+    result = cv.propagate(cv.system_from_trajectory(model, flight),
+                          [cv.SourceStatistics("gyro_bias_x", "constant",
+                                               np.radians(1.0) / 3600.0)], functionals)
+    assert budget_r == pytest.approx(list(result.std[-1]), rel=1e-6)
