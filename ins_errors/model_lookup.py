@@ -101,6 +101,21 @@ class ModelRef:
         return f"model {self.spec!r}"
 
 
+def command_name(model) -> str:
+    """How a command line names ``model`` (e.g. in "`ins-errors modes ...` names the
+    mode"): a built-in's name, a model file's path (relative to the working folder unless
+    that climbs more than two folders: ``my_ins.py``, not ``my_ins``, which no command
+    finds), an entry point's name."""
+    match = _KEY.fullmatch(str(getattr(model, "key", "") or ""))
+    if match is None:
+        return model.name
+    path = Path(match["spec"])
+    if not path.is_absolute():  # an entry point's name
+        return match["spec"]
+    relative = os.path.relpath(path)
+    return relative if relative.count("..") <= 2 else str(path)
+
+
 # --------------------------------------------------------------------------------------
 # Resolution
 # --------------------------------------------------------------------------------------

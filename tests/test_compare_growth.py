@@ -159,3 +159,25 @@ def test_a_growing_mode_the_run_follows_is_still_named_on_a_moving_base():
     [warning] = [w for w in case.warnings if GROWS in w]
     minutes = float(re.search(r"×e every ([\d.]+) min", warning).group(1))
     assert minutes == pytest.approx(_vertical_e_folding_minutes(50.0), rel=5e-3)
+
+
+def test_the_command_that_names_the_mode_names_a_model_file_as_typed(tmp_path, capsys,
+                                                                     monkeypatch):
+    """A filter designer's model file my_ins.py was told "`ins-errors modes my_ins` names
+    the mode", a command that finds no model; the warning now gives the file as the
+    command takes it, and that command runs."""
+    import shutil
+    from pathlib import Path
+
+    from ins_errors.cli import main
+
+    folder = tmp_path / "work"
+    folder.mkdir()
+    shutil.copy(Path(__file__).parent / "models" / "enu_strapdown.py", folder / "my_ins.py")
+    monkeypatch.chdir(folder)
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))
+    assert main(["compare", "my_ins.py", "--hours", "2", "--step", "10s", "--no-refined",
+                 "-s", "gyro_bias_x=0.01deg/h"]) == 0
+    said = re.search(r"`ins-errors modes ([^`]+)` names the mode", capsys.readouterr().out)
+    assert said and said[1] == "my_ins.py", said
+    assert main(["modes", said[1]]) == 0

@@ -777,6 +777,7 @@ def growth_warning(model, budget: UnitBudget) -> str | None:
     allowances come out absurdly small (1e-19 deg/h). Damping gains left at zero are
     named (:func:`~ins_errors.numeric.linear_system.undamped_remedy`).
     """
+    from ins_errors.model_lookup import command_name
     from ins_errors.numeric.linear_system import (
         GROWTH_SEEN,
         growth_rate,
@@ -788,7 +789,7 @@ def growth_warning(model, budget: UnitBudget) -> str | None:
     system = budget.system
     F = system.F if system.F.ndim == 2 else system.F[0]
     remedy = undamped_remedy(model, system.p)
-    text = warning(F, budget.spec.operating_time, model.name,
+    text = warning(F, budget.spec.operating_time, command_name(model),
                    "the allowed magnitudes are only what that growth leaves, far below what "
                    "the sources do on a stable system", "operating time", remedy)
     # on a moving base F changes along the motion: the mode of F at the start must be

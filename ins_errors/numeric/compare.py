@@ -453,6 +453,7 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     sim : Simulation
         The runs (their trajectory's state and inputs at t = 0 give F).
     """
+    from ins_errors.model_lookup import command_name
     from ins_errors.numeric.linear_system import (
         GROWTH_SEEN,
         growth_rate,
@@ -465,7 +466,8 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     if not comparisons or duration <= 0:
         return
     f = start_state_matrix(sim.model, sim.trajectory)
-    text = growth_warning(f, duration, sim.model.name, "the ratios say little by themselves",
+    text = growth_warning(f, duration, command_name(sim.model),
+                          "the ratios say little by themselves",
                           remedy=undamped_remedy(sim.model, sim.trajectory.parameters))
     if text is None:
         return

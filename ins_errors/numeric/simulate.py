@@ -768,9 +768,11 @@ def _growth_hint(sim: Simulation, t_left: float) -> str:
         return ""
     if not rate * t_left >= GROWTH_WARNED:
         return ""
+    from ins_errors.model_lookup import command_name
+
     p = sim.trajectory.parameters
     return (f"; {growing_mode_text(rate)}, the likely cause; `ins-errors modes "
-            f"{sim.model.name}` names the mode{undamped_remedy(sim.model, p)}")
+            f"{command_name(sim.model)}` names the mode{undamped_remedy(sim.model, p)}")
 
 
 def _platform_limit(model: Model, platform: str) -> tuple[list[int], float, str]:
