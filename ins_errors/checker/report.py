@@ -207,6 +207,21 @@ def ordered(report: CheckReport) -> list[tuple[str, list[tuple[EquationResult, F
     return out
 
 
+def status_notes(r: EquationResult) -> str:
+    """The notes of one equation form in the reports' equation-by-equation table: its
+    findings (kind, quantity, class, size, roots of a knock-on), then its own notes."""
+    notes = "; ".join(r.notes)
+    if r.findings:
+        kinds = ", ".join(
+            (f"{f.kind} ({f.severity}, {_size(f.size)}" if f.quantity.startswith("(")
+             else f"{f.kind} on {f.quantity} ({f.severity}, {_size(f.size)}")
+            + (f", from {' and '.join(f.roots)})" if f.role == cl.KNOCK_ON and f.roots
+               else ")")
+            for f in r.findings)
+        notes = kinds + (f"; {notes}" if notes else "")
+    return notes
+
+
 def how_compared(threshold: float) -> str:
     """The paragraph of a report that says how the sides were compared and what the
     classes mean, in Markdown (``**bold**``, ``*emphasis*``, ```code```: the LaTeX report
@@ -305,17 +320,8 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
         lines += [f"### {title}", "", "| line | equation | compared with | status | notes |",
                   "|---:|---|---|---|---|"]
         for r in results:
-            notes = "; ".join(r.notes)
-            if r.findings:
-                kinds = ", ".join(
-                    (f"{f.kind} ({f.severity}, {_size(f.size)}" if f.quantity.startswith("(")
-                     else f"{f.kind} on {f.quantity} ({f.severity}, {_size(f.size)}")
-                    + (f", from {' and '.join(f.roots)})" if f.role == cl.KNOCK_ON and f.roots
-                       else ")")
-                    for f in r.findings)
-                notes = f"{kinds}" + (f"; {notes}" if notes else "")
             lines.append(f"| {r.equation.line} | {_code(r.label)} | {_cell(r.target)} | "
-                         f"{r.status} | {_cell(notes)} |")
+                         f"{r.status} | {_cell(status_notes(r))} |")
         lines.append("")
     lines += ["## How the comparison was made", "", "Reference points:", "",
               "| point | motion |", "|---|---|"]

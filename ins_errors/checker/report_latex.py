@@ -29,7 +29,6 @@ from collections.abc import Iterable
 import sympy as sp
 from sympy.printing.latex import LatexPrinter
 
-from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.compare import CheckReport, EquationResult
 from ins_errors.checker.report import (
@@ -38,6 +37,7 @@ from ins_errors.checker.report import (
     how_compared,
     omission_groups,
     ordered,
+    status_notes,
     summary_line,
 )
 
@@ -365,16 +365,7 @@ def _table(columns: str, header: Iterable[str], rows: Iterable[Iterable[str]]) -
 
 
 def _status_notes(r: EquationResult) -> str:
-    notes = "; ".join(r.notes)
-    if r.findings:
-        kinds = ", ".join(
-            (f"{f.kind} ({f.severity}, {_size(f.size)}" if f.quantity.startswith("(")
-             else f"{f.kind} on {f.quantity} ({f.severity}, {_size(f.size)}")
-            + (f", from {' and '.join(f.roots)})" if f.role == cl.KNOCK_ON and f.roots
-               else ")")
-            for f in r.findings)
-        notes = kinds + (f"; {notes}" if notes else "")
-    return escape(notes)
+    return escape(status_notes(r))
 
 
 _MARKDOWN_INLINE = re.compile(r"\*\*(?P<bold>.+?)\*\*|\*(?P<em>.+?)\*|`(?P<code>.+?)`")
