@@ -324,11 +324,17 @@ def convention_matrices(model, name: str | Convention, x, u, p,
                         position: str = "ned") -> tuple[np.ndarray, np.ndarray]:
     """F and G of the linear error model written in a convention.
 
+    For ``strapdown_ned`` the maps of this module; for any other model (a strapdown model
+    file, whatever the order of its states and parameters)
+    :func:`ins_errors.conventions.error_matrices`, whose layout, (K, 9, 9), is here
+    turned into this function's, (9, 9, K).
+
     Parameters
     ----------
     model : Model
-        The loaded ``strapdown_ned`` model (its ``state_matrix``, ``source_matrix`` and
-        ``ideal_rhs`` are used).
+        A loaded model: ``strapdown_ned`` (its ``state_matrix``, ``source_matrix`` and
+        ``ideal_rhs`` are used), or one that has the convention
+        (``ins-errors check MODEL --list-conventions``).
     name : str or Convention
         Convention (see :data:`CONVENTIONS`).
     x, u, p : numpy.ndarray
@@ -344,8 +350,16 @@ def convention_matrices(model, name: str | Convention, x, u, p,
         ``(T F + Ṫ) T⁺``; rows and columns in the order of :func:`state_names`.
     G_c : numpy.ndarray, shape (9, nw) or (9, nw, K)
         ``T G``; columns are the model's error sources.
+
+    Raises
+    ------
+    InsErrorsError
+        For another model: one line for a convention it does not have or arrays of the
+        wrong shape (:func:`~ins_errors.conventions.error_matrices`).
     """
     conv = _conv(name, position)
+    if getattr(model, "name", None) != "strapdown_ned":
+        return _any_model(model, conv, x, u, p)
     x = np.asarray(x, dtype=float)
     if x.ndim == 2:
         return _convention_matrices_along(model, conv, x, np.asarray(u, dtype=float), p)
@@ -355,6 +369,32 @@ def convention_matrices(model, name: str | Convention, x, u, p,
     G = model.source_matrix(x, u, p)
     T_plus = np.linalg.pinv(T)
     return (T @ F + T_dot) @ T_plus, T @ G
+
+
+def checker_name(conv: Convention) -> str:
+    """The name of ``conv`` among a model's conventions (``psi_geodetic``, ``psi_ecef``)."""
+    for name, parts in EARTH_FIXED.items():
+        if (conv.attitude, conv.velocity, conv.position) == parts:
+            return name
+    for name, parts in CONVENTIONS.items():
+        if (conv.attitude, conv.velocity) == parts:
+            return name + ("_geodetic" if conv.position == "geodetic" else "")
+    raise unknown_name("convention", f"{conv.attitude}/{conv.velocity}/{conv.position}",
+                       [*CONVENTIONS, *EARTH_FIXED])
+
+
+def _any_model(model, conv: Convention, x, u, p) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`convention_matrices` of a model other than ``strapdown_ned``, through
+    :func:`ins_errors.conventions.error_matrices` (a single sample: ``x`` (n,))."""
+    from ins_errors.conventions import error_matrices
+
+    x = np.asarray(x, dtype=float)
+    u = np.asarray(u, dtype=float)
+    one = x.ndim == 1
+    F, G = error_matrices(model, checker_name(conv), x[:, None] if one else x,
+                          u[:, None] if one and u.ndim == 1 else u, p)[:2]
+    F, G = np.moveaxis(F, 0, -1), np.moveaxis(G, 0, -1)
+    return (F[..., 0], G[..., 0]) if one else (F, G)
 
 
 def _convention_matrices_along(model, conv: Convention, x: np.ndarray, u: np.ndarray, p
