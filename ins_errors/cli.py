@@ -27,6 +27,7 @@ COMMAND_MODULES = (
     "ins_errors.commands.budget",
     "ins_errors.commands.sweep",
     "ins_errors.commands.check",
+    "ins_errors.commands.matrices",
     "ins_errors.commands.study",
     "ins_errors.commands.propagation",
     "ins_errors.commands.cache",

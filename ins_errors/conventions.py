@@ -105,27 +105,12 @@ def error_matrices(model, convention: str, x, u, p, *, bias_states: Sequence[str
         are no constant error sources, or samples the convention cannot carry.
     """
     from ins_errors.checker.check_motions import Motion
-    from ins_errors.checker.conventions import conventions
     from ins_errors.checker.derived_convention import derived_in_convention
-    from ins_errors.checker.matrix import bias_states as make_bias_states
-    from ins_errors.errors import unknown_name
     from ins_errors.numeric.model import load_model
 
     model = load_model(model)
     x, u, p = _samples(model, x, u, p)
-    known = conventions(model)
-    if convention not in known:
-        if list(known) == ["model"]:
-            raise InsErrorsError(
-                f"model {model.name!r} has no convention but its own error states "
-                f"('model'), so not {convention!r}: the φ/ψ conventions need a navigation "
-                "description (docs/matrix_check.md, 'Which models')")
-        raise unknown_name(f"convention of {model.name}", str(convention), known)
-    conv = known[convention]
-    if bias_states or markov:
-        states = [*conv.names, *bias_states]
-        conv = conv.with_biases(make_bias_states(
-            states, [], dict(markov or {}), conv, model, "bias_states", "markov"))
+    conv = model_convention(model, convention, bias_states, markov)
     k = x.shape[1]
     motion = Motion("samples", "given samples", np.arange(k, dtype=float), x, u, p, {})
     try:
@@ -143,6 +128,37 @@ def error_matrices(model, convention: str, x, u, p, *, bias_states: Sequence[str
             "model?")
     return ErrorMatrices(np.array(F), np.array(G), tuple(conv.names),
                          tuple(s.name for s in model.sources))
+
+
+def model_convention(model, convention: str, bias_states: Sequence[str] = (),
+                     markov: Mapping[str, float] | None = None):
+    """The :class:`~ins_errors.checker.conventions.Convention` ``convention`` of
+    ``model`` with ``bias_states`` (see :func:`error_matrices`).
+
+    Raises
+    ------
+    InsErrorsError
+        One line for a convention the model does not have (saying when it has only its
+        own error states) or a bias state that is no constant error source.
+    """
+    from ins_errors.checker.conventions import conventions
+    from ins_errors.checker.matrix import bias_states as make_bias_states
+    from ins_errors.errors import unknown_name
+
+    known = conventions(model)
+    if convention not in known:
+        if list(known) == ["model"]:
+            raise InsErrorsError(
+                f"model {model.name!r} has no convention but its own error states "
+                f"('model'), so not {convention!r}: the φ/ψ conventions need a navigation "
+                "description (docs/matrix_check.md, 'Which models')")
+        raise unknown_name(f"convention of {model.name}", str(convention), known)
+    conv = known[convention]
+    if bias_states or markov:
+        states = [*conv.names, *bias_states]
+        conv = conv.with_biases(make_bias_states(
+            states, [], dict(markov or {}), conv, model, "bias_states", "markov"))
+    return conv
 
 
 def _samples(model, x, u, p) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -503,6 +503,11 @@ def write_samples(path: Path, motions) -> None:
     hand function also sees, ``omega_in_n`` (``omega_ie_n + omega_en_n``) and ``f_n``
     (``C_bn @ f_b``), with the sample axis first: (K,), (K, 3) or (K, 3, 3).
     """
+    save_arrays(path, sample_arrays(motions), "samples file")
+
+
+def sample_arrays(motions) -> dict[str, np.ndarray]:
+    """The arrays :func:`write_samples` writes, by key."""
     arrays: dict[str, np.ndarray] = {}
     for motion in motions:
         label = motion.label
@@ -515,6 +520,17 @@ def write_samples(path: Path, motions) -> None:
                                          + arrays[f"omega_en_n_{label}"])
         arrays[f"f_n_{label}"] = np.array([np.array(c) @ f for c, f in zip(
             arrays[f"C_bn_{label}"], arrays[f"f_b_{label}"], strict=True)]).reshape(-1, 3)
+    return arrays
+
+
+def save_arrays(path: Path, arrays: dict[str, np.ndarray], what: str) -> None:
+    """Write ``arrays`` to ``path`` as ``.npz`` or MATLAB ``.mat`` (by its suffix).
+
+    Raises
+    ------
+    InsErrorsError
+        One line for another suffix (naming ``what`` the file is) or a failed write.
+    """
     try:
         if path.suffix.lower() == ".mat":
             from ins_errors.export import save_mat
@@ -523,6 +539,6 @@ def write_samples(path: Path, motions) -> None:
         elif path.suffix.lower() == ".npz":
             np.savez(path, **arrays)
         else:
-            raise InsErrorsError(f"samples file {str(path)!r} must end in .npz or .mat")
+            raise InsErrorsError(f"{what} {str(path)!r} must end in .npz or .mat")
     except OSError as error:
         raise InsErrorsError(f"cannot write {str(path)!r}: {error.strerror}") from None
