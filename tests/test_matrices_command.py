@@ -64,6 +64,7 @@ def test_a_model_file_in_phi_with_bias_states_is_the_textbook_model(tmp_path, ca
     (["strapdown_ned", "--bias-states", "gyro_bias_q"], "gyro_bias_q"),
     (["strapdown_ned", "--step", "0s"], "--step '0s' must be positive"),
     (["strapdown_ned", "--out-ignored"], None),
+    (["strapdown_ned", "--no-out"], "matrices needs --out FILE.npz or FILE.mat"),
 ])
 def test_bad_input_is_one_line_and_exit_2(args, said, tmp_path, capsys):
     if said is None:  # an unknown option: argparse's usage error, exit 2
@@ -71,7 +72,8 @@ def test_bad_input_is_one_line_and_exit_2(args, said, tmp_path, capsys):
             main(["matrices", *args])
         assert stop.value.code == 2
         return
-    status = main(["matrices", *args, "--out", str(tmp_path / "x.npz")])
+    out = [] if "--no-out" in args else ["--out", str(tmp_path / "x.npz")]
+    status = main(["matrices", *[a for a in args if a != "--no-out"], *out])
     captured = capsys.readouterr()
     err = captured.err.strip().splitlines()
     assert status == 2 and len(err) == 1 and said in err[0] and not captured.out, err

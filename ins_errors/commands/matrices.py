@@ -64,8 +64,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--parameter", "-p", action="append", default=[],
                         metavar="NAME=VALUE",
                         help="model parameter with unit, e.g. k_h1=0.0293/s (repeatable)")
-    parser.add_argument("--out", "-o", type=Path, required=True, metavar="FILE.npz|FILE.mat",
-                        help="file to write (.npz, or MATLAB .mat)")
+    parser.add_argument("--out", "-o", type=Path, default=None, metavar="FILE.npz|FILE.mat",
+                        help="file to write (.npz, or MATLAB .mat; required)")
     parser.add_argument("--json", action="store_true",
                         help="print what was written as JSON")
     parser.set_defaults(func=run)
@@ -80,13 +80,15 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.model import load_model
     from ins_errors.units import parse_quantity
 
+    model = load_model(args.model)  # a misspelt model is said first (with close names)
+    if args.out is None:
+        raise InsErrorsError("matrices needs --out FILE.npz or FILE.mat (the file to write)")
     if args.out.suffix.lower() not in (".npz", ".mat"):
         raise InsErrorsError(f"--out {str(args.out)!r} must end in .npz or .mat")
     step = parse_quantity(args.step, "s", "--step")
     if not (math.isfinite(step) and 0 < step <= args.hours * 3600.0):
         raise InsErrorsError(f"--step {args.step!r} must be positive and at most the motion's "
                              f"length ({args.hours:g} h)")
-    model = load_model(args.model)
     parameters = parse_parameter_options(model, args.parameter)
     biases = [b.strip() for b in args.bias_states.split(",") if b.strip()]
     # the convention (and the bias states) before the flights: a wrong name costs nothing
