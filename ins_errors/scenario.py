@@ -240,7 +240,7 @@ def load_scenario(path: str | Path) -> Scenario:
     if "sweep" in data:
         from ins_errors.analysis.sweep import parse_sweep
 
-        sweep = parse_sweep(data["sweep"], model, where)
+        sweep = parse_sweep(data["sweep"], model, where, cases=len(cases))
     return Scenario(
         title=str(data.get("title", path.stem)),
         description=str(data.get("description", "")),

@@ -298,7 +298,9 @@ def _value(text: Any, unit: str, what: str) -> float:
     return parse_quantity(text, unit, what, numbers_are_si=False)
 
 
-def _grid(name: str, raw: Any, unit: str, where: str) -> tuple[tuple[float, ...], str]:
+def _grid_size(name: str, raw: Any, where: str) -> int:
+    """How many values a grid as written has (its ``count``, or its list's length),
+    checked without converting or building any of them."""
     what = f"{where} [sweep] {name}"
     if isinstance(raw, dict):
         extra = set(raw) - {"start", "stop", "count"}
@@ -308,20 +310,28 @@ def _grid(name: str, raw: Any, unit: str, where: str) -> tuple[tuple[float, ...]
         count = raw["count"]
         if isinstance(count, bool) or not isinstance(count, int) or count < 1:
             raise SweepError(f"{what}: count must be a positive integer, got {count!r}")
+        return count
+    if not isinstance(raw, list) or not raw:
+        raise SweepError(f"{what}: give a non-empty list of values or "
+                         "{ start = ..., stop = ..., count = N }")
+    return len(raw)
+
+
+def _grid(name: str, raw: Any, unit: str, where: str) -> tuple[tuple[float, ...], str]:
+    what = f"{where} [sweep] {name}"
+    count = _grid_size(name, raw, where)
+    if isinstance(raw, dict):
         start = _value(raw["start"], unit, what)
         stop = _value(raw["stop"], unit, what)
         values = tuple(float(v) for v in np.linspace(start, stop, count))
         return values, _display_unit(raw["start"], unit)
-    if not isinstance(raw, list) or not raw:
-        raise SweepError(f"{what}: give a non-empty list of values or "
-                         "{ start = ..., stop = ..., count = N }")
     values = tuple(_value(v, unit, what) for v in raw)
     if len(set(values)) != len(values):
         raise SweepError(f"{what}: a value is listed twice")
     return values, _display_unit(raw[0], unit)
 
 
-def parse_sweep(raw: Any, model, where: str) -> SweepSpec:
+def parse_sweep(raw: Any, model, where: str, cases: int = 1) -> SweepSpec:
     """Check and convert a ``[sweep]`` table (called by :func:`ins_errors.scenario.load_scenario`).
 
     Parameters
@@ -332,35 +342,47 @@ def parse_sweep(raw: Any, model, where: str) -> SweepSpec:
         The scenario's model (source names and units).
     where : str
         File name for messages.
+    cases : int
+        The scenario's ``[[case]]`` tables (a factor of the point count).
 
     Raises
     ------
     SweepError, UnknownNameError, UnitError
-        One line naming the key and the problem.
+        One line naming the key and the problem; more than :data:`MAX_POINTS` points
+        (:func:`refuse_too_many`), found from the grids' sizes as written, before any
+        grid value is built or converted.
     """
     if not isinstance(raw, dict):
         raise SweepError(f"{where}: 'sweep' must be a table, [sweep]")
     source_units = {s.name: s.unit for s in model.sources}
     known = [*MOTION_PARAMETERS, *RUN_PARAMETERS, *source_units, *CONTROL_KEYS]
-    parameters = []
-    for name, value in raw.items():
+    kinds = {}
+    for name in raw:
         if name in CONTROL_KEYS:
             continue
         if name in MOTION_PARAMETERS:
-            kind, unit = "motion", MOTION_PARAMETERS[name]
+            kinds[name] = "motion", MOTION_PARAMETERS[name]
         elif name in RUN_PARAMETERS:
-            kind, unit = "run", RUN_PARAMETERS[name]
+            kinds[name] = "run", RUN_PARAMETERS[name]
         elif name in source_units:
-            kind, unit = "source", source_units[name]
+            kinds[name] = "source", source_units[name]
         else:
             raise unknown_name(f"key in {where} [sweep]", name, known)
-        values, shown = _grid(name, value, unit, where)
-        if kind == "run" and min(values) <= 0:
-            raise SweepError(f"{where} [sweep] {name}: values must be positive")
-        parameters.append(Parameter(name, kind, unit, values, shown))
     draws = raw.get("draws", 0)
     if isinstance(draws, bool) or not isinstance(draws, int) or draws < 0:
         raise SweepError(f"{where} [sweep] draws must be a whole number >= 0, got {draws!r}")
+    # the size of the sweep from the sizes as written: a count of 10**9 would take
+    # gigabytes (and minutes) to build before the point count could refuse it
+    factors = [(_grid_size(name, raw[name], where), name) for name in kinds]
+    factors += [(cases, "cases")] if cases > 1 else []
+    factors += [(draws, "draws")] if draws else []
+    refuse_too_many(factors, f"{where} [sweep]: ")
+    parameters = []
+    for name, (kind, unit) in kinds.items():
+        values, shown = _grid(name, raw[name], unit, where)
+        if kind == "run" and min(values) <= 0:
+            raise SweepError(f"{where} [sweep] {name}: values must be positive")
+        parameters.append(Parameter(name, kind, unit, values, shown))
     seed = raw.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise SweepError(f"{where} [sweep] seed must be a whole number >= 0, got {seed!r}")
@@ -543,12 +565,22 @@ def point_count(scenario) -> int:
         factors.append((len(scenario.cases), "cases"))
     if spec.draws:
         factors.append((spec.draws, "draws"))
-    count = 1
-    for size, _ in factors:
-        count *= size
+    return refuse_too_many(factors)
+
+
+def refuse_too_many(factors: Sequence[tuple[int, str]], where: str = "") -> int:
+    """The number of points of a sweep of these factors (size, name), refused beyond
+    :data:`MAX_POINTS`.
+
+    Raises
+    ------
+    SweepError
+        More than :data:`MAX_POINTS` points (one line giving the factors).
+    """
+    count = math.prod(size for size, _ in factors)
     if count > MAX_POINTS:
         product = " × ".join(f"{size:,} {name}" for size, name in factors)
-        raise SweepError(f"the sweep has {count:,} points ({product}), more than the "
+        raise SweepError(f"{where}the sweep has {count:,} points ({product}), more than the "
                          f"{MAX_POINTS:,} a sweep may have (every process holds the list "
                          "of its points); split it into several sweep files")
     return count

@@ -1,0 +1,68 @@
+"""A sweep too large is refused from the sizes its file writes, before any grid value is
+built (a count of 10**9 took 22.6 GB and minutes before the point count refused it)."""
+
+from __future__ import annotations
+
+import tracemalloc
+
+import pytest
+
+from ins_errors.analysis import sweep as sw
+from ins_errors.cli import main
+from ins_errors.scenario import load_scenario
+
+BASE = """title = "limits"
+model = "orthodromic"
+[motion]
+kind = "static"
+latitude = "50 deg"
+[run]
+duration = "60 s"
+step = "1 s"
+[[case]]
+gyro_drift_x = "0.01 deg/h"
+[sweep]
+"""
+
+
+@pytest.mark.parametrize("grid, factors", [
+    ('latitude = { start = "0 deg", stop = "80 deg", count = 1000000000000 }\n',
+     "1,000,000,000,000 points (1,000,000,000,000 latitude)"),
+    ('heading = { start = "0 deg", stop = "90 deg", count = 1000 }\n'
+     'latitude = { start = "0 deg", stop = "80 deg", count = 1000 }\n',
+     "1,000,000 points (1,000 heading × 1,000 latitude)"),
+    ('latitude = ["10 deg", "20 deg"]\ndraws = 1000000000000\n'
+     '[sweep.random]\naccel_bias_x = "1 ug"\n',
+     "2,000,000,000,000 points (2 latitude × 1,000,000,000,000 draws)"),
+])
+def test_a_huge_grid_is_refused_before_any_axis_is_built(tmp_path, grid, factors):
+    small = tmp_path / "small.toml"
+    small.write_text(BASE + 'latitude = ["10 deg"]\n', encoding="utf-8")
+    load_scenario(small)  # the model and the units loaded: not counted below
+    path = tmp_path / "huge.toml"
+    path.write_text(BASE + grid, encoding="utf-8")
+    tracemalloc.start()
+    try:
+        with pytest.raises(sw.SweepError) as refused:
+            load_scenario(path)
+        _, peak = tracemalloc.get_traced_memory()
+    finally:
+        tracemalloc.stop()
+    assert f"the sweep has {factors}, more than the 100,000 a sweep may have" in str(
+        refused.value)
+    assert "[sweep]" in str(refused.value)
+    assert peak < 5e6, peak  # nothing of the axis' size (the list would be 8 TB)
+
+
+def test_a_long_list_is_refused_before_its_values_are_read(tmp_path, capsys,
+                                                          monkeypatch):
+    values = ", ".join(f'"{k * 1e-6:.6f} deg"' for k in range(100_001))
+    path = tmp_path / "list.toml"
+    path.write_text(BASE + f"latitude = [{values}]\n", encoding="utf-8")
+    read: list = []
+    real = sw._value
+    monkeypatch.setattr(sw, "_value", lambda *a: read.append(a) or real(*a))
+    assert main(["sweep", str(path), "--store", str(tmp_path / "x.zarr")]) == 2
+    err = capsys.readouterr().err
+    assert "the sweep has 100,001 points (100,001 latitude)" in err
+    assert err.count("\n") == 1 and read == []
