@@ -62,6 +62,7 @@ a store of another sweep is refused with the settings that differ.
 from __future__ import annotations
 
 import asyncio
+import errno
 import json
 import os
 import shutil
@@ -84,6 +85,27 @@ STORE_HINT = "pip install 'ins-errors[distributed]'"
 
 class StoreError(InsErrorsError):
     """A store that cannot be used for this sweep."""
+
+
+FULL_DISK = (errno.ENOSPC, errno.EDQUOT)
+"""Errors of a file system with no room left: no space, or the user's quota (of bytes
+or of files, as cluster file systems count them) used up."""
+
+
+def disk_full(error: BaseException) -> bool:
+    """Whether ``error`` says the file system has no room left (:data:`FULL_DISK`)."""
+    return isinstance(error, OSError) and error.errno in FULL_DISK
+
+
+def full_disk_error(store: str | Path, kept: int, points: int,
+                    error: OSError) -> StoreError:
+    """The one line of a store whose disk filled while a sweep wrote it: the store, the
+    points it keeps (each point is written whole or not at all, so the store resumes)
+    and that the same command goes on once there is room."""
+    why = error.strerror or os.strerror(error.errno or 0)
+    return StoreError(f"the disk of the sweep store {str(store)!r} is full ({why}): it "
+                      f"keeps {kept} of the {points} points; the same command resumes "
+                      "the sweep once there is space (or a quota allows more)")
 
 
 STORE_KINDS = {".zarr": "a Zarr folder, filled as points finish",
@@ -357,8 +379,12 @@ class SweepStore:
         data = xr.open_zarr(str(self.work), chunks=None, consolidated=False,
                             mask_and_scale=False).load()  # sweeps that fit in memory
         scratch = self.path.with_name(self.path.name + ".tmp")
-        data.to_netcdf(scratch)
-        scratch.replace(self.path)
+        try:
+            data.to_netcdf(scratch)
+            scratch.replace(self.path)
+        except BaseException:  # half a file (a full disk, Ctrl-C): the Zarr folder
+            scratch.unlink(missing_ok=True)  # keeps every point, and a rerun writes it
+            raise
         if not self.failed:
             shutil.rmtree(self.work, ignore_errors=True)
 
@@ -635,8 +661,13 @@ def grow(path: str | Path, layout: Layout,
                 filling.fail(index, reason)
             else:
                 filling.write(index, values())
-    except BaseException:
+    except BaseException as error:
         shutil.rmtree(scratch, ignore_errors=True)
+        if disk_full(error):  # the store is as it was
+            raise StoreError(f"the disk of the sweep store {str(path)!r} is full "
+                             f"({error.strerror}) while it was being extended: it is as "
+                             f"it was, with its {len(points)} finished points; the same "
+                             "command extends it once there is space") from None
         raise
     if work.exists():
         work.rename(previous)

@@ -995,7 +995,7 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
         Another process is writing the store (:func:`~ins_errors.analysis.store.store_lock`).
     """
     from ins_errors.analysis.engine import choose_engine, run_tasks
-    from ins_errors.analysis.store import store_lock, store_path
+    from ins_errors.analysis.store import disk_full, full_disk_error, store_lock, store_path
 
     store = store_path(store)  # a name of no known format, before anything is made
     scheduler = scheduler or scenario.sweep.scheduler
@@ -1015,23 +1015,30 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
         if on_start is not None:
             on_start(len(share), len(todo), len(points.jobs))
         stats = None
-        if todo:
-            def keep(k: int, result: dict) -> None:
-                box.write(where[todo[k]], result)
-                if on_result is not None:
-                    on_result(todo[k])
+        try:
+            if todo:
+                def keep(k: int, result: dict) -> None:
+                    box.write(where[todo[k]], result)
+                    if on_result is not None:
+                        on_result(todo[k])
 
-            def failed(k: int, error: InsErrorsError) -> None:
-                if not isinstance(error, PointError):  # not a point's own outcome
-                    raise error
-                box.fail(where[todo[k]], error.reason)
-                if on_result is not None:
-                    on_result(todo[k])
+                def failed(k: int, error: InsErrorsError) -> None:
+                    if not isinstance(error, PointError):  # not a point's own outcome
+                        raise error
+                    box.fail(where[todo[k]], error.reason)
+                    if on_result is not None:
+                        on_result(todo[k])
 
-            stats = run_tasks(run_point, [(points.jobs[k],) for k in todo], engine=engine,
-                              scheduler=scheduler, workers=workers, on_result=keep,
-                              on_failure=failed, progress=progress, label="sweep")
-        box.finish()
+                stats = run_tasks(run_point, [(points.jobs[k],) for k in todo],
+                                  engine=engine, scheduler=scheduler, workers=workers,
+                                  on_result=keep, on_failure=failed, progress=progress,
+                                  label="sweep")
+            box.finish()
+        except OSError as error:  # a point is written whole or not at all: resumable
+            if not disk_full(error):
+                raise
+            kept = sum(bool(box.done[where[k]]) for k in share)
+            raise full_disk_error(store, kept, len(share), error) from None
         data = _judged_by(_view(box.dataset(), shape, where), scenario)
     if shard is not None:
         data = data.isel(point=share)
