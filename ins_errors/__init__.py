@@ -13,7 +13,26 @@ See README.md for the tour and ``generated/<model>/error_equations.md`` for the 
 """
 
 from ins_errors.errors import DomainError, InsErrorsError, ShapeError, UnknownNameError
-from ins_errors.numeric.model import Info, Model, available_models, load_model
+
+_FROM_MODEL = ("Info", "Model", "available_models", "load_model")
+"""Names of :mod:`ins_errors.numeric.model` read on first use: importing the package
+(as the ``ins-errors`` command does before anything else) stays light (no numpy), so the
+command sets its SIGTERM handler within milliseconds of starting."""
+
+
+def __getattr__(name: str):
+    if name in _FROM_MODEL:
+        from ins_errors.numeric import model
+
+        value = getattr(model, name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module 'ins_errors' has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_FROM_MODEL})
+
 
 __all__ = [
     "DomainError",

@@ -220,6 +220,40 @@ def main(argv: list[str] | None = None) -> int:
         141 (128 + SIGPIPE) the reader of standard output stopped reading, as a POSIX
         tool killed by SIGPIPE reports.
     """
+    # first of all (the package's import is light): SIGTERM from the start of the
+    # command gets Ctrl-C's clean-up and its one line, also while the parser is built
+    from ins_errors.analysis.engine import terminate_interrupts
+
+    try:
+        with terminate_interrupts(lasting=True):
+            return _command(argv)
+    except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM (engine.Terminated)
+        return _stopped(error)
+
+
+def _stopped(error: KeyboardInterrupt) -> int:
+    """Say that the command was stopped (one line on stderr) and give its exit status,
+    128 + the signal's number.
+
+    The error's ``detail`` (what a sweep's store keeps) follows a colon; its ``when``
+    (``"before any point was stored"``) follows the signal. Asyncio's notes on the
+    tasks the stop abandoned (Zarr's writes on its own thread: ``Task was destroyed but
+    it is pending!``) are silenced: the line says what happened."""
+    import logging
+
+    logging.getLogger("asyncio").setLevel(logging.CRITICAL + 1)
+    signum = getattr(error, "signum", 2)
+    detail = getattr(error, "detail", "")  # e.g. what a sweep's store keeps
+    when = getattr(error, "when", "")
+    print(("ins-errors: interrupted" if signum == 2 else
+           f"ins-errors: terminated (signal {signum})")
+          + (f" {when}" if when else "") + (f": {detail}" if detail else ""),
+          file=sys.stderr)
+    return 128 + signum
+
+
+def _command(argv: list[str] | None) -> int:
+    """:func:`main` once SIGTERM is handled."""
     from ins_errors.errors import InsErrorsError
     from ins_errors.output import os_error_line
 
@@ -240,22 +274,14 @@ def main(argv: list[str] | None = None) -> int:
         # before any work, whatever the cache holds: the cache's variables (a relative
         # $INS_ERRORS_CACHE is taken against the folder the command starts in)
         check_settings()
-        from ins_errors.analysis.engine import terminate_interrupts
-
-        with terminate_interrupts():  # SIGTERM at any moment: Ctrl-C's clean-up, exit 143
-            status = int(args.func(args) or 0)
+        status = int(args.func(args) or 0)
         sys.stdout.flush()
         return status
     except InsErrorsError as error:
         print(f"ins-errors: error: {error}", file=sys.stderr)
         return 2
     except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM (engine.Terminated)
-        signum = getattr(error, "signum", 2)
-        detail = getattr(error, "detail", "")  # e.g. what a sweep's store keeps
-        print(("ins-errors: interrupted" if signum == 2 else
-               f"ins-errors: terminated (signal {signum})")
-              + (f": {detail}" if detail else ""), file=sys.stderr)
-        return 128 + signum
+        return _stopped(error)
     except BrokenPipeError:  # output piped into e.g. `head`, which stopped reading
         _silence_stdout()
         return EXIT_BROKEN_PIPE

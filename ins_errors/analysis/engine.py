@@ -35,8 +35,9 @@ import os
 import signal
 import sys
 import threading
+import time
 from collections.abc import Callable, Iterator, Sequence
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from typing import Any
 
@@ -183,6 +184,7 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
                    disable=None)  # None: no bar when stderr is not a terminal
 
     def done(k: int, result: Any) -> None:
+        check_terminated()
         report(k, result)
         stats.computed += 1
         if bar is not None:
@@ -190,6 +192,7 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
 
     def failed(k: int, error: BaseException) -> None:
         """A task raised ``error``: its outcome (``on_failure``) or the end of the call."""
+        check_terminated()
         if on_failure is None or not isinstance(error, InsErrorsError) or isinstance(
                 error, EngineError):
             raise task_failure(error, label) from None
@@ -256,6 +259,7 @@ def _run_pool(function, tasks, shared, workers, done, failed) -> None:
         try:
             for k, task in enumerate(tasks):
                 futures[pool.submit(function, *shared, *task)] = k
+            check_terminated()  # (a SIGTERM while the workers were forked)
             for future in as_completed(futures):
                 try:
                     result = future.result()
@@ -300,6 +304,7 @@ def _stop_workers(pool) -> None:
     """End a process pool's workers now, their running tasks abandoned: no new task is
     started, each worker gets SIGTERM, and SIGKILL after :data:`WORKER_GRACE` s."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
+    results = getattr(pool, "_result_queue", None)
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
         if process.is_alive():
@@ -309,31 +314,109 @@ def _stop_workers(pool) -> None:
         if process.is_alive():
             process.kill()
             process.join(WORKER_GRACE)
+    # a worker ended while it sent a result leaves half a message in the result pipe,
+    # whose reader (the pool's manager thread, joined as the interpreter exits) then
+    # waits for the rest forever: the process printed its line and never ended. The
+    # workers are gone; this end of the pipe closed, the reader sees its end.
+    writer = getattr(results, "_writer", None)
+    if writer is not None:
+        with suppress(OSError):
+            writer.close()
+
+
+REPEAT_WINDOW = 1.0
+"""Seconds after a first SIGTERM within which another is taken as the same stop."""
 
 
 @contextmanager
-def terminate_interrupts() -> Iterator[None]:
+def terminate_interrupts(lasting: bool = False) -> Iterator[None]:
     """While tasks run (and, from the command line, while any command runs: ``cli.main``),
     SIGTERM raises :class:`Terminated` in this process instead of ending it at once: its
     default action left a process pool's workers running, orphaned, and skipped the
     clean-up Ctrl-C gets (a store's lock, a scratch folder, the one line saying why).
     Only in the main thread (the only one that may set handlers) and where SIGTERM has
     its default action (a handler the program set is kept); a second SIGTERM during the
-    clean-up ends the process."""
+    clean-up ends the process, unless it comes within :data:`REPEAT_WINDOW` of the first
+    (the same stop sent twice: ``timeout`` signals the process, then its group).
+
+    A :class:`Terminated` that Python drops (raised while a finaliser or an at-fork hook
+    runs, where exceptions are printed as "Exception ignored" and lost) is not printed
+    but raised again by :func:`check_terminated`, which :func:`run_tasks` calls as tasks
+    start and finish, and at the end of the block.
+
+    Parameters
+    ----------
+    lasting : bool
+        Once SIGTERM came, ignore it after the block (the command line: the process is
+        ending, and a repeat of the same stop during its exit, which resets Python's
+        handlers, would end it in silence with the default action; SIGKILL still ends
+        it).
+    """
     if (threading.current_thread() is not threading.main_thread()
             or signal.getsignal(signal.SIGTERM) is not signal.SIG_DFL):
         yield
         return
+    owner = os.getpid()
 
     def stop(signum, frame) -> None:
+        if os.getpid() != owner:  # a pool worker forked before it set its own
+            signal.signal(signal.SIGTERM, signal.SIG_DFL)
+            os.kill(os.getpid(), signal.SIGTERM)
+            return
+        if not _TERMINATED:
+            _TERMINATED.append(time.monotonic())
+            raise Terminated
+        if time.monotonic() - _TERMINATED[0] < REPEAT_WINDOW:
+            return  # the same stop twice (`timeout` signals the process and its group)
         signal.signal(signal.SIGTERM, signal.SIG_DFL)
-        raise Terminated
+        os.kill(os.getpid(), signal.SIGTERM)
 
+    shown = sys.unraisablehook
+
+    def dropped(unraisable) -> None:
+        if unraisable.exc_type is not None and issubclass(unraisable.exc_type, Terminated):
+            _DROPPED.append(True)  # raised again by check_terminated
+            return
+        shown(unraisable)
+
+    _TERMINATED.clear()
+    _DROPPED.clear()
     signal.signal(signal.SIGTERM, stop)
+    sys.unraisablehook = dropped
     try:
         yield
+        check_terminated()
     finally:
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        sys.unraisablehook = shown
+        _DROPPED.clear()
+        # the command line, once stopped, is ending: a repeat of the stop is ignored
+        # (Python's exit would give it the default action, ending it in silence)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN if lasting and _TERMINATED
+                      else signal.SIG_DFL)
+        _TERMINATED.clear()
+
+
+_TERMINATED: list[float] = []
+"""When :func:`terminate_interrupts`' handler got SIGTERM (empty: it did not)."""
+
+_DROPPED: list[bool] = []
+"""Non-empty when Python dropped the handler's :class:`Terminated`."""
+
+
+def check_terminated() -> None:
+    """Raise :class:`Terminated` again if Python dropped the one SIGTERM raised.
+
+    Python runs a signal's handler wherever the main thread is; an exception raised
+    there inside a finaliser or an at-fork hook (a process pool starting its workers) is
+    handed to :data:`sys.unraisablehook` and dropped (the sweep then ran on to its end).
+
+    Raises
+    ------
+    Terminated
+    """
+    if _DROPPED:
+        _DROPPED.clear()
+        raise Terminated
 
 
 @contextmanager

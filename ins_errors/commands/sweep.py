@@ -73,7 +73,24 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the sweep; 0 when every point ran, 2 when a point failed (listed on stderr,
-    and in the JSON under ``"failed"``)."""
+    and in the JSON under ``"failed"``).
+
+    Stopped (Ctrl-C, SIGTERM) at any moment, the interruption says how many points the
+    store keeps, or that it came before any point was stored."""
+    counts = {"points": 0, "before": 0, "stored": 0}
+    try:
+        return _run(args, counts)
+    except KeyboardInterrupt as stop:  # what is kept, and how to go on (the CLI says)
+        kept = counts["before"] + counts["stored"]
+        if kept and args.merge is None:
+            stop.detail = (f"{kept} of the {counts['points']} points are in "
+                           f"{counts['store']}; the same command runs the others")
+        elif args.merge is None:
+            stop.when = "before any point was stored"
+        raise
+
+
+def _run(args: argparse.Namespace, counts: dict) -> int:
     from ins_errors.analysis import sweep as sw
     from ins_errors.analysis import sweep_report as sr
     from ins_errors.model_parameters import parameters_record
@@ -109,8 +126,7 @@ def run(args: argparse.Namespace) -> int:
         sw.check_shard(shard, count)
     store = args.store or sw.default_store(args.scenario, shard)
     title = scenario.title
-
-    counts = {"points": 0, "before": 0, "stored": 0}
+    counts["store"] = store
     others: list[int] = []  # of a store extended by this sweep's grid
 
     def say(points: int, todo: int, total: int) -> None:
@@ -133,18 +149,11 @@ def run(args: argparse.Namespace) -> int:
         def stored(_: int) -> None:
             counts["stored"] += 1
 
-        try:
-            result = sw.run_sweep(scenario, store, engine=args.engine,
-                                  scheduler=args.scheduler, workers=args.workers,
-                                  progress=not args.no_progress,
-                                  retry_failed=args.retry_failed, shard=shard, on_start=say,
-                                  on_result=stored, on_extend=others.append)
-        except KeyboardInterrupt as stop:  # what is kept, and how to go on (the CLI says)
-            if counts["points"]:
-                kept = counts["before"] + counts["stored"]
-                stop.detail = (f"{kept} of the {counts['points']} points are in {store}; "
-                               "the same command runs the others")
-            raise
+        result = sw.run_sweep(scenario, store, engine=args.engine,
+                              scheduler=args.scheduler, workers=args.workers,
+                              progress=not args.no_progress,
+                              retry_failed=args.retry_failed, shard=shard, on_start=say,
+                              on_result=stored, on_extend=others.append)
     data = result.dataset
     plotted = None
     if args.plot:
