@@ -66,3 +66,50 @@ def test_a_long_list_is_refused_before_its_values_are_read(tmp_path, capsys,
     err = capsys.readouterr().err
     assert "the sweep has 100,001 points (100,001 latitude)" in err
     assert err.count("\n") == 1 and read == []
+
+
+@pytest.mark.parametrize("grid, named", [
+    ('latitude = ["45 deg", "2700 arcmin"]\n',
+     "'45 deg' and '2700 arcmin' are the same value (within 1e-12, relative)"),
+    ('gyro_drift_x = ["0.01 deg/h", "0.02 deg/h", "36 arcsec/h"]\n',
+     "'0.01 deg/h' and '36 arcsec/h' are the same value"),
+    ('latitude = ["45 deg", "30 deg", "45 deg"]\n', "'45 deg' is listed twice"),
+    ('latitude = { start = "10 deg", stop = "600 arcmin", count = 3 }\n',
+     "start '10 deg' and stop '600 arcmin' are the same value"),
+])
+def test_grid_values_equal_within_rounding_are_refused_naming_both(tmp_path, grid,
+                                                                   named):
+    """Was: 45 deg and 2700 arcmin (one unit in the last place apart in radians) ran as
+    two points, the table showing identical rows."""
+    path = tmp_path / "dup.toml"
+    path.write_text(BASE + grid, encoding="utf-8")
+    with pytest.raises(sw.SweepError, match=r"same value|listed twice") as refused:
+        load_scenario(path)
+    assert named in str(refused.value) and "[sweep]" in str(refused.value)
+
+
+def test_an_extension_takes_the_stored_value_for_one_within_rounding(tmp_path, capsys):
+    """A store of latitude 45 deg extended by a grid writing 2700 arcmin reuses the
+    stored point (was: computed again as a point of its own beside it)."""
+    import json
+
+    from ins_errors.units import parse_quantity
+
+    store = str(tmp_path / "s.zarr")
+    first = tmp_path / "first.toml"
+    first.write_text(BASE.replace('"60 s"', '"60 s"\nrecord = "60 s"')
+                     + 'latitude = ["45 deg"]\n', encoding="utf-8")
+    assert main(["sweep", str(first), "--store", store, "--engine", "serial",
+                 "--no-progress", "--json"]) == 0
+    stored = json.loads(capsys.readouterr().out)["summary"][0]
+    second = tmp_path / "second.toml"
+    second.write_text(BASE.replace('"60 s"', '"60 s"\nrecord = "60 s"')
+                      + 'latitude = ["2700 arcmin", "30 deg"]\n', encoding="utf-8")
+    assert parse_quantity("2700 arcmin", "rad") != parse_quantity("45 deg", "rad")
+    assert main(["sweep", str(second), "--store", store, "--engine", "serial",
+                 "--no-progress", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert (out["computed"], out["reused"], out["store_others"]) == (1, 1, 0)
+    again = out["summary"][0]
+    assert again["latitude"] == stored["latitude"] == parse_quantity("45 deg", "rad")
+    assert again["max_direct"] == stored["max_direct"]

@@ -324,11 +324,38 @@ def _grid(name: str, raw: Any, unit: str, where: str) -> tuple[tuple[float, ...]
         start = _value(raw["start"], unit, what)
         stop = _value(raw["stop"], unit, what)
         values = tuple(float(v) for v in np.linspace(start, stop, count))
+        if count > 1 and same_value(start, stop):
+            raise SweepError(f"{what}: start {raw['start']!r} and stop {raw['stop']!r} are "
+                             f"the same value, so its {count} values are one; give "
+                             "count = 1 or another stop")
         return values, _display_unit(raw["start"], unit)
     values = tuple(_value(v, unit, what) for v in raw)
-    if len(set(values)) != len(values):
-        raise SweepError(f"{what}: a value is listed twice")
+    _refuse_equal(values, raw, what)
     return values, _display_unit(raw[0], unit)
+
+
+SAME_VALUE = 1e-12
+"""Relative difference within which two grid values are the same value (a rounding of
+one unit's conversion: ``45 deg`` and ``2700 arcmin`` differ by one unit in the last
+place in radians): a grid giving both is refused; a grid extending a store takes the
+store's value for one within it."""
+
+
+def same_value(a: float, b: float) -> bool:
+    """Whether ``a`` and ``b`` are equal within :data:`SAME_VALUE`, relative."""
+    return abs(a - b) <= SAME_VALUE * max(abs(a), abs(b))
+
+
+def _refuse_equal(values: Sequence[float], written: Sequence[Any], what: str) -> None:
+    """Refuse a grid with two values equal within :data:`SAME_VALUE` (naming both as
+    written): their points would be the same runs, rows and plot cells twice."""
+    order = sorted(range(len(values)), key=lambda k: values[k])
+    for i, j in itertools.pairwise(order):
+        if same_value(values[i], values[j]):
+            a, b = (written[k] for k in sorted((i, j)))
+            shown = (f"{a!r} is listed twice" if a == b else f"{a!r} and {b!r} are the "
+                     f"same value (within {SAME_VALUE:g}, relative)")
+            raise SweepError(f"{what}: {shown}; give each value once")
 
 
 def parse_sweep(raw: Any, model, where: str, cases: int = 1) -> SweepSpec:
@@ -1000,6 +1027,8 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     store = store_path(store)  # a name of no known format, before anything is made
     scheduler = scheduler or scenario.sweep.scheduler
     engine = choose_engine(engine, scheduler)  # before any store is made
+    if shard is None:
+        scenario = _as_stored(scenario, store)
     points = grid(scenario)
     if shard is not None:
         check_shard(shard, len(points.jobs))
@@ -1045,6 +1074,46 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
     failed = [k for k in share if box.failure[where[k]]]
     return SweepResult(data, Path(store), len(share), len(todo), reused, stats,
                        failed, len(points.jobs), shard, others=others or 0)
+
+
+def _as_stored(scenario, store: Path):
+    """``scenario`` whose grid values within :data:`SAME_VALUE` of a value the store at
+    ``store`` holds for the same parameter take the stored value (``2700 arcmin`` for a
+    stored ``45 deg``, one unit in the last place apart in radians): the sweep reuses
+    those points and reports the values as stored, instead of computing them again as
+    points of their own beside the stored ones."""
+    from ins_errors.analysis.store import read_store
+
+    work = store.with_name(store.name + ".partial.zarr") if store.suffix == ".nc" else store
+    source = next((path for path in (work, store) if path.exists()), None)
+    if source is None or not scenario.sweep.parameters:
+        return scenario
+    try:
+        data = read_store(source)
+    except InsErrorsError:
+        return scenario  # not a store: said when it is opened
+    try:
+        stored = {p.name: np.asarray(data[p.name].values, dtype=float)
+                  for p in scenario.sweep.parameters
+                  if p.name in data.variables and data[p.name].dims == ("point",)}
+    finally:
+        data.close()
+    parameters, changed = [], False
+    for parameter in scenario.sweep.parameters:
+        known = np.unique(stored.get(parameter.name, np.empty(0)))
+        known = known[np.isfinite(known)]
+        values = []
+        for value in parameter.values:
+            near = [float(s) for s in known if same_value(float(s), value)]
+            values.append(near[0] if near else value)
+        if values != list(parameter.values) and len(set(values)) == len(values):
+            parameter = dataclasses.replace(parameter, values=tuple(values))
+            changed = True
+        parameters.append(parameter)
+    if not changed:
+        return scenario
+    return dataclasses.replace(scenario, sweep=dataclasses.replace(
+        scenario.sweep, parameters=tuple(parameters)))
 
 
 def _open_store(scenario, store: Path, shape, shard: Shard | None):
