@@ -88,3 +88,28 @@ def test_a_netcdf_store_whose_disk_fills_leaves_no_half_file(tmp_path, capsys,
     again = json.loads(capsys.readouterr().out)
     assert (again["computed"], again["reused"]) == (0, 4)
     assert store.is_file() and not (tmp_path / "s.nc.partial.zarr").exists()
+
+
+def test_a_default_written_out_is_the_same_sweep_a_real_change_is_not(tmp_path, capsys):
+    """Was: '[motion] heading is absent there, 0 deg here' for heading = "0 deg" (the
+    default), and likewise [parameters] a at the model's own value."""
+    from ins_errors.numeric.model import load_model
+
+    a = dict(zip([i.name for i in load_model("orthodromic").parameters],
+                 load_model("orthodromic").parameter_vector(), strict=True))["a"]
+    path = _write(tmp_path)
+    store = tmp_path / "s.zarr"
+    assert main(_sweep(path, store)) == 0
+    capsys.readouterr()
+    explicit = TINY.replace('latitude = "50 deg"\n', 'latitude = "50 deg"\nheading = "0 deg"\n')
+    explicit = explicit.replace("[[case]]", f'[parameters]\na = "{a:.17g} m"\n[[case]]')
+    assert main(_sweep(_write(tmp_path, explicit), store)) == 0
+    again = json.loads(capsys.readouterr().out)
+    assert (again["computed"], again["reused"], again["store_others"]) == (0, 4, 0)
+    turned = TINY.replace('latitude = "50 deg"\n', 'latitude = "50 deg"\nheading = "10 deg"\n')
+    assert main(_sweep(_write(tmp_path, turned), store)) == 2
+    err = capsys.readouterr().err
+    assert "holds another sweep: [motion] heading is" in err and "10 deg here" in err, err
+    other = explicit.replace(f'a = "{a:.17g} m"', f'a = "{a + 1000:.17g} m"')
+    assert main(_sweep(_write(tmp_path, other), store)) == 2
+    assert "[parameters] a is" in capsys.readouterr().err

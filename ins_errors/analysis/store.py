@@ -564,8 +564,49 @@ def extension_differences(attributes: Mapping, layout: Layout) -> list[str] | No
         before = []
     now = layout.attributes.get("swept", [])
     swept = {str(n) for n in [*before, *now]}
-    return setting_differences({k: v for k, v in recorded.items() if not _overridden(k, swept)},
-                               {k: v for k, v in wanted.items() if not _overridden(k, swept)})
+    found, meant = effective_settings(recorded), effective_settings(wanted)
+    differ = {name for name in [*found, *meant] if found.get(name) != meant.get(name)}
+    # the settings that differ in effect, said as written (or in effect, where absent)
+    there = {k: recorded.get(k, found.get(k)) for k in differ if not _overridden(k, swept)}
+    here = {k: wanted.get(k, meant.get(k)) for k in differ if not _overridden(k, swept)}
+    order = {k: n for n, k in enumerate([*wanted, *meant, *recorded, *found])}
+    return [text for _, text in sorted(
+        (order[k], f"{k} is {_brief(there.get(k))} there, {_brief(here.get(k))} here")
+        for k in set(there) | set(here))]
+
+
+def effective_settings(settings: Mapping[str, str]) -> dict[str, str]:
+    """A sweep's ``settings`` with the values that take effect: the ``[motion]`` with its
+    defaults filled in, as exact SI text, and every model parameter (its default, or its
+    ellipsoid's, where ``[parameters]`` sets none) as ``repr`` of its SI value. A
+    setting written out at its default (``heading = "0 deg"``, ``a = "6378245 m"``) is
+    then the same as one left out; values that cannot be read are kept as written."""
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.motion_spec import in_si
+
+    out = dict(settings)
+    motion: dict = {}
+    for key, text in settings.items():
+        if key.startswith("[motion] "):
+            try:
+                motion[key[len("[motion] "):]] = json.loads(text)
+            except ValueError:
+                motion[key[len("[motion] "):]] = text
+    with suppress(InsErrorsError, ValueError, TypeError):
+        for name, value in in_si(motion).items():
+            out[f"[motion] {name}"] = (value if isinstance(value, str)
+                                       else json.dumps(value, sort_keys=True))
+    given = {key[len("[parameters] "):]: text for key, text in settings.items()
+             if key.startswith("[parameters] ")}
+    ellipsoid = settings.get("[run] ellipsoid")
+    with suppress(InsErrorsError, ValueError, TypeError, KeyError):
+        model = load_model(str(settings["model"]))
+        vector = model.parameter_vector(
+            ellipsoid=None if ellipsoid in (None, "the model's own", "None") else ellipsoid,
+            **{name: float(text) for name, text in given.items()})
+        for info, value in zip(model.parameters, vector, strict=True):
+            out[f"[parameters] {info.name}"] = repr(float(value))
+    return out
 
 
 def _work_of(path: Path) -> Path:

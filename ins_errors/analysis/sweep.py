@@ -866,11 +866,25 @@ def point_keys(jobs: Sequence[PointJob], common: Mapping[str, Any]) -> list[str]
     for job in jobs:
         row = {name: getattr(job, name) for name in names}
         row["motion"] = job.motion_si or tuple(sorted(in_si(dict(job.motion)).items()))
+        if job.parameters:  # a parameter set to its default is the default
+            defaults = _defaults(job.model, job.ellipsoid)
+            row["parameters"] = tuple((name, value) for name, value in job.parameters
+                                      if defaults.get(name) != value)
         if "file" not in dict(job.motion):
             del row["base"]
         text = json.dumps({"point": row, **common}, sort_keys=True, default=str)
         keys.append(hashlib.sha256(text.encode()).hexdigest()[:32])
     return keys
+
+
+@lru_cache(maxsize=8)
+def _defaults(model: str, ellipsoid: str | None) -> dict[str, float]:
+    """A model's parameter values when the scenario sets none (with its ellipsoid)."""
+    from ins_errors.numeric.model import load_model
+
+    loaded = load_model(model)
+    vector = loaded.parameter_vector(ellipsoid=ellipsoid)
+    return {info.name: float(v) for info, v in zip(loaded.parameters, vector, strict=True)}
 
 
 def settings(scenario, quantities: Sequence[str]) -> dict[str, str]:
