@@ -21,6 +21,7 @@ from ins_errors import units
 from ins_errors.analysis import sweep as sw
 from ins_errors.analysis import sweep_report as sr
 from ins_errors.cli import main
+from ins_errors.errors import InsErrorsError
 from ins_errors.scenario import load_scenario
 
 G = 9.81
@@ -760,3 +761,34 @@ def test_an_interrupted_extension_resumes_and_leaves_the_store_whole(tmp_path, m
     assert (result.computed, result.reused, len(runs)) == (1, 3, 1)
     fresh = sw.run_sweep(load_scenario(four), tmp_path / "fresh.zarr", engine="serial")
     _same_sweep(result.dataset.load(), fresh.dataset.load())
+
+
+def test_an_edited_motion_file_is_another_point(tmp_path, monkeypatch):
+    """A reviewer: a sweep's identity held a motion file's name, not its contents, so a
+    sweep over an edited flight log reused the points of the old one (stale numbers). The
+    file's hash is now part of the sweep's settings and of each point's key: a store of
+    the old flight is another sweep, said in one line."""
+    runs = _counted(monkeypatch)
+    flight = tmp_path / "flight.csv"
+    rows = ["t,v_N,v_E"] + [f"{t},0,{speed}" for t in range(0, 601, 60)
+                             for speed in [200.0]]
+    flight.write_text("\n".join(rows) + "\n", encoding="utf-8")
+    base = EXTEND.replace('kind = "static"', 'kind = "file"\nfile = "flight.csv"').replace(
+        'latitude = "50 deg"', 'latitude = "50 deg"\nlongitude = "30 deg"')
+    path = scenario_file(tmp_path, "[sweep]\ngyro_drift_x = ['0.001 deg/h', '0.01 deg/h']\n",
+                         base)
+    store = tmp_path / "s.zarr"
+    sw.run_sweep(load_scenario(path), store, engine="serial")
+    assert len(runs) == 2
+    runs.clear()
+    again = sw.run_sweep(load_scenario(path), store, engine="serial")
+    assert (again.computed, runs) == (0, [])  # the same file: reused
+    flight.write_text("\n".join(r.replace(",0,200.0", ",100.0,200.0") for r in rows)
+                      + "\n", encoding="utf-8")  # now also flying north
+    with pytest.raises(InsErrorsError, match=r"another sweep: motion file contents is "
+                                             r"sha256 [0-9a-f]{16} there, sha256"):
+        sw.run_sweep(load_scenario(path), store, engine="serial")
+    assert runs == []
+    edited = sw.run_sweep(load_scenario(path), tmp_path / "edited.zarr", engine="serial")
+    assert edited.computed == 2
+    assert not same_values(edited.dataset["linear"].values, again.dataset["linear"].values)

@@ -708,11 +708,22 @@ def _check_references(scenario, jobs: Sequence[PointJob]) -> None:
                              f"all run alike; {way}")
 
 
+def _stamp(path: Path) -> tuple[int, int]:
+    """(modification time in ns, size) of a file, (0, 0) when it cannot be read: what
+    tells an edited file in the cache key of :func:`_trajectory`."""
+    try:
+        status = path.stat()
+    except OSError:
+        return 0, 0
+    return status.st_mtime_ns, status.st_size
+
+
 @lru_cache(maxsize=4)
 def _trajectory(model_name: str, motion: str, base: str, duration: float, step: float,
                 ellipsoid: str | None, parameters: tuple[tuple[str, float], ...] = (),
-                truth: str = "auto"):
-    """The true motion of a point (kept for the next point with the same motion)."""
+                truth: str = "auto", files: tuple = ()):
+    """The true motion of a point (kept for the next point with the same motion; ``files``:
+    the :func:`_stamp` of its model and motion files, so an edited one is flown again)."""
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.motion_spec import motion_profile
@@ -754,8 +765,11 @@ def _run_point(job: PointJob) -> dict[str, np.ndarray]:
 
     model = load_model(job.model)
     motion = json.dumps(dict(job.motion_si or job.motion), sort_keys=True)
+    file = dict(job.motion).get("file")
+    files = (_stamp(Path(job.base) / job.model) if job.model.endswith(".py") else (),
+             _stamp(Path(job.base) / str(file)) if file is not None else ())
     trajectory = _trajectory(job.model, motion, job.base, job.duration, job.step,
-                             job.ellipsoid, job.parameters, job.truth)
+                             job.ellipsoid, job.parameters, job.truth, files)
     sources = dict(job.sources)
     if job.draw is not None:
         rng = draw_generator(job.seed, job.draw)
@@ -832,13 +846,19 @@ def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
     """Identity of a sweep: a hash of every point's job and the store layout."""
     rows = []
     names = [f.name for f in fields(PointJob)]
+    versions = _file_versions(jobs)
     for job in jobs:
         # (a shallow copy: the JSON text is that of dataclasses.asdict, at a tenth of
         # its time)
         row = {name: getattr(job, name) for name in names}
         del row["motion_si"]  # the same motion as job.motion
-        if "file" not in dict(job.motion):
+        model, motion_file = versions(job)
+        if "@sha256:" in model:  # a model file: its contents (an edited one is another)
+            row["model"] = model
+        if motion_file is None:
             del row["base"]  # the folder matters to motion files only
+        else:
+            row["motion_file"] = motion_file  # its contents, not only its name
         if not job.parameters:
             del row["parameters"]  # a sweep stored before [parameters] existed is the same
         if job.truth == "auto":
@@ -855,14 +875,16 @@ def point_keys(jobs: Sequence[PointJob], common: Mapping[str, Any]) -> list[str]
     with the defaults filled in (``motion_si``: ``[motion] latitude = "50 deg"`` and a
     latitude grid's 50° are the same motion), the folder of its motion file (if it flies
     one), and ``common``, what every point of the sweep shares (model, curves, error
-    quantities, the judging rule, the store's version). Two points of any two sweeps
-    with the same key have the same numbers; a sweep that extends a store reuses them.
+    quantities, the judging rule, the store's version), a model file's and a motion
+    file's contents by their hashes. Two points of any two sweeps with the same key have
+    the same numbers; a sweep that extends a store reuses them.
     """
     from ins_errors.numeric.motion_spec import in_si
 
     names = [f.name for f in fields(PointJob) if f.name not in ("label", "motion",
                                                                 "motion_si")]
     keys = []
+    versions = _file_versions(jobs)
     for job in jobs:
         row = {name: getattr(job, name) for name in names}
         row["motion"] = job.motion_si or tuple(sorted(in_si(dict(job.motion)).items()))
@@ -870,11 +892,55 @@ def point_keys(jobs: Sequence[PointJob], common: Mapping[str, Any]) -> list[str]
             defaults = _defaults(job.model, job.ellipsoid)
             row["parameters"] = tuple((name, value) for name, value in job.parameters
                                       if defaults.get(name) != value)
-        if "file" not in dict(job.motion):
+        row["model"], motion_file = versions(job)
+        if motion_file is None:
             del row["base"]
+        else:  # the file's contents, not only its name: an edited flight log is another
+            row["motion_file"] = motion_file
         text = json.dumps({"point": row, **common}, sort_keys=True, default=str)
         keys.append(hashlib.sha256(text.encode()).hexdigest()[:32])
     return keys
+
+
+def _file_versions(jobs: Sequence[PointJob]):
+    """``versions(job) -> (model, motion file)``: the job's model as
+    :func:`_model_version` gives it and its motion file's SHA-256 (None without one), each
+    file read once for all the jobs."""
+    models: dict[tuple[str, str], str] = {}
+    files: dict[str, str] = {}
+
+    def versions(job: PointJob) -> tuple[str, str | None]:
+        if (job.model, job.base) not in models:
+            models[job.model, job.base] = _model_version(job.model, job.base)
+        file = dict(job.motion).get("file")
+        if file is None:
+            return models[job.model, job.base], None
+        path = str(Path(job.base) / str(file))
+        if path not in files:
+            files[path] = _file_version(path)
+        return models[job.model, job.base], files[path]
+
+    return versions
+
+
+def _model_version(model: str, base: str) -> str:
+    """A model as a point's identity holds it: a built-in's name, a model file's path with
+    the hash of its contents (an edited model file is another model, whose stored points
+    are not reused)."""
+    from ins_errors.model_lookup import resolve
+
+    try:
+        return resolve(model, relative_to=base).key
+    except InsErrorsError:
+        return model
+
+
+def _file_version(path: str) -> str:
+    """SHA-256 of a motion file's contents ('' when it cannot be read: the run says why)."""
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return ""
 
 
 @lru_cache(maxsize=8)
@@ -900,10 +966,15 @@ def settings(scenario, quantities: Sequence[str]) -> dict[str, str]:
     units = {s.name: s.unit for s in model.sources}
     spec: SweepSpec = scenario.sweep
     out = {"model": str(scenario.model), "error quantities": ", ".join(quantities)}
+    version = _model_version(str(scenario.model), str(scenario.base))
+    if "@sha256:" in version:  # a model file: an edited one is another model
+        out["model file contents"] = f"sha256 {version.rsplit(':', 1)[1]}"
     for name, value in scenario.motion.items():
         out[f"[motion] {name}"] = json.dumps(value) if not isinstance(value, str) else value
     if "file" in scenario.motion:
         out["motion file folder"] = str(scenario.base)
+        contents = _file_version(str(Path(scenario.base) / str(scenario.motion["file"])))
+        out["motion file contents"] = f"sha256 {contents[:16]}"
     out.update({"[run] duration": f"{scenario.duration!r} s",
                 "[run] step": f"{scenario.step!r} s", "[run] record": f"{scenario.record!r} s",
                 "[run] method": str(scenario.method), "[run] refined": str(scenario.refined),
