@@ -63,6 +63,12 @@ def test_a_model_file_in_phi_with_bias_states_is_the_textbook_model(tmp_path, ca
     (["strapdown_ned", "--convention", "phy"], "did you mean 'phi'"),
     (["strapdown_ned", "--bias-states", "gyro_bias_q"], "gyro_bias_q"),
     (["strapdown_ned", "--step", "0s"], "--step '0s' must be positive"),
+    (["strapdown_ned", "--bias-states", "gyro_bias_x", "--markov", "gyro_bias_y=300s"],
+     "'gyro_bias_y' is not a bias state"),
+    (["strapdown_ned", "--bias-states", "gyro_bias_x", "--markov", "gyro_bias_x=-3s"],
+     "must be positive"),
+    (["strapdown_ned", "--bias-states", "gyro_bias_x", "--markov", "gyro_bias_x"],
+     "write NAME=TIME"),
     (["strapdown_ned", "--out-ignored"], None),
     (["strapdown_ned", "--no-out"], "matrices needs --out FILE.npz or FILE.mat"),
 ])
@@ -80,3 +86,23 @@ def test_bad_input_is_one_line_and_exit_2(args, said, tmp_path, capsys):
     assert not (tmp_path / "x.npz").exists()
     assert main(["matrices", "strapdown_ned", "--out", str(tmp_path / "x.txt")]) == 2
     assert "must end in .npz or .mat" in capsys.readouterr().err
+
+
+def test_a_gauss_markov_bias_state_has_its_row_minus_one_over_tau(tmp_path, capsys):
+    """A filter designer's biases are first-order Gauss-Markov processes (the probe's
+    τ = 300 s): `--markov NAME=TIME` gives the state ḃ = −b/τ; every other entry is that
+    of the random-constant bias state."""
+    constant, markov = tmp_path / "c.npz", tmp_path / "m.npz"
+    common = ["matrices", "strapdown_ned", "--convention", "phi", "--motion", "static",
+              "--hours", "1", "--bias-states", "gyro_bias_x,accel_bias_y"]
+    assert main([*common, "--out", str(constant)]) == 0
+    assert main([*common, "--markov", "gyro_bias_x=5 min", "--out", str(markov)]) == 0
+    capsys.readouterr()
+    c, m = np.load(constant), np.load(markov)
+    states = [str(s) for s in m["states"]]
+    i, j = states.index("gyro_bias_x"), states.index("accel_bias_y")
+    assert np.all(m["F_static"][:, i, i] == -1 / 300.0)
+    assert np.all(m["F_static"][:, j, j] == 0.0)
+    expected = c["F_static"].copy()
+    expected[:, i, i] = -1 / 300.0
+    np.testing.assert_array_equal(m["F_static"], expected)

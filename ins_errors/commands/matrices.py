@@ -61,6 +61,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="constant error sources carried as states after the "
                              "convention's (a 15-state filter: gyro_bias_x,...,"
                              "accel_bias_z); their columns of G move into F")
+    parser.add_argument("--markov", action="append", default=[], metavar="NAME=TIME",
+                        help="a bias state that is a first-order Gauss-Markov process of "
+                             "this correlation time (its row of F is -1/tau), e.g. "
+                             "gyro_bias_x=300s (repeatable; the name must be in "
+                             "--bias-states)")
     parser.add_argument("--parameter", "-p", action="append", default=[],
                         metavar="NAME=VALUE",
                         help="model parameter with unit, e.g. k_h1=0.0293/s (repeatable)")
@@ -91,6 +96,7 @@ def run(args: argparse.Namespace) -> int:
                              f"length ({args.hours:g} h)")
     parameters = parse_parameter_options(model, args.parameter)
     biases = [b.strip() for b in args.bias_states.split(",") if b.strip()]
+    markov = _markov_times(args.markov, biases)
     # the convention (and the bias states) before the flights: a wrong name costs nothing
     model_convention(model, args.convention, biases)
     flown, skipped = flown_motions(model, args.hours, step, parameters=parameters)
@@ -112,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
         p = np.asarray(motion.p, dtype=float)
         p = p if p.ndim == 1 else p[:, 0]  # (constant along the samples)
         em = error_matrices(model, args.convention, motion.x, motion.u, p,
-                            bias_states=biases)
+                            bias_states=biases, markov=markov or None)
         states = em.states
         # a bias state's source is a state, not a column of G (as check --matrix reads)
         keep = [j for j, s in enumerate(em.sources) if s not in biases]
@@ -146,3 +152,27 @@ def run(args: argparse.Namespace) -> int:
           f"{', '.join(m.label for m in chosen)}"
           + "".join(f"\nnot flown: {text}" for text in skipped))
     return 0
+
+
+def _markov_times(items: list[str], biases: list[str]) -> dict[str, float]:
+    """``--markov NAME=TIME`` options as name -> correlation time (s); each name a bias
+    state, each time positive (one line naming the option otherwise)."""
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.units import parse_quantity
+
+    times: dict[str, float] = {}
+    for item in items:
+        name, sep, text = item.partition("=")
+        name = name.strip()
+        if not sep or not name or not text.strip():
+            raise InsErrorsError(f"--markov {item!r}: write NAME=TIME, e.g. "
+                                 "gyro_bias_x=300s")
+        if name not in biases:
+            raise InsErrorsError(f"--markov {item!r}: {name!r} is not a bias state "
+                                 f"(--bias-states {','.join(biases) or '...'})")
+        tau = parse_quantity(text, "s", f"--markov {name}")
+        if not (math.isfinite(tau) and tau > 0):
+            raise InsErrorsError(f"--markov {item!r}: the correlation time must be "
+                                 "positive")
+        times[name] = tau
+    return times
