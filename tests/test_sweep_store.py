@@ -147,3 +147,19 @@ def test_a_new_store_holds_what_xarray_and_zarr_write_for_its_layout(tmp_path):
         assert new[name] == ref[name], name
     with xr.open_zarr(tmp_path / "new.zarr") as a, xr.open_zarr(tmp_path / "ref.zarr") as b:
         assert a.identical(b)
+
+
+@pytest.mark.parametrize("suffix", ["zarr", "nc"])
+def test_points_done_reads_the_stores_own_flags(tmp_path, suffix):
+    """What a stopped sweep says it keeps is read from the store's done flags (a point
+    written just before the signal was kept but not yet counted: the message said 1 of
+    20, the rerun reused 2); a path without a store reads as None."""
+    from ins_errors.analysis.store import points_done
+
+    path = tmp_path / f"s.{suffix}"
+    assert points_done(path) is None
+    store = SweepStore.open(path, _layout())
+    rng = np.random.default_rng(3)
+    store.write(2, _point(rng, 6))
+    store.write(0, _point(rng, 6))
+    assert points_done(path) == 2

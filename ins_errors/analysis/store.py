@@ -609,6 +609,19 @@ def effective_settings(settings: Mapping[str, str]) -> dict[str, str]:
     return out
 
 
+def points_done(path: Path) -> int | None:
+    """How many points a store being filled (or its ``*.nc.partial.zarr``) holds, read
+    from its ``done`` flags; None when it cannot be read (no store yet, or being moved)."""
+    import zarr
+
+    work = _work_of(Path(path))
+    try:
+        group = zarr.open_group(str(work), mode="r", zarr_format=2)
+        return int(np.count_nonzero(np.asarray(group["done"][:])))
+    except Exception:  # any reason it cannot be read: the caller keeps its own count
+        return None
+
+
 def _work_of(path: Path) -> Path:
     """The Zarr folder a store is filled in (of ``x.nc``: ``x.nc.partial.zarr``)."""
     return path.with_name(path.name + ".partial.zarr") if path.suffix == ".nc" else path

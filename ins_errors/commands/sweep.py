@@ -82,6 +82,13 @@ def run(args: argparse.Namespace) -> int:
         return _run(args, counts)
     except KeyboardInterrupt as stop:  # what is kept, and how to go on (the CLI says)
         kept = counts["before"] + counts["stored"]
+        if "store" in counts and args.merge is None:
+            from ins_errors.analysis.store import points_done
+
+            # the store's own flags: a point written just before the signal, whose count
+            # the callback had not yet taken, is kept too (the rerun reuses it)
+            on_disk = points_done(counts["store"])
+            kept = kept if on_disk is None else max(kept, on_disk)
         if kept and args.merge is None:
             stop.detail = (f"{kept} of the {counts['points']} points are in "
                            f"{counts['store']}; the same command runs the others")
