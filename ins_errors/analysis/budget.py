@@ -303,31 +303,34 @@ class UnitBudget:
         and Markov sources) and every error state at every time of the operating time
         within :data:`LINEAR_LIMITS` at the spec's σ level; inf where nothing limits it.
         """
+        own, reach = self._linear_reach()
+        if reach is None:
+            return own
+        return np.minimum(own, reach.min(axis=0, initial=np.inf))
+
+    def _linear_reach(self) -> tuple[np.ndarray, np.ndarray | None]:
+        """At the spec's σ level, the largest 1σ of every source that keeps its own value
+        within :data:`LINEAR_LIMITS` (ns,) and, per error state, that keeps the state
+        within them (n, ns); None for the latter where the states are not judged."""
         k = self.spec.sigma_level
         own = np.array([np.inf if s.statistics == "white"
                         else LINEAR_LIMITS.get(s.unit, np.inf) for s in self.sources]) / k
         if self.state_peaks is None:
-            return own
+            return own, None
         limits = np.array([LINEAR_LIMITS.get(u, np.inf) for u in self.state_units]) / k
         with np.errstate(divide="ignore"):
-            reach = limits[:, None] / np.sqrt(self.state_peaks)        # (n, ns)
-        return np.minimum(own, reach.min(axis=0, initial=np.inf))
+            return own, limits[:, None] / np.sqrt(self.state_peaks)
 
     def linear_limit_cause(self, j: int) -> tuple[str, str]:
         """What sets source ``j``'s linear limit (:attr:`linear_limits`): the name and SI
         unit of the error state that leaves :data:`LINEAR_LIMITS` first, or ``("its own
         value", unit)``."""
-        source = self.sources[j]
-        own = (np.inf if source.statistics == "white"
-               else LINEAR_LIMITS.get(source.unit, np.inf))
-        if self.state_peaks is not None and self.state_names:
-            limits = np.array([LINEAR_LIMITS.get(u, np.inf) for u in self.state_units])
-            with np.errstate(divide="ignore"):
-                reach = limits / np.sqrt(self.state_peaks[:, j])
-            i = int(np.argmin(reach))
-            if reach[i] < own:
+        own, reach = self._linear_reach()
+        if reach is not None and self.state_names:
+            i = int(np.argmin(reach[:, j]))
+            if reach[i, j] < own[j]:
                 return self.state_names[i], self.state_units[i]
-        return "its own value", source.unit
+        return "its own value", self.sources[j].unit
 
     def statistics(self, sigma: np.ndarray) -> list[SourceStatistics]:
         """Source statistics with the given 1σ magnitudes (SI)."""
