@@ -842,11 +842,12 @@ class SweepResult:
     others: int = 0
 
 
-def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
-    """Identity of a sweep: a hash of every point's job and the store layout."""
+def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any], versions=None) -> str:
+    """Identity of a sweep: a hash of every point's job and the store layout
+    (``versions``: :func:`_file_versions` of ``jobs`` if already made)."""
     rows = []
     names = [f.name for f in fields(PointJob)]
-    versions = _file_versions(jobs)
+    versions = versions or _file_versions(jobs)
     for job in jobs:
         # (a shallow copy: the JSON text is that of dataclasses.asdict, at a tenth of
         # its time)
@@ -868,7 +869,8 @@ def fingerprint(jobs: Sequence[PointJob], extra: Mapping[str, Any]) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:32]
 
 
-def point_keys(jobs: Sequence[PointJob], common: Mapping[str, Any]) -> list[str]:
+def point_keys(jobs: Sequence[PointJob], common: Mapping[str, Any],
+               versions=None) -> list[str]:
     """Each point's identity: a hash of its full definition, what its numbers depend on.
 
     The point's job without its label (text for messages), its motion as exact SI values
@@ -884,7 +886,7 @@ def point_keys(jobs: Sequence[PointJob], common: Mapping[str, Any]) -> list[str]
     names = [f.name for f in fields(PointJob) if f.name not in ("label", "motion",
                                                                 "motion_si")]
     keys = []
-    versions = _file_versions(jobs)
+    versions = versions or _file_versions(jobs)
     for job in jobs:
         row = {name: getattr(job, name) for name in names}
         row["motion"] = job.motion_si or tuple(sorted(in_si(dict(job.motion)).items()))
@@ -1035,14 +1037,15 @@ def layout(scenario, points: Grid, shard: Shard | None = None):
         "settings": settings(scenario, names),
         "Conventions": "ins-errors sweep store 2",
     }
-    keys = point_keys(points.jobs, common)
+    versions = _file_versions(points.jobs)  # each model and motion file read once
+    keys = point_keys(points.jobs, common, versions)
     coordinates = {**points.coordinates, POINT_KEY: (np.array(keys, dtype=str), {
         "long_name": "identity of the point's full definition (a sweep that extends the "
                      "store reuses the point whose identity is its own)", "units": "1"})}
     return Layout(len(points.jobs), times, tuple(names), tuple(units),
                   tuple(s.name for s in model.sources), tuple(s.unit for s in model.sources),
                   coordinates, curves, attributes,
-                  fingerprint(points.jobs, identity),
+                  fingerprint(points.jobs, identity, versions),
                   None if shard is None else (shard.index, shard.count))
 
 
