@@ -68,7 +68,7 @@ def test_a_model_file_in_phi_with_bias_states_is_the_textbook_model(tmp_path, ca
     (["strapdown_ned", "--bias-states", "gyro_bias_x", "--markov", "gyro_bias_x=-3s"],
      "must be positive"),
     (["strapdown_ned", "--bias-states", "gyro_bias_x", "--markov", "gyro_bias_x"],
-     "write NAME=TIME"),
+     "expected NAME=VALUE, e.g. gyro_bias_x=300s"),
     (["strapdown_ned", "--out-ignored"], None),
     (["strapdown_ned", "--no-out"], "matrices needs --out FILE.npz or FILE.mat"),
 ])

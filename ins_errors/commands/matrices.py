@@ -158,21 +158,17 @@ def _markov_times(items: list[str], biases: list[str]) -> dict[str, float]:
     """``--markov NAME=TIME`` options as name -> correlation time (s); each name a bias
     state, each time positive (one line naming the option otherwise)."""
     from ins_errors.errors import InsErrorsError
+    from ins_errors.model_parameters import name_value_pairs
     from ins_errors.units import parse_quantity
 
     times: dict[str, float] = {}
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not sep or not name or not text.strip():
-            raise InsErrorsError(f"--markov {item!r}: write NAME=TIME, e.g. "
-                                 "gyro_bias_x=300s")
+    for name, text in name_value_pairs(items, "--markov", "gyro_bias_x=300s").items():
         if name not in biases:
-            raise InsErrorsError(f"--markov {item!r}: {name!r} is not a bias state "
+            raise InsErrorsError(f"--markov {name}={text}: {name!r} is not a bias state "
                                  f"(--bias-states {','.join(biases) or '...'})")
         tau = parse_quantity(text, "s", f"--markov {name}")
         if not (math.isfinite(tau) and tau > 0):
-            raise InsErrorsError(f"--markov {item!r}: the correlation time must be "
+            raise InsErrorsError(f"--markov {name}={text}: the correlation time must be "
                                  "positive")
         times[name] = tau
     return times
