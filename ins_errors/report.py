@@ -23,7 +23,7 @@ from ins_errors.model_parameters import parameters_record, parameters_used
 from ins_errors.numeric.model import Model, load_model
 from ins_errors.output import OutputFolder
 from ins_errors.scenario import ScenarioResult
-from ins_errors.time_text import run_length_text
+from ins_errors.units import format_duration
 
 _MATH = re.compile(r"\$\$(.+?)\$\$", re.S)
 _INLINE_MATH = re.compile(r"(?<!\$)\$([^$\n]+?)\$(?!\$)")
@@ -56,7 +56,7 @@ def _run_line(result) -> str:
     run of a report's plots (as ``compare`` titles its own)."""
     s = result.scenario
     return (f"{load_model(s.model).name}: {result.motion_description}; "
-            f"{run_length_text(s.duration)}, τ = {s.step:g} s, {s.method}")
+            f"{format_duration(s.duration)}, τ = {s.step:g} s, {s.method}")
 
 
 def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
@@ -73,7 +73,7 @@ def report_markdown(result: ScenarioResult, plots: list[str]) -> str:
         "| setting | value |", "|---|---|",
         f"| model | `{table_cell(model.name)}` |",
         f"| motion | {table_cell(result.motion_description)} |",
-        f"| duration | {run_length_text(s.duration)} |",
+        f"| duration | {format_duration(s.duration)} |",
         f"| step τ | {s.step:g} s ({'rectangle method' if s.method == 'euler' else 'RK4'}) |",
         f"| recorded every | {s.record:g} s |",
         *([f"| platform | {'exact rotation' if s.platform == 'exact' else 'small-angle matrix'} |"]

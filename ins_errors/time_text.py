@@ -1,4 +1,4 @@
-"""Durations written for a reader: a period, an e-folding time, the length of a run."""
+"""Durations written for a reader: a period or an e-folding time, four significant digits."""
 
 from __future__ import annotations
 
@@ -10,13 +10,3 @@ def duration_text(seconds: float) -> str:
         if seconds < limit:
             return f"{seconds / size:.4g} {unit}"
     return f"{seconds / 86400.0:.4g} days"
-
-
-def run_length_text(seconds: float) -> str:
-    """The length of a run as a title gives it: in hours from an hour on where that is a
-    short decimal (``"24 h"``, ``"1.5 h"``, ``"168 h"``), else as :func:`duration_text`
-    (``"10 min"`` for 600 s, not ``"0.166667 h"``; ``"90 s"``, not ``"0.025 h"``)."""
-    hours = seconds / 3600.0
-    if seconds >= 3600.0 and round(hours, 3) == hours:
-        return f"{hours:g} h"
-    return duration_text(seconds)

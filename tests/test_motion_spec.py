@@ -26,9 +26,9 @@ def test_a_manoeuvre_is_described_with_its_speed_height_and_track(capsys):
     assert "from φ=45°, λ=10°, track 90°, 50 m/s, h=3000 m; 10 min, τ = 1 s" in title, title
 
 
-def test_a_run_length_is_in_hours_where_short_else_in_its_own_unit():
-    from ins_errors.time_text import run_length_text
+def test_a_run_length_is_written_exactly_in_hours_minutes_or_seconds():
+    from ins_errors.units import format_duration
 
-    assert [run_length_text(s) for s in (600.0, 5400.0, 86400.0, 604800.0, 1000.0, 90.0,
-                                         36.0, 3600.0)] == [
-        "10 min", "1.5 h", "24 h", "168 h", "16.67 min", "90 s", "36 s", "1 h"]
+    assert [format_duration(s) for s in (600.0, 5400.0, 86400.0, 604800.0, 1000.0, 90.0,
+                                         36.0, 3600.0, 0.5)] == [
+        "10 min", "1 h 30 min", "24 h", "168 h", "1000 s", "90 s", "36 s", "1 h", "0.5 s"]

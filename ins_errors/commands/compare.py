@@ -162,8 +162,7 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.motion_spec import file_duration, refuse_unused_heading
     from ins_errors.output import OutputFolder, check_figure, check_file
     from ins_errors.progress import stage
-    from ins_errors.time_text import run_length_text
-    from ins_errors.units import parse_quantity
+    from ins_errors.units import format_duration, parse_quantity
 
     if args.plot:
         from ins_errors.output import require_matplotlib
@@ -239,7 +238,7 @@ def run(args: argparse.Namespace) -> int:
                           validity_threshold=threshold, warn=False)
     for comparison in comparisons:  # notes about the motion (a noisy motion file), as run
         comparison.warnings.extend(getattr(trajectory, "notes", ()))
-    title = (f"{model.name}: {trajectory.description}; {run_length_text(duration)}, "
+    title = (f"{model.name}: {trajectory.description}; {format_duration(duration)}, "
              f"τ = {tau:g} s, {args.method}")
     text = markdown_summary(comparisons, title) + "\n" + "\n".join(
         markdown_table(c) for c in comparisons)
