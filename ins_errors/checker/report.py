@@ -243,6 +243,39 @@ def how_compared(threshold: float) -> str:
         "under its root.")
 
 
+SECTION_TITLES = {"knock-on": "Knock-on findings whose root is not a mistake",
+                  "declared": "Declared drops", "dropped": "Other small drops"}
+"""Headings of the finding groups after the root mistakes (:func:`ordered`'s kinds)."""
+
+
+def scope_text(scope: str) -> str:
+    """The report's paragraph on a file's ``@scope``, in the reports' inline Markdown
+    (as :func:`how_compared`)."""
+    return (f"**Scope.** The file limits itself to the motion class *{scope}* "
+            "(`@scope`): it is compared there only.")
+
+
+def omission_text(omission) -> str:
+    """What an undeclared dropped variation's heading is followed by (inline Markdown)."""
+    return ("One simplification explains every finding below: the model's side with these "
+            "variations dropped agrees with the file on them. Largest size "
+            f"{_size(omission.size)} at {omission.point}; an omission the file does not "
+            f"declare is judged by its size. Declared, it would read `{omission.neglect}`.")
+
+
+def out_of_scope_text(sources: list[str]) -> str:
+    """The sentence naming the error sources a file never mentions (inline Markdown)."""
+    return ("Error sources the file never mentions (zero on both sides): "
+            + ", ".join(f"`{s}`" for s in sources) + ".")
+
+
+FROM_MODEL_TEXT = (
+    "Variations the lines below use before (or without) the file defining them; for those "
+    "lines the model's variation stands in on the hand side, so these variations are not "
+    "checked there (a definition later in the file is checked on its own line):")
+"""Introduces the list of variations the model stood in for (plain text)."""
+
+
 def to_markdown(report: CheckReport, source: str | None = None) -> str:
     """The Markdown report.
 
@@ -266,12 +299,9 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
         "",
     ]
     if report.scope:
-        lines += [f"**Scope.** The file limits itself to the motion class "
-                  f"*{report.scope}* (`@scope`): it is compared there only.", ""]
+        lines += [scope_text(report.scope), ""]
     if report.declarations:
         lines += ["**Declared simplifications.** " + "; ".join(report.declarations) + ".", ""]
-    titles = {"root": None, "knock-on": "Knock-on findings whose root is not a mistake",
-              "declared": "Declared drops", "dropped": "Other small drops"}
     lines += ["## Root mistakes and their knock-on effects", ""]
     groups = ordered(report)
     roots = [pairs for kind, pairs in groups if kind == "root"]
@@ -294,11 +324,7 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
     for omission, pairs in omission_groups(report):
         lines += [f"### {_cell(omission.title[0].upper() + omission.title[1:])} "
                   f"({omission.severity})", ""]
-        lines += [f"One simplification explains every finding below: the model's side "
-                  f"with these variations dropped agrees with the file on them. Largest "
-                  f"size {_size(omission.size)} at {omission.point}; an omission the file "
-                  f"does not declare is judged by its size. Declared, it would read "
-                  f"`{_cell(omission.neglect)}`.", "", "Its findings:", ""]
+        lines += [_cell(omission_text(omission)), "", "Its findings:", ""]
         lines += _finding_rows(pairs)
         lines.append("")
     for kind, pairs in groups:
@@ -306,7 +332,7 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
             continue
         if kind == "knock-on" and not pairs:
             continue
-        lines += [f"## {titles[kind]}", ""]
+        lines += [f"## {SECTION_TITLES[kind]}", ""]
         lines += _finding_rows(pairs, roots=True) if pairs else ["None."]
         lines.append("")
     if report.idle_declarations:
@@ -333,13 +359,9 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
     lines += [f"| `{b.name}` | {b.unit} | {b.magnitude_text} | "
               f"{', '.join(f'`{s}`' for s in b.stands_for)} |" for b in report.basis]
     if report.out_of_scope:
-        lines += ["", "Error sources the file never mentions (zero on both sides): "
-                  + ", ".join(f"`{s}`" for s in report.out_of_scope) + "."]
+        lines += ["", out_of_scope_text(report.out_of_scope)]
     if report.from_model:
-        lines += ["", "Variations the lines below use before (or without) the file defining "
-                  "them; for those lines the model's variation stands in on the hand side, so "
-                  "these variations are not checked there (a definition later in the file is "
-                  "checked on its own line):", ""]
+        lines += ["", FROM_MODEL_TEXT, ""]
         lines += [f"- `{k}` (needed by lines {', '.join(map(str, v))})"
                   for k, v in report.from_model.items()]
     if report.unused:

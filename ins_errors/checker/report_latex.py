@@ -32,11 +32,16 @@ from sympy.printing.latex import LatexPrinter
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.compare import CheckReport, EquationResult
 from ins_errors.checker.report import (
+    FROM_MODEL_TEXT,
+    SECTION_TITLES,
     _effect,
     _size,
     how_compared,
     omission_groups,
+    omission_text,
     ordered,
+    out_of_scope_text,
+    scope_text,
     status_notes,
     summary_line,
 )
@@ -432,14 +437,10 @@ def to_latex(report: CheckReport, definition=None, source: str | None = None,
         "",
     ]
     if report.scope:
-        lines += [rf"\textbf{{Scope.}} The file limits itself to the motion class "
-                  rf"\emph{{{escape(report.scope)}}} (\texttt{{@scope}}): it is compared "
-                  "there only.", ""]
+        lines += [_from_markdown(scope_text(report.scope)), ""]
     if report.declarations:
         lines += [r"\textbf{Declared simplifications.} "
                   + "; ".join(map(escape, report.declarations)) + ".", ""]
-    titles = {"knock-on": "Knock-on findings whose root is not a mistake",
-              "declared": "Declared drops", "dropped": "Other small drops"}
     lines += [r"\subsubsection*{Root mistakes and their knock-on effects}", ""]
     groups = ordered(report)
     roots = [pairs for kind, pairs in groups if kind == "root"]
@@ -466,18 +467,13 @@ def to_latex(report: CheckReport, definition=None, source: str | None = None,
     for omission, pairs in omission_groups(report):
         title = omission.title[0].upper() + omission.title[1:]
         lines += [rf"\paragraph{{{escape(title)} ({escape(omission.severity)})}}", ""]
-        lines += [escape("One simplification explains every finding below: the model's "
-                         "side with these variations dropped agrees with the file on them. "
-                         f"Largest size {_size(omission.size)} at {omission.point}; an "
-                         "omission the file does not declare is judged by its size. "
-                         "Declared, it would read ") + f"{_code(omission.neglect)}.", "",
-                  "Its findings:", ""]
+        lines += [_from_markdown(omission_text(omission)), "", "Its findings:", ""]
         lines += _items(pairs, names)
         lines.append("")
     for kind, pairs in groups:
         if kind == "root" or (kind == "knock-on" and not pairs):
             continue
-        lines += [rf"\subsubsection*{{{titles[kind]}}}", ""]
+        lines += [rf"\subsubsection*{{{SECTION_TITLES[kind]}}}", ""]
         lines += _items(pairs, names, roots=True) if pairs else ["None."]
         lines.append("")
     if report.idle_declarations:
@@ -508,13 +504,9 @@ def to_latex(report: CheckReport, definition=None, source: str | None = None,
                     [(_quantity(b.name, names), _code(b.unit), escape(b.magnitude_text),
                       ", ".join(_code(s) for s in b.stands_for)) for b in report.basis])
     if report.out_of_scope:
-        lines += ["", "Error sources the file never mentions (zero on both sides): "
-                  + ", ".join(_code(s) for s in report.out_of_scope) + "."]
+        lines += ["", _from_markdown(out_of_scope_text(report.out_of_scope))]
     if report.from_model:
-        lines += ["", "Variations the lines below use before (or without) the file defining "
-                  "them; for those lines the model's variation stands in on the hand side, so "
-                  "these variations are not checked there (a definition later in the file is "
-                  "checked on its own line):", "", r"\begin{itemize}"]
+        lines += ["", escape(FROM_MODEL_TEXT), "", r"\begin{itemize}"]
         lines += [rf"\item {_code(k)} (needed by lines {', '.join(map(str, v))})"
                   for k, v in report.from_model.items()]
         lines.append(r"\end{itemize}")
