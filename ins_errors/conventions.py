@@ -16,7 +16,9 @@ model; ``phi``, ``psi``, ``phi_modified``, ``psi_modified`` (position in NED met
 with the suffix ``_geodetic``, as latitude, longitude, height) and ``psi_ecef`` for
 ``strapdown_ned`` and every strapdown model file that describes itself; ``psi`` for
 ``north_pointing`` (``ins-errors check MODEL --list-conventions`` lists them with their
-states).
+states). The discrete model a filter runs over each sample step, Φ_k and Q_k from the
+sources' white-noise densities, is
+:func:`ins_errors.analysis.discrete_model.discrete_matrices` of these F and G.
 
 Example
 -------

@@ -1,0 +1,258 @@
+r"""The discrete-time error model a Kalman filter runs: Φ_k and Q_k over each sample step.
+
+A filter carries its error state from one sample to the next,
+``x_{k+1} = Φ_k x_k + w_k`` with ``E[w_k w_kᵀ] = Q_k``. From the continuous model
+``ẋ = F(t) x + G(t) w`` (:func:`ins_errors.conventions.error_matrices`), with ``w`` white
+noise, ``E[w(t) w(s)ᵀ] = diag(q²) δ(t − s)`` (``q`` the 1σ noise densities a datasheet
+quotes: an angle random walk in deg/√h, an accelerometer's noise in µg/√Hz, both the
+source's unit times √s in SI), :func:`discrete_matrices` gives
+
+    Φ_k = e^{F_k Δt_k},   Q_k = ∫₀^{Δt_k} e^{F_k s} G_k diag(q²) G_kᵀ e^{F_kᵀ s} ds,
+
+by Van Loan's method (:func:`ins_errors.analysis.covariance.van_loan`) with F and G held
+at the step's start. That is exact for a system constant over the step (a static base);
+along a moving base the step must be short against the motion's time scales (the turns
+and accelerations of a manoeuvre).
+
+:func:`process_noise` builds the noise columns of a model written with bias states: the
+white noise of an instrument whose bias is a state enters through the column its bias
+has (the measured rate or force carries both additively), and a first-order Gauss–Markov
+bias state ``ḃ = −b/τ + n`` of steady-state 1σ ``σ`` is driven by ``n`` of density
+``σ √(2/τ)`` (PSD ``2σ²/τ``, as :mod:`ins_errors.analysis.covariance` models a Markov
+source).
+
+Example
+-------
+>>> import numpy as np
+>>> from ins_errors.analysis.discrete_model import discrete_matrices
+>>> F = np.zeros((2, 2, 2)); F[:, 0, 1] = 1.0           # a double integrator
+>>> G = np.zeros((2, 2, 1)); G[:, 1, 0] = 1.0           # white acceleration noise
+>>> dm = discrete_matrices(F, G, np.array([0.0, 2.0]), np.array([0.5]))
+>>> dm.Phi[0].tolist(), dm.Qd[0].round(12).tolist()      # q² [[Δt³/3, Δt²/2], [Δt²/2, Δt]]
+([[1.0, 2.0], [0.0, 1.0]], [[0.666666666667, 0.5], [0.5, 0.5]])
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import NamedTuple
+
+import numpy as np
+
+from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
+from ins_errors.numeric.blas_threads import one_blas_thread
+
+_CHUNK = 2048
+"""Steps whose Van Loan exponentials are formed together (a few MB of arrays)."""
+
+
+class DiscreteMatrices(NamedTuple):
+    """The discrete-time error model over K − 1 sample steps.
+
+    Attributes
+    ----------
+    Phi : numpy.ndarray, shape (K - 1, n, n)
+        Transition from sample k to sample k + 1 (entry [k, i, j]: unit of state i per
+        unit of state j).
+    Qd : numpy.ndarray, shape (K - 1, n, n)
+        Covariance of the noise added over step k (symmetric, positive semi-definite;
+        entry [k, i, j] in the units of state i times those of state j).
+    """
+
+    Phi: np.ndarray
+    Qd: np.ndarray
+
+
+@one_blas_thread
+def discrete_matrices(F, G, times, densities) -> DiscreteMatrices:
+    r"""Transition Φ_k and process-noise covariance Q_k over each step between samples.
+
+    The continuous model ``ẋ = F(t) x + G(t) w``, with ``w`` white noise of 1σ densities
+    ``densities`` (two-sided power spectral density ``diag(densities²)``, independent
+    columns), is discretised by Van Loan's method with F and G held at their values at
+    the step's *start* (sample k for the step k → k + 1):
+
+    .. math::
+
+        Φ_k = e^{F_k Δt_k}, \qquad
+        Q_k = \int_0^{Δt_k} e^{F_k s} G_k \,\mathrm{diag}(q^2)\, G_k^T e^{F_k^T s}\, ds.
+
+    That is exact for a system constant over the step (a static base); for a moving
+    base the step must be short against the motion's time scales (turns, accelerations,
+    the change of the transport rate), which F follows only sample by sample. Each step
+    is scaled down by a power of two until ``‖F Δt‖₁ ≤ 1`` and the result doubled back
+    (``Q ← Φ Q Φᵀ + Q``, ``Φ ← Φ²``), so a fast state (a Gauss–Markov bias state with τ
+    much shorter than the step) loses no accuracy to the ``e^{‖F‖Δt}`` growth of the
+    Van Loan block.
+
+    Parameters
+    ----------
+    F : array_like, shape (K, n, n)
+        State matrix at the samples, 1/s (entry [k, i, j]: unit of state i per unit of
+        state j per s).
+    G : array_like, shape (K, n, m)
+        Noise matrix at the samples: unit of state i per s per unit of noise j.
+    times : array_like, shape (K,)
+        Sample times, s, strictly increasing (any spacing); K ≥ 2.
+    densities : array_like, shape (m,)
+        1σ white-noise density of each column of ``G``, SI unit of that noise times √s
+        (rad/s·√s = rad/√s for a gyro's angle random walk, m/s²·√s = m/s/√s for an
+        accelerometer's velocity random walk); 0 for a column without white noise (a
+        random-constant bias, or a bias carried as a state, whose column of G is zero).
+
+    Returns
+    -------
+    DiscreteMatrices
+        ``(Phi, Qd)``, each of shape (K − 1, n, n).
+
+    Raises
+    ------
+    ShapeError
+        For arrays of inconsistent shapes.
+    InsErrorsError
+        For NaN or infinite entries, times that do not increase, or a negative density.
+    """
+    F, G, t, q = _checked(F, G, times, densities)
+    steps, n = t.size - 1, F.shape[-1]
+    Phi = np.empty((steps, n, n))
+    Qd = np.empty((steps, n, n))
+    for k0 in range(0, steps, _CHUNK):
+        k1 = min(steps, k0 + _CHUNK)
+        Phi[k0:k1], Qd[k0:k1] = _steps(F[k0:k1], G[k0:k1] * q, np.diff(t[k0:k1 + 1]))
+    return DiscreteMatrices(Phi, Qd)
+
+
+def _steps(F: np.ndarray, Gq: np.ndarray, dt: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Φ and Q of steps ``dt`` (s,) for F (s, n, n) and the noise columns scaled by their
+    densities, Gq (s, n, m): Van Loan on ``dt / 2^d`` then ``d`` doublings."""
+    from ins_errors.analysis.covariance import van_loan
+
+    norm = float(np.max(np.abs(F).sum(axis=-2).max(axis=-1) * dt))
+    doublings = max(0, math.ceil(math.log2(norm))) if norm > 1.0 else 0
+    h = (dt / 2.0**doublings)[:, None, None]
+    rate = Gq @ np.swapaxes(Gq, -1, -2)                    # G diag(q²) Gᵀ
+    # van_loan of (F h, rate h) over a unit step: ∫₀^h e^{Fs} rate e^{Fᵀs} ds
+    Phi, Qd = van_loan(F * h, rate * h, 1.0)
+    for _ in range(doublings):
+        Qd = Phi @ Qd @ np.swapaxes(Phi, -1, -2) + Qd
+        Phi = Phi @ Phi
+    return Phi, 0.5 * (Qd + np.swapaxes(Qd, -1, -2))
+
+
+def _checked(F, G, times, densities
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The inputs of :func:`discrete_matrices` as float arrays, shapes and values checked."""
+    arrays = []
+    for name, value in (("F", F), ("G", G), ("times", times), ("densities", densities)):
+        try:
+            arrays.append(np.asarray(value, dtype=float))
+        except (TypeError, ValueError):
+            raise InsErrorsError(f"{name} must be an array of numbers, got "
+                                 f"{type(value).__name__}") from None
+    F, G, t, q = arrays
+    if F.ndim != 3 or F.shape[1] != F.shape[2]:
+        raise ShapeError(f"F must have shape (K, n, n), got {F.shape}")
+    k, n = F.shape[0], F.shape[1]
+    if G.ndim != 3 or G.shape[:2] != (k, n):
+        raise ShapeError(f"G must have shape (K, n, m) = ({k}, {n}, m) like F, got {G.shape}")
+    if t.shape != (k,):
+        raise ShapeError(f"times must have shape (K,) = ({k},), one per sample, got {t.shape}")
+    if k < 2:
+        raise ShapeError(f"at least 2 samples are needed for a step, got {k}")
+    if q.shape != (G.shape[2],):
+        raise ShapeError(f"densities must have shape (m,) = ({G.shape[2]},), one per column "
+                         f"of G, got {q.shape}")
+    for name, a in (("F", F), ("G", G), ("times", t), ("densities", q)):
+        if not np.isfinite(a).all():
+            raise InsErrorsError(f"{name} contains NaN or infinite values")
+    if not (np.diff(t) > 0).all():
+        k_bad = int(np.argmax(~(np.diff(t) > 0)))
+        raise InsErrorsError(f"times must increase strictly: sample {k_bad + 1} "
+                             f"({t[k_bad + 1]:g} s) is not after sample {k_bad} "
+                             f"({t[k_bad]:g} s)")
+    if (q < 0).any():
+        raise InsErrorsError(f"densities must be >= 0 (1σ densities), got "
+                             f"{q[int(np.argmax(q < 0))]:g} in column {int(np.argmax(q < 0))}")
+    return F, G, t, q
+
+
+def process_noise(F, G, states, sources, white: Mapping[str, float] | None = None,
+                  markov_sigma: Mapping[str, float] | None = None,
+                  markov: Mapping[str, float] | None = None
+                  ) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
+    """Noise columns and densities of a model in a convention, bias states included.
+
+    Parameters
+    ----------
+    F : array_like, shape (K, n, n)
+        :attr:`ErrorMatrices.F <ins_errors.conventions.ErrorMatrices>`; a bias state's
+        column holds its source's column of G above the bias rows.
+    G : array_like, shape (K, n, m)
+        :attr:`ErrorMatrices.G <ins_errors.conventions.ErrorMatrices>` over every source.
+    states, sources : sequence of str
+        The n states (bias states by their source's name) and the m sources.
+    white : mapping of str to float, optional
+        Source name -> 1σ white-noise density, SI unit of the source times √s. A source
+        that is a bias state takes it too: that instrument's white noise enters through
+        the column its bias has (its column of F above the bias rows).
+    markov_sigma : mapping of str to float, optional
+        Gauss–Markov bias state -> steady-state 1σ of the bias, SI unit of the source;
+        its driving noise of density ``σ √(2/τ)`` enters the bias state's own row.
+    markov : mapping of str to float, optional
+        Correlation time τ (s) of each Gauss–Markov bias state (as
+        :func:`~ins_errors.conventions.error_matrices` takes it).
+
+    Returns
+    -------
+    Gw : numpy.ndarray, shape (K, n, r)
+        One column per given noise (``white`` first, in its order, then
+        ``markov_sigma``), state units per s per unit of noise.
+    densities : numpy.ndarray, shape (r,)
+        Their 1σ densities: unit of the noise times √s.
+    names : tuple of str
+        The noises: the source's name, or ``<name>:markov`` for a bias state's driving
+        noise.
+
+    Raises
+    ------
+    InsErrorsError
+        One line for an unknown source, a steady-state σ of a source that is no
+        Gauss–Markov bias state, or a negative or non-finite value.
+    """
+    F, G = np.asarray(F, dtype=float), np.asarray(G, dtype=float)
+    states, sources = list(states), list(sources)
+    white, markov_sigma, markov = dict(white or {}), dict(markov_sigma or {}), \
+        dict(markov or {})
+    bias_rows = [i for i, s in enumerate(states) if s in sources]
+    columns, densities, names = [], [], []
+    for name, density in white.items():
+        if name not in sources:
+            raise unknown_name("error source", name, sources)
+        _non_negative(density, f"white-noise density of {name}")
+        if name in states:           # a bias state: the column its bias has in F
+            column = F[:, :, states.index(name)].copy()
+            column[:, bias_rows] = 0.0
+        else:
+            column = G[:, :, sources.index(name)]
+        columns.append(column)
+        densities.append(float(density))
+        names.append(name)
+    for name, sigma in markov_sigma.items():
+        if name not in markov or name not in states:
+            raise InsErrorsError(f"{name!r} is no Gauss–Markov bias state (bias states with "
+                                 f"a correlation time: {', '.join(markov) or 'none'}), so "
+                                 "it has no steady-state σ driving a noise")
+        _non_negative(sigma, f"steady-state σ of {name}")
+        column = np.zeros(F.shape[:2])
+        column[:, states.index(name)] = 1.0
+        columns.append(column)
+        densities.append(float(sigma) * math.sqrt(2.0 / markov[name]))
+        names.append(f"{name}:markov")
+    Gw = np.stack(columns, axis=-1) if columns else np.zeros((*F.shape[:2], 0))
+    return Gw, np.array(densities, dtype=float), tuple(names)
+
+
+def _non_negative(value: float, what: str) -> None:
+    if not (math.isfinite(value) and value >= 0):
+        raise InsErrorsError(f"{what} must be a finite number >= 0, got {value!r}")
