@@ -16,6 +16,16 @@ out when every source is a bias state), ``model_states``,
 ``model_inputs``, ``parameters`` (n_p,) with ``parameter_names``: the layout
 ``ins-errors check MODEL --matrix FILE --convention NAME`` reads, so the file checks the
 derived model against itself.
+
+``--discrete`` adds the discrete-time model a Kalman filter runs over each sample step
+(:func:`ins_errors.analysis.discrete_model.discrete_matrices`): ``Phi_<motion>`` and
+``Qd_<motion>`` (K − 1, n, n), Q from the white-noise densities ``--noise NAME=DENSITY``
+(1σ, with units: ``gyro_bias_x=0.003deg/rt-hr,accel_bias_y=50ug/rtHz``; for a
+``--markov`` bias state a value in the source's own unit is its steady-state 1σ, whose
+driving noise enters Q), listed in ``noise_sources`` and ``noise_densities`` (SI)::
+
+    ins-errors matrices strapdown_ned --motion static --hours 1 --step 1s --discrete \
+        --noise gyro_bias_x=0.003deg/rt-hr --out fg.npz
 """
 
 from __future__ import annotations
@@ -43,7 +53,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "t_<motion>, the navigation description, F_<motion> (K, n, n), "
                     "G_<motion> (K, n, m), the model's states x_<motion> and inputs "
                     "u_<motion>, and the names of F's states and G's sources, as .npz or "
-                    "MATLAB .mat. Details: docs/matrix_check.md.")
+                    "MATLAB .mat; with --discrete also the filter's discrete model over "
+                    "each sample step, Phi_<motion> and Qd_<motion> (K-1, n, n), Q from "
+                    "the --noise densities. Details: docs/matrix_check.md.")
     parser.add_argument("model", help="model name (e.g. strapdown_ned) or model file "
                                       "(my_ins.py)")
     parser.add_argument("--convention", default="phi",
@@ -66,6 +78,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "this correlation time (its row of F is -1/tau), e.g. "
                              "gyro_bias_x=300s (repeatable; the name must be in "
                              "--bias-states)")
+    parser.add_argument("--discrete", action="store_true",
+                        help="also write the discrete-time model over each sample step: "
+                             "Phi_<motion> = e^(F dt) and Qd_<motion> (Van Loan, F and G "
+                             "held at the step's start: exact on a static base, for a "
+                             "moving one keep --step short against the motion)")
+    parser.add_argument("--noise", action="append", default=[], metavar="NAME=DENSITY",
+                        help="white-noise density (1σ) of an error source for Qd, with "
+                             "its unit, e.g. gyro_bias_x=0.003deg/rt-hr or "
+                             "accel_bias_y=50ug/rtHz (repeatable or a comma list; needs "
+                             "--discrete). A bias state's noise enters through the column "
+                             "of its bias; for a --markov bias state a value in the "
+                             "source's own unit (gyro_bias_x=0.01deg/h) is its "
+                             "steady-state 1σ, driving it with density σ·sqrt(2/tau)")
     parser.add_argument("--parameter", "-p", action="append", default=[],
                         metavar="NAME=VALUE",
                         help="model parameter with unit, e.g. k_h1=0.0293/s (repeatable)")
@@ -77,6 +102,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
+    from ins_errors.analysis.discrete_model import discrete_matrices, process_noise
     from ins_errors.checker.check_motions import flown_motions
     from ins_errors.checker.matrix_input import sample_arrays, save_arrays
     from ins_errors.conventions import error_matrices, model_convention
@@ -97,6 +123,10 @@ def run(args: argparse.Namespace) -> int:
     parameters = parse_parameter_options(model, args.parameter)
     biases = [b.strip() for b in args.bias_states.split(",") if b.strip()]
     markov = _markov_times(args.markov, biases)
+    if args.noise and not args.discrete:
+        raise InsErrorsError("--noise gives the process noise of the discrete model: add "
+                             "--discrete (Phi and Qd over each sample step)")
+    white, sigma = _noise_values(model, args.noise, biases, markov)
     # the convention (and the bias states) before the flights: a wrong name costs nothing
     model_convention(model, args.convention, biases)
     flown, skipped = flown_motions(model, args.hours, step, parameters=parameters)
@@ -114,6 +144,7 @@ def run(args: argparse.Namespace) -> int:
 
     states: tuple[str, ...] = ()
     sources: list[str] = []
+    noises: tuple[str, ...] = ()
     for motion in chosen:
         p = np.asarray(motion.p, dtype=float)
         p = p if p.ndim == 1 else p[:, 0]  # (constant along the samples)
@@ -128,9 +159,18 @@ def run(args: argparse.Namespace) -> int:
             arrays[f"G_{motion.label}"] = em.G[:, :, keep]
         arrays[f"x_{motion.label}"] = motion.x.T
         arrays[f"u_{motion.label}"] = motion.u.T
+        if args.discrete:
+            Gw, densities, noises = process_noise(em.F, em.G, em.states, em.sources,
+                                                  white, sigma, markov)
+            dm = discrete_matrices(em.F, Gw, motion.times, densities)
+            arrays[f"Phi_{motion.label}"] = dm.Phi
+            arrays[f"Qd_{motion.label}"] = dm.Qd
     arrays["states"] = names(states)
     if sources:
         arrays["sources"] = names(sources)
+    if args.discrete and noises:
+        arrays["noise_sources"] = names(noises)
+        arrays["noise_densities"] = densities
     arrays["model_states"] = names(s.name for s in model.states)
     arrays["model_inputs"] = names(s.name for s in model.inputs)
     arrays["parameter_names"] = names(q.name for q in model.parameters)
@@ -143,13 +183,17 @@ def run(args: argparse.Namespace) -> int:
               "motions": [{"label": m.label, "samples": int(m.times.size),
                            "start_s": float(m.times[0]), "stop_s": float(m.times[-1])}
                           for m in chosen],
-              "skipped_motions": skipped, "parameters": parameters})
+              "skipped_motions": skipped, "parameters": parameters,
+              **({"discrete": {"step_s": step, "noise_sources": list(noises),
+                               "noise_densities_si": densities.tolist()}}
+                 if args.discrete else {})})
         return 0
     g = (f" and G ({k}, {len(states)}, {len(sources)})" if sources
          else " (no G: every source is a state)")
     print(f"wrote {args.out}: F ({k}, {len(states)}, {len(states)}){g} in "
           f"{args.convention} at {k} samples of "
           f"{', '.join(m.label for m in chosen)}"
+          + (_discrete_line(k, len(states), args.step, noises) if args.discrete else "")
           + "".join(f"\nnot flown: {text}" for text in skipped))
     return 0
 
@@ -172,3 +216,101 @@ def _markov_times(items: list[str], biases: list[str]) -> dict[str, float]:
                                  "positive")
         times[name] = tau
     return times
+
+
+def _discrete_line(k: int, n: int, step: str, noises: tuple[str, ...]) -> str:
+    """The printed line of ``--discrete``: what Phi and Qd are and which noises made Q."""
+    made = (f"from the noise of {', '.join(noises)}" if noises
+            else "zero: no --noise given")
+    return (f"\ndiscrete model over each {step.strip()} step: Phi and Qd ({k - 1}, {n}, {n}); "
+            f"Qd {made}")
+
+
+def _noise_values(model, items: list[str], biases: list[str], markov: dict[str, float]
+                  ) -> tuple[dict[str, float], dict[str, float]]:
+    """``--noise NAME=VALUE`` options (repeated or comma lists) as the white-noise
+    densities (name -> SI unit of the source times √s) and the steady-state 1σ of
+    Gauss–Markov bias states (name -> SI unit of the source).
+
+    A value is a density (``0.003deg/rt-hr``, ``50ug/rtHz``), except for a ``--markov``
+    bias state, where a value in the source's own unit (``0.01deg/h``) is its
+    steady-state 1σ (such a state may take both, its name given twice). One line naming
+    the option for an unknown source, a name given twice as the same kind, an initial
+    error,
+    a value without a unit or in another unit, a 1σ value for a source that is no
+    Gauss–Markov state (a random constant has no driving noise), a negative or NaN value.
+    """
+    import contextlib
+
+    from ins_errors.analysis.budget import density_display
+    from ins_errors.errors import InsErrorsError, unknown_name
+    from ins_errors.model_parameters import name_value_pairs
+    from ins_errors.units import UnitError, parse_quantity
+
+    split = [part for item in items for part in item.split(",") if part.strip()]
+    infos = {s.name: s for s in model.sources}
+    white: dict[str, float] = {}
+    sigma: dict[str, float] = {}
+    # one item at a time: a Gauss–Markov bias state may take a name twice, its
+    # instrument's white noise (a density) and its own steady-state σ
+    pairs = [pair for part in split for pair in
+             name_value_pairs([part], "--noise", "gyro_bias_x=0.003deg/rt-hr").items()]
+    for name, text in pairs:
+        where = f"--noise {name}={text.strip()}"
+        if name not in infos:
+            error = unknown_name(f"error source of {model.name}", name, infos)
+            raise InsErrorsError(f"{where}: {error}")
+        info = infos[name]
+        if info.kind == "initial":
+            raise InsErrorsError(f"{where}: {name!r} is an initial error (it sets the error "
+                                 "at the start), which no noise drives")
+        unit = f"({info.unit})*s**0.5"
+        display = info.display_unit or info.unit
+        density_unit = density_display(display, unit)
+        value, is_sigma = None, False
+        if name in markov:  # a value in the source's unit: the steady-state 1σ
+            with contextlib.suppress(UnitError):
+                value, is_sigma = parse_quantity(text, info.unit, where), True
+        if value is None:
+            try:
+                value = parse_quantity(text, unit, where, numbers_are_si=False)
+            except UnitError as error:
+                raise InsErrorsError(_noise_unit_problem(
+                    where, name, text, info.unit, display, density_unit, biases, markov,
+                    str(error))) from None
+        if not value >= 0:
+            raise InsErrorsError(f"{where}: a noise density or σ must be >= 0")
+        values = sigma if is_sigma else white
+        if name in values:
+            kind = " as a steady-state σ" if is_sigma else " as a density"
+            raise InsErrorsError(f"--noise {name} given twice"
+                                 + (kind if name in markov else ""))
+        values[name] = value
+    return white, sigma
+
+
+def _noise_unit_problem(where: str, name: str, text: str, unit: str, display: str,
+                        density_unit: str, biases: list[str], markov: dict[str, float],
+                        problem: str) -> str:
+    """The one line for a ``--noise`` value that is no density of the source: a 1σ
+    value where no Gauss–Markov state takes one said as such, any other unit problem
+    with the density's unit as the example."""
+    from ins_errors.units import UnitError, parse_quantity
+
+    try:
+        parse_quantity(text, unit, where)
+        is_sigma = True
+    except UnitError:
+        is_sigma = False
+    if is_sigma and name in biases:
+        return (f"{where}: {name!r} is a random-constant bias state, which no noise drives, "
+                f"so a 1σ in {display} has no place in Q: give --markov {name}=TAU to make "
+                f"it a Gauss–Markov process of that steady-state σ, or the instrument's "
+                f"white noise as a density in {density_unit}")
+    if is_sigma:
+        return (f"{where}: a white-noise density has units of {density_unit}, not "
+                f"{display} (a 1σ constant, which adds no noise)")
+    reason = problem.split(": ", 1)[-1].split("; give ")[0]
+    sigma = (f" or, for the Gauss–Markov bias state, its steady-state 1σ in {display}"
+             if name in markov else "")
+    return f"{where}: {reason}; give a density in {density_unit}{sigma}"
