@@ -261,14 +261,14 @@ def name_value_pairs(items: Iterable[str], option: str, example: str) -> dict[st
     Raises
     ------
     InsErrorsError
-        For an item without ``=`` or without a value (the message shows ``example``), or
-        a name given twice.
+        For an item without ``=``, without a name or without a value (the message shows
+        ``example``), or a name given twice.
     """
     values: dict[str, str] = {}
     for item in items:
         name, sep, text = item.partition("=")
         name = name.strip()
-        if not sep or not text.strip():
+        if not sep or not name or not text.strip():
             raise InsErrorsError(f"{option} {item!r}: expected NAME=VALUE, e.g. {example}")
         if name in values:
             raise InsErrorsError(f"{option} {name} given twice")

@@ -99,6 +99,7 @@ def test_bad_scenario_parameters_give_one_line(tmp_path, capsys, table, message)
     ("k_h1=-1/s", "--parameter: k_h1 = '-1/s': a vertical damping gain must be zero"),
     ("k_h2=nan/s^2", "--parameter: k_h2: 'nan/s^2' is not a finite number"),
     ("k_h1", "expected NAME=VALUE"),
+    ("=0.01/s", "--parameter '=0.01/s': expected NAME=VALUE"),
     ("k_h1=0.01", "has no unit"),
 ])
 def test_bad_parameter_options_give_one_line(capsys, option, message):
