@@ -106,3 +106,21 @@ def test_a_gauss_markov_bias_state_has_its_row_minus_one_over_tau(tmp_path, caps
     expected = c["F_static"].copy()
     expected[:, i, i] = -1 / 300.0
     np.testing.assert_array_equal(m["F_static"], expected)
+
+
+def test_a_file_with_gauss_markov_states_passes_the_check_it_was_written_for(tmp_path,
+                                                                              capsys):
+    """The round trip with a Gauss-Markov bias state: the file says which states are
+    Gauss-Markov and their τ, so `check --matrix` expects the −1/τ rows it holds."""
+    out = tmp_path / "m.npz"
+    assert main(["matrices", "strapdown_ned", "--convention", "phi", "--bias-states",
+                 "gyro_bias_x,accel_bias_y", "--markov", "gyro_bias_x=5 min",
+                 "--out", str(out)]) == 0
+    data = np.load(out)
+    assert [str(s) for s in data["markov_states"]] == ["gyro_bias_x"]
+    assert data["markov_tau"].tolist() == [300.0]
+    capsys.readouterr()
+    status = main(["check", "strapdown_ned", "--matrix", str(out), "--convention", "phi"])
+    said = capsys.readouterr().out
+    assert status == 0 and "entries compared" in said and "disagree" not in said, said
+

@@ -13,7 +13,8 @@ description per motion) and ``F_<motion>`` (K, n, n), ``G_<motion>`` (K, n, m),
 ``x_<motion>`` (K, n_x) and ``u_<motion>`` (K, n_u) (the model's true states and inputs),
 ``states`` (F's rows and columns), ``sources`` (G's columns; G and ``sources`` are left
 out when every source is a bias state), ``model_states``,
-``model_inputs``, ``parameters`` (n_p,) with ``parameter_names``: the layout
+``model_inputs``, ``parameters`` (n_p,) with ``parameter_names``, and with ``--markov``
+``markov_states`` with their correlation times ``markov_tau`` (s): the layout
 ``ins-errors check MODEL --matrix FILE --convention NAME`` reads, so the file checks the
 derived model against itself.
 
@@ -166,6 +167,9 @@ def run(args: argparse.Namespace) -> int:
             arrays[f"Phi_{motion.label}"] = dm.Phi
             arrays[f"Qd_{motion.label}"] = dm.Qd
     arrays["states"] = names(states)
+    if markov:  # what check --matrix reads to know the Gauss-Markov bias states
+        arrays["markov_states"] = names(markov)
+        arrays["markov_tau"] = np.array(list(markov.values()), dtype=float)
     if sources:
         arrays["sources"] = names(sources)
     if args.discrete and noises:
