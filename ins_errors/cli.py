@@ -92,8 +92,9 @@ def _subparser(parser: argparse.ArgumentParser, name: str) -> argparse.ArgumentP
 
 
 def _is_unit(word: str) -> bool:
-    """True for a word that is a unit alone (``deg/h``, ``ug``, ``m/s``), not an option."""
-    if word.startswith("-") or "=" in word:
+    """True for a word that is a unit alone (``deg/h``, ``ug``, ``m/s``), not an option nor
+    a number (``1``: pint reads it as a dimensionless unit)."""
+    if word.startswith("-") or "=" in word or not any(c.isalpha() or c == "°" for c in word):
         return False
     from ins_errors.units import registry
 

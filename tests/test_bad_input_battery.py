@@ -466,8 +466,9 @@ def test_an_unknown_option_points_to_its_commands_help_and_a_split_unit_is_named
     assert status == 2 and err.startswith("ins-errors compare: error: unrecognized "
                                           "arguments: deg/h; a value and its unit go")
     assert err.rstrip().endswith("(see 'ins-errors compare --help')")
-    status, _out, err = _run(["run", "x.toml", "--hours", "2"], capsys)
-    assert status == 2 and "(see 'ins-errors run --help')" in err and "unit" not in err
+    for hours in ("2", "1"):  # (pint reads a bare 1 as the dimensionless unit)
+        status, _out, err = _run(["run", "x.toml", "--hours", hours], capsys)
+        assert status == 2 and "(see 'ins-errors run --help')" in err and "unit" not in err
 
 
 @pytest.mark.parametrize("name", sorted(n for n, p in _subcommands().items()
