@@ -272,6 +272,13 @@ class UnitBudget:
         SI unit of every error state (the rows of ``state_peaks``).
     state_names : tuple of str
         Name of every error state (the rows of ``state_peaks``).
+    item_variances : numpy.ndarray, shape (nt, q, ns), optional
+        The propagation the rows are read from: variance of every item's functional
+        (``item_names``, one per component, SI: m, m/s, rad; a rate item not yet
+        divided by t) at every grid time ``system.times`` per unit variance of every
+        source; :func:`item_lines` turns it into an item's values. None: not kept.
+    item_names : tuple of str
+        ``"item:component"`` of every functional of ``item_variances``.
     """
 
     spec: Spec
@@ -283,6 +290,8 @@ class UnitBudget:
     state_peaks: np.ndarray | None = None
     state_units: tuple[str, ...] = ()
     state_names: tuple[str, ...] = ()
+    item_variances: np.ndarray | None = None
+    item_names: tuple[str, ...] = ()
 
     @property
     def depends(self) -> np.ndarray:
@@ -768,7 +777,8 @@ def unit_budget(model, spec: Spec, trajectory=None,
     reached = np.where(states.unit_variances > own_floors, states.unit_variances, 0.0)
     return UnitBudget(spec, sources, tuple(rows), unit, system, floor,
                       reached.max(axis=0), tuple(st.unit for st in model.error_states),
-                      tuple(st.name for st in model.error_states))
+                      tuple(st.name for st in model.error_states),
+                      covariance.unit_variances, covariance.names)
 
 
 def growth_warning(model, budget: UnitBudget) -> str | None:
@@ -1018,6 +1028,39 @@ def rounding_floors(state_variances: np.ndarray, readout: np.ndarray, typical: n
     return (gamma[:, None, None] * response[:, None, :] * unit[:, :, None]) ** 2
 
 
+def item_lines(item, names: tuple[str, ...], per_source: np.ndarray, index,
+               times: np.ndarray) -> list[tuple[str, np.ndarray]]:
+    """One spec item's variances at chosen grid times, per source: what its rows read.
+
+    A rate item (:data:`RATE_ITEMS`) is divided by t; the components are summed
+    (``combine = "rss"``, one line with component ``""``) or kept apart (``"each"``).
+
+    Parameters
+    ----------
+    item : ins_errors.specs.SpecItem
+    names : tuple of str
+        ``"item:component"`` of every functional of ``per_source``.
+    per_source : numpy.ndarray, shape (nt, q, ns)
+        Variance of every functional at every grid time from every source, SI².
+    index : sequence of int
+        Grid times to read (indices into the first axis), each with its time in
+        ``times``, s (> 0 for a rate item).
+    times : numpy.ndarray, shape (len(index),)
+
+    Returns
+    -------
+    list of (str, numpy.ndarray of shape (len(index), ns))
+        Component (``""`` for rss) and the variances, SI² (a rate item's per s²).
+    """
+    columns = [k for k, nm in enumerate(names) if nm.startswith(f"{item.name}:")]
+    times = np.asarray(times, dtype=float)
+    scale = 1.0 / times**2 if item.name in RATE_ITEMS else np.ones_like(times)
+    block = per_source[np.asarray(index, dtype=int)][:, columns] * scale[:, None, None]
+    if item.combine == "rss":
+        return [("", block.sum(1))]
+    return [(names[col].split(":", 1)[1], block[:, c]) for c, col in enumerate(columns)]
+
+
 def _rows(spec: Spec, system: LinearSystem, covariance: Covariance,
           per_source: np.ndarray) -> tuple[list[Row], np.ndarray]:
     """Rows of the spec and their variances from the functionals' variances.
@@ -1025,23 +1068,19 @@ def _rows(spec: Spec, system: LinearSystem, covariance: Covariance,
     ``per_source`` has shape (nt, q, ns); returns rows and an array (nr, ns).
     """
     rows, values = [], []
-    names = covariance.names
     for item in spec.items:
-        columns = [k for k, nm in enumerate(names) if nm.startswith(f"{item.name}:")]
+        index = []
         for t in item.times:
             k = round(t / system.step)
             if k >= len(covariance.times) or abs(covariance.times[k] - t) > 1e-6 * system.step:
                 raise SpecError(f"{spec_label(spec)}: items.{item.name}: check time "
                                 f"{t:g} s is outside the analysed run")
-            scale = 1.0 / t**2 if item.name in RATE_ITEMS else 1.0
-            block = per_source[k, columns] * scale                  # (components, ns)
-            if item.combine == "rss":
-                rows.append(Row(item.name, t, "", item.value))
-                values.append(block.sum(0))
-            else:
-                for c, col in enumerate(columns):
-                    rows.append(Row(item.name, t, names[col].split(":", 1)[1], item.value))
-                    values.append(block[c])
+            index.append(k)
+        lines = item_lines(item, covariance.names, per_source, index, np.array(item.times))
+        for i, t in enumerate(item.times):
+            for component, variances in lines:
+                rows.append(Row(item.name, t, component, item.value))
+                values.append(variances[i])
     return rows, np.array(values)
 
 
