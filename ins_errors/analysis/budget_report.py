@@ -277,13 +277,15 @@ def fixed_allocation(error: SpecExceededError) -> Allocation:
 
 def exceeded_report(error: SpecExceededError) -> dict:
     """JSON-ready report of a spec the fixed sources alone use up: ``exceeded`` true, the
-    fixed sources, every row with the fixed sources' value and its ratio to the limit
-    (``exceeded`` on the rows used up), each item's worst row, and the free sources,
-    which get no magnitude."""
+    fixed sources (each with its ``largest_share`` of every item's allowed variance
+    over the item's check times, above 1 where it alone exceeds the item), every row
+    with the fixed sources' value and its ratio to the limit (``exceeded`` on the rows
+    used up), each item's worst row, and the free sources, which get no magnitude."""
     budget = error.budget
-    fixed = [s for s in budget.sources if s.fixed is not None]
+    fixed = [j for j, s in enumerate(budget.sources) if s.fixed is not None]
     rows = _rows_json(budget, error.values, error.used_up)
     shares = fixed_allocation(error).contributions() / budget.allowed_variances[:, None]
+    rows_of = item_rows(budget)
     return {
         **_header(budget, 1.0),
         "exceeded": True,
@@ -293,7 +295,10 @@ def exceeded_report(error: SpecExceededError) -> dict:
                      "magnitude_sigma_level": s.sigma_level,
                      "magnitude_1sigma": float(s.fixed), "unit": s.unit,
                      "display": display(s.fixed * s.sigma_level, s.unit, s.display_unit),
-                     "fixed": True} for s in fixed],
+                     "fixed": True,
+                     "largest_share": {name: float(max(shares[r, j] for r in idx))
+                                       for name, idx in rows_of.items()}}
+                    for j, s in ((j, budget.sources[j]) for j in fixed)],
         "free_sources": [s.label for s in budget.sources if s.fixed is None],
         "items": _items_json(budget, rows, shares), "rows": rows,
     }
@@ -304,32 +309,64 @@ def _item_label(item: str, component: str) -> str:
     return f"{item} [{component}]" if component else item
 
 
-def _time_line(data: dict) -> str:
+def time_line(data: dict) -> str:
     """The operating time and the analysis step, one line."""
     return (f"Operating time {format_time(data['operating_time_h'] * HOUR)}, analysis "
             f"step {data['step_s']:g} s.")
+
+
+def item_summaries(data: dict) -> list[dict]:
+    """Each spec item's line of the tables, from a report's JSON (:func:`report`,
+    :func:`exceeded_report`): its worst row (largest ratio), labelled with its
+    component, and how many of its rows are exceeded.
+
+    Returns
+    -------
+    list of dict
+        ``{"label", "time", "display", "ratio", "exceeded", "checks", "status"}``: the
+        item (with its worst component), its worst time as text, "value of limit" as
+        the rows show it, the ratio, how many of its rows are exceeded, of how many,
+        and ``"met"`` or ``"exceeded at N of M check times"``.
+    """
+    lines = []
+    for item in data["items"]:
+        rows = [r for r in data["rows"] if r["item"] == item["name"]]
+        worst = max(rows, key=lambda r: r["ratio"])
+        count = sum(r["exceeded"] for r in rows)
+        lines.append({"label": _item_label(item["name"], worst["component"]),
+                      "time": format_time(worst["time_h"] * HOUR),
+                      "display": worst["display"], "ratio": worst["ratio"],
+                      "exceeded": count, "checks": len(rows),
+                      "status": (f"exceeded at {count} of {len(rows)} check times"
+                                 if count else "met")})
+    return lines
+
+
+def exceeded_line(data: dict) -> str:
+    """The sentence that says a spec is exceeded by its fixed sources (how many rows
+    and items they use up), from :func:`exceeded_report`."""
+    over = [r for r in data["rows"] if r["exceeded"]]
+    return (f"SPEC EXCEEDED: the fixed sources alone use up {len(over)} of "
+            f"{len(data['rows'])} spec rows, in {len({r['item'] for r in over})} of "
+            f"{len(data['items'])} items; nothing is left for the free sources.")
+
+
+NOT_ALLOCATED = "not allocated (the fixed sources alone exceed the spec)"
+"""What a free source of an exceeded spec gets, in every output."""
 
 
 def exceeded_table(data: dict) -> str:
     """Plain text of :func:`exceeded_report`: each item the fixed sources use up, at its
     worst time (and component), by how much, and the fixed sources."""
     k = f"{data['sigma_level']:g}σ"
-    over = [r for r in data["rows"] if r["exceeded"]]
-    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}", _time_line(data),
-             f"SPEC EXCEEDED: the fixed sources alone use up {len(over)} of "
-             f"{len(data['rows'])} spec rows, in "
-             f"{len({r['item'] for r in over})} of {len(data['items'])} items; nothing is "
-             "left for the free sources.", "",
+    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}", time_line(data),
+             exceeded_line(data), "",
              f"{'item':<28} {'worst time':>10}  {'value of limit':<34} {'ratio':>6}  "
              "times exceeded", "-" * 98]
-    for item in data["items"]:
-        rows = [r for r in data["rows"] if r["item"] == item["name"]]
-        worst = max(rows, key=lambda r: r["ratio"])
-        count = sum(r["exceeded"] for r in rows)
-        mark = f"{count} of {len(rows)}" if count else "met"
-        lines.append(f"{_item_label(item['name'], worst['component']):<28} "
-                     f"{format_time(worst['time_h'] * HOUR):>10}  "
-                     f"{worst['display']:<34} {worst['ratio']:>6.3f}  {mark}")
+    for line in item_summaries(data):
+        mark = f"{line['exceeded']} of {line['checks']}" if line["exceeded"] else "met"
+        lines.append(f"{line['label']:<28} {line['time']:>10}  {line['display']:<34} "
+                     f"{line['ratio']:>6.3f}  {mark}")
     lines += ["", f"Fixed sources ({levels_note(data)}): "
               + ", ".join(f"{s['label']} {shown_magnitude(s, data['sigma_level'])}"
                           for s in data["sources"])]
@@ -347,47 +384,135 @@ def shown_magnitude(source: dict, k: float) -> str:
     return f"{text} ({level:g}σ)"
 
 
+WHITE_NOTE = "white-noise densities as given, 1σ: a density has no σ level"
+"""Said beside the magnitudes of a source list that holds a white-noise density."""
+
+
 def levels_note(data: dict) -> str:
     """The σ level of the magnitudes of a source list: the spec's k, and that a
     white-noise density is read and shown as given (it has no σ level) when the list
     has one."""
     k = f"{data['sigma_level']:g}σ"
     if any(s.get("statistics") == "white" for s in data["sources"]):
-        return f"{k}; white-noise densities as given, 1σ: a density has no σ level"
+        return f"{k}; {WHITE_NOTE}"
     return k
 
 
-def table(allocation: Allocation) -> str:
-    """Plain-text report: allocated magnitudes, binding items, worst row of each item
-    (with its component when the item's components are checked each on its own)."""
-    data = report(allocation)
+def binding_text(source: dict) -> str:
+    """What limits a source, as the tables say it: its binding item (with the component
+    and time), ``fixed``, or why the spec does not limit it."""
+    if source.get("binding_item") is None:
+        if source["fixed"]:
+            return "fixed"
+        if source.get("not_limited") == "linear":
+            return ("not limited by this spec (linear model to "
+                    f"{source['linear_limit_display']})")
+        return "not limited on this motion"
+    comp = f" [{source['binding_component']}]" if source["binding_component"] else ""
+    return (f"{source['binding_item']}{comp} at "
+            f"{format_time(source['binding_time_h'] * HOUR)}")
+
+
+def unlimited_note(data: dict) -> str:
+    """The line naming the free sources the budget gives no magnitude: not limited on
+    this motion, not limited by this spec (their share lies beyond the linear model),
+    or, where the fixed sources alone exceed the spec, not allocated; "" when none.
+
+    Parameters
+    ----------
+    data : dict
+        :func:`report`'s JSON (of an allocation or of the fixed sources alone), or
+        :func:`exceeded_report`'s.
+    """
+    free = data.get("free_sources")
+    if free is None:
+        free = [s["label"] for s in data["sources"]
+                if s["binding_item"] is None and not s["fixed"]]
+    if not free:
+        return ""
+    if data.get("exceeded"):
+        return f"{NOT_ALLOCATED}: {', '.join(free)}"
+    kinds = {s["label"]: s.get("not_limited") for s in data["sources"]}
+    unseen = [name for name in free if kinds[name] != "linear"]
+    linear = [name for name in free if kinds[name] == "linear"]
+    return "; ".join(
+        [f"not limited on this motion: {', '.join(unseen)}"] * bool(unseen)
+        + [f"not limited by this spec (their share lies beyond the linear model): "
+           f"{', '.join(linear)}"] * bool(linear))
+
+
+def table(data: dict) -> str:
+    """Plain-text report of :func:`report`'s JSON: allocated magnitudes, binding items,
+    worst row of each item (with its component when the item's components are checked
+    each on its own)."""
     k = f"{data['sigma_level']:g}σ"
-    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}", _time_line(data),
+    lines = [f"Error budget: {data['spec']} ({k}), {data['motion']}", time_line(data),
              f"Rule: {data['rule']}.", "",
              f"{'source':<36} {'allowed (' + k + ')':>22}  binding item",
              "-" * 86]
     for s in data["sources"]:
-        if s["binding_item"] is None:
-            bind = ("fixed" if s["fixed"] else
-                    f"not limited by this spec (linear model to {s['linear_limit_display']})"
-                    if s.get("not_limited") == "linear" else "not limited on this motion")
-        else:
-            comp = f" [{s['binding_component']}]" if s["binding_component"] else ""
-            bind = f"{s['binding_item']}{comp} at {format_time(s['binding_time_h'] * HOUR)}"
         shown = shown_magnitude(s, data["sigma_level"])
-        lines.append(f"{s['label']:<36} {shown:>22}  {bind}")
+        lines.append(f"{s['label']:<36} {shown:>22}  {binding_text(s)}")
     if any(s["statistics"] == "white" for s in data["sources"]):
-        lines.append("(white-noise densities as given, 1σ: a density has no σ level)")
+        lines.append(f"({WHITE_NOTE})")
     lines += ["", f"Spec rows at the allocated magnitudes (worst time of each item, {k}; "
               "limits as the spec writes them):",
               f"{'item':<28} {'time':>10}  {'value of limit':<34} {'ratio':>6}", "-" * 84]
-    for item in data["items"]:
-        rows = [r for r in data["rows"] if r["item"] == item["name"]]
-        worst = max(rows, key=lambda r: r["ratio"])
-        lines.append(f"{_item_label(item['name'], worst['component']):<28} "
-                     f"{format_time(worst['time_h'] * HOUR):>10}  "
-                     f"{worst['display']:<34} {worst['ratio']:>6.3f}")
+    for line in item_summaries(data):
+        lines.append(f"{line['label']:<28} {line['time']:>10}  {line['display']:<34} "
+                     f"{line['ratio']:>6.3f}")
     return "\n".join(lines)
+
+
+NO_RATIO = ("the covariance is 0 at this row (no source of the budget reaches "
+            "it), so Monte Carlo / covariance is undefined")
+"""Said of a Monte Carlo row whose covariance value is zero."""
+
+
+def monte_carlo_lines(mc: dict) -> list[str]:
+    """The sentences over the Monte Carlo check's table (``data["monte_carlo"]``): the
+    runs, their step and method, the σ level compared and the sampling error; the
+    integration error of the rectangle method where it was estimated."""
+    lines = [f"Direct Monte Carlo: {mc['runs']} runs of "
+             f"{format_time(mc['duration_h'] * HOUR)} at {mc['step_s']:g} s "
+             f"({mc['method']}, seed {mc['seed']}), sample {mc['sigma_level']:g}σ vs "
+             f"covariance; sampling error ±{100 * mc['relative_sampling_error']:.1f} % "
+             "(1σ)"]
+    estimate = mc.get("integration_error")
+    if estimate:
+        lines.append(f"integration error of the rectangle method: up to "
+                     f"{100 * estimate['largest']:.2g} % on a row (Richardson: the first "
+                     f"{estimate['runs']} runs again at {estimate['step_s']:g} s, "
+                     f"{100 * estimate['extra_steps']:.2g} % more steps)")
+    return lines
+
+
+def monte_carlo_cells(mc: dict, spec) -> tuple[list[str], list[list[str]]]:
+    """The Monte Carlo check's table as text cells: the header and one row per spec row
+    (its label, the covariance's and the runs' values in the unit the spec wrote the
+    item's limit in, the integration error where estimated, the ratio; ``–`` for a
+    ratio or an error that is undefined, :data:`NO_RATIO`).
+
+    Parameters
+    ----------
+    mc : dict
+        ``data["monte_carlo"]`` of the budget's JSON.
+    spec : ins_errors.specs.Spec
+    """
+    estimate = bool(mc.get("integration_error"))
+    header = ["row", "covariance", "Monte Carlo", *(["integration"] * estimate), "ratio"]
+    rows = []
+    for r in mc["rows"]:
+        item = spec.item(r["item"])   # as the spec rows: the limit's own unit
+        unit, shown = item.kind.unit, written_unit(item)
+        cells = [r["row"], display(r["covariance"], unit, shown),
+                 display(r["monte_carlo"], unit, shown)]
+        if estimate:   # the scheme's bias of the Monte Carlo value
+            error = r.get("integration_error")
+            cells.append("–" if error is None else f"{100 * error:+.2g}%")
+        cells.append("–" if r["ratio"] is None else f"{r['ratio']:.3f}")
+        rows.append(cells)
+    return header, rows
 
 
 def contribution_table(allocation: Allocation, top: int = 10) -> str:
@@ -562,17 +687,7 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
     if free:
         import textwrap
 
-        if exceeded:
-            text = f"not allocated (the fixed sources alone exceed the spec): {', '.join(free)}"
-        else:
-            kinds = {s["label"]: s.get("not_limited") for s in data["sources"]}
-            unseen = [name for name in free if kinds[name] != "linear"]
-            linear = [name for name in free if kinds[name] == "linear"]
-            text = "; ".join(
-                [f"not limited on this motion: {', '.join(unseen)}"] * bool(unseen)
-                + [f"not limited by this spec (their share lies beyond the linear model): "
-                   f"{', '.join(linear)}"] * bool(linear))
-        note = wrap_to_width(textwrap.fill(text, 170), 7, width - 0.3)
+        note = wrap_to_width(textwrap.fill(unlimited_note(data), 170), 7, width - 0.3)
         fig.text(0.1 / width, 0.1 / height, note, fontsize=7, va="bottom")
     heading = wrap_to_width(f"Error budget: {spec.title}{' — SPEC EXCEEDED' if exceeded else ''}"
                             f"\n{data['motion']}", 10, width - 0.4)

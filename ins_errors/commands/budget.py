@@ -7,10 +7,6 @@ import sys
 
 from ins_errors.json_output import emit
 
-NO_RATIO = ("the covariance is 0 at this row (no source of the budget reaches "
-            "it), so Monte Carlo / covariance is undefined")
-"""Said of a Monte Carlo row whose covariance value is zero."""
-
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
@@ -37,6 +33,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "magnitude (or the spec's fixed one, hatched) with its largest "
                              "share of every item (the binding one named), and every item's "
                              "worst value against its limit")
+    parser.add_argument("--plot-time", metavar="PNG",
+                        help="write every spec item's value over the operating time at the "
+                             "allocated magnitudes (the fixed sources alone where they "
+                             "exceed the spec), one panel per item in the unit of its "
+                             "limit, the limit as a line and the check times marked")
+    parser.add_argument("--report", metavar="FILE.md",
+                        help="write a Markdown report for a design review: the spec, every "
+                             "source's magnitude and binding item, every item against its "
+                             "limit, the notes and warnings, and the --monte-carlo check")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--fill", action="store_true",
                         help="scale the free sources until the tightest item is met exactly")
@@ -91,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
         return 0
     if args.model is None:
         raise SpecError("budget needs a MODEL (or --schema)")
-    if args.plot or args.plot_at:
+    if args.plot or args.plot_at or args.plot_time:
         from ins_errors.output import require_matplotlib
 
         require_matplotlib("--plot")
@@ -101,9 +106,11 @@ def run(args: argparse.Namespace) -> int:
     times = _at_times(args.at) if args.at is not None else None
     from ins_errors.output import check_figure
 
-    for target in (args.plot, args.plot_at):
+    for target in (args.plot, args.plot_at, args.plot_time):
         if target:
             check_figure(target)
+    if args.report is not None:
+        _check_report(args.report)
     model = load_model(args.model)
     path = args.spec or default_spec_path()
     if args.spec is None and not path.exists():
@@ -151,6 +158,8 @@ def run(args: argparse.Namespace) -> int:
     data["warnings"] = warnings
     if args.plot:
         rep.plot(allocation, args.plot)
+    if args.plot_time:
+        _plot_time(allocation, args.plot_time)
     if args.monte_carlo is not None:
         data["monte_carlo"], mc_seconds, estimate_seconds = _monte_carlo(
             model, spec, allocation, args, p)
@@ -173,10 +182,11 @@ def run(args: argparse.Namespace) -> int:
     outputs = None
     if times is not None:
         outputs = _contributions(model, allocation, times, args.plot_at, data)
+    _write_report(args, data, spec)
     if args.json:
         emit(data, ensure_ascii=False)
         return 0
-    print(rep.table(allocation))
+    print(rep.table(data))
     print()
     print(rep.contribution_table(allocation))
     if outputs is not None:
@@ -185,34 +195,18 @@ def run(args: argparse.Namespace) -> int:
     _announce(args)
     if args.monte_carlo is not None:
         mc = data["monte_carlo"]
-        print(f"\nDirect Monte Carlo: {mc['runs']} runs of "
-              f"{bd.format_time(mc['duration_h'] * 3600.0)} at "
-              f"{mc['step_s']:g} s ({mc['method']}), sample {spec.sigma_level:g}σ vs "
-              f"covariance; sampling error ±{100 * mc['relative_sampling_error']:.1f} % (1σ)")
-        estimate = mc.get("integration_error")
-        if estimate:
-            print(f"integration error of the rectangle method: up to "
-                  f"{100 * estimate['largest']:.2g} % on a row (Richardson: the first "
-                  f"{estimate['runs']} runs again at {estimate['step_s']:g} s, "
-                  f"{100 * estimate['extra_steps']:.2g} % more steps)")
-        integration = f" {'integration':>11}" if estimate else ""
-        print(f"{'row':<40} {'covariance':>16} {'Monte Carlo':>16}{integration} "
-              f"{'ratio':>7}")
-        for r in mc["rows"]:
-            item = spec.item(r["item"])   # as the spec rows above: the limit's own unit
-            unit, shown = item.kind.unit, rep.written_unit(item)
-            ratio = "–" if r["ratio"] is None else f"{r['ratio']:.3f}"
-            if estimate:   # the scheme's bias of the Monte Carlo value
-                error = r.get("integration_error")
-                integration = f" {'–' if error is None else f'{100 * error:+.2g}%':>11}"
-            print(f"{r['row']:<40} {bd.display(r['covariance'], unit, shown):>16} "
-                  f"{bd.display(r['monte_carlo'], unit, shown):>16}{integration} "
-                  f"{ratio:>7}")
+        print()
+        print("\n".join(rep.monte_carlo_lines(mc)))
+        header, rows = rep.monte_carlo_cells(mc, spec)
+        widths = [40, 16, 16, *([11] * (len(header) == 5)), 7]
+        for cells in [header, *rows]:
+            print(f"{cells[0]:<{widths[0]}} " + " ".join(
+                f"{cell:>{w}}" for cell, w in zip(cells[1:], widths[1:], strict=True)))
         if any(r["ratio"] is None for r in mc["rows"]):
-            print(f"–: {NO_RATIO}")
+            print(f"–: {rep.NO_RATIO}")
         # on the terminal only: the JSON is reproducible
         print(f"({mc_seconds:.1f} s, and {estimate_seconds:.1f} s for the integration "
-              "error)" if estimate else f"({mc_seconds:.1f} s)")
+              "error)" if mc.get("integration_error") else f"({mc_seconds:.1f} s)")
     return 0
 
 
@@ -233,8 +227,9 @@ def _report_exceeded(args: argparse.Namespace, model, exceeded, parameters: dict
     text), exit status 1 (the answer is "exceeded"; 2 stays for bad input).
 
     What still makes sense is made from the fixed sources alone: the --at breakdown
-    (which bought part breaks the spec) and its --plot-at, the --plot chart against the
-    spec; --monte-carlo, which checks an allocation, is skipped with one line saying so.
+    (which bought part breaks the spec) and its --plot-at, the --plot chart and the
+    --plot-time curves against the spec, the --report; --monte-carlo, which checks an
+    allocation, is skipped with one line saying so.
     """
     from ins_errors.analysis import budget_report as rep
 
@@ -247,9 +242,12 @@ def _report_exceeded(args: argparse.Namespace, model, exceeded, parameters: dict
         data["warnings"].append(text)
     if args.plot:
         rep.plot(fixed, args.plot)
+    if args.plot_time:
+        _plot_time(fixed, args.plot_time, fixed_only=True)
     outputs = None
     if times is not None:
         outputs = _contributions(model, fixed, times, args.plot_at, data, fixed_only=True)
+    _write_report(args, data, exceeded.budget.spec)
     if args.json:
         emit(data, ensure_ascii=False)
         return 1
@@ -288,12 +286,58 @@ def _contributions(model, allocation, times: list[float], plot_at: str | None,
 
 
 def _announce(args: argparse.Namespace) -> None:
-    """Name the image files written (text output only)."""
-    written = [target for target in (args.plot, args.plot_at) if target]
-    if written:
+    """Name the files written (text output only)."""
+    written = [target for target in (args.plot, args.plot_at, args.plot_time) if target]
+    if written or args.report:
         print()
     for target in written:
         print(f"plot written to {target}")
+    if args.report:
+        print(f"report written to {args.report}")
+
+
+def _check_report(path: str) -> None:
+    """Refuse, before any work, a --report name that is not Markdown or cannot be
+    written (one line each)."""
+    from pathlib import Path
+
+    from ins_errors.analysis.budget_markdown import SUFFIXES
+    from ins_errors.output import OutputError, check_file, shown
+
+    suffix = Path(path).suffix
+    if suffix.lower() not in SUFFIXES:
+        instead = f", not {suffix}" if suffix else ""
+        raise OutputError(f"cannot write the report {shown(path)}: the budget's report is "
+                          f"Markdown, so end the name with .md{instead} (e.g. --report "
+                          f"budget.md)")
+    check_file(path)
+
+
+def _write_report(args: argparse.Namespace, data: dict, spec) -> None:
+    """Write --report: the Markdown of ``data`` (the JSON --json prints)."""
+    if args.report is None:
+        return
+    from ins_errors.analysis.budget_markdown import markdown
+    from ins_errors.output import write_text
+    from ins_errors.specs import spec_label
+
+    write_text(args.report, markdown(data, spec, spec_label(spec), args.model))
+
+
+def _plot_time(allocation, path: str, fixed_only: bool = False) -> None:
+    """Write --plot-time: every item over the operating time
+    (:func:`~ins_errors.analysis.budget_time.plot_time`), titled with the spec, the
+    motion, the σ level and the magnitudes used."""
+    from ins_errors.analysis import budget_report as rep
+    from ins_errors.analysis.budget_time import plot_time
+
+    budget = allocation.budget
+    spec = budget.spec
+    exceeded = " — SPEC EXCEEDED" if fixed_only else ""
+    plot_time(allocation, path, title=(
+        f"Spec items over the operating time: {spec.title}{exceeded}\n"
+        f"{budget.system.labels.get('trajectory', '')}\n"
+        f"{spec.sigma_level:g}σ, at {rep.magnitudes_note(allocation, fixed_only)}"))
 
 
 MC_DEFAULTS = {"mc_duration": "1 h", "mc_step": "0.01 s", "seed": 0, "engine": "auto",
@@ -374,6 +418,7 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
     import numpy as np
 
     from ins_errors.analysis import budget as bd
+    from ins_errors.analysis import budget_report as rep
     from ins_errors.analysis.monte_carlo import direct_monte_carlo, sampling_error
     from ins_errors.numeric.integrators import whole_steps
     from ins_errors.specs import SpecError
@@ -416,11 +461,11 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
                     "covariance": float(cov), "monte_carlo": float(value),
                     "ratio": float(value / cov) if cov > 0 else None})
         if cov <= 0:
-            out[-1]["note"] = NO_RATIO
+            out[-1]["note"] = rep.NO_RATIO
         if integration is not None:
             error = integration["rows"].get((row.item, row.time, row.component))
             out[-1]["integration_error"] = error
-    result = {"runs": args.monte_carlo, "sigma_level": spec.sigma_level,
+    result = {"runs": args.monte_carlo, "seed": args.seed, "sigma_level": spec.sigma_level,
               "duration_h": duration / 3600, "step_s": step,
               "method": "euler", "relative_sampling_error": sampling_error(args.monte_carlo),
               "rows": out}
