@@ -33,11 +33,13 @@ def _whole_record_curves(sim, part: str) -> np.ndarray:
     if part == "direct":
         dy = model.numpy.outputs(sim.real[:n], u, p) - model.numpy.outputs(sim.ideal, u, p)
         platform = sim.real[n:]
-    else:
-        e = getattr(sim, part)
+    elif part == "linear":
+        e = sim.linear
         dy = np.einsum("ij...,j...->i...", model.numpy.output_matrix(sim.ideal, u, p), e)
-        if part == "refined":
-            dy = dy + model.numpy.output_second_order(sim.ideal, u, p, e)
+        platform = e[n:]
+    else:  # refined: the exact output map at the ideal state plus the error
+        e = sim.refined
+        dy = model.numpy.outputs(sim.ideal + e[:n], u, p) - model.numpy.outputs(sim.ideal, u, p)
         platform = e[n:]
     angles = [k for k, o in enumerate(model.outputs) if o.unit == "rad"]
     dy[angles] = (dy[angles] + np.pi) % (2 * np.pi) - np.pi

@@ -135,9 +135,11 @@ def test_schuler_period_and_bias_tilt_in_the_direct_run(orthodromic):
 @pytest.mark.parametrize("motion", ["static", "great_circle"])
 def test_refined_model_cuts_the_residual_at_large_magnitudes(orthodromic, motion):
     """5° azimuth error, 1 °/h drifts, 1° tilt over 24 h: the linear residual reaches
-    10–60 % of the error, the second-order model cuts the largest residual ≥ 2.5× (an
+    4–32 % of the error, the second-order model cuts the largest residual ≥ 10× (an
     azimuth drift of 1 °/h turns the exact platform by 24° in a day: the third-order
-    terms of its rotation, ~α²/6 of the second-order ones, stay in the refined residual)."""
+    terms of its rotation, ~α²/6 of the second-order ones, stay in the refined residual:
+    15× on the great circle). Its outputs read through the second-order expansion of the
+    output map kept that expansion's third-order error too: the cut was 2.9× there."""
     profile = (tr.static_profile(50 * DEG, 30 * DEG, 20 * DEG) if motion == "static" else
                tr.great_circle_profile(50 * DEG, 30 * DEG, 40 * DEG, 250.0))
     traj = tr.trajectory(orthodromic, profile, 24 * HOURS, 2.0)
@@ -149,7 +151,7 @@ def test_refined_model_cuts_the_residual_at_large_magnitudes(orthodromic, motion
                      validity_threshold=None):
         linear, refined = c.worst_linear.linear_ratio, c.worst_refined.refined_ratio
         assert linear > 0.04, c.label  # the large magnitude really is nonlinear
-        assert refined * 2.5 <= linear, (c.label, linear, refined)
+        assert refined * 10 <= linear, (c.label, linear, refined)
 
 
 def test_rk4_runs_agree_as_well(orthodromic):

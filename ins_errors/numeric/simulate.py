@@ -11,8 +11,13 @@
   rounding, in about two thirds of the time;
 * **linear**: the generated first-order error equations ``ė = F e + G w`` along the
   *ideal run's* states, from ``e(0) = E w``;
-* **refined**: the same plus the generated second-order terms, from the exact initial
-  difference ``x̃(0) − (x(0), 0)``.
+* **refined**: the truncated quadratic error equations ``ė₂ = F e₂ + G w + S(x, u, e₂, w)``
+  (``S`` the generated second-order terms) along the ideal run's states, from the exact
+  initial difference ``x̃(0) − (x(0), 0)``, its outputs read through the exact output map,
+  ``y(x + e₂) − y(x)``. This is an ODE of its own, not the second-order term of a series
+  in the sources' magnitude: its quadratic terms feed back, and where they are beyond
+  their range it can run away from the direct run (see :mod:`ins_errors.numeric.compare`,
+  which warns).
 
 All three are integrated in one compiled loop (state ``[x, x̃, e, e₂]``, then any carried
 sines and cosines), so they share the ideal trajectory exactly; the rectangle scheme of
@@ -356,7 +361,8 @@ class Simulation:
         self._kept["direct"] = self._collect(self.real[n:], difference)
         return self._kept["direct"]
 
-    def _error_curves(self, e: np.ndarray | None, second_order: bool, label: str) -> ErrorCurves:
+    def _error_curves(self, e: np.ndarray | None, exact_outputs: bool,
+                      label: str) -> ErrorCurves:
         if e is None:
             raise ShapeError(f"this simulation did not run the {label} error equations")
         if label in self._kept:
@@ -366,10 +372,10 @@ class Simulation:
 
         def difference(rows: slice, u: np.ndarray) -> np.ndarray:
             x, de = self.ideal[:, rows], e[:, rows]
-            dy = np.einsum("ij...,j...->i...", numpy.output_matrix(x, u, p), de)
-            if second_order:
-                dy = dy + numpy.output_second_order(x, u, p, de)
-            return dy
+            if exact_outputs:  # as the direct run's: y(x + e₂) − y(x)
+                with np.errstate(invalid="ignore"):  # NaN: beyond the map's domain
+                    return numpy.outputs(x + de[:n], u, p) - numpy.outputs(x, u, p)
+            return np.einsum("ij...,j...->i...", numpy.output_matrix(x, u, p), de)
 
         self._kept[label] = self._collect(e[n:], difference)
         return self._kept[label]
@@ -379,7 +385,11 @@ class Simulation:
         return self._error_curves(self.linear, False, "linear")
 
     def refined_errors(self) -> ErrorCurves:
-        """Errors of the refined (second-order) equations, outputs to second order."""
+        """Errors of the refined run (the truncated quadratic error equations), outputs
+        read through the exact output map, ``y(x + e₂) − y(x)`` with ``x`` the ideal
+        run's state: at t = 0, where ``e₂`` is the exact initial difference, they are
+        the direct run's. NaN where ``x + e₂`` is beyond the output map's domain (a run
+        that diverged)."""
         return self._error_curves(self.refined, True, "refined")
 
 
