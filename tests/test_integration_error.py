@@ -618,8 +618,14 @@ def test_a_tiny_share_over_its_limit_is_not_printed_as_zero():
     """A share of 2.8e-8 over its limit (a tenth of a tinier linear-vs-direct
     difference) read "0.00% of its largest error ... over the limit" (the reviewer's
     week-long run); shares are given to three significant digits. Below 1e-6 of the
-    error an estimate is rounding and warns of nothing (the summary says so)."""
-    from ins_errors.numeric.compare import Comparison, estimate_integration_errors, metrics_of
+    error an estimate is negligible and warns of nothing (the summary says so; with no
+    third run it does not say whether it is rounding)."""
+    from ins_errors.numeric.compare import (
+        Comparison,
+        estimate_integration_errors,
+        markdown_summary,
+        metrics_of,
+    )
     from ins_errors.numeric.simulate import ErrorCurves
 
     times = np.array([0.0, 1.0, 2.0])
@@ -633,7 +639,9 @@ def test_a_tiny_share_over_its_limit_is_not_printed_as_zero():
         estimate_integration_errors([c], (direct, linear), (curves(1.0 + gap), linear), 2, 1,
                                     4, 0.5, "euler")
         if warned is None:
-            assert c.warnings == [] and c.integration_at_rounding
+            assert c.warnings == [] and c.integration_negligible
+            assert not c.integration_at_rounding and c.negligible_cause is None
+            assert "| < 1e-06 (negligible) |" in markdown_summary([c])
         else:
             (warning,) = c.warnings
             assert f"a's integration error is 3e-05 m/s, {warned} of its largest error" in warning

@@ -5,15 +5,22 @@ orthodromic model) and every case:
 
 * ``max_direct``: max |direct error| over the run;
 * ``linear_difference``: max |linear − direct|, and ``linear_ratio`` = that / ``max_direct``;
-* ``refined_difference`` and ``refined_ratio`` likewise for the second-order model;
+* ``refined_difference`` and ``refined_ratio`` likewise for the refined run (the truncated
+  quadratic error equations; infinite where its outputs are not finite);
 * ``direct_integration_error`` and ``linear_integration_error``: the estimated
   integration error of the direct and of the linear error curves (step doubling,
   :mod:`ins_errors.numeric.accuracy`), to be read beside the linear-vs-direct difference.
 
+The residual of an angle (unit rad: latitude, longitude, heading, attitude, platform
+angles) is a difference on the circle, wrapped to ±π (:func:`residual`): a linear heading
+error of +176.8° beside a direct one of −124.3° misses by 58.9°, not by 301°.
+
 Each case also carries ``warnings``: when the integration error exceeds 10 % of the
-linear-vs-direct difference or 1 % of the error (naming a step that would do), and when
+linear-vs-direct difference or 1 % of the error (naming a step that would do), when
 the linear/direct ratio exceeds the validity threshold (5 % by default, naming the
-magnitude at which it would be 1 %, from the measured scaling of a half-size run).
+magnitude at which it would be 1 %, from the measured scaling of a half-size run), and
+when the refined run misses more than the linear one or diverges
+(:func:`add_refined_warnings`).
 
 A quantity counts as *excited* (its ratios are judged) when its direct error is above
 the rounding floor of its unit (:data:`NOISE_FLOOR`) and the linear model moves it at
@@ -129,6 +136,19 @@ class Comparison:
         (:func:`integration_errors_by_reruns`) that completed, in the order made: first
         the pair's other run, then the one for the observed order. Empty when none was
         made (the warnings say why).
+    negligible_cause : str or None
+        What an integration-error estimate below
+        :data:`~ins_errors.numeric.accuracy.RELEVANT` of the error is, as the third run
+        shows (:func:`negligible_cause`): ``"step error"`` (it falls as τ^p, the scheme's
+        order), ``"rounding"`` (it does not fall as the step is refined), or None (no
+        third run, or an order above the scheme's: not told).
+    refined_warning : str or None
+        ``"diverged"`` when the refined run's residual exceeds the largest direct error
+        and the linear run's residual for some judged quantity, ``"worse than linear"``
+        when it exceeds the linear run's only (:func:`add_refined_warnings`); else None.
+    refined_departure : float or None
+        Time (s) from which the refined run is off that way (its residual first beyond
+        the bound the warning names).
     """
 
     label: str
@@ -145,6 +165,9 @@ class Comparison:
     integration_order: float | None = None
     suggested_method: str | None = None
     integration_steps: tuple[float, ...] = ()
+    negligible_cause: str | None = None
+    refined_warning: str | None = None
+    refined_departure: float | None = None
 
     def metric(self, quantity: str) -> Metric:
         """The metric of one quantity."""
@@ -183,18 +206,29 @@ class Comparison:
                 "one_percent_scale": self.one_percent_scale,
                 "suggested_method": self.suggested_method,
                 "integration_order_observed": self.integration_order,
+                "integration_error_negligible": self.integration_negligible,
                 "integration_error_at_rounding": self.integration_at_rounding,
+                "integration_error_below_relevant": self.negligible_cause,
+                "refined_warning": self.refined_warning,
+                "refined_departure_s": self.refined_departure,
                 "integration_rerun_steps_s": list(self.integration_steps),
                 "metrics": [_clean(asdict(m)) for m in self.metrics]}
 
     @property
-    def integration_at_rounding(self) -> bool:
+    def integration_negligible(self) -> bool:
         """True when the integration-error estimate is below
-        :data:`~ins_errors.numeric.accuracy.RELEVANT` of the error: there the step-doubling
-        difference is rounding (it grows, not shrinks, with a finer step), the estimate
-        only says it is that small, and no order is observed (``integration_order`` None)."""
+        :data:`~ins_errors.numeric.accuracy.RELEVANT` of the error: it is not judged (no
+        warning, ``integration_order`` None), whether it is the scheme's step error or
+        rounding (:attr:`negligible_cause` tells them apart where it can)."""
         worst = self.worst_integration_ratio
         return worst is not None and worst < accuracy.RELEVANT
+
+    @property
+    def integration_at_rounding(self) -> bool:
+        """True when the estimate is negligible (:attr:`integration_negligible`) and the
+        runs at three steps show it is rounding, not the scheme's error: it does not
+        fall as τ^p when the step is refined (:attr:`negligible_cause`)."""
+        return self.integration_negligible and self.negligible_cause == "rounding"
 
     @property
     def worst_integration_ratio(self) -> float | None:
@@ -217,6 +251,43 @@ def _ratio(difference: float, reference: float) -> float:
     return difference / reference if reference > 0 else (0.0 if difference == 0 else math.inf)
 
 
+def residual(curve: np.ndarray, direct: np.ndarray, unit: str) -> np.ndarray:
+    """``curve − direct`` of one quantity's curves (a model's, or a run's at another
+    step); for an angle (unit rad) the difference on the circle, wrapped to [−π, π).
+
+    The output angles' curves are each wrapped to ±π already (latitude, longitude,
+    heading, roll, pitch): their plain difference jumps by 2π where one of them crosses
+    ±π and the other does not (a linear longitude error past 180° beside a direct one of
+    −124°: 301° apart, 59° on the circle). Platform angles are angles of a rotation,
+    where a turn is no error either. Latitude and pitch lie within ±90°, so their direct
+    errors stay within ±π: wrapping their residuals changes nothing while a model's
+    error is within half a turn of the direct one, and past that the model is far out of
+    its range anyway.
+
+    Parameters
+    ----------
+    curve, direct : numpy.ndarray
+        Curves of the same shape, SI.
+    unit : str
+        SI unit of the quantity (``"rad"``: wrapped).
+
+    Returns
+    -------
+    numpy.ndarray
+        The residual, same shape, SI.
+    """
+    d = curve - direct
+    return (d + np.pi) % (2 * np.pi) - np.pi if unit == "rad" else d
+
+
+def _largest(values: np.ndarray) -> float:
+    """max |values|; infinite when any value is not finite (a refined run whose state
+    left its output map's domain, or overflowed)."""
+    if not np.all(np.isfinite(values)):
+        return math.inf
+    return float(np.max(np.abs(values)))
+
+
 def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | None,
                case: int = 0) -> list[Metric]:
     """Per-quantity metrics of one batch member.
@@ -225,6 +296,8 @@ def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | 
     error is above the rounding floor of its unit and the linear model moves it at first
     order; ``second_order_only`` when it is above the floor, the linear run moves the case
     and leaves this quantity at 0 (to :data:`SECOND_ORDER_FRACTION` of its direct error).
+    Residuals of angles are differences on the circle (:func:`residual`); a refined
+    residual that is not finite somewhere is infinite.
     """
     rows = []
     # where nothing is linear at all, the source is unseen (add_validity_warnings says so)
@@ -232,8 +305,9 @@ def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | 
     for k, (name, unit) in enumerate(zip(direct.names, direct.units, strict=True)):
         d = direct.values[k, :, case]
         peak = float(np.max(np.abs(d)))
-        lin = float(np.max(np.abs(linear.values[k, :, case] - d)))
-        ref = None if refined is None else float(np.max(np.abs(refined.values[k, :, case] - d)))
+        lin = float(np.max(np.abs(residual(linear.values[k, :, case], d, unit))))
+        ref = None if refined is None else _largest(residual(refined.values[k, :, case], d,
+                                                             unit))
         large = bool(peak > NOISE_FLOOR.get(unit, 0.0))
         first = float(np.max(np.abs(linear.values[k, :, case]))) > SECOND_ORDER_FRACTION * peak
         second = large and linear_moves and not first
@@ -354,6 +428,7 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     if validity_threshold is not None:
         with stage("validity: the runs again at other magnitudes", enabled=progress):
             add_validity_warnings(comparisons, sim, validity_threshold, jit=jit)
+    add_refined_warnings(comparisons)
     add_growth_warnings(comparisons, sim)
     add_unexcited_warnings(comparisons, sim, trajectory)
     add_second_order_warnings(comparisons)
@@ -366,6 +441,103 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
             for text in comparison.warnings:
                 warnings.warn(f"{comparison.label}: {text}", InsErrorsWarning, stacklevel=2)
     return comparisons
+
+
+REFINED_DIVERGED = 1.0
+"""A refined run whose residual exceeds this share of a judged quantity's largest direct
+error (and the linear run's residual) has diverged: it is further from the direct run
+than the error itself is from zero."""
+
+REFINED_WORSE = 2.0
+"""A refined run whose residual exceeds this factor times the linear run's (and
+:data:`AGREEMENT_FLOOR` of the error) misses more than the linear model: its own
+quadratic terms add error. Below it the two residuals are of one size (a residual of
+higher order than both models: a 10° heading error's latitude, 0.74 % and 0.73 %)."""
+
+
+def add_refined_warnings(comparisons: Sequence[Comparison]) -> None:
+    """Warn where the refined run misses more than the linear one, or diverged.
+
+    The refined run integrates the truncated quadratic error equations
+    ``ė₂ = F e₂ + G w + S(x, u, e₂, w)``: an ODE of its own, whose quadratic terms feed
+    back (through a damping loop, a Schuler loop) and can run away where the direct run
+    stays bounded (a 10 °/h azimuth gyro bias on strapdown_ned with a damped vertical
+    channel: a refined height of 2,200 km after 24 h, the direct run's 25 m). A case
+    gets one warning when, for a judged quantity (:attr:`Comparison.excited`), the
+    refined run *diverged*: its residual exceeds :data:`REFINED_DIVERGED` times the
+    largest direct error and the linear run's residual (the refined curve leaves the
+    range the direct run spans by more than its width); or else when it *misses more
+    than the linear model*: its residual exceeds :data:`REFINED_WORSE` times the linear
+    one and :data:`AGREEMENT_FLOOR` of the error (a smaller one is agreement to
+    rounding). The warning names the quantity with the largest refined ratio among them
+    and the time from which the refined residual is beyond the bound (the larger of the
+    direct error's size and the linear run's largest residual for a divergence, the
+    linear run's largest residual times :data:`REFINED_WORSE` else), the earliest over
+    those quantities; it sets :attr:`Comparison.refined_warning` and
+    :attr:`Comparison.refined_departure`.
+    """
+    for comparison in comparisons:
+        if not comparison.refined:
+            continue
+        judged = [m for m in comparison.excited if m.refined_difference is not None]
+        diverged = [m for m in judged if m.refined_ratio > REFINED_DIVERGED
+                    and m.refined_difference > m.linear_difference]
+        worse = [m for m in judged if m.refined_difference > REFINED_WORSE * m.linear_difference
+                 and m.refined_ratio > AGREEMENT_FLOOR]
+        if not (diverged or worse):
+            continue
+        named = diverged or worse
+        start = min(_first_beyond(comparison, m, max(m.linear_difference,
+                                                     REFINED_DIVERGED * m.max_direct)
+                                  if diverged else REFINED_WORSE * m.linear_difference)
+                    for m in named)
+        worst = max(named, key=lambda m: m.refined_ratio)
+        comparison.refined_warning = "diverged" if diverged else "worse than linear"
+        comparison.refined_departure = start
+        others = len(named) - 1
+        more = (f" (and {others} more quantit{'y' if others == 1 else 'ies'})"
+                if others else "")
+        if diverged:
+            reach = ("is not finite (its state left the output map's domain)"
+                     if not math.isfinite(worst.refined_difference) else
+                     f"reaches {worst.refined_ratio:.3g}× its largest direct error, "
+                     f"{_shown_size(worst.refined_difference, worst.unit)} against "
+                     f"{_shown_size(worst.max_direct, worst.unit)}")
+            comparison.warnings.append(
+                f"the refined (second-order) run diverged from about {_when(start)}: "
+                f"refined − direct of {worst.quantity} {reach}, linear − direct "
+                f"{worst.linear_ratio:.3g}×{more}; its quadratic terms are beyond their "
+                "range here (it integrates the truncated quadratic error equations, "
+                "which can run away where the direct run stays bounded): trust the direct "
+                "run, not the refined ratios")
+        else:
+            comparison.warnings.append(
+                f"the refined (second-order) run misses more than the linear one from "
+                f"about {_when(start)}: refined − direct reaches "
+                f"{_percent(worst.refined_ratio)} of {worst.quantity}'s largest error, "
+                f"linear − direct {_percent(worst.linear_ratio)}{more}; its quadratic "
+                "terms are beyond their range here (a second-order term fed back, e.g. "
+                "by a damping loop): the refined ratios do not say what a second-order "
+                "model would achieve; trust the direct run")
+
+
+def _first_beyond(comparison: Comparison, metric: Metric, bound: float) -> float:
+    """The first recorded time (s) at which the refined residual of ``metric``'s
+    quantity exceeds ``bound`` or is not finite (the last time if never)."""
+    q = metric.quantity
+    gap = np.abs(residual(comparison.refined[q], comparison.direct[q], metric.unit))
+    beyond = ~(gap <= bound)  # NaN counts as beyond
+    times = comparison.times
+    return float(times[int(np.argmax(beyond))] if beyond.any() else times[-1])
+
+
+def _when(seconds: float) -> str:
+    """A time of the run, roughly: ``"15.2 h"``, ``"12.5 min"``, ``"40 s"``."""
+    if seconds >= 3600.0:
+        return f"{seconds / 3600.0:.3g} h"
+    if seconds >= 60.0:
+        return f"{seconds / 60.0:.3g} min"
+    return f"{seconds:.3g} s"
 
 
 def add_second_order_warnings(comparisons: Sequence[Comparison]) -> None:
@@ -503,11 +675,6 @@ def observed_growth(comparison: Comparison) -> float:
             elif a > 0 and b > 0 and np.isfinite(a):
                 rates.append(math.log(b / a) / (end / 2))
     return max(rates)
-
-
-def _difference(a: np.ndarray, b: np.ndarray, unit: str) -> np.ndarray:
-    d = a - b
-    return (d + np.pi) % (2 * np.pi) - np.pi if unit == "rad" else d
 
 
 def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
@@ -693,6 +860,22 @@ def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, Error
           spacing)
 
 
+def negligible_cause(order: float | None, scheme_order: int) -> str | None:
+    """What a negligible integration-error estimate (below
+    :data:`~ins_errors.numeric.accuracy.RELEVANT` of the error) is, from the order the
+    runs at three steps show: ``"step error"`` when it is the scheme's (within
+    :data:`~ins_errors.numeric.accuracy.ORDER_TOLERANCE`: the estimate falls as τ^p, so
+    it is the scheme's error, however small), ``"rounding"`` when it is lower (the gap
+    between the finer runs does not fall as it should: it is held up by rounding, which
+    grows, not shrinks, with the number of steps), None when it is higher or not
+    measured (not told)."""
+    if order is None:
+        return None
+    if abs(order - scheme_order) <= accuracy.ORDER_TOLERANCE:
+        return "step error"
+    return "rounding" if order < scheme_order else None
+
+
 def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, ErrorCurves]],
           scale: float, orders: tuple | None, finest: bool, tau: float, method: str,
           stride: int, rk4_step: Callable[[], float | None] | None,
@@ -707,13 +890,13 @@ def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, Error
                                 (1, "linear_integration_error")):
             finer, coarser = runs[0][part], runs[1][part]
             for k, metric in enumerate(comparison.metrics):
-                gap = np.abs(_difference(finer.values[k, :, b], coarser.values[k, :, b],
+                gap = np.abs(residual(finer.values[k, :, b], coarser.values[k, :, b],
                                          metric.unit))
                 setattr(metric, attribute, float(np.max(gap)) * scale)
                 if orders is None or not metric.excited or metric.max_direct <= 0:
                     continue
                 third_curves, fi, ci = orders  # near: the finer pair; far: the coarser
-                other = np.abs(_difference(
+                other = np.abs(residual(
                     (finer if finest else coarser).values[k, fi, b],
                     third_curves[part].values[k, ci, b], metric.unit))
                 near, far = float(np.max(gap[fi])), float(np.max(other))
@@ -725,6 +908,9 @@ def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, Error
                     and o[2].integration_error > NOISE_FLOOR.get(o[2].unit, 0.0)]
         comparison.integration_order = (max(relevant, key=lambda o: o[0])[1]
                                         if relevant else None)
+        if observed and comparison.integration_negligible:  # not judged; but what is it?
+            comparison.negligible_cause = negligible_cause(
+                max(observed, key=lambda o: o[0])[1], accuracy.ORDERS[method])
         worst = comparison.worst_integration_ratio
         _integration_warning(comparison, tau, method, stride * tau, rk4_step,
                              failed if worst is not None and worst > accuracy.RELEVANT
@@ -857,7 +1043,7 @@ def estimate_integration_errors(comparisons: Sequence[Comparison],
     for b, comparison in enumerate(comparisons):
         for fine_curves, rough, attribute in curves:
             for k, metric in enumerate(comparison.metrics):
-                gap = _difference(fine_curves.values[k, fine_i, b],
+                gap = residual(fine_curves.values[k, fine_i, b],
                                   rough.values[k, coarse_i, b], metric.unit)
                 error = float(np.max(np.abs(gap))) / (2 ** accuracy.ORDERS[method] - 1)
                 setattr(metric, attribute, error)
@@ -1142,11 +1328,15 @@ def markdown_table(comparison: Comparison) -> str:
 
 
 def _integration_cell(comparison: Comparison) -> str:
-    """The summary's integration error / error: the estimate, or ``< 1e-06 (rounding)``
-    where it is below :data:`~ins_errors.numeric.accuracy.RELEVANT` (the step-doubling
-    difference is then rounding, not the scheme's error, and grows with a finer step)."""
-    if comparison.integration_at_rounding:
-        return f"< {accuracy.RELEVANT:.0e} (rounding)"
+    """The summary's integration error / error: the estimate, or, where it is below
+    :data:`~ins_errors.numeric.accuracy.RELEVANT` and not judged, ``< 1e-06`` with what
+    the runs at three steps show it is (:attr:`Comparison.negligible_cause`):
+    ``(negligible step error)`` when it falls as τ^p, ``(rounding)`` when it does not,
+    ``(negligible)`` when that is not told."""
+    if comparison.integration_negligible:
+        cause = {"step error": "negligible step error", "rounding": "rounding"}.get(
+            comparison.negligible_cause or "", "negligible")
+        return f"< {accuracy.RELEVANT:.0e} ({cause})"
     return _fmt(comparison.worst_integration_ratio)
 
 

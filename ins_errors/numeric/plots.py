@@ -1,7 +1,15 @@
 """Overlaid direct / linear / refined error curves (matplotlib, Agg backend).
 
 Angles are drawn in arc minutes, angular rates in deg/h, velocities in m/s, time in
-hours; the conversion goes through the units library.
+hours; the conversion goes through the units library. The residuals of angles are
+differences on the circle (:func:`~ins_errors.numeric.compare.residual`), as in the
+tables.
+
+The vertical range of each panel is set by the direct and linear curves (and, on the
+right, by the refined residual up to the size of the direct error): a refined run that
+ran away (:func:`~ins_errors.numeric.compare.add_refined_warnings`) is clipped at the
+axes, which say so in the panel and in the legend, instead of flattening the other
+curves to a line at zero.
 """
 
 from __future__ import annotations
@@ -12,6 +20,8 @@ import threading
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
+
 from ins_errors.figure_layout import (
     LEGEND_ROW,
     common_time_range,
@@ -19,7 +29,7 @@ from ins_errors.figure_layout import (
     legend_below,
     share_time_axis,
 )
-from ins_errors.numeric.compare import Comparison
+from ins_errors.numeric.compare import Comparison, residual
 from ins_errors.numeric.envelope import column_envelopes
 from ins_errors.output import save_figure
 
@@ -52,7 +62,10 @@ def plot_comparison(comparison: Comparison, path: str | Path,
     The left panel overlays the direct, linear and refined errors; at the scale of the
     errors they are usually indistinguishable, so the right panel draws what the study
     is about: linear − direct and refined − direct (the sign of the tables and
-    warnings), on their own scale.
+    warnings; for an angle, on the circle), on their own scale. The left panel's range
+    is the direct and linear curves', the right one's the linear residual's and the
+    refined residual's up to the size of the largest direct error: a refined curve
+    beyond is clipped, and the panel and the legend say so.
 
     Parameters
     ----------
@@ -140,6 +153,35 @@ def plot_comparisons(comparisons: Sequence[Comparison], paths: Sequence[str | Pa
     return written
 
 
+def _value_range(ax, curves: Sequence[np.ndarray]) -> tuple[float, float] | None:
+    """The vertical range autoscaling gives ``ax`` for the finite values of ``curves``
+    alone (their extremes, made non-singular by the axis' locator, widened by the axes'
+    margin), or None when there is none."""
+    finite = [c[np.isfinite(c)] for c in curves]
+    finite = [c for c in finite if c.size]
+    if not finite:
+        return None
+    locator = ax.yaxis.get_major_locator()
+    low, high = locator.nonsingular(min(float(c.min()) for c in finite),
+                                    max(float(c.max()) for c in finite))
+    margin = ax.margins()[1] * (high - low)
+    return locator.view_limits(low - margin, high + margin)
+
+
+def _off_axes(curve: np.ndarray, limits: tuple[float, float]) -> str:
+    """The panel's note when the refined ``curve`` leaves the vertical ``limits``:
+    ``"refined beyond the axes (to 1.05e+05)"``, or ``""``."""
+    low, high = limits
+    finite = curve[np.isfinite(curve)]
+    beyond = finite[(finite < low) | (finite > high)]
+    if finite.size < curve.size:
+        return "refined beyond the axes (not finite)"
+    if not beyond.size:
+        return ""
+    far = float(beyond[np.argmax(np.abs(beyond))])
+    return f"refined beyond the axes (to {far:.3g})"
+
+
 class _SpareFigures:
     """The last few comparison figures of this process, for calls with the same panels.
 
@@ -199,6 +241,7 @@ class _ComparisonFigure:
         plt.close(fig)  # (pyplot forgets it; the figure is still drawn and saved)
         share_time_axis(axes)
         self.fig, self.axes, self.lines = fig, axes, []
+        self.notes = []  # per row: the texts saying a refined curve leaves the axes
         for (curves, residuals), q in zip(axes, quantities, strict=True):
             scale, unit = _scale(comparison.metric(q).unit)
             row = [curves.plot([], [], color="black", lw=1.6, label="direct")[0],
@@ -212,6 +255,11 @@ class _ComparisonFigure:
                         residuals.plot([], [], color="tab:blue", lw=1.0,
                                        label="refined − direct")[0]]
             self.lines.append((q, scale, row))
+            self.notes.append([ax.text(0.99, 0.95, "", transform=ax.transAxes, ha="right",
+                                       va="top", fontsize=6, color="tab:blue",
+                                       bbox={"facecolor": "white", "edgecolor": "none",
+                                             "alpha": 0.9, "pad": 1.0}, zorder=5)
+                               for ax in (curves, residuals)])
             curves.set_ylabel(f"{q}\n[{unit}]", fontsize=8)
             residuals.set_ylabel(f"residual [{unit}]", fontsize=8)
             for ax in (curves, residuals):
@@ -225,9 +273,9 @@ class _ComparisonFigure:
         for ax in axes[-1]:
             ax.set_xlabel("time [h]", fontsize=8)
         # under each column: inside the top panels they hid dense curves
-        for column in (0, 1):
-            legend_below(axes[-1, column], 7, handles=[
-                line for line in self.lines[0][2] if line.axes is axes[0, column]])
+        self.legends = [legend_below(axes[-1, column], 7, handles=[
+            line for line in self.lines[0][2] if line.axes is axes[0, column]])
+            for column in (0, 1)]
         # fixed margins in inches (tight_layout measured every tick label: seconds a figure)
         width, height = fig.get_size_inches()
         self.title = fig.suptitle("", fontsize=9, y=1 - 0.1 / height, va="top")
@@ -252,13 +300,17 @@ class _ComparisonFigure:
         hours = comparison.times / (86400.0 if days else 3600.0)
         for ax in self.axes[-1]:
             ax.set_xlabel("time [d]" if days else "time [h]", fontsize=8)
-        for q, scale, row in self.lines:
-            direct = comparison.direct[q] * scale
+        clipped = [0, 0]  # panels whose refined curve leaves the axes, per column
+        for (q, scale, row), notes, (left, right) in zip(self.lines, self.notes, self.axes,
+                                                         strict=True):
+            unit = comparison.metric(q).unit
+            d = comparison.direct[q]
+            direct = d * scale
             linear = comparison.linear[q] * scale
-            curves = [direct, linear, linear - direct]
+            curves = [direct, linear, residual(comparison.linear[q], d, unit) * scale]
             if comparison.refined:
                 refined = comparison.refined[q] * scale
-                curves += [refined, refined - direct]
+                curves += [refined, residual(comparison.refined[q], d, unit) * scale]
             # the solid lines' paths keep, per half pixel column, each curve's first,
             # last, smallest and largest sample: the same picture, cheaper for long
             # records; the dashed and dotted ones (linear, refined) are drawn whole:
@@ -268,9 +320,31 @@ class _ComparisonFigure:
                 hours, [c for c, s in zip(curves, solid, strict=True) if s], self.columns))
             for line, values, is_solid in zip(row, curves, solid, strict=True):
                 line.set_data(*(next(reduced) if is_solid else (hours, values)))
-        for ax in self.axes.flat:
-            ax.relim()
-            ax.autoscale_view()
+            for ax in (left, right):
+                ax.relim()
+                ax.autoscale_view()
+            # the ranges: direct and linear on the left; on the right the linear
+            # residual, and the refined one up to the direct error's size
+            size = float(np.max(np.abs(direct[np.isfinite(direct)]), initial=0.0))
+            ranges = [_value_range(left, curves[:2]), _value_range(
+                right, curves[2:3] + ([np.clip(curves[4], -size, size)]
+                                      if comparison.refined else []))]
+            for k, (ax, note, span) in enumerate(zip((left, right), notes, ranges,
+                                                      strict=True)):
+                if span is not None:
+                    ax.set_ylim(*span)
+                text = ""
+                if comparison.refined:
+                    text = _off_axes(curves[3 + k], ax.get_ylim())
+                    clipped[k] += bool(text)
+                note.set_text(text)
+        for legend, count, name in zip(self.legends, clipped, ("refined", "refined − direct"),
+                                       strict=True):
+            for entry in legend.get_texts():
+                if entry.get_text().startswith(name):
+                    entry.set_text(name if not count else
+                                   f"{name} (clipped: leaves the axes in {count} of "
+                                   f"{len(self.lines)} panels)")
         # one time range for all panels, as a shared axis would give (a panel whose curve
         # is cut short by NaNs still spans the whole run)
         common_time_range(self.axes.flat)
