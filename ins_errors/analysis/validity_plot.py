@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 
 import numpy as np
@@ -119,6 +119,38 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
     # tick label first: about one more drawing of the figure)
     fixed_margins(fig, left=0.85, right=0.15, bottom=0.6, top=0.34)
     return save_figure(fig, path, dpi=110)
+
+
+def plot_title(model: str, source: str, hours: float, step: float, motions: Sequence[str],
+               parameters: Mapping[str, Mapping[str, object]] | None = None) -> str:
+    """The title of one source's plot: the model and source, then what the runs were
+    (length, step, scheme, motions, the parameters set), so that plots of different
+    maps can be told apart: ``"strapdown_ned: gyro_bias_z\n4 h runs, τ = 2 s, RK4;
+    static; k_h1 = 0.0293 1/s, k_h2 = 0.000442 1/s^2"``.
+
+    Parameters
+    ----------
+    model, source : str
+        Names.
+    hours : float
+        Length of each run, h.
+    step : float
+        Integration step, s.
+    motions : sequence of str
+        The motions of the source's sweeps.
+    parameters : mapping, optional
+        The parameters set (:func:`~ins_errors.model_parameters.parameters_record`: name
+        -> ``{"value": SI value, "unit": SI unit}``); none: ``model defaults``.
+    """
+    from ins_errors.commands.models import parameter_text
+    from ins_errors.units import format_duration
+
+    given = ", ".join(  # a unit as typed after -p: 1/s^2, not 1/s**2
+        f"{name} = {parameter_text(entry['value'], str(entry['unit']), 3)}".replace("**", "^")
+        for name, entry in (parameters or {}).items())
+    return (f"{model}: {source}\n{format_duration(3600.0 * hours)} runs, τ = {step:g} s, "
+            f"RK4; {', '.join(dict.fromkeys(motions)) or 'no motion'}; "
+            f"{given or 'model defaults'}")
 
 
 def _slope(value: float | None) -> str:

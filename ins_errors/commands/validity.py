@@ -235,11 +235,14 @@ def run(args: argparse.Namespace) -> int:
         out = OutputFolder(out_dir, force=args.force)
         out.write_text("results.json", dumps(payload) + "\n")
         if args.plot:
-            from ins_errors.analysis.validity_plot import plot_validity
+            from ins_errors.analysis.validity_plot import plot_title, plot_validity
 
             for name in dict.fromkeys(r.source for r in results):
-                plot_validity([r for r in results if r.source == name], out.file(f"{name}.png"),
-                              title=f"{model.name}: {name}")
+                sweeps = [r for r in results if r.source == name]
+                plot_validity(sweeps, out.file(f"{name}.png"),
+                              title=plot_title(model.name, name, args.hours, step,
+                                               [r.motion for r in sweeps],
+                                               payload["parameters"]))
         out.finish()
     if args.json:
         emit(payload)
