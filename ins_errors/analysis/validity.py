@@ -202,7 +202,8 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
                    step: float = 2.0, method: str = "rk4",
                    factors: tuple[float, ...] = FACTORS,
                    parameters: Mapping[str, float] | None = None,
-                   truth: str = "auto") -> list[ValidityTask]:
+                   truth: str = "auto",
+                   start: Mapping[str, str] | None = None) -> list[ValidityTask]:
     """The independent tasks of a validity map: one per source and motion.
 
     Parameters
@@ -223,6 +224,11 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
     truth : {"auto", "interpolated", "fine"}
         How the moving truths are computed
         (:func:`ins_errors.numeric.trajectories.trajectory`).
+    start : mapping of str to str, optional
+        Where every motion starts, as a motion description writes it (``latitude``,
+        ``longitude``, ``heading``, ``speed``, ``height`` -> text with unit, e.g.
+        ``{"latitude": "30 deg"}``); each motion takes the settings that apply to it
+        (:func:`applicable`); default: the motions' defaults.
     """
     from ins_errors.numeric.motion_spec import in_si
 
@@ -234,7 +240,9 @@ def validity_tasks(model, motions=MOTIONS, sources=None, hours: float = 24.0,
     return [ValidityTask(model.key, motion, name, tuple(f * typical[name] for f in factors),
                          float(hours), float(step), method,
                          tuple((parameters or {}).items()), truth,
-                         tuple(sorted(in_si({"kind": motion}).items())), typical[name])
+                         tuple(sorted(in_si({"kind": motion,
+                                             **applicable(start, motion)}).items())),
+                         typical[name])
             for motion in motions for name in names]
 
 
@@ -262,10 +270,21 @@ def check_run(hours: float, step: float) -> None:
     step_count(hours * 3600.0, step)
 
 
+def applicable(start: Mapping[str, str] | None, motion: str) -> dict[str, str]:
+    """The settings of ``start`` that a motion of kind ``motion`` uses (a static base has
+    no speed: :data:`~ins_errors.numeric.motion_spec.APPLIES_TO`)."""
+    from ins_errors.numeric.motion_spec import APPLIES_TO
+
+    return {key: text for key, text in (start or {}).items()
+            if motion in APPLIES_TO.get(key, (motion,))}
+
+
 def motion_problems(model, motions, step: float,
                     parameters: Mapping[str, float] | None = None,
-                    truth: str = "auto") -> dict[str, str]:
-    """The motions of ``motions`` that ``model`` cannot follow, each with the reason.
+                    truth: str = "auto",
+                    start: Mapping[str, str] | None = None) -> dict[str, str]:
+    """The motions of ``motions`` that ``model`` cannot follow, each with the reason
+    (each from ``start``, as :func:`validity_tasks` builds them).
 
     Each moving motion is tried for one step of ``step`` s (what the sweep would build
     first), so the answer is the trajectory code's own: e.g. a north-channel model
@@ -288,7 +307,7 @@ def motion_problems(model, motions, step: float,
     p = model.parameter_vector(**dict(parameters or {}))
     problems = {}
     for motion in motions:
-        profile = motion_profile(in_si({"kind": motion}))
+        profile = motion_profile(in_si({"kind": motion, **applicable(start, motion)}))
         if profile.static:
             continue
         try:

@@ -122,7 +122,8 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
 
 
 def plot_title(model: str, source: str, hours: float, step: float, motions: Sequence[str],
-               parameters: Mapping[str, Mapping[str, object]] | None = None) -> str:
+               parameters: Mapping[str, Mapping[str, object]] | None = None,
+               start: Mapping[str, str] | None = None) -> str:
     """The title of one source's plot: the model and source, then what the runs were
     (length, step, scheme, motions, the parameters set), so that plots of different
     maps can be told apart: ``"strapdown_ned: gyro_bias_z\n4 h runs, τ = 2 s, RK4;
@@ -141,6 +142,8 @@ def plot_title(model: str, source: str, hours: float, step: float, motions: Sequ
     parameters : mapping, optional
         The parameters set (:func:`~ins_errors.model_parameters.parameters_record`: name
         -> ``{"value": SI value, "unit": SI unit}``); none: ``model defaults``.
+    start : mapping of str to str, optional
+        The start settings given (``{"latitude": "30deg"}``), written after the motions.
     """
     from ins_errors.commands.models import parameter_text
     from ins_errors.units import format_duration
@@ -149,8 +152,9 @@ def plot_title(model: str, source: str, hours: float, step: float, motions: Sequ
         f"{name} = {parameter_text(entry['value'], str(entry['unit']), 3)}".replace("**", "^")
         for name, entry in (parameters or {}).items())
     return (f"{model}: {source}\n{format_duration(3600.0 * hours)} runs, τ = {step:g} s, "
-            f"RK4; {', '.join(dict.fromkeys(motions)) or 'no motion'}; "
-            f"{given or 'model defaults'}")
+            f"RK4; {', '.join(dict.fromkeys(motions)) or 'no motion'}"
+            + "".join(f", {key} {text}" for key, text in (start or {}).items())
+            + f"; {given or 'model defaults'}")
 
 
 def _slope(value: float | None) -> str:

@@ -49,6 +49,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
                         help="model parameter with unit, as for 'ins-errors compare', e.g. "
                              "strapdown_ned's k_h1=0.0047/s (repeatable; used by every run)")
+    parser.add_argument("--latitude", default=None,
+                        help="start latitude of every motion (default 50deg)")
+    parser.add_argument("--longitude", default=None,
+                        help="start longitude (default 30deg)")
+    parser.add_argument("--heading", default=None,
+                        help="initial track angle (default 0deg at rest, 90deg moving)")
+    parser.add_argument("--speed", default=None,
+                        help="ground speed of the moving motions (default 250m/s)")
+    parser.add_argument("--height", default=None, help="height (default 0m)")
     parser.add_argument("--hours", type=hours, default=24.0,
                         help="length of each run in hours (default 24)")
     parser.add_argument("--step", default="2s", help="integration step (default 2s, RK4)")
@@ -182,6 +191,30 @@ def _failed(results) -> int:
     return 2
 
 
+START_OPTIONS = ("latitude", "longitude", "heading", "speed", "height")
+"""The options that set where (and how fast) every motion of the map starts."""
+
+
+def _start(args: argparse.Namespace, model, motions: list[str]) -> dict[str, str]:
+    """The start options given (name -> text as typed), each checked on every motion it
+    applies to (one line naming the option: ``--latitude 95deg is at or beyond a pole``);
+    ``--speed`` needs a moving motion."""
+    from ins_errors.analysis.validity import applicable
+    from ins_errors.commands import motion_from_options
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric.motion_spec import APPLIES_TO
+
+    start = {name: getattr(args, name) for name in START_OPTIONS
+             if getattr(args, name) is not None}
+    if "speed" in start and not set(motions) & set(APPLIES_TO["speed"]):
+        raise InsErrorsError("--speed applies to the moving motions (great-circle, "
+                             "manoeuvre), and only static is mapped: leave --speed out or "
+                             "add a moving --motion")
+    for motion in motions:
+        motion_from_options({"kind": motion, **applicable(start, motion)}, model=model)
+    return start
+
+
 def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.validity import MOTIONS as DEFAULT_MOTIONS
     from ins_errors.analysis.validity import (
@@ -206,7 +239,8 @@ def run(args: argparse.Namespace) -> int:
     step = parse_quantity(args.step, "s", "--step")
     check_run(args.hours, step)  # (a step no run can use: refused once, not per sweep)
     motions = args.motion or list(DEFAULT_MOTIONS)
-    problems = motion_problems(model, motions, step, parameters, args.truth)
+    start = _start(args, model, motions)
+    problems = motion_problems(model, motions, step, parameters, args.truth, start)
     if problems and args.motion:
         motion, why = next(iter(problems.items()))
         raise InsErrorsError(f"--motion {motion}: {why}; map the static base with "
@@ -216,7 +250,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"ins-errors: validity: mapping {', '.join(motions)} only; left out: "
               + "; ".join(f"{m} ({why})" for m, why in problems.items()), file=sys.stderr)
     tasks = validity_tasks(model, motions, args.source, hours=args.hours, step=step,
-                           parameters=parameters, truth=args.truth)
+                           parameters=parameters, truth=args.truth, start=start)
     out_dir = args.out or (f"validity_{model.name}" if args.plot else None)
     if args.plot:
         require_matplotlib("--plot")
@@ -228,7 +262,8 @@ def run(args: argparse.Namespace) -> int:
     results = validity_map(tasks, engine=engine, progress=not args.no_progress,
                            scheduler=args.scheduler, workers=args.workers)
     payload = {"model": model.name, "hours": args.hours, "step_s": step, "method": "rk4",
-               "truth": args.truth, "parameters": parameters_record(model, parameters),
+               "truth": args.truth, "start": start,
+               "parameters": parameters_record(model, parameters),
                "parameters_used": parameters_used(model, model.parameter_vector(**parameters)),
                "sources": [r.to_dict() for r in results], "failed": failures(results)}
     if out_dir is not None:
@@ -242,14 +277,15 @@ def run(args: argparse.Namespace) -> int:
                 plot_validity(sweeps, out.file(f"{name}.png"),
                               title=plot_title(model.name, name, args.hours, step,
                                                [r.motion for r in sweeps],
-                                               payload["parameters"]))
+                                               payload["parameters"], start))
         out.finish()
     if args.json:
         emit(payload)
     else:
         print(f"### {model.name}: validity of the linear error equations "
               f"({args.hours:g} h runs, τ = {step:g} s, RK4"
-              + (f", {args.truth} truth" if set(motions) - {"static"} else "") + ")\n")
+              + (f", {args.truth} truth" if set(motions) - {"static"} else "")
+              + "".join(f", {key} {text}" for key, text in start.items()) + ")\n")
         print(table(results, model))
         if out_dir is not None:
             print(f"written: {out_dir}/results.json" + (" and one plot per source"
