@@ -379,7 +379,8 @@ def _default_times(rule: str, operating_time: float, step: float) -> tuple[float
     from ins_errors.numeric.integrators import whole_steps
 
     times = [quarter * k for k in range(count + 1)
-             if quarter * k < end * (1 - 1e-12) and whole_steps(quarter * k, step)]
+             if quarter * k < end * (1 - 1e-12)
+             and whole_steps(quarter * k, step) is not None]   # 0 steps is on the grid
     return (*times, end)
 
 

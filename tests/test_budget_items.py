@@ -266,13 +266,16 @@ def test_a_value_in_the_other_items_dimension_names_it(tmp_path, item, value, wo
 
 
 @pytest.mark.parametrize("operating_time, step, times", [
-    ("1 h", "60 s", [900.0, 1800.0, 2700.0, 3600.0]),
-    ("40 min", "60 s", [900.0, 1800.0, 2400.0]),
-    ("10 min", "7 s", [595.0]),          # the last grid time within the operating time
+    ("1 h", "60 s", [0.0, 900.0, 1800.0, 2700.0, 3600.0]),
+    ("40 min", "60 s", [0.0, 900.0, 1800.0, 2400.0]),
+    ("10 min", "7 s", [0.0, 595.0]),     # the last grid time within the operating time
 ])
 def test_absolute_items_are_checked_every_quarter_hour_and_at_the_end(tmp_path,
                                                                       operating_time, step,
                                                                       times):
+    """An item that limits the error itself is checked from the start, where the error
+    is the initial error (docs/scenarios.md), every 15 min and at the end (the start,
+    0 steps of the grid, was once left out as if it were off the grid)."""
     text = f"""
         operating_time = "{operating_time}"
         step = "{step}"
