@@ -1,8 +1,9 @@
 """Each source's contribution to every navigation error at chosen times (``--at``).
 
 The allocated (or fixed) magnitudes are propagated once more with every error state and
-output as a readout: each source's 1σ share of each platform angle and output error at
-the times asked for, latitude and longitude errors as metres north and east.
+output as a readout: each source's 1σ share of every navigation error (each platform
+angle and each output's error) at the times asked for, latitude and longitude errors as
+metres north and east.
 """
 
 from __future__ import annotations
@@ -119,8 +120,37 @@ def check_times(spec: Spec, times, what: str = "--at") -> None:
                             f"{format_time(end)} in steps of {spec.step:g} s)")
 
 
+def navigation_errors(model, names: tuple[str, ...]) -> list[int]:
+    """Indices, among the functionals of
+    :func:`~ins_errors.analysis.covariance.state_and_output_functionals` (``names``), of
+    every navigation error: the platform angles, then every output's error in the
+    model's order of outputs (position, height, velocity, attitude, as the model has
+    them).
+
+    The platform angles are the error states beyond the errors of the computed states
+    (a platform model's α; a strapdown model has none, its attitude is its roll, pitch
+    and heading outputs). An output's error is the functional named for it: the output
+    row ``delta_<output>`` (``delta_<output>_output`` where an error state has that
+    name but H reads the output otherwise), or the error state itself where H reads
+    that state alone (north_pointing's latitude, longitude and velocities, a strapdown
+    model's velocities), which the functionals list once, among the states.
+    """
+    chosen = list(range(len(model.states), len(model.error_states)))
+    for output in model.outputs:
+        name = f"delta_{output.name}"
+        for candidate in (f"{name}_output", name):
+            if candidate in names:
+                chosen.append(names.index(candidate))
+                break
+        else:
+            raise BudgetError(f"the error of output {output.name!r} is none of the "
+                              f"propagated functionals")
+    return chosen
+
+
 def output_contributions(model, allocation: Allocation, times: list[float]) -> dict:
-    """Each source's 1σ contribution to every platform angle and output error.
+    """Each source's 1σ contribution to every navigation error
+    (:func:`navigation_errors`: platform angles and every output's error).
 
     A latitude and a longitude error are given as the north and east position errors
     ``delta_r_N`` = R_N Δφ and ``delta_r_E`` = R_E cos φ Δλ, m (the radii of the
@@ -151,8 +181,7 @@ def output_contributions(model, allocation: Allocation, times: list[float]) -> d
     stats = [SourceStatistics(budget.sources[j].name, budget.sources[j].statistics,
                               float(allocation.sigma[j]), budget.sources[j].tau) for j in keep]
     functionals = state_and_output_functionals(model, system)
-    n = len(model.states)
-    chosen = list(range(n, len(functionals.names)))
+    chosen = navigation_errors(model, functionals.names)
     check_times(budget.spec, times)
     index = [round(t / system.step) for t in times]
     covariance = propagate(system, stats, functionals)
