@@ -189,6 +189,8 @@ def test_report_of_an_exceeded_spec_shows_it_exceeded(tmp_path, capsys):
     assert fixed["source"] == "gyro_drift_x" and fixed["fixed or free"] == "fixed"
     assert fixed["largest share"] == f"{100 * max(shares.values()):.0f} % of position_error"
     assert "initial_tilt_x, initial_tilt_y" in text.split("## Spec items")[0]
+    # items exceeded at their check times: no word of between them, the rows say it
+    assert all(item["between_checks"] is None for item in data["items"])
     [warning] = data["warnings"]
     assert warning.startswith("--monte-carlo skipped") and f"- {warning}" in text
     assert f"ins-errors: warning: {warning}" in err
@@ -411,18 +413,28 @@ def test_equator_curves_follow_the_schuler_textbook_forms(tmp_path, orthodromic,
         assert np.max(np.abs(curve.values - expected)) <= 1e-8 * np.max(expected), item
 
 
+UAV_SPEC = ROOT / "examples" / "specs" / "uav_strapdown.toml"
+
+
+def uav_with_a_hole(tmp_path: Path) -> Path:
+    """The example UAV spec with its height checked every 5 min, as it once was: the
+    initial vertical velocity error the height item then allows at 5 min gives five
+    times the limit within the first minute, between the first two checks."""
+    text = UAV_SPEC.read_text()
+    assert text.count('every = "1 min"') == 1
+    return write(tmp_path, text.replace('every = "1 min"', 'every = "5 min"'), "hole.toml")
+
+
 def test_a_height_peak_between_checks_is_the_at_breakdowns(tmp_path):
-    """The example UAV spec checks the height every 5 min; between the first two checks
-    its curve passes the limit, at the initial vertical velocity error the height item
-    allows at 5 min. The curve there (off the check times) is the --at breakdown's
+    """The curve between the checks (off the check times) is the --at breakdown's
     height error, a propagation of its own (every state and output, at the allocated
-    magnitudes)."""
+    magnitudes), and it is the peak the budget reports between the checks."""
     from ins_errors.analysis.budget_contributions import output_contributions
     from ins_errors.numeric.model import load_model
     from ins_errors.specs import spec_parameters
 
     model = load_model("strapdown_ned")
-    spec = load_spec(ROOT / "examples" / "specs" / "uav_strapdown.toml")
+    spec = load_spec(uav_with_a_hole(tmp_path))
     p = model.parameter_vector(**spec_parameters(spec, model, []))
     allocation = bd.allocate(bd.unit_budget(model, spec, p=p))
     [height] = [c for c in bt.item_curves(allocation) if c.item == "height_error"]
@@ -435,3 +447,112 @@ def test_a_height_peak_between_checks_is_the_at_breakdowns(tmp_path):
     assert value == pytest.approx(outputs["total"][0][q], rel=1e-9)   # the spec is 1σ
     std = outputs["std"][0][q]
     assert outputs["sources"][int(np.argmax(std))] == "initial_velocity_error_D"
+    peak = rep.between_checks(allocation)["height_error"]
+    assert peak["time_h"] * 3600 == t and peak["value"] == value
+    assert all(v is None for k, v in rep.between_checks(allocation).items()
+               if k != "height_error")
+
+
+def test_a_height_peak_between_checks_is_warned_of_everywhere(tmp_path, capsys):
+    """The spec with the hole is met at every check time (exit 0), but the budget says
+    where it is not: one warning on stderr, in --json's warnings and the item's
+    between_checks, in the terminal's items table and in the report's result, status
+    and notes."""
+    spec = str(uav_with_a_hole(tmp_path))
+    report = tmp_path / "hole.md"
+    data, err = run(["budget", "strapdown_ned", "--spec", spec, "--json", "--report",
+                     str(report)], capsys)
+    [warning] = [w for w in data["warnings"] if "between its check times" in w]
+    assert f"ins-errors: warning: {warning}" in err
+    [height] = [i for i in data["items"] if i["name"] == "height_error"]
+    peak = height["between_checks"]
+    assert peak["ratio"] > 3 and peak["ratio"] == pytest.approx(peak["value"] / 30.0)
+    assert not height["exceeded"] and height["ratio"] <= 1
+    assert warning.startswith(f"height_error passes its limit between its check times: "
+                              f"{peak['display']} (1σ) at 50 s")
+    assert "every 5 min from the start to 20 min" in warning
+    assert 'every = "10 s"' in warning   # the analysis step: the whole run
+    assert all(i["between_checks"] is None for i in data["items"] if i is not height)
+    text = report.read_text(encoding="utf-8")
+    assert f"- {warning}" in text
+    assert "above the limit between the check times: height_error" in text
+    row = {r["item"]: r for r in tables(text)["Spec items at the allocated magnitudes"]}
+    assert row["height_error"]["status"].startswith(
+        f"met at its check times only; between them {peak['display']} at 50 s")
+    assert main(["budget", "strapdown_ned", "--spec", spec]) == 0
+    out = capsys.readouterr().out
+    assert f"! height_error between its check times: {peak['display']} at 50 s" in out
+
+
+def test_the_example_uav_spec_holds_its_height_between_checks(capsys):
+    """The example checks the height every minute: no item of it passes its limit
+    between its check times, so the budget warns of none, and its curves stay within
+    their limits over the whole run."""
+    data, err = run(["budget", "strapdown_ned", "--spec", str(UAV_SPEC), "--json"], capsys)
+    assert "between its check times" not in err
+    assert not [w for w in data["warnings"] if "between its check times" in w]
+    assert all(item["between_checks"] is None for item in data["items"])
+    assert not data["exceeded"]
+
+
+def test_a_height_peak_between_checks_is_the_vertical_channels_textbook_response(
+        tmp_path, capsys):
+    """A spec that allocates the initial vertical velocity error alone, on the height
+    checked every 5 min, static base: the damped vertical channel is the textbook one,
+
+        δv̇_E = 2Ω cos φ δv_D,  δv̇_D = −2Ω cos φ δv_E + (k₂ + ∂γ/∂h) δh,
+        δḣ = −δv_D − k₁ δh,
+
+    (the Coriolis pair shifts the tail of the response by 0.2 % at 5 min), with ∂γ/∂h
+    the WGS 84 free-air gradient −2γ₀/a (1 + f + m − 2f sin²φ) + 6γ₀h/a². The source
+    takes the whole allowed variance where it binds, at 5 min: its allowance is
+    30 m / |δh(5 min)| per m/s, and the peak between the checks is that times the
+    largest |δh| on the 10-s grid, 27 times the limit at 50 s."""
+    from scipy.linalg import expm
+
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("strapdown_ned")
+    text = """
+        title = "initial vertical velocity, height checked every 5 min"
+        sigma_level = 1
+        operating_time = "20 min"
+        step = "10 s"
+        [motion]
+        kind = "static"
+        latitude = "45 deg"
+        height = "1000 m"
+        [items.height_error]
+        value = "30 m"
+        every = "5 min"
+        [parameters]
+        k_h1 = "0.0293 1/s"
+        k_h2 = "4.42e-4 1/s**2"
+    """ + "".join(f"[sources.{s.name}]\ninclude = false\n" for s in model.sources
+                  if s.name != "initial_velocity_error_D")
+    data, err = run(["budget", "strapdown_ned", "--spec", str(write(tmp_path, text)),
+                     "--json"], capsys)
+    # WGS 84 (NIMA TR8350.2): a, f, γ_e, Somigliana's k, m = ω²a²b/GM; Earth rate
+    a, f, gamma_e, k, m = (6378137.0, 1 / 298.257223563, 9.7803253359,
+                           0.00193185265241, 0.00344978600308)
+    earth_rate = 7.292115e-5
+    lat, h, k1, k2 = np.radians(45.0), 1000.0, 0.0293, 4.42e-4
+    s2 = np.sin(lat) ** 2
+    gamma0 = gamma_e * (1 + k * s2) / np.sqrt(1 - f * (2 - f) * s2)
+    gradient = -2 * gamma0 / a * (1 + f + m - 2 * f * s2) + 6 * gamma0 * h / a**2
+    c = 2 * earth_rate * np.cos(lat)
+    A = np.array([[0.0, c, 0.0], [-c, 0.0, k2 + gradient], [0.0, -1.0, -k1]])
+    times = np.arange(0.0, 1201.0, 10.0)
+    dh = np.abs([(expm(A * t) @ [0.0, 1.0, 0.0])[2] for t in times])  # per m/s of δv_D(0)
+    allowed = 30.0 / dh[times == 300.0][0]
+    [source] = [s for s in data["sources"] if s["magnitude"] is not None]
+    assert source["name"] == "initial_velocity_error_D"
+    assert source["binding_time_h"] * 3600 == 300.0
+    assert source["magnitude"] == pytest.approx(allowed, rel=1e-3)
+    peak = data["items"][0]["between_checks"]
+    inside = (times > 0) & (times < 300)
+    assert peak["time_h"] * 3600 == times[inside][np.argmax(dh[inside])] == 50.0
+    assert peak["value"] == pytest.approx(allowed * dh[times == 50.0][0], rel=1e-3)
+    assert peak["ratio"] == pytest.approx(dh[times == 50.0][0] / dh[times == 300.0][0],
+                                          rel=1e-3)
+    assert "height_error passes its limit between its check times" in err

@@ -91,6 +91,10 @@ def markdown(data: dict, spec, spec_name: str, model_name: str) -> str:
     result = (exceeded_line(data) if exceeded else
               "met: every item is within its limit at each of its check times, at the "
               "allocated magnitudes")
+    passing = [i["name"] for i in data["items"] if i.get("between_checks")]
+    if passing:   # the spec is met where it looks: say where it is not
+        result += (f"; above the limit between the check times: {', '.join(passing)} "
+                   f"(see the warnings)")
     lines = [f"# Error budget: {one_line(data['spec'])}", ""]
     lines += [f"- **{key}**: {one_line(value)}" for key, value in [
         ("spec", spec_name), ("model", model_name), ("motion", data["motion"]),

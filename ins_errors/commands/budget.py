@@ -156,6 +156,7 @@ def run(args: argparse.Namespace) -> int:
     data = rep.report(allocation)
     data["parameters"] = parameters_record(model, parameters)
     data["warnings"] = warnings
+    _between_warnings(data)
     if args.plot:
         rep.plot(allocation, args.plot)
     if args.plot_time:
@@ -221,6 +222,17 @@ def _linear_warning(budget, values, warnings: list[str]) -> None:
         warnings.append(text)
 
 
+def _between_warnings(data: dict) -> None:
+    """Warn (stderr and ``data["warnings"]``) of every item that passes its limit
+    between its check times (:func:`~ins_errors.analysis.budget_report.
+    between_checks_warnings`)."""
+    from ins_errors.analysis import budget_report as rep
+
+    for text in rep.between_checks_warnings(data):
+        print(f"ins-errors: warning: {text}", file=sys.stderr)
+        data["warnings"].append(text)
+
+
 def _report_exceeded(args: argparse.Namespace, model, exceeded, parameters: dict,
                      warnings: list[str], times: list[float] | None) -> int:
     """A spec the fixed sources alone use up: the rows with their ratios (JSON or
@@ -234,6 +246,7 @@ def _report_exceeded(args: argparse.Namespace, model, exceeded, parameters: dict
     from ins_errors.analysis import budget_report as rep
 
     data = {**rep.exceeded_report(exceeded), "parameters": parameters, "warnings": warnings}
+    _between_warnings(data)
     fixed = rep.fixed_allocation(exceeded)
     if args.monte_carlo is not None:
         text = ("--monte-carlo skipped: the fixed sources alone exceed the spec, so there "
