@@ -32,9 +32,22 @@ def test_results_reach_their_task_index(kind):
     assert stats.computed == 7 and stats.engine == kind
 
 
+def test_a_few_tasks_run_on_the_pool_without_starting_a_dask_cluster(monkeypatch):
+    """A local Dask cluster takes seconds to start: "auto" runs up to two tasks per worker
+    on the process pool even where Dask is installed (no Dask import is even tried)."""
+    monkeypatch.setattr(engine, "dask_available", lambda: True)
+    monkeypatch.setattr(engine, "_run_dask", lambda *a, **k: pytest.fail("Dask started"))
+    seen = {}
+    stats = engine.run_tasks(square, [(k,) for k in range(4)], engine="auto", workers=2,
+                             shared=(1,), on_result=seen.__setitem__)
+    assert stats.engine == "pool" and seen == {k: 1 + k * k for k in range(4)}
+
+
 def test_without_dask_the_pool_runs_and_says_how_to_install_dask(monkeypatch, capsys):
     monkeypatch.setattr(engine, "dask_available", lambda: False)
+    monkeypatch.setitem(engine._SAID, "no dask", False)
     assert engine.choose_engine("auto") == "pool"
+    assert engine.choose_engine("auto") == "pool"  # (a sweep resolves it twice)
     err = capsys.readouterr().err
     assert "pip install 'ins-errors[distributed]'" in err and err.count("\n") == 1
     with pytest.raises(engine.EngineError, match=r"ins-errors\[distributed\]"):

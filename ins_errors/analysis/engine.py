@@ -46,6 +46,11 @@ from ins_errors.errors import InsErrorsError, unknown_name
 ENGINES = ("auto", "dask", "pool", "serial")
 """Engine names :func:`run_tasks` accepts (``"auto"``: Dask if installed, else the pool)."""
 
+SMALL_RUN_PER_WORKER = 2
+"""``"auto"`` runs at most this many tasks per worker on the process pool even where Dask
+is installed: a local Dask cluster takes seconds to start (4-5 s wall on two cores), more
+than such a run saves by it (a 4-point sweep: 8-12 s on Dask, 7 s in one process)."""
+
 INSTALL_HINT = "pip install 'ins-errors[distributed]'"
 """How to install the Dask engine."""
 
@@ -100,6 +105,10 @@ def dask_available() -> bool:
     return True
 
 
+_SAID = {"no dask": False}
+"""What this process has told the user already."""
+
+
 def choose_engine(engine: str = "auto", scheduler: str | None = None) -> str:
     """Resolve ``"auto"`` and check that the chosen engine can run here.
 
@@ -121,8 +130,10 @@ def choose_engine(engine: str = "auto", scheduler: str | None = None) -> str:
     if engine == "auto":
         if dask_available():
             return "dask"
-        print(f"ins-errors: Dask is not installed, running on a local process pool "
-              f"(for Dask and clusters: {INSTALL_HINT})", file=sys.stderr)
+        if not _SAID["no dask"]:  # (a command may resolve its engine more than once)
+            print(f"ins-errors: Dask is not installed, running on a local process pool "
+                  f"(for Dask and clusters: {INSTALL_HINT})", file=sys.stderr)
+            _SAID["no dask"] = True
         return "pool"
     return engine
 
@@ -142,6 +153,8 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
     tasks : sequence of tuple
         Arguments of each task; task ``k`` is reported as index ``k``.
     engine : {"auto", "dask", "pool", "serial"}
+        ``"auto"``: :func:`choose_engine`'s choice, except that a local run of at most
+        :data:`SMALL_RUN_PER_WORKER` tasks per worker takes the process pool.
     scheduler : str, optional
         Address of a running Dask scheduler, e.g. ``"tcp://10.0.0.5:8786"``; default: a
         local cluster started (and shut down) by this call.
@@ -172,9 +185,13 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
     InsErrorsError
         The error of a task, when ``on_failure`` is not given.
     """
+    asked = engine
     engine = choose_engine(engine, scheduler)
     cores = os.cpu_count() or 1
     workers = max(1, workers or cores)
+    if asked == "auto" and scheduler is None and engine == "dask" and (
+            len(tasks) <= SMALL_RUN_PER_WORKER * workers):
+        engine = "pool"  # a few tasks: no local cluster to start
     report = on_result or (lambda k, r: None)
     bar = None
     if progress and tasks:

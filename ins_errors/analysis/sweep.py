@@ -1114,7 +1114,7 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
 
     store = store_path(store)  # a name of no known format, before anything is made
     scheduler = scheduler or scenario.sweep.scheduler
-    engine = choose_engine(engine, scheduler)  # before any store is made
+    choose_engine(engine, scheduler)  # refused before any store is made
     if shard is None:
         scenario = _as_stored(scenario, store)
     points = grid(scenario)
