@@ -181,7 +181,9 @@ def resolve(spec: str, relative_to: str | Path | None = None) -> ModelRef:
     from ins_errors.model_identity import model_sha256
 
     if _looks_like_path(spec) or Path(spec).is_file():
-        path = Path(spec).expanduser()
+        from ins_errors.user_paths import user_path
+
+        path = user_path(spec)
         if relative_to is not None and not path.is_absolute():
             path = Path(relative_to) / path
         looked = (f" (looked in {str(Path(relative_to))!r})" if relative_to is not None

@@ -215,6 +215,10 @@ def load_scenario(path: str | Path) -> Scenario:
     from ins_errors.numeric.motion_spec import motion_profile, refuse_unused_heading
 
     motion = dict(data.get("motion", {}))
+    if isinstance(motion.get("file"), str):  # '~' as on the command line, for every reader
+        from ins_errors.user_paths import expand_user
+
+        motion["file"] = expand_user(motion["file"])
     try:
         profile = motion_profile(motion, base=path.parent, model=model)  # before any run
     except InsErrorsError as error:
@@ -245,7 +249,7 @@ def load_scenario(path: str | Path) -> Scenario:
         title=str(data.get("title", path.stem)),
         description=str(data.get("description", "")),
         model=model.key,
-        motion=dict(data.get("motion", {})),
+        motion=dict(motion),
         duration=duration,
         step=step,
         record=record,

@@ -6,6 +6,7 @@ import argparse
 import sys
 
 from ins_errors.json_output import emit
+from ins_errors.user_paths import expand_user
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -21,14 +22,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--schema", action="store_true",
                         help="print the JSON Schema of accuracy-spec files (for editors) "
                              "and exit")
-    parser.add_argument("--spec",
+    parser.add_argument("--spec", type=expand_user,
                         help="spec file (TOML with units); default: the built-in 802m spec")
     parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
                         help="model parameter with unit, as for 'ins-errors compare', e.g. "
                              "strapdown_ned's k_h1=0.0047/s (repeatable; used by the "
                              "covariance and the Monte Carlo runs; overrides the spec's "
                              "[parameters])")
-    parser.add_argument("--plot", metavar="PNG",
+    parser.add_argument("--plot", type=expand_user, metavar="PNG",
                         help="write a chart of the allocation: each source's allowed "
                              "magnitude (or the spec's fixed one, hatched) with its largest "
                              "share of every item (the binding one named), and every item's "
@@ -71,7 +72,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "contributions, at the allocated magnitudes, to every "
                              "navigation error at those times (positions in metres north "
                              "and east)")
-    parser.add_argument("--plot-at", metavar="PNG",
+    parser.add_argument("--plot-at", type=expand_user, metavar="PNG",
                         help="with --at: write a stacked plot of those contributions")
     parser.set_defaults(func=run)
 

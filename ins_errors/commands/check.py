@@ -10,6 +10,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 from ins_errors.json_output import emit
+from ins_errors.user_paths import expand_user, user_path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -37,19 +38,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "Every entry is classed agrees / dropped small term / mistake, and both "
                     "models are propagated for 1 h and 24 h. Details: docs/matrix_check.md.")
     parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
-    parser.add_argument("file", type=Path, nargs="*",
+    parser.add_argument("file", type=user_path, nargs="*",
                         help="hand file (.txt SymPy syntax, .tex LaTeX); several are "
                              "checked one after the other, each report under a header "
                              "naming its file (--json: one JSON array), the exit status "
                              "the worst; not with --matrix")
-    parser.add_argument("--matrix", metavar="FILE.py:FUNCTION|FILE.npz|FILE.mat",
+    parser.add_argument("--matrix", type=expand_user, metavar="FILE.py:FUNCTION|FILE.npz|FILE.mat",
                         help="check a hand-coded F (and G) instead of equations")
     parser.add_argument("--convention", default="model",
                         help="state convention of the hand-coded matrices (default 'model': "
                              "the model's own error states; see --list-conventions)")
     parser.add_argument("--list-conventions", action="store_true",
                         help="print the model's conventions and their state vocabulary")
-    parser.add_argument("--write-samples", type=Path, metavar="FILE.npz|FILE.mat",
+    parser.add_argument("--write-samples", type=user_path, metavar="FILE.npz|FILE.mat",
                         help="write the navigation state and IMU outputs at every sample "
                              "time of the matrix check's motions, for computing F elsewhere")
     parser.add_argument("--latex", action="store_true",
@@ -67,10 +68,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "k_h2=4.42e-4/s^2 (repeatable): the reference motions, term "
                              "sizes and effects use it; a term multiplied by a damping gain "
                              "left at 0 is not checked (a warning says so)")
-    parser.add_argument("--mapping", type=Path,
+    parser.add_argument("--mapping", type=user_path,
                         help="mapping file (@alias / @source lines) added to the default "
                              "notation")
-    parser.add_argument("--report", type=Path,
+    parser.add_argument("--report", type=user_path,
                         help="also write the report here: LaTeX (a fragment to \\input into a "
                              "referee report, coefficients typeset in the model's notation) "
                              "when the name ends in .tex, Markdown otherwise")

@@ -17,6 +17,7 @@ import sys
 from ins_errors.commands import hours, motion_from_options
 from ins_errors.commands.run import TRUTHS
 from ins_errors.json_output import emit
+from ins_errors.user_paths import expand_user
 
 MOTIONS = ("static", "great-circle", "manoeuvre")  # motion_spec.MOTION_KINDS less "file"
 
@@ -44,7 +45,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="run each --source as its own case (default: all together)")
     parser.add_argument("--motion", choices=MOTIONS, default="static",
                         help="true motion (default: static)")
-    parser.add_argument("--motion-file", metavar="CSV",
+    parser.add_argument("--motion-file", type=expand_user, metavar="CSV",
                         help="own motion: CSV with a header row and columns t (s, from 0), "
                              "v_N, v_E (m/s) and optionally h (m), no others; overrides "
                              "--motion; the run lasts the file's length unless --hours or "
@@ -92,11 +93,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "enough steps, else fine)")
     parser.add_argument("--no-refined", action="store_true",
                         help="skip the second-order (refined) run")
-    parser.add_argument("--plot", metavar="FILE",
+    parser.add_argument("--plot", type=expand_user, metavar="FILE",
                         help="write overlaid curves (png/pdf/svg); with several cases "
                              "(--separately) one file per case: FILE_1, FILE_2, ...")
-    parser.add_argument("--markdown", metavar="FILE", help="write the Markdown tables")
-    parser.add_argument("--out", "-o", metavar="DIR",
+    parser.add_argument("--markdown", type=expand_user, metavar="FILE",
+                        help="write the Markdown tables")
+    parser.add_argument("--out", "-o", type=expand_user, metavar="DIR",
                         help="folder for every curve of every case as curves.csv and MATLAB "
                              "curves.mat (SI units; the same files as 'ins-errors run' writes)")
     parser.add_argument("--force", action="store_true",

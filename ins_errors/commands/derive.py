@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 import time
 from dataclasses import asdict
-from pathlib import Path
 
 from ins_errors.json_output import emit
+from ins_errors.user_paths import user_path
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -22,7 +22,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "error_equations.md (the equations as Markdown/LaTeX). All or nothing: "
                     "on any error DIR is left as it was.")
     parser.add_argument("model", help="model file, e.g. examples/own_model/schuler_loop.py")
-    parser.add_argument("--out", "-o", type=Path, metavar="DIR",
+    parser.add_argument("--out", "-o", type=user_path, metavar="DIR",
                         help="package folder to write (default for a model file: "
                              "<file stem>_generated/ next to it, where the other commands "
                              "look first)")

@@ -33,12 +33,12 @@ from __future__ import annotations
 
 import argparse
 import math
-from pathlib import Path
 
 import numpy as np
 
 from ins_errors.commands import hours
 from ins_errors.json_output import emit
+from ins_errors.user_paths import user_path
 
 MOTIONS = ("static", "cruise", "manoeuvre")
 """The matrix check's motions (:mod:`ins_errors.checker.check_motions`)."""
@@ -95,7 +95,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--parameter", "-p", action="append", default=[],
                         metavar="NAME=VALUE",
                         help="model parameter with unit, e.g. k_h1=0.0293/s (repeatable)")
-    parser.add_argument("--out", "-o", type=Path, default=None, metavar="FILE.npz|FILE.mat",
+    parser.add_argument("--out", "-o", type=user_path, default=None, metavar="FILE.npz|FILE.mat",
                         help="file to write (.npz, or MATLAB .mat; required)")
     parser.add_argument("--json", action="store_true",
                         help="print what was written as JSON")

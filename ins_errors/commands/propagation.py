@@ -18,12 +18,12 @@ quantity and ``not_in_reduced`` the quantities the reduced model leaves at zero.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 import numpy as np
 
 from ins_errors.commands import hours
 from ins_errors.json_output import emit
+from ins_errors.user_paths import user_path
 
 _EXPERIMENT_OPTIONS = (("--drift", "0.1 deg/h", "gyro drift"),
                        ("--bias", "1e-4 g", "accelerometer bias"),
@@ -53,7 +53,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     for option, default, what in _EXPERIMENT_OPTIONS:
         parser.add_argument(option, default=None,
                             help=f"{what} (default {default}; not with --orthodromic)")
-    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+    parser.add_argument("--out", type=user_path, default=None, metavar="DIR",
                         help="write summary.md and the plots into this folder "
                              "(--orthodromic: orthodromic_day.md and its plots)")
     parser.add_argument("--force", action="store_true",

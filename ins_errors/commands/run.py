@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 
 from ins_errors.json_output import emit
+from ins_errors.user_paths import expand_user
 
 TRUTHS = ("auto", "interpolated", "fine")  # trajectories.TRUTHS, without importing numpy
 SCENARIO_TRUTH_HELP = ("how the true motion of a moving run is built, as for 'ins-errors "
@@ -22,11 +23,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "(model, motion, run settings, error-source cases with units) and write "
                     "a report folder: report.md, report.html, one plot per case and "
                     "results.json. See examples/ for scenario files.")
-    parser.add_argument("scenario", nargs="?",
+    parser.add_argument("scenario", nargs="?", type=expand_user,
                         help="scenario file, e.g. examples/lab_000_task1_gyro_drift.toml")
     parser.add_argument("--schema", action="store_true",
                         help="print the JSON Schema of scenario files (for editors) and exit")
-    parser.add_argument("--out", "-o", metavar="DIR",
+    parser.add_argument("--out", "-o", type=expand_user, metavar="DIR",
                         help="report folder (default: report_<scenario name> here)")
     parser.add_argument("--json", action="store_true",
                         help="print the results as JSON instead of the summary table")

@@ -19,10 +19,10 @@ Examples::
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
 from ins_errors.commands import hours, motion_from_options
 from ins_errors.json_output import emit
+from ins_errors.user_paths import user_path
 
 SPHEROID = "spheroid"
 DEFAULT_SPEED = "250 m/s"
@@ -60,7 +60,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--speed", default=None,
                         help="ground speed in flight (default 250 m/s; not with "
                              "--scenario static)")
-    parser.add_argument("--plot", type=Path, default=None, metavar="DIR",
+    parser.add_argument("--plot", type=user_path, default=None, metavar="DIR",
                         help="write PNG plots into this folder")
     parser.add_argument("--force", action="store_true",
                         help="write into a non-empty --plot folder that ins-errors did not "

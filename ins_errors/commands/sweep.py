@@ -6,6 +6,7 @@ import argparse
 
 from ins_errors.commands.run import SCENARIO_TRUTH_HELP, TRUTHS
 from ins_errors.json_output import emit
+from ins_errors.user_paths import expand_user
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -27,8 +28,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "'ins-errors sweep FILE --merge PART... --store ALL' joins their "
                     "stores into the one the whole sweep would have written. It says "
                     "how many points it will compute on stderr first.")
-    parser.add_argument("scenario", help="scenario file with a [sweep] table")
-    parser.add_argument("--store", metavar="PATH",
+    parser.add_argument("scenario", type=expand_user, help="scenario file with a [sweep] table")
+    parser.add_argument("--store", type=expand_user, metavar="PATH",
                         help="result store: *.zarr (filled as points finish) or *.nc "
                              "(NetCDF, written when complete); default "
                              "<scenario name>.zarr here (of a shard: "
@@ -38,7 +39,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "I-1, I-1+N, I-1+2N, ... of the sweep, Monte Carlo draws "
                              "included, on any engine), into a store of its own; e.g. "
                              "--shard $SLURM_ARRAY_TASK_ID/8 in a job array --array=1-8")
-    parser.add_argument("--merge", nargs="+", metavar="PART",
+    parser.add_argument("--merge", type=expand_user, nargs="+", metavar="PART",
                         help="compute nothing: join the stores of the N shards of this "
                              "sweep (each --shard I/N run) into --store, after checking "
                              "that they belong to this sweep and hold every point once")
@@ -53,7 +54,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="workers of the local cluster or pool (default: CPU cores)")
     parser.add_argument("--json", action="store_true",
                         help="print every point's summary as JSON")
-    parser.add_argument("--plot", metavar="PNG",
+    parser.add_argument("--plot", type=expand_user, metavar="PNG",
                         help="plot a figure against one or two swept parameters")
     parser.add_argument("--figure",
                         help="figure --plot draws: worst_linear_ratio, worst_refined_ratio, "

@@ -24,6 +24,7 @@ import sys
 from ins_errors.commands import hours
 from ins_errors.commands.run import TRUTHS
 from ins_errors.json_output import dumps, emit
+from ins_errors.user_paths import expand_user
 
 MOTIONS = ("static", "great-circle", "manoeuvre")
 
@@ -68,7 +69,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", action="store_true", help="machine-readable output")
     parser.add_argument("--plot", action="store_true",
                         help="write one log-log plot per source into --out")
-    parser.add_argument("--out", metavar="DIR",
+    parser.add_argument("--out", type=expand_user, metavar="DIR",
                         help="folder for results.json and the plots "
                              "(default with --plot: validity_<model>)")
     parser.add_argument("--force", action="store_true",

@@ -391,7 +391,9 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None,
         if file is None:
             raise InsErrorsError("motion kind 'file' needs file = 'path/to/motion.csv'")
         refuse_file_heading(model, kind, description.get("heading") is not None)
-        path = Path(file)
+        from ins_errors.user_paths import user_path
+
+        path = user_path(file)
         if base is not None and not path.is_absolute():
             path = base / path
         return read_motion_file(path, lat, lon, heading, height,
