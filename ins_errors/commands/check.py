@@ -150,8 +150,16 @@ def run(args: argparse.Namespace) -> int:
         if args.json:  # a grading script gets JSON whatever the file holds
             emit_json(args, _input_problem_json(args, definition, error))
         raise error from None
+    if report.problems and not any(_compared(result) for result in report.results):
+        # nothing could be checked: no report that reads "(no discrepancies)", as for a
+        # file without equations; the problems on stderr (and in the JSON, if asked)
+        if args.json:
+            emit_json(args, with_parameters(to_json(report), definition, parameters))
+        say_problems(args.file, report.problems)
+        return 2
     if report.unchecked_gains:
         warn_unchecked_gains(definition, parameters, report.unchecked_gains)
+
     def written() -> str:
         if latex_report(args):
             from ins_errors.checker.report_latex import to_latex
@@ -161,7 +169,30 @@ def run(args: argparse.Namespace) -> int:
 
     emit_report(args, written, lambda: with_parameters(to_json(report), definition, parameters),
                 lambda: to_terminal(report))
+    say_problems(args.file, report.problems)  # the report lists them too
     return report.exit_status
+
+
+def _compared(result) -> bool:
+    """Whether an equation form was compared with the model (it agrees or has a mistake),
+    not left unchecked (an input error, a tautology, a definition of the hand's own)."""
+    return result.status.startswith("agrees") or result.status == "mistake"
+
+
+def say_problems(path: Path, problems: list) -> None:
+    """Print every input problem of the hand file ``path`` on stderr, one line each,
+    naming the file as given and the place: ``eq.txt: line 3, column 14: cannot parse
+    ...``, so a script's log shows why the exit status is 2 whatever went to stdout.
+
+    Parameters
+    ----------
+    path : Path
+        The hand file as the user gave it.
+    problems : list of ins_errors.checker.parse.Problem
+        In file order; nothing is printed for none.
+    """
+    for problem in problems:
+        print(f"ins-errors: error: {path}: {problem}", file=sys.stderr, flush=True)
 
 
 def unchecked_gains_warning(model, parameters: dict[str, float],
