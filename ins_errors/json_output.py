@@ -7,6 +7,10 @@ denominator) is written as ``null``, NumPy scalars and arrays become plain numbe
 lists, and the encoder is told to refuse anything non-finite left over
 (``allow_nan=False``), so a new writer cannot slip one through. A negative zero (the
 −0/|λ| damping ratio of an undamped mode) is written as ``0.0``.
+
+Every ``--json`` output goes through :func:`emit`, which puts ``"schema_version"``
+(:data:`SCHEMA_VERSION`) first in its object (in each object of an array), so a script can
+tell which set of keys it reads; ``docs/json.md`` lists every command's keys.
 """
 
 from __future__ import annotations
@@ -17,6 +21,10 @@ import sys
 from collections.abc import Mapping
 from pathlib import PurePath
 from typing import IO, Any
+
+SCHEMA_VERSION = 1
+"""Version of the keys of every ``--json`` output (``docs/json.md``): raised when a key is
+renamed or removed or changes its meaning or unit, not when one is added."""
 
 
 def plain(value: Any) -> Any:
@@ -60,7 +68,29 @@ def dumps(value: Any, *, indent: int | None = 2, **options: Any) -> str:
     return json.dumps(plain(value), indent=indent, allow_nan=False, **options)
 
 
+def versioned(value: Any) -> Any:
+    """``value`` with ``"schema_version": SCHEMA_VERSION`` as the first key of the object
+    (of each object of a list); anything else unchanged.
+
+    Parameters
+    ----------
+    value : Any
+        A command's ``--json`` output: an object, or an array of objects (several hand
+        files, the list of models or studies).
+
+    Returns
+    -------
+    Any
+        A new object (list) when one is changed; ``value`` is left as it is.
+    """
+    if isinstance(value, Mapping):
+        return {"schema_version": SCHEMA_VERSION, **value}
+    if isinstance(value, (list, tuple)):
+        return [versioned(v) if isinstance(v, Mapping) else v for v in value]
+    return value
+
+
 def emit(value: Any, stream: IO[str] | None = None, **options: Any) -> None:
-    """Print ``value`` as strict JSON, followed by a newline, to ``stream`` (standard
-    output by default)."""
-    print(dumps(value, **options), file=stream if stream is not None else sys.stdout)
+    """Print a command's ``--json`` output ``value`` (:func:`versioned`) as strict JSON,
+    indented by 2, followed by a newline, to ``stream`` (standard output by default)."""
+    print(dumps(versioned(value), **options), file=stream if stream is not None else sys.stdout)

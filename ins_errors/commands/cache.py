@@ -232,7 +232,7 @@ def run(args: argparse.Namespace) -> int:
               "limit_bytes": limit, "checkout_libraries": len(mine),
               "checkout_bytes": sum(e.size for e in mine), "stores": rows,
               "total_files": sum(r["files"] for r in rows),
-              "total_bytes": sum(r["bytes"] for r in rows)}, indent=None)
+              "total_bytes": sum(r["bytes"] for r in rows)})
         return 0
     print(f"folder: {folder}")
     print(f"libraries: {len(entries)}, {total / 1e6:.1f} MB "
@@ -265,7 +265,7 @@ def _clear(args: argparse.Namespace, folder: Path, others: list[Store]) -> int:
                     "bytes_freed": freed})
     if args.json:
         emit({"folder": str(folder), "removed": count, "bytes_freed": freed,
-              "checkout_only": args.checkout, "stores": rows}, indent=None)
+              "checkout_only": args.checkout, "stores": rows})
         return 0
     which = "of this checkout " if args.checkout else ""
     print(f"removed {count} compiled libraries {which}({freed / 1e6:.1f} MB) from {folder}")
