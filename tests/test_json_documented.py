@@ -175,6 +175,11 @@ VARIANTS = {
     "modes": (["modes"], ["modes", "strapdown_ned", "--json"], 0),
     "matrices": (["matrices"], ["matrices", "strapdown_ned", "--hours", "1", "--out",
                                 "{tmp}/F.npz", "--json"], 0),
+    "matrices --discrete": (["matrices"], [
+        "matrices", "strapdown_ned", "--motion", "static", "--hours", "1", "--step", "60 s",
+        "--bias-states", "gyro_bias_z", "--markov", "gyro_bias_z=1h", "--discrete",
+        "--noise", "gyro_bias_x=0.003deg/rt-hr,gyro_bias_z=0.01deg/h", "--out",
+        "{tmp}/Phi.npz", "--json"], 0),
     "sweep": (["sweep"], ["sweep", "{sweep}", "--store", "{tmp}/sweep.zarr", "--engine",
                           "serial", "--json", "--no-progress"], 0),
     "cache info": (["cache info"], ["cache", "info", "--json"], 0),
