@@ -172,11 +172,12 @@ def test_json_numbers_name_their_sigma_level_units_and_axes(flight, capsys):
 
 
 def test_docs_describe_the_budget_json():
-    """docs/scenarios.md names the keys an engineer reads numbers from, with their σ."""
-    text = " ".join((ROOT / "docs" / "scenarios.md").read_text().split())
+    """docs/json.md (the page of every command's JSON keys) names the keys an engineer
+    reads numbers from, with their σ."""
+    text = " ".join((ROOT / "docs" / "json.md").read_text().split())
     for key in ("magnitude_1sigma", "magnitude_sigma_level", "share_at_worst_time",
                 "largest_share", "operating_time_h", "step_s", "fill_factor",
-                "motion_values", '"axes"', "limit_text", "share_used"):
+                "motion_values", "`axes`", "limit_text", "share_used"):
         assert key in text, key
 
 

@@ -36,7 +36,7 @@ def test_convention_names_without_convention_get_a_hint(tmp_path, capsys):
     path = tmp_path / "nocnv.txt"
     path.write_text("dot(phi_N) = omega_in_D*phi_E\n")
     assert main(["check", "strapdown_ned", str(path)]) == 2
-    out = capsys.readouterr().out
+    out = capsys.readouterr().err  # nothing of the file was checked: its problem, on stderr
     assert "add the line '@convention phi'" in out
 
 
