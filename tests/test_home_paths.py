@@ -80,7 +80,9 @@ def test_every_path_option_of_every_command_expands_home(home):
                      ("check", "--write-samples"), ("check", "--mapping"),
                      ("compare", "--motion-file"), ("compare", "--out"),
                      ("compare", "--plot"), ("compare", "--markdown"),
-                     ("budget", "--spec"), ("budget", "--plot"), ("run", "scenario"),
+                     ("budget", "--spec"), ("budget", "--plot"), ("budget", "--plot-at"),
+                     ("budget", "--plot-time"), ("budget", "--report"),
+                     ("run", "scenario"),
                      ("run", "--out"), ("sweep", "scenario"), ("sweep", "--store"),
                      ("sweep", "--merge"), ("matrices", "--out"), ("validity", "--out"),
                      ("derive", "--out"), ("propagation", "--out"), ("study", "--plot")]:

@@ -171,7 +171,7 @@ VARIANTS = {
         "--json", "--at", "1 h"], 1),
     "validity": (["validity"], ["validity", "orthodromic", "--source", "gyro_drift_x",
                                 "--motion", "static", "--hours", "1", "--step", "10s",
-                                "--json", "--no-progress"], 0),
+                                "--latitude", "20deg", "--json", "--no-progress"], 0),
     "modes": (["modes"], ["modes", "strapdown_ned", "--json"], 0),
     "matrices": (["matrices"], ["matrices", "strapdown_ned", "--hours", "1", "--out",
                                 "{tmp}/F.npz", "--json"], 0),

@@ -34,12 +34,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "magnitude (or the spec's fixed one, hatched) with its largest "
                              "share of every item (the binding one named), and every item's "
                              "worst value against its limit")
-    parser.add_argument("--plot-time", metavar="PNG",
+    parser.add_argument("--plot-time", type=expand_user, metavar="PNG",
                         help="write every spec item's value over the operating time at the "
                              "allocated magnitudes (the fixed sources alone where they "
                              "exceed the spec), one panel per item in the unit of its "
                              "limit, the limit as a line and the check times marked")
-    parser.add_argument("--report", metavar="FILE.md",
+    parser.add_argument("--report", type=expand_user, metavar="FILE.md",
                         help="write a Markdown report for a design review: the spec, every "
                              "source's magnitude and binding item, every item against its "
                              "limit, the notes and warnings, and the --monte-carlo check")
