@@ -5,6 +5,7 @@ true states of a direction-cosine model file (its first nine states are C_b^n)."
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -124,3 +125,12 @@ def test_a_file_with_gauss_markov_states_passes_the_check_it_was_written_for(tmp
     said = capsys.readouterr().out
     assert status == 0 and "entries compared" in said and "disagree" not in said, said
 
+
+
+def test_the_json_records_parameters_as_every_command_does(tmp_path, capsys):
+    """`parameters` is name -> {value, unit} in every command's JSON (docs/json.md); this
+    command wrote a bare SI number."""
+    assert main(["matrices", "strapdown_ned", "--motion", "static", "--hours", "1",
+                 "-p", "k_h1=0.6/min", "--out", str(tmp_path / "fg.npz"), "--json"]) == 0
+    parameters = json.loads(capsys.readouterr().out)["parameters"]
+    assert parameters == {"k_h1": {"value": pytest.approx(0.01, rel=1e-15), "unit": "1/s"}}

@@ -108,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.checker.matrix_input import sample_arrays, save_arrays
     from ins_errors.conventions import error_matrices, model_convention
     from ins_errors.errors import InsErrorsError
-    from ins_errors.model_parameters import parse_parameter_options
+    from ins_errors.model_parameters import parameters_record, parse_parameter_options
     from ins_errors.numeric.model import load_model
     from ins_errors.units import parse_quantity
 
@@ -187,7 +187,8 @@ def run(args: argparse.Namespace) -> int:
               "motions": [{"label": m.label, "samples": int(m.times.size),
                            "start_s": float(m.times[0]), "stop_s": float(m.times[-1])}
                           for m in chosen],
-              "skipped_motions": skipped, "parameters": parameters,
+              "skipped_motions": skipped,
+              "parameters": parameters_record(model, parameters),
               **({"discrete": {"step_s": step, "noise_sources": list(noises),
                                "noise_densities_si": densities.tolist()}}
                  if args.discrete else {})})
