@@ -368,10 +368,12 @@ def test_a_store_that_cannot_be_made_or_read_is_one_line(tmp_path, capsys, store
         assert "*.nc (a NetCDF file" in err and not (tmp_path / store).exists()
 
 
-def test_colour_map_axes_span_the_swept_values_only(tmp_path, monkeypatch):
-    """A two-parameter map draws its cells between the grid's first and last values: the
-    axis limits are those values, every inner cell edge lies halfway between neighbours,
-    each value inside its own cell, and a tick stands at every value run."""
+def test_colour_map_cells_are_centred_on_the_swept_values(tmp_path, monkeypatch):
+    """A two-parameter map draws one cell per grid value with the value inside it: every
+    inner cell edge halfway between neighbours, the outer edges as far beyond the first
+    and last values (those centred in their cells), and a tick at every value run (with
+    edges at the first and last values, a 2 x 2 map showed each value at a corner of its
+    cell)."""
     from ins_errors import output
 
     figures = []
@@ -394,12 +396,13 @@ def test_colour_map_axes_span_the_swept_values_only(tmp_path, monkeypatch):
     for values, limits, edges, ticks in (
             (latitudes, ax.get_xlim(), corners[0, :, 0], ax.get_xticks()),
             (biases, ax.get_ylim(), corners[:, 0, 1], ax.get_yticks())):
-        assert limits == pytest.approx((values[0], values[-1]), rel=1e-12)
-        assert edges[0] == pytest.approx(values[0]) and edges[-1] == pytest.approx(values[-1])
+        assert limits == pytest.approx((edges[0], edges[-1]), rel=1e-12)
         assert list(edges[1:-1]) == pytest.approx([(a + b) / 2
                                                    for a, b in itertools.pairwise(values)])
-        assert all(lo <= v <= hi for (lo, hi), v in zip(itertools.pairwise(edges), values,
-                                                        strict=True))
+        centres = [(lo + hi) / 2 for lo, hi in itertools.pairwise(edges)]
+        assert (centres[0], centres[-1]) == pytest.approx((values[0], values[-1]))
+        assert all(lo < v < hi for (lo, hi), v in zip(itertools.pairwise(edges), values,
+                                                      strict=True))
         assert list(ticks) == pytest.approx(values)
     import matplotlib.pyplot as plt
 

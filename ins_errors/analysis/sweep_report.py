@@ -436,11 +436,14 @@ MAX_GRID_TICKS = 12
 
 
 def cell_edges(values: Sequence[float]) -> np.ndarray:
-    """Cell edges of a colour map over sorted grid values.
+    """Cell edges of a colour map over sorted grid values: each value inside its cell.
 
-    Inner edges lie halfway between neighbouring values; the outer edges are the first
-    and last values themselves (the outer cells are half as wide), so the axis spans
-    exactly the swept range. A single value gets a cell of ±5 % of its size (±0.5 at 0).
+    Inner edges lie halfway between neighbouring values; the outer cells reach as far
+    beyond the first and last values as their halfway edges lie inside, so the first and
+    last values sit in the middle of their cells (an evenly spaced grid: every value),
+    under their ticks (with edges at the first and last values, a 2 x 2 map drew each
+    value at a corner of its cell). A single
+    value gets a cell of ±5 % of its size (±0.5 at 0).
 
     Parameters
     ----------
@@ -455,15 +458,16 @@ def cell_edges(values: Sequence[float]) -> np.ndarray:
     if v.size == 1:
         half = 0.05 * abs(v[0]) or 0.5
         return np.array([v[0] - half, v[0] + half])
-    return np.concatenate([v[:1], (v[1:] + v[:-1]) / 2, v[-1:]])
+    inner = (v[1:] + v[:-1]) / 2
+    return np.concatenate([[2 * v[0] - inner[0]], inner, [2 * v[-1] - inner[-1]]])
 
 
 def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path:
     """Plot a figure against one (line) or two (colour map) swept parameters.
 
     Points that differ in the other swept labels are reduced to their maximum (the worst
-    case over them), which the title says. A colour map's cells end at the first and
-    last grid values (:func:`cell_edges`); dots mark the grid points.
+    case over them), which the title says. A colour map has one cell around each grid
+    value (:func:`cell_edges`); dots mark the grid points.
     """
     import matplotlib
 
@@ -499,8 +503,7 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
         grid_ = np.full((len(ys), len(xs)), np.nan)
         for (x, y), v in reduced.items():
             grid_[ys.index(y), xs.index(x)] = v
-        # cells end at the grid's first and last values: the axes span the swept range
-        # and no more; ticks (when few) and dots mark the values that were run
+        # each value inside its cell; ticks (when few) and dots mark the values run
         mesh = ax.pcolormesh(cell_edges(xs), cell_edges(ys), grid_, shading="flat")
         ax.plot([x for x, _ in reduced], [y for _, y in reduced], "k.", markersize=4,
                 clip_on=False, zorder=3)  # the edge points drawn whole
