@@ -257,6 +257,8 @@ def test_sigterm_twice_right_after_the_start_line_is_one_line_and_143(tmp_path):
         cwd=tmp_path, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     workers: list = []
     try:
+        size = process.stderr.readline()  # the store's size estimate, then the start line
+        assert size.startswith("ins-errors: store: 20 points"), size
         start = process.stderr.readline()
         assert start.startswith("ins-errors: sweep "), start
         process.send_signal(signal.SIGTERM)

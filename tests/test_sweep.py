@@ -168,8 +168,7 @@ def test_interrupted_sweep_resumes_with_only_the_unfinished_points(tmp_path, mon
     resumed = sw.run_sweep(load_scenario(path), store, engine="serial")
     assert (resumed.computed, resumed.reused, len(runs)) == (0, 6, 3)
     for name in clean.dataset.data_vars:
-        assert np.array_equal(clean.dataset[name].values, resumed.dataset[name].values,
-                              equal_nan=True), name
+        assert same_values(clean.dataset[name].values, resumed.dataset[name].values), name
 
 
 @pytest.mark.parametrize("sweep, message", [
@@ -226,13 +225,14 @@ def test_a_point_over_the_pole_is_stored_as_failed_and_the_others_run(tmp_path, 
                  str(store), "--no-progress"]) == 2
     out, err = capsys.readouterr()
     lines = err.splitlines()
-    assert lines[0] == ("ins-errors: sweep 'bias tilt', 4 points, 4 to compute, 0 already "
+    assert lines[0].startswith("ins-errors: store: 4 points, about ")
+    assert lines[1] == ("ins-errors: sweep 'bias tilt', 4 points, 4 to compute, 0 already "
                         f"in {store}")
-    assert lines[1] == ("ins-errors: 1 of 4 points failed (stored without "
+    assert lines[2] == ("ins-errors: 1 of 4 points failed (stored without "
                         "results; --retry-failed runs them again):")
-    assert lines[2].startswith("  point 1 (latitude = 89.5 deg): the true "
+    assert lines[3].startswith("  point 1 (latitude = 89.5 deg): the true "
                                "motion leaves the model's domain at t = ")
-    assert len(lines) == 3
+    assert len(lines) == 4
     assert "4 points, 4 computed" in out and "failed" in out   # the table's row says so
     reference = sw.run_sweep(load_scenario(good), tmp_path / "good.zarr",
                              engine="serial").dataset

@@ -55,7 +55,7 @@ def test_a_full_disk_names_the_store_and_the_same_command_resumes(tmp_path, caps
     monkeypatch.setattr(st.SweepStore, "write", filling)
     assert main(_sweep(path, store)) == 2
     out, err = capsys.readouterr()
-    assert not out and err.count("\n") == 2, err  # the start line, then one line
+    assert not out and err.count("\n") == 3, err  # the store and start lines, then one
     line = err.splitlines()[-1]
     assert repr(str(store)) in line and "No space left on device" in line, line
     assert "it keeps 2 of the 4 points" in line and "the same command resumes" in line

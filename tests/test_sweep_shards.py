@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import subprocess
 import sys
 import textwrap
@@ -124,8 +125,10 @@ def test_shards_on_different_engines_merge_into_the_whole_sweeps_store(tmp_path,
         assert report["shard"] == f"{index}/{count}" and report["sweep_points"] == total
         assert report["points"] == report["computed"] == len(mine)
         assert [row["point"] for row in report["summary"]] == mine
-        assert err.startswith(f"ins-errors: sweep 'flight', shard {index}/{count}: "
-                              f"{len(mine)} of the {total} points, {len(mine)} to compute")
+        store_line, start = err.splitlines()[:2]  # the store holds the shard's points
+        assert store_line.startswith(f"ins-errors: store: {len(mine)} points, about ")
+        assert start.startswith(f"ins-errors: sweep 'flight', shard {index}/{count}: "
+                                f"{len(mine)} of the {total} points, {len(mine)} to compute")
         done = opened(part)["done"].values
         assert [k for k in range(total) if done[k]] == mine
     if "draws" in sweep:  # the draws of one grid point are split like any points:
@@ -370,7 +373,8 @@ def test_three_jobs_started_together_on_a_new_store(tmp_path, store):
             assert len(lines) == 1 and "is being written by another process" in lines[0]
             assert not out
         else:
-            assert status == 0 and lines[0].startswith("ins-errors: sweep 'flight', 9 points")
+            assert status == 0 and lines[0].startswith("ins-errors: store: 9 points, about ")
+            assert lines[1].startswith("ins-errors: sweep 'flight', 9 points")
     assert json.loads(ok[0])["points"] == 9
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["s.toml", store])
     data = opened(tmp_path / store)
@@ -463,5 +467,7 @@ def test_the_point_count_is_said_before_the_first_point_runs(tmp_path, capsys,
     store = tmp_path / "c.zarr"
     assert main(["sweep", str(path), "--store", str(store), "--engine", "serial",
                  "--json", "--no-progress"]) == 0
-    assert said[0] == (f"ins-errors: sweep 'flight', 9 points, 9 to compute, 0 already in "
-                       f"{store}\n")
+    store_line, start = said[0].splitlines()
+    assert re.fullmatch(r"ins-errors: store: 9 points, about [0-9.]+ [kMG]B in [0-9,]+ files",
+                        store_line), store_line
+    assert start == f"ins-errors: sweep 'flight', 9 points, 9 to compute, 0 already in {store}"

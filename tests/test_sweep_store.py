@@ -85,11 +85,12 @@ def _reference_store(path, layout: Layout) -> None:
                                                   zarr_format=2)
     group = zarr.open_group(str(path), mode="r+", zarr_format=2)
     P, T, Q, W = layout.points, len(layout.times), len(layout.quantities), len(layout.sources)
-    per_quantity = "SI, the unit of each quantity is in coordinate quantity_unit"
+    # one unit per quantity (coordinate quantity_unit): no CF units attribute, a comment
+    per_quantity = {"comment": "SI: each quantity in its unit, coordinate quantity_unit"}
     arrays = [(c, ("point", "time", "quantity"), (P, T, Q), "f8", np.nan,
-               {"long_name": f"{c} error", "units": per_quantity}) for c in layout.curves]
+               {"long_name": f"{c} error", **per_quantity}) for c in layout.curves]
     arrays += [("max_direct", ("point", "quantity"), (P, Q), "f8", np.nan,
-                {"long_name": "max |direct error| over the run", "units": per_quantity})]
+                {"long_name": "max |direct error| over the run", **per_quantity})]
     arrays += [(f"{c}_ratio", ("point", "quantity"), (P, Q), "f8", np.nan,
                 {"long_name": f"max |{c} - direct| / max |direct|", "units": "1"})
                for c in layout.curves[1:]]
@@ -98,21 +99,25 @@ def _reference_store(path, layout: Layout) -> None:
                  "units": "1"}),
                ("integration_error", ("point", "quantity"), (P, Q), "f8", np.nan,
                 {"long_name": "estimated integration error (step doubling; larger of "
-                              "direct and linear)", "units": per_quantity}),
+                              "direct and linear)", **per_quantity}),
                ("source_value", ("point", "source"), (P, W), "f8", np.nan,
-                {"long_name": "error sources of the point", "units":
-                 "SI, the unit of each source is in coordinate source_unit"}),
+                {"long_name": "error sources of the point",
+                 "comment": "SI: each source in its unit, coordinate source_unit"}),
                ("done", ("point",), (P,), "i1", None,
                 {"long_name": "1 once the point's results (or its failure) are written",
-                 "units": "1"}),
-               # text of any length, no fill value: unwritten points read as ""
-               ("failure", ("point",), (P,), str, None,
-                {"long_name": "why the point failed (empty: it did not); its data are NaN",
                  "units": "1"})]
     for name, dims, shape, dtype, fill, extra in arrays:
         group.create_array(name, shape=shape, chunks=(1, *shape[1:]), dtype=dtype,
                            fill_value=fill,
                            attributes={"_ARRAY_DIMENSIONS": list(dims), **extra})
+    # the reasons as NetCDF's character arrays: a row of UTF-8 bytes per point (one chunk
+    # of 4096 bytes), 1 byte wide until a reason is written; no fill value (zero bytes:
+    # unwritten points read as ""); xarray joins a row and decodes it by _Encoding
+    group.create_array("failure", shape=(P, 1), chunks=(1, 4096), dtype="S1",
+                       fill_value=None,
+                       attributes={"_ARRAY_DIMENSIONS": ["point", "failure_bytes"],
+                                   "long_name": "why the point failed (empty: it did not); "
+                                                "its data are NaN", "_Encoding": "utf-8"})
     zarr.consolidate_metadata(str(path), zarr_format=2)
 
 

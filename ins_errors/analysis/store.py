@@ -1,7 +1,6 @@
 """The labelled result store of a sweep: an xarray dataset in Zarr, filled as tasks finish.
 
-Layout (dimensions ``point``, ``time``, ``quantity``, ``source``; SI values, units as
-attributes)::
+Layout (dimensions ``point``, ``time``, ``quantity``, ``source``; SI values)::
 
     direct, linear[, refined]   (point, time, quantity)  error curves
     max_direct                  (point, quantity)        max |direct error|
@@ -12,7 +11,9 @@ attributes)::
     source_value                (point, source)          error sources the point ran with
     done                        (point)                  1 once the point is written
     failure                     (point)                  why the point failed (text;
-                                                         empty: it did not)
+                                                         empty: it did not; UTF-8 bytes
+                                                         xarray reads as text,
+                                                         :data:`FAILURE_ENCODING`)
     coordinates                 time (s), quantity and its unit, source and its unit,
                                 every swept parameter per point (with its unit), case, draw
     attributes                  title, model, settings, the swept names, and
@@ -22,6 +23,14 @@ attributes)::
                                 the worst ratios judge (JSON list, ``null``: all);
                                 ``settings`` (JSON, readable name -> text); of a
                                 shard store ``shard`` (``"I/N"``)
+
+Units are CF ``units`` attributes (UDUNITS text that xarray shows and pint reads) on
+every variable that has one unit: ``time`` (``s``), each swept parameter (its SI unit:
+``rad``, ``m/s``, ``rad/s``, ...), the ratios and flags (``1``). A variable over
+quantities or sources has the unit of each (SI), given by the coordinate
+``quantity_unit`` (``source_unit``), which its ``comment`` attribute names; it has no
+``units`` attribute, as no one unit is right. Text (``failure``, ``point_key``, labels)
+has none.
 
 Each point is its own chunk, written by the calling process only (one writer), data
 first and ``done`` last: a point whose write was interrupted is not marked done and runs
@@ -52,6 +61,12 @@ over a store of the same settings otherwise *extends* it (:func:`grow`): the sto
 rewritten (in a scratch folder renamed into place) with the points it held and the new
 ones, which are then computed; a sweep's points are found in it by their keys, and a
 store may so hold points of several grids.
+
+Before a sweep writes into a store (new, resumed, extended or merged), its size once
+done is estimated (:func:`store_size`: bytes on disk and files, an upper bound) and said,
+and a store beyond :data:`MAX_STORE_BYTES` or :data:`MAX_STORE_FILES`, or beyond the
+room left on its file system, is refused (:func:`check_room`) unless allowed
+(``--allow-large-store``).
 
 A *shard* store (``ins-errors sweep --shard I/N``) has the layout of the whole sweep
 but fills only the points of its share; its attribute ``shard`` says which
@@ -201,6 +216,190 @@ class Layout:
                 "excited", "integration_error", "source_value"]
 
 
+MAX_STORE_BYTES = 20 * 10**9
+"""Largest store (disk space, bytes) a sweep writes without ``--allow-large-store``: of
+the order of a user's quota on a cluster's file systems (tens of GB)."""
+
+MAX_STORE_FILES = 500_000
+"""Most files (and folders) a store may have without ``--allow-large-store``: a file
+system's quota of files (inodes) per user is commonly 10^5 to 10^6, and a Zarr store has
+about ten files per point."""
+
+BLOCK = 4096
+"""Disk space a file takes at least (bytes; the usual block of a file system), where the
+file system does not say."""
+
+BLOSC_HEADER = 16
+"""Bytes Blosc adds to each compressed chunk."""
+
+
+@dataclass(frozen=True)
+class StoreSize:
+    """How large a store is (an estimate: :func:`store_size`).
+
+    Attributes
+    ----------
+    points : int
+        Points it holds.
+    bytes : int
+        Disk space it takes (whole blocks per file), bytes.
+    files : int
+        Files and folders (inodes, as quotas of files count them).
+    netcdf : int
+        Of a ``*.nc`` store: the bytes of its NetCDF file (also in ``bytes``; while it is
+        filled the store is a Zarr folder, then both are on disk while the file is
+        written); 0 for a Zarr store.
+    """
+
+    points: int
+    bytes: int
+    files: int
+    netcdf: int = 0
+
+    def __sub__(self, other: StoreSize) -> StoreSize:
+        return StoreSize(self.points - other.points, self.bytes - other.bytes,
+                         self.files - other.files, self.netcdf)
+
+    @property
+    def text(self) -> str:
+        """``"1,200 points, about 45 MB in 3,700 files"`` (of a ``*.nc`` store also the
+        NetCDF file it is written as at the end)."""
+        folder = (self.bytes - self.netcdf, self.files - 1) if self.netcdf else (
+            self.bytes, self.files)
+        text = (f"{self.points:,} point{'s' if self.points != 1 else ''}, about "
+                f"{size_text(folder[0])} in {folder[1]:,} files")
+        if self.netcdf:
+            text += f" while filled, then a NetCDF file of {size_text(self.netcdf)}"
+        return text
+
+
+def size_text(size: float) -> str:
+    """Bytes as ``"45 MB"`` (decimal units, 2 significant digits at least)."""
+    for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
+        if size >= scale:
+            value = size / scale
+            return f"{value:.2g} {unit}" if value < 10 else f"{value:.0f} {unit}"
+    return f"{size:.0f} bytes"
+
+
+def block_size(path: str | Path) -> int:
+    """The disk space unit of the file system ``path`` is (or would be) on, bytes
+    (:data:`BLOCK` where it cannot be told)."""
+    try:
+        size = os.statvfs(_existing_folder(Path(path))).f_frsize
+    except (OSError, AttributeError):
+        return BLOCK
+    return size if 512 <= size <= 1 << 20 else BLOCK
+
+
+def _existing_folder(path: Path) -> Path:
+    """The nearest folder that exists at or above ``path`` (where the store would be)."""
+    path = Path(os.path.abspath(path))
+    while not path.is_dir() and path != path.parent:
+        path = path.parent
+    return path
+
+
+def store_size(layout: Layout, filled: int, *, netcdf: bool = False,
+               block: int = BLOCK) -> StoreSize:
+    """Estimate the size of a store of ``layout`` holding ``filled`` points.
+
+    The files are those :func:`_create` and :meth:`SweepStore.write` make: the folder,
+    its metadata (``.zgroup``, ``.zattrs``, ``.zmetadata``), per array a folder with
+    ``.zarray`` and ``.zattrs``, each coordinate's one chunk, and per point one chunk of
+    each data variable and of ``done``. Each chunk is counted at its size before
+    compression plus Blosc's header, each file rounded up to whole blocks: the estimate
+    is an upper bound, reached where the data do not compress and no chunk is left out
+    (Zarr writes no chunk that holds only the fill value, such as a point's ``excited``
+    when no quantity is, or the ``failure`` of a point that did not fail).
+
+    Parameters
+    ----------
+    layout : Layout
+        The store's layout.
+    filled : int
+        Points written (done).
+    netcdf : bool
+        A ``*.nc`` store: its NetCDF file (every variable uncompressed) is counted too.
+    block : int
+        The file system's disk space unit, bytes (:func:`block_size`).
+    """
+    def disk(size: int) -> int:
+        return -(-max(size, 1) // block) * block
+
+    P, T = layout.points, len(layout.times)
+    Q, W = len(layout.quantities), len(layout.sources)
+    attrs = len(json.dumps(stored_attributes(layout)))
+    coordinates = [P * 8, T * 8, *(4 * Q * max(map(len, layout.quantities), default=1),
+                                  4 * Q * max(map(len, layout.quantity_units), default=1),
+                                  4 * W * max(map(len, layout.sources), default=1),
+                                  4 * W * max(map(len, layout.source_units), default=1))]
+    coordinates += [np.asarray(values).nbytes for values, _ in layout.coordinates.values()]
+    chunks = [T * Q * 8] * len(layout.curves) + [Q * 8] * len(layout.curves)  # max_direct,
+    chunks += [Q, Q * 8, W * 8, 1]  # the ratios; excited, integration_error, source_value,
+    arrays = len(coordinates) + len(chunks) + 1  # done; and failure
+    metadata = 700  # bytes of one array's .zarray and .zattrs (about 500 and 200)
+    size = disk(20) + disk(attrs) + disk(attrs + arrays * metadata) + block  # root, folder
+    size += arrays * (2 * disk(metadata // 2) + block)  # each array's metadata and folder
+    size += sum(disk(c + BLOSC_HEADER) for c in coordinates)
+    size += filled * sum(disk(c + BLOSC_HEADER) for c in chunks)
+    files = 4 + 3 * arrays + len(coordinates) + filled * len(chunks)
+    nc = 0
+    if netcdf:  # every variable as it is, and its header
+        nc = (P * (sum(chunks) + 1) + sum(coordinates) + attrs + arrays * metadata)
+        nc = disk(nc)
+        size += nc
+        files += 1
+    return StoreSize(filled, size, files, nc)
+
+
+def check_room(path: str | Path, final: StoreSize, needed: StoreSize,
+               allow: bool = False) -> None:
+    """Refuse a store too large for its limits or for the room left where it goes.
+
+    Parameters
+    ----------
+    path : str or Path
+        The store.
+    final : StoreSize
+        The store once the sweep is done (:func:`store_size`).
+    needed : StoreSize
+        What the sweep still writes into it (bytes and files; for a store rewritten
+        whole, as an extended one is, all of it).
+    allow : bool
+        ``--allow-large-store``: write it anyway.
+
+    Raises
+    ------
+    StoreError
+        One line: the store is beyond :data:`MAX_STORE_BYTES` or :data:`MAX_STORE_FILES`,
+        or needs more bytes or files than its file system has free (``shutil.disk_usage``,
+        ``os.statvfs``), naming the figures and the option that writes it anyway.
+    """
+    if allow:
+        return
+    shown = f"the sweep store {str(path)!r}"
+    anyway = ("; give fewer points or a coarser [run] record, or --allow-large-store to "
+              "write it anyway")
+    if final.bytes > MAX_STORE_BYTES or final.files > MAX_STORE_FILES:
+        raise StoreError(f"{shown} would take about {size_text(final.bytes)} in "
+                         f"{final.files:,} files, beyond the limit of "
+                         f"{size_text(MAX_STORE_BYTES)} or {MAX_STORE_FILES:,} files (a "
+                         f"common quota on a cluster){anyway}")
+    folder = _existing_folder(Path(path).parent)
+    try:
+        free = shutil.disk_usage(folder).free
+        system = os.statvfs(folder)
+    except (OSError, AttributeError):
+        return
+    if needed.bytes > free:
+        raise StoreError(f"{shown} needs about {size_text(needed.bytes)} more, and its "
+                         f"file system has {size_text(free)} free{anyway}")
+    if system.f_files and needed.files > system.f_favail:
+        raise StoreError(f"{shown} needs about {needed.files:,} more files, and its file "
+                         f"system has room for {system.f_favail:,}{anyway}")
+
+
 POINT_KEY = "point_key"
 """The per-point coordinate that identifies a point by its full definition."""
 
@@ -332,8 +531,7 @@ class SweepStore:
 
         _run_together(data())
         if self.failure[index]:  # a failed point run again: no longer failed
-            arrays["failure"][index] = ""
-            self.failure[index] = ""
+            self._set_reason(index, "")
         arrays["done"][index] = 1
         self.done[index] = True
         self._written = True
@@ -342,11 +540,55 @@ class SweepStore:
         """Record that a point failed (its one-line ``reason``, then its ``done`` flag);
         its data stay empty (NaN)."""
         reason = " ".join(str(reason).split()) or "failed"
-        self._arrays["failure"][index] = reason
+        self._set_reason(index, reason)
         self._arrays["done"][index] = 1
-        self.failure[index] = reason
         self.done[index] = True
         self._written = True
+
+    def _set_reason(self, index: int, reason: str) -> None:
+        """Store one point's failure reason (empty text: none) in the form its store
+        holds them: a row of bytes (:func:`stored_reason`; the variable widened first
+        when the reason is longer than the width its consolidated metadata gives), or
+        variable-length text in a store made before (kept so)."""
+        array = self._arrays["failure"]
+        if array.ndim == 1:  # variable-length text (a store made before)
+            array[index] = reason
+            self.failure[index] = reason
+            return
+        data = stored_reason(reason)
+        if len(data) > array.shape[1]:  # (this array has the consolidated shape)
+            import zarr
+
+            array.resize((array.shape[0], len(data)))
+            zarr.consolidate_metadata(str(self.work), zarr_format=2)
+        row = np.zeros(array.shape[1], dtype="S1")
+        row[:len(data)] = np.frombuffer(data, dtype="S1")
+        array[index] = row
+        self.failure[index] = data.decode(FAILURE_ENCODING)
+
+    def record_attributes(self, attributes: Mapping[str, str]) -> None:
+        """Write dataset attributes whose stored text differs from ``attributes`` (the
+        ``judged_quantities`` of the sweep that uses the store now, when every point is
+        reused too): into the Zarr folder (and its consolidated metadata) and into a
+        finished ``*.nc`` store's file (rewritten whole, as :meth:`finish` writes it),
+        so that the store read later says what the command reported."""
+        if self.work.exists():
+            import zarr
+
+            group = zarr.open_group(str(self.work), mode="r+", zarr_format=2)
+            changed = {k: v for k, v in attributes.items() if group.attrs.get(k) != v}
+            if changed:
+                group.attrs.update(changed)
+                zarr.consolidate_metadata(str(self.work), zarr_format=2)
+        if self.path.suffix != ".nc" or not self.path.exists():
+            return
+        xr, _ = _libraries()
+        with xr.open_dataset(self.path, mask_and_scale=False) as data:
+            if all(data.attrs.get(k) == v for k, v in attributes.items()):
+                return
+            data = data.load()
+        data.attrs.update(attributes)
+        _write_netcdf(data, self.path)
 
     @property
     def failed(self) -> list[int]:
@@ -378,15 +620,22 @@ class SweepStore:
         xr, _ = _libraries()
         data = xr.open_zarr(str(self.work), chunks=None, consolidated=False,
                             mask_and_scale=False).load()  # sweeps that fit in memory
-        scratch = self.path.with_name(self.path.name + ".tmp")
-        try:
-            data.to_netcdf(scratch)
-            scratch.replace(self.path)
-        except BaseException:  # half a file (a full disk, Ctrl-C): the Zarr folder
-            scratch.unlink(missing_ok=True)  # keeps every point, and a rerun writes it
-            raise
+        _write_netcdf(data, self.path)
         if not self.failed:
             shutil.rmtree(self.work, ignore_errors=True)
+
+
+def _write_netcdf(data, path: Path) -> None:
+    """Write ``data`` as the NetCDF file ``path``, through ``<path>.tmp`` renamed into
+    place: half a file (a full disk, Ctrl-C) is removed, never left as the store (the
+    Zarr folder keeps every point, and a rerun writes it)."""
+    scratch = path.with_name(path.name + ".tmp")
+    try:
+        data.to_netcdf(scratch)
+        scratch.replace(path)
+    except BaseException:
+        scratch.unlink(missing_ok=True)
+        raise
 
 
 def _run_together(work: Coroutine) -> None:
@@ -409,23 +658,67 @@ def _run_together(work: Coroutine) -> None:
 
 def failure_reasons(dataset) -> list[str]:
     """Each point's failure reason as stored ("" where the point did not fail, and for
-    every point of a store written before failures were recorded), shape (P,)."""
+    every point of a store written before failures were recorded), shape (P,).
+
+    The reasons read as text whatever form the store holds them in: UTF-8 bytes decoded
+    by xarray (:data:`FAILURE_ENCODING`), the variable-length text of stores written
+    before, or bytes read without decoding."""
     if "failure" not in dataset:
         return [""] * dataset.sizes["point"]
-    return [v if isinstance(v, str) else "" for v in dataset["failure"].values.tolist()]
+    return [v.decode(FAILURE_ENCODING) if isinstance(v, bytes) else v if isinstance(v, str)
+            else "" for v in dataset["failure"].values.tolist()]
 
+
+FAILURE_ENCODING = "utf-8"
+"""How the ``failure`` variable's text is stored: as the bytes of this encoding, one row of
+single bytes (``S1``) per point along the dimension :data:`FAILURE_BYTES` (NetCDF's
+character-array form), the encoding named in the variable's ``_Encoding`` attribute.
+xarray joins a row into one text and decodes it (CF convention), so a store opened with
+``xr.open_zarr`` has ``failure`` as ordinary Python text (``object`` dtype).
+
+Variable-length text (Zarr's ``vlen-utf8``, which stores up to now used) reads back with
+Zarr 3.1 and NumPy 2 as NumPy's ``StringDType``, which xarray cannot combine with the NaN
+of a missing value: ``ds.where(...)``, ``ds.reindex(...)`` and ``ds.fillna(...)`` of a
+store raised ``DTypePromotionError``. Variable-length bytes read back as a nested array
+when one point is selected (``ds.sel(point=k)`` then failed). Fixed-width text needs its
+width when the store is made, before any reason is known."""
+
+FAILURE_BYTES = "failure_bytes"
+"""The dimension along which a point's failure reason is stored byte by byte; xarray
+joins it away (the dataset has no such dimension)."""
+
+FAILURE_CHUNK = 4096
+"""Bytes of a point's chunk of the ``failure`` variable: the longest reason stored whole.
+The variable is as wide as the longest reason written (at least 1 byte; widened in place
+as longer ones come, never beyond a chunk: xarray joins a row only within one chunk). A
+longer reason (a one-line reason never is) keeps its first part and says it was cut and
+how long it was (:func:`stored_reason`)."""
 
 FAILURE_ATTRIBUTES = {"long_name": "why the point failed (empty: it did not); its data "
-                                   "are NaN", "units": "1"}
-"""Attributes of the ``failure`` variable."""
+                                   "are NaN"}
+"""Attributes of the ``failure`` variable (text: no ``units``)."""
 
 
 def _failure_array(points: int) -> dict:
-    """Keyword arguments of the ``failure`` array: text, one chunk per point, no fill
-    value (unwritten points read as empty text, which NetCDF can also hold)."""
-    return {"name": "failure", "shape": (points,), "chunks": (1,), "dtype": str,
-            "fill_value": None,
-            "attributes": {"_ARRAY_DIMENSIONS": ["point"], **FAILURE_ATTRIBUTES}}
+    """Keyword arguments of the ``failure`` array: one row of single bytes per point
+    (:data:`FAILURE_ENCODING`), one chunk per point (:data:`FAILURE_CHUNK` wide), 1 byte
+    wide until a reason is written, fill 0 (unwritten points read as empty text)."""
+    return {"name": "failure", "shape": (points, 1), "chunks": (1, FAILURE_CHUNK),
+            "dtype": "S1", "fill_value": None,
+            "attributes": {"_ARRAY_DIMENSIONS": ["point", FAILURE_BYTES],
+                           **FAILURE_ATTRIBUTES, "_Encoding": FAILURE_ENCODING}}
+
+
+def stored_reason(reason: str) -> bytes:
+    """A failure reason as the store keeps it: its bytes (:data:`FAILURE_ENCODING`), or,
+    beyond :data:`FAILURE_CHUNK` bytes, its first part followed by a note saying that it
+    was cut and how many bytes it had (never cut silently)."""
+    data = reason.encode(FAILURE_ENCODING)
+    if len(data) <= FAILURE_CHUNK:
+        return data
+    note = f" … [cut: the reason has {len(data):,} bytes]".encode(FAILURE_ENCODING)
+    kept = data[:FAILURE_CHUNK - len(note)].decode(FAILURE_ENCODING, errors="ignore")
+    return kept.encode(FAILURE_ENCODING) + note
 
 
 def _add_failure(work: Path) -> None:
@@ -888,7 +1181,9 @@ def _create(work: Path, layout: Layout) -> None:
     attrs["coordinates"] = " ".join(sorted(name for name, (dims, _, _) in coords.items()
                                            if dims != (name,)))
     P, T, Q, W = layout.points, len(layout.times), len(layout.quantities), len(layout.sources)
-    per_quantity = "SI, the unit of each quantity is in coordinate quantity_unit"
+    # a variable over quantities (or sources) has the unit of each, in coordinate
+    # quantity_unit (source_unit): no one unit for a CF ``units`` attribute
+    per_quantity = {"comment": "SI: each quantity in its unit, coordinate quantity_unit"}
     # integer flags get no fill value: unwritten chunks read as 0, and xarray keeps
     # them integers instead of masking 0 as missing
     empty = []  # name, dims, shape, dtype, fill value, attributes
@@ -898,9 +1193,9 @@ def _create(work: Path, layout: Layout) -> None:
 
     for curve in layout.curves:
         array(curve, ("point", "time", "quantity"), (P, T, Q), "f8", np.nan,
-              {"long_name": f"{curve} error", "units": per_quantity})
+              {"long_name": f"{curve} error", **per_quantity})
     array("max_direct", ("point", "quantity"), (P, Q), "f8", np.nan,
-          {"long_name": "max |direct error| over the run", "units": per_quantity})
+          {"long_name": "max |direct error| over the run", **per_quantity})
     for curve in layout.curves[1:]:
         array(f"{curve}_ratio", ("point", "quantity"), (P, Q), "f8", np.nan,
               {"long_name": f"max |{curve} - direct| / max |direct|", "units": "1"})
@@ -909,10 +1204,10 @@ def _create(work: Path, layout: Layout) -> None:
            "units": "1"})
     array("integration_error", ("point", "quantity"), (P, Q), "f8", np.nan,
           {"long_name": "estimated integration error (step doubling; larger of direct "
-                        "and linear)", "units": per_quantity})
+                        "and linear)", **per_quantity})
     array("source_value", ("point", "source"), (P, W), "f8", np.nan,
-          {"long_name": "error sources of the point", "units":
-           "SI, the unit of each source is in coordinate source_unit"})
+          {"long_name": "error sources of the point",
+           "comment": "SI: each source in its unit, coordinate source_unit"})
     array("done", ("point",), (P,), "i1", None,
           {"long_name": "1 once the point's results (or its failure) are written",
            "units": "1"})

@@ -1041,7 +1041,7 @@ def layout(scenario, points: Grid, shard: Shard | None = None):
     keys = point_keys(points.jobs, common, versions)
     coordinates = {**points.coordinates, POINT_KEY: (np.array(keys, dtype=str), {
         "long_name": "identity of the point's full definition (a sweep that extends the "
-                     "store reuses the point whose identity is its own)", "units": "1"})}
+                     "store reuses the point whose identity is its own)"})}
     return Layout(len(points.jobs), times, tuple(names), tuple(units),
                   tuple(s.name for s in model.sources), tuple(s.unit for s in model.sources),
                   coordinates, curves, attributes,
@@ -1064,7 +1064,9 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
               on_result: Callable[[int], None] | None = None,
               retry_failed: bool = False, shard: Shard | None = None,
               on_start: Callable[[int, int, int], None] | None = None,
-              on_extend: Callable[[int], None] | None = None) -> SweepResult:
+              on_extend: Callable[[int], None] | None = None,
+              on_size: Callable[[Any], None] | None = None,
+              allow_large_store: bool = False) -> SweepResult:
     """Run (or finish) a sweep, or one shard of it, into a store.
 
     A store of a sweep with other grid values and every other setting the same is
@@ -1098,6 +1100,15 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
         Called as ``on_extend(others)`` before ``on_start`` when the store is one of
         other grid values, extended: ``others`` is the number of points it keeps outside
         this sweep.
+    on_size : callable, optional
+        Called with the estimated size of the store once the sweep is done
+        (:class:`~ins_errors.analysis.store.StoreSize`) before anything is written into
+        it (before ``on_extend`` and ``on_start``).
+    allow_large_store : bool
+        Write the store even when it is estimated beyond
+        :data:`~ins_errors.analysis.store.MAX_STORE_BYTES` or
+        :data:`~ins_errors.analysis.store.MAX_STORE_FILES`, or beyond the room left on
+        its file system (:func:`~ins_errors.analysis.store.check_room`).
 
     Returns
     -------
@@ -1122,8 +1133,10 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
         check_shard(shard, len(points.jobs))
     shape = layout(scenario, points, shard)
     share = [int(k) for k in shape.share]
+    sizing = _sizing(store, allow_large_store, on_size)
     with store_lock(store):
-        box, where, others = _open_store(scenario, store, shape, shard)
+        box, where, others = _open_store(scenario, store, shape, shard, sizing)
+        box.record_attributes(_judging(scenario))  # also when every point is reused
         todo = [k for k in share
                 if not box.done[where[k]] or (retry_failed and box.failure[where[k]])]
         reused = len(share) - len(todo)
@@ -1204,7 +1217,31 @@ def _as_stored(scenario, store: Path):
         scenario.sweep, parameters=tuple(parameters)))
 
 
-def _open_store(scenario, store: Path, shape, shard: Shard | None):
+def _sizing(store: Path, allow: bool, on_size: Callable[[Any], None] | None
+            ) -> Callable[[Any, int, int | None], None]:
+    """The check of a store's size before a sweep writes into it: a function of the
+    store's layout once done, the points it then holds and the points it holds now
+    (None: it is written whole, new or rewritten) that refuses a store beyond its limits
+    or its file system's room (:func:`~ins_errors.analysis.store.check_room`) unless
+    ``allow``, and then says the estimate (``on_size``)."""
+    from ins_errors.analysis.store import block_size, check_room, store_size
+
+    block = block_size(store)
+    netcdf = store.suffix == ".nc"
+
+    def sizing(shape, filled: int, present: int | None) -> None:
+        final = store_size(shape, filled, netcdf=netcdf, block=block)
+        needed = final if present is None else final - store_size(shape, present,
+                                                                    block=block)
+        check_room(store, final, needed, allow)  # (its one line says the estimate)
+        if on_size is not None:
+            on_size(final)
+
+    return sizing
+
+
+def _open_store(scenario, store: Path, shape, shard: Shard | None,
+                sizing: Callable[[Any, int, int | None], None]):
     """The store opened for a sweep, where each of the sweep's points is in it, and how
     many points of other grids it keeps (None: the store is the sweep's own).
 
@@ -1218,11 +1255,13 @@ def _open_store(scenario, store: Path, shape, shard: Shard | None):
         The store, the store index of each of the sweep's points (shape (P,)) and the
         number of points the store holds outside this sweep.
 
+    ``sizing`` (:func:`_sizing`) is called before anything is written into the store.
+
     Raises
     ------
     StoreError
         A store of another sweep that cannot be extended (one line naming the settings
-        that differ).
+        that differ), or one too large (``sizing``).
     """
     from ins_errors.analysis.store import SweepStore, read_store, stored_source
 
@@ -1232,13 +1271,20 @@ def _open_store(scenario, store: Path, shape, shard: Shard | None):
         try:
             found = data.attrs.get("fingerprint")
             if found and found != shape.fingerprint and not data.attrs.get("shard"):
-                return extend_store(scenario, store, shape, data)
+                return extend_store(scenario, store, shape, data, sizing)
         finally:
             data.close()
-    return SweepStore.open(store, shape), np.arange(shape.points), None
+    share = len(shape.share)
+    if source is None:
+        sizing(shape, share, None)
+    box = SweepStore.open(store, shape)
+    if source is not None:  # (opening it wrote nothing)
+        sizing(shape, share, int(np.count_nonzero(box.done[shape.share])))
+    return box, np.arange(shape.points), None
 
 
-def extend_store(scenario, store: Path, shape, data):
+def extend_store(scenario, store: Path, shape, data,
+                 sizing: Callable[[Any, int, int | None], None] | None = None):
     """Open a store made by a sweep of other grid values for this one (``shape``).
 
     Every setting but the grids must be the same (otherwise the store is refused,
@@ -1248,7 +1294,8 @@ def extend_store(scenario, store: Path, shape, data):
     (:func:`~ins_errors.analysis.store.grow`) with every finished point it held
     followed by those, not yet run; its time axis is the longer of the two. A store made
     before points recorded their identity is matched by rebuilding its grid
-    (:func:`_rebuilt_keys`).
+    (:func:`_rebuilt_keys`). ``sizing`` (:func:`_sizing`) is called before anything is
+    written into the store.
 
     Returns
     -------
@@ -1286,7 +1333,11 @@ def extend_store(scenario, store: Path, shape, data):
         index.setdefault(key, j)
     if all(key in index for key in wanted):  # every point has its place: as it is
         where = np.array([index[key] for key in wanted])
-        return reopen(store, data), where, len(stored) - len(set(where.tolist()))
+        box = reopen(store, data)
+        if sizing is not None:
+            done = set(np.flatnonzero(box.done).tolist())
+            sizing(box.layout, len(done | set(where.tolist())), len(done))
+        return box, where, len(stored) - len(set(where.tolist()))
     old = stored_layout(data)
     old = dataclasses.replace(old, coordinates={  # (rebuilt, for a store without them)
         **old.coordinates, POINT_KEY: (np.array(stored, dtype=str),
@@ -1301,6 +1352,8 @@ def extend_store(scenario, store: Path, shape, data):
             slot[key] = len(keep) + len(added)
             added.append(k)
     union = _union_layout(old, shape, keep, added)
+    if sizing is not None:  # rewritten whole, beside the old store until it is done
+        sizing(union, union.points, None)
     reader = _StoredPoints(data, union.point_variables)
     box = grow(store, union, [(n, reasons[j], lambda j=j: reader.values(j))
                               for n, j in enumerate(keep)])
@@ -1431,15 +1484,23 @@ def _view(dataset, shape, where: np.ndarray):
     return view
 
 
+def _judging(scenario) -> dict[str, str]:
+    """The store attribute naming the quantities a sweep's worst ratios judge (its
+    ``[outputs] quantities``, JSON; ``null``: all)."""
+    return {"judged_quantities": json.dumps(scenario.quantities)}
+
+
 def _judged_by(dataset, scenario):
     """``dataset`` whose worst ratios judge the scenario's ``[outputs] quantities`` as it
     is now (a store made before the list was recorded, or with another list, too)."""
-    dataset.attrs["judged_quantities"] = json.dumps(scenario.quantities)
+    dataset.attrs.update(_judging(scenario))
     return dataset
 
 
 def merge_shards(scenario, parts: Sequence[str | Path], store: str | Path,
-                 on_start: Callable[[int, int, int], None] | None = None) -> SweepResult:
+                 on_start: Callable[[int, int, int], None] | None = None,
+                 on_size: Callable[[Any], None] | None = None,
+                 allow_large_store: bool = False) -> SweepResult:
     """Join the shard stores of a sweep into one store, computing nothing.
 
     Every part must be a store made by ``ins-errors sweep --shard I/N`` of this very
@@ -1459,6 +1520,9 @@ def merge_shards(scenario, parts: Sequence[str | Path], store: str | Path,
         The merged store.
     on_start : callable, optional
         As for :func:`run_sweep`, before any point is copied.
+    on_size, allow_large_store
+        As for :func:`run_sweep`: the merged store's size is said before anything is
+        written, and a store too large refused.
 
     Raises
     ------
@@ -1475,6 +1539,7 @@ def merge_shards(scenario, parts: Sequence[str | Path], store: str | Path,
         read_store,
         store_lock,
         store_path,
+        stored_source,
     )
 
     store = store_path(store)
@@ -1550,8 +1615,15 @@ def merge_shards(scenario, parts: Sequence[str | Path], store: str | Path,
             raise SweepError("cannot merge: " + "; ".join(problems))
         readers = {index: _PartReader(path, source, data, shape)
                    for index, (path, source, data) in owners.items()}
+        sizing = _sizing(store, allow_large_store, on_size)
         with store_lock(store):
+            new = stored_source(store) is None
+            if new:
+                sizing(shape, total, None)
             box = SweepStore.open(store, shape)
+            if not new:
+                sizing(shape, total, int(np.count_nonzero(box.done)))
+            box.record_attributes(_judging(scenario))
             plan = []
             for k in range(total):
                 reader = readers[k % count + 1]

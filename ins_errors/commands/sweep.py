@@ -26,8 +26,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "and exits with status 2. A sweep can be split between N jobs (a "
                     "SLURM array): each runs --shard I/N into a store of its own, then "
                     "'ins-errors sweep FILE --merge PART... --store ALL' joins their "
-                    "stores into the one the whole sweep would have written. It says "
-                    "how many points it will compute on stderr first.")
+                    "stores into the one the whole sweep would have written. It says on "
+                    "stderr first how large the store will be (points, bytes, files) "
+                    "and how many points it will compute; a store estimated beyond 20 GB "
+                    "or 500,000 files, or beyond the free space or files of its file "
+                    "system, is refused before anything is written (--allow-large-store "
+                    "writes it anyway).")
     parser.add_argument("scenario", type=expand_user, help="scenario file with a [sweep] table")
     parser.add_argument("--store", type=expand_user, metavar="PATH",
                         help="result store: *.zarr (filled as points finish) or *.nc "
@@ -68,6 +72,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="run again the points the store records as failed (by "
                              "default a resumed sweep keeps them: the same input fails "
                              "the same way)")
+    parser.add_argument("--allow-large-store", action="store_true",
+                        help="write the store even when its size estimate (said on "
+                             "stderr before anything is written) is beyond 20 GB or "
+                             "500,000 files, or beyond the free space or files left on "
+                             "its file system (refused otherwise, exit status 2)")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -151,8 +160,14 @@ def _run(args: argparse.Namespace, counts: dict) -> int:
         print(f"ins-errors: sweep {title!r}, {how_many}, {doing}, {points - todo} already "
               f"in {store}{kept}", file=sys.stderr, flush=True)
 
+    def size(estimate) -> None:
+        import sys
+
+        print(f"ins-errors: store: {estimate.text}", file=sys.stderr, flush=True)
+
     if args.merge is not None:
-        result = sw.merge_shards(scenario, args.merge, store, on_start=say)
+        result = sw.merge_shards(scenario, args.merge, store, on_start=say, on_size=size,
+                                 allow_large_store=args.allow_large_store)
     else:
         def stored(_: int) -> None:
             counts["stored"] += 1
@@ -161,7 +176,8 @@ def _run(args: argparse.Namespace, counts: dict) -> int:
                               scheduler=args.scheduler, workers=args.workers,
                               progress=not args.no_progress,
                               retry_failed=args.retry_failed, shard=shard, on_start=say,
-                              on_result=stored, on_extend=others.append)
+                              on_result=stored, on_extend=others.append,
+                              on_size=size, allow_large_store=args.allow_large_store)
     data = result.dataset
     plotted = None
     if args.plot:
