@@ -19,6 +19,7 @@ A message names a unit as the user writes it (``mg``, not the registry's ``mg_n`
 from __future__ import annotations
 
 import math
+import os
 import re
 from functools import cache, lru_cache
 from pathlib import Path
@@ -45,12 +46,8 @@ def registry() -> pint.UnitRegistry:
     """
     import pint
 
-    try:
-        # pint keeps its parsed definition files in a cache folder (keyed by their
-        # contents and pint's version): 0.33 -> 0.02 s CPU per process once it is there
-        ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True,
-                                 cache_folder=installation_folder(units_cache_directory()))
-    except Exception:  # an unwritable or half-written cache folder: parse afresh
+    ureg = _cached_registry()
+    if ureg is None:   # no cache folder to be had: parsed afresh in every process
         ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True)
     # 'g' means standard gravity in INS work (pint's 'g' is the gram).
     ureg.define(f"gee = {STANDARD_GRAVITY} * meter / second ** 2 = g_n")
@@ -58,6 +55,32 @@ def registry() -> pint.UnitRegistry:
     ureg.define("milli_gee = 1e-3 * gee = mg_n")
     ureg.define("parts_per_million_ins = 1e-6 = ppm_ins")
     return ureg
+
+
+def _cached_registry() -> pint.UnitRegistry | None:
+    """pint's registry with its parsed definition files kept in the cache (keyed by their
+    contents and pint's version: 0.33 -> 0.02 s CPU per process once they are there);
+    None where the cache cannot be used. A damaged set (a file cut short, which pint
+    cannot read) is said in one line and deleted, and the files are parsed and kept
+    again."""
+    import shutil
+
+    import pint
+
+    folder = None
+    for attempt in range(2):
+        try:
+            folder = installation_folder(units_cache_directory())
+            return pint.UnitRegistry(autoconvert_offset_to_baseunit=True,
+                                     cache_folder=folder)
+        except Exception:  # an unwritable folder, or one pint cannot read
+            if attempt or folder is None or not os.access(folder, os.W_OK | os.X_OK):
+                return None
+        from ins_errors.numeric.cache import report_damaged
+
+        report_damaged(folder, "parsing pint's unit definitions again")
+        shutil.rmtree(folder, ignore_errors=True)
+    return None
 
 
 def units_cache_directory() -> Path:

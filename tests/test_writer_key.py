@@ -8,6 +8,7 @@ import importlib.util
 
 import pytest
 
+from ins_errors.numeric import cache as disk
 from ins_errors.numeric import writer_key as wk
 
 INTEGRATORS = "ins_errors.numeric.integrators"
@@ -120,7 +121,8 @@ def test_the_fingerprint_is_kept_on_disk_and_checked(tmp_path, monkeypatch, inst
         with monkeypatch.context() as patched:
             patched.setattr(wk, "writer_code", no_walking)
             assert wk.installed_fingerprint() == installed
-        memo.write_text("f" * 64 + f"\n{TRIG} 0123\n", encoding="utf-8")
+        # a whole note (not one found damaged) naming a module whose text changed
+        disk.write_entry(memo, ("f" * 64 + f"\n{TRIG} 0123\n").encode())
         wk.installed_fingerprint.cache_clear()
         assert wk.installed_fingerprint() == installed
         monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "file"))

@@ -16,7 +16,8 @@ motion definitions, of the numeric package that flies them and of the Earth mode
 units it uses, and the versions of Python, NumPy, SciPy and CasADi. Any change there
 is a new key (the stale file is never read); only the :data:`KEEP` most recently used
 files are kept. A file that cannot be read or written is no error: the motions are
-then flown as before.
+then flown as before; a damaged one (cut short, altered: each file is sealed,
+:func:`ins_errors.numeric.cache.write_entry`) is said in one line and flown again.
 """
 
 from __future__ import annotations
@@ -86,9 +87,14 @@ def load(name: str) -> tuple[list[tuple[str, str, dict[str, np.ndarray]]], list[
     """The stored motions ``(label, description, arrays)`` and those not flown
     (``"label: reason"``), or None if not stored (or stored without the motions not
     flown: never a partial set read as the whole)."""
+    from ins_errors.numeric.cache import read_entry
+
     path = folder() / f"{name}.npz"
+    raw = read_entry(path, "flying the motions again")
+    if raw is None:
+        return None
     try:
-        with np.load(path, allow_pickle=False) as data:
+        with np.load(io.BytesIO(raw), allow_pickle=False) as data:
             labels = [str(s) for s in data["labels"]]
             descriptions = [str(s) for s in data["descriptions"]]
             out = [(label, text, {f: data[f"{i}_{f}"] for f in FIELDS})
@@ -104,7 +110,7 @@ def store(name: str, motions: list[tuple[str, str, dict[str, np.ndarray]]],
           skipped: Sequence[str] = ()) -> None:
     """Store ``motions`` and the motions not flown, ``skipped`` (``"label: reason"``),
     under ``name`` (atomically) and drop the oldest beyond :data:`KEEP`."""
-    from ins_errors.numeric.cache import drop_least_recent, replace_file
+    from ins_errors.numeric.cache import drop_least_recent, write_entry
 
     target = folder()
     arrays = {"labels": np.array([m[0] for m in motions], dtype=str),
@@ -115,7 +121,7 @@ def store(name: str, motions: list[tuple[str, str, dict[str, np.ndarray]]],
     data = io.BytesIO()
     np.savez(data, **arrays)
     try:
-        replace_file(target / f"{name}.npz", data.getvalue())
+        write_entry(target / f"{name}.npz", data.getvalue())
         drop_least_recent(target.glob("*.npz"), KEEP)
     except OSError:
         pass  # no store: the next check flies the motions again

@@ -12,7 +12,9 @@ code_version`), in ``transitions/`` beside the stored motions, and read back exa
 
 At most :data:`KEEP` files are kept (a few kB each); the oldest are dropped by the first
 store of each process. A file that cannot be read or written is no error: the
-propagation is then computed as before.
+propagation is then computed as before; a damaged one (cut short, altered: each file is
+sealed, :func:`ins_errors.numeric.cache.write_entry`) is said in one line and computed
+again.
 """
 
 from __future__ import annotations
@@ -50,9 +52,14 @@ def name(key: tuple) -> str:
 
 def load(name: str) -> tuple[np.ndarray, ...] | None:
     """The stored transition matrices, or None if not stored."""
+    from ins_errors.numeric.cache import read_entry
+
     path = folder() / f"{name}.npy"
+    raw = read_entry(path, "propagating again")
+    if raw is None:
+        return None
     try:
-        stack = np.load(path, allow_pickle=False)
+        stack = np.load(io.BytesIO(raw), allow_pickle=False)
     except (OSError, ValueError):
         return None
     if stack.ndim != 3:
@@ -65,13 +72,13 @@ def load(name: str) -> tuple[np.ndarray, ...] | None:
 def store(name: str, phis: tuple[np.ndarray, ...]) -> None:
     """Store ``phis`` under ``name`` (atomically); the first store of a process drops the
     oldest files beyond :data:`KEEP`."""
-    from ins_errors.numeric.cache import replace_file
+    from ins_errors.numeric.cache import write_entry
 
     target = folder()
     data = io.BytesIO()
     np.save(data, np.array(phis))
     try:
-        replace_file(target / f"{name}.npy", data.getvalue())
+        write_entry(target / f"{name}.npy", data.getvalue())
         if not _pruned:
             _pruned.append(True)
             prune(target, KEEP)

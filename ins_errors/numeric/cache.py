@@ -408,8 +408,9 @@ def store_directory(name: str) -> Path:
 
 def code_digest(files: Iterable[tuple[str, Path]], versions: Iterable[str]) -> str:
     """SHA-256 (hex) of the code a stored result follows from: each file's label and
-    bytes, then the version strings joined by ``|`` (the part of a store's key that
-    makes a change of code or library a new key).
+    bytes, then the version strings and the entries' layout (:data:`ENTRY_FORMAT`)
+    joined by ``|`` (the part of a store's key that makes a change of code, library or
+    layout a new key).
 
     Parameters
     ----------
@@ -421,8 +422,123 @@ def code_digest(files: Iterable[tuple[str, Path]], versions: Iterable[str]) -> s
     digest = hashlib.sha256()
     for label, path in files:
         digest.update(label.encode() + b"\0" + path.read_bytes() + b"\0")
-    digest.update("|".join(versions).encode())
+    digest.update("|".join([*versions, ENTRY_FORMAT]).encode())
     return digest.hexdigest()
+
+
+ENTRY_FORMAT = "sealed-1"
+"""The layout of the cache's entries (part of every store's keys and of the loops' and
+notes' names, so an entry of another layout is never read): each file ends with a seal
+line (:func:`sealed`) that records the hash and length of what precedes it."""
+
+_SEAL_START = b"\n# ins-errors cache entry: sha256 "
+_SEAL_SIZE = len(_SEAL_START) + 64 + len(b", ") + 16 + len(b" bytes\n")
+
+
+def sealed(data: bytes) -> bytes:
+    """``data`` followed by its seal line: ``# ins-errors cache entry: sha256 <64 hex>,
+    <16 digits> bytes`` on a line of its own (a comment in Python, ignored after the
+    end of a shared library's contents), which :func:`unsealed` checks.
+
+    Parameters
+    ----------
+    data : bytes
+        The entry's contents.
+    """
+    digest = hashlib.sha256(data).hexdigest().encode()
+    return data + _SEAL_START + digest + b", %016d bytes\n" % len(data)
+
+
+def unsealed(raw: bytes) -> bytes | None:
+    """The contents of a file written by :func:`sealed`, or None when it is not complete
+    and unchanged: cut short (truncated, emptied), grown, altered, or never sealed."""
+    if len(raw) < _SEAL_SIZE:
+        return None
+    body, seal = raw[:-_SEAL_SIZE], raw[-_SEAL_SIZE:]
+    start = len(_SEAL_START)
+    if not seal.startswith(_SEAL_START) or seal[start + 64:start + 66] != b", " \
+            or not seal.endswith(b" bytes\n"):
+        return None
+    try:
+        size = int(seal[start + 66:start + 82])
+    except ValueError:
+        return None
+    if size != len(body) or hashlib.sha256(body).hexdigest().encode() != seal[start:start + 64]:
+        return None
+    return body
+
+
+_DAMAGE_SAID: set[str] = set()
+
+
+def report_damaged(path: Path, redo: str) -> None:
+    """Say in one line that the cache entry ``path`` is damaged and is not used; ``redo``
+    says what is done instead ("compiling it again"). Said for the first damaged entry
+    of each folder in a process only (a store found damaged often holds many: one line,
+    not one per entry). A :class:`RuntimeWarning` starting with ``ins-errors:``, which
+    the command line prints as its one line on stderr."""
+    folder = str(Path(path).parent)
+    if folder in _DAMAGE_SAID:
+        return
+    _DAMAGE_SAID.add(folder)
+    warnings.warn(f"ins-errors: the cache entry {str(path)!r} is damaged (incomplete or "
+                  f"altered) and is not used; {redo}", RuntimeWarning, stacklevel=3)
+
+
+def read_entry(path: Path, redo: str) -> bytes | None:
+    """The contents of the cache entry ``path`` (written by :func:`write_entry`), or None
+    when there is none or it cannot be read; a damaged one (:func:`unsealed`) is said in
+    one line (:func:`report_damaged`, with ``redo``) and never used: the caller computes
+    the entry again and writes it over the damaged one.
+
+    The file is read once, through one open file: an entry that another process replaces
+    meanwhile (atomically, :func:`write_entry`) is read whole, the old one or the new.
+    """
+    try:
+        raw = path.read_bytes()
+    except OSError:
+        return None
+    body = unsealed(raw)
+    if body is None:
+        report_damaged(path, redo)
+    return body
+
+
+def write_entry(path: Path, data: bytes) -> None:
+    """Keep ``data`` as the cache entry ``path``: sealed (:func:`sealed`) and written
+    atomically (:func:`replace_file`), so a reader finds the whole entry or none.
+
+    Raises
+    ------
+    OSError
+        If the folder or the file cannot be written (``path`` is then unchanged).
+    """
+    replace_file(path, sealed(data))
+
+
+def seal_file(path: Path) -> None:
+    """Append its seal line (:func:`sealed`) to the file ``path`` (a compiled library in
+    its scratch folder, before it is renamed into the cache: the bytes after the end of
+    a shared library's contents are not read by the loader).
+
+    Raises
+    ------
+    OSError
+        If the file cannot be read or written.
+    """
+    data = path.read_bytes()
+    with open(path, "ab") as out:
+        out.write(sealed(data)[len(data):])
+
+
+def intact(path: Path) -> bool:
+    """Whether the file ``path`` (followed if a link) is complete and unchanged since it
+    was sealed (:func:`unsealed`); False when it cannot be read. Checked before a
+    compiled library is loaded: loading one cut short may kill the process (SIGBUS)."""
+    try:
+        return unsealed(path.read_bytes()) is not None
+    except OSError:
+        return False
 
 
 def replace_file(path: Path, data: bytes) -> None:
@@ -460,20 +576,29 @@ def drop_least_recent(paths: Iterable[Path], keep: int) -> None:
         path.unlink(missing_ok=True)
 
 
+def _note_path(name: str) -> Path:
+    return directory() / NOTES / f"{name}.{ENTRY_FORMAT}"
+
+
 def read_note(name: str) -> str | None:
-    """The note ``name`` (:data:`NOTES`), or None when there is none or it cannot be read."""
+    """The note ``name`` (:data:`NOTES`), or None when there is none or it cannot be read.
+    A damaged note (cut short, altered: :func:`read_entry`) is said in one line and
+    taken as none, so the caller works the answer out again and writes it over."""
+    data = read_entry(_note_path(name), "working its answer out again")
     try:
-        return (directory() / NOTES / name).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError):
+        return None if data is None else data.decode("utf-8")
+    except UnicodeDecodeError:
         return None
 
 
 def write_note(name: str, text: str) -> None:
-    """Keep ``text`` as the note ``name`` (atomically; nothing happens where the folder
-    cannot be written). Beyond :data:`NOTE_LIMIT` notes the older half is deleted."""
-    folder = directory() / NOTES
+    """Keep ``text`` as the note ``name`` (sealed and atomic, :func:`write_entry`;
+    nothing happens where the folder cannot be written). Beyond :data:`NOTE_LIMIT` notes
+    the older half is deleted."""
+    path = _note_path(name)
+    folder = path.parent
     try:
-        replace_file(folder / name, text.encode("utf-8"))
+        write_entry(path, text.encode("utf-8"))
         notes = [path for path in folder.iterdir() if not path.name.startswith(".")]
         if len(notes) > NOTE_LIMIT:
             drop_least_recent(notes, len(notes) - len(notes) // 2)

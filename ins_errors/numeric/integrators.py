@@ -598,6 +598,14 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
     -------
     pathlib.Path or None
         None when no compiler works (then a one-time :class:`RuntimeWarning` says so).
+
+    Notes
+    -----
+    A library is stored sealed (its hash and length appended after its contents,
+    :func:`ins_errors.numeric.cache.seal_file`) and renamed into the cache whole; a
+    stored one is checked against its seal before it is returned (~1 ms per MB), and one
+    that fails (cut short, emptied, altered) is said in one line and compiled again over
+    it, never loaded.
     """
     compiler = _compiler()
     if compiler is None:
@@ -610,13 +618,18 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
         key = "described by: " + key   # never the text of a C source
     # -march=native code runs only on this kind of CPU: the CPU is part of the cache key
     digest = hashlib.sha256((key + compiler + " ".join(flags) + ca.__version__
-                             + _cpu_identity()).encode())
+                             + _cpu_identity() + cache.ENTRY_FORMAT).encode())
     name = f"loop_{digest.hexdigest()[:24]}.so"
     directory = _writable(cache_directory())
     library = directory / name
-    if library.exists():
-        cache.touch(library)
-        return library
+    if library.exists() or library.is_symlink():
+        # a library is sealed when stored: one cut short, emptied or altered is never
+        # loaded (the loader may kill the process on a short file) but compiled again
+        # and renamed over it
+        if cache.intact(library):
+            cache.touch(library)
+            return library
+        cache.report_damaged(library, "compiling it again")
     from ins_errors.progress import stage
 
     for attempt in range(COMPILE_ATTEMPTS):
@@ -632,6 +645,7 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
                     subprocess.run([compiler, *flags, "-o", str(target), str(c_file), "-lm"],
                                    check=True, capture_output=True,
                                    timeout=cache.COMPILE_TIMEOUT)
+                    cache.seal_file(target)
                     _compile_step("store", scratch)
                     os.replace(target, library)
                 except (OSError, subprocess.SubprocessError):
@@ -640,7 +654,7 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
         except (OSError, subprocess.SubprocessError) as error:
             if getattr(error, "returncode", 0) == -signal.SIGINT:
                 raise KeyboardInterrupt from None  # Ctrl-C stopped it: the compiler works
-            if library.exists():  # another process finished the same loop meanwhile
+            if cache.intact(library):  # another process finished the same loop meanwhile
                 break
             if vanished and attempt + 1 < COMPILE_ATTEMPTS:
                 continue  # its scratch folder was deleted (cache clear): not the compiler
@@ -1102,7 +1116,10 @@ class CompiledLoop:
         spends outside the loop), so the answer is kept as a note of the cache folder
         (:func:`ins_errors.numeric.cache.write_note`) named by the hash of the loop's
         key (everything its C is written from, :func:`_functions_key`) and the start
-        states (it depends on nothing else: never on the per-case constants).
+        states (it depends on nothing else: never on the per-case constants). The note
+        is sealed (:func:`ins_errors.numeric.cache.sealed`): one cut short or altered is
+        never read (its numbers would be compiled into the loop), but worked out again
+        and written over, said in one line.
         """
         if not (self.constant_inputs and self._jit):
             return ()
@@ -1114,10 +1131,12 @@ class CompiledLoop:
             note = cache.read_note(name)
             if note is not None and note.startswith("frozen\n"):
                 try:
-                    return tuple((int(i), float.fromhex(v)) for i, v in
-                                 (line.split(" ") for line in note.split("\n")[1:] if line))
+                    found = tuple((int(i), float.fromhex(v)) for i, v in
+                                  (line.split(" ") for line in note.split("\n")[1:] if line))
                 except ValueError:
-                    pass
+                    found = None
+                if found is not None and all(0 <= i < self.nz for i, _ in found):
+                    return found
         frozen = self._frozen_probed(carry)
         if name is not None:
             cache.write_note(name, "frozen\n" + "".join(f"{i} {v.hex()}\n"

@@ -8,7 +8,9 @@ source file of the package together with the versions of SymPy and casadi, so th
 changed model, code generator or library gives another key and a kept file is never
 used for other code. At most :data:`KEEP_VERSIONS` files of one name are kept (the
 least recently used are deleted), a few tens of kB each. A file that cannot be read is
-derived again; a cache folder that cannot be written only costs the derivation.
+derived again, and so is a damaged one (cut short, altered: each file is sealed,
+:func:`ins_errors.numeric.cache.write_entry`; said in one line); a cache folder that
+cannot be written only costs the derivation.
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ from pathlib import Path
 
 import casadi as ca
 
-FORMAT = 1
+FORMAT = 2
 """Version of the file layout (part of the key)."""
 
 KEEP_VERSIONS = 8
@@ -71,8 +73,13 @@ def read(name: str, names: Sequence[str]) -> tuple[ca.Function, ...] | None:
     path = _file(name)
     if path is None:
         return None
+    from ins_errors.numeric.cache import read_entry
+
+    raw = read_entry(path, "deriving the functions again")
+    if raw is None:
+        return None
     try:
-        data = json.loads(path.read_text(encoding="utf-8"))
+        data = json.loads(raw.decode("utf-8"))
         functions = tuple(ca.Function.deserialize(data[n]) for n in names)
     except (OSError, ValueError, KeyError, TypeError, RuntimeError):
         return None
@@ -88,12 +95,12 @@ def write(name: str, functions: Mapping[str, ca.Function]) -> None:
     path = _file(name)
     if path is None:
         return
-    from ins_errors.numeric.cache import drop_least_recent, replace_file
+    from ins_errors.numeric.cache import drop_least_recent, write_entry
 
     text = json.dumps({n: f.serialize() for n, f in functions.items()})
     pattern = re.compile(re.escape(name) + r"-[0-9a-f]{32}\.json")
     try:
-        replace_file(path, text.encode("utf-8"))
+        write_entry(path, text.encode("utf-8"))
         # the least recently used other versions of ``name`` beyond KEEP_VERSIONS go
         drop_least_recent((p for p in path.parent.iterdir()
                            if p != path and pattern.fullmatch(p.name)), KEEP_VERSIONS - 1)

@@ -14,7 +14,9 @@ The key holds everything the lines follow from: the definition's content (the
 ``symbolic/variation.py``, ``symbolic/shared_trees.py``, ``modeling.py`` and this file,
 the versions of Python and SymPy). Any change there is a new key: a stale file is never
 read. Only the :data:`KEEP` most recently used files are kept. A file that cannot be
-read or written is no error: the lines are then computed as before.
+read or written is no error: the lines are then computed as before; a damaged one (cut
+short, altered: each file is sealed, :func:`ins_errors.numeric.cache.write_entry`) is
+said in one line and computed again.
 """
 
 from __future__ import annotations
@@ -99,11 +101,14 @@ def key(d) -> str:
 
 def load(name: str) -> list | None:
     """The stored lines, or None if they are not stored (or cannot be read)."""
+    from ins_errors.numeric.cache import read_entry
+
     path = folder() / f"{name}.pickle"
-    try:
-        lines = pickle.loads(path.read_bytes())
-    except FileNotFoundError:
+    raw = read_entry(path, "varying the model again")
+    if raw is None:
         return None
+    try:
+        lines = pickle.loads(raw)
     except Exception:  # a damaged or foreign file: computed afresh
         return None
     if not isinstance(lines, list):
@@ -115,11 +120,11 @@ def load(name: str) -> list | None:
 
 def store(name: str, lines: list) -> None:
     """Store ``lines`` under ``name`` (atomically) and drop the oldest beyond :data:`KEEP`."""
-    from ins_errors.numeric.cache import drop_least_recent, replace_file
+    from ins_errors.numeric.cache import drop_least_recent, write_entry
 
     target = folder()
     try:
-        replace_file(target / f"{name}.pickle", pickle.dumps(lines, protocol=4))
+        write_entry(target / f"{name}.pickle", pickle.dumps(lines, protocol=4))
         drop_least_recent(target.glob("*.pickle"), KEEP)
     except OSError:
         pass  # not stored: computed again next time
