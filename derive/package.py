@@ -13,6 +13,7 @@ import tempfile
 from pathlib import Path
 
 from ins_errors.errors import InsErrorsError
+from ins_errors.model_lookup import seal_package
 from ins_errors.modeling import ModelDefinition
 
 from .model_files import ModelSummary, write_model
@@ -33,8 +34,11 @@ def is_generated_package(folder: Path) -> bool:
 
 
 def write_package(d: ModelDefinition, target: Path, origin: tuple[str, str] | None = None,
-                  record: dict[str, str] | None = None) -> ModelSummary:
-    """Derive ``d`` and write its package (metadata, numpy, CasADi, Markdown) as ``target``.
+                  record: dict[str, str] | None = None, replace: bool = True) -> ModelSummary:
+    """Derive ``d`` and write its package (metadata, numpy, CasADi, Markdown) as ``target``,
+    the files' lengths and hashes recorded in its sealed ``__init__.py``
+    (:func:`ins_errors.model_lookup.seal_package`: a package cut short or altered is
+    found before it is used).
 
     Parameters
     ----------
@@ -47,6 +51,10 @@ def write_package(d: ModelDefinition, target: Path, origin: tuple[str, str] | No
     origin, record
         Passed to :func:`write_model` (banner lines, extra metadata such as the hash of
         the model file).
+    replace : bool
+        Replace a generated package already at ``target`` (default); False: a package
+        put there meanwhile (another process writing the same one) is kept, and this
+        one dropped with an error (the caller uses that one).
 
     Returns
     -------
@@ -73,7 +81,11 @@ def write_package(d: ModelDefinition, target: Path, origin: tuple[str, str] | No
                              f"{error.strerror}") from None
     try:
         summary = write_model(d, scratch, origin=origin, record=record)
-        replace_folder(target, scratch / d.name)
+        seal_package(scratch / d.name)   # checked before every use (package_damage)
+        if replace:
+            replace_folder(target, scratch / d.name)
+        else:   # one rename: fails where a non-empty folder is
+            (scratch / d.name).rename(target)
     except OSError as error:
         raise InsErrorsError(f"cannot write {str(target)!r}: {error.strerror}") from None
     finally:

@@ -4,7 +4,7 @@ Every entry whose contents feed numbers is sealed when it is written (its hash a
 length appended, written whole through a scratch file and a rename) and checked when it
 is read: a note cut short once compiled a wrong latitude into the loop (exit 0, δlat
 2.8e3 arcmin instead of 0.68), a compiled loop cut short killed the process (SIGBUS), a
-cut stored motion set gave a traceback. The numbers a run gives
+cut generated module or stored motion set gave a traceback. The numbers a run gives
 after the repair are checked against the CasADi virtual machine, which reads no note
 and loads no library.
 """
@@ -26,6 +26,7 @@ import pytest
 
 from ins_errors.numeric import cache
 from ins_errors.numeric import integrators as integ
+from tests.test_cache_read_only import read_only  # noqa: F401 (a fixture)
 
 ROOT = Path(__file__).resolve().parent.parent
 SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
@@ -200,6 +201,60 @@ def test_a_stored_library_is_sealed_and_checked(tmp_path, monkeypatch, quiet):
         again = integ.compile_library(functions)
     assert again == library and cache.intact(library)
     assert float(ca.external("sealed_probe", str(library))(2.0)) == 6.0
+
+
+# --------------------------------------------------------------------------------------
+# generated code of model files
+# --------------------------------------------------------------------------------------
+def test_a_cut_generated_module_in_the_cache_is_derived_again(copy):
+    """Was: a 29-line traceback, exit 1 (for `check`, the status of a mistake found)."""
+    folder, cache_folder, reference = copy
+    (module,) = cache_folder.glob("models/*/numpy_model.py")
+    module.write_bytes(module.read_bytes()[:5000])
+    done = _run(STATIC, folder, cache_folder)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == reference
+    said = _damage_lines(done.stderr)
+    assert len(said) == 1 and "numpy_model.py is cut short or altered" in said[0]
+    assert str(module.parent) in said[0]
+    assert done.stderr.count("\n") == 1   # the one line, not also "deriving ... first use"
+    again = _run(STATIC, folder, cache_folder)
+    assert again.stdout == reference and again.stderr == ""
+
+
+def test_a_cut_package_beside_the_model_file_is_derived_again_in_its_place(copy):
+    folder, cache_folder, reference = copy
+    derived = _run(["derive", SCHULER.name], folder, cache_folder)
+    assert derived.returncode == 0, derived.stderr
+    beside = folder / "schuler_loop_generated"
+    for name in ("numpy_model.py", "__init__.py"):
+        path = beside / name
+        path.write_bytes(path.read_bytes()[:-40])
+        done = _run(STATIC, folder, cache_folder)
+        assert done.returncode == 0, done.stderr
+        assert done.stdout == reference
+        said = _damage_lines(done.stderr)
+        assert len(said) == 1 and "schuler_loop_generated/ is damaged" in said[0], said
+        assert f"{name} is cut short or altered" in said[0]
+        again = _run(STATIC, folder, cache_folder)
+        assert again.stdout == reference and again.stderr == ""   # written again, whole
+
+
+def test_a_damaged_package_beside_the_model_file_that_cannot_be_written_is_refused(
+        copy, read_only):  # noqa: F811
+    folder, cache_folder, _ = copy
+    assert _run(["derive", SCHULER.name], folder, cache_folder).returncode == 0
+    beside = folder / "schuler_loop_generated"
+    module = beside / "numpy_model.py"
+    module.write_bytes(module.read_bytes()[:5000])
+    read_only(beside)
+    done = _run(STATIC, folder, cache_folder)
+    assert done.returncode == 2 and done.stdout == ""
+    assert done.stderr.count("\n") == 1, done.stderr
+    assert done.stderr.startswith(f"ins-errors: error: the generated package "
+                                  f"{str(beside)!r} is damaged (numpy_model.py is cut "
+                                  "short or altered)")
+    assert "delete the folder" in done.stderr
 
 
 # --------------------------------------------------------------------------------------
