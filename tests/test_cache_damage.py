@@ -7,6 +7,10 @@ is read: a note cut short once compiled a wrong latitude into the loop (exit 0, 
 cut generated module or stored motion set gave a traceback. The numbers a run gives
 after the repair are checked against the CasADi virtual machine, which reads no note
 and loads no library.
+
+Also here: what the README says of the no-compiler fallback, the same bits as the
+compiled loops, checked on a moving motion (it was not: the functions of the true
+motion were compiled with fused multiply-add).
 """
 
 from __future__ import annotations
@@ -347,6 +351,52 @@ def test_two_commands_started_together_on_a_fresh_cache_both_succeed_alike(tmp_p
     assert not any(_damage_lines(err) for _, err, _ in done)
     for path in (tmp_path / "cache").rglob("*"):   # no scratch file left behind
         assert not path.name.startswith(".") or path.name == ".compiling", path
+
+
+# --------------------------------------------------------------------------------------
+# the virtual machine's bits
+# --------------------------------------------------------------------------------------
+def test_compiled_functions_round_every_operation_as_the_virtual_machine(tmp_path,
+                                                                        monkeypatch):
+    """x y + z with x = y = 1 + 2⁻³⁰, z = −(1 + 2⁻²⁹): the product rounds to 1 + 2⁻²⁹ and
+    the sum is 0, as the virtual machine gives; one fused multiply-add (what the C
+    compiler made of CasADi's two statements where the processor has it) gives 2⁻⁶⁰."""
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))
+    x, y, z = ca.SX.sym("x"), ca.SX.sym("y"), ca.SX.sym("z")
+    function = ca.Function("fused_probe", [x, y, z], [x * y + z])
+    (native,) = integ.native_functions([function])
+    if isinstance(native, integ.VirtualFunction):
+        pytest.skip("no C compiler")
+    a, c = 1.0 + 2.0**-30, -(1.0 + 2.0**-29)
+    args = [np.array([a]), np.array([a]), np.array([c])]
+    out, virtual = np.empty(1), np.empty(1)
+    native(args, [out])
+    integ.VirtualFunction(function)(args, [virtual])
+    assert virtual[0] == 0.0
+    assert out[0] == 0.0
+
+
+def test_without_a_compiler_a_moving_motion_gives_the_compiled_bits():
+    """The README: without a compiler the loops run in CasADi's virtual machine, 'from
+    the same inputs both give the same bits'. Was: along a moving motion the true
+    motion's inputs were compiled with fused multiply-add (the direct δv_N 4.4e-16 off)."""
+    if integ._compiler() is None:
+        pytest.skip("no C compiler")
+    arguments = ["compare", "orthodromic", "--motion", "manoeuvre", "--hours", "0.02",
+                 "--step", "0.05s", "--source", "accel_bias_x=100ug", "--json",
+                 "--no-progress"]
+    env = {**os.environ}
+    env.pop("INS_ERRORS_NO_JIT", None)
+    compiled = subprocess.run([sys.executable, "-m", "ins_errors", *arguments], env=env,
+                              capture_output=True, text=True, timeout=600)
+    env.pop("CC", None)
+    env["PATH"] = str(Path(sys.executable).parent)   # no cc, gcc, clang
+    virtual = subprocess.run([sys.executable, "-m", "ins_errors", *arguments], env=env,
+                             capture_output=True, text=True, timeout=600)
+    assert compiled.returncode == virtual.returncode == 0, virtual.stderr
+    assert "no working C compiler" in virtual.stderr
+    assert "no working C compiler" not in compiled.stderr
+    assert compiled.stdout == virtual.stdout
 
 
 def test_write_entry_leaves_no_scratch_file_and_is_whole_for_a_reader(tmp_path):

@@ -544,8 +544,14 @@ def generated_source(functions: list[ca.Function]) -> str:
     return generator.dump()
 
 
-DEFAULT_FLAGS: tuple[str, ...] = ("-O3", "-march=native", "-shared", "-fPIC")
-"""C compiler flags of :func:`compile_source`."""
+DEFAULT_FLAGS: tuple[str, ...] = ("-O3", "-march=native", "-shared", "-fPIC",
+                                  "-ffp-contract=off")
+"""C compiler flags of :func:`compile_source` and of the functions
+:func:`compile_library` compiles (the true motion's inputs and interpolation, ...):
+without fused multiply-add contraction, which C compilers apply by default (GCC across
+statements: CasADi's ``a=x*y; a=a+z;`` became one ``fma``, rounded once instead of
+twice) wherever the processor has it, so these functions give the bits of the CasADi
+virtual machine too (no other flag here changes a result: no fast-math)."""
 
 IEEE_FLAGS: tuple[str, ...] = ("-O1", "-march=native", "-shared", "-fPIC",
                                "-ffp-contract=off", "-fno-math-errno",
