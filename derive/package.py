@@ -13,7 +13,6 @@ import tempfile
 from pathlib import Path
 
 from ins_errors.errors import InsErrorsError
-from ins_errors.model_lookup import seal_package
 from ins_errors.modeling import ModelDefinition
 
 from .model_files import ModelSummary, write_model
@@ -31,6 +30,17 @@ def is_generated_package(folder: Path) -> bool:
             return handle.readline().rstrip("\n") == BANNER_FIRST_LINE
     except OSError:
         return False
+
+
+def _seal(folder: Path) -> None:
+    """:func:`ins_errors.model_lookup.seal_package` of ``folder``; nothing where the
+    ins-errors imported predates sealed packages (a checkout's ``derive/`` run with
+    another checkout's package, which checks none)."""
+    try:
+        from ins_errors.model_lookup import seal_package
+    except ImportError:
+        return
+    seal_package(folder)
 
 
 def write_package(d: ModelDefinition, target: Path, origin: tuple[str, str] | None = None,
@@ -81,7 +91,7 @@ def write_package(d: ModelDefinition, target: Path, origin: tuple[str, str] | No
                              f"{error.strerror}") from None
     try:
         summary = write_model(d, scratch, origin=origin, record=record)
-        seal_package(scratch / d.name)   # checked before every use (package_damage)
+        _seal(scratch / d.name)   # checked before every use (package_damage)
         if replace:
             replace_folder(target, scratch / d.name)
         else:   # one rename: fails where a non-empty folder is
