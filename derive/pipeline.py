@@ -25,6 +25,7 @@ from pathlib import Path
 
 from ins_errors.errors import unknown_name
 from ins_errors.models import definition, model_names
+from ins_errors.output import open_modes
 from ins_errors.symbolic.consistency import check_definition
 from ins_errors.symbolic.static_base import SETUPS
 
@@ -110,6 +111,7 @@ def derive_all(root: Path, models: list[str] | None = None) -> list[ModelSummary
     root.parent.mkdir(parents=True, exist_ok=True)
     work = Path(tempfile.mkdtemp(prefix=f".{root.name}-derive-", dir=root.parent))
     try:
+        os.chmod(work, open_modes()[1])  # becomes generated/: not private as mkdtemp's
         if models is not None and root.is_dir():
             shutil.copytree(root, work, dirs_exist_ok=True,
                             ignore=shutil.ignore_patterns("__pycache__"))

@@ -54,10 +54,20 @@ class OutputError(InsErrorsError):
     """An output file or folder that cannot be written (or must not be overwritten)."""
 
 
-def _umask() -> int:
+def umask() -> int:
+    """This process's file-creation mask (read by setting it and setting it back)."""
     mask = os.umask(0o022)
     os.umask(mask)
     return mask
+
+
+def open_modes() -> tuple[int, int]:
+    """The permissions ``open()`` and ``mkdir()`` give a new file and folder here
+    (``0o644`` and ``0o755`` under the usual umask): for files and folders made by
+    ``mkstemp``/``mkdtemp``, which make them private, before they are renamed into place
+    where others (a shared cache, a shared checkout) read them."""
+    mask = umask()
+    return 0o666 & ~mask, 0o777 & ~mask
 
 
 def _reason(error: OSError) -> str:
@@ -242,7 +252,7 @@ def write_with(path: str | Path, writer: Callable[[Path], object]) -> Path:
     temporary = Path(temporary)
     try:
         writer(temporary)
-        os.chmod(temporary, 0o666 & ~_umask())  # mkstemp makes it private: as open() would
+        os.chmod(temporary, open_modes()[0])  # mkstemp makes it private: as open() would
         os.replace(temporary, path)
     except OSError as error:
         raise OutputError(f"cannot write {shown(path)}: {_reason(error)}") from None

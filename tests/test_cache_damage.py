@@ -409,3 +409,20 @@ def test_write_entry_leaves_no_scratch_file_and_is_whole_for_a_reader(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert cache.read_entry(tmp_path / "none.npz", "again") is None   # missing: silent
+
+
+def test_cache_entries_and_generated_folders_are_readable_by_others(tmp_path):
+    """A cache shared by a group (INS_ERRORS_CACHE on a common file system) and a shared
+    checkout: entries written whole through a scratch file took mkstemp's private mode
+    0600, and `make derive` left generated/ as mkdtemp's 0700."""
+    old = os.umask(0o022)
+    try:
+        entry = tmp_path / "cache" / "notes" / "x.entry"
+        cache.replace_file(entry, b"data")
+        assert entry.stat().st_mode & 0o777 == 0o644
+        from derive.pipeline import derive_all
+
+        derive_all(tmp_path / "generated", ["free_azimuth"])
+        assert (tmp_path / "generated").stat().st_mode & 0o777 == 0o755
+    finally:
+        os.umask(old)

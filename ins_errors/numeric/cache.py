@@ -544,18 +544,23 @@ def intact(path: Path) -> bool:
 def replace_file(path: Path, data: bytes) -> None:
     """Write ``data`` to ``path`` atomically: into a scratch file of the same folder
     (created if missing), renamed over ``path``; the scratch file never stays behind.
+    The file gets the permissions ``open()`` would give it (not ``mkstemp``'s private
+    ones: other users of a shared cache read it).
 
     Raises
     ------
     OSError
         If the folder or the file cannot be written (``path`` is then unchanged).
     """
+    from ins_errors.output import open_modes
+
     path.parent.mkdir(parents=True, exist_ok=True)
     handle, scratch = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.",
                                        suffix=".tmp")
     try:
         with os.fdopen(handle, "wb") as out:
             out.write(data)
+        os.chmod(scratch, open_modes()[0])  # readable by the users of a shared cache
         os.replace(scratch, path)
     except BaseException:
         Path(scratch).unlink(missing_ok=True)
