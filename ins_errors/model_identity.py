@@ -101,16 +101,16 @@ file, its identity and the record and banner written with its package, the units
 dimension checks and the messages of refusals."""
 
 NOT_DERIVATION = ("ins_errors.checker", "ins_errors.conventions", "ins_errors.numeric.cache",
-                  "ins_errors.user_paths")
+                  "ins_errors.output", "ins_errors.user_paths")
 """Project modules (and packages) the derivation code imports whose code does not decide
 what a model file's package holds or whether it is refused: the checker (reports on the
 hand derivations of built-in models, written by ``make derive`` only), the conventions'
 F and G of any model (:mod:`ins_errors.conventions`, built on the checker, imported by
 :mod:`ins_errors.models.strapdown_conventions` when it is asked for another model),
-the cache folders' bookkeeping and the spelling of a path (``~``,
-:mod:`ins_errors.user_paths`). Every other project module a derivation module imports belongs in
-:data:`DERIVATION_PACKAGES` or :data:`DERIVATION_MODULES` (tests/test_derivation_code.py
-checks this)."""
+the cache folders' bookkeeping, the writing of files (:mod:`ins_errors.output`: their
+permissions) and the spelling of a path (``~``, :mod:`ins_errors.user_paths`). Every
+other project module a derivation module imports belongs in :data:`DERIVATION_PACKAGES`
+or :data:`DERIVATION_MODULES` (tests/test_derivation_code.py checks this)."""
 
 
 def _folder(package: str, locations: Mapping[str, Path]) -> Path:
