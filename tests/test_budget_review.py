@@ -24,6 +24,7 @@ from ins_errors.analysis import budget_time as bt
 from ins_errors.cli import main
 from ins_errors.specs import default_spec_path, load_spec
 from ins_errors.units import parse_quantity
+from tests.test_budget_cli import NO_TILT as NO_TILT_SPEC
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -196,22 +197,7 @@ def test_report_of_an_exceeded_spec_shows_it_exceeded(tmp_path, capsys):
     assert f"ins-errors: warning: {warning}" in err
 
 
-NO_TILT = """
-    title = "vertical at rest"
-    sigma_level = 1
-    operating_time = "1 h"
-    [motion]
-    kind = "static"
-    latitude = "45 deg"
-    [items.vertical_error]
-    value = "30 arcsec"
-    every = "10 min"
-    from = "0 h"
-    [sources.initial_tilt_x]
-    include = false
-    [sources.initial_tilt_y]
-    include = false
-"""
+NO_TILT = '    title = "vertical at rest"\n' + NO_TILT_SPEC  # (test_budget_cli's spec)
 
 
 def test_report_monte_carlo_is_the_jsons_and_is_reproducible(tmp_path, capsys,
