@@ -34,6 +34,7 @@ import sympy as sp
 from sympy.core.mul import _keep_coeff
 from sympy.polys.domains import FractionField
 from sympy.polys.matrices import DomainMatrix
+from sympy.polys.polyerrors import CoercionFailed
 from sympy.polys.rings import PolyElement
 
 from ins_errors.errors import InsErrorsError
@@ -865,6 +866,22 @@ def _over_first_generator(value):
     return value.raw_new(numer, denom)
 
 
+def _check_rational(M: sp.Matrix, what: str, field) -> None:
+    """Refuse (AnalysisError, one line naming the entry) an entry of ``M`` that is not
+    an element of ``field``, the rational functions of the analysis's symbols."""
+    for (i, j), entry in sorted(M.todok().items()):
+        try:
+            field.from_sympy(entry)
+        except (ValueError, CoercionFailed):
+            where = f"entry ({i + 1}, {j + 1})" if M.cols > 1 else f"entry {i + 1}"
+            names = ", ".join(str(x) for x in field.symbols[1:]) or "none"
+            raise AnalysisError(
+                f"{what}: {where} = {entry} is not a rational function of the "
+                f"parametrisation's symbols ({names}): F and the source columns must be "
+                "rational in them; rewrite square roots, sin and cos into new symbols "
+                "with a Parametrisation (e.g. Ω_N = Ω cos φ, Ω_U = Ω sin φ)") from None
+
+
 def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
             parametrisation: Parametrisation = Parametrisation(),
             s: sp.Symbol = S, t: sp.Symbol = T,
@@ -888,9 +905,14 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
     Raises
     ------
     AnalysisError
-        If a root of det(sI − F) is not 0 or ±iω (:func:`split_modes`): e.g. the real
-        roots ±√(2g/R) of the vertical channel, named with their growth time constant.
+        If an entry of F or of a source column is not a rational function of the
+        symbols once the parametrisation has rewritten it (a square root, sin, cos, π
+        left in it: the resolvent is computed over the rational functions), naming the
+        entry; if a root of det(sI − F) is not 0 or ±iω (:func:`split_modes`): e.g. the
+        real roots ±√(2g/R) of the vertical channel, named with their growth time
+        constant.
     """
+    _check_square(F)
     rewrite = parametrisation.rewrite
     Fp = F.applyfunc(lambda e: sp.cancel(rewrite(e)))
     names = list(columns)
@@ -901,6 +923,9 @@ def analyse(F: sp.Matrix, columns: Mapping[str, tuple[sp.Matrix, bool]],
                                       for f in parametrisation.frequencies))) - {s},
                      key=sp.default_sort_key)
     outer = sp.QQ.frac_field(s, *symbols)
+    _check_rational(Fp, "F", outer)
+    for j, name in enumerate(names):
+        _check_rational(B[:, j], f"the column of source {name!r}", outer)
     inverse = _FractionFreeInverse(DomainMatrix.from_list_sympy(
         Fp.rows, Fp.cols, (s * sp.eye(Fp.rows) - Fp).tolist()).convert_to(outer))
     characteristic = characteristic_polynomial(Fp, s)
