@@ -19,7 +19,13 @@ from pathlib import Path
 import sympy as sp
 
 from ins_errors.models import definition
-from ins_errors.symbolic.analytic import S, T, factor_lists_remembered, factor_product
+from ins_errors.symbolic.analytic import (
+    S,
+    StaticAnalysis,
+    T,
+    factor_lists_remembered,
+    factor_product,
+)
 from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_numpy_function, prepare
 from ins_errors.symbolic.documents import to_latex
 from ins_errors.symbolic.shared_trees import SharedTrees
@@ -73,10 +79,10 @@ def _matrix_latex(M: sp.Matrix, names: dict[sp.Symbol, str]) -> str:
     return r"\begin{bmatrix}" + r" \\ ".join(rows) + r"\end{bmatrix}"
 
 
-def _period_text(result: VariantResult, model: str) -> list[str]:
+def _period_text(analysis: StaticAnalysis, model: str) -> list[str]:
     names = _names(model)
     rows = []
-    for mode in result.analysis.modes:
+    for mode in analysis.modes:
         if mode.symbol is None:
             rows.append(f"| integrator | $s^{{{mode.multiplicity}}}$ | – |")
             continue
@@ -86,9 +92,8 @@ def _period_text(result: VariantResult, model: str) -> list[str]:
     return ["| mode | factor | period |", "|---|---|---|", *rows]
 
 
-def _mode_product(result: VariantResult) -> sp.Expr:
+def _mode_product(a: StaticAnalysis) -> sp.Expr:
     """det(sI − F) written as the product of its modes (integrators s, s² + ω²)."""
-    a = result.analysis
     product = sp.Poly(a.characteristic, S).LC()
     for mode in a.modes:
         factor = S if mode.symbol is None else S**2 + mode.symbol**2
@@ -268,7 +273,7 @@ def _shown_forms(model: str, result: VariantResult, setup, trees: SharedTrees,
         responses = {name: {i: readable.response(e) for i, e in enumerate(a.responses[name])
                             if e != 0}
                      for name in result.sources}
-    return ShownForms(shown_F, _mode_product(result), readable.definitions_shown(),
+    return ShownForms(shown_F, _mode_product(result.analysis), readable.definitions_shown(),
                       adjugate, zero, responses)
 
 
@@ -381,7 +386,7 @@ def markdown(model: str, results: list[VariantResult],
                 f"$$ F = {_matrix_latex(forms.state_matrix, names)} $$", "",
                 "Characteristic polynomial and its modes:", "",
                 f"$$ \\Delta(s) = \\det(sI - F) = {to_latex(forms.characteristic, names)} $$",
-                "", *_period_text(result, model), "",
+                "", *_period_text(a, model), "",
                 "Symbols of the parametrisation:", "", *_definitions_text(forms, model), ""]
         if setup.print_resolvent:
             out += ["### Resolvent (sI − F)⁻¹ = adj(sI − F) / Δ(s)", "",
@@ -400,6 +405,18 @@ def markdown(model: str, results: list[VariantResult],
                     f"{len(states)}×{len(states)} entries would print as long rational "
                     "numbers. `ins_errors.symbolic.static_base.static_analyses"
                     f"({model!r})[0].analysis.resolvent` holds it exactly.", ""]
+        for limit, at in zip(result.variant.limits, result.limits, strict=True):
+            definitions = [f"${to_latex(k, names)} = {to_latex(v, names)}$"
+                           for k, v in at.parametrisation.definitions.items()]
+            out += [f"### Limit `{limit.name}`", "", limit.description, "",
+                    f"Parametrisation there: {at.parametrisation.description} ("
+                    + ", ".join(definitions) + "). Characteristic polynomial and modes:", "",
+                    f"$$ \\Delta(s) = {to_latex(_mode_product(at), names)} $$", "",
+                    *_period_text(at, model), "",
+                    f"Emitted as `_forms_{result.variant.name}_{limit.name}` in "
+                    "`closed_forms.py`; the denominators of the general forms are listed "
+                    "there (`DENOMINATORS`), and a point where one vanishes with no limit "
+                    "derived for it is refused (ValueError) instead of giving NaN.", ""]
         if forms.responses is None:
             out += ["### Time responses", "",
                     "The closed-form time responses of this variant are emitted to "
@@ -449,6 +466,36 @@ def _check_arguments(function, x, u, p, t=None):
 '''
 
 
+_EVALUATE = '''
+def _evaluate(function, variant, t, x, u, p):
+    """The closed forms of ``variant`` at (t, x, u, p) (arguments already checked).
+
+    The general forms, and each limit's own forms (LIMITS) at the points where the
+    denominator that vanishes there is within the limit's width of zero; ValueError
+    (one line) where the result is still not finite: a denominator of the forms
+    vanishes (DENOMINATORS) with no limit derived for it.
+    """
+    general, margins, limits, denominators = _FORMS[variant]
+    with _np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        out = general(t, x, u, p)
+        if limits:
+            near = _np.abs(margins(x, u, p))
+            for k, (width, forms) in enumerate(limits):
+                if _np.any(near[k] <= width):
+                    out = _np.where(near[k] <= width, forms(t, x, u, p), out)
+        if _np.all(_np.isfinite(out)):
+            return out
+        values = denominators(x, u, p)
+    zero = [name for name, value in zip(DENOMINATORS[variant], values)
+            if _np.any(value == 0) or not _np.all(_np.isfinite(value))]
+    if zero:
+        raise ValueError(f"{function}: the closed forms divide by {', '.join(zero)}, "
+                         "zero at this point, where no limiting form is derived (e.g. a "
+                         "Schuler frequency equal to the Earth rate)")
+    raise ValueError(f"{function}: the closed forms overflow at this point")
+'''
+
+
 def _baked_meaning(name: str, value: float) -> str:
     if name in ("e2", "ecc2") and value == 0:
         return "a spherical Earth"
@@ -491,7 +538,7 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
                            "Margins of the model's domain and the static base's "
                            "conditions (> 0: inside).", "one margin per entry of _DOMAIN")
     src.append("\n" + emit_numpy_function(prepare(margins, trees)) + "\n")
-    src.append(_CHECKS)
+    src += [_CHECKS, _EVALUATE]
 
     def checked_function(spec: FunctionSpec) -> str:
         text = emit_numpy_function(prepare(spec, trees))
@@ -499,17 +546,70 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
         return text.replace("    _batch = ", f"    _check_arguments({spec.name!r}, x, u, p, "
                             f"{t})\n    _batch = ", 1)
 
+    def emitted(spec: FunctionSpec) -> str:
+        return "\n" + emit_numpy_function(prepare(spec, trees)) + "\n"
+
+    def responses(a: StaticAnalysis, sources: list[str]) -> sp.Matrix:
+        matrix = sp.Matrix.hstack(*[a.responses[s] for s in sources])
+        return matrix.applyfunc(lambda e: a.in_model_symbols(e, trees))
+
+    forms, denominators, limits_record = [], {}, {}
+    arguments = [t_arg, x_arg, u_arg, p_arg]
+    vanishing = (", for times t < 0, and where a\n    denominator of the forms vanishes "
+                 "with no limiting form derived for it\n    (DENOMINATORS, LIMITS)")
     for result in results:
         a = result.analysis
         name = result.variant.name
         variants.append(name)
-        matrix = sp.Matrix.hstack(*[a.responses[s] for s in result.sources])
-        matrix = matrix.applyfunc(lambda e, a=a: a.in_model_symbols(e, trees))
-        spec = FunctionSpec(f"responses_{name}", [t_arg, x_arg, u_arg, p_arg], matrix,
+        spec = FunctionSpec(f"responses_{name}", arguments,
+                            sp.zeros(len(d.error_states), len(result.sources)),
                             f"Closed-form responses of variant {name!r}: unit source -> "
-                            f"error state.\n\n    {checked.format(', and for times t < 0')}",
+                            f"error state.\n\n    {checked.format(vanishing)}",
                             "error state i for unit source j", matrix=True)
-        src.append("\n" + checked_function(spec) + "\n")
+        wrapper = emit_numpy_function(prepare(spec, trees))
+        head = wrapper[:wrapper.index("    _batch = ")]
+        src.append(f"\n{head}    _check_arguments({spec.name!r}, x, u, p, t)\n"
+                   f"    return _evaluate({spec.name!r}, {name!r}, t, x, u, p)\n")
+        src.append(emitted(FunctionSpec(
+            f"_forms_{name}", arguments, responses(a, result.sources),
+            f"The general closed forms of variant {name!r} (unchecked: see "
+            f"responses_{name}).", "error state i for unit source j", matrix=True)))
+        limits = []
+        for limit, at in zip(result.variant.limits, result.limits, strict=True):
+            src.append(emitted(FunctionSpec(
+                f"_forms_{name}_{limit.name}", arguments, responses(at, result.sources),
+                f"The closed forms of variant {name!r} derived at the {limit.name} "
+                f"(unchecked: see responses_{name}).", "error state i for unit source j",
+                matrix=True)))
+            limits.append(f"({limit.width!r}, _forms_{name}_{limit.name})")
+        shown: dict[str, sp.Expr] = {}  # the general forms' factors, then the limits'
+        for analysis in (a, *result.limits):
+            for factor in analysis.denominators:
+                value = analysis.in_model_symbols(
+                    analysis.parametrisation.to_model(factor, trees), trees)
+                shown.setdefault(f"{factor} = {value}" if value != factor else str(factor),
+                                 value)
+        denominators[name] = tuple(shown)
+        src.append(emitted(FunctionSpec(
+            f"_denominators_{name}", [x_arg, u_arg, p_arg], sp.Matrix(list(shown.values())),
+            f"The factors the closed forms of variant {name!r} (and its limits') divide "
+            "by.", "one value per entry of DENOMINATORS[variant]")))
+        margins_name = "None"
+        if result.variant.limits:
+            margins_name = f"_limit_margins_{name}"
+            src.append(emitted(FunctionSpec(
+                margins_name, [x_arg, u_arg, p_arg],
+                sp.Matrix([a.in_model_symbols(a.parametrisation.to_model(
+                    limit.factor / limit.scale, trees), trees)
+                    for limit in result.variant.limits]),
+                f"Per limit of variant {name!r}: its vanishing factor over its scale "
+                "(its forms are taken where this is within the limit's width of 0).",
+                "one margin per limit")))
+        limits_record[name] = {limit.name: f"{limit.factor}/{limit.scale} within "
+                                            f"{limit.width:g} of 0"
+                               for limit in result.variant.limits}
+        forms.append(f"    {name!r}: (_forms_{name}, {margins_name}, ("
+                     + "".join(f"{x}, " for x in limits) + f"), _denominators_{name}),")
         oscillators = [m for m in a.modes if m.symbol is not None]
         modes[name] = tuple(m.name for m in oscillators)
         freq = sp.Matrix([a.in_model_symbols(a.parametrisation.to_model(m.symbol, trees), trees)
@@ -527,7 +627,10 @@ def closed_form_module(model: str, results: list[VariantResult]) -> str:
                f"BAKED = {setup.baked!r}\n"
                f"ERROR_STATES = {tuple(s.name for s in d.error_states)!r}\n"
                f"_BAKED_INDEX = {baked_index!r}\n_BAKED_MEANING = {meaning!r}\n"
-               f"_DOMAIN = {tuple(message for _, message in conditions)!r}\n")
+               f"_DOMAIN = {tuple(message for _, message in conditions)!r}\n"
+               f"DENOMINATORS = {denominators!r}\n"
+               f"LIMITS = {limits_record!r}\n"
+               "_FORMS = {\n" + "\n".join(forms) + "\n}\n")
     return "\n".join(src)
 
 

@@ -82,11 +82,41 @@ def _check_arguments(function, x, u, p, t=None):
             raise ValueError(f"{function}: {message}")
 
 
+def _evaluate(function, variant, t, x, u, p):
+    """The closed forms of ``variant`` at (t, x, u, p) (arguments already checked).
+
+    The general forms, and each limit's own forms (LIMITS) at the points where the
+    denominator that vanishes there is within the limit's width of zero; ValueError
+    (one line) where the result is still not finite: a denominator of the forms
+    vanishes (DENOMINATORS) with no limit derived for it.
+    """
+    general, margins, limits, denominators = _FORMS[variant]
+    with _np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        out = general(t, x, u, p)
+        if limits:
+            near = _np.abs(margins(x, u, p))
+            for k, (width, forms) in enumerate(limits):
+                if _np.any(near[k] <= width):
+                    out = _np.where(near[k] <= width, forms(t, x, u, p), out)
+        if _np.all(_np.isfinite(out)):
+            return out
+        values = denominators(x, u, p)
+    zero = [name for name, value in zip(DENOMINATORS[variant], values)
+            if _np.any(value == 0) or not _np.all(_np.isfinite(value))]
+    if zero:
+        raise ValueError(f"{function}: the closed forms divide by {', '.join(zero)}, "
+                         "zero at this point, where no limiting form is derived (e.g. a "
+                         "Schuler frequency equal to the Earth rate)")
+    raise ValueError(f"{function}: the closed forms overflow at this point")
+
+
 def responses_full(t, x, u, p):
     """Closed-form responses of variant 'full': unit source -> error state.
 
     Raises ValueError (one line) for parameters other than BAKED and outside
-    the model's domain (e.g. a latitude at a pole), and for times t < 0.
+    the model's domain (e.g. a latitude at a pole), for times t < 0, and where a
+    denominator of the forms vanishes with no limiting form derived for it
+    (DENOMINATORS, LIMITS).
 
     Parameters
     ----------
@@ -109,6 +139,32 @@ def responses_full(t, x, u, p):
     u = _as_vector(u, 3, 'u', 'responses_full')
     p = _as_vector(p, 4, 'p', 'responses_full')
     _check_arguments('responses_full', x, u, p, t)
+    return _evaluate('responses_full', 'full', t, x, u, p)
+
+
+def _forms_full(t, x, u, p):
+    """The general closed forms of variant 'full' (unchecked: see responses_full).
+
+    Parameters
+    ----------
+    t : array_like, shape (1, ...)
+        time since the start, s (shape (1, ...)), finite, >= 0
+    x : array_like, shape (4, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 12, ...)
+        error state i for unit source j
+    """
+    t = _as_vector(t, 1, 't', '_forms_full')
+    x = _as_vector(x, 4, 'x', '_forms_full')
+    u = _as_vector(u, 3, 'u', '_forms_full')
+    p = _as_vector(p, 4, 'p', '_forms_full')
     _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
     t_ = t[0]
     phi_ = x[2]
@@ -379,6 +435,58 @@ def responses_full(t, x, u, p):
     return _out
 
 
+def _denominators_full(x, u, p):
+    """The factors the closed forms of variant 'full' (and its limits') divide by.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, ...)
+        one value per entry of DENOMINATORS[variant]
+    """
+    x = _as_vector(x, 4, 'x', '_denominators_full')
+    u = _as_vector(u, 3, 'u', '_denominators_full')
+    p = _as_vector(p, 4, 'p', '_denominators_full')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    phi_ = x[2]
+    R_ = p[0]
+    U_ = p[2]
+    g_ = p[3]
+    _t0 = _m.cos(phi_)
+    _t1 = U_**2
+    _t2 = _m.sin(phi_)
+    _t3 = _t1*_t2**2
+    _t4 = _t3 + g_/R_
+    _t5 = _m.sqrt(_t4)
+    _t6 = U_*_t2
+    _t7 = -_t5 + _t6
+    _t8 = _t5 + _t6
+    _t9 = _t0**2
+    _t10 = 2*_t5*_t6
+    _t11 = -_t1*_t9 + _t4
+    _out = _np.zeros((11,) + _batch)
+    _out[0] = U_*_t0
+    _out[1] = R_
+    _out[2] = U_
+    _out[3] = _t5
+    _out[4] = -_t7
+    _out[5] = _t8
+    _out[6] = _t1*_t9 + _t3
+    _out[7] = _t7
+    _out[8] = _t8
+    _out[9] = -_t10 - _t11
+    _out[10] = _t10 - _t11
+    return _out
+
+
 def frequencies_full(x, u, p):
     """Mode frequencies of variant 'full', rad/s.
 
@@ -422,7 +530,9 @@ def responses_report_reduced(t, x, u, p):
     """Closed-form responses of variant 'report_reduced': unit source -> error state.
 
     Raises ValueError (one line) for parameters other than BAKED and outside
-    the model's domain (e.g. a latitude at a pole), and for times t < 0.
+    the model's domain (e.g. a latitude at a pole), for times t < 0, and where a
+    denominator of the forms vanishes with no limiting form derived for it
+    (DENOMINATORS, LIMITS).
 
     Parameters
     ----------
@@ -445,6 +555,32 @@ def responses_report_reduced(t, x, u, p):
     u = _as_vector(u, 3, 'u', 'responses_report_reduced')
     p = _as_vector(p, 4, 'p', 'responses_report_reduced')
     _check_arguments('responses_report_reduced', x, u, p, t)
+    return _evaluate('responses_report_reduced', 'report_reduced', t, x, u, p)
+
+
+def _forms_report_reduced(t, x, u, p):
+    """The general closed forms of variant 'report_reduced' (unchecked: see responses_report_reduced).
+
+    Parameters
+    ----------
+    t : array_like, shape (1, ...)
+        time since the start, s (shape (1, ...)), finite, >= 0
+    x : array_like, shape (4, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (7, 12, ...)
+        error state i for unit source j
+    """
+    t = _as_vector(t, 1, 't', '_forms_report_reduced')
+    x = _as_vector(x, 4, 'x', '_forms_report_reduced')
+    u = _as_vector(u, 3, 'u', '_forms_report_reduced')
+    p = _as_vector(p, 4, 'p', '_forms_report_reduced')
     _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
     t_ = t[0]
     phi_ = x[2]
@@ -602,6 +738,45 @@ def responses_report_reduced(t, x, u, p):
     return _out
 
 
+def _denominators_report_reduced(x, u, p):
+    """The factors the closed forms of variant 'report_reduced' (and its limits') divide by.
+
+    Parameters
+    ----------
+    x : array_like, shape (4, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (3, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (4, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (6, ...)
+        one value per entry of DENOMINATORS[variant]
+    """
+    x = _as_vector(x, 4, 'x', '_denominators_report_reduced')
+    u = _as_vector(u, 3, 'u', '_denominators_report_reduced')
+    p = _as_vector(p, 4, 'p', '_denominators_report_reduced')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    phi_ = x[2]
+    R_ = p[0]
+    U_ = p[2]
+    g_ = p[3]
+    _t0 = _m.cos(phi_)
+    _t1 = g_/R_
+    _t2 = U_**2
+    _t3 = _t0**2*_t2 + _t2*_m.sin(phi_)**2
+    _out = _np.zeros((6,) + _batch)
+    _out[0] = U_*_t0
+    _out[1] = R_
+    _out[2] = U_
+    _out[3] = _m.sqrt(_t1)
+    _out[4] = _t3
+    _out[5] = -_t1 + _t3
+    return _out
+
+
 def frequencies_report_reduced(x, u, p):
     """Mode frequencies of variant 'report_reduced', rad/s.
 
@@ -644,3 +819,9 @@ ERROR_STATES = ('delta_v_E', 'delta_v_N', 'delta_latitude', 'delta_longitude', '
 _BAKED_INDEX = {'ecc2': 1}
 _BAKED_MEANING = {'ecc2': 'a spherical Earth'}
 _DOMAIN = ('latitude at or beyond ±90°: the formulas divide by cos φ (tan φ, sec φ)', 'Earth radius R must be positive', 'gravity g must be positive', 'eccentricity squared ecc2 must be below 1', 'eccentricity squared ecc2 must not be negative', "R + h must be positive: height below the Earth's centre")
+DENOMINATORS = {'full': ('Omega_N = U*cos(phi)', 'R', 'U', 'omega_bar = sqrt(U**2*sin(phi)**2 + g/R)', 'omega_minus = -U*sin(phi) + sqrt(U**2*sin(phi)**2 + g/R)', 'omega_plus = U*sin(phi) + sqrt(U**2*sin(phi)**2 + g/R)', 'Omega_N**2 + Omega_U**2 = U**2*sin(phi)**2 + U**2*cos(phi)**2', 'Omega_U - omega_bar = U*sin(phi) - sqrt(U**2*sin(phi)**2 + g/R)', 'Omega_U + omega_bar = U*sin(phi) + sqrt(U**2*sin(phi)**2 + g/R)', 'Omega_N**2 - 2*Omega_U*omega_bar - omega_bar**2 = -U**2*sin(phi)**2 + U**2*cos(phi)**2 - 2*U*sqrt(U**2*sin(phi)**2 + g/R)*sin(phi) - g/R', 'Omega_N**2 + 2*Omega_U*omega_bar - omega_bar**2 = -U**2*sin(phi)**2 + U**2*cos(phi)**2 + 2*U*sqrt(U**2*sin(phi)**2 + g/R)*sin(phi) - g/R'), 'report_reduced': ('Omega_N = U*cos(phi)', 'R', 'U', 'omega_s = sqrt(g/R)', 'Omega_N**2 + Omega_U**2 = U**2*sin(phi)**2 + U**2*cos(phi)**2', 'Omega_N**2 + Omega_U**2 - omega_s**2 = U**2*sin(phi)**2 + U**2*cos(phi)**2 - g/R')}
+LIMITS = {'full': {}, 'report_reduced': {}}
+_FORMS = {
+    'full': (_forms_full, None, (), _denominators_full),
+    'report_reduced': (_forms_report_reduced, None, (), _denominators_report_reduced),
+}

@@ -81,11 +81,41 @@ def _check_arguments(function, x, u, p, t=None):
             raise ValueError(f"{function}: {message}")
 
 
+def _evaluate(function, variant, t, x, u, p):
+    """The closed forms of ``variant`` at (t, x, u, p) (arguments already checked).
+
+    The general forms, and each limit's own forms (LIMITS) at the points where the
+    denominator that vanishes there is within the limit's width of zero; ValueError
+    (one line) where the result is still not finite: a denominator of the forms
+    vanishes (DENOMINATORS) with no limit derived for it.
+    """
+    general, margins, limits, denominators = _FORMS[variant]
+    with _np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        out = general(t, x, u, p)
+        if limits:
+            near = _np.abs(margins(x, u, p))
+            for k, (width, forms) in enumerate(limits):
+                if _np.any(near[k] <= width):
+                    out = _np.where(near[k] <= width, forms(t, x, u, p), out)
+        if _np.all(_np.isfinite(out)):
+            return out
+        values = denominators(x, u, p)
+    zero = [name for name, value in zip(DENOMINATORS[variant], values)
+            if _np.any(value == 0) or not _np.all(_np.isfinite(value))]
+    if zero:
+        raise ValueError(f"{function}: the closed forms divide by {', '.join(zero)}, "
+                         "zero at this point, where no limiting form is derived (e.g. a "
+                         "Schuler frequency equal to the Earth rate)")
+    raise ValueError(f"{function}: the closed forms overflow at this point")
+
+
 def responses_full(t, x, u, p):
     """Closed-form responses of variant 'full': unit source -> error state.
 
     Raises ValueError (one line) for parameters other than BAKED and outside
-    the model's domain (e.g. a latitude at a pole), and for times t < 0.
+    the model's domain (e.g. a latitude at a pole), for times t < 0, and where a
+    denominator of the forms vanishes with no limiting form derived for it
+    (DENOMINATORS, LIMITS).
 
     Parameters
     ----------
@@ -108,6 +138,32 @@ def responses_full(t, x, u, p):
     u = _as_vector(u, 5, 'u', 'responses_full')
     p = _as_vector(p, 3, 'p', 'responses_full')
     _check_arguments('responses_full', x, u, p, t)
+    return _evaluate('responses_full', 'full', t, x, u, p)
+
+
+def _forms_full(t, x, u, p):
+    """The general closed forms of variant 'full' (unchecked: see responses_full).
+
+    Parameters
+    ----------
+    t : array_like, shape (1, ...)
+        time since the start, s (shape (1, ...)), finite, >= 0
+    x : array_like, shape (8, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (5, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, 26, ...)
+        error state i for unit source j
+    """
+    t = _as_vector(t, 1, 't', '_forms_full')
+    x = _as_vector(x, 8, 'x', '_forms_full')
+    u = _as_vector(u, 5, 'u', '_forms_full')
+    p = _as_vector(p, 3, 'p', '_forms_full')
     _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
     t_ = t[0]
     u11_ = x[0]
@@ -968,6 +1024,228 @@ def responses_full(t, x, u, p):
     return _out
 
 
+def _forms_full_equator(t, x, u, p):
+    """The closed forms of variant 'full' derived at the equator (unchecked: see responses_full).
+
+    Parameters
+    ----------
+    t : array_like, shape (1, ...)
+        time since the start, s (shape (1, ...)), finite, >= 0
+    x : array_like, shape (8, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (5, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (11, 26, ...)
+        error state i for unit source j
+    """
+    t = _as_vector(t, 1, 't', '_forms_full_equator')
+    x = _as_vector(x, 8, 'x', '_forms_full_equator')
+    u = _as_vector(u, 5, 'u', '_forms_full_equator')
+    p = _as_vector(p, 3, 'p', '_forms_full_equator')
+    _batch = _np.broadcast_shapes(t.shape[1:], x.shape[1:], u.shape[1:], p.shape[1:])
+    t_ = t[0]
+    a_zeta_ = u[2]
+    a_ = p[0]
+    U_ = p[2]
+    _t0 = 1/a_
+    _t1 = _t0*a_zeta_
+    _t2 = 400000000000000000000*_t1
+    _t3 = U_*t_
+    _t4 = _m.cos(_t3)
+    _t5 = -400000000000000000000*_t0*a_zeta_ + 2126997646929
+    _t6 = -1/_t5
+    _t7 = _t4*_t6
+    _t8 = _t2*_t7
+    _t9 = _m.sqrt(_t1)
+    _t10 = _t9*t_
+    _t11 = _m.cos(_t10)
+    _t12 = 1/_t5
+    _t13 = _t11*_t12
+    _t14 = _t13*_t2
+    _t15 = _m.sin(_t10)
+    _t16 = _t15*_t9
+    _t17 = _t12*_t16
+    _t18 = 29168460000000000*_t17
+    _t19 = _m.sin(_t3)/U_
+    _t20 = _t19*_t6
+    _t21 = 29168460000000000*_t1
+    _t22 = -_t18 - _t20*_t21
+    _t23 = _t15/_t9
+    _t24 = ((1/6378245))*_t23
+    _t25 = 2126997646929*_t13
+    _t26 = 400000000000000000000*_t17
+    _t27 = _t2*_t20
+    _t28 = 2126997646929*_t1
+    _t29 = _t4/((4524118990041502943131041/400000000000000000000) - _t28)
+    _t30 = a_**(-2)
+    _t31 = a_zeta_**2
+    _t32 = _t11/(-_t28 + 400000000000000000000*_t30*_t31)
+    _t33 = 1/a_zeta_
+    _t34 = ((1/6378245))*_t11*_t33*a_ - (1/6378245)*_t33*a_
+    _t35 = -_t34
+    _t36 = 2126997646929*_t12*_t23
+    _t37 = ((1458423/20000000000))*_t23
+    _t38 = 13566512106536659605*_t1
+    _t39 = _t20*_t38
+    _t40 = 186043584152700000000000*_t1
+    _t41 = 8507990587716000000000*_t1
+    _t42 = 2551298000000000000000000000*_t1
+    _t43 = 2126997646929*_t7
+    _t44 = -_t18 - (3102062289227132967/20000000000)*_t20
+    _t45 = 2126997646929*_t20
+    _t46 = ((1458423/20000000000))*_t19
+    _t47 = ((20000000000/1458423))*_t4 + (-20000000000/1458423)
+    _out = _np.zeros((11, 26) + _batch)
+    _out[1, 7] = 1
+    _out[2, 1] = -_t14 - _t8
+    _out[2, 2] = _t22
+    _out[2, 3] = _t24
+    _out[2, 5] = _t25 + _t8
+    _out[2, 7] = _t22
+    _out[2, 9] = -_t26 - _t27
+    _out[2, 10] = -_t21*_t29 - _t21*_t32 + (-20000000000/1458423)
+    _out[2, 11] = _t35
+    _out[2, 13] = _t35
+    _out[2, 16] = _t27 + _t36
+    _out[3, 7] = -1
+    _out[5, 0] = 1 - _t11
+    _out[5, 4] = _t24
+    _out[5, 6] = -1
+    _out[5, 8] = -_t23 + t_
+    _out[5, 12] = _t35
+    _out[5, 14] = _t35
+    _out[5, 15] = -t_
+    _out[5, 23] = -_t37 + ((1458423/20000000000))*t_
+    _out[6, 1] = 2551298000000000000000000000*(_t1*_m.sqrt(_t1))*_t12*_t15 + _t39
+    _out[6, 2] = -_t13*_t40 - _t40*_t7
+    _out[6, 3] = _t11
+    _out[6, 5] = -13566512106536659605*_t17 - _t39
+    _out[6, 7] = 3957142657190302942220583*_t1*_t4/((4524118990041502943131041/100000000000) - _t41) + 744174336610800000000000000000000*_t11*_t30*_t31/(1600000000000000000000000000000*_t30*_t31 - _t41) + (1860435841527/4000000000)
+    _out[6, 9] = -_t13*_t42 - _t42*_t7
+    _out[6, 10] = -186043584152700000000000*_t17 - _t20*_t40
+    _out[6, 11] = _t23
+    _out[6, 13] = _t23
+    _out[6, 16] = -_t29*_t38 - _t32*_t38 - 6378245
+    _out[7, 0] = 6378245*_t16
+    _out[7, 4] = _t11
+    _out[7, 8] = 6378245 - 6378245*_t11
+    _out[7, 12] = _t23
+    _out[7, 14] = _t23
+    _out[7, 23] = (1860435841527/4000000000) - (1860435841527/4000000000)*_t11
+    _out[8, 0] = _t11
+    _out[8, 4] = -_t24
+    _out[8, 8] = _t23
+    _out[8, 12] = _t34
+    _out[8, 14] = _t34
+    _out[8, 23] = _t37
+    _out[9, 1] = -_t14 - _t43
+    _out[9, 2] = _t44
+    _out[9, 3] = _t24
+    _out[9, 5] = _t25 + _t43
+    _out[9, 7] = _t44
+    _out[9, 9] = -_t26 - _t45
+    _out[9, 10] = 29168460000000000*_t13 + 29168460000000000*_t7
+    _out[9, 11] = _t35
+    _out[9, 13] = _t35
+    _out[9, 16] = _t36 + _t45
+    _out[10, 1] = -_t46
+    _out[10, 2] = _t4
+    _out[10, 5] = _t46
+    _out[10, 7] = _t4 - 1
+    _out[10, 9] = _t47
+    _out[10, 10] = _t19
+    _out[10, 16] = -_t47
+    return _out
+
+
+def _denominators_full(x, u, p):
+    """The factors the closed forms of variant 'full' (and its limits') divide by.
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (5, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (13, ...)
+        one value per entry of DENOMINATORS[variant]
+    """
+    x = _as_vector(x, 8, 'x', '_denominators_full')
+    u = _as_vector(u, 5, 'u', '_denominators_full')
+    p = _as_vector(p, 3, 'p', '_denominators_full')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u11_ = x[0]
+    u31_ = x[2]
+    a_zeta_ = u[2]
+    a_ = p[0]
+    U_ = p[2]
+    _t0 = U_*u31_
+    _t1 = a_zeta_/a_
+    _t2 = U_**2
+    _t3 = _t2*u31_**2
+    _t4 = _t1 + _t3
+    _t5 = _m.sqrt(_t4)
+    _t6 = _t0 - _t5
+    _t7 = _t0 + _t5
+    _t8 = u11_**2
+    _t9 = _t2*_t8
+    _t10 = 2*_t0*_t5
+    _t11 = _m.sqrt(_t1)
+    _t12 = 20000000000*_t11
+    _out = _np.zeros((13,) + _batch)
+    _out[0] = U_
+    _out[1] = _t0
+    _out[2] = _t5
+    _out[3] = -_t6
+    _out[4] = _t7
+    _out[5] = _t3 + _t9
+    _out[6] = _t6
+    _out[7] = _t7
+    _out[8] = -_t10 + _t2*_t8 - _t4
+    _out[9] = -_t1 + _t10 - _t3 + _t9
+    _out[10] = _t11
+    _out[11] = _t12 - 1458423
+    _out[12] = _t12 + 1458423
+    return _out
+
+
+def _limit_margins_full(x, u, p):
+    """Per limit of variant 'full': its vanishing factor over its scale (its forms are taken where this is within the limit's width of 0).
+
+    Parameters
+    ----------
+    x : array_like, shape (8, ...)
+        static-base state (only the position matters), SI units
+    u : array_like, shape (5, ...)
+        static-base inputs (only the vertical specific force matters, where it is an input), SI units
+    p : array_like, shape (3, ...)
+        model parameters, SI units; those in BAKED must have their BAKED values
+
+    Returns
+    -------
+    numpy.ndarray, shape (1, ...)
+        one margin per limit
+    """
+    x = _as_vector(x, 8, 'x', '_limit_margins_full')
+    u = _as_vector(u, 5, 'u', '_limit_margins_full')
+    p = _as_vector(p, 3, 'p', '_limit_margins_full')
+    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:])
+    u31_ = x[2]
+    _out = _np.zeros((1,) + _batch)
+    _out[0] = u31_
+    return _out
+
+
 def frequencies_full(x, u, p):
     """Mode frequencies of variant 'full', rad/s.
 
@@ -1014,3 +1292,8 @@ ERROR_STATES = ('delta_u11', 'delta_u21', 'delta_u31', 'delta_u12', 'delta_u22',
 _BAKED_INDEX = {'a': 0, 'U': 2, 'e2': 1}
 _BAKED_MEANING = {'a': 'the value fixed before the analysis', 'U': 'the value fixed before the analysis', 'e2': 'a spherical Earth'}
 _DOMAIN = ('latitude at ±90° (|u31| = 1): the formulas divide by cos φ', 'semi-major axis a must be positive', 'a + h <= 0: the Earth radius plus height must be positive', 'eccentricity squared must be below 1', 'the vertical specific force a_zeta (gravity at rest) must be positive')
+DENOMINATORS = {'full': ('Omega_E = U', 'Omega_U = U*u31', 'omega_bar = sqrt(U**2*u31**2 + a_zeta/a)', 'omega_minus = -U*u31 + sqrt(U**2*u31**2 + a_zeta/a)', 'omega_plus = U*u31 + sqrt(U**2*u31**2 + a_zeta/a)', 'Omega_N**2 + Omega_U**2 = U**2*u11**2 + U**2*u31**2', 'Omega_U - omega_bar = U*u31 - sqrt(U**2*u31**2 + a_zeta/a)', 'Omega_U + omega_bar = U*u31 + sqrt(U**2*u31**2 + a_zeta/a)', 'Omega_N**2 - 2*Omega_U*omega_bar - omega_bar**2 = U**2*u11**2 - U**2*u31**2 - 2*U*u31*sqrt(U**2*u31**2 + a_zeta/a) - a_zeta/a', 'Omega_N**2 + 2*Omega_U*omega_bar - omega_bar**2 = U**2*u11**2 - U**2*u31**2 + 2*U*u31*sqrt(U**2*u31**2 + a_zeta/a) - a_zeta/a', 'omega_s = sqrt(a_zeta/a)', '20000000000*omega_s - 1458423 = 20000000000*sqrt(a_zeta/a) - 1458423', '20000000000*omega_s + 1458423 = 20000000000*sqrt(a_zeta/a) + 1458423')}
+LIMITS = {'full': {'equator': 'Omega_U/Omega_E within 1e-150 of 0'}}
+_FORMS = {
+    'full': (_forms_full, _limit_margins_full, ((1e-150, _forms_full_equator), ), _denominators_full),
+}

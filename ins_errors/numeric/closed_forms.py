@@ -8,6 +8,12 @@ the poles, R > 0, g > 0, finite times >= 0, the parameters the closed forms were
 for) with :class:`~ins_errors.errors.DomainError`, and evaluates them. The generated
 functions refuse the same with a one-line ``ValueError`` when called directly.
 
+Where a denominator of a variant's forms vanishes inside the domain, the generated
+function takes forms derived at that point (its ``LIMITS``: the orthodromic equator,
+where the general forms divide by Ω sin φ); where one vanishes with no such forms, or
+the forms overflow, it refuses in one line, and :meth:`ClosedForms.responses` says so
+with :class:`~ins_errors.errors.DomainError` (never NaN).
+
 The generated modules name the Foucault-split Schuler pair after ω± = ω̄ ± Ω sin φ with
 the *signed* Ω sin φ, so south of the equator their "Schuler + Foucault" is the slower
 mode. :meth:`ClosedForms.frequencies` and :meth:`ClosedForms.periods` name the pair by
@@ -103,6 +109,14 @@ class ClosedForms:
             Times since the start, s (finite, >= 0).
         variant : str
             ``"full"`` or a simplification name.
+
+        Raises
+        ------
+        DomainError
+            Times not finite or negative; a point where a denominator of the forms
+            vanishes and no limiting form is derived for it (the generated module's
+            ``DENOMINATORS``; its ``LIMITS`` are taken instead of the general forms,
+            e.g. the orthodromic equator).
         """
         variant = self._variant(variant)
         t = np.asarray(t, dtype=float)
@@ -111,7 +125,10 @@ class ClosedForms:
         if np.any(t < 0):
             raise DomainError("closed-form responses hold for t >= 0 only")
         function = getattr(self.module, f"responses_{variant}")
-        return function(t[None, ...], self.x, self.u, self.p)
+        try:
+            return function(t[None, ...], self.x, self.u, self.p)
+        except ValueError as error:  # a denominator of the forms vanishes here
+            raise DomainError(str(error)) from None
 
     def response(self, t, sources: dict[str, float], variant: str = "full") -> np.ndarray:
         """Error states for the given sources (SI) acting together, shape (ne,) + t.shape."""

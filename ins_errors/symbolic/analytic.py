@@ -26,7 +26,7 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
-from collections.abc import Callable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cache
 
@@ -703,6 +703,13 @@ class StaticAnalysis:
         return {name: sp.Matrix([to_sympy(e) for e in entries])
                 for name, entries in self._laplace.items()}
 
+    @functools.cached_property
+    def denominators(self) -> tuple[sp.Expr, ...]:
+        """The factors the closed-form responses divide by (:func:`denominator_factors`
+        of every response), in the parametrisation's symbols: where one vanishes, the
+        forms are 0/0 or infinite."""
+        return denominator_factors(e for column in self.responses.values() for e in column)
+
     def in_model_symbols(self, expr: sp.Expr, trees: SharedTrees | None = None) -> sp.Expr:
         """``expr`` with mode symbols and parametrisation symbols replaced by definitions.
 
@@ -712,6 +719,31 @@ class StaticAnalysis:
         expr = trees.xreplace(expr, {m.symbol: sp.sqrt(m.squared) for m in self.modes
                                      if m.symbol is not None and m.name.startswith("mode ")})
         return self.parametrisation.to_model(expr, trees)
+
+
+def denominator_factors(expressions: Iterable[sp.Expr]) -> tuple[sp.Expr, ...]:
+    """The distinct irreducible factors of every denominator in ``expressions``.
+
+    Each base of a negative power (each distinct subtree visited once), factored over
+    the rationals; every factor primitive with a positive leading coefficient (so a
+    factor and its negative are one), sorted by SymPy's default order.
+    """
+    bases: set[sp.Expr] = set()
+    seen: set[sp.Basic] = set()
+    stack = list(expressions)
+    while stack:
+        node = stack.pop()
+        if node in seen or node.is_Atom:
+            continue
+        seen.add(node)
+        if node.is_Pow and node.exp.is_negative:
+            bases.add(node.base)
+        stack.extend(node.args)
+    factors: set[sp.Expr] = set()
+    for base in bases:
+        for factor, _ in sp.Poly(base).factor_list()[1]:
+            factors.add((-factor if factor.LC() < 0 else factor).as_expr())
+    return tuple(sorted(factors, key=sp.default_sort_key))
 
 
 class _FractionFreeInverse:

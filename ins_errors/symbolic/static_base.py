@@ -11,7 +11,10 @@ closed-form responses. What is model-specific lives here:
   north-pointing model the Foucault-split pair ω± = ω̄ ± Ω_U with ω̄ = √(ω_s² + Ω_U²)
   (the roots of (s² + ω_s²)² + 4Ω_U² s²);
 * the variants: the full model and the named simplifications
-  (:mod:`ins_errors.symbolic.simplifications`).
+  (:mod:`ins_errors.symbolic.simplifications`);
+* a variant's :class:`Limit` points, where a denominator of its general closed forms
+  vanishes inside the domain (the orthodromic forms divide by Ω_U, zero at the
+  equator): the analysis repeated there with the point substituted first.
 
 :func:`static_analyses` runs them; ``derive/transfer_functions.py`` prints the results to
 ``generated/<model>/transfer_functions.md`` and ``generated/<model>/closed_forms.py``.
@@ -29,6 +32,7 @@ from ins_errors.errors import unknown_name
 from ins_errors.modeling import ModelDefinition
 from ins_errors.models import definition
 from ins_errors.symbolic.analytic import (
+    AnalysisError,
     Frequency,
     Parametrisation,
     StaticAnalysis,
@@ -58,6 +62,55 @@ LATEX = {OMEGA_N: r"\Omega_N", OMEGA_U: r"\Omega_U", OMEGA_S: r"\omega_s",
 
 
 @dataclass
+class Limit:
+    """A static point where a denominator of a variant's closed forms vanishes, analysed
+    on its own.
+
+    The general closed forms divide by the partial-fraction denominators of the
+    parametrisation (e.g. ω₊² − ω₋² = 4ω̄Ω_U). Where one of them vanishes inside the
+    domain (Ω_U = Ω sin φ at the equator, where the Foucault-split pair becomes one
+    double Schuler pair) the responses themselves stay finite (F has no Jordan block
+    there), but the general forms evaluate 0/0. The analysis is run again with the
+    point substituted before the partial fractions: the limit's own closed forms, which
+    the generated ``responses_<variant>`` takes where the factor is within ``width`` of
+    zero (relative to ``scale``).
+
+    Attributes
+    ----------
+    name : str
+        E.g. ``"equator"``; the generated forms are ``_forms_<variant>_<name>``.
+    substitution : dict
+        Applied to the values of the setup's ``point`` and ``initial_point`` (e.g.
+        φ → 0).
+    parametrisation : Parametrisation
+        Of the analysis at that point.
+    factor : sympy.Expr
+        The denominator factor of the general forms that vanishes there, in the general
+        parametrisation's symbols (checked to be one of them when derived).
+    scale : sympy.Expr
+        Its natural size (e.g. Ω for Ω_U = Ω sin φ): the forms switch where
+        |factor/scale| <= ``width``.
+    width : float
+        Where the limit's forms replace the general ones. Near the orthodromic equator
+        the general forms keep every response to 4e-12 of its own size down to
+        |sin φ| = 1e-150 (below, terms in sin² φ underflow, and below 1e-290 the forms
+        overflow); the limit's forms are the φ → 0 limit, off only in the responses
+        that vanish at the equator (0 instead of a size ∝ sin φ, below 1e-150 of the
+        others).
+    description : str
+        One sentence for the documents.
+    """
+
+    name: str
+    substitution: dict[sp.Symbol, sp.Expr]
+    parametrisation: Parametrisation
+    factor: sp.Expr
+    scale: sp.Expr
+    width: float
+    description: str
+
+
+@dataclass
 class Variant:
     """One static-base error model of a model: full, or with a simplification applied.
 
@@ -72,6 +125,9 @@ class Variant:
     factored : bool
         Factor every partial-fraction coefficient (readable, slower); False leaves them
         as cancelled rational functions (used where factoring would slow ``make derive``).
+    limits : list of Limit
+        Points inside the domain where a denominator of the general closed forms
+        vanishes, each analysed on its own.
     """
 
     name: str
@@ -79,6 +135,7 @@ class Variant:
     parametrisation: Parametrisation
     simplification: str | None = None
     factored: bool = True
+    limits: list[Limit] = field(default_factory=list)
 
 
 @dataclass
@@ -124,12 +181,14 @@ class StaticSetup:
 
 @dataclass
 class VariantResult:
-    """A variant analysed: the analysis and the terms its simplification dropped."""
+    """A variant analysed: the analysis, the terms its simplification dropped and the
+    analysis at each of its :class:`Limit` points (in the order of ``variant.limits``)."""
 
     variant: Variant
     analysis: StaticAnalysis
     dropped: list[tuple[DroppedTerm, sp.Expr]]
     sources: list[str]
+    limits: list[StaticAnalysis] = field(default_factory=list)
 
 
 # --------------------------------------------------------------------------------------
@@ -235,6 +294,22 @@ def _orthodromic() -> StaticSetup:
         "Ω_N = U cos φ = U u₁₁, Ω_U = U sin φ = U u₃₁ (ξ north), ω̄ = √(a_ζ/a + Ω_U²), "
         "ω± = ω̄ ± Ω_U (Ω_U < 0 south of the equator, where ω₊ is the lower); a and U "
         "fixed to numbers before the analysis")
+    equator = Limit(
+        "equator", {phi: 0},
+        Parametrisation(
+            lambda e: e.subs(a_zeta, a_num * OMEGA_S**2),
+            {OMEGA_S: sp.sqrt(a_zeta / a), OMEGA_E: U},
+            (Frequency(OMEGA_S, OMEGA_S**2, "Schuler"),
+             Frequency(OMEGA_E, U_num**2, "Earth")),
+            "φ = 0 (Ω_N = U, Ω_U = 0), ω_s = √(a_ζ/a); a and U fixed to numbers"),
+        OMEGA_U, OMEGA_E, 1e-150,
+        "The general forms divide by Ω_U = U sin φ (ω₊² − ω₋² = 4ω̄Ω_U: the partial "
+        "fractions of the Foucault-split pair), which vanishes at the equator, where the "
+        "pair becomes one double Schuler pair s² + ω_s² (no Jordan block: the responses "
+        "stay finite, but the general forms evaluate 0/0 there). The analysis is "
+        "repeated with φ = 0 substituted before the partial fractions, and "
+        "`responses_full` takes these forms where |sin φ| ≤ 1e-150 (down to there the "
+        "general ones keep every response to 4e-12 of its size).")
     return StaticSetup(
         "orthodromic", point,
         "Static base with the ξ axis north (χ = 0) at longitude 0, height 0, on the "
@@ -245,7 +320,8 @@ def _orthodromic() -> StaticSetup:
         "analysis of all 26 sources takes about twice as long, so they are fixed to the "
         "numbers above before the analysis (the documents print them as the symbols a "
         "and U; the generated closed forms refuse other values).",
-        [Variant("full", "Orthodromic INS, static base", full, factored=False)],
+        [Variant("full", "Orthodromic INS, static base", full, factored=False,
+                 limits=[equator])],
         initial_point={c["latitude"]: phi, c["longitude"]: 0, c["heading"]: 0,
                        c["v_N"]: 0, c["v_E"]: 0},
         baked={"a": float(a_num), "U": float(U_num), "e2": 0.0}, print_resolvent=False,
@@ -333,10 +409,39 @@ def static_analyses(name: str) -> list[VariantResult]:
             if variant.simplification:
                 Fv, dropped = simplification(variant.simplification).apply(
                     F, [v.name for v in d.error_states])
-            analysis = analyse(Fv, columns, variant.parametrisation,
-                               tidy=sp.factor if variant.factored else None)
-            results.append(VariantResult(variant, analysis, dropped, list(columns)))
+            tidy = sp.factor if variant.factored else None
+            analysis = analyse(Fv, columns, variant.parametrisation, tidy=tidy)
+            limits = [_limit_analysis(name, setup, variant, limit, analysis, tidy)
+                      for limit in variant.limits]
+            results.append(VariantResult(variant, analysis, dropped, list(columns), limits))
     return results
+
+
+def _limit_analysis(name: str, setup: StaticSetup, variant: Variant, limit: Limit,
+                    general: StaticAnalysis, tidy) -> StaticAnalysis:
+    """The analysis of ``variant`` at ``limit``'s point (its simplification applied too).
+
+    Raises
+    ------
+    AnalysisError
+        If the limit's factor is not a denominator of the general forms (a stale limit).
+    """
+    factors = general.denominators
+    if not any(sp.expand(f - limit.factor) == 0 or sp.expand(f + limit.factor) == 0
+               for f in factors):
+        raise AnalysisError(f"{name}, variant {variant.name}: the limit {limit.name!r} "
+                            f"is for the factor {limit.factor}, which no denominator of "
+                            f"the general closed forms has (they have {factors})")
+    d = definition(name)
+    point = {k: sp.sympify(v).subs(limit.substitution) for k, v in setup.point.items()}
+    initial = {k: sp.sympify(v).subs(limit.substitution)
+               for k, v in setup.initial_point.items()}
+    F, G, E = static_matrices(name, point, initial)
+    E = E.applyfunc(sp.simplify)
+    if variant.simplification:
+        F, _ = simplification(variant.simplification).apply(
+            F, [v.name for v in d.error_states])
+    return analyse(F, source_columns(d, G, E), limit.parametrisation, tidy=tidy)
 
 
 def setup(name: str) -> StaticSetup:
