@@ -111,6 +111,7 @@ def run(args: argparse.Namespace) -> int:
                                       "analytic_vs_linear": _finite(analytic[j]),
                                       "direct_vs_linear": _finite(direct[j]),
                                       "integration_error": _finite(day.integration[j]),
+                                      "second_order_only": list(day.second_order[j]),
                                       "warnings": day.warnings[j]}
                                      for j, s in enumerate(day.sources)]})
         else:
@@ -144,6 +145,7 @@ def run(args: argparse.Namespace) -> int:
                      "sources": [{"source": c.source, "magnitude_si": c.magnitude,
                                   **{key: _finite(propagation.finite_max(c.agreement(a, b)))
                                      for key, (a, b) in _AGREEMENTS.items()},
+                                  "second_order_only": list(c.second_order),
                                   **_reduced(c.reduced_vs_full()),
                                   "integration_error": _finite(c.integration_share()),
                                   "integration_error_si": _per_quantity(c.integration_error),

@@ -52,11 +52,16 @@ from ins_errors.models.earth import (
 )
 from ins_errors.numeric.accuracy import ORDERS
 from ins_errors.numeric.closed_forms import SPLIT_MODES, closed_forms
-from ins_errors.numeric.compare import Comparison, add_integration_errors, comparisons_of
+from ins_errors.numeric.compare import (
+    Comparison,
+    add_integration_errors,
+    comparisons_of,
+    metrics_of,
+)
 from ins_errors.numeric.envelope import column_envelopes
 from ins_errors.numeric.integrators import step_count
 from ins_errors.numeric.model import Model, load_model
-from ins_errors.numeric.simulate import simulate
+from ins_errors.numeric.simulate import ErrorCurves, simulate
 from ins_errors.numeric.trajectories import Trajectory
 from ins_errors.output import OutputFolder
 from ins_errors.units import STANDARD_GRAVITY, registry
@@ -220,6 +225,12 @@ class SourceCurves:
         √(gR) of the model, m/s: a velocity error δv weighs as the angle δv/√(gR) when
         the quantities of a source are put on one scale (the Schuler loop turns a tilt
         α into a velocity-error swing α√(gR)).
+    second_order : tuple of str
+        Report names (dVx, …) of the quantities the source moves only at second order
+        on this base, by ``compare``'s rule (:attr:`~ins_errors.numeric.compare.Metric.
+        second_order_only`: above the rounding floor in the direct run, while the linear
+        run leaves them at 0 to 1e-6 of that): the linear model has nothing of them to
+        judge (``compare``'s "no: 2nd order").
     """
 
     source: str
@@ -231,6 +242,7 @@ class SourceCurves:
     integration_error: np.ndarray | None = None
     warnings: list[str] = field(default_factory=list)
     schuler_speed: float = float(np.sqrt(STANDARD_GRAVITY * MEAN_RADIUS))
+    second_order: tuple[str, ...] = ()
 
     def integration_share(self) -> float:
         """Worst over quantities of integration error / max |linear numeric|: on the same
@@ -244,12 +256,14 @@ class SourceCurves:
         return float(np.nanmax(share)) if np.any(np.isfinite(share)) else float("nan")
 
     def agreement(self, a: str, b: str) -> np.ndarray:
-        """max|a − b| / max|b| per quantity (NaN where b is identically zero)."""
+        """max|a − b| / max|b| per quantity (NaN where b is identically zero, and for
+        the quantities moved only at second order, :attr:`second_order`: not judged)."""
         x, y = getattr(self, a), getattr(self, b)
         scale = np.max(np.abs(y), axis=1)
         gap = np.max(np.abs(x - y), axis=1)
+        judged = np.array([q[1] not in self.second_order for q in QUANTITIES])
         with np.errstate(invalid="ignore", divide="ignore"):
-            return np.where(scale > 0, gap / scale, np.nan)
+            return np.where(judged & (scale > 0), gap / scale, np.nan)
 
     def reduced_vs_full(self) -> ReducedComparison:
         """The report's reduced closed forms against the full ones, quantity by quantity.
@@ -323,6 +337,11 @@ class PropagationResult:
             f"{np.degrees(e.azimuth_error) * 60:.4g}′.", "",
             "Agreement = max over the run of |difference| / max |linear numeric|, the worst "
             "error quantity of each source (quantities that stay exactly zero skipped). "
+            "A quantity the direct run moves while the linear run leaves it at zero (to "
+            "1e-6 of the direct error: moved only at second order on this base, the rule "
+            "of `compare`'s 'no: 2nd order') is not judged: the linear model has nothing "
+            "of it to compare, so it is named in the column 'moved only at 2nd order' "
+            "instead of counted in 'direct vs linear'. "
             "Integration error = the larger estimated integration error (step doubling) "
             "of the direct and linear runs, a relative figure as the agreement is: divided "
             "by the same max |linear numeric|, worst quantity; to be read beside 'direct "
@@ -336,9 +355,9 @@ class PropagationResult:
             *symbol_key(), "",
             "| source | analytic (full) vs linear numeric | direct vs linear numeric | "
             "integration error (relative) | worst quantity (direct) | "
-            "reduced vs full analytic | "
+            "moved only at 2nd order (not judged) | reduced vs full analytic | "
             "not in the reduced model |",
-            "|---|---|---|---|---|---|---|",
+            "|---|---|---|---|---|---|---|---|",
         ]
         for c in self.curves:
             a = c.agreement("analytic", "linear")
@@ -347,6 +366,7 @@ class PropagationResult:
             worst = QUANTITIES[int(np.nanargmax(d))][1] if np.any(np.isfinite(d)) else "–"
             lines.append(f"| `{c.source}` | {_figure(finite_max(a))} | {_figure(finite_max(d))} | "
                          f"{_figure(c.integration_share())} | {worst} | "
+                         f"{', '.join(c.second_order) or '–'} | "
                          f"{_reduced_cell(r)} | {_lacking_cell(r)} |")
         warned = [(c.source, w) for c in self.curves for w in c.warnings]
         if warned:
@@ -520,6 +540,8 @@ def run(experiment: Experiment | None = None, progress: bool = False) -> Propaga
             integration_error=_integration_errors(comparisons[b]),
             warnings=list(comparisons[b].warnings),
             schuler_speed=float(np.sqrt(gravity * radius)),
+            second_order=tuple(q[1] for q in QUANTITIES
+                               if comparisons[b].metric(q[0]).second_order_only),
         ))
     result.periods = {variant: cf.periods(variant)
                       for variant in ("full", "report_reduced")}
@@ -757,6 +779,11 @@ class DayResult:
         Sphere radius a of the closed forms, m (the Krasovsky semi-major axis).
     earth_rate : float
         U of the closed forms, rad/s.
+    second_order : list of tuple of str
+        Per source: the error states it moves only at second order on this base, by
+        ``compare``'s rule (:func:`~ins_errors.numeric.compare.metrics_of` on the error
+        states: above the rounding floor of their unit in the direct run while the
+        linear run leaves them at 0 to 1e-6 of that); not judged.
     """
 
     latitude: float
@@ -773,6 +800,7 @@ class DayResult:
     gravity: float = float("nan")
     radius: float = float("nan")
     earth_rate: float = EARTH_RATE
+    second_order: list[tuple[str, ...]] = field(default_factory=list)
 
     def excited(self) -> np.ndarray:
         """Per source: True unless the closed form is identically zero (a factor whose
@@ -809,12 +837,16 @@ class DayResult:
                          "the model's sphere, e² = 0: γ_e·(1 + k sin² φ), not the standard "
                          "9.80665 m/s²",
                          "the sphere's radius a, the Krasovsky semi-major axis"), "",
-            "Agreement = worst error state of max |difference| / max |linear numeric|.", "",
+            "Agreement = worst error state of max |difference| / max |linear numeric|, "
+            "over the error states the closed form moves. A state the direct run moves "
+            "while the linear run leaves it at zero (to 1e-6 of the direct error: moved "
+            "only at second order on this base, the rule of `compare`'s 'no: 2nd order') "
+            "is not judged and is named in the last column.", "",
             "Integration error = estimated integration error (step doubling) / max |direct|,"
             " worst excited quantity: a relative figure, like the agreement.", "",
             "| source | magnitude | analytic vs linear numeric | direct vs linear | "
-            "integration error (relative) |",
-            "|---|---|---|---|---|"]
+            "integration error (relative) | moved only at 2nd order (not judged) |",
+            "|---|---|---|---|---|---|"]
         from ins_errors.units import format_quantity
 
         model = load_model("orthodromic")
@@ -825,11 +857,14 @@ class DayResult:
                                     info.display_unit or info.unit)
             if not self.excited()[j]:
                 lines.append(f"| `{source}` | {shown} | not "
-                             "excited on a static base (its input is zero there) | – | – |")
+                             "excited on a static base (its input is zero there) | – | – "
+                             "| – |")
                 continue
             share = np.nan if self.integration is None else self.integration[j]
+            second = self.second_order[j] if j < len(self.second_order) else ()
             lines.append(f"| `{source}` | {shown} | {a[j]:.2e} | {d[j]:.2e} | "
-                         + (f"{share:.2e} |" if np.isfinite(share) else "– |"))
+                         + (f"{share:.2e} |" if np.isfinite(share) else "– |")
+                         + f" {', '.join(second) or '–'} |")
         warned = [(s, w) for s, ws in zip(self.sources, self.warnings, strict=False)
                   for w in ws]
         if warned:
@@ -955,9 +990,13 @@ def orthodromic_day(latitude: float = float(np.radians(50.0)), duration: float =
                             if m.integration_error is not None), default=np.nan)
                        for c in comparisons])
     names = [q.name for q in model.parameters]
+    states = [s.name for s in model.error_states]
+    units = [s.unit for s in model.error_states]
+    curves = [ErrorCurves(states, units, sim.times, values) for values in (direct, sim.linear)]
+    second = [tuple(m.quantity for m in metrics_of(*curves, None, j) if m.second_order_only)
+              for j in range(len(sources))]
     return DayResult(latitude, duration, sim.times, analytic,
                      np.transpose(sim.linear, (0, 2, 1)), np.transpose(direct, (0, 2, 1)),
-                     sources, [s.name for s in model.error_states],
-                     cf.periods(), shares,
+                     sources, states, cf.periods(), shares,
                      [list(c.warnings) for c in comparisons], gravity,
-                     float(cf.p[names.index("a")]), float(cf.p[names.index("U")]))
+                     float(cf.p[names.index("a")]), float(cf.p[names.index("U")]), second)
