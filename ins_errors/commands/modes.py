@@ -130,13 +130,7 @@ def table(result) -> str:
     if used:
         notes.append("formulas: " + "; ".join(f"{name}: {FORMULAS[name]}" for name in used))
     if result.foucault_period_s is not None:
-        measured = result.foucault_period_from_modes_s
-        notes.append(
-            f"Foucault period 2π/(Ω|sin φ|) = {duration_text(result.foucault_period_s)} at "
-            f"φ = {np.degrees(refs.latitude):.4g}°: the plane of the Schuler oscillation "
-            "turns once in it" + ("" if measured is None else
-                                  f"; from the split pair, 2π/((ω₊ − ω₋)/2) = "
-                                  f"{duration_text(measured)}"))
+        notes.append(_foucault_note(result))
     explained: dict[str, list[str]] = {}
     for mode in result.modes:
         if mode.note:
@@ -157,6 +151,26 @@ def table(result) -> str:
     notes.append("error states: each state's size in the mode relative to the largest, "
                  f"{measure}; below 10 % left out (--json lists all)")
     return "\n".join(lines + notes)
+
+
+def _foucault_note(result) -> str:
+    """The Foucault period under the table, and what it is in this model's modes: the
+    turning of the Schuler oscillation's plane where a Foucault-split pair is named (with
+    the period from that pair), else the fact that no Schuler pair is split by it (a
+    free-azimuth platform, whose reference axes do not follow the meridian, carries the
+    turning in its wander angle instead; the model's note says why, where it has one)."""
+    refs = result.references
+    head = (f"Foucault period 2π/(Ω|sin φ|) = {duration_text(result.foucault_period_s)} at "
+            f"φ = {np.degrees(refs.latitude):.4g}°")
+    measured = result.foucault_period_from_modes_s
+    if measured is not None:
+        return (f"{head}: the plane of the Schuler oscillation turns once in it; from the "
+                f"split pair, 2π/((ω₊ − ω₋)/2) = {duration_text(measured)}")
+    noted = any(m.note for m in result.modes if m.name.startswith("Schuler"))
+    return (f"{head}, the time in which the meridian turns once about the vertical against "
+            "inertial space; no Schuler pair of this model is split by Ω|sin φ| (no "
+            "Schuler ± Foucault rows), so that turning does not show in its modes"
+            + ("; see the model's note" if noted else ""))
 
 
 def run(args: argparse.Namespace) -> int:

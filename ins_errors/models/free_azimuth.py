@@ -360,6 +360,24 @@ def levelling_offsets(latitude: float, heading: float,
     return 2.0 * alpha_g, 2.0 * beta_g
 
 
+MODE_NOTES = {
+    "Schuler": (
+        "two channels, not a Foucault pair, and not a slip: the reference axes ξ'η' do not "
+        "turn about the vertical (no azimuth command: the wander angle A takes up the "
+        "Earth's vertical rate, Ȧ = −U k_ζ) and the integrators hold the absolute "
+        "velocity (no Coriolis terms), so nothing splits the Schuler pair by Ω sin φ; "
+        "but at rest the platform is torqued at the horizontal Earth rate Ω cos φ about "
+        "north, and α̇ = α × ω couples the tilt about the horizontal axis across it (the "
+        "channel of the velocity error along north) with the azimuth error α_z (the "
+        "gyrocompass coupling), which stiffens that channel: ω² = g/R + Ω² cos² φ (g the "
+        "vertical specific force a_ζ at rest, R the model's tuning radius; 84.65 min "
+        "against 2π√(R/g) = 84.76 min at −30°, −0.17 % at the equator), exactly, at any "
+        "heading; the other channel is the textbook 2π√(R/g)"),
+}
+"""Why this model's static-base modes differ from the textbook formulas of ``ins-errors
+modes`` (:attr:`ins_errors.modeling.ModelDefinition.mode_notes`)."""
+
+
 # --------------------------------------------------------------------------------------
 # Assembly
 # --------------------------------------------------------------------------------------
@@ -442,5 +460,6 @@ def build(platform: str = "exact") -> ModelDefinition:
             (sp.cos(lat0) ** 2 - 1e-12, "initial latitude at ±90°: heading is undefined"),
             (R, "R <= 0: the tuning radius must be positive"),
         ),
+        mode_notes=MODE_NOTES,
         notes=__doc__.split("Modelling choices", 1)[1].split(":", 1)[1].strip(),
     )

@@ -145,14 +145,18 @@ INITIAL_CONDITIONS = (
 MODE_NOTES = {
     "Schuler": (
         "not the textbook pair, and not a slip: the textbook formula leaves out the "
-        "vertical channel, which the Coriolis terms ±2Ω cos φ (δv_E ↔ δv_D) couple to "
-        "the east channel; the unstable vertical channel (λ² = ∂γ/∂h) stiffens it by "
-        "(2Ω cos φ)² ω_s²/(ω_s² + ∂γ/∂h) ≈ (2Ω cos φ)²/3, half of which reaches each "
-        "Foucault-split mode: with the vertical channel undamped, ω̄² = g/R + Ω² sin² φ "
-        "+ (2Ω cos φ)²/6 gives this model's periods to 1e-5 (−0.050 % and −0.045 % "
-        "against the textbook at 50°); near the equator, where the Foucault split is "
-        "smaller than the difference of the radii, the channels part: north "
-        "2π√(R_N/g) on the meridian radius, east 2π/√(g/R_E + (2Ω)²/3)"),
+        "vertical channel and the ellipsoid. The Coriolis terms ±2Ω cos φ (δv_E ↔ δv_D) "
+        "couple the unstable vertical channel (λ² = ∂γ/∂h) to the east channel and "
+        "stiffen it by (2Ω cos φ)² ω_s²/(ω_s² + ∂γ/∂h) ≈ (2Ω cos φ)²/3, and each channel "
+        "has its own radius: north ω_N² = g/R_M (meridian radius), east ω_E² = g/R_N + "
+        "(2Ω cos φ)² ω_s²/(ω_s² + ∂γ/∂h) (prime vertical; ω_s² = g/√(R_M R_N)). Coupled by "
+        "the Foucault terms ±2Ω sin φ, their frequencies are the roots ω of "
+        "(ω² − ω_N²)(ω² − ω_E²) = 4Ω² sin² φ ω², which give this model's two Schuler "
+        "periods (vertical channel undamped) to 6e-6 at every latitude (−0.050 % and "
+        "−0.045 % against the textbook at 50°). Where the Foucault split outgrows the "
+        "difference of the radii (|φ| ≥ 15°) that is ω̄ ± Ω|sin φ| with ω̄² = g/R + "
+        "Ω² sin² φ + (2Ω cos φ)²/6, again to 6e-6 (2.6e-5 at 5°); at the equator the "
+        "channels part, north 2π/ω_N and east 2π/ω_E"),
     "vertical channel": (
         "not √(R/2g), and not a slip: normal gravity falls with height at "
         "∂γ/∂h = (2γ/a)(1 + f + m − 2f sin² φ), not 2g/R (+0.35 % at 50°), and the "
