@@ -294,6 +294,12 @@ def _command(argv: list[str] | None) -> int:
     except OSError as error:  # a file or folder the system refused (named by the error)
         print(f"ins-errors: error: {os_error_line(error)}", file=sys.stderr)
         return 2
+    except MemoryError as error:  # numpy's "Unable to allocate 43 GiB for an array ..."
+        said = " ".join(str(error).split())
+        print(f"ins-errors: error: out of memory{': ' + said if said else ''} (ask for "
+              "less: a longer step, a shorter duration, fewer motions or points)",
+              file=sys.stderr)
+        return 2
     finally:
         warnings.showwarning = shown_warning
         if sys.stdout is not real_stdout and isinstance(sys.stdout, _GuardedStdout):

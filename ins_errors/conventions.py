@@ -87,9 +87,9 @@ def error_matrices(model, convention: str, x, u, p, *, bias_states: Sequence[str
         Model parameters (``model.parameter_vector()``).
     bias_states : sequence of str, optional
         Error sources of kind ``constant`` carried as states after the convention's own
-        (a 15-state filter's gyro and accelerometer biases): a bias state's column of F
-        is its source's column of G, its row is 0 (or −1/τ, ``markov``); its column of G
-        is 0.
+        (a 15-state filter's gyro and accelerometer biases), in the order given: a bias
+        state's column of F is its source's column of G, its row is 0 (or −1/τ,
+        ``markov``); its column of G is 0.
     markov : mapping of str to float, optional
         Correlation time τ (s) of bias states that are first-order Gauss–Markov
         processes.
@@ -141,7 +141,10 @@ def model_convention(model, convention: str, bias_states: Sequence[str] = (),
     ------
     InsErrorsError
         One line for a convention the model does not have (saying when it has only its
-        own error states) or a bias state that is no constant error source.
+        own error states), a bias state that is no constant error source (a state of the
+        convention, an initial error, an unknown name), one given twice, or a correlation
+        time of something that is no bias state. The bias states follow the convention's
+        states in the order given.
     """
     from ins_errors.checker.conventions import conventions
     from ins_errors.checker.matrix import bias_states as make_bias_states
@@ -156,10 +159,29 @@ def model_convention(model, convention: str, bias_states: Sequence[str] = (),
                 "description (docs/matrix_check.md, 'Which models')")
         raise unknown_name(f"convention of {model.name}", str(convention), known)
     conv = known[convention]
+    bias_states = list(bias_states)
+    seen: set[str] = set()
+    for name in bias_states:
+        if name in seen:
+            raise InsErrorsError(f"bias state {name!r} is given twice (--bias-states)")
+        seen.add(name)
+        if name in conv.names:
+            sources = [s.name for s in model.sources if s.kind == "constant"]
+            raise InsErrorsError(
+                f"bias state {name!r} is a state of convention {convention!r} already: "
+                "bias states are constant error sources of the model carried as further "
+                f"states ({', '.join(sources[:3])}, …; 'ins-errors models {model.name}')")
+    for name in markov or {}:
+        if name not in bias_states:
+            raise InsErrorsError(
+                f"a correlation time (--markov {name}=TAU) is given for {name!r}, which is "
+                "not a bias state: name it in --bias-states too")
     if bias_states or markov:
         states = [*conv.names, *bias_states]
-        conv = conv.with_biases(make_bias_states(
-            states, [], dict(markov or {}), conv, model, "bias_states", "markov"))
+        made = make_bias_states(states, [], dict(markov or {}), conv, model,
+                                "bias_states", "markov")
+        # in the order given (a filter's layout), not the model's order of its sources
+        conv = conv.with_biases(tuple(sorted(made, key=lambda b: bias_states.index(b.name))))
     return conv
 
 

@@ -256,3 +256,128 @@ def process_noise(F, G, states, sources, white: Mapping[str, float] | None = Non
 def _non_negative(value: float, what: str) -> None:
     if not (math.isfinite(value) and value >= 0):
         raise InsErrorsError(f"{what} must be a finite number >= 0, got {value!r}")
+
+
+HOLD_TOLERANCE = 0.01
+"""Relative hold error (:func:`hold_error`) above which ``ins-errors matrices --discrete``
+warns that its step is too long for the motion."""
+
+_NEGLIGIBLE_BLOCK = 1e-9
+"""A block of Φ (in typical sizes of its states) this small against its rows' largest
+block is left out of :func:`hold_error`: it is rounding, whose relative change means
+nothing (an attitude row's position block in ψ)."""
+
+
+class HoldError(NamedTuple):
+    """How much holding F and G at a step's start changes Φ and Q (:func:`hold_error`).
+
+    Attributes
+    ----------
+    sizes : numpy.ndarray, shape (K - 1,)
+        Each step's largest relative block difference (0: F constant over the step).
+    size : float
+        The largest of ``sizes``.
+    step : int
+        The step it is at (from sample ``step`` to ``step + 1``).
+    matrix : str
+        ``"Phi"`` or ``"Qd"``: where it is.
+    rows, columns : tuple of int
+        The states of its block (first, last), indices into the states.
+    """
+
+    sizes: np.ndarray
+    size: float
+    step: int
+    matrix: str
+    rows: tuple[int, int]
+    columns: tuple[int, int]
+
+
+def state_blocks(units: list[str]) -> list[tuple[int, int]]:
+    """Runs of consecutive states of one unit (attitude, velocity, position, gyro biases,
+    …) as (first, stop) index pairs."""
+    blocks: list[tuple[int, int]] = []
+    for i, unit in enumerate(units):
+        if blocks and units[blocks[-1][0]] == unit:
+            blocks[-1] = (blocks[-1][0], i + 1)
+        else:
+            blocks.append((i, i + 1))
+    return blocks
+
+
+@one_blas_thread
+def hold_error(F, G, times, densities, held: DiscreteMatrices, units: list[str]
+               ) -> HoldError:
+    r"""A first-order estimate of what holding F and G at the step's start costs.
+
+    :func:`discrete_matrices` holds F and G at their values at each step's start. Over the
+    same step, F and G averaged over its two ends, ``(F_k + F_{k+1})/2``, give the
+    discrete model to one order of Δt more (the trapezoid: exact for F varying linearly
+    within the step, to O(Δt³)); the difference of the two is the hold's error to first
+    order. It is measured block by block of states of one unit (:func:`state_blocks`):
+
+    * Φ: the block's largest difference relative to the block's largest entry, in the
+      states' typical sizes (blocks of mere rounding, :data:`_NEGLIGIBLE_BLOCK` of their
+      rows' largest, left out);
+    * Q: the block's largest difference relative to √(Q_ii Q_jj) of the largest
+      variances of its rows' and columns' states (a correlation's scale: a cross term of
+      no consequence does not count).
+
+    The error falls about in proportion to the step (the difference of F over the step
+    times Δt, against a block of size F Δt).
+
+    Parameters
+    ----------
+    F, G, times, densities
+        As :func:`discrete_matrices` takes them.
+    held : DiscreteMatrices
+        :func:`discrete_matrices` of these.
+    units : list of str
+        SI unit of each state (for the blocks and the typical sizes).
+
+    Returns
+    -------
+    HoldError
+    """
+    from ins_errors.checker.typical import typical_magnitude
+
+    F, G, t, q = _checked(F, G, times, densities)
+    F_mid, G_mid = 0.5 * (F[:-1] + F[1:]), 0.5 * (G[:-1] + G[1:])
+    # (the last sample's F and G are not used by a step: pad to K)
+    mid = discrete_matrices(np.concatenate([F_mid, F_mid[-1:]]),
+                            np.concatenate([G_mid, G_mid[-1:]]), t, q)
+    scale = []
+    for unit in units:
+        try:
+            scale.append(typical_magnitude(unit)[0])
+        except InsErrorsError:
+            scale.append(1.0)
+    s = np.array(scale)
+    blocks = state_blocks(list(units))
+    steps = t.size - 1
+    found = [(np.zeros(steps), "Phi", blocks[0], blocks[0])]
+    A, B = held.Phi * (s[None, None, :] / s[None, :, None]), \
+        mid.Phi * (s[None, None, :] / s[None, :, None])
+    for r in blocks:
+        row_max = np.maximum(np.abs(A[:, r[0]:r[1]]).max(axis=(1, 2)),
+                             np.abs(B[:, r[0]:r[1]]).max(axis=(1, 2)))
+        for c in blocks:
+            a, b = A[:, r[0]:r[1], c[0]:c[1]], B[:, r[0]:r[1], c[0]:c[1]]
+            size = np.maximum(np.abs(a).max(axis=(1, 2)), np.abs(b).max(axis=(1, 2)))
+            counts = size > _NEGLIGIBLE_BLOCK * row_max
+            rel = np.where(counts, np.abs(a - b).max(axis=(1, 2))
+                           / np.where(counts, size, 1.0), 0.0)
+            found.append((rel, "Phi", r, c))
+    variances = np.maximum(np.einsum("kii->ki", held.Qd), np.einsum("kii->ki", mid.Qd))
+    dQ = np.abs(held.Qd - mid.Qd)
+    for r in blocks:
+        for c in blocks:
+            scale_rc = np.sqrt(variances[:, r[0]:r[1]].max(axis=1)
+                               * variances[:, c[0]:c[1]].max(axis=1))
+            diff = dQ[:, r[0]:r[1], c[0]:c[1]].max(axis=(1, 2))
+            rel = np.where(scale_rc > 0, diff / np.where(scale_rc > 0, scale_rc, 1.0), 0.0)
+            found.append((rel, "Qd", r, c))
+    sizes = np.max(np.stack([f[0] for f in found]), axis=0)
+    worst = max(found, key=lambda f: float(f[0].max()))
+    k = int(np.argmax(worst[0]))
+    return HoldError(sizes, float(worst[0][k]), k, worst[1], worst[2], worst[3])

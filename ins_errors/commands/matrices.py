@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import sys
 
 import numpy as np
 
@@ -42,6 +43,14 @@ from ins_errors.user_paths import user_path
 
 MOTIONS = ("static", "cruise", "manoeuvre")
 """The matrix check's motions (:mod:`ins_errors.checker.check_motions`)."""
+
+MAX_BYTES = 10 * 10**9
+"""Largest arrays (bytes, the file's size) written without ``--allow-large``."""
+
+WORKING_COPIES = 3
+"""One motion's arrays held again while they are made (F and G over every source, the
+noise columns, the averaged step's Φ and Q of the hold's estimate), for the memory
+estimate."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -92,6 +101,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "of its bias; for a --markov bias state a value in the "
                              "source's own unit (gyro_bias_x=0.01deg/h) is its "
                              "steady-state 1σ, driving it with density σ·sqrt(2/tau)")
+    parser.add_argument("--allow-large", action="store_true",
+                        help="write the file even when its arrays are beyond "
+                             f"{MAX_BYTES / 1e9:g} GB or the memory this machine has "
+                             "available (estimated before anything is flown)")
     parser.add_argument("--parameter", "-p", action="append", default=[],
                         metavar="NAME=VALUE",
                         help="model parameter with unit, e.g. k_h1=0.0293/s (repeatable)")
@@ -103,7 +116,12 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    from ins_errors.analysis.discrete_model import discrete_matrices, process_noise
+    from ins_errors.analysis.discrete_model import (
+        HOLD_TOLERANCE,
+        discrete_matrices,
+        hold_error,
+        process_noise,
+    )
     from ins_errors.checker.check_motions import flown_motions
     from ins_errors.checker.matrix_input import sample_arrays, save_arrays
     from ins_errors.conventions import error_matrices, model_convention
@@ -127,9 +145,13 @@ def run(args: argparse.Namespace) -> int:
     if args.noise and not args.discrete:
         raise InsErrorsError("--noise gives the process noise of the discrete model: add "
                              "--discrete (Phi and Qd over each sample step)")
-    white, sigma = _noise_values(model, args.noise, biases, markov)
     # the convention (and the bias states) before the flights: a wrong name costs nothing
-    model_convention(model, args.convention, biases)
+    conv = model_convention(model, args.convention, biases, markov)
+    white, sigma = _noise_values(model, args.noise, biases, markov)
+    warnings = _undriven(model, markov, sigma) if args.discrete else []
+    for text in warnings:
+        print(f"ins-errors: warning: {text}", file=sys.stderr)
+    size = _size(model, args, step, len(conv.names), len(biases), len(white) + len(sigma))
     flown, skipped = flown_motions(model, args.hours, step, parameters=parameters)
     wanted = args.motion or [m.label for m in flown]
     missing = [label for label in wanted if label not in {m.label for m in flown}]
@@ -137,6 +159,7 @@ def run(args: argparse.Namespace) -> int:
         raise InsErrorsError(f"model {model.name!r} cannot fly the {missing[0]} motion: "
                              + "; ".join(skipped))
     chosen = [m for m in flown if m.label in wanted]
+    kinds = {src.name: src.kind for src in model.sources}
     arrays = sample_arrays(chosen)
     mat = args.out.suffix.lower() == ".mat"
 
@@ -146,14 +169,18 @@ def run(args: argparse.Namespace) -> int:
     states: tuple[str, ...] = ()
     sources: list[str] = []
     noises: tuple[str, ...] = ()
+    holds: list[dict] = []
+    units = [state.unit for state in conv.states]
     for motion in chosen:
         p = np.asarray(motion.p, dtype=float)
         p = p if p.ndim == 1 else p[:, 0]  # (constant along the samples)
         em = error_matrices(model, args.convention, motion.x, motion.u, p,
                             bias_states=biases, markov=markov or None)
         states = em.states
-        # a bias state's source is a state, not a column of G (as check --matrix reads)
-        keep = [j for j, s in enumerate(em.sources) if s not in biases]
+        # a bias state's source is a state, not a column of G (as check --matrix reads);
+        # an initial error (kind initial) is no input at all: it only sets the start
+        keep = [j for j, s in enumerate(em.sources)
+                if s not in biases and kinds[s] != "initial"]
         sources = [em.sources[j] for j in keep]
         arrays[f"F_{motion.label}"] = em.F
         if keep:  # (no G when every source is a state: check --matrix reads F alone)
@@ -166,6 +193,14 @@ def run(args: argparse.Namespace) -> int:
             dm = discrete_matrices(em.F, Gw, motion.times, densities)
             arrays[f"Phi_{motion.label}"] = dm.Phi
             arrays[f"Qd_{motion.label}"] = dm.Qd
+            if noises:
+                arrays[f"L_{motion.label}"] = Gw
+            hold = hold_error(em.F, Gw, motion.times, densities, dm, units)
+            holds.append(_hold_record(motion.label, hold, motion.times, step, states))
+            if hold.size > HOLD_TOLERANCE:
+                text = _hold_warning(holds[-1], args.step)
+                warnings.append(text)
+                print(f"ins-errors: warning: {text}", file=sys.stderr)
     arrays["states"] = names(states)
     if markov:  # what check --matrix reads to know the Gauss-Markov bias states
         arrays["markov_states"] = names(markov)
@@ -184,20 +219,26 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         emit({"model": model.name, "convention": args.convention, "out": str(args.out),
               "states": list(states), "sources": sources,
+              "bias_states": [{"name": b.name, "statistics": "markov" if b.tau else
+                               "constant", "tau_s": b.tau} for b in conv.biases],
+              "size_bytes": size,
               "motions": [{"label": m.label, "samples": int(m.times.size),
                            "start_s": float(m.times[0]), "stop_s": float(m.times[-1])}
                           for m in chosen],
               "skipped_motions": skipped,
               "parameters": parameters_record(model, parameters),
               **({"discrete": {"step_s": step, "noise_sources": list(noises),
-                               "noise_densities_si": densities.tolist()}}
-                 if args.discrete else {})})
+                               "noise_densities_si": densities.tolist(),
+                               "hold_error": holds}}
+                 if args.discrete else {}),
+              "warnings": warnings})
         return 0
     g = (f" and G ({k}, {len(states)}, {len(sources)})" if sources
          else " (no G: every source is a state)")
+    order = (f"\nstates: {', '.join(states)}" if biases else "")
     print(f"wrote {args.out}: F ({k}, {len(states)}, {len(states)}){g} in "
           f"{args.convention} at {k} samples of "
-          f"{', '.join(m.label for m in chosen)}"
+          f"{', '.join(m.label for m in chosen)}" + order
           + (_discrete_line(k, len(states), args.step, noises) if args.discrete else "")
           + "".join(f"\nnot flown: {text}" for text in skipped))
     return 0
@@ -319,3 +360,100 @@ def _noise_unit_problem(where: str, name: str, text: str, unit: str, display: st
     sigma = (f" or, for the Gauss–Markov bias state, its steady-state 1σ in {display}"
              if name in markov else "")
     return f"{where}: {reason}; give a density in {density_unit}{sigma}"
+
+
+def _undriven(model, markov: dict[str, float], sigma: dict[str, float]) -> list[str]:
+    """The warnings for Gauss–Markov bias states without a steady-state σ: no noise
+    drives them in Q, so a filter lets them decay to 0 and grows overconfident."""
+    units = {s.name: s.display_unit or s.unit for s in model.sources}
+    return [f"the Gauss-Markov bias state {name} has no steady-state 1σ, so nothing drives "
+            f"it: its row of Qd is zero and a filter would let it decay to 0 and grow "
+            f"overconfident; give its σ in {units[name]} as --noise {name}=SIGMA (e.g. "
+            f"{name}=0.01{units[name].replace(' ', '')}, beside any density)"
+            for name in markov if name not in sigma]
+
+
+def available_memory() -> int | None:
+    """Memory this machine has available now, bytes (psutil where installed, else the
+    free pages the system reports), or None where it does not say."""
+    import os
+
+    try:
+        import psutil
+        return int(psutil.virtual_memory().available)
+    except ImportError:
+        pass
+    try:
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    except (AttributeError, ValueError, OSError):
+        return None
+
+
+def _size(model, args: argparse.Namespace, step: float, n: int, biases: int,
+          noises: int) -> int:
+    """The bytes of the arrays the file will hold (estimated before anything is flown),
+    said on stderr when large; refused in one line beyond :data:`MAX_BYTES` or the
+    memory available, unless ``--allow-large``."""
+    from ins_errors.analysis.store import size_text
+    from ins_errors.errors import InsErrorsError
+
+    samples = math.floor(args.hours * 3600.0 / step + 1e-9) + 1
+    motions = len(set(args.motion or MOTIONS))
+    inputs = sum(s.kind != "initial" for s in model.sources) - biases
+    per_sample = (n * n + n * inputs + len(model.states) + len(model.inputs) + 20
+                  + (2 * n * n + n * noises if args.discrete else 0))
+    size = 8 * samples * motions * per_sample
+    working = 8 * samples * WORKING_COPIES * (
+        n * n + n * len(model.sources) + (2 * n * n + n * noises if args.discrete else 0))
+    what = (f"{motions} motion{'s' if motions > 1 else ''} × {samples:,} samples × "
+            f"{n} states")
+    anyway = (f"; give a longer --step, fewer --hours{' or one --motion' * (motions > 1)}"
+              ", or --allow-large to write it anyway")
+    if not args.allow_large:
+        if size > MAX_BYTES:
+            raise InsErrorsError(f"the arrays would take about {size_text(size)} ({what}), "
+                                 f"beyond the limit of {size_text(MAX_BYTES)}{anyway}")
+        free = available_memory()
+        if free is not None and size + working > free:
+            raise InsErrorsError(f"the arrays would need about {size_text(size + working)} "
+                                 f"of memory ({what}), and this machine has "
+                                 f"{size_text(free)} available{anyway}")
+    if size > 10**9:
+        print(f"ins-errors: the arrays will take about {size_text(size)} ({what})",
+              file=sys.stderr)
+    return size
+
+
+def _hold_record(label: str, hold, times: np.ndarray, step: float,
+                 states: tuple[str, ...]) -> dict:
+    """A motion's hold-error estimate as the JSON's record (docs/json.md)."""
+    from ins_errors.analysis.discrete_model import HOLD_TOLERANCE
+
+    def block(first_stop: tuple[int, int]) -> str:
+        first, stop = first_stop
+        return states[first] if stop - first == 1 else f"{states[first]}…{states[stop - 1]}"
+
+    suggested = None
+    if hold.size > HOLD_TOLERANCE:  # the error falls in proportion to the step
+        suggested = _nice_step(step * HOLD_TOLERANCE / hold.size)
+    return {"label": label, "size": hold.size, "matrix": hold.matrix,
+            "block": f"{hold.matrix}[{block(hold.rows)}, {block(hold.columns)}]",
+            "time_s": float(times[hold.step]), "suggested_step_s": suggested}
+
+
+def _nice_step(step: float) -> float:
+    """``step`` rounded down to 1, 2 or 5 times a power of ten, s."""
+    power = 10.0 ** math.floor(math.log10(step))
+    return max(m for m in (1.0, 2.0, 5.0) if m * power <= step * (1 + 1e-12)) * power
+
+
+def _hold_warning(record: dict, step_text: str) -> str:
+    """The one line of a motion whose step is too long for the hold of F (stderr and
+    JSON ``warnings``)."""
+    from ins_errors.analysis.discrete_model import HOLD_TOLERANCE
+
+    return (f"{record['label']}: F held at each step's start puts Phi and Qd off by up to "
+            f"{record['size']:.0%} ({record['block']} at t = {record['time_s'] / 3600:.2f} "
+            f"h; estimated from F at the step's end): the error falls in proportion to "
+            f"the step, so --step {record['suggested_step_s']:g}s (not {step_text.strip()}) "
+            f"keeps it under {HOLD_TOLERANCE:.0%}")
