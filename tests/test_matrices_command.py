@@ -212,7 +212,7 @@ def test_a_step_too_long_for_the_manoeuvre_is_warned_of_with_the_size_of_its_err
                         None, units, scale)
     worst = max(true.values())
     assert worst / 3 < estimate["size"] < 3 * worst, (estimate, true)
-    # the suggested step: its own estimate under 1 % (the error falls with the step)
+    # the suggested step: its own estimate about 1 % (here under; it falls with the step)
     step = estimate["suggested_step_s"]
     assert 0 < step <= 60 * 0.01 / estimate["size"]
     assert main([*common, "--motion", "manoeuvre", "--step", f"{step:g}s",

@@ -456,4 +456,4 @@ def _hold_warning(record: dict, step_text: str) -> str:
             f"{record['size']:.0%} ({record['block']} at t = {record['time_s'] / 3600:.2f} "
             f"h; estimated from F at the step's end): the error falls in proportion to "
             f"the step, so --step {record['suggested_step_s']:g}s (not {step_text.strip()}) "
-            f"keeps it under {HOLD_TOLERANCE:.0%}")
+            f"brings it to about {HOLD_TOLERANCE:.0%}")
