@@ -477,15 +477,6 @@ def _build_second_order():
     return _m.Function('second_order', [x, u, p, xe, w], [_out], ['x', 'u', 'p', 'xe', 'w'], ['out'])
 
 
-def _build_output_second_order():
-    x = _m.SX.sym('x', 4)
-    u = _m.SX.sym('u', 3)
-    p = _m.SX.sym('p', 4)
-    xe = _m.SX.sym('xe', 7)
-    _out = _m.SX(4, 1)
-    return _m.Function('output_second_order', [x, u, p, xe], [_out], ['x', 'u', 'p', 'xe'], ['out'])
-
-
 def _build_initial_state():
     c = _m.SX.sym('c', 4)
     u = _m.SX.sym('u', 3)
@@ -582,5 +573,5 @@ def _build_initial_domain_margins():
     return _m.Function('initial_domain_margins', [c, u, p], [_out], ['c', 'u', 'p'], ['out'])
 
 
-_BUILDERS = {'ideal_rhs': _build_ideal_rhs, 'real_rhs': _build_real_rhs, 'real_rhs_small_angle': _build_real_rhs_small_angle, 'second_order_small_angle': _build_second_order_small_angle, 'outputs': _build_outputs, 'state_matrix': _build_state_matrix, 'source_matrix': _build_source_matrix, 'output_matrix': _build_output_matrix, 'second_order': _build_second_order, 'output_second_order': _build_output_second_order, 'initial_state': _build_initial_state, 'initial_real_state': _build_initial_real_state, 'initial_error_matrix': _build_initial_error_matrix, 'domain_margins': _build_domain_margins, 'initial_domain_margins': _build_initial_domain_margins}
-FUNCTIONS = ('ideal_rhs', 'real_rhs', 'real_rhs_small_angle', 'second_order_small_angle', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')
+_BUILDERS = {'ideal_rhs': _build_ideal_rhs, 'real_rhs': _build_real_rhs, 'real_rhs_small_angle': _build_real_rhs_small_angle, 'second_order_small_angle': _build_second_order_small_angle, 'outputs': _build_outputs, 'state_matrix': _build_state_matrix, 'source_matrix': _build_source_matrix, 'output_matrix': _build_output_matrix, 'second_order': _build_second_order, 'initial_state': _build_initial_state, 'initial_real_state': _build_initial_real_state, 'initial_error_matrix': _build_initial_error_matrix, 'domain_margins': _build_domain_margins, 'initial_domain_margins': _build_initial_domain_margins}
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'real_rhs_small_angle', 'second_order_small_angle', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')

@@ -639,34 +639,6 @@ def second_order(x, u, p, xe, w):
     return _out
 
 
-def output_second_order(x, u, p, xe):
-    """Second-order term of the output errors.
-
-    Parameters
-    ----------
-    x : array_like, shape (4, ...)
-        ideal-work (true) state, SI units
-    u : array_like, shape (3, ...)
-        true-motion inputs, SI units
-    p : array_like, shape (4, ...)
-        model parameters, SI units
-    xe : array_like, shape (7, ...)
-        error state xr - (x, 0)
-
-    Returns
-    -------
-    numpy.ndarray, shape (4, ...)
-        1/2 xe' Hessian xe per output
-    """
-    x = _as_vector(x, 4, 'x', 'output_second_order')
-    u = _as_vector(u, 3, 'u', 'output_second_order')
-    p = _as_vector(p, 4, 'p', 'output_second_order')
-    xe = _as_vector(xe, 7, 'xe', 'output_second_order')
-    _batch = _np.broadcast_shapes(x.shape[1:], u.shape[1:], p.shape[1:], xe.shape[1:])
-    _out = _np.zeros((4,) + _batch)
-    return _out
-
-
 def initial_state(c, u, p):
     """True initial state from navigation initial conditions.
 
@@ -850,4 +822,4 @@ def initial_domain_margins(c, u, p):
     return _out
 
 
-FUNCTIONS = ('ideal_rhs', 'real_rhs', 'real_rhs_small_angle', 'second_order_small_angle', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'output_second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')
+FUNCTIONS = ('ideal_rhs', 'real_rhs', 'real_rhs_small_angle', 'second_order_small_angle', 'outputs', 'state_matrix', 'source_matrix', 'output_matrix', 'second_order', 'initial_state', 'initial_real_state', 'initial_error_matrix', 'domain_margins', 'initial_domain_margins')

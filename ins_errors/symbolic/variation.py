@@ -55,8 +55,6 @@ class ErrorModel:
         H in ``x, u, p``.
     second_order : sympy.Matrix, shape (ne, 1)
         Second-order term S in ``x, u, p, xe, w``.
-    output_second_order : sympy.Matrix, shape (ny, 1)
-        Second-order output term in ``x, u, p, xe``.
     initial_state : sympy.Matrix, shape (n, 1)
         ``x(0)`` in ``c, u, p``.
     initial_real_state : sympy.Matrix, shape (ne, 1)
@@ -73,7 +71,6 @@ class ErrorModel:
     source_matrix: sp.Matrix
     output_matrix: sp.Matrix
     second_order: sp.Matrix
-    output_second_order: sp.Matrix
     initial_state: sp.Matrix
     initial_real_state: sp.Matrix
     initial_error_matrix: sp.Matrix
@@ -195,13 +192,12 @@ def _vary(d: ModelDefinition, trees: SharedTrees) -> ErrorModel:
     point = {**at_ideal, **no_errors}
     with _step(d.name, "second-order terms"):
         second = _second_order_term(jacobian, variables, [*d.xe, *d.w], point, trees)
-        output_second = _second_order_term(output_jacobian, d.x, d.xe[:n], {}, trees)
 
     with _step(d.name, "initial error matrix E"):
         E = trees.xreplace_matrix(d.initial_real_state.jacobian(d.w), no_errors)
     with _step(d.name, "ideal-work equations (intermediates substituted)"):
         ideal_rhs = d.ideal_rhs_expanded()
-    _refuse_non_finite(d, F, G, H, second, output_second, E)
+    _refuse_non_finite(d, F, G, H, second, E)
     return ErrorModel(
         definition=d,
         ideal_rhs=ideal_rhs,
@@ -211,7 +207,6 @@ def _vary(d: ModelDefinition, trees: SharedTrees) -> ErrorModel:
         source_matrix=G,
         output_matrix=H,
         second_order=second,
-        output_second_order=output_second,
         initial_state=d.initial_state,
         initial_real_state=d.initial_real_state,
         initial_error_matrix=E,
@@ -219,7 +214,7 @@ def _vary(d: ModelDefinition, trees: SharedTrees) -> ErrorModel:
 
 
 def _refuse_non_finite(d: ModelDefinition, F: sp.Matrix, G: sp.Matrix, H: sp.Matrix,
-                       second: sp.Matrix, output_second: sp.Matrix, E: sp.Matrix) -> None:
+                       second: sp.Matrix, E: sp.Matrix) -> None:
     """Refuse derivatives that are not finite where the errors are zero.
 
     A formula that is finite itself (checked by
@@ -250,18 +245,15 @@ def _refuse_non_finite(d: ModelDefinition, F: sp.Matrix, G: sp.Matrix, H: sp.Mat
                         f"the errors are zero (it contains {', '.join(bad)}): a formula "
                         "such as sqrt(psi) or 1/psi of an error state or source; write one "
                         "that is smooth at zero error (step: variation)")
-    for matrix, what, equation, rows in (
-            (second, "second-order terms", "real-work equation for {row!r}", errors),
-            (output_second, "second-order output terms", "output {row!r}", outputs)):
-        for i in range(matrix.rows):
-            bad = non_finite(matrix[i, 0])
-            if bad:
-                raise ModelDefinitionError(
-                    f"model {d.name!r}: {what}: the second derivatives of the "
-                    f"{equation.format(row=rows[i])} are not finite where the errors are "
-                    f"zero (they contain {', '.join(bad)}): a formula such as psi**1.5 of "
-                    "an error state or source; write one that is smooth at zero error "
-                    "(step: variation)")
+    for i in range(second.rows):
+        bad = non_finite(second[i, 0])
+        if bad:
+            raise ModelDefinitionError(
+                f"model {d.name!r}: second-order terms: the second derivatives of the "
+                f"real-work equation for {errors[i]!r} are not finite where the errors are "
+                f"zero (they contain {', '.join(bad)}): a formula such as psi**1.5 of "
+                "an error state or source; write one that is smooth at zero error "
+                "(step: variation)")
 
 
 # --------------------------------------------------------------------------------------
