@@ -55,7 +55,16 @@ class OutputError(InsErrorsError):
 
 
 def umask() -> int:
-    """This process's file-creation mask (read by setting it and setting it back)."""
+    """This process's file-creation mask: from ``/proc/self/status`` where there is one
+    (Linux), else by setting it and setting it back (a thread creating a file in that
+    instant would get the mask set meanwhile)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
     mask = os.umask(0o022)
     os.umask(mask)
     return mask

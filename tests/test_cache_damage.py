@@ -417,9 +417,11 @@ def test_cache_entries_and_generated_folders_are_readable_by_others(tmp_path):
     0600, and `make derive` left generated/ as mkdtemp's 0700."""
     old = os.umask(0o022)
     try:
-        entry = tmp_path / "cache" / "notes" / "x.entry"
-        cache.replace_file(entry, b"data")
-        assert entry.stat().st_mode & 0o777 == 0o644
+        for mask, mode in ((0o002, 0o664), (0o022, 0o644)):  # a group's umask and the usual
+            os.umask(mask)
+            entry = tmp_path / "cache" / "notes" / f"{mask:o}.entry"
+            cache.replace_file(entry, b"data")
+            assert entry.stat().st_mode & 0o777 == mode
         from derive.pipeline import derive_all
 
         derive_all(tmp_path / "generated", ["free_azimuth"])

@@ -135,7 +135,7 @@ def table(result) -> str:
     for mode in result.modes:
         if mode.note:
             explained.setdefault(mode.note, []).append(mode.name)
-    notes += [f"note on {', '.join(names)} (from the model): {text}"
+    notes += [f"note on {', '.join(dict.fromkeys(names))} (from the model): {text}"
               for text, names in explained.items()]
     if any(m.independent_directions is not None and m.independent_directions < m.multiplicity
            for m in result.modes):
@@ -156,9 +156,10 @@ def table(result) -> str:
 def _foucault_note(result) -> str:
     """The Foucault period under the table, and what it is in this model's modes: the
     turning of the Schuler oscillation's plane where a Foucault-split pair is named (with
-    the period from that pair), else the fact that no Schuler pair is split by it (a
+    the period from that pair), else the fact that no Schuler pair is split by it here (a
     free-azimuth platform, whose reference axes do not follow the meridian, carries the
-    turning in its wander angle instead; the model's note says why, where it has one)."""
+    turning in its wander angle instead; near the equator the split of the two channels'
+    radii can be the larger one; the model's note says why, where it has one)."""
     refs = result.references
     head = (f"Foucault period 2π/(Ω|sin φ|) = {duration_text(result.foucault_period_s)} at "
             f"φ = {np.degrees(refs.latitude):.4g}°")
@@ -168,8 +169,10 @@ def _foucault_note(result) -> str:
                 f"split pair, 2π/((ω₊ − ω₋)/2) = {duration_text(measured)}")
     noted = any(m.note for m in result.modes if m.name.startswith("Schuler"))
     return (f"{head}, the time in which the meridian turns once about the vertical against "
-            "inertial space; no Schuler pair of this model is split by Ω|sin φ| (no "
-            "Schuler ± Foucault rows), so that turning does not show in its modes"
+            "inertial space; no two Schuler rows here differ by Ω|sin φ| (within 10 %), so no "
+            "Schuler ± Foucault pair is named: the turning is not resolved as a pair in "
+            "these modes (a frame that does not follow the meridian, or a larger split of "
+            "another cause, as near the equator)"
             + ("; see the model's note" if noted else ""))
 
 
