@@ -37,6 +37,12 @@ def test_the_one_percent_magnitude_holds_at_the_latitude_given(latitude, capsys)
     assert ratio == pytest.approx(0.01, rel=0.1)
 
 
+def test_the_start_is_written_as_the_runs_describe_it(capsys):
+    assert main(["validity", *[a for a in COMMON if a != "--json"], "--latitude", "-70deg",
+                 "--hours", "1"]) == 0
+    assert "1 h runs, τ = 2 s, RK4, φ=-70°)" in capsys.readouterr().out
+
+
 def test_the_latitude_moves_the_map(capsys):
     # (the map at the default 50° is neither of these)
     low, high = _one_percent("20deg", capsys), _one_percent("70deg", capsys)

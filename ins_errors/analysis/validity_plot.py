@@ -123,7 +123,7 @@ def plot_validity(results: Sequence[SourceValidity], path: str | Path, title: st
 
 def plot_title(model: str, source: str, hours: float, step: float, motions: Sequence[str],
                parameters: Mapping[str, Mapping[str, object]] | None = None,
-               start: Mapping[str, str] | None = None) -> str:
+               where: str = "") -> str:
     """The title of one source's plot: the model and source, then what the runs were
     (length, step, scheme, motions, the parameters set), so that plots of different
     maps can be told apart: ``"strapdown_ned: gyro_bias_z\n4 h runs, τ = 2 s, RK4;
@@ -142,8 +142,9 @@ def plot_title(model: str, source: str, hours: float, step: float, motions: Sequ
     parameters : mapping, optional
         The parameters set (:func:`~ins_errors.model_parameters.parameters_record`: name
         -> ``{"value": SI value, "unit": SI unit}``); none: ``model defaults``.
-    start : mapping of str to str, optional
-        The start settings given (``{"latitude": "30deg"}``), written after the motions.
+    where : str, optional
+        Where the motions start, if not at their defaults (``"φ=30°"``), written after
+        them.
     """
     from ins_errors.commands.models import parameter_text
     from ins_errors.units import format_duration
@@ -153,7 +154,7 @@ def plot_title(model: str, source: str, hours: float, step: float, motions: Sequ
         for name, entry in (parameters or {}).items())
     return (f"{model}: {source}\n{format_duration(3600.0 * hours)} runs, τ = {step:g} s, "
             f"RK4; {', '.join(dict.fromkeys(motions)) or 'no motion'}"
-            + "".join(f", {key} {text}" for key, text in (start or {}).items())
+            + (f", {where}" if where else "")
             + f"; {given or 'model defaults'}")
 
 

@@ -216,6 +216,18 @@ def _start(args: argparse.Namespace, model, motions: list[str]) -> dict[str, str
     return start
 
 
+def start_text(start: dict[str, str]) -> str:
+    """The start settings given, written as the runs' descriptions write them
+    (``φ=-70°, h=3000 m``), or empty."""
+    from ins_errors.units import parse_quantity
+
+    shown = {"latitude": ("φ={:.4g}°", "deg"), "longitude": ("λ={:.4g}°", "deg"),
+             "heading": ("track {:.4g}°", "deg"), "speed": ("{:.4g} m/s", "m/s"),
+             "height": ("h={:.4g} m", "m")}
+    return ", ".join(shown[key][0].format(parse_quantity(text, shown[key][1], key))
+                     for key, text in start.items())
+
+
 def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.validity import MOTIONS as DEFAULT_MOTIONS
     from ins_errors.analysis.validity import (
@@ -278,7 +290,8 @@ def run(args: argparse.Namespace) -> int:
                 plot_validity(sweeps, out.file(f"{name}.png"),
                               title=plot_title(model.name, name, args.hours, step,
                                                [r.motion for r in sweeps],
-                                               payload["parameters"], start))
+                                               payload["parameters"],
+                                               start_text(start)))
         out.finish()
     if args.json:
         emit(payload)
@@ -286,7 +299,7 @@ def run(args: argparse.Namespace) -> int:
         print(f"### {model.name}: validity of the linear error equations "
               f"({args.hours:g} h runs, τ = {step:g} s, RK4"
               + (f", {args.truth} truth" if set(motions) - {"static"} else "")
-              + "".join(f", {key} {text}" for key, text in start.items()) + ")\n")
+              + (f", {start_text(start)}" if start else "") + ")\n")
         print(table(results, model))
         if out_dir is not None:
             print(f"written: {out_dir}/results.json" + (" and one plot per source"
