@@ -712,7 +712,8 @@ def test_stored_motions_are_the_flown_ones_to_the_bit(tmp_path, monkeypatch):
             motion_store.key(model, 2.0, 600.0, None, p * (1 + 1e-15))}
     assert len(keys) == 5 and stored.stem in keys
     stored.write_bytes(b"not a store")
-    again, _ = fly(MODEL, 2.0, 600.0, None)
+    with pytest.warns(RuntimeWarning, match="is damaged .* flying the motions again"):
+        again, _ = fly(MODEL, 2.0, 600.0, None)
     assert np.array_equal(again[2].x, flown[2].x)
     assert motion_store.load(stored.stem) is not None  # written anew
     for i in range(motion_store.KEEP + 3):
@@ -746,7 +747,8 @@ def test_stored_propagations_are_the_computed_ones_to_the_bit(tmp_path, monkeypa
     for got in (first, second):
         assert all(np.array_equal(g, e) for g, e in zip(got, expected, strict=True))
     stored.write_bytes(b"damaged")
-    again = fresh([1800.0, 3600.0])
+    with pytest.warns(RuntimeWarning, match="is damaged .* propagating again"):
+        again = fresh([1800.0, 3600.0])
     assert all(np.array_equal(g, e) for g, e in zip(again, expected, strict=True))
     assert propagation_store.load(stored.stem) is not None  # written anew
     fresh([3600.0])

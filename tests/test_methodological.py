@@ -330,7 +330,8 @@ def test_kept_functions_give_the_results_of_freshly_derived_ones(tmp_path, monke
     assert _same_runs(shared, fresh) and _same_runs(fresh, read)
     kept[0].write_text("{not json", encoding="utf-8")
     _clear_study_caches()
-    meth._study_functions("no_coriolis")
+    with pytest.warns(RuntimeWarning, match="is damaged .* deriving the functions again"):
+        meth._study_functions("no_coriolis")
     assert derived == ["no_coriolis"]  # the damaged file is derived again and replaced
     _clear_study_caches()
     meth._study_functions("no_coriolis")
