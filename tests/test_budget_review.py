@@ -462,6 +462,8 @@ def test_a_height_peak_between_checks_is_warned_of_everywhere(tmp_path, capsys):
     text = report.read_text(encoding="utf-8")
     assert f"- {warning}" in text
     assert "above the limit between the check times: height_error" in text
+    # the spec's gains, written as -p takes them (1/s^2, not SymPy's 1/s**2)
+    assert "k_h1 = 0.0293 1/s; k_h2 = 0.000442 1/s^2" in text
     row = {r["item"]: r for r in tables(text)["Spec items at the allocated magnitudes"]}
     assert row["height_error"]["status"].startswith(
         f"met at its check times only; between them {peak['display']} at 50 s")

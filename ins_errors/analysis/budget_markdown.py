@@ -55,7 +55,10 @@ def _parameters(data: dict) -> str:
     given = data.get("parameters") or {}
     if not given:
         return "the model's defaults"
-    return "; ".join(f"{name} = {p['value']:g} {p['unit']}" for name, p in given.items())
+    from ins_errors.commands.models import parameter_text
+
+    return "; ".join(f"{name} = {parameter_text(p['value'], p['unit'], 6)}"
+                     for name, p in given.items())
 
 
 def markdown(data: dict, spec, spec_name: str, model_name: str) -> str:

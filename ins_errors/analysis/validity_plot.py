@@ -149,9 +149,8 @@ def plot_title(model: str, source: str, hours: float, step: float, motions: Sequ
     from ins_errors.commands.models import parameter_text
     from ins_errors.units import format_duration
 
-    given = ", ".join(  # a unit as typed after -p: 1/s^2, not 1/s**2
-        f"{name} = {parameter_text(entry['value'], str(entry['unit']), 3)}".replace("**", "^")
-        for name, entry in (parameters or {}).items())
+    given = ", ".join(f"{name} = {parameter_text(entry['value'], str(entry['unit']), 3)}"
+                      for name, entry in (parameters or {}).items())
     return (f"{model}: {source}\n{format_duration(3600.0 * hours)} runs, τ = {step:g} s, "
             f"RK4; {', '.join(dict.fromkeys(motions)) or 'no motion'}"
             + (f", {where}" if where else "")

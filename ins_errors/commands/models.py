@@ -35,14 +35,15 @@ def default_text(value: float, unit: str) -> str:
 
 def parameter_text(value: float, unit: str, digits: int = 10) -> str:
     """A parameter's value (SI) for people: ``digits`` significant digits and its unit
-    (none for ``"1"``), an angle (``rad``) in degrees: ``0.8726646259971648 rad`` reads
-    ``50 deg``, as ``-p phi0=50deg`` sets it (JSON keeps SI)."""
+    (none for ``"1"``) as typed after ``-p`` (``1/s^2``, not SymPy's ``1/s**2``), an angle
+    (``rad``) in degrees: ``0.8726646259971648 rad`` reads ``50 deg``, as
+    ``-p phi0=50deg`` sets it (JSON keeps SI)."""
     import math
 
     if unit == "rad":
         return f"{math.degrees(float(value)):.{digits}g} deg"
     number = f"{float(value):.{digits}g}"
-    return number if unit == "1" else f"{number} {unit}"
+    return number if unit == "1" else f"{number} {unit.replace('**', '^')}"
 
 
 def run(args: argparse.Namespace) -> int:
