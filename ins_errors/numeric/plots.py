@@ -301,6 +301,12 @@ class _ComparisonFigure:
         for ax in self.axes[-1]:
             ax.set_xlabel("time [d]" if days else "time [h]", fontsize=8)
         clipped = [0, 0]  # panels whose refined curve leaves the axes, per column
+        # a refined run that diverged is drawn up to where it did (what follows is its
+        # runaway, which says nothing more and hides the other curves)
+        departure = (comparison.refined_departure
+                     if comparison.refined_warning == "diverged" else None)
+        drawn = (comparison.times <= departure if departure is not None
+                 else np.ones(len(comparison.times), dtype=bool))
         for (q, scale, row), notes, (left, right) in zip(self.lines, self.notes, self.axes,
                                                          strict=True):
             unit = comparison.metric(q).unit
@@ -310,7 +316,8 @@ class _ComparisonFigure:
             curves = [direct, linear, residual(comparison.linear[q], d, unit) * scale]
             if comparison.refined:
                 refined = comparison.refined[q] * scale
-                curves += [refined, residual(comparison.refined[q], d, unit) * scale]
+                curves += [np.where(drawn, c, np.nan) for c in (
+                    refined, residual(comparison.refined[q], d, unit) * scale)]
             # the solid lines' paths keep, per half pixel column, each curve's first,
             # last, smallest and largest sample: the same picture, cheaper for long
             # records; the dashed and dotted ones (linear, refined) are drawn whole:
@@ -335,16 +342,19 @@ class _ComparisonFigure:
                     ax.set_ylim(*span)
                 text = ""
                 if comparison.refined:
-                    text = _off_axes(curves[3 + k], ax.get_ylim())
+                    text = _off_axes(curves[3 + k][drawn], ax.get_ylim())
                     clipped[k] += bool(text)
                 note.set_text(text)
+        cut = ([] if departure is None else
+               [f"diverged: not drawn after {departure / (86400.0 if days else 3600.0):.3g} "
+                f"{'d' if days else 'h'}"])
         for legend, count, name in zip(self.legends, clipped, ("refined", "refined − direct"),
                                        strict=True):
+            said = cut + ([f"clipped: leaves the axes in {count} of {len(self.lines)} "
+                           "panels"] if count else [])
             for entry in legend.get_texts():
                 if entry.get_text().startswith(name):
-                    entry.set_text(name if not count else
-                                   f"{name} (clipped: leaves the axes in {count} of "
-                                   f"{len(self.lines)} panels)")
+                    entry.set_text(f"{name} ({'; '.join(said)})" if said else name)
         # one time range for all panels, as a shared axis would give (a panel whose curve
         # is cut short by NaNs still spans the whole run)
         common_time_range(self.axes.flat)
