@@ -6,6 +6,7 @@ import json
 import warnings
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from ins_errors.cli import main
@@ -231,3 +232,32 @@ def math_degrees(radians: float) -> float:
     import math
 
     return math.degrees(radians)
+
+
+def test_the_listed_attitude_sign_is_the_one_the_maps_use(capsys):
+    """--list-conventions states φ's sign, C̃_b^n = (I − [φ×]) C_b^n: a computed attitude
+    made that way from a known φ reads back as +φ through the convention's map (the sign
+    is stated where a filter designer looks, and it is the one the numbers use)."""
+    from scipy.spatial.transform import Rotation
+
+    from ins_errors import load_model
+    from ins_errors.models import strapdown_conventions as sc
+
+    assert main(["check", "strapdown_ned", "--list-conventions"]) == 0
+    listing = capsys.readouterr().out
+    phi_line = next(line for line in listing.splitlines() if line.startswith("phi:"))
+    assert "C̃_b^n = (I − [φ×]) C_b^n" in phi_line and "ṽ − v" in phi_line
+    model = load_model("strapdown_ned")
+    p = model.parameter_vector()
+    c = model.initial_condition_vector(latitude=np.radians(40), roll=0.1, pitch=-0.2,
+                                       heading=1.0)
+    x = model.initial_state(c, model.input_vector(), p)
+    phi = np.array([2e-6, -3e-6, 5e-6])
+    C = Rotation.from_quat(np.roll(x[:4], -1)).as_matrix()  # scalar-first → scipy's order
+    skew = np.array([[0, -phi[2], phi[1]], [phi[2], 0, -phi[0]], [-phi[1], phi[0], 0]])
+    q = np.roll(Rotation.from_matrix((np.eye(3) - skew) @ C).as_quat(), 1)
+    q *= np.sign(q @ x[:4])
+    e = np.zeros(10)
+    e[:4] = q - x[:4]
+    got = sc.transform_matrix("phi", x[:, None], p)[..., 0] @ e
+    np.testing.assert_allclose(got[:3], phi, rtol=1e-4)

@@ -384,7 +384,9 @@ _NP_COMMON = (
 
 def _north_pointing() -> dict[str, Convention]:
     return {"psi": Convention(
-        "psi", "ψ-angle: platform attitude relative to the computer frame (Benson 1975)",
+        "psi", "ψ-angle: platform attitude relative to the computer frame (Benson 1975), "
+               "ψ = α − δθ, δθ = (−δφ, δλ cos φ, δλ sin φ) about east, north, up; errors "
+               "computed − true",
         (*_NP_COMMON,
          State("psi_E", "rad", "ψ-angle about east (platform vs computer frame)"),
          State("psi_N", "rad", "ψ-angle about north"),
@@ -413,9 +415,10 @@ def strapdown_conventions(functions: Callable) -> dict[str, Convention]:
     from ins_errors.models import strapdown_conventions as sc
 
     descriptions = {
-        "phi": "φ-angle (attitude error in the true NED frame), δv in NED",
-        "psi": "ψ-angle (attitude error relative to the computed frame), velocity error in "
-               "the computed frame (Benson 1975)",
+        "phi": "φ-angle (attitude error in the true NED frame, C̃_b^n = (I − [φ×]) C_b^n), "
+               "δv = ṽ − v in NED",
+        "psi": "ψ-angle (attitude error relative to the computed frame, ψ = φ − δθ, the "
+               "sign of φ), velocity error in the computed frame (Benson 1975)",
         "phi_modified": "φ-angle with the modified velocity error δu = δv + φ × v "
                         "(Scherzinger & Reid)",
         "psi_modified": "ψ-angle with the modified velocity error δu",
