@@ -670,3 +670,26 @@ def test_markov_source_white_within_rounding_is_refused_naming_the_white_density
                                              r"with density σ·√\(2τ\)") as info:
         cv.propagate(system, [cv.SourceStatistics("m", "markov", 1.0, 1e-300)], functionals)
     assert "\n" not in str(info.value) and "'m'" in str(info.value)
+
+
+@pytest.mark.parametrize("kinds", [("constant", "white"), ("constant", "markov"),
+                                   ("markov", "white")])
+def test_linear_monte_carlo_keeps_every_part_of_a_source(orthodromic, kinds):
+    """A source listed once per kind (a drift with a constant and a noise part): the linear
+    Monte Carlo runs draw every part on the source's column. They had kept one part only
+    (a white part zeroed the constant's drive, a Markov start overwrote the constant), so
+    their rms came out at a quarter of the covariance's."""
+    system = cv.static_system(orthodromic, PHI, duration=4 * 3600.0, step=60.0)
+    fn = cv.state_and_output_functionals(orthodromic, system)
+    parts = {"constant": cv.SourceStatistics("gyro_drift_z", "constant", 0.01 * DEG_H),
+             "white": cv.SourceStatistics("gyro_drift_z", "white", 0.01 * DEG_H * 60),
+             "markov": cv.SourceStatistics("gyro_drift_z", "markov", 0.01 * DEG_H,
+                                           tau=3600.0)}
+    sources = [parts[kind] for kind in kinds]
+    cov = cv.propagate(system, sources, fn)
+    runs = 1000
+    sample = mc.linear_monte_carlo(system, sources, fn, runs, seed=3, substeps=6)
+    for part in kinds:  # each part alone reaches a sizeable share of the total
+        alone = cv.propagate(system, [parts[part]], fn).variance[-1, cov.index("alpha_z")]
+        assert alone > 0.15 * cov.variance[-1, cov.index("alpha_z")], part
+    _compare(cov.std[1:], sample.rms[1:], runs, 1e-15)
