@@ -163,6 +163,33 @@ class Mode:
 
 
 @dataclass(frozen=True)
+class RestPoint:
+    """The point of the static base F was evaluated at (what other analyses of the same
+    base, e.g. :mod:`ins_errors.analysis.transfer`, evaluate G, H and E at).
+
+    Attributes
+    ----------
+    x : numpy.ndarray, shape (n,)
+        True state at rest, SI.
+    u : numpy.ndarray, shape (nu,)
+        Inputs at rest, SI.
+    p : numpy.ndarray, shape (np,)
+        Parameters, SI.
+    c : numpy.ndarray, shape (nc,)
+        Initial conditions of the base, SI.
+    factors : numpy.ndarray, shape (ne,)
+        Per error state, the factor that measures it in the units of the Schuler loop
+        (:func:`_scales`; its display unit without g or R).
+    """
+
+    x: np.ndarray
+    u: np.ndarray
+    p: np.ndarray
+    c: np.ndarray
+    factors: np.ndarray
+
+
+@dataclass(frozen=True)
 class StaticModes:
     """The modes of one model's F at one static base.
 
@@ -190,6 +217,9 @@ class StaticModes:
         Where the latitude of the Foucault split Ω|sin φ| came from: ``"base"``, a
         parameter (``"parameter phi0"``) for a model without a latitude, or None (no
         latitude: no Foucault split is named).
+    point : RestPoint or None
+        The state, inputs, parameters and initial conditions of the base, and the
+        states' scale factors (None when built from F alone).
     """
 
     model: str
@@ -202,6 +232,7 @@ class StaticModes:
     scales: dict[str, str]
     modes: tuple[Mode, ...] = field(default_factory=tuple)
     latitude_source: str | None = "base"
+    point: RestPoint | None = field(default=None, repr=False, compare=False)
 
     def mode(self, name: str) -> Mode:
         """The first mode called ``name``.
@@ -345,10 +376,12 @@ def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] |
     refs = references(model, u, p, latitude, height or 0.0)
     factors, units = _scales(model, refs, np.asarray(x, dtype=float).reshape(-1))
     names = [s.name for s in model.error_states]
+    point = RestPoint(np.asarray(x, dtype=float), np.asarray(u, dtype=float), p,
+                      np.asarray(motion.initial_conditions, dtype=float), factors)
     return StaticModes(model.name, motion.description,
                        profile.latitude if "latitude" in used else None, height, F,
                        np.linalg.eigvals(F), refs, dict(zip(names, units, strict=True)),
-                       _modes(F, factors, names, refs, model.mode_notes), source)
+                       _modes(F, factors, names, refs, model.mode_notes), source, point)
 
 
 def _latitude(model: Model, p: np.ndarray, base: float, used: bool

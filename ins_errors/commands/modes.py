@@ -41,6 +41,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "textbook value from the model's own g, R and Ω, and the error states "
                     "that take part.")
     parser.add_argument("model", help="model name (e.g. strapdown_ned) or model file (my_ins.py)")
+    add_static_base_options(parser)
+    parser.add_argument("--json", action="store_true", help="machine-readable output (SI)")
+    parser.set_defaults(func=run)
+
+
+def add_static_base_options(parser: argparse.ArgumentParser) -> None:
+    """The options of the static base (``--latitude``, ``--longitude``, ``--heading``,
+    ``--height``, ``--parameter``/``-p``), as ``modes`` takes them; read them with
+    :func:`static_modes_from_options`."""
     parser.add_argument("--latitude", default=None,
                         help="latitude of the base (default 50deg; refused for a model "
                              "without a latitude, naming its own setting, e.g. -p phi0=...)")
@@ -54,8 +63,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--parameter", "-p", action="append", default=[], metavar="NAME=VALUE",
                         help="model parameter with unit, as for 'ins-errors compare', e.g. "
                              "strapdown_ned's k_h1=0.0293/s (repeatable)")
-    parser.add_argument("--json", action="store_true", help="machine-readable output (SI)")
-    parser.set_defaults(func=run)
 
 
 def _eigenvalue(value: complex) -> str:
@@ -176,11 +183,27 @@ def _foucault_note(result) -> str:
             + ("; see the model's note" if noted else ""))
 
 
-def run(args: argparse.Namespace) -> int:
+def static_modes_from_options(args: argparse.Namespace):
+    """The model, the parameters set and the static-base modes the options of
+    :func:`add_static_base_options` (and ``args.model``) describe.
+
+    Returns
+    -------
+    tuple of (Model, dict of str to float, StaticModes)
+        The loaded model, the parameters set (name -> SI value) and
+        :func:`~ins_errors.analysis.modes.modes_at_rest` of the base, whose ``point``
+        holds the state, inputs, parameters and initial conditions at rest.
+
+    Raises
+    ------
+    InsErrorsError
+        An unknown model or parameter, a bad value of an option, a latitude at a pole,
+        an option the model has no use for (one line naming it).
+    """
     from ins_errors.analysis.modes import modes_at_rest
     from ins_errors.commands import motion_from_options
     from ins_errors.commands.compare import given_references
-    from ins_errors.model_parameters import parameters_record, parse_parameter_options
+    from ins_errors.model_parameters import parse_parameter_options
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.motion_spec import refuse_unused_heading
 
@@ -191,7 +214,14 @@ def run(args: argparse.Namespace) -> int:
                                    "height": args.height})
     if args.heading is not None:
         refuse_unused_heading(model, profile)
-    result = modes_at_rest(model, profile, parameters, given=given_references(args))
+    return model, parameters, modes_at_rest(model, profile, parameters,
+                                            given=given_references(args))
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.model_parameters import parameters_record
+
+    model, parameters, result = static_modes_from_options(args)
     if args.json:
         emit({**result.to_dict(), "parameters": parameters_record(model, parameters)})
         return 0
