@@ -24,6 +24,7 @@ COMMAND_MODULES = (
     "ins_errors.commands.compare",
     "ins_errors.commands.validity",
     "ins_errors.commands.modes",
+    "ins_errors.commands.transfer",
     "ins_errors.commands.budget",
     "ins_errors.commands.sweep",
     "ins_errors.commands.check",

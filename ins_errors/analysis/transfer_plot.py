@@ -1,0 +1,135 @@
+"""The Bode plot of ``ins-errors transfer --plot``: |W(iω)| and its phase, pair by pair.
+
+Each pair's magnitude is drawn in the output's display unit per the source's display
+unit (an initial error's W carries one second more), over the band of the model's modes
+(:func:`~ins_errors.analysis.transfer.frequency_band`), with a vertical line at the
+frequency of every named mode a pair has as a pole; the upper axis gives the period.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ins_errors.analysis.transfer import TransferFunctions
+
+POINTS = 2000
+"""Frequencies drawn, log-spaced over the band."""
+
+DPI = 110
+
+
+def _label(pair) -> str:
+    """``"accel_bias → v_N [(m/s)/ug]"``: the pair and the unit of its |W(iω)| (an
+    initial error's W is a response's transform: one second more)."""
+    from ins_errors.analysis.transfer import _unit_term
+
+    unit = f"{_unit_term(pair.output_display)}/{_unit_term(pair.source_display)}"
+    if pair.source_kind == "initial":
+        unit += "·s"
+    return f"{pair.source} → {pair.output} [{unit}]"
+
+
+def plot_bode(result: TransferFunctions, path: str | Path, title: str | None = None) -> Path:
+    """Draw every non-zero pair's |W(iω)| and phase and write the figure.
+
+    Parameters
+    ----------
+    result : TransferFunctions
+        The pairs.
+    path : str or Path
+        Output file (png, pdf, svg).
+    title : str, optional
+        Figure title (default: the model and the base).
+
+    Returns
+    -------
+    Path
+        The written file.
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ins_errors.figure_layout import fixed_margins
+    from ins_errors.output import save_figure
+
+    low, high = result.band
+    omega = np.geomspace(low, high, POINTS)
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(8.0, 6.6),
+                                      gridspec_kw={"height_ratios": [2, 1]})
+    drawn = [p for p in result.pairs if not p.is_zero]
+    for pair in drawn:
+        value = pair(1j * omega)
+        output_factor, source_size = pair.display_factors
+        magnitude = np.abs(value) * output_factor * source_size
+        (line,) = top.loglog(omega, magnitude, lw=1.2, label=_label(pair))
+        phase = np.degrees(np.angle(value))
+        phase[phase < -179.999] += 360.0  # a negative real W at +180°, not flickering
+        bottom.semilogx(omega, phase, lw=1.0, color=line.get_color())
+    if not drawn:
+        top.text(0.5, 0.5, "W(s) = 0 for every pair: nothing to draw", ha="center",
+                 transform=top.transAxes)
+    for k, (rate, text) in enumerate(_mode_labels(result)):
+        for ax in (top, bottom):
+            ax.axvline(rate, color="grey", lw=0.8, ls=":")
+        # horizontal labels at staggered heights, beside their line, towards the middle
+        right = np.log(rate / low) < 0.5 * np.log(high / low)
+        top.text(rate * (1.04 if right else 1 / 1.04), 0.97 - 0.065 * (k % 6), text,
+                 va="top", ha="left" if right else "right", fontsize=7, color="dimgrey",
+                 transform=top.get_xaxis_transform(),
+                 bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1})
+    for ax in (top, bottom):
+        ax.set_xlim(low, high)
+        ax.grid(True, which="both", alpha=0.25)
+    top.set_ylabel("|W(iω)|  (output / source, display units)", fontsize=9)
+    bottom.set_ylabel("phase of W(iω) [deg]", fontsize=9)
+    bottom.set_ylim(-190, 190)
+    bottom.set_yticks([-180, -90, 0, 90, 180])
+    bottom.set_xlabel("ω [rad/s]")
+    top.tick_params(labelbottom=False)
+    period = top.secondary_xaxis("top", functions=(_period_h, _period_h))
+    period.set_xlabel("period 2π/ω [h]", fontsize=9)
+    if drawn:
+        top.legend(fontsize=7, loc="lower left")
+    modes = result.modes
+    top.set_title(title or f"{modes.model}: transfer functions W(iω), {modes.base}",
+                  fontsize=9, pad=28)
+    fixed_margins(fig, left=0.9, right=0.25, bottom=0.55, top=0.75, hspace=0.15)
+    return save_figure(fig, path, dpi=DPI)
+
+
+def _mode_labels(result: TransferFunctions) -> list[tuple[float, str]]:
+    """(|λ|, label) of each named mode a pair has as a pole, by increasing |λ|; modes at
+    the same |λ| (the growing and decaying vertical channel) share one label."""
+    from ins_errors.time_text import duration_text
+
+    labels: list[list] = []
+    for mode in sorted(result.named_modes(), key=lambda m: abs(m.eigenvalue)):
+        rate = abs(mode.eigenvalue)
+        time = duration_text(mode.period_s if mode.period_s else 1 / rate)
+        if labels and rate <= labels[-1][0] * 1.005:
+            labels[-1][1].append(mode.name)
+            continue
+        labels.append([rate, [mode.name], time])
+    return [(rate, f"{_joined(names)}, {time}") for rate, names, time in labels]
+
+
+def _joined(names: list[str]) -> str:
+    """``"vertical channel (growing / decaying)"`` for names that differ only in their
+    bracket; else the names joined by " / "."""
+    heads = {name.split(" (")[0] for name in names}
+    if len(names) > 1 and len(heads) == 1 and all(n.endswith(")") and " (" in n
+                                                  for n in names):
+        inner = " / ".join(n.split(" (", 1)[1][:-1] for n in names)
+        return f"{heads.pop()} ({inner})"
+    return " / ".join(names)
+
+
+def _period_h(x):
+    """ω (rad/s) <-> period (h): its own inverse."""
+    x = np.asarray(x, dtype=float)
+    with np.errstate(divide="ignore"):
+        return 2 * np.pi / x / 3600.0
