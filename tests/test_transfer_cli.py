@@ -1,0 +1,114 @@
+"""``ins-errors transfer`` on the command line: text, --json, --plot and bad input.
+
+The numbers are checked against the textbook Schuler loop (ω_s² = g/R with the model's
+g = 9.80665 m/s² and R = 6371 km): a constant accelerometer bias ∇ tilts the platform by
+∇/g on average (100 µg: 1e-4 rad = 0.3438′), with the Schuler period 2π√(R/g) = 84.41 min.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from ins_errors.cli import main
+from tests.test_cli_json import strict_json
+
+ROOT = Path(__file__).resolve().parent.parent
+SCHULER = str(ROOT / "examples" / "own_model" / "schuler_loop.py")
+R, G = 6_371_000.0, 9.80665
+
+
+def test_text_says_the_convention_the_factored_form_and_the_long_run(capsys):
+    assert main(["transfer", SCHULER, "--source", "accel_bias=100ug", "--output", "psi",
+                 "--output", "v_N"]) == 0
+    out = capsys.readouterr().out
+    assert "Y(s) = b·W(s)/s" in out and "Y(s) = b·W(s))" in out  # both conventions said
+    assert "#### accel_bias → psi: order 2 of 3 (cancelled: integrator)" in out
+    # 1/R per m/s² = 1.5696e-7 rad/(m/s²)/s²: in arcmin per µg, 5.2916e-09
+    gain = 1 / R * (180 * 60 / math.pi) * 9.80665e-6
+    assert f"W(s) = {gain:.4e} [arcmin/ug/s²] · 1 / (s² + ({math.sqrt(G / R):.4e})²)" in out
+    assert "| Schuler | period 84.41 min |" in out
+    tilt = 100e-6 * 180 * 60 / math.pi  # ∇/g in arcmin
+    assert f"psi oscillates about {tilt:.4g} arcmin" in out
+    assert "v_N oscillates about 0 m/s" in out
+
+
+def test_json_keys_and_values(capsys):
+    assert main(["transfer", SCHULER, "--source", "accel_bias=100ug", "--source",
+                 "gyro_drift", "--output", "psi", "--output", "latitude", "--json"]) == 0
+    text = capsys.readouterr().out
+    assert text.startswith('{\n  "schema_version": 1,')
+    data = strict_json(text)
+    assert data["model"] == "schuler_loop" and "Y(s) = b·W(s)/s" in data["convention"]
+    assert [(p["source"], p["output"]) for p in data["pairs"]] == [
+        ("accel_bias", "psi"), ("accel_bias", "latitude"), ("gyro_drift", "psi"),
+        ("gyro_drift", "latitude")]
+    tilt = data["pairs"][0]
+    assert tilt["gain"] == pytest.approx(1 / R, rel=1e-12)
+    assert tilt["magnitude"] == pytest.approx(100 * 9.80665e-6, rel=1e-12)
+    assert tilt["long_run"]["kind"] == "constant"
+    assert tilt["long_run"]["value"] == pytest.approx(1e-4, rel=1e-10)  # ∇/g, rad
+    assert [p["name"] for p in tilt["poles"]] == ["Schuler"]
+    assert tilt["poles"][0]["period_s"] == pytest.approx(2 * math.pi * math.sqrt(R / G))
+    drift = data["pairs"][3]
+    assert drift["source_display_unit"] == "deg/h" and drift["magnitude"] == pytest.approx(
+        math.radians(1) / 3600, rel=1e-12)  # one display unit by default
+    assert (drift["long_run"]["kind"], drift["long_run"]["power"]) == ("power", 1)
+    assert drift["long_run"]["coefficient"] == pytest.approx(-1.0, rel=1e-10)
+
+
+def test_plot_writes_a_png(tmp_path, capsys):
+    path = tmp_path / "bode" / "w.png"
+    assert main(["transfer", "north_pointing", "--source", "accel_bias_north", "--source",
+                 "initial_azimuth_error", "--latitude", "45deg", "--plot", str(path)]) == 0
+    assert f"plot written to {path}" in capsys.readouterr().out
+    data = path.read_bytes()
+    assert data.startswith(b"\x89PNG\r\n\x1a\n") and len(data) > 20_000
+    from matplotlib.image import imread
+
+    height, width = imread(path).shape[:2]
+    assert width > 600 and height > 500
+    # with --json the path goes to standard error, the JSON stays clean
+    assert main(["transfer", "north_pointing", "--source", "accel_bias_north", "--json",
+                 "--plot", str(tmp_path / "again.png")]) == 0
+    captured = capsys.readouterr()
+    assert strict_json(captured.out)["pairs"] and "again.png" in captured.err
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["north_pointing"], "give at least one --source NAME"),
+    (["north_pointing", "--source", "accel_bias_nort"], "did you mean 'accel_bias_north'"),
+    (["north_pointing", "--source", "accel_bias_north", "--output", "latitud"],
+     "unknown output or error state of north_pointing 'latitud'"),
+    (["north_pointing", "--source", "accel_bias_north", "--latitude", "90deg"], "pole"),
+    (["north_pointing", "--source", "accel_bias_north", "--latitude", "-90deg"], "pole"),
+    (["north_pointing", "--source", "accel_bias_north", "--latitude", "nan"], "finite"),
+    (["north_pointing", "--source", "accel_bias_north=nan"], "finite"),
+    (["north_pointing", "--source", "accel_bias_north="], "expected NAME or NAME=VALUE"),
+    (["north_pointing", "--source", "accel_bias_north", "--source", "accel_bias_north"],
+     "given twice"),
+    (["north_pointing", "--source", "accel_bias_north", "--plot", "w.txt"], "image format"),
+    (["north_pointing", "--source", "accel_bias_north", "-p", "R=-1m"], "positive"),
+    ([SCHULER, "--source", "accel_bias", "--heading", "10deg"], "heading"),
+])
+def test_bad_input_is_one_line_exit_2(argv, words, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    assert main(["transfer", *argv]) == 2
+    captured = capsys.readouterr()
+    assert not captured.out
+    assert captured.err.startswith("ins-errors: error: ") and captured.err.count("\n") == 1
+    assert words in captured.err
+    assert not list(tmp_path.iterdir())  # nothing written
+
+
+def test_a_base_where_no_reduction_agrees_with_f_is_refused(capsys, monkeypatch):
+    """The refusal path (F too ill-conditioned at the base) with the limit set so that
+    even a good reduction misses it: one line naming the pair, exit 2."""
+    monkeypatch.setattr("ins_errors.analysis.transfer.REFUSE_LIMIT", -1.0)
+    assert main(["transfer", "north_pointing", "--source", "gyro_drift_east", "--output",
+                 "latitude"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "gyro_drift_east → latitude of north_pointing" in err
+    assert "cannot be resolved" in err
