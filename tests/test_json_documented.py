@@ -2,7 +2,7 @@
 carries ``schema_version`` and is indented alike.
 
 The commands run here (compare, check and its variants, budget, validity, modes,
-matrices, sweep, cache, models, study list) and their output is compared with the page,
+transfer, matrices, sweep, cache, models, study list) and their output is compared with the page,
 key by key: a key that the page does not list fails the test, naming it, so whoever adds
 a key to a command's JSON documents it there (meaning and unit) in the same change.
 
@@ -173,6 +173,15 @@ VARIANTS = {
                                 "--motion", "static", "--hours", "1", "--step", "10s",
                                 "--latitude", "20deg", "--json", "--no-progress"], 0),
     "modes": (["modes"], ["modes", "strapdown_ned", "--json"], 0),
+    # constant (the tilt), power (the drift's latitude), exponential (the vertical
+    # channel) and none (a longitude error seen nowhere else) long runs
+    "transfer": (["transfer"], [
+        "transfer", str(EXAMPLES / "own_model/schuler_loop.py"), "--source", "accel_bias",
+        "--source", "gyro_drift", "--output", "psi", "--output", "latitude", "--json"], 0),
+    "transfer strapdown_ned": (["transfer"], [
+        "transfer", "strapdown_ned", "--source", "accel_bias_z", "--source",
+        "initial_position_error_E", "--output", "height", "--output", "latitude", "--json"],
+        0),
     "matrices": (["matrices"], ["matrices", "strapdown_ned", "--hours", "1", "--out",
                                 "{tmp}/F.npz", "--json"], 0),
     "matrices --discrete": (["matrices"], [
