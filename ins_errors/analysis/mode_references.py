@@ -68,13 +68,28 @@ class References:
             return None
         return float(self.Omega.value * abs(np.sin(self.latitude)))
 
-    def split(self) -> tuple[float, float] | None:
-        """(ω̄ − Ω|sin φ|, ω̄ + Ω|sin φ|), rad/s, ω̄ = √(ω_s² + Ω² sin² φ): the
-        Foucault-split Schuler frequencies on a sphere (None without g, R or Ω)."""
+    def split(self, damping_ratio: float = 0.0) -> tuple[float, float] | None:
+        """The natural frequencies |λ| of the Foucault-split Schuler pair on a sphere, rad/s
+        (None without g, R or Ω).
+
+        Undamped, (ω̄ − Ω|sin φ|, ω̄ + Ω|sin φ|) with ω̄ = √(ω_s² + Ω² sin² φ). Damped by a
+        loop gain k in both horizontal channels, the pair is the roots of
+        s² + (k + 2iΩ sin φ) s + ω_s² = 0 (the two channels as one complex error), whose
+        sum −k − 2iΩ sin φ and product ω_s² give: both roots have the same damping ratio
+        ζ, half the difference of their imaginary parts is Ω|sin φ| and the product of
+        their sizes is ω_s², so with Ω_ζ = Ω|sin φ|/√(1 − ζ²) the sizes are
+        ω̄_ζ ∓ Ω_ζ, ω̄_ζ = √(ω_s² + Ω_ζ²).
+
+        Parameters
+        ----------
+        damping_ratio : float
+            ζ of the pair (|ζ| < 1; negative for a growing pair; 0: undamped).
+        """
         if self.schuler is None or self.foucault is None:
             return None
-        mean = float(np.hypot(self.schuler, self.foucault))
-        return mean - self.foucault, mean + self.foucault
+        turn = self.foucault / float(np.sqrt(1.0 - damping_ratio**2))
+        mean = float(np.hypot(self.schuler, turn))
+        return mean - turn, mean + turn
 
     def to_dict(self) -> dict:
         return {name: None if c is None else c.to_dict()

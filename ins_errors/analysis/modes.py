@@ -10,14 +10,22 @@ base exactly as ``ins-errors compare MODEL --motion static`` does
 functions at t = 0 and names its modes in the field's terms against the textbook values
 of the model's own g, R and Ω (:mod:`ins_errors.analysis.mode_references`):
 
-* undamped (or lightly damped, :data:`LIGHT_DAMPING`) pairs near ω_s = √(g/R):
-  "Schuler"; two of them split by Ω|sin φ| (within 10 %) are the Foucault pair, named by
-  size as :data:`~ins_errors.numeric.closed_forms.SPLIT_MODES` names them ("Schuler −
-  Foucault" the lower frequency, the longer period);
-* undamped (or lightly damped) pairs near Ω: "Earth";
+* oscillations whose natural frequency |λ| lies near ω_s = √(g/R), damped or not (|ζ|
+  below :data:`NAMED_DAMPING`): "Schuler"; two of them whose imaginary parts are split by
+  Ω|sin φ| (within 10 %) are the Foucault pair, named by size as
+  :data:`~ins_errors.numeric.closed_forms.SPLIT_MODES` names them ("Schuler − Foucault"
+  the lower frequency, the longer period);
+* oscillations with |λ| near Ω: "Earth";
+* a named oscillation damped by |ζ| >= :data:`LIGHT_DAMPING` says so: "Schuler
+  (damped)", "Schuler − Foucault (growing)";
 * real λ near ±√(2g/R): "vertical channel (growing)" / "(decaying)";
 * the rest by kind: "integrator", "damped", "growing", "oscillation", "damped
   oscillation", "growing oscillation".
+
+A named oscillation is compared with its textbook value by its natural period 2π/|λ|
+where it is damped or growing (the damped Foucault pair against
+:meth:`~ins_errors.analysis.mode_references.References.split` at its ζ), by its period
+2π/Im λ where it is not.
 
 "Near" is within a factor :data:`BAND`. Each mode lists the error states that take part:
 the row norms of an orthonormal basis of its invariant subspace (ordered real Schur
@@ -50,9 +58,21 @@ FOUCAULT_MATCH = 0.1
 within this share."""
 
 LIGHT_DAMPING = 0.05
-"""An oscillation is named after a reference frequency only when its damping ratio is
-below this in size: coupling to a damped vertical loop leaves the Schuler and Earth
-pairs damped by ζ ~ 1e-4, and they keep their names."""
+"""A named oscillation damped (or growing) by a damping ratio at least this in size says
+so in its name ("Schuler (damped)"); below it the name is plain: coupling to a damped
+vertical loop leaves the Schuler and Earth pairs damped by ζ ~ 1e-4."""
+
+NAMED_DAMPING = 0.9
+"""An oscillation is named after a reference frequency only while its damping ratio is
+below this in size. Beyond it the pair hardly oscillates (its first overshoot,
+e^(−πζ/√(1 − ζ²)), is below 0.2 %; its damped period more than 2.29 times its
+natural one), and near critical damping what is left of Im λ is set by the Earth's turning
+Ω sin φ more than by the loop: with Ω the Schuler pair never becomes real (ζ → 1 only as
+the gain grows without bound), so ζ = 1 cannot mark the end of the name. Without Ω an
+overdamped loop (ζ >= 1) has two real modes, listed by kind ("damped")."""
+
+DAMPING_WORDS = (" (damped)", " (growing)")
+"""What a named oscillation's name ends with where |ζ| >= :data:`LIGHT_DAMPING`."""
 
 SHOWN_SHARE = 0.1
 """Error states below this share of the largest are left out of the short listing."""
@@ -70,15 +90,20 @@ class Reference:
         The textbook period (oscillations) or time constant (real modes), s.
     relative_difference : float
         (mode's value − textbook value) / textbook value.
+    quantity : str
+        The mode's value compared: ``"period"`` (2π/Im λ, an undamped oscillation),
+        ``"natural_period"`` (2π/|λ|, a damped or growing one) or ``"time_constant"``
+        (1/|λ|, a real mode).
     """
 
     formula: str
     seconds: float
     relative_difference: float
+    quantity: str = "period"
 
     def to_dict(self) -> dict:
         return {"formula": self.formula, "seconds": self.seconds,
-                "relative_difference": self.relative_difference}
+                "relative_difference": self.relative_difference, "quantity": self.quantity}
 
 
 @dataclass(frozen=True)
@@ -88,7 +113,9 @@ class Mode:
     Attributes
     ----------
     name : str
-        Field name ("Schuler − Foucault", "Earth", "vertical channel (growing)") or kind.
+        Field name ("Schuler − Foucault", "Earth", "vertical channel (growing)"; a named
+        oscillation with |ζ| >= :data:`LIGHT_DAMPING` ends in " (damped)" or
+        " (growing)": "Schuler − Foucault (damped)") or kind.
     kind : str
         "integrator", "damped", "growing", "oscillation", "damped oscillation" or
         "growing oscillation".
@@ -126,6 +153,16 @@ class Mode:
     participation: dict[str, float]
     independent_directions: int | None = None
     note: str | None = None
+
+    @property
+    def base_name(self) -> str:
+        """The name of an oscillation without the word on its damping:
+        ``"Schuler − Foucault"`` for ``"Schuler − Foucault (damped)"`` (the name itself
+        otherwise: "vertical channel (growing)" is a real mode's whole name)."""
+        for word in DAMPING_WORDS:
+            if self.period_s is not None and self.name.endswith(word):
+                return self.name.removesuffix(word)
+        return self.name
 
     @property
     def doubling_time_s(self) -> float | None:
@@ -258,10 +295,10 @@ class StaticModes:
 
     @property
     def foucault_period_from_modes_s(self) -> float | None:
-        """The Foucault period from the eigenvalues, 2π/((ω₊ − ω₋)/2), s: the split
-        Schuler pair's half difference is the rate the oscillation's plane turns at
-        (None without the named split pair)."""
-        rates = [m.eigenvalue.imag for m in self.modes if m.name in SPLIT_MODES]
+        """The Foucault period from the eigenvalues, 2π/((ω₊ − ω₋)/2), s, ω± the
+        imaginary parts of the split Schuler pair: their half difference is the rate the
+        oscillation's plane turns at, damped or not (None without the named split pair)."""
+        rates = [m.eigenvalue.imag for m in self.modes if m.base_name in SPLIT_MODES]
         if len(rates) != 2 or rates[0] == rates[1]:
             return None
         return float(2 * np.pi / (abs(rates[1] - rates[0]) / 2))
@@ -569,37 +606,72 @@ def _near(rate: float, reference: float | None) -> bool:
     return reference is not None and reference / BAND <= rate <= reference * BAND
 
 
-def _reference(formula: str, seconds: float, reference_seconds: float) -> Reference:
-    return Reference(formula, reference_seconds, seconds / reference_seconds - 1.0)
+def _reference(formula: str, seconds: float, reference_seconds: float,
+               quantity: str = "period") -> Reference:
+    return Reference(formula, reference_seconds, seconds / reference_seconds - 1.0, quantity)
+
+
+def _damping_word(zeta: float) -> str:
+    """What a named oscillation's name says of its damping ratio ζ."""
+    if abs(zeta) < LIGHT_DAMPING:
+        return ""
+    return DAMPING_WORDS[0] if zeta > 0 else DAMPING_WORDS[1]
+
+
+def _oscillation_reference(formula: str, value: complex, frequency: float) -> Reference:
+    """An oscillation λ against the textbook frequency (rad/s): its period 2π/Im λ when
+    undamped, its natural period 2π/|λ| when damped or growing (the textbook values are
+    those of undamped loops, whose natural frequency a damping gain leaves alone)."""
+    if value.real:
+        return _reference(formula, 2 * np.pi / abs(value), 2 * np.pi / frequency,
+                          "natural_period")
+    return _reference(formula, 2 * np.pi / value.imag, 2 * np.pi / frequency)
+
+
+def _foucault_split(groups: list[tuple[complex, int]], schuler: list[int],
+                    refs: References) -> bool:
+    """Whether the Schuler rows ``schuler`` are one Foucault-split pair: two pairs (with
+    their multiplicities), damped alike, whose imaginary parts differ by 2 Ω|sin φ|
+    (within :data:`FOUCAULT_MATCH`). Damped or not, that half difference is the turning
+    rate: the pair is the roots of s² + (k + 2iΩ sin φ) s + ω_s² = 0, whose sum has the
+    imaginary part −2Ω sin φ whatever the gain k (:meth:`References.split`)."""
+    if refs.split() is None or not refs.foucault:
+        return False
+    pairs = [groups[j][0] for j in schuler for _ in range(groups[j][1])]
+    if len(pairs) != 2 or len({_damping_word(-v.real / abs(v)) for v in pairs}) != 1:
+        return False
+    half = abs(pairs[1].imag - pairs[0].imag) / 2
+    return abs(half - refs.foucault) <= FOUCAULT_MATCH * refs.foucault
 
 
 def _names(groups: list[tuple[complex, int]], refs: References
            ) -> list[tuple[str, Reference | None]]:
     """(name, reference) of each group."""
     out: list[tuple[str, Reference | None]] = [(_kind(v), None) for v, _ in groups]
-    light = [bool(v.imag) and abs(v.real) < LIGHT_DAMPING * abs(v) for v, _ in groups]
-    schuler = [j for j, (v, _) in enumerate(groups) if light[j] and _near(v.imag, refs.schuler)]
-    split = refs.split()
-    rates = sorted(groups[j][0].imag for j in schuler for _ in range(groups[j][1]))
-    foucault = (split is not None and refs.foucault and len(rates) == 2
-                and abs((rates[1] - rates[0]) / 2 - refs.foucault)
-                <= FOUCAULT_MATCH * refs.foucault)
+    zeta = [-v.real / abs(v) if v.imag else None for v, _ in groups]
+    named = [z is not None and abs(z) < NAMED_DAMPING for z in zeta]
+    schuler = [j for j, (v, _) in enumerate(groups) if named[j] and _near(abs(v), refs.schuler)]
+    foucault = _foucault_split(groups, schuler, refs)
+    rates = sorted(groups[j][0].imag for j in schuler)
     for j in schuler:
-        rate = groups[j][0].imag
+        value, word = groups[j][0], _damping_word(zeta[j])
         if foucault:
-            lower = rate == rates[0]
-            name, reference = SPLIT_MODES[0 if lower else 1], split[0 if lower else 1]
-            formula = f"2π/(ω̄ {'−' if lower else '+'} Ω|sin φ|)"
+            lower = value.imag == rates[0]
+            frequency = refs.split(zeta[j])[0 if lower else 1]
+            sign = "−" if lower else "+"
+            formula = (f"2π/(ω̄_ζ {sign} Ω_ζ)" if value.real else f"2π/(ω̄ {sign} Ω|sin φ|)")
+            name = SPLIT_MODES[0 if lower else 1]
         else:
-            name, reference, formula = "Schuler", refs.schuler, "2π√(R/g)"
-        out[j] = (name, _reference(formula, 2 * np.pi / rate, 2 * np.pi / reference))
+            name, frequency, formula = "Schuler", refs.schuler, "2π√(R/g)"
+        out[j] = (name + word, _oscillation_reference(formula, value, frequency))
     for j, (value, _) in enumerate(groups):
-        if light[j] and refs.Omega is not None and _near(
-                value.imag, refs.Omega.value) and j not in schuler:
-            out[j] = ("Earth", _reference("2π/Ω", 2 * np.pi / value.imag,
-                                          2 * np.pi / refs.Omega.value))
+        if named[j] and refs.Omega is not None and _near(
+                abs(value), refs.Omega.value) and j not in schuler:
+            out[j] = ("Earth" + _damping_word(zeta[j]),
+                      _oscillation_reference("2π/Ω", value, refs.Omega.value))
         elif not value.imag and value.real and _near(abs(value.real), refs.vertical):
             which = "growing" if value.real > 0 else "decaying"
             out[j] = (f"vertical channel ({which})",
-                      _reference("√(R/2g)", 1 / abs(value.real), 1 / refs.vertical))
+                      _reference("√(R/2g)", 1 / abs(value.real), 1 / refs.vertical,
+                                 "time_constant"))
     return out

@@ -28,7 +28,22 @@ FORMULAS = {
     "vertical channel (growing)": "e-folding time √(R/2g)",
     "vertical channel (decaying)": "time constant √(R/2g)",
 }
-"""The textbook formula of each named mode, for the notes under the table."""
+"""The textbook formula of each named mode (by its name without the word on its
+damping), for the notes under the table."""
+
+NATURAL_FORMULAS = {
+    "Schuler − Foucault": "natural period 2π/(ω̄_ζ − Ω_ζ)",
+    "Schuler + Foucault": "natural period 2π/(ω̄_ζ + Ω_ζ)",
+    "Schuler": "natural period 2π√(R/g)",
+    "Earth": "natural period 2π/Ω",
+}
+"""The same for a damped or growing row: its natural period 2π/|λ| is compared (a damping
+gain leaves the loop's natural frequency alone; the damped Foucault pair:
+:meth:`~ins_errors.analysis.mode_references.References.split`)."""
+
+DAMPED_SPLIT = ("Ω_ζ = Ω|sin φ|/√(1 − ζ²), ω̄_ζ = √(g/R + Ω_ζ²), ζ the row's damping ratio "
+                "(ζ = 0: the undamped pair)")
+"""What the damped Foucault pair's formulas write, said after the first of them."""
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -133,9 +148,9 @@ def table(result) -> str:
     elif refs.latitude is None and refs.Omega is not None:
         notes.append("the model has no latitude (and no latitude parameter): no Foucault "
                      "split is named")
-    used = [name for name in FORMULAS if any(m.name == name for m in result.modes)]
-    if used:
-        notes.append("formulas: " + "; ".join(f"{name}: {FORMULAS[name]}" for name in used))
+    formulas = _formulas(result)
+    if formulas:
+        notes.append("formulas: " + "; ".join(f"{name}: {text}" for name, text in formulas))
     if result.foucault_period_s is not None:
         notes.append(_foucault_note(result))
     explained: dict[str, list[str]] = {}
@@ -160,26 +175,70 @@ def table(result) -> str:
     return "\n".join(lines + notes)
 
 
+def _formulas(result) -> list[tuple[str, str]]:
+    """(row name, textbook formula) of each named row, once per name, in the order of
+    :data:`FORMULAS`; a row compared by its natural period gets :data:`NATURAL_FORMULAS`."""
+    out: dict[str, str] = {}
+    defined = False
+    for base in FORMULAS:
+        for mode in result.modes:
+            if mode.base_name != base or mode.reference is None or mode.name in out:
+                continue
+            if mode.reference.quantity != "natural_period":
+                out[mode.name] = FORMULAS[base]
+                continue
+            out[mode.name] = NATURAL_FORMULAS[base]
+            if "Ω_ζ" in out[mode.name] and not defined:
+                out[mode.name] += f", {DAMPED_SPLIT}"
+                defined = True
+    return list(out.items())
+
+
 def _foucault_note(result) -> str:
     """The Foucault period under the table, and what it is in this model's modes: the
     turning of the Schuler oscillation's plane where a Foucault-split pair is named (with
-    the period from that pair), else the fact that no Schuler pair is split by it here (a
-    free-azimuth platform, whose reference axes do not follow the meridian, carries the
-    turning in its wander angle instead; near the equator the split of the two channels'
-    radii can be the larger one; the model's note says why, where it has one)."""
+    the period from that pair, damped or not), else what the Schuler rows are instead
+    (none, one, two split by another amount or damped differently, more), with the
+    model's note where it has one: facts of these modes only, no guessed cause."""
+    from ins_errors.analysis.modes import BAND, FOUCAULT_MATCH, NAMED_DAMPING
+    from ins_errors.numeric.closed_forms import SPLIT_MODES
+
     refs = result.references
     head = (f"Foucault period 2π/(Ω|sin φ|) = {duration_text(result.foucault_period_s)} at "
             f"φ = {np.degrees(refs.latitude):.4g}°")
     measured = result.foucault_period_from_modes_s
     if measured is not None:
+        damped = any(m.time_constant_s is not None for m in result.modes
+                     if m.base_name in SPLIT_MODES)
         return (f"{head}: the plane of the Schuler oscillation turns once in it; from the "
-                f"split pair, 2π/((ω₊ − ω₋)/2) = {duration_text(measured)}")
-    noted = any(m.note for m in result.modes if m.name.startswith("Schuler"))
+                f"split pair, 2π/((ω₊ − ω₋)/2) = {duration_text(measured)}"
+                + (" (ω± = Im λ: damped, the pair's half difference is still the turning "
+                   "rate)" if damped else ""))
+    rows = [m for m in result.modes if m.base_name == "Schuler"]
+    pairs = [m for m in rows for _ in range(m.multiplicity)]
+    words = {m.name.removeprefix(m.base_name) for m in rows}
+    if not rows and refs.schuler is None:
+        found = "no row here is named Schuler (the model lacks g or R)"
+    elif not rows:
+        found = (f"no row here is named Schuler: no oscillation has |λ| within a factor "
+                 f"{BAND:g} of √(g/R) = {refs.schuler:.4e} rad/s with |ζ| < "
+                 f"{NAMED_DAMPING:g}")
+    elif len(pairs) == 2 and len(words) == 2:
+        found = (f"the two Schuler rows here are damped differently (ζ = "
+                 f"{rows[0].damping_ratio:.3g}, {rows[1].damping_ratio:.3g})")
+    elif len(pairs) == 2:
+        half = abs(pairs[1].eigenvalue.imag - pairs[0].eigenvalue.imag) / 2
+        found = (f"no two Schuler rows here differ by Ω|sin φ| (within "
+                 f"{100 * FOUCAULT_MATCH:g} %): half the difference of their Im λ is "
+                 f"{half:.4g} rad/s, Ω|sin φ| = {refs.foucault:.4g} rad/s")
+    elif len(pairs) == 1:
+        found = "one Schuler row here, and no second one to pair it with"
+    else:
+        found = f"{len(pairs)} Schuler pairs here, not two"
+    noted = any(m.note for m in rows)
     return (f"{head}, the time in which the meridian turns once about the vertical against "
-            "inertial space; no two Schuler rows here differ by Ω|sin φ| (within 10 %), so no "
-            "Schuler ± Foucault pair is named: the turning is not resolved as a pair in "
-            "these modes (a frame that does not follow the meridian, or a larger split of "
-            "another cause, as near the equator)"
+            f"inertial space; {found}, so no Schuler ± Foucault pair is named: the turning "
+            "is not resolved as a pair in these modes"
             + ("; see the model's note" if noted else ""))
 
 
