@@ -259,14 +259,27 @@ MISTAKES = {
     "unit the units library cannot read": (
         ('Variable("V", "m/s",', 'Variable("V", "m/sec2",'),
         ["state 'V'", "unit 'm/sec2'", "checking the definition"]),
+    # the suggestion was '0.03/s' whatever the unit: it now has the parameter's unit
     "parameter example without its unit": (
         ('"g", 9.80665)', '"g", 9.80665, example="9.8")'),
         ["parameter 'g'", "example '9.8' is not a value in 'm/s**2' with its unit",
-         "checking the definition"]),
+         "(e.g. '9.8 m/s^2')", "checking the definition"]),
     "parameter example of another dimension": (
         ('"g", 9.80665)', '"g", 9.80665, example="9.8 m/s")'),
         ["parameter 'g'", "example '9.8 m/s' is not a value in 'm/s**2'",
-         "checking the definition"]),
+         "(e.g. '9.8 m/s^2')", "checking the definition"]),
+    "plain-number parameter example with a unit": (
+        ('"g", 9.80665)', '"g", 9.80665),\n    Parameter("k_p", "1", "a gain", "k_p", 0.0, '
+                          'example="0.5/s")'),
+        ("R, g = (v.symbol for v in PARAMETERS)", "R, g = (v.symbol for v in PARAMETERS[:2])"),
+        ["parameter 'k_p'", "example '0.5/s' is not a plain number (unit '1')",
+         "(e.g. '0.5')", "checking the definition"]),
+    "rate parameter example in another unit": (
+        ('"g", 9.80665)', '"g", 9.80665),\n    Parameter("k_v", "1/s", "a gain", "k_v", 0.0, '
+                          'example="1.24e-3 deg/h")'),
+        ("R, g = (v.symbol for v in PARAMETERS)", "R, g = (v.symbol for v in PARAMETERS[:2])"),
+        ["parameter 'k_v'", "example '1.24e-3 deg/h' is not a value in '1/s'",
+         "(e.g. '1.24e-3/s')", "checking the definition"]),
     "what a missing example gives": (
         ('"g", 9.80665)', '"g", 9.80665, example_gives="standard gravity")'),
         ["parameter 'g'", "example_gives 'standard gravity' without an example value",

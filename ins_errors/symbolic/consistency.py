@@ -17,6 +17,7 @@ from __future__ import annotations
 import difflib
 import math
 import random
+import re
 from collections.abc import Iterable, Sequence
 
 import sympy as sp
@@ -490,9 +491,11 @@ def check_units(d: ModelDefinition, label: str | None = None) -> None:
         except Exception:  # unreadable, without its unit, or another dimension
             value = math.nan
         if not math.isfinite(value):
+            wanted = ("a plain number (unit '1')" if parameter.unit == "1"
+                      else f"a value in {parameter.unit!r} with its unit")
             raise _fail(label, f"parameter {parameter.name!r}",
-                        f"example {parameter.example!r} is not a value in {parameter.unit!r} "
-                        "with its unit, as typed after -p (e.g. '0.03/s')")
+                        f"example {parameter.example!r} is not {wanted}, as typed after -p "
+                        f"(e.g. {typed_example(parameter.example, parameter.unit)!r})")
     for source in d.sources:
         shown = source.display_unit
         if not shown or shown == source.unit:
@@ -503,6 +506,36 @@ def check_units(d: ModelDefinition, label: str | None = None) -> None:
             raise _fail(label, f"error source {source.name!r}",
                         f"display unit {shown!r} does not convert to its SI unit "
                         f"{source.unit!r}") from None
+
+
+_LEADING_NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)")
+
+
+def typed_example(example: str, unit: str) -> str:
+    """A value of a parameter in SI ``unit`` as typed after ``-p NAME=``, with the leading
+    number of ``example`` (1 without one): ``'0.5'`` for unit ``"1"``, ``'0.5/s'`` for
+    ``"1/s"``, ``'9.8 m/s^2'`` for ``"m/s**2"``, ``'30 deg'`` for ``"rad"``.
+
+    Parameters
+    ----------
+    example : str
+        The example as the model file wrote it (``"0.5/s"``, ``"9.8"``).
+    unit : str
+        The parameter's SI unit (SymPy's spelling, ``m/s**2``).
+
+    Returns
+    -------
+    str
+        The suggestion, in the unit's dimension whatever the example's.
+    """
+    found = _LEADING_NUMBER.match(example)
+    number = found.group(1) if found else "1"
+    if unit == "1":
+        return number
+    if unit == "rad":
+        return f"{number} deg"
+    shown = unit.replace("**", "^")
+    return f"{number}{shown[1:]}" if shown.startswith("1/") else f"{number} {shown}"
 
 
 def unseen_sources(d: ModelDefinition, source_matrix: sp.Matrix,
