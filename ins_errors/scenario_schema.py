@@ -106,6 +106,45 @@ class Case(BaseModel):
     label: str | None = None
 
 
+_GRID = {
+    "anyOf": [
+        {"type": "array", "minItems": 1, "items": {"type": ["string", "number"]},
+         "description": "the grid's values with their units, e.g. ['30 deg', '60 deg'], "
+                        "['5e-4/s', '1e-3/s']"},
+        {"type": "object", "required": ["start", "stop", "count"],
+         "additionalProperties": False,
+         "properties": {"start": {"type": ["string", "number"], **_QUANTITY},
+                        "stop": {"type": ["string", "number"], **_QUANTITY},
+                        "count": {"type": "integer", "minimum": 1}},
+         "description": "count values evenly from start to stop"},
+    ],
+    "description": "a grid over a motion or run setting, an error source or a model "
+                   "parameter (which names a model has: ins-errors models MODEL)",
+}
+
+
+def _sweep_schema(schema: dict[str, Any]) -> None:
+    """The ``[sweep]`` table's shape for editors (the table itself is read by
+    :func:`ins_errors.analysis.sweep.parse_sweep`, which knows the model's names): its
+    own keys, and a grid under any other name."""
+    table = {
+        "type": "object",
+        "properties": {
+            "draws": {"type": "integer", "minimum": 0,
+                      "description": "Monte Carlo draws per grid point"},
+            "seed": {"type": "integer", "minimum": 0, "description": "seed of the draws"},
+            "scheduler": {"type": "string",
+                          "description": "Dask scheduler, e.g. 'tcp://host:8786'"},
+            "random": {"type": "object",
+                       "additionalProperties": {"type": ["string", "number"], **_QUANTITY},
+                       "description": "[sweep.random]: 1σ of the error sources drawn"},
+        },
+        "additionalProperties": _GRID,
+    }
+    schema["anyOf"] = [table if option.get("type") == "object" else option
+                       for option in schema["anyOf"]]
+
+
 class ScenarioFile(_Table):
     """A whole scenario file (TOML)."""
 
@@ -122,8 +161,12 @@ class ScenarioFile(_Table):
         None, description="model parameters with units (ins-errors models MODEL lists "
                           "them), e.g. strapdown_ned's vertical damping gains "
                           "k_h1 = '0.0047 1/s', k_h2 = '1.4e-5 1/s**2' (default: the model's)")
-    sweep: dict[str, Any] | None = Field(None, description="grids over settings "
-                                                           "(ins-errors sweep)")
+    sweep: dict[str, Any] | None = Field(
+        None, description="grids over settings (ins-errors sweep): the motion's latitude, "
+                          "longitude, heading, speed, height; the run's duration, step; "
+                          "any error source's magnitude or model parameter's value, e.g. "
+                          "k_v = ['5e-4/s', '1e-3/s']; Monte Carlo draws",
+        json_schema_extra=_sweep_schema)
 
 
 _TABLES: dict[str, type[BaseModel]] = {"": ScenarioFile, "motion": Motion, "run": Run,

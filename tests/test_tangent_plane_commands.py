@@ -74,7 +74,8 @@ def test_a_scenarios_latitude_for_a_model_without_one_is_refused(capsys, tmp_pat
 
 @pytest.mark.parametrize("sweep, motion, message", [
     ('latitude = ["10 deg", "20 deg"]', "", ('[sweep] latitude: model \'tangent_plane_ins\' '
-                                             'has no latitude', '[parameters] phi0 = "10 deg"')),
+                                             'has no latitude',
+                                             '[sweep] phi0 = ["10 deg", "20 deg"]')),
     ('height = ["10 m", "20 m"]', "", ("[sweep] height: model", "leave height out of [sweep]")),
     ('gyro_drift_E = ["0.01 deg/h", "0.02 deg/h"]', 'latitude = "10 deg"\n',
      ("[motion] latitude: model", '[parameters] phi0 = "10 deg"')),
@@ -101,6 +102,14 @@ def test_a_sweeps_latitude_for_a_model_without_one_is_refused(capsys, tmp_path, 
         (tmp_path / "sub" / "one.toml").write_text(text.split("[sweep]")[0])
         err = _one_line_error(capsys, ["run", "sub/one.toml", "--out", "out"])
         assert err.startswith("ins-errors: error: sub/one.toml [motion] latitude:")
+    if "[sweep] phi0" in message[1]:  # the way out it names sweeps the model's latitude
+        (tmp_path / "sub" / "tangent.toml").write_text(text.replace(sweep, message[1][8:]))
+        assert main([*argv, "--json"]) == 0
+        rows = json.loads(capsys.readouterr().out)["summary"]
+        assert [row["phi0"] for row in rows] == pytest.approx(np.radians([10.0, 20.0]))
+        # a drift about east at rest on the tangent plane: its tilt and velocity errors
+        # follow the origin latitude through the Earth rate's components (they differ)
+        assert rows[0]["max_direct"] != rows[1]["max_direct"]
 
 
 def test_a_budget_specs_latitude_for_a_model_without_one_is_refused(capsys, tmp_path):

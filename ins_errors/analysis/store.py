@@ -828,9 +828,11 @@ def _check_fingerprint(attributes: Mapping, layout: Layout, where: Path) -> None
 
 def _overridden(name: str, swept: set[str]) -> bool:
     """Whether a setting (its readable name) is a grid of a sweep sweeping ``swept``, or
-    a value such a grid replaces (``[motion] latitude`` beside a latitude grid)."""
+    a value such a grid replaces (``[motion] latitude`` beside a latitude grid,
+    ``[parameters] k_v`` beside a grid of the model parameter ``k_v``)."""
     for grid in swept:
-        if name in (f"[sweep] {grid}", f"[motion] {grid}", f"[run] {grid}"):
+        if name in (f"[sweep] {grid}", f"[motion] {grid}", f"[run] {grid}",
+                    f"[parameters] {grid}"):
             return True
         if name.startswith("[[case]] ") and name.endswith(f" {grid}") and \
                 name[len("[[case]] "):-len(grid) - 1].isdigit():

@@ -7,6 +7,7 @@ A scenario file (:mod:`ins_errors.scenario`) gains an optional ``[sweep]`` table
     heading = { start = "0 deg", stop = "90 deg", count = 4 }
     duration = ["1 h", "2 h"]                          # run length (or step)
     gyro_drift_x = ["0.005 deg/h", "0.01 deg/h"]       # error-source magnitudes
+    k_h1 = ["0.002/s", "0.0047/s"]                     # model parameters (gains...)
     draws = 100                                        # Monte Carlo draws per point
     seed = 7                                           # of the draws
     scheduler = "tcp://10.0.0.5:8786"                  # optional Dask cluster
@@ -15,8 +16,14 @@ A scenario file (:mod:`ins_errors.scenario`) gains an optional ``[sweep]`` table
 
 Sweepable names: the motion's ``latitude``, ``longitude``, ``heading``, ``speed``,
 ``height``; the run's ``duration`` and ``step``; any error source of the model (its
-magnitude in the scenario's case). The grid is the product of every list (first name
-slowest), of the scenario's cases (when there are several) and of the draws. A draw adds
+magnitude in the scenario's case); any parameter of the model (``ins-errors models
+MODEL`` lists them: a damping gain, the Earth radius...), its values with units as
+``--parameter NAME=VALUE`` takes them, in place of the scenario's ``[parameters]`` value.
+A key of the scenario (a motion or run setting, or ``draws``, ``seed``, ``random``,
+``scheduler``) keeps its meaning for every model: a model parameter of the same name is
+set by ``[parameters]`` only, and the sweep says so in a note. The grid is the product of
+every list (first name slowest), of the scenario's cases (when there are several) and of
+the draws. A draw adds
 to the case's sources a Gaussian value of the given 1σ per random source, drawn from the
 draw's own generator (:func:`ins_errors.analysis.monte_carlo.draw_generator`): draw
 ``k`` has the same values at every grid point and on every engine.
@@ -120,7 +127,7 @@ class Parameter:
     name : str
         ``latitude``, ``duration``, ``gyro_drift_x``...
     kind : str
-        ``"motion"``, ``"run"`` or ``"source"``.
+        ``"motion"``, ``"run"``, ``"source"`` or ``"parameter"`` (of the model).
     unit : str
         SI unit of ``values``.
     values : tuple of float
@@ -274,11 +281,14 @@ def check_shard(shard: Shard, points: int) -> None:
 def _display_unit(text: Any, unit: str) -> str:
     match = re.match(r"^\s*[-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?\s*(.+?)\s*$", str(text))
     if isinstance(text, str) and match:
+        written = match.group(1)
+        if written.startswith("/"):  # '5e-4/s', as -p takes it: shown as '1/s'
+            written = f"1{written}"
         try:
-            parse_quantity(f"1 {match.group(1)}", unit)
+            parse_quantity(f"1 {written}", unit)
         except InsErrorsError:
             return unit
-        return match.group(1)
+        return written
     return unit
 
 
@@ -382,9 +392,13 @@ def parse_sweep(raw: Any, model, where: str, cases: int = 1) -> SweepSpec:
     if not isinstance(raw, dict):
         raise SweepError(f"{where}: 'sweep' must be a table, [sweep]")
     source_units = {s.name: s.unit for s in model.sources}
-    known = [*MOTION_PARAMETERS, *RUN_PARAMETERS, *source_units, *CONTROL_KEYS]
+    parameter_units = {p.name: p.unit for p in model.parameters}
+    known = [*MOTION_PARAMETERS, *RUN_PARAMETERS, *source_units, *CONTROL_KEYS,
+             *(name for name in parameter_units if name not in SCENARIO_KEYS)]
     kinds = {}
     for name in raw:
+        if name in SCENARIO_KEYS and name in parameter_units:
+            _note_shadowed(name, model, where)
         if name in CONTROL_KEYS:
             continue
         if name in MOTION_PARAMETERS:
@@ -393,6 +407,8 @@ def parse_sweep(raw: Any, model, where: str, cases: int = 1) -> SweepSpec:
             kinds[name] = "run", RUN_PARAMETERS[name]
         elif name in source_units:
             kinds[name] = "source", source_units[name]
+        elif name in parameter_units:
+            kinds[name] = "parameter", parameter_units[name]
         else:
             raise unknown_name(f"key in {where} [sweep]", name, known)
     draws = raw.get("draws", 0)
@@ -409,7 +425,10 @@ def parse_sweep(raw: Any, model, where: str, cases: int = 1) -> SweepSpec:
         values, shown = _grid(name, raw[name], unit, where)
         if kind == "run" and min(values) <= 0:
             raise SweepError(f"{where} [sweep] {name}: values must be positive")
-        parameters.append(Parameter(name, kind, unit, values, shown))
+        parameter = Parameter(name, kind, unit, values, shown)
+        if kind == "parameter":
+            _check_parameter_values(model, parameter, where)
+        parameters.append(parameter)
     seed = raw.get("seed", 0)
     if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
         raise SweepError(f"{where} [sweep] seed must be a whole number >= 0, got {seed!r}")
@@ -436,6 +455,43 @@ def parse_sweep(raw: Any, model, where: str, cases: int = 1) -> SweepSpec:
     if not parameters and not draws:
         raise SweepError(f"{where} [sweep] names no parameter grid and no draws")
     return SweepSpec(tuple(parameters), draws, seed, tuple(random), scheduler)
+
+
+SCENARIO_KEYS = frozenset((*MOTION_PARAMETERS, *RUN_PARAMETERS, *CONTROL_KEYS))
+"""``[sweep]`` keys that mean the same for every model: a model parameter of one of
+these names is not swept by them (it is set by ``[parameters]`` only)."""
+
+
+def _note_shadowed(name: str, model, where: str) -> None:
+    """Say (a one-line note) that ``[sweep] name`` is the scenario's setting, not the
+    model's parameter of the same name."""
+    import warnings
+
+    what = ("the motion's" if name in MOTION_PARAMETERS else
+            "the run's" if name in RUN_PARAMETERS else "the sweep's own")
+    warnings.warn(f"ins-errors: note: {where} [sweep] {name} is {what} {name}, not "
+                  f"the parameter {name} of model {model.name!r} (a parameter named like "
+                  "a scenario key is set by [parameters] only; rename it in the model "
+                  "to sweep it)", stacklevel=3)
+
+
+def _check_parameter_values(model, parameter: Parameter, where: str) -> None:
+    """Refuse a grid value no run can take as the model parameter (a negative damping
+    gain, an Earth radius below 100 km, ...: :func:`ins_errors.model_parameters
+    .parameter_problem`), naming the value as the file's unit shows it.
+
+    Raises
+    ------
+    SweepError
+    """
+    from ins_errors.model_parameters import parameter_info, parameter_problem
+
+    info = parameter_info(model, parameter.name)
+    for value in parameter.values:
+        problem = parameter_problem(model, info, value)
+        if problem is not None:
+            raise SweepError(f"{where} [sweep] {parameter.name} = "
+                             f"{parameter.text(value)}: {problem}")
 
 
 # --------------------------------------------------------------------------------------
@@ -467,7 +523,7 @@ class PointJob:
     platform : str
         ``"exact"`` or ``"small_angle"`` platform kinematics of the direct run.
     parameters : tuple of (str, float)
-        Model parameters set by the scenario's ``[parameters]`` table, SI.
+        Model parameters set by the scenario's ``[parameters]`` table or swept, SI.
     label : str
         The point's swept values as written (for messages).
     truth : str
@@ -536,10 +592,13 @@ def grid(scenario) -> Grid:
                 motion = dict(scenario.motion)
                 duration, step = scenario.duration, scenario.step
                 sources = dict(scenario.cases[case].sources)
+                parameters = dict(scenario.parameters)  # a grid replaces its value
                 for p, v in zip(spec.parameters, values, strict=True):
                     labels[p.name].append(v)
                     if p.kind == "motion":  # exact SI value, with its unit as text
                         motion[p.name] = f"{v!r} {p.unit}"
+                    elif p.kind == "parameter":
+                        parameters[p.name] = v
                     elif p.name == "duration":
                         duration = v
                     elif p.name == "step":
@@ -560,12 +619,13 @@ def grid(scenario) -> Grid:
                     duration, step, scenario.record, scenario.method, scenario.refined,
                     scenario.ellipsoid, tuple(sorted(sources.items())), spec.random,
                     spec.seed, draw, scenario.platform, ", ".join(label),
-                    tuple(sorted(scenario.parameters.items())), scenario.truth,
+                    tuple(sorted(parameters.items())), scenario.truth,
                     in_si_text[written]))
     _check_grids(scenario, jobs)
     _check_references(scenario, jobs)
     coordinates = {p.name: (np.array(labels[p.name]), {"units": p.unit, "display_unit":
-                                                       p.display_unit, "swept": 1})
+                                                       p.display_unit, "swept": 1,
+                                                       **_described(scenario, p)})
                    for p in spec.parameters}
     if len(cases) > 1:
         coordinates["case"] = (np.array(case_index), {
@@ -575,6 +635,19 @@ def grid(scenario) -> Grid:
         coordinates["draw"] = (np.array(draw_index), {
             "long_name": "Monte Carlo draw", "units": "1", "swept": 1})
     return Grid(jobs, coordinates, spec.parameters)
+
+
+def _described(scenario, parameter: Parameter) -> dict[str, str]:
+    """A swept model parameter's ``long_name`` for its store coordinate (``"model
+    parameter k_v: velocity damping gain"``): its name alone says little. Empty for the
+    other kinds, whose names say what they are."""
+    if parameter.kind != "parameter":
+        return {}
+    from ins_errors.model_parameters import parameter_info
+    from ins_errors.numeric.model import load_model
+
+    info = parameter_info(load_model(scenario.model), parameter.name)
+    return {"long_name": f"model parameter {info.name}: {info.description}"}
 
 
 def point_count(scenario) -> int:
@@ -615,7 +688,7 @@ def refuse_too_many(factors: Sequence[tuple[int, str]], where: str = "") -> int:
 
 def _check_grids(scenario, jobs: Sequence[PointJob]) -> None:
     """Every point's duration, step and recording interval fit together; motions are
-    valid; the swept reference values are ones the model's runs depend on.
+    valid; every point's model parameters are within the model's own parameter domain.
 
     Raises
     ------
@@ -645,6 +718,20 @@ def _check_grids(scenario, jobs: Sequence[PointJob]) -> None:
         seen.add(motion)
         try:
             motion_profile(json.loads(motion), base=scenario.base)
+        except InsErrorsError as error:
+            raise type(error)(f"{where} at the point {job.label}: {error}") from None
+    if not any(p.kind == "parameter" for p in scenario.sweep.parameters):
+        return  # (the scenario's own parameters were checked when it was read)
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(scenario.model)
+    seen = set()
+    for job in jobs:
+        if job.parameters in seen:
+            continue
+        seen.add(job.parameters)
+        try:
+            model.parameter_vector(ellipsoid=scenario.ellipsoid, **dict(job.parameters))
         except InsErrorsError as error:
             raise type(error)(f"{where} at the point {job.label}: {error}") from None
 
@@ -686,7 +773,7 @@ def _check_references(scenario, jobs: Sequence[PointJob]) -> None:
                         f"{where} {'[sweep]' if 'heading' in swept else '[motion]'} heading")
     try:
         profile = motion_profile(dict(first.motion), base=scenario.base, model=model)
-        p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **scenario.parameters)
+        p = model.parameter_vector(ellipsoid=scenario.ellipsoid, **dict(first.parameters))
         start = tr.trajectory(model, profile, first.step, first.step, p=p, stream=True,
                               truth=scenario.truth)
     except InsErrorsError:
@@ -699,7 +786,11 @@ def _check_references(scenario, jobs: Sequence[PointJob]) -> None:
             continue
         own = tr.reference_parameter(model, name)
         shown = ", ".join(parameter.text(v) for v in parameter.values)
-        way = (f"its parameter {own.name} ({own.description}) sets it, one value per "
+        values = ", ".join(f'"{parameter.text(v)}"' for v in parameter.values)
+        way = (f"its parameter {own.name} ({own.description}) sets it: sweep that, "
+               f"[sweep] {own.name} = [{values}]"
+               if own is not None and own.name not in SCENARIO_KEYS else
+               f"its parameter {own.name} ({own.description}) sets it, one value per "
                f'scenario file: [parameters] {own.name} = "'
                f'{parameter.text(parameter.values[0])}"'
                if own is not None else f"leave {name} out of [sweep]")
@@ -955,6 +1046,14 @@ def _defaults(model: str, ellipsoid: str | None) -> dict[str, float]:
     return {info.name: float(v) for info, v in zip(loaded.parameters, vector, strict=True)}
 
 
+def fixed_parameters(scenario) -> dict[str, float]:
+    """The model parameters a sweep's ``[parameters]`` table sets for every point (SI):
+    those its grids do not replace."""
+    swept = {p.name for p in scenario.sweep.parameters if p.kind == "parameter"}
+    return {name: value for name, value in scenario.parameters.items()
+            if name not in swept}
+
+
 def settings(scenario, quantities: Sequence[str]) -> dict[str, str]:
     """Everything a sweep's numbers depend on, readable name -> value as text (floats
     exactly, ``repr``; SI with their units), in the order of the scenario file.
@@ -1032,7 +1131,7 @@ def layout(scenario, points: Grid, shard: Shard | None = None):
         "swept": [name for name, (_, attrs) in points.coordinates.items()
                   if attrs.get("swept")],
         "motion": {k: str(v) for k, v in scenario.motion.items()},
-        "parameters": parameters_record(model, scenario.parameters),
+        "parameters": parameters_record(model, fixed_parameters(scenario)),
         "judged_quantities": scenario.quantities,
         "settings": settings(scenario, names),
         "Conventions": "ins-errors sweep store 2",
@@ -1428,13 +1527,14 @@ def _rebuilt_keys(scenario, data) -> list[str] | None:
     old = stored_layout(data)
     before = old.attributes.get("swept", "[]")
     swept = json.loads(before) if isinstance(before, str) else list(before)
-    units = {}
     try:
         from ins_errors.numeric.model import load_model
 
-        units = {source.name: source.unit for source in load_model(scenario.model).sources}
+        loaded = load_model(scenario.model)
     except InsErrorsError:
         return None
+    units = {source.name: source.unit for source in loaded.sources}
+    parameters_of = {parameter.name for parameter in loaded.parameters}
     parameters = []
     for name in swept:
         if name in ("case", "draw"):
@@ -1443,7 +1543,8 @@ def _rebuilt_keys(scenario, data) -> list[str] | None:
             return None
         values, attrs = old.coordinates[name]
         kind = ("motion" if name in MOTION_PARAMETERS else "run" if name in RUN_PARAMETERS
-                else "source" if name in units else None)
+                else "source" if name in units else
+                "parameter" if name in parameters_of else None)
         if kind is None:
             return None
         unit = str(attrs.get("units", ""))

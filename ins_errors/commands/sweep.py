@@ -13,9 +13,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
         "sweep", help="run a scenario over the parameter grid of its [sweep] table",
         description="Run the direct, linear (and refined) runs of a scenario at every point "
-                    "of its [sweep] grid (motion, duration, step, source magnitudes, Monte "
-                    "Carlo draws), one task per point, on Dask (a local cluster of this "
-                    "machine's cores, or --scheduler), streaming results into a store. "
+                    "of its [sweep] grid (motion, duration, step, source magnitudes, model "
+                    "parameters such as a damping gain, Monte Carlo draws), one task per "
+                    "point, on Dask (a local cluster of this machine's cores, or "
+                    "--scheduler), streaming results into a store. "
                     "Running the same command again after an interruption computes only "
                     "the points the store lacks; run with other [sweep] grid values "
                     "(every other setting the same), it extends the store, computing "
@@ -195,7 +196,7 @@ def _run(args: argparse.Namespace, counts: dict) -> int:
               "merged": result.merged,
               "engine": where, "plot": None if plotted is None else str(plotted),
               "truth": scenario.truth,
-              "parameters": parameters_record(model, scenario.parameters),
+              "parameters": parameters_record(model, sw.fixed_parameters(scenario)),
               "swept": {name: data[name].attrs.get("units", "1")
                         for name in sr.swept_names(data)},
               "summary": sr.summary(data),
