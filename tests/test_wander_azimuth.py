@@ -115,17 +115,6 @@ def test_the_budget_refuses_a_state_it_cannot_read_in_its_own_words(tmp_path, ca
     assert "--convention" not in err[0] and "hand model" not in err[0]
 
 
-def test_a_flight_that_turns_the_wander_angle_is_refused_saying_why(capsys):
-    # off a meridian the wander angle moves (α̇ = −λ̇ sin φ), which the flight's
-    # initial-state map, at a fixed α₀, does not follow
-    status = main(["compare", str(WANDER), "--motion", "great-circle", "--hours", "0.1",
-                   "--source", "gyro_bias_x=0.01deg/h"])
-    err = capsys.readouterr().err.strip().splitlines()
-    assert status == 2 and len(err) == 1, err
-    assert "no navigation quantity sets (such as a wander angle)" in err[0]
-    assert "the static base works (for a wander angle, flights along a meridian too)" in err[0]
-
-
 def test_a_model_on_another_earth_than_its_flight_keeps_its_refusal(tmp_path, capsys,
                                                                     monkeypatch):
     # its latitude moves 1 % slower than the flight's: a navigation quantity, not a state

@@ -984,15 +984,16 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
     note = _noted_once(flight, earth, n_steps * float(tau))
     truth = it.chosen_truth(truth, flight.breaks, n_steps, float(tau),
                             "a flight (a great circle, a manoeuvre or a motion file)")
+    position = None
+    if truth == "fine" or (adapter is not None and adapter.carried):
+        position = (ss.FilePosition(flight, earth, n_steps * tau) if flight.geographic
+                    else _position_solution(flight, earth, n_steps * tau, tau).sol)
+    if adapter is not None:  # parameters that start a path-dependent state move
+        adapter.follow(flight, earth, n_steps * float(tau), position)
     if truth == "interpolated":
         source = ss.InterpolatedFlight(model, flight, earth, float(tau), n_steps, p, adapter)
-    elif flight.geographic:
-        source = ss.FullRateTruth(flight, earth, float(tau), n_steps,
-                                  ss.FilePosition(flight, earth, n_steps * tau), adapter)
     else:
-        source = ss.FullRateTruth(flight, earth, float(tau), n_steps,
-                                  _position_solution(flight, earth, n_steps * tau, tau).sol,
-                                  adapter)
+        source = ss.FullRateTruth(flight, earth, float(tau), n_steps, position, adapter)
     x0, u0, euler0 = source.start_with_euler()
     c0 = (_initial_conditions(x0, euler0) if adapter is None
           else adapter.conditions(nav0[:, 0]))

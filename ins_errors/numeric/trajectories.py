@@ -75,7 +75,10 @@ class MotionError(InsErrorsError):
 class PathDependentStateError(MotionError):
     """A flight a model cannot fly because one of its states moves along a direction no
     navigation quantity sets and depends on the path flown (a wander angle off a
-    meridian): the static base, and flights that keep that state still, work."""
+    meridian), and no parameter of its initial-state map starts that state (a wander
+    angle started at a parameter such as ``alpha0`` is carried:
+    :class:`~ins_errors.numeric.model_flight.CarriedPath`): the static base, and flights
+    that keep that state still, work."""
 
 
 class EarthParameterError(MotionError):
