@@ -1,8 +1,11 @@
 """The matrix check (and a ``@convention`` file's check) of a model that cannot fly some
-of the checker's motions: a wander-azimuth INS (tests/models/wander_azimuth.py), whose
-wander angle moves with the path off a meridian (α̇ = −λ̇ sin φ), flies the static base
-only. The check runs on the motions it can fly and lists the others with the one-line
-refusal of their flight; only that refusal skips a motion.
+of the checker's motions: a wander-azimuth INS whose wander angle is fixed in its
+initial-state map (tests/models/wander_azimuth.py with the literal α₀ = 0.5 for the
+parameter ``alpha0``), so that no parameter carries it when it moves with the path off a
+meridian (α̇ = λ̇ sin φ): it flies the static base only. The check runs on the motions it
+can fly and lists the others with the one-line refusal of their flight; only that refusal
+skips a motion. The wander model itself, whose ``alpha0`` the flights carry, flies all
+three.
 
 Reference, independent of the code under test: the static base flown here directly by
 the strapdown flight generator and checked through the Python API with
@@ -40,6 +43,18 @@ STATIC = st.static(np.radians(50.0), np.radians(30.0), 0.0, heading=np.radians(3
 WANDER_REASON = "moves along a state that no navigation quantity sets (such as a wander angle)"
 
 
+@pytest.fixture(scope="module")
+def fixed(tmp_path_factory) -> Path:
+    """The wander model with its wander angle fixed in its initial-state map."""
+    text = WANDER.read_text(encoding="utf-8")
+    old = 'C_wn = turn_z(S["alpha0"])'
+    assert text.count(old) == 1
+    path = tmp_path_factory.mktemp("fixed") / "wander_fixed_angle.py"
+    path.write_text(text.replace(old, "C_wn = turn_z(sp.Rational(1, 2))").replace(
+        'name="wander_azimuth"', 'name="wander_fixed_angle"'), encoding="utf-8")
+    return path
+
+
 def _static_motion(model, hours: float = check_motions.HOURS,
                    step: float = check_motions.STEP) -> check_motions.Motion:
     """The static base of the check, flown here by the strapdown flight generator."""
@@ -57,12 +72,26 @@ def _labels(skipped: list[str]) -> list[str]:
     return [text.split(":", 1)[0] for text in skipped]
 
 
-def test_the_wander_models_matrix_check_runs_on_the_static_base_saying_why_not_the_others(
-        tmp_path, capsys):
+def test_the_wander_models_matrix_check_flies_all_three_motions(capsys):
+    # its wander angle starts at the parameter alpha0, which the flights carry
+    status = main(["check", str(WANDER), "--matrix", PSI_MODEL, "--convention", "psi",
+                   "--json"])
+    shown = json.loads(capsys.readouterr().out)
+    assert status == 0 == shown["exit_status"]
+    assert [m["label"] for m in shown["motions"]] == ["static", "cruise", "manoeuvre"]
+    assert shown["skipped_motions"] == []
+    # the textbook ψ model on a sphere against WGS-84: small terms only, now also those
+    # of flight (the transport rate's Earth)
+    assert not [f for f in shown["findings"] if f["severity"] == "mistake"]
+    assert len(shown["findings"]) > 4
+
+
+def test_a_fixed_wander_angles_matrix_check_runs_on_the_static_base_saying_why_not_the_others(
+        tmp_path, capsys, fixed):
     from ins_errors.checker.matrix import check_matrices
     from ins_errors.checker.matrix_report import to_json
 
-    command = ["check", str(WANDER), "--matrix", PSI_MODEL, "--convention", "psi"]
+    command = ["check", str(fixed), "--matrix", PSI_MODEL, "--convention", "psi"]
     status = main([*command, "--json"])
     shown = json.loads(capsys.readouterr().out)
     # the textbook model on a sphere differs from the wander model's WGS-84 only in small
@@ -72,8 +101,8 @@ def test_the_wander_models_matrix_check_runs_on_the_static_base_saying_why_not_t
     assert _labels(shown["skipped_motions"]) == ["cruise", "manoeuvre"]
     assert all(WANDER_REASON in text and "\n" not in text for text in shown["skipped_motions"])
     # the same check on the static base alone, given through the API
-    alone = check_matrices(str(WANDER), PSI_MODEL, "psi",
-                           motion_list=[_static_motion(load_model(str(WANDER)))])
+    alone = check_matrices(str(fixed), PSI_MODEL, "psi",
+                           motion_list=[_static_motion(load_model(str(fixed)))])
     assert alone.skipped_motions == []
     expected = json.loads(dumps(to_json(alone)))
     for key in ("findings", "effects", "compared", "held", "magnitudes"):
@@ -89,11 +118,12 @@ def test_the_wander_models_matrix_check_runs_on_the_static_base_saying_why_not_t
     assert all(WANDER_REASON in line for line in not_flown)
     markdown = report.read_text(encoding="utf-8")
     assert "Motions not flown (the model cannot follow them):" in markdown
-    assert "* `cruise`: model 'wander_azimuth' cannot fly this flight" in markdown
+    assert "* `cruise`: model 'wander_fixed_angle' cannot fly this flight" in markdown
 
 
-def test_a_convention_file_on_the_wander_model_runs_on_the_static_base(tmp_path, capsys):
-    status = main(["check", str(WANDER), str(PHI_FILE), "--json"])
+def test_a_convention_file_on_a_fixed_wander_angle_runs_on_the_static_base(tmp_path, capsys,
+                                                                           fixed):
+    status = main(["check", str(fixed), str(PHI_FILE), "--json"])
     shown = json.loads(capsys.readouterr().out)
     assert status == shown["exit_status"] == 0
     assert [m["label"] for m in shown["motions"]] == ["static"]
@@ -102,7 +132,7 @@ def test_a_convention_file_on_the_wander_model_runs_on_the_static_base(tmp_path,
     scoped = tmp_path / "cruise_only.txt"
     scoped.write_text("@scope cruise\n" + PHI_FILE.read_text(encoding="utf-8"),
                       encoding="utf-8")
-    assert main(["check", str(WANDER), str(scoped)]) == 2
+    assert main(["check", str(fixed), str(scoped)]) == 2
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "'@scope cruise' is the cruise motion" in err[0]
     assert WANDER_REASON in err[0]
@@ -140,12 +170,13 @@ def test_only_a_refusal_to_follow_a_flight_skips_it(monkeypatch, error):
         check_motions._fly(model, 0.5, 600.0, p)
 
 
-def test_stored_motions_keep_the_motions_not_flown(tmp_path, monkeypatch):
+def test_stored_motions_keep_the_motions_not_flown(tmp_path, monkeypatch, fixed):
+    key = load_model(str(fixed)).key
     monkeypatch.setattr(motion_store, "folder", lambda: tmp_path / "motions")
     fly = check_motions._motions.__wrapped__  # past the per-process cache
-    flown, skipped = fly(str(WANDER), 1.0, 600.0, None)
+    flown, skipped = fly(key, 1.0, 600.0, None)
     (stored,) = (tmp_path / "motions").glob("*.npz")
-    read, skipped_read = fly(str(WANDER), 1.0, 600.0, None)
+    read, skipped_read = fly(key, 1.0, 600.0, None)
     assert [m.label for m in flown] == [m.label for m in read] == ["static"]
     assert skipped_read == skipped and _labels(list(skipped)) == ["cruise", "manoeuvre"]
     assert np.array_equal(read[0].x, flown[0].x)

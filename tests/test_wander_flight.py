@@ -12,7 +12,8 @@ References, each independent of the code under test:
   model's true C_b^w, v^w, C_w^e built from them;
 * ``strapdown_ned`` (quaternion attitude in NED, latitude and longitude states) flown
   along the same flight: another exact mechanisation of the same Earth, so the same IMU
-  errors give the same navigation errors.
+  errors give the same navigation errors, and its hand-written φ/ψ maps give the same F
+  as the wander model carried into a convention through its own equations.
 """
 
 from __future__ import annotations
@@ -153,6 +154,32 @@ def test_a_cli_compare_of_the_wander_model_flies_a_great_circle(capsys):
     assert 0 < reports[0]["cases"][0]["worst_linear_ratio"] < 1e-2
     for name in ("delta_latitude", "delta_longitude", "delta_heading", "delta_v_N"):
         assert mine[name]["max_direct"] == pytest.approx(ned[name]["max_direct"], rel=1e-9)
+
+
+@pytest.mark.parametrize("label", ["cruise", "manoeuvre"])
+@pytest.mark.parametrize("name", ["phi", "psi"])
+def test_the_wander_model_in_a_convention_is_strapdown_ned_in_flight(wander, label, name):
+    from ins_errors.checker.check_motions import _strapdown_flights
+    from ins_errors.checker.conventions import conventions
+    from ins_errors.models import strapdown_conventions as sc
+
+    flight = dict(_strapdown_flights())[label]
+
+    def flown(model, p):
+        run = st.trajectory(model, flight, 5400.0, 60.0, p=p, stream=False)
+        return run.truth, run.inputs_at(np.arange(run.n_steps + 1)), run.parameters
+
+    x, u, p = flown(wander, wander.parameter_vector(alpha0=0.3))
+    conv = conventions(wander)[name]
+    T, T_dot = conv.matrices(wander, x, p, u)  # refused before: the wander angle moved
+    L = np.moveaxis(conv.lift(x, p), -1, 0)
+    F = np.moveaxis(wander.state_matrix(x, u, p), -1, 0)
+    F_mine = (T_dot + T @ F) @ L
+    ned = load_model("strapdown_ned")
+    x_n, u_n, p_n = flown(ned, ned.parameter_vector())
+    F_ned, _ = (np.moveaxis(m, -1, 0) for m in sc.convention_matrices(ned, name, x_n, u_n, p_n))
+    scale = np.abs(F_ned).max(axis=2, keepdims=True)  # per row (rows of mixed units)
+    assert (np.abs(F_mine - F_ned) / scale).max() < 1e-9
 
 
 def test_a_streamed_wander_flight_survives_pickling(wander):

@@ -7,8 +7,10 @@ check in the same process and on disk for the next process
 files that describe themselves, :mod:`~ins_errors.checker.strapdown_description`) fly the
 exact rigid-body flights of :mod:`~ins_errors.numeric.strapdown_truth`.
 
-A model that cannot follow a moving motion (a wander-azimuth INS off a meridian: its
-flight is refused with a :class:`~ins_errors.numeric.trajectories.MotionError`) is
+A model that cannot follow a moving motion (a wander-azimuth INS whose wander angle is
+fixed in its initial-state map rather than started at a parameter the flight carries,
+off a meridian: its flight is refused with a
+:class:`~ins_errors.numeric.trajectories.MotionError`) is
 checked on the motions it can fly; the others are listed with the one-line refusal
 (:func:`flown_motions`). A model that cannot fly the static base is refused.
 """
@@ -195,9 +197,9 @@ def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None,
 def _cannot_follow(error: Exception) -> bool:
     """True for the refusal of a flight that a correct model cannot fly (a
     :class:`~ins_errors.numeric.trajectories.PathDependentStateError`: a wander angle off
-    a meridian), not for any other refusal: a model that cannot follow a flight for
-    another reason (its Earth is not the flight's, its inputs do not solve) is more
-    likely wrong than limited, and its check stops saying why."""
+    a meridian that no parameter starts), not for any other refusal: a model that cannot
+    follow a flight for another reason (its Earth is not the flight's, its inputs do not
+    solve) is more likely wrong than limited, and its check stops saying why."""
     from ins_errors.numeric.trajectories import PathDependentStateError
 
     return isinstance(error, PathDependentStateError)

@@ -29,7 +29,9 @@ Everything else is read from its equations, so no axis convention is assumed:
 * a model's error state may have directions a convention does not see (the six of a
   direction-cosine matrix beyond its three angles, the norm of a quaternion). The
   derived F in the convention is ``(Ṫ + T F) L`` with the *lift* ``L = K (T K)⁻¹``, ``K``
-  the tangent of the model's initial-state map at the current navigation solution: the
+  the tangent of the model's initial-state map at the current navigation solution (and
+  at the current value of a parameter a flight carries, such as a wander angle's
+  ``alpha0``: :func:`carried_values`): the
   error state of a convention state on the model's own state manifold (orthonormal
   matrices, unit quaternions), which its equations keep. (``(T K)⁻¹`` also absorbs the
   sign of a quaternion that the initial-state map gives as −q once the heading has
@@ -208,24 +210,69 @@ def validate(model, parts: tuple[str, str, str, str], x: np.ndarray, u: np.ndarr
             f"what its initial-state map was given ({nu[k, j]:.6g} read, {back[k, j]:.6g} "
             "after the map): the outputs and the initial conditions must use the same "
             "conventions (heading from north, clockwise; roll, pitch, heading z-y-x)")
-    K, T = _evaluated(parts, TANGENT, x, p), _evaluated(parts, TRANSFORM, x, p)
     xdot = np.asarray(model.numpy.ideal_rhs(x, u, p), dtype=float)
-    K_dot = np.moveaxis(_along(_functions(*parts)[3], x, xdot, p)[0], -1, 0)
+    moved = carried_values(model, x, p)
+    K, T = _evaluated(parts, TANGENT, x, moved), _evaluated(parts, TRANSFORM, x, p)
+    K_dot = _tangent_rate(model, parts, x, xdot, p, moved)
     L = _lift(K, T)
     F = np.moveaxis(np.asarray(model.state_matrix(x, u, p), dtype=float), -1, 0)
-    moved = F @ K - K_dot
-    off = moved - L @ (T @ moved)
+    D = _carried_directions(model, parts, x, xdot, p, moved, T, F)
+    off = _off_span(F @ K - K_dot, L, T, D)
     scale = (np.abs(F) @ np.abs(K) + np.abs(K_dot)).max(axis=(0, 2)) + 1e-300
     defect = np.abs(off).max(axis=(0, 2)) / scale
     if not defect.max() <= INVARIANCE_TOLERANCE and not _unseen(parts, x, xdot, p, T, F, K,
-                                                                 K_dot, L):
+                                                                 K_dot, L, D):
         k = int(np.nanargmax(np.where(np.isfinite(defect), defect, np.inf)))
         raise UnspannedStateError(model.name, model.states[k].name, float(defect[k]))
 
 
+def _off_span(moved: np.ndarray, L: np.ndarray, T: np.ndarray,
+              D: np.ndarray | None) -> np.ndarray:
+    """The part ``(I − L T) m`` of ``m`` (K, n, 9) off the span of the initial-state
+    map's tangent, less its part along the carried parameters' directions ``D``
+    (K, n, m) when given (the state they start: :func:`_carried_directions`)."""
+    off = moved - L @ (T @ moved)
+    if D is not None:
+        Dt = np.swapaxes(D, 1, 2)
+        off = off - D @ np.linalg.solve(Dt @ D, Dt @ off)
+    return off
+
+
+def _carried_directions(model, parts: tuple[str, str, str, str], x: np.ndarray,
+                        xdot: np.ndarray, p: np.ndarray, moved: np.ndarray, T: np.ndarray,
+                        F: np.ndarray) -> np.ndarray | None:
+    """The directions ``∂x0/∂q`` (K, n, m) of the carried parameters at every sample
+    (None for a model without them), once they are checked to stay unseen by the
+    convention, ``(Ṫ + T F) ∂x0/∂q = 0`` entry by entry against its terms (a wander
+    angle: turning the position matrix about the vertical and counter-turning the
+    attitude and velocity is a symmetry of the equations that changes no navigation
+    quantity).
+
+    Raises
+    ------
+    UnspannedStateError
+        A carried parameter's state feeds the navigation errors.
+    """
+    carried = _carried(model.key, np.ascontiguousarray(p, dtype=float).tobytes())
+    if not carried:
+        return None
+    values = moved if moved.ndim == 2 else np.repeat(moved[:, None], x.shape[-1], axis=1)
+    D = np.moveaxis(_along(_carried_functions(model.key, carried)[0], x, values)[1], -1, 0)
+    T_dot = np.moveaxis(_along(_functions(*parts)[1], x, xdot, p)[0], -1, 0)
+    feed = (T_dot + T @ F) @ D
+    terms = (np.abs(T_dot) + np.abs(T) @ np.abs(F)) @ np.abs(D)
+    terms = terms + INVARIANCE_TOLERANCE * terms.max(axis=(0, 2), keepdims=True)
+    share = (np.abs(feed) / (terms + 1e-300)).max(axis=(0, 1))
+    if not share.max() <= INVARIANCE_TOLERANCE:
+        k = int(np.nanargmax(np.where(np.isfinite(share), share, np.inf)))
+        raise UnspannedStateError(model.name, model.parameters[carried[k]].name,
+                                  float(share[k]))
+    return D
+
+
 def _unseen(parts: tuple[str, str, str, str], x: np.ndarray, xdot: np.ndarray,
             p: np.ndarray, T: np.ndarray, F: np.ndarray, K: np.ndarray, K_dot: np.ndarray,
-            L: np.ndarray) -> bool:
+            L: np.ndarray, D: np.ndarray | None = None) -> bool:
     """True when the error-state directions that leave the span of the initial-state map
     (:func:`validate`) stay unseen by the convention.
 
@@ -244,7 +291,7 @@ def _unseen(parts: tuple[str, str, str, str], x: np.ndarray, xdot: np.ndarray,
     """
     T_dot = np.moveaxis(_along(_functions(*parts)[1], x, xdot, p)[0], -1, 0)
     moved = F @ K - K_dot
-    off = moved - L @ (T @ moved)
+    off = _off_span(moved, L, T, D)
     feed = (T_dot + T @ F) @ off
     sizes = np.abs(F) @ np.abs(K) + np.abs(K_dot)  # of the terms of m, entry by entry
     terms = ((np.abs(T_dot) + np.abs(T) @ np.abs(F))
@@ -453,6 +500,134 @@ def _along(fn: ca.Function, *args: np.ndarray) -> list[np.ndarray]:
     return results
 
 
+CARRIED_STEPS = 40
+"""Gauss–Newton steps at most of :func:`carried_values` (a wander angle needs about five
+from a value a radian away)."""
+
+CARRIED_CHANGE = 1e-13
+"""A Gauss–Newton step of :func:`carried_values` below this (relative to the parameter's
+size, at least 1) is not taken: the parameter has its value."""
+
+
+@cache
+def _carried(model_key: str, p: bytes) -> tuple[int, ...]:
+    """The carried parameters of a model at a static base of φ 50° (a property of its
+    initial-state map: :func:`~ins_errors.numeric.model_flight.carried_parameters`)."""
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.model_flight import carried_parameters, condition_matrix
+
+    model = load_model(model_key)
+    nu = np.array([np.radians(50.0), np.radians(30.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
+                   np.radians(30.0)])
+    return carried_parameters(model, condition_matrix(model) @ nu, np.frombuffer(p))
+
+
+@cache
+def _carried_functions(model_key: str, carried: tuple[int, ...]
+                       ) -> tuple[ca.Function, ca.Function, ca.Function]:
+    """``fit(x, p) -> (x − x0(S ν(x), p) (n, 1), ∂x0/∂q (n, m))``,
+    ``rate(x, ẋ, p) -> (q̇ (m, 1), ẋ − K ċ (n, 1), |ẋ| + |K| |ċ| (n, 1))`` and
+    ``tangent_rate(x, q̇, p) -> (∂K/∂q) q̇ (n, 9)`` of the carried parameters ``q``
+    (indices ``carried`` into ``p``), ``K = ∂x0/∂c S`` the tangent of the initial-state
+    map and ``c = S ν(x)``."""
+    from ins_errors.numeric.model import load_model
+    from ins_errors.numeric.model_flight import condition_matrix
+
+    model = load_model(model_key)
+    x, p, nu, _, _ = _symbols(model)
+    S = ca.DM(condition_matrix(model))
+    c = ca.SX.sym("c", S.shape[0])
+    x0 = model.casadi.function("initial_state")(c, ca.DM.zeros(len(model.inputs)), p)
+    q = ca.vertcat(*[p[k] for k in carried])
+    at = ca.Function("initial", [c, p], [x0, ca.jacobian(x0, c), ca.jacobian(x0, q)])
+    x_at, K_c, D = at(S @ nu, p)
+    xdot = ca.SX.sym("xdot", x.numel())
+    c_rate = S @ (ca.jacobian(nu, x) @ xdot)
+    off = xdot - K_c @ c_rate
+    q_rate = ca.solve(D.T @ D, D.T @ off)
+    terms = ca.fabs(xdot) + ca.mtimes(ca.fabs(K_c), ca.fabs(c_rate))
+    q_dot = ca.SX.sym("q_dot", len(carried))
+    K = K_c @ S
+    K_q = (ca.jacobian(ca.vec(K), q) @ q_dot).reshape(K.shape)
+    return (ca.Function("carried_fit", [x, p], [ca.densify(x - x_at), ca.densify(D)]),
+            ca.Function("carried_rate", [x, xdot, p],
+                        [ca.densify(v) for v in (q_rate, off, terms)]),
+            ca.Function("tangent_carried_rate", [x, q_dot, p], [ca.densify(K_q)]))
+
+
+def carried_values(model, x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """The parameters at every sample of states ``x`` (n, K), shape (np,) or (np, K).
+
+    A parameter that starts a state no navigation quantity sets (the initial wander
+    angle ``alpha0`` of a wander-azimuth INS:
+    :func:`~ins_errors.numeric.model_flight.carried_parameters`) moves along a flight
+    (:class:`~ins_errors.numeric.model_flight.CarriedPath`); the tangent of the
+    initial-state map at a sample is taken at the value that puts the map through the
+    sample's state, ``x = x0(S ν(x), p | q)``, found by Gauss–Newton
+    from ``p``'s value (:data:`CARRIED_STEPS`, :data:`CARRIED_CHANGE`). ``p`` itself
+    when no parameter moves (a model without such parameters, a static base).
+
+    Raises
+    ------
+    InsErrorsError
+        No value of the parameters puts the map through some sample's state.
+    """
+    p = np.ascontiguousarray(p, dtype=float)
+    carried = _carried(model.key, p.tobytes())
+    if not carried:
+        return p
+    fit = _carried_functions(model.key, carried)[0]
+    q = np.repeat(p[list(carried), None], x.shape[-1], axis=1)
+    active = np.arange(x.shape[-1])
+    for _ in range(CARRIED_STEPS):
+        moved = np.repeat(p[:, None], active.size, axis=1)
+        moved[list(carried)] = q[:, active]
+        r, D = _along(fit, np.ascontiguousarray(x[:, active]), moved)
+        D = np.moveaxis(D, -1, 0)
+        step = np.linalg.solve(np.swapaxes(D, 1, 2) @ D,
+                               np.swapaxes(D, 1, 2) @ np.moveaxis(r, -1, 0))[:, :, 0].T
+        size = np.maximum(1.0, np.abs(q[:, active]))
+        taken = np.any(~(np.abs(step) <= CARRIED_CHANGE * size), axis=0)
+        q[:, active[taken]] += step[:, taken]
+        active = active[taken]
+        if not active.size:
+            break
+    else:
+        names = ", ".join(model.parameters[k].name for k in carried)
+        raise InsErrorsError(f"model {model.name!r}: no value of its parameter(s) {names} "
+                             "puts its initial-state map through its state at sample "
+                             f"{int(active[0])} of the motion")
+    if np.array_equal(q, np.repeat(p[list(carried), None], x.shape[-1], axis=1)):
+        return p
+    out = np.repeat(p[:, None], x.shape[-1], axis=1)
+    out[list(carried)] = q
+    return out
+
+
+def _tangent_rate(model, parts: tuple[str, str, str, str], x: np.ndarray,
+                  xdot: np.ndarray, p: np.ndarray, moved: np.ndarray) -> np.ndarray:
+    """``K̇`` (K, n, 9) along the ideal flow ``ẋ`` of the tangent ``K`` of the
+    initial-state map at the parameters ``moved`` (:func:`carried_values`): its change
+    with the navigation quantities and, where the flow moves them (its part off ``K ċ``
+    beyond :data:`~ins_errors.numeric.model_flight.FLIGHT_TOLERANCE` of its terms), with
+    the carried parameters."""
+    from ins_errors.numeric.model_flight import FLIGHT_TOLERANCE
+
+    K_dot = np.moveaxis(_along(_functions(*parts)[3], x, xdot, moved)[0], -1, 0)
+    carried = _carried(model.key, np.ascontiguousarray(p, dtype=float).tobytes())
+    if not carried or moved.ndim == 1:
+        return K_dot
+    _, rate, tangent_rate = _carried_functions(model.key, carried)
+    q_rate, off, terms = (v[:, 0, :] for v in _along(rate, x, xdot, moved))
+    moving = np.any(np.abs(off) > FLIGHT_TOLERANCE * terms, axis=0)
+    if moving.any():
+        extra = _along(tangent_rate, np.ascontiguousarray(x[:, moving]),
+                       np.ascontiguousarray(q_rate[:, moving]),
+                       np.ascontiguousarray(moved[:, moving]))[0]
+        K_dot[moving] += np.moveaxis(extra, -1, 0)
+    return K_dot
+
+
 TRANSFORM, TANGENT = 0, 2
 """Indices of ``T(x, p)`` and ``K(x, p)`` among a convention's :func:`_functions`."""
 
@@ -487,6 +662,7 @@ def conventions(model) -> dict:
     """The φ/ψ conventions of ``strapdown_ned`` for a model that describes itself, by
     name (see :func:`ins_errors.checker.conventions.conventions`)."""
     from ins_errors.checker.conventions import strapdown_conventions
+    from ins_errors.numeric.model import load_model
 
     key = model.key
 
@@ -500,7 +676,8 @@ def conventions(model) -> dict:
             return _along(_functions(*parts)[1], x, xdot, np.asarray(p, dtype=float))[0]
 
         def lift(x, p):
-            return np.moveaxis(_lift(_evaluated(parts, TANGENT, x, p),
+            moved = carried_values(load_model(key), x, p)
+            return np.moveaxis(_lift(_evaluated(parts, TANGENT, x, moved),
                                      _evaluated(parts, TRANSFORM, x, p)), 0, -1)
 
         def check(model, x, u, p):
