@@ -93,6 +93,72 @@ def test_dropped_gravity_projection_acts_as_a_bias(rest):
     assert "second order" in line
 
 
+def _on_earth_scaled(monkeypatch, factor: float) -> None:
+    """Let the studies fly on an Earth whose e² is ``factor`` times the model's."""
+    motion = meth.motion
+
+    def scaled(scenario, latitude, duration, tau, speed, track, model=None, p=None):
+        model = model or meth.load_model("orthodromic")
+        p = np.array([q.default for q in model.parameters]) if p is None else p.copy()
+        p[model.index("parameters", "e2")] *= factor
+        return motion(scenario, latitude, duration, tau, speed, track, model, p)
+
+    monkeypatch.setattr(meth, "motion", scaled)
+
+
+def test_sphere_on_board_moves_the_static_azimuth_only_at_second_order(monkeypatch):
+    """The sphere on board printed "alpha_z direct 8.444e-06 linear 1.469e-05 arcmin
+    mismatch 111 %" on a static base: the azimuth's first-order response cancels there,
+    and both numbers are of order e⁴ (the linear estimate through the e⁴ part of d(t)
+    and F̃), so the 111 % would stay at any flattening. Reference: the same study on
+    Earths with e² halved and doubled (true motion and computer alike). The tilts double
+    with e²; the azimuth quadruples, and so does the linear estimate's azimuth. The study
+    then marks it as moved only at second order, as compare does, and keeps judging the
+    azimuth in flight, where it is first order."""
+    runs = {}
+    for factor in (0.5, 1.0, 2.0):
+        with monkeypatch.context() as patch:
+            _on_earth_scaled(patch, factor)
+            runs[factor] = meth.run("nonsphericity", "static", LATITUDE, duration=4 * 3600,
+                                    tau=60.0, record_interval=600.0,
+                                    integration_error=False, scaling=False)
+
+    def peak(run, curves, name):
+        return np.abs(getattr(run, curves)[name][:, 0]).max()
+
+    for low, high in ((0.5, 1.0), (1.0, 2.0)):
+        for curves in ("direct", "linear"):
+            tilt = peak(runs[high], curves, "alpha_x") / peak(runs[low], curves, "alpha_x")
+            azimuth = peak(runs[high], curves, "alpha_z") / peak(runs[low], curves, "alpha_z")
+            assert tilt == pytest.approx(2.0, rel=0.01), (curves, low)
+            assert azimuth == pytest.approx(4.0, rel=0.05), (curves, low)
+    # the azimuth's mismatch does not fall with e²: it says nothing of the linearisation
+    ratios = [runs[f].agreement("alpha_z") for f in (0.5, 1.0, 2.0)]
+    assert min(ratios) > 0.5 and max(ratios) < 1.5 * min(ratios)
+
+    result = meth.run("nonsphericity", "static", LATITUDE, duration=4 * 3600, tau=60.0,
+                      record_interval=600.0, integration_error=False)
+    numbers = result.quantities()
+    azimuth = numbers["alpha_z"]
+    assert azimuth["direct_max_rad"] > 10 * meth.MISMATCH_FLOOR["rad"]  # not rounding
+    assert not azimuth["excited"] and azimuth["second_order_only"]
+    assert azimuth["half_size_ratio"] == pytest.approx(0.25, rel=0.05)
+    assert numbers["alpha_x"]["excited"] and not numbers["alpha_x"]["second_order_only"]
+    assert numbers["alpha_x"]["half_size_ratio"] == pytest.approx(0.5, rel=0.01)
+    (line,) = [line for line in result.summary() if line.lstrip().startswith("alpha_z ")]
+    assert "mismatch – (not excited at first order: moved only at second order" in line
+    assert "%" not in line and "e2 halved" in line
+
+    flight = meth.run("nonsphericity", "flight", LATITUDE, duration=4 * 3600, tau=60.0,
+                      record_interval=600.0, integration_error=False).quantities()
+    assert flight["alpha_z"]["excited"]
+    assert flight["alpha_z"]["half_size_ratio"] == pytest.approx(0.5, rel=0.02)
+    # the studies no parameter sizes alone keep compare's rule only
+    other = meth.run("coriolis", "static", LATITUDE, duration=3600, tau=60.0,
+                     record_interval=600.0, integration_error=False).quantities()
+    assert all(q["half_size_ratio"] is None for q in other.values())
+
+
 @pytest.mark.parametrize("scenario", meth.SCENARIOS)
 @pytest.mark.parametrize("name", list(meth.STUDIES))
 def test_linear_estimate_matches_direct_run(name, scenario):

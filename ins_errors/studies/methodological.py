@@ -24,11 +24,24 @@ coupling); the direct run integrates the real work with the simplified computer 
 the ideal work and subtracts. Both run in one loop (RK4, or the rectangle method) along
 the same true motion (static base or a great-circle flight), so their difference is the
 linearisation error alone.
+
+A quantity is judged as ``compare`` judges it (:func:`ins_errors.numeric.compare.metrics_of`):
+above the rounding floor of its unit and moved by the linear estimate at first order.
+A study's linear estimate can move a quantity whose first-order response cancels,
+though: ``d(t)`` holds every power of the neglected quantity (e² in ``nonsphericity``),
+and F̃ and the true motion depend on it too, so the linear estimate of the azimuth on a
+static base with the sphere on board is of order e⁴ (as is the direct error), not 0,
+and their "mismatch" of about 100 % would stay at any e². A study with such a size
+parameter (:attr:`Study.size_parameter`) therefore runs once more with it halved, true
+motion and computer alike: an error that falls to a quarter, not to a half
+(:data:`SECOND_ORDER_SCALING`), is moved only at second order, like one the linear
+estimate leaves at 0, and is not judged.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field, replace
 from functools import cache
 from pathlib import Path
 from typing import Any
@@ -38,7 +51,9 @@ import numpy as np
 
 from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.compare import (
+    SECOND_ORDER_FRACTION,
     Comparison,
+    Metric,
     integration_errors_by_reruns,
     metrics_of,
 )
@@ -68,18 +83,27 @@ class Study:
         Number of the lab task in source 000.
     description : str
         One line.
+    size_parameter : str or None
+        The model parameter that sizes what the simplified formula neglects (``"e2"``:
+        the sphere neglects the flattening), halved in the scaling run
+        (:attr:`StudyResult.half_size_ratios`); None when no parameter sizes it alone (a
+        dropped Coriolis or gravitation term is sized by the Earth rate, which sizes the
+        whole motion too): then only the linear estimate's 0 marks a second-order
+        quantity.
     """
 
     name: str
     flag: str
     task: int
     description: str
+    size_parameter: str | None = None
 
 
 STUDIES: dict[str, Study] = {
     s.name: s for s in (
         Study("nonsphericity", "sphere", 3,
-              "Earth taken as a sphere on board (e² = 0 in the radii of curvature)"),
+              "Earth taken as a sphere on board (e² = 0 in the radii of curvature)",
+              size_parameter="e2"),
         Study("coriolis", "no_coriolis", 5,
               "transport and Coriolis corrections W_ξ, W_η dropped"),
         Study("gravity_projections", "no_gravity", 6,
@@ -90,6 +114,11 @@ STUDIES: dict[str, Study] = {
 
 SCENARIOS = ("static", "flight")
 """Motions a study runs along."""
+
+SECOND_ORDER_SCALING = 0.5 ** 1.5
+"""A direct error whose largest value with the study's size parameter halved is at most
+this share of the study's (0.35: the geometric middle of a half and a quarter, an
+exponent of 1.5 or more) is moved only at second order by the simplification."""
 
 FORCING_ROWS = ("delta_u11", "delta_u21", "delta_u31", "delta_u12", "delta_u22", "delta_u32",
                 "delta_V_xi", "delta_V_eta", "alpha_x", "alpha_y", "alpha_z")
@@ -256,6 +285,12 @@ class StudyResult:
     comparison : Comparison or None
         Direct vs linear metrics with the estimated integration error of each quantity
         (step doubling, as ``compare``) and its warnings; None when not estimated.
+    half_size_ratios : dict of str to float
+        Per quantity, max |direct error| with the study's size parameter halved (e.g. e²:
+        the same study on an Earth half as flat) over max |direct error|: 0.5 for an
+        error moved at first order, 0.25 for one moved only at second order (NaN where
+        the study's error is 0); empty when the study has no size parameter or the
+        scaling run was not made.
     """
 
     study: Study
@@ -266,6 +301,7 @@ class StudyResult:
     forcing_names: tuple[str, ...]
     forcing: np.ndarray
     comparison: Comparison | None = None
+    half_size_ratios: dict[str, float] = field(default_factory=dict)
 
     @property
     def warnings(self) -> list[str]:
@@ -287,6 +323,21 @@ class StudyResult:
         scale = np.abs(d).max()
         return float(np.abs(d - lin).max() / scale) if scale > 0 else float(np.abs(lin).max())
 
+    def metrics(self) -> list[Metric]:
+        """Direct vs linear metrics of each quantity, judged as ``compare`` judges them
+        (:func:`~ins_errors.numeric.compare.metrics_of`), and a quantity whose direct
+        error falls to a quarter with the study's size parameter halved (to at most
+        :data:`SECOND_ORDER_SCALING` of itself) marked as moved only at second order (not
+        excited), whatever the linear estimate gives (see the module's notes)."""
+        return [self._scaled(m) for m in metrics_of(self.direct, self.linear, None)]
+
+    def _scaled(self, metric: Metric) -> Metric:
+        """``metric`` marked second order when the scaling run shows it (see :meth:`metrics`)."""
+        ratio = self.half_size_ratios.get(metric.quantity, math.nan)
+        if metric.excited and ratio <= SECOND_ORDER_SCALING:
+            return replace(metric, excited=False, second_order_only=True)
+        return metric
+
     def quantities(self) -> dict[str, dict[str, Any]]:
         """Each error quantity's direct and linear maxima, SI, for JSON.
 
@@ -298,13 +349,15 @@ class StudyResult:
             linear| over the run), ``mismatch_ratio`` (difference over direct maximum,
             :meth:`agreement`), ``excited`` (compare's rule: above the rounding floor of
             its unit and moved by the linear estimate at first order; a ratio of an error
-            not excited means nothing), ``second_order_only`` (the linear estimate gives 0
-            while the direct run moves it: a second-order effect), ``at_rounding_level``
-            (direct maximum at or below :data:`MISMATCH_FLOOR`) and
+            not excited means nothing), ``second_order_only`` (the direct run moves it
+            while the linear estimate gives 0, or it falls to a quarter with the study's
+            size parameter halved: a second-order effect, :meth:`metrics`),
+            ``half_size_ratio`` (:attr:`half_size_ratios`, or None),
+            ``at_rounding_level`` (direct maximum at or below :data:`MISMATCH_FLOOR`) and
             ``integration_error_<unit>`` (or None).
             ``<unit>`` is the unit in words: ``rad``, ``rad_per_s``, ``m_per_s``.
         """
-        metrics = {m.quantity: m for m in metrics_of(self.direct, self.linear, None)}
+        metrics = {m.quantity: m for m in self.metrics()}
         out = {}
         for name, unit in zip(self.direct.names, self.direct.units, strict=True):
             d, lin = self.direct[name][:, 0], self.linear[name][:, 0]
@@ -318,11 +371,25 @@ class StudyResult:
                 "mismatch_ratio": self.agreement(name),
                 "excited": bool(metrics[name].excited),
                 "second_order_only": bool(metrics[name].second_order_only),
+                "half_size_ratio": _number_or_none(self.half_size_ratios.get(name)),
                 "at_rounding_level": largest <= MISMATCH_FLOOR.get(
                     "m/s" if unit == "m/s" else "rad", 0.0),
                 f"integration_error_{suffix}": self.integration_error(name),
             }
         return out
+
+    def _second_order_evidence(self, quantity: dict[str, Any]) -> str:
+        """Why a quantity of :meth:`quantities` counts as moved only at second order: the
+        linear estimate's 0, and the quarter of the scaling run when it was made."""
+        suffix = unit_suffix(quantity["unit"])
+        reasons = []
+        if (quantity[f"linear_max_{suffix}"]
+                <= SECOND_ORDER_FRACTION * quantity[f"direct_max_{suffix}"]):
+            reasons.append("the linear estimate gives 0")
+        ratio = quantity["half_size_ratio"]
+        if ratio is not None:
+            reasons.append(f"its direct error ×{ratio:.2g} with {self.study.size_parameter} halved")
+        return "; ".join(reasons)
 
     def equivalent_sources(self) -> dict[str, float]:
         """Largest equivalent sources along the motion, SI: accelerometer (m/s², the
@@ -363,7 +430,7 @@ class StudyResult:
                 mismatch = "– (error at rounding level)"
             elif not q["excited"]:  # compare's rule: a ratio here would only alarm
                 mismatch = ("– (not excited at first order: moved only at second order, "
-                            "the linear estimate gives 0)" if q["second_order_only"]
+                            f"{self._second_order_evidence(q)})" if q["second_order_only"]
                             else "– (not excited: at the rounding floor of its unit)")
             else:
                 mismatch = f"{100 * q['mismatch_ratio']:.3g} %"
@@ -374,6 +441,11 @@ class StudyResult:
                          f" mismatch {mismatch}{integration}")
         lines += [f"  warning: {w}" for w in self.warnings]
         return lines
+
+
+def _number_or_none(value: float | None) -> float | None:
+    """A float for JSON: None for a missing or NaN value."""
+    return None if value is None or math.isnan(value) else float(value)
 
 
 def unit_suffix(unit: str) -> str:
@@ -392,8 +464,9 @@ since a ratio of two noises looks like an alarm and means nothing."""
 
 def motion(scenario: str, latitude: float, duration: float, tau: float,
            speed: float = 250.0, track: float = np.radians(60.0),
-           model: Model | None = None) -> Trajectory:
-    """True motion of a study: a static base or a great-circle flight (orthodromic model)."""
+           model: Model | None = None, p: np.ndarray | None = None) -> Trajectory:
+    """True motion of a study: a static base or a great-circle flight (orthodromic model),
+    on the Earth of the parameters ``p`` (default: the model's)."""
     model = model or load_model("orthodromic")
     if scenario == "static":
         profile = static_profile(latitude, 0.0, 0.0)
@@ -401,13 +474,14 @@ def motion(scenario: str, latitude: float, duration: float, tau: float,
         profile = great_circle_profile(latitude, 0.0, track, speed)
     else:
         raise unknown_name("scenario", scenario, SCENARIOS)
-    return trajectory(model, profile, duration, tau)
+    return trajectory(model, profile, duration, tau, p)
 
 
 def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
         duration: float = 24 * 3600.0, tau: float = 20.0, record_interval: float = 600.0,
         speed: float = 250.0, track: float = np.radians(60.0),
-        integration_error: bool = True, method: str = "rk4") -> StudyResult:
+        integration_error: bool = True, method: str = "rk4",
+        scaling: bool = True) -> StudyResult:
     """Run one methodological study: direct and linear, RK4 (or the rectangle method)
     with step ``tau``.
 
@@ -428,6 +502,10 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
         is too large or not reliable at this step.
     method : {"rk4", "euler"}
         Scheme: RK4, or the manual's rectangle method.
+    scaling : bool
+        For a study with a size parameter (:attr:`Study.size_parameter`), run it once more
+        with that parameter halved and judge the quantities that it moves only at second
+        order (:attr:`StudyResult.half_size_ratios`).
     """
     st = study(name)
     method = check_method(method)
@@ -436,7 +514,44 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     model = load_model("orthodromic")
     traj = motion(scenario, latitude, duration, tau, speed, track, model)
     stride = record_stride(record_interval, tau, traj.n_steps)
-    forcing_fn = _forcing_function(st.flag)
+    direct, linear, x, u = _direct_and_linear(st, scenario, traj, tau, stride, method)
+    forcing = _forcing_function(st.flag)(x, u, traj.parameters)
+    records = len(direct.times)
+    result = StudyResult(st, scenario, traj.description, direct, linear, FORCING_ROWS,
+                         np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy())
+    if scaling and st.size_parameter is not None:
+        p = traj.parameters.copy()
+        p[model.index("parameters", st.size_parameter)] /= 2
+        half, _, _, _ = _direct_and_linear(
+            st, scenario, motion(scenario, latitude, duration, tau, speed, track, model, p),
+            tau, stride, method)
+        result.half_size_ratios = {
+            n: _ratio_of_peaks(half[n][:, 0], direct[n][:, 0]) for n in direct.names}
+    if integration_error:
+        result.comparison = _integration_errors(result, traj.n_steps, stride, tau, latitude,
+                                                speed, track, method)
+    return result
+
+
+def _ratio_of_peaks(part: np.ndarray, whole: np.ndarray) -> float:
+    """max |part| / max |whole| (NaN where the whole is 0)."""
+    peak = float(np.abs(whole).max())
+    return float(np.abs(part).max()) / peak if peak > 0 else math.nan
+
+
+def _direct_and_linear(st: Study, scenario: str, traj: Trajectory, tau: float, stride: int,
+                       method: str
+                       ) -> tuple[ErrorCurves, ErrorCurves, np.ndarray, np.ndarray]:
+    """The direct errors and the linear estimate of one study along ``traj``.
+
+    Returns
+    -------
+    direct, linear : ErrorCurves
+        Recorded every ``stride`` steps.
+    x, u : numpy.ndarray
+        The true state and inputs at the recorded times.
+    """
+    model = load_model("orthodromic")
     np_ = model.numpy
     p = traj.parameters
     u_steps, _ = traj.full_inputs()
@@ -450,7 +565,7 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     stream = None if traj.constant else input_stream(traj.inputs, traj.midpoints, method)
     history = loop.run(z0, np.zeros(0), traj.n_steps, stream).states[:, :, 0]
     if not np.all(np.isfinite(history)):
-        raise StudyError(f"study {name!r} ({scenario}) diverged: NaN or infinite errors")
+        raise StudyError(f"study {st.name!r} ({scenario}) diverged: NaN or infinite errors")
     steps = np.arange(records) * stride
     x, xr, e = history[:n], history[n:n + ne], history[n + ne:]
     u = u_steps[:, steps]
@@ -458,19 +573,13 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     with np.errstate(invalid="ignore"):  # beyond the domain (|u31| > 1): checked below
         outputs = np_.outputs(xr[:n], u, p) - np_.outputs(x, u, p)
     if not np.all(np.isfinite(outputs)):
-        raise StudyError(f"study {name!r} ({scenario}) diverged: NaN or infinite errors "
+        raise StudyError(f"study {st.name!r} ({scenario}) diverged: NaN or infinite errors "
                          "(the real work left the model's domain)")
     direct = error_curves(model, times, xr[n:, :, None], outputs[:, :, None])
     H = np_.output_matrix(x, u, p)
     linear = error_curves(model, times, e[n:, :, None],
                           np.einsum("ijt,jt->it", H, e)[:, :, None])
-    forcing = forcing_fn(x, u, p)
-    result = StudyResult(st, scenario, traj.description, direct, linear, FORCING_ROWS,
-                         np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy())
-    if integration_error:
-        result.comparison = _integration_errors(result, traj.n_steps, stride, tau, latitude,
-                                                speed, track, method)
-    return result
+    return direct, linear, x, u
 
 
 def _integration_errors(result: StudyResult, n_steps: int, stride: int, tau: float,
@@ -479,15 +588,13 @@ def _integration_errors(result: StudyResult, n_steps: int, stride: int, tau: flo
     """The study's direct-vs-linear comparison with the integration-error estimate of
     ``compare`` (:func:`ins_errors.numeric.compare.integration_errors_by_reruns`): the
     study runs again at τ/2 or 2τ, and at a third step for the observed order."""
-    comparison = Comparison(result.study.name, {},
-                            metrics_of(result.direct, result.linear, None, 0), result.times,
-                            {}, {}, {})
+    comparison = Comparison(result.study.name, {}, result.metrics(), result.times, {}, {}, {})
 
     def rerun(factor: float, every: int) -> tuple[ErrorCurves, ErrorCurves]:
         steps = 2 * n_steps if factor < 1 else n_steps // factor
         again = run(result.study.name, result.scenario, latitude, steps * factor * tau,
                     factor * tau, every * factor * tau, speed, track,
-                    integration_error=False, method=method)
+                    integration_error=False, method=method, scaling=False)
         return again.direct, again.linear
 
     def rk4_step() -> float | None:
