@@ -571,6 +571,61 @@ def test_a_source_seen_only_through_round_off_takes_no_share(orthodromic, tmp_pa
             limited]]]
 
 
+def test_symmetric_sources_unexcited_at_rest_get_the_same_reason(capsys):
+    """At rest the 802m budget said "not limited by this spec (linear model to 1e+05
+    ppm)" for accel_scale_error_x and position_integrator_gain_error_xi but "not limited
+    on this motion" for their η partners. The x accelerometer does see a specific force
+    at rest: the remainder of the model's radii, U² sin φ cos φ (R_η − R_E) with the
+    manual's truncated R_η = a/(1 − e² sin²φ/2) in the absolute velocity and the exact
+    R_E = a/√(1 − e² sin²φ) in the gravitation (−3.2e-8 m/s², of order e⁴; along η: 0).
+    At the largest scale error the linear model covers (10 %) that is a 3 ng bias, and
+    the second integrator's ξ gain sees a relative rate of 1e-21 rad/s (rounding of a
+    rate that is 0 at rest): neither moves a spec row by a hundred-thousandth of its
+    limit, and each pair now gets one reason. On free_azimuth the same holds for its
+    integrator gains (rounding), while its y accelerometer is truly seen: the free
+    azimuth turns the horizontal specific force onto y within the operating time."""
+    from ins_errors.numeric import trajectories as tr
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("orthodromic")
+    spec = load_spec(default_spec_path())
+    m = spec.motion
+    rest = tr.trajectory(model, tr.static_profile(m.latitude, m.longitude, m.heading),
+                         600.0, 60.0)
+    a, e2, U = (rest.parameters[model.index("parameters", n)] for n in ("a", "e2", "U"))
+    s, c = np.sin(m.latitude), np.cos(m.latitude)
+    R_eta, R_E = a / (1 - e2 * s**2 / 2), a / np.sqrt(1 - e2 * s**2)
+    inputs = dict(zip([i.name for i in model.inputs], rest.inputs[:, 0], strict=True))
+    assert inputs["a_xi"] == pytest.approx(U**2 * s * c * (R_eta - R_E), rel=1e-6)
+    assert -4e-8 < inputs["a_xi"] < -3e-8 and inputs["a_eta"] == 0.0
+
+    def reasons(name: str) -> dict[str, str | None]:
+        assert main(["budget", name, "--json"]) == 0
+        return {x["name"]: x["not_limited"]
+                for x in json.loads(capsys.readouterr().out)["sources"]}
+
+    orthodromic = reasons("orthodromic")
+    for pair in (("accel_scale_error_x", "accel_scale_error_y"),
+                 ("position_integrator_gain_error_xi", "position_integrator_gain_error_eta"),
+                 ("velocity_integrator_gain_error_xi", "velocity_integrator_gain_error_eta")):
+        assert [orthodromic[n] for n in pair] == ["motion", "motion"], pair
+    assert main(["budget", "orthodromic"]) == 0
+    text = capsys.readouterr().out
+    assert "not limited by this spec" not in text
+    line = next(x for x in text.splitlines() if x.startswith("accel_scale_error_x "))
+    assert line.endswith("not limited on this motion")
+
+    free = reasons("free_azimuth")
+    assert free["position_integrator_gain_error_Phi"] == "motion"
+    assert free["position_integrator_gain_error_Lam"] == "motion"
+    free_model = load_model("free_azimuth")
+    turning = tr.trajectory(free_model, tr.static_profile(m.latitude, m.longitude, m.heading),
+                            spec.operating_time, 600.0)
+    a_y = turning.full_inputs()[0][free_model.index("inputs", "a_y")]
+    assert abs(a_y[0]) < 1e-30 and np.abs(a_y).max() > 1e-2   # m/s², seen
+    assert free["accel_scale_error_y"] == "linear"
+
+
 KRASOVSKY_A, KRASOVSKY_F = 6_378_245.0, 1 / 298.3
 """The Krasovsky ellipsoid (semi-major axis, m; flattening): the built-in models' Earth."""
 

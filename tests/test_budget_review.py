@@ -158,7 +158,7 @@ def test_report_items_are_the_jsons(built_in):
                   "- **result**: met"):
         assert words in head, words
     notes = text.split("## Notes and warnings")[1]
-    assert "not limited on this motion: accel_scale_error_y" in notes
+    assert "not limited on this motion: accel_scale_error_x, accel_scale_error_y" in notes
     assert rep.unlimited_note(data) in notes
 
 

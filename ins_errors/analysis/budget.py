@@ -54,7 +54,17 @@ this motion. "Depends on" is judged against the rounding floor of the propagatio
 a source is at or below its floor depends on it only through round-off (e.g. the tilts
 on the initial longitude error, through entries of F that are zero but for the last
 bits), and such a dependence would otherwise allow an absurd magnitude (1e47 arcmin) and
-still take a share from every other source.
+still take a share from every other source. It is judged against the row's own scale
+too (:data:`SEEN_FRACTION`): a source that, even at the largest size the linear model
+covers for it (its linear limit, below), moves a row by less than a hundred-thousandth
+of the row's limit is not seen by that row. The floor of the propagation is relative to
+the source's own response, so it cannot tell a source whose whole drive on this motion
+is a remainder: at rest the orthodromic model's x accelerometer sees a specific force of
+−3.2e-8 m/s² along ξ (the e⁴ remainder of the manual's truncated 1/R_η in the absolute
+velocity against the exact R_E of the gravitation g′; along η it is exactly 0), and its
+second integrators' gains see relative rates of 1e-21 rad/s (rounding of a rate that is
+0 at rest); these scale and gain errors are not limited on this motion, as their
+partners on the other axis are, not "limited by the linear model" alone.
 
 A source the spec sees only faintly gets a share whose size lies beyond the linear
 error model (a velocity-reference bias behind a 1e-9/s damping gain: 3.6e5 m/s). Such
@@ -119,6 +129,15 @@ products of angles a tenth of the angles)."""
 EARTH_RADIUS, GRAVITY = 6_371_000.0, 9.80665
 """m, m/s²: the scales of :data:`LINEAR_LIMITS` (orders of magnitude, the same for every
 model)."""
+
+SEEN_FRACTION = 1e-5
+"""A source moves a spec row (the row depends on it) only when, at the largest size the
+linear model covers for it (:attr:`UnitBudget.linear_limits`), it moves the row by at
+least this fraction of the row's limit (1e-10 of its allowed variance; no digit the
+budget prints). Measured: remainders of a static base 7e-7 (orthodromic's x scale-factor
+error at 50°, at most 1.1e-6 at any latitude) and 1e-12 or less (integrator gains through
+rounding); the faintest source a spec truly sees in the tests, a velocity-reference bias
+behind a 1e-9/s damping gain, 6e-4."""
 
 LINEAR_LIMITS = {
     "rad": LINEAR_ANGLE,
@@ -295,9 +314,16 @@ class UnitBudget:
 
     @property
     def depends(self) -> np.ndarray:
-        """Whether each row depends on each source above round-off, (nr, ns) of bool."""
+        """Whether each row depends on each source, (nr, ns) of bool: above round-off, and
+        by at least :data:`SEEN_FRACTION` of the row's limit at the source's linear limit
+        (:attr:`linear_limits`; a source without one is judged by round-off only)."""
         floors = np.zeros_like(self.unit_variances) if self.floors is None else self.floors
-        return self.unit_variances > floors
+        limits = self.linear_limits
+        bounded = np.isfinite(limits)
+        largest = self.unit_variances * np.where(bounded, limits, 0.0)[None, :] ** 2
+        measurable = ~bounded[None, :] | (
+            largest >= SEEN_FRACTION**2 * self.allowed_variances[:, None])
+        return (self.unit_variances > floors) & measurable
 
     @property
     def allowed_variances(self) -> np.ndarray:
