@@ -120,6 +120,41 @@ def test_every_coefficient_reads_back_as_the_findings(manual):
     assert read >= 10
 
 
+def test_terminal_legend_names_the_points_and_says_what_size_and_effect_are(manual):
+    """The terminal report of the manual printed "(cruise 0 km)", "cruise 2000 km",
+    "source omega_dp", "< 4e-11″" and a "size" column with none of them defined (the
+    Markdown report had the points and the size, the effects nowhere). Now a legend under
+    the typical magnitudes says what size and effect are, in the words of the Markdown
+    and LaTeX reports' prose, and defines every reference point a finding names, as the
+    reports' table of reference points does."""
+    from ins_errors.checker.report import to_markdown, to_terminal
+
+    report, _names, tex = manual
+    lines = to_terminal(report).splitlines()
+    markdown = to_markdown(report)
+    plain = re.sub(r"\*\*|\*|`", "", markdown)
+    size = next(line for line in lines if line.startswith("size (column): "))
+    effect = next(line for line in lines if line.startswith("effect (under a finding): "))
+    for line in (size, effect):
+        words = line.split(": ", 1)[1]
+        assert words in plain  # the same sentence as the reports' prose
+        assert words[:40] in re.sub(r"\\(emph|texttt|textbf)\{([^}]*)\}", r"\2", tex)
+    assert "source X" in effect and "initial X" in effect and "< x" in effect
+    points = next(line for line in lines if line.startswith("reference points: "))
+    defined = dict(part.split(" = ", 1)
+                   for part in points.removeprefix("reference points: ").split("; "))
+    used = {f.effect[key] for _, f in report.findings for key in ("point", "largest_point")
+            if f.effect.get(key)} | {f.point for _, f in report.findings if f.point}
+    used -= {"every step", "—"}  # (a time-step finding; a finding with no size)
+    assert {"static base", "cruise 0 km", "cruise 2000 km", "climb"} <= used
+    for label in used:
+        assert f"| {label} | {defined[label]} |" in markdown, label
+    assert "great-circle cruise" in defined["cruise 0 km"]
+    # the legend comes before the table it explains, once
+    assert lines.index(points) < lines.index(next(x for x in lines if x.startswith("line ")))
+    assert sum(x.startswith("size (column): ") for x in lines) == 1
+
+
 def test_the_model_notation_is_used(manual):
     _, names, tex = manual
     # the lab manual's symbols, as the orthodromic model spells them

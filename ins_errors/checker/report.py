@@ -7,6 +7,7 @@ from unchanged inputs is byte-identical.
 from __future__ import annotations
 
 import math
+import re
 from typing import Any
 
 from ins_errors.checker import classify as cl
@@ -222,6 +223,38 @@ def status_notes(r: EquationResult) -> str:
     return notes
 
 
+SIZE_MEANING = (
+    "the discrepancy over the largest term of the model's side of its equation, each term "
+    "being its coefficient times the typical magnitude of its error quantity (the largest "
+    "ratio over the reference points)")
+"""What a finding's *size* is: said once, in the reports' prose (:func:`how_compared`)
+and in the terminal's legend (:func:`legend`)."""
+
+EFFECT_MEANING = (
+    "what it changes in the horizontal position error and the attitude error after 1 h "
+    "and 24 h, in the worst single case (`source X`: the file's error source X alone, "
+    "`initial X`: error state X alone at the start, each at its typical magnitude), at the "
+    "reference point in parentheses (`< x`: at or below the rounding floor x; *larger at*: "
+    "a point where the 24-h figure is larger)")
+"""What a finding's *effect* is (as :data:`SIZE_MEANING`)."""
+
+_MARKS = re.compile(r"\*\*|\*|`")
+
+
+def legend(report: CheckReport) -> list[str]:
+    """The terminal report's legend: what *size* and *effect* mean
+    (:data:`SIZE_MEANING`, :data:`EFFECT_MEANING`, the reports' own words without their
+    Markdown marks) and what each reference point named in the findings is (the
+    reports' table of reference points)."""
+    rows = [f"size (column): {_MARKS.sub('', SIZE_MEANING)}"]
+    if any(f.effect for _, f in report.findings):
+        rows.append(f"effect (under a finding): {_MARKS.sub('', EFFECT_MEANING)}")
+    if report.points:
+        rows.append("reference points: " + "; ".join(f"{p.label} = {p.description}"
+                                                     for p in report.points))
+    return rows
+
+
 def how_compared(threshold: float) -> str:
     """The paragraph of a report that says how the sides were compared and what the
     classes mean, in Markdown (``**bold**``, ``*emphasis*``, ```code```: the LaTeX report
@@ -229,18 +262,16 @@ def how_compared(threshold: float) -> str:
     return (
         "Each equation's two sides are brought to a linear combination of the error states "
         "and error sources, the hand side through the file's own definitions and the model "
-        "side through the mechanical variation. A term's size is its coefficient times the "
-        "typical magnitude of its error quantity; a discrepancy is measured relative to the "
-        "largest term of the model's side of its equation at the same reference point (the "
-        "largest ratio over the points is given as *size*; a wrong term the hand adds does "
-        "not make another finding small). *What* the difference is (omitted term, wrong "
+        f"side through the mechanical variation. A finding's *size* is {SIZE_MEANING}; a "
+        "wrong term the hand adds does not make another finding small. *What* the "
+        "difference is (omitted term, wrong "
         "coefficient, wrong symbol or index, wrong sign, wrong function, wrong exponent) "
         "and *how much it matters* are two separate axes: a term present but wrong is a "
         "**mistake** whatever its size (*mistake, small effect* below the threshold "
         f"{threshold:g}); only an omitted small term is a **dropped small term**, "
         "and an omission the file declares (`@neglect`) a **declared drop**. A *knock-on* "
         "finding disappears once the definitions its line uses are corrected: it is listed "
-        "under its root.")
+        f"under its root. A finding's *effect* is {EFFECT_MEANING}.")
 
 
 SECTION_TITLES = {"knock-on": "Knock-on findings whose root is not a mistake",
@@ -396,12 +427,13 @@ def _terminal_row(result: EquationResult, f: Finding, indent: str = "",
 
 def to_terminal(report: CheckReport, width: int = 100) -> str:
     """The findings top-down (roots with their knock-ons, declared drops, small drops),
-    each with its explanation, and the summary line."""
+    each with its explanation, under the typical magnitudes and a short legend
+    (:func:`legend`), and the summary line."""
     narrow, wide = QUANTITY_COLUMN
     q = min(wide, max([narrow] + [len(f.quantity) for _, f in report.findings]))
     header = (f"{'line':>4}  {'equation':<22} {'quantity':<{q}} {'what':<24} {'class':<21} "
               "size")
-    rows = [f"typical magnitudes: {report.magnitudes}"]
+    rows = [f"typical magnitudes: {report.magnitudes}", *legend(report)]
     if report.scope:
         rows.append(f"scope: {report.scope}")
     if report.skipped_motions:
