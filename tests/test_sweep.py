@@ -795,3 +795,57 @@ def test_an_edited_motion_file_is_another_point(tmp_path, monkeypatch):
     edited = sw.run_sweep(load_scenario(path), tmp_path / "edited.zarr", engine="serial")
     assert edited.computed == 2
     assert not same_values(edited.dataset["linear"].values, again.dataset["linear"].values)
+
+
+def test_the_sweeps_ratio_is_named_for_what_it_is(tmp_path, monkeypatch, capsys):
+    """The number the table and the colour bar call the worst linear ratio is
+    max|linear − direct| / max|direct| of the stored curves (the product's linear ratio,
+    as compare and the store name it), and their words say so: "worst lin/dir" and
+    "worst linear/direct ratio" read as linear ÷ direct, which is about 1 here."""
+    from ins_errors import output
+
+    figures = []
+    saved = output.save_figure
+    monkeypatch.setattr(output, "save_figure",
+                        lambda figure, path, **kw: figures.append(figure) or saved(
+                            figure, path, close=False, **kw))
+    base = BASE.replace('"1 h"', '"10 min"').replace('"1 s"', '"10 s"').replace(
+        'record = "60 s"', 'record = "10 s"')
+    path = scenario_file(tmp_path, """
+        [sweep]
+        latitude = ["20 deg", "70 deg"]
+        accel_bias_x = ["100 ug", "400 ug"]
+    """, base)
+    store = tmp_path / "ratio.zarr"
+    assert main(["sweep", str(path), "--store", str(store), "--engine", "serial",
+                 "--no-progress", "--plot", str(tmp_path / "map.png")]) == 0
+    out = capsys.readouterr().out
+    import xarray as xr
+
+    ds = xr.open_zarr(store, chunks=None)
+    direct, linear = ds["direct"].values, ds["linear"].values  # (point, time, quantity)
+    excited = ds["excited"].values == 1
+    expected = [max(np.abs(linear[k, :, q] - direct[k, :, q]).max()
+                    / np.abs(direct[k, :, q]).max()
+                    for q in np.flatnonzero(excited[k])) for k in range(4)]
+    quotient = [max(np.abs(linear[k, :, q]).max() / np.abs(direct[k, :, q]).max()
+                    for q in np.flatnonzero(excited[k])) for k in range(4)]
+    assert max(expected) < 1e-2 and min(quotient) > 0.5  # the two readings differ
+    lines = out.splitlines()
+    start = next(k for k, line in enumerate(lines) if line.lstrip().startswith("latitude"))
+    head = lines[start]
+    assert "worst linear ratio" in head and "lin/dir" not in head
+    shown = [float(line.split()[2]) for line in lines[start + 1:start + 5]]
+    assert shown == pytest.approx(expected, rel=1e-3)
+    assert ("worst linear ratio: max|linear − direct| / max|direct| of the quantity named"
+            in out)
+    [figure] = figures
+    label = figure.axes[1].get_ylabel()  # the colour bar's
+    assert label.splitlines() == ["worst linear ratio", "max|linear − direct| / max|direct|"]
+    assert sr.figure_values(ds, "linear_ratio:alpha_y")[1].splitlines() == [
+        "alpha_y linear ratio", "max|linear − direct| / max|direct|"]
+    assert sr.figure_values(ds, "worst_refined_ratio")[1].splitlines()[1] == (
+        "max|refined − direct| / max|direct|")
+    import matplotlib.pyplot as plt
+
+    plt.close(figure)

@@ -241,7 +241,7 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
     for name in labels:
         unit = dataset[name].attrs.get("display_unit", "")
         shown[name] = f"{name} [{unit}]" if unit and unit != "1" else name
-    head = [*shown.values(), "worst lin/dir", "quantity", "integ. err/err",
+    head = [*shown.values(), "worst linear ratio", "quantity", "integ. err/err",
             *(f"max {q} [{scales[q][1]}]" for q in quantities)]
     rows = []
     worst, names = _worst(dataset, "linear")
@@ -269,7 +269,19 @@ def table(dataset, quantities: Sequence[str] | None = None, limit: int = 40) -> 
     lines += ["  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)) for r in rows]
     if dataset.sizes["point"] > limit:
         lines.append(f"... {dataset.sizes['point'] - limit} more points (--json for all)")
+    lines.append(TABLE_KEY)
     return "\n".join(lines)
+
+
+LINEAR_RATIO = "max|linear − direct| / max|direct|"
+"""What a linear ratio is (``linear_ratio`` of the store and of ``compare``): the largest
+difference of the linear run from the direct run over the largest direct error of one
+quantity (not linear ÷ direct, which is near 1 where the linear model is good)."""
+
+TABLE_KEY = (f"worst linear ratio: {LINEAR_RATIO} of the quantity named (the largest over "
+             "the judged quantities)\ninteg. err/err: the estimated integration error over "
+             "max|direct| (the largest over the judged quantities)")
+"""The lines under :func:`table` that say what its ratio columns are."""
 
 
 def draws_table(dataset, quantities: Sequence[str] | None = None) -> str:
@@ -290,7 +302,8 @@ def draws_table(dataset, quantities: Sequence[str] | None = None) -> str:
         unit = dataset[name].attrs.get("display_unit", "1")
         shown.append(f"{name} [{unit}]" if unit != "1" else name)
     any_failed = any(row["failed_draws"] for row in rows)
-    head = [*shown, "draws", *(["failed"] if any_failed else []), "largest lin/dir",
+    head = [*shown, "draws", *(["failed"] if any_failed else []),
+            "largest worst linear ratio",
             *(f"RMS max {q} [{display_scale(units[q])[1]}]" for q in quantities)]
     body = []
     for row in rows:
@@ -374,16 +387,24 @@ def figure_values(dataset, figure: str) -> tuple[np.ndarray, str]:
     check_figure(figure, names, "refined_ratio" in dataset)
     if figure in ("worst_linear_ratio", "worst_refined_ratio"):
         curve = figure.split("_")[1]
-        return _worst(dataset, curve)[0], f"worst {curve}/direct ratio"
+        return _worst(dataset, curve)[0], f"worst {curve} ratio\n{_ratio_words(curve)}"
     kind, _, quantity = figure.partition(":")
     from ins_errors.units import display_scale
 
     j = names.index(quantity)
     scale, unit = (display_scale(str(dataset["quantity_unit"].values[j]))
                    if kind == "max_direct" else (1.0, "1"))
-    title = {"max_direct": f"max |{quantity}|", "linear_ratio": f"{quantity} linear/direct",
-             "refined_ratio": f"{quantity} refined/direct"}[kind]
-    return dataset[kind].values[:, j] * scale, f"{title} [{unit}]"
+    values = dataset[kind].values[:, j] * scale
+    if kind == "max_direct":
+        return values, f"max |{quantity}| [{unit}]"
+    curve = kind.split("_")[0]
+    return values, f"{quantity} {curve} ratio\n{_ratio_words(curve)}"
+
+
+def _ratio_words(curve: str) -> str:
+    """What the ratio of a curve (``"linear"``, ``"refined"``) to the direct run is:
+    :data:`LINEAR_RATIO`, or the same of the refined run."""
+    return LINEAR_RATIO.replace("linear", curve)
 
 
 BAR_WIDTH, BAR_PAD = 0.18, 0.25
@@ -410,15 +431,18 @@ def _fixed_margins(figure_, ax, bar, heading: str) -> None:
     width, height = figure_.get_size_inches()
     size = 10 / 72  # the default font size, inches
     ticks = 7 / 72  # tick length + pad
+    # the axis labels' lines (a ratio's label says what it is on a second line)
+    ylines = ax.get_ylabel().count("\n") + 1
+    blines = bar.ax.get_ylabel().count("\n") + 1 if bar is not None else 0
     for _ in range(2):  # the tick labels chosen for the panel's first size, then its own
         ylabels, yoffset = _tick_labels(ax.yaxis)
         xlabels, xoffset = _tick_labels(ax.xaxis)
         blabels, boffset = _tick_labels(bar.ax.yaxis) if bar is not None else ([], "")
-        left = 0.12 + 1.2 * size + 4 / 72 + text_width(ylabels, 10) + ticks
+        left = 0.12 + 1.2 * size * ylines + 4 / 72 + text_width(ylabels, 10) + ticks
         bottom = 0.12 + 1.2 * size * 2 + 4 / 72 + ticks + (1.2 * size if xoffset else 0.0)
         right = 0.15 + text_width(xlabels[-1:], 10) / 2
         if bar is not None:  # the bar, its tick labels and its label right of the panel
-            labels = 0.12 + 1.2 * size + 4 / 72 + text_width(blabels, 10) + ticks
+            labels = 0.12 + 1.2 * size * blines + 4 / 72 + text_width(blabels, 10) + ticks
             right = max(right, labels + BAR_WIDTH + BAR_PAD)
         title = wrap_to_width(heading, 10, width - left - right)  # (over the panel only)
         ax.set_title(title, fontsize=10)
