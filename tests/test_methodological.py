@@ -171,6 +171,53 @@ def test_linear_estimate_matches_direct_run(name, scenario):
     assert lines[0].startswith(name) and any("delta_latitude" in line for line in lines)
 
 
+def test_the_longitude_error_is_shown_as_the_east_distance(tmp_path, monkeypatch):
+    """The summary and the plot show the longitude error as the east distance R cos φ Δλ
+    at the true latitude (they showed R Δλ, "km at cos φ = 1", 1/cos φ times the east
+    error: 1.56 times at 50°), labelled so; along a flight φ is that of each time, read
+    here from the true direction cosine u31 = sin φ."""
+    import re
+
+    from ins_errors import output
+
+    radius, hours = 6_371_000.0, 3.0
+    static = meth.run("gravity_projections", "static", LATITUDE, duration=hours * 3600,
+                      tau=30.0, record_interval=300.0, integration_error=False)
+    (line,) = [line for line in static.summary(radius)
+               if line.lstrip().startswith("delta_longitude")]
+    found = re.match(r"\s*delta_longitude\s+direct\s+(\S+)\s+linear\s+(\S+) (.*?)\s+mismatch",
+                     line)
+    assert found.group(3) == "km east (R cos φ Δλ)"
+    for value, curve in zip(found.group(1, 2), (static.direct, static.linear), strict=True):
+        east = radius * np.cos(LATITUDE) * np.abs(curve["delta_longitude"][:, 0]).max()
+        assert float(value) == pytest.approx(east / 1000, rel=1e-3)
+    flight = meth.run("gravity_projections", "flight", LATITUDE, duration=hours * 3600,
+                      tau=30.0, record_interval=300.0, integration_error=False)
+    truth = meth.motion("flight", LATITUDE, hours * 3600, 30.0).truth[2, ::10]  # u31
+    direct, linear = flight.east_error(radius)
+    cos = np.sqrt(1 - truth**2)
+    assert np.ptp(cos) > 0.05  # the latitude changes along the flight
+    assert direct == pytest.approx(radius * cos * flight.direct["delta_longitude"][:, 0],
+                                   rel=1e-9, abs=1e-9)
+    assert linear == pytest.approx(radius * cos * flight.linear["delta_longitude"][:, 0],
+                                   rel=1e-9, abs=1e-9)
+    figures = []
+    saved = output.save_figure
+    monkeypatch.setattr(output, "save_figure",
+                        lambda figure, path, **kw: figures.append(figure) or saved(
+                            figure, path, close=False, **kw))
+    monkeypatch.setattr(meth, "save_figure", output.save_figure)
+    meth.plot(flight, tmp_path / "flight.png", radius)
+    [figure] = figures
+    lines = {line.get_label(): line.get_ydata() for line in figure.axes[0].get_lines()}
+    assert lines["east R cos φ Δλ direct"] == pytest.approx(direct / 1000)
+    assert lines["north R Δφ direct"] == pytest.approx(
+        radius * flight.direct["delta_latitude"][:, 0] / 1000)
+    import matplotlib.pyplot as plt
+
+    plt.close(figure)
+
+
 def test_summary_gives_the_integration_error_in_the_lines_unit():
     """A summary line printed "integration error 6e-07" with no unit: it is the estimate
     in the unit of the line's direct and linear values (not a ratio)."""

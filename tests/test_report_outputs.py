@@ -262,7 +262,7 @@ def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
     curves = {n: -2.5e-4 * wave / 6371.0 for n in names}  # -0.00025 km and the like
     study = SimpleNamespace(study=SimpleNamespace(name="wide", description="labels"),
                             motion="a static base", times=times, direct=curves,
-                            linear=curves)
+                            linear=curves, latitude=np.zeros(times.size))
     methodological.plot(study, tmp_path / "study.png")
     grow = np.linspace(0.0, 1.0, times.size)[:, None] * np.ones((1, 8))
     errors = np.stack([grow, grow]) * 12500e3 / 6378245.0  # 12500 km and the like

@@ -291,6 +291,9 @@ class StudyResult:
         error moved at first order, 0.25 for one moved only at second order (NaN where
         the study's error is 0); empty when the study has no size parameter or the
         scaling run was not made.
+    latitude : numpy.ndarray or None, shape (R + 1,)
+        True latitude φ at the recorded times, rad (for the east error R cos φ Δλ);
+        None: not recorded (taken as 0).
     """
 
     study: Study
@@ -302,6 +305,7 @@ class StudyResult:
     forcing: np.ndarray
     comparison: Comparison | None = None
     half_size_ratios: dict[str, float] = field(default_factory=dict)
+    latitude: np.ndarray | None = None
 
     @property
     def warnings(self) -> list[str]:
@@ -316,6 +320,11 @@ class StudyResult:
     def times(self) -> np.ndarray:
         """Recorded times, s."""
         return self.direct.times
+
+    def east_error(self, radius: float = 6_371_000.0) -> tuple[np.ndarray, np.ndarray]:
+        """The east position error R cos φ Δλ of the direct and the linear run, m, shape
+        (R + 1,) each (:func:`east_error`)."""
+        return east_error(self.direct, self.linear, self.latitude, radius)
 
     def agreement(self, name: str) -> float:
         """max |direct − linear| / max |direct| of one error quantity."""
@@ -415,8 +424,8 @@ class StudyResult:
         units = {"alpha_x": ("arcsec", 180 / np.pi * 3600),
                  "alpha_y": ("arcsec", 180 / np.pi * 3600),
                  "alpha_z": ("arcmin", 180 / np.pi * 60),
-                 "delta_latitude": ("km", radius / 1000),
-                 "delta_longitude": ("km at cos φ = 1", radius / 1000),
+                 "delta_latitude": ("km north (R Δφ)", radius / 1000),
+                 "delta_longitude": (EAST_UNIT, radius / 1000),
                  "delta_heading": ("arcmin", 180 / np.pi * 60),
                  "delta_v_N": ("m/s", 1.0), "delta_v_E": ("m/s", 1.0)}
         numbers = self.quantities()
@@ -426,6 +435,14 @@ class StudyResult:
             q = numbers[name]
             suffix = unit_suffix(q["unit"])
             d, lin = q[f"direct_max_{suffix}"] * scale, q[f"linear_max_{suffix}"] * scale
+            if name == "delta_longitude":  # the east distance at each time's latitude
+                direct, linear = self.east_error(radius)
+                peak = float(np.abs(direct).max())
+                d, lin = peak / 1000, float(np.abs(linear).max()) / 1000
+                if peak > 0:
+                    q = {**q, "mismatch_ratio": float(np.abs(direct - linear).max()) / peak}
+                if self.latitude is not None:  # Δλ's estimate times the largest R cos φ
+                    scale *= float(np.abs(np.cos(self.latitude)).max())
             if q["at_rounding_level"]:
                 mismatch = "– (error at rounding level)"
             elif not q["excited"]:  # compare's rule: a ratio here would only alarm
@@ -436,8 +453,8 @@ class StudyResult:
                 mismatch = f"{100 * q['mismatch_ratio']:.3g} %"
             error = q[f"integration_error_{suffix}"]
             integration = ("" if error is None else  # in the line's unit, not relative
-                           f"  integration error {error * scale:.2g} {unit.split(' at ')[0]}")
-            lines.append(f"  {name:<16} direct {d:11.4g}  linear {lin:11.4g} {unit:<16}"
+                           f"  integration error {error * scale:.2g} {unit.split()[0]}")
+            lines.append(f"  {name:<16} direct {d:11.4g}  linear {lin:11.4g} {unit:<20}"
                          f" mismatch {mismatch}{integration}")
         lines += [f"  warning: {w}" for w in self.warnings]
         return lines
@@ -446,6 +463,21 @@ class StudyResult:
 def _number_or_none(value: float | None) -> float | None:
     """A float for JSON: None for a missing or NaN value."""
     return None if value is None or math.isnan(value) else float(value)
+
+
+def east_error(direct: ErrorCurves, linear: ErrorCurves, latitude: np.ndarray | None,
+               radius: float = 6_371_000.0) -> tuple[np.ndarray, np.ndarray]:
+    """The east position error R cos φ Δλ of a direct and a linear run: the longitude
+    error as a distance on a sphere of ``radius`` (m) at the true latitude φ (rad, shape
+    (R + 1,); None: taken as 0) of each recorded time; m, shape (R + 1,) each."""
+    cos = np.cos(latitude) if latitude is not None else 1.0
+    return (radius * cos * direct["delta_longitude"][:, 0],
+            radius * cos * linear["delta_longitude"][:, 0])
+
+
+EAST_UNIT = "km east (R cos φ Δλ)"
+"""How a study's summary shows the longitude error: as the east distance R cos φ Δλ at
+the true latitude φ (Δλ·R alone overstates it by 1/cos φ: 1.56 times at 50°)."""
 
 
 def unit_suffix(unit: str) -> str:
@@ -517,8 +549,11 @@ def run(name: str, scenario: str = "static", latitude: float = np.radians(50.0),
     direct, linear, x, u = _direct_and_linear(st, scenario, traj, tau, stride, method)
     forcing = _forcing_function(st.flag)(x, u, traj.parameters)
     records = len(direct.times)
+    true_latitude = model.numpy.outputs(x, u, traj.parameters)[
+        [o.name for o in model.outputs].index("latitude")]
     result = StudyResult(st, scenario, traj.description, direct, linear, FORCING_ROWS,
-                         np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy())
+                         np.broadcast_to(forcing, (len(FORCING_ROWS), records)).copy(),
+                         latitude=np.array(true_latitude, dtype=float))
     if scaling and st.size_parameter is not None:
         p = traj.parameters.copy()
         p[model.index("parameters", st.size_parameter)] /= 2
@@ -625,8 +660,8 @@ def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> 
 
     hours = result.times / 3600
     panels = [
-        ("position error, km", [("delta_latitude", "Δφ·R", radius / 1000),
-                                ("delta_longitude", "Δλ·R", radius / 1000)]),
+        ("position error, km", [("delta_latitude", "north R Δφ", radius / 1000),
+                                ("delta_longitude", "east R cos φ Δλ", radius / 1000)]),
         ("velocity error, m/s", [("delta_v_N", "Δv_N", 1.0), ("delta_v_E", "Δv_E", 1.0)]),
         ("platform tilt, arcsec", [("alpha_x", "α_x", 180 / np.pi * 3600),
                                    ("alpha_y", "α_y", 180 / np.pi * 3600)]),
@@ -641,9 +676,12 @@ def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> 
     for ax, (title, curves) in zip(axes, panels, strict=True):
         for k, (name, label, scale) in enumerate(curves):
             color = f"C{k}"
-            ax.plot(hours, result.direct[name][:, 0] * scale, color=color, label=f"{label} direct")
-            ax.plot(hours, result.linear[name][:, 0] * scale, color=color, ls="--",
-                    label=f"{label} linear")
+            direct, linear = result.direct[name][:, 0], result.linear[name][:, 0]
+            if name == "delta_longitude":  # the east distance, at each time's latitude
+                direct, linear = (c / radius for c in east_error(
+                    result.direct, result.linear, result.latitude, radius))
+            ax.plot(hours, direct * scale, color=color, label=f"{label} direct")
+            ax.plot(hours, linear * scale, color=color, ls="--", label=f"{label} linear")
         ax.set_ylabel(title)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, ncol=2)
