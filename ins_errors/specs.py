@@ -452,6 +452,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         Unknown keys or items, values that are not positive, wrong units.
     """
     from ins_errors.numeric.integrators import whole_steps
+    from ins_errors.numeric.motion_spec import motion_kind
     from ins_errors.spec_schema import validate
 
     try:
@@ -473,7 +474,7 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
 
     m = checked.motion
     motion = Motion(
-        kind=m.kind.replace("-", "_"),
+        kind=motion_kind(m.kind).replace("-", "_"),  # the budget's own spelling
         latitude=_angle(m.latitude, "motion.latitude"),
         longitude=_angle(m.longitude, "motion.longitude"),
         heading=_angle(m.heading, "motion.heading"),

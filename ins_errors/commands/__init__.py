@@ -4,6 +4,7 @@ types they share)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 
 
 def hours(text: str) -> float:
@@ -19,6 +20,26 @@ def hours(text: str) -> float:
     if not (math.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"must be a positive number of hours, got {text}")
     return value
+
+
+def motion_kinds(known: Sequence[str]) -> Callable[[str], str]:
+    """``--motion``: an argparse type that reads one of ``known`` or an alias of one as
+    scenario files do (:func:`~ins_errors.numeric.motion_spec.motion_kind`:
+    ``great_circle`` is ``great-circle``), and refuses another name with the closest
+    kinds (``maneuver``: did you mean 'manoeuvre'?), not argparse's bare list."""
+
+    def motion(text: str) -> str:
+        import argparse
+
+        from ins_errors.errors import InsErrorsError
+        from ins_errors.numeric.motion_spec import motion_kind
+
+        try:
+            return motion_kind(text, known)
+        except InsErrorsError as error:
+            raise argparse.ArgumentTypeError(str(error)) from None
+
+    return motion
 
 
 MOTION_OPTIONS = {"latitude": "--latitude", "longitude": "--longitude",

@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ins_errors.commands import hours, motion_from_options
+from ins_errors.commands import hours, motion_from_options, motion_kinds
 from ins_errors.commands.run import TRUTHS
 from ins_errors.json_output import emit
 from ins_errors.user_paths import expand_user
@@ -43,7 +43,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "default: the model's values, listed by 'ins-errors models MODEL')")
     parser.add_argument("--separately", action="store_true",
                         help="run each --source as its own case (default: all together)")
-    parser.add_argument("--motion", choices=MOTIONS, default="static",
+    parser.add_argument("--motion", type=motion_kinds(MOTIONS), choices=MOTIONS,
+                        default="static",
                         help="true motion (default: static)")
     parser.add_argument("--motion-file", type=expand_user, metavar="CSV",
                         help="own motion: CSV with a header row and columns t (s, from 0), "

@@ -37,7 +37,7 @@ import sys
 
 import numpy as np
 
-from ins_errors.commands import hours
+from ins_errors.commands import hours, motion_kinds
 from ins_errors.json_output import emit
 from ins_errors.user_paths import user_path
 
@@ -71,7 +71,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--convention", default="phi",
                         help="state convention of F and G (default phi; 'model': the "
                              "model's own error states)")
-    parser.add_argument("--motion", action="append", choices=MOTIONS, default=None,
+    parser.add_argument("--motion", action="append", type=motion_kinds(MOTIONS),
+                        choices=MOTIONS, default=None,
                         help="motion to write (repeatable; default every motion the model "
                              "can fly)")
     parser.add_argument("--hours", type=hours, default=24.0,

@@ -21,7 +21,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ins_errors.commands import hours
+from ins_errors.commands import hours, motion_kinds
 from ins_errors.commands.run import TRUTHS
 from ins_errors.json_output import dumps, emit
 from ins_errors.user_paths import expand_user
@@ -42,7 +42,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "reason, the others run on, and the command lists the failed sweeps "
                     "and exits with status 2.")
     parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
-    parser.add_argument("--motion", action="append", choices=MOTIONS,
+    parser.add_argument("--motion", action="append", type=motion_kinds(MOTIONS),
+                        choices=MOTIONS,
                         help="true motion (repeatable; default: static and great-circle, or "
                              "static only for a model that cannot fly a great circle)")
     parser.add_argument("--source", "-s", action="append", metavar="NAME",

@@ -8,7 +8,7 @@ scenario files accept exactly the same motions with the same defaults.
 from __future__ import annotations
 
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +20,36 @@ from ins_errors.units import parse_quantity
 
 MOTION_KINDS = ("static", "great-circle", "manoeuvre", "file")
 """Kinds of motion a description may name."""
+
+MOTION_ALIASES = {"great_circle": "great-circle"}
+"""Other spellings of a motion kind, read as the kind everywhere one is named (scenario
+and spec files, ``--motion``; spec files were first written with ``great_circle``). A
+near miss (``maneuver``, the US spelling) is refused with the kind it is close to."""
+
+
+def motion_kind(text: str, known: Sequence[str] = MOTION_KINDS,
+                what: str = "motion kind") -> str:
+    """The kind of motion ``text`` names: one of ``known``, or an alias of one
+    (:data:`MOTION_ALIASES`).
+
+    Parameters
+    ----------
+    text : str
+        The kind as written.
+    known : sequence of str
+        The kinds the caller takes (default :data:`MOTION_KINDS`).
+    what : str
+        What the refusal calls it.
+
+    Raises
+    ------
+    UnknownNameError
+        One line with the closest kinds (``maneuver``: did you mean 'manoeuvre'?).
+    """
+    kind = MOTION_ALIASES.get(text, text)
+    if kind not in known:
+        raise unknown_name(what, text, known)
+    return kind
 
 DEFAULTS: dict[str, str] = {
     "kind": "static",
@@ -320,9 +350,7 @@ def _read(description: Mapping[str, Any]) -> tuple[str, dict[str, float], Any,
         if key not in _KEYS:
             raise unknown_name("motion setting", key, sorted(_KEYS))
     spec = {**DEFAULTS, **{k: v for k, v in description.items() if v is not None}}
-    kind = str(spec["kind"]).replace("_", "-")  # spec files spell it great_circle
-    if kind not in MOTION_KINDS:
-        raise unknown_name("motion kind", kind, MOTION_KINDS)
+    kind = motion_kind(str(spec["kind"]))  # spec files spell it great_circle
     for key, kinds in APPLIES_TO.items():
         if description.get(key) is not None and kind not in kinds:
             verb = "apply" if key == "legs" else "applies"
