@@ -20,7 +20,9 @@ How each kind of line runs, after the set-up the README describes (``make test``
   that line, in the same scratch folder; the earlier line then runs only there.
   The report folder of an ``ins-errors run examples/NAME.toml --out DIR`` line is handed
   to tests/test_scenarios.py (fixture ``example_reports``), which checks its contents
-  instead of running the example a second time.
+  instead of running the example a second time. What a command writes goes under
+  ``out/`` (as examples/README.md says; ``cache/`` for the cache commands): a file it
+  leaves beside ``out/`` would be left untracked in a reader's checkout.
 * a block with any other line (``source .venv/bin/activate``...): run whole by bash from
   the repository root, as a reader would paste it.
 """
@@ -131,6 +133,32 @@ def test_documented_command(chain, tmp_path, monkeypatch, capsys, example_report
     monkeypatch.chdir(tmp_path)
     for command, status in chain:
         _run_documented(command, status, tmp_path, monkeypatch, capsys, example_reports)
+    stray = sorted(p.name for p in tmp_path.iterdir() if p.name not in OURS)
+    assert not stray, f"{chain[-1][0]}: wrote {stray} outside out/"
+
+
+OURS = ("examples", "out", "cache")
+"""What the scratch folder of a documented command may hold afterwards: the link to the
+examples, the outputs and the scratch cache of ``ins-errors cache``."""
+
+
+def test_the_examples_run_comments_are_documented_commands_writing_under_out():
+    """The ``# Run:`` line of an example file is a command a page shows (so it runs
+    above, as written) that writes under out/: ``ins-errors run FILE`` alone wrote
+    ``report_<name>/`` beside the checkout's files."""
+    shown = {tuple(w for w in shlex.split(c) if w != "--no-progress")
+             for _, lines in BLOCKS for c, _ in lines}
+    comments = []
+    for path in sorted((ROOT / "examples").rglob("*")):
+        if path.suffix not in (".toml", ".py", ".csv") or "_generated" in str(path):
+            continue
+        for command in re.findall(r"^# Run: (.*)$", path.read_text(encoding="utf-8"), re.M):
+            words = shlex.split(command)
+            comments.append(command)
+            written = _written(words)
+            assert written and all(w.startswith("out/") for w in written), command
+            assert tuple(words) in shown, f"{path.name}: {command} is on no page"
+    assert len(comments) >= 4
 
 
 def _run_documented(command, status, tmp_path, monkeypatch, capsys, example_reports):

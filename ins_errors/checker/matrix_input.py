@@ -524,7 +524,9 @@ def sample_arrays(motions) -> dict[str, np.ndarray]:
 
 
 def save_arrays(path: Path, arrays: dict[str, np.ndarray], what: str) -> None:
-    """Write ``arrays`` to ``path`` as ``.npz`` or MATLAB ``.mat`` (by its suffix).
+    """Write ``arrays`` to ``path`` as ``.npz`` or MATLAB ``.mat`` (by its suffix),
+    making its missing folders (``--out out/fg.npz`` in a fresh checkout), as the other
+    commands' outputs do.
 
     Raises
     ------
@@ -532,6 +534,8 @@ def save_arrays(path: Path, arrays: dict[str, np.ndarray], what: str) -> None:
         One line for another suffix (naming ``what`` the file is) or a failed write.
     """
     try:
+        if path.suffix.lower() in (".mat", ".npz"):
+            path.parent.mkdir(parents=True, exist_ok=True)
         if path.suffix.lower() == ".mat":
             from ins_errors.export import save_mat
 
