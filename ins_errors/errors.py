@@ -8,7 +8,7 @@ exits with status 2 instead of showing a traceback.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 
 class InsErrorsError(ValueError):
@@ -54,7 +54,40 @@ def unknown_name(kind: str, name: str, known: Iterable[str]) -> UnknownNameError
         The valid names.
     """
     known = list(known)
-    close = difflib.get_close_matches(name, known, n=3, cutoff=0.5)
+    close = close_names(name, known)
     hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
     listing = "" if close else f"; known: {', '.join(known)}"
     return UnknownNameError(f"unknown {kind} {name!r}{hint}{listing}")
+
+
+def close_names(name: str, known: Sequence[str], n: int = 3,
+                cutoff: float = 0.5) -> list[str]:
+    """The names of ``known`` closest to ``name``, for a "did you mean" list.
+
+    A name equal to ``name`` but for case comes first; then the closest by
+    ``difflib``'s similarity (at least ``cutoff``), equally close ones in the order of
+    ``known`` (the model's order: ``gyro_drift_x``, ``_y``, ``_z``), not the reverse
+    alphabetical order ``difflib.get_close_matches`` gives ties.
+
+    Parameters
+    ----------
+    name : str
+        The name the user gave.
+    known : sequence of str
+        The valid names, in the order they are listed.
+    n : int
+        At most this many.
+    cutoff : float
+        Least similarity (0 to 1) of a name listed.
+    """
+    matcher = difflib.SequenceMatcher()
+    matcher.set_seq2(name)
+    scored = []
+    for index, candidate in enumerate(known):
+        matcher.set_seq1(candidate)
+        same_but_case = candidate.lower() == name.lower()
+        if same_but_case or (matcher.real_quick_ratio() >= cutoff
+                             and matcher.quick_ratio() >= cutoff
+                             and matcher.ratio() >= cutoff):
+            scored.append((not same_but_case, -matcher.ratio(), index, candidate))
+    return [candidate for *_, candidate in sorted(scored)[:n]]

@@ -168,3 +168,23 @@ def test_ellipsoid_selection(orthodromic):
     assert chosen["R"] == 6_378_245.0 and chosen["ecc2"] > 0.006
     with pytest.raises(ins_errors.UnknownNameError, match="did you mean 'wgs84'"):
         orthodromic.parameter_vector(ellipsoid="wgs-84")
+
+
+@pytest.mark.parametrize("written, first", [("gyro_drift", None), ("gyro_drift_w", None),
+                                            ("gyro_drfit_z", "gyro_drift_z"),
+                                            ("Gyro_Drift_Y", "gyro_drift_y")])
+def test_did_you_mean_lists_the_closest_first_and_ties_in_the_models_order(written, first,
+                                                                          capsys):
+    """'gyro_drift' was answered with 'gyro_drift_z', 'gyro_drift_y', 'gyro_drift_x'
+    (difflib's reverse order of equally close names): a name equally close to all three
+    lists them as the model does; a closer one (a slip of two letters, another case)
+    comes first, the others after it in the model's order."""
+    from ins_errors.numeric.model import load_model
+
+    assert main(["compare", "orthodromic", "--source", f"{written}=0.01deg/h"]) == 2
+    err = capsys.readouterr().err
+    listed = re.findall(r"'(gyro_drift_\w)'", err.partition("did you mean")[2])
+    order = [s.name for s in load_model("orthodromic").sources
+             if s.name.startswith("gyro_drift_")]
+    assert order == ["gyro_drift_x", "gyro_drift_y", "gyro_drift_z"]
+    assert listed == ([first] if first else []) + [n for n in order if n != first]

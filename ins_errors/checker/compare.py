@@ -30,7 +30,6 @@ how much it matters: :mod:`~ins_errors.checker.classify`.
 
 from __future__ import annotations
 
-import difflib
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
@@ -62,7 +61,7 @@ from ins_errors.checker.sides import (
     tilde_variations,
 )
 from ins_errors.checker.tree_values import TreeValues, UnsupportedError
-from ins_errors.errors import InsErrorsError
+from ins_errors.errors import InsErrorsError, close_names
 from ins_errors.modeling import ModelDefinition
 from ins_errors.numeric.blas_threads import one_blas_thread
 from ins_errors.symbolic.symbol_order import sorted_symbols
@@ -1135,7 +1134,7 @@ def _target(eq: HandEquation, resolver: HandSide, side: ModelSide
         else:
             shown = base or inner
             names = list(side.error_states) + [f"Delta_{s}" for s in side.state_names]
-            close = difflib.get_close_matches(inner, names, n=3, cutoff=0.6)
+            close = close_names(inner, names, cutoff=0.6)
             hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
             raise UnresolvedError(inner, f"equation for dot({inner}), but {shown} is not a state "
                                      f"of the model {side.d.name!r}{hint} (error states: "
@@ -1156,7 +1155,7 @@ def _target(eq: HandEquation, resolver: HandSide, side: ModelSide
         if meaning is None:
             if resolver.visible(base, eq.section) is not None:
                 return "hand-only definition", None, False, [], []
-            close = difflib.get_close_matches(base, resolver.known_names(), n=3, cutoff=0.6)
+            close = close_names(base, resolver.known_names(), cutoff=0.6)
             hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
             raise UnresolvedError(name, f"{base} is not a quantity of the model or the "
                                          f"notation{hint} (declare it with '@alias {base} = "

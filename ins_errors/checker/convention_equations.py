@@ -35,7 +35,7 @@ import sympy as sp
 
 from ins_errors.checker import convention_definitions as cd
 from ins_errors.checker.navigation import PARAMETERS
-from ins_errors.errors import InsErrorsError
+from ins_errors.errors import InsErrorsError, close_names
 
 QUANTITIES: dict[str, str] = {
     "lat": "geodetic latitude φ, rad",
@@ -399,8 +399,6 @@ def _not_a_vector_line(lhs: str, rhs: str, states: list[str], prefixes: dict, ve
     vector line but uses vector notation on its right: a row of one component
     (``dot(phi_N) = cross(...)``) or a left side that is no state or state triple
     (``dot(dw) = -cross(...)``). Other lines are left to the equation reader."""
-    import difflib
-
     found = _VECTOR_WORDS.search(rhs)
     named = sorted(set(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", rhs)) & vectors)
     if not found and not named:
@@ -413,7 +411,7 @@ def _not_a_vector_line(lhs: str, rhs: str, states: list[str], prefixes: dict, ve
             f"{where}: dot({lhs}) is one component, but its right-hand side uses {what}, "
             f"a vector: write the component's terms, or the vector line "
             f"'dot({prefix}) = ...' for all three rows")
-    close = difflib.get_close_matches(lhs, [*prefixes, *states], n=3, cutoff=0.5)
+    close = close_names(lhs, [*prefixes, *states], cutoff=0.5)
     hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
     raise InsErrorsError(
         f"{where}: dot({lhs}): {lhs!r} is neither a state of the convention nor a "

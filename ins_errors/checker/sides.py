@@ -11,13 +11,13 @@ and can *isolate* a line: every definition it uses replaced by the correct one.
 
 from __future__ import annotations
 
-import difflib
 from functools import lru_cache
 
 import sympy as sp
 
 from ins_errors.checker.notation import Notation
 from ins_errors.checker.parse import DOT, TILDE, HandEquation, HandFile, Problem
+from ins_errors.errors import close_names
 from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.symbol_order import sorted_symbols
 from ins_errors.symbolic.variation import output_mechanisations, structured_variation
@@ -444,7 +444,7 @@ class HandSide:
         if stem in self.notation.spellings:  # \nabla_N where the model has one \nabla
             return (f"unknown symbol {name!r}; did you mean {stem!r} "
                     f"({self.notation.spellings[stem]}, which has no index {index!r})?")
-        close = difflib.get_close_matches(name, self.known_names(), n=3, cutoff=0.6)
+        close = close_names(name, self.known_names(), cutoff=0.6)
         hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
         return f"unknown symbol {name!r}{hint}"
 
