@@ -19,6 +19,7 @@ os.environ.setdefault("SYMPY_CACHE_SIZE", "20000")
 from ins_errors.errors import InsErrorsError
 from ins_errors.symbolic.quick_sympy import quick_sympy
 
+from .model_files import summary_table
 from .pipeline import derive_all
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -48,11 +49,7 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         if enabled:
             gc.enable()
-    print(f"{'model':<20}{'states':>7}{'errors':>7}{'sources':>8}{'outputs':>8}"
-          f"{'ops':>8}{'seconds':>9}")
-    for s in summaries:
-        print(f"{s.name:<20}{s.states:>7}{s.error_states:>7}{s.sources:>8}{s.outputs:>8}"
-              f"{s.operations:>8}{s.seconds:>9.2f}")
+    print("\n".join(summary_table(summaries)))
     if args.model:
         print("derive: --model given, so the documents built across models (transfer "
               "functions, hand-check reports) were not rewritten")

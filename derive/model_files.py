@@ -188,6 +188,23 @@ class ModelSummary:
     seconds: float
 
 
+SUMMARY_KEY = ("errors: error states, the length of xe in ẋe = F xe + G w",
+               "ops: SymPy's operation count of the generated numeric functions after "
+               "common-subexpression elimination (their size)")
+"""The lines under :func:`summary_table` that say what its less obvious columns are."""
+
+
+def summary_table(summaries: list[ModelSummary]) -> list[str]:
+    """The lines ``make derive`` and ``ins-errors derive`` print: one row per model
+    (its states, error states, error sources, outputs, operation count and seconds),
+    then the lines of :data:`SUMMARY_KEY`."""
+    lines = [f"{'model':<20}{'states':>7}{'errors':>7}{'sources':>8}{'outputs':>8}"
+             f"{'ops':>8}{'seconds':>9}"]
+    lines += [f"{s.name:<20}{s.states:>7}{s.error_states:>7}{s.sources:>8}{s.outputs:>8}"
+              f"{s.operations:>8}{s.seconds:>9.2f}" for s in summaries]
+    return [*lines, *SUMMARY_KEY]
+
+
 def write_model(d: ModelDefinition, root: Path, origin: tuple[str, str] | None = None,
                 record: dict[str, str] | None = None) -> ModelSummary:
     """Derive and write ``root/<model>/`` for one model definition.

@@ -55,10 +55,8 @@ def run(args: argparse.Namespace) -> int:
               "model_file_sha256": ref.sha256,
               "derivation_code_sha256": (record or {}).get("DERIVATION_CODE_SHA256")})
         return 0
-    print(f"{'model':<20}{'states':>7}{'errors':>7}{'sources':>8}{'outputs':>8}"
-          f"{'ops':>8}{'seconds':>9}")
-    print(f"{summary.name:<20}{summary.states:>7}{summary.error_states:>7}"
-          f"{summary.sources:>8}{summary.outputs:>8}{summary.operations:>8}"
-          f"{summary.seconds:>9.2f}")
+    from ins_errors.derive.model_files import summary_table
+
+    print("\n".join(summary_table([summary])))
     print(f"derive: wrote {out} ({', '.join(files)}) in {time.perf_counter() - start:.1f} s")
     return 0
