@@ -504,6 +504,17 @@ def shown_magnitude(source: dict, k: float) -> str:
     return f"{text} ({level:g}σ)"
 
 
+def _bar_magnitude(source: dict, k: float) -> str:
+    """A source's magnitude as the allocation chart labels its bars: as the tables show
+    it (:func:`shown_magnitude`), a white-noise density tagged ``(1σ)`` where the spec's
+    level is not 1σ (the caption says the magnitudes are at the spec's level, and the
+    chart has no room for :data:`WHITE_NOTE`)."""
+    text = shown_magnitude(source, k)
+    if source.get("statistics") == "white" and k != 1 and text != "unconstrained":
+        return f"{text} (1σ)"
+    return text
+
+
 WHITE_NOTE = "white-noise densities as given, 1σ: a density has no σ level"
 """Said beside the magnitudes of a source list that holds a white-noise density."""
 
@@ -739,8 +750,8 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
             bar.set_edgecolor("white")
             bar.set_linewidth(0)
     level = spec.sigma_level
-    sources = ([f"{s['label']}  = {shown_magnitude(s, level)} (fixed)" for s in fixed]
-               + [f"{s['label']}  ≤ {shown_magnitude(s, level)}" for s in limited])
+    sources = ([f"{s['label']}  = {_bar_magnitude(s, level)} (fixed)" for s in fixed]
+               + [f"{s['label']}  ≤ {_bar_magnitude(s, level)}" for s in limited])
     left.set_yticks(y, sources, fontsize=8)
     if fixed and limited:
         left.axhline(y[len(fixed) - 1] - 0.5, color="k", lw=0.8, ls=":")
@@ -821,11 +832,13 @@ def plot(allocation: Allocation, path: str, top: int = 40) -> None:
         panel = (width - left_margin - 0.3 - gap) * share
         over = max((f * panel + w - panel for f, w in notes), default=0.0)
         gap = margin + 0.2 + text_width(checks, 8) + ticks + max(0.0, over)
+    levels = (f"{k} magnitudes, white-noise densities 1σ, as labelled"
+              if k != "1σ" and any(s.get("statistics") == "white" for s in drawn)
+              else f"{k} magnitudes as labelled")
     xlabel = (f"largest share of each item's allowed variance over its check times, % "
-              f"({k} magnitudes as labelled; hatched: fixed; colours: the items on the "
-              f"right)" if fixed else
+              f"({levels}; hatched: fixed; colours: the items on the right)" if fixed else
               f"largest share of each item's allowed variance over its check times, % "
-              f"({k} magnitudes as labelled; colours: the items on the right)")
+              f"({levels}; colours: the items on the right)")
     if text_width([xlabel], 10) > panel:
         xlabel = xlabel.replace(" (", "\n(")
     left.set_xlabel(xlabel)

@@ -1,0 +1,79 @@
+"""What the budget's words say of its numbers: the σ level of a white-noise density on
+the allocation chart, and which magnitudes the tables are at when nothing is allocated."""
+
+from __future__ import annotations
+
+import json
+import re
+import textwrap
+
+import numpy as np
+import pytest
+
+from ins_errors.analysis import budget_report
+from ins_errors.cli import main
+
+NOISE_SPEC = """
+title = "free noise"
+sigma_level = 3
+operating_time = "4 h"
+step = "60 s"
+[motion]
+kind = "static"
+latitude = "45 deg"
+longitude = "0 deg"
+[items.position_error_absolute]
+value = "6 km"
+every = "30 min"
+[items.ground_speed_error]
+value = "3 m/s"
+every = "10 min"
+[sources.gyro_drift_east]
+kind = "white"
+[sources.accel_bias_north]
+kind = "white"
+[sources.gyro_drift_north]
+kind = "markov"
+tau = "1 h"
+"""
+
+TO_DISPLAY = {"(rad/s)*s**0.5": np.degrees(1.0) * 60.0,   # deg/√h
+              "(m/s**2)*s**0.5": 1 / 9.80665e-6}           # ug/√Hz
+"""SI noise density -> the unit the chart labels it in (1 rad/√s = 180/π · 60 deg/√h)."""
+
+
+def test_the_allocation_chart_tags_white_noise_densities_as_1_sigma(tmp_path, monkeypatch,
+                                                                    capsys):
+    """The caption said "3σ magnitudes as labelled" over a white density's bar, whose
+    number is the 1σ density (a density has no σ level; the tables say so): its bar is
+    tagged (1σ), its number is the allocated 1σ density, and the caption says it."""
+    spec = tmp_path / "noise.toml"
+    spec.write_text(textwrap.dedent(NOISE_SPEC))
+    figures = []
+    monkeypatch.setattr(budget_report, "save_figure",
+                        lambda figure, path, **kw: figures.append(figure))
+    assert main(["budget", "north_pointing", "--spec", str(spec), "--plot",
+                 str(tmp_path / "b.png"), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    [figure] = figures
+    left = figure.axes[0]
+    labels = [t.get_text() for t in left.get_yticklabels()]
+    white = 0
+    for source in data["sources"]:
+        if source["binding_item"] is None:
+            continue
+        [label] = [t for t in labels if t.startswith(source["label"] + "  ")]
+        if source["statistics"] == "white":
+            white += 1
+            assert label.endswith(" (1σ)"), label
+            number = float(re.search(r"≤ (\S+)", label).group(1))
+            density = source["magnitude_1sigma"] * TO_DISPLAY[source["unit"]]
+            assert number == pytest.approx(density, rel=1e-3)
+        else:
+            assert "1σ" not in label, label
+    assert white == 2
+    assert "3σ magnitudes, white-noise densities 1σ, as labelled" in " ".join(
+        left.get_xlabel().split())
+    import matplotlib.pyplot as plt
+
+    plt.close(figure)
