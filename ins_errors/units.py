@@ -223,8 +223,17 @@ UNIT_FAMILIES: dict[str, str] = {
     "m": "a length, e.g. '{v} m' or '{v} km'",
     "s": "a time, e.g. '{v} s', '{v} min' or '{v} h'",
     "1": "a plain number or ratio, e.g. '{v}', '{v} ppm' or '{v} %'",
+    "(rad/s)*s**0.5": "an angle random walk or rate noise density, e.g. "
+                      "'{v} deg/sqrt(h)' or '{v} (deg/h)/sqrt(Hz)'",
+    "(m/s**2)*s**0.5": "a velocity random walk or acceleration noise density, e.g. "
+                       "'{v} ug/sqrt(Hz)' or '{v} m/s/sqrt(h)'",
 }
-"""The family of units expected by SI unit, with examples (what a bare number lacks)."""
+"""The family of units expected by SI unit, with examples (what a bare number lacks);
+a noise density (a white source's magnitude) as a datasheet quotes it."""
+
+_DENSITY = re.compile(r"^\((?P<unit>.+)\)\*s\*\*0\.5$")
+"""A noise density's SI unit, ``(unit)*s**0.5``: suggested per √Hz where
+:data:`UNIT_FAMILIES` has no datasheet form of it."""
 
 
 _PLAIN_NUMBER = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
@@ -385,7 +394,14 @@ def _power_words(power: float) -> str:
 def _example(unit: str, number: str) -> str:
     """How :data:`UNIT_FAMILIES` suggests giving a value in ``unit`` (``number``: the
     magnitude to show)."""
-    family = UNIT_FAMILIES.get(unit, f"a quantity in units of {unit}, e.g. '{{v}} {unit}'")
+    density = _DENSITY.match(unit)
+    if unit in UNIT_FAMILIES:
+        family = UNIT_FAMILIES[unit]
+    elif density:  # a ratio (a scale factor's noise) in ppm, as its bias is quoted
+        per = "ppm" if density["unit"] == "1" else f"({density['unit']})"
+        family = f"a noise density, e.g. '{{v}} {per}/sqrt(Hz)'"
+    else:
+        family = f"a quantity in units of {unit}, e.g. '{{v}} {unit}'"
     return family.format(v=number)
 
 

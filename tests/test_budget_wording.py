@@ -77,3 +77,42 @@ def test_the_allocation_chart_tags_white_noise_densities_as_1_sigma(tmp_path, mo
     import matplotlib.pyplot as plt
 
     plt.close(figure)
+
+
+@pytest.mark.parametrize("source, given, density, datasheet", [
+    ("gyro_drift_east", "0.01 deg/h", "(rad/s)*s**0.5", "0.01 deg/sqrt(h)"),
+    ("accel_bias_north", "10 ug", "(m/s**2)*s**0.5", "10 ug/sqrt(Hz)"),
+    ("gyro_drift_east", "0.01", "(rad/s)*s**0.5", "0.01 deg/sqrt(h)")])
+def test_a_white_source_given_a_bias_suggests_a_datasheet_density(tmp_path, capsys, source,
+                                                                  given, density, datasheet):
+    """kind = "white" with fixed = "0.01 deg/h" was answered "give a quantity in units of
+    (rad/s)*s**0.5, e.g. '0.01 (rad/s)*s**0.5'": the suggestions are now what a
+    datasheet quotes (deg/√h for a gyro, µg/√Hz for an accelerometer), each of them
+    read back as a density."""
+    from ins_errors.units import parse_quantity
+
+    spec = tmp_path / "white.toml"
+    spec.write_text(textwrap.dedent(f"""
+        sigma_level = 3
+        operating_time = "1 h"
+        [motion]
+        kind = "static"
+        latitude = "45 deg"
+        [items.position_error_absolute]
+        value = "6 km"
+        [sources.{source}]
+        kind = "white"
+        fixed = "{given}"
+    """))
+    assert main(["budget", "north_pointing", "--spec", str(spec)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and f"sources.{source}.fixed" in err
+    suggested = re.findall(r"'([^']+)'", err.partition("e.g.")[2])
+    assert suggested[0] == datasheet and "s**0.5" not in err.partition("; give")[2]
+    number = float(given.split()[0])
+    for text in suggested:
+        assert parse_quantity(text, density, "x") > 0
+    # the first is the datasheet's unit of the number given: 1 deg/√h = π/180/60 rad/√s
+    expected = {"(rad/s)*s**0.5": np.radians(number) / 60,
+                "(m/s**2)*s**0.5": number * 9.80665e-6}[density]
+    assert parse_quantity(suggested[0], density, "x") == pytest.approx(expected)
