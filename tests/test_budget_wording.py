@@ -116,3 +116,45 @@ def test_a_white_source_given_a_bias_suggests_a_datasheet_density(tmp_path, caps
     expected = {"(rad/s)*s**0.5": np.radians(number) / 60,
                 "(m/s**2)*s**0.5": number * 9.80665e-6}[density]
     assert parse_quantity(suggested[0], density, "x") == pytest.approx(expected)
+
+
+FIXED_SPEC = """
+title = "fixed only"
+sigma_level = 3
+operating_time = "4 h"
+step = "60 s"
+[motion]
+kind = "static"
+latitude = "45 deg"
+[items.heading_error]
+value = "5 deg"
+[sources.gyro_drift_up]
+fixed = "0.01 deg/h"
+"""
+
+
+def test_a_budget_of_fixed_sources_says_its_rows_are_at_the_given_magnitudes(tmp_path,
+                                                                              capsys):
+    """Every source fixed, nothing is allocated: the tables and the report said "at the
+    allocated magnitudes". The rows are at the magnitudes the spec gives: the heading
+    error of a 0.01 °/h (3σ) azimuth drift ε at rest is ε sin(Ωt)/Ω (the Earth rate
+    turns it into level tilt), 0.033° after 4 h."""
+    from ins_errors.models import definition
+
+    names = [s.name for s in definition("north_pointing").sources]
+    spec = tmp_path / "fixed.toml"
+    spec.write_text(textwrap.dedent(FIXED_SPEC) + "".join(
+        f"[sources.{name}]\ninclude = false\n" for name in names if name != "gyro_drift_up"))
+    report = tmp_path / "fixed.md"
+    assert main(["budget", "north_pointing", "--spec", str(spec), "--at", "1h,4h",
+                 "--report", str(report)]) == 0
+    out = capsys.readouterr().out
+    text = out + report.read_text(encoding="utf-8")
+    assert "allocated magnitudes" not in text
+    assert "Spec rows at the given magnitudes" in out
+    assert out.count("(1σ, at the given magnitudes)") == 2   # the two --at tables
+    assert "## Spec items at the given magnitudes" in text
+    assert "check times, at the given magnitudes" in text
+    heading = float(re.search(r"heading_error\s+4 h\s+(\S+) deg of 5 deg", out).group(1))
+    earth, t = 7.292115e-5, 4 * 3600.0
+    assert heading == pytest.approx(0.01 * np.sin(earth * t) / (earth * 3600), rel=0.02)

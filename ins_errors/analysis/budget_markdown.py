@@ -18,6 +18,7 @@ from ins_errors.analysis.budget_report import (
     exceeded_line,
     item_summaries,
     levels_note,
+    magnitudes_words,
     monte_carlo_cells,
     monte_carlo_lines,
     shown_magnitude,
@@ -92,8 +93,8 @@ def markdown(data: dict, spec, spec_name: str, model_name: str) -> str:
     k = f"{data['sigma_level']:g}σ"
     exceeded = "free_sources" in data   # the fixed sources alone use up the spec
     result = (exceeded_line(data) if exceeded else
-              "met: every item is within its limit at each of its check times, at the "
-              "allocated magnitudes")
+              "met: every item is within its limit at each of its check times, at "
+              + magnitudes_words(data))
     passing = [i["name"] for i in data["items"] if i.get("between_checks")]
     if passing:   # the spec is met where it looks: say where it is not
         result += (f"; above the limit between the check times: {', '.join(passing)} "
@@ -121,7 +122,7 @@ def markdown(data: dict, spec, spec_name: str, model_name: str) -> str:
     if exceeded and data["free_sources"]:   # one line, not a row each
         lines += ["", f"The free sources are {NOT_ALLOCATED}: "
                       f"{', '.join(data['free_sources'])}."]
-    at = "the fixed sources alone" if exceeded else "the allocated magnitudes"
+    at = magnitudes_words(data)
     lines += ["", f"## Spec items at {at}", "",
               f"Each item at its worst check time ({k}; limits as the spec writes them).",
               ""]

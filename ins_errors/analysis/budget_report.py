@@ -226,8 +226,7 @@ def between_checks_warnings(data: dict) -> list[str]:
     report's JSON (:func:`report`, :func:`exceeded_report`): the item, its largest value
     there against the limit, when, how the spec checks it and the cure."""
     k = f"{data['sigma_level']:g}σ"
-    at = ("the fixed sources alone" if "free_sources" in data
-          else "the allocated magnitudes")
+    at = magnitudes_words(data)
     lines = []
     for item in data["items"]:
         peak = item.get("between_checks")
@@ -586,7 +585,7 @@ def table(data: dict) -> str:
         lines.append(f"{s['label']:<36} {shown:>22}  {binding_text(s)}")
     if any(s["statistics"] == "white" for s in data["sources"]):
         lines.append(f"({WHITE_NOTE})")
-    lines += ["", f"Spec rows at the allocated magnitudes (worst time of each item, {k}; "
+    lines += ["", f"Spec rows at {magnitudes_words(data)} (worst time of each item, {k}; "
               "limits as the spec writes them):",
               f"{'item':<28} {'time':>10}  {'value of limit':<34} {'ratio':>6}", "-" * 84]
     for line in item_summaries(data):
@@ -880,9 +879,28 @@ def magnitudes_note(allocation: Allocation, fixed_only: bool = False) -> str:
     fixed sources exceed, :func:`fixed_allocation`) the fixed sources alone."""
     if fixed_only:
         return "the fixed sources alone, as nothing is allocated"
+    if not np.any(allocation.binding >= 0):  # every source fixed (or not limited)
+        return GIVEN
     if allocation.budget.spec.fill:
         return (f"the allocated magnitudes, filled (×{allocation.fill_factor:.4g} in "
                 "variance)")
+    return "the allocated magnitudes"
+
+
+GIVEN = "the given magnitudes"
+"""The magnitudes a budget's rows are at when it allocates none: every source is fixed
+(or, free, is not limited by the spec)."""
+
+
+def magnitudes_words(data: dict) -> str:
+    """Which magnitudes the rows of a report's JSON (:func:`report`,
+    :func:`exceeded_report`) are at: the fixed sources alone where they exceed the spec,
+    :data:`GIVEN` where nothing is allocated (every source fixed: "allocated" said of
+    magnitudes the spec file gave), else the allocated magnitudes."""
+    if "free_sources" in data:
+        return "the fixed sources alone"
+    if not any(s["binding_item"] is not None and not s["fixed"] for s in data["sources"]):
+        return GIVEN
     return "the allocated magnitudes"
 
 
