@@ -54,6 +54,13 @@ exactly linearly (nothing to fit)."""
 MOTIONS: tuple[str, ...] = ("static", "great-circle")
 """Motions of a default map."""
 
+MAX_JUDGED_VALUES = 2**25
+"""Values a sweep's runs may keep (about 270 MB: the states of its ideal, direct, linear
+and refined runs and their error curves, per magnitude and recorded sample). Within it
+every step is recorded, so that each ratio is that of the largest differences over every
+step; a longer run is judged on every k-th step, the smallest k that fits
+(:func:`judged_stride`), and the map says so."""
+
 
 @dataclass(frozen=True)
 class ValidityTask:
@@ -144,6 +151,11 @@ class SourceValidity:
         what ran: ``"extrapolated"`` (the fitted line outside the magnitudes swept) or
         ``"past half a turn"`` (an angle source's magnitude beyond π rad, 180°, which no
         angle error has: 200° is −160°). The magnitude itself stays the fit's, SI.
+    judged_every_s : float or None
+        Interval of the samples the ratios' largest differences are taken over, s: the
+        step (every step), or a multiple of it for a run longer than
+        :data:`MAX_JUDGED_VALUES` allows (:func:`judged_stride`); None when the true
+        motion failed before any run.
     """
 
     source: str
@@ -164,6 +176,7 @@ class SourceValidity:
     failed_magnitudes: list[float] = field(default_factory=list)
     failed_at: float | None = None
     extrapolated: dict[str, str] = field(default_factory=dict)
+    judged_every_s: float | None = None
 
     @property
     def failed(self) -> bool:
@@ -377,9 +390,10 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
                                    truth=task.truth)
     except InsErrorsError as error:
         return _failed(result, [], [], ascending, error, None)
-    stride = max(1, min(trajectory.n_steps, round(300.0 / task.step)))
-    while trajectory.n_steps % stride:  # the largest stride up to 5 min that divides the run
-        stride -= 1
+    # the ratios are those of the largest differences over every step (a 5-min record
+    # missed the peaks between its samples: 1.6 % of a damped INS's ratio)
+    stride = judged_stride(model, trajectory.n_steps, len(task.magnitudes))
+    result.judged_every_s = stride * task.step
 
     def run(magnitudes):
         return compare(model, trajectory, [{task.source: m} for m in magnitudes],
@@ -410,6 +424,38 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
                                      magnitude, size))
         ran.append(comparison)
     return explained(_analyse(result, ascending, ran, size))  # (each ran alone)
+
+
+def judged_stride(model, n_steps: int, cases: int) -> int:
+    """Steps between the samples a sweep's ratios are judged on: 1 (every step) when the
+    records of ``cases`` magnitudes over ``n_steps`` steps fit :data:`MAX_JUDGED_VALUES`,
+    else the smallest stride that divides the run and fits (or, where no divisor of the
+    run lies within four times that, the largest below it).
+
+    Parameters
+    ----------
+    model : Model
+    n_steps : int
+        Steps of the run.
+    cases : int
+        Magnitudes run in one batch.
+
+    Returns
+    -------
+    int
+    """
+    from ins_errors.numeric.simulate import error_quantities
+
+    n, ne = len(model.states), len(model.error_states)
+    per_sample = cases * (n + 3 * ne + 3 * len(error_quantities(model)[0]))
+    least = math.ceil((n_steps + 1) * per_sample / MAX_JUDGED_VALUES)
+    if least <= 1:
+        return 1
+    above = next((k for k in range(least, min(n_steps, 4 * least) + 1)
+                  if n_steps % k == 0), None)
+    if above is not None:
+        return above
+    return next(k for k in range(least - 1, 0, -1) if n_steps % k == 0)
 
 
 def unexcited_note(model, trajectory, source: str) -> str:

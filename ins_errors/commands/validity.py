@@ -162,6 +162,20 @@ def table(results, model) -> str:
     return "\n".join(lines) + "\n" + ("\n" + "\n".join(notes) + "\n" if notes else "")
 
 
+def judged_text(results, step: float) -> str:
+    """The line under the map's title saying on which samples its ratios were judged,
+    when a run too long to keep at every step was judged on every k-th (empty when
+    every sweep was judged at every step)."""
+    coarse = sorted({r.judged_every_s for r in results
+                     if r.judged_every_s is not None and r.judged_every_s > step * 1.000001})
+    if not coarse:
+        return ""
+    every = " or ".join(f"{k:g} s" for k in coarse)
+    return (f"Ratios judged on samples every {every}, not at every step of {step:g} s: "
+            "a run this long is not kept at every step (the peaks between samples are "
+            "missed; a shorter --hours or a longer --step judges every step).\n\n")
+
+
 def failure_text(r) -> str:
     """What failed in the sweep ``r`` and why, in one line: which magnitudes ran, the
     one whose run failed, the reason."""
@@ -300,7 +314,8 @@ def run(args: argparse.Namespace) -> int:
         print(f"### {model.name}: validity of the linear error equations "
               f"({args.hours:g} h runs, τ = {step:g} s, RK4"
               + (f", {args.truth} truth" if set(motions) - {"static"} else "")
-              + (f", {start_text(start)}" if start else "") + ")\n")
+              + (f", {start_text(start)}" if start else "") + ")\n"
+              + judged_text(results, step))
         print(table(results, model))
         if out_dir is not None:
             print(f"written: {out_dir}/results.json" + (" and one plot per source"
