@@ -60,7 +60,7 @@ def test_a_model_file_in_phi_with_bias_states_is_the_textbook_model(tmp_path, ca
 
 
 @pytest.mark.parametrize("args, said", [
-    (["orthodromic"], "has no convention but its own error states"),
+    (["orthodromic", "--convention", "phi"], "has no convention but its own error states"),
     (["strapdown_ned", "--convention", "phy"], "did you mean 'phi'"),
     (["strapdown_ned", "--bias-states", "gyro_bias_q"], "gyro_bias_q"),
     (["strapdown_ned", "--step", "0s"], "--step '0s' must be positive"),

@@ -24,7 +24,7 @@ from functools import lru_cache
 import numpy as np
 
 from ins_errors.checker import motion_store
-from ins_errors.checker.navigation import navigation_arrays, require_description
+from ins_errors.checker.navigation import adapter_name, navigation_arrays, require_description
 from ins_errors.numeric.blas_threads import one_blas_thread
 
 HOURS = 24.0
@@ -145,9 +145,17 @@ def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | No
 
 def flown_motions(model, hours: float = HOURS, step: float = STEP,
                   ellipsoid: str | None = None,
-                  parameters: Mapping[str, float] | None = None
+                  parameters: Mapping[str, float] | None = None,
+                  require_navigation: bool = True
                   ) -> tuple[list[Motion], list[str]]:
     """The motions of :func:`motions` the model can fly, and those it cannot.
+
+    With ``require_navigation=False`` a model without a navigation description flies
+    them too (``ins-errors matrices`` in its own error states): its motions have no
+    navigation arrays (``navigation`` is ``{}``), and a moving motion its flight refuses
+    for any reason of the motion's (a :class:`~ins_errors.numeric.trajectories.MotionError`
+    other than an Earth parameter's: a model without an east velocity follows a static
+    base only) is not flown, with that reason.
 
     Returns
     -------
@@ -161,10 +169,12 @@ def flown_motions(model, hours: float = HOURS, step: float = STEP,
     Raises
     ------
     InsErrorsError
-        A model without a navigation description; the static base's refusal; any other
-        error of a flight (bad Earth parameters, a state that is NaN along it, ...).
+        A model without a navigation description (unless ``require_navigation`` is
+        False); the static base's refusal; any other error of a flight (bad Earth
+        parameters, a state that is NaN along it, ...).
     """
-    require_description(model)
+    if require_navigation:
+        require_description(model)
     flown, skipped = _motions(model.key, float(hours), float(step), ellipsoid,
                               parameter_items(parameters))
     return list(flown), list(skipped)
@@ -188,20 +198,33 @@ def _motions(model_key: str, hours: float, step: float, ellipsoid: str | None,
         stored = _fly(model, hours, step, p)
         motion_store.store(name, *stored)
     flown, skipped = stored
+    described = adapter_name(model) is not None
     return (tuple(Motion(label, description, a["times"], a["x"], a["u"], a["p"],
-                         navigation_arrays(model, a["x"], a["u"], a["p"]))
+                         navigation_arrays(model, a["x"], a["u"], a["p"]) if described
+                         else {})
                   for label, description, a in flown),
             tuple(skipped))
 
 
-def _cannot_follow(error: Exception) -> bool:
+def _cannot_follow(error: Exception, described: bool = True) -> bool:
     """True for the refusal of a flight that a correct model cannot fly (a
     :class:`~ins_errors.numeric.trajectories.PathDependentStateError`: a wander angle off
     a meridian that no parameter starts), not for any other refusal: a model that cannot
     follow a flight for another reason (its Earth is not the flight's, its inputs do not
-    solve) is more likely wrong than limited, and its check stops saying why."""
-    from ins_errors.numeric.trajectories import PathDependentStateError
+    solve) is more likely wrong than limited, and its check stops saying why. A model
+    without a navigation description (``described`` False) is not checked along the
+    motions, only written along them (``ins-errors matrices``): any refusal of the
+    motion's (a :class:`~ins_errors.numeric.trajectories.MotionError`: no east velocity
+    to cruise with, no heading for a great circle), but not of its Earth parameters,
+    leaves that motion out."""
+    from ins_errors.numeric.trajectories import (
+        EarthParameterError,
+        MotionError,
+        PathDependentStateError,
+    )
 
+    if not described:
+        return isinstance(error, MotionError) and not isinstance(error, EarthParameterError)
     return isinstance(error, PathDependentStateError)
 
 
@@ -231,6 +254,7 @@ def _fly(model, hours: float, step: float, p: np.ndarray
                                                         step, p=p))
                  for label, profile in _profiles(model, hours)]
     out, skipped = [], []
+    described = adapter_name(model) is not None
     for label, description, fly in plans:
         try:
             run = fly()
@@ -240,7 +264,7 @@ def _fly(model, hours: float, step: float, p: np.ndarray
             arrays = {"times": run.times, "x": x, "u": run.inputs_at(steps),
                       "p": run.parameters}
         except Exception as error:
-            if label == "static" or not _cannot_follow(error):
+            if label == "static" or not _cannot_follow(error, described):
                 raise
             skipped.append(f"{label}: {error}")
             continue

@@ -507,11 +507,15 @@ def write_samples(path: Path, motions) -> None:
 
 
 def sample_arrays(motions) -> dict[str, np.ndarray]:
-    """The arrays :func:`write_samples` writes, by key."""
+    """The arrays :func:`write_samples` writes, by key: ``t_<motion>`` alone for a motion
+    without navigation arrays (a model without a navigation description, written in its
+    own error states by ``ins-errors matrices``)."""
     arrays: dict[str, np.ndarray] = {}
     for motion in motions:
         label = motion.label
         arrays[f"t_{label}"] = motion.times
+        if not motion.navigation:
+            continue
         for field in FIELDS:
             arrays[f"{field}_{label}"] = np.moveaxis(
                 np.asarray(motion.navigation[field], dtype=float), -1, 0)

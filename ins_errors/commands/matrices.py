@@ -18,6 +18,15 @@ out when every source is a bias state), ``model_states``,
 ``ins-errors check MODEL --matrix FILE --convention NAME`` reads, so the file checks the
 derived model against itself.
 
+Without ``--convention`` the convention is ``phi``, or ``model`` for a model whose only
+convention is its own error states (a model without a navigation description:
+``orthodromic``, a platform model file), said on stderr. Such a model flies the same
+motions and its file holds no navigation description (``t_<motion>``, F, G, x, u); a
+moving motion its flight refuses is listed as not flown (a static base it cannot fly
+stops the command)::
+
+    ins-errors matrices orthodromic --motion static --hours 1 --out fg_own.npz
+
 ``--discrete`` adds the discrete-time model a Kalman filter runs over each sample step
 (:func:`ins_errors.analysis.discrete_model.discrete_matrices`): ``Phi_<motion>`` and
 ``Qd_<motion>`` (K − 1, n, n), Q from the white-noise densities ``--noise NAME=DENSITY``
@@ -65,12 +74,17 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "u_<motion>, and the names of F's states and G's sources, as .npz or "
                     "MATLAB .mat; with --discrete also the filter's discrete model over "
                     "each sample step, Phi_<motion> and Qd_<motion> (K-1, n, n), Q from "
-                    "the --noise densities. Details: docs/matrix_check.md.")
+                    "the --noise densities. A model without a navigation description "
+                    "(no convention but its own error states) is written in those, "
+                    "without the navigation description. Details: docs/matrix_check.md.")
     parser.add_argument("model", help="model name (e.g. strapdown_ned) or model file "
                                       "(my_ins.py)")
-    parser.add_argument("--convention", default="phi",
-                        help="state convention of F and G (default phi; 'model': the "
-                             "model's own error states)")
+    parser.add_argument("--convention", default=None,
+                        help="state convention of F and G ('ins-errors check MODEL "
+                             "--list-conventions'; 'model': the model's own error states); "
+                             "default phi, or model for a model that has no other (one "
+                             "without a navigation description, e.g. orthodromic or a "
+                             "platform model file: said on stderr)")
     parser.add_argument("--motion", action="append", type=motion_kinds(MOTIONS),
                         choices=MOTIONS, default=None,
                         help="motion to write (repeatable; default every motion the model "
@@ -146,6 +160,7 @@ def run(args: argparse.Namespace) -> int:
     if args.noise and not args.discrete:
         raise InsErrorsError("--noise gives the process noise of the discrete model: add "
                              "--discrete (Phi and Qd over each sample step)")
+    args.convention = _default_convention(model, args.convention)
     # the convention (and the bias states) before the flights: a wrong name costs nothing
     conv = model_convention(model, args.convention, biases, markov)
     white, sigma = _noise_values(model, args.noise, biases, markov)
@@ -153,12 +168,17 @@ def run(args: argparse.Namespace) -> int:
     for text in warnings:
         print(f"ins-errors: warning: {text}", file=sys.stderr)
     size = _size(model, args, step, len(conv.names), len(biases), len(white) + len(sigma))
-    flown, skipped = flown_motions(model, args.hours, step, parameters=parameters)
+    # a model without a navigation description flies them too, in its own error states
+    # (no navigation arrays in the file: t_<motion>, F, G, x, u)
+    flown, skipped = flown_motions(model, args.hours, step, parameters=parameters,
+                                   require_navigation=False)
     wanted = args.motion or [m.label for m in flown]
     missing = [label for label in wanted if label not in {m.label for m in flown}]
     if missing:
+        why = next(text.split(": ", 1)[1] for text in skipped
+                   if text.split(": ", 1)[0] == missing[0])
         raise InsErrorsError(f"model {model.name!r} cannot fly the {missing[0]} motion: "
-                             + "; ".join(skipped))
+                             f"{why}")
     chosen = [m for m in flown if m.label in wanted]
     kinds = {src.name: src.kind for src in model.sources}
     arrays = sample_arrays(chosen)
@@ -243,6 +263,28 @@ def run(args: argparse.Namespace) -> int:
           + (_discrete_line(k, len(states), args.step, noises) if args.discrete else "")
           + "".join(f"\nnot flown: {text}" for text in skipped))
     return 0
+
+
+def _default_convention(model, given: str | None) -> str:
+    """``given``, or without ``--convention`` the default: ``phi``, or ``model`` for a
+    model whose only convention is its own error states (said on stderr). One line for a
+    model with conventions but no ``phi`` (``north_pointing``: ``psi`` and ``model``)."""
+    from ins_errors.checker.conventions import conventions
+    from ins_errors.errors import InsErrorsError
+
+    if given is not None:
+        return given
+    known = list(conventions(model))
+    if "phi" in known:
+        return "phi"
+    if known == ["model"]:
+        print(f"ins-errors: note: {model.name} has no φ/ψ convention (no navigation "
+              "description): F and G are in its own error states, --convention model",
+              file=sys.stderr)
+        return "model"
+    raise InsErrorsError(f"model {model.name!r} has no phi convention: give --convention "
+                         f"{' or '.join(known)} ('ins-errors check {model.name} "
+                         "--list-conventions' lists their states)")
 
 
 def _markov_times(items: list[str], biases: list[str]) -> dict[str, float]:
