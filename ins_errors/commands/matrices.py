@@ -25,7 +25,7 @@ motions and its file holds no navigation description (``t_<motion>``, F, G, x, u
 moving motion its flight refuses is listed as not flown (a static base it cannot fly
 stops the command)::
 
-    ins-errors matrices orthodromic --motion static --hours 1 --out fg_own.npz
+    ins-errors matrices orthodromic --motion static --hours 1 --out out/fg_own.npz
 
 ``--discrete`` adds the discrete-time model a Kalman filter runs over each sample step
 (:func:`ins_errors.analysis.discrete_model.discrete_matrices`): ``Phi_<motion>`` and
