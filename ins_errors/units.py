@@ -218,7 +218,7 @@ def _normalise(text: str) -> str:
 UNIT_FAMILIES: dict[str, str] = {
     "rad": "an angle, e.g. '{v} deg', '{v} arcmin', '{v} arcsec' or '{v} rad'",
     "rad/s": "an angular rate, e.g. '{v} deg/h' or '{v} rad/s'",
-    "m/s**2": "an acceleration, e.g. '{v} ug', '{v} mg', '{v} g' or '{v} m/s**2'",
+    "m/s**2": "an acceleration, e.g. '{v} ug', '{v} mg', '{v} g' or '{v} m/s^2'",
     "m/s": "a velocity, e.g. '{v} m/s' or '{v} km/h'",
     "m": "a length, e.g. '{v} m' or '{v} km'",
     "s": "a time, e.g. '{v} s', '{v} min' or '{v} h'",
@@ -391,6 +391,16 @@ def _power_words(power: float) -> str:
         power, f"an angle to the power {power:g}")
 
 
+def typed_value(number: str, unit: str) -> str:
+    """``number`` in the SI ``unit`` (SymPy's spelling, ``1/s**2``) as a person types it
+    after ``-p NAME=`` or in a TOML file: ``'2e-3/s^2'``, ``'9.8 m/s^2'``, ``'0.5'`` for
+    ``"1"``, ``'0.5 rad'`` (the number keeps its meaning: not turned into degrees)."""
+    if unit == "1":
+        return number
+    shown = unit.replace("**", "^")
+    return f"{number}{shown[1:]}" if shown.startswith("1/") else f"{number} {shown}"
+
+
 def _example(unit: str, number: str) -> str:
     """How :data:`UNIT_FAMILIES` suggests giving a value in ``unit`` (``number``: the
     magnitude to show)."""
@@ -401,7 +411,8 @@ def _example(unit: str, number: str) -> str:
         per = "ppm" if density["unit"] == "1" else f"({density['unit']})"
         family = f"a noise density, e.g. '{{v}} {per}/sqrt(Hz)'"
     else:
-        family = f"a quantity in units of {unit}, e.g. '{{v}} {unit}'"
+        return (f"a quantity in units of {unit.replace('**', '^')}, e.g. "
+                f"'{typed_value(number, unit)}'")
     return family.format(v=number)
 
 

@@ -169,3 +169,27 @@ def test_the_command_line_names_the_users_unit(source, capsys):
     line = _cli_line([*BASE, "-s", source], capsys)
     assert repr(source.split("=")[1]) in line and "an angular rate" in line, line
     assert not INTERNAL.search(line) and "not defined" not in line, line
+
+
+@pytest.mark.parametrize("unit", ["1/s**2", "1/s", "m/s**2", "rad", "1", "m", "rad/s"])
+def test_a_suggested_value_reads_back_as_the_number_it_was_made_from(unit):
+    """A hint's example is typed as -p and TOML take it ('2e-3/s^2', not SymPy's
+    '2e-3 1/s**2') and keeps its number's SI meaning: a model file's example '0.5' for an
+    angle was suggested as '0.5 deg', 57 times smaller than the 0.5 rad it was."""
+    from ins_errors.symbolic.consistency import typed_example
+    from ins_errors.units import typed_value
+
+    for suggestion in (typed_value("2e-3", unit), typed_example("2e-3", unit)):
+        assert "**" not in suggestion
+        assert parse_quantity(suggestion, unit) == pytest.approx(2e-3, rel=1e-15)
+
+
+def test_a_sweep_grid_value_without_its_unit_is_told_the_typed_form(tmp_path, capsys):
+    spec = tmp_path / "gain.toml"
+    spec.write_text('model = "strapdown_ned"\n[motion]\nkind = "static"\nlatitude = "50 deg"\n'
+                    '[run]\nduration = "1 min"\nstep = "10 s"\n[[case]]\n'
+                    'accel_bias_z = "100 ug"\n[sweep]\nk_h2 = ["1e-3/s^2", "2e-3"]\n',
+                    encoding="utf-8")
+    assert main(["sweep", str(spec), "--store", str(tmp_path / "s.zarr")]) == 2
+    err = capsys.readouterr().err
+    assert "needs a unit, e.g. '2e-3/s^2'" in err and len(err.strip().splitlines()) == 1

@@ -69,7 +69,7 @@ import numpy as np
 
 from ins_errors.analysis.store import POINT_KEY, failure_reasons
 from ins_errors.errors import InsErrorsError, unknown_name
-from ins_errors.units import parse_quantity
+from ins_errors.units import parse_quantity, typed_value
 
 MOTION_PARAMETERS: dict[str, str] = {"latitude": "rad", "longitude": "rad", "heading": "rad",
                                      "speed": "m/s", "height": "m"}
@@ -304,7 +304,8 @@ def _value(text: Any, unit: str, what: str) -> float:
         else:
             if not np.isfinite(number):
                 raise SweepError(f"{what} value {text!r} is not a finite number")
-            raise SweepError(f"{what} value {text!r} needs a unit, e.g. '{text} {unit}'")
+            raise SweepError(f"{what} value {text!r} needs a unit, e.g. "
+                             f"'{typed_value(text, unit)}'")
     return parse_quantity(text, unit, what, numbers_are_si=False)
 
 

@@ -514,7 +514,8 @@ _LEADING_NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)")
 def typed_example(example: str, unit: str) -> str:
     """A value of a parameter in SI ``unit`` as typed after ``-p NAME=``, with the leading
     number of ``example`` (1 without one): ``'0.5'`` for unit ``"1"``, ``'0.5/s'`` for
-    ``"1/s"``, ``'9.8 m/s^2'`` for ``"m/s**2"``, ``'30 deg'`` for ``"rad"``.
+    ``"1/s"``, ``'9.8 m/s^2'`` for ``"m/s**2"``, ``'0.5 rad'`` for ``"rad"`` (the number
+    keeps its meaning: ``'0.5 deg'`` would be 57 times smaller).
 
     Parameters
     ----------
@@ -528,14 +529,10 @@ def typed_example(example: str, unit: str) -> str:
     str
         The suggestion, in the unit's dimension whatever the example's.
     """
+    from ins_errors.units import typed_value
+
     found = _LEADING_NUMBER.match(example)
-    number = found.group(1) if found else "1"
-    if unit == "1":
-        return number
-    if unit == "rad":
-        return f"{number} deg"
-    shown = unit.replace("**", "^")
-    return f"{number}{shown[1:]}" if shown.startswith("1/") else f"{number} {shown}"
+    return typed_value(found.group(1) if found else "1", unit)
 
 
 def unseen_sources(d: ModelDefinition, source_matrix: sp.Matrix,
