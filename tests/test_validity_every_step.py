@@ -114,3 +114,15 @@ def test_a_run_too_long_to_keep_whole_is_judged_on_a_stride_and_says_so(monkeypa
     assert main([*args, "--json"]) == 0
     (whole,) = json.loads(capsys.readouterr().out)["sources"]
     assert whole["judged_every_s"] == 10.0
+
+
+
+@pytest.mark.parametrize("n_steps", [7919, 2 * 7919])
+def test_a_run_of_awkward_length_is_not_kept_whole_beyond_the_allowance(monkeypatch, n_steps):
+    """A run whose step count has no divisor near the least stride that fits (7919 is
+    prime): the fallback went down to the largest divisor below, 1 or 2 here, and kept
+    (nearly) every step, 300 times the allowance; a record must divide the run, so the
+    stride is now the next divisor up, however coarse (the map says how coarse)."""
+    monkeypatch.setattr(validity, "MAX_JUDGED_VALUES", 20_000)  # 360 steps need 8 (above)
+    stride = validity.judged_stride(load_model(MODEL), n_steps, 8)
+    assert n_steps % stride == 0 and stride > 2

@@ -429,8 +429,12 @@ def run_validity_task(task: ValidityTask) -> SourceValidity:
 def judged_stride(model, n_steps: int, cases: int) -> int:
     """Steps between the samples a sweep's ratios are judged on: 1 (every step) when the
     records of ``cases`` magnitudes over ``n_steps`` steps fit :data:`MAX_JUDGED_VALUES`,
-    else the smallest stride that divides the run and fits (or, where no divisor of the
-    run lies within four times that, the largest below it).
+    else the smallest stride that divides the run and fits (a record must divide the
+    run). Where none lies within four times the least that fits, the largest divisor
+    below is taken if it keeps the records within four times the allowance; otherwise
+    the smallest divisor above, however coarse (a run of a prime number of steps:
+    judged at its ends only, which the map's note says): never beyond four times
+    :data:`MAX_JUDGED_VALUES`.
 
     Parameters
     ----------
@@ -455,7 +459,10 @@ def judged_stride(model, n_steps: int, cases: int) -> int:
                   if n_steps % k == 0), None)
     if above is not None:
         return above
-    return next(k for k in range(least - 1, 0, -1) if n_steps % k == 0)
+    below = next(k for k in range(least - 1, 0, -1) if n_steps % k == 0)
+    if 4 * below >= least:
+        return below
+    return next(k for k in range(4 * least + 1, n_steps + 1) if n_steps % k == 0)
 
 
 def unexcited_note(model, trajectory, source: str) -> str:
