@@ -279,6 +279,101 @@ def carried_batches(fn: DenseCall, carry: np.ndarray, rows: np.ndarray, size: in
     return ends_all, out_all
 
 
+class NodePath:
+    """Quantities along a run, integrated interval by interval and read at any times.
+
+    The run ``[0, t_end]`` is cut into intervals ending at given edges (leg joins, the
+    samples of a motion file) and at most :data:`INTERVAL` long. On each interval the
+    quantities are the degree-:data:`DEGREE` polynomial through their values at the
+    Chebyshev–Lobatto nodes, read at any times by barycentric interpolation
+    (:func:`lagrange_matrix`). A subclass integrates the node values of consecutive
+    intervals from the value at their start (:meth:`_nodes`); they are computed
+    :attr:`BLOCK` intervals at a time when a read reaches them. Two blocks are held and
+    the start of every block reached is kept, chained from the end of the block before,
+    so a reread (a Monte Carlo draw) gets the same bits and a long run needs memory for
+    two blocks only.
+
+    Parameters
+    ----------
+    edges : numpy.ndarray, shape (E,)
+        Times that end an interval, s (clipped to the run; 0 and ``t_end`` are added).
+    t_end : float
+        End of the run, s.
+    start : numpy.ndarray, shape (m,)
+        The quantities at t = 0.
+
+    Attributes
+    ----------
+    knots : numpy.ndarray, shape (J + 1,)
+        Interval ends, s.
+    count : int
+        Intervals J.
+    starts : list of numpy.ndarray, shape (m,) each
+        The quantities at the start of every block reached so far.
+    """
+
+    BLOCK = 128
+    """Intervals of one block."""
+
+    def __init__(self, edges: np.ndarray, t_end: float, start: np.ndarray):
+        t_end = float(t_end)
+        edges = np.unique(np.clip(np.concatenate([[0.0, t_end], np.asarray(edges, float)]),
+                                  0.0, t_end))
+        lengths = np.diff(edges)
+        parts = np.maximum(np.ceil(lengths / INTERVAL - 1e-9), 1).astype(int)
+        first = np.repeat(np.cumsum(parts) - parts, parts)
+        self.knots = np.append(np.repeat(edges[:-1], parts) + np.repeat(lengths / parts, parts)
+                               * (np.arange(parts.sum()) - first), t_end)
+        self.count = self.knots.size - 1
+        self.starts = [np.asarray(start, dtype=float).copy()]
+        self.held: dict[int, np.ndarray] = {}
+
+    def __getstate__(self) -> dict:
+        """Pickled without the held blocks (a Monte Carlo worker computes its own)."""
+        return {**self.__dict__, "held": {}}
+
+    def _nodes(self, first: np.ndarray, start: np.ndarray, length: np.ndarray,
+               t: np.ndarray) -> np.ndarray:
+        """Node values (J, DEGREE + 1, m) of consecutive intervals starting at times
+        ``start`` (J,) of lengths ``length`` (J,), s, their nodes at times ``t``
+        (J (DEGREE + 1),), integrated from ``first`` (m,), the value at ``start[0]``."""
+        raise NotImplementedError
+
+    def _interpolated(self, weights: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+        """Values (m, k) from the Lagrange weights (k, DEGREE + 1) of k times and the
+        node values (k, DEGREE + 1, m) of their intervals."""
+        return np.einsum("ki,kim->mk", weights, nodes)
+
+    def _block(self, b: int) -> np.ndarray:
+        """Node values of block ``b``'s intervals, shape (J, DEGREE + 1, m)."""
+        if b in self.held:
+            return self.held[b]
+        while len(self.starts) <= b:  # the blocks before b, in order
+            self.starts.append(self._block(len(self.starts) - 1)[-1, -1].copy())
+        j0, j1 = b * self.BLOCK, min((b + 1) * self.BLOCK, self.count)
+        start, length = self.knots[j0:j1], np.diff(self.knots[j0:j1 + 1])
+        t = (start[:, None] + length[:, None] * _NODES[None, :]).ravel()
+        nodes = self._nodes(self.starts[b], start, length, t)
+        if len(self.held) >= 2:
+            del self.held[next(iter(self.held))]
+        self.held[b] = nodes
+        return nodes
+
+    def __call__(self, t: np.ndarray) -> np.ndarray:
+        """The quantities (m, T) at times ``t`` (T,), s."""
+        t = np.asarray(t, dtype=float)
+        j = np.clip(np.searchsorted(self.knots, t, side="right") - 1, 0, self.count - 1)
+        theta = (t - self.knots[j]) / (self.knots[j + 1] - self.knots[j])
+        weights = lagrange_matrix(theta)  # (T, DEGREE + 1)
+        out = np.empty((self.starts[0].size, t.size))
+        blocks = j // self.BLOCK
+        for b in np.unique(blocks):
+            at = np.flatnonzero(blocks == b)
+            nodes = self._block(int(b))[j[at] - b * self.BLOCK]  # (k, DEGREE + 1, m)
+            out[:, at] = self._interpolated(weights[at], nodes)
+        return out
+
+
 def plan(n_steps: int, tau: float, breaks: Sequence[float], interval: float = INTERVAL) -> Plan:
     """Cut ``[0, N τ]`` into intervals of at most ``interval`` s ending at every break.
 

@@ -48,6 +48,7 @@ import casadi as ca
 import numpy as np
 
 from ins_errors.errors import DomainError
+from ins_errors.numeric import interpolated_truth as it
 from ins_errors.numeric.model import Model
 
 NAVIGATION = ("latitude", "longitude", "height", "v_N", "v_E", "v_D", "roll", "pitch",
@@ -571,7 +572,7 @@ PICARD_TOLERANCE = 1e-14
 more than this, relative to the parameter's size (at least 1)."""
 
 
-class CarriedPath:
+class CarriedPath(it.NodePath):
     """The carried parameters of a model (:func:`carried_parameters`) along a flight.
 
     Their rates ``q̇`` solve, with the model's inputs, its ideal work along the flight,
@@ -589,9 +590,10 @@ class CarriedPath:
     tolerance of 1e-13), a wander angle along a great circle and the manoeuvre is exact
     to about 1e-13 rad over hours (``tests/test_wander_flight.py``).
 
-    The intervals are integrated :attr:`BLOCK` at a time when a run reaches them; two
-    blocks are held and the start of every block reached is kept, so a rerun gets the
-    same bits and a long flight needs memory for two blocks only.
+    The intervals are integrated :attr:`BLOCK` at a time when a run reaches them, two
+    blocks held and the start of every block kept (the blocks and the rereads of
+    :class:`~ins_errors.numeric.interpolated_truth.NodePath`), so a rerun gets the same
+    bits and a long flight needs memory for two blocks only.
 
     Parameters
     ----------
@@ -609,54 +611,35 @@ class CarriedPath:
     """Intervals of one block (1024 nodes: one compiled call)."""
 
     def __init__(self, adapter: FlightAdapter, flight, earth, t_end: float, position):
-        from ins_errors.numeric import interpolated_truth as it
         from ins_errors.numeric.strapdown_stream import integration_matrix
 
         self.adapter, self.flight, self.earth, self.position = adapter, flight, earth, position
-        edges = [0.0, float(t_end)]
-        if flight.breaks:
-            edges += [float(b) for b in flight.breaks]
+        edges = [float(b) for b in flight.breaks] if flight.breaks else []
         if flight.geographic:
             edges += [float(b) for b in np.asarray(flight.commands.splines[0].x)]
-        edges = np.unique(np.clip(np.asarray(edges, dtype=float), 0.0, float(t_end)))
-        lengths = np.diff(edges)
-        parts = np.maximum(np.ceil(lengths / it.INTERVAL - 1e-9), 1).astype(int)
-        first = np.repeat(np.cumsum(parts) - parts, parts)
-        self.knots = np.append(np.repeat(edges[:-1], parts) + np.repeat(lengths / parts, parts)
-                               * (np.arange(parts.sum()) - first), float(t_end))
-        self.count = self.knots.size - 1
+        super().__init__(np.asarray(edges, dtype=float), t_end,
+                         adapter.p[list(adapter.carried)])
         self.integral = integration_matrix()
         self.integral[0] = 0.0  # node 0 is the interval's start
-        self.starts = [adapter.p[list(adapter.carried)].copy()]
-        self.held: dict[int, np.ndarray] = {}
 
-    def __getstate__(self) -> dict:
-        """Pickled without the held blocks (a Monte Carlo worker computes its own)."""
-        return {**self.__dict__, "held": {}}
-
-    def _block(self, b: int) -> np.ndarray:
-        """Values of the carried parameters at the nodes of block ``b``'s intervals,
-        shape (J, DEGREE + 1, m)."""
-        from ins_errors.numeric import interpolated_truth as it
+    def _nodes(self, first: np.ndarray, start: np.ndarray, length: np.ndarray,
+               t: np.ndarray) -> np.ndarray:
+        """Values (J, DEGREE + 1, m) of the carried parameters at the nodes (see
+        :meth:`NodePath._nodes <ins_errors.numeric.interpolated_truth.NodePath._nodes>`):
+        their rate solved with the inputs at the nodes and integrated, iterated (Picard)
+        where it depends on them."""
         from ins_errors.numeric.strapdown_truth import rigid_body_signals
 
-        if b in self.held:
-            return self.held[b]
-        while len(self.starts) <= b:  # the blocks before b, in order
-            self.starts.append(self._block(len(self.starts) - 1)[-1, -1].copy())
-        j0, j1 = b * self.BLOCK, min((b + 1) * self.BLOCK, self.count)
-        start, length = self.knots[j0:j1], np.diff(self.knots[j0:j1 + 1])
-        t = (start[:, None] + length[:, None] * it._NODES[None, :]).ravel()
         *_, nav, rates = rigid_body_signals(self.flight, self.earth, t, self.position(t),
                                             navigation=True)
         adapter = self.adapter
         c, c_rate = adapter.S @ nav, adapter.S @ rates
         _, excess = adapter.solved(c, c_rate)
         still = np.all(excess <= 1.0, axis=1)  # the flight does not move them here
-        m, shape = len(adapter.carried), (j1 - j0, it.DEGREE + 1)
-        nodes = np.repeat(self.starts[b][None, None, :], shape[0] * shape[1],
+        m, shape = len(adapter.carried), (start.size, it.DEGREE + 1)
+        nodes = np.repeat(first[None, None, :], shape[0] * shape[1],
                           axis=1).reshape(*shape, m)
-        size = max(1.0, float(np.abs(self.starts[b]).max()))
+        size = max(1.0, float(np.abs(first).max()))
         for _ in range(PICARD_ROUNDS):
             if still.all():
                 break
@@ -664,7 +647,7 @@ class CarriedPath:
             rate = np.where(still[:, None], 0.0, outputs[2]).reshape(*shape, m)
             rises = length[:, None, None] * np.einsum("ik,jkm->jim", self.integral, rate)
             before = np.cumsum(np.vstack([np.zeros((1, m)), rises[:-1, -1]]), axis=0)
-            again = self.starts[b][None, None, :] + before[:, None, :] + rises
+            again = first[None, None, :] + before[:, None, :] + rises
             change = float(np.abs(again - nodes).max())
             nodes = again
             if not np.all(np.isfinite(nodes)):
@@ -678,25 +661,12 @@ class CarriedPath:
                               "parameters depends on them too strongly for their "
                               f"integration between t = {start[0]:.6g} and "
                               f"{start[-1] + length[-1]:.6g} s to converge")
-        if len(self.held) >= 2:
-            del self.held[next(iter(self.held))]
-        self.held[b] = nodes
         return nodes
 
-    def __call__(self, t: np.ndarray) -> np.ndarray:
-        """The carried parameters (m, T) at times ``t`` (T,), s."""
-        from ins_errors.numeric import interpolated_truth as it
-
-        t = np.asarray(t, dtype=float)
-        j = np.clip(np.searchsorted(self.knots, t, side="right") - 1, 0, self.count - 1)
-        theta = (t - self.knots[j]) / (self.knots[j + 1] - self.knots[j])
-        weights = it.lagrange_matrix(theta)  # (T, DEGREE + 1)
-        out = np.empty((len(self.adapter.carried), t.size))
-        blocks = j // self.BLOCK
-        for b in np.unique(blocks):
-            at = np.flatnonzero(blocks == b)
-            nodes = self._block(int(b))[j[at] - b * self.BLOCK]  # (k, DEGREE + 1, m)
-            out[:, at] = np.einsum("ki,kim->mk", weights[at], nodes)
-            flat = np.all(nodes == nodes[:, :1], axis=(1, 2))  # held: exactly its value
-            out[:, at[flat]] = nodes[flat, 0].T
+    def _interpolated(self, weights: np.ndarray, nodes: np.ndarray) -> np.ndarray:
+        """As :class:`~ins_errors.numeric.interpolated_truth.NodePath`, but an interval
+        where the parameters are held gives exactly their value."""
+        out = super()._interpolated(weights, nodes)
+        flat = np.all(nodes == nodes[:, :1], axis=(1, 2))
+        out[:, flat] = nodes[flat, 0].T
         return out

@@ -156,7 +156,7 @@ class FullRateTruth:
             yield TruthChunk(start, state, inputs, midpoints)
 
 
-class FilePosition:
+class FilePosition(it.NodePath):
     """Latitude, longitude, height and course of a geographic flight (a motion file) at
     any times, for :class:`FullRateTruth`.
 
@@ -168,9 +168,9 @@ class FilePosition:
     of a file sampled every second, where DOP853's steps across the samples lost 1e-7 m,
     and a noisy file's shrank without end), evaluated at the asked times by barycentric
     interpolation. The height is the file's spline itself. The nodes are computed
-    :attr:`BLOCK` intervals at a time when the run reaches them; two blocks are held,
-    and the start of every block reached is kept (4 numbers each), so a rerun (a Monte
-    Carlo draw) gets the same bits and a long file needs memory for two blocks only.
+    :attr:`BLOCK` intervals at a time when the run reaches them, two blocks held and the
+    start of every block kept (4 numbers each: the blocks and the rereads of
+    :class:`~ins_errors.numeric.interpolated_truth.NodePath`).
 
     Parameters
     ----------
@@ -186,61 +186,32 @@ class FilePosition:
 
     def __init__(self, flight: Flight, earth: FlightEarth, t_end: float):
         self.flight, self.earth = flight, earth
-        x = np.asarray(flight.commands.splines[0].x)
-        edges = np.concatenate([[0.0], x[(x > 0.0) & (x < t_end)], [float(t_end)]])
-        lengths = np.diff(edges)
-        parts = np.maximum(np.ceil(lengths / it.INTERVAL - 1e-9), 1).astype(int)
-        first = np.repeat(np.cumsum(parts) - parts, parts)
-        self.knots = np.append(np.repeat(edges[:-1], parts) + np.repeat(lengths / parts, parts)
-                               * (np.arange(parts.sum()) - first), float(t_end))
-        self.count = self.knots.size - 1
-        self.starts = [np.array([flight.latitude, flight.longitude, flight.height,
-                                 flight.course])]
-        self.held: dict[int, np.ndarray] = {}
+        super().__init__(np.asarray(flight.commands.splines[0].x), t_end,
+                         np.array([flight.latitude, flight.longitude, flight.height,
+                                   flight.course]))
 
-    def __getstate__(self) -> dict:
-        """Pickled without the held blocks (a Monte Carlo worker computes its own)."""
-        return {**self.__dict__, "held": {}}
-
-    def _block(self, b: int) -> np.ndarray:
-        """Node values of block ``b``'s intervals, shape (J, DEGREE + 1, 4)."""
-        if b in self.held:
-            return self.held[b]
-        while len(self.starts) <= b:  # the blocks before b, in order
-            self.starts.append(self._block(len(self.starts) - 1)[-1, -1].copy())
-        j0, j1 = b * self.BLOCK, min((b + 1) * self.BLOCK, self.count)
-        start, length = self.knots[j0:j1], np.diff(self.knots[j0:j1 + 1])
-        t = (start[:, None] + length[:, None] * it._NODES[None, :]).ravel()
+    def _nodes(self, first: np.ndarray, start: np.ndarray, length: np.ndarray,
+               t: np.ndarray) -> np.ndarray:
+        """Node values (J, DEGREE + 1, 4) of the position and course (see
+        :meth:`NodePath._nodes <ins_errors.numeric.interpolated_truth.NodePath._nodes>`)."""
+        count = start.size
         commands = np.vstack(self.flight.commands(t)[:3])
-        rows = np.empty((j1 - j0, ROW_COLUMNS))
+        rows = np.empty((count, ROW_COLUMNS))
         rows[:, 0] = length
-        rows[:, 1:] = commands.T.reshape(j1 - j0, -1)
+        rows[:, 1:] = commands.T.reshape(count, -1)
         function = _interval_function(self.earth.a, self.earth.e2, True)
-        _, out = it.carried_batches(function, self.starts[b], rows, it.BATCH, 4,
-                                    4 * it.DEGREE + 1)
-        nodes = np.empty((j1 - j0, it.DEGREE + 1, 4))
-        nodes[:, 1:] = out[:, :-1].reshape(j1 - j0, it.DEGREE, 4)
-        nodes[0, 0] = self.starts[b]
+        _, out = it.carried_batches(function, first, rows, it.BATCH, 4, 4 * it.DEGREE + 1)
+        nodes = np.empty((count, it.DEGREE + 1, 4))
+        nodes[:, 1:] = out[:, :-1].reshape(count, it.DEGREE, 4)
+        nodes[0, 0] = first
         nodes[1:, 0] = nodes[:-1, -1]
-        nodes[:, :, 2] = self.flight.commands.splines[2](t).reshape(j1 - j0, -1)
-        if len(self.held) >= 2:
-            del self.held[next(iter(self.held))]
-        self.held[b] = nodes
+        nodes[:, :, 2] = self.flight.commands.splines[2](t).reshape(count, -1)
         return nodes
 
     def __call__(self, t: np.ndarray) -> np.ndarray:
         """Latitude, longitude, height and course (4, T) at times ``t`` (T,)."""
-        t = np.asarray(t, dtype=float)
-        j = np.clip(np.searchsorted(self.knots, t, side="right") - 1, 0, self.count - 1)
-        theta = (t - self.knots[j]) / (self.knots[j + 1] - self.knots[j])
-        weights = it.lagrange_matrix(theta)  # (T, DEGREE + 1)
-        out = np.empty((4, t.size))
-        blocks = j // self.BLOCK
-        for b in np.unique(blocks):
-            at = blocks == b
-            nodes = self._block(int(b))[j[at] - b * self.BLOCK]  # (m, DEGREE + 1, 4)
-            out[:, at] = np.einsum("mi,mic->cm", weights[at], nodes)
-        out[2] = self.flight.commands.splines[2](t)  # the file's height, exact
+        out = super().__call__(t)
+        out[2] = self.flight.commands.splines[2](np.asarray(t, dtype=float))  # exact
         return out
 
 
