@@ -264,7 +264,7 @@ def carried_parameters(model: Model, c: np.ndarray, p: np.ndarray,
     """Indices of the parameters that a flight may carry as moving states.
 
     A state that no navigation quantity sets but the path flown moves (the wander angle
-    of a wander-azimuth INS, ``α̇ = −λ̇ sin φ``) is started by the initial-state map at a
+    of a wander-azimuth INS, ``α̇ = λ̇ sin φ``) is started by the initial-state map at a
     parameter (``alpha0``); along a flight that parameter moves with it. A parameter is
     taken when its direction ``∂x0/∂q`` at conditions ``c`` (nc,) leaves the span of the
     tangent ``∂x0/∂c``, of the inputs' directions ``∂f/∂u`` (at inputs ``u``, default

@@ -14,7 +14,8 @@ height h; a baro damping loop on h − h_ref (gains k1, k2, open at 0):
 
 γ is WGS-84 normal gravity with its second-order height series. The initial-state map
 starts the wander angle at the parameter α₀; the wander angle then moves as
-α̇ = −λ̇ sin φ, a state no navigation quantity sets (rotating P about its z axis and
+α̇ = λ̇ sin φ (north turns about the down axis at ρ_D = −λ̇ sin φ, the x axis not at
+all), a state no navigation quantity sets (rotating P about its z axis and
 counter-rotating C and v changes no output).
 """
 
