@@ -216,3 +216,31 @@ def test_a_wander_angle_fixed_in_the_map_is_still_refused(tmp_path, capsys, monk
     assert status == 2 and len(err) == 1, err
     assert "no navigation quantity sets (such as a wander angle)" in err[0]
     assert "at no parameter that the flight could carry" in err[0]
+
+
+def test_the_check_decides_what_a_flight_carries_where_the_flight_does(tmp_path, monkeypatch):
+    # a wander angle started at alpha0·sin φ: at the equator alpha0 starts nothing, at 50°
+    # it starts the wander angle. The flight decides at its start; the check of its
+    # samples must decide there too (it decided at 50° and then fitted alpha0 to
+    # samples on the equator, along a direction ∂x0/∂alpha0 = 0: a singular solve)
+    from ins_errors.checker.strapdown_description import carried_values
+    from ins_errors.numeric.model_flight import FlightAdapter, condition_matrix
+
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path / "cache"))  # a throw-away model
+    text = WANDER.read_text(encoding="utf-8")
+    old = 'C_wn = turn_z(S["alpha0"])'
+    assert text.count(old) == 1
+    path = tmp_path / "latitude_wander.py"
+    path.write_text(text.replace(old, 'C_wn = turn_z(S["alpha0"] * sp.sin(lat))'),
+                    encoding="utf-8")
+    model = load_model(str(path))
+    p = model.parameter_vector(alpha0=0.4)
+    initial = model.casadi.function("initial_state")
+    for lat, carried in ((0.0, ()), (LAT, (3,))):
+        nav = np.array([lat, LON, HEIGHT, 0.0, 0.0, 0.0, 0.0, 0.0, COURSE])
+        adapter = FlightAdapter(model, p, (nav, np.zeros(9)))
+        assert adapter.carried == carried
+        x0 = np.asarray(initial(condition_matrix(model) @ nav, np.zeros(len(model.inputs)),
+                                p), dtype=float)
+        x = np.repeat(x0, 3, axis=1)
+        np.testing.assert_array_equal(carried_values(model, x, p), p)  # at its value

@@ -41,7 +41,7 @@ Everything else is read from its equations, so no axis convention is assumed:
 from __future__ import annotations
 
 import hashlib
-from functools import cache
+from functools import cache, lru_cache
 
 import casadi as ca
 import numpy as np
@@ -253,7 +253,7 @@ def _carried_directions(model, parts: tuple[str, str, str, str], x: np.ndarray,
     UnspannedStateError
         A carried parameter's state feeds the navigation errors.
     """
-    carried = _carried(model.key, np.ascontiguousarray(p, dtype=float).tobytes())
+    carried = _carried(model, x, p)
     if not carried:
         return None
     values = moved if moved.ndim == 2 else np.repeat(moved[:, None], x.shape[-1], axis=1)
@@ -509,17 +509,30 @@ CARRIED_CHANGE = 1e-13
 size, at least 1) is not taken: the parameter has its value."""
 
 
-@cache
-def _carried(model_key: str, p: bytes) -> tuple[int, ...]:
-    """The carried parameters of a model at a static base of φ 50° (a property of its
-    initial-state map: :func:`~ins_errors.numeric.model_flight.carried_parameters`)."""
+def _carried(model, x: np.ndarray, p: np.ndarray) -> tuple[int, ...]:
+    """The carried parameters along samples ``x`` (n, K) of a flight: the flight's own
+    decision (:attr:`~ins_errors.numeric.model_flight.FlightAdapter.carried`,
+    :func:`~ins_errors.numeric.model_flight.carried_parameters` at the conditions of its
+    start), taken at the navigation quantities of the first sample, where every motion a
+    check flies begins. A model's initial-state map may start a state at a parameter at
+    one point and not at another (a wander angle ``alpha0 sin φ`` is started by nothing at
+    the equator), so the check and the flight decide at the same point."""
+    p = np.ascontiguousarray(p, dtype=float)
+    first = np.ascontiguousarray(np.asarray(x, dtype=float).reshape(x.shape[0], -1)[:, :1])
+    nu = np.ascontiguousarray(_along(_navigation_function(model.key), first, p)[0][:, 0, 0])
+    return _carried_at(model.key, p.tobytes(), nu.tobytes())
+
+
+@lru_cache(maxsize=64)
+def _carried_at(model_key: str, p: bytes, nu: bytes) -> tuple[int, ...]:
+    """:func:`~ins_errors.numeric.model_flight.carried_parameters` at navigation
+    quantities ``nu`` (9,) and parameters ``p`` (np,), as float64 bytes."""
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.model_flight import carried_parameters, condition_matrix
 
     model = load_model(model_key)
-    nu = np.array([np.radians(50.0), np.radians(30.0), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0,
-                   np.radians(30.0)])
-    return carried_parameters(model, condition_matrix(model) @ nu, np.frombuffer(p))
+    return carried_parameters(model, condition_matrix(model) @ np.frombuffer(nu),
+                              np.frombuffer(p))
 
 
 @cache
@@ -573,7 +586,7 @@ def carried_values(model, x: np.ndarray, p: np.ndarray) -> np.ndarray:
         No value of the parameters puts the map through some sample's state.
     """
     p = np.ascontiguousarray(p, dtype=float)
-    carried = _carried(model.key, p.tobytes())
+    carried = _carried(model, x, p)
     if not carried:
         return p
     fit = _carried_functions(model.key, carried)[0]
@@ -614,7 +627,7 @@ def _tangent_rate(model, parts: tuple[str, str, str, str], x: np.ndarray,
     from ins_errors.numeric.model_flight import FLIGHT_TOLERANCE
 
     K_dot = np.moveaxis(_along(_functions(*parts)[3], x, xdot, moved)[0], -1, 0)
-    carried = _carried(model.key, np.ascontiguousarray(p, dtype=float).tobytes())
+    carried = _carried(model, x, p)
     if not carried or moved.ndim == 1:
         return K_dot
     _, rate, tangent_rate = _carried_functions(model.key, carried)
