@@ -15,8 +15,6 @@ from __future__ import annotations
 
 import argparse
 
-import numpy as np
-
 from ins_errors.json_output import emit
 from ins_errors.time_text import duration_text
 
@@ -143,8 +141,10 @@ def table(result) -> str:
                 f"{'it' if len(missing) == 1 else 'them'} are named by kind only"
                 if missing else "")]
     if result.latitude_source not in (None, "base"):
+        from ins_errors.numeric.trajectories import latitude_text
+
         notes.append(f"the model has no latitude: the Foucault split Ω|sin φ| is taken at "
-                     f"φ = {np.degrees(refs.latitude):.4g}° ({result.latitude_source})")
+                     f"φ = {latitude_text(refs.latitude)}° ({result.latitude_source})")
     elif refs.latitude is None and refs.Omega is not None:
         notes.append("the model has no latitude (and no latitude parameter): no Foucault "
                      "split is named")
@@ -202,10 +202,11 @@ def _foucault_note(result) -> str:
     model's note where it has one: facts of these modes only, no guessed cause."""
     from ins_errors.analysis.modes import BAND, FOUCAULT_MATCH, NAMED_DAMPING
     from ins_errors.numeric.closed_forms import SPLIT_MODES
+    from ins_errors.numeric.trajectories import latitude_text
 
     refs = result.references
     head = (f"Foucault period 2π/(Ω|sin φ|) = {duration_text(result.foucault_period_s)} at "
-            f"φ = {np.degrees(refs.latitude):.4g}°")
+            f"φ = {latitude_text(refs.latitude)}°")
     measured = result.foucault_period_from_modes_s
     if measured is not None:
         damped = any(m.time_constant_s is not None for m in result.modes

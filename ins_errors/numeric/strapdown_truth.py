@@ -74,6 +74,7 @@ from ins_errors.numeric.trajectories import (
     angle_text,
     check_height,
     check_track_angle,
+    latitude_text,
     motion_number,
     run_arguments,
     smoothstep,
@@ -333,7 +334,7 @@ def static(latitude: float, longitude: float = 0.0, height: float = 0.0, roll: f
     check_height(height, "flight height")
 
     return Flight(latitude, longitude, height, heading, GeodesicCommands(0.0),
-                  f"static base at φ={np.degrees(latitude):.4g}°, λ={np.degrees(longitude):.4g}°,"
+                  f"static base at φ={latitude_text(latitude)}°, λ={np.degrees(longitude):.4g}°,"
                   f" h={height:g} m, roll/pitch/heading = {np.degrees(roll):.3g}°/"
                   f"{np.degrees(pitch):.3g}°/{np.degrees(heading):.4g}°",
                   static=True, roll=roll, pitch=pitch)
@@ -352,7 +353,7 @@ def great_circle(latitude: float, longitude: float, course: float, speed: float,
         raise MotionError(f"great-circle speed must be > 0 m/s, got {speed:g} m/s")
 
     return Flight(latitude, longitude, height, course, GeodesicCommands(float(speed)),
-                  f"great circle from φ={np.degrees(latitude):.4g}°, "
+                  f"great circle from φ={latitude_text(latitude)}°, "
                   f"λ={np.degrees(longitude):.4g}°, course {np.degrees(course):.4g}°, "
                   f"{speed:g} m/s, h={height:g} m", breaks=())
 
@@ -389,7 +390,7 @@ def manoeuvre(latitude: float, longitude: float, course: float, speed: float,
 
     return Flight(latitude, longitude, height, course,
                   FlightLegCommands(tuple(starts), float(speed)),
-                  f"manoeuvring flight of {len(legs)} legs from φ={np.degrees(latitude):.4g}°,"
+                  f"manoeuvring flight of {len(legs)} legs from φ={latitude_text(latitude)}°,"
                   f" λ={np.degrees(longitude):.4g}°",
                   breaks=tuple(float(start + length) for start, length, *_ in starts))
 

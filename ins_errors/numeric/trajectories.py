@@ -175,7 +175,7 @@ def static_profile(latitude: float, longitude: float = 0.0, heading: float = 0.0
     return Profile("track", SteadyCommands(0.0, h), latitude, longitude, heading,
                    static=True, breaks=(),
                    **_description((None, "static base"),
-                                  ("latitude", f" at φ={np.degrees(latitude):.4g}°"),
+                                  ("latitude", f" at φ={latitude_text(latitude)}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°"),
                                   ("heading", f", χ={np.degrees(heading):.4g}°"),
                                   ("height", f", h={h:g} m")))
@@ -202,7 +202,7 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
 
     return Profile("track", SteadyCommands(speed, h), latitude, longitude, track, breaks=(),
                    **_description((None, "great circle"),
-                                  ("latitude", f" from φ={np.degrees(latitude):.4g}°"),
+                                  ("latitude", f" from φ={latitude_text(latitude)}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°"),
                                   ("heading", f", track {np.degrees(track):.4g}°"),
                                   (None, f", {speed:g} m/s"), ("height", f", h={h:g} m")))
@@ -255,6 +255,19 @@ def angle_text(value: float) -> str:
     shown = f"{np.degrees(value):g}°"
     looks_like_degrees = 2 * np.pi < abs(value) <= 1000 and value == round(value)
     return f"{shown} ({value:g} rad)" if looks_like_degrees else shown
+
+
+def latitude_text(latitude: float) -> str:
+    """A latitude (rad) in degrees for a description, without the ``°``: four significant
+    digits, more where four would move it towards a pole by more than 1 % of its distance
+    from it (``89.9999``, not ``90``: near a pole the error equations go with sec φ)."""
+    degrees = float(np.degrees(latitude))
+    distance = 90.0 - abs(degrees)
+    for digits in range(4, 16):
+        text = f"{degrees:.{digits}g}"
+        if abs((90.0 - abs(float(text))) - distance) <= 0.01 * distance:
+            return text
+    return f"{degrees:.16g}"
 
 
 def check_track_angle(value: float, what: str, example: str = "90° for due east") -> None:
@@ -466,7 +479,7 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
     return Profile("track", LegCommands(table, float(speed), float(h)), latitude, longitude,
                    track, breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])),
                    **_description((None, name or f"manoeuvring flight of {len(legs)} legs"),
-                                  ("latitude", f" from φ={np.degrees(latitude):.4g}°"),
+                                  ("latitude", f" from φ={latitude_text(latitude)}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°"),
                                   ("heading", f", track {np.degrees(track):.4g}°"),
                                   (None, f", {float(speed):g} m/s"),
@@ -528,7 +541,7 @@ def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: flo
     return Profile(frame, SplineCommands(splines, float(t[0]), float(t[-1])), latitude,
                    longitude, heading, breaks=t.copy(),
                    **_description((None, f"{origin} ({t.size} samples, {frame} frame)"),
-                                  ("latitude", f" from φ={np.degrees(latitude):.4g}°"),
+                                  ("latitude", f" from φ={latitude_text(latitude)}°"),
                                   ("longitude", f", λ={np.degrees(longitude):.4g}°"),
                                   ("heading", f", track {np.degrees(heading):.4g}°"),
                                   *((("height", f", h={float(h):g} m"),)
