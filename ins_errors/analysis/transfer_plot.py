@@ -4,6 +4,9 @@ Each pair's magnitude is drawn in the output's display unit per the source's dis
 unit (an initial error's W carries one second more), over the band of the model's modes
 (:func:`~ins_errors.analysis.transfer.frequency_band`), with a vertical line at the
 frequency of every named mode a pair has as a pole; the upper axis gives the period.
+Pairs differ by colour and line style; a curve identical to an earlier one (a drift of
+1 deg/h and a tilt of 1 arcsec: 1 deg/h = 1 arcsec/s) is drawn dashed and wider over it
+and its legend entry says so; the legend sits below the axes, in columns.
 """
 
 from __future__ import annotations
@@ -18,6 +21,9 @@ POINTS = 2000
 """Frequencies drawn, log-spaced over the band."""
 
 DPI = 110
+
+LINE_STYLES = ("-", "--", "-.", ":")
+"""Line styles cycled after the colours (pairs 11 to 20 dashed, ...)."""
 
 
 def _label(pair) -> str:
@@ -61,14 +67,27 @@ def plot_bode(result: TransferFunctions, path: str | Path, title: str | None = N
     fig, (top, bottom) = plt.subplots(2, 1, figsize=(8.0, 6.6),
                                       gridspec_kw={"height_ratios": [2, 1]})
     drawn = [p for p in result.pairs if not p.is_zero]
-    for pair in drawn:
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    curves: list[tuple[np.ndarray, str]] = []
+    for k, pair in enumerate(drawn):
         value = pair(1j * omega)
         output_factor, source_size = pair.display_factors
         magnitude = np.abs(value) * output_factor * source_size
-        (line,) = top.loglog(omega, magnitude, lw=1.2, label=_label(pair))
+        # colour × line style: no two of 40 pairs alike
+        style = {"color": colours[k % len(colours)],
+                 "ls": LINE_STYLES[(k // len(colours)) % len(LINE_STYLES)], "lw": 1.2}
+        label = _label(pair)
+        same = next((name for curve, name in curves
+                     if np.allclose(curve, value * output_factor * source_size,
+                                    rtol=1e-6, atol=0.0)), None)
+        if same is not None:  # drawn dashed and wider over the first: both show
+            style.update(ls=(0, (2, 2)), lw=2.4)
+            label += f" (the same curve as {same})"
+        curves.append((value * output_factor * source_size, f"{pair.source} → {pair.output}"))
+        top.loglog(omega, magnitude, label=label, **style)
         phase = np.degrees(np.angle(value))
         phase[phase < -179.999] += 360.0  # a negative real W at +180°, not flickering
-        bottom.semilogx(omega, phase, lw=1.0, color=line.get_color())
+        bottom.semilogx(omega, phase, **{**style, "lw": style["lw"] * 0.85})
     if not drawn:
         top.text(0.5, 0.5, "W(s) = 0 for every pair: nothing to draw", ha="center",
                  transform=top.transAxes)
@@ -92,12 +111,18 @@ def plot_bode(result: TransferFunctions, path: str | Path, title: str | None = N
     top.tick_params(labelbottom=False)
     period = top.secondary_xaxis("top", functions=(_period_h, _period_h))
     period.set_xlabel("period 2π/ω [h]", fontsize=9)
+    columns = 1 if len(drawn) <= 6 else 2 if len(drawn) <= 24 else 3
+    rows = -(-len(drawn) // columns)
+    legend_height = 0.16 * rows + 0.2 if drawn else 0.0  # inches, below the axes
     if drawn:
-        top.legend(fontsize=7, loc="lower left")
+        fig.set_size_inches(8.0, 6.6 + legend_height)
+        bottom.legend(*top.get_legend_handles_labels(), fontsize=7, ncol=columns,
+                      loc="upper center", bbox_to_anchor=(0.5, -0.32), frameon=False)
     modes = result.modes
     top.set_title(title or f"{modes.model}: transfer functions W(iω), {modes.base}",
                   fontsize=9, pad=28)
-    fixed_margins(fig, left=0.9, right=0.25, bottom=0.55, top=0.75, hspace=0.15)
+    fixed_margins(fig, left=0.9, right=0.25, bottom=0.55 + legend_height, top=0.75,
+                  hspace=0.15)
     return save_figure(fig, path, dpi=DPI)
 
 
