@@ -29,9 +29,17 @@ Markov parameter h F^(r−1) g (r the relative degree), so that::
 
     W(s) = K (s − z₁)…(s − z_(n−r)) / ((s − p₁)…(s − p_n))
 
-A zero within :data:`CANCEL` of a pole cancels it too. Each pole is named as ``modes``
-names F's eigenvalue it is (Schuler, Schuler ± Foucault, Earth, vertical channel,
-integrator, ...), and each mode of F the pair does not see is listed as cancelled.
+Two computed roots are one repeated root only within :data:`GROUP_SAFETY` times their
+accuracy (a Jordan block's rounding split), so a close but distinct pair (the Foucault
+split within 1e-4° of the equator) stays two. A zero within :data:`CANCEL` of a pole
+(or within their accuracies) cancels it too. Each pole is named as ``modes`` names F's
+eigenvalue it is (Schuler, Schuler ± Foucault, Earth, vertical channel, integrator,
+...), and each mode of F the pair does not see is listed as cancelled.
+
+W = 0 is proved by the Markov parameters h Fᵏ g, k < n, against their componentwise
+bounds (:func:`markov_zero`); a reduction that finds nothing where they say otherwise is
+not taken, except for a W below :data:`TOLERANCE` of what the norms allow (``negligible``,
+:class:`_Reference`).
 
 The factored form is checked against h (iωI − F)⁻¹ g of the whole F at frequencies
 across the band (:attr:`TransferFunction.check_error`); a form off by more than
@@ -55,7 +63,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ins_errors.analysis.modes import ZERO, Mode, StaticModes, _groups, static_modes
+from ins_errors.analysis.modes import ZERO, Mode, StaticModes, static_modes
 from ins_errors.errors import DomainError, InsErrorsError, unknown_name
 from ins_errors.numeric.model import Model, as_model
 
@@ -84,14 +92,26 @@ part in W is then at the level of the roots' rounding (a weakly reachable and we
 seen mode that the Krylov bases kept, e.g. strapdown_ned's vertical channel in a
 horizontal output near the equator)."""
 
+SLOW_DECAY = 1.0
+"""A damped oscillation whose decay time is at least this many of its periods (damping
+ratio below about 0.16) is listed in the long run with its amplitude and decay time: it
+rings for several periods, and a lightly damped Schuler pair (ζ ~ 1e-4 from a damped
+vertical channel) for months."""
+
+CLOSE_ROOTS = 1e-4
+"""Two roots of W closer than this share of their size are printed with the digits that
+tell them apart (:attr:`TransferFunction.digits`): at 4 digits they would look equal."""
+
 CHECK_FREQUENCIES = 9
 """Frequencies across the band at which the factored form is checked against the whole
 F's h (iωI − F)⁻¹ g."""
 
 CHECK_LIMIT = 1e-6
 """A reduction is taken when its factored form agrees with the whole F's
-h (iωI − F)⁻¹ g to this share of the larger of its size and 1e-3 of the largest size its
-norms allow (so a W below 1e-9 of that, zero at :data:`TOLERANCE`, passes as zero); else
+h (iωI − F)⁻¹ g to this share of the larger of its size and 1e-3 of the size the rounding
+of F's, g's and h's entries can give it (:class:`_Reference`; so a W below 1e-9 of that
+passes as zero); a W = 0 must moreover be proved by its Markov parameters
+(:func:`markov_zero`); else
 the next one of :data:`REDUCTIONS` is tried, and the best is kept (the command says
 so)."""
 
@@ -100,8 +120,8 @@ REFUSE_LIMIT = 1e-3
 (:class:`~ins_errors.errors.DomainError`): F is too ill-conditioned at the base."""
 
 CHECK_FLOOR = TOLERANCE / CHECK_LIMIT
-"""The share of the norms' bound below which the check measures W against that share
-(1e-3: a difference below 1e-9 of the bound passes)."""
+"""The share of the componentwise bound below which the check measures W against that
+share (1e-3: a difference below 1e-9 of the bound passes)."""
 
 CONVENTION = ("W(s) = h (sI − F)⁻¹ g, s in 1/s: h the output's row of H, g the source's "
               "column of G (a constant source: size b gives Y(s) = b·W(s)/s) or of the "
@@ -156,19 +176,20 @@ class Factor:
         """Its degree in s."""
         return self.multiplicity * (2 if self.value.imag else 1)
 
-    def text(self) -> str:
+    def text(self, digits: int = 4) -> str:
         """The factor in s, real form: ``s²``, ``(s + 1.755e-03)``, ``(s² + (1.186e-03)²)``,
-        ``(s² + 4.2e-04 s + (1.2e-03)²)``, with its power."""
+        ``(s² + 4.2e-04 s + (1.2e-03)²)``, with its power; ``digits`` after the point."""
         v, power = self.value, superscript(self.multiplicity)
         if v == 0:
             return f"s{power}"
         if not v.imag:
             sign = "+" if v.real < 0 else "−"
-            return f"(s {sign} {abs(v.real):.4e}){power}"
+            return f"(s {sign} {abs(v.real):.{digits}e}){power}"
         if not v.real:
-            return f"(s² + ({v.imag:.4e})²){power}"
+            return f"(s² + ({v.imag:.{digits}e})²){power}"
         sign = "+" if v.real < 0 else "−"
-        return f"(s² {sign} {abs(2 * v.real):.4e} s + ({abs(v):.4e})²){power}"
+        return (f"(s² {sign} {abs(2 * v.real):.{digits}e} s + ({abs(v):.{digits}e})²)"
+                f"{power}")
 
     def to_dict(self) -> dict:
         return {"real": self.value.real, "imag": self.value.imag,
@@ -179,7 +200,8 @@ class Factor:
 
 @dataclass(frozen=True)
 class Oscillation:
-    """An undamped oscillation of the long-run response.
+    """An oscillation of the long-run response: undamped, or damped slowly (decay time
+    at least its period, :data:`SLOW_DECAY`).
 
     Attributes
     ----------
@@ -188,13 +210,16 @@ class Oscillation:
     period_s : float
         Its period, s.
     amplitude : float
-        Its amplitude in the response to a unit source (output SI unit per source SI
-        unit).
+        Its amplitude (at the start, of a damped one) in the response to a unit source
+        (output SI unit per source SI unit), >= 0.
+    decay_s : float or None
+        The time its amplitude takes to fall by e, s (1/|Re λ|); None when undamped.
     """
 
     name: str
     period_s: float
     amplitude: float
+    decay_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -221,6 +246,9 @@ class LongRun:
         The fastest growing pole (exponential kind) or the repeated pair (resonance).
     settles : bool
         True when every pole of Y other than 0 is damped (the response settles).
+    settling_s : float or None
+        When every damped term has fallen below 1 % of the value the response settles
+        at (of its largest term where that is zero), s (None without a damped term).
     """
 
     kind: str
@@ -229,6 +257,7 @@ class LongRun:
     oscillations: tuple[Oscillation, ...] = ()
     growth: Factor | None = None
     settles: bool = False
+    settling_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -262,11 +291,16 @@ class TransferFunction:
     check_error : float
         Largest difference between the factored form and the whole F's
         h (iωI − F)⁻¹ g over :data:`CHECK_FREQUENCIES` frequencies of the band, relative
-        to the larger of the latter's size and :data:`CHECK_FLOOR` of the largest its
-        norms allow (:class:`_Reference`).
+        to the larger of the latter's size and :data:`CHECK_FLOOR` of the size rounding
+        can give it (:class:`_Reference`); at least 1 for a W = 0 its Markov parameters
+        do not prove (:func:`markov_zero`).
     display_factors : tuple of float
         (factor turning the output's SI value into its display unit, one display unit
         of the source in SI).
+    negligible : bool
+        W = 0 not exactly (its Markov parameters are not all zero to rounding) but below
+        :data:`TOLERANCE` of the size the norms allow (:class:`_Reference`): a coupling
+        weaker than the reductions' tolerance.
     """
 
     source: str
@@ -285,6 +319,7 @@ class TransferFunction:
     magnitude: float
     check_error: float = 0.0
     display_factors: tuple[float, float] = field(default=(1.0, 1.0), repr=False)
+    negligible: bool = False
 
     @property
     def order(self) -> int:
@@ -383,20 +418,48 @@ class TransferFunction:
         resonant = [f for f in self.poles if f.value.imag and not f.value.real
                     and f.multiplicity > 1]
         oscillations = tuple(
-            Oscillation(f.name or "oscillation", f.period_s, 2 * abs(fractions[f.value][0]))
-            for f in self.poles if f.value.imag and not f.value.real and f.multiplicity == 1)
+            Oscillation(f.name or "oscillation", f.period_s, 2 * abs(fractions[f.value][0]),
+                        f.time_constant_s)
+            for f in self.poles if f.value.imag and f.multiplicity == 1
+            and (not f.value.real or (f.value.real < 0
+                                      and f.time_constant_s >= SLOW_DECAY * f.period_s)))
         settles = all(f.value.real < 0 for f in self.poles if f.value != 0)
         at_zero = fractions.get(0j)
+        settling = self._settling(fractions, at_zero)
         if resonant:
             biggest = max(resonant, key=lambda f: f.multiplicity)
             power = biggest.multiplicity - 1
-            return LongRun("resonance", power, None, oscillations, growth=biggest)
+            coefficient = None
+            if at_zero is not None and len(at_zero) - 1 >= power:  # a t^m of its own
+                power = len(at_zero) - 1
+                coefficient = float(at_zero[-1].real) / math.factorial(power)
+            return LongRun("resonance", power, coefficient, oscillations, growth=biggest,
+                           settling_s=settling)
         if at_zero is None:
-            return LongRun("zero", 0, 0.0, oscillations, settles=settles)
+            return LongRun("zero", 0, 0.0, oscillations, settles=settles,
+                           settling_s=settling)
         m = len(at_zero)
         coefficient = float(at_zero[-1].real) / math.factorial(m - 1)
         return LongRun("constant" if m == 1 else "power", m - 1, coefficient, oscillations,
-                       settles=settles)
+                       settles=settles, settling_s=settling)
+
+    def _settling(self, fractions: dict, at_zero) -> float | None:
+        """When every damped term of the response is below 1 % of the value it settles
+        at (of the largest term's size where that is zero or it grows), s: the latest
+        τ ln(size/(0.01 · scale)) of the damped poles (None without a damped term)."""
+        terms = []
+        for f in self.poles:
+            if f.value.real < 0:
+                size = float(np.abs(fractions[f.value]).sum()) * (2 if f.value.imag else 1)
+                if size > 0:
+                    terms.append((f.time_constant_s, size))
+        if not terms:
+            return None
+        if at_zero is not None and len(at_zero) == 1 and at_zero[0] != 0:
+            scale = abs(at_zero[0])
+        else:
+            scale = max(2 * float(np.abs(r).sum()) for _, r in fractions.items())
+        return max(tau * max(math.log(size / (0.01 * scale)), 0.0) for tau, size in terms)
 
     # -- display -----------------------------------------------------------------------
     @property
@@ -415,14 +478,28 @@ class TransferFunction:
         return (self.gain * output_factor * source_size,
                 f"{_unit_term(self.output_display)}/{_unit_term(self.source_display)}{per}")
 
+    @property
+    def digits(self) -> int:
+        """Digits after the point the roots are printed with: 4, or as many as tell apart
+        two of W's roots (a zero and a pole, two poles) within :data:`CLOSE_ROOTS` of
+        each other's size (+ 2, at most 12)."""
+        values = [f.value for f in (*self.zeros, *self.poles) if f.value != 0]
+        closest = min((abs(a - b) / max(abs(a), abs(b))
+                       for k, a in enumerate(values) for b in values[k + 1:]
+                       if a != b), default=1.0)
+        if closest >= CLOSE_ROOTS:
+            return 4
+        return int(min(12, math.ceil(-math.log10(max(closest, 1e-16))) + 2))
+
     def factored_text(self) -> str:
         """``W(s) = K [unit] · zeros / poles`` in display units (``W(s) = 0`` when the
-        source does not reach the output)."""
+        source does not reach the output); roots with :attr:`digits`."""
         if self.is_zero:
             return "W(s) = 0"
         value, unit = self.gain_display
-        numerator = " ".join(f.text() for f in self.zeros) or "1"
-        denominator = " ".join(f.text() for f in self.poles)
+        digits = self.digits
+        numerator = " ".join(f.text(digits) for f in self.zeros) or "1"
+        denominator = " ".join(f.text(digits) for f in self.poles)
         if len(self.poles) > 1:
             denominator = f"({denominator})"
         return f"W(s) = {value:.4e} [{unit}] · {numerator} / {denominator}"
@@ -445,15 +522,16 @@ class TransferFunction:
                 {"pole": {"real": p.real, "imag": p.imag},
                  "coefficients": [{"real": r.real, "imag": r.imag} for r in coefficients]}
                 for p, coefficients in self.partial_fractions],
-            "check_error": self.check_error,
+            "check_error": self.check_error, "negligible": self.negligible,
             "magnitude": self.magnitude,
             "long_run": {
                 "kind": run.kind, "power": run.power, "coefficient": run.coefficient,
                 "value": None if run.coefficient is None else run.coefficient * self.magnitude,
-                "settles": run.settles,
+                "settles": run.settles, "settling_s": run.settling_s,
                 "growth": None if run.growth is None else run.growth.to_dict(),
                 "oscillations": [{"name": o.name, "period_s": o.period_s,
-                                  "amplitude": o.amplitude * self.magnitude}
+                                  "amplitude": abs(o.amplitude * self.magnitude),
+                                  "decay_s": o.decay_s}
                                  for o in run.oscillations],
                 "text": long_run_text(self)},
         }
@@ -662,6 +740,14 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
             factor, display = display_scale(unit)
             reference = _Reference(F, point.factors, column, row, band)
             tried = []
+            if markov_zero(F, column, row):  # proved: no reduction needed
+                everything = tuple(Factor(m.eigenvalue, m.multiplicity, m.name)
+                                   for m in modes.modes)
+                pair = TransferFunction(source, output, info.kind or "constant", info.unit,
+                                        unit, shown, display, 0.0, 0, (), (), len(F),
+                                        everything, b, 0.0, (factor, size))
+                pairs.append(pair)
+                continue
             for k, (balanced, tolerance) in enumerate(REDUCTIONS):
                 if k not in reductions:
                     reductions[k] = _Reduction(F, point.factors, modes, balanced, tolerance)
@@ -669,7 +755,11 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
                 pair = TransferFunction(source, output, info.kind or "constant", info.unit,
                                         unit, shown, display, gain, degree, zeros, poles,
                                         len(F), cancelled, b, 0.0, (factor, size))
-                pair = replace(pair, check_error=reference.error(pair))
+                if pair.is_zero:  # not proved zero by its Markov parameters
+                    pair = replace(pair, negligible=reference.negligible,
+                                   check_error=0.0 if reference.negligible else 1.0)
+                else:
+                    pair = replace(pair, check_error=reference.error(pair))
                 tried.append(pair)
                 if pair.check_error <= CHECK_LIMIT:
                     break
@@ -698,9 +788,18 @@ def frequency_band(modes: StaticModes) -> tuple[float, float]:
 
 class _Reference:
     """h (iωI − F)⁻¹ g of the whole F at :data:`CHECK_FREQUENCIES` frequencies of the
-    band (placed off the decades, away from any mode's exact frequency), and the largest
-    size the norms allow there, |h D⁻¹| |D g| / σ_min(iωI − D F D⁻¹) (D: the states in
-    the units of the Schuler loop)."""
+    band (placed off the decades, away from any mode's exact frequency), and the size its
+    rounding can reach there: the componentwise bound |h R| |F| |R g| + |h R| |g| +
+    |h| |R g| (R = (iωI − F)⁻¹, absolute values entry by entry), by which W moves when
+    every entry of F, g and h moves by its own relative share. Unlike a bound on norms
+    it does not change when a state is measured in another unit, so a coupling that
+    only a badly scaled F (near a pole: entries growing as tan φ against others going
+    with cos φ) makes small is not taken for rounding. ``negligible``: W is below
+    :data:`TOLERANCE` of the smaller of |h R| |g| and |h| |R g| (2-norms, the states in
+    the units of the Schuler loop: how large the output's response to a unit impulse of
+    any state is, and the states' response to the source), the largest of the band: a
+    coupling weaker than the reductions' tolerance (as one going with sin φ within
+    about 1e-7° of the equator)."""
 
     def __init__(self, F: np.ndarray, factors: np.ndarray, g: np.ndarray, h: np.ndarray,
                  band: tuple[float, float]):
@@ -708,22 +807,52 @@ class _Reference:
         scaled = factors[:, None] * F / factors[None, :]
         b, c = factors * g, h / factors
         identity = np.eye(len(F))
-        whole, bound = [], []
+        whole, bound, norms = [], [], []
         for w in self.omegas:
             resolvent = 1j * w * identity - scaled
-            whole.append(c @ np.linalg.solve(resolvent, b))
-            bound.append(np.linalg.norm(c) * np.linalg.norm(b)
-                         / np.linalg.svd(resolvent, compute_uv=False)[-1])
+            right = np.linalg.solve(resolvent, b)
+            left = np.linalg.solve(resolvent.T, c)
+            whole.append(c @ right)
+            bound.append(np.abs(left) @ np.abs(scaled) @ np.abs(right)
+                         + np.abs(left) @ np.abs(b) + np.abs(c) @ np.abs(right))
+            norms.append(min(np.linalg.norm(left) * np.linalg.norm(b),
+                             np.linalg.norm(c) * np.linalg.norm(right)))
         self.whole = np.array(whole)
-        self.size = max(float(np.abs(self.whole).max()), CHECK_FLOOR * float(max(bound)))
+        self.bound = float(max(bound))
+        self.size = max(float(np.abs(self.whole).max()), CHECK_FLOOR * self.bound)
+        self.negligible = bool(float(np.abs(self.whole).max())
+                               <= TOLERANCE * float(max(norms)))
 
     def error(self, pair: TransferFunction) -> float:
         """The largest difference of ``pair``'s factored form from h (iωI − F)⁻¹ g,
         relative to the larger of the latter's size and :data:`CHECK_FLOOR` of the
-        norms' bound (0 when both are zero)."""
+        componentwise bound (0 when both are zero)."""
         if self.size == 0.0:
             return 0.0
         return float(np.abs(pair(1j * self.omegas) - self.whole).max() / self.size)
+
+
+def markov_zero(F: np.ndarray, g: np.ndarray, h: np.ndarray,
+                tolerance: float = TOLERANCE) -> bool:
+    """True when h (sI − F)⁻¹ g is zero: every Markov parameter h Fᵏ g, k < n, within
+    ``tolerance`` of its componentwise bound |h| |F|ᵏ |g| (the size rounding of F's, g's
+    and h's entries can give it; the same in any units of the states, unlike
+    |h| ‖Fᵏ‖ |g|, which near a pole grows with F's tan φ entries while the couplings
+    that carry W go with cos φ). A path whose bound is exactly zero is structurally
+    absent."""
+    v, bound = np.asarray(g, dtype=float), np.abs(g)
+    A = np.abs(F)
+    for _ in range(len(g)):
+        size = float(np.abs(h) @ bound)
+        if size and abs(float(h @ v)) > tolerance * size:
+            return False
+        v, bound = F @ v, A @ bound
+        top = float(bound.max()) if bound.size else 0.0
+        if top == 0.0:
+            return True
+        if top > 1e100 or top < 1e-100:  # rescale both alike: the ratio is what counts
+            v, bound = v / top, bound / top
+    return True
 
 
 class _Reduction:
@@ -759,21 +888,43 @@ class _Reduction:
         everything = self._cancelled([])
         if b_size == 0.0 or c_size == 0.0:
             return 0.0, 0, (), (), everything
-        A, b, c = minimal_realisation(self.A, b / b_size, c / c_size, self.tolerance)
+        A, b, c, defect = _minimal(self.A, b / b_size, c / c_size, self.tolerance)
         if A.shape[0] == 0:
             return 0.0, 0, (), (), everything
         degree, markov = relative_degree(A, b, c, self.tolerance)
         if degree == 0:
             return 0.0, 0, (), (), everything
-        zeros = self.rho * zero_dynamics(A, b, c, degree, markov)
-        poles = self.rho * np.linalg.eigvals(A)
+        zeros, zero_errors = _roots(zero_dynamics_matrix(A, b, c, degree, markov), defect)
+        poles, pole_errors = _roots(A, defect)
         gain = b_size * c_size * markov * self.rho ** (degree - 1)
         tol = self.group_tolerance
-        zero_groups, pole_groups = _cancel(_groups(zeros, tol), _groups(poles, tol), CANCEL)
+        zero_groups = _close_groups(self.rho * zeros, self.rho * zero_errors, tol)
+        pole_groups = _close_groups(self.rho * poles, self.rho * pole_errors, tol)
+        zero_groups, pole_groups = _cancel(zero_groups, pole_groups, CANCEL)
         zero_factors = tuple(Factor(v, m) for v, m in sorted(zero_groups, key=_root_order))
-        pole_factors = tuple(Factor(v, m, self._name(v))
-                             for v, m in sorted(pole_groups, key=_root_order))
+        pole_factors = self._split_names(tuple(
+            Factor(v, m, self._name(v)) for v, m in sorted(pole_groups, key=_root_order)))
         return gain, degree, zero_factors, pole_factors, self._cancelled(pole_factors)
+
+    def _split_names(self, poles: tuple[Factor, ...]) -> tuple[Factor, ...]:
+        """Two distinct poles that ``modes`` took for one repeated Schuler pair (its
+        grouping, 1e-6 of F's largest |λ|, merges the Foucault split within about 1e-4°
+        of the equator) are named Schuler − Foucault and Schuler + Foucault when half their
+        difference is Ω|sin φ| (within :data:`~ins_errors.analysis.modes.FOUCAULT_MATCH`)."""
+        from ins_errors.analysis.modes import FOUCAULT_MATCH
+
+        rate = self.modes.references.foucault
+        pair = [k for k, f in enumerate(poles) if f.name == "Schuler" and f.value.imag]
+        if len(pair) != 2 or not rate:
+            return poles
+        low, high = (poles[k] for k in pair)
+        half = (high.value.imag - low.value.imag) / 2
+        if abs(half - rate) > FOUCAULT_MATCH * rate:
+            return poles
+        out = list(poles)
+        out[pair[0]] = replace(low, name="Schuler − Foucault")
+        out[pair[1]] = replace(high, name="Schuler + Foucault")
+        return tuple(out)
 
     def _match(self, value: complex) -> Mode | None:
         best = min(self.modes.modes, key=lambda m: abs(m.eigenvalue - value), default=None)
@@ -808,20 +959,76 @@ def _root_order(group: tuple[complex, int]) -> tuple[float, float]:
     return abs(group[0]), group[0].real
 
 
-def _cancel(zeros: list[tuple[complex, int]], poles: list[tuple[complex, int]],
+def _cancel(zeros: list[tuple[complex, int, float]], poles: list[tuple[complex, int, float]],
             share: float) -> tuple[list[tuple[complex, int]], list[tuple[complex, int]]]:
-    """Zeros and poles (root, multiplicity) without the pairs closer than ``share`` of
-    the pole's size (equal, at 0)."""
+    """Zeros and poles (root, multiplicity, accuracy) without the pairs closer than
+    ``share`` of the pole's size or than their accuracies together (equal, at 0)."""
     zeros, kept = [list(z) for z in zeros], []
-    for pole, count in poles:
+    for pole, count, error in poles:
         for zero in zeros:
-            if zero[1] and abs(zero[0] - pole) <= share * abs(pole):
+            if zero[1] and abs(zero[0] - pole) <= max(share * abs(pole), error + zero[2]):
                 common = min(zero[1], count)
                 zero[1] -= common
                 count -= common
         if count:
             kept.append((pole, count))
-    return [(z, m) for z, m in zeros if m], kept
+    return [(z, m) for z, m, _ in zeros if m], kept
+
+
+GROUP_SAFETY = 100.0
+"""Two computed roots are one (repeated) root when they are closer than this many times
+the larger of their first-order accuracies κ δ ‖M‖ (:func:`_roots`). A repeated root of a
+minimal realisation is a Jordan block, which rounding splits into roots a few times
+their κ δ ‖M‖ apart; two distinct roots are apart by far more than theirs (the two
+Schuler ± Foucault pairs within 1e-4° of the equator, 1e-7 of their size apart, stay
+two)."""
+
+
+def _roots(M: np.ndarray, defect: float) -> tuple[np.ndarray, np.ndarray]:
+    """The eigenvalues of ``M`` and the accuracy of each: κ δ ‖M‖, κ the eigenvalue's
+    condition number (1/|yᴴx| of its unit left and right eigenvectors) and δ the
+    relative size of what made ``M`` (``defect``, at least the rounding of n
+    operations)."""
+    from scipy.linalg import eig
+
+    if M.shape[0] == 0:
+        return np.zeros(0, dtype=complex), np.zeros(0)
+    values, left, right = eig(M, left=True, right=True)
+    overlap = np.abs(np.sum(left.conj() * right, axis=0))
+    with np.errstate(divide="ignore"):
+        kappa = np.where(overlap > 0, 1.0 / overlap, np.inf)
+    size = max(float(np.linalg.norm(M, 2)), 1.0)
+    delta = max(defect, len(M) * np.finfo(float).eps)
+    return values, np.minimum(kappa * delta * size, size)
+
+
+def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float
+                  ) -> list[tuple[complex, int, float]]:
+    """(root with Im >= 0, multiplicity, accuracy) of each distinct root, by increasing
+    size: roots within :data:`GROUP_SAFETY` times the larger of their accuracies are one
+    (their mean: a Jordan block's split roots average to it), a real or imaginary part
+    below ``tol`` or that accuracy is zero."""
+    groups: list[list] = []
+    for value, error in sorted(zip(values, errors, strict=True),
+                               key=lambda p: (abs(p[0]), p[0].imag)):
+        reach = GROUP_SAFETY * error
+        if value.imag < -max(tol, reach):
+            continue  # counted with its conjugate
+        for group in groups:
+            if abs(group[0][0] - value) <= max(reach, group[2]):
+                group[0].append(value)
+                group[2] = max(group[2], reach)
+                break
+        else:
+            groups.append([[value], 1, reach])
+    out = []
+    for members, _, reach in groups:
+        mean = complex(np.mean(members))
+        cut = max(tol, reach)
+        mean = complex(0.0 if abs(mean.real) <= cut else mean.real,
+                       0.0 if abs(mean.imag) <= cut else abs(mean.imag))
+        out.append((mean, len(members), reach))
+    return sorted(out, key=lambda g: (abs(g[0]), g[0].real))
 
 
 # --------------------------------------------------------------------------------------
@@ -861,6 +1068,22 @@ def minimal_realisation(A: np.ndarray, b: np.ndarray, c: np.ndarray,
     return P.T @ A1 @ P, P.T @ b1, c1 @ P
 
 
+def _minimal(A: np.ndarray, b: np.ndarray, c: np.ndarray, tolerance: float
+             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """:func:`minimal_realisation` and how far its bases are from invariant subspaces:
+    ‖A Q − Q Qᵀ A Q‖ (and the same for the observable part), the relative size of the
+    perturbation the reduction made (the couplings it cut)."""
+    Q = krylov_basis(A, b, tolerance)
+    A1, b1, c1 = Q.T @ A @ Q, Q.T @ b, c @ Q
+    P = krylov_basis(A1.T, c1, tolerance)
+    defect = 0.0
+    if Q.shape[1]:
+        defect = float(np.linalg.norm(A @ Q - Q @ A1, 2))
+    if P.shape[1]:
+        defect = max(defect, float(np.linalg.norm(A1.T @ P - P @ (P.T @ A1.T @ P), 2)))
+    return P.T @ A1 @ P, P.T @ b1, c1 @ P, defect
+
+
 def relative_degree(A: np.ndarray, b: np.ndarray, c: np.ndarray,
                     tolerance: float = TOLERANCE) -> tuple[int, float]:
     """(r, c A^(r−1) b): the first Markov parameter above ``tolerance``; (0, 0) if none
@@ -874,21 +1097,29 @@ def relative_degree(A: np.ndarray, b: np.ndarray, c: np.ndarray,
     return 0, 0.0
 
 
-def zero_dynamics(A: np.ndarray, b: np.ndarray, c: np.ndarray, degree: int,
-                  markov: float) -> np.ndarray:
-    """The invariant zeros of a minimal SISO (A, b, c) of relative degree ``degree``:
-    the eigenvalues of A − b (c A^r)/(c A^(r−1) b) on the kernel of c, c A, ...,
-    c A^(r−1) (the motions that keep the output at zero)."""
+def zero_dynamics_matrix(A: np.ndarray, b: np.ndarray, c: np.ndarray, degree: int,
+                         markov: float) -> np.ndarray:
+    """The matrix whose eigenvalues are the invariant zeros of a minimal SISO (A, b, c)
+    of relative degree ``degree``: A − b (c A^r)/(c A^(r−1) b) on the kernel of c, c A,
+    ..., c A^(r−1) (the motions that keep the output at zero); (0, 0) when r = n."""
     n = len(b)
     if degree >= n:
-        return np.zeros(0, dtype=complex)
+        return np.zeros((0, 0))
     rows = [c]
     for _ in range(degree):
         rows.append(rows[-1] @ A)
     observability = np.vstack(rows[:degree])
     kernel = np.linalg.svd(observability)[2][degree:].T  # (n, n − r)
     closed = A - np.outer(b, rows[degree]) / markov
-    return np.linalg.eigvals(kernel.T @ closed @ kernel)
+    return kernel.T @ closed @ kernel
+
+
+def zero_dynamics(A: np.ndarray, b: np.ndarray, c: np.ndarray, degree: int,
+                  markov: float) -> np.ndarray:
+    """The invariant zeros of a minimal SISO (A, b, c) of relative degree ``degree``
+    (the eigenvalues of :func:`zero_dynamics_matrix`)."""
+    M = zero_dynamics_matrix(A, b, c, degree, markov)
+    return np.linalg.eigvals(M) if M.size else np.zeros(0, dtype=complex)
 
 
 # --------------------------------------------------------------------------------------
@@ -929,29 +1160,40 @@ def long_run_text(pair: TransferFunction) -> str:
                 f"{power} · e^(t/{_duration(growth.time_constant_s)}), the {growth.name} "
                 "mode" + (f" (period {_duration(growth.period_s)})" if growth.period_s else ""))
     waves = "; ".join(f"{o.name} (period {_duration(o.period_s)}, amplitude "
-                      f"{_display_value(pair, o.amplitude * pair.magnitude)})"
+                      f"{_display_value(pair, abs(o.amplitude * pair.magnitude))}"
+                      + (f", decay {_duration(o.decay_s)}" if o.decay_s else "") + ")"
                       for o in run.oscillations)
+    settling = ("" if not run.settling_s else
+                f"; its damped terms below 1 % of its largest term after about "
+                f"{_duration(run.settling_s)}")
     if run.kind == "resonance":
-        return (f"{what}: {pair.output} oscillates with an amplitude growing as "
+        text = (f"{what}: {pair.output} oscillates with an amplitude growing as "
                 f"t{superscript(run.power)} (repeated {run.growth.name} pair, period "
                 f"{_duration(run.growth.period_s)})")
+        if run.coefficient is not None:
+            text += (f" and grows as t{superscript(run.power)}, ≈ "
+                     f"{_display_value(pair, run.coefficient * pair.magnitude, run.power)}"
+                     f" · t{superscript(run.power)}")
+        return text + (f"; oscillations: {waves}" if waves else "")
     if run.kind == "power":
         value = run.coefficient * pair.magnitude
         head = (f"{what}: {pair.output} grows as t{superscript(run.power)}, "
                 f"≈ {_display_value(pair, value, run.power)} · t{superscript(run.power)}"
                 f" (lim s→0 s{superscript(run.power + 1)}·Y(s)"
                 + (f"/{run.power}!)" if run.power > 1 else ")"))
-        return head + (f", with oscillations: {waves}" if waves else "")
+        return head + (f", with oscillations: {waves}" if waves else "") + settling
     value = 0.0 if run.kind == "zero" else run.coefficient * pair.magnitude
     limit = "lim s→0 s·Y(s)" + (" = b·W(0)" if pair.source_kind != "initial" else "")
-    if run.oscillations:
-        verb = "oscillates about"
-    elif run.settles:
+    if run.settles:
         verb = "settles at"
+    elif run.oscillations:
+        verb = "oscillates about"
     else:
         verb = "tends to"
     text = f"{what}: {pair.output} {verb} {_display_value(pair, value)} ({limit})"
-    return text + (f"; oscillations: {waves}" if waves else "")
+    if run.settles and run.settling_s and value != 0:
+        settling = f", within 1 % after about {_duration(run.settling_s)}"
+    return text + settling + (f"; oscillations: {waves}" if waves else "")
 
 
 def _duration(seconds: float | None) -> str:

@@ -106,16 +106,21 @@ def _cancelled(pair) -> str:
 
 def pair_text(pair) -> str:
     """One pair's section: heading, factored W, its pole factors, the long run."""
-    from ins_errors.analysis.transfer import CHECK_LIMIT, long_run_text
+    from ins_errors.analysis.transfer import CHECK_LIMIT, TOLERANCE, long_run_text
 
     head = f"#### {pair.source} → {pair.output}"
+    if pair.is_zero and pair.negligible:
+        return (f"{head}\n\nW(s) ≈ 0: {pair.source} reaches {pair.output} only below "
+                f"{TOLERANCE:g} of the size the norms of F, g and h allow (a coupling "
+                f"weaker than the reductions' tolerance; every mode cancelled)")
     if pair.is_zero:
-        return (f"{head}\n\nW(s) = 0: {pair.source} does not reach {pair.output} (every "
-                f"mode cancelled)")
+        return (f"{head}\n\nW(s) = 0: {pair.source} does not reach {pair.output} (its "
+                f"Markov parameters h Fᵏ g, k < {pair.full_order}, are zero to rounding; "
+                f"every mode cancelled)")
     lines = [f"{head}: order {pair.order} of {pair.full_order} ({_cancelled(pair)})", "",
              pair.factored_text(), "",
              "| pole factor | mode | period or time |", "|---|---|---|"]
-    lines += [f"| {f.text()} | {f.name} | {_times(f)} |" for f in pair.poles]
+    lines += [f"| {f.text(pair.digits)} | {f.name} | {_times(f)} |" for f in pair.poles]
     lines += ["", f"long run: {long_run_text(pair)}"]
     if pair.check_error > CHECK_LIMIT:
         lines.append(f"(the factored form differs from h (iωI − F)⁻¹ g of the whole F by "
