@@ -24,7 +24,7 @@ from ins_errors.numeric.model import load_model
 from ins_errors.units import parse_quantity
 
 ROOT = Path(__file__).resolve().parents[1]
-DAMPED = ROOT / "tests" / "models" / "velocity_damped_ins.py"
+DAMPED = ROOT / "tests" / "models" / "damped_ins.py"
 SCHULER = ROOT / "examples" / "own_model" / "schuler_loop.py"
 STEP = {"1": 1e-8, "rad": 1e-8, "m/s": 1e-4, "m": 1e-2, "rad/s": 1e-9, "m/s**2": 1e-6}
 """Central-difference step of a state or source, by its SI unit (about its typical size

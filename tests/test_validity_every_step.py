@@ -22,7 +22,7 @@ from ins_errors.analysis.validity import run_validity_task, validity_tasks
 from ins_errors.cli import main
 from ins_errors.numeric.model import load_model
 
-MODEL = Path(__file__).resolve().parent / "models" / "velocity_damped_ins.py"
+MODEL = Path(__file__).resolve().parent / "models" / "damped_ins.py"
 SOURCE = "ref_velocity_error_north"
 HOURS, STEP, K_V = 6.0, 10.0, 1.24e-3
 QUANTITY_ROW = {"delta_v_E": 0, "delta_v_N": 1, "delta_latitude": 2, "delta_longitude": 3,
