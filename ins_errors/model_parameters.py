@@ -15,6 +15,7 @@ which no one means to ask for.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+from typing import Literal, overload
 
 import numpy as np
 
@@ -255,24 +256,53 @@ def parameters_used(model, p) -> dict[str, dict[str, object]]:
             for info, value in zip(model.parameters, p, strict=True)}
 
 
-def name_value_pairs(items: Iterable[str], option: str, example: str) -> dict[str, str]:
+@overload
+def name_value_pairs(items: Iterable[str], option: str, example: str,
+                     optional: Literal[False] = False) -> dict[str, str]: ...
+
+
+@overload
+def name_value_pairs(items: Iterable[str], option: str, example: str,
+                     optional: Literal[True]) -> dict[str, str | None]: ...
+
+
+def name_value_pairs(items: Iterable[str], option: str, example: str,
+                     optional: bool = False) -> dict[str, str] | dict[str, str | None]:
     """Split repeated ``OPTION NAME=VALUE`` items into names and value texts, in order.
+
+    Parameters
+    ----------
+    items : iterable of str
+        The items as given (``"k_h1=0.0047/s"``).
+    option : str
+        The option, for the messages (``"--parameter"``).
+    example : str
+        An item that is right, for the messages.
+    optional : bool
+        The value may be left out: a bare ``NAME`` gives None.
+
+    Returns
+    -------
+    dict of str to str (or None)
+        Name to value text, in the order given.
 
     Raises
     ------
     InsErrorsError
-        For an item without ``=``, without a name or without a value (the message shows
-        ``example``), or a name given twice.
+        For an item without a name, with ``=`` and no value, without ``=`` where the value
+        is not ``optional`` (the message shows ``example``), or a name given twice.
     """
-    values: dict[str, str] = {}
+    values: dict[str, str | None] = {}
     for item in items:
         name, sep, text = item.partition("=")
         name = name.strip()
-        if not sep or not name or not text.strip():
-            raise InsErrorsError(f"{option} {item!r}: expected NAME=VALUE, e.g. {example}")
+        missing = not text.strip() and (bool(sep) or not optional)
+        if not name or missing:
+            expected = "NAME or NAME=VALUE" if optional else "NAME=VALUE"
+            raise InsErrorsError(f"{option} {item!r}: expected {expected}, e.g. {example}")
         if name in values:
             raise InsErrorsError(f"{option} {name} given twice")
-        values[name] = text
+        values[name] = text if sep else None
     return values
 
 

@@ -54,27 +54,20 @@ def _sources(model, items: list[str]) -> tuple[list[str], dict[str, float]]:
     """The source names and the sizes given with ``=VALUE`` (SI)."""
     from ins_errors.analysis.validity import source_example
     from ins_errors.errors import InsErrorsError
-    from ins_errors.model_parameters import check_source
+    from ins_errors.model_parameters import check_source, name_value_pairs
     from ins_errors.units import parse_quantity
 
     if not items:
         example = source_example(model).split("=")[0]
         raise InsErrorsError(f"give at least one --source NAME, e.g. --source {example}")
-    names: list[str] = []
+    given = name_value_pairs(items, "--source", f"--source {source_example(model)}",
+                             optional=True)
     sizes: dict[str, float] = {}
-    for item in items:
-        name, sep, text = item.partition("=")
-        name = name.strip()
-        if not name or (sep and not text.strip()):
-            raise InsErrorsError(f"--source {item!r}: expected NAME or NAME=VALUE, e.g. "
-                                 f"--source {source_example(model)}")
-        if name in names:
-            raise InsErrorsError(f"--source {name} given twice")
+    for name, text in given.items():
         info = model.source(name)  # an unknown name: one line with suggestions
-        names.append(name)
-        if sep:
+        if text is not None:
             sizes[name] = check_source(info, parse_quantity(text, info.unit, name), text)
-    return names, sizes
+    return list(given), sizes
 
 
 def _times(factor) -> str:
