@@ -23,23 +23,27 @@ What a pair does not see is cancelled before W is factored: its minimal realisat
 keeps the controllable part of (F, g) (an orthonormal Krylov basis of g, F g, F² g, ...)
 and of that the part h observes (the same on (Fᵀ, hᵀ)), on the states measured in the
 units of the Schuler loop (:func:`~ins_errors.analysis.modes._scales`) and F divided by
-its norm, a direction being zero below :data:`TOLERANCE`. The poles are the eigenvalues
-of the minimal F; the zeros those of its zero dynamics; the gain K its first non-zero
-Markov parameter h F^(r−1) g (r the relative degree), so that::
+its norm, a direction being zero below
+:data:`~ins_errors.analysis.transfer_reduction.TOLERANCE`
+(:mod:`~ins_errors.analysis.transfer_reduction` does the numbers). The poles are the
+eigenvalues of the minimal F; the zeros those of its zero dynamics; the gain K its first
+non-zero Markov parameter h F^(r−1) g (r the relative degree), so that::
 
     W(s) = K (s − z₁)…(s − z_(n−r)) / ((s − p₁)…(s − p_n))
 
-Two computed roots are one repeated root only within :data:`GROUP_SAFETY` times their
-accuracy (a Jordan block's rounding split), so a close but distinct pair (the Foucault
-split within 1e-4° of the equator) stays two. A zero within :data:`CANCEL` of a pole
-(or within their accuracies) cancels it too. Each pole is named as ``modes`` names F's
+Two computed roots are one repeated root only within
+:data:`~ins_errors.analysis.transfer_reduction.GROUP_SAFETY` times their accuracy (a
+Jordan block's rounding split), so a close but distinct pair (the Foucault split within
+1e-4° of the equator) stays two. A zero within
+:data:`~ins_errors.analysis.transfer_reduction.CANCEL` of a pole (or within their
+accuracies) cancels it too. Each pole is named as ``modes`` names F's
 eigenvalue it is (Schuler, Schuler ± Foucault, Earth, vertical channel, integrator,
 ...), and each mode of F the pair does not see is listed as cancelled.
 
 W = 0 is proved by the Markov parameters h Fᵏ g, k < n, against their componentwise
-bounds (:func:`markov_zero`); a reduction that finds nothing where they say otherwise is
-not taken, except for a W below :data:`TOLERANCE` of what the norms allow (``negligible``,
-:class:`_Reference`).
+bounds (:func:`~ins_errors.analysis.transfer_reduction.markov_zero`); a reduction that
+finds nothing where they say otherwise is not taken, except for a W below the tolerance
+of what the norms allow (``negligible``, :class:`_Reference`).
 
 The factored form is checked against h (iωI − F)⁻¹ g of the whole F at frequencies
 across the band (:attr:`TransferFunction.check_error`); a form off by more than
@@ -51,7 +55,8 @@ The long run of the response to a source of size b follows from the partial frac
 of Y(s) (:meth:`TransferFunction.partial_fractions`): a pole of Y at 0 of order m ≥ 2
 makes it grow as t^(m−1); of order 1 it oscillates about (or settles at) the constant
 lim s→0 s·Y(s), b·W(0) for a constant source; a pole in the right half-plane makes it
-grow exponentially.
+grow exponentially. The words, the factored form and the report are
+:mod:`ins_errors.analysis.transfer_text`'s.
 """
 
 from __future__ import annotations
@@ -64,43 +69,29 @@ from functools import cached_property
 import numpy as np
 
 from ins_errors.analysis.modes import ZERO, Mode, StaticModes, static_modes
+from ins_errors.analysis.transfer_reduction import (
+    TOLERANCE,
+    Reduction,
+    group_tolerance,
+    markov_zero,
+)
 from ins_errors.errors import DomainError, InsErrorsError, unknown_name
 from ins_errors.numeric.model import Model, as_model
-
-TOLERANCE = 1e-9
-"""A direction of the Krylov bases (what a source reaches, what an output sees) and a
-Markov parameter are zero below this share, with the states in the units of the Schuler
-loop and F divided by its norm (so every entry is at most 1): the first, coarsest
-reduction tried (:data:`REDUCTIONS`)."""
 
 REDUCTIONS = ((False, TOLERANCE), (False, 1e-12), (True, 1e-12))
 """The reductions tried in turn, (balanced, tolerance), until one passes the check
 (:data:`CHECK_LIMIT`): the states in the units of the Schuler loop, then with a finer
 tolerance (a coupling weaker than 1e-9, as near the equator where it goes with sin φ),
 then also balanced (a diagonal similarity that evens out F's rows and columns, LAPACK
-gebal, its factors within 2^±:data:`BALANCE_LIMIT`: near a pole F's entries grow as
-tan φ)."""
-
-BALANCE_LIMIT = 20
-"""The balancing factors are kept within 2^±this (a state nothing depends on would get
-an unbounded one)."""
-
-CANCEL = 1e-9
-"""A zero closer to a pole than this share of the pole's size cancels it (a pole and a
-zero at 0 are one root already, :data:`~ins_errors.analysis.modes.ZERO`): the mode's
-part in W is then at the level of the roots' rounding (a weakly reachable and weakly
-seen mode that the Krylov bases kept, e.g. strapdown_ned's vertical channel in a
-horizontal output near the equator)."""
+gebal, its factors within
+2^±:data:`~ins_errors.analysis.transfer_reduction.BALANCE_LIMIT`: near a pole F's
+entries grow as tan φ)."""
 
 SLOW_DECAY = 1.0
 """A damped oscillation whose decay time is at least this many of its periods (damping
 ratio below about 0.16) is listed in the long run with its amplitude and decay time: it
 rings for several periods, and a lightly damped Schuler pair (ζ ~ 1e-4 from a damped
 vertical channel) for months."""
-
-CLOSE_ROOTS = 1e-4
-"""Two roots of W closer than this share of their size are printed with the digits that
-tell them apart (:attr:`TransferFunction.digits`): at 4 digits they would look equal."""
 
 CHECK_FREQUENCIES = 9
 """Frequencies across the band at which the factored form is checked against the whole
@@ -122,18 +113,6 @@ REFUSE_LIMIT = 1e-3
 CHECK_FLOOR = TOLERANCE / CHECK_LIMIT
 """The share of the componentwise bound below which the check measures W against that
 share (1e-3: a difference below 1e-9 of the bound passes)."""
-
-CONVENTION = ("W(s) = h (sI − F)⁻¹ g, s in 1/s: h the output's row of H, g the source's "
-              "column of G (a constant source: size b gives Y(s) = b·W(s)/s) or of the "
-              "initial-error map (an initial error: size b gives Y(s) = b·W(s))")
-"""The convention, as the command and the JSON state it."""
-
-SUPERSCRIPTS = str.maketrans("0123456789-", "⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
-
-
-def superscript(power: int) -> str:
-    """``"²"`` for 2; empty for 1."""
-    return "" if power == 1 else str(power).translate(SUPERSCRIPTS)
 
 
 @dataclass(frozen=True)
@@ -176,26 +155,13 @@ class Factor:
         """Its degree in s."""
         return self.multiplicity * (2 if self.value.imag else 1)
 
-    def text(self, digits: int = 4) -> str:
-        """The factor in s, real form: ``s²``, ``(s + 1.755e-03)``, ``(s² + (1.186e-03)²)``,
-        ``(s² + 4.2e-04 s + (1.2e-03)²)``, with its power; ``digits`` after the point."""
-        v, power = self.value, superscript(self.multiplicity)
-        if v == 0:
-            return f"s{power}"
-        if not v.imag:
-            sign = "+" if v.real < 0 else "−"
-            return f"(s {sign} {abs(v.real):.{digits}e}){power}"
-        if not v.real:
-            return f"(s² + ({v.imag:.{digits}e})²){power}"
-        sign = "+" if v.real < 0 else "−"
-        return (f"(s² {sign} {abs(2 * v.real):.{digits}e} s + ({abs(v):.{digits}e})²)"
-                f"{power}")
-
     def to_dict(self) -> dict:
+        from ins_errors.analysis.transfer_text import factor_text
+
         return {"real": self.value.real, "imag": self.value.imag,
                 "multiplicity": self.multiplicity, "name": self.name,
                 "period_s": self.period_s, "time_constant_s": self.time_constant_s,
-                "factor": self.text()}
+                "factor": factor_text(self)}
 
 
 @dataclass(frozen=True)
@@ -469,52 +435,26 @@ class TransferFunction:
         return self.relative_degree - (1 if self.source_kind == "initial" else 0)
 
     @property
-    def gain_display(self) -> tuple[float, str]:
-        """(K, its unit) in the output's display unit per the source's display unit,
-        per s^:attr:`seconds_power`: ``(2.657e-04, "arcmin/ug/s²")``."""
+    def gain_display(self) -> float:
+        """K in the output's display unit per the source's display unit, per
+        s^:attr:`seconds_power` (its unit:
+        :func:`~ins_errors.analysis.transfer_text.gain_unit`)."""
         output_factor, source_size = self.display_factors
-        power = self.seconds_power
-        per = "" if power == 0 else f"/s{superscript(power)}"
-        return (self.gain * output_factor * source_size,
-                f"{_unit_term(self.output_display)}/{_unit_term(self.source_display)}{per}")
-
-    @property
-    def digits(self) -> int:
-        """Digits after the point the roots are printed with: 4, or as many as tell apart
-        two of W's roots (a zero and a pole, two poles) within :data:`CLOSE_ROOTS` of
-        each other's size (+ 2, at most 12)."""
-        values = [f.value for f in (*self.zeros, *self.poles) if f.value != 0]
-        closest = min((abs(a - b) / max(abs(a), abs(b))
-                       for k, a in enumerate(values) for b in values[k + 1:]
-                       if a != b), default=1.0)
-        if closest >= CLOSE_ROOTS:
-            return 4
-        return int(min(12, math.ceil(-math.log10(max(closest, 1e-16))) + 2))
-
-    def factored_text(self) -> str:
-        """``W(s) = K [unit] · zeros / poles`` in display units (``W(s) = 0`` when the
-        source does not reach the output); roots with :attr:`digits`."""
-        if self.is_zero:
-            return "W(s) = 0"
-        value, unit = self.gain_display
-        digits = self.digits
-        numerator = " ".join(f.text(digits) for f in self.zeros) or "1"
-        denominator = " ".join(f.text(digits) for f in self.poles)
-        if len(self.poles) > 1:
-            denominator = f"({denominator})"
-        return f"W(s) = {value:.4e} [{unit}] · {numerator} / {denominator}"
+        return self.gain * output_factor * source_size
 
     def to_dict(self) -> dict:
-        value, unit = self.gain_display
+        from ins_errors.analysis.transfer_text import factored_text, gain_unit, long_run_text
+
         run = self.long_run
         return {
             "source": self.source, "output": self.output, "source_kind": self.source_kind,
             "source_unit": self.source_unit, "output_unit": self.output_unit,
             "source_display_unit": self.source_display,
             "output_display_unit": self.output_display,
-            "gain": self.gain, "gain_display": value, "gain_display_unit": unit,
+            "gain": self.gain, "gain_display": self.gain_display,
+            "gain_display_unit": gain_unit(self),
             "relative_degree": self.relative_degree, "order": self.order,
-            "full_order": self.full_order, "factored": self.factored_text(),
+            "full_order": self.full_order, "factored": factored_text(self),
             "zeros": [f.to_dict() for f in self.zeros],
             "poles": [f.to_dict() for f in self.poles],
             "cancelled": [f.to_dict() for f in self.cancelled],
@@ -535,11 +475,6 @@ class TransferFunction:
                                  for o in run.oscillations],
                 "text": long_run_text(self)},
         }
-
-
-def _unit_term(unit: str) -> str:
-    """A unit as a term of a quotient: ``(m/s)`` for ``m/s``, ``ug`` as it is."""
-    return f"({unit})" if "/" in unit or " " in unit else unit
 
 
 def _times_series(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -595,6 +530,8 @@ class TransferFunctions:
                 and m.eigenvalue != 0]
 
     def to_dict(self) -> dict:
+        from ins_errors.analysis.transfer_text import CONVENTION
+
         base = self.modes
         return {"model": base.model, "base": base.base, "latitude_rad": base.latitude,
                 "height_m": base.height, "convention": CONVENTION,
@@ -721,7 +658,9 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
     H = np.asarray(model.output_matrix(point.x, point.u, point.p), dtype=float)
     output_names = [o.name for o in model.outputs]
     band = frequency_band(modes)
-    reductions: dict[int, _Reduction] = {}
+    tolerance_1_s = group_tolerance(modes.eigenvalues)
+    names = _ModeNames(modes, tolerance_1_s)
+    reductions: dict[int, Reduction] = {}
     pairs = []
     for source in sources:
         info = model.source(source)
@@ -741,17 +680,19 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
             reference = _Reference(F, point.factors, column, row, band)
             tried = []
             if markov_zero(F, column, row):  # proved: no reduction needed
-                everything = tuple(Factor(m.eigenvalue, m.multiplicity, m.name)
-                                   for m in modes.modes)
                 pair = TransferFunction(source, output, info.kind or "constant", info.unit,
                                         unit, shown, display, 0.0, 0, (), (), len(F),
-                                        everything, b, 0.0, (factor, size))
+                                        names.cancelled(()), b, 0.0, (factor, size))
                 pairs.append(pair)
                 continue
             for k, (balanced, tolerance) in enumerate(REDUCTIONS):
                 if k not in reductions:
-                    reductions[k] = _Reduction(F, point.factors, modes, balanced, tolerance)
-                gain, degree, zeros, poles, cancelled = reductions[k].factor(column, row)
+                    reductions[k] = Reduction(F, point.factors, tolerance_1_s, balanced,
+                                              tolerance)
+                gain, degree, zero_roots, pole_roots = reductions[k].factor(column, row)
+                zeros = tuple(Factor(v, m) for v, m in zero_roots)
+                poles = names.poles(pole_roots)
+                cancelled = names.cancelled(poles)
                 pair = TransferFunction(source, output, info.kind or "constant", info.unit,
                                         unit, shown, display, gain, degree, zeros, poles,
                                         len(F), cancelled, b, 0.0, (factor, size))
@@ -832,79 +773,19 @@ class _Reference:
         return float(np.abs(pair(1j * self.omegas) - self.whole).max() / self.size)
 
 
-def markov_zero(F: np.ndarray, g: np.ndarray, h: np.ndarray,
-                tolerance: float = TOLERANCE) -> bool:
-    """True when h (sI − F)⁻¹ g is zero: every Markov parameter h Fᵏ g, k < n, within
-    ``tolerance`` of its componentwise bound |h| |F|ᵏ |g| (the size rounding of F's, g's
-    and h's entries can give it; the same in any units of the states, unlike
-    |h| ‖Fᵏ‖ |g|, which near a pole grows with F's tan φ entries while the couplings
-    that carry W go with cos φ). A path whose bound is exactly zero is structurally
-    absent."""
-    v, bound = np.asarray(g, dtype=float), np.abs(g)
-    A = np.abs(F)
-    for _ in range(len(g)):
-        size = float(np.abs(h) @ bound)
-        if size and abs(float(h @ v)) > tolerance * size:
-            return False
-        v, bound = F @ v, A @ bound
-        top = float(bound.max()) if bound.size else 0.0
-        if top == 0.0:
-            return True
-        if top > 1e100 or top < 1e-100:  # rescale both alike: the ratio is what counts
-            v, bound = v / top, bound / top
-    return True
+class _ModeNames:
+    """The names of a pair's poles and of the modes it cancels, as ``modes`` names F's
+    eigenvalues: a root within 100 × ``tolerance`` (1/s,
+    :func:`~ins_errors.analysis.transfer_reduction.group_tolerance`) of a mode is that
+    mode; another is named by its kind (integrator, damped, ...)."""
 
-
-class _Reduction:
-    """The minimal realisation and factored form of each pair of one F.
-
-    The states are measured in the units of the Schuler loop (``factors``: x̂ = D x;
-    ``balanced``: then evened out by a diagonal similarity, :data:`REDUCTIONS`) and time
-    in units of 1/‖D F D⁻¹‖, so that ``tolerance`` is a share of 1.
-    """
-
-    def __init__(self, F: np.ndarray, factors: np.ndarray, modes: StaticModes,
-                 balanced: bool = False, tolerance: float = TOLERANCE):
-        self.D = np.asarray(factors, dtype=float)
-        self.tolerance = tolerance
-        scaled = self.D[:, None] * F / self.D[None, :]
-        if balanced:
-            from scipy.linalg import matrix_balance
-
-            scale = matrix_balance(scaled, permute=False, separate=True)[1][0]
-            scale = np.clip(scale, 2.0 ** -BALANCE_LIMIT, 2.0 ** BALANCE_LIMIT)
-            self.D = self.D / scale
-            scaled = scaled * scale[None, :] / scale[:, None]
-        self.rho = float(np.linalg.norm(scaled, 2)) or 1.0
-        self.A = scaled / self.rho
+    def __init__(self, modes: StaticModes, tolerance: float):
         self.modes = modes
-        radius = float(np.abs(modes.eigenvalues).max()) if len(modes.eigenvalues) else 0.0
-        self.group_tolerance = ZERO * radius if radius > 0 else np.finfo(float).tiny
+        self.group_tolerance = tolerance
 
-    def factor(self, g: np.ndarray, h: np.ndarray):
-        """(K, relative degree, zeros, poles, cancelled modes) of h (sI − F)⁻¹ g."""
-        b, c = self.D * g, h / self.D
-        b_size, c_size = float(np.linalg.norm(b)), float(np.linalg.norm(c))
-        everything = self._cancelled([])
-        if b_size == 0.0 or c_size == 0.0:
-            return 0.0, 0, (), (), everything
-        A, b, c, defect = _minimal(self.A, b / b_size, c / c_size, self.tolerance)
-        if A.shape[0] == 0:
-            return 0.0, 0, (), (), everything
-        degree, markov = relative_degree(A, b, c, self.tolerance)
-        if degree == 0:
-            return 0.0, 0, (), (), everything
-        zeros, zero_errors = _roots(zero_dynamics_matrix(A, b, c, degree, markov), defect)
-        poles, pole_errors = _roots(A, defect)
-        gain = b_size * c_size * markov * self.rho ** (degree - 1)
-        tol = self.group_tolerance
-        zero_groups = _close_groups(self.rho * zeros, self.rho * zero_errors, tol)
-        pole_groups = _close_groups(self.rho * poles, self.rho * pole_errors, tol)
-        zero_groups, pole_groups = _cancel(zero_groups, pole_groups, CANCEL)
-        zero_factors = tuple(Factor(v, m) for v, m in sorted(zero_groups, key=_root_order))
-        pole_factors = self._split_names(tuple(
-            Factor(v, m, self._name(v)) for v, m in sorted(pole_groups, key=_root_order)))
-        return gain, degree, zero_factors, pole_factors, self._cancelled(pole_factors)
+    def poles(self, roots: Sequence[tuple[complex, int]]) -> tuple[Factor, ...]:
+        """The named pole factors of (root, multiplicity), in their order."""
+        return self._split_names(tuple(Factor(v, m, self._name(v)) for v, m in roots))
 
     def _split_names(self, poles: tuple[Factor, ...]) -> tuple[Factor, ...]:
         """Two distinct poles that ``modes`` took for one repeated Schuler pair (its
@@ -938,7 +819,7 @@ class _Reduction:
         mode = self._match(value)
         return mode.name if mode is not None else _kind(value)
 
-    def _cancelled(self, poles: Sequence[Factor]) -> tuple[Factor, ...]:
+    def cancelled(self, poles: Sequence[Factor]) -> tuple[Factor, ...]:
         """The modes of F (with their multiplicities) not among ``poles``."""
         kept: dict[int, int] = {}
         for pole in poles:
@@ -952,251 +833,3 @@ class _Reduction:
             if left > 0:
                 out.append(Factor(mode.eigenvalue, left, mode.name))
         return tuple(out)
-
-
-def _root_order(group: tuple[complex, int]) -> tuple[float, float]:
-    """Roots by size, the decaying before the growing of the same size."""
-    return abs(group[0]), group[0].real
-
-
-def _cancel(zeros: list[tuple[complex, int, float]], poles: list[tuple[complex, int, float]],
-            share: float) -> tuple[list[tuple[complex, int]], list[tuple[complex, int]]]:
-    """Zeros and poles (root, multiplicity, accuracy) without the pairs closer than
-    ``share`` of the pole's size or than their accuracies together (equal, at 0)."""
-    zeros, kept = [list(z) for z in zeros], []
-    for pole, count, error in poles:
-        for zero in zeros:
-            if zero[1] and abs(zero[0] - pole) <= max(share * abs(pole), error + zero[2]):
-                common = min(zero[1], count)
-                zero[1] -= common
-                count -= common
-        if count:
-            kept.append((pole, count))
-    return [(z, m) for z, m, _ in zeros if m], kept
-
-
-GROUP_SAFETY = 100.0
-"""Two computed roots are one (repeated) root when they are closer than this many times
-the larger of their first-order accuracies κ δ ‖M‖ (:func:`_roots`). A repeated root of a
-minimal realisation is a Jordan block, which rounding splits into roots a few times
-their κ δ ‖M‖ apart; two distinct roots are apart by far more than theirs (the two
-Schuler ± Foucault pairs within 1e-4° of the equator, 1e-7 of their size apart, stay
-two)."""
-
-
-def _roots(M: np.ndarray, defect: float) -> tuple[np.ndarray, np.ndarray]:
-    """The eigenvalues of ``M`` and the accuracy of each: κ δ ‖M‖, κ the eigenvalue's
-    condition number (1/|yᴴx| of its unit left and right eigenvectors) and δ the
-    relative size of what made ``M`` (``defect``, at least the rounding of n
-    operations)."""
-    from scipy.linalg import eig
-
-    if M.shape[0] == 0:
-        return np.zeros(0, dtype=complex), np.zeros(0)
-    values, left, right = eig(M, left=True, right=True)
-    overlap = np.abs(np.sum(left.conj() * right, axis=0))
-    with np.errstate(divide="ignore"):
-        kappa = np.where(overlap > 0, 1.0 / overlap, np.inf)
-    size = max(float(np.linalg.norm(M, 2)), 1.0)
-    delta = max(defect, len(M) * np.finfo(float).eps)
-    return values, np.minimum(kappa * delta * size, size)
-
-
-def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float
-                  ) -> list[tuple[complex, int, float]]:
-    """(root with Im >= 0, multiplicity, accuracy) of each distinct root, by increasing
-    size: roots within :data:`GROUP_SAFETY` times the larger of their accuracies are one
-    (their mean: a Jordan block's split roots average to it), a real or imaginary part
-    below ``tol`` or that accuracy is zero."""
-    groups: list[list] = []
-    for value, error in sorted(zip(values, errors, strict=True),
-                               key=lambda p: (abs(p[0]), p[0].imag)):
-        reach = GROUP_SAFETY * error
-        if value.imag < -max(tol, reach):
-            continue  # counted with its conjugate
-        for group in groups:
-            if abs(group[0][0] - value) <= max(reach, group[2]):
-                group[0].append(value)
-                group[2] = max(group[2], reach)
-                break
-        else:
-            groups.append([[value], 1, reach])
-    out = []
-    for members, _, reach in groups:
-        mean = complex(np.mean(members))
-        cut = max(tol, reach)
-        mean = complex(0.0 if abs(mean.real) <= cut else mean.real,
-                       0.0 if abs(mean.imag) <= cut else abs(mean.imag))
-        out.append((mean, len(members), reach))
-    return sorted(out, key=lambda g: (abs(g[0]), g[0].real))
-
-
-# --------------------------------------------------------------------------------------
-# The numerical pieces (scaled: ‖A‖ ≤ 1, |b| = |c| = 1)
-# --------------------------------------------------------------------------------------
-def krylov_basis(A: np.ndarray, v: np.ndarray, tolerance: float = TOLERANCE) -> np.ndarray:
-    """Orthonormal basis (n, k) of span{v, A v, A² v, ...} (Arnoldi, orthogonalised twice);
-    a new direction below ``tolerance`` (× the size of A v) ends it."""
-    size = float(np.linalg.norm(v))
-    if size <= tolerance:
-        return np.zeros((len(v), 0))
-    basis = [v / size]
-    for _ in range(len(v) - 1):
-        w = A @ basis[-1]
-        Q = np.column_stack(basis)
-        for _ in range(2):
-            w = w - Q @ (Q.T @ w)
-        size = float(np.linalg.norm(w))
-        if size <= tolerance:
-            break
-        basis.append(w / size)
-    return np.column_stack(basis)
-
-
-def minimal_realisation(A: np.ndarray, b: np.ndarray, c: np.ndarray,
-                        tolerance: float = TOLERANCE
-                        ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The controllable and observable part of (A, b, c): the same c (sI − A)⁻¹ b.
-
-    The controllable subspace is the Krylov space of (A, b); on it, the observable one
-    is that of (Aᵀ, cᵀ) (its complement, the unobservable part, is invariant, so the
-    projection keeps the transfer function).
-    """
-    Q = krylov_basis(A, b, tolerance)
-    A1, b1, c1 = Q.T @ A @ Q, Q.T @ b, c @ Q
-    P = krylov_basis(A1.T, c1, tolerance)
-    return P.T @ A1 @ P, P.T @ b1, c1 @ P
-
-
-def _minimal(A: np.ndarray, b: np.ndarray, c: np.ndarray, tolerance: float
-             ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
-    """:func:`minimal_realisation` and how far its bases are from invariant subspaces:
-    ‖A Q − Q Qᵀ A Q‖ (and the same for the observable part), the relative size of the
-    perturbation the reduction made (the couplings it cut)."""
-    Q = krylov_basis(A, b, tolerance)
-    A1, b1, c1 = Q.T @ A @ Q, Q.T @ b, c @ Q
-    P = krylov_basis(A1.T, c1, tolerance)
-    defect = 0.0
-    if Q.shape[1]:
-        defect = float(np.linalg.norm(A @ Q - Q @ A1, 2))
-    if P.shape[1]:
-        defect = max(defect, float(np.linalg.norm(A1.T @ P - P @ (P.T @ A1.T @ P), 2)))
-    return P.T @ A1 @ P, P.T @ b1, c1 @ P, defect
-
-
-def relative_degree(A: np.ndarray, b: np.ndarray, c: np.ndarray,
-                    tolerance: float = TOLERANCE) -> tuple[int, float]:
-    """(r, c A^(r−1) b): the first Markov parameter above ``tolerance``; (0, 0) if none
-    (W = 0)."""
-    v = b.copy()
-    for r in range(1, len(b) + 1):
-        markov = float(c @ v)
-        if abs(markov) > tolerance:
-            return r, markov
-        v = A @ v
-    return 0, 0.0
-
-
-def zero_dynamics_matrix(A: np.ndarray, b: np.ndarray, c: np.ndarray, degree: int,
-                         markov: float) -> np.ndarray:
-    """The matrix whose eigenvalues are the invariant zeros of a minimal SISO (A, b, c)
-    of relative degree ``degree``: A − b (c A^r)/(c A^(r−1) b) on the kernel of c, c A,
-    ..., c A^(r−1) (the motions that keep the output at zero); (0, 0) when r = n."""
-    n = len(b)
-    if degree >= n:
-        return np.zeros((0, 0))
-    rows = [c]
-    for _ in range(degree):
-        rows.append(rows[-1] @ A)
-    observability = np.vstack(rows[:degree])
-    kernel = np.linalg.svd(observability)[2][degree:].T  # (n, n − r)
-    closed = A - np.outer(b, rows[degree]) / markov
-    return kernel.T @ closed @ kernel
-
-
-def zero_dynamics(A: np.ndarray, b: np.ndarray, c: np.ndarray, degree: int,
-                  markov: float) -> np.ndarray:
-    """The invariant zeros of a minimal SISO (A, b, c) of relative degree ``degree``
-    (the eigenvalues of :func:`zero_dynamics_matrix`)."""
-    M = zero_dynamics_matrix(A, b, c, degree, markov)
-    return np.linalg.eigvals(M) if M.size else np.zeros(0, dtype=complex)
-
-
-# --------------------------------------------------------------------------------------
-# Words
-# --------------------------------------------------------------------------------------
-def _display_value(pair: TransferFunction, value_si: float, per_hours: int = 0) -> str:
-    """An output value (per h^per_hours) in the output's display unit; an angle in the
-    arcsec, arcmin or deg it reads best in."""
-    from ins_errors.units import parse_quantity, readable_angle_unit
-
-    value = value_si * 3600.0 ** per_hours
-    factor, unit = pair.display_factors[0], pair.output_display
-    if unit in ("arcsec", "arcmin", "deg"):
-        unit = readable_angle_unit(value, unit, down=True)
-        factor = 1.0 / parse_quantity(f"1 {unit}", pair.output_unit)
-    per = "" if per_hours == 0 else f"/h{superscript(per_hours)}"
-    return f"{value * factor:.4g} {unit}{per}"
-
-
-def magnitude_text(pair: TransferFunction) -> str:
-    """The source's size in its display unit (``"1 ug"``)."""
-    size = pair.display_factors[1]
-    return f"{pair.magnitude / size:.4g} {pair.source_display}"
-
-
-def long_run_text(pair: TransferFunction) -> str:
-    """The long run in words, with its number in the output's display unit."""
-    run = pair.long_run
-    what = (("constant source " if pair.source_kind != "initial" else "initial error ")
-            + f"{pair.source} = {magnitude_text(pair)}")
-    if run.kind == "none":
-        return f"{pair.output} does not respond to {pair.source} (W = 0)"
-    if run.kind == "exponential":
-        growth = run.growth
-        power = f" · t{superscript(run.power)}" if run.power else ""
-        return (f"{what}: {pair.output} grows exponentially, ≈ "
-                f"{_display_value(pair, run.coefficient * pair.magnitude, run.power)}"
-                f"{power} · e^(t/{_duration(growth.time_constant_s)}), the {growth.name} "
-                "mode" + (f" (period {_duration(growth.period_s)})" if growth.period_s else ""))
-    waves = "; ".join(f"{o.name} (period {_duration(o.period_s)}, amplitude "
-                      f"{_display_value(pair, abs(o.amplitude * pair.magnitude))}"
-                      + (f", decay {_duration(o.decay_s)}" if o.decay_s else "") + ")"
-                      for o in run.oscillations)
-    settling = ("" if not run.settling_s else
-                f"; its damped terms below 1 % of its largest term after about "
-                f"{_duration(run.settling_s)}")
-    if run.kind == "resonance":
-        text = (f"{what}: {pair.output} oscillates with an amplitude growing as "
-                f"t{superscript(run.power)} (repeated {run.growth.name} pair, period "
-                f"{_duration(run.growth.period_s)})")
-        if run.coefficient is not None:
-            text += (f" and grows as t{superscript(run.power)}, ≈ "
-                     f"{_display_value(pair, run.coefficient * pair.magnitude, run.power)}"
-                     f" · t{superscript(run.power)}")
-        return text + (f"; oscillations: {waves}" if waves else "")
-    if run.kind == "power":
-        value = run.coefficient * pair.magnitude
-        head = (f"{what}: {pair.output} grows as t{superscript(run.power)}, "
-                f"≈ {_display_value(pair, value, run.power)} · t{superscript(run.power)}"
-                f" (lim s→0 s{superscript(run.power + 1)}·Y(s)"
-                + (f"/{run.power}!)" if run.power > 1 else ")"))
-        return head + (f", with oscillations: {waves}" if waves else "") + settling
-    value = 0.0 if run.kind == "zero" else run.coefficient * pair.magnitude
-    limit = "lim s→0 s·Y(s)" + (" = b·W(0)" if pair.source_kind != "initial" else "")
-    if run.settles:
-        verb = "settles at"
-    elif run.oscillations:
-        verb = "oscillates about"
-    else:
-        verb = "tends to"
-    text = f"{what}: {pair.output} {verb} {_display_value(pair, value)} ({limit})"
-    if run.settles and run.settling_s and value != 0:
-        settling = f", within 1 % after about {_duration(run.settling_s)}"
-    return text + settling + (f"; oscillations: {waves}" if waves else "")
-
-
-def _duration(seconds: float | None) -> str:
-    from ins_errors.time_text import duration_text
-
-    return "–" if seconds is None else duration_text(seconds)

@@ -29,9 +29,9 @@ LINE_STYLES = ("-", "--", "-.", ":")
 def _label(pair) -> str:
     """``"accel_bias → v_N [(m/s)/ug]"``: the pair and the unit of its |W(iω)| (an
     initial error's W is a response's transform: one second more)."""
-    from ins_errors.analysis.transfer import _unit_term
+    from ins_errors.analysis.transfer_text import unit_term
 
-    unit = f"{_unit_term(pair.output_display)}/{_unit_term(pair.source_display)}"
+    unit = f"{unit_term(pair.output_display)}/{unit_term(pair.source_display)}"
     if pair.source_kind == "initial":
         unit += "·s"
     return f"{pair.source} → {pair.output} [{unit}]"

@@ -8,7 +8,8 @@ Example::
 The static base is that of ``ins-errors modes`` (same options, same defaults); for each
 source and output W(s) = h (sI − F)⁻¹ g is reduced to what the pair sees, factored, its
 poles named as ``modes`` names them, and the long run of the response to a constant
-source (an initial error) said in words (:mod:`ins_errors.analysis.transfer`).
+source (an initial error) said in words (:mod:`ins_errors.analysis.transfer` computes,
+:mod:`ins_errors.analysis.transfer_text` writes).
 """
 
 from __future__ import annotations
@@ -70,77 +71,9 @@ def _sources(model, items: list[str]) -> tuple[list[str], dict[str, float]]:
     return list(given), sizes
 
 
-def _times(factor) -> str:
-    if factor.value == 0:
-        return "–"
-    if factor.period_s is not None:
-        text = f"period {_duration(factor.period_s)}"
-        if factor.time_constant_s is not None:
-            word = "e-folding" if factor.value.real > 0 else "decay"
-            text += f", {word} {_duration(factor.time_constant_s)}"
-        return text
-    word = "e-folding" if factor.value.real > 0 else "time constant"
-    return f"{word} {_duration(factor.time_constant_s)}"
-
-
-def _duration(seconds: float) -> str:
-    from ins_errors.time_text import duration_text
-
-    return duration_text(seconds)
-
-
-def _cancelled(pair) -> str:
-    if not pair.cancelled:
-        return "none cancelled"
-    names = ", ".join(f"{f.name}" + (f" ×{f.multiplicity}" if f.multiplicity > 1 else "")
-                      for f in pair.cancelled)
-    return f"cancelled: {names}"
-
-
-def pair_text(pair) -> str:
-    """One pair's section: heading, factored W, its pole factors, the long run."""
-    from ins_errors.analysis.transfer import CHECK_LIMIT, TOLERANCE, long_run_text
-
-    head = f"#### {pair.source} → {pair.output}"
-    if pair.is_zero and pair.negligible:
-        return (f"{head}\n\nW(s) ≈ 0: {pair.source} reaches {pair.output} only below "
-                f"{TOLERANCE:g} of the size the norms of F, g and h allow (a coupling "
-                f"weaker than the reductions' tolerance; every mode cancelled)")
-    if pair.is_zero:
-        return (f"{head}\n\nW(s) = 0: {pair.source} does not reach {pair.output} (its "
-                f"Markov parameters h Fᵏ g, k < {pair.full_order}, are zero to rounding; "
-                f"every mode cancelled)")
-    lines = [f"{head}: order {pair.order} of {pair.full_order} ({_cancelled(pair)})", "",
-             pair.factored_text(), "",
-             "| pole factor | mode | period or time |", "|---|---|---|"]
-    lines += [f"| {f.text(pair.digits)} | {f.name} | {_times(f)} |" for f in pair.poles]
-    lines += ["", f"long run: {long_run_text(pair)}"]
-    if pair.check_error > CHECK_LIMIT:
-        lines.append(f"(the factored form differs from h (iωI − F)⁻¹ g of the whole F by "
-                     f"{pair.check_error:.1e} of its size within the band: the reduction's "
-                     f"tolerance cut a weak coupling)")
-    return "\n".join(lines)
-
-
-def text(result) -> str:
-    """The whole report: convention, every pair, the notes."""
-    from ins_errors.analysis.transfer import CANCEL, CHECK_LIMIT, CONVENTION, TOLERANCE
-
-    parts = [f"convention: {CONVENTION}"]
-    parts += [pair_text(pair) for pair in result.pairs]
-    parts.append(
-        "gains in the output's display unit per the source's display unit, per second to "
-        "the power the form's degrees leave (s in 1/s); the poles are F's eigenvalues "
-        "named as 'ins-errors modes' names them; a mode of F the pair does not reach or "
-        f"see is cancelled (Krylov bases on the states in the units of the Schuler loop, "
-        f"tolerance {TOLERANCE:g} of F's norm, finer or on balanced states where the "
-        f"factored form is not within {CHECK_LIMIT:g} of h (iωI − F)⁻¹ g; a zero within "
-        f"{CANCEL:g} of a pole's size cancels it)")
-    return "\n\n".join(parts)
-
-
 def run(args: argparse.Namespace) -> int:
     from ins_errors.analysis.transfer import transfer_at_base
+    from ins_errors.analysis.transfer_text import report_text
     from ins_errors.commands.modes import static_modes_from_options
     from ins_errors.model_parameters import parameters_record
 
@@ -163,7 +96,7 @@ def run(args: argparse.Namespace) -> int:
             print(f"plot written to {written}", file=sys.stderr)
         return 0
     print(f"### {model.name}: transfer functions, {result.modes.base}\n")
-    print(text(result))
+    print(report_text(result))
     if written is not None:
         print(f"\nplot written to {written}")
     return 0
