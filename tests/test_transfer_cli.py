@@ -8,6 +8,7 @@ g = 9.80665 m/s² and R = 6371 km): a constant accelerometer bias ∇ tilts the 
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import pytest
@@ -112,3 +113,53 @@ def test_a_base_where_no_reduction_agrees_with_f_is_refused(capsys, monkeypatch)
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "gyro_drift_east → latitude of north_pointing" in err
     assert "cannot be resolved" in err
+
+
+SUPERSCRIPT_DIGITS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
+
+
+def _pint_unit(shown: str) -> str:
+    """A gain unit as the text writes it (``1/s³``, ``(m/s)/arcmin·s``) for pint."""
+    powers = re.sub(r"s([⁰¹²³⁴⁵⁶⁷⁸⁹⁻]+)",
+                    lambda m: f"s**({m.group(1).translate(SUPERSCRIPT_DIGITS)})", shown)
+    return powers.replace("·", "*")
+
+
+def test_a_unit_equal_above_and_below_cancels(capsys, monkeypatch, tmp_path):
+    """An output in the source's unit gives a gain in 1/s^n, not arcmin/arcmin/s^n: the
+    azimuth error reaches the latitude through the tilt (Ω), g and two integrations,
+    in 1/s³; and the unit written is still the gain's: the SI gain read back from the
+    display value and unit by pint (the product's registry), for every pair (W = 0 included)."""
+    import ins_errors.output as output
+    from ins_errors.units import registry
+
+    figures = []
+    monkeypatch.setattr(output, "save_figure", lambda fig, path, dpi: figures.append(fig)
+                        or path)
+    sources = ["initial_azimuth_error", "initial_latitude_error", "initial_longitude_error",
+               "initial_velocity_error_north", "gyro_drift_east"]
+    argv = ["transfer", "north_pointing", "--output", "latitude", "--output", "v_N",
+            "--json", "--plot", str(tmp_path / "w.png")]
+    for source in sources:
+        argv += ["--source", source]
+    assert main(argv) == 0
+    pairs = strict_json(capsys.readouterr().out)["pairs"]
+    same = 0
+    for pair in pairs:
+        unit = pair["gain_display_unit"]
+        power = pair["relative_degree"] - (pair["source_kind"] == "initial")
+        si = f"({pair['output_unit']})/({pair['source_unit']})/s**({power})"
+        read = registry().Quantity(pair["gain_display"], _pint_unit(unit)).to(si)
+        assert read.magnitude == pytest.approx(pair["gain"], rel=1e-9, abs=0.0), unit
+        if pair["source_display_unit"] == pair["output_display_unit"]:
+            same += 1
+            assert pair["source_display_unit"] not in unit
+            assert re.fullmatch(r"1(/s[²³⁴⁵⁶⁷⁸⁹]?)?|s", unit), unit
+            assert f"[{unit}]" in pair["factored"] or pair["gain"] == 0
+    assert same == 4  # three arcmin → latitude, m/s → v_N
+    azimuth = next(p for p in pairs if (p["source"], p["output"]) == (
+        "initial_azimuth_error", "latitude"))
+    assert azimuth["gain_display_unit"] == "1/s³" and "[1/s³]" in azimuth["factored"]
+    # the Bode plot's |W| of an initial velocity error in v_N: a response's transform, s
+    labels = [line.get_label() for line in figures[-1].axes[0].get_lines()]
+    assert "initial_velocity_error_north → v_N [s]" in labels

@@ -28,12 +28,13 @@ LINE_STYLES = ("-", "--", "-.", ":")
 
 def _label(pair) -> str:
     """``"accel_bias → v_N [(m/s)/ug]"``: the pair and the unit of its |W(iω)| (an
-    initial error's W is a response's transform: one second more)."""
-    from ins_errors.analysis.transfer_text import unit_term
+    initial error's W is a response's transform: one second more, ``[s]`` where the
+    output's unit is the source's)."""
+    from ins_errors.analysis.transfer_text import ratio_unit
 
-    unit = f"{unit_term(pair.output_display)}/{unit_term(pair.source_display)}"
+    unit = ratio_unit(pair.output_display, pair.source_display)
     if pair.source_kind == "initial":
-        unit += "·s"
+        unit = "s" if unit == "1" else f"{unit}·s"
     return f"{pair.source} → {pair.output} [{unit}]"
 
 

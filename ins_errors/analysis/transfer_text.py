@@ -46,9 +46,26 @@ def unit_term(unit: str) -> str:
 
 
 def ratio_unit(output: str, source: str, per_seconds: int = 0) -> str:
-    """The unit of ``output`` per ``source`` per s^``per_seconds``: ``"arcmin/ug/s²"``,
-    ``"(m/s)/arcsec"``."""
-    head = f"{unit_term(output)}/{unit_term(source)}"
+    """The unit of ``output`` per ``source`` per s^``per_seconds``, an output unit equal
+    to the source's cancelled.
+
+    Parameters
+    ----------
+    output, source : str
+        Display units (``"arcmin"``, ``"m/s"``).
+    per_seconds : int
+        The power of 1/s (negative: of s).
+
+    Returns
+    -------
+    str
+        ``"arcmin/ug/s²"``, ``"(m/s)/arcsec"``; for the same unit above and below
+        ``"1/s³"``, ``"1"``, or ``"s"`` for a power −1.
+    """
+    same = output == source
+    if per_seconds < 0 and same:
+        return f"s{superscript(-per_seconds)}"
+    head = "1" if same else f"{unit_term(output)}/{unit_term(source)}"
     return head if per_seconds == 0 else f"{head}/s{superscript(per_seconds)}"
 
 
