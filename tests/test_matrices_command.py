@@ -372,3 +372,27 @@ def test_the_file_holds_the_noise_inputs_and_g_holds_no_initial_errors(tmp_path,
     kinds = {s.name: s.kind for s in load_model("strapdown_ned").sources}
     assert all(kinds[str(s)] == "constant" for s in d["sources"])
     assert d["G_cruise"].shape[2] == sum(k == "constant" for k in kinds.values()) - 6
+
+
+def test_hourly_samples_of_a_long_cruise_are_the_minute_samples_at_those_times(tmp_path,
+                                                                               capsys):
+    # the position integration's evaluation budget counted the samples, not the flight:
+    # hourly samples of a 12-h cruise were refused as "steps shrink without end" near
+    # t = 7.7 h although the same flight integrates in minute samples; the true flight
+    # does not depend on how it is sampled
+    files = {}
+    for step in (60, 3600):
+        files[step] = tmp_path / f"c{step}.npz"
+        assert main(["matrices", "strapdown_ned", "--motion", "cruise", "--hours", "12",
+                     "--step", f"{step}s", "--out", str(files[step])]) == 0, \
+            capsys.readouterr().err
+    capsys.readouterr()
+    fine, coarse = np.load(files[60]), np.load(files[3600])
+    assert coarse["t_cruise"].shape == (13,)
+    np.testing.assert_array_equal(coarse["t_cruise"], fine["t_cruise"][::60])
+    for key in ("x_cruise", "u_cruise", "F_cruise", "G_cruise"):
+        want, got = fine[key][::60], coarse[key]
+        # each entry against its own size over the flight; entries that are zero up to
+        # rounding (1e-15 m/s² of a 10-m/s² specific force) against the array's size
+        tolerance = 1e-12 * np.abs(want).max(axis=0) + 1e-15 * np.abs(want).max()
+        assert np.all(np.abs(got - want) <= tolerance), key

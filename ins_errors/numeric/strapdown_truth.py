@@ -1010,14 +1010,34 @@ def trajectory(model: Model, flight: Flight, duration: float, tau: float,
 
 POSITION_STEP_FACTOR = 50
 """The position integration is refused once its right-hand side has been evaluated this
-many times the count of a flight its maximum step limits (12 per DOP853 step, one step
-per ``max_step`` plus 10): a flight of any planet-sized Earth needs about 1 to 2 times
+many times the count the flight itself sets (12 per DOP853 step, one step per
+:data:`POSITION_BUDGET_STEP` of its duration plus 10 and one per break between legs),
+whatever the sample step: a flight of any planet-sized Earth needs about 1 to 2 times
 that count; a sphere of metres or a flight that nears a pole would make the adaptive
 steps shrink without end."""
+
+POSITION_BUDGET_STEP = 60.0
+"""Step (s) by which the position integration's evaluation budget counts a flight's
+duration (a quarter of the flight if shorter). A coarse sample step lengthens DOP853's
+maximum step but not the steps its tolerance needs (about 25 s on a day's cruise), so
+the budget must not follow the sample step."""
 
 
 class _TooManyStepsError(Exception):
     """Raised inside the position integration's right-hand side to stop it."""
+
+
+def position_budget(flight: Flight, t_end: float, tau: float) -> int:
+    """Right-hand side evaluations the position integration of ``flight`` over
+    ``[0, t_end]`` (s) may spend (:data:`POSITION_STEP_FACTOR`).
+
+    The count follows the flight (its duration in :data:`POSITION_BUDGET_STEP` steps
+    and its breaks between legs), not the sample step ``tau`` (s), which is used only
+    for a flight shorter than it.
+    """
+    step = min(POSITION_BUDGET_STEP, t_end / 4 or tau)
+    breaks = len(flight.breaks or ())
+    return int(POSITION_STEP_FACTOR * 12 * (t_end / step + 10 + breaks))
 
 
 def _position_solution(flight: Flight, earth: FlightEarth, t_end: float, tau: float):
@@ -1028,13 +1048,14 @@ def _position_solution(flight: Flight, earth: FlightEarth, t_end: float, tau: fl
     ------
     DomainError
         The integration fails, or its step count explodes (more than
-        :data:`POSITION_STEP_FACTOR` times the steps the maximum step sets).
+        :data:`POSITION_STEP_FACTOR` times the steps the flight sets,
+        :func:`position_budget`).
     """
     from scipy.integrate import solve_ivp
 
     y0 = np.array([flight.latitude, flight.longitude, flight.height, flight.course])
     max_step = max(tau, min(60.0, t_end / 4 or tau))
-    limit = int(POSITION_STEP_FACTOR * 12 * (t_end / max_step + 10))
+    limit = position_budget(flight, t_end, tau)
     inner, calls = _position_rhs(flight, earth, t_end), [0]
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
