@@ -181,3 +181,34 @@ def test_the_command_that_names_the_mode_names_a_model_file_as_typed(tmp_path, c
     said = re.search(r"`ins-errors modes ([^`]+)` names the mode", capsys.readouterr().out)
     assert said and said[1] == "my_ins.py", said
     assert main(["modes", said[1]]) == 0
+
+
+def test_a_step_beyond_rk4_stability_is_named_with_a_step_that_runs():
+    """A damped 300-s vertical loop sampled every 300 s: RK4 amplifies its decaying mode
+    e^{λt} (|λ| = 2π/300 s, |λ|·step = 6.3, beyond the real-axis bound ≈ 2.785) and
+    the run ran to NaN; the error said only "became NaN", as if the physics left its
+    domain. The reference is the loop's own |λ| = ω0 and RK4's growth factor
+    1 + z + z²/2 + z³/6 + z⁴/24 at the suggested step."""
+    from ins_errors.errors import DomainError
+    from ins_errors.numeric.simulate import simulate
+
+    model = load_model("strapdown_ned")
+    w0 = 2 * np.pi / 300.0
+    p = model.parameter_vector(k_h1=2 * 0.7 * w0, k_h2=w0**2 + 2 * 9.80665 / 6_371_000.0)
+    source = [{"accel_bias_y": 1e-4}]
+    motion = st.trajectory(model, st.static(np.radians(50.0)), 12 * 3600.0, 300.0, p=p)
+    with pytest.raises(DomainError) as caught:
+        simulate(model, motion, source, parts=("real", "linear"))
+    message = str(caught.value)
+    assert "left its domain" in message and "\n" not in message
+    assert "beyond RK4's stability" in message and "grow exponentially" not in message
+    speed = float(re.search(r"\|λ\| = ([\d.e-]+)/s", message).group(1))
+    assert speed == pytest.approx(w0, rel=5e-3)  # (three digits)
+    bound = float(re.search(r"choose a step below ([\d.e+]+) s", message).group(1))
+    assert bound == pytest.approx(2.785 / w0, rel=5e-3)
+    suggested = float(re.search(r"e\.g\. ([\d.e+]+) s", message).group(1))
+    z = w0 * (-0.7 + 1j * math.sqrt(1 - 0.7**2)) * suggested  # the loop's pole × step
+    assert abs(1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24) < 1
+    motion = st.trajectory(model, st.static(np.radians(50.0)), 12 * 3600.0, suggested, p=p)
+    sim = simulate(model, motion, source, parts=("real", "linear"), record_interval=600.0)
+    assert np.all(np.isfinite(sim.real))

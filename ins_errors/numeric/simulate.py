@@ -755,8 +755,64 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                               f"errors): {detail}")
         when = f"at t = {t1:.6g} s" if sim.stride == 1 else (
             f"between t = {t0:.6g} s and {t1:.6g} s")
+        hint = _step_hint(sim) or _growth_hint(sim, t1)
         raise DomainError(f"the system left its domain {when} ({t1 / 3600:.4g} h): "
-                          f"{detail}{_growth_hint(sim, t1)}")
+                          f"{detail}{hint}")
+
+
+STEP_STABILITY = {"rk4": 2.785, "euler": 2.0}
+"""How far (|λ|·step) each scheme's stability region reaches along the negative real
+axis: classical RK4 is stable for a decaying mode e^{λt} only while |λ|·step is below
+about 2.785, Euler's method below 2."""
+
+
+def _amplification(method: str, z: np.ndarray) -> np.ndarray:
+    """Modulus of the growth factor of one step of ``method`` on x' = λx, z = λ·step."""
+    if method == "euler":
+        return np.abs(1 + z)
+    return np.abs(1 + z + z**2 / 2 + z**3 / 6 + z**4 / 24)
+
+
+def _step_hint(sim: Simulation) -> str:
+    """``"; the step of 600 s is beyond RK4's stability for F's fastest mode (…): choose a
+    step of at most … s"`` when a mode of F at t = 0 that the equations damp (or hold)
+    grows in the scheme's steps (its amplification per step exceeds 1 and exceeds the
+    true e^{Re λ·step} by far), so the run's blow-up is the step's, not the physics'; else
+    ``""``."""
+    from ins_errors.numeric.linear_system import start_state_matrix
+
+    method, step = sim.method, float(sim.trajectory.tau)
+    try:
+        f = start_state_matrix(sim.model, sim.trajectory)
+    except (InsErrorsError, ArithmeticError, ValueError):  # no F to read: no hint
+        return ""
+    if not f.size or not np.all(np.isfinite(f)) or step <= 0:
+        return ""
+    lam = np.linalg.eigvals(f)
+    z = lam * step
+    with np.errstate(over="ignore"):
+        true_growth = np.exp(np.minimum(z.real, 700.0))
+    false = (_amplification(method, z) > np.maximum(1.0, 2.0 * true_growth))
+    if not false.any():
+        return ""
+    fastest = float(np.abs(lam[false]).max())
+    limit = STEP_STABILITY.get(method, STEP_STABILITY["rk4"])
+    bound = limit / float(np.abs(lam).max())
+    suggested = _nice_below(bound / 2)
+    name = "RK4" if method == "rk4" else "Euler's method"
+    return (f"; the step of {step:g} s is beyond {name}'s stability for F's fastest mode "
+            f"(|λ| = {fastest:.3g}/s: |λ|·step = {fastest * step:.3g}, stable only below "
+            f"about {limit:g} on the real axis), so the steps themselves blew up; choose a "
+            f"step below {bound:.3g} s, e.g. {suggested:g} s")
+
+
+def _nice_below(value: float) -> float:
+    """The largest 1, 2 or 5 × 10^k not above ``value`` (> 0)."""
+    power = 10.0 ** math.floor(math.log10(value))
+    for mantissa in (5.0, 2.0, 1.0):
+        if mantissa * power <= value:
+            return mantissa * power
+    return power
 
 
 def _growth_hint(sim: Simulation, t_left: float) -> str:
