@@ -298,18 +298,6 @@ UNSET_SHARE = 0.5
 put down to a state no navigation quantity sets (:meth:`FlightAdapter._unset`)."""
 
 
-@cache
-def _tangent(model_key: str) -> ca.Function:
-    """``(c, u, p) -> ∂x0/∂c`` (n, nc): the tangent of the model's initial-state map."""
-    from ins_errors.numeric.model import load_model
-
-    model = load_model(model_key)
-    c = ca.SX.sym("c", len(model.initial_conditions))
-    u, p = ca.SX.sym("u", len(model.inputs)), ca.SX.sym("p", len(model.parameters))
-    x0 = model.casadi.function("initial_state")(c, u, p)
-    return ca.Function("initial_tangent", [c, u, p], [ca.densify(ca.jacobian(x0, c))])
-
-
 def uses_inputs(function: ca.Function, rows: list[int] | None = None) -> bool:
     """True when rows ``rows`` (default: all) of a model function of (state or initial
     conditions, inputs, parameters) depend on the inputs, e.g. ``initial_state``."""
@@ -461,7 +449,7 @@ class FlightAdapter:
         moves along a state that no navigation quantity sets (a wander angle), not on
         another Earth than the flight's or with inputs too few."""
         if q is None:
-            tangent = np.asarray(_tangent(self.model_key)(c, u, self.p), dtype=float)
+            tangent = np.asarray(_directions(self.model_key)(c, u, self.p)[0], dtype=float)
         else:
             p = self.p.copy()
             p[list(self.carried)] = q
