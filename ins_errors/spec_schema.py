@@ -42,7 +42,8 @@ class SpecMotion(_Table):
 
     kind: Literal["static", "great_circle", "great-circle", "manoeuvre"] = Field(
         "static", description="'manoeuvre': the scenario files' standard manoeuvre (every "
-        "hour a 90° turn, a 20 % speed-up with a 2-km climb, two 45° turns back), or the "
+        "hour a 90° left turn, a 20 % speed-up with a 2-km climb, two 45° right turns "
+        "back), or the "
         "[[motion.legs]] given")  # spelled as in scenario files
     latitude: Quantity = Field("0 deg", json_schema_extra=_UNIT)
     longitude: Quantity = Field("0 deg", json_schema_extra=_UNIT)

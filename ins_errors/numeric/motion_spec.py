@@ -83,9 +83,9 @@ _WHY_NOT = {"static": "the base is static", "file": "the file gives the motion",
             "great-circle": "the kind is great-circle", "manoeuvre": "the kind is manoeuvre"}
 
 
-STANDARD_MANOEUVRE = ("standard manoeuvre (every hour a 90° turn, a 20 % speed-up with a "
-                      "2-km climb, then two 45° turns back, the second slowing down and "
-                      "descending)")
+STANDARD_MANOEUVRE = ("standard manoeuvre (every hour a 90° left turn, a 20 % speed-up with "
+                      "a 2-km climb, then two 45° right turns back, the second slowing down "
+                      "and descending)")
 """How the flight of :func:`default_legs` is described."""
 
 
