@@ -197,7 +197,7 @@ def test_a_growing_pair_is_named_growing_and_compared_by_its_natural_period():
                   [0.0, -G / R, -2 * w, -k]])
     refs = References(Constant(G, "m/s**2", "typed"), Constant(R, "m", "typed"),
                       Constant(U, "rad/s", "typed"), latitude)
-    modes = _modes(F, np.ones(4), ["e_E", "e_N", "v_E", "v_N"], refs)
+    modes, _ = _modes(F, np.ones(4), ["e_E", "e_N", "v_E", "v_N"], refs)
     roots = _roots(k, latitude)
     assert [m.name for m in modes] == ["Schuler − Foucault (growing)",
                                        "Schuler + Foucault (growing)"]

@@ -37,7 +37,7 @@ or in their display units when the model lacks g or R.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -76,6 +76,21 @@ DAMPING_WORDS = (" (damped)", " (growing)")
 
 SHOWN_SHARE = 0.1
 """Error states below this share of the largest are left out of the short listing."""
+
+UNSEEN = 1e-7
+"""Tolerance of the split of a mode into the part the model's errors reach and its
+outputs see and the rest (:func:`_split`), on the states of the Schuler loop's units:
+a direction is not reached when the sources' and initial errors' columns of [G E]
+(each of unit length), projected on the mode and carried by F (T/|λ|, T = Vᵀ F V on its
+invariant subspace V), span it only with singular values at or below it; not seen when
+every output's row of H (unit length) reads it, and F's action on it, below it.
+Rounding leaves ~1e-15; an INS mode is reached and read at 1e-4 and more."""
+
+UNSEEN_WORDS = ("not reached by any error source or initial error, or not seen by any "
+                "output: directions of the state its constraints hold fixed (e.g. a "
+                "rotation matrix stored as 9 entries, or a quaternion, leaving the "
+                "rotations), not modes of the INS")
+"""What the text says of the modes no output sees."""
 
 
 @dataclass(frozen=True)
@@ -140,6 +155,11 @@ class Mode:
         Why the mode is off its textbook value, where the model says so (its
         :attr:`~ins_errors.numeric.model.Model.mode_notes`: a property of the
         mechanisation, e.g. ``geodetic_vertical``'s Earth mode on the ellipsoid).
+    seen : bool
+        False for a mode no error source or initial error reaches or no output sees
+        (:data:`UNSEEN`): a direction the state's constraints hold fixed (a rotation
+        matrix's orthonormality, a quaternion's norm), named by kind only, listed in
+        :attr:`StaticModes.unseen_modes` (JSON ``reached_and_seen``).
     """
 
     name: str
@@ -153,6 +173,7 @@ class Mode:
     participation: dict[str, float]
     independent_directions: int | None = None
     note: str | None = None
+    seen: bool = True
 
     @property
     def base_name(self) -> str:
@@ -196,7 +217,8 @@ class Mode:
                 "damping_ratio": self.damping_ratio,
                 "independent_directions": self.independent_directions,
                 "reference": None if self.reference is None else self.reference.to_dict(),
-                "note": self.note, "participation": self.participation}
+                "note": self.note, "reached_and_seen": self.seen,
+                "participation": self.participation}
 
 
 @dataclass(frozen=True)
@@ -249,7 +271,8 @@ class StaticModes:
     scales : dict of str to str
         Error state -> the unit its participation is measured in.
     modes : tuple of Mode
-        By increasing |λ|.
+        The modes the model's errors reach and some output sees (the INS's own), by
+        increasing |λ|.
     latitude_source : str or None
         Where the latitude of the Foucault split Ω|sin φ| came from: ``"base"``, a
         parameter (``"parameter phi0"``) for a model without a latitude, or None (no
@@ -257,6 +280,11 @@ class StaticModes:
     point : RestPoint or None
         The state, inputs, parameters and initial conditions of the base, and the
         states' scale factors (None when built from F alone).
+    unseen_modes : tuple of Mode
+        The modes no error reaches or no output sees (``seen`` False; :data:`UNSEEN`),
+        by increasing |λ|: directions the state's constraints hold fixed, e.g. a
+        rotation matrix stored as 9 entries leaving the orthonormal ones. Empty where
+        every mode is reached and seen.
     """
 
     model: str
@@ -270,6 +298,7 @@ class StaticModes:
     modes: tuple[Mode, ...] = field(default_factory=tuple)
     latitude_source: str | None = "base"
     point: RestPoint | None = field(default=None, repr=False, compare=False)
+    unseen_modes: tuple[Mode, ...] = field(default_factory=tuple)
 
     def mode(self, name: str) -> Mode:
         """The first mode called ``name``.
@@ -316,7 +345,8 @@ class StaticModes:
                 "foucault": foucault,
                 "participation_units": self.scales,
                 "eigenvalues": [{"real": v.real, "imag": v.imag} for v in self.eigenvalues],
-                "modes": [m.to_dict() for m in self.modes]}
+                "modes": [m.to_dict() for m in self.modes],
+                "unseen_modes": [m.to_dict() for m in self.unseen_modes]}
 
 
 def static_modes(model: Model | str, latitude: float = np.radians(50.0),
@@ -415,10 +445,15 @@ def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] |
     names = [s.name for s in model.error_states]
     point = RestPoint(np.asarray(x, dtype=float), np.asarray(u, dtype=float), p,
                       np.asarray(motion.initial_conditions, dtype=float), factors)
+    H = np.asarray(model.output_matrix(x, u, p), dtype=float).reshape(-1, len(names))
+    B = np.hstack([np.asarray(model.source_matrix(x, u, p), dtype=float).reshape(len(names), -1),
+                   np.asarray(model.initial_error_matrix(point.c, u, p), dtype=float
+                              ).reshape(len(names), -1)])
+    seen, unseen = _modes(F, factors, names, refs, model.mode_notes, H, B)
     return StaticModes(model.name, motion.description,
                        profile.latitude if "latitude" in used else None, height, F,
                        np.linalg.eigvals(F), refs, dict(zip(names, units, strict=True)),
-                       _modes(F, factors, names, refs, model.mode_notes), source, point)
+                       seen, source, point, unseen)
 
 
 def _latitude(model: Model, p: np.ndarray, base: float, used: bool
@@ -549,25 +584,108 @@ def _note(name: str, notes: Mapping[str, str]) -> str | None:
     return None
 
 
+def _outputs(H: np.ndarray | None, factors: np.ndarray) -> np.ndarray | None:
+    """H on the states of the Schuler loop's units, each output's row of unit length (rows
+    reading nothing dropped); None without outputs (every mode then counts as seen)."""
+    if H is None or not H.size or not np.all(np.isfinite(H)):
+        return None
+    rows = H / factors[None, :]
+    size = np.linalg.norm(rows, axis=1)
+    rows = rows[size > 0] / size[size > 0, None]
+    return rows if len(rows) else None
+
+
+def _projected(A: np.ndarray, basis: np.ndarray, value: complex, count: int, tol: float,
+               factors: np.ndarray, B: np.ndarray | None) -> np.ndarray | None:
+    """The columns of B (on the states of the Schuler loop's units) in a mode's invariant
+    subspace ``basis``, by the spectral projection along the other modes: W'ᵀ B, W' the
+    left invariant subspace made dual to ``basis``; each column scaled to the unit
+    length of its projection's largest. None without B or where it fails."""
+    if B is None or not B.size or not np.all(np.isfinite(B)):
+        return None
+    left, _ = _subspace(A.T, value, count, tol)
+    try:
+        projected = np.linalg.solve(left.T @ basis, left.T @ (factors[:, None] * B))
+    except np.linalg.LinAlgError:
+        return None
+    size = np.linalg.norm(factors[:, None] * B, axis=0)
+    return projected[:, size > 0] / size[size > 0]
+
+
+def _krylov(start: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """Orthonormal basis of the span of ``start``'s columns and their images under
+    ``step`` (k × k, its eigenvalues of size 1): singular values above :data:`UNSEEN`."""
+    k = len(step)
+    blocks, block = [], start
+    for _ in range(k):
+        blocks.append(block)
+        block = step @ block
+    u, singular, _ = np.linalg.svd(np.hstack(blocks), full_matrices=False)
+    return u[:, :int(np.sum(singular > UNSEEN))]
+
+
+def _split(block: np.ndarray, read: np.ndarray | None, reached: np.ndarray | None,
+           rate: float) -> tuple[np.ndarray, np.ndarray]:
+    """Orthonormal bases (k, ·) of the part of a mode's invariant subspace the model's
+    errors reach and its outputs see, and of the rest, in the subspace's coordinates.
+
+    ``block`` is F on the subspace (k × k), ``read`` the outputs' reading of it (H V),
+    ``reached`` the sources' and initial errors' share in it (the spectral projection
+    of [G E]), ``rate`` |λ| (1 for λ = 0). The part reached is the Krylov space of
+    ``reached`` under T; of it, the part seen is the orthogonal complement of the null
+    space of [H V; H V T/rate; ...] there (the unseen part: F keeps it, no output reads
+    it)."""
+    k = len(block)
+    step = block / rate
+    kept = np.eye(k) if reached is None else _krylov(reached, step)
+    if read is not None and kept.shape[1]:
+        seen = _krylov((read @ kept).T, (kept.T @ step @ kept).T)
+        kept = kept @ seen
+    u = np.linalg.svd(kept, full_matrices=True)[0]
+    return kept, u[:, kept.shape[1]:]
+
+
 def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: References,
-           notes: Mapping[str, str] | None = None) -> tuple[Mode, ...]:
+           notes: Mapping[str, str] | None = None, H: np.ndarray | None = None,
+           B: np.ndarray | None = None) -> tuple[tuple[Mode, ...], tuple[Mode, ...]]:
+    """The modes the errors of B (sources and initial errors, columns) reach and some
+    output of H sees (named), and the rest (by kind); without H or B, all are kept."""
     A = factors[:, None] * F / factors[None, :]  # F in display units: same eigenvalues
+    outputs = _outputs(H, factors)
     eigenvalues = np.linalg.eigvals(A)
     radius = float(np.abs(eigenvalues).max())
     tol = ZERO * radius if radius > 0 else np.finfo(float).tiny
-    raw = []
+    raw, unseen = [], []
     for value, count in _groups(eigenvalues, tol):
         basis, block = _subspace(A, value, count, tol)
-        directions = None
-        if value == 0:
-            singular = np.linalg.svd(block, compute_uv=False)
-            directions = int(count - np.sum(singular > 1e-8 * np.linalg.norm(A)))
-        raw.append((value, count, _participation(basis, names), directions))
+        shown, hidden = _split(block, None if outputs is None else outputs @ basis,
+                               _projected(A, basis, value, count, tol, factors, B),
+                               abs(value) or 1.0)
+        per = 2 if value.imag else 1
+        for part, into in ((shown, raw), (hidden, unseen)):
+            if not part.shape[1]:
+                continue
+            if part.shape[1] < len(block):
+                block_part = part.T @ block @ part  # F on the part (on the quotient: shown)
+                basis_part = basis @ part
+            else:
+                block_part, basis_part = block, basis
+            directions = None
+            if value == 0:
+                singular = np.linalg.svd(block_part, compute_uv=False)
+                directions = int(part.shape[1] - np.sum(
+                    singular > 1e-8 * np.linalg.norm(A)))
+            into.append((value, part.shape[1] // per, _participation(basis_part, names),
+                         directions))
     named = _names([(v, k) for v, k, _, _ in raw], refs)
-    return tuple(_mode(value, count, name, reference, participation, directions,
+    seen = tuple(_mode(value, count, name, reference, participation, directions,
                        _note(name, notes or {}) if _explained(reference) else None)
                  for (value, count, participation, directions), (name, reference)
                  in zip(raw, named, strict=True))
+    return seen, tuple(
+        replace(_mode(value, count, _kind(value), None, participation, directions),
+                seen=False)
+        for value, count, participation, directions in unseen)
 
 
 def _kind(value: complex) -> str:

@@ -820,7 +820,10 @@ class _ModeNames:
         return mode.name if mode is not None else _kind(value)
 
     def cancelled(self, poles: Sequence[Factor]) -> tuple[Factor, ...]:
-        """The modes of F (with their multiplicities) not among ``poles``."""
+        """The modes of F (with their multiplicities) not among ``poles``: the INS's own
+        modes, then those no error reaches or no output sees (:attr:`~ins_errors.analysis.
+        modes.StaticModes.unseen_modes`, named "... (constraint direction)"; a pole beyond
+        its own mode's multiplicity is taken from them)."""
         kept: dict[int, int] = {}
         for pole in poles:
             mode = self._match(pole.value)
@@ -828,8 +831,21 @@ class _ModeNames:
                 key = self.modes.modes.index(mode)
                 kept[key] = kept.get(key, 0) + pole.multiplicity
         out = []
+        extra: list[tuple[complex, int]] = []
         for k, mode in enumerate(self.modes.modes):
             left = mode.multiplicity - kept.get(k, 0)
             if left > 0:
                 out.append(Factor(mode.eigenvalue, left, mode.name))
+            elif left < 0:
+                extra.append((mode.eigenvalue, -left))
+        for mode in self.modes.unseen_modes:
+            left = mode.multiplicity
+            for j, (value, count) in enumerate(extra):
+                if count and abs(value - mode.eigenvalue) <= 100 * self.group_tolerance:
+                    taken = min(count, left)
+                    left -= taken
+                    extra[j] = (value, count - taken)
+            if left > 0:
+                out.append(Factor(mode.eigenvalue, left,
+                                  f"{mode.name} (constraint direction)"))
         return tuple(out)

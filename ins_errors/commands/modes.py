@@ -116,19 +116,34 @@ def _count(mode) -> str:
     return str(mode.multiplicity)
 
 
-def table(result) -> str:
-    """The modes as a Markdown table with its notes."""
-    lines = ["| mode | λ (1/s) | × | period or time | textbook | off by | error states |",
-             "|---|---|---:|---|---:|---:|---|"]
-    for mode in result.modes:
+def _rows(modes, reference: bool) -> list[str]:
+    """A Markdown table of ``modes`` (with the textbook columns where ``reference``)."""
+    head = "| mode | λ (1/s) | × | period or time | textbook | off by | error states |"
+    rule = "|---|---|---:|---|---:|---:|---|"
+    if not reference:
+        head = head.replace(" textbook | off by |", "")
+        rule = rule.replace("---:|---:|", "", 1)
+    lines = [head, rule]
+    for mode in modes:
         ref = mode.reference
         textbook = "–" if ref is None else duration_text(ref.seconds)
         off = "–" if ref is None else _percent(ref.relative_difference)
         if mode.note:
             off += " (see note)"
         states = ", ".join(f"{name} {share:.2f}" for name, share in mode.states())
+        middle = f" {textbook} | {off} |" if reference else ""
         lines.append(f"| {mode.name} | {_eigenvalue(mode.eigenvalue)} | {_count(mode)} | "
-                     f"{_times(mode)} | {textbook} | {off} | {states} |")
+                     f"{_times(mode)} |{middle} {states} |")
+    return lines
+
+
+def table(result) -> str:
+    """The modes as a Markdown table with its notes."""
+    lines = _rows(result.modes, True)
+    if result.unseen_modes:
+        from ins_errors.analysis.modes import UNSEEN_WORDS
+
+        lines += ["", f"Modes {UNSEEN_WORDS}:", "", *_rows(result.unseen_modes, False)]
     refs = result.references
     known = [f"{label} = {value} ({c.source})" for label, c, value in (
         ("g", refs.g, refs.g and f"{refs.g.value:.6g} m/s²"),
