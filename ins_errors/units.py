@@ -675,6 +675,13 @@ def format_readable(value_si: float, unit: str, display_unit: str, digits: int =
                            digits)
 
 
+def nice_below(value: float) -> float:
+    """The largest 1, 2 or 5 times a power of ten not above ``value`` (> 0): a round
+    figure to suggest (a step of 50 s for a stability bound of 133 s)."""
+    power = 10.0 ** math.floor(math.log10(value))
+    return max(m for m in (1.0, 2.0, 5.0) if m * power <= value * (1 + 1e-12)) * power
+
+
 def format_duration(seconds: float) -> str:
     """``"1 h"``, ``"40 min"``, ``"2 h 35 min"``, ``"90 s"``, ``"-1 min"``.
 

@@ -471,6 +471,7 @@ def _hold_record(label: str, hold, times: np.ndarray, step: float,
                  states: tuple[str, ...]) -> dict:
     """A motion's hold-error estimate as the JSON's record (docs/json.md)."""
     from ins_errors.analysis.discrete_model import HOLD_TOLERANCE
+    from ins_errors.units import nice_below
 
     def block(first_stop: tuple[int, int]) -> str:
         first, stop = first_stop
@@ -478,16 +479,10 @@ def _hold_record(label: str, hold, times: np.ndarray, step: float,
 
     suggested = None
     if hold.size > HOLD_TOLERANCE:  # the error falls in proportion to the step
-        suggested = _nice_step(step * HOLD_TOLERANCE / hold.size)
+        suggested = nice_below(step * HOLD_TOLERANCE / hold.size)
     return {"label": label, "size": hold.size, "matrix": hold.matrix,
             "block": f"{hold.matrix}[{block(hold.rows)}, {block(hold.columns)}]",
             "time_s": float(times[hold.step]), "suggested_step_s": suggested}
-
-
-def _nice_step(step: float) -> float:
-    """``step`` rounded down to 1, 2 or 5 times a power of ten, s."""
-    power = 10.0 ** math.floor(math.log10(step))
-    return max(m for m in (1.0, 2.0, 5.0) if m * power <= step * (1 + 1e-12)) * power
 
 
 def _hold_warning(record: dict, step_text: str) -> str:

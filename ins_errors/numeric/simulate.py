@@ -780,6 +780,7 @@ def _step_hint(sim: Simulation) -> str:
     true e^{Re λ·step} by far), so the run's blow-up is the step's, not the physics'; else
     ``""``."""
     from ins_errors.numeric.linear_system import start_state_matrix
+    from ins_errors.units import nice_below
 
     method, step = sim.method, float(sim.trajectory.tau)
     try:
@@ -798,21 +799,12 @@ def _step_hint(sim: Simulation) -> str:
     fastest = float(np.abs(lam[false]).max())
     limit = STEP_STABILITY.get(method, STEP_STABILITY["rk4"])
     bound = limit / float(np.abs(lam).max())
-    suggested = _nice_below(bound / 2)
+    suggested = nice_below(bound / 2)
     name = "RK4" if method == "rk4" else "Euler's method"
     return (f"; the step of {step:g} s is beyond {name}'s stability for F's fastest mode "
             f"(|λ| = {fastest:.3g}/s: |λ|·step = {fastest * step:.3g}, stable only below "
             f"about {limit:g} on the real axis), so the steps themselves blew up; choose a "
             f"step below {bound:.3g} s, e.g. {suggested:g} s")
-
-
-def _nice_below(value: float) -> float:
-    """The largest 1, 2 or 5 × 10^k not above ``value`` (> 0)."""
-    power = 10.0 ** math.floor(math.log10(value))
-    for mantissa in (5.0, 2.0, 1.0):
-        if mantissa * power <= value:
-            return mantissa * power
-    return power
 
 
 def _growth_hint(sim: Simulation, t_left: float) -> str:
