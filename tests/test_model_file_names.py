@@ -77,7 +77,7 @@ def test_models_lists_parameter_defaults(capsys):
     rows = {line.split()[0]: line for line in text.split("parameters:")[1].split("\n\n")[0]
             .strip().splitlines()}
     assert rows["R"].endswith("(default 6371000 m)")
-    assert rows["g"].endswith("(default 9.81 m/s**2)")
+    assert rows["g"].endswith("(default 9.81 m/s^2)")
     assert main(["models", str(STRAPDOWN_FILE), "--json"]) == 0
     listed = {p["name"]: p for p in json.loads(capsys.readouterr().out)["parameters"]}
     assert (listed["g"]["default"], listed["g"]["unit"]) == (9.81, "m/s**2")
@@ -90,7 +90,7 @@ def test_models_names_the_damping_gains_with_their_examples(capsys):
     text = capsys.readouterr().out
     rows = {line.split()[0]: line for line in text.split("parameters:")[1].split("\n\n")[0]
             .strip().splitlines()}
-    assert rows["k_h1"].endswith("(default 0 1/s; a damping gain, e.g. -p k_h1=0.0293/s (a "
+    assert rows["k_h1"].endswith("(default 0/s; a damping gain, e.g. -p k_h1=0.0293/s (a "
                                  "300-s loop, damping 0.7))")
     assert "damping gain" in rows["k_h2"]
     assert not any("damping gain" in row for name, row in rows.items()

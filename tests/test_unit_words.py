@@ -193,3 +193,20 @@ def test_a_sweep_grid_value_without_its_unit_is_told_the_typed_form(tmp_path, ca
     assert main(["sweep", str(spec), "--store", str(tmp_path / "s.zarr")]) == 2
     err = capsys.readouterr().err
     assert "needs a unit, e.g. '2e-3/s^2'" in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("model", ["strapdown_ned", "orthodromic"])
+def test_the_model_listing_writes_units_as_they_are_typed(model, capsys):
+    """`ins-errors models NAME` wrote SymPy's '[m/s**2]'; a reader copies the unit into
+    -p or a TOML file, so it is written as they take it ('m/s^2'), and every unit shown
+    reads back as the model's SI unit."""
+    from ins_errors.numeric.model import load_model
+
+    assert main(["models", model]) == 0
+    out = capsys.readouterr().out
+    assert "**" not in out
+    m = load_model(model)
+    for info in (*m.sources, *m.parameters, *m.error_states):
+        shown = re.search(rf"^  {re.escape(info.name)} +\[([^\]]+)\]", out, re.M).group(1)
+        typed = "1" if shown == "1" else f"1 {shown}"
+        assert parse_quantity(typed, info.unit) == pytest.approx(1.0, rel=1e-15), shown

@@ -21,16 +21,19 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def default_text(value: float, unit: str) -> str:
-    """A parameter's default as the listing shows it: ``6378137 m``, ``0.00335281``
-    (every digit a float needs to come back unchanged; no unit for ``"1"``); an angle
+    """A parameter's default as the listing shows it and -p takes it: ``6378137 m``,
+    ``9.81 m/s^2``, ``0/s``, ``0.00335281`` (every digit a float needs to come back
+    unchanged; no unit for ``"1"``); an angle
     (SI unit ``rad``) in degrees, as people set it: ``50 deg``
     (:func:`parameter_text`)."""
     if unit == "rad":
         return parameter_text(value, unit)
+    from ins_errors.units import typed_value
+
     number = repr(float(value))
     if number.endswith(".0"):
         number = number[:-2]
-    return number if unit == "1" else f"{number} {unit}"
+    return typed_value(number, unit)
 
 
 def parameter_text(value: float, unit: str, digits: int = 10) -> str:
@@ -89,5 +92,6 @@ def run(args: argparse.Namespace) -> int:
                         f", e.g. -p {i.name}={i.example}" if i.example else "") + (
                         f" ({i.example_gives})" if i.example_gives else "")
                 extra += ")"
-            print(f"  {i.name:<36} [{i.unit}] {i.description}{extra}")
+            unit = i.unit.replace("**", "^")  # as -p and the files take it (JSON: SI)
+            print(f"  {i.name:<36} [{unit}] {i.description}{extra}")
     return 0
