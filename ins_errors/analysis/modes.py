@@ -30,7 +30,8 @@ where it is damped or growing (the damped Foucault pair against
 "Near" is within a factor :data:`BAND`. Each mode lists the error states that take part:
 the row norms of an orthonormal basis of its invariant subspace (ordered real Schur
 form), relative to the largest, with the states measured as equivalent angles in the
-units of the Schuler loop (lengths over R, velocities over √(gR); see :func:`_scales`),
+units of the Schuler loop (lengths over R, velocities over √(gR); see
+:func:`schuler_loop_scales`),
 or in their display units when the model lacks g or R.
 """
 
@@ -238,7 +239,7 @@ class RestPoint:
         Initial conditions of the base, SI.
     factors : numpy.ndarray, shape (ne,)
         Per error state, the factor that measures it in the units of the Schuler loop
-        (:func:`_scales`; its display unit without g or R).
+        (:func:`schuler_loop_scales`; its display unit without g or R).
     """
 
     x: np.ndarray
@@ -441,7 +442,8 @@ def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] |
     height = float(profile.commands(np.zeros(1))[0][2, 0]) if "height" in used else None
     latitude, source = _latitude(model, p, profile.latitude, "latitude" in used)
     refs = references(model, u, p, latitude, height or 0.0)
-    factors, units = _scales(model, refs, np.asarray(x, dtype=float).reshape(-1))
+    factors, units = schuler_loop_scales(model, refs,
+                                         np.asarray(x, dtype=float).reshape(-1))
     names = [s.name for s in model.error_states]
     point = RestPoint(np.asarray(x, dtype=float), np.asarray(u, dtype=float), p,
                       np.asarray(motion.initial_conditions, dtype=float), factors)
@@ -497,7 +499,8 @@ def _longitude_scales(model: Model, x: np.ndarray, latitude: float | None
     return {k: (float(np.cos(value)), name) for k in longitudes}
 
 
-def _scales(model: Model, refs: References, x: np.ndarray) -> tuple[np.ndarray, list[str]]:
+def schuler_loop_scales(model: Model, refs: References,
+                        x: np.ndarray) -> tuple[np.ndarray, list[str]]:
     """Per error state: the factor that makes it an equivalent angle, and how it reads.
 
     With g and R known, every state is measured in the units of the Schuler loop, in
@@ -683,12 +686,16 @@ def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: Reference
                  for (value, count, participation, directions), (name, reference)
                  in zip(raw, named, strict=True))
     return seen, tuple(
-        replace(_mode(value, count, _kind(value), None, participation, directions),
+        replace(_mode(value, count, kind_of_eigenvalue(value), None, participation,
+                      directions),
                 seen=False)
         for value, count, participation, directions in unseen)
 
 
-def _kind(value: complex) -> str:
+def kind_of_eigenvalue(value: complex) -> str:
+    """What an eigenvalue of F does, in words: "integrator", "damped", "growing",
+    "oscillation", "damped oscillation" or "growing oscillation" (a pole no textbook
+    mode names is called by its kind)."""
     if value == 0:
         return "integrator"
     if not value.imag:
@@ -716,8 +723,8 @@ def _mode(value: complex, count: int, name: str, reference: Reference | None,
     time_constant = 1.0 / abs(value.real) if value.real else None
     # + 0.0: an undamped oscillation's −0/|λ| is −0.0, shown as "-0.0" in JSON
     damping = -value.real / abs(value) + 0.0 if value.imag else None
-    return Mode(name, _kind(value), value, count, period, time_constant, damping, reference,
-                participation, directions, note)
+    return Mode(name, kind_of_eigenvalue(value), value, count, period, time_constant, damping,
+                reference, participation, directions, note)
 
 
 def _near(rate: float, reference: float | None) -> bool:
@@ -765,7 +772,7 @@ def _foucault_split(groups: list[tuple[complex, int]], schuler: list[int],
 def _names(groups: list[tuple[complex, int]], refs: References
            ) -> list[tuple[str, Reference | None]]:
     """(name, reference) of each group."""
-    out: list[tuple[str, Reference | None]] = [(_kind(v), None) for v, _ in groups]
+    out: list[tuple[str, Reference | None]] = [(kind_of_eigenvalue(v), None) for v, _ in groups]
     zeta = [-v.real / abs(v) if v.imag else None for v, _ in groups]
     named = [z is not None and abs(z) < NAMED_DAMPING for z in zeta]
     schuler = [j for j, (v, _) in enumerate(groups) if named[j] and _near(abs(v), refs.schuler)]

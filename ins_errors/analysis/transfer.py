@@ -22,7 +22,7 @@ state, inputs, parameters and initial conditions G, H and E are evaluated at).
 What a pair does not see is cancelled before W is factored: its minimal realisation
 keeps the controllable part of (F, g) (an orthonormal Krylov basis of g, F g, F² g, ...)
 and of that the part h observes (the same on (Fᵀ, hᵀ)), on the states measured in the
-units of the Schuler loop (:func:`~ins_errors.analysis.modes._scales`) and F divided by
+units of the Schuler loop (:func:`~ins_errors.analysis.modes.schuler_loop_scales`) and F divided by
 its norm, a direction being zero below
 :data:`~ins_errors.analysis.transfer_reduction.TOLERANCE`
 (:mod:`~ins_errors.analysis.transfer_reduction` does the numbers). The poles are the
@@ -814,10 +814,10 @@ class _ModeNames:
         return None
 
     def _name(self, value: complex) -> str:
-        from ins_errors.analysis.modes import _kind
+        from ins_errors.analysis.modes import kind_of_eigenvalue
 
         mode = self._match(value)
-        return mode.name if mode is not None else _kind(value)
+        return mode.name if mode is not None else kind_of_eigenvalue(value)
 
     def cancelled(self, poles: Sequence[Factor]) -> tuple[Factor, ...]:
         """The modes of F (with their multiplicities) not among ``poles``: the INS's own
