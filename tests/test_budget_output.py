@@ -245,7 +245,8 @@ def test_the_memory_check_estimates_the_peak_a_static_budget_reaches(tmp_path, m
     monkeypatch.setattr(linear_system, "physical_memory", lambda: 1.0)  # always refused
     with pytest.raises(linear_system.LinearSystemError) as refused:
         linear_system.check_grid_memory(model, 6 * 3600 + 1, 1.0)
-    estimate = float(str(refused.value).split("need about ")[1].split()[0]) * 1e9  # bytes
+    number, unit = str(refused.value).split("need about ")[1].split()[:2]
+    estimate = float(number) * {"kB": 1e3, "MB": 1e6, "GB": 1e9}[unit.rstrip(",")]  # bytes
     assert 0.6 * estimate < peak < 1.3 * estimate
 
 

@@ -93,6 +93,7 @@ from pathlib import Path
 import numpy as np
 
 from ins_errors.errors import InsErrorsError
+from ins_errors.machine_memory import size_text
 
 STORE_HINT = "pip install 'ins-errors[distributed]'"
 """How to install the store's libraries (xarray, zarr)."""
@@ -271,15 +272,6 @@ class StoreSize:
         if self.netcdf:
             text += f" while filled, then a NetCDF file of {size_text(self.netcdf)}"
         return text
-
-
-def size_text(size: float) -> str:
-    """Bytes as ``"45 MB"`` (decimal units, 2 significant digits at least)."""
-    for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
-        if size >= scale:
-            value = size / scale
-            return f"{value:.2g} {unit}" if value < 10 else f"{value:.0f} {unit}"
-    return f"{size:.0f} bytes"
 
 
 def block_size(path: str | Path) -> int:

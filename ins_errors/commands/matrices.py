@@ -48,6 +48,7 @@ import numpy as np
 
 from ins_errors.commands import hours, motion_kinds
 from ins_errors.json_output import emit
+from ins_errors.machine_memory import available_memory, size_text
 from ins_errors.user_paths import user_path
 
 MOTIONS = ("static", "cruise", "manoeuvre")
@@ -416,28 +417,11 @@ def _undriven(model, markov: dict[str, float], sigma: dict[str, float]) -> list[
             for name in markov if name not in sigma]
 
 
-def available_memory() -> int | None:
-    """Memory this machine has available now, bytes (psutil where installed, else the
-    free pages the system reports), or None where it does not say."""
-    import os
-
-    try:
-        import psutil
-        return int(psutil.virtual_memory().available)
-    except ImportError:
-        pass
-    try:
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, ValueError, OSError):
-        return None
-
-
 def _size(model, args: argparse.Namespace, step: float, n: int, biases: int,
           noises: int) -> int:
     """The bytes of the arrays the file will hold (estimated before anything is flown),
     said on stderr when large; refused in one line beyond :data:`MAX_BYTES` or the
     memory available, unless ``--allow-large``."""
-    from ins_errors.analysis.store import size_text
     from ins_errors.errors import InsErrorsError
 
     samples = math.floor(args.hours * 3600.0 / step + 1e-9) + 1

@@ -9,13 +9,13 @@ linear Monte Carlo (:mod:`ins_errors.analysis.monte_carlo`) run on it.
 from __future__ import annotations
 
 import math
-import os
 from collections.abc import Collection
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
+from ins_errors.machine_memory import physical_memory, size_text
 
 
 class LinearSystemError(InsErrorsError):
@@ -270,14 +270,6 @@ def undamped_remedy(model, p: np.ndarray, names: Collection[str] | None = None) 
             + example)
 
 
-def physical_memory() -> int | None:
-    """The machine's physical memory, bytes, or None where the system does not say."""
-    try:
-        return os.sysconf("SC_PHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    except (AttributeError, ValueError, OSError):
-        return None
-
-
 def check_grid_memory(model, times: int, step: float) -> None:
     """Refuse a moving-base grid whose sampled equations would not fit in memory.
 
@@ -309,15 +301,9 @@ def check_grid_memory(model, times: int, step: float) -> None:
     longer = step * math.ceil(times * per_time / limit)
     raise LinearSystemError(
         f"the error equations at {times:,} grid times need about "
-        f"{_gigabytes(times * per_time)} GB, more than {MEMORY_SHARE:.0%} of this machine's "
-        f"{memory / 1e9:.1f} GB; choose a step of at least {longer:g} s "
+        f"{size_text(times * per_time)}, more than {MEMORY_SHARE:.0%} of this machine's "
+        f"{size_text(memory)}; choose a step of at least {longer:g} s "
         f"(or a shorter duration)")
-
-
-def _gigabytes(size: float) -> str:
-    """A size in bytes as GB: one decimal from 10 GB, two significant digits below."""
-    gb = size / 1e9
-    return f"{gb:.1f}" if gb >= 10 else f"{gb:.2g}"
 
 
 def uniform_grid(duration: float, step: float) -> np.ndarray:
