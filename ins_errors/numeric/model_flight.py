@@ -160,48 +160,23 @@ def flight_earth(model: Model, p: np.ndarray):
 
 
 @cache
-def _adapter(model_key: str, determined: tuple[bool, ...]):
-    """Compiled ``(c, ċ, u_prior, p) -> (x, u, residual, terms)``, mapped over
-    :data:`CHUNK` columns (``p`` shared)."""
-    from ins_errors.numeric.integrators import native_functions
-    from ins_errors.numeric.model import load_model
+def _adapter(model_key: str, determined: tuple[bool, ...], carried: tuple[int, ...] = ()):
+    """The model's state and inputs along a flight, compiled and mapped over
+    :data:`CHUNK` columns (``p`` shared).
 
-    model = load_model(model_key)
-    functions = model.casadi.function
-    nc, nu = len(model.initial_conditions), len(model.inputs)
-    c, c_rate = ca.SX.sym("c", nc), ca.SX.sym("c_rate", nc)
-    prior, p = ca.SX.sym("u_prior", nu), ca.SX.sym("p", len(model.parameters))
-    x = functions("initial_state")(c, prior, p)
-    x_rate = ca.jtimes(x, c, c_rate)
-    xs, us = ca.SX.sym("xs", x.size1()), ca.SX.sym("us", nu)
-    f_s = functions("ideal_rhs")(xs, us, p)
-    rhs = ca.Function("rhs_and_jacobian", [xs, us, p], [f_s, ca.jacobian(f_s, us)])
-    keep = [j for j in range(nu) if determined[j]]
-    u = prior
-    for _ in range(2):  # Gauss–Newton; the second step refines an affine f to rounding
-        f, J = rhs(x, u, p)
-        J = J[:, keep]
-        step = ca.solve(J.T @ J, J.T @ (x_rate - f))
-        u = u + ca.vertcat(*[step[keep.index(j)] if determined[j] else 0
-                             for j in range(nu)])
-    f, J = rhs(x, u, p)
-    at_zero, _ = rhs(x, ca.DM.zeros(nu), p)
-    terms = ca.fabs(at_zero) + ca.mtimes(ca.fabs(J), ca.fabs(u)) + ca.fabs(x_rate)
-    # dense: a state the initial-state map sets to a constant (0) has a structural zero
-    one = ca.Function("model_flight", [c, c_rate, prior, p],
-                      [ca.densify(v) for v in (x, u, f - x_rate, terms)])
-    mapped = one.map("model_flight_chunk", "serial", CHUNK, [3], [])
-    return native_functions([mapped])[0]
+    ``(c, ċ, u_prior, p) -> (x, u, residual, terms)``: the state ``x = x0(c, p)`` of the
+    initial-state map and the inputs ``u`` that make the ideal work follow it,
+    ``f(x, u, p) = ∂x0/∂c ċ``, two Gauss–Newton steps from ``u_prior`` in the inputs
+    ``determined`` (the second step refines an affine ``f`` to rounding; the others keep
+    their prior); the residual ``f − ẋ`` and the sizes of its terms
+    ``|f(x, 0)| + |∂f/∂u| |u| + |ẋ|`` (n each).
 
-
-@cache
-def _carried_adapter(model_key: str, determined: tuple[bool, ...], carried: tuple[int, ...]):
-    """Compiled ``(c, ċ, u_prior, q, p) -> (x, u, q̇, residual, terms)``, mapped over
-    :data:`CHUNK` columns (``p`` shared): the model's state ``x = x0(c, p | q)`` with the
-    carried parameters ``carried`` (indices into ``p``) at the column's ``q``, and its
-    inputs ``u`` and the carried parameters' rates ``q̇`` solving its ideal work
-    ``f(x, u, p) = ∂x0/∂c ċ + ∂x0/∂q q̇`` (two Gauss–Newton steps, as
-    :func:`_adapter`)."""
+    With carried parameters ``carried`` (indices into ``p``):
+    ``(c, ċ, u_prior, q, p) -> (x, u, q̇, residual, terms)``, the state ``x = x0(c, p | q)``
+    with those parameters at the column's ``q`` in the initial-state map (the
+    mechanisation keeps ``p``), and the steps solve for the inputs and the parameters'
+    rates ``q̇`` together: ``f(x, u, p) = ∂x0/∂c ċ + ∂x0/∂q q̇``. Without carried
+    parameters the ``q̇`` terms are empty and every expression is the one above."""
     from ins_errors.numeric.integrators import native_functions
     from ins_errors.numeric.model import load_model
 
@@ -214,26 +189,32 @@ def _carried_adapter(model_key: str, determined: tuple[bool, ...], carried: tupl
     moved = ca.vertcat(*[q[carried.index(k)] if k in carried else p[k] for k in range(n_p)])
     x = functions("initial_state")(c, prior, moved)
     along = ca.jtimes(x, c, c_rate)
-    D = ca.jacobian(x, q)
+    D = ca.jacobian(x, q)  # (n, 0) without carried parameters
     xs, us = ca.SX.sym("xs", x.size1()), ca.SX.sym("us", nu)
     f_s = functions("ideal_rhs")(xs, us, p)  # the mechanisation keeps its parameters
     rhs = ca.Function("rhs_and_jacobian", [xs, us, p], [f_s, ca.jacobian(f_s, us)])
     keep = [j for j in range(nu) if determined[j]]
     u, q_rate = prior, ca.DM.zeros(len(carried))
-    for _ in range(2):  # Gauss–Newton in (u, q̇)
+    for _ in range(2):  # Gauss–Newton in (u, q̇); the second step refines an affine f
         f, J = rhs(x, u, p)
         A = ca.horzcat(J[:, keep], -D)
         step = ca.solve(A.T @ A, A.T @ (along + D @ q_rate - f))
         u = u + ca.vertcat(*[step[keep.index(j)] if determined[j] else 0
                              for j in range(nu)])
-        q_rate = q_rate + step[len(keep):]
+        q_rate = q_rate + step[len(keep):, :]
     f, J = rhs(x, u, p)
     x_rate = along + D @ q_rate
     at_zero, _ = rhs(x, ca.DM.zeros(nu), p)
     terms = ca.fabs(at_zero) + ca.mtimes(ca.fabs(J), ca.fabs(u)) + ca.fabs(x_rate)
-    one = ca.Function("model_flight_carried", [c, c_rate, prior, q, p],
-                      [ca.densify(v) for v in (x, u, q_rate, f - x_rate, terms)])
-    mapped = one.map("model_flight_carried_chunk", "serial", CHUNK, [4], [])
+    if carried:
+        name, inputs, outputs = ("model_flight_carried", [c, c_rate, prior, q, p],
+                                 (x, u, q_rate, f - x_rate, terms))
+    else:
+        name, inputs, outputs = ("model_flight", [c, c_rate, prior, p],
+                                 (x, u, f - x_rate, terms))
+    # dense: a state the initial-state map sets to a constant (0) has a structural zero
+    one = ca.Function(name, inputs, [ca.densify(v) for v in outputs])
+    mapped = one.map(f"{name}_chunk", "serial", CHUNK, [len(inputs) - 1], [])
     return native_functions([mapped])[0]
 
 
@@ -422,8 +403,8 @@ class FlightAdapter:
             function, sources, widths = self.function, (c, c_rate, prior), (n, nu, n, n)
         else:
             if self.carried_function is None:
-                self.carried_function = _carried_adapter(self.model_key, self.determined,
-                                                         self.carried)
+                self.carried_function = _adapter(self.model_key, self.determined,
+                                                 self.carried)
             function, sources = self.carried_function, (c, c_rate, prior, q)
             widths = (n, nu, m, n, n)
         outputs = [np.empty((total, k)) for k in widths]
@@ -564,7 +545,7 @@ class CarriedPath(it.NodePath):
     """The carried parameters of a model (:func:`carried_parameters`) along a flight.
 
     Their rates ``q̇`` solve, with the model's inputs, its ideal work along the flight,
-    ``f(x0(c, q), u) = ∂x0/∂c ċ + ∂x0/∂q q̇`` (:func:`_carried_adapter`); where the flight
+    ``f(x0(c, q), u) = ∂x0/∂c ċ + ∂x0/∂q q̇`` (:func:`_adapter`); where the flight
     does not move them (the ideal work follows the flight with the parameters held, as
     :meth:`FlightAdapter.solved` finds to its tolerances) their rate is zero, so a flight
     that keeps them still keeps them at their values, bit for bit. The integral
