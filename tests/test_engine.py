@@ -9,6 +9,7 @@ import re
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -295,3 +296,26 @@ def test_the_command_sets_its_sigterm_handler_before_numpy_is_imported(tmp_path)
 
     assert ins_errors.load_model("orthodromic").name == "orthodromic"
     assert "load_model" in dir(ins_errors)
+
+
+def test_the_pool_managers_complaint_about_a_cancelled_task_is_not_printed(capsys):
+    """Was: about one SIGTERM in ten under load printed Python 3.11's process-pool
+    manager thread's traceback (InvalidStateError: it marks the cancelled tasks failed
+    once the stopped workers are gone) between the sweep's notes and its one line."""
+    from concurrent.futures import InvalidStateError
+
+    from ins_errors.analysis.engine import _quiet_stopped_pool
+
+    handed = []
+    hook = _quiet_stopped_pool(lambda args: handed.append(args.exc_type))
+    manager = type("_ExecutorManagerThread", (threading.Thread,), {})()
+
+    def raised(error, thread):
+        return threading.ExceptHookArgs((type(error), error, None, thread))
+
+    hook(raised(InvalidStateError("CANCELLED: <Future>"), manager))
+    assert handed == []
+    hook(raised(InvalidStateError("x"), threading.Thread()))   # another thread's: shown
+    hook(raised(RuntimeError("x"), manager))                    # another error: shown
+    assert handed == [InvalidStateError, RuntimeError]
+    assert _quiet_stopped_pool(hook) is hook   # stopping twice wraps once
