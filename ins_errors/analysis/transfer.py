@@ -55,7 +55,10 @@ The long run of the response to a source of size b follows from the partial frac
 of Y(s) (:meth:`TransferFunction.partial_fractions`): a pole of Y at 0 of order m ≥ 2
 makes it grow as t^(m−1); of order 1 it oscillates about (or settles at) the constant
 lim s→0 s·Y(s), b·W(0) for a constant source; a pole in the right half-plane makes it
-grow exponentially. The words, the factored form and the report are
+grow exponentially, and beside it the other terms are kept as a bounded response's
+(:attr:`LongRun.rest`: an undamped vertical channel's growth starts at 1e-6 of the
+Schuler oscillations about ∇/g and overtakes them only after hours,
+:attr:`LongRun.overtakes_s`). The words, the factored form and the report are
 :mod:`ins_errors.analysis.transfer_text`'s.
 """
 
@@ -127,11 +130,16 @@ class Factor:
         How many times it (a pair: the pair) is a root.
     name : str or None
         For a pole: the mode of F it is, as ``modes`` names it; None for a zero.
+    mode_multiplicity : int or None
+        For a cancelled mode: its multiplicity in F (more than ``multiplicity`` when the
+        pair keeps some of it: at the equator one of the two Schuler pairs); None for a
+        zero or a pole.
     """
 
     value: complex
     multiplicity: int
     name: str | None = None
+    mode_multiplicity: int | None = None
 
     @property
     def period_s(self) -> float | None:
@@ -207,7 +215,9 @@ class LongRun:
         growing term ``b · coefficient · t^power · e^(t/T)`` (its amplitude for a growing
         oscillation); None for a resonance.
     oscillations : tuple of Oscillation
-        The undamped oscillations about it (simple poles on the imaginary axis).
+        The undamped oscillations about it (simple poles on the imaginary axis) and the
+        slowly damped ones (:data:`SLOW_DECAY`); of the exponential kind, those of
+        :attr:`rest`.
     growth : Factor or None
         The fastest growing pole (exponential kind) or the repeated pair (resonance).
     settles : bool
@@ -215,6 +225,15 @@ class LongRun:
     settling_s : float or None
         When every damped term has fallen below 1 % of the value the response settles
         at (of its largest term where that is zero), s (None without a damped term).
+    rest : LongRun or None
+        Of the exponential kind: the long run of the other terms (the poles not in the
+        right half-plane), which the response follows until the growth overtakes them,
+        e.g. the Schuler oscillations about ∇/g beside an undamped vertical channel;
+        None otherwise. Its oscillations are also :attr:`oscillations`.
+    overtakes_s : float or None
+        Of the exponential kind: when the growing term reaches the largest size of the
+        other terms (the size of :attr:`rest`'s level plus its undamped amplitudes), s;
+        None when those grow too or are zero (0 when it is larger from the start).
     """
 
     kind: str
@@ -224,6 +243,18 @@ class LongRun:
     growth: Factor | None = None
     settles: bool = False
     settling_s: float | None = None
+    rest: LongRun | None = None
+    overtakes_s: float | None = None
+
+    @property
+    def bounded_size(self) -> float | None:
+        """Per unit source, the largest size a bounded long run reaches: the size of the
+        level plus the amplitudes of its undamped oscillations (output SI unit per source
+        SI unit); None for one that grows."""
+        if self.kind not in ("constant", "zero", "none"):
+            return None
+        level = abs(self.coefficient) if self.kind == "constant" else 0.0
+        return level + sum(o.amplitude for o in self.oscillations if o.decay_s is None)
 
 
 @dataclass(frozen=True)
@@ -374,13 +405,23 @@ class TransferFunction:
         if self.is_zero:
             return LongRun("none", 0, 0.0, settles=True)
         fractions = dict(self.partial_fractions)
+        rest = self._bounded_run(fractions)
         unstable = [f for f in self.poles if f.value.real > 0]
-        if unstable:
-            fastest = max(unstable, key=lambda f: f.value.real)
-            leading = fractions[fastest.value][-1]
-            size = float(leading.real if not fastest.value.imag else 2 * abs(leading))
-            return LongRun("exponential", fastest.multiplicity - 1,
-                           size / math.factorial(fastest.multiplicity - 1), growth=fastest)
+        if not unstable:
+            return rest
+        fastest = max(unstable, key=lambda f: f.value.real)
+        leading = fractions[fastest.value][-1]
+        size = float(leading.real if not fastest.value.imag else 2 * abs(leading))
+        power = fastest.multiplicity - 1
+        coefficient = size / math.factorial(power)
+        overtakes = _overtakes(abs(coefficient), power, fastest.time_constant_s,
+                               rest.bounded_size)
+        return LongRun("exponential", power, coefficient, rest.oscillations,
+                       growth=fastest, rest=rest, overtakes_s=overtakes)
+
+    def _bounded_run(self, fractions: dict) -> LongRun:
+        """The long run of the terms of the poles not in the right half-plane (all of
+        them when there is none)."""
         resonant = [f for f in self.poles if f.value.imag and not f.value.real
                     and f.multiplicity > 1]
         oscillations = tuple(
@@ -457,7 +498,8 @@ class TransferFunction:
             "full_order": self.full_order, "factored": factored_text(self),
             "zeros": [f.to_dict() for f in self.zeros],
             "poles": [f.to_dict() for f in self.poles],
-            "cancelled": [f.to_dict() for f in self.cancelled],
+            "cancelled": [{**f.to_dict(), "mode_multiplicity": f.mode_multiplicity}
+                          for f in self.cancelled],
             "partial_fractions": [
                 {"pole": {"real": p.real, "imag": p.imag},
                  "coefficients": [{"real": r.real, "imag": r.imag} for r in coefficients]}
@@ -469,12 +511,60 @@ class TransferFunction:
                 "value": None if run.coefficient is None else run.coefficient * self.magnitude,
                 "settles": run.settles, "settling_s": run.settling_s,
                 "growth": None if run.growth is None else run.growth.to_dict(),
+                "rest": None if run.rest is None else {
+                    "kind": run.rest.kind, "power": run.rest.power,
+                    "coefficient": run.rest.coefficient,
+                    "value": None if run.rest.coefficient is None
+                    else run.rest.coefficient * self.magnitude,
+                    "size": None if run.rest.bounded_size is None
+                    else run.rest.bounded_size * abs(self.magnitude)},
+                "overtakes_s": run.overtakes_s,
                 "oscillations": [{"name": o.name, "period_s": o.period_s,
                                   "amplitude": abs(o.amplitude * self.magnitude),
                                   "decay_s": o.decay_s}
                                  for o in run.oscillations],
                 "text": long_run_text(self)},
         }
+
+
+def _overtakes(size: float, power: int, time_constant_s: float,
+               bounded: float | None) -> float | None:
+    """The time t >= 0 at which ``size`` · t^``power`` · e^(t/``time_constant_s``) first
+    reaches ``bounded``, s (0 when it is larger from the start); None when ``bounded`` is
+    None or zero, or ``size`` zero.
+
+    Parameters
+    ----------
+    size : float
+        The growing term's coefficient, >= 0 (output unit per s^power).
+    power : int
+        Its power of t.
+    time_constant_s : float
+        Its e-folding time, s.
+    bounded : float or None
+        The size it is to reach (output unit).
+    """
+    if not bounded or not size:
+        return None
+    target = math.log(bounded / size)
+    if power == 0:
+        return max(target, 0.0) * time_constant_s
+
+    def excess(t: float) -> float:  # log of the term over ``bounded``; rises with t
+        return power * math.log(t) + t / time_constant_s - target
+
+    low, high = 1e-300, time_constant_s
+    while excess(high) < 0:
+        low, high = high, 2 * high
+    for _ in range(200):
+        middle = math.sqrt(low * high) if high / low > 4 else 0.5 * (low + high)
+        if excess(middle) < 0:
+            low = middle
+        else:
+            high = middle
+        if high - low <= 1e-12 * high:
+            break
+    return high
 
 
 def _times_series(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -835,7 +925,7 @@ class _ModeNames:
         for k, mode in enumerate(self.modes.modes):
             left = mode.multiplicity - kept.get(k, 0)
             if left > 0:
-                out.append(Factor(mode.eigenvalue, left, mode.name))
+                out.append(Factor(mode.eigenvalue, left, mode.name, mode.multiplicity))
             elif left < 0:
                 extra.append((mode.eigenvalue, -left))
         for mode in self.modes.unseen_modes:
@@ -847,5 +937,5 @@ class _ModeNames:
                     extra[j] = (value, count - taken)
             if left > 0:
                 out.append(Factor(mode.eigenvalue, left,
-                                  f"{mode.name} (constraint direction)"))
+                                  f"{mode.name} (constraint direction)", mode.multiplicity))
         return tuple(out)

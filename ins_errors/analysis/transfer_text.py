@@ -148,14 +148,31 @@ def long_run_text(pair: TransferFunction) -> str:
             + f"{pair.source} = {magnitude_text(pair)}")
     if run.kind == "none":
         return f"{pair.output} does not respond to {pair.source} (W = 0)"
-    if run.kind == "exponential":
-        growth = run.growth
-        power = f" · t{superscript(run.power)}" if run.power else ""
-        return (f"{what}: {pair.output} grows exponentially, ≈ "
-                f"{_display_value(pair, run.coefficient * pair.magnitude, run.power)}"
-                f"{power} · e^(t/{duration_text(growth.time_constant_s)}), the "
-                f"{growth.name} mode"
-                + (f" (period {duration_text(growth.period_s)})" if growth.period_s else ""))
+    if run.kind != "exponential":
+        return f"{what}: {pair.output} {_run_words(pair, run)}"
+    growth = run.growth
+    power = f" · t{superscript(run.power)}" if run.power else ""
+    text = (f"{what}: {pair.output} grows exponentially, ≈ "
+            f"{_display_value(pair, run.coefficient * pair.magnitude, run.power)}"
+            f"{power} · e^(t/{duration_text(growth.time_constant_s)}), the "
+            f"{growth.name} mode"
+            + (f" (period {duration_text(growth.period_s)})" if growth.period_s else ""))
+    rest = run.rest
+    if rest is None or rest.kind == "none":
+        return text
+    text += f"; beside it {pair.output} {_run_words(pair, rest)}"
+    if run.overtakes_s is not None:
+        size = _display_value(pair, rest.bounded_size * abs(pair.magnitude))
+        text += ("; the growing term reaches these terms' largest size (" + size
+                 + (": level plus amplitudes" if rest.oscillations else "") + ") "
+                 + ("from the start" if run.overtakes_s == 0 else
+                    f"after about {duration_text(run.overtakes_s)}"))
+    return text
+
+
+def _run_words(pair: TransferFunction, run) -> str:
+    """What the output does in a long run other than the exponential kind: ``"oscillates
+    about 0.2063 arcsec (...); oscillations: ..."``, ``"grows as t², ..."``."""
     waves = "; ".join(f"{o.name} (period {duration_text(o.period_s)}, amplitude "
                       f"{_display_value(pair, abs(o.amplitude * pair.magnitude))}"
                       + (f", decay {duration_text(o.decay_s)}" if o.decay_s else "") + ")"
@@ -164,7 +181,7 @@ def long_run_text(pair: TransferFunction) -> str:
                 f"; its damped terms below 1 % of its largest term after about "
                 f"{duration_text(run.settling_s)}")
     if run.kind == "resonance":
-        text = (f"{what}: {pair.output} oscillates with an amplitude growing as "
+        text = (f"oscillates with an amplitude growing as "
                 f"t{superscript(run.power)} (repeated {run.growth.name} pair, period "
                 f"{duration_text(run.growth.period_s)})")
         if run.coefficient is not None:
@@ -174,7 +191,7 @@ def long_run_text(pair: TransferFunction) -> str:
         return text + (f"; oscillations: {waves}" if waves else "")
     if run.kind == "power":
         value = run.coefficient * pair.magnitude
-        head = (f"{what}: {pair.output} grows as t{superscript(run.power)}, "
+        head = (f"grows as t{superscript(run.power)}, "
                 f"≈ {_display_value(pair, value, run.power)} · t{superscript(run.power)}"
                 f" (lim s→0 s{superscript(run.power + 1)}·Y(s)"
                 + (f"/{run.power}!)" if run.power > 1 else ")"))
@@ -187,7 +204,7 @@ def long_run_text(pair: TransferFunction) -> str:
         verb = "oscillates about"
     else:
         verb = "tends to"
-    text = f"{what}: {pair.output} {verb} {_display_value(pair, value)} ({limit})"
+    text = f"{verb} {_display_value(pair, value)} ({limit})"
     if run.settles and run.settling_s and value != 0:
         settling = f", within 1 % after about {duration_text(run.settling_s)}"
     return text + settling + (f"; oscillations: {waves}" if waves else "")
@@ -211,13 +228,20 @@ def _times(factor: Factor) -> str:
 
 
 def _cancelled(pair: TransferFunction) -> str:
-    """``"cancelled: integrator, Earth"`` (a repeated mode ``×2``) or ``"none
-    cancelled"``."""
+    """``"cancelled: integrator, Earth"`` (a repeated mode ``×2``; one the pair keeps
+    part of with the count, ``Schuler (1 of 2 pairs)``) or ``"none cancelled"``."""
     if not pair.cancelled:
         return "none cancelled"
-    names = ", ".join(f"{f.name}" + (f" ×{f.multiplicity}" if f.multiplicity > 1 else "")
-                      for f in pair.cancelled)
-    return f"cancelled: {names}"
+    return "cancelled: " + ", ".join(_cancelled_mode(f) for f in pair.cancelled)
+
+
+def _cancelled_mode(factor: Factor) -> str:
+    """A cancelled mode: ``Earth``, ``integrator ×2``, ``Schuler (1 of 2 pairs)``."""
+    total = factor.mode_multiplicity
+    if total is not None and total > factor.multiplicity:
+        what = "pairs" if factor.value.imag else "roots"
+        return f"{factor.name} ({factor.multiplicity} of {total} {what})"
+    return factor.name + (f" ×{factor.multiplicity}" if factor.multiplicity > 1 else "")
 
 
 def pair_text(pair: TransferFunction) -> str:
