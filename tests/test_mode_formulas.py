@@ -114,3 +114,63 @@ def test_strapdown_ned_schuler_note_states_its_accuracy_truly():
             assert gap == pytest.approx(at_five, rel=0.05)
     assert worst <= stated and worst > stated / 3  # true, and not a loose bound
     assert worst_away <= stated_away
+
+
+KRASOVSKY_A, KRASOVSKY_E2 = 6_378_245.0, 0.006693421622965943
+
+
+def _orthodromic_reference(latitude: float) -> list[float]:
+    """The note's two channels coupled by the Foucault terms, from the Krasovsky
+    ellipsoid and g by Somigliana's formula with WGS-84's γ_e and k on it, typed here."""
+    s2 = np.sin(latitude) ** 2
+    gravity = GAMMA_E * (1 + SOMIGLIANA_K * s2) / np.sqrt(1 - KRASOVSKY_E2 * s2)
+    meridian = KRASOVSKY_A * (1 - KRASOVSKY_E2) / (1 - KRASOVSKY_E2 * s2) ** 1.5
+    prime = KRASOVSKY_A / np.sqrt(1 - KRASOVSKY_E2 * s2)
+    north2, east2 = gravity / meridian, gravity / prime
+    b = north2 + east2 + 4 * EARTH_RATE**2 * s2
+    root = np.sqrt(b * b - 4 * north2 * east2)
+    return sorted(np.sqrt([(b - root) / 2, (b + root) / 2]))
+
+
+def test_orthodromic_schuler_note_explains_its_two_radii(capsys):
+    # the probe: two Schuler rows at the equator, +0.168 % and −0.166 % off, no note
+    assert main(["modes", "orthodromic", "--latitude", "0deg"]) == 0
+    out = capsys.readouterr().out
+    assert "note on Schuler (from the model): two channels, each on its own radius" in out
+    note = static_modes("orthodromic", 0.0).mode("Schuler").note
+    stated = float(re.search(r"to (\d(?:\.\d)?e-\d+) at every latitude", note).group(1))
+    worst = 0.0
+    for latitude_deg in np.r_[np.arange(-88.0, 89.0, 4.0), 0.0, 0.5, 1.0, 5.0, 14.0]:
+        latitude = np.radians(latitude_deg)
+        for heading_deg in (0.0, 70.0):
+            rates = _schuler_rates(static_modes("orthodromic", latitude,
+                                                heading=np.radians(heading_deg)))
+            reference = _orthodromic_reference(latitude)
+            worst = max(worst, *(abs(r / c - 1) for r, c in zip(rates, reference,
+                                                               strict=True)))
+    assert worst <= stated and worst > stated / 3
+    # the equator's periods the note quotes, and the channel each belongs to
+    gravity = GAMMA_E
+    north = 2 * np.pi * np.sqrt(KRASOVSKY_A * (1 - KRASOVSKY_E2) / gravity) / 60
+    east = 2 * np.pi * np.sqrt(KRASOVSKY_A / gravity) / 60
+    assert f"north 2π√(R_M/g) = {north:.2f} min, east 2π√(R_N/g) = {east:.2f} min" in note
+    result = static_modes("orthodromic", 0.0)
+    by_state = {max(m.participation, key=lambda k: m.participation[k]
+                    if k.startswith("delta_V") else -1): m.period_s / 60
+                for m in result.modes if m.name == "Schuler"}
+    assert by_state["delta_V_xi"] == pytest.approx(north, rel=stated)  # ξ north at χ = 0
+    assert by_state["delta_V_eta"] == pytest.approx(east, rel=stated)
+    # "within 0.01 % beyond about 14°": no note there, and on a sphere one textbook row
+    for latitude_deg in (14.0, -14.0, 45.0, -60.0):
+        assert all(m.note is None for m in static_modes(
+            "orthodromic", np.radians(latitude_deg)).modes), latitude_deg
+    sphere = static_modes("orthodromic", 0.0, parameters={"e2": 0.0})
+    [row] = [m for m in sphere.modes if m.name == "Schuler"]
+    assert row.multiplicity == 2 and row.note is None
+
+
+def test_orthodromic_listing_says_where_eta_points(capsys):
+    assert main(["models", "orthodromic"]) == 0
+    out = capsys.readouterr().out
+    line = next(k for k in out.splitlines() if k.strip().startswith("delta_V_eta "))
+    assert "to the left of ξ: west at χ = 0" in line

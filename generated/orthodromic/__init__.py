@@ -13,8 +13,8 @@ STATES = (
     {'name': 'u12', 'unit': '1', 'description': 'direction cosine 12 (trihedron axis ξ on Greenwich axis 2)', 'latex': 'u_{12}'},
     {'name': 'u22', 'unit': '1', 'description': 'direction cosine 22 (trihedron axis η on Greenwich axis 2)', 'latex': 'u_{22}'},
     {'name': 'u32', 'unit': '1', 'description': 'direction cosine 32 (trihedron axis ζ on Greenwich axis 2)', 'latex': 'u_{32}'},
-    {'name': 'V_xi', 'unit': 'm/s', 'description': 'absolute horizontal velocity along ξ', 'latex': 'V_\\xi'},
-    {'name': 'V_eta', 'unit': 'm/s', 'description': 'absolute horizontal velocity along η', 'latex': 'V_\\eta'},
+    {'name': 'V_xi', 'unit': 'm/s', 'description': 'absolute horizontal velocity along ξ (along the great circle, at track angle χ from north)', 'latex': 'V_\\xi'},
+    {'name': 'V_eta', 'unit': 'm/s', 'description': 'absolute horizontal velocity along η (to the left of ξ: west at χ = 0)', 'latex': 'V_\\eta'},
 )
 ERROR_STATES = (
     {'name': 'delta_u11', 'unit': '1', 'description': 'error of the computed direction cosine 11 (trihedron axis ξ on Greenwich axis 1)', 'latex': '\\Delta u_{11}'},
@@ -23,10 +23,10 @@ ERROR_STATES = (
     {'name': 'delta_u12', 'unit': '1', 'description': 'error of the computed direction cosine 12 (trihedron axis ξ on Greenwich axis 2)', 'latex': '\\Delta u_{12}'},
     {'name': 'delta_u22', 'unit': '1', 'description': 'error of the computed direction cosine 22 (trihedron axis η on Greenwich axis 2)', 'latex': '\\Delta u_{22}'},
     {'name': 'delta_u32', 'unit': '1', 'description': 'error of the computed direction cosine 32 (trihedron axis ζ on Greenwich axis 2)', 'latex': '\\Delta u_{32}'},
-    {'name': 'delta_V_xi', 'unit': 'm/s', 'description': 'error of the computed absolute horizontal velocity along ξ', 'latex': '\\Delta V_\\xi'},
-    {'name': 'delta_V_eta', 'unit': 'm/s', 'description': 'error of the computed absolute horizontal velocity along η', 'latex': '\\Delta V_\\eta'},
+    {'name': 'delta_V_xi', 'unit': 'm/s', 'description': 'error of the computed absolute horizontal velocity along ξ (along the great circle, at track angle χ from north)', 'latex': '\\Delta V_\\xi'},
+    {'name': 'delta_V_eta', 'unit': 'm/s', 'description': 'error of the computed absolute horizontal velocity along η (to the left of ξ: west at χ = 0)', 'latex': '\\Delta V_\\eta'},
     {'name': 'alpha_x', 'unit': 'rad', 'description': 'platform misalignment about x (≈ξ)', 'latex': '\\alpha_x'},
-    {'name': 'alpha_y', 'unit': 'rad', 'description': 'platform misalignment about y (≈η)', 'latex': '\\alpha_y'},
+    {'name': 'alpha_y', 'unit': 'rad', 'description': 'platform misalignment about y (≈η, to the left of ξ)', 'latex': '\\alpha_y'},
     {'name': 'alpha_z', 'unit': 'rad', 'description': 'platform misalignment about z (azimuth)', 'latex': '\\alpha_z'},
 )
 INPUTS = (
@@ -87,3 +87,4 @@ INITIAL_CONDITIONS = (
 )
 DOMAIN = ('latitude at ±90° (|u31| = 1): the formulas divide by cos φ', 'semi-major axis a must be positive', 'a + h <= 0: the Earth radius plus height must be positive', 'eccentricity squared must be below 1')
 INITIAL_DOMAIN = ('initial latitude at ±90°: the formulas divide by cos φ', 'semi-major axis a must be positive', 'a + h <= 0: the Earth radius plus height must be positive', 'eccentricity squared must be below 1')
+MODE_NOTES = {'Schuler': "two channels, each on its own radius, and not a slip: the textbook formula takes one radius, √(R_M R_N), but this model's channel of the velocity error along north runs on the meridian radius R_M (the manual's R_N), ω_N² = g/R_M, and that along east on the prime-vertical radius R_N (the manual's R_E), ω_E² = g/R_N, at any track angle (g the vertical specific force a_ζ at rest). Coupled by the Foucault terms ±2Ω sin φ, their frequencies are the roots ω of (ω² − ω_N²)(ω² − ω_E²) = 4Ω² sin² φ ω², to 3e-5 at every latitude. At the equator the channels part: north 2π√(R_M/g) = 84.28 min, east 2π√(R_N/g) = 84.57 min on the Krasovsky ellipsoid (−0.17 % and +0.17 % against the textbook); within a few degrees of it the Foucault split outgrows the difference of the radii and the pair becomes the textbook ω̄ ± Ω|sin φ| (within 0.01 % beyond about 14°); with e2 = 0 it is the textbook pair exactly (at the equator one Schuler row ×2)"}

@@ -59,12 +59,15 @@ _DC_LATEX = {n: f"u_{{{n[1:]}}}" for n in DIRECTION_COSINES}
 STATES = (
     *(Variable(n, "1", f"direction cosine {n[1]}{n[2]} (trihedron axis {'ξηζ'[int(n[1]) - 1]}"
                f" on Greenwich axis {n[2]})", _DC_LATEX[n]) for n in DIRECTION_COSINES),
-    Variable("V_xi", "m/s", "absolute horizontal velocity along ξ", r"V_\xi"),
-    Variable("V_eta", "m/s", "absolute horizontal velocity along η", r"V_\eta"),
+    Variable("V_xi", "m/s", "absolute horizontal velocity along ξ (along the great "
+             "circle, at track angle χ from north)", r"V_\xi"),
+    Variable("V_eta", "m/s", "absolute horizontal velocity along η (to the left of ξ: "
+             "west at χ = 0)", r"V_\eta"),
 )
 PLATFORM_ANGLES = (
     Variable("alpha_x", "rad", "platform misalignment about x (≈ξ)", r"\alpha_x"),
-    Variable("alpha_y", "rad", "platform misalignment about y (≈η)", r"\alpha_y"),
+    Variable("alpha_y", "rad", "platform misalignment about y (≈η, to the left of ξ)",
+             r"\alpha_y"),
     Variable("alpha_z", "rad", "platform misalignment about z (azimuth)", r"\alpha_z"),
 )
 ERROR_STATES = error_states_of(STATES, PLATFORM_ANGLES)
@@ -99,6 +102,26 @@ INITIAL_CONDITIONS = (
     Variable("v_E", "m/s", "initial east relative velocity", r"v_{E0}"),
 )
 
+
+
+MODE_NOTES = {
+    "Schuler": (
+        "two channels, each on its own radius, and not a slip: the textbook formula "
+        "takes one radius, √(R_M R_N), but this model's channel of the velocity error "
+        "along north runs on the meridian radius R_M (the manual's R_N), ω_N² = g/R_M, "
+        "and that along east on the prime-vertical radius R_N (the manual's R_E), "
+        "ω_E² = g/R_N, at any track angle (g the vertical specific force a_ζ at rest). "
+        "Coupled by the Foucault terms ±2Ω sin φ, their frequencies are the roots ω of "
+        "(ω² − ω_N²)(ω² − ω_E²) = 4Ω² sin² φ ω², to 3e-5 at every latitude. At the "
+        "equator the channels part: north 2π√(R_M/g) = 84.28 min, east 2π√(R_N/g) = "
+        "84.57 min on the Krasovsky ellipsoid (−0.17 % and +0.17 % against the "
+        "textbook); within a few degrees of it the Foucault split outgrows the "
+        "difference of the radii and the pair becomes the textbook ω̄ ± Ω|sin φ| (within "
+        "0.01 % beyond about 14°); with e2 = 0 it is the textbook pair exactly (at the "
+        "equator one Schuler row ×2)"),
+}
+"""Why this model's static-base modes differ from the textbook formulas of ``ins-errors
+modes`` (:attr:`ins_errors.modeling.ModelDefinition.mode_notes`)."""
 
 
 SOURCES = (
@@ -443,4 +466,5 @@ def build(simplify: frozenset[str] = frozenset(), platform: str = "exact") -> Mo
             (1 - e2, "eccentricity squared must be below 1"),
         ),
         notes=__doc__.split("Modelling choices", 1)[1].split(":", 1)[1].strip(),
+        mode_notes=MODE_NOTES,
     )
