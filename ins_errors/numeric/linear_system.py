@@ -338,10 +338,10 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
         Height above the ellipsoid, m.
     gravity : float, optional
         Apparent acceleration along the vertical, m/s² (a_ζ, where the model has it).
-        Default: the one the motion generators give a static base of the model (normal
-        gravity of its own Earth at the latitude and height, as ``compare``, ``run``
-        and :func:`~ins_errors.analysis.modes.static_modes` use), or 9.81 m/s² for a
-        model they do not fly.
+        Default: the one the motion generators give a static base of the model
+        (:func:`static_base_gravity`: Somigliana's formula on the model's own a and e²,
+        as ``compare``, ``run`` and :func:`~ins_errors.analysis.modes.static_modes`
+        use), or 9.81 m/s² for a model they do not fly.
     duration, step : float
         Length and step of the time grid, s.
     p : numpy.ndarray, optional
@@ -401,9 +401,14 @@ def static_base_gravity(model, latitude: float, longitude: float = 0.0,
                         p: np.ndarray | None = None) -> float:
     """a_ζ of the motion generators' static base of ``model``, m/s².
 
-    The normal gravity of the model's own Earth at the site, as ``compare``, ``run``,
-    ``modes``, :func:`static_system` and the closed forms take it by default, or
-    :data:`STATIC_GRAVITY_FALLBACK` for a model the generators do not fly.
+    Somigliana's formula γ_e (1 + k sin² φ)/√(1 − e² sin² φ) with WGS-84's γ_e and k
+    on the model's own a and e² (:func:`~ins_errors.models.earth.normal_gravity`, with
+    its height series) at the site, as ``compare``, ``run``, ``modes``,
+    :func:`static_system` and the closed forms take it by default, or
+    :data:`STATIC_GRAVITY_FALLBACK` for a model the generators do not fly. On an
+    ellipsoid near WGS-84's that is about its normal gravity; on a sphere (e² = 0) it is
+    γ_e (1 + k sin² φ), not WGS-84 normal gravity (9.78977 against 9.80620 m/s² at
+    45°) nor the gravity of any Earth of the model's own.
 
     Parameters
     ----------
