@@ -554,7 +554,11 @@ class Model:
         def at_the_first_failure(k: int, message: str, failed: np.ndarray) -> str | None:
             batch = np.broadcast_shapes(c.shape[1:], u.shape[1:], p.shape[1:])
             at = (slice(None), *np.argwhere(np.broadcast_to(failed, batch))[0])
-            first = [np.broadcast_to(a, (a.shape[0], *batch))[at] for a in (c, u, p)]
+            # batch axes align on the right (numpy broadcasting): an argument with fewer
+            # batch axes (e.g. one parameter vector of shape (np,)) gets leading ones
+            first = [np.broadcast_to(a.reshape(a.shape[0], *(1,) * (len(batch) - a.ndim + 1),
+                                               *a.shape[1:]), (a.shape[0], *batch))[at]
+                     for a in (c, u, p)]
             return self._pole_line(k, message, *first)
 
         self._domain(self.numpy.initial_domain_margins(c, u, p), self.meta.INITIAL_DOMAIN,
