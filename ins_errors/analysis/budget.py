@@ -830,7 +830,8 @@ def growth_warning(model, budget: UnitBudget) -> str | None:
     remedy = undamped_remedy(model, system.p)
     text = warning(F, budget.spec.operating_time, command_name(model),
                    "the allowed magnitudes are only what that growth leaves, far below what "
-                   "the sources do on a stable system", "operating time", remedy)
+                   "the sources do on a stable system", "operating time", remedy,
+                   static=system.time_invariant)
     # on a moving base F changes along the motion: the mode of F at the start must be
     # followed by the equations over the operating time (orthodromic's delta_V_eta on an
     # eastbound great circle, ×e every 9.2 h at the start, is not)

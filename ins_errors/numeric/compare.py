@@ -640,7 +640,8 @@ def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> N
     f = start_state_matrix(sim.model, sim.trajectory)
     text = growth_warning(f, duration, command_name(sim.model),
                           "the ratios say little by themselves",
-                          remedy=undamped_remedy(sim.model, sim.trajectory.parameters))
+                          remedy=undamped_remedy(sim.model, sim.trajectory.parameters),
+                          static=sim.trajectory.constant)
     if text is None:
         return
     rate = growth_rate(f)

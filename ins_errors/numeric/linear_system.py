@@ -148,14 +148,16 @@ def transition_growth(system: LinearSystem) -> float:
 
 
 def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence: str,
-                   span: str = "run", remedy: str = "") -> str | None:
+                   span: str = "run", remedy: str = "", static: bool = True) -> str | None:
     """The one-line warning of errors that grow exponentially, or None.
 
     A growing mode of F (an undamped vertical channel, a sign slip that turns the Schuler
     loop into an exponential) makes every error grow by e^(rate t), whatever the sources.
     The sentence gives the e-folding time of F's fastest growing mode (:func:`growth_rate`)
     and the factor over the duration, says what that means for the command's numbers,
-    and names the command that names the mode.
+    and, on a static base, names the command that names the mode (``ins-errors modes``
+    analyses the static base: on a moving one the sentence says the mode is of F at the
+    motion's start state instead).
 
     Parameters
     ----------
@@ -171,6 +173,9 @@ def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence:
         What ``duration`` is ("run": "over the 8 h run").
     remedy : str
         Added at the end (e.g. "; ..." naming damping gains).
+    static : bool
+        Whether ``f`` is F of a static base (the one ``ins-errors modes`` analyses); on a
+        moving base it is F at the motion's start state.
 
     Returns
     -------
@@ -184,10 +189,10 @@ def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence:
         return None
     folds = rate * duration
     factor = f"{math.exp(folds):.3g}" if folds < 700.0 else f"e^{folds:.0f}"  # no overflow
-    return (f"the error equations grow exponentially: {growing_mode_text(rate)} "
+    return (f"the error equations grow exponentially: {growing_mode_text(rate, static)} "
             f"(×{factor} over the "
             f"{duration_text(duration)} {span}), so every error grows with it and "
-            f"{consequence}; `ins-errors modes {model_name}` names the mode{remedy}")
+            f"{consequence}{modes_pointer(model_name, static)}{remedy}")
 
 
 def start_state_matrix(model, trajectory) -> np.ndarray:
@@ -214,12 +219,25 @@ def start_growth_rate(model, trajectory) -> float:
     return growth_rate(start_state_matrix(model, trajectory))
 
 
-def growing_mode_text(rate: float) -> str:
+def growing_mode_text(rate: float, static: bool = True) -> str:
     """``"F at the start has a mode that grows ×e every 9.498 min"`` (``rate`` in 1/s,
-    positive): the clause :func:`growth_warning` and a run that left its domain share."""
+    positive): the clause :func:`growth_warning` and a run that left its domain share.
+
+    On a moving base (``static`` False) F at the start is F of the motion's moving start
+    state, not the static base's that ``ins-errors modes`` analyses, and the clause says
+    so."""
     from ins_errors.time_text import duration_text
 
-    return f"F at the start has a mode that grows ×e every {duration_text(1.0 / rate)}"
+    where = ("F at the start" if static else
+             "F at the motion's start (of its moving start state, not the static base's)")
+    return f"{where} has a mode that grows ×e every {duration_text(1.0 / rate)}"
+
+
+def modes_pointer(model_name: str, static: bool) -> str:
+    """``"; `ins-errors modes M` names the mode"`` on a static base, else ``""``:
+    ``ins-errors modes`` analyses F of the static base only, which need not have the mode
+    F has at a moving motion's start."""
+    return f"; `ins-errors modes {model_name}` names the mode" if static else ""
 
 
 def _undamped(model, p: np.ndarray, names: Collection[str] | None = None) -> list:

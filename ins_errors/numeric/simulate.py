@@ -716,12 +716,12 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
     the two must agree."""
     model = sim.model
     dt = sim.stride * sim.trajectory.tau
-    first, detail = None, ""
+    first, detail, flight = None, "", ""
     bad_margin = ~(margins > 0)  # NaN counts as bad
     if bad_margin.any():
         r = int(np.argmax(bad_margin.any(axis=1)))
         first = r + 1
-        detail = _margin_detail(sim, r + 1, int(np.argmax(bad_margin[r])))
+        detail, flight = _margin_detail(sim, r + 1, int(np.argmax(bad_margin[r])))
     labels = {"ideal": "ideal-work state", "real": "real-work state",
               "linear": "linear error state", "refined": "refined error state"}
     for name, label in labels.items():
@@ -738,7 +738,7 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                          + [s.name for s in model.error_states[n:]]}.get(
                              name, [s.name for s in model.error_states])
                 k = int(np.argmax((~np.isfinite(states[:, r])).any(axis=1)))
-                first, detail = r, f"{label} {names[k]} became NaN or infinite"
+                first, detail, flight = r, f"{label} {names[k]} became NaN or infinite", ""
     if sim.real is not None:  # platform angles beyond where the platform form holds
         angles, limit, why = _platform_limit(model, sim.platform)
         if angles:
@@ -746,8 +746,8 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
             if large.any():
                 r = int(np.argmax(large.any(axis=(0, 2))))
                 if first is None or r < first:
-                    first, detail = r, _platform_detail(model, sim.real[:, r], angles, limit,
-                                                        why)
+                    first, flight = r, ""
+                    detail = _platform_detail(model, sim.real[:, r], angles, limit, why)
     if first is not None:
         t0, t1 = (first - 1) * dt, first * dt
         if first == 0:  # the recorded start: the initial errors themselves
@@ -755,6 +755,9 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                               f"errors): {detail}")
         when = f"at t = {t1:.6g} s" if sim.stride == 1 else (
             f"between t = {t0:.6g} s and {t1:.6g} s")
+        if flight:  # the true motion's own doing: no step or mode to blame
+            raise DomainError(f"the flight takes the {model.name} model {flight} {when} "
+                              f"({t1 / 3600:.4g} h): {detail}")
         hint = _step_hint(sim) or _growth_hint(sim, t1)
         raise DomainError(f"the system left its domain {when} ({t1 / 3600:.4g} h): "
                           f"{detail}{hint}")
@@ -809,13 +812,16 @@ def _step_hint(sim: Simulation) -> str:
 
 def _growth_hint(sim: Simulation, t_left: float) -> str:
     """``"; F at the start has a mode that grows ×e every …, the likely cause; `ins-errors
-    modes M` names the mode; …"`` when F at t = 0 has a mode that grew by
+    modes M` names the mode; …"`` (on a moving base: the mode of F at the motion's moving
+    start state, without the pointer to ``modes``, which analyses the static base) when
+    F at t = 0 has a mode that grew by
     :data:`~ins_errors.numeric.linear_system.GROWTH_WARNED` e-foldings or more before
     the run left its domain at ``t_left`` (s), naming any damping gain left at 0; else
     ``""``."""
     from ins_errors.numeric.linear_system import (
         GROWTH_WARNED,
         growing_mode_text,
+        modes_pointer,
         start_growth_rate,
         undamped_remedy,
     )
@@ -828,9 +834,9 @@ def _growth_hint(sim: Simulation, t_left: float) -> str:
         return ""
     from ins_errors.model_lookup import command_name
 
-    p = sim.trajectory.parameters
-    return (f"; {growing_mode_text(rate)}, the likely cause; `ins-errors modes "
-            f"{command_name(sim.model)}` names the mode{undamped_remedy(sim.model, p)}")
+    p, static = sim.trajectory.parameters, sim.trajectory.constant
+    return (f"; {growing_mode_text(rate, static)}, the likely cause"
+            f"{modes_pointer(command_name(sim.model), static)}{undamped_remedy(sim.model, p)}")
 
 
 def _platform_limit(model: Model, platform: str) -> tuple[list[int], float, str]:
@@ -872,11 +878,29 @@ def _check_initial_platform(model: Model, xr0: np.ndarray, platform: str) -> Non
                           f"errors): {_platform_detail(model, xr0, angles, limit, why)}")
 
 
-def _margin_detail(sim: Simulation, record: int, case: int) -> str:
+def _margin_detail(sim: Simulation, record: int, case: int) -> tuple[str, str]:
+    """What left the domain at ``record`` (case ``case``), and ``""`` or, when the true
+    motion itself is the cause, what the flight does to the model: "out of its domain"
+    when the ideal (error-free) system leaves too; "to the edge of its domain" when the
+    real system leaves and the motion has moved the failing condition's margin (the
+    model's domain expression) from its value at the start further towards 0 than the
+    errors moved it on from there."""
     model, n = sim.model, len(sim.model.states)
     u = sim._recorded_inputs()[:, record, 0]
     p = sim.trajectory.parameters
     messages = model.meta.DOMAIN
+
+    def extra(message: str, values: np.ndarray) -> str:
+        return f" (|u31| = {abs(values[2]):.6g})" if "u31" in message and n > 2 else ""
+
+    ideal = sim.ideal[:, record, case]
+    if np.all(np.isfinite(ideal)):
+        margins = np.asarray(model.numpy.domain_margins(ideal, u, p))
+        for k, message in enumerate(messages):
+            if not margins[k] > 0:
+                return (f"the ideal (error-free) system, i.e. the true motion, reaches "
+                        f"{message}{extra(message, ideal)}; no error analysis holds there, "
+                        "whatever the error sources", "out of its domain")
     for label, state in (("real system", None if sim.real is None else sim.real[:n]),
                          ("ideal system", sim.ideal)):
         if state is None:
@@ -884,15 +908,25 @@ def _margin_detail(sim: Simulation, record: int, case: int) -> str:
         values = state[:, record, case]
         if not np.all(np.isfinite(values)):
             bad = [model.states[k].name for k in range(n) if not np.isfinite(values[k])]
-            return f"{label} state {bad[0]} became NaN or infinite"
-        margins = model.numpy.domain_margins(values, u, p)
+            return f"{label} state {bad[0]} became NaN or infinite", ""
+        margins = np.asarray(model.numpy.domain_margins(values, u, p))
         for k, message in enumerate(messages):
             if not margins[k] > 0:
-                extra = ""
-                if "u31" in message:
-                    extra = f" (|u31| = {abs(values[2]):.6g})" if n > 2 else ""
-                return f"{label}: {message}{extra}"
-    return "a state crossed the domain boundary between two recorded samples"
+                line = f"{label}: {message}{extra(message, values)}"
+                if label == "real system" and np.all(np.isfinite(ideal)):
+                    start = float(np.asarray(model.numpy.domain_margins(
+                        sim.ideal[:, 0, case], sim._recorded_inputs()[:, 0, 0], p))[k])
+                    there = float(np.asarray(model.numpy.domain_margins(ideal, u, p))[k])
+                    # the motion's part of the way to the boundary against the errors'
+                    if start - there > there - float(margins[k]):
+                        return (f"{line}; the true motion (the ideal, error-free system) "
+                                f"took that condition's margin, the model's domain "
+                                f"expression, from {start:.3g} at the start to {there:.3g} "
+                                f"there, the errors only the rest of the way, so the "
+                                "flight, not a growing error, is the cause",
+                                "to the edge of its domain")
+                return line, ""
+    return "a state crossed the domain boundary between two recorded samples", ""
 
 
 def linear_exact(model: Model, trajectory: Trajectory, sources,
