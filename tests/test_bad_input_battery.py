@@ -354,8 +354,9 @@ NAMED = {
     "propagation-orthodromic-drift": "--drift applies to the 001 experiment",
     # printed "RuntimeWarning: All-NaN slice" with source paths and rows of nan
     "propagation-zero-drift": "--drift is zero",
-    "compare-below-the-centre": "--height -7000 km is beyond ±100 km, the heights where "
-                                "the models' gravity holds (below the Earth's centre)",
+    "compare-below-the-centre": "--height -7000 km is beyond ±100 km, the heights "
+                                "ins-errors accepts, whatever the model (below the Earth's "
+                                "centre)",
     "compare-nan-in-motion-file": "v_N is NaN or infinite in sample 2 of 4",
     # it asked for a unit, suggesting 'nan deg'
     "compare-bare-nan-latitude": "'nan' is not a finite number",

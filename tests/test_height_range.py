@@ -89,7 +89,7 @@ def _one_line_error(capsys, argv) -> str:
 def test_a_height_option_beyond_the_limit_is_refused_in_one_line(capsys, argv, start):
     err = _one_line_error(capsys, argv)
     assert err.startswith(start), err
-    assert "the heights where the models' gravity holds" in err
+    assert "the heights ins-errors accepts, whatever the model" in err
 
 
 def test_modes_at_the_limit_use_the_gravity_of_that_height(capsys):

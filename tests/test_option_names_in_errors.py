@@ -38,9 +38,10 @@ def test_a_latitude_at_a_pole_is_named_by_its_option(capsys, command, latitude):
     ("--longitude", "400deg", "--longitude 400° is outside [-360°, 360°]"),
     ("--heading", "-400deg", "--heading -400° is outside [-360°, 360°]"),
     ("--height", "-7000km", "--height -7000 km is beyond ±100 km"),
-    ("--height", "10000km", "--height 10000 km is beyond ±100 km, the heights where the "
-                            "models' gravity holds (there the height series of normal "
-                            "gravity is 3.4e+03 % off the inverse-square law"),
+    ("--height", "10000km", "--height 10000 km is beyond ±100 km, the heights ins-errors "
+                            "accepts, whatever the model (there the height series of "
+                            "normal gravity, which the built-in models use, is 3.4e+03 % "
+                            "off the inverse-square law"),
     ("--latitude", "45", "--latitude '45' needs a unit"),
 ])
 def test_a_motion_option_is_named_by_itself(capsys, command, option, value, message):

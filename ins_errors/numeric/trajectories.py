@@ -210,19 +210,22 @@ def great_circle_profile(latitude: float, longitude: float, track: float, speed:
 
 HEIGHT_LIMIT = 100_000.0
 """m: the largest |height| of a motion (±100 km, the edge of the atmosphere: aircraft,
-balloons, sounding rockets). Gravity enters the models as normal gravity continued from
+balloons, sounding rockets), for every model. Gravity enters the built-in models as
+normal gravity continued from
 the ellipsoid with the second-order series γ₀(1 − 2h/a + 3h²/a²)
 (:func:`~ins_errors.models.earth.normal_gravity`: the motion generators' ``a_zeta``,
 strapdown_ned's γ). Against the inverse-square law γ₀ a²/(a + h)² it is off by
 4(h/a)³ to leading order: 1.6e-5 of γ (0.15 mm/s², about 15 µg) at 100 km, where its
 vertical gradient, the vertical channel's instability, is off by 6(h/a)² = 0.15 %; at
 1000 km the series is 1.7 % off and at 10 000 km it gives 51 m/s² for 1.5 m/s². Beyond
-the limit a height is refused (:class:`HeightError`) before anything runs; a model file
-of a small planet still has its run-time domain check of R + h."""
+the limit a height is refused (:class:`HeightError`) before anything runs, also for a
+model file with gravity of its own (a constant g); a model file of a small planet still
+has its run-time domain check of R + h."""
 
 
 class HeightError(MotionError, DomainError):
-    """A height beyond :data:`HEIGHT_LIMIT`, where the models' gravity no longer holds."""
+    """A height beyond :data:`HEIGHT_LIMIT`, the heights a motion may reach (the edge of
+    the atmosphere; normal gravity, which the built-in models use, holds within it)."""
 
 
 def motion_number(value: object, what: str, unit: str) -> float:
@@ -306,15 +309,27 @@ def check_height(h: float, what: str) -> None:
     if not np.isfinite(h):
         raise MotionError(f"{what} must be finite, got {h}")
     if abs(h) > HEIGHT_LIMIT:
-        x = h / 6_378_137.0                       # over WGS-84 a
-        why = ("below the Earth's centre" if x <= -1 else
-               f"there the height series of normal gravity is "
-               f"{100 * abs((1 - 2 * x + 3 * x * x) * (1 + x) ** 2 - 1):.2g} % off the "
-               f"inverse-square law and its vertical gradient "
-               f"{100 * 6 * x * x:.2g} %, which drives the vertical channel; 0.0016 % and "
-               f"0.15 % at the limit")
+        if h <= -6_378_137.0:
+            why = "below the Earth's centre"
+        else:
+            there, limit = _series_errors(h), _series_errors(np.copysign(HEIGHT_LIMIT, h))
+            why = (f"there the height series of normal gravity, which the built-in models "
+                   f"use, is {there[0]} % off the inverse-square law "
+                   f"and its vertical gradient, which drives the vertical channel, "
+                   f"{there[1]} %")
+            if there != limit:
+                why += f" ({limit[0]} % and {limit[1]} % at the limit)"
         raise HeightError(f"{what} {h / 1000:g} km is beyond ±{HEIGHT_LIMIT / 1000:g} km, "
-                          f"the heights where the models' gravity holds ({why})")
+                          f"the heights ins-errors accepts, whatever the model ({why})")
+
+
+def _series_errors(h: float) -> tuple[str, str]:
+    """How far (in %, two digits) normal gravity's height series γ₀(1 − 2h/a + 3h²/a²)
+    and its vertical gradient are off the inverse-square law at height ``h`` (m; a:
+    WGS-84's semi-major axis): the text of :func:`check_height`'s refusal."""
+    x = h / 6_378_137.0
+    return (f"{100 * abs((1 - 2 * x + 3 * x * x) * (1 + x) ** 2 - 1):.2g}",
+            f"{100 * 6 * x * x:.2g}")
 
 
 MAX_SPEED = FIRST_COSMIC_VELOCITY
