@@ -224,6 +224,11 @@ def test_grid_errors():
         step_count(10.5, 1.0)
     with pytest.raises(StepError, match="recording"):
         integ.record_stride(7.0, 1.0, 100)
+    # a fortnight at 100 Hz runs (was refused at 1e8 steps though memory is streamed);
+    # a mistyped step (a day in microseconds: 8.6e10 steps, hours of CPU) is refused
+    assert step_count(14 * 86400.0, 0.01) == 120_960_000
+    with pytest.raises(StepError, match=r"8\.64e\+10 steps, more than the 1e\+09"):
+        step_count(86400.0, 1e-6)
     with pytest.raises(Exception, match="did you mean 'rk4'"):
         integ.check_method("rk5")
 
@@ -231,7 +236,10 @@ def test_grid_errors():
 @pytest.mark.parametrize(("duration", "step", "count"), [
     ("86400 s", "0.01 s", 8_640_000), ("7 day", "0.01 s", 60_480_000),
     ("3 h", "0.1 s", 108_000), ("0.1 h", "0.1 s", 3_600), ("1e6 s", "0.01 s", 10**8),
-    ("24 h", "0.003 s", 28_800_000), ("1 day", "1/3 s", 259_200)])
+    ("24 h", "0.003 s", 28_800_000), ("1 day", "1/3 s", 259_200),
+    ("14 day", "0.01 s", 120_960_000), ("7 day", "0.005 s", 120_960_000),
+    ("100 day", "0.01 s", 864_000_000), ("10 day", "0.001 s", 864_000_000),
+    ("3 day", "0.0003 s", 864_000_000)])
 def test_decimal_durations_are_whole_numbers_of_steps(duration, step, count):
     """Durations and steps typed in decimal are whole numbers of steps, whatever the
     rounding of their quotient in binary."""

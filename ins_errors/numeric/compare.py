@@ -411,6 +411,10 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
             shown = "a string" if isinstance(labels, str) else f"{len(labels)} labels"
             raise ShapeError(f"compare: labels must be one per case ({count}), got {shown}")
     parts = ("real", "linear", "refined") if refined else ("real", "linear")
+    if progress and integration_error:  # its bar ends before the reruns start: say so
+        from ins_errors.numeric.simulate import bar_label
+
+        progress = f"{bar_label(parts)} (then the {accuracy.CHECK_LABEL}'s reruns)"
     sim = simulate(model, trajectory, cases, method=method,
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
@@ -598,6 +602,10 @@ def add_unexcited_warnings(comparisons: Sequence[Comparison], sim: Simulation,
 
 
 RK4_HOW = '--method rk4, or method = "rk4" in a scenario\'s [run]'
+
+RECTANGLE_STEPS_ADVISED = 100_000_000
+"""Steps beyond which a rectangle-method step is not suggested (a minute or more of CPU a
+run): RK4 is, as it reaches the same accuracy in far fewer steps."""
 """How a warning tells both a command line and a scenario file to use RK4."""
 
 
@@ -1073,9 +1081,9 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
     (:attr:`Comparison.integration_order` far from the scheme's order, or ``failed``: why
     the run that measures the order failed), naming a step the command line accepts
     (:func:`~ins_errors.numeric.accuracy.typable_step`); ``rk4_step`` gives RK4's own
-    step when the rectangle method would need more steps than a run may take; the step
+    step when the rectangle method would need more than
+    :data:`RECTANGLE_STEPS_ADVISED` steps; the step
     named divides ``spacing`` (s) too, when given (it keeps the motion's breaks)."""
-    from ins_errors.numeric.integrators import MAX_STEPS
 
     p, q = accuracy.ORDERS[method], comparison.integration_order
     unreliable = failed is not None or (q is not None
@@ -1106,14 +1114,14 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
     scheme = "rectangle method" if method == "euler" else method.upper()
     goal = "bring it under the limit" if worst is not None else "make the estimate reliable"
     duration = comparison.times[-1] if len(comparison.times) else interval
-    if method == "euler" and duration / step > MAX_STEPS:
+    if method == "euler" and duration / step > RECTANGLE_STEPS_ADVISED:
         alternative = rk4_step() if rk4_step is not None else None
         comparison.suggested_step = None
         if alternative is not None:
             step, text = accuracy.typable_step(alternative, interval, spacing)
             comparison.suggested_step, comparison.suggested_method = step, "rk4"
-        advice = (f"the rectangle method would need τ ≤ {tau / k:.3g} s, more than the "
-                  f"{MAX_STEPS:.0e} steps one run may take; use RK4 ({RK4_HOW})"
+        advice = (f"the rectangle method would need τ ≤ {tau / k:.3g} s, more than "
+                  f"{RECTANGLE_STEPS_ADVISED:.0e} steps for this run; use RK4 ({RK4_HOW})"
                   + (f", where τ = {text} s would {goal}" if alternative is not None else ""))
     else:
         comparison.suggested_step = step

@@ -85,9 +85,12 @@ def check_method(method: str) -> str:
     return method
 
 
-MAX_STEPS = 100_000_000
-"""Most steps one run may take (24 h at about 1 ms): more is refused before any memory is
-taken, since the records and input streams of a run grow with its step count."""
+MAX_STEPS = 1_000_000_000
+"""Most steps one run may take: 115 days at 100 Hz, 11.6 days at 1 kHz. The memory of a
+run does not grow with its steps (the true motion is streamed in chunks, the records are
+what is recorded), but its time does: at about half a microsecond a step, a run this long
+takes about ten minutes of CPU (a strapdown RK4 run with its linear twin, about half an
+hour), so more is taken for a mistyped step or duration and refused before anything runs."""
 
 
 STEP_TOLERANCE = 1e-6
@@ -641,7 +644,8 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
     for attempt in range(COMPILE_ATTEMPTS):
         vanished = False  # the scratch folder was deleted under the compile
         try:
-            with stage("compiling a simulation loop (once, then cached)"), \
+            with stage("compiling a simulation loop (each kind once: later runs load "
+                       "it from the cache)"), \
                     cache.scratch_folder(directory) as scratch:
                 try:
                     c_file = scratch / "loop.c"
