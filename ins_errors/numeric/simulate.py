@@ -573,7 +573,7 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
         chunk_size(records), _power_of_two_below(max(1, STREAM_STEPS // stride)))
     loop = _loop(model.key, parts, method, stride, float(tau), tuple(p), u_const,
                  tuple(bool(a) for a in active), B, jit, chunk, platform, worker_count())
-    label = ((progress if isinstance(progress, str) else _bar_label(parts)) if progress
+    label = ((progress if isinstance(progress, str) else bar_label(parts)) if progress
              else "")
     check = _domain_check(model, parts, platform)
     if trajectory.constant:
@@ -661,7 +661,7 @@ def _run_streamed(loop: CompiledLoop, trajectory: Trajectory, z0: np.ndarray, w:
     return LoopResult(states, margins), recorded
 
 
-def _bar_label(parts: Sequence[str]) -> str:
+def bar_label(parts: Sequence[str]) -> str:
     """``"direct, linear and refined runs"``: the runs of a progress bar."""
     names = ["direct" if part == "real" else part for part in parts] or ["ideal"]
     return (", ".join(names[:-1]) + " and " if len(names) > 1 else "") + names[-1] + " runs"
