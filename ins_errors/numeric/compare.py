@@ -144,8 +144,9 @@ class Comparison:
         third run, or an order above the scheme's: not told).
     refined_warning : str or None
         ``"diverged"`` when the refined run's residual exceeds the largest direct error
-        and the linear run's residual for some judged quantity, ``"worse than linear"``
-        when it exceeds the linear run's only (:func:`add_refined_warnings`); else None.
+        and the linear run's residual for some judged quantity, else ``"worse than
+        linear"`` when it exceeds twice the linear run's residual (and 1e-6 of the
+        error) (:func:`add_refined_warnings`); else None.
     refined_departure : float or None
         Time (s) from which the refined run is off that way (its residual first beyond
         the bound the warning names).
