@@ -63,10 +63,15 @@ class _LazyVersion(argparse._VersionAction):
 
 
 class _Parser(argparse.ArgumentParser):
-    """An argument parser whose usage errors are one line, like every other error."""
+    """An argument parser whose usage errors are one line, like every other error, with
+    the same prefix: ``ins-errors: error: compare: argument --motion: ...`` (the
+    subcommand after it, as a file is named after it in the other errors), so that one
+    pattern finds every error line."""
 
     def error(self, message: str):  # type: ignore[override]
-        self.exit(2, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        top, _, command = self.prog.partition(" ")
+        where = f"{command}: " if command else ""
+        self.exit(2, f"{top}: error: {where}{message} (see '{self.prog} --help')\n")
 
     def parse_args(self, args=None, namespace=None):  # type: ignore[override]
         """As argparse's, but arguments no option takes are reported by the subcommand

@@ -275,7 +275,7 @@ def _assert_one_line(status: int, err: str, argv: list[str]) -> None:
     lines = err.strip().splitlines()
     assert status == 2, f"{argv}: status {status}, stderr {err!r}"
     assert len(lines) == 1, f"{argv}: expected one line, got {err!r}"
-    assert lines[0].startswith("ins-errors") and "error" in lines[0], lines[0]
+    assert lines[0].startswith("ins-errors: error: "), lines[0]  # one prefix for every error
     assert "Traceback" not in err
 
 
@@ -464,7 +464,7 @@ def test_an_unknown_option_points_to_its_commands_help_and_a_split_unit_is_named
     lists no options); a unit split from its value by a space was just 'deg/h'."""
     status, _out, err = _run(["compare", "orthodromic", "-s", "gyro_drift_x=0.01", "deg/h"],
                              capsys)
-    assert status == 2 and err.startswith("ins-errors compare: error: unrecognized "
+    assert status == 2 and err.startswith("ins-errors: error: compare: unrecognized "
                                           "arguments: deg/h; a value and its unit go")
     assert err.rstrip().endswith("(see 'ins-errors compare --help')")
     for hours in ("2", "1"):  # (pint reads a bare 1 as the dimensionless unit)
