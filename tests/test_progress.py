@@ -171,3 +171,32 @@ def test_the_runs_bar_is_timed_from_after_the_first_compile(monkeypatch):
     assert kinds.count("advanced") >= 2 and kinds[0] == "advanced" and "bar" in kinds
     [made] = bars
     assert made.n == motion.n_steps
+
+
+@pytest.mark.parametrize("quiet", [False, True])
+def test_budget_takes_no_progress_as_compare_and_validity_do(quiet, monkeypatch):
+    """`budget` refused --no-progress (exit 2) though `compare` and `validity` take it, so a
+    script passing it to all three stopped there. It now hides the covariance
+    propagation's status and the --monte-carlo runs' bar on a terminal, and shows them
+    without it."""
+    from ins_errors.analysis import monte_carlo
+    from ins_errors.cli import main
+
+    stream = _Terminal()
+    monkeypatch.setattr("sys.stderr", stream)
+    seen = _slow_stages(monkeypatch)
+    asked = []
+    real = monte_carlo.direct_monte_carlo
+
+    def spy(*args, **kwargs):
+        asked.append(kwargs.get("progress", True))
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(monte_carlo, "direct_monte_carlo", spy)
+    argv = ["budget", "orthodromic", "--json", "--monte-carlo", "4", "--mc-duration",
+            "10min", "--mc-step", "1s", "--engine", "serial"]
+    assert main(argv + ["--no-progress"] * quiet) == 0
+    covariance = [enabled for label, enabled in seen if "covariance" in label]
+    assert covariance == [not quiet]
+    assert asked and asked[0] is not quiet  # the runs' bar (the rerun's is never shown)
+    assert ("propagating the covariance" in stream.getvalue()) is not quiet

@@ -44,6 +44,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "source's magnitude and binding item, every item against its "
                              "limit, the notes and warnings, and the --monte-carlo check")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
+    parser.add_argument("--no-progress", action="store_true",
+                        help="never show progress (the covariance propagation's status and "
+                             "the --monte-carlo runs' bar)")
     parser.add_argument("--fill", action="store_true",
                         help="scale the free sources until the tightest item is met exactly")
     parser.add_argument("--monte-carlo", type=int, metavar="N",
@@ -133,7 +136,8 @@ def run(args: argparse.Namespace) -> int:
         mc_duration(spec, args)
     from ins_errors.progress import stage
 
-    with stage(f"propagating the covariance of {len(model.sources)} sources"):
+    with stage(f"propagating the covariance of {len(model.sources)} sources",
+               enabled=not args.no_progress):
         try:
             unit = bd.unit_budget(model, spec, p=p)
         except UnspannedStateError as unspanned:  # its words are the matrix check's
@@ -457,7 +461,7 @@ def _monte_carlo(model, spec, allocation, args, p) -> tuple[dict, float]:
     errors = direct_monte_carlo(model, trajectory, statistics, args.monte_carlo,
                                 seed=args.seed, record_interval=spec.step,
                                 engine=args.engine, scheduler=args.scheduler,
-                                workers=args.workers)
+                                workers=args.workers, progress=not args.no_progress)
     seconds = time.perf_counter() - start
     start = time.perf_counter()
     integration = _integration_error(model, spec, budget, errors, statistics, args, p, step,
