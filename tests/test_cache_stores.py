@@ -205,6 +205,47 @@ def test_documented_table_states_the_bounds_the_code_keeps():
     assert f"{model_lookup.KEEP_VERSIONS} newest" in rows["models"]
     assert f"the {function_cache.KEEP_VERSIONS} most" in rows["functions"]
     assert f"the {motion_store.KEEP} most" in rows["motions"]
-    assert f"the {propagation_store.KEEP} most" in rows["transitions"]
+    assert (f"at most {propagation_store.KEEP}" in rows["transitions"]
+            and f"down to {propagation_store.kept_after_prune()}" in rows["transitions"])
     assert f"the {variation_store.KEEP} most" in rows["variations"]
     assert "none" in rows["leftovers"]
+
+
+
+def test_the_transitions_store_stays_within_its_bound_in_one_process(tmp_path, monkeypatch):
+    """`cache info` showed 4107 stored propagations against the bound of 4096: the oldest
+    were dropped by a process's first store only, and a matrix check stores several.
+    Now no store leaves more than KEEP files, a prune keeps the most recently used (a
+    read counts as a use), and the folder is listed once per KEEP/4 stores, not at each."""
+    import numpy as np
+
+    monkeypatch.setenv("INS_ERRORS_CACHE", str(tmp_path))
+    monkeypatch.setattr(propagation_store, "KEEP", 8)
+    monkeypatch.setattr(propagation_store, "_counted", [], raising=False)  # a new process
+    target = propagation_store.folder()
+    listings = []
+    real_prune = propagation_store.prune
+
+    def counted_prune(*args, **kwargs):
+        listings.append(1)
+        return real_prune(*args, **kwargs)
+
+    monkeypatch.setattr(propagation_store, "prune", counted_prune)
+    start = time.time() - 1000
+    for k in range(30):
+        propagation_store.store(f"p{k:02d}", (np.full((2, 2), float(k)),))
+        os.utime(target / f"p{k:02d}.npy", (start + k, start + k))  # stored in turn
+        assert len(list(target.glob("*.npy"))) <= 8, k
+    assert {f"p{k:02d}" for k in range(26, 30)} <= {p.stem for p in target.glob("*.npy")}
+    assert len(listings) <= 1 + 30 // 2  # the first store's, then one per 2 (KEEP/4)
+
+    for old in target.glob("*.npy"):
+        old.unlink()
+    monkeypatch.setattr(propagation_store, "_counted", [], raising=False)  # a new process
+    for k in range(8):
+        propagation_store.store(f"r{k}", (np.eye(2),))
+        os.utime(target / f"r{k}.npy", (start + k, start + k))
+    assert propagation_store.load("r0") is not None  # used again: now the most recent
+    propagation_store.store("r8", (np.eye(2),))  # nine: past the bound, down to six
+    assert sorted(p.stem for p in target.glob("*.npy")) == ["r0", "r4", "r5", "r6", "r7",
+                                                            "r8"]

@@ -10,11 +10,18 @@ stack, of the sample times and the requested instants: the key the process alrea
 keeps them under) and the code version (:func:`~ins_errors.checker.motion_store.
 code_version`), in ``transitions/`` beside the stored motions, and read back exactly.
 
-At most :data:`KEEP` files are kept (a few kB each); the oldest are dropped by the first
-store of each process. A file that cannot be read or written is no error: the
-propagation is then computed as before; a damaged one (cut short, altered: each file is
-sealed, :func:`ins_errors.numeric.cache.write_entry`) is said in one line and computed
-again.
+At most :data:`KEEP` files are kept (a few kB each): a store that takes the folder past
+it (as this process counts: its first store counts the folder, later ones add their new
+files) counts again and drops the least recently used beyond :func:`kept_after_prune`,
+a quarter below the bound, so the folder is listed about once per ``KEEP / 4`` stores,
+not at each (a listing of 4096 files takes ~30 ms, a propagation ~10 ms). Processes
+storing at once each count only their own files between listings, so together they may
+pass the bound by what the others stored since; the next store past it drops them.
+(The oldest were once dropped by the first store of each process only: a matrix check
+that stored more after it left the folder above the bound, 4107 files of 4096.)
+A file that cannot be read or written is no error: the propagation is then computed as
+before; a damaged one (cut short, altered: each file is sealed,
+:func:`ins_errors.numeric.cache.write_entry`) is said in one line and computed again.
 """
 
 from __future__ import annotations
@@ -30,9 +37,16 @@ import numpy as np
 from ins_errors.checker.motion_store import code_version
 
 KEEP = 4096
-"""Stored propagations kept (the most recently used; ~2-8 kB each)."""
+"""Stored propagations kept at most (the most recently used; ~2-8 kB each)."""
 
-_pruned: list[bool] = []
+_counted: list[int] = []
+"""The files this process last counted in the folder, plus its new files stored since
+(empty until its first store)."""
+
+
+def kept_after_prune() -> int:
+    """Files a prune leaves: the most recently used three quarters of :data:`KEEP`."""
+    return KEEP - KEEP // 4
 
 
 def folder() -> Path:
@@ -70,24 +84,36 @@ def load(name: str) -> tuple[np.ndarray, ...] | None:
 
 
 def store(name: str, phis: tuple[np.ndarray, ...]) -> None:
-    """Store ``phis`` under ``name`` (atomically); the first store of a process drops the
-    oldest files beyond :data:`KEEP`."""
+    """Store ``phis`` under ``name`` (atomically); a store that takes the folder past
+    :data:`KEEP` files (as this process counts them) drops the least recently used down
+    to :func:`kept_after_prune`."""
     from ins_errors.numeric.cache import write_entry
 
     target = folder()
+    path = target / f"{name}.npy"
     data = io.BytesIO()
     np.save(data, np.array(phis))
     try:
-        write_entry(target / f"{name}.npy", data.getvalue())
-        if not _pruned:
-            _pruned.append(True)
-            prune(target, KEEP)
+        new = not path.exists()
+        write_entry(path, data.getvalue())
+        if not _counted:  # the first store of this process: count the folder
+            _counted.append(prune(target, KEEP, down_to=kept_after_prune()))
+        elif new:
+            _counted[0] += 1
+        if _counted[0] > KEEP:  # count again (others may have pruned or stored)
+            _counted[0] = prune(target, KEEP, down_to=kept_after_prune())
     except OSError:
-        pass  # not stored: computed again next time
+        pass  # not stored (or not pruned): computed again next time
 
 
-def prune(target: Path, keep: int) -> None:
-    """Delete all but the ``keep`` most recently used files of ``target``."""
+def prune(target: Path, keep: int, down_to: int | None = None) -> int:
+    """Delete all but the ``keep`` most recently used files of ``target`` (all but
+    ``down_to`` when there are more than ``keep``); returns the files left."""
     from ins_errors.numeric.cache import drop_least_recent
 
-    drop_least_recent(target.glob("*.npy"), keep)
+    paths = list(target.glob("*.npy"))
+    if len(paths) <= keep:
+        return len(paths)
+    left = keep if down_to is None else min(down_to, keep)
+    drop_least_recent(paths, left)
+    return left

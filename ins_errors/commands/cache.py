@@ -149,7 +149,8 @@ def stores() -> list[Store]:
               {"files": motion_store.KEEP}),
         Store("transitions", propagation_store.folder(),
               "propagations of the matrix checks",
-              f"the {propagation_store.KEEP} most recently used",
+              f"at most {propagation_store.KEEP}; beyond, the least recently used "
+              f"dropped down to {propagation_store.kept_after_prune()}",
               {"files": propagation_store.KEEP}),
         Store("variations", variation_store.folder(),
               "structured variations of models (the hand-derivation checker's and the "
