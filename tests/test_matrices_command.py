@@ -396,3 +396,27 @@ def test_hourly_samples_of_a_long_cruise_are_the_minute_samples_at_those_times(t
         # rounding (1e-15 m/s² of a 10-m/s² specific force) against the array's size
         tolerance = 1e-12 * np.abs(want).max(axis=0) + 1e-15 * np.abs(want).max()
         assert np.all(np.abs(got - want) <= tolerance), key
+
+
+def test_the_name_lists_of_a_mat_file_read_back_as_matrix_check_md_says(tmp_path, capsys):
+    """The .mat file's name lists come back from scipy.io.loadmat as nested object
+    arrays; docs/matrix_check.md gives the line that lists them. It reads every list as
+    the .npz holds it, a one-name list (one noise source) included."""
+    import re
+
+    page = (ROOT / "docs" / "matrix_check.md").read_text(encoding="utf-8")
+    line = re.search(r"`(\[str\(c\[0\]\) for c in loadmat\(\"fg\.mat\"\)\[\"states\"\]"
+                     r"\.ravel\(\)\])`", page.replace("\n", " ")).group(1)
+    common = ["orthodromic", "--motion", "static", "--hours", "0.5", "--step", "60s",
+              "--discrete", "--noise", "gyro_drift_x=0.003deg/rt-hr"]
+    for suffix in ("npz", "mat"):
+        assert main(["matrices", *common, "--out", str(tmp_path / f"fg.{suffix}")]) == 0
+    capsys.readouterr()
+    npz = np.load(tmp_path / "fg.npz")
+    keys = ("states", "sources", "noise_sources", "model_states", "model_inputs",
+            "parameter_names")
+    for key in keys:
+        names = eval(line.replace('"fg.mat"', repr(str(tmp_path / "fg.mat")))
+                     .replace('"states"', repr(key)), {"loadmat": loadmat})
+        assert names == [str(n) for n in npz[key]], key
+    assert len(npz["noise_sources"]) == 1
