@@ -281,6 +281,10 @@ def _command(argv: list[str] | None) -> int:
         # before any work, whatever the cache holds: the cache's variables (a relative
         # $INS_ERRORS_CACHE is taken against the folder the command starts in)
         check_settings()
+        if getattr(args, "no_progress", False):
+            from ins_errors.progress import hide
+
+            hide()   # also the stages of steps no command option reaches (compiling)
         status = int(args.func(args) or 0)
         sys.stdout.flush()
         return status
@@ -307,6 +311,10 @@ def _command(argv: list[str] | None) -> int:
               file=sys.stderr)
         return 2
     finally:
+        if getattr(args, "no_progress", False):
+            from ins_errors.progress import hide
+
+            hide(False)   # main() called again in one process (a notebook, the tests)
         warnings.showwarning = shown_warning
         if sys.stdout is not real_stdout and isinstance(sys.stdout, _GuardedStdout):
             sys.stdout = real_stdout

@@ -18,8 +18,22 @@ SHOW_AFTER = 0.5
 """Seconds before a stage's status line appears (quick stages draw nothing)."""
 
 
+_HIDDEN = False
+"""Set by :func:`hide` (the command line's ``--no-progress``): nothing is drawn at all."""
+
+
+def hide(hidden: bool = True) -> None:
+    """Draw no progress from now on (``--no-progress``): no bar and no stage, including
+    those of steps that take no ``progress`` argument (compiling a loop)."""
+    global _HIDDEN
+    _HIDDEN = hidden
+
+
 def on_terminal() -> bool:
-    """Whether stderr is an interactive terminal (where progress may be drawn)."""
+    """Whether progress may be drawn: stderr is an interactive terminal and progress is
+    not hidden (:func:`hide`)."""
+    if _HIDDEN:
+        return False
     try:
         return sys.stderr.isatty()
     except (AttributeError, ValueError):  # replaced or closed stream

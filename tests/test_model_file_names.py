@@ -49,6 +49,31 @@ def test_a_state_and_an_initial_condition_of_one_name_are_refused(tmp_path, caps
 
 
 @pytest.mark.usefixtures("private_cache")
+def test_a_state_named_like_a_flights_initial_condition_is_the_one_to_rename(tmp_path,
+                                                                              capsys):
+    """An Euler-angle model's state 'roll' beside the initial condition 'roll': the
+    message suggested renaming the initial condition to 'roll0', which every run then
+    refuses (flights and the static base set 'roll' by that name alone)."""
+    from ins_errors.numeric.model_flight import CONDITIONS
+    from ins_errors.symbolic.consistency import FILLED_BY_NAME
+
+    # the names flights fill with no '0' alias are those the message protects
+    assert {n for n in CONDITIONS if not n.startswith("v_")} == FILLED_BY_NAME
+    assert all(f"{n}0" in CONDITIONS for n in CONDITIONS if n.startswith("v_")
+               and not n.endswith("0"))
+    path = tmp_path / "clash.py"
+    source = (MODELS / "euler_angle_ins.py").read_text(encoding="utf-8")
+    clash = source.replace('Variable("phi", "rad", "roll angle"',
+                           'Variable("roll", "rad", "roll angle"')
+    assert clash != source
+    path.write_text(clash, encoding="utf-8")
+    assert main(["models", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err
+    assert "e.g. the state to 'roll_state'" in err and "'roll0'" not in err, err
+
+
+@pytest.mark.usefixtures("private_cache")
 def test_an_input_named_like_a_parameter_is_refused(tmp_path, capsys):
     path = tmp_path / "clash.py"
     path.write_text(STRAPDOWN.replace('"g"', '"f_z"'), encoding="utf-8")

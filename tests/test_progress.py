@@ -38,10 +38,11 @@ def test_counted_bars_follow_the_same_rule(monkeypatch):
 
     stream = io.StringIO()
     monkeypatch.setattr("sys.stderr", stream)
+    assert progress_bar(100, "steps") is None
+    monkeypatch.setattr("sys.stderr", _Terminal())
     bar = progress_bar(100, "steps")
     bar.update(100)
     bar.close()
-    assert stream.getvalue() == ""
 
 
 def _slow_stages(monkeypatch) -> list[tuple[str, bool]]:
@@ -200,3 +201,43 @@ def test_budget_takes_no_progress_as_compare_and_validity_do(quiet, monkeypatch)
     assert covariance == [not quiet]
     assert asked and asked[0] is not quiet  # the runs' bar (the rerun's is never shown)
     assert ("propagating the covariance" in stream.getvalue()) is not quiet
+
+
+@pytest.mark.parametrize("command", [
+    ["check", "orthodromic", "examples/manual_000/equations.txt"],
+    ["propagation", "--hours", "1", "--step", "60s", "--json"],
+    ["study", "gravity_projections", "--hours", "0.5", "--json"]])
+def test_no_progress_hides_every_status_of_the_command(command, monkeypatch, tmp_path):
+    """`check`, `study` and `propagation` showed status lines but refused --no-progress
+    (exit 2); and --no-progress never reached the stages no option reaches (compiling
+    a loop: shown on a terminal whatever the command was told). With it, nothing is
+    drawn on a terminal, even by a stage that is slow and enabled; after the command,
+    progress is drawn again (main called again in the same process)."""
+    from pathlib import Path
+
+    from ins_errors.cli import main
+
+    root = Path(__file__).resolve().parent.parent
+    command = [str(root / a) if a.startswith("examples/") else a for a in command]
+    monkeypatch.chdir(tmp_path)
+    stream = _Terminal()
+    monkeypatch.setattr("sys.stderr", stream)
+    monkeypatch.setattr(progress, "SHOW_AFTER", 0.0)
+    real = progress.stage
+
+    def slow(label, enabled=True):  # every stage, also one the command cannot disable
+        from contextlib import contextmanager
+
+        @contextmanager
+        def held():
+            with real(label, True):
+                yield
+                time.sleep(0.05)
+        return held()
+
+    monkeypatch.setattr(progress, "stage", slow)
+    assert main([*command, "--no-progress"]) in (0, 1)
+    assert "…" not in stream.getvalue()
+    with progress.stage("compiling a loop"):   # drawn again once the command ended
+        pass
+    assert "compiling a loop" in stream.getvalue()

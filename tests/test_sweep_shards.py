@@ -215,7 +215,7 @@ def test_bad_shard_values_are_one_line_before_anything_runs(tmp_path, capsys, va
     assert err.count("\n") == 1 and not out and not (tmp_path / "x.zarr").exists()
 
 
-def test_merges_that_cannot_be_made_say_why(tmp_path, capsys):
+def test_merges_that_cannot_be_made_say_why(tmp_path, capsys, monkeypatch):
     """Parts of another sweep (named setting), another split, a shard twice, missing or
     unfinished shards (named with their points), a whole store: one line each, exit 2,
     no merged store left behind."""
@@ -256,7 +256,7 @@ def test_merges_that_cannot_be_made_say_why(tmp_path, capsys):
         (["a1.zarr", "all.zarr"], "the merged store cannot be one of the shard stores"),
         (["a1.zarr", "nothing.zarr"], "'nothing.zarr': no such shard store"),
     ]
-    os.chdir(tmp_path)
+    monkeypatch.chdir(tmp_path)  # undone after the test: later tests read relative paths
     for parts, message in cases:
         assert main(["sweep", str(path), "--merge", *parts, "--store", "all.zarr"]) == 2
         out, err = capsys.readouterr()

@@ -194,7 +194,9 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
         engine = "pool"  # a few tasks: no local cluster to start
     report = on_result or (lambda k, r: None)
     bar = None
-    if progress and tasks:
+    from ins_errors.progress import on_terminal
+
+    if progress and tasks and on_terminal():
         from tqdm import tqdm
 
         bar = tqdm(total=len(tasks), unit="task", desc=label, leave=False,

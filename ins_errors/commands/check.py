@@ -75,6 +75,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="also write the report here: LaTeX (a fragment to \\input into a "
                              "referee report, coefficients typeset in the model's notation) "
                              "when the name ends in .tex, Markdown otherwise")
+    parser.add_argument("--no-progress", action="store_true",
+                        help="never show progress (the status lines of a long check)")
     parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
     parser.add_argument("--latex-parser", choices=("lalr", "sympy"), default="lalr",
                         help="parser of LaTeX arithmetic: fast LALR grammar (default) or "

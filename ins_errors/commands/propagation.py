@@ -59,6 +59,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--force", action="store_true",
                         help="write into a non-empty --out folder that ins-errors did not "
                              "write (only the experiment's own files are replaced)")
+    parser.add_argument("--no-progress", action="store_true",
+                        help="never show progress (the status line of its runs)")
     parser.add_argument("--json", action="store_true",
                         help="print the agreement figures as JSON instead of the tables")
     parser.add_argument("--orthodromic", action="store_true",

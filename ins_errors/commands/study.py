@@ -65,6 +65,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--force", action="store_true",
                         help="write into a non-empty --plot folder that ins-errors did not "
                              "write (only the study's own plots are replaced)")
+    parser.add_argument("--no-progress", action="store_true",
+                        help="never show progress (the study's status lines)")
     parser.add_argument("--json", action="store_true", help="machine-readable summary")
     parser.set_defaults(func=run)
 

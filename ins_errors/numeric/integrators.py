@@ -1653,7 +1653,9 @@ def progress_bar(total: int, progress: bool | str, initial: int = 0):
     (e.g. a first piece that also compiled the loop). Nothing is drawn when stderr is
     not a terminal.
     """
-    if not progress:
+    from ins_errors.progress import on_terminal
+
+    if not (progress and on_terminal()):
         return None
     from tqdm import tqdm
 

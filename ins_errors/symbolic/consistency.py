@@ -210,6 +210,14 @@ output may share its name with a state or an initial condition), in the order a 
 suggests renaming them, with the suffix suggested (``v_E`` -> ``v_E0``)."""
 
 
+FILLED_BY_NAME = frozenset({"latitude", "longitude", "height", "h", "roll", "pitch",
+                            "heading"})
+"""Initial conditions that flights and the static base fill by these names alone (the
+velocities are also read as ``v_N0``, ``v_E0``, ...: see
+:data:`ins_errors.numeric.model_flight.CONDITIONS`): a state that clashes with one is
+the one to rename (an Euler-angle model's ``roll`` state beside the initial ``roll``)."""
+
+
 def _check_shared_names(label: str, groups: dict[str, Sequence[Variable]]) -> None:
     """Refuse a name used by two groups of :data:`RENAMED`: both would be one symbol (a
     state ``v_E`` and an initial condition ``v_E`` make the current velocity print as
@@ -224,12 +232,18 @@ def _check_shared_names(label: str, groups: dict[str, Sequence[Variable]]) -> No
             other = owner[v.name]
             renamed = group if list(RENAMED).index(group) < list(RENAMED).index(other) \
                 else other
+            why = ""
+            if renamed == "initial_conditions" and v.name in FILLED_BY_NAME \
+                    and "states" in (group, other):
+                renamed = "states"
+                why = (f" (flights and the static base set the initial condition "
+                       f"{v.name!r} by that name)")
             suggestion = v.name + RENAMED[renamed]
             while suggestion in taken:
                 suggestion += "_"
             raise _fail(label, f"{_one(other)} {v.name!r} and {_one(group)} {v.name!r}",
                         "one name for two quantities makes them one SymPy symbol; rename "
-                        f"one of them, e.g. the {_one(renamed)} to {suggestion!r}")
+                        f"one of them, e.g. the {_one(renamed)} to {suggestion!r}{why}")
 
 
 def _one(group: str) -> str:
