@@ -262,10 +262,11 @@ HOLD_TOLERANCE = 0.01
 """Relative hold error (:func:`hold_error`) above which ``ins-errors matrices --discrete``
 warns that its step is too long for the motion."""
 
-_NEGLIGIBLE_BLOCK = 1e-9
-"""A block of Φ (in typical sizes of its states) this small against its rows' largest
-block is left out of :func:`hold_error`: it is rounding, whose relative change means
-nothing (an attitude row's position block in ψ)."""
+_ROUNDING = 1e-12
+"""Least change of its states (in typical sizes, next to Φ's identity) that a step's
+Φ error is measured against (:func:`hold_error`): a row of Φ that is the identity's
+(a random-constant bias state) differs by rounding (1e-16 of an entry near 1) at most,
+which is no error of the hold."""
 
 
 class HoldError(NamedTuple):
@@ -274,7 +275,7 @@ class HoldError(NamedTuple):
     Attributes
     ----------
     sizes : numpy.ndarray, shape (K - 1,)
-        Each step's largest relative block difference (0: F constant over the step).
+        Each step's largest relative difference (0: F constant over the step).
     size : float
         The largest of ``sizes``.
     step : int
@@ -282,7 +283,10 @@ class HoldError(NamedTuple):
     matrix : str
         ``"Phi"`` or ``"Qd"``: where it is.
     rows, columns : tuple of int
-        The states of its block (first, last), indices into the states.
+        The states of its block (first, stop), indices into the states.
+    twice : float or None
+        The same estimate with every other sample (steps twice as long): how the error
+        changes with the step, measured; None for fewer than 3 samples.
     """
 
     sizes: np.ndarray
@@ -291,11 +295,13 @@ class HoldError(NamedTuple):
     matrix: str
     rows: tuple[int, int]
     columns: tuple[int, int]
+    twice: float | None = None
 
 
-def state_blocks(units: list[str]) -> list[tuple[int, int]]:
-    """Runs of consecutive states of one unit (attitude, velocity, position, gyro biases,
-    …) as (first, stop) index pairs."""
+def state_blocks(units: list) -> list[tuple[int, int]]:
+    """Runs of consecutive equal entries of ``units`` (the states' units, or their
+    (unit, typical size) pairs: attitude, velocity, position, gyro biases, …) as
+    (first, stop) index pairs."""
     blocks: list[tuple[int, int]] = []
     for i, unit in enumerate(units):
         if blocks and units[blocks[-1][0]] == unit:
@@ -305,26 +311,46 @@ def state_blocks(units: list[str]) -> list[tuple[int, int]]:
     return blocks
 
 
+def typical_sizes(units: list[str]) -> np.ndarray:
+    """The fixed typical size (SI) of each state by its unit
+    (:func:`~ins_errors.checker.typical.typical_magnitude`: 1e-4 rad, 0.1 m/s, 10 m, …;
+    1 for a unit without one)."""
+    from ins_errors.checker.typical import typical_magnitude
+
+    scale = []
+    for unit in units:
+        try:
+            scale.append(typical_magnitude(unit)[0])
+        except InsErrorsError:
+            scale.append(1.0)
+    return np.array(scale)
+
+
 @one_blas_thread
-def hold_error(F, G, times, densities, held: DiscreteMatrices, units: list[str]
-               ) -> HoldError:
+def hold_error(F, G, times, densities, held: DiscreteMatrices, units: list[str],
+               sizes=None) -> HoldError:
     r"""A first-order estimate of what holding F and G at the step's start costs.
 
     :func:`discrete_matrices` holds F and G at their values at each step's start. Over the
     same step, F and G averaged over its two ends, ``(F_k + F_{k+1})/2``, give the
     discrete model to one order of Δt more (the trapezoid: exact for F varying linearly
     within the step, to O(Δt³)); the difference of the two is the hold's error to first
-    order. It is measured block by block of states of one unit (:func:`state_blocks`):
+    order. Each block of states of one unit and typical size (:func:`state_blocks`) is
+    weighed by what it does:
 
-    * Φ: the block's largest difference relative to the block's largest entry, in the
-      states' typical sizes (blocks of mere rounding, :data:`_NEGLIGIBLE_BLOCK` of their
-      rows' largest, left out);
+    * Φ: in the states' typical sizes (``Φ_ij s_j / s_i``), the block's largest
+      difference relative to the largest entry of its rows of ``Φ − I`` (over every
+      column), what the step does to those states: a block of no consequence to them
+      (the attitude's drift from a position error, a height's from a tilt) does not
+      count, however large its own relative change, and a block whose entries pass
+      through zero (a coupling whose sign changes in a turn) is not measured against
+      itself;
     * Q: the block's largest difference relative to √(Q_ii Q_jj) of the largest
       variances of its rows' and columns' states (a correlation's scale: a cross term of
       no consequence does not count).
 
-    The error falls about in proportion to the step (the difference of F over the step
-    times Δt, against a block of size F Δt).
+    The same estimate is also made with every other sample (steps twice as long,
+    :attr:`HoldError.twice`), which shows how the error changes with the step.
 
     Parameters
     ----------
@@ -333,51 +359,108 @@ def hold_error(F, G, times, densities, held: DiscreteMatrices, units: list[str]
     held : DiscreteMatrices
         :func:`discrete_matrices` of these.
     units : list of str
-        SI unit of each state (for the blocks and the typical sizes).
+        SI unit of each state (for the blocks and, without ``sizes``, the typical sizes).
+    sizes : array_like, shape (n,), optional
+        Typical size of each state, its SI unit (default :func:`typical_sizes` of
+        ``units``; a latitude or longitude error is better weighed as the position
+        error it is, 10 m over the Earth's radius, than as an angle).
 
     Returns
     -------
     HoldError
     """
-    from ins_errors.checker.typical import typical_magnitude
-
     F, G, t, q = _checked(F, G, times, densities)
+    s = typical_sizes(units) if sizes is None else np.asarray(sizes, dtype=float)
+    if s.shape != (F.shape[-1],) or not (np.isfinite(s).all() and (s > 0).all()):
+        raise ShapeError(f"sizes must be {F.shape[-1]} positive numbers, one per state")
+    blocks = state_blocks(list(zip(units, s.tolist(), strict=True)))
+    found = _hold_sizes(F, G, t, q, held, s, blocks)
+    sizes_k = np.max(np.stack([f[0] for f in found]), axis=0)
+    worst = max(found, key=lambda f: float(f[0].max()))
+    k = int(np.argmax(worst[0]))
+    twice = None
+    if t.size >= 3:
+        F2, G2, t2 = F[::2], G[::2], t[::2]
+        coarse = _hold_sizes(F2, G2, t2, q, discrete_matrices(F2, G2, t2, q), s, blocks)
+        twice = float(max(f[0].max() for f in coarse))
+    return HoldError(sizes_k, float(worst[0][k]), k, worst[1], worst[2], worst[3], twice)
+
+
+def _hold_sizes(F: np.ndarray, G: np.ndarray, t: np.ndarray, q: np.ndarray,
+                held: DiscreteMatrices, s: np.ndarray, blocks: list[tuple[int, int]]
+                ) -> list[tuple[np.ndarray, str, tuple[int, int], tuple[int, int]]]:
+    """Per block of Φ and of Q, each step's relative difference between ``held`` and
+    the trapezoid's discretisation (:func:`hold_error`), with where it is."""
     F_mid, G_mid = 0.5 * (F[:-1] + F[1:]), 0.5 * (G[:-1] + G[1:])
     # (the last sample's F and G are not used by a step: pad to K)
     mid = discrete_matrices(np.concatenate([F_mid, F_mid[-1:]]),
                             np.concatenate([G_mid, G_mid[-1:]]), t, q)
-    scale = []
-    for unit in units:
-        try:
-            scale.append(typical_magnitude(unit)[0])
-        except InsErrorsError:
-            scale.append(1.0)
-    s = np.array(scale)
-    blocks = state_blocks(list(units))
-    steps = t.size - 1
-    found = [(np.zeros(steps), "Phi", blocks[0], blocks[0])]
-    A, B = held.Phi * (s[None, None, :] / s[None, :, None]), \
-        mid.Phi * (s[None, None, :] / s[None, :, None])
+    found = [(np.zeros(t.size - 1), "Phi", blocks[0], blocks[0])]
+    ratio = s[None, None, :] / s[None, :, None]
+    A, B = held.Phi * ratio, mid.Phi * ratio
+    eye = np.eye(F.shape[-1])
     for r in blocks:
-        row_max = np.maximum(np.abs(A[:, r[0]:r[1]]).max(axis=(1, 2)),
-                             np.abs(B[:, r[0]:r[1]]).max(axis=(1, 2)))
+        # what the step does to the block's states: their rows of Φ − I, typical sizes
+        does = np.maximum(np.abs(A[:, r[0]:r[1]] - eye[r[0]:r[1]]).max(axis=(1, 2)),
+                          np.abs(B[:, r[0]:r[1]] - eye[r[0]:r[1]]).max(axis=(1, 2)))
         for c in blocks:
-            a, b = A[:, r[0]:r[1], c[0]:c[1]], B[:, r[0]:r[1], c[0]:c[1]]
-            size = np.maximum(np.abs(a).max(axis=(1, 2)), np.abs(b).max(axis=(1, 2)))
-            counts = size > _NEGLIGIBLE_BLOCK * row_max
-            rel = np.where(counts, np.abs(a - b).max(axis=(1, 2))
-                           / np.where(counts, size, 1.0), 0.0)
-            found.append((rel, "Phi", r, c))
+            d = np.abs(A[:, r[0]:r[1], c[0]:c[1]] - B[:, r[0]:r[1], c[0]:c[1]]
+                       ).max(axis=(1, 2))
+            found.append((d / np.maximum(does, _ROUNDING), "Phi", r, c))
     variances = np.maximum(np.einsum("kii->ki", held.Qd), np.einsum("kii->ki", mid.Qd))
     dQ = np.abs(held.Qd - mid.Qd)
     for r in blocks:
         for c in blocks:
             scale_rc = np.sqrt(variances[:, r[0]:r[1]].max(axis=1)
                                * variances[:, c[0]:c[1]].max(axis=1))
-            diff = dQ[:, r[0]:r[1], c[0]:c[1]].max(axis=(1, 2))
-            rel = np.where(scale_rc > 0, diff / np.where(scale_rc > 0, scale_rc, 1.0), 0.0)
+            d = dQ[:, r[0]:r[1], c[0]:c[1]].max(axis=(1, 2))
+            rel = np.where(scale_rc > 0, d / np.where(scale_rc > 0, scale_rc, 1.0), 0.0)
             found.append((rel, "Qd", r, c))
-    sizes = np.max(np.stack([f[0] for f in found]), axis=0)
-    worst = max(found, key=lambda f: float(f[0].max()))
-    k = int(np.argmax(worst[0]))
-    return HoldError(sizes, float(worst[0][k]), k, worst[1], worst[2], worst[3])
+    return found
+
+
+FALLING = (1.4, 3.0)
+"""Range of the ratio of the hold error with steps twice as long to that at the step
+(:func:`hold_error`, ``twice / size``) in which it is taken to fall steadily with the
+step (an order between about 0.5 and 1.6), so that a shorter step is suggested from the
+two (:func:`suggested_step`). Outside it the step is too long for the estimate to say
+how the error falls: it barely changes (the error near its ceiling), or changes
+erratically (steps as long as the motion's turns)."""
+
+
+def suggested_step(step: float, size: float, twice: float | None,
+                   tolerance: float = HOLD_TOLERANCE) -> float | None:
+    r"""A step (s) at which the hold error would be about ``tolerance`` or less, from its
+    estimate at the step and at twice the step; None where none is needed or none follows.
+
+    The hold's relative error grows in proportion to the step while it is small and
+    more slowly as it approaches its ceiling, ``e(h) = a h / (1 + b h)``. Its two
+    measured values, ``e(Δt) = size`` and ``e(2Δt) = twice``, fix ``a`` and ``b``
+    (``b Δt = (2 − ρ) / (2(ρ − 1))`` for ``ρ = twice / size`` between 1 and 2; for ρ ≥ 2,
+    an error falling at least in proportion, ``b = 0``); ``h = tolerance / a`` is then
+    under the tolerance, rounded down to 1, 2 or 5 times a power of ten. An error that
+    does not fall steadily with the step (``ρ`` outside :data:`FALLING`) gives None: no
+    step follows from it.
+
+    Parameters
+    ----------
+    step : float
+        The step, s.
+    size, twice : float
+        :attr:`HoldError.size` and :attr:`HoldError.twice` (None: not measured).
+    tolerance : float
+        The relative error wanted.
+
+    Returns
+    -------
+    float or None
+    """
+    from ins_errors.units import nice_below
+
+    if not size > tolerance or twice is None \
+            or not FALLING[0] * size <= twice <= FALLING[1] * size:
+        return None
+    rho = twice / size
+    b_step = 0.0 if rho >= 2.0 else (2.0 - rho) / (2.0 * (rho - 1.0))
+    slope = size * (1.0 + b_step) / step          # a: the error per second of step
+    return nice_below(tolerance / slope)

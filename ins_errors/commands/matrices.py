@@ -217,7 +217,8 @@ def run(args: argparse.Namespace) -> int:
             arrays[f"Qd_{motion.label}"] = dm.Qd
             if noises:
                 arrays[f"L_{motion.label}"] = Gw
-            hold = hold_error(em.F, Gw, motion.times, densities, dm, units)
+            hold = hold_error(em.F, Gw, motion.times, densities, dm, units,
+                              _state_sizes(model, conv, motion, units, parameters))
             holds.append(_hold_record(motion.label, hold, motion.times, step, states))
             if hold.size > HOLD_TOLERANCE:
                 text = _hold_warning(holds[-1], args.step)
@@ -451,31 +452,66 @@ def _size(model, args: argparse.Namespace, step: float, n: int, biases: int,
     return size
 
 
+def _state_sizes(model, conv, motion, units: list[str], parameters) -> np.ndarray:
+    """Typical size of each state (SI) for the hold's estimate: by its unit, and a
+    latitude or longitude error (rad) as the typical position error over the Earth's
+    radius, as the matrix check weighs it (an angle's 1e-4 rad would be 640 m)."""
+    from ins_errors.analysis.discrete_model import typical_sizes
+    from ins_errors.checker.matrix import position_angle_magnitude, position_angles
+    from ins_errors.checker.typical import typical_magnitude
+
+    sizes = typical_sizes(units)
+    if motion.navigation:  # (a model's own error states have no position readout)
+        angles = position_angles(conv, motion)
+        size = position_angle_magnitude(model, typical_magnitude("m"), parameters)[0]
+        for i, state in enumerate(conv.states):
+            if state.name in angles:
+                sizes[i] = size
+    return sizes
+
+
 def _hold_record(label: str, hold, times: np.ndarray, step: float,
                  states: tuple[str, ...]) -> dict:
-    """A motion's hold-error estimate as the JSON's record (docs/json.md)."""
-    from ins_errors.analysis.discrete_model import HOLD_TOLERANCE
-    from ins_errors.units import nice_below
+    """A motion's hold-error estimate as the JSON's record (docs/json.md); a step is
+    suggested where the estimate at twice the step shows the error falling with the
+    step (:func:`~ins_errors.analysis.discrete_model.suggested_step`)."""
+    from ins_errors.analysis.discrete_model import suggested_step
 
     def block(first_stop: tuple[int, int]) -> str:
         first, stop = first_stop
         return states[first] if stop - first == 1 else f"{states[first]}…{states[stop - 1]}"
 
-    suggested = None
-    if hold.size > HOLD_TOLERANCE:  # the error falls in proportion to the step
-        suggested = nice_below(step * HOLD_TOLERANCE / hold.size)
+    suggested = suggested_step(step, hold.size, hold.twice)
     return {"label": label, "size": hold.size, "matrix": hold.matrix,
             "block": f"{hold.matrix}[{block(hold.rows)}, {block(hold.columns)}]",
-            "time_s": float(times[hold.step]), "suggested_step_s": suggested}
+            "time_s": float(times[hold.step]), "size_twice_step": hold.twice,
+            "suggested_step_s": suggested}
 
 
 def _hold_warning(record: dict, step_text: str) -> str:
     """The one line of a motion whose step is too long for the hold of F (stderr and
-    JSON ``warnings``)."""
+    JSON ``warnings``): the step suggested only where the error was seen to fall with
+    the step."""
     from ins_errors.analysis.discrete_model import HOLD_TOLERANCE
 
-    return (f"{record['label']}: F held at each step's start puts Phi and Qd off by up to "
-            f"{record['size']:.0%} ({record['block']} at t = {record['time_s'] / 3600:.2f} "
-            f"h; estimated from F at the step's end): the error falls in proportion to "
-            f"the step, so --step {record['suggested_step_s']:g}s (not {step_text.strip()}) "
-            f"brings it to about {HOLD_TOLERANCE:.0%}")
+    against = ("against what a step does to those states" if record["matrix"] == "Phi"
+               else "against their variances")
+    head = (f"{record['label']}: F held at each step's start puts Phi and Qd off by up to "
+            f"{_percent(record['size'])} ({record['block']} at t = "
+            f"{record['time_s'] / 3600:.2f} h, {against}; estimated from F at the step's "
+            f"end)")
+    twice = record["size_twice_step"]
+    if record["suggested_step_s"] is not None:
+        return (f"{head}, {_percent(twice)} at twice the step: it falls with the step, "
+                f"and --step {record['suggested_step_s']:g}s (not {step_text.strip()}) "
+                f"brings it under about {HOLD_TOLERANCE:.0%}")
+    seen = ("" if twice is None else
+            f", {_percent(twice)} at twice the step: not the steady fall of an error in "
+            f"proportion to the step (a step too long for the estimate), so no step "
+            f"follows from it")
+    return f"{head}{seen}; shorten --step and run again to see what it comes to"
+
+
+def _percent(ratio: float) -> str:
+    """A ratio as a percentage of two significant digits (0.0124: "1.2%")."""
+    return f"{100 * ratio:.2g}%"
