@@ -122,10 +122,13 @@ def test_skew_form_equals_cross_and_a_wrong_cross_sign_is_found(tmp_path):
     wrong = tmp_path / "wrong.txt"
     wrong.write_text(text.replace("-cross(omega_in, phi)", "+cross(omega_in, phi)"))
     check = check_convention_file(wrong, **FAST)
-    # −ω_in × φ has six off-diagonal entries, ω_in,E vanishes on the static base only
-    entries = {(f.row, f.column) for f in check.report.findings}
+    # −ω_in × φ has six off-diagonal entries, ω_in,E vanishes on the static base only;
+    # each mirror pair (hand − model opposite in the two) is one finding of both
+    entries = {(f.row, f.column) for f in check.report.findings} | {
+        f.pair for f in check.report.findings}
     assert entries == {(r, c) for r in ("phi_N", "phi_E", "phi_D")
                        for c in ("phi_N", "phi_E", "phi_D") if r != c}
+    assert len(check.report.findings) == 3
     assert all(f.kind == "wrong sign" and f.severity == "mistake"
                for f in check.report.findings)
     assert {check.line_of(f) for f in check.report.findings} == {_line_of(wrong, "dot(phi)")}

@@ -29,7 +29,9 @@ Classes (the vocabulary of :mod:`~ins_errors.checker.classify`):
   which loads SymPy) is an ``omitted term``, the term named;
 * severity: at or above the threshold every kind is a ``mistake``; below it the
   omissions (``omitted term``, ``approximated``, ``state left out``) are a ``dropped small
-  term`` and a term that is present but wrong is a ``mistake, small effect``.
+  term`` and a term that is present but wrong is a ``mistake, small effect``; the
+  couplings of a hand model without any vertical-channel state to that channel are
+  ``vertical channel left out`` (:data:`NO_VERTICAL`, not a mistake), whatever their size.
 
 Then both linear models are propagated on each motion for 1 h and 24 h from each initial
 error (and each error source of G) at its typical magnitude, and the position and
@@ -102,7 +104,7 @@ from ins_errors.checker.typical import (
     schuler_magnitudes,
     typical_magnitude,
 )
-from ins_errors.errors import InsErrorsError, unknown_name
+from ins_errors.errors import InsErrorsError, UnknownNameError, unknown_name
 from ins_errors.numeric.blas_threads import one_blas_thread
 
 DEFAULT_THRESHOLD = 1e-3
@@ -117,6 +119,12 @@ APPROXIMATED = "approximated"
 part of it left out: a constant radius for R_N + h, a constant g): an omission."""
 LEFT_OUT = "state left out"
 """Kind of the coupling to a convention state the hand model does not have."""
+NO_VERTICAL = "vertical channel left out"
+"""Severity of a coupling of a horizontal-only hand model (no vertical-channel state of
+the convention at all: no dv_D, no dh) to the vertical channel it leaves out: not a
+mistake. The effect comparison holds the derived model's vertical channel (its rows and
+columns zeroed: it feeds nothing), as the hand does without it, so these couplings have
+no effect to assess; one line of the report says so (:attr:`MatrixReport.without_vertical`)."""
 
 
 # --------------------------------------------------------------------------------------
@@ -140,7 +148,8 @@ class EntryFinding:
         the wrong column of its row: :mod:`~ins_errors.checker.matrix_slips`).
     severity : str
         ``mistake``, ``mistake, small effect`` (a wrong term below the threshold) or
-        ``dropped small term`` (the severities of :mod:`~ins_errors.checker.classify`).
+        ``dropped small term`` (the severities of :mod:`~ins_errors.checker.classify`),
+        or ``vertical channel left out`` (:data:`NO_VERTICAL`).
     size : float
         Largest ratio over the samples of |hand − model| × magnitude to the row's largest
         term.
@@ -165,6 +174,12 @@ class EntryFinding:
         entry): the block's rows and columns (``(("psi_N", "psi_E", "psi_D"),
         ("gyro_bias_x", "gyro_bias_y", "gyro_bias_z"))``); its effect is the whole
         block's. None for a finding of one entry.
+    pair : tuple of str or None
+        ``(row, column)`` of the mirror entry F[column, row] when the two differ by
+        exactly opposite amounts at every sample (hand − model = +d here, −d there: an
+        antisymmetric term such as a [ω×] of Coriolis written with the wrong sign or
+        left out in both, :func:`_merge_pairs`): one finding for both, this the larger,
+        and its effect is the pair's. None otherwise.
     """
 
     matrix: str
@@ -183,6 +198,7 @@ class EntryFinding:
     per_motion: dict[str, float]
     detail: str = ""
     block: tuple[tuple[str, ...], tuple[str, ...]] | None = None
+    pair: tuple[str, str] | None = None
 
     @property
     def entry(self) -> str:
@@ -272,6 +288,12 @@ class MatrixReport:
         return [f for f in self.findings if f.severity in (MISTAKE, SMALL_MISTAKE)]
 
     @property
+    def without_vertical(self) -> list[EntryFinding]:
+        """Couplings of a horizontal-only hand model to the vertical channel it leaves
+        out (severity :data:`NO_VERTICAL`), largest first; empty otherwise."""
+        return [f for f in self.findings if f.severity == NO_VERTICAL]
+
+    @property
     def exit_status(self) -> int:
         """0: no mistake; 1: at least one mistake."""
         return 1 if self.mistakes else 0
@@ -337,6 +359,49 @@ def _sign_on_a_motion(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarra
             return (f"hand = −model on motion {label!r}: the sign of a term that is the whole "
                     "entry there")
     return ""
+
+
+NEARLY = 0.01
+"""Relative spread of hand/model over a motion within which the ratio is named as a
+range (:func:`_ratio_by_motion`)."""
+
+
+def _ratio_by_motion(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray,
+                     motion_of: np.ndarray, labels: list[str]) -> str:
+    """``"hand/model = 0.5 at every sample on motion 'static', 0.49975 to 0.49986 on
+    'cruise', ..."`` for a wrong coefficient whose ratio is constant on one motion at
+    least (to 1e-6) and within :data:`NEARLY` of constant on every motion, else ``""``.
+
+    A factor slip in one term of an entry that holds others (g/R for 2g/R in
+    F[dv_D, dh], which also holds the transport rate's change with height) is an exact
+    factor at rest, where that term is the whole entry, and nearly one on the moving
+    motions. A motion where the model's entry is 0 at every sample is left out; where
+    it is 0 at a sample and the hand's is not, no ratio is named.
+    """
+    said = []
+    exact = False
+    for k, label in enumerate(labels):
+        here = motion_of == k
+        on = here & (np.abs(m) * mag > AGREEMENT * scale)
+        if np.any(here & ~on & (np.abs(h) * mag > AGREEMENT * scale)):
+            return ""
+        if not on.any():
+            continue
+        q = h[on] / m[on]
+        middle = float(np.median(q))
+        spread = float(np.ptp(q))
+        if spread <= 1e-6 * abs(middle):
+            exact = True
+            said.append(f"{middle:.6g} at every sample on {label!r}")
+        elif spread <= NEARLY * abs(middle):
+            said.append(f"{q.min():.6g} to {q.max():.6g} on {label!r}")
+        else:
+            return ""
+    if not exact or not said:
+        return ""
+    return ("hand/model = " + ", ".join(said)
+            + (" (exact where one term is the whole entry, nearly so where others join "
+               "it: a wrong factor of that term?)" if len(said) > 1 else ""))
 
 
 def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, threshold: float,
@@ -502,6 +567,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     Fh_full[:, :, rows] = Fh
     radii_ratio = _radii_ratio(motion_list)
     findings = []
+    series: dict[tuple[str, str, str], tuple] = {}  # (matrix, row, column) -> (h, m, mag, scale)
     compared = 0
     entry_terms = None  # the derived entries' terms (SymPy), built for the first that needs them
     scales = np.empty((Fh.shape[0], len(rows)))  # each hand row's largest term
@@ -534,7 +600,8 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                 continue
             kind, severity, detail = verdict
             if kind == COEFFICIENT and not detail:
-                detail = _sign_on_a_motion(h, m, mag, scale, sample_motion, labels)
+                detail = (_sign_on_a_motion(h, m, mag, scale, sample_motion, labels)
+                          or _ratio_by_motion(h, m, mag, scale, sample_motion, labels))
             if matrix == "F" and i >= n_own and i == j:  # a bias state's own rate
                 detail = _bias_rate_detail(conv.biases[i - n_own], h, detail)
             ratio = np.abs(h - m) * mag / scale
@@ -564,6 +631,7 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                     kind, detail = OMITTED, found
                     severity = classify_severity(OMITTED, float(ratio.max()),
                                                  report.threshold)
+            series[(matrix, report.states[a], col_name)] = (h, m, mag, scale)
             s = first_largest(ratio)
             per_motion = {lab: float(ratio[sample_motion == k].max())
                           for k, lab in enumerate(labels)}
@@ -594,6 +662,10 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                     model_m[:, [rows[k] for k in r]][:, :, c], mags[c], scales[:, r],
                     report.threshold)
                 compared -= merged  # the block is one entry compared
+    units = {st.name: st.unit for st in conv.states}
+    findings, merged = _merge_pairs(findings, series, units, set(report.vertical),
+                                    report.threshold)
+    compared -= merged  # the pair is one entry compared
     findings.sort(key=lambda f: (f.severity not in (MISTAKE, SMALL_MISTAKE), -f.size))
     report.findings = findings
     report.compared = compared
@@ -624,6 +696,79 @@ def _merge_transposed(findings: list[EntryFinding], matrix: str, row_triple: tup
                    block=(tuple(row_triple), tuple(col_triple)))
     gone = {id(f) for f in inside if f is not worst}
     return [kept if f is worst else f for f in findings if id(f) not in gone], len(gone)
+
+
+PAIRED = frozenset({COEFFICIENT, SIGN, OMITTED, EXTRA, APPROXIMATED})
+"""Kinds of a finding that may be half of a mirror pair (:func:`_merge_pairs`)."""
+
+
+def _merge_pairs(findings: list[EntryFinding], series: dict[tuple[str, str, str], tuple],
+                 units: dict[str, str], vertical: set[str], threshold: float
+                 ) -> tuple[list[EntryFinding], int]:
+    """The findings with each mirror pair of F merged into one, and the number merged
+    away.
+
+    F[a, b] and F[b, a] (a, b states of one unit) whose differences are exactly
+    opposite, hand − model = d in one and −d in the other to the agreement level of
+    both rows at every sample, are one mistake: an antisymmetric term (the
+    ``−(2Ω_ie + Ω_en)×`` of δv̇, a ``[ω×]`` of the attitude rows) written with the wrong
+    sign or left out, which changes both entries together. Either entry alone breaks
+    the antisymmetry and propagates quite differently (a Coriolis sign slip: each alone
+    ~60 times the pair's error after a day), so the one kept, the larger, carries the
+    pair's effect (:attr:`EntryFinding.pair`) and names its partner. A pair with no
+    mistake in it (two dropped small terms, a sphere's radius in an [ω×]), entries of
+    held vertical-channel states, blocks, index slips and declared drops are left as
+    they are.
+
+    Parameters
+    ----------
+    findings : list of EntryFinding
+    series : dict
+        (matrix, row, column) -> (hand, model, typical size of the column, the row's
+        largest term), each at the samples, shape (S,) (the size a float).
+    units : dict
+        State -> unit.
+    vertical : set of str
+        Held vertical-channel states.
+    threshold : float
+    """
+    def eligible(f: EntryFinding) -> bool:
+        return (f.matrix == "F" and f.block is None and f.kind in PAIRED
+                and f.severity != DECLARED and f.row != f.column
+                and f.row not in vertical and f.column not in vertical
+                and units.get(f.row) is not None and units.get(f.row) == units.get(f.column))
+
+    by_entry = {(f.row, f.column): f for f in findings if eligible(f)}
+    gone: set[int] = set()
+    kept: dict[int, EntryFinding] = {}
+    for (row, column), f in by_entry.items():
+        other = by_entry.get((column, row))
+        if (other is None or id(f) in gone or id(other) in gone or id(f) in kept
+                or not {f.severity, other.severity} & {MISTAKE, SMALL_MISTAKE}):
+            continue  # (two dropped small terms stay two lines, as drops are listed)
+        h1, m1, mag1, scale1 = series[("F", row, column)]
+        h2, m2, mag2, scale2 = series[("F", column, row)]
+        d = (h1 - m1) + (h2 - m2)
+        if not (np.all(np.abs(d) * mag1 <= AGREEMENT * scale1)
+                and np.all(np.abs(d) * mag2 <= AGREEMENT * scale2)):
+            continue
+        big, small = (f, other) if f.size >= other.size else (other, f)
+        severity = (big.severity if big.severity == MISTAKE or small.severity not in
+                    (MISTAKE, SMALL_MISTAKE) else small.severity)
+        same = (small.kind, small.detail) == (big.kind, big.detail)
+        partner = (f"{small.entry} (hand {small.hand + 0.0:.6g}, model "
+                   f"{small.model + 0.0:.6g}, "
+                   + ("the same kind" if same else small.kind
+                      + (f": {small.detail}" if small.detail else "")) + ")")
+        said = (f"one finding with its mirror {partner}: hand − model there is exactly "
+                "minus hand − model here at every sample, as an antisymmetric term (a "
+                "[ω×] such as Coriolis) with a wrong sign or left out gives; the effect "
+                "is the pair's together")
+        kept[id(big)] = replace(big, severity=severity, pair=(small.row, small.column),
+                                detail=f"{big.detail}; {said}" if big.detail else said)
+        gone.add(id(small))
+    out = [kept.get(id(f), f) for f in findings if id(f) not in gone]
+    return out, len(gone)
 
 
 RADII_SWAP = "hand/model = (R_"
@@ -741,13 +886,28 @@ def _term_left_out(terms, i: int, j: int, h: np.ndarray, m: np.ndarray, mag: flo
     """
     from ins_errors.checker.matrix_terms import left_out
 
-    found = left_out(terms.terms(i, j), h, m, mag, scale, AGREEMENT)
-    if found is None:
+    choices = left_out(terms.terms(i, j), h, m, mag, scale, AGREEMENT)
+    if choices is None:
         return None
-    missing = sum(t.values for t in found)
+    missing = sum(t.values for t in choices[0])
     share = float(np.abs(missing).max() / np.abs(m).max())
-    return (f"term left out: {' and '.join(t.describe() for t in found)}, up to "
-            f"{share:.2g} of the entry's largest value")
+    said = [" and ".join(t.describe() for t in found) for found in choices]
+    # terms equal in value at every sample: the samples cannot tell which is left out
+    common = [t for t in choices[0]
+              if all(any(u.describe() == t.describe() for u in c) for c in choices)]
+    rest = [[t for t in c if t.describe() not in {u.describe() for u in common}]
+            for c in choices]
+    if len(said) == 1:
+        what = f"term left out: {said[0]}"
+    elif all(len(r) == 1 for r in rest):
+        what = ("term left out" if not common else
+                f"terms left out: {' and '.join(t.describe() for t in common)} and")
+        what += (f"{',' * (not common)} one of {len(rest)} terms of the entry equal in "
+                 f"value at every sample: {' or '.join(r[0].describe() for r in rest)}")
+    else:
+        what = (f"terms left out, one of {len(said)} choices equal in value at every "
+                f"sample: {' or '.join(f'({s})' for s in said)}")
+    return f"{what}, up to {share:.2g} of the entry's largest value"
 
 
 # --------------------------------------------------------------------------------------
@@ -870,6 +1030,11 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     # G's columns weighed by the sizes the report lists (--magnitude), as the states are
     _compare(report, sampled, conv, model, motion_list, declared, declared_used,
              np.array([magnitudes[s.name][0] for s in model.sources]))
+    if report.vertical and all(v in report.left_out for v in report.vertical):
+        # a horizontal-only hand: its vertical channel is held in the comparison anyway
+        report.findings = [replace(f, severity=NO_VERTICAL)
+                           if f.kind == LEFT_OUT and f.column in report.vertical else f
+                           for f in report.findings]
     unholdable = held_channel.not_holdable(report.states, conv)
     if effects and unholdable:  # part of an Earth-fixed triple: no effects
         report.held = [unholdable]
@@ -946,6 +1111,21 @@ def _magnitudes(model, overrides: dict[str, str] | None,
     return lambda unit: fixed[unit] if unit in fixed else typical_magnitude(unit)
 
 
+def _conventions_of(states: list[str], rate_sources: list[str], model, given: str
+                    ) -> list[str]:
+    """The conventions of ``model`` other than ``given`` whose states (with the model's
+    constant error sources as bias states) hold every name of ``states`` (a hand model
+    checked without its ``--convention``)."""
+    from ins_errors.checker.conventions import conventions
+
+    try:
+        known = conventions(model)
+    except InsErrorsError:
+        return []
+    return [name for name, c in known.items() if name != given
+            and all(s in c.names or s in rate_sources for s in states)]
+
+
 def bias_states(states: list[str], sources: list[str], markov: dict[str, float],
                 conv: Convention, model, where: str, label: str = "MARKOV"
                 ) -> tuple[BiasState, ...]:
@@ -984,6 +1164,15 @@ def bias_states(states: list[str], sources: list[str], markov: dict[str, float],
         if s in base.names:
             continue
         if s not in by_name:
+            others = _conventions_of(states, rate_sources, model, base.name)
+            if others:  # the states are another convention's: say which
+                how = {"MARKOV": "--convention", "@markov": "@convention"}.get(label)
+                give = (f"give it ({how} {others[0]})" if how and len(others) == 1
+                        else "give it" if len(others) == 1 else "give one of them")
+                raise UnknownNameError(
+                    f"{where}: {s!r} is no state of convention {base.name!r}; the states "
+                    f"are those of convention{'s' * (len(others) > 1)} "
+                    f"{', '.join(repr(o) for o in others)}: {give}")
             raise unknown_name(f"state of convention {base.name!r}", s,
                                base.names + rate_sources)  # (bias states too)
         if by_name[s].kind != "constant":

@@ -470,7 +470,8 @@ def with_finding(f: EntryFinding, report: MatrixReport, sampled: _Sampled,
                  conv: Convention, model, motion: str) -> tuple[np.ndarray, np.ndarray]:
     """The derived F and G on ``motion`` with the finding's entries replaced by the
     hand's: its one entry, or for a transposed block (:attr:`EntryFinding.block`) every
-    entry of the block as the hand writes it (a column the hand leaves out: 0).
+    entry of the block as the hand writes it (a column the hand leaves out: 0), or for
+    a mirror pair (:attr:`EntryFinding.pair`) both entries.
 
     Returns
     -------
@@ -482,12 +483,14 @@ def with_finding(f: EntryFinding, report: MatrixReport, sampled: _Sampled,
     F, G = sampled.Fz[motion], sampled.Gz[motion]
     if f.matrix == "F":
         F = F.copy()
-        for row in rows:
+        entries = [(row, column) for row in rows for column in columns]
+        if f.pair is not None:  # a mirror pair: both entries
+            entries.append(f.pair)
+        for row, column in entries:
             a, i = report.states.index(row), names.index(row)
-            for column in columns:
-                F[:, i, names.index(column)] = (
-                    sampled.Fh[motion][:, a, report.states.index(column)]
-                    if column in report.states else 0.0)
+            F[:, i, names.index(column)] = (
+                sampled.Fh[motion][:, a, report.states.index(column)]
+                if column in report.states else 0.0)
     else:
         src_names = [s.name for s in model.sources]
         G = G.copy()

@@ -289,13 +289,24 @@ def real_array(value, what: str, where: str) -> np.ndarray:
                          f"got {_short(value)}") from None
 
 
-def _check_matrix(value, shape: tuple[int, int], what: str, where: str) -> np.ndarray:
+def _check_matrix(value, shape: tuple[int, int], what: str, where: str,
+                  rows: list[str] | None = None, columns: list[str] | None = None
+                  ) -> np.ndarray:
+    """``value`` as a real array of ``shape``, finite; one-line errors naming what was
+    returned (None: the function returned nothing) and a non-finite entry by its row and
+    column names (``rows``, ``columns``; its indices without them)."""
+    if value is None:
+        raise ShapeError(f"{where}: the function returned None (no return statement "
+                         f"reached?); {what} must have shape {shape}")
     array = real_array(value, what, where)
     if array.shape != shape:
         raise ShapeError(f"{where}: {what} must have shape {shape}, got {array.shape}")
     if not np.all(np.isfinite(array)):
         i, j = (int(v[0]) for v in np.nonzero(~np.isfinite(array)))
-        raise InsErrorsError(f"{where}: {what}[{i}, {j}] is NaN or infinite")
+        bad = "NaN" if np.isnan(array[i, j]) else "infinite"
+        named = (f"{what}[{rows[i]}, {columns[j]}] ({what}[{i}, {j}])"
+                 if rows is not None and columns is not None else f"{what}[{i}, {j}]")
+        raise InsErrorsError(f"{where}: {named} is {bad}")
     return array
 
 
@@ -357,10 +368,10 @@ def evaluate_function(fn, name: str, path: Path, states: list[str], sources: lis
                 if not m:
                     raise InsErrorsError(f"{where}: G is returned but SOURCES (its columns, "
                                          "model error-source names) is not defined")
-                gs.append(_check_matrix(g, (n, m), "G", where))
+                gs.append(_check_matrix(g, (n, m), "G", where, states, sources))
             else:
                 f = result
-            fs.append(_check_matrix(f, (n, n), "F", where))
+            fs.append(_check_matrix(f, (n, n), "F", where, states, states))
         if gs and len(gs) != len(fs):
             raise ShapeError(f"{name} on {motion.label}: G is returned at some samples only")
         F[motion.label] = np.array(fs)

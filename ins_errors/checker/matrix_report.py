@@ -75,7 +75,8 @@ def vertical_text(r: MatrixReport, f: EntryFinding) -> str:
 
 
 def _alone(r: MatrixReport, f: EntryFinding) -> str:
-    """The effect of this difference alone after 24 h, or ''."""
+    """The effect of this difference alone (a mirror pair's: both entries) after 24 h,
+    or ''."""
     vertical = vertical_text(r, f)
     if vertical:
         return vertical
@@ -84,8 +85,9 @@ def _alone(r: MatrixReport, f: EntryFinding) -> str:
     e = r.finding_effects[f.entry]
     if e.not_assessed:
         return e.not_assessed
+    alone = "the pair together after 24 h" if f.pair is not None else "alone after 24 h"
     if e.exponential:
-        return (f"alone after 24 h: {growth_text(e.e_folding, e.growing_mode)} "
+        return (f"{alone}: {growth_text(e.e_folding, e.growing_mode)} "
                 f"(fastest on {e.motion})")
     attitude = (NOT_READ.format("attitude") if e.attitude is None
                 else f"{e.attitude / ARCSEC:.3g}″" if e.attitude_above_rounding
@@ -93,16 +95,16 @@ def _alone(r: MatrixReport, f: EntryFinding) -> str:
     if e.position is None:
         if e.attitude is None or e.attitude_above_rounding:
             where = f" (largest on {e.motion})" if e.motion else ""
-            return f"alone after 24 h: {NOT_READ.format('position')}, {attitude}{where}"
-        return (f"alone after 24 h: {NOT_READ.format('position')}, attitude {NO_EFFECT} "
+            return f"{alone}: {NOT_READ.format('position')}, {attitude}{where}"
+        return (f"{alone}: {NOT_READ.format('position')}, attitude {NO_EFFECT} "
                 f"({attitude})")
     if not e.position_above_rounding:
         if not e.attitude_above_rounding:
-            return (f"alone after 24 h: {NO_EFFECT} "
+            return (f"{alone}: {NO_EFFECT} "
                     f"({below(e.position_floor, 'm')}, {attitude})")
-        return (f"alone after 24 h: position {NO_EFFECT} "
+        return (f"{alone}: position {NO_EFFECT} "
                 f"({below(e.position_floor, 'm')}), {attitude}")
-    return f"alone after 24 h: {e.position:.3g} m, {attitude} (largest on {e.motion})"
+    return f"{alone}: {e.position:.3g} m, {attitude} (largest on {e.motion})"
 
 
 def _finding_line(r: MatrixReport, f: EntryFinding) -> str:
@@ -116,12 +118,32 @@ def _finding_line(r: MatrixReport, f: EntryFinding) -> str:
 
 def _summary(r: MatrixReport) -> str:
     declared = len(declared_drops(r))
-    dropped = len(r.findings) - len(r.mistakes) - declared
+    vertical = len(r.without_vertical)
+    dropped = len(r.findings) - len(r.mistakes) - declared - vertical
     return (f"{r.compared} entries compared: {r.compared - len(r.findings)} agree, "
             + (f"{declared} declared drop{'s' * (declared != 1)}, " if declared
                or r.declarations else "")
+            + (f"{vertical} coupling{'s' * (vertical != 1)} to the vertical channel "
+               "the hand leaves out, " if vertical else "")
             + f"{dropped} dropped small term{'s' * (dropped != 1)}, "
             f"{len(r.mistakes)} mistake{'s' * (len(r.mistakes) != 1)}")
+
+
+def without_vertical_text(r: MatrixReport) -> str:
+    """What a horizontal-only hand model's couplings to the vertical channel mean (one
+    paragraph), '' for any other hand."""
+    found = sorted(r.without_vertical, key=lambda f: -f.size)
+    if not found:
+        return ""
+    listed = ", ".join(f"{f.entry} {f.size:.2g}" for f in found)
+    return (f"the hand has no vertical channel (no {', '.join(r.vertical)}): a "
+            "horizontal-only model. The effect comparison holds the derived model's "
+            "vertical channel (it keeps its initial errors and feeds nothing), as the hand "
+            f"does without it, so its {len(found)} coupling{'s' * (len(found) != 1)} to "
+            f"that channel are not assessed (size of each against its row's largest term: "
+            f"{listed}). Not a mistake (exit status 0 unless other findings are); they "
+            "carry the vertical errors into the horizontal ones where no height aid (a "
+            "baro-altimeter) keeps those small")
 
 
 def declared_drops(r: MatrixReport) -> list[EntryFinding]:
@@ -221,9 +243,12 @@ def to_terminal(r: MatrixReport) -> str:
     for title, group in (("Mistakes", r.mistakes), ("Declared drops", declared_drops(r)),
                          ("Dropped small terms",
                           [f for f in r.findings
-                           if f not in r.mistakes and f.severity != DECLARED])):
+                           if f not in r.mistakes and f.severity != DECLARED
+                           and f not in r.without_vertical])):
         if group:
             lines += ["", f"{title}:"] + [f"  {_finding_line(r, f)}" for f in group]
+    if r.without_vertical:
+        lines += ["", "Vertical channel left out:", f"  {without_vertical_text(r)}"]
     lines += [f"declaration explains nothing: {text}" for text in r.idle_declarations]
     if r.effects:
         held = (f"; vertical channel held: {', '.join(r.held)}" if r.held else "")
@@ -265,6 +290,8 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
                    + ".")
     out += ["", "Typical magnitudes: " + ", ".join(
         f"`{k}` {v[1]}" for k, v in r.magnitudes.items()) + ".", "", _summary(r) + ".", ""]
+    if r.without_vertical:
+        out += [without_vertical_text(r)[0].upper() + without_vertical_text(r)[1:] + ".", ""]
     if r.findings:
         out += ["| entry | class | kind | size | largest on | hand | model | detail | "
                 "effect alone |",
@@ -307,6 +334,8 @@ def to_json(r: MatrixReport) -> dict:
                       "motion": f.motion, "time_s": f.time, "hand": f.hand, "model": f.model,
                       "absolute": f.absolute, "unit": f.unit, "per_motion": f.per_motion,
                       "detail": f.detail,
+                      "pair": (None if f.pair is None
+                               else f"{f.matrix}[{f.pair[0]}, {f.pair[1]}]"),
                       "effect_alone_24h": (_alone_json(r.finding_effects[f.entry])
                                            if f.entry in r.finding_effects else None),
                       "effect_vertical": (_vertical_json(r.vertical_effects[f.entry])

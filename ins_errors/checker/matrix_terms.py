@@ -204,9 +204,14 @@ class EntryTerms:
 
 
 def left_out(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
-             scale: np.ndarray, agreement: float) -> list[Term] | None:
+             scale: np.ndarray, agreement: float) -> list[list[Term]] | None:
     """The term (or up to :data:`MAX_LEFT_OUT` terms) whose omission from ``model``
-    gives ``hand`` at every sample, or None.
+    gives ``hand`` at every sample, or None; with every other choice of as many terms
+    that does so too.
+
+    Two terms of one entry can be equal in value at every sample (the transport rate
+    ρ_D in ``Ω×δv`` and ``−v_E tan φ/(R_E + h)`` from ``Δρ_D v_E``): the hand leaves
+    out one of them, and the samples cannot say which.
 
     Parameters
     ----------
@@ -220,6 +225,12 @@ def left_out(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
         The row's largest term at each sample.
     agreement : float
         Relative size at or below which two entries agree.
+
+    Returns
+    -------
+    list of (list of Term) or None
+        Each choice of terms (the fewest) whose omission gives ``hand``, the largest
+        first; one choice when the terms are told apart.
     """
     tolerance = agreement * scale / mag
     # the terms must make up the entry (in a convention whose Ṫ T⁺ reaches it, or whose
@@ -235,11 +246,17 @@ def left_out(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
     for count in range(1, MAX_LEFT_OUT + 1):
         # a term whose parts are terms too is left out alone (with another, it could
         # count one of its own parts twice)
+        found: list[list[Term]] = []
+        seen: set[tuple] = set()
         for subset in combinations(usable if count == 1 else
                                    [t for t in usable if not t.grouped], count):
             total = subset[0].values if count == 1 else sum(t.values for t in subset)
-            if np.all(np.abs(missing - total) <= tolerance):
-                return list(subset)
+            key = tuple(sorted((t.text, t.origin, t.line, t.column) for t in subset))
+            if key not in seen and np.all(np.abs(missing - total) <= tolerance):
+                seen.add(key)
+                found.append(list(subset))
+        if found:
+            return found
     return None
 
 
