@@ -185,18 +185,20 @@ def test_the_15_state_ecef_filter_agrees_with_its_bias_states():
 
 
 def test_a_coriolis_sign_slip_is_the_two_entries_wrong_sign(reports):
+    """Both Coriolis entries of the equatorial plane, opposite differences: one finding
+    of the mirror pair, whose effect is the pair's (here the whole hand's)."""
     report = reports["groves_coriolis_slip"]
-    found = {(f.matrix, f.row, f.column): f for f in report.findings}
-    assert set(found) == {("F", "dv_X", "dv_Y"), ("F", "dv_Y", "dv_X")}
+    [f] = report.findings
+    assert {(f.row, f.column), f.pair} == {("dv_X", "dv_Y"), ("dv_Y", "dv_X")}
     U = 7.292115e-5
-    for f in found.values():
-        assert f.kind == "wrong sign" and f.severity == "mistake"
-        assert abs(f.hand) == pytest.approx(2 * U, rel=1e-9)
-        assert f.hand == pytest.approx(-f.model, rel=1e-9)
-    for entry in ("F[dv_X, dv_Y]", "F[dv_Y, dv_X]"):  # finite, above rounding
-        alone = report.finding_effects[entry]
-        assert alone.position_above_rounding and 1e3 < alone.position < 1e7
-        assert not alone.exponential
+    assert f.kind == "wrong sign" and f.severity == "mistake"
+    assert abs(f.hand) == pytest.approx(2 * U, rel=1e-9)
+    assert f.hand == pytest.approx(-f.model, rel=1e-9)
+    alone = report.finding_effects[f.entry]  # finite, above rounding
+    assert alone.position_above_rounding and 1e3 < alone.position < 1e7
+    assert not alone.exponential
+    whole = max(e.position_difference for e in report.effects if e.hours == 24)
+    assert alone.position == pytest.approx(whole, rel=1e-9)
 
 
 def test_held_ecef_effects_are_those_of_the_psi_convention(tmp_path):
@@ -295,6 +297,7 @@ def test_a_sign_slip_hidden_in_a_sum_of_psi_entries_is_named_where_it_is_whole()
     coriolis = {("dvc_N", "dvc_E"), ("dvc_E", "dvc_N"), ("dvc_E", "dvc_D"),
                 ("dvc_D", "dvc_E")}
     found = {(f.row, f.column): f for f in report.findings if f.matrix == "F"}
+    found.update({f.pair: f for f in report.findings if f.pair is not None})
     assert coriolis <= set(found)
     for key in coriolis:
         f = found[key]
@@ -358,9 +361,10 @@ def test_a_left_out_ecef_attitude_that_nothing_excites_is_not_assessed(static_ba
 def test_an_ecef_model_without_position_states_reads_no_position(static_base):
     """An attitude and velocity model (no δr^e) has no position to read: the effect of
     each finding alone says `position n/a`, and the attitude change is the one measured
-    and named with its motion. The Earth rate's sign slipped in F[psi_X, psi_Y] alone
-    against a SciPy propagation of Groves' attitude rows on the static base: ψ̇^e =
-    −Ω_ie^e ψ^e + C_b^e δω^b, with the slipped entry, from each initial ψ^e (1e-4 rad)
+    and named with its motion. The Earth rate's sign slipped in F[psi_X, psi_Y] and
+    F[psi_Y, psi_X] (one finding of the mirror pair, its effect both entries') against a
+    SciPy propagation of Groves' attitude rows on the static base: ψ̇^e =
+    −Ω_ie^e ψ^e + C_b^e δω^b, with both slipped entries, from each initial ψ^e (1e-4 rad)
     and gyro bias (0.01 °/h); the attitude error read is |C_e^n Δψ^e| = |Δψ^e| (no δθ
     without position states)."""
     from scipy.linalg import expm
@@ -368,14 +372,17 @@ def test_an_ecef_model_without_position_states_reads_no_position(static_base):
     report = check_matrices(ECEF_MODEL, _hand("groves_attitude_velocity"), "psi_ecef",
                             motion_list=static_base)
     assert report.effects and all(e.position_difference is None for e in report.effects)
-    kinds = {f.entry: f.kind for f in report.findings}
-    assert kinds["F[psi_X, psi_Y]"] == kinds["F[psi_Y, psi_X]"] == "wrong sign"
+    # the Earth rate's sign slipped in both entries of Ω_ie^e: one finding of the pair
+    [f] = [f for f in report.findings if {(f.row, f.column), f.pair}
+           == {("psi_X", "psi_Y"), ("psi_Y", "psi_X")}]
+    assert f.kind == "wrong sign"
     assert report.finding_effects and all(e.position is None and e.position_floor is None
                                           for e in report.finding_effects.values())
     module = _groves_module()
     F, G = module.groves_exact(*_static_sample())
-    F_one = F.copy()
+    F_one = F.copy()  # both entries of the pair as the hand writes them
     F_one[0, 1] = module.groves_attitude_velocity(*_static_sample())[0][0, 1]
+    F_one[1, 0] = module.groves_attitude_velocity(*_static_sample())[0][1, 0]
     mags = np.array([1e-4] * 3 + [np.radians(0.01) / 3600.0] * 3)
     responses = []
     for rows in (F_one, F):
@@ -383,13 +390,14 @@ def test_an_ecef_model_without_position_states_reads_no_position(static_base):
         A[:3, :3], A[:3, 3:] = rows[0:3, 0:3], G[0:3, 0:3]
         responses.append(expm(A * 86400.0)[:3] * mags)
     attitude = np.linalg.norm(responses[0] - responses[1], axis=0).max()
-    alone = report.finding_effects["F[psi_X, psi_Y]"]
+    alone = report.finding_effects[f.entry]
     assert alone.motion == "static" and alone.attitude_above_rounding
     assert alone.attitude == pytest.approx(attitude, rel=1e-6)
     arcsec = np.radians(1.0 / 3600.0)
-    assert (f"alone after 24 h: position n/a, {alone.attitude / arcsec:.3g}″ (largest on "
-            "static)") in to_terminal(report)
+    assert (f"the pair together after 24 h: position n/a, {alone.attitude / arcsec:.3g}″ "
+            "(largest on static)") in to_terminal(report)
     [entry] = [x for x in to_json(report)["findings"]
-               if (x["row"], x["column"]) == ("psi_X", "psi_Y")]
+               if (x["row"], x["column"]) == (f.row, f.column)]
+    assert entry["pair"] == f"F[{f.pair[0]}, {f.pair[1]}]"
     assert entry["effect_alone_24h"]["position_m"] is None
     assert entry["effect_alone_24h"]["motion"] == "static"

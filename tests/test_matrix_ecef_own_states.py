@@ -89,8 +89,9 @@ def slip():
 
 def test_an_ecef_hand_model_reads_its_position_through_the_states(slip):
     # the check finds the slip (both Coriolis entries of the equatorial plane)
-    kinds = {f.entry: f.kind for f in slip.findings}
-    assert kinds["F[delta_v_X, delta_v_Y]"] == kinds["F[delta_v_Y, delta_v_X]"] == "wrong sign"
+    [f] = [f for f in slip.findings if {(f.row, f.column), f.pair}
+           == {("delta_v_X", "delta_v_Y"), ("delta_v_Y", "delta_v_X")}]  # one finding
+    assert f.kind == "wrong sign"
     module = _hand_module()
     nav, imu = _static_sample()
     F_exact, G = module.exact(nav, imu)
@@ -109,15 +110,19 @@ def test_an_ecef_hand_model_reads_its_position_through_the_states(slip):
         assert worst.position_difference > 1e6 * worst.position_floor
     # 1.16 km: the slip's worst case after a day at rest (29.6 m after an hour)
     assert 1000.0 < worst.position_difference < 1300.0
-    # one entry alone (its partner kept right) on the static base, where it is largest
+    # the finding's effect is its mirror pair's, both entries (the whole slip here)
     F_one = F_exact.copy()
-    F_one[0, 1] = F_slip[0, 1]
-    alone = slip.finding_effects["F[delta_v_X, delta_v_Y]"]
-    assert alone.motion == "static"
+    F_one[0, 1], F_one[1, 0] = F_slip[0, 1], F_slip[1, 0]
+    alone = slip.finding_effects[f.entry]
     assert alone.position == pytest.approx(
         max(p for p, _, _ in _static_reference(F_one, F_exact, G, 24.0)), rel=1e-6)
+    assert 1000.0 < alone.position < 1300.0
+    # one entry alone (its partner kept right) breaks the antisymmetry: 1.97e5 m
+    F_one[1, 0] = F_exact[1, 0]
+    assert max(p for p, _, _ in _static_reference(F_one, F_exact, G, 24.0)) > 100 * (
+        alone.position)
     text = to_terminal(slip)
-    assert "alone after 24 h: 1.97e+05 m" in text
+    assert f"the pair together after 24 h: {alone.position:.3g} m" in text
     assert ("vertical channel held: the down velocity and position of the states (dv_D, "
             "dr_D of the phi convention)") in text
     assert " 0 m " not in text and "(0 m, 0″)" not in text
