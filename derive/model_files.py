@@ -14,6 +14,7 @@ import sympy as sp
 
 from ins_errors.modeling import ModelDefinition
 from ins_errors.symbolic.codegen import (
+    CASADI_TAN,
     Argument,
     FunctionSpec,
     emit_casadi_builder,
@@ -241,7 +242,7 @@ def write_model(d: ModelDefinition, root: Path, origin: tuple[str, str] | None =
     numpy_src.append(f"\nFUNCTIONS = {tuple(names)!r}\n")
     (folder / "numpy_model.py").write_text("\n".join(numpy_src), encoding="utf-8")
     casadi_src = [header(d, origin=origin), f'"""CasADi SX functions of the model {d.name!r}."""',
-                  _CASADI_PRELUDE]
+                  _CASADI_PRELUDE + CASADI_TAN]
     casadi_src += ["\n" + emit_casadi_builder(p) + "\n" for p in prepared]
     builders = ", ".join(f"{n!r}: _build_{n}" for n in names)
     casadi_src.append(f"\n_BUILDERS = {{{builders}}}\nFUNCTIONS = {tuple(names)!r}\n")

@@ -48,7 +48,7 @@ def test_printers_write_sympys_text():
         _as_ordered_terms = Printer._as_ordered_terms
         _handle_UnevaluatedExpr = CodePrinter._handle_UnevaluatedExpr
 
-    neutral = Reference({f: codegen._MARK + f for f in codegen._FUNCTIONS})
+    neutral = Reference({f: "_m." + codegen._MARK + f for f in codegen._FUNCTIONS})
     numpy = Reference(codegen._NUMPY_NAMES)
     names = {sp.Symbol("x", real=True): r"\xi"}
     for expr in _expressions():

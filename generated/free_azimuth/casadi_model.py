@@ -23,6 +23,10 @@ def function(name):
 def _cached(builder):
     return builder()
 
+def _tan(x):
+    """tan x as sin x / cos x (the loop's sin x and cos x serve it; see codegen)."""
+    return _m.sin(x) / _m.cos(x)
+
 
 def _build_ideal_rhs():
     x = _m.SX.sym('x', 5)
@@ -63,7 +67,7 @@ def _build_ideal_rhs():
     _out = _m.SX(5, 1)
     _out[0, 0] = _t0*(_t14*_t17 + _t16*_t7)
     _out[1, 0] = _t18/_t10
-    _out[2, 0] = -U_*(_t10*_t12 + _t10*_t9 + _t11*_t5*_t8) - _t18*_m.tan(Phi_)
+    _out[2, 0] = -U_*(_t10*_t12 + _t10*_t9 + _t11*_t5*_t8) - _t18*_tan(Phi_)
     _out[3, 0] = -V_x_*_t19 + a_x_
     _out[4, 0] = -V_y_*_t19 + a_y_
     return _m.Function('ideal_rhs', [x, u, p], [_out], ['x', 'u', 'p'], ['out'])
@@ -145,10 +149,10 @@ def _build_real_rhs():
     _out = _m.SX(8, 1)
     _out[0, 0] = _t0*(position_integrator_gain_error_Phi_ + 1)*(_t14*_t17 + _t16*_t7) + position_integrator_offset_Phi_
     _out[1, 0] = position_integrator_offset_Lam_ + _t18*(position_integrator_gain_error_Lam_ + 1)/_t10
-    _out[2, 0] = -U_*(_t10*_t12 + _t10*_t9 + _t11*_t5*_t8) - _t18*_m.tan(Phi_c_)
+    _out[2, 0] = -U_*(_t10*_t12 + _t10*_t9 + _t11*_t5*_t8) - _t18*_tan(Phi_c_)
     _out[3, 0] = (velocity_integrator_gain_error_x_ + 1)*(-V_x_c_*_t24 + accel_bias_x_ + velocity_integrator_offset_x_ + (accel_scale_error_x_ + 1)*(-_t19*a_zeta_ + _t22*_t23))
     _out[4, 0] = (velocity_integrator_gain_error_y_ + 1)*(-V_y_c_*_t24 + accel_bias_y_ + velocity_integrator_offset_y_ + (accel_scale_error_y_ + 1)*(_t25*(_t20*a_y_ - _t21*a_x_) + _t26*(_t19*_t22 + _t23*a_zeta_)))
-    _out[5, 0] = -V_y_c_*_t0*(correction_gain_error_x_ + 1) - _t23*_t30 + _t31*_m.tan(alpha_y_) + gyro_drift_x_
+    _out[5, 0] = -V_y_c_*_t0*(correction_gain_error_x_ + 1) - _t23*_t30 + _t31*_tan(alpha_y_) + gyro_drift_x_
     _out[6, 0] = -_t20*_t28 - _t21*_t29 + _t25*_t27 - _t26*gyro_drift_z_
     _out[7, 0] = _t31/_t23
     return _m.Function('real_rhs', [xr, x, u, w, p], [_out], ['xr', 'x', 'u', 'w', 'p'], ['out'])
@@ -220,7 +224,7 @@ def _build_real_rhs_small_angle():
     _out = _m.SX(8, 1)
     _out[0, 0] = _t0*(position_integrator_gain_error_Phi_ + 1)*(_t14*_t17 + _t16*_t7) + position_integrator_offset_Phi_
     _out[1, 0] = position_integrator_offset_Lam_ + _t18*(position_integrator_gain_error_Lam_ + 1)/_t10
-    _out[2, 0] = -U_*(_t10*_t12 + _t10*_t9 + _t11*_t5*_t8) - _t18*_m.tan(Phi_c_)
+    _out[2, 0] = -U_*(_t10*_t12 + _t10*_t9 + _t11*_t5*_t8) - _t18*_tan(Phi_c_)
     _out[3, 0] = (velocity_integrator_gain_error_x_ + 1)*(-V_x_c_*_t19 + accel_bias_x_ + velocity_integrator_offset_x_ + (accel_scale_error_x_ + 1)*(a_x_ + a_y_*alpha_z_ - a_zeta_*alpha_y_))
     _out[4, 0] = (velocity_integrator_gain_error_y_ + 1)*(-V_y_c_*_t19 + accel_bias_y_ + velocity_integrator_offset_y_ + (accel_scale_error_y_ + 1)*(-a_x_*alpha_z_ + a_y_ + a_zeta_*alpha_x_))
     _out[5, 0] = -V_y_c_*_t0*(correction_gain_error_x_ + 1) + _t20 - _t21*alpha_z_ + gyro_drift_x_
@@ -351,7 +355,7 @@ def _build_second_order_small_angle():
     _t80 = _t62*delta_Phi_
     _t81 = _t19*_t42
     _t82 = _t49*_t9
-    _t83 = _m.tan(Phi_)
+    _t83 = _tan(Phi_)
     _t84 = _t0*_t83
     _t85 = _t83**2
     _t86 = _t85 + 1
@@ -474,7 +478,7 @@ def _build_state_matrix():
     _t36 = _t1*_t15
     _t37 = -_t14*_t16 - _t17*_t36
     _t38 = -_t1*_t27 - _t14*_t23 - _t14*_t26 - _t25*_t36
-    _t39 = _m.tan(Phi_)
+    _t39 = _tan(Phi_)
     _t40 = _t0*_t39
     _t41 = -V_zeta_*_t0
     _t42 = V_x_*_t0
@@ -794,7 +798,7 @@ def _build_second_order():
     _t81 = _t63*delta_Phi_
     _t82 = _t19*_t43
     _t83 = _t50*_t9
-    _t84 = _m.tan(Phi_)
+    _t84 = _tan(Phi_)
     _t85 = _t31*_t84
     _t86 = _t84**2
     _t87 = _t86 + 1

@@ -23,6 +23,10 @@ def function(name):
 def _cached(builder):
     return builder()
 
+def _tan(x):
+    """tan x as sin x / cos x (the loop's sin x and cos x serve it; see codegen)."""
+    return _m.sin(x) / _m.cos(x)
+
 
 def _build_ideal_rhs():
     x = _m.SX.sym('x', 4)
@@ -55,7 +59,7 @@ def _build_ideal_rhs():
     _t12 = _t5*_t8
     _t13 = 2*U_
     _t14 = V_zeta_*_t13
-    _t15 = _m.tan(Phi_)
+    _t15 = _tan(Phi_)
     _out = _m.SX(4, 1)
     _out[0, 0] = -_t11
     _out[1, 0] = W_xi_*_t10/_t0
@@ -122,7 +126,7 @@ def _build_real_rhs():
     _t24 = _t1*_t7 + _t23*_t5*_t8 - _t4*_t5
     _t25 = U_*_t24
     _t26 = 2*V_zeta_
-    _t27 = _m.tan(Phi_c_)
+    _t27 = _tan(Phi_c_)
     _t28 = _m.cos(alpha_x_)
     _t29 = _m.sin(alpha_x_)
     _t30 = U_*_t10
@@ -137,7 +141,7 @@ def _build_real_rhs():
     _t39 = _t38**2
     _t40 = _t0/(-_t13*_t39 + 1)
     _t41 = W_xi_*_t40
-    _t42 = _t41*_m.tan(Phi_)
+    _t42 = _t41*_tan(Phi_)
     _t43 = W_eta_*_t40
     _t44 = _t2*_t37 + _t23*_t34
     _t45 = 2*_t13
@@ -160,7 +164,7 @@ def _build_real_rhs():
     _out[1, 0] = _t17/_t1
     _out[2, 0] = 2*U_*W_eta_c_*_t10 - W_xi_c_*_t15*_t27 - _t18*a_zeta_ + _t21*_t22 - _t25*_t26 + accel_bias_x_
     _out[3, 0] = W_xi_c_**2*_t14*_t27 - 2*W_xi_c_*_t30 + _t26*_t32 + _t28*(-_t19*a_xi_ + _t20*a_eta_) + _t29*(_t18*_t21 + _t22*a_zeta_) + accel_bias_y_
-    _out[4, 0] = _t16 + _t18*_t49 - _t22*_t53 + _t32 - _t55*_t57 + _t59*_m.tan(alpha_y_) + gyro_drift_x_
+    _out[4, 0] = _t16 + _t18*_t49 - _t22*_t53 + _t32 - _t55*_t57 + _t59*_tan(alpha_y_) + gyro_drift_x_
     _out[5, 0] = _t19*_t50 - _t20*_t52 + _t28*_t56 - _t29*_t58
     _out[6, 0] = _t59/_t22
     return _m.Function('real_rhs', [xr, x, u, w, p], [_out], ['xr', 'x', 'u', 'w', 'p'], ['out'])
@@ -221,7 +225,7 @@ def _build_real_rhs_small_angle():
     _t21 = 2*V_zeta_
     _t22 = U_*_t10
     _t23 = 2*_t22
-    _t24 = _m.tan(Phi_c_)
+    _t24 = _tan(Phi_c_)
     _t25 = _t18*_t3 + _t2*_t8
     _t26 = U_*_t25
     _t27 = _m.cos(Phi_)
@@ -234,7 +238,7 @@ def _build_real_rhs_small_angle():
     _t34 = _t32**2
     _t35 = _t0/(-_t13*_t34 + 1)
     _t36 = W_xi_*_t35
-    _t37 = _t36*_m.tan(Phi_)
+    _t37 = _t36*_tan(Phi_)
     _t38 = W_eta_*_t35
     _t39 = _t18*_t28 + _t2*_t31
     _t40 = 2*_t13
@@ -397,7 +401,7 @@ def _build_second_order_small_angle():
     _t111 = -_t15 + _t7
     _t112 = -_t51
     _t113 = 2*V_zeta_
-    _t114 = _m.tan(Phi_)
+    _t114 = _tan(Phi_)
     _t115 = W_xi_*_t114
     _t116 = U_*_t53
     _t117 = _t114**2
@@ -609,7 +613,7 @@ def _build_state_matrix():
     _t39 = -_t38
     _t40 = U_*_t14
     _t41 = 2*_t40
-    _t42 = _m.tan(Phi_)
+    _t42 = _tan(Phi_)
     _t43 = _t42**2 + 1
     _t44 = _t33*_t43
     _t45 = W_xi_*_t42
@@ -930,7 +934,7 @@ def _build_second_order():
     _t108 = -_t15 + _t7
     _t109 = -_t50
     _t110 = 2*V_zeta_
-    _t111 = _m.tan(Phi_)
+    _t111 = _tan(Phi_)
     _t112 = W_xi_*_t111
     _t113 = U_*_t52
     _t114 = 2*_t113

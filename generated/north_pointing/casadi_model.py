@@ -23,6 +23,10 @@ def function(name):
 def _cached(builder):
     return builder()
 
+def _tan(x):
+    """tan x as sin x / cos x (the loop's sin x and cos x serve it; see codegen)."""
+    return _m.sin(x) / _m.cos(x)
+
 
 def _build_ideal_rhs():
     x = _m.SX.sym('x', 4)
@@ -40,7 +44,7 @@ def _build_ideal_rhs():
     _t0 = _m.sin(phi_)
     _t1 = -_t0**2*ecc2_ + 1
     _t2 = V_E_/(R_/_m.sqrt(_t1) + h_)
-    _t3 = 2*U_*_t0 + _t2*_m.tan(phi_)
+    _t3 = 2*U_*_t0 + _t2*_tan(phi_)
     _out = _m.SX(4, 1)
     _out[0, 0] = V_N_*_t3 + a_E_
     _out[1, 0] = -V_E_*_t3 + a_N_
@@ -80,7 +84,7 @@ def _build_real_rhs():
     _t1 = U_*_t0
     _t2 = -_t0**2*ecc2_ + 1
     _t3 = V_E_c_/(R_/_m.sqrt(_t2) + h_)
-    _t4 = _t3*_m.tan(phi_c_)
+    _t4 = _t3*_tan(phi_c_)
     _t5 = 2*_t1 + _t4
     _t6 = _m.cos(alpha_U_)
     _t7 = _m.sin(alpha_U_)
@@ -99,7 +103,7 @@ def _build_real_rhs():
     _t20 = V_N_c_/(_t13/(_t2*_m.sqrt(_t2)) + h_)
     _t21 = _m.cos(phi_c_)
     _t22 = V_E_*_t12
-    _t23 = U_*_t10 + _t22*_m.tan(phi_)
+    _t23 = U_*_t10 + _t22*_tan(phi_)
     _t24 = _t15 + _t22
     _t25 = V_N_*_t14
     _t26 = _t24*_t7 - _t25*_t6
@@ -111,7 +115,7 @@ def _build_real_rhs():
     _out[1, 0] = -V_E_c_*_t5 + _t18*(_t6*a_N_ - _t7*a_E_) + _t19*(_t16*_t9 + _t17*_t8) + accel_bias_north_
     _out[2, 0] = _t20
     _out[3, 0] = _t3/_t21
-    _out[4, 0] = _t17*_t23 - _t20 - _t26*_t9 + _t29*_m.tan(alpha_N_) + gyro_drift_east_
+    _out[4, 0] = _t17*_t23 - _t20 - _t26*_t9 + _t29*_tan(alpha_N_) + gyro_drift_east_
     _out[5, 0] = _t18*_t27 - _t19*_t28 - _t24*_t6 - _t25*_t7
     _out[6, 0] = _t29/_t9
     return _m.Function('real_rhs', [xr, x, u, w, p], [_out], ['xr', 'x', 'u', 'w', 'p'], ['out'])
@@ -149,7 +153,7 @@ def _build_real_rhs_small_angle():
     _t2 = -_t0**2*ecc2_ + 1
     _t3 = 1/(R_/_m.sqrt(_t2) + h_)
     _t4 = V_E_c_*_t3
-    _t5 = _t4*_m.tan(phi_c_)
+    _t5 = _t4*_tan(phi_c_)
     _t6 = 2*_t1 + _t5
     _t7 = _m.sin(phi_)
     _t8 = -_t7**2*ecc2_ + 1
@@ -163,7 +167,7 @@ def _build_real_rhs_small_angle():
     _t16 = V_N_*_t11
     _t17 = U_*_t7
     _t18 = V_E_*_t9
-    _t19 = _t18*_m.tan(phi_)
+    _t19 = _t18*_tan(phi_)
     _t20 = _t17 + _t19
     _t21 = _t12 + _t18
     _out = _m.SX(7, 1)
@@ -200,7 +204,7 @@ def _build_second_order_small_angle():
     _t4 = 1 - _t3
     _t5 = R_/_m.sqrt(_t4) + h_
     _t6 = 1/_t5
-    _t7 = _m.tan(phi_)
+    _t7 = _tan(phi_)
     _t8 = _t7**2
     _t9 = _t5**(-2)
     _t10 = (1/(_t4*_m.sqrt(_t4)))
@@ -293,7 +297,7 @@ def _build_state_matrix():
     _t1 = -_t0**2*ecc2_ + 1
     _t2 = R_/_m.sqrt(_t1) + h_
     _t3 = 1/_t2
-    _t4 = _m.tan(phi_)
+    _t4 = _tan(phi_)
     _t5 = _t3*_t4
     _t6 = U_*_t0
     _t7 = 2*_t6
@@ -404,7 +408,7 @@ def _build_second_order():
     _t8 = 1 - _t7
     _t9 = R_/_m.sqrt(_t8) + h_
     _t10 = 1/_t9
-    _t11 = _m.tan(phi_)
+    _t11 = _tan(phi_)
     _t12 = _t11**2
     _t13 = _t9**(-2)
     _t14 = (1/(_t8*_m.sqrt(_t8)))

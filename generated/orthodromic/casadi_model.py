@@ -23,6 +23,10 @@ def function(name):
 def _cached(builder):
     return builder()
 
+def _tan(x):
+    """tan x as sin x / cos x (the loop's sin x and cos x serve it; see codegen)."""
+    return _m.sin(x) / _m.cos(x)
+
 
 def _build_ideal_rhs():
     x = _m.SX.sym('x', 8)
@@ -156,7 +160,7 @@ def _build_real_rhs():
     _out[5, 0] = -_t10*u22_c_ + _t8*u12_c_
     _out[6, 0] = (velocity_integrator_gain_error_xi_ + 1)*(V_eta_c_*_t16 - V_zeta_*_t7 + _t17*u11_c_ + accel_bias_x_ + velocity_integrator_offset_xi_ + (accel_scale_error_x_ + 1)*(-_t11*a_zeta_ + _t14*_t15))
     _out[7, 0] = (velocity_integrator_gain_error_eta_ + 1)*(-V_xi_c_*_t16 + V_zeta_*_t18 + _t17*u21_c_ + accel_bias_y_ + velocity_integrator_offset_eta_ + (accel_scale_error_y_ + 1)*(_t19*(-_t12*a_xi_ + _t13*a_eta_) + _t20*(_t11*_t14 + _t15*a_zeta_)))
-    _out[8, 0] = _t11*_t30 - _t15*_t27 + _t18*(correction_gain_error_x_ + 1) + _t31*_m.tan(alpha_y_) + gyro_drift_x_
+    _out[8, 0] = _t11*_t30 - _t15*_t27 + _t18*(correction_gain_error_x_ + 1) + _t31*_tan(alpha_y_) + gyro_drift_x_
     _out[9, 0] = _t12*_t26 - _t13*_t25 + _t19*_t28 - _t20*_t29
     _out[10, 0] = _t31/_t15
     return _m.Function('real_rhs', [xr, x, u, w, p], [_out], ['xr', 'x', 'u', 'w', 'p'], ['out'])

@@ -23,6 +23,10 @@ def function(name):
 def _cached(builder):
     return builder()
 
+def _tan(x):
+    """tan x as sin x / cos x (the loop's sin x and cos x serve it; see codegen)."""
+    return _m.sin(x) / _m.cos(x)
+
 
 def _build_ideal_rhs():
     x = _m.SX.sym('x', 10)
@@ -64,7 +68,7 @@ def _build_ideal_rhs():
     _t9 = v_E_/(_t8*a_ + h_)
     _t10 = _t4 + _t9
     _t11 = U_*_t5
-    _t12 = _t9*_m.tan(lat_)
+    _t12 = _t9*_tan(lat_)
     _t13 = -_t11 - _t12
     _t14 = 1 - e2_
     _t15 = 1/(_t14*a_/(_t7*_m.sqrt(_t7)) + h_)
@@ -171,7 +175,7 @@ def _build_real_rhs():
     _t12 = v_E_c_/(_t11*a_ + h_c_)
     _t13 = _t12 + _t7
     _t14 = U_*_t8
-    _t15 = _t12*_m.tan(lat_c_)
+    _t15 = _t12*_tan(lat_c_)
     _t16 = -_t14 - _t15
     _t17 = 1 - e2_
     _t18 = 1/(h_c_ + _t17*a_/(_t10*_m.sqrt(_t10)))
@@ -297,7 +301,7 @@ def _build_state_matrix():
     _t21 = _t13 + _t20
     _t22 = ((1/2))*omega_z_
     _t23 = U_*_t3
-    _t24 = _m.tan(lat_)
+    _t24 = _tan(lat_)
     _t25 = _t10*_t24 + ((1/2))*_t23
     _t26 = _t22 + _t25
     _t27 = ((1/2))*_t18
@@ -732,7 +736,7 @@ def _build_second_order():
     _t15 = 1/_m.sqrt(_t8)
     _t16 = _t15*a_ + h_
     _t17 = _t16**(-3)
-    _t18 = _m.tan(lat_)
+    _t18 = _tan(lat_)
     _t19 = _t17*v_E_
     _t20 = _t19*q3_
     _t21 = delta_lat_**2

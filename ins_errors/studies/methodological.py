@@ -169,11 +169,17 @@ def _symbolic_variant(flag: str):
 
 def _casadi_function(name: str, arguments: list, result) -> ca.Function:
     """A casadi.Function of a SymPy matrix, through the project's code generator."""
-    from ins_errors.symbolic.codegen import Argument, FunctionSpec, emit_casadi_builder, prepare
+    from ins_errors.symbolic.codegen import (
+        Argument,
+        FunctionSpec,
+        casadi_namespace,
+        emit_casadi_builder,
+        prepare,
+    )
 
     spec = FunctionSpec(name, [Argument(label, symbols, label) for label, symbols in arguments],
                         result, name, name, matrix=True)  # CasADi: always 2-D
-    namespace = {"_m": ca}
+    namespace = casadi_namespace()
     exec(emit_casadi_builder(prepare(spec)), namespace)  # generated from our own SymPy
     return namespace[f"_build_{name}"]()
 

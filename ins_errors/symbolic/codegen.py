@@ -32,9 +32,31 @@ from ins_errors.symbolic.term_order import FastTermOrder
 
 _FUNCTIONS = ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "exp", "log",
               "sinh", "cosh", "tanh", "Abs")
-_NUMPY_NAMES = {"asin": "arcsin", "acos": "arccos", "atan": "arctan", "atan2": "arctan2",
-                "Abs": "abs"}
-_CASADI_NAMES = {"Abs": "fabs"}
+_NUMPY_NAMES = {"asin": "_m.arcsin", "acos": "_m.arccos", "atan": "_m.arctan",
+                "atan2": "_m.arctan2", "Abs": "_m.abs"}
+_CASADI_NAMES = {"Abs": "_m.fabs", "tan": "_tan"}
+"""How each backend calls a function, where not ``_m.<name>`` (``_m`` the backend's
+module). CasADi's ``tan`` is the module's own ``_tan``, sin x / cos x
+(:data:`CASADI_TAN`): a compiled loop computes the sine and cosine of a latitude anyway
+(in one ``sincos`` call) and then needs a division where ``tan`` was a call of its own,
+about a sixth of a strapdown INS's RK4 step."""
+
+CASADI_TAN = '''
+def _tan(x):
+    """tan x as sin x / cos x (the loop's sin x and cos x serve it; see codegen)."""
+    return _m.sin(x) / _m.cos(x)
+'''
+"""The helper every generated CasADi module defines (after its imports)."""
+
+
+def casadi_namespace() -> dict:
+    """The names an emitted CasADi builder (:func:`emit_casadi_builder`) runs with when
+    it is executed on its own, not in a generated module: ``_m`` and ``_tan``."""
+    import casadi
+
+    namespace = {"_m": casadi}
+    exec(CASADI_TAN, namespace)  # our own constant text
+    return namespace
 
 
 class _BackendPrinter(FastTermOrder, PythonCodePrinter):
@@ -42,9 +64,9 @@ class _BackendPrinter(FastTermOrder, PythonCodePrinter):
     SymPy's order, :mod:`~ins_errors.symbolic.term_order`)."""
 
     def __init__(self, names: dict[str, str]):
-        functions = {f: f"_m.{names.get(f, f)}" for f in _FUNCTIONS}
+        functions = {f: names.get(f, f"_m.{f}") for f in _FUNCTIONS}
         super().__init__({"user_functions": functions, "fully_qualified_modules": False})
-        self._sqrt = f"_m.{names.get('sqrt', 'sqrt')}"
+        self._sqrt = functions["sqrt"]
 
     def _print_Pow(self, expr, rational=False):
         exponent = expr.exp
@@ -97,7 +119,7 @@ CASADI_PRINTER = _BackendPrinter(_CASADI_NAMES)
 """Each backend's own printer (what the emitted text equals; see _in_backend)."""
 
 _MARK = "\x00"
-_NEUTRAL_PRINTER = _BackendPrinter({f: _MARK + f for f in _FUNCTIONS})
+_NEUTRAL_PRINTER = _BackendPrinter({f: "_m." + _MARK + f for f in _FUNCTIONS})
 """Prints ``_m.<mark><function>``: one printing serves both backends (see _in_backend)."""
 _MARKED = re.compile(r"_m\." + _MARK + r"(\w+)")
 
@@ -108,7 +130,7 @@ def _in_backend(text: str, names: dict[str, str]) -> str:
     The printers differ only in the function-name strings they are given, which the
     printer inserts verbatim, so replacing the marked names gives the backend's text.
     """
-    return _MARKED.sub(lambda m: f"_m.{names.get(m[1], m[1])}", text)
+    return _MARKED.sub(lambda m: names.get(m[1], f"_m.{m[1]}"), text)
 
 
 @dataclass(frozen=True)
