@@ -35,7 +35,7 @@ def size_text(size: float) -> str:
     """Bytes as ``"45 MB"`` or ``"5.1 GB"`` (decimal units, two significant digits below
     ten of a unit, whole units from ten)."""
     for unit, scale in (("TB", 1e12), ("GB", 1e9), ("MB", 1e6), ("kB", 1e3)):
-        if size >= scale:
+        if size >= 0.9995 * scale:  # what rounds to 1000 of the next unit down is 1 of it
             value = size / scale
-            return f"{value:.2g} {unit}" if value < 10 else f"{value:.0f} {unit}"
+            return f"{value:.2g} {unit}" if value < 9.95 else f"{value:.0f} {unit}"
     return f"{size:.0f} bytes"

@@ -304,11 +304,13 @@ def test_the_pool_managers_complaint_about_a_cancelled_task_is_not_printed(capsy
     once the stopped workers are gone) between the sweep's notes and its one line."""
     from concurrent.futures import InvalidStateError
 
-    from ins_errors.analysis.engine import _quiet_stopped_pool
+    from ins_errors.analysis import engine
 
     handed = []
-    hook = _quiet_stopped_pool(lambda args: handed.append(args.exc_type))
+    hook = engine._quiet_stopped_pool(lambda args: handed.append(args.exc_type))
     manager = type("_ExecutorManagerThread", (threading.Thread,), {})()
+    other_pool = type("_ExecutorManagerThread", (threading.Thread,), {})()
+    engine._STOPPED_MANAGERS.add(manager)   # as _stop_workers registers the stopped pool's
 
     def raised(error, thread):
         return threading.ExceptHookArgs((type(error), error, None, thread))
@@ -316,6 +318,7 @@ def test_the_pool_managers_complaint_about_a_cancelled_task_is_not_printed(capsy
     hook(raised(InvalidStateError("CANCELLED: <Future>"), manager))
     assert handed == []
     hook(raised(InvalidStateError("x"), threading.Thread()))   # another thread's: shown
+    hook(raised(InvalidStateError("x"), other_pool))  # a pool not stopped (a user's): shown
     hook(raised(RuntimeError("x"), manager))                    # another error: shown
-    assert handed == [InvalidStateError, RuntimeError]
-    assert _quiet_stopped_pool(hook) is hook   # stopping twice wraps once
+    assert handed == [InvalidStateError, InvalidStateError, RuntimeError]
+    assert engine._quiet_stopped_pool(hook) is hook   # stopping twice wraps once

@@ -36,6 +36,7 @@ import signal
 import sys
 import threading
 import time
+import weakref
 from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
@@ -324,6 +325,9 @@ def _stop_workers(pool) -> None:
     started, each worker gets SIGTERM, and SIGKILL after :data:`WORKER_GRACE` s."""
     processes = list((getattr(pool, "_processes", None) or {}).values())
     results = getattr(pool, "_result_queue", None)
+    manager = getattr(pool, "_executor_manager_thread", None)
+    if manager is not None:
+        _STOPPED_MANAGERS.add(manager)
     threading.excepthook = _quiet_stopped_pool(threading.excepthook)
     pool.shutdown(wait=False, cancel_futures=True)
     for process in processes:
@@ -344,9 +348,14 @@ def _stop_workers(pool) -> None:
             writer.close()
 
 
+_STOPPED_MANAGERS: weakref.WeakSet = weakref.WeakSet()
+"""The manager threads of the process pools :func:`_stop_workers` stopped."""
+
+
 def _quiet_stopped_pool(hook: Callable) -> Callable:
-    """``threading.excepthook`` that passes over the one error of a process pool's manager
-    thread that a stop causes, and hands every other to ``hook``.
+    """``threading.excepthook`` that passes over the one error of a stopped pool's manager
+    thread (one in :data:`_STOPPED_MANAGERS`) that the stop causes, and hands every other
+    to ``hook`` (another pool's, e.g. a notebook user's own, is shown as before).
 
     Python 3.11's manager thread, finding the workers ended, marks each pending task
     failed, including those the stop has just cancelled; that raises
@@ -360,8 +369,7 @@ def _quiet_stopped_pool(hook: Callable) -> Callable:
         return hook
 
     def quiet(args: threading.ExceptHookArgs) -> None:
-        if (isinstance(args.exc_value, InvalidStateError)
-                and type(args.thread).__name__ == "_ExecutorManagerThread"):
+        if isinstance(args.exc_value, InvalidStateError) and args.thread in _STOPPED_MANAGERS:
             return
         hook(args)
 

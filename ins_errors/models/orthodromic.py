@@ -113,9 +113,10 @@ MODE_NOTES = {
         "ω_E² = g/R_N, at any track angle (g the vertical specific force a_ζ at rest). "
         "Coupled by the Foucault terms ±2Ω sin φ, their frequencies are the roots ω of "
         "(ω² − ω_N²)(ω² − ω_E²) = 4Ω² sin² φ ω², to 3e-5 at every latitude. At the "
-        "equator the channels part: north 2π√(R_M/g) = 84.28 min, east 2π√(R_N/g) = "
-        "84.57 min on the Krasovsky ellipsoid (−0.17 % and +0.17 % against the "
-        "textbook); within a few degrees of it the Foucault split outgrows the "
+        "equator the channels part: north about 2π√(R_M/g) = 84.28 min, east about "
+        "2π√(R_N/g) = 84.57 min on the Krasovsky ellipsoid (−0.17 % and +0.17 % against "
+        "the textbook; the rows' periods differ from these by that 3e-5, up to 0.003 "
+        "min); within a few degrees of it the Foucault split outgrows the "
         "difference of the radii and the pair becomes the textbook ω̄ ± Ω|sin φ| (within "
         "0.01 % beyond about 14°); with e2 = 0 it is the textbook pair exactly (at the "
         "equator one Schuler row ×2)"),
