@@ -153,7 +153,8 @@ def test_orthodromic_schuler_note_explains_its_two_radii(capsys):
     gravity = GAMMA_E
     north = 2 * np.pi * np.sqrt(KRASOVSKY_A * (1 - KRASOVSKY_E2) / gravity) / 60
     east = 2 * np.pi * np.sqrt(KRASOVSKY_A / gravity) / 60
-    assert f"north 2π√(R_M/g) = {north:.2f} min, east 2π√(R_N/g) = {east:.2f} min" in note
+    assert (f"north about 2π√(R_M/g) = {north:.2f} min, east about 2π√(R_N/g) = "
+            f"{east:.2f} min") in note
     result = static_modes("orthodromic", 0.0)
     by_state = {max(m.participation, key=lambda k: m.participation[k]
                     if k.startswith("delta_V") else -1): m.period_s / 60
