@@ -322,3 +322,70 @@ def test_the_pool_managers_complaint_about_a_cancelled_task_is_not_printed(capsy
     hook(raised(RuntimeError("x"), manager))                    # another error: shown
     assert handed == [InvalidStateError, InvalidStateError, RuntimeError]
     assert engine._quiet_stopped_pool(hook) is hook   # stopping twice wraps once
+
+
+def test_ctrl_c_while_a_local_dask_cluster_starts_stops_the_sweep(tmp_path):
+    """Ctrl-C (SIGINT to the whole process group, as the terminal sends it) in the seconds
+    a local Dask cluster starts. Was: SIGINT ignored in that window (so that the workers
+    would inherit it ignored), the signal lost, the sweep run to its end with exit 0.
+    Now: exit 130 and the one line, and the workers, alive when the signal came, still
+    print nothing (no KeyboardInterrupt tracebacks of theirs)."""
+    pytest.importorskip("distributed")
+    psutil = pytest.importorskip("psutil")
+    root = Path(__file__).resolve().parent.parent
+    (tmp_path / "sweep.toml").write_text(SLOW_SWEEP, encoding="utf-8")
+    # the cluster's start, held open a moment after its workers run (still inside it)
+    code = ("import os, sys, time\n"
+            "import distributed\n"
+            "class Held(distributed.LocalCluster):\n"
+            "    def __init__(self, *args, **kwargs):\n"
+            "        super().__init__(*args, **kwargs)\n"
+            "        with open('started', 'w') as file:\n"
+            "            file.write('started')\n"
+            "        time.sleep(1.5)\n"
+            "distributed.LocalCluster = Held\n"
+            "from ins_errors.cli import main\n"
+            "sys.exit(main(['sweep', 'sweep.toml', '--engine', 'dask', '--workers', '2',"
+            " '--store', 's.zarr', '--no-progress']))\n")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        filter(None, [str(root), os.environ.get("PYTHONPATH")])))
+    process = subprocess.Popen([sys.executable, "-c", code], cwd=tmp_path, env=env,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                               start_new_session=True)
+    workers: list = []
+    try:
+        deadline = time.monotonic() + 60
+        while (not (tmp_path / "started").exists() and process.poll() is None
+               and time.monotonic() < deadline):
+            time.sleep(0.02)
+        assert (tmp_path / "started").exists(), process.communicate(timeout=60)
+        workers = psutil.Process(process.pid).children(recursive=True)
+        os.killpg(process.pid, signal.SIGINT)
+        out, err = process.communicate(timeout=60)
+    finally:
+        if process.poll() is None:
+            process.kill()
+            process.wait()
+    assert len(workers) >= 2  # (the resource tracker, the forkserver, the workers)
+    assert process.returncode == 130, err
+    lines = err.splitlines()  # the sweep's two notes, then the one line: nothing else
+    assert lines[-1] == "ins-errors: interrupted before any point was stored", err
+    assert all(line.startswith("ins-errors: ") for line in lines), err
+    assert out == ""
+
+
+def test_ctrl_c_held_while_the_cluster_starts_is_raised_after_it():
+    """The block around a local cluster's start holds SIGINT (its processes inherit it
+    blocked) and raises KeyboardInterrupt once the start returns; was: ignored, lost."""
+    started_with = signal.signal(signal.SIGINT, signal.default_int_handler)
+    finished = []
+    try:
+        with pytest.raises(KeyboardInterrupt), engine._workers_ignore_ctrl_c():
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0.05)
+            finished.append(True)  # the start is not cut short
+        assert finished == [True]
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        assert signal.SIGINT not in signal.pthread_sigmask(signal.SIG_BLOCK, [])
+    finally:
+        signal.signal(signal.SIGINT, started_with)

@@ -300,9 +300,10 @@ def test_a_compile_stopped_by_ctrl_c_is_an_interrupt_not_a_missing_compiler(tmp_
     assert not integ._NOTICE_GIVEN
 
 
-def test_local_cluster_processes_start_with_ctrl_c_ignored():
-    """Processes started inside the block inherit SIGINT ignored (Ctrl-C then stops the
-    sweep's own process only, which closes the cluster); the handler is restored."""
+def test_local_cluster_processes_start_deaf_to_ctrl_c():
+    """Processes started inside the block never get SIGINT (it stays blocked in them:
+    Ctrl-C then stops the sweep's own process only, which closes the cluster); a process
+    started after it does; the handler is restored."""
     import signal
     import subprocess
     import sys
@@ -315,11 +316,17 @@ def test_local_cluster_processes_start_with_ctrl_c_ignored():
     try:
         before = signal.getsignal(signal.SIGINT)
         probe = [sys.executable, "-c",
-                 "import signal; print(signal.getsignal(signal.SIGINT) == signal.SIG_IGN)"]
+                 "import os, signal, time\n"
+                 "try:\n"
+                 "    os.kill(os.getpid(), signal.SIGINT)\n"
+                 "    time.sleep(0.2)\n"
+                 "    print('on')\n"
+                 "except KeyboardInterrupt:\n"
+                 "    print('stopped')\n"]
         with engine._workers_ignore_ctrl_c():
             inside = subprocess.run(probe, capture_output=True, text=True, check=True).stdout
         outside = subprocess.run(probe, capture_output=True, text=True, check=True).stdout
-        assert (inside.strip(), outside.strip()) == ("True", "False")
+        assert (inside.strip(), outside.strip()) == ("on", "stopped")
         assert signal.getsignal(signal.SIGINT) is before
     finally:
         signal.signal(signal.SIGINT, started_with)

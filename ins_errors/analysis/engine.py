@@ -474,19 +474,51 @@ def check_terminated() -> None:
 
 @contextmanager
 def _workers_ignore_ctrl_c() -> Iterator[None]:
-    """Start a local cluster's processes with SIGINT ignored (they inherit it, and so do
-    the compilers they run): Ctrl-C in the terminal reaches the whole process group, and
-    the workers' own KeyboardInterrupt tracebacks (and a compile killed mid-way, which
-    looked like a broken compiler) buried the one line the sweep prints. The sweep's
-    process still stops on Ctrl-C and closes the cluster, which ends the workers."""
-    if threading.current_thread() is not threading.main_thread():
-        yield  # signal handlers can be set from the main thread only
+    """Start a local cluster's processes deaf to Ctrl-C, yet stop after the start if
+    Ctrl-C came during it.
+
+    Ctrl-C in the terminal reaches the whole process group, and the workers' own
+    KeyboardInterrupt tracebacks (and a compile killed mid-way, which looked like a
+    broken compiler) buried the one line the sweep prints; the sweep's own process stops
+    and closes the cluster, which ends the workers. So SIGINT is *blocked* in this thread
+    while the cluster starts: the threads that start the worker processes (created
+    meanwhile) inherit the block, and so do the processes and the compilers they run
+    (SIGINT stays pending in them, never delivered). A Ctrl-C meanwhile goes to a
+    handler of this process that only notes it (it never stops the start half-way,
+    leaving threads and processes behind); once the start returns, the signal is raised
+    again with the previous handler back: KeyboardInterrupt, and the caller closes the
+    cluster just started. (The block used to set SIGINT ignored, which the workers
+    inherited too, but a Ctrl-C in the seconds of the start was then lost: the sweep ran
+    on to its end.)
+
+    Where SIGINT is ignored already (a job started in the background), off the main
+    thread (only it may set handlers), or without ``pthread_sigmask``, nothing changes.
+    """
+    if (threading.current_thread() is not threading.main_thread()
+            or not hasattr(signal, "pthread_sigmask")):
+        yield
         return
-    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    previous = signal.getsignal(signal.SIGINT)
+    if previous is signal.SIG_IGN or previous is None:  # ignored (inherited), or not
+        yield                                           # Python's: left as it is
+        return
+    # multiprocessing's resource tracker, started by the first process a thread starts,
+    # unblocks SIGINT in that thread (it had blocked it for the tracker's own start):
+    # started here first, before the block, it leaves the threads of the start blocked
+    from multiprocessing import resource_tracker
+
+    resource_tracker.ensure_running()
+    came: list[int] = []
+    signal.signal(signal.SIGINT, lambda signum, frame: came.append(signum))
+    mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
     try:
         yield
     finally:
+        # a Ctrl-C held by the block is delivered here, to the handler that notes it
+        signal.pthread_sigmask(signal.SIG_SETMASK, mask)
         signal.signal(signal.SIGINT, previous)
+    if came:
+        signal.raise_signal(signal.SIGINT)  # the previous handler: KeyboardInterrupt
 
 
 def _run_dask(function, tasks, shared, scheduler, workers, stats, done, failed,
