@@ -271,6 +271,33 @@ def test_a_point_over_the_pole_is_stored_as_failed_and_the_others_run(tmp_path, 
     assert [job.label for job in runs] == ["latitude = 89.5 deg"]
 
 
+@pytest.mark.parametrize("against", [None, "latitude"])
+def test_plot_of_a_sweep_whose_every_point_failed_says_there_is_nothing_to_plot(
+        tmp_path, capsys, against):
+    """Every point reaches the pole: --plot (a colour map over two swept parameters, or
+    a line over one) has no value to draw. Was: an IndexError traceback, exit 1, neither
+    the table nor the failed points printed; now the same table and list as without
+    --plot, one line saying nothing was plotted, exit 2, no file."""
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['89.5 deg', '89.7 deg']\n"
+                                   "accel_bias_x = ['50 ug', '100 ug']\n", POLE)
+    store, png = tmp_path / "s.zarr", tmp_path / "map.png"
+    command = ["sweep", str(path), "--engine", "serial", "--store", str(store),
+               "--no-progress"]
+    assert main(command) == 2
+    plain_out, plain_err = capsys.readouterr()
+    assert main([*command, "--plot", str(png),
+                 *(["--against", against] if against else [])]) == 2
+    out, err = capsys.readouterr()
+    assert out == plain_out.replace("4 computed (this process), 0 read back",
+                                    "0 computed (nothing to run), 4 read back")
+    assert out.count("failed") == 4   # the table's rows
+    lines = err.splitlines()
+    assert lines[2] == f"ins-errors: nothing to plot, {png} not written: every point failed"
+    assert lines[3:] == plain_err.splitlines()[2:]   # the failed points, as without --plot
+    assert lines[3].startswith("ins-errors: 4 of 4 points failed")
+    assert not png.exists()
+
+
 def test_a_failed_point_that_runs_again_is_stored_like_the_others(tmp_path, monkeypatch,
                                                                   capsys):
     """A point recorded as failed and run again with --retry-failed gets its results and

@@ -486,12 +486,18 @@ def cell_edges(values: Sequence[float]) -> np.ndarray:
     return np.concatenate([[2 * v[0] - inner[0]], inner, [2 * v[-1] - inner[-1]]])
 
 
-def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path:
+def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path | None:
     """Plot a figure against one (line) or two (colour map) swept parameters.
 
     Points that differ in the other swept labels are reduced to their maximum (the worst
     case over them), which the title says. A colour map has one cell around each grid
     value (:func:`cell_edges`); dots mark the grid points.
+
+    Returns
+    -------
+    pathlib.Path or None
+        The file written; None, and no file, when no point has a value of the figure
+        (every point failed, see :func:`nothing_to_plot`).
     """
     import matplotlib
 
@@ -514,6 +520,8 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
     for key, value in zip(keys, values, strict=True):
         if np.isfinite(value):
             reduced[key] = max(reduced.get(key, -np.inf), float(value))
+    if not reduced:  # (was an IndexError of cell_edges, the table never printed)
+        return None
     figure_, ax = plt.subplots(figsize=(7.0, 4.5))
     bar = None
     if len(axes) == 1:
@@ -547,3 +555,12 @@ def plot(dataset, figure: str, against: Sequence[str], path: str | Path) -> Path
     from ins_errors.output import save_figure
 
     return save_figure(figure_, path, dpi=120)  # atomic, parent folders created
+
+
+def nothing_to_plot(dataset, figure: str, path: str | Path) -> str:
+    """The one line saying why :func:`plot` wrote nothing: no point has a value of
+    ``figure`` (every point failed, or the figure is undefined at each)."""
+    points = dataset.sizes["point"]
+    why = ("every point failed" if len(failures(dataset)) == points
+           else f"{figure} is undefined at each point run")
+    return f"nothing to plot, {path} not written: {why}"

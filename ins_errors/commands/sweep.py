@@ -202,6 +202,8 @@ def _run(args: argparse.Namespace, counts: dict) -> int:
               "summary": sr.summary(data),
               "over_draws": sr.over_draws(data),
               "failed": sr.failures(data)}, ensure_ascii=False)
+        if args.plot and plotted is None:
+            _nothing_to_plot(data, figure, args.plot)
         return _failed(data)
     if args.merge is not None:
         print(f"{scenario.title}: {result.points} points, {result.merged} copied ({where}), "
@@ -218,7 +220,18 @@ def _run(args: argparse.Namespace, counts: dict) -> int:
     print(f"store: {result.store}")
     if plotted is not None:
         print(f"plot written to {plotted}")
+    elif args.plot:
+        _nothing_to_plot(data, figure, args.plot)
     return _failed(data)
+
+
+def _nothing_to_plot(data, figure: str, path) -> None:
+    """Say on stderr that --plot wrote nothing (no point has a value of the figure)."""
+    import sys
+
+    from ins_errors.analysis import sweep_report as sr
+
+    print(f"ins-errors: {sr.nothing_to_plot(data, figure, path)}", file=sys.stderr)
 
 
 def _plot_request(args: argparse.Namespace, scenario) -> tuple[str, list[str] | None]:
