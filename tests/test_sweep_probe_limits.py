@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import tracemalloc
 
+import numpy as np
 import pytest
 
 from ins_errors.analysis import sweep as sw
@@ -86,6 +87,24 @@ def test_grid_values_equal_within_rounding_are_refused_naming_both(tmp_path, gri
     with pytest.raises(sw.SweepError, match=r"same value|listed twice") as refused:
         load_scenario(path)
     assert named in str(refused.value) and "[sweep]" in str(refused.value)
+
+
+def test_a_range_of_one_point_with_another_stop_is_refused(tmp_path, capsys):
+    """count = 1 runs start alone: a stop other than it was dropped without a word (the
+    sweep ran heading 0 only); with start == stop it is one value written as a range."""
+    path = tmp_path / "one.toml"
+    path.write_text(BASE + 'heading = { start = "0 deg", stop = "90 deg", count = 1 }\n',
+                    encoding="utf-8")
+    assert main(["sweep", str(path), "--store", str(tmp_path / "x.zarr")]) == 2
+    err = capsys.readouterr().err
+    assert err == (f"ins-errors: error: {path} [sweep] heading: a range of one point "
+                   "(count = 1) has no stop: '90 deg' would never run; write the value alone "
+                   "(heading = ['0 deg']) or count = 2 or more\n")
+    assert not (tmp_path / "x.zarr").exists()
+    path.write_text(BASE + 'heading = { start = "5 deg", stop = "300 arcmin", count = 1 }\n',
+                    encoding="utf-8")
+    [heading] = load_scenario(path).sweep.parameters
+    assert heading.values == pytest.approx((np.radians(5),), rel=1e-15)
 
 
 def test_an_extension_takes_the_stored_value_for_one_within_rounding(tmp_path, capsys):

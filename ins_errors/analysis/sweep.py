@@ -339,6 +339,10 @@ def _grid(name: str, raw: Any, unit: str, where: str) -> tuple[tuple[float, ...]
             raise SweepError(f"{what}: start {raw['start']!r} and stop {raw['stop']!r} are "
                              f"the same value, so its {count} values are one; give "
                              "count = 1 or another stop")
+        if count == 1 and not same_value(start, stop):  # (was: the stop dropped, silently)
+            raise SweepError(f"{what}: a range of one point (count = 1) has no stop: "
+                             f"{raw['stop']!r} would never run; write the value alone "
+                             f"({name} = [{raw['start']!r}]) or count = 2 or more")
         return values, _display_unit(raw["start"], unit)
     values = tuple(_value(v, unit, what) for v in raw)
     _refuse_equal(values, raw, what)
