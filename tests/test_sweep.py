@@ -620,6 +620,17 @@ def test_run_refuses_a_sweep_file_and_names_the_command_that_runs_it(tmp_path, c
     assert not out.exists()
 
 
+def test_a_sweep_of_one_point_says_one_point(tmp_path, capsys):
+    """Was: 'bias tilt: 1 points, 1 computed'."""
+    path = scenario_file(tmp_path, "[sweep]\nlatitude = ['20 deg']\n",
+                         BASE.replace('"1 h"', '"5 min"'))
+    assert main(["sweep", str(path), "--engine", "serial", "--store",
+                 str(tmp_path / "one.zarr"), "--no-progress"]) == 0
+    out, err = capsys.readouterr()
+    assert out.startswith("bias tilt: 1 point, 1 computed (this process), 0 read back")
+    assert ", 1 point, 1 to compute," in err
+
+
 def test_a_store_of_the_earlier_judging_rule_is_another_sweep(tmp_path):
     """Quantities were once judged by a share of the largest error of their unit; a store
     made under that rule mixed with points of the new one without a word. The rule is

@@ -94,6 +94,11 @@ def test_gain_sweep_follows_the_damped_loop(tmp_path, capsys):
     import xarray as xr
 
     ds = xr.open_zarr(store, chunks=None)
+    # the store's settings, like its parameters, leave out the value the grid replaces
+    # (were: "[parameters] k_v": "0.00124", a value no point ran with)
+    settings = json.loads(ds.attrs["settings"])
+    assert "[parameters] k_v" not in settings and json.loads(ds.attrs["parameters"]) == {}
+    assert settings["[sweep] k_v"] == "3 values 0.0005, 0.001, 0.002 1/s"
     assert ds["k_v"].attrs["units"] == "1/s" and ds["k_v"].attrs["display_unit"] == "1/s"
     assert ds["k_v"].attrs["long_name"].startswith("model parameter k_v: velocity damping")
     assert json.loads(ds.attrs["swept"]) == ["k_v"]
@@ -116,6 +121,24 @@ def test_gain_sweep_follows_the_damped_loop(tmp_path, capsys):
     # after 6 h the lightest damping (ζ = 0.2, e-folding 67 min) has settled to 0.5 %
     ends = ds["direct"].isel(time=-1).sel(quantity="psi").values
     assert ends == pytest.approx(gains / G, rel=5e-3)
+
+
+def test_a_store_recording_the_replaced_parameter_is_named_by_its_real_difference(
+        tmp_path):
+    """A store written while settings still recorded the [parameters] value a grid
+    replaces ("[parameters] k_v": its 1.24e-3) and refused for another setting is named
+    by that setting alone, not also by the value neither sweep ran with."""
+    from ins_errors.analysis import store as st
+
+    path = scenario_file(tmp_path, '[sweep]\nk_v = ["5e-4/s", "1e-3/s"]\n')
+    scenario = load_scenario(path)
+    layout = sw.layout(scenario, sw.grid(scenario))
+    settings = dict(layout.attributes["settings"])
+    assert "[parameters] k_v" not in settings
+    older = {**settings, "[parameters] k_v": "0.00124", "[sweep] seed": "5"}
+    store = {"fingerprint": "0" * 32, "settings": json.dumps(older),
+             "swept": json.dumps(["k_v"])}
+    assert st.mismatch(store, layout) == "another sweep: [sweep] seed is 5 there, 0 here"
 
 
 def test_gain_map_extends_shards_and_merges_as_other_grids(tmp_path, capsys):

@@ -795,7 +795,8 @@ def mismatch(attributes: Mapping, layout: Layout) -> str:
     if found != layout.fingerprint:
         wanted = layout.attributes.get("settings")
         recorded = _recorded_settings(attributes)
-        differences = (setting_differences(recorded, wanted)
+        differences = (setting_differences(*_unreplaced(recorded, wanted, attributes,
+                                                        layout))
                        if recorded is not None and isinstance(wanted, Mapping) else [])
         if not differences:  # a store made before settings were recorded, or a change
             return "another sweep (other settings, grid or seed)"  # they do not show
@@ -810,6 +811,21 @@ def mismatch(attributes: Mapping, layout: Layout) -> str:
                 "its own)" if layout.shard_text else "the whole sweep (run without --shard)")
         return f"{have}, not {want}"
     return ""
+
+
+def _unreplaced(recorded: Mapping, wanted: Mapping, attributes: Mapping,
+                layout: Layout) -> tuple[dict, dict]:
+    """Two sweeps' settings without the ``[parameters]`` values a grid of both replaces
+    (a store written before such values were left out of its settings still records
+    them: not a difference)."""
+    try:
+        before = {str(n) for n in json.loads(str(attributes.get("swept", "[]")))}
+    except (ValueError, TypeError):
+        before = set()
+    both = before & {str(n) for n in layout.attributes.get("swept", [])}
+    replaced = {f"[parameters] {name}" for name in both}
+    return ({k: v for k, v in recorded.items() if k not in replaced},
+            {k: v for k, v in wanted.items() if k not in replaced})
 
 
 def _check_fingerprint(attributes: Mapping, layout: Layout, where: Path) -> None:

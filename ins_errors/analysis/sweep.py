@@ -1064,7 +1064,9 @@ def settings(scenario, quantities: Sequence[str]) -> dict[str, str]:
     exactly, ``repr``; SI with their units), in the order of the scenario file.
 
     Stored with the sweep (attribute ``settings``) to say which setting differs when a
-    store of another sweep is refused (:func:`ins_errors.analysis.store.mismatch`).
+    store of another sweep is refused (:func:`ins_errors.analysis.store.mismatch`). A
+    ``[parameters]`` value that a grid replaces at every point is left out, as in the
+    store's ``parameters`` attribute (:func:`fixed_parameters`).
     """
     from ins_errors.numeric.model import load_model
 
@@ -1086,7 +1088,7 @@ def settings(scenario, quantities: Sequence[str]) -> dict[str, str]:
                 "[run] method": str(scenario.method), "[run] refined": str(scenario.refined),
                 "[run] platform": str(scenario.platform), "[run] truth": str(scenario.truth),
                 "[run] ellipsoid": str(scenario.ellipsoid or "the model's own")})
-    for name, value in scenario.parameters.items():
+    for name, value in fixed_parameters(scenario).items():  # (a grid replaces the others)
         out[f"[parameters] {name}"] = repr(value)
     for k, case in enumerate(scenario.cases):
         for name, value in case.sources.items():

@@ -206,11 +206,11 @@ def _run(args: argparse.Namespace, counts: dict) -> int:
             _nothing_to_plot(data, figure, args.plot)
         return _failed(data)
     if args.merge is not None:
-        print(f"{scenario.title}: {result.points} points, {result.merged} copied ({where}), "
+        print(f"{scenario.title}: {_points(result.points)}, {result.merged} copied ({where}), "
               f"{result.reused} already in the store")
     else:
         whose = f" (shard {shard} of {result.total})" if shard is not None else ""
-        print(f"{scenario.title}: {result.points} points{whose}, {result.computed} computed "
+        print(f"{scenario.title}: {_points(result.points)}{whose}, {result.computed} computed "
               f"({where}), {result.reused} read back from the store")
     print(sr.table(data, scenario.quantities))
     over = sr.draws_table(data, scenario.quantities)
@@ -232,6 +232,11 @@ def _nothing_to_plot(data, figure: str, path) -> None:
     from ins_errors.analysis import sweep_report as sr
 
     print(f"ins-errors: {sr.nothing_to_plot(data, figure, path)}", file=sys.stderr)
+
+
+def _points(count: int) -> str:
+    """``"1 point"``, ``"16 points"``."""
+    return f"{count} point{'s' if count != 1 else ''}"
 
 
 def _plot_request(args: argparse.Namespace, scenario) -> tuple[str, list[str] | None]:
