@@ -1161,9 +1161,11 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
 
 
 def _percent(share: float) -> str:
-    """``"4.21%"``, ``"2.83e-06%"``: a share in per cent to three significant digits (a
-    fixed two decimals read 0.00 % for a share that was still over its limit)."""
-    return f"{100.0 * share:.3g}%"
+    """``"4.21%"``, ``"1234%"``, ``"2.83e-06%"``: a share in per cent to three significant
+    digits (a fixed two decimals read 0.00 % for a share that was still over its limit)."""
+    from ins_errors.units import percent_text
+
+    return percent_text(share, 3)
 
 
 def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
