@@ -203,3 +203,20 @@ def test_a_step_too_long_for_the_estimate_gets_no_suggested_step(tmp_path, capsy
     assert "not the steady fall of an error in proportion to the step" in err
     assert "falls with the step" not in err and "brings it" not in err
     assert re.search(r"\d% at twice the step", err), err
+
+
+def test_a_step_suggested_from_a_step_short_against_the_turns_still_holds(tmp_path, capsys,
+                                                                           fine):
+    """120 s, under half of the S-turns' 10-min half-turn: the estimate's fall with the
+    step is trusted, and the step it suggests divides the run and puts the reference's
+    error under 1 %."""
+    _, _, steps, states, radius = fine["phi"]
+    _, record, err = _run(tmp_path, capsys, "phi", 120.0)
+    step = record["discrete"]["hold_error"][0]["suggested_step_s"]
+    assert step is not None and "falls with the step" in err
+    per = round(step / FINE)
+    assert abs(per * FINE - step) < 1e-9 and (float(HOURS) * 3600 / step).is_integer()
+    data, _, _ = _run(tmp_path, capsys, "phi", step)
+    true, _ = _true_error(data["Phi_manoeuvre"], _reference(steps, per),
+                          _sizes(states, radius), GROUPS["phi"])
+    assert true < HOLD_TOLERANCE, (step, true)

@@ -429,7 +429,8 @@ erratically (steps as long as the motion's turns)."""
 
 
 def suggested_step(step: float, size: float, twice: float | None,
-                   tolerance: float = HOLD_TOLERANCE) -> float | None:
+                   tolerance: float = HOLD_TOLERANCE, *, run: float | None = None,
+                   fastest: float | None = None) -> float | None:
     r"""A step (s) at which the hold error would be about ``tolerance`` or less, from its
     estimate at the step and at twice the step; None where none is needed or none follows.
 
@@ -438,9 +439,13 @@ def suggested_step(step: float, size: float, twice: float | None,
     measured values, ``e(Δt) = size`` and ``e(2Δt) = twice``, fix ``a`` and ``b``
     (``b Δt = (2 − ρ) / (2(ρ − 1))`` for ``ρ = twice / size`` between 1 and 2; for ρ ≥ 2,
     an error falling at least in proportion, ``b = 0``); ``h = tolerance / a`` is then
-    under the tolerance, rounded down to 1, 2 or 5 times a power of ten. An error that
-    does not fall steadily with the step (``ρ`` outside :data:`FALLING`) gives None: no
-    step follows from it.
+    under the tolerance, rounded down to 1, 2 or 5 times a power of ten (or, where that
+    does not divide ``run``, to the largest step of three significant digits that does).
+    An error that does not fall steadily with the step (``ρ`` outside :data:`FALLING`)
+    gives None: no step follows from it. So does a step longer than
+    :data:`SAMPLES_PER_CHANGE` steps fit into the motion's ``fastest`` change: F is seen
+    only at the steps' ends, so changes shorter than that fall between its samples (a
+    manoeuvre's turns every 4 h are the same turn, and the estimate sees a steady F).
 
     Parameters
     ----------
@@ -450,17 +455,36 @@ def suggested_step(step: float, size: float, twice: float | None,
         :attr:`HoldError.size` and :attr:`HoldError.twice` (None: not measured).
     tolerance : float
         The relative error wanted.
+    run : float, optional
+        The run's length, s: the step suggested divides it (one the command line takes).
+    fastest : float, optional
+        Duration of the motion's fastest change, s (its shortest leg or half-turn; None:
+        a motion without such changes).
 
     Returns
     -------
     float or None
     """
+    from ins_errors.numeric.accuracy import typable_step
+    from ins_errors.numeric.integrators import whole_steps
     from ins_errors.units import nice_below
 
     if not size > tolerance or twice is None \
-            or not FALLING[0] * size <= twice <= FALLING[1] * size:
+            or not FALLING[0] * size <= twice <= FALLING[1] * size \
+            or (fastest is not None and step > fastest / SAMPLES_PER_CHANGE):
         return None
     rho = twice / size
     b_step = 0.0 if rho >= 2.0 else (2.0 - rho) / (2.0 * (rho - 1.0))
     slope = size * (1.0 + b_step) / step          # a: the error per second of step
-    return nice_below(tolerance / slope)
+    found = nice_below(tolerance / slope)
+    if run is None or whole_steps(run, found) is not None:
+        return found
+    return typable_step(found, run)[0]
+
+
+SAMPLES_PER_CHANGE = 2
+"""Steps that must fit into a motion's fastest change (its shortest leg or half-turn)
+for :func:`suggested_step` to trust the hold estimate's fall with the step: F is seen at
+each step's two ends only, and as with any sampling a change needs two samples to be seen
+(the strapdown manoeuvre's S-turns, half a turn 10 min, at a 4-h step put every sample
+at the same point of a turn)."""

@@ -45,9 +45,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "the worst; not with --matrix")
     parser.add_argument("--matrix", type=expand_user, metavar="FILE.py:FUNCTION|FILE.npz|FILE.mat",
                         help="check a hand-coded F (and G) instead of equations")
-    parser.add_argument("--convention", default="model",
-                        help="state convention of the hand-coded matrices (default 'model': "
-                             "the model's own error states; see --list-conventions)")
+    parser.add_argument("--convention", default=None,
+                        help="state convention of the hand-coded matrices (default: the "
+                             "one a file written by 'ins-errors matrices' names, else "
+                             "'model': the model's own error states; see --list-conventions)")
     parser.add_argument("--list-conventions", action="store_true",
                         help="print the model's conventions and their state vocabulary")
     parser.add_argument("--write-samples", type=user_path, metavar="FILE.npz|FILE.mat",
@@ -119,7 +120,9 @@ def run(args: argparse.Namespace) -> int:
     if args.matrix or args.list_conventions or args.write_samples:
         from ins_errors.commands.check_matrix import run_matrix
 
+        args.convention = _matrix_convention(args.matrix, args.convention)
         return run_matrix(args)
+    args.convention = args.convention or "model"
     from ins_errors.checker.compare import check_hand_file
     from ins_errors.checker.report import to_json, to_markdown, to_terminal
     from ins_errors.errors import InsErrorsError
@@ -343,6 +346,37 @@ def named_as_given(error: Exception, *paths: Path | None) -> Exception:
             error.args = (str(path) + text[len(path.name):],)
             break
     return error
+
+
+def _matrix_convention(matrix: str | None, given: str | None) -> str:
+    """The convention of ``--matrix``: the one a matrix file (``.npz``/``.mat``) written by
+    ``ins-errors matrices`` names (its ``convention`` entry) where ``--convention`` is not
+    given; ``given`` otherwise, or ``model``. One line where both are given and differ."""
+    from ins_errors.errors import InsErrorsError
+
+    stored = None
+    if matrix is not None and Path(matrix).suffix.lower() in (".npz", ".mat"):
+        stored = _stored_convention(Path(matrix))
+    if given is not None and stored is not None and given != stored:
+        raise InsErrorsError(f"--convention {given} but {matrix} holds matrices in "
+                             f"{stored} (its 'convention' entry): drop --convention or give "
+                             f"--convention {stored}")
+    return given or stored or "model"
+
+
+def _stored_convention(path: Path) -> str | None:
+    """The convention a matrix file names in its ``convention`` entry, or None where it
+    has none or cannot be read (reading it for the check then says why)."""
+    import numpy as np
+
+    from ins_errors.checker.matrix_input import _read_arrays, _strings
+    from ins_errors.errors import InsErrorsError
+
+    try:
+        names = _strings(np.asarray(_read_arrays(path)["convention"]).reshape(-1))
+    except (InsErrorsError, KeyError):
+        return None
+    return names[0] if len(names) == 1 and names[0] else None
 
 
 def _declares_convention(path: Path) -> bool:

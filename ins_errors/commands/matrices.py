@@ -221,10 +221,12 @@ def run(args: argparse.Namespace) -> int:
                               _state_sizes(model, conv, motion, units, parameters))
             holds.append(_hold_record(motion.label, hold, motion.times, step, states))
             if hold.size > HOLD_TOLERANCE:
-                text = _hold_warning(holds[-1], args.step)
+                text = _hold_warning(holds[-1], args.step, step)
                 warnings.append(text)
                 print(f"ins-errors: warning: {text}", file=sys.stderr)
     arrays["states"] = names(states)
+    # one string (a char array in .mat): check --matrix takes it as its default convention
+    arrays["convention"] = np.array(args.convention)
     if markov:  # what check --matrix reads to know the Gauss-Markov bias states
         arrays["markov_states"] = names(markov)
         arrays["markov_tau"] = np.array(list(markov.values()), dtype=float)
@@ -474,25 +476,40 @@ def _hold_record(label: str, hold, times: np.ndarray, step: float,
                  states: tuple[str, ...]) -> dict:
     """A motion's hold-error estimate as the JSON's record (docs/json.md); a step is
     suggested where the estimate at twice the step shows the error falling with the
-    step (:func:`~ins_errors.analysis.discrete_model.suggested_step`)."""
+    step and the step is short against the motion's fastest change (:data:`FASTEST_CHANGE`,
+    :func:`~ins_errors.analysis.discrete_model.suggested_step`); a step suggested divides
+    the run."""
     from ins_errors.analysis.discrete_model import suggested_step
 
     def block(first_stop: tuple[int, int]) -> str:
         first, stop = first_stop
         return states[first] if stop - first == 1 else f"{states[first]}…{states[stop - 1]}"
 
-    suggested = suggested_step(step, hold.size, hold.twice)
+    suggested = suggested_step(step, hold.size, hold.twice, run=float(times[-1] - times[0]),
+                               fastest=FASTEST_CHANGE.get(label))
     return {"label": label, "size": hold.size, "matrix": hold.matrix,
             "block": f"{hold.matrix}[{block(hold.rows)}, {block(hold.columns)}]",
             "time_s": float(times[hold.step]), "size_twice_step": hold.twice,
             "suggested_step_s": suggested}
 
 
-def _hold_warning(record: dict, step_text: str) -> str:
+FASTEST_CHANGE = {"manoeuvre": 600.0}
+"""Duration (s) of the fastest change of each of the checker's motions that has one
+(:mod:`~ins_errors.checker.check_motions`): the platform manoeuvre's shortest legs and half
+of a strapdown manoeuvre's 20-min S-turn are 10 min (the weave of a model without a
+heading is slower). The static base and the cruise change only with the Earth's rotation
+and the transport rate."""
+
+
+def _hold_warning(record: dict, step_text: str, step: float) -> str:
     """The one line of a motion whose step is too long for the hold of F (stderr and
     JSON ``warnings``): the step suggested only where the error was seen to fall with
     the step."""
-    from ins_errors.analysis.discrete_model import HOLD_TOLERANCE
+    from ins_errors.analysis.discrete_model import (
+        FALLING,
+        HOLD_TOLERANCE,
+        SAMPLES_PER_CHANGE,
+    )
 
     against = ("against what a step does to those states" if record["matrix"] == "Phi"
                else "against their variances")
@@ -505,6 +522,15 @@ def _hold_warning(record: dict, step_text: str) -> str:
         return (f"{head}, {_percent(twice)} at twice the step: it falls with the step, "
                 f"and --step {record['suggested_step_s']:g}s (not {step_text.strip()}) "
                 f"brings it under about {HOLD_TOLERANCE:.0%}")
+    fastest = FASTEST_CHANGE.get(record["label"])
+    if twice is not None and FALLING[0] * record["size"] <= twice <= FALLING[1] * record["size"] \
+            and fastest is not None and step > fastest / SAMPLES_PER_CHANGE:
+        # it seems to fall with the step, but at steps too long to show the motion's changes
+        return (f"{head}, {_percent(twice)} at twice the step; the step is longer than "
+                f"half of the {record['label']}'s fastest change ({fastest:g} s), so the "
+                "estimate misses changes between its samples and no step follows from it; "
+                f"shorten --step to {fastest / SAMPLES_PER_CHANGE:g} s or less and run again "
+                "to see what it comes to")
     seen = ("" if twice is None else
             f", {_percent(twice)} at twice the step: not the steady fall of an error in "
             f"proportion to the step (a step too long for the estimate), so no step "
@@ -513,5 +539,7 @@ def _hold_warning(record: dict, step_text: str) -> str:
 
 
 def _percent(ratio: float) -> str:
-    """A ratio as a percentage of two significant digits (0.0124: "1.2%")."""
-    return f"{100 * ratio:.2g}%"
+    """A ratio as a percentage of two significant digits (0.0124: "1.2%", 1.44: "144%")."""
+    from ins_errors.units import percent_text
+
+    return percent_text(ratio)
