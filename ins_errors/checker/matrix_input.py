@@ -452,6 +452,17 @@ def _strings(value: np.ndarray) -> list[str]:
     raise InsErrorsError(f"expected an array of names, got dtype {array.dtype}")
 
 
+def stored_convention(path: Path) -> str | None:
+    """The convention a matrix file names in its ``convention`` entry (``ins-errors
+    matrices`` writes one), or None where it has none or cannot be read (reading it for
+    the check then says why)."""
+    try:
+        names = _strings(np.asarray(_read_arrays(path)["convention"]).reshape(-1))
+    except (InsErrorsError, KeyError):
+        return None
+    return names[0] if len(names) == 1 and names[0] else None
+
+
 def read_matrix_file(path: Path, motions) -> HandMatrices:
     """Read sampled F (and G) from ``.npz`` / ``.mat`` (see module docstring).
 

@@ -352,31 +352,17 @@ def _matrix_convention(matrix: str | None, given: str | None) -> str:
     """The convention of ``--matrix``: the one a matrix file (``.npz``/``.mat``) written by
     ``ins-errors matrices`` names (its ``convention`` entry) where ``--convention`` is not
     given; ``given`` otherwise, or ``model``. One line where both are given and differ."""
+    from ins_errors.checker.matrix_input import stored_convention
     from ins_errors.errors import InsErrorsError
 
     stored = None
     if matrix is not None and Path(matrix).suffix.lower() in (".npz", ".mat"):
-        stored = _stored_convention(Path(matrix))
+        stored = stored_convention(Path(matrix))
     if given is not None and stored is not None and given != stored:
         raise InsErrorsError(f"--convention {given} but {matrix} holds matrices in "
                              f"{stored} (its 'convention' entry): drop --convention or give "
                              f"--convention {stored}")
     return given or stored or "model"
-
-
-def _stored_convention(path: Path) -> str | None:
-    """The convention a matrix file names in its ``convention`` entry, or None where it
-    has none or cannot be read (reading it for the check then says why)."""
-    import numpy as np
-
-    from ins_errors.checker.matrix_input import _read_arrays, _strings
-    from ins_errors.errors import InsErrorsError
-
-    try:
-        names = _strings(np.asarray(_read_arrays(path)["convention"]).reshape(-1))
-    except (InsErrorsError, KeyError):
-        return None
-    return names[0] if len(names) == 1 and names[0] else None
 
 
 def _declares_convention(path: Path) -> bool:
