@@ -430,6 +430,8 @@ def terminate_interrupts(lasting: bool = False) -> Iterator[None]:
         if unraisable.exc_type is not None and issubclass(unraisable.exc_type, Terminated):
             _DROPPED.append(True)  # raised again by check_terminated
             return
+        if _TERMINATED:  # the stop under way broke it (see below): not the user's news
+            return
         shown(unraisable)
 
     _TERMINATED.clear()
@@ -450,7 +452,11 @@ def terminate_interrupts(lasting: bool = False) -> Iterator[None]:
 
 
 _TERMINATED: list[float] = []
-"""When :func:`terminate_interrupts`' handler got SIGTERM (empty: it did not)."""
+"""When :func:`terminate_interrupts`' handler got SIGTERM (empty: it did not). Once it
+has, errors Python can only print ("Exception ignored in ...") are not printed: the stop
+raised into code that cannot take it (a SIGTERM inside ``os.fork``'s callbacks left
+logging's lock half-taken, and its release after the fork printed a RuntimeError and a
+traceback before the one line; seen once under load), and the command is ending."""
 
 _DROPPED: list[bool] = []
 """Non-empty when Python dropped the handler's :class:`Terminated`."""
