@@ -548,7 +548,12 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
     x0 = np.repeat(trajectory.start_state[:, None], B, axis=1)
     blocks = [x0]
     if {"real", "refined"} & set(parts):
-        xr0 = model.initial_real_state(c[:, None], u0[:, None], w, p)
+        try:
+            xr0 = model.initial_real_state(c[:, None], u0[:, None], w, p)
+        except DomainError as error:  # the truth's initial conditions: the motion's start
+            said = str(error).removeprefix("initial_real_state: ")
+            raise DomainError(f"the motion starts outside the {model.name} model's domain "
+                              f"(its initial conditions at t = 0): {said}") from None
         _check_initial(model, xr0)
         if "real" in parts:
             _check_initial_platform(model, xr0, platform)
