@@ -682,11 +682,11 @@ def nice_below(value: float) -> float:
     return max(m for m in (1.0, 2.0, 5.0) if m * power <= value * (1 + 1e-12)) * power
 
 
-def percent_text(ratio: float, digits: int = 2, signed: bool = False) -> str:
+def percent_text(ratio: float, digits: int = 2) -> str:
     """A ratio as a percentage for a message: ``digits`` significant digits below 100 %
     and whole per cent from there (1.44: ``"144%"``, 0.9996: ``"100%"``, 12: ``"1200%"``,
     0.072: ``"7.2%"``, 0.0012: ``"0.12%"``), never in exponent notation down to 1e-4 %
-    (below that, ``"2.8e-06%"``); ``signed`` writes a ``+`` before a positive ratio.
+    (below that, ``"2.8e-06%"``).
 
     Parameters
     ----------
@@ -694,21 +694,18 @@ def percent_text(ratio: float, digits: int = 2, signed: bool = False) -> str:
         The ratio (1 is 100 %).
     digits : int
         Significant digits below 100 %.
-    signed : bool
-        A ``+`` before a positive value (a difference).
     """
     value = 100.0 * float(ratio)
-    sign = "+" if signed and value > 0 else ""
     if not math.isfinite(value):
         return f"{value}%"
     if value == 0.0:
         return "0%"
     if abs(float(f"{value:.{digits}g}")) >= 100.0:
-        return f"{sign}{value:.0f}%"
+        return f"{value:.0f}%"
     if abs(value) < 1e-4:
-        return f"{sign}{value:.{digits}g}%"
+        return f"{value:.{digits}g}%"
     text = repr(float(f"{value:.{digits}g}"))
-    return f"{sign}{text.removesuffix('.0')}%"
+    return f"{text.removesuffix('.0')}%"
 
 
 def format_duration(seconds: float) -> str:

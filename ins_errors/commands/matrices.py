@@ -49,6 +49,7 @@ import numpy as np
 from ins_errors.commands import hours, motion_kinds
 from ins_errors.json_output import emit
 from ins_errors.machine_memory import available_memory, size_text
+from ins_errors.units import percent_text
 from ins_errors.user_paths import user_path
 
 MOTIONS = ("static", "cruise", "manoeuvre")
@@ -514,32 +515,25 @@ def _hold_warning(record: dict, step_text: str, step: float) -> str:
     against = ("against what a step does to those states" if record["matrix"] == "Phi"
                else "against their variances")
     head = (f"{record['label']}: F held at each step's start puts Phi and Qd off by up to "
-            f"{_percent(record['size'])} ({record['block']} at t = "
+            f"{percent_text(record['size'])} ({record['block']} at t = "
             f"{record['time_s'] / 3600:.2f} h, {against}; estimated from F at the step's "
             f"end)")
     twice = record["size_twice_step"]
     if record["suggested_step_s"] is not None:
-        return (f"{head}, {_percent(twice)} at twice the step: it falls with the step, "
+        return (f"{head}, {percent_text(twice)} at twice the step: it falls with the step, "
                 f"and --step {record['suggested_step_s']:g}s (not {step_text.strip()}) "
                 f"brings it under about {HOLD_TOLERANCE:.0%}")
     fastest = FASTEST_CHANGE.get(record["label"])
     if twice is not None and FALLING[0] * record["size"] <= twice <= FALLING[1] * record["size"] \
             and fastest is not None and step > fastest / SAMPLES_PER_CHANGE:
         # it seems to fall with the step, but at steps too long to show the motion's changes
-        return (f"{head}, {_percent(twice)} at twice the step; the step is longer than "
+        return (f"{head}, {percent_text(twice)} at twice the step; the step is longer than "
                 f"half of the {record['label']}'s fastest change ({fastest:g} s), so the "
                 "estimate misses changes between its samples and no step follows from it; "
                 f"shorten --step to {fastest / SAMPLES_PER_CHANGE:g} s or less and run again "
                 "to see what it comes to")
     seen = ("" if twice is None else
-            f", {_percent(twice)} at twice the step: not the steady fall of an error in "
+            f", {percent_text(twice)} at twice the step: not the steady fall of an error in "
             f"proportion to the step (a step too long for the estimate), so no step "
             f"follows from it")
     return f"{head}{seen}; shorten --step and run again to see what it comes to"
-
-
-def _percent(ratio: float) -> str:
-    """A ratio as a percentage of two significant digits (0.0124: "1.2%", 1.44: "144%")."""
-    from ins_errors.units import percent_text
-
-    return percent_text(ratio)
