@@ -335,7 +335,10 @@ def test_ctrl_c_while_a_local_dask_cluster_starts_stops_the_sweep(tmp_path):
     root = Path(__file__).resolve().parent.parent
     (tmp_path / "sweep.toml").write_text(SLOW_SWEEP, encoding="utf-8")
     # the cluster's start, held open a moment after its workers run (still inside it)
-    code = ("import os, sys, time\n"
+    # (as a terminal starts it: the suite itself may run with SIGINT ignored, started in
+    # the background by a shell without job control, and a child inherits that)
+    code = ("import os, signal, sys, time\n"
+            "signal.signal(signal.SIGINT, signal.default_int_handler)\n"
             "import distributed\n"
             "class Held(distributed.LocalCluster):\n"
             "    def __init__(self, *args, **kwargs):\n"

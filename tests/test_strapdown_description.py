@@ -82,6 +82,20 @@ def test_a_dcm_model_file_in_a_convention_is_strapdown_ned_on_its_sphere(sphere,
                                atol=1e-9 * np.abs(G_ned).max())
 
 
+@pytest.mark.parametrize("name", ["phi", "psi", "phi_modified", "psi_geodetic"])
+def test_the_lift_of_a_convention_is_exact_to_rounding_despite_mixed_units(sphere, name):
+    # T K mixes radians of latitude per metre with dimensionless attitude entries
+    # (condition number about the Earth's radius in metres): the lift L = K (T K)⁻¹ must
+    # still invert T to rounding, or the span check that every φ/ψ check makes first
+    # (a state's off-span part ≤ 1e-8 of its rate) passes with one BLAS and fails with
+    # another (1.44e-8 for 'lat' with OpenBLAS 0.3.31 on an AMD EPYC)
+    mine = _flight(sphere)
+    conv = conventions(sphere)[name]
+    T = np.moveaxis(conv.transform(mine.truth, mine.parameters), -1, 0)
+    L = np.moveaxis(conv.lift(mine.truth, mine.parameters), -1, 0)
+    assert np.abs(T @ L - np.eye(9)).max() < 1e-13
+
+
 def test_the_textbook_psi_model_checked_against_a_dcm_model_file(sphere, capsys):
     import json
 
