@@ -1197,12 +1197,7 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
     # by position in the batch (comparisons compare their arrays: no `in` or index())
     columns = [b for b in over if any(np.any(v) for v in comparisons[b].linear.values())]
     for comparison in (comparisons[b] for b in over if b not in columns):
-        # zero columns of G and of the initial errors: no magnitude makes it valid
-        comparison.warnings.append(
-            f"the linear model does not see {', '.join(comparison.sources)}: its "
-            "errors stay exactly zero while the direct run's do not, at any magnitude "
-            "(the source has zero columns in G and in the initial errors: no equation "
-            "uses it, or it enters only at second order); check how the model uses it")
+        comparison.warnings.append(_unseen_text(comparison))
     if not columns:
         return
     flagged = [comparisons[b] for b in columns]
@@ -1235,6 +1230,10 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
     for k, comparison in enumerate(flagged):
         worst = comparison.worst_linear
         ratio = worst.linear_ratio
+        if _not_falling(points[k]):  # no magnitude brings it to 1 %: say so, not one
+            comparison.warnings.append(_not_falling_text(sim.model, comparison, points[k],
+                                                         threshold))
+            continue
         if len(points[k]) > 2:  # refined: the last factor measured
             scale, there = points[k][-1]
             how = f"the ratio measured there: {there:.2%}"
@@ -1259,6 +1258,68 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
 
 VALIDITY_REFINEMENTS = 3
 """Runs after the half-size one that correct the 1 % factor of a validity warning."""
+
+FIRST_ORDER_SPAN = 0.1
+"""Smallest factor on the magnitudes that must have been measured before a ratio that
+does not fall with them is called so (:func:`_not_falling`): a decade at least."""
+
+FALLING_SLOPE = 0.2
+"""Least log–log slope of the linear/direct ratio against the magnitude, from the full
+magnitudes to the smallest factor measured, for it to count as falling (first order:
+1, the residual being of second order; a 25° azimuth error's, far in the nonlinear
+range: 0.46 at half size). Below it no magnitude brings the ratio to 1 %."""
+
+
+def _not_falling(points: Sequence[tuple[float, float]]) -> bool:
+    """True when the ratios measured at (factor, ratio) ``points`` (the first at the full
+    magnitudes) do not fall with the magnitude: at a factor of :data:`FIRST_ORDER_SPAN`
+    or less the ratio is above ``ratio₀ · factor^FALLING_SLOPE`` (first-order theory
+    has it near ``ratio₀ · factor``)."""
+    (_, r0), (f, r) = points[0], min(points)
+    return f <= FIRST_ORDER_SPAN and math.log(r / r0) / math.log(f) < FALLING_SLOPE
+
+
+def _not_falling_text(model: Model, comparison: Comparison,
+                      points: Sequence[tuple[float, float]], threshold: float) -> str:
+    """The validity warning of a case whose ratio does not fall with the magnitude
+    (:func:`_not_falling`): what was measured, what the first order would give there,
+    and what to check; no magnitude is offered for 1 %."""
+    worst = comparison.worst_linear
+    (_, r0), (f, r) = points[0], min(points)
+    at = ", ".join(f"{name} = {_shown(model, name, value * f)}"
+                   for name, value in comparison.sources.items())
+    return (f"linear model not valid at any magnitude measured: linear − direct reaches "
+            f"{r0:.1%} of {worst.quantity} (threshold {threshold:.0%}), and the worst ratio "
+            f"is still {r:.2%} at {f:.3g}× the magnitudes ({at}), where an error of first order "
+            f"in the sources would have it fall with them to about {_percent(r0 * f)}: "
+            "the direct error does not shrink with the sources as the linear one does, "
+            "so part of it comes without a source or from a term the sources do not "
+            "scale; check that the real-work equations (and initial state) reduce to the "
+            "ideal-work ones when every error source is zero, and that the sources enter "
+            "smoothly (no saturation, abs or sign)")
+
+
+def _unseen_text(comparison: Comparison) -> str:
+    """The validity warning of a case whose linear errors are all zero while the direct
+    run's are not: a source the linear model does not see, or, with every source at
+    zero, an error without a source."""
+    if comparison.sources:
+        # zero columns of G and of the initial errors: no magnitude makes it valid
+        return (f"the linear model does not see {', '.join(comparison.sources)}: its "
+                "errors stay exactly zero while the direct run's do not, at any magnitude "
+                "(the source has zero columns in G and in the initial errors: no "
+                "equation uses it, or it enters only at second order); check how the "
+                "model uses it")
+    from ins_errors.units import display_scale
+
+    worst = comparison.worst_linear
+    scale, unit = display_scale(worst.unit)
+    return (f"the run has no error input (every error source is zero), yet the direct "
+            f"run's errors do not stay zero ({worst.quantity} reaches "
+            f"{worst.max_direct * scale:.3g} {unit}): an error without a source, so the "
+            "real work does not reduce to the ideal work with every source at zero; "
+            "check the real-work equations and initial state for a term that no error "
+            "source multiplies")
 
 VALIDITY_SAMPLES = 10
 """Fewest recorded samples on which the validity of the linear model is judged."""
