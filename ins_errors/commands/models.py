@@ -13,7 +13,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Without NAME, list the models. With NAME, list its error states, "
                     "error sources (with units and the lab manual's factor numbers), "
                     "outputs, inputs, parameters (with their default values) and initial "
-                    "conditions.")
+                    "conditions, and whether it is a strapdown INS that flies the strapdown "
+                    "motions and has the φ/ψ conventions (for a model file that is "
+                    "not: what it lacks).")
     parser.add_argument("name", nargs="?",
                         help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
@@ -49,6 +51,43 @@ def parameter_text(value: float, unit: str, digits: int = 10) -> str:
     return number if unit == "1" else f"{number} {unit.replace('**', '^')}"
 
 
+def strapdown_status(model) -> dict:
+    """Whether ``model`` is a strapdown INS the strapdown motions and the φ/ψ conventions
+    carry (:func:`~ins_errors.checker.strapdown_description.is_strapdown`).
+
+    Returns
+    -------
+    dict
+        ``recognised`` (bool), ``lacks`` (list of str: what it lacks to describe itself,
+        :func:`~ins_errors.checker.strapdown_description.missing`; empty when
+        recognised) and ``conventions`` (list of str: its conventions besides its own
+        error states, ``model``).
+    """
+    from ins_errors.checker import strapdown_description
+    from ins_errors.checker.conventions import conventions
+
+    recognised = strapdown_description.is_strapdown(model)
+    return {"recognised": recognised,
+            "lacks": [] if recognised else strapdown_description.missing(model),
+            "conventions": [name for name in conventions(model) if name != "model"]}
+
+
+def strapdown_line(model, status: dict) -> str | None:
+    """The listing's one line on ``status`` (:func:`strapdown_status`): for a strapdown
+    INS what it flies and its conventions; for a model file that is not one, what it
+    lacks; None for a built-in model that is not one (a platform model: the strapdown
+    requirements are beside the point)."""
+    if status["recognised"]:
+        return ("strapdown INS: yes, it flies the strapdown motions (static base, great "
+                "circle, manoeuvre, motion file) and has the conventions "
+                f"{', '.join(status['conventions'])} (ins-errors check MODEL "
+                "--list-conventions)")
+    if model.folder is None:
+        return None
+    return ("strapdown INS: no, so no strapdown motions and no φ/ψ conventions; it lacks "
+            f"{'; '.join(status['lacks'])} (docs/matrix_check.md, 'Which models')")
+
+
 def run(args: argparse.Namespace) -> int:
     from ins_errors.numeric.model import available_models, load_model
 
@@ -74,10 +113,14 @@ def run(args: argparse.Namespace) -> int:
     groups = {"error_states": model.error_states, "sources": model.sources,
               "outputs": model.outputs, "inputs": model.inputs,
               "parameters": model.parameters, "initial_conditions": model.initial_conditions}
+    status = strapdown_status(model)
     if args.json:
-        emit({k: [vars(i) for i in v] for k, v in groups.items()})
+        emit({**{k: [vars(i) for i in v] for k, v in groups.items()}, "strapdown": status})
         return 0
     print(f"{model.name}: {model.title}\nsource: {model.source_document}")
+    line = strapdown_line(model, status)
+    if line is not None:
+        print(line)
     for title, infos in groups.items():
         print(f"\n{title.replace('_', ' ')}:")
         if not infos:
