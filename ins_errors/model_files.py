@@ -25,16 +25,49 @@ from ins_errors.model_identity import source_files
 from ins_errors.modeling import ModelDefinition
 
 
+def _frames(error: BaseException, path: Path) -> list[traceback.FrameSummary]:
+    return [f for f in traceback.extract_tb(error.__traceback__)
+            if Path(f.filename).resolve() == path.resolve()]
+
+
 def _where(error: BaseException, path: Path) -> str:
     """``line N`` of the deepest traceback frame inside the model file, if any."""
-    frames = [f for f in traceback.extract_tb(error.__traceback__)
-              if Path(f.filename).resolve() == path.resolve()]
+    frames = _frames(error, path)
     return f"line {frames[-1].lineno}: " if frames else ""
 
 
-def _one_line(error: BaseException) -> str:
+def _line_text(error: BaseException, path: Path | None) -> str:
+    """The source of the deepest line of the model file in the traceback, quoted and
+    cut to 80 characters (``'ideal_rhs = sp.Matrix(...)': ``), or empty."""
+    frames = _frames(error, path) if path is not None else []
+    text = (frames[-1].line or "").strip() if frames else ""
+    if not text:
+        return ""
+    return f"{text if len(text) <= 80 else text[:77] + '...'!r}: "
+
+
+def _matrix_argument(error: BaseException) -> object:
+    """What the model file gave to the ``sp.Matrix(...)`` call that raised ``error`` (the
+    one argument of SymPy's ``_handle_creation_inputs``), or None."""
+    tb = error.__traceback__
+    while tb is not None:
+        frame = tb.tb_frame
+        if frame.f_code.co_name == "_handle_creation_inputs" \
+                and "sympy" in frame.f_code.co_filename:
+            args = frame.f_locals.get("args")
+            return args[0] if isinstance(args, tuple) and len(args) == 1 else None
+        tb = tb.tb_next
+    return None
+
+
+def _one_line(error: BaseException, path: Path | None = None) -> str:
     if isinstance(error, SystemExit):  # sys.exit(...) would end ins-errors itself
         return f"called sys.exit({error.code!r})"
+    from ins_errors.symbolic.consistency import mixed_entries
+
+    mixed = mixed_entries(_matrix_argument(error)) if isinstance(error, ValueError) else None
+    if mixed:  # SymPy says only "mismatched dimensions"
+        return f"{_line_text(error, path)}sp.Matrix(...) got {mixed}"
     text = str(error).strip().splitlines()
     return f"{type(error).__name__}: {text[0] if text else ''}".rstrip(": ")
 
@@ -77,7 +110,7 @@ def import_model_file(path: Path) -> ModuleType:
         # (sys.exit() in the file is its error too, not the command's exit status)
         sys.modules.pop(module_name, None)
         raise ModelDefinitionError(f"model file {path.name}: {_where(error, path)}"
-                                   f"{_one_line(error)} (step: importing the file)") from None
+                                   f"{_one_line(error, path)} (step: importing the file)") from None
     finally:
         if str(folder) in sys.path:
             sys.path.remove(str(folder))
@@ -108,7 +141,7 @@ def build_definition(module: ModuleType, label: str, path: Path | None = None) -
                                    "(step: building the definition)") from None
     except (Exception, SystemExit) as error:  # a researcher's code: whatever it raised
         where = _where(error, path) if path is not None else ""
-        raise ModelDefinitionError(f"{label}: {where}{_one_line(error)} "
+        raise ModelDefinitionError(f"{label}: {where}{_one_line(error, path)} "
                                    "(step: building the definition)") from None
     if not isinstance(definition, ModelDefinition):
         raise ModelDefinitionError(f"{label}: build() returned {type(definition).__name__}, "

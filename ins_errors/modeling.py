@@ -52,7 +52,8 @@ parameters, error sources or initial conditions share a name (one name is one sy
 the initial east velocity ``v_E0`` when a state is ``v_E``; outputs may share); every
 right-hand side has one row per state; every symbol an equation uses is declared (or
 recorded with ``let``); functions are SymPy's; an error source's kind is ``"constant"`` or
-``"initial"`` and its display unit converts to its SI unit; parameter defaults are finite;
+``"initial"`` and its display unit converts to its SI unit; every declared unit is
+coherent SI (``"rad/s"``, not ``"deg/h"``); parameter defaults are finite;
 each right-hand side has the unit of its state per second
 (:func:`~ins_errors.symbolic.consistency.check_dimensions`); and with the computed state on
 the true one and every error source zero, the real work gives the ideal derivatives and zero
@@ -132,7 +133,10 @@ class Variable:
     name : str
         Public identifier (stable API), a valid Python identifier.
     unit : str
-        SI unit, in a form the units library parses (``"rad"``, ``"m/s"``, ``"1"``).
+        Coherent SI unit, in a form the units library parses (``"rad"``, ``"m/s"``,
+        ``"1"``): every value of a model is taken as SI, so a unit whose scale to SI is
+        not 1 (``"deg/h"``, ``"km"``, ``"%"``) is refused when a model file is checked
+        (an error source keeps ``"deg/h"`` as its display unit).
     description : str
         One-line meaning.
     latex : str

@@ -7,9 +7,9 @@ traceback deep in the variation, or worse, as generated code that runs and is wr
 :func:`check_definition` finds these and raises one
 :class:`~ins_errors.errors.ModelDefinitionError` naming the model, the quantity and the
 step ("checking the definition"). :func:`check_units` and :func:`check_dimensions` (units
-that parse, display units that convert, equations in the right units) need the units
-library and run for model files and entry points; a test runs them on every built-in
-model.
+that parse and are coherent SI, display units that convert, equations in the right units)
+need the units library and run for model files and entry points; a test runs them on
+every built-in model.
 """
 
 from __future__ import annotations
@@ -251,12 +251,58 @@ def _one(group: str) -> str:
     return "error source" if group == "sources" else group.replace("_", " ")[:-1]
 
 
+def _shape_text(entry: object) -> str:
+    """What one entry of a list given to ``sp.Matrix`` is: ``a 3 x 3 matrix``, ``a list
+    of 3``, ``a scalar``."""
+    if isinstance(entry, sp.MatrixBase):
+        return f"a {entry.rows} x {entry.cols} matrix"
+    if isinstance(entry, (list, tuple)):
+        return f"a {type(entry).__name__} of {len(entry)}"
+    return "a scalar"
+
+
+def mixed_entries(value: object) -> str | None:
+    """Say what is wrong with a list that ``sp.Matrix`` cannot make a matrix of because
+    it mixes a matrix (or a nested list) with scalars (``[C_dot, *v_dot, *v]`` with a
+    3 x 3 ``C_dot``, for which SymPy says only "mismatched dimensions"); None when
+    ``value`` is not such a list.
+
+    Parameters
+    ----------
+    value : object
+        What was given to ``sp.Matrix`` (or as a right-hand side, output or initial
+        state).
+
+    Returns
+    -------
+    str or None
+        ``"a list of 7 entries: entry 1 is a 3 x 3 matrix, the others scalars; ..."``
+        with how to write the column instead.
+    """
+    if not isinstance(value, (list, tuple)) or not value:
+        return None
+    kinds = [_shape_text(entry) for entry in value]
+    if len(set(kinds)) < 2:
+        return None
+    common = max(set(kinds), key=kinds.count)
+    odd = [f"entry {k + 1} is {kind}" for k, kind in enumerate(kinds) if kind != common]
+    shown = ", ".join(odd[:3]) + (f" (and {len(odd) - 3} more)" if len(odd) > 3 else "")
+    others = "scalars" if common == "a scalar" else f"{common.removeprefix('a ')} each"
+    return (f"a {type(value).__name__} of {len(value)} entries: {shown}, the others "
+            f"{others}; a column has one expression per row: unpack a matrix into the "
+            "list with * ([*C, ...] gives its entries row by row)")
+
+
 def _column(label: str, quantity: str, value: object, rows: int, row_names: list[str],
             what: str) -> sp.Matrix:
     """``value`` as a column matrix of ``rows`` SymPy expressions, or a one-line error."""
     try:
         matrix = sp.Matrix(value)
     except (TypeError, ValueError, sp.SympifyError) as error:
+        mixed = mixed_entries(value)
+        if mixed:
+            raise _fail(label, quantity, f"must be a column ({rows} x 1, one expression per "
+                                         f"{what[:-1]}), got {mixed}") from None
         raise _fail(label, quantity, f"not a column of SymPy expressions ({error})") from None
     if rows == 0 and matrix.rows == 0:
         return sp.zeros(0, 1)  # sp.Matrix([]) is 0 x 0: the empty column of no outputs
@@ -299,7 +345,15 @@ def _intermediates(mech: Mechanisation) -> set[sp.Symbol]:
 def _check_reduces_to_ideal(label: str, d: ModelDefinition, ideal: sp.Matrix,
                             real: sp.Matrix) -> None:
     """With every error off and the computed state on the true one, the real work must
-    give the ideal derivatives and zero for the extra states (checked at random points)."""
+    give the ideal derivatives and zero for the extra states.
+
+    The identity holds for every value of every symbol, so it is checked at random
+    points: three with the parameters at their defaults and the other symbols drawn in
+    0.1-0.6, and three with the parameters drawn too. The second kind is needed where
+    the defaults make some terms huge beside others (a point-mass gravity mu/|r|**2 with
+    the Earth's mu at |r| ~ 0.5 m is ~1e15 m/s**2, so a missing centrifugal or Coriolis
+    term of the real work is below the tolerance there). A point where a formula leaves
+    its domain gives no verdict."""
     n = len(d.states)
     at_ideal = {**d.at_ideal(), **d.no_errors()}
     expected = ideal.col_join(sp.zeros(len(d.real_states) - n, 1))
@@ -312,8 +366,9 @@ def _check_reduces_to_ideal(label: str, d: ModelDefinition, ideal: sp.Matrix,
     except Exception:  # lambdify cannot print some expression: skip this check
         return
     rng = random.Random(0)
-    for _ in range(3):
-        point = [defaults.get(s, rng.uniform(0.1, 0.6)) for s in symbols]
+    points = [[defaults.get(s, rng.uniform(0.1, 0.6)) for s in symbols] for _ in range(3)]
+    points += [[rng.uniform(0.1, 0.6) for _ in symbols] for _ in range(3)]
+    for point in points:
         try:
             values, sizes = evaluate(*point)
         except Exception:  # outside some formula's domain, or not numeric: no verdict
@@ -459,9 +514,11 @@ def check_reduces_to_ideal(d: ModelDefinition, label: str | None = None) -> None
 
 
 def check_units(d: ModelDefinition, label: str | None = None) -> None:
-    """Raise one line if a unit of ``d`` does not parse, if a parameter's ``example`` is
-    not a finite value in its unit (with the unit written), or if an error source's display
-    unit does not convert to its SI unit (``"deg/h"`` for an accelerometer bias).
+    """Raise one line if a unit of ``d`` does not parse or is not coherent SI (``deg/h``,
+    ``km``, ``km**3/s**2``: every value is taken as SI, so an Earth rate declared as
+    15.041 deg/h would be 15 rad/s), if a parameter's ``example`` is not a finite value in
+    its unit (with the unit written), or if an error source's display unit does not
+    convert to its SI unit (``"deg/h"`` for an accelerometer bias).
 
     Kept apart from :func:`check_definition` because it needs the units library (about
     1 s CPU to import), which ``make derive`` of the built-in models does not; model
@@ -493,6 +550,12 @@ def check_units(d: ModelDefinition, label: str | None = None) -> None:
                 raise _fail(label, f"{group} {v.name!r}",
                             f"unit {v.unit!r} is not a unit the units library reads (SI, "
                             "e.g. 'rad', 'm/s', 'm/s**2', 'rad/s', '1')") from None
+            scale, si = coherent_si(v.unit)
+            if abs(scale - 1.0) > 1e-12:
+                raise _fail(label, f"{group} {v.name!r}",
+                            f"unit {v.unit!r} is not coherent SI (1 {v.unit} = {scale:.4g} "
+                            f"{si}) and every value of a model is taken as SI: declare "
+                            f"{si!r}{_keep_unit(v, scale, si)}")
     for parameter in d.parameters:
         if parameter.example_gives and not parameter.example:
             raise _fail(label, f"parameter {parameter.name!r}",
@@ -520,6 +583,47 @@ def check_units(d: ModelDefinition, label: str | None = None) -> None:
             raise _fail(label, f"error source {source.name!r}",
                         f"display unit {shown!r} does not convert to its SI unit "
                         f"{source.unit!r}") from None
+
+
+def coherent_si(unit: str) -> tuple[float, str]:
+    """The scale of ``unit`` to coherent SI and that SI unit as a model declares it:
+    ``(4.848e-06, "rad/s")`` for ``"deg/h"``, ``(1e9, "m**3/s**2")`` for
+    ``"km**3/s**2"``, ``(1.0, "m/s")`` for ``"m/s"``, ``(0.01, "1")`` for ``"%"``.
+
+    Parameters
+    ----------
+    unit : str
+        A unit the units library reads (``"1"``: none).
+
+    Returns
+    -------
+    scale : float
+        The value in SI of 1 ``unit``: 1 for a coherent SI unit (radians count as SI).
+    si : str
+        The SI unit of the same dimension, in SymPy's spelling (``"1"``: none).
+    """
+    from ins_errors.units import _units, registry
+
+    ureg = registry()
+    quantity = (1.0 * _units(ureg, unit)).to_base_units()
+    return float(quantity.magnitude), f"{quantity.units:~C}" or "1"
+
+
+def _keep_unit(v: Variable, scale: float, si: str) -> str:
+    """How to keep the values of ``v`` quoted in its non-SI unit after declaring ``si``:
+    a parameter's default converted and a run's ``-p`` typed in that unit, an error
+    source's display unit."""
+    from ins_errors.units import typed_value
+
+    if isinstance(v, Parameter):
+        typed = typed_value(f"{float(v.default):g}", v.unit).replace(" ", "")
+        return (f" and the default in {si} ({float(v.default):g} {v.unit} is "
+                f"{float(v.default) * scale:.10g} {si}); a run may still give it in "
+                f"{v.unit} (-p {v.name}={typed})")
+    if isinstance(v, ErrorSource):
+        shown = v.display_unit if v.display_unit and v.display_unit != v.unit else v.unit
+        return f" and keep {shown!r} as its display unit (error_source's third argument)"
+    return " (the command line still reads values in other units, e.g. 2km or 15deg/h)"
 
 
 _LEADING_NUMBER = re.compile(r"\s*([+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)")
@@ -641,6 +745,10 @@ class _Dimensions:
 
         return _units(self.ureg, text).dimensionality
 
+    def _text(self, dims) -> str:
+        """A dimension in SI base units, or ``a pure number``."""
+        return "a pure number" if dims == self.none else _si_text(dims)
+
     def _pure(self, args, what: str) -> None:
         for a in args:
             dims = self.of(a)
@@ -669,20 +777,23 @@ class _Dimensions:
         if isinstance(e, sp.NumberSymbol):
             return self.none
         if isinstance(e, sp.Add):
+            # a decimal or large number takes the unit of the sum it is in (g - 9.80665);
+            # a small exact one (1 + k) is a pure number, so a sum of it and a quantity in
+            # 1/m is refused here, where the mistake is, not in the sum around it
             seen = None
             for term in e.args:
-                if term.is_Number:  # a bare number takes the unit of the sum it is in
-                    continue
                 dims = self.of(term)
                 if dims is None:
+                    if term.is_Number:
+                        continue
                     return None
                 if dims is _ANY:
                     continue
                 if seen is None:
                     seen = (dims, term)
                 elif dims != seen[0]:
-                    raise _MismatchError(f"a sum of {seen[1]} ({_si_text(seen[0])}) and {term} "
-                                    f"({_si_text(dims)})")
+                    raise _MismatchError(f"a sum of {seen[1]} ({self._text(seen[0])}) and "
+                                         f"{term} ({self._text(dims)})")
             return seen[0] if seen else _ANY
         if isinstance(e, sp.Mul):
             out = self.none
