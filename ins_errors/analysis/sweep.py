@@ -36,7 +36,10 @@ Each grid point runs the direct, linear (and refined) runs of
 run of the same sweep already stored. A point that fails on its own bad input
 (:class:`PointError`) is stored with its reason and no data while the others run on; a
 resumed sweep runs it again only when asked (``retry_failed``): its failure is as
-deterministic as its numbers.
+deterministic as its numbers. Points whose simulation loops would have numbers of their
+own compiled in (several static-base motions, model parameters: :func:`loop_combinations`)
+run with loops that read those numbers at run time, compiled once for the whole sweep
+(:func:`run_point_with_loops`), with the same results to the last bit.
 
 A sweep may be split into *shards* (:class:`Shard`, ``--shard I/N``) run by separate
 jobs, each into its own store: shard ``I`` of ``N`` runs the points ``I - 1, I - 1 + N,
@@ -853,6 +856,40 @@ def run_point(job: PointJob) -> dict[str, np.ndarray]:
         raise PointError(job.label or "the point", str(error)) from None
 
 
+def loop_combinations(jobs: Sequence[PointJob]) -> int:
+    """How many sets of numbers the points' baked simulation loops would compile in: one
+    per distinct model, ellipsoid and model-parameter values, and static-base motion
+    (whose constant inputs are baked in; a moving base's are read as the run goes).
+
+    Each set costs a compile of a few seconds (about 3.5 s of CPU for the strapdown
+    model's three loops) against a few hundredths of a second to run a 90-min point at
+    1 s, so more than one set makes the sweep take loops with run-time constants
+    (:func:`run_point_with_loops`): one compile for all of them (per structure), with the
+    same results and speed (:class:`~ins_errors.numeric.integrators.CompiledLoop`).
+    """
+    from ins_errors.numeric.motion_spec import in_si
+
+    seen = set()
+    for job in jobs:
+        motion = dict(job.motion_si) if job.motion_si else in_si(dict(job.motion))
+        static = motion.get("kind") == "static"
+        seen.add((job.model, job.base if job.model.endswith(".py") else "", job.ellipsoid,
+                  job.parameters, json.dumps(motion, sort_keys=True) if static else None))
+    return len(seen)
+
+
+def run_point_with_loops(runtime_constants: bool, job: PointJob) -> dict[str, np.ndarray]:
+    """:func:`run_point` with the simulation loops that take the model parameters and
+    a static base's inputs at run time (``runtime_constants``,
+    :func:`ins_errors.numeric.simulate.runtime_constant_loops`) or the baked ones: the
+    same numbers either way, compiled once per sweep or once per
+    :func:`loop_combinations` set."""
+    from ins_errors.numeric.simulate import runtime_constant_loops
+
+    with runtime_constant_loops(runtime_constants):
+        return run_point(job)
+
+
 def _run_point(job: PointJob) -> dict[str, np.ndarray]:
     from ins_errors.analysis.monte_carlo import draw_generator
     from ins_errors.numeric.compare import compare
@@ -1265,8 +1302,11 @@ def run_sweep(scenario, store: str | Path, *, engine: str = "auto",
                     if on_result is not None:
                         on_result(todo[k])
 
-                stats = run_tasks(run_point, [(points.jobs[k],) for k in todo],
-                                  engine=engine, scheduler=scheduler, workers=workers,
+                # one compile for every point when baked loops would need several
+                shared = loop_combinations([points.jobs[k] for k in todo]) > 1
+                stats = run_tasks(run_point_with_loops, [(points.jobs[k],) for k in todo],
+                                  shared=(shared,), engine=engine, scheduler=scheduler,
+                                  workers=workers,
                                   on_result=keep, on_failure=failed, progress=progress,
                                   label="sweep")
             box.finish()

@@ -940,6 +940,22 @@ class CompiledLoop:
     its source again. Without a compiler the same loop runs in the CasADi
     virtual machine as ``fold``/``mapaccum``/``map`` graphs, with the same arithmetic.
 
+    With ``runtime_constants`` the numbers CasADi folded into the step (everything
+    computed from ``τ``, ``p`` and ``u`` alone) are not written into the C code but read
+    from an array at run time (:func:`lift_constants`): the C then depends on the step's
+    structure only, and one library serves every loop of that structure, e.g. every
+    latitude, heading and parameter value of a sweep, where a baked loop compiles a
+    library of its own for each (a few seconds each). Its arithmetic is the baked loop's,
+    operation for operation, so it gives the same bits. It runs as fast: CasADi has
+    already folded whatever depends on the numbers alone, and what depends on them and
+    on the states held at rest (:meth:`_frozen`) is computed once per call of the driver;
+    the compiler only reads the numbers from memory instead of its instructions (per
+    step against the baked loop, interleaved: a static 24-h orthodromic direct run at
+    100 Hz +3 %, the same with linear and refined runs by RK4 −2 %, a static strapdown
+    run −1 %, a great circle +1 %, all within the noise). Values that change the
+    structure (an exact 0 or 1 that CasADi simplifies away: a heading of 0, a gain of
+    0), and each set of states held at rest, make a library of their own.
+
     The library is built at the first run. For a time-invariant motion, state components
     that one step returns to the last bit and that depend only on such components (the
     ideal work on a static base) can never move: they are written into the C source as
@@ -979,13 +995,17 @@ class CompiledLoop:
     rotations : sequence of (int, int, int), optional
         ``(angle, sine, cosine)`` indices of state components whose sine and cosine are
         carried with the state and rotated each step (see :func:`casadi_step`).
+    runtime_constants : bool
+        Read the step's numbers from an array at run time instead of compiling them in
+        (one library per structure, not per value); the virtual machine runs as without.
     """
 
     def __init__(self, rhs: ca.Function, margin: ca.Function | None, method: Method,
                  record_every: int, tau: float, p: np.ndarray,
                  constant_inputs: np.ndarray | None = None, chunk: int = 32, batch: int = 1,
                  jit: bool = True, workers: int | None = None,
-                 rotations: Sequence[tuple[int, int, int]] = ()):
+                 rotations: Sequence[tuple[int, int, int]] = (),
+                 runtime_constants: bool = False):
         check_method(method)
         if record_every < 1 or chunk < 1 or batch < 1:
             raise StepError("record_every, chunk and batch must be positive integers")
@@ -994,6 +1014,7 @@ class CompiledLoop:
         self.group = -(-batch // workers)
         self.workers = -(-batch // self.group)
         self.constant_inputs = constant_inputs is not None
+        self.runtime_constants = bool(runtime_constants)
         self.nz, self.nu, self.nw = rhs.size1_in(0), rhs.size1_in(1), rhs.size1_in(2)
         nz, nu, nw = self.nz, self.nu, self.nw
         self.n_stream = nu if method == "euler" else 3 * nu
@@ -1061,7 +1082,35 @@ class CompiledLoop:
                                                rotations if c_rotations else ())))
             return written[0]
 
+        def lifted(held: tuple[int, ...]) -> tuple[str, np.ndarray]:
+            """The C of the step, margin and driver with the step's numbers read from an
+            array (returned, :func:`lift_constants`), and what depends on them and on the
+            ``held`` state components (:meth:`_frozen`) alone computed once per call of
+            the driver (``ins_constants_c``), as a baked loop's compiler folds them."""
+            plain, z_next = graph()
+            outputs = [plain[:nz], plain[nz:]] if c_rotations else [z_next]
+            rest = [] if margin is None else [margin(z, u_end, w, p_num)]
+            baked = ca.Function("ins_baked", [carry, *extra_in], outputs + rest)
+            with _no_simplification():
+                exprs, numbers, values = lift_constants(baked, [carry, *extra_in])
+                fixed = ca.vertcat(numbers, *[carry[i] for i in held])
+                exprs, symbols, parts = ca.extract_parametric(exprs, fixed,
+                                                              {"extract_trivial": True})
+                hoisted = ca.vertcat(*symbols) if symbols else ca.SX.sym("e", 0)
+                functions = [ca.Function("ins_step_c", [carry, *extra_in, hoisted],
+                                         exprs[:len(outputs)])]
+                if rest:
+                    functions.append(ca.Function("ins_margin_c", [carry, *extra_in, hoisted],
+                                                 exprs[len(outputs):]))
+                functions.append(ca.Function("ins_constants_c", [carry, numbers], [
+                    ca.vertcat(*parts) if parts else ca.SX(0, 1)]))
+            return (_assume_arguments(generated_source(functions))
+                    + _driver_source(self, chunk, margin is not None, functions,
+                                     rotations if c_rotations else (), len(values)),
+                    values)
+
         self._source = source if self._jit else None
+        self._lifted = lifted if self._jit and self.runtime_constants else None
         self._key = _functions_key("loop", [rhs, margin], method, record_every, tau_num,
                                    p_array, u_array, chunk, self.group,
                                    rotations) if self._jit else None
@@ -1089,7 +1138,16 @@ class CompiledLoop:
             return built
 
     def _build(self, frozen: dict[int, float]) -> _LoopCalls:
-        if self._source is not None:
+        lifted = self._lifted is not None
+        if lifted:
+            try:
+                built = self._build_lifted(tuple(sorted(frozen)))
+            except LiftError:
+                lifted = False   # compiled with its numbers written in, as it always was
+            else:
+                if built is not None:
+                    return built
+        if self._source is not None and not lifted:
             def source() -> str:
                 generated, driver = self._source()
                 if frozen:
@@ -1116,6 +1174,51 @@ class CompiledLoop:
         carry, extra_in, *rest = self._virtual_args
         chunk_fn, single_fn = self._virtual(carry, extra_in, self._graph()[1], *rest)
         return chunk_fn, single_fn, None
+
+    def _build_lifted(self, held: tuple[int, ...]) -> _LoopCalls | None:
+        """The compiled loop with its numbers read at run time (``runtime_constants``).
+
+        The library is cached under its C source (the step's structure: the numbers are
+        not in it); which library and numbers this loop takes is kept as a note of the
+        cache folder named by the loop's key (its functions, settings and numbers) and
+        ``held``, so a loop seen before finds them without building its graph. None when
+        no compiler works.
+
+        Raises
+        ------
+        LiftError
+            The step cannot be copied with its numbers as symbols (:func:`lift_constants`).
+        """
+        name = None if self._key is None else "lifted_" + hashlib.sha256(
+            f"{self._key} {held}".encode()).hexdigest()[:32]
+        written: list[str] = []
+
+        def source() -> str:
+            if not written:
+                written.append(self._lifted(held)[0])
+            return written[0]
+
+        note = None if name is None else cache.read_note(name)
+        key, values = None, None
+        if note is not None and note.startswith("lifted\n"):
+            key, *lines = note.split("\n")[1:]
+            try:
+                values = np.array([float.fromhex(v) for v in lines if v])
+            except ValueError:
+                key = None
+        if key is None or values is None:
+            text, values = self._lifted(held)
+            written.append(text)
+            key = "lifted C " + hashlib.sha256(text.encode()).hexdigest()
+            if name is not None:
+                cache.write_note(name, "lifted\n" + key + "\n"
+                                 + "".join(f"{float(v).hex()}\n" for v in values))
+        library = compile_source(source, IEEE_FLAGS, key=key)
+        if library is None:
+            return None
+        # the run calls ins_run_n and ins_run_rows, which are given the numbers here (the
+        # chunk and single-record entry points would need them as an argument)
+        return None, None, _SizedRun(library, np.ascontiguousarray(values, dtype=float))
 
     def _frozen(self, carry: np.ndarray) -> tuple[tuple[int, float], ...]:
         """State components that stay exactly at their start in every case of a run
@@ -1434,14 +1537,17 @@ class _SizedRun:
     """``ins_run_n`` of a compiled loop library: any number of records in one call (the
     chunk functions have a fixed number, so a run's tail took one call per record)."""
 
-    def __init__(self, library: Path):
+    def __init__(self, library: Path, constants: np.ndarray | None = None):
         handle = ctypes.CDLL(str(library))
         self._entry, self._rows = handle.ins_run_n, handle.ins_run_rows
         self._entry.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
-                                ctypes.c_longlong]
+                                ctypes.c_longlong, ctypes.c_void_p]
         self._rows.argtypes = [ctypes.c_void_p, ctypes.c_void_p, ctypes.c_void_p,
-                               ctypes.c_void_p, ctypes.c_longlong]
+                               ctypes.c_void_p, ctypes.c_longlong, ctypes.c_void_p]
         self._entry.restype = self._rows.restype = ctypes.c_int
+        # the numbers of a loop with run-time constants (kept alive with the calls)
+        self._constants = constants
+        self._numbers = None if constants is None or not constants.size else constants.ctypes.data
 
     def __call__(self, args: list[np.ndarray | None], out: np.ndarray) -> None:
         """Run ``out.shape[1]`` records from the carried rows ``args[0]`` (and the input
@@ -1452,16 +1558,18 @@ class _SizedRun:
         if len(args) > 2:
             mids = None if args[2] is None else args[2].ctypes.data
             status = self._rows(args[0].ctypes.data, args[1].ctypes.data, mids,
-                                out.ctypes.data, out.shape[1])
+                                out.ctypes.data, out.shape[1], self._numbers)
         else:
             stream = args[1].ctypes.data if len(args) > 1 else None
-            status = self._entry(args[0].ctypes.data, stream, out.ctypes.data, out.shape[1])
+            status = self._entry(args[0].ctypes.data, stream, out.ctypes.data, out.shape[1],
+                                 self._numbers)
         if status:
             raise InsErrorsError("ins_run_n: the compiled loop failed")
 
 
-_LoopCalls = tuple[DenseCall, DenseCall, "_SizedRun | None"]
-"""The chunk function, the single-record function and, when compiled, ``ins_run_n``."""
+_LoopCalls = tuple["DenseCall | None", "DenseCall | None", "_SizedRun | None"]
+"""The chunk function, the single-record function and, when compiled, ``ins_run_n``
+(which a compiled run always uses: a loop with run-time constants has no others)."""
 
 _DRIVER = """
 /* The recording loop around ins_step_c, written for this loop (not by CasADi): for
@@ -1473,7 +1581,11 @@ _DRIVER = """
    ins_rotations moves the sines and cosines on (carried_trig.ROTATE_C).
    Inputs (SPLIT): arg[1] the stream, one row of INS_NS per step; or (split) arg[1] the
    inputs at the step times and arg[2] at the midpoints, rows of INS_NU, whose step row
-   [u(k), u(k+1/2), u(k+1)] is copied into u (the same numbers, no stream built). */
+   [u(k), u(k+1/2), u(k+1)] is copied into u (the same numbers, no stream built).
+   With run-time constants (INS_LIFTED: INS_NK numbers in the array constants),
+   ins_constants_c computes once per case and call what depends on them (and on the
+   states that stay at their start) alone, and the step and the margin read it as their
+   last argument. */
 #define INS_NZ {nz}
 #define INS_NU {nu}
 #define INS_NC {nc}
@@ -1482,6 +1594,9 @@ _DRIVER = """
 #define INS_GROUP {group}
 #define INS_MARGIN {margin}
 #define INS_NROT {nrot}
+#define INS_LIFTED {lifted}
+#define INS_NK {nk}
+#define INS_NE {ne}
 {rotate}
 #if {inline} && defined(__GNUC__)   /* a small step inlined: increments in registers */
 #define INS_FLATTEN __attribute__((flatten))
@@ -1489,13 +1604,15 @@ _DRIVER = """
 #define INS_FLATTEN
 #endif
 INS_FLATTEN static int ins_drive(const casadi_real** arg, casadi_real** res, casadi_int size,
-                                 casadi_int chunk, int split) {{
+                                 casadi_int chunk, int split,
+                                 const casadi_real* constants) {{
   const casadi_real* carry = arg[0];
   const casadi_real* stream = arg[1];
   const casadi_real* mids = split ? arg[2] : 0;
   const casadi_real *a, *h;
   casadi_real* out = res[0];
   casadi_real buf[2][INS_NC], m, value, *o, d[INS_NROT + 1], u[INS_NS + 1];
+  casadi_real hoisted[INS_NE + 1];
   const casadi_real* sarg[{sz_arg}];
   casadi_real* sres[{sz_res}];
   casadi_int iw[{sz_iw}];
@@ -1503,9 +1620,17 @@ INS_FLATTEN static int ins_drive(const casadi_real** arg, casadi_real** res, cas
   casadi_int g, r, s, i, whole = size / chunk * chunk;
   int cur;
   (void)stream; (void)value; (void)d; (void)mids; (void)a; (void)h; (void)u;
+  (void)hoisted; (void)constants;
   for (g = 0; g < INS_GROUP; ++g) {{
     for (i = 0; i < INS_NC; ++i) buf[0][i] = buf[1][i] = carry[g * INS_NC + i];
     m = buf[0][INS_NZ];
+#if INS_LIFTED
+    sarg[0] = buf[0];
+    sarg[1] = constants;
+    sres[0] = hoisted;
+    if (ins_constants_c(sarg, sres, iw, wk, 0)) return 1;
+    sarg[INS_NS ? 2 : 1] = hoisted;   /* the last argument of the step and the margin */
+#endif
     cur = 0;
     for (r = 0; r < size; ++r) {{
       /* the margin is a running minimum over each chunk of records, then over each
@@ -1556,31 +1681,32 @@ INS_FLATTEN static int ins_drive(const casadi_real** arg, casadi_real** res, cas
 CASADI_SYMBOL_EXPORT int ins_chunk_f(const casadi_real** arg, casadi_real** res,
                                      casadi_int* iw, casadi_real* w, int mem) {{
   (void)iw; (void)w; (void)mem;
-  return ins_drive(arg, res, {chunk}, {chunk}, 0);
+  return ins_drive(arg, res, {chunk}, {chunk}, 0, INS_LIFTED ? arg[INS_NS ? 2 : 1] : 0);
 }}
 CASADI_SYMBOL_EXPORT int ins_single_f(const casadi_real** arg, casadi_real** res,
                                       casadi_int* iw, casadi_real* w, int mem) {{
   (void)iw; (void)w; (void)mem;
-  return ins_drive(arg, res, 1, 1, 0);
+  return ins_drive(arg, res, 1, 1, 0, INS_LIFTED ? arg[INS_NS ? 2 : 1] : 0);
 }}
 CASADI_SYMBOL_EXPORT int ins_run_n(const casadi_real* carry, const casadi_real* stream,
-                                   casadi_real* out, long long size) {{
+                                   casadi_real* out, long long size,
+                                   const casadi_real* constants) {{
   const casadi_real* arg[2];
   casadi_real* res[1];
   arg[0] = carry; arg[1] = stream; res[0] = out;
-  return ins_drive(arg, res, (casadi_int)size, {chunk}, 0);
+  return ins_drive(arg, res, (casadi_int)size, {chunk}, 0, constants);
 }}
 CASADI_SYMBOL_EXPORT int ins_run_rows(const casadi_real* carry, const casadi_real* steps,
                                       const casadi_real* mids, casadi_real* out,
-                                      long long size) {{
+                                      long long size, const casadi_real* constants) {{
   const casadi_real* arg[3];
   casadi_real* res[1];
   arg[0] = carry; arg[1] = steps; arg[2] = mids; res[0] = out;
-  return ins_drive(arg, res, (casadi_int)size, {chunk}, 1);
+  return ins_drive(arg, res, (casadi_int)size, {chunk}, 1, constants);
 }}
 CASADI_SYMBOL_EXPORT int ins_chunk_f_work(casadi_int* sz_arg, casadi_int* sz_res,
                                           casadi_int* sz_iw, casadi_int* sz_w) {{
-  *sz_arg = 2; *sz_res = 1; *sz_iw = 0; *sz_w = 0;
+  *sz_arg = INS_LIFTED ? (INS_NS ? 3 : 2) : 2; *sz_res = 1; *sz_iw = 0; *sz_w = 0;
   return 0;
 }}
 CASADI_SYMBOL_EXPORT int ins_single_f_work(casadi_int* sz_arg, casadi_int* sz_res,
@@ -1588,6 +1714,77 @@ CASADI_SYMBOL_EXPORT int ins_single_f_work(casadi_int* sz_arg, casadi_int* sz_re
   return ins_chunk_f_work(sz_arg, sz_res, sz_iw, sz_w);
 }}
 """
+
+
+@contextmanager
+def _no_simplification() -> Iterator[None]:
+    """Inside, CasADi builds every operation as written (no folding or rewriting of
+    ``x + 0``, ``a*(b*x)``...): a rebuilt graph keeps the arithmetic it copies."""
+    previous = ca.GlobalOptions.getSimplificationOnTheFly()
+    ca.GlobalOptions.setSimplificationOnTheFly(False)
+    try:
+        yield
+    finally:
+        ca.GlobalOptions.setSimplificationOnTheFly(previous)
+
+
+class LiftError(InsErrorsError):
+    """A graph :func:`lift_constants` cannot copy (an operation it does not know)."""
+
+
+def lift_constants(function: ca.Function, inputs: Sequence[ca.SX]
+                   ) -> tuple[list[ca.SX], ca.SX, np.ndarray]:
+    """An SX function's outputs rebuilt operation for operation, its numbers symbols.
+
+    Every instruction of ``function`` is made again on ``inputs`` (its dense input
+    vectors) in its order, except that each number (a constant CasADi folded when the
+    graph was built: what a baked loop compiles in) becomes a new symbol. Call it inside
+    :func:`_no_simplification`, so that nothing is folded or rewritten again: evaluated
+    with the numbers, the outputs give the function's bits.
+
+    Returns
+    -------
+    outputs : list of casadi.SX
+        The function's outputs (dense columns) on ``inputs`` and the symbols.
+    symbols : casadi.SX, shape (k, 1)
+        One symbol per number.
+    values : numpy.ndarray, shape (k,)
+        The numbers.
+
+    Raises
+    ------
+    LiftError
+        For an instruction that is not a number, an input, an output or an operation of
+        one or two arguments (a call of another function).
+    """
+    args = [[x[j] for j in range(x.numel())] for x in inputs]
+    outs: list[list[ca.SX | None]] = [[None] * function.nnz_out(i)
+                                      for i in range(function.n_out())]
+    work: dict[int, ca.SX] = {}
+    symbols: list[ca.SX] = []
+    values: list[float] = []
+    for k in range(function.n_instructions()):
+        op = function.instruction_id(k)
+        given, made = function.instruction_input(k), function.instruction_output(k)
+        if op == ca.OP_CONST:
+            work[made[0]] = ca.SX.sym(f"k_{len(values)}")
+            symbols.append(work[made[0]])
+            values.append(function.instruction_constant(k))
+        elif op == ca.OP_INPUT:
+            work[made[0]] = args[given[0]][given[1]]
+        elif op == ca.OP_OUTPUT:
+            outs[made[0]][made[1]] = work[given[0]]
+        elif op not in (ca.OP_CALL, ca.OP_PARAMETER) and len(given) == 2 and len(made) == 1:
+            work[made[0]] = ca.SX.binary(op, work[given[0]], work[given[1]])
+        elif op not in (ca.OP_CALL, ca.OP_PARAMETER) and len(given) == 1 and len(made) == 1:
+            work[made[0]] = ca.SX.unary(op, work[given[0]])
+        else:
+            raise LiftError(f"lift_constants: instruction {k} of {function.name()} "
+                            f"(operation {op}) is not an operation of one or two arguments")
+    if any(value is None for out in outs for value in out):
+        raise LiftError(f"lift_constants: an output of {function.name()} is never written")
+    return ([ca.vertcat(*out) if out else ca.SX(0, 1) for out in outs],
+            ca.vertcat(*symbols) if symbols else ca.SX.sym("k", 0), np.array(values))
 
 
 def _assume_arguments(source: str) -> str:
@@ -1622,9 +1819,12 @@ five times (7 s instead of 1.4 s)."""
 
 def _driver_source(loop: CompiledLoop, chunk: int, margin: bool,
                    functions: list[ca.Function],
-                   rotations: Sequence[tuple[int, int, int]] = ()) -> str:
+                   rotations: Sequence[tuple[int, int, int]] = (),
+                   numbers: int | None = None) -> str:
     """C source of ``ins_chunk_f`` and ``ins_single_f`` for ``loop`` (see ``_DRIVER``);
-    ``rotations``: ``(angle, sine, cosine)`` state indices the driver rotates."""
+    ``rotations``: ``(angle, sine, cosine)`` state indices the driver rotates; ``numbers``:
+    how many numbers the step reads at run time (``functions`` then end with
+    ``ins_constants_c``), None for a loop with its numbers written in."""
     def most(size: str) -> int:
         return 1 + max(getattr(f, size)() for f in functions)
 
@@ -1638,8 +1838,10 @@ def _driver_source(loop: CompiledLoop, chunk: int, margin: bool,
                   "casadi_real* next, const casadi_real* d) {\n" + calls + "}\n")
     # inlining a long step makes the compiler several times slower for little gain
     inline = int(functions[0].n_instructions() <= INLINE_LIMIT)
+    lifted = numbers is not None
     return _DRIVER.format(nz=loop.nz, nc=loop.n_carry, nrot=len(rotations), inline=inline,
-                          rotate=rotate,
+                          rotate=rotate, lifted=int(lifted), nk=numbers or 0,
+                          ne=functions[-1].size1_out(0) if lifted else 0,
                           ns=0 if loop.constant_inputs else loop.n_stream, nu=loop.nu,
                           k=loop.record_every, group=loop.group, margin=int(margin),
                           chunk=chunk, sz_arg=most("sz_arg"), sz_res=most("sz_res"),

@@ -50,6 +50,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from contextvars import ContextVar
 from dataclasses import dataclass, field
 from functools import cache, lru_cache
 
@@ -182,15 +184,42 @@ def _rotations(model: Model, parts: tuple[str, ...],
     return tuple((n + a, end + j, end + len(carried) + j) for j, a in enumerate(carried))
 
 
+_RUNTIME_CONSTANTS: ContextVar[bool] = ContextVar("runtime_constants", default=False)
+
+
+@contextmanager
+def runtime_constant_loops(on: bool = True) -> Iterator[None]:
+    """Inside (in this thread), :func:`simulate` compiles loops that read the numbers
+    made from the model parameters and a static base's inputs at run time
+    (:class:`~ins_errors.numeric.integrators.CompiledLoop` with ``runtime_constants``)
+    instead of writing them into the C code: one compiled library then serves every
+    latitude, heading and parameter value, with the same results to the last bit and
+    the same speed per step within a few per cent
+    (:class:`~ins_errors.numeric.integrators.CompiledLoop`). For work over many such
+    values: a sweep's points (:func:`ins_errors.analysis.sweep.run_sweep`).
+
+    Parameters
+    ----------
+    on : bool
+        False: loops with their numbers compiled in (the default outside the block).
+    """
+    token = _RUNTIME_CONSTANTS.set(bool(on))
+    try:
+        yield
+    finally:
+        _RUNTIME_CONSTANTS.reset(token)
+
+
 @lru_cache(maxsize=32)
 def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau: float,
           p: tuple[float, ...], u: tuple[float, ...] | None, active: tuple[bool, ...],
           batch: int, jit: bool, chunk: int, platform: str = "exact",
-          workers: int = 1) -> CompiledLoop:
+          workers: int = 1, runtime_constants: bool = False) -> CompiledLoop:
     """The compiled loop, specialised to the error sources that are non-zero in some case.
 
     Sources that are zero in every case of the batch are baked in as zeros, so the C
-    compiler drops every term they multiply.
+    compiler drops every term they multiply. ``runtime_constants``: the loop's numbers
+    are read at run time (:func:`runtime_constant_loops`).
     """
     from ins_errors.numeric.model import load_model
 
@@ -208,7 +237,8 @@ def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau
     return CompiledLoop(rhs, margin, method, stride, tau, np.array(p),
                         None if u is None else np.array(u), chunk=chunk, batch=batch, jit=jit,
                         workers=workers,
-                        rotations=_rotations(load_model(model_name), parts, carried))
+                        rotations=_rotations(load_model(model_name), parts, carried),
+                        runtime_constants=runtime_constants)
 
 
 # --------------------------------------------------------------------------------------
@@ -577,7 +607,8 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
     chunk = chunk_size(records) if trajectory.constant else min(
         chunk_size(records), _power_of_two_below(max(1, STREAM_STEPS // stride)))
     loop = _loop(model.key, parts, method, stride, float(tau), tuple(p), u_const,
-                 tuple(bool(a) for a in active), B, jit, chunk, platform, worker_count())
+                 tuple(bool(a) for a in active), B, jit, chunk, platform, worker_count(),
+                 _RUNTIME_CONSTANTS.get())
     label = ((progress if isinstance(progress, str) else bar_label(parts)) if progress
              else "")
     check = _domain_check(model, parts, platform)
