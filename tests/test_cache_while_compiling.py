@@ -29,7 +29,7 @@ def fresh_cache(tmp_path, monkeypatch):
     folder = tmp_path / "cache"
     monkeypatch.setenv("INS_ERRORS_CACHE", str(folder))
     notices: list[str] = []
-    monkeypatch.setattr(integ, "_vm_notice", notices.append)
+    monkeypatch.setattr(integ, "_vm_notice", lambda reason, full=None: notices.append(reason))
     return folder, notices
 
 

@@ -41,6 +41,7 @@ matrix exponential: :func:`exact_discretisation`.
 from __future__ import annotations
 
 import ctypes
+import errno
 import hashlib
 import math
 import os
@@ -460,10 +461,12 @@ PROBE_SOURCE = "int ins_errors_compiler_probe(void) { return 0; }\n"
 loops compile here."""
 
 
-def _vm_notice(reason: str) -> None:
+def _vm_notice(reason: str, full: Path | None = None) -> None:
     """Say once per process, and not in the workers of a process that said it, that
     compiled loops run in the CasADi virtual machine (a :class:`RuntimeWarning`; the
-    command line prints it as one line)."""
+    command line prints it as one line): for want of a working compiler (``reason``),
+    or, when ``full`` is given, for want of space in that folder (a full disk is not a
+    broken compiler: the next run with space compiles)."""
     global _NOTICE_GIVEN
     if _NOTICE_GIVEN:
         return
@@ -472,9 +475,21 @@ def _vm_notice(reason: str) -> None:
 
     if os.environ.get(NOTICE_GIVEN_VARIABLE) and multiprocessing.parent_process() is not None:
         return  # a worker: the process that started it has said so
-    warnings.warn(f"ins-errors: no working C compiler ({reason}); compiled loops run in "
-                  "the CasADi virtual machine instead (slower, same results)",
-                  RuntimeWarning, stacklevel=3)
+    why = (f"no space left on the device of {full} to compile a simulation loop ({reason})"
+           if full is not None else f"no working C compiler ({reason})")
+    warnings.warn(f"ins-errors: {why}; compiled loops run in the CasADi virtual machine "
+                  "instead (slower, same results)", RuntimeWarning, stacklevel=3)
+
+
+def _out_of_space(error: Exception) -> bool:
+    """Whether a failed compile ran out of disk space (``ENOSPC``, raised here or said
+    by the compiler or the assembler on its standard error)."""
+    if isinstance(error, OSError) and error.errno == errno.ENOSPC:
+        return True
+    stderr = getattr(error, "stderr", None)
+    if isinstance(stderr, bytes):
+        stderr = stderr.decode(errors="replace")
+    return os.strerror(errno.ENOSPC) in (stderr or "")
 
 
 @contextmanager
@@ -652,9 +667,15 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
                     c_file.write_text(source if isinstance(source, str) else source())
                     target = scratch / "loop.so"
                     _compile_step("compile", scratch)
+                    # the compiler's own temporary files (assembly, objects) go into the
+                    # scratch folder too: a compile cut short (this process stopped
+                    # without its process group, the compiler left running) leaves
+                    # nothing in the system's temporary folder, only a scratch folder
+                    # that the next `ins-errors cache clear` removes
                     subprocess.run([compiler, *flags, "-o", str(target), str(c_file), "-lm"],
                                    check=True, capture_output=True,
-                                   timeout=cache.COMPILE_TIMEOUT)
+                                   timeout=cache.COMPILE_TIMEOUT,
+                                   env={**os.environ, "TMPDIR": str(scratch)})
                     cache.seal_file(target)
                     _compile_step("store", scratch)
                     os.replace(target, library)
@@ -668,7 +689,8 @@ def compile_source(source: str | Callable[[], str], flags: Sequence[str] = DEFAU
                 break
             if vanished and attempt + 1 < COMPILE_ATTEMPTS:
                 continue  # its scratch folder was deleted (cache clear): not the compiler
-            _vm_notice(_failure(compiler, error))
+            _vm_notice(_failure(compiler, error),
+                       directory if _out_of_space(error) else None)
             return None
         break
     cache.register(library)
