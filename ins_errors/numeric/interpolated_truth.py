@@ -40,7 +40,12 @@ import numpy as np
 from ins_errors.errors import DomainError
 from ins_errors.numeric.integrators import DenseCall, casadi_step, native_functions
 from ins_errors.numeric.model import Model, load_model
-from ins_errors.numeric.trajectories import MotionError, TruthChunk, _kinematics
+from ins_errors.numeric.trajectories import (
+    MotionError,
+    TruthChunk,
+    _kinematics,
+    truth_parameters,
+)
 
 DEGREE = 7
 """Degree of the interpolating polynomial in every interval (DEGREE + 1 nodes)."""
@@ -575,7 +580,8 @@ class InterpolatedTruth:
 
     # -- coarse integration ------------------------------------------------------------
     def _blocks(self) -> Iterator[_Block]:
-        fn = _gap_function(self.model_name, self.frame, self.p)
+        fn = _gap_function(self.model_name, self.frame,
+                           truth_parameters(self.model_name, self.frame, self.p))
         plan_, n, nu, d = self.plan, self.n, self.nu, DEGREE
         J = len(plan_.start)
         x = self.x0.copy()
@@ -604,7 +610,8 @@ class InterpolatedTruth:
         """True state (n,) and inputs (nu,) at t = 0, the first column of the first chunk
         (the inputs from a gap of zero length); raises if the motion starts outside the
         model's domain."""
-        fn = _gap_function(self.model_name, self.frame, self.p)
+        fn = _gap_function(self.model_name, self.frame,
+                           truth_parameters(self.model_name, self.frame, self.p))
         first = self._gaps(np.array([0.0]), np.array([0.0]))[0][:1]
         first[:, 0] = 0.0
         xs, ys = self._call(fn, self.x0, first)

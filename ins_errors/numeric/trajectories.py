@@ -1185,7 +1185,7 @@ class ProfileTruth:
 
     def chunks(self, size: int) -> Iterator[TruthChunk]:
         """Chunks of at most ``size`` steps (see :class:`MotionSource`)."""
-        tau, p = self.tau, tuple(self.p)
+        tau, p = self.tau, truth_parameters(self.model_name, self.frame, self.p)
         loop = _truth_loop(self.model_name, self.frame, tau / 2.0, p)
         carry = loop.start(self.x0, np.zeros(0))
         x_first = np.asarray(self.x0, dtype=float)
@@ -1410,6 +1410,37 @@ def _truth_source(model: Model, profile: Profile, frame: str, tau: float, n_step
     if truth == "interpolated":
         return it.InterpolatedTruth(model, profile, frame, tau, n_steps, p, x0)
     return ProfileTruth(model, profile, frame, tau, n_steps, p, x0)
+
+
+@lru_cache(maxsize=64)
+def _truth_parameter_mask(model_name: str, frame: str) -> tuple[bool, ...]:
+    """Which model parameters the true motion's compiled functions read: its kinematics
+    (:func:`_kinematics`: the rates and the inputs it makes) and the domain margins."""
+    from ins_errors.numeric.model import load_model
+
+    model = load_model(model_name)
+    kin = _kinematics(model_name, frame)
+    x = ca.SX.sym("x", len(model.states))
+    commands = ca.SX.sym("c", 8)
+    par = ca.SX.sym("p", len(model.parameters))
+    u = kin.inputs(x, commands[:4], commands[4:], par)
+    read = ca.vertcat(kin.truth_rhs(x, commands, ca.SX(0, 1), par), u,
+                      model.casadi.function("domain_margins")(x, u, par))
+    return tuple(bool(ca.depends_on(read, par[i])) for i in range(par.numel()))
+
+
+def truth_parameters(model_name: str, frame: str, p) -> tuple[float, ...]:
+    """``p`` with the parameters the true motion never reads set to 0.
+
+    The truth's compiled functions (:func:`_truth_loop`, :func:`_inputs_chunk`,
+    :func:`ins_errors.numeric.interpolated_truth._gap_function`) have the parameters
+    written into their C code and are cached on their values; a parameter they do not
+    read (a damping gain, an instrument's scale) changes nothing they compute, so a
+    sweep over it flies one compiled truth instead of compiling one per value, with the
+    same bits.
+    """
+    mask = _truth_parameter_mask(model_name, frame)
+    return tuple(float(v) if read else 0.0 for v, read in zip(p, mask, strict=True))
 
 
 @lru_cache(maxsize=16)
