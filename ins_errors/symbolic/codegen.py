@@ -32,9 +32,19 @@ from ins_errors.symbolic.term_order import FastTermOrder
 
 _FUNCTIONS = ("sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "exp", "log",
               "sinh", "cosh", "tanh", "Abs")
+_ELEMENTWISE = ("where", "logical_and", "logical_or", "logical_not", "maximum", "minimum",
+                "sign", "floor", "ceil")
+"""Backend calls the printer writes itself (not SymPy function names): ``Piecewise`` as
+nested ``where``, its ``And``/``Or``/``Not``, ``Max``/``Min`` as pairwise ``maximum``/
+``minimum``, ``sign``, ``floor``, ``ceiling`` (and ``Heaviside`` through ``where``),
+elementwise in both backends: Python's ``... if ... else ...``, ``max`` and
+``math.copysign``, which SymPy's Python printer writes, fail on numpy arrays and CasADi
+symbols."""
 _NUMPY_NAMES = {"asin": "_m.arcsin", "acos": "_m.arccos", "atan": "_m.arctan",
                 "atan2": "_m.arctan2", "Abs": "_m.abs"}
-_CASADI_NAMES = {"Abs": "_m.fabs", "tan": "_tan"}
+_CASADI_NAMES = {"Abs": "_m.fabs", "tan": "_tan", "where": "_m.if_else",
+                 "logical_and": "_m.logic_and", "logical_or": "_m.logic_or",
+                 "logical_not": "_m.logic_not", "maximum": "_m.fmax", "minimum": "_m.fmin"}
 """How each backend calls a function, where not ``_m.<name>`` (``_m`` the backend's
 module). CasADi's ``tan`` is the module's own ``_tan``, sin x / cos x
 (:data:`CASADI_TAN`): a compiled loop computes the sine and cosine of a latitude anyway
@@ -67,6 +77,57 @@ class _BackendPrinter(FastTermOrder, PythonCodePrinter):
         functions = {f: names.get(f, f"_m.{f}") for f in _FUNCTIONS}
         super().__init__({"user_functions": functions, "fully_qualified_modules": False})
         self._sqrt = functions["sqrt"]
+        self._calls = {f: names.get(f, f"_m.{f}") for f in _ELEMENTWISE}
+
+    def _call(self, function: str, *args: sp.Basic | str) -> str:
+        """``function(args)`` with the backend's name of one of :data:`_ELEMENTWISE`."""
+        printed = (a if isinstance(a, str) else self._print(a) for a in args)
+        return f"{self._calls[function]}({', '.join(printed)})"
+
+    def _pairwise(self, function: str, args: Sequence[sp.Basic]) -> str:
+        """``f(a, f(b, c))`` of a binary ``function`` over two or more ``args``."""
+        text = self._print(args[-1])
+        for a in reversed(args[:-1]):
+            text = self._call(function, a, text)
+        return text
+
+    def _print_Piecewise(self, expr):
+        pairs = list(expr.args)
+        text = "float('nan')"  # no condition holds: SymPy's Piecewise is undefined
+        if pairs[-1].cond == sp.true:
+            text = self._print(pairs.pop().expr)
+        for pair in reversed(pairs):
+            text = self._call("where", pair.cond, pair.expr, text)
+        return text
+
+    def _print_And(self, expr):
+        return self._pairwise("logical_and", expr.args)
+
+    def _print_Or(self, expr):
+        return self._pairwise("logical_or", expr.args)
+
+    def _print_Not(self, expr):
+        return self._call("logical_not", expr.args[0])
+
+    def _print_Max(self, expr):
+        return self._pairwise("maximum", expr.args)
+
+    def _print_Min(self, expr):
+        return self._pairwise("minimum", expr.args)
+
+    def _print_sign(self, expr):
+        return self._call("sign", expr.args[0])
+
+    def _print_floor(self, expr):
+        return self._call("floor", expr.args[0])
+
+    def _print_ceiling(self, expr):
+        return self._call("ceil", expr.args[0])
+
+    def _print_Heaviside(self, expr):
+        x = expr.args[0]
+        at_zero = expr.args[1] if len(expr.args) > 1 else sp.S.Half
+        return self._print(sp.Piecewise((1, x > 0), (0, x < 0), (at_zero, True)))
 
     def _print_Pow(self, expr, rational=False):
         exponent = expr.exp
@@ -119,7 +180,8 @@ CASADI_PRINTER = _BackendPrinter(_CASADI_NAMES)
 """Each backend's own printer (what the emitted text equals; see _in_backend)."""
 
 _MARK = "\x00"
-_NEUTRAL_PRINTER = _BackendPrinter({f: "_m." + _MARK + f for f in _FUNCTIONS})
+_NEUTRAL_PRINTER = _BackendPrinter({f: "_m." + _MARK + f
+                                   for f in (*_FUNCTIONS, *_ELEMENTWISE)})
 """Prints ``_m.<mark><function>``: one printing serves both backends (see _in_backend)."""
 _MARKED = re.compile(r"_m\." + _MARK + r"(\w+)")
 

@@ -18,7 +18,7 @@ import difflib
 import math
 import random
 import re
-from collections.abc import Iterable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 
 import sympy as sp
 from sympy.core.function import AppliedUndef
@@ -320,7 +320,11 @@ def _column(label: str, quantity: str, value: object, rows: int, row_names: list
 
 
 def _check_symbols(label: str, quantity: str, matrix: sp.Matrix, row_names: list[str],
-                   allowed: set[sp.Symbol], hint: str) -> None:
+                   allowed: set[sp.Symbol], hint: str | Callable[[set[sp.Symbol]], str]
+                   ) -> None:
+    """Refuse a row that is not an expression, uses an undefined function, a non-finite
+    number or a symbol outside ``allowed``; ``hint`` says what the symbol may be (or,
+    given the undefined symbols, the whole clause after the names)."""
     for i in range(matrix.rows):
         entry = matrix[i, 0]
         if not isinstance(entry, sp.Expr):
@@ -333,13 +337,177 @@ def _check_symbols(label: str, quantity: str, matrix: sp.Matrix, row_names: list
             plain = {s for s in unknown if isinstance(s, sp.Symbol)}
             near = {a.name for a in allowed for s in plain if a.name == s.name}
             why = (f" ({_names(near)} declared, but with other assumptions: make symbols "
-                   "with Variable.symbol)") if near else f"; it may use {hint}"
+                   "with Variable.symbol)") if near else \
+                hint(plain) if callable(hint) else f"; it may use {hint}"
             raise _fail(label, f"{quantity} for {row_names[i]!r}",
                         f"uses undefined symbol(s) {_names(unknown)}{why}")
 
 
 def _intermediates(mech: Mechanisation) -> set[sp.Symbol]:
     return {definition.symbol for definition in mech.definitions}
+
+
+def _ideal_hint(d: ModelDefinition, unknown: set[sp.Symbol]) -> str:
+    """What the undefined symbols of an ideal-work equation are, and what the ideal work
+    may use instead (the clause after their names)."""
+    n = len(d.states)
+    what = {**{s: f"a computed state: the ideal work is written in the true state "
+                  f"({v.name})" for s, v in zip(d.real_states[:n], d.states, strict=False)},
+            **{s: "an error state: the ideal work has no errors"
+               for s in d.real_states[n:]},
+            **{s: "an error source: the ideal work has no errors (perfect sensors)"
+               for s in d.w},
+            **{s: "an intermediate of the real mechanisation: the ideal work uses the "
+                  "ideal mechanisation's" for s in _intermediates(d.real)}}
+    known = [f"{s} is {what[s]}" for s in sorted(unknown, key=str) if s in what]
+    if known:
+        return "; " + "; ".join(known)
+    return ("; the ideal work may use the states, inputs and parameters and its own "
+            "intermediates (let() on the ideal mechanisation)")
+
+
+_NOT_SMOOTH = (sp.Abs, sp.sign, sp.Heaviside, sp.Max, sp.Min, sp.floor, sp.ceiling,
+               sp.frac, sp.Mod, sp.DiracDelta)
+"""Functions with a kink or a jump: their second derivative is a DiracDelta, which no
+code printer prints, or SymPy has no derivative of them at all."""
+_JUMPS = (sp.sign, sp.Heaviside, sp.floor, sp.ceiling, sp.frac, sp.Mod, sp.DiracDelta)
+"""Functions of :data:`_NOT_SMOOTH` without a first derivative (a DiracDelta, or none in
+SymPy)."""
+
+
+def _dependence(*mechanisations: Mechanisation) -> dict[sp.Symbol, frozenset[sp.Symbol]]:
+    """For each intermediate of ``mechanisations`` (in order), the declared symbols it
+    depends on through the intermediates before it."""
+    depends: dict[sp.Symbol, frozenset[sp.Symbol]] = {}
+    for mech in mechanisations:
+        for definition in mech.definitions:
+            depends[definition.symbol] = frozenset().union(
+                *(depends.get(s, {s}) for s in definition.expression.free_symbols))
+    return depends
+
+
+def _uses(expression: sp.Basic, depends: dict[sp.Symbol, frozenset[sp.Symbol]]
+          ) -> set[sp.Symbol]:
+    """The declared symbols ``expression`` depends on, through intermediates."""
+    return set().union(*(depends.get(s, {s}) for s in expression.free_symbols))
+
+
+def _kink(f: sp.Basic) -> str:
+    """What is not smooth about a function of :data:`_NOT_SMOOTH`."""
+    if isinstance(f, (sp.Max, sp.Min)):
+        return "has no derivative where its arguments are equal"
+    if isinstance(f, (sp.sign, sp.Heaviside)):
+        return "jumps where its argument is zero"
+    if isinstance(f, sp.DiracDelta):
+        return "is not a function"
+    if isinstance(f, _JUMPS):
+        return "jumps (SymPy has no derivative of it)"
+    return "has no derivative where its argument is zero"
+
+
+class _Expansion:
+    """What an equation's error terms are the derivatives of.
+
+    Parameters
+    ----------
+    variables : dict
+        The symbols they are taken by, each with what it is (``"error source"``).
+    point : dict
+        Where (symbol -> value; the computed state on the true one, errors zero).
+    depends : dict
+        The intermediates' dependence (:func:`_dependence`).
+    words : str
+        Why a kink there is refused.
+    advice : str
+        What to write instead, ``{name}`` the refused function's name.
+    functions : tuple of type
+        The functions refused (:data:`_NOT_SMOOTH` or :data:`_JUMPS`).
+    expand : callable
+        Substitutes the intermediates into an expression.
+    """
+
+    def __init__(self, variables: dict[sp.Symbol, str], point: dict[sp.Symbol, sp.Expr],
+                 depends: dict[sp.Symbol, frozenset[sp.Symbol]], words: str, advice: str,
+                 functions: tuple[type, ...] = _NOT_SMOOTH,
+                 expand: Callable[[sp.Basic], sp.Basic] = lambda e: e):
+        self.variables, self.point, self.depends = variables, point, depends
+        self.words, self.advice = words, advice
+        self.functions, self.expand = functions, expand
+
+    def of(self, expression: sp.Basic) -> str:
+        """The variables ``expression`` depends on, in words (empty if none)."""
+        used = _uses(expression, self.depends) & self.variables.keys()
+        return ", ".join(f"{self.variables[s]} {s}" for s in sorted(used, key=str))
+
+
+def _shown(expression: sp.Basic) -> str:
+    text = sp.sstr(expression)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _check_smooth(label: str, quantity: str, expression: sp.Basic,
+                  expansion: _Expansion) -> None:
+    """Refuse a function with a kink or a jump (:data:`_NOT_SMOOTH`) of the variables an
+    error model differentiates by, and a ``Piecewise`` whose condition changes right at
+    the point it differentiates at (``b > 0`` for an error source ``b``)."""
+    for f in sorted(expression.atoms(*expansion.functions), key=sp.default_sort_key):
+        of = expansion.of(f)
+        if of:
+            name = f.func.__name__
+            sqrt = " (sqrt(x**2) is Abs(x))" if isinstance(f, sp.Abs) else ""
+            raise _fail(label, quantity,
+                        f"uses {_shown(f)}, of the {of}{sqrt}: {name} {_kink(f)}, and "
+                        f"{expansion.words}; {expansion.advice.format(name=name)}")
+    for piecewise in sorted(expression.atoms(sp.Piecewise), key=sp.default_sort_key):
+        for pair in piecewise.args:
+            for condition in pair.cond.atoms(sp.core.relational.Relational):
+                of = expansion.of(condition)
+                edge = condition.lhs - condition.rhs
+                if of and expansion.expand(edge).xreplace(expansion.point) == 0:
+                    raise _fail(label, quantity,
+                                f"uses a Piecewise whose condition {_shown(condition)}, of "
+                                f"the {of}, changes at zero error, and {expansion.words}; "
+                                f"{expansion.advice.format(name='Piecewise')}")
+
+
+_TAYLOR = ("the error model is a Taylor expansion in the computed state and the error "
+           "sources at zero error (a kink has no second-order term)")
+
+
+def _check_real_work(label: str, d: ModelDefinition, real: sp.Matrix,
+                     small: sp.Matrix | None) -> None:
+    """Refuse a real work that uses no computed state, and a kink or a jump in the
+    computed state or the error sources (:func:`_check_smooth`)."""
+    n = len(d.states)
+    depends = _dependence(d.ideal, d.real)
+    computed = list(d.real_states[:n])
+    names = [v.name for v in d.error_states]
+    used = set().union(*(_uses(row, depends) for row in real))
+    true = [s for s in d.x if s in used]
+    if true and not used & set(computed):  # an integrator of inputs uses neither
+        def listed(symbols: list[sp.Symbol]) -> str:
+            return ", ".join(map(str, symbols[:3])) + (", ..." if len(symbols) > 3 else "")
+
+        raise _fail(label, "real-work equations (real_rhs)",
+                    f"use the true state ({listed(true)}) but none of the computed states "
+                    f"({listed(computed)}): the real work must be written in the computed "
+                    "state x~, the INS's own variables (computed_symbols(STATES)); the true "
+                    "state enters only through the sensor inputs (written in the true "
+                    "state, the errors have no feedback: F is zero in their columns)")
+    expansion = _Expansion(
+        {**{s: "computed state" for s in computed},
+         **{s: "error state" for s in d.real_states[n:]},
+         **{s: "error source" for s in d.w}},
+        {**d.at_ideal(), **d.no_errors()}, depends, _TAYLOR,
+        "write it smooth there ({name} of the true state, inputs or parameters is fine)",
+        expand=lambda e: d.ideal.expand(d.real.expand(e)))
+    for definition in d.real.definitions:
+        _check_smooth(label, f"intermediate {definition.symbol} of the real mechanisation",
+                      definition.expression, expansion)
+    for rows, quantity in ((real, "real-work equation (real_rhs)"),
+                           (small, "small-angle real-work equation (small_angle_rhs)")):
+        for row, name in zip(rows if rows is not None else [], names, strict=False):
+            _check_smooth(label, f"{quantity} for {name!r}", row, expansion)
 
 
 def _check_reduces_to_ideal(label: str, d: ModelDefinition, ideal: sp.Matrix,
@@ -397,9 +565,15 @@ def check_definition(d: ModelDefinition, label: str | None = None,
     equation); that every symbol used is a declared state, input, parameter, error
     source, initial condition or recorded intermediate, every function a SymPy one and
     every number finite (no ``zoo``, ``nan`` or ``oo``; in the equations, intermediates
-    and domain conditions); that the document groups name error states; and that the
-    real work reduces to the ideal work when the computed state is the true one and
-    every error is off.
+    and domain conditions); that the real work uses the computed state if it uses the
+    true one (a real work written in ``x`` instead of ``x~`` has no error feedback);
+    that no function with a kink or a jump (:data:`_NOT_SMOOTH`, or a ``Piecewise``
+    whose condition changes at zero error) takes the computed state, an error state or
+    an error source in the real work, an error source in the initial real state, or a
+    state in an output without a first derivative (the error model is their Taylor
+    expansion); that the document groups name error states; and that the real work
+    reduces to the ideal work when the computed state is the true one and every error
+    is off.
 
     Parameters
     ----------
@@ -432,11 +606,11 @@ def check_definition(d: ModelDefinition, label: str | None = None,
     ideal = _column(label, "ideal_rhs", d.ideal_rhs, n, state_names, "states")
     real = _column(label, "real_rhs", d.real_rhs, ne, error_names, "error states")
     _check_symbols(label, "ideal-work equation (ideal_rhs)", ideal, state_names,
-                   x | u | p | ideal_defs, "a real-work state, an error source or an "
-                   "intermediate of the real mechanisation")
+                   x | u | p | ideal_defs, lambda unknown: _ideal_hint(d, unknown))
     _check_symbols(label, "real-work equation (real_rhs)", real, error_names,
                    set(d.real_states) | x | u | w | p | ideal_defs | real_defs,
                    "a symbol made with sp.Symbol instead of a declared Variable")
+    small = None
     if d.small_angle_rhs is not None:
         small = _column(label, "small_angle_rhs", d.small_angle_rhs, ne, error_names,
                         "error states")
@@ -467,6 +641,12 @@ def check_definition(d: ModelDefinition, label: str | None = None,
     outputs = _column(label, "output_map", outputs_raw, len(d.outputs), out_names, "outputs")
     _check_symbols(label, "output", scratch.expand(outputs), out_names, x | u | p,
                    "a computed-state symbol instead of the state passed to output_map")
+    by_state = _Expansion({s: "state" for s in x}, {}, {}, "the output matrix H is the "
+                          "derivative of the outputs by the state",
+                          "write the output without it (wrap or round it after the run)",
+                          _JUMPS)
+    for row, name in zip(scratch.expand(outputs), out_names, strict=True):
+        _check_smooth(label, f"output {name!r}", row, by_state)
     init = _column(label, "initial_state", d.initial_state, n, state_names, "states")
     _check_symbols(label, "initial_state", init, state_names, c | u | p,
                    "a state instead of an initial condition")
@@ -474,6 +654,13 @@ def check_definition(d: ModelDefinition, label: str | None = None,
                         "error states")
     _check_symbols(label, "initial_real_state", init_real, error_names, c | u | w | p,
                    "a state instead of an initial condition")
+    by_source = _Expansion({s: "error source" for s in w}, d.no_errors(), {},
+                           "the initial errors are a Taylor expansion in the error "
+                           "sources at zero (E is the derivative there)",
+                           "write it smooth there ({name} of the initial conditions, "
+                           "inputs or parameters is fine)")
+    for row, name in zip(init_real, error_names, strict=True):
+        _check_smooth(label, f"initial_real_state for {name!r}", row, by_source)
     for conditions, allowed, what in ((d.domain, x | u | p, "domain"),
                                       (d.initial_domain, c | u | p, "initial_domain")):
         for k, item in enumerate(conditions):
@@ -485,6 +672,7 @@ def check_definition(d: ModelDefinition, label: str | None = None,
             if extra:
                 raise _fail(label, f"{what} condition {item[1]!r}",
                             f"uses undefined symbol(s) {_names(extra)}")
+    _check_real_work(label, d, real, small)
     for title, members in d.groups:
         unknown_members = [m for m in members if m not in error_names]
         if unknown_members:
@@ -823,10 +1011,48 @@ class _Dimensions:
             return known[0] if known else _ANY
         if isinstance(e, _PURE):
             return self.none
+        if isinstance(e, sp.Piecewise):
+            return self._piecewise(e)
         if isinstance(e, sp.Function) and e.func.__module__.startswith("sympy.functions"):
             self._pure(e.args, str(e.func))  # sin, exp, log, asin, ...
             return self.none
-        return None  # Piecewise, a function of the author's: no verdict
+        return None  # a function of the author's: no verdict
+
+    def _piecewise(self, e: sp.Piecewise):
+        """The dimension shared by the branches of ``e`` (a number among them taking it,
+        as in a sum), once its conditions compare quantities of one dimension."""
+        for pair in e.args:
+            self._condition(pair.cond)
+        seen = None
+        for pair in e.args:
+            dims = self.of(pair.expr)
+            if dims is None:
+                if pair.expr.is_Number:
+                    continue
+                return None
+            if dims is _ANY:
+                continue
+            if seen is None:
+                seen = (dims, pair.expr)
+            elif dims != seen[0]:
+                raise _MismatchError(f"a Piecewise with branches in {self._text(seen[0])} "
+                                     f"({seen[1]}) and {self._text(dims)} ({pair.expr})")
+        return seen[0] if seen else _ANY
+
+    def _condition(self, c: sp.Basic) -> None:
+        """Refuse a comparison of two quantities of different dimensions in a condition
+        (``V > a_N``); a bare number is a threshold in the unit of the other side."""
+        if isinstance(c, sp.core.relational.Relational):
+            if c.lhs.is_Number or c.rhs.is_Number:
+                return
+            a, b = self.of(c.lhs), self.of(c.rhs)
+            if None in (a, b) or _ANY in (a, b) or a == b:
+                return
+            raise _MismatchError(f"a condition {c} comparing {self._text(a)} and "
+                                 f"{self._text(b)}")
+        for arg in c.args:  # And, Or, Not; True has none
+            if isinstance(arg, sp.logic.boolalg.Boolean):
+                self._condition(arg)
 
 
 def check_dimensions(d: ModelDefinition, label: str | None = None) -> None:
@@ -837,8 +1063,10 @@ def check_dimensions(d: ModelDefinition, label: str | None = None) -> None:
     its state per second (``dφ/dt = V`` in m/s for a latitude in rad is refused), each
     output and initial state the unit of its name, every sum terms of one dimension, and
     the argument of sin, exp, log, ... a pure number. Radians are pure numbers (as in
-    SI), so an angle and a ratio are not told apart. Expressions with functions of the
-    author's own (or ``Piecewise``) get no verdict.
+    SI), so an angle and a ratio are not told apart. A ``Piecewise`` has the dimension
+    of its branches (all one dimension), and each comparison in its conditions compares
+    quantities of one dimension (a bare number is a threshold in the other side's unit).
+    Expressions with functions of the author's own get no verdict.
 
     Parameters
     ----------
