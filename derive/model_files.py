@@ -105,7 +105,7 @@ def function_specs(em: ErrorModel) -> list[FunctionSpec]:
     ]
 
 
-def _metadata(d: ModelDefinition, record: dict[str, str] | None = None) -> str:
+def _metadata(d: ModelDefinition, record: dict[str, object] | None = None) -> str:
     def rows(variables, extra=(), when_set=()):
         out = []
         for v in variables:
@@ -207,7 +207,7 @@ def summary_table(summaries: list[ModelSummary]) -> list[str]:
 
 
 def write_model(d: ModelDefinition, root: Path, origin: tuple[str, str] | None = None,
-                record: dict[str, str] | None = None) -> ModelSummary:
+                record: dict[str, object] | None = None) -> ModelSummary:
     """Derive and write ``root/<model>/`` for one model definition.
 
     Parameters
@@ -219,7 +219,8 @@ def write_model(d: ModelDefinition, root: Path, origin: tuple[str, str] | None =
     origin : (str, str), optional
         Banner lines for a model outside the package (see :func:`header`).
     record : dict, optional
-        Extra ``NAME = 'value'`` lines of the metadata module (e.g. the model file hash).
+        Extra ``NAME = value`` lines of the metadata module, written as ``repr(value)``
+        (the model file's hash; a built-in model's hashes of its sources, a dict).
     """
     start = time.perf_counter()
     with step(d.name, "vary (first- and second-order error equations)"):

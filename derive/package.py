@@ -44,7 +44,7 @@ def _seal(folder: Path) -> None:
 
 
 def write_package(d: ModelDefinition, target: Path, origin: tuple[str, str] | None = None,
-                  record: dict[str, str] | None = None, replace: bool = True) -> ModelSummary:
+                  record: dict[str, object] | None = None, replace: bool = True) -> ModelSummary:
     """Derive ``d`` and write its package (metadata, numpy, CasADi, Markdown) as ``target``,
     the files' lengths and hashes recorded in its sealed ``__init__.py``
     (:func:`ins_errors.model_lookup.seal_package`: a package cut short or altered is

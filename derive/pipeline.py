@@ -24,6 +24,7 @@ from concurrent.futures import Future, ProcessPoolExecutor
 from pathlib import Path
 
 from ins_errors.errors import unknown_name
+from ins_errors.model_identity import builtin_record
 from ins_errors.models import definition, model_names
 from ins_errors.output import open_modes
 from ins_errors.symbolic.consistency import check_definition
@@ -47,7 +48,8 @@ def _write_one(name: str, root: Path, documents: bool) -> ModelSummary:
     with step(name, "build the definition"):
         model = definition(name)
     check_definition(model)  # the checks a researcher's model file gets, one line each
-    summary = write_model(model, root)
+    # the hashes of the model's sources: a run finds the package stale when they change
+    summary = write_model(model, root, record=builtin_record(name))
     if documents and name in SETUPS:
         with step(name, "transfer functions"):
             write_transfer_functions(root, name)

@@ -12,6 +12,11 @@ is a fingerprint of that code (the bytes of every module of :data:`DERIVATION_PA
 :data:`DERIVATION_MODULES`, and the versions of Python and SymPy), recorded in each
 generated package of a model file and part of its cache key, so that a package derived by
 another version of ins-errors is derived again rather than run.
+
+A built-in model's identity is the files of ``ins_errors/models/`` its definition is read
+from (:func:`builtin_source_files`): ``make derive`` records their hashes in its package
+(:func:`builtin_record`), and loading the model compares them with the files as they are
+(:func:`changed_builtin_sources`, :mod:`ins_errors.builtin_packages`).
 """
 
 from __future__ import annotations
@@ -193,3 +198,115 @@ def derivation_code_sha256() -> str:
     """:func:`derivation_digest` of the installed ins-errors, made once per process
     (about 2 ms: a few dozen files read and hashed)."""
     return derivation_digest()
+
+
+# --------------------------------------------------------------------------------------
+# The sources of a built-in model
+# --------------------------------------------------------------------------------------
+MODELS_PACKAGE = "ins_errors.models"
+"""The package of the built-in models' definitions: the files of a built-in model's
+identity are its modules (:func:`builtin_source_files`)."""
+
+_FOLLOWED = ("ins_errors.modeling",)
+"""Modules outside :data:`MODELS_PACKAGE` whose imports are followed to the model
+modules they read (the authoring API reads the Earth and platform formulas)."""
+
+
+def _package_folder() -> Path:
+    """The folder of the ``ins_errors`` package (this module's)."""
+    return Path(__file__).resolve().parent
+
+
+def _module_file(package: Path, module: str) -> Path | None:
+    """The file of the project module ``module`` (``ins_errors.models.earth``), if any."""
+    path = package.joinpath(*module.split(".")[1:])
+    for candidate in (path.with_suffix(".py"), path / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def _imported_modules(path: Path, module: str) -> set[str]:
+    """Modules named by the import statements of ``path`` (also inside functions);
+    ``from a import b`` names ``a`` and ``a.b`` (b may be a module); none for a file
+    that is not Python (an edit in progress: importing it says what is wrong)."""
+    package = module.rpartition(".")[0]
+    names = set()
+    try:
+        tree = ast.parse(path.read_bytes())
+    except (SyntaxError, ValueError):
+        return names
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")[:len(package.split(".")) - node.level + 1]
+                base = ".".join(parts + ([base] if base else []))
+            names.add(base)
+            names.update(f"{base}.{alias.name}" for alias in node.names)
+    return names
+
+
+def builtin_source_files(name: str) -> dict[str, Path]:
+    """The files a built-in model's definition is read from: its module in
+    ``ins_errors/models/`` and the modules of that folder it imports, directly or through
+    :data:`_FOLLOWED` (``earth.py``, ``platform.py``); label (``models/earth.py``, the
+    path inside the package) -> file, sorted by label. The registry
+    ``models/__init__.py`` is not one of them.
+
+    Raises
+    ------
+    UnknownNameError
+        If ``name`` is not a built-in model.
+    """
+    from ins_errors.errors import unknown_name
+    from ins_errors.models import MODEL_MODULES
+
+    if name not in MODEL_MODULES:
+        raise unknown_name("model", name, MODEL_MODULES)
+    package = _package_folder()
+    found: dict[str, Path] = {}
+    waiting, seen = [MODEL_MODULES[name]], set()
+    while waiting:
+        module = waiting.pop()
+        path = None if module in seen else _module_file(package, module)
+        seen.add(module)
+        if path is None:
+            continue
+        if module.startswith(MODELS_PACKAGE + ".") and path.name != "__init__.py":
+            found[path.relative_to(package).as_posix()] = path
+        waiting += [m for m in _imported_modules(path, module)
+                    if m.startswith(MODELS_PACKAGE + ".") or m in _FOLLOWED]
+    return dict(sorted(found.items()))
+
+
+SOURCES_RECORD = "MODEL_SOURCES_SHA256"
+"""Name of the record, in a built-in model's generated ``__init__.py``, of the SHA-256 of
+each file its definition is read from (:func:`builtin_source_files`)."""
+
+
+def builtin_record(name: str) -> dict[str, dict[str, str]]:
+    """The record ``make derive`` writes into a built-in model's package
+    (:data:`SOURCES_RECORD`: label -> SHA-256 of each of :func:`builtin_source_files`),
+    checked whenever the model is loaded (:func:`changed_builtin_sources`)."""
+    return {SOURCES_RECORD: {label: file_sha256(path)
+                             for label, path in builtin_source_files(name).items()}}
+
+
+def changed_builtin_sources(recorded: Mapping[str, str]) -> list[str]:
+    """The labels of ``recorded`` (``MODEL_SOURCES_SHA256`` of a built-in model's
+    package) whose file now differs from its recorded SHA-256 or is missing: empty when
+    the package is up to date. Reads and hashes a few files (about 0.1 ms; no SymPy)."""
+    package = _package_folder()
+    changed = []
+    for label, sha in recorded.items():
+        try:
+            data = (package / label).read_bytes()
+        except OSError:
+            changed.append(label)
+            continue
+        if hashlib.sha256(data).hexdigest() != sha:
+            changed.append(label)
+    return changed

@@ -3,7 +3,9 @@
 Every command, scenario file and :func:`ins_errors.load_model` goes through
 :func:`resolve`. A model is named in one of three ways:
 
-* a built-in model name (``orthodromic``): its code ships in ``ins_errors.generated``;
+* a built-in model name (``orthodromic``): its code ships in ``ins_errors.generated``
+  (derived again into the cache when its model was edited since: see
+  :mod:`ins_errors.builtin_packages`);
 * a model file path (``./my_ins.py``; a scenario's ``model = "my_ins.py"`` is taken
   relative to the scenario file): a Python file written with :mod:`ins_errors.modeling`;
 * the name of an installed entry point in the group ``ins_errors.models`` (a package's

@@ -60,3 +60,4 @@ INITIAL_CONDITIONS = (
 )
 DOMAIN = ('latitude at or beyond ±90°: the formulas divide by cos φ (tan φ, sec φ)', 'Earth radius R must be positive', 'gravity g must be positive', 'eccentricity squared ecc2 must be below 1', 'eccentricity squared ecc2 must not be negative', "R + h must be positive: height below the Earth's centre")
 INITIAL_DOMAIN = ('initial latitude at or beyond ±90°: the formulas divide by cos φ (tan φ, sec φ)', 'Earth radius R must be positive', 'gravity g must be positive', 'eccentricity squared ecc2 must be below 1', 'eccentricity squared ecc2 must not be negative', "R + h must be positive: height below the Earth's centre")
+MODEL_SOURCES_SHA256 = {'models/earth.py': 'ec12172d15c9a23221629c8217666a77c616a9c978ffb43a00af68784a7c9080', 'models/north_pointing.py': 'eb811bd54b6d0c470d4acde69e7f8a27a4f5651b330383d357fcaaf065abaca6', 'models/platform.py': '6f1f24a68be4ffd6d6670dc25bc5ca00c17bf15301f383408ccd71ad16455f63'}

@@ -47,13 +47,22 @@ def run(args: argparse.Namespace) -> int:
                              "folder next to it)")
     out = args.out if args.out is not None else next_to(ref.path)
     d = definition_of(ref)
-    origin, record = package_record(ref) if ref.kind != "builtin" else (None, None)
+    if ref.kind == "builtin":  # the package `make derive` writes, its sources' hashes too
+        from ins_errors.model_identity import builtin_record
+
+        origin, record = None, builtin_record(ref.spec)
+    else:
+        origin, record = package_record(ref)
     summary = write_derived(ref, d, out, origin, record)
     files = sorted(p.name for p in out.iterdir())
     if args.json:
-        emit({**asdict(summary), "out": str(out), "files": files,
+        fields = asdict(summary)
+        # wall time of this derivation (short where the cache holds the model's
+        # variation): named by its unit as every JSON time is
+        fields["wall_time_s"] = fields.pop("seconds")
+        emit({**fields, "out": str(out), "files": files,
               "model_file_sha256": ref.sha256,
-              "derivation_code_sha256": (record or {}).get("DERIVATION_CODE_SHA256")})
+              "derivation_code_sha256": record.get("DERIVATION_CODE_SHA256")})
         return 0
     from ins_errors.derive.model_files import summary_table
 

@@ -3,7 +3,9 @@
 ``load_model(name)`` imports only the generated code (no SymPy): fast, and it works from
 an installed wheel. The SymPy definition is built on first access to ``.symbolic``.
 ``load_model`` also takes a model file (``"./my_ins.py"``) or an installed entry point
-(see :mod:`ins_errors.model_lookup`); their generated code is found or derived there.
+(see :mod:`ins_errors.model_lookup`); their generated code is found or derived there. A
+built-in model edited since ``make derive`` is derived again into the cache, said in one
+line (:mod:`ins_errors.builtin_packages`).
 """
 
 from __future__ import annotations
@@ -129,8 +131,10 @@ def load_model(name: str | Model, relative_to: str | Path | None = None) -> Mode
     from ins_errors.model_lookup import resolve
 
     ref = resolve(name, relative_to)
-    if ref.kind == "builtin":
-        return Model(ref.spec)
+    if ref.kind == "builtin":  # its shipped package, or, if its model was edited since
+        from ins_errors.builtin_packages import builtin_model  # `make derive`, a fresh one
+
+        return builtin_model(ref.spec)
     return _file_model(ref)
 
 
@@ -202,7 +206,9 @@ class Model:
         """What :func:`load_model` maps back to this exact model (its name for a built-in
         model; file path and hash for a model file)."""
         self.folder: Path | None = folder
-        """Folder of the generated package of a model file (None for built-in models)."""
+        """Folder of the generated package of a model file, or of a built-in model
+        derived again into the cache (its model edited since `make derive`); None for a
+        built-in model's shipped package."""
         package = f"ins_errors.generated.{name}"
         self.meta = meta or importlib.import_module(package)
         self.numpy: ModuleType = numpy_module or importlib.import_module(
