@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ins_errors.commands import hours, motion_from_options, motion_kinds
+from ins_errors.commands import hours, motion_from_options, motion_kinds, warning_status
 from ins_errors.commands.run import TRUTHS
 from ins_errors.json_output import emit
 from ins_errors.user_paths import expand_user
@@ -106,6 +106,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="write into a non-empty --out folder that ins-errors did not "
                              "write (only curves.csv and curves.mat are replaced)")
     parser.add_argument("--json", action="store_true", help="machine-readable output")
+    warning_status.add_option(parser)
     parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
     parser.set_defaults(func=run)
 
@@ -152,6 +153,14 @@ def parse_ratio(text: str, what: str) -> float:
 
 
 def run(args: argparse.Namespace) -> int:
+    """The command: 0, or 1 when it warned and ``--fail-on-warning`` is given."""
+    with warning_status.watched_warnings() as shown:
+        comparisons = _compare(args)
+    return warning_status.exit_status(args, comparisons, shown)
+
+
+def _compare(args: argparse.Namespace) -> list:
+    """Run, print and write the comparisons; returns them."""
     from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import (
         parameters_record,
@@ -283,4 +292,4 @@ def run(args: argparse.Namespace) -> int:
         print(text)
     if args.plot:  # beside the JSON, not inside it
         print(written, file=sys.stderr if args.json else sys.stdout)
-    return 0
+    return comparisons

@@ -6,6 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
+from ins_errors.commands import warning_status
 from ins_errors.json_output import emit
 from ins_errors.user_paths import expand_user
 
@@ -35,11 +36,21 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                         help="write into a non-empty --out folder that ins-errors did not "
                              "write (only the report's own files are replaced)")
     parser.add_argument("--truth", choices=TRUTHS, default=None, help=SCENARIO_TRUTH_HELP)
+    warning_status.add_option(parser)
     parser.add_argument("--no-progress", action="store_true", help="never show progress bars")
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    """The command: 0, or 1 when it warned and ``--fail-on-warning`` is given."""
+    with warning_status.watched_warnings() as shown:
+        comparisons = _run(args)
+    return warning_status.exit_status(args, comparisons, shown)
+
+
+def _run(args: argparse.Namespace) -> list | None:
+    """Run the scenario, write its report and print its summary; returns the
+    comparisons (None for ``--schema``)."""
     from ins_errors.numeric.compare import markdown_summary
     from ins_errors.output import OutputFolder, require_matplotlib
     from ins_errors.report import write_report
@@ -49,7 +60,7 @@ def run(args: argparse.Namespace) -> int:
         from ins_errors.scenario_schema import json_schema
 
         print(json_schema(), end="")
-        return 0
+        return None
     if args.scenario is None:
         from ins_errors.errors import InsErrorsError
 
@@ -74,4 +85,4 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(markdown_summary(result.comparisons, scenario.title))
         print(f"report: {report} (and report.html, plots, results.json in {out})")
-    return 0
+    return result.comparisons
