@@ -104,3 +104,22 @@ def test_a_warning_about_the_results_on_stderr_counts_and_a_note_does_not(monkey
         monkeypatch.undo()
         _warning_during_the_truth(monkeypatch, "ins-errors: note: the motion file was read")
         assert main([*CLEAN, "--fail-on-warning"]) == 0
+
+
+def test_the_machine_notices_do_not_count(monkeypatch, tmp_path):
+    """No C compiler (or no disk space to compile) and a damaged cache entry: the same
+    results, slower or made again. Their own words, as the product shows them."""
+    from ins_errors.commands.warning_status import watched_warnings
+    from ins_errors.numeric import cache, integrators
+
+    with warnings.catch_warnings(), watched_warnings() as shown:
+        warnings.simplefilter("always")
+        monkeypatch.setattr(integrators, "_NOTICE_GIVEN", False)
+        integrators._vm_notice("cc: command not found")
+        monkeypatch.setattr(integrators, "_NOTICE_GIVEN", False)
+        integrators._vm_notice("No space left on device", full=tmp_path)
+        monkeypatch.setattr(cache, "_DAMAGE_SAID", set())
+        cache.report_damaged(tmp_path / "loop_0.so", "compiling it again")
+        warnings.warn("ins-errors: the interpolated true motion may be off", RuntimeWarning,
+                      stacklevel=1)
+    assert shown == ["ins-errors: the interpolated true motion may be off"]
