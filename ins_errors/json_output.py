@@ -22,7 +22,7 @@ from collections.abc import Mapping
 from pathlib import PurePath
 from typing import IO, Any
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 """Version of the keys of every ``--json`` output (``docs/json.md``): raised when a key is
 renamed or removed or changes its meaning or unit, not when one is added."""
 

@@ -207,8 +207,8 @@ def test_every_json_key_is_documented(variant, scratch, capsys, monkeypatch):
     status, text = _run(argv, capsys, monkeypatch, tmp)
     assert status == expected, text
     # indented by two, schema_version first (in each object of an array)
-    head = '{\n  "schema_version": 1,' if text.startswith("{") else \
-        '[\n  {\n    "schema_version": 1,'
+    head = '{\n  "schema_version": 2,' if text.startswith("{") else \
+        '[\n  {\n    "schema_version": 2,'
     assert text.startswith(head), text[:80]
     data = json.loads(text)
     page = documented()

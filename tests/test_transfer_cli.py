@@ -40,7 +40,7 @@ def test_json_keys_and_values(capsys):
     assert main(["transfer", SCHULER, "--source", "accel_bias=100ug", "--source",
                  "gyro_drift", "--output", "psi", "--output", "latitude", "--json"]) == 0
     text = capsys.readouterr().out
-    assert text.startswith('{\n  "schema_version": 1,')
+    assert text.startswith('{\n  "schema_version": 2,')
     data = strict_json(text)
     assert data["model"] == "schuler_loop" and "Y(s) = b·W(s)/s" in data["convention"]
     assert [(p["source"], p["output"]) for p in data["pairs"]] == [

@@ -118,7 +118,7 @@ class Reference:
     quantity: str = "period"
 
     def to_dict(self) -> dict:
-        return {"formula": self.formula, "seconds": self.seconds,
+        return {"formula": self.formula, "value_s": self.seconds,
                 "relative_difference": self.relative_difference, "quantity": self.quantity}
 
 
