@@ -215,6 +215,49 @@ def _silence_stdout() -> None:
         pass
 
 
+@contextlib.contextmanager
+def _writable_streams():
+    """Standard output and error as a command can write them, whatever it was started
+    with; put back as they were afterwards.
+
+    A stream closed when Python started (``>&-``, ``2>&-``: ``sys.stdout`` is None) is
+    a sink that writes nothing: the command runs, writes its files and gives its status
+    (``print`` wrote to None and failed with an AttributeError traceback; an error line
+    went to standard output when standard error was closed). On a standard output whose
+    encoding lacks characters the command writes (``PYTHONIOENCODING=ascii``, a
+    Windows console's code page), each such character is written as its Python escape
+    (``φ`` as ``\u03c6``), as Python writes standard error, instead of a
+    UnicodeEncodeError traceback.
+    """
+    import codecs
+
+    sinks = {}
+    for name in ("stdout", "stderr"):
+        if getattr(sys, name) is None:
+            sinks[name] = open(os.devnull, "w", encoding="utf-8")  # noqa: SIM115
+            setattr(sys, name, sinks[name])
+    stream, strict = sys.stdout, None
+    try:
+        utf = codecs.lookup(stream.encoding).name.startswith("utf")
+    except (AttributeError, LookupError, TypeError):
+        utf = True  # not a text file of the system (a notebook's, a test's): left alone
+    if not utf and getattr(stream, "errors", None) == "strict" and hasattr(
+            stream, "reconfigure"):
+        with contextlib.suppress(Exception):
+            stream.reconfigure(errors="backslashreplace")
+            strict = "strict"
+    try:
+        yield
+    finally:
+        if strict is not None:
+            with contextlib.suppress(Exception):
+                stream.reconfigure(errors=strict)
+        for name, sink in sinks.items():
+            if getattr(sys, name) is sink:
+                setattr(sys, name, None)
+            sink.close()
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the command line; returns the exit status.
 
@@ -231,11 +274,12 @@ def main(argv: list[str] | None = None) -> int:
     # command gets Ctrl-C's clean-up and its one line, also while the parser is built
     from ins_errors.analysis.engine import terminate_interrupts
 
-    try:
-        with terminate_interrupts(lasting=True):
-            return _command(argv)
-    except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM (engine.Terminated)
-        return _stopped(error)
+    with _writable_streams():
+        try:
+            with terminate_interrupts(lasting=True):
+                return _command(argv)
+        except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM (engine.Terminated)
+            return _stopped(error)
 
 
 def _stopped(error: KeyboardInterrupt) -> int:

@@ -18,6 +18,7 @@ A message names a unit as the user writes it (``mg``, not the registry's ``mg_n`
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 import re
@@ -60,27 +61,85 @@ def registry() -> pint.UnitRegistry:
 def _cached_registry() -> pint.UnitRegistry | None:
     """pint's registry with its parsed definition files kept in the cache (keyed by their
     contents and pint's version: 0.33 -> 0.02 s CPU per process once they are there);
-    None where the cache cannot be used. A damaged set (a file cut short, which pint
+    None where the cache cannot be used.
+
+    A set is made whole in a scratch folder of the store and renamed into place
+    (:func:`_made_set`), so a process reading finds a complete set or none: several
+    processes started together on an empty cache each parse and write their own, the
+    first renamed in place is kept. A set found damaged (a file cut short, which pint
     cannot read) is said in one line and deleted, and the files are parsed and kept
     again."""
-    import shutil
+    from ins_errors.numeric.cache import report_damaged
 
+    try:
+        store = units_cache_directory()
+        folder = installation_folder(store)
+    except OSError:
+        return None
+    if (folder / INSTALLATION_FILE).is_file():
+        try:
+            return _read_set(folder)
+        except Exception:  # a file pint cannot read, or the set removed meanwhile
+            if (folder / INSTALLATION_FILE).is_file():
+                report_damaged(folder, "parsing pint's unit definitions again")
+                _discard(folder)
+    try:
+        return _made_set(store, folder)
+    except Exception:  # an unwritable store, a full disk: parsed without the cache
+        return None
+
+
+def _read_set(folder: Path) -> pint.UnitRegistry:
+    """pint's registry read from the complete set ``folder`` (pint writes nothing to it:
+    the set's name keys every version pint's file names hold)."""
     import pint
 
-    folder = None
-    for attempt in range(2):
-        try:
-            folder = installation_folder(units_cache_directory())
-            return pint.UnitRegistry(autoconvert_offset_to_baseunit=True,
-                                     cache_folder=folder)
-        except Exception:  # an unwritable folder, or one pint cannot read
-            if attempt or folder is None or not os.access(folder, os.W_OK | os.X_OK):
-                return None
-        from ins_errors.numeric.cache import report_damaged
+    return pint.UnitRegistry(autoconvert_offset_to_baseunit=True, cache_folder=folder)
 
-        report_damaged(folder, "parsing pint's unit definitions again")
-        shutil.rmtree(folder, ignore_errors=True)
-    return None
+
+def _made_set(store: Path, folder: Path) -> pint.UnitRegistry:
+    """pint's registry parsed afresh, its parsed files kept as the set ``folder``.
+
+    The files are written into a scratch folder of ``store`` (locked while in use, as a
+    compile's: ``ins-errors cache clear`` and :func:`installation_folder` leave it alone
+    meanwhile), the installation's note last, and the folder is then renamed to
+    ``folder`` in one step. Where another process has placed its set first, that one is
+    kept and this one dropped (the same files).
+
+    Raises
+    ------
+    OSError
+        If the store cannot be written.
+    """
+    import pint
+
+    from ins_errors.numeric.cache import SCRATCH_LOCK, scratch_folder
+    from ins_errors.output import open_modes
+
+    store.mkdir(parents=True, exist_ok=True)
+    with scratch_folder(store) as scratch:
+        ureg = pint.UnitRegistry(autoconvert_offset_to_baseunit=True, cache_folder=scratch)
+        (scratch / INSTALLATION_FILE).write_text(_installation_note(), encoding="utf-8")
+        (scratch / SCRATCH_LOCK).unlink()
+        os.chmod(scratch, open_modes()[1])  # readable by the users of a shared cache
+        with contextlib.suppress(OSError):  # placed meanwhile by another process: kept
+            os.rename(scratch, folder)
+    return ureg
+
+
+def _discard(folder: Path) -> None:
+    """Delete the set ``folder``: renamed aside in one step first (a process reading it
+    meanwhile finds it whole or gone), then removed."""
+    import shutil
+    import tempfile
+
+    try:
+        aside = Path(tempfile.mkdtemp(prefix="tmp", dir=folder.parent))
+    except OSError:
+        return
+    with contextlib.suppress(OSError):  # discarded meanwhile by another process
+        os.rename(folder, aside / folder.name)
+    shutil.rmtree(aside, ignore_errors=True)
 
 
 def units_cache_directory() -> Path:
@@ -94,11 +153,25 @@ def units_cache_directory() -> Path:
 
 INSTALLATION_FILE = "installation.txt"
 """The file of an installation's subfolder that names the pint folder it was made from
-(first line) and the machine (second line)."""
+(first line) and the machine (second line); written last, so a set holding it is whole."""
+
+
+def _pint_location() -> str:
+    """The folder of the pint package this process imports (resolved)."""
+    import pint
+
+    return str(Path(pint.__file__).resolve().parent)
+
+
+def _installation_note() -> str:
+    """The text of :data:`INSTALLATION_FILE` for this process's pint."""
+    import platform
+
+    return f"{_pint_location()}\n{platform.node()}\n"
 
 
 def installation_folder(store: Path) -> Path:
-    """This pint installation's subfolder of the units store, made if missing.
+    """This pint installation's subfolder of the units store (may not exist yet).
 
     pint finds a parsed file in its cache by the file's contents, but the parsed file
     names the definition files it includes by the folder it was first read from. Every
@@ -106,15 +179,13 @@ def installation_folder(store: Path) -> Path:
     environment is found by the contents and then read from that environment's folder;
     once the environment is deleted, every registry fails to load (and is parsed
     afresh, twice the time of no cache at all). Each installation therefore keeps its
-    own set, in a subfolder named by the hash of pint's folder. Sets whose installation
-    no longer exists on this machine, and the loose files of the earlier one-set layout,
-    are deleted here (a set made on another machine sharing the cache folder is kept:
-    its folder need not exist here).
-
-    Raises
-    ------
-    OSError
-        If the folder cannot be made or written.
+    own set, in a subfolder named by the hash of pint's folder and of the versions
+    pint's file names hold (pint's, Python's, the system's: an upgrade in place is a new
+    set, never files added to a set other processes read). When the set is missing,
+    the sets whose installation no longer exists on this machine, those of this
+    installation's earlier versions, the scratch folders of interrupted writes and the
+    loose files of the earlier one-set layout are deleted (a set made on another machine
+    sharing the cache folder is kept: its folder need not exist here).
     """
     import hashlib
     import platform
@@ -122,24 +193,36 @@ def installation_folder(store: Path) -> Path:
 
     import pint
 
-    location = str(Path(pint.__file__).resolve().parent)
-    host = platform.node()
-    folder = store / hashlib.sha256(location.encode()).hexdigest()[:16]
-    if (folder / INSTALLATION_FILE).is_file():
+    from ins_errors.numeric.cache import SCRATCH_PREFIX, scratch_in_use
+
+    location = _pint_location()
+    key = "\n".join([location, pint.__version__, platform.python_implementation(),
+                     platform.python_version(), platform.system()])
+    folder = store / hashlib.sha256(key.encode()).hexdigest()[:16]
+    if (folder / INSTALLATION_FILE).is_file() or not store.is_dir():
         return folder
-    for entry in store.iterdir() if store.is_dir() else ():
-        if entry.is_dir() and not entry.is_symlink():
-            try:
-                made_at, _, made_on = (entry / INSTALLATION_FILE).read_text(
-                    "utf-8").partition("\n")
-            except (OSError, UnicodeDecodeError):
-                continue   # no note yet (being made by another process): kept
-            if made_on.strip() == host and not Path(made_at).is_dir():
-                shutil.rmtree(entry, ignore_errors=True)
-        else:
-            entry.unlink(missing_ok=True)
-    folder.mkdir(parents=True, exist_ok=True)
-    (folder / INSTALLATION_FILE).write_text(f"{location}\n{host}\n", encoding="utf-8")
+    host = platform.node()
+    try:
+        for entry in store.iterdir():
+            if entry == folder:
+                continue
+            if entry.is_dir() and not entry.is_symlink():
+                if entry.name.startswith(SCRATCH_PREFIX):
+                    if not scratch_in_use(entry):
+                        shutil.rmtree(entry, ignore_errors=True)
+                    continue
+                try:
+                    made_at, _, made_on = (entry / INSTALLATION_FILE).read_text(
+                        "utf-8").partition("\n")
+                except (OSError, UnicodeDecodeError):
+                    continue   # no note (an earlier version's set being made): kept
+                if made_on.strip() == host and (made_at == location
+                                                or not Path(made_at).is_dir()):
+                    shutil.rmtree(entry, ignore_errors=True)
+            else:
+                entry.unlink(missing_ok=True)
+    except OSError:
+        pass  # a read-only store: what it holds is read as it is
     return folder
 
 

@@ -75,7 +75,7 @@ def test_documented_cache_commands_run(tmp_path, monkeypatch, capsys):
     for line in lines:
         assert main(shlex.split(line)) == 0
     out = capsys.readouterr().out
-    assert "libraries: 1, 0.0 MB" in out and "removed 1 compiled libraries (0.0 MB)" in out
+    assert "libraries: 1, 0.0 MB" in out and "removed 1 compiled library (0.0 MB)" in out
     assert not list(tmp_path.glob(cache.PATTERN))
 
 

@@ -114,8 +114,9 @@ def test_sets_of_deleted_installations_are_not_read_and_are_removed(tmp_path, mo
     monkeypatch.setattr(units, "units_cache_directory", lambda: store)
     assert _converted() == fresh
     own = units.installation_folder(store)
-    assert made == [own]                              # from the cache, not parsed afresh
+    scratch, = made               # parsed once, in a scratch folder renamed to its set
+    assert scratch.parent == store and not scratch.exists() and own.is_dir()
     assert sorted(p.name for p in store.iterdir()) == sorted([own.name, *kept])
     assert (own / units.INSTALLATION_FILE).read_text("utf-8") == (
         f"{Path(pint.__file__).resolve().parent}\n{host}\n")
-    assert _converted() == fresh and made == [own, own]
+    assert _converted() == fresh and made == [scratch, own]   # read from its set

@@ -527,6 +527,44 @@ def _workers_ignore_ctrl_c() -> Iterator[None]:
         signal.raise_signal(signal.SIGINT)  # the previous handler: KeyboardInterrupt
 
 
+CUT_SHORT_CLOSE_TIMEOUT = 10.0
+"""Seconds a local cluster whose start was cut short has to close (:func:`_closed_if_cut_short`)."""
+
+
+@contextmanager
+def _closed_if_cut_short() -> Iterator[None]:
+    """Close the local Dask cluster whose start a stop cuts short, quietly.
+
+    SIGTERM raises :class:`Terminated` wherever the main thread is, also inside
+    ``LocalCluster(...)`` while the cluster starts (its workers starting in a thread of
+    their own): no cluster object reaches the caller, and Dask's own ``close_clusters``,
+    run as the interpreter exits, closed it then, with workers still starting, and
+    printed "Exception ignored in atexit callback" and an ``AssertionError:
+    Status.init`` traceback after the command's one line. Here the cluster made by the
+    block (Dask keeps every one it makes in ``SpecCluster._instances``) is closed at
+    once, what that close breaks on its way is not printed (the command is stopping:
+    neither its errors nor those its event loop would log, such as the start of a worker
+    process the same SIGTERM ended), and it is taken off Dask's list, so its exit does
+    not close it again.
+    """
+    from distributed.deploy.spec import SpecCluster
+
+    before = set(SpecCluster._instances)
+    try:
+        yield
+    except BaseException:
+        for cluster in set(SpecCluster._instances) - before:
+            SpecCluster._instances.discard(cluster)
+            # its event loop's tasks failed by the stop (workers the same SIGTERM ended
+            # mid-start) are logged "Task exception was never retrieved" when collected
+            loop = getattr(getattr(cluster, "loop", None), "asyncio_loop", None)
+            if loop is not None:
+                loop.set_exception_handler(lambda loop, context: None)
+            with suppress(BaseException):  # a start cut short: whatever it left
+                cluster.close(timeout=CUT_SHORT_CLOSE_TIMEOUT)
+        raise
+
+
 def _run_dask(function, tasks, shared, scheduler, workers, stats, done, failed,
               label: str = "tasks") -> None:
     import logging
@@ -537,7 +575,7 @@ def _run_dask(function, tasks, shared, scheduler, workers, stats, done, failed,
     cluster = None
     try:
         if scheduler is None:
-            with _workers_ignore_ctrl_c():
+            with _workers_ignore_ctrl_c(), _closed_if_cut_short():
                 cluster = LocalCluster(n_workers=workers, threads_per_worker=1,
                                        processes=True, host="127.0.0.1",
                                        dashboard_address="127.0.0.1:0",

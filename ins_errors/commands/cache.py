@@ -16,13 +16,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         description="Work that is costly to redo is kept on disk, in folders under "
                     "$INS_ERRORS_CACHE (compiled loops in the folder itself, the others "
                     "in subfolders; without the variable, ~/.cache/ins-errors/casadi for "
-                    "the loops and ~/.cache/ins-errors/<store> for the others). Compiled "
+                    "the loops and ~/.cache/ins-errors/<store> for the others, "
+                    "$XDG_CACHE_HOME in place of ~/.cache where it is set). Compiled "
                     "loops are bounded by size, $INS_ERRORS_CACHE_LIMIT MB (default 200, "
                     "least recently used deleted first); notes of frozen states, "
                     "generated model code, CasADi functions of the studies, flown motions, "
                     "propagations and structured variations by a number of files or "
-                    "versions each; pint's parsed unit definitions only grow with new "
-                    "pint versions; leftovers of "
+                    "versions each; pint's parsed unit definitions by one set per pint "
+                    "installation; leftovers of "
                     "interrupted or older runs beside the loops are shown and cleared "
                     "too. Everything is rebuilt when needed. Both actions take --json.")
     actions = parser.add_subparsers(dest="action", metavar="ACTION", required=True)
@@ -138,7 +139,8 @@ def stores() -> list[Store]:
               f"the {model_lookup.KEEP_VERSIONS} newest versions of each model file",
               {"versions_per_name": model_lookup.KEEP_VERSIONS}),
         Store("units", units.units_cache_directory(), "pint's parsed unit definitions",
-              "one set per pint installation; those of deleted installations removed",
+              "one set per pint installation; those of deleted installations and "
+              "earlier versions removed",
               {}),
         Store("functions", function_cache.cache_directory(),
               "CasADi functions of the methodological studies",
@@ -198,6 +200,11 @@ def _failed(action: str, folder: Path, error: OSError) -> InsErrorsError:
     where = error.filename or folder
     return InsErrorsError(f"cannot {action} the cache folder {str(folder)!r}: "
                           f"{error.strerror or error} ({where})")
+
+
+def _count(count: int, one: str, many: str) -> str:
+    """``count`` and the noun: ``1 file``, ``0 files``, ``2 files``."""
+    return f"{count} {one if count == 1 else many}"
 
 
 def _size(count: int) -> str:
@@ -269,13 +276,14 @@ def _clear(args: argparse.Namespace, folder: Path, others: list[Store]) -> int:
               "checkout_only": args.checkout, "stores": rows})
         return 0
     which = "of this checkout " if args.checkout else ""
-    print(f"removed {count} compiled libraries {which}({freed / 1e6:.1f} MB) from {folder}")
+    print(f"removed {_count(count, 'compiled library', 'compiled libraries')} {which}"
+          f"({freed / 1e6:.1f} MB) from {folder}")
     if args.checkout:
         print("kept the other stores (" + ", ".join(s.name for s in others)
               + "): they do not record which checkout used an entry")
         return 0
     for row in rows[1:]:
-        print(f"removed {row['removed']} files ({_size(row['bytes_freed'])}) "
+        print(f"removed {_count(row['removed'], 'file', 'files')} ({_size(row['bytes_freed'])}) "
               f"of {row['name']} from {row['folder']}")
     return 0
 

@@ -88,24 +88,44 @@ def run(args: argparse.Namespace) -> int:
 
     Stopped (Ctrl-C, SIGTERM) at any moment, the interruption says how many points the
     store keeps, or that it came before any point was stored."""
-    counts = {"points": 0, "before": 0, "stored": 0}
+    counts = {"points": 0, "before": 0, "stored": 0, "others": 0}
     try:
         return _run(args, counts)
     except KeyboardInterrupt as stop:  # what is kept, and how to go on (the CLI says)
         kept = counts["before"] + counts["stored"]
         if "store" in counts and args.merge is None:
-            from ins_errors.analysis.store import points_done
-
             # the store's own flags: a point written just before the signal, whose count
-            # the callback had not yet taken, is kept too (the rerun reuses it)
-            on_disk = points_done(counts["store"])
-            kept = kept if on_disk is None else max(kept, on_disk)
-        if kept and args.merge is None:
+            # the callback had not yet taken, is kept too (the rerun reuses it); an
+            # extended store's flags count the points of its other grids too
+            on_disk = _points_on_disk(counts["store"])
+            kept = kept if on_disk is None else max(kept, on_disk - counts["others"])
+        if kept and kept >= counts["points"] and args.merge is None:
+            stop.detail = (f"the sweep's {counts['points']} points are all in "
+                           f"{counts['store']}")
+        elif kept and args.merge is None:
             stop.detail = (f"{kept} of the {counts['points']} points are in "
                            f"{counts['store']}; the same command runs the others")
         elif args.merge is None:
             stop.when = "before any point was stored"
         raise
+
+
+def _points_on_disk(store) -> int | None:
+    """How many points the store being filled holds, for the line of a stop; None when
+    that cannot be known. The stop may have cut short anything, also the first import
+    of the store's libraries (a module left half-imported then fails to import again,
+    which gave a traceback instead of the line) or the writing of the store's first
+    group (read then, zarr warned of the half-written folder)."""
+    import warnings
+
+    try:
+        from ins_errors.analysis.store import points_done
+
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return points_done(store)
+    except Exception:
+        return None
 
 
 def _run(args: argparse.Namespace, counts: dict) -> int:
@@ -150,7 +170,7 @@ def _run(args: argparse.Namespace, counts: dict) -> int:
     def say(points: int, todo: int, total: int) -> None:
         import sys
 
-        counts.update(points=points, before=points - todo)
+        counts.update(points=points, before=points - todo, others=sum(others))
         plural = "s" if total != 1 else ""
         how_many = (f"shard {shard}: {points} of the {total} point{plural}" if shard
                     else f"{total} point{plural}")

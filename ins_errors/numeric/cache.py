@@ -29,7 +29,7 @@ import tempfile
 import time
 import warnings
 from collections.abc import Iterable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -390,7 +390,14 @@ def _owners(folder: Path) -> Path:
 
 
 def touch(library: Path) -> None:
-    """Mark ``library`` as used now (LRU order) by this checkout."""
+    """Mark ``library`` as used now (LRU order) by this checkout.
+
+    A library of a read-only cache, found through its link in the private folder
+    (:func:`loops_directory`), is left as it is: the owner of a file may set its times
+    even in a folder that cannot be written, and the read-only cache's order was
+    updated through the link."""
+    if library.is_symlink() or not os.access(library.parent, os.W_OK | os.X_OK):
+        return
     try:
         os.utime(library)
         _mark(library)
@@ -719,7 +726,24 @@ def clear(folder: Path | None = None, checkout_only: bool = False) -> tuple[int,
         if _remove(folder, entry.path):
             count += 1
             freed += entry.size
+    _prune_owners(folder)
     return count, freed
+
+
+def _prune_owners(folder: Path) -> None:
+    """Delete the marks of libraries no longer in ``folder`` and the folders of
+    :func:`_owners` left empty (``cache clear`` left ``owners/<checkout>/`` behind)."""
+    owners = _owners(folder)
+    for checkout in owners.glob("*") if owners.is_dir() else ():
+        if not checkout.is_dir() or checkout.is_symlink():
+            continue
+        for marker in checkout.iterdir():
+            if not (folder / marker.name).exists():
+                marker.unlink(missing_ok=True)
+        with suppress(OSError):  # marks of libraries still there, or one made meanwhile
+            checkout.rmdir()
+    with suppress(OSError):
+        owners.rmdir()
 
 
 def usage(folder: Path) -> tuple[int, int]:
