@@ -133,6 +133,9 @@ def test_a_negligible_block_of_phi_geodetic_gives_no_warning(tmp_path, capsys, f
     assert "warning" not in err and record["warnings"] == []
     estimate = record["discrete"]["hold_error"][0]
     assert estimate["size"] < HOLD_TOLERANCE and estimate["suggested_step_s"] is None
+    # under the tolerance no step is suggested, so the estimate at twice the step (about
+    # a third of the hold estimate's time) is not made
+    assert estimate["size_twice_step"] is None
     assert true / 2 < estimate["size"] < 2 * true, (estimate, true)
 
 

@@ -328,7 +328,7 @@ def typical_sizes(units: list[str]) -> np.ndarray:
 
 @one_blas_thread
 def hold_error(F, G, times, densities, held: DiscreteMatrices, units: list[str],
-               sizes=None) -> HoldError:
+               sizes=None, twice_above: float | None = None) -> HoldError:
     r"""A first-order estimate of what holding F and G at the step's start costs.
 
     :func:`discrete_matrices` holds F and G at their values at each step's start. Over the
@@ -350,7 +350,9 @@ def hold_error(F, G, times, densities, held: DiscreteMatrices, units: list[str],
       no consequence does not count).
 
     The same estimate is also made with every other sample (steps twice as long,
-    :attr:`HoldError.twice`), which shows how the error changes with the step.
+    :attr:`HoldError.twice`), which shows how the error changes with the step; with
+    ``twice_above``, only where the estimate at the step is above it (the twice-the-step
+    estimate costs about a third of the whole, and only a step to suggest needs it).
 
     Parameters
     ----------
@@ -364,6 +366,9 @@ def hold_error(F, G, times, densities, held: DiscreteMatrices, units: list[str],
         Typical size of each state, its SI unit (default :func:`typical_sizes` of
         ``units``; a latitude or longitude error is better weighed as the position
         error it is, 10 m over the Earth's radius, than as an angle).
+    twice_above : float, optional
+        Make the estimate at twice the step only when the estimate at the step exceeds
+        this relative size (e.g. :data:`HOLD_TOLERANCE`); default: always.
 
     Returns
     -------
@@ -379,7 +384,7 @@ def hold_error(F, G, times, densities, held: DiscreteMatrices, units: list[str],
     worst = max(found, key=lambda f: float(f[0].max()))
     k = int(np.argmax(worst[0]))
     twice = None
-    if t.size >= 3:
+    if t.size >= 3 and (twice_above is None or float(worst[0][k]) > twice_above):
         F2, G2, t2 = F[::2], G[::2], t[::2]
         coarse = _hold_sizes(F2, G2, t2, q, discrete_matrices(F2, G2, t2, q), s, blocks)
         twice = float(max(f[0].max() for f in coarse))

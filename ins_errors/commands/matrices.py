@@ -219,7 +219,8 @@ def run(args: argparse.Namespace) -> int:
             if noises:
                 arrays[f"L_{motion.label}"] = Gw
             hold = hold_error(em.F, Gw, motion.times, densities, dm, units,
-                              _state_sizes(model, conv, motion, units, parameters))
+                              _state_sizes(model, conv, motion, units, parameters),
+                              twice_above=HOLD_TOLERANCE)
             holds.append(_hold_record(motion.label, hold, motion.times, step, states))
             if hold.size > HOLD_TOLERANCE:
                 text = _hold_warning(holds[-1], args.step, step)
