@@ -43,7 +43,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ins_errors.errors import InsErrorsError, ShapeError
+from ins_errors.errors import InsErrorsError, ShapeError, name_list
 
 
 class ErrorMatrices(NamedTuple):
@@ -159,7 +159,7 @@ def model_convention(model, convention: str, bias_states: Sequence[str] = (),
                 "description (docs/matrix_check.md, 'Which models')")
         raise unknown_name(f"convention of {model.name}", str(convention), known)
     conv = known[convention]
-    bias_states = list(bias_states)
+    bias_states = name_list(bias_states, "bias_states")  # one string: one bias state
     seen: set[str] = set()
     for name in bias_states:
         if name in seen:

@@ -8,7 +8,7 @@ exits with status 2 instead of showing a traceback.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 
 
 class InsErrorsError(ValueError):
@@ -39,6 +39,38 @@ class InsErrorsWarning(UserWarning):
     """A result that holds but needs a caveat (the integration error is large, the linear
     model leaves its validity, a quantity moves only at second order, ...), issued by the
     Python API; the command line prints the same words with its results instead."""
+
+
+def name_list(names: str | Iterable[str], what: str) -> list[str]:
+    """The names of an argument that takes a sequence of names, as a list.
+
+    A single string is one name (``"accel_bias"`` as ``["accel_bias"]``, never the
+    letters ``a``, ``c``, ...); anything else must be an iterable of strings.
+
+    Parameters
+    ----------
+    names : str or iterable of str
+        What the caller gave.
+    what : str
+        How messages name the argument, e.g. ``"transfer_functions: sources"``.
+
+    Raises
+    ------
+    InsErrorsError
+        One line for something that is neither a name nor names (a number, a mapping
+        of names to values, a list holding a non-string).
+    """
+    if isinstance(names, str):
+        return [names]
+    if isinstance(names, bytes | Mapping) or not isinstance(names, Iterable):
+        raise InsErrorsError(f"{what} takes a name or a list of names, got "
+                             f"{type(names).__name__} {names!r:.60}")
+    listed = list(names)
+    for name in listed:
+        if not isinstance(name, str):
+            raise InsErrorsError(f"{what} takes names (str), got {name!r:.60} in "
+                                 f"{listed!r:.80}")
+    return listed
 
 
 def unknown_name(kind: str, name: str, known: Iterable[str]) -> UnknownNameError:

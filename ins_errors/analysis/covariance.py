@@ -331,9 +331,12 @@ def _square_sums(Phi: np.ndarray, Z0: np.ndarray, C: np.ndarray, steps: int) -> 
 # --------------------------------------------------------------------------------------
 # Propagation
 # --------------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Functionals:
     """Linear functionals ``y = C_x x_e + C_b b`` whose variances are wanted.
+
+    Compared by identity (``==`` is ``is``; hashable): it holds arrays, whose ``==``
+    has no single truth value.
 
     Attributes
     ----------
@@ -381,9 +384,12 @@ def state_and_output_functionals(model, system: LinearSystem) -> Functionals:
     return Functionals(tuple(names), tuple(units), C_x, np.zeros((len(names), nw)))
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class Covariance:
     """Variances of linear functionals, split by source.
+
+    Compared by identity (``==`` is ``is``; hashable): it holds arrays, whose ``==``
+    has no single truth value.
 
     Attributes
     ----------
@@ -398,6 +404,20 @@ class Covariance:
         total-only result (``by_source=False``), one column already scaled.
     total_only : bool
         True when only the total was computed (no split by source).
+
+    The numbers to read (properties, in the functionals' SI units):
+
+    ``std``, shape (nt, q)
+        Total 1σ of each functional at each time.
+    ``variance``, shape (nt, q)
+        Total variance (SI units²), the sum of the contributions.
+    ``contributions``, shape (nt, q, ns)
+        Variance each source contributes (``unit_variances`` times its σ²); (nt, q, 1)
+        for a total-only result.
+    ``source_names``, tuple of str
+        The sources' names, in the order of the contributions' last axis.
+
+    :meth:`index` gives a functional's column (``c.std[:, c.index("delta_v_N")]``).
     """
 
     times: np.ndarray
@@ -409,6 +429,7 @@ class Covariance:
 
     @property
     def source_names(self) -> tuple[str, ...]:
+        """The sources' names, in the order of :attr:`contributions`' last axis."""
         return tuple(s.name for s in self.sources)
 
     @property

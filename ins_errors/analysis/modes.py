@@ -222,10 +222,13 @@ class Mode:
                 "participation": self.participation}
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class RestPoint:
     """The point of the static base F was evaluated at (what other analyses of the same
     base, e.g. :mod:`ins_errors.analysis.transfer`, evaluate G, H and E at).
+
+    Compared by identity (``==`` is ``is``; hashable): it holds arrays, whose ``==``
+    has no single truth value.
 
     Attributes
     ----------
@@ -249,9 +252,12 @@ class RestPoint:
     factors: np.ndarray
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class StaticModes:
     """The modes of one model's F at one static base.
+
+    Compared by identity (``==`` is ``is``; hashable): it holds arrays, whose ``==``
+    has no single truth value.
 
     Attributes
     ----------

@@ -78,7 +78,7 @@ from ins_errors.analysis.transfer_reduction import (
     group_tolerance,
     markov_zero,
 )
-from ins_errors.errors import DomainError, InsErrorsError, unknown_name
+from ins_errors.errors import DomainError, InsErrorsError, name_list, unknown_name
 from ins_errors.numeric.model import Model, as_model
 
 REDUCTIONS = ((False, TOLERANCE), (False, 1e-12), (True, 1e-12))
@@ -578,9 +578,12 @@ def _times_series(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return out
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class TransferFunctions:
     """The transfer functions of some sources to some outputs at one static base.
+
+    Compared by identity (``==`` is ``is``; hashable): it holds arrays, whose ``==``
+    has no single truth value.
 
     Attributes
     ----------
@@ -644,10 +647,11 @@ def transfer_functions(model: Model | str, sources: Sequence[str],
     ----------
     model : Model or str
         A loaded model, a model name or a model file.
-    sources : sequence of str
-        Error sources (at least one).
-    outputs : sequence of str, optional
-        Outputs, or error states read directly (default: every output of the model).
+    sources : sequence of str, or str
+        Error sources (at least one; one string is one source).
+    outputs : sequence of str, or str, optional
+        Outputs, or error states read directly (default: every output of the model;
+        one string is one output).
     latitude, longitude : float
         Position of the base, rad (as ``ins-errors modes``: 50°, 30°).
     heading : float
@@ -679,6 +683,9 @@ def transfer_functions(model: Model | str, sources: Sequence[str],
     0.10197...
     """
     model = as_model(model, "transfer_functions")
+    sources = name_list(sources, "transfer_functions: sources")  # one string: one name
+    if outputs is not None:
+        outputs = name_list(outputs, "transfer_functions: outputs")
     if not sources:
         raise InsErrorsError(f"transfer_functions: give at least one error source of "
                              f"{model.name}")
@@ -698,13 +705,13 @@ def pair_names(model: Model, sources: Iterable[str], outputs: Iterable[str] | No
     InsErrorsError
         No source.
     """
-    sources = list(dict.fromkeys(sources))
+    sources = list(dict.fromkeys(name_list(sources, "sources")))
     if not sources:
         raise InsErrorsError(f"give at least one error source of {model.name}")
     for name in sources:
         model.index("sources", name)
     outputs = [o.name for o in model.outputs] if outputs is None else list(
-        dict.fromkeys(outputs))
+        dict.fromkeys(name_list(outputs, "outputs")))
     known = [o.name for o in model.outputs] + [s.name for s in model.error_states]
     for name in outputs:
         if name not in known:

@@ -122,9 +122,39 @@ def _strapdown_flights():
     ]
 
 
-def parameter_items(parameters: Mapping[str, float] | None) -> tuple[tuple[str, float], ...]:
-    """``parameters`` as sorted (name, float) pairs (hashable; () for none)."""
-    return tuple(sorted((str(k), float(v)) for k, v in (parameters or {}).items()))
+def parameter_items(parameters: Mapping[str, float] | None, model=None
+                    ) -> tuple[tuple[str, float], ...]:
+    """``parameters`` as sorted (name, float) pairs (hashable; () for none).
+
+    Each value takes one number in SI units, as
+    :meth:`~ins_errors.numeric.model.Model.parameter_vector` does: with ``model`` a value
+    that is not one is refused there, in its line (``k_h1 takes a number in SI units
+    (1/s), got '0.03/s'; convert text with ins_errors.units.parse_quantity(...)``).
+    Without it text is kept, for the model to refuse it so when the motions are flown
+    (:func:`flown_motions`); an array or another object is refused here.
+
+    Raises
+    ------
+    InsErrorsError
+        Not a mapping, or a value that is no number (one line naming it).
+    """
+    from ins_errors.errors import InsErrorsError
+    from ins_errors.numeric.model import si_number
+
+    if parameters is None:
+        return ()
+    if not isinstance(parameters, Mapping):
+        raise InsErrorsError(f"parameters takes a mapping of names to SI values, got "
+                             f"{type(parameters).__name__} {parameters!r:.60}")
+    if model is not None:
+        model.parameter_vector(**{str(k): v for k, v in parameters.items()})
+    items = []
+    for name, value in parameters.items():
+        if isinstance(value, str):  # the model's line, with its unit, when it is flown
+            items.append((str(name), value))
+            continue
+        items.append((str(name), si_number(value, f"parameter {name}", "SI units")))
+    return tuple(sorted(items))
 
 
 def motions(model, hours: float = HOURS, step: float = STEP, ellipsoid: str | None = None,
@@ -176,7 +206,7 @@ def flown_motions(model, hours: float = HOURS, step: float = STEP,
     if require_navigation:
         require_description(model)
     flown, skipped = _motions(model.key, float(hours), float(step), ellipsoid,
-                              parameter_items(parameters))
+                              parameter_items(parameters, model))
     return list(flown), list(skipped)
 
 

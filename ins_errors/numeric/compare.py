@@ -36,16 +36,17 @@ warning and not judged, instead of a "validity" ratio of 100 % at any magnitude.
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-from ins_errors.errors import InsErrorsError
+from ins_errors.errors import InsErrorsError, name_list, unknown_name
 from ins_errors.numeric import accuracy
 from ins_errors.numeric.integrators import whole_steps
-from ins_errors.numeric.model import Model
-from ins_errors.numeric.simulate import ErrorCurves, Simulation, simulate
+from ins_errors.numeric.model import Model, as_model
+from ins_errors.numeric.simulate import ErrorCurves, Simulation, error_quantities, simulate
 from ins_errors.numeric.trajectories import Trajectory
 
 NOISE_FLOOR: dict[str, float] = {"rad": 1e-10, "rad/s": 1e-14, "m/s": 1e-6, "m": 1e-3, "1": 1e-10}
@@ -67,6 +68,66 @@ table."""
 VALIDITY_THRESHOLD = 0.05
 """Default linear/direct ratio above which a comparison warns that the linear model is
 leaving its validity."""
+
+
+def validity_ratio(value: float | str | None, what: str = "validity_threshold"
+                   ) -> float | None:
+    """The validity threshold :func:`compare` takes, as a ratio (None: no check).
+
+    A number is a fraction in (0, 1]: ``0.05`` is 5 %. A larger number is refused (``5``
+    would silently be 500 %, a check that never warns), as are 0, negative numbers and
+    NaN (which would warn always or never). A string with a unit of ratio is read by
+    :func:`~ins_errors.units.parse_quantity` (``"5%"``, ``"5 percent"``, ``"500 ppm"``):
+    it may name a ratio above 1, up to
+    :data:`~ins_errors.units.VALIDITY_RATIO_CEILING` (as the command line's
+    ``--validity-threshold``); a string holding a bare number is read as that number.
+
+    Raises
+    ------
+    InsErrorsError
+        One line naming ``what`` and what it takes.
+    """
+    if value is None:
+        return None
+    if isinstance(value, CheckedRatio):
+        return float(value)
+    fraction = f"{what} is a fraction (0.05 for 5 %) or a percentage ('5%')"
+    if isinstance(value, str):
+        try:
+            number = float(value)
+        except ValueError:
+            from ins_errors.units import VALIDITY_RATIO_CEILING, parse_quantity
+
+            ratio = parse_quantity(value, "1", what)
+            if not 0 < ratio < VALIDITY_RATIO_CEILING:
+                raise InsErrorsError(f"{what} {value!r} is outside the accepted range, "
+                                     f"above 0 % and below {100 * VALIDITY_RATIO_CEILING:g} %"
+                                     ) from None
+            return ratio
+    elif isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise InsErrorsError(f"{fraction}, got {type(value).__name__} {value!r:.40}")
+    else:
+        number = float(value)
+    if not 0 < number <= 1:
+        percent = (f": for {number:g} % give {number / 100:g} or '{number:g}%'"
+                   if 1 < number < 100 else "")
+        raise InsErrorsError(f"{what} is a fraction in (0, 1] (0.05 for 5 %), got "
+                             f"{value!r:.40}{percent}")
+    return number
+
+
+class CheckedRatio(float):
+    """A validity ratio already checked against the command line's range (above 0,
+    below :data:`~ins_errors.units.VALIDITY_RATIO_CEILING`): :func:`validity_ratio`
+    takes it as it is, above 1 too, where it refuses a plain number."""
+
+
+def threshold_argument(ratio: float) -> float:
+    """A validity ``ratio`` checked elsewhere (the command line's
+    ``--validity-threshold``, a scenario's ``validity_threshold``: up to 1000 %) as
+    :func:`compare` takes it, the same bits."""
+    return CheckedRatio(ratio)
+
 
 AGREEMENT_FLOOR = 1e-6
 """Relative linear-vs-direct differences below this count as full agreement: the
@@ -97,9 +158,13 @@ class Metric:
         return max(errors) if errors else None
 
 
-@dataclass
+@dataclass(eq=False)
 class Comparison:
     """One case (one set of error sources) compared along one trajectory.
+
+    Compared by identity (``==`` is ``is``; hashable): its curves are arrays, whose
+    ``==`` has no single truth value. Compare two results' numbers through
+    :meth:`to_dict` (the summary, no curves) and ``numpy.array_equal`` on the curves.
 
     Attributes
     ----------
@@ -175,8 +240,6 @@ class Comparison:
         for m in self.metrics:
             if m.quantity == quantity:
                 return m
-        from ins_errors.errors import unknown_name
-
         raise unknown_name("error quantity", quantity, [m.quantity for m in self.metrics])
 
     @property
@@ -353,7 +416,7 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
             method: str = "rk4", record_interval: float | None = None,
             refined: bool = True, jit: bool = True, progress: bool = False,
             platform: str = "exact", integration_error: bool = True,
-            validity_threshold: float | None = VALIDITY_THRESHOLD,
+            validity_threshold: float | str | None = VALIDITY_THRESHOLD,
             labels: Sequence[str] | None = None,
             quantities: Sequence[str] | None = None, warn: bool = True) -> list[Comparison]:
     """Run direct, linear (and refined) for several cases in one batch and compare.
@@ -382,16 +445,20 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     integration_error : bool
         Estimate the integration error (one more run at twice the step) and warn when it
         is too large.
-    validity_threshold : float or None
+    validity_threshold : float, str or None
         Warn when the worst linear/direct ratio exceeds it (one more run at half the
-        magnitudes measures the scaling); None: never.
+        magnitudes measures the scaling): a fraction in (0, 1] (default 0.05, i.e.
+        5 %), or a percentage string such as ``"5%"`` (which may exceed 100 %, up to
+        1000 %); None: never. Anything else (``5``, NaN, a negative number) is refused
+        (:func:`validity_ratio`).
     labels : sequence of str, optional
         Label of each case; default: :func:`case_label` (which converts each source to
         its display unit through pint, a 0.15-0.5 s import in a process that has no
         other use for it, such as a sweep's worker).
-    quantities : sequence of str, optional
+    quantities : sequence of str or str, optional
         The quantities the reader wants (:attr:`Comparison.shown`): the worst ratios and
-        the warnings consider only these. Default: every quantity.
+        the warnings consider only these (one string is one quantity). Default: every
+        quantity.
     warn : bool
         Also issue each case's :attr:`Comparison.warnings` as a Python warning
         (:class:`~ins_errors.errors.InsErrorsWarning`, starting with the case's label), so
@@ -403,6 +470,14 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     list of Comparison
         One per case.
     """
+    model = as_model(model, "compare")
+    validity_threshold = validity_ratio(validity_threshold)  # before any run
+    if quantities is not None:
+        quantities = name_list(quantities, "compare: quantities")
+        known = error_quantities(model)[0]
+        for q in quantities:  # an unknown quantity: one line with suggestions, not a run
+            if q not in known:
+                raise unknown_name("error quantity", q, known)
     if labels is not None:  # before any run: one label per case
         from ins_errors.errors import ShapeError
         from ins_errors.numeric.simulate import source_cases

@@ -22,9 +22,12 @@ class LinearSystemError(InsErrorsError):
     """A motion or grid the linear error equations cannot be sampled on."""
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LinearSystem:
     """The linear error equations sampled on a uniform time grid.
+
+    Compared by identity (``==`` is ``is``; hashable): it holds arrays, whose ``==``
+    has no single truth value.
 
     Attributes
     ----------
@@ -340,11 +343,24 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
                   p: np.ndarray | None = None) -> LinearSystem:
     """The error equations of a model at rest on the Earth (time-invariant).
 
-    Works for any model: the initial conditions it has (latitude, longitude, heading;
-    velocities zero) give the state, ``a_zeta`` (if the model has it) is ``gravity``,
-    ``h`` is ``height``, and the other apparent-acceleration inputs (``a_*``) are solved
-    for so that the ideal state stays at rest (least squares on the ideal equations,
-    which are linear in them); an error is raised if no such inputs exist.
+    For a model fed apparent accelerations whose state stays constant at rest
+    (``orthodromic``, ``north_pointing``, ``geodetic_vertical``, a model file such as
+    ``examples/own_model/schuler_loop.py``): the initial conditions it has (latitude,
+    longitude, heading; velocities zero) give the state, ``a_zeta`` (if the model has
+    it) is ``gravity``, ``h`` is ``height``, and the other apparent-acceleration inputs
+    (``a_*``) are solved for so that the ideal state stays at rest (least squares on the
+    ideal equations, which are linear in them).
+
+    Other models are refused with :class:`LinearSystemError`: a strapdown INS fed body
+    rates and specific forces (``strapdown_ned``, a strapdown model file) and a model
+    whose state moves at rest (``free_azimuth``: its wander angle turns with the Earth).
+    Their static base is the motion generators' one, sampled by
+    :func:`system_from_trajectory`::
+
+        system_from_trajectory(model, trajectories.trajectory(
+            model, trajectories.static_profile(latitude), duration, step))
+
+    which takes every model (the commands build their static bases so).
 
     Parameters
     ----------
@@ -389,9 +405,11 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
         u[free] = np.linalg.lstsq(J, -r0, rcond=None)[0]
     rates = model.numpy.ideal_rhs(x, u, p)
     if np.max(np.abs(rates)) > 1e-12 * max(1.0, np.max(np.abs(r0))):
+        why = ("its state moves at rest" if free else
+               "its inputs are not apparent accelerations a_*")
         raise LinearSystemError(f"static_system: no apparent accelerations a_* keep the "
-                                f"ideal state of {model.name} at rest (its inputs are of "
-                                "another kind); build its static base as the commands do: "
+                                f"ideal state of {model.name} at rest ({why}); build its "
+                                "static base as the commands do: "
                                 "system_from_trajectory(model, trajectories.trajectory("
                                 "model, trajectories.static_profile(latitude), duration, "
                                 "step))")

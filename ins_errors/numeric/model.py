@@ -168,6 +168,14 @@ def si_number(value: Any, what: str, unit: str, error: type[InsErrorsError] = In
         raise error(f"{what} must be a number ({unit}), got {value!r:.60}") from None
 
 
+def _verb(what: str) -> str:
+    """``contain`` after plural names (``inputs u``, ``parameters``, ``error sources w``),
+    ``contains`` after singular ones (``state x``, ``real state xr``)."""
+    words = what.rsplit(": ", 1)[-1].split()
+    noun = words[-2] if len(words) > 1 and len(words[-1]) <= 2 else words[-1]
+    return "contain" if noun.endswith("s") else "contains"
+
+
 class Model:
     """A model's names, generated numeric functions and validated evaluators.
 
@@ -189,7 +197,9 @@ class Model:
         and ``c``; :meth:`index` finds a name's position.
     key : str
         What :func:`load_model` maps back to this exact model (also what it is pickled
-        as).
+        as). Two models compare (and hash) equal when they have the same key and
+        were derived from the same sources: ``load_model("strapdown_ned") ==
+        pickle.loads(pickle.dumps(model))``.
     mode_notes : dict of str to str
         Why a static-base mode is not at its textbook value, when the mechanisation makes
         it so (:attr:`ins_errors.modeling.ModelDefinition.mode_notes`; ``ins-errors
@@ -232,6 +242,25 @@ class Model:
         not picklable): a process pool's worker gets the same model, a model file's
         exact version included."""
         return load_model, (self.key,)
+
+    @property
+    def _identity(self) -> tuple:
+        """What makes two loaded models the same model: the :attr:`key` (a model file's
+        includes the SHA-256 of its content) and the hashes of the sources a built-in
+        model's code was derived from (a built-in model edited since ``make derive`` is
+        derived again into the cache: another model under the same name)."""
+        sources = getattr(self.meta, "MODEL_SOURCES_SHA256", None) or {}
+        return self.key, tuple(sorted(sources.items()))
+
+    def __eq__(self, other: object) -> bool:
+        """Two models are equal when they are the same model definition (:attr:`key`
+        and the sources' hashes), however often it was loaded or unpickled."""
+        if not isinstance(other, Model):
+            return NotImplemented
+        return self._identity == other._identity
+
+    def __hash__(self) -> int:
+        return hash(self._identity)
 
     def __repr__(self) -> str:
         return (f"<Model {self.name!r}: {len(self.states)} states, {len(self.error_states)} "
@@ -400,7 +429,7 @@ class Model:
         bad = ~np.isfinite(array)
         if bad.any():
             position = tuple(int(i[0]) for i in np.nonzero(bad))
-            raise DomainError(f"{what} contain NaN or infinite values (first at index "
+            raise DomainError(f"{what} {_verb(what)} NaN or infinite values (first at index "
                               f"{position if len(position) > 1 else position[0]})")
 
     def _vector(self, value: Any, infos: tuple[Info, ...], what: str, function: str) -> np.ndarray:
@@ -482,9 +511,12 @@ class Model:
 
     def state_matrix(self, x, u, p=None) -> np.ndarray:
         """F of ``ẋe = F xe + G w`` at the ideal state ``x`` (shape ``(n, ...)``), inputs
-        ``u`` ``(nu, ...)`` and parameters ``p`` ``(np,)``, all SI; shape ``(ne, ne,
-        ...)``: rows and columns follow :attr:`error_states` (entry (i, j) in the SI
-        unit of state i per second per unit of state j), batch axes last."""
+        ``u`` ``(nu, ...)`` and parameters ``p`` ``(np,)`` or ``(np, ...)`` (default: the
+        model's defaults, :meth:`parameter_vector`), all SI; shape ``(ne, ne, ...)``:
+        rows and columns follow :attr:`error_states` (entry (i, j) in the SI unit of
+        state i per second per unit of state j), batch axes last. The batch axes of
+        ``x``, ``u`` and ``p`` broadcast against each other: ``p`` of shape ``(np, B)``
+        at one state gives ``(ne, ne, B)``, F for B parameter sets."""
         return self.numpy.state_matrix(*self._check_state(x, u, p, "state_matrix"))
 
     def source_matrix(self, x, u, p=None) -> np.ndarray:

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ins_errors.errors import name_list
 from ins_errors.figure_layout import (
     LEGEND_ROW,
     common_time_range,
@@ -133,8 +134,8 @@ def plot_comparisons(comparisons: Sequence[Comparison], paths: Sequence[str | Pa
     written, figure = [], None
     try:
         for comparison, path, title in zip(comparisons, paths, titles, strict=True):
-            shown = list(quantities) if quantities is not None else shared_quantities(
-                [comparison])
+            shown = (shared_quantities([comparison]) if quantities is None
+                     else name_list(quantities, "quantities"))
             for q in shown:
                 comparison.metric(q)  # raises a one-line error for unknown names
             layout = _ComparisonFigure.layout_of(comparison, shown)

@@ -58,7 +58,7 @@ from functools import cache, lru_cache
 import casadi as ca
 import numpy as np
 
-from ins_errors.errors import DomainError, InsErrorsError, ShapeError, unknown_name
+from ins_errors.errors import DomainError, InsErrorsError, ShapeError, name_list, unknown_name
 from ins_errors.numeric.integrators import (
     CompiledLoop,
     InputRows,
@@ -244,11 +244,15 @@ def _loop(model_name: str, parts: tuple[str, ...], method: str, stride: int, tau
 # --------------------------------------------------------------------------------------
 # Results
 # --------------------------------------------------------------------------------------
-@dataclass
+@dataclass(eq=False)
 class ErrorCurves:
     """Error quantities over time, read like a mapping from quantity name to its curves
     (``curves["delta_latitude"]``, ``"alpha_y" in curves``, ``list(curves)``,
     ``curves.items()``).
+
+    Compared by identity (``==`` is ``is``; hashable), as numpy's ``==`` on the curves
+    has no single truth value: compare numbers with
+    ``numpy.array_equal(a.values, b.values)``.
 
     Attributes
     ----------
@@ -300,9 +304,12 @@ class ErrorCurves:
         return [(name, self.values[k]) for k, name in enumerate(self.names)]
 
 
-@dataclass
+@dataclass(eq=False)
 class Simulation:
     """States of one batch of runs along one trajectory.
+
+    Compared by identity (``==`` is ``is``; hashable): a copy of a run is another run
+    (its records are arrays, compare them with ``numpy.array_equal``).
 
     Attributes
     ----------
@@ -525,8 +532,8 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
     record_interval : float, optional
         Seconds between recorded samples (a multiple of the step that divides the run);
         default: every step.
-    parts : sequence of {"real", "linear", "refined"}
-        Runs to integrate next to the ideal run.
+    parts : sequence of {"real", "linear", "refined"}, or one of them
+        Runs to integrate next to the ideal run (one string is one run).
     jit : bool
         Compile the loop to C (falls back to the CasADi VM where no compiler works).
     progress : bool or str
@@ -561,6 +568,7 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
         raise ShapeError(f"model {model.name!r} has no outputs and no platform angles (error "
                          "states after the computed states): a run has no error to report; "
                          "add an output")
+    parts = name_list(parts, "simulate: parts")  # "linear" is one part, not letters
     for part in parts:
         if part not in PARTS:
             raise unknown_name("simulation part", part, PARTS)

@@ -1263,8 +1263,12 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         :func:`manoeuvre_profile`, :func:`sampled_profile`).
     duration, tau : float
         Length of the run (> 0) and step, s; the duration must be a whole number of steps.
-    p : numpy.ndarray, optional
-        Parameters (default: the model's defaults, Krasovsky ellipsoid).
+    p : numpy.ndarray, shape (np,), optional
+        Parameters, SI (default: the model's defaults, ``model.parameter_vector()``,
+        with the model's own Earth: the Krasovsky ellipsoid for ``orthodromic`` and
+        ``geodetic_vertical``, WGS-84 for ``strapdown_ned``, a sphere for
+        ``north_pointing`` and ``free_azimuth``; ``model.parameter_vector(
+        ellipsoid="wgs84")`` takes another).
     progress : bool
         Show progress while integrating a stored true motion.
     stream : bool, optional
