@@ -108,7 +108,7 @@ def test_sizes_are_relative_to_the_largest_term():
     (f,) = [f for r in results_at(double, line_of(CORRECT, "dot(Delta_V_eta)"))
             for f in r.findings]
     assert f.size == pytest.approx(1.0, rel=1e-12)
-    assert f.detail == "hand/model = 2 at every point"
+    assert f.detail == "hand/model = 2 at every point: a factor 2 too many?"
 
 
 def test_small_omissions_are_drops_but_small_wrong_terms_are_mistakes():
@@ -287,7 +287,7 @@ def test_manual_d_factor_two_and_final_exponent(manual_reports):
         f, _ = _finding(text, _manual_line(start), "delta_u31")
         assert f.role == "knock-on" and f.roots == (root,), (start, f)
     f, _ = _finding(text, _manual_line("Delta_R_E"), "delta_u31")
-    assert f.detail == "hand/model = 2 at every point"
+    assert f.detail == "hand/model = 2 at every point: a factor 2 too many?"
 
 
 def test_manual_findings(manual_reports):

@@ -276,8 +276,9 @@ def test_sources_the_file_leaves_out_are_named_on_the_terminal(tmp_path, capsys)
      "exponent -1/2 of R where -1 belongs"),
     ("dot(delta_V) = -g**2*psi + accel_bias", "wrong exponent",
      "exponent 2 of g where 1 belongs"),
-    # a plain factor stays a coefficient (2 is no power of R or g)
-    ("dot(delta_phi) = 2*delta_V/R", "wrong coefficient", "hand/model = 2 at every point"),
+    # a plain factor stays a coefficient (2 is no power of R or g), named as a factor
+    ("dot(delta_phi) = 2*delta_V/R", "wrong coefficient",
+     "hand/model = 2 at every point: a factor 2 too many?"),
 ])
 def test_exponent_slips_on_model_parameters(tmp_path, capsys, line, kind, detail):
     """δφ' = δV/R and δV' = −g ψ + ∇ (the tutorial's loop) with one exponent changed: the

@@ -53,6 +53,7 @@ from ins_errors.checker.kinds import (  # noqa: F401 (also names of this module)
     severity,
 )
 from ins_errors.checker.parse import HandEquation, HandFile, Problem
+from ins_errors.checker.ratio_names import ratio_text
 from ins_errors.checker.sides import (
     HandSide,
     ModelSide,
@@ -108,6 +109,14 @@ class Finding:
         comes with it). Its size and kind are those of the difference the definitions
         make (as written against isolated); ``hand``/``model`` are the whole
         coefficients.
+    pair : tuple of str
+        One finding of two lines (:mod:`~ins_errors.checker.line_pairs`: a mirror pair,
+        a term in the wrong row): the other half's line (``"line 30 dot(delta_v_N)"``)
+        and quantity; empty otherwise. The half that carries the detail and the pair's
+        effect has ``merged`` False.
+    merged : bool
+        This finding is the other half of the pair named by ``pair``: listed under that
+        finding, not counted again.
     effect : dict
         Effect on the error trajectory (see :mod:`ins_errors.checker.effect`), if
         computed: ``point``; for each time (``1h``, ``24h``) the worst single case's
@@ -130,6 +139,8 @@ class Finding:
     roots: tuple[str, ...] = ()
     part: bool = False
     effect: dict = field(default_factory=dict, compare=False)
+    pair: tuple[str, ...] = ()
+    merged: bool = False
 
     @property
     def is_mistake(self) -> bool:
@@ -216,7 +227,8 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
              tiny: float, evaluate: Callable[[list[sp.Expr]], np.ndarray | None],
              known: list[sp.Symbol], term_split: Callable | None = None,
              proportional: bool = False, hand_tiny: float | None = None,
-             model_tiny: float | None = None) -> tuple[str, str]:
+             model_tiny: float | None = None,
+             factors: list[tuple[str, float]] | None = None) -> tuple[str, str]:
     """(kind, detail) of a coefficient that differs.
 
     Parameters
@@ -239,6 +251,17 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
         Below these the hand's (the model's) values are zero: a side has a term unless
         it is negligible against that side's own terms (default ``tiny``). A model term of
         1 against a hand's 1e15 is a wrong coefficient, not an extra term.
+    factors : list of (str, float), optional
+        Named factors a constant ratio is compared with
+        (:func:`~ins_errors.checker.ratio_names.factors`: 2, 1/2, the Earth radius and
+        gravity): a ratio that is one is named, ``hand/model = 1.56961e-07 = 1/R (R =
+        6.371e+06 m) at every point: a factor 1/R too many?``.
+
+    A constant ratio at a single reference point (``@scope static base``) says nothing
+    of a constant factor: there a function slip that makes the hand's coefficient the
+    model's (:func:`function_at_one_point`) is named first, with the ratio it gives,
+    as a question (``hand/model = cot(phi) at the one reference point: cos(phi) written
+    where sin(phi) belongs?``).
     """
     hand_tiny = tiny if hand_tiny is None else hand_tiny
     model_tiny = tiny if model_tiny is None else model_tiny
@@ -262,7 +285,11 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
         exponent = exponent_that_fits(hand_expr, ms, tiny, evaluate)
         if exponent is not None:
             return EXPONENT, exponent
-        return COEFFICIENT, f"hand/model = {ratios[0]:.6g} at every point"
+        if ms.size == 1:
+            swapped = function_at_one_point(hand_expr, ms, tiny, evaluate)
+            if swapped is not None:
+                return FUNCTION, swapped
+        return COEFFICIENT, ratio_text(float(ratios[0]), factors or [], "at every point")
     changed = change_that_fits(hand_expr, ms, tiny, evaluate, known,
                                proportional=proportional)
     if changed is not None:
@@ -298,6 +325,54 @@ def exponent_that_fits(hand_expr: sp.Expr, target: np.ndarray, tiny: float,
     for (text, _), v in zip(options, values, strict=True):
         if np.all(np.isfinite(v)) and np.all(np.abs(v - target) <= TOLERANCE * scale):
             return text
+    return None
+
+
+ONE_POINT = 1e-9
+"""Relative agreement of a function slip at a single reference point
+(:func:`function_at_one_point`): one number only, so tighter than :data:`TOLERANCE`."""
+
+RATIO_NAMES = {("cos", "sin"): "cot", ("sin", "cos"): "tan"}
+"""hand/model of a function written for another, by name (cos for sin: cot)."""
+
+
+def function_at_one_point(hand_expr: sp.Expr, target: np.ndarray, tiny: float,
+                          evaluate: Callable[[list[sp.Expr]], np.ndarray | None]
+                          ) -> str | None:
+    """The detail of a function slip (sin for cos, a factor cos φ that should not be
+    there, ...: the ``wrong function`` changes of :func:`candidates`) that makes
+    ``hand_expr`` equal ``target`` at a single reference point, to :data:`ONE_POINT`,
+    naming the ratio it gives: ``hand/model = cot(phi) at the one reference point:
+    cos(phi) written where sin(phi) belongs?``; None if none does. One point cannot
+    tell a function slip from a constant factor, hence the question."""
+    options = [(text, changed, f) for f in sorted(
+        hand_expr.atoms(sp.sin, sp.cos, sp.tan, sp.cot), key=sp.default_sort_key)
+        for kind, text, changed in candidates(hand_expr, [])
+        if kind == FUNCTION and text.startswith(f"{f} ")]
+    if not options:
+        return None
+    values = evaluate([changed for _, changed, _ in options])
+    if values is None:
+        return None
+    scale = np.maximum(np.abs(target), tiny)
+    for (text, changed, f), v in zip(options, values, strict=True):
+        if not (np.all(np.isfinite(v)) and np.all(np.abs(v - target) <= ONE_POINT * scale)):
+            continue
+        wanted = _replacement(hand_expr, changed, f)
+        ratio = (RATIO_NAMES.get((f.func.__name__, wanted.func.__name__))
+                 if wanted is not None and wanted.is_Function else None)
+        shown = (f"{ratio}({f.args[0]})" if ratio else
+                 sp.sstr(f) if wanted is None or wanted == 1 else sp.sstr(f / wanted))
+        return f"hand/model = {shown} at the one reference point: {text}?"
+    return None
+
+
+def _replacement(hand_expr: sp.Expr, changed: sp.Expr, f: sp.Expr) -> sp.Expr | None:
+    """What ``f`` was replaced by in ``changed`` (a one-place change of ``hand_expr``)."""
+    for g in (sp.S.One, sp.sin(f.args[0]), sp.cos(f.args[0]), sp.tan(f.args[0]),
+              f.func(f.args[0] / 2)):
+        if hand_expr.xreplace({f: g}) == changed:
+            return g
     return None
 
 

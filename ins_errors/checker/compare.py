@@ -42,8 +42,10 @@ import sympy as sp
 from ins_errors.checker import classify as cl
 from ins_errors.checker.classify import Finding
 from ins_errors.checker.extreme import at_least, first_largest
+from ins_errors.checker.line_pairs import pair_findings
 from ins_errors.checker.notation import Notation, default_notation
 from ins_errors.checker.parse import HandEquation, HandFile, Problem
+from ins_errors.checker.ratio_names import earth_factors
 from ins_errors.checker.reference import (
     DEFAULT_ATTITUDE,
     Magnitudes,
@@ -218,8 +220,20 @@ class CheckReport:
 
     @property
     def mistakes(self) -> list[tuple[EquationResult, Finding]]:
-        """Findings classed as mistakes (of any size, roots and knock-ons)."""
-        return [(r, f) for r, f in self.findings if f.is_mistake]
+        """Findings classed as mistakes (of any size, roots and knock-ons); the other
+        half of a pair (:attr:`~ins_errors.checker.classify.Finding.merged`) is counted
+        with the finding that names it."""
+        return [(r, f) for r, f in self.findings if f.is_mistake and not f.merged]
+
+    def merged_with(self, result: EquationResult, finding: Finding
+                    ) -> list[tuple[EquationResult, Finding]]:
+        """The other half of ``finding``'s pair (:mod:`~ins_errors.checker.line_pairs`),
+        listed under it; empty for a finding of one line."""
+        if not finding.pair or finding.merged:
+            return []
+        return [(r, f) for r, f in self.findings if f.merged
+                and f.pair == (f"line {result.equation.line} {result.label}",
+                               finding.quantity)]
 
     @property
     def root_mistakes(self) -> list[tuple[EquationResult, Finding]]:
@@ -447,6 +461,9 @@ class Comparison:
         self._values = values
         self._tree = TreeValues(self.arguments, self.arrays) if tree is None else tree
         self.zero_checked = True
+        self.factors: list[tuple[str, float]] = []
+        """Named factors a constant ratio is compared with
+        (:func:`~ins_errors.checker.ratio_names.earth_factors`)."""
         self.fixed: frozenset[str] = frozenset()
         """Names of the model's parameters (a parameter that is 0 is the model's choice,
         not a motion that hides a term)."""
@@ -689,10 +706,11 @@ class Comparison:
         if diagnose:
             kind, detail = cl.diagnose(
                 info["hand_expr"], info["model_expr"], hs, ms, tiny, self.try_evaluate,
-                self.arguments, self._split, **sides)
+                self.arguments, self._split, factors=self.factors, **sides)
         else:  # the cheap, numeric part only (omitted, extra, sign, constant ratio)
             kind, detail = cl.diagnose(info["hand_expr"], info["model_expr"], hs, ms, tiny,
-                                       lambda exprs: None, [], **sides)
+                                       lambda exprs: None, [], factors=self.factors,
+                                       **sides)
         return Finding(str(b), kind, cl.severity(kind, info["size"], self.threshold),
                        info["size"], info["point"], _display(info["hand_shown"]),
                        _display(info["model_shown"]), detail)
@@ -957,6 +975,7 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
                         or sp.Symbol(b.name, real=True)) for b in basis}
     comparison = Comparison(motions.points, basis, symbols, threshold, values, tree)
     comparison.zero_checked = hand.scope is None  # a scope limits the claim to its points
+    comparison.factors = earth_factors(d, parameters)
     comparison.fixed = frozenset(p.name for p in d.parameters)  # 0 by the model's choice
     comparison.display_model = _reciprocal_aliases(side, notation)
     comparison.expand_model = _expanded_intermediates(d)
@@ -975,6 +994,8 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
                                      declared, needed))
     cl.assign_roots(results, prepared, hand)
     cl.line_slips(results, prepared, hand, resolver, comparison, declared, needed, threshold)
+    pair_findings(results, {(id(eq), it.form): it for eq, its in zip(
+        hand.equations, prepared, strict=True) for it in its}, comparison, threshold)
     if hand.real_work:
         from ins_errors.checker.realwork import check_real_work, platform_angles
 

@@ -1039,9 +1039,11 @@ def _symbol_slips(findings: list, coefficient_of: dict[str, list[sp.Expr]],
 def to_terminal(check: ConventionCheck) -> str:
     """The matrix report, then every finding with the hand file's line (and the lines of
     the definitions its entry comes through: ``via rho_N, line 7``)."""
+    from ins_errors.checker.definition_causes import causes
     from ins_errors.checker.matrix_report import to_terminal as matrix_terminal
 
     out = [matrix_terminal(check.report), "", "Findings by line of the hand file:"]
+    out += [f"  {cause.text}" for cause in causes(check)]  # a definition they share first
     if not check.report.findings:
         out.append("  (none: every term agrees)")
     for f in sorted(check.report.findings, key=check.line_of):  # (stable: worst first)
@@ -1112,6 +1114,11 @@ def to_json(check: ConventionCheck) -> dict:
     out = {"summary": summary_counts(check), **matrix_json(check.report)}
     for shown, f in zip(out["findings"], check.report.findings, strict=True):
         shown["via"] = [{"name": d.name, "line": d.line} for d in check.via_of(f)]
+    from ins_errors.checker.definition_causes import causes
+
+    out["causes"] = [{"definition": c.name, "line": c.line, "entries": list(c.entries),
+                      "reached": c.reached, "slip": c.slip or None, "text": c.text}
+                     for c in causes(check)]
     out["lines"] = {row: line for row, (line, _) in check.lines.items()}
     out["definitions"] = {d.name: d.line for d in check.definitions.values()}
     if check.notes:

@@ -11,7 +11,9 @@ in:
   corrected; for a declared drop, the term the declaration removes);
 * a mistake in a definition changes every error-state line it reaches by what it carries
   there (hand minus isolated hand of those lines);
-* a mistake in a latitude/longitude line changes the position read out, not the states.
+* a mistake in a latitude/longitude line changes the position read out, not the states;
+* one finding of two lines (a mirror pair, a term in the wrong row:
+  :mod:`~ins_errors.checker.line_pairs`) changes both lines' entries together.
 
 The effect is the largest change over the cases (the worst single error, as the matrix
 check reports) of the horizontal position error (latitude and longitude errors, m, on a
@@ -286,6 +288,7 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
         return effect
 
     state_of = {f"error state {s}": i for i, s in enumerate(states)}
+    by_line = {f"line {r.equation.line} {r.label}": r for r in report.results}
     for result in report.results:
         item = items.get((id(result.equation), result.form))
         if item is None or item.hand is None:
@@ -297,7 +300,8 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
                 # the line's own findings, also those one slip of the line explains
                 # (knock-ons of the line itself, under its root cl.LINE: all its columns)
                 inline = g.role == cl.KNOCK_ON and g.roots == (result.reference,)
-                if (g.role != cl.ROOT and not inline) or not np.isfinite(g.size):
+                if ((g.role != cl.ROOT and not inline) or not np.isfinite(g.size)
+                        or g.merged):  # (the other half of a pair: its effect is there)
                     continue
                 delta_f, delta_drive = np.zeros((k, n, n)), np.zeros((k, n, len(sources)))
                 # the line's own part (definitions it uses corrected); a declared drop
@@ -310,6 +314,13 @@ def add_effects(report, d, side, comparison, identify, prepared, resolver,
                              comparison, symbols, sources, magnitude,
                              only=None if g.quantity == cl.LINE
                              else set(g.quantity.split(" -> ")))
+                    other = by_line.get(g.pair[0]) if g.pair else None
+                    it = (items.get((id(other.equation), other.form))
+                          if other is not None else None)
+                    if it is not None and other.target in state_of:  # a pair: both lines
+                        _add_row(delta_f, delta_drive, state_of[other.target],
+                                 it.hand_isolated, it.model_declared, comparison, symbols,
+                                 sources, magnitude, only={g.pair[1]})
                 except _UnresolvedError:
                     continue
                 effects[id(g)] = run(delta_f, delta_drive, {}, g.point)

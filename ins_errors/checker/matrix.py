@@ -47,6 +47,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
+from itertools import combinations
 from pathlib import Path
 
 import numpy as np
@@ -66,6 +67,7 @@ from ins_errors.checker.extreme import first_largest
 from ins_errors.checker.kinds import (
     COEFFICIENT,
     DECLARED,
+    DROPPED,
     EXTRA,
     MISTAKE,
     OMITTED,
@@ -98,6 +100,7 @@ from ins_errors.checker.matrix_slips import (
     triples,
 )
 from ins_errors.checker.navigation import require_description
+from ins_errors.checker.ratio_names import earth_factors, factor_name, ratio_text, trig_name
 from ins_errors.checker.typical import (
     _earth,
     magnitude_override,
@@ -175,11 +178,12 @@ class EntryFinding:
         ("gyro_bias_x", "gyro_bias_y", "gyro_bias_z"))``); its effect is the whole
         block's. None for a finding of one entry.
     pair : tuple of str or None
-        ``(row, column)`` of the mirror entry F[column, row] when the two differ by
-        exactly opposite amounts at every sample (hand − model = +d here, −d there: an
-        antisymmetric term such as a [ω×] of Coriolis written with the wrong sign or
-        left out in both, :func:`_merge_pairs`): one finding for both, this the larger,
-        and its effect is the pair's. None otherwise.
+        ``(row, column)`` of the other entry merged into this finding, the two differing
+        by exactly opposite amounts at every sample (hand − model = +d here, −d there):
+        the mirror entry F[column, row] (an antisymmetric term such as a [ω×] of
+        Coriolis written with the wrong sign or left out in both, :func:`_merge_pairs`;
+        this the larger), or the entry of the same column in the row a term written
+        here belongs in (:func:`_merge_rows`). Its effect is the pair's. None otherwise.
     """
 
     matrix: str
@@ -258,6 +262,11 @@ class MatrixReport:
         The hand's declared simplifications (``@neglect`` of a ``@convention`` file, see
         :class:`DeclaredTerm`), as ``line N: ITEMS (reason)``, and those that explain no
         finding.
+    convention_hint : str
+        With many mistakes (:data:`MANY`), another convention of the model whose states,
+        of the same units in the same order, the hand's entries agree with entirely or
+        with far fewer mistakes (:func:`_other_convention`): the wrong convention named?
+        ``""`` otherwise.
     """
 
     model: str
@@ -281,6 +290,7 @@ class MatrixReport:
     vertical_effects: dict[str, VerticalEffect] = field(default_factory=dict)
     bias_states: list[BiasState] = field(default_factory=list)
     skipped_motions: list[str] = field(default_factory=list)
+    convention_hint: str = ""
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -404,6 +414,55 @@ def _ratio_by_motion(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray
                "it: a wrong factor of that term?)" if len(said) > 1 else ""))
 
 
+EVERY_SAMPLE = " at every sample"
+"""How the detail of a constant ratio ends (:func:`_classify`)."""
+
+
+def _named_ratio(h: np.ndarray, m: np.ndarray, mag: float, model_scale: np.ndarray,
+                 latitude: np.ndarray, factors: list[tuple[str, float]]) -> str:
+    """The detail of a constant hand/model that names it, or ``""``: a factor of the
+    Earth radius or gravity, or 2 (:func:`~ins_errors.checker.ratio_names.ratio_text`);
+    at one latitude (every sample at the same, ``@scope static base``) a ratio of the
+    latitude's functions, tan φ or cot φ (:func:`~ins_errors.checker.ratio_names.
+    trig_name`: sin φ and cos φ swapped?). ``latitude`` (S,): rad at each sample (NaN
+    where the navigation solution has none); ``model_scale`` (S,): the largest term of
+    the model's row, against which its entry is 0."""
+    on = np.abs(m) * mag > AGREEMENT * model_scale
+    if not on.any():
+        return ""
+    q = h[on] / m[on]
+    ratio = float(np.median(q))
+    found = factor_name(ratio, factors)
+    if found is not None:
+        return ratio_text(ratio, factors, EVERY_SAMPLE.strip())
+    lat = latitude[on]
+    if np.all(np.isfinite(lat)) and np.ptp(lat) == 0:
+        trig = trig_name(q, lat)
+        if trig:
+            return (f"hand/model = {ratio:.6g} = {trig.split(':')[0]} at every sample, all "
+                    f"at one latitude (φ = {np.degrees(lat[0]):.4g}°):{trig.split(':', 1)[1]}")
+    return ""
+
+
+def _trig_on_a_motion(h: np.ndarray, m: np.ndarray, mag: float, model_scale: np.ndarray,
+                      latitude: np.ndarray, motion_of: np.ndarray, labels: list[str]) -> str:
+    """``"on motion 'static' (φ = 50° throughout) hand/model = cot φ at every sample:
+    cos φ written where sin φ belongs?"`` when on a motion at one latitude the ratio is
+    one of :data:`~ins_errors.checker.ratio_names.TRIG` (a sin/cos slip of a term that
+    is the whole entry at rest, beside terms of the motion elsewhere), else ``""``."""
+    for k, label in enumerate(labels):
+        on = (motion_of == k) & (np.abs(m) * mag > AGREEMENT * model_scale)
+        lat = latitude[on]
+        if on.sum() < 2 or not np.all(np.isfinite(lat)) or np.ptp(lat) != 0:
+            continue
+        trig = trig_name(h[on] / m[on], lat)
+        if trig:
+            name, says = trig.split(": ", 1)
+            return (f"on motion {label!r} (φ = {np.degrees(lat[0]):.4g}° throughout) "
+                    f"hand/model = {name} at every sample: {says}")
+    return ""
+
+
 def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, threshold: float,
               left_out: bool, motion_of: np.ndarray | None = None,
               hand_scale: np.ndarray | None = None, model_scale: np.ndarray | None = None
@@ -446,7 +505,7 @@ def _classify(h: np.ndarray, m: np.ndarray, mag: float, scale: np.ndarray, thres
                                             f"{q.max():.6g}")
         elif (not only_hand.any() and q.size
               and np.ptp(q) <= 1e-6 * np.abs(np.median(q))):
-            kind, detail = COEFFICIENT, f"hand/model = {np.median(q):.6g} at every sample"
+            kind, detail = COEFFICIENT, f"hand/model = {np.median(q):.6g}{EVERY_SAMPLE}"
         elif (part := _within(h, m, 1.0, mag, scale, motion_of)) is not None:
             kind, detail = APPROXIMATED, (
                 f"hand − model at most {part:.2g} of the entry's largest value on each "
@@ -537,14 +596,17 @@ class _Sampled:
 def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
              motion_list: list[Motion],
              declared: dict[tuple[str, str, str], list[DeclaredTerm]] | None = None,
-             used: set[int] | None = None, source_sizes: np.ndarray | None = None) -> None:
+             used: set[int] | None = None, source_sizes: np.ndarray | None = None,
+             parameters: Mapping[str, float] | None = None) -> None:
     """Classify every entry of the hand's rows into ``report.findings``.
 
     ``declared``: (matrix, row, column) -> the declared terms in force for that entry
     (:class:`DeclaredTerm`); ``used`` receives the declarations that explain a finding.
     ``source_sizes``: typical size of every model error source, SI, in the model's
     order (default: the fixed ones of
-    :func:`~ins_errors.checker.typical.typical_magnitude`).
+    :func:`~ins_errors.checker.typical.typical_magnitude`). ``parameters``: the model
+    parameters set (SI), for the radius and gravity a constant ratio is named by
+    (:func:`_named_ratio`).
     """
     names = conv.names
     n_own = len(names) - len(conv.biases)
@@ -566,6 +628,10 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
     Fh_full = np.zeros((Fh.shape[0], len(rows), len(names)))
     Fh_full[:, :, rows] = Fh
     radii_ratio = _radii_ratio(motion_list)
+    latitude = np.concatenate([np.broadcast_to(np.asarray(
+        m.navigation.get("latitude", np.nan), dtype=float), m.times.shape)
+        for m in motion_list])
+    factors = earth_factors(model, parameters)
     findings = []
     series: dict[tuple[str, str, str], tuple] = {}  # (matrix, row, column) -> (h, m, mag, scale)
     compared = 0
@@ -599,9 +665,15 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
             if verdict is None:
                 continue
             kind, severity, detail = verdict
+            named = ""
+            if kind == COEFFICIENT and detail.endswith(EVERY_SAMPLE):
+                named = _named_ratio(h, m, mag, own["model"], latitude, factors)
+                detail = named or detail
             if kind == COEFFICIENT and not detail:
                 detail = (_sign_on_a_motion(h, m, mag, scale, sample_motion, labels)
-                          or _ratio_by_motion(h, m, mag, scale, sample_motion, labels))
+                          or _ratio_by_motion(h, m, mag, scale, sample_motion, labels)
+                          or _trig_on_a_motion(h, m, mag, own["model"], latitude,
+                                               sample_motion, labels))
             if matrix == "F" and i >= n_own and i == j:  # a bias state's own rate
                 detail = _bias_rate_detail(conv.biases[i - n_own], h, detail)
             ratio = np.abs(h - m) * mag / scale
@@ -621,7 +693,8 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                 kind, detail = SYMBOL, swap
                 severity = classify_severity(SYMBOL, float(ratio.max()), report.threshold)
             elif (kind == COEFFICIENT and matrix == "F"  # a term of a sum left out?
-                  and i < n_own and j < n_own):  # (not in a bias state's row or column)
+                  and i < n_own and j < n_own  # (not in a bias state's row or column)
+                  and not named):  # (a factor 1/R too many is no term left out)
                 if entry_terms is None:
                     from ins_errors.checker.matrix_terms import EntryTerms
 
@@ -663,9 +736,10 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                     report.threshold)
                 compared -= merged  # the block is one entry compared
     units = {st.name: st.unit for st in conv.states}
-    findings, merged = _merge_pairs(findings, series, units, set(report.vertical),
-                                    report.threshold)
+    findings, merged = _merge_pairs(findings, series, units, report.threshold)
     compared -= merged  # the pair is one entry compared
+    findings, merged = _merge_rows(findings, series, report.threshold)
+    compared -= merged
     findings.sort(key=lambda f: (f.severity not in (MISTAKE, SMALL_MISTAKE), -f.size))
     report.findings = findings
     report.compared = compared
@@ -703,7 +777,7 @@ PAIRED = frozenset({COEFFICIENT, SIGN, OMITTED, EXTRA, APPROXIMATED})
 
 
 def _merge_pairs(findings: list[EntryFinding], series: dict[tuple[str, str, str], tuple],
-                 units: dict[str, str], vertical: set[str], threshold: float
+                 units: dict[str, str], threshold: float
                  ) -> tuple[list[EntryFinding], int]:
     """The findings with each mirror pair of F merged into one, and the number merged
     away.
@@ -715,10 +789,12 @@ def _merge_pairs(findings: list[EntryFinding], series: dict[tuple[str, str, str]
     sign or left out, which changes both entries together. Either entry alone breaks
     the antisymmetry and propagates quite differently (a Coriolis sign slip: each alone
     ~60 times the pair's error after a day), so the one kept, the larger, carries the
-    pair's effect (:attr:`EntryFinding.pair`) and names its partner. A pair with no
-    mistake in it (two dropped small terms, a sphere's radius in an [ω×]), entries of
-    held vertical-channel states, blocks, index slips and declared drops are left as
-    they are.
+    pair's effect (:attr:`EntryFinding.pair`) and names its partner. A pair with a
+    held vertical-channel state in it (Coriolis' 2Ω_N between dv_E and dv_D) is merged
+    too: its effect is the pair's on the height error with that channel free
+    (:func:`~ins_errors.checker.matrix_effects.vertical_effects`). A pair with no
+    mistake in it (two dropped small terms, a sphere's radius in an [ω×]), blocks,
+    index slips and declared drops are left as they are.
 
     Parameters
     ----------
@@ -728,14 +804,11 @@ def _merge_pairs(findings: list[EntryFinding], series: dict[tuple[str, str, str]
         largest term), each at the samples, shape (S,) (the size a float).
     units : dict
         State -> unit.
-    vertical : set of str
-        Held vertical-channel states.
     threshold : float
     """
     def eligible(f: EntryFinding) -> bool:
         return (f.matrix == "F" and f.block is None and f.kind in PAIRED
                 and f.severity != DECLARED and f.row != f.column
-                and f.row not in vertical and f.column not in vertical
                 and units.get(f.row) is not None and units.get(f.row) == units.get(f.column))
 
     by_entry = {(f.row, f.column): f for f in findings if eligible(f)}
@@ -756,8 +829,8 @@ def _merge_pairs(findings: list[EntryFinding], series: dict[tuple[str, str, str]
         severity = (big.severity if big.severity == MISTAKE or small.severity not in
                     (MISTAKE, SMALL_MISTAKE) else small.severity)
         same = (small.kind, small.detail) == (big.kind, big.detail)
-        partner = (f"{small.entry} (hand {small.hand + 0.0:.6g}, model "
-                   f"{small.model + 0.0:.6g}, "
+        partner = (f"{small.entry} (hand {_value(small, small.hand)}, model "
+                   f"{_value(small, small.model)}, "
                    + ("the same kind" if same else small.kind
                       + (f": {small.detail}" if small.detail else "")) + ")")
         said = (f"one finding with its mirror {partner}: hand − model there is exactly "
@@ -767,6 +840,78 @@ def _merge_pairs(findings: list[EntryFinding], series: dict[tuple[str, str, str]
         kept[id(big)] = replace(big, severity=severity, pair=(small.row, small.column),
                                 detail=f"{big.detail}; {said}" if big.detail else said)
         gone.add(id(small))
+    out = [kept.get(id(f), f) for f in findings if id(f) not in gone]
+    return out, len(gone)
+
+
+def _value(f: EntryFinding, value: float) -> str:
+    """:func:`~ins_errors.checker.matrix_report.entry_value` (that module imports this
+    one)."""
+    from ins_errors.checker.matrix_report import entry_value
+
+    return entry_value(f, value)
+
+
+ROWS = frozenset({COEFFICIENT, OMITTED, EXTRA, APPROXIMATED})
+"""Kinds of a finding that may be half of a term written in the wrong row
+(:func:`_merge_rows`)."""
+WRONG_ROW = "belongs in row"
+"""Words of the detail of a term written in the wrong row (:func:`_merge_rows`)."""
+
+
+def _merge_rows(findings: list[EntryFinding], series: dict[tuple[str, str, str], tuple],
+                threshold: float) -> tuple[list[EntryFinding], int]:
+    """The findings with each term written in the wrong row merged into one, and the
+    number merged away.
+
+    Two entries of one column (of F or of G) in two rows, whose differences are exactly
+    opposite, hand − model = t in row Y and −t in row X to the agreement level of both
+    rows at every sample, where Y's is an extra term or X's an omitted one (which says
+    which way the term moved), are one slip: the term of row X written in row Y (a gyro
+    drift in the latitude line instead of the tilt line). Each alone reads as an extra
+    term and an omitted one, and propagates differently from the move. The one kept is
+    Y's, of kind ``wrong symbol or index`` (a mistake whatever its size), naming X's
+    entry in :attr:`EntryFinding.pair`; its effect is the pair's. A column with more
+    than one such pairing for an entry is left as it is.
+    """
+    def eligible(f: EntryFinding) -> bool:
+        return (f.block is None and f.pair is None and f.kind in ROWS
+                and f.severity in (MISTAKE, SMALL_MISTAKE, DROPPED))
+
+    by_column: dict[tuple[str, str], list[EntryFinding]] = {}
+    for f in findings:
+        if eligible(f):
+            by_column.setdefault((f.matrix, f.column), []).append(f)
+    pairs = []
+    for (matrix, column), group in by_column.items():
+        found = []
+        for a, b in combinations(group, 2):
+            h1, m1, mag, scale1 = series[(matrix, a.row, column)]
+            h2, m2, _, scale2 = series[(matrix, b.row, column)]
+            d = (h1 - m1) + (h2 - m2)
+            if not (np.all(np.abs(d) * mag <= AGREEMENT * scale1)
+                    and np.all(np.abs(d) * mag <= AGREEMENT * scale2)):
+                continue
+            ways = [(y, x) for y, x in ((a, b), (b, a))
+                    if y.kind == EXTRA or x.kind == OMITTED]
+            if len(ways) == 1 and {a.severity, b.severity} & {MISTAKE, SMALL_MISTAKE}:
+                found.append(ways[0])
+        for y, x in found:
+            if sum(any(f is g for g in (y, x) for f in p) for p in found) == 1:  # unique
+                pairs.append((y, x))
+    gone: set[int] = set()
+    kept: dict[int, EntryFinding] = {}
+    for y, x in pairs:
+        size = max(y.size, x.size)
+        said = (f"the term of {x.entry} written in row {y.row}: it {WRONG_ROW} {x.row}, "
+                f"not {y.row} ({x.entry}: hand {_value(x, x.hand)}, model "
+                f"{_value(x, x.model)}, {x.kind}); hand − model there is exactly minus "
+                "hand − model here at every sample; the effect is the pair's together")
+        kept[id(y)] = replace(y, kind=SYMBOL, size=size,
+                              size_class=size_class(size, threshold),
+                              severity=classify_severity(SYMBOL, size, threshold),
+                              pair=(x.row, x.column), detail=said)
+        gone.add(id(x))
     out = [kept.get(id(f), f) for f in findings if id(f) not in gone]
     return out, len(gone)
 
@@ -923,7 +1068,8 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                    declared: dict[tuple[str, str, str], list[DeclaredTerm]] | None = None,
                    declared_used: set[int] | None = None,
                    parameters: Mapping[str, float] | None = None,
-                   skipped_motions: list[str] | None = None) -> MatrixReport:
+                   skipped_motions: list[str] | None = None,
+                   suggest: bool = True) -> MatrixReport:
     """Check a hand-coded F (and G) against the derived model of ``model_name``.
 
     Parameters
@@ -965,6 +1111,9 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         ``"label: reason"`` of the motions not flown, for the report, with a given
         ``motion_list`` (:func:`~ins_errors.checker.check_motions.flown_motions`);
         default: none given.
+    suggest : bool
+        With many mistakes, try the model's other conventions on the same entries
+        (:attr:`MatrixReport.convention_hint`).
 
     Raises
     ------
@@ -999,7 +1148,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     conv = conv.with_biases(bias_states(hand.states, hand.sources, hand.markov, conv, model,
                                         hand.name))
     size_of = _magnitudes(model, magnitudes, values_set)
-    magnitudes = {}
+    magnitudes_given, magnitudes = magnitudes, {}
     angles = position_angles(conv, motion_list[0])
     for s in conv.states:
         magnitudes[s.name] = (position_angle_magnitude(model, size_of("m"), values_set)
@@ -1029,7 +1178,11 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         bias_states=list(conv.biases), skipped_motions=list(skipped_motions or []))
     # G's columns weighed by the sizes the report lists (--magnitude), as the states are
     _compare(report, sampled, conv, model, motion_list, declared, declared_used,
-             np.array([magnitudes[s.name][0] for s in model.sources]))
+             np.array([magnitudes[s.name][0] for s in model.sources]), values_set)
+    if suggest and len(report.mistakes) >= MANY:
+        report.convention_hint = _other_convention(
+            report, hand, sampled, conv, model, model_name, motion_list, threshold,
+            magnitudes_given, declared, values_set)
     if report.vertical and all(v in report.left_out for v in report.vertical):
         # a horizontal-only hand: its vertical channel is held in the comparison anyway
         report.findings = [replace(f, severity=NO_VERTICAL)
@@ -1046,6 +1199,92 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                                                  responses=responses)
         report.vertical_effects = vertical_effects(report, sampled, conv, model, motion_list)
     return report
+
+
+MANY = 5
+"""Mistakes from which the model's other conventions are tried on the same entries
+(:func:`_other_convention`)."""
+FEWER = 0.25
+"""Another convention is named when the entries give at most this share of the
+mistakes there."""
+
+
+def _other_convention(report: MatrixReport, hand: HandMatrices, sampled: _Sampled,
+                      conv: Convention, model, model_name: str, motion_list: list[Motion],
+                      threshold: float, magnitudes: dict[str, str] | None,
+                      declared: dict | None, parameters: Mapping[str, float]) -> str:
+    """The hint that the hand's entries are another convention's, or ``""``.
+
+    Equations written in one convention and labelled another (φ-angle equations under
+    ``@convention psi_geodetic``, the states renamed) give a mistake in most entries
+    and no hint why. Every other convention of the model whose states have the units of
+    this one's in the same order (``psi_N``/``phi_N``, ``dvc_N``/``dv_N``) is checked on
+    the same sampled entries, each state read as its namesake by position (no effects;
+    about a second for a 9-state strapdown model). Rows the hand takes from the derived
+    model (a ``@convention`` file's rows it does not give: equal to the derived rows in
+    every bit) are left out of both counts. The convention with the fewest mistakes is
+    named when it has at most :data:`FEWER` of this one's: ``"these entries agree with
+    convention phi_geodetic (0 mistakes, against 24 in psi_geodetic), each state read
+    as its namesake in order (psi_N as phi_N, ...): the wrong convention?"``.
+    """
+    from ins_errors.checker.conventions import conventions
+
+    base = conv.base
+    own = _rows_given(hand, sampled, conv, model, motion_list)
+    mistakes = sum(1 for f in report.mistakes if f.row in own)
+    units = [s.unit for s in base.states]
+    best = None
+    for name, other in conventions(model).items():
+        if name == base.name or [s.unit for s in other.states] != units:
+            continue
+        rename = dict(zip(base.names, other.names, strict=True))
+        relabelled = HandMatrices(hand.name, [rename.get(s, s) for s in hand.states],
+                                  hand.sources, hand.F, hand.G, hand.markov)
+        moved = {(k[0], rename.get(k[1], k[1]), rename.get(k[2], k[2])): v
+                 for k, v in (declared or {}).items()}
+        try:
+            there = check_matrices(model_name, relabelled, name, threshold, effects=False,
+                                   motion_list=motion_list, magnitudes=magnitudes,
+                                   declared=moved, declared_used=set(),
+                                   parameters=parameters, suggest=False)
+        except InsErrorsError:
+            continue
+        given = {rename.get(s, s) for s in own}
+        count = sum(1 for f in there.mistakes if f.row in given)
+        if best is None or count < best[0]:
+            best = (count, name, rename)
+    if best is None or best[0] > FEWER * mistakes:
+        return ""
+    count, name, rename = best
+    changed = [f"{a} as {b}" for a, b in rename.items() if a != b and a in hand.states]
+    how = ", ".join(changed[:2]) + (", ..." if len(changed) > 2 else "")
+    agree = ("agree with" if count == 0 else "come much closer to")
+    return (f"these entries {agree} convention {name} ({count} "
+            f"mistake{'s' * (count != 1)}, against {mistakes} in {base.name}), each state "
+            f"read as its namesake in order ({how}): the wrong convention?")
+
+
+def _rows_given(hand: HandMatrices, sampled: _Sampled, conv: Convention, model,
+                motion_list: list[Motion]) -> set[str]:
+    """The hand's rows that are not the derived model's own in every bit on every
+    motion (a ``@convention`` file fills the rows it does not give from the derived
+    model)."""
+    names = conv.names
+    rows = [names.index(s) for s in hand.states]
+    src_names = [s.name for s in model.sources]
+    cols = [src_names.index(s) for s in hand.sources]
+    out = set()
+    for a, state in enumerate(hand.states):
+        i = names.index(state)
+        for motion in motion_list:
+            k = motion.label
+            same = np.array_equal(sampled.Fh[k][:, a, :], sampled.Fz[k][:, i, rows])
+            if same and hand.sources:
+                same = np.array_equal(sampled.Gh[k][:, a, :], sampled.Gz[k][:, i, cols])
+            if not same:
+                out.add(state)
+                break
+    return out
 
 
 STABLE_RATE = 1e-7

@@ -180,6 +180,10 @@ class VerticalEffect:
         E-folding time of that growing mode, s; ``growing_mode`` says whose it is
         (``"model"``: the undamped vertical channel of the model itself; ``"hand"``: a
         faster one the hand's entry gives).
+    derived : tuple of (float or None)
+        The derived model's own height error (vertical channel free) in the case and on
+        the motion named at each time, m: what the change is measured against, as the
+        horizontal effects' "of derived" (None where no case is named).
     """
 
     hours: tuple[float, ...]
@@ -190,6 +194,7 @@ class VerticalEffect:
     exponential: tuple[bool, ...]
     e_folding: float | None = None
     growing_mode: str | None = None
+    derived: tuple[float | None, ...] = ()
 
 
 def _augmented(F: np.ndarray, G: np.ndarray, scale: np.ndarray, held: list[int],
@@ -471,7 +476,8 @@ def with_finding(f: EntryFinding, report: MatrixReport, sampled: _Sampled,
     """The derived F and G on ``motion`` with the finding's entries replaced by the
     hand's: its one entry, or for a transposed block (:attr:`EntryFinding.block`) every
     entry of the block as the hand writes it (a column the hand leaves out: 0), or for
-    a mirror pair (:attr:`EntryFinding.pair`) both entries.
+    a pair (:attr:`EntryFinding.pair`: a mirror pair, a term in the wrong row) both
+    entries.
 
     Returns
     -------
@@ -494,11 +500,13 @@ def with_finding(f: EntryFinding, report: MatrixReport, sampled: _Sampled,
     else:
         src_names = [s.name for s in model.sources]
         G = G.copy()
-        for row in rows:
+        entries = [(row, column) for row in rows for column in columns]
+        if f.pair is not None:  # a term in the wrong row: both entries
+            entries.append(f.pair)
+        for row, column in entries:
             a, i = report.states.index(row), names.index(row)
-            for column in columns:
-                G[:, i, src_names.index(column)] = (
-                    sampled.Gh[motion][:, a, report.sources.index(column)])
+            G[:, i, src_names.index(column)] = (
+                sampled.Gh[motion][:, a, report.sources.index(column)])
     return F, G
 
 
@@ -606,8 +614,9 @@ def _alone(rows: list[tuple[str, float | None, float | None, float | None, float
 def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                      motion_list: list[Motion], hours: tuple[float, ...] = EFFECT_HOURS
                      ) -> dict[str, VerticalEffect]:
-    """Effect on the height error of each finding in a vertical-channel row, the
-    vertical channel not held (:class:`VerticalEffect`).
+    """Effect on the height error of each finding in a vertical-channel row (or a pair,
+    :attr:`EntryFinding.pair`, with an entry in one), the vertical channel not held
+    (:class:`VerticalEffect`).
 
     The derived model, and the derived model with only that entry replaced by the
     hand's, are propagated with nothing held from each state (the vertical ones
@@ -617,7 +626,8 @@ def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, 
     mode (:func:`~ins_errors.checker.growth.mark_growth`: the model's own undamped
     vertical channel, or a faster one of the hand's).
     """
-    found = [f for f in report.findings if f.row in conv.vertical and f.block is None]
+    found = [f for f in report.findings if f.block is None and (
+        f.row in conv.vertical or (f.pair is not None and f.pair[0] in conv.vertical))]
     if not found:
         return {}
     prop = _Propagation.of(report, conv, model)
@@ -639,15 +649,17 @@ def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, 
         for f in found:
             F2, G2 = with_finding(f, report, sampled, conv, model, motion.label)
             changed = free.derived(F2, G2, motion, at)
-            heights, floors, cases, growth = [], [], [], {}
+            heights, floors, cases, growth, own = [], [], [], {}, []
             for t, b, c in zip(at, base, changed, strict=True):
                 k = _steps(motion, t)
                 H = readout[:, :, k]
                 with np.errstate(over="ignore", invalid="ignore"):
                     change = np.abs(H @ (free.si(c) - free.si(b))[:, columns])[0]
+                    derived = np.abs(H @ free.si(b)[:, columns])[0]
                 change = np.where(np.isfinite(change), change, np.inf)
                 j = first_largest(change)
                 heights.append(float(change[j]))
+                own.append(float(derived[j]))
                 floors.append(free.floors([b, c], k, H))
                 cases.append(free.cases[j][1])
                 tag = hours_tag(t / 3600.0)
@@ -656,7 +668,8 @@ def vertical_effects(report: MatrixReport, sampled: _Sampled, conv: Convention, 
             mark_growth(growth, _motion_growth(F2, [], _steps(motion, at[-1])), base_growth,
                         tuple(t / 3600.0 for t in at))
             rows.setdefault(f.entry, []).append(
-                (motion.label, tuple(t / 3600.0 for t in at), heights, floors, cases, growth))
+                (motion.label, tuple(t / 3600.0 for t in at), heights, floors, cases, growth,
+                 own))
     return {entry: _vertical(found_rows) for entry, found_rows in rows.items()}
 
 
@@ -666,7 +679,7 @@ def _vertical(rows: list) -> VerticalEffect:
     times = max((r[1] for r in rows), key=len)
     growing = [r for r in rows if "e_folding_s" in r[5]]
     fastest = min(growing, key=lambda r: r[5]["e_folding_s"]) if growing else None
-    height, floor, case, motion, exponential = [], [], [], [], []
+    height, floor, case, motion, exponential, derived = [], [], [], [], [], []
     for n, h in enumerate(times):
         tag = hours_tag(h)
         here = [r for r in rows if len(r[1]) > n]
@@ -679,6 +692,7 @@ def _vertical(rows: list) -> VerticalEffect:
             case.append(None)
             motion.append(best[0])
             exponential.append(True)
+            derived.append(None)
         elif above:
             best = max(above, key=lambda r: r[2][n])  # (the first motion on ties)
             height.append(best[2][n])
@@ -686,13 +700,15 @@ def _vertical(rows: list) -> VerticalEffect:
             case.append(best[4][n])
             motion.append(best[0])
             exponential.append(False)
+            derived.append(best[6][n])
         else:
             height.append(max(r[2][n] for r in here))
             floor.append(max(r[3][n] for r in here))
             case.append(None)
             motion.append(None)
             exponential.append(False)
+            derived.append(None)
     return VerticalEffect(tuple(times), tuple(height), tuple(floor), tuple(case),
                           tuple(motion), tuple(exponential),
                           fastest[5]["e_folding_s"] if fastest else None,
-                          fastest[5]["growing_mode"] if fastest else None)
+                          fastest[5]["growing_mode"] if fastest else None, tuple(derived))

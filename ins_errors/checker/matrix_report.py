@@ -70,8 +70,13 @@ def vertical_text(r: MatrixReport, f: EntryFinding) -> str:
         elif e.motion[n] is None:
             parts.append(f"{hours:g} h: {NO_EFFECT} ({below(e.floor[n], 'm')})")
         else:
-            parts.append(f"{hours:g} h: {length_text(e.height[n])} ({e.case[n]}, {e.motion[n]})")
-    return "height error, vertical channel not held: " + "; ".join(parts)
+            own = e.derived[n] if n < len(e.derived) else None
+            of = (f"; {_share(e.height[n] / own)} of the derived model's own "
+                  f"{length_text(own)}" if own else "")
+            parts.append(f"{hours:g} h: {length_text(e.height[n])} ({e.case[n]}, "
+                         f"{e.motion[n]}{of})")
+    return (("the pair together: " if f.pair is not None else "")
+            + "height error, vertical channel not held: " + "; ".join(parts))
 
 
 def _alone(r: MatrixReport, f: EntryFinding) -> str:
@@ -107,11 +112,29 @@ def _alone(r: MatrixReport, f: EntryFinding) -> str:
     return f"{alone}: {e.position:.3g} m, {attitude} (largest on {e.motion})"
 
 
+ROUNDING = 1e-12
+"""An entry whose term (value × typical size) is at most this share of its row's largest
+term at the sample shown is rounding, printed as ``0 (rounding)`` (a derived entry of
+2.7e-23 beside terms of 1e-8: the last bits of a sum that is 0)."""
+
+
+def entry_value(f: EntryFinding, value: float) -> str:
+    """One of a finding's two entries (``f.hand`` or ``f.model``) as the reports print
+    it: ``-5.99523e-05``, or ``0 (rounding)`` when its term is at most :data:`ROUNDING`
+    of the row's largest term at that sample (the sample's |hand − model| × size over
+    the finding's size gives that term's scale)."""
+    difference = abs(f.hand - f.model)
+    if value != 0 and difference > 0 and abs(value) * f.size / difference <= ROUNDING:
+        return "0 (rounding)"
+    return f"{value + 0.0:.6g}"
+
+
 def _finding_line(r: MatrixReport, f: EntryFinding) -> str:
     detail = f"; {f.detail}" if f.detail else ""
     alone = _alone(r, f)
     return (f"{f.entry}: {f.kind}, size {f.size:.2g} of the row's largest term "
-            f"({f.size_class}); hand {f.hand + 0.0:.6g}, model {f.model + 0.0:.6g} "
+            f"({f.size_class}); hand {entry_value(f, f.hand)}, model "
+            f"{entry_value(f, f.model)} "
             f"(Δ term {f.absolute:.2g} {f.unit}){detail}; {_where(f)}"
             + (f"; {alone}" if alone else ""))
 
@@ -240,6 +263,8 @@ def to_terminal(r: MatrixReport) -> str:
     lines += [f"motion not flown: {text}" for text in r.skipped_motions]
     lines.append("typical sizes: " + typical_sizes(r))
     lines.append(_summary(r))
+    if r.convention_hint:
+        lines.append(f"convention: {r.convention_hint}")
     for title, group in (("Mistakes", r.mistakes), ("Declared drops", declared_drops(r)),
                          ("Dropped small terms",
                           [f for f in r.findings
@@ -290,6 +315,8 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
                    + ".")
     out += ["", "Typical magnitudes: " + ", ".join(
         f"`{k}` {v[1]}" for k, v in r.magnitudes.items()) + ".", "", _summary(r) + ".", ""]
+    if r.convention_hint:
+        out += [f"**Convention.** {r.convention_hint[0].upper()}{r.convention_hint[1:]}.", ""]
     if r.without_vertical:
         out += [without_vertical_text(r)[0].upper() + without_vertical_text(r)[1:] + ".", ""]
     if r.findings:
@@ -299,7 +326,8 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
         for f in r.findings:
             out.append(f"| `{f.entry}` | {f.severity} ({f.size_class}) | {f.kind} | "
                        f"{f.size:.2g} | {table_cell(f.motion)}, {_hours(f.time)} | "
-                       f"{f.hand + 0.0:.6g} | {f.model + 0.0:.6g} | {table_cell(f.detail)} | "
+                       f"{entry_value(f, f.hand)} | {entry_value(f, f.model)} | "
+                       f"{table_cell(f.detail)} | "
                        f"{table_cell(_alone(r, f))} |")
         out.append("")
     if r.effects:
@@ -329,6 +357,7 @@ def to_json(r: MatrixReport) -> dict:
         "magnitudes": {k: {"si": v[0], "text": v[1]} for k, v in r.magnitudes.items()},
         "compared": r.compared, "exit_status": r.exit_status, "held": r.held,
         "declarations": r.declarations, "idle_declarations": r.idle_declarations,
+        "convention_hint": r.convention_hint or None,
         "findings": [{"matrix": f.matrix, "row": f.row, "column": f.column, "kind": f.kind,
                       "severity": f.severity, "size": f.size, "size_class": f.size_class,
                       "motion": f.motion, "time_s": f.time, "hand": f.hand, "model": f.model,
@@ -368,6 +397,7 @@ def _vertical_json(e) -> dict:
     """``effect_vertical`` of a finding: the height-error change (m) at each time, its
     floor, case and motion, whether it grows exponentially, and the growing mode."""
     return {"hours": list(e.hours), "height_m": list(e.height), "height_floor_m": list(e.floor),
+            "height_model_m": list(e.derived),
             "case": list(e.case), "motion": list(e.motion), "exponential": list(e.exponential),
             "e_folding_s": e.e_folding, "growing_mode": e.growing_mode}
 

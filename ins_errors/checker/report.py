@@ -62,7 +62,8 @@ def summary_counts(report: CheckReport) -> dict[str, Any]:
         lines that could not be read. An undeclared dropped variation
         (:attr:`~ins_errors.checker.compare.CheckReport.omissions`) of the class mistake
         is one root mistake (its findings, knock-ons); ``undeclared_drops`` counts them
-        all.
+        all. The other half of a pair (:mod:`~ins_errors.checker.line_pairs`) is
+        counted with the finding that names it, not again.
     """
     by_status = dict.fromkeys(map(status_key, STATUSES), 0)
     for result in report.results:
@@ -78,7 +79,7 @@ def summary_counts(report: CheckReport) -> dict[str, Any]:
             "knock_on_mistakes": mistakes - roots,
             "declared_drops": sum(1 for _, f in report.findings if f.severity == cl.DECLARED),
             "dropped_small_terms": sum(1 for _, f in report.findings
-                                       if f.severity == cl.DROPPED),
+                                       if f.severity == cl.DROPPED and not f.merged),
             "undeclared_drops": len(report.omissions),
         },
         "input_problems": len(report.problems),
@@ -195,7 +196,7 @@ def ordered(report: CheckReport) -> list[tuple[str, list[tuple[EquationResult, F
         key = id(result)
         knock = [] if key in shown else report.knock_ons(result)
         shown.add(key)
-        out.append(("root", [(result, f), *knock]))
+        out.append(("root", [(result, f), *report.merged_with(result, f), *knock]))
     grouped = {o.reference for o in report.omissions}
     orphans = [(r, f) for r, f in report.findings if f.role == cl.KNOCK_ON and f.is_mistake
                and not any(r2.reference in f.roots for r2, _ in report.root_mistakes)
@@ -204,7 +205,7 @@ def ordered(report: CheckReport) -> list[tuple[str, list[tuple[EquationResult, F
         out.append(("knock-on", orphans))
     out.append(("declared", [(r, f) for r, f in report.findings if f.severity == cl.DECLARED]))
     out.append(("dropped", [(r, f) for r, f in report.findings if f.severity == cl.DROPPED
-                            and not grouped & set(f.roots)]))
+                            and not grouped & set(f.roots) and not f.merged]))
     return out
 
 
@@ -346,9 +347,14 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
         lines += [f"{explanation}. Hand `{_cell(f.hand)}`, model `{_cell(f.model)}`; size "
                   f"{_size(f.size)} at {f.point}." + (f" Effect: {_effect(f)}." if f.effect
                                                       else ""), ""]
-        if len(pairs) > 1:
+        merged = [(r, g) for r, g in pairs[1:] if g.merged]
+        if merged:
+            lines += ["The other half of this finding:", ""]
+            lines += _finding_rows(merged)
+            lines.append("")
+        if len(pairs) > 1 + len(merged):
             lines += ["Knock-on findings:", ""]
-            lines += _finding_rows(pairs[1:])
+            lines += _finding_rows(pairs[1 + len(merged):])
             lines.append("")
     if report.omissions:
         lines += ["## Undeclared dropped variations", ""]
@@ -483,7 +489,9 @@ def to_json(report: CheckReport) -> dict[str, Any]:
                 "point": f.point, "role": f.role, "roots": list(f.roots),
                 "hand": f.hand, "model": f.model, "detail": f.detail,
                 "effect": {k: (float(f"{v:.6g}") if isinstance(v, float) else v)
-                           for k, v in f.effect.items()}}
+                           for k, v in f.effect.items()},
+                "pair": (None if not f.pair
+                         else {"line": f.pair[0], "quantity": f.pair[1], "merged": f.merged})}
 
     return {
         "model": report.model,

@@ -458,9 +458,14 @@ def to_latex(report: CheckReport, definition=None, source: str | None = None,
         if f.effect:
             text += f" Effect: {escape(_effect(f))}."
         lines += [text, ""]
-        if len(pairs) > 1:
+        merged = [(r, g) for r, g in pairs[1:] if g.merged]
+        if merged:
+            lines += ["The other half of this finding:", ""]
+            lines += _items(merged, names)
+            lines.append("")
+        if len(pairs) > 1 + len(merged):
             lines += ["Knock-on findings:", ""]
-            lines += _items(pairs[1:], names)
+            lines += _items(pairs[1 + len(merged):], names)
             lines.append("")
     if report.omissions:
         lines += [r"\subsubsection*{Undeclared dropped variations}", ""]
