@@ -158,7 +158,7 @@ def test_a_definition_in_a_vector_line_and_in_a_declared_term(tmp_path):
     ("x = v_E + dv_E", "line 2: x mixes a coefficient (v_E) with states or error sources"),
     ("w = cross(omega_in, phi)", "line 2: the definition of w uses cross(), but a "
      "definition is one scalar"),
-    ("x = v_E*foo", "line 2: unknown name 'foo' in the definition of x"),
+    ("x = v_E*foo", "line 2, column 9: unknown name 'foo' in the definition of x"),
     ("@neglect rho_N*dv_E\nrho_N = v_E/(R_E + h)\ndot(phi_N) = rho_N*dv_E",
      "line 2: @neglect rho_N*dv_E uses rho_N before its definition on line 3"),
 ])

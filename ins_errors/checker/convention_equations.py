@@ -34,6 +34,8 @@ import numpy as np
 import sympy as sp
 
 from ins_errors.checker import convention_definitions as cd
+from ins_errors.checker import convention_height as ch
+from ins_errors.checker import convention_names as cn
 from ins_errors.checker.navigation import PARAMETERS
 from ins_errors.errors import InsErrorsError, close_names
 
@@ -418,8 +420,14 @@ def _not_a_vector_line(lhs: str, rhs: str, states: list[str], prefixes: dict, ve
         f"vector of its states (vectors: {', '.join(prefixes)}){hint}")
 
 
+EARTH_RATE_SPELLINGS = ("Omega", "Omega_ie")
+r"""Spellings of the Earth rate ``U`` in a ``@convention`` file (``\Omega``,
+``\Omega_{ie}``; in LaTeX also ``\omega_{ie}``, which in text is the vector of vector
+lines), unless the model's LaTeX gives one to another of its names."""
+
+
 def convention_notation(model_name: str, states: list[str], sources: list[str],
-                        parameters: list[str] | tuple[str, ...] = ()):
+                        parameters: list[str] | tuple[str, ...] = (), latex: bool = False):
     r"""Spellings of a ``@convention`` file: the convention's states as they are printed
     and read from LaTeX, the model's own spellings of its error sources, and the named
     quantities' LaTeX forms (:data:`QUANTITIES`).
@@ -432,7 +440,9 @@ def convention_notation(model_name: str, states: list[str], sources: list[str],
       :func:`up_components`); ``\delta L`` (``Delta_lat``) -> ``dlat`` where ``dlat``
       is a state;
     * the model's LaTeX of its sources and ``parameters``: ``b_{gx}`` ->
-      ``gyro_bias_x``, ``b_{ax}``, ..., ``k_1`` -> ``k_h1``; ``\Omega`` -> ``U``;
+      ``gyro_bias_x``, ``b_{ax}``, ..., ``k_1`` -> ``k_h1``;
+    * the Earth rate: ``\Omega``, ``\Omega_{ie}`` (and with ``latex``, ``\omega_{ie}``)
+      -> ``U`` (:data:`EARTH_RATE_SPELLINGS`), whatever the model's LaTeX of it;
     * ``\omega_{in,D}`` (read as ``omega_inD``) -> ``omega_in_D``, and so for ``ie``,
       ``en``, ``ib``; ``L`` (latitude, as Titterton and Weston write it) -> ``lat``.
 
@@ -453,6 +463,8 @@ def convention_notation(model_name: str, states: list[str], sources: list[str],
     model_spellings = default_notation(model_name).spellings
     spellings.update({k: v for k, v in model_spellings.items()
                       if v in sources or v in parameters or (v == "U" and k == "Omega")})
+    for spelling in (*EARTH_RATE_SPELLINGS, *(("omega_ie",) if latex else ())):
+        spellings.setdefault(spelling, "U")
     for q in QUANTITIES:
         if q.startswith("omega_") and q.count("_") == 2:
             _, frame, axis = q.split("_")
@@ -628,7 +640,7 @@ def _rows(hand, states: list[str], sources: list[str],
             raise InsErrorsError(f"{hand.name}, line {eq.line}: left-hand side {str(lhs)!r} "
                                  f"must be dot(STATE) of a state of the convention "
                                  f"({', '.join(states)}) or of an error source carried as a "
-                                 f"bias state ({bias_example})")
+                                 f"bias state ({bias_example})" + cn.true_rate_hint(lhs, states))
         row = lhs.args[0].name
         if row in rows:
             raise InsErrorsError(f"{hand.name}, line {eq.line}: second equation for "
@@ -753,6 +765,8 @@ def _declared_items(hand, states: list[str], sources: list[str],
     out = []
     for k, declaration in enumerate(hand.declarations):
         for item, text in zip(declaration.items, declaration.texts, strict=True):
+            if item == sp.Symbol("h") and "h" not in definitions:
+                continue  # the height held at 0: convention_height.held_heights
             where = f"{hand.name}, line {declaration.line}: @neglect {text}"
             item = cd.expand(item, declaration.line, f"@neglect {text}", definitions,
                              hand.name)
@@ -761,8 +775,10 @@ def _declared_items(hand, states: list[str], sources: list[str],
                 raise InsErrorsError(f"{where}: {unknown[0]!r} is not a state, error source "
                                      f"or named quantity; {_NO_VARIATIONS}")
             if not item.free_symbols & set(variables):
+                held = ("; of the named quantities only the height can be neglected, held "
+                        "at 0 ('@neglect h : h << R')" if item.is_Symbol else "")
                 raise InsErrorsError(f"{where}: no state or error source in it; "
-                                     f"{_NO_VARIATIONS}")
+                                     f"{_NO_VARIATIONS}{held}")
             expanded = sp.expand(item)
             columns = {}
             for v in variables:
@@ -853,7 +869,8 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     reserved = _reserved_names(states, src_names)
     notation, defined = cd.defined_names(
         hand, _giving_way(convention_notation(model_name, states, src_names,
-                                              parameters_named), hand, states),
+                                              parameters_named, hand.format == "latex"),
+                          hand, states),
         reserved, {k: v for k, v in reserved.items() if k in states or k in src_names},
         hand.name)
     own = set(defined.values())
@@ -873,6 +890,8 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
         hand = read_hand_file(path, notation, latex=True)
     if hand.problems:
         raise InsErrorsError(f"{hand.name}: {hand.problems[0]}")
+    cn.check_names_written(hand, set(states) | set(src_names) | set(names) | own | set(ups)
+                        | {"e"}, states, model, notation)
     sphere = _eccentricity_named(hand, vector_rows, model, own)
     hand = _in_convention_names(hand, substitution, ups)
     reading, notes = radius_reading(_names_used(hand, vector_rows), own, hand.name)
@@ -903,6 +922,9 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     via = {row: cd.provenance(rhs, definitions, variables)
            for row, (_, _, rhs) in written.items()}
     items = _declared_items(hand, states, src_names, definitions, names)
+    held = ch.held_heights(hand, definitions)
+    since = min((at for _, at, _ in held), default=None)  # h is 0 in the rows after it
+    at_zero = {row for row, (line, _, _) in rows.items() if since is not None and since < line}
     item_functions = [(list(cols), _row_function(tuple(cols.values()), tuple(names)))
                       for _, _, _, cols in items]
     item_values: list[dict[str, dict[str, np.ndarray]]] = [{} for _ in items]
@@ -919,6 +941,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     F, G = {}, {}
     src_cols = [src_names.index(s) for s in used]
     samples = []  # (quantities, derived F, derived G) of each motion, for symbol slips
+    height_terms: dict[tuple[str, str, str], dict[str, np.ndarray]] = {}
     for motion in motion_list:
         Fz, Gz = mx.derived_in_convention(model, conv, motion)
         Fh, Gh = Fz.copy(), Gz[:, :, src_cols].copy()
@@ -934,6 +957,20 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
             if used:
                 Gh[:, i, :] = np.stack(coefficients[len(states):], axis=-1)
         F[motion.label], G[motion.label] = Fh, (Gh if used else {})
+        if at_zero:  # @neglect h: the part of each difference that vanishes at h = 0
+            level = ch.at_zero_height(model, motion, f"{hand.name}, line {since}: @neglect h")
+            Fz0, Gz0 = mx.derived_in_convention(model, conv, level)
+            values0 = quantity_values(level.navigation)
+            args0 = [values0[reading.get(q, q)] for q in names]
+            for row in at_zero:
+                i = states.index(row)
+                c0 = np.stack([np.broadcast_to(np.asarray(c, dtype=float), (k,))
+                               for c in functions[row](*args0)], axis=-1)
+                ch.height_terms(height_terms, motion.label, row, states, used,
+                              (Fh[:, i, :] - Fz[:, i, :]) - (c0[:, :len(states)]
+                                                             - Fz0[:, i, :]),
+                              (Gh[:, i, :] - Gz[:, i, src_cols])
+                              - (c0[:, len(states):] - Gz0[:, i, src_cols]))
         for values_of, (columns, fn) in zip(item_values, item_functions, strict=True):
             for column, c in zip(columns, fn(*args), strict=True):
                 values_of.setdefault(column, {})[motion.label] = np.broadcast_to(
@@ -950,6 +987,11 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                 if at < line and (matrix == "F" or column in used):
                     declared.setdefault((matrix, row, column), []).append(
                         mx.DeclaredTerm(k, at, text, values))
+    for entry, values in height_terms.items():  # what h brings to the derived entry
+        if any(np.any(v) for v in values.values()):
+            for k, at, text in held:
+                declared.setdefault(entry, []).append(
+                    mx.DeclaredTerm(k, at, f"{text}, held at 0", values))
     found: set[int] = set()
     report = mx.check_matrices(model_name, sampled, conv.name,
                                threshold=1e-3 if threshold is None else threshold,
@@ -1123,4 +1165,58 @@ def to_json(check: ConventionCheck) -> dict:
     out["definitions"] = {d.name: d.line for d in check.definitions.values()}
     if check.notes:
         out["notes"] = list(check.notes)
+    return out
+
+
+_PLACE = re.compile(r"^(?:, line (\d+)(?:, column (\d+))?|: line (\d+)(?:, column (\d+))?)"
+                    r": ")
+
+
+def problem_place(message: str, names: tuple[str, ...]) -> tuple[int | None, int | None, str]:
+    """(line, column, what is wrong) of a refusal of a ``@convention`` file, read from its
+    one-line message (``FILE, line 4, column 56: unknown name ...``, ``FILE: line 2,
+    column 37: ...``); ``None`` where the message names no line (a problem of the whole
+    file) or no column. ``names``: how the message may name the file (as given, bare)."""
+    for name in names:
+        if message.startswith(name):
+            rest = message[len(name):]
+            match = _PLACE.match(rest)
+            if match:
+                line = match.group(1) or match.group(3)
+                column = match.group(2) or match.group(4)
+                return (int(line), int(column) if column else None, rest[match.end():])
+            if rest.startswith(": "):
+                return None, None, rest[2:]
+    return None, None, message
+
+
+def refused_json(model_name: str, convention_name: str | None, hand_name: str,
+                 threshold: float, states: list[str], problem: tuple[int | None,
+                                                                     int | None, str]
+                 ) -> dict:
+    """The ``check --json`` object of a ``@convention`` file that could not be checked:
+    the keys of a checked one (:func:`to_json`) with nothing compared, ``exit_status`` 2,
+    ``summary.input_problems`` 1 and the problem under ``problems`` (``line``,
+    ``column``, ``message``: :func:`problem_place`).
+
+    Parameters
+    ----------
+    model_name, convention_name, hand_name : str
+        The model, the convention the file declares (None: none readable), the file.
+    threshold : float
+        The check's threshold.
+    states : list of str
+        The convention's states (empty when the convention is not known).
+    problem : tuple
+        (line or None, column or None, message).
+    """
+    from ins_errors.checker.matrix import MatrixReport
+
+    report = MatrixReport(model_name, convention_name or "", hand_name, list(states), [],
+                          threshold, [], {}, [], 0, [], [])
+    out = to_json(ConventionCheck(report))
+    out["exit_status"] = 2
+    out["summary"]["input_problems"] = 1
+    line, column, message = problem
+    out["problems"] = [{"line": line, "column": column, "message": message}]
     return out

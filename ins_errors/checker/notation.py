@@ -44,6 +44,7 @@ class Notation:
     sources: dict[str, tuple[str, ...]] = field(default_factory=dict)
     spellings: dict[str, str] = field(default_factory=dict)
     latex_primes: dict[str, str] = field(default_factory=dict)
+    true_states: dict[str, TrueState] = field(default_factory=dict)
 
     def merged(self, other: Notation) -> Notation:
         """This notation with ``other``'s entries added (``other`` wins on conflicts)."""
@@ -52,7 +53,28 @@ class Notation:
             sources={**self.sources, **other.sources},
             spellings={**self.spellings, **other.spellings},
             latex_primes={**self.latex_primes, **other.latex_primes},
+            true_states={**self.true_states, **other.true_states},
         )
+
+
+@dataclass(frozen=True)
+class TrueState:
+    r"""A state of the model whose rate is not an error equation: ``dot(V)`` of a hand
+    file is the true velocity's rate, where an error equation has ``dot(Delta_V)``.
+
+    Attributes
+    ----------
+    error : str
+        The model's name of its error (``delta_V``).
+    latex : str
+        The state's LaTeX (``V``, ``\varphi``).
+    error_latex : str
+        The error's LaTeX (``\delta V``).
+    """
+
+    error: str
+    latex: str
+    error_latex: str
 
 
 _AXES = ("xi", "eta", "zeta")
@@ -168,7 +190,11 @@ def model_notation(d: ModelDefinition) -> Notation:
         root = _squared_name(latex)
         if root and root not in names:
             aliases.setdefault(root, f"sqrt({name})")
-    return Notation(aliases=aliases, spellings=spellings)
+    others = {v.name for group in (d.error_states, d.sources) for v in group}
+    true_states = {v.name: TrueState(e.name, v.latex, e.latex)
+                   for v, e in zip(d.states, d.error_states, strict=False)
+                   if v.name not in others and v.name not in spellings}
+    return Notation(aliases=aliases, spellings=spellings, true_states=true_states)
 
 
 _MODEL_NOTATIONS: dict[int, tuple] = {}

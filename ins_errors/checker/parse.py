@@ -667,9 +667,14 @@ class _LatexConverter:
                 and (self.peek(1).isalpha() or self.peek(1)[1:] in _GREEK)
             if inner_delta:
                 self.i += 1
+            before = set(self.columns)
             inner = self.symbol(delta=inner_delta)
             self.expect("}")
-            return self.finish(inner, accents, delta, start)
+            result = self.finish(inner, accents, delta, start)
+            written = {atom.name for atom in result.atoms(sp.Symbol)}
+            for name in set(self.columns) - before - written:  # \dot{\phi}_E: no phi
+                del self.columns[name]
+            return result
         if token is None:
             raise _LineError(start, "a symbol is missing")
         if token.startswith("\\"):
@@ -1126,14 +1131,61 @@ def _blank(text: str, pattern: re.Pattern) -> str:
     return pattern.sub(lambda m: " " * len(m.group()), text)
 
 
+_EQUATION_LABELS = re.compile(r"\\tag\*?\s*\{[^{}]*\}|\\label\s*\{[^{}]*\}"
+                              r"|\\(?:nonumber|notag)(?![A-Za-z])")
+"""amsmath's equation numbering, ``\\tag{2}``, ``\\tag*{A}``, ``\\label{eq:dh}``,
+``\\nonumber``, ``\\notag``: not part of the equation, ignored."""
+_EQUATION_NUMBER = re.compile(r"\(\s*([A-Za-z]?\d+(?:[.\-]\d+)*[a-z]?)\s*\)[\s,;.]*$")
+"""A parenthesised number ending a line: ``(2)``, ``(3.14)``, ``(2a)``, ``(A.1)``."""
+_LATEX_SPACING = re.compile(r"(?:\s|\\[,;:! ]|\\q?quad(?![A-Za-z])|~|&)+$")
+_TEXT_SPACING = re.compile(r"\s+$")
+_LATEX_OPERAND_BEFORE = re.compile(
+    r"(?:[-+*/^=(\[{]|\\cdot|\\times|\\left|\\(?:" + "|".join(_SYMPY_FUNCTIONS)
+    + r")|\\operatorname\s*\{[^{}]*\})$")
+"""What makes a parenthesised number after it arithmetic, not an equation number: an
+operator, an opening bracket, or a function whose argument it is (``\\cos (2)``)."""
+_TEXT_OPERAND_BEFORE = re.compile(r"(?:[-+*/^=(\[,]|\b(?:" + "|".join(_FUNCTIONS) + r"))$")
+
+
+def _refuse_equation_number(body: str, latex: bool) -> None:
+    """Refuse a parenthesised number that ends the line after spacing (``\\qquad (2)``,
+    `` (2)``): an equation number, which read as arithmetic would multiply the last term
+    (``\\nabla (2)`` is 2∇). After an operator or a function name (``\\cos (2)``), or
+    without spacing (``x(2)``), it is arithmetic and left alone."""
+    match = _EQUATION_NUMBER.search(body)
+    if match is None:
+        return
+    before = body[:match.start()]
+    spacing = (_LATEX_SPACING if latex else _TEXT_SPACING).search(before)
+    if before.strip() and spacing is None:
+        return
+    previous = (before[:spacing.start()] if spacing else before).rstrip()
+    if previous and (_LATEX_OPERAND_BEFORE if latex else _TEXT_OPERAND_BEFORE).search(
+            previous):
+        return
+    number = match.group(1)
+    written = f"({number})"
+    if latex:
+        how = (f"write it \\tag{{{number}}} (ignored) or leave it out; a factor is "
+               f"written in front: {number} \\cdot ...")
+    else:
+        how = (f"put it in a comment (# {written}) or leave it out; a factor is written in "
+               f"front: {number}*...")
+    raise _LineError(match.start() + 1, f"{written} at the end of the line looks like an "
+                     f"equation number, not a factor: {how}")
+
+
 def _segments(body: str, latex: bool) -> list[tuple[str, int, str]]:
     """Equations of one line: (text, offset, note)."""
     if not latex:
+        _refuse_equation_number(body, latex)
         return [(piece, offset, "") for piece, offset in _split_top(body, ";")
                 if piece.strip()]
     notes = " ".join(m.group(1).strip() for m in _TEXT_NOTE.finditer(body))
     body = _blank(body, _TEXT_NOTE)
     body = _blank(body, _LATEX_WRAPPERS)
+    body = _blank(body, _EQUATION_LABELS)
+    _refuse_equation_number(body, latex)
     result = []
     for piece, offset in _split_quads(body):
         trimmed = piece.rstrip().rstrip(",;.").rstrip()
@@ -1287,11 +1339,31 @@ def _equation(hand: HandFile, number: int, segment: str, column: int, note: str,
                          f"left-hand side '{' '.join(written.split())}' must be one "
                          "quantity "
                          "(a symbol, a variation or the time derivative of one)")
+    if isinstance(lhs, sp.Function) and lhs.args[0].name in notation.true_states:
+        raise _LineError(column + len(segment) - len(segment.lstrip()),
+                         _true_rate_message(written, lhs.args[0].name,
+                                            notation.true_states[lhs.args[0].name], latex))
     hand.equations.append(HandEquation(
         line=number, column=column + len(segment) - len(segment.lstrip()),
         section=len(hand.sections) - 1, lhs=lhs, forms=exprs[1:], alternative=alternative,
         text=" ".join(segment.split()), note=note, columns=columns,
         declarations=tuple(range(len(hand.declarations)))))
+
+
+def _true_rate_message(written: str, name: str, state, latex: bool) -> str:
+    r"""The refusal of ``dot(V)`` where ``V`` is a true state of the model: an error
+    equation's left side is the rate of the error (``\Delta\dot{V}``, ``dot(Delta_V)``).
+
+    ``state`` is the :class:`~ins_errors.checker.notation.TrueState` of ``name``."""
+    if latex:
+        base, underscore, index = state.latex.partition("_")
+        forms = (f"\\Delta\\dot{{{base}}}{underscore}{index}",
+                 f"\\dot{{{state.error_latex}}}")
+    else:
+        forms = (f"dot(Delta_{name})", f"dot({state.error})")
+    return (f"left-hand side '{' '.join(written.split())}' is the rate of the true state "
+            f"{name}, but an error equation's left side is the rate of its error: "
+            f"{forms[0]} or {forms[1]} (the model's error state {state.error})")
 
 
 _STEP_LATEX = re.compile(r"(_\{(?:\\[a-zA-Z]+|[a-zA-Z0-9]+?))\s*k\s*(\+\s*1\s*)?\}")

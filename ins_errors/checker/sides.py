@@ -446,7 +446,28 @@ class HandSide:
                     f"({self.notation.spellings[stem]}, which has no index {index!r})?")
         close = close_names(name, self.known_names(), cutoff=0.6)
         hint = f"; did you mean {', '.join(repr(c) for c in close)}?" if close else ""
-        return f"unknown symbol {name!r}{hint}"
+        return f"unknown symbol {name!r}{earth_rate_hint(name, self.model.d)}{hint}"
+
+
+EARTH_RATE_SPELLINGS = ("Omega", "Omega_ie", "omega_ie", "Omega_e", "omega_e", "U",
+                        "earth_rate")
+"""How texts write the Earth's rotation rate (``\\Omega``, ``\\omega_{ie}``, ``U``):
+a hand symbol spelt so that the model does not know is told the model's name for it."""
+
+
+def earth_rate_hint(name: str, d: ModelDefinition) -> str:
+    """``; the Earth rate of model 'm' is U (LaTeX \\Omega)`` for an unknown ``name``
+    that texts use for the Earth rate, where the model has an Earth-rate parameter
+    (:data:`~ins_errors.earth_constants.EARTH_RATE_NAMES`); '' otherwise."""
+    from ins_errors.earth_constants import earth_parameter_names
+
+    if name not in EARTH_RATE_SPELLINGS:
+        return ""
+    rate = earth_parameter_names(d.parameters).earth_rate
+    if rate is None or rate == name:
+        return ""
+    latex = next(p.latex for p in d.parameters if p.name == rate)
+    return f"; the Earth rate of model {d.name!r} is {rate} (in LaTeX {latex})"
 
 
 @lru_cache(maxsize=16384)

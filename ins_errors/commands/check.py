@@ -153,7 +153,10 @@ def run(args: argparse.Namespace) -> int:
     except InsErrorsError as error:
         error = named_as_given(error, args.file, args.mapping)
         if args.json:  # a grading script gets JSON whatever the file holds
-            emit_json(args, _input_problem_json(args, definition, error))
+            convention = _declared_convention(args.file)
+            emit_json(args, _input_problem_json(args, definition, error)
+                      if convention is None else
+                      _refused_convention_json(args, definition, convention, error))
         raise error from None
     if report.problems and not any(_compared(result) for result in report.results):
         # nothing could be checked: no report that reads "(no discrepancies)", as for a
@@ -367,12 +370,41 @@ def _matrix_convention(matrix: str | None, given: str | None) -> str:
 
 def _declares_convention(path: Path) -> bool:
     """Whether the hand file has an ``@convention NAME`` line (read errors: no)."""
+    return _declared_convention(path) is not None
+
+
+def _declared_convention(path: Path) -> str | None:
+    """The NAME of the hand file's first ``@convention NAME`` line (``""`` without a
+    name), None when it has none or cannot be read."""
     try:
         text = path.read_text(encoding="utf-8-sig")  # a BOM before @convention
     except (OSError, UnicodeDecodeError):
-        return False
-    return any(line.strip().split(maxsplit=1)[:1] == ["@convention"]
-               for line in text.splitlines())
+        return None
+    for line in text.splitlines():
+        words = line.split("%", 1)[0].split("#", 1)[0].split()
+        if words[:1] == ["@convention"]:
+            return words[1] if len(words) > 1 else ""
+    return None
+
+
+def _refused_convention_json(args: argparse.Namespace, model, convention_name: str,
+                             error: Exception) -> dict:
+    """The JSON of a ``@convention`` file that could not be checked: the keys of a
+    checked one, nothing compared, the problem with its line and column
+    (:func:`~ins_errors.checker.convention_equations.refused_json`)."""
+    from ins_errors.checker.convention_equations import problem_place, refused_json
+
+    states: list[str] = []
+    try:
+        from ins_errors.checker.conventions import convention
+        from ins_errors.numeric.model import load_model
+
+        states = list(convention(load_model(args.model), convention_name).names)
+    except Exception:  # an unknown convention or a model without: the problem says so
+        states = []
+    place = problem_place(str(error), (str(args.file), args.file.name))
+    return refused_json(model.name, convention_name or None, args.file.name,
+                        args.threshold, states, place)
 
 
 def _run_convention(args: argparse.Namespace, magnitudes: dict[str, str]) -> int:
