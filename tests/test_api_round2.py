@@ -113,6 +113,21 @@ def test_check_matrices_refuses_text_parameters_as_static_modes_does():
     assert "parse_quantity('0.03/s', '1/s')" in str(check.value)
 
 
+def test_check_matrices_refuses_text_parameters_with_motions_of_its_own():
+    # the caller's own motions: nothing is flown with the parameters, yet a text value
+    # is refused in the same line (it was kept as text and failed later, or never)
+    from ins_errors import load_model
+    from ins_errors.checker.check_motions import flown_motions
+    from ins_errors.checker.matrix import check_matrices
+
+    motions, _ = flown_motions(load_model("strapdown_ned"), 1.0)
+    with pytest.raises(InsErrorsError) as check:
+        check_matrices("strapdown_ned", str(ROOT / "examples/strapdown/psi_model.py")
+                       + ":psi_model", "psi", parameters={"k_h1": "0.03/s"},
+                       motion_list=motions)
+    assert "parse_quantity('0.03/s', '1/s')" in str(check.value)
+
+
 def test_check_matrices_refuses_an_array_parameter_in_one_line():
     from ins_errors.checker.check_motions import parameter_items
 

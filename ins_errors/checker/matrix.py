@@ -1128,7 +1128,7 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
     model = load_model(model_name)
     require_description(model)
     conv = convention(model, convention_name)
-    values_set = dict(parameter_items(parameters))
+    values_set = dict(parameter_items(parameters, model))
     if motion_list is None:
         motion_list, skipped_motions = flown_motions(model, hours, step, ellipsoid,
                                                      values_set)
