@@ -1371,7 +1371,7 @@ def _not_falling_text(model: Model, comparison: Comparison,
             "so part of it comes without a source or from a term the sources do not "
             "scale; check that the real-work equations (and initial state) reduce to the "
             "ideal-work ones when every error source is zero, and that the sources enter "
-            "smoothly (no saturation, abs or sign)")
+            "smoothly (no term that saturates far below the magnitudes run)")
 
 
 def _unseen_text(comparison: Comparison) -> str:
