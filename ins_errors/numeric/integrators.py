@@ -486,10 +486,16 @@ def _out_of_space(error: Exception) -> bool:
     by the compiler or the assembler on its standard error)."""
     if isinstance(error, OSError) and error.errno == errno.ENOSPC:
         return True
+    return os.strerror(errno.ENOSPC) in _compiler_said(error)
+
+
+def _compiler_said(error: Exception) -> str:
+    """What a failed compile's process wrote on its standard error (``""``: nothing, or
+    no process ran)."""
     stderr = getattr(error, "stderr", None)
     if isinstance(stderr, bytes):
         stderr = stderr.decode(errors="replace")
-    return os.strerror(errno.ENOSPC) in (stderr or "")
+    return stderr or ""
 
 
 @contextmanager
@@ -520,10 +526,7 @@ def compiler_checked() -> Iterator[None]:
 
 def _failure(compiler: str, error: Exception) -> str:
     """Why a compile failed, in a few words: the compiler's first message line."""
-    stderr = getattr(error, "stderr", None)
-    if isinstance(stderr, bytes):
-        stderr = stderr.decode(errors="replace")
-    lines = [line.strip() for line in (stderr or "").splitlines() if line.strip()]
+    lines = [line.strip() for line in _compiler_said(error).splitlines() if line.strip()]
     if lines:
         return f"{compiler} failed: {lines[0][:120]}"
     if isinstance(error, subprocess.CalledProcessError):
