@@ -282,7 +282,7 @@ class ScenarioResult:
 def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
     """Integrate the truth, then direct, linear (and refined) runs for every case."""
     from ins_errors.numeric import trajectories as tr
-    from ins_errors.numeric.compare import compare, threshold_argument
+    from ins_errors.numeric.compare import CheckedRatio, compare
     from ins_errors.numeric.model import load_model
     from ins_errors.numeric.motion_spec import motion_profile
 
@@ -301,7 +301,7 @@ def run_scenario(scenario: Scenario, progress: bool = False) -> ScenarioResult:
                           method=scenario.method, record_interval=scenario.record,
                           refined=scenario.refined, progress=progress,
                           platform=scenario.platform,
-                          validity_threshold=threshold_argument(scenario.validity_threshold),
+                          validity_threshold=CheckedRatio(scenario.validity_threshold),
                           quantities=scenario.quantities, warn=False)
     for comparison, case in zip(comparisons, scenario.cases, strict=True):
         comparison.label = case.label

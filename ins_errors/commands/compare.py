@@ -169,10 +169,10 @@ def _compare(args: argparse.Namespace) -> list:
     )
     from ins_errors.numeric import trajectories as tr
     from ins_errors.numeric.compare import (
+        CheckedRatio,
         compare,
         markdown_summary,
         markdown_table,
-        threshold_argument,
     )
     from ins_errors.numeric.integrators import step_count
     from ins_errors.numeric.model import load_model
@@ -252,7 +252,7 @@ def _compare(args: argparse.Namespace) -> list:
     comparisons = compare(model, trajectory, cases, method=args.method, record_interval=record,
                           refined=not args.no_refined, progress=progress,
                           platform=args.platform.replace("-", "_"),
-                          validity_threshold=threshold_argument(threshold), warn=False)
+                          validity_threshold=CheckedRatio(threshold), warn=False)
     for comparison in comparisons:  # notes about the motion (a noisy motion file), as run
         comparison.warnings.extend(getattr(trajectory, "notes", ()))
     title = (f"{model.name}: {trajectory.description}; {format_duration(duration)}, "

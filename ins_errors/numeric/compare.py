@@ -118,15 +118,10 @@ def validity_ratio(value: float | str | None, what: str = "validity_threshold"
 
 class CheckedRatio(float):
     """A validity ratio already checked against the command line's range (above 0,
-    below :data:`~ins_errors.units.VALIDITY_RATIO_CEILING`): :func:`validity_ratio`
-    takes it as it is, above 1 too, where it refuses a plain number."""
-
-
-def threshold_argument(ratio: float) -> float:
-    """A validity ``ratio`` checked elsewhere (the command line's
-    ``--validity-threshold``, a scenario's ``validity_threshold``: up to 1000 %) as
-    :func:`compare` takes it, the same bits."""
-    return CheckedRatio(ratio)
+    below :data:`~ins_errors.units.VALIDITY_RATIO_CEILING`: the command line's
+    ``--validity-threshold``, a scenario's ``validity_threshold``, up to 1000 %):
+    :func:`validity_ratio` takes it as it is, the same bits, above 1 too, where it
+    refuses a plain number."""
 
 
 AGREEMENT_FLOOR = 1e-6
