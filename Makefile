@@ -2,7 +2,10 @@
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
-STAMP  := $(VENV)/.installed
+# The install is redone when the packaging files' contents change, not their dates: a fresh
+# clone (every file dated now) beside a virtual environment restored from a CI cache keeps it.
+INSTALL_INPUTS := pyproject.toml setup.py
+STAMP  := $(VENV)/.installed-$(shell $(PYTHON) -c "import hashlib, sys; print(hashlib.sha256(b''.join(open(f, 'rb').read() for f in sys.argv[1:])).hexdigest()[:16])" $(INSTALL_INPUTS))
 
 # Python's byte-compiled modules are kept inside the virtual environment (so `make clean`
 # removes them and the source tree stays free of __pycache__ folders), and they are kept
@@ -14,7 +17,8 @@ unexport PYTHONDONTWRITEBYTECODE
 
 .PHONY: derive test bench lint clean venv
 
-$(STAMP): pyproject.toml setup.py
+$(STAMP):
+	rm -f $(VENV)/.installed*
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
 	$(PY) -m pip install --quiet -e '.[dev]'
