@@ -214,7 +214,7 @@ def test_a_point_over_the_pole_is_stored_as_failed_and_the_others_run(tmp_path, 
                                                                       monkeypatch, engine):
     """One point whose motion reaches the pole does not stop the sweep: the other three
     run and are stored bit-identical to a sweep without the bad point, the failed point
-    keeps its reason and NaN data, the command lists it and exits 2, and running the same
+    keeps its reason and NaN data, the command lists it and exits 3, and running the same
     command again runs nothing (the same input fails the same way)."""
     bad = scenario_file(tmp_path, "[sweep]\nlatitude = ['10 deg', '89.5 deg', '30 deg', "
                                   "'60 deg']\n", POLE, name="bad.toml")
@@ -222,7 +222,7 @@ def test_a_point_over_the_pole_is_stored_as_failed_and_the_others_run(tmp_path, 
                          POLE, name="good.toml")
     store = tmp_path / "bad.zarr"
     assert main(["sweep", str(bad), "--engine", engine, "--workers", "2", "--store",
-                 str(store), "--no-progress"]) == 2
+                 str(store), "--no-progress"]) == 3
     out, err = capsys.readouterr()
     lines = err.splitlines()
     assert lines[0].startswith("ins-errors: store: 4 points, about ")
@@ -256,7 +256,7 @@ def test_a_point_over_the_pole_is_stored_as_failed_and_the_others_run(tmp_path, 
     real = sw.run_point
     monkeypatch.setattr(sw, "run_point", lambda job: runs.append(job) or real(job))
     assert main(["sweep", str(bad), "--engine", "serial", "--store", str(store),
-                 "--json"]) == 2
+                 "--json"]) == 3
     report = json.loads(capsys.readouterr().out)
     assert runs == [] and (report["computed"], report["reused"]) == (0, 4)
     [failed] = report["failed"]
@@ -266,7 +266,7 @@ def test_a_point_over_the_pole_is_stored_as_failed_and_the_others_run(tmp_path, 
     assert report["summary"][1]["worst_linear_ratio"] is None
     # asked to, it runs the failed point again (only it), which fails the same way
     assert main(["sweep", str(bad), "--engine", "serial", "--store", str(store),
-                 "--retry-failed", "--json"]) == 2
+                 "--retry-failed", "--json"]) == 3
     assert json.loads(capsys.readouterr().out)["failed"] == [failed]
     assert [job.label for job in runs] == ["latitude = 89.5 deg"]
 
@@ -277,16 +277,16 @@ def test_plot_of_a_sweep_whose_every_point_failed_says_there_is_nothing_to_plot(
     """Every point reaches the pole: --plot (a colour map over two swept parameters, or
     a line over one) has no value to draw. Was: an IndexError traceback, exit 1, neither
     the table nor the failed points printed; now the same table and list as without
-    --plot, one line saying nothing was plotted, exit 2, no file."""
+    --plot, one line saying nothing was plotted, exit 3 (the failed points), no file."""
     path = scenario_file(tmp_path, "[sweep]\nlatitude = ['89.5 deg', '89.7 deg']\n"
                                    "accel_bias_x = ['50 ug', '100 ug']\n", POLE)
     store, png = tmp_path / "s.zarr", tmp_path / "map.png"
     command = ["sweep", str(path), "--engine", "serial", "--store", str(store),
                "--no-progress"]
-    assert main(command) == 2
+    assert main(command) == 3
     plain_out, plain_err = capsys.readouterr()
     assert main([*command, "--plot", str(png),
-                 *(["--against", against] if against else [])]) == 2
+                 *(["--against", against] if against else [])]) == 3
     out, err = capsys.readouterr()
     assert out == plain_out.replace("4 computed (this process), 0 read back",
                                     "0 computed (nothing to run), 4 read back")
@@ -320,7 +320,7 @@ def test_a_failed_point_that_runs_again_is_stored_like_the_others(tmp_path, monk
     assert result.failed == [1] and store.exists()
     assert (tmp_path / "s.nc.partial.zarr").exists()
     assert list(result.dataset["failure"].values) == ["", "a made-up failure"]
-    assert main(["sweep", str(path), "--engine", "serial", "--store", str(store)]) == 2
+    assert main(["sweep", str(path), "--engine", "serial", "--store", str(store)]) == 3
     assert "point 1 (latitude = 30 deg): a made-up failure" in capsys.readouterr().err
     monkeypatch.setattr(sw, "run_point", real)
     again = sw.run_sweep(load_scenario(path), store, engine="serial", retry_failed=True)
@@ -586,7 +586,7 @@ def test_swept_values_are_shown_with_the_digits_that_tell_them_apart(tmp_path, c
     labels = [job.label for job in sw.grid(load_scenario(path)).jobs]
     assert labels == [f"latitude = {w} deg" for w in written]
     assert main(["sweep", str(path), "--engine", "serial", "--store",
-                 str(tmp_path / "s.zarr"), "--no-progress"]) == 2
+                 str(tmp_path / "s.zarr"), "--no-progress"]) == 3
     out, err = capsys.readouterr()
     assert "(latitude = 89.99999 deg): " in err and "= 90 deg" not in err
     lines = out.splitlines()

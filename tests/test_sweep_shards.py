@@ -150,18 +150,18 @@ def test_shards_on_different_engines_merge_into_the_whole_sweeps_store(tmp_path,
 
 
 def test_a_failed_point_is_carried_by_its_shard_into_the_merge(tmp_path, capsys):
-    """A point over the pole fails in its shard (exit 2, the store complete); the
+    """A point over the pole fails in its shard (exit 3, the store complete); the
     merged store records it as the whole sweep's store does."""
     path = write(tmp_path, FLIGHT + '[sweep]\nlatitude = ["10 deg", "89.5 deg", "30 deg"]\n')
     assert main(["sweep", str(path), "--engine", "serial", "--store",
-                 str(tmp_path / "whole.zarr"), "--no-progress"]) == 2
+                 str(tmp_path / "whole.zarr"), "--no-progress"]) == 3
     statuses = [main(["sweep", str(path), "--engine", "serial", "--shard", f"{i}/2",
                       "--store", str(tmp_path / f"p{i}.zarr"), "--no-progress"])
                 for i in (1, 2)]
-    assert statuses == [0, 2]  # point 1 is shard 2's
+    assert statuses == [0, 3]  # point 1 is shard 2's
     capsys.readouterr()
     assert main(["sweep", str(path), "--merge", str(tmp_path / "p1.zarr"),
-                 str(tmp_path / "p2.zarr"), "--store", str(tmp_path / "all.zarr")]) == 2
+                 str(tmp_path / "p2.zarr"), "--store", str(tmp_path / "all.zarr")]) == 3
     assert "point 1 (latitude = 89.5 deg)" in capsys.readouterr().err
     assert_bit_identical(opened(tmp_path / "whole.zarr"), opened(tmp_path / "all.zarr"))
 

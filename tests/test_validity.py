@@ -225,18 +225,18 @@ def test_a_sweep_that_fails_from_its_smallest_magnitude_is_failed(orthodromic):
     assert good.to_dict() == run_validity_task(tasks[1]).to_dict()
 
 
-def test_cli_lists_the_failed_sweep_and_exits_2(capsys, tmp_path, monkeypatch,
+def test_cli_lists_the_failed_sweep_and_exits_3(capsys, tmp_path, monkeypatch,
                                                 failing_map):
     """Like a sweep's failed points: every sweep is in the output (the failed one with
     its reason, in the JSON under "failed"), stderr has one line per failed sweep after a
-    header, and the exit status is 2; the plot marks the magnitudes without a result."""
+    header, and the exit status is 3; the plot marks the magnitudes without a result."""
     from ins_errors.analysis import validity_plot
 
     _, (bad, good) = failing_map
     args = ["validity", "strapdown_ned", "--motion", "static", "--hours", "1.5",
             "--step", "10s", "--engine", "serial", "--no-progress"]
     args += [a for s in FAILING["sources"] for a in ("-s", s)]
-    assert main([*args, "--json"]) == 2
+    assert main([*args, "--json"]) == 3
     out, err = capsys.readouterr()
     report = json.loads(out)
     assert [r["source"] for r in report["sources"]] == FAILING["sources"]
@@ -261,7 +261,7 @@ def test_cli_lists_the_failed_sweep_and_exits_2(capsys, tmp_path, monkeypatch,
 
     monkeypatch.setattr(validity_plot, "plot_validity", spy)
     out_dir = tmp_path / "map"
-    assert main([*args, "--plot", "--out", str(out_dir)]) == 2
+    assert main([*args, "--plot", "--out", str(out_dir)]) == 3
     out, err = capsys.readouterr()
     row = next(r for r in out.splitlines() if r.startswith("| `accel_bias_z`"))
     assert "failed from" in row

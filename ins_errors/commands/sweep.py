@@ -8,6 +8,12 @@ from ins_errors.commands.run import SCENARIO_TRUTH_HELP, TRUTHS
 from ins_errors.json_output import emit
 from ins_errors.user_paths import expand_user
 
+EXIT_SOME_FAILED = 3
+"""Exit status of a command that finished but some of whose points (``sweep``) or sweeps
+(``validity``) failed on their own input, each listed on stderr (and in ``--json`` under
+``"failed"``): not 2, which says the command did not run (bad input), so a script tells
+"finished, some failed" from "did not run"."""
+
 
 def register(subparsers: argparse._SubParsersAction) -> None:
     parser = subparsers.add_parser(
@@ -24,7 +30,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "fails on its own bad input "
                     "(e.g. a motion that reaches a pole) is stored with its reason and "
                     "no data, the others run on, and the command lists the failed points "
-                    "and exits with status 2. A sweep can be split between N jobs (a "
+                    "and exits with status 3 (bad input to the command itself exits 2 "
+                    "before any point runs). A sweep can be split between N jobs (a "
                     "SLURM array): each runs --shard I/N into a store of its own, then "
                     "'ins-errors sweep FILE --merge PART... --store ALL' joins their "
                     "stores into the one the whole sweep would have written. It says on "
@@ -47,7 +54,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.add_argument("--merge", type=expand_user, nargs="+", metavar="PART",
                         help="compute nothing: join the stores of the N shards of this "
                              "sweep (each --shard I/N run) into --store, after checking "
-                             "that they belong to this sweep and hold every point once")
+                             "that they belong to this sweep and hold every point once "
+                             "(a shard whose points failed, exit status 3, is finished "
+                             "and merges; the merge then exits 3 too)")
     parser.add_argument("--scheduler", metavar="ADDRESS",
                         help="address of a running Dask scheduler, e.g. tcp://HOST:8786 "
                              "(default: [sweep] scheduler, else a local cluster)")
@@ -83,8 +92,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the sweep; 0 when every point ran, 2 when a point failed (listed on stderr,
-    and in the JSON under ``"failed"``).
+    """Run the sweep; 0 when every point ran, :data:`EXIT_SOME_FAILED` (3) when a point
+    failed on its own input (listed on stderr, and in the JSON under ``"failed"``); bad
+    input to the command itself raises before any point runs (exit 2).
 
     Stopped (Ctrl-C, SIGTERM) at any moment, the interruption says how many points the
     store keeps, or that it came before any point was stored."""
@@ -294,8 +304,9 @@ def _plot_request(args: argparse.Namespace, scenario) -> tuple[str, list[str] | 
 
 
 def _failed(data) -> int:
-    """Say which points failed (one line each, on stderr) and give the exit status: 2
-    (bad input) when any did, else 0."""
+    """Say which points failed (one line each, on stderr) and give the exit status:
+    :data:`EXIT_SOME_FAILED` (3: the sweep finished, its store is complete) when any
+    did, else 0."""
     import sys
 
     from ins_errors.analysis import sweep_report as sr
@@ -304,4 +315,4 @@ def _failed(data) -> int:
     if not text:
         return 0
     print(f"ins-errors: {text}", file=sys.stderr)
-    return 2
+    return EXIT_SOME_FAILED

@@ -13,7 +13,8 @@ the linear residual reaches 1 % and 10 % of the error.
 A sweep that fails (e.g. the direct run leaves the model's domain at the largest
 magnitudes) is in the map with its reason and the magnitudes below the first failing one;
 the others run on, and the command lists the failed sweeps on stderr, one line each, and
-exits with status 2, as ``ins-errors sweep`` does for failed points.
+exits with status 3, as ``ins-errors sweep`` does for failed points (bad input to the
+command itself exits 2 before any sweep runs).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import sys
 
 from ins_errors.commands import hours, motion_kinds
 from ins_errors.commands.run import TRUTHS
+from ins_errors.commands.sweep import EXIT_SOME_FAILED
 from ins_errors.json_output import dumps, emit
 from ins_errors.user_paths import expand_user
 
@@ -40,7 +42,8 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "sweep that fails (e.g. its largest magnitudes leave the model's "
                     "domain) keeps the magnitudes below the first failing one and its "
                     "reason, the others run on, and the command lists the failed sweeps "
-                    "and exits with status 2.")
+                    "and exits with status 3 (bad input to the command itself exits 2 "
+                    "before any sweep runs).")
     parser.add_argument("model", help="model name (e.g. orthodromic) or model file (my_ins.py)")
     parser.add_argument("--motion", action="append", type=motion_kinds(MOTIONS),
                         choices=MOTIONS,
@@ -192,7 +195,8 @@ def failure_text(r) -> str:
 
 def _failed(results) -> int:
     """List the failed sweeps on stderr (one line each, the first 10, then how many
-    more) and give the exit status: 2 when any failed, else 0."""
+    more) and give the exit status: :data:`~ins_errors.commands.sweep.EXIT_SOME_FAILED`
+    (3: the map finished) when any failed, else 0."""
     failed = [r for r in results if r.failed]
     if not failed:
         return 0
@@ -204,7 +208,7 @@ def _failed(results) -> int:
                        "its first failing one):",
                        [f"{r.source} on the {r.motion} motion: {failure_text(r)}"
                         for r in failed]), file=sys.stderr)
-    return 2
+    return EXIT_SOME_FAILED
 
 
 START_OPTIONS = ("latitude", "longitude", "heading", "speed", "height")
