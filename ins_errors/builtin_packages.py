@@ -6,7 +6,9 @@ from (:func:`~ins_errors.model_identity.builtin_record`: its module in
 ``ins_errors/models/`` and the Earth and platform formulas it builds on). Loading the
 model compares them with the files as they are now (:func:`stale_sources`: a few files
 hashed, about 0.1 ms, no SymPy). A package whose model was edited since is never run,
-as a model file's stale ``<name>_generated/`` is not: one line on stderr says so, and
+as a model file's stale ``<name>_generated/`` is not: a notice says so (a
+:class:`RuntimeWarning`, which the command line prints as one line; once per process,
+not again in its worker processes: :func:`~ins_errors.model_lookup.package_notice`), and
 the edited model is derived into the user cache (``$INS_ERRORS_CACHE/models`` or
 ``~/.cache/ins-errors/models``, folder ``<name>-<16 hex>``, derived on first use and
 kept for next time; :data:`~ins_errors.model_lookup.KEEP_VERSIONS` versions of each
@@ -24,7 +26,6 @@ import hashlib
 import importlib
 import importlib.util
 import shutil
-import sys
 from functools import cache
 from pathlib import Path
 from types import ModuleType
@@ -56,10 +57,6 @@ def _key(name: str) -> str:
     text = "\n".join([f"built-in {name}", *(f"{k} {v}" for k, v in sources.items()),
                       derivation_code_sha256()])
     return hashlib.sha256(text.encode()).hexdigest()[:16]
-
-
-def _say(message: str) -> None:
-    print(f"ins-errors: {message}", file=sys.stderr)
 
 
 def _definition(name: str):
@@ -122,8 +119,9 @@ def _prune(current: Path) -> None:
 
 def fresh_folder(name: str, changed: list[str]) -> Path:
     """The cache folder of the built-in model ``name`` derived from its sources as they
-    are now, deriving it there if needed; says in one line on stderr that the shipped
-    package is stale (``changed``: the labels of the edited sources).
+    are now, deriving it there if needed; says that the shipped package is stale
+    (:func:`~ins_errors.model_lookup.package_notice`; ``changed``: the labels of the
+    edited sources).
 
     Raises
     ------
@@ -132,22 +130,28 @@ def fresh_folder(name: str, changed: list[str]) -> Path:
     InsErrorsError
         If the cache cannot be written.
     """
-    from ins_errors.model_lookup import models_cache_directory, package_damage
+    from ins_errors.model_lookup import (
+        models_cache_directory,
+        package_damage,
+        package_notice,
+    )
     from ins_errors.numeric.cache import store_folders, writable_store
 
     edited = ", ".join(f"ins_errors/{label}" for label in changed)
     stale = f"generated/{name}/ is stale ({edited} changed since `make derive`)"
     key = _key(name)
+    subject = f"stale generated/{name}/ {key}"   # in any words: a worker does not repeat it
     for store in store_folders(models_cache_directory()):  # read-only: + private place
         folder = store / f"{name}-{key}"
         if folder.is_dir() and package_damage(folder) is None:
-            _say(f"{stale}; using the up-to-date code in the cache (`make derive` "
-                 "updates generated/)")
+            package_notice(f"{stale}; using the up-to-date code in the cache (`make "
+                           "derive` updates generated/)", subject)
             return folder
     folder = writable_store(models_cache_directory()) / f"{name}-{key}"
     if folder.exists():  # damaged: made again
         shutil.rmtree(folder, ignore_errors=True)
-    _say(f"{stale}; deriving it again into the cache (`make derive` updates generated/)")
+    package_notice(f"{stale}; deriving it again into the cache (`make derive` updates "
+                   "generated/)", subject)
     _derive(name, folder)
     _prune(folder)
     return folder
@@ -171,8 +175,8 @@ def _cached_model(name: str, changed: tuple[str, ...], sources: str):
 
 def builtin_model(name: str):
     """The :class:`~ins_errors.numeric.model.Model` of the built-in model ``name``: its
-    shipped package when it is up to date, else (one line on stderr) its code derived
-    from the edited sources in the cache."""
+    shipped package when it is up to date, else (a notice: :func:`fresh_folder`) its code
+    derived from the edited sources in the cache."""
     from ins_errors.numeric.model import Model
 
     meta = shipped_package(name)

@@ -21,9 +21,11 @@ default) when that package records both, else from the user cache
 ``<model>-<first 16 hex of the SHA-256 of both>``), where it is derived on first use (the
 :data:`KEEP_VERSIONS` newest versions of each model are kept there). A stale package (the
 model file was edited since, or another version of ins-errors derived it) is never used:
-one line on stderr says so and the code is regenerated in the cache. A cache folder that
-cannot be written (mounted read-only) is still read; code it lacks is derived into this
-user's private folder (:func:`ins_errors.numeric.cache.writable_store`), said in one line.
+a notice says so (:func:`package_notice`: a :class:`RuntimeWarning`, one line on the
+command line's stderr, once per process) and the code is regenerated in the cache. A
+cache folder that cannot be written (mounted read-only) is still read; code it lacks is
+derived into this user's private folder (:func:`ins_errors.numeric.cache.writable_store`),
+said in one line.
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ import os
 import re
 import shutil
 import sys
+import warnings
 from dataclasses import dataclass
 from functools import cache
 from pathlib import Path
@@ -314,6 +317,41 @@ def _say(message: str) -> None:
     print(f"ins-errors: {message}", file=sys.stderr)
 
 
+NOTICES_GIVEN_VARIABLE = "INS_ERRORS_PACKAGE_NOTICES_GIVEN"
+"""The notices of :func:`package_notice` a process has given (16 hex digits each,
+separated by spaces), set in its environment as it gives them: the worker processes it
+starts afterwards (a process pool, a local Dask cluster) do not give them again."""
+
+_NOTICES_GIVEN: set[str] = set()
+
+
+def package_notice(message: str, about: str | None = None) -> None:
+    """Say that a generated package is stale or damaged (``message``, after
+    ``ins-errors: ``): a :class:`RuntimeWarning`, which the command line prints as this
+    one line and the Python API can filter or record (:mod:`warnings`).
+
+    Given once per process for each subject ``about`` (default: the message; the stale
+    package and the version it is stale against, so that a worker that finds the fresh
+    code in the cache does not say it in other words), and not in a worker process of a
+    process that has given it (:data:`NOTICES_GIVEN_VARIABLE`). It is about the machine,
+    not the results: ``--fail-on-warning`` does not count it
+    (:data:`ins_errors.commands.warning_status.MACHINE_NOTICES`).
+    """
+    key = hashlib.sha256((about or message).encode()).hexdigest()[:16]
+    if key in _NOTICES_GIVEN:
+        return
+    _NOTICES_GIVEN.add(key)
+    given = os.environ.get(NOTICES_GIVEN_VARIABLE, "").split()
+    if key in given:
+        import multiprocessing
+
+        if multiprocessing.parent_process() is not None:
+            return  # a worker: the process that started it has said so
+    else:
+        os.environ[NOTICES_GIVEN_VARIABLE] = " ".join([*given, key])
+    warnings.warn(f"ins-errors: {message}", RuntimeWarning, stacklevel=2)
+
+
 FILES_RECORD = "GENERATED_FILES"
 """Name of the record, in a package's ``__init__.py``, of its other files' lengths and
 hashes (:func:`seal_package`)."""
@@ -379,7 +417,7 @@ def generated_folder(ref: ModelRef) -> Path:
     """The folder with up-to-date generated code of a model file, deriving it if needed.
 
     A package is checked whole before it is used (:func:`package_damage`): a damaged
-    one is said in one line and derived again in its place, never imported.
+    one is said (:func:`package_notice`) and derived again in its place, never imported.
 
     Raises
     ------
@@ -402,10 +440,13 @@ def generated_folder(ref: ModelRef) -> Path:
         stale = (f"{beside.name}/ is stale ({ref.path.name} or a file it imports changed "
                  "since it was derived)" if recorded[0] != current[0] else
                  f"{beside.name}/ was derived by another version of ins-errors")
+    # the subject of the stale notice: this package against this version (a worker
+    # that finds the code derived by its parent does not say it again in other words)
+    subject = f"stale {beside} {recorded} {current}"
     cached, damaged = _cached_package(ref)
     if cached is not None:
         if stale:
-            _say(f"{stale}; using the up-to-date code in the cache")
+            package_notice(f"{stale}; using the up-to-date code in the cache", subject)
         return cached
     from ins_errors.numeric.cache import writable_store
 
@@ -416,13 +457,14 @@ def generated_folder(ref: ModelRef) -> Path:
     if cached.exists() and package_damage(cached) is not None:
         _discard(cached)   # damaged: made again below
     if damaged is not None:
-        _say(f"the cached code {str(damaged[0])!r} is damaged ({damaged[1]}) and is not "
-             f"used; deriving {ref.label} again")
+        package_notice(f"the cached code {str(damaged[0])!r} is damaged ({damaged[1]}) "
+                       f"and is not used; deriving {ref.label} again")
     elif stale:
-        _say(f"{stale}; deriving again into the cache")
+        package_notice(f"{stale}; deriving again into the cache", subject)
     elif _derived_by_other_code(ref):
-        _say(f"deriving {ref.label} again: its cached code was derived by another version "
-             "of ins-errors (cached for next time)")
+        package_notice(f"deriving {ref.label} again: its cached code was derived by "
+                       "another version of ins-errors (cached for next time)",
+                       f"other code {ref.path} {current}")
     else:
         _say(f"deriving {ref.label} (first use of this version; cached for next time)")
     origin, record = package_record(ref)
@@ -443,7 +485,7 @@ def generated_folder(ref: ModelRef) -> Path:
 
 def _derive_again(ref: ModelRef, beside: Path, damage: str) -> Path:
     """Derive the damaged up-to-date package ``beside`` (``<stem>_generated/``) again in
-    its place, said in one line; a one-line error naming the folder and the cure where
+    its place, said (:func:`package_notice`); a one-line error naming the folder and the cure where
     it cannot be written."""
     def refused(why: str) -> InsErrorsError:
         return InsErrorsError(f"the generated package {str(beside)!r} is damaged ({damage}) "
@@ -455,7 +497,8 @@ def _derive_again(ref: ModelRef, beside: Path, damage: str) -> Path:
     if (not os.access(beside.parent, writable) or not os.access(beside, writable)
             or os.path.ismount(beside)):
         raise refused("read-only")   # before the SymPy work
-    _say(f"{beside.name}/ is damaged ({damage}); deriving it again")
+    package_notice(f"{beside.name}/ is damaged ({damage}); deriving it again",
+                   f"damaged {beside} {damage}")
     d = definition_of(ref)
     origin, record = package_record(ref)
     try:

@@ -3,9 +3,10 @@
 The generated package of a model file follows from the file and from the version of
 ins-errors that derived it (the variation, the code generation, the definition checks).
 Its cache key and its record hold both, so a package derived by another version is
-derived again (one line on stderr), never run; an unchanged installation reuses it.
-The fingerprint of the derivation code is checked against copies of the package's
-sources: it follows a change of the code and nothing outside it.
+derived again (a RuntimeWarning, one line on the command line's stderr), never run; an
+unchanged installation reuses it. The fingerprint of the derivation code is checked
+against copies of the package's sources: it follows a change of the code and nothing
+outside it.
 """
 
 from __future__ import annotations
@@ -68,8 +69,21 @@ def _model_file(tmp_path: Path) -> Path:
 
 
 def _load(path: Path):
-    _file_model.cache_clear()  # as a new command would
+    _new_process()
     return load_model(str(path))
+
+
+def _new_process() -> None:
+    """As a new command would: no model loaded, no notice given yet."""
+    from ins_errors import model_lookup
+
+    _file_model.cache_clear()
+    model_lookup._NOTICES_GIVEN.clear()
+
+
+def _notices(caught) -> list[str]:
+    """The texts of the RuntimeWarnings ``pytest.warns`` recorded."""
+    return [str(w.message) for w in caught if w.category is RuntimeWarning]
 
 
 def _other_derivation_code(monkeypatch) -> None:
@@ -97,16 +111,17 @@ def test_a_package_beside_the_file_derived_by_other_code_is_derived_again(
     assert _load(path).folder == beside and capsys.readouterr().err == ""
 
     _other_derivation_code(monkeypatch)
-    model = _load(path)
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["ins-errors: my_ins_generated/ was derived by another version of "
-                   "ins-errors; deriving again into the cache"]
+    with pytest.warns(RuntimeWarning) as caught:
+        model = _load(path)
+    assert _notices(caught) == ["ins-errors: my_ins_generated/ was derived by another "
+                                "version of ins-errors; deriving again into the cache"]
+    assert capsys.readouterr().err == ""   # the API's: a warning, not stderr
     assert derivations[1:] == [model.folder] and model.folder.parent == private_cache
     assert _recorded_code(model.folder) == OTHER_CODE
     assert _recorded_code(beside) != OTHER_CODE  # the user's folder is left alone
 
     # the next command (an unchanged installation) reuses the cache, still saying why
-    _file_model.cache_clear()
+    _new_process()
     assert main(["models", str(path)]) == 0
     err = capsys.readouterr().err.strip().splitlines()
     assert err == ["ins-errors: my_ins_generated/ was derived by another version of "
@@ -130,10 +145,11 @@ def test_a_cached_package_derived_by_other_code_is_derived_again(
     assert capsys.readouterr().err == ""
 
     _other_derivation_code(monkeypatch)
-    second = _load(path).folder
-    err = capsys.readouterr().err.strip().splitlines()
-    assert err == ["ins-errors: deriving model file my_ins.py again: its cached code was "
-                   "derived by another version of ins-errors (cached for next time)"]
+    with pytest.warns(RuntimeWarning) as caught:
+        second = _load(path).folder
+    assert _notices(caught) == ["ins-errors: deriving model file my_ins.py again: its "
+                                "cached code was derived by another version of ins-errors "
+                                "(cached for next time)"]
     assert second != first and derivations == [first, second]
     assert _recorded_code(second) == OTHER_CODE
     assert _load(path).folder == second and len(derivations) == 2
@@ -151,9 +167,8 @@ def test_a_package_without_the_fingerprint_is_derived_again(tmp_path, capsys, de
     init.write_text("".join(line for line in text.splitlines(keepends=True)
                             if not line.startswith("DERIVATION_CODE_SHA256")),
                     encoding="utf-8")
-    capsys.readouterr()
-    model = _load(path)
-    assert "was derived by another version of ins-errors" in capsys.readouterr().err
+    with pytest.warns(RuntimeWarning, match="was derived by another version of ins-errors"):
+        model = _load(path)
     assert model.folder != beside and len(derivations) == 2
 
 

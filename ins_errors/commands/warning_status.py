@@ -32,10 +32,15 @@ NOTE = "ins-errors: note:"
 """How a note on stderr begins (how an input was read): not counted."""
 
 MACHINE_NOTICES = ("compiled loops run in the CasADi virtual machine",
-                   "ins-errors: the cache entry")
+                   "ins-errors: the cache entry",
+                   "/ is stale (", "was derived by another version of ins-errors;",
+                   "its cached code was derived by another version of ins-errors",
+                   "_generated/ is damaged (", "ins-errors: the cached code")
 """Words of the notices on stderr that the machine works otherwise with the same
 results (no C compiler or no disk space to compile: the virtual machine; a damaged
-cache entry, made again): not counted (tests/test_fail_on_warning.py shows them)."""
+cache entry, made again; a stale or damaged generated package of a model, derived again
+from the model as it is: :func:`ins_errors.model_lookup.package_notice`): not counted
+(tests/test_fail_on_warning.py and tests/test_package_notices.py show them)."""
 
 
 def counted(text: str) -> bool:
