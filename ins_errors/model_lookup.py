@@ -314,6 +314,8 @@ def package_record(ref: ModelRef) -> tuple[tuple[str, str], dict[str, str]]:
 
 
 def _say(message: str) -> None:
+    """Say on stderr, as progress, that a model file is being derived (a version the cache
+    does not hold yet); a stale or damaged package is a notice: :func:`package_notice`."""
     print(f"ins-errors: {message}", file=sys.stderr)
 
 
@@ -461,10 +463,9 @@ def generated_folder(ref: ModelRef) -> Path:
                        f"and is not used; deriving {ref.label} again")
     elif stale:
         package_notice(f"{stale}; deriving again into the cache", subject)
-    elif _derived_by_other_code(ref):
-        package_notice(f"deriving {ref.label} again: its cached code was derived by "
-                       "another version of ins-errors (cached for next time)",
-                       f"other code {ref.path} {current}")
+    elif _derived_by_other_code(ref):   # as the first use: progress, not a notice
+        _say(f"deriving {ref.label} again: its cached code was derived by another version "
+             "of ins-errors (cached for next time)")
     else:
         _say(f"deriving {ref.label} (first use of this version; cached for next time)")
     origin, record = package_record(ref)

@@ -33,8 +33,7 @@ NOTE = "ins-errors: note:"
 
 MACHINE_NOTICES = ("compiled loops run in the CasADi virtual machine",
                    "ins-errors: the cache entry",
-                   "/ is stale (", "was derived by another version of ins-errors;",
-                   "its cached code was derived by another version of ins-errors",
+                   "/ is stale (", "_generated/ was derived by another version of",
                    "_generated/ is damaged (", "ins-errors: the cached code")
 """Words of the notices on stderr that the machine works otherwise with the same
 results (no C compiler or no disk space to compile: the virtual machine; a damaged
