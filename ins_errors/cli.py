@@ -264,8 +264,10 @@ def main(argv: list[str] | None = None) -> int:
     Returns
     -------
     int
-        0 done (a check found no mistake), 1 a check found at least one mistake, 2 bad
-        input or an output that cannot be written (one line on stderr), 130 interrupted
+        0 done (a check found no mistake), 1 a finding (a check found at least one
+        mistake, a budget's spec exceeded, a warning under ``--fail-on-warning``), 2 bad
+        input or an output that cannot be written (one line on stderr), 3 a sweep or
+        validity map that finished with points failed on their own input, 130 interrupted
         (143 when SIGTERM stopped it, after the clean-up Ctrl-C gets),
         141 (128 + SIGPIPE) the reader of standard output stopped reading, as a POSIX
         tool killed by SIGPIPE reports.
