@@ -38,6 +38,7 @@ Example
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from typing import NamedTuple
 
@@ -91,8 +92,8 @@ def error_matrices(model, convention: str, x, u, p, *, bias_states: Sequence[str
         state's column of F is its source's column of G, its row is 0 (or −1/τ,
         ``markov``); its column of G is 0.
     markov : mapping of str to float, optional
-        Correlation time τ (s) of bias states that are first-order Gauss–Markov
-        processes.
+        Correlation time τ (s, a positive number) of bias states that are first-order
+        Gauss–Markov processes.
 
     Returns
     -------
@@ -104,7 +105,9 @@ def error_matrices(model, convention: str, x, u, p, *, bias_states: Sequence[str
     InsErrorsError
         One line for an array of the wrong shape or with NaN, an unknown convention
         (a model with no navigation description has only ``model``), bias states that
-        are no constant error sources, or samples the convention cannot carry.
+        are no constant error sources, a correlation time that is no positive number of
+        seconds (0, negative, NaN, infinite, text: :func:`correlation_times`), or samples
+        the convention cannot carry.
     """
     from ins_errors.checker.check_motions import Motion
     from ins_errors.checker.derived_convention import derived_in_convention
@@ -142,8 +145,9 @@ def model_convention(model, convention: str, bias_states: Sequence[str] = (),
     InsErrorsError
         One line for a convention the model does not have (saying when it has only its
         own error states), a bias state that is no constant error source (a state of the
-        convention, an initial error, an unknown name), one given twice, or a correlation
-        time of something that is no bias state. The bias states follow the convention's
+        convention, an initial error, an unknown name), one given twice, a correlation
+        time of something that is no bias state, or one that is no positive number of
+        seconds (:func:`correlation_times`). The bias states follow the convention's
         states in the order given.
     """
     from ins_errors.checker.conventions import conventions
@@ -171,18 +175,86 @@ def model_convention(model, convention: str, bias_states: Sequence[str] = (),
                 f"bias state {name!r} is a state of convention {convention!r} already: "
                 "bias states are constant error sources of the model carried as further "
                 f"states ({', '.join(sources[:3])}, …; 'ins-errors models {model.name}')")
-    for name in markov or {}:
+    markov = correlation_times(markov)
+    for name in markov:
         if name not in bias_states:
             raise InsErrorsError(
                 f"a correlation time (--markov {name}=TAU) is given for {name!r}, which is "
                 "not a bias state: name it in --bias-states too")
     if bias_states or markov:
         states = [*conv.names, *bias_states]
-        made = make_bias_states(states, [], dict(markov or {}), conv, model,
+        made = make_bias_states(states, [], markov, conv, model,
                                 "bias_states", "markov")
         # in the order given (a filter's layout), not the model's order of its sources
         conv = conv.with_biases(tuple(sorted(made, key=lambda b: bias_states.index(b.name))))
     return conv
+
+
+def correlation_times(markov: Mapping[str, float] | None,
+                      what: str = "markov") -> dict[str, float]:
+    """``markov`` (bias state -> correlation time τ, s) as a dict, each τ checked by
+    :func:`correlation_time`.
+
+    Raises
+    ------
+    InsErrorsError
+        One line for anything but a mapping of names to positive numbers of seconds.
+    """
+    if markov is None:
+        return {}
+    if not isinstance(markov, Mapping):
+        raise InsErrorsError(f"{what} takes a mapping bias state -> correlation time (s), "
+                             f"e.g. {{'gyro_bias_x': 300.0}}, got {type(markov).__name__} "
+                             f"{markov!r:.40}")
+    return {name: correlation_time(name, tau, f"{what}[{name!r}]")
+            for name, tau in markov.items()}
+
+
+def correlation_time(name: str, tau, where: str) -> float:
+    """The correlation time τ (s) of the Gauss–Markov bias state ``name``, checked: the
+    one check of the Python API (``markov=``) and of ``ins-errors matrices --markov``.
+
+    Parameters
+    ----------
+    name : str
+        The bias state.
+    tau : float
+        Its correlation time, s (a number: text with units is refused, naming
+        :func:`ins_errors.units.parse_quantity`).
+    where : str
+        How the caller gave it (``markov['gyro_bias_z']``, ``--markov gyro_bias_z=0s``),
+        the start of the message.
+
+    Returns
+    -------
+    float
+        τ, s: positive and finite, and so is 1/τ (the bias row's −1/τ of F).
+
+    Raises
+    ------
+    InsErrorsError
+        One line naming ``where``, the bias state and the value: 0 (white noise, which
+        is no state), negative (a growing bias), NaN, infinite or too small for 1/τ.
+    """
+    from ins_errors.numeric.model import si_number
+
+    if isinstance(tau, bool):
+        raise InsErrorsError(f"{where}: the correlation time of bias state {name!r} must be "
+                             f"a number of seconds, got {tau!r}")
+    value = si_number(tau, where, "s")
+    if value == 0:
+        raise InsErrorsError(f"{where}: a correlation time of 0 s makes bias state {name!r} "
+                             "white noise, which no state carries: leave it out of the bias "
+                             "states and give its white noise as a density")
+    if not (value > 0 and math.isfinite(value)):
+        raise InsErrorsError(f"{where}: the correlation time of bias state {name!r} must be "
+                             f"positive and finite, got {value:g} s"
+                             + (": its row of F, -1/tau, would make the bias grow"
+                                if value < 0 else ""))
+    if not math.isfinite(1.0 / value):
+        raise InsErrorsError(f"{where}: a correlation time of {value:g} s of bias state "
+                             f"{name!r} is too short: -1/tau overflows")
+    return value
 
 
 def _samples(model, x, u, p) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

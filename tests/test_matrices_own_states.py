@@ -76,7 +76,7 @@ def test_f_and_g_in_the_models_own_states_are_its_real_work_linearised(model_nam
     model = load_model(model_name)
     assert f"note: {model.name} has no φ/ψ convention" in captured.err, captured.err
     assert "--convention model" in captured.err
-    assert "in model at 61 samples of static, cruise, manoeuvre" in captured.out
+    assert "in model at 61 samples each of static, cruise and manoeuvre" in captured.out
     data = np.load(out)
     assert [str(s) for s in data["states"]] == [s.name for s in model.error_states]
     sources = [str(s) for s in data["sources"]]

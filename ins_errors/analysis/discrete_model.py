@@ -148,6 +148,15 @@ def _checked(F, G, times, densities
         try:
             arrays.append(np.asarray(value, dtype=float))
         except (TypeError, ValueError):
+            text = next((v for v in np.ravel(np.asarray(value, dtype=object))
+                         if isinstance(v, str)), None)
+            if text is not None:  # a density as on a datasheet: the API takes SI numbers
+                unit = {"times": "'s'", "densities": "UNIT), UNIT the source's SI unit "
+                        "times s**0.5 ('(rad/s)*s**0.5' for a gyro's angle random walk"
+                        }.get(name, "UNIT")
+                raise InsErrorsError(
+                    f"{name} takes numbers in SI units, got {text!r:.40}; convert text with "
+                    f"ins_errors.units.parse_quantity({text!r:.40}, {unit})") from None
             raise InsErrorsError(f"{name} must be an array of numbers, got "
                                  f"{type(value).__name__}") from None
     F, G, t, q = arrays
@@ -218,18 +227,28 @@ def process_noise(F, G, states, sources, white: Mapping[str, float] | None = Non
     ------
     InsErrorsError
         One line for an unknown source, a steady-state σ of a source that is no
-        Gauss–Markov bias state, or a negative or non-finite value.
+        Gauss–Markov bias state, a negative or non-finite value, text where a number is
+        expected (naming :func:`ins_errors.units.parse_quantity`), or a correlation
+        time that is no positive number of seconds
+        (:func:`ins_errors.conventions.correlation_time`).
     """
+    from ins_errors.conventions import correlation_times
+
     F, G = np.asarray(F, dtype=float), np.asarray(G, dtype=float)
     states, sources = list(states), list(sources)
-    white, markov_sigma, markov = dict(white or {}), dict(markov_sigma or {}), \
-        dict(markov or {})
+    white = _named_values(white, "white", "a 1σ white-noise density",
+                          "{'gyro_bias_x': 8.7e-07}")
+    markov_sigma = _named_values(markov_sigma, "markov_sigma", "a steady-state 1σ",
+                                 "{'gyro_bias_x': 4.8e-08}")
+    markov = correlation_times(markov, "process_noise: markov")
     bias_rows = [i for i, s in enumerate(states) if s in sources]
     columns, densities, names = [], [], []
     for name, density in white.items():
         if name not in sources:
             raise unknown_name("error source", name, sources)
-        _non_negative(density, f"white-noise density of {name}")
+        density = _non_negative(density, f"process_noise: white[{name!r}]",
+                                "white-noise density",
+                                f'f"({{model.source({name!r}).unit}})*s**0.5"')
         if name in states:           # a bias state: the column its bias has in F
             column = F[:, :, states.index(name)].copy()
             column[:, bias_rows] = 0.0
@@ -243,7 +262,8 @@ def process_noise(F, G, states, sources, white: Mapping[str, float] | None = Non
             raise InsErrorsError(f"{name!r} is no Gauss–Markov bias state (bias states with "
                                  f"a correlation time: {', '.join(markov) or 'none'}), so "
                                  "it has no steady-state σ driving a noise")
-        _non_negative(sigma, f"steady-state σ of {name}")
+        sigma = _non_negative(sigma, f"process_noise: markov_sigma[{name!r}]",
+                              "steady-state σ", f"model.source({name!r}).unit")
         column = np.zeros(F.shape[:2])
         column[:, states.index(name)] = 1.0
         columns.append(column)
@@ -253,9 +273,39 @@ def process_noise(F, G, states, sources, white: Mapping[str, float] | None = Non
     return Gw, np.array(densities, dtype=float), tuple(names)
 
 
-def _non_negative(value: float, what: str) -> None:
-    if not (math.isfinite(value) and value >= 0):
-        raise InsErrorsError(f"{what} must be a finite number >= 0, got {value!r}")
+def _named_values(values: Mapping[str, float] | None, what: str, value: str,
+                  example: str) -> dict[str, float]:
+    """``values`` (source name -> ``value``) as a dict; one line for anything but a
+    mapping (a name alone, a list)."""
+    if values is None:
+        return {}
+    if not isinstance(values, Mapping):
+        raise InsErrorsError(f"process_noise: {what} takes a mapping source name -> {value} "
+                             f"(SI), e.g. {example}, got {type(values).__name__} "
+                             f"{values!r:.40}")
+    return dict(values)
+
+
+def _non_negative(value, where: str, what: str, unit: str) -> float:
+    """``value`` as a float, a finite number >= 0: one line naming ``where`` otherwise,
+    text with units refused naming ``parse_quantity`` (with ``unit``, the Python
+    expression of its SI unit, as its second argument)."""
+    if isinstance(value, str):
+        raise InsErrorsError(f"{where} takes a number in SI units, got {value!r:.40}; convert "
+                             f"text with ins_errors.units.parse_quantity({value!r:.40}, "
+                             f"{unit})")
+    if isinstance(value, bool) or np.ndim(value) != 0 or np.iscomplexobj(value):
+        raise InsErrorsError(f"{where} must be one real number (a {what}, SI), got "
+                             f"{value!r:.60}")
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise InsErrorsError(f"{where} must be a number (a {what}, SI), got "
+                             f"{value!r:.60}") from None
+    if not (math.isfinite(number) and number >= 0):
+        raise InsErrorsError(f"{where}: a {what} must be a finite number >= 0, got "
+                             f"{number!r}")
+    return number
 
 
 HOLD_TOLERANCE = 0.01

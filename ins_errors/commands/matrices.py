@@ -264,11 +264,18 @@ def run(args: argparse.Namespace) -> int:
          else " (no G: every source is a state)")
     order = (f"\nstates: {', '.join(states)}" if biases else "")
     print(f"wrote {args.out}: F ({k}, {len(states)}, {len(states)}){g} in "
-          f"{args.convention} at {k} samples of "
-          f"{', '.join(m.label for m in chosen)}" + order
+          f"{args.convention} at {_samples_text(k, [m.label for m in chosen])}" + order
           + (_discrete_line(k, len(states), args.step, noises) if args.discrete else "")
           + "".join(f"\nnot flown: {text}" for text in skipped))
     return 0
+
+
+def _samples_text(k: int, labels: list[str]) -> str:
+    """``37 samples of static``, or ``37 samples each of static, cruise and manoeuvre``:
+    every motion has K samples (the same step over the same hours), not K in all."""
+    if len(labels) == 1:
+        return f"{k} samples of {labels[0]}"
+    return f"{k} samples each of {', '.join(labels[:-1])} and {labels[-1]}"
 
 
 def _default_convention(model, given: str | None) -> str:
@@ -295,7 +302,9 @@ def _default_convention(model, given: str | None) -> str:
 
 def _markov_times(items: list[str], biases: list[str]) -> dict[str, float]:
     """``--markov NAME=TIME`` options as name -> correlation time (s); each name a bias
-    state, each time positive (one line naming the option otherwise)."""
+    state, each time positive (one line naming the option otherwise: the API's check,
+    :func:`ins_errors.conventions.correlation_time`)."""
+    from ins_errors.conventions import correlation_time
     from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import name_value_pairs
     from ins_errors.units import parse_quantity
@@ -306,10 +315,7 @@ def _markov_times(items: list[str], biases: list[str]) -> dict[str, float]:
             raise InsErrorsError(f"--markov {name}={text}: {name!r} is not a bias state "
                                  f"(--bias-states {','.join(biases) or '...'})")
         tau = parse_quantity(text, "s", f"--markov {name}")
-        if not (math.isfinite(tau) and tau > 0):
-            raise InsErrorsError(f"--markov {name}={text}: the correlation time must be "
-                                 "positive")
-        times[name] = tau
+        times[name] = correlation_time(name, tau, f"--markov {name}={text}")
     return times
 
 
