@@ -49,7 +49,7 @@ def function_specs(em: ErrorModel) -> list[FunctionSpec]:
     """Every numeric function emitted for a model."""
     d = em.definition
     x = Argument("x", d.x, "ideal-work (true) state, SI units")
-    xr = Argument("xr", d.real_states, "real-work state: computed state, then platform angles")
+    xr = Argument("xr", d.real_states, real_state_description(d))
     u = Argument("u", d.u, "true-motion inputs, SI units")
     p = Argument("p", d.p, "model parameters, SI units")
     w = Argument("w", d.w, "error-source magnitudes, SI units")
@@ -70,7 +70,10 @@ def function_specs(em: ErrorModel) -> list[FunctionSpec]:
         FunctionSpec("ideal_rhs", [x, u, p], em.ideal_rhs,
                      "Ideal-work equations: dx/dt.", "time derivative of the true state"),
         FunctionSpec("real_rhs", [xr, x, u, w, p], em.real_rhs,
-                     "Real-work equations: dxr/dt (needs the true state for the platform).",
+                     "Real-work equations: dxr/dt "
+                     + ("(needs the true state x for the platform)."
+                        if em.real_rhs.free_symbols & set(d.x)
+                        else "(x is not used: the signature all models share)."),
                      "time derivative of the real-work state"),
         *small_angle,
         FunctionSpec("outputs", [x, u, p], em.outputs,
@@ -103,6 +106,21 @@ def function_specs(em: ErrorModel) -> list[FunctionSpec]:
                      "Margins that must be positive for the initial conditions.",
                      "one margin per condition of INITIAL_DOMAIN"),
     ]
+
+
+def real_state_description(d: ModelDefinition) -> str:
+    """What the real-work state ``xr`` of ``d``'s generated functions holds, for their
+    docstrings: the computed states in ``x``'s order, then the extra error states (zero in
+    ideal work) by name, or that there are none (a strapdown INS)."""
+    extra = d.extra_error_states
+    head = f"real-work state: the {len(d.states)} computed states in the order of x"
+    if not extra:
+        return head + ", no further state"
+    names = ", ".join(v.name for v in extra)
+    if extra == d.platform_angles:
+        return f"{head}, then the platform angles {names} (rad)"
+    units = ", ".join(f"{v.name} ({v.unit})" for v in extra)
+    return f"{head}, then the states zero in ideal work: {units}"
 
 
 def _metadata(d: ModelDefinition, record: dict[str, object] | None = None) -> str:

@@ -60,12 +60,12 @@ def ideal_rhs(x, u, p):
 
 
 def real_rhs(xr, x, u, w, p):
-    """Real-work equations: dxr/dt (needs the true state for the platform).
+    """Real-work equations: dxr/dt (needs the true state x for the platform).
 
     Parameters
     ----------
     xr : array_like, shape (7, ...)
-        real-work state: computed state, then platform angles
+        real-work state: the 4 computed states in the order of x, then the platform angles alpha_E, alpha_N, alpha_U (rad)
     x : array_like, shape (4, ...)
         ideal-work (true) state, SI units
     u : array_like, shape (3, ...)
@@ -154,7 +154,7 @@ def real_rhs_small_angle(xr, x, u, w, p):
     Parameters
     ----------
     xr : array_like, shape (7, ...)
-        real-work state: computed state, then platform angles
+        real-work state: the 4 computed states in the order of x, then the platform angles alpha_E, alpha_N, alpha_U (rad)
     x : array_like, shape (4, ...)
         ideal-work (true) state, SI units
     u : array_like, shape (3, ...)

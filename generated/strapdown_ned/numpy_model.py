@@ -113,12 +113,12 @@ def ideal_rhs(x, u, p):
 
 
 def real_rhs(xr, x, u, w, p):
-    """Real-work equations: dxr/dt (needs the true state for the platform).
+    """Real-work equations: dxr/dt (x is not used: the signature all models share).
 
     Parameters
     ----------
     xr : array_like, shape (10, ...)
-        real-work state: computed state, then platform angles
+        real-work state: the 10 computed states in the order of x, no further state
     x : array_like, shape (10, ...)
         ideal-work (true) state, SI units
     u : array_like, shape (7, ...)
