@@ -150,6 +150,12 @@ def test_the_model_methods_take_the_generated_order_except_second_order(name):
         theirs = list(inspect.signature(getattr(model.numpy, function)).parameters)
         assert ours == theirs and theirs[-1] == "p", method
         assert inspect.signature(getattr(model, method)).parameters["p"].default is None
+    for function in model.numpy.FUNCTIONS:  # p last, but in the second-order terms
+        arguments = list(inspect.signature(getattr(model.numpy, function)).parameters)
+        if function.startswith("second_order"):
+            assert arguments == ["x", "u", "p", "xe", "w"], function
+        else:
+            assert arguments[-1] == "p", function
     assert list(inspect.signature(model.second_order).parameters) == ["x", "u", "xe", "w", "p"]
     assert list(inspect.signature(model.numpy.second_order).parameters) == [
         "x", "u", "p", "xe", "w"]
