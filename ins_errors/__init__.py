@@ -20,6 +20,7 @@ Every error a user can provoke with bad input is an :class:`InsErrorsError` (a
 from ins_errors.errors import (
     DomainError,
     InsErrorsError,
+    InsErrorsNotice,
     InsErrorsWarning,
     ModelDefinitionError,
     ShapeError,
@@ -66,6 +67,7 @@ __all__ = [
     "DomainError",
     "Info",
     "InsErrorsError",
+    "InsErrorsNotice",
     "InsErrorsWarning",
     "LinearSystemError",
     "Model",

@@ -35,6 +35,16 @@ class ShapeError(InsErrorsError):
     """An array argument whose shape does not match what the function expects."""
 
 
+class InsErrorsNotice(RuntimeWarning):
+    """A notice about the machine or the checkout, not about the results, which are the
+    same as without it: no C compiler or no disk space to compile (loops run in CasADi's
+    virtual machine), a cache folder that cannot be written, a damaged cache entry made
+    again, a stale or damaged generated package derived again, a file system without file
+    locks. Each is given once per process and not again by the workers it starts; the
+    command line prints it as one line on stderr and ``--fail-on-warning`` does not count
+    it. Filter them all with ``warnings.simplefilter("ignore", InsErrorsNotice)``."""
+
+
 class InsErrorsWarning(UserWarning):
     """A result that holds but needs a caveat (the integration error is large, the linear
     model leaves its validity, a quantity moves only at second order, ...), issued by the

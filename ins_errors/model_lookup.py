@@ -48,6 +48,7 @@ from typing import Literal
 
 from ins_errors.errors import (
     InsErrorsError,
+    InsErrorsNotice,
     ModelDefinitionError,
     UnknownNameError,
     unknown_name,
@@ -329,15 +330,15 @@ _NOTICES_GIVEN: set[str] = set()
 
 def package_notice(message: str, about: str | None = None) -> None:
     """Say that a generated package is stale or damaged (``message``, after
-    ``ins-errors: ``): a :class:`RuntimeWarning`, which the command line prints as this
-    one line and the Python API can filter or record (:mod:`warnings`).
+    ``ins-errors: ``): an :class:`~ins_errors.errors.InsErrorsNotice` (a
+    :class:`RuntimeWarning`), which the command line prints as this one line and the
+    Python API can filter or record (:mod:`warnings`).
 
     Given once per process for each subject ``about`` (default: the message; the stale
     package and the version it is stale against, so that a worker that finds the fresh
     code in the cache does not say it in other words), and not in a worker process of a
     process that has given it (:data:`NOTICES_GIVEN_VARIABLE`). It is about the machine,
-    not the results: ``--fail-on-warning`` does not count it
-    (:data:`ins_errors.commands.warning_status.MACHINE_NOTICES`).
+    not the results: ``--fail-on-warning`` does not count it.
     """
     key = hashlib.sha256((about or message).encode()).hexdigest()[:16]
     if key in _NOTICES_GIVEN:
@@ -351,7 +352,7 @@ def package_notice(message: str, about: str | None = None) -> None:
             return  # a worker: the process that started it has said so
     else:
         os.environ[NOTICES_GIVEN_VARIABLE] = " ".join([*given, key])
-    warnings.warn(f"ins-errors: {message}", RuntimeWarning, stacklevel=2)
+    warnings.warn(f"ins-errors: {message}", InsErrorsNotice, stacklevel=2)
 
 
 FILES_RECORD = "GENERATED_FILES"

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from ins_errors import load_model
+from ins_errors import InsErrorsNotice, load_model
 from ins_errors.cli import main
 from ins_errors.model_identity import (
     DERIVATION_MODULES,
@@ -82,8 +82,8 @@ def _new_process() -> None:
 
 
 def _notices(caught) -> list[str]:
-    """The texts of the RuntimeWarnings ``pytest.warns`` recorded."""
-    return [str(w.message) for w in caught if w.category is RuntimeWarning]
+    """The texts of the machine notices ``pytest.warns`` recorded."""
+    return [str(w.message) for w in caught if issubclass(w.category, InsErrorsNotice)]
 
 
 def _other_derivation_code(monkeypatch) -> None:

@@ -107,8 +107,9 @@ def test_a_warning_about_the_results_on_stderr_counts_and_a_note_does_not(monkey
 
 
 def test_the_machine_notices_do_not_count(monkeypatch, tmp_path):
-    """No C compiler (or no disk space to compile) and a damaged cache entry: the same
-    results, slower or made again. Their own words, as the product shows them."""
+    """No C compiler (or no disk space to compile), a damaged cache entry and a cache
+    folder that cannot be written: the same results, slower, made again or kept
+    elsewhere. Their own words, as the product shows them."""
     from ins_errors.commands.warning_status import watched_warnings
     from ins_errors.numeric import cache, integrators
 
@@ -121,13 +122,36 @@ def test_the_machine_notices_do_not_count(monkeypatch, tmp_path):
     assert shown == ["ins-errors: the interpolated true motion may be off"]
 
 
+def test_every_machine_notice_is_one_class_the_api_can_silence(monkeypatch, tmp_path):
+    """``InsErrorsNotice``: one filter silences the machine's notices and leaves the
+    warnings about the results."""
+    from ins_errors import InsErrorsNotice
+    from ins_errors.numeric import cache, integrators
+
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        _give_the_notices(monkeypatch, tmp_path, integrators, cache)
+    notices = [w for w in seen if issubclass(w.category, InsErrorsNotice)]
+    assert len(notices) == 4 == len(seen) - 1
+    assert all(issubclass(w.category, RuntimeWarning) for w in seen)
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        warnings.simplefilter("ignore", InsErrorsNotice)
+        _give_the_notices(monkeypatch, tmp_path, integrators, cache)
+    assert [str(w.message) for w in seen] == [
+        "ins-errors: the interpolated true motion may be off"]
+
+
 def _give_the_notices(monkeypatch, tmp_path, integrators, cache) -> None:
-    """The three machine notices and one warning about the results."""
+    """The four machine notices and one warning about the results."""
     monkeypatch.setattr(integrators, "_NOTICE_GIVEN", False)
     integrators._vm_notice("cc: command not found")
     monkeypatch.setattr(integrators, "_NOTICE_GIVEN", False)
     integrators._vm_notice("No space left on device", full=tmp_path)
     monkeypatch.setattr(cache, "_DAMAGE_SAID", set())
     cache.report_damaged(tmp_path / "loop_0.so", "compiling it again")
+    monkeypatch.setattr(cache, "_PRIVATE_NOTICE_GIVEN", False)
+    monkeypatch.delenv(cache.PRIVATE_NOTICE_VARIABLE, raising=False)
+    cache._private_notice(tmp_path / "read_only", tmp_path / "private")
     warnings.warn("ins-errors: the interpolated true motion may be off", RuntimeWarning,
                   stacklevel=1)

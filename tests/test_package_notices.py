@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ins_errors import load_model, model_lookup
+from ins_errors import InsErrorsNotice, load_model, model_lookup
 from ins_errors.cli import main
 from ins_errors.numeric.model import _file_model
 from tests.helpers import fresh_model_cache
@@ -105,7 +105,7 @@ def test_the_model_file_notices_are_warnings_fail_on_warning_does_not_count(
             _cut(cached / "numpy_model.py")
             assert _load(path).folder == cached                  # made again
     assert capsys.readouterr().err == ""
-    assert [category for category, _ in said] == [RuntimeWarning] * 4
+    assert [category for category, _ in said] == [InsErrorsNotice] * 4
     texts = [text for _, text in said]
     assert texts[0] == ("ins-errors: my_ins_generated/ is damaged (numpy_model.py is cut "
                         "short or altered); deriving it again")

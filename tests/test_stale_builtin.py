@@ -194,13 +194,14 @@ import pytest
 import ins_errors
 from ins_errors.builtin_packages import _cached_model
 
-with pytest.warns(RuntimeWarning) as caught:
+with pytest.warns(ins_errors.InsErrorsNotice) as caught:
     model = ins_errors.load_model("north_pointing")
 _cached_model.cache_clear()   # loaded again in this process: the notice is not repeated
 with warnings.catch_warnings(record=True) as again:
     warnings.simplefilter("always")
     ins_errors.load_model("north_pointing")
-print(json.dumps({"caught": [str(w.message) for w in caught if w.category is RuntimeWarning],
+notices = [w for w in caught if issubclass(w.category, ins_errors.InsErrorsNotice)]
+print(json.dumps({"caught": [str(w.message) for w in notices],
                   "again": [str(w.message) for w in again],
                   "g": model.parameter_vector()[model.index("parameters", "g")]}))
 """

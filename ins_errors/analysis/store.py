@@ -92,7 +92,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ins_errors.errors import InsErrorsError
+from ins_errors.errors import InsErrorsError, InsErrorsNotice
 from ins_errors.machine_memory import size_text
 
 STORE_HINT = "pip install 'ins-errors[distributed]'"
@@ -1122,7 +1122,7 @@ def store_lock(path: str | Path, reading: bool = False) -> Iterator[None]:
             if not reading:
                 warnings.warn(f"ins-errors: the file system of {str(path)!r} has no file "
                               "locks: this store is written unlocked (give each job its own "
-                              "store: --shard I/N)", RuntimeWarning, stacklevel=3)
+                              "store: --shard I/N)", InsErrorsNotice, stacklevel=3)
             yield
             return
         # the lock file may have been removed by a holder that finished meanwhile: a

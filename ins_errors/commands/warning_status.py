@@ -6,7 +6,7 @@ status is 1 if the run gave a warning about its results, so that CI needs no JSO
 parsing: every case's warnings (:attr:`ins_errors.numeric.compare.Comparison.warnings`)
 and the warnings shown on stderr while it ran (:func:`watched_warnings`), except notes
 (:data:`NOTE`: how an input was read) and notices about the machine
-(:data:`MACHINE_NOTICES`), which leave the results as they are.
+(:class:`~ins_errors.errors.InsErrorsNotice`), which leave the results as they are.
 """
 
 from __future__ import annotations
@@ -26,27 +26,20 @@ WARNINGS_COUNTED = (
 HELP = ("exit with status 1, after writing every output as usual, when the run warned "
         f"about its results ({WARNINGS_COUNTED}: every line of the JSON's warnings, and "
         "those on stderr); notes ('ins-errors: note: ...') and notices about the machine "
-        "(no C compiler, a damaged cache entry, a stale generated package) do not count")
+        "(no C compiler, a cache folder that cannot be written, a damaged cache entry, a "
+        "stale generated package) do not count")
 
 NOTE = "ins-errors: note:"
 """How a note on stderr begins (how an input was read): not counted."""
 
-MACHINE_NOTICES = ("compiled loops run in the CasADi virtual machine",
-                   "ins-errors: the cache entry",
-                   "/ is stale (", "_generated/ was derived by another version of",
-                   "_generated/ is damaged (", "ins-errors: the cached code")
-"""Words of the notices on stderr that the machine works otherwise with the same
-results (no C compiler or no disk space to compile: the virtual machine; a damaged
-cache entry, made again; a stale or damaged generated package of a model, derived again
-from the model as it is: :func:`ins_errors.model_lookup.package_notice`): not counted
-(tests/test_fail_on_warning.py and tests/test_package_notices.py show them)."""
-
-
-def counted(text: str) -> bool:
+def counted(text: str, category: type[Warning]) -> bool:
     """Whether a warning shown on stderr counts for ``--fail-on-warning``: one of
-    ins-errors's own (``ins-errors: ...``), neither a note nor a machine notice."""
+    ins-errors's own (``ins-errors: ...``), neither a note nor a notice about the machine
+    (:class:`~ins_errors.errors.InsErrorsNotice`)."""
+    from ins_errors.errors import InsErrorsNotice
+
     return (text.startswith("ins-errors:") and not text.startswith(NOTE)
-            and not any(words in text for words in MACHINE_NOTICES))
+            and not issubclass(category, InsErrorsNotice))
 
 
 def add_option(parser: argparse.ArgumentParser) -> None:
@@ -63,7 +56,7 @@ def watched_warnings() -> Iterator[list[str]]:
 
     def noting(message, category, filename, lineno, file=None, line=None):
         text = " ".join(str(message).split())
-        if counted(text):
+        if counted(text, category):
             shown.append(text)
         return show(message, category, filename, lineno, file, line)
 

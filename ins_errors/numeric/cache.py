@@ -33,7 +33,7 @@ from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from pathlib import Path
 
-from ins_errors.errors import InsErrorsError
+from ins_errors.errors import InsErrorsError, InsErrorsNotice
 
 DEFAULT_LIMIT_MB = 200.0
 """Default size limit of the cache folder, MB (10⁶ bytes)."""
@@ -291,7 +291,7 @@ def _private_notice(folder: Path, private: Path) -> None:
     else:
         text = (f"ins-errors: the cache folder {str(folder)!r} cannot be written; compiled "
                 f"loops and other new work are {kept} {str(private)!r} instead")
-    warnings.warn(text, RuntimeWarning, stacklevel=3)
+    warnings.warn(text, InsErrorsNotice, stacklevel=3)
 
 
 def _link_loops(source: Path, target: Path) -> None:
@@ -489,7 +489,7 @@ def report_damaged(path: Path, redo: str) -> None:
         return
     _DAMAGE_SAID.add(folder)
     warnings.warn(f"ins-errors: the cache entry {str(path)!r} is damaged (incomplete or "
-                  f"altered) and is not used; {redo}", RuntimeWarning, stacklevel=3)
+                  f"altered) and is not used; {redo}", InsErrorsNotice, stacklevel=3)
 
 
 def read_entry(path: Path, redo: str) -> bytes | None:

@@ -62,7 +62,7 @@ from typing import Literal
 import casadi as ca
 import numpy as np
 
-from ins_errors.errors import InsErrorsError, ShapeError
+from ins_errors.errors import InsErrorsError, InsErrorsNotice, ShapeError
 from ins_errors.numeric import cache
 
 Method = Literal["euler", "rk4"]
@@ -478,7 +478,7 @@ def _vm_notice(reason: str, full: Path | None = None) -> None:
     why = (f"no space left on the device of {full} to compile a simulation loop ({reason})"
            if full is not None else f"no working C compiler ({reason})")
     warnings.warn(f"ins-errors: {why}; compiled loops run in the CasADi virtual machine "
-                  "instead (slower, same results)", RuntimeWarning, stacklevel=3)
+                  "instead (slower, same results)", InsErrorsNotice, stacklevel=3)
 
 
 def _out_of_space(error: Exception) -> bool:
