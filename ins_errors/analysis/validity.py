@@ -125,6 +125,10 @@ class SourceValidity:
         |linear − direct| and |refined − direct| over |direct|, per magnitude.
     linear_slope, refined_slope : float or None
         Fitted log–log slopes (None when fewer than two points are in :data:`FIT_RANGE`).
+    linear_fit, refined_fit : dict or None
+        What each slope is fitted to (:class:`SlopeFit`): ``"magnitudes"``, the smallest
+        and largest magnitude of its points, SI; ``"local_slopes"``, the smallest and
+        largest slope between neighbouring points. None without a slope.
     magnitude_1pct, magnitude_10pct : float or None
         Magnitudes (SI) at which the linear residual is 1 % and 10 % of the error.
     status : str
@@ -168,6 +172,8 @@ class SourceValidity:
     refined_ratio: list[float] = field(default_factory=list)
     linear_slope: float | None = None
     refined_slope: float | None = None
+    linear_fit: dict[str, list[float]] | None = None
+    refined_fit: dict[str, list[float]] | None = None
     magnitude_1pct: float | None = None
     magnitude_10pct: float | None = None
     status: str = "ok"
@@ -332,8 +338,35 @@ def motion_problems(model, motions, step: float,
     return problems
 
 
-def _fit(magnitudes: np.ndarray, ratios: np.ndarray) -> tuple[float, float] | None:
-    """Slope and intercept of log(ratio) against log(magnitude).
+@dataclass(frozen=True)
+class SlopeFit:
+    """A log–log line through some of a sweep's points.
+
+    Attributes
+    ----------
+    slope, intercept : float
+        log(ratio) = slope · log(magnitude) + intercept (magnitude SI).
+    magnitudes : tuple of float
+        The smallest and largest magnitude (SI) of the points the line is fitted to.
+    local_slopes : tuple of float
+        The smallest and largest slope between neighbouring fitted points: far apart,
+        the points follow no single power law and the slope is an average.
+    """
+
+    slope: float
+    intercept: float
+    magnitudes: tuple[float, float]
+    local_slopes: tuple[float, float]
+
+
+SPREAD_NOTED = 1.0
+"""Local slopes of a fit further apart than this are said under the map's table: the
+fitted slope then averages different powers (a rounding floor at the small magnitudes,
+higher orders at the large ones)."""
+
+
+def _fit(magnitudes: np.ndarray, ratios: np.ndarray) -> SlopeFit | None:
+    """The line of log(ratio) against log(magnitude).
 
     Uses the points in :data:`FIT_RANGE` clear of the absolute floor
     (:data:`FLOOR_MARGIN`), from the largest magnitude down for as long as the ratio keeps
@@ -357,7 +390,9 @@ def _fit(magnitudes: np.ndarray, ratios: np.ndarray) -> tuple[float, float] | No
     if len(keep) < 2:
         return None
     slope, intercept = np.polyfit(np.log(m[keep]), np.log(r[keep]), 1)
-    return float(slope), float(intercept)
+    local = np.diff(np.log(r[keep])) / np.diff(np.log(m[keep]))  # keep runs downwards
+    return SlopeFit(float(slope), float(intercept), (float(m[keep[-1]]), float(m[keep[0]])),
+                    (float(local.min()), float(local.max())))
 
 
 def run_validity_task(task: ValidityTask) -> SourceValidity:
@@ -546,6 +581,11 @@ def _failed(result: SourceValidity, magnitudes: list[float], comparisons: list,
     return result
 
 
+def _fit_record(fit: SlopeFit) -> dict[str, list[float]]:
+    """What a result keeps of a fit besides its slope (JSON-ready)."""
+    return {"magnitudes": list(fit.magnitudes), "local_slopes": list(fit.local_slopes)}
+
+
 def _analyse(result: SourceValidity, magnitudes, comparisons, size: float
              ) -> SourceValidity:
     """Fill ``result`` from the comparisons of ``magnitudes`` (SI), the error quantity
@@ -572,10 +612,12 @@ def _analyse(result: SourceValidity, magnitudes, comparisons, size: float
         result.status = ("exactly linear" if np.all(linear <= LINEAR_FLOOR) else
                          "not fitted")
         return result
-    slope, intercept = fit
+    slope, intercept = fit.slope, fit.intercept
     result.linear_slope = slope
+    result.linear_fit = _fit_record(fit)
     refined_fit = _fit(magnitudes, refined)
-    result.refined_slope = None if refined_fit is None else refined_fit[0]
+    result.refined_slope = None if refined_fit is None else refined_fit.slope
+    result.refined_fit = None if refined_fit is None else _fit_record(refined_fit)
     if refined_fit is None:
         result.note = ("refined residual stays at the direct run's rounding floor: its "
                        "slope cannot be measured")

@@ -141,6 +141,7 @@ def table(results, model) -> str:
                      f"{magnitude_cell(r, 'magnitude_10pct')} | {status} |")
     notes = [f"* `{r.source}` ({r.motion}): {r.note}" for r in results
              if r.status in ("not seen by the linear model", "not excited") and r.note]
+    notes += spread_notes(results)
     marked = [r for r in results if r.extrapolated]
     if marked:
         notes += ["", f"{EXTRAPOLATED_MARK} extrapolated: read off the fitted line outside "
@@ -163,6 +164,30 @@ def table(results, model) -> str:
                   "magnitudes that ran; every magnitude from the first failing one on has "
                   "no result):", *failed]
     return "\n".join(lines) + "\n" + ("\n" + "\n".join(notes) + "\n" if notes else "")
+
+
+def spread_notes(results) -> list[str]:
+    """One line for each slope fitted to points whose neighbouring slopes lie further
+    apart than :data:`~ins_errors.analysis.validity.SPREAD_NOTED`: an average of
+    different powers, with the range it was fitted over."""
+    from ins_errors.analysis.validity import SPREAD_NOTED
+    from ins_errors.units import format_readable
+
+    lines = []
+    for r in results:
+        for which, slope, fit in (("linear", r.linear_slope, r.linear_fit),
+                                  ("refined", r.refined_slope, r.refined_fit)):
+            if fit is None or fit["local_slopes"][1] - fit["local_slopes"][0] <= SPREAD_NOTED:
+                continue
+            low, high = (format_readable(value, r.unit, r.display_unit, 3)
+                         for value in fit["magnitudes"])
+            lines.append(
+                f"* `{r.source}` ({r.motion}): the {which} slope {_fmt(slope)} is a line "
+                f"through points from {low} to {high} whose slopes between neighbours run "
+                f"from {fit['local_slopes'][0]:.2f} to {fit['local_slopes'][1]:.2f}: no "
+                "single power law there (e.g. a rounding floor at the small magnitudes, "
+                "higher orders at the large ones); the ratios per magnitude are in the JSON")
+    return lines
 
 
 def judged_text(results, step: float) -> str:
