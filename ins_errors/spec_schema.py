@@ -63,7 +63,11 @@ class SpecItem(_Table):
     every: Quantity | None = None
     start: Quantity | None = Field(None, alias="from")
     until: Quantity | None = None
-    combine: Literal["rss", "each"] = "rss"
+    combine: Literal["rss", "each", "cep"] = Field(
+        "rss", description="how the components combine: 'rss' (root sum of squares: "
+        "2DRMS at 2σ), 'each' (every component on its own) or, for position_error and "
+        "position_error_absolute, 'cep' (the circular error probable of the north and "
+        "east errors, whatever the σ level)")
 
 
 class NoiseTable(_Table):

@@ -43,7 +43,8 @@ The file format (see ``ins_errors/data/802m.toml``, the built-in default)::
     times = ["1 h", "2 h"]           # optional, check times, or a regular grid:
     # every = "5 min"; from = "5 min" (default: 0; every for the rate items
     # position_error and heading_drift); until = "1 h" (default: the operating time)
-    combine = "rss"                  # optional: "rss" of the components or "each"
+    combine = "rss"                  # optional: "rss" of the components, "each", or
+                                     # "cep" (position items: the CEP, no σ level)
     [allocation]
     fill = false                     # scale the free sources up until an item is met exactly
     [sources.gyro_drift_z]
@@ -144,7 +145,9 @@ SIGMA_LEVELS = (0.1, 10.0)
 probability (1.5e-23) is past any test or flight record, below 0.1σ the limit is exceeded
 92 % of the time."""
 
-COMBINE = ("rss", "each")
+COMBINE = ("rss", "each", "cep")
+CEP_ITEMS = ("position_error", "position_error_absolute")
+"""The items ``combine = "cep"`` applies to: the horizontal position errors."""
 STATISTICS = ("constant", "white", "markov")
 SOURCE_UNIT_SUFFIX = {"constant": "", "white": "*s**0.5", "markov": ""}
 """A white-noise magnitude is a density: the source's unit times √s."""
@@ -164,9 +167,12 @@ class SpecItem:
         The value as written.
     times : tuple of float
         Check times, s.
-    combine : {"rss", "each"}
+    combine : {"rss", "each", "cep"}
         ``"rss"``: the item's components (e.g. north and east) are combined as the root
-        sum of squares (2DRMS at 2σ); ``"each"``: every component must meet the limit.
+        sum of squares (2DRMS at 2σ); ``"each"``: every component must meet the limit;
+        ``"cep"`` (the position items): the value is the circular error probable of the
+        north and east errors, a radius holding them with probability 1/2, whatever the
+        spec's σ level (:mod:`ins_errors.analysis.budget_cep`).
     """
 
     name: str
@@ -412,6 +418,24 @@ def _item_value(name: str, text: Any) -> float:
     return value
 
 
+def _sparse_every(name: str, table, start: float, stop: float, operating: str) -> str:
+    """Why an ``every`` longer than the span it checks is refused: its grid would hold
+    t = 0 alone (``every = "2 h"`` over a 1-h operating time checks a speed item at its
+    initial error only), or, for a rate item whose grid starts at ``every``, no time."""
+    span = (f"from {format_duration(start)} to {format_duration(stop)}"
+            if table.start is not None or table.until is not None
+            else f"the {operating} operating time" if start == 0
+            else f"its grid starts at every ({format_duration(start)}) and the operating "
+                 f"time is {operating}")
+    if start > stop * (1 + 1e-12):
+        what = "no check time at all"
+    else:
+        what = f"one check time only, at {format_duration(start)}"
+    return (f"items.{name}.every = {table.every!r} is longer than the span it checks "
+            f"({span}), so the item would have {what}; give an every no longer than the "
+            f"span, or list the check times (times = [\"{format_duration(stop)}\"])")
+
+
 def _manoeuvre(motion: Motion, legs: list | None) -> Motion:
     """A manoeuvre motion with its legs checked and written in SI (one-line errors)."""
     from dataclasses import replace
@@ -520,9 +544,13 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
             if stop > operating_time * (1 + 1e-12):
                 raise SpecError(f"items.{name}.until = {table.until!r} is after the "
                                 f"operating time {checked.operating_time!r}")
-            count = int(np.floor((stop - start) / every + 1e-9))
-            if count < 0:
+            if start > stop * (1 + 1e-12) and table.start is not None:
                 raise SpecError(f"items.{name}: from is after until")
+            if start > stop * (1 + 1e-12) or (start == 0 and every > stop * (1 + 1e-9)):
+                # no time at all (a rate item's grid from every), or t = 0 alone
+                raise SpecError(_sparse_every(name, table, start, stop,
+                                              checked.operating_time))
+            count = int(np.floor((stop - start) / every + 1e-9))
             times = tuple(start + every * k for k in range(count + 1))
         elif timed:
             raise SpecError(f"items.{name}: from/until need every (e.g. every = '15 min')")
@@ -541,6 +569,10 @@ def parse_spec(data: dict, path: str = "<spec>") -> Spec:
         if name in ("position_error", "heading_drift") and any(t <= 0 for t in times):
             raise SpecError(f"items.{name}: a rate over the operating time needs check "
                             f"times > 0")
+        if table.combine == "cep" and name not in CEP_ITEMS:
+            raise SpecError(f"items.{name}: combine = 'cep' (the circular error probable) "
+                            f"applies to the horizontal position items "
+                            f"({', '.join(CEP_ITEMS)}); give 'rss' or 'each'")
         items.append(SpecItem(name, value, str(table.value), times, table.combine))
     if not items:
         raise SpecError(f"the spec has no [items.*]; known items: {', '.join(ITEM_KINDS)}")

@@ -37,7 +37,10 @@ record times, applied to the run's real − ideal states
 
 With ``combine = "rss"`` (default) an item's components are combined as the root sum of
 squares, so a 2σ limit on the position is a limit on 2DRMS = 2·sqrt(σ_N² + σ_E²); with
-``"each"`` every component must meet the limit on its own.
+``"each"`` every component must meet the limit on its own; with ``"cep"`` (the position
+items) the limit is a circular error probable, the CEP of the north and east errors' 2×2
+covariance, cross term included (:mod:`~ins_errors.analysis.budget_cep`), whatever the
+σ level.
 
 Allocation rule (documented in the report): the spec's σ level k turns each limit L into
 an allowed variance (L/k)². Fixed sources take their contribution first; of what
@@ -46,7 +49,13 @@ item's variance at every check time, and its allowed 1σ magnitude is the larges
 keeps its own contribution within its share everywhere. The item (and time) where that
 happens *binds* the source. Since no source exceeds its share, every item is met; with
 ``fill = true`` all free sources are then scaled by one common factor until the tightest
-item is met exactly.
+item is met exactly. A CEP row shares the north + east variance of a circular error
+with the limit as its CEP, (limit / 0.8326)², the largest that meets the CEP whatever the
+shape of the error ellipse (:func:`allocate`); ``fill`` brings its CEP to the limit.
+
+A row whose limit itself lies beyond the linear model's range (:data:`LINEAR_LIMITS`)
+cannot be sized (:func:`limits_beyond_linear`), and an allocation a growing mode has made
+absurd is refused (:func:`growth_refusal`).
 
 Sources that no spec row depends on take no share and are reported as not limited on
 this motion. "Depends on" is judged against the rounding floor of the propagation
@@ -100,6 +109,7 @@ from ins_errors.analysis.budget_attitude import (
     attitude_rows,
     has_attitude,
 )
+from ins_errors.analysis.budget_cep import CEP_PER_DRMS_CIRCLE, CEP_PER_SIGMA_CIRCLE, cep
 from ins_errors.analysis.covariance import (
     Covariance,
     Functionals,
@@ -113,10 +123,33 @@ from ins_errors.errors import InsErrorsError, unknown_name
 from ins_errors.numeric.linear_system import check_grid_memory
 from ins_errors.numeric.model import load_model
 from ins_errors.specs import ITEM_KINDS, SOURCE_UNIT_SUFFIX, Spec, SpecError, spec_label
-from ins_errors.units import UnitError, format_quantity, parse_quantity
-from ins_errors.units import format_duration as format_time
+from ins_errors.units import (
+    UnitError,
+    format_duration,
+    format_quantity,
+    parse_quantity,
+)
 
 EPS = float(np.finfo(float).eps)
+
+
+def format_time(seconds: float) -> str:
+    """A time of the budget's tables and lines: ``"1 h"``, ``"40 min"``, ``"2 h 35 min"``
+    as :func:`~ins_errors.units.format_duration` writes whole minutes, and a time off
+    the minute from 2 min on in hours, minutes and seconds too (``"42 min 10 s"``,
+    ``"1 h 0 min 5 s"``; below it ``"50 s"``, ``"90 s"``), not in seconds alone (a worst
+    time of 2530 s read "2530 s").
+    """
+    seconds = round(float(seconds), 6)
+    if seconds < 0:
+        return "-" + format_time(-seconds)
+    whole = 60.0 * (seconds // 60.0)
+    if seconds < 120.0 or whole == seconds:
+        return format_duration(seconds)
+    rest = round(seconds - whole, 6)
+    hours, minutes = divmod(round(whole / 60.0), 60)
+    head = f"{hours} h {minutes} min" if hours else f"{minutes} min"
+    return f"{head} {rest:g} s"
 
 RATE_ITEMS = ("position_error", "heading_drift")
 """Items whose quantity is an error divided by the operating time."""
@@ -253,13 +286,18 @@ class Row:
     component : str
         ``""`` for an rss row, else the component name.
     limit : float
-        The item's value at the spec's σ level, SI.
+        The item's value at the spec's σ level, SI (a CEP row's: the CEP itself, which
+        has no σ level).
+    cep : bool
+        The row is the CEP of the north and east errors (``combine = "cep"``,
+        :mod:`~ins_errors.analysis.budget_cep`), not k times their rss.
     """
 
     item: str
     time: float
     component: str
     limit: float
+    cep: bool = False
 
     @property
     def label(self) -> str:
@@ -298,6 +336,14 @@ class UnitBudget:
         source; :func:`item_lines` turns it into an item's values. None: not kept.
     item_names : tuple of str
         ``"item:component"`` of every functional of ``item_variances``.
+    north, cross : numpy.ndarray, shape (nr, ns), optional
+        Of a CEP row (:attr:`Row.cep`), the variance of the north error and the
+        covariance of the north and east errors per unit variance of every source (the
+        row's ``unit_variances`` are north + east); 0 on the other rows. None: the spec
+        has no CEP item.
+    model : ins_errors.numeric.model.Model, optional
+        The model the budget is of (:func:`unit_budget` keeps it: the refusals name its
+        damping gains).
     """
 
     spec: Spec
@@ -311,6 +357,34 @@ class UnitBudget:
     state_names: tuple[str, ...] = ()
     item_variances: np.ndarray | None = None
     item_names: tuple[str, ...] = ()
+    north: np.ndarray | None = None
+    cross: np.ndarray | None = None
+    model: object = None
+
+    @property
+    def cep_rows(self) -> np.ndarray:
+        """Which rows are CEP rows (:attr:`Row.cep`), shape (nr,) of bool."""
+        return np.array([r.cep for r in self.rows], dtype=bool)
+
+    def row_values(self, sigma: np.ndarray) -> np.ndarray:
+        """Every row's value at the given 1σ magnitudes, SI, shape (nr,): k times the
+        rss of its components, or a CEP row's CEP (:func:`row_values`).
+
+        Parameters
+        ----------
+        sigma : numpy.ndarray, shape (ns,)
+            1σ of every source, SI; inf or NaN (not limited) counts as 0.
+        """
+        sigma = np.where(np.isfinite(sigma), sigma, 0.0)
+        return row_values(self.rows, self.spec.sigma_level, self.unit_variances * sigma**2,
+                          *self._cep_parts(sigma))
+
+    def _cep_parts(self, sigma: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None]:
+        """The north variances and north-east covariances of every row from every source
+        at ``sigma`` (finite), (nr, ns) each, or None without CEP rows."""
+        if self.north is None:
+            return None, None
+        return self.north * sigma**2, self.cross * sigma**2
 
     @property
     def depends(self) -> np.ndarray:
@@ -327,8 +401,12 @@ class UnitBudget:
 
     @property
     def allowed_variances(self) -> np.ndarray:
-        """(limit / k)² of every row, shape (nr,)."""
-        return np.array([(r.limit / self.spec.sigma_level) ** 2 for r in self.rows])
+        """(limit / k)² of every row, shape (nr,); of a CEP row, the variance (σ_N² +
+        σ_E², DRMS²) at which a circular error has the limit as its CEP, (limit /
+        0.8326)²: the largest DRMS² that meets the CEP whatever the shape of the error
+        ellipse (:data:`~ins_errors.analysis.budget_cep.CEP_PER_DRMS_CIRCLE`)."""
+        return np.array([(r.limit / (CEP_PER_DRMS_CIRCLE if r.cep else self.spec.sigma_level))
+                         ** 2 for r in self.rows])
 
     @property
     def linear_limits(self) -> np.ndarray:
@@ -741,8 +819,11 @@ def item_functionals(model, system: LinearSystem, spec: Spec) -> tuple[Functiona
     for item in spec.items:
         if item.name in POSITION_ITEMS:   # the rate item is divided by t in _rows
             _, R_N, R_E_cos = _radii(model, system)
-            parts = [("north", output_row("latitude") * R_N[:, None], zero_b),
-                     ("east", output_row("longitude") * R_E_cos[:, None], zero_b)]
+            north = output_row("latitude") * R_N[:, None]
+            east = output_row("longitude") * R_E_cos[:, None]
+            parts = [("north", north, zero_b), ("east", east, zero_b)]
+            if item.combine == "cep":   # its variance gives the north-east covariance
+                parts.append((DIAGONAL, (north + east) / np.sqrt(2.0), zero_b))
         elif item.name == "height_error":
             parts = [("height", output_row("height"), zero_b)]
         elif item.name == "ground_speed_error":
@@ -787,7 +868,8 @@ def unit_budget(model, spec: Spec, trajectory=None,
     statistics = [SourceStatistics(s.name, s.statistics, 1.0, s.tau) for s in sources]
     functionals, _ = item_functionals(model, system, spec)
     covariance = propagate(system, statistics, functionals)
-    rows, unit = _rows(spec, system, covariance, covariance.unit_variances)
+    rows, unit, parts = _cep_rows(spec, system, covariance, covariance.unit_variances)
+    north, cross = (None, None) if parts is None else parts
     # the error states on their own (a separate propagation, so that the rows' numbers
     # are those of the items alone, to the bit): the scale of the rows' rounding floors
     states = propagate(system, statistics, _state_functionals(model, system))
@@ -804,7 +886,7 @@ def unit_budget(model, spec: Spec, trajectory=None,
     return UnitBudget(spec, sources, tuple(rows), unit, system, floor,
                       reached.max(axis=0), tuple(st.unit for st in model.error_states),
                       tuple(st.name for st in model.error_states),
-                      covariance.unit_variances, covariance.names)
+                      covariance.unit_variances, covariance.names, north, cross, model)
 
 
 def growth_warning(model, budget: UnitBudget) -> str | None:
@@ -817,28 +899,21 @@ def growth_warning(model, budget: UnitBudget) -> str | None:
     named (:func:`~ins_errors.numeric.linear_system.undamped_remedy`).
     """
     from ins_errors.model_lookup import command_name
-    from ins_errors.numeric.linear_system import (
-        GROWTH_SEEN,
-        growth_rate,
-        transition_growth,
-        undamped_remedy,
-    )
     from ins_errors.numeric.linear_system import growth_warning as warning
+    from ins_errors.numeric.linear_system import undamped_remedy
 
     system = budget.system
+    # on a moving base F changes along the motion: the mode of F at the start must be
+    # followed by the equations over the operating time (orthodromic's delta_V_eta on an
+    # eastbound great circle, ×e every 9.2 h at the start, is not): growth_folds
+    if growth_folds(system, budget.spec.operating_time) is None:
+        return None
     F = system.F if system.F.ndim == 2 else system.F[0]
     remedy = undamped_remedy(model, system.p)
-    text = warning(F, budget.spec.operating_time, command_name(model),
+    return warning(F, budget.spec.operating_time, command_name(model),
                    "the allowed magnitudes are only what that growth leaves, far below what "
                    "the sources do on a stable system", "operating time", remedy,
                    static=system.time_invariant)
-    # on a moving base F changes along the motion: the mode of F at the start must be
-    # followed by the equations over the operating time (orthodromic's delta_V_eta on an
-    # eastbound great circle, ×e every 9.2 h at the start, is not)
-    if (text is not None and not system.time_invariant
-            and transition_growth(system) < GROWTH_SEEN * growth_rate(F)):
-        return None
-    return text
 
 
 LIMIT_NAMES = {"rad": "0.1 rad", "1": "0.1", "m": "0.1 R", "m/s": "0.1 √(gR)"}
@@ -878,8 +953,9 @@ def linear_range_warning(budget: UnitBudget, values: np.ndarray) -> str | None:
         shown = ("deg", "deg") if unit == "rad" else ("km", "km") if unit == "m" else (
             "m/s", "m/s")
         error = ("its error " if row.item in RATE_ITEMS else "")
+        level = "CEP" if row.cep else f"at {k:g}σ"
         worst[row.item] = (ratio, f"{row.label} ({error}{format_quantity(size, unit, shown[0])}"
-                                  f" at {k:g}σ, beyond {format_quantity(limit, unit, shown[1])}"
+                                  f" {level}, beyond {format_quantity(limit, unit, shown[1])}"
                                   f" = {LIMIT_NAMES[unit]})")
     if not worst:
         return None
@@ -893,14 +969,63 @@ VERTICAL_DOMINANCE = 10.0
 """A source whose largest height error over the operating time is at least this many
 times its largest horizontal position error acts mainly on the vertical channel."""
 
+VERTICAL_GAP = 100.0
+"""A source also acts mainly on the vertical channel when its ratio of largest height
+error to largest horizontal position error is at least :data:`VERTICAL_SHARE` and this
+many times the ratio of every source below it (:func:`vertical_sources`): two decades
+between the sources the spec sees through the height and those it sees directly.
+Measured on strapdown_ned: with its vertical channel damped (a 300-s loop) the
+vertical accelerometer's bias and scale error give 0.26 of their horizontal error as
+height, the initial vertical velocity and height errors 3.6 to 18 times it, and the
+horizontal sources 0.0024 at most, at rest, on a great circle and on the manoeuvre;
+undamped over 10 to 20 minutes the vertical ones 14 or more, the horizontal ones 0.12
+at most."""
+
+VERTICAL_SHARE = 0.1
+"""The least ratio of largest height error to largest horizontal position error of a
+source that acts mainly on the vertical channel by :data:`VERTICAL_GAP` (a height error
+of a tenth of the horizontal one at least)."""
+
+
+def vertical_sources(height: np.ndarray, horizontal: np.ndarray) -> np.ndarray:
+    """Which sources act mainly on the height, shape (ns,) of bool.
+
+    A source does when its largest height error is at least :data:`VERTICAL_DOMINANCE`
+    times its largest horizontal position error, or when that ratio is at least
+    :data:`VERTICAL_SHARE` and stands :data:`VERTICAL_GAP` or more above the ratio of
+    every source below it (at the largest gap between the sources' ratios above
+    :data:`VERTICAL_SHARE`; a damped
+    vertical channel holds a vertical accelerometer's height error to b/k_h2, a quarter
+    of the horizontal error it gives, but hundreds of times what the horizontal sources
+    give as height).
+
+    Parameters
+    ----------
+    height, horizontal : numpy.ndarray, shape (ns,)
+        Each source's largest height error and largest horizontal position error over
+        the operating time, at any common magnitude (the ratio is what counts), m.
+    """
+    height = np.asarray(height, dtype=float)
+    horizontal = np.asarray(horizontal, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(height > 0, height / horizontal, 0.0)
+    chosen = (height > 0) & (ratio >= VERTICAL_DOMINANCE)
+    ranked = np.sort(ratio[(ratio > 0) & np.isfinite(ratio)])
+    gaps = ranked[1:] / ranked[:-1]
+    gaps[ranked[1:] < VERTICAL_SHARE] = 0.0     # a split above a tenth only
+    if gaps.size and gaps.max() >= VERTICAL_GAP:
+        chosen |= ratio >= ranked[int(np.argmax(gaps)) + 1]
+    return chosen
+
 
 def vertical_channel_note(model, allocation: Allocation) -> str | None:
     """One line naming the vertical-channel sources a spec without a ``height_error``
     item allocates only through its other items, or None.
 
-    For a model with a height output, a source that acts mainly on the height (its
-    largest 1σ height error over the operating time is at least
-    :data:`VERTICAL_DOMINANCE` times its largest horizontal position error: a vertical
+    For a model with a height output, a source that acts mainly on the height
+    (:func:`vertical_sources`: its largest 1σ height error over the operating time is
+    at least :data:`VERTICAL_DOMINANCE` times its largest horizontal position error, or
+    a tenth of it and two decades above the other sources' ratios: a vertical
     accelerometer's bias or scale factor, an initial vertical velocity or height error)
     is bound, when no item reads the height, only by the weak coupling of the height into
     the horizontal channels (the radii and gravity in the transport rates, Coriolis). Its
@@ -953,8 +1078,7 @@ def vertical_channel_note(model, allocation: Allocation) -> str | None:
     unit = propagate(system, statistics, functionals).unit_variances    # (nt, 3, nf)
     height = np.sqrt(unit[:, groups["height_error"]].sum(1))            # (nt, nf)
     horizontal = np.sqrt(unit[:, groups["position_error_absolute"]].sum(1))
-    vertical = height.max(0) >= VERTICAL_DOMINANCE * horizontal.max(0)
-    vertical &= height.max(0) > 0
+    vertical = vertical_sources(height.max(0), horizontal.max(0))
     if not vertical.any():
         return None
     chosen = [j for j, v in zip(free, vertical, strict=True) if v]
@@ -1055,12 +1179,65 @@ def rounding_floors(state_variances: np.ndarray, readout: np.ndarray, typical: n
     return (gamma[:, None, None] * response[:, None, :] * unit[:, :, None]) ** 2
 
 
+DIAGONAL = "diagonal"
+"""The component of a CEP item that is no error of its own: (north + east)/√2, whose
+variance gives the covariance of the north and east errors (:func:`item_cep_parts`)."""
+
+
+def item_cep_parts(item, names: tuple[str, ...], per_source: np.ndarray, index,
+                   times: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A CEP item's 2×2 covariance at chosen grid times, per source: the variances of the
+    north and east errors and their covariance (from the variance d of (north + east)/√2:
+    c = d − (north + east)/2), each of shape (len(index), ns), SI² (a rate item's per s²).
+    Arguments as :func:`item_lines`."""
+    times = np.asarray(times, dtype=float)
+    scale = 1.0 / times**2 if item.name in RATE_ITEMS else np.ones_like(times)
+    block = per_source[np.asarray(index, dtype=int)] * scale[:, None, None]
+    column = {nm.split(":", 1)[1]: k for k, nm in enumerate(names)
+              if nm.startswith(f"{item.name}:")}
+    north, east = block[:, column["north"]], block[:, column["east"]]
+    cross = block[:, column[DIAGONAL]] - 0.5 * (north + east)
+    # |c| <= sqrt(north east): rounding of the difference kept within the ellipse
+    bound = np.sqrt(np.maximum(north, 0.0) * np.maximum(east, 0.0))
+    return north, east, np.clip(cross, -bound, bound)
+
+
+def row_values(rows, sigma_level: float, contributions: np.ndarray,
+               north: np.ndarray | None = None,
+               cross: np.ndarray | None = None) -> np.ndarray:
+    """Every row's value from its sources' contributions, SI, shape (nr,).
+
+    An rss row (or a component's) is k · √(Σ contributions); a CEP row (:attr:`Row.cep`)
+    is the CEP of the sum of the sources' 2×2 covariances
+    (:func:`~ins_errors.analysis.budget_cep.cep`), whatever k.
+
+    Parameters
+    ----------
+    rows : sequence of Row
+    sigma_level : float
+        k.
+    contributions : numpy.ndarray, shape (nr, ns)
+        Variance of every row from every source (a CEP row's: north + east), SI².
+    north, cross : numpy.ndarray, shape (nr, ns), optional
+        Of the CEP rows, the north variance and the north-east covariance from every
+        source (needed where a row is a CEP row).
+    """
+    total = contributions.sum(1)
+    values = sigma_level * np.sqrt(total)
+    chosen = np.array([r.cep for r in rows], dtype=bool)
+    if chosen.any():
+        n = north[chosen].sum(1)
+        values[chosen] = cep(n, total[chosen] - n, cross[chosen].sum(1))
+    return values
+
+
 def item_lines(item, names: tuple[str, ...], per_source: np.ndarray, index,
                times: np.ndarray) -> list[tuple[str, np.ndarray]]:
     """One spec item's variances at chosen grid times, per source: what its rows read.
 
     A rate item (:data:`RATE_ITEMS`) is divided by t; the components are summed
-    (``combine = "rss"``, one line with component ``""``) or kept apart (``"each"``).
+    (``combine = "rss"``, one line with component ``""``; ``"cep"`` too, the north +
+    east variance that :func:`item_cep_parts` splits) or kept apart (``"each"``).
 
     Parameters
     ----------
@@ -1079,11 +1256,12 @@ def item_lines(item, names: tuple[str, ...], per_source: np.ndarray, index,
     list of (str, numpy.ndarray of shape (len(index), ns))
         Component (``""`` for rss) and the variances, SI² (a rate item's per s²).
     """
-    columns = [k for k, nm in enumerate(names) if nm.startswith(f"{item.name}:")]
+    columns = [k for k, nm in enumerate(names) if nm.startswith(f"{item.name}:")
+               and nm != f"{item.name}:{DIAGONAL}"]
     times = np.asarray(times, dtype=float)
     scale = 1.0 / times**2 if item.name in RATE_ITEMS else np.ones_like(times)
     block = per_source[np.asarray(index, dtype=int)][:, columns] * scale[:, None, None]
-    if item.combine == "rss":
+    if item.combine in ("rss", "cep"):
         return [("", block.sum(1))]
     return [(names[col].split(":", 1)[1], block[:, c]) for c, col in enumerate(columns)]
 
@@ -1094,7 +1272,16 @@ def _rows(spec: Spec, system: LinearSystem, covariance: Covariance,
 
     ``per_source`` has shape (nt, q, ns); returns rows and an array (nr, ns).
     """
-    rows, values = [], []
+    rows, values, _ = _cep_rows(spec, system, covariance, per_source)
+    return rows, values
+
+
+def _cep_rows(spec: Spec, system: LinearSystem, covariance: Covariance,
+              per_source: np.ndarray) -> tuple[list[Row], np.ndarray,
+                                               tuple[np.ndarray, np.ndarray] | None]:
+    """:func:`_rows`, and of the CEP rows the north variances and north-east covariances
+    ((nr, ns) each, 0 on the other rows; None without a CEP item)."""
+    rows, values, norths, crosses = [], [], [], []
     for item in spec.items:
         index = []
         for t in item.times:
@@ -1104,11 +1291,21 @@ def _rows(spec: Spec, system: LinearSystem, covariance: Covariance,
                                 f"{t:g} s is outside the analysed run")
             index.append(k)
         lines = item_lines(item, covariance.names, per_source, index, np.array(item.times))
+        ns = per_source.shape[-1]
+        north = cross = np.zeros((len(index), ns))
+        if item.combine == "cep":
+            north, _, cross = item_cep_parts(item, covariance.names, per_source, index,
+                                             np.array(item.times))
         for i, t in enumerate(item.times):
             for component, variances in lines:
-                rows.append(Row(item.name, t, component, item.value))
+                rows.append(Row(item.name, t, component, item.value,
+                                item.combine == "cep"))
                 values.append(variances[i])
-    return rows, np.array(values)
+                norths.append(north[i])
+                crosses.append(cross[i])
+    parts = ((np.array(norths), np.array(crosses))
+             if any(item.combine == "cep" for item in spec.items) else None)
+    return rows, np.array(values), parts
 
 
 # --------------------------------------------------------------------------------------
@@ -1155,6 +1352,34 @@ class Allocation:
         sigma = np.where(np.isfinite(self.sigma), self.sigma, 0.0)
         return self.budget.unit_variances * sigma**2
 
+    @property
+    def values(self) -> np.ndarray:
+        """Every row's value at the allocated magnitudes, SI, shape (nr,): k times the
+        rss, or a CEP row's CEP (:meth:`UnitBudget.row_values`)."""
+        return self.budget.row_values(self.sigma)
+
+    def shares(self) -> np.ndarray:
+        """Share of every row's allowed variance each source takes, (nr, ns): its
+        contribution over (limit / k)², so that a row's shares sum to (value / limit)².
+
+        A CEP row's allowed variance is that of its error ellipse's shape at these
+        magnitudes, (limit / κ)² with κ = CEP / DRMS of the row's total (0.8326 for a
+        circular error, down to 0.6745 for one along a line): each source's share of
+        north + east variance, and the shares again sum to (CEP / limit)².
+        """
+        contributions = self.contributions()
+        allowed = self.budget.allowed_variances
+        chosen = self.budget.cep_rows
+        if chosen.any():
+            total = contributions.sum(1)[chosen]
+            values = self.values[chosen]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                kappa = np.where(total > 0, values / np.sqrt(total), CEP_PER_DRMS_CIRCLE)
+            allowed = allowed.copy()
+            allowed[chosen] = (np.array([r.limit for r in self.budget.rows])[chosen]
+                               / kappa) ** 2
+        return contributions / allowed[:, None]
+
     def binding_row(self, j: int) -> Row | None:
         """The row binding source j, or None."""
         return None if self.binding[j] < 0 else self.budget.rows[self.binding[j]]
@@ -1163,26 +1388,48 @@ class Allocation:
 def allocate(budget: UnitBudget) -> Allocation:
     """Apply the allocation rule of the module docstring.
 
+    A CEP row (:attr:`Row.cep`) is shared as a variance too: its sources share the
+    north + east variance (DRMS²) whose circular error has the limit as its CEP,
+    :attr:`UnitBudget.allowed_variances`, which meets the CEP whatever the shape of the
+    error ellipse (the CEP is at most 0.8326 DRMS); with fixed sources, what they leave
+    is the larger of that variance less theirs and the variance T of a circular error
+    with CEP(P_fixed + T I) at the limit (P_free ≤ trace(P_free) I, and the CEP grows
+    with the covariance). ``fill`` scales the free sources until the tightest row is met
+    exactly, a CEP row by its CEP.
+
     Raises
     ------
+    BudgetError
+        If a row's limit itself lies beyond the linear error model's range
+        (:func:`limits_beyond_linear`), or every source the spec sees would meet it only
+        beyond that range.
     SpecExceededError
         If the fixed sources alone use up a spec row.
     """
+    beyond_range = limits_beyond_linear(budget)
+    if beyond_range is not None:
+        raise BudgetError(beyond_range)
     V, allowed = budget.unit_variances, budget.allowed_variances
     depends = budget.depends
     fixed = np.array([s.fixed is not None for s in budget.sources])
     sigma = np.array([s.fixed if s.fixed is not None else np.nan for s in budget.sources])
     used = (V[:, fixed] * sigma[fixed] ** 2).sum(1) if fixed.any() else np.zeros(len(allowed))
     remaining = allowed - used
+    cep_rows = budget.cep_rows
+    fixed_sigma = np.where(fixed, sigma, 0.0)
+    if cep_rows.any():
+        remaining[cep_rows] = _cep_remaining(budget, fixed_sigma)[cep_rows]
     bad = np.flatnonzero(remaining <= 0)
     if bad.size:
+        values = np.sqrt(used) * budget.spec.sigma_level
+        if cep_rows.any():
+            values[cep_rows] = budget.row_values(fixed_sigma)[cep_rows]
         row = budget.rows[bad[0]]
-        value = np.sqrt(used[bad[0]]) * budget.spec.sigma_level
         si, shown = ITEM_SI[row.item], ITEM_DISPLAY[row.item]
         raise SpecExceededError(f"the fixed sources alone use up {row.label} "
-                           f"({display(value, si, shown)} against the limit "
+                           f"({display(values[bad[0]], si, shown)} against the limit "
                            f"{display(row.limit, si, shown)})", budget,
-                           np.sqrt(used) * budget.spec.sigma_level, remaining <= 0)
+                           values, remaining <= 0)
     binding = np.full(len(budget.sources), -1)
     fill_factor = 1.0
     excluded = np.zeros(len(budget.sources), dtype=bool)
@@ -1216,16 +1463,235 @@ def allocate(budget: UnitBudget) -> Allocation:
         totals = (V[:, free] * sigma[free] ** 2).sum(1)
         with np.errstate(divide="ignore"):
             factors = np.where(totals > 0, remaining / totals, np.inf)
+        if cep_rows.any():
+            factors[cep_rows] = _cep_fill(budget, fixed_sigma, np.where(
+                fixed, 0.0, np.where(np.isfinite(sigma), sigma, 0.0)))[cep_rows]
         fill_factor = float(np.min(factors))
         sigma[free] *= np.sqrt(fill_factor)
     return Allocation(budget, sigma, binding, fill_factor, beyond)
 
 
+_CEP_HALVINGS = 60
+"""Bisection steps of the CEP rows' remaining variance and fill factor (to the last
+bit of a bracket that starts within a factor of a few)."""
+
+
+def _largest_within(limits: np.ndarray, value, high: np.ndarray) -> np.ndarray:
+    """For every row, the largest x in [0, high] with value(x) <= limit (value increasing
+    in x, elementwise over the rows), from below: the bisection's lower end."""
+    low = np.zeros_like(high)
+    for _ in range(_CEP_HALVINGS):
+        middle = 0.5 * (low + high)
+        inside = value(middle) <= limits
+        low, high = np.where(inside, middle, low), np.where(inside, high, middle)
+    return low
+
+
+def _cep_remaining(budget: UnitBudget, fixed_sigma: np.ndarray) -> np.ndarray:
+    """The north + east variance the free sources may share at every CEP row (others:
+    0), given the fixed sources' 1σ (0 for the free ones): the larger of the circular
+    bound less the fixed variance and the variance T with CEP(P_fixed + T I) at the
+    limit (:func:`allocate`); 0 where the fixed sources' CEP reaches the limit."""
+    chosen = budget.cep_rows
+    out = np.zeros(len(budget.rows))
+    limits = np.array([r.limit for r in budget.rows])[chosen]
+    total = (budget.unit_variances * fixed_sigma**2).sum(1)[chosen]
+    north = (budget.north * fixed_sigma**2).sum(1)[chosen]
+    cross = (budget.cross * fixed_sigma**2).sum(1)[chosen]
+    east = total - north
+    circular = budget.allowed_variances[chosen] - total
+    top = (limits / CEP_PER_SIGMA_CIRCLE) ** 2       # CEP(P + top I) >= CEP(top I) = limit
+    around = _largest_within(limits, lambda t: cep(north + t, east + t, cross), top)
+    fixed_cep = cep(north, east, cross)
+    out[chosen] = np.where(fixed_cep >= limits, 0.0, np.maximum(circular, around))
+    return out
+
+
+def _cep_fill(budget: UnitBudget, fixed_sigma: np.ndarray,
+              free_sigma: np.ndarray) -> np.ndarray:
+    """The factor f on the free sources' variances that brings every CEP row's CEP to
+    its limit, CEP(P_fixed + f P_free) = limit (others: inf; inf where the free sources
+    do not reach the row)."""
+    chosen = budget.cep_rows
+    out = np.full(len(budget.rows), np.inf)
+    limits = np.array([r.limit for r in budget.rows])[chosen]
+
+    def parts(s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        total = (budget.unit_variances * s**2).sum(1)[chosen]
+        north = (budget.north * s**2).sum(1)[chosen]
+        return north, total - north, (budget.cross * s**2).sum(1)[chosen]
+
+    fn, fe, fc = parts(fixed_sigma)
+    vn, ve, vc = parts(free_sigma)
+    free_cep = cep(vn, ve, vc)
+    reached = free_cep > 0
+    with np.errstate(divide="ignore"):
+        top = np.where(reached, (limits / np.where(reached, free_cep, 1.0)) ** 2, 0.0)
+    found = _largest_within(limits, lambda f: cep(fn + f * vn, fe + f * ve, fc + f * vc),
+                            top)
+    out[chosen] = np.where(reached, found, np.inf)
+    return out
+
+
+def limits_beyond_linear(budget: UnitBudget) -> str | None:
+    """Why a spec whose limit itself lies beyond the linear error model's range cannot
+    be sized, one line, or None.
+
+    A row whose limit, at the spec's σ level, is beyond :data:`LINEAR_LIMITS` (a rate
+    item's by the error it is the rate of, limit × t; a CEP row's by the DRMS its
+    sharing allows, k · limit / 0.8326) allows errors the linear equations do not
+    describe: whatever they allocate, they cannot say whether the spec is met there
+    (1000 nmi at 1 h: every source at its share drove the longitude past 0.1 rad, and
+    400 nmi was "met" at 741 km, beyond 637 km). Only rows that size a free source (it
+    depends on them, :attr:`UnitBudget.depends`) count: the fixed sources alone against
+    a loose limit are a verdict the linear equations give (with a warning where their
+    figure leaves the range, :func:`linear_range_warning`). The line names the row with the
+    largest such limit against the range, and the largest limit the linear model can
+    size there, in the unit the spec wrote the limit in.
+    """
+    from ins_errors.analysis.budget_report import written_unit
+
+    k = budget.spec.sigma_level
+    free = np.array([s.fixed is None for s in budget.sources], dtype=bool)
+    sizing = (budget.depends[:, free].any(1) if free.any()
+              else np.zeros(len(budget.rows), dtype=bool))
+    worst = None
+    for row, sizes in zip(budget.rows, sizing, strict=True):
+        if not sizes:   # no free source to size by it: the fixed ones' verdict stands
+            continue
+        unit = ITEM_SI[row.item]
+        per = row.time if row.item in RATE_ITEMS else 1.0
+        unit = {"m/s": "m", "rad/s": "rad"}[unit] if row.item in RATE_ITEMS else unit
+        limit = LINEAR_LIMITS.get(unit)
+        if limit is None:
+            continue
+        size = row.limit * per * (k / CEP_PER_DRMS_CIRCLE if row.cep else 1.0)
+        if size > limit * (1 + 1e-12) and (worst is None or size / limit > worst[0]):
+            worst = (size / limit, row, size, unit, limit, per)
+    if worst is None:
+        return None
+    _, row, size, unit, limit, per = worst
+    item = budget.spec.item(row.item)
+    shown = written_unit(item)
+    largest = row.limit * limit / size
+    kind = "CEP " if row.cep else ""
+    reading = (f"a {k:g}σ DRMS of {_size_text(size, unit)} shared, the CEP / 0.8326"
+               if row.cep else f"its error {_size_text(size, unit)} at {k:g}σ"
+               if row.item in RATE_ITEMS else f"{_size_text(size, unit)} at {k:g}σ")
+    return (f"{spec_label(budget.spec)}: items.{row.item} = {item.text!r} at "
+            f"{format_time(row.time)} ({reading}) is beyond the linear error model's range "
+            f"({_size_text(limit, unit)} = {LIMIT_NAMES[unit]}"
+            f"): the budget's linear error equations cannot say what meets it; the largest "
+            f"{kind}limit they can size there is {display(largest, item.kind.unit, shown)}"
+            f"{'' if per == 1.0 else ' (a rate over ' + format_time(row.time) + ')'}")
+
+
+def _size_text(value: float, unit: str) -> str:
+    """An error's size against the linear range, as the budget's lines write it: a
+    length in km, an angle in deg, a speed in m/s."""
+    return format_quantity(value, unit, {"m": "km", "rad": "deg"}.get(unit, unit))
+
+
+def growth_folds(system: LinearSystem, duration: float) -> tuple[float, float] | None:
+    """The growing mode the budget warns of, or None: the growth rate of F at the start
+    (1/s) and the e-foldings the error equations grow by over ``duration`` (s) along the
+    motion.
+
+    None when F at the start grows by fewer than
+    :data:`~ins_errors.numeric.linear_system.GROWTH_WARNED` e-foldings, or, on a moving
+    base, when the transition matrix over the grid grows at less than
+    :data:`~ins_errors.numeric.linear_system.GROWTH_SEEN` of that rate (the equations do
+    not follow that mode of F: orthodromic's delta_V_eta on an eastbound great circle).
+    On a static base the e-foldings are rate × duration, on a moving one the transition
+    matrix's growth rate (:func:`~ins_errors.numeric.linear_system.transition_growth`)
+    times the duration.
+    """
+    from ins_errors.numeric.linear_system import (
+        GROWTH_SEEN,
+        GROWTH_WARNED,
+        growth_rate,
+        transition_growth,
+    )
+
+    F = system.F if system.F.ndim == 2 else system.F[0]
+    rate = growth_rate(F)
+    if duration <= 0 or rate * duration < GROWTH_WARNED:
+        return None
+    if system.time_invariant:
+        return rate, rate * duration
+    along = transition_growth(system)
+    if along < GROWTH_SEEN * rate:
+        return None
+    return rate, along * duration
+
+
+GROWTH_REFUSED = 0.5 * float(np.log(1.0 / EPS))
+"""E-foldings (18.0: a factor 1/√ε = 6.7e7) of a growing mode over the operating time
+beyond which a budget is refused (:func:`growth_refusal`): the variances the allocation
+divides then grow by more than 1/ε = 4.5e15, the whole precision of a double, so what a
+source does on the stable part of the equations is below the rounding of its own
+variance and the allowances are set by the growing mode alone (strapdown_ned undamped
+over 8 h, 50 e-foldings: a gyro bias of 1e-19 deg/h)."""
+
+
+def growth_refusal(allocation: Allocation) -> str | None:
+    """Why an allocation made absurdly small by a growing mode is no budget, one line,
+    or None.
+
+    When the error equations grow over the operating time by more than
+    :data:`GROWTH_REFUSED` e-foldings (:func:`growth_folds`) and the allocation gives
+    some source a magnitude, that magnitude is what the growth leaves, no instrument's:
+    the line names the growth, an allowance as example, the damping gains left at zero
+    (:func:`~ins_errors.numeric.linear_system.undamped_remedy`) and the longest
+    operating time the budget takes with that growth. A spec the fixed sources alone
+    decide (nothing allocated) is not refused: its verdict is the propagation's.
+    """
+    from ins_errors.numeric.linear_system import undamped_remedy
+    from ins_errors.time_text import duration_text
+
+    budget = allocation.budget
+    allocated = [j for j, s in enumerate(budget.sources)
+                 if s.fixed is None and np.isfinite(allocation.sigma[j])]
+    found = growth_folds(budget.system, budget.spec.operating_time)
+    if not allocated or found is None or found[1] <= GROWTH_REFUSED:
+        return None
+    rate, folds = found
+    j = allocated[0]
+    source = budget.sources[j]
+    factor = f"{np.exp(folds):.3g}" if folds < 700.0 else f"e^{folds:.0f}"
+    remedy = ("" if budget.model is None
+              else undamped_remedy(budget.model, budget.system.p).lstrip("; "))
+    longest = budget.spec.operating_time * GROWTH_REFUSED / folds
+    cure = (f"{remedy}, or shorten the operating time" if remedy
+            else "damp the growing mode, or shorten the operating time")
+    return (f"the linear error model cannot size this spec: its error equations grow "
+            f"×e every {duration_text(1.0 / rate)}, ×{factor} over the "
+            f"{format_time(budget.spec.operating_time)} operating time, beyond "
+            f"{np.exp(GROWTH_REFUSED):.2g} (1/√ε: the variances the budget divides grow "
+            f"past the precision of the arithmetic), so the allowances are only what "
+            f"that growth leaves, no instrument's (e.g. {source.label} "
+            f"{display(allocation.magnitudes[j], source.unit, source.display_unit)}); "
+            f"{cure} to at most {format_time(_whole_minutes(longest))} "
+            f"({GROWTH_REFUSED:.0f} e-foldings of {duration_text(1.0 / rate)})")
+
+
+def _whole_minutes(seconds: float) -> float:
+    """``seconds`` rounded down to a whole minute (at least one step of a minute)."""
+    return max(60.0, 60.0 * np.floor(seconds / 60.0))
+
+
 def _beyond_at_every_size(budget: UnitBudget, beyond: np.ndarray) -> BudgetError:
     """The refusal of a spec every source it sees would meet only beyond the linear error
-    model (an undamped vertical channel over hours: any source drives the height past
-    0.1 R long before the spec's items see it): "not limited by this spec" for all of
-    them would read as a spec met by anything."""
+    model: "not limited by this spec" for all of them would read as a spec met by
+    anything. With a growing mode over the operating time (:func:`growth_folds`: an
+    undamped vertical channel over hours, where any source drives the height past 0.1 R
+    long before the spec's items see it) the line names it and the damping gains; without
+    one, the sources' errors of another quantity than the items' (a longitude at a high
+    latitude, of a position item within 0.1 R) outrun the linear range at their shares,
+    and the line says to tighten the items."""
+    from ins_errors.numeric.linear_system import undamped_remedy
+    from ins_errors.time_text import duration_text
+
     causes: dict[tuple[str, str], list[int]] = {}
     for j in np.flatnonzero(beyond):
         causes.setdefault(budget.linear_limit_cause(int(j)), []).append(int(j))
@@ -1236,12 +1702,24 @@ def _beyond_at_every_size(budget: UnitBudget, beyond: np.ndarray) -> BudgetError
              f"{LIMIT_NAMES.get(unit, 'its linear limit')} first"
              if state != "its own value" else f"{len(sources)} of them are themselves "
              "beyond the linear range")
+    growth = growth_folds(budget.system, budget.spec.operating_time)
+    if growth is not None:
+        rate, folds = growth
+        factor = f"{np.exp(folds):.3g}" if folds < 700.0 else f"e^{folds:.0f}"
+        remedy = ("" if budget.model is None
+                  else undamped_remedy(budget.model, budget.system.p))
+        cause = (f"its error equations grow ×e every {duration_text(1.0 / rate)} (×{factor} "
+                 f"over the operating time), which does this: damp the growing mode or "
+                 f"shorten the operating time{remedy}")
+    else:
+        cause = ("nothing in its error equations grows: the spec's limits are loose enough "
+                 f"that its sources' shares leave the linear range in {state} before its "
+                 f"items reach their limits: tighten them")
     return BudgetError(
         f"the linear error model cannot size this spec: every source it sees would meet it "
         f"only at sizes beyond the model's range ({where}, e.g. {example.name} within it "
         f"only up to {display(limit, example.unit, example.display_unit)} over the "
-        f"operating time); a growing mode (an undamped vertical channel) does this over "
-        f"hours: damp it or shorten the operating time")
+        f"operating time); {cause}")
 
 
 # --------------------------------------------------------------------------------------
@@ -1256,19 +1734,26 @@ class Evaluation:
     rows : tuple of Row
     sources : tuple of str
     contributions : numpy.ndarray, shape (nr, ns)
-        Variance of each row from each source (SI²).
+        Variance of each row from each source (SI²; a CEP row's: north + east).
     sigma_level : float
+    north, cross : numpy.ndarray, shape (nr, ns), optional
+        Of the CEP rows, the north variance and the north-east covariance from each
+        source; None without a CEP item.
     """
 
     rows: tuple[Row, ...]
     sources: tuple[str, ...]
     contributions: np.ndarray
     sigma_level: float
+    north: np.ndarray | None = None
+    cross: np.ndarray | None = None
 
     @property
     def values(self) -> np.ndarray:
-        """Each row's error at the spec's σ level (k·sqrt(total variance)), SI."""
-        return self.sigma_level * np.sqrt(self.contributions.sum(1))
+        """Each row's error at the spec's σ level (k·sqrt(total variance); a CEP row's
+        CEP, :func:`row_values`), SI."""
+        return row_values(self.rows, self.sigma_level, self.contributions, self.north,
+                          self.cross)
 
     @property
     def ratios(self) -> np.ndarray:
@@ -1302,9 +1787,10 @@ def evaluate(model, spec: Spec, sigma: dict[str, float], trajectory=None,
                               sigma.get(s.label, 0.0 if s.paired else sigma.get(s.name, 0.0)),
                               s.tau) for s in sources]
     covariance = _propagate(model, system, spec, stats)
-    rows, contributions = _rows(spec, system, covariance, covariance.contributions)
+    rows, contributions, parts = _cep_rows(spec, system, covariance,
+                                           covariance.contributions)
     return Evaluation(tuple(rows), tuple(s.label for s in sources), contributions,
-                      spec.sigma_level)
+                      spec.sigma_level, *(parts or (None, None)))
 
 
 # --------------------------------------------------------------------------------------
@@ -1343,7 +1829,10 @@ def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarra
     rows : list of Row
         The rows whose time lies within the runs.
     values : numpy.ndarray, shape (len(rows),)
-        k · sample RMS (rss rows: k · sqrt of the mean sum of squares), SI.
+        k · sample RMS (rss rows: k · sqrt of the mean sum of squares), SI; a CEP row's
+        CEP of the runs' mean north², east² and north·east (the normal CEP of their
+        second moments, as the covariance's, whose sampling error is a standard
+        deviation's, not a sample median's).
     """
     spec, system = budget.spec, budget.system
     _, R_N, R_E_cos = _radii(model, system)
@@ -1372,9 +1861,14 @@ def direct_rows(model, budget: UnitBudget, errors) -> tuple[list[Row], np.ndarra
         else:
             azimuth = attitude_quantities(model)[2]
             parts = {"azimuth": (errors[azimuth][k] - errors[azimuth][0]) / row.time}
+        rows.append(row)
+        if row.cep:   # the CEP of the runs' second moments, as the covariance's
+            north, east = parts["north"], parts["east"]
+            values.append(float(cep(np.mean(north**2), np.mean(east**2),
+                                    np.mean(north * east))))
+            continue
         chosen = [parts[row.component]] if row.component else list(parts.values())
         mean_square = np.mean(sum(c**2 for c in chosen))
-        rows.append(row)
         values.append(spec.sigma_level * np.sqrt(mean_square))
     return rows, np.array(values)
 

@@ -16,6 +16,7 @@ from ins_errors.analysis.budget_report import (
     WHITE_NOTE,
     binding_text,
     exceeded_line,
+    format_time,
     item_summaries,
     levels_note,
     magnitudes_words,
@@ -26,7 +27,6 @@ from ins_errors.analysis.budget_report import (
 )
 from ins_errors.markdown_cells import one_line, table_cell
 from ins_errors.specs import HOUR
-from ins_errors.units import format_duration as format_time
 
 SUFFIXES = (".md", ".markdown")
 """Suffixes a ``--report`` file may have (the report is Markdown)."""

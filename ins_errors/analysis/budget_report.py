@@ -105,7 +105,7 @@ def worst_rows(allocation: Allocation) -> list[int]:
     """Each spec item's row (index into the budget's rows) with the largest total share
     of its allowed variance: the item's worst time (and component)."""
     budget = allocation.budget
-    used = allocation.contributions().sum(1) / budget.allowed_variances
+    used = allocation.shares().sum(1)
     return [idx[int(np.argmax(used[idx]))] for idx in item_rows(budget).values()]
 
 
@@ -239,7 +239,8 @@ def between_checks_warnings(data: dict) -> list[str]:
                     f"whole run (every = \"{format_time(data['step_s'])}\")")
         lines.append(
             f"{_item_label(item['name'], peak['component'])} passes its limit between "
-            f"its check times: {peak['display']} ({k}) at "
+            f"its check times: {peak['display']} "
+            f"({'CEP' if item.get('combine') == 'cep' else k}) at "
             f"{format_time(peak['time_h'] * HOUR)}, {peak['ratio']:.3g} times the limit, "
             f"at {at}; the spec checks it "
             f"{checks_text([t * HOUR for t in item['check_times_h']])} and the budget "
@@ -287,11 +288,8 @@ def report(allocation: Allocation) -> dict:
     """
     budget = allocation.budget
     spec = budget.spec
-    k = spec.sigma_level
-    contributions = allocation.contributions()
-    allowed = budget.allowed_variances
-    shares = contributions / allowed[:, None]                            # (rows, sources)
-    values = k * np.sqrt(contributions.sum(1))
+    shares = allocation.shares()                                         # (rows, sources)
+    values = allocation.values
     rows_of = item_rows(budget)
     worst = dict(zip(rows_of, worst_rows(allocation), strict=True))
     sources = []
@@ -337,8 +335,8 @@ def report(allocation: Allocation) -> dict:
     return {
         **_header(budget, allocation.fill_factor),
         "exceeded": any(r["exceeded"] for r in rows),
-        "rule": _RULE + (f"; then scaled by {allocation.fill_factor:.6g} in variance (fill)"
-                         if spec.fill else ""),
+        "rule": _RULE + _cep_rule(spec) + (f"; then scaled by {allocation.fill_factor:.6g} "
+                                           f"in variance (fill)" if spec.fill else ""),
         "sources": sources,
         "items": _items_json(budget, rows, shares, between_checks(allocation)),
         "rows": rows,
@@ -348,9 +346,18 @@ def report(allocation: Allocation) -> dict:
 _RULE = "equal share of each item's variance per free source (weighted), fixed sources first"
 
 
+def _cep_rule(spec) -> str:
+    """What the rule shares of a CEP item (``combine = "cep"``), or ""."""
+    if not any(item.combine == "cep" for item in spec.items):
+        return ""
+    return ("; of a CEP item, the north + east variance of a circular error of that CEP, "
+            "(limit / 0.8326)², which meets it whatever the error ellipse's shape")
+
+
 def _rows_json(budget, values: np.ndarray, exceeded: np.ndarray) -> list[dict]:
-    """The spec rows of a report: value (SI, at the spec's σ level) against the limit,
-    both shown in the unit the spec wrote the limit in (:func:`written_unit`)."""
+    """The spec rows of a report: value (SI, at the spec's σ level; a CEP row's CEP)
+    against the limit, both shown in the unit the spec wrote the limit in
+    (:func:`written_unit`), a CEP row's display ending in ``CEP``."""
     spec = budget.spec
     units = {item.name: written_unit(item) for item in spec.items}
 
@@ -360,7 +367,8 @@ def _rows_json(budget, values: np.ndarray, exceeded: np.ndarray) -> list[dict]:
     return [{"item": r.item, "time_h": r.time / HOUR, "component": r.component,
              "limit": r.limit, "value": float(v), "unit": spec.item(r.item).kind.unit,
              "sigma_level": spec.sigma_level, "ratio": float(v / r.limit),
-             "exceeded": bool(over), "display": f"{shown(r, v)} of {shown(r, r.limit)}"}
+             "exceeded": bool(over),
+             "display": f"{shown(r, v)} of {shown(r, r.limit)}{' CEP' if r.cep else ''}"}
             for r, v, over in zip(budget.rows, values, exceeded, strict=True)]
 
 
@@ -383,12 +391,13 @@ def exceeded_report(error: SpecExceededError) -> dict:
     fixed = [j for j, s in enumerate(budget.sources) if s.fixed is not None]
     rows = _rows_json(budget, error.values, error.used_up)
     fixed_only = fixed_allocation(error)
-    shares = fixed_only.contributions() / budget.allowed_variances[:, None]
+    shares = fixed_only.shares()
     rows_of = item_rows(budget)
     return {
         **_header(budget, 1.0),
         "exceeded": True,
-        "rule": _RULE + "; the fixed sources alone use up the spec, so nothing is allocated",
+        "rule": _RULE + _cep_rule(budget.spec) + "; the fixed sources alone use up the "
+                                                 "spec, so nothing is allocated",
         "sources": [{"name": s.name, "label": s.label, "statistics": s.statistics,
                      "magnitude": float(s.fixed * s.sigma_level),
                      "magnitude_sigma_level": s.sigma_level,
@@ -649,7 +658,7 @@ def monte_carlo_cells(mc: dict, spec) -> tuple[list[str], list[list[str]]]:
 def contribution_table(allocation: Allocation, top: int = 10) -> str:
     """Percent of each item's allowed variance used by each source (worst time)."""
     budget = allocation.budget
-    contributions = allocation.contributions() / budget.allowed_variances[:, None]
+    contributions = allocation.shares()
     items = budget.spec.items
     worst = worst_rows(allocation)
     widths = [max(17, len(it.name) + 2) for it in items]

@@ -18,8 +18,10 @@ from ins_errors.analysis.budget import (
     BudgetError,
     display,
     format_time,
+    item_cep_parts,
     item_lines,
 )
+from ins_errors.analysis.budget_cep import cep
 from ins_errors.figure_layout import fixed_margins, text_height, text_width, wrap_to_width
 from ins_errors.output import require_matplotlib, save_figure
 from ins_errors.specs import HOUR
@@ -43,7 +45,7 @@ class ItemCurve:
     times : numpy.ndarray, shape (nt,)
         Grid times, s (a rate item, error / t, from the first step on).
     values : numpy.ndarray, shape (nt,)
-        The item at the spec's σ level at every time, SI.
+        The item at the spec's σ level at every time, SI (a CEP item's CEP).
     check_times : numpy.ndarray, shape (nc,)
         The spec's check times of the item, s.
     check_values : numpy.ndarray, shape (nc,)
@@ -97,6 +99,16 @@ def item_curves(allocation: Allocation) -> list[ItemCurve]:
             index = index[times > 0]
         checks = np.array(item.times, dtype=float)
         at = np.array([round(t / budget.system.step) for t in checks], dtype=int) - index[0]
+        if item.combine == "cep":   # the CEP of the sources' 2×2 covariances
+            north, _, cross = item_cep_parts(item, budget.item_names,
+                                             budget.item_variances, index, times[index])
+            [(_, unit)] = item_lines(item, budget.item_names, budget.item_variances, index,
+                                     times[index])
+            total, north = (unit * sigma**2).sum(1), (north * sigma**2).sum(1)
+            values = cep(north, total - north, (cross * sigma**2).sum(1))   # as the rows
+            curves.append(ItemCurve(item.name, "", item.kind.unit, item.value,
+                                    times[index], values, checks, values[at]))
+            continue
         for component, unit in item_lines(item, budget.item_names, budget.item_variances,
                                           index, times[index]):
             values = k * np.sqrt((unit * sigma**2).sum(1))
@@ -204,6 +216,7 @@ def plot_time(allocation: Allocation, path: str, title: str) -> None:
     labels = []
     for ax, item in zip(axes, items, strict=True):
         shown = written_unit(item)
+        level = "CEP" if item.combine == "cep" else k   # a CEP has no σ level
         scale = 1.0 / parse_quantity(f"1 {shown}", item.kind.unit, "unit")
         mine = [c for c in curves if c.item == item.name]
         limit = item.value * scale
@@ -213,7 +226,7 @@ def plot_time(allocation: Allocation, path: str, title: str) -> None:
             colour = colours(n % 10)
             name = curve.component or f"{item.name}"
             ax.plot(curve.times / per, curve.values * scale, color=colour, lw=1.4,
-                    label=f"{name} ({k})")
+                    label=f"{name} ({level})")
             ax.plot(curve.check_times / per, curve.check_values * scale, "o", ms=3.5,
                     color=colour, label=f"check times ({len(curve.check_times)})"
                     if n == 0 else None, zorder=3, clip_on=False)
@@ -228,7 +241,7 @@ def plot_time(allocation: Allocation, path: str, title: str) -> None:
             if worst is None or curve.check_values[i] > worst[1]:
                 worst = (curve.check_times[i], curve.check_values[i], curve.component)
         ax.axhline(limit, color="crimson", ls="--", lw=1.2,
-                   label=f"limit {display(item.value, item.kind.unit, shown)} ({k})")
+                   label=f"limit {display(item.value, item.kind.unit, shown)} ({level})")
         if worst is not None:
             t, value, component = worst
             where = f" ({component})" if component else ""

@@ -83,8 +83,6 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from dataclasses import replace
 
-    import numpy as np
-
     from ins_errors.analysis import budget as bd
     from ins_errors.analysis import budget_report as rep
     from ins_errors.checker.strapdown_description import UnspannedStateError
@@ -143,17 +141,19 @@ def run(args: argparse.Namespace) -> int:
         except UnspannedStateError as unspanned:  # its words are the matrix check's
             raise InsErrorsError(unspanned.budget_message()) from None
         growth = bd.growth_warning(model, unit)
-        if growth is not None:
-            print(f"ins-errors: warning: {growth}", file=sys.stderr)
         warnings = [] if growth is None else [growth]
         try:
             allocation = bd.allocate(unit)
         except bd.SpecExceededError as exceeded:
+            _warn(warnings)
             _linear_warning(unit, exceeded.values, warnings)
             return _report_exceeded(args, model, exceeded,
                                     parameters_record(model, parameters), warnings, times)
-        _linear_warning(unit, unit.spec.sigma_level
-                        * np.sqrt(allocation.contributions().sum(1)), warnings)
+        refusal = bd.growth_refusal(allocation)
+        if refusal is not None:   # the growth's line says it all: no warning before it
+            raise bd.BudgetError(refusal)
+        _warn(warnings)
+        _linear_warning(unit, allocation.values, warnings)
         vertical = bd.vertical_channel_note(model, allocation)
         if vertical is not None:
             print(f"ins-errors: warning: {vertical}", file=sys.stderr)
@@ -214,6 +214,12 @@ def run(args: argparse.Namespace) -> int:
         print(f"({mc_seconds:.1f} s, and {estimate_seconds:.1f} s for the integration "
               "error)" if mc.get("integration_error") else f"({mc_seconds:.1f} s)")
     return 0
+
+
+def _warn(warnings: list[str]) -> None:
+    """Print the warnings gathered so far on stderr, one line each."""
+    for text in warnings:
+        print(f"ins-errors: warning: {text}", file=sys.stderr)
 
 
 def _linear_warning(budget, values, warnings: list[str]) -> None:
