@@ -17,8 +17,9 @@ error of +176.8° beside a direct one of −124.3° misses by 58.9°, not by 301
 
 Each case also carries ``warnings``: when the integration error exceeds 10 % of the
 linear-vs-direct difference or 1 % of the error (naming a step that would do), when
-the linear/direct ratio exceeds the validity threshold (5 % by default, naming the
-magnitude at which it would be 1 %, from the measured scaling of a half-size run), and
+the linear/direct ratio exceeds the validity threshold (5 % by default, naming about
+the magnitude at which it would be 1 %, from the measured scaling of runs at smaller
+magnitudes), when an initial angle error is given past half a turn, and
 when the refined run misses more than the linear one or diverges
 (:func:`add_refined_warnings`).
 
@@ -490,6 +491,7 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
     comparisons = comparisons_of(sim, labels)
+    add_half_turn_warnings(comparisons, model)
     if quantities is not None:
         for comparison in comparisons:
             for q in quantities:
@@ -1249,8 +1251,13 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
     at half size, about 1 near 1 %, so the first factor was 50 times too small), so the
     cases run again at the factor found, and the factor is corrected from the last two
     runs (a secant in log–log), up to :data:`VALIDITY_REFINEMENTS` times, until the ratio
-    measured there is within a factor 1.25 of 1 %; the warning gives the ratio measured
-    at the factor it names.
+    measured there is within a factor 1.25 of 1 %. The factor the warning names (and
+    :attr:`Comparison.one_percent_scale`) is that secant's step from the last run to 1 %,
+    along the ratio's slope measured between the last two runs, not the last run's own
+    factor: an estimate ("about"), which the warning says it is from (the ratio measured
+    at the last run's factor and the slope). strapdown_ned, an initial heading error over
+    1 h at rest: from 5° and from 8°, 3.74 arcmin both, where a run measures 1.00 % (the
+    last runs' own factors, 4.13 and 4.61 arcmin, measure 1.11 % and 1.23 %).
     """
     over = [b for b, c in enumerate(comparisons)
             if c.worst_linear is not None and c.worst_linear.linear_ratio > threshold]
@@ -1273,7 +1280,7 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
     flagged = [comparisons[b] for b in columns]
     # per case: points (factor, ratio) measured so far, the first at the full magnitudes
     points = [[(1.0, c.worst_linear.linear_ratio)] for c in flagged]
-    first_slope: list[float] = [math.nan] * len(flagged)
+    last_slope: list[float] = [math.nan] * len(flagged)  # through the last two points
     factors = [0.5] * len(flagged)
     open_cases = list(range(len(flagged)))
     for round_ in range(1 + VALIDITY_REFINEMENTS):
@@ -1289,12 +1296,11 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
             points[k].append((factors[k], ratio))
             (f0, r0), (f1, r1) = points[k][-2], points[k][-1]
             slope = math.log(r1 / r0) / math.log(f1 / f0) if f1 != f0 else math.nan
-            if round_ == 0:
-                first_slope[k] = slope
+            last_slope[k] = slope
+            # the next estimate, from the last point along the ratio's measured slope
+            factors[k] = f1 * (0.01 / r1) ** (1.0 / _usable(slope))
             if round_ > 0 and 0.8 <= 100 * ratio <= 1.25:
-                continue  # measured close enough to 1 %
-            use = slope if math.isfinite(slope) and slope > 0.2 else 1.0
-            factors[k] = f1 * (0.01 / r1) ** (1.0 / use)
+                continue  # measured close enough to 1 %: the estimate is a short step
             still_open.append(k)
         open_cases = still_open
     for k, comparison in enumerate(flagged):
@@ -1304,26 +1310,33 @@ def add_validity_warnings(comparisons: Sequence[Comparison], sim: Simulation,
             comparison.warnings.append(_not_falling_text(sim.model, comparison, points[k],
                                                          threshold))
             continue
-        if len(points[k]) > 2:  # refined: the last factor measured
-            scale, there = points[k][-1]
-            how = f"the ratio measured there: {there:.2%}"
-            if k in open_cases:
-                scale = factors[k]
-                how = (f"estimated from the last run, {there:.2%} at {points[k][-1][0]:.3g}×;"
-                       " the ratio does not scale steadily")
+        if len(points[k]) == 1:  # the half-size run failed: nothing measured to scale by
+            scale = 0.01 / ratio
+            how = "assuming the ratio falls in proportion to the magnitude"
         else:
-            slope = first_slope[k]
-            ok = math.isfinite(slope) and slope > 0.2
-            scale = (0.01 / ratio) ** (1.0 / (slope if ok else 1.0))
-            how = (f"ratio ∝ magnitude^{slope:.2f} measured at half size" if ok
-                   else "assuming the ratio grows in proportion to the magnitude")
+            scale = factors[k]
+            there, measured = points[k][-1]
+            slope = last_slope[k]
+            how = f"from {measured:.2%} measured at {there:.3g}×, " + (
+                f"the ratio ∝ magnitude^{slope:.2f} there" if _usable(slope) == slope else
+                "assuming the ratio falls in proportion to the magnitude" + (
+                    f" (its measured slope there, {slope:.2f}, is too small to go by)"
+                    if math.isfinite(slope) else ""))
+            if k in open_cases:
+                how += "; the ratio does not scale steadily"
         comparison.one_percent_scale = scale
         at = ", ".join(f"{name} = {_shown(sim.model, name, value * scale)}"
                        for name, value in comparison.sources.items())
         comparison.warnings.append(
             f"linear model beyond its validity: linear − direct reaches {ratio:.1%} of "
-            f"{worst.quantity} (threshold {threshold:.0%}); it would be 1 % at "
+            f"{worst.quantity} (threshold {threshold:.0%}); it would be 1 % at about "
             f"{scale:.3g}× the magnitudes ({at}; {how})")
+
+
+def _usable(slope: float) -> float:
+    """The log–log slope of the ratio to scale a magnitude by: the measured one when it
+    is finite and above :data:`FALLING_SLOPE`, else 1 (first-order theory's)."""
+    return slope if math.isfinite(slope) and slope > FALLING_SLOPE else 1.0
 
 
 VALIDITY_REFINEMENTS = 3
@@ -1413,6 +1426,33 @@ def _ratios_at(sim: Simulation, columns: list[int], factors: list[float],
         worst = case.worst_linear
         out.append(None if worst is None else worst.linear_ratio)
     return out
+
+
+def add_half_turn_warnings(comparisons: Sequence[Comparison], model: Model) -> None:
+    """Warn of each initial angle error (an initial source in rad) given past half a turn.
+
+    An angle error of 190° is one of −170°: the direct run starts from the same
+    orientation (or position) either way, but the linear and refined runs take the value
+    as given, and the linear errors are in proportion to it, so the two readings of one
+    error get different predictions. Such a case gets one warning per source, naming the
+    angle within ±180° that is the same error."""
+    from ins_errors.units import format_readable
+
+    for comparison in comparisons:
+        for name, value in comparison.sources.items():
+            info = model.sources[model.index("sources", name)]
+            if info.unit != "rad" or info.kind != "initial" or not abs(value) > math.pi:
+                continue
+            shown = info.display_unit or info.unit
+            given = format_readable(value, info.unit, shown, digits=3)
+            same = format_readable(math.remainder(value, 2 * math.pi), info.unit, shown,
+                                   digits=3)
+            comparison.warnings.append(
+                f"{name} = {given} is past half a turn: it is the same error as {same} "
+                f"(the direct run starts the same for both), but the linear and refined "
+                f"runs take {given} as given, and the linear errors are in proportion to "
+                f"it; give {name} within ±180 deg ({same}) for the linear model's "
+                "prediction of this error")
 
 
 def _shown(model: Model, name: str, value: float) -> str:
