@@ -42,7 +42,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                              "damping gains k_h1=0.0047/s and k_h2=1.4e-5/s^2 (repeatable; "
                              "default: the model's values, listed by 'ins-errors models MODEL')")
     parser.add_argument("--separately", action="store_true",
-                        help="run each --source as its own case (default: all together)")
+                        help="run each --source as its own case (default: all together); "
+                             "one source may then come at several sizes, each a case "
+                             "(-s initial_heading_error=1deg -s initial_heading_error=2deg)")
     parser.add_argument("--motion", type=motion_kinds(MOTIONS), choices=MOTIONS,
                         default="static",
                         help="true motion (default: static)")
@@ -111,7 +113,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=run)
 
 
-def _sources(model, items: list[str]) -> list[tuple[str, float]]:
+def _sources(model, items: list[str], separately: bool = False) -> list[tuple[str, float]]:
+    """The ``--source NAME=VALUE`` items as (name, SI value) pairs, in the order given.
+
+    Without ``separately`` they make one case, so a name given twice is refused (saying
+    that ``--separately`` runs each as its own case). With it each item is a case of its
+    own, so one source may come at several sizes; two of them that a case label would
+    show alike (the same size given twice) are refused, as their cases could not be told
+    apart."""
     from ins_errors.analysis.validity import source_example
     from ins_errors.errors import InsErrorsError
     from ins_errors.model_parameters import check_source, name_value_pairs
@@ -120,10 +129,34 @@ def _sources(model, items: list[str]) -> list[tuple[str, float]]:
     example = source_example(model)
     if not items:
         raise InsErrorsError(f"give at least one --source NAME=VALUE, e.g. --source {example}")
-    pairs = name_value_pairs(items, "--source", example)
-    infos = {name: model.sources[model.index("sources", name)] for name in pairs}
-    return [(name, check_source(infos[name], parse_quantity(text, infos[name].unit, name),
-                                text)) for name, text in pairs.items()]
+    if separately:  # one item, one case
+        pairs = [next(iter(name_value_pairs([item], "--source", example).items()))
+                 for item in items]
+    else:
+        try:
+            pairs = list(name_value_pairs(items, "--source", example).items())
+        except InsErrorsError as error:
+            if "given twice" not in str(error):
+                raise
+            raise InsErrorsError(f"{error}: the sources given make one case; with "
+                                 "--separately each --source is a case of its own, so a "
+                                 "source may come at several sizes") from None
+    infos = {name: model.sources[model.index("sources", name)] for name, _ in pairs}
+    sources = [(name, check_source(infos[name], parse_quantity(text, infos[name].unit, name),
+                                   text)) for name, text in pairs]
+    if separately:
+        from ins_errors.numeric.compare import case_label
+
+        seen: dict[str, str] = {}
+        for (name, value), (_, text) in zip(sources, pairs, strict=True):
+            label = case_label(model, {name: value})
+            if label in seen:
+                raise InsErrorsError(f"--source {name}={text} and {name}={seen[label]} are "
+                                     f"the same size ({label}): with --separately each is a "
+                                     "case, and these two would be the same case; give "
+                                     "each size once")
+            seen[label] = text
+    return sources
 
 
 def given_references(args: argparse.Namespace) -> dict[str, tuple[str, str]]:
@@ -196,7 +229,7 @@ def _compare(args: argparse.Namespace) -> list:
     if args.out:  # refuse a stranger's folder before computing
         OutputFolder(args.out, force=args.force, create=False)
     model = load_model(args.model)
-    sources = _sources(model, args.source)
+    sources = _sources(model, args.source, args.separately)
     parameters = parse_parameter_options(model, args.parameter)
     if args.hours is not None and args.duration is not None:
         raise InsErrorsError("give either --hours or --duration, not both")
