@@ -172,12 +172,33 @@ def step_count(duration: float, tau: float, what: str = "duration") -> int:
                         "or a shorter run")
     n = whole_steps(duration, tau)
     if n is None:
-        below, above = math.floor(steps), math.ceil(steps)
-        nearest = " or ".join(f"{_duration_text(k, tau)} s" for k in (below, above) if k > 0)
+        nearest = _nearest_text(math.floor(steps), math.ceil(steps), tau)
         raise StepError(f"{what} {_exact_text(duration)} s is not a whole number of steps "
                         f"of {_exact_text(tau)} s ({steps:.10g} steps); the nearest that "
                         f"are: {nearest}; or choose a step that divides it")
     return n
+
+
+def _nearest_text(below: int | None, above: int | None, tau: float) -> str:
+    """``"3598 s or 3605 s"``: the lengths of ``below`` and ``above`` whole steps of
+    ``tau`` that are positive (None: none), as text that reads back as those steps."""
+    return " or ".join(f"{_duration_text(k, tau)} s" for k in (below, above)
+                       if k is not None and k > 0)
+
+
+def _nearest_divisors(n: int, target: float) -> tuple[int | None, int | None]:
+    """The largest divisor of ``n`` (> 0) below ``target`` and the smallest above it (None
+    where there is none), found among the divisors up to √n and their cofactors."""
+    below = above = None
+    for d in range(1, math.isqrt(n) + 1):
+        if n % d:
+            continue
+        for divisor in (d, n // d):
+            if divisor < target and (below is None or divisor > below):
+                below = divisor
+            if divisor > target and (above is None or divisor < above):
+                above = divisor
+    return below, above
 
 
 def record_stride(record_interval: float | None, tau: float, n_steps: int) -> int:
@@ -186,16 +207,32 @@ def record_stride(record_interval: float | None, tau: float, n_steps: int) -> in
     Raises
     ------
     StepError
-        If the interval is not a positive multiple of the step or does not divide the run.
+        If the interval is not a positive multiple of the step or does not divide the run:
+        the message names the nearest intervals that are whole steps dividing the run
+        and, for a whole number of steps, the nearest durations that are whole intervals
+        (as :func:`step_count` names the nearest durations of a step).
     """
     if record_interval is None:
         return 1
+    interval, tau = float(record_interval), float(tau)
+    steps = interval / tau if tau > 0 else math.nan
+    if n_steps > 0 and 0 < steps <= MAX_STEPS and whole_steps(interval, tau) is None:
+        nearest = _nearest_text(*_nearest_divisors(n_steps, steps), tau)
+        raise StepError(f"recording interval {_exact_text(interval)} s is not a whole "
+                        f"number of steps of {_exact_text(tau)} s ({steps:.10g} steps); "
+                        f"the nearest that are and divide the run of {n_steps} steps: "
+                        f"{nearest}; or choose a step that divides it")
     k = step_count(record_interval, tau, "recording interval")
     if k == 0:
         raise StepError("recording interval must be at least one step")
     if n_steps % k:
-        raise StepError(f"the run of {n_steps} steps is not a whole number of recording "
-                        f"intervals of {k} steps ({record_interval:g} s)")
+        intervals = _nearest_text(*_nearest_divisors(n_steps, k), tau)
+        runs = _nearest_text(n_steps // k * k, -(-n_steps // k) * k, tau)
+        raise StepError(f"the run of {n_steps} steps ({_duration_text(n_steps, tau)} s) is "
+                        f"not a whole number of recording intervals of {k} steps "
+                        f"({record_interval:g} s); the nearest intervals that divide it: "
+                        f"{intervals}; or the nearest durations that are whole intervals: "
+                        f"{runs}")
     return k
 
 
