@@ -596,6 +596,8 @@ def simulate(model: Model, trajectory: Trajectory, sources, method: Method = "rk
         if "real" in parts:
             _check_initial_platform(model, xr0, platform)
         exact0 = xr0 - np.vstack([x0, np.zeros((xr0.shape[0] - n, B))])
+    if {"linear", "refined"} & set(parts):
+        _check_start_matrices(model, trajectory, np.any(w != 0, axis=1))
     if "real" in parts:
         blocks.append(xr0)
     if "linear" in parts:
@@ -733,6 +735,53 @@ def _check_initial(model: Model, xr0: np.ndarray) -> None:
         k = int(np.argmax(bad.any(axis=1)))
         raise DomainError(f"the real system's initial {model.error_states[k].name} is NaN or "
                           "infinite: initial errors too large")
+
+
+NAMED_ENTRIES = 6
+"""Entries of F or G that are not finite which a refusal names one by one."""
+
+
+def _check_start_matrices(model: Model, trajectory: Trajectory, active: np.ndarray) -> None:
+    """Refuse a linear or refined run whose F, or whose G in a column of a source in use
+    (``active``, shape (ns,)), is not finite at t = 0, naming the entries.
+
+    Such a matrix (a derivative 0/0, as of a drag term |V|·V at V = 0) makes every
+    linear error NaN from the first step; the run would report that as leaving the
+    domain a step later, with numpy's warnings about the generated code before it.
+
+    Raises
+    ------
+    DomainError
+        One line: the matrix, the time, the trajectory and the entries (row, column).
+    """
+    x0, u0, p = trajectory.start_state, trajectory.start_inputs, trajectory.parameters
+    states = [e.name for e in model.error_states]
+    try:
+        with np.errstate(all="ignore"):
+            F = np.asarray(model.state_matrix(x0, u0, p), dtype=float)
+            G = np.asarray(model.source_matrix(x0, u0, p), dtype=float)
+    except DomainError:  # outside the model's domain: the run's own checks say where
+        return
+    sources = [s.name for s in model.sources]
+    for symbol, matrix, columns, used in (("F", F, states, None), ("G", G, sources, active)):
+        bad = ~np.isfinite(matrix.reshape(len(states), len(columns)))
+        if used is not None:
+            bad &= np.asarray(used, dtype=bool)[None, :]
+        if not bad.any():
+            continue
+        rows, cols = np.nonzero(bad)
+        entries = [f"{symbol}[{states[r]}, {columns[k]}]"
+                   for r, k in zip(rows, cols, strict=True)]
+        if len(entries) > NAMED_ENTRIES:
+            entries = [*entries[:NAMED_ENTRIES], f"{len(entries) - NAMED_ENTRIES} more"]
+        listed = " and ".join([", ".join(entries[:-1]), entries[-1]] if len(entries) > 1
+                              else entries)
+        raise DomainError(f"{symbol} of {model.name} is not finite at t = 0 s "
+                          f"({trajectory.description}) in {listed}; the linear error "
+                          "equations have no value there (a derivative 0/0 or through a "
+                          "kink, such as d|V|/dV at V = 0), so the linear and refined runs "
+                          "cannot start from it: write the term smoothly there, or start "
+                          "the motion elsewhere")
 
 
 def _domain_check(model: Model, parts: Sequence[str], platform: str) -> PieceCheck:
