@@ -36,12 +36,25 @@ Two computed roots are one repeated root only within
 Jordan block's rounding split), so a close but distinct pair (the Foucault split within
 1e-4° of the equator) stays two. A zero within
 :data:`~ins_errors.analysis.transfer_reduction.CANCEL` of a pole (or within their
-accuracies) cancels it too. Each pole is named as ``modes`` names F's
-eigenvalue it is (Schuler, Schuler ± Foucault, Earth, vertical channel, integrator,
-...), and each mode of F the pair does not see is listed as cancelled.
+accuracies) cancels it too, a real root only a real one and a pair only a pair.
+
+A growing mode is never cancelled for being weak: its part in the response, however
+small, overtakes every bounded term. F's growing modes (strapdown_ned's undamped
+vertical channel) are split off the rest
+(:class:`~ins_errors.analysis.transfer_reduction.GrowingSplit`: an ordered Schur form
+made block diagonal), and a pair keeps each one the source reaches and the output
+sees beyond rounding, with a zero beside it where the rest of W nearly cancels it (at
+0.5° from the equator, 5e-10 of the pole away); its residue comes from the split (on
+balanced states), not from the factored form, whose K Π(p − z)/Π(p − q) loses the
+digits of p − z. A pair whose every other part is below the tolerance keeps the
+growing part alone (:attr:`TransferFunction.negligible`). Each pole is named as
+``modes`` names F's eigenvalue it is (Schuler, Schuler ± Foucault, Earth, vertical
+channel, integrator, ...), and each mode of F the pair does not see is listed as
+cancelled.
 
 W = 0 is proved by the Markov parameters h Fᵏ g, k < n, against their componentwise
-bounds (:func:`~ins_errors.analysis.transfer_reduction.markov_zero`); a reduction that
+bounds (:func:`~ins_errors.analysis.transfer_reduction.markov_zero`) and, where F has
+a growing mode, by its residue being zero to rounding too; a reduction that
 finds nothing where they say otherwise is not taken, except for a W below the tolerance
 of what the norms allow (``negligible``, :class:`_Reference`).
 
@@ -295,9 +308,17 @@ class TransferFunction:
         (factor turning the output's SI value into its display unit, one display unit
         of the source in SI).
     negligible : bool
-        W = 0 not exactly (its Markov parameters are not all zero to rounding) but below
-        :data:`TOLERANCE` of the size the norms allow (:class:`_Reference`): a coupling
-        weaker than the reductions' tolerance.
+        W below :data:`TOLERANCE` of the size the norms allow (:class:`_Reference`), a
+        coupling weaker than the reductions' tolerance, yet not zero (its Markov
+        parameters are not all zero to rounding): W = 0 is given, or, where the source
+        reaches a growing mode that the output sees, that mode's part alone (it
+        overtakes every bounded term, and is exact: :attr:`growing_residues`).
+    growing_residues : tuple of (complex, complex)
+        (pole, residue of W there, SI) of the simple growing poles, from F's growing
+        modes split off the rest (:class:`~ins_errors.analysis.transfer_reduction.
+        GrowingSplit`): the partial fractions take them instead of the factored form's
+        K Π(p − z)/Π(p − q), which loses its digits where a zero nearly cancels the pole
+        (strapdown_ned's vertical channel in a horizontal output near the equator).
     """
 
     source: str
@@ -317,6 +338,7 @@ class TransferFunction:
     check_error: float = 0.0
     display_factors: tuple[float, float] = field(default=(1.0, 1.0), repr=False)
     negligible: bool = False
+    growing_residues: tuple[tuple[complex, complex], ...] = ()
 
     @property
     def order(self) -> int:
@@ -367,6 +389,8 @@ class TransferFunction:
         if self.is_zero:
             return []
         zeros, poles = self._response_roots()
+        exact = {p: r for p, r in self.growing_residues}
+        exact.update({p.conjugate(): r.conjugate() for p, r in self.growing_residues})
         out = []
         for k, (pole, m) in enumerate(poles):
             series = np.zeros(m, dtype=complex)
@@ -383,6 +407,11 @@ class TransferFunction:
                     series = _times_series(series, inverse)
             if not pole.imag:  # a real pole of a real rational function: real residues
                 series = series.real.astype(complex)
+            if m == 1 and exact.get(pole) is not None:  # a growing pole: its own residue
+                series = np.array([exact[pole] if self.source_kind == "initial"
+                                   else exact[pole] / pole])
+                if not pole.imag:
+                    series = series.real.astype(complex)
             out.append((pole, series[::-1].copy()))  # r_1 (1/(s − p)) first
         return out
 
@@ -776,7 +805,10 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
             factor, display = display_scale(unit)
             reference = _Reference(F, point.factors, column, row, band)
             tried = []
-            if markov_zero(F, column, row):  # proved: no reduction needed
+            if 0 not in reductions:
+                reductions[0] = Reduction(F, point.factors, tolerance_1_s, *REDUCTIONS[0])
+            if markov_zero(F, column, row) and not reductions[0].growing_residues(
+                    column, row):  # proved, no growing mode reached: no reduction needed
                 pair = TransferFunction(source, output, info.kind or "constant", info.unit,
                                         unit, shown, display, 0.0, 0, (), (), len(F),
                                         names.cancelled(()), b, 0.0, (factor, size))
@@ -786,14 +818,17 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
                 if k not in reductions:
                     reductions[k] = Reduction(F, point.factors, tolerance_1_s, balanced,
                                               tolerance)
-                gain, degree, zero_roots, pole_roots = reductions[k].factor(column, row)
-                zeros = tuple(Factor(v, m) for v, m in zero_roots)
-                poles = names.poles(pole_roots)
+                form = reductions[k].factor(column, row)
+                zeros = tuple(Factor(v, m) for v, m in form.zeros)
+                poles = names.poles(form.poles)
                 cancelled = names.cancelled(poles)
                 pair = TransferFunction(source, output, info.kind or "constant", info.unit,
-                                        unit, shown, display, gain, degree, zeros, poles,
-                                        len(F), cancelled, b, 0.0, (factor, size))
-                if pair.is_zero:  # not proved zero by its Markov parameters
+                                        unit, shown, display, form.gain, form.degree, zeros,
+                                        poles, len(F), cancelled, b, 0.0, (factor, size),
+                                        growing_residues=form.residues)
+                if pair.is_zero or (form.growing_only and reference.negligible):
+                    # not proved zero by its Markov parameters; or all but the growing
+                    # modes' part (exact, :class:`GrowingSplit`) below the tolerance
                     pair = replace(pair, negligible=reference.negligible,
                                    check_error=0.0 if reference.negligible else 1.0)
                 else:

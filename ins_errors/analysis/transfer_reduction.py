@@ -17,6 +17,8 @@ Nothing here names a mode or writes a word: that is :mod:`ins_errors.analysis.tr
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ins_errors.analysis.modes import ZERO
@@ -37,6 +39,13 @@ zero at 0 are one root already, :data:`~ins_errors.analysis.modes.ZERO`): the mo
 part in W is then at the level of the roots' rounding (a weakly reachable and weakly
 seen mode that the Krylov bases kept, e.g. strapdown_ned's vertical channel in a
 horizontal output near the equator)."""
+
+SPLIT_ROUNDING = 10.0
+"""The growing modes' block (:class:`GrowingSplit`) is reduced at this many ulps (times
+n and 1 + ‖X‖, the size of the split's rounding) of the unit-length source column and
+output row: a growing mode is dropped from a pair only where the source's reach or the
+output's view of it is zero to rounding (strapdown_ned's vertical channel in a
+horizontal output at the equator), never because it is weak."""
 
 GROUP_SAFETY = 100.0
 """Two computed roots are one (repeated) root when they are closer than this many times
@@ -80,6 +89,7 @@ class Reduction:
 
     def __init__(self, F: np.ndarray, factors: np.ndarray, group_tolerance: float,
                  balanced: bool = False, tolerance: float = TOLERANCE):
+        self.F, self.factors, self.balanced = F, factors, balanced
         self.D = np.asarray(factors, dtype=float)
         self.tolerance = tolerance
         scaled = self.D[:, None] * F / self.D[None, :]
@@ -93,11 +103,48 @@ class Reduction:
         self.rho = float(np.linalg.norm(scaled, 2)) or 1.0
         self.A = scaled / self.rho
         self.group_tolerance = group_tolerance
+        self.split = GrowingSplit.of(self.A, group_tolerance / self.rho)
+        self._residues: Reduction | None = None
 
-    def factor(self, g: np.ndarray, h: np.ndarray
-               ) -> tuple[float, int, list[tuple[complex, int]], list[tuple[complex, int]]]:
-        """(K, relative degree, zeros, poles) of h (sI − F)⁻¹ g, the roots as (root with
-        Im >= 0, multiplicity), 1/s, by increasing size; (0, 0, [], []) for W = 0.
+    def _unit(self, g: np.ndarray, h: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+        """(b, c, |b| |c|): g and h on this reduction's states, of unit length."""
+        b, c = self.D * g, h / self.D
+        size = float(np.linalg.norm(b)) * float(np.linalg.norm(c))
+        if size == 0.0:
+            return b, c, 0.0
+        return b / np.linalg.norm(b), c / np.linalg.norm(c), size
+
+    @property
+    def residue_reduction(self) -> Reduction:
+        """The balanced reduction of the same F, whose growing block gives the growing
+        modes' residues: near a pole F's tan φ entries make the unbalanced split lose
+        3 to 6 digits of them (1.8e-3 at 89.9999°, 4e-8 balanced)."""
+        if self.balanced:
+            return self
+        if self._residues is None:
+            self._residues = Reduction(self.F, self.factors, self.group_tolerance, True,
+                                       self.tolerance)
+        return self._residues
+
+    def growing_residues(self, g: np.ndarray, h: np.ndarray
+                         ) -> list[tuple[complex, complex]]:
+        """(eigenvalue, residue of W there), 1/s and SI, of each simple growing mode of F
+        the pair reaches and sees beyond rounding (:meth:`GrowingSplit.residues`); empty
+        without one."""
+        source = self.residue_reduction
+        if source.split is None:
+            return []
+        b, c, size = source._unit(g, h)
+        if size == 0.0:
+            return []
+        return [(source.rho * v, size * r) for v, r in source.split.residues(b, c)]
+
+    def factor(self, g: np.ndarray, h: np.ndarray) -> Factored:
+        """The factored form of h (sI − F)⁻¹ g (:class:`Factored`; gain 0 for W = 0).
+
+        Where F has growing modes (:class:`GrowingSplit`) they are kept in the pair
+        whenever the source reaches them and the output sees them beyond rounding; when
+        the rest of W is below the tolerance W is their part alone.
 
         Parameters
         ----------
@@ -106,26 +153,157 @@ class Reduction:
         h : ndarray, shape (n,)
             The output's row (SI).
         """
-        b, c = self.D * g, h / self.D
-        b_size, c_size = float(np.linalg.norm(b)), float(np.linalg.norm(c))
-        if b_size == 0.0 or c_size == 0.0:
-            return 0.0, 0, [], []
-        A, b, c, defect = minimal_realisation(self.A, b / b_size, c / c_size,
-                                              self.tolerance)
+        b, c, size = self._unit(g, h)
+        if size == 0.0:
+            return Factored(0.0, 0, [], [])
+        kept = 0
+        if self.split is None:
+            A, b, c, defect = minimal_realisation(self.A, b, c, self.tolerance)
+        else:
+            A, b, c, defect, kept = self.split.minimal_realisation(b, c, self.tolerance)
         if A.shape[0] == 0:
-            return 0.0, 0, [], []
+            return Factored(0.0, 0, [], [])
         degree, markov = relative_degree(A, b, c, self.tolerance)
+        alone = degree == 0 and kept > 0
+        if alone:  # the rest below the tolerance: the growing part alone
+            A, b, c = A[:kept, :kept], b[:kept], c[:kept]
+            degree, markov = relative_degree(A, b, c, 0.0)
         if degree == 0:
-            return 0.0, 0, [], []
+            return Factored(0.0, 0, [], [])
         zeros, zero_errors = _roots(zero_dynamics_matrix(A, b, c, degree, markov), defect)
         poles, pole_errors = _roots(A, defect)
-        gain = b_size * c_size * markov * self.rho ** (degree - 1)
+        gain = size * markov * self.rho ** (degree - 1)
         tol = self.group_tolerance
         zero_groups = _close_groups(self.rho * zeros, self.rho * zero_errors, tol)
         pole_groups = _close_groups(self.rho * poles, self.rho * pole_errors, tol)
-        zero_groups, pole_groups = _cancel(zero_groups, pole_groups, CANCEL)
-        return (gain, degree, sorted(zero_groups, key=_root_order),
-                sorted(pole_groups, key=_root_order))
+        zero_groups, pole_groups = _cancel(zero_groups, pole_groups, CANCEL, tol)
+        residues = ()
+        if kept:
+            residues = _growing_residues(pole_groups, self.growing_residues(g, h), tol)
+        return Factored(gain, degree, sorted(zero_groups, key=_root_order),
+                        sorted(pole_groups, key=_root_order), residues, alone)
+
+
+class Factored(NamedTuple):
+    """One pair's W(s) = K (s − z₁)…/((s − p₁)…), 1/s.
+
+    Attributes
+    ----------
+    gain : float
+        K, SI (0 for W = 0).
+    degree : int
+        The relative degree (0 for W = 0).
+    zeros, poles : list of (complex, int)
+        (root with Im >= 0, multiplicity), by increasing size.
+    residues : tuple of (complex, complex)
+        (pole, residue of W there, SI) of each simple growing pole, from the growing
+        modes' own block (:meth:`Reduction.growing_residues`): exact where the factored
+        form's K Π(p − z)/Π(p − q) is not, as beside a zero that nearly cancels the pole.
+    growing_only : bool
+        W is the growing modes' part alone: every Markov parameter of the rest is below
+        the reduction's tolerance.
+    """
+
+    gain: float
+    degree: int
+    zeros: list
+    poles: list
+    residues: tuple = ()
+    growing_only: bool = False
+
+
+class GrowingSplit:
+    """F's growing modes (real part above the zero of the roots) split off the rest.
+
+    An ordered real Schur form A = U T Uᵀ puts them first, and the solution X of the
+    Sylvester equation T₁₁ X − X T₂₂ = −T₁₂ makes T block diagonal, so that
+    W(s) = c₁ (sI − T₁₁)⁻¹ b₁ + c₂ (sI − T₂₂)⁻¹ b₂: the growing modes' part on their own,
+    computed to the rounding of the transformations, however weakly the source reaches
+    or the output sees them. The rest is reduced as before (Krylov bases to the
+    reduction's tolerance); the growing block only to :data:`SPLIT_ROUNDING` ulps,
+    because a growing mode's part in the response, however small, overtakes every
+    bounded term: it is dropped only where it is zero to rounding.
+
+    Attributes
+    ----------
+    U : ndarray, shape (n, n)
+        The Schur vectors, the growing modes' first.
+    T : ndarray, shape (n, n)
+        The block-diagonal form (T₁₁ growing, k × k; T₂₂ the rest).
+    X : ndarray, shape (k, n − k)
+        The Sylvester solution.
+    k : int
+        The number of growing eigenvalues.
+    defect : float
+        The Sylvester residual's size (at least the rounding of the split).
+    rounding : float
+        Below this a unit-length b's or c's part in the growing block is zero.
+    """
+
+    def __init__(self, U: np.ndarray, T: np.ndarray, X: np.ndarray, k: int, defect: float):
+        self.U, self.T, self.X, self.k, self.defect = U, T, X, k, defect
+        self.rounding = SPLIT_ROUNDING * np.finfo(float).eps * len(T) * (
+            1.0 + float(np.linalg.norm(X, 2)))
+
+    @classmethod
+    def of(cls, A: np.ndarray, tol: float) -> GrowingSplit | None:
+        """The split of ``A`` (‖A‖ ≤ 1) at real part ``tol``; None without a growing
+        eigenvalue (or where the Schur reordering cannot separate them)."""
+        from scipy.linalg import schur, solve_sylvester
+
+        values = np.linalg.eigvals(A)
+        count = int(np.sum(values.real > tol))
+        if not count or count == len(A):
+            return None
+        T, U, k = schur(A, output="real", sort=lambda re, im: re > tol)
+        if k != count:
+            return None
+        T11, T12, T22 = T[:k, :k], T[:k, k:], T[k:, k:]
+        X = solve_sylvester(T11, -T22, -T12)
+        residual = float(np.linalg.norm(T11 @ X - X @ T22 + T12, 2))
+        T = T.copy()
+        T[:k, k:] = 0.0
+        n = len(A)
+        defect = max(residual, n * np.finfo(float).eps * (1.0 + float(np.linalg.norm(X, 2))))
+        return cls(U, T, X, k, defect)
+
+    def _parts(self, b: np.ndarray, c: np.ndarray) -> tuple[np.ndarray, ...]:
+        """(b₁, c₁, b₂, c₂): b and c on the growing block and on the rest."""
+        k = self.k
+        b_hat, c_hat = self.U.T @ b, c @ self.U
+        return (b_hat[:k] - self.X @ b_hat[k:], c_hat[:k], b_hat[k:],
+                c_hat[:k] @ self.X + c_hat[k:])
+
+    def minimal_realisation(self, b: np.ndarray, c: np.ndarray, tolerance: float
+                            ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float, int]:
+        """The minimal realisation of c (sI − A)⁻¹ b (:func:`minimal_realisation`),
+        block diagonal: first the growing block's, reduced to :attr:`rounding`, then the
+        rest's, reduced to ``tolerance``; the last item is the growing block's order."""
+        b1, c1, b2, c2 = self._parts(b, c)
+        A1, b1, c1, defect1 = minimal_realisation(self.T[:self.k, :self.k], b1, c1,
+                                                  self.rounding)
+        A2, b2, c2, defect2 = minimal_realisation(self.T[self.k:, self.k:], b2, c2,
+                                                  tolerance)
+        m1, m2 = len(b1), len(b2)
+        A = np.zeros((m1 + m2, m1 + m2))
+        A[:m1, :m1], A[m1:, m1:] = A1, A2
+        return (A, np.concatenate([b1, b2]), np.concatenate([c1, c2]),
+                max(defect1, defect2, self.defect), m1)
+
+    def residues(self, b: np.ndarray, c: np.ndarray) -> list[tuple[complex, complex]]:
+        """(eigenvalue, residue of c (sI − A)⁻¹ b there) of each eigenvalue of the
+        growing block that b reaches and c sees beyond :attr:`rounding`, where they are
+        all simple (none where a repeated one leaves only the factored form)."""
+        b1, c1, _, _ = self._parts(b, c)
+        A1, b1, c1, _ = minimal_realisation(self.T[:self.k, :self.k], b1, c1, self.rounding)
+        if not len(b1):
+            return []
+        values, vectors = np.linalg.eig(A1)
+        if len(set(np.round(values, 12))) < len(values):
+            return []
+        left = np.linalg.inv(vectors)
+        return [(complex(v), complex((c1 @ vectors[:, j]) * (left[j] @ b1)))
+                for j, v in enumerate(values)]
 
 
 def markov_zero(F: np.ndarray, g: np.ndarray, h: np.ndarray,
@@ -156,47 +334,104 @@ def _root_order(group: tuple[complex, int]) -> tuple[float, float]:
     return abs(group[0]), group[0].real
 
 
-def _cancel(zeros: list[tuple[complex, int, float]], poles: list[tuple[complex, int, float]],
-            share: float) -> tuple[list[tuple[complex, int]], list[tuple[complex, int]]]:
-    """Zeros and poles (root, multiplicity, accuracy) without the pairs closer than
-    ``share`` of the pole's size or than their accuracies together (equal, at 0)."""
+def _cancel(zeros: list[tuple[complex, int, float, float]],
+            poles: list[tuple[complex, int, float, float]], share: float,
+            tol: float = 0.0) -> tuple[list[tuple[complex, int]], list[tuple[complex, int]]]:
+    """Zeros and poles (root, multiplicity, reach, accuracy) without the pairs that cancel.
+
+    A zero cancels a pole of its own kind (both real, or both a conjugate pair: a real
+    root cannot stand for a pair's two) when they are one root to within the rounding
+    of the computation, the sum of their accuracies (equal, at 0), or within ``share`` of
+    the pole's size: that mode's part in W is then at most about ``share`` of the
+    response, and it does not grow. A growing pole (real part above ``tol``) is never
+    cancelled here: its part in the response, however small, overtakes every bounded
+    term, and the growing modes' block was reduced to rounding already
+    (:class:`GrowingSplit`), so a zero beside it (the rest of W nearly cancelling it)
+    stays beside it."""
     zeros, kept = [list(z) for z in zeros], []
-    for pole, count, error in poles:
+    for pole, count, _, error in poles:
+        if pole.real > tol:
+            kept.append((pole, count))
+            continue
         for zero in zeros:
-            if zero[1] and abs(zero[0] - pole) <= max(share * abs(pole), error + zero[2]):
+            if not zero[1] or bool(zero[0].imag) != bool(pole.imag):
+                continue
+            if abs(zero[0] - pole) <= max(share * abs(pole), error + zero[3]):
                 common = min(zero[1], count)
                 zero[1] -= common
                 count -= common
         if count:
             kept.append((pole, count))
-    return [(z, m) for z, m, _ in zeros if m], kept
+    return [(z, m) for z, m, _, _ in zeros if m], kept
 
+
+def _growing_residues(poles: list[tuple[complex, int]],
+                      growing: list[tuple[complex, complex]], tol: float
+                      ) -> tuple[tuple[complex, complex], ...]:
+    """(pole, residue of W, SI) of each simple growing pole of ``poles`` (1/s), from
+    ``growing`` ((eigenvalue, residue), 1/s and SI): the nearest eigenvalue with
+    Im >= 0, within 1e-6 of the pole's size."""
+    out = []
+    candidates = [(v, r) for v, r in growing if v.imag >= 0]
+    for pole, count in poles:
+        if pole.real <= tol or count != 1 or not candidates:
+            continue
+        value, residue = min(candidates, key=lambda item: abs(item[0] - pole))
+        if abs(value - pole) <= 1e-6 * abs(pole):
+            out.append((pole, complex(residue)))
+    return tuple(out)
 
 
 def _roots(M: np.ndarray, defect: float) -> tuple[np.ndarray, np.ndarray]:
-    """The eigenvalues of ``M`` and the accuracy of each: κ δ ‖M‖, κ the eigenvalue's
-    condition number (1/|yᴴx| of its unit left and right eigenvectors) and δ the
-    relative size of what made ``M`` (``defect``, at least the rounding of n
-    operations)."""
-    from scipy.linalg import eig
+    """The eigenvalues of ``M`` and the accuracy of each.
+
+    The accuracy is the smaller of the first-order bound κ δ ‖M‖ (κ the eigenvalue's
+    condition number, 1/|yᴴx| of its unit left and right eigenvectors) on ``M`` as it is
+    and on ``M`` balanced (a diagonal similarity evening out its rows and columns, as
+    LAPACK's eigensolver does before it starts, its factors within
+    2^±:data:`BALANCE_LIMIT`: a zero dynamics matrix near a pole has a
+    few entries far larger than the rest, which make κ δ ‖M‖ of the unbalanced matrix
+    overstate the error by 1e4), and of δ^(1/m) ‖M‖, m the number of computed
+    eigenvalues within δ^(1/n) ‖M‖ of it (how far a δ ‖M‖ perturbation moves the roots
+    of an m × m Jordan block: the bound where the eigenvectors are parallel, κ infinite,
+    as for a double zero computed exactly). δ is the relative size of what made ``M``
+    (``defect``, at least the rounding of n operations); ‖M‖ at least 1."""
+    from scipy.linalg import eig, matrix_balance
 
     if M.shape[0] == 0:
         return np.zeros(0, dtype=complex), np.zeros(0)
     values, left, right = eig(M, left=True, right=True)
-    overlap = np.abs(np.sum(left.conj() * right, axis=0))
-    with np.errstate(divide="ignore"):
-        kappa = np.where(overlap > 0, 1.0 / overlap, np.inf)
-    size = max(float(np.linalg.norm(M, 2)), 1.0)
-    delta = max(defect, len(M) * np.finfo(float).eps)
-    return values, np.minimum(kappa * delta * size, size)
+    with np.errstate(invalid="ignore"):  # scipy casts its unused permutation
+        scale = matrix_balance(M, permute=False, separate=True)[1][0]
+    scale = np.clip(scale, 2.0 ** -BALANCE_LIMIT, 2.0 ** BALANCE_LIMIT)
+    balanced = M * scale[None, :] / scale[:, None]
+    n = len(M)
+    delta = max(defect, n * np.finfo(float).eps)
+    first_order = np.full(n, np.inf)
+    sizes = []
+    for x, y, matrix in ((right, left, M), (right / scale[:, None], left * scale[:, None],
+                                            balanced)):
+        overlap = np.abs(np.sum(y.conj() * x, axis=0))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            kappa = np.linalg.norm(x, axis=0) * np.linalg.norm(y, axis=0) / overlap
+        kappa = np.where(overlap > 0, kappa, np.inf)
+        size = max(float(np.linalg.norm(matrix, 2)), 1.0)
+        sizes.append(size)
+        first_order = np.minimum(first_order, kappa * delta * size)
+    size = min(sizes)
+    cluster = size * delta ** (1.0 / n)
+    count = np.sum(np.abs(values[:, None] - values[None, :]) <= cluster, axis=1)
+    jordan = np.where(count > 1, size * delta ** (1.0 / count), np.inf)
+    return values, np.minimum(np.minimum(first_order, jordan), sizes[0])
 
 
 def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float
-                  ) -> list[tuple[complex, int, float]]:
-    """(root with Im >= 0, multiplicity, accuracy) of each distinct root, by increasing
-    size: roots within :data:`GROUP_SAFETY` times the larger of their accuracies are one
-    (their mean: a Jordan block's split roots average to it), a real or imaginary part
-    below ``tol`` or that accuracy is zero."""
+                  ) -> list[tuple[complex, int, float, float]]:
+    """(root with Im >= 0, multiplicity, reach, accuracy) of each distinct root, by
+    increasing size: roots within :data:`GROUP_SAFETY` times the larger of their
+    accuracies (the reach) are one (their mean: a Jordan block's split roots average to
+    it; its accuracy the largest of theirs), a real or imaginary part below ``tol`` or
+    the reach is zero (and groups so made one root are one)."""
     groups: list[list] = []
     for value, error in sorted(zip(values, errors, strict=True),
                                key=lambda p: (abs(p[0]), p[0].imag)):
@@ -207,16 +442,23 @@ def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float
             if abs(group[0][0] - value) <= max(reach, group[2]):
                 group[0].append(value)
                 group[2] = max(group[2], reach)
+                group[3] = max(group[3], error)
                 break
         else:
-            groups.append([[value], 1, reach])
+            groups.append([[value], 1, reach, error])
     out = []
-    for members, _, reach in groups:
+    for members, _, reach, error in groups:
         mean = complex(np.mean(members))
         cut = max(tol, reach)
         mean = complex(0.0 if abs(mean.real) <= cut else mean.real,
                        0.0 if abs(mean.imag) <= cut else abs(mean.imag))
-        out.append((mean, len(members), reach))
+        for k, (value, count, other_reach, other_error) in enumerate(out):
+            if value == mean:  # two groups made one root by the zero (both at 0)
+                out[k] = (value, count + len(members), max(reach, other_reach),
+                          max(error, other_error))
+                break
+        else:
+            out.append((mean, len(members), reach, error))
     return sorted(out, key=lambda g: (abs(g[0]), g[0].real))
 
 

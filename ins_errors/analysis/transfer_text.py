@@ -256,9 +256,17 @@ def pair_text(pair: TransferFunction) -> str:
                 f"Markov parameters h Fᵏ g, k < {pair.full_order}, are zero to rounding; "
                 f"every mode cancelled)")
     shown = digits(pair)
+    form = factored_text(pair)
+    if pair.negligible:
+        form = form.replace("W(s) = ", "W(s) ≈ ", 1)
     lines = [f"{head}: order {pair.order} of {pair.full_order} ({_cancelled(pair)})", "",
-             factored_text(pair), "",
-             "| pole factor | mode | period or time |", "|---|---|---|"]
+             form, ""]
+    if pair.negligible:  # the growing modes' part alone
+        lines += [f"(≈: {pair.source} reaches {pair.output} only below {TOLERANCE:g} of "
+                  f"the size the norms of F, g and h allow, a coupling weaker than the "
+                  f"reductions' tolerance, except through the growing mode, whose part is "
+                  f"kept: it overtakes every bounded term)", ""]
+    lines += ["| pole factor | mode | period or time |", "|---|---|---|"]
     lines += [f"| {factor_text(f, shown)} | {f.name} | {_times(f)} |" for f in pair.poles]
     lines += ["", f"long run: {long_run_text(pair)}"]
     if pair.check_error > CHECK_LIMIT:
@@ -279,5 +287,7 @@ def report_text(result: TransferFunctions) -> str:
         f"see is cancelled (Krylov bases on the states in the units of the Schuler loop, "
         f"tolerance {TOLERANCE:g} of F's norm, finer or on balanced states where the "
         f"factored form is not within {CHECK_LIMIT:g} of h (iωI − F)⁻¹ g; a zero within "
-        f"{CANCEL:g} of a pole's size cancels it)")
+        f"{CANCEL:g} of a pole's size cancels it, unless the pole grows: a growing mode "
+        f"is split off F and kept wherever the source reaches it and the output sees "
+        f"it beyond rounding)")
     return "\n\n".join(parts)
