@@ -115,6 +115,38 @@ def test_a_base_where_no_reduction_agrees_with_f_is_refused(capsys, monkeypatch)
     assert "cannot be resolved" in err
 
 
+def test_a_refusal_says_why_and_the_nearest_latitude_that_resolves_the_pair(capsys,
+                                                                         monkeypatch):
+    """A refusal away from a pole blamed the pole ('near a pole … tan φ' at 30°): it says
+    what the base tells of the cause and the nearest latitude (0.01°, 0.1°, 1° either
+    side) at which the command resolves the same pair, checked by resolving it there."""
+    import ins_errors.analysis.transfer as transfer
+
+    original = transfer.transfer_at_base
+
+    def refusing_at_30(model, modes, sources, outputs=None, magnitudes=None):
+        if abs(modes.latitude - math.radians(30.0)) < 1e-12:
+            raise transfer.UnresolvedPairError(model.name, modes, sources[0], outputs[0], 0.5)
+        return original(model, modes, sources, outputs, magnitudes)
+
+    monkeypatch.setattr(transfer, "transfer_at_base", refusing_at_30)
+    argv = ["transfer", "strapdown_ned", "--source", "accel_bias_x", "--output", "v_E"]
+    assert main([*argv, "--latitude", "30deg"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "accel_bias_x → v_E of strapdown_ned" in err
+    assert "near the pole" not in err and "tan φ" not in err
+    assert "too close to tell apart" in err
+    assert err.rstrip().endswith("the same pair is resolved at --latitude 30.01deg")
+    assert main([*argv, "--latitude", "30.01deg"]) == 0  # as advised
+    capsys.readouterr()
+    # near the pole, refused everywhere: the pole is the cause, and no latitude helps
+    monkeypatch.setattr(transfer, "REFUSE_LIMIT", -1.0)
+    assert main([*argv, "--latitude", "89.99deg"]) == 2
+    err = capsys.readouterr().err
+    assert "near the pole F's entries grow as tan φ" in err
+    assert err.rstrip().endswith("nor is it within 1° of this latitude on either side")
+
+
 SUPERSCRIPT_DIGITS = str.maketrans("⁰¹²³⁴⁵⁶⁷⁸⁹⁻", "0123456789-")
 
 

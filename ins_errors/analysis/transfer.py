@@ -839,13 +839,40 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
             else:
                 pair = min(tried, key=lambda p: p.check_error)
             if pair.check_error > REFUSE_LIMIT:
-                raise DomainError(
-                    f"transfer: {source} → {output} of {model.name} cannot be resolved at "
-                    f"the {modes.base}: the factored forms differ from h (iωI − F)⁻¹ g by "
-                    f"{pair.check_error:.1e} of its size at best (F too ill-conditioned "
-                    "there, e.g. near a pole, where the formulas grow as tan φ)")
+                raise UnresolvedPairError(model.name, modes, source, output, pair.check_error)
             pairs.append(pair)
     return TransferFunctions(modes, tuple(pairs), band)
+
+
+class UnresolvedPairError(DomainError):
+    """A pair no reduction brings within :data:`REFUSE_LIMIT` of h (iωI − F)⁻¹ g at
+    the base: its message names the pair, by how much and why, as far as the base
+    tells (near a pole F's entries grow as tan φ; near the equator couplings go with
+    sin φ; elsewhere roots of W that rounding leaves too close to tell apart).
+
+    Attributes
+    ----------
+    source, output : str
+        The pair.
+    error : float
+        The best factored form's :attr:`TransferFunction.check_error`.
+    """
+
+    def __init__(self, model: str, modes: StaticModes, source: str, output: str,
+                 error: float):
+        self.source, self.output, self.error = source, output, error
+        latitude = modes.latitude
+        if latitude is not None and abs(math.cos(latitude)) < 1e-3:
+            why = "near the pole F's entries grow as tan φ"
+        elif latitude is not None and abs(math.sin(latitude)) < 1e-6:
+            why = "near the equator its couplings go with sin φ, below what rounding resolves"
+        else:
+            why = ("its poles and zeros, as rounding leaves them, are too close to tell "
+                   "apart there")
+        super().__init__(
+            f"transfer: {source} → {output} of {model} cannot be resolved at the "
+            f"{modes.base}: the factored forms differ from h (iωI − F)⁻¹ g by {error:.1e} "
+            f"of its size at best ({why})")
 
 
 def frequency_band(modes: StaticModes) -> tuple[float, float]:

@@ -16,6 +16,12 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from ins_errors.analysis.transfer import UnresolvedPairError
 
 from ins_errors.commands.modes import add_static_base_options
 from ins_errors.json_output import emit
@@ -71,10 +77,43 @@ def _sources(model, items: list[str]) -> tuple[list[str], dict[str, float]]:
     return list(given), sizes
 
 
-def run(args: argparse.Namespace) -> int:
+NEARBY_DEGREES = (0.01, 0.1, 1.0)
+"""How far from a refused base's latitude, degrees, the command looks for one that
+resolves the pair (each on both sides, nearest first)."""
+
+
+def _nearby(args: argparse.Namespace, refusal: UnresolvedPairError) -> str:
+    """The advice after a refused pair: the nearest latitude of :data:`NEARBY_DEGREES`
+    (either side, short of a pole) at which the same pair is resolved, or that none is
+    (or that the base has no latitude to move)."""
     from ins_errors.analysis.transfer import transfer_at_base
+    from ins_errors.commands.modes import static_modes_from_options
+    from ins_errors.errors import InsErrorsError
+
+    latitude = static_modes_from_options(args)[2].latitude
+    if latitude is None:
+        return "the base has no latitude to move"
+    for step in NEARBY_DEGREES:
+        for sign in (1, -1):
+            degrees = float(np.degrees(latitude)) + sign * step
+            if abs(degrees) >= 90.0:
+                continue
+            text = f"{degrees:.10g}deg"
+            moved = argparse.Namespace(**{**vars(args), "latitude": text})
+            try:
+                model, _, modes = static_modes_from_options(moved)
+                transfer_at_base(model, modes, [refusal.source], [refusal.output])
+            except InsErrorsError:  # refused there too, or no base there
+                continue
+            return f"the same pair is resolved at --latitude {text}"
+    return f"nor is it within {NEARBY_DEGREES[-1]:g}° of this latitude on either side"
+
+
+def run(args: argparse.Namespace) -> int:
+    from ins_errors.analysis.transfer import UnresolvedPairError, transfer_at_base
     from ins_errors.analysis.transfer_text import report_text
     from ins_errors.commands.modes import static_modes_from_options
+    from ins_errors.errors import DomainError
     from ins_errors.model_parameters import parameters_record
 
     if args.plot:
@@ -84,7 +123,10 @@ def run(args: argparse.Namespace) -> int:
         check_figure(args.plot)
     model, parameters, modes = static_modes_from_options(args)
     names, sizes = _sources(model, args.source)
-    result = transfer_at_base(model, modes, names, args.output, sizes)
+    try:
+        result = transfer_at_base(model, modes, names, args.output, sizes)
+    except UnresolvedPairError as refusal:
+        raise DomainError(f"{refusal}; {_nearby(args, refusal)}") from None
     written = None
     if args.plot:
         from ins_errors.analysis.transfer_plot import plot_bode
