@@ -153,3 +153,36 @@ def test_transfer_counts_the_constraint_directions_among_the_cancelled():
         assert pair.order + gone == pair.full_order == 22
         assert sum(f.multiplicity * (2 if f.value.imag else 1) for f in pair.cancelled
                    if f.name.endswith("(constraint direction)")) == 22 - 9
+
+
+def test_a_mode_the_errors_reach_and_no_output_sees_is_not_a_constraint_direction(capsys):
+    """north_pointing stores no rotation redundantly: it has no constraint direction.
+    Without the Earth's rate (-p U=0rad/s) its azimuth error α_U feeds nothing (F's
+    column of α_U is zero) while a vertical gyro drift drives it (G): its integrator is
+    reached and seen by no output, and was listed and cancelled as a 'constraint
+    direction'."""
+    from ins_errors.analysis.transfer import transfer_functions
+    from ins_errors.numeric.model import load_model
+
+    model = load_model("north_pointing")
+    result = static_modes(model, parameters={"U": 0.0})
+    point, F = result.point, result.state_matrix
+    k = model.index("error_states", "alpha_U")
+    G = np.asarray(model.source_matrix(point.x, point.u, point.p), float)
+    assert np.all(F[:, k] == 0)  # α_U reaches no state, so no output
+    assert G[k, model.index("sources", "gyro_drift_up")] != 0  # and a drift drives it
+    [azimuth] = [m for m in result.unseen_modes if m.participation["alpha_U"] == 1.0]
+    assert azimuth.eigenvalue == 0 and azimuth.reached and not azimuth.seen
+    assert all(m.reached for m in result.unseen_modes)  # no constraint direction at all
+    assert main(["modes", "north_pointing", "-p", "U=0rad/s"]) == 0
+    out = capsys.readouterr().out
+    assert "constraint" not in out
+    assert "Modes reached by the errors but not seen by any output" in out
+    pair = transfer_functions(model, ["gyro_drift_east"], ["latitude"],
+                              parameters={"U": 0.0}).pairs[0]
+    names = [f.name for f in pair.cancelled]
+    assert "integrator (seen by no output)" in names
+    assert not any("constraint direction" in name for name in names)
+    # a redundant state's constraint directions keep their name (strapdown_ned's q0)
+    strapdown = static_modes("strapdown_ned")
+    assert [m.reached for m in strapdown.unseen_modes] == [False]

@@ -87,11 +87,15 @@ invariant subspace V), span it only with singular values at or below it; not see
 every output's row of H (unit length) reads it, and F's action on it, below it.
 Rounding leaves ~1e-15; an INS mode is reached and read at 1e-4 and more."""
 
-UNSEEN_WORDS = ("not reached by any error source or initial error, or not seen by any "
-                "output: directions of the state its constraints hold fixed (e.g. a "
-                "rotation matrix stored as 9 entries, or a quaternion, leaving the "
-                "rotations), not modes of the INS")
-"""What the text says of the modes no output sees."""
+UNSEEN_WORDS = ("not reached by any error source or initial error: directions of the "
+                "state its constraints hold fixed (e.g. a rotation matrix stored as 9 "
+                "entries, or a quaternion, leaving the rotations), not modes of the INS")
+"""What the text says of the modes no error reaches."""
+
+UNREAD_WORDS = ("reached by the errors but not seen by any output: the INS's own, in "
+                "error states no output reads, directly or through F (e.g. the azimuth "
+                "where the Earth does not turn)")
+"""What the text says of the modes the errors reach and no output sees."""
 
 
 @dataclass(frozen=True)
@@ -158,9 +162,15 @@ class Mode:
         mechanisation, e.g. ``geodetic_vertical``'s Earth mode on the ellipsoid).
     seen : bool
         False for a mode no error source or initial error reaches or no output sees
-        (:data:`UNSEEN`): a direction the state's constraints hold fixed (a rotation
-        matrix's orthonormality, a quaternion's norm), named by kind only, listed in
-        :attr:`StaticModes.unseen_modes` (JSON ``reached_and_seen``).
+        (:data:`UNSEEN`), named by kind only, listed in :attr:`StaticModes.unseen_modes`
+        (JSON ``reached_and_seen``).
+    reached : bool
+        False for a mode no error source or initial error reaches: a direction the
+        state's constraints hold fixed (a rotation matrix's orthonormality, a
+        quaternion's norm). A mode the errors reach and no output sees (``seen`` False,
+        ``reached`` True) is the INS's own, in error states no output reads, directly
+        or through F: north_pointing's azimuth integrator where the Earth does not turn
+        (``-p U=0rad/s``).
     """
 
     name: str
@@ -175,6 +185,7 @@ class Mode:
     independent_directions: int | None = None
     note: str | None = None
     seen: bool = True
+    reached: bool = True
 
     @property
     def base_name(self) -> str:
@@ -634,9 +645,10 @@ def _krylov(start: np.ndarray, step: np.ndarray) -> np.ndarray:
 
 
 def _split(block: np.ndarray, read: np.ndarray | None, reached: np.ndarray | None,
-           rate: float) -> tuple[np.ndarray, np.ndarray]:
+           rate: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Orthonormal bases (k, ·) of the part of a mode's invariant subspace the model's
-    errors reach and its outputs see, and of the rest, in the subspace's coordinates.
+    errors reach and its outputs see, of the part they reach and no output sees, and of
+    the part they do not reach, in the subspace's coordinates.
 
     ``block`` is F on the subspace (k × k), ``read`` the outputs' reading of it (H V),
     ``reached`` the sources' and initial errors' share in it (the spectral projection
@@ -646,12 +658,14 @@ def _split(block: np.ndarray, read: np.ndarray | None, reached: np.ndarray | Non
     it)."""
     k = len(block)
     step = block / rate
-    kept = np.eye(k) if reached is None else _krylov(reached, step)
-    if read is not None and kept.shape[1]:
-        seen = _krylov((read @ kept).T, (kept.T @ step @ kept).T)
-        kept = kept @ seen
-    u = np.linalg.svd(kept, full_matrices=True)[0]
-    return kept, u[:, kept.shape[1]:]
+    reach = np.eye(k) if reached is None else _krylov(reached, step)
+    kept, unseen = reach, reach[:, :0]
+    if read is not None and reach.shape[1]:
+        seen = _krylov((read @ reach).T, (reach.T @ step @ reach).T)
+        kept = reach @ seen
+        unseen = reach @ np.linalg.svd(seen, full_matrices=True)[0][:, seen.shape[1]:]
+    u = np.linalg.svd(reach, full_matrices=True)[0]
+    return kept, unseen, u[:, reach.shape[1]:]
 
 
 def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: References,
@@ -667,11 +681,12 @@ def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: Reference
     raw, unseen = [], []
     for value, count in _groups(eigenvalues, tol):
         basis, block = _subspace(A, value, count, tol)
-        shown, hidden = _split(block, None if outputs is None else outputs @ basis,
-                               _projected(A, basis, value, count, tol, factors, B),
-                               abs(value) or 1.0)
+        shown, unread, unreached = _split(
+            block, None if outputs is None else outputs @ basis,
+            _projected(A, basis, value, count, tol, factors, B), abs(value) or 1.0)
         per = 2 if value.imag else 1
-        for part, into in ((shown, raw), (hidden, unseen)):
+        for part, into, reached in ((shown, raw, True), (unread, unseen, True),
+                                    (unreached, unseen, False)):
             if not part.shape[1]:
                 continue
             if part.shape[1] < len(block):
@@ -685,17 +700,17 @@ def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: Reference
                 directions = int(part.shape[1] - np.sum(
                     singular > 1e-8 * np.linalg.norm(A)))
             into.append((value, part.shape[1] // per, _participation(basis_part, names),
-                         directions))
-    named = _names([(v, k) for v, k, _, _ in raw], refs)
+                         directions, reached))
+    named = _names([(v, k) for v, k, _, _, _ in raw], refs)
     seen = tuple(_mode(value, count, name, reference, participation, directions,
                        _note(name, notes or {}) if _explained(reference) else None)
-                 for (value, count, participation, directions), (name, reference)
+                 for (value, count, participation, directions, _), (name, reference)
                  in zip(raw, named, strict=True))
     return seen, tuple(
         replace(_mode(value, count, kind_of_eigenvalue(value), None, participation,
                       directions),
-                seen=False)
-        for value, count, participation, directions in unseen)
+                seen=False, reached=reached)
+        for value, count, participation, directions, reached in unseen)
 
 
 def kind_of_eigenvalue(value: complex) -> str:

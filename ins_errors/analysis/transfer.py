@@ -981,8 +981,9 @@ class _ModeNames:
     def cancelled(self, poles: Sequence[Factor]) -> tuple[Factor, ...]:
         """The modes of F (with their multiplicities) not among ``poles``: the INS's own
         modes, then those no error reaches or no output sees (:attr:`~ins_errors.analysis.
-        modes.StaticModes.unseen_modes`, named "... (constraint direction)"; a pole beyond
-        its own mode's multiplicity is taken from them)."""
+        modes.StaticModes.unseen_modes`, named "... (constraint direction)" where no
+        error reaches them, "... (seen by no output)" where the errors reach them; a pole
+        beyond its own mode's multiplicity is taken from them)."""
         kept: dict[int, int] = {}
         for pole in poles:
             mode = self._match(pole.value)
@@ -1005,6 +1006,7 @@ class _ModeNames:
                     left -= taken
                     extra[j] = (value, count - taken)
             if left > 0:
-                out.append(Factor(mode.eigenvalue, left,
-                                  f"{mode.name} (constraint direction)", mode.multiplicity))
+                why = "constraint direction" if not mode.reached else "seen by no output"
+                out.append(Factor(mode.eigenvalue, left, f"{mode.name} ({why})",
+                                  mode.multiplicity))
         return tuple(out)

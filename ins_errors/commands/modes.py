@@ -140,10 +140,12 @@ def _rows(modes, reference: bool) -> list[str]:
 def table(result) -> str:
     """The modes as a Markdown table with its notes."""
     lines = _rows(result.modes, True)
-    if result.unseen_modes:
-        from ins_errors.analysis.modes import UNSEEN_WORDS
+    from ins_errors.analysis.modes import UNREAD_WORDS, UNSEEN_WORDS
 
-        lines += ["", f"Modes {UNSEEN_WORDS}:", "", *_rows(result.unseen_modes, False)]
+    for words, reached in ((UNREAD_WORDS, True), (UNSEEN_WORDS, False)):
+        group = [m for m in result.unseen_modes if m.reached == reached]
+        if group:
+            lines += ["", f"Modes {words}:", "", *_rows(group, False)]
     refs = result.references
     known = [f"{label} = {value} ({c.source})" for label, c, value in (
         ("g", refs.g, refs.g and f"{refs.g.value:.6g} m/s²"),
