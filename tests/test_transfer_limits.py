@@ -236,3 +236,47 @@ def test_bode_plot_marks_identical_curves_and_keeps_the_legend_off_the_axes(tmp_
     box = legend.get_window_extent()
     assert box.y1 < bottom.get_window_extent().y0  # below the axes, covering nothing
     plt.close(fig)
+
+
+def test_bode_plot_labels_each_mode_beside_its_own_line(tmp_path, monkeypatch):
+    """strapdown_ned's vertical channel (|λ| = √(2g/R), right of the Schuler pair) was
+    labelled left of its own line, over the Schuler lines, reading as theirs. Each label
+    now starts at its own line (its near edge closest to it of all the modes' lines),
+    and one with a free side sits there: the vertical channel's box holds no other
+    mode's line."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    import ins_errors.output as output
+    from ins_errors.analysis import transfer_plot
+
+    figures = []
+    monkeypatch.setattr(output, "save_figure", lambda fig, path, dpi: figures.append(fig)
+                        or path)
+    tf = transfer_functions("strapdown_ned", ["accel_bias_y"], ["latitude", "height"])
+    transfer_plot.plot_bode(tf, tmp_path / "bode.png")
+    fig = figures[-1]
+    top = fig.axes[0]
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    rates: list[float] = []
+    for rate in sorted(abs(m.eigenvalue) for m in tf.named_modes()):
+        if not rates or rate > rates[-1] * (1 + 1e-9):  # ± the vertical channel: one
+            rates.append(rate)
+    assert len(rates) == 3  # Schuler ∓ Foucault, the vertical channel
+    labels = [t for t in top.texts if t.get_color() == "dimgrey"]  # the modes' labels
+    assert len(labels) == 3
+    xs = [top.transData.transform((rate, 1.0))[0] for rate in rates]
+    for own, text in zip(xs, labels, strict=True):
+        box = text.get_window_extent(renderer)
+        right = box.x0 >= own
+        assert right or box.x1 <= own  # wholly on one side of its own line
+        edge = box.x0 if right else box.x1
+        assert min(xs, key=lambda x: abs(x - edge)) == own, text.get_text()
+    vertical = labels[-1]
+    assert vertical.get_text().startswith("vertical channel")
+    box = vertical.get_window_extent(renderer)
+    assert box.x0 >= xs[-1] and not any(box.x0 <= x <= box.x1 for x in xs[:-1])
+    plt.close(fig)

@@ -92,12 +92,13 @@ def plot_bode(result: TransferFunctions, path: str | Path, title: str | None = N
     if not drawn:
         top.text(0.5, 0.5, "W(s) = 0 for every pair: nothing to draw", ha="center",
                  transform=top.transAxes)
-    for k, (rate, text) in enumerate(_mode_labels(result)):
+    labels = _mode_labels(result)
+    placed = _label_sides(labels, low, high)
+    for k, ((rate, _), (right, text)) in enumerate(zip(labels, placed, strict=True)):
         for ax in (top, bottom):
             ax.axvline(rate, color="grey", lw=0.8, ls=":")
-        # horizontal labels at staggered heights, beside their line, towards the middle
-        right = np.log(rate / low) < 0.5 * np.log(high / low)
-        top.text(rate * (1.04 if right else 1 / 1.04), 0.97 - 0.065 * (k % 6), text,
+        # horizontal labels at staggered heights, each beside its own line
+        top.text(rate * (LABEL_GAP if right else 1 / LABEL_GAP), 0.97 - 0.065 * (k % 6), text,
                  va="top", ha="left" if right else "right", fontsize=7, color="dimgrey",
                  transform=top.get_xaxis_transform(),
                  bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1})
@@ -125,6 +126,50 @@ def plot_bode(result: TransferFunctions, path: str | Path, title: str | None = N
     fixed_margins(fig, left=0.9, right=0.25, bottom=0.55 + legend_height, top=0.75,
                   hspace=0.15)
     return save_figure(fig, path, dpi=DPI)
+
+
+LABEL_GAP = 1.04
+"""A mode's label starts this factor of ω beside its line."""
+
+AXES_WIDTH_PT = (8.0 - 0.9 - 0.25) * 72
+"""The axes' width, points (the figure's 8 in less its fixed margins)."""
+
+LABEL_CHAR_PT = 0.55 * 7
+"""About how wide one character of a 7 pt label is, points."""
+
+
+def _label_sides(labels: list[tuple[float, str]], low: float, high: float
+                 ) -> list[tuple[bool, str]]:
+    """For each (|λ|, label), where to write it: (True to write it right of its line,
+    False left; the text, broken before its time onto a second line where one line
+    does not fit). The side is the one where the text (about :data:`LABEL_CHAR_PT` a
+    character) stays inside the axes and crosses the fewest other modes' lines, on one
+    line if it can, ties going away from the nearest other line (then towards the
+    middle): a label never sits among other modes' lines when a side free of them
+    exists (strapdown_ned's vertical channel, right of the Schuler pair, is labelled
+    right of its own line, not left of it beside theirs)."""
+    span = np.log(high / low)
+    rates = [rate for rate, _ in labels]
+    out = []
+    for rate, text in labels:
+        at = np.log(rate / low)
+        others = [np.log(r / low) for r in rates if r != rate]
+        forms = [text] + ([text.replace(", ", ",\n", 1)] if ", " in text else [])
+        choices = []
+        for lines, form in enumerate(forms):
+            longest = max(len(line) for line in form.split("\n"))
+            width = np.log(LABEL_GAP) + longest * LABEL_CHAR_PT / AXES_WIDTH_PT * span
+            for right in (True, False):
+                lo, hi = (at, at + width) if right else (at - width, at)
+                outside = lo < 0 or hi > span
+                crossed = sum(lo <= x <= hi for x in others)
+                nearest = min((abs(x - at) for x in others if (x > at) == right),
+                              default=np.inf)
+                middle = (at < span / 2) == right
+                choices.append(((outside, crossed, lines, -nearest, not middle),
+                                (right, form)))
+        out.append(min(choices, key=lambda c: c[0])[1])
+    return out
 
 
 def _mode_labels(result: TransferFunctions) -> list[tuple[float, str]]:
