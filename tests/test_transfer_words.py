@@ -165,3 +165,55 @@ def test_the_page_quotes_what_its_inline_commands_print(capsys):
         for quote in quotes:
             for piece in quote.split(" …"):
                 assert piece.strip(", ") in printed, (command, piece)
+
+
+def test_the_settling_time_is_each_decaying_term_alone_and_says_so(capsys):
+    """'within 1 % after about 449.4 days' read as the response within 1 % of its final
+    value, which the sum of the two Schuler terms is only some 30 days later. The time is
+    each decaying term's own (the latest of τ ln(size/1 %)) and the text now says so.
+    Reference: F's eigen-decomposition at 30 digits (mpmath) for strapdown_ned damped at
+    45°, 1 µg of x bias to the height: y(t) = Σ c (e^(λt) − 1)/λ, c = (h v)(w g)/(w v),
+    settling at −Σ c/λ, each term's size |c/λ| (twice for a pair)."""
+    import mpmath as mp
+
+    from ins_errors import load_model
+    from ins_errors.analysis.modes import static_modes
+
+    latitude, damping = np.radians(45.0), {"k_h1": 0.0293, "k_h2": 4.42e-4}
+    model = load_model("strapdown_ned")
+    base = static_modes(model, latitude, parameters=damping)
+    p, F = base.point, base.state_matrix
+    g = np.asarray(model.source_matrix(p.x, p.u, p.p), float)[
+        :, model.index("sources", "accel_bias_x")] * UG
+    h = np.asarray(model.output_matrix(p.x, p.u, p.p), float)[
+        [o.name for o in model.outputs].index("height")]
+    with mp.workdps(30):
+        values, left, right = mp.eig(mp.matrix(F.tolist()), left=True, right=True)
+        n = len(F)
+        level, terms = mp.mpf(0), []
+        for k, value in enumerate(values):
+            c = (mp.fsum(h[i] * right[i, k] for i in range(n))
+                 * mp.fsum(left[k, i] * g[i] for i in range(n))
+                 / mp.fsum(left[k, i] * right[i, k] for i in range(n)))
+            if abs(value) < 1e-12:  # the integrators: not reached in the height
+                assert abs(c) < 1e-25
+                continue
+            level -= c / value
+            if mp.re(value) < 0 and mp.im(value) >= 0:
+                size = abs(c / value) * (2 if mp.im(value) > 0 else 1)
+                terms.append((float(-1 / mp.re(value)), float(size)))
+        level = float(mp.re(level))
+    expected = max(tau * np.log(size / (0.01 * abs(level))) for tau, size in terms)
+    pair = transfer_functions(model, ["accel_bias_x"], ["height"], latitude=latitude,
+                              parameters=damping).pairs[0]
+    assert pair.long_run.coefficient * UG == pytest.approx(level, rel=1e-9)
+    assert pair.long_run.settling_s == pytest.approx(expected, rel=1e-9)
+    together = max(tau for tau, _ in terms) * np.log(
+        sum(size for _, size in terms) / (0.01 * abs(level)))
+    assert together > expected + 20 * 86400  # the sum: a month later at least
+    assert main(["transfer", "strapdown_ned", "--source", "accel_bias_x", "--output",
+                 "height", "--latitude", "45deg", "-p", "k_h1=0.0293/s", "-p",
+                 "k_h2=4.42e-4/s^2"]) == 0
+    out = capsys.readouterr().out
+    days = expected / 86400
+    assert f"each of its decaying terms below 1 % of that after about {days:.1f} days" in out

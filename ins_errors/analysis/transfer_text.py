@@ -178,7 +178,7 @@ def _run_words(pair: TransferFunction, run) -> str:
                       + (f", decay {duration_text(o.decay_s)}" if o.decay_s else "") + ")"
                       for o in run.oscillations)
     settling = ("" if not run.settling_s else
-                f"; its damped terms below 1 % of its largest term after about "
+                f"; each of its damped terms below 1 % of its largest term after about "
                 f"{duration_text(run.settling_s)}")
     if run.kind == "resonance":
         text = (f"oscillates with an amplitude growing as "
@@ -206,7 +206,8 @@ def _run_words(pair: TransferFunction, run) -> str:
         verb = "tends to"
     text = f"{verb} {_display_value(pair, value)} ({limit})"
     if run.settles and run.settling_s and value != 0:
-        settling = f", within 1 % after about {duration_text(run.settling_s)}"
+        settling = (f", each of its decaying terms below 1 % of that after about "
+                    f"{duration_text(run.settling_s)}")
     return text + settling + (f"; oscillations: {waves}" if waves else "")
 
 
