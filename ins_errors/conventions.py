@@ -45,6 +45,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, ShapeError, name_list
+from ins_errors.numeric.nonfinite import WHY, nonfinite_entries
 
 
 class ErrorMatrices(NamedTuple):
@@ -119,7 +120,8 @@ def error_matrices(model, convention: str, x, u, p, *, bias_states: Sequence[str
     k = x.shape[1]
     motion = Motion("samples", "given samples", np.arange(k, dtype=float), x, u, p, {})
     try:
-        F, G = derived_in_convention(model, conv, motion)
+        with np.errstate(all="ignore"):  # what is not finite is said below, by entry
+            F, G = derived_in_convention(model, conv, motion)
     except np.linalg.LinAlgError as error:
         raise InsErrorsError(
             f"model {model.name!r}: the map to convention {convention!r} cannot be inverted "
@@ -127,10 +129,15 @@ def error_matrices(model, convention: str, x, u, p, *, bias_states: Sequence[str
             "attitude, a latitude off the poles)?") from None
     bad = ~np.isfinite(F).all(axis=(1, 2)) | ~np.isfinite(G).all(axis=(1, 2))
     if bad.any():
+        first = int(np.argmax(bad))
+        sources = [s.name for s in model.sources]
+        listed = " and ".join(text for text in (
+            nonfinite_entries("F", F[first], conv.names, conv.names),
+            nonfinite_entries("G", G[first], conv.names, sources)) if text)
         raise InsErrorsError(
             f"model {model.name!r}: F or G in convention {convention!r} is NaN or infinite "
-            f"at sample {int(np.argmax(bad))} (of {k}): are the samples true states of the "
-            "model?")
+            f"at sample {first} (of {k}) in {listed}: {WHY}, or the samples are no true "
+            "states of the model")
     return ErrorMatrices(np.array(F), np.array(G), tuple(conv.names),
                          tuple(s.name for s in model.sources))
 

@@ -46,6 +46,7 @@ from ins_errors.analysis.mode_references import References, references
 from ins_errors.errors import DomainError, unknown_name
 from ins_errors.numeric.closed_forms import SPLIT_MODES
 from ins_errors.numeric.model import Model, as_model
+from ins_errors.numeric.nonfinite import WHY, nonfinite_entries
 
 ZERO = 1e-6
 """Eigenvalues (and real or imaginary parts) below this share of the largest |λ| are
@@ -452,9 +453,13 @@ def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] |
     motion = tr.trajectory(model, profile, 1.0, 1.0, p=p, stream=True)
     tr.refuse_unused_references(model, motion, given or {})
     x, u = motion.start_state, motion.start_inputs
-    F = np.asarray(model.state_matrix(x, u, p), dtype=float)
-    if not np.all(np.isfinite(F)):
-        raise DomainError(f"F of {model.name} is not finite at the {motion.description}")
+    with np.errstate(all="ignore"):  # said below, by entry, in the model's names
+        F = np.asarray(model.state_matrix(x, u, p), dtype=float)
+    states = [e.name for e in model.error_states]
+    listed = nonfinite_entries("F", F, states, states)
+    if listed is not None:
+        raise DomainError(f"F of {model.name} is not finite at the {motion.description} "
+                          f"in {listed}; {WHY}")
     used = tr.REFERENCES if motion.references is None else motion.references
     height = float(profile.commands(np.zeros(1))[0][2, 0]) if "height" in used else None
     latitude, source = _latitude(model, p, profile.latitude, "latitude" in used)

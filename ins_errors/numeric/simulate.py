@@ -73,6 +73,7 @@ from ins_errors.numeric.integrators import (
     worker_count,
 )
 from ins_errors.numeric.model import Model, as_model
+from ins_errors.numeric.nonfinite import WHY, nonfinite_entries
 from ins_errors.numeric.trajectories import Trajectory
 
 PARTS: tuple[str, ...] = ("real", "linear", "refined")
@@ -737,10 +738,6 @@ def _check_initial(model: Model, xr0: np.ndarray) -> None:
                           "infinite: initial errors too large")
 
 
-NAMED_ENTRIES = 6
-"""Entries of F or G that are not finite which a refusal names one by one."""
-
-
 def _check_start_matrices(model: Model, trajectory: Trajectory, active: np.ndarray) -> None:
     """Refuse a linear or refined run whose F, or whose G in a column of a source in use
     (``active``, shape (ns,)), is not finite at t = 0, naming the entries.
@@ -764,24 +761,12 @@ def _check_start_matrices(model: Model, trajectory: Trajectory, active: np.ndarr
         return
     sources = [s.name for s in model.sources]
     for symbol, matrix, columns, used in (("F", F, states, None), ("G", G, sources, active)):
-        bad = ~np.isfinite(matrix.reshape(len(states), len(columns)))
-        if used is not None:
-            bad &= np.asarray(used, dtype=bool)[None, :]
-        if not bad.any():
-            continue
-        rows, cols = np.nonzero(bad)
-        entries = [f"{symbol}[{states[r]}, {columns[k]}]"
-                   for r, k in zip(rows, cols, strict=True)]
-        if len(entries) > NAMED_ENTRIES:
-            entries = [*entries[:NAMED_ENTRIES], f"{len(entries) - NAMED_ENTRIES} more"]
-        listed = " and ".join([", ".join(entries[:-1]), entries[-1]] if len(entries) > 1
-                              else entries)
-        raise DomainError(f"{symbol} of {model.name} is not finite at t = 0 s "
-                          f"({trajectory.description}) in {listed}; the linear error "
-                          "equations have no value there (a derivative 0/0 or through a "
-                          "kink, such as d|V|/dV at V = 0), so the linear and refined runs "
-                          "cannot start from it: write the term smoothly there, or start "
-                          "the motion elsewhere")
+        listed = nonfinite_entries(symbol, matrix, states, columns, used)
+        if listed is not None:
+            raise DomainError(f"{symbol} of {model.name} is not finite at t = 0 s "
+                              f"({trajectory.description}) in {listed}; {WHY}, so the "
+                              "linear and refined runs cannot start from it: write the "
+                              "term smoothly there, or start the motion elsewhere")
 
 
 def _domain_check(model: Model, parts: Sequence[str], platform: str) -> PieceCheck:
