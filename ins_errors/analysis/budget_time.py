@@ -161,6 +161,17 @@ def time_unit(seconds: float) -> tuple[str, float]:
     return "s", 1.0
 
 
+
+SPARSE_CHECKS = 40
+"""Up to this many check times are drawn as full-size markers; more get smaller ones, so
+that an item checked every minute for hours is a curve, not a bar of dots."""
+
+
+def _check_marker_size(count: int) -> float:
+    """Marker size (points) of an item's ``count`` check times."""
+    return 3.5 if count <= SPARSE_CHECKS else max(1.0, 3.5 * (SPARSE_CHECKS / count) ** 0.5)
+
+
 def plot_time(allocation: Allocation, path: str, title: str) -> None:
     """Each spec item's value over the operating time, one panel per item.
 
@@ -227,7 +238,8 @@ def plot_time(allocation: Allocation, path: str, title: str) -> None:
             name = curve.component or f"{item.name}"
             ax.plot(curve.times / per, curve.values * scale, color=colour, lw=1.4,
                     label=f"{name} ({level})")
-            ax.plot(curve.check_times / per, curve.check_values * scale, "o", ms=3.5,
+            ax.plot(curve.check_times / per, curve.check_values * scale, "o",
+                    ms=_check_marker_size(len(curve.check_times)),
                     color=colour, label=f"check times ({len(curve.check_times)})"
                     if n == 0 else None, zorder=3, clip_on=False)
             drawn += list(curve.values * scale)

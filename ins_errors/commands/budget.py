@@ -361,7 +361,15 @@ def _plot_time(allocation, path: str, fixed_only: bool = False) -> None:
     plot_time(allocation, path, title=(
         f"Spec items over the operating time: {spec.title}{exceeded}\n"
         f"{budget.system.labels.get('trajectory', '')}\n"
-        f"{spec.sigma_level:g}σ, at {rep.magnitudes_note(allocation, fixed_only)}"))
+        f"{_level_words(spec)}, at {rep.magnitudes_note(allocation, fixed_only)}"))
+
+
+def _level_words(spec) -> str:
+    """The spec's level in a title: ``kσ``, and what CEP items are (a CEP has no σ)."""
+    level = f"{spec.sigma_level:g}σ"
+    if any(item.combine == "cep" for item in spec.items):
+        level += " (CEP items: the radius holding 50 %)"
+    return level
 
 
 MC_DEFAULTS = {"mc_duration": "1 h", "mc_step": "0.01 s", "seed": 0, "engine": "auto",
