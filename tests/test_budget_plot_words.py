@@ -1,6 +1,6 @@
-"""The budget's time plot: an item checked at hundreds of times stays a readable curve
-(smaller markers), and a spec with CEP items says what they are in the title (a CEP has
-no σ level)."""
+"""The budget's time plot and text report: an item checked at hundreds of times stays a
+readable curve (smaller markers), and a spec with CEP items says what they are in the
+title and the rows' heading (a CEP has no σ level)."""
 
 from pathlib import Path
 
@@ -20,3 +20,13 @@ def test_a_cep_spec_says_what_its_cep_items_are():
     assert _level_words(load_spec(ROOT / "examples" / "specs" / "aircraft_cep.toml")) == (
         "1σ (CEP items: the radius holding 50 %)")
     assert _level_words(load_spec(ROOT / "examples" / "specs" / "uav_strapdown.toml")) == "1σ"
+
+
+def test_the_text_report_says_what_its_cep_rows_are(capsys):
+    from ins_errors.cli import main
+
+    spec = ROOT / "examples" / "specs" / "aircraft_cep.toml"
+    assert main(["budget", "strapdown_ned", "--spec", str(spec), "--no-progress"]) == 0
+    [line] = [text for text in capsys.readouterr().out.splitlines()
+              if text.startswith("Spec rows at")]
+    assert "(worst time of each item, 1σ (CEP items: the radius holding 50 %);" in line

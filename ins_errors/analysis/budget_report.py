@@ -594,7 +594,9 @@ def table(data: dict) -> str:
         lines.append(f"{s['label']:<36} {shown:>22}  {binding_text(s)}")
     if any(s["statistics"] == "white" for s in data["sources"]):
         lines.append(f"({WHITE_NOTE})")
-    lines += ["", f"Spec rows at {magnitudes_words(data)} (worst time of each item, {k}; "
+    cep = (" (CEP items: the radius holding 50 %)"
+           if any(item.get("combine") == "cep" for item in data["items"]) else "")
+    lines += ["", f"Spec rows at {magnitudes_words(data)} (worst time of each item, {k}{cep}; "
               "limits as the spec writes them):",
               f"{'item':<28} {'time':>10}  {'value of limit':<34} {'ratio':>6}", "-" * 84]
     for line in item_summaries(data):
