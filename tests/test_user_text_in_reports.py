@@ -125,7 +125,7 @@ def test_a_label_with_a_pipe_stays_in_its_cell_of_report_md(report):
         len(case["metrics"]) for case in results["cases"])
     for line in cases:
         if line.startswith("| `"):
-            assert len(_cells(line)) == 10, line
+            assert len(_cells(line)) == 11, line
 
 
 def test_the_html_tables_keep_the_label_in_one_cell_and_show_markup_as_text(report):

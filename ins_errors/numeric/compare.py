@@ -9,14 +9,17 @@ orthodromic model) and every case:
   quadratic error equations; infinite where its outputs are not finite);
 * ``direct_integration_error`` and ``linear_integration_error``: the estimated
   integration error of the direct and of the linear error curves (step doubling,
-  :mod:`ins_errors.numeric.accuracy`), to be read beside the linear-vs-direct difference.
+  :mod:`ins_errors.numeric.accuracy`), to be read beside the linear-vs-direct difference;
+  ``refined_integration_error`` likewise for the refined curve (when it ran), to be read
+  beside the refined-vs-direct difference.
 
 The residual of an angle (unit rad: latitude, longitude, heading, attitude, platform
 angles) is a difference on the circle, wrapped to ±π (:func:`residual`): a linear heading
 error of +176.8° beside a direct one of −124.3° misses by 58.9°, not by 301°.
 
 Each case also carries ``warnings``: when the integration error exceeds 10 % of the
-linear-vs-direct difference or 1 % of the error (naming a step that would do), when
+linear-vs-direct difference (that of the direct and refined runs: 10 % of the
+refined-vs-direct difference) or 1 % of the error (naming a step that would do), when
 the linear/direct ratio exceeds the validity threshold (5 % by default, naming about
 the magnitude at which it would be 1 %, from the measured scaling of runs at smaller
 magnitudes), when an initial angle error is given past half a turn, and
@@ -144,14 +147,25 @@ class Metric:
     excited: bool
     direct_integration_error: float | None = None
     linear_integration_error: float | None = None
+    refined_integration_error: float | None = None
     second_order_only: bool = False
 
     @property
     def integration_error(self) -> float | None:
-        """The larger of the direct and linear integration-error estimates."""
+        """The larger of the direct and linear integration-error estimates (SI): the
+        integration error of the two runs whose difference ``linear_difference`` is."""
         errors = [e for e in (self.direct_integration_error, self.linear_integration_error)
                   if e is not None]
         return max(errors) if errors else None
+
+    @property
+    def refined_runs_integration_error(self) -> float | None:
+        """The larger of the direct and refined integration-error estimates (SI): the
+        integration error of the two runs whose difference ``refined_difference`` is;
+        None without a refined estimate."""
+        if self.refined_integration_error is None or self.direct_integration_error is None:
+            return None
+        return max(self.direct_integration_error, self.refined_integration_error)
 
 
 @dataclass(eq=False)
@@ -767,13 +781,19 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
     recorded sample lies on that grid (an even recording stride), else at half its step
     (a static base, a profile's motion, or any motion under the rectangle method), so
     that the estimate covers every recorded sample, the last one included; it fills
-    ``direct_integration_error`` / ``linear_integration_error`` of every metric. One more
+    ``direct_integration_error`` / ``linear_integration_error`` of every metric. When
+    ``sim`` ran the refined part, that rerun runs it too and fills
+    ``refined_integration_error`` (None where a refined curve is not finite, or where the
+    rerun with it fails and is made again without it); the third run below does not
+    (the observed order is the direct and linear runs'), nor does any rerun of a
+    comparison without a refined run, so those cost what they did. One more
     run at four times the finest step of the pair gives the observed order of the
     scheme: far from the scheme's order, the estimate is outside its asymptotic range and
     the case says so. A case gets a warning (and ``suggested_step``) when, for an excited
     quantity, the larger estimate exceeds 1 % of the error or 10 % of the
     linear-vs-direct difference (the latter only when that difference is above
-    :data:`AGREEMENT_FLOOR` of the error). The estimate itself is
+    :data:`AGREEMENT_FLOOR` of the error), or the larger of the direct and refined
+    estimates does either for the refined-vs-direct difference. The estimate itself is
     :func:`integration_errors_by_reruns`, which callers with runs of their own (the
     studies) use as well. With ``progress``, each rerun shows a bar over its own steps
     labelled as the check's (:func:`~ins_errors.numeric.accuracy.rerun_label`), as the
@@ -802,25 +822,45 @@ def add_integration_errors(comparisons: Sequence[Comparison], sim: Simulation,
             coarse = grids[step]
         return coarse
 
-    def rerun(factor: float, every: int) -> tuple[ErrorCurves, ErrorCurves] | None:
+    # the refined part only in the pair's other run, the first one asked for (the third
+    # run gives the observed order, which is the direct and linear runs')
+    refined = [sim.refined is not None]
+
+    def rerun(factor: float, every: int) -> tuple[ErrorCurves, ...] | None:
         traj = grid(factor)
         if traj is None:
             return None
-        run = simulate(sim.model, traj, sim.sources, method=method,
-                       record_interval=every * traj.tau, parts=("real", "linear"),
-                       jit=jit, platform=sim.platform,
-                       progress=accuracy.rerun_label(factor, trajectory.tau) if progress
-                       else False)
-        return run.direct_errors(), run.linear_errors()
+        with_refined, refined[0] = refined[0], False
 
-    integration_errors_by_reruns(comparisons, (sim.direct_errors(), sim.linear_errors()),
+        def run(parts: tuple[str, ...]) -> Simulation:
+            return simulate(sim.model, traj, sim.sources, method=method,
+                            record_interval=every * traj.tau, parts=parts,
+                            jit=jit, platform=sim.platform,
+                            progress=accuracy.rerun_label(factor, trajectory.tau)
+                            if progress else False)
+
+        if with_refined:
+            try:
+                made = run(("real", "linear", "refined"))
+                return made.direct_errors(), made.linear_errors(), made.refined_errors()
+            except InsErrorsError:
+                pass  # e.g. the refined run left its domain at this step: without it
+        made = run(("real", "linear"))
+        return made.direct_errors(), made.linear_errors()
+
+    fine = (sim.direct_errors(), sim.linear_errors())
+    if sim.refined is not None:
+        fine = (*fine, sim.refined_errors())
+    integration_errors_by_reruns(comparisons, fine,
                                  trajectory.n_steps, trajectory.tau, sim.stride, method,
                                  rerun, lambda: _rk4_step(sim, jit),
                                  breaks=accuracy.motion_breaks(trajectory))
 
 
-Rerun = Callable[[float, int], "tuple[ErrorCurves, ErrorCurves] | None"]
+Rerun = Callable[[float, int], "tuple[ErrorCurves, ...] | None"]
 """``rerun(factor, every)``: the (direct, linear) error curves of the same cases run again
+— or (direct, linear, refined): the refined curves are estimated where both runs of the
+pair have them —
 at step ``factor`` τ (``factor`` 2 or 4: over the first ``⌊N/factor⌋`` of its steps, the
 same motion on the coarser grid; ``factor`` 1/2 or 1/4: over ``2N`` or ``4N`` steps, only
 asked for when ``breaks`` are given), recorded every ``every`` of its own steps; None when
@@ -829,7 +869,7 @@ that fails raises :class:`InsErrorsError`."""
 
 
 def integration_errors_by_reruns(comparisons: Sequence[Comparison],
-                                 fine: tuple[ErrorCurves, ErrorCurves], n_steps: int,
+                                 fine: tuple[ErrorCurves, ...], n_steps: int,
                                  tau: float, stride: int, method: str, rerun: Rerun,
                                  rk4_step: Callable[[], float | None] | None = None,
                                  breaks: np.ndarray | None = None) -> None:
@@ -861,7 +901,10 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
     comparisons : sequence of Comparison
         One per batch member of the curves; their metrics get the estimates.
     fine : tuple of ErrorCurves
-        (direct, linear) error curves of the run, shape (Q, N / stride + 1, B).
+        (direct, linear) error curves of the run, shape (Q, N / stride + 1, B), or
+        (direct, linear, refined): ``refined_integration_error`` is then estimated where
+        the pair's other run gives refined curves too (the observed order and the
+        integration-error ratio are the direct and linear runs').
     n_steps, stride : int
         Steps of the run and steps between two recorded samples.
     tau : float
@@ -882,7 +925,7 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
     """
     made: list[float] = []
 
-    def recorded(factor: float, every: int) -> tuple[ErrorCurves, ErrorCurves] | None:
+    def recorded(factor: float, every: int) -> tuple[ErrorCurves, ...] | None:
         curves = rerun(factor, every)
         if curves is not None:
             made.append(factor * tau)
@@ -896,7 +939,7 @@ def integration_errors_by_reruns(comparisons: Sequence[Comparison],
             comparison.integration_steps = tuple(made)
 
 
-def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, ErrorCurves],
+def _by_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, ...],
                n_steps: int, tau: float, stride: int, method: str, rerun: Rerun,
                rk4_step: Callable[[], float | None] | None,
                breaks: np.ndarray | None = None) -> None:
@@ -958,7 +1001,36 @@ def negligible_cause(order: float | None, scheme_order: int) -> str | None:
     return "rounding" if order < scheme_order else None
 
 
-def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, ErrorCurves]],
+REFINED_PART = 2
+"""Index of the refined curves in a rerun's tuple (direct, linear, refined)."""
+
+PART_ATTRIBUTES = ("direct_integration_error", "linear_integration_error",
+                   "refined_integration_error")
+"""The :class:`Metric` attribute each part of a run's curves (direct, linear, refined)
+fills."""
+
+
+def _estimated_parts(finer: tuple[ErrorCurves, ...], coarser: tuple[ErrorCurves, ...]
+                     ) -> list[tuple[int, str]]:
+    """(index, Metric attribute) of the parts both runs of a pair hold: direct and linear
+    always, refined when both have it (a third curve, not None)."""
+    parts = [(0, PART_ATTRIBUTES[0]), (1, PART_ATTRIBUTES[1])]
+    if (len(finer) > REFINED_PART and len(coarser) > REFINED_PART
+            and finer[REFINED_PART] is not None and coarser[REFINED_PART] is not None):
+        parts.append((REFINED_PART, PART_ATTRIBUTES[REFINED_PART]))
+    return parts
+
+
+def _estimate(value: float, part: int) -> float | None:
+    """A part's estimate as stored: the refined one is None where it is not finite (a
+    refined run that left its range at one of the steps: nothing to estimate); the
+    direct and linear ones as they are."""
+    if part == REFINED_PART and not math.isfinite(value):
+        return None
+    return value
+
+
+def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, ...]],
           scale: float, orders: tuple | None, finest: bool, tau: float, method: str,
           stride: int, rk4_step: Callable[[], float | None] | None,
           failed: str | None, spacing: float | None = None) -> None:
@@ -968,15 +1040,15 @@ def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, Error
     coarser — and warn (:func:`_integration_warning`, whose step divides ``spacing``)."""
     for b, comparison in enumerate(comparisons):
         observed = []
-        for part, attribute in ((0, "direct_integration_error"),
-                                (1, "linear_integration_error")):
+        for part, attribute in _estimated_parts(runs[0], runs[1]):
             finer, coarser = runs[0][part], runs[1][part]
             for k, metric in enumerate(comparison.metrics):
                 gap = np.abs(residual(finer.values[k, :, b], coarser.values[k, :, b],
                                          metric.unit))
-                setattr(metric, attribute, float(np.max(gap)) * scale)
-                if orders is None or not metric.excited or metric.max_direct <= 0:
-                    continue
+                setattr(metric, attribute, _estimate(float(np.max(gap)) * scale, part))
+                if (part == REFINED_PART or orders is None or not metric.excited
+                        or metric.max_direct <= 0):
+                    continue  # the observed order is the direct and linear runs'
                 third_curves, fi, ci = orders  # near: the finer pair; far: the coarser
                 other = np.abs(residual(
                     (finer if finest else coarser).values[k, fi, b],
@@ -999,7 +1071,7 @@ def _fill(comparisons: Sequence[Comparison], runs: list[tuple[ErrorCurves, Error
                              else None, spacing)
 
 
-def _finer_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, ErrorCurves],
+def _finer_reruns(comparisons: Sequence[Comparison], fine: tuple[ErrorCurves, ...],
                   tau: float, stride: int, method: str, rerun: Rerun,
                   rk4_step: Callable[[], float | None] | None,
                   spacing: float | None = None) -> None:
@@ -1068,7 +1140,7 @@ def _not_estimated(comparisons: Sequence[Comparison], why: str) -> None:
 
 
 def _pairs_on_common_samples(comparisons: Sequence[Comparison],
-                             fine: tuple[ErrorCurves, ErrorCurves], n_steps: int, tau: float,
+                             fine: tuple[ErrorCurves, ...], n_steps: int, tau: float,
                              stride: int, method: str, rerun: Rerun) -> None:
     """Step doubling on the samples a run at 2τ shares with the run (odd recording
     stride, a motion that cannot be generated at τ/2); says so when that leaves out the
@@ -1091,8 +1163,8 @@ def _pairs_on_common_samples(comparisons: Sequence[Comparison],
 
 
 def estimate_integration_errors(comparisons: Sequence[Comparison],
-                                fine: tuple[ErrorCurves, ErrorCurves],
-                                coarse: tuple[ErrorCurves, ErrorCurves], stride: int,
+                                fine: tuple[ErrorCurves, ...],
+                                coarse: tuple[ErrorCurves, ...], stride: int,
                                 coarse_stride: int, n_steps: int, tau: float,
                                 method: str) -> None:
     """Fill the integration errors of ``comparisons`` from runs at τ and 2τ; warn.
@@ -1107,7 +1179,8 @@ def estimate_integration_errors(comparisons: Sequence[Comparison],
     comparisons : sequence of Comparison
         One per batch member of the curves.
     fine, coarse : tuple of ErrorCurves
-        (direct, linear) error curves at step ``tau`` and at ``2 tau``, same quantities.
+        (direct, linear) error curves at step ``tau`` and at ``2 tau``, same quantities;
+        with refined curves as a third in both, ``refined_integration_error`` too.
     stride, coarse_stride : int
         Recording strides (in their own steps) of the fine and of the coarse run.
     n_steps : int
@@ -1120,15 +1193,15 @@ def estimate_integration_errors(comparisons: Sequence[Comparison],
     fine_i, coarse_i = accuracy.common_samples(stride, coarse_stride, n_steps)
     if len(fine_i) < 2:
         return _not_estimated(comparisons, NOTHING_SHARED)
-    curves = [(fine[0], coarse[0], "direct_integration_error"),
-              (fine[1], coarse[1], "linear_integration_error")]
+    curves = [(fine[part], coarse[part], part, attribute)
+              for part, attribute in _estimated_parts(fine, coarse)]
     for b, comparison in enumerate(comparisons):
-        for fine_curves, rough, attribute in curves:
+        for fine_curves, rough, part, attribute in curves:
             for k, metric in enumerate(comparison.metrics):
                 gap = residual(fine_curves.values[k, fine_i, b],
                                   rough.values[k, coarse_i, b], metric.unit)
                 error = float(np.max(np.abs(gap))) / (2 ** accuracy.ORDERS[method] - 1)
-                setattr(metric, attribute, error)
+                setattr(metric, attribute, _estimate(error, part))
         _integration_warning(comparison, tau, method, stride * tau)
 
 
@@ -1162,21 +1235,14 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
     unreliable = failed is not None or (q is not None
                                         and abs(q - p) > accuracy.ORDER_TOLERANCE)
     worst, worst_need = None, 1.0
-    for m in comparison.excited:
-        error = m.integration_error
-        if (error is None or error <= NOISE_FLOOR.get(m.unit, 0.0)
-                or error < accuracy.RELEVANT * m.max_direct):  # rounding: not judged
-            continue
-        limits = [(accuracy.ERROR_SHARE * m.max_direct,
-                   f"{accuracy.ERROR_SHARE:.0%} of its largest error")]
-        if m.linear_difference > AGREEMENT_FLOOR * m.max_direct:
-            limits.append((accuracy.DIFFERENCE_SHARE * m.linear_difference,
-                           f"a tenth of its linear-vs-direct difference, "
-                           f"{_shown_size(m.linear_difference, m.unit)}"))
-        target, what = min(limits)
+    for m, error, difference in _judged_errors(comparison, "linear"):
+        target, what = _limit(m, difference, "linear")
         if error > target and error / target > worst_need:
             worst, worst_need = (m, target, what), error / target
+    note = _refined_note(comparison, tau, p)
     if worst is None and not unreliable:
+        if note:
+            comparison.warnings.append(note)
         return
     k = (1.25 * worst_need) ** (1.0 / p) if worst is not None else 1.0
     if unreliable:  # the estimate may be off by a factor 2^p: at least halve the step
@@ -1226,10 +1292,73 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
                 else "the estimate is outside its asymptotic range")
         comparison.warnings.append(
             f"integration error not reliable at this step, τ = {tau:g} s, {scheme} ({how}): "
-            f"{size}; {advice}{also}")
+            f"{size}; {advice}{also}" + (f". {note}" if note else ""))
         return
     comparison.warnings.append(
-        f"integration error too large at τ = {tau:g} s, {scheme}: {size}; {advice}{also}")
+        f"integration error too large at τ = {tau:g} s, {scheme}: {size}; {advice}{also}"
+        + (f". {note}" if note else ""))
+
+
+def _judged_errors(comparison: Comparison, model: str) -> list[tuple[Metric, float, float]]:
+    """(metric, integration error, difference) of each excited quantity whose integration
+    error is judged against the ``model``'s residual: for ``"linear"`` the direct and
+    linear runs' (:attr:`Metric.integration_error`) and the linear-vs-direct difference,
+    for ``"refined"`` the direct and refined runs'
+    (:attr:`Metric.refined_runs_integration_error`) and the refined-vs-direct difference
+    (both finite). Estimates at rounding (at or below the unit's
+    :data:`NOISE_FLOOR`, or below :data:`~ins_errors.numeric.accuracy.RELEVANT` of the
+    error) are not judged."""
+    out = []
+    for m in comparison.excited:
+        if model == "linear":
+            error, difference = m.integration_error, m.linear_difference
+        else:
+            error, difference = m.refined_runs_integration_error, m.refined_difference
+            if (error is None or difference is None or not math.isfinite(error)
+                    or not math.isfinite(difference)):
+                continue
+        if (error is None or error <= NOISE_FLOOR.get(m.unit, 0.0)
+                or error < accuracy.RELEVANT * m.max_direct):  # rounding: not judged
+            continue
+        out.append((m, error, difference))
+    return out
+
+
+def _limit(m: Metric, difference: float, model: str) -> tuple[float, str]:
+    """The limit (SI) on the integration error of the runs whose difference is
+    ``difference`` (``model`` − direct), and its words: 1 % of the largest error, or a
+    tenth of the difference when that is above :data:`AGREEMENT_FLOOR` of the error,
+    whichever is smaller."""
+    limits = [(accuracy.ERROR_SHARE * m.max_direct,
+               f"{accuracy.ERROR_SHARE:.0%} of its largest error")]
+    if difference > AGREEMENT_FLOOR * m.max_direct:
+        limits.append((accuracy.DIFFERENCE_SHARE * difference,
+                       f"a tenth of its {model}-vs-direct difference, "
+                       f"{_shown_size(difference, m.unit)}"))
+    return min(limits)
+
+
+def _refined_note(comparison: Comparison, tau: float, order: int) -> str | None:
+    """The words on the refined run's integration error, when the direct and refined
+    runs' estimate exceeds its limit (:func:`_limit`, as the linear pair's does) for some
+    judged quantity: the one furthest past it, and about the step that would bring it
+    under (the scheme's ``order``). It is said beside the linear pair's warning, or
+    alone, and changes neither that warning's step nor ``suggested_step``."""
+    worst, worst_need = None, 1.0
+    for m, error, difference in _judged_errors(comparison, "refined"):
+        target, what = _limit(m, difference, "refined")
+        if error > target and error / target > worst_need:
+            worst, worst_need = (m, error, target, what), error / target
+    if worst is None:
+        return None
+    m, error, target, what = worst
+    step = tau / (1.25 * worst_need) ** (1.0 / order)
+    return (f"The refined run's integration error is over its limit too: {m.quantity}'s, "
+            f"of the direct and refined runs, is {_shown_size(error, m.unit)} (refined "
+            f"curve {_shown_size(m.refined_integration_error, m.unit)}), over the limit of "
+            f"{_shown_size(target, m.unit)} ({what}): at τ = {tau:g} s the refined − direct "
+            f"residual is not the second-order model's alone; about τ ≤ {step:.3g} s "
+            "would bring it under")
 
 
 def _percent(share: float) -> str:
@@ -1497,8 +1626,8 @@ def markdown_table(comparison: Comparison) -> str:
     lines = [f"**{table_cell(comparison.label)}**", "",
              "| quantity | unit | max abs direct | max abs (linear − direct) | ratio "
              "| max abs (refined − direct) | ratio | integration error direct | linear "
-             "| judged |",
-             "|---|---|---:|---:|---:|---:|---:|---:|---:|:---:|"]
+             "| refined | judged |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|:---:|"]
     for m in comparison.metrics:  # sizes in display units (arcmin, deg/h...), ratios bare
         k, unit = display_scale(m.unit)
         lines.append(f"| `{m.quantity}` | {unit} | {_fmt(_times(m.max_direct, k))} | "
@@ -1506,6 +1635,7 @@ def markdown_table(comparison: Comparison) -> str:
                      f"{_fmt(_times(m.refined_difference, k))} | {_fmt(m.refined_ratio)} | "
                      f"{_fmt(_times(m.direct_integration_error, k))} | "
                      f"{_fmt(_times(m.linear_integration_error, k))} | "
+                     f"{_fmt(_times(m.refined_integration_error, k))} | "
                      f"{_judged(m)} |")
     return "\n".join(lines) + "\n"
 
