@@ -116,7 +116,10 @@ def integration_runs_text(comparisons, step: float) -> str:
     made: list[float] = []
     for comparison in comparisons:
         made += [s for s in comparison.integration_steps if s not in made]
-    start = "The integration error of the direct and linear curves"
+    refined = any(m.refined_integration_error is not None
+                  for comparison in comparisons for m in comparison.metrics)
+    curves = "direct, linear and refined" if refined else "direct and linear"
+    start = f"The integration error of the {curves} curves"
     if not made:
         return (f"{start} is not estimated: no run at another step was made or completed "
                 "(the cases' warnings say why).")

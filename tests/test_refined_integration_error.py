@@ -149,3 +149,16 @@ def test_a_refined_rerun_that_fails_leaves_the_other_estimates(north_pointing, m
         assert (m.direct_integration_error, m.linear_integration_error) == (
             other.direct_integration_error, other.linear_integration_error)
     assert not any("not estimated" in w for w in c.warnings)
+
+
+def test_the_report_says_the_refined_curves_are_estimated_too(tmp_path):
+    """run's report.md: the sentence on the estimate names the curves it covers."""
+    from ins_errors.cli import main
+
+    scenario = tmp_path / "s.toml"
+    scenario.write_text('title = "t"\nmodel = "north_pointing"\n[motion]\nkind = "static"\n'
+                        'latitude = "45 deg"\n[run]\nduration = "1 h"\nstep = "30 s"\n'
+                        'record = "60 s"\n[[case]]\ninitial_azimuth_error = "3 deg"\n')
+    assert main(["run", str(scenario), "--out", str(tmp_path / "out")]) == 0
+    text = (tmp_path / "out" / "report.md").read_text()
+    assert "The integration error of the direct, linear and refined curves is estimated" in text
