@@ -435,6 +435,12 @@ class Model:
     def _vector(self, value: Any, infos: tuple[Info, ...], what: str, function: str) -> np.ndarray:
         if np.iscomplexobj(value):
             raise ShapeError(f"{function}: {what} must be real, got complex values")
+        if np.ma.isMaskedArray(value) and np.ma.getmaskarray(value).any():
+            # np.asarray would drop the mask and evaluate the hidden values as if valid
+            position = tuple(int(i[0]) for i in np.nonzero(np.ma.getmaskarray(value)))
+            raise ShapeError(f"{function}: {what} has masked entries (first at index "
+                             f"{position if len(position) > 1 else position[0]}): fill or "
+                             "drop them first (numpy.ma's filled, compressed)")
         try:
             array = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
