@@ -3,8 +3,9 @@ r"""Circular error probable of a normal horizontal position error (``combine = "
 The CEP of a zero-mean normal error :math:`x \in \mathbb{R}^2` of covariance
 :math:`P = \begin{pmatrix} \sigma_N^2 & c \\ c & \sigma_E^2 \end{pmatrix}` is the radius
 r with :math:`P(|x| < r) = 1/2`. With :math:`\lambda_1 \ge \lambda_2 \ge 0` the
-eigenvalues of P (the north-east cross term c turns the ellipse, it does not change its
-axes' lengths only through the diagonal) and :math:`z_1, z_2` independent standard
+eigenvalues of P (the squared half-axes of the error ellipse; the north-east cross term c
+turns the ellipse and changes these lengths too, so the CEP needs c as well as the
+diagonal) and :math:`z_1, z_2` independent standard
 normals,
 
 .. math::

@@ -249,13 +249,16 @@ class GrowingSplit:
     def of(cls, A: np.ndarray, tol: float) -> GrowingSplit | None:
         """The split of ``A`` (‖A‖ ≤ 1) at real part ``tol``; None without a growing
         eigenvalue (or where the Schur reordering cannot separate them)."""
-        from scipy.linalg import schur, solve_sylvester
+        from scipy.linalg import LinAlgError, schur, solve_sylvester
 
         values = np.linalg.eigvals(A)
         count = int(np.sum(values.real > tol))
         if not count or count == len(A):
             return None
-        T, U, k = schur(A, output="real", sort=lambda re, im: re > tol)
+        try:
+            T, U, k = schur(A, output="real", sort=lambda re, im: re > tol)
+        except LinAlgError:  # a real part at tol itself: the reordering cannot tell
+            return None
         if k != count:
             return None
         T11, T12, T22 = T[:k, :k], T[:k, k:], T[k:, k:]
