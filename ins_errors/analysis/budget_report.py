@@ -580,6 +580,10 @@ def unlimited_note(data: dict) -> str:
            f"{', '.join(linear)}"] * bool(linear))
 
 
+CEP_WORDS = "CEP items: the radius holding 50 %"
+"""What a CEP row's value is, beside the spec's σ level (a CEP has none)."""
+
+
 def table(data: dict) -> str:
     """Plain-text report of :func:`report`'s JSON: allocated magnitudes, binding items,
     worst row of each item (with its component when the item's components are checked
@@ -594,7 +598,7 @@ def table(data: dict) -> str:
         lines.append(f"{s['label']:<36} {shown:>22}  {binding_text(s)}")
     if any(s["statistics"] == "white" for s in data["sources"]):
         lines.append(f"({WHITE_NOTE})")
-    cep = (" (CEP items: the radius holding 50 %)"
+    cep = (f" ({CEP_WORDS})"
            if any(item.get("combine") == "cep" for item in data["items"]) else "")
     lines += ["", f"Spec rows at {magnitudes_words(data)} (worst time of each item, {k}{cep}; "
               "limits as the spec writes them):",

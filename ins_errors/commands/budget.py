@@ -366,9 +366,11 @@ def _plot_time(allocation, path: str, fixed_only: bool = False) -> None:
 
 def _level_words(spec) -> str:
     """The spec's level in a title: ``kσ``, and what CEP items are (a CEP has no σ)."""
+    from ins_errors.analysis.budget_report import CEP_WORDS
+
     level = f"{spec.sigma_level:g}σ"
     if any(item.combine == "cep" for item in spec.items):
-        level += " (CEP items: the radius holding 50 %)"
+        level += f" ({CEP_WORDS})"
     return level
 
 
