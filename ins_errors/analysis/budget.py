@@ -1656,6 +1656,8 @@ def growth_refusal(allocation: Allocation) -> str | None:
     if not allocated or found is None or found[1] <= GROWTH_REFUSED:
         return None
     rate, folds = found
+    if not budget.system.time_invariant:  # the rate the e-foldings were counted at
+        rate = folds / budget.spec.operating_time
     j = allocated[0]
     source = budget.sources[j]
     factor = f"{np.exp(folds):.3g}" if folds < 700.0 else f"e^{folds:.0f}"
@@ -1676,8 +1678,11 @@ def growth_refusal(allocation: Allocation) -> str | None:
 
 
 def _whole_minutes(seconds: float) -> float:
-    """``seconds`` rounded down to a whole minute (at least one step of a minute)."""
-    return max(60.0, 60.0 * np.floor(seconds / 60.0))
+    """``seconds`` rounded down to a whole minute; under a minute, to a whole second
+    (never rounded up past ``seconds``)."""
+    if seconds < 60.0:
+        return max(1.0, float(np.floor(seconds)))
+    return 60.0 * np.floor(seconds / 60.0)
 
 
 def _beyond_at_every_size(budget: UnitBudget, beyond: np.ndarray) -> BudgetError:
