@@ -190,3 +190,45 @@ def fresh_model_cache(tmp_path, monkeypatch):
     monkeypatch.setattr("ins_errors.model_lookup.models_cache_directory", lambda: cache)
     _file_model.cache_clear()
     return cache
+
+
+SLOW_SWEEP = """model = "orthodromic"
+[motion]
+kind = "great-circle"
+latitude = "50 deg"
+longitude = "30 deg"
+heading = "0 deg"
+speed = "250 m/s"
+[run]
+duration = "4 h"
+step = "2 s"
+record = "60 s"
+[[case]]
+accel_bias_x = "100 ug"
+[outputs]
+quantities = ["delta_latitude"]
+[sweep]
+latitude = ["10 deg", "20 deg", "30 deg", "40 deg", "50 deg"]
+heading = { start = "0 deg", stop = "90 deg", count = 4 }
+"""
+"""A sweep of 20 four-hour flights at a 2-s step: long enough to stop, signal or crash
+while it runs (tests/test_engine.py, tests/test_ci_robustness.py)."""
+
+FLIGHT_10_MIN = """
+title = "flight"
+model = "orthodromic"
+[motion]
+kind = "great-circle"
+latitude = "50 deg"
+longitude = "30 deg"
+heading = "0 deg"
+speed = "250 m/s"
+[run]
+duration = "10 min"
+step = "5 s"
+record = "60 s"
+[[case]]
+accel_bias_x = "100 ug"
+"""
+"""A 10-min great-circle flight at 250 m/s from 50° N, heading north, with one case: the
+head of the sweep-store and failed-point scenarios, which add their outputs or sweep."""

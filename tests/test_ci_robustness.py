@@ -17,6 +17,7 @@ import pytest
 
 from ins_errors.cli import main
 from ins_errors.numeric import cache
+from tests.helpers import SLOW_SWEEP
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -116,25 +117,7 @@ def test_a_set_of_parsed_units_half_written_by_another_process_is_never_read(
 # --------------------------------------------------------------------------------------
 # SIGTERM while a local Dask cluster starts
 # --------------------------------------------------------------------------------------
-SWEEP = """model = "orthodromic"
-[motion]
-kind = "great-circle"
-latitude = "50 deg"
-longitude = "30 deg"
-heading = "0 deg"
-speed = "250 m/s"
-[run]
-duration = "4 h"
-step = "2 s"
-record = "60 s"
-[[case]]
-accel_bias_x = "100 ug"
-[outputs]
-quantities = ["delta_latitude"]
-[sweep]
-latitude = ["10 deg", "20 deg", "30 deg", "40 deg", "50 deg"]
-heading = { start = "0 deg", stop = "90 deg", count = 4 }
-"""
+SWEEP = SLOW_SWEEP
 
 
 @pytest.mark.parametrize("sent_to", ["process", "group"])

@@ -18,6 +18,7 @@ import pytest
 from ins_errors.analysis import engine
 from ins_errors.cli import main
 from ins_errors.errors import UnknownNameError
+from tests.helpers import SLOW_SWEEP
 
 
 def square(offset: int, x: int) -> int:
@@ -141,25 +142,6 @@ def test_a_task_that_refuses_its_input_is_its_outcome_when_asked(kind):
     assert list(failed) == [3]
 
 
-SLOW_SWEEP = """model = "orthodromic"
-[motion]
-kind = "great-circle"
-latitude = "50 deg"
-longitude = "30 deg"
-heading = "0 deg"
-speed = "250 m/s"
-[run]
-duration = "4 h"
-step = "2 s"
-record = "60 s"
-[[case]]
-accel_bias_x = "100 ug"
-[outputs]
-quantities = ["delta_latitude"]
-[sweep]
-latitude = ["10 deg", "20 deg", "30 deg", "40 deg", "50 deg"]
-heading = { start = "0 deg", stop = "90 deg", count = 4 }
-"""
 
 
 @pytest.mark.parametrize("stop", ["SIGTERM", "SIGKILL"])

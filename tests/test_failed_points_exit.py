@@ -19,26 +19,13 @@ from pathlib import Path
 
 import pytest
 
+from tests.helpers import FLIGHT_10_MIN
+
 pytest.importorskip("zarr")  # the sweep store needs the 'distributed' extra (in 'dev')
 
 ROOT = Path(__file__).resolve().parent.parent
 
-FLIGHT = """
-title = "flight"
-model = "orthodromic"
-[motion]
-kind = "great-circle"
-latitude = "50 deg"
-longitude = "30 deg"
-heading = "0 deg"
-speed = "250 m/s"
-[run]
-duration = "10 min"
-step = "5 s"
-record = "60 s"
-[[case]]
-accel_bias_x = "100 ug"
-[sweep]
+FLIGHT = FLIGHT_10_MIN + """[sweep]
 latitude = ["10 deg", "89.5 deg"]
 """
 """A flight due north at 250 m/s for 10 min: from 10° N it stays far from the pole; from

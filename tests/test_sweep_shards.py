@@ -30,25 +30,11 @@ from ins_errors.analysis import store as st
 from ins_errors.analysis import sweep as sw
 from ins_errors.cli import main
 from ins_errors.scenario import load_scenario
+from tests.helpers import FLIGHT_10_MIN
 
 ROOT = Path(__file__).resolve().parent.parent
 
-FLIGHT = """
-title = "flight"
-model = "orthodromic"
-[motion]
-kind = "great-circle"
-latitude = "50 deg"
-longitude = "30 deg"
-heading = "0 deg"
-speed = "250 m/s"
-[run]
-duration = "10 min"
-step = "5 s"
-record = "60 s"
-[[case]]
-accel_bias_x = "100 ug"
-[outputs]
+FLIGHT = FLIGHT_10_MIN + """[outputs]
 quantities = ["delta_latitude", "delta_longitude", "delta_v_N"]
 """
 
