@@ -44,7 +44,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ins_errors.errors import InsErrorsError, ShapeError, name_list
+from ins_errors.errors import InsErrorsError, ShapeError, name_list, name_mapping
 from ins_errors.numeric.nonfinite import WHY, nonfinite_entries
 
 
@@ -207,12 +207,8 @@ def correlation_times(markov: Mapping[str, float] | None,
     InsErrorsError
         One line for anything but a mapping of names to positive numbers of seconds.
     """
-    if markov is None:
-        return {}
-    if not isinstance(markov, Mapping):
-        raise InsErrorsError(f"{what} takes a mapping bias state -> correlation time (s), "
-                             f"e.g. {{'gyro_bias_x': 300.0}}, got {type(markov).__name__} "
-                             f"{markov!r:.40}")
+    markov = name_mapping(markov, what, "bias state -> correlation time (s)",
+                          "{'gyro_bias_x': 300.0}")
     return {name: correlation_time(name, tau, f"{what}[{name!r}]")
             for name, tau in markov.items()}
 

@@ -51,6 +51,32 @@ class InsErrorsWarning(UserWarning):
     Python API; the command line prints the same words with its results instead."""
 
 
+def name_mapping(values: Mapping | None, what: str, entries: str, example: str) -> dict:
+    """The values of an argument that takes a mapping of names, as a dict (None: empty).
+
+    Parameters
+    ----------
+    values : mapping or None
+        What the caller gave.
+    what : str
+        How the message names the argument, e.g. ``"process_noise: white"``.
+    entries, example : str
+        What the mapping holds (``"source name -> density (SI)"``) and an example of it.
+
+    Raises
+    ------
+    InsErrorsError
+        One line for anything but a mapping (a name alone, whose letters would be read
+        as names, a list, a number).
+    """
+    if values is None:
+        return {}
+    if not isinstance(values, Mapping):
+        raise InsErrorsError(f"{what} takes a mapping {entries}, e.g. {example}, got "
+                             f"{type(values).__name__} {values!r:.40}")
+    return dict(values)
+
+
 def name_list(names: str | Iterable[str], what: str) -> list[str]:
     """The names of an argument that takes a sequence of names, as a list.
 

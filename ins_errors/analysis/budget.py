@@ -1634,6 +1634,11 @@ variance and the allowances are set by the growing mode alone (strapdown_ned und
 over 8 h, 50 e-foldings: a gyro bias of 1e-19 deg/h)."""
 
 
+def _growth_factor(folds: float) -> str:
+    """The factor e^folds as text (``"8.82e+21"``; ``"e^900"`` beyond a double)."""
+    return f"{np.exp(folds):.3g}" if folds < 700.0 else f"e^{folds:.0f}"
+
+
 def growth_refusal(allocation: Allocation) -> str | None:
     """Why an allocation made absurdly small by a growing mode is no budget, one line,
     or None.
@@ -1660,7 +1665,7 @@ def growth_refusal(allocation: Allocation) -> str | None:
         rate = folds / budget.spec.operating_time
     j = allocated[0]
     source = budget.sources[j]
-    factor = f"{np.exp(folds):.3g}" if folds < 700.0 else f"e^{folds:.0f}"
+    factor = _growth_factor(folds)
     remedy = ("" if budget.model is None
               else undamped_remedy(budget.model, budget.system.p).lstrip("; "))
     longest = budget.spec.operating_time * GROWTH_REFUSED / folds
@@ -1710,7 +1715,7 @@ def _beyond_at_every_size(budget: UnitBudget, beyond: np.ndarray) -> BudgetError
     growth = growth_folds(budget.system, budget.spec.operating_time)
     if growth is not None:
         rate, folds = growth
-        factor = f"{np.exp(folds):.3g}" if folds < 700.0 else f"e^{folds:.0f}"
+        factor = _growth_factor(folds)
         remedy = ("" if budget.model is None
                   else undamped_remedy(budget.model, budget.system.p))
         cause = (f"its error equations grow ×e every {duration_text(1.0 / rate)} (×{factor} "

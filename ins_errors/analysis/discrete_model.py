@@ -40,7 +40,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ins_errors.errors import InsErrorsError, ShapeError, unknown_name
+from ins_errors.errors import InsErrorsError, ShapeError, name_mapping, unknown_name
 from ins_errors.numeric.blas_threads import one_blas_thread
 
 _CHUNK = 2048
@@ -277,13 +277,8 @@ def _named_values(values: Mapping[str, float] | None, what: str, value: str,
                   example: str) -> dict[str, float]:
     """``values`` (source name -> ``value``) as a dict; one line for anything but a
     mapping (a name alone, a list)."""
-    if values is None:
-        return {}
-    if not isinstance(values, Mapping):
-        raise InsErrorsError(f"process_noise: {what} takes a mapping source name -> {value} "
-                             f"(SI), e.g. {example}, got {type(values).__name__} "
-                             f"{values!r:.40}")
-    return dict(values)
+    return name_mapping(values, f"process_noise: {what}", f"source name -> {value} (SI)",
+                        example)
 
 
 def _non_negative(value, where: str, what: str, unit: str) -> float:
