@@ -45,6 +45,7 @@ of it, below which it is refused as white noise (PSD 2σ²τ) within rounding.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -404,6 +405,10 @@ class Covariance:
         total-only result (``by_source=False``), one column already scaled.
     total_only : bool
         True when only the total was computed (no split by source).
+    unit_covariances : numpy.ndarray, shape (nt, q, q, ns), or None
+        With ``propagate(..., cross=True)``: the whole covariance matrix of the
+        functionals per unit variance of each source (laid out as ``unit_variances``,
+        whose entries are its diagonal); None otherwise.
 
     The numbers to read (properties, in the functionals' SI units):
 
@@ -417,6 +422,16 @@ class Covariance:
     ``source_names``, tuple of str
         The sources' names, in the order of the contributions' last axis.
 
+    With ``cross=True`` also (the functionals' cross covariances, e.g. a filter's
+    initial P or an error ellipse):
+
+    ``matrix``, shape (nt, q, q)
+        The total covariance matrix of the functionals (SI units × units).
+    ``matrix_contributions``, shape (nt, q, q, ns)
+        Each source's part of it.
+    ``correlation``, shape (nt, q, q)
+        Correlation coefficients (0 off the diagonal where a variance is 0).
+
     :meth:`index` gives a functional's column (``c.std[:, c.index("delta_v_N")]``).
     """
 
@@ -426,6 +441,7 @@ class Covariance:
     sources: tuple[SourceStatistics, ...]
     unit_variances: np.ndarray
     total_only: bool = False
+    unit_covariances: np.ndarray | None = None
 
     @property
     def source_names(self) -> tuple[str, ...]:
@@ -452,6 +468,34 @@ class Covariance:
     def std(self) -> np.ndarray:
         """Total 1σ, shape (nt, q) (round-off below zero read as zero)."""
         return np.sqrt(np.maximum(self.variance, 0.0))
+
+    @property
+    def matrix_contributions(self) -> np.ndarray:
+        """Each source's covariance matrix of the functionals, shape (nt, q, q, ns),
+        SI units × units (for a total-only result: the total, shape (nt, q, q, 1))."""
+        if self.unit_covariances is None:
+            raise CovarianceError("this covariance holds variances only: propagate(..., "
+                                  "cross=True) computes the cross covariances")
+        if self.total_only:
+            return self.unit_covariances
+        sigma = np.array([s.sigma for s in self.sources])
+        return self.unit_covariances * sigma**2
+
+    @property
+    def matrix(self) -> np.ndarray:
+        """Total covariance matrix of the functionals, shape (nt, q, q), SI units × units."""
+        return self.matrix_contributions.sum(-1)
+
+    @property
+    def correlation(self) -> np.ndarray:
+        """Correlation coefficients of the functionals, shape (nt, q, q): the matrix
+        divided by the product of the two standard deviations (0 where either is 0)."""
+        matrix = self.matrix
+        std = np.sqrt(np.maximum(np.einsum("kii->ki", matrix), 0.0))
+        scale = std[:, :, None] * std[:, None, :]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rho = np.where(scale > 0, matrix / np.where(scale > 0, scale, 1.0), 0.0)
+        return np.clip(rho, -1.0, 1.0)
 
     def index(self, name: str) -> int:
         """Column of the functional ``name``."""
@@ -492,7 +536,7 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
 @one_blas_thread
 def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
               functionals: Functionals, output_every: int = 1,
-              by_source: bool = True) -> Covariance:
+              by_source: bool = True, cross: bool = False) -> Covariance:
     """Propagate unit-variance statistics of each source to the functionals' variances.
 
     The matrices are small (tens of rows), so BLAS runs single-threaded here: its
@@ -512,17 +556,28 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
         If False, report only the total (faster): ``unit_variances`` then has one column
         holding the total variance with the given sigmas, ``sources`` is empty and
         ``total_only`` is set.
+    cross : bool
+        Also compute the functionals' cross covariances (``Covariance.matrix``, shape
+        (nt, q, q)): q times the memory of the variances, for each source. The variances
+        are the same numbers with or without it.
 
     Returns
     -------
     Covariance
     """
-    return _propagate(system, sources, functionals, output_every, by_source)
+    return _propagate(system, sources, functionals, output_every, by_source, cross)
+
+
+def _outer(Y: np.ndarray) -> np.ndarray:
+    """``Y Yᵀ`` of each time's (q, m) sensitivities, one per column: shape (nt, q, q, m)."""
+    return Y[:, :, None, :] * Y[:, None, :, :]
 
 
 def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
                functionals: Functionals, output_every: int,
-               by_source: bool) -> Covariance:
+               by_source: bool, cross: bool = False) -> Covariance:
+    if cross:
+        return _propagate_cross(system, sources, functionals, output_every, by_source)
     columns = _validate(system, sources, functionals)
     n = system.E.shape[0]
     K = len(system.times) - 1
@@ -603,9 +658,73 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
                       total_only=not by_source)
 
 
+def _propagate_cross(system: LinearSystem, sources: Sequence[SourceStatistics],
+                     functionals: Functionals, output_every: int,
+                     by_source: bool) -> Covariance:
+    """:func:`propagate` with the whole covariance matrix of the functionals.
+
+    Each source's unit part is formed by the same discretisation as the variances (the
+    sensitivities of the random values, the noise systems' covariances), with the outer
+    products of the sensitivities and ``C P Cᵀ`` in place of their squares and
+    diagonals; the variances are then those of :func:`propagate` without ``cross``, so
+    they do not change with it.
+    """
+    plain = _propagate(system, sources, functionals, output_every, True)
+    columns = _validate(system, sources, functionals)
+    n = system.E.shape[0]
+    K, dt = len(system.times) - 1, system.step
+    valued = [i for i, s in enumerate(sources) if s.kind != "white"]
+    decay = np.array([0.0 if sources[i].kind == "constant" else -1.0 / sources[i].tau
+                      for i in valued])
+    cols_b = [columns[i] for i in valued]
+    Z0 = np.zeros((n + len(valued), len(valued)))
+    Z0[:n] = system.E[:, cols_b]
+    Z0[n:] = np.eye(len(valued))
+    C_b = functionals.C_b[:, cols_b]
+    q = len(functionals.names)
+    keep = np.searchsorted(system.times, plain.times)
+    unit = np.zeros((len(keep), q, q, len(sources)))
+    if system.time_invariant and functionals.C_x.ndim == 2:
+        K_out, dt_out = len(keep) - 1, dt * output_every
+        if valued:
+            Phi = _expm(augmented_dynamics(system.F, system.G[:, cols_b], decay) * dt_out)
+            C = np.hstack([functionals.C_x, C_b])
+            unit[..., valued] = _outer(power_sequence(Phi, Z0, C, K_out))
+        for i, s in enumerate(sources):
+            if s.kind == "constant":
+                continue
+            A, b = _noise_column(system.F, system.G[:, columns[i]], s)
+            Cn = _noise_functionals(functionals.C_x, functionals.C_b[:, columns[i]], s)
+            Phi_n, Qd = (m[0] for m in rank_one_noise_step(A[None], b[None], dt_out))
+            Y = power_sequence(Phi_n, _noise_factor(Qd), Cn, K_out)
+            unit[1:, :, :, i] += np.cumsum(np.einsum("kqr,kpr->kqp", Y, Y), axis=0)[:-1]
+    else:
+        F = np.broadcast_to(system.F, (K + 1, n, n)) if system.F.ndim == 2 else system.F
+        G = np.broadcast_to(system.G, (K + 1, *system.G.shape)) if system.G.ndim == 2 \
+            else system.G
+        C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
+            else functionals.C_x
+        for i0, i1, Y in _sensitivity_chunks(F, G, cols_b, decay, dt, Z0, C_x, C_b, keep):
+            unit[i0:i1, ..., valued] = _outer(Y)
+        for i, s in enumerate(sources):
+            if s.kind != "constant":
+                unit[..., i] += _moving_noise_variance(
+                    F, G[..., [columns[i]]], [s], dt, C_x,
+                    functionals.C_b[:, [columns[i]]], keep, full=True)[..., 0]
+    if not by_source:
+        sigma2 = np.array([s.sigma**2 for s in sources])
+        total = Covariance(plain.times, plain.names, plain.units, (),
+                           (plain.unit_variances * sigma2).sum(-1, keepdims=True),
+                           total_only=True)
+        return dataclasses.replace(total,
+                                   unit_covariances=(unit * sigma2).sum(-1, keepdims=True))
+    return dataclasses.replace(plain, unit_covariances=unit)
+
+
 def _moving_noise_variance(F: np.ndarray, g: np.ndarray,
                            sources: Sequence[SourceStatistics], dt: float, C_x: np.ndarray,
-                           c_b: np.ndarray, keep: np.ndarray) -> np.ndarray:
+                           c_b: np.ndarray, keep: np.ndarray, full: bool = False
+                           ) -> np.ndarray:
     """Variances of the functionals from unit noise sources along a time-varying system.
 
     The covariance of each source's noise system (:func:`_noise_column`) is carried step
@@ -630,6 +749,8 @@ def _moving_noise_variance(F: np.ndarray, g: np.ndarray,
         The functionals' direct dependence on the sources' values (Markov sources).
     keep : numpy.ndarray of int
         Output grid indices, increasing.
+    full : bool
+        Return the whole ``C P Cᵀ``, shape (len(keep), q, q, r), not its diagonal.
 
     Returns
     -------
@@ -637,7 +758,8 @@ def _moving_noise_variance(F: np.ndarray, g: np.ndarray,
     """
     K, n, r = F.shape[0] - 1, F.shape[-1], g.shape[-1]
     markov = sources[0].kind == "markov"
-    var = np.zeros((len(keep), C_x.shape[1], r))
+    q = C_x.shape[1]
+    var = np.zeros((len(keep), q, q, r) if full else (len(keep), q, r))
     m = n + 1 if markov else n
     P = np.zeros((r, m, m))
     for k0 in range(0, K + 1, _CHUNK):
@@ -663,6 +785,9 @@ def _moving_noise_variance(F: np.ndarray, g: np.ndarray,
                                 axis=-1)
         # diagonal of C P Cᵀ for each source: (kept steps, r, q)
         Ck = Ck[:, None]
+        if full:
+            var[i0:i1] = np.einsum("krqb,krpb->kqpr", Ck @ Ps[ks - k0], Ck)
+            continue
         var[i0:i1] = np.swapaxes(np.einsum("krqb,krqb->krq", Ck @ Ps[ks - k0], Ck), 1, 2)
     return var
 
