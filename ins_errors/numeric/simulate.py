@@ -751,22 +751,60 @@ def _check_start_matrices(model: Model, trajectory: Trajectory, active: np.ndarr
     DomainError
         One line: the matrix, the time, the trajectory and the entries (row, column).
     """
-    x0, u0, p = trajectory.start_state, trajectory.start_inputs, trajectory.parameters
+    found = _nonfinite_matrix(model, trajectory.start_state, trajectory.start_inputs,
+                              trajectory.parameters, active)
+    if found is not None:
+        symbol, listed = found
+        raise DomainError(f"{symbol} of {model.name} is not finite at t = 0 s "
+                          f"({trajectory.description}) in {listed}; {WHY}, so the "
+                          "linear and refined runs cannot start from it: write the "
+                          "term smoothly there, or start the motion elsewhere")
+
+
+def _nonfinite_matrix(model: Model, x: np.ndarray, u: np.ndarray, p: np.ndarray,
+                      active: np.ndarray) -> tuple[str, str] | None:
+    """``("F", "F[a, b] and F[c, d]")`` when F at the point ``(x, u, p)`` (shapes (n,),
+    (nu,), (np,)), or else G in a column of a source in use (``active``, shape (nw,)),
+    is not finite there (evaluated without numpy's warnings); None when both are finite
+    or the point is outside the model's domain (the run's own checks say where)."""
     states = [e.name for e in model.error_states]
     try:
         with np.errstate(all="ignore"):
-            F = np.asarray(model.state_matrix(x0, u0, p), dtype=float)
-            G = np.asarray(model.source_matrix(x0, u0, p), dtype=float)
-    except DomainError:  # outside the model's domain: the run's own checks say where
-        return
+            F = np.asarray(model.state_matrix(x, u, p), dtype=float)
+            G = np.asarray(model.source_matrix(x, u, p), dtype=float)
+    except DomainError:
+        return None
     sources = [s.name for s in model.sources]
     for symbol, matrix, columns, used in (("F", F, states, None), ("G", G, sources, active)):
         listed = nonfinite_entries(symbol, matrix, states, columns, used)
         if listed is not None:
-            raise DomainError(f"{symbol} of {model.name} is not finite at t = 0 s "
-                              f"({trajectory.description}) in {listed}; {WHY}, so the "
-                              "linear and refined runs cannot start from it: write the "
-                              "term smoothly there, or start the motion elsewhere")
+            return symbol, listed
+    return None
+
+
+def _matrix_detail(sim: Simulation, first: int, run: str) -> str | None:
+    """The line that refuses a linear or refined run (``run``) whose states became NaN
+    or infinite between the records ``first - 1`` and ``first`` because F (or G in a
+    column of a source in use) is not finite at the ideal run's state there (a
+    derivative 0/0 the motion reaches later, as a drag |V|·V when the speed passes
+    through 0), naming the entries and the recorded time; None when F and G are finite
+    at both records (a growing error, or a point between them)."""
+    model, dt = sim.model, sim.stride * sim.trajectory.tau
+    active = np.any(sim.sources != 0, axis=1)
+    inputs = sim._recorded_inputs(slice(max(first - 1, 0), first + 1))[:, :, 0]
+    for k, record in enumerate(range(max(first - 1, 0), first + 1)):
+        x = sim.ideal[:, record, 0]
+        if not np.all(np.isfinite(x)):
+            return None
+        found = _nonfinite_matrix(model, x, inputs[:, k], sim.trajectory.parameters, active)
+        if found is not None:
+            symbol, listed = found
+            t = record * dt
+            return (f"{symbol} of {model.name} is not finite at t = {t:.6g} s "
+                    f"({t / 3600:.4g} h) along the motion ({sim.trajectory.description}) "
+                    f"in {listed}; {WHY}, so the {run} run became NaN there: write the "
+                    "term smoothly there, or choose a motion that does not pass that point")
+    return None
 
 
 def _domain_check(model: Model, parts: Sequence[str], platform: str) -> PieceCheck:
@@ -794,7 +832,7 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
     the two must agree."""
     model = sim.model
     dt = sim.stride * sim.trajectory.tau
-    first, detail, flight = None, "", ""
+    first, detail, flight, matrix = None, "", "", None
     bad_margin = ~(margins > 0)  # NaN counts as bad
     if bad_margin.any():
         r = int(np.argmax(bad_margin.any(axis=1)))
@@ -817,6 +855,8 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                              name, [s.name for s in model.error_states])
                 k = int(np.argmax((~np.isfinite(states[:, r])).any(axis=1)))
                 first, detail, flight = r, f"{label} {names[k]} became NaN or infinite", ""
+                matrix = (_matrix_detail(sim, r, name) if name in ("linear", "refined")
+                          and r > 0 else None)
     if sim.real is not None:  # platform angles beyond where the platform form holds
         angles, limit, why = _platform_limit(model, sim.platform)
         if angles:
@@ -824,7 +864,7 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
             if large.any():
                 r = int(np.argmax(large.any(axis=(0, 2))))
                 if first is None or r < first:
-                    first, flight = r, ""
+                    first, flight, matrix = r, "", None
                     detail = _platform_detail(model, sim.real[:, r], angles, limit, why)
     if first is not None:
         t0, t1 = (first - 1) * dt, first * dt
@@ -833,6 +873,8 @@ def _check_domain(sim: Simulation, margins: np.ndarray) -> None:
                               f"errors): {detail}")
         when = f"at t = {t1:.6g} s" if sim.stride == 1 else (
             f"between t = {t0:.6g} s and {t1:.6g} s")
+        if matrix is not None:  # F not finite where the motion took it: no domain left
+            raise DomainError(matrix)
         if flight:  # the true motion's own doing: no step or mode to blame
             raise DomainError(f"the flight takes the {model.name} model {flight} {when} "
                               f"({t1 / 3600:.4g} h): {detail}")
