@@ -225,6 +225,11 @@ class Comparison:
     refined_departure : float or None
         Time (s) from which the refined run is off that way (its residual first beyond
         the bound the warning names).
+    maxima_note : str or None
+        When the run records every few steps and its maxima (over the recorded samples)
+        may be 1 % or more below the run's own: by how much at most, for F's fastest
+        oscillation at the start (:mod:`ins_errors.numeric.sampled_maxima`); shown as a note, not a
+        warning. None otherwise.
     """
 
     label: str
@@ -244,6 +249,7 @@ class Comparison:
     negligible_cause: str | None = None
     refined_warning: str | None = None
     refined_departure: float | None = None
+    maxima_note: str | None = None
 
     def metric(self, quantity: str) -> Metric:
         """The metric of one quantity."""
@@ -391,6 +397,21 @@ def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | 
     return rows
 
 
+def add_maxima_notes(comparisons: Sequence[Comparison], sim: Simulation) -> None:
+    """Set :attr:`Comparison.maxima_note` when the run records every few steps and its
+    maxima over the samples may be :data:`~ins_errors.numeric.sampled_maxima.NOTED` or
+    more below the run's own (nothing is read when it records every step)."""
+    if sim.stride == 1:
+        return
+    from ins_errors.numeric import sampled_maxima
+
+    tau = sim.trajectory.tau
+    omega = sampled_maxima.fastest_oscillation(sim.model, sim.trajectory)
+    text = sampled_maxima.note(sim.stride * tau, tau, omega)
+    for comparison in comparisons:
+        comparison.maxima_note = text
+
+
 def case_label(model: Model, sources: dict[str, float]) -> str:
     """``name = value display_unit`` for each non-zero source (an angle of a degree or
     more in degrees: :func:`~ins_errors.units.format_readable`)."""
@@ -505,6 +526,7 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
     comparisons = comparisons_of(sim, labels)
+    add_maxima_notes(comparisons, sim)
     add_half_turn_warnings(comparisons, model)
     if quantities is not None:
         for comparison in comparisons:
@@ -1672,4 +1694,7 @@ def markdown_summary(comparisons: Sequence[Comparison], title: str = "") -> str:
     warned = [(table_cell(c.label), w) for c in comparisons for w in c.warnings]
     if warned:
         lines += [""] + [f"> **warning** ({label}): {w}" for label, w in warned]
+    noted = next((c.maxima_note for c in comparisons if c.maxima_note), None)
+    if noted:  # the cases share the run's recording: one note
+        lines += ["", f"> **note**: {noted}"]
     return "\n".join(lines) + "\n"
