@@ -345,6 +345,10 @@ _GLOSSES = {"g": "standard gravity", "g0": "standard gravity", "mg": "milli-g",
             "mGal": "milli-galileo", "µGal": "micro-galileo"}
 """What the units a reader may take for another (mg, a milligram?) stand for here."""
 
+_MASS_GLOSSES = {"g": "gram", "mg": "milligram", "µg": "microgram", "μg": "microgram"}
+"""The same symbols where pint has read a mass (``100mug``: ``mu`` + ``g``, a microgram):
+there they are grams, not the g of an acceleration."""
+
 
 def _user_words(text: str) -> str:
     """``text`` (pint's words) with this module's internal unit names as a user writes
@@ -359,11 +363,17 @@ def _shown_units(quantity: pint.Quantity, *notes: str) -> str:
     and ``notes`` after them: ``mg (milli-g)``, ``deg ** 2``, ``mg / h (mg: milli-g)``,
     ``mg (milli-g, an acceleration)``."""
     shown = _user_words(f"{quantity.units:~}")
-    if shown in _GLOSSES:
-        return f"{shown} ({', '.join([_GLOSSES[shown], *notes])})"
-    named = [f"{word}: {_GLOSSES[word]}"
-             for word in dict.fromkeys(re.findall(r"[\wµμ]+", shown)) if word in _GLOSSES]
-    return f"{shown} ({'; '.join([*named, *notes])})" if named or notes else shown
+    glosses, hint = _GLOSSES, []
+    if quantity.dimensionality.get("[mass]"):
+        glosses = _MASS_GLOSSES
+        if any(word in glosses for word in re.findall(r"[\wµμ]+", shown)):
+            hint = ["the g of an acceleration is written g, mg or ug"]
+    if shown in glosses:
+        return f"{shown} ({'; '.join([', '.join([glosses[shown], *notes]), *hint])})"
+    named = [f"{word}: {glosses[word]}"
+             for word in dict.fromkeys(re.findall(r"[\wµμ]+", shown)) if word in glosses]
+    parts = [*named, *notes, *hint]
+    return f"{shown} ({'; '.join(parts)})" if parts else shown
 
 
 _KINDS: dict[tuple[frozenset, float], str] = {

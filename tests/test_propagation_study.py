@@ -267,6 +267,19 @@ def test_orthodromic_day_numeric_vs_analytic():
     assert close >= 12
     assert "integration error (relative) |" in text and "Warnings:" not in text
     assert "/ max |direct|" in text  # what it is relative to
+    # the navigation errors a lab report reads (latitude, longitude, north and east
+    # velocity): the closed forms mapped by H of the static base follow the linear run's
+    # own output errors, and the direct run follows both to second order
+    assert day.navigation == ["delta_latitude", "delta_longitude", "delta_v_N", "delta_v_E"]
+    for j in np.nonzero(excited)[0]:
+        scale = np.max(np.abs(day.navigation_linear[:, j]), axis=1)
+        live = scale > 0
+        gap = np.max(np.abs(day.navigation_analytic[:, j] - day.navigation_linear[:, j]),
+                     axis=1)
+        assert np.all(gap[live] < 1e-6 * scale[live]), day.sources[j]
+        gap = np.max(np.abs(day.navigation_direct[:, j] - day.navigation_linear[:, j]),
+                     axis=1)
+        assert np.all(gap[live] < 0.1 * scale[live]), day.sources[j]
     with pytest.raises(DomainError, match="90"):
         orthodromic_day(latitude=np.pi / 2)
 
@@ -280,6 +293,9 @@ def test_command_line(tmp_path, capsys):
     assert main(["propagation", "--orthodromic", "--hours", "1", "--out", str(tmp_path)]) == 0
     text = (tmp_path / "orthodromic_day.md").read_text()
     assert "not excited" in text
+    # source 000's task runs at the 50° of the other source-000 commands, not at the 39°
+    # read from source 001's partly legible latitude
+    assert "Static base at latitude 50°" in text
     # plots as the 001 run writes them: one per source the day run excites, none (and
     # why) for the gains whose input is zero at rest
     from ins_errors.studies.propagation import ORTHODROMIC_MAGNITUDES
@@ -585,7 +601,7 @@ def test_orthodromic_output_states_the_gravity_and_radius_of_its_periods(capsys)
 
     latitude = np.radians(39.0)
     gamma = 9.7803253359 * (1 + 0.00193185265241 * np.sin(latitude) ** 2)  # WGS-84, e²=0
-    assert main(["propagation", "--orthodromic", "--hours", "0.5"]) == 0
+    assert main(["propagation", "--orthodromic", "--latitude", "39deg", "--hours", "0.5"]) == 0
     text = capsys.readouterr().out
     stated = re.search(r"from a_ζ = ([0-9.]+) m/s², R = ([0-9.]+) m and Ω = [0-9.e-]+ "
                        r"rad/s\. a_ζ is ([^;]*); R is ([^.]*)\.", text)

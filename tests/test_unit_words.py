@@ -210,3 +210,18 @@ def test_the_model_listing_writes_units_as_they_are_typed(model, capsys):
         shown = re.search(rf"^  {re.escape(info.name)} +\[([^\]]+)\]", out, re.M).group(1)
         typed = "1" if shown == "1" else f"1 {shown}"
         assert parse_quantity(typed, info.unit) == pytest.approx(1.0, rel=1e-15), shown
+
+
+@pytest.mark.parametrize("text", ["100mug", "100 mug/s", "3 mg/h"])
+def test_a_mass_read_from_a_g_symbol_is_called_a_mass_in_grams(text):
+    """'100mug' is pint's microgram (mu + g): it was glossed 'micro-g, a mass', which
+    contradicts itself; a gram read as a mass is named so, with how micro-g is written.
+    A milli-g per hour (not a mass) keeps its milli-g gloss."""
+    with pytest.raises(UnitError) as refused:
+        parse_quantity(text, "m/s**2", "accel_bias_x")
+    message = str(refused.value)
+    if "mg/h" in text:
+        assert "mg: milli-g" in message and "gram" not in message
+        return
+    assert "micro-g" not in message.split("written")[0]
+    assert "microgram" in message and "written g, mg or ug" in message

@@ -43,7 +43,10 @@ def register(subparsers: argparse._SubParsersAction) -> None:
                     "the report's reduced model) against linear and direct numeric runs; "
                     "prints the agreement table and writes summary.md and one PNG per "
                     "source with --out. --orthodromic runs source 000, task 4 instead.")
-    parser.add_argument("--latitude", default="39deg", help="latitude (default 39deg)")
+    parser.add_argument("--latitude",
+                        help="latitude (default 39deg for the 001 experiment: source 001 "
+                             "prints it only partly legible, \"?9°\", read as 39°; "
+                             "50deg with --orthodromic, as the other source-000 commands)")
     parser.add_argument("--hours", type=hours, default=24.0, help="duration, h (default 24)")
     parser.add_argument("--step", default="10 s", help="integration step of the numeric runs")
     parser.add_argument("--method", choices=("rk4", "euler"), default=None,
@@ -76,6 +79,8 @@ def run(args: argparse.Namespace) -> int:
     from ins_errors.units import parse_quantity
 
     # the start latitude, its errors (a pole) naming --latitude, before anything runs
+    if args.latitude is None:
+        args.latitude = "50deg" if args.orthodromic else "39deg"
     latitude = motion_from_options({"kind": "static", "latitude": args.latitude}).latitude
     step = parse_quantity(args.step, "s", "--step")
     duration = args.hours * 3600.0   # positive: its option type (commands.hours)

@@ -68,7 +68,8 @@ PLATFORM_ANGLES = (
     Variable("alpha_x", "rad", "platform misalignment about x (≈ξ)", r"\alpha_x"),
     Variable("alpha_y", "rad", "platform misalignment about y (≈η, to the left of ξ)",
              r"\alpha_y"),
-    Variable("alpha_z", "rad", "platform misalignment about z (azimuth)", r"\alpha_z"),
+    Variable("alpha_z", "rad", "platform misalignment about z (azimuth) from the computed "
+             "orthodromic trihedron; from north: alpha_z + delta_heading", r"\alpha_z"),
 )
 ERROR_STATES = error_states_of(STATES, PLATFORM_ANGLES)
 INPUTS = (

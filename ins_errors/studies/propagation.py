@@ -38,7 +38,7 @@ always the longer period 2π/(ω̄ − Ω|sin φ|), "Schuler + Foucault" the sho
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -784,6 +784,11 @@ class DayResult:
         ``compare``'s rule (:func:`~ins_errors.numeric.compare.metrics_of` on the error
         states: above the rounding floor of their unit in the direct run while the
         linear run leaves them at 0 to 1e-6 of that); not judged.
+    navigation : list of str
+        The navigation errors plotted beside the error states (:data:`DAY_NAVIGATION`).
+    navigation_analytic, navigation_linear, navigation_direct : numpy.ndarray, shape (4, nw, T)
+        Those errors (SI): the closed forms through the output matrix H of the static
+        base (constant there, so exact), and the runs' own output errors.
     """
 
     latitude: float
@@ -801,6 +806,10 @@ class DayResult:
     radius: float = float("nan")
     earth_rate: float = EARTH_RATE
     second_order: list[tuple[str, ...]] = field(default_factory=list)
+    navigation: list[str] = field(default_factory=list)
+    navigation_analytic: np.ndarray | None = None
+    navigation_linear: np.ndarray | None = None
+    navigation_direct: np.ndarray | None = None
 
     def excited(self) -> np.ndarray:
         """Per source: True unless the closed form is identically zero (a factor whose
@@ -876,7 +885,13 @@ DAY_DISPLAY = {"1": ("ppm", 1e6), "m/s": ("m/s", 1.0)}
 """Display units of the orthodromic error states by SI unit (the platform angles by
 :data:`DAY_ANGLES`)."""
 
-DAY_ANGLES = {"alpha_z": ("arcmin", 180 * 60 / np.pi)}
+DAY_NAVIGATION = ("delta_latitude", "delta_longitude", "delta_v_N", "delta_v_E")
+"""The navigation errors of the day run's plots (what a lab report of task 4 reads off):
+latitude and longitude in arcmin, velocities in m/s, as ``compare`` shows them."""
+
+DAY_ANGLES = {"alpha_z": ("arcmin", 180 * 60 / np.pi),
+              "delta_latitude": ("arcmin", 180 * 60 / np.pi),
+              "delta_longitude": ("arcmin", 180 * 60 / np.pi)}
 """Display unit of a platform angle of the day run: the azimuth in arcmin, the tilts in
 arcsec (:func:`_day_unit`)."""
 
@@ -902,7 +917,11 @@ def plot_day(day: DayResult, folder: OutputFolder) -> list[Path]:
     from ins_errors.units import format_quantity
 
     model = load_model("orthodromic")
-    states = model.error_states
+    outputs = {f"delta_{o.name}": o for o in model.outputs}
+    states = [*model.error_states,
+              *(replace(outputs[name], name=name,
+                        description=f"error of the {outputs[name].description}")
+                for name in day.navigation)]
     excited = day.excited()
     if not np.any(excited):
         return []
@@ -919,16 +938,20 @@ def plot_day(day: DayResult, folder: OutputFolder) -> list[Path]:
             info = model.source(source)
             magnitude = format_quantity(ORTHODROMIC_MAGNITUDES[source], info.unit,
                                         info.display_unit or info.unit)
+            curves = [np.concatenate([getattr(day, run)] + ([getattr(day, f"navigation_{run}")]
+                                                            if day.navigation else []))
+                      for run in runs]
             yield (f"{source}.png",
                    f"orthodromic, {source} = {magnitude}, static base, φ = "
                    f"{np.degrees(day.latitude):.4g}°",
-                   [[getattr(day, run)[k, j] * factor for run in runs]
+                   [[curve[k, j] * factor for curve in curves]
                     for k, (_, factor) in enumerate(factors)])
 
     return _panel_pages(folder, day.times / 3600,
                         [(f"{state.name}, {unit}", state.description)
                          for state, (unit, _) in zip(states, factors, strict=True)],
-                        styles, height=18, top=0.85, hspace=0.45, size=7, pages=pages())
+                        styles, height=18 * len(states) / 11, top=0.85, hspace=0.45,
+                        size=7, pages=pages())
 
 def write_day_report(day: DayResult, folder: str | Path, force: bool = False) -> Path:
     """Write ``orthodromic_day.md`` and the plots of :func:`plot_day` into ``folder`` (an
@@ -995,8 +1018,17 @@ def orthodromic_day(latitude: float = float(np.radians(50.0)), duration: float =
     curves = [ErrorCurves(states, units, sim.times, values) for values in (direct, sim.linear)]
     second = [tuple(m.quantity for m in metrics_of(*curves, None, j) if m.second_order_only)
               for j in range(len(sources))]
+    # the navigation errors: the closed forms through H of the static base (constant at
+    # rest, so the map of the states is exact), the runs' own output errors
+    H = model.output_matrix(traj.start_state, traj.start_inputs, traj.parameters)
+    rows = [[f"delta_{o.name}" for o in model.outputs].index(name) for name in DAY_NAVIGATION]
+    errors = {"direct": sim.direct_errors(), "linear": sim.linear_errors()}
+    navigation = {run: np.stack([np.transpose(e[name], (1, 0)) for name in DAY_NAVIGATION])
+                  for run, e in errors.items()}
     return DayResult(latitude, duration, sim.times, analytic,
                      np.transpose(sim.linear, (0, 2, 1)), np.transpose(direct, (0, 2, 1)),
                      sources, states, cf.periods(), shares,
                      [list(c.warnings) for c in comparisons], gravity,
-                     float(cf.p[names.index("a")]), float(cf.p[names.index("U")]), second)
+                     float(cf.p[names.index("a")]), float(cf.p[names.index("U")]), second,
+                     list(DAY_NAVIGATION), np.einsum("ok,kjt->ojt", H[rows], analytic),
+                     navigation["linear"], navigation["direct"])
