@@ -616,7 +616,8 @@ def test_orthodromic_output_states_the_gravity_and_radius_of_its_periods(capsys)
     assert f"{longer / 60:.2f}" == "87.72"  # not 87.64: that is g = 9.80665
     assert f"{_split_periods(latitude, G0, radius)[0] / 60:.2f}" == "87.64"
     assert "over 0.5 h" in text and "over a day" not in text
-    assert main(["propagation", "--orthodromic", "--hours", "0.5", "--json"]) == 0
+    assert main(["propagation", "--orthodromic", "--latitude", "39deg", "--hours", "0.5",
+                 "--json"]) == 0
     data = json.loads(capsys.readouterr().out)
     assert data["gravity_m_s2"] == pytest.approx(gamma, rel=1e-12)
     assert data["radius_m"] == 6_378_245.0
