@@ -169,6 +169,9 @@ def test_linear_estimate_matches_direct_run(name, scenario):
         assert result.agreement(quantity) < 0.02, (quantity, result.agreement(quantity))
     lines = result.summary()
     assert lines[0].startswith(name) and any("delta_latitude" in line for line in lines)
+    # the lab task it answers, by the source's own numbering (000: 3, 5, 6)
+    task = {"nonsphericity": 3, "coriolis": 5, "gravity_projections": 6}[name]
+    assert lines[0].startswith(f"{name} (source 000, task {task}: ")
 
 
 def test_the_longitude_error_is_shown_as_the_east_distance(tmp_path, monkeypatch):

@@ -419,8 +419,8 @@ class StudyResult:
         """Report lines: equivalent sources and the largest errors, engineering units."""
         deg_h, ug = np.pi / 180 / 3600, 9.80665e-6
         hours = self.times[-1] / 3600
-        lines = [f"{self.study.name} ({self.study.description}); {self.motion}; "
-                 f"{hours:g} h, direct vs linear"]
+        lines = [f"{self.study.name} (source 000, task {self.study.task}: "
+                 f"{self.study.description}); {self.motion}; {hours:g} h, direct vs linear"]
         sources = self.equivalent_sources()
         lines.append(f"  equivalent sources (max along the motion): accelerometer "
                      f"{sources['accelerometer_max_m_per_s2'] / ug:.4g} µg, "
@@ -692,6 +692,7 @@ def plot(result: StudyResult, path: str | Path, radius: float = 6_371_000.0) -> 
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=7, ncol=2)
     axes[-1].set_xlabel("time, h")
-    fig.suptitle(f"{result.study.name}: {result.study.description}\n{result.motion}", fontsize=9)
+    fig.suptitle(f"{result.study.name} (source 000, task {result.study.task}): "
+                 f"{result.study.description}\n{result.motion}", fontsize=9)
     common_time_range(axes)
     return save_figure(fig, path, dpi=110)
