@@ -614,6 +614,24 @@ def _in_convention_names(hand, substitution: dict, ups: dict[str, tuple[str, str
     return replace(hand, equations=equations, declarations=declarations)
 
 
+def _up_states_written(hand, ups: dict[str, tuple[str, str]], own: set[str]
+                       ) -> dict[str, str]:
+    """``{X_D: X_U}`` of each state the file writes as its up component only (``phi_U``
+    on a left side or in a right-hand side, ``phi_D`` nowhere): its findings name the
+    entry as the file wrote it too (:func:`~ins_errors.checker.up_states.as_written`)."""
+    from ins_errors.checker.parse import DOT
+
+    names: set[str] = set()
+    for eq in hand.equations:
+        names |= set(eq.columns)
+        lhs = eq.lhs
+        if (isinstance(lhs, sp.Function) and lhs.func == DOT
+                and isinstance(lhs.args[0], sp.Symbol)):
+            names.add(lhs.args[0].name)
+    return {down: up for up, (down, kind) in ups.items()
+            if kind == "state" and up in names and up not in own and down not in names}
+
+
 def _rows(hand, states: list[str], sources: list[str],
           vector_rows: dict[str, tuple[int, str, sp.Expr]],
           bias_sources: list[str] | tuple[str, ...] = (),
@@ -893,6 +911,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
     cn.check_names_written(hand, set(states) | set(src_names) | set(names) | own | set(ups)
                         | {"e"}, states, model, notation)
     sphere = _eccentricity_named(hand, vector_rows, model, own)
+    up_written = _up_states_written(hand, ups, own)
     hand = _in_convention_names(hand, substitution, ups)
     reading, notes = radius_reading(_names_used(hand, vector_rows), own, hand.name)
     notes += sphere
@@ -998,6 +1017,7 @@ def check_convention_file(path: str | Path, model_name: str = "strapdown_ned",
                                effects=effects, motion_list=motion_list,
                                magnitudes=overrides, declared=declared, declared_used=found,
                                parameters=parameters, skipped_motions=skipped)
+    report.written = up_written
     report.declarations = [f"line {d.line}: {', '.join(d.texts)}"
                            + (f" ({d.reason})" if d.reason else "")
                            for d in hand.declarations]
@@ -1083,6 +1103,7 @@ def to_terminal(check: ConventionCheck) -> str:
     the definitions its entry comes through: ``via rho_N, line 7``)."""
     from ins_errors.checker.definition_causes import causes
     from ins_errors.checker.matrix_report import to_terminal as matrix_terminal
+    from ins_errors.checker.up_states import as_written
 
     out = [matrix_terminal(check.report), "", "Findings by line of the hand file:"]
     out += [f"  {cause.text}" for cause in causes(check)]  # a definition they share first
@@ -1091,7 +1112,9 @@ def to_terminal(check: ConventionCheck) -> str:
     for f in sorted(check.report.findings, key=check.line_of):  # (stable: worst first)
         line, text = check.lines[f.row]
         through = "; ".join(d.label for d in check.via_of(f))
-        out.append(f"  line {line}: {f.severity}: {f.kind} {f.entry} (size {f.size:.2g}"
+        yours = as_written(f.matrix, f.row, f.column, check.report.written)
+        out.append(f"  line {line}: {f.severity}: {f.kind} {f.entry}{yours} "
+                   f"(size {f.size:.2g}"
                    f"{', ' + f.detail if f.detail else ''})"
                    f"{' via ' + through if through else ''}  [{text}]")
     if check.from_model:

@@ -107,6 +107,7 @@ from ins_errors.checker.typical import (
     schuler_magnitudes,
     typical_magnitude,
 )
+from ins_errors.checker.up_states import down_names, in_convention
 from ins_errors.errors import InsErrorsError, UnknownNameError, unknown_name
 from ins_errors.numeric.blas_threads import one_blas_thread
 
@@ -262,6 +263,10 @@ class MatrixReport:
         The hand's declared simplifications (``@neglect`` of a ``@convention`` file, see
         :class:`DeclaredTerm`), as ``line N: ITEMS (reason)``, and those that explain no
         finding.
+    written : dict
+        Convention state -> the up component the hand wrote for it (``{"phi_D":
+        "phi_U"}``: its row and column read with the sign flipped,
+        :mod:`~ins_errors.checker.up_states`); empty when it wrote none.
     convention_hint : str
         With many mistakes (:data:`MANY`), another convention of the model whose states,
         of the same units in the same order, the hand's entries agree with entirely or
@@ -291,6 +296,7 @@ class MatrixReport:
     bias_states: list[BiasState] = field(default_factory=list)
     skipped_motions: list[str] = field(default_factory=list)
     convention_hint: str = ""
+    written: dict[str, str] = field(default_factory=dict)
 
     @property
     def mistakes(self) -> list[EntryFinding]:
@@ -704,6 +710,9 @@ def _compare(report: MatrixReport, sampled: _Sampled, conv: Convention, model,
                     kind, detail = OMITTED, found
                     severity = classify_severity(OMITTED, float(ratio.max()),
                                                  report.threshold)
+                else:  # one term of the sum with a wrong factor (2Ω sin φ written Ω sin φ)?
+                    scaled = _term_scaled(entry_terms, i, j, h, m, mag, scale, factors)
+                    detail = "; ".join(d for d in (detail, scaled) if d)
             series[(matrix, report.states[a], col_name)] = (h, m, mag, scale)
             s = first_largest(ratio)
             per_motion = {lab: float(ratio[sample_motion == k].max())
@@ -1055,6 +1064,27 @@ def _term_left_out(terms, i: int, j: int, h: np.ndarray, m: np.ndarray, mag: flo
     return f"{what}, up to {share:.2g} of the entry's largest value"
 
 
+def _term_scaled(terms, i: int, j: int, h: np.ndarray, m: np.ndarray, mag: float,
+                 scale: np.ndarray, factors: list[tuple[str, float]]) -> str:
+    """The detail of an entry that is the derived one with one of its terms multiplied
+    by a constant (:func:`~ins_errors.checker.matrix_terms.scaled`), the factor named
+    where it is one (:func:`~ins_errors.checker.ratio_names.ratio_text`: 1/2, a unit
+    slip such as 206265 for deg/h in place of rad/s), or ``""``. The parameters as
+    :func:`_term_left_out`; ``factors``: the named ones of the model."""
+    from ins_errors.checker.matrix_terms import scaled
+
+    choices = scaled(terms.terms(i, j), h, m, mag, scale, AGREEMENT)
+    if choices is None:
+        return ""
+    term, c = choices[0]
+    said = ratio_text(c, factors, "at every sample").replace("hand/model", "hand/model of "
+                                                             "that term", 1)
+    which = (term.describe() if len(choices) == 1 else
+             f"one of {len(choices)} terms equal in value at every sample: "
+             + " or ".join(t.describe() for t, _ in choices))
+    return f"one term of the entry with a wrong factor, the rest agrees: {which}; {said}"
+
+
 # --------------------------------------------------------------------------------------
 # Driver
 # --------------------------------------------------------------------------------------
@@ -1134,17 +1164,21 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
                                                      values_set)
     if callable(hand) and not isinstance(hand, HandMatrices):
         name, path, states, sources, markov = callable_hand(hand)
-        bias_states(states, sources, markov, conv, model, name)
+        bias_states(down_names(states, conv.base.names, name)[0], sources, markov, conv,
+                    model, name)
         hand = evaluate_function(hand, name, path, states, sources, motion_list, markov)
     elif not isinstance(hand, HandMatrices):
         path, function = split_spec(str(hand))
         if function is not None:
             fn, states, sources, markov = load_hand(path, function)
-            bias_states(states, sources, markov, conv, model, f"{path.name}:{function}")
-            hand = evaluate_function(fn, f"{path.name}:{function}", path, states, sources,
-                                     motion_list, markov)
+            where = f"{path.name}:{function}"
+            bias_states(down_names(states, conv.base.names, where)[0], sources, markov,
+                        conv, model, where)
+            hand = evaluate_function(fn, where, path, states, sources, motion_list, markov)
         else:
             hand = read_matrix_file(path, motion_list)
+    # an east-north-up hand's phi_U, dv_U: the convention's -phi_D, -dv_D
+    hand, written = in_convention(hand, conv.base.names)
     conv = conv.with_biases(bias_states(hand.states, hand.sources, hand.markov, conv, model,
                                         hand.name))
     size_of = _magnitudes(model, magnitudes, values_set)
@@ -1175,7 +1209,8 @@ def check_matrices(model_name: str, hand: HandMatrices | str | Path, convention_
         vertical=list(conv.vertical),
         out_of_scope=[s.name for s in model.sources
                       if s.name not in used_sources and s.name not in hand.states],
-        bias_states=list(conv.biases), skipped_motions=list(skipped_motions or []))
+        bias_states=list(conv.biases), skipped_motions=list(skipped_motions or []),
+        written=written)
     # G's columns weighed by the sizes the report lists (--magnitude), as the states are
     _compare(report, sampled, conv, model, motion_list, declared, declared_used,
              np.array([magnitudes[s.name][0] for s in model.sources]), values_set)

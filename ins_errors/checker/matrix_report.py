@@ -16,8 +16,9 @@ import math
 
 from ins_errors.checker.extreme import first_largest_item
 from ins_errors.checker.growth import growth_text
-from ins_errors.checker.kinds import DECLARED
+from ins_errors.checker.kinds import DECLARED, SMALL_MISTAKE
 from ins_errors.checker.matrix import ARCSEC, Effect, EntryFinding, MatrixReport
+from ins_errors.checker.up_states import as_written, written_text
 from ins_errors.markdown_cells import one_line, table_cell
 
 NO_EFFECT = "no effect above rounding"
@@ -132,11 +133,35 @@ def entry_value(f: EntryFinding, value: float) -> str:
 def _finding_line(r: MatrixReport, f: EntryFinding) -> str:
     detail = f"; {f.detail}" if f.detail else ""
     alone = _alone(r, f)
-    return (f"{f.entry}: {f.kind}, size {f.size:.2g} of the row's largest term "
-            f"({f.size_class}); hand {entry_value(f, f.hand)}, model "
+    return (f"{f.entry}{as_written(f.matrix, f.row, f.column, r.written)}: {f.kind}, "
+            f"size {f.size:.2g} of the row's largest term "
+            f"({size_words(r, f)}); hand {entry_value(f, f.hand)}, model "
             f"{entry_value(f, f.model)} "
             f"(Δ term {f.absolute:.2g} {f.unit}){detail}; {_where(f)}"
             + (f"; {alone}" if alone else ""))
+
+
+def size_words(r: MatrixReport, f: EntryFinding) -> str:
+    """The size class of a finding in words: ``major``, ``significant``, ``small`` (a
+    dropped small term), and for a mistake below the threshold ``small, below the
+    threshold 0.001: still a mistake, the term is there but wrong`` (a term there but
+    wrong is a mistake whatever its size: the word "small" alone would contradict the
+    heading it is listed under)."""
+    if f.severity == SMALL_MISTAKE:
+        return (f"small, below the threshold {r.threshold:g}: still a mistake, the term is "
+                "there but wrong")
+    return f.size_class
+
+
+def _small_mistakes(r: MatrixReport) -> str:
+    """``" (2 of them below the threshold 0.001: ...)"`` after the count of mistakes, ``""``
+    when none is below the threshold."""
+    n = sum(1 for f in r.mistakes if f.severity == SMALL_MISTAKE)
+    if not n:
+        return ""
+    return (f" ({n} of them below the threshold {r.threshold:g}: a term there but wrong "
+            "is a mistake whatever its size; only a small term left out is a dropped small "
+            "term)")
 
 
 def _summary(r: MatrixReport) -> str:
@@ -149,7 +174,7 @@ def _summary(r: MatrixReport) -> str:
             + (f"{vertical} coupling{'s' * (vertical != 1)} to the vertical channel "
                "the hand leaves out, " if vertical else "")
             + f"{dropped} dropped small term{'s' * (dropped != 1)}, "
-            f"{len(r.mistakes)} mistake{'s' * (len(r.mistakes) != 1)}")
+            f"{len(r.mistakes)} mistake{'s' * (len(r.mistakes) != 1)}{_small_mistakes(r)}")
 
 
 def without_vertical_text(r: MatrixReport) -> str:
@@ -250,6 +275,10 @@ def to_terminal(r: MatrixReport) -> str:
     """Plain-text report."""
     lines = [f"Matrix check of {r.hand_name} against {r.model} (convention {r.convention})",
              f"states ({len(r.states)}): {', '.join(r.states)}"]
+    if r.written:
+        lines.append(f"up components read as the convention's down ones: "
+                     f"{written_text(r.written)} (their rows and columns sign-flipped; "
+                     "an entry is named in the convention's states, yours beside it)")
     if r.bias_states:
         lines.append(f"bias states ({len(r.bias_states)}, error sources as states: their "
                      f"columns hold G's): {bias_text(r)}")
@@ -294,6 +323,9 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
            f"Hand model `{one_line(r.hand_name)}` against the derived model `{r.model}`, "
            f"convention `{r.convention}`, threshold {r.threshold:g}.", "",
            f"States: {', '.join(f'`{s}`' for s in r.states)}."]
+    if r.written:
+        out.append(f"Up components read as the convention's down ones: "
+                   f"{written_text(r.written)} (their rows and columns sign-flipped).")
     if r.bias_states:
         out.append(f"Bias states (error sources as states: their columns hold G's): "
                    f"{bias_text(r, code=True)}.")
@@ -324,7 +356,9 @@ def to_markdown(r: MatrixReport, title: str | None = None) -> str:
                 "effect alone |",
                 "|---|---|---|---|---|---|---|---|---|"]
         for f in r.findings:
-            out.append(f"| `{f.entry}` | {f.severity} ({f.size_class}) | {f.kind} | "
+            size = "" if f.severity == SMALL_MISTAKE else f" ({f.size_class})"
+            out.append(f"| `{f.entry}`{as_written(f.matrix, f.row, f.column, r.written)}"
+                       f" | {f.severity}{size} | {f.kind} | "
                        f"{f.size:.2g} | {table_cell(f.motion)}, {_hours(f.time)} | "
                        f"{entry_value(f, f.hand)} | {entry_value(f, f.model)} | "
                        f"{table_cell(f.detail)} | "
@@ -358,11 +392,14 @@ def to_json(r: MatrixReport) -> dict:
         "compared": r.compared, "exit_status": r.exit_status, "held": r.held,
         "declarations": r.declarations, "idle_declarations": r.idle_declarations,
         "convention_hint": r.convention_hint or None,
+        "up_components": {up: down for down, up in r.written.items()},
         "findings": [{"matrix": f.matrix, "row": f.row, "column": f.column, "kind": f.kind,
                       "severity": f.severity, "size": f.size, "size_class": f.size_class,
                       "motion": f.motion, "time_s": f.time, "hand": f.hand, "model": f.model,
                       "absolute": f.absolute, "unit": f.unit, "per_motion": f.per_motion,
                       "detail": f.detail,
+                      "as_written": as_written(f.matrix, f.row, f.column,
+                                               r.written).strip(" ()") or None,
                       "pair": (None if f.pair is None
                                else f"{f.matrix}[{f.pair[0]}, {f.pair[1]}]"),
                       "effect_alone_24h": (_alone_json(r.finding_effects[f.entry])

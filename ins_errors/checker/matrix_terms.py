@@ -260,4 +260,39 @@ def left_out(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
     return None
 
 
-__all__ = ["EntryTerms", "Term", "left_out"]
+def scaled(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
+           scale: np.ndarray, agreement: float) -> list[tuple[Term, float]] | None:
+    """The term whose multiple by a constant c (not 0, not 1) in ``model`` gives
+    ``hand`` at every sample, with c, or None; with every other term that does so too
+    (equal in value at every sample).
+
+    A factor slip in one term of an entry that holds others (Coriolis' 2Ω sin φ written
+    Ω sin φ beside the transport rate v_E tan φ/R) is no constant ratio of the whole
+    entry on a moving base, and only at rest, where the term is the whole entry, is the
+    ratio the factor: here ``hand − model = (c − 1) τ`` for one term τ at every sample
+    (the parameters as :func:`left_out`; c fitted by least squares, the residual within
+    the agreement level of the row's largest term).
+    """
+    tolerance = agreement * scale / mag
+    whole = [t for t in terms if not t.grouped]
+    total = sum((t.values for t in whole), np.zeros_like(model))
+    if not whole or not np.all(np.abs(total - model) <= CLOSED * np.abs(model).max()):
+        return None
+    difference = hand - model
+    found: list[tuple[Term, float]] = []
+    seen: set[tuple] = set()
+    usable = [t for t in terms if not np.all(np.abs(t.values) <= tolerance)]
+    usable.sort(key=lambda t: -float(np.abs(t.values).max()))
+    for t in usable[:MAX_CANDIDATES]:
+        k = float(np.dot(difference, t.values) / np.dot(t.values, t.values))
+        c = 1.0 + k
+        key = (t.text, t.origin, t.line, t.column)
+        if (key in seen or abs(c) <= 1e-6 or abs(k) <= 1e-6
+                or not np.all(np.abs(difference - k * t.values) <= tolerance)):
+            continue
+        seen.add(key)
+        found.append((t, c))
+    return found or None
+
+
+__all__ = ["EntryTerms", "Term", "left_out", "scaled"]

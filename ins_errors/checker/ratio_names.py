@@ -3,9 +3,11 @@
 A wrong coefficient whose ratio to the model's is constant is reported with the ratio.
 Some ratios say what happened: a factor of the Earth radius or of gravity too many or
 too few (``-g/R*psi`` for ``-g*psi``: hand/model = 1/R = 1.56961e-07), a factor 2 (a
-Coriolis 2Ω written Ω), and, at a single latitude (``@scope static base``), a ratio that
-is tan φ or cot φ there: sin φ and cos φ swapped (the multi-point check names this from
-the expressions; at one latitude only the number is seen, so it is a question).
+Coriolis 2Ω written Ω), a unit slip (a value in deg/h where the model has rad/s:
+206265; deg for rad: 57.3; per hour for per second: 3600), and, at a single latitude
+(``@scope static base``), a ratio that is tan φ or cot φ there: sin φ and cos φ
+swapped (the multi-point check names this from the expressions; at one latitude only
+the number is seen, so it is a question).
 Both checkers (:mod:`~ins_errors.checker.classify`, :mod:`~ins_errors.checker.matrix`)
 name these ratios in their details.
 """
@@ -44,16 +46,42 @@ def factors(radius: float | None, gravity: float | None, radius_name: str = "R",
     return out
 
 
+UNIT_ROUNDED = 1e-3
+"""Relative agreement of a ratio with a unit factor (:data:`UNIT_FACTORS`): a constant
+converted by hand is typed to a few digits (57.3 for 180/π is 7e-4 off; 15.041 deg/h
+for the Earth rate 2e-5)."""
+
+_ARCSEC = 180 * 3600 / np.pi
+UNIT_FACTORS = (
+    ("206265", _ARCSEC, "rad → arcsec, or rad/s → deg/h (15.041 deg/h is the Earth rate "
+     "7.292e-5 rad/s)"),
+    ("1/206265", 1 / _ARCSEC, "arcsec → rad, or deg/h → rad/s"),
+    ("57.2958", 180 / np.pi, "rad → deg, or rad/s → deg/s"),
+    ("1/57.2958", np.pi / 180, "deg → rad, or deg/s → rad/s"),
+    ("3600", 3600.0, "s/h: a rate per second written per hour, or the other way"),
+    ("1/3600", 1 / 3600.0, "h/s: a rate per hour written per second, or the other way"),
+)
+"""Ratios a value in the wrong unit gives (name, value, which conversion), named within
+:data:`UNIT_ROUNDED` as a unit slip."""
+
+
 def factor_name(ratio: float, named: list[tuple[str, float]]) -> tuple[str, str] | None:
     """(name, suggestion) when ``ratio`` is one of the ``named`` factors (:func:`factors`)
     or minus one, to :data:`EXACT`: ``("1/R (R = 6.371e+06 m)", "a factor 1/R too
-    many?")``, ``("−2", "a factor 2 too many and the wrong sign?")``; None otherwise."""
+    many?")``, ``("−2", "a factor 2 too many and the wrong sign?")``; or one of the
+    :data:`UNIT_FACTORS`, to :data:`UNIT_ROUNDED`: ``("206265", "a unit slip? 206265 =
+    rad → arcsec, ...")``; None otherwise."""
     for name, value in named:
         for sign, text in ((1.0, ""), (-1.0, "−")):
             if abs(ratio - sign * value) <= EXACT * value:
                 bare = name.split(" (")[0]
                 return (f"{text}{name}", f"a factor {bare} too many"
                         + (" and the wrong sign?" if sign < 0 else "?"))
+    for name, value, conversion in UNIT_FACTORS:
+        for sign, text in ((1.0, ""), (-1.0, "−")):
+            if abs(ratio - sign * value) <= UNIT_ROUNDED * value:
+                return (f"{text}{name}", f"a unit slip? {name} = {conversion}"
+                        + (" (and the wrong sign)" if sign < 0 else ""))
     return None
 
 
@@ -67,7 +95,8 @@ def ratio_text(ratio: float, named: list[tuple[str, float]], where: str) -> str:
     if found is None:
         return f"{text} {where}"
     name, says = found
-    shown = "" if name.lstrip("−") in ("2", "1/2") else f" = {name}"
+    shown = "" if name.lstrip("−") in ("2", "1/2") or says.startswith("a unit slip") \
+        else f" = {name}"
     return f"{text}{shown} {where}: {says}"
 
 
@@ -121,4 +150,5 @@ def earth_factors(model, parameters: Mapping[str, float] | None = None
     return factors(radius, gravity, names.radius or "R", names.gravity or "g")
 
 
-__all__ = ["earth_factors", "factor_name", "factors", "ratio_text", "trig_name"]
+__all__ = ["UNIT_FACTORS", "earth_factors", "factor_name", "factors", "ratio_text",
+           "trig_name"]
