@@ -53,7 +53,7 @@ from ins_errors.checker.kinds import (  # noqa: F401 (also names of this module)
     severity,
 )
 from ins_errors.checker.parse import HandEquation, HandFile, Problem
-from ins_errors.checker.ratio_names import ratio_text
+from ins_errors.checker.ratio_names import factor_name, ratio_text, trig_factor
 from ins_errors.checker.sides import (
     HandSide,
     ModelSide,
@@ -117,6 +117,10 @@ class Finding:
     merged : bool
         This finding is the other half of the pair named by ``pair``: listed under that
         finding, not counted again.
+    at_rest : bool
+        The two coefficients agree at the static base, where the moving points show the
+        difference (a term of a moving base); False when the file is compared at one
+        motion only.
     effect : dict
         Effect on the error trajectory (see :mod:`ins_errors.checker.effect`), if
         computed: ``point``; for each time (``1h``, ``24h``) the worst single case's
@@ -141,6 +145,7 @@ class Finding:
     effect: dict = field(default_factory=dict, compare=False)
     pair: tuple[str, ...] = ()
     merged: bool = False
+    at_rest: bool = field(default=False, compare=False)
 
     @property
     def is_mistake(self) -> bool:
@@ -285,13 +290,21 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
         exponent = exponent_that_fits(hand_expr, ms, tiny, evaluate)
         if exponent is not None:
             return EXPONENT, exponent
+        where = "at the one reference point" if ms.size == 1 else "at every point"
         if ms.size == 1:
             swapped = function_at_one_point(hand_expr, ms, tiny, evaluate)
             if swapped is not None:
                 return FUNCTION, swapped
-        return COEFFICIENT, ratio_text(float(ratios[0]), factors or [], "at every point")
+        if factor_name(float(ratios[0]), factors or []) is None:
+            trig = trig_factor_that_fits(hand_expr, model_expr, ratios, usable, evaluate,
+                                         where)
+            if trig is not None:
+                return COEFFICIENT, trig
+        return COEFFICIENT, ratio_text(float(ratios[0]), factors or [], where)
     changed = change_that_fits(hand_expr, ms, tiny, evaluate, known,
-                               proportional=proportional)
+                               proportional=proportional,
+                               where="at the one reference point" if ms.size == 1
+                               else "at every point")
     if changed is not None:
         return changed
     if split is not None and len(sp.sstr(split[0])) + len(sp.sstr(split[1])) < 160:
@@ -367,6 +380,52 @@ def function_at_one_point(hand_expr: sp.Expr, target: np.ndarray, tiny: float,
     return None
 
 
+TRIG_ATOMS = (sp.sin, sp.cos, sp.tan, sp.cot, sp.sec, sp.csc)
+"""The trigonometric functions whose arguments :func:`trig_factor_that_fits` tries."""
+
+
+def trig_factor_that_fits(hand_expr: sp.Expr, model_expr: sp.Expr, ratios: np.ndarray,
+                          usable: np.ndarray,
+                          evaluate: Callable[[list[sp.Expr]], np.ndarray | None],
+                          where: str) -> str | None:
+    """``"hand/model = 0.8391 = cot(phi) WHERE: a factor tan(phi) missing?"`` when the
+    constant ratio is, at every point used, a trigonometric function of an angle either
+    coefficient holds (or its inverse: :func:`~ins_errors.checker.ratio_names.
+    trig_factor`); None otherwise. Only the angles of the two coefficients are tried,
+    to :data:`~ins_errors.checker.ratio_names.EXACT`: one number (a single reference
+    point) could match some function of any angle.
+
+    Parameters
+    ----------
+    hand_expr, model_expr : sympy.Expr
+        The two coefficients, in model symbols.
+    ratios : numpy.ndarray, shape (used,)
+        hand/model at the points where the model's coefficient is not zero.
+    usable : numpy.ndarray of bool, shape (points,)
+        Those points.
+    evaluate : callable
+        ``evaluate(exprs)`` -> values, shape (len(exprs), points), or None.
+    where : str
+        ``at every point`` or ``at the one reference point``.
+    """
+    angles = sorted({f.args[0] for e in (hand_expr, model_expr)
+                     for f in e.atoms(*TRIG_ATOMS)}, key=sp.default_sort_key)
+    if not angles or not ratios.size:
+        return None
+    values = evaluate([g(a) for a in angles for g in (sp.sin, sp.cos)])
+    if values is None:
+        return None
+    values = np.real(np.asarray(values))
+    for k, angle in enumerate(angles):
+        s, c = values[2 * k][usable], values[2 * k + 1][usable]
+        named = {trig_factor(float(r), float(si), float(co), sp.sstr(angle))
+                 for r, si, co in zip(ratios, s, c, strict=True)}
+        if len(named) == 1 and None not in named:
+            shown, says = named.pop()
+            return f"hand/model = {ratios[0]:.6g} = {shown} {where}: {says}"
+    return None
+
+
 def _replacement(hand_expr: sp.Expr, changed: sp.Expr, f: sp.Expr) -> sp.Expr | None:
     """What ``f`` was replaced by in ``changed`` (a one-place change of ``hand_expr``)."""
     for g in (sp.S.One, sp.sin(f.args[0]), sp.cos(f.args[0]), sp.tan(f.args[0]),
@@ -378,10 +437,11 @@ def _replacement(hand_expr: sp.Expr, changed: sp.Expr, f: sp.Expr) -> sp.Expr | 
 
 def change_that_fits(hand_expr: sp.Expr, target: np.ndarray, tiny: float,
                      evaluate: Callable[[list[sp.Expr]], np.ndarray | None],
-                     known: list[sp.Symbol], limit: int = 60, proportional: bool = False
-                     ) -> tuple[str, str] | None:
+                     known: list[sp.Symbol], limit: int = 60, proportional: bool = False,
+                     where: str = "at every point") -> tuple[str, str] | None:
     """The one-place change of ``hand_expr`` that makes it equal ``target`` (values), or
-    proportional to it, as (kind, detail); None if none does."""
+    proportional to it, as (kind, detail; a proportional one with the ratio ``where``:
+    ``at every point``, ``at the one reference point``); None if none does."""
     if not known:
         return None
     options = candidates(hand_expr, known)[:limit]
@@ -401,7 +461,7 @@ def change_that_fits(hand_expr: sp.Expr, target: np.ndarray, tiny: float,
         if proportional and best is None and usable.any():
             r = v[usable] / target[usable]
             if np.all(np.abs(r - r[0]) <= TOLERANCE * abs(r[0])) and abs(r[0]) > 0:
-                best = (kind, f"{text}; then hand/model = {r[0]:.6g} at every point")
+                best = (kind, f"{text}; then hand/model = {r[0]:.6g} {where}")
     return best
 
 
@@ -726,6 +786,10 @@ def assign_roots(results: list[EquationResult], prepared: list[list[Item]],
 
 
 # -- one undeclared omission behind several findings ------------------------------------
+SCOPE_STATIC = "@scope static base"
+"""The directive that limits a file to the static base."""
+
+
 @dataclass
 class Omission:
     """A variation of named intermediates the file drops without declaring it.
@@ -751,6 +815,11 @@ class Omission:
         The largest size of its findings.
     point : str
         Where that size is reached.
+    at_rest : bool
+        Every finding it groups is 0 at rest, in a file whose equations hold no quantity
+        of the motion (:func:`~ins_errors.checker.compare.static_base_advice`): the
+        moving-base terms a static-base derivation leaves out, which ``@scope static
+        base`` declares (:attr:`advice`).
     """
 
     variations: tuple[str, ...]
@@ -760,6 +829,7 @@ class Omission:
     severity: str
     size: float
     point: str
+    at_rest: bool = False
 
     @property
     def reference(self) -> str:
@@ -779,6 +849,16 @@ class Omission:
         """The ``@neglect`` line that would declare it."""
         return (f"@neglect {', '.join(self.variations)} : variation of "
                 f"{', '.join(self.quantities)} with {', '.join(self.along)} neglected")
+
+    @property
+    def advice(self) -> str:
+        """How the file would declare it: ``@scope static base (...)`` for the
+        moving-base terms of a static-base derivation (:attr:`at_rest`), else the
+        ``@neglect`` line (:attr:`neglect`)."""
+        if self.at_rest:
+            return (f"{SCOPE_STATIC} (every finding below is 0 at rest: moving-base terms a "
+                    "static-base derivation leaves out)")
+        return self.neglect
 
     @property
     def is_mistake(self) -> bool:
@@ -1073,7 +1153,8 @@ def line_slips(results: list[EquationResult], prepared: list[list[Item]], hand: 
                        largest.point, written, belongs,
                        f"{text} (one change on the line; it explains "
                        f"{len(own)} finding{'s' * (len(own) > 1)}: "
-                       f"{', '.join(f.quantity for f in own)})")
+                       f"{', '.join(f.quantity for f in own)})",
+                       at_rest=all(f.at_rest for f in own))
         mine = {id(f) for f in own}
         r.findings = [root] + [
             replace(f, role=KNOCK_ON, roots=(r.reference,),

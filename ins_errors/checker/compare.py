@@ -48,6 +48,7 @@ from ins_errors.checker.parse import HandEquation, HandFile, Problem
 from ins_errors.checker.ratio_names import earth_factors
 from ins_errors.checker.reference import (
     DEFAULT_ATTITUDE,
+    STATIC_BASE,
     Magnitudes,
     ReferencePoint,
     reference_points,
@@ -190,6 +191,10 @@ class CheckReport:
     omissions : list of Omission
         Variations the file drops without declaring them, each the root of the findings
         it explains (:func:`~ins_errors.checker.classify.undeclared_variations`).
+    scope_advice : str
+        One sentence advising ``@scope static base`` when the file looks like a
+        static-base derivation that does not say so (:func:`static_base_advice`), else
+        ``""``.
     """
 
     model: str
@@ -212,6 +217,7 @@ class CheckReport:
     unchecked_sources: list[str] = field(default_factory=list)
     unchecked_gains: list[str] = field(default_factory=list)
     omissions: list[cl.Omission] = field(default_factory=list)
+    scope_advice: str = ""
 
     @property
     def findings(self) -> list[tuple[EquationResult, Finding]]:
@@ -694,7 +700,8 @@ class Comparison:
                     _display(_shown(shown.get(b, sp.S.Zero), rule)),
                     _display(_shown(mb, rule)),
                     f"in {z}: {what} (d/d{z} hand {_display(dh, 60)}, model "
-                    f"{_display(dm, 60)}); {ZERO_NOTE.format(z=z)}"))
+                    f"{_display(dm, 60)}); {ZERO_NOTE.format(z=z)}",
+                    at_rest=self.rest is not None))
                 break
         return findings
 
@@ -713,7 +720,23 @@ class Comparison:
                                        **sides)
         return Finding(str(b), kind, cl.severity(kind, info["size"], self.threshold),
                        info["size"], info["point"], _display(info["hand_shown"]),
-                       _display(info["model_shown"]), detail)
+                       _display(info["model_shown"]), detail,
+                       at_rest=self.agrees_at_rest(info))
+
+    @property
+    def rest(self) -> int | None:
+        """Index of the static-base point when the file is compared on moving points
+        too, else None (a file of one motion class: nothing to tell apart)."""
+        motions = {p.motion for p in self.points}
+        if STATIC_BASE not in motions or len(motions) < 2:
+            return None
+        return next(i for i, p in enumerate(self.points) if p.motion == STATIC_BASE)
+
+    def agrees_at_rest(self, info: dict) -> bool:
+        """Whether a discrepancy (:meth:`differences`) is below :data:`AGREEMENT` at the
+        static base (:attr:`rest`): a term of the motion."""
+        rest = self.rest
+        return rest is not None and bool(info["ratios"][rest] <= AGREEMENT)
 
     def _split(self, hand: sp.Expr, model: sp.Expr):
         """(terms only the model has, terms only the hand has), shown in the notation.
@@ -761,7 +784,8 @@ class Comparison:
                     cl.severity(cl.SYMBOL, first["size"], self.threshold),
                     first["size"], first["point"], _display(raw[got]["hand_shown"]),
                     _display(raw[lost]["model_shown"]),
-                    f"the model's term ({moved})*{lost} is written on {got}"))
+                    f"the model's term ({moved})*{lost} is written on {got}",
+                    at_rest=self.agrees_at_rest(raw[a]) and self.agrees_at_rest(raw[b])))
                 del raw[a], raw[b]
         return findings
 
@@ -1035,7 +1059,61 @@ def check_hand(hand: HandFile, model: str | ModelDefinition = "orthodromic",
         report.omissions = cl.undeclared_variations(
             report.results, prepared, hand, resolver, comparison, identify, declared,
             threshold)
+        report.scope_advice = static_base_advice(report, prepared, comparison)
     return report
+
+
+def _motion_quantities(comparison: Comparison) -> frozenset[str]:
+    """Names of the point quantities other than parameters that are 0 at the static base
+    and not at every point (velocities, height, accelerations): what a derivation for a
+    moving base writes."""
+    rest = comparison.rest
+    if rest is None:
+        return frozenset()
+    return frozenset(s.name for s, a in zip(comparison.arguments, comparison.arrays,
+                                            strict=True)
+                     if a[rest] == 0 and np.any(a != 0) and s.name not in comparison.fixed)
+
+
+def static_base_advice(report: CheckReport, prepared: list[list[Item]],
+                       comparison: Comparison) -> str:
+    """Advice to add ``@scope static base`` when the file looks like a static-base
+    derivation that does not say so, else ``""``; marks the omissions it covers
+    (:attr:`~ins_errors.checker.classify.Omission.at_rest`).
+
+    The file has no ``@scope``, it is compared at the static base and at moving points,
+    none of its equations holds a quantity of the motion (a velocity, the height: a
+    quantity 0 at rest, :func:`_motion_quantities`), and some of its mistakes are 0 at
+    rest (:attr:`~ins_errors.checker.classify.Finding.at_rest`): the moving-base terms a
+    static-base derivation leaves out. An undeclared dropped variation whose findings
+    are all 0 at rest is then one of them, not a ``@neglect`` to write in the model's
+    names.
+    """
+    motion = _motion_quantities(comparison)
+    if report.scope is not None or not motion:
+        return ""
+    written = {s.name for items in prepared for item in items
+               if item.hand_display is not None for s in item.hand_display.free_symbols}
+    if written & motion:
+        return ""
+    for o in report.omissions:
+        members = [f for _, f in report.findings
+                   if f.role == cl.KNOCK_ON and o.reference in f.roots]
+        o.at_rest = bool(members) and all(f.at_rest for f in members)
+    roots = [f for _, f in report.root_mistakes]
+    counted = roots + [o for o in report.omissions if o.is_mistake]
+    at_rest = [f for f in roots if f.at_rest] + [o for o in report.omissions
+                                                 if o.is_mistake and o.at_rest]
+    if not at_rest:
+        return ""
+    n, m = len(at_rest), len(counted)
+    which = (f"{n} of the {m} root mistakes" if n < m else "the root mistake" if m == 1
+             else f"all {m} root mistakes")
+    return (f"{which[0].upper()}{which[1:]} {'are' if n > 1 else 'is'} 0 at rest "
+            "(the static base) and the file's equations hold no velocity or height: "
+            "moving-base terms a derivation for a static base leaves out. If it holds on "
+            f"a static base only, say so with `{cl.SCOPE_STATIC}` (the file is then "
+            "compared at the static base alone).")
 
 
 def _unchecked_gains(d: ModelDefinition, prepared: list[list[Item]], resolver: HandSide,

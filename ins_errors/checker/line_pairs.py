@@ -146,10 +146,12 @@ def pair_findings(results: list[EquationResult], items: dict, comparison: Compar
                      for q in pairs) == 1]
     for (rk, gk, _, _), (ro, go, _, _), mirror in unique:
         where = f"line {ro.equation.line} {ro.label}"
+        everywhere = ("at the one reference point" if len(comparison.points) == 1
+                      else "at every point")
         if mirror:
             said = (f"one finding with its mirror, {where} on {go.quantity} (hand "
                     f"{_short(go.hand)}, model {_short(go.model)}, {go.kind}): hand − model "
-                    "there is exactly minus hand − model here at every point, as an "
+                    f"there is exactly minus hand − model here {everywhere}, as an "
                     "antisymmetric term (a [ω×] such as Coriolis) with a wrong sign or left "
                     "out gives; the effect is the pair's together")
             kind = gk.kind
@@ -167,7 +169,7 @@ def pair_findings(results: list[EquationResult], items: dict, comparison: Compar
             size = max(gk.size, go.size)
             severity = classify_severity(cl.SYMBOL, size, threshold)
         kept = replace(gk, kind=kind, severity=severity, detail=detail, size=size,
-                       pair=(where, go.quantity))
+                       pair=(where, go.quantity), at_rest=gk.at_rest and go.at_rest)
         other = replace(go, merged=True, pair=(f"line {rk.equation.line} {rk.label}",
                                                gk.quantity),
                         detail=(f"the other half of the finding of line "

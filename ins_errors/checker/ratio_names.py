@@ -7,7 +7,10 @@ Coriolis 2Ω written Ω), a unit slip (a value in deg/h where the model has rad/
 206265; deg for rad: 57.3; per hour for per second: 3600), and, at a single latitude
 (``@scope static base``), a ratio that is tan φ or cot φ there: sin φ and cos φ
 swapped (the multi-point check names this from the expressions; at one latitude only
-the number is seen, so it is a question).
+the number is seen, so it is a question). The hand-derivation check, which sees both
+coefficients, names a constant ratio that is a trigonometric function of an angle they
+hold (tan, cot, sin, csc, cos, sec) as a factor too many or missing
+(:func:`trig_factor`), after a slip of a function the hand writes.
 Both checkers (:mod:`~ins_errors.checker.classify`, :mod:`~ins_errors.checker.matrix`)
 name these ratios in their details.
 """
@@ -137,6 +140,45 @@ def trig_name(ratio: np.ndarray, latitude: np.ndarray) -> str:
     return ""
 
 
+TRIG_FACTORS = (("tan", "cot", lambda s, c: s / c), ("sin", "csc", lambda s, c: s),
+                ("cos", "sec", lambda s, c: c))
+"""The functions of an angle a constant hand/model is compared with by
+:func:`trig_factor` (name, the name of its inverse, value from sin and cos), in the
+order they are tried."""
+
+
+def trig_factor(ratio: float, sine: float, cosine: float, angle: str = "phi"
+                ) -> tuple[str, str] | None:
+    """(name, suggestion) when ``ratio`` is a trigonometric function of an angle or its
+    inverse, to :data:`EXACT` (either sign): ``("cot(phi)", "a factor tan(phi)
+    missing?")``, ``("−sin(phi)", "a factor sin(phi) too many and the wrong sign?")``;
+    None otherwise, and for a value within 1e-6 of ±1 or 0 (at 45° tan = cot = 1: no name
+    says which), which a factor of :func:`factors` (2, 1/2) names first.
+
+    Parameters
+    ----------
+    ratio : float
+        hand/model, constant.
+    sine, cosine : float
+        sin and cos of the angle where it was measured.
+    angle : str
+        How the angle is written (``phi``).
+    """
+    if not (np.isfinite(ratio) and np.isfinite(sine) and np.isfinite(cosine)):
+        return None
+    for name, inverse, value in TRIG_FACTORS:
+        with np.errstate(all="ignore"):
+            v = float(value(sine, cosine))
+        if not np.isfinite(v) or abs(v) <= 1e-6 or abs(abs(v) - 1.0) <= 1e-6:
+            continue
+        for shown, target, says in ((name, v, "too many"), (inverse, 1.0 / v, "missing")):
+            for sign, text in ((1.0, ""), (-1.0, "−")):
+                if abs(ratio - sign * target) <= EXACT * abs(target):
+                    return (f"{text}{shown}({angle})", f"a factor {name}({angle}) {says}"
+                            + (" and the wrong sign?" if sign < 0 else "?"))
+    return None
+
+
 def earth_factors(model, parameters: Mapping[str, float] | None = None
                   ) -> list[tuple[str, float]]:
     """:func:`factors` of a model (a definition or a loaded model: anything with
@@ -151,4 +193,4 @@ def earth_factors(model, parameters: Mapping[str, float] | None = None
 
 
 __all__ = ["UNIT_FACTORS", "earth_factors", "factor_name", "factors", "ratio_text",
-           "trig_name"]
+           "trig_factor", "trig_name"]

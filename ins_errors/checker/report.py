@@ -292,7 +292,10 @@ def omission_text(omission) -> str:
     return ("One simplification explains every finding below: the model's side with these "
             "variations dropped agrees with the file on them. Largest size "
             f"{_size(omission.size)} at {omission.point}; an omission the file does not "
-            f"declare is judged by its size. Declared, it would read `{omission.neglect}`.")
+            f"declare is judged by its size. "
+            + (f"Every one of them is 0 at rest: moving-base terms a static-base derivation "
+               f"leaves out, which `{cl.SCOPE_STATIC}` declares." if omission.at_rest
+               else f"Declared, it would read `{omission.neglect}`."))
 
 
 def out_of_scope_text(sources: list[str]) -> str:
@@ -332,6 +335,8 @@ def to_markdown(report: CheckReport, source: str | None = None) -> str:
     ]
     if report.scope:
         lines += [scope_text(report.scope), ""]
+    if report.scope_advice:
+        lines += [f"**Static base?** {report.scope_advice}", ""]
     if report.declarations:
         lines += ["**Declared simplifications.** " + "; ".join(report.declarations) + ".", ""]
     lines += ["## Root mistakes and their knock-on effects", ""]
@@ -459,7 +464,7 @@ def to_terminal(report: CheckReport, width: int = 100) -> str:
         rows.append(f"[undeclared dropped variation, {omission.severity}, size "
                     f"{_size(omission.size)}]")
         rows.append(f"      {omission.title}")
-        rows.append(f"      declare it with: {omission.neglect}")
+        rows.append(f"      declare it with: {omission.advice}")
         for r, g in pairs:
             rows += _terminal_row(r, g, indent="    ", quantity=q)
     for kind, pairs in groups[split:]:
@@ -471,6 +476,8 @@ def to_terminal(report: CheckReport, width: int = 100) -> str:
         rows.append("  (no discrepancies)")
     for text in report.idle_declarations:
         rows.append(f"declaration explains nothing: {text}")
+    if report.scope_advice:
+        rows.append(f"static base? {report.scope_advice.replace('`', '')}")
     if report.unchecked_sources:
         rows.append(UNCHECKED + ", ".join(report.unchecked_sources))
     for problem in report.problems:
@@ -518,10 +525,12 @@ def to_json(report: CheckReport) -> dict[str, Any]:
         "skipped_motions": report.skipped_motions,
         "declarations": report.declarations,
         "idle_declarations": report.idle_declarations,
+        "scope_advice": report.scope_advice or None,
         "omissions": [{"reference": o.reference, "variations": list(o.variations),
                        "quantities": list(o.quantities), "along": list(o.along),
                        "lines": list(o.lines), "class": o.severity,
                        "size": float(f"{o.size:.9g}"), "point": o.point,
-                       "description": o.title, "neglect": o.neglect}
+                       "description": o.title, "neglect": o.neglect,
+                       "at_rest": o.at_rest}
                       for o in report.omissions],
     }

@@ -438,6 +438,8 @@ def to_latex(report: CheckReport, definition=None, source: str | None = None,
     ]
     if report.scope:
         lines += [_from_markdown(scope_text(report.scope)), ""]
+    if report.scope_advice:
+        lines += [_from_markdown(f"**Static base?** {report.scope_advice}"), ""]
     if report.declarations:
         lines += [r"\textbf{Declared simplifications.} "
                   + "; ".join(map(escape, report.declarations)) + ".", ""]
