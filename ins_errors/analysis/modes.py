@@ -557,15 +557,38 @@ def schuler_loop_scales(model: Model, refs: References,
 # --------------------------------------------------------------------------------------
 # Eigenvalues grouped into modes, their subspaces, their names
 # --------------------------------------------------------------------------------------
-def _groups(eigenvalues: np.ndarray, tol: float) -> list[tuple[complex, int]]:
+def _accuracies(A: np.ndarray, eigenvalues: np.ndarray) -> np.ndarray:
+    """Per eigenvalue of ``A``, the size below which its computed value is rounding, 1/s:
+    :data:`~ins_errors.analysis.transfer_reduction.GROUP_SAFETY` times its first-order
+    accuracy κ n ε ‖A‖ (or a Jordan block's split;
+    :func:`~ins_errors.analysis.transfer_reduction.roots_and_accuracies`, on A over its
+    norm)."""
+    from ins_errors.analysis.transfer_reduction import GROUP_SAFETY, roots_and_accuracies
+
+    size = float(np.linalg.norm(A, 2))
+    if not size or not len(A):
+        return np.zeros(len(eigenvalues))
+    values, errors = roots_and_accuracies(A / size, 0.0)
+    nearest = np.argmin(np.abs(eigenvalues[:, None] - size * values[None, :]), axis=1)
+    return GROUP_SAFETY * size * errors[nearest]
+
+
+def _groups(eigenvalues: np.ndarray, tol: float, accuracies: np.ndarray | None = None
+            ) -> list[tuple[complex, int]]:
     """(λ with Im λ >= 0, multiplicity) of each distinct eigenvalue, by increasing |λ|;
-    parts below ``tol`` set to zero."""
+    parts below ``tol`` set to zero, except the real part of an oscillation above its
+    accuracy (``accuracies``, 1/s, per eigenvalue): its damping (a Schuler pair damped
+    by a damped vertical channel near a pole, Re λ ~ 1e-8 1/s, is 1e-6 of |λ| there)."""
     groups: list[list] = []
-    for value in sorted(eigenvalues, key=lambda v: (abs(v), v.imag)):
+    if accuracies is None:
+        accuracies = np.full(len(eigenvalues), np.inf)
+    for value, accuracy in sorted(zip(eigenvalues, accuracies, strict=True),
+                                  key=lambda v: (abs(v[0]), v[0].imag)):
         if value.imag < -tol:
             continue  # counted with its conjugate
-        value = complex(0.0 if abs(value.real) <= tol else value.real,
-                        0.0 if abs(value.imag) <= tol else value.imag)
+        imag = 0.0 if abs(value.imag) <= tol else value.imag
+        cut = min(tol, accuracy) if imag else tol
+        value = complex(0.0 if abs(value.real) <= cut else value.real, imag)
         for group in groups:
             if abs(group[0] - value) <= tol:
                 group[1] += 1
@@ -684,7 +707,7 @@ def _modes(F: np.ndarray, factors: np.ndarray, names: list[str], refs: Reference
     radius = float(np.abs(eigenvalues).max())
     tol = ZERO * radius if radius > 0 else np.finfo(float).tiny
     raw, unseen = [], []
-    for value, count in _groups(eigenvalues, tol):
+    for value, count in _groups(eigenvalues, tol, _accuracies(A, eigenvalues)):
         basis, block = _subspace(A, value, count, tol)
         shown, unread, unreached = _split(
             block, None if outputs is None else outputs @ basis,

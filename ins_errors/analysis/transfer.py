@@ -786,6 +786,7 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
     band = frequency_band(modes)
     tolerance_1_s = group_tolerance(modes.eigenvalues)
     names = _ModeNames(modes, tolerance_1_s)
+    eigenvalues = [m.eigenvalue for m in (*modes.modes, *modes.unseen_modes)]
     reductions: dict[int, Reduction] = {}
     pairs = []
     for source in sources:
@@ -806,7 +807,8 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
             reference = _Reference(F, point.factors, column, row, band)
             tried = []
             if 0 not in reductions:
-                reductions[0] = Reduction(F, point.factors, tolerance_1_s, *REDUCTIONS[0])
+                reductions[0] = Reduction(F, point.factors, tolerance_1_s, *REDUCTIONS[0],
+                                          eigenvalues)
             if markov_zero(F, column, row) and not reductions[0].growing_residues(
                     column, row):  # proved, no growing mode reached: no reduction needed
                 pair = TransferFunction(source, output, info.kind or "constant", info.unit,
@@ -817,7 +819,7 @@ def transfer_at_base(model: Model, modes: StaticModes, sources: Sequence[str],
             for k, (balanced, tolerance) in enumerate(REDUCTIONS):
                 if k not in reductions:
                     reductions[k] = Reduction(F, point.factors, tolerance_1_s, balanced,
-                                              tolerance)
+                                              tolerance, eigenvalues)
                 form = reductions[k].factor(column, row)
                 zeros = tuple(Factor(v, m) for v, m in form.zeros)
                 poles = names.poles(form.poles)

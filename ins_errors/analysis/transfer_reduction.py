@@ -17,6 +17,7 @@ Nothing here names a mode or writes a word: that is :mod:`ins_errors.analysis.tr
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -49,9 +50,9 @@ horizontal output at the equator), never because it is weak."""
 
 GROUP_SAFETY = 100.0
 """Two computed roots are one (repeated) root when they are closer than this many times
-the larger of their first-order accuracies κ δ ‖M‖ (:func:`_roots`). A repeated root of a
-minimal realisation is a Jordan block, which rounding splits into roots a few times
-their κ δ ‖M‖ apart; two distinct roots are apart by far more than theirs (the two
+the larger of their first-order accuracies κ δ ‖M‖ (:func:`roots_and_accuracies`). A
+repeated root of a minimal realisation is a Jordan block, which rounding splits into roots
+a few times their κ δ ‖M‖ apart; two distinct roots are apart by far more than theirs (the two
 Schuler ± Foucault pairs within 1e-4° of the equator, 1e-7 of their size apart, stay
 two)."""
 
@@ -85,11 +86,17 @@ class Reduction:
         Balance the scaled F too.
     tolerance : float
         A Krylov direction or Markov parameter below this share is zero.
+    modes : sequence of complex, optional
+        F's eigenvalues as :mod:`~ins_errors.analysis.modes` groups them (Im >= 0, 1/s):
+        a root's real part below ``group_tolerance`` is kept where the mode it is at
+        has one (:func:`_close_groups`).
     """
 
     def __init__(self, F: np.ndarray, factors: np.ndarray, group_tolerance: float,
-                 balanced: bool = False, tolerance: float = TOLERANCE):
+                 balanced: bool = False, tolerance: float = TOLERANCE,
+                 modes: Sequence[complex] = ()):
         self.F, self.factors, self.balanced = F, factors, balanced
+        self.modes = tuple(modes)
         self.D = np.asarray(factors, dtype=float)
         self.tolerance = tolerance
         scaled = self.D[:, None] * F / self.D[None, :]
@@ -123,7 +130,7 @@ class Reduction:
             return self
         if self._residues is None:
             self._residues = Reduction(self.F, self.factors, self.group_tolerance, True,
-                                       self.tolerance)
+                                       self.tolerance, self.modes)
         return self._residues
 
     def growing_residues(self, g: np.ndarray, h: np.ndarray
@@ -170,12 +177,13 @@ class Reduction:
             degree, markov = relative_degree(A, b, c, 0.0)
         if degree == 0:
             return Factored(0.0, 0, [], [])
-        zeros, zero_errors = _roots(zero_dynamics_matrix(A, b, c, degree, markov), defect)
-        poles, pole_errors = _roots(A, defect)
+        zeros, zero_errors = roots_and_accuracies(
+            zero_dynamics_matrix(A, b, c, degree, markov), defect)
+        poles, pole_errors = roots_and_accuracies(A, defect)
         gain = size * markov * self.rho ** (degree - 1)
         tol = self.group_tolerance
-        zero_groups = _close_groups(self.rho * zeros, self.rho * zero_errors, tol)
-        pole_groups = _close_groups(self.rho * poles, self.rho * pole_errors, tol)
+        zero_groups = _close_groups(self.rho * zeros, self.rho * zero_errors, tol, self.modes)
+        pole_groups = _close_groups(self.rho * poles, self.rho * pole_errors, tol, self.modes)
         zero_groups, pole_groups = _cancel(zero_groups, pole_groups, CANCEL, tol)
         residues = ()
         if kept:
@@ -385,7 +393,7 @@ def _growing_residues(poles: list[tuple[complex, int]],
     return tuple(out)
 
 
-def _roots(M: np.ndarray, defect: float) -> tuple[np.ndarray, np.ndarray]:
+def roots_and_accuracies(M: np.ndarray, defect: float) -> tuple[np.ndarray, np.ndarray]:
     """The eigenvalues of ``M`` and the accuracy of each.
 
     The accuracy is the smaller of the first-order bound κ δ ‖M‖ (κ the eigenvalue's
@@ -428,13 +436,28 @@ def _roots(M: np.ndarray, defect: float) -> tuple[np.ndarray, np.ndarray]:
     return values, np.minimum(np.minimum(first_order, jordan), sizes[0])
 
 
-def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float
-                  ) -> list[tuple[complex, int, float, float]]:
+def _damped_mode(value: complex, modes: Sequence[complex], tol: float) -> bool:
+    """Whether the eigenvalue of F nearest to ``value`` (of ``modes``, 1/s, Im >= 0),
+    within 100 ``tol`` (the distance at which a pole is named after a mode), has a
+    real part below ``tol`` that ``modes`` keeps: its damping (or growth), above what
+    rounding leaves of it on the whole F (:mod:`~ins_errors.analysis.modes`)."""
+    if not len(modes):
+        return False
+    nearest = min(modes, key=lambda m: abs(m - value))
+    return 0.0 < abs(nearest.real) <= tol and abs(nearest - value) <= 100 * tol
+
+
+def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float,
+                  modes: Sequence[complex] = ()) -> list[tuple[complex, int, float, float]]:
     """(root with Im >= 0, multiplicity, reach, accuracy) of each distinct root, by
     increasing size: roots within :data:`GROUP_SAFETY` times the larger of their
     accuracies (the reach) are one (their mean: a Jordan block's split roots average to
     it; its accuracy the largest of theirs), a real or imaginary part below ``tol`` or
-    the reach is zero (and groups so made one root are one)."""
+    the reach is zero (and groups so made one root are one), except the real part of an
+    oscillating root at a mode of F (``modes``, F's eigenvalues as ``modes`` gives them)
+    whose real part ``modes`` keeps: that mode's damping (a Schuler pair damped by
+    1e-8 1/s beside a damped vertical loop's 0.02 1/s near a pole), which the reduced
+    matrices cannot tell from their rounding, the whole F can."""
     groups: list[list] = []
     for value, error in sorted(zip(values, errors, strict=True),
                                key=lambda p: (abs(p[0]), p[0].imag)):
@@ -453,8 +476,9 @@ def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float
     for members, _, reach, error in groups:
         mean = complex(np.mean(members))
         cut = max(tol, reach)
-        mean = complex(0.0 if abs(mean.real) <= cut else mean.real,
-                       0.0 if abs(mean.imag) <= cut else abs(mean.imag))
+        imag = 0.0 if abs(mean.imag) <= cut else abs(mean.imag)
+        keep = bool(imag) and _damped_mode(complex(mean.real, imag), modes, tol)
+        mean = complex(0.0 if abs(mean.real) <= cut and not keep else mean.real, imag)
         for k, (value, count, other_reach, other_error) in enumerate(out):
             if value == mean:  # two groups made one root by the zero (both at 0)
                 out[k] = (value, count + len(members), max(reach, other_reach),
