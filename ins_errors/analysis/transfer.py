@@ -868,7 +868,7 @@ class UnresolvedPairError(DomainError):
     def __init__(self, model: str, modes: StaticModes, source: str, output: str,
                  error: float):
         self.source, self.output, self.error = source, output, error
-        latitude = modes.latitude
+        latitude = modes.references.latitude  # the base's, or the model's parameter's
         if latitude is not None and abs(math.cos(latitude)) < 1e-3:
             why = "near the pole F's entries grow as tan φ"
         elif latitude is not None and abs(math.sin(latitude)) < 1e-6:

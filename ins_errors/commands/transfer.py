@@ -82,31 +82,59 @@ NEARBY_DEGREES = (0.01, 0.1, 1.0)
 resolves the pair (each on both sides, nearest first)."""
 
 
+def _latitude_setting(args: argparse.Namespace, modes) -> tuple[str | None, float] | None:
+    """Where the base's latitude comes from: (None, φ) for ``--latitude``, (parameter
+    name, φ) for a model whose latitude is a parameter (``-p phi0=...``: its
+    :attr:`~ins_errors.analysis.modes.StaticModes.latitude_source`); None for a model
+    without one. φ in rad."""
+    if modes.latitude is not None:
+        return None, float(modes.latitude)
+    source = modes.latitude_source or ""
+    if source.startswith("parameter ") and modes.references.latitude is not None:
+        return source.removeprefix("parameter "), float(modes.references.latitude)
+    return None
+
+
+def _moved(args: argparse.Namespace, parameter: str | None, text: str
+           ) -> tuple[argparse.Namespace, str]:
+    """The options with the latitude set to ``text`` (``--latitude``, or the latitude
+    parameter's ``-p NAME=`` item replaced or added), and that setting as typed."""
+    if parameter is None:
+        return argparse.Namespace(**{**vars(args), "latitude": text}), f"--latitude {text}"
+    items = [item for item in args.parameter if item.partition("=")[0].strip() != parameter]
+    setting = f"{parameter}={text}"
+    return (argparse.Namespace(**{**vars(args), "parameter": [*items, setting]}),
+            f"-p {setting}")
+
+
 def _nearby(args: argparse.Namespace, refusal: UnresolvedPairError) -> str:
     """The advice after a refused pair: the nearest latitude of :data:`NEARBY_DEGREES`
     (either side, short of a pole) at which the same pair is resolved, or that none is
-    (or that the base has no latitude to move)."""
+    (or that the model has no latitude to move). The latitude moved is the base's
+    (``--latitude``) or, for a model whose latitude is a parameter, that parameter's
+    (``-p phi0=...``)."""
     from ins_errors.analysis.transfer import transfer_at_base
     from ins_errors.commands.modes import static_modes_from_options
     from ins_errors.errors import InsErrorsError
 
-    latitude = static_modes_from_options(args)[2].latitude
-    if latitude is None:
-        return "the base has no latitude to move"
+    setting = _latitude_setting(args, static_modes_from_options(args)[2])
+    if setting is None:
+        return "the model has no latitude to move (neither the base's nor a parameter)"
+    parameter, latitude = setting
     for step in NEARBY_DEGREES:
         for sign in (1, -1):
             degrees = float(np.degrees(latitude)) + sign * step
             if abs(degrees) >= 90.0:
                 continue
-            text = f"{degrees:.10g}deg"
-            moved = argparse.Namespace(**{**vars(args), "latitude": text})
+            moved, typed = _moved(args, parameter, f"{degrees:.10g}deg")
             try:
                 model, _, modes = static_modes_from_options(moved)
                 transfer_at_base(model, modes, [refusal.source], [refusal.output])
             except InsErrorsError:  # refused there too, or no base there
                 continue
-            return f"the same pair is resolved at --latitude {text}"
-    return f"nor is it within {NEARBY_DEGREES[-1]:g}° of this latitude on either side"
+            return f"the same pair is resolved at {typed}"
+    where = "this latitude" if parameter is None else f"this {parameter}"
+    return f"nor is it within {NEARBY_DEGREES[-1]:g}° of {where} on either side"
 
 
 def run(args: argparse.Namespace) -> int:
