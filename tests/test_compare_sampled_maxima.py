@@ -58,3 +58,25 @@ def test_the_note_bounds_the_maxima_missed_between_samples(runs, record):
 def test_no_note_at_every_step(runs):
     assert runs[2.0].maxima_note is None
     assert "**note**" not in markdown_summary([runs[2.0]])
+
+
+def test_the_json_gives_the_note_and_its_bound_holds(runs, capsys):
+    """``--json`` carries the note as ``maxima_note`` (null without one); the bound it
+    names holds for what the same run recorded at every step measures."""
+    import json
+
+    from ins_errors.cli import main
+
+    def case(record: str) -> dict:
+        assert main(["compare", "orthodromic", "-s", "accel_bias_y=100ug",
+                     "-s", "gyro_drift_x=0.01deg/h", "--latitude", "50deg", "--longitude",
+                     "30deg", "--hours", "1", "--step", "2s", "--record", record,
+                     "--no-refined", "--validity-threshold", "100%", "--json",
+                     "--no-progress"]) == 0
+        [out] = json.loads(capsys.readouterr().out)["cases"]
+        return out
+
+    note = case("600s")["maxima_note"]
+    named = float(re.search(r"up to about ([0-9.]+) % low", note).group(1)) / 100
+    assert _shortfall(runs[2.0], runs[600.0]) <= named
+    assert case("2s")["maxima_note"] is None

@@ -290,8 +290,10 @@ def _compare(args: argparse.Namespace) -> list:
         comparison.warnings.extend(getattr(trajectory, "notes", ()))
     title = (f"{model.name}: {trajectory.description}; {format_duration(duration)}, "
              f"τ = {tau:g} s, {args.method}")
-    text = markdown_summary(comparisons, title) + "\n" + "\n".join(
-        markdown_table(c) for c in comparisons)
+    tables = "\n".join(markdown_table(c) for c in comparisons)
+    text = markdown_summary(comparisons, title) + "\n" + tables  # the warnings in full
+    shown = markdown_summary(comparisons, title, brief=True, details=(
+        args.markdown if args.markdown else "--json, or --markdown FILE")) + "\n" + tables
     if args.markdown:
         from ins_errors.output import write_text
 
@@ -327,7 +329,7 @@ def _compare(args: argparse.Namespace) -> list:
                    "parameters_used": parameters_used(model, trajectory.parameters),
                    "cases": [c.to_dict() for c in comparisons]})
     else:
-        print(text)
+        print(shown)
     if args.plot:  # beside the JSON, not inside it
         print(written, file=sys.stderr if args.json else sys.stdout)
     return comparisons

@@ -83,6 +83,7 @@ def _run(args: argparse.Namespace) -> list | None:
     if args.json:
         emit(json.loads((out / "results.json").read_text(encoding="utf-8")))
     else:
-        print(markdown_summary(result.comparisons, scenario.title))
+        print(markdown_summary(result.comparisons, scenario.title, brief=True,
+                               details=str(report)))
         print(f"report: {report} (and report.html, plots, results.json in {out})")
     return result.comparisons

@@ -47,7 +47,13 @@ from dataclasses import asdict, dataclass, field
 import numpy as np
 
 from ins_errors.errors import InsErrorsError, name_list, unknown_name
-from ins_errors.numeric import accuracy
+from ins_errors.numeric import (
+    accuracy,
+    brief_warnings,
+    read_back,
+    sampled_maxima,
+    step_period,
+)
 from ins_errors.numeric.integrators import whole_steps
 from ins_errors.numeric.model import Model, as_model
 from ins_errors.numeric.simulate import ErrorCurves, Simulation, error_quantities, simulate
@@ -230,6 +236,11 @@ class Comparison:
         may be 1 % or more below the run's own: by how much at most, for F's fastest
         oscillation at the start (:mod:`ins_errors.numeric.sampled_maxima`); shown as a note, not a
         warning. None otherwise.
+    brief : dict of str to str
+        The terminal's short form of some of ``warnings`` (the integration-error ones),
+        keyed by the full text: what is wrong, how big, the cure that makes sense
+        (:mod:`~ins_errors.numeric.brief_warnings`). ``markdown_summary(..., brief=True)``
+        prints them; ``warnings``, the report and the JSON keep the full text.
     """
 
     label: str
@@ -250,6 +261,7 @@ class Comparison:
     refined_warning: str | None = None
     refined_departure: float | None = None
     maxima_note: str | None = None
+    brief: dict[str, str] = field(default_factory=dict, repr=False)
 
     def metric(self, quantity: str) -> Metric:
         """The metric of one quantity."""
@@ -292,6 +304,7 @@ class Comparison:
                 "refined_warning": self.refined_warning,
                 "refined_departure_s": self.refined_departure,
                 "integration_rerun_steps_s": list(self.integration_steps),
+                "maxima_note": self.maxima_note,
                 "metrics": [_clean(asdict(m)) for m in self.metrics]}
 
     @property
@@ -397,16 +410,17 @@ def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | 
     return rows
 
 
-def add_maxima_notes(comparisons: Sequence[Comparison], sim: Simulation) -> None:
+def add_maxima_notes(comparisons: Sequence[Comparison], sim: Simulation,
+                     omega: float | None = None) -> None:
     """Set :attr:`Comparison.maxima_note` when the run records every few steps and its
     maxima over the samples may be :data:`~ins_errors.numeric.sampled_maxima.NOTED` or
-    more below the run's own (nothing is read when it records every step)."""
+    more below the run's own (nothing is read when it records every step). ``omega``:
+    F's fastest oscillation at the start (rad/s), when already read."""
     if sim.stride == 1:
         return
-    from ins_errors.numeric import sampled_maxima
-
     tau = sim.trajectory.tau
-    omega = sampled_maxima.fastest_oscillation(sim.model, sim.trajectory)
+    if omega is None:
+        omega = sampled_maxima.fastest_oscillation(sim.model, sim.trajectory)
     text = sampled_maxima.note(sim.stride * tau, tau, omega)
     for comparison in comparisons:
         comparison.maxima_note = text
@@ -503,6 +517,7 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     """
     model = as_model(model, "compare")
     validity_threshold = validity_ratio(validity_threshold)  # before any run
+    read_back.refuse_mismatch(model, trajectory)  # outputs vs initial-state map, one line
     if quantities is not None:
         quantities = name_list(quantities, "compare: quantities")
         known = error_quantities(model)[0]
@@ -526,7 +541,11 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
     comparisons = comparisons_of(sim, labels)
-    add_maxima_notes(comparisons, sim)
+    omega = sampled_maxima.fastest_oscillation(model, trajectory)
+    too_long = step_period.warning(trajectory.tau, omega, sim.stride * trajectory.tau)
+    for comparison in comparisons if too_long else ():
+        comparison.warnings.append(too_long)
+    add_maxima_notes(comparisons, sim, omega)
     add_half_turn_warnings(comparisons, model)
     if quantities is not None:
         for comparison in comparisons:
@@ -711,11 +730,12 @@ def add_unexcited_warnings(comparisons: Sequence[Comparison], sim: Simulation,
 
 
 RK4_HOW = '--method rk4, or method = "rk4" in a scenario\'s [run]'
+"""How a warning tells both a command line and a scenario file to use RK4."""
 
 RECTANGLE_STEPS_ADVISED = 100_000_000
 """Steps beyond which a rectangle-method step is not suggested (a minute or more of CPU a
-run): RK4 is, as it reaches the same accuracy in far fewer steps."""
-"""How a warning tells both a command line and a scenario file to use RK4."""
+run): RK4 is, as it reaches the same accuracy in far fewer steps. (The terminal's short
+form of the warning draws the line lower: :data:`~ins_errors.numeric.brief_warnings.STEPS`.)"""
 
 
 def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> None:
@@ -1265,6 +1285,7 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
     if worst is None and not unreliable:
         if note:
             comparison.warnings.append(note)
+            comparison.brief[note] = _refined_brief(comparison, tau, p, method)
         return
     k = (1.25 * worst_need) ** (1.0 / p) if worst is not None else 1.0
     if unreliable:  # the estimate may be off by a factor 2^p: at least halve the step
@@ -1275,12 +1296,15 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
     scheme = "rectangle method" if method == "euler" else method.upper()
     goal = "bring it under the limit" if worst is not None else "make the estimate reliable"
     duration = comparison.times[-1] if len(comparison.times) else interval
+    brief = brief_warnings.Integration(tau, scheme, duration, step, tau / k, text, None, q, p,
+                                       failed)
     if method == "euler" and duration / step > RECTANGLE_STEPS_ADVISED:
         alternative = rk4_step() if rk4_step is not None else None
         comparison.suggested_step = None
         if alternative is not None:
             step, text = accuracy.typable_step(alternative, interval, spacing)
             comparison.suggested_step, comparison.suggested_method = step, "rk4"
+            brief.rk4_text = text
         advice = (f"the rectangle method would need τ ≤ {tau / k:.3g} s, more than "
                   f"{RECTANGLE_STEPS_ADVISED:.0e} steps for this run; use RK4 ({RK4_HOW})"
                   + (f", where τ = {text} s would {goal}" if alternative is not None else ""))
@@ -1307,18 +1331,23 @@ def _integration_warning(comparison: Comparison, tau: float, method: str, interv
                 f", {_percent(m.integration_error / m.max_direct)} of its largest error "
                 f"({_shown_size(m.max_direct, m.unit)}), over the limit of "
                 f"{_shown_size(target, m.unit)} ({what})")
+    if worst is not None:
+        m, target, what = worst
+        brief.worst = (m.quantity, _percent(m.integration_error / m.max_direct),
+                       m.integration_error / target, what.startswith("a tenth"))
+    brief.refined_too, brief.unreliable = note is not None, unreliable
     if unreliable:
         how = (f"observed order {q:.2g}, scheme order {p}" if failed is None
                else f"{failed}")
         size = (f"{size}, and the estimate is outside its asymptotic range" if size
                 else "the estimate is outside its asymptotic range")
-        comparison.warnings.append(
-            f"integration error not reliable at this step, τ = {tau:g} s, {scheme} ({how}): "
-            f"{size}; {advice}{also}" + (f". {note}" if note else ""))
-        return
-    comparison.warnings.append(
-        f"integration error too large at τ = {tau:g} s, {scheme}: {size}; {advice}{also}"
-        + (f". {note}" if note else ""))
+        full = (f"integration error not reliable at this step, τ = {tau:g} s, {scheme} "
+                f"({how}): {size}; {advice}{also}" + (f". {note}" if note else ""))
+    else:
+        full = (f"integration error too large at τ = {tau:g} s, {scheme}: {size}; "
+                f"{advice}{also}" + (f". {note}" if note else ""))
+    comparison.warnings.append(full)
+    comparison.brief[full] = brief.line()
 
 
 def _judged_errors(comparison: Comparison, model: str) -> list[tuple[Metric, float, float]]:
@@ -1366,21 +1395,40 @@ def _refined_note(comparison: Comparison, tau: float, order: int) -> str | None:
     judged quantity: the one furthest past it, and about the step that would bring it
     under (the scheme's ``order``). It is said beside the linear pair's warning, or
     alone, and changes neither that warning's step nor ``suggested_step``."""
-    worst, worst_need = None, 1.0
-    for m, error, difference in _judged_errors(comparison, "refined"):
-        target, what = _limit(m, difference, "refined")
-        if error > target and error / target > worst_need:
-            worst, worst_need = (m, error, target, what), error / target
+    worst = _refined_worst(comparison)
     if worst is None:
         return None
     m, error, target, what = worst
-    step = tau / (1.25 * worst_need) ** (1.0 / order)
+    step = tau / (1.25 * error / target) ** (1.0 / order)
     return (f"The refined run's integration error is over its limit too: {m.quantity}'s, "
             f"of the direct and refined runs, is {_shown_size(error, m.unit)} (refined "
             f"curve {_shown_size(m.refined_integration_error, m.unit)}), over the limit of "
             f"{_shown_size(target, m.unit)} ({what}): at τ = {tau:g} s the refined − direct "
             f"residual is not the second-order model's alone; about τ ≤ {step:.3g} s "
             "would bring it under")
+
+
+def _refined_worst(comparison: Comparison) -> tuple[Metric, float, float, str] | None:
+    """(metric, integration error, limit, the limit's words) of the judged quantity whose
+    direct and refined runs' integration error is furthest past its limit
+    (:func:`_limit`), or None when none is past it."""
+    worst, worst_need = None, 1.0
+    for m, error, difference in _judged_errors(comparison, "refined"):
+        target, what = _limit(m, difference, "refined")
+        if error > target and error / target > worst_need:
+            worst, worst_need = (m, error, target, what), error / target
+    return worst
+
+
+def _refined_brief(comparison: Comparison, tau: float, order: int, method: str) -> str:
+    """The terminal's short form of :func:`_refined_note` said alone
+    (:mod:`~ins_errors.numeric.brief_warnings`)."""
+    m, error, target, what = _refined_worst(comparison)
+    return brief_warnings.refined_alone(
+        tau, "rectangle method" if method == "euler" else method.upper(),
+        comparison.times[-1] if len(comparison.times) else tau,
+        tau / (1.25 * error / target) ** (1.0 / order), m.quantity,
+        _percent(error / m.max_direct), error / target, what.startswith("a tenth"))
 
 
 def _percent(share: float) -> str:
@@ -1675,9 +1723,23 @@ def _integration_cell(comparison: Comparison) -> str:
     return _fmt(comparison.worst_integration_ratio)
 
 
-def markdown_summary(comparisons: Sequence[Comparison], title: str = "") -> str:
+def markdown_summary(comparisons: Sequence[Comparison], title: str = "",
+                     brief: bool = False, details: str | None = None) -> str:
     """Markdown summary: one row per case with the worst excited ratios (user text kept
-    in its cell and on its line: :mod:`ins_errors.markdown_cells`)."""
+    in its cell and on its line: :mod:`ins_errors.markdown_cells`).
+
+    Parameters
+    ----------
+    comparisons : sequence of Comparison
+    title : str
+        Heading of the summary (none when empty).
+    brief : bool
+        Print the warnings' short forms (:attr:`Comparison.brief`), for a terminal; the
+        default prints them in full (a report, a ``--markdown`` file).
+    details : str, optional
+        Where the full warnings are (e.g. ``"report.md"``): said in one line after the
+        warnings when ``brief`` shortened any.
+    """
     from ins_errors.markdown_cells import one_line, table_cell
 
     lines = [f"### {one_line(title)}", ""] if title else []
@@ -1691,9 +1753,12 @@ def markdown_summary(comparisons: Sequence[Comparison], title: str = "") -> str:
                      f"{_fmt(_value(wr, 'refined_ratio'))} | "
                      f"{'' if wr is None else '`' + wr.quantity + '`'} | "
                      f"{_integration_cell(c)} |")
-    warned = [(table_cell(c.label), w) for c in comparisons for w in c.warnings]
+    warned = [(table_cell(c.label), c.brief.get(w, w) if brief else w)
+              for c in comparisons for w in c.warnings]
     if warned:
         lines += [""] + [f"> **warning** ({label}): {w}" for label, w in warned]
+        if brief and details and any(w in c.brief for c in comparisons for w in c.warnings):
+            lines += ["", f"(the warnings in full: {details})"]
     noted = next((c.maxima_note for c in comparisons if c.maxima_note), None)
     if noted:  # the cases share the run's recording: one note
         lines += ["", f"> **note**: {noted}"]
