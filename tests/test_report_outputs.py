@@ -260,7 +260,7 @@ def test_study_figures_fit_their_fixed_margins(tmp_path, monkeypatch):
     names = ["delta_latitude", "delta_longitude", "delta_v_N", "delta_v_E", "alpha_x",
              "alpha_y", "alpha_z", "delta_heading"]
     curves = {n: -2.5e-4 * wave / 6371.0 for n in names}  # -0.00025 km and the like
-    study = SimpleNamespace(study=SimpleNamespace(name="wide", description="labels"),
+    study = SimpleNamespace(study=SimpleNamespace(name="wide", description="labels", task=3),
                             motion="a static base", times=times, direct=curves,
                             linear=curves, latitude=np.zeros(times.size))
     methodological.plot(study, tmp_path / "study.png")
