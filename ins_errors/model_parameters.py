@@ -99,10 +99,19 @@ def parameter_problem(model, info, value: float) -> str | None:
         "damping gain" if getattr(info, "damping_gain", False) else None)
     if gain is not None and value < 0:
         return f"a {gain} must be zero (undamped) or positive, in {info.unit}"
-    return _earth_problem(model, info.name, value)
+    return _earth_problem(model, info.name, value, getattr(info, "description", "") or "")
 
 
-def _earth_problem(model, name: str, value: float) -> str | None:
+def _radius_words(description: str) -> str:
+    """The radius parameter as a refusal names it: the Earth's radius, or the model's own
+    radius by its description where it is another (free_azimuth's tuning radius)."""
+    words = description.lower()
+    if "radius" in words and "earth" not in words:
+        return f"the {description} (the model's Earth radius)"
+    return "the Earth's radius (semi-major axis)"
+
+
+def _earth_problem(model, name: str, value: float, description: str = "") -> str | None:
     """Why ``value`` (SI) cannot be the Earth radius or eccentricity² that parameter
     ``name`` of ``model`` is read as (:mod:`ins_errors.earth_constants`: the first
     radius name in m, the first eccentricity name of unit 1), else None."""
@@ -110,7 +119,7 @@ def _earth_problem(model, name: str, value: float) -> str | None:
 
     earth = earth_parameter_names(model.parameters)
     if name == earth.radius and not value > 0:
-        return "the Earth's radius (semi-major axis) must be positive, in m"
+        return f"{_radius_words(description)} must be positive, in m"
     if name == earth.radius and value < MIN_EARTH_RADIUS:
         return (f"an Earth radius of {value:g} m is below {MIN_EARTH_RADIUS / 1e3:g} km, "
                 f"the smallest planet-sized body the models hold: at ±100 km heights R + h "

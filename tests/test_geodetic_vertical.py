@@ -351,6 +351,23 @@ def test_formula_10_matches_the_direct_simulation(flights):
     assert printed[2:].min() > 1.0
 
 
+@pytest.mark.parametrize("lat_deg, angle_deg", [(20.0, 90.0), (60.0, 30.0), (-35.0, 150.0)])
+def test_completed_formula_10_is_zero_at_the_start_and_at_rest(lat_deg, angle_deg):
+    """The completed (10) took c sin 2B (the print's) in its current terms and μ(B0) of
+    (4) in its start terms: at t = 0 it said ½c² sin 4B0·a, 35 m at 20°, where the error
+    is zero. Now μ of (4) throughout: zero at the start, and a vehicle at rest (its true
+    and computed coordinates never part) matches it to rounding."""
+    a, b = se.krasovsky_axes()
+    c = se.flattening_constant(a, b)
+    B0, N0, Phi0 = np.radians(lat_deg), np.radians(angle_deg), np.radians(lat_deg / 3)
+    d_phi, d_lam = se.formula_10(B0, N0, Phi0, c, B0, N0, Phi0, start_term=True)
+    assert abs(d_phi) * a < 1e-9 and abs(d_lam) * a < 1e-9
+    rest = se.simulate_flights(np.radians([lat_deg]), np.zeros(1), np.radians([angle_deg]),
+                               1800.0, 0.0, 60.0, record_interval=600.0)
+    assert np.abs(rest.direct).max() * a < 1e-6
+    assert rest.mismatch_km("completed").max() < 1e-6
+
+
 def test_closed_loop_computer_adds_a_coriolis_feedback_error():
     lat, angle = np.radians([30.0]), np.radians([90.0])
     # a 120-s step: the closed loop's errors equal a 20-s run's to 1e-9 of their size

@@ -263,6 +263,14 @@ def test_an_impossible_earth_is_refused_in_one_plain_line(setting, said, capsys)
     assert "\n" not in err and said in err and "parameters p" not in err, err
 
 
+def test_a_tuning_radius_is_not_called_the_earths_semi_major_axis(capsys):
+    """free_azimuth's R is the platform's tuning radius (source 002: 6 411 km, not the
+    Earth's semi-major axis): a refusal names it by its own description."""
+    assert main(["modes", "free_azimuth", "-p", "R=-1m"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "tuning radius" in err and "semi-major" not in err, err
+
+
 def test_a_domain_refusal_of_parameter_values_names_the_model_not_the_argument(capsys):
     phi = Path(__file__).resolve().parents[1] / "examples" / "strapdown" / "phi_attitude.txt"
     assert main(["check", "strapdown_ned", str(phi), "-p", "gamma_e=-1m/s**2"]) == 2

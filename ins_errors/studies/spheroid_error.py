@@ -22,7 +22,8 @@ does not use the paper's formulas for the truth:
   (9) and the dead reckoning), started from the exact coordinates and velocity;
 * the error is the true geodetic (Φ, Λ) minus the computed one, compared with (10) as
   printed and with (10) completed by the start term −ν2⁰/cos Φ0 of ΔΛ that the print
-  lacks (at t = 0 the error is zero).
+  lacks and with μ of (4) in every term (so that, as the direct error, it is zero at
+  t = 0).
 
 :func:`correction_rate_error` checks the paper's other claim, that the rates (9) keep
 the platform on the geodetic vertical, against the exact rate of the geodetic frame.
@@ -79,11 +80,15 @@ def formula_10(B: np.ndarray, N: np.ndarray, Phi: np.ndarray, c: float,
     B0, N0, Phi0 : float or numpy.ndarray
         The same at the start point (for ν1⁰ and the optional start term of ΔΛ).
     start_term : bool
-        Add −ν2⁰/cos Φ0 to ΔΛ (the print has no start term in ΔΛ).
+        The completed form: add −ν2⁰/cos Φ0 to ΔΛ (the print has no start term in ΔΛ)
+        and take μ of (4) in the current terms as in the start terms, so that the error
+        is zero at the start (the print's c sin 2B is the first term of (4); beside the
+        start terms' μ(B0) it would leave ½c² sin 4B0 at t = 0, 35 m at 20°).
     """
     nu1_0 = mu(B0, c) * np.cos(N0)
-    d_phi = c * np.sin(2 * B) * np.cos(N) - nu1_0
-    d_lam = -c * np.sin(2 * B) * np.sin(N) / np.cos(Phi)
+    current = mu(B, c) if start_term else c * np.sin(2 * B)
+    d_phi = current * np.cos(N) - nu1_0
+    d_lam = -current * np.sin(N) / np.cos(Phi)
     if start_term:
         d_lam = d_lam - (-mu(B0, c) * np.sin(N0)) / np.cos(Phi0)
     return d_phi, d_lam
@@ -550,6 +555,9 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
         f"direct simulation, {speed:g} m/s for {duration / 3600:g} h, step {step:g} s "
         "(errors in km; 'geometric': coefficients of (9) at the true position, as in the "
         "paper; 'closed loop': at the computed position)",
+        "φ0: geocentric start latitude; N0: the paper's orthodrome angle at the start "
+        "(n32 = −sin φ0): from a northern start, 0° and 180° fly along the parallel, 90° "
+        "toward the equator, 270° toward the pole",
         "   φ0°     N0°   geometric   |direct − (10) completed|   |direct − (10) printed|"
         "   closed loop",
     ]

@@ -32,9 +32,18 @@ class _LatexPrinter(FastTermOrder, LatexPrinter):
     """SymPy's LaTeX printer, sums ordered by :mod:`~ins_errors.symbolic.term_order`."""
 
 
+_VARIATION_SIGNS = (r"\delta", r"\Delta")
+r"""LaTeX that reads as "the variation of" the symbol after it (the hand checker's, and a
+reader's, reading of ``\delta \omega_y``)."""
+
+
 def to_latex(expr: sp.Expr, names: dict[sp.Symbol, str]) -> str:
-    """LaTeX of ``expr`` with the model's own notation: ``sp.latex(expr,
-    symbol_names=names, mul_symbol=None)``, the same text."""
+    r"""LaTeX of ``expr`` with the model's own notation: ``sp.latex(expr,
+    symbol_names=names, mul_symbol=None)``, the same text, except that a symbol spelled
+    by a variation sign alone (free_azimuth's azimuth angle δ of source 002) is braced,
+    ``{\delta} \omega_y``: the product, not the variation of ω_y, to a reader and to
+    ``ins-errors check`` alike."""
+    names = {k: f"{{{v}}}" if v in _VARIATION_SIGNS else v for k, v in names.items()}
     return _LatexPrinter({"symbol_names": names, "mul_symbol": None}).doprint(expr)
 
 
