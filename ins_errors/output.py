@@ -13,6 +13,13 @@ Three rules, one place:
   manifest never lags behind the folder: a file's name is recorded in it before the
   file is written, so a run interrupted between two files (Ctrl-C while ``curves.mat``
   is written) leaves a folder the next run writes into again without ``--force``.
+* **All or nothing.** A folder holds one run's files, never a mix of two: until
+  :meth:`OutputFolder.finish`, each file it replaces (and each it removes) is kept, as a
+  hard link, in a hidden undo folder inside it. A run stopped before ``finish`` (Ctrl-C,
+  SIGTERM, an error) is taken back as the process ends: the earlier files are put back,
+  the new ones removed, and one line on stderr names the folder. A process killed
+  outright (SIGKILL, a power cut) leaves the undo folder, and the next run writing
+  into the folder takes it back first.
 * **One-line errors.** A missing or read-only folder, a target that is a directory, a
   full disk: an :class:`~ins_errors.errors.InsErrorsError` naming the path.
 
@@ -22,19 +29,35 @@ Single files named on the command line (``--plot out/drift.png``, ``--markdown``
 
 from __future__ import annotations
 
+import atexit
 import errno
 import json
 import os
+import shutil
+import signal
 import sys
 import tempfile
 from collections.abc import Callable
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
 from ins_errors.errors import InsErrorsError
 
 MANIFEST = ".ins-errors-files.json"
 """Name of the file, inside an output folder, that lists what ins-errors wrote there."""
+
+UNDO_PREFIX = ".ins-errors-undo-"
+"""Names of the hidden folders, inside an output folder, that keep what a run still
+writing has replaced or removed (:class:`OutputFolder`)."""
+
+DONE_PREFIX = ".ins-errors-done-"
+"""An undo folder renamed so once its run has finished (removed right after)."""
+
+JOURNAL = "journal.json"
+"""The file of an undo folder naming its process and the files the run made new."""
+
+KEPT = "files"
+"""The subfolder of an undo folder holding the files the run replaced or removed."""
 
 
 PNG_ZLIB_RLE = 3
@@ -373,12 +396,26 @@ class OutputFolder:
     write and records the new list. Until then the manifest lists the earlier run's
     files and this run's so far (each recorded before it is written), so an interrupted
     run leaves a folder that is still ins-errors' own.
+
+    The files are written in place (a caller may read one back, e.g. a plot embedded in
+    a page), and whatever a file replaces is first kept in a hidden undo folder inside
+    the folder (:data:`UNDO_PREFIX`; a hard link, or the file moved there where the file
+    system has no links), as is each file :meth:`finish` removes. :meth:`finish` ends
+    by renaming the undo folder (the moment the new set becomes the folder's) and
+    deleting it. A run that does not reach it (Ctrl-C, an error) is taken back when the
+    process ends (:func:`take_back`): the folder holds the earlier run's files again,
+    or, made by this run, is removed. A folder left with an undo folder by a process
+    that no longer runs (killed outright) is taken back when it is next opened.
     """
 
     def __init__(self, folder: str | Path, force: bool = False, option: str = "--out",
                  create: bool = True):
         self.path = Path(folder)
+        self.option = option
         self.written: list[str] = []
+        self._undo: Path | None = None
+        self._created: list[str] = []
+        self._made = False
         try:
             self._open(force, option, create)
         except OSError as error:  # e.g. a name longer than the file system allows
@@ -388,16 +425,20 @@ class OutputFolder:
     def _open(self, force: bool, option: str, create: bool) -> None:
         if self.path.exists() and not self.path.is_dir():
             raise OutputError(f"{option} {shown(self.path)} is a file, not a folder")
+        if create and self.path.is_dir():
+            _recover(self.path)  # what a killed run left: taken back first
         manifest = self.path / MANIFEST
         self.previous = self._read_manifest(manifest)
         self._listed = list(self.previous or ())  # what the manifest on disk lists
-        foreign = self.path.is_dir() and self.previous is None and any(self.path.iterdir())
+        foreign = self.path.is_dir() and self.previous is None and any(
+            not _bookkeeping(p.name) for p in self.path.iterdir())
         if foreign and not force:
             raise OutputError(f"{option} {shown(self.path)} is not empty and was not "
                               "written by ins-errors: choose another folder or add "
                               "--force (replaces only the files ins-errors writes)")
         if not create:
             return
+        self._made = not self.path.exists()
         try:
             self.path.mkdir(parents=True, exist_ok=True)
         except OSError as error:
@@ -419,9 +460,15 @@ class OutputFolder:
 
         A name new to the manifest is added to it (on disk) before the file is written:
         an interruption before :meth:`finish` leaves a manifest that lists every file
-        ins-errors put in the folder (the earlier run's and this run's so far).
+        ins-errors put in the folder (the earlier run's and this run's so far). What the
+        file will replace is kept first in the undo folder (see the class's notes).
         """
         if name not in self.written:
+            try:
+                self._keep(name)
+            except OSError as error:
+                raise OutputError(f"cannot write {shown(self.path / name)}: "
+                                  f"{_reason(error)}") from None
             self.written.append(name)
             if name not in self._listed:
                 self._listed.append(name)
@@ -448,20 +495,213 @@ class OutputFolder:
         list of Path
             The files written by this run.
         """
+        try:
+            self._keep(MANIFEST)
+        except OSError as error:
+            raise OutputError(f"cannot write {shown(self.path / MANIFEST)}: "
+                              f"{_reason(error)}") from None
         for name in self.previous or ():
             if name not in self.written:
                 try:
-                    (self.path / name).unlink(missing_ok=True)
+                    self._keep(name, move=True)
                 except OSError as error:
                     raise OutputError(f"cannot remove {shown(self.path / name)} (written "
                                       f"by an earlier run): {_reason(error)}") from None
         self._write_manifest(self.written)
         self._listed = list(self.written)
+        undo, self._undo = self._undo, None
+        if undo is not None:  # the new set is complete: the rename makes it the folder's
+            done = undo.with_name(DONE_PREFIX + undo.name[len(UNDO_PREFIX):])
+            try:
+                os.rename(undo, done)
+            except OSError as error:
+                self._undo = undo
+                raise OutputError(f"cannot finish {shown(self.path)}: "
+                                  f"{_reason(error)}") from None
+            _UNFINISHED.pop(undo, None)
+            shutil.rmtree(done, ignore_errors=True)
+        self._created = []
         return [self.path / n for n in self.written]
+
+    def _keep(self, name: str, move: bool = False) -> None:
+        """Keep what ``name`` holds now in the undo folder (made on first use), or note
+        it as new to the folder; ``move`` moves it there (a file :meth:`finish` removes).
+        Each name once per run.
+
+        Raises
+        ------
+        OSError
+            When the file cannot be kept (the caller's message names it).
+        """
+        undo = self._undo or self._start()
+        target, kept = self.path / name, undo / KEPT / name
+        if os.path.lexists(kept) or name in self._created:
+            return
+        if not os.path.lexists(target):
+            self._created.append(name)
+            _write_journal(undo, self._made, self._created)
+        elif target.is_dir() and not target.is_symlink():
+            if move:  # never moved away (and deleted with the undo folder)
+                raise IsADirectoryError(errno.EISDIR, "Is a directory")
+            return  # not a file of ins-errors': writing it fails with its own line
+        elif move:
+            os.replace(target, kept)
+        else:
+            try:
+                os.link(target, kept, follow_symlinks=False)
+            except OSError:  # a file system without hard links
+                os.replace(target, kept)
+
+    def _start(self) -> Path:
+        """Make this run's undo folder and register it to be taken back at exit."""
+        try:
+            self.path.mkdir(parents=True, exist_ok=True)
+            undo = Path(tempfile.mkdtemp(prefix=UNDO_PREFIX, dir=self.path))
+            (undo / KEPT).mkdir()
+            _write_journal(undo, self._made, [])
+        except OSError as error:
+            raise OutputError(f"cannot write in {shown(self.path)}: "
+                              f"{_reason(error)}") from None
+        self._undo = undo
+        _UNFINISHED[undo] = self.option
+        _register_exit()
+        if os.path.lexists(self.path / MANIFEST):
+            self._keep(MANIFEST)
+        else:
+            self._created.append(MANIFEST)
+            _write_journal(undo, self._made, self._created)
+        return undo
 
     def _write_manifest(self, names: list[str]) -> None:
         write_text(self.path / MANIFEST, json.dumps({"written_by": "ins-errors",
                                                     "files": names}, indent=1) + "\n")
+
+
+_UNFINISHED: dict[Path, str] = {}
+"""Undo folders of this process's unfinished :class:`OutputFolder` runs, and the option
+that named each folder."""
+
+_EXIT_REGISTERED: list[int] = []
+"""The process id that registered :func:`_take_back_at_exit` (a forked child does not
+take back its parent's runs)."""
+
+
+def _bookkeeping(name: str) -> bool:
+    """Whether ``name`` is an undo folder, live or finished, rather than a file of the
+    folder's own."""
+    return name.startswith((UNDO_PREFIX, DONE_PREFIX))
+
+
+def _write_journal(undo: Path, made: bool, created: list[str]) -> None:
+    """Record in ``undo`` this process, whether it made the folder, and the names it
+    made new (removed when the run is taken back)."""
+    journal = undo / JOURNAL
+    scratch = undo / (JOURNAL + ".new")
+    scratch.write_text(json.dumps({"pid": os.getpid(), "made_folder": made,
+                                   "created": created}), encoding="utf-8")
+    os.replace(scratch, journal)
+
+
+def take_back(undo: Path) -> bool:
+    """Take back the unfinished run that ``undo`` (an undo folder) belongs to.
+
+    The files it kept are put back, the names its run made new are removed, and the
+    undo folder is deleted; a folder the run made is removed when nothing else is left
+    in it.
+
+    Parameters
+    ----------
+    undo : Path
+        The undo folder (:data:`UNDO_PREFIX`) inside an output folder.
+
+    Returns
+    -------
+    bool
+        True when the folder still exists (it held files before the run), False when
+        it was made by the run and is removed again.
+    """
+    folder = undo.parent
+    try:
+        journal = json.loads((undo / JOURNAL).read_text(encoding="utf-8"))
+        created, made = list(journal["created"]), bool(journal["made_folder"])
+    except (OSError, ValueError, KeyError, TypeError):
+        created, made = [], False
+    kept = undo / KEPT
+    for path in sorted(kept.iterdir()) if kept.is_dir() else ():
+        with suppress(OSError):  # (a folder in its place): the rest is still put back
+            os.replace(path, folder / path.name)
+    for name in created:
+        if "/" in name or "\\" in name:
+            continue
+        with suppress(OSError):
+            (folder / name).unlink(missing_ok=True)
+    shutil.rmtree(undo, ignore_errors=True)
+    if made:
+        try:
+            folder.rmdir()
+        except OSError:
+            return folder.exists()
+        return False
+    return True
+
+
+def _alive(pid: int) -> bool:
+    if pid == os.getpid():
+        return False  # this process: an OutputFolder dropped without finish()
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (OSError, ValueError, OverflowError):
+        return True  # e.g. another user's process: not ours to judge
+    return True
+
+
+def _recover(folder: Path) -> None:
+    """Take back the runs that left an undo folder in ``folder`` and no longer run (a
+    process killed outright), and delete finished ones' leftovers."""
+    try:
+        names = [p for p in folder.iterdir() if _bookkeeping(p.name)]
+    except OSError:
+        return
+    for path in names:
+        if path.name.startswith(DONE_PREFIX):
+            shutil.rmtree(path, ignore_errors=True)
+            continue
+        try:
+            pid = int(json.loads((path / JOURNAL).read_text(encoding="utf-8"))["pid"])
+        except (OSError, ValueError, KeyError, TypeError):
+            pid = -1
+        if pid < 0 or not _alive(pid):
+            _UNFINISHED.pop(path, None)
+            take_back(path)
+
+
+def _register_exit() -> None:
+    if [os.getpid()] != _EXIT_REGISTERED:
+        _EXIT_REGISTERED[:] = [os.getpid()]
+        atexit.register(_take_back_at_exit)
+
+
+def _take_back_at_exit() -> None:
+    """Take back every run of this process that did not finish, saying so for a folder
+    that held files before (a folder made by the run is just removed again)."""
+    if [os.getpid()] != _EXIT_REGISTERED or not _UNFINISHED:
+        return
+    handlers = {}
+    for number in (signal.SIGINT, signal.SIGTERM):  # a second Ctrl-C: not half taken back
+        with suppress(ValueError, OSError):
+            handlers[number] = signal.signal(number, signal.SIG_IGN)
+    try:
+        for undo, option in list(_UNFINISHED.items()):
+            _UNFINISHED.pop(undo, None)
+            if undo.is_dir() and take_back(undo):
+                print(f"ins-errors: {option} {undo.parent}: this run stopped before its "
+                      "files were all written; the folder holds the earlier files again",
+                      file=sys.stderr)
+    finally:
+        for number, handler in handlers.items():
+            signal.signal(number, handler)
 
 
 def require_matplotlib(what: str = "plots") -> None:

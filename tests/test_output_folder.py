@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from ins_errors.output import MANIFEST, OutputError, OutputFolder
+from ins_errors.output import MANIFEST, UNDO_PREFIX, OutputError, OutputFolder
 
 
 def _interrupt(_path):
@@ -20,6 +20,10 @@ def _names(folder) -> set[str]:
     return {p.name for p in folder.iterdir()}
 
 
+def _undo(folder) -> set[str]:
+    return {p.name for p in folder.iterdir() if p.name.startswith(UNDO_PREFIX)}
+
+
 def test_interrupted_fresh_run_can_be_rerun_without_force(tmp_path):
     folder = tmp_path / "out"
     first = OutputFolder(folder)
@@ -27,7 +31,8 @@ def test_interrupted_fresh_run_can_be_rerun_without_force(tmp_path):
     first.write_text("curves.csv", "t,x\n")
     with pytest.raises(KeyboardInterrupt):
         first.write_with("curves.mat", _interrupt)  # Ctrl-C while curves.mat is written
-    assert _names(folder) == {"report.md", "curves.csv", MANIFEST}  # no temporary left
+    # no temporary file left; the new files stay until the run is taken back
+    assert _names(folder) - _undo(folder) == {"report.md", "curves.csv", MANIFEST}
     # the rerun is not refused, and what it does not write (curves.csv) is removed
     second = OutputFolder(folder)
     second.write_text("report.md", "second")
