@@ -91,7 +91,23 @@ STANDARD_MANOEUVRE = ("standard manoeuvre (every hour a 90° left turn, a 20 % s
 
 def default_legs(speed: float, height: float, hours: int = 24) -> list[tr.Leg]:
     """The standard manoeuvre: a turn, a speed change with a climb, a turn back and a
-    descent, repeated every hour."""
+    descent, repeated every hour.
+
+    Parameters
+    ----------
+    speed, height : float
+        Start speed (m/s) and height (m); every hour ends at them again, on the
+        start's course.
+    hours : int
+        Hours of legs. :func:`motion_profile` builds 24 and flies them again and again
+        (``manoeuvre_profile(..., repeat=True)``), so the manoeuvre lasts as long as
+        any run; the legs of a longer list are the same numbers.
+
+    Returns
+    -------
+    list of Leg
+        Five legs an hour.
+    """
     legs = []
     for _ in range(hours):
         legs += [tr.Leg(600.0, speed, np.radians(90.0), height),
@@ -426,9 +442,10 @@ def motion_profile(description: Mapping[str, Any], base: Path | None = None,
             path = base / path
         return read_motion_file(path, lat, lon, heading, height,
                                 height_given=description.get("height") is not None)
-    if legs is None:  # the standard manoeuvre: described by its pattern, not its count
+    if legs is None:  # the standard manoeuvre: described by its pattern, not its count;
+        # a day of legs flown again and again, so that it lasts as long as any run
         return tr.manoeuvre_profile(lat, lon, heading, speed, default_legs(speed, height),
-                                    height, name=STANDARD_MANOEUVRE)
+                                    height, name=STANDARD_MANOEUVRE, repeat=True)
     return tr.manoeuvre_profile(lat, lon, heading, speed, legs, height)
 
 

@@ -445,14 +445,18 @@ def smoothstep(theta: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: float,
-                      legs: Sequence[Leg], h: float = 0.0, name: str | None = None
-                      ) -> Profile:
+                      legs: Sequence[Leg], h: float = 0.0, name: str | None = None,
+                      repeat: bool = False) -> Profile:
     """A flight of smooth legs: turns, speed changes, climbs and descents.
 
     Within each leg the speed, the course ψ (relative to the trihedron's ξ axis) and the
     height move from their start to their end values along a C² ramp, so the commanded
     velocities, V_zeta and their rates are continuous. After the last leg the motion
-    continues unchanged (with zero vertical speed).
+    continues unchanged (with zero vertical speed), or, with ``repeat``, the legs are
+    flown again and again: the commands at ``t`` beyond the legs' total length ``T``
+    are those at ``t mod T`` (the same numbers as before up to ``T``), and the
+    profile's :attr:`~Profile.breaks` list one round, which :func:`covering` extends
+    to a run's length (:func:`trajectory` does).
 
     Parameters
     ----------
@@ -467,6 +471,15 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
     name : str, optional
         What the flight is, for its description (default: "manoeuvring flight of N
         legs").
+    repeat : bool
+        Fly the legs again and again; they must end at the start's speed and height
+        and with a whole number of full turns.
+
+    Raises
+    ------
+    MotionError
+        For a leg no vehicle flies, no legs, or legs to repeat that do not end where
+        they start.
     """
     latitude, longitude, track = _angles(latitude=latitude, longitude=longitude, track=track)
     speed = motion_number(speed, "manoeuvre speed", "m/s")
@@ -490,8 +503,19 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
 
     table = np.array([(start, length, vs, leg.speed - vs, ps, leg.turn, hs, leg.height - hs)
                       for start, length, vs, ps, hs, leg in starts]).reshape(-1, 8).T
+    period = 0.0
+    if repeat:
+        turns = psi0 / (2 * np.pi)
+        if (not np.isclose(v0, speed, rtol=1e-12, atol=0.0) or not np.isclose(h0, h, rtol=0.0,
+                atol=1e-9) or abs(turns - round(turns)) > 1e-12):
+            raise MotionError("legs flown again and again must end at the start's speed "
+                              f"({float(speed):g} m/s) and height ({float(h):g} m) and with "
+                              f"whole turns; they end at {v0:g} m/s, {h0:g} m, after "
+                              f"{np.degrees(psi0):g}° of turn")
+        period = float(t0)
 
-    return Profile("track", LegCommands(table, float(speed), float(h)), latitude, longitude,
+    return Profile("track", LegCommands(table, float(speed), float(h), period), latitude,
+                   longitude,
                    track, breaks=tuple(float(b) for b in np.cumsum([leg.duration for leg in legs])),
                    **_description((None, name or f"manoeuvring flight of {len(legs)} legs"),
                                   ("latitude", f" from φ={latitude_text(latitude)}°"),
@@ -499,6 +523,37 @@ def manoeuvre_profile(latitude: float, longitude: float, track: float, speed: fl
                                   ("heading", f", track {np.degrees(track):.4g}°"),
                                   (None, f", {float(speed):g} m/s"),
                                   ("height", f", h={float(h):g} m")))
+
+
+def covering(profile: Profile, duration: float) -> Profile:
+    """``profile`` with its breaks listed through a run of ``duration`` s.
+
+    A manoeuvre flown again and again (:func:`manoeuvre_profile` with ``repeat``) lists
+    the breaks of one round; a run longer than the round gets a copy whose breaks
+    repeat with the round through the end of the run (and the round after it). Any
+    other profile, and a run no longer than one round, is returned as it is.
+
+    Parameters
+    ----------
+    profile : Profile
+        The motion.
+    duration : float
+        Length of the run, s.
+
+    Returns
+    -------
+    Profile
+    """
+    period = getattr(profile.commands, "period", 0.0)
+    if not period > 0 or profile.breaks is None or not duration > period:
+        return profile
+    from dataclasses import replace
+
+    one = np.asarray(profile.breaks, dtype=float)
+    rounds = int(np.ceil(duration / period)) + 1
+    return replace(profile, breaks=tuple(float(b) for b in
+                                         (one[None, :] + period * np.arange(rounds)[:, None]
+                                          ).ravel()))
 
 
 def sampled_profile(t: np.ndarray, v1: np.ndarray, v2: np.ndarray, latitude: float,
@@ -599,14 +654,20 @@ class LegCommands:
         and its change (rad), start height and its change (m).
     speed, height : float
         Speed (m/s) and height (m) before the first leg.
+    period : float
+        With a positive period (s; the legs' total length) the legs are flown again
+        and again: the commands at ``t > period`` are those at ``t mod period`` (exact
+        in floating point). 0: after the last leg the motion continues unchanged.
     """
 
     table: np.ndarray
     speed: float
     height: float
+    period: float = 0.0
 
     def __call__(self, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-
+        if self.period > 0 and t.size and t.max() > self.period:  # legs flown again
+            t = np.where(t > self.period, np.mod(t, self.period), t)
         # only the last leg begun by t shapes the motion at t: evaluate that leg alone
         leg = np.searchsorted(self.table[0], t, side="right") - 1
         before = leg < 0
@@ -1298,6 +1359,7 @@ def trajectory(model: Model, profile: Profile, duration: float, tau: float,
         raise unknown_name("truth", truth, TRUTHS)
     model, p = run_arguments(model, profile, Profile, duration, p)
     model.check_start_latitude(profile.latitude, p, "trajectory")
+    profile = covering(profile, float(duration))  # a repeated manoeuvre's joins, all of them
     if model.name == "strapdown_ned":  # body rates and specific force, not a_* inputs
         from ins_errors.numeric import strapdown_truth
 
