@@ -15,7 +15,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "cache", help="show or clear the on-disk caches (compiled loops and the rest)",
         description="Work that is costly to redo is kept on disk, in folders under "
                     "$INS_ERRORS_CACHE (compiled loops in the folder itself, the others "
-                    "in subfolders; without the variable, ~/.cache/ins-errors/casadi for "
+                    "in subfolders; a folder with a casadi/ subfolder, such as "
+                    "~/.cache/ins-errors, keeps them there; without the variable, "
+                    "~/.cache/ins-errors/casadi for "
                     "the loops and ~/.cache/ins-errors/<store> for the others, "
                     "$XDG_CACHE_HOME in place of ~/.cache where it is set). Compiled "
                     "loops are bounded by size, $INS_ERRORS_CACHE_LIMIT MB (default 200, "
@@ -37,6 +39,11 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         action.add_argument("--json", action="store_true", help="machine-readable output")
     parser.set_defaults(func=run)
 
+
+FLAT_LOOPS = ("loop_*.so", "notes", "owners")
+"""Names, in a ``$INS_ERRORS_CACHE`` folder whose loops are in its ``casadi/`` subfolder,
+of the loops, notes and owner marks kept in the folder itself (before it had that
+subfolder, e.g. by a version that did not look for it): no longer used."""
 
 LEFTOVERS = ("tmp*", "writer_*.key", "verified-generated.json")
 """Names of entries of the compiled loops' folder that no current store keeps: scratch
@@ -129,6 +136,14 @@ def stores() -> list[Store]:
     from ins_errors.studies import function_cache
     from ins_errors.symbolic import variation_store
 
+    chosen = cache.root()
+    flat = []
+    if chosen is not None and cache.directory() != chosen:  # the user cache's layout
+        unused = Store("unused", chosen,
+                       "compiled loops and notes kept in the folder itself, not in its "
+                       f"{cache.LOOPS}/ (no longer used)",
+                       "none: not used; cache clear removes them", {}, patterns=FLAT_LOOPS)
+        flat = [unused] if unused._parts() else []
     return [
         Store("notes", cache.directory() / cache.NOTES,
               "notes of compiled loops (frozen states, code fingerprint)",
@@ -164,6 +179,7 @@ def stores() -> list[Store]:
               "test suite's note of verified generated code",
               "none (small; only what an interrupted or older run left)", {},
               patterns=LEFTOVERS),
+        *flat,
     ]
 
 

@@ -2,7 +2,8 @@
 
 Compiled libraries (``loop_<hash>.so``, see
 :func:`ins_errors.numeric.integrators.compile_library`) are kept in one folder per user:
-``$INS_ERRORS_CACHE`` or ``$XDG_CACHE_HOME/ins-errors/casadi`` (``~/.cache/...``). A
+``$INS_ERRORS_CACHE`` (its ``casadi/`` subfolder where it has one, the user cache
+folder's layout) or ``$XDG_CACHE_HOME/ins-errors/casadi`` (``~/.cache/...``). A
 library's modification time is its last use (refreshed whenever it is loaded); when the
 folder grows beyond its size limit (``$INS_ERRORS_CACHE_LIMIT`` in MB, default
 :data:`DEFAULT_LIMIT_MB`) the least recently used libraries are deleted until it fits.
@@ -67,13 +68,24 @@ def root() -> Path | None:
     return Path(folder)
 
 
+LOOPS = "casadi"
+"""Subfolder of the compiled loops in the user cache folder (``~/.cache/ins-errors/casadi``)."""
+
+
 def directory() -> Path:
-    """The cache folder (``$INS_ERRORS_CACHE`` or the user cache folder); may not exist."""
+    """The folder of the compiled loops; may not exist.
+
+    ``$INS_ERRORS_CACHE`` itself, or its :data:`LOOPS` subfolder when it has one: a
+    variable pointed at a folder laid out as the user cache folder (``~/.cache/
+    ins-errors``, loops in ``casadi/``) uses, shows, bounds and clears the loops it
+    holds. Without the variable, ``$XDG_CACHE_HOME/ins-errors/casadi`` (``~/.cache/...``).
+    """
     chosen = root()
     if chosen is not None:
-        return chosen
+        nested = chosen / LOOPS
+        return nested if nested.is_dir() else chosen
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    return Path(base) / "ins-errors" / "casadi"
+    return Path(base) / "ins-errors" / LOOPS
 
 
 SCRATCH_PREFIX = "tmp"
