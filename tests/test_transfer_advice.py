@@ -24,6 +24,10 @@ PAIR = ["--source", "gyro_drift_U", "--output", "x_E"]
 
 
 def test_refusal_moves_the_latitude_parameter(capsys):
+    from ins_errors.numeric.model import load_model
+
+    load_model(TANGENT)     # a first use in a cache says "deriving model file ..." first
+    capsys.readouterr()
     assert main(["transfer", TANGENT, *PAIR, "-p", "phi0=1e-7deg", *DAMPING]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err

@@ -234,6 +234,69 @@ class Mode:
                 "participation": self.participation}
 
 
+TURNING_RATE = 1e-12
+"""Least rate, rad/s, at which an angle of the ideal state that F depends on counts as
+turning at rest (a turn in 200 000 years; rounding of an Earth-rate term is 1e-20)."""
+
+
+@dataclass(frozen=True)
+class TurningAtRest:
+    """An angle of the ideal state that turns at rest, with F depending on it: F at the
+    base's start is then one instant of a matrix that changes (free_azimuth's wander angle
+    A takes up the Earth's vertical rate, Ȧ = −U sin φ).
+
+    Attributes
+    ----------
+    state : str
+        The ideal state (an angle, rad).
+    rate : float
+        Its rate at rest, rad/s.
+    """
+
+    state: str
+    rate: float
+
+    @property
+    def period_s(self) -> float:
+        """The time of one turn, 2π/|rate|, s."""
+        return float(2 * np.pi / abs(self.rate))
+
+    def words(self) -> str:
+        """``"its state's angle A turns at rest (-5.586e-05 rad/s: once every 31.24 h)"``."""
+        from ins_errors.time_text import duration_text
+
+        return (f"its state's angle {self.state} turns at rest ({self.rate:.4g} rad/s: once "
+                f"every {duration_text(self.period_s)}), and F with it")
+
+    def to_dict(self) -> dict:
+        return {"state": self.state, "rate_rad_per_s": self.rate,
+                "period_s": self.period_s}
+
+
+def turning_at_rest(model: Model, x: np.ndarray, u: np.ndarray, p: np.ndarray
+                    ) -> TurningAtRest | None:
+    """The fastest angle of the ideal state (unit rad) that turns at rest faster than
+    :data:`TURNING_RATE` while F depends on it (a change of 1e-3 rad in it changes F), or
+    None: F at rest is then the same at every time."""
+    x = np.asarray(x, dtype=float).reshape(-1)
+    with np.errstate(all="ignore"):
+        rates = np.asarray(model.numpy.ideal_rhs(x, u, p), dtype=float).reshape(-1)
+        F = np.asarray(model.state_matrix(x, u, p), dtype=float)
+    found = None
+    for k, state in enumerate(model.states):
+        if state.unit != "rad" or not abs(rates[k]) > TURNING_RATE:
+            continue
+        moved = x.copy()
+        moved[k] += 1e-3
+        with np.errstate(all="ignore"):
+            changed = np.asarray(model.state_matrix(moved, u, p), dtype=float)
+        if not np.any(changed != F):
+            continue
+        if found is None or abs(rates[k]) > abs(found.rate):
+            found = TurningAtRest(state.name, float(rates[k]))
+    return found
+
+
 @dataclass(frozen=True, eq=False)
 class RestPoint:
     """The point of the static base F was evaluated at (what other analyses of the same
@@ -318,6 +381,7 @@ class StaticModes:
     latitude_source: str | None = "base"
     point: RestPoint | None = field(default=None, repr=False, compare=False)
     unseen_modes: tuple[Mode, ...] = field(default_factory=tuple)
+    turning: TurningAtRest | None = None
 
     def mode(self, name: str) -> Mode:
         """The first mode called ``name``.
@@ -365,7 +429,8 @@ class StaticModes:
                 "participation_units": self.scales,
                 "eigenvalues": [{"real": v.real, "imag": v.imag} for v in self.eigenvalues],
                 "modes": [m.to_dict() for m in self.modes],
-                "unseen_modes": [m.to_dict() for m in self.unseen_modes]}
+                "unseen_modes": [m.to_dict() for m in self.unseen_modes],
+                "turning_at_rest": None if self.turning is None else self.turning.to_dict()}
 
 
 def static_modes(model: Model | str, latitude: float = np.radians(50.0),
@@ -477,7 +542,7 @@ def modes_at_rest(model: Model | str, profile, parameters: Mapping[str, float] |
     return StaticModes(model.name, motion.description,
                        profile.latitude if "latitude" in used else None, height, F,
                        np.linalg.eigvals(F), refs, dict(zip(names, units, strict=True)),
-                       seen, source, point, unseen)
+                       seen, source, point, unseen, turning_at_rest(model, x, u, p))
 
 
 def _latitude(model: Model, p: np.ndarray, base: float, used: bool

@@ -655,10 +655,14 @@ class TransferFunctions:
         from ins_errors.analysis.transfer_text import CONVENTION
 
         base = self.modes
+        pairs = [p.to_dict() for p in self.pairs]
+        for pair in pairs:   # a turning F: W(s) of its first instant has no long run
+            pair["long_run"]["holds"] = base.turning is None
         return {"model": base.model, "base": base.base, "latitude_rad": base.latitude,
                 "height_m": base.height, "convention": CONVENTION,
                 "band_rad_per_s": list(self.band),
-                "pairs": [p.to_dict() for p in self.pairs]}
+                "turning_at_rest": None if base.turning is None else base.turning.to_dict(),
+                "pairs": pairs}
 
 
 # --------------------------------------------------------------------------------------

@@ -245,8 +245,20 @@ def _cancelled_mode(factor: Factor) -> str:
     return factor.name + (f" ×{factor.multiplicity}" if factor.multiplicity > 1 else "")
 
 
-def pair_text(pair: TransferFunction) -> str:
-    """One pair's section: heading, factored W, its pole factors, the long run."""
+def frozen_long_run_text(pair: TransferFunction, turning, model: str = "MODEL") -> str:
+    """The long run of a pair of ``model`` whose F turns at rest (``turning``: a
+    :class:`~ins_errors.analysis.modes.TurningAtRest`): not given, and why."""
+    from ins_errors.time_text import duration_text
+
+    return (f"not given: {turning.words()}, so W(s), of F frozen at the start, describes "
+            f"the response over times short against {duration_text(turning.period_s)}, "
+            f"not its long run (the turning carries a constant source round with it); "
+            f"fly it for that: ins-errors compare {model} -s {pair.source} --hours N")
+
+
+def pair_text(pair: TransferFunction, turning=None, model: str = "MODEL") -> str:
+    """One pair's section: heading, factored W, its pole factors, the long run (not
+    given where F of ``model`` turns at rest, ``turning``)."""
     head = f"#### {pair.source} → {pair.output}"
     if pair.is_zero and pair.negligible:
         return (f"{head}\n\nW(s) ≈ 0: {pair.source} reaches {pair.output} only below "
@@ -269,7 +281,8 @@ def pair_text(pair: TransferFunction) -> str:
                   f"kept: it overtakes every bounded term)", ""]
     lines += ["| pole factor | mode | period or time |", "|---|---|---|"]
     lines += [f"| {factor_text(f, shown)} | {f.name} | {_times(f)} |" for f in pair.poles]
-    lines += ["", f"long run: {long_run_text(pair)}"]
+    lines += ["", "long run: " + (long_run_text(pair) if turning is None
+                                 else frozen_long_run_text(pair, turning, model))]
     if pair.check_error > CHECK_LIMIT:
         lines.append(f"(the factored form differs from h (iωI − F)⁻¹ g of the whole F by "
                      f"{pair.check_error:.1e} of its size within the band: the reduction's "
@@ -280,7 +293,8 @@ def pair_text(pair: TransferFunction) -> str:
 def report_text(result: TransferFunctions) -> str:
     """The whole report: convention, every pair, the notes."""
     parts = [f"convention: {CONVENTION}"]
-    parts += [pair_text(pair) for pair in result.pairs]
+    turning = result.modes.turning
+    parts += [pair_text(pair, turning, result.modes.model) for pair in result.pairs]
     parts.append(
         "gains in the output's display unit per the source's display unit, per second to "
         "the power the form's degrees leave (s in 1/s); the poles are F's eigenvalues "

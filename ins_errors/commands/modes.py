@@ -170,6 +170,8 @@ def table(result) -> str:
         notes.append("formulas: " + "; ".join(f"{name}: {text}" for name, text in formulas))
     if result.foucault_period_s is not None:
         notes.append(_foucault_note(result))
+    if result.turning is not None:
+        notes.append(_turning_note(result))
     explained: dict[str, list[str]] = {}
     for mode in result.modes:
         if mode.note:
@@ -209,6 +211,18 @@ def _formulas(result) -> list[tuple[str, str]]:
                 out[mode.name] += f", {DAMPED_SPLIT}"
                 defined = True
     return list(out.items())
+
+
+def _turning_note(result) -> str:
+    """What the modes of an F that turns at rest describe, and what they do not."""
+    period = duration_text(result.turning.period_s)
+    return (f"F changes at rest: {result.turning.words()}; these are the modes of F "
+            f"frozen at the base's start: they describe the error states over times short "
+            f"against {period}. Beyond, the turning modulates what the outputs show (a "
+            f"Schuler oscillation read through an angle turning at that rate is split by "
+            f"it, as Schuler ± Foucault in the latitude, longitude and heading of a "
+            f"free-azimuth INS): fly the base (ins-errors compare {result.model} ... "
+            f"--hours N) for the long run")
 
 
 def _foucault_note(result) -> str:

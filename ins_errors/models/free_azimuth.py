@@ -372,7 +372,10 @@ MODE_NOTES = {
         "gyrocompass coupling), which stiffens that channel: ω² = g/R + Ω² cos² φ (g the "
         "vertical specific force a_ζ at rest, R the model's tuning radius; 84.65 min "
         "against 2π√(R/g) = 84.76 min at −30°, −0.17 % at the equator), exactly, at any "
-        "heading; the other channel is the textbook 2π√(R/g)"),
+        "heading; the other channel is the textbook 2π√(R/g). These are the wander-frame "
+        "states' modes: the outputs (latitude, longitude, heading) are read through A, "
+        "which turns at rest, and show the Schuler oscillation split by ±U sin φ "
+        "(Schuler ∓ Foucault, 88.7 and 81.0 min at 50°)"),
 }
 """Why this model's static-base modes differ from the textbook formulas of ``ins-errors
 modes`` (:attr:`ins_errors.modeling.ModelDefinition.mode_notes`)."""
