@@ -61,7 +61,9 @@ def _propagation_figures(folder: Path, hours: float) -> None:
     from ins_errors.studies import propagation
 
     result = propagation.run(propagation.Experiment(duration=hours * 3600.0))
-    cpu = _cpu(lambda: propagation.plot(result, OutputFolder(folder / "propagation")))
+    out = OutputFolder(folder / "propagation")
+    cpu = _cpu(lambda: propagation.plot(result, out))
+    out.finish()   # kept: an unfinished folder is undone when the process exits
     print(f"  propagation figures, {len(result.curves)} sources x 7 panels, "
           f"{len(result.times)} samples: {cpu:.2f} s CPU")
 

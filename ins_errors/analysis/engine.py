@@ -200,8 +200,10 @@ def run_tasks(function: Callable[..., Any], tasks: Sequence[tuple], *,
     if progress and tasks and on_terminal():
         from tqdm import tqdm
 
+        # None: no bar when stderr is not a terminal; every task drawn as it is done (a
+        # few tasks of seconds each: the bar never lags the count a stop reports)
         bar = tqdm(total=len(tasks), unit="task", desc=label, leave=False,
-                   disable=None)  # None: no bar when stderr is not a terminal
+                   disable=None, miniters=1, mininterval=0)
 
     def done(k: int, result: Any) -> None:
         check_terminated()

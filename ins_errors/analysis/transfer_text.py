@@ -141,6 +141,13 @@ def magnitude_text(pair: TransferFunction) -> str:
     return f"{pair.magnitude / size:.4g} {pair.source_display}"
 
 
+YEAR = 365.25 * 86400.0
+"""s."""
+
+CENTURY = 100 * YEAR
+"""An e-folding time beyond which a growing term is said to be unseen in any run, s."""
+
+
 def long_run_text(pair: TransferFunction) -> str:
     """The long run in words, with its number in the output's display unit."""
     run = pair.long_run
@@ -156,7 +163,9 @@ def long_run_text(pair: TransferFunction) -> str:
             f"{_display_value(pair, run.coefficient * pair.magnitude, run.power)}"
             f"{power} · e^(t/{duration_text(growth.time_constant_s)}), the "
             f"{growth.name} mode"
-            + (f" (period {duration_text(growth.period_s)})" if growth.period_s else ""))
+            + (f" (period {duration_text(growth.period_s)})" if growth.period_s else "")
+            + (f" (an e-folding time of {growth.time_constant_s / YEAR:.2g} years: no run "
+               "sees it grow)" if growth.time_constant_s > CENTURY else ""))
     rest = run.rest
     if rest is None or rest.kind == "none":
         return text

@@ -22,7 +22,8 @@ FORMULAS = {
     "Schuler − Foucault": "2π/(ω̄ − Ω|sin φ|), ω̄ = √(g/R + Ω² sin² φ)",
     "Schuler + Foucault": "2π/(ω̄ + Ω|sin φ|)",
     "Schuler": "2π√(R/g)",
-    "Earth": "2π/Ω",
+    "Earth": "2π/Ω (the sidereal day, 23.93 h: a turn against the stars, not the 24-h "
+             "solar day)",
     "vertical channel (growing)": "e-folding time √(R/2g)",
     "vertical channel (decaying)": "time constant √(R/2g)",
 }
@@ -172,6 +173,8 @@ def table(result) -> str:
         notes.append(_foucault_note(result))
     if result.turning is not None:
         notes.append(_turning_note(result))
+    notes += [note for note in (_diverging_schuler_note(result), _earth_rate_note(result))
+              if note]
     explained: dict[str, list[str]] = {}
     for mode in result.modes:
         if mode.note:
@@ -211,6 +214,45 @@ def _formulas(result) -> list[tuple[str, str]]:
                 out[mode.name] += f", {DAMPED_SPLIT}"
                 defined = True
     return list(out.items())
+
+
+EARTH_RATE = 7.292115e-5
+"""The Earth's rate against the stars, rad/s (a model's Ω far from it is named)."""
+
+
+def _earth_rate_note(result) -> str | None:
+    """A note where the model's Ω is far from the Earth's (a factor 2 or more): a planet
+    of its own, or a unit slip (15.041 deg/h written as rad/s is 206 265 times it)."""
+    omega = result.references.Omega
+    if omega is None or not omega.value or 0.5 < abs(omega.value) / EARTH_RATE < 2:
+        return None
+    ratio = abs(omega.value) / EARTH_RATE
+    slip = ("; 15.041 in deg/h is the Earth's rate: a deg/h value given as rad/s?"
+            if abs(ratio / 206264.8 - 1) < 0.01 else "")
+    return (f"Ω = {omega.value:.6g} rad/s is {ratio:.4g} times the Earth's rate "
+            f"{EARTH_RATE} rad/s ({omega.source}){slip}")
+
+
+def _diverging_schuler_note(result) -> str | None:
+    """Where no row is named Schuler but a real root grows at about √(g/R): the
+    horizontal loop diverges where it should oscillate, the sign of gravity in its
+    equations flipped (an ENU model's up taken for NED's down, or the reverse)."""
+    from ins_errors.analysis.modes import BAND
+
+    rate = result.references.schuler
+    if rate is None or any(m.base_name == "Schuler" for m in result.modes):
+        return None
+    for mode in result.modes:
+        value = mode.eigenvalue
+        if value.real > 0 and abs(value.imag) < 1e-3 * value.real and \
+                1 / BAND < value.real / rate < BAND:
+            return (f"no Schuler row, but a real mode grows at {value.real:.4e} 1/s, about "
+                    f"√(g/R) = {rate:.4e} rad/s (e-folding {duration_text(1 / value.real)}): "
+                    "the horizontal loop diverges where it should oscillate, as it does "
+                    "when gravity has the wrong sign in the velocity equations (an ENU "
+                    "model's up taken for NED's down, or the reverse); check the sign of g "
+                    "there")
+    return None
 
 
 def _turning_note(result) -> str:
