@@ -6,7 +6,9 @@ import modules that sit next to it (``from my_constants import ...``); those are
 its identity: :func:`~ins_errors.model_identity.model_sha256` hashes the file and every
 such module, so editing any of them makes the generated code stale. Any
 failure (a Python exception while importing the file or running ``build()``, a
-definition that does not pass :func:`~ins_errors.symbolic.consistency.check_definition`)
+definition that does not pass :func:`~ins_errors.symbolic.consistency.check_definition`,
+a real work reading a true state where the computer has its own,
+:func:`~ins_errors.symbolic.true_state_reads.check_true_state_reads`)
 becomes one :class:`~ins_errors.errors.ModelDefinitionError` line that names the file,
 the model, the quantity and the step.
 """
@@ -159,6 +161,7 @@ def build_definition(module: ModuleType, label: str, path: Path | None = None) -
         check_reduces_to_ideal,
         check_units,
     )
+    from ins_errors.symbolic.true_state_reads import check_true_state_reads
 
     named = f"{label} (model {definition.name!r})"
     # units before the reduction: a term in the wrong unit in the real work alone is
@@ -167,6 +170,7 @@ def build_definition(module: ModuleType, label: str, path: Path | None = None) -
     check_units(definition, named)
     check_dimensions(definition, named)
     check_reduces_to_ideal(definition, named)
+    check_true_state_reads(definition, named)
     return definition
 
 

@@ -446,6 +446,13 @@ class ModelDefinition:
         a property of the mechanisation (``ins-errors modes`` prints the note beside the
         mode): keys from :data:`MODE_NOTE_KEYS` (``"Schuler"`` covers the Foucault-split
         pair too), values one paragraph of plain text.
+    reads_true_state : sequence of str
+        Names of states whose true value the real work reads on purpose where the
+        computer also has the computed one: an external reference (a log or GNSS
+        velocity the computer is damped by or integrates) or what a sensor senses.
+        Without it, a real-work equation of a computed state (or a real intermediate
+        that the ideal work defines too) that reads the true state and not its computed
+        counterpart is refused (:mod:`ins_errors.symbolic.true_state_reads`).
     """
 
     name: str
@@ -472,6 +479,7 @@ class ModelDefinition:
     domain: Sequence[tuple[sp.Expr, str]] = ()
     initial_domain: Sequence[tuple[sp.Expr, str]] = ()
     mode_notes: Mapping[str, str] = field(default_factory=dict)
+    reads_true_state: Sequence[str] = ()
 
     def __post_init__(self) -> None:
         unknown = sorted(set(self.mode_notes) - set(MODE_NOTE_KEYS))
