@@ -96,6 +96,24 @@ def test_a_factor_one_half_stays_one_half_where_sin_phi_is_one_half():
     assert "at the one reference point" in detail
 
 
+def test_an_exact_trig_factor_is_named_before_a_unit_slip_it_is_near():
+    """At 1°, cot φ = 57.290 is within 1e-4 of the degree's 57.2958 (matched to 1e-3 as
+    a rounded unit factor): the tan φ left out is named, not a unit slip."""
+    phi, x = sp.symbols("phi x", real=True)
+    at = {phi: np.radians(1.0), x: 3.0}
+
+    def evaluate(exprs):
+        return np.array([[complex(sp.N(e.subs(at)))] for e in exprs])
+
+    hand, model = x, sp.tan(phi) * x
+    hs, ms = evaluate([hand, model])[:, 0].real.reshape(2, 1)
+    kind, detail = cl.diagnose(hand, model, hs, ms, 1e-30, evaluate, [],
+                               factors=factors(None, None))
+    assert kind == cl.COEFFICIENT
+    assert "cot(phi)" in detail and "tan(phi) missing" in detail, detail
+    assert "unit slip" not in detail
+
+
 def test_a_static_base_file_without_scope_is_advised_to_say_so():
     report = _check_text(_text_without_scope())
     scoped = check_hand_file(F_BAD, model="north_pointing", effects=False)

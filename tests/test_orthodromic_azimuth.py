@@ -27,7 +27,10 @@ def test_the_azimuth_error_from_north_is_alpha_z_plus_the_heading_error(orthodro
     # the Schuler oscillation rides on the Earth-rate swing: a few per cent of it
     assert np.max(np.abs(np.abs(azimuth) - textbook)) < 0.03 * largest
     assert abs(np.max(np.abs(azimuth)) - largest) < 0.02 * largest
-    # alpha_z alone is not it: it stays well under half the textbook's swing
+    # alpha_z alone is not it (it stays well under half the textbook's swing), nor is
+    # the heading error taken with the other sign
     assert np.max(np.abs(errors["alpha_z"][:, 0])) < 0.5 * largest
+    other = errors["alpha_z"][:, 0] - errors["delta_heading"][:, 0]
+    assert np.max(np.abs(np.abs(other) - textbook)) > 0.3 * largest
     assert "from north: alpha_z + delta_heading" in orthodromic.error_states[
         [s.name for s in orthodromic.error_states].index("alpha_z")].description

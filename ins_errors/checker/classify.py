@@ -295,7 +295,10 @@ def diagnose(hand_expr: sp.Expr, model_expr: sp.Expr, hs: np.ndarray, ms: np.nda
             swapped = function_at_one_point(hand_expr, ms, tiny, evaluate)
             if swapped is not None:
                 return FUNCTION, swapped
-        if factor_name(float(ratios[0]), factors or []) is None:
+        # an exact factor (2, 1/2, R, g) first, then an exact trigonometric one, then a
+        # unit factor matched to its rounding (cot 1° = 57.290 is within 1e-4 of the
+        # degree's 57.296: the exact name wins)
+        if factor_name(float(ratios[0]), factors or [], units=False) is None:
             trig = trig_factor_that_fits(hand_expr, model_expr, ratios, usable, evaluate,
                                          where)
             if trig is not None:

@@ -68,19 +68,20 @@ UNIT_FACTORS = (
 :data:`UNIT_ROUNDED` as a unit slip."""
 
 
-def factor_name(ratio: float, named: list[tuple[str, float]]) -> tuple[str, str] | None:
+def factor_name(ratio: float, named: list[tuple[str, float]], units: bool = True
+                ) -> tuple[str, str] | None:
     """(name, suggestion) when ``ratio`` is one of the ``named`` factors (:func:`factors`)
     or minus one, to :data:`EXACT`: ``("1/R (R = 6.371e+06 m)", "a factor 1/R too
     many?")``, ``("−2", "a factor 2 too many and the wrong sign?")``; or one of the
     :data:`UNIT_FACTORS`, to :data:`UNIT_ROUNDED`: ``("206265", "a unit slip? 206265 =
-    rad → arcsec, ...")``; None otherwise."""
+    rad → arcsec, ...")`` (not with ``units`` False); None otherwise."""
     for name, value in named:
         for sign, text in ((1.0, ""), (-1.0, "−")):
             if abs(ratio - sign * value) <= EXACT * value:
                 bare = name.split(" (")[0]
                 return (f"{text}{name}", f"a factor {bare} too many"
                         + (" and the wrong sign?" if sign < 0 else "?"))
-    for name, value, conversion in UNIT_FACTORS:
+    for name, value, conversion in UNIT_FACTORS if units else ():
         for sign, text in ((1.0, ""), (-1.0, "−")):
             if abs(ratio - sign * value) <= UNIT_ROUNDED * value:
                 return (f"{text}{name}", f"a unit slip? {name} = {conversion}"

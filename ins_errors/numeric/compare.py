@@ -420,7 +420,8 @@ def add_maxima_notes(comparisons: Sequence[Comparison], sim: Simulation,
         return
     tau = sim.trajectory.tau
     if omega is None:
-        omega = sampled_maxima.fastest_oscillation(sim.model, sim.trajectory)
+        omega = sampled_maxima.fastest_oscillation(sim.model, sim.trajectory,
+                                                   lightly_damped=True)
     text = sampled_maxima.note(sim.stride * tau, tau, omega)
     for comparison in comparisons:
         comparison.maxima_note = text
@@ -545,7 +546,10 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
     too_long = step_period.warning(trajectory.tau, omega, sim.stride * trajectory.tau)
     for comparison in comparisons if too_long else ():
         comparison.warnings.append(too_long)
-    add_maxima_notes(comparisons, sim, omega)
+    # the maxima miss the peaks of lightly damped oscillations only (a damped loop's own
+    # is gone within a period or two); the step must resolve every one
+    add_maxima_notes(comparisons, sim, sampled_maxima.fastest_oscillation(
+        model, trajectory, lightly_damped=True))
     add_half_turn_warnings(comparisons, model)
     if quantities is not None:
         for comparison in comparisons:

@@ -556,7 +556,7 @@ def survey(latitudes_deg=(0.0, 20.0, 45.0, 60.0), angles_deg=(30.0, 90.0, 150.0,
         "(errors in km; 'geometric': coefficients of (9) at the true position, as in the "
         "paper; 'closed loop': at the computed position)",
         "φ0: geocentric start latitude; N0: the paper's orthodrome angle at the start "
-        "(n32 = −sin φ0): from a northern start, 0° and 180° fly along the parallel, 90° "
+        "(n32 = −sin φ0): from a northern start, 0° and 180° start along the parallel, 90° "
         "toward the equator, 270° toward the pole",
         "   φ0°     N0°   geometric   |direct − (10) completed|   |direct − (10) printed|"
         "   closed loop",
