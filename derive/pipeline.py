@@ -29,6 +29,7 @@ from ins_errors.models import definition, model_names
 from ins_errors.output import open_modes
 from ins_errors.symbolic.consistency import check_definition
 from ins_errors.symbolic.static_base import SETUPS
+from ins_errors.symbolic.true_state_reads import check_true_state_reads
 
 from .hand_check_report import write_hand_check_reports
 from .model_files import ModelSummary, write_model
@@ -48,6 +49,7 @@ def _write_one(name: str, root: Path, documents: bool) -> ModelSummary:
     with step(name, "build the definition"):
         model = definition(name)
     check_definition(model)  # the checks a researcher's model file gets, one line each
+    check_true_state_reads(model, f"model {name!r}")
     # the hashes of the model's sources: a run finds the package stale when they change
     summary = write_model(model, root, record=builtin_record(name))
     if documents and name in SETUPS:

@@ -133,3 +133,22 @@ def test_no_shipped_model_reads_a_true_state_by_mistake():
             load_model_file(Path(file))  # the check runs here: refused would raise
             checked += 1
     assert checked >= 15
+
+
+def test_make_derive_refuses_a_built_in_model_edited_into_the_same_slip(tmp_path,
+                                                                       monkeypatch):
+    """`python -m derive` (make derive) builds the built-in models through its own
+    pipeline, not through a model file's loader: the same check runs there."""
+    import importlib.util
+
+    from derive import pipeline
+    from ins_errors.errors import ModelDefinitionError
+
+    path = copy_with(SCHULER, tmp_path,
+                     (SCHULER_ROWS, SCHULER_ROWS.replace("[f, omega_c,", "[f, V / R,")))
+    spec = importlib.util.spec_from_file_location("slipped_loop", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    monkeypatch.setattr(pipeline, "definition", lambda name: module.build())
+    with pytest.raises(ModelDefinitionError, match=r"reads the true state V"):
+        pipeline._write_one("north_pointing", tmp_path / "generated", documents=False)
