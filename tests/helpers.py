@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import re
 from collections.abc import Iterator
 from contextlib import contextmanager
+from pathlib import Path
 
 import numpy as np
 
@@ -232,3 +234,17 @@ accel_bias_x = "100 ug"
 """
 """A 10-min great-circle flight at 250 m/s from 50° N, heading north, with one case: the
 head of the sweep-store and failed-point scenarios, which add their outputs or sweep."""
+
+
+def edited_model_file(source: Path, folder: Path, old: str, new: str, name: str) -> Path:
+    """A copy of the model file ``source`` in ``folder`` with the text ``old`` (which must
+    be there) replaced by ``new`` and the model renamed ``name`` (its file ``name.py``):
+    a model with one slip, built at test time."""
+    text = source.read_text(encoding="utf-8")
+    assert old in text, old
+    base = re.search(r'name="([^"]+)"', text).group(1)
+    path = folder / f"{name}.py"
+    path.write_text(text.replace(old, new).replace(f'name="{base}"', f'name="{name}"'),
+                    encoding="utf-8")
+    return path
+

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from ins_errors.cli import main
+from tests.helpers import edited_model_file
 
 ROOT = Path(__file__).resolve().parents[1]
 LOOP = ROOT / "examples" / "own_model" / "schuler_loop.py"
@@ -23,14 +24,9 @@ LOOP = ROOT / "examples" / "own_model" / "schuler_loop.py"
 @pytest.fixture(scope="module")
 def slipped(tmp_path_factory) -> Path:
     """The Schuler loop with its output v_N of the opposite sign to its initial state's."""
-    text = LOOP.read_text(encoding="utf-8")
-    wrong = text.replace("return sp.Matrix([latitude, velocity])",
-                         "return sp.Matrix([latitude, -velocity])")
-    assert wrong != text
-    path = tmp_path_factory.mktemp("model") / "schuler_sign.py"
-    path.write_text(wrong.replace('name="schuler_loop"', 'name="schuler_sign"'),
-                    encoding="utf-8")
-    return path
+    return edited_model_file(LOOP, tmp_path_factory.mktemp("model"),
+                             "return sp.Matrix([latitude, velocity])",
+                             "return sp.Matrix([latitude, -velocity])", "schuler_sign")
 
 
 def _one_line(capsys) -> str:

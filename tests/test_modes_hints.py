@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from ins_errors.cli import main
+from tests.helpers import edited_model_file
 
 ROOT = Path(__file__).resolve().parents[1]
 LOOP = ROOT / "examples" / "own_model" / "schuler_loop.py"
@@ -24,14 +25,9 @@ LOOP = ROOT / "examples" / "own_model" / "schuler_loop.py"
 @pytest.fixture(scope="module")
 def flipped(tmp_path_factory) -> Path:
     """The tutorial's Schuler loop with gravity of the wrong sign in its accelerometer."""
-    text = LOOP.read_text(encoding="utf-8")
-    wrong = text.replace("a_N * sp.cos(psi) - g * sp.sin(psi) + bias",
-                         "a_N * sp.cos(psi) + g * sp.sin(psi) + bias")
-    assert wrong != text
-    path = tmp_path_factory.mktemp("model") / "schuler_gsign.py"
-    path.write_text(wrong.replace('name="schuler_loop"', 'name="schuler_gsign"'),
-                    encoding="utf-8")
-    return path
+    return edited_model_file(LOOP, tmp_path_factory.mktemp("model"),
+                             "a_N * sp.cos(psi) - g * sp.sin(psi) + bias",
+                             "a_N * sp.cos(psi) + g * sp.sin(psi) + bias", "schuler_gsign")
 
 
 def _modes(capsys, *args) -> str:
