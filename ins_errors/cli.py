@@ -277,11 +277,20 @@ def main(argv: list[str] | None = None) -> int:
     from ins_errors.analysis.engine import terminate_interrupts
 
     with _writable_streams():
+        before = None
         try:
             with terminate_interrupts(lasting=True):
-                return _command(argv)
+                from ins_errors.output import unfinished
+
+                before = unfinished()  # runs of the Python API before this command
+                return _command(argv, before)
         except KeyboardInterrupt as error:  # Ctrl-C, or SIGTERM (engine.Terminated)
-            return _stopped(error)
+            status = _stopped(error)
+            if before is not None:  # (a stop in _command's own clean-up)
+                from ins_errors.output import take_back_unfinished
+
+                take_back_unfinished(besides=before)
+            return status
 
 
 def _stopped(error: KeyboardInterrupt) -> int:
@@ -305,10 +314,12 @@ def _stopped(error: KeyboardInterrupt) -> int:
     return 128 + signum
 
 
-def _command(argv: list[str] | None) -> int:
-    """:func:`main` once SIGTERM is handled."""
+def _command(argv: list[str] | None, before: frozenset = frozenset()) -> int:
+    """:func:`main` once SIGTERM is handled; a command that fails (an exception, Ctrl-C)
+    takes back the folders it did not finish (not those in ``before``, unfinished runs
+    of the Python API in this process before the command)."""
     from ins_errors.errors import InsErrorsError
-    from ins_errors.output import os_error_line
+    from ins_errors.output import os_error_line, take_back_unfinished
 
     parser = _shared_parser()
     args = parser.parse_args(argv)
@@ -323,6 +334,7 @@ def _command(argv: list[str] | None) -> int:
     sys.stdout = _GuardedStdout(real_stdout)
     shown_warning = warnings.showwarning
     warnings.showwarning = _one_line_notices(shown_warning)
+    failed = True  # until the command has returned: its unfinished folders are taken back
     try:
         # before any work, whatever the cache holds: the cache's variables (a relative
         # $INS_ERRORS_CACHE is taken against the folder the command starts in)
@@ -332,6 +344,7 @@ def _command(argv: list[str] | None) -> int:
 
             hide()   # also the stages of steps no command option reaches (compiling)
         status = int(args.func(args) or 0)
+        failed = False
         sys.stdout.flush()
         return status
     except InsErrorsError as error:
@@ -357,6 +370,8 @@ def _command(argv: list[str] | None) -> int:
               file=sys.stderr)
         return 2
     finally:
+        if failed:  # after the line saying why: each folder it was writing, as it was
+            take_back_unfinished(besides=before)
         if getattr(args, "no_progress", False):
             from ins_errors.progress import hide
 

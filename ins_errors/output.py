@@ -15,11 +15,14 @@ Three rules, one place:
   is written) leaves a folder the next run writes into again without ``--force``.
 * **All or nothing.** A folder holds one run's files, never a mix of two: until
   :meth:`OutputFolder.finish`, each file it replaces (and each it removes) is kept, as a
-  hard link, in a hidden undo folder inside it. A run stopped before ``finish`` (Ctrl-C,
-  SIGTERM, an error) is taken back as the process ends: the earlier files are put back,
-  the new ones removed, and one line on stderr names the folder. A process killed
-  outright (SIGKILL, a power cut) leaves the undo folder, and the next run writing
-  into the folder takes it back first.
+  hard link, in a hidden undo folder inside it. A command stopped before ``finish``
+  (Ctrl-C, SIGTERM, an error raised through :func:`ins_errors.cli.main`) takes its own
+  run back (:func:`take_back_unfinished`): the earlier files are put back, the new ones
+  removed, and one line on stderr names the folder. Only the process that made an undo
+  folder takes it back, and only on such a failure; at a normal exit an unfinished run
+  keeps its files (its undo folder is discarded). An undo folder of another process (a
+  run going on now, or one killed outright) is never taken back: the folder is refused
+  until that run ends, or ``--force`` discards the undo folder.
 * **One-line errors.** A missing or read-only folder, a target that is a directory, a
   full disk: an :class:`~ins_errors.errors.InsErrorsError` naming the path.
 
@@ -35,10 +38,12 @@ import json
 import os
 import shutil
 import signal
+import socket
 import sys
 import tempfile
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
+from datetime import datetime
 from pathlib import Path
 
 from ins_errors.errors import InsErrorsError
@@ -377,7 +382,8 @@ class OutputFolder:
         The folder; created if missing.
     force : bool
         Write into a non-empty folder that ins-errors did not write (its other files
-        are left alone).
+        are left alone), or into one holding another run's undo folder (discarded: the
+        folder may hold a mix of runs until this run finishes).
     option : str
         The option that named the folder, for messages (``"--out"``).
     create : bool
@@ -387,7 +393,8 @@ class OutputFolder:
     ------
     OutputError
         When the folder is a file, cannot be created, or holds files of someone else
-        and ``force`` is false.
+        or another run's undo folder (named with its process, host and start time), and
+        ``force`` is false.
 
     Notes
     -----
@@ -402,10 +409,17 @@ class OutputFolder:
     the folder (:data:`UNDO_PREFIX`; a hard link, or the file moved there where the file
     system has no links), as is each file :meth:`finish` removes. :meth:`finish` ends
     by renaming the undo folder (the moment the new set becomes the folder's) and
-    deleting it. A run that does not reach it (Ctrl-C, an error) is taken back when the
-    process ends (:func:`take_back`): the folder holds the earlier run's files again,
-    or, made by this run, is removed. A folder left with an undo folder by a process
-    that no longer runs (killed outright) is taken back when it is next opened.
+    deleting it. A run that does not reach it is taken back by :meth:`take_back`: the
+    folder holds the earlier run's files again, or, made by this run, is removed. The
+    command line does so on its failure path (Ctrl-C, SIGTERM, an error:
+    :func:`take_back_unfinished`), and so does ``with OutputFolder(...) as out:`` when
+    an exception leaves the block (a block left normally finishes the run). A run never
+    finished nor taken back keeps its files: at a normal exit of the process, or when
+    this process opens the folder again, its undo folder is discarded.
+
+    Only the process that made an undo folder takes it back. Another process's (a run
+    writing there now, or one killed outright) makes the folder refused, naming that
+    process, until it is gone or ``force`` discards it.
     """
 
     def __init__(self, folder: str | Path, force: bool = False, option: str = "--out",
@@ -416,6 +430,8 @@ class OutputFolder:
         self._undo: Path | None = None
         self._created: list[str] = []
         self._made = False
+        self._force = force
+        self._finished = False
         try:
             self._open(force, option, create)
         except OSError as error:  # e.g. a name longer than the file system allows
@@ -425,8 +441,8 @@ class OutputFolder:
     def _open(self, force: bool, option: str, create: bool) -> None:
         if self.path.exists() and not self.path.is_dir():
             raise OutputError(f"{option} {shown(self.path)} is a file, not a folder")
-        if create and self.path.is_dir():
-            _recover(self.path)  # what a killed run left: taken back first
+        if self.path.is_dir():
+            self._leftovers(force, discard=create)
         manifest = self.path / MANIFEST
         self.previous = self._read_manifest(manifest)
         self._listed = list(self.previous or ())  # what the manifest on disk lists
@@ -454,6 +470,59 @@ class OutputFolder:
         except (OSError, ValueError, KeyError, TypeError):
             return []
         return [n for n in names if isinstance(n, str) and "/" not in n and "\\" not in n]
+
+    def _leftovers(self, force: bool, discard: bool) -> None:
+        """Deal with the undo folders in the folder before this run: another process's
+        are refused (``force``: discarded), this process's unfinished ones (a run never
+        finished) and finished ones' remains are discarded; ``discard`` false only
+        checks."""
+        for path in _bookkeeping_entries(self.path):
+            owner = _UNFINISHED.get(path)
+            if path.name.startswith(DONE_PREFIX):
+                if discard:
+                    shutil.rmtree(path, ignore_errors=True)
+            elif owner is not None:  # this process's: the run keeps its files as they are
+                if discard:
+                    owner._abandon()
+            elif not force:
+                raise OutputError(_refusal(self.option, self.path, path))
+            elif discard:
+                _discard(path)
+
+    def __enter__(self) -> OutputFolder:
+        return self
+
+    def __exit__(self, kind, error, trace) -> bool:
+        """Finish the run when the block ends normally, take it back when an exception
+        (Ctrl-C included) leaves it."""
+        if kind is None:
+            if not self._finished:
+                self.finish()
+        elif self._undo is not None:
+            with _signals_held():
+                self.take_back()
+        return False
+
+    def take_back(self) -> bool:
+        """Take this unfinished run back (:func:`take_back`); nothing when it has not
+        replaced anything yet or has finished.
+
+        Returns
+        -------
+        bool
+            True when the folder still exists.
+        """
+        if self._undo is None:
+            return self.path.exists()
+        return take_back(self._undo, self.option)
+
+    def _abandon(self) -> None:
+        """Leave this unfinished run's files as they are and discard its undo folder."""
+        undo, self._undo = self._undo, None
+        self._created = []
+        if undo is not None:
+            _UNFINISHED.pop(undo, None)
+            _discard(undo)
 
     def file(self, name: str) -> Path:
         """The path of ``name`` inside the folder, recorded as written by this run.
@@ -521,6 +590,7 @@ class OutputFolder:
             _UNFINISHED.pop(undo, None)
             shutil.rmtree(done, ignore_errors=True)
         self._created = []
+        self._finished = True
         return [self.path / n for n in self.written]
 
     def _keep(self, name: str, move: bool = False) -> None:
@@ -532,14 +602,20 @@ class OutputFolder:
         ------
         OSError
             When the file cannot be kept (the caller's message names it).
+        OutputError
+            When another run discarded this run's undo folder (``--force``).
         """
         undo = self._undo or self._start()
+        if not undo.is_dir():
+            raise OutputError(f"cannot write in {shown(self.path)}: another run into the "
+                              "folder with --force discarded this run's undo folder; the "
+                              "folder is that run's to finish")
         target, kept = self.path / name, undo / KEPT / name
         if os.path.lexists(kept) or name in self._created:
             return
         if not os.path.lexists(target):
             self._created.append(name)
-            _write_journal(undo, self._made, self._created)
+            _write_journal(undo, self._made, self._created, self._started)
         elif target.is_dir() and not target.is_symlink():
             if move:  # never moved away (and deleted with the undo folder)
                 raise IsADirectoryError(errno.EISDIR, "Is a directory")
@@ -553,23 +629,34 @@ class OutputFolder:
                 os.replace(target, kept)
 
     def _start(self) -> Path:
-        """Make this run's undo folder and register it to be taken back at exit."""
+        """Make this run's undo folder, then refuse (``force``: discard) another
+        process's that came meanwhile: of two runs starting together at least one
+        sees the other's and backs off, never both go on."""
+        self._started = datetime.now().astimezone().isoformat(sep=" ", timespec="seconds")
         try:
             self.path.mkdir(parents=True, exist_ok=True)
             undo = Path(tempfile.mkdtemp(prefix=UNDO_PREFIX, dir=self.path))
             (undo / KEPT).mkdir()
-            _write_journal(undo, self._made, [])
+            _write_journal(undo, self._made, [], self._started)
         except OSError as error:
             raise OutputError(f"cannot write in {shown(self.path)}: "
                               f"{_reason(error)}") from None
+        for other in _bookkeeping_entries(self.path):
+            if (other == undo or other in _UNFINISHED
+                    or not other.name.startswith(UNDO_PREFIX)):
+                continue
+            if not self._force:
+                shutil.rmtree(undo, ignore_errors=True)
+                raise OutputError(_refusal(self.option, self.path, other))
+            _discard(other)
         self._undo = undo
-        _UNFINISHED[undo] = self.option
+        _UNFINISHED[undo] = self
         _register_exit()
         if os.path.lexists(self.path / MANIFEST):
             self._keep(MANIFEST)
         else:
             self._created.append(MANIFEST)
-            _write_journal(undo, self._made, self._created)
+            _write_journal(undo, self._made, self._created, self._started)
         return undo
 
     def _write_manifest(self, names: list[str]) -> None:
@@ -577,13 +664,12 @@ class OutputFolder:
                                                     "files": names}, indent=1) + "\n")
 
 
-_UNFINISHED: dict[Path, str] = {}
-"""Undo folders of this process's unfinished :class:`OutputFolder` runs, and the option
-that named each folder."""
+_UNFINISHED: dict[Path, OutputFolder] = {}
+"""Undo folders of this process's unfinished :class:`OutputFolder` runs, and each run."""
 
 _EXIT_REGISTERED: list[int] = []
-"""The process id that registered :func:`_take_back_at_exit` (a forked child does not
-take back its parent's runs)."""
+"""The process id that registered :func:`_discard_at_exit` (a forked child leaves its
+parent's runs alone)."""
 
 
 def _bookkeeping(name: str) -> bool:
@@ -592,27 +678,67 @@ def _bookkeeping(name: str) -> bool:
     return name.startswith((UNDO_PREFIX, DONE_PREFIX))
 
 
-def _write_journal(undo: Path, made: bool, created: list[str]) -> None:
-    """Record in ``undo`` this process, whether it made the folder, and the names it
-    made new (removed when the run is taken back)."""
+def _bookkeeping_entries(folder: Path) -> list[Path]:
+    """The undo folders, live or finished, inside ``folder`` (none when unreadable)."""
+    try:
+        return sorted(p for p in folder.iterdir() if _bookkeeping(p.name))
+    except OSError:
+        return []
+
+
+def _write_journal(undo: Path, made: bool, created: list[str], started: str) -> None:
+    """Record in ``undo`` this process (id, host, start time), whether it made the
+    folder, and the names it made new (removed when the run is taken back)."""
     journal = undo / JOURNAL
     scratch = undo / (JOURNAL + ".new")
-    scratch.write_text(json.dumps({"pid": os.getpid(), "made_folder": made,
+    scratch.write_text(json.dumps({"pid": os.getpid(), "host": socket.gethostname(),
+                                   "started": started, "made_folder": made,
                                    "created": created}), encoding="utf-8")
     os.replace(scratch, journal)
 
 
-def take_back(undo: Path) -> bool:
-    """Take back the unfinished run that ``undo`` (an undo folder) belongs to.
+def _refusal(option: str, folder: Path, undo: Path) -> str:
+    """The one line refusing ``folder``, which holds ``undo``, another process's."""
+    try:
+        journal = json.loads((undo / JOURNAL).read_text(encoding="utf-8"))
+        who = (f"process {int(journal['pid'])} on host {journal.get('host', '?')}, "
+               f"started {journal.get('started', '?')}")
+    except (OSError, ValueError, KeyError, TypeError):
+        who = "its journal cannot be read"
+    return (f"{option} {shown(folder)} holds the undo folder {undo.name} of another "
+            f"ins-errors run ({who}), which is writing there now or was stopped "
+            "before it finished (killed); that folder keeps the files the run "
+            "replaced. Wait for that run to end, or add --force (discards the undo "
+            "folder: the folder may hold a mix of runs until this run finishes)")
+
+
+def _discard(undo: Path) -> None:
+    """Drop an undo folder without taking it back (renamed first: at once no longer
+    one, also for a run still writing, whose own take back then finds it gone)."""
+    done = undo.with_name(DONE_PREFIX + undo.name[len(UNDO_PREFIX):])
+    try:
+        os.rename(undo, done)
+    except OSError:
+        return
+    shutil.rmtree(done, ignore_errors=True)
+
+
+def take_back(undo: Path, option: str = "--out") -> bool:
+    """Take back the unfinished run that ``undo`` (an undo folder) belongs to, saying so
+    in one line on stderr.
 
     The files it kept are put back, the names its run made new are removed, and the
     undo folder is deleted; a folder the run made is removed when nothing else is left
-    in it.
+    in it (silently). When an entry cannot be put back or removed, the undo folder is
+    kept, with every earlier file not put back, and the line says where.
 
     Parameters
     ----------
     undo : Path
-        The undo folder (:data:`UNDO_PREFIX`) inside an output folder.
+        The undo folder (:data:`UNDO_PREFIX`) inside an output folder; only the process
+        that made it may take it back.
+    option : str
+        The option that named the folder, for the line (``"--out"``).
 
     Returns
     -------
@@ -620,88 +746,100 @@ def take_back(undo: Path) -> bool:
         True when the folder still exists (it held files before the run), False when
         it was made by the run and is removed again.
     """
+    owner = _UNFINISHED.pop(undo, None)
+    if owner is not None:  # no longer its run's: neither finished nor discarded at exit
+        owner._undo, owner._created = None, []
     folder = undo.parent
+    stopped = f"ins-errors: {option} {folder}: this run stopped before its files were all written"
+    if not undo.is_dir():
+        print(f"{stopped}; its undo folder is gone (another run into the folder with "
+              "--force discards it), so nothing is taken back: the folder may hold a mix "
+              "of runs until that run finishes", file=sys.stderr)
+        return folder.exists()
     try:
         journal = json.loads((undo / JOURNAL).read_text(encoding="utf-8"))
         created, made = list(journal["created"]), bool(journal["made_folder"])
     except (OSError, ValueError, KeyError, TypeError):
         created, made = [], False
     kept = undo / KEPT
+    failed: list[str] = []
     for path in sorted(kept.iterdir()) if kept.is_dir() else ():
-        with suppress(OSError):  # (a folder in its place): the rest is still put back
+        try:
             os.replace(path, folder / path.name)
+        except OSError as error:  # (a folder in its place): the rest is still put back
+            failed.append(f"{path.name}: {_reason(error)}")
     for name in created:
         if "/" in name or "\\" in name:
             continue
-        with suppress(OSError):
+        try:
             (folder / name).unlink(missing_ok=True)
+        except OSError as error:
+            failed.append(f"{name} (new): {_reason(error)}")
+    if failed:  # the undo folder stays: it holds what is not put back
+        more = f" and {len(failed) - 1} more" if len(failed) > 1 else ""
+        print(f"{stopped}; taking it back failed ({failed[0]}{more}): the earlier files "
+              f"not put back are kept in {kept}", file=sys.stderr)
+        return True
     shutil.rmtree(undo, ignore_errors=True)
-    if made:
-        try:
+    if made:  # (kept when something else came into it meanwhile)
+        with suppress(OSError):
             folder.rmdir()
-        except OSError:
-            return folder.exists()
-        return False
+        return folder.exists()
+    print(f"{stopped}; the folder holds the earlier files again", file=sys.stderr)
     return True
 
 
-def _alive(pid: int) -> bool:
-    if pid == os.getpid():
-        return False  # this process: an OutputFolder dropped without finish()
+@contextmanager
+def _signals_held() -> Iterator[None]:
+    """Ignore Ctrl-C and SIGTERM meanwhile (a second Ctrl-C: not half taken back)."""
+    handlers = {}
+    for number in (signal.SIGINT, signal.SIGTERM):
+        with suppress(ValueError, OSError):  # (not the main thread)
+            handlers[number] = signal.signal(number, signal.SIG_IGN)
     try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except (OSError, ValueError, OverflowError):
-        return True  # e.g. another user's process: not ours to judge
-    return True
+        yield
+    finally:
+        for number, handler in handlers.items():
+            signal.signal(number, handler)
 
 
-def _recover(folder: Path) -> None:
-    """Take back the runs that left an undo folder in ``folder`` and no longer run (a
-    process killed outright), and delete finished ones' leftovers."""
-    try:
-        names = [p for p in folder.iterdir() if _bookkeeping(p.name)]
-    except OSError:
+def unfinished() -> frozenset[Path]:
+    """The undo folders of this process's runs not finished yet."""
+    return frozenset(_UNFINISHED)
+
+
+def take_back_unfinished(besides: frozenset[Path] = frozenset()) -> None:
+    """Take back the runs of this process that have not finished: the command line's
+    failure path (Ctrl-C, SIGTERM, an error raised through it). One line per folder
+    that held files before (:func:`take_back`).
+
+    Parameters
+    ----------
+    besides : frozenset of Path
+        Undo folders left alone (:func:`unfinished` before the command: runs of the
+        Python API in the same process).
+    """
+    if [os.getpid()] != _EXIT_REGISTERED or not _UNFINISHED:
         return
-    for path in names:
-        if path.name.startswith(DONE_PREFIX):
-            shutil.rmtree(path, ignore_errors=True)
-            continue
-        try:
-            pid = int(json.loads((path / JOURNAL).read_text(encoding="utf-8"))["pid"])
-        except (OSError, ValueError, KeyError, TypeError):
-            pid = -1
-        if pid < 0 or not _alive(pid):
-            _UNFINISHED.pop(path, None)
-            take_back(path)
+    with _signals_held():
+        for undo, owner in list(_UNFINISHED.items()):
+            if undo not in besides:
+                owner.take_back()
 
 
 def _register_exit() -> None:
     if [os.getpid()] != _EXIT_REGISTERED:
         _EXIT_REGISTERED[:] = [os.getpid()]
-        atexit.register(_take_back_at_exit)
+        atexit.register(_discard_at_exit)
 
 
-def _take_back_at_exit() -> None:
-    """Take back every run of this process that did not finish, saying so for a folder
-    that held files before (a folder made by the run is just removed again)."""
-    if [os.getpid()] != _EXIT_REGISTERED or not _UNFINISHED:
+def _discard_at_exit() -> None:
+    """At a normal exit, the runs of this process that never finished (the Python API
+    without :meth:`OutputFolder.finish`) keep their files; their undo folders go."""
+    if [os.getpid()] != _EXIT_REGISTERED:
         return
-    handlers = {}
-    for number in (signal.SIGINT, signal.SIGTERM):  # a second Ctrl-C: not half taken back
-        with suppress(ValueError, OSError):
-            handlers[number] = signal.signal(number, signal.SIG_IGN)
-    try:
-        for undo, option in list(_UNFINISHED.items()):
-            _UNFINISHED.pop(undo, None)
-            if undo.is_dir() and take_back(undo):
-                print(f"ins-errors: {option} {undo.parent}: this run stopped before its "
-                      "files were all written; the folder holds the earlier files again",
-                      file=sys.stderr)
-    finally:
-        for number, handler in handlers.items():
-            signal.signal(number, handler)
+    for owner in list(_UNFINISHED.values()):
+        owner._abandon()
 
 
 def require_matplotlib(what: str = "plots") -> None:
