@@ -48,6 +48,20 @@ from ins_errors.errors import InsErrorsError, ShapeError, name_list, name_mappin
 from ins_errors.numeric.nonfinite import WHY, nonfinite_entries
 
 
+class SourceNames(tuple):
+    """The names of a model's error sources, a tuple of str, that also holds which of
+    them are initial errors (``initial``): those only set the error at the start, so no
+    noise drives them (:func:`~ins_errors.analysis.discrete_model.process_noise` refuses
+    one, as ``ins-errors matrices --noise`` does)."""
+
+    initial: frozenset[str]
+
+    def __new__(cls, names, initial=()) -> SourceNames:
+        self = super().__new__(cls, names)
+        self.initial = frozenset(initial)
+        return self
+
+
 class ErrorMatrices(NamedTuple):
     """The linear error model in a convention at K samples.
 
@@ -60,7 +74,8 @@ class ErrorMatrices(NamedTuple):
     states : tuple of str
         The n states (rows and columns of F), in order.
     sources : tuple of str
-        The m error sources (columns of G): every source of the model, in its order.
+        The m error sources (columns of G): every source of the model, in its order
+        (a :class:`SourceNames`, which also says which are initial errors).
     """
 
     F: np.ndarray
@@ -139,7 +154,8 @@ def error_matrices(model, convention: str, x, u, p, *, bias_states: Sequence[str
             f"at sample {first} (of {k}) in {listed}: {WHY}, or the samples are no true "
             "states of the model")
     return ErrorMatrices(np.array(F), np.array(G), tuple(conv.names),
-                         tuple(s.name for s in model.sources))
+                         SourceNames((s.name for s in model.sources),
+                                     (s.name for s in model.sources if s.kind == "initial")))
 
 
 def model_convention(model, convention: str, bias_states: Sequence[str] = (),

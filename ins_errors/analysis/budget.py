@@ -120,7 +120,7 @@ from ins_errors.analysis.covariance import (
     system_from_trajectory,
 )
 from ins_errors.errors import InsErrorsError, unknown_name
-from ins_errors.numeric.linear_system import check_grid_memory
+from ins_errors.numeric.linear_system import check_grid_memory, growth_folds
 from ins_errors.numeric.model import load_model
 from ins_errors.specs import ITEM_KINDS, SOURCE_UNIT_SUFFIX, Spec, SpecError, spec_label
 from ins_errors.units import (
@@ -867,12 +867,12 @@ def unit_budget(model, spec: Spec, trajectory=None,
     system = spec_system(model, spec, trajectory, p)
     statistics = [SourceStatistics(s.name, s.statistics, 1.0, s.tau) for s in sources]
     functionals, _ = item_functionals(model, system, spec)
-    covariance = propagate(system, statistics, functionals)
+    covariance = propagate(system, statistics, functionals, warn=False)
     rows, unit, parts = _cep_rows(spec, system, covariance, covariance.unit_variances)
     north, cross = (None, None) if parts is None else parts
     # the error states on their own (a separate propagation, so that the rows' numbers
     # are those of the items alone, to the bit): the scale of the rows' rounding floors
-    states = propagate(system, statistics, _state_functionals(model, system))
+    states = propagate(system, statistics, _state_functionals(model, system), warn=False)
     floors = rounding_floors(states.unit_variances, functionals.C_x,
                              typical_state_sizes(model), len(model.error_states)
                              + len(sources))
@@ -1075,7 +1075,7 @@ def vertical_channel_note(model, allocation: Allocation) -> str | None:
         return None
     statistics = [SourceStatistics(budget.sources[j].name, budget.sources[j].statistics,
                                    1.0, budget.sources[j].tau) for j in free]
-    unit = propagate(system, statistics, functionals).unit_variances    # (nt, 3, nf)
+    unit = propagate(system, statistics, functionals, warn=False).unit_variances    # (nt, 3, nf)
     height = np.sqrt(unit[:, groups["height_error"]].sum(1))            # (nt, nf)
     horizontal = np.sqrt(unit[:, groups["position_error_absolute"]].sum(1))
     vertical = vertical_sources(height.max(0), horizontal.max(0))
@@ -1100,7 +1100,7 @@ def vertical_channel_note(model, allocation: Allocation) -> str | None:
 
 def _propagate(model, system, spec, statistics) -> Covariance:
     functionals, _ = item_functionals(model, system, spec)
-    return propagate(system, statistics, functionals)
+    return propagate(system, statistics, functionals, warn=False)
 
 
 def _state_functionals(model, system: LinearSystem) -> Functionals:
@@ -1590,39 +1590,6 @@ def _size_text(value: float, unit: str) -> str:
     """An error's size against the linear range, as the budget's lines write it: a
     length in km, an angle in deg, a speed in m/s."""
     return format_quantity(value, unit, {"m": "km", "rad": "deg"}.get(unit, unit))
-
-
-def growth_folds(system: LinearSystem, duration: float) -> tuple[float, float] | None:
-    """The growing mode the budget warns of, or None: the growth rate of F at the start
-    (1/s) and the e-foldings the error equations grow by over ``duration`` (s) along the
-    motion.
-
-    None when F at the start grows by fewer than
-    :data:`~ins_errors.numeric.linear_system.GROWTH_WARNED` e-foldings, or, on a moving
-    base, when the transition matrix over the grid grows at less than
-    :data:`~ins_errors.numeric.linear_system.GROWTH_SEEN` of that rate (the equations do
-    not follow that mode of F: orthodromic's delta_V_eta on an eastbound great circle).
-    On a static base the e-foldings are rate × duration, on a moving one the transition
-    matrix's growth rate (:func:`~ins_errors.numeric.linear_system.transition_growth`)
-    times the duration.
-    """
-    from ins_errors.numeric.linear_system import (
-        GROWTH_SEEN,
-        GROWTH_WARNED,
-        growth_rate,
-        transition_growth,
-    )
-
-    F = system.F if system.F.ndim == 2 else system.F[0]
-    rate = growth_rate(F)
-    if duration <= 0 or rate * duration < GROWTH_WARNED:
-        return None
-    if system.time_invariant:
-        return rate, rate * duration
-    along = transition_growth(system)
-    if along < GROWTH_SEEN * rate:
-        return None
-    return rate, along * duration
 
 
 GROWTH_REFUSED = 0.5 * float(np.log(1.0 / EPS))

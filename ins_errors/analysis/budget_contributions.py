@@ -86,7 +86,7 @@ def perturbed_spread(system, stats, functionals, covariance, index) -> np.ndarra
         neighbour = replace(system, F=nudge(system.F, rng), G=nudge(system.G, rng),
                             E=nudge(system.E, rng))
         readouts = replace(functionals, C_x=nudge(functionals.C_x, rng))
-        other = np.sqrt(propagate(neighbour, stats, readouts).contributions[index])
+        other = np.sqrt(propagate(neighbour, stats, readouts, warn=False).contributions[index])
         spread = np.maximum(spread, np.abs(other - std))
     return spread
 
@@ -184,7 +184,7 @@ def output_contributions(model, allocation: Allocation, times: list[float]) -> d
     chosen = navigation_errors(model, functionals.names)
     check_times(budget.spec, times)
     index = [round(t / system.step) for t in times]
-    covariance = propagate(system, stats, functionals)
+    covariance = propagate(system, stats, functionals, warn=False)
     contributions = covariance.contributions[np.ix_(index, chosen)]      # (t, q, s)
     # a contribution at or below the rounding floor of the propagation is round-off
     # (e.g. 7e-35 arcmin): shown as 0

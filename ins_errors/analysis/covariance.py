@@ -46,6 +46,7 @@ of it, below which it is refused as white noise (PSD 2σ²τ) within rounding.
 from __future__ import annotations
 
 import dataclasses
+import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -65,6 +66,10 @@ from ins_errors.numeric.step_exponential import (
     exponential,
     rank_one_noise_step,
 )
+
+_SUM_CHUNK = 4_000_000
+"""Entries (32 MB) of the per-source covariances :attr:`Covariance.matrix` scales and
+sums at a time."""
 
 KINDS = ("constant", "white", "markov")
 """The statistical kinds a source may have."""
@@ -101,7 +106,7 @@ class SourceStatistics:
         1σ of a constant, noise density of white noise (SI unit × √s), steady-state 1σ
         of Gauss-Markov noise. SI units of the source.
     tau : float or None
-        Correlation time of Gauss-Markov noise, s.
+        Correlation time of Gauss-Markov noise, s (given for a Markov source only).
     """
 
     name: str
@@ -126,6 +131,10 @@ class SourceStatistics:
         if not np.isfinite(self.sigma) or self.sigma < 0:
             raise CovarianceError(f"source {self.name!r}: sigma must be a finite number "
                                   f">= 0, got {self.sigma!r}")
+        if self.kind != "markov" and self.tau is not None:
+            raise CovarianceError(f"source {self.name!r}: tau applies only to kind "
+                                  f"'markov', not to a {self.kind!r} source (got tau = "
+                                  f"{self.tau!r}): leave it out")
         if self.kind == "markov" and (self.tau is None or not np.isfinite(self.tau)
                                       or self.tau <= 0):
             raise CovarianceError(f"source {self.name!r}: a Markov source needs a "
@@ -347,12 +356,46 @@ class Functionals:
     C_b : numpy.ndarray, shape (q, nw)
         Weights on the sources' current values (constants and Markov states), model
         source order; white sources have no value and are ignored.
+
+    Raises
+    ------
+    ShapeError
+        Names or units that are not one per row of ``C_x``, a ``C_x`` that is neither
+        2-D nor 3-D, a ``C_b`` that is not (q, nw).
+    CovarianceError
+        A NaN or infinite weight (naming the first one's functional). The widths are
+        checked against the model's error states and sources by :func:`propagate`.
     """
 
     names: tuple[str, ...]
     units: tuple[str, ...]
     C_x: np.ndarray
     C_b: np.ndarray
+
+    def __post_init__(self) -> None:
+        C_x = np.asarray(self.C_x, dtype=float)
+        C_b = np.asarray(self.C_b, dtype=float)
+        object.__setattr__(self, "C_x", C_x)
+        object.__setattr__(self, "C_b", C_b)
+        if C_x.ndim not in (2, 3):
+            raise ShapeError(f"Functionals: C_x must be (q, n), or (K+1, q, n) when it "
+                             f"varies along the grid, got shape {C_x.shape}")
+        q = C_x.shape[-2]
+        if len(self.names) != q or len(self.units) != q:
+            raise ShapeError(f"Functionals: {len(self.names)} names and {len(self.units)} "
+                             f"units for the {q} rows of C_x: give one name and one unit "
+                             "per functional")
+        if C_b.ndim != 2 or C_b.shape[0] != q:
+            raise ShapeError(f"Functionals: C_b must be (q, nw) with q = {q} rows, one per "
+                             f"functional, got shape {C_b.shape}")
+        for label, weights in (("C_x", C_x), ("C_b", C_b)):
+            bad = ~np.isfinite(weights)
+            if bad.any():
+                row = int(np.argwhere(bad)[0][-2])
+                raise CovarianceError(f"Functionals: {label} holds {int(bad.sum())} NaN or "
+                                      f"infinite weight(s), the first in the row of "
+                                      f"{self.names[row]!r}: every weight must be a finite "
+                                      "number")
 
 
 def state_and_output_functionals(model, system: LinearSystem) -> Functionals:
@@ -428,9 +471,12 @@ class Covariance:
     ``matrix``, shape (nt, q, q)
         The total covariance matrix of the functionals (SI units × units).
     ``matrix_contributions``, shape (nt, q, q, ns)
-        Each source's part of it.
+        Each source's part of it (a new array on each use).
     ``correlation``, shape (nt, q, q)
         Correlation coefficients (0 off the diagonal where a variance is 0).
+
+    ``matrix`` and ``correlation`` are formed once, on first use, and kept read-only
+    (``.copy()`` one to change it).
 
     :meth:`index` gives a functional's column (``c.std[:, c.index("delta_v_N")]``).
     """
@@ -481,21 +527,43 @@ class Covariance:
         sigma = np.array([s.sigma for s in self.sources])
         return self.unit_covariances * sigma**2
 
-    @property
+    @functools.cached_property
     def matrix(self) -> np.ndarray:
-        """Total covariance matrix of the functionals, shape (nt, q, q), SI units × units."""
-        return self.matrix_contributions.sum(-1)
+        """Total covariance matrix of the functionals, shape (nt, q, q), SI units × units.
 
-    @property
+        Formed on first use and kept (read-only: the same array on every use). The
+        sum over the sources is taken a few thousand times at a time, never through the
+        (nt, q, q, ns) array of :attr:`matrix_contributions`.
+        """
+        if self.unit_covariances is None:
+            return self.matrix_contributions          # the one-line refusal
+        if self.total_only:
+            total = self.unit_covariances[..., 0]
+        else:
+            unit = self.unit_covariances
+            sigma = np.array([s.sigma for s in self.sources])
+            total = np.empty(unit.shape[:-1])
+            chunk = max(1, _SUM_CHUNK // max(1, unit[0].size))
+            for k0 in range(0, len(unit), chunk):     # each entry as in one sum
+                total[k0:k0 + chunk] = (unit[k0:k0 + chunk] * sigma**2).sum(-1)
+        total.flags.writeable = False
+        return total
+
+    @functools.cached_property
     def correlation(self) -> np.ndarray:
         """Correlation coefficients of the functionals, shape (nt, q, q): the matrix
-        divided by the product of the two standard deviations (0 where either is 0)."""
+        divided by the product of the two standard deviations (0 where either is 0).
+
+        Formed on first use and kept (read-only), as :attr:`matrix`.
+        """
         matrix = self.matrix
         std = np.sqrt(np.maximum(np.einsum("kii->ki", matrix), 0.0))
         scale = std[:, :, None] * std[:, None, :]
         with np.errstate(divide="ignore", invalid="ignore"):
             rho = np.where(scale > 0, matrix / np.where(scale > 0, scale, 1.0), 0.0)
-        return np.clip(rho, -1.0, 1.0)
+        rho = np.clip(rho, -1.0, 1.0)
+        rho.flags.writeable = False
+        return rho
 
     def index(self, name: str) -> int:
         """Column of the functional ``name``."""
@@ -526,17 +594,59 @@ def _validate(system: LinearSystem, sources: Sequence[SourceStatistics],
         if s.kind == "markov" and s.tau < system.step * SHORTEST_TAU_PER_STEP:
             raise CovarianceError(short_tau_message(f"source {s.name!r}", s.tau,
                                                     system.step))
-    n = system.E.shape[0]
+    n, nw = system.E.shape
     if functionals.C_x.shape[-1] != n:
         raise ShapeError(f"functionals must weigh {n} error states, got "
                          f"{functionals.C_x.shape}")
+    if functionals.C_b.shape[-1] != nw:
+        raise ShapeError(f"functionals' C_b must weigh the model's {nw} error sources (one "
+                         f"column each, in the order of system.source_names), got "
+                         f"{functionals.C_b.shape[-1]} columns")
+    if functionals.C_x.ndim == 3 and len(functionals.C_x) != len(system.times):
+        raise ShapeError(f"functionals' C_x varies along the grid with "
+                         f"{len(functionals.C_x)} samples, but the grid has "
+                         f"{len(system.times)} times (one (q, n) matrix each)")
     return columns
+
+
+def output_stride(output_every, system: LinearSystem) -> int:
+    """``output_every`` as a whole number of grid steps that divides the grid's.
+
+    Raises
+    ------
+    CovarianceError
+        One that is no whole number >= 1, or that does not divide the grid's steps (the
+        last time, the end of the grid, would be left out): the message names the
+        nearest that divide it, as a recording interval that does not divide a run is
+        refused (:func:`~ins_errors.numeric.integrators.record_stride`).
+    """
+    import operator
+
+    from ins_errors.numeric.integrators import _nearest_divisors
+
+    try:
+        every = operator.index(output_every)
+    except TypeError:
+        every = None
+    if every is None or isinstance(output_every, bool) or every < 1:
+        raise CovarianceError(f"output_every must be a whole number of grid steps >= 1, "
+                              f"got {output_every!r}")
+    steps = len(system.times) - 1
+    if steps % every:
+        nearest = " or ".join(str(k) for k in _nearest_divisors(steps, every)
+                              if k is not None)
+        raise CovarianceError(
+            f"output_every {every} does not divide the grid's {steps} steps of "
+            f"{system.step:g} s, so the end of the grid ({system.times[-1]:g} s) would "
+            f"not be reported; the nearest that divide it: {nearest}")
+    return every
 
 
 @one_blas_thread
 def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
               functionals: Functionals, output_every: int = 1,
-              by_source: bool = True, cross: bool = False) -> Covariance:
+              by_source: bool = True, cross: bool = False, warn: bool = True
+              ) -> Covariance:
     """Propagate unit-variance statistics of each source to the functionals' variances.
 
     The matrices are small (tens of rows), so BLAS runs single-threaded here: its
@@ -551,21 +661,62 @@ def propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
     functionals : Functionals
         What to report.
     output_every : int
-        Report every ``output_every``-th grid time (1: every step).
+        Report every ``output_every``-th grid time (1: every step); it must divide the
+        grid's number of steps, so that the end of the grid is reported.
     by_source : bool
         If False, report only the total (faster): ``unit_variances`` then has one column
         holding the total variance with the given sigmas, ``sources`` is empty and
         ``total_only`` is set.
     cross : bool
         Also compute the functionals' cross covariances (``Covariance.matrix``, shape
-        (nt, q, q)): q times the memory of the variances, for each source. The variances
-        are the same numbers with or without it.
+        (nt, q, q)): q times the memory of the variances, for each source (once in all
+        with ``by_source=False``). The variances are the same numbers with or without it.
+    warn : bool
+        Warn (:class:`~ins_errors.errors.InsErrorsWarning`) when the error equations
+        grow exponentially over the grid: a mode of F that grows by
+        :data:`~ins_errors.numeric.linear_system.GROWTH_WARNED` e-foldings or more (a
+        factor 20), followed along a moving base
+        (:func:`~ins_errors.numeric.linear_system.growth_folds`); the line gives its
+        e-folding time and names the damping gains left at 0, as ``compare`` and
+        ``budget`` do. The budget, which says so in its own words, passes False.
 
     Returns
     -------
     Covariance
+
+    Raises
+    ------
+    CovarianceError, ShapeError
+        One line for sources the system does not have or cannot take, functionals of
+        the wrong widths or sample count, an ``output_every`` that is no whole number
+        of steps dividing the grid's.
     """
-    return _propagate(system, sources, functionals, output_every, by_source, cross)
+    covariance = _propagate(system, sources, functionals, output_every, by_source, cross)
+    text = growth_text(system) if warn else None
+    if text is not None:
+        import warnings
+
+        from ins_errors.errors import InsErrorsWarning
+
+        warnings.warn(f"propagate: {text}", InsErrorsWarning, stacklevel=3)
+    return covariance
+
+
+def growth_text(system: LinearSystem) -> str | None:
+    """The warning of :func:`propagate` when its equations grow exponentially over the
+    grid, or None (:func:`~ins_errors.numeric.linear_system.growth_folds`, worded by
+    :func:`~ins_errors.numeric.linear_system.growth_warning` with the system's
+    ``damping_remedy``)."""
+    from ins_errors.numeric.linear_system import growth_folds, growth_warning
+
+    duration = float(system.times[-1])
+    if growth_folds(system, duration) is None:
+        return None
+    F = system.F if system.time_invariant else system.F[0]
+    return growth_warning(F, duration, system.model_name or "MODEL",
+                          "the standard deviations are mostly that growth, not what the "
+                          "sources do on a stable system", "propagation",
+                          system.damping_remedy, static=system.time_invariant)
 
 
 def _outer(Y: np.ndarray) -> np.ndarray:
@@ -579,6 +730,7 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
     if cross:
         return _propagate_cross(system, sources, functionals, output_every, by_source)
     columns = _validate(system, sources, functionals)
+    output_every = output_stride(output_every, system)
     n = system.E.shape[0]
     K = len(system.times) - 1
     dt = system.step
@@ -667,10 +819,40 @@ def _propagate_cross(system: LinearSystem, sources: Sequence[SourceStatistics],
     sensitivities of the random values, the noise systems' covariances), with the outer
     products of the sensitivities and ``C P Cᵀ`` in place of their squares and
     diagonals; the variances are then those of :func:`propagate` without ``cross``, so
-    they do not change with it.
+    they do not change with it. The parts come one source at a time
+    (:func:`_cross_parts`): by source they fill the (nt, q, q, ns) array, for the total
+    only they are scaled and added up as they come, so that array is never formed.
     """
     plain = _propagate(system, sources, functionals, output_every, True)
-    columns = _validate(system, sources, functionals)
+    keep = np.searchsorted(system.times, plain.times)
+    q = len(functionals.names)
+    parts = _cross_parts(system, sources, functionals, output_every, keep)
+    if not by_source:
+        total = np.zeros((len(keep), q, q, 1))
+        for i, part in parts:      # in the order of the sources
+            part *= sources[i].sigma**2
+            total[..., 0] += part
+        sigma2 = np.array([s.sigma**2 for s in sources])
+        return Covariance(plain.times, plain.names, plain.units, (),
+                          (plain.unit_variances * sigma2).sum(-1, keepdims=True),
+                          total_only=True, unit_covariances=total)
+    unit = np.empty((len(keep), q, q, len(sources)))
+    for i, part in parts:
+        unit[..., i] = part
+    return dataclasses.replace(plain, unit_covariances=unit)
+
+
+def _cross_parts(system: LinearSystem, sources: Sequence[SourceStatistics],
+                 functionals: Functionals, output_every: int, keep: np.ndarray):
+    """Each source's unit covariance matrix of the functionals at the grid indices
+    ``keep``: yields ``(i, part)`` for the sources in order, part of shape
+    (len(keep), q, q), a new array each (the caller may scale it in place).
+
+    The sensitivities of the valued sources (constants, Markov) are kept for all of them,
+    (nt, q, m), a q-th of one part each; a source's part is the outer product of its
+    column, plus its noise's ``C P Cᵀ`` for a white or Markov one.
+    """
+    columns = [system.source_index(s.name) for s in sources]
     n = system.E.shape[0]
     K, dt = len(system.times) - 1, system.step
     valued = [i for i, s in enumerate(sources) if s.kind != "white"]
@@ -682,43 +864,44 @@ def _propagate_cross(system: LinearSystem, sources: Sequence[SourceStatistics],
     Z0[n:] = np.eye(len(valued))
     C_b = functionals.C_b[:, cols_b]
     q = len(functionals.names)
-    keep = np.searchsorted(system.times, plain.times)
-    unit = np.zeros((len(keep), q, q, len(sources)))
-    if system.time_invariant and functionals.C_x.ndim == 2:
+    static = system.time_invariant and functionals.C_x.ndim == 2
+    if static:
         K_out, dt_out = len(keep) - 1, dt * output_every
+        Y = np.zeros((len(keep), q, 0))
         if valued:
             Phi = _expm(augmented_dynamics(system.F, system.G[:, cols_b], decay) * dt_out)
-            C = np.hstack([functionals.C_x, C_b])
-            unit[..., valued] = _outer(power_sequence(Phi, Z0, C, K_out))
-        for i, s in enumerate(sources):
-            if s.kind == "constant":
-                continue
-            A, b = _noise_column(system.F, system.G[:, columns[i]], s)
-            Cn = _noise_functionals(functionals.C_x, functionals.C_b[:, columns[i]], s)
-            Phi_n, Qd = (m[0] for m in rank_one_noise_step(A[None], b[None], dt_out))
-            Y = power_sequence(Phi_n, _noise_factor(Qd), Cn, K_out)
-            unit[1:, :, :, i] += np.cumsum(np.einsum("kqr,kpr->kqp", Y, Y), axis=0)[:-1]
+            Y = power_sequence(Phi, Z0, np.hstack([functionals.C_x, C_b]), K_out)
     else:
         F = np.broadcast_to(system.F, (K + 1, n, n)) if system.F.ndim == 2 else system.F
         G = np.broadcast_to(system.G, (K + 1, *system.G.shape)) if system.G.ndim == 2 \
             else system.G
         C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
             else functionals.C_x
-        for i0, i1, Y in _sensitivity_chunks(F, G, cols_b, decay, dt, Z0, C_x, C_b, keep):
-            unit[i0:i1, ..., valued] = _outer(Y)
-        for i, s in enumerate(sources):
-            if s.kind != "constant":
-                unit[..., i] += _moving_noise_variance(
-                    F, G[..., [columns[i]]], [s], dt, C_x,
-                    functionals.C_b[:, [columns[i]]], keep, full=True)[..., 0]
-    if not by_source:
-        sigma2 = np.array([s.sigma**2 for s in sources])
-        total = Covariance(plain.times, plain.names, plain.units, (),
-                           (plain.unit_variances * sigma2).sum(-1, keepdims=True),
-                           total_only=True)
-        return dataclasses.replace(total,
-                                   unit_covariances=(unit * sigma2).sum(-1, keepdims=True))
-    return dataclasses.replace(plain, unit_covariances=unit)
+        Y = np.zeros((len(keep), q, len(valued)))
+        for i0, i1, Yc in _sensitivity_chunks(F, G, cols_b, decay, dt, Z0, C_x, C_b, keep):
+            Y[i0:i1] = Yc
+    for i, s in enumerate(sources):
+        if s.kind == "white":
+            part = np.zeros((len(keep), q, q))
+        else:
+            j = valued.index(i)
+            part = Y[:, :, None, j] * Y[:, None, :, j]        # the column of _outer(Y)
+        if s.kind == "constant":
+            yield i, part
+            continue
+        if static:
+            A, b = _noise_column(system.F, system.G[:, columns[i]], s)
+            Cn = _noise_functionals(functionals.C_x, functionals.C_b[:, columns[i]], s)
+            Phi_n, Qd = (m[0] for m in rank_one_noise_step(A[None], b[None], dt_out))
+            Yn = power_sequence(Phi_n, _noise_factor(Qd), Cn, K_out)
+            Pn = np.einsum("kqr,kpr->kqp", Yn, Yn)
+            del Yn
+            part[1:] += np.cumsum(Pn, axis=0, out=Pn)[:-1]
+        else:
+            part += _moving_noise_variance(
+                F, G[..., [columns[i]]], [s], dt, C_x,
+                functionals.C_b[:, [columns[i]]], keep, full=True)[..., 0]
+        yield i, part
 
 
 def _moving_noise_variance(F: np.ndarray, g: np.ndarray,

@@ -200,7 +200,9 @@ def process_noise(F, G, states, sources, white: Mapping[str, float] | None = Non
     G : array_like, shape (K, n, m)
         :attr:`ErrorMatrices.G <ins_errors.conventions.ErrorMatrices>` over every source.
     states, sources : sequence of str
-        The n states (bias states by their source's name) and the m sources.
+        The n states (bias states by their source's name) and the m sources
+        (:attr:`ErrorMatrices.sources <ins_errors.conventions.ErrorMatrices>` also says
+        which are initial errors, which no noise drives: those are refused).
     white : mapping of str to float, optional
         Source name -> 1σ white-noise density, SI unit of the source times √s. A source
         that is a bias state takes it too: that instrument's white noise enters through
@@ -226,15 +228,16 @@ def process_noise(F, G, states, sources, white: Mapping[str, float] | None = Non
     Raises
     ------
     InsErrorsError
-        One line for an unknown source, a steady-state σ of a source that is no
-        Gauss–Markov bias state, a negative or non-finite value, text where a number is
-        expected (naming :func:`ins_errors.units.parse_quantity`), or a correlation
-        time that is no positive number of seconds
-        (:func:`ins_errors.conventions.correlation_time`).
+        One line for an unknown source, an initial error given a noise, a steady-state
+        σ of a source that is no Gauss–Markov bias state, a negative or non-finite
+        value, text where a number is expected (naming
+        :func:`ins_errors.units.parse_quantity`), or a correlation time that is no
+        positive number of seconds (:func:`ins_errors.conventions.correlation_time`).
     """
     from ins_errors.conventions import correlation_times
 
     F, G = np.asarray(F, dtype=float), np.asarray(G, dtype=float)
+    initial = getattr(sources, "initial", frozenset())   # ErrorMatrices.sources says
     states, sources = list(states), list(sources)
     white = _named_values(white, "white", "a 1σ white-noise density",
                           "{'gyro_bias_x': 8.7e-07}")
@@ -246,6 +249,10 @@ def process_noise(F, G, states, sources, white: Mapping[str, float] | None = Non
     for name, density in white.items():
         if name not in sources:
             raise unknown_name("error source", name, sources)
+        if name in initial:
+            raise InsErrorsError(f"process_noise: white[{name!r}]: {name!r} is an initial "
+                                 "error (it sets the error at the start), which no noise "
+                                 "drives")
         density = _non_negative(density, f"process_noise: white[{name!r}]",
                                 "white-noise density",
                                 f'f"({{model.source({name!r}).unit}})*s**0.5"')

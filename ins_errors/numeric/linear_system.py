@@ -50,6 +50,16 @@ class LinearSystem:
         (read-only views of one column on a static base).
     p : numpy.ndarray
         Parameters.
+    labels : dict
+        What the motion was (``"trajectory"``: its description), for reports.
+    model_name : str
+        How a command line names the model (``ins-errors modes NAME``), or ``""`` for
+        equations not sampled from a model (a :class:`LinearSystem` built by hand).
+    damping_remedy : str
+        The clause naming the model's damping gains left at 0 in ``p``
+        (:func:`undamped_remedy`: ``"; the damping gains k_h1, k_h2 are 0 ..."``), or
+        ``""``; the growth warning of
+        :func:`~ins_errors.analysis.covariance.propagate` ends with it.
     """
 
     times: np.ndarray
@@ -63,6 +73,8 @@ class LinearSystem:
     u: np.ndarray
     p: np.ndarray
     labels: dict = field(default_factory=dict)
+    model_name: str = ""
+    damping_remedy: str = ""
 
     @property
     def time_invariant(self) -> bool:
@@ -198,6 +210,46 @@ def growth_warning(f: np.ndarray, duration: float, model_name: str, consequence:
             f"{consequence}{modes_pointer(model_name, static)}{remedy}")
 
 
+def growth_folds(system: LinearSystem, duration: float) -> tuple[float, float] | None:
+    """The growing mode the commands warn of, or None: the growth rate of F at the start
+    (1/s) and the e-foldings the error equations grow by over ``duration`` (s) along the
+    motion.
+
+    None when F at the start grows by fewer than :data:`GROWTH_WARNED` e-foldings, or, on
+    a moving base, when the transition matrix over the grid grows at less than
+    :data:`GROWTH_SEEN` of that rate (the equations do not follow that mode of F:
+    orthodromic's delta_V_eta on an eastbound great circle). On a static base the
+    e-foldings are rate × duration, on a moving one the transition matrix's growth rate
+    (:func:`transition_growth`) times the duration.
+
+    Parameters
+    ----------
+    system : LinearSystem
+        The sampled equations.
+    duration : float
+        The span the errors grow over, s (a budget's operating time, a propagation's
+        grid).
+    """
+    F = system.F if system.F.ndim == 2 else system.F[0]
+    rate = growth_rate(F)
+    if duration <= 0 or rate * duration < GROWTH_WARNED:
+        return None
+    if system.time_invariant:
+        return rate, rate * duration
+    along = transition_growth(system)
+    if along < GROWTH_SEEN * rate:
+        return None
+    return rate, along * duration
+
+
+def model_labels(model, p: np.ndarray) -> dict[str, str]:
+    """The :class:`LinearSystem` fields that name ``model``: ``model_name`` (how a command
+    line names it) and ``damping_remedy`` (:func:`undamped_remedy` at ``p``)."""
+    from ins_errors.model_lookup import command_name
+
+    return {"model_name": command_name(model), "damping_remedy": undamped_remedy(model, p)}
+
+
 def start_state_matrix(model, trajectory) -> np.ndarray:
     """F at t = 0 of a trajectory, shape (ne, ne), 1/s.
 
@@ -328,12 +380,27 @@ def check_grid_memory(model, times: int, step: float) -> None:
 
 
 def uniform_grid(duration: float, step: float) -> np.ndarray:
-    """Times 0, step, ..., duration, s (duration rounded to a whole number of steps)."""
+    """Times 0, step, ..., duration, s.
+
+    Raises
+    ------
+    LinearSystemError
+        A duration or step that is not a positive number of seconds, a step longer than
+        the duration, or a duration that is not a whole number of steps (to
+        :data:`~ins_errors.numeric.integrators.STEP_TOLERANCE` of a step, as
+        :func:`~ins_errors.numeric.trajectories.trajectory` takes it): the message names
+        the nearest durations that are, instead of running to one of them unsaid.
+    """
+    from ins_errors.numeric.integrators import StepError, step_count
+
     if not (np.isfinite(duration) and duration > 0):
         raise LinearSystemError(f"duration must be > 0 s, got {duration!r}")
     if not (np.isfinite(step) and 0 < step <= duration):
         raise LinearSystemError(f"step must be in (0, duration], got {step!r}")
-    count = round(duration / step)
+    try:
+        count = step_count(duration, step)
+    except StepError as error:
+        raise LinearSystemError(str(error)) from None
     return np.arange(count + 1) * step
 
 
@@ -425,6 +492,7 @@ def static_system(model, latitude: float, longitude: float = 0.0, heading: float
         u=np.broadcast_to(u[:, None], (len(u), len(times))),
         p=p, labels={"trajectory": f"static base at φ={np.degrees(latitude):.4g}°",
                      "latitude": latitude, "height": height},
+        **model_labels(model, p),
     )
 
 
@@ -506,7 +574,8 @@ def trajectory_system(model, times: np.ndarray, x: np.ndarray, u: np.ndarray,
     return LinearSystem(times=times, F=F, G=G, E=E, H=H,
                         source_names=tuple(i.name for i in model.sources),
                         source_kinds=tuple(i.kind for i in model.sources),
-                        x=x, u=u, p=p, labels={"trajectory": "moving"})
+                        x=x, u=u, p=p, labels={"trajectory": "moving"},
+                        **model_labels(model, p))
 
 
 def system_from_trajectory(model, trajectory, step: float | None = None) -> LinearSystem:
@@ -542,7 +611,7 @@ def system_from_trajectory(model, trajectory, step: float | None = None) -> Line
             E=model.initial_error_matrix(c, u, p), H=model.output_matrix(x, u, p),
             source_names=names[0], source_kinds=names[1],
             x=np.repeat(x[:, None], len(times), 1), u=np.repeat(u[:, None], len(times), 1),
-            p=p, labels={"trajectory": trajectory.description})
+            p=p, labels={"trajectory": trajectory.description}, **model_labels(model, p))
     steps = np.arange(0, count + 1, stride)
     if trajectory.is_streamed:  # pick the grid's samples while the motion streams by
         x = np.empty((len(model.states), len(steps)))
