@@ -63,7 +63,7 @@ def _propagation_figures(folder: Path, hours: float) -> None:
     result = propagation.run(propagation.Experiment(duration=hours * 3600.0))
     out = OutputFolder(folder / "propagation")
     cpu = _cpu(lambda: propagation.plot(result, out))
-    out.finish()   # kept: an unfinished folder is undone when the process exits
+    out.finish()   # the run's files kept, its undo copies discarded
     print(f"  propagation figures, {len(result.curves)} sources x 7 panels, "
           f"{len(result.times)} samples: {cpu:.2f} s CPU")
 
