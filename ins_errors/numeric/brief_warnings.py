@@ -132,7 +132,8 @@ class Integration:
                       "steps")
         else:
             advice = f"τ = {self.text} s would {goal}"
-        refined = "; the refined run's too" if self.refined_too else ""
+        refined = ("; the refined run's integration error is over its limit too"
+                   if self.refined_too else "")
         return f"{head}{size}; {advice}{refined}"
 
 
