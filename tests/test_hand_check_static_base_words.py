@@ -132,6 +132,12 @@ def test_a_static_base_file_without_scope_is_advised_to_say_so():
     (omission,) = report.omissions
     assert omission.at_rest and "turn_rate" in omission.neglect
     terminal = to_terminal(report)
+    # the model's own name is said with what it is, as the model defines it
+    from ins_errors.models import definition
+
+    (turn,) = [df for df in definition("north_pointing").ideal.definitions
+               if df.symbol.name == "turn_rate"]
+    assert f"(the model's turn_rate = {sp.sstr(turn.expression)})" in terminal
     assert "declare it with: @scope static base" in terminal
     assert "@neglect Delta_turn_rate" not in terminal
     assert f"static base? {rest} of the {counted} root mistakes are 0 at rest" in terminal

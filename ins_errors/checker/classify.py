@@ -823,6 +823,10 @@ class Omission:
         of the motion (:func:`~ins_errors.checker.compare.static_base_advice`): the
         moving-base terms a static-base derivation leaves out, which ``@scope static
         base`` declares (:attr:`advice`).
+    meanings : tuple of str
+        What the quantities the file never writes are, as the model defines them
+        (``"turn_rate = 2*U*sin(phi) + V_E*tan(phi)/r_E"``): a name of the model's own
+        means nothing to the file's reader otherwise.
     """
 
     variations: tuple[str, ...]
@@ -833,6 +837,7 @@ class Omission:
     size: float
     point: str
     at_rest: bool = False
+    meanings: tuple[str, ...] = ()
 
     @property
     def reference(self) -> str:
@@ -843,7 +848,8 @@ class Omission:
     def title(self) -> str:
         """``the variation of R_N, R_E with phi is dropped (not declared): explains
         lines 3, 5, 8``."""
-        return (f"the variation of {', '.join(self.quantities)} with "
+        meaning = f" (the model's {'; '.join(self.meanings)})" if self.meanings else ""
+        return (f"the variation of {', '.join(self.quantities)}{meaning} with "
                 f"{', '.join(self.along)} is dropped (not declared): explains "
                 f"line{'s' * (len(self.lines) > 1)} {', '.join(map(str, self.lines))}")
 
@@ -987,13 +993,33 @@ def undeclared_variations(results: list[EquationResult], prepared: list[list[Ite
         omission = Omission(
             tuple(f"Delta_{n}" for n in shown), tuple(shown), tuple(with_),
             tuple(sorted({r.equation.line for r, _ in findings})),
-            severity(OMITTED, largest.size, threshold), largest.size, largest.point)
+            severity(OMITTED, largest.size, threshold), largest.size, largest.point,
+            meanings=_meanings(d, [m for m, f in zip(model_names, shown, strict=True)
+                                   if m == f]))
         names = {id(f): [_file_name(n, resolver, hand) for n in model_names
                          if n in chosen[(i, f.quantity)]]
                  for i, q in keys for f in results[i].findings if f.quantity == q}
         _regroup(omission, findings, results, names)
         omissions.append(omission)
     return omissions
+
+
+MEANING_LENGTH = 80
+"""Longest definition an omission's title quotes (a longer one is left to the model's
+generated error_equations.md)."""
+
+
+def _meanings(d, names: list[str]) -> tuple[str, ...]:
+    """``name = expression`` of each model intermediate in ``names`` the file does not
+    write itself, as the model's ideal work defines it (short ones only)."""
+    defined = {df.symbol.name: df.expression for df in d.ideal.definitions}
+    out = []
+    for name in names:
+        if name in defined:
+            text = f"{name} = {sp.sstr(defined[name])}"
+            if len(text) <= MEANING_LENGTH:
+                out.append(text)
+    return tuple(out)
 
 
 def _file_name(name: str, resolver: HandSide, hand: HandFile) -> str:
