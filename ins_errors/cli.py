@@ -343,7 +343,10 @@ def _command(argv: list[str] | None, before: frozenset = frozenset()) -> int:
             from ins_errors.progress import hide
 
             hide()   # also the stages of steps no command option reaches (compiling)
-        status = int(args.func(args) or 0)
+        from ins_errors.output import command_takes_back
+
+        with command_takes_back():
+            status = int(args.func(args) or 0)
         failed = False
         sys.stdout.flush()
         return status

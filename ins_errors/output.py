@@ -494,11 +494,13 @@ class OutputFolder:
 
     def __exit__(self, kind, error, trace) -> bool:
         """Finish the run when the block ends normally, take it back when an exception
-        (Ctrl-C included) leaves it."""
+        (Ctrl-C included) leaves it; inside a command of the command line
+        (:func:`command_takes_back`) the command takes it back after its line saying
+        why it stopped."""
         if kind is None:
             if not self._finished:
                 self.finish()
-        elif self._undo is not None:
+        elif self._undo is not None and not _COMMAND_TAKES_BACK[0]:
             with _signals_held():
                 self.take_back()
         return False
@@ -801,6 +803,23 @@ def _signals_held() -> Iterator[None]:
     finally:
         for number, handler in handlers.items():
             signal.signal(number, handler)
+
+
+_COMMAND_TAKES_BACK = [False]
+"""True while a command of the command line runs (:func:`command_takes_back`)."""
+
+
+@contextmanager
+def command_takes_back() -> Iterator[None]:
+    """Inside, a ``with OutputFolder(...)`` block left by an exception leaves its run to
+    the command, which takes it back after the line that says why it stopped
+    (:func:`take_back_unfinished`), so that the line about the folder follows it."""
+    before = _COMMAND_TAKES_BACK[0]
+    _COMMAND_TAKES_BACK[0] = True
+    try:
+        yield
+    finally:
+        _COMMAND_TAKES_BACK[0] = before
 
 
 def unfinished() -> frozenset[Path]:

@@ -270,33 +270,32 @@ def write_report(result: ScenarioResult, folder: str | Path, force: bool = False
     from ins_errors.numeric.plots import plot_comparisons, shared_quantities
     from ins_errors.progress import stage
 
-    out = OutputFolder(folder, force=force)
-    plots = [f"case_{k}.png" for k in range(1, len(result.comparisons) + 1)]
-    with stage(f"drawing {plots[0] if len(plots) == 1 else f'{len(plots)} plots'} in "
-               f"{out.path}", enabled=progress):
-        plot_comparisons(result.comparisons, [out.file(name) for name in plots],
-                         quantities=result.scenario.quantities
-                         or shared_quantities(result.comparisons),
-                         titles=[f"{result.scenario.title}\n{c.label}\n"
-                                 f"{_run_line(result)}" for c in result.comparisons])
-    with stage(f"writing report.md, report.html and results.json in {out.path}",
-               enabled=progress):
-        text = report_markdown(result, plots)
-        out.write_text("report.md", text)
-        out.write_text("report.html", markdown_to_html(text, result.scenario.title, out.path))
-        model = load_model(result.scenario.model)
-        summary = {"title": result.scenario.title, "model": model.name,
-                   "motion": result.motion_description, "duration_s": result.scenario.duration,
-                   "step_s": result.scenario.step, "record_s": result.scenario.record,
-                   "method": result.scenario.method, "truth": result.scenario.truth,
-                   "truth_used": result.truth_used,
-                   "parameters": parameters_record(model, result.scenario.parameters),
-                   "parameters_used": _used(model, result.scenario),
-                   "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
-                   "curves": {"csv": "curves.csv", "mat": "curves.mat"},
-                   "cases": [c.to_dict() for c in result.comparisons]}
-        out.write_text("results.json", dumps(summary) + "\n")
-    with stage(f"writing curves.csv and curves.mat in {out.path}", enabled=progress):
-        write_curves(out, result.comparisons)
-    out.finish()
+    with OutputFolder(folder, force=force) as out:   # taken back if it stops
+        plots = [f"case_{k}.png" for k in range(1, len(result.comparisons) + 1)]
+        with stage(f"drawing {plots[0] if len(plots) == 1 else f'{len(plots)} plots'} in "
+                   f"{out.path}", enabled=progress):
+            plot_comparisons(result.comparisons, [out.file(name) for name in plots],
+                             quantities=result.scenario.quantities
+                             or shared_quantities(result.comparisons),
+                             titles=[f"{result.scenario.title}\n{c.label}\n"
+                                     f"{_run_line(result)}" for c in result.comparisons])
+        with stage(f"writing report.md, report.html and results.json in {out.path}",
+                   enabled=progress):
+            text = report_markdown(result, plots)
+            out.write_text("report.md", text)
+            out.write_text("report.html", markdown_to_html(text, result.scenario.title, out.path))
+            model = load_model(result.scenario.model)
+            summary = {"title": result.scenario.title, "model": model.name,
+                       "motion": result.motion_description, "duration_s": result.scenario.duration,
+                       "step_s": result.scenario.step, "record_s": result.scenario.record,
+                       "method": result.scenario.method, "truth": result.scenario.truth,
+                       "truth_used": result.truth_used,
+                       "parameters": parameters_record(model, result.scenario.parameters),
+                       "parameters_used": _used(model, result.scenario),
+                       "units": "SI: rad, rad/s, m/s, m, s; every value below is in SI",
+                       "curves": {"csv": "curves.csv", "mat": "curves.mat"},
+                       "cases": [c.to_dict() for c in result.comparisons]}
+            out.write_text("results.json", dumps(summary) + "\n")
+        with stage(f"writing curves.csv and curves.mat in {out.path}", enabled=progress):
+            write_curves(out, result.comparisons)
     return out.path / "report.md"

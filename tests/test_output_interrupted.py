@@ -17,12 +17,14 @@ never at a normal exit (an API caller who never calls finish() keeps its files).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import signal
 import subprocess
 import sys
 import textwrap
+from pathlib import Path
 
 import pytest
 
@@ -390,3 +392,30 @@ def test_ctrl_c_while_the_curves_are_written_keeps_the_earlier_report(tmp_path, 
     assert lines[-2] == "ins-errors: interrupted"
     assert lines[-1].startswith(f"ins-errors: --out {folder}: ")
     assert not any(n.startswith((UNDO_PREFIX, DONE_PREFIX)) for n in os.listdir(folder))
+
+
+def test_write_report_from_python_is_taken_back_when_stopped(tmp_path, monkeypatch):
+    """The report writers of the Python API (a scenario's report, the propagation
+    studies' reports) take their run back when stopped, as the command line does: an
+    earlier report stays byte for byte, never a mix of two runs."""
+    from ins_errors import export
+    from ins_errors.report import write_report
+    from ins_errors.scenario import load_scenario, run_scenario
+
+    scenario = load_scenario(Path(__file__).resolve().parents[1] / "examples"
+                             / "lab_000_task1_gyro_drift.toml")
+    scenario = dataclasses.replace(scenario, duration=3600.0, step=60.0, record=600.0)
+    result = run_scenario(scenario)
+    out = tmp_path / "report"
+    write_report(result, out)
+    before = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
+    changed = dataclasses.replace(result, comparisons=result.comparisons[:1])
+
+    def stopped(comparisons, path):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(export, "save_curves_mat", stopped)
+    with pytest.raises(KeyboardInterrupt):
+        write_report(changed, out)
+    after = {p.name: p.read_bytes() for p in out.iterdir() if p.is_file()}
+    assert after == before

@@ -707,12 +707,11 @@ def write_report(result: PropagationResult, folder: str | Path,
     The folder is an :class:`~ins_errors.output.OutputFolder`: a folder of someone
     else's files is refused unless ``force``; an earlier report there is replaced.
     """
-    out = OutputFolder(folder, force=force)
-    paths = plot(result, out, sources)
-    text = result.summary_markdown() + "\nPlots:\n\n" + "".join(
-        f"- ![{p.stem}]({p.name})\n" for p in paths)
-    summary = out.write_text("summary.md", text)
-    out.finish()
+    with OutputFolder(folder, force=force) as out:   # taken back if it stops
+        paths = plot(result, out, sources)
+        text = result.summary_markdown() + "\nPlots:\n\n" + "".join(
+            f"- ![{p.stem}]({p.name})\n" for p in paths)
+        summary = out.write_text("summary.md", text)
     return summary
 
 
@@ -956,16 +955,15 @@ def plot_day(day: DayResult, folder: OutputFolder) -> list[Path]:
 def write_day_report(day: DayResult, folder: str | Path, force: bool = False) -> Path:
     """Write ``orthodromic_day.md`` and the plots of :func:`plot_day` into ``folder`` (an
     :class:`~ins_errors.output.OutputFolder`, as :func:`write_report`)."""
-    out = OutputFolder(folder, force=force)
-    paths = plot_day(day, out)
-    skipped = [s for s, e in zip(day.sources, day.excited(), strict=True) if not e]
-    text = day.summary_markdown() + "\nPlots (each error state: direct and linear numeric, "
-    text += "closed form):\n\n" + "".join(f"- ![{p.stem}]({p.name})\n" for p in paths)
-    if skipped:
-        text += ("\nNo plot for " + ", ".join(f"`{s}`" for s in skipped) + ": not excited "
-                 "on a static base (the closed form is zero; the runs are round-off).\n")
-    summary = out.write_text("orthodromic_day.md", text)
-    out.finish()
+    with OutputFolder(folder, force=force) as out:   # taken back if it stops
+        paths = plot_day(day, out)
+        skipped = [s for s, e in zip(day.sources, day.excited(), strict=True) if not e]
+        text = day.summary_markdown() + "\nPlots (each error state: direct and linear numeric, "
+        text += "closed form):\n\n" + "".join(f"- ![{p.stem}]({p.name})\n" for p in paths)
+        if skipped:
+            text += ("\nNo plot for " + ", ".join(f"`{s}`" for s in skipped) + ": not excited "
+                     "on a static base (the closed form is zero; the runs are round-off).\n")
+        summary = out.write_text("orthodromic_day.md", text)
     return summary
 
 
