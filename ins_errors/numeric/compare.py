@@ -736,10 +736,11 @@ def add_unexcited_warnings(comparisons: Sequence[Comparison], sim: Simulation,
 RK4_HOW = '--method rk4, or method = "rk4" in a scenario\'s [run]'
 """How a warning tells both a command line and a scenario file to use RK4."""
 
-RECTANGLE_STEPS_ADVISED = 100_000_000
-"""Steps beyond which a rectangle-method step is not suggested (a minute or more of CPU a
-run): RK4 is, as it reaches the same accuracy in far fewer steps. (The terminal's short
-form of the warning draws the line lower: :data:`~ins_errors.numeric.brief_warnings.STEPS`.)"""
+RECTANGLE_STEPS_ADVISED = brief_warnings.STEPS
+"""Steps beyond which a rectangle-method step is not suggested (ten million: several
+seconds of CPU a run, where RK4 reaches the same accuracy in far fewer steps): RK4's is,
+with ``suggested_method`` "rk4"; the terminal's short warning and the full one (JSON,
+report.md) draw the same line."""
 
 
 def add_growth_warnings(comparisons: Sequence[Comparison], sim: Simulation) -> None:
