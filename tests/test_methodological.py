@@ -325,7 +325,10 @@ def test_rectangle_method_study_against_a_fine_rk4_run(duration, record):
     assert "integration error too large at τ = 16 s, rectangle method" in warning
     step = coarse.comparison.suggested_step
     text = warning.split("τ = ")[-1].split(" s would ")[0]
-    assert float(text) == step < 16.0
+    if coarse.comparison.suggested_method == "rk4":   # a rectangle step of > 1e7 steps
+        assert "use RK4" in warning and float(text) == step
+    else:
+        assert float(text) == step < 16.0
     from ins_errors.numeric.integrators import step_count
 
     step_count(record, step)  # typed back, a whole number of steps of the record
