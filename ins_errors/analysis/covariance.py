@@ -719,9 +719,45 @@ def growth_text(system: LinearSystem) -> str | None:
                           system.damping_remedy, static=system.time_invariant)
 
 
-def _outer(Y: np.ndarray) -> np.ndarray:
-    """``Y Yᵀ`` of each time's (q, m) sensitivities, one per column: shape (nt, q, q, m)."""
-    return Y[:, :, None, :] * Y[:, None, :, :]
+def _valued_sources(system: LinearSystem, sources: Sequence[SourceStatistics],
+                    columns: list[int], functionals: Functionals):
+    """The sources that carry a value (constants and Markov sources: all but white
+    noise), as the augmented state holds them: their indices in ``sources``, their
+    decay rates (−1/τ, 0 for a constant), their columns of G, the initial sensitivities
+    of unit values (x_e(0) = E b(0), b(0) = 1), shape (n + m, m), and the functionals'
+    weights on them, shape (q, m)."""
+    n = system.E.shape[0]
+    valued = [i for i, s in enumerate(sources) if s.kind != "white"]
+    decay = np.array([0.0 if sources[i].kind == "constant" else -1.0 / sources[i].tau
+                      for i in valued])
+    cols_b = [columns[i] for i in valued]
+    Z0 = np.zeros((n + len(valued), len(valued)))
+    Z0[:n] = system.E[:, cols_b]
+    Z0[n:] = np.eye(len(valued))
+    return valued, decay, cols_b, Z0, functionals.C_b[:, cols_b]
+
+
+def _on_grid(system: LinearSystem, functionals: Functionals):
+    """F, G and the functionals' C_x at every grid time, shapes (K + 1, n, n),
+    (K + 1, n, nw), (K + 1, q, n): read-only views where one is constant."""
+    K, n, q = len(system.times) - 1, system.E.shape[0], len(functionals.names)
+    F = np.broadcast_to(system.F, (K + 1, n, n)) if system.F.ndim == 2 else system.F
+    G = np.broadcast_to(system.G, (K + 1, *system.G.shape)) if system.G.ndim == 2 \
+        else system.G
+    C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
+        else functionals.C_x
+    return F, G, C_x
+
+
+def _static_noise(system: LinearSystem, functionals: Functionals, column: int,
+                  source: SourceStatistics, dt: float):
+    """One noise source on a time-invariant system, steps of ``dt``: the transition of
+    its noise system (:func:`_noise_column`), a factor of the noise it adds a step, and
+    the functionals on its state."""
+    A, b = _noise_column(system.F, system.G[:, column], source)
+    Cn = _noise_functionals(functionals.C_x, functionals.C_b[:, column], source)
+    Phi_n, Qd = (m[0] for m in rank_one_noise_step(A[None], b[None], dt))
+    return Phi_n, _noise_factor(Qd), Cn
 
 
 def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
@@ -735,16 +771,7 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
     K = len(system.times) - 1
     dt = system.step
     # augmented states: every constant and Markov source carries a value b_j
-    valued = [i for i, s in enumerate(sources) if s.kind != "white"]
-    decay = np.array([0.0 if sources[i].kind == "constant" else -1.0 / sources[i].tau
-                      for i in valued])
-    cols_b = [columns[i] for i in valued]
-    N = n + len(valued)
-    # initial sensitivities: x_e(0) = E b(0), b(0) = unit
-    Z0 = np.zeros((N, len(valued)))
-    Z0[:n] = system.E[:, cols_b]
-    Z0[n:] = np.eye(len(valued))
-    C_b = functionals.C_b[:, cols_b]
+    valued, decay, cols_b, Z0, C_b = _valued_sources(system, sources, columns, functionals)
     keep = np.arange(0, K + 1, output_every)
     q = len(functionals.names)
     unit = np.zeros((len(keep), q, len(sources)))
@@ -768,21 +795,15 @@ def _propagate(system: LinearSystem, sources: Sequence[SourceStatistics],
         for i, s in enumerate(sources):
             if s.kind == "constant":
                 continue
-            A, b = _noise_column(system.F, system.G[:, columns[i]], s)
-            Cn = _noise_functionals(functionals.C_x, functionals.C_b[:, columns[i]], s)
-            Phi_n, Qd = (m[0] for m in rank_one_noise_step(A[None], b[None], dt_out))
-            y = power_sequence(Phi_n, _noise_factor(Qd), Cn, K_out, reduce="square-sum")
+            Phi_n, factor, Cn = _static_noise(system, functionals, columns[i], s, dt_out)
+            y = power_sequence(Phi_n, factor, Cn, K_out, reduce="square-sum")
             var = np.concatenate([np.zeros((1, q)), np.cumsum(y, axis=0)[:-1]])
             if by_source:
                 unit[:, :, i] += var
             else:
                 unit[:, :, 0] += var * s.sigma**2
     else:
-        F = np.broadcast_to(system.F, (K + 1, n, n)) if system.F.ndim == 2 else system.F
-        G = np.broadcast_to(system.G, (K + 1, *system.G.shape)) if system.G.ndim == 2 \
-            else system.G
-        C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
-            else functionals.C_x
+        F, G, C_x = _on_grid(system, functionals)
         chunks = _sensitivity_chunks(F, G, cols_b, decay, dt, Z0, C_x, C_b, keep)
         if not by_source and len(valued) == len(sources) and not np.any(decay):
             # constants only: the total piece by piece, never the whole (nt, q, ns) array
@@ -853,16 +874,8 @@ def _cross_parts(system: LinearSystem, sources: Sequence[SourceStatistics],
     column, plus its noise's ``C P Cᵀ`` for a white or Markov one.
     """
     columns = [system.source_index(s.name) for s in sources]
-    n = system.E.shape[0]
-    K, dt = len(system.times) - 1, system.step
-    valued = [i for i, s in enumerate(sources) if s.kind != "white"]
-    decay = np.array([0.0 if sources[i].kind == "constant" else -1.0 / sources[i].tau
-                      for i in valued])
-    cols_b = [columns[i] for i in valued]
-    Z0 = np.zeros((n + len(valued), len(valued)))
-    Z0[:n] = system.E[:, cols_b]
-    Z0[n:] = np.eye(len(valued))
-    C_b = functionals.C_b[:, cols_b]
+    dt = system.step
+    valued, decay, cols_b, Z0, C_b = _valued_sources(system, sources, columns, functionals)
     q = len(functionals.names)
     static = system.time_invariant and functionals.C_x.ndim == 2
     if static:
@@ -872,11 +885,7 @@ def _cross_parts(system: LinearSystem, sources: Sequence[SourceStatistics],
             Phi = _expm(augmented_dynamics(system.F, system.G[:, cols_b], decay) * dt_out)
             Y = power_sequence(Phi, Z0, np.hstack([functionals.C_x, C_b]), K_out)
     else:
-        F = np.broadcast_to(system.F, (K + 1, n, n)) if system.F.ndim == 2 else system.F
-        G = np.broadcast_to(system.G, (K + 1, *system.G.shape)) if system.G.ndim == 2 \
-            else system.G
-        C_x = np.broadcast_to(functionals.C_x, (K + 1, q, n)) if functionals.C_x.ndim == 2 \
-            else functionals.C_x
+        F, G, C_x = _on_grid(system, functionals)
         Y = np.zeros((len(keep), q, len(valued)))
         for i0, i1, Yc in _sensitivity_chunks(F, G, cols_b, decay, dt, Z0, C_x, C_b, keep):
             Y[i0:i1] = Yc
@@ -885,15 +894,13 @@ def _cross_parts(system: LinearSystem, sources: Sequence[SourceStatistics],
             part = np.zeros((len(keep), q, q))
         else:
             j = valued.index(i)
-            part = Y[:, :, None, j] * Y[:, None, :, j]        # the column of _outer(Y)
+            part = Y[:, :, None, j] * Y[:, None, :, j]        # Y Yᵀ of its column
         if s.kind == "constant":
             yield i, part
             continue
         if static:
-            A, b = _noise_column(system.F, system.G[:, columns[i]], s)
-            Cn = _noise_functionals(functionals.C_x, functionals.C_b[:, columns[i]], s)
-            Phi_n, Qd = (m[0] for m in rank_one_noise_step(A[None], b[None], dt_out))
-            Yn = power_sequence(Phi_n, _noise_factor(Qd), Cn, K_out)
+            Phi_n, factor, Cn = _static_noise(system, functionals, columns[i], s, dt_out)
+            Yn = power_sequence(Phi_n, factor, Cn, K_out)
             Pn = np.einsum("kqr,kpr->kqp", Yn, Yn)
             del Yn
             part[1:] += np.cumsum(Pn, axis=0, out=Pn)[:-1]
