@@ -375,7 +375,8 @@ _JUMPS = (sp.sign, sp.Heaviside, sp.floor, sp.ceiling, sp.frac, sp.Mod, sp.Dirac
 SymPy)."""
 
 
-def _dependence(*mechanisations: Mechanisation) -> dict[sp.Symbol, frozenset[sp.Symbol]]:
+def intermediate_dependence(*mechanisations: Mechanisation
+                            ) -> dict[sp.Symbol, frozenset[sp.Symbol]]:
     """For each intermediate of ``mechanisations`` (in order), the declared symbols it
     depends on through the intermediates before it."""
     depends: dict[sp.Symbol, frozenset[sp.Symbol]] = {}
@@ -386,7 +387,7 @@ def _dependence(*mechanisations: Mechanisation) -> dict[sp.Symbol, frozenset[sp.
     return depends
 
 
-def _uses(expression: sp.Basic, depends: dict[sp.Symbol, frozenset[sp.Symbol]]
+def declared_uses(expression: sp.Basic, depends: dict[sp.Symbol, frozenset[sp.Symbol]]
           ) -> set[sp.Symbol]:
     """The declared symbols ``expression`` depends on, through intermediates."""
     return set().union(*(depends.get(s, {s}) for s in expression.free_symbols))
@@ -415,7 +416,7 @@ class _Expansion:
     point : dict
         Where (symbol -> value; the computed state on the true one, errors zero).
     depends : dict
-        The intermediates' dependence (:func:`_dependence`).
+        The intermediates' dependence (:func:`intermediate_dependence`).
     words : str
         Why a kink there is refused.
     advice : str
@@ -436,7 +437,7 @@ class _Expansion:
 
     def of(self, expression: sp.Basic) -> str:
         """The variables ``expression`` depends on, in words (empty if none)."""
-        used = _uses(expression, self.depends) & self.variables.keys()
+        used = declared_uses(expression, self.depends) & self.variables.keys()
         return ", ".join(f"{self.variables[s]} {s}" for s in sorted(used, key=str))
 
 
@@ -479,10 +480,10 @@ def _check_real_work(label: str, d: ModelDefinition, real: sp.Matrix,
     """Refuse a real work that uses no computed state, and a kink or a jump in the
     computed state or the error sources (:func:`_check_smooth`)."""
     n = len(d.states)
-    depends = _dependence(d.ideal, d.real)
+    depends = intermediate_dependence(d.ideal, d.real)
     computed = list(d.real_states[:n])
     names = [v.name for v in d.error_states]
-    used = set().union(*(_uses(row, depends) for row in real))
+    used = set().union(*(declared_uses(row, depends) for row in real))
     true = [s for s in d.x if s in used]
     if true and not used & set(computed):  # an integrator of inputs uses neither
         def listed(symbols: list[sp.Symbol]) -> str:

@@ -31,26 +31,10 @@ from collections.abc import Iterable
 import sympy as sp
 
 from ins_errors.errors import ModelDefinitionError
-from ins_errors.modeling import Mechanisation, ModelDefinition
+from ins_errors.modeling import ModelDefinition
+from ins_errors.symbolic.consistency import declared_uses, intermediate_dependence
 
 STEP = "checking the definition"
-
-
-def _dependence(*mechanisations: Mechanisation) -> dict[sp.Symbol, frozenset[sp.Basic]]:
-    """For each intermediate of ``mechanisations`` (in order), the declared symbols it
-    depends on through the intermediates before it."""
-    depends: dict[sp.Symbol, frozenset[sp.Basic]] = {}
-    for mech in mechanisations:
-        for definition in mech.definitions:
-            depends[definition.symbol] = frozenset().union(
-                *(depends.get(s, {s}) for s in definition.expression.free_symbols))
-    return depends
-
-
-def _uses(expression: sp.Basic, depends: dict[sp.Symbol, frozenset[sp.Basic]]
-          ) -> set[sp.Basic]:
-    """The declared symbols ``expression`` depends on, through intermediates."""
-    return set().union(*(depends.get(s, {s}) for s in expression.free_symbols))
 
 
 def declared_states(d: ModelDefinition, label: str) -> set[str]:
@@ -97,7 +81,7 @@ def true_state_reads(d: ModelDefinition, declared: set[str] = frozenset()
     n = len(d.states)
     computed = {x: c for x, c, v in zip(d.x, d.real_states[:n], d.states, strict=True)
                 if v.name not in declared}
-    depends = _dependence(d.ideal, d.real)
+    depends = intermediate_dependence(d.ideal, d.real)
     errors_off = {**{s: sp.S.Zero for s in d.real_states[n:]}, **d.no_errors()}
     ideal_names = {definition.symbol.name for definition in d.ideal.definitions}
     real_of = {definition.symbol.name.removesuffix("_c"): definition.symbol
@@ -106,7 +90,7 @@ def true_state_reads(d: ModelDefinition, declared: set[str] = frozenset()
     def unpaired(expression: sp.Basic, candidates: Iterable[sp.Basic]) -> list[sp.Symbol]:
         """The true states of ``candidates`` read without their computed symbol, that stay
         in ``expression`` when every error is zero (in state order)."""
-        used = _uses(expression, depends)
+        used = declared_uses(expression, depends)
         found = [x for x in computed if x in candidates and computed[x] not in used]
         if not found:
             return []
@@ -129,7 +113,7 @@ def true_state_reads(d: ModelDefinition, declared: set[str] = frozenset()
     for matrix, what in rows:
         for i in range(n):
             row = matrix[i]
-            for x in unpaired(row, _uses(row, depends)):
+            for x in unpaired(row, declared_uses(row, depends)):
                 quantity = f"{what} for {names[i]!r} (d{d.real_states[i]}/dt)"
                 advice = f"write {computed[x]}"
                 via = next((s for s in sorted(row.free_symbols, key=str)
