@@ -203,6 +203,21 @@ class EntryTerms:
         return out
 
 
+def _candidates(terms: list[Term], model: np.ndarray, tolerance: np.ndarray
+                ) -> list[Term] | None:
+    """The terms a slip of the entry ``model`` may be made of: those above
+    ``tolerance`` somewhere, largest first, at most :data:`MAX_CANDIDATES`; None when the
+    terms do not make up the entry (in a convention whose Ṫ T⁺ reaches it, or whose
+    weights mix terms that cancel: no term is named there)."""
+    whole = [t for t in terms if not t.grouped]
+    total = sum((t.values for t in whole), np.zeros_like(model))
+    if not whole or not np.all(np.abs(total - model) <= CLOSED * np.abs(model).max()):
+        return None
+    usable = [t for t in terms if not np.all(np.abs(t.values) <= tolerance)]
+    usable.sort(key=lambda t: -float(np.abs(t.values).max()))
+    return usable[:MAX_CANDIDATES]
+
+
 def left_out(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
              scale: np.ndarray, agreement: float) -> list[list[Term]] | None:
     """The term (or up to :data:`MAX_LEFT_OUT` terms) whose omission from ``model``
@@ -233,16 +248,10 @@ def left_out(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
         first; one choice when the terms are told apart.
     """
     tolerance = agreement * scale / mag
-    # the terms must make up the entry (in a convention whose Ṫ T⁺ reaches it, or whose
-    # weights mix terms that cancel, they do not: no term is named there)
-    whole = [t for t in terms if not t.grouped]
-    total = sum((t.values for t in whole), np.zeros_like(model))
-    if not whole or not np.all(np.abs(total - model) <= CLOSED * np.abs(model).max()):
+    usable = _candidates(terms, model, tolerance)
+    if usable is None:
         return None
     missing = model - hand
-    usable = [t for t in terms if not np.all(np.abs(t.values) <= tolerance)]
-    usable.sort(key=lambda t: -float(np.abs(t.values).max()))
-    usable = usable[:MAX_CANDIDATES]
     for count in range(1, MAX_LEFT_OUT + 1):
         # a term whose parts are terms too is left out alone (with another, it could
         # count one of its own parts twice)
@@ -274,16 +283,13 @@ def scaled(terms: list[Term], hand: np.ndarray, model: np.ndarray, mag: float,
     the agreement level of the row's largest term).
     """
     tolerance = agreement * scale / mag
-    whole = [t for t in terms if not t.grouped]
-    total = sum((t.values for t in whole), np.zeros_like(model))
-    if not whole or not np.all(np.abs(total - model) <= CLOSED * np.abs(model).max()):
+    usable = _candidates(terms, model, tolerance)
+    if usable is None:
         return None
     difference = hand - model
     found: list[tuple[Term, float]] = []
     seen: set[tuple] = set()
-    usable = [t for t in terms if not np.all(np.abs(t.values) <= tolerance)]
-    usable.sort(key=lambda t: -float(np.abs(t.values).max()))
-    for t in usable[:MAX_CANDIDATES]:
+    for t in usable:
         k = float(np.dot(difference, t.values) / np.dot(t.values, t.values))
         c = 1.0 + k
         key = (t.text, t.origin, t.line, t.column)
