@@ -248,3 +248,21 @@ def edited_model_file(source: Path, folder: Path, old: str, new: str, name: str)
                     encoding="utf-8")
     return path
 
+
+COARSE_RECTANGLE = """title = "Coarse rectangle steps"
+model = "north_pointing"
+[motion]
+kind = "static"
+latitude = "50 deg"
+[run]
+duration = "2 h"
+step = "60 s"
+method = "euler"
+[[case]]
+accel_bias_east = "100 ug"
+"""
+"""The rectangle method at 60 s over 2 h: its integration error is a quarter of the
+error, and the rectangle step that would do is below a millisecond (9 million steps): a
+scenario whose run warns (tests/test_fail_on_warning.py,
+tests/test_compare_brief_warnings.py)."""
+

@@ -16,6 +16,7 @@ import json
 import re
 
 from ins_errors.cli import main
+from tests.helpers import COARSE_RECTANGLE
 
 RECTANGLE = ["compare", "orthodromic", "-s", "gyro_drift_x=0.01deg/h", "--hours", "2",
              "--step", "10s", "--method", "euler", "--no-progress"]
@@ -63,20 +64,7 @@ def test_the_terminal_says_rk4_not_an_absurd_rectangle_step_and_rk4_cures_it(tmp
     assert not [w for w in case["warnings"] if "integration error" in w], case["warnings"]
 
 
-SCENARIO = """title = "Coarse rectangle steps"
-model = "north_pointing"
-[motion]
-kind = "static"
-latitude = "50 deg"
-[run]
-duration = "2 h"
-step = "60 s"
-method = "euler"
-[[case]]
-accel_bias_east = "100 ug"
-"""
-"""The rectangle method at 60 s: its integration error is a quarter of the error, and
-the rectangle step that would do is below a millisecond (9 million steps)."""
+SCENARIO = COARSE_RECTANGLE
 
 
 def test_run_prints_a_short_warning_rk4_first_and_the_report_keeps_the_full_one(

@@ -12,6 +12,7 @@ import json
 import warnings
 
 from ins_errors.cli import main
+from tests.helpers import COARSE_RECTANGLE
 
 VALIDITY = ["compare", "north_pointing", "--source", "initial_azimuth_error=20deg",
             "--hours", "2", "--step", "10s", "--no-progress"]
@@ -21,19 +22,7 @@ CLEAN = ["compare", "north_pointing", "--source", "initial_azimuth_error=1arcmin
          "--hours", "2", "--step", "10s", "--no-progress"]
 """The same run at 1 arcmin: linear, well integrated, no warning."""
 
-SCENARIO = """title = "Coarse rectangle steps"
-model = "north_pointing"
-[motion]
-kind = "static"
-latitude = "50 deg"
-[run]
-duration = "2 h"
-step = "60 s"
-method = "euler"
-[[case]]
-accel_bias_east = "100 ug"
-"""
-"""The rectangle method at 60 s: its integration error is a quarter of the error."""
+SCENARIO = COARSE_RECTANGLE
 
 
 def test_compare_fails_on_a_validity_warning_after_its_output(capsys):
