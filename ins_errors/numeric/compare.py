@@ -411,17 +411,18 @@ def metrics_of(direct: ErrorCurves, linear: ErrorCurves, refined: ErrorCurves | 
 
 
 def add_maxima_notes(comparisons: Sequence[Comparison], sim: Simulation,
-                     omega: float | None = None) -> None:
+                     eigenvalues: np.ndarray | None = None) -> None:
     """Set :attr:`Comparison.maxima_note` when the run records every few steps and its
     maxima over the samples may be :data:`~ins_errors.numeric.sampled_maxima.NOTED` or
-    more below the run's own (nothing is read when it records every step). ``omega``:
-    F's fastest oscillation at the start (rad/s), when already read."""
+    more below the run's own (nothing is read when it records every step): the maxima
+    miss the peaks of lightly damped oscillations only (a damped loop's own is gone
+    within a period or two). ``eigenvalues``: F's at the start, when already read."""
     if sim.stride == 1:
         return
     tau = sim.trajectory.tau
-    if omega is None:
-        omega = sampled_maxima.fastest_oscillation(sim.model, sim.trajectory,
-                                                   lightly_damped=True)
+    if eigenvalues is None:
+        eigenvalues = sampled_maxima.start_eigenvalues(sim.model, sim.trajectory)
+    omega = sampled_maxima.fastest_oscillation(eigenvalues, lightly_damped=True)
     text = sampled_maxima.note(sim.stride * tau, tau, omega)
     for comparison in comparisons:
         comparison.maxima_note = text
@@ -542,14 +543,14 @@ def compare(model: Model, trajectory: Trajectory, cases: Sequence[dict[str, floa
                    record_interval=record_interval, parts=parts, jit=jit, progress=progress,
                    platform=platform)
     comparisons = comparisons_of(sim, labels)
-    omega = sampled_maxima.fastest_oscillation(model, trajectory)
-    too_long = step_period.warning(trajectory.tau, omega, sim.stride * trajectory.tau)
+    eigenvalues = sampled_maxima.start_eigenvalues(model, trajectory)
+    # the step must resolve every oscillation; the maxima miss only lightly damped ones'
+    too_long = step_period.warning(trajectory.tau,
+                                   sampled_maxima.fastest_oscillation(eigenvalues),
+                                   sim.stride * trajectory.tau)
     for comparison in comparisons if too_long else ():
         comparison.warnings.append(too_long)
-    # the maxima miss the peaks of lightly damped oscillations only (a damped loop's own
-    # is gone within a period or two); the step must resolve every one
-    add_maxima_notes(comparisons, sim, sampled_maxima.fastest_oscillation(
-        model, trajectory, lightly_damped=True))
+    add_maxima_notes(comparisons, sim, eigenvalues)
     add_half_turn_warnings(comparisons, model)
     if quantities is not None:
         for comparison in comparisons:

@@ -30,23 +30,28 @@ damped loop's own oscillation (a vertical channel damped to ζ ≈ 0.7, period 7
 gone within a period or two, and the errors' peaks are the slow oscillations'."""
 
 
-def fastest_oscillation(model, trajectory, lightly_damped: bool = False) -> float:
-    """Largest |Im λ| of F at the start of ``trajectory`` (rad/s), of the eigenvalues
-    damped by at most :data:`LIGHT_DAMPING` where ``lightly_damped``; 0 when F cannot be
-    read there or is not finite. (Along a moving run F changes; read at the start as
-    the rest of the comparison's advice is. Further along, an ideal strapdown run
-    without vertical damping has drifted in height after hours and F's eigenvalues
-    there say more about that drift than about the errors' oscillations.)"""
+def start_eigenvalues(model, trajectory) -> np.ndarray:
+    """F's eigenvalues at the start of ``trajectory`` (1/s); empty when F cannot be read
+    there or is not finite. (Along a moving run F changes; read at the start as the rest
+    of the comparison's advice is. Further along, an ideal strapdown run without
+    vertical damping has drifted in height after hours and F's eigenvalues there say
+    more about that drift than about the errors' oscillations.)"""
     from ins_errors.numeric.linear_system import start_state_matrix
 
     try:
         with np.errstate(all="ignore"):
             F = start_state_matrix(model, trajectory)
     except (InsErrorsError, ArithmeticError, ValueError):
-        return 0.0
+        return np.zeros(0, dtype=complex)
     if not F.size or not np.all(np.isfinite(F)):
-        return 0.0
-    values = np.linalg.eigvals(F)
+        return np.zeros(0, dtype=complex)
+    return np.linalg.eigvals(F)
+
+
+def fastest_oscillation(values: np.ndarray, lightly_damped: bool = False) -> float:
+    """Largest |Im λ| of the eigenvalues ``values`` (rad/s; :func:`start_eigenvalues`),
+    of those damped by at most :data:`LIGHT_DAMPING` where ``lightly_damped``; 0 without
+    any."""
     if lightly_damped:
         values = values[np.abs(values.real) <= LIGHT_DAMPING * np.abs(values)]
     return float(np.abs(values.imag).max()) if values.size else 0.0

@@ -8,7 +8,7 @@ integration-error estimate says so when it can, but not always: a run of one ste
 so few that the run at twice the step shares no sample with it, has no estimate at all
 (a 1-h step over an hour of a Schuler loop ran silently). So :func:`warning` says it in
 one line, naming the period (F's eigenvalue with the largest imaginary part at the
-start, :func:`~ins_errors.numeric.sampled_maxima.fastest_oscillation`) and a step of
+start, :func:`~ins_errors.numeric.sampled_maxima.start_eigenvalues`) and a step of
 :data:`STEPS_ADVISED` a period.
 """
 
